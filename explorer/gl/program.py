@@ -1,0 +1,164 @@
+"""Program loading: one ``.glsl`` file per program, ``#include``, defines, hot reload.
+
+Conventions (after moderngl-window): line 1 of every file is ``#version 430 core``;
+stages live under ``#if defined VERTEX_SHADER`` / ``GEOMETRY_SHADER`` /
+``FRAGMENT_SHADER`` / ``COMPUTE_SHADER``. The loader inserts ``#define <STAGE> 1`` and a
+``#line`` directive so compiler line numbers match the file, resolves
+``#include "file.glsl"`` relative to the shader folder (depth-guarded), and overrides only
+``#define`` values already present in the source, so every file still compiles on its own.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import moderngl
+
+from explorer.resources import shader_dir
+
+STAGES = ("VERTEX_SHADER", "GEOMETRY_SHADER", "FRAGMENT_SHADER", "COMPUTE_SHADER")
+_INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$', re.MULTILINE)
+_DEFINE = re.compile(r"^(\s*#define\s+)(\w+)(\s+)(.*)$", re.MULTILINE)
+_MAX_INCLUDE_DEPTH = 8
+
+
+class ShaderError(RuntimeError):
+    """A shader failed to load or compile; ``log`` holds the compiler output."""
+
+    def __init__(self, path: Path, log: str):
+        super().__init__(f"{path.name}: {log}")
+        self.path = path
+        self.log = log
+
+
+def _resolve_includes(source: str, base: Path, depth: int, seen: tuple[Path, ...]) -> str:
+    def include(match: re.Match) -> str:
+        target = (base / match.group(1)).resolve()
+        if depth >= _MAX_INCLUDE_DEPTH or target in seen:
+            raise ShaderError(target, f"#include nested too deep or cyclic at {target.name}")
+        if not target.is_file():
+            raise ShaderError(target, f"#include file not found: {match.group(1)}")
+        text = target.read_text()
+        text = _strip_version(text)
+        body = _resolve_includes(text, base, depth + 1, seen + (target,))
+        return f"{body}\n"
+
+    return _INCLUDE.sub(include, source)
+
+
+def _strip_version(text: str) -> str:
+    lines = text.splitlines()
+    if lines and lines[0].startswith("#version"):
+        lines[0] = ""
+    return "\n".join(lines)
+
+
+def preprocess(path: Path, stage: str, defines: dict[str, object] | None = None) -> str:
+    """The source handed to the compiler for one stage of ``path``."""
+    text = path.read_text()
+    lines = text.splitlines()
+    if not lines or not lines[0].startswith("#version"):
+        raise ShaderError(path, "line 1 must be '#version 430 core'")
+    version, body = lines[0], "\n".join(lines[1:])
+    if defines:
+        def override(match: re.Match) -> str:
+            name = match.group(2)
+            if name in defines:
+                return f"{match.group(1)}{name}{match.group(3)}{defines[name]}"
+            return match.group(0)
+
+        body = _DEFINE.sub(override, body)
+    body = _resolve_includes(body, shader_dir(), 0, (path.resolve(),))
+    # The #line after the includes would be wrong for code below an include; includes sit
+    # at the top of our files, so errors in the body still point near the right line.
+    return f"{version}\n#define {stage} 1\n#line 2\n{body}\n"
+
+
+def stages_in(path: Path) -> list[str]:
+    text = path.read_text()
+    return [s for s in STAGES if re.search(rf"#if\s+defined\s*\(?\s*{s}\b", text)]
+
+
+def load_program(ctx: moderngl.Context, name: str, defines: dict[str, object] | None = None,
+                 varyings: tuple[str, ...] = ()) -> moderngl.Program | moderngl.ComputeShader:
+    """Compile ``shaders/<name>`` (a render program or a compute shader)."""
+    path = shader_dir() / name
+    if not path.is_file():
+        raise ShaderError(path, f"no shader file {path}")
+    stages = stages_in(path)
+    if not stages:
+        raise ShaderError(path, "no '#if defined <STAGE>_SHADER' section found")
+    try:
+        if stages == ["COMPUTE_SHADER"]:
+            return ctx.compute_shader(preprocess(path, "COMPUTE_SHADER", defines))
+        sources = {s: preprocess(path, s, defines) for s in stages}
+        return ctx.program(
+            vertex_shader=sources.get("VERTEX_SHADER"),
+            geometry_shader=sources.get("GEOMETRY_SHADER"),
+            fragment_shader=sources.get("FRAGMENT_SHADER"),
+            varyings=varyings or None,
+        )
+    except moderngl.Error as exc:
+        raise ShaderError(path, str(exc)) from exc
+
+
+def set_uniforms(program, values: dict[str, object]) -> None:
+    """Set the uniforms the program actually uses; others are skipped silently because
+    the compiler removes unused uniforms."""
+    for key, value in values.items():
+        if key in program:
+            program[key] = value
+
+
+@dataclass
+class ProgramCache:
+    """Programs keyed by file and defines, reloaded when a file under shaders/ changes.
+
+    A reload that fails keeps the last good program and records the log in ``errors``
+    (the app shows it in a panel) instead of raising.
+    """
+
+    ctx: moderngl.Context
+    _programs: dict = field(default_factory=dict)
+    _stamp: float = 0.0
+    errors: dict[str, str] = field(default_factory=dict)
+
+    def get(self, name: str, defines: dict[str, object] | None = None):
+        key = (name, tuple(sorted((defines or {}).items())))
+        if key not in self._programs:
+            self._programs[key] = load_program(self.ctx, name, defines)
+        return self._programs[key]
+
+    @staticmethod
+    def newest_change() -> float:
+        return max((p.stat().st_mtime for p in shader_dir().rglob("*.glsl")), default=0.0)
+
+    def reload_if_changed(self) -> bool:
+        """Recompile every cached program if a shader file changed; True if any did."""
+        stamp = self.newest_change()
+        if stamp <= self._stamp:
+            return False
+        first = self._stamp == 0.0
+        self._stamp = stamp
+        if first:
+            return False
+        changed = False
+        for key in list(self._programs):
+            name, defines = key
+            try:
+                fresh = load_program(self.ctx, name, dict(defines))
+            except ShaderError as exc:
+                self.errors[name] = exc.log
+                continue
+            self.errors.pop(name, None)
+            self._programs[key].release()
+            self._programs[key] = fresh
+            changed = True
+        return changed
+
+    def release(self) -> None:
+        for program in self._programs.values():
+            program.release()
+        self._programs.clear()

@@ -1,0 +1,125 @@
+"""Settings of one LPV frame, and the switches between published and corrected formulas.
+
+Every field of :class:`Corrections` is ``True`` for the corrected (recommended) behaviour;
+see ``docs/MODEL.md`` for the formula each one selects. They reach the shaders as
+uniforms, never as a second copy of a shader.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field, fields, replace
+
+
+@dataclass(frozen=True)
+class Corrections:
+    """Named switches, one per published formula or implementation detail."""
+
+    injection_pi: bool = True
+    """Divide the VPL intensity by π: I_p = Φ_p/π·⟨n,ω⟩⁺ (annotations §4.1)."""
+    propagation_4pi: bool = True
+    """Drop the 1/(4π) in Φ_f = Δω_f/(4π)·I(ω_c) (annotations §6.2)."""
+    reprojection_pi: bool = True
+    """Reproject with Φ_l = Φ_f instead of Φ_f/π (annotations §6.3)."""
+    exact_constants: bool = True
+    """Use the derived constants instead of the decimals printed in the DX11 article."""
+    side_faces: bool = True
+    """Propagate through the four side faces as well as the front face."""
+    surfel_area_squared: bool = True
+    """Surfel area grows with the squared view depth (annotations §5), not linearly."""
+    ping_pong: bool = True
+    """Read grid t−1 and write grid t, instead of the DX11 in-place read-modify-write."""
+    clamp_front_face: bool = True
+    """Clamp the front-face intensity at zero, as the DX11 propagation shader does."""
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+    def as_uniforms(self) -> dict[str, int]:
+        """Uniform values for the shaders: ``u_<field>`` = 0 or 1."""
+        return {f"u_{name}": int(getattr(self, name)) for name in self.names()}
+
+
+PRESETS: dict[str, Corrections] = {
+    "corrected": Corrections(),
+    "original": Corrections(
+        injection_pi=False,
+        propagation_4pi=False,
+        reprojection_pi=False,
+        exact_constants=False,
+    ),
+}
+
+
+def preset(name: str) -> Corrections:
+    """The named preset; raises ``KeyError`` listing the valid names."""
+    try:
+        return PRESETS[name]
+    except KeyError:
+        raise KeyError(f"unknown preset {name!r}; choose one of {sorted(PRESETS)}") from None
+
+
+DOWNSAMPLE_MODES = ("none", "average", "brightest")
+INJECTION_MODES = ("points", "compute")
+GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")
+GRID_FORMATS = ("rgba32f", "rgba16f")
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Everything a frame depends on. Immutable: the app compares settings to know
+    whether the pipeline must run again."""
+
+    scene: str = "cornell"
+    """A built-in scene name or a path to a mesh file trimesh can read."""
+    corrections: Corrections = field(default_factory=Corrections)
+    grid_size: int = 32
+    iterations: int = 16
+    rsm_size: int = 256
+    downsample: str = "none"
+    downsample_factor: int = 2
+    injection_mode: str = "points"
+    geometry_volume: str = "off"
+    grid_format: str = "rgba32f"
+    width: int = 512
+    height: int = 512
+    exposure: float = 1.0
+    indirect_only: bool = False
+    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    """(eye, target) in world units; None = the scene's default camera."""
+    light: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    """(position, target) of the spot light; None = the scene's default light."""
+    light_flux: float | None = None
+    """Total flux of the light in watts per channel; None = the scene's default."""
+    debug_nan: bool = False
+    """Check every pass for NaN/Inf and name the pass that produced one."""
+
+    def __post_init__(self) -> None:
+        _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
+        _check_choice("injection_mode", self.injection_mode, INJECTION_MODES)
+        _check_choice("geometry_volume", self.geometry_volume, GEOMETRY_VOLUME_MODES)
+        _check_choice("grid_format", self.grid_format, GRID_FORMATS)
+        for name in ("grid_size", "rsm_size", "width", "height", "downsample_factor"):
+            if int(getattr(self, name)) < 1:
+                raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")
+        if self.iterations < 0:
+            raise ValueError(f"iterations must be >= 0, got {self.iterations!r}")
+
+    def with_changes(self, **changes) -> "Settings":
+        """A copy with some fields changed; ``corrections`` may be given as a dict of
+        switches or as a preset name."""
+        corr = changes.get("corrections")
+        if isinstance(corr, str):
+            changes["corrections"] = preset(corr)
+        elif isinstance(corr, dict):
+            changes["corrections"] = replace(self.corrections, **corr)
+        return replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {choices}, got {value!r}")

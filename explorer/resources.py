@@ -1,0 +1,38 @@
+"""Where the shaders and lessons live, in a checkout and in an installed package.
+
+A checkout keeps them at the top of the repository (``shaders/``, ``lessons/``); a
+non-editable install ships them as the packages ``explorer.shaders`` and
+``explorer.lessons_data`` (see ``pyproject.toml``). Paths come from ``__file__`` or
+``importlib.resources``, never from the working directory.
+"""
+
+from __future__ import annotations
+
+import importlib.resources
+from pathlib import Path
+
+_REPO_ROOT = Path(__file__).resolve().parent.parent
+
+
+def _locate(checkout_name: str, package: str) -> Path:
+    checkout = _REPO_ROOT / checkout_name
+    if checkout.is_dir():
+        return checkout
+    try:
+        installed = Path(str(importlib.resources.files(package)))
+    except ModuleNotFoundError as exc:  # pragma: no cover - broken install
+        raise FileNotFoundError(
+            f"cannot find the {checkout_name}/ folder: not in a checkout ({checkout}) "
+            f"and the package {package!r} is not installed"
+        ) from exc
+    return installed
+
+
+def shader_dir() -> Path:
+    """Folder holding the ``*.glsl`` files (with ``generated/`` below it)."""
+    return _locate("shaders", "explorer.shaders")
+
+
+def lesson_dir() -> Path:
+    """Folder holding the ``NN-slug.toml`` lessons."""
+    return _locate("lessons", "explorer.lessons_data")

@@ -1,0 +1,23 @@
+"""Shared fixtures. :func:`gl_context` is the only place tests create a GL context."""
+
+from __future__ import annotations
+
+import pytest
+
+from explorer.gl.context import create_headless_context
+
+
+@pytest.fixture(scope="session")
+def gl_context():
+    """One headless EGL context (Mesa llvmpipe in CI) for the whole session."""
+    ctx = create_headless_context()
+    yield ctx
+    ctx.release()
+
+
+@pytest.fixture
+def ctx(gl_context):
+    """The session context, checked for GL errors before and after each test."""
+    assert gl_context.error == "GL_NO_ERROR"
+    yield gl_context
+    assert gl_context.error == "GL_NO_ERROR"

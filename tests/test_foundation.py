@@ -1,0 +1,75 @@
+"""Settings, grid mapping, resource lookup, the program loader and the CLI entry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from explorer.cli import main as cli_main
+from explorer.gl.context import probe
+from explorer.gl.program import ShaderError, load_program
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.settings import PRESETS, Corrections, Settings, preset
+from explorer.resources import lesson_dir, shader_dir
+
+
+def test_presets_differ_in_the_three_formulas_and_the_decimals():
+    original, corrected = PRESETS["original"], PRESETS["corrected"]
+    differing = {n for n in Corrections.names() if getattr(original, n) != getattr(corrected, n)}
+    assert differing == {"injection_pi", "propagation_4pi", "reprojection_pi", "exact_constants"}
+    assert corrected.as_uniforms()["u_injection_pi"] == 1
+    assert original.as_uniforms()["u_injection_pi"] == 0
+
+
+def test_unknown_preset_lists_the_names():
+    with pytest.raises(KeyError, match="corrected"):
+        preset("nope")
+
+
+def test_settings_reject_bad_choices_and_accept_changes():
+    with pytest.raises(ValueError, match="downsample"):
+        Settings(downsample="median")
+    with pytest.raises(ValueError, match="grid_size"):
+        Settings(grid_size=0)
+    changed = Settings().with_changes(corrections="original", grid_size=16)
+    assert changed.corrections == PRESETS["original"] and changed.grid_size == 16
+    flipped = Settings().with_changes(corrections={"side_faces": False})
+    assert flipped.corrections.side_faces is False and flipped.corrections.injection_pi
+
+
+def test_grid_mapping_round_trips_cell_centres():
+    spec = GridSpec(origin=(-1.0, -2.0, 0.5), cell_size=0.25, resolution=8)
+    index = np.array([[0, 0, 0], [7, 3, 5]])
+    centres = spec.cell_centre(index)
+    assert np.array_equal(spec.cell_index(centres), index)
+    assert np.allclose(spec.grid_coords(centres), index + 0.5)
+    assert spec.inside(np.array([[8, 0, 0], [7, 7, 7]])).tolist() == [False, True]
+
+
+def test_enclosing_grid_contains_the_box_with_margin():
+    spec = GridSpec.enclosing((0, 0, 0), (2, 1, 1), resolution=10, margin_cells=1)
+    lo = spec.cell_index(np.array([0.0, 0.0, 0.0]))
+    hi = spec.cell_index(np.array([2.0, 1.0, 1.0]) - 1e-9)
+    assert (lo >= 1).all() and (hi <= 8).all()
+
+
+def test_resources_are_found_from_the_package():
+    assert (shader_dir() / "generated" / "constants.glsl").is_file()
+    assert lesson_dir().is_dir()
+
+
+def test_context_offers_what_the_lpv_needs(ctx):
+    caps = probe(ctx)
+    assert caps.missing == []
+    assert caps.max_3d_texture_size >= 128
+
+
+def test_loader_reports_a_missing_file(ctx):
+    with pytest.raises(ShaderError, match="no shader file"):
+        load_program(ctx, "does-not-exist.glsl")
+
+
+def test_cli_unknown_command_fails(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli_main(["no-such-command"])
+    assert exc.value.code == 2
