@@ -123,3 +123,18 @@ class Settings:
 def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:
     if value not in choices:
         raise ValueError(f"{name} must be one of {choices}, got {value!r}")
+
+
+# Names shared by the CLI (`render --view`), the app's view selector and the lessons.
+VIEWS = (
+    "final",            # direct + indirect, exposure applied
+    "direct",           # shadowed direct light only
+    "indirect",         # LPV indirect light only
+    "albedo",
+    "rsm-position",
+    "rsm-normal",
+    "rsm-flux",
+    "grid-slice",       # one z slice of the accumulated grid (intensity or one SH coefficient)
+    "geometry-volume",  # one slice of the occlusion grid
+)
+PLOTS = ("flux-per-step", "audit", "timings", "error")
