@@ -73,3 +73,26 @@ def test_cli_unknown_command_fails(capsys):
     with pytest.raises(SystemExit) as exc:
         cli_main(["no-such-command"])
     assert exc.value.code == 2
+
+
+def test_vpl_arrays_round_trip_through_textures(ctx):
+    from explorer.lpv.vpl import VplArrays, VplTextures
+
+    rng = np.random.default_rng(1)
+    normals = rng.normal(size=(5, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    vpls = VplArrays(rng.random((5, 3)), normals, rng.random((5, 3)), rng.random(5) + 1,
+                     texel_area=4 / 64**2)
+    textures = VplTextures.from_arrays(ctx, vpls)
+    back = textures.to_arrays()
+    textures.release()
+    assert np.allclose(back.positions, vpls.positions, atol=1e-6)
+    assert np.allclose(back.depth, vpls.depth, atol=1e-6)
+    assert np.allclose(vpls.surfel_area(True) / vpls.surfel_area(False), vpls.depth)
+
+
+def test_vpl_arrays_reject_bad_shapes():
+    from explorer.lpv.vpl import VplArrays
+
+    with pytest.raises(ValueError, match=r"shape \(M, 3\)"):
+        VplArrays(np.zeros((4, 2)), np.zeros((4, 3)), np.zeros((4, 3)), np.zeros(4), 1.0)

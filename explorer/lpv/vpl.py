@@ -1,0 +1,117 @@
+"""Virtual point lights: the hand-over from the reflective shadow map to injection.
+
+On the GPU a VPL set is three 2D textures of the same size (one VPL per texel); tests,
+lessons and notebooks build the same thing from numpy arrays. See docs/MODEL.md.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+PROJECTIONS = ("perspective", "orthographic")
+
+
+@dataclass(frozen=True)
+class VplArrays:
+    """VPLs as numpy arrays, ``M`` of them.
+
+    ``positions`` (M, 3) world; ``normals`` (M, 3) unit; ``flux`` (M, 3) watts per channel;
+    ``depth`` (M,) view depth from the light (used for the surfel area);
+    ``texel_area``: for ``projection == "perspective"`` the area of one texel at depth 1
+    (``4/(W·H)`` for a 90° frustum), for ``"orthographic"`` the world area of one texel.
+    """
+
+    positions: np.ndarray
+    normals: np.ndarray
+    flux: np.ndarray
+    depth: np.ndarray
+    texel_area: float
+    projection: str = "perspective"
+
+    def __post_init__(self) -> None:
+        count = _rows(self.positions, "positions", 3)
+        for name, cols in (("normals", 3), ("flux", 3)):
+            if _rows(getattr(self, name), name, cols) != count:
+                raise ValueError(f"{name} must have {count} rows like positions")
+        depth = np.asarray(self.depth)
+        if depth.shape != (count,):
+            raise ValueError(f"depth must have shape ({count},), got {depth.shape}")
+        if self.projection not in PROJECTIONS:
+            raise ValueError(f"projection must be one of {PROJECTIONS}, got {self.projection!r}")
+        if not self.texel_area > 0:
+            raise ValueError(f"texel_area must be positive, got {self.texel_area}")
+
+    @property
+    def count(self) -> int:
+        return int(np.asarray(self.positions).shape[0])
+
+    def surfel_area(self, squared: bool) -> np.ndarray:
+        """World area of each VPL's surfel (annotations §5): ``texel_area·depth²``, or
+        ``texel_area·depth`` when ``squared`` is False (the published bug); orthographic
+        texels have the same area at any depth."""
+        depth = np.asarray(self.depth, dtype=np.float64)
+        if self.projection == "orthographic":
+            return np.full_like(depth, self.texel_area)
+        return self.texel_area * (depth * depth if squared else depth)
+
+
+@dataclass
+class VplTextures:
+    """VPLs as three ``rgba32f`` 2D textures of the same size.
+
+    ``position.xyz`` world position, ``position.w`` = 1 where the light saw a surface and
+    0 elsewhere (such texels are skipped); ``normal.xyz`` unit normal, ``normal.w`` = view
+    depth from the light; ``flux.rgb`` watts per channel.
+    """
+
+    position: moderngl.Texture
+    normal: moderngl.Texture
+    flux: moderngl.Texture
+    texel_area: float
+    projection: str = "perspective"
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.position.size
+
+    @classmethod
+    def from_arrays(cls, ctx: moderngl.Context, vpls: VplArrays) -> "VplTextures":
+        """Upload VPL arrays as a ``M×1`` texture set (every texel valid)."""
+        count = vpls.count
+        if count == 0:
+            raise ValueError("no VPLs to upload")
+        ones = np.ones((count, 1), dtype=np.float32)
+        position = np.hstack([np.asarray(vpls.positions, np.float32), ones])
+        normal = np.hstack([np.asarray(vpls.normals, np.float32),
+                            np.asarray(vpls.depth, np.float32)[:, None]])
+        flux = np.hstack([np.asarray(vpls.flux, np.float32), np.zeros_like(ones)])
+        textures = [ctx.texture((count, 1), 4, data.tobytes(), dtype="f4")
+                    for data in (position, normal, flux)]
+        for texture in textures:
+            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        return cls(*textures, texel_area=vpls.texel_area, projection=vpls.projection)
+
+    def to_arrays(self) -> VplArrays:
+        """Read the valid texels back as arrays (row-major over the texture)."""
+        def read(texture: moderngl.Texture) -> np.ndarray:
+            return np.frombuffer(texture.read(), dtype=np.float32).reshape(-1, 4)
+
+        position, normal, flux = read(self.position), read(self.normal), read(self.flux)
+        valid = position[:, 3] > 0.5
+        return VplArrays(position[valid, :3].copy(), normal[valid, :3].copy(),
+                         flux[valid, :3].copy(), normal[valid, 3].copy(),
+                         self.texel_area, self.projection)
+
+    def release(self) -> None:
+        for texture in (self.position, self.normal, self.flux):
+            texture.release()
+
+
+def _rows(array: np.ndarray, name: str, cols: int) -> int:
+    shape = np.asarray(array).shape
+    if len(shape) != 2 or shape[1] != cols:
+        raise ValueError(f"{name} must have shape (M, {cols}), got {shape}")
+    return shape[0]
