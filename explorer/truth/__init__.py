@@ -9,6 +9,7 @@ from explorer.truth.reference import (
     outgoing_radiance,
     reference_irradiance,
 )
+from explorer.truth.render import reference_indirect
 
 __all__ = [
     "Bvh",
@@ -18,5 +19,6 @@ __all__ = [
     "build_bvh",
     "numpy_reference_irradiance",
     "outgoing_radiance",
+    "reference_indirect",
     "reference_irradiance",
 ]
