@@ -32,8 +32,8 @@ def rasterize_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:
     owned = [program]
     try:
         # numpy matrices act on column vectors; a GLSL mat4 is filled column by column.
-    program["u_view_projection"].value = tuple(
-        float(v) for v in (np.asarray(projection) @ np.asarray(view)).T.ravel())
+        program["u_view_projection"].value = tuple(
+            float(v) for v in (np.asarray(projection) @ np.asarray(view)).T.ravel())
         vbo = ctx.buffer(scene.vertex_bytes())
         owned.append(vbo)
         vao = ctx.vertex_array(program, [(vbo, "3f 3f 3f", "in_position", "in_normal",
