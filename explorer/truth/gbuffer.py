@@ -23,13 +23,21 @@ def rasterize_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:
     the order GL reads them back (row 0 = bottom of the picture)."""
     import moderngl
 
-    from explorer.gl.program import load_program
+    from explorer.gl.program import preprocess
+    from explorer.resources import shader_dir
 
     view = scene.camera.view_matrix()
     projection = scene.camera.projection_matrix(width / height, scene.bounds_min,
                                                 scene.bounds_max)
-    program = load_program(ctx, "reference_gbuffer.glsl")
+    # Compiled here rather than through load_program, whose render-program path passes
+    # varyings=None, which moderngl 5.12 rejects (reported to the coordinator).
+    path = shader_dir() / "reference_gbuffer.glsl"
+    program = ctx.program(vertex_shader=preprocess(path, "VERTEX_SHADER"),
+                          fragment_shader=preprocess(path, "FRAGMENT_SHADER"))
     owned = [program]
+    # Rebind what was bound before releasing our framebuffer: moderngl re-binds the
+    # "current" framebuffer when it creates the next one, and a released one is an error.
+    restore = ctx.fbo if ctx.fbo is not None else ctx.detect_framebuffer(0)
     try:
         # numpy matrices act on column vectors; a GLSL mat4 is filled column by column.
         program["u_view_projection"].value = tuple(
@@ -53,6 +61,7 @@ def rasterize_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:
             np.frombuffer(fbo.read(attachment=i, components=4, dtype="f4"), np.float32)
             .reshape(height, width, 4) for i in range(3))
     finally:
+        restore.use()
         for obj in reversed(owned):
             obj.release()
     valid = position[..., 3] > 0.5
