@@ -24,9 +24,10 @@ X, Y, Z = np.eye(3)
 
 def cornell_box() -> Scene:
     """A 2 m Cornell box open towards +z: red wall at x = −1, green wall at x = +1, white
-    floor, ceiling and back, two white blocks, and a spot light just under the ceiling
-    pointing straight down. Its 90° frustum lights the floor and the lower halves of the
-    coloured walls, which then bleed red and green onto the floor and the blocks."""
+    floor, ceiling and back, two white blocks, and a spot light under the ceiling near the
+    open front, aimed down at the back of the box. Its 90° frustum lights the floor, the
+    back wall and most of both coloured walls, which then bleed red and green onto the
+    floor, the blocks and the back wall."""
     mesh = MeshBuilder()
     mesh.rect((0, -1, 0), Y, X, 1, 1, WHITE)      # floor
     mesh.rect((0, 1, 0), -Y, X, 1, 1, WHITE)      # ceiling
@@ -36,8 +37,8 @@ def cornell_box() -> Scene:
     mesh.box((0.34, -0.7, 0.3), (0.6, 0.6, 0.6), WHITE, rotation_y_degrees=-18.0)
     mesh.box((-0.34, -0.4, -0.32), (0.6, 1.2, 0.6), WHITE, rotation_y_degrees=18.0)
     positions, normals, albedo = mesh.arrays()
-    light = SpotLight((0.0, 0.9, 0.0), (0.0, -1.0, 0.0), flux_for_irradiance(1.9))
-    camera = Camera((0.0, 0.0, 3.9), (0.0, 0.0, 0.0), 38.0)
+    light = SpotLight((0.0, 0.9, 0.9), (0.0, -0.5, -0.8), flux_for_irradiance(2.2))
+    camera = Camera((0.0, 0.3, 4.4), (0.0, -0.1, 0.0), 38.0)
     return Scene("cornell", positions, normals, albedo, camera, light,
                  (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
 
