@@ -14,6 +14,7 @@ from pathlib import Path
 
 PRESET_CHOICES = ("all", "original", "corrected")
 REFERENCE_CHOICES = ("visible", "unoccluded")
+LOG2_DEFAULT_SCALE = 3.0  # error images saturate at 8× too bright / too dark
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -34,8 +35,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default 64)")
     parser.add_argument("--grid-size", type=int, default=None,
                         help="LPV resolution (default: the Settings default)")
-    parser.add_argument("--iterations", type=int, default=None,
-                        help="propagation steps (default: the Settings default)")
+    parser.add_argument("--iterations", default=None, metavar="N[,N...]",
+                        help="propagation steps, or a comma list for a sweep (default: the "
+                             "Settings default)")
     parser.add_argument("--geometry-volume", default="off",
                         choices=("off", "one-sided", "double-sided"),
                         help="LPV occlusion (default: off)")
@@ -46,7 +48,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         choices=("log2-ratio", "difference"),
                         help="what the error image shows (default: log2-ratio)")
     parser.add_argument("--error-scale", type=float, default=None,
-                        help="error value at full colour (default: 99th percentile)")
+                        help="error value at full colour (default: 3 stops for log2-ratio, "
+                             "the reference's 99th percentile for difference)")
     parser.add_argument("--exposure", type=float, default=None,
                         help="exposure of the LPV/reference PNGs (default: the reference's "
                              "99th percentile maps to white)")
@@ -79,27 +82,30 @@ def main(args: argparse.Namespace) -> int:
 
     try:
         regions = [_parse_region(text) for text in args.region]
+        iterations = _parse_iterations(args.iterations)
         for name in ("width", "height", "rsm_size"):
             if getattr(args, name) < 1:
                 raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
         if args.min_distance is not None and not args.min_distance >= 0:
             raise ValueError("--min-distance must be >= 0")
+        if args.error_scale is not None and not args.error_scale > 0:
+            raise ValueError("--error-scale must be positive")
         changes = {"scene": args.scene, "width": args.width, "height": args.height,
                    "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume}
         if args.grid_size is not None:
             changes["grid_size"] = args.grid_size
-        if args.iterations is not None:
-            changes["iterations"] = args.iterations
         base = Settings(**changes)
+        if iterations is None:
+            iterations = [base.iterations]
     except ValueError as exc:
         return _fail(str(exc))
 
     from explorer.gl.context import GLUnavailableError, create_headless_context
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
-    from explorer.truth.gbuffer import gbuffer_from_frame, scene_for
-    from explorer.truth.metrics import EmptyRegionError, error_image, error_stats
-    from explorer.truth.render import reference_indirect
+    from explorer.truth.gbuffer import scene_for
+    from explorer.truth.metrics import EmptyRegionError, error_image, error_stats, rect_mask
+    from explorer.truth.render import reference_for_frame
 
     try:
         scene = scene_for(base)
@@ -115,49 +121,70 @@ def main(args: argparse.Namespace) -> int:
     out = args.out if args.out is not None else Path(f"compare-{Path(args.scene).stem}")
     pipeline = Pipeline(base, ctx)
     rows = []
+    images = {}
+    reference = gbuffer = reference_vpls = frame = None
     try:
-        reference = None
-        reference_vpls = None
-        images = {}
         for name in names:
-            frame = pipeline.run(base.with_changes(corrections=PRESETS[name]))
-            if reference is None or not _same_vpls(frame.vpls, reference_vpls):
-                started = time.perf_counter()
-                reference = reference_indirect(
-                    frame, visibility, args.min_distance, ctx=ctx, scene=scene,
-                    progress=None if args.quiet else _progress_printer())
-                reference_vpls = frame.vpls
-                if not args.quiet:
-                    print(f"\rreference ({args.reference}, {frame.vpls.count} VPLs): "
-                          f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
-                valid = gbuffer_from_frame(frame, scene, ctx).valid
-            lpv = np.asarray(frame.indirect, np.float64)[..., :3]
-            images[name] = lpv
-            rows.append((name, "image", error_stats(lpv, reference, valid)))
-            for rect in regions:
-                # --region counts rows from the top of the PNG; arrays are stored bottom up
-                mask = _png_rect_mask(valid.shape, rect) & valid
-                try:
-                    rows.append((name, str(rect), error_stats(lpv, reference, mask)))
-                except EmptyRegionError:
-                    rows.append((name, str(rect), None))
+            for steps in iterations:
+                frame = pipeline.run(base.with_changes(corrections=PRESETS[name],
+                                                       iterations=steps))
+                if reference is None or not _same_vpls(frame.vpls, reference_vpls):
+                    started = time.perf_counter()
+                    reference, gbuffer = reference_for_frame(
+                        frame, visibility, args.min_distance, ctx=ctx, scene=scene,
+                        progress=None if args.quiet else _progress_printer())
+                    reference_vpls = frame.vpls
+                    if not args.quiet:
+                        print(f"\rreference ({args.reference}, {frame.vpls.count} VPLs): "
+                              f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
+                valid = gbuffer.valid
+                lpv = np.asarray(frame.indirect, np.float64)[..., :3]
+                label = name if len(iterations) == 1 else f"{name}-it{steps}"
+                images[label] = lpv
+                rows.append((name, steps, "image", error_stats(lpv, reference, valid)))
+                for rect in regions:
+                    mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
+                    try:
+                        stats = error_stats(lpv, reference, mask)
+                    except EmptyRegionError:
+                        stats = None
+                    rows.append((name, steps, ",".join(map(str, rect)), stats))
     finally:
         pipeline.release()
+        ctx.release()
 
     table = format_table(rows, args, frame)
     print(table)
     out.mkdir(parents=True, exist_ok=True)
+    valid = gbuffer.valid
     exposure = args.exposure or _auto_exposure(reference, valid)
     _save(out / "reference.png", reference * exposure)
     written = ["reference.png"]
-    for name, lpv in images.items():
-        _save(out / f"lpv-{name}.png", lpv * exposure)
-        error = error_image(lpv, reference, valid, args.error_mode, args.error_scale)
-        _save_error(out / f"error-{name}.png", error)
-        written += [f"lpv-{name}.png", f"error-{name}.png"]
+    scale = args.error_scale
+    if scale is None:
+        # One scale for every error image so that they compare: three stops for the log
+        # ratio; for the difference, the reference's bright end (99th percentile).
+        scale = LOG2_DEFAULT_SCALE if args.error_mode == "log2-ratio" else 1.0 / exposure
+    for label, lpv in images.items():
+        _save(out / f"lpv-{label}.png", lpv * exposure)
+        error = error_image(lpv, reference, valid, args.error_mode, scale)
+        _save_error(out / f"error-{label}.png", error)
+        written += [f"lpv-{label}.png", f"error-{label}.png"]
     (out / "table.md").write_text(table + "\n")
     print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
     return 0
+
+
+def _parse_iterations(text: str | None) -> list[int] | None:
+    if text is None:
+        return None
+    try:
+        values = [int(part) for part in text.split(",")]
+    except ValueError:
+        raise ValueError(f"--iterations {text!r}: expected integers like 16 or 0,4,16") from None
+    if any(v < 0 for v in values):
+        raise ValueError(f"--iterations {text!r}: iterations must be >= 0")
+    return values
 
 
 def _same_vpls(a, b) -> bool:
@@ -181,31 +208,24 @@ def _progress_printer():
     return report
 
 
-def _png_rect_mask(shape, rect):
-    from explorer.truth.metrics import rect_mask
-
-    return rect_mask(shape, [rect])[::-1]
-
-
 def format_table(rows, args, frame) -> str:
-    """Markdown table: one row per preset (and region)."""
+    """Markdown table: one row per preset, iteration count and region."""
     settings = frame.settings
     lines = [
         f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
         f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
-        f"{settings.grid_size}³, {settings.iterations} iterations, geometry volume "
-        f"`{settings.geometry_volume}`",
+        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`",
         "",
-        "| preset | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
-        "|---|---|---:|---:|---:|---|",
+        "| preset | iterations | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
+        "|---|---:|---|---:|---:|---:|---|",
     ]
-    for name, region, stats in rows:
+    for name, steps, region, stats in rows:
         if stats is None:
-            lines.append(f"| {name} | {region} | – | – | – | empty region |")
+            lines.append(f"| {name} | {steps} | {region} | – | – | – | empty region |")
             continue
         rgb = ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)
-        lines.append(f"| {name} | {region} | {stats.relative_l2:.3f} | {stats.rmse:.4g} | "
-                     f"{stats.flux_ratio:.3f} | {rgb} |")
+        lines.append(f"| {name} | {steps} | {region} | {stats.relative_l2:.3f} | "
+                     f"{stats.rmse:.4g} | {stats.flux_ratio:.3f} | {rgb} |")
     return "\n".join(lines)
 
 
@@ -226,10 +246,10 @@ def _to_srgb8(linear):
 
 
 def _save(path: Path, linear) -> None:
-    """Linear (H, W, 3) to an sRGB PNG, top row first (GL arrays are stored bottom up)."""
+    """Linear (H, W, 3), row 0 at the top (FrameResult's order), to an sRGB PNG."""
     from PIL import Image
 
-    Image.fromarray(_to_srgb8(linear)[::-1]).save(path)
+    Image.fromarray(_to_srgb8(linear)).save(path)
 
 
 def _save_error(path: Path, error) -> None:
@@ -240,18 +260,19 @@ def _save_error(path: Path, error) -> None:
     from explorer.truth.metrics import diverging_colormap
 
     height, width = error.rgb.shape[:2]
-    bar_height = max(24, height // 10)
+    ramp_height, text_height = max(6, height // 20), 12
     ramp = np.linspace(-error.scale, error.scale, width)
-    bar = np.broadcast_to(diverging_colormap(ramp, error.scale)[None], (bar_height // 2, width, 3))
-    canvas = np.ones((height + bar_height, width, 3))
-    canvas[:height] = error.rgb[::-1]
-    canvas[height:height + bar_height // 2] = bar
+    bar = np.broadcast_to(diverging_colormap(ramp, error.scale)[None], (ramp_height, width, 3))
+    canvas = np.ones((height + ramp_height + 2 * text_height, width, 3))
+    canvas[:height] = error.rgb
+    canvas[height:height + ramp_height] = bar
     image = Image.fromarray((np.clip(canvas, 0, 1) * 255 + 0.5).astype(np.uint8))
     draw = ImageDraw.Draw(image)
     unit = "log2(LPV/ref)" if error.mode == "log2-ratio" else "LPV - ref"
-    y = height + bar_height // 2
-    draw.text((2, y), f"-{error.scale:.3g}", fill=(0, 0, 0))
-    draw.text((width // 2 - 20, y), unit, fill=(0, 0, 0))
+    y = height + ramp_height
+    # first text row: the values at the ends of the ramp; second row: what is shown
+    draw.text((1, y), f"-{error.scale:.3g}", fill=(0, 0, 0))
     label = f"+{error.scale:.3g}"
-    draw.text((max(width - 7 * len(label), 0), y), label, fill=(0, 0, 0))
+    draw.text((max(width - 6 * len(label) - 1, 0), y), label, fill=(0, 0, 0))
+    draw.text((1, y + text_height), unit, fill=(0, 0, 0))
     image.save(path)

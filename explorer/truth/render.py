@@ -6,7 +6,12 @@ import numpy as np
 
 from explorer.lpv.vpl import VplArrays
 from explorer.truth.gbuffer import gbuffer_from_frame, scene_for, scene_triangles
-from explorer.truth.reference import ProgressCallback, ReferencePass, outgoing_radiance
+from explorer.truth.reference import (
+    GBuffer,
+    ProgressCallback,
+    ReferencePass,
+    outgoing_radiance,
+)
 
 
 def lit_vpls(vpls: VplArrays) -> VplArrays:
@@ -31,6 +36,17 @@ def reference_indirect(frame, visibility: bool, min_distance: float | None = Non
     frame's grid. ``progress`` gets the fraction done after each dispatch; returning
     False raises :class:`~explorer.truth.reference.Cancelled`.
     """
+    radiance, _ = reference_for_frame(frame, visibility, min_distance, ray_offset, tile_size,
+                                      vpl_chunk, progress, ctx, scene)
+    return radiance
+
+
+def reference_for_frame(frame, visibility: bool, min_distance: float | None = None,
+                        ray_offset: float | None = None, tile_size: int = 64,
+                        vpl_chunk: int = 4096, progress: ProgressCallback | None = None,
+                        ctx=None, scene=None) -> tuple[np.ndarray, GBuffer]:
+    """:func:`reference_indirect` and the G-buffer it gathered at (its ``valid`` mask is
+    the region where the comparison means something)."""
     if min_distance is None:
         min_distance = 0.5 * frame.grid_spec.cell_size
     own_ctx = ctx is None
@@ -53,4 +69,4 @@ def reference_indirect(frame, visibility: bool, min_distance: float | None = Non
     finally:
         if own_ctx:
             ctx.release()
-    return outgoing_radiance(gbuffer, irradiance)
+    return outgoing_radiance(gbuffer, irradiance), gbuffer
