@@ -47,3 +47,19 @@ def test_a_frame_that_carries_its_gbuffer_is_used_as_it_is(ctx):
     gbuffer = gbuffer_from_frame(frame)
     assert gbuffer.valid.tolist() == [[True] * 3, [False] * 3]
     np.testing.assert_array_equal(gbuffer.position[0, :, 0], [0.1, 0.2, 0.3])
+
+
+def test_reference_for_a_frame_matches_the_numpy_sum(ctx, tiny_frame):
+    """End to end on a Pipeline frame: its G-buffer, its VPLs, the scene's triangles."""
+    from explorer.truth.gbuffer import scene_for, scene_triangles
+    from explorer.truth.reference import numpy_reference_irradiance, outgoing_radiance
+    from explorer.truth.render import lit_vpls, reference_for_frame
+
+    radiance, gbuffer = reference_for_frame(tiny_frame, visibility=True, ctx=ctx)
+    assert radiance.shape == tiny_frame.indirect.shape and radiance.max() > 0
+    vpls = lit_vpls(tiny_frame.vpls)
+    assert 0 < vpls.count <= tiny_frame.vpls.count
+    expected = outgoing_radiance(gbuffer, numpy_reference_irradiance(
+        gbuffer, vpls, 0.5 * tiny_frame.grid_spec.cell_size,
+        scene_triangles(scene_for(tiny_frame.settings)), visibility=True))
+    np.testing.assert_allclose(radiance, expected, rtol=1e-3, atol=1e-4 * expected.max())
