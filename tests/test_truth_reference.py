@@ -172,3 +172,33 @@ def test_bad_input_is_named(ctx):
         GBuffer(gbuffer.position, gbuffer.normal[:, :3], gbuffer.albedo, gbuffer.valid)
     with pytest.raises(ValueError, match=r"\(T, 3, 3\)"):
         build_bvh(np.zeros((4, 3)))
+
+
+def test_vpl_textures_skip_invalid_texels(ctx):
+    """A 3×2 VPL texture set (as the RSM hands it over) with one texel that saw nothing:
+    the GPU sums only the valid texels, row by row."""
+    import moderngl
+
+    from explorer.lpv.vpl import VplTextures
+
+    vpls = ceiling_vpls(6)
+    position = np.hstack([vpls.positions, np.ones((6, 1))]).astype(np.float32)
+    position[4, 3] = 0.0  # the light saw no surface here
+    normal = np.hstack([vpls.normals, np.ones((6, 1))]).astype(np.float32)
+    flux = np.hstack([vpls.flux, np.zeros((6, 1))]).astype(np.float32)
+    textures = []
+    for data in (position, normal, flux):
+        texture = ctx.texture((3, 2), 4, data.tobytes(), dtype="f4")
+        texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        textures.append(texture)
+    handed_over = VplTextures(*textures, texel_area=0.01)
+    try:
+        gbuffer = floor_gbuffer(6, 5)
+        gpu = reference_irradiance(gbuffer, handed_over, MIN_DISTANCE, ctx=ctx, vpl_chunk=4)
+    finally:
+        handed_over.release()
+    keep = np.arange(6) != 4
+    valid_only = VplArrays(vpls.positions[keep], vpls.normals[keep], vpls.flux[keep],
+                           vpls.depth[keep], 0.01)
+    expected = numpy_reference_irradiance(gbuffer, valid_only, MIN_DISTANCE)
+    np.testing.assert_allclose(gpu, expected, rtol=1e-4, atol=1e-4 * expected.max())
