@@ -315,7 +315,8 @@ def results() -> list[Result]:
                "Solid angle of one of a neighbour's four side faces seen from the source "
                "cell centre.",
                glsl_name="SIDE_FACE_SOLID_ANGLE"),
-        result(MODULE, "tiling", sp.Eq(6 * (front + 4 * side), 4 * sp.pi, evaluate=False),
+        result(MODULE, "tiling",
+               sp.Eq(6 * sp.UnevaluatedExpr(front + 4 * side), 4 * sp.pi, evaluate=False),
                "The 6 front faces and 24 side faces of the neighbours cover the sphere "
                "exactly once (front + 4 side = 2π/3)."),
         result(MODULE, "cube_face", cube_face(),
