@@ -229,8 +229,9 @@ def _printed() -> tuple[Printed, ...]:
         Printed("dx11.l1_accuracy", "share of a clamped cosine kept by 4 SH coefficients",
                 "about 75%", sp.Rational(3, 4), sh.captured_energy_fraction(sh.L1_BASIS), DX11,
                 "Pros and cons, first con",
-                note="L1 keeps 7/8 = 87.5 % of the clamped cosine's energy (L2: 127/128); "
-                     "no natural measure gives 75 %.",
+                note="L1 keeps 7/8 = 87.5 % of the clamped cosine's energy (L2: 127/128), "
+                     "i.e. a relative L2 error of √(1/8) ≈ 35 %; no natural measure gives "
+                     "75 %.",
                 verdict_override="wrong"),
         # --- DX12 blog ---
         Printed("dx12.y00", "Y_0^0", "√(1/(4π))", _s(1 / (4 * sp.pi)), sh.C0, DX12,
