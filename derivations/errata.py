@@ -362,7 +362,8 @@ def markdown() -> str:
         exact = f"`{sp.sstr(item.exact)}`" if item.exact is not None else "—"
         if row.exact_digits:
             exact += f" = {row.exact_digits}"
-        rel = f"{row.relative_error:+.3g}" if row.relative_error is not None else "—"
+        rel = ("—" if row.relative_error is None else
+               "0" if row.relative_error == 0 else f"{row.relative_error:+.3g}")
         digits = str(row.correct_digits) if row.correct_digits is not None else "—"
         lines.append("| " + " | ".join(_cell(c) for c in (
             f"{item.source}: {item.locator}", item.quantity, f"`{item.printed}`", exact,

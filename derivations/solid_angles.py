@@ -336,6 +336,10 @@ def results() -> list[Result]:
                "Solid angle of one of a neighbour's four side faces seen from the source "
                "cell centre.",
                glsl_name="SIDE_FACE_SOLID_ANGLE"),
+        result(MODULE, "front_face_spherical", front_face_by_spherical_trigonometry(),
+               "Front face as two spherical triangles (Girard's excess); equals front_face."),
+        result(MODULE, "side_face_spherical", side_face_by_spherical_trigonometry(),
+               "Side face as two spherical triangles (Girard's excess); equals side_face."),
         result(MODULE, "tiling",
                sp.Eq(6 * sp.UnevaluatedExpr(front + 4 * side), 4 * sp.pi, evaluate=False),
                "The 6 front faces and 24 side faces of the neighbours cover the sphere "
