@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import sys
+import types
 
 from explorer.cli import main
 from explorer.commands import doctor
@@ -23,7 +25,8 @@ class _OldDriver:
 
 
 def test_reports_the_real_driver(capsys, gl_context):
-    assert main(["doctor", "--json"]) == 0
+    # No window check here: glfw.terminate() would close windows other tests hold open.
+    assert main(["doctor", "--json", "--no-window-check"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert report["ok"] and report["headless_ok"] and report["compute_shaders"]
     assert report["gl_version_code"] >= 430 and report["max_3d_texture_size"] >= 128
@@ -55,3 +58,15 @@ def test_no_display_is_advice_not_failure(monkeypatch, capsys):
     report = doctor.Report()
     doctor.check_window(report)
     assert not report.glfw_ok and "xvfb-run" in report.advice[0]
+
+
+def test_display_that_glfw_cannot_open(monkeypatch):
+    fake_glfw = types.SimpleNamespace(init=lambda: False, terminate=lambda: None,
+                                      ERROR_REPORTING="warn")
+    monkeypatch.setitem(sys.modules, "glfw", fake_glfw)
+    monkeypatch.setenv("DISPLAY", ":99")
+    report = doctor.Report()
+    doctor.check_window(report)
+    assert not report.glfw_ok and "DISPLAY=:99" in report.glfw_error
+    assert fake_glfw.ERROR_REPORTING == "warn"
+    assert "not available: glfw could not connect" in doctor.render_text(report)
