@@ -7,7 +7,12 @@ import pytest
 from derivations import errata
 
 EXPECTED = {
+    "annotations.front_maple_delta": "correct",
+    "annotations.front_maple_alpha": "correct",
     "annotations.front_maple_closed_form": "correct",
+    "annotations.side_corner_dot": "correct",
+    "dx11.rsm_vpls": "correct",
+    "dx12.legendre_20": "correct",
     "annotations.front_maple_decimal": "rounded",
     "annotations.side_maple_closed_form": "correct",
     "annotations.side_maple_20_digits": "wrong",
