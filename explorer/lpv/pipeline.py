@@ -176,7 +176,8 @@ class Pipeline:
             self._arrays["rsm"] = tuple(read_texture(t) for t in (
                 self._rsm_textures.position, self._rsm_textures.normal,
                 self._rsm_textures.flux))
-            self._check("rsm", self._arrays["rsm"][2])
+            for array in self._arrays["rsm"]:
+                self._check("rsm", array)
             ran.append("rsm")
 
         override_key = None if vpls is None else _digest(vpls)
@@ -233,7 +234,8 @@ class Pipeline:
                 self._geometry_buffers, scene, (s.width, s.height)))
             self._arrays["gbuffer"] = tuple(read_texture(t)
                                             for t in self._gbuffer.textures)
-            self._check("gbuffer", self._arrays["gbuffer"][0])
+            for array in self._arrays["gbuffer"]:
+                self._check("gbuffer", array)
             ran.append("gbuffer")
 
         gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only)
@@ -244,7 +246,8 @@ class Pipeline:
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
-            self._check("gather", self._arrays["gather"]["final"])
+            for array in self._arrays["gather"].values():
+                self._check("gather", array)
             ran.append("gather")
 
         self.last_result = self._result(s, spec, ran)
