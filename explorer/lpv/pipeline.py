@@ -265,6 +265,15 @@ class Pipeline:
         for name in STAGES[first:]:
             self._keys.pop(name, None)
 
+    def reload_shaders(self) -> bool:
+        """Recompile the programs whose ``.glsl`` files changed (a failed compile keeps the
+        last good program; ``self.programs.errors`` holds the log). True if any changed:
+        then every stage runs again on the next :meth:`run`."""
+        changed = self.programs.reload_if_changed()
+        if changed:
+            self.invalidate("rsm")
+        return changed
+
     def view(self, name: str, **options) -> np.ndarray:
         """The last frame shown as ``name`` (any of ``settings.VIEWS``): an ``(H, W, 3)``
         float32 image in [0, 1], ready for display (sRGB-encoded for radiometric views,
