@@ -176,7 +176,8 @@ class Pipeline:
             self._arrays["rsm"] = tuple(read_texture(t) for t in (
                 self._rsm_textures.position, self._rsm_textures.normal,
                 self._rsm_textures.flux))
-            self._check("rsm", self._arrays["rsm"][2])
+            for array in self._arrays["rsm"]:
+                self._check("rsm", array)
             ran.append("rsm")
 
         override_key = None if vpls is None else _digest(vpls)
@@ -233,7 +234,8 @@ class Pipeline:
                 self._geometry_buffers, scene, (s.width, s.height)))
             self._arrays["gbuffer"] = tuple(read_texture(t)
                                             for t in self._gbuffer.textures)
-            self._check("gbuffer", self._arrays["gbuffer"][0])
+            for array in self._arrays["gbuffer"]:
+                self._check("gbuffer", array)
             ran.append("gbuffer")
 
         gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only)
@@ -244,22 +246,33 @@ class Pipeline:
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
-            self._check("gather", self._arrays["gather"]["final"])
+            for array in self._arrays["gather"].values():
+                self._check("gather", array)
             ran.append("gather")
 
         self.last_result = self._result(s, spec, ran)
         return self.last_result
 
     def invalidate(self, stage: str | None = None) -> None:
-        """Make the next :meth:`run` redo ``stage`` and everything after it (all stages when
-        None), e.g. to time a full frame or after editing a scene file."""
+        """Make the next :meth:`run` redo ``stage`` and every stage after it in
+        :data:`STAGES` (all stages when None), e.g. to time a whole frame or after editing
+        a scene file."""
         if stage is not None and stage not in STAGES:
             raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
-        if stage is None or stage == "scene":
+        first = STAGES.index(stage) if stage is not None else 0
+        if first == 0:
             self._scene_cache.clear()
-        self._keys.pop(stage or "scene", None)
-        if stage is None:
-            self._keys.clear()
+        for name in STAGES[first:]:
+            self._keys.pop(name, None)
+
+    def reload_shaders(self) -> bool:
+        """Recompile the programs whose ``.glsl`` files changed (a failed compile keeps the
+        last good program; ``self.programs.errors`` holds the log). True if any changed:
+        then every stage runs again on the next :meth:`run`."""
+        changed = self.programs.reload_if_changed()
+        if changed:
+            self.invalidate("rsm")
+        return changed
 
     def view(self, name: str, **options) -> np.ndarray:
         """The last frame shown as ``name`` (any of ``settings.VIEWS``): an ``(H, W, 3)``

@@ -151,14 +151,16 @@ def draw_points_additively(ctx: moderngl.Context, program: moderngl.Program,
     blending (sums, negative values kept). The previous framebuffer and enable flags come
     back afterwards; the blend function is left at moderngl's default."""
     vertex_array = ctx.vertex_array(program, [])
+    scope = ctx.scope(target.framebuffer, enable_only=moderngl.BLEND)
     try:
-        with ctx.scope(target.framebuffer, enable_only=moderngl.BLEND):
+        with scope:
             target.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
             ctx.blend_equation = moderngl.FUNC_ADD
             ctx.blend_func = moderngl.ONE, moderngl.ONE
             vertex_array.render(mode=moderngl.POINTS, vertices=count)
             ctx.blend_func = moderngl.DEFAULT_BLENDING
     finally:
+        scope.release()
         vertex_array.release()
 
 
