@@ -120,7 +120,11 @@ void main() {
 
     int vpl_width = textureSize(u_vpl_position, 0).x;
     vec3 irradiance = vec3(0.0);
+    // Counted in a float the compiler cannot relate to the loop bound (it would fold an
+    // integer check after the loop to "true"); exact up to 2^24 VPLs per chunk.
+    float visited = 0.0;
     for (int i = u_vpl_begin; i < u_vpl_end; ++i) {
+        visited += 1.0;
         ivec2 texel = ivec2(i % vpl_width, i / vpl_width);
         vec4 source = texelFetch(u_vpl_position, texel, 0);
         if (source.w < 0.5) continue;
@@ -137,7 +141,12 @@ void main() {
             continue;
         irradiance += texelFetch(u_vpl_flux, texel, 0).rgb * (INV_PI * geometry);
     }
+    // Mesa's llvmpipe stops every loop of an invocation after 65535 back-edges in total
+    // (LP_MAX_TGSI_LOOP_ITERATIONS) without an error; the host keeps chunks under that
+    // budget, and w = 0 records a chunk that was cut short anyway so the host can refuse
+    // the result instead of returning too little light.
+    float complete = visited >= float(u_vpl_end - u_vpl_begin) ? 1.0 : 0.0;
     vec4 sum = imageLoad(u_irradiance, pixel);
-    imageStore(u_irradiance, pixel, vec4(sum.rgb + irradiance, 1.0));
+    imageStore(u_irradiance, pixel, vec4(sum.rgb + irradiance, min(sum.w, complete)));
 }
 #endif

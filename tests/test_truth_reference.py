@@ -202,3 +202,55 @@ def test_vpl_textures_skip_invalid_texels(ctx):
                            vpls.depth[keep], 0.01)
     expected = numpy_reference_irradiance(gbuffer, valid_only, MIN_DISTANCE)
     np.testing.assert_allclose(gpu, expected, rtol=1e-4, atol=1e-4 * expected.max())
+
+
+def closed_box(half: float = 1.0) -> np.ndarray:
+    """The 12 triangles of a cube centred on the origin (a convex enclosure)."""
+    corners = np.array([[x, y, z] for x in (-half, half) for y in (-half, half)
+                        for z in (-half, half)])
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
+             (1, 5, 7, 3)]
+    return np.array([[corners[a], corners[b], corners[c]] for a, b, c, d in faces] +
+                    [[corners[a], corners[c], corners[d]] for a, b, c, d in faces])
+
+
+def many_vpls_inside(count: int = 3000) -> VplArrays:
+    rng = np.random.default_rng(11)
+    normals = rng.normal(size=(count, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return VplArrays(rng.uniform(-0.9, 0.9, (count, 3)), normals,
+                     rng.uniform(0.0, 1.0, (count, 3)), np.ones(count), 0.01)
+
+
+def test_inside_a_convex_box_visibility_changes_nothing(ctx):
+    """Every VPL and pixel lies inside a closed cube, so no shadow ray can be blocked:
+    the visible sum equals the unoccluded one. Many VPLs per dispatch make this the test
+    that catches a driver cutting the shader's loops short (llvmpipe's loop limit)."""
+    gbuffer = floor_gbuffer(4, 3)
+    gbuffer.position[..., 1] = -0.5  # a floor inside the box
+    vpls = many_vpls_inside()
+    open_sky = reference_irradiance(gbuffer, vpls, MIN_DISTANCE, ctx=ctx)
+    boxed = reference_irradiance(gbuffer, vpls, MIN_DISTANCE, closed_box(), True, ctx=ctx)
+    assert open_sky.max() > 0
+    np.testing.assert_allclose(boxed, open_sky, rtol=1e-5)
+
+
+def test_a_chunk_cut_short_by_the_driver_is_refused(ctx, monkeypatch):
+    """With the chunk budget lifted, llvmpipe ends the loop early; the pass must raise
+    instead of returning too little light (on a GPU without the limit it just matches)."""
+    from explorer.truth import reference as reference_module
+
+    gbuffer = floor_gbuffer(2, 1)
+    gbuffer.position[..., 1] = -0.5
+    vpls = many_vpls_inside(6000)
+    expected = reference_irradiance(gbuffer, vpls, MIN_DISTANCE, ctx=ctx)
+    monkeypatch.setattr(reference_module, "LOOP_BUDGET", 10 ** 9)
+    try:
+        lifted = reference_irradiance(gbuffer, vpls, MIN_DISTANCE, closed_box(), True,
+                                      ctx=ctx, vpl_chunk=6000)
+    except reference_module.IncompleteRender as exc:
+        assert "loop" in str(exc)
+    else:
+        renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
+        assert "llvmpipe" not in renderer, "llvmpipe cut nothing: the limit test is stale"
+        np.testing.assert_allclose(lifted, expected, rtol=1e-5)

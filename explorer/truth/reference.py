@@ -34,6 +34,12 @@ from explorer.truth.bvh import Bvh, as_triangles, build_bvh
 
 SHADER = "reference_gather.glsl"
 _LOCAL_SIZE = 8  # LOCAL_SIZE in reference_gather.glsl
+LOOP_BUDGET = 60000
+"""Loop iterations one invocation may run per dispatch. Mesa's llvmpipe silently ends
+every loop of a shader invocation once 65535 loop-condition checks have run in total (all
+loops together, measured on Mesa 22.3), which cut long VPL chunks with shadow rays short.
+Chunks are sized so the worst case stays below this budget (:func:`safe_vpl_chunk`), and
+the shader flags a chunk that did not finish anyway (:class:`IncompleteRender`)."""
 
 ProgressCallback = Callable[[float], "bool | None"]
 """Called after every dispatch with the fraction done in [0, 1]; returning False cancels."""
@@ -41,6 +47,24 @@ ProgressCallback = Callable[[float], "bool | None"]
 
 class Cancelled(RuntimeError):
     """The progress callback asked the reference render to stop."""
+
+
+class IncompleteRender(RuntimeError):
+    """The GL driver ended the gather loop early (see :data:`LOOP_BUDGET`)."""
+
+
+def safe_vpl_chunk(vpl_chunk: int, bvh: "Bvh | None") -> int:
+    """``vpl_chunk`` reduced so that one dispatch stays within :data:`LOOP_BUDGET`.
+
+    Worst case per VPL: one check of the VPL loop, and for a shadow ray up to one check
+    per BVH node popped (+1 to leave), each of which may run a leaf's triangle loop
+    (leaf size + 1 checks): the lanes of a SIMD batch run in lock step, so one lane at a
+    leaf costs the whole batch that loop."""
+    per_vpl = 2
+    if bvh is not None and len(bvh.nodes):
+        leaf = int(bvh.nodes["count"].max())
+        per_vpl += (len(bvh.nodes) + 1) * (leaf + 2)
+    return max(1, min(int(vpl_chunk), LOOP_BUDGET // per_vpl))
 
 
 @dataclass(frozen=True)
@@ -148,7 +172,10 @@ class ReferencePass:
             position = texture(np.concatenate([gbuffer.position, valid], axis=-1),
                                (width, height))
             normal = texture(np.concatenate([gbuffer.normal, valid], axis=-1), (width, height))
-            result = texture(np.zeros((height, width, 4)), (width, height))
+            # w starts at 1 and drops to 0 where a dispatch did not finish its chunk
+            cleared = np.zeros((height, width, 4))
+            cleared[..., 3] = 1.0
+            result = texture(cleared, (width, height))
             if bvh is not None and bvh.triangle_count:
                 corners = np.concatenate(
                     [bvh.triangles, np.zeros(bvh.triangles.shape[:2] + (1,))], axis=-1)
@@ -186,6 +213,7 @@ class ReferencePass:
                     program[key] = value
             tiles = [(x, y) for y in range(0, height, tile_size)
                      for x in range(0, width, tile_size)]
+            vpl_chunk = safe_vpl_chunk(vpl_chunk, bvh)
             chunks = list(range(0, total_vpls, vpl_chunk))
             total = len(tiles) * len(chunks)
             groups = -(-tile_size // _LOCAL_SIZE)
@@ -205,6 +233,11 @@ class ReferencePass:
                                             f"{total} dispatches")
             ctx.memory_barrier()
             data = np.frombuffer(result.read(), dtype=np.float32).reshape(height, width, 4)
+            cut = int(np.count_nonzero(data[..., 3] < 0.5))
+            if cut:
+                raise IncompleteRender(
+                    f"the GL driver ended the VPL loop early at {cut} pixels (llvmpipe's "
+                    f"loop limit); pass a smaller vpl_chunk (was {vpl_chunk})")
             return data[..., :3].copy()
         finally:
             for obj in owned:
