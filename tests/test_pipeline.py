@@ -132,13 +132,11 @@ def test_hand_made_vpls_and_debug_nan_names_the_pass(pipeline):
                        vpl.texel_area)
     with pytest.raises(FloatingPointError, match="inject"):
         pipeline.run(SMALL.with_changes(debug_nan=True), vpls=broken)
-    pipeline.invalidate()
 
 
 def test_a_nan_light_is_caught_at_the_rsm(pipeline):
     with pytest.raises(FloatingPointError, match="rsm"):
         pipeline.run(SMALL.with_changes(debug_nan=True, light_flux=float("nan")))
-    pipeline.invalidate()
 
 
 def test_grid_larger_than_the_driver_allows_is_refused(pipeline):
@@ -154,3 +152,17 @@ def test_room_scene_with_directional_light(pipeline):
     assert result.vpls.projection == "orthographic"
     assert result.indirect.max() > 0.0
     pipeline.invalidate()
+
+
+def test_moving_the_camera_does_not_repropagate(pipeline):
+    pipeline.run(SMALL)
+    moved = SMALL.with_changes(camera=((0.2, 0.3, 4.0), (0.0, 0.0, 0.0)))
+    assert pipeline.run(moved).stages_run == ("scene", "gbuffer", "gather")
+
+
+def test_a_failed_stage_runs_again(pipeline):
+    with pytest.raises(FloatingPointError):
+        pipeline.run(SMALL.with_changes(debug_nan=True, light_flux=float("nan")))
+    with pytest.raises(FloatingPointError, match="rsm"):
+        pipeline.run(SMALL.with_changes(debug_nan=True, light_flux=float("nan")))
+    assert "rsm" in pipeline.run(SMALL).stages_run
