@@ -69,7 +69,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
         vec4 own[3];
         load_source(cell, own);
-        vec4 unused[3];
+        vec4 unused[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
         for (int dir = 0; dir < 6; ++dir) {
             ivec3 outside = cell + LPV_DIRECTIONS[dir];
             if (!grid_inside(outside)) {

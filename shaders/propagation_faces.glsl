@@ -68,7 +68,7 @@ struct LpvAudit {
 };
 
 // One face (docs/MODEL.md "Propagation"):
-//     I_f = <s, Y(e_f)> (clamp+ when `clamped`),  V_f = 1 - clamp(<blocker, Y(e_f)>, 0, 1),
+//     I_f = <s, Y(e_f)> (clamp+ when `clamped`),  V_f = 1 - clamp(<blocker, Y(-e_f)>, 0, 1),
 //     received += weight * I_f * V_f * lobe(r_f)   (when the target is inside the grid).
 // The flux of a reprojected lobe scale*lobe(r) is sh_flux(scale * lobe(r)).
 void lpv_send_face(vec4 source[3], vec3 eval_direction, vec3 reprojection, float weight,
@@ -78,7 +78,10 @@ void lpv_send_face(vec4 source[3], vec3 eval_direction, vec3 reprojection, float
     vec4 lobe = sh_cosine_lobe(reprojection);
     vec3 raw = vec3(dot(source[0], basis), dot(source[1], basis), dot(source[2], basis));
     vec3 used = clamped ? max(raw, vec3(0.0)) : raw;
-    float visibility = u_use_geometry ? 1.0 - clamp(dot(blocker, basis), 0.0, 1.0) : 1.0;
+    // A surfel blocks light that runs into its front side, i.e. travels against its normal:
+    // the blocker lobe is evaluated at -e_f, so a lit wall does not shadow its own bounce.
+    vec4 against = sh_eval(-eval_direction);
+    float visibility = u_use_geometry ? 1.0 - clamp(dot(blocker, against), 0.0, 1.0) : 1.0;
     float flux_per_intensity = weight * sh_flux(lobe);
     audit.clamp_gain += flux_per_intensity * (used - raw);
     audit.occluded += flux_per_intensity * (1.0 - visibility) * used;

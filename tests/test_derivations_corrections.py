@@ -60,6 +60,15 @@ def test_faces_and_directions():
         pr.side_evaluation_direction((0, 1, 0), (0, 1, 0))
 
 
+def test_rsm_texel_flux_erratum_cancels_the_cosine():
+    """A texel of solid angle ρ sees a surfel of area ρr²/cos θ_i: its flux has no cosine,
+    and the published form is off by exactly cos θ_i (docs/MODEL.md, RSM erratum)."""
+    theta = sp.Symbol("theta_i", nonnegative=True)
+    per_texel = rsm.texel_flux_steps()[-1].rhs
+    assert sp.simplify(per_texel - rsm.c_diff * rsm.rho * rsm.Phi_L / (4 * sp.pi)) == 0
+    assert sp.simplify(get("rsm.texel_flux_published_over_correct").expr - sp.cos(theta)) == 0
+
+
 def test_rsm_outgoing_flux_chain():
     steps = rsm.outgoing_flux_steps()
     assert steps[2].rhs == sp.pi * steps[1].rhs  # M = π L_o

@@ -117,3 +117,12 @@ def test_bad_input_is_named(ctx):
     finally:
         grid.release()
         textures.release()
+
+
+def test_point_injection_gives_the_callers_framebuffer_back(ctx):
+    screen = ctx.simple_framebuffer((16, 8))
+    screen.use()
+    inject(random_vpls(7, SPEC, 10), SPEC, mode="points", ctx=ctx)
+    assert ctx.fbo is screen and tuple(ctx.viewport) == (0, 0, 16, 8)
+    # Left bound and alive on purpose: a standalone context has no default framebuffer to
+    # go back to, and releasing a bound framebuffer breaks the next pass that restores it.

@@ -34,12 +34,14 @@ def assert_audits_match(actual, expected, tolerance: float = 1e-4) -> None:
 @pytest.mark.parametrize("index", range(len(COMBINATIONS)))
 def test_inject_and_propagate_match_the_reference(ctx, index):
     """All 2^7 combinations of the switches (ping-pong on); the geometry volume alternates
-    between one- and double-sided surfels made from the same VPLs."""
+    between one- and double-sided surfels made from the same VPLs, the injection between
+    points and compute."""
     corrections = Corrections(**dict(zip(SWITCHES, COMBINATIONS[index])))
     geometry_mode = ("one-sided", "double-sided")[index % 2]
+    injection_mode = ("points", "compute")[index // 2 % 2]
     vpls = random_vpls(index, SPEC, 120, outside=5, texel_area=0.05)
 
-    grid = inject(vpls, SPEC, corrections, ctx=ctx)
+    grid = inject(vpls, SPEC, corrections, injection_mode, ctx=ctx)
     geometry = inject_geometry(vpls, SPEC, corrections, geometry_mode, ctx=ctx)
     expected_grid = reference.inject(vpls, SPEC, corrections)
     expected_geometry = reference.inject_geometry(vpls, SPEC, corrections, geometry_mode)
@@ -87,7 +89,12 @@ def test_in_place_propagation_races_and_double_counts(ctx):
     flux_in_place = reference.flux(sum(in_place_steps))
     assert np.all(flux_in_place > 1.5 * flux_ping_pong)
 
-    gpu_in_place = sum(propagate(grid, in_place, 3, ctx=ctx))
+    gpu_steps, gpu_accumulated, gpu_audit = propagate_with_audit(grid, in_place, 3, ctx=ctx)
+    gpu_in_place = sum(gpu_steps)
+    assert relative_error(gpu_accumulated, gpu_in_place) < 1e-5
+    # The audit measures what the racing dispatch really added.
+    assert np.allclose(gpu_audit.per_step, [reference.flux(step) for step in gpu_steps],
+                       rtol=1e-4)
     gpu_ping_pong = sum(propagate(grid, ping_pong, 3, ctx=ctx))
     assert relative_error(gpu_ping_pong, sum(ping_pong_steps)) < 1e-4
     assert relative_error(gpu_in_place, sum(ping_pong_steps)) > 1e-2

@@ -48,6 +48,9 @@ class PropagatePass:
     (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
     a data race kept on purpose. Either way the dispatch also sums the step's audit terms
     (for in place: of what the racing invocations actually read and added).
+
+    GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
+    format and 48 bytes per cell of audit records (≈100 MB each at 128³ in rgba32f).
     """
 
     GEOMETRY_UNIT = 6

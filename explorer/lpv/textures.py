@@ -179,18 +179,16 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
 
 
 _PER_CONTEXT: dict[tuple[int, str], tuple[moderngl.Context, object]] = {}
+_DEFAULT_CONTEXT: list[moderngl.Context] = []
 
 
 def default_context() -> moderngl.Context:
     """One headless context, created on first use and reused by the numpy-facing API."""
-    ctx = _PER_CONTEXT.get((0, "default"))
-    if ctx is None:
+    if not _DEFAULT_CONTEXT:
         from explorer.gl.context import create_headless_context
 
-        created = create_headless_context()
-        _PER_CONTEXT[(0, "default")] = (created, created)
-        return created
-    return ctx[0]
+        _DEFAULT_CONTEXT.append(create_headless_context())
+    return _DEFAULT_CONTEXT[0]
 
 
 def per_context(ctx: moderngl.Context, key: str, factory):
