@@ -127,6 +127,10 @@ class ReferencePass:
         self.ctx = ctx
         self.program = programs.get(SHADER) if programs is not None else load_program(ctx, SHADER)
         self._owns_program = programs is None
+        renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
+        # Only Mesa's software rasterisers have the loop limit (LOOP_BUDGET); a GPU runs
+        # whole chunks, and the shader's completeness flag still guards every driver.
+        self.loop_limited = any(name in renderer for name in ("llvmpipe", "softpipe"))
 
     def run(self, gbuffer: GBuffer, vpls: VplArrays | VplTextures, min_distance: float,
             triangles: np.ndarray | Bvh | None = None, visibility: bool = False,
@@ -213,7 +217,8 @@ class ReferencePass:
                     program[key] = value
             tiles = [(x, y) for y in range(0, height, tile_size)
                      for x in range(0, width, tile_size)]
-            vpl_chunk = safe_vpl_chunk(vpl_chunk, bvh)
+            if self.loop_limited:
+                vpl_chunk = safe_vpl_chunk(vpl_chunk, bvh)
             chunks = list(range(0, total_vpls, vpl_chunk))
             total = len(tiles) * len(chunks)
             groups = -(-tile_size // _LOCAL_SIZE)
