@@ -91,16 +91,28 @@ def _check_geometry(geometry: np.ndarray | None, resolution: int) -> np.ndarray 
 # --------------------------------------------------------------------------- injection
 
 
+def injection_positions(vpls: VplArrays, spec: GridSpec, offset_cells: float = 0.0
+                        ) -> np.ndarray:
+    """(M, 3) where the VPLs are injected: ``p + δ·cell_size·n`` (docs/MODEL.md
+    "Injection")."""
+    offset = float(offset_cells)
+    if not (np.isfinite(offset) and offset >= 0.0):
+        raise ValueError(f"the injection offset must be a finite number of cells >= 0, got "
+                         f"{offset_cells!r}")
+    positions = np.asarray(vpls.positions, np.float64)
+    return positions + offset * spec.cell_size * np.asarray(vpls.normals, np.float64)
+
+
 def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
-           mode: str = "points") -> np.ndarray:
-    """grid[c, cell(p)] += k_I·Φ[c]·lobe(n) for every VPL inside the grid (both injection
-    modes compute this same sum)."""
+           mode: str = "points", offset_cells: float = 0.0) -> np.ndarray:
+    """grid[c, cell(p + δ·h·n)] += k_I·Φ[c]·lobe(n) for every VPL inside the grid (both
+    injection modes compute this same sum); δ = ``offset_cells``, h the cell size."""
     if mode not in INJECTION_MODES:
         raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
     corrections = corrections or Corrections()
     n = spec.resolution
     grid = np.zeros((3, n, n, n, 4))
-    cells = spec.cell_index(vpls.positions)
+    cells = spec.cell_index(injection_positions(vpls, spec, offset_cells))
     keep = spec.inside(cells)
     ix, iy, iz = cells[keep].T
     lobes = injection_factor(corrections) * cosine_lobe(np.asarray(vpls.normals)[keep])
@@ -244,3 +256,54 @@ def propagate(grid: np.ndarray, corrections: Corrections | None = None, iteratio
               geometry: np.ndarray | None = None) -> list[np.ndarray]:
     """grid_0..grid_N (see :func:`propagate_audited`)."""
     return propagate_audited(grid, corrections, iterations, geometry)[0]
+
+
+# --------------------------------------------------------------------------- final gather
+
+
+def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
+    """Trilinear lookup of a (3, N, N, N, 4) grid at world points (P, 3) -> (3, P, 4),
+    clamped to the edge like the GPU's linear filter (texel centres at ``i + ½``)."""
+    n = spec.resolution
+    u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
+    base = np.floor(u).astype(np.int64)
+    frac = u - base
+    out = np.zeros((grid.shape[0], len(u), 4))
+    for corner in np.ndindex(2, 2, 2):
+        offset = np.array(corner)
+        weight = np.prod(np.where(offset == 1, frac, 1.0 - frac), axis=1)
+        ix, iy, iz = np.clip(base + offset, 0, n - 1).T
+        out += weight[None, :, None] * grid[:, ix, iy, iz, :]
+    return out
+
+
+def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                      normals: np.ndarray, offset: float = 0.0) -> np.ndarray:
+    """(P, 3) irradiance ``clamp+(⟨s(x), lobe(−n)⟩)/h²`` at ``x = p + offset·n`` (world
+    units; docs/MODEL.md "Final gather")."""
+    normals = np.asarray(normals, np.float64)
+    samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
+    lobes = cosine_lobe(-normals)
+    irradiance = np.einsum("cpk,pk->pc", samples, lobes)
+    return np.maximum(irradiance, 0.0) / spec.cell_size ** 2
+
+
+def derivative_damping(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                       normals: np.ndarray) -> np.ndarray:
+    """(P, 3) factors ``clamp(E(p + ½h·n)/E(p − ½h·n), 0, 1)`` per channel, 1 where
+    ``E(p − ½h·n) = 0`` (docs/MODEL.md "Final gather", derivative damping)."""
+    half = 0.5 * spec.cell_size
+    front = gather_irradiance(grid, spec, positions, normals, half)
+    back = gather_irradiance(grid, spec, positions, normals, -half)
+    ratio = np.divide(front, back, out=np.ones_like(front), where=back > 0)
+    return np.clip(ratio, 0.0, 1.0)
+
+
+def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.ndarray,
+           damping: bool = False) -> np.ndarray:
+    """(P, 3) indirect irradiance the final gather computes at surface points: E(p), times
+    the derivative damping factor when ``damping``."""
+    irradiance = gather_irradiance(grid, spec, positions, normals)
+    if damping:
+        irradiance = irradiance * derivative_damping(grid, spec, positions, normals)
+    return irradiance
