@@ -14,7 +14,7 @@ downsample (rsm, grid) downsample, downsample_factor
 inject     (downsample, grid) corrections, injection_mode, grid_format,
            injection_offset_cells
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
-propagate  (inject, geometry) corrections, iterations (+ keep_steps)
+propagate  (inject, geometry) corrections, iterations, bounces (+ keep_steps)
 gbuffer    scene, camera, width, height
 gather     (gbuffer, rsm, propagate) exposure, indirect_only, gather_damping
 ========== ==================================================================
@@ -231,11 +231,11 @@ class Pipeline:
                 self._check("geometry", self._arrays["geometry"])
             ran.append("geometry")
 
-        propagate_key = (inject_key, geometry_key, s.iterations, keep_steps)
+        propagate_key = (inject_key, geometry_key, s.iterations, s.bounces, keep_steps)
         if self._changed("propagate", propagate_key):
             output = self._timed("propagate", lambda: self._propagate.run(
                 self._injected, spec, s.corrections, s.iterations, self._volume,
-                keep_steps=keep_steps))
+                keep_steps=keep_steps, bounces=s.bounces))
             self._accumulated_grid = output.accumulated
             self._grid_audit = output.audit
             self._arrays["accumulated"] = output.accumulated.read()
@@ -451,7 +451,10 @@ def render(settings: Settings) -> FrameResult:
 def _digest(vpls: VplArrays) -> str:
     """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
     digest = hashlib.sha1()
-    for array in (vpls.positions, vpls.normals, vpls.flux, vpls.depth):
+    arrays = [vpls.positions, vpls.normals, vpls.flux, vpls.depth]
+    if vpls.albedo is not None:
+        arrays.append(vpls.albedo)
+    for array in arrays:
         digest.update(np.ascontiguousarray(array, np.float32).tobytes())
     digest.update(repr((vpls.texel_area, vpls.projection)).encode())
     return digest.hexdigest()
