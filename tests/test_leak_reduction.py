@@ -108,3 +108,28 @@ def test_settings_accept_the_new_fields():
     settings = Settings(injection_offset_cells=0, gather_damping=True, bounces=2,
                         geometry_volume="one-sided")
     assert settings.bounces == 2 and settings.injection_offset_cells == 0
+
+
+def test_render_and_compare_flags(tmp_path, capsys, gl_context):
+    from explorer.cli import main
+
+    small = ["--size", "24x20", "--rsm-size", "8", "--grid", "8", "--iterations", "2"]
+    out = tmp_path / "f.png"
+    assert main(["render", "--out", str(out), *small, "--injection-offset", "0",
+                 "--gather-damping", "--bounces", "2", "--geometry-volume", "one-sided",
+                 "--audit"]) == 0
+    printed = capsys.readouterr().out
+    assert out.exists() and "reflected" in printed
+    assert main(["render", "--out", str(out), *small, "--bounces", "2"]) == 2
+    assert "geometry_volume" in capsys.readouterr().err
+    assert main(["render", "--out", str(out), *small, "--injection-offset", "-1"]) == 2
+    assert "injection_offset_cells" in capsys.readouterr().err
+    tiny = ["--width", "24", "--height", "20", "--rsm-size", "8", "--grid-size", "8",
+            "--iterations", "2", "--quiet", "--preset", "corrected"]
+    assert main(["compare", "--out", str(tmp_path / "c"), *tiny, "--bounces", "2",
+                 "--geometry-volume", "one-sided", "--gather-damping",
+                 "--injection-offset", "0.25"]) == 0
+    printed = capsys.readouterr().out
+    assert "injection offset 0.25 cells, gather damping on, bounces 2" in printed
+    assert main(["compare", "--out", str(tmp_path / "c"), *tiny, "--bounces", "2"]) == 2
+    assert "geometry_volume" in capsys.readouterr().err

@@ -132,7 +132,9 @@ def format_audit(audit) -> str:
             ("accumulated", audit.accumulated), ("gathered", audit.gathered),
             ("border loss (all steps)", audit.border_loss.sum(axis=0)),
             ("clamp gain (all steps)", audit.clamp_gain.sum(axis=0)),
-            ("occluded (all steps)", audit.occluded.sum(axis=0))]
+            ("occluded (all steps)", audit.occluded.sum(axis=0)),
+            ("blocked, bounces 2", audit.blocked.sum(axis=0)),
+            ("reflected, bounces 2", audit.reflected.sum(axis=0))]
     lines = ["energy audit [W]            red        green       blue"]
     lines += [f"  {name:<24}" + "".join(f"{float(v):11.4g}" for v in values)
               for name, values in rows]
