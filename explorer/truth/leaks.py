@@ -1,9 +1,11 @@
 """Numpy prototype of two published leak reductions, measured against the reference.
 
-Not part of the GPU pipeline: it re-runs injection and propagation with the numpy
-reference (``explorer.lpv.reference``) and a numpy copy of the final gather, so that the
-options can be measured before anyone changes a shader. ``python -m explorer.truth.leaks
---scene room`` prints the table recorded in docs/ERRORS.md.
+It re-runs injection and propagation with the numpy reference (``explorer.lpv.reference``,
+whose ``gather`` mirrors the GPU's final gather). The pipeline now has the first two as
+``Settings.injection_offset_cells`` and ``Settings.gather_damping`` (measured with
+``lpv-explorer compare`` in docs/ERRORS.md); this study also tries the gather offset.
+``python -m explorer.truth.leaks --scene room`` prints the table recorded in
+docs/ERRORS.md.
 
 * **Injection offset** (Kaplanyan & Dachsbacher): inject each VPL at ``p + δ·h·n``
   (``h`` the cell size, ``δ = ½``) instead of ``p``, so a VPL lands in the cell in front of
