@@ -71,10 +71,8 @@ def test_cornell_walls_on_cell_faces_agree_with_the_reference_once_offset(ctx):
     expected = ref.inject(frame.vpls, frame.grid_spec, offset_cells=0.5)
     assert relative_error(frame.accumulated, expected) < 1e-5
     # Without the offset float32 and float64 put some VPLs on different sides of a wall
-    # (measured: the largest cell differs by 100 % of the largest value).
-    literal = _frame(ctx, scene="cornell", iterations=0, injection_offset_cells=0.0)
-    expected = ref.inject(literal.vpls, literal.grid_spec)
-    assert relative_error(literal.accumulated, expected) > 0.1
+    # (llvmpipe: the largest cell differs by 100 % of the largest value); how many depends
+    # on the driver's rounding, so that is not asserted here.
 
 
 @pytest.mark.parametrize("damping", [False, True])
