@@ -1,0 +1,298 @@
+"""Lessons: every shipped lesson validates, names real formulas and controls, renders;
+broken files give errors that name the file, the step and the field."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from explorer.cli import main as cli_main
+from explorer.lessons import (
+    COMPARE_VIEWS,
+    LessonError,
+    Step,
+    find_lesson,
+    load_all,
+    load_lesson,
+    valid_controls,
+)
+from explorer.lpv.settings import PRESETS, Settings
+from explorer.resources import lesson_dir
+
+
+def _structure_only(name: str) -> None:
+    """A formula check that accepts every name (for tests about everything else)."""
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    lessons, errors = load_all(check_formula=_structure_only)
+    return lessons, errors
+
+
+def test_every_shipped_lesson_validates(shipped):
+    lessons, errors = shipped
+    assert errors == [], "\n".join(str(e) for e in errors)
+    assert len(lessons) >= 10
+    for lesson in lessons:
+        assert 3 <= len(lesson.steps) <= 6, lesson.id
+        assert lesson.path.name.startswith(f"{lesson.number:02d}-")
+    assert not (lesson_dir() / ".keep").exists()
+
+
+def test_every_formula_name_resolves(shipped):
+    registry = pytest.importorskip("derivations.registry")
+    lessons, _ = shipped
+    names = {name for lesson in lessons for step in lesson.steps for name in step.formulas}
+    assert names, "the lessons typeset no formula at all"
+    for name in sorted(names):
+        assert registry.get(name) is not None, name
+    # and the loader's own check (the default) accepts every shipped lesson
+    assert load_all()[1] == []
+
+
+def test_every_try_this_names_a_real_control(shipped):
+    lessons, _ = shipped
+    controls = set(valid_controls())
+    assert {"grid_size", "corrections.injection_pi", "corrections"} <= controls
+    prompts = 0
+    for lesson in lessons:
+        for step in lesson.steps:
+            for item in step.try_this:
+                assert item.control in controls, (lesson.id, step.number, item.control)
+                assert len(item.prompt) > 30, (lesson.id, step.number)
+                prompts += 1
+    assert prompts >= 20
+
+
+def test_steps_apply_on_top_of_a_base(shipped):
+    lessons, _ = shipped
+    base = Settings(width=300, height=200, exposure=2.0, corrections=PRESETS["original"])
+    for lesson in lessons:
+        for step in lesson.steps:
+            settings = step.settings(base)
+            assert settings.scene == step.scene
+            assert settings.corrections == step.corrections
+            for name, value in step.overrides:
+                assert getattr(settings, name) == value
+            if "width" not in dict(step.overrides):
+                assert settings.width == 300
+            if step.view in COMPARE_VIEWS:
+                other = step.compare_settings(base)
+                assert other.corrections == step.compare
+                assert other.corrections != settings.corrections, (lesson.id, step.number)
+            else:
+                assert step.compare_settings(base) is None
+
+
+def test_lessons_cover_the_topics(shipped):
+    lessons, _ = shipped
+    text = " ".join(step.text.lower() for lesson in lessons for step in lesson.steps)
+    for topic in ("radiance", "solid angle", "spherical harmonic", "reflective shadow map",
+                  "injection", "side face", "reprojection", "geometry volume",
+                  "final gather", "in-place", "leak", "cascade", "reference"):
+        assert topic in text, topic
+    used_views = {step.view for lesson in lessons for step in lesson.steps}
+    used_plots = {step.plot for lesson in lessons for step in lesson.steps}
+    assert {"split", "difference"} <= used_views
+    assert {"flux-per-step", "error"} <= used_plots
+    used_scenes = {step.scene for lesson in lessons for step in lesson.steps}
+    assert used_scenes == {"cornell", "single-source", "room"}
+
+
+def test_find_lesson_by_id_number_and_stem(shipped):
+    lessons, _ = shipped
+    first = lessons[0]
+    assert find_lesson(first.id, lessons) is first
+    assert find_lesson(str(first.number), lessons) is first
+    assert find_lesson(first.path.stem, lessons) is first
+    with pytest.raises(KeyError, match="no lesson 'nope'"):
+        find_lesson("nope", lessons)
+    with pytest.raises(IndexError, match="steps 1.."):
+        first.step(len(first.steps) + 1)
+    assert isinstance(first.step(1), Step)
+
+
+# --- broken input -----------------------------------------------------------------------
+
+GOOD = '''
+id = "tiny"
+title = "A tiny lesson"
+summary = "Used by the tests."
+
+[[steps]]
+title = "First"
+text = "One."
+scene = "single-source"
+
+[[steps]]
+title = "Second"
+text = "Two."
+view = "split"
+compare = "original"
+[steps.settings]
+grid_size = 8
+[[steps.try_this]]
+control = "corrections.side_faces"
+prompt = "Switch the side faces off and watch the cross-shaped pattern appear."
+'''
+
+
+def _write(folder: Path, name: str, text: str) -> Path:
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _error(tmp_path: Path, text: str, **kwargs) -> LessonError:
+    path = _write(tmp_path, "50-broken.toml", text)
+    with pytest.raises(LessonError) as info:
+        load_lesson(path, **kwargs)
+    assert "50-broken.toml" in str(info.value)
+    return info.value
+
+
+def test_a_good_file_loads(tmp_path):
+    lesson = load_lesson(_write(tmp_path, "07-tiny.toml", GOOD), check_formula=None)
+    assert lesson.id == "tiny" and lesson.number == 7 and len(lesson.steps) == 2
+    second = lesson.step(2)
+    assert second.settings().grid_size == 8
+    assert second.compare_settings().corrections == PRESETS["original"]
+    assert lesson.step(1).settings().scene == "single-source"
+
+
+def test_syntax_error_names_the_line(tmp_path):
+    broken = GOOD.replace('title = "Second"', 'title = "Second')
+    error = _error(tmp_path, broken, check_formula=None)
+    line = broken.splitlines().index('title = "Second') + 1
+    assert error.line == line
+    assert f"50-broken.toml:{line}" in str(error) and "TOML syntax error" in str(error)
+
+
+def test_unknown_field_names_step_and_field(tmp_path):
+    error = _error(tmp_path, GOOD.replace("grid_size = 8", "grid_sise = 8"), check_formula=None)
+    assert error.step == 2 and error.field == "settings.grid_sise"
+    assert "step 2 ('Second')" in str(error) and "unknown field" in str(error)
+    error = _error(tmp_path, GOOD.replace('text = "One."', 'text = "One."\ncolour = 1'),
+                   check_formula=None)
+    assert (error.step, error.field) == (1, "colour")
+
+
+def test_wrong_type_and_bad_values(tmp_path):
+    error = _error(tmp_path, GOOD.replace("grid_size = 8", 'grid_size = "8"'),
+                   check_formula=None)
+    assert error.field == "settings.grid_size" and "must be int" in str(error)
+    error = _error(tmp_path, GOOD.replace("grid_size = 8", "grid_size = 0"), check_formula=None)
+    assert "grid_size must be at least 1" in str(error) and error.step == 2
+    error = _error(tmp_path, GOOD.replace("grid_size = 8", "iterations = true"),
+                   check_formula=None)
+    assert error.field == "settings.iterations"
+    error = _error(tmp_path, GOOD.replace('compare = "original"', 'compare = "fixed"'),
+                   check_formula=None)
+    assert error.field == "compare" and "unknown compare preset" in str(error)
+    error = _error(tmp_path, GOOD.replace('compare = "original"\n', ""), check_formula=None)
+    assert error.field == "compare" and "needs a compare preset" in str(error)
+
+
+def test_unknown_scene_view_plot_control(tmp_path):
+    error = _error(tmp_path, GOOD.replace('"single-source"', '"sponza"'), check_formula=None)
+    assert (error.step, error.field) == (1, "scene") and "unknown scene 'sponza'" in str(error)
+    error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "sideways"'),
+                   check_formula=None)
+    assert error.field == "view" and "unknown view" in str(error)
+    error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "split"\nplot = "pie"'),
+                   check_formula=None)
+    assert error.field == "plot"
+    error = _error(tmp_path, GOOD.replace("corrections.side_faces", "corrections.magic"),
+                   check_formula=None)
+    assert error.field == "try_this[0].control" and "unknown control" in str(error)
+
+
+def test_unknown_formula_names_step_and_index(tmp_path):
+    def registry(name):
+        if name != "known":
+            raise KeyError(f"no derivation named {name!r}")
+
+    text = GOOD.replace('text = "Two."', 'text = "Two."\nformulas = ["known", "made.up"]')
+    error = _error(tmp_path, text, check_formula=registry)
+    assert (error.step, error.field) == (2, "formulas[1]")
+    assert "unknown formula 'made.up'" in str(error)
+
+
+def test_one_broken_lesson_does_not_stop_the_others(tmp_path):
+    for path in sorted(lesson_dir().glob("*.toml"))[:3]:
+        shutil.copy(path, tmp_path / path.name)
+    _write(tmp_path, "90-broken.toml", GOOD.replace('"single-source"', '"sponza"'))
+    _write(tmp_path, "91-syntax.toml", "id = \n")
+    lessons, errors = load_all(tmp_path, check_formula=_structure_only)
+    assert len(lessons) == 3
+    assert sorted(e.path.name for e in errors) == ["90-broken.toml", "91-syntax.toml"]
+
+
+def test_duplicate_ids_are_reported(tmp_path):
+    _write(tmp_path, "01-a.toml", GOOD)
+    _write(tmp_path, "02-b.toml", GOOD)
+    lessons, errors = load_all(tmp_path, check_formula=None)
+    assert [lesson.path.name for lesson in lessons] == ["01-a.toml"]
+    assert len(errors) == 1 and "already used" in str(errors[0])
+
+
+# --- CLI ---------------------------------------------------------------------------------
+
+def test_cli_lists_and_prints(capsys, monkeypatch, shipped):
+    monkeypatch.setattr("explorer.lessons._registry_lookup", _structure_only)
+    lessons, _ = shipped
+    assert cli_main(["lessons"]) == 0
+    out = capsys.readouterr().out
+    for lesson in lessons:
+        assert lesson.id in out and lesson.title in out
+    assert f"({len(lessons[0].steps)} steps)" in out
+    assert cli_main(["lessons", lessons[0].id]) == 0
+    out = capsys.readouterr().out
+    assert lessons[0].steps[-1].title in out and "try this" in out
+
+
+def test_cli_reports_broken_lessons(tmp_path, capsys):
+    _write(tmp_path, "01-tiny.toml", GOOD)
+    _write(tmp_path, "02-broken.toml", GOOD.replace('id = "tiny"', 'id = "other"')
+           .replace("grid_size = 8", "grid_sise = 8"))
+    assert cli_main(["lessons", "--dir", str(tmp_path)]) == 1
+    captured = capsys.readouterr()
+    assert "tiny" in captured.out
+    assert "02-broken.toml" in captured.err and "settings.grid_sise" in captured.err
+    assert cli_main(["lessons", "--dir", str(tmp_path), "missing"]) == 1
+    assert "no lesson 'missing'" in capsys.readouterr().err
+
+
+# --- rendering every step ----------------------------------------------------------------
+
+def test_every_step_renders_headlessly(shipped, ctx, tmp_path):
+    pipeline_module = pytest.importorskip("explorer.lpv.pipeline")
+    from explorer.lessons import preview_settings
+
+    lessons, _ = shipped
+    out = Path(os.environ["LPV_LESSON_RENDERS"]) if os.environ.get("LPV_LESSON_RENDERS") \
+        else tmp_path
+    out.mkdir(parents=True, exist_ok=True)
+    pipeline = pipeline_module.Pipeline(preview_settings(lessons[0].steps[0]), ctx=ctx)
+    try:
+        for lesson in lessons:
+            for step in lesson.steps:
+                settings = preview_settings(step)
+                result = pipeline.run(settings)
+                assert result.final_image.shape == (64, 64, 3)
+                assert (result.final_image >= 0).all()
+                _save(out / f"{lesson.path.stem}-step{step.number}.png", result.final_image)
+    finally:
+        pipeline.release()
+
+
+def _save(path: Path, image) -> None:
+    import numpy as np
+    from PIL import Image
+
+    srgb = np.clip(image, 0.0, 1.0) ** (1.0 / 2.2)
+    Image.fromarray((srgb * 255.0 + 0.5).astype(np.uint8)).save(path)
