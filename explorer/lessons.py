@@ -188,10 +188,18 @@ FormulaCheck = Callable[[str], Any]
 
 # --- loading -------------------------------------------------------------------------------
 
-def load_lesson(path: Path | str, check_formula: FormulaCheck | None = _registry_lookup
+class _UseRegistry:
+    """Default of ``check_formula``: :func:`_registry_lookup`, looked up at call time."""
+
+
+def load_lesson(path: Path | str,
+                check_formula: FormulaCheck | None | type[_UseRegistry] = _UseRegistry
                 ) -> Lesson:
-    """Read and validate one lesson file. ``check_formula=None`` skips the formula names
-    (for tools that must work without the derivations)."""
+    """Read and validate one lesson file. By default formula names are checked against
+    the derivation registry; ``check_formula=None`` skips them (for tools that must work
+    without the derivations), a callable replaces the registry."""
+    if check_formula is _UseRegistry:
+        check_formula = _registry_lookup
     path = Path(path)
     try:
         raw = path.read_bytes().decode("utf-8")
@@ -209,7 +217,7 @@ def load_lesson(path: Path | str, check_formula: FormulaCheck | None = _registry
 
 
 def load_all(directory: Path | str | None = None,
-             check_formula: FormulaCheck | None = _registry_lookup
+             check_formula: FormulaCheck | None | type[_UseRegistry] = _UseRegistry
              ) -> tuple[list[Lesson], list[LessonError]]:
     """Every ``*.toml`` lesson in ``directory`` (default: the shipped lessons), ordered by
     file name, and the errors of those that failed. Duplicate ids are errors too."""

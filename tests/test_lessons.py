@@ -93,7 +93,7 @@ def test_lessons_cover_the_topics(shipped):
     text = " ".join(step.text.lower() for lesson in lessons for step in lesson.steps)
     for topic in ("radiance", "solid angle", "spherical harmonic", "reflective shadow map",
                   "injection", "side face", "reprojection", "geometry volume",
-                  "final gather", "in-place", "leak", "cascade", "reference"):
+                  "final gather", "in place", "leak", "cascade", "reference"):
         assert topic in text, topic
     used_views = {step.view for lesson in lessons for step in lesson.steps}
     used_plots = {step.plot for lesson in lessons for step in lesson.steps}
