@@ -4,6 +4,7 @@ broken files give errors that name the file, the step and the field."""
 from __future__ import annotations
 
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -296,3 +297,27 @@ def _save(path: Path, image) -> None:
 
     srgb = np.clip(image, 0.0, 1.0) ** (1.0 / 2.2)
     Image.fromarray((srgb * 255.0 + 0.5).astype(np.uint8)).save(path)
+
+
+_DECIMAL = re.compile(r"(?<![\d.])\d+\.\d{4,}(?![\d.])")
+
+
+def test_quoted_decimals_come_from_the_derivations(shipped):
+    """Every number a lesson quotes to 4+ decimals is a registry value (exact or as
+    printed in a source) rounded to the digits shown: no hand-copied constants."""
+    registry = pytest.importorskip("derivations.registry")
+    import sympy
+
+    values = [sympy.N(item.expr, 30) for item in registry.all_results() if item.is_number]
+    lessons, _ = shipped
+    checked = 0
+    for lesson in lessons:
+        texts = [lesson.summary] + [s.text for s in lesson.steps] + [
+            t.prompt for s in lesson.steps for t in s.try_this]
+        for token in _DECIMAL.findall(" ".join(texts)):
+            decimals = len(token.split(".")[1])
+            quoted = sympy.Float(token, 30)
+            half_unit = sympy.Rational(1, 2 * 10**decimals)
+            assert any(abs(value - quoted) <= half_unit for value in values), (lesson.id, token)
+            checked += 1
+    assert checked >= 20
