@@ -482,3 +482,38 @@ def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: i
         width=size, height=size, rsm_size=min(settings.rsm_size, rsm_size),
         grid_size=min(settings.grid_size, max_grid),
         iterations=min(settings.iterations, max_iterations))
+
+
+def render_step(pipeline: Any, step: Step, settings: Settings | None = None
+                ) -> tuple[Any, Any]:
+    """Run ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) for ``step`` and return
+    ``(image, result)``: the step's view as an (H, W, 3) display image in [0, 1], and the
+    FrameResult of the step's own configuration.
+
+    ``settings`` defaults to ``step.settings()``; pass e.g. :func:`preview_settings` to
+    render small. A "split" view puts the step's configuration on the left half and the
+    ``compare`` preset on the right; a "difference" view shows ``|A − B|`` of the linear
+    final images, scaled so that the largest difference is white."""
+    import numpy as np
+
+    from explorer.lpv.views import linear_to_srgb
+
+    settings = step.settings() if settings is None else settings
+    result = pipeline.run(settings)
+    if step.view not in COMPARE_VIEWS:
+        return pipeline.view(step.view), result
+    mine_display = pipeline.view("final")
+    mine_linear = np.array(result.final_image, copy=True)
+    pipeline.run(settings.with_changes(corrections=step.compare))
+    other_display = pipeline.view("final")
+    other_linear = pipeline.last_result.final_image
+    if step.view == "split":
+        image = np.array(mine_display, copy=True)
+        half = image.shape[1] // 2
+        image[:, half:] = other_display[:, half:]
+        image[:, half] = 1.0  # the divider
+        return image, result
+    difference = np.abs(mine_linear - other_linear)
+    scale = float(difference.max())
+    image = linear_to_srgb(difference / scale) if scale > 0 else np.zeros_like(difference)
+    return np.clip(image, 0.0, 1.0), result

@@ -271,8 +271,13 @@ def test_cli_reports_broken_lessons(tmp_path, capsys):
 # --- rendering every step ----------------------------------------------------------------
 
 def test_every_step_renders_headlessly(shipped, ctx, tmp_path):
+    """Each step at a tiny size (64², grid <= 16³, RSM 32², <= 8 iterations) in one shared
+    Pipeline, showing the step's own view (split/difference included). The PNGs go to
+    $LPV_LESSON_RENDERS when set (CI keeps them), else to a temporary folder."""
     pipeline_module = pytest.importorskip("explorer.lpv.pipeline")
-    from explorer.lessons import preview_settings
+    import numpy as np
+
+    from explorer.lessons import preview_settings, render_step
 
     lessons, _ = shipped
     out = Path(os.environ["LPV_LESSON_RENDERS"]) if os.environ.get("LPV_LESSON_RENDERS") \
@@ -282,11 +287,12 @@ def test_every_step_renders_headlessly(shipped, ctx, tmp_path):
     try:
         for lesson in lessons:
             for step in lesson.steps:
-                settings = preview_settings(step)
-                result = pipeline.run(settings)
+                image, result = render_step(pipeline, step, preview_settings(step))
+                assert result.settings.corrections == step.corrections
                 assert result.final_image.shape == (64, 64, 3)
-                assert (result.final_image >= 0).all()
-                _save(out / f"{lesson.path.stem}-step{step.number}.png", result.final_image)
+                assert np.isfinite(image).all() and image.min() >= 0.0 and image.max() <= 1.0
+                assert image.max() > 0.0, (lesson.id, step.number, "renders black")
+                _save(out / f"{lesson.path.stem}-step{step.number}.png", image)
     finally:
         pipeline.release()
 
@@ -295,8 +301,7 @@ def _save(path: Path, image) -> None:
     import numpy as np
     from PIL import Image
 
-    srgb = np.clip(image, 0.0, 1.0) ** (1.0 / 2.2)
-    Image.fromarray((srgb * 255.0 + 0.5).astype(np.uint8)).save(path)
+    Image.fromarray((np.clip(image, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)).save(path)
 
 
 _DECIMAL = re.compile(r"(?<![\d.])\d+\.\d{4,}(?![\d.])")
