@@ -326,3 +326,62 @@ def test_quoted_decimals_come_from_the_derivations(shipped):
             assert any(abs(value - quoted) <= half_unit for value in values), (lesson.id, token)
             checked += 1
     assert checked >= 20
+
+
+# --- lesson panel (pure navigation and state; no window) -----------------------------------
+
+def test_panel_session_navigates_applies_and_restores(shipped):
+    from explorer.ui.lesson_panel import LessonSession, Screen
+
+    lessons, _ = shipped
+    session = LessonSession(lessons=lessons)
+    own = Screen(settings=Settings(width=320, height=240, exposure=3.0),
+                 compare_settings=Settings(corrections=PRESETS["original"]),
+                 view_mode="single")
+    lesson = session.open("reprojection")
+    assert session.step_number == 1 and session.step is lesson.steps[0]
+    assert not session.previous() and session.step_number == 1
+    first = session.apply(own)
+    assert session.applied and session.saved is own
+    assert first.settings.scene == lesson.steps[0].scene
+    assert (first.settings.width, first.settings.exposure) == (320, 3.0)
+    assert first.plot == lesson.steps[0].plot
+    # the split step: B gets the compare preset, the view mode follows the step
+    assert session.next() and session.step_number == 2
+    split = session.apply(first)          # a second apply keeps the first saved screen
+    assert session.saved is own
+    assert split.view_mode == "split"
+    assert split.compare_settings.corrections == lesson.steps[1].compare
+    assert split.settings.corrections == lesson.steps[1].corrections
+    assert session.go(99) and session.step_number == len(lesson.steps)
+    assert not session.next()
+    assert session.leave() is own and not session.applied and session.left
+    back = session.apply(own)
+    assert back.settings.corrections == lesson.steps[-1].corrections and not session.left
+    assert session.close() is own and session.lesson is None
+
+
+def test_panel_screen_maps_views(shipped):
+    from explorer.ui.lesson_panel import Screen, step_screen
+
+    lessons, _ = shipped
+    own = Screen(settings=Settings(), compare_settings=Settings(), view_mode="difference")
+    for lesson in lessons:
+        for step in lesson.steps:
+            screen = step_screen(step, own)
+            if step.view in ("split", "difference"):
+                assert screen.view_mode == step.view
+            else:
+                assert screen.view_mode == "single"
+            if step.view == "indirect" and "indirect_only" not in dict(step.overrides):
+                assert screen.settings.indirect_only
+            if step.view.startswith("rsm-") or step.view in ("grid-slice", "geometry-volume"):
+                assert screen.inspect_source == step.view
+
+
+def test_panel_plain_text_fallback_keeps_paragraphs_and_items():
+    from explorer.ui.lesson_panel import markdown_blocks
+
+    text = "First **bold**\nline.\n\n* item one\n  continued\n* item two\n\n1. numbered\n"
+    assert markdown_blocks(text) == ["First bold line.", "* item one continued",
+                                     "* item two", "1. numbered"]
