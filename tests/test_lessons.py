@@ -385,3 +385,23 @@ def test_panel_plain_text_fallback_keeps_paragraphs_and_items():
     text = "First **bold**\nline.\n\n* item one\n  continued\n* item two\n\n1. numbered\n"
     assert markdown_blocks(text) == ["First bold line.", "* item one continued",
                                      "* item two", "1. numbered"]
+
+
+def test_render_command_renders_a_lesson_step(tmp_path, capsys):
+    import numpy as np
+    from PIL import Image
+
+    out = tmp_path / "step.png"
+    small = ["--size", "48x48", "--grid", "8", "--iterations", "3", "--rsm-size", "32"]
+    assert cli_main(["render", "--lesson", "reference", "--step", "2", "--out", str(out),
+                     *small]) == 0
+    printed = capsys.readouterr().out
+    assert "lesson reference, step 2/" in printed and "split against original" in printed
+    image = np.asarray(Image.open(out), dtype=np.float64)
+    assert image.shape == (48, 48, 3)
+    left, right = image[:, :23], image[:, 25:]
+    assert left.mean() > right.mean()   # the original preset is much dimmer
+    assert cli_main(["render", "--lesson", "nope", "--out", str(out)]) == 2
+    assert "no lesson 'nope'" in capsys.readouterr().err
+    assert cli_main(["render", "--lesson", "reference", "--step", "99", "--out", str(out)]) == 2
+    assert "steps 1.." in capsys.readouterr().err
