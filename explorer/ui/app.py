@@ -312,10 +312,18 @@ class App:
         """The scene's own camera and light, so orbiting starts from what is shown."""
         rt = self.state.runtime
         scene = getattr(pipeline, "scene", None)
-        camera = getattr(pipeline, "camera", None) or getattr(scene, "camera", None)
-        light = getattr(pipeline, "light", None) or getattr(scene, "light", None)
-        rt.camera_default = _eye_target(camera)
+        if scene is None:
+            try:
+                from explorer.scene import BUILTIN_SCENES, load_scene
+
+                name = self.state.settings.scene
+                scene = load_scene(name) if name in BUILTIN_SCENES else None
+            except ImportError:
+                scene = None
+        rt.camera_default = _eye_target(getattr(scene, "camera", None))
+        light = getattr(scene, "light", None)
         rt.light_default = _eye_target(light)
+        rt.light_flux_default = getattr(light, "flux", None)
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:

@@ -66,6 +66,7 @@ class Runtime:
     shader_errors: dict[str, str] = field(default_factory=dict)
     camera_default: tuple | None = None   # the scene's (eye, target) once known
     light_default: tuple | None = None    # the scene's (position, target) once known
+    light_flux_default: float | None = None
     scene_bounds: tuple | None = None
     frame_ms: float = 0.0
     pipeline_ms: float = 0.0

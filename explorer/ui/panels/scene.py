@@ -51,7 +51,8 @@ def gui_scene(state: AppState) -> None:
     if imgui.button("Reset light"):
         state.update(light=None, light_flux=None)
     _light_angles(state)
-    flux = s.light_flux if s.light_flux is not None else 0.0
+    flux = s.light_flux if s.light_flux is not None else (state.runtime.light_flux_default
+                                                          or 0.0)
     changed, flux = imgui.input_float("Light flux [W]", flux, 0.0, 0.0, "%.3g")
     if changed and flux > 0:
         state.update(light_flux=float(flux))

@@ -103,7 +103,6 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
                    (frac, 1.0), (1.0, 0.0))
     mouse = imgui.get_mouse_pos()
     near = hovered and abs(mouse.x - x) < 6.0
-    io = imgui.get_io()
     grabbing = rt.split_dragging
     if near and imgui.is_mouse_clicked(0):
         grabbing = True
@@ -115,7 +114,8 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
     if near or grabbing:
         imgui.set_mouse_cursor(imgui.MouseCursor_.resize_ew)
     colour = imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.9 if (near or grabbing) else 0.6))
-    draw.add_line((x, origin.y), (x, end.y), colour, 2.0 * (io.font_global_scale or 1.0))
+    draw.add_line((x, origin.y), (x, end.y), colour,
+                  2.0 * (imgui.get_style().font_scale_dpi or 1.0))
     mid = (origin.y + end.y) * 0.5
     draw.add_circle_filled((x, mid), 6.0, colour)
     return grabbing
