@@ -16,7 +16,9 @@ _REPO_ROOT = Path(__file__).resolve().parent.parent
 
 def _locate(checkout_name: str, package: str) -> Path:
     checkout = _REPO_ROOT / checkout_name
-    if checkout.is_dir():
+    # A checkout is recognised by its pyproject.toml, so that an unrelated top-level
+    # "shaders" folder in site-packages is never mistaken for ours.
+    if (_REPO_ROOT / "pyproject.toml").is_file() and checkout.is_dir():
         return checkout
     try:
         installed = Path(str(importlib.resources.files(package)))
