@@ -98,7 +98,7 @@ def load_program(ctx: moderngl.Context, name: str, defines: dict[str, object] | 
             vertex_shader=sources.get("VERTEX_SHADER"),
             geometry_shader=sources.get("GEOMETRY_SHADER"),
             fragment_shader=sources.get("FRAGMENT_SHADER"),
-            varyings=varyings or None,
+            varyings=varyings,
         )
     except moderngl.Error as exc:
         raise ShaderError(path, str(exc)) from exc

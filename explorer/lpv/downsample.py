@@ -1,0 +1,86 @@
+"""RSM downsample (``Settings.downsample``): ``"average"`` or the DX11 article's
+``"brightest"`` kernel over blocks of ``downsample_factor``² texels (shaders/downsample.glsl).
+
+A downsampled VPL stands for every texel of its block, so its flux is the SUM of the
+block's flux (``"average"`` conserves the RSM's flux exactly) and its surfel covers the
+block: ``texel_area`` grows by ``factor²``. ``"brightest"`` keeps only the texels near the
+brightest one's grid cell; the flux of the others is dropped (visible in the audit as
+``rsm`` > injected).
+"""
+
+from __future__ import annotations
+
+import moderngl
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.rsm import LightView
+from explorer.lpv.vpl import VplTextures
+
+MODES = {"average": 1, "brightest": 2}
+
+
+def downsampled_size(size: tuple[int, int], factor: int) -> tuple[int, int]:
+    """``ceil(size / factor)``: partial blocks at the edges still make a VPL."""
+    return tuple(-(-int(s) // int(factor)) for s in size)
+
+
+class DownsamplePass:
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self.size: tuple[int, int] = (0, 0)
+        self._textures: list[moderngl.Texture] = []
+        self._framebuffer: moderngl.Framebuffer | None = None
+        self._vertex_array: moderngl.VertexArray | None = None
+
+    def _allocate(self, size: tuple[int, int]) -> None:
+        if size == self.size:
+            return
+        self._free_targets()
+        self._textures = [self.ctx.texture(size, 4, dtype="f4") for _ in range(3)]
+        for texture in self._textures:
+            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self._framebuffer = self.ctx.framebuffer(self._textures)
+        self.size = size
+
+    def run(self, vpls: VplTextures, mode: str, factor: int, spec: GridSpec,
+            light: LightView) -> VplTextures:
+        if mode not in MODES:
+            raise ValueError(f"downsample mode must be one of {tuple(MODES)}, got {mode!r}")
+        if int(factor) < 1:
+            raise ValueError(f"downsample_factor must be at least 1, got {factor}")
+        size = downsampled_size(vpls.size, factor)
+        self._allocate(size)
+        program = self.programs.get("downsample.glsl")
+        if self._vertex_array is None:
+            self._vertex_array = self.ctx.vertex_array(program, [])
+        vpls.position.use(0)
+        vpls.normal.use(1)
+        vpls.flux.use(2)
+        set_uniforms(program, {
+            "u_rsm_position": 0, "u_rsm_normal": 1, "u_rsm_flux": 2,
+            "u_factor": int(factor), "u_mode": MODES[mode],
+            "u_light_direction": tuple(map(float, light.direction)),
+            **spec.uniforms(),
+        })
+        with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
+            self._framebuffer.viewport = (0, 0, *size)
+            self._vertex_array.render(moderngl.TRIANGLES, vertices=3)
+        position, normal, flux = self._textures
+        return VplTextures(position, normal, flux, texel_area=vpls.texel_area * factor * factor,
+                           projection=vpls.projection)
+
+    def _free_targets(self) -> None:
+        if self._framebuffer is not None:
+            self._framebuffer.release()
+            self._framebuffer = None
+        for texture in self._textures:
+            texture.release()
+        self._textures, self.size = [], (0, 0)
+
+    def release(self) -> None:
+        self._free_targets()
+        if self._vertex_array is not None:
+            self._vertex_array.release()
+            self._vertex_array = None

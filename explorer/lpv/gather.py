@@ -1,0 +1,102 @@
+"""Final gather: direct light, LPV indirect light, exposure and display encoding
+(docs/MODEL.md "Final gather").
+
+At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
+the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² and the indirect radiance
+a/π·E. The direct radiance is a/π times the light's irradiance I·cos θ/r² (spot) or
+E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
+"""
+
+from __future__ import annotations
+
+import moderngl
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.gbuffer import GBufferPass
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.rsm import LightView
+from explorer.lpv.vpl import VplTextures
+
+TARGETS = ("direct", "indirect", "final", "display", "received")
+
+
+class GatherPass:
+    """Full-screen pass writing the targets named in :data:`TARGETS`: four ``rgba32f``
+    (``display`` is ``rgba8``, sRGB-encoded, for showing on screen)."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self.size: tuple[int, int] = (0, 0)
+        self.targets: dict[str, moderngl.Texture] = {}
+        self._framebuffer: moderngl.Framebuffer | None = None
+        self._vertex_array: moderngl.VertexArray | None = None
+        self._empty_grid: moderngl.Texture3D | None = None
+
+    def _allocate(self, size: tuple[int, int]) -> None:
+        if size == self.size:
+            return
+        self._free_targets()
+        for name in TARGETS:
+            dtype = "f1" if name == "display" else "f4"
+            texture = self.ctx.texture(size, 4, dtype=dtype)
+            texture.filter = (moderngl.LINEAR, moderngl.LINEAR) if name == "display" else (
+                moderngl.NEAREST, moderngl.NEAREST)
+            self.targets[name] = texture
+        self._framebuffer = self.ctx.framebuffer([self.targets[n] for n in TARGETS])
+        self.size = size
+
+    def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
+            grid_textures, spec: GridSpec, exposure: float, indirect_only: bool) -> None:
+        """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
+        clamped), or None for direct light only."""
+        self._allocate(gbuffer.size)
+        program = self.programs.get("gather.glsl")
+        if self._vertex_array is None:
+            self._vertex_array = self.ctx.vertex_array(program, [])
+        gbuffer.position.use(0)
+        gbuffer.normal.use(1)
+        gbuffer.albedo.use(2)
+        shadow.position.use(3)
+        shadow.normal.use(4)
+        if grid_textures is None:
+            grid_textures = (self._empty(),) * 3
+        for unit, texture in enumerate(grid_textures, start=5):
+            texture.use(unit)
+        values = {
+            "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
+            "u_shadow_position": 3, "u_shadow_normal": 4,
+            "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
+            "u_shadow_texel": light.texel_world_size,
+            "u_exposure": float(exposure),
+            "u_indirect_only": int(indirect_only),
+            "u_has_grid": int(grid_textures[0] is not self._empty_grid),
+            **light.uniforms(),
+            **spec.uniforms(),
+        }
+        set_uniforms(program, values)
+        with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
+            self._framebuffer.viewport = (0, 0, *self.size)
+            self._vertex_array.render(moderngl.TRIANGLES, vertices=3)
+
+    def _empty(self) -> moderngl.Texture3D:
+        if self._empty_grid is None:
+            self._empty_grid = self.ctx.texture3d((1, 1, 1), 4, dtype="f4")
+        return self._empty_grid
+
+    def _free_targets(self) -> None:
+        if self._framebuffer is not None:
+            self._framebuffer.release()
+            self._framebuffer = None
+        for texture in self.targets.values():
+            texture.release()
+        self.targets, self.size = {}, (0, 0)
+
+    def release(self) -> None:
+        self._free_targets()
+        if self._vertex_array is not None:
+            self._vertex_array.release()
+            self._vertex_array = None
+        if self._empty_grid is not None:
+            self._empty_grid.release()
+            self._empty_grid = None

@@ -1,0 +1,114 @@
+"""Geometry volume (fuzzy occlusion): occluder surfels from the VPLs in a grid whose cell
+centres sit on the light grid's corners (docs/MODEL.md "Geometry volume")."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.inject import bind_vpl_textures, vpl_count
+from explorer.lpv.settings import Corrections
+from explorer.lpv.textures import (
+    LayeredTarget,
+    VolumeTexture,
+    copy_volume,
+    default_context,
+    draw_points_additively,
+    per_context,
+    programs_for,
+)
+from explorer.lpv.vpl import VplArrays, VplTextures
+
+GEOMETRY_MODES = ("one-sided", "double-sided")
+
+
+class GeometryVolume:
+    """One RGBA 3D texture of L1 SH blocking, ``(N+1)³`` texels for an ``N³`` light grid:
+    texel ``j`` is centred on the light grid's corner ``j``."""
+
+    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f") -> None:
+        if int(resolution) < 1:
+            raise ValueError(f"resolution must be at least 1, got {resolution}")
+        self.resolution = int(resolution)
+        self.volume = VolumeTexture(ctx, self.resolution + 1, fmt)
+        self.texture: moderngl.Texture3D = self.volume.texture
+
+    @property
+    def format(self) -> str:
+        return self.volume.format
+
+    def read(self) -> np.ndarray:
+        """float32 ``(N+1, N+1, N+1, 4)``."""
+        return self.volume.read()
+
+    def write(self, volume: np.ndarray) -> None:
+        self.volume.write(volume)
+
+    def clear(self) -> None:
+        self.volume.clear()
+
+    def use_as_texture(self, location: int) -> None:
+        self.texture.use(location)
+
+    def release(self) -> None:
+        self.volume.release()
+
+
+class GeometryPass:
+    """Injects occluder surfels from a VPL texture set (the volume is overwritten)."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._layers: LayeredTarget | None = None
+
+    def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
+            mode: str, out: GeometryVolume) -> None:
+        if mode not in GEOMETRY_MODES:
+            raise ValueError(f"geometry mode must be one of {GEOMETRY_MODES}, got {mode!r}")
+        if out.resolution != spec.resolution:
+            raise ValueError(f"the geometry volume belongs to a {out.resolution}^3 grid but "
+                             f"the grid spec has {spec.resolution}^3 cells")
+        size = spec.resolution + 1
+        layers = self._layers
+        if layers is None or layers.size != size or layers.format != out.format:
+            if layers is not None:
+                layers.release()
+            layers = self._layers = LayeredTarget(self.ctx, size, 1, out.format)
+        program = self.programs.get("geometry_inject.glsl")
+        set_uniforms(program, {
+            **spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
+            "u_vpl_texel_area": float(vpls.texel_area),
+            "u_vpl_orthographic": vpls.projection == "orthographic",
+            "u_double_sided": mode == "double-sided",
+        })
+        draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+        copy_volume(self.programs, layers.layers[0], out.volume)
+
+    def release(self) -> None:
+        if self._layers is not None:
+            self._layers.release()
+            self._layers = None
+
+
+def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
+                    mode: str = "one-sided", ctx: moderngl.Context | None = None,
+                    fmt: str = "rgba32f") -> np.ndarray:
+    """Geometry-volume injection on the GPU from VPL arrays: float32 ``(N+1, N+1, N+1, 4)``."""
+    if not isinstance(vpls, VplArrays):
+        raise TypeError(f"vpls must be a VplArrays, got {type(vpls).__name__}")
+    corrections = corrections or Corrections()
+    ctx = ctx or default_context()
+    if vpls.count == 0:
+        return np.zeros((spec.resolution + 1,) * 3 + (4,), np.float32)
+    volume = GeometryVolume(ctx, spec.resolution, fmt)
+    textures = VplTextures.from_arrays(ctx, vpls)
+    try:
+        injector = per_context(ctx, "geometry", lambda: GeometryPass(ctx, programs_for(ctx)))
+        injector.run(textures, spec, corrections, mode, volume)
+        return volume.read()
+    finally:
+        textures.release()
+        volume.release()

@@ -1,0 +1,410 @@
+"""The LPV frame: RSM -> downsample -> inject (+ geometry volume) -> propagate -> gather.
+
+:class:`Pipeline` owns the pass objects and their GPU resources, runs only the stages whose
+inputs changed since the last run (each stage has a key made of the Settings fields it
+reads plus the keys of the stages it depends on), times every pass, audits the energy and
+reads every intermediate result back as numpy arrays (:class:`FrameResult`).
+
+Stages and the Settings fields they read:
+
+========== ==================================================================
+scene      scene, camera, light, light_flux
+rsm        (scene) rsm_size
+downsample (rsm, grid) downsample, downsample_factor
+inject     (downsample, grid) corrections, injection_mode, grid_format
+geometry   (downsample, grid) corrections, geometry_volume, grid_format
+propagate  (inject, geometry) corrections, iterations (+ keep_steps)
+gbuffer    (scene) width, height
+gather     (gbuffer, rsm, propagate) exposure, indirect_only
+========== ==================================================================
+
+``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``.
+
+Timings: draws (rsm, downsample, gbuffer, gather) are timed with GL timer queries. Mesa's
+llvmpipe reads 0 from a timer query around compute dispatches, so on a software renderer
+the passes that dispatch compute (inject, geometry, propagate) are timed with the wall
+clock between two ``ctx.finish()`` calls; ``Pipeline.timing_methods`` records which.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from dataclasses import dataclass, field
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache
+from explorer.lpv.audit import EnergyAudit, GridAudit, check_finite
+from explorer.lpv.downsample import DownsamplePass
+from explorer.lpv.gather import GatherPass
+from explorer.lpv.gbuffer import GBufferPass
+from explorer.lpv.geometry import GeometryPass, GeometryVolume
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.inject import InjectPass
+from explorer.lpv.propagate import PropagatePass
+from explorer.lpv.rsm import LightView, RsmPass, light_view, read_texture
+from explorer.lpv.settings import VIEWS, Settings
+from explorer.lpv.textures import LpvGrid
+from explorer.lpv.views import render_view
+from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.scene import Scene, load_scene
+from explorer.scene.gpu import SceneBuffers
+
+STAGES = ("scene", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+PASSES = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+COMPUTE_PASSES = frozenset({"inject", "geometry", "propagate"})
+"""Passes that dispatch compute shaders (timed by wall clock on software renderers)."""
+
+
+@dataclass
+class FrameResult:
+    """Everything one frame computed, as numpy arrays. Images are ``(H, W, 3)`` float32
+    with row 0 at the top; RSM arrays ``(Hr, Wr, 4)``, row 0 at the top."""
+
+    settings: Settings
+    grid_spec: GridSpec
+    final_image: np.ndarray
+    """Linear colour, exposure applied (``exposure·indirect`` when ``indirect_only``)."""
+    direct: np.ndarray
+    """Linear direct radiance (no exposure)."""
+    indirect: np.ndarray
+    """Linear LPV radiance albedo/π·E (no exposure)."""
+    albedo: np.ndarray
+    rsm_position: np.ndarray
+    rsm_normal: np.ndarray
+    rsm_flux: np.ndarray
+    vpls: VplArrays
+    """The VPLs injected (after downsampling, or the ones handed to :meth:`Pipeline.run`)."""
+    accumulated: np.ndarray
+    """acc_N, ``(3, N, N, N, 4)``."""
+    steps: list[np.ndarray] | None
+    geometry_volume: np.ndarray | None
+    audit: EnergyAudit
+    timings_ms: dict[str, float]
+    """Pass name -> milliseconds of its last run (also for passes skipped this time)."""
+    timing_methods: dict[str, str] = field(default_factory=dict)
+    """Pass name -> "timer-query" or "wall-clock"."""
+    stages_run: tuple[str, ...] = ()
+    """The stages that ran for this result (the others were up to date)."""
+
+
+class Pipeline:
+    """Orders the passes of one LPV frame and keeps their results between runs."""
+
+    def __init__(self, settings: Settings, ctx: moderngl.Context | None = None) -> None:
+        if ctx is None:
+            from explorer.gl.context import create_headless_context
+
+            ctx = create_headless_context()
+            self._owns_context = True
+        else:
+            self._owns_context = False
+        self.ctx = ctx
+        self.settings = settings
+        self.programs = ProgramCache(ctx)
+        info = ctx.info
+        self.max_3d_texture_size = int(info.get("GL_MAX_3D_TEXTURE_SIZE", 0) or 0)
+        self.max_texture_size = int(info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
+        renderer = str(info.get("GL_RENDERER", "")).lower()
+        self.software_renderer = any(name in renderer for name in ("llvmpipe", "softpipe",
+                                                                   "swrast", "lavapipe"))
+        self._rsm = RsmPass(ctx, self.programs)
+        self._downsample = DownsamplePass(ctx, self.programs)
+        self._inject = InjectPass(ctx, self.programs)
+        self._geometry = GeometryPass(ctx, self.programs)
+        self._propagate = PropagatePass(ctx, self.programs)
+        self._gbuffer = GBufferPass(ctx, self.programs)
+        self._gather = GatherPass(ctx, self.programs)
+        self._keys: dict[str, object] = {}
+        self._scene_cache: dict[str, Scene] = {}
+        self._scene: Scene | None = None
+        self._geometry_buffers: SceneBuffers | None = None
+        self._light: LightView | None = None
+        self._spec: GridSpec | None = None
+        self._rsm_textures: VplTextures | None = None
+        self._vpl_textures: VplTextures | None = None
+        self._override_textures: VplTextures | None = None
+        self._injected: LpvGrid | None = None
+        self._volume: GeometryVolume | None = None
+        self._accumulated_grid: LpvGrid | None = None
+        self._arrays: dict[str, object] = {}
+        self._grid_audit: GridAudit | None = None
+        self.timings_ms: dict[str, float] = {}
+        self.timing_methods: dict[str, str] = {}
+        self.last_result: FrameResult | None = None
+
+    # ------------------------------------------------------------------ public API
+    @property
+    def final_texture(self) -> moderngl.Texture:
+        """RGBA8 sRGB-encoded final image (exposure applied) of the last run, for display.
+        Row 0 is the bottom row, as OpenGL draws it."""
+        if "display" not in self._gather.targets:
+            raise RuntimeError("the pipeline has not run yet: call run() first")
+        return self._gather.targets["display"]
+
+    def run(self, settings: Settings | None = None, keep_steps: bool = False,
+            vpls: VplArrays | None = None) -> FrameResult:
+        """Render a frame; only the stages whose inputs changed run again.
+
+        ``vpls``: inject these VPLs instead of the RSM's (the RSM still renders for the
+        direct light and its shadow); lessons and tests use it for hand-made light.
+        """
+        if settings is not None:
+            self.settings = settings
+        s = self.settings
+        self._check_limits(s)
+        ran: list[str] = []
+
+        scene_key = (s.scene, s.camera, s.light, s.light_flux)
+        if self._changed("scene", scene_key):
+            self._load_scene(s)
+            ran.append("scene")
+        scene = self._scene
+        spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, s.grid_size)
+        self._spec = spec
+
+        rsm_key = (scene_key, s.rsm_size)
+        if self._changed("rsm", rsm_key):
+            self._light = light_view(scene, s.rsm_size)
+            self._rsm_textures = self._timed(
+                "rsm", lambda: self._rsm.run(self._geometry_buffers, self._light))
+            self._arrays["rsm"] = tuple(read_texture(t) for t in (
+                self._rsm_textures.position, self._rsm_textures.normal,
+                self._rsm_textures.flux))
+            self._check("rsm", self._arrays["rsm"][2])
+            ran.append("rsm")
+
+        override_key = None if vpls is None else _digest(vpls)
+        downsample_key = (rsm_key, spec, s.downsample, s.downsample_factor, override_key)
+        if self._changed("downsample", downsample_key):
+            self._vpl_textures = self._select_vpls(s, spec, vpls)
+            self._arrays["vpls"] = self._vpl_textures.to_arrays()
+            if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
+                self._check("downsample", self._arrays["vpls"].flux)
+            ran.append("downsample")
+
+        inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format)
+        if self._changed("inject", inject_key):
+            self._injected = self._replace_grid(self._injected, s)
+            self._timed("inject", lambda: self._inject.run(
+                self._vpl_textures, spec, s.corrections, s.injection_mode, self._injected))
+            if s.debug_nan:
+                self._check("inject", self._injected.read())
+            ran.append("inject")
+
+        geometry_key = (downsample_key, s.corrections, s.geometry_volume, s.grid_format)
+        if self._changed("geometry", geometry_key):
+            if s.geometry_volume == "off":
+                self.timings_ms.pop("geometry", None)
+                self._release_volume()
+                self._arrays["geometry"] = None
+            else:
+                if self._volume is None or self._volume.resolution != spec.resolution or \
+                        self._volume.format != s.grid_format:
+                    self._release_volume()
+                    self._volume = GeometryVolume(self.ctx, spec.resolution, s.grid_format)
+                occluders = self._rsm_textures if vpls is None else self._vpl_textures
+                self._timed("geometry", lambda: self._geometry.run(
+                    occluders, spec, s.corrections, s.geometry_volume, self._volume))
+                self._arrays["geometry"] = self._volume.read()
+                self._check("geometry", self._arrays["geometry"])
+            ran.append("geometry")
+
+        propagate_key = (inject_key, geometry_key, s.iterations, keep_steps)
+        if self._changed("propagate", propagate_key):
+            output = self._timed("propagate", lambda: self._propagate.run(
+                self._injected, spec, s.corrections, s.iterations, self._volume,
+                keep_steps=keep_steps))
+            self._accumulated_grid = output.accumulated
+            self._grid_audit = output.audit
+            self._arrays["accumulated"] = output.accumulated.read()
+            self._arrays["steps"] = output.steps
+            self._check("propagate", self._arrays["accumulated"])
+            ran.append("propagate")
+
+        gbuffer_key = (scene_key, s.width, s.height)
+        if self._changed("gbuffer", gbuffer_key):
+            self._timed("gbuffer", lambda: self._gbuffer.run(
+                self._geometry_buffers, scene, (s.width, s.height)))
+            self._arrays["gbuffer"] = tuple(read_texture(t)
+                                            for t in self._gbuffer.textures)
+            self._check("gbuffer", self._arrays["gbuffer"][0])
+            ran.append("gbuffer")
+
+        gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only)
+        if self._changed("gather", gather_key):
+            self._timed("gather", lambda: self._gather.run(
+                self._gbuffer, self._rsm_textures, self._light,
+                self._accumulated_grid.textures, spec, s.exposure, s.indirect_only))
+            targets = self._gather.targets
+            self._arrays["gather"] = {name: read_texture(targets[name])
+                                      for name in ("direct", "indirect", "final", "received")}
+            self._check("gather", self._arrays["gather"]["final"])
+            ran.append("gather")
+
+        self.last_result = self._result(s, spec, ran)
+        return self.last_result
+
+    def view(self, name: str, **options) -> np.ndarray:
+        """The last frame shown as ``name`` (any of ``settings.VIEWS``): an ``(H, W, 3)``
+        float32 image in [0, 1], ready for display (sRGB-encoded for radiometric views,
+        normalised for data views). See :func:`explorer.lpv.views.render_view` for the
+        options."""
+        if name not in VIEWS:
+            raise ValueError(f"unknown view {name!r}; choose one of {VIEWS}")
+        if self.last_result is None:
+            self.run()
+        scene = self._scene
+        return render_view(self.last_result, name, bounds=(scene.bounds_min, scene.bounds_max),
+                           **options)
+
+    def release(self) -> None:
+        for stage in (self._rsm, self._downsample, self._inject, self._geometry,
+                      self._propagate, self._gbuffer, self._gather):
+            stage.release()
+        for grid in (self._injected,):
+            if grid is not None:
+                grid.release()
+        self._injected = None
+        self._release_volume()
+        if self._override_textures is not None:
+            self._override_textures.release()
+            self._override_textures = None
+        if self._geometry_buffers is not None:
+            self._geometry_buffers.release()
+            self._geometry_buffers = None
+        self.programs.release()
+        self._keys.clear()
+        if self._owns_context:
+            self.ctx.release()
+
+    # ------------------------------------------------------------------ stages
+    def _changed(self, stage: str, key: object) -> bool:
+        if self._keys.get(stage) == key:
+            return False
+        self._keys[stage] = key
+        return True
+
+    def _load_scene(self, s: Settings) -> None:
+        base = self._scene_cache.get(s.scene)
+        if base is None:
+            base = load_scene(s.scene)
+            self._scene_cache = {s.scene: base}
+            if self._geometry_buffers is not None:
+                self._geometry_buffers.release()
+            self._geometry_buffers = SceneBuffers(self.ctx, base)
+        self._scene = base.with_overrides(s.camera, s.light, s.light_flux)
+
+    def _select_vpls(self, s: Settings, spec: GridSpec, vpls: VplArrays | None
+                     ) -> VplTextures:
+        if self._override_textures is not None:
+            self._override_textures.release()
+            self._override_textures = None
+        if vpls is not None:
+            self.timings_ms.pop("downsample", None)
+            self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
+            return self._override_textures
+        if s.downsample == "none" or s.downsample_factor == 1:
+            self.timings_ms.pop("downsample", None)
+            return self._rsm_textures
+        return self._timed("downsample", lambda: self._downsample.run(
+            self._rsm_textures, s.downsample, s.downsample_factor, spec, self._light))
+
+    def _replace_grid(self, grid: LpvGrid | None, s: Settings) -> LpvGrid:
+        if grid is not None and grid.resolution == s.grid_size and grid.format == s.grid_format:
+            return grid
+        if grid is not None:
+            grid.release()
+        return LpvGrid(self.ctx, s.grid_size, s.grid_format)
+
+    def _release_volume(self) -> None:
+        if self._volume is not None:
+            self._volume.release()
+            self._volume = None
+
+    def _check_limits(self, s: Settings) -> None:
+        if self.max_3d_texture_size and s.grid_size > self.max_3d_texture_size:
+            raise ValueError(f"grid_size {s.grid_size} exceeds this driver's "
+                             f"GL_MAX_3D_TEXTURE_SIZE {self.max_3d_texture_size}")
+        for name in ("rsm_size", "width", "height"):
+            value = int(getattr(s, name))
+            if value < 1:
+                raise ValueError(f"{name} must be at least 1, got {value}")
+            if self.max_texture_size and value > self.max_texture_size:
+                raise ValueError(f"{name} {value} exceeds this driver's GL_MAX_TEXTURE_SIZE "
+                                 f"{self.max_texture_size}")
+
+    def _check(self, pass_name: str, array) -> None:
+        """With ``settings.debug_nan``: a FloatingPointError naming ``pass_name`` if its
+        output holds NaN or infinity."""
+        if self.settings.debug_nan:
+            check_finite(np.asarray(array), f"the {pass_name} pass")
+
+    def _timed(self, name: str, work):
+        """Run ``work()`` and record its GPU time in milliseconds (module docstring)."""
+        use_clock = self.software_renderer and name in COMPUTE_PASSES
+        self.ctx.finish()
+        start = time.perf_counter()
+        query = None if use_clock else self.ctx.query(time=True)
+        if query is None:
+            result = work()
+        else:
+            with query:
+                result = work()
+        self.ctx.finish()
+        wall_ms = (time.perf_counter() - start) * 1e3
+        query_ms = 0.0 if query is None else query.elapsed / 1e6
+        if query is not None:
+            query.release()
+        if query_ms > 0.0:
+            self.timings_ms[name], self.timing_methods[name] = query_ms, "timer-query"
+        else:
+            self.timings_ms[name], self.timing_methods[name] = wall_ms, "wall-clock"
+        return result
+
+    # ------------------------------------------------------------------ results
+    def gathered_flux(self) -> np.ndarray:
+        """(3,) flux [W] the visible surfaces receive from the LPV: the sum over pixels of
+        the indirect irradiance E (docs/MODEL.md "Final gather") times the world area of
+        the surface under the pixel (|∂p/∂x × ∂p/∂y| from the G-buffer). Only surfaces the
+        camera sees count, once per pixel, so it is not expected to equal the injected
+        flux: it says how much LPV light lands on what is on screen."""
+        received = self._arrays["gather"]["received"]
+        return received[..., :3].astype(np.float64).sum(axis=(0, 1))
+
+    def _result(self, s: Settings, spec: GridSpec, ran: list[str]) -> FrameResult:
+        rsm_position, rsm_normal, rsm_flux = self._arrays["rsm"]
+        position, normal, albedo = self._arrays["gbuffer"]
+        gather = self._arrays["gather"]
+        rsm_total = rsm_flux[..., :3].astype(np.float64).sum(axis=(0, 1))
+        audit = EnergyAudit.from_grid_audit(self._grid_audit, rsm=rsm_total,
+                                            gathered=self.gathered_flux())
+        return FrameResult(
+            settings=s, grid_spec=spec,
+            final_image=gather["final"][..., :3], direct=gather["direct"][..., :3],
+            indirect=gather["indirect"][..., :3], albedo=albedo[..., :3],
+            rsm_position=rsm_position, rsm_normal=rsm_normal, rsm_flux=rsm_flux,
+            vpls=self._arrays["vpls"], accumulated=self._arrays["accumulated"],
+            steps=self._arrays["steps"], geometry_volume=self._arrays["geometry"],
+            audit=audit, timings_ms=dict(self.timings_ms),
+            timing_methods=dict(self.timing_methods), stages_run=tuple(ran))
+
+
+def render(settings: Settings) -> FrameResult:
+    """One frame with a throw-away headless pipeline (scripts, notebooks)."""
+    pipeline = Pipeline(settings)
+    try:
+        return pipeline.run()
+    finally:
+        pipeline.release()
+
+
+def _digest(vpls: VplArrays) -> str:
+    """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
+    digest = hashlib.sha1()
+    for array in (vpls.positions, vpls.normals, vpls.flux, vpls.depth):
+        digest.update(np.ascontiguousarray(array, np.float32).tobytes())
+    digest.update(repr((vpls.texel_area, vpls.projection)).encode())
+    return digest.hexdigest()

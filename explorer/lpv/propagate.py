@@ -1,0 +1,177 @@
+"""Propagation of the light grid (docs/MODEL.md "Propagation", "Iterations and
+accumulation") with the energy audit measured on the GPU alongside every step."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.audit import AuditReducer, GridAudit
+from explorer.lpv.geometry import GeometryVolume
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.settings import Corrections
+from explorer.lpv.textures import (
+    LpvGrid,
+    check_volume_array,
+    copy_volume,
+    default_context,
+    dispatch_size,
+    image_format_defines,
+    per_context,
+    programs_for,
+)
+
+
+@dataclass
+class PropagationOutput:
+    accumulated: LpvGrid
+    """acc_N = Σ grid_t. Owned by the pass: valid until its next run or release."""
+    steps: list[np.ndarray] | None
+    """grid_0..grid_N as (3, N, N, N, 4) arrays when keep_steps. In place, grid_t is the
+    light step t added (acc_t − acc_{t−1}), so Σ grid_t = acc_N in both modes."""
+    audit: GridAudit
+
+
+def copy_grid(programs: ProgramCache, source: LpvGrid, target: LpvGrid) -> None:
+    for source_volume, target_volume in zip(source.volumes, target.volumes):
+        copy_volume(programs, source_volume.texture, target_volume)
+
+
+class PropagatePass:
+    """Propagates an injected grid ``iterations`` times (``shaders/propagate.glsl``).
+
+    Ping-pong (``corrections.ping_pong``): grid_t = P(grid_{t−1}) alternates between two
+    scratch grids and is added into the accumulation grid by the same dispatch. In place
+    (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
+    a data race kept on purpose; a snapshot of acc_{t−1} taken before each step feeds the
+    audit (whose face terms are therefore the race-free reading of the step).
+    """
+
+    GEOMETRY_UNIT = 6
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self.audit = AuditReducer(ctx, programs)
+        self._grids: dict[str, LpvGrid] = {}
+
+    def _scratch(self, name: str, resolution: int, fmt: str) -> LpvGrid:
+        grid = self._grids.get(name)
+        if grid is None or grid.resolution != resolution or grid.format != fmt:
+            if grid is not None:
+                grid.release()
+            grid = self._grids[name] = LpvGrid(self.ctx, resolution, fmt)
+        return grid
+
+    def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
+            iterations: int, geometry: GeometryVolume | None = None,
+            keep_steps: bool = False) -> PropagationOutput:
+        n, fmt = spec.resolution, injected.format
+        if injected.resolution != n:
+            raise ValueError(f"the injected grid has {injected.resolution}^3 cells but the "
+                             f"grid spec has {n}^3")
+        if geometry is not None and geometry.resolution != n:
+            raise ValueError(f"the geometry volume belongs to a {geometry.resolution}^3 grid, "
+                             f"the light grid has {n}^3 cells")
+        if int(iterations) != iterations or iterations < 0:
+            raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
+        iterations = int(iterations)
+
+        accumulated = self._scratch("accumulated", n, fmt)
+        copy_grid(self.programs, injected, accumulated)
+        self.audit.begin(n, iterations + 2)
+        self.audit.measure(0, spec, corrections, after=injected)
+        steps = [injected.read()] if keep_steps else None
+
+        program = self.programs.get("propagate.glsl", image_format_defines(fmt))
+        set_uniforms(program, {
+            **spec.uniforms(), **corrections.as_uniforms(),
+            "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
+            "u_geometry": self.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
+        })
+        groups = dispatch_size(n)
+        source = injected
+        previous = steps[0] if keep_steps else None
+        for step in range(1, iterations + 1):
+            if corrections.ping_pong:
+                target = self._scratch("ping" if step % 2 else "pong", n, fmt)
+                before = source
+            else:
+                # The race: the dispatch reads its neighbours from the grid it writes.
+                target = accumulated
+                before = self._scratch("snapshot", n, fmt)
+                copy_grid(self.programs, accumulated, before)
+            before.use_as_textures(0)
+            if geometry is not None:
+                geometry.use_as_texture(self.GEOMETRY_UNIT)
+            target.bind_images(0)
+            accumulated.bind_images(3)
+            program.run(*groups)
+            self.ctx.memory_barrier()
+            self.audit.measure(step, spec, corrections, after=target, before=before,
+                               geometry=geometry, after_minus_before=not corrections.ping_pong)
+            if keep_steps:
+                current = target.read()
+                steps.append(current if corrections.ping_pong else current - previous)
+                previous = current
+            source = target
+        self.audit.measure(iterations + 1, spec, corrections, after=accumulated)
+
+        sums = self.audit.read()
+        audit = GridAudit(
+            injected=sums[0, 0:3],
+            per_step=sums[: iterations + 1, 0:3],
+            border_loss=sums[1: iterations + 1, 3:6],
+            clamp_gain=sums[1: iterations + 1, 6:9],
+            occluded=sums[1: iterations + 1, 9:12],
+            accumulated=sums[iterations + 1, 0:3],
+        )
+        return PropagationOutput(accumulated=accumulated, steps=steps, audit=audit)
+
+    def release(self) -> None:
+        for grid in self._grids.values():
+            grid.release()
+        self._grids.clear()
+        self.audit.release()
+
+
+def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = None,
+                         iterations: int = 1, geometry: np.ndarray | None = None,
+                         ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
+                         ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
+    """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit)."""
+    grid = np.asarray(grid)
+    if grid.ndim != 5 or grid.shape[0] != 3:
+        raise ValueError(f"grid must have shape (3, N, N, N, 4), got {grid.shape}")
+    n = grid.shape[1]
+    grid = check_volume_array(grid, n, "grid", channels=3)
+    corrections = corrections or Corrections()
+    ctx = ctx or default_context()
+    spec = GridSpec((0.0, 0.0, 0.0), 1.0, n)
+    injected = LpvGrid(ctx, n, fmt)
+    volume = None
+    try:
+        injected.write(grid)
+        if geometry is not None:
+            volume = GeometryVolume(ctx, n, fmt)
+            volume.write(check_volume_array(geometry, n + 1, "geometry"))
+        propagator = per_context(ctx, "propagate",
+                                 lambda: PropagatePass(ctx, programs_for(ctx)))
+        output = propagator.run(injected, spec, corrections, iterations, volume,
+                                keep_steps=True)
+        return output.steps, output.accumulated.read(), output.audit
+    finally:
+        injected.release()
+        if volume is not None:
+            volume.release()
+
+
+def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
+              geometry: np.ndarray | None = None, ctx: moderngl.Context | None = None,
+              fmt: str = "rgba32f") -> list[np.ndarray]:
+    """GPU propagation of a ``(3, N, N, N, 4)`` grid: grid_0..grid_N as float32 arrays
+    (``geometry``: an optional ``(N+1, N+1, N+1, 4)`` geometry volume)."""
+    return propagate_with_audit(grid, corrections, iterations, geometry, ctx, fmt)[0]

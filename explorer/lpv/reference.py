@@ -1,0 +1,245 @@
+"""Numpy reference of injection, geometry-volume injection and propagation.
+
+Written independently of the GPU passes: where the shaders gather (one target cell sums
+its six neighbours), this module scatters (every source cell sends to its six neighbours,
+whole-grid array slices per direction and face), so a shared mistake is unlikely. It follows
+docs/MODEL.md literally and computes in float64. Results are arrays shaped
+``(3, N, N, N, 4)`` (channel, x, y, z, SH coefficient) like :func:`explorer.lpv.inject`.
+
+In-place propagation (``ping_pong=False``) uses the race-free reading
+``acc_t = acc_{t−1} + P(acc_{t−1})``. The GPU's in-place pass reads some neighbours after
+they were already updated in the same step, so it differs from this by an amount that
+depends on the invocation order; both double count light propagated before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from explorer.lpv import constants as K
+from explorer.lpv.audit import GridAudit
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, INJECTION_MODES, Corrections
+from explorer.lpv.vpl import VplArrays
+
+
+def sh_basis(direction: np.ndarray) -> np.ndarray:
+    """Y(ω) = (c0, −c1·ω.y, c1·ω.z, −c1·ω.x) for unit directions shaped (..., 3)."""
+    x, y, z = np.moveaxis(np.asarray(direction, np.float64), -1, 0)
+    return np.stack([np.full_like(x, K.SH_C0), -K.SH_C1 * y, K.SH_C1 * z, -K.SH_C1 * x], -1)
+
+
+def cosine_lobe(normal: np.ndarray) -> np.ndarray:
+    """SH projection of clamp+(<n, ω>) for unit normals shaped (..., 3)."""
+    x, y, z = np.moveaxis(np.asarray(normal, np.float64), -1, 0)
+    return np.stack([np.full_like(x, K.SH_COSLOBE_C0), -K.SH_COSLOBE_C1 * y,
+                     K.SH_COSLOBE_C1 * z, -K.SH_COSLOBE_C1 * x], -1)
+
+
+def flux(grid: np.ndarray) -> np.ndarray:
+    """(3,) flux of a (3, N, N, N, 4) intensity grid: 2√π times the sum of coefficient 0."""
+    grid = np.asarray(grid, np.float64)
+    return K.SH_FLUX_FACTOR * grid[..., 0].reshape(grid.shape[0], -1).sum(axis=1)
+
+
+def formula_pi(corrections: Corrections) -> float:
+    """π as the formulas use it: the DX11 article's decimals unless exact constants."""
+    return K.PI if corrections.exact_constants else K.PUBLISHED_PI
+
+
+def injection_factor(corrections: Corrections) -> float:
+    """k_I = 1/π (corrected) or 1 (published)."""
+    return 1.0 / formula_pi(corrections) if corrections.injection_pi else 1.0
+
+
+def propagation_factor(corrections: Corrections) -> float:
+    """k_P = 1 (corrected) or 1/(4π) (published)."""
+    return 1.0 if corrections.propagation_4pi else 1.0 / (4.0 * formula_pi(corrections))
+
+
+def reprojection_factor(corrections: Corrections) -> float:
+    """k_R = 1 (corrected) or 1/π (published)."""
+    return 1.0 if corrections.reprojection_pi else 1.0 / formula_pi(corrections)
+
+
+def face_solid_angles(corrections: Corrections) -> tuple[float, float]:
+    """(front, side) solid angles: exact, or the DX11 article's decimals."""
+    if corrections.exact_constants:
+        return K.FRONT_FACE_SOLID_ANGLE, K.SIDE_FACE_SOLID_ANGLE
+    return K.PUBLISHED_FRONT_FACE_SOLID_ANGLE, K.PUBLISHED_SIDE_FACE_SOLID_ANGLE
+
+
+def _check_grid(grid: np.ndarray) -> np.ndarray:
+    grid = np.asarray(grid, np.float64)
+    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] != 4 or not (
+            grid.shape[1] == grid.shape[2] == grid.shape[3]):
+        raise ValueError(f"grid must have shape (3, N, N, N, 4), got {grid.shape}")
+    return grid
+
+
+def _check_geometry(geometry: np.ndarray | None, resolution: int) -> np.ndarray | None:
+    if geometry is None:
+        return None
+    geometry = np.asarray(geometry, np.float64)
+    expected = (resolution + 1,) * 3 + (4,)
+    if geometry.shape != expected:
+        raise ValueError(f"geometry must have shape {expected} for a {resolution}^3 grid, "
+                         f"got {geometry.shape}")
+    return geometry
+
+
+# --------------------------------------------------------------------------- injection
+
+
+def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
+           mode: str = "points") -> np.ndarray:
+    """grid[c, cell(p)] += k_I·Φ[c]·lobe(n) for every VPL inside the grid (both injection
+    modes compute this same sum)."""
+    if mode not in INJECTION_MODES:
+        raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
+    corrections = corrections or Corrections()
+    n = spec.resolution
+    grid = np.zeros((3, n, n, n, 4))
+    cells = spec.cell_index(vpls.positions)
+    keep = spec.inside(cells)
+    ix, iy, iz = cells[keep].T
+    lobes = injection_factor(corrections) * cosine_lobe(np.asarray(vpls.normals)[keep])
+    for channel in range(3):
+        weights = np.asarray(vpls.flux, np.float64)[keep, channel, None]
+        np.add.at(grid[channel], (ix, iy, iz), weights * lobes)
+    return grid
+
+
+def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
+                    mode: str = "one-sided") -> np.ndarray:
+    """Geometry volume (N+1)³×4: each surfel adds A/cell_size²·lobe(n) (one-sided) or
+    A/cell_size²·(lobe(n)+lobe(−n)) to the geometry cell centred on the light-grid corner
+    nearest to it, i.e. cell round(g)."""
+    if mode not in GEOMETRY_VOLUME_MODES or mode == "off":
+        raise ValueError(f"geometry mode must be 'one-sided' or 'double-sided', got {mode!r}")
+    corrections = corrections or Corrections()
+    size = spec.resolution + 1
+    volume = np.zeros((size, size, size, 4))
+    cells = np.floor(spec.grid_coords(vpls.positions) + 0.5).astype(np.int64)
+    keep = np.all((cells >= 0) & (cells < size), axis=1)
+    normals = np.asarray(vpls.normals, np.float64)[keep]
+    lobes = cosine_lobe(normals)
+    if mode == "double-sided":
+        lobes = lobes + cosine_lobe(-normals)
+    area = vpls.surfel_area(corrections.surfel_area_squared)[keep] / spec.cell_size ** 2
+    np.add.at(volume, tuple(cells[keep].T), area[:, None] * lobes)
+    return volume
+
+
+# --------------------------------------------------------------------------- propagation
+
+
+def _faces(axis: int, sign: int, side_faces: bool) -> list[tuple[np.ndarray, np.ndarray, bool]]:
+    """(evaluation direction, reprojection direction, is front) of the faces of the cell
+    one step along ``sign``·e_axis, seen from the source (docs/MODEL.md)."""
+    forward = np.zeros(3)
+    forward[axis] = sign
+    faces = [(forward, forward, True)]
+    if side_faces:
+        for other in (axis + 1) % 3, (axis + 2) % 3:
+            for side_sign in (1.0, -1.0):
+                side = np.zeros(3)
+                side[other] = side_sign
+                evaluation = side / np.sqrt(5.0) + 2.0 * forward / np.sqrt(5.0)
+                faces.append((evaluation, side, False))
+    return faces
+
+
+def _face_blockers(geometry: np.ndarray, axis: int, sign: int) -> np.ndarray:
+    """(N, N, N, 4): for every source cell s, the mean geometry SH of the face it shares
+    with s + sign·e_axis (corners s_axis + 1 for sign > 0, s_axis for sign < 0)."""
+    n = geometry.shape[0] - 1
+    moved = np.moveaxis(geometry, axis, 0)
+    layer = moved[1:] if sign > 0 else moved[:n]
+    mean = 0.25 * (layer[:, :n, :n] + layer[:, 1:, :n] + layer[:, :n, 1:] + layer[:, 1:, 1:])
+    return np.moveaxis(mean, 0, axis)
+
+
+def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
+                     geometry: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
+    ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
+    ``occluded`` and ``border_loss``."""
+    corrections = corrections or Corrections()
+    grid = _check_grid(grid)
+    n = grid.shape[1]
+    geometry = _check_geometry(geometry, n)
+    front_angle, side_angle = face_solid_angles(corrections)
+    scale = (reprojection_factor(corrections) * injection_factor(corrections)
+             * propagation_factor(corrections))
+    out = np.zeros_like(grid)
+    terms = {name: np.zeros(3) for name in
+             ("propagated", "clamp_gain", "occluded", "border_loss")}
+    for axis in range(3):
+        for sign in (1, -1):
+            blockers = None if geometry is None else _face_blockers(geometry, axis, sign)
+            # Sources whose neighbour along the direction is inside, and those neighbours.
+            inside = [slice(None)] * 3
+            shifted = [slice(None)] * 3
+            leaving = [slice(None)] * 3
+            inside[axis] = slice(0, n - 1) if sign > 0 else slice(1, n)
+            shifted[axis] = slice(1, n) if sign > 0 else slice(0, n - 1)
+            leaving[axis] = slice(n - 1, n) if sign > 0 else slice(0, 1)
+            for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
+                weight = scale * (front_angle if is_front else side_angle)
+                lobe = cosine_lobe(reprojection)
+                flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
+                raw = grid @ sh_basis(evaluation)                        # (3, N, N, N)
+                used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) \
+                    else raw
+                if blockers is None:
+                    visibility = np.ones((n, n, n))
+                else:
+                    visibility = 1.0 - np.clip(blockers @ sh_basis(evaluation), 0.0, 1.0)
+                sent = weight * used * visibility                         # (3, N, N, N)
+                out[(slice(None), *shifted)] += sent[(slice(None), *inside)][..., None] * lobe
+                terms["propagated"] += flux_per_intensity * raw.reshape(3, -1).sum(1)
+                terms["clamp_gain"] += flux_per_intensity * (used - raw).reshape(3, -1).sum(1)
+                terms["occluded"] += flux_per_intensity * (
+                    used * (1.0 - visibility)).reshape(3, -1).sum(1)
+                terms["border_loss"] += K.SH_FLUX_FACTOR * lobe[0] * sent[
+                    (slice(None), *leaving)].reshape(3, -1).sum(1)
+    return out, terms
+
+
+def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
+                      iterations: int = 1, geometry: np.ndarray | None = None
+                      ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
+    """grid_0..grid_N, acc_N and the audit. Ping-pong: grid_t = P(grid_{t−1}); in place:
+    grid_t = P(acc_{t−1}) (the light step t adds). Either way acc_N = Σ grid_t."""
+    corrections = corrections or Corrections()
+    grid = _check_grid(grid)
+    if int(iterations) < 0:
+        raise ValueError(f"iterations must be >= 0, got {iterations}")
+    steps = [grid]
+    accumulated = grid.copy()
+    terms = {name: [] for name in ("clamp_gain", "occluded", "border_loss")}
+    for _ in range(int(iterations)):
+        source = steps[-1] if corrections.ping_pong else accumulated
+        step, step_terms = propagation_step(source, corrections, geometry)
+        for name in terms:
+            terms[name].append(step_terms[name])
+        steps.append(step)
+        accumulated = accumulated + step
+    empty = np.zeros((0, 3))
+    audit = GridAudit(
+        injected=flux(grid),
+        per_step=np.stack([flux(step) for step in steps]),
+        border_loss=np.array(terms["border_loss"]).reshape(-1, 3) if iterations else empty,
+        clamp_gain=np.array(terms["clamp_gain"]).reshape(-1, 3) if iterations else empty,
+        occluded=np.array(terms["occluded"]).reshape(-1, 3) if iterations else empty,
+        accumulated=flux(accumulated),
+    )
+    return steps, accumulated, audit
+
+
+def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
+              geometry: np.ndarray | None = None) -> list[np.ndarray]:
+    """grid_0..grid_N (see :func:`propagate_audited`)."""
+    return propagate_audited(grid, corrections, iterations, geometry)[0]

@@ -1,0 +1,145 @@
+"""Shadow map + reflective shadow map (docs/MODEL.md "Reflective shadow map").
+
+One MRT pass renders, from the light, the world position (w = 1 where a surface was seen),
+the normal (w = view depth, also the shadow map of the direct light) and the reflected flux
+of every texel. The result is a :class:`~explorer.lpv.vpl.VplTextures`: each texel is a VPL.
+
+Flux per texel. A spot light of total flux Φ_L has intensity I = Φ_L/(4π); a texel of
+solid angle ρ lets I·ρ through, all of which lands on the surface the texel sees (a
+surface tilted by θ_i covers a footprint of area ρ·r²/cos θ_i at irradiance I·cos θ_i/r²,
+so the cosines cancel), and a diffuse surface reflects Φ_o = c_diff·I·ρ. ρ is computed
+exactly per texel in the shader from the texel's corner directions. A directional light
+of irradiance E gives Φ_o = c_diff·E·A_texel with A_texel the texel's area on a plane
+facing the light. Surfaces facing away from the light reflect nothing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.vpl import VplTextures
+from explorer.scene.gpu import SceneBuffers
+from explorer.scene.lights import DirectionalLight
+from explorer.scene.model import Scene
+from explorer.scene.transforms import gl_matrix
+
+
+@dataclass(frozen=True)
+class LightView:
+    """How the light sees the scene: matrices and the numbers the shaders need."""
+
+    view: np.ndarray
+    projection: np.ndarray
+    orthographic: bool
+    position: np.ndarray
+    direction: np.ndarray
+    intensity: float
+    """Spot: Φ_L/(4π) [W/sr] (0 for a directional light)."""
+    irradiance: float
+    """Directional: E [W/m²] on a plane facing the light (0 for a spot)."""
+    texel_area: float
+    """``VplTextures.texel_area``: spot, area of a texel at view depth 1 (4/(W·H));
+    directional, world area of a texel."""
+    size: int
+
+    @property
+    def texel_world_size(self) -> float:
+        """Edge of one texel at view depth 1 (spot) or in world units (directional)."""
+        return float(np.sqrt(self.texel_area))
+
+    def uniforms(self) -> dict[str, object]:
+        return {
+            "u_light_view": gl_matrix(self.view),
+            "u_light_projection": gl_matrix(self.projection),
+            "u_orthographic": int(self.orthographic),
+            "u_light_position": tuple(map(float, self.position)),
+            "u_light_direction": tuple(map(float, self.direction)),
+            "u_light_intensity": float(self.intensity),
+            "u_light_irradiance": float(self.irradiance),
+            "u_texel_world_area": float(self.texel_area),
+            "u_rsm_size": (float(self.size), float(self.size)),
+        }
+
+
+def light_view(scene: Scene, size: int) -> LightView:
+    """The light's matrices and radiometry for an RSM of ``size``² texels."""
+    light, lo, hi = scene.light, scene.bounds_min, scene.bounds_max
+    orthographic = isinstance(light, DirectionalLight)
+    view = light.view_matrix(lo, hi)
+    position = (light.eye(lo, hi) if orthographic else np.asarray(light.position, np.float64))
+    return LightView(
+        view=view,
+        projection=light.projection_matrix(lo, hi),
+        orthographic=orthographic,
+        position=position,
+        direction=light.direction,
+        intensity=0.0 if orthographic else light.intensity,
+        irradiance=light.irradiance(lo, hi) if orthographic else 0.0,
+        texel_area=light.texel_area(size, size, lo, hi),
+        size=int(size),
+    )
+
+
+class RsmPass:
+    """Renders the RSM of a scene into three ``rgba32f`` textures (+ a depth buffer)."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._size = 0
+        self._textures: list[moderngl.Texture] = []
+        self._depth: moderngl.Renderbuffer | None = None
+        self._framebuffer: moderngl.Framebuffer | None = None
+
+    def _allocate(self, size: int) -> None:
+        if size == self._size:
+            return
+        self._free()
+        max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
+        if max_size and size > max_size:
+            raise ValueError(f"rsm_size {size} exceeds this driver's GL_MAX_TEXTURE_SIZE "
+                             f"{max_size}")
+        self._textures = [self.ctx.texture((size, size), 4, dtype="f4") for _ in range(3)]
+        for texture in self._textures:
+            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            texture.repeat_x = texture.repeat_y = False
+        self._depth = self.ctx.depth_renderbuffer((size, size))
+        self._framebuffer = self.ctx.framebuffer(self._textures, self._depth)
+        self._size = size
+
+    def run(self, geometry: SceneBuffers, view: LightView) -> VplTextures:
+        """Render the RSM seen by ``view``; the returned textures belong to this pass and
+        stay valid until the next run with another size or :meth:`release`."""
+        self._allocate(view.size)
+        program = self.programs.get("rsm.glsl")
+        set_uniforms(program, view.uniforms())
+        with self.ctx.scope(self._framebuffer, enable_only=moderngl.DEPTH_TEST):
+            self._framebuffer.viewport = (0, 0, view.size, view.size)
+            self._framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+            geometry.draw(program)
+        position, normal, flux = self._textures
+        return VplTextures(position, normal, flux, texel_area=view.texel_area,
+                           projection="orthographic" if view.orthographic else "perspective")
+
+    def _free(self) -> None:
+        if self._framebuffer is not None:
+            self._framebuffer.release()
+            self._depth.release()
+        for texture in self._textures:
+            texture.release()
+        self._textures, self._framebuffer, self._depth, self._size = [], None, None, 0
+
+    def release(self) -> None:
+        self._free()
+
+
+def read_texture(texture: moderngl.Texture) -> np.ndarray:
+    """A float32 RGBA 2D texture as an ``(H, W, 4)`` array, row 0 at the top (the texture's
+    last row: OpenGL puts row 0 at the bottom)."""
+    width, height = texture.size
+    data = np.frombuffer(texture.read(), dtype=np.float32).reshape(height, width, 4)
+    return data[::-1].copy()

@@ -1,0 +1,206 @@
+"""GPU storage of the light grid: three RGBA 3D textures of L1 SH intensity (docs/MODEL.md).
+
+Numpy layout everywhere is ``(channel, x, y, z, coefficient)``; a 3D texture stores texel
+``(x, y, z)`` with x running fastest, so uploads transpose to ``(z, y, x, coefficient)``.
+Also the lazily created default context and program cache of the numpy-facing API.
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.settings import GRID_FORMATS
+
+_TEXTURE_DTYPES = {"rgba32f": "f4", "rgba16f": "f2"}
+_NUMPY_DTYPES = {"rgba32f": np.float32, "rgba16f": np.float16}
+
+
+def check_format(fmt: str) -> str:
+    if fmt not in GRID_FORMATS:
+        raise ValueError(f"grid format must be one of {GRID_FORMATS}, got {fmt!r}")
+    return fmt
+
+
+def check_volume_array(array: np.ndarray, resolution: int, name: str,
+                       channels: int | None = None) -> np.ndarray:
+    """``array`` as float32 if it is shaped ``(channels, n, n, n, 4)`` (or ``(n, n, n, 4)``
+    when ``channels`` is None) with ``n == resolution``; a ValueError stating the expected
+    shape otherwise."""
+    array = np.asarray(array)
+    expected = (resolution,) * 3 + (4,)
+    if channels is not None:
+        expected = (channels,) + expected
+    if array.shape != expected:
+        raise ValueError(f"{name} must have shape {expected}, got {array.shape}")
+    return array.astype(np.float32, copy=False)
+
+
+class VolumeTexture:
+    """One RGBA float 3D texture of ``size``³ texels with numpy ``(x, y, z, 4)`` access."""
+
+    def __init__(self, ctx: moderngl.Context, size: int, fmt: str = "rgba32f") -> None:
+        self.ctx = ctx
+        self.size = int(size)
+        self.format = check_format(fmt)
+        self.texture = ctx.texture3d((self.size,) * 3, 4, dtype=_TEXTURE_DTYPES[fmt])
+        # Linear filtering for the final gather's trilinear lookups; clamp to the edge so
+        # the border cells do not blend with the opposite side.
+        self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
+
+    def read(self) -> np.ndarray:
+        data = np.frombuffer(self.texture.read(), dtype=_NUMPY_DTYPES[self.format])
+        return data.reshape((self.size,) * 3 + (4,)).transpose(2, 1, 0, 3).astype(np.float32)
+
+    def write(self, volume: np.ndarray) -> None:
+        volume = check_volume_array(volume, self.size, "volume")
+        texels = np.ascontiguousarray(volume.transpose(2, 1, 0, 3), _NUMPY_DTYPES[self.format])
+        self.texture.write(texels.tobytes())
+
+    def clear(self) -> None:
+        self.texture.write(bytes(self.texture.width * self.texture.height * self.texture.depth
+                                 * 4 * np.dtype(_NUMPY_DTYPES[self.format]).itemsize))
+
+    def bind_image(self, unit: int, read: bool = True, write: bool = True) -> None:
+        self.texture.bind_to_image(unit, read=read, write=write)
+
+    def release(self) -> None:
+        self.texture.release()
+
+
+class LpvGrid:
+    """Three 3D textures (r, g, b channel), each texel = 4 L1 SH coefficients of radiant
+    intensity [W/sr] (docs/MODEL.md "Notation and storage")."""
+
+    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f") -> None:
+        if int(resolution) < 1:
+            raise ValueError(f"resolution must be at least 1, got {resolution}")
+        self.ctx = ctx
+        self.resolution = int(resolution)
+        self.format = check_format(fmt)
+        self.volumes = tuple(VolumeTexture(ctx, self.resolution, fmt) for _ in range(3))
+        self.textures: tuple[moderngl.Texture3D, moderngl.Texture3D, moderngl.Texture3D] = (
+            tuple(volume.texture for volume in self.volumes))
+
+    def clear(self) -> None:
+        for volume in self.volumes:
+            volume.clear()
+
+    def read(self) -> np.ndarray:
+        """float32 ``(3, N, N, N, 4)`` = (channel, x, y, z, coefficient)."""
+        return np.stack([volume.read() for volume in self.volumes])
+
+    def write(self, grid: np.ndarray) -> None:
+        grid = check_volume_array(grid, self.resolution, "grid", channels=3)
+        for volume, channel in zip(self.volumes, grid):
+            volume.write(channel)
+
+    def use_as_textures(self, first_location: int) -> None:
+        """Bind r, g, b as sampler3D units ``first_location`` .. ``first_location + 2``
+        (linear filtering, clamped to the edge)."""
+        for offset, texture in enumerate(self.textures):
+            texture.use(first_location + offset)
+
+    def bind_images(self, first_unit: int, read: bool = True, write: bool = True) -> None:
+        """Bind r, g, b as image3D units ``first_unit`` .. ``first_unit + 2``."""
+        for offset, volume in enumerate(self.volumes):
+            volume.bind_image(first_unit + offset, read=read, write=write)
+
+    def release(self) -> None:
+        for volume in self.volumes:
+            volume.release()
+
+
+def image_format_defines(fmt: str) -> dict[str, str]:
+    """The ``IMAGE_FORMAT`` define matching a grid format, for the compute shaders."""
+    return {"IMAGE_FORMAT": check_format(fmt)}
+
+
+def dispatch_size(resolution: int, local_size: int = 4) -> tuple[int, int, int]:
+    """Workgroups covering ``resolution``³ invocations with cubic groups of ``local_size``."""
+    groups = -(-int(resolution) // local_size)
+    return groups, groups, groups
+
+
+class LayeredTarget:
+    """``count`` layered 2D-array render targets of ``size``³ texels: points drawn with
+    ``gl_Layer = z`` land in texel ``(x, y, z)``. moderngl refuses a 3D texture as a
+    framebuffer attachment, so the point passes render here and :func:`copy_volume` moves
+    each layer stack into its 3D texture (DESIGN.md "Platform facts")."""
+
+    def __init__(self, ctx: moderngl.Context, size: int, count: int, fmt: str) -> None:
+        self.size = int(size)
+        self.format = check_format(fmt)
+        self.layers = [ctx.texture_array((self.size,) * 3, 4, dtype=_TEXTURE_DTYPES[fmt])
+                       for _ in range(count)]
+        for layers in self.layers:
+            layers.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.framebuffer = ctx.framebuffer(color_attachments=self.layers)
+
+    def release(self) -> None:
+        self.framebuffer.release()
+        for layers in self.layers:
+            layers.release()
+
+
+def draw_points_additively(ctx: moderngl.Context, program: moderngl.Program,
+                           target: LayeredTarget, count: int) -> None:
+    """Clear ``target`` and draw ``count`` attribute-less points into it with ONE,ONE float
+    blending (sums, negative values kept). The previous framebuffer and enable flags come
+    back afterwards; the blend function is left at moderngl's default."""
+    vertex_array = ctx.vertex_array(program, [])
+    try:
+        with ctx.scope(target.framebuffer, enable_only=moderngl.BLEND):
+            target.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+            ctx.blend_equation = moderngl.FUNC_ADD
+            ctx.blend_func = moderngl.ONE, moderngl.ONE
+            vertex_array.render(mode=moderngl.POINTS, vertices=count)
+            ctx.blend_func = moderngl.DEFAULT_BLENDING
+    finally:
+        vertex_array.release()
+
+
+def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.TextureArray,
+                target: VolumeTexture) -> None:
+    """Copy a 3D texture or a layered 2D array (layer = z) into ``target``, texel for texel,
+    with a compute shader (unit 0 holds the source while it runs)."""
+    layered = isinstance(source, moderngl.TextureArray)
+    program = programs.get("volume_copy.glsl", {"SOURCE_LAYERED": int(layered),
+                                                **image_format_defines(target.format)})
+    source.use(0)
+    target.bind_image(0, read=False, write=True)
+    set_uniforms(program, {"u_source": 0})
+    program.run(*dispatch_size(target.size))
+    programs.ctx.memory_barrier()
+
+
+_PER_CONTEXT: dict[tuple[int, str], tuple[moderngl.Context, object]] = {}
+
+
+def default_context() -> moderngl.Context:
+    """One headless context, created on first use and reused by the numpy-facing API."""
+    ctx = _PER_CONTEXT.get((0, "default"))
+    if ctx is None:
+        from explorer.gl.context import create_headless_context
+
+        created = create_headless_context()
+        _PER_CONTEXT[(0, "default")] = (created, created)
+        return created
+    return ctx[0]
+
+
+def per_context(ctx: moderngl.Context, key: str, factory):
+    """An object made by ``factory()`` once per context and key (program caches and pass
+    objects of the numpy-facing API)."""
+    entry = _PER_CONTEXT.get((id(ctx), key))
+    if entry is None or entry[0] is not ctx:
+        entry = (ctx, factory())
+        _PER_CONTEXT[(id(ctx), key)] = entry
+    return entry[1]
+
+
+def programs_for(ctx: moderngl.Context) -> ProgramCache:
+    """The program cache the numpy-facing API uses with ``ctx``."""
+    return per_context(ctx, "programs", lambda: ProgramCache(ctx))

@@ -1,0 +1,95 @@
+"""Display images of a :class:`~explorer.lpv.pipeline.FrameResult` for every name in
+``settings.VIEWS``: ``(H, W, 3)`` float32 in [0, 1].
+
+Radiometric views (final, direct, indirect, albedo, rsm-flux) are sRGB-encoded; data views
+(positions, normals, grid slices) are mapped linearly to [0, 1] and not encoded, so their
+values stay proportional to what they show.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from explorer.lpv.constants import SH_FLUX_FACTOR
+
+
+def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
+    """The sRGB encoding (IEC 61966-2-1) of linear values clipped to [0, 1]."""
+    c = np.clip(np.nan_to_num(np.asarray(linear, np.float32)), 0.0, 1.0)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055
+                    ).astype(np.float32)
+
+
+def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:
+    """``values`` divided by their ``percentile``-th percentile of the nonzero entries
+    (robust to a few very bright texels); all-zero input stays zero."""
+    values = np.nan_to_num(np.asarray(values, np.float32))
+    nonzero = np.abs(values[values != 0])
+    if nonzero.size == 0:
+        return np.zeros_like(values)
+    scale = float(np.percentile(nonzero, percentile))
+    return values / scale if scale > 0 else np.zeros_like(values)
+
+
+def render_view(result, name: str, bounds=None, z: int | None = None,
+                coefficient: int | None = None, exposure: float | None = None
+                ) -> np.ndarray:
+    """The image of ``result`` for view ``name``.
+
+    Options: ``exposure`` (direct/indirect; default the frame's), ``z`` (slice index of
+    the grid views; default the middle), ``coefficient`` (grid-slice: None shows the flux
+    of each cell 2√π·c0 per colour; 0..3 shows that SH coefficient signed around grey).
+    """
+    settings = result.settings
+    exposure = settings.exposure if exposure is None else float(exposure)
+    if name == "final":
+        return linear_to_srgb(result.final_image)
+    if name in ("direct", "indirect"):
+        return linear_to_srgb(exposure * getattr(result, name))
+    if name == "albedo":
+        return linear_to_srgb(result.albedo)
+    if name == "rsm-position":
+        position, valid = result.rsm_position[..., :3], result.rsm_position[..., 3:] > 0.5
+        lo = np.asarray(bounds[0] if bounds else position.min(axis=(0, 1)), np.float32)
+        hi = np.asarray(bounds[1] if bounds else position.max(axis=(0, 1)), np.float32)
+        image = (position - lo) / np.maximum(hi - lo, 1e-12)
+        return np.clip(np.where(valid, image, 0.0), 0.0, 1.0).astype(np.float32)
+    if name == "rsm-normal":
+        valid = result.rsm_position[..., 3:] > 0.5
+        image = np.where(valid, 0.5 * result.rsm_normal[..., :3] + 0.5, 0.0)
+        return np.clip(image, 0.0, 1.0).astype(np.float32)
+    if name == "rsm-flux":
+        return linear_to_srgb(normalise(result.rsm_flux[..., :3]))
+    if name == "grid-slice":
+        return grid_slice(result.accumulated, z, coefficient)
+    if name == "geometry-volume":
+        volume = result.geometry_volume
+        if volume is None:   # geometry volume off: nothing blocks
+            n = result.grid_spec.resolution + 1
+            return np.zeros((n, n, 3), np.float32)
+        index = volume.shape[2] // 2 if z is None else int(z)
+        blocking = normalise(volume[:, :, index, 0]).T[::-1]
+        return np.repeat(np.clip(blocking, 0.0, 1.0)[..., None], 3, axis=2).astype(np.float32)
+    raise ValueError(f"unknown view {name!r}")
+
+
+def grid_slice(grid: np.ndarray, z: int | None = None, coefficient: int | None = None
+               ) -> np.ndarray:
+    """One z slice of a ``(3, N, N, N, 4)`` grid as an ``(N, N, 3)`` image (x to the right,
+    y up)."""
+    n = grid.shape[1]
+    index = n // 2 if z is None else int(z)
+    if not 0 <= index < n:
+        raise ValueError(f"slice z={index} is outside the grid (0..{n - 1})")
+    cells = grid[:, :, :, index, :]                    # (3, x, y, 4)
+    if coefficient is None:
+        image = normalise(SH_FLUX_FACTOR * np.maximum(cells[..., 0], 0.0))
+        image = linear_to_srgb(image)
+    else:
+        if coefficient not in (0, 1, 2, 3):
+            raise ValueError(f"coefficient must be 0..3, got {coefficient}")
+        signed = cells[..., coefficient]
+        peak = float(np.max(np.abs(signed))) or 1.0
+        image = np.clip(0.5 + 0.5 * signed / peak, 0.0, 1.0)
+    # (3, x, y) -> rows = y from the top, columns = x
+    return np.ascontiguousarray(np.transpose(image, (2, 1, 0))[::-1]).astype(np.float32)

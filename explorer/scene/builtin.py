@@ -1,0 +1,83 @@
+"""The built-in scenes: ``cornell``, ``single-source`` and ``room``.
+
+Units are metres; albedos are linear reflectances. Every light's flux comes from
+:func:`~explorer.scene.lights.flux_for_irradiance` so that the main lit surface receives
+about 3 W/m² (a white surface then has a radiance near 0.7 at exposure 1).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from explorer.scene.camera import Camera
+from explorer.scene.lights import DirectionalLight, SpotLight, flux_for_irradiance
+from explorer.scene.model import MeshBuilder, Scene
+
+WHITE = (0.75, 0.75, 0.75)
+RED = (0.80, 0.08, 0.06)
+GREEN = (0.10, 0.65, 0.10)
+ORANGE = (0.90, 0.45, 0.08)
+BLUE = (0.20, 0.35, 0.80)
+
+X, Y, Z = np.eye(3)
+
+
+def cornell_box() -> Scene:
+    """A 2 m Cornell box open towards +z: red wall at x = −1, green wall at x = +1, white
+    floor, ceiling and back, two white blocks, and a spot light under the ceiling near the
+    open front, aimed down at the back of the box. Its 90° frustum lights the floor, the
+    back wall and most of both coloured walls, which then bleed red and green onto the
+    floor, the blocks and the back wall."""
+    mesh = MeshBuilder()
+    mesh.rect((0, -1, 0), Y, X, 1, 1, WHITE)      # floor
+    mesh.rect((0, 1, 0), -Y, X, 1, 1, WHITE)      # ceiling
+    mesh.rect((0, 0, -1), Z, X, 1, 1, WHITE)      # back wall
+    mesh.rect((-1, 0, 0), X, Z, 1, 1, RED)        # left wall
+    mesh.rect((1, 0, 0), -X, Z, 1, 1, GREEN)      # right wall
+    mesh.box((0.34, -0.7, 0.3), (0.6, 0.6, 0.6), WHITE, rotation_y_degrees=-18.0)
+    mesh.box((-0.34, -0.4, -0.32), (0.6, 1.2, 0.6), WHITE, rotation_y_degrees=18.0)
+    positions, normals, albedo = mesh.arrays()
+    light = SpotLight((0.0, 0.9, 0.9), (0.0, -0.5, -0.8), flux_for_irradiance(2.2))
+    camera = Camera((0.0, 0.3, 4.4), (0.0, -0.1, 0.0), 38.0)
+    return Scene("cornell", positions, normals, albedo, camera, light,
+                 (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
+
+
+def single_source() -> Scene:
+    """One small white patch lit by a spot light 0.3 m above it, in an otherwise empty
+    2 m box: the smallest scene that injects light (for lessons and tests)."""
+    mesh = MeshBuilder()
+    mesh.rect((0.0, -0.5, 0.0), Y, X, 0.15, 0.15, (0.8, 0.8, 0.8))
+    positions, normals, albedo = mesh.arrays()
+    light = SpotLight((0.0, -0.2, 0.0), (0.0, -0.5, 0.0), flux_for_irradiance(0.3))
+    camera = Camera((0.0, 0.6, 2.6), (0.0, -0.4, 0.0), 40.0)
+    return Scene("single-source", positions, normals, albedo, camera, light,
+                 (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
+
+
+def room() -> Scene:
+    """A 4 m roofless room with thin walls (thinner than a grid cell at usual sizes) and
+    two pillars, lit by a low sun (directional light): shows light leaking through thin
+    walls and what the geometry volume's occlusion does about it."""
+    mesh = MeshBuilder()
+    mesh.rect((0.0, 0.0, 0.0), Y, X, 2.0, 2.0, WHITE)                      # floor
+    mesh.box((0.0, 0.6, -2.0), (4.0, 1.2, 0.06), WHITE)                   # back wall
+    mesh.box((-2.0, 0.6, 0.0), (0.06, 1.2, 4.0), BLUE)                    # left wall
+    mesh.box((2.0, 0.6, 0.0), (0.06, 1.2, 4.0), WHITE)                    # right wall
+    mesh.box((0.3, 0.6, -0.75), (0.04, 1.2, 2.5), ORANGE)                 # thin inner wall
+    mesh.box((-1.0, 0.6, 0.9), (0.2, 1.2, 0.2), WHITE)                    # pillars
+    mesh.box((1.1, 0.6, 0.9), (0.2, 1.2, 0.2), WHITE)
+    positions, normals, albedo = mesh.arrays()
+    lo, hi = (-2.05, 0.0, -2.05), (2.05, 1.2, 2.05)
+    sun_irradiance = 3.0
+    side = 2.0 * DirectionalLight.half_width(lo, hi)
+    light = DirectionalLight((-2.0, 3.0, 1.0), (0.0, 0.0, 0.0), sun_irradiance * side * side)
+    camera = Camera((0.0, 3.6, 5.2), (0.0, 0.2, -0.2), 45.0)
+    return Scene("room", positions, normals, albedo, camera, light, lo, hi)
+
+
+BUILTIN_SCENES = {
+    "cornell": cornell_box,
+    "single-source": single_source,
+    "room": room,
+}

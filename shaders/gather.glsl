@@ -1,0 +1,133 @@
+#version 430 core
+// Final gather + direct light + exposure + display encoding (docs/MODEL.md "Final gather").
+// Full-screen pass over the G-buffer. Targets:
+//   0 direct radiance (shadowed Lambertian from the light), 1 indirect radiance (LPV),
+//   2 final linear colour = exposure·(direct + indirect) (or exposure·indirect),
+//   3 the same in sRGB for the RGBA8 display texture,
+//   4 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
+//     from the LPV (summed by the energy audit).
+
+#if defined VERTEX_SHADER
+void main() {
+    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
+#endif
+
+#if defined FRAGMENT_SHADER
+#include "sh.glsl"
+#include "grid.glsl"
+
+uniform sampler2D u_gbuffer_position;
+uniform sampler2D u_gbuffer_normal;
+uniform sampler2D u_gbuffer_albedo;
+uniform sampler3D u_lpv_r;
+uniform sampler3D u_lpv_g;
+uniform sampler3D u_lpv_b;
+uniform sampler2D u_shadow_position;   // RSM position (w = 1 where the light saw a surface)
+uniform sampler2D u_shadow_normal;     // RSM normal (w = view depth from the light)
+
+uniform mat4 u_light_view;
+uniform mat4 u_light_projection;
+uniform int u_orthographic;
+uniform vec3 u_light_position;
+uniform vec3 u_light_direction;
+uniform float u_light_intensity;       // spot: Φ_L/(4π)
+uniform float u_light_irradiance;      // directional: E
+uniform float u_shadow_texel;          // texel edge at depth 1 (spot) or in world units
+uniform float u_exposure;
+uniform int u_indirect_only;
+uniform int u_has_grid;
+
+layout(location = 0) out vec4 out_direct;
+layout(location = 1) out vec4 out_indirect;
+layout(location = 2) out vec4 out_final;
+layout(location = 3) out vec4 out_display;
+layout(location = 4) out vec4 out_received;
+
+// Fraction of a 3×3 texel neighbourhood of the shadow map that does not hide `world`
+// (percentage-closer filtering). The bias grows with the texel's footprint and with the
+// slope of the surface seen from the light, since neighbouring texels store the depth
+// of the same surface a little nearer or farther.
+float shadow_visibility(vec3 world, float cos_light) {
+    vec4 view_position = u_light_view * vec4(world, 1.0);
+    vec4 clip = u_light_projection * view_position;
+    if (clip.w <= 0.0) return 0.0;
+    vec3 ndc = clip.xyz / clip.w;
+    if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) return 0.0;   // outside the light's frustum
+    float depth = -view_position.z;
+    float texel = u_orthographic == 1 ? u_shadow_texel : u_shadow_texel * depth;
+    float tangent = sqrt(max(1.0 - cos_light * cos_light, 0.0)) / max(cos_light, 0.1);
+    float bias = texel * (1.0 + 1.5 * tangent);
+    ivec2 size = textureSize(u_shadow_normal, 0);
+    ivec2 centre = ivec2(floor((ndc.xy * 0.5 + 0.5) * vec2(size)));
+    float lit = 0.0;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            ivec2 at = clamp(centre + ivec2(dx, dy), ivec2(0), size - 1);
+            bool seen = texelFetch(u_shadow_position, at, 0).w > 0.5;
+            float stored = texelFetch(u_shadow_normal, at, 0).w;
+            lit += (!seen || depth <= stored + bias) ? 1.0 : 0.0;
+        }
+    }
+    return lit / 9.0;
+}
+
+vec3 linear_to_srgb(vec3 linear) {
+    vec3 c = clamp(linear, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec4 position = texelFetch(u_gbuffer_position, pixel, 0);
+    if (position.w < 0.5) {   // background
+        out_direct = out_indirect = out_final = out_received = vec4(0.0);
+        out_display = vec4(0.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    vec4 normal_area = texelFetch(u_gbuffer_normal, pixel, 0);
+    vec3 n = normal_area.xyz;
+    vec3 albedo = texelFetch(u_gbuffer_albedo, pixel, 0).rgb;
+
+    // Direct light: irradiance I·cos θ/r² (spot) or E·cos θ (directional), the same
+    // radiometry as the RSM flux, times the shadow map's visibility.
+    vec3 to_light;
+    float irradiance;
+    if (u_orthographic == 1) {
+        to_light = -u_light_direction;
+        irradiance = u_light_irradiance;
+    } else {
+        vec3 offset = u_light_position - position.xyz;
+        float distance_squared = max(dot(offset, offset), 1e-12);
+        to_light = offset * inversesqrt(distance_squared);
+        irradiance = u_light_intensity / distance_squared;
+    }
+    float cos_light = dot(n, to_light);
+    vec3 direct = vec3(0.0);
+    if (cos_light > 0.0) {
+        direct = albedo * INV_PI * irradiance * cos_light
+               * shadow_visibility(position.xyz, cos_light);
+    }
+
+    // Indirect light: trilinear sample of the accumulated grid at the surface; light
+    // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
+    vec3 indirect_irradiance = vec3(0.0);
+    if (u_has_grid == 1) {
+        vec3 coord = grid_texcoord(position.xyz);
+        vec4 lobe = sh_cosine_lobe(-n);
+        vec3 intensity = vec3(dot(texture(u_lpv_r, coord), lobe),
+                              dot(texture(u_lpv_g, coord), lobe),
+                              dot(texture(u_lpv_b, coord), lobe));
+        indirect_irradiance = max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+    }
+    vec3 indirect = albedo * INV_PI * indirect_irradiance;
+
+    vec3 final_colour = u_exposure * (u_indirect_only == 1 ? indirect : direct + indirect);
+    out_direct = vec4(direct, 1.0);
+    out_indirect = vec4(indirect, 1.0);
+    out_final = vec4(final_colour, 1.0);
+    out_display = vec4(linear_to_srgb(final_colour), 1.0);
+    out_received = vec4(indirect_irradiance * normal_area.w, 0.0);
+}
+#endif

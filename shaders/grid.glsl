@@ -1,0 +1,32 @@
+#version 430 core
+// World <-> grid mapping of docs/MODEL.md; the uniforms are GridSpec.uniforms().
+// Grid coordinate g = (p - origin)/cell_size, cell index floor(g), texture coordinate g/N.
+#ifndef GRID_GLSL
+#define GRID_GLSL 1
+
+uniform vec3 u_grid_origin;
+uniform float u_grid_cell_size;
+uniform int u_grid_resolution;
+
+vec3 grid_coords(vec3 world) {
+    return (world - u_grid_origin) / u_grid_cell_size;
+}
+
+ivec3 grid_cell(vec3 world) {
+    return ivec3(floor(grid_coords(world)));
+}
+
+vec3 grid_texcoord(vec3 world) {
+    return grid_coords(world) / float(u_grid_resolution);
+}
+
+// Whether an integer cell lies in a cube of `resolution` cells per axis.
+bool grid_inside(ivec3 cell, int resolution) {
+    return all(greaterThanEqual(cell, ivec3(0))) && all(lessThan(cell, ivec3(resolution)));
+}
+
+bool grid_inside(ivec3 cell) {
+    return grid_inside(cell, u_grid_resolution);
+}
+
+#endif

@@ -1,0 +1,87 @@
+#version 430 core
+// Shadow map + reflective shadow map in one MRT pass (docs/MODEL.md "Reflective shadow map").
+// Targets: 0 = world position (w = 1 where a surface was seen), 1 = normal facing the light
+// (w = view depth from the light), 2 = reflected flux per texel (rgb, watts).
+
+uniform mat4 u_light_view;
+uniform mat4 u_light_projection;
+
+#if defined VERTEX_SHADER
+in vec3 in_position;
+in vec3 in_normal;
+in vec3 in_albedo;
+out vec3 v_position;
+out vec3 v_normal;
+out vec3 v_albedo;
+out float v_depth;
+
+void main() {
+    vec4 view_position = u_light_view * vec4(in_position, 1.0);
+    v_position = in_position;
+    v_normal = in_normal;
+    v_albedo = in_albedo;
+    v_depth = -view_position.z;
+    gl_Position = u_light_projection * view_position;
+}
+#endif
+
+#if defined FRAGMENT_SHADER
+uniform int u_orthographic;         // 0: spot light (90° frustum), 1: directional light
+uniform vec3 u_light_position;      // spot
+uniform vec3 u_light_direction;     // directional: the direction the light travels
+uniform float u_light_intensity;    // spot: Φ_L / (4π)  [W/sr]
+uniform float u_light_irradiance;   // directional: E on a plane facing the light [W/m²]
+uniform float u_texel_world_area;   // directional: world area of one texel [m²]
+uniform vec2 u_rsm_size;
+
+in vec3 v_position;
+in vec3 v_normal;
+in vec3 v_albedo;
+in float v_depth;
+
+layout(location = 0) out vec4 out_position;
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out vec4 out_flux;
+
+// Solid angle of the spherical triangle spanned by three (not necessarily unit) corner
+// directions (Van Oosterom & Strackee): tan(Ω/2) = |a·(b×c)| / (|a||b||c| + (a·b)|c| +
+// (a·c)|b| + (b·c)|a|). For corners of one texel on the plane z = 1 the triple product is
+// exactly the texel's (dx·dy), so the formula stays accurate for tiny texels where
+// differences of atan terms would cancel.
+float triangle_solid_angle(vec3 a, vec3 b, vec3 c, float triple) {
+    float la = length(a), lb = length(b), lc = length(c);
+    float denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+    return 2.0 * atan(triple, denominator);
+}
+
+// Exact solid angle of the RSM texel under this fragment, seen from the spot light: the
+// texel is the square [x0, x1]×[y0, y1] of the plane at view depth 1 (the 90° frustum
+// cuts that plane in [-1, 1]²), split into two triangles.
+float texel_solid_angle(vec2 texel) {
+    vec2 lo = texel / u_rsm_size * 2.0 - 1.0;
+    vec2 hi = (texel + 1.0) / u_rsm_size * 2.0 - 1.0;
+    float triple = (hi.x - lo.x) * (hi.y - lo.y);
+    vec3 c00 = vec3(lo.x, lo.y, 1.0), c10 = vec3(hi.x, lo.y, 1.0);
+    vec3 c11 = vec3(hi.x, hi.y, 1.0), c01 = vec3(lo.x, hi.y, 1.0);
+    return triangle_solid_angle(c00, c10, c11, triple)
+         + triangle_solid_angle(c00, c11, c01, triple);
+}
+
+void main() {
+    // Two-sided surfaces: the normal faces the side the light sees.
+    vec3 normal = normalize(gl_FrontFacing ? v_normal : -v_normal);
+    vec3 to_light = u_orthographic == 1 ? -u_light_direction
+                                        : normalize(u_light_position - v_position);
+    // The texel's footprint on the surface already shrinks with cos θ_i, so the flux the
+    // surface intercepts through one texel is I·ρ (spot) or E·A_texel (directional) and
+    // the reflected flux is c_diff times that; cos θ_i only decides whether the light
+    // reaches the front of the surface (docs/MODEL.md, "Reflective shadow map").
+    float faces_light = dot(normal, to_light) > 0.0 ? 1.0 : 0.0;
+    float incident = u_orthographic == 1
+        ? u_light_irradiance * u_texel_world_area
+        : u_light_intensity * texel_solid_angle(floor(gl_FragCoord.xy));
+    out_position = vec4(v_position, 1.0);
+    out_normal = vec4(normal, v_depth);
+    out_flux = vec4(v_albedo * incident * faces_light, 0.0);
+}
+#endif
