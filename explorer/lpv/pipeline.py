@@ -20,10 +20,12 @@ gather     (gbuffer, rsm, propagate) exposure, indirect_only
 
 ``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``.
 
-Timings: draws (rsm, downsample, gbuffer, gather) are timed with GL timer queries. Mesa's
-llvmpipe reads 0 from a timer query around compute dispatches, so on a software renderer
-the passes that dispatch compute (inject, geometry, propagate) are timed with the wall
-clock between two ``ctx.finish()`` calls; ``Pipeline.timing_methods`` records which.
+Timings: on a GPU every pass is timed with a GL timer query (``ctx.query(time=True)``).
+Mesa's llvmpipe reads 0 around compute dispatches and, around draws, either 2³²−1 (no
+result) or a few microseconds of command submission (it rasterises on worker threads
+later), so on a software renderer every pass is timed with the wall clock between two
+``ctx.finish()`` calls. A query that reads 0 or 2³²−1 falls back to the wall clock too.
+``Pipeline.timing_methods`` records which method timed each pass.
 """
 
 from __future__ import annotations
@@ -54,8 +56,8 @@ from explorer.scene.gpu import SceneBuffers
 
 STAGES = ("scene", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
 PASSES = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
-COMPUTE_PASSES = frozenset({"inject", "geometry", "propagate"})
-"""Passes that dispatch compute shaders (timed by wall clock on software renderers)."""
+_QUERY_UNAVAILABLE_MS = (2**32 - 1) / 1e6
+"""A timer query that reads 2³²−1 ns has no result (Mesa answers so on first use)."""
 
 
 @dataclass
@@ -133,6 +135,7 @@ class Pipeline:
         self._grid_audit: GridAudit | None = None
         self.timings_ms: dict[str, float] = {}
         self.timing_methods: dict[str, str] = {}
+        self._queries: dict[str, moderngl.Query] = {}
         self.last_result: FrameResult | None = None
 
     # ------------------------------------------------------------------ public API
@@ -247,6 +250,17 @@ class Pipeline:
         self.last_result = self._result(s, spec, ran)
         return self.last_result
 
+    def invalidate(self, stage: str | None = None) -> None:
+        """Make the next :meth:`run` redo ``stage`` and everything after it (all stages when
+        None), e.g. to time a full frame or after editing a scene file."""
+        if stage is not None and stage not in STAGES:
+            raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
+        if stage is None or stage == "scene":
+            self._scene_cache.clear()
+        self._keys.pop(stage or "scene", None)
+        if stage is None:
+            self._keys.clear()
+
     def view(self, name: str, **options) -> np.ndarray:
         """The last frame shown as ``name`` (any of ``settings.VIEWS``): an ``(H, W, 3)``
         float32 image in [0, 1], ready for display (sRGB-encoded for radiometric views,
@@ -344,10 +358,14 @@ class Pipeline:
 
     def _timed(self, name: str, work):
         """Run ``work()`` and record its GPU time in milliseconds (module docstring)."""
-        use_clock = self.software_renderer and name in COMPUTE_PASSES
+        use_clock = self.software_renderer
         self.ctx.finish()
         start = time.perf_counter()
-        query = None if use_clock else self.ctx.query(time=True)
+        query = None
+        if not use_clock:   # one query object per pass, reused (moderngl cannot free them)
+            query = self._queries.get(name)
+            if query is None:
+                query = self._queries[name] = self.ctx.query(time=True)
         if query is None:
             result = work()
         else:
@@ -356,9 +374,7 @@ class Pipeline:
         self.ctx.finish()
         wall_ms = (time.perf_counter() - start) * 1e3
         query_ms = 0.0 if query is None else query.elapsed / 1e6
-        if query is not None:
-            query.release()
-        if query_ms > 0.0:
+        if 0.0 < query_ms < _QUERY_UNAVAILABLE_MS:
             self.timings_ms[name], self.timing_methods[name] = query_ms, "timer-query"
         else:
             self.timings_ms[name], self.timing_methods[name] = wall_ms, "wall-clock"

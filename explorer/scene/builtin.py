@@ -2,7 +2,7 @@
 
 Units are metres; albedos are linear reflectances. Every light's flux comes from
 :func:`~explorer.scene.lights.flux_for_irradiance` so that the main lit surface receives
-about 3 W/m² (a white surface then has a radiance near 0.7 at exposure 1).
+about 2 W/m² (a white surface then has a direct radiance near 0.5 at exposure 1).
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ def room() -> Scene:
     mesh.box((1.1, 0.6, 0.9), (0.2, 1.2, 0.2), WHITE)
     positions, normals, albedo = mesh.arrays()
     lo, hi = (-2.05, 0.0, -2.05), (2.05, 1.2, 2.05)
-    sun_irradiance = 3.0
+    sun_irradiance = 2.0
     side = 2.0 * DirectionalLight.half_width(lo, hi)
     light = DirectionalLight((-2.0, 3.0, 1.0), (0.0, 0.0, 0.0), sun_irradiance * side * side)
     camera = Camera((0.0, 3.6, 5.2), (0.0, 0.2, -0.2), 45.0)

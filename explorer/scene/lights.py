@@ -112,9 +112,10 @@ class DirectionalLight:
 Light = SpotLight | DirectionalLight
 
 
-def flux_for_irradiance(distance: float, irradiance: float = 3.0) -> float:
+def flux_for_irradiance(distance: float, irradiance: float = 2.0) -> float:
     """Spot flux ``Φ_L = 4π·r²·E`` that gives irradiance ``E`` at normal incidence at
     distance ``r``: how built-in and loaded scenes pick a flux that is well exposed at any
-    scale (``E = 3`` lights a white surface to a radiance near 0.7)."""
+    scale (``E = 2`` lights a white surface to a radiance near 0.5, leaving room for the
+    indirect light)."""
     return FOUR_PI * distance * distance * irradiance
 

@@ -1,0 +1,145 @@
+"""``lpv-explorer render``: one frame headlessly, written as PNG (one file per view)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from explorer.lpv.settings import DOWNSAMPLE_MODES, GEOMETRY_VOLUME_MODES, PRESETS, VIEWS
+
+MIN_PNG_SIZE = 256
+"""Small views (grid slices) are enlarged by whole pixels to at least this size."""
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``"WxH"`` -> (W, H); an ArgumentTypeError saying what is expected otherwise."""
+    try:
+        width, height = (int(part) for part in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like 512x512, got {text!r}") from None
+    if width < 1 or height < 1:
+        raise argparse.ArgumentTypeError(f"size must be at least 1x1, got {text!r}")
+    return width, height
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--scene", default="cornell",
+                        help="built-in scene (cornell, single-source, room) or a mesh file "
+                             "(OBJ, GLB/glTF, PLY, STL); default: cornell")
+    parser.add_argument("--preset", default="corrected", choices=sorted(PRESETS),
+                        help="formulas: the corrected ones or the published ones")
+    parser.add_argument("--out", default="frame.png", type=Path,
+                        help="PNG to write; with several --view, one file per view named "
+                             "<stem>-<view>.png")
+    parser.add_argument("--view", action="append", choices=VIEWS, metavar="VIEW",
+                        help=f"what to write (repeatable): {', '.join(VIEWS)}; default: final")
+    parser.add_argument("--grid", type=int, help="grid resolution N (N³ cells)")
+    parser.add_argument("--iterations", type=int, help="propagation steps")
+    parser.add_argument("--size", type=parse_size, help="image size WxH")
+    parser.add_argument("--rsm-size", type=int, help="RSM resolution (square)")
+    parser.add_argument("--exposure", type=float, help="exposure multiplier")
+    parser.add_argument("--downsample", choices=DOWNSAMPLE_MODES, help="RSM downsample")
+    parser.add_argument("--downsample-factor", type=int, help="RSM downsample block size")
+    parser.add_argument("--geometry-volume", choices=GEOMETRY_VOLUME_MODES,
+                        help="fuzzy occlusion")
+    parser.add_argument("--indirect-only", action="store_true",
+                        help="final image without the direct light")
+    parser.add_argument("--slice", type=int, dest="z",
+                        help="z slice of the grid views (default: the middle)")
+    parser.add_argument("--coefficient", type=int, choices=range(4),
+                        help="grid-slice: show this SH coefficient instead of the flux")
+    parser.add_argument("--audit", action="store_true", help="print the energy audit")
+    parser.add_argument("--debug-nan", action="store_true",
+                        help="check every pass for NaN/Inf and name the first bad one")
+
+
+def settings_from_args(args: argparse.Namespace):
+    """Settings from the command line (fields left out keep their defaults)."""
+    from explorer.lpv.settings import Settings, preset
+
+    changes: dict[str, object] = {"scene": args.scene, "corrections": preset(args.preset)}
+    for name, field in (("grid", "grid_size"), ("iterations", "iterations"),
+                        ("rsm_size", "rsm_size"), ("exposure", "exposure"),
+                        ("downsample", "downsample"),
+                        ("downsample_factor", "downsample_factor"),
+                        ("geometry_volume", "geometry_volume")):
+        value = getattr(args, name, None)
+        if value is not None:
+            changes[field] = value
+    if args.size is not None:
+        changes["width"], changes["height"] = args.size
+    if args.indirect_only:
+        changes["indirect_only"] = True
+    if args.debug_nan:
+        changes["debug_nan"] = True
+    return Settings(**changes)
+
+
+def write_png(image, path: Path) -> None:
+    """A [0, 1] float image as 8-bit RGB PNG, small images enlarged by whole pixels."""
+    import numpy as np
+    from PIL import Image
+
+    pixels = np.clip(np.nan_to_num(image), 0.0, 1.0)
+    repeat = max(1, -(-MIN_PNG_SIZE // max(pixels.shape[:2])))
+    if repeat > 1:
+        pixels = pixels.repeat(repeat, axis=0).repeat(repeat, axis=1)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray((pixels * 255.0 + 0.5).astype(np.uint8), "RGB").save(path)
+
+
+def output_paths(out: Path, views: list[str]) -> dict[str, Path]:
+    if len(views) == 1:
+        return {views[0]: out}
+    suffix = out.suffix or ".png"
+    return {view: out.with_name(f"{out.stem}-{view}{suffix}") for view in views}
+
+
+def format_audit(audit) -> str:
+    rows = [("rsm", audit.rsm), ("injected", audit.injected),
+            ("accumulated", audit.accumulated), ("gathered", audit.gathered),
+            ("border loss (all steps)", audit.border_loss.sum(axis=0)),
+            ("clamp gain (all steps)", audit.clamp_gain.sum(axis=0)),
+            ("occluded (all steps)", audit.occluded.sum(axis=0))]
+    lines = ["energy audit [W]            red        green       blue"]
+    lines += [f"  {name:<24}" + "".join(f"{float(v):11.4g}" for v in values)
+              for name, values in rows]
+    return "\n".join(lines)
+
+
+def main(args: argparse.Namespace) -> int:
+    from explorer.gl.context import GLUnavailableError
+    from explorer.gl.program import ShaderError
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.scene import SceneError
+
+    views = args.view or ["final"]
+    try:
+        settings = settings_from_args(args)
+    except (ValueError, KeyError) as exc:
+        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
+        return 2
+    pipeline = None
+    try:
+        pipeline = Pipeline(settings)
+        result = pipeline.run()
+        options = {"z": args.z, "coefficient": args.coefficient}
+        for view, path in output_paths(args.out, views).items():
+            wanted = {k: v for k, v in options.items()
+                      if v is not None and view in ("grid-slice", "geometry-volume")
+                      and (k == "z" or view == "grid-slice")}
+            write_png(pipeline.view(view, **wanted), path)
+            print(f"wrote {path} ({view})")
+        if args.audit:
+            print(format_audit(result.audit))
+    except SceneError as exc:
+        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
+        return 2
+    except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
+        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        if pipeline is not None:
+            pipeline.release()
+    return 0
