@@ -34,6 +34,7 @@ _MIN_RENDER_SIZE = 16
 _MAX_RENDER_SIZE = 2048
 _RESIZE_SETTLE_S = 0.15       # re-render at a new view size once resizing pauses this long
 _SHADER_POLL_S = 0.5
+_LAYOUT_FRAMES = 2          # frames before the View panel's size is trusted
 _EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
 CLEAR_COLOUR = (0.09, 0.095, 0.11, 1.0)
 
@@ -78,6 +79,7 @@ class App:
         self._last_run: dict[str, object] = {}
         self._failed: dict[str, object] = {}
         self._good_scene: tuple | None = None
+        self._defaults_for: str | None = None
         self._pending_size: tuple | None = None
         self._shader_poll = 0.0
         self._shader_stamp = 0.0
@@ -222,8 +224,10 @@ class App:
         if not state.follow_view_size:
             return True
         vw, vh = rt.view_size
+        if rt.frame_index < _LAYOUT_FRAMES:
+            return False                # the dock layout settles in its first frames
         if vw < _MIN_RENDER_SIZE or vh < _MIN_RENDER_SIZE:
-            return rt.frame_index > 2   # the view panel is hidden: keep the stored size
+            return True                 # the view panel is hidden: keep the stored size
         size = (int(np.clip(vw * state.render_scale, _MIN_RENDER_SIZE, _MAX_RENDER_SIZE)),
                 int(np.clip(vh * state.render_scale, _MIN_RENDER_SIZE, _MAX_RENDER_SIZE)))
         current = (state.settings.width, state.settings.height)
@@ -286,7 +290,7 @@ class App:
             rt.pipeline_error = None
             self._good_scene = (settings.scene, settings.camera, settings.light,
                                 settings.light_flux)
-            self._scene_defaults(pipeline)
+            self._scene_defaults(pipeline, settings.scene)
             self._update_title()
         else:
             rt.compare_result = result
@@ -308,17 +312,20 @@ class App:
         print(f"lpv-explorer: {rt.pipeline_error}", file=sys.stderr)
         traceback.print_exception(exc, file=sys.stderr)
 
-    def _scene_defaults(self, pipeline) -> None:
-        """The scene's own camera and light, so orbiting starts from what is shown."""
+    def _scene_defaults(self, pipeline, scene_name: str) -> None:
+        """The scene's own camera and light (before any override), so orbiting and the
+        light sliders start from what is shown. Loaded once per scene."""
         rt = self.state.runtime
+        if self._defaults_for == scene_name:
+            return
+        self._defaults_for = scene_name
         scene = getattr(pipeline, "scene", None)
         if scene is None:
             try:
-                from explorer.scene import BUILTIN_SCENES, load_scene
+                from explorer.scene import load_scene
 
-                name = self.state.settings.scene
-                scene = load_scene(name) if name in BUILTIN_SCENES else None
-            except ImportError:
+                scene = load_scene(scene_name)
+            except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
         rt.camera_default = _eye_target(getattr(scene, "camera", None))
         light = getattr(scene, "light", None)
@@ -348,26 +355,57 @@ class App:
         rt.auto_exposure = (values[0], values[1])
 
     def _hot_reload(self) -> None:
-        """Recompile shaders whose files changed; a failed compile keeps the last good
-        program (ProgramCache) and its log goes to the Shaders panel."""
-        from explorer.gl.program import ProgramCache
+        """Recompile shaders whose files changed. With ``Pipeline.invalidate`` the
+        pipeline's ProgramCache reloads in place (a failed compile keeps the last good
+        program and records its log); without it a fresh pipeline is built and swapped in
+        only if it runs, so a broken shader never replaces a working one."""
+        from explorer.gl.program import ProgramCache, ShaderError
 
         now = time.monotonic()
         if now - self._shader_poll < _SHADER_POLL_S or not self._pipelines:
             return
         self._shader_poll = now
         rt = self.state.runtime
+        stamp = ProgramCache.newest_change()
+        if not self._shader_stamp:
+            self._shader_stamp = stamp
+        changed, self._shader_stamp = stamp > self._shader_stamp, max(stamp, self._shader_stamp)
         for side, pipeline in list(self._pipelines.items()):
             programs = getattr(pipeline, "programs", None)
-            if not isinstance(programs, ProgramCache):
-                continue
-            if programs.reload_if_changed():
-                self._last_run.pop(side, None)
-                invalidate = getattr(pipeline, "invalidate", None)
-                if callable(invalidate):
+            invalidate = getattr(pipeline, "invalidate", None)
+            if isinstance(programs, ProgramCache) and callable(invalidate):
+                if programs.reload_if_changed():
                     invalidate()
-                self.state.notify(f"shaders reloaded ({side})")
-            rt.shader_errors = dict(programs.errors)
+                    self._last_run.pop(side, None)
+                    self.state.notify(f"shaders reloaded ({side})")
+                rt.shader_errors = dict(programs.errors)
+            elif changed:
+                self._rebuild(side, pipeline, ShaderError)
+
+    def _rebuild(self, side: str, old, shader_error) -> None:
+        rt = self.state.runtime
+        settings, keep_steps = self._last_run.get(side, (self.settings_for(side), False))
+        try:
+            fresh = self._pipeline_class(settings, ctx=self.ctx)
+            result = fresh.run(settings, keep_steps=keep_steps)
+        except shader_error as exc:
+            rt.shader_errors = {exc.path.name: exc.log}
+            self.state.notify(f"shader error in {exc.path.name}; keeping the last good "
+                              "programs", "error")
+            return
+        except Exception as exc:  # noqa: BLE001
+            rt.shader_errors = {"pipeline": f"{type(exc).__name__}: {exc}"}
+            return
+        finally:
+            self.ctx.screen.use()
+        old.release()
+        self._pipelines[side] = fresh
+        rt.shader_errors = {}
+        if side == "A":
+            rt.result, rt.final_texture_id = result, fresh.final_texture.glo
+        else:
+            rt.compare_result, rt.compare_texture_id = result, fresh.final_texture.glo
+        self.state.notify(f"shaders reloaded ({side})")
 
     # -- UI ------------------------------------------------------------------------------
     def _draw_ui(self) -> None:

@@ -33,29 +33,29 @@ _FRONT_ONLY_STEP = _per_step(C.FRONT_FACE_SOLID_ANGLE, 0.0, faces=0)
 
 INFO: dict[str, CorrectionInfo] = {
     "injection_pi": CorrectionInfo(
-        "Injection: intensity = flux / pi",
-        "A Lambertian emitter of flux Phi has peak intensity Phi/pi, not Phi.",
-        "off: every VPL injects pi times its flux (x3.14 on all indirect light)",
+        "Injection: intensity = flux / π",
+        "A Lambertian emitter of flux Φ has peak intensity Φ/π, not Φ.",
+        "off: every VPL injects π times its flux (×3.14 on all indirect light)",
         r"I_p(\omega) = \Phi_p \langle n_p, \omega \rangle_+",
         r"I_p(\omega) = \frac{\Phi_p}{\pi} \langle n_p, \omega \rangle_+"),
     "propagation_4pi": CorrectionInfo(
-        "Propagation: no 1/(4 pi) per face",
-        "Flux through a face is solid angle times intensity; the extra 1/(4pi) "
+        "Propagation: no 1/(4π) per face",
+        "Flux through a face is solid angle times intensity; the extra 1/(4π) "
         "averages twice.",
-        "off: each step keeps 1/(4pi) = 0.0796 of the flux",
+        "off: each step keeps 1/(4π) = 0.0796 of the flux",
         r"\Phi_f = \frac{\Delta\omega_f}{4\pi} I(\omega_c)",
         r"\Phi_f = \Delta\omega_f \, I(\omega_c)"),
     "reprojection_pi": CorrectionInfo(
         "Reprojection: face flux kept as is",
-        "The face's flux becomes the new lobe's flux; dividing by pi here undoes "
-        "the injection's pi.",
-        "off alone: x1/pi per step; off together with injection: cancels",
+        "The face's flux becomes the new lobe's flux; dividing by π here undoes "
+        "the injection's π.",
+        "off alone: ×1/π per step; off together with injection: cancels",
         r"\Phi_l = \frac{\Phi_f}{\pi}",
         r"\Phi_l = \Phi_f"),
     "exact_constants": CorrectionInfo(
         "Exact solid angles",
-        "The DX11 article prints rounded solid angles and pi = 3.1415926.",
-        f"off: one step keeps x{_PUBLISHED_STEP:.6f} instead of x1",
+        "The DX11 article prints rounded solid angles and π = 3.1415926.",
+        f"off: one step keeps ×{_PUBLISHED_STEP:.6f} instead of ×1",
         r"\Delta\omega_{front} = 0.4006696846,\ \Delta\omega_{side} = 0.4234413544",
         r"\Delta\omega_{front} = 4\arctan\frac{\sqrt{11}}{33},\ "
         r"\Delta\omega_{side} = 2\arctan\frac{3\sqrt{11}}{11} - \frac{\pi}{3}"),
@@ -63,7 +63,7 @@ INFO: dict[str, CorrectionInfo] = {
         "Side faces",
         "Each neighbour sends light through five faces of the target cell; the front "
         "face alone covers a fifth of the solid angle.",
-        f"off: one step keeps about x{_FRONT_ONLY_STEP:.3f} of the flux",
+        f"off: one step keeps about ×{_FRONT_ONLY_STEP:.3f} of the flux",
         r"\Phi = \Phi_{front}",
         r"\Phi = \Phi_{front} + \sum_{4\ sides} \Phi_{side}"),
     "surfel_area_squared": CorrectionInfo(

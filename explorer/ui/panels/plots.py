@@ -1,5 +1,5 @@
-"""Plots panel (implot): flux in flight per propagation step for A and B (log scale), the
-energy audit as grouped bars, and the GPU time of each pass."""
+"""Plots panel (implot), one tab each: flux in flight per propagation step for A and B
+(log scale), the energy audit as bars, and the GPU time of each pass."""
 
 from __future__ import annotations
 
@@ -42,51 +42,70 @@ def gui_plots(state: AppState) -> None:
     sides = [("A", rt.result)]
     if state.comparing and rt.compare_result is not None:
         sides.append(("B", rt.compare_result))
-    height = max((imgui.get_content_region_avail().y - 12) / 3.0, 120.0)
-    _flux_plot(sides, height)
-    _audit_plot(sides, height)
-    _timings_plot(rt.result, height)
+    if not imgui.begin_tab_bar("plots"):
+        return
+    for title, plot in (("Flux per step", _flux_plot), ("Energy audit", _audit_plot),
+                        ("GPU time", _timings_plot)):
+        if imgui.begin_tab_item(title)[0]:
+            plot(sides, imgui.get_content_region_avail().y - 4)
+            imgui.end_tab_item()
+    imgui.end_tab_bar()
 
 
 def _flux_plot(sides, height: float) -> None:
-    if not implot.begin_plot("Flux in flight per step", (-1, height)):
+    if not implot.begin_plot("Flux in flight per propagation step", (-1, height)):
         return
-    implot.setup_axes("step t", "flux [W]", implot.AxisFlags_.auto_fit,
+    implot.setup_axes("step t", "flux [W] (log)", implot.AxisFlags_.auto_fit,
                       implot.AxisFlags_.auto_fit)
     implot.setup_axis_scale(implot.ImAxis_.y1, implot.Scale_.log10)
     for name, result in sides:
         ys = np.maximum(flux_per_step(result.audit), _LOG_FLOOR)
         xs = np.arange(len(ys), dtype=np.float64)
-        implot.plot_line(f"{name}: {_label(result)}", xs, ys)
+        spec = implot.Spec()
+        spec.marker = implot.Marker_.circle
+        spec.marker_size = 3.0
+        spec.line_weight = 2.0
+        implot.plot_line(f"{name}: {_label(result)}", xs, ys, spec)
     implot.end_plot()
 
 
 def _audit_plot(sides, height: float) -> None:
-    if not implot.begin_plot("Energy audit", (-1, height)):
+    """Horizontal bars, one row per audit entry, one bar per side."""
+    if not implot.begin_plot("Energy audit (sum of channels)", (-1, height)):
         return
-    implot.setup_axes("", "flux [W]", implot.AxisFlags_.auto_fit, implot.AxisFlags_.auto_fit)
-    positions = [float(i) for i in range(len(AUDIT_ROWS))]
-    implot.setup_axis_ticks(implot.ImAxis_.x1, positions, [r[0] for r in AUDIT_ROWS])
+    implot.setup_axes("flux [W]", "", implot.AxisFlags_.auto_fit,
+                      implot.AxisFlags_.auto_fit | implot.AxisFlags_.invert)
+    rows = np.arange(len(AUDIT_ROWS), dtype=np.float64)
+    implot.setup_axis_ticks(implot.ImAxis_.y1, [float(r) for r in rows],
+                            [r[0] for r in AUDIT_ROWS])
     width = 0.8 / len(sides)
     for i, (name, result) in enumerate(sides):
-        xs = np.arange(len(AUDIT_ROWS), dtype=np.float64) + (i - (len(sides) - 1) / 2) * width
-        implot.plot_bars(f"{name}: {_label(result)}", xs, audit_values(result.audit), width)
+        spec = implot.Spec()
+        spec.flags = implot.BarsFlags_.horizontal
+        positions = rows + (i - (len(sides) - 1) / 2) * width
+        implot.plot_bars(f"{name}: {_label(result)}", audit_values(result.audit), positions,
+                         width, spec)
     implot.end_plot()
 
 
-def _timings_plot(result, height: float) -> None:
+def _timings_plot(sides, height: float) -> None:
+    result = sides[0][1]
     timings = dict(getattr(result, "timings_ms", {}) or {})
+    methods = dict(getattr(result, "timing_methods", {}) or {})
     total = sum(timings.values())
-    if not implot.begin_plot(f"GPU time per pass (total {total:.1f} ms)", (-1, height)):
+    if not implot.begin_plot(f"Time per pass, A (total {total:.1f} ms)", (-1, height)):
         return
     names = list(timings)
-    implot.setup_axes("ms", "", implot.AxisFlags_.auto_fit, implot.AxisFlags_.auto_fit)
+    implot.setup_axes("ms", "", implot.AxisFlags_.auto_fit,
+                      implot.AxisFlags_.auto_fit | implot.AxisFlags_.invert)
     if names:
-        implot.setup_axis_ticks(implot.ImAxis_.y1, [float(i) for i in range(len(names))], names)
+        labels = [n + (" (wall)" if methods.get(n) == "wall-clock" else "") for n in names]
+        implot.setup_axis_ticks(implot.ImAxis_.y1, [float(i) for i in range(len(names))],
+                                labels)
         spec = implot.Spec()
         spec.flags = implot.BarsFlags_.horizontal
-        implot.plot_bars("ms", np.arange(len(names), dtype=np.float64),
-                         np.array([timings[n] for n in names], dtype=np.float64), 0.6, spec)
+        implot.plot_bars("ms", np.array([timings[n] for n in names], dtype=np.float64),
+                         np.arange(len(names), dtype=np.float64), 0.6, spec)
     implot.end_plot()
 
 

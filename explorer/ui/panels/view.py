@@ -13,8 +13,8 @@ from explorer.ui.textures import heat
 ORBIT_DEGREES_PER_PIXEL = 0.35
 ZOOM_PER_WHEEL_STEP = 0.9
 _SCALE_BAR_WIDTH = 18.0
-# FrameResult images and the final texture hold the bottom row first (GL convention), so
-# the view samples them upside down.
+# Pipeline.final_texture holds the bottom row first (GL convention), so the view samples
+# it upside down; textures the UI uploads from FrameResult arrays are top row first.
 UV_TOP_LEFT, UV_BOTTOM_RIGHT = (0.0, 1.0), (1.0, 0.0)
 
 
@@ -163,7 +163,7 @@ def _difference(state: AppState, draw, origin, end) -> None:
     _, tex, top = rt.difference_cache
     bar = _SCALE_BAR_WIDTH + 60.0
     image_end = imgui.ImVec2(end.x - bar, end.y)
-    draw.add_image(imgui.ImTextureRef(tex), origin, image_end, UV_TOP_LEFT, UV_BOTTOM_RIGHT)
+    draw.add_image(imgui.ImTextureRef(tex), origin, image_end)
     scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top,
               "|ΔL| (luminance)")
 
