@@ -208,3 +208,63 @@ def test_pipeline_reruns_only_on_change_and_a_broken_mesh_keeps_the_scene(config
         assert errors == []
     finally:
         app.close()
+
+
+def _pipeline_available() -> bool:
+    try:
+        import explorer.lpv.pipeline  # noqa: F401
+    except ModuleNotFoundError:
+        return False
+    return True
+
+
+needs_pipeline = pytest.mark.skipif(not _pipeline_available(),
+                                    reason="explorer.lpv.pipeline is not in this build")
+
+
+def _view_pixels(app) -> np.ndarray:
+    x0, y0, x1, y1 = (int(round(v)) for v in app.state.runtime.view_rect)
+    return app.last_pixels[y0 + 2:y1 - 2, x0 + 2:x1 - 2].astype(np.float32)
+
+
+@needs_pipeline
+def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home):
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        for _ in range(2):
+            app.frame()
+        app.frame(capture=True)
+        assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+        corrected = _view_pixels(app)
+        assert corrected.std() > 5, "the 3D view is blank"
+        assert app.ctx.error == "GL_NO_ERROR"
+
+        app.state.set_corrections(propagation_4pi=False)        # the Corrections checkbox
+        app.frame(capture=True)
+        flipped = _view_pixels(app)
+        assert np.abs(flipped - corrected).mean() > 1.0, "flipping 1/(4π) changed nothing"
+
+        app.state.apply_preset("corrected")
+        app.state.compare_settings = app.state.compare_settings.with_changes(
+            corrections="original")
+        app.state.view_mode, app.state.split_position = "split", 0.5
+        app.frame()
+        app.frame(capture=True)
+        split = _view_pixels(app)
+        half = split.shape[1] // 2
+        left = np.abs(split[:, :half - 4] - corrected[:, :half - 4]).mean()
+        right = np.abs(split[:, half + 4:] - corrected[:, half + 4:]).mean()
+        assert left < 1.0 < right, (left, right)
+
+        app.state.view_mode = "difference"
+        app.state.inspect.source = "propagation"
+        app.frame()
+        app.frame(capture=True)
+        assert _view_pixels(app).std() > 1.0
+        assert app.state.runtime.result.steps is not None
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert errors == []
+    finally:
+        app.close()

@@ -57,7 +57,9 @@ def _default_pipeline_factory():
 class App:
     def __init__(self, state: AppState | None = None, *, width: int = 1600, height: int = 960,
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
-                 pipeline_class: Callable | None = None) -> None:
+                 pipeline_class: Callable | None | object = ...) -> None:
+        """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
+        None for a window without a pipeline (panels only)."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         if persist_settings and state is None:
@@ -71,9 +73,10 @@ class App:
         rt.gl_problem = self.window.gl_problem
         if rt.gl_problem:
             print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
-        self._pipeline_class = pipeline_class or _default_pipeline_factory()
+        self._pipeline_class = (_default_pipeline_factory() if pipeline_class is ...
+                                else pipeline_class)
         if self._pipeline_class is None and not rt.gl_problem:
-            rt.pipeline_error = ("this build has no LPV pipeline (explorer.lpv.pipeline); "
+            rt.pipeline_error = ("no LPV pipeline in this build (explorer.lpv.pipeline); "
                                  "the panels work, the view stays empty")
         self._pipelines: dict[str, object] = {}
         self._last_run: dict[str, object] = {}

@@ -71,6 +71,7 @@ class Runtime:
     frame_ms: float = 0.0
     pipeline_ms: float = 0.0
     view_size: tuple[int, int] = (0, 0)   # pixels the 3D view panel offers
+    view_rect: tuple | None = None        # (x0, y0, x1, y1) framebuffer pixels of the image
     frame_index: int = 0
     file_dialog: Any = None               # a pending portable_file_dialogs.open_file
     file_dialog_available: bool | None = None

@@ -39,6 +39,7 @@ def gui_view(state: AppState) -> None:
     hovered, active = imgui.is_item_hovered(), imgui.is_item_active()
     draw = imgui.get_window_draw_list()
     end = imgui.ImVec2(origin.x + size.x, origin.y + size.y)
+    rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
     divider_grabbed = False
     if state.view_mode == "split" and rt.compare_texture_id:
         divider_grabbed = _split(state, draw, origin, end, hovered)
@@ -60,25 +61,34 @@ def _toolbar(state: AppState) -> None:
         if imgui.radio_button(mode.capitalize(), state.view_mode == mode):
             state.view_mode = mode
         imgui.same_line()
-    imgui.text_disabled("|")
-    imgui.same_line()
-    imgui.set_next_item_width(140)
+    imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
                                         "%.2f", imgui.SliderFlags_.logarithmic)
     if changed:
         state.update(exposure=value)
     if state.comparing:
-        imgui.same_line()
+        _same_line_if_fits("Auto-exposure per side", checkbox=True)
         _, state.auto_exposure = imgui.checkbox("Auto-exposure per side", state.auto_exposure)
-    imgui.same_line()
+    _same_line_if_fits("Indirect only", checkbox=True)
     changed, value = imgui.checkbox("Indirect only", state.settings.indirect_only)
     if changed:
         state.update(indirect_only=value)
-    imgui.same_line()
+    _same_line_if_fits("Screenshot (F12)")
     if imgui.button("Screenshot (F12)"):
         from explorer.ui.app import default_screenshot_path
 
         state.requests.screenshot = default_screenshot_path()
+
+
+def _same_line_if_fits(label: str, checkbox: bool = False) -> None:
+    """Continue the toolbar on this line if the next widget fits, else wrap."""
+    style = imgui.get_style()
+    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2
+    if checkbox:
+        width += imgui.get_frame_height() + style.item_inner_spacing.x
+    imgui.same_line()
+    if imgui.get_content_region_avail().x < width:
+        imgui.new_line()
 
 
 def _centred_message(state: AppState, avail) -> None:
