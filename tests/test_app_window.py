@@ -266,5 +266,14 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home):
         assert app.state.runtime.result.steps is not None
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
+
+        broken = config_home.parent.parent / "broken.obj"
+        broken.write_text("v 0 0 0\nthis is not a mesh\n")
+        app.state.requests.open_scene = str(broken)           # the path field's Open button
+        app.frame()
+        app.frame()
+        assert app.state.settings.scene == "cornell"
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert len(errors) == 1 and "broken.obj" in errors[0]
     finally:
         app.close()

@@ -43,6 +43,7 @@ def gui_inspect(state: AppState) -> None:
         tex = rt.textures.upload("inspect", image, version=version)
         rt.inspect_cache = (version, tex, top, caption)
     _, tex, top, caption = rt.inspect_cache
+    signed = ins.component != "intensity" and ins.source in ("grid-slice", "propagation")
     imgui.text_disabled(caption)
     avail = imgui.get_content_region_avail()
     height_px, width_px = image.shape[:2]
@@ -54,7 +55,7 @@ def gui_inspect(state: AppState) -> None:
     imgui.image(imgui.ImTextureRef(tex), size)
     if top is not None:
         scale_bar(imgui.get_window_draw_list(), imgui.ImVec2(pos.x + size.x + 8, pos.y),
-                  size.y, top, "")
+                  size.y, top, signed)
 
 
 def _grid_controls(state: AppState, resolution: int) -> None:

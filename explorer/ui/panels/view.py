@@ -4,11 +4,12 @@ orbit, wheel to zoom (the camera is shared by both sides)."""
 
 from __future__ import annotations
 
+import numpy as np
 from imgui_bundle import imgui
 
 from explorer.ui import camera, images, widgets
 from explorer.ui.state import VIEW_MODES, AppState
-from explorer.ui.textures import heat
+from explorer.ui.textures import diverging, heat
 
 ORBIT_DEGREES_PER_PIXEL = 0.35
 ZOOM_PER_WHEEL_STEP = 0.9
@@ -30,8 +31,9 @@ def gui_view(state: AppState) -> None:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
-    fit = min(avail.x / width, avail.y / height)
-    size = imgui.ImVec2(width * fit, height * fit)
+    bar = _SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
+    fit = min((avail.x - bar) / width, avail.y / height)
+    size = imgui.ImVec2(width * fit + bar, height * fit)
     origin = imgui.get_cursor_screen_pos()
     origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5, origin.y)
     imgui.set_cursor_screen_pos(origin)
@@ -174,26 +176,33 @@ def _difference(state: AppState, draw, origin, end) -> None:
     bar = _SCALE_BAR_WIDTH + 60.0
     image_end = imgui.ImVec2(end.x - bar, end.y)
     draw.add_image(imgui.ImTextureRef(tex), origin, image_end)
-    scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top,
-              "|ΔL| (luminance)")
+    scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top)
+    _overlay(draw, origin, "|A − B| luminance" + (" (auto scale)" if state.difference_scale <= 0
+                                                   else ""))
 
 
-def scale_bar(draw, pos, height: float, top: float, title: str) -> None:
-    """A vertical heat-scale bar from 0 (bottom) to ``top`` with ticks."""
+def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> None:
+    """A vertical colour-scale bar with ticks: heat from 0 (bottom) to ``top``, or with
+    ``signed`` the diverging map from −top (bottom) to +top."""
     steps = 32
+    low = -top if signed else 0.0
+
+    def colour(frac: float):
+        if signed:
+            return diverging(np.array(2.0 * frac - 1.0), 1.0)
+        return heat(frac)
+
     for i in range(steps):
         t0, t1 = i / steps, (i + 1) / steps
-        c0 = heat(1.0 - t0)
-        c1 = heat(1.0 - t1)
+        c0, c1 = _u32(colour(1.0 - t0)), _u32(colour(1.0 - t1))
         y0, y1 = pos.y + t0 * height, pos.y + t1 * height
-        draw.add_rect_filled_multi_color(
-            (pos.x, y0), (pos.x + _SCALE_BAR_WIDTH, y1),
-            _u32(c0), _u32(c0), _u32(c1), _u32(c1))
+        draw.add_rect_filled_multi_color((pos.x, y0), (pos.x + _SCALE_BAR_WIDTH, y1),
+                                         c0, c0, c1, c1)
     white = imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.9))
     for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
         y = pos.y + (1.0 - frac) * height
         draw.add_line((pos.x + _SCALE_BAR_WIDTH, y), (pos.x + _SCALE_BAR_WIDTH + 4, y), white)
-        label = f"{top * frac:.2g}"
+        label = f"{low + (top - low) * frac:.2g}"
         draw.add_text((pos.x + _SCALE_BAR_WIDTH + 6, min(y, pos.y + height - 14) - 6), white,
                       label)
 
