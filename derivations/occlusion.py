@@ -1,0 +1,64 @@
+r"""Geometry-volume (fuzzy occlusion) injection and why double-sided injection is isotropic.
+
+An occluder surfel with unit normal ``n`` and area ``A`` adds ``A/s²·lobe(n)`` to the
+geometry volume (``s`` the cell size; docs/MODEL.md, "Geometry volume"). Injecting both
+sides adds ``lobe(n) + lobe(−n)``; band 1 of the lobe is linear in ``n``
+(``sh.lobe``), so it cancels exactly for every ``n``:
+
+.. math:: \mathrm{lobe}(n) + \mathrm{lobe}(-n) = (\sqrt\pi, 0, 0, 0),
+
+an isotropic blocker that has lost the surface's orientation (annotations §5.1).
+Evaluated in any direction it blocks ``√π·c0 = 1/2`` per unit of ``A/s²``.
+
+Examples
+--------
+>>> from derivations.occlusion import double_sided_lobe
+>>> double_sided_lobe().T
+Matrix([[sqrt(pi), 0, 0, 0]])
+
+References
+----------
+A. Kirsch, "Light Propagation Volumes — Annotations" (2010), §5.1.
+A. Kaplanyan, C. Dachsbacher, "Cascaded Light Propagation Volumes", I3D 2010, §5.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from derivations import sh
+from derivations.registry import Result, result
+
+MODULE = "occlusion"
+
+area, cell = sp.symbols("A s", positive=True)
+
+
+def one_sided(normal=(sh.n_x, sh.n_y, sh.n_z)) -> sp.ImmutableMatrix:
+    """Geometry-volume SH of one surfel per unit ``A/s²``: ``lobe(n)``."""
+    return sh.lobe(normal)
+
+
+def double_sided_lobe(normal=(sh.n_x, sh.n_y, sh.n_z)) -> sp.ImmutableMatrix:
+    """``lobe(n) + lobe(−n)`` for a symbolic unit ``n``, simplified exactly."""
+    flipped = tuple(-component for component in normal)
+    return sp.ImmutableMatrix((sh.lobe(normal) + sh.lobe(flipped)).applyfunc(sp.simplify))
+
+
+def isotropic_blocking() -> sp.Expr:
+    """``dot(lobe(n) + lobe(−n), Y(ω))`` for a unit ``ω``: independent of ``ω`` and ``n``."""
+    omega = sp.symbols("omega_x omega_y omega_z", real=True)
+    return sp.simplify(sh.evaluate(list(double_sided_lobe()), omega))
+
+
+def results() -> list[Result]:
+    return [
+        result(MODULE, "one_sided", sp.ImmutableMatrix(area / cell**2 * one_sided()),
+               "Geometry-volume SH added by a one-sided occluder surfel of area A "
+               "(cell size s)."),
+        result(MODULE, "double_sided_lobe", double_sided_lobe(),
+               "lobe(n) + lobe(−n): band 1 cancels for every normal n, leaving (√π, 0, 0, 0)."),
+        result(MODULE, "double_sided_blocking", isotropic_blocking(),
+               "A double-sided surfel blocks the same amount, 1/2 per unit A/s², in every "
+               "direction."),
+    ]

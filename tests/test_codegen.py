@@ -1,0 +1,81 @@
+"""The generated constants: fresh, complete, and loadable by GLSL and Python."""
+
+from __future__ import annotations
+
+import math
+import struct
+
+import pytest
+
+from derivations import codegen
+from derivations.registry import get
+
+BOOTSTRAP_NAMES = (
+    "PI", "INV_PI", "FOUR_PI", "SH_C0", "SH_C1", "SH_COSLOBE_C0", "SH_COSLOBE_C1",
+    "SH_FLUX_FACTOR", "FRONT_FACE_SOLID_ANGLE", "SIDE_FACE_SOLID_ANGLE", "SIDE_EVAL_SMALL",
+    "SIDE_EVAL_BIG", "CUBE_FACE_SOLID_ANGLE", "PUBLISHED_FRONT_FACE_SOLID_ANGLE",
+    "PUBLISHED_SIDE_FACE_SOLID_ANGLE", "PUBLISHED_PI",
+)
+
+
+def test_committed_files_are_fresh():
+    stale = codegen.stale_files()
+    assert stale == [], f"regenerate with `python -m derivations.codegen`: {stale}"
+
+
+def test_check_mode_flags_a_stale_copy(tmp_path, capsys):
+    assert codegen.main(["--root", str(tmp_path), "--check"]) == 1
+    assert "stale" in capsys.readouterr().err
+    assert codegen.main(["--root", str(tmp_path)]) == 0
+    assert codegen.main(["--root", str(tmp_path), "--check"]) == 0
+    glsl = tmp_path / codegen.GLSL_PATH
+    glsl.write_text(glsl.read_text().replace("0.4", "0.5", 1))
+    assert codegen.main(["--root", str(tmp_path), "--check"]) == 1
+
+
+def test_every_bootstrap_name_is_generated_with_its_value():
+    from explorer.lpv import constants
+
+    glsl = codegen.glsl_source()
+    assert glsl.splitlines()[0] == "#version 430 core"
+    assert "GENERATED" in glsl and "python -m derivations.codegen" in glsl
+    for name in BOOTSTRAP_NAMES:
+        assert f"const float {name} = " in glsl, name
+        assert hasattr(constants, name), name
+    assert constants.FRONT_FACE_SOLID_ANGLE == 4 * math.atan(math.sqrt(11) / 33)
+    assert constants.SIDE_FACE_SOLID_ANGLE == pytest.approx(
+        2 * math.atan(3 * math.sqrt(11) / 11) - math.pi / 3, rel=1e-15)
+    assert constants.PUBLISHED_SIDE_FACE_SOLID_ANGLE == 0.4234413544
+    assert constants.PI == math.pi and constants.INV_PI == 1 / math.pi
+    assert constants.DERIVATION["SH_C1"] == "sh.c1"
+
+
+def test_glsl_values_carry_at_least_nine_digits_and_their_derivation():
+    for line in codegen.glsl_source().splitlines():
+        if not line.startswith("const float "):
+            continue
+        name, rest = line[len("const float "):].split(" = ", 1)
+        value, comment = rest.split(";", 1)
+        derivation = comment.rsplit("[", 1)[1].rstrip("]")
+        expected = float(get(derivation).expr.evalf(30))
+        assert float(value) == pytest.approx(expected, rel=5e-10), name
+        if not name.startswith("PUBLISHED_"):
+            digits = value.replace(".", "").replace("-", "").lstrip("0")
+            assert len(digits) >= 9 or float(value) == expected, line
+
+
+def test_generated_glsl_compiles(ctx):
+    from explorer.gl.program import _strip_version
+
+    body = _strip_version(codegen.glsl_source())
+    source = ("#version 430 core\nlayout(local_size_x = 1) in;\n" + body
+              + "\nlayout(std430, binding = 0) buffer Out { float v[]; };\n"
+              "void main() { v[0] = FRONT_FACE_SOLID_ANGLE + 4.0 * SIDE_FACE_SOLID_ANGLE; }\n")
+    shader = ctx.compute_shader(source)
+    buffer = ctx.buffer(reserve=4)
+    buffer.bind_to_storage_buffer(0)
+    shader.run(1)
+    (value,) = struct.unpack("f", buffer.read())
+    assert value == pytest.approx(2 * math.pi / 3, rel=1e-6)
+    shader.release()
+    buffer.release()
