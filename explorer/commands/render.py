@@ -9,7 +9,9 @@ from pathlib import Path
 from explorer.lpv.settings import DOWNSAMPLE_MODES, GEOMETRY_VOLUME_MODES, PRESETS, VIEWS
 
 MIN_PNG_SIZE = 256
-"""Small views (grid slices) are enlarged by whole pixels to at least this size."""
+"""Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
+this size."""
+CAMERA_VIEWS = ("final", "direct", "indirect", "albedo")
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -76,14 +78,15 @@ def settings_from_args(args: argparse.Namespace):
     return Settings(**changes)
 
 
-def write_png(image, path: Path) -> None:
-    """A [0, 1] float image as 8-bit RGB PNG, small images enlarged by whole pixels."""
+def write_png(image, path: Path, enlarge: bool = False) -> None:
+    """A [0, 1] float image as 8-bit RGB PNG; with ``enlarge``, a small image is repeated
+    by whole pixels up to :data:`MIN_PNG_SIZE`."""
     import numpy as np
     from PIL import Image
 
     pixels = np.clip(np.nan_to_num(image), 0.0, 1.0)
     repeat = max(1, -(-MIN_PNG_SIZE // max(pixels.shape[:2])))
-    if repeat > 1:
+    if enlarge and repeat > 1:
         pixels = pixels.repeat(repeat, axis=0).repeat(repeat, axis=1)
     path.parent.mkdir(parents=True, exist_ok=True)
     Image.fromarray((pixels * 255.0 + 0.5).astype(np.uint8), "RGB").save(path)
@@ -129,7 +132,7 @@ def main(args: argparse.Namespace) -> int:
             wanted = {k: v for k, v in options.items()
                       if v is not None and view in ("grid-slice", "geometry-volume")
                       and (k == "z" or view == "grid-slice")}
-            write_png(pipeline.view(view, **wanted), path)
+            write_png(pipeline.view(view, **wanted), path, enlarge=view not in CAMERA_VIEWS)
             print(f"wrote {path} ({view})")
         if args.audit:
             print(format_audit(result.audit))

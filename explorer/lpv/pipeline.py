@@ -251,15 +251,16 @@ class Pipeline:
         return self.last_result
 
     def invalidate(self, stage: str | None = None) -> None:
-        """Make the next :meth:`run` redo ``stage`` and everything after it (all stages when
-        None), e.g. to time a full frame or after editing a scene file."""
+        """Make the next :meth:`run` redo ``stage`` and every stage after it in
+        :data:`STAGES` (all stages when None), e.g. to time a whole frame or after editing
+        a scene file."""
         if stage is not None and stage not in STAGES:
             raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
-        if stage is None or stage == "scene":
+        first = STAGES.index(stage) if stage is not None else 0
+        if first == 0:
             self._scene_cache.clear()
-        self._keys.pop(stage or "scene", None)
-        if stage is None:
-            self._keys.clear()
+        for name in STAGES[first:]:
+            self._keys.pop(name, None)
 
     def view(self, name: str, **options) -> np.ndarray:
         """The last frame shown as ``name`` (any of ``settings.VIEWS``): an ``(H, W, 3)``

@@ -1,0 +1,171 @@
+"""``lpv-explorer bench``: milliseconds per pass and per frame over grid sizes and
+iteration counts, and the memory bandwidth the propagation achieves.
+
+Bandwidth model: one propagation step reads the previous grid and writes the next one
+(3 textures × one texel per cell each) and reads and writes the accumulation grid, so it
+moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
+neighbour reads are assumed to hit the cache. The propagate pass time also holds the
+energy-audit reduction and the copy of grid_0 into the accumulation grid, so the figure is
+a lower bound of what the propagation kernel alone reaches.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import statistics
+import sys
+from pathlib import Path
+
+from explorer.commands.render import parse_size
+from explorer.lpv.settings import GRID_FORMATS, PRESETS
+
+FULL_GRIDS = (16, 32, 64, 128)
+FULL_ITERATIONS = (4, 8, 16, 32, 64)
+SOFTWARE_GRIDS = (16, 32, 64)
+SOFTWARE_ITERATIONS = (4, 8, 16)
+QUICK_GRIDS = (8, 16)
+QUICK_ITERATIONS = (2, 4)
+TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
+PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+
+
+def parse_list(text: str) -> tuple[int, ...]:
+    try:
+        values = tuple(int(part) for part in text.split(",") if part.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got "
+                                         f"{text!r}") from None
+    if not values or min(values) < 0:
+        raise argparse.ArgumentTypeError(f"expected non-negative numbers, got {text!r}")
+    return values
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--scene", default="cornell", help="scene to render (default cornell)")
+    parser.add_argument("--preset", default="corrected", choices=sorted(PRESETS))
+    parser.add_argument("--grids", type=parse_list,
+                        help="grid resolutions, e.g. 16,32,64,128 (default: that list on a "
+                             "GPU, 16,32,64 on a software renderer)")
+    parser.add_argument("--iterations", type=parse_list,
+                        help="propagation steps, e.g. 4,8,16,32,64 (default: that list on a "
+                             "GPU, 4,8,16 on a software renderer)")
+    parser.add_argument("--size", type=parse_size, default=(512, 512),
+                        help="image size WxH (default 512x512)")
+    parser.add_argument("--rsm-size", type=int, default=256, help="RSM size (default 256)")
+    parser.add_argument("--format", default="rgba32f", choices=GRID_FORMATS,
+                        help="grid texture format")
+    parser.add_argument("--geometry-volume", default="off",
+                        choices=("off", "one-sided", "double-sided"))
+    parser.add_argument("--repeat", type=int, default=3,
+                        help="timed frames per configuration; the median is reported")
+    parser.add_argument("--quick", action="store_true",
+                        help="CI-sized run: grids 8,16, iterations 2,4, 64x64 image, 64² RSM, "
+                             "one timed frame")
+    parser.add_argument("--peak-gbs", type=float,
+                        help="the device's peak memory bandwidth in GB/s, to print the "
+                             "propagation's share of it")
+    parser.add_argument("--json", type=Path, help="also write the results as JSON here")
+
+
+def propagation_bytes(grid: int, iterations: int, fmt: str) -> int:
+    """Bytes one frame's propagation moves at least (module docstring)."""
+    return 4 * 3 * TEXEL_BYTES[fmt] * grid**3 * iterations
+
+
+def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
+    from explorer.lpv.settings import Settings, preset
+
+    quick = args.quick
+    if quick:
+        grids, iterations = args.grids or QUICK_GRIDS, args.iterations or QUICK_ITERATIONS
+        width, height, rsm_size, repeat = 64, 64, 64, 1
+    else:
+        software = pipeline.software_renderer
+        grids = args.grids or (SOFTWARE_GRIDS if software else FULL_GRIDS)
+        iterations = args.iterations or (SOFTWARE_ITERATIONS if software else FULL_ITERATIONS)
+        (width, height), rsm_size, repeat = args.size, args.rsm_size, max(1, args.repeat)
+    rows = []
+    for grid in grids:
+        for steps in iterations:
+            settings = Settings(scene=args.scene, corrections=preset(args.preset),
+                                grid_size=grid, iterations=steps, rsm_size=rsm_size,
+                                width=width, height=height, grid_format=args.format,
+                                geometry_volume=args.geometry_volume)
+            pipeline.run(settings)                    # warm-up: compiles, allocates
+            samples: dict[str, list[float]] = {}
+            for _ in range(repeat):
+                pipeline.invalidate("rsm")
+                result = pipeline.run(settings)
+                for name in result.stages_run:
+                    if name in result.timings_ms:
+                        samples.setdefault(name, []).append(result.timings_ms[name])
+            passes = {name: statistics.median(values) for name, values in samples.items()}
+            row = {"grid": grid, "iterations": steps, "passes_ms": passes,
+                   "frame_ms": sum(passes.values()),
+                   "methods": dict(pipeline.timing_methods)}
+            propagate_ms = passes.get("propagate", 0.0)
+            if steps > 0 and propagate_ms > 0:
+                moved = propagation_bytes(grid, steps, args.format)
+                row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
+                row["ms_per_step"] = propagate_ms / steps
+            rows.append(row)
+    return rows
+
+
+def format_table(rows: list[dict], peak_gbs: float | None) -> str:
+    header = ["grid", "iters", *PASS_COLUMNS, "frame", "ms/step", "GB/s"]
+    if peak_gbs:
+        header.append("% peak")
+    lines = ["  ".join(f"{h:>10}" for h in header)]
+    for row in rows:
+        cells = [f"{row['grid']}³", str(row["iterations"])]
+        cells += [f"{row['passes_ms'][name]:.2f}" if name in row["passes_ms"] else "-"
+                  for name in PASS_COLUMNS]
+        cells.append(f"{row['frame_ms']:.2f}")
+        cells.append(f"{row['ms_per_step']:.3f}" if "ms_per_step" in row else "-")
+        gbs = row.get("propagation_gbs")
+        cells.append(f"{gbs:.2f}" if gbs is not None else "-")
+        if peak_gbs:
+            cells.append(f"{100 * gbs / peak_gbs:.1f}" if gbs is not None else "-")
+        lines.append("  ".join(f"{c:>10}" for c in cells))
+    return "\n".join(lines)
+
+
+def main(args: argparse.Namespace) -> int:
+    from explorer.gl.context import GLUnavailableError, probe
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.lpv.settings import Settings
+    from explorer.scene import SceneError
+
+    if args.peak_gbs is not None and not args.peak_gbs > 0:
+        print("lpv-explorer bench: error: --peak-gbs must be positive", file=sys.stderr)
+        return 2
+    pipeline = None
+    try:
+        pipeline = Pipeline(Settings(scene=args.scene))
+        caps = probe(pipeline.ctx)
+        rows = run_bench(args, pipeline)
+    except (SceneError, ValueError) as exc:
+        print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
+        return 2
+    except (GLUnavailableError, FloatingPointError) as exc:
+        print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        if pipeline is not None:
+            pipeline.release()
+    methods = sorted({method for row in rows for method in row["methods"].values()})
+    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    print(f"device: {caps.renderer} ({caps.version}); {when}")
+    print(f"scene {args.scene}, preset {args.preset}, format {args.format}, "
+          f"geometry volume {args.geometry_volume}; timing: {', '.join(methods)}; "
+          f"milliseconds per pass (median){' [quick]' if args.quick else ''}")
+    print(format_table(rows, args.peak_gbs))
+    if args.peak_gbs is None:
+        print("(pass --peak-gbs <device peak bandwidth in GB/s> to see the share reached)")
+    if args.json is not None:
+        args.json.write_text(json.dumps({"device": caps.renderer, "version": caps.version,
+                                         "date": when, "rows": rows}, indent=2))
+    return 0

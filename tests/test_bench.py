@@ -1,0 +1,41 @@
+"""``lpv-explorer bench`` in its CI-sized mode."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from explorer.cli import main
+from explorer.commands.bench import propagation_bytes
+
+
+def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
+    out = tmp_path / "bench.json"
+    assert main(["bench", "--quick", "--grids", "8", "--iterations", "0,2",
+                 "--peak-gbs", "50", "--json", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "device:" in printed and "GB/s" in printed and "% peak" in printed
+    data = json.loads(out.read_text())
+    rows = data["rows"]
+    assert [(row["grid"], row["iterations"]) for row in rows] == [(8, 0), (8, 2)]
+    for row in rows:
+        for name in ("rsm", "inject", "propagate", "gbuffer", "gather"):
+            assert row["passes_ms"][name] > 0
+        assert row["frame_ms"] >= sum(row["passes_ms"].values()) - 1e-9
+    assert "propagation_gbs" not in rows[0]          # no steps, no bandwidth
+    assert rows[1]["propagation_gbs"] > 0
+    assert set(rows[1]["methods"].values()) <= {"timer-query", "wall-clock"}
+
+
+def test_bandwidth_model():
+    # read + write the grid, read + write the accumulation: 4 × 3 textures × 16 B per cell
+    assert propagation_bytes(32, 8, "rgba32f") == 192 * 32**3 * 8
+    assert propagation_bytes(32, 8, "rgba16f") == 96 * 32**3 * 8
+
+
+def test_bad_bench_arguments(capsys):
+    with pytest.raises(SystemExit):
+        main(["bench", "--grids", "8,x"])
+    assert "comma" in capsys.readouterr().err
+    assert main(["bench", "--quick", "--peak-gbs", "-3"]) == 2
