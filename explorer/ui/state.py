@@ -108,6 +108,7 @@ class AppState:
     inspect: InspectState = field(default_factory=InspectState)
     open_panels: dict[str, bool] = field(default_factory=dict)
     lesson_id: str | None = None
+    plot_tab: str | None = None       # a name in settings.PLOTS: bring that plot's tab forward
     messages: list[Message] = field(default_factory=list)
     requests: Requests = field(default_factory=Requests)
     runtime: Runtime = field(default_factory=Runtime)

@@ -38,9 +38,10 @@ def flux_text(text: str) -> None:
     dim_text_wrapped(text)
 
 
-def formula(formulas, latex: str, active: bool = True, tooltip: str | None = None) -> None:
+def formula(formulas, latex: str, active: bool = True, tooltip: str | None = None,
+            scale: float = 1.0) -> None:
     """A typeset formula (texture from the FormulaCache), or its LaTeX source as text."""
-    entry = formulas.get(latex) if formulas is not None else None
+    entry = formulas.get(latex, scale) if formulas is not None else None
     tint = imgui.ImVec4(1, 1, 1, 1) if active else imgui.ImVec4(1, 1, 1, 0.45)
     if entry is not None and entry.texture_id:
         width, height = float(entry.width), float(entry.height)

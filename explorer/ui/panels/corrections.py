@@ -91,16 +91,24 @@ INFO: dict[str, CorrectionInfo] = {
 
 
 def formula_latex(key: str, variant: str) -> tuple[str, str]:
-    """(LaTeX, where it came from) of ``corrections.<key>.<variant>``: the derivations
-    registry when it knows the formula, else the panel's own transcription of
-    docs/MODEL.md."""
-    name = f"corrections.{key}.{variant}"
+    """(LaTeX, tooltip) of ``corrections.<key>.<variant>``: from the derivations registry
+    when it holds the formula (the tooltip then gives its name and statement), else the
+    panel's own transcription of docs/MODEL.md."""
+    found = registry_entry(f"corrections.{key}.{variant}")
+    if found is not None:
+        return found
+    return getattr(INFO[key], variant), "transcribed from docs/MODEL.md"
+
+
+def registry_entry(name: str) -> tuple[str, str] | None:
+    """(LaTeX, "name: statement") of a registry result, or None if it has none."""
     try:
         from derivations import registry
 
-        return str(registry.latex(name)), f"derivations: {name}"
-    except Exception:  # noqa: BLE001 - registry missing or formula not registered yet
-        return getattr(INFO[key], variant), "docs/MODEL.md"
+        entry = registry.get(name)
+        return str(registry.latex(name)), f"{name}: {entry.statement}"
+    except Exception:  # noqa: BLE001 - registry absent or this result not registered
+        return None
 
 
 def gui_corrections(state: AppState) -> None:
@@ -130,6 +138,11 @@ def gui_corrections(state: AppState) -> None:
                 widgets.formula(formulas, latex, active, tooltip=source)
             imgui.end_table()
         widgets.flux_text(info.flux)
+        factor = registry_entry(f"corrections.{key}.flux_factor")
+        if factor is not None:
+            widgets.caption("corrected ÷ published:")
+            imgui.same_line()
+            widgets.formula(formulas, factor[0], True, tooltip=factor[1], scale=0.8)
         imgui.pop_id()
         imgui.separator()
 

@@ -44,20 +44,26 @@ def gui_plots(state: AppState) -> None:
         sides.append(("B", rt.compare_result))
     if not imgui.begin_tab_bar("plots"):
         return
-    for title, plot in (("Flux per step", _flux_plot), ("Energy audit", _audit_plot),
-                        ("GPU time", _timings_plot)):
-        if imgui.begin_tab_item(title)[0]:
+    for name, title, plot in (("flux-per-step", "Flux per step", _flux_plot),
+                              ("audit", "Energy audit", _audit_plot),
+                              ("timings", "GPU time", _timings_plot)):
+        flags = imgui.TabItemFlags_.set_selected if state.plot_tab == name else 0
+        if imgui.begin_tab_item(title, None, flags)[0]:
             plot(sides, imgui.get_content_region_avail().y - 4)
             imgui.end_tab_item()
+    state.plot_tab = None
     imgui.end_tab_bar()
 
 
 def _flux_plot(sides, height: float) -> None:
     if not implot.begin_plot("Flux in flight per propagation step", (-1, height)):
         return
-    implot.setup_axes("step t", "flux [W] (log)", implot.AxisFlags_.auto_fit,
+    implot.setup_axes("step t", "flux [W]", implot.AxisFlags_.auto_fit,
                       implot.AxisFlags_.auto_fit)
-    implot.setup_axis_scale(implot.ImAxis_.y1, implot.Scale_.log10)
+    series = [np.maximum(flux_per_step(result.audit), _LOG_FLOOR) for _, result in sides]
+    if max(float(ys.max() / ys.min()) for ys in series) > 20.0:
+        # Log only when the data spans decades: within one decade implot labels no tick.
+        implot.setup_axis_scale(implot.ImAxis_.y1, implot.Scale_.log10)
     for name, result in sides:
         ys = np.maximum(flux_per_step(result.audit), _LOG_FLOOR)
         xs = np.arange(len(ys), dtype=np.float64)
@@ -75,6 +81,7 @@ def _audit_plot(sides, height: float) -> None:
         return
     implot.setup_axes("flux [W]", "", implot.AxisFlags_.auto_fit,
                       implot.AxisFlags_.auto_fit | implot.AxisFlags_.invert)
+    implot.setup_legend(implot.Location_.south_east)
     rows = np.arange(len(AUDIT_ROWS), dtype=np.float64)
     implot.setup_axis_ticks(implot.ImAxis_.y1, [float(r) for r in rows],
                             [r[0] for r in AUDIT_ROWS])
@@ -104,7 +111,7 @@ def _timings_plot(sides, height: float) -> None:
                                 labels)
         spec = implot.Spec()
         spec.flags = implot.BarsFlags_.horizontal
-        implot.plot_bars("ms", np.array([timings[n] for n in names], dtype=np.float64),
+        implot.plot_bars("##ms", np.array([timings[n] for n in names], dtype=np.float64),
                          np.arange(len(names), dtype=np.float64), 0.6, spec)
     implot.end_plot()
 
