@@ -228,7 +228,7 @@ def _view_pixels(app) -> np.ndarray:
 
 
 @needs_pipeline
-def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home):
+def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monkeypatch):
     state = AppState(settings=TINY)
     state.follow_view_size = False
     app = _app(state)
@@ -275,5 +275,37 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home):
         assert app.state.settings.scene == "cornell"
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert len(errors) == 1 and "broken.obj" in errors[0]
+
+        # Shader hot reload: a compile error keeps the last good program and shows the log.
+        from explorer.gl import program as program_module
+
+        stamp = [program_module.ProgramCache.newest_change()]
+        monkeypatch.setattr(program_module.ProgramCache, "newest_change",
+                            staticmethod(lambda: stamp[0]))
+        good_load = program_module.load_program
+
+        def broken_load(ctx, name, defines=None, varyings=()):
+            raise program_module.ShaderError(program_module.shader_dir() / name,
+                                             "0:12(3): error: syntax error, unexpected ';'")
+
+        monkeypatch.setattr(program_module, "load_program", broken_load)
+        app.state.view_mode = "single"
+        for bump in (0.0, 10.0):           # the first poll only records the time stamp
+            stamp[0] += bump
+            app._shader_poll = 0.0
+            app.frame()
+        shader_errors = app.state.runtime.shader_errors
+        assert shader_errors and "syntax error" in next(iter(shader_errors.values()))
+        app.state.set_corrections(propagation_4pi=False)   # still renders with the old ones
+        app.frame(capture=True)
+        assert np.abs(_view_pixels(app) - flipped).mean() < 1.0
+        assert app.state.runtime.result.settings.corrections.propagation_4pi is False
+
+        monkeypatch.setattr(program_module, "load_program", good_load)
+        stamp[0] += 10.0
+        app._shader_poll = 0.0
+        app.frame()
+        assert app.state.runtime.shader_errors == {}
+        assert any(m.text.startswith("shaders reloaded") for m in app.state.messages)
     finally:
         app.close()
