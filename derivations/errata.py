@@ -42,7 +42,8 @@ from derivations.propagation import side_evaluation_direction
 from derivations.registry import Result, result
 from derivations.rsm import pixel_solid_angle_errors, surfel_area
 from derivations.solid_angles import (
-    FRONT_FACE_CORNERS, SIDE_FACE_CORNERS, front_face, prove_equal, side_face, unit)
+    FRONT_FACE_CORNERS, SIDE_FACE_CORNERS, front_face, prove_equal, side_face,
+    spherical_angle, unit)
 
 MODULE = "errata"
 ANNOTATIONS = "lpv-annotations.md"
@@ -116,6 +117,14 @@ def _printed() -> tuple[Printed, ...]:
         Printed("annotations.front_corner_dot_diagonal", "front face: c3·c2 (diagonal corners)",
                 "7/11", sp.Rational(7, 11), _dot(maple_front, 2, 1), ANNOTATIONS,
                 "§2.1 front-face worksheet, eq. (7)"),
+        Printed("annotations.front_maple_delta", "front face: angle δ at a corner",
+                "π − arccos(1/10)", sp.pi - sp.acos(sp.Rational(1, 10)),
+                spherical_angle(*(unit(maple_front[k]) for k in (1, 0, 3))), ANNOTATIONS,
+                "§2.1 front-face worksheet, eq. (10)"),
+        Printed("annotations.front_maple_alpha", "front face: angle α at a corner",
+                "arccos(3/20·√2·√10)", sp.acos(sp.Rational(3, 20) * _s(2) * _s(10)),
+                spherical_angle(*(unit(maple_front[k]) for k in (0, 1, 3))), ANNOTATIONS,
+                "§2.1 front-face worksheet, eq. (12)"),
         Printed("annotations.front_maple_closed_form", "front-face solid angle (closed form)",
                 "4 arccos(3/20·√2·√10) − 2 arccos(1/10)",
                 4 * sp.acos(sp.Rational(3, 20) * _s(2) * _s(10)) - 2 * sp.acos(sp.Rational(1, 10)),
@@ -181,6 +190,8 @@ def _printed() -> tuple[Printed, ...]:
         Printed("annotations.side_direction_big", "side-face main direction, 2nd component",
                 "2/√5", 2 / _s(5), e_side[1], ANNOTATIONS, "§6.1"),
         # --- DX11 article ---
+        Printed("dx11.rsm_vpls", "VPLs in a 2048×2048 RSM", "4194304", sp.Integer(4194304),
+                sp.Integer(2048) ** 2, DX11, "Injection, '2048×2048=4194304'"),
         Printed("dx11.sh_c0", "SH_C0 = 1/(2√π)", "0.282094792", _dec("0.282094792"), sh.C0,
                 DX11, "#define SH_C0 (injection, propagation and rendering shaders)",
                 glsl_name="PUBLISHED_SH_C0"),
@@ -229,8 +240,9 @@ def _printed() -> tuple[Printed, ...]:
         Printed("dx11.l1_accuracy", "share of a clamped cosine kept by 4 SH coefficients",
                 "about 75%", sp.Rational(3, 4), sh.captured_energy_fraction(sh.L1_BASIS), DX11,
                 "Pros and cons, first con",
-                note="L1 keeps 7/8 = 87.5 % of the clamped cosine's energy (L2: 127/128); "
-                     "no natural measure gives 75 %.",
+                note="L1 keeps 7/8 = 87.5 % of the clamped cosine's energy (L2: 127/128), "
+                     "i.e. a relative L2 error of √(1/8) ≈ 35 %; no natural measure gives "
+                     "75 %.",
                 verdict_override="wrong"),
         # --- DX12 blog ---
         Printed("dx12.y00", "Y_0^0", "√(1/(4π))", _s(1 / (4 * sp.pi)), sh.C0, DX12,
@@ -361,7 +373,8 @@ def markdown() -> str:
         exact = f"`{sp.sstr(item.exact)}`" if item.exact is not None else "—"
         if row.exact_digits:
             exact += f" = {row.exact_digits}"
-        rel = f"{row.relative_error:+.3g}" if row.relative_error is not None else "—"
+        rel = ("—" if row.relative_error is None else
+               "0" if row.relative_error == 0 else f"{row.relative_error:+.3g}")
         digits = str(row.correct_digits) if row.correct_digits is not None else "—"
         lines.append("| " + " | ".join(_cell(c) for c in (
             f"{item.source}: {item.locator}", item.quantity, f"`{item.printed}`", exact,

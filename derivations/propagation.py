@@ -86,7 +86,8 @@ def faces(direction: Sequence[int], front: sp.Expr = omega_front,
 
 
 @lru_cache(maxsize=None)
-def step_output(front_weight: sp.Expr = None, side_weight: sp.Expr = None) -> sp.Matrix:
+def step_output(front_weight: sp.Expr | None = None,
+                side_weight: sp.Expr | None = None) -> sp.Matrix:
     """SH vector one source cell ``s = (s0..s3)`` sends out over all 30 faces.
 
     A face ``f`` contributes ``w_f·dot(s, Y(e_f))·lobe(r_f)``; the weights default to
@@ -104,7 +105,8 @@ def step_output(front_weight: sp.Expr = None, side_weight: sp.Expr = None) -> sp
     return total.applyfunc(lambda entry: sp.factor(sp.expand(entry)))
 
 
-def step_flux_factor(front_weight: sp.Expr = None, side_weight: sp.Expr = None) -> sp.Expr:
+def step_flux_factor(front_weight: sp.Expr | None = None,
+                     side_weight: sp.Expr | None = None) -> sp.Expr:
     """Flux out ÷ flux in of one step, with the tiling identity substituted exactly."""
     s0 = sp.Symbol("s_0")
     out = step_output(front_weight, side_weight)

@@ -12,6 +12,13 @@ reflectance ``c_diff`` at incidence ``θ_i``:
 
 with ``ρ = A/r²`` the surfel's solid angle seen from the light.
 
+Erratum (texel flux). In an RSM, ``ρ`` is the solid angle of the *texel*, fixed by the
+frustum; the surfel that texel sees is tilted by ``θ_i``, so its area is
+``A = ρ·r²/cos θ_i`` (a tilted surfel subtends ``A·cos θ_i/r²``). Substituting that area
+cancels the cosine: ``Φ_o = c_diff·ρ/(4π)·Φ_L`` for any surface facing the light. The
+published form keeps ``cos⁺θ_i`` *and* uses ``ρ = A/r²``, which counts the cosine twice;
+it is right only for surfels facing the light. See :func:`texel_flux_steps`.
+
 Per-pixel solid angle. A 90° square frustum of ``W×H`` texels looks at one cube face,
 ``4π/6`` of the sphere. The annotations approximate each texel by ``(4π/6)/(W·H)``; the
 exact value is the rectangle formula (``solid_angles.rectangle_solid_angle``) on the
@@ -70,6 +77,29 @@ def outgoing_flux_steps() -> list[sp.Eq]:
     in_rho = sp.simplify(flux.subs(A, rho * r**2))
     return [sp.Eq(E, irradiance), sp.Eq(L_o, radiance), sp.Eq(M, exitance),
             sp.Eq(Phi_o, flux), sp.Eq(Phi_o, in_rho)]
+
+
+def texel_flux_steps() -> list[sp.Eq]:
+    """Flux reflected by the surfel one RSM texel of solid angle ``ρ`` sees at incidence
+    ``θ_i`` (``0 ≤ θ_i < π/2``): the surfel area is ``ρ r²/cos θ_i``, and the cosine cancels.
+
+    The last equation is the flux the renderer stores per texel (docs/MODEL.md, RSM).
+    """
+    theta = sp.Symbol("theta_i", nonnegative=True)
+    published = outgoing_flux_steps()[3].rhs            # Φ_o = A·M with cos⁺θ_i in L_o
+    facing = published.subs(clamped_cos_i, sp.cos(theta))   # lit side: cos⁺ = cos
+    tilted_area = rho * r**2 / sp.cos(theta)
+    per_texel = sp.simplify(facing.subs(A, tilted_area))
+    return [sp.Eq(A, tilted_area), sp.Eq(Phi_o, facing.subs(A, tilted_area)),
+            sp.Eq(Phi_o, per_texel)]
+
+
+def texel_flux_published_over_correct() -> sp.Expr:
+    """Published texel flux (``ρ = A/r²`` with ``cos⁺θ_i`` kept) over the correct one on
+    the lit side: ``cos θ_i``, the cosine counted a second time."""
+    theta = sp.Symbol("theta_i", nonnegative=True)
+    published = outgoing_flux_steps()[-1].rhs.subs(clamped_cos_i, sp.cos(theta))
+    return sp.simplify(published / texel_flux_steps()[-1].rhs)
 
 
 def pixel_solid_angle_approx() -> sp.Expr:
@@ -149,6 +179,12 @@ def results() -> list[Result]:
     )
     out = [result(MODULE, n, eq, s) for n, eq, s in zip(names, steps, statements)]
     out += [
+        result(MODULE, "texel_flux", texel_flux_steps()[-1],
+               "Erratum: flux an RSM texel of solid angle ρ reflects, any incidence on the lit "
+               "side: c_diff·ρ/(4π)·Φ_L (the surfel area ρr²/cos θ_i cancels the cosine)."),
+        result(MODULE, "texel_flux_published_over_correct",
+               texel_flux_published_over_correct(),
+               "The published texel flux over the correct one: cos θ_i, counted twice."),
         result(MODULE, "pixel_solid_angle_approx", pixel_solid_angle_approx(),
                "Per-texel solid angle of a 90° frustum, approximated as (4π/6)/(W·H)."),
         result(MODULE, "pixel_solid_angle_exact", pixel_solid_angle_exact(),

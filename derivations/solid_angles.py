@@ -70,6 +70,7 @@ from derivations.registry import Result, result
 MODULE = "solid_angles"
 
 x, y, z = sp.symbols("x y z", real=True)
+_theta, _phi = sp.symbols("theta phi", real=True)
 
 FRONT_FACE_CORNERS = ((1, 1, 3), (-1, 1, 3), (-1, -1, 3), (1, -1, 3))
 """Corners of the front face (plane z = 3), in order around the face."""
@@ -93,6 +94,26 @@ def rectangle_solid_angle(u0: sp.Expr, u1: sp.Expr, v0: sp.Expr, v1: sp.Expr,
         raise ValueError(f"the plane must be in front of the viewer (d > 0), got d = {d}")
     term = rectangle_corner_term
     return term(u1, v1, d) - term(u0, v1, d) - term(u1, v0, d) + term(u0, v0, d)
+
+
+def axis_aligned_rectangle_solid_angle(eye: Sequence[sp.Expr], axis: int, plane: sp.Expr,
+                                       low: Sequence[sp.Expr],
+                                       high: Sequence[sp.Expr]) -> sp.Expr:
+    """Solid angle of an axis-aligned rectangle seen from the point ``eye``.
+
+    The rectangle lies in the plane ``coordinate[axis] = plane`` and spans ``low..high``
+    in the two other coordinates (in increasing axis order). Translating ``eye`` to the
+    origin reduces it to :func:`rectangle_solid_angle` at distance ``|plane − eye[axis]|``.
+    """
+    if axis not in (0, 1, 2):
+        raise ValueError(f"axis must be 0, 1 or 2 (x, y, z), got {axis}")
+    others = [k for k in range(3) if k != axis]
+    distance = sp.Abs(sp.sympify(plane) - eye[axis])
+    if distance == 0:
+        raise ValueError("the eye lies in the rectangle's plane: the solid angle is degenerate")
+    (a0, b0), (a1, b1) = low, high
+    return rectangle_solid_angle(a0 - eye[others[0]], a1 - eye[others[0]],
+                                 b0 - eye[others[1]], b1 - eye[others[1]], distance)
 
 
 @lru_cache(maxsize=None)
@@ -315,7 +336,12 @@ def results() -> list[Result]:
                "Solid angle of one of a neighbour's four side faces seen from the source "
                "cell centre.",
                glsl_name="SIDE_FACE_SOLID_ANGLE"),
-        result(MODULE, "tiling", sp.Eq(6 * (front + 4 * side), 4 * sp.pi, evaluate=False),
+        result(MODULE, "front_face_spherical", front_face_by_spherical_trigonometry(),
+               "Front face as two spherical triangles (Girard's excess); equals front_face."),
+        result(MODULE, "side_face_spherical", side_face_by_spherical_trigonometry(),
+               "Side face as two spherical triangles (Girard's excess); equals side_face."),
+        result(MODULE, "tiling",
+               sp.Eq(6 * sp.UnevaluatedExpr(front + 4 * side), 4 * sp.pi, evaluate=False),
                "The 6 front faces and 24 side faces of the neighbours cover the sphere "
                "exactly once (front + 4 side = 2π/3)."),
         result(MODULE, "cube_face", cube_face(),
@@ -331,5 +357,3 @@ def results() -> list[Result]:
                glsl_name="PI"),
     ]
 
-
-_theta, _phi = sp.symbols("theta phi", real=True)

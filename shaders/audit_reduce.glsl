@@ -1,105 +1,66 @@
 #version 430 core
-// Energy audit of one propagation step on the GPU (GridAudit, explorer/lpv/audit.py).
-// AUDIT_STAGE 0: one invocation per cell computes 12 numbers, a 64-invocation workgroup sums
-//   them in shared memory and writes one partial sum per workgroup:
-//     [0..2]  flux of the grid "after" (or of after - before: the light one in-place step adds)
-//     [3..5]  border loss:  flux the cell, as a source, sends to targets outside the grid
-//     [6..8]  clamp gain:   flux its front faces gain by the clamp+ (used - raw intensity)
-//     [9..11] occluded:     flux its faces lose to the geometry volume (1 - V_f)
-//   The face terms use the same functions as propagate.glsl, in scatter form: for the source
-//   cell s and direction d the target is s + d. Flux of a reprojected lobe:
-//   sh_flux(weight * I * lobe(r)).
-// AUDIT_STAGE 1: one workgroup sums the partials into 12 numbers at slot u_result_slot.
+// Energy audit on the GPU (GridAudit, explorer/lpv/audit.py), read back as small sums.
+// An audit record is 12 numbers:
+//     [0..2]  flux (of a grid, or delivered into the grid by a propagation step)
+//     [3..5]  border loss:  flux sent to targets outside the grid
+//     [6..8]  clamp gain:   flux the front faces gain by the clamp+ (used - raw intensity)
+//     [9..11] occluded:     flux the faces lose to the geometry volume (1 - V_f)
+// Stages (select with AUDIT_STAGE):
+//   0: partial records of the flux of one grid (the injected grid, the accumulation);
+//   1: partial records of the per-cell records propagate.glsl wrote (cell_terms);
+//   2: one workgroup folds the partial records into result slot u_result_slot.
+// Stages 0 and 1 run one invocation per partial; invocation p sums the cells p, p + P,
+// p + 2P, ... (P partials, 64 cells each at most): no barrier() (slow on llvmpipe) and
+// neighbouring invocations read neighbouring memory.
 #define AUDIT_STAGE 0
 
 #if defined COMPUTE_SHADER
 
-layout(std430, binding = 2) buffer Partials { float partials[]; };
-layout(std430, binding = 3) buffer Results { float results[]; };
+#include "sh.glsl"
+#include "grid.glsl"
 
 const int AUDIT_VALUES = 12;
+const int CELLS_PER_PARTIAL = 64;
 
-#if AUDIT_STAGE == 0
+layout(std430, binding = 2) buffer Partials { float partials[]; };
+layout(std430, binding = 3) buffer Results { float results[]; };
+layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
 
-#include "grid.glsl"
-#include "propagation_faces.glsl"
+uniform int u_partial_count;
 
-layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-const uint GROUP_SIZE = 64u;
+#if AUDIT_STAGE == 0 || AUDIT_STAGE == 1
 
-uniform sampler3D u_before_r;
-uniform sampler3D u_before_g;
-uniform sampler3D u_before_b;
-uniform sampler3D u_after_r;
-uniform sampler3D u_after_g;
-uniform sampler3D u_after_b;
-uniform bool u_face_terms;            // false: only the flux of "after"
-uniform bool u_after_minus_before;    // in-place steps: flux of after - before
+layout(local_size_x = 64) in;
 
-shared float shared_sums[AUDIT_VALUES][GROUP_SIZE];
-
-void cell_terms(ivec3 cell, out float values[AUDIT_VALUES]) {
-    for (int i = 0; i < AUDIT_VALUES; ++i) {
-        values[i] = 0.0;
-    }
-    if (!grid_inside(cell)) {
-        return;
-    }
-    vec4 before[3] = vec4[3](texelFetch(u_before_r, cell, 0), texelFetch(u_before_g, cell, 0),
-                             texelFetch(u_before_b, cell, 0));
-    vec4 after[3] = vec4[3](texelFetch(u_after_r, cell, 0), texelFetch(u_after_g, cell, 0),
-                            texelFetch(u_after_b, cell, 0));
-    for (int channel = 0; channel < 3; ++channel) {
-        vec4 counted = u_after_minus_before ? after[channel] - before[channel] : after[channel];
-        values[channel] = sh_flux(counted);
-    }
-    if (!u_face_terms) {
-        return;
-    }
-    for (int dir = 0; dir < 6; ++dir) {
-        ivec3 target = cell + LPV_DIRECTIONS[dir];
-        bool leaves = !grid_inside(target);
-        vec4 blocker = lpv_shared_face_blocker(target, dir);
-        for (int face = 0; face < lpv_face_count(); ++face) {
-            vec3 reprojection = lpv_face_reprojection_direction(dir, face);
-            float flux_per_intensity = lpv_face_weight(face)
-                * sh_flux(sh_cosine_lobe(reprojection));
-            float visibility = lpv_face_visibility(blocker, dir, face);
-            for (int channel = 0; channel < 3; ++channel) {
-                float raw = lpv_face_intensity_raw(before[channel], dir, face);
-                float used = lpv_face_intensity(before[channel], dir, face);
-                values[6 + channel] += flux_per_intensity * (used - raw);
-                values[9 + channel] += flux_per_intensity * used * (1.0 - visibility);
-                if (leaves) {
-                    values[3 + channel] += flux_per_intensity * used * visibility;
-                }
-            }
-        }
-    }
-}
+uniform sampler3D u_grid_r;
+uniform sampler3D u_grid_g;
+uniform sampler3D u_grid_b;
 
 void main() {
-    float values[AUDIT_VALUES];
-    cell_terms(ivec3(gl_GlobalInvocationID), values);
-    uint lane = gl_LocalInvocationIndex;
+    int partial = int(gl_GlobalInvocationID.x);
+    if (partial >= u_partial_count) {
+        return;
+    }
+    int n = u_grid_resolution;
+    int cells = n * n * n;
+    float sums[AUDIT_VALUES];
     for (int i = 0; i < AUDIT_VALUES; ++i) {
-        shared_sums[i][lane] = values[i];
+        sums[i] = 0.0;
     }
-    barrier();
-    for (uint stride = GROUP_SIZE / 2u; stride > 0u; stride /= 2u) {
-        if (lane < stride) {
-            for (int i = 0; i < AUDIT_VALUES; ++i) {
-                shared_sums[i][lane] += shared_sums[i][lane + stride];
-            }
-        }
-        barrier();
-    }
-    if (lane == 0u) {
-        uvec3 groups = gl_NumWorkGroups;
-        uint group = gl_WorkGroupID.x + groups.x * (gl_WorkGroupID.y + groups.y * gl_WorkGroupID.z);
+    for (int linear = partial; linear < cells; linear += u_partial_count) {
+#if AUDIT_STAGE == 0
+        ivec3 cell = ivec3(linear % n, (linear / n) % n, linear / (n * n));
+        sums[0] += sh_flux(texelFetch(u_grid_r, cell, 0));
+        sums[1] += sh_flux(texelFetch(u_grid_g, cell, 0));
+        sums[2] += sh_flux(texelFetch(u_grid_b, cell, 0));
+#else
         for (int i = 0; i < AUDIT_VALUES; ++i) {
-            partials[group * uint(AUDIT_VALUES) + uint(i)] = shared_sums[i][0];
+            sums[i] += cell_terms[i * cells + linear];
         }
+#endif
+    }
+    for (int i = 0; i < AUDIT_VALUES; ++i) {
+        partials[partial * AUDIT_VALUES + i] = sums[i];
     }
 }
 
@@ -108,7 +69,6 @@ void main() {
 layout(local_size_x = 256) in;
 const uint GROUP_SIZE = 256u;
 
-uniform int u_partial_count;
 uniform int u_result_slot;
 
 shared float shared_sums[AUDIT_VALUES][GROUP_SIZE];
@@ -117,8 +77,8 @@ void main() {
     uint lane = gl_LocalInvocationIndex;
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         float sum = 0.0;
-        for (uint group = lane; group < uint(u_partial_count); group += GROUP_SIZE) {
-            sum += partials[group * uint(AUDIT_VALUES) + uint(i)];
+        for (uint partial = lane; partial < uint(u_partial_count); partial += GROUP_SIZE) {
+            sum += partials[partial * uint(AUDIT_VALUES) + uint(i)];
         }
         shared_sums[i][lane] = sum;
     }

@@ -7,6 +7,12 @@
 // In place (the DX11 shader): neighbours are read from the very image being written and the
 // step is added to it, acc += P(acc). Invocations race: some neighbours are already updated
 // when read, so the result depends on the GPU's invocation order. Kept to show the hazard.
+//
+// The same dispatch measures the step's energy audit (GridAudit): every cell writes 12
+// numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,
+// and as a source its border loss, clamp gain and occluded flux (faces leaving the grid are
+// sent by the border cells). audit_reduce.glsl sums them; a shared-memory reduction here
+// would need barrier(), which costs llvmpipe more than the whole step.
 #define IMAGE_FORMAT rgba32f
 
 #if defined COMPUTE_SHADER
@@ -16,20 +22,23 @@
 
 // 64 invocations: a 4x4x4 brick shares most neighbour reads in cache on real GPUs.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+const int AUDIT_VALUES = 12;
 
-// Image units are fixed by binding (moderngl cannot set image uniforms): targets 0..2,
-// accumulation 3..5.
 uniform sampler3D u_source_r;
 uniform sampler3D u_source_g;
 uniform sampler3D u_source_b;
 
+// Image units are fixed by binding (moderngl cannot set image uniforms): targets 0..2,
+// accumulation 3..5.
 layout(IMAGE_FORMAT, binding = 0) uniform image3D u_target_r;
 layout(IMAGE_FORMAT, binding = 1) uniform image3D u_target_g;
 layout(IMAGE_FORMAT, binding = 2) uniform image3D u_target_b;
-
 layout(IMAGE_FORMAT, binding = 3) uniform image3D u_accumulated_r;
 layout(IMAGE_FORMAT, binding = 4) uniform image3D u_accumulated_g;
 layout(IMAGE_FORMAT, binding = 5) uniform image3D u_accumulated_b;
+
+// Per-cell audit terms, quantity-major: cell_terms[quantity * N^3 + linear cell index].
+layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
 
 void load_source(ivec3 cell, out vec4 source[3]) {
     if (u_ping_pong) {
@@ -43,39 +52,62 @@ void load_source(ivec3 cell, out vec4 source[3]) {
     }
 }
 
+void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
+    float front_weight = lpv_front_face_weight();
+    float side_weight = lpv_side_face_weight();
+    vec4 received[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+    LpvAudit audit = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
+    for (int dir = 0; dir < 6; ++dir) {
+        ivec3 source_cell = cell - LPV_DIRECTIONS[dir];
+        if (grid_inside(source_cell)) {  // nothing enters from outside the grid
+            vec4 source[3];
+            load_source(source_cell, source);
+            lpv_send(source, cell, dir, false, front_weight, side_weight, received, audit);
+        }
+    }
+    // A border cell is also the source of the faces that leave the grid (audit only).
+    if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
+        vec4 own[3];
+        load_source(cell, own);
+        vec4 unused[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+        for (int dir = 0; dir < 6; ++dir) {
+            ivec3 outside = cell + LPV_DIRECTIONS[dir];
+            if (!grid_inside(outside)) {
+                lpv_send(own, outside, dir, true, front_weight, side_weight, unused, audit);
+            }
+        }
+    }
+    if (u_ping_pong) {
+        imageStore(u_target_r, cell, received[0]);
+        imageStore(u_target_g, cell, received[1]);
+        imageStore(u_target_b, cell, received[2]);
+        imageStore(u_accumulated_r, cell, imageLoad(u_accumulated_r, cell) + received[0]);
+        imageStore(u_accumulated_g, cell, imageLoad(u_accumulated_g, cell) + received[1]);
+        imageStore(u_accumulated_b, cell, imageLoad(u_accumulated_b, cell) + received[2]);
+    } else {
+        imageStore(u_target_r, cell, imageLoad(u_target_r, cell) + received[0]);
+        imageStore(u_target_g, cell, imageLoad(u_target_g, cell) + received[1]);
+        imageStore(u_target_b, cell, imageLoad(u_target_b, cell) + received[2]);
+    }
+    vec3 delivered = vec3(sh_flux(received[0]), sh_flux(received[1]), sh_flux(received[2]));
+    vec3 terms[4] = vec3[4](delivered, audit.border, audit.clamp_gain, audit.occluded);
+    for (int i = 0; i < AUDIT_VALUES; ++i) {
+        audit_record[i] = terms[i / 3][i % 3];
+    }
+}
+
 void main() {
     ivec3 cell = ivec3(gl_GlobalInvocationID);
     if (!grid_inside(cell)) {
         return;
     }
-    vec4 gathered[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
-    for (int dir = 0; dir < 6; ++dir) {
-        ivec3 source_cell = cell - LPV_DIRECTIONS[dir];
-        if (!grid_inside(source_cell)) {
-            continue;  // nothing enters from outside the grid
-        }
-        vec4 source[3];
-        load_source(source_cell, source);
-        vec4 blocker = lpv_shared_face_blocker(cell, dir);
-        for (int face = 0; face < lpv_face_count(); ++face) {
-            float weight = lpv_face_weight(face) * lpv_face_visibility(blocker, dir, face);
-            vec4 lobe = weight * sh_cosine_lobe(lpv_face_reprojection_direction(dir, face));
-            for (int channel = 0; channel < 3; ++channel) {
-                gathered[channel] += lpv_face_intensity(source[channel], dir, face) * lobe;
-            }
-        }
-    }
-    if (u_ping_pong) {
-        imageStore(u_target_r, cell, gathered[0]);
-        imageStore(u_target_g, cell, gathered[1]);
-        imageStore(u_target_b, cell, gathered[2]);
-        imageStore(u_accumulated_r, cell, imageLoad(u_accumulated_r, cell) + gathered[0]);
-        imageStore(u_accumulated_g, cell, imageLoad(u_accumulated_g, cell) + gathered[1]);
-        imageStore(u_accumulated_b, cell, imageLoad(u_accumulated_b, cell) + gathered[2]);
-    } else {
-        imageStore(u_target_r, cell, imageLoad(u_target_r, cell) + gathered[0]);
-        imageStore(u_target_g, cell, imageLoad(u_target_g, cell) + gathered[1]);
-        imageStore(u_target_b, cell, imageLoad(u_target_b, cell) + gathered[2]);
+    float audit[AUDIT_VALUES];
+    propagate_cell(cell, audit);
+    int n = u_grid_resolution;
+    int cells = n * n * n;
+    int linear = cell.x + n * (cell.y + n * cell.z);
+    for (int i = 0; i < AUDIT_VALUES; ++i) {
+        cell_terms[i * cells + linear] = audit[i];
     }
 }
 

@@ -1,11 +1,12 @@
 #version 430 core
 // The 6 neighbour directions and the 5 faces per neighbour of the propagation step
-// (docs/MODEL.md "Propagation"), shared by propagate.glsl and audit_reduce.glsl so the audit
-// measures exactly what the propagation does.
+// (docs/MODEL.md "Propagation"), shared by propagate.glsl (gather) and its audit.
 //
 // Direction d (index 0..5: +x, -x, +y, -y, +z, -z) has the frame (d, u, v) with u, v the two
-// other axes. Face 0 is the front face (normal d); faces 1..4 are the side faces with normals
-// +u, -u, +v, -v. The target cell x gathers from the source x - d.
+// other axes (any frame gives the same sums). The front face of the target has normal d and
+// is evaluated along d; the side faces have normals +u, -u, +v, -v and are evaluated along
+// side/sqrt(5) + 2d/sqrt(5), the direction from the source centre to the side face's centre.
+// The target cell x gathers from the source x - d.
 #ifndef PROPAGATION_FACES_GLSL
 #define PROPAGATION_FACES_GLSL 1
 
@@ -16,62 +17,28 @@ const ivec3 LPV_DIRECTIONS[6] = ivec3[6](
     ivec3(1, 0, 0), ivec3(-1, 0, 0),
     ivec3(0, 1, 0), ivec3(0, -1, 0),
     ivec3(0, 0, 1), ivec3(0, 0, -1));
+const ivec3 LPV_TANGENT_U[6] = ivec3[6](
+    ivec3(0, 1, 0), ivec3(0, 1, 0),
+    ivec3(0, 0, 1), ivec3(0, 0, 1),
+    ivec3(1, 0, 0), ivec3(1, 0, 0));
+const ivec3 LPV_TANGENT_V[6] = ivec3[6](
+    ivec3(0, 0, 1), ivec3(0, 0, 1),
+    ivec3(1, 0, 0), ivec3(1, 0, 0),
+    ivec3(0, 1, 0), ivec3(0, 1, 0));
 
-const int LPV_FRONT_FACE = 0;
-
-ivec3 lpv_axis(int axis) {
-    return ivec3(equal(ivec3(0, 1, 2), ivec3(axis % 3)));
-}
-
-// Normal of the side face `face` (1..4) of direction `dir`: +u, -u, +v, -v.
-vec3 lpv_side_normal(int dir, int face) {
-    int axis = dir / 2;
-    vec3 u = vec3(lpv_axis(axis + 1));
-    vec3 v = vec3(lpv_axis(axis + 2));
-    vec3 tangent = face <= 2 ? u : v;
-    return (face % 2 == 1) ? tangent : -tangent;
-}
-
-// Direction at which the source's intensity is evaluated for the face: d for the front face,
-// side/sqrt(5) + 2d/sqrt(5) (towards the side face's centre) for a side face.
-vec3 lpv_face_eval_direction(int dir, int face) {
-    vec3 d = vec3(LPV_DIRECTIONS[dir]);
-    if (face == LPV_FRONT_FACE) {
-        return d;
-    }
-    return SIDE_EVAL_SMALL * lpv_side_normal(dir, face) + SIDE_EVAL_BIG * d;
-}
-
-// Direction of the cosine lobe the face's flux is reprojected into: the face normal.
-vec3 lpv_face_reprojection_direction(int dir, int face) {
-    return face == LPV_FRONT_FACE ? vec3(LPV_DIRECTIONS[dir]) : lpv_side_normal(dir, face);
-}
-
-float lpv_face_solid_angle(int face) {
-    return face == LPV_FRONT_FACE ? lpv_front_solid_angle() : lpv_side_solid_angle();
-}
-
-int lpv_face_count() {
-    return u_side_faces ? 5 : 1;
-}
-
-// Intensity of one channel towards the face, before and after the front-face clamp.
-float lpv_face_intensity_raw(vec4 source, int dir, int face) {
-    return dot(source, sh_eval(lpv_face_eval_direction(dir, face)));
-}
-
-float lpv_face_intensity(vec4 source, int dir, int face) {
-    float intensity = lpv_face_intensity_raw(source, dir, face);
-    if (face == LPV_FRONT_FACE && u_clamp_front_face) {
-        intensity = max(intensity, 0.0);
-    }
-    return intensity;
-}
-
-// Intensity -> reprojected SH scale of a face without visibility: k_R * k_I * k_P * dw_f.
-float lpv_face_weight(int face) {
+// Intensity -> reprojected SH scale of a face, without visibility: k_R * k_I * k_P * dw_f.
+float lpv_front_face_weight() {
     return lpv_reprojection_factor() * lpv_injection_factor() * lpv_propagation_factor()
-        * lpv_face_solid_angle(face);
+        * lpv_front_solid_angle();
+}
+
+// The same for a side face; 0 when side faces are switched off.
+float lpv_side_face_weight() {
+    if (!u_side_faces) {
+        return 0.0;
+    }
+    return lpv_reprojection_factor() * lpv_injection_factor() * lpv_propagation_factor()
+        * lpv_side_solid_angle();
 }
 
 // Geometry volume: (N+1)^3 texels, texel j centred on light-grid corner j.
@@ -85,22 +52,71 @@ vec4 lpv_shared_face_blocker(ivec3 target, int dir) {
     if (!u_use_geometry) {
         return vec4(0.0);
     }
-    ivec3 d = LPV_DIRECTIONS[dir];
-    ivec3 corner = target + max(-d, ivec3(0));
-    ivec3 u = lpv_axis(dir / 2 + 1);
-    ivec3 v = lpv_axis(dir / 2 + 2);
+    ivec3 corner = target + max(-LPV_DIRECTIONS[dir], ivec3(0));
+    ivec3 u = LPV_TANGENT_U[dir];
+    ivec3 v = LPV_TANGENT_V[dir];
     return 0.25 * (texelFetch(u_geometry, corner, 0) + texelFetch(u_geometry, corner + u, 0)
                  + texelFetch(u_geometry, corner + v, 0)
                  + texelFetch(u_geometry, corner + u + v, 0));
 }
 
-// V_f = 1 - clamp(<blocker, Y(e_f)>, 0, 1).
-float lpv_face_visibility(vec4 blocker, int dir, int face) {
-    if (!u_use_geometry) {
-        return 1.0;
+// Audit terms of a step, per channel, in watts.
+struct LpvAudit {
+    vec3 clamp_gain;   // flux added by clamp+ on the front faces (used - raw intensity)
+    vec3 occluded;     // flux removed by the geometry volume (1 - V_f)
+    vec3 border;       // flux sent to targets outside the grid
+};
+
+// One face (docs/MODEL.md "Propagation"):
+//     I_f = <s, Y(e_f)> (clamp+ when `clamped`),  V_f = 1 - clamp(<blocker, Y(-e_f)>, 0, 1),
+//     received += weight * I_f * V_f * lobe(r_f)   (when the target is inside the grid).
+// The flux of a reprojected lobe scale*lobe(r) is sh_flux(scale * lobe(r)).
+void lpv_send_face(vec4 source[3], vec3 eval_direction, vec3 reprojection, float weight,
+                   bool clamped, vec4 blocker, bool leaving, inout vec4 received[3],
+                   inout LpvAudit audit) {
+    vec4 basis = sh_eval(eval_direction);
+    vec4 lobe = sh_cosine_lobe(reprojection);
+    vec3 raw = vec3(dot(source[0], basis), dot(source[1], basis), dot(source[2], basis));
+    vec3 used = clamped ? max(raw, vec3(0.0)) : raw;
+    // A surfel blocks light that runs into its front side, i.e. travels against its normal:
+    // the blocker lobe is evaluated at -e_f, so a lit wall does not shadow its own bounce.
+    vec4 against = sh_eval(-eval_direction);
+    float visibility = u_use_geometry ? 1.0 - clamp(dot(blocker, against), 0.0, 1.0) : 1.0;
+    float flux_per_intensity = weight * sh_flux(lobe);
+    audit.clamp_gain += flux_per_intensity * (used - raw);
+    audit.occluded += flux_per_intensity * (1.0 - visibility) * used;
+    if (leaving) {
+        audit.border += flux_per_intensity * visibility * used;
+    } else {
+        vec4 scaled = weight * visibility * lobe;
+        received[0] += used.r * scaled;
+        received[1] += used.g * scaled;
+        received[2] += used.b * scaled;
     }
-    float blocking = dot(blocker, sh_eval(lpv_face_eval_direction(dir, face)));
-    return 1.0 - clamp(blocking, 0.0, 1.0);
+}
+
+// Light one source cell (SH vectors `source`: r, g, b) sends through the faces of its
+// neighbour `target` = source + d: the front face, then the four side faces.
+void lpv_send(vec4 source[3], ivec3 target, int dir, bool leaving, float front_weight,
+              float side_weight, inout vec4 received[3], inout LpvAudit audit) {
+    vec4 blocker = lpv_shared_face_blocker(target, dir);
+    vec3 d = vec3(LPV_DIRECTIONS[dir]);
+    lpv_send_face(source, d, d, front_weight, u_clamp_front_face, blocker, leaving,
+                  received, audit);
+    if (side_weight == 0.0) {
+        return;
+    }
+    vec3 u = vec3(LPV_TANGENT_U[dir]);
+    vec3 v = vec3(LPV_TANGENT_V[dir]);
+    vec3 towards_front = SIDE_EVAL_BIG * d;
+    lpv_send_face(source, towards_front + SIDE_EVAL_SMALL * u, u, side_weight, false,
+                  blocker, leaving, received, audit);
+    lpv_send_face(source, towards_front - SIDE_EVAL_SMALL * u, -u, side_weight, false,
+                  blocker, leaving, received, audit);
+    lpv_send_face(source, towards_front + SIDE_EVAL_SMALL * v, v, side_weight, false,
+                  blocker, leaving, received, audit);
+    lpv_send_face(source, towards_front - SIDE_EVAL_SMALL * v, -v, side_weight, false,
+                  blocker, leaving, received, audit);
 }
 
 #endif

@@ -132,13 +132,11 @@ def test_hand_made_vpls_and_debug_nan_names_the_pass(pipeline):
                        vpl.texel_area)
     with pytest.raises(FloatingPointError, match="inject"):
         pipeline.run(SMALL.with_changes(debug_nan=True), vpls=broken)
-    pipeline.invalidate()
 
 
 def test_a_nan_light_is_caught_at_the_rsm(pipeline):
     with pytest.raises(FloatingPointError, match="rsm"):
         pipeline.run(SMALL.with_changes(debug_nan=True, light_flux=float("nan")))
-    pipeline.invalidate()
 
 
 def test_grid_larger_than_the_driver_allows_is_refused(pipeline):
@@ -154,3 +152,39 @@ def test_room_scene_with_directional_light(pipeline):
     assert result.vpls.projection == "orthographic"
     assert result.indirect.max() > 0.0
     pipeline.invalidate()
+
+
+def test_moving_the_camera_does_not_repropagate(pipeline):
+    pipeline.run(SMALL)
+    moved = SMALL.with_changes(camera=((0.2, 0.3, 4.0), (0.0, 0.0, 0.0)))
+    assert pipeline.run(moved).stages_run == ("scene", "gbuffer", "gather")
+
+
+def test_a_failed_stage_runs_again(pipeline):
+    with pytest.raises(FloatingPointError):
+        pipeline.run(SMALL.with_changes(debug_nan=True, light_flux=float("nan")))
+    with pytest.raises(FloatingPointError, match="rsm"):
+        pipeline.run(SMALL.with_changes(debug_nan=True, light_flux=float("nan")))
+    assert "rsm" in pipeline.run(SMALL).stages_run
+
+
+def test_final_texture_and_steps(pipeline):
+    result = pipeline.run(SMALL, keep_steps=True)
+    assert len(result.steps) == SMALL.iterations + 1
+    assert np.allclose(sum(result.steps), result.accumulated, rtol=1e-4,
+                       atol=1e-6 * np.abs(result.accumulated).max())
+    texture = pipeline.final_texture
+    assert texture.size == (SMALL.width, SMALL.height)
+    pixels = np.frombuffer(texture.read(), np.uint8).reshape(SMALL.height, SMALL.width, 4)
+    assert np.allclose(pixels[::-1, :, :3] / 255.0, pipeline.view("final"), atol=1.5 / 255)
+
+
+def test_grid_slice_orientation():
+    from explorer.lpv.views import grid_slice
+
+    grid = np.zeros((3, 4, 4, 4, 4), np.float32)
+    grid[0, 1, 2, 3, 0] = 1.0            # red light in cell x=1, y=2, z=3
+    image = grid_slice(grid, z=3)
+    row, column = np.unravel_index(np.argmax(image[..., 0]), image.shape[:2])
+    assert (row, column) == (4 - 1 - 2, 1)   # y up, x to the right
+    assert image[row, column, 1] == 0.0

@@ -110,3 +110,19 @@ def test_bad_meshes_raise_scene_error(tmp_path, content, suffix, message):
 def test_a_folder_is_not_a_scene(tmp_path):
     with pytest.raises(SceneError, match="not a file"):
         load_scene(str(tmp_path))
+
+
+def test_texture_and_material_colours(tmp_path):
+    from PIL import Image
+
+    textured = trimesh.creation.box()
+    textured.visual = trimesh.visual.TextureVisuals(
+        uv=np.full((len(textured.vertices), 2), 0.5), image=Image.new("RGB", (4, 4),
+                                                                      (0, 0, 255)))
+    textured.export(tmp_path / "textured.glb")
+    assert np.allclose(load_scene(str(tmp_path / "textured.glb")).albedo, [0.0, 0.0, 1.0])
+    material = trimesh.visual.material.PBRMaterial(baseColorFactor=[0, 255, 0, 255])
+    plain = trimesh.creation.box()
+    plain.visual = trimesh.visual.TextureVisuals(material=material)
+    plain.export(tmp_path / "material.glb")
+    assert np.allclose(load_scene(str(tmp_path / "material.glb")).albedo, [0.0, 1.0, 0.0])

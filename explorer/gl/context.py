@@ -24,8 +24,11 @@ _APT_HINT = (
 )
 
 
-def create_headless_context(require: int = REQUIRED_GL) -> moderngl.Context:
-    """A standalone context through EGL: works with no display and no GPU (llvmpipe)."""
+def create_headless_context(require: int = REQUIRED_GL, check: bool = True) -> moderngl.Context:
+    """A standalone context through EGL: works with no display and no GPU (llvmpipe).
+
+    ``check=False`` skips :func:`check_capabilities` (``lpv-explorer doctor`` reports
+    what a too-old driver offers instead of failing on it)."""
     try:
         ctx = moderngl.create_standalone_context(backend="egl", require=require)
     except Exception as exc:  # moderngl raises plain Exception for a missing EGL/GL
@@ -33,7 +36,8 @@ def create_headless_context(require: int = REQUIRED_GL) -> moderngl.Context:
             f"could not open a headless OpenGL {require // 100}.{require % 100 // 10} core "
             f"context through EGL: {exc}. {_APT_HINT}"
         ) from exc
-    check_capabilities(ctx)
+    if check:
+        check_capabilities(ctx)
     return ctx
 
 

@@ -1,8 +1,9 @@
 """Energy audit: where each formula gains or loses flux (docs/MODEL.md).
 
 All numbers are flux in watts per colour channel, computed from intensity SH as
-``Φ = 2√π·f0``. :class:`GridAudit` is what the propagation pass measures on the GPU (with a
-reduction compute shader, ``shaders/audit_reduce.glsl``, reading back only the sums);
+``Φ = 2√π·f0``. :class:`GridAudit` is what the propagation pass measures on the GPU (the propagation
+dispatch writes per-cell records, ``shaders/audit_reduce.glsl`` sums them; only the totals
+are read back);
 :class:`EnergyAudit` adds what the pipeline measures around it.
 
 Balance of one step ``t`` (exact up to rounding, any switches):
@@ -14,18 +15,12 @@ corrected formulas with side faces and exact constants: the 30 faces cover 4π).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.grid import GridSpec
-from explorer.lpv.settings import Corrections
-from explorer.lpv.textures import LpvGrid, dispatch_size
-
-if TYPE_CHECKING:
-    from explorer.lpv.geometry import GeometryVolume
+from explorer.lpv.textures import LpvGrid
 
 AUDIT_VALUES = 12
 """Numbers per audit slot: flux, border loss, clamp gain, occluded (3 channels each)."""
@@ -87,76 +82,90 @@ def check_finite(array: np.ndarray, pass_name: str) -> np.ndarray:
     return array
 
 
+CELLS_PER_PARTIAL = 64
+"""Cells one invocation of the first reduction stage sums (``audit_reduce.glsl``)."""
+
+
 class AuditReducer:
-    """Runs ``shaders/audit_reduce.glsl``: per-cell audit terms, summed per workgroup, then
-    summed into one slot of 12 floats; :meth:`read` fetches all slots at once.
+    """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
+    12 floats (flux, border loss, clamp gain, occluded; 3 channels each); :meth:`read`
+    fetches every slot at once, the only read-back.
 
-    Sampler units while it runs: 0..2 "before" (the source grid of a step), 3..5 "after"
-    (the grid whose flux is counted), 6 the geometry volume.
+    Storage buffers while a pass runs (see :meth:`bind`): 2 partial records, 3 results,
+    4 per-cell records (written by ``propagate.glsl``, ``12·N³`` floats).
     """
-
-    GEOMETRY_UNIT = 6
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self._partials: moderngl.Buffer | None = None
-        self._results: moderngl.Buffer | None = None
+        self._buffers: dict[str, moderngl.Buffer] = {}
         self._slots = 0
+        self._resolution = 0
+
+    def _buffer(self, name: str, size: int) -> moderngl.Buffer:
+        buffer = self._buffers.get(name)
+        if buffer is None or buffer.size < size:
+            if buffer is not None:
+                buffer.release()
+            buffer = self._buffers[name] = self.ctx.buffer(reserve=max(size, 4))
+        return buffer
+
+    @property
+    def partial_count(self) -> int:
+        return -(-self._resolution ** 3 // CELLS_PER_PARTIAL)
 
     def begin(self, resolution: int, slots: int) -> None:
         """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid."""
-        groups = dispatch_size(resolution)
-        partial_bytes = int(np.prod(groups)) * AUDIT_VALUES * 4
-        if self._partials is None or self._partials.size < partial_bytes:
-            if self._partials is not None:
-                self._partials.release()
-            self._partials = self.ctx.buffer(reserve=partial_bytes)
-        result_bytes = max(slots, 1) * AUDIT_VALUES * 4
-        if self._results is None or self._results.size < result_bytes:
-            if self._results is not None:
-                self._results.release()
-            self._results = self.ctx.buffer(reserve=result_bytes)
-        self._results.clear()
-        self._slots = slots
+        self._resolution = int(resolution)
+        self._slots = int(slots)
+        self._buffer("partials", self.partial_count * AUDIT_VALUES * 4)
+        self._buffer("cells", self._resolution ** 3 * AUDIT_VALUES * 4)
+        self._buffer("results", self._slots * AUDIT_VALUES * 4).clear()
 
-    def measure(self, slot: int, spec: GridSpec, corrections: Corrections, after: LpvGrid,
-                before: LpvGrid | None = None, geometry: GeometryVolume | None = None,
-                after_minus_before: bool = False) -> None:
-        """Fill ``slot`` with the flux of ``after`` (minus ``before`` when asked) and, when
-        ``before`` is given, the face terms of one propagation step from ``before``."""
+    def bind(self) -> None:
+        """Bind the storage buffers: partials 2, results 3, per-cell records 4."""
+        for name, binding in (("partials", 2), ("results", 3), ("cells", 4)):
+            self._buffers[name].bind_to_storage_buffer(binding)
+
+    def _run_partials(self, stage: int, uniforms: dict[str, object]) -> None:
+        self.bind()
+        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
+        set_uniforms(program, {**uniforms, "u_grid_resolution": self._resolution,
+                               "u_partial_count": self.partial_count})
+        program.run(-(-self.partial_count // 64))
+        self.ctx.memory_barrier()
+
+    def total(self, slot: int) -> None:
+        """Fold the partial records into ``slot``."""
         if not 0 <= slot < self._slots:
             raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
-        (before or after).use_as_textures(0)
-        after.use_as_textures(3)
-        if geometry is not None:
-            geometry.texture.use(self.GEOMETRY_UNIT)
-        self._partials.bind_to_storage_buffer(2)
-        self._results.bind_to_storage_buffer(3)
-        cells = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 0})
-        set_uniforms(cells, {
-            **spec.uniforms(), **corrections.as_uniforms(),
-            "u_before_r": 0, "u_before_g": 1, "u_before_b": 2,
-            "u_after_r": 3, "u_after_g": 4, "u_after_b": 5,
-            "u_geometry": self.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
-            "u_face_terms": before is not None, "u_after_minus_before": after_minus_before,
-        })
-        groups = dispatch_size(spec.resolution)
-        cells.run(*groups)
+        self.bind()
+        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 2})
+        set_uniforms(program, {"u_partial_count": self.partial_count, "u_result_slot": slot})
+        program.run(1)
         self.ctx.memory_barrier()
-        total = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 1})
-        set_uniforms(total, {"u_partial_count": int(np.prod(groups)), "u_result_slot": slot})
-        total.run(1)
-        self.ctx.memory_barrier()
+
+    def measure_flux(self, slot: int, grid: LpvGrid) -> None:
+        """Fill ``slot`` with the flux of ``grid`` (sampler units 0..2 while it runs)."""
+        if grid.resolution != self._resolution:
+            raise ValueError(f"audit prepared for {self._resolution}^3 cells, the grid has "
+                             f"{grid.resolution}^3")
+        grid.use_as_textures(0)
+        self._run_partials(0, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2})
+        self.total(slot)
+
+    def sum_cell_records(self, slot: int) -> None:
+        """Fill ``slot`` with the sums of the per-cell records a propagation step wrote."""
+        self._run_partials(1, {})
+        self.total(slot)
 
     def read(self) -> np.ndarray:
         """(slots, 12) float64: flux, border loss, clamp gain, occluded (3 channels each)."""
-        data = np.frombuffer(self._results.read(size=self._slots * AUDIT_VALUES * 4),
-                             dtype=np.float32)
-        return data.reshape(self._slots, AUDIT_VALUES).astype(np.float64)
+        raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
+        return np.frombuffer(raw, np.float32).reshape(self._slots, AUDIT_VALUES).astype(
+            np.float64)
 
     def release(self) -> None:
-        for buffer in (self._partials, self._results):
-            if buffer is not None:
-                buffer.release()
-        self._partials = self._results = None
+        for buffer in self._buffers.values():
+            buffer.release()
+        self._buffers.clear()

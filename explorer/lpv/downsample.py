@@ -53,7 +53,10 @@ class DownsamplePass:
         size = downsampled_size(vpls.size, factor)
         self._allocate(size)
         program = self.programs.get("downsample.glsl")
-        if self._vertex_array is None:
+        if self._vertex_array is None or self._vertex_array.program is not program:
+            # (a hot reload of the shader replaces the program)
+            if self._vertex_array is not None:
+                self._vertex_array.release()
             self._vertex_array = self.ctx.vertex_array(program, [])
         vpls.position.use(0)
         vpls.normal.use(1)

@@ -52,7 +52,10 @@ class GatherPass:
         clamped), or None for direct light only."""
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl")
-        if self._vertex_array is None:
+        if self._vertex_array is None or self._vertex_array.program is not program:
+            # (a hot reload of the shader replaces the program)
+            if self._vertex_array is not None:
+                self._vertex_array.release()
             self._vertex_array = self.ctx.vertex_array(program, [])
         gbuffer.position.use(0)
         gbuffer.normal.use(1)

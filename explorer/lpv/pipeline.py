@@ -8,13 +8,13 @@ reads every intermediate result back as numpy arrays (:class:`FrameResult`).
 Stages and the Settings fields they read:
 
 ========== ==================================================================
-scene      scene, camera, light, light_flux
-rsm        (scene) rsm_size
+scene      scene, camera, light, light_flux (loads the mesh once per scene name)
+rsm        scene, light, light_flux, rsm_size
 downsample (rsm, grid) downsample, downsample_factor
 inject     (downsample, grid) corrections, injection_mode, grid_format
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
 propagate  (inject, geometry) corrections, iterations (+ keep_steps)
-gbuffer    (scene) width, height
+gbuffer    scene, camera, width, height
 gather     (gbuffer, rsm, propagate) exposure, indirect_only
 ========== ==================================================================
 
@@ -136,6 +136,7 @@ class Pipeline:
         self.timings_ms: dict[str, float] = {}
         self.timing_methods: dict[str, str] = {}
         self._queries: dict[str, moderngl.Query] = {}
+        self._current_stage: str | None = None
         self.last_result: FrameResult | None = None
 
     # ------------------------------------------------------------------ public API
@@ -156,8 +157,16 @@ class Pipeline:
         """
         if settings is not None:
             self.settings = settings
-        s = self.settings
-        self._check_limits(s)
+        self._check_limits(self.settings)
+        self._current_stage = None
+        try:
+            return self._run(self.settings, keep_steps, vpls)
+        except BaseException:
+            # the failed stage (and all after it) must run again next time
+            self.invalidate(self._current_stage or "scene")
+            raise
+
+    def _run(self, s: Settings, keep_steps: bool, vpls: VplArrays | None) -> FrameResult:
         ran: list[str] = []
 
         scene_key = (s.scene, s.camera, s.light, s.light_flux)
@@ -168,7 +177,10 @@ class Pipeline:
         spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, s.grid_size)
         self._spec = spec
 
-        rsm_key = (scene_key, s.rsm_size)
+        # the camera does not change what the light sees: moving it re-runs only the
+        # G-buffer and the gather
+        light_key = (s.scene, s.light, s.light_flux)
+        rsm_key = (light_key, s.rsm_size)
         if self._changed("rsm", rsm_key):
             self._light = light_view(scene, s.rsm_size)
             self._rsm_textures = self._timed(
@@ -176,7 +188,8 @@ class Pipeline:
             self._arrays["rsm"] = tuple(read_texture(t) for t in (
                 self._rsm_textures.position, self._rsm_textures.normal,
                 self._rsm_textures.flux))
-            self._check("rsm", self._arrays["rsm"][2])
+            for array in self._arrays["rsm"]:
+                self._check("rsm", array)
             ran.append("rsm")
 
         override_key = None if vpls is None else _digest(vpls)
@@ -227,13 +240,14 @@ class Pipeline:
             self._check("propagate", self._arrays["accumulated"])
             ran.append("propagate")
 
-        gbuffer_key = (scene_key, s.width, s.height)
+        gbuffer_key = (s.scene, s.camera, s.width, s.height)
         if self._changed("gbuffer", gbuffer_key):
             self._timed("gbuffer", lambda: self._gbuffer.run(
                 self._geometry_buffers, scene, (s.width, s.height)))
             self._arrays["gbuffer"] = tuple(read_texture(t)
                                             for t in self._gbuffer.textures)
-            self._check("gbuffer", self._arrays["gbuffer"][0])
+            for array in self._arrays["gbuffer"]:
+                self._check("gbuffer", array)
             ran.append("gbuffer")
 
         gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only)
@@ -244,7 +258,8 @@ class Pipeline:
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
-            self._check("gather", self._arrays["gather"]["final"])
+            for array in self._arrays["gather"].values():
+                self._check("gather", array)
             ran.append("gather")
 
         self.last_result = self._result(s, spec, ran)
@@ -261,6 +276,15 @@ class Pipeline:
             self._scene_cache.clear()
         for name in STAGES[first:]:
             self._keys.pop(name, None)
+
+    def reload_shaders(self) -> bool:
+        """Recompile the programs whose ``.glsl`` files changed (a failed compile keeps the
+        last good program; ``self.programs.errors`` holds the log). True if any changed:
+        then every stage runs again on the next :meth:`run`."""
+        changed = self.programs.reload_if_changed()
+        if changed:
+            self.invalidate("rsm")
+        return changed
 
     def view(self, name: str, **options) -> np.ndarray:
         """The last frame shown as ``name`` (any of ``settings.VIEWS``): an ``(H, W, 3)``
@@ -300,6 +324,7 @@ class Pipeline:
         if self._keys.get(stage) == key:
             return False
         self._keys[stage] = key
+        self._current_stage = stage
         return True
 
     def _load_scene(self, s: Settings) -> None:

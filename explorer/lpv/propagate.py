@@ -46,8 +46,11 @@ class PropagatePass:
     Ping-pong (``corrections.ping_pong``): grid_t = P(grid_{t−1}) alternates between two
     scratch grids and is added into the accumulation grid by the same dispatch. In place
     (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
-    a data race kept on purpose; a snapshot of acc_{t−1} taken before each step feeds the
-    audit (whose face terms are therefore the race-free reading of the step).
+    a data race kept on purpose. Either way the dispatch also sums the step's audit terms
+    (for in place: of what the racing invocations actually read and added).
+
+    GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
+    format and 48 bytes per cell of audit records (≈100 MB each at 128³ in rgba32f).
     """
 
     GEOMETRY_UNIT = 6
@@ -83,7 +86,7 @@ class PropagatePass:
         accumulated = self._scratch("accumulated", n, fmt)
         copy_grid(self.programs, injected, accumulated)
         self.audit.begin(n, iterations + 2)
-        self.audit.measure(0, spec, corrections, after=injected)
+        self.audit.measure_flux(0, injected)
         steps = [injected.read()] if keep_steps else None
 
         program = self.programs.get("propagate.glsl", image_format_defines(fmt))
@@ -98,27 +101,24 @@ class PropagatePass:
         for step in range(1, iterations + 1):
             if corrections.ping_pong:
                 target = self._scratch("ping" if step % 2 else "pong", n, fmt)
-                before = source
             else:
                 # The race: the dispatch reads its neighbours from the grid it writes.
                 target = accumulated
-                before = self._scratch("snapshot", n, fmt)
-                copy_grid(self.programs, accumulated, before)
-            before.use_as_textures(0)
+            source.use_as_textures(0)
             if geometry is not None:
                 geometry.use_as_texture(self.GEOMETRY_UNIT)
             target.bind_images(0)
             accumulated.bind_images(3)
+            self.audit.bind()
             program.run(*groups)
             self.ctx.memory_barrier()
-            self.audit.measure(step, spec, corrections, after=target, before=before,
-                               geometry=geometry, after_minus_before=not corrections.ping_pong)
+            self.audit.sum_cell_records(step)
             if keep_steps:
                 current = target.read()
                 steps.append(current if corrections.ping_pong else current - previous)
                 previous = current
             source = target
-        self.audit.measure(iterations + 1, spec, corrections, after=accumulated)
+        self.audit.measure_flux(iterations + 1, accumulated)
 
         sums = self.audit.read()
         audit = GridAudit(

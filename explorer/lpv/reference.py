@@ -196,7 +196,8 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                 if blockers is None:
                     visibility = np.ones((n, n, n))
                 else:
-                    visibility = 1.0 - np.clip(blockers @ sh_basis(evaluation), 0.0, 1.0)
+                    # blocking of light travelling along e_f hits surfels facing -e_f
+                    visibility = 1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0)
                 sent = weight * used * visibility                         # (3, N, N, N)
                 out[(slice(None), *shifted)] += sent[(slice(None), *inside)][..., None] * lobe
                 terms["propagated"] += flux_per_intensity * raw.reshape(3, -1).sum(1)

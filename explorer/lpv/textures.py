@@ -151,14 +151,16 @@ def draw_points_additively(ctx: moderngl.Context, program: moderngl.Program,
     blending (sums, negative values kept). The previous framebuffer and enable flags come
     back afterwards; the blend function is left at moderngl's default."""
     vertex_array = ctx.vertex_array(program, [])
+    scope = ctx.scope(target.framebuffer, enable_only=moderngl.BLEND)
     try:
-        with ctx.scope(target.framebuffer, enable_only=moderngl.BLEND):
+        with scope:
             target.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
             ctx.blend_equation = moderngl.FUNC_ADD
             ctx.blend_func = moderngl.ONE, moderngl.ONE
             vertex_array.render(mode=moderngl.POINTS, vertices=count)
             ctx.blend_func = moderngl.DEFAULT_BLENDING
     finally:
+        scope.release()
         vertex_array.release()
 
 
@@ -177,18 +179,16 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
 
 
 _PER_CONTEXT: dict[tuple[int, str], tuple[moderngl.Context, object]] = {}
+_DEFAULT_CONTEXT: list[moderngl.Context] = []
 
 
 def default_context() -> moderngl.Context:
     """One headless context, created on first use and reused by the numpy-facing API."""
-    ctx = _PER_CONTEXT.get((0, "default"))
-    if ctx is None:
+    if not _DEFAULT_CONTEXT:
         from explorer.gl.context import create_headless_context
 
-        created = create_headless_context()
-        _PER_CONTEXT[(0, "default")] = (created, created)
-        return created
-    return ctx[0]
+        _DEFAULT_CONTEXT.append(create_headless_context())
+    return _DEFAULT_CONTEXT[0]
 
 
 def per_context(ctx: moderngl.Context, key: str, factory):

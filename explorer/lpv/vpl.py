@@ -12,6 +12,8 @@ import moderngl
 import numpy as np
 
 PROJECTIONS = ("perspective", "orthographic")
+UPLOAD_ROW = 4096
+"""Texels per row when VPL arrays are uploaded (GL guarantees 2D textures this wide)."""
 
 
 @dataclass(frozen=True)
@@ -79,16 +81,22 @@ class VplTextures:
 
     @classmethod
     def from_arrays(cls, ctx: moderngl.Context, vpls: VplArrays) -> "VplTextures":
-        """Upload VPL arrays as a ``M×1`` texture set (every texel valid)."""
+        """Upload VPL arrays as a texture set of rows of at most ``UPLOAD_ROW`` texels
+        (row-major); texels past the last VPL are empty (``position.w = 0``)."""
         count = vpls.count
         if count == 0:
             raise ValueError("no VPLs to upload")
-        ones = np.ones((count, 1), dtype=np.float32)
-        position = np.hstack([np.asarray(vpls.positions, np.float32), ones])
-        normal = np.hstack([np.asarray(vpls.normals, np.float32),
-                            np.asarray(vpls.depth, np.float32)[:, None]])
-        flux = np.hstack([np.asarray(vpls.flux, np.float32), np.zeros_like(ones)])
-        textures = [ctx.texture((count, 1), 4, data.tobytes(), dtype="f4")
+        width = min(count, UPLOAD_ROW)
+        height = -(-count // width)
+        position = np.zeros((width * height, 4), np.float32)
+        normal = np.zeros_like(position)
+        flux = np.zeros_like(position)
+        position[:count, :3] = vpls.positions
+        position[:count, 3] = 1.0
+        normal[:count, :3] = vpls.normals
+        normal[:count, 3] = vpls.depth
+        flux[:count, :3] = vpls.flux
+        textures = [ctx.texture((width, height), 4, data.tobytes(), dtype="f4")
                     for data in (position, normal, flux)]
         for texture in textures:
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)

@@ -38,7 +38,7 @@ def cornell_box() -> Scene:
     mesh.box((-0.34, -0.4, -0.32), (0.6, 1.2, 0.6), WHITE, rotation_y_degrees=18.0)
     positions, normals, albedo = mesh.arrays()
     light = SpotLight((0.0, 0.9, 0.9), (0.0, -0.5, -0.8), flux_for_irradiance(2.2))
-    camera = Camera((0.0, 0.3, 4.4), (0.0, -0.1, 0.0), 38.0)
+    camera = Camera((0.0, 0.55, 4.4), (0.0, -0.15, 0.0), 38.0)
     return Scene("cornell", positions, normals, albedo, camera, light,
                  (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
 

@@ -1,0 +1,93 @@
+"""``lpv-explorer constants``: every exact result the renderer relies on.
+
+Each entry shows the registry name (``<module>.<item>``), the closed form (plain and
+LaTeX), the value to 20 significant digits (``sp.N(expr, 20)``; formulas and vectors have
+none), the GLSL constant it feeds, and a one-line statement. ``--name`` selects one entry
+by registry name or by GLSL constant name; ``--json`` prints machine-readable output (a
+list, or one object with ``--name``). ``--errata`` prints the check of every number the
+seed documents print, as a markdown table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+VALUE_DIGITS = 20
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true",
+                        help="print JSON (values as strings, to keep all 20 digits)")
+    parser.add_argument("--name", metavar="NAME",
+                        help="only this result: a registry name such as "
+                             "solid_angles.front_face, or a GLSL name such as SH_C1")
+    parser.add_argument("--errata", action="store_true",
+                        help="print the table of published numbers vs exact values (markdown)")
+
+
+def entry(item) -> dict[str, object]:
+    """One result as plain data (what ``--json`` prints)."""
+    import sympy as sp
+
+    value = str(sp.N(item.expr, VALUE_DIGITS)) if item.is_number else None
+    return {
+        "name": item.name,
+        "module": item.module,
+        "statement": item.statement,
+        "closed_form": sp.sstr(item.expr),
+        "latex": sp.latex(item.expr),
+        "value": value,
+        "glsl_name": item.glsl_name,
+    }
+
+
+def _find(name: str):
+    from derivations.registry import all_results, get
+
+    for item in all_results():
+        if item.glsl_name == name:
+            return item
+    return get(name)
+
+
+def _print_text(entries: list[dict[str, object]]) -> None:
+    for data in entries:
+        head = str(data["name"])
+        if data["value"] is not None:
+            head += f" = {data['value']}"
+        if data["glsl_name"]:
+            head += f"   [{data['glsl_name']}]"
+        print(head)
+        print(f"    closed form: {data['closed_form']}")
+        print(f"    LaTeX:       {data['latex']}")
+        print(f"    {data['statement']}")
+
+
+def main(args: argparse.Namespace) -> int:
+    from derivations.registry import all_results, names
+
+    if args.errata:
+        from derivations import errata
+
+        print(errata.markdown(), end="")
+        return 0
+    if args.name is not None:
+        try:
+            selected = [_find(args.name)]
+        except KeyError as exc:
+            print(f"lpv-explorer constants: {exc.args[0]}", file=sys.stderr)
+            print("known names:", file=sys.stderr)
+            for name in names():
+                print(f"  {name}", file=sys.stderr)
+            return 2
+    else:
+        selected = all_results()
+    entries = [entry(item) for item in selected]
+    if args.json:
+        payload = entries[0] if args.name is not None else entries
+        print(json.dumps(payload, indent=2, ensure_ascii=False))
+    else:
+        _print_text(entries)
+    return 0

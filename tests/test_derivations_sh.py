@@ -1,0 +1,58 @@
+"""SH basis, clamped cosine lobe, flux factor, energy shares; occlusion cancellation."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from derivations import occlusion, sh
+from derivations.registry import get
+
+BANDS = [(0, 0), (1, -1), (1, 0), (1, 1), (2, -2), (2, -1), (2, 0), (2, 1), (2, 2)]
+
+
+def test_basis_matches_the_spherical_definition():
+    assert all(sh.cartesian_matches_definition(b, band, m)
+               for b, (band, m) in zip(sh.L2_BASIS, BANDS))
+
+
+def test_l2_basis_is_orthonormal_exactly():
+    assert sh.gram_matrix(sh.L2_BASIS) == sp.eye(9)
+
+
+def test_monomial_formula_agrees_with_direct_integration():
+    theta, phi = sh.theta, sh.phi
+    direct = sp.integrate(sp.cos(theta) ** 3 * sp.sin(theta), (theta, 0, sp.pi / 2),
+                          (phi, 0, 2 * sp.pi))
+    assert direct == sh.sphere_monomial_integral(0, 0, 3, hemisphere=True) == sp.pi / 2
+    assert sh.sphere_monomial_integral(2, 0, 0) == 4 * sp.pi / 3
+
+
+def test_clamped_cosine_coefficients():
+    c0, c1, c2, c3 = sh.clamped_cosine_coefficients(sh.L1_BASIS)
+    assert (c0, c1, c2, c3) == (sp.sqrt(sp.pi) / 2, 0, sp.sqrt(sp.pi / 3), 0)
+    assert get("sh.l2_coslobe_c2").expr == sp.sqrt(5 * sp.pi) / 8
+
+
+def test_lobe_around_any_normal_is_linear_in_n():
+    by_rotation = sh.lobe_around_normal_spherical()
+    n = (sp.sin(sh.theta) * sp.cos(sh.phi), sp.sin(sh.theta) * sp.sin(sh.phi),
+         sp.cos(sh.theta))
+    assert all(sp.simplify(a - b) == 0 for a, b in zip(by_rotation, sh.lobe(n)))
+    lobe = get("sh.lobe").expr
+    assert lobe[1] == -sp.sqrt(sp.pi / 3) * sh.n_y and lobe[3] == -sp.sqrt(sp.pi / 3) * sh.n_x
+
+
+def test_flux_factor_and_energy_shares():
+    assert get("sh.flux_factor").expr == 2 * sp.sqrt(sp.pi)
+    assert sh.clamped_cosine_energy() == 2 * sp.pi / 3
+    assert get("sh.l1_energy_fraction").expr == sp.Rational(7, 8)
+    assert get("sh.l2_energy_fraction").expr == sp.Rational(127, 128)
+    # A corrected VPL (Φ/π · lobe) carries exactly Φ (docs/MODEL.md, "Injection").
+    phi_p = sp.Symbol("Phi_p", positive=True)
+    assert sp.simplify(sh.flux_of(list(phi_p / sp.pi * sh.lobe((0, 0, 1)))) - phi_p) == 0
+
+
+def test_double_sided_occlusion_cancels_band_one():
+    assert occlusion.double_sided_lobe() == sp.ImmutableMatrix([sp.sqrt(sp.pi), 0, 0, 0])
+    assert get("occlusion.double_sided_blocking").expr == sp.Rational(1, 2)
+    assert occlusion.one_sided((0, 0, 1))[2] == sp.sqrt(sp.pi / 3)

@@ -1,0 +1,150 @@
+"""Propagation on the GPU against the numpy reference, every switch combination."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from lpv_cases import random_grid, random_vpls, relative_error
+
+from explorer.gl.program import ProgramCache
+from explorer.lpv import inject, propagate, reference
+from explorer.lpv.geometry import GeometryVolume, inject_geometry
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.propagate import PropagatePass, propagate_with_audit
+from explorer.lpv.settings import Corrections
+from explorer.lpv.textures import LpvGrid
+
+SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=0.5, resolution=8)
+ITERATIONS = 3
+SWITCHES = [name for name in Corrections.names() if name != "ping_pong"]
+COMBINATIONS = list(itertools.product((True, False), repeat=len(SWITCHES)))
+AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated")
+
+
+def assert_audits_match(actual, expected, tolerance: float = 1e-4) -> None:
+    scale = float(np.abs(expected.injected).max())
+    for name in AUDIT_FIELDS:
+        got, want = getattr(actual, name), getattr(expected, name)
+        assert got.shape == want.shape, name
+        assert np.abs(got - want).max() <= tolerance * scale, name
+
+
+@pytest.mark.parametrize("index", range(len(COMBINATIONS)))
+def test_inject_and_propagate_match_the_reference(ctx, index):
+    """All 2^7 combinations of the switches (ping-pong on); the geometry volume alternates
+    between one- and double-sided surfels made from the same VPLs, the injection between
+    points and compute."""
+    corrections = Corrections(**dict(zip(SWITCHES, COMBINATIONS[index])))
+    geometry_mode = ("one-sided", "double-sided")[index % 2]
+    injection_mode = ("points", "compute")[index // 2 % 2]
+    vpls = random_vpls(index, SPEC, 120, outside=5, texel_area=0.05)
+
+    grid = inject(vpls, SPEC, corrections, injection_mode, ctx=ctx)
+    geometry = inject_geometry(vpls, SPEC, corrections, geometry_mode, ctx=ctx)
+    expected_grid = reference.inject(vpls, SPEC, corrections)
+    expected_geometry = reference.inject_geometry(vpls, SPEC, corrections, geometry_mode)
+    assert relative_error(grid, expected_grid) < 1e-5
+    assert relative_error(geometry, expected_geometry) < 1e-5
+
+    steps, accumulated, audit = propagate_with_audit(grid, corrections, ITERATIONS, geometry,
+                                                     ctx=ctx)
+    want_steps, want_accumulated, want_audit = reference.propagate_audited(
+        grid, corrections, ITERATIONS, geometry)
+    assert len(steps) == ITERATIONS + 1
+    for step, want in zip(steps, want_steps):
+        assert relative_error(step, want) < 1e-4
+    assert relative_error(accumulated, want_accumulated) < 1e-4
+    assert_audits_match(audit, want_audit)
+    assert audit.occluded.min() > 0   # the geometry volume really blocks something
+
+
+def test_without_geometry_and_with_many_iterations(ctx):
+    grid = random_grid(11, 10)
+    steps, accumulated, audit = propagate_with_audit(grid, Corrections(), 12, ctx=ctx)
+    want_steps, want_accumulated, want_audit = reference.propagate_audited(grid, iterations=12)
+    assert relative_error(steps[-1], want_steps[-1]) < 1e-4
+    assert relative_error(accumulated, want_accumulated) < 1e-4
+    assert_audits_match(audit, want_audit)
+    assert np.all(audit.occluded == 0) and audit.border_loss.min() > 0
+
+
+def test_in_place_propagation_races_and_double_counts(ctx):
+    """ping_pong=False: the reference (race-free reading acc += P(acc)) re-propagates light
+    it propagated before; the GPU pass additionally reads neighbours already updated in the
+    same dispatch, so it differs from both."""
+    grid = np.zeros((3, 12, 12, 12, 4))
+    grid[:, 4:8, 4:8, 4:8] = random_grid(12, 4, band1=0.1)
+    # Clamp off so that P is linear and the double counting can be written down exactly.
+    ping_pong = Corrections(clamp_front_face=False)
+    in_place = Corrections(ping_pong=False, clamp_front_face=False)
+
+    ping_pong_steps = reference.propagate(grid, ping_pong, 3)
+    in_place_steps = reference.propagate(grid, in_place, 3)
+    # acc_2 = acc_1 + P(acc_1) = g0 + 2·P(g0) + P²(g0): step 1's light is counted twice.
+    p1, p2 = ping_pong_steps[1], ping_pong_steps[2]
+    assert np.allclose(sum(in_place_steps[:3]), grid + 2 * p1 + p2)
+    flux_ping_pong = reference.flux(sum(ping_pong_steps))
+    flux_in_place = reference.flux(sum(in_place_steps))
+    assert np.all(flux_in_place > 1.5 * flux_ping_pong)
+
+    gpu_steps, gpu_accumulated, gpu_audit = propagate_with_audit(grid, in_place, 3, ctx=ctx)
+    gpu_in_place = sum(gpu_steps)
+    assert relative_error(gpu_accumulated, gpu_in_place) < 1e-5
+    # The audit measures what the racing dispatch really added.
+    assert np.allclose(gpu_audit.per_step, [reference.flux(step) for step in gpu_steps],
+                       rtol=1e-4)
+    gpu_ping_pong = sum(propagate(grid, ping_pong, 3, ctx=ctx))
+    assert relative_error(gpu_ping_pong, sum(ping_pong_steps)) < 1e-4
+    assert relative_error(gpu_in_place, sum(ping_pong_steps)) > 1e-2
+    assert np.all(reference.flux(gpu_in_place) > 1.5 * flux_ping_pong)
+
+
+def test_half_float_grids_propagate(ctx):
+    grid = random_grid(13, 8)
+    steps = propagate(grid, Corrections(), 4, ctx=ctx, fmt="rgba16f")
+    want = reference.propagate(grid, Corrections(), 4)
+    for step, expected in zip(steps, want):
+        assert relative_error(step, expected) < 5e-3
+
+
+def test_pass_object_keeps_steps_only_when_asked_and_returns_the_accumulation(ctx):
+    grid = random_grid(14, 8)
+    spec = GridSpec((0.0, 0.0, 0.0), 1.0, 8)
+    injected = LpvGrid(ctx, 8)
+    propagator = PropagatePass(ctx, ProgramCache(ctx))
+    try:
+        injected.write(grid)
+        output = propagator.run(injected, spec, Corrections(), 2)
+        assert output.steps is None
+        want = reference.propagate(grid, Corrections(), 2)
+        assert relative_error(output.accumulated.read(), sum(want)) < 1e-4
+        assert relative_error(injected.read(), grid) < 1e-7   # the input is left alone
+        zero = propagator.run(injected, spec, Corrections(), 0, keep_steps=True)
+        assert len(zero.steps) == 1 and zero.audit.border_loss.shape == (0, 3)
+        assert relative_error(zero.accumulated.read(), grid) < 1e-7
+    finally:
+        propagator.release()
+        injected.release()
+
+
+def test_bad_input_is_named(ctx):
+    with pytest.raises(ValueError, match=r"\(3, N, N, N, 4\)"):
+        propagate(np.zeros((8, 8, 8, 4)), ctx=ctx)
+    with pytest.raises(ValueError, match=r"\(9, 9, 9, 4\)"):
+        propagate(np.zeros((3, 8, 8, 8, 4)), geometry=np.zeros((8, 8, 8, 4)), ctx=ctx)
+    with pytest.raises(ValueError, match="iterations"):
+        propagate(np.zeros((3, 4, 4, 4, 4)), iterations=-1, ctx=ctx)
+    with pytest.raises(ValueError, match=r"\(3, N, N, N, 4\)"):
+        reference.propagate(np.zeros((3, 4, 4, 5, 4)))
+    with pytest.raises(ValueError, match=r"\(5, 5, 5, 4\)"):
+        reference.propagate(np.zeros((3, 4, 4, 4, 4)), geometry=np.zeros((4, 4, 4, 4)))
+    volume = GeometryVolume(ctx, 4)
+    injected = LpvGrid(ctx, 8)
+    try:
+        with pytest.raises(ValueError, match="geometry volume"):
+            PropagatePass(ctx, ProgramCache(ctx)).run(injected, SPEC, Corrections(), 1, volume)
+    finally:
+        volume.release()
+        injected.release()
