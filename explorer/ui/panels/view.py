@@ -129,7 +129,10 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
     draw.add_line((x, origin.y), (x, end.y), colour,
                   2.0 * (imgui.get_style().font_scale_dpi or 1.0))
     mid = (origin.y + end.y) * 0.5
-    draw.add_circle_filled((x, mid), 6.0, colour)
+    draw.add_circle_filled((x, mid), 7.0, imgui.get_color_u32(imgui.ImVec4(0.1, 0.1, 0.12, 0.9)))
+    draw.add_circle((x, mid), 7.0, colour, 0, 2.0)
+    draw.add_text((x - 16, mid - 7), colour, "<")
+    draw.add_text((x + 10, mid - 7), colour, ">")
     return grabbing
 
 
