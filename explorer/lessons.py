@@ -517,3 +517,45 @@ def render_step(pipeline: Any, step: Step, settings: Settings | None = None
     scale = float(difference.max())
     image = linear_to_srgb(difference / scale) if scale > 0 else np.zeros_like(difference)
     return np.clip(image, 0.0, 1.0), result
+
+
+# --- inline math as plain text (CLI output and the panel's fallback) ----------------------
+
+_LATEX_SYMBOLS = {
+    r"\Phi": "Φ", r"\phi": "φ", r"\pi": "π", r"\omega": "ω", r"\Delta": "Δ", r"\theta": "θ",
+    r"\rho": "ρ", r"\langle": "⟨", r"\rangle": "⟩", r"\lfloor": "⌊", r"\rfloor": "⌋",
+    r"\cdot": "·", r"\times": "×", r"\approx": "≈", r"\int": "∫", r"\sum": "Σ",
+    r"\dots": "…", r"\infty": "∞", r"\le": "≤", r"\ge": "≥", r"\in": "∈", r"\pm": "±",
+    r"\perp": "⊥", r"\propto": "∝", r"\max": "max", r"\arctan": "arctan",
+    r"\cos": "cos", r"\sin": "sin",
+    r"\tilde": "", r"\mathrm": "", r"\text": "",
+}
+_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
+_SUPERSCRIPTS = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+_SUBSCRIPTS = str.maketrans("0123456789-", "₀₁₂₃₄₅₆₇₈₉₋")
+_ATOM = r"[A-Za-z]|[0-9.]+|π"
+
+
+def math_to_text(text: str) -> str:
+    """``text`` with its ``$...$`` inline math turned into readable Unicode (Φ, π, ⟨n, ω⟩,
+    √3, Δω/(4π), x², S₋₁, ...). Covers what the lessons use; an unknown command just
+    loses its backslash."""
+    def convert(match: re.Match) -> str:
+        math = match.group(1)
+        for command, symbol in _PUNCTUATION.items():
+            math = math.replace(command, symbol)
+        math = re.sub(r"\\frac\{([^{}]*)\}\{([^{}]*)\}", r"(\1)/(\2)", math)
+        math = re.sub(r"\\sqrt\{([^{}]*)\}", r"√(\1)", math)
+        for command in sorted(_LATEX_SYMBOLS, key=len, reverse=True):
+            math = re.sub(re.escape(command) + r"(?![A-Za-z])", _LATEX_SYMBOLS[command], math)
+        math = re.sub(r"\^\{([-0-9]+)\}|\^([0-9])",
+                      lambda m: (m.group(1) or m.group(2)).translate(_SUPERSCRIPTS), math)
+        math = re.sub(r"\^\{([^{}]*)\}", r"^(\1)", math)
+        math = re.sub(r"_\{([-0-9]+)\}|_([0-9])",
+                      lambda m: (m.group(1) or m.group(2)).translate(_SUBSCRIPTS), math)
+        math = re.sub(r"\\([A-Za-z]+)", r"\1", math)
+        math = math.replace("{", "").replace("}", "").replace("⦃", "{").replace("⦄", "}")
+        math = re.sub(rf"\(({_ATOM})\)", r"\1", math)     # (x) -> x for a single atom
+        return re.sub(r"  +", " ", math).strip()
+
+    return re.sub(r"\$([^$]+)\$", convert, text)

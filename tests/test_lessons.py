@@ -405,3 +405,60 @@ def test_render_command_renders_a_lesson_step(tmp_path, capsys):
     assert "no lesson 'nope'" in capsys.readouterr().err
     assert cli_main(["render", "--lesson", "reference", "--step", "99", "--out", str(out)]) == 2
     assert "steps 1.." in capsys.readouterr().err
+
+
+def test_inline_math_reads_as_plain_text(shipped):
+    from explorer.lessons import math_to_text
+
+    assert math_to_text(r"$\Phi = \int_{S^2} I(\omega)\,d\omega$") == "Φ = ∫_S² I(ω) dω"
+    assert math_to_text(r"$\frac{\Delta\omega_f}{4\pi}$ and $c_1 = \sqrt{3}/(2\sqrt{\pi})$") \
+        == "(Δω_f)/(4π) and c₁ = √3/(2√π)"
+    assert math_to_text(r"$(x^2 + 9)^{-3/2}$, $87.5\%$, $\{\pm x\}$") \
+        == "(x² + 9)^(-3/2), 87.5%, {± x}"
+    lessons, _ = shipped
+    for lesson in lessons:
+        for step in lesson.steps:
+            plain = math_to_text(step.text)
+            assert "$" not in plain and "\\" not in plain, (lesson.id, step.number)
+
+
+def test_lesson_panel_in_the_window(tmp_path, monkeypatch):
+    """`run --lesson ID` sets state.lesson_id; the Lessons panel applies step 1, steps on,
+    and gives the reader's own settings back (a real window under Xvfb)."""
+    glfw = pytest.importorskip("glfw")
+    pytest.importorskip("imgui_bundle")
+    if not glfw.init():
+        pytest.skip("no X server for a window")
+    glfw.terminate()
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    from explorer.ui.app import App
+    from explorer.ui.lesson_panel import current_screen, show_screen
+    from explorer.ui.state import AppState
+
+    own = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192,
+                   exposure=2.0)
+    app = App(AppState(settings=own, lesson_id="reprojection"), width=900, height=640,
+              visible=False, vsync=False, persist_settings=False, pipeline_class=None)
+    try:
+        for _ in range(2):
+            assert app.frame()
+        state = app.state
+        session = state.lesson_session
+        lesson = session.lesson
+        assert lesson.id == "reprojection" and session.applied
+        assert state.settings == lesson.steps[0].settings(own).with_changes(
+            indirect_only=state.settings.indirect_only)
+        assert state.settings.exposure == 2.0
+        session.next()                       # what the "next" arrow does
+        show_screen(state, session.apply(current_screen(state)))
+        assert app.frame(capture=True)
+        assert state.view_mode == "split"
+        assert state.compare_settings.corrections == lesson.steps[1].compare
+        assert app.last_pixels.std() > 10
+        show_screen(state, session.leave())  # "Leave lesson settings"
+        app.frame()
+        assert state.settings == own and state.view_mode == "single"
+        assert [m.text for m in state.messages if m.level == "error"] == []
+    finally:
+        app.close()

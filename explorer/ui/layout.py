@@ -20,6 +20,7 @@ from explorer.ui.panels.messages import gui_messages, gui_shaders
 from explorer.ui.panels.plots import gui_plots
 from explorer.ui.panels.scene import gui_scene
 from explorer.ui.panels.view import gui_view
+from explorer.ui.lesson_panel import gui_lesson  # the lessons helper's panel
 from explorer.ui.state import AppState
 
 AREAS = ("centre", "left", "left-bottom", "right", "right-bottom", "bottom")
@@ -38,6 +39,7 @@ PANELS: list[Panel] = [
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Compare", gui_compare, "left-bottom"),
+    Panel("Lessons", gui_lesson, "right"),
     Panel("Inspect", gui_inspect, "right"),
     Panel("Plots", gui_plots, "right-bottom"),
     Panel("Shaders", gui_shaders, "bottom"),
