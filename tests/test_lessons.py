@@ -412,7 +412,8 @@ def test_inline_math_reads_as_plain_text(shipped):
 
     assert math_to_text(r"$\Phi = \int_{S^2} I(\omega)\,d\omega$") == "Φ = ∫_S² I(ω) dω"
     assert math_to_text(r"$\frac{\Delta\omega_f}{4\pi}$ and $c_1 = \sqrt{3}/(2\sqrt{\pi})$") \
-        == "(Δω_f)/(4π) and c₁ = √3/(2√π)"
+        == "(Δω_f)/(4π) and c_1 = √3/(2√π)"
+    assert math_to_text(r"$\langle n, \omega\rangle$") == "<n, ω>"
     assert math_to_text(r"$(x^2 + 9)^{-3/2}$, $87.5\%$, $\{\pm x\}$") \
         == "(x² + 9)^(-3/2), 87.5%, {± x}"
     lessons, _ = shipped
@@ -420,6 +421,29 @@ def test_inline_math_reads_as_plain_text(shipped):
         for step in lesson.steps:
             plain = math_to_text(step.text)
             assert "$" not in plain and "\\" not in plain, (lesson.id, step.number)
+
+
+def test_lesson_text_only_uses_glyphs_the_window_font_has(shipped):
+    """The panel shows text in Roboto (imgui_bundle's assets); a glyph it lacks would be
+    drawn as '?'."""
+    import imgui_bundle
+    from PIL import ImageFont
+
+    from explorer.lessons import math_to_text
+
+    path = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "Roboto" / \
+        "Roboto-Regular.ttf"
+    if not path.is_file():
+        pytest.skip("imgui_bundle ships no Roboto font")
+    font = ImageFont.truetype(str(path), 20)
+    missing = bytes(font.getmask("\ue000"))          # a private-use code point: no glyph
+    lessons, _ = shipped
+    texts = [t for lesson in lessons for t in (
+        [lesson.title, lesson.summary] + [math_to_text(s.text) for s in lesson.steps]
+        + [s.title for s in lesson.steps] + [i.prompt for s in lesson.steps for i in s.try_this])]
+    absent = {c for c in set("".join(texts)) - set(" \n")
+              if bytes(font.getmask(c)) == missing}
+    assert absent == set()
 
 
 _WINDOW_SCRIPT = """

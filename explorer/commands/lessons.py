@@ -49,6 +49,8 @@ def _print_list(lessons) -> None:
 
 
 def _print_lesson(lesson) -> None:
+    from explorer.lessons import math_to_text
+
     print(f"{lesson.title}  [{lesson.id}, {lesson.path.name}]")
     print(textwrap.fill(lesson.summary, width=88))
     for step in lesson.steps:
@@ -67,7 +69,7 @@ def _print_lesson(lesson) -> None:
             shows.append(", ".join(f"{k}={v}" for k, v in step.overrides))
         print(textwrap.fill("shows: " + "; ".join(shows), width=88, subsequent_indent="  "))
         print()
-        print(step.text.strip())
+        print(math_to_text(step.text.strip()))
         if step.formulas:
             print()
             print("formulas: " + ", ".join(step.formulas))

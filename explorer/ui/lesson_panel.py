@@ -16,6 +16,7 @@ and the step's plot tab. "Leave lesson settings" restores the saved configuratio
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from explorer.lessons import (
@@ -25,6 +26,7 @@ from explorer.lessons import (
     Step,
     find_lesson,
     load_all,
+    math_to_text,
 )
 from explorer.lpv.settings import Settings
 
@@ -280,11 +282,22 @@ def _lesson_list(state: Any, session: LessonSession, imgui) -> None:
         session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
+_MARKDOWN = {"state": "new"}
+"""imgui_md's state in this process: new -> pending (initialised this frame; its fonts
+load at the end of the frame) -> ready, or failed."""
+
+
 def _markdown(state: Any, text: str, imgui) -> None:
-    """Step text through imgui_md when the app says it initialised imgui_md
-    (``state.runtime.markdown_ready``); otherwise paragraphs and list items as wrapped
-    text (imgui_md without its fonts would fail inside C++, beyond Python's reach)."""
-    if getattr(getattr(state, "runtime", None), "markdown_ready", False):
+    """Step text through imgui_md, with inline math turned into readable text (the
+    window's font has the glyphs); plain wrapped paragraphs until imgui_md is ready or
+    if it cannot start."""
+    text = math_to_text(text)
+    status = _MARKDOWN["state"]
+    if status == "pending":
+        _MARKDOWN["state"] = status = "ready"
+    if status == "new":
+        _MARKDOWN["state"] = _start_markdown()
+    if status == "ready":
         from imgui_bundle import imgui_md
 
         imgui_md.render_unindented(text)
@@ -292,6 +305,20 @@ def _markdown(state: Any, text: str, imgui) -> None:
     for block in markdown_blocks(text):
         imgui.text_wrapped(block)
         imgui.spacing()
+
+
+def _start_markdown() -> str:
+    try:
+        import imgui_bundle
+        from imgui_bundle import hello_imgui, imgui_md
+
+        assets = Path(imgui_bundle.__file__).parent / "assets"
+        if assets.is_dir():
+            hello_imgui.set_assets_folder(str(assets))
+        imgui_md.initialize_markdown()
+    except Exception:  # noqa: BLE001 - no imgui_md: the plain-text fallback stays
+        return "failed"
+    return "pending"
 
 
 def markdown_blocks(text: str) -> list[str]:
