@@ -238,12 +238,15 @@ def gui_lesson(state: Any) -> None:
         show_screen(state, session.apply(current_screen(state)))
 
     # apply / leave / return
-    on_screen = session.applied_step == (lesson.id, step.number)
+    # "on screen" until the reader changes something the step set
+    on_screen = (session.applied_step == (lesson.id, step.number)
+                 and session.saved is not None
+                 and state.settings == step_screen(step, session.saved).settings)
     if session.applied:
-        if not on_screen and imgui.button("Apply this step"):
-            show_screen(state, session.apply(current_screen(state)))
-        elif on_screen:
+        if on_screen:
             imgui.text_disabled("showing this step")
+        elif imgui.button("Apply this step"):
+            show_screen(state, session.apply(current_screen(state)))
         imgui.same_line()
         if imgui.button("Leave lesson settings"):
             show_screen(state, session.leave())
