@@ -387,24 +387,36 @@ def test_panel_plain_text_fallback_keeps_paragraphs_and_items():
                                      "* item two", "1. numbered"]
 
 
-def test_render_command_renders_a_lesson_step(tmp_path, capsys):
+def test_render_command_renders_a_lesson_step(tmp_path):
+    """`render --lesson ID --step K`, run as a child process: a CLI render opens and
+    releases its own EGL context, which leaves this process's shared test context no
+    longer current (later GPU tests would then fail with GL_INVALID_VALUE)."""
+    import subprocess
+    import sys
+
     import numpy as np
     from PIL import Image
 
+    root = Path(__file__).resolve().parent.parent
+
+    def render(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "explorer", "render", *args], cwd=root,
+                              capture_output=True, text=True, timeout=300)
+
     out = tmp_path / "step.png"
     small = ["--size", "48x48", "--grid", "8", "--iterations", "3", "--rsm-size", "32"]
-    assert cli_main(["render", "--lesson", "reference", "--step", "2", "--out", str(out),
-                     *small]) == 0
-    printed = capsys.readouterr().out
-    assert "lesson reference, step 2/" in printed and "split against original" in printed
+    done = render("--lesson", "reference", "--step", "2", "--out", str(out), *small)
+    assert done.returncode == 0, done.stderr
+    assert "lesson reference, step 2/" in done.stdout
+    assert "split against original" in done.stdout
     image = np.asarray(Image.open(out), dtype=np.float64)
     assert image.shape == (48, 48, 3)
     left, right = image[:, :23], image[:, 25:]
     assert left.mean() > right.mean()   # the original preset is much dimmer
-    assert cli_main(["render", "--lesson", "nope", "--out", str(out)]) == 2
-    assert "no lesson 'nope'" in capsys.readouterr().err
-    assert cli_main(["render", "--lesson", "reference", "--step", "99", "--out", str(out)]) == 2
-    assert "steps 1.." in capsys.readouterr().err
+    done = render("--lesson", "nope", "--out", str(out))
+    assert done.returncode == 2 and "no lesson 'nope'" in done.stderr
+    done = render("--lesson", "reference", "--step", "99", "--out", str(out))
+    assert done.returncode == 2 and "steps 1.." in done.stderr
 
 
 def test_inline_math_reads_as_plain_text(shipped):
