@@ -6,6 +6,9 @@ by clicking pixels. Windows are small (800×600) and the LPV tiny (16³, RSM 64�
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 import types
 
 import numpy as np
@@ -309,3 +312,29 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         assert any(m.text.startswith("shaders reloaded") for m in app.state.messages)
     finally:
         app.close()
+
+
+def test_run_command_writes_a_screenshot_and_rejects_bad_flags(config_home, tmp_path, capsys):
+    from explorer.cli import main as cli_main
+
+    shot = tmp_path / "run.png"
+    assert cli_main(["run", "--no-persist", "--hidden", "--size", "800x600",
+                     "--scene", "single-source", "--preset", "original",
+                     "--screenshot", str(shot), "--frames", "4"]) == 0
+    from PIL import Image
+
+    with Image.open(shot) as image:
+        assert image.size == (800, 600)
+    assert not (config_home / "settings.json").exists(), "--no-persist wrote settings"
+    assert cli_main(["run", "--frames", "0"]) == 2
+    assert "--frames" in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="--size"):
+        cli_main(["run", "--size", "huge"])
+
+
+def test_run_without_a_display_says_so():
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    proc = subprocess.run([sys.executable, "-m", "explorer", "run", "--no-persist"],
+                          env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 1
+    assert "display" in proc.stderr.lower()

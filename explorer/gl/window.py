@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ctypes
 import sys
+import time
 from collections import deque
 from pathlib import Path
 
@@ -40,7 +41,7 @@ class Window:
     def __init__(self, width: int = 1600, height: int = 960, title: str = "lpv-explorer",
                  visible: bool = True, vsync: bool = True) -> None:
         glfw.set_error_callback(_print_glfw_error)
-        if not glfw.init():
+        if not _init_glfw():
             raise WindowError(
                 "glfw could not start: is there a display? (set DISPLAY, or run under "
                 "xvfb-run for a virtual one)")
@@ -154,6 +155,16 @@ class Window:
             glfw.destroy_window(self.handle)
             self.handle = None
         glfw.terminate()
+
+
+def _init_glfw(attempts: int = 3) -> bool:
+    """``glfw.init()``, retried briefly: a busy X server (e.g. Xvfb on a loaded CI machine)
+    occasionally refuses one connection."""
+    for attempt in range(attempts):
+        if glfw.init():
+            return True
+        time.sleep(0.2 * (attempt + 1))
+    return False
 
 
 def _print_glfw_error(code: int, description) -> None:
