@@ -262,6 +262,8 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         assert left < 1.0 < right, (left, right)
 
         app.state.view_mode = "difference"
+        app.state.inspect.source = "vpls"
+        app.frame()
         app.state.inspect.source = "propagation"
         app.frame()
         app.frame(capture=True)

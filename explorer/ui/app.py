@@ -92,13 +92,14 @@ class App:
 
     # -- setup ---------------------------------------------------------------------------
     def _init_imgui(self) -> None:
-        from imgui_bundle import imgui, implot
+        from imgui_bundle import imgui, implot, implot3d
 
         from explorer.ui.formulas import FormulaCache
         from explorer.ui.textures import UiTextures
 
         self._imgui_ctx = imgui.create_context()
         self._implot_ctx = implot.create_context()
+        self._implot3d_ctx = implot3d.create_context()
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
@@ -185,7 +186,7 @@ class App:
         return path
 
     def close(self) -> None:
-        from imgui_bundle import imgui, implot
+        from imgui_bundle import imgui, implot, implot3d
 
         if self.persist_settings:
             try:
@@ -202,6 +203,7 @@ class App:
             imgui.save_ini_settings_to_disk(str(self._layout_file))
         imgui.backends.opengl3_shutdown()
         imgui.backends.glfw_shutdown()
+        implot3d.destroy_context(self._implot3d_ctx)
         implot.destroy_context(self._implot_ctx)
         imgui.destroy_context(self._imgui_ctx)
         self.window.close()

@@ -25,6 +25,7 @@ INSPECT_SOURCES = (
     "grid-slice",                               # accumulated grid acc_N, one z slice
     "propagation",                              # grid_t at a chosen iteration t
     "geometry-volume",                          # occlusion grid, one z slice
+    "vpls",                                     # the injected VPLs as 3D points
 )
 GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 """What a grid slice shows: the intensity evaluated in a chosen direction (rgb), or one SH
@@ -80,6 +81,7 @@ class Runtime:
     inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
     auto_exposure: tuple[float, float] = (1.0, 1.0)   # per side, from the last results
     play_clock: float = 0.0               # fractional iterations while playing
+    vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
 
 
 @dataclass

@@ -5,7 +5,9 @@ uploaded to textures the UI owns."""
 
 from __future__ import annotations
 
-from imgui_bundle import imgui
+import numpy as np
+
+from imgui_bundle import imgui, implot3d
 
 from explorer.ui import images, widgets
 from explorer.ui.panels.view import scale_bar
@@ -18,6 +20,7 @@ SOURCE_LABELS = {
     "grid-slice": "LPV: accumulated grid (slice)",
     "propagation": "LPV: propagation step t (slice)",
     "geometry-volume": "Geometry volume (slice)",
+    "vpls": "VPLs as 3D points",
 }
 
 
@@ -31,6 +34,9 @@ def gui_inspect(state: AppState) -> None:
     result = state.runtime.result
     if result is None:
         imgui.text_disabled("no frame yet")
+        return
+    if ins.source == "vpls":
+        _vpl_plot(state, result)
         return
     image, top, caption = _image_for(state, result)
     if image is None:
@@ -58,10 +64,12 @@ def gui_inspect(state: AppState) -> None:
                   size.y, top, signed)
 
 
-def _grid_controls(state: AppState, resolution: int) -> None:
+def _grid_controls(state: AppState, resolution: int, components: bool = True) -> None:
     ins = state.inspect
     z = ins.slice_z if 0 <= ins.slice_z < resolution else resolution // 2
     _, ins.slice_z = imgui.slider_int("Slice z", z, 0, resolution - 1)
+    if not components:
+        return
     changed, ins.component = widgets.combo("Show##component", ins.component, GRID_COMPONENTS)
     if ins.component == "intensity":
         _, ins.direction_azimuth = imgui.slider_float("Direction azimuth",
@@ -83,7 +91,7 @@ def _image_for(state: AppState, result):
         volume = result.geometry_volume
         if volume is None:
             return None, None, "the geometry volume is off (Scene → Geometry volume)"
-        _grid_controls(state, volume.shape[2])
+        _grid_controls(state, volume.shape[2], components=False)
         image, top = images.volume_slice(volume, ins.slice_z)
         return image, top, f"band-0 blocking, {volume.shape[0]}³ cells on grid corners"
     direction = images.direction_from_angles(ins.direction_azimuth, ins.direction_elevation)
@@ -118,3 +126,31 @@ def _playback(state: AppState, last: int) -> None:
         if rt.play_clock >= 1.0:
             ins.iteration = (ins.iteration + int(rt.play_clock)) % (last + 1)
             rt.play_clock %= 1.0
+
+
+def _vpl_plot(state: AppState, result) -> None:
+    """The VPLs the grid received, as points coloured by their flux (drag to rotate)."""
+    rt = state.runtime
+    if rt.vpl_cache is None or rt.vpl_cache[0] != id(result):
+        vpls = result.vpls
+        rt.vpl_cache = (id(result), images.vpl_groups(vpls.positions, vpls.flux),
+                        len(vpls.positions))
+    _, groups, count = rt.vpl_cache
+    shown = sum(len(points) for _, points in groups)
+    imgui.text_disabled(f"{count} VPLs injected, {shown} lit ones shown; drag to rotate")
+    if not implot3d.begin_plot("##vpls", (-1, -1)):
+        return
+    implot3d.setup_axes("x", "y", "z")
+    for rgb, points in groups:
+        spec = implot3d.Spec()
+        spec.marker = implot3d.Marker_.circle
+        spec.marker_size = 2.0
+        colour = imgui.ImVec4(rgb[0], rgb[1], rgb[2], 1.0)
+        spec.marker_line_color = colour
+        spec.fill_color = colour
+        spec.line_color = colour
+        # world y is up; implot3d's z axis is up
+        implot3d.plot_scatter(f"##{rgb}", np.ascontiguousarray(points[:, 0]),
+                              np.ascontiguousarray(points[:, 2]),
+                              np.ascontiguousarray(points[:, 1]), spec)
+    implot3d.end_plot()
