@@ -1,0 +1,278 @@
+"""``lpv-explorer compare``: LPV against the one-bounce reference, as a table and PNGs.
+
+Both images come from the same frame: the reference gathers the very VPLs the LPV
+injected, at the pixels the camera sees, so the error measures what the grid (injection,
+propagation, gather and the formulas the preset selects) does to that light.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+PRESET_CHOICES = ("all", "original", "corrected")
+REFERENCE_CHOICES = ("visible", "unoccluded")
+LOG2_DEFAULT_SCALE = 3.0  # error images saturate at 8× too bright / too dark
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--scene", default="cornell",
+                        help="built-in scene name or mesh file (default: cornell)")
+    parser.add_argument("--preset", default="all", choices=PRESET_CHOICES,
+                        help="corrections preset(s) to render (default: all)")
+    parser.add_argument("--reference", default="visible", choices=REFERENCE_CHOICES,
+                        help="visible: shadow rays between VPLs and pixels; unoccluded: no "
+                             "visibility, what LPV without a geometry volume approximates "
+                             "(default: visible)")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="folder for the PNGs and table (default: ./compare-<scene>)")
+    parser.add_argument("--width", type=int, default=256, help="image width (default 256)")
+    parser.add_argument("--height", type=int, default=256, help="image height (default 256)")
+    parser.add_argument("--rsm-size", type=int, default=64,
+                        help="RSM side = VPLs per side; the reference costs pixels × VPLs "
+                             "(default 64)")
+    parser.add_argument("--grid-size", type=int, default=None,
+                        help="LPV resolution (default: the Settings default)")
+    parser.add_argument("--iterations", default=None, metavar="N[,N...]",
+                        help="propagation steps, or a comma list for a sweep (default: the "
+                             "Settings default)")
+    parser.add_argument("--geometry-volume", default="off",
+                        choices=("off", "one-sided", "double-sided"),
+                        help="LPV occlusion (default: off)")
+    parser.add_argument("--min-distance", type=float, default=None,
+                        help="reference 1/r² clamp distance in world units "
+                             "(default: half a grid cell)")
+    parser.add_argument("--error-mode", default="log2-ratio",
+                        choices=("log2-ratio", "difference"),
+                        help="what the error image shows (default: log2-ratio)")
+    parser.add_argument("--error-scale", type=float, default=None,
+                        help="error value at full colour (default: 3 stops for log2-ratio, "
+                             "the reference's 99th percentile for difference)")
+    parser.add_argument("--exposure", type=float, default=None,
+                        help="exposure of the LPV/reference PNGs (default: the reference's "
+                             "99th percentile maps to white)")
+    parser.add_argument("--region", action="append", default=[], metavar="X0,Y0,X1,Y1",
+                        help="also report the metrics over this pixel rectangle (rows from "
+                             "the top of the PNG); repeatable")
+    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+
+
+def _fail(message: str, code: int = 2) -> int:
+    print(f"lpv-explorer compare: error: {message}", file=sys.stderr)
+    return code
+
+
+def _parse_region(text: str) -> tuple[int, int, int, int]:
+    parts = text.split(",")
+    if len(parts) != 4:
+        raise ValueError(f"--region {text!r}: expected X0,Y0,X1,Y1")
+    try:
+        x0, y0, x1, y1 = (int(p) for p in parts)
+    except ValueError:
+        raise ValueError(f"--region {text!r}: expected four integers") from None
+    return x0, y0, x1, y1
+
+
+def main(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from explorer.lpv.settings import PRESETS, Settings
+
+    try:
+        regions = [_parse_region(text) for text in args.region]
+        iterations = _parse_iterations(args.iterations)
+        for name in ("width", "height", "rsm_size"):
+            if getattr(args, name) < 1:
+                raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
+        if args.min_distance is not None and not args.min_distance >= 0:
+            raise ValueError("--min-distance must be >= 0")
+        if args.error_scale is not None and not args.error_scale > 0:
+            raise ValueError("--error-scale must be positive")
+        changes = {"scene": args.scene, "width": args.width, "height": args.height,
+                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume}
+        if args.grid_size is not None:
+            changes["grid_size"] = args.grid_size
+        base = Settings(**changes)
+        if iterations is None:
+            iterations = [base.iterations]
+    except ValueError as exc:
+        return _fail(str(exc))
+
+    from explorer.gl.context import GLUnavailableError, create_headless_context
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.scene import SceneError
+    from explorer.truth.gbuffer import scene_for
+    from explorer.truth.metrics import EmptyRegionError, error_image, error_stats, rect_mask
+    from explorer.truth.render import reference_for_frame
+
+    try:
+        scene = scene_for(base)
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
+        return _fail(f"cannot load scene {args.scene!r}: {exc}")
+    try:
+        ctx = create_headless_context()
+    except GLUnavailableError as exc:
+        return _fail(str(exc), 1)
+
+    names = ["original", "corrected"] if args.preset == "all" else [args.preset]
+    visibility = args.reference == "visible"
+    out = args.out if args.out is not None else Path(f"compare-{Path(args.scene).stem}")
+    pipeline = Pipeline(base, ctx)
+    rows = []
+    images = {}
+    reference = gbuffer = reference_vpls = frame = None
+    try:
+        for name in names:
+            for steps in iterations:
+                frame = pipeline.run(base.with_changes(corrections=PRESETS[name],
+                                                       iterations=steps))
+                if reference is None or not _same_vpls(frame.vpls, reference_vpls):
+                    started = time.perf_counter()
+                    reference, gbuffer = reference_for_frame(
+                        frame, visibility, args.min_distance, ctx=ctx, scene=scene,
+                        progress=None if args.quiet else _progress_printer())
+                    reference_vpls = frame.vpls
+                    if not args.quiet:
+                        print(f"\rreference ({args.reference}, {frame.vpls.count} VPLs): "
+                              f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
+                valid = gbuffer.valid
+                lpv = np.asarray(frame.indirect, np.float64)[..., :3]
+                label = name if len(iterations) == 1 else f"{name}-it{steps}"
+                images[label] = lpv
+                rows.append((name, steps, "image", error_stats(lpv, reference, valid)))
+                for rect in regions:
+                    mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
+                    try:
+                        stats = error_stats(lpv, reference, mask)
+                    except EmptyRegionError:
+                        stats = None
+                    rows.append((name, steps, ",".join(map(str, rect)), stats))
+    finally:
+        pipeline.release()
+        ctx.release()
+
+    table = format_table(rows, args, frame)
+    print(table)
+    out.mkdir(parents=True, exist_ok=True)
+    valid = gbuffer.valid
+    exposure = args.exposure or _auto_exposure(reference, valid)
+    _save(out / "reference.png", reference * exposure)
+    written = ["reference.png"]
+    scale = args.error_scale
+    if scale is None:
+        # One scale for every error image so that they compare: three stops for the log
+        # ratio; for the difference, the reference's bright end (99th percentile).
+        scale = LOG2_DEFAULT_SCALE if args.error_mode == "log2-ratio" else 1.0 / exposure
+    for label, lpv in images.items():
+        _save(out / f"lpv-{label}.png", lpv * exposure)
+        error = error_image(lpv, reference, valid, args.error_mode, scale)
+        _save_error(out / f"error-{label}.png", error)
+        written += [f"lpv-{label}.png", f"error-{label}.png"]
+    (out / "table.md").write_text(table + "\n")
+    print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
+    return 0
+
+
+def _parse_iterations(text: str | None) -> list[int] | None:
+    if text is None:
+        return None
+    try:
+        values = [int(part) for part in text.split(",")]
+    except ValueError:
+        raise ValueError(f"--iterations {text!r}: expected integers like 16 or 0,4,16") from None
+    if any(v < 0 for v in values):
+        raise ValueError(f"--iterations {text!r}: iterations must be >= 0")
+    return values
+
+
+def _same_vpls(a, b) -> bool:
+    import numpy as np
+
+    return (b is not None and a.count == b.count
+            and np.array_equal(np.asarray(a.positions), np.asarray(b.positions))
+            and np.array_equal(np.asarray(a.flux), np.asarray(b.flux)))
+
+
+def _progress_printer():
+    last = [-1]
+
+    def report(done: float) -> bool:
+        percent = int(100 * done)
+        if percent != last[0]:
+            last[0] = percent
+            print(f"\rreference: {percent:3d} %", end="", file=sys.stderr, flush=True)
+        return True
+
+    return report
+
+
+def format_table(rows, args, frame) -> str:
+    """Markdown table: one row per preset, iteration count and region."""
+    settings = frame.settings
+    lines = [
+        f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
+        f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
+        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`",
+        "",
+        "| preset | iterations | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
+        "|---|---:|---|---:|---:|---:|---|",
+    ]
+    for name, steps, region, stats in rows:
+        if stats is None:
+            lines.append(f"| {name} | {steps} | {region} | – | – | – | empty region |")
+            continue
+        rgb = ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)
+        lines.append(f"| {name} | {steps} | {region} | {stats.relative_l2:.3f} | "
+                     f"{stats.rmse:.4g} | {stats.flux_ratio:.3f} | {rgb} |")
+    return "\n".join(lines)
+
+
+def _auto_exposure(reference, valid) -> float:
+    import numpy as np
+
+    values = np.asarray(reference)[valid]
+    top = float(np.percentile(values, 99.0)) if values.size else 0.0
+    return 1.0 / top if top > 0 else 1.0
+
+
+def _to_srgb8(linear):
+    import numpy as np
+
+    x = np.clip(np.nan_to_num(np.asarray(linear, np.float64)), 0.0, 1.0)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return (srgb * 255.0 + 0.5).astype(np.uint8)
+
+
+def _save(path: Path, linear) -> None:
+    """Linear (H, W, 3), row 0 at the top (FrameResult's order), to an sRGB PNG."""
+    from PIL import Image
+
+    Image.fromarray(_to_srgb8(linear)).save(path)
+
+
+def _save_error(path: Path, error) -> None:
+    """The false-colour error (already display colours) with a colour bar and its scale."""
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from explorer.truth.metrics import diverging_colormap
+
+    height, width = error.rgb.shape[:2]
+    ramp_height, text_height = max(6, height // 20), 12
+    ramp = np.linspace(-error.scale, error.scale, width)
+    bar = np.broadcast_to(diverging_colormap(ramp, error.scale)[None], (ramp_height, width, 3))
+    canvas = np.ones((height + ramp_height + 2 * text_height, width, 3))
+    canvas[:height] = error.rgb
+    canvas[height:height + ramp_height] = bar
+    image = Image.fromarray((np.clip(canvas, 0, 1) * 255 + 0.5).astype(np.uint8))
+    draw = ImageDraw.Draw(image)
+    unit = "log2(LPV/ref)" if error.mode == "log2-ratio" else "LPV - ref"
+    y = height + ramp_height
+    # first text row: the values at the ends of the ramp; second row: what is shown
+    draw.text((1, y), f"-{error.scale:.3g}", fill=(0, 0, 0))
+    label = f"+{error.scale:.3g}"
+    draw.text((max(width - 6 * len(label) - 1, 0), y), label, fill=(0, 0, 0))
+    draw.text((1, y + text_height), unit, fill=(0, 0, 0))
+    image.save(path)

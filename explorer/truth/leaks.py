@@ -1,0 +1,173 @@
+"""Numpy prototype of two published leak reductions, measured against the reference.
+
+Not part of the GPU pipeline: it re-runs injection and propagation with the numpy
+reference (``explorer.lpv.reference``) and a numpy copy of the final gather, so that the
+options can be measured before anyone changes a shader. ``python -m explorer.truth.leaks
+--scene room`` prints the table recorded in docs/ERRORS.md.
+
+* **Injection offset** (Kaplanyan & Dachsbacher): inject each VPL at ``p + δ·h·n``
+  (``h`` the cell size, ``δ = ½``) instead of ``p``, so a VPL lands in the cell in front of
+  its surface instead of whichever side of a cell boundary float rounding picks, and a
+  surface does not gather its own VPLs from the cell it lies in.
+* **Directional-derivative damping** in the final gather: with ``E(x)`` the gathered
+  irradiance for the pixel's normal ``n`` at ``x``, light that mostly arrives from behind
+  the surface (leaking through it) makes ``E`` grow towards ``−n``. The central difference
+  over one cell, ``∂_n E ≈ (E(p + ½h·n) − E(p − ½h·n))/h``, gives the factor
+  ``f = clamp(1 + h·∂_n E / E(p − ½h·n), 0, 1) = clamp(E(p + ½h·n)/E(p − ½h·n), 0, 1)``
+  per channel (1 where ``E(p − ½h·n) = 0``), and ``E' = f·E(p)``.
+* **Gather offset** (for comparison): sample the grid at ``p + ½h·n``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+from explorer.lpv import reference as lpv_reference
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.vpl import VplArrays
+
+VARIANTS = ("baseline", "inject-offset", "gather-offset", "damping", "inject-offset+damping")
+
+
+def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
+    """Trilinear lookup of a (3, N, N, N, 4) grid at world points (P, 3) -> (3, P, 4),
+    clamped to the edge like the GPU's linear filter (texel centres at ``i + ½``)."""
+    n = spec.resolution
+    u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
+    base = np.floor(u).astype(np.int64)
+    frac = u - base
+    out = np.zeros((grid.shape[0], len(u), 4))
+    for corner in np.ndindex(2, 2, 2):
+        offset = np.array(corner)
+        weight = np.prod(np.where(offset == 1, frac, 1.0 - frac), axis=1)
+        ix, iy, iz = np.clip(base + offset, 0, n - 1).T
+        out += weight[None, :, None] * grid[:, ix, iy, iz, :]
+    return out
+
+
+def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                      normals: np.ndarray, offset: float = 0.0) -> np.ndarray:
+    """(P, 3) irradiance ``clamp+(⟨s(x), lobe(−n)⟩)/h²`` at ``x = p + offset·n``
+    (docs/MODEL.md "Final gather")."""
+    normals = np.asarray(normals, np.float64)
+    samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
+    lobes = lpv_reference.cosine_lobe(-normals)
+    irradiance = np.einsum("cpk,pk->pc", samples, lobes)
+    return np.maximum(irradiance, 0.0) / spec.cell_size ** 2
+
+
+def derivative_damping(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                       normals: np.ndarray) -> np.ndarray:
+    """(P, 3) factors in [0, 1]: ``clamp(E(p + ½h·n)/E(p − ½h·n), 0, 1)`` (module doc)."""
+    half = 0.5 * spec.cell_size
+    front = gather_irradiance(grid, spec, positions, normals, half)
+    back = gather_irradiance(grid, spec, positions, normals, -half)
+    ratio = np.divide(front, back, out=np.ones_like(front), where=back > 0)
+    return np.clip(ratio, 0.0, 1.0)
+
+
+def offset_vpls(vpls: VplArrays, distance: float) -> VplArrays:
+    """The VPLs moved ``distance`` along their normals (everything else unchanged)."""
+    positions = np.asarray(vpls.positions, np.float64)
+    moved = positions + distance * np.asarray(vpls.normals, np.float64)
+    return VplArrays(moved, vpls.normals, vpls.flux, vpls.depth, vpls.texel_area,
+                     vpls.projection)
+
+
+def variant_irradiance(variant: str, vpls: VplArrays, spec: GridSpec, corrections,
+                       iterations: int, positions: np.ndarray, normals: np.ndarray
+                       ) -> np.ndarray:
+    """(P, 3) LPV irradiance at the points for one of :data:`VARIANTS` (numpy LPV)."""
+    if variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
+    half = 0.5 * spec.cell_size
+    if variant.startswith("inject-offset"):
+        vpls = offset_vpls(vpls, half)
+    injected = lpv_reference.inject(vpls, spec, corrections)
+    accumulated = sum(lpv_reference.propagate(injected, corrections, iterations))
+    offset = half if variant == "gather-offset" else 0.0
+    irradiance = gather_irradiance(accumulated, spec, positions, normals, offset)
+    if variant.endswith("damping"):
+        irradiance *= derivative_damping(accumulated, spec, positions, normals)
+    return irradiance
+
+
+def study(scene: str = "room", iterations=(4, 8, 16), width: int = 128, height: int = 128,
+          rsm_size: int = 64, grid_size: int = 32, ctx=None) -> list[dict]:
+    """Every variant × iteration count against both references; one dict per row with
+    relative L2 and flux ratios (whole image, and the pixels where the visible reference
+    has less than half the unoccluded light: where a leak would show)."""
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.lpv.settings import PRESETS, Settings
+    from explorer.truth.metrics import error_stats
+    from explorer.truth.render import reference_for_frame
+
+    corrections = PRESETS["corrected"]
+    settings = Settings(scene=scene, width=width, height=height, rsm_size=rsm_size,
+                        grid_size=grid_size, corrections=corrections)
+    pipeline = Pipeline(settings, ctx)
+    try:
+        frame = pipeline.run()
+        visible, gbuffer = reference_for_frame(frame, True, ctx=pipeline.ctx)
+        unoccluded, _ = reference_for_frame(frame, False, ctx=pipeline.ctx)
+    finally:
+        pipeline.release()
+    valid = gbuffer.valid
+    weights = np.array([0.2126, 0.7152, 0.0722])
+    shadowed = valid & (visible @ weights < 0.5 * (unoccluded @ weights))
+    positions, normals = gbuffer.position[valid], gbuffer.normal[valid]
+    albedo = gbuffer.albedo[valid]
+    rows = []
+    for steps in iterations:
+        for variant in VARIANTS:
+            irradiance = variant_irradiance(variant, frame.vpls, frame.grid_spec, corrections,
+                                            steps, positions, normals)
+            image = np.zeros(valid.shape + (3,))
+            image[valid] = albedo / np.pi * irradiance
+            row = {"variant": variant, "iterations": steps,
+                   "visible": error_stats(image, visible, valid),
+                   "unoccluded": error_stats(image, unoccluded, valid)}
+            row["shadowed"] = (error_stats(image, visible, shadowed).flux_ratio
+                               if shadowed.any() else float("nan"))
+            row["lit"] = (error_stats(image, visible, valid & ~shadowed).flux_ratio
+                          if (valid & ~shadowed).any() else float("nan"))
+            rows.append(row)
+    return rows
+
+
+def format_rows(rows: list[dict]) -> str:
+    lines = ["| variant | iterations | rel. L2 (visible) | flux ratio (visible) | "
+             "rel. L2 (unoccluded) | flux ratio (unoccluded) | flux ratio, shadowed px | "
+             "flux ratio, lit px |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['variant']} | {r['iterations']} | {r['visible'].relative_l2:.3f} | "
+                     f"{r['visible'].flux_ratio:.3f} | {r['unoccluded'].relative_l2:.3f} | "
+                     f"{r['unoccluded'].flux_ratio:.3f} | {r['shadowed']:.3f} | "
+                     f"{r['lit']:.3f} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m explorer.truth.leaks",
+                                     description="measure leak reductions against the "
+                                                 "one-bounce reference (numpy LPV)")
+    parser.add_argument("--scene", default="room")
+    parser.add_argument("--iterations", default="4,8,16")
+    parser.add_argument("--size", type=int, default=128, help="image width and height")
+    args = parser.parse_args(argv)
+    try:
+        steps = [int(v) for v in args.iterations.split(",")]
+    except ValueError:
+        print(f"--iterations {args.iterations!r}: expected integers like 4,8,16",
+              file=sys.stderr)
+        return 2
+    print(format_rows(study(args.scene, steps, args.size, args.size)))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())
