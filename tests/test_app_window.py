@@ -261,6 +261,15 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         right = np.abs(split[:, half + 4:] - corrected[:, half + 4:]).mean()
         assert left < 1.0 < right, (left, right)
 
+        app.state.auto_exposure = True                     # expose each side on its own
+        for _ in range(3):
+            app.frame()
+        exposure_a, exposure_b = app.state.runtime.auto_exposure
+        assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
+        assert app.state.runtime.result.settings.exposure == exposure_a
+        assert app.state.runtime.compare_result.settings.exposure == exposure_b
+        app.state.auto_exposure = False
+
         app.state.view_mode = "difference"
         app.state.inspect.source = "vpls"
         app.frame()

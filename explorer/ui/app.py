@@ -83,6 +83,7 @@ class App:
         self._failed: dict[str, object] = {}
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
+        self._exposure_seen: list = [None, None]
         self._pending_size: tuple | None = None
         self._shader_poll = 0.0
         self._shader_stamp = 0.0
@@ -345,6 +346,7 @@ class App:
         self.state.notify(f"opening {name_or_path}")
 
     def _update_auto_exposure(self) -> None:
+        """Per-side exposure from the latest results (computed once per new result)."""
         from explorer.ui.images import auto_exposure
 
         rt = self.state.runtime
@@ -352,8 +354,9 @@ class App:
             return
         values = list(rt.auto_exposure)
         for i, result in enumerate((rt.result, rt.compare_result)):
-            if result is None:
+            if result is None or self._exposure_seen[i] == id(result):
                 continue
+            self._exposure_seen[i] = id(result)
             value = auto_exposure(result.final_image, result.settings.exposure)
             if abs(value - values[i]) > _EXPOSURE_TOLERANCE * max(values[i], 1e-12):
                 values[i] = float(f"{value:.3g}")

@@ -38,21 +38,22 @@ def gui_inspect(state: AppState) -> None:
     if ins.source == "vpls":
         _vpl_plot(state, result)
         return
-    image, top, caption = _image_for(state, result)
-    if image is None:
-        imgui.text_disabled(caption)
+    make, problem = _image_for(state, result)
+    if make is None:
+        imgui.text_disabled(problem)
         return
     version = (ins.source, id(result), ins.slice_z, ins.component, ins.direction_azimuth,
                ins.direction_elevation, ins.iteration, ins.signed_scale)
     rt = state.runtime
     if rt.inspect_cache is None or rt.inspect_cache[0] != version:
+        # Only a new frame or a changed control recomputes and uploads the picture.
+        image, top, caption = make()
         tex = rt.textures.upload("inspect", image, version=version)
-        rt.inspect_cache = (version, tex, top, caption)
-    _, tex, top, caption = rt.inspect_cache
+        rt.inspect_cache = (version, tex, top, caption, image.shape[:2])
+    _, tex, top, caption, (height_px, width_px) = rt.inspect_cache
     signed = ins.component != "intensity" and ins.source in ("grid-slice", "propagation")
     imgui.text_disabled(caption)
     avail = imgui.get_content_region_avail()
-    height_px, width_px = image.shape[:2]
     bar = 80.0 if top is not None else 0.0
     side = max(min(avail.x - bar, avail.y - 8), 32.0)
     fit = side / max(width_px, height_px)
@@ -81,34 +82,44 @@ def _grid_controls(state: AppState, resolution: int, components: bool = True) ->
 
 
 def _image_for(state: AppState, result):
-    """(image, scale top or None, caption) for the chosen source."""
+    """Draw the source's controls; return (a function computing (image, scale top or None,
+    caption), None), or (None, why there is nothing to show)."""
     ins = state.inspect
     if ins.source.startswith("rsm-"):
         buffer = getattr(result, ins.source.replace("-", "_"))
         h, w = buffer.shape[:2]
-        return images.rsm_image(buffer, ins.source), None, f"{w}×{h} texels"
+        return (lambda: (images.rsm_image(buffer, ins.source), None, f"{w}×{h} texels")), None
     if ins.source == "geometry-volume":
         volume = result.geometry_volume
         if volume is None:
-            return None, None, "the geometry volume is off (Scene → Geometry volume)"
+            return None, "the geometry volume is off (Scene → Geometry volume)"
         _grid_controls(state, volume.shape[2], components=False)
-        image, top = images.volume_slice(volume, ins.slice_z)
-        return image, top, f"band-0 blocking, {volume.shape[0]}³ cells on grid corners"
-    direction = images.direction_from_angles(ins.direction_azimuth, ins.direction_elevation)
+
+        def make_volume():
+            image, top = images.volume_slice(volume, ins.slice_z)
+            return image, top, f"band-0 blocking, {volume.shape[0]}³ cells on grid corners"
+
+        return make_volume, None
     if ins.source == "grid-slice":
         grid, what = result.accumulated, "acc_N"
     else:
         steps = result.steps
         if not steps:
-            return None, None, "steps are being recorded; next frame"
+            return None, "steps are being recorded; next frame"
         last = len(steps) - 1
         _playback(state, last)
         grid, what = steps[min(ins.iteration, last)], f"grid_{min(ins.iteration, last)}"
     _grid_controls(state, grid.shape[3])
-    image, top = images.grid_slice(grid, ins.slice_z, ins.component, direction,
-                                   ins.signed_scale)
-    flux = images.flux_of_grid(grid)
-    return image, top, f"{what}: flux {flux:.4g} W (sum of channels)"
+
+    def make_slice():
+        direction = images.direction_from_angles(ins.direction_azimuth,
+                                                 ins.direction_elevation)
+        image, top = images.grid_slice(grid, ins.slice_z, ins.component, direction,
+                                       ins.signed_scale)
+        flux = images.flux_of_grid(grid)
+        return image, top, f"{what}: flux {flux:.4g} W (sum of channels)"
+
+    return make_slice, None
 
 
 def _playback(state: AppState, last: int) -> None:
