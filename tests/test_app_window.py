@@ -349,3 +349,17 @@ def test_run_without_a_display_says_so():
                           env=env, capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1
     assert "display" in proc.stderr.lower()
+
+
+def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
+    """The session's EGL context is current when the window opens (as in the full suite);
+    glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
+    app = _app(pipeline_class=None)
+    try:
+        assert app.frame(capture=True)
+        assert app.last_pixels.std() > 10
+    finally:
+        app.close()
+    buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
+    assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
+    buffer.release()
