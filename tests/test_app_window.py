@@ -356,6 +356,7 @@ def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home)
     glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
     app = _app(pipeline_class=None)
     try:
+        app.frame()
         assert app.frame(capture=True)
         assert app.last_pixels.std() > 10
     finally:
