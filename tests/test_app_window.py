@@ -65,6 +65,7 @@ def test_window_opens_and_draws_the_panels(config_home):
         assert pixels.std() > 10, "the frame is blank"
         assert app.ctx.error == "GL_NO_ERROR"
         assert "no LPV pipeline" in app.state.runtime.pipeline_error
+        assert app.state.runtime.markdown_ready
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
     finally:

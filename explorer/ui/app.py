@@ -118,6 +118,8 @@ class App:
         rt = self.state.runtime
         rt.textures = UiTextures(self.ctx)
         rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
+        self._markdown_ctx = _markdown_context()
+        rt.markdown_ready = self._markdown_ctx is not None
         try:
             from imgui_bundle import portable_file_dialogs as pfd
 
@@ -202,6 +204,11 @@ class App:
             rt.textures.release()
         if self.persist_settings:
             imgui.save_ini_settings_to_disk(str(self._layout_file))
+        if self._markdown_ctx is not None:
+            from imgui_bundle import rich_md
+
+            rich_md.destroy_context(self._markdown_ctx)
+            self._markdown_ctx = None
         imgui.backends.opengl3_shutdown()
         imgui.backends.glfw_shutdown()
         implot3d.destroy_context(self._implot3d_ctx)
@@ -621,6 +628,20 @@ def _style(scale: float) -> None:
     if scale != 1.0:
         style.scale_all_sizes(scale)
         style.font_scale_dpi = scale
+
+
+def _markdown_context():
+    """A rich_md (imgui_md) context reading its fonts from imgui_bundle's assets, or None
+    when markdown cannot be rendered here (panels then fall back to wrapped text)."""
+    try:
+        import imgui_bundle
+        from imgui_bundle import rich_md
+
+        rich_md.set_assets_folder(str(Path(imgui_bundle.__file__).parent / "assets"))
+        return rich_md.create_context()
+    except Exception as exc:  # noqa: BLE001 - markdown is optional
+        print(f"lpv-explorer: markdown unavailable: {exc}", file=sys.stderr)
+        return None
 
 
 def _fonts(io) -> None:

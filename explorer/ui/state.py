@@ -62,6 +62,7 @@ class Runtime:
     compare_texture_id: int = 0       # GL name of the second pipeline's final texture (B)
     textures: Any = None              # explorer.ui.textures.UiTextures (UI-owned textures)
     formulas: Any = None              # explorer.ui.formulas.FormulaCache
+    markdown_ready: bool = False      # imgui_bundle.rich_md can render (lesson text)
     pipeline_error: str | None = None
     gl_problem: str | None = None
     shader_errors: dict[str, str] = field(default_factory=dict)
