@@ -92,3 +92,15 @@ def test_difference_and_auto_exposure():
     assert exposure == pytest.approx(0.85 / 0.5, rel=1e-3)
     with pytest.raises(ValueError, match="shape"):
         images.difference(a, b[:4])
+
+
+def test_vpl_groups_colour_by_flux_and_drop_dark_ones():
+    positions = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]], np.float32)
+    flux = np.array([[1, 0, 0], [0, 1, 0], [1, 1, 1], [0, 0, 0]], np.float32)
+    groups = images.vpl_groups(positions, flux)
+    colours = {rgb: pts[:, 0].tolist() for rgb, pts in groups}
+    assert colours == {(1.0, 0.15, 0.15): [0.0], (0.15, 1.0, 0.15): [1.0], (1.0, 1.0, 1.0): [2.0]}
+    many = images.vpl_groups(np.random.rand(5000, 3), np.ones((5000, 3)), max_points=100)
+    assert sum(len(p) for _, p in many) == 100
+    with pytest.raises(ValueError, match="differ"):
+        images.vpl_groups(positions, flux[:2])

@@ -6,6 +6,9 @@ by clicking pixels. Windows are small (800×600) and the LPV tiny (16³, RSM 64�
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 import types
 
 import numpy as np
@@ -62,6 +65,7 @@ def test_window_opens_and_draws_the_panels(config_home):
         assert pixels.std() > 10, "the frame is blank"
         assert app.ctx.error == "GL_NO_ERROR"
         assert "no LPV pipeline" in app.state.runtime.pipeline_error
+        assert app.state.runtime.markdown_ready
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
     finally:
@@ -258,7 +262,18 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         right = np.abs(split[:, half + 4:] - corrected[:, half + 4:]).mean()
         assert left < 1.0 < right, (left, right)
 
+        app.state.auto_exposure = True                     # expose each side on its own
+        for _ in range(3):
+            app.frame()
+        exposure_a, exposure_b = app.state.runtime.auto_exposure
+        assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
+        assert app.state.runtime.result.settings.exposure == exposure_a
+        assert app.state.runtime.compare_result.settings.exposure == exposure_b
+        app.state.auto_exposure = False
+
         app.state.view_mode = "difference"
+        app.state.inspect.source = "vpls"
+        app.frame()
         app.state.inspect.source = "propagation"
         app.frame()
         app.frame(capture=True)
@@ -309,3 +324,44 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         assert any(m.text.startswith("shaders reloaded") for m in app.state.messages)
     finally:
         app.close()
+
+
+def test_run_command_writes_a_screenshot_and_rejects_bad_flags(config_home, tmp_path, capsys):
+    from explorer.cli import main as cli_main
+
+    shot = tmp_path / "run.png"
+    assert cli_main(["run", "--no-persist", "--hidden", "--size", "800x600",
+                     "--scene", "single-source", "--preset", "original",
+                     "--screenshot", str(shot), "--frames", "4"]) == 0
+    from PIL import Image
+
+    with Image.open(shot) as image:
+        assert image.size == (800, 600)
+    assert not (config_home / "settings.json").exists(), "--no-persist wrote settings"
+    assert cli_main(["run", "--frames", "0"]) == 2
+    assert "--frames" in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="--size"):
+        cli_main(["run", "--size", "huge"])
+
+
+def test_run_without_a_display_says_so():
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    proc = subprocess.run([sys.executable, "-m", "explorer", "run", "--no-persist"],
+                          env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 1
+    assert "display" in proc.stderr.lower()
+
+
+def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
+    """The session's EGL context is current when the window opens (as in the full suite);
+    glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
+    app = _app(pipeline_class=None)
+    try:
+        app.frame()
+        assert app.frame(capture=True)
+        assert app.last_pixels.std() > 10
+    finally:
+        app.close()
+    buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
+    assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
+    buffer.release()

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ctypes
 import sys
+import time
 from collections import deque
 from pathlib import Path
 
@@ -40,7 +41,12 @@ class Window:
     def __init__(self, width: int = 1600, height: int = 960, title: str = "lpv-explorer",
                  visible: bool = True, vsync: bool = True) -> None:
         glfw.set_error_callback(_print_glfw_error)
-        if not glfw.init():
+        # A headless EGL context current on this thread (tests, notebooks) makes Mesa's
+        # glXMakeCurrent fail with BadAccess, and Xlib then exits the process: set it
+        # aside while the window lives and make it current again in close().
+        self._saved_egl = _release_current_egl()
+        if not _init_glfw():
+            _restore_egl(self._saved_egl)
             raise WindowError(
                 "glfw could not start: is there a display? (set DISPLAY, or run under "
                 "xvfb-run for a virtual one)")
@@ -60,6 +66,7 @@ class Window:
                 break
         if not self.handle:
             glfw.terminate()
+            _restore_egl(self._saved_egl)
             raise WindowError("glfw could not open a window with an OpenGL 3.3+ core context")
         glfw.make_context_current(self.handle)
         glfw.swap_interval(1 if vsync else 0)
@@ -154,6 +161,52 @@ class Window:
             glfw.destroy_window(self.handle)
             self.handle = None
         glfw.terminate()
+        _restore_egl(self._saved_egl)
+        self._saved_egl = None
+
+
+_EGL_DRAW, _EGL_READ = 0x3059, 0x305A
+
+
+def _libegl():
+    try:
+        lib = ctypes.CDLL("libEGL.so.1")
+    except OSError:
+        return None
+    for name in ("eglGetCurrentContext", "eglGetCurrentDisplay"):
+        getattr(lib, name).restype = ctypes.c_void_p
+        getattr(lib, name).argtypes = []
+    lib.eglGetCurrentSurface.restype = ctypes.c_void_p
+    lib.eglGetCurrentSurface.argtypes = [ctypes.c_int32]
+    lib.eglMakeCurrent.restype = ctypes.c_uint32
+    lib.eglMakeCurrent.argtypes = [ctypes.c_void_p] * 4
+    return lib
+
+
+def _release_current_egl() -> tuple | None:
+    """Make no EGL context current; return what was current (for :func:`_restore_egl`)."""
+    lib = _libegl()
+    if lib is None or not lib.eglGetCurrentContext():
+        return None
+    saved = (lib.eglGetCurrentDisplay(), lib.eglGetCurrentSurface(_EGL_DRAW),
+             lib.eglGetCurrentSurface(_EGL_READ), lib.eglGetCurrentContext())
+    lib.eglMakeCurrent(saved[0], None, None, None)
+    return saved
+
+
+def _restore_egl(saved: tuple | None) -> None:
+    if saved is not None:
+        _libegl().eglMakeCurrent(*saved)
+
+
+def _init_glfw(attempts: int = 3) -> bool:
+    """``glfw.init()``, retried briefly: a busy X server (e.g. Xvfb on a loaded CI machine)
+    occasionally refuses one connection."""
+    for attempt in range(attempts):
+        if glfw.init():
+            return True
+        time.sleep(0.2 * (attempt + 1))
+    return False
 
 
 def _print_glfw_error(code: int, description) -> None:

@@ -83,6 +83,7 @@ class App:
         self._failed: dict[str, object] = {}
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
+        self._exposure_seen: list = [None, None]
         self._pending_size: tuple | None = None
         self._shader_poll = 0.0
         self._shader_stamp = 0.0
@@ -92,13 +93,14 @@ class App:
 
     # -- setup ---------------------------------------------------------------------------
     def _init_imgui(self) -> None:
-        from imgui_bundle import imgui, implot
+        from imgui_bundle import imgui, implot, implot3d
 
         from explorer.ui.formulas import FormulaCache
         from explorer.ui.textures import UiTextures
 
         self._imgui_ctx = imgui.create_context()
         self._implot_ctx = implot.create_context()
+        self._implot3d_ctx = implot3d.create_context()
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
@@ -116,6 +118,8 @@ class App:
         rt = self.state.runtime
         rt.textures = UiTextures(self.ctx)
         rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
+        self._markdown_ctx = _markdown_context()
+        rt.markdown_ready = self._markdown_ctx is not None
         try:
             from imgui_bundle import portable_file_dialogs as pfd
 
@@ -185,7 +189,7 @@ class App:
         return path
 
     def close(self) -> None:
-        from imgui_bundle import imgui, implot
+        from imgui_bundle import imgui, implot, implot3d
 
         if self.persist_settings:
             try:
@@ -200,8 +204,14 @@ class App:
             rt.textures.release()
         if self.persist_settings:
             imgui.save_ini_settings_to_disk(str(self._layout_file))
+        if self._markdown_ctx is not None:
+            from imgui_bundle import rich_md
+
+            rich_md.destroy_context(self._markdown_ctx)
+            self._markdown_ctx = None
         imgui.backends.opengl3_shutdown()
         imgui.backends.glfw_shutdown()
+        implot3d.destroy_context(self._implot3d_ctx)
         implot.destroy_context(self._implot_ctx)
         imgui.destroy_context(self._imgui_ctx)
         self.window.close()
@@ -343,6 +353,7 @@ class App:
         self.state.notify(f"opening {name_or_path}")
 
     def _update_auto_exposure(self) -> None:
+        """Per-side exposure from the latest results (computed once per new result)."""
         from explorer.ui.images import auto_exposure
 
         rt = self.state.runtime
@@ -350,8 +361,9 @@ class App:
             return
         values = list(rt.auto_exposure)
         for i, result in enumerate((rt.result, rt.compare_result)):
-            if result is None:
+            if result is None or self._exposure_seen[i] == id(result):
                 continue
+            self._exposure_seen[i] = id(result)
             value = auto_exposure(result.final_image, result.settings.exposure)
             if abs(value - values[i]) > _EXPOSURE_TOLERANCE * max(values[i], 1e-12):
                 values[i] = float(f"{value:.3g}")
@@ -616,6 +628,20 @@ def _style(scale: float) -> None:
     if scale != 1.0:
         style.scale_all_sizes(scale)
         style.font_scale_dpi = scale
+
+
+def _markdown_context():
+    """A rich_md (imgui_md) context reading its fonts from imgui_bundle's assets, or None
+    when markdown cannot be rendered here (panels then fall back to wrapped text)."""
+    try:
+        import imgui_bundle
+        from imgui_bundle import rich_md
+
+        rich_md.set_assets_folder(str(Path(imgui_bundle.__file__).parent / "assets"))
+        return rich_md.create_context()
+    except Exception as exc:  # noqa: BLE001 - markdown is optional
+        print(f"lpv-explorer: markdown unavailable: {exc}", file=sys.stderr)
+        return None
 
 
 def _fonts(io) -> None:

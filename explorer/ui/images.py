@@ -107,3 +107,35 @@ def volume_slice(volume: np.ndarray, z: int, scale: float = 0.0) -> tuple[np.nda
 def flux_of_grid(grid: np.ndarray) -> float:
     """Total flux (all channels) held by an SH grid: 2√π·Σ coefficient 0 (MODEL.md)."""
     return float(C.SH_FLUX_FACTOR * np.asarray(grid, dtype=np.float64)[..., 0].sum())
+
+
+def vpl_groups(positions: np.ndarray, flux: np.ndarray, max_points: int = 4096,
+               levels: int = 3) -> list[tuple[tuple[float, float, float], np.ndarray]]:
+    """VPLs grouped by colour for a scatter plot: each VPL's flux colour (normalised by the
+    brightest channel of the brightest VPL, then brightened with a square root) quantised
+    to ``levels`` steps per channel. Dark VPLs are dropped and at most ``max_points`` are
+    kept (a fixed pseudo-random subset, so the picture does not flicker).
+    Returns [(rgb, positions (k, 3) float64), ...]."""
+    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+    flux = np.asarray(flux, dtype=np.float64).reshape(-1, 3)
+    if positions.shape != flux.shape:
+        raise ValueError(f"positions {positions.shape} and flux {flux.shape} differ")
+    strength = flux.max(axis=1)
+    lit = np.isfinite(strength) & (strength > 1e-6 * max(float(np.nanmax(strength, initial=0)),
+                                                          1e-30))
+    positions, flux = positions[lit], flux[lit]
+    if len(positions) > max_points:
+        keep = np.sort(np.random.default_rng(0).choice(len(positions), max_points,
+                                                       replace=False))
+        positions, flux = positions[keep], flux[keep]
+    if len(positions) == 0:
+        return []
+    colour = np.sqrt(np.clip(flux / max(float(flux.max()), 1e-30), 0.0, 1.0))
+    codes = np.rint(colour * (levels - 1)).astype(np.int64)
+    key = (codes[:, 0] * levels + codes[:, 1]) * levels + codes[:, 2]
+    groups = []
+    for value in np.unique(key):
+        members = key == value
+        rgb = tuple(float(c) / (levels - 1) for c in codes[members][0])
+        groups.append((tuple(max(c, 0.15) for c in rgb), positions[members]))
+    return groups

@@ -25,6 +25,7 @@ INSPECT_SOURCES = (
     "grid-slice",                               # accumulated grid acc_N, one z slice
     "propagation",                              # grid_t at a chosen iteration t
     "geometry-volume",                          # occlusion grid, one z slice
+    "vpls",                                     # the injected VPLs as 3D points
 )
 GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 """What a grid slice shows: the intensity evaluated in a chosen direction (rgb), or one SH
@@ -61,6 +62,7 @@ class Runtime:
     compare_texture_id: int = 0       # GL name of the second pipeline's final texture (B)
     textures: Any = None              # explorer.ui.textures.UiTextures (UI-owned textures)
     formulas: Any = None              # explorer.ui.formulas.FormulaCache
+    markdown_ready: bool = False      # imgui_bundle.rich_md can render (lesson text)
     pipeline_error: str | None = None
     gl_problem: str | None = None
     shader_errors: dict[str, str] = field(default_factory=dict)
@@ -80,6 +82,7 @@ class Runtime:
     inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
     auto_exposure: tuple[float, float] = (1.0, 1.0)   # per side, from the last results
     play_clock: float = 0.0               # fractional iterations while playing
+    vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
 
 
 @dataclass
