@@ -36,10 +36,10 @@ class Panel:
 
 PANELS: list[Panel] = [
     Panel("View", gui_view, "centre"),
+    Panel("Lessons", gui_lesson, "left"),   # first in its dock: the tab shown at start
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Compare", gui_compare, "left-bottom"),
-    Panel("Lessons", gui_lesson, "right"),
     Panel("Inspect", gui_inspect, "right"),
     Panel("Plots", gui_plots, "right-bottom"),
     Panel("Shaders", gui_shaders, "bottom"),

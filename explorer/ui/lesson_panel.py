@@ -16,7 +16,6 @@ and the step's plot tab. "Leave lesson settings" restores the saved configuratio
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 from explorer.lessons import (
@@ -63,6 +62,13 @@ def step_screen(step: Step, own: Screen) -> Screen:
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
                   plot=step.plot)
+
+
+def shows_step(settings: Settings, step: Step) -> bool:
+    """Whether ``settings`` still has everything ``step`` sets (scene, corrections and
+    the overridden fields); the app may fill in other fields, such as the camera."""
+    return (settings.scene == step.scene and settings.corrections == step.corrections
+            and all(getattr(settings, name) == value for name, value in step.overrides))
 
 
 @dataclass
@@ -241,7 +247,7 @@ def gui_lesson(state: Any) -> None:
     # "on screen" until the reader changes something the step set
     on_screen = (session.applied_step == (lesson.id, step.number)
                  and session.saved is not None
-                 and state.settings == step_screen(step, session.saved).settings)
+                 and shows_step(state.settings, step))
     if session.applied:
         if on_screen:
             imgui.text_disabled("showing this step")
@@ -285,22 +291,12 @@ def _lesson_list(state: Any, session: LessonSession, imgui) -> None:
         session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
-_MARKDOWN = {"state": "new"}
-"""imgui_md's state in this process: new -> pending (initialised this frame; its fonts
-load at the end of the frame) -> ready, or failed."""
-
-
 def _markdown(state: Any, text: str, imgui) -> None:
-    """Step text through imgui_md, with inline math turned into readable text (the
-    window's font has the glyphs); plain wrapped paragraphs until imgui_md is ready or
-    if it cannot start."""
+    """Step text through imgui_md (``rich_md``) when the app made a markdown context
+    (``state.runtime.markdown_ready``), with inline math turned into text the window's
+    font can draw; wrapped plain paragraphs otherwise."""
     text = math_to_text(text)
-    status = _MARKDOWN["state"]
-    if status == "pending":
-        _MARKDOWN["state"] = status = "ready"
-    if status == "new":
-        _MARKDOWN["state"] = _start_markdown()
-    if status == "ready":
+    if getattr(getattr(state, "runtime", None), "markdown_ready", False):
         from imgui_bundle import imgui_md
 
         imgui_md.render_unindented(text)
@@ -308,20 +304,6 @@ def _markdown(state: Any, text: str, imgui) -> None:
     for block in markdown_blocks(text):
         imgui.text_wrapped(block)
         imgui.spacing()
-
-
-def _start_markdown() -> str:
-    try:
-        import imgui_bundle
-        from imgui_bundle import hello_imgui, imgui_md
-
-        assets = Path(imgui_bundle.__file__).parent / "assets"
-        if assets.is_dir():
-            hello_imgui.set_assets_folder(str(assets))
-        imgui_md.initialize_markdown()
-    except Exception:  # noqa: BLE001 - no imgui_md: the plain-text fallback stays
-        return "failed"
-    return "pending"
 
 
 def markdown_blocks(text: str) -> list[str]:
