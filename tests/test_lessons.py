@@ -512,3 +512,13 @@ def test_lesson_panel_in_the_window(tmp_path):
     proc = subprocess.run([sys.executable, "-c", _WINDOW_SCRIPT], cwd=root, env=env,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0 and "window ok" in proc.stdout, proc.stdout + proc.stderr
+
+
+def test_panel_step_caption_says_where_to_look(shipped):
+    from explorer.ui.lesson_panel import step_caption
+
+    lessons, _ = shipped
+    captions = {step_caption(step) for lesson in lessons for step in lesson.steps}
+    assert "Look at the grid-slice view in the Inspect panel." in captions
+    assert any("split view: this step against the original preset" in c for c in captions)
+    assert any(c.endswith("and the flux-per-step plot.") for c in captions)

@@ -71,6 +71,22 @@ def shows_step(settings: Settings, step: Step) -> bool:
             and all(getattr(settings, name) == value for name, value in step.overrides))
 
 
+def step_caption(step: Step) -> str:
+    """Where to look for this step, in words (shown above the step's text)."""
+    if step.view in INSPECT_VIEWS:
+        where = f"the {step.view} view in the Inspect panel"
+    elif step.view in COMPARE_VIEWS:
+        where = f"the {step.view} view: this step against the {step.compare_preset} preset"
+    elif step.view == "final":
+        where = "the final image"
+    else:
+        where = f"the {step.view} light"
+    parts = [f"Look at {where}"]
+    if step.plot:
+        parts.append(f"the {step.plot} plot")
+    return " and ".join(parts) + "."
+
+
 @dataclass
 class LessonSession:
     """Which lesson and step the reader is on, and the configuration to return to."""
@@ -261,6 +277,7 @@ def gui_lesson(state: Any) -> None:
             show_screen(state, session.apply(current_screen(state)))
     imgui.separator()
 
+    imgui.text_disabled(step_caption(step))
     _markdown(state, step.text, imgui)
     if step.formulas:
         imgui.separator_text("Formulas")
