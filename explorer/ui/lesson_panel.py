@@ -277,7 +277,9 @@ def gui_lesson(state: Any) -> None:
             show_screen(state, session.apply(current_screen(state)))
     imgui.separator()
 
-    imgui.text_disabled(step_caption(step))
+    imgui.push_style_color(imgui.Col_.text, imgui.ImVec4(0.62, 0.64, 0.68, 1.0))
+    imgui.text_wrapped(step_caption(step))
+    imgui.pop_style_color()
     _markdown(state, step.text, imgui)
     if step.formulas:
         imgui.separator_text("Formulas")
