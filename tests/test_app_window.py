@@ -16,7 +16,7 @@ import pytest
 
 import explorer.gl.window as window_module
 from explorer.gl.context import GLUnavailableError
-from explorer.lpv.settings import Settings
+from explorer.lpv.settings import PRESETS, Settings
 from explorer.ui.state import AppState
 
 SMALL = dict(width=800, height=600, visible=False, vsync=False)
@@ -107,6 +107,17 @@ def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
     saved = json.loads((config_home / "settings.json").read_text())
     assert saved["settings"]["corrections"]["injection_pi"] is False
     assert (config_home / "imgui.ini").is_file()
+
+    from explorer.ui.layout import PANELS
+
+    app = App(None, **SMALL, pipeline_class=None)        # the next run reads it all back
+    try:
+        assert app.state.settings.corrections == PRESETS["original"]
+        assert not app._needs_layout, "a saved layout for the same panels is kept"
+        assert app.state.layout_panels == [p.title for p in PANELS]
+        assert not [m for m in app.state.messages if m.level != "info"]
+    finally:
+        app.close()
 
 
 def test_a_gl_without_compute_shaders_gets_a_message_not_a_crash(config_home, monkeypatch,
