@@ -16,7 +16,7 @@ import pytest
 
 import explorer.gl.window as window_module
 from explorer.gl.context import GLUnavailableError
-from explorer.lpv.settings import Settings
+from explorer.lpv.settings import PRESETS, Settings
 from explorer.ui.state import AppState
 
 SMALL = dict(width=800, height=600, visible=False, vsync=False)
@@ -107,6 +107,17 @@ def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
     saved = json.loads((config_home / "settings.json").read_text())
     assert saved["settings"]["corrections"]["injection_pi"] is False
     assert (config_home / "imgui.ini").is_file()
+
+    from explorer.ui.layout import PANELS
+
+    app = App(None, **SMALL, pipeline_class=None)        # the next run reads it all back
+    try:
+        assert app.state.settings.corrections == PRESETS["original"]
+        assert not app._needs_layout, "a saved layout for the same panels is kept"
+        assert app.state.layout_panels == [p.title for p in PANELS]
+        assert not [m for m in app.state.messages if m.level != "info"]
+    finally:
+        app.close()
 
 
 def test_a_gl_without_compute_shaders_gets_a_message_not_a_crash(config_home, monkeypatch,
@@ -355,13 +366,14 @@ def test_run_without_a_display_says_so():
 def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
     """The session's EGL context is current when the window opens (as in the full suite);
     glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
-    app = _app(pipeline_class=None)
-    try:
-        app.frame()
-        assert app.frame(capture=True)
-        assert app.last_pixels.std() > 10
-    finally:
-        app.close()
-    buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
-    assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
-    buffer.release()
+    with ctx:   # make the session context current even if an earlier test left another one
+        app = _app(pipeline_class=None)
+        try:
+            app.frame()
+            assert app.frame(capture=True)
+            assert app.last_pixels.std() > 10
+        finally:
+            app.close()
+        buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
+        assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
+        buffer.release()

@@ -110,7 +110,14 @@ class App:
             io.set_ini_filename(str(self._layout_file))
         else:
             io.set_ini_filename("")
-        self._needs_layout = not (self.persist_settings and self._layout_file.exists())
+        from explorer.ui.layout import PANELS
+
+        titles = [panel.title for panel in PANELS]
+        # Rebuild the default layout on the first run and whenever the panel set changed
+        # (a panel the saved layout does not know would otherwise float on its own).
+        self._needs_layout = not (self.persist_settings and self._layout_file.exists()
+                                  and sorted(self.state.layout_panels) == sorted(titles))
+        self.state.layout_panels = titles
         _style(self.window.content_scale)
         _fonts(io)
         imgui.backends.glfw_init_for_opengl(self.window.address, True)

@@ -105,6 +105,7 @@ def state_to_dict(state: AppState) -> dict:
         "mesh_path": state.mesh_path,
         "inspect": dataclasses.asdict(state.inspect),
         "open_panels": dict(state.open_panels),
+        "layout_panels": list(state.layout_panels),
     }
 
 
@@ -136,6 +137,11 @@ def apply_dict(state: AppState, data: Any) -> None:
     state.mesh_path = str(data.get("mesh_path", ""))
     state.inspect = inspect
     state.open_panels = dict(panels)
+    layout_panels = data.get("layout_panels", [])
+    if not isinstance(layout_panels, list) or not all(isinstance(t, str)
+                                                      for t in layout_panels):
+        raise SettingsFileError("layout_panels must be a list of panel titles")
+    state.layout_panels = layout_panels
 
 
 def load_state(state: AppState, path: Path | None = None) -> str | None:

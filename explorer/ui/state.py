@@ -111,6 +111,8 @@ class AppState:
     inspect: InspectState = field(default_factory=InspectState)
     open_panels: dict[str, bool] = field(default_factory=dict)
     lesson_id: str | None = None
+    layout_panels: list[str] = field(default_factory=list)
+    """Panel titles the saved dock layout was built for; a new panel rebuilds it."""
     plot_tab: str | None = None       # a name in settings.PLOTS: bring that plot's tab forward
     messages: list[Message] = field(default_factory=list)
     requests: Requests = field(default_factory=Requests)

@@ -56,6 +56,11 @@ def gui_view(state: AppState) -> None:
         _label(draw, origin, end, state)
     if not divider_grabbed:
         _mouse_camera(state, hovered, active)
+    if hovered and not active:
+        hint = "drag: orbit   wheel: zoom" + ("   divider: drag" if state.view_mode == "split"
+                                              else "")
+        draw.add_text((origin.x + 8, end.y - imgui.get_text_line_height() - 6),
+                      imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.55)), hint)
 
 
 def _toolbar(state: AppState) -> None:
