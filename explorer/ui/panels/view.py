@@ -24,14 +24,15 @@ def gui_view(state: AppState) -> None:
     rt = state.runtime
     avail = imgui.get_content_region_avail()
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
-    rt.view_size = (max(int(avail.x * scale), 0), max(int(avail.y * scale), 0))
+    # The difference view keeps room for its scale bar beside the image.
+    bar = _SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
+    rt.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
     if not rt.final_texture_id:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
-    bar = _SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
     fit = min((avail.x - bar) / width, avail.y / height)
     size = imgui.ImVec2(width * fit + bar, height * fit)
     origin = imgui.get_cursor_screen_pos()
