@@ -273,6 +273,12 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         right = np.abs(split[:, half + 4:] - corrected[:, half + 4:]).mean()
         assert left < 1.0 < right, (left, right)
 
+        app.state.view_buffer = "indirect"                 # the view's buffer selector
+        app.frame(capture=True)
+        indirect = _view_pixels(app)
+        assert indirect.std() > 1.0 and np.abs(indirect - split).mean() > 1.0
+        app.state.view_buffer = "final"
+
         app.state.auto_exposure = True                     # expose each side on its own
         for _ in range(3):
             app.frame()

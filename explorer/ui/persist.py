@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from explorer.lpv.settings import Corrections, Settings
-from explorer.ui.state import VIEW_MODES, AppState, InspectState
+from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, InspectState
 
 FORMAT_VERSION = 1
 
@@ -99,6 +99,7 @@ def state_to_dict(state: AppState) -> dict:
         "settings": state.settings.to_dict(),
         "compare_settings": state.compare_settings.to_dict(),
         "view_mode": state.view_mode,
+        "view_buffer": state.view_buffer,
         "split_position": state.split_position,
         "auto_exposure": state.auto_exposure,
         "render_scale": state.render_scale,
@@ -121,6 +122,9 @@ def apply_dict(state: AppState, data: Any) -> None:
     view_mode = data.get("view_mode", "single")
     if view_mode not in VIEW_MODES:
         raise SettingsFileError(f"view_mode must be one of {VIEW_MODES}, got {view_mode!r}")
+    view_buffer = data.get("view_buffer", "final")
+    if view_buffer not in VIEW_BUFFERS:
+        raise SettingsFileError(f"view_buffer must be one of {VIEW_BUFFERS}, got {view_buffer!r}")
     inspect_data = data.get("inspect", {})
     try:
         inspect = InspectState(**inspect_data)
@@ -131,6 +135,7 @@ def apply_dict(state: AppState, data: Any) -> None:
         raise SettingsFileError("open_panels must map panel titles to true/false")
     state.settings, state.compare_settings = settings, compare
     state.view_mode = view_mode
+    state.view_buffer = view_buffer
     state.split_position = min(max(float(data.get("split_position", 0.5)), 0.05), 0.95)
     state.auto_exposure = bool(data.get("auto_exposure", False))
     state.render_scale = min(max(float(data.get("render_scale", 1.0)), 0.25), 2.0)

@@ -20,6 +20,10 @@ VIEW_MODES = ("single", "split", "difference")
 """single: configuration A; split: A left | B right with a draggable divider;
 difference: false-colour |A − B| with a scale bar."""
 
+VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
+"""What the 3D view shows (the first names of settings.VIEWS): the pipeline's final image,
+or one FrameResult buffer tonemapped at the current exposure."""
+
 INSPECT_SOURCES = (
     "rsm-position", "rsm-normal", "rsm-flux",   # RSM buffers
     "grid-slice",                               # accumulated grid acc_N, one z slice
@@ -102,6 +106,7 @@ class AppState:
     compare_settings: Settings = field(  # configuration B: only its corrections are used
         default_factory=lambda: Settings(corrections=PRESETS["original"]))
     view_mode: str = "single"
+    view_buffer: str = "final"
     split_position: float = 0.5       # divider, fraction of the view width
     auto_exposure: bool = False       # expose each side of a comparison on its own
     difference_scale: float = 0.0     # watts per pixel at the top of the scale; 0 = auto

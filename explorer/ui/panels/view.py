@@ -8,8 +8,8 @@ import numpy as np
 from imgui_bundle import imgui
 
 from explorer.ui import camera, images, widgets
-from explorer.ui.state import VIEW_MODES, AppState
-from explorer.ui.textures import diverging, heat
+from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
+from explorer.ui.textures import diverging, heat, tonemap
 
 ORBIT_DEGREES_PER_PIXEL = 0.35
 ZOOM_PER_WHEEL_STEP = 0.9
@@ -24,14 +24,15 @@ def gui_view(state: AppState) -> None:
     rt = state.runtime
     avail = imgui.get_content_region_avail()
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
-    rt.view_size = (max(int(avail.x * scale), 0), max(int(avail.y * scale), 0))
+    # The difference view keeps room for its scale bar beside the image.
+    bar = _SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
+    rt.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
     if not rt.final_texture_id:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
-    bar = _SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
     fit = min((avail.x - bar) / width, avail.y / height)
     size = imgui.ImVec2(width * fit + bar, height * fit)
     origin = imgui.get_cursor_screen_pos()
@@ -48,8 +49,8 @@ def gui_view(state: AppState) -> None:
     elif state.view_mode == "difference" and rt.compare_result is not None:
         _difference(state, draw, origin, end)
     else:
-        draw.add_image(imgui.ImTextureRef(rt.final_texture_id), origin, end,
-                       UV_TOP_LEFT, UV_BOTTOM_RIGHT)
+        tex, flipped = side_texture(state, "A") or (rt.final_texture_id, True)
+        draw.add_image(imgui.ImTextureRef(tex), origin, end, *_uv(0.0, 1.0, flipped))
         if state.comparing:
             _overlay(draw, origin, "configuration B is rendering…")
     if state.comparing and state.view_mode == "split":
@@ -63,11 +64,45 @@ def gui_view(state: AppState) -> None:
                       imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.55)), hint)
 
 
+def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
+    """(GL texture name, stored bottom row first) of one side's chosen buffer, or None.
+    "final" is the pipeline's own texture; the other buffers are FrameResult arrays
+    tonemapped and uploaded to a texture the UI owns."""
+    rt = state.runtime
+    if state.view_buffer == "final":
+        tex = rt.final_texture_id if side == "A" else rt.compare_texture_id
+        return (tex, True) if tex else None
+    result = rt.result if side == "A" else rt.compare_result
+    if result is None:
+        return None
+    exposure = 1.0 if state.view_buffer == "albedo" else result.settings.exposure
+    version = (state.view_buffer, id(result))
+    tex = rt.textures.upload(f"view-{side}", tonemap(linear_image(result, state.view_buffer),
+                                                     exposure),
+                             version=version, nearest=False)
+    return tex, False
+
+
+def linear_image(result, buffer: str):
+    """The linear (H, W, 3) image of ``buffer`` (VIEW_BUFFERS) from a FrameResult."""
+    return result.final_image if buffer == "final" else getattr(result, buffer)
+
+
+def _uv(u0: float, u1: float, flipped: bool):
+    """Texture coordinates of the columns u0..u1, top row at the top."""
+    return ((u0, 1.0), (u1, 0.0)) if flipped else ((u0, 0.0), (u1, 1.0))
+
+
 def _toolbar(state: AppState) -> None:
     for mode in VIEW_MODES:
         if imgui.radio_button(mode.capitalize(), state.view_mode == mode):
             state.view_mode = mode
         imgui.same_line()
+    imgui.set_next_item_width(90)
+    _, state.view_buffer = widgets.combo("##buffer", state.view_buffer, VIEW_BUFFERS)
+    if imgui.is_item_hovered():
+        imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
+    imgui.same_line()
     imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
                                         "%.2f", imgui.SliderFlags_.logarithmic)
@@ -114,10 +149,10 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
     width = end.x - origin.x
     x = origin.x + width * state.split_position
     frac = state.split_position
-    draw.add_image(imgui.ImTextureRef(rt.final_texture_id), origin, (x, end.y),
-                   (0.0, 1.0), (frac, 0.0))
-    draw.add_image(imgui.ImTextureRef(rt.compare_texture_id), (x, origin.y), end,
-                   (frac, 1.0), (1.0, 0.0))
+    tex_a, flip_a = side_texture(state, "A") or (rt.final_texture_id, True)
+    tex_b, flip_b = side_texture(state, "B") or (rt.compare_texture_id, True)
+    draw.add_image(imgui.ImTextureRef(tex_a), origin, (x, end.y), *_uv(0.0, frac, flip_a))
+    draw.add_image(imgui.ImTextureRef(tex_b), (x, origin.y), end, *_uv(frac, 1.0, flip_b))
     mouse = imgui.get_mouse_pos()
     near = hovered and abs(mouse.x - x) < 6.0
     grabbing = rt.split_dragging
@@ -172,12 +207,13 @@ def _preset_name(corrections) -> str:
 def _difference(state: AppState, draw, origin, end) -> None:
     rt = state.runtime
     a, b = rt.result, rt.compare_result
-    if a.final_image.shape != b.final_image.shape:
+    image_a, image_b = linear_image(a, state.view_buffer), linear_image(b, state.view_buffer)
+    if image_a.shape != image_b.shape:
         _overlay(draw, origin, "the two sides differ in size; waiting for B")
         return
-    version = ("difference", id(a), id(b), state.difference_scale)
+    version = ("difference", id(a), id(b), state.difference_scale, state.view_buffer)
     if rt.difference_cache is None or rt.difference_cache[0] != version:
-        image, top = images.difference(a.final_image, b.final_image, state.difference_scale)
+        image, top = images.difference(image_a, image_b, state.difference_scale)
         tex = rt.textures.upload("difference", image, version=version)
         rt.difference_cache = (version, tex, top)
     _, tex, top = rt.difference_cache
@@ -185,8 +221,8 @@ def _difference(state: AppState, draw, origin, end) -> None:
     image_end = imgui.ImVec2(end.x - bar, end.y)
     draw.add_image(imgui.ImTextureRef(tex), origin, image_end)
     scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top)
-    _overlay(draw, origin, "|A − B| luminance" + (" (auto scale)" if state.difference_scale <= 0
-                                                   else ""))
+    _overlay(draw, origin, f"|A − B| luminance of {state.view_buffer}"
+             + (" (auto scale)" if state.difference_scale <= 0 else ""))
 
 
 def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> None:
