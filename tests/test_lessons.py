@@ -373,8 +373,10 @@ def test_panel_screen_maps_views(shipped):
                 assert screen.view_mode == step.view
             else:
                 assert screen.view_mode == "single"
-            if step.view == "indirect" and "indirect_only" not in dict(step.overrides):
-                assert screen.settings.indirect_only
+            if step.view in ("final", "direct", "indirect", "albedo"):
+                assert screen.view_buffer == step.view
+            else:
+                assert screen.view_buffer == "final"
             if step.view.startswith("rsm-") or step.view in ("grid-slice", "geometry-volume"):
                 assert screen.inspect_source == step.view
 
@@ -477,6 +479,7 @@ try:
     assert state.settings.scene == lesson.steps[0].scene
     assert state.settings.corrections == lesson.steps[0].corrections
     assert state.settings.exposure == 2.0
+    assert state.view_buffer == "final"      # step 1 shows a grid slice (Inspect panel)
     session.next()                       # what the "next" arrow does
     show_screen(state, session.apply(current_screen(state)))
     assert app.frame(capture=True)
@@ -486,6 +489,7 @@ try:
     show_screen(state, session.leave())  # "Leave lesson settings"
     app.frame()
     assert state.settings == own and state.view_mode == "single"
+    assert state.view_buffer == "final"
     assert [m.text for m in state.messages if m.level == "error"] == []
 finally:
     app.close()

@@ -31,6 +31,8 @@ from explorer.lpv.settings import Settings
 
 INSPECT_VIEWS = ("rsm-position", "rsm-normal", "rsm-flux", "grid-slice", "geometry-volume")
 """Step views the app shows in its Inspect panel rather than in the main view."""
+MAIN_VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
+"""Step views the main view shows (``AppState.view_buffer``)."""
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,7 @@ class Screen:
     settings: Settings
     compare_settings: Settings
     view_mode: str                 # "single" | "split" | "difference"
+    view_buffer: str = "final"     # what the main view shows: final | direct | indirect | albedo
     inspect_source: str | None = None
     plot: str | None = None
 
@@ -48,18 +51,17 @@ def step_screen(step: Step, own: Screen) -> Screen:
     """What ``step`` shows, built on the reader's own configuration ``own``.
 
     Scene, corrections, camera, light and the step's overrides come from the step; every
-    other setting keeps the reader's value. The "indirect" view turns on
-    ``indirect_only`` (unless the step sets it), since the main view shows the final
-    image."""
+    other setting keeps the reader's value. The final/direct/indirect/albedo views pick the
+    main view's buffer; RSM and grid views go to the Inspect panel."""
     settings = step.settings(own.settings)
-    if step.view == "indirect" and "indirect_only" not in dict(step.overrides):
-        settings = settings.with_changes(indirect_only=True)
+    buffer = step.view if step.view in MAIN_VIEW_BUFFERS else "final"
     if step.view in COMPARE_VIEWS:
         compare = own.compare_settings.with_changes(corrections=step.compare)
         mode = step.view
     else:
         compare, mode = own.compare_settings, "single"
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
+                  view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
                   plot=step.plot)
 
@@ -187,15 +189,18 @@ def session_of(state: Any) -> LessonSession:
 
 def current_screen(state: Any) -> Screen:
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
-                  view_mode=state.view_mode)
+                  view_mode=state.view_mode,
+                  view_buffer=getattr(state, "view_buffer", "final"))
 
 
 def show_screen(state: Any, screen: Screen) -> None:
-    """Put ``screen`` into the app state (settings of A and B, view mode, inspect source,
-    plot tab)."""
+    """Put ``screen`` into the app state (settings of A and B, view mode and buffer,
+    inspect source, plot tab)."""
     state.settings = screen.settings
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
+    if hasattr(state, "view_buffer"):
+        state.view_buffer = screen.view_buffer
     if screen.inspect_source is not None and hasattr(state, "inspect"):
         state.inspect.source = screen.inspect_source
     if screen.plot is not None and hasattr(state, "plot_tab"):
