@@ -1,0 +1,215 @@
+"""A glfw window with an OpenGL 4.3 core context wrapped by moderngl.
+
+The window asks for GL 4.3 core (compute shaders). A driver that cannot give one still gets
+a window when possible (GL 3.3 core), so the app can show *why* it cannot run instead of
+crashing: :attr:`Window.gl_problem` then holds the message and :attr:`Window.ctx` is a
+plain moderngl context good enough to draw the message.
+
+``imgui_bundle`` must be imported before ``glfw``: it points pyglfw at the GLFW library it
+bundles (the one its native imgui backend links against).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import sys
+import time
+from collections import deque
+from pathlib import Path
+
+import imgui_bundle  # noqa: F401  (must precede `import glfw`, see the module docstring)
+import glfw
+import moderngl
+
+from explorer.gl.context import GLUnavailableError, wrap_current_context
+
+
+class WindowError(RuntimeError):
+    """glfw could not start or no window could be opened (no display, no GL)."""
+
+
+_GL_REQUESTS = ((4, 3), (3, 3))
+
+
+class Window:
+    """One glfw window, its GL context and the events the app needs besides imgui's.
+
+    ``visible=False`` opens a hidden window (tests, scripted screenshots); rendering to
+    its default framebuffer still works.
+    """
+
+    def __init__(self, width: int = 1600, height: int = 960, title: str = "lpv-explorer",
+                 visible: bool = True, vsync: bool = True) -> None:
+        glfw.set_error_callback(_print_glfw_error)
+        # A headless EGL context current on this thread (tests, notebooks) makes Mesa's
+        # glXMakeCurrent fail with BadAccess, and Xlib then exits the process: set it
+        # aside while the window lives and make it current again in close().
+        self._saved_egl = _release_current_egl()
+        if not _init_glfw():
+            _restore_egl(self._saved_egl)
+            raise WindowError(
+                "glfw could not start: is there a display? (set DISPLAY, or run under "
+                "xvfb-run for a virtual one)")
+        self.handle = None
+        self.gl_problem: str | None = None
+        for major, minor in _GL_REQUESTS:
+            glfw.default_window_hints()
+            glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, major)
+            glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, minor)
+            glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+            glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+            glfw.window_hint(glfw.VISIBLE, bool(visible))
+            glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
+            glfw.window_hint(glfw.RESIZABLE, True)
+            self.handle = glfw.create_window(int(width), int(height), title, None, None)
+            if self.handle:
+                break
+        if not self.handle:
+            glfw.terminate()
+            _restore_egl(self._saved_egl)
+            raise WindowError("glfw could not open a window with an OpenGL 3.3+ core context")
+        glfw.make_context_current(self.handle)
+        glfw.swap_interval(1 if vsync else 0)
+        try:
+            self.ctx = wrap_current_context()
+        except GLUnavailableError as exc:
+            # Keep a context that can at least draw the explanation.
+            self.gl_problem = str(exc)
+            self.ctx = moderngl.create_context()
+        self.dropped_paths: deque[Path] = deque()
+        glfw.set_drop_callback(self.handle, self._on_drop)
+
+    # -- events -------------------------------------------------------------------------
+    def _on_drop(self, _window, paths) -> None:
+        self.dropped_paths.extend(Path(p) for p in paths)
+
+    @property
+    def address(self) -> int:
+        """The GLFWwindow* as an integer, what imgui's native glfw backend takes."""
+        return int(ctypes.cast(self.handle, ctypes.c_void_p).value)
+
+    def should_close(self) -> bool:
+        return bool(glfw.window_should_close(self.handle))
+
+    def request_close(self) -> None:
+        glfw.set_window_should_close(self.handle, True)
+
+    @staticmethod
+    def poll_events(timeout: float | None = None) -> None:
+        """Process pending events; with ``timeout``, sleep until one arrives or it expires
+        (used while minimised so an idle app does not spin)."""
+        if timeout is None:
+            glfw.poll_events()
+        else:
+            glfw.wait_events_timeout(timeout)
+
+    def swap_buffers(self) -> None:
+        glfw.swap_buffers(self.handle)
+
+    # -- geometry -----------------------------------------------------------------------
+    @property
+    def framebuffer_size(self) -> tuple[int, int]:
+        width, height = glfw.get_framebuffer_size(self.handle)
+        return int(width), int(height)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        width, height = glfw.get_window_size(self.handle)
+        return int(width), int(height)
+
+    def set_size(self, width: int, height: int) -> None:
+        glfw.set_window_size(self.handle, int(width), int(height))
+
+    @property
+    def content_scale(self) -> float:
+        """The monitor's content scale (1.0 at 96 dpi, 2.0 on a typical 'retina' screen)."""
+        sx, sy = glfw.get_window_content_scale(self.handle)
+        return float(max(sx, sy, 1.0))
+
+    @property
+    def minimised(self) -> bool:
+        width, height = self.framebuffer_size
+        return width == 0 or height == 0 or bool(glfw.get_window_attrib(self.handle,
+                                                                        glfw.ICONIFIED))
+
+    def set_title(self, title: str) -> None:
+        glfw.set_window_title(self.handle, title)
+
+    # -- pixels -------------------------------------------------------------------------
+    def read_pixels(self) -> "numpy.ndarray":  # noqa: F821 (numpy imported lazily)
+        """The back buffer as (H, W, 3) uint8, top row first.
+
+        Reading the default framebuffer through moderngl's ``screen.read`` raises
+        GL_INVALID_OPERATION on Mesa (it selects a colour attachment the default
+        framebuffer lacks), so the back buffer is blitted into our own framebuffer first.
+        """
+        import numpy as np
+
+        width, height = self.framebuffer_size
+        target = self.ctx.simple_framebuffer((width, height), components=4)
+        try:
+            self.ctx.copy_framebuffer(target, self.ctx.screen)
+            data = target.read(components=3, alignment=1)
+        finally:
+            target.release()
+            self.ctx.screen.use()
+        pixels = np.frombuffer(data, dtype=np.uint8).reshape(height, width, 3)
+        return pixels[::-1].copy()
+
+    def close(self) -> None:
+        if self.handle is not None:
+            glfw.destroy_window(self.handle)
+            self.handle = None
+        glfw.terminate()
+        _restore_egl(self._saved_egl)
+        self._saved_egl = None
+
+
+_EGL_DRAW, _EGL_READ = 0x3059, 0x305A
+
+
+def _libegl():
+    try:
+        lib = ctypes.CDLL("libEGL.so.1")
+    except OSError:
+        return None
+    for name in ("eglGetCurrentContext", "eglGetCurrentDisplay"):
+        getattr(lib, name).restype = ctypes.c_void_p
+        getattr(lib, name).argtypes = []
+    lib.eglGetCurrentSurface.restype = ctypes.c_void_p
+    lib.eglGetCurrentSurface.argtypes = [ctypes.c_int32]
+    lib.eglMakeCurrent.restype = ctypes.c_uint32
+    lib.eglMakeCurrent.argtypes = [ctypes.c_void_p] * 4
+    return lib
+
+
+def _release_current_egl() -> tuple | None:
+    """Make no EGL context current; return what was current (for :func:`_restore_egl`)."""
+    lib = _libegl()
+    if lib is None or not lib.eglGetCurrentContext():
+        return None
+    saved = (lib.eglGetCurrentDisplay(), lib.eglGetCurrentSurface(_EGL_DRAW),
+             lib.eglGetCurrentSurface(_EGL_READ), lib.eglGetCurrentContext())
+    lib.eglMakeCurrent(saved[0], None, None, None)
+    return saved
+
+
+def _restore_egl(saved: tuple | None) -> None:
+    if saved is not None:
+        _libegl().eglMakeCurrent(*saved)
+
+
+def _init_glfw(attempts: int = 3) -> bool:
+    """``glfw.init()``, retried briefly: a busy X server (e.g. Xvfb on a loaded CI machine)
+    occasionally refuses one connection."""
+    for attempt in range(attempts):
+        if glfw.init():
+            return True
+        time.sleep(0.2 * (attempt + 1))
+    return False
+
+
+def _print_glfw_error(code: int, description) -> None:
+    if isinstance(description, bytes):
+        description = description.decode(errors="replace")
+    print(f"lpv-explorer: glfw error {code}: {description}", file=sys.stderr)

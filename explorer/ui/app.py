@@ -1,0 +1,666 @@
+"""The explorer window: one glfw window, imgui panels over one AppState, two pipelines.
+
+The app is a thin shell over the headless :class:`explorer.lpv.pipeline.Pipeline`: each
+frame it hands the current Settings to the pipeline (which re-runs only when the Settings
+differ from the last run's), shows ``Pipeline.final_texture`` in the View panel and lets
+the panels read the FrameResult. Configuration B (compare views) is a second Pipeline with
+its own Settings that differ from A's only in the corrections (and, optionally, exposure).
+
+Drive it from code (tests, scripts)::
+
+    app = App(width=800, height=600, visible=False)
+    app.state.set_corrections(propagation_4pi=False)
+    app.frame()                      # the change is visible in this frame
+    app.screenshot("shot.png")       # the whole window, panels included
+    app.close()
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import traceback
+from datetime import datetime
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from explorer.gl.window import Window
+from explorer.ui import persist
+from explorer.ui.state import AppState
+
+_MIN_RENDER_SIZE = 16
+_MAX_RENDER_SIZE = 2048
+_RESIZE_SETTLE_S = 0.15       # re-render at a new view size once resizing pauses this long
+_SHADER_POLL_S = 0.5
+_LAYOUT_FRAMES = 2          # frames before the View panel's size is trusted
+_EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
+CLEAR_COLOUR = (0.09, 0.095, 0.11, 1.0)
+
+
+def default_screenshot_path() -> Path:
+    return Path.cwd() / f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}.png"
+
+
+def _default_pipeline_factory():
+    """The Pipeline class, or None when this build lacks it (the window still opens)."""
+    try:
+        from explorer.lpv.pipeline import Pipeline
+    except ModuleNotFoundError as exc:
+        if exc.name and exc.name.startswith("explorer"):
+            return None
+        raise
+    return Pipeline
+
+
+class App:
+    def __init__(self, state: AppState | None = None, *, width: int = 1600, height: int = 960,
+                 visible: bool = True, vsync: bool = True, persist_settings: bool = True,
+                 pipeline_class: Callable | None | object = ...) -> None:
+        """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
+        None for a window without a pipeline (panels only)."""
+        self.state = state or AppState()
+        self.persist_settings = persist_settings
+        if persist_settings and state is None:
+            problem = persist.load_state(self.state)
+            if problem:
+                print(f"lpv-explorer: {problem}", file=sys.stderr)
+                self.state.notify(problem, "warning")
+        self.window = Window(width, height, visible=visible, vsync=vsync)
+        self.ctx = self.window.ctx
+        rt = self.state.runtime
+        rt.gl_problem = self.window.gl_problem
+        if rt.gl_problem:
+            print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
+        self._pipeline_class = (_default_pipeline_factory() if pipeline_class is ...
+                                else pipeline_class)
+        if self._pipeline_class is None and not rt.gl_problem:
+            rt.pipeline_error = ("no LPV pipeline in this build (explorer.lpv.pipeline); "
+                                 "the panels work, the view stays empty")
+        self._pipelines: dict[str, object] = {}
+        self._last_run: dict[str, object] = {}
+        self._failed: dict[str, object] = {}
+        self._good_scene: tuple | None = None
+        self._defaults_for: str | None = None
+        self._exposure_seen: list = [None, None]
+        self._pending_size: tuple | None = None
+        self._shader_poll = 0.0
+        self._shader_stamp = 0.0
+        self._capture = False
+        self.last_pixels: np.ndarray | None = None
+        self._init_imgui()
+
+    # -- setup ---------------------------------------------------------------------------
+    def _init_imgui(self) -> None:
+        from imgui_bundle import imgui, implot, implot3d
+
+        from explorer.ui.formulas import FormulaCache
+        from explorer.ui.textures import UiTextures
+
+        self._imgui_ctx = imgui.create_context()
+        self._implot_ctx = implot.create_context()
+        self._implot3d_ctx = implot3d.create_context()
+        io = imgui.get_io()
+        io.config_flags |= imgui.ConfigFlags_.docking_enable
+        io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
+        self._layout_file = persist.layout_path()
+        if self.persist_settings:
+            self._layout_file.parent.mkdir(parents=True, exist_ok=True)
+            io.set_ini_filename(str(self._layout_file))
+        else:
+            io.set_ini_filename("")
+        from explorer.ui.layout import PANELS
+
+        titles = [panel.title for panel in PANELS]
+        # Rebuild the default layout on the first run and whenever the panel set changed
+        # (a panel the saved layout does not know would otherwise float on its own).
+        self._needs_layout = not (self.persist_settings and self._layout_file.exists()
+                                  and sorted(self.state.layout_panels) == sorted(titles))
+        self.state.layout_panels = titles
+        _style(self.window.content_scale)
+        _fonts(io)
+        imgui.backends.glfw_init_for_opengl(self.window.address, True)
+        imgui.backends.opengl3_init("#version 330 core")
+        rt = self.state.runtime
+        rt.textures = UiTextures(self.ctx)
+        rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
+        self._markdown_ctx = _markdown_context()
+        rt.markdown_ready = self._markdown_ctx is not None
+        try:
+            from imgui_bundle import portable_file_dialogs as pfd
+
+            rt.file_dialog_available = bool(pfd.settings.available())
+        except Exception:  # noqa: BLE001 - no zenity/kdialog: hide the browse button
+            rt.file_dialog_available = False
+
+    # -- the loop ------------------------------------------------------------------------
+    def run(self, frames: int | None = None, screenshot: Path | None = None) -> int:
+        """Run until the window closes (or for ``frames`` frames, then write
+        ``screenshot`` if given). Returns an exit status."""
+        count = 0
+        while self.frame(capture=screenshot is not None and frames is not None
+                         and count == frames - 1):
+            count += 1
+            if frames is not None and count >= frames:
+                break
+        if screenshot is not None:
+            if self.last_pixels is None:
+                print("lpv-explorer: no frame was drawn, no screenshot written",
+                      file=sys.stderr)
+                return 1
+            write_png(self.last_pixels, screenshot)
+            print(f"lpv-explorer: wrote {screenshot}")
+        return 0
+
+    def frame(self, capture: bool = False) -> bool:
+        """Process events and draw one frame; False once the window should close.
+
+        ``capture``: keep the drawn frame (panels included) in :attr:`last_pixels`."""
+        from imgui_bundle import imgui
+
+        start = time.perf_counter()
+        self.window.poll_events()
+        if self.window.should_close() or self.state.requests.quit:
+            return False
+        self._handle_drops()
+        if self.window.minimised:
+            # Nothing to draw into: skip GL work entirely and sleep until an event.
+            self.window.poll_events(timeout=0.1)
+            return True
+        if not self.state.runtime.gl_problem:
+            self._hot_reload()
+            self._update_pipelines()
+        imgui.backends.opengl3_new_frame()
+        imgui.backends.glfw_new_frame()
+        imgui.new_frame()
+        self._draw_ui()
+        imgui.render()
+        width, height = self.window.framebuffer_size
+        self.ctx.screen.use()
+        self.ctx.viewport = (0, 0, width, height)
+        self.ctx.clear(*CLEAR_COLOUR)
+        imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
+        self._after_render(capture)
+        self.window.swap_buffers()
+        rt = self.state.runtime
+        rt.frame_index += 1
+        rt.frame_ms = (time.perf_counter() - start) * 1000.0
+        return True
+
+    def screenshot(self, path: str | Path) -> Path:
+        """Draw a frame and write it, panels included, to ``path`` (PNG)."""
+        self.frame(capture=True)
+        path = Path(path)
+        write_png(self.last_pixels, path)
+        return path
+
+    def close(self) -> None:
+        from imgui_bundle import imgui, implot, implot3d
+
+        if self.persist_settings:
+            try:
+                persist.save_state(self.state)
+            except OSError as exc:
+                print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)
+        for pipeline in self._pipelines.values():
+            pipeline.release()
+        self._pipelines.clear()
+        rt = self.state.runtime
+        if rt.textures is not None:
+            rt.textures.release()
+        if self.persist_settings:
+            imgui.save_ini_settings_to_disk(str(self._layout_file))
+        if self._markdown_ctx is not None:
+            from imgui_bundle import rich_md
+
+            rich_md.destroy_context(self._markdown_ctx)
+            self._markdown_ctx = None
+        imgui.backends.opengl3_shutdown()
+        imgui.backends.glfw_shutdown()
+        implot3d.destroy_context(self._implot3d_ctx)
+        implot.destroy_context(self._implot_ctx)
+        imgui.destroy_context(self._imgui_ctx)
+        self.window.close()
+
+    # -- pipelines -----------------------------------------------------------------------
+    def settings_for(self, side: str):
+        """The Settings the pipeline of ``side`` ("A" or "B") runs with this frame."""
+        state, rt = self.state, self.state.runtime
+        a = state.settings
+        if side == "A":
+            if state.comparing and state.auto_exposure:
+                a = a.with_changes(exposure=rt.auto_exposure[0])
+            return a
+        b = a.with_changes(corrections=state.compare_settings.corrections)
+        if state.auto_exposure:
+            b = b.with_changes(exposure=rt.auto_exposure[1])
+        return b
+
+    def _follow_view_size(self) -> bool:
+        """Keep the render size at the View panel's pixels; False while the size is
+        not known yet (the first frame), so the first run already has the right size."""
+        state, rt = self.state, self.state.runtime
+        if not state.follow_view_size:
+            return True
+        vw, vh = rt.view_size
+        if rt.frame_index < _LAYOUT_FRAMES:
+            return False                # the dock layout settles in its first frames
+        if vw < _MIN_RENDER_SIZE or vh < _MIN_RENDER_SIZE:
+            return True                 # the view panel is hidden: keep the stored size
+        size = (int(np.clip(vw * state.render_scale, _MIN_RENDER_SIZE, _MAX_RENDER_SIZE)),
+                int(np.clip(vh * state.render_scale, _MIN_RENDER_SIZE, _MAX_RENDER_SIZE)))
+        current = (state.settings.width, state.settings.height)
+        if size == current:
+            self._pending_size = None
+            return True
+        now = time.monotonic()
+        if rt.result is None or (self._pending_size and self._pending_size[0] == size
+                                 and now - self._pending_size[1] >= _RESIZE_SETTLE_S):
+            state.update(width=size[0], height=size[1])
+            self._pending_size = None
+        elif not self._pending_size or self._pending_size[0] != size:
+            self._pending_size = (size, now)
+        return True
+
+    def _update_pipelines(self) -> None:
+        rt = self.state.runtime
+        if self._pipeline_class is None:
+            return
+        if self.state.requests.open_scene:
+            self._open_scene(self.state.requests.open_scene)
+            self.state.requests.open_scene = None
+        if not self._follow_view_size():
+            return
+        keep_steps = self.state.inspect.source == "propagation"
+        if self._run_side("A", keep_steps):
+            rt.final_texture_id = self._pipelines["A"].final_texture.glo
+        if self.state.comparing:
+            if self._run_side("B", False):
+                rt.compare_texture_id = self._pipelines["B"].final_texture.glo
+        self._update_auto_exposure()
+
+    def _run_side(self, side: str, keep_steps: bool) -> bool:
+        """Run one side's pipeline if its settings changed; True if it has a result."""
+        rt = self.state.runtime
+        settings = self.settings_for(side)
+        last = self._last_run.get(side)
+        if last is not None and last == (settings, keep_steps):
+            return True
+        if self._failed.get(side) == (settings, keep_steps):
+            return side in self._last_run
+        start = time.perf_counter()
+        try:
+            pipeline = self._pipelines.get(side)
+            if pipeline is None:
+                pipeline = self._pipeline_class(settings, ctx=self.ctx)
+                self._pipelines[side] = pipeline
+            result = pipeline.run(settings, keep_steps=keep_steps)
+        except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
+            self._failed[side] = (settings, keep_steps)
+            self._pipeline_failed(side, settings, exc)
+            return side in self._last_run
+        finally:
+            self.ctx.screen.use()
+        rt.pipeline_ms = (time.perf_counter() - start) * 1000.0
+        self._last_run[side] = (settings, keep_steps)
+        self._failed.pop(side, None)
+        if side == "A":
+            rt.result = result
+            rt.pipeline_error = None
+            self._good_scene = (settings.scene, settings.camera, settings.light,
+                                settings.light_flux)
+            self._scene_defaults(pipeline, settings.scene)
+            self._update_title()
+        else:
+            rt.compare_result = result
+        return True
+
+    def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
+        rt = self.state.runtime
+        text = f"{type(exc).__name__}: {exc}"
+        scene_error = self._good_scene is not None and settings.scene != self._good_scene[0]
+        if scene_error and side == "A":
+            # A mesh that fails to load: say so and keep the previous scene.
+            scene, camera, light, flux = self._good_scene
+            self.state.notify(f"could not open {settings.scene}: {exc}", "error")
+            self.state.update(scene=scene, camera=camera, light=light, light_flux=flux)
+            print(f"lpv-explorer: could not open {settings.scene}: {exc}", file=sys.stderr)
+            return
+        rt.pipeline_error = f"pipeline {side} failed: {text}"
+        self.state.notify(rt.pipeline_error, "error")
+        print(f"lpv-explorer: {rt.pipeline_error}", file=sys.stderr)
+        traceback.print_exception(exc, file=sys.stderr)
+
+    def _scene_defaults(self, pipeline, scene_name: str) -> None:
+        """The scene's own camera and light (before any override), so orbiting and the
+        light sliders start from what is shown. Loaded once per scene."""
+        rt = self.state.runtime
+        if self._defaults_for == scene_name:
+            return
+        self._defaults_for = scene_name
+        scene = getattr(pipeline, "scene", None)
+        if scene is None:
+            try:
+                from explorer.scene import load_scene
+
+                scene = load_scene(scene_name)
+            except Exception:  # noqa: BLE001 - defaults are a convenience
+                scene = None
+        rt.camera_default = _eye_target(getattr(scene, "camera", None))
+        light = getattr(scene, "light", None)
+        rt.light_default = _eye_target(light)
+        rt.light_flux_default = getattr(light, "flux", None)
+
+    def _open_scene(self, name_or_path: str) -> None:
+        if name_or_path == self.state.settings.scene:
+            return
+        # A new scene starts from its own camera and light.
+        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None)
+        self.state.notify(f"opening {name_or_path}")
+
+    def _update_auto_exposure(self) -> None:
+        """Per-side exposure from the latest results (computed once per new result)."""
+        from explorer.ui.images import auto_exposure
+
+        rt = self.state.runtime
+        if not (self.state.comparing and self.state.auto_exposure):
+            return
+        values = list(rt.auto_exposure)
+        for i, result in enumerate((rt.result, rt.compare_result)):
+            if result is None or self._exposure_seen[i] == id(result):
+                continue
+            self._exposure_seen[i] = id(result)
+            value = auto_exposure(result.final_image, result.settings.exposure)
+            if abs(value - values[i]) > _EXPOSURE_TOLERANCE * max(values[i], 1e-12):
+                values[i] = float(f"{value:.3g}")
+        rt.auto_exposure = (values[0], values[1])
+
+    def _hot_reload(self) -> None:
+        """Recompile shaders whose files changed. With ``Pipeline.invalidate`` the
+        pipeline's ProgramCache reloads in place (a failed compile keeps the last good
+        program and records its log); without it a fresh pipeline is built and swapped in
+        only if it runs, so a broken shader never replaces a working one."""
+        from explorer.gl.program import ProgramCache, ShaderError
+
+        now = time.monotonic()
+        if now - self._shader_poll < _SHADER_POLL_S or not self._pipelines:
+            return
+        self._shader_poll = now
+        rt = self.state.runtime
+        stamp = ProgramCache.newest_change()
+        if not self._shader_stamp:
+            self._shader_stamp = stamp
+        changed, self._shader_stamp = stamp > self._shader_stamp, max(stamp, self._shader_stamp)
+        for side, pipeline in list(self._pipelines.items()):
+            programs = getattr(pipeline, "programs", None)
+            invalidate = getattr(pipeline, "invalidate", None)
+            if isinstance(programs, ProgramCache) and callable(invalidate):
+                if programs.reload_if_changed():
+                    invalidate()
+                    self._last_run.pop(side, None)
+                    self.state.notify(f"shaders reloaded ({side})")
+                rt.shader_errors = dict(programs.errors)
+            elif changed:
+                self._rebuild(side, pipeline, ShaderError)
+
+    def _rebuild(self, side: str, old, shader_error) -> None:
+        rt = self.state.runtime
+        settings, keep_steps = self._last_run.get(side, (self.settings_for(side), False))
+        try:
+            fresh = self._pipeline_class(settings, ctx=self.ctx)
+            result = fresh.run(settings, keep_steps=keep_steps)
+        except shader_error as exc:
+            rt.shader_errors = {exc.path.name: exc.log}
+            self.state.notify(f"shader error in {exc.path.name}; keeping the last good "
+                              "programs", "error")
+            return
+        except Exception as exc:  # noqa: BLE001
+            rt.shader_errors = {"pipeline": f"{type(exc).__name__}: {exc}"}
+            return
+        finally:
+            self.ctx.screen.use()
+        old.release()
+        self._pipelines[side] = fresh
+        rt.shader_errors = {}
+        if side == "A":
+            rt.result, rt.final_texture_id = result, fresh.final_texture.glo
+        else:
+            rt.compare_result, rt.compare_texture_id = result, fresh.final_texture.glo
+        self.state.notify(f"shaders reloaded ({side})")
+
+    # -- UI ------------------------------------------------------------------------------
+    def _draw_ui(self) -> None:
+        from imgui_bundle import imgui
+
+        from explorer.ui.layout import PANELS, build_default_layout
+
+        state = self.state
+        self._main_menu()
+        viewport = imgui.get_main_viewport()
+        dock_id = imgui.get_id("lpv-dockspace")
+        if self._needs_layout or state.requests.reset_layout:
+            build_default_layout(dock_id, viewport.work_size)
+            self._needs_layout = False
+            state.requests.reset_layout = False
+        imgui.dock_space_over_viewport(dock_id, viewport)
+        if state.runtime.gl_problem:
+            self._gl_problem_window()
+            return
+        for panel in PANELS:
+            if not state.open_panels.get(panel.title, True):
+                continue
+            if not panel.padding or panel.title == "View":
+                imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
+            expanded, still_open = imgui.begin(panel.title, True)
+            if not panel.padding or panel.title == "View":
+                imgui.pop_style_var()
+            if expanded:
+                try:
+                    panel.gui(state)
+                except Exception as exc:  # noqa: BLE001 - one broken panel, not the app
+                    self._panel_failed(panel.title, exc)
+            imgui.end()
+            state.open_panels[panel.title] = bool(still_open)
+        if imgui.is_key_pressed(imgui.Key.f12, False):
+            state.requests.screenshot = default_screenshot_path()
+        self._file_dialog()
+
+    def _panel_failed(self, title: str, exc: Exception) -> None:
+        text = f"panel {title}: {type(exc).__name__}: {exc}"
+        if not self.state.messages or self.state.messages[-1].text != text:
+            self.state.notify(text, "error")
+            print(f"lpv-explorer: {text}", file=sys.stderr)
+            traceback.print_exception(exc, file=sys.stderr)
+
+    def _main_menu(self) -> None:
+        from imgui_bundle import imgui
+
+        from explorer.ui.layout import PANELS
+
+        state = self.state
+        if not imgui.begin_main_menu_bar():
+            return
+        if imgui.begin_menu("File"):
+            if imgui.menu_item_simple("Open mesh…", enabled=bool(
+                    state.runtime.file_dialog_available)):
+                state.requests.open_file_dialog = True
+            if imgui.menu_item_simple("Screenshot", "F12"):
+                state.requests.screenshot = default_screenshot_path()
+            imgui.separator()
+            if imgui.menu_item_simple("Quit"):
+                state.requests.quit = True
+            imgui.end_menu()
+        if imgui.begin_menu("Presets"):
+            for name in ("original", "corrected"):
+                if imgui.menu_item_simple(f"A: {name}"):
+                    state.apply_preset(name)
+            for name in ("original", "corrected"):
+                if imgui.menu_item_simple(f"B: {name}"):
+                    state.apply_preset(name, compare=True)
+            imgui.end_menu()
+        if imgui.begin_menu("Windows"):
+            for panel in PANELS:
+                shown = state.open_panels.get(panel.title, True)
+                if imgui.menu_item_simple(panel.title, selected=shown):
+                    state.open_panels[panel.title] = not shown
+            imgui.separator()
+            if imgui.menu_item_simple("Reset layout"):
+                state.requests.reset_layout = True
+                for panel in PANELS:
+                    state.open_panels[panel.title] = True
+            imgui.end_menu()
+        if state.messages:
+            from explorer.ui.widgets import LEVEL_COLOURS
+
+            last = state.messages[-1]
+            if time.monotonic() - last.created < 20.0 or last.level == "error":
+                text = last.text if len(last.text) < 110 else last.text[:107] + "…"
+                imgui.same_line(max(imgui.get_window_width() - imgui.calc_text_size(text).x
+                                    - 16, 300))
+                imgui.text_colored(LEVEL_COLOURS.get(last.level), text)
+        imgui.end_main_menu_bar()
+
+    def _gl_problem_window(self) -> None:
+        from imgui_bundle import imgui
+
+        from explorer.ui.widgets import ERROR
+
+        viewport = imgui.get_main_viewport()
+        imgui.set_next_window_pos(viewport.get_center(), imgui.Cond_.always, (0.5, 0.5))
+        imgui.set_next_window_size((min(viewport.size.x * 0.8, 720), 0))
+        imgui.begin("OpenGL 4.3 needed", None, imgui.WindowFlags_.no_collapse
+                    | imgui.WindowFlags_.no_docking)
+        imgui.text_colored(ERROR, "This GL driver cannot run the LPV pipeline.")
+        imgui.text_wrapped(self.state.runtime.gl_problem or "")
+        imgui.text_wrapped("Run `lpv-explorer doctor` for details.")
+        if imgui.button("Quit"):
+            self.state.requests.quit = True
+        imgui.end()
+
+    def _file_dialog(self) -> None:
+        state, rt = self.state, self.state.runtime
+        if state.requests.open_file_dialog:
+            state.requests.open_file_dialog = False
+            if rt.file_dialog_available and rt.file_dialog is None:
+                from imgui_bundle import portable_file_dialogs as pfd
+
+                rt.file_dialog = pfd.open_file(
+                    "Open a mesh", str(Path.home()),
+                    ["Meshes", "*.obj *.ply *.stl *.glb *.gltf *.off", "All files", "*"])
+        if rt.file_dialog is not None and rt.file_dialog.ready(0):
+            chosen = rt.file_dialog.result()
+            rt.file_dialog = None
+            if chosen:
+                state.mesh_path = chosen[0]
+                state.requests.open_scene = chosen[0]
+
+    def _handle_drops(self) -> None:
+        dropped = self.window.dropped_paths
+        while dropped:
+            path = dropped.popleft()
+            self.state.mesh_path = str(path)
+            self.state.requests.open_scene = str(path)
+
+    def _after_render(self, capture: bool) -> None:
+        request = self.state.requests.screenshot
+        if capture or request is not None:
+            self.last_pixels = self.window.read_pixels()
+        if request is not None:
+            self.state.requests.screenshot = None
+            try:
+                write_png(self.last_pixels, request)
+                self.state.notify(f"screenshot written to {request}")
+            except OSError as exc:
+                self.state.notify(f"could not write {request}: {exc}", "error")
+
+    def _update_title(self) -> None:
+        from explorer.ui.panels.view import _preset_name
+
+        s = self.state.settings
+        name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
+        self.window.set_title(f"lpv-explorer — {name} — {_preset_name(s.corrections)}")
+
+
+def write_png(pixels: np.ndarray, path: str | Path) -> None:
+    from PIL import Image
+
+    path = Path(path)
+    if path.parent and not path.parent.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(np.asarray(pixels, dtype=np.uint8), "RGB").save(path)
+
+
+def _eye_target(value) -> tuple | None:
+    """(eye, target) from a camera/light object or pair, or None."""
+    if value is None:
+        return None
+    for eye_name, target_name in (("eye", "target"), ("position", "target")):
+        if hasattr(value, eye_name) and hasattr(value, target_name):
+            eye, target = getattr(value, eye_name), getattr(value, target_name)
+            if callable(eye):   # DirectionalLight.eye(bounds) is a method: use position
+                continue
+            return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
+    try:
+        eye, target = value
+        return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
+    except (TypeError, ValueError):
+        return None
+
+
+def _style(scale: float) -> None:
+    from imgui_bundle import imgui
+
+    imgui.style_colors_dark()
+    style = imgui.get_style()
+    style.window_rounding = 4.0
+    style.frame_rounding = 3.0
+    style.grab_rounding = 3.0
+    style.tab_rounding = 3.0
+    style.window_border_size = 1.0
+    style.frame_padding = (6.0, 4.0)
+    style.item_spacing = (8.0, 6.0)
+    style.scrollbar_size = 12.0
+    colours = {
+        imgui.Col_.window_bg: (0.11, 0.115, 0.13, 1.0),
+        imgui.Col_.title_bg: (0.09, 0.095, 0.11, 1.0),
+        imgui.Col_.title_bg_active: (0.13, 0.20, 0.32, 1.0),
+        imgui.Col_.frame_bg: (0.17, 0.18, 0.21, 1.0),
+        imgui.Col_.header: (0.20, 0.32, 0.50, 0.6),
+        imgui.Col_.check_mark: (0.45, 0.72, 1.0, 1.0),
+        imgui.Col_.slider_grab: (0.40, 0.62, 0.95, 1.0),
+        imgui.Col_.tab_selected: (0.20, 0.36, 0.58, 1.0),
+        imgui.Col_.docking_empty_bg: (0.07, 0.075, 0.085, 1.0),
+    }
+    for index, rgba in colours.items():
+        style.set_color_(index, imgui.ImVec4(*rgba))
+    if scale != 1.0:
+        style.scale_all_sizes(scale)
+        style.font_scale_dpi = scale
+
+
+def _markdown_context():
+    """A rich_md (imgui_md) context reading its fonts from imgui_bundle's assets, or None
+    when markdown cannot be rendered here (panels then fall back to wrapped text)."""
+    try:
+        import imgui_bundle
+        from imgui_bundle import rich_md
+
+        rich_md.set_assets_folder(str(Path(imgui_bundle.__file__).parent / "assets"))
+        return rich_md.create_context()
+    except Exception as exc:  # noqa: BLE001 - markdown is optional
+        print(f"lpv-explorer: markdown unavailable: {exc}", file=sys.stderr)
+        return None
+
+
+def _fonts(io) -> None:
+    """Roboto for text (the default bitmap font looks dated); falls back to imgui's."""
+    import imgui_bundle
+
+    font = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "Roboto" / \
+        "Roboto-Regular.ttf"
+    if font.is_file():
+        try:
+            io.fonts.add_font_from_file_ttf(str(font), 15.0)
+        except RuntimeError:
+            pass

@@ -1,0 +1,117 @@
+"""Typeset LaTeX formulas as textures (imgui_microtex), with a text fallback.
+
+MicroTeX builds a C++ ``std::locale("en_US.UTF-8")``; systems that lack that locale make
+it throw. We then compile the locale once with ``localedef`` into the user's cache dir and
+point glibc at it with ``LOCPATH`` (read when a locale is created, so setting it from
+Python before the first formula is enough). If that fails too, formulas are shown as
+their LaTeX source: :attr:`FormulaCache.error` says why.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+LOCALE = "en_US.UTF-8"
+
+
+def cache_dir() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "lpv-explorer"
+
+
+def ensure_utf8_locale() -> str | None:
+    """Make ``en_US.UTF-8`` loadable; returns None when it is, else the reason."""
+    import locale
+
+    try:
+        saved = locale.setlocale(locale.LC_CTYPE)
+        locale.setlocale(locale.LC_CTYPE, LOCALE)
+        locale.setlocale(locale.LC_CTYPE, saved)
+        return None
+    except locale.Error:
+        pass
+    target = cache_dir() / "locale"
+    if not (target / LOCALE).is_dir():
+        localedef = shutil.which("localedef")
+        if localedef is None:
+            return f"the {LOCALE} locale is missing and localedef is not installed"
+        target.mkdir(parents=True, exist_ok=True)
+        proc = subprocess.run([localedef, "-i", "en_US", "-f", "UTF-8", str(target / LOCALE)],
+                              capture_output=True, text=True, timeout=60)
+        if not (target / LOCALE).is_dir():
+            return f"localedef could not build {LOCALE}: {proc.stderr.strip()[:200]}"
+    os.environ["LOCPATH"] = str(target)
+    return None
+
+
+@dataclass
+class Formula:
+    texture_id: int      # 0 = not typeset, show ``latex`` as text
+    width: int
+    height: int
+    latex: str
+
+
+class FormulaCache:
+    """LaTeX → texture, rendered once per (formula, size). Textures belong to the UI."""
+
+    def __init__(self, textures, font_size: float = 18.0) -> None:
+        self.textures = textures          # explorer.ui.textures.UiTextures
+        self.font_size = font_size
+        self.error: str | None = None
+        self._cache: dict[tuple[str, float], Formula] = {}
+        self._ready = False
+        self._tried = False
+
+    def _init(self) -> None:
+        self._tried = True
+        problem = ensure_utf8_locale()
+        if problem:
+            self.error = problem
+            return
+        try:
+            import imgui_bundle
+            from imgui_bundle import imgui_microtex
+
+            fonts = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "latex"
+            imgui_microtex.init(str(fonts / "latinmodern-math.clm1"),
+                                str(fonts / "latinmodern-math.otf"))
+            imgui_microtex.render("x", 10.0, 0xFFFFFFFF)  # fails here if the locale is bad
+        except Exception as exc:  # noqa: BLE001 - any failure means "show the source"
+            self.error = f"imgui_microtex unavailable: {exc}"
+            return
+        self._ready = True
+
+    @property
+    def available(self) -> bool:
+        if not self._tried:
+            self._init()
+        return self._ready
+
+    def get(self, latex: str, scale: float = 1.0) -> Formula:
+        size = round(self.font_size * scale, 1)
+        key = (latex, size)
+        if key in self._cache:
+            return self._cache[key]
+        formula = Formula(0, 0, 0, latex)
+        if self.available:
+            try:
+                from imgui_bundle import imgui_microtex
+
+                rendered = imgui_microtex.render(latex, size, 0xFFFFFFFF,
+                                                 imgui_microtex.TexStyle.display)
+                pixels = np.array(rendered.pixels_as_array(), copy=True)
+                if pixels.size:
+                    tex = self.textures.upload(f"formula:{latex}:{size}", pixels,
+                                               version=key, nearest=False)
+                    formula = Formula(tex, pixels.shape[1], pixels.shape[0], latex)
+            except Exception as exc:  # noqa: BLE001 - a formula MicroTeX cannot parse
+                self.error = f"could not typeset {latex!r}: {exc}"
+        self._cache[key] = formula
+        return formula

@@ -1,0 +1,1 @@
+"""One module per panel; each exposes ``gui_<panel>(state: AppState)``."""

@@ -1,0 +1,52 @@
+"""Compare panel: configuration B (its corrections; everything else follows A) and the
+split/difference view options."""
+
+from __future__ import annotations
+
+from imgui_bundle import imgui
+
+from explorer.lpv.settings import PRESETS, Corrections
+from explorer.ui import widgets
+from explorer.ui.panels.corrections import INFO
+from explorer.ui.state import VIEW_MODES, AppState
+
+
+def gui_compare(state: AppState) -> None:
+    widgets.dim_text_wrapped(
+        "B shares scene, camera, light and LPV settings with A; only the corrections "
+        "differ. Split: A left, B right. Difference: |A - B| in false colour.")
+    for mode in VIEW_MODES:
+        if imgui.radio_button(mode.capitalize() + "##cmp", state.view_mode == mode):
+            state.view_mode = mode
+        imgui.same_line()
+    imgui.new_line()
+    if state.view_mode == "split":
+        _, state.split_position = imgui.slider_float("Divider", state.split_position, 0.02,
+                                                     0.98, "%.2f")
+    if state.view_mode == "difference":
+        changed, value = imgui.slider_float("Scale top (0 = auto)", state.difference_scale,
+                                            0.0, 2.0, "%.3g")
+        if changed:
+            state.difference_scale = max(value, 0.0)
+    _, state.auto_exposure = imgui.checkbox("Auto-exposure per side", state.auto_exposure)
+    widgets.help_marker("Expose each side so its brightest 1% sits near white; otherwise "
+                        "both use A's exposure.")
+    if state.auto_exposure:
+        ea, eb = state.runtime.auto_exposure
+        imgui.text_disabled(f"exposure A {ea:.3g}   B {eb:.3g}")
+
+    imgui.separator_text("Configuration B")
+    corr = state.compare_settings.corrections
+    for name in PRESETS:
+        if widgets.button_active(name.capitalize() + "##B", corr == PRESETS[name]):
+            state.apply_preset(name, compare=True)
+        imgui.same_line()
+    if imgui.button("Swap A/B"):
+        a, b = state.settings.corrections, corr
+        state.settings = state.settings.with_changes(corrections=b)
+        state.compare_settings = state.compare_settings.with_changes(corrections=a)
+    for key in Corrections.names():
+        changed, value = imgui.checkbox(INFO[key].title + "##B", bool(getattr(corr, key)))
+        if changed:
+            state.compare_settings = state.compare_settings.with_changes(
+                corrections={key: value})

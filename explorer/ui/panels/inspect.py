@@ -1,0 +1,167 @@
+"""Inspect panel: the RSM buffers, any z slice of the grid (one SH coefficient or the
+intensity toward a chosen direction), the geometry volume, and the propagation at any
+iteration with a scrubber and play/pause. Images come from FrameResult arrays and are
+uploaded to textures the UI owns."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from imgui_bundle import imgui, implot3d
+
+from explorer.ui import images, widgets
+from explorer.ui.panels.view import scale_bar
+from explorer.ui.state import GRID_COMPONENTS, INSPECT_SOURCES, AppState
+
+SOURCE_LABELS = {
+    "rsm-position": "RSM: world position",
+    "rsm-normal": "RSM: normal",
+    "rsm-flux": "RSM: reflected flux",
+    "grid-slice": "LPV: accumulated grid (slice)",
+    "propagation": "LPV: propagation step t (slice)",
+    "geometry-volume": "Geometry volume (slice)",
+    "vpls": "VPLs as 3D points",
+}
+
+
+def gui_inspect(state: AppState) -> None:
+    ins = state.inspect
+    labels = [SOURCE_LABELS[s] for s in INSPECT_SOURCES]
+    index = INSPECT_SOURCES.index(ins.source) if ins.source in INSPECT_SOURCES else 0
+    changed, index = imgui.combo("Show", index, labels)
+    if changed:
+        ins.source = INSPECT_SOURCES[index]
+    result = state.runtime.result
+    if result is None:
+        imgui.text_disabled("no frame yet")
+        return
+    if ins.source == "vpls":
+        _vpl_plot(state, result)
+        return
+    make, problem = _image_for(state, result)
+    if make is None:
+        imgui.text_disabled(problem)
+        return
+    version = (ins.source, id(result), ins.slice_z, ins.component, ins.direction_azimuth,
+               ins.direction_elevation, ins.iteration, ins.signed_scale)
+    rt = state.runtime
+    if rt.inspect_cache is None or rt.inspect_cache[0] != version:
+        # Only a new frame or a changed control recomputes and uploads the picture.
+        image, top, caption = make()
+        tex = rt.textures.upload("inspect", image, version=version)
+        rt.inspect_cache = (version, tex, top, caption, image.shape[:2])
+    _, tex, top, caption, (height_px, width_px) = rt.inspect_cache
+    signed = ins.component != "intensity" and ins.source in ("grid-slice", "propagation")
+    imgui.text_disabled(caption)
+    avail = imgui.get_content_region_avail()
+    bar = 80.0 if top is not None else 0.0
+    side = max(min(avail.x - bar, avail.y - 8), 32.0)
+    fit = side / max(width_px, height_px)
+    size = imgui.ImVec2(width_px * fit, height_px * fit)
+    pos = imgui.get_cursor_screen_pos()
+    imgui.image(imgui.ImTextureRef(tex), size)
+    if top is not None:
+        scale_bar(imgui.get_window_draw_list(), imgui.ImVec2(pos.x + size.x + 8, pos.y),
+                  size.y, top, signed)
+
+
+def _grid_controls(state: AppState, resolution: int, components: bool = True) -> None:
+    ins = state.inspect
+    z = ins.slice_z if 0 <= ins.slice_z < resolution else resolution // 2
+    _, ins.slice_z = imgui.slider_int("Slice z", z, 0, resolution - 1)
+    if not components:
+        return
+    changed, ins.component = widgets.combo("Show##component", ins.component, GRID_COMPONENTS)
+    if ins.component == "intensity":
+        _, ins.direction_azimuth = imgui.slider_float("Direction azimuth",
+                                                      ins.direction_azimuth, -180, 180,
+                                                      "%.0f°")
+        _, ins.direction_elevation = imgui.slider_float("Direction elevation",
+                                                        ins.direction_elevation, -90, 90,
+                                                        "%.0f°")
+
+
+def _image_for(state: AppState, result):
+    """Draw the source's controls; return (a function computing (image, scale top or None,
+    caption), None), or (None, why there is nothing to show)."""
+    ins = state.inspect
+    if ins.source.startswith("rsm-"):
+        buffer = getattr(result, ins.source.replace("-", "_"))
+        h, w = buffer.shape[:2]
+        return (lambda: (images.rsm_image(buffer, ins.source), None, f"{w}×{h} texels")), None
+    if ins.source == "geometry-volume":
+        volume = result.geometry_volume
+        if volume is None:
+            return None, "the geometry volume is off (Scene → Geometry volume)"
+        _grid_controls(state, volume.shape[2], components=False)
+
+        def make_volume():
+            image, top = images.volume_slice(volume, ins.slice_z)
+            return image, top, f"band-0 blocking, {volume.shape[0]}³ cells on grid corners"
+
+        return make_volume, None
+    if ins.source == "grid-slice":
+        grid, what = result.accumulated, "acc_N"
+    else:
+        steps = result.steps
+        if not steps:
+            return None, "steps are being recorded; next frame"
+        last = len(steps) - 1
+        _playback(state, last)
+        grid, what = steps[min(ins.iteration, last)], f"grid_{min(ins.iteration, last)}"
+    _grid_controls(state, grid.shape[3])
+
+    def make_slice():
+        direction = images.direction_from_angles(ins.direction_azimuth,
+                                                 ins.direction_elevation)
+        image, top = images.grid_slice(grid, ins.slice_z, ins.component, direction,
+                                       ins.signed_scale)
+        flux = images.flux_of_grid(grid)
+        return image, top, f"{what}: flux {flux:.4g} W (sum of channels)"
+
+    return make_slice, None
+
+
+def _playback(state: AppState, last: int) -> None:
+    ins = state.inspect
+    if imgui.button("Pause" if ins.playing else "Play"):
+        ins.playing = not ins.playing
+    imgui.same_line()
+    imgui.set_next_item_width(-1)
+    changed, value = imgui.slider_int("##t", min(ins.iteration, last), 0, last, "t = %d")
+    if changed:
+        ins.iteration, ins.playing = value, False
+    if ins.playing:
+        rt = state.runtime
+        rt.play_clock += imgui.get_io().delta_time * ins.play_rate
+        if rt.play_clock >= 1.0:
+            ins.iteration = (ins.iteration + int(rt.play_clock)) % (last + 1)
+            rt.play_clock %= 1.0
+
+
+def _vpl_plot(state: AppState, result) -> None:
+    """The VPLs the grid received, as points coloured by their flux (drag to rotate)."""
+    rt = state.runtime
+    if rt.vpl_cache is None or rt.vpl_cache[0] != id(result):
+        vpls = result.vpls
+        rt.vpl_cache = (id(result), images.vpl_groups(vpls.positions, vpls.flux),
+                        len(vpls.positions))
+    _, groups, count = rt.vpl_cache
+    shown = sum(len(points) for _, points in groups)
+    imgui.text_disabled(f"{count} VPLs injected, {shown} lit ones shown; drag to rotate")
+    if not implot3d.begin_plot("##vpls", (-1, -1)):
+        return
+    implot3d.setup_axes("x", "y", "z")
+    for rgb, points in groups:
+        spec = implot3d.Spec()
+        spec.marker = implot3d.Marker_.circle
+        spec.marker_size = 2.0
+        colour = imgui.ImVec4(rgb[0], rgb[1], rgb[2], 1.0)
+        spec.marker_line_color = colour
+        spec.fill_color = colour
+        spec.line_color = colour
+        # world y is up; implot3d's z axis is up
+        implot3d.plot_scatter(f"##{rgb}", np.ascontiguousarray(points[:, 0]),
+                              np.ascontiguousarray(points[:, 2]),
+                              np.ascontiguousarray(points[:, 1]), spec)
+    implot3d.end_plot()

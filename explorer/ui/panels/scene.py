@@ -1,0 +1,117 @@
+"""Scene panel: scene or mesh file, camera, light direction, and the LPV's sizes and modes."""
+
+from __future__ import annotations
+
+from imgui_bundle import imgui
+
+from explorer.lpv.settings import (
+    DOWNSAMPLE_MODES,
+    GEOMETRY_VOLUME_MODES,
+    GRID_FORMATS,
+    INJECTION_MODES,
+)
+from explorer.ui import camera, widgets
+from explorer.ui.state import AppState
+
+BUILTIN_SCENES = ("cornell", "single-source", "room")
+GRID_SIZES = (8, 16, 24, 32, 48, 64)
+RSM_SIZES = (64, 128, 256, 512, 1024)
+
+
+def gui_scene(state: AppState) -> None:
+    s = state.settings
+    imgui.separator_text("Scene")
+    scene_names = list(BUILTIN_SCENES)
+    current = s.scene if s.scene in scene_names else "(mesh file)"
+    if imgui.begin_combo("Scene", current):
+        for name in scene_names:
+            if imgui.selectable(name, name == s.scene)[0]:
+                state.requests.open_scene = name
+        imgui.end_combo()
+    if current == "(mesh file)":
+        widgets.dim_text_wrapped(s.scene)
+    imgui.set_next_item_width(-90)
+    _, state.mesh_path = imgui.input_text_with_hint("##mesh", "path to a mesh (obj, ply, glb…)",
+                                                    state.mesh_path)
+    imgui.same_line()
+    if imgui.button("Open") and state.mesh_path.strip():
+        state.requests.open_scene = state.mesh_path.strip()
+    if state.runtime.file_dialog_available:
+        imgui.same_line()
+        if imgui.button("…"):
+            state.requests.open_file_dialog = True
+        if imgui.is_item_hovered():
+            imgui.set_tooltip("browse for a mesh file")
+    widgets.dim_text_wrapped("or drop a mesh file onto the window")
+
+    imgui.separator_text("Camera and light")
+    if imgui.button("Reset camera"):
+        state.update(camera=None)
+    imgui.same_line()
+    if imgui.button("Reset light"):
+        state.update(light=None, light_flux=None)
+    _light_angles(state)
+    flux = s.light_flux if s.light_flux is not None else (state.runtime.light_flux_default
+                                                          or 0.0)
+    changed, flux = imgui.input_float("Light flux [W]", flux, 0.0, 0.0, "%.3g")
+    if changed and flux > 0:
+        state.update(light_flux=float(flux))
+
+    imgui.separator_text("Light propagation volume")
+    _choice_int(state, "Grid size (cells³)", "grid_size", GRID_SIZES)
+    changed, value = imgui.slider_int("Iterations", s.iterations, 0, 64)
+    if changed:
+        state.update(iterations=value)
+    _choice_int(state, "RSM size (texels²)", "rsm_size", RSM_SIZES)
+    _choice(state, "Downsample", "downsample", DOWNSAMPLE_MODES)
+    if s.downsample != "none":
+        changed, value = imgui.slider_int("Downsample factor", s.downsample_factor, 2, 8)
+        if changed:
+            state.update(downsample_factor=value)
+    _choice(state, "Injection", "injection_mode", INJECTION_MODES)
+    _choice(state, "Geometry volume", "geometry_volume", GEOMETRY_VOLUME_MODES)
+    _choice(state, "Grid format", "grid_format", GRID_FORMATS)
+
+    imgui.separator_text("Output")
+    _, state.follow_view_size = imgui.checkbox("Render at view size", state.follow_view_size)
+    if state.follow_view_size:
+        changed, value = imgui.slider_float("Render scale", state.render_scale, 0.25, 2.0,
+                                            "%.2f")
+        if changed:
+            state.render_scale = value
+    else:
+        changed, size = imgui.input_int2("Resolution", [s.width, s.height])
+        if changed and min(size) >= 16:
+            state.update(width=int(size[0]), height=int(size[1]))
+    changed, value = imgui.checkbox("Check passes for NaN/Inf", s.debug_nan)
+    if changed:
+        state.update(debug_nan=value)
+
+
+def _light_angles(state: AppState) -> None:
+    light = state.settings.light or state.runtime.light_default
+    if light is None:
+        imgui.text_disabled("light direction: available once the scene is loaded")
+        return
+    position, target = camera.as_pair(light)
+    azimuth, elevation, distance = camera.to_angles(position, target)
+    changed_a, azimuth = imgui.slider_float("Light azimuth", azimuth, -180.0, 180.0, "%.1f°")
+    changed_e, elevation = imgui.slider_float("Light elevation", elevation, -89.0, 89.0,
+                                              "%.1f°")
+    if changed_a or changed_e:
+        new_position = camera.from_angles(target, azimuth, elevation, distance)
+        state.update(light=(new_position, target))
+
+
+def _choice(state: AppState, label: str, field: str, choices) -> None:
+    changed, value = widgets.combo(label, getattr(state.settings, field), choices)
+    if changed:
+        state.update(**{field: value})
+
+
+def _choice_int(state: AppState, label: str, field: str, choices) -> None:
+    current = getattr(state.settings, field)
+    options = sorted(set(choices) | {current})
+    changed, index = imgui.combo(label, options.index(current), [str(v) for v in options])
+    if changed:
+        state.update(**{field: options[index]})

@@ -1,0 +1,74 @@
+"""Small imgui helpers the panels share (colours, formulas, combos, images)."""
+
+from __future__ import annotations
+
+from imgui_bundle import imgui
+
+ACCENT = imgui.ImVec4(0.33, 0.62, 0.98, 1.0)
+DIM = imgui.ImVec4(0.62, 0.64, 0.68, 1.0)
+GOOD = imgui.ImVec4(0.45, 0.85, 0.55, 1.0)
+WARN = imgui.ImVec4(1.0, 0.75, 0.3, 1.0)
+ERROR = imgui.ImVec4(1.0, 0.42, 0.38, 1.0)
+LEVEL_COLOURS = {"info": DIM, "warning": WARN, "error": ERROR}
+
+
+def button_active(label: str, active: bool, size=(0, 0)) -> bool:
+    """A button drawn highlighted when ``active`` (e.g. the preset in effect)."""
+    if active:
+        imgui.push_style_color(imgui.Col_.button, imgui.ImVec4(0.20, 0.42, 0.75, 1.0))
+    pressed = imgui.button(label, size)
+    if active:
+        imgui.pop_style_color()
+    return pressed
+
+
+def dim_text_wrapped(text: str) -> None:
+    imgui.push_style_color(imgui.Col_.text, DIM)
+    imgui.text_wrapped(text)
+    imgui.pop_style_color()
+
+
+def caption(text: str, highlighted: bool = False) -> None:
+    imgui.text_colored(ACCENT if highlighted else DIM, text)
+
+
+def flux_text(text: str) -> None:
+    imgui.text_colored(WARN, "flux:")
+    imgui.same_line()
+    dim_text_wrapped(text)
+
+
+def formula(formulas, latex: str, active: bool = True, tooltip: str | None = None,
+            scale: float = 1.0) -> None:
+    """A typeset formula (texture from the FormulaCache), or its LaTeX source as text."""
+    entry = formulas.get(latex, scale) if formulas is not None else None
+    tint = imgui.ImVec4(1, 1, 1, 1) if active else imgui.ImVec4(1, 1, 1, 0.45)
+    if entry is not None and entry.texture_id:
+        width, height = float(entry.width), float(entry.height)
+        avail = imgui.get_content_region_avail().x
+        if width > avail > 8:  # shrink wide formulas to the column
+            height *= avail / width
+            width = avail
+        imgui.image_with_bg(imgui.ImTextureRef(entry.texture_id), (width, height),
+                            (0, 0), (1, 1), imgui.ImVec4(0, 0, 0, 0), tint)
+    else:
+        imgui.push_style_color(imgui.Col_.text, tint if active else DIM)
+        imgui.text_wrapped(latex)
+        imgui.pop_style_color()
+    if tooltip and imgui.is_item_hovered():
+        imgui.set_tooltip(tooltip)
+
+
+def combo(label: str, value: str, choices) -> tuple[bool, str]:
+    """A combo over string choices; returns (changed, new value)."""
+    choices = list(choices)
+    index = choices.index(value) if value in choices else 0
+    changed, index = imgui.combo(label, index, choices)
+    return changed, choices[index]
+
+
+def help_marker(text: str) -> None:
+    imgui.same_line()
+    imgui.text_disabled("(?)")
+    if imgui.is_item_hovered():
+        imgui.set_tooltip(text)

@@ -1,0 +1,385 @@
+"""The explorer in a real glfw window under Xvfb (pytest-xvfb starts it).
+
+Panels are driven through the app state (``app.state`` changes + ``app.frame()``), never
+by clicking pixels. Windows are small (800×600) and the LPV tiny (16³, RSM 64²)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import types
+
+import numpy as np
+import pytest
+
+import explorer.gl.window as window_module
+from explorer.gl.context import GLUnavailableError
+from explorer.lpv.settings import PRESETS, Settings
+from explorer.ui.state import AppState
+
+SMALL = dict(width=800, height=600, visible=False, vsync=False)
+TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192)
+
+
+def _display_problem() -> str | None:
+    try:
+        import imgui_bundle  # noqa: F401
+        import glfw
+    except ImportError as exc:  # pragma: no cover
+        return f"glfw/imgui_bundle missing: {exc}"
+    if not glfw.init():
+        return "no X server could be started (install Xvfb, or pytest-xvfb's xvfb)"
+    glfw.terminate()
+    return None
+
+
+_PROBLEM = _display_problem()
+pytestmark = pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
+
+
+@pytest.fixture
+def config_home(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path.parent / "lpv-cache"))
+    return tmp_path / "config" / "lpv-explorer"
+
+
+def _app(state=None, **kwargs):
+    from explorer.ui.app import App
+
+    options = dict(SMALL, persist_settings=False)
+    options.update(kwargs)
+    return App(state or AppState(settings=TINY), **options)
+
+
+def test_window_opens_and_draws_the_panels(config_home):
+    app = _app(pipeline_class=None)
+    try:
+        for _ in range(2):
+            assert app.frame()
+        assert app.frame(capture=True)
+        pixels = app.last_pixels
+        assert pixels.shape == (600, 800, 3)
+        assert pixels.std() > 10, "the frame is blank"
+        assert app.ctx.error == "GL_NO_ERROR"
+        assert "no LPV pipeline" in app.state.runtime.pipeline_error
+        assert app.state.runtime.markdown_ready
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert errors == []
+    finally:
+        app.close()
+
+
+def test_screenshot_writes_a_png_of_the_whole_window(config_home, tmp_path):
+    from PIL import Image
+
+    app = _app(pipeline_class=None)
+    try:
+        app.frame()
+        path = app.screenshot(tmp_path / "shots" / "window.png")
+        app.state.requests.screenshot = tmp_path / "requested.png"   # what F12 / the button do
+        app.frame()
+    finally:
+        app.close()
+    with Image.open(path) as image:
+        assert image.size == (800, 600)
+        assert np.asarray(image).std() > 10
+    assert (tmp_path / "requested.png").is_file()
+
+
+def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
+    from explorer.ui.app import App
+
+    config_home.mkdir(parents=True)
+    (config_home / "settings.json").write_text("{ this is not json")
+    app = App(None, **SMALL, pipeline_class=None)
+    try:
+        assert app.state.settings == Settings()
+        warnings = [m.text for m in app.state.messages if m.level == "warning"]
+        assert warnings and "default settings" in warnings[0]
+        app.state.apply_preset("original")
+        app.frame()
+    finally:
+        app.close()
+    assert "could not read" in capsys.readouterr().err
+    saved = json.loads((config_home / "settings.json").read_text())
+    assert saved["settings"]["corrections"]["injection_pi"] is False
+    assert (config_home / "imgui.ini").is_file()
+
+    from explorer.ui.layout import PANELS
+
+    app = App(None, **SMALL, pipeline_class=None)        # the next run reads it all back
+    try:
+        assert app.state.settings.corrections == PRESETS["original"]
+        assert not app._needs_layout, "a saved layout for the same panels is kept"
+        assert app.state.layout_panels == [p.title for p in PANELS]
+        assert not [m for m in app.state.messages if m.level != "info"]
+    finally:
+        app.close()
+
+
+def test_a_gl_without_compute_shaders_gets_a_message_not_a_crash(config_home, monkeypatch,
+                                                                 capsys):
+    def no_compute(require=430):
+        raise GLUnavailableError("the GL driver lacks what the LPV needs: compute shaders")
+
+    monkeypatch.setattr(window_module, "wrap_current_context", no_compute)
+    app = _app()
+    try:
+        assert app.frame(capture=True)
+        assert "compute shaders" in app.state.runtime.gl_problem
+        assert app.last_pixels.std() > 5
+        assert app.state.runtime.result is None
+    finally:
+        app.close()
+    assert "compute shaders" in capsys.readouterr().err
+
+
+def test_a_minimised_window_skips_rendering(config_home, monkeypatch):
+    app = _app(pipeline_class=None)
+    try:
+        app.frame()
+        drawn = app.state.runtime.frame_index
+        monkeypatch.setattr(type(app.window), "minimised", property(lambda self: True))
+        assert app.frame()
+        assert app.state.runtime.frame_index == drawn
+        assert app.ctx.error == "GL_NO_ERROR"
+    finally:
+        app.close()
+
+
+class RecordingPipeline:
+    """A test double with the Pipeline interface: counts runs, fails for "broken.obj",
+    and paints its final texture a colour that depends on the corrections."""
+
+    runs: list = []
+
+    def __init__(self, settings, ctx=None):
+        self.ctx = ctx
+        self.final_texture = ctx.texture((settings.width, settings.height), 4, dtype="f1")
+
+    def run(self, settings, keep_steps=False):
+        if settings.scene.endswith("broken.obj"):
+            raise ValueError(f"{settings.scene}: no triangles")
+        RecordingPipeline.runs.append(settings)
+        level = 200 if settings.corrections.propagation_4pi else 40
+        if self.final_texture.size != (settings.width, settings.height):
+            self.final_texture.release()
+            self.final_texture = self.ctx.texture((settings.width, settings.height), 4,
+                                                  dtype="f1")
+        data = np.full((settings.height, settings.width, 4), level, np.uint8)
+        self.final_texture.write(data.tobytes())
+        n, steps = settings.grid_size, settings.iterations + 1
+        grid = np.zeros((3, n, n, n, 4), np.float32)
+        audit = types.SimpleNamespace(
+            rsm=np.ones(3), injected=np.ones(3), accumulated=np.ones(3) * 2,
+            gathered=np.ones(3), per_step=np.ones((steps, 3)),
+            border_loss=np.zeros((steps - 1, 3)), clamp_gain=np.zeros((steps - 1, 3)),
+            occluded=np.zeros((steps - 1, 3)))
+        rsm = np.zeros((8, 8, 4), np.float32)
+        return types.SimpleNamespace(
+            settings=settings, final_image=data[..., :3].astype(np.float32) / 255.0,
+            rsm_position=rsm, rsm_normal=rsm, rsm_flux=rsm, accumulated=grid,
+            steps=[grid] * steps if keep_steps else None, geometry_volume=None, audit=audit,
+            timings_ms={"rsm": 1.0, "propagate": 2.0})
+
+    def release(self):
+        self.final_texture.release()
+
+
+def test_pipeline_reruns_only_on_change_and_a_broken_mesh_keeps_the_scene(config_home):
+    RecordingPipeline.runs = []
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state, pipeline_class=RecordingPipeline)
+    try:
+        for _ in range(3):
+            app.frame()
+        assert len(RecordingPipeline.runs) == 1, "same settings must not re-run"
+        app.state.set_corrections(propagation_4pi=False)
+        app.frame()
+        assert len(RecordingPipeline.runs) == 2
+        assert app.state.runtime.result.settings.corrections.propagation_4pi is False
+
+        app.window.dropped_paths.append(config_home / "broken.obj")   # drag and drop
+        app.frame()
+        app.frame()
+        assert app.state.settings.scene == "cornell"
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert any("broken.obj" in e and "no triangles" in e for e in errors)
+
+        for panel in ("inspect", "plots"):
+            app.state.open_panels[panel.capitalize()] = True
+        app.state.inspect.source = "propagation"
+        app.state.view_mode = "split"
+        app.frame()
+        app.frame()
+        assert app.state.runtime.compare_result is not None
+        assert app.state.runtime.result.steps is not None
+        errors = [m.text for m in app.state.messages if m.level == "error"
+                  and "broken.obj" not in m.text]
+        assert errors == []
+    finally:
+        app.close()
+
+
+def _pipeline_available() -> bool:
+    try:
+        import explorer.lpv.pipeline  # noqa: F401
+    except ModuleNotFoundError:
+        return False
+    return True
+
+
+needs_pipeline = pytest.mark.skipif(not _pipeline_available(),
+                                    reason="explorer.lpv.pipeline is not in this build")
+
+
+def _view_pixels(app) -> np.ndarray:
+    x0, y0, x1, y1 = (int(round(v)) for v in app.state.runtime.view_rect)
+    return app.last_pixels[y0 + 2:y1 - 2, x0 + 2:x1 - 2].astype(np.float32)
+
+
+@needs_pipeline
+def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monkeypatch):
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        for _ in range(2):
+            app.frame()
+        app.frame(capture=True)
+        assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+        corrected = _view_pixels(app)
+        assert corrected.std() > 5, "the 3D view is blank"
+        assert app.ctx.error == "GL_NO_ERROR"
+
+        app.state.set_corrections(propagation_4pi=False)        # the Corrections checkbox
+        app.frame(capture=True)
+        flipped = _view_pixels(app)
+        assert np.abs(flipped - corrected).mean() > 1.0, "flipping 1/(4π) changed nothing"
+
+        app.state.apply_preset("corrected")
+        app.state.compare_settings = app.state.compare_settings.with_changes(
+            corrections="original")
+        app.state.view_mode, app.state.split_position = "split", 0.5
+        app.frame()
+        app.frame(capture=True)
+        split = _view_pixels(app)
+        half = split.shape[1] // 2
+        left = np.abs(split[:, :half - 4] - corrected[:, :half - 4]).mean()
+        right = np.abs(split[:, half + 4:] - corrected[:, half + 4:]).mean()
+        assert left < 1.0 < right, (left, right)
+
+        app.state.view_buffer = "indirect"                 # the view's buffer selector
+        app.frame(capture=True)
+        indirect = _view_pixels(app)
+        assert indirect.std() > 1.0 and np.abs(indirect - split).mean() > 1.0
+        app.state.view_buffer = "final"
+
+        app.state.auto_exposure = True                     # expose each side on its own
+        for _ in range(3):
+            app.frame()
+        exposure_a, exposure_b = app.state.runtime.auto_exposure
+        assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
+        assert app.state.runtime.result.settings.exposure == exposure_a
+        assert app.state.runtime.compare_result.settings.exposure == exposure_b
+        app.state.auto_exposure = False
+
+        app.state.view_mode = "difference"
+        app.state.inspect.source = "vpls"
+        app.frame()
+        app.state.inspect.source = "propagation"
+        app.frame()
+        app.frame(capture=True)
+        assert _view_pixels(app).std() > 1.0
+        assert app.state.runtime.result.steps is not None
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert errors == []
+
+        broken = config_home.parent.parent / "broken.obj"
+        broken.write_text("v 0 0 0\nthis is not a mesh\n")
+        app.state.requests.open_scene = str(broken)           # the path field's Open button
+        app.frame()
+        app.frame()
+        assert app.state.settings.scene == "cornell"
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert len(errors) == 1 and "broken.obj" in errors[0]
+
+        # Shader hot reload: a compile error keeps the last good program and shows the log.
+        from explorer.gl import program as program_module
+
+        stamp = [program_module.ProgramCache.newest_change()]
+        monkeypatch.setattr(program_module.ProgramCache, "newest_change",
+                            staticmethod(lambda: stamp[0]))
+        good_load = program_module.load_program
+
+        def broken_load(ctx, name, defines=None, varyings=()):
+            raise program_module.ShaderError(program_module.shader_dir() / name,
+                                             "0:12(3): error: syntax error, unexpected ';'")
+
+        monkeypatch.setattr(program_module, "load_program", broken_load)
+        app.state.view_mode = "single"
+        for bump in (0.0, 10.0):           # the first poll only records the time stamp
+            stamp[0] += bump
+            app._shader_poll = 0.0
+            app.frame()
+        shader_errors = app.state.runtime.shader_errors
+        assert shader_errors and "syntax error" in next(iter(shader_errors.values()))
+        app.state.set_corrections(propagation_4pi=False)   # still renders with the old ones
+        app.frame(capture=True)
+        assert np.abs(_view_pixels(app) - flipped).mean() < 1.0
+        assert app.state.runtime.result.settings.corrections.propagation_4pi is False
+
+        monkeypatch.setattr(program_module, "load_program", good_load)
+        stamp[0] += 10.0
+        app._shader_poll = 0.0
+        app.frame()
+        assert app.state.runtime.shader_errors == {}
+        assert any(m.text.startswith("shaders reloaded") for m in app.state.messages)
+    finally:
+        app.close()
+
+
+def test_run_command_writes_a_screenshot_and_rejects_bad_flags(config_home, tmp_path, capsys):
+    from explorer.cli import main as cli_main
+
+    shot = tmp_path / "run.png"
+    assert cli_main(["run", "--no-persist", "--hidden", "--size", "800x600",
+                     "--scene", "single-source", "--preset", "original",
+                     "--screenshot", str(shot), "--frames", "4"]) == 0
+    from PIL import Image
+
+    with Image.open(shot) as image:
+        assert image.size == (800, 600)
+    assert not (config_home / "settings.json").exists(), "--no-persist wrote settings"
+    assert cli_main(["run", "--frames", "0"]) == 2
+    assert "--frames" in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="--size"):
+        cli_main(["run", "--size", "huge"])
+
+
+def test_run_without_a_display_says_so():
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    proc = subprocess.run([sys.executable, "-m", "explorer", "run", "--no-persist"],
+                          env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 1
+    assert "display" in proc.stderr.lower()
+
+
+def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
+    """The session's EGL context is current when the window opens (as in the full suite);
+    glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
+    with ctx:   # make the session context current even if an earlier test left another one
+        app = _app(pipeline_class=None)
+        try:
+            app.frame()
+            assert app.frame(capture=True)
+            assert app.last_pixels.std() > 10
+        finally:
+            app.close()
+        buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
+        assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
+        buffer.release()
