@@ -94,6 +94,16 @@ class Settings:
     """Total flux of the light in watts per channel; None = the scene's default."""
     debug_nan: bool = False
     """Check every pass for NaN/Inf and name the pass that produced one."""
+    # --- cascaded LPV (docs/MODEL.md "Cascades", explorer/lpv/cascades.py) ---
+    cascades: int = 1
+    """Nested grids of grid_size³ cells, each with twice the cell size of the last;
+    1 = the single grid enclosing the scene."""
+    cascade_extent: float | None = None
+    """Edge of the finest cascade in world units; None = the single grid's extent divided
+    by 2^(cascades−1), so the coarsest cascade has the single grid's cells."""
+    cascade_focus: float = 1.0
+    """Where the cascades are centred on the camera's line of sight: 0 = at the eye,
+    1 = at the camera's target (each cascade then snaps to its own cells)."""
 
     def __post_init__(self) -> None:
         _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
@@ -105,6 +115,7 @@ class Settings:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")
         if self.iterations < 0:
             raise ValueError(f"iterations must be >= 0, got {self.iterations!r}")
+        _check_cascades(self)
 
     def with_changes(self, **changes) -> "Settings":
         """A copy with some fields changed; ``corrections`` may be given as a dict of
@@ -118,6 +129,22 @@ class Settings:
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
+
+
+MAX_CASCADES = 4
+
+
+def _check_cascades(settings: "Settings") -> None:
+    if not 1 <= int(settings.cascades) <= MAX_CASCADES or \
+            int(settings.cascades) != settings.cascades:
+        raise ValueError(f"cascades must be a whole number 1..{MAX_CASCADES}, got "
+                         f"{settings.cascades!r}")
+    if settings.cascade_extent is not None and not settings.cascade_extent > 0:
+        raise ValueError(f"cascade_extent must be positive (world units) or None, got "
+                         f"{settings.cascade_extent!r}")
+    if not 0.0 <= settings.cascade_focus <= 1.0:
+        raise ValueError(f"cascade_focus must lie in [0, 1] (0 = eye, 1 = target), got "
+                         f"{settings.cascade_focus!r}")
 
 
 def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:
