@@ -66,6 +66,8 @@ class GatherPass:
         gbuffer.albedo.use(2)
         shadow.position.use(3)
         shadow.normal.use(4)
+        if grid_textures is None and cascades:
+            grid_textures = cascades[0].textures
         if grid_textures is None:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):

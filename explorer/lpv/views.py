@@ -32,13 +32,14 @@ def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:
 
 
 def render_view(result, name: str, bounds=None, z: int | None = None,
-                coefficient: int | None = None, exposure: float | None = None
-                ) -> np.ndarray:
+                coefficient: int | None = None, exposure: float | None = None,
+                cascade: int | None = None) -> np.ndarray:
     """The image of ``result`` for view ``name``.
 
     Options: ``exposure`` (direct/indirect; default the frame's), ``z`` (slice index of
     the grid views; default the middle), ``coefficient`` (grid-slice: None shows the flux
-    of each cell 2√π·c0 per colour; 0..3 shows that SH coefficient signed around grey).
+    of each cell 2√π·c0 per colour; 0..3 shows that SH coefficient signed around grey),
+    ``cascade`` (grid views: which cascade, 0 = the finest, the default).
     """
     settings = result.settings
     exposure = settings.exposure if exposure is None else float(exposure)
@@ -61,9 +62,9 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     if name == "rsm-flux":
         return linear_to_srgb(normalise(result.rsm_flux[..., :3]))
     if name == "grid-slice":
-        return grid_slice(result.accumulated, z, coefficient)
+        return grid_slice(_cascade_item(result, "accumulated", cascade), z, coefficient)
     if name == "geometry-volume":
-        volume = result.geometry_volume
+        volume = _cascade_item(result, "geometry", cascade)
         if volume is None:   # geometry volume off: nothing blocks
             n = result.grid_spec.resolution + 1
             return np.zeros((n, n, 3), np.float32)
@@ -71,6 +72,19 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
         blocking = normalise(volume[:, :, index, 0]).T[::-1]
         return np.repeat(np.clip(blocking, 0.0, 1.0)[..., None], 3, axis=2).astype(np.float32)
     raise ValueError(f"unknown view {name!r}")
+
+
+def _cascade_item(result, what: str, cascade: int | None):
+    """Cascade ``cascade``'s accumulated grid or geometry volume (None/0: cascade 0, the
+    FrameResult's own field)."""
+    single = result.accumulated if what == "accumulated" else result.geometry_volume
+    if not cascade:
+        return single
+    items = getattr(result, f"cascade_{what}", None) or [single]
+    if not 0 <= int(cascade) < len(items):
+        raise ValueError(f"cascade {cascade} does not exist: this frame has {len(items)} "
+                         f"cascade(s), 0..{len(items) - 1}")
+    return items[int(cascade)]
 
 
 def grid_slice(grid: np.ndarray, z: int | None = None, coefficient: int | None = None
