@@ -197,6 +197,10 @@ def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_c
         assert np.allclose(lit.cascade_audits[1].injected, 1.0, rtol=1e-4)
         assert lit.cascade_audits[1].accumulated.sum() > 3.0   # propagated in the coarse
         assert lit.indirect.max() > 0
+        # same-distance: the finer cascade propagates twice the steps
+        far = pipeline.run(SMALL.with_changes(cascades=2, cascade_iterations="same-distance"))
+        steps = [audit.per_step.shape[0] - 1 for audit in far.cascade_audits]
+        assert steps == [2 * SMALL.iterations, SMALL.iterations]
     finally:
         pipeline.release()
 

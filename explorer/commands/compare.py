@@ -41,6 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cascades", default=None, metavar="K[,K...]",
                         help="LPV cascades (nested grids around the camera's focus), or a "
                              "comma list to compare several (default: 1, the single grid)")
+    parser.add_argument("--cascade-iterations", default="same",
+                        choices=("same", "same-distance"),
+                        help="propagation steps per cascade: the same in every cascade "
+                             "(default), or 2x more per finer level (same distance)")
     parser.add_argument("--geometry-volume", default="off",
                         choices=("off", "one-sided", "double-sided"),
                         help="LPV occlusion (default: off)")
@@ -96,7 +100,8 @@ def main(args: argparse.Namespace) -> int:
         if args.error_scale is not None and not args.error_scale > 0:
             raise ValueError("--error-scale must be positive")
         changes = {"scene": args.scene, "width": args.width, "height": args.height,
-                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume}
+                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume,
+                   "cascade_iterations": args.cascade_iterations}
         if args.grid_size is not None:
             changes["grid_size"] = args.grid_size
         base = Settings(**changes, cascades=max(cascade_counts))   # validates the count

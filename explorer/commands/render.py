@@ -6,7 +6,13 @@ import argparse
 import sys
 from pathlib import Path
 
-from explorer.lpv.settings import DOWNSAMPLE_MODES, GEOMETRY_VOLUME_MODES, PRESETS, VIEWS
+from explorer.lpv.settings import (
+    CASCADE_ITERATIONS,
+    DOWNSAMPLE_MODES,
+    GEOMETRY_VOLUME_MODES,
+    PRESETS,
+    VIEWS,
+)
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
@@ -57,6 +63,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cascade-extent", type=float,
                         help="edge of the finest cascade in world units (default: the "
                              "single grid's edge / 2^(cascades-1))")
+    parser.add_argument("--cascade-iterations", choices=CASCADE_ITERATIONS,
+                        help="same: every cascade propagates --iterations steps (default); "
+                             "same-distance: finer cascades propagate 2x more per level")
     parser.add_argument("--cascade", type=int, default=None,
                         help="grid views (grid-slice, geometry-volume): show this cascade "
                              "(0 = finest, the default)")
@@ -75,7 +84,8 @@ def settings_from_args(args: argparse.Namespace):
                         ("downsample", "downsample"),
                         ("downsample_factor", "downsample_factor"),
                         ("geometry_volume", "geometry_volume"),
-                        ("cascades", "cascades"), ("cascade_extent", "cascade_extent")):
+                        ("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
+                        ("cascade_iterations", "cascade_iterations")):
         value = getattr(args, name, None)
         if value is not None:
             changes[field] = value

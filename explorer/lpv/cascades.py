@@ -82,6 +82,15 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
     return specs
 
 
+def cascade_iterations(settings, k: int) -> int:
+    """Propagation steps of cascade ``k`` (``Settings.cascade_iterations``): ``iterations``
+    in every cascade ("same"), or ``iterations·2^(K−1−k)`` ("same-distance", so the fine
+    cascades carry light as far in world units as the coarsest one)."""
+    if settings.cascade_iterations == "same-distance":
+        return int(settings.iterations) * 2 ** (int(settings.cascades) - 1 - int(k))
+    return int(settings.iterations)
+
+
 def own_weight(spec: GridSpec, points) -> np.ndarray:
     """Weight ``w_k`` of one cascade at world ``points`` (..., 3): 0 outside the grid and in
     its outer :data:`CASCADE_EDGE_CELLS`, rising by a smoothstep over

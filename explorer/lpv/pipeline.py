@@ -18,7 +18,11 @@ gbuffer    scene, camera, width, height
 gather     (gbuffer, rsm, propagate) exposure, indirect_only
 ========== ==================================================================
 
-``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``.
+``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``; with
+``cascades`` > 1 it is the list of cascade specs (docs/MODEL.md "Cascades"), which also
+depends on the camera (through the snapped focus point) and on ``cascade_extent`` and
+``cascade_focus``. The inject, geometry and propagate stages then run every cascade
+(their timings hold all cascades together) and the gather blends them.
 
 Timings: on a GPU every pass is timed with a GL timer query (``ctx.query(time=True)``).
 Mesa's llvmpipe reads 0 around compute dispatches and, around draws, either 2³²−1 (no
@@ -43,6 +47,7 @@ from explorer.lpv.cascades import (
     DEFAULT_TEXTURE_BUDGET,
     CascadeInput,
     CascadeLevel,
+    cascade_iterations,
     cascade_specs,
     focus_point,
 )
@@ -261,10 +266,11 @@ class Pipeline:
                 self._check("geometry", self._arrays["geometry"])
             ran.append("geometry")
 
-        propagate_key = (inject_key, geometry_key, s.iterations, keep_steps)
+        propagate_key = (inject_key, geometry_key, s.iterations, keep_steps,
+                         s.cascade_iterations)
         if self._changed("propagate", propagate_key):
             output = self._timed("propagate", lambda: (self._propagate.run(
-                self._injected, spec, s.corrections, s.iterations, self._volume,
+                self._injected, spec, s.corrections, cascade_iterations(s, 0), self._volume,
                 keep_steps=keep_steps), self._propagate_cascades(s, specs))[0])
             self._accumulated_grid = output.accumulated
             self._grid_audit = output.audit
@@ -487,11 +493,11 @@ class Pipeline:
             self._check("geometry", level.geometry)
 
     def _propagate_cascades(self, s: Settings, specs: list[GridSpec]) -> None:
-        """The same iteration count in every cascade: light travels 2^k cells of the finest
-        cascade per step in cascade k."""
-        for level, spec in zip(self._cascade_levels(specs), specs[1:]):
+        """``cascade_iterations(s, k)`` steps in cascade k (the same count in every cascade
+        by default: light then travels 2^k cells of the finest cascade per step)."""
+        for k, (level, spec) in enumerate(zip(self._cascade_levels(specs), specs[1:]), 1):
             level.output = level.propagate.run(level.injected, spec, s.corrections,
-                                               s.iterations, level.volume)
+                                               cascade_iterations(s, k), level.volume)
             level.accumulated = level.output.accumulated.read()
             self._check("propagate", level.accumulated)
 

@@ -104,6 +104,11 @@ class Settings:
     cascade_focus: float = 1.0
     """Where the cascades are centred on the camera's line of sight: 0 = at the eye,
     1 = at the camera's target (each cascade then snaps to its own cells)."""
+    cascade_iterations: str = "same"
+    """"same": every cascade propagates ``iterations`` steps (the LPV paper), so light
+    travels 2^k finest cells per step in cascade k; "same-distance": cascade k propagates
+    ``iterations·2^(cascades−1−k)`` steps, so every cascade carries light as far (in world
+    units) as the coarsest."""
 
     def __post_init__(self) -> None:
         _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
@@ -132,6 +137,7 @@ class Settings:
 
 
 MAX_CASCADES = 4
+CASCADE_ITERATIONS = ("same", "same-distance")
 
 
 def _check_cascades(settings: "Settings") -> None:
@@ -142,6 +148,7 @@ def _check_cascades(settings: "Settings") -> None:
     if settings.cascade_extent is not None and not settings.cascade_extent > 0:
         raise ValueError(f"cascade_extent must be positive (world units) or None, got "
                          f"{settings.cascade_extent!r}")
+    _check_choice("cascade_iterations", settings.cascade_iterations, CASCADE_ITERATIONS)
     if not 0.0 <= settings.cascade_focus <= 1.0:
         raise ValueError(f"cascade_focus must lie in [0, 1] (0 = eye, 1 = target), got "
                          f"{settings.cascade_focus!r}")
