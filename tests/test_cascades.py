@@ -158,9 +158,12 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context):
                    one.grid_spec, SMALL.exposure, False, cascades=twice)
         blended = read_texture(gather.targets["final"])[..., :3]
         assert np.allclose(blended, image, rtol=1e-5, atol=1e-7)
-        pipeline.invalidate("gather")
-        again = pipeline.run(SMALL.with_changes(cascades=1))
-        assert np.array_equal(again.final_image, image)
+        # one cascade ignores the cascade placement settings
+        other = pipeline.run(SMALL.with_changes(cascades=1, cascade_focus=0.2,
+                                                cascade_extent=0.7,
+                                                cascade_iterations="same-distance"))
+        assert other.grid_spec == one.grid_spec
+        assert np.array_equal(other.final_image, image)
     finally:
         pipeline.release()
 
@@ -201,6 +204,36 @@ def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_c
         far = pipeline.run(SMALL.with_changes(cascades=2, cascade_iterations="same-distance"))
         steps = [audit.per_step.shape[0] - 1 for audit in far.cascade_audits]
         assert steps == [2 * SMALL.iterations, SMALL.iterations]
+    finally:
+        pipeline.release()
+
+
+def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context):
+    pipeline = Pipeline(SMALL, ctx=gl_context)
+    try:
+        settings = SMALL.with_changes(cascades=2)
+        first = pipeline.run(settings)
+        camera = pipeline._scene.camera
+        fine = first.cascade_specs[0].cell_size
+        # the focus point at the lattice point its cascades snapped to: nudges below half
+        # a fine cell move no grid, so only the camera's own stages run again
+        target = np.asarray(first.cascade_specs[1].origin) + 8 * 2 * fine   # both lattices
+        eye = np.asarray(camera.eye) + target - np.asarray(camera.target)
+        centred = pipeline.run(settings.with_changes(camera=(tuple(eye), tuple(target))))
+        nudge = np.array([0.3, -0.2, 0.25]) * fine
+        moved = pipeline.run(settings.with_changes(
+            camera=(tuple(eye + nudge), tuple(target + nudge))))
+        assert moved.cascade_specs == centred.cascade_specs
+        assert moved.stages_run == ("scene", "gbuffer", "gather")   # scene: camera only
+        # a whole coarse cell: every cascade moves by whole cells, and the LPV runs again
+        step = np.array([2 * fine, 0.0, 0.0])
+        far = pipeline.run(settings.with_changes(camera=(tuple(eye + step),
+                                                         tuple(target + step))))
+        assert "propagate" in far.stages_run
+        for before, after in zip(centred.cascade_specs, far.cascade_specs):
+            shift = (np.asarray(after.origin) - before.origin) / before.cell_size
+            assert np.allclose(shift, np.round(shift), atol=1e-6)
+            assert np.allclose(shift, [2 * fine / before.cell_size, 0, 0], atol=1e-6)
     finally:
         pipeline.release()
 
