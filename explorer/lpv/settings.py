@@ -82,18 +82,6 @@ class Settings:
     injection_mode: str = "points"
     geometry_volume: str = "off"
     grid_format: str = "rgba32f"
-    width: int = 512
-    height: int = 512
-    exposure: float = 1.0
-    indirect_only: bool = False
-    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
-    """(eye, target) in world units; None = the scene's default camera."""
-    light: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
-    """(position, target) of the spot light; None = the scene's default light."""
-    light_flux: float | None = None
-    """Total flux of the light in watts per channel; None = the scene's default."""
-    debug_nan: bool = False
-    """Check every pass for NaN/Inf and name the pass that produced one."""
     # --- cascaded LPV (docs/MODEL.md "Cascades", explorer/lpv/cascades.py) ---
     cascades: int = 1
     """Nested grids of grid_size³ cells, each with twice the cell size of the last;
@@ -109,8 +97,21 @@ class Settings:
     travels 2^k finest cells per step in cascade k; "same-distance": cascade k propagates
     ``iterations·2^(cascades−1−k)`` steps, so every cascade carries light as far (in world
     units) as the coarsest."""
+    width: int = 512
+    height: int = 512
+    exposure: float = 1.0
+    indirect_only: bool = False
+    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    """(eye, target) in world units; None = the scene's default camera."""
+    light: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    """(position, target) of the spot light; None = the scene's default light."""
+    light_flux: float | None = None
+    """Total flux of the light in watts per channel; None = the scene's default."""
+    debug_nan: bool = False
+    """Check every pass for NaN/Inf and name the pass that produced one."""
 
     def __post_init__(self) -> None:
+        _check_cascades(self)
         _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
         _check_choice("injection_mode", self.injection_mode, INJECTION_MODES)
         _check_choice("geometry_volume", self.geometry_volume, GEOMETRY_VOLUME_MODES)
@@ -120,7 +121,6 @@ class Settings:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")
         if self.iterations < 0:
             raise ValueError(f"iterations must be >= 0, got {self.iterations!r}")
-        _check_cascades(self)
 
     def with_changes(self, **changes) -> "Settings":
         """A copy with some fields changed; ``corrections`` may be given as a dict of
