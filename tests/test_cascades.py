@@ -24,6 +24,7 @@ from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import read_texture
 from explorer.lpv.settings import Settings
 from explorer.lpv.textures import LpvGrid
+from explorer.lpv.views import CASCADE_COLOURS
 from explorer.lpv.vpl import VplArrays
 
 SINGLE = GridSpec((-1.2, -1.0, -1.1), 0.25, 16)
@@ -184,6 +185,14 @@ def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_c
         audits = result.cascade_audits
         assert np.all(audits[1].injected >= audits[0].injected * (1 - 1e-5))
         assert np.allclose(audits[1].injected, result.audit.rsm, rtol=1e-4)
+        weights = pipeline.view("cascade-weights")
+        assert weights.shape == (48, 48, 3)
+        colours = CASCADE_COLOURS[:2]
+        seen = weights[visible]
+        for colour in colours:   # some pixels use only the fine, some only the coarse one
+            assert np.any(np.all(np.abs(seen - colour) < 1e-5, axis=-1))
+        mixed = ~np.any(np.all(np.abs(seen[:, None] - colours) < 1e-5, axis=-1), axis=-1)
+        assert mixed.any()       # and the blend band is on screen
         slices = [pipeline.view("grid-slice", cascade=k) for k in (0, 1)]
         assert not np.array_equal(*slices)
         with pytest.raises(ValueError, match="cascade 2 does not exist"):

@@ -17,7 +17,7 @@ from explorer.lpv.settings import (
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
 this size."""
-CAMERA_VIEWS = ("final", "direct", "indirect", "albedo")
+CAMERA_VIEWS = ("final", "direct", "indirect", "albedo", "cascade-weights")
 
 
 def parse_size(text: str) -> tuple[int, int]:

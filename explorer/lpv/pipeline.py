@@ -337,6 +337,8 @@ class Pipeline:
         if self.last_result is None:
             self.run()
         scene = self._scene
+        if name == "cascade-weights":
+            options["positions"] = self._arrays["gbuffer"][0]
         return render_view(self.last_result, name, bounds=(scene.bounds_min, scene.bounds_max),
                            **options)
 

@@ -170,5 +170,6 @@ VIEWS = (
     "rsm-flux",
     "grid-slice",       # one z slice of the accumulated grid (intensity or one SH coefficient)
     "geometry-volume",  # one slice of the occlusion grid
+    "cascade-weights",  # which cascade the final gather uses at each pixel (blend weights)
 )
 PLOTS = ("flux-per-step", "audit", "timings", "error")
