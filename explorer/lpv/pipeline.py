@@ -237,9 +237,13 @@ class Pipeline:
                       tuple(specs))
         if self._changed("inject", inject_key):
             self._injected = self._replace_grid(self._injected, s)
-            self._timed("inject", lambda: (self._inject.run(
-                self._vpl_textures, spec, s.corrections, s.injection_mode, self._injected),
-                self._inject_cascades(s, specs)))
+
+            def inject_all() -> None:   # cascade 0, then the coarser cascades
+                self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
+                                 self._injected)
+                self._inject_cascades(s, specs)
+
+            self._timed("inject", inject_all)
             if s.debug_nan:
                 self._check("inject", self._injected.read())
             ran.append("inject")
@@ -259,9 +263,13 @@ class Pipeline:
                         self._volume.format != s.grid_format:
                     self._release_volume()
                     self._volume = GeometryVolume(self.ctx, spec.resolution, s.grid_format)
-                self._timed("geometry", lambda: (self._geometry.run(
-                    occluders, spec, s.corrections, s.geometry_volume, self._volume),
-                    self._geometry_cascades(s, specs, occluders)))
+
+                def geometry_all() -> None:   # cascade 0, then the coarser cascades
+                    self._geometry.run(occluders, spec, s.corrections, s.geometry_volume,
+                                       self._volume)
+                    self._geometry_cascades(s, specs, occluders)
+
+                self._timed("geometry", geometry_all)
                 self._arrays["geometry"] = self._volume.read()
                 self._check("geometry", self._arrays["geometry"])
             ran.append("geometry")
@@ -269,9 +277,15 @@ class Pipeline:
         propagate_key = (inject_key, geometry_key, s.iterations, keep_steps,
                          s.cascade_iterations)
         if self._changed("propagate", propagate_key):
-            output = self._timed("propagate", lambda: (self._propagate.run(
-                self._injected, spec, s.corrections, cascade_iterations(s, 0), self._volume,
-                keep_steps=keep_steps), self._propagate_cascades(s, specs))[0])
+
+            def propagate_all():   # cascade 0 (returned), then the coarser cascades
+                finest = self._propagate.run(self._injected, spec, s.corrections,
+                                             cascade_iterations(s, 0), self._volume,
+                                             keep_steps=keep_steps)
+                self._propagate_cascades(s, specs)
+                return finest
+
+            output = self._timed("propagate", propagate_all)
             self._accumulated_grid = output.accumulated
             self._grid_audit = output.audit
             self._arrays["accumulated"] = output.accumulated.read()
