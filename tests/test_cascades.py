@@ -111,8 +111,8 @@ def test_blend_weights_are_a_continuous_partition_of_unity():
     assert own_weight(fine, np.array(fine.origin)[None])[0] == 0.0
 
 
-def test_gather_shader_blends_like_numpy(setup):  # noqa: F811 (the fixture)
-    ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
+def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture)
+    _, scene, view, shadow, gbuffer, gather, grid, spec = setup
     n = spec.resolution
     specs = cascade_specs(spec, 2, (0.1, -0.3, 0.05))
     values = [smooth_grid(spec), 0.5 * smooth_grid(spec)[:, ::-1].copy()]
@@ -143,7 +143,7 @@ def test_gather_shader_blends_like_numpy(setup):  # noqa: F811 (the fixture)
     assert np.max(np.abs(got - expected)) <= 2e-3 * np.max(np.abs(expected))
 
 
-def test_one_cascade_reproduces_the_single_grid_exactly(gl_context):
+def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ctx: no GL errors
     pipeline = Pipeline(SMALL, ctx=gl_context)
     try:
         one = pipeline.run(SMALL.with_changes(cascades=1))
@@ -169,7 +169,7 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context):
         pipeline.release()
 
 
-def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_context):
+def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_context, ctx):
     pipeline = Pipeline(SMALL, ctx=gl_context)
     try:
         result = pipeline.run(SMALL.with_changes(cascades=2))
@@ -217,7 +217,7 @@ def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_c
         pipeline.release()
 
 
-def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context):
+def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context, ctx):   # ctx: no GL errors
     pipeline = Pipeline(SMALL, ctx=gl_context)
     try:
         settings = SMALL.with_changes(cascades=2)
