@@ -17,6 +17,7 @@ void main() {
 #if defined FRAGMENT_SHADER
 #include "sh.glsl"
 #include "grid.glsl"
+#include "cascades.glsl"
 
 uniform sampler2D u_gbuffer_position;
 uniform sampler2D u_gbuffer_normal;
@@ -146,7 +147,9 @@ void main() {
     // Indirect light: trilinear sample of the accumulated grid at the surface; light
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
     vec3 indirect_irradiance = vec3(0.0);
-    if (u_has_grid == 1) {
+    if (u_has_grid == 1 && u_cascade_count > 1) {
+        indirect_irradiance = cascade_irradiance(position.xyz, n);   // cascades.glsl
+    } else if (u_has_grid == 1) {
         indirect_irradiance = lpv_irradiance(position.xyz, n)
                             * lpv_derivative_damping(position.xyz, n);
     }

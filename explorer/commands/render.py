@@ -6,12 +6,18 @@ import argparse
 import sys
 from pathlib import Path
 
-from explorer.lpv.settings import DOWNSAMPLE_MODES, GEOMETRY_VOLUME_MODES, PRESETS, VIEWS
+from explorer.lpv.settings import (
+    CASCADE_ITERATIONS,
+    DOWNSAMPLE_MODES,
+    GEOMETRY_VOLUME_MODES,
+    PRESETS,
+    VIEWS,
+)
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
 this size."""
-CAMERA_VIEWS = ("final", "direct", "indirect", "albedo")
+CAMERA_VIEWS = ("final", "direct", "indirect", "albedo", "cascade-weights")
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -52,6 +58,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="z slice of the grid views (default: the middle)")
     parser.add_argument("--coefficient", type=int, choices=range(4),
                         help="grid-slice: show this SH coefficient instead of the flux")
+    parser.add_argument("--cascades", type=int,
+                        help="nested LPV grids around the camera's focus, each with twice the "
+                             "cells of the last (default 1: one grid around the scene)")
+    parser.add_argument("--cascade-extent", type=float,
+                        help="edge of the finest cascade in world units (default: the "
+                             "single grid's edge / 2^(cascades-1))")
+    parser.add_argument("--cascade-iterations", choices=CASCADE_ITERATIONS,
+                        help="same: every cascade propagates --iterations steps (default); "
+                             "same-distance: finer cascades propagate 2x more per level")
+    parser.add_argument("--cascade", type=int, default=None,
+                        help="grid views (grid-slice, geometry-volume): show this cascade "
+                             "(0 = finest, the default)")
     parser.add_argument("--audit", action="store_true", help="print the energy audit")
     parser.add_argument("--debug-nan", action="store_true",
                         help="check every pass for NaN/Inf and name the first bad one")
@@ -97,7 +115,9 @@ def settings_from_args(args: argparse.Namespace):
                         ("rsm_size", "rsm_size"), ("exposure", "exposure"),
                         ("downsample", "downsample"),
                         ("downsample_factor", "downsample_factor"),
-                        ("geometry_volume", "geometry_volume")):
+                        ("geometry_volume", "geometry_volume"),
+                        ("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
+                        ("cascade_iterations", "cascade_iterations")):
         value = getattr(args, name, None)
         if value is not None:
             changes[field] = value
@@ -146,6 +166,16 @@ def format_audit(audit) -> str:
     return "\n".join(lines)
 
 
+def format_cascade_audits(result) -> str:
+    """One line per cascade: cell size and the flux injected / accumulated / lost at the
+    border in that cascade (the cascades overlap: their fluxes do not add up)."""
+    lines = ["cascades [W, summed over r, g, b]  cell size   injected  accumulated  border"]
+    for k, (spec, audit) in enumerate(zip(result.cascade_specs, result.cascade_audits)):
+        lines.append(f"  cascade {k:<26}{spec.cell_size:10.4g}{audit.injected.sum():11.4g}"
+                     f"{audit.accumulated.sum():13.4g}{audit.border_loss.sum():8.4g}")
+    return "\n".join(lines)
+
+
 def main(args: argparse.Namespace) -> int:
     from explorer.gl.context import GLUnavailableError
     from explorer.gl.program import ShaderError
@@ -166,15 +196,17 @@ def main(args: argparse.Namespace) -> int:
     try:
         pipeline = Pipeline(settings)
         result = pipeline.run()
-        options = {"z": args.z, "coefficient": args.coefficient}
+        options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
         for view, path in output_paths(args.out, views).items():
             wanted = {k: v for k, v in options.items()
                       if v is not None and view in ("grid-slice", "geometry-volume")
-                      and (k == "z" or view == "grid-slice")}
+                      and (k != "coefficient" or view == "grid-slice")}
             write_png(pipeline.view(view, **wanted), path, enlarge=view not in CAMERA_VIEWS)
             print(f"wrote {path} ({view})")
         if args.audit:
             print(format_audit(result.audit))
+            if len(result.cascade_audits) > 1:
+                print(format_cascade_audits(result))
     except SceneError as exc:
         print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
         return 2

@@ -13,6 +13,7 @@ from __future__ import annotations
 import moderngl
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
@@ -49,10 +50,12 @@ class GatherPass:
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
             grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
-            damping: bool = False) -> None:
+            damping: bool = False, cascades: list[CascadeInput] | None = None) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
         clamped), or None for direct light only. ``damping``: the directional-derivative
-        damping of the indirect irradiance (docs/MODEL.md "Final gather")."""
+        damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
+        ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
+        instead of ``grid_textures``; None or one cascade = the single grid."""
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl")
         if self._vertex_array is None or self._vertex_array.program is not program:
@@ -65,6 +68,8 @@ class GatherPass:
         gbuffer.albedo.use(2)
         shadow.position.use(3)
         shadow.normal.use(4)
+        if grid_textures is None and cascades:
+            grid_textures = cascades[0].textures
         if grid_textures is None:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):
@@ -80,11 +85,24 @@ class GatherPass:
             "u_gather_damping": int(damping),
             **light.uniforms(),
             **spec.uniforms(),
+            **self._cascade_uniforms(cascades, grid_textures, spec),
         }
         set_uniforms(program, values)
         with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
             self._framebuffer.viewport = (0, 0, *self.size)
             self._vertex_array.render(moderngl.TRIANGLES, vertices=3)
+
+    CASCADE_FIRST_UNIT = 8
+
+    @classmethod
+    def _cascade_uniforms(cls, cascades: list[CascadeInput] | None, grid_textures,
+                          spec: GridSpec) -> dict[str, object]:
+        """``cascades.glsl`` uniforms. With a single grid its sampler arrays point at the
+        single grid's units 5..7 (a sampler3D may not share a unit with the G-buffer's
+        2D samplers, even unused) and the count is 1, which selects the single-grid code."""
+        if cascades is None or len(cascades) <= 1:
+            return cascade_uniforms([CascadeInput(spec, ())], 5)
+        return cascade_uniforms(cascades, cls.CASCADE_FIRST_UNIT)
 
     def _empty(self) -> moderngl.Texture3D:
         if self._empty_grid is None:

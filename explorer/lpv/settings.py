@@ -85,6 +85,21 @@ class Settings:
     injection_mode: str = "points"
     geometry_volume: str = "off"
     grid_format: str = "rgba32f"
+    # --- cascaded LPV (docs/MODEL.md "Cascades", explorer/lpv/cascades.py) ---
+    cascades: int = 1
+    """Nested grids of grid_size³ cells, each with twice the cell size of the last;
+    1 = the single grid enclosing the scene."""
+    cascade_extent: float | None = None
+    """Edge of the finest cascade in world units; None = the single grid's extent divided
+    by 2^(cascades−1), so the coarsest cascade has the single grid's cells."""
+    cascade_focus: float = 1.0
+    """Where the cascades are centred on the camera's line of sight: 0 = at the eye,
+    1 = at the camera's target (each cascade then snaps to its own cells)."""
+    cascade_iterations: str = "same"
+    """"same": every cascade propagates ``iterations`` steps (the LPV paper), so light
+    travels 2^k finest cells per step in cascade k; "same-distance": cascade k propagates
+    ``iterations·2^(cascades−1−k)`` steps, so every cascade carries light as far (in world
+    units) as the coarsest."""
     width: int = 512
     height: int = 512
     exposure: float = 1.0
@@ -108,6 +123,7 @@ class Settings:
     blocks (docs/MODEL.md "More bounces"); needs a geometry volume."""
 
     def __post_init__(self) -> None:
+        _check_cascades(self)
         _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
         _check_choice("injection_mode", self.injection_mode, INJECTION_MODES)
         _check_choice("geometry_volume", self.geometry_volume, GEOMETRY_VOLUME_MODES)
@@ -146,6 +162,24 @@ class Settings:
         return dataclasses.asdict(self)
 
 
+MAX_CASCADES = 4
+CASCADE_ITERATIONS = ("same", "same-distance")
+
+
+def _check_cascades(settings: "Settings") -> None:
+    if not 1 <= int(settings.cascades) <= MAX_CASCADES or \
+            int(settings.cascades) != settings.cascades:
+        raise ValueError(f"cascades must be a whole number 1..{MAX_CASCADES}, got "
+                         f"{settings.cascades!r}")
+    if settings.cascade_extent is not None and not settings.cascade_extent > 0:
+        raise ValueError(f"cascade_extent must be positive (world units) or None, got "
+                         f"{settings.cascade_extent!r}")
+    _check_choice("cascade_iterations", settings.cascade_iterations, CASCADE_ITERATIONS)
+    if not 0.0 <= settings.cascade_focus <= 1.0:
+        raise ValueError(f"cascade_focus must lie in [0, 1] (0 = eye, 1 = target), got "
+                         f"{settings.cascade_focus!r}")
+
+
 def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:
     if value not in choices:
         raise ValueError(f"{name} must be one of {choices}, got {value!r}")
@@ -162,5 +196,6 @@ VIEWS = (
     "rsm-flux",
     "grid-slice",       # one z slice of the accumulated grid (intensity or one SH coefficient)
     "geometry-volume",  # one slice of the occlusion grid
+    "cascade-weights",  # which cascade the final gather uses at each pixel (blend weights)
 )
 PLOTS = ("flux-per-step", "audit", "timings", "error")
