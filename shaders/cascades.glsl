@@ -41,17 +41,43 @@ vec3 cascade_irradiance_of(int k, vec3 world, vec4 lobe) {
     return max(intensity, vec3(0.0)) / (cell * cell);
 }
 
+// Directional-derivative damping factor (docs/MODEL.md "Final gather") from the irradiance
+// half a cell in front of and behind the surface: clamp(front/back, 0, 1) per channel, 1
+// where nothing arrives from behind. Shared by the single grid and the cascades.
+vec3 damping_ratio(vec3 front, vec3 back) {
+    vec3 ratio = vec3(1.0);
+    for (int c = 0; c < 3; ++c) {
+        if (back[c] > 0.0) {
+            ratio[c] = clamp(front[c] / back[c], 0.0, 1.0);
+        }
+    }
+    return ratio;
+}
+
+// One cascade's irradiance, damped over half of that cascade's cell when asked.
+vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, vec4 lobe, bool damping) {
+    vec3 irradiance = cascade_irradiance_of(k, world, lobe);
+    if (!damping) {
+        return irradiance;
+    }
+    vec3 half_cell = 0.5 * u_cascade_cell_size[k] * n;
+    return irradiance * damping_ratio(cascade_irradiance_of(k, world + half_cell, lobe),
+                                      cascade_irradiance_of(k, world - half_cell, lobe));
+}
+
 // Blended irradiance: finest first, W_k = w_k·Π_{j<k}(1 − w_j), the coarsest takes the
 // rest Π_{j<K−1}(1 − w_j), so Σ W_k = 1 (a partition of unity: a VPL injected into
 // several cascades is counted once). Cascades with W_k = 0 are not sampled.
-vec3 cascade_irradiance(vec3 world, vec3 n) {
+vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
     vec4 lobe = sh_cosine_lobe(-n);
     vec3 irradiance = vec3(0.0);
     float remaining = 1.0;
     for (int k = 0; k < u_cascade_count && k < MAX_CASCADES; ++k) {
         float w = k == u_cascade_count - 1 ? 1.0 : cascade_own_weight(k, world);
         float weight = w * remaining;
-        if (weight > 0.0) irradiance += weight * cascade_irradiance_of(k, world, lobe);
+        if (weight > 0.0) {
+            irradiance += weight * cascade_damped_irradiance_of(k, world, n, lobe, damping);
+        }
         remaining *= 1.0 - w;
         if (remaining <= 0.0) break;
     }

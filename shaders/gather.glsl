@@ -98,13 +98,7 @@ vec3 lpv_derivative_damping(vec3 p, vec3 n) {
     vec3 half_cell = 0.5 * u_grid_cell_size * n;
     vec3 front = lpv_irradiance(p + half_cell, n);
     vec3 back = lpv_irradiance(p - half_cell, n);
-    vec3 ratio = vec3(1.0);
-    for (int c = 0; c < 3; ++c) {
-        if (back[c] > 0.0) {
-            ratio[c] = clamp(front[c] / back[c], 0.0, 1.0);
-        }
-    }
-    return ratio;
+    return damping_ratio(front, back);   // cascades.glsl
 }
 
 vec3 linear_to_srgb(vec3 linear) {
@@ -148,7 +142,7 @@ void main() {
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
     vec3 indirect_irradiance = vec3(0.0);
     if (u_has_grid == 1 && u_cascade_count > 1) {
-        indirect_irradiance = cascade_irradiance(position.xyz, n);   // cascades.glsl
+        indirect_irradiance = cascade_irradiance(position.xyz, n, u_gather_damping == 1);
     } else if (u_has_grid == 1) {
         indirect_irradiance = lpv_irradiance(position.xyz, n)
                             * lpv_derivative_damping(position.xyz, n);

@@ -287,3 +287,16 @@ def test_cli_render_compare_and_bench_take_cascades(tmp_path, capsys, gl_context
                      "--cascades", "1,2", "--variants", "none", "--json", str(bench)]) == 0
     rows = json.loads(bench.read_text())["rows"]
     assert [(row["grid"], row["cascades"]) for row in rows] == [(8, 1), (8, 2)]
+
+
+def test_gather_damping_acts_in_every_cascade(gl_context, ctx):   # ctx: no GL errors
+    """Damping multiplies each cascade's irradiance by a factor in [0, 1]: with cascades it
+    can only darken the indirect light, and it must change it somewhere."""
+    pipeline = Pipeline(SMALL, ctx=gl_context)
+    try:
+        plain = pipeline.run(SMALL.with_changes(cascades=2)).indirect.copy()
+        damped = pipeline.run(SMALL.with_changes(cascades=2, gather_damping=True)).indirect
+    finally:
+        pipeline.release()
+    assert np.all(damped <= plain * (1 + 1e-5) + 1e-7)
+    assert np.abs(damped - plain).max() > 1e-3 * plain.max()
