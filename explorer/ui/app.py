@@ -450,10 +450,10 @@ class App:
         for panel in PANELS:
             if not state.open_panels.get(panel.title, True):
                 continue
-            if not panel.padding or panel.title == "View":
+            if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
             expanded, still_open = imgui.begin(panel.title, True)
-            if not panel.padding or panel.title == "View":
+            if not panel.padding:
                 imgui.pop_style_var()
             if expanded:
                 try:
