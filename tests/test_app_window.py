@@ -115,6 +115,7 @@ def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
         assert app.state.settings.corrections == PRESETS["original"]
         assert not app._needs_layout, "a saved layout for the same panels is kept"
         assert app.state.layout_panels == [p.title for p in PANELS]
+        assert app.state.window_size == (800, 600)
         assert not [m for m in app.state.messages if m.level != "info"]
     finally:
         app.close()

@@ -55,7 +55,8 @@ def _default_pipeline_factory():
 
 
 class App:
-    def __init__(self, state: AppState | None = None, *, width: int = 1600, height: int = 960,
+    def __init__(self, state: AppState | None = None, *, width: int | None = None,
+                 height: int | None = None,
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
@@ -67,7 +68,9 @@ class App:
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-        self.window = Window(width, height, visible=visible, vsync=vsync)
+        # The window opens at the given size, else at the size it had when it was closed.
+        saved_w, saved_h = self.state.window_size
+        self.window = Window(width or saved_w, height or saved_h, visible=visible, vsync=vsync)
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
@@ -200,6 +203,8 @@ class App:
 
         if self.persist_settings:
             try:
+                if not self.window.minimised:
+                    self.state.window_size = self.window.size
                 persist.save_state(self.state)
             except OSError as exc:
                 print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)

@@ -113,6 +113,7 @@ class AppState:
     render_scale: float = 1.0         # render resolution / view panel pixels
     follow_view_size: bool = True     # render at the view panel's size
     mesh_path: str = ""
+    window_size: tuple[int, int] = (1600, 960)
     inspect: InspectState = field(default_factory=InspectState)
     open_panels: dict[str, bool] = field(default_factory=dict)
     lesson_id: str | None = None
