@@ -293,6 +293,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.state.inspect.source = "vpls"
         app.frame()
         app.state.inspect.source = "propagation"
+        app.state.inspect.glyphs = True
         app.frame()
         app.frame(capture=True)
         assert _view_pixels(app).std() > 1.0

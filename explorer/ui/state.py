@@ -47,6 +47,7 @@ class InspectState:
     playing: bool = False
     play_rate: float = 4.0            # iterations per second while playing
     signed_scale: float = 0.0         # 0 = automatic scaling of signed data
+    glyphs: bool = False              # draw SH glyphs over grid slices
 
 
 @dataclass
