@@ -385,3 +385,18 @@ def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home)
         buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
         assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
         buffer.release()
+
+
+@needs_pipeline
+def test_a_saved_scene_that_no_longer_opens_falls_back_to_the_default(config_home):
+    state = AppState(settings=TINY.with_changes(scene=str(config_home / "gone.obj")))
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        for _ in range(3):
+            app.frame()
+        assert app.state.settings.scene == Settings().scene
+        assert app.state.runtime.result is not None
+        assert any("gone.obj" in m.text for m in app.state.messages if m.level == "error")
+    finally:
+        app.close()

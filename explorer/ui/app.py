@@ -27,6 +27,7 @@ from typing import Callable
 import numpy as np
 
 from explorer.gl.window import Window
+from explorer.lpv.settings import Settings
 from explorer.ui import persist
 from explorer.ui.state import AppState
 
@@ -324,6 +325,10 @@ class App:
     def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
         rt = self.state.runtime
         text = f"{type(exc).__name__}: {exc}"
+        if self._good_scene is None and settings.scene != Settings().scene and side == "A":
+            # The scene saved last time (a mesh since moved, say) cannot open: start from
+            # the default scene rather than an empty view.
+            self._good_scene = (Settings().scene, None, None, None)
         scene_error = self._good_scene is not None and settings.scene != self._good_scene[0]
         if scene_error and side == "A":
             # A mesh that fails to load: say so and keep the previous scene.
