@@ -54,6 +54,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--audit", action="store_true", help="print the energy audit")
     parser.add_argument("--debug-nan", action="store_true",
                         help="check every pass for NaN/Inf and name the first bad one")
+    # --lesson ID --step K (lessons helper): the options and their handling live in
+    # explorer/commands/lessons.py.
+    from explorer.commands.lessons import add_render_arguments
+
+    add_render_arguments(parser)
 
 
 def settings_from_args(args: argparse.Namespace):
@@ -117,6 +122,10 @@ def main(args: argparse.Namespace) -> int:
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
 
+    if getattr(args, "lesson", None) is not None:
+        from explorer.commands.lessons import render_lesson_step
+
+        return render_lesson_step(args)
     views = args.view or ["final"]
     try:
         settings = settings_from_args(args)

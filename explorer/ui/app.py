@@ -608,6 +608,8 @@ def _eye_target(value) -> tuple | None:
     for eye_name, target_name in (("eye", "target"), ("position", "target")):
         if hasattr(value, eye_name) and hasattr(value, target_name):
             eye, target = getattr(value, eye_name), getattr(value, target_name)
+            if callable(eye):   # DirectionalLight.eye(bounds) is a method: use position
+                continue
             return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
     try:
         eye, target = value

@@ -20,6 +20,7 @@ from explorer.ui.panels.messages import gui_messages, gui_shaders
 from explorer.ui.panels.plots import gui_plots
 from explorer.ui.panels.scene import gui_scene
 from explorer.ui.panels.view import gui_view
+from explorer.ui.lesson_panel import gui_lesson  # the lessons helper's panel
 from explorer.ui.state import AppState
 
 AREAS = ("centre", "left", "left-bottom", "right", "right-bottom", "bottom")
@@ -35,6 +36,7 @@ class Panel:
 
 PANELS: list[Panel] = [
     Panel("View", gui_view, "centre", padding=False),
+    Panel("Lessons", gui_lesson, "left"),   # first in its dock: the tab shown at start
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Compare", gui_compare, "left-bottom"),

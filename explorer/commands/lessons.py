@@ -1,0 +1,174 @@
+"""``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps.
+
+Listing also validates every lesson; a broken one is reported with its error and makes
+the command exit 1, so CI and lesson authors see mistakes at once.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import textwrap
+from pathlib import Path
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("lesson", nargs="?", metavar="ID",
+                        help="a lesson id, number or file stem: print its steps")
+    parser.add_argument("--dir", type=Path, default=None, metavar="PATH",
+                        help="read lessons from this folder instead of the shipped ones")
+
+
+def main(args: argparse.Namespace) -> int:
+    from explorer.lessons import find_lesson, load_all
+
+    lessons, errors = load_all(args.dir)
+    if args.lesson is None:
+        _print_list(lessons)
+    else:
+        try:
+            lesson = find_lesson(args.lesson, lessons)
+        except KeyError as exc:
+            print(f"lpv-explorer lessons: {exc.args[0]}", file=sys.stderr)
+            _print_errors(errors)
+            return 1
+        _print_lesson(lesson)
+    _print_errors(errors)
+    return 1 if errors else 0
+
+
+def _print_list(lessons) -> None:
+    if not lessons:
+        print("no lessons found")
+        return
+    width = max(len(lesson.id) for lesson in lessons)
+    for lesson in lessons:
+        count = len(lesson.steps)
+        print(f"{lesson.number:02d}  {lesson.id:<{width}}  {lesson.title}  "
+              f"({count} step{'s' if count != 1 else ''})")
+
+
+def _print_lesson(lesson) -> None:
+    from explorer.lessons import math_to_text
+
+    print(f"{lesson.title}  [{lesson.id}, {lesson.path.name}]")
+    print(textwrap.fill(lesson.summary, width=88))
+    for step in lesson.steps:
+        print()
+        print(f"--- step {step.number}/{len(lesson.steps)}: {step.title}")
+        shows = [f"scene {step.scene}", f"view {step.view}"]
+        if step.compare_preset:
+            shows.append(f"against {step.compare_preset}")
+        if step.plot:
+            shows.append(f"plot {step.plot}")
+        changed = [name for name in step.corrections.names()
+                   if getattr(step.corrections, name) is False]
+        shows.append("corrections: " + ("all on" if not changed else
+                                        "off: " + ", ".join(changed)))
+        if step.overrides:
+            shows.append(", ".join(f"{k}={v}" for k, v in step.overrides))
+        print(textwrap.fill("shows: " + "; ".join(shows), width=88, subsequent_indent="  "))
+        print()
+        print(math_to_text(step.text.strip()))
+        if step.formulas:
+            print()
+            print("formulas: " + ", ".join(step.formulas))
+        for item in step.try_this:
+            print(textwrap.fill(f"try this [{item.control}]: {item.prompt}", width=88,
+                                subsequent_indent="  "))
+    print()
+    print(f"render a step: lpv-explorer render --lesson {lesson.id} --step 1")
+
+
+def _print_errors(errors) -> None:
+    for error in errors:
+        print(f"broken lesson: {error}", file=sys.stderr)
+
+
+# --- `lpv-explorer render --lesson ID --step K` -------------------------------------------
+# The render command (explorer/commands/render.py) adds the two options with
+# add_render_arguments() and hands over to render_lesson_step() when --lesson is given.
+
+def add_render_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group(
+        "lesson steps", "render what a lesson step shows: its scene, settings, corrections "
+        "and view; --grid, --iterations, --size, --rsm-size, --exposure, --downsample, "
+        "--downsample-factor, --geometry-volume and --indirect-only override the step, "
+        "--scene and --preset are ignored")
+    group.add_argument("--lesson", metavar="ID", help="lesson id, number or file stem")
+    group.add_argument("--step", type=int, default=1, metavar="K",
+                       help="step number within the lesson (default: 1)")
+
+
+_RENDER_OVERRIDES = (("grid", "grid_size"), ("iterations", "iterations"),
+                     ("rsm_size", "rsm_size"), ("exposure", "exposure"),
+                     ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
+                     ("geometry_volume", "geometry_volume"))
+
+
+def render_lesson_step(args: argparse.Namespace) -> int:
+    """Render step ``args.step`` of lesson ``args.lesson`` to ``args.out``."""
+    from explorer.commands.render import CAMERA_VIEWS, format_audit, output_paths, write_png
+    from explorer.gl.context import GLUnavailableError
+    from explorer.gl.program import ShaderError
+    from explorer.lessons import (
+        COMPARE_VIEWS,
+        LessonError,
+        find_lesson,
+        load_lesson,
+        render_step,
+    )
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.resources import lesson_dir
+
+    try:
+        lessons = []
+        for path in sorted(lesson_dir().glob("*.toml")):
+            try:
+                lessons.append(load_lesson(path, check_formula=None))
+            except LessonError:
+                continue  # `lpv-explorer lessons` reports broken lessons
+        lesson = find_lesson(args.lesson, lessons)
+        step = lesson.step(args.step)
+    except (KeyError, IndexError) as exc:
+        print(f"lpv-explorer render: error: {exc.args[0]}", file=sys.stderr)
+        return 2
+    changes: dict[str, object] = {}
+    for option, field in _RENDER_OVERRIDES:
+        if getattr(args, option, None) is not None:
+            changes[field] = getattr(args, option)
+    if args.size is not None:
+        changes["width"], changes["height"] = args.size
+    if args.indirect_only:
+        changes["indirect_only"] = True
+    if args.debug_nan:
+        changes["debug_nan"] = True
+    try:
+        settings = step.settings().with_changes(**changes)
+    except ValueError as exc:
+        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"lesson {lesson.id}, step {step.number}/{len(lesson.steps)}: {step.title}")
+    views = args.view or [step.view]
+    pipeline = None
+    try:
+        pipeline = Pipeline(settings)
+        for view, path in output_paths(args.out, views).items():
+            if view == step.view:
+                image, _ = render_step(pipeline, step, settings)
+            else:
+                pipeline.run(settings)
+                image = pipeline.view(view)
+            write_png(image, path, enlarge=view not in CAMERA_VIEWS + COMPARE_VIEWS)
+            shown = f"{view} against {step.compare_preset}" if step.compare_preset and \
+                view == step.view else view
+            print(f"wrote {path} ({shown})")
+        if args.audit:
+            print(format_audit(pipeline.run(settings).audit))
+    except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
+        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        if pipeline is not None:
+            pipeline.release()
+    return 0

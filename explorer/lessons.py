@@ -1,0 +1,561 @@
+"""Lessons: ``lessons/NN-slug.toml`` files read, validated and turned into Settings.
+
+A lesson is data, never code: TOML parsed with :mod:`tomllib` (``tomli`` on Python 3.10).
+Every step says which scene, settings, corrections, view and plot it shows, which
+derivations it typesets, and which controls the reader should try.
+
+File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are optional)::
+
+    id = "injection"                 # what `lpv-explorer lessons ID` accepts
+    title = "..."
+    summary = "..."
+    scene = "cornell"                # default for every step
+    [settings]                       # defaults for every step (Settings fields)
+    grid_size = 16
+    [[steps]]
+    title = "..."
+    text = '''markdown, inline math as $...$'''
+    formulas = ["sh.clamped_cosine_lobe"]          # derivation registry names
+    scene = "single-source"
+    corrections = "original"                        # a preset, or a table:
+    # corrections = { preset = "original", side_faces = false }
+    camera = { eye = [0, 1, 3], target = [0, 1, 0] }
+    light = { position = [0, 1.9, 0], target = [0, 0, 0] }
+    view = "indirect"                # settings.VIEWS, or "split"/"difference" with compare
+    compare = "original"             # preset shown on the other side of split/difference
+    plot = "flux-per-step"           # settings.PLOTS
+    [steps.settings]
+    iterations = 4
+    [[steps.try_this]]
+    control = "corrections.injection_pi"   # a Settings field or corrections.<switch>
+    prompt = "..."
+
+Errors are :class:`LessonError` naming the file, the step (number and title) and the
+field; :func:`load_all` collects them so one broken lesson never hides the others.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+import typing
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+from typing import Any
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Corrections, Settings
+from explorer.resources import lesson_dir
+
+BUILTIN_SCENES = ("cornell", "single-source", "room")
+"""Scene names a lesson may use (the built-ins of ``explorer.scene.load_scene``)."""
+COMPARE_VIEWS = ("split", "difference")
+"""Views that show the step's corrections against the ``compare`` preset."""
+STEP_VIEWS = VIEWS + COMPARE_VIEWS
+
+_LESSON_KEYS = ("id", "title", "summary", "scene", "settings", "corrections", "steps")
+_STEP_KEYS = ("title", "text", "formulas", "scene", "camera", "light", "settings",
+              "corrections", "view", "compare", "plot", "try_this")
+_TRY_KEYS = ("control", "prompt")
+_CAMERA_KEYS = ("eye", "target")
+_LIGHT_KEYS = ("position", "target")
+# Settings fields with their own lesson keys (scene, corrections, camera, light) are not
+# accepted inside [settings]: one way to say each thing.
+_OWN_KEYS = ("scene", "corrections", "camera", "light")
+_SETTING_TYPES: dict[str, Any] = {
+    name: hint for name, hint in typing.get_type_hints(Settings).items() if name not in _OWN_KEYS
+}
+_ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
+_FILE_PATTERN = re.compile(r"^(\d+)-([a-z0-9-]+)\.toml$")
+
+Vec3 = tuple[float, float, float]
+
+
+class LessonError(ValueError):
+    """A lesson file that cannot be used; the message names file, step and field."""
+
+    def __init__(self, path: Path | str, message: str, step: "int | None" = None,
+                 step_title: str | None = None, field: str | None = None,
+                 line: int | None = None) -> None:
+        self.path = Path(path)
+        self.step = step
+        self.step_title = step_title
+        self.field = field
+        self.line = line
+        self.reason = message
+        where = [str(self.path)]
+        if line is not None:
+            where[0] += f":{line}"
+        if step is not None:
+            where.append(f"step {step}" + (f" ({step_title!r})" if step_title else ""))
+        if field is not None:
+            where.append(f"field {field!r}")
+        super().__init__(", ".join(where) + ": " + message)
+
+
+@dataclass(frozen=True)
+class TryThis:
+    """A prompt asking the reader to change one control and look for an effect."""
+
+    control: str
+    """A Settings field name, or ``corrections.<switch>``."""
+    prompt: str
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a lesson: what to read, what to show, what to try."""
+
+    number: int
+    """1-based position in the lesson."""
+    title: str
+    text: str
+    formulas: tuple[str, ...]
+    scene: str
+    corrections: Corrections
+    overrides: tuple[tuple[str, Any], ...]
+    """Settings fields the step sets, in file order (lesson defaults merged in)."""
+    view: str
+    compare: Corrections | None
+    compare_preset: str | None
+    plot: str | None
+    try_this: tuple[TryThis, ...]
+    camera: tuple[Vec3, Vec3] | None = None
+    light: tuple[Vec3, Vec3] | None = None
+
+    def settings(self, base: Settings | None = None) -> Settings:
+        """The Settings this step shows: ``base`` (default: ``Settings()``) with the
+        step's scene, corrections, camera, light and overrides applied.
+
+        Scene, corrections, camera and light always come from the step (a step that
+        names no camera gets the scene's default one), so a step looks the same whatever
+        was on screen before; fields the step does not mention (window size, exposure,
+        ...) keep the value of ``base``."""
+        base = Settings() if base is None else base
+        return base.with_changes(scene=self.scene, corrections=self.corrections,
+                                 camera=self.camera, light=self.light, **dict(self.overrides))
+
+    def compare_settings(self, base: Settings | None = None) -> Settings | None:
+        """The other side of a split/difference view (the step's settings with the
+        ``compare`` preset), or None when the step compares nothing."""
+        if self.compare is None:
+            return None
+        return self.settings(base).with_changes(corrections=self.compare)
+
+    def controls(self) -> tuple[str, ...]:
+        return tuple(item.control for item in self.try_this)
+
+
+@dataclass(frozen=True)
+class Lesson:
+    id: str
+    title: str
+    summary: str
+    steps: tuple[Step, ...]
+    path: Path
+    number: int
+    """The NN of the file name (orders the lessons)."""
+
+    def step(self, number: int) -> Step:
+        """Step ``number`` (1-based); IndexError names the valid range."""
+        if not 1 <= number <= len(self.steps):
+            raise IndexError(f"lesson {self.id!r} has steps 1..{len(self.steps)}, "
+                             f"not {number}")
+        return self.steps[number - 1]
+
+
+# --- formula names -----------------------------------------------------------------------
+
+def _registry_lookup(name: str) -> Any:
+    """The derivation registered as ``name`` (``derivations.registry.get``)."""
+    try:
+        from derivations import registry
+    except ImportError as exc:
+        raise LookupError(
+            "the derivation registry (derivations/registry.py) is not available, so formula "
+            f"names cannot be checked ({exc})") from exc
+    return registry.get(name)
+
+
+FormulaCheck = Callable[[str], Any]
+"""Raises (KeyError/LookupError/ValueError) when a formula name does not resolve."""
+
+
+# --- loading -------------------------------------------------------------------------------
+
+class _UseRegistry:
+    """Default of ``check_formula``: :func:`_registry_lookup`, looked up at call time."""
+
+
+def load_lesson(path: Path | str,
+                check_formula: FormulaCheck | None | type[_UseRegistry] = _UseRegistry
+                ) -> Lesson:
+    """Read and validate one lesson file. By default formula names are checked against
+    the derivation registry; ``check_formula=None`` skips them (for tools that must work
+    without the derivations), a callable replaces the registry."""
+    if check_formula is _UseRegistry:
+        check_formula = _registry_lookup
+    path = Path(path)
+    try:
+        raw = path.read_bytes().decode("utf-8")
+    except OSError as exc:
+        raise LessonError(path, f"cannot read the file ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise LessonError(path, f"not UTF-8 text ({exc.reason})") from None
+    try:
+        data = tomllib.loads(raw)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"line (\d+)", str(exc))
+        raise LessonError(path, f"TOML syntax error: {exc}",
+                          line=int(match.group(1)) if match else None) from None
+    return _Validator(path, check_formula).lesson(data)
+
+
+def load_all(directory: Path | str | None = None,
+             check_formula: FormulaCheck | None | type[_UseRegistry] = _UseRegistry
+             ) -> tuple[list[Lesson], list[LessonError]]:
+    """Every ``*.toml`` lesson in ``directory`` (default: the shipped lessons), ordered by
+    file name, and the errors of those that failed. Duplicate ids are errors too."""
+    directory = lesson_dir() if directory is None else Path(directory)
+    lessons: list[Lesson] = []
+    errors: list[LessonError] = []
+    seen: dict[str, Path] = {}
+    for path in sorted(directory.glob("*.toml")):
+        try:
+            lesson = load_lesson(path, check_formula)
+        except LessonError as exc:
+            errors.append(exc)
+            continue
+        if lesson.id in seen:
+            errors.append(LessonError(path, f"id {lesson.id!r} is already used by "
+                                            f"{seen[lesson.id].name}", field="id"))
+            continue
+        seen[lesson.id] = path
+        lessons.append(lesson)
+    return lessons, errors
+
+
+def find_lesson(key: str, lessons: list[Lesson]) -> Lesson:
+    """The lesson whose id, number (``3`` or ``03``) or file stem is ``key``."""
+    for lesson in lessons:
+        if key in (lesson.id, lesson.path.stem) or (key.isdigit() and int(key) == lesson.number):
+            return lesson
+    known = ", ".join(lesson.id for lesson in lessons)
+    raise KeyError(f"no lesson {key!r}; the lessons are: {known}")
+
+
+def valid_controls() -> tuple[str, ...]:
+    """Every name a try-this prompt may point at."""
+    settings_fields = tuple(f.name for f in fields(Settings) if f.name != "corrections")
+    return settings_fields + ("corrections",) + tuple(
+        f"corrections.{name}" for name in Corrections.names())
+
+
+class _Validator:
+    """Walks one parsed file; every error carries the file, step and field."""
+
+    def __init__(self, path: Path, check_formula: FormulaCheck | None) -> None:
+        self.path = path
+        self.check_formula = check_formula
+        self.step_number: int | None = None
+        self.step_title: str | None = None
+
+    def error(self, field: str | None, message: str) -> LessonError:
+        return LessonError(self.path, message, step=self.step_number,
+                           step_title=self.step_title, field=field)
+
+    # generic checks
+    def no_unknown_keys(self, table: Mapping, allowed: tuple[str, ...], prefix: str = "") -> None:
+        for key in table:
+            if key not in allowed:
+                raise self.error(prefix + key, f"unknown field; expected one of {list(allowed)}")
+
+    def string(self, table: Mapping, key: str, required: bool, prefix: str = "") -> str | None:
+        if key not in table:
+            if required:
+                raise self.error(prefix + key, "missing (a string is required)")
+            return None
+        value = table[key]
+        if not isinstance(value, str):
+            raise self.error(prefix + key, f"must be a string, got {_type_name(value)}")
+        if required and not value.strip():
+            raise self.error(prefix + key, "must not be empty")
+        return value
+
+    def choice(self, table: Mapping, key: str, choices: tuple[str, ...], what: str) -> str | None:
+        value = self.string(table, key, required=False)
+        if value is not None and value not in choices:
+            raise self.error(key, f"unknown {what} {value!r}; choose one of {list(choices)}")
+        return value
+
+    # the lesson
+    def lesson(self, data: Mapping) -> Lesson:
+        self.no_unknown_keys(data, _LESSON_KEYS)
+        lesson_id = self.string(data, "id", required=True)
+        if not _ID_PATTERN.match(lesson_id):
+            raise self.error("id", f"{lesson_id!r} must be lower-case letters, digits and '-'")
+        match = _FILE_PATTERN.match(self.path.name)
+        if match is None:
+            raise self.error(None, "the file name must look like NN-slug.toml")
+        title = self.string(data, "title", required=True)
+        summary = self.string(data, "summary", required=True)
+        default_scene = self.scene(data) or "cornell"
+        default_settings = self.setting_overrides(data)
+        default_corrections = self.corrections(data) if "corrections" in data else None
+        raw_steps = data.get("steps")
+        if not isinstance(raw_steps, list) or not raw_steps:
+            raise self.error("steps", "a lesson needs at least one [[steps]] table")
+        steps = tuple(
+            self.step(number, raw, default_scene, default_settings, default_corrections)
+            for number, raw in enumerate(raw_steps, start=1))
+        return Lesson(id=lesson_id, title=title, summary=summary, steps=steps,
+                      path=self.path, number=int(match.group(1)))
+
+    def step(self, number: int, raw: Any, default_scene: str,
+             default_settings: dict[str, Any], default_corrections: Corrections | None) -> Step:
+        self.step_number, self.step_title = number, None
+        if not isinstance(raw, Mapping):
+            raise self.error(None, f"a step must be a table, got {_type_name(raw)}")
+        if isinstance(raw.get("title"), str):
+            self.step_title = raw["title"]
+        self.no_unknown_keys(raw, _STEP_KEYS)
+        title = self.string(raw, "title", required=True)
+        text = self.string(raw, "text", required=True)
+        formulas = self.formulas(raw)
+        scene = self.scene(raw) or default_scene
+        if "corrections" in raw:
+            corrections = self.corrections(raw)
+        else:
+            corrections = default_corrections or PRESETS["corrected"]
+        overrides = {**default_settings, **self.setting_overrides(raw)}
+        view = self.choice(raw, "view", STEP_VIEWS, "view") or "final"
+        compare_preset = self.choice(raw, "compare", tuple(PRESETS), "compare preset")
+        if view in COMPARE_VIEWS and compare_preset is None:
+            raise self.error("compare", f"view {view!r} needs a compare preset, one of "
+                                        f"{list(PRESETS)}")
+        if compare_preset is not None and view not in COMPARE_VIEWS:
+            raise self.error("compare", f"compare only applies to the views {COMPARE_VIEWS}, "
+                                        f"not {view!r}")
+        plot = self.choice(raw, "plot", PLOTS, "plot")
+        step = Step(
+            number=number, title=title, text=text, formulas=formulas, scene=scene,
+            corrections=corrections, overrides=tuple(overrides.items()), view=view,
+            compare=PRESETS[compare_preset] if compare_preset else None,
+            compare_preset=compare_preset, plot=plot, try_this=self.try_this(raw),
+            camera=self.pair(raw, "camera", _CAMERA_KEYS),
+            light=self.pair(raw, "light", _LIGHT_KEYS))
+        try:  # Settings checks the values (choices, ranges) itself
+            step.settings()
+        except (ValueError, TypeError) as exc:
+            raise self.error("settings", str(exc)) from None
+        self.step_number = self.step_title = None
+        return step
+
+    def scene(self, table: Mapping) -> str | None:
+        return self.choice(table, "scene", BUILTIN_SCENES, "scene")
+
+    def formulas(self, raw: Mapping) -> tuple[str, ...]:
+        names = raw.get("formulas", [])
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            raise self.error("formulas", "must be a list of derivation names (strings)")
+        for index, name in enumerate(names):
+            if self.check_formula is None:
+                continue
+            try:
+                self.check_formula(name)
+            except LookupError as exc:  # KeyError is a LookupError
+                reason = exc.args[0] if exc.args else exc
+                raise self.error(f"formulas[{index}]", f"unknown formula {name!r}: {reason}"
+                                 ) from None
+            except ValueError as exc:
+                raise self.error(f"formulas[{index}]", f"unknown formula {name!r}: {exc}"
+                                 ) from None
+        return tuple(names)
+
+    def corrections(self, table: Mapping) -> Corrections:
+        value = table["corrections"]
+        if isinstance(value, str):
+            value = {"preset": value}
+        if not isinstance(value, Mapping):
+            raise self.error("corrections", "must be a preset name or a table of switches, "
+                                            f"got {_type_name(value)}")
+        self.no_unknown_keys(value, ("preset",) + Corrections.names(), prefix="corrections.")
+        name = value.get("preset", "corrected")
+        if name not in PRESETS:
+            raise self.error("corrections.preset", f"unknown preset {name!r}; choose one of "
+                                                   f"{list(PRESETS)}")
+        switches = {}
+        for key, flag in value.items():
+            if key == "preset":
+                continue
+            if not isinstance(flag, bool):
+                raise self.error(f"corrections.{key}", f"must be true or false, got "
+                                                       f"{_type_name(flag)}")
+            switches[key] = flag
+        return replace(PRESETS[name], **switches)
+
+    def setting_overrides(self, table: Mapping) -> dict[str, Any]:
+        raw = table.get("settings", {})
+        if not isinstance(raw, Mapping):
+            raise self.error("settings", f"must be a table, got {_type_name(raw)}")
+        for key in _OWN_KEYS:
+            if key in raw:
+                raise self.error(f"settings.{key}", f"set {key!r} as a key of the step or "
+                                                    "lesson, not inside [settings]")
+        self.no_unknown_keys(raw, tuple(_SETTING_TYPES), prefix="settings.")
+        result = {}
+        for key, value in raw.items():
+            result[key] = self.typed(f"settings.{key}", value, _SETTING_TYPES[key])
+        return result
+
+    def typed(self, field: str, value: Any, hint: Any) -> Any:
+        """``value`` checked against the Settings annotation ``hint``."""
+        allowed = typing.get_args(hint) if typing.get_origin(hint) is not None else (hint,)
+        for kind in allowed:
+            if kind is type(None):
+                continue  # TOML has no null: an optional field is simply left out
+            if kind is bool and isinstance(value, bool):
+                return value
+            if kind is int and isinstance(value, int) and not isinstance(value, bool):
+                return value
+            if kind is float and isinstance(value, (int, float)) and not isinstance(value, bool):
+                return float(value)
+            if kind is str and isinstance(value, str):
+                return value
+        wanted = " or ".join(k.__name__ for k in allowed if k is not type(None))
+        raise self.error(field, f"must be {wanted}, got {_type_name(value)} {value!r}")
+
+    def pair(self, raw: Mapping, key: str, names: tuple[str, str]) -> tuple[Vec3, Vec3] | None:
+        if key not in raw:
+            return None
+        table = raw[key]
+        if not isinstance(table, Mapping):
+            raise self.error(key, f"must be a table with {list(names)}, got {_type_name(table)}")
+        self.no_unknown_keys(table, names, prefix=f"{key}.")
+        result = []
+        for name in names:
+            vector = table.get(name)
+            if (not isinstance(vector, list) or len(vector) != 3 or not all(
+                    isinstance(v, (int, float)) and not isinstance(v, bool) for v in vector)):
+                raise self.error(f"{key}.{name}", f"must be three numbers [x, y, z], got "
+                                                  f"{vector!r}")
+            result.append(tuple(float(v) for v in vector))
+        return result[0], result[1]
+
+    def try_this(self, raw: Mapping) -> tuple[TryThis, ...]:
+        items = raw.get("try_this", [])
+        if not isinstance(items, list):
+            raise self.error("try_this", "must be a list of {control, prompt} tables")
+        controls = valid_controls()
+        result = []
+        for index, item in enumerate(items):
+            prefix = f"try_this[{index}]."
+            if not isinstance(item, Mapping):
+                raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
+            self.no_unknown_keys(item, _TRY_KEYS, prefix=prefix)
+            control = self.string(item, "control", required=True, prefix=prefix)
+            if control not in controls:
+                raise self.error(prefix + "control", f"unknown control {control!r}; a Settings "
+                                 "field or corrections.<switch>: " + ", ".join(controls))
+            prompt = self.string(item, "prompt", required=True, prefix=prefix)
+            result.append(TryThis(control=control, prompt=prompt))
+        return tuple(result)
+
+
+def _type_name(value: Any) -> str:
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
+            list: "a list", dict: "a table"}.get(type(value), type(value).__name__)
+
+
+def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: int = 32,
+                     max_iterations: int = 8, base: Settings | None = None) -> Settings:
+    """The step's settings shrunk for a quick preview (tests, CI renders, thumbnails):
+    a ``size``² image, at most ``max_grid``³ cells and ``max_iterations`` steps, a
+    ``rsm_size``² RSM. Everything the step compares (corrections, views) is kept."""
+    settings = step.settings(base)
+    return settings.with_changes(
+        width=size, height=size, rsm_size=min(settings.rsm_size, rsm_size),
+        grid_size=min(settings.grid_size, max_grid),
+        iterations=min(settings.iterations, max_iterations))
+
+
+def render_step(pipeline: Any, step: Step, settings: Settings | None = None
+                ) -> tuple[Any, Any]:
+    """Run ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) for ``step`` and return
+    ``(image, result)``: the step's view as an (H, W, 3) display image in [0, 1], and the
+    FrameResult of the step's own configuration.
+
+    ``settings`` defaults to ``step.settings()``; pass e.g. :func:`preview_settings` to
+    render small. A "split" view puts the step's configuration on the left half and the
+    ``compare`` preset on the right; a "difference" view shows ``|A − B|`` of the linear
+    final images, scaled so that the largest difference is white."""
+    import numpy as np
+
+    from explorer.lpv.views import linear_to_srgb
+
+    settings = step.settings() if settings is None else settings
+    result = pipeline.run(settings)
+    if step.view not in COMPARE_VIEWS:
+        return pipeline.view(step.view), result
+    mine_display = pipeline.view("final")
+    mine_linear = np.array(result.final_image, copy=True)
+    pipeline.run(settings.with_changes(corrections=step.compare))
+    other_display = pipeline.view("final")
+    other_linear = pipeline.last_result.final_image
+    if step.view == "split":
+        image = np.array(mine_display, copy=True)
+        half = image.shape[1] // 2
+        image[:, half:] = other_display[:, half:]
+        image[:, half] = 1.0  # the divider
+        return image, result
+    difference = np.abs(mine_linear - other_linear)
+    scale = float(difference.max())
+    image = linear_to_srgb(difference / scale) if scale > 0 else np.zeros_like(difference)
+    return np.clip(image, 0.0, 1.0), result
+
+
+# --- inline math as plain text (CLI output and the panel's fallback) ----------------------
+
+_LATEX_SYMBOLS = {
+    r"\Phi": "Φ", r"\phi": "φ", r"\pi": "π", r"\omega": "ω", r"\Delta": "Δ", r"\theta": "θ",
+    r"\rho": "ρ", r"\langle": "<", r"\rangle": ">", r"\lfloor": "floor[", r"\rfloor": "]",
+    r"\cdot": "·", r"\times": "×", r"\approx": "≈", r"\int": "∫", r"\sum": "Σ",
+    r"\dots": "…", r"\infty": "∞", r"\le": "≤", r"\ge": "≥", r"\in": "in", r"\pm": "±",
+    r"\perp": "perp", r"\propto": "~", r"\max": "max", r"\arctan": "arctan",
+    r"\cos": "cos", r"\sin": "sin",
+    r"\tilde": "", r"\mathrm": "", r"\text": "",
+}
+_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
+# Only glyphs the window's font (Roboto) has: digits 1-3 as superscripts, no subscripts.
+_SUPERSCRIPTS = {"1": "¹", "2": "²", "3": "³"}
+_ATOM = r"[A-Za-z]|[0-9.]+|π"
+
+
+def math_to_text(text: str) -> str:
+    """``text`` with its ``$...$`` inline math turned into readable text (Φ, π, <n, ω>,
+    √3, Δω/(4π), x², c_0, ...) using only glyphs the window's font has. Covers what the
+    lessons use; an unknown command just loses its backslash."""
+    def convert(match: re.Match) -> str:
+        math = match.group(1)
+        math = re.sub(r"\\langle\s*", "<", math)
+        math = re.sub(r"\s*\\rangle", ">", math)
+        for command, symbol in _PUNCTUATION.items():
+            math = math.replace(command, symbol)
+        math = re.sub(r"\\frac\{([^{}]*)\}\{([^{}]*)\}", r"(\1)/(\2)", math)
+        math = re.sub(r"\\sqrt\{([^{}]*)\}", r"√(\1)", math)
+        for command in sorted(_LATEX_SYMBOLS, key=len, reverse=True):
+            math = re.sub(re.escape(command) + r"(?![A-Za-z])", _LATEX_SYMBOLS[command], math)
+        math = re.sub(r"\^\{?([123])\}?(?![0-9])", lambda m: _SUPERSCRIPTS[m.group(1)], math)
+        math = re.sub(r"\^\{([^{}]*)\}", r"^(\1)", math)
+        math = re.sub(r"_\{([^{}]*)\}", r"_(\1)", math)
+        math = re.sub(r"\\([A-Za-z]+)", r"\1", math)
+        math = math.replace("{", "").replace("}", "").replace("⦃", "{").replace("⦄", "}")
+        math = re.sub(rf"\(({_ATOM})\)", r"\1", math)     # (x) -> x for a single atom
+        return re.sub(r"  +", " ", math).strip()
+
+    return re.sub(r"\$([^$]+)\$", convert, text)
