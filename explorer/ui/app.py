@@ -460,6 +460,9 @@ class App:
         for panel in PANELS:
             if not state.open_panels.get(panel.title, True):
                 continue
+            if state.requests.focus_panel == panel.title and not self._needs_layout:
+                imgui.set_next_window_focus()
+                state.requests.focus_panel = None
             if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
             expanded, still_open = imgui.begin(panel.title, True)

@@ -98,6 +98,7 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
+    focus_panel: str | None = None    # bring this panel's tab to the front
     quit: bool = False
 
 
