@@ -374,17 +374,19 @@ def test_run_without_a_display_says_so():
 def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
     """The session's EGL context is current when the window opens (as in the full suite);
     glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
-    with ctx:   # make the session context current even if an earlier test left another one
-        app = _app(pipeline_class=None)
-        try:
-            app.frame()
-            assert app.frame(capture=True)
-            assert app.last_pixels.std() > 10
-        finally:
-            app.close()
-        buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
-        assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
-        buffer.release()
+    # Make the session context current even if an earlier test left another one current,
+    # and leave it current afterwards, as the fixture's other users expect.
+    ctx.__enter__()
+    app = _app(pipeline_class=None)
+    try:
+        app.frame()
+        assert app.frame(capture=True)
+        assert app.last_pixels.std() > 10
+    finally:
+        app.close()
+    buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
+    assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
+    buffer.release()
 
 
 @needs_pipeline
