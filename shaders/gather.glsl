@@ -73,6 +73,39 @@ float shadow_visibility(vec3 world, float cos_light) {
     return lit / 9.0;
 }
 
+// LPV irradiance for normal n at world point x: E = clamp+(<s(x), lobe(-n)>) / cell²
+// (trilinear sample of the accumulated grid).
+vec3 lpv_irradiance(vec3 x, vec3 n) {
+    vec3 coord = grid_texcoord(x);
+    vec4 lobe = sh_cosine_lobe(-n);
+    vec3 intensity = vec3(dot(texture(u_lpv_r, coord), lobe),
+                          dot(texture(u_lpv_g, coord), lobe),
+                          dot(texture(u_lpv_b, coord), lobe));
+    return max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+}
+
+// Directional-derivative damping (docs/MODEL.md "Final gather"): light that grows towards
+// the back of the surface leaked through it. The central difference over one cell along n
+// gives the factor clamp(E(p + h/2 n) / E(p - h/2 n), 0, 1) per channel (1 where nothing
+// arrives from behind).
+uniform int u_gather_damping;
+
+vec3 lpv_derivative_damping(vec3 p, vec3 n) {
+    if (u_gather_damping == 0) {
+        return vec3(1.0);
+    }
+    vec3 half_cell = 0.5 * u_grid_cell_size * n;
+    vec3 front = lpv_irradiance(p + half_cell, n);
+    vec3 back = lpv_irradiance(p - half_cell, n);
+    vec3 ratio = vec3(1.0);
+    for (int c = 0; c < 3; ++c) {
+        if (back[c] > 0.0) {
+            ratio[c] = clamp(front[c] / back[c], 0.0, 1.0);
+        }
+    }
+    return ratio;
+}
+
 vec3 linear_to_srgb(vec3 linear) {
     vec3 c = clamp(linear, 0.0, 1.0);
     return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
@@ -114,12 +147,8 @@ void main() {
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
     vec3 indirect_irradiance = vec3(0.0);
     if (u_has_grid == 1) {
-        vec3 coord = grid_texcoord(position.xyz);
-        vec4 lobe = sh_cosine_lobe(-n);
-        vec3 intensity = vec3(dot(texture(u_lpv_r, coord), lobe),
-                              dot(texture(u_lpv_g, coord), lobe),
-                              dot(texture(u_lpv_b, coord), lobe));
-        indirect_irradiance = max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+        indirect_irradiance = lpv_irradiance(position.xyz, n)
+                            * lpv_derivative_damping(position.xyz, n);
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
 

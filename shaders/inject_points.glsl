@@ -3,7 +3,7 @@
 // layer gl_Layer = cell.z of a layered 2D-array target N x N x N with additive ONE,ONE
 // blending, three render targets for the r, g, b SH vectors. The caller copies the layers
 // into the grid's 3D textures (volume_copy.glsl).
-// grid[c, cell(p)] += k_I * flux[c] * lobe(n).
+// grid[c, cell(p + offset*n)] += k_I * flux[c] * lobe(n).
 
 #if defined VERTEX_SHADER
 
@@ -17,7 +17,7 @@ flat out vec3 v_flux;
 
 void main() {
     Vpl vpl = vpl_fetch(gl_VertexID);
-    v_cell = grid_cell(vpl.position);
+    v_cell = grid_cell(vpl_injection_position(vpl));
     v_keep = int(vpl.valid && grid_inside(v_cell));
     v_normal = vpl.normal;
     v_flux = vpl.flux;

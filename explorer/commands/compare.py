@@ -12,6 +12,8 @@ import sys
 import time
 from pathlib import Path
 
+from explorer.commands.render import add_leak_arguments, leak_changes
+
 PRESET_CHOICES = ("all", "original", "corrected")
 REFERENCE_CHOICES = ("visible", "unoccluded")
 LOG2_DEFAULT_SCALE = 3.0  # error images saturate at 8× too bright / too dark
@@ -41,6 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--geometry-volume", default="off",
                         choices=("off", "one-sided", "double-sided"),
                         help="LPV occlusion (default: off)")
+    add_leak_arguments(parser)
     parser.add_argument("--min-distance", type=float, default=None,
                         help="reference 1/r² clamp distance in world units "
                              "(default: half a grid cell)")
@@ -94,6 +97,7 @@ def main(args: argparse.Namespace) -> int:
                    "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume}
         if args.grid_size is not None:
             changes["grid_size"] = args.grid_size
+        changes.update(leak_changes(args))
         base = Settings(**changes)
         if iterations is None:
             iterations = [base.iterations]
@@ -214,7 +218,9 @@ def format_table(rows, args, frame) -> str:
     lines = [
         f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
         f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
-        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`",
+        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
+        f"offset {settings.injection_offset_cells:g} cells, gather damping "
+        f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}",
         "",
         "| preset | iterations | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
         "|---|---:|---|---:|---:|---:|---|",

@@ -45,6 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--downsample-factor", type=int, help="RSM downsample block size")
     parser.add_argument("--geometry-volume", choices=GEOMETRY_VOLUME_MODES,
                         help="fuzzy occlusion")
+    add_leak_arguments(parser)
     parser.add_argument("--indirect-only", action="store_true",
                         help="final image without the direct light")
     parser.add_argument("--slice", type=int, dest="z",
@@ -61,6 +62,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_render_arguments(parser)
 
 
+def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
+    """--injection-offset, --gather-damping, --bounces (shared with ``compare``); left out
+    they keep the Settings defaults."""
+    parser.add_argument("--injection-offset", type=float, metavar="CELLS",
+                        help="inject each VPL this many cells along its normal "
+                             "(0..1; default 0.5)")
+    parser.add_argument("--gather-damping", action=argparse.BooleanOptionalAction,
+                        default=None,
+                        help="damp the indirect light by its derivative along the normal "
+                             "(default off)")
+    parser.add_argument("--bounces", type=int, choices=(1, 2),
+                        help="2: the geometry volume reflects the light it blocks (needs "
+                             "--geometry-volume; default 1)")
+
+
+def leak_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
+    changes: dict[str, object] = {}
+    for name, field in (("injection_offset", "injection_offset_cells"),
+                        ("gather_damping", "gather_damping"), ("bounces", "bounces")):
+        value = getattr(args, name, None)
+        if value is not None:
+            changes[field] = value
+    return changes
+
+
 def settings_from_args(args: argparse.Namespace):
     """Settings from the command line (fields left out keep their defaults)."""
     from explorer.lpv.settings import Settings, preset
@@ -74,6 +101,7 @@ def settings_from_args(args: argparse.Namespace):
         value = getattr(args, name, None)
         if value is not None:
             changes[field] = value
+    changes.update(leak_changes(args))
     if args.size is not None:
         changes["width"], changes["height"] = args.size
     if args.indirect_only:
@@ -109,7 +137,9 @@ def format_audit(audit) -> str:
             ("accumulated", audit.accumulated), ("gathered", audit.gathered),
             ("border loss (all steps)", audit.border_loss.sum(axis=0)),
             ("clamp gain (all steps)", audit.clamp_gain.sum(axis=0)),
-            ("occluded (all steps)", audit.occluded.sum(axis=0))]
+            ("occluded (all steps)", audit.occluded.sum(axis=0)),
+            ("blocked, bounces 2", audit.blocked.sum(axis=0)),
+            ("reflected, bounces 2", audit.reflected.sum(axis=0))]
     lines = ["energy audit [W]            red        green       blue"]
     lines += [f"  {name:<24}" + "".join(f"{float(v):11.4g}" for v in values)
               for name, values in rows]

@@ -3,7 +3,8 @@
 
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² and the indirect radiance
-a/π·E. The direct radiance is a/π times the light's irradiance I·cos θ/r² (spot) or
+a/π·E (optionally damped by the directional derivative along n). The direct
+radiance is a/π times the light's irradiance I·cos θ/r² (spot) or
 E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
 """
 
@@ -47,9 +48,11 @@ class GatherPass:
         self.size = size
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
-            grid_textures, spec: GridSpec, exposure: float, indirect_only: bool) -> None:
+            grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
+            damping: bool = False) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
-        clamped), or None for direct light only."""
+        clamped), or None for direct light only. ``damping``: the directional-derivative
+        damping of the indirect irradiance (docs/MODEL.md "Final gather")."""
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl")
         if self._vertex_array is None or self._vertex_array.program is not program:
@@ -74,6 +77,7 @@ class GatherPass:
             "u_exposure": float(exposure),
             "u_indirect_only": int(indirect_only),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
+            "u_gather_damping": int(damping),
             **light.uniforms(),
             **spec.uniforms(),
         }

@@ -11,11 +11,12 @@ Stages and the Settings fields they read:
 scene      scene, camera, light, light_flux (loads the mesh once per scene name)
 rsm        scene, light, light_flux, rsm_size
 downsample (rsm, grid) downsample, downsample_factor
-inject     (downsample, grid) corrections, injection_mode, grid_format
+inject     (downsample, grid) corrections, injection_mode, grid_format,
+           injection_offset_cells
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
-propagate  (inject, geometry) corrections, iterations (+ keep_steps)
+propagate  (inject, geometry) corrections, iterations, bounces (+ keep_steps)
 gbuffer    scene, camera, width, height
-gather     (gbuffer, rsm, propagate) exposure, indirect_only
+gather     (gbuffer, rsm, propagate) exposure, indirect_only, gather_damping
 ========== ==================================================================
 
 ``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``.
@@ -201,11 +202,13 @@ class Pipeline:
                 self._check("downsample", self._arrays["vpls"].flux)
             ran.append("downsample")
 
-        inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format)
+        inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format,
+                      s.injection_offset_cells)
         if self._changed("inject", inject_key):
             self._injected = self._replace_grid(self._injected, s)
             self._timed("inject", lambda: self._inject.run(
-                self._vpl_textures, spec, s.corrections, s.injection_mode, self._injected))
+                self._vpl_textures, spec, s.corrections, s.injection_mode, self._injected,
+                s.injection_offset_cells))
             if s.debug_nan:
                 self._check("inject", self._injected.read())
             ran.append("inject")
@@ -228,11 +231,11 @@ class Pipeline:
                 self._check("geometry", self._arrays["geometry"])
             ran.append("geometry")
 
-        propagate_key = (inject_key, geometry_key, s.iterations, keep_steps)
+        propagate_key = (inject_key, geometry_key, s.iterations, s.bounces, keep_steps)
         if self._changed("propagate", propagate_key):
             output = self._timed("propagate", lambda: self._propagate.run(
                 self._injected, spec, s.corrections, s.iterations, self._volume,
-                keep_steps=keep_steps))
+                keep_steps=keep_steps, bounces=s.bounces))
             self._accumulated_grid = output.accumulated
             self._grid_audit = output.audit
             self._arrays["accumulated"] = output.accumulated.read()
@@ -250,11 +253,13 @@ class Pipeline:
                 self._check("gbuffer", array)
             ran.append("gbuffer")
 
-        gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only)
+        gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only,
+                      s.gather_damping)
         if self._changed("gather", gather_key):
             self._timed("gather", lambda: self._gather.run(
                 self._gbuffer, self._rsm_textures, self._light,
-                self._accumulated_grid.textures, spec, s.exposure, s.indirect_only))
+                self._accumulated_grid.textures, spec, s.exposure, s.indirect_only,
+                s.gather_damping))
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
@@ -446,7 +451,10 @@ def render(settings: Settings) -> FrameResult:
 def _digest(vpls: VplArrays) -> str:
     """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
     digest = hashlib.sha1()
-    for array in (vpls.positions, vpls.normals, vpls.flux, vpls.depth):
+    arrays = [vpls.positions, vpls.normals, vpls.flux, vpls.depth]
+    if vpls.albedo is not None:
+        arrays.append(vpls.albedo)
+    for array in arrays:
         digest.update(np.ascontiguousarray(array, np.float32).tobytes())
     digest.update(repr((vpls.texel_area, vpls.projection)).encode())
     return digest.hexdigest()

@@ -64,6 +64,9 @@ DOWNSAMPLE_MODES = ("none", "average", "brightest")
 INJECTION_MODES = ("points", "compute")
 GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")
 GRID_FORMATS = ("rgba32f", "rgba16f")
+BOUNCES = (1, 2)
+MAX_INJECTION_OFFSET_CELLS = 1.0
+"""A VPL moved by more than a cell would skip the cell in front of its surface."""
 
 
 @dataclass(frozen=True)
@@ -94,6 +97,15 @@ class Settings:
     """Total flux of the light in watts per channel; None = the scene's default."""
     debug_nan: bool = False
     """Check every pass for NaN/Inf and name the pass that produced one."""
+    injection_offset_cells: float = 0.5
+    """Inject each VPL at p + δ·cell_size·n, δ in cells (docs/MODEL.md "Injection"):
+    half a cell, the LPV paper's practice, keeps a surface from gathering its own VPLs."""
+    gather_damping: bool = False
+    """Damp the gathered irradiance by the directional derivative along the normal
+    (docs/MODEL.md "Final gather")."""
+    bounces: int = 1
+    """1: the single indirect bounce; 2: the geometry volume also reflects the light it
+    blocks (docs/MODEL.md "More bounces"); needs a geometry volume."""
 
     def __post_init__(self) -> None:
         _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
@@ -105,6 +117,20 @@ class Settings:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")
         if self.iterations < 0:
             raise ValueError(f"iterations must be >= 0, got {self.iterations!r}")
+        offset = self.injection_offset_cells
+        if isinstance(offset, bool) or not isinstance(offset, (int, float)) or not (
+                0.0 <= offset <= MAX_INJECTION_OFFSET_CELLS):
+            raise ValueError(f"injection_offset_cells must be a number of cells in "
+                             f"[0, {MAX_INJECTION_OFFSET_CELLS}], got {offset!r}")
+        if not isinstance(self.gather_damping, bool):
+            raise ValueError(f"gather_damping must be True or False, got "
+                             f"{self.gather_damping!r}")
+        if isinstance(self.bounces, bool) or self.bounces not in BOUNCES:
+            raise ValueError(f"bounces must be one of {BOUNCES}, got {self.bounces!r}")
+        if self.bounces > 1 and self.geometry_volume == "off":
+            raise ValueError("bounces=2 reflects the light the geometry volume blocks, so it "
+                             "needs geometry_volume 'one-sided' or 'double-sided' (it is "
+                             "'off')")
 
     def with_changes(self, **changes) -> "Settings":
         """A copy with some fields changed; ``corrections`` may be given as a dict of
