@@ -374,9 +374,6 @@ def test_run_without_a_display_says_so():
 def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
     """The session's EGL context is current when the window opens (as in the full suite);
     glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
-    # Make the session context current even if an earlier test left another one current,
-    # and leave it current afterwards, as the fixture's other users expect.
-    ctx.__enter__()
     app = _app(pipeline_class=None)
     try:
         app.frame()
