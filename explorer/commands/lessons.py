@@ -100,15 +100,17 @@ def add_render_arguments(parser: argparse.ArgumentParser) -> None:
                        help="step number within the lesson (default: 1)")
 
 
-_RENDER_OVERRIDES = (("grid", "grid_size"), ("iterations", "iterations"),
-                     ("rsm_size", "rsm_size"), ("exposure", "exposure"),
-                     ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
-                     ("geometry_volume", "geometry_volume"))
-
-
 def render_lesson_step(args: argparse.Namespace) -> int:
     """Render step ``args.step`` of lesson ``args.lesson`` to ``args.out``."""
-    from explorer.commands.render import CAMERA_VIEWS, format_audit, output_paths, write_png
+    from explorer.commands.render import (
+        CAMERA_VIEWS,
+        STEP_OPTIONS,
+        format_audit,
+        option_changes,
+        output_changes,
+        output_paths,
+        write_png,
+    )
     from explorer.gl.context import GLUnavailableError
     from explorer.gl.program import ShaderError
     from explorer.lessons import (
@@ -133,16 +135,7 @@ def render_lesson_step(args: argparse.Namespace) -> int:
     except (KeyError, IndexError) as exc:
         print(f"lpv-explorer render: error: {exc.args[0]}", file=sys.stderr)
         return 2
-    changes: dict[str, object] = {}
-    for option, field in _RENDER_OVERRIDES:
-        if getattr(args, option, None) is not None:
-            changes[field] = getattr(args, option)
-    if args.size is not None:
-        changes["width"], changes["height"] = args.size
-    if args.indirect_only:
-        changes["indirect_only"] = True
-    if args.debug_nan:
-        changes["debug_nan"] = True
+    changes = {**option_changes(args, STEP_OPTIONS), **output_changes(args)}
     try:
         settings = step.settings().with_changes(**changes)
     except ValueError as exc:

@@ -95,14 +95,43 @@ def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
                              "--geometry-volume; default 1)")
 
 
-def leak_changes(args: argparse.Namespace) -> dict[str, object]:
-    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
+# (option dest, Settings field) pairs: an option given on the command line sets the field.
+STEP_OPTIONS = (("grid", "grid_size"), ("iterations", "iterations"),
+                ("rsm_size", "rsm_size"), ("exposure", "exposure"),
+                ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
+                ("geometry_volume", "geometry_volume"))
+"""The options that also override a lesson step (``render --lesson``)."""
+CASCADE_OPTIONS = (("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
+                   ("cascade_iterations", "cascade_iterations"))
+LEAK_OPTIONS = (("injection_offset", "injection_offset_cells"),
+                ("gather_damping", "gather_damping"), ("bounces", "bounces"))
+
+
+def option_changes(args: argparse.Namespace,
+                   options: tuple[tuple[str, str], ...]) -> dict[str, object]:
+    """The Settings changes for the ``(dest, field)`` options given (not None) in ``args``."""
     changes: dict[str, object] = {}
-    for name, field in (("injection_offset", "injection_offset_cells"),
-                        ("gather_damping", "gather_damping"), ("bounces", "bounces")):
+    for name, field in options:
         value = getattr(args, name, None)
         if value is not None:
             changes[field] = value
+    return changes
+
+
+def leak_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
+    return option_changes(args, LEAK_OPTIONS)
+
+
+def output_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes of --size, --indirect-only and --debug-nan."""
+    changes: dict[str, object] = {}
+    if args.size is not None:
+        changes["width"], changes["height"] = args.size
+    if args.indirect_only:
+        changes["indirect_only"] = True
+    if args.debug_nan:
+        changes["debug_nan"] = True
     return changes
 
 
@@ -111,23 +140,9 @@ def settings_from_args(args: argparse.Namespace):
     from explorer.lpv.settings import Settings, preset
 
     changes: dict[str, object] = {"scene": args.scene, "corrections": preset(args.preset)}
-    for name, field in (("grid", "grid_size"), ("iterations", "iterations"),
-                        ("rsm_size", "rsm_size"), ("exposure", "exposure"),
-                        ("downsample", "downsample"),
-                        ("downsample_factor", "downsample_factor"),
-                        ("geometry_volume", "geometry_volume"),
-                        ("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
-                        ("cascade_iterations", "cascade_iterations")):
-        value = getattr(args, name, None)
-        if value is not None:
-            changes[field] = value
+    changes.update(option_changes(args, STEP_OPTIONS + CASCADE_OPTIONS))
     changes.update(leak_changes(args))
-    if args.size is not None:
-        changes["width"], changes["height"] = args.size
-    if args.indirect_only:
-        changes["indirect_only"] = True
-    if args.debug_nan:
-        changes["debug_nan"] = True
+    changes.update(output_changes(args))
     return Settings(**changes)
 
 
