@@ -177,20 +177,16 @@ def main(args: argparse.Namespace) -> int:
     if args.peak_gbs is not None and not args.peak_gbs > 0:
         print("lpv-explorer bench: error: --peak-gbs must be positive", file=sys.stderr)
         return 2
-    pipeline = None
     try:
-        pipeline = Pipeline(Settings(scene=args.scene))
-        caps = probe(pipeline.ctx)
-        rows = run_bench(args, pipeline)
+        with Pipeline(Settings(scene=args.scene)) as pipeline:
+            caps = probe(pipeline.ctx)
+            rows = run_bench(args, pipeline)
     except (SceneError, ValueError) as exc:
         print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
         return 2
     except (GLUnavailableError, FloatingPointError) as exc:
         print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
         return 1
-    finally:
-        if pipeline is not None:
-            pipeline.release()
     methods = sorted({method for row in rows for method in row["methods"].values()})
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     print(f"device: {caps.renderer} ({caps.version}); {when}")

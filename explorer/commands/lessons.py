@@ -109,6 +109,7 @@ def render_lesson_step(args: argparse.Namespace) -> int:
         option_changes,
         output_changes,
         output_paths,
+        render_error,
         write_png,
     )
     from explorer.gl.context import GLUnavailableError
@@ -133,35 +134,28 @@ def render_lesson_step(args: argparse.Namespace) -> int:
         lesson = find_lesson(args.lesson, lessons)
         step = lesson.step(args.step)
     except (KeyError, IndexError) as exc:
-        print(f"lpv-explorer render: error: {exc.args[0]}", file=sys.stderr)
-        return 2
+        return render_error(exc.args[0], 2)
     changes = {**option_changes(args, STEP_OPTIONS), **output_changes(args)}
     try:
         settings = step.settings().with_changes(**changes)
     except ValueError as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 2
+        return render_error(exc, 2)
     print(f"lesson {lesson.id}, step {step.number}/{len(lesson.steps)}: {step.title}")
     views = args.view or [step.view]
-    pipeline = None
     try:
-        pipeline = Pipeline(settings)
-        for view, path in output_paths(args.out, views).items():
-            if view == step.view:
-                image, _ = render_step(pipeline, step, settings)
-            else:
-                pipeline.run(settings)
-                image = pipeline.view(view)
-            write_png(image, path, enlarge=view not in CAMERA_VIEWS + COMPARE_VIEWS)
-            shown = f"{view} against {step.compare_preset}" if step.compare_preset and \
-                view == step.view else view
-            print(f"wrote {path} ({shown})")
-        if args.audit:
-            print(format_audit(pipeline.run(settings).audit))
+        with Pipeline(settings) as pipeline:
+            for view, path in output_paths(args.out, views).items():
+                if view == step.view:
+                    image, _ = render_step(pipeline, step, settings)
+                else:
+                    pipeline.run(settings)
+                    image = pipeline.view(view)
+                write_png(image, path, enlarge=view not in CAMERA_VIEWS + COMPARE_VIEWS)
+                shown = f"{view} against {step.compare_preset}" if step.compare_preset and \
+                    view == step.view else view
+                print(f"wrote {path} ({shown})")
+            if args.audit:
+                print(format_audit(pipeline.run(settings).audit))
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 1
-    finally:
-        if pipeline is not None:
-            pipeline.release()
+        return render_error(exc, 1)
     return 0

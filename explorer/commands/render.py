@@ -205,30 +205,30 @@ def main(args: argparse.Namespace) -> int:
     try:
         settings = settings_from_args(args)
     except (ValueError, KeyError) as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 2
-    pipeline = None
+        return render_error(exc, 2)
     try:
-        pipeline = Pipeline(settings)
-        result = pipeline.run()
-        options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
-        for view, path in output_paths(args.out, views).items():
-            wanted = {k: v for k, v in options.items()
-                      if v is not None and view in ("grid-slice", "geometry-volume")
-                      and (k != "coefficient" or view == "grid-slice")}
-            write_png(pipeline.view(view, **wanted), path, enlarge=view not in CAMERA_VIEWS)
-            print(f"wrote {path} ({view})")
-        if args.audit:
-            print(format_audit(result.audit))
-            if len(result.cascade_audits) > 1:
-                print(format_cascade_audits(result))
+        with Pipeline(settings) as pipeline:
+            result = pipeline.run()
+            options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
+            for view, path in output_paths(args.out, views).items():
+                wanted = {k: v for k, v in options.items()
+                          if v is not None and view in ("grid-slice", "geometry-volume")
+                          and (k != "coefficient" or view == "grid-slice")}
+                write_png(pipeline.view(view, **wanted), path,
+                          enlarge=view not in CAMERA_VIEWS)
+                print(f"wrote {path} ({view})")
+            if args.audit:
+                print(format_audit(result.audit))
+                if len(result.cascade_audits) > 1:
+                    print(format_cascade_audits(result))
     except SceneError as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 2
+        return render_error(exc, 2)
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 1
-    finally:
-        if pipeline is not None:
-            pipeline.release()
+        return render_error(exc, 1)
     return 0
+
+
+def render_error(error: object, code: int) -> int:
+    """Report a failed ``render`` (also ``render --lesson``) on stderr; returns ``code``."""
+    print(f"lpv-explorer render: error: {error}", file=sys.stderr)
+    return code
