@@ -7,7 +7,13 @@ import json
 
 import numpy as np
 import pytest
-from test_pass_gather import lobe, setup, smooth_grid, trilinear  # noqa: F401 (fixture)
+from test_pass_gather import (
+    lobe,
+    read_gbuffer,
+    setup,  # noqa: F401 (the fixture)
+    smooth_grid,
+    trilinear,
+)
 
 from explorer.cli import main as cli_main
 from explorer.lpv.cascades import (
@@ -126,10 +132,7 @@ def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
-    position = read_texture(gbuffer.position)
-    normal = read_texture(gbuffer.normal)[..., :3]
-    albedo = read_texture(gbuffer.albedo)[..., :3]
-    valid = position[..., 3] > 0.5
+    position, normal, albedo, valid = read_gbuffer(gbuffer)
     points = position[valid][:, :3]
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))   # the band is on screen
