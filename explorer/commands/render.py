@@ -191,6 +191,12 @@ def format_cascade_audits(result) -> str:
     return "\n".join(lines)
 
 
+def render_error(error: object, code: int) -> int:
+    """Report a failed ``render`` (also ``render --lesson``) on stderr; returns ``code``."""
+    print(f"lpv-explorer render: error: {error}", file=sys.stderr)
+    return code
+
+
 def main(args: argparse.Namespace) -> int:
     from explorer.gl.context import GLUnavailableError
     from explorer.gl.program import ShaderError
@@ -226,9 +232,3 @@ def main(args: argparse.Namespace) -> int:
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
         return render_error(exc, 1)
     return 0
-
-
-def render_error(error: object, code: int) -> int:
-    """Report a failed ``render`` (also ``render --lesson``) on stderr; returns ``code``."""
-    print(f"lpv-explorer render: error: {error}", file=sys.stderr)
-    return code
