@@ -6,6 +6,8 @@
 //   3 the same in sRGB for the RGBA8 display texture,
 //   4 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
 //     from the LPV (summed by the energy audit).
+// SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe.
+#define SH_ORDER 1
 
 #if defined VERTEX_SHADER
 void main() {
@@ -17,6 +19,7 @@ void main() {
 #if defined FRAGMENT_SHADER
 #include "sh.glsl"
 #include "grid.glsl"
+#include "sh_grid.glsl"
 
 uniform sampler2D u_gbuffer_position;
 uniform sampler2D u_gbuffer_normal;
@@ -114,11 +117,10 @@ void main() {
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
     vec3 indirect_irradiance = vec3(0.0);
     if (u_has_grid == 1) {
-        vec3 coord = grid_texcoord(position.xyz);
-        vec4 lobe = sh_cosine_lobe(-n);
-        vec3 intensity = vec3(dot(texture(u_lpv_r, coord), lobe),
-                              dot(texture(u_lpv_g, coord), lobe),
-                              dot(texture(u_lpv_b, coord), lobe));
+        ShVec lobe = shv_cosine_lobe(-n);
+        vec3 intensity = vec3(sh_dot(sh_sample_grid(u_lpv_r, position.xyz), lobe),
+                              sh_dot(sh_sample_grid(u_lpv_g, position.xyz), lobe),
+                              sh_dot(sh_sample_grid(u_lpv_b, position.xyz), lobe));
         indirect_irradiance = max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
