@@ -24,7 +24,8 @@ Clamped cosine lobe around ``+z``: ``(√π/2, 0, √(π/3), 0)``; around any un
 (rotate: ``∫ clamp⁺⟨n,ω⟩ Y(ω) dω = ∫ clamp⁺(z') Y(R ω') dω'`` with ``R e_z = n``):
 ``(√π/2, −√(π/3) n_y, √(π/3) n_z, −√(π/3) n_x)``, linear in ``n`` (annotations §4.3).
 With band 2 (:func:`lobe_l2`) the lobe is ``A_l·Y_k(n)``, ``A = (π, 2π/3, π/4)``, and its
-first four coefficients are the L1 lobe. Its energy ``∫ clamp⁺(cos)² dω = 2π/3``; L1 keeps ``7/8`` of it and L2 ``127/128``.
+first four coefficients are the L1 lobe. Its energy ``∫ clamp⁺(cos)² dω = 2π/3``; L1
+keeps ``7/8`` of it and L2 ``127/128``.
 The flux of an intensity SH vector ``f`` is ``∫ f·Y dω = 2√π·f_0``.
 
 Examples

@@ -2,7 +2,8 @@
 (docs/MODEL.md "Final gather").
 
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
-the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² and the indirect radiance
+the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
+SH order) and the indirect radiance
 a/π·E. The direct radiance is a/π times the light's irradiance I·cos θ/r² (spot) or
 E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
 """
@@ -15,6 +16,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
+from explorer.lpv.textures import sh_defines
 from explorer.lpv.vpl import VplTextures
 
 TARGETS = ("direct", "indirect", "final", "display", "received")
@@ -47,11 +49,13 @@ class GatherPass:
         self.size = size
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
-            grid_textures, spec: GridSpec, exposure: float, indirect_only: bool) -> None:
+            grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
+            sh_order: int = 1) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
-        clamped), or None for direct light only."""
+        clamped), or None for direct light only; ``sh_order`` the grid's SH order (its
+        texel layout, explorer/lpv/textures.py)."""
         self._allocate(gbuffer.size)
-        program = self.programs.get("gather.glsl")
+        program = self.programs.get("gather.glsl", sh_defines(sh_order))
         if self._vertex_array is None or self._vertex_array.program is not program:
             # (a hot reload of the shader replaces the program)
             if self._vertex_array is not None:

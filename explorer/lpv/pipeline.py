@@ -11,7 +11,7 @@ Stages and the Settings fields they read:
 scene      scene, camera, light, light_flux (loads the mesh once per scene name)
 rsm        scene, light, light_flux, rsm_size
 downsample (rsm, grid) downsample, downsample_factor
-inject     (downsample, grid) corrections, injection_mode, grid_format
+inject     (downsample, grid) corrections, injection_mode, grid_format, sh_order
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
 propagate  (inject, geometry) corrections, iterations (+ keep_steps)
 gbuffer    scene, camera, width, height
@@ -80,7 +80,7 @@ class FrameResult:
     vpls: VplArrays
     """The VPLs injected (after downsampling, or the ones handed to :meth:`Pipeline.run`)."""
     accumulated: np.ndarray
-    """acc_N, ``(3, N, N, N, 4)``."""
+    """acc_N, ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (``sh_order`` 2)."""
     steps: list[np.ndarray] | None
     geometry_volume: np.ndarray | None
     audit: EnergyAudit
@@ -201,7 +201,8 @@ class Pipeline:
                 self._check("downsample", self._arrays["vpls"].flux)
             ran.append("downsample")
 
-        inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format)
+        inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format,
+                      s.sh_order)
         if self._changed("inject", inject_key):
             self._injected = self._replace_grid(self._injected, s)
             self._timed("inject", lambda: self._inject.run(
@@ -254,7 +255,8 @@ class Pipeline:
         if self._changed("gather", gather_key):
             self._timed("gather", lambda: self._gather.run(
                 self._gbuffer, self._rsm_textures, self._light,
-                self._accumulated_grid.textures, spec, s.exposure, s.indirect_only))
+                self._accumulated_grid.textures, spec, s.exposure, s.indirect_only,
+                sh_order=self._accumulated_grid.sh_order))
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
@@ -353,11 +355,12 @@ class Pipeline:
             self._rsm_textures, s.downsample, s.downsample_factor, spec, self._light))
 
     def _replace_grid(self, grid: LpvGrid | None, s: Settings) -> LpvGrid:
-        if grid is not None and grid.resolution == s.grid_size and grid.format == s.grid_format:
+        if grid is not None and grid.resolution == s.grid_size and \
+                grid.format == s.grid_format and grid.sh_order == s.sh_order:
             return grid
         if grid is not None:
             grid.release()
-        return LpvGrid(self.ctx, s.grid_size, s.grid_format)
+        return LpvGrid(self.ctx, s.grid_size, s.grid_format, s.sh_order)
 
     def _release_volume(self) -> None:
         if self._volume is not None:
@@ -368,6 +371,12 @@ class Pipeline:
         if self.max_3d_texture_size and s.grid_size > self.max_3d_texture_size:
             raise ValueError(f"grid_size {s.grid_size} exceeds this driver's "
                              f"GL_MAX_3D_TEXTURE_SIZE {self.max_3d_texture_size}")
+        # L2 stacks its 3 texel groups along z (explorer/lpv/textures.py)
+        if s.sh_order == 2 and self.max_3d_texture_size and \
+                3 * s.grid_size > self.max_3d_texture_size:
+            raise ValueError(f"sh_order 2 stores 3·grid_size = {3 * s.grid_size} texels "
+                             f"along z, more than this driver's GL_MAX_3D_TEXTURE_SIZE "
+                             f"{self.max_3d_texture_size}")
         for name in ("rsm_size", "width", "height"):
             value = int(getattr(s, name))
             if value < 1:

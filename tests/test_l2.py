@@ -1,0 +1,229 @@
+"""The L2 option (Settings.sh_order = 2, docs/MODEL.md "L2 option"): reference helpers,
+GPU injection + propagation against the numpy reference, invariants, storage, pipeline."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from lpv_cases import cube_symmetries, random_grid, random_vpls, relative_error
+
+from explorer.lpv import constants as K
+from explorer.lpv import inject, propagate, reference
+from explorer.lpv.geometry import inject_geometry
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.propagate import propagate_with_audit
+from explorer.lpv.settings import PRESETS, Corrections, Settings
+from explorer.lpv.textures import LpvGrid
+
+SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=0.5, resolution=8)
+
+
+def fibonacci_directions(count: int) -> np.ndarray:
+    """``count`` nearly uniform unit directions (equal-area spiral), for quadrature."""
+    index = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * index / count
+    angle = np.pi * (1.0 + 5.0 ** 0.5) * index
+    radius = np.sqrt(1.0 - z * z)
+    return np.stack([radius * np.cos(angle), radius * np.sin(angle), z], -1)
+
+
+def random_l2_grid(seed: int, resolution: int, higher: float = 0.4) -> np.ndarray:
+    """(3, N, N, N, 9): positive band 0, bands 1 and 2 of relative size ``higher``."""
+    rng = np.random.default_rng(seed)
+    band2 = higher * rng.standard_normal((3,) + (resolution,) * 3 + (5,))
+    return np.concatenate([random_grid(seed, resolution, higher), band2], -1)
+
+
+def sh_symmetry(matrix: np.ndarray) -> np.ndarray:
+    """9×9 matrix D moving the SH vector of f(ω) to that of f(Mᵀω) (the function turned
+    by the orthogonal ``matrix`` M): least squares on sampled directions, D f = g with
+    Y(ω)·g = Y(Mᵀω)·f for all ω (exact: each band is closed under rotations)."""
+    directions = fibonacci_directions(200)
+    basis = reference.sh_basis(directions, 2)
+    turned = reference.sh_basis(directions @ np.asarray(matrix, np.float64), 2)  # Y(Mᵀω)
+    solution, *_ = np.linalg.lstsq(basis, turned, rcond=None)
+    return solution
+
+
+def transform_l2_grid(grid: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """The L2 grid moved by the cube symmetry ``matrix`` about the grid centre."""
+    n = grid.shape[1]
+    centre = (n - 1) / 2.0
+    cells = np.indices((n, n, n)).reshape(3, -1)
+    moved = np.rint(matrix @ (cells - centre) + centre).astype(np.int64)
+    out = np.empty_like(grid)
+    out[:, moved[0], moved[1], moved[2]] = grid[:, cells[0], cells[1], cells[2]] @ \
+        sh_symmetry(matrix).T
+    return out
+
+
+# ------------------------------------------------------------------ reference helpers
+
+
+def test_l2_basis_and_lobe_of_the_reference():
+    directions = fibonacci_directions(20000)
+    weight = 4.0 * np.pi / len(directions)
+    basis = reference.sh_basis(directions, 2)
+    assert np.allclose(basis.T @ basis * weight, np.eye(9), atol=2e-3)
+    assert np.array_equal(basis[:, :4], reference.sh_basis(directions))
+    normal = np.array([0.48, -0.6, 0.64])
+    projected = (np.maximum(directions @ normal, 0.0)[:, None] * basis).sum(0) * weight
+    lobe = reference.cosine_lobe(normal, 2)
+    assert np.allclose(lobe, projected, atol=2e-3)
+    assert np.array_equal(lobe[:4], reference.cosine_lobe(normal))
+    # band 2 = π/4·Y2(n): the shaders' constants say the same
+    assert np.allclose(lobe[4:], np.pi / 4 * reference.sh_basis(normal, 2)[4:])
+    assert np.isclose(K.SH_L2_LOBE_C2, np.pi / 4 * K.SH_L2_C2)
+    # a corrected VPL still injects exactly its flux
+    vpls = random_vpls(30, SPEC, 50)
+    assert np.allclose(reference.flux(reference.inject(vpls, SPEC, sh_order=2)),
+                       vpls.flux.sum(axis=0))
+    with pytest.raises(ValueError, match="sh_order"):
+        reference.cosine_lobe(normal, 3)
+
+
+def test_symmetry_matrices_rotate_a_lobe_like_its_normal():
+    normal = np.array([0.6, 0.0, 0.8])
+    for matrix in cube_symmetries()[::7]:
+        assert np.allclose(sh_symmetry(matrix) @ reference.cosine_lobe(normal, 2),
+                           reference.cosine_lobe(matrix @ normal, 2), atol=1e-9)
+
+
+# ------------------------------------------------------------------ GPU vs reference
+
+CASES = [
+    ("corrected", {}, "points", "one-sided"),
+    ("original", {}, "compute", "double-sided"),
+    ("corrected", {"side_faces": False}, "compute", "one-sided"),
+    ("corrected", {"clamp_front_face": False, "exact_constants": False}, "points", None),
+    ("original", {"surfel_area_squared": False, "reprojection_pi": True}, "points",
+     "one-sided"),
+    ("corrected", {"propagation_4pi": False, "injection_pi": False}, "compute", None),
+]
+
+
+@pytest.mark.parametrize("case", range(len(CASES)))
+def test_l2_inject_and_propagate_match_the_reference(ctx, case):
+    preset, changes, injection_mode, geometry_mode = CASES[case]
+    corrections = replace(PRESETS[preset], **changes)
+    vpls = random_vpls(40 + case, SPEC, 120, outside=5, texel_area=0.05)
+    grid = inject(vpls, SPEC, corrections, injection_mode, ctx=ctx, sh_order=2)
+    assert grid.shape == (3, 8, 8, 8, 9)
+    assert relative_error(grid, reference.inject(vpls, SPEC, corrections, sh_order=2)) < 1e-5
+    geometry = None if geometry_mode is None else inject_geometry(
+        vpls, SPEC, corrections, geometry_mode, ctx=ctx)
+    steps, accumulated, audit = propagate_with_audit(grid, corrections, 3, geometry, ctx=ctx)
+    want_steps, want_accumulated, want_audit = reference.propagate_audited(
+        grid, corrections, 3, geometry)
+    for step, want in zip(steps, want_steps):
+        assert relative_error(step, want) < 1e-4
+    assert relative_error(accumulated, want_accumulated) < 1e-4
+    scale = float(np.abs(want_audit.injected).max())
+    for name in ("per_step", "border_loss", "clamp_gain", "occluded", "accumulated"):
+        assert np.abs(getattr(audit, name) - getattr(want_audit, name)).max() <= 1e-4 * scale
+    if geometry is not None:
+        assert audit.occluded.min() > 0
+
+
+def test_l2_in_place_propagation_runs_and_double_counts(ctx):
+    grid = random_l2_grid(50, 8, 0.2)
+    corrections = Corrections(ping_pong=False)
+    _, _, audit = propagate_with_audit(grid, corrections, 2, ctx=ctx)
+    _, _, ping_pong = propagate_with_audit(grid, Corrections(), 2, ctx=ctx)
+    assert np.all(audit.accumulated > ping_pong.accumulated)
+
+
+# ------------------------------------------------------------------ invariants
+
+
+def centred_l2_source(resolution: int, block: int, seed: int, higher: float) -> np.ndarray:
+    grid = np.zeros((3,) + (resolution,) * 3 + (9,))
+    lo = (resolution - block) // 2
+    grid[:, lo:lo + block, lo:lo + block, lo:lo + block] = random_l2_grid(seed, block, higher)
+    return grid
+
+
+def test_corrected_l2_propagation_conserves_flux_away_from_the_border(ctx):
+    # bands 1 and 2 small: the intensity is positive in every direction
+    grid = centred_l2_source(12, 2, 51, higher=0.02)
+    _, _, audit = propagate_with_audit(grid, Corrections(clamp_front_face=False), 3, ctx=ctx)
+    assert np.all(audit.border_loss == 0) and np.all(audit.clamp_gain == 0)
+    assert np.abs(audit.per_step / audit.injected - 1.0).max() < 1e-5
+
+
+def test_l2_isotropic_centre_source_is_invariant_under_the_48_cube_symmetries(ctx):
+    grid = np.zeros((3, 7, 7, 7, 9))
+    grid[:, 3, 3, 3, 0] = [1.0, 2.0, 3.0]
+    result = sum(propagate(grid, Corrections(), 3, ctx=ctx))
+    assert np.abs(result[..., 4:]).max() > 1e-3 * result[..., 0].max()  # band 2 is used
+    for matrix in cube_symmetries():
+        assert relative_error(transform_l2_grid(result, matrix), result) < 1e-5
+
+
+def test_l2_propagation_commutes_with_the_48_cube_symmetries(ctx):
+    """A directional L2 source: turning or mirroring it (band 2 by its 5×5 rotation)
+    turns or mirrors the propagated result."""
+    grid = centred_l2_source(6, 2, 52, higher=0.6)
+    corrections = Corrections()
+    result = sum(propagate(grid, corrections, 2, ctx=ctx))
+    for matrix in cube_symmetries():
+        moved = sum(propagate(transform_l2_grid(grid, matrix), corrections, 2, ctx=ctx))
+        assert relative_error(moved, transform_l2_grid(result, matrix)) < 1e-5
+
+
+def test_l2_propagation_is_linear_without_the_clamp(ctx):
+    corrections = Corrections(clamp_front_face=False)
+    first, second = random_l2_grid(53, 8), random_l2_grid(54, 8)
+    together = sum(propagate(2.0 * first - 0.5 * second, corrections, 3, ctx=ctx))
+    apart = [sum(propagate(g, corrections, 3, ctx=ctx)) for g in (first, second)]
+    assert relative_error(together, 2.0 * apart[0] - 0.5 * apart[1]) < 1e-5
+    # with the clamp, positive scaling still commutes
+    scaled = sum(propagate(2.5 * first, Corrections(), 3, ctx=ctx))
+    assert relative_error(scaled, 2.5 * sum(propagate(first, Corrections(), 3, ctx=ctx))) < 1e-5
+
+
+# ------------------------------------------------------------------ storage, settings
+
+
+def test_l2_grid_round_trip_and_bad_input(ctx):
+    grid = LpvGrid(ctx, 4, sh_order=2)
+    try:
+        values = np.random.default_rng(55).standard_normal((3, 4, 4, 4, 9)).astype(np.float32)
+        grid.write(values)
+        assert grid.coefficients == 9 and grid.textures[0].size == (4, 4, 12)
+        assert np.array_equal(grid.read(), values)
+        with pytest.raises(ValueError, match=r"\(3, 4, 4, 4, 9\)"):
+            grid.write(values[..., :4])
+    finally:
+        grid.release()
+    with pytest.raises(ValueError, match="sh_order must be 1"):
+        LpvGrid(ctx, 4, sh_order=3)
+    with pytest.raises(ValueError, match="sh_order must be 1"):
+        Settings(sh_order=0)
+    with pytest.raises(ValueError, match="4 \\(L1\\) or 9 \\(L2\\)"):
+        propagate(np.zeros((3, 4, 4, 4, 5)), ctx=ctx)
+
+
+def test_pipeline_with_l2(ctx):
+    from explorer.lpv.pipeline import Pipeline
+
+    settings = Settings(grid_size=8, iterations=3, rsm_size=16, width=32, height=32)
+    pipeline = Pipeline(settings, ctx=ctx)
+    try:
+        first = pipeline.run(keep_steps=True)
+        second = pipeline.run(settings.with_changes(sh_order=2), keep_steps=True)
+        assert second.stages_run == ("inject", "propagate", "gather")
+        assert first.accumulated.shape[-1] == 4 and second.accumulated.shape[-1] == 9
+        # The L1 part of the injected L2 grid is the L1 grid (same flux); propagation then
+        # differs through band 2. (The Cornell walls lie on cell faces, so compare with the
+        # GPU's own injected grid rather than a float64 injection.)
+        assert np.allclose(second.steps[0][..., :4], first.steps[0], rtol=1e-6, atol=1e-9)
+        assert np.allclose(second.audit.injected, first.audit.injected, rtol=1e-5)
+        accumulated = sum(reference.propagate(second.steps[0], Corrections(), 3))
+        assert relative_error(second.accumulated, accumulated) < 1e-4
+        lit = second.indirect.sum(axis=2) > 0
+        assert lit.mean() > 0.3 and np.isfinite(second.indirect).all()
+    finally:
+        pipeline.release()
