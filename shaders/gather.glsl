@@ -20,6 +20,7 @@ void main() {
 #include "sh.glsl"
 #include "grid.glsl"
 #include "sh_grid.glsl"
+#include "cascades.glsl"
 
 uniform sampler2D u_gbuffer_position;
 uniform sampler2D u_gbuffer_normal;
@@ -76,6 +77,32 @@ float shadow_visibility(vec3 world, float cos_light) {
     return lit / 9.0;
 }
 
+// LPV irradiance for normal n at world point x: E = clamp+(<s(x), lobe(-n)>) / cell²
+// (trilinear sample of the accumulated grid).
+vec3 lpv_irradiance(vec3 x, vec3 n) {
+    ShVec lobe = shv_cosine_lobe(-n);   // L1 or L2 after SH_ORDER
+    vec3 intensity = vec3(sh_dot(sh_sample_grid(u_lpv_r, x), lobe),
+                          sh_dot(sh_sample_grid(u_lpv_g, x), lobe),
+                          sh_dot(sh_sample_grid(u_lpv_b, x), lobe));
+    return max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+}
+
+// Directional-derivative damping (docs/MODEL.md "Final gather"): light that grows towards
+// the back of the surface leaked through it. The central difference over one cell along n
+// gives the factor clamp(E(p + h/2 n) / E(p - h/2 n), 0, 1) per channel (1 where nothing
+// arrives from behind).
+uniform int u_gather_damping;
+
+vec3 lpv_derivative_damping(vec3 p, vec3 n) {
+    if (u_gather_damping == 0) {
+        return vec3(1.0);
+    }
+    vec3 half_cell = 0.5 * u_grid_cell_size * n;
+    vec3 front = lpv_irradiance(p + half_cell, n);
+    vec3 back = lpv_irradiance(p - half_cell, n);
+    return damping_ratio(front, back);   // cascades.glsl
+}
+
 vec3 linear_to_srgb(vec3 linear) {
     vec3 c = clamp(linear, 0.0, 1.0);
     return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
@@ -116,12 +143,11 @@ void main() {
     // Indirect light: trilinear sample of the accumulated grid at the surface; light
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
     vec3 indirect_irradiance = vec3(0.0);
-    if (u_has_grid == 1) {
-        ShVec lobe = shv_cosine_lobe(-n);
-        vec3 intensity = vec3(sh_dot(sh_sample_grid(u_lpv_r, position.xyz), lobe),
-                              sh_dot(sh_sample_grid(u_lpv_g, position.xyz), lobe),
-                              sh_dot(sh_sample_grid(u_lpv_b, position.xyz), lobe));
-        indirect_irradiance = max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+    if (u_has_grid == 1 && u_cascade_count > 1) {
+        indirect_irradiance = cascade_irradiance(position.xyz, n, u_gather_damping == 1);
+    } else if (u_has_grid == 1) {
+        indirect_irradiance = lpv_irradiance(position.xyz, n)
+                            * lpv_derivative_damping(position.xyz, n);
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
 

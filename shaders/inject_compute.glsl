@@ -37,7 +37,7 @@ void main() {
         return;
     }
     Vpl vpl = vpl_fetch(index);
-    ivec3 cell = grid_cell(vpl.position);
+    ivec3 cell = grid_cell(vpl_injection_position(vpl));
     if (!vpl.valid || !grid_inside(cell)) {
         return;
     }

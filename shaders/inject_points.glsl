@@ -3,7 +3,7 @@
 // layer gl_Layer = cell.z of a layered 2D-array target N x N x N with additive ONE,ONE
 // blending, three render targets for the r, g, b SH vectors. The caller copies the layers
 // into the grid's 3D textures (volume_copy.glsl).
-// grid[c, cell(p)] += k_I * flux[c] * lobe(n).
+// grid[c, cell(p + offset*n)] += k_I * flux[c] * lobe(n).
 // SH_ORDER 2 injects the L2 lobe: the geometry shader emits one point per texel group, into
 // layer cell.z + k·N (the layout of sh_grid.glsl), and the fragment writes group k.
 #define SH_ORDER 1
@@ -20,7 +20,7 @@ flat out vec3 v_flux;
 
 void main() {
     Vpl vpl = vpl_fetch(gl_VertexID);
-    v_cell = grid_cell(vpl.position);
+    v_cell = grid_cell(vpl_injection_position(vpl));
     v_keep = int(vpl.valid && grid_inside(v_cell));
     v_normal = vpl.normal;
     v_flux = vpl.flux;

@@ -8,10 +8,11 @@
 // step is added to it, acc += P(acc). Invocations race: some neighbours are already updated
 // when read, so the result depends on the GPU's invocation order. Kept to show the hazard.
 //
-// The same dispatch measures the step's energy audit (GridAudit): every cell writes 12
+// The same dispatch measures the step's energy audit (GridAudit): every cell writes 18
 // numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,
 // and as a source its border loss, clamp gain and occluded flux (faces leaving the grid are
-// sent by the border cells). audit_reduce.glsl sums them; a shared-memory reduction here
+// sent by the border cells), and the flux reflected back into it and the blocked flux
+// that could bounce (reflection.glsl). audit_reduce.glsl sums them; a shared-memory reduction here
 // would need barrier(), which costs llvmpipe more than the whole step.
 // SH_ORDER 2 propagates L2 vectors (9 coefficients, stored as in sh_grid.glsl): the same
 // faces and weights, evaluated and reprojected with the L2 basis and lobe.
@@ -23,10 +24,11 @@
 #include "grid.glsl"
 #include "sh_grid.glsl"
 #include "propagation_faces.glsl"
+#include "reflection.glsl"
 
 // 64 invocations: a 4x4x4 brick shares most neighbour reads in cache on real GPUs.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-const int AUDIT_VALUES = 12;
+const int AUDIT_VALUES = 18;
 
 uniform sampler3D u_source_r;
 uniform sampler3D u_source_g;
@@ -81,6 +83,13 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
             }
         }
     }
+    vec3 reflected = vec3(0.0);
+    vec3 blocked = vec3(0.0);
+    if (u_reflect) {
+        ShVec own[3];
+        load_source(cell, own);
+        lpv_reflect(own, cell, front_weight, side_weight, received, reflected, blocked);
+    }
     if (u_ping_pong) {
         SH_IMAGE_STORE(u_target_r, cell, received[0]);
         SH_IMAGE_STORE(u_target_g, cell, received[1]);
@@ -97,7 +106,8 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
         SH_IMAGE_STORE(u_target_b, cell, sh_add(SH_IMAGE_LOAD(u_target_b, cell), received[2]));
     }
     vec3 delivered = vec3(sh_flux(received[0]), sh_flux(received[1]), sh_flux(received[2]));
-    vec3 terms[4] = vec3[4](delivered, audit.border, audit.clamp_gain, audit.occluded);
+    vec3 terms[6] = vec3[6](delivered, audit.border, audit.clamp_gain, audit.occluded,
+                            reflected, blocked);
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         audit_record[i] = terms[i / 3][i % 3];
     }

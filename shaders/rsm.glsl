@@ -1,7 +1,9 @@
 #version 430 core
 // Shadow map + reflective shadow map in one MRT pass (docs/MODEL.md "Reflective shadow map").
 // Targets: 0 = world position (w = 1 where a surface was seen), 1 = normal facing the light
-// (w = view depth from the light), 2 = reflected flux per texel (rgb, watts).
+// (w = view depth from the light), 2 = reflected flux per texel (rgb, watts), 3 = diffuse
+// albedo (rgb; read by the geometry volume to reflect blocked light, docs/MODEL.md
+// "More bounces").
 
 uniform mat4 u_light_view;
 uniform mat4 u_light_projection;
@@ -42,6 +44,7 @@ in float v_depth;
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_flux;
+layout(location = 3) out vec4 out_albedo;
 
 // Solid angle of the spherical triangle spanned by three (not necessarily unit) corner
 // directions (Van Oosterom & Strackee): tan(Ω/2) = |a·(b×c)| / (|a||b||c| + (a·b)|c| +
@@ -83,5 +86,6 @@ void main() {
     out_position = vec4(v_position, 1.0);
     out_normal = vec4(normal, v_depth);
     out_flux = vec4(v_albedo * incident * faces_light, 0.0);
+    out_albedo = vec4(v_albedo, 0.0);
 }
 #endif

@@ -67,6 +67,8 @@ float sh_dot(vec4 a, vec4 b) { return dot(a, b); }
 float sh_dot(ShL2 a, ShL2 b) { return dot(a.g0, b.g0) + dot(a.g1, b.g1) + dot(a.g2, b.g2); }
 vec4 sh_scale(vec4 a, float s) { return a * s; }
 ShL2 sh_scale(ShL2 a, float s) { return ShL2(a.g0 * s, a.g1 * s, a.g2 * s); }
+vec4 sh_divide(vec4 a, float s) { return a / s; }
+ShL2 sh_divide(ShL2 a, float s) { return ShL2(a.g0 / s, a.g1 / s, a.g2 / s); }
 vec4 sh_add(vec4 a, vec4 b) { return a + b; }
 ShL2 sh_add(ShL2 a, ShL2 b) { return ShL2(a.g0 + b.g0, a.g1 + b.g1, a.g2 + b.g2); }
 // Group k (0-based) of a vector: the RGBA texel it is stored in.

@@ -36,4 +36,13 @@ Vpl vpl_fetch(int index) {
     return vpl;
 }
 
+// Where a VPL is injected into the light grid (docs/MODEL.md "Injection"): moved
+// u_injection_offset = δ·cell_size world units along its normal, into the cell in front of
+// its surface (0: at the surface point itself).
+uniform float u_injection_offset;
+
+vec3 vpl_injection_position(Vpl vpl) {
+    return vpl.position + u_injection_offset * vpl.normal;
+}
+
 #endif

@@ -17,7 +17,10 @@ def gl_context():
 
 @pytest.fixture
 def ctx(gl_context):
-    """The session context, checked for GL errors before and after each test."""
+    """The session context, made current (a test that created and released a context of
+    its own, e.g. a CLI command, leaves none current: GL calls would then fail silently)
+    and checked for GL errors before and after each test."""
+    gl_context.__enter__()
     assert gl_context.error == "GL_NO_ERROR"
     yield gl_context
     assert gl_context.error == "GL_NO_ERROR"

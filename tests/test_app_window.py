@@ -115,6 +115,7 @@ def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
         assert app.state.settings.corrections == PRESETS["original"]
         assert not app._needs_layout, "a saved layout for the same panels is kept"
         assert app.state.layout_panels == [p.title for p in PANELS]
+        assert app.state.window_size == (800, 600)
         assert not [m for m in app.state.messages if m.level != "info"]
     finally:
         app.close()
@@ -292,6 +293,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.state.inspect.source = "vpls"
         app.frame()
         app.state.inspect.source = "propagation"
+        app.state.inspect.glyphs = True
         app.frame()
         app.frame(capture=True)
         assert _view_pixels(app).std() > 1.0
@@ -372,14 +374,28 @@ def test_run_without_a_display_says_so():
 def test_a_window_beside_the_headless_context_leaves_it_usable(ctx, config_home):
     """The session's EGL context is current when the window opens (as in the full suite);
     glXMakeCurrent would fail with BadAccess and Xlib would exit the process."""
-    with ctx:   # make the session context current even if an earlier test left another one
-        app = _app(pipeline_class=None)
-        try:
+    app = _app(pipeline_class=None)
+    try:
+        app.frame()
+        assert app.frame(capture=True)
+        assert app.last_pixels.std() > 10
+    finally:
+        app.close()
+    buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
+    assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
+    buffer.release()
+
+
+@needs_pipeline
+def test_a_saved_scene_that_no_longer_opens_falls_back_to_the_default(config_home):
+    state = AppState(settings=TINY.with_changes(scene=str(config_home / "gone.obj")))
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        for _ in range(3):
             app.frame()
-            assert app.frame(capture=True)
-            assert app.last_pixels.std() > 10
-        finally:
-            app.close()
-        buffer = ctx.buffer(np.arange(4, dtype=np.float32).tobytes())
-        assert np.frombuffer(buffer.read(), np.float32).tolist() == [0.0, 1.0, 2.0, 3.0]
-        buffer.release()
+        assert app.state.settings.scene == Settings().scene
+        assert app.state.runtime.result is not None
+        assert any("gone.obj" in m.text for m in app.state.messages if m.level == "error")
+    finally:
+        app.close()

@@ -18,11 +18,15 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     assert "device:" in printed and "GB/s" in printed and "% peak" in printed
     data = json.loads(out.read_text())
     rows = data["rows"]
-    assert [(row["grid"], row["iterations"]) for row in rows] == [(8, 0), (8, 2)]
+    assert [(row["variant"], row["grid"], row["iterations"]) for row in rows] == [
+        ("default", 8, 0), ("default", 8, 2), ("offset-0", 8, 2), ("damping", 8, 2),
+        ("bounces-2", 8, 2)]
+    assert "geometry" in rows[-1]["passes_ms"]        # bounces 2 needs the geometry volume
     for row in rows:
         for name in ("rsm", "inject", "propagate", "gbuffer", "gather"):
             assert row["passes_ms"][name] > 0
         assert row["frame_ms"] >= sum(row["passes_ms"].values()) - 1e-9
+    assert "bounces-2" in printed
     assert "propagation_gbs" not in rows[0]          # no steps, no bandwidth
     assert rows[1]["propagation_gbs"] > 0
     assert set(rows[1]["methods"].values()) <= {"timer-query", "wall-clock"}
@@ -39,3 +43,6 @@ def test_bad_bench_arguments(capsys):
         main(["bench", "--grids", "8,x"])
     assert "comma" in capsys.readouterr().err
     assert main(["bench", "--quick", "--peak-gbs", "-3"]) == 2
+    with pytest.raises(SystemExit):
+        main(["bench", "--variants", "damping,sparkle"])
+    assert "variants" in capsys.readouterr().err

@@ -1,6 +1,10 @@
 """``lpv-explorer bench``: milliseconds per pass and per frame over grid sizes and
 iteration counts, and the memory bandwidth the propagation achieves.
 
+With ``--cascades`` every cascade count is a row: the inject, geometry and propagate
+columns then hold all cascades together (each cascade is a full grid), and the bandwidth
+counts every cascade's grids.
+
 Bandwidth model: one propagation step reads the previous grid and writes the next one
 (3 textures × one texel per cell each) and reads and writes the accumulation grid, so it
 moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
@@ -29,6 +33,25 @@ QUICK_GRIDS = (8, 16)
 QUICK_ITERATIONS = (2, 4)
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+VARIANTS: dict[str, dict[str, object]] = {
+    "offset-0": {"injection_offset_cells": 0.0},
+    "damping": {"gather_damping": True},
+    "bounces-2": {"bounces": 2},
+}
+"""Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
+options against the default settings. bounces-2 turns a one-sided geometry volume on if
+--geometry-volume is off (it needs one)."""
+
+
+def parse_variants(text: str) -> tuple[str, ...]:
+    names = tuple(part.strip() for part in text.split(",") if part.strip())
+    if names == ("none",):
+        return ()
+    unknown = [name for name in names if name not in VARIANTS]
+    if unknown or not names:
+        raise argparse.ArgumentTypeError(f"variants must be 'none' or a comma list of "
+                                         f"{', '.join(VARIANTS)}; got {text!r}")
+    return names
 
 
 def parse_list(text: str) -> tuple[int, ...]:
@@ -58,6 +81,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="grid texture format")
     parser.add_argument("--geometry-volume", default="off",
                         choices=("off", "one-sided", "double-sided"))
+    parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
+                        help=f"extra rows at each grid's largest iteration count: "
+                             f"{', '.join(VARIANTS)} (comma list) or none (default: all)")
+    parser.add_argument("--cascades", type=parse_list, default=(1,),
+                        help="LPV cascade counts, e.g. 1,2,3 (default 1); each count is a "
+                             "row per grid and iteration count")
     parser.add_argument("--repeat", type=int, default=3,
                         help="timed frames per configuration; the median is reported")
     parser.add_argument("--quick", action="store_true",
@@ -87,12 +116,18 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
         iterations = args.iterations or (SOFTWARE_ITERATIONS if software else FULL_ITERATIONS)
         (width, height), rsm_size, repeat = args.size, args.rsm_size, max(1, args.repeat)
     rows = []
+    cascade_counts = getattr(args, "cascades", None) or (1,)
     for grid in grids:
-        for steps in iterations:
+        runs = [("default", steps, k, {}) for steps in iterations for k in cascade_counts]
+        runs += [(name, max(iterations), 1, VARIANTS[name]) for name in args.variants]
+        for variant, steps, cascades, changes in runs:
             settings = Settings(scene=args.scene, corrections=preset(args.preset),
                                 grid_size=grid, iterations=steps, rsm_size=rsm_size,
                                 width=width, height=height, grid_format=args.format,
-                                geometry_volume=args.geometry_volume)
+                                geometry_volume=args.geometry_volume, cascades=cascades)
+            if changes.get("bounces", 1) > 1 and settings.geometry_volume == "off":
+                changes = {**changes, "geometry_volume": "one-sided"}
+            settings = settings.with_changes(**changes)
             pipeline.run(settings)                    # warm-up: compiles, allocates
             samples: dict[str, list[float]] = {}
             for _ in range(repeat):
@@ -102,12 +137,12 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
                     if name in result.timings_ms:
                         samples.setdefault(name, []).append(result.timings_ms[name])
             passes = {name: statistics.median(values) for name, values in samples.items()}
-            row = {"grid": grid, "iterations": steps, "passes_ms": passes,
-                   "frame_ms": sum(passes.values()),
+            row = {"variant": variant, "grid": grid, "iterations": steps, "cascades": cascades,
+                   "passes_ms": passes, "frame_ms": sum(passes.values()),
                    "methods": dict(pipeline.timing_methods)}
             propagate_ms = passes.get("propagate", 0.0)
             if steps > 0 and propagate_ms > 0:
-                moved = propagation_bytes(grid, steps, args.format)
+                moved = cascades * propagation_bytes(grid, steps, args.format)
                 row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
                 row["ms_per_step"] = propagate_ms / steps
             rows.append(row)
@@ -115,12 +150,13 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
 
 
 def format_table(rows: list[dict], peak_gbs: float | None) -> str:
-    header = ["grid", "iters", *PASS_COLUMNS, "frame", "ms/step", "GB/s"]
+    header = ["variant", "grid", "iters", "cascades", *PASS_COLUMNS, "frame", "ms/step", "GB/s"]
     if peak_gbs:
         header.append("% peak")
     lines = ["  ".join(f"{h:>10}" for h in header)]
     for row in rows:
-        cells = [f"{row['grid']}³", str(row["iterations"])]
+        cells = [row.get("variant", "default"), f"{row['grid']}³", str(row["iterations"]),
+                 str(row.get("cascades", 1))]
         cells += [f"{row['passes_ms'][name]:.2f}" if name in row["passes_ms"] else "-"
                   for name in PASS_COLUMNS]
         cells.append(f"{row['frame_ms']:.2f}")

@@ -12,6 +12,8 @@ import sys
 import time
 from pathlib import Path
 
+from explorer.commands.render import add_leak_arguments, leak_changes
+
 PRESET_CHOICES = ("all", "original", "corrected")
 REFERENCE_CHOICES = ("visible", "unoccluded")
 LOG2_DEFAULT_SCALE = 3.0  # error images saturate at 8× too bright / too dark
@@ -38,12 +40,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--iterations", default=None, metavar="N[,N...]",
                         help="propagation steps, or a comma list for a sweep (default: the "
                              "Settings default)")
+    parser.add_argument("--cascades", default=None, metavar="K[,K...]",
+                        help="LPV cascades (nested grids around the camera's focus), or a "
+                             "comma list to compare several (default: 1, the single grid)")
+    parser.add_argument("--cascade-iterations", default="same",
+                        choices=("same", "same-distance"),
+                        help="propagation steps per cascade: the same in every cascade "
+                             "(default), or 2x more per finer level (same distance)")
     parser.add_argument("--geometry-volume", default="off",
                         choices=("off", "one-sided", "double-sided"),
                         help="LPV occlusion (default: off)")
+    add_leak_arguments(parser)
     parser.add_argument("--min-distance", type=float, default=None,
                         help="reference 1/r² clamp distance in world units "
-                             "(default: half a grid cell)")
+                             "(default: half a grid cell; with --cascades above 1, of the "
+                             "single scene-enclosing grid)")
     parser.add_argument("--error-mode", default="log2-ratio",
                         choices=("log2-ratio", "difference"),
                         help="what the error image shows (default: log2-ratio)")
@@ -83,6 +94,7 @@ def main(args: argparse.Namespace) -> int:
     try:
         regions = [_parse_region(text) for text in args.region]
         iterations = _parse_iterations(args.iterations)
+        cascade_counts = _parse_cascades(args.cascades)
         for name in ("width", "height", "rsm_size"):
             if getattr(args, name) < 1:
                 raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
@@ -91,10 +103,12 @@ def main(args: argparse.Namespace) -> int:
         if args.error_scale is not None and not args.error_scale > 0:
             raise ValueError("--error-scale must be positive")
         changes = {"scene": args.scene, "width": args.width, "height": args.height,
-                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume}
+                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume,
+                   "cascade_iterations": args.cascade_iterations}
         if args.grid_size is not None:
             changes["grid_size"] = args.grid_size
-        base = Settings(**changes)
+        changes.update(leak_changes(args))
+        base = Settings(**changes, cascades=max(cascade_counts))   # validates the count
         if iterations is None:
             iterations = [base.iterations]
     except ValueError as exc:
@@ -116,6 +130,14 @@ def main(args: argparse.Namespace) -> int:
     except GLUnavailableError as exc:
         return _fail(str(exc), 1)
 
+    min_distance = args.min_distance
+    if min_distance is None and max(cascade_counts) > 1:
+        # one reference for every cascade count: half a cell of the single grid (cascade
+        # 0's cells shrink with more cascades, the reference must not)
+        from explorer.lpv.grid import GridSpec
+
+        single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, base.grid_size)
+        min_distance = 0.5 * single.cell_size
     names = ["original", "corrected"] if args.preset == "all" else [args.preset]
     visibility = args.reference == "visible"
     out = args.out if args.out is not None else Path(f"compare-{Path(args.scene).stem}")
@@ -125,13 +147,13 @@ def main(args: argparse.Namespace) -> int:
     reference = gbuffer = reference_vpls = frame = None
     try:
         for name in names:
-            for steps in iterations:
+            for steps, count in [(i, k) for i in iterations for k in cascade_counts]:
                 frame = pipeline.run(base.with_changes(corrections=PRESETS[name],
-                                                       iterations=steps))
+                                                       iterations=steps, cascades=count))
                 if reference is None or not _same_vpls(frame.vpls, reference_vpls):
                     started = time.perf_counter()
                     reference, gbuffer = reference_for_frame(
-                        frame, visibility, args.min_distance, ctx=ctx, scene=scene,
+                        frame, visibility, min_distance, ctx=ctx, scene=scene,
                         progress=None if args.quiet else _progress_printer())
                     reference_vpls = frame.vpls
                     if not args.quiet:
@@ -140,6 +162,9 @@ def main(args: argparse.Namespace) -> int:
                 valid = gbuffer.valid
                 lpv = np.asarray(frame.indirect, np.float64)[..., :3]
                 label = name if len(iterations) == 1 else f"{name}-it{steps}"
+                if args.cascades is not None:
+                    label += f"-c{count}"
+                    steps = (steps, count)   # the table's iterations cell: "8, 2 cascades"
                 images[label] = lpv
                 rows.append((name, steps, "image", error_stats(lpv, reference, valid)))
                 for rect in regions:
@@ -187,6 +212,20 @@ def _parse_iterations(text: str | None) -> list[int] | None:
     return values
 
 
+def _parse_cascades(text: str | None) -> list[int]:
+    from explorer.lpv.settings import MAX_CASCADES
+
+    if text is None:
+        return [1]
+    try:
+        values = [int(part) for part in text.split(",")]
+    except ValueError:
+        raise ValueError(f"--cascades {text!r}: expected integers like 2 or 1,2,3") from None
+    if any(not 1 <= v <= MAX_CASCADES for v in values):
+        raise ValueError(f"--cascades {text!r}: cascades must be 1..{MAX_CASCADES}")
+    return values
+
+
 def _same_vpls(a, b) -> bool:
     import numpy as np
 
@@ -214,12 +253,16 @@ def format_table(rows, args, frame) -> str:
     lines = [
         f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
         f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
-        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`",
+        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
+        f"offset {settings.injection_offset_cells:g} cells, gather damping "
+        f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}",
         "",
         "| preset | iterations | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
         "|---|---:|---|---:|---:|---:|---|",
     ]
     for name, steps, region, stats in rows:
+        if isinstance(steps, tuple):   # with --cascades
+            steps = f"{steps[0]}, {steps[1]} cascade{'s' if steps[1] > 1 else ''}"
         if stats is None:
             lines.append(f"| {name} | {steps} | {region} | – | – | – | empty region |")
             continue

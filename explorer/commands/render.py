@@ -6,12 +6,18 @@ import argparse
 import sys
 from pathlib import Path
 
-from explorer.lpv.settings import DOWNSAMPLE_MODES, GEOMETRY_VOLUME_MODES, PRESETS, VIEWS
+from explorer.lpv.settings import (
+    CASCADE_ITERATIONS,
+    DOWNSAMPLE_MODES,
+    GEOMETRY_VOLUME_MODES,
+    PRESETS,
+    VIEWS,
+)
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
 this size."""
-CAMERA_VIEWS = ("final", "direct", "indirect", "albedo")
+CAMERA_VIEWS = ("final", "direct", "indirect", "albedo", "cascade-weights")
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -45,12 +51,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--downsample-factor", type=int, help="RSM downsample block size")
     parser.add_argument("--geometry-volume", choices=GEOMETRY_VOLUME_MODES,
                         help="fuzzy occlusion")
+    add_leak_arguments(parser)
     parser.add_argument("--indirect-only", action="store_true",
                         help="final image without the direct light")
     parser.add_argument("--slice", type=int, dest="z",
                         help="z slice of the grid views (default: the middle)")
     parser.add_argument("--coefficient", type=int, choices=range(4),
                         help="grid-slice: show this SH coefficient instead of the flux")
+    parser.add_argument("--cascades", type=int,
+                        help="nested LPV grids around the camera's focus, each with twice the "
+                             "cells of the last (default 1: one grid around the scene)")
+    parser.add_argument("--cascade-extent", type=float,
+                        help="edge of the finest cascade in world units (default: the "
+                             "single grid's edge / 2^(cascades-1))")
+    parser.add_argument("--cascade-iterations", choices=CASCADE_ITERATIONS,
+                        help="same: every cascade propagates --iterations steps (default); "
+                             "same-distance: finer cascades propagate 2x more per level")
+    parser.add_argument("--cascade", type=int, default=None,
+                        help="grid views (grid-slice, geometry-volume): show this cascade "
+                             "(0 = finest, the default)")
     parser.add_argument("--audit", action="store_true", help="print the energy audit")
     parser.add_argument("--debug-nan", action="store_true",
                         help="check every pass for NaN/Inf and name the first bad one")
@@ -59,6 +78,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from explorer.commands.lessons import add_render_arguments
 
     add_render_arguments(parser)
+
+
+def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
+    """--injection-offset, --gather-damping, --bounces (shared with ``compare``); left out
+    they keep the Settings defaults."""
+    parser.add_argument("--injection-offset", type=float, metavar="CELLS",
+                        help="inject each VPL this many cells along its normal "
+                             "(0..1; default 0.5)")
+    parser.add_argument("--gather-damping", action=argparse.BooleanOptionalAction,
+                        default=None,
+                        help="damp the indirect light by its derivative along the normal "
+                             "(default off)")
+    parser.add_argument("--bounces", type=int, choices=(1, 2),
+                        help="2: the geometry volume reflects the light it blocks (needs "
+                             "--geometry-volume; default 1)")
+
+
+def leak_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
+    changes: dict[str, object] = {}
+    for name, field in (("injection_offset", "injection_offset_cells"),
+                        ("gather_damping", "gather_damping"), ("bounces", "bounces")):
+        value = getattr(args, name, None)
+        if value is not None:
+            changes[field] = value
+    return changes
 
 
 def settings_from_args(args: argparse.Namespace):
@@ -70,10 +115,13 @@ def settings_from_args(args: argparse.Namespace):
                         ("rsm_size", "rsm_size"), ("exposure", "exposure"),
                         ("downsample", "downsample"),
                         ("downsample_factor", "downsample_factor"),
-                        ("geometry_volume", "geometry_volume")):
+                        ("geometry_volume", "geometry_volume"),
+                        ("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
+                        ("cascade_iterations", "cascade_iterations")):
         value = getattr(args, name, None)
         if value is not None:
             changes[field] = value
+    changes.update(leak_changes(args))
     if args.size is not None:
         changes["width"], changes["height"] = args.size
     if args.indirect_only:
@@ -109,10 +157,22 @@ def format_audit(audit) -> str:
             ("accumulated", audit.accumulated), ("gathered", audit.gathered),
             ("border loss (all steps)", audit.border_loss.sum(axis=0)),
             ("clamp gain (all steps)", audit.clamp_gain.sum(axis=0)),
-            ("occluded (all steps)", audit.occluded.sum(axis=0))]
+            ("occluded (all steps)", audit.occluded.sum(axis=0)),
+            ("blocked, bounces 2", audit.blocked.sum(axis=0)),
+            ("reflected, bounces 2", audit.reflected.sum(axis=0))]
     lines = ["energy audit [W]            red        green       blue"]
     lines += [f"  {name:<24}" + "".join(f"{float(v):11.4g}" for v in values)
               for name, values in rows]
+    return "\n".join(lines)
+
+
+def format_cascade_audits(result) -> str:
+    """One line per cascade: cell size and the flux injected / accumulated / lost at the
+    border in that cascade (the cascades overlap: their fluxes do not add up)."""
+    lines = ["cascades [W, summed over r, g, b]  cell size   injected  accumulated  border"]
+    for k, (spec, audit) in enumerate(zip(result.cascade_specs, result.cascade_audits)):
+        lines.append(f"  cascade {k:<26}{spec.cell_size:10.4g}{audit.injected.sum():11.4g}"
+                     f"{audit.accumulated.sum():13.4g}{audit.border_loss.sum():8.4g}")
     return "\n".join(lines)
 
 
@@ -136,15 +196,17 @@ def main(args: argparse.Namespace) -> int:
     try:
         pipeline = Pipeline(settings)
         result = pipeline.run()
-        options = {"z": args.z, "coefficient": args.coefficient}
+        options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
         for view, path in output_paths(args.out, views).items():
             wanted = {k: v for k, v in options.items()
                       if v is not None and view in ("grid-slice", "geometry-volume")
-                      and (k == "z" or view == "grid-slice")}
+                      and (k != "coefficient" or view == "grid-slice")}
             write_png(pipeline.view(view, **wanted), path, enlarge=view not in CAMERA_VIEWS)
             print(f"wrote {path} ({view})")
         if args.audit:
             print(format_audit(result.audit))
+            if len(result.cascade_audits) > 1:
+                print(format_cascade_audits(result))
     except SceneError as exc:
         print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
         return 2

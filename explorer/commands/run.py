@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--compare", choices=("single", "split", "difference"),
                         help="view mode: one configuration, split A|B, or their difference")
     parser.add_argument("--size", metavar="WxH", default=None,
-                        help="window size in pixels (default 1600x960)")
+                        help="window size in pixels (default: as it was last closed)")
     parser.add_argument("--screenshot", metavar="PATH", type=Path,
                         help="write a PNG of the window after --frames frames, then exit")
     parser.add_argument("--frames", metavar="N", type=int, default=None,
@@ -31,9 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="neither read nor write the settings file")
 
 
-def _parse_size(text: str | None) -> tuple[int, int]:
+def _parse_size(text: str | None) -> tuple[int | None, int | None]:
     if text is None:
-        return 1600, 960
+        return None, None   # the size the window had last time
     try:
         width, height = (int(v) for v in text.lower().split("x"))
     except ValueError:

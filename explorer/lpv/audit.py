@@ -7,7 +7,8 @@ are read back);
 :class:`EnergyAudit` adds what the pipeline measures around it.
 
 Balance of one step ``t`` (exact up to rounding, any switches):
-``per_step[t] = propagated[t] + clamp_gain[t] − occluded[t] − border_loss[t]``, where
+``per_step[t] = propagated[t] + clamp_gain[t] − occluded[t] − border_loss[t] +
+reflected[t]``, where
 ``propagated`` is the flux the unclamped, unoccluded faces carry (``per_step[t−1]`` for the
 corrected formulas with side faces and exact constants: the 30 faces cover 4π).
 """
@@ -22,8 +23,9 @@ import numpy as np
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.textures import LpvGrid
 
-AUDIT_VALUES = 12
-"""Numbers per audit slot: flux, border loss, clamp gain, occluded (3 channels each)."""
+AUDIT_VALUES = 18
+"""Numbers per audit slot: flux, border loss, clamp gain, occluded, reflected, blocked
+(3 channels each)."""
 
 
 @dataclass
@@ -42,6 +44,13 @@ class GridAudit:
     """(iterations, 3) flux removed by the geometry volume in step t+1."""
     accumulated: np.ndarray
     """(3,) flux of acc_N = Σ grid_t."""
+    reflected: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """(iterations, 3) flux the geometry volume reflected back in step t+1 (``bounces`` 2,
+    docs/MODEL.md "More bounces"); zeros otherwise."""
+    blocked: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """(iterations, 3) flux the geometry volume blocked in step t+1 that can bounce: per
+    source cell and direction clamped at 0 (``bounces`` 2 only; zeros otherwise).
+    ``reflected <= blocked`` whenever every albedo is <= 1."""
 
     @property
     def iterations(self) -> int:
@@ -88,11 +97,12 @@ CELLS_PER_PARTIAL = 64
 
 class AuditReducer:
     """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
-    12 floats (flux, border loss, clamp gain, occluded; 3 channels each); :meth:`read`
+    18 floats (flux, border loss, clamp gain, occluded, reflected, blocked; 3 channels
+    each); :meth:`read`
     fetches every slot at once, the only read-back.
 
     Storage buffers while a pass runs (see :meth:`bind`): 2 partial records, 3 results,
-    4 per-cell records (written by ``propagate.glsl``, ``12·N³`` floats).
+    4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats).
     """
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
@@ -160,7 +170,8 @@ class AuditReducer:
         self.total(slot)
 
     def read(self) -> np.ndarray:
-        """(slots, 12) float64: flux, border loss, clamp gain, occluded (3 channels each)."""
+        """(slots, 18) float64: flux, border loss, clamp gain, occluded, reflected, blocked
+        (3 channels each)."""
         raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
         return np.frombuffer(raw, np.float32).reshape(self._slots, AUDIT_VALUES).astype(
             np.float64)

@@ -3,8 +3,9 @@
 
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
-SH order) and the indirect radiance
-a/π·E. The direct radiance is a/π times the light's irradiance I·cos θ/r² (spot) or
+SH order) and the indirect radiance a/π·E (optionally damped by the directional
+derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
+(spot) or
 E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
 """
 
@@ -13,6 +14,7 @@ from __future__ import annotations
 import moderngl
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
@@ -50,10 +52,18 @@ class GatherPass:
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
             grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
+            damping: bool = False, cascades: list[CascadeInput] | None = None,
             sh_order: int = 1) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
-        clamped), or None for direct light only; ``sh_order`` the grid's SH order (its
-        texel layout, explorer/lpv/textures.py)."""
+        clamped), or None for direct light only. ``damping``: the directional-derivative
+        damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
+        ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
+        instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
+        the grid's SH order (its texel layout, explorer/lpv/textures.py); L2 is single grid
+        only."""
+        if sh_order != 1 and cascades is not None and len(cascades) > 1:
+            raise ValueError("the L2 gather (sh_order 2) supports a single grid, not "
+                             f"{len(cascades)} cascades")
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", sh_defines(sh_order))
         if self._vertex_array is None or self._vertex_array.program is not program:
@@ -66,6 +76,8 @@ class GatherPass:
         gbuffer.albedo.use(2)
         shadow.position.use(3)
         shadow.normal.use(4)
+        if grid_textures is None and cascades:
+            grid_textures = cascades[0].textures
         if grid_textures is None:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):
@@ -78,13 +90,27 @@ class GatherPass:
             "u_exposure": float(exposure),
             "u_indirect_only": int(indirect_only),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
+            "u_gather_damping": int(damping),
             **light.uniforms(),
             **spec.uniforms(),
+            **self._cascade_uniforms(cascades, grid_textures, spec),
         }
         set_uniforms(program, values)
         with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
             self._framebuffer.viewport = (0, 0, *self.size)
             self._vertex_array.render(moderngl.TRIANGLES, vertices=3)
+
+    CASCADE_FIRST_UNIT = 8
+
+    @classmethod
+    def _cascade_uniforms(cls, cascades: list[CascadeInput] | None, grid_textures,
+                          spec: GridSpec) -> dict[str, object]:
+        """``cascades.glsl`` uniforms. With a single grid its sampler arrays point at the
+        single grid's units 5..7 (a sampler3D may not share a unit with the G-buffer's
+        2D samplers, even unused) and the count is 1, which selects the single-grid code."""
+        if cascades is None or len(cascades) <= 1:
+            return cascade_uniforms([CascadeInput(spec, ())], 5)
+        return cascade_uniforms(cascades, cls.CASCADE_FIRST_UNIT)
 
     def _empty(self) -> moderngl.Texture3D:
         if self._empty_grid is None:

@@ -22,11 +22,15 @@ from explorer.lpv.textures import (
 from explorer.lpv.vpl import VplArrays, VplTextures
 
 GEOMETRY_MODES = ("one-sided", "double-sided")
+ALBEDO_UNIT = 3
+"""Sampler unit of the VPL albedo texture (units 0..2 hold position, normal, flux)."""
 
 
 class GeometryVolume:
     """One RGBA 3D texture of L1 SH blocking, ``(N+1)³`` texels for an ``N³`` light grid:
-    texel ``j`` is centred on the light grid's corner ``j``."""
+    texel ``j`` is centred on the light grid's corner ``j``. A second texture of the same
+    size, ``albedo``, holds Σ (A/cell_size²)·(a_r, a_g, a_b, 1) of the cell's surfels
+    (docs/MODEL.md "More bounces"); it stays zero where no albedo was injected."""
 
     def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f") -> None:
         if int(resolution) < 1:
@@ -34,6 +38,8 @@ class GeometryVolume:
         self.resolution = int(resolution)
         self.volume = VolumeTexture(ctx, self.resolution + 1, fmt)
         self.texture: moderngl.Texture3D = self.volume.texture
+        self.albedo = VolumeTexture(ctx, self.resolution + 1, fmt)
+        self.albedo.clear()
 
     @property
     def format(self) -> str:
@@ -43,17 +49,28 @@ class GeometryVolume:
         """float32 ``(N+1, N+1, N+1, 4)``."""
         return self.volume.read()
 
-    def write(self, volume: np.ndarray) -> None:
+    def read_albedo(self) -> np.ndarray:
+        """float32 ``(N+1, N+1, N+1, 4)``: area-weighted albedo sums and areas."""
+        return self.albedo.read()
+
+    def write(self, volume: np.ndarray, albedo: np.ndarray | None = None) -> None:
+        """Upload the blocking SH and (optionally; else zero) the albedo sums."""
         self.volume.write(volume)
+        if albedo is None:
+            self.albedo.clear()
+        else:
+            self.albedo.write(albedo)
 
     def clear(self) -> None:
         self.volume.clear()
+        self.albedo.clear()
 
     def use_as_texture(self, location: int) -> None:
         self.texture.use(location)
 
     def release(self) -> None:
         self.volume.release()
+        self.albedo.release()
 
 
 class GeometryPass:
@@ -76,16 +93,20 @@ class GeometryPass:
         if layers is None or layers.size != size or layers.format != out.format:
             if layers is not None:
                 layers.release()
-            layers = self._layers = LayeredTarget(self.ctx, size, 1, out.format)
+            layers = self._layers = LayeredTarget(self.ctx, size, 2, out.format)
         program = self.programs.get("geometry_inject.glsl")
+        if vpls.albedo is not None:
+            vpls.albedo.use(ALBEDO_UNIT)
         set_uniforms(program, {
             **spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
+            "u_vpl_albedo": ALBEDO_UNIT, "u_has_albedo": vpls.albedo is not None,
             "u_vpl_texel_area": float(vpls.texel_area),
             "u_vpl_orthographic": vpls.projection == "orthographic",
             "u_double_sided": mode == "double-sided",
         })
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
         copy_volume(self.programs, layers.layers[0], out.volume)
+        copy_volume(self.programs, layers.layers[1], out.albedo)
 
     def release(self) -> None:
         if self._layers is not None:
@@ -95,20 +116,22 @@ class GeometryPass:
 
 def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
                     mode: str = "one-sided", ctx: moderngl.Context | None = None,
-                    fmt: str = "rgba32f") -> np.ndarray:
-    """Geometry-volume injection on the GPU from VPL arrays: float32 ``(N+1, N+1, N+1, 4)``."""
+                    fmt: str = "rgba32f", with_albedo: bool = False):
+    """Geometry-volume injection on the GPU from VPL arrays: float32 ``(N+1, N+1, N+1, 4)``;
+    with ``with_albedo`` the pair (volume, albedo sums) (see :class:`GeometryVolume`)."""
     if not isinstance(vpls, VplArrays):
         raise TypeError(f"vpls must be a VplArrays, got {type(vpls).__name__}")
     corrections = corrections or Corrections()
     ctx = ctx or default_context()
     if vpls.count == 0:
-        return np.zeros((spec.resolution + 1,) * 3 + (4,), np.float32)
+        empty = np.zeros((spec.resolution + 1,) * 3 + (4,), np.float32)
+        return (empty, empty.copy()) if with_albedo else empty
     volume = GeometryVolume(ctx, spec.resolution, fmt)
     textures = VplTextures.from_arrays(ctx, vpls)
     try:
         injector = per_context(ctx, "geometry", lambda: GeometryPass(ctx, programs_for(ctx)))
         injector.run(textures, spec, corrections, mode, volume)
-        return volume.read()
+        return (volume.read(), volume.read_albedo()) if with_albedo else volume.read()
     finally:
         textures.release()
         volume.release()

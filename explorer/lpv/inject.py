@@ -60,13 +60,17 @@ class InjectPass:
         self._links: moderngl.Buffer | None = None
 
     def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
-            mode: str, out: LpvGrid) -> None:
+            mode: str, out: LpvGrid, offset_cells: float = 0.0) -> None:
+        """``offset_cells``: inject each VPL at p + offset_cells·cell_size·n
+        (docs/MODEL.md "Injection")."""
+        check_offset_cells(offset_cells)
         if mode not in INJECTION_MODES:
             raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
         if out.resolution != spec.resolution:
             raise ValueError(f"the output grid has {out.resolution}^3 cells but the grid "
                              f"spec has {spec.resolution}^3")
-        uniforms = {**spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls)}
+        uniforms = {**spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
+                    "u_injection_offset": float(offset_cells) * spec.cell_size}
         if mode == "points":
             self._inject_points(vpls, uniforms, out)
         else:
@@ -114,6 +118,15 @@ class InjectPass:
         self._layers = self._heads = self._links = None
 
 
+def check_offset_cells(offset_cells: float) -> float:
+    """``offset_cells`` as a float; a ValueError unless it is finite and >= 0."""
+    value = float(offset_cells)
+    if not (np.isfinite(value) and value >= 0.0):
+        raise ValueError(f"the injection offset must be a finite number of cells >= 0, got "
+                         f"{offset_cells!r}")
+    return value
+
+
 def _sized_buffer(ctx: moderngl.Context, buffer: moderngl.Buffer | None,
                   size: int) -> moderngl.Buffer:
     """``buffer`` if it holds at least ``size`` bytes, else a new one (the old is freed)."""
@@ -126,12 +139,13 @@ def _sized_buffer(ctx: moderngl.Context, buffer: moderngl.Buffer | None,
 
 def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
            mode: str = "points", ctx: moderngl.Context | None = None,
-           fmt: str = "rgba32f", sh_order: int = 1) -> np.ndarray:
+           fmt: str = "rgba32f", offset_cells: float = 0.0, sh_order: int = 1) -> np.ndarray:
     """Inject VPL arrays on the GPU and return the grid as float32 ``(3, N, N, N, C)``,
     C = 4 (``sh_order`` 1, L1) or 9 (``sh_order`` 2, L2).
 
     ``ctx`` None uses a headless context created on first use. VPLs outside the grid are
-    dropped. ``fmt`` is the grid's texture format (``rgba32f`` or ``rgba16f``).
+    dropped. ``fmt`` is the grid's texture format (``rgba32f`` or ``rgba16f``);
+    ``offset_cells`` moves each VPL that many cells along its normal first.
     """
     if not isinstance(vpls, VplArrays):
         raise TypeError(f"vpls must be a VplArrays, got {type(vpls).__name__}")
@@ -146,7 +160,7 @@ def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = No
         textures = VplTextures.from_arrays(ctx, vpls)
         try:
             injector = per_context(ctx, "inject", lambda: InjectPass(ctx, programs_for(ctx)))
-            injector.run(textures, spec, corrections, mode, grid)
+            injector.run(textures, spec, corrections, mode, grid, offset_cells)
             return grid.read()
         finally:
             textures.release()

@@ -11,14 +11,19 @@ Stages and the Settings fields they read:
 scene      scene, camera, light, light_flux (loads the mesh once per scene name)
 rsm        scene, light, light_flux, rsm_size
 downsample (rsm, grid) downsample, downsample_factor
-inject     (downsample, grid) corrections, injection_mode, grid_format, sh_order
+inject     (downsample, grid) corrections, injection_mode, grid_format,
+           injection_offset_cells, sh_order
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
-propagate  (inject, geometry) corrections, iterations (+ keep_steps)
+propagate  (inject, geometry) corrections, iterations, bounces (+ keep_steps)
 gbuffer    scene, camera, width, height
-gather     (gbuffer, rsm, propagate) exposure, indirect_only
+gather     (gbuffer, rsm, propagate) exposure, indirect_only, gather_damping
 ========== ==================================================================
 
-``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``.
+``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``; with
+``cascades`` > 1 it is the list of cascade specs (docs/MODEL.md "Cascades"), which also
+depends on the camera (through the snapped focus point) and on ``cascade_extent`` and
+``cascade_focus``. The inject, geometry and propagate stages then run every cascade
+(their timings hold all cascades together) and the gather blends them.
 
 Timings: on a GPU every pass is timed with a GL timer query (``ctx.query(time=True)``).
 Mesa's llvmpipe reads 0 around compute dispatches and, around draws, either 2³²−1 (no
@@ -39,6 +44,15 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv.audit import EnergyAudit, GridAudit, check_finite
+from explorer.lpv.cascades import (
+    DEFAULT_TEXTURE_BUDGET,
+    CascadeInput,
+    CascadeLevel,
+    cascade_iterations,
+    cascade_specs,
+    focus_point,
+)
+from explorer.lpv.cascades import check_limits as check_cascade_limits
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.gather import GatherPass
 from explorer.lpv.gbuffer import GBufferPass
@@ -90,6 +104,19 @@ class FrameResult:
     """Pass name -> "timer-query" or "wall-clock"."""
     stages_run: tuple[str, ...] = ()
     """The stages that ran for this result (the others were up to date)."""
+    # Cascades (docs/MODEL.md "Cascades"): the fields above without a cascade index
+    # (grid_spec, accumulated, steps, geometry_volume, audit's grid terms) are cascade 0's,
+    # the finest; the lists below hold every cascade, finest first (one entry when
+    # settings.cascades == 1). audit.gathered is the blended final gather's.
+    cascade_specs: list[GridSpec] = field(default_factory=list)
+    """GridSpec of each cascade; [grid_spec] for the single grid."""
+    cascade_accumulated: list[np.ndarray] = field(default_factory=list)
+    """acc_N of each cascade, ``(3, N, N, N, 4)``."""
+    cascade_geometry: list[np.ndarray | None] = field(default_factory=list)
+    """Geometry volume of each cascade (None when off)."""
+    cascade_audits: list[GridAudit] = field(default_factory=list)
+    """Injection and propagation audit of each cascade. Each cascade holds every VPL
+    inside it, so their injected fluxes overlap and must not be summed."""
 
 
 class Pipeline:
@@ -109,6 +136,9 @@ class Pipeline:
         info = ctx.info
         self.max_3d_texture_size = int(info.get("GL_MAX_3D_TEXTURE_SIZE", 0) or 0)
         self.max_texture_size = int(info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
+        self.max_texture_units = int(info.get("GL_MAX_TEXTURE_IMAGE_UNITS", 0) or 0)
+        self.texture_budget_bytes = DEFAULT_TEXTURE_BUDGET
+        """Refuse settings whose LPV textures (all cascades) would need more bytes."""
         renderer = str(info.get("GL_RENDERER", "")).lower()
         self.software_renderer = any(name in renderer for name in ("llvmpipe", "softpipe",
                                                                    "swrast", "lavapipe"))
@@ -133,6 +163,8 @@ class Pipeline:
         self._accumulated_grid: LpvGrid | None = None
         self._arrays: dict[str, object] = {}
         self._grid_audit: GridAudit | None = None
+        self._specs: list[GridSpec] = []
+        self._levels: list[CascadeLevel] = []     # cascades 1.. (cascade 0: the above)
         self.timings_ms: dict[str, float] = {}
         self.timing_methods: dict[str, str] = {}
         self._queries: dict[str, moderngl.Query] = {}
@@ -174,7 +206,8 @@ class Pipeline:
             self._load_scene(s)
             ran.append("scene")
         scene = self._scene
-        spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, s.grid_size)
+        specs = self._cascade_specs(s, scene)
+        spec = specs[0]
         self._spec = spec
 
         # the camera does not change what the light sees: moving it re-runs only the
@@ -202,38 +235,58 @@ class Pipeline:
             ran.append("downsample")
 
         inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format,
-                      s.sh_order)
+                      s.injection_offset_cells, tuple(specs), s.sh_order)
         if self._changed("inject", inject_key):
             self._injected = self._replace_grid(self._injected, s)
-            self._timed("inject", lambda: self._inject.run(
-                self._vpl_textures, spec, s.corrections, s.injection_mode, self._injected))
+
+            def inject_all() -> None:   # cascade 0, then the coarser cascades
+                self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
+                                 self._injected, s.injection_offset_cells)
+                self._inject_cascades(s, specs)
+
+            self._timed("inject", inject_all)
             if s.debug_nan:
                 self._check("inject", self._injected.read())
             ran.append("inject")
 
-        geometry_key = (downsample_key, s.corrections, s.geometry_volume, s.grid_format)
+        geometry_key = (downsample_key, s.corrections, s.geometry_volume, s.grid_format,
+                        tuple(specs))
         if self._changed("geometry", geometry_key):
+            occluders = self._rsm_textures if vpls is None else self._vpl_textures
             if s.geometry_volume == "off":
                 self.timings_ms.pop("geometry", None)
                 self._release_volume()
                 self._arrays["geometry"] = None
+                for level in self._levels:
+                    level.release_volume()
             else:
                 if self._volume is None or self._volume.resolution != spec.resolution or \
                         self._volume.format != s.grid_format:
                     self._release_volume()
                     self._volume = GeometryVolume(self.ctx, spec.resolution, s.grid_format)
-                occluders = self._rsm_textures if vpls is None else self._vpl_textures
-                self._timed("geometry", lambda: self._geometry.run(
-                    occluders, spec, s.corrections, s.geometry_volume, self._volume))
+
+                def geometry_all() -> None:   # cascade 0, then the coarser cascades
+                    self._geometry.run(occluders, spec, s.corrections, s.geometry_volume,
+                                       self._volume)
+                    self._geometry_cascades(s, specs, occluders)
+
+                self._timed("geometry", geometry_all)
                 self._arrays["geometry"] = self._volume.read()
                 self._check("geometry", self._arrays["geometry"])
             ran.append("geometry")
 
-        propagate_key = (inject_key, geometry_key, s.iterations, keep_steps)
+        propagate_key = (inject_key, geometry_key, s.iterations, s.bounces, keep_steps,
+                         s.cascade_iterations)
         if self._changed("propagate", propagate_key):
-            output = self._timed("propagate", lambda: self._propagate.run(
-                self._injected, spec, s.corrections, s.iterations, self._volume,
-                keep_steps=keep_steps))
+
+            def propagate_all():   # cascade 0 (returned), then the coarser cascades
+                finest = self._propagate.run(self._injected, spec, s.corrections,
+                                             cascade_iterations(s, 0), self._volume,
+                                             keep_steps=keep_steps, bounces=s.bounces)
+                self._propagate_cascades(s, specs)
+                return finest
+
+            output = self._timed("propagate", propagate_all)
             self._accumulated_grid = output.accumulated
             self._grid_audit = output.audit
             self._arrays["accumulated"] = output.accumulated.read()
@@ -251,11 +304,13 @@ class Pipeline:
                 self._check("gbuffer", array)
             ran.append("gbuffer")
 
-        gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only)
+        gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only,
+                      s.gather_damping)
         if self._changed("gather", gather_key):
             self._timed("gather", lambda: self._gather.run(
                 self._gbuffer, self._rsm_textures, self._light,
                 self._accumulated_grid.textures, spec, s.exposure, s.indirect_only,
+                s.gather_damping, cascades=self._cascade_inputs(specs),
                 sh_order=self._accumulated_grid.sh_order))
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
@@ -265,6 +320,7 @@ class Pipeline:
             ran.append("gather")
 
         self.last_result = self._result(s, spec, ran)
+        self._add_cascade_results(self.last_result, specs)
         return self.last_result
 
     def invalidate(self, stage: str | None = None) -> None:
@@ -298,6 +354,8 @@ class Pipeline:
         if self.last_result is None:
             self.run()
         scene = self._scene
+        if name == "cascade-weights":
+            options["positions"] = self._arrays["gbuffer"][0]
         return render_view(self.last_result, name, bounds=(scene.bounds_min, scene.bounds_max),
                            **options)
 
@@ -310,6 +368,7 @@ class Pipeline:
                 grid.release()
         self._injected = None
         self._release_volume()
+        self._release_levels(0)
         if self._override_textures is not None:
             self._override_textures.release()
             self._override_textures = None
@@ -384,6 +443,9 @@ class Pipeline:
             if self.max_texture_size and value > self.max_texture_size:
                 raise ValueError(f"{name} {value} exceeds this driver's GL_MAX_TEXTURE_SIZE "
                                  f"{self.max_texture_size}")
+        check_cascade_limits(s.grid_size, s.cascades, s.grid_format,
+                             s.geometry_volume != "off", self.texture_budget_bytes,
+                             self.max_texture_units)
 
     def _check(self, pass_name: str, array) -> None:
         """With ``settings.debug_nan``: a FloatingPointError naming ``pass_name`` if its
@@ -414,6 +476,73 @@ class Pipeline:
         else:
             self.timings_ms[name], self.timing_methods[name] = wall_ms, "wall-clock"
         return result
+
+    # ------------------------------------------------------------------ cascades
+    # docs/MODEL.md "Cascades". Cascade 0 runs through the single-grid code above
+    # (self._injected, self._volume, self._propagate); cascades 1.. live in self._levels
+    # and run through the same pass objects (inject, geometry) or their own
+    # PropagatePass.
+    def _cascade_specs(self, s: Settings, scene: Scene) -> list[GridSpec]:
+        single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, s.grid_size)
+        if s.cascades == 1:
+            specs = [single]
+        else:
+            camera = scene.camera
+            centre = focus_point(camera.eye, camera.target, s.cascade_focus)
+            specs = cascade_specs(single, s.cascades, centre, s.cascade_extent)
+        self._specs = specs
+        return specs
+
+    def _release_levels(self, keep: int) -> None:
+        """Free the cascade levels beyond the first ``keep``."""
+        for level in self._levels[keep:]:
+            level.release()
+        del self._levels[keep:]
+
+    def _cascade_levels(self, specs: list[GridSpec]) -> list[CascadeLevel]:
+        self._release_levels(len(specs) - 1)
+        while len(self._levels) < len(specs) - 1:
+            self._levels.append(CascadeLevel(self.ctx, self.programs))
+        return self._levels
+
+    def _inject_cascades(self, s: Settings, specs: list[GridSpec]) -> None:
+        """Every VPL into every coarser cascade (injection drops those outside a grid)."""
+        for level, spec in zip(self._cascade_levels(specs), specs[1:]):
+            self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
+                             level.grid(spec.resolution, s.grid_format),
+                             s.injection_offset_cells)
+
+    def _geometry_cascades(self, s: Settings, specs: list[GridSpec], occluders) -> None:
+        for level, spec in zip(self._cascade_levels(specs), specs[1:]):
+            volume = level.geometry_volume(spec.resolution, s.grid_format)
+            self._geometry.run(occluders, spec, s.corrections, s.geometry_volume, volume)
+            level.geometry = volume.read()
+            self._check("geometry", level.geometry)
+
+    def _propagate_cascades(self, s: Settings, specs: list[GridSpec]) -> None:
+        """``cascade_iterations(s, k)`` steps in cascade k (the same count in every cascade
+        by default: light then travels 2^k cells of the finest cascade per step)."""
+        for k, (level, spec) in enumerate(zip(self._cascade_levels(specs), specs[1:]), 1):
+            level.output = level.propagate.run(level.injected, spec, s.corrections,
+                                               cascade_iterations(s, k), level.volume,
+                                               bounces=s.bounces)
+            level.accumulated = level.output.accumulated.read()
+            self._check("propagate", level.accumulated)
+
+    def _cascade_inputs(self, specs: list[GridSpec]) -> list[CascadeInput] | None:
+        if len(specs) == 1:
+            return None
+        inputs = [CascadeInput(specs[0], self._accumulated_grid.textures)]
+        inputs += [CascadeInput(spec, level.output.accumulated.textures)
+                   for level, spec in zip(self._levels, specs[1:])]
+        return inputs
+
+    def _add_cascade_results(self, result: FrameResult, specs: list[GridSpec]) -> None:
+        levels = self._levels[: len(specs) - 1]
+        result.cascade_specs = list(specs)
+        result.cascade_accumulated = [result.accumulated] + [lv.accumulated for lv in levels]
+        result.cascade_geometry = [result.geometry_volume] + [lv.geometry for lv in levels]
+        result.cascade_audits = [self._grid_audit] + [lv.output.audit for lv in levels]
 
     # ------------------------------------------------------------------ results
     def gathered_flux(self) -> np.ndarray:
@@ -455,7 +584,10 @@ def render(settings: Settings) -> FrameResult:
 def _digest(vpls: VplArrays) -> str:
     """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
     digest = hashlib.sha1()
-    for array in (vpls.positions, vpls.normals, vpls.flux, vpls.depth):
+    arrays = [vpls.positions, vpls.normals, vpls.flux, vpls.depth]
+    if vpls.albedo is not None:
+        arrays.append(vpls.albedo)
+    for array in arrays:
         digest.update(np.ascontiguousarray(array, np.float32).tobytes())
     digest.update(repr((vpls.texel_area, vpls.projection)).encode())
     return digest.hexdigest()

@@ -56,6 +56,7 @@ class PropagatePass:
     """
 
     GEOMETRY_UNIT = 6
+    ALBEDO_UNIT = 7
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -74,8 +75,16 @@ class PropagatePass:
 
     def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
             iterations: int, geometry: GeometryVolume | None = None,
-            keep_steps: bool = False) -> PropagationOutput:
+            keep_steps: bool = False, bounces: int = 1) -> PropagationOutput:
+        """``bounces`` 2: the geometry volume reflects the light it blocks
+        (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
+        The injected grid's ``sh_order`` selects L1 or L2 propagation."""
         n, fmt, order = spec.resolution, injected.format, injected.sh_order
+        if bounces not in (1, 2) or isinstance(bounces, bool):
+            raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
+        if bounces == 2 and geometry is None:
+            raise ValueError("bounces=2 reflects the light the geometry volume blocks: pass "
+                             "a geometry volume")
         if injected.resolution != n:
             raise ValueError(f"the injected grid has {injected.resolution}^3 cells but the "
                              f"grid spec has {n}^3")
@@ -98,6 +107,7 @@ class PropagatePass:
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
             "u_geometry": self.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
+            "u_geometry_albedo": self.ALBEDO_UNIT, "u_reflect": bounces == 2,
         })
         groups = dispatch_size(n)
         source = injected
@@ -111,6 +121,7 @@ class PropagatePass:
             source.use_as_textures(0)
             if geometry is not None:
                 geometry.use_as_texture(self.GEOMETRY_UNIT)
+                geometry.albedo.texture.use(self.ALBEDO_UNIT)
             target.bind_images(0)
             accumulated.bind_images(3)
             self.audit.bind()
@@ -132,6 +143,8 @@ class PropagatePass:
             clamp_gain=sums[1: iterations + 1, 6:9],
             occluded=sums[1: iterations + 1, 9:12],
             accumulated=sums[iterations + 1, 0:3],
+            reflected=sums[1: iterations + 1, 12:15],
+            blocked=sums[1: iterations + 1, 15:18],
         )
         return PropagationOutput(accumulated=accumulated, steps=steps, audit=audit)
 
@@ -145,9 +158,11 @@ class PropagatePass:
 def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = None,
                          iterations: int = 1, geometry: np.ndarray | None = None,
                          ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
+                         geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
-    ``grid`` (4 or 9 coefficients) selects L1 or L2."""
+    ``grid`` (4 or 9 coefficients) selects L1 or L2.
+    ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2)."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
         raise ValueError(f"grid must have shape (3, N, N, N, 4) or (3, N, N, N, 9), got "
@@ -164,11 +179,13 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
         injected.write(grid)
         if geometry is not None:
             volume = GeometryVolume(ctx, n, fmt)
-            volume.write(check_volume_array(geometry, n + 1, "geometry"))
+            volume.write(check_volume_array(geometry, n + 1, "geometry"),
+                         None if geometry_albedo is None else
+                         check_volume_array(geometry_albedo, n + 1, "geometry_albedo"))
         propagator = per_context(ctx, "propagate",
                                  lambda: PropagatePass(ctx, programs_for(ctx)))
         output = propagator.run(injected, spec, corrections, iterations, volume,
-                                keep_steps=True)
+                                keep_steps=True, bounces=bounces)
         return output.steps, output.accumulated.read(), output.audit
     finally:
         injected.release()

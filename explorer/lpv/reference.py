@@ -123,16 +123,30 @@ def _check_geometry(geometry: np.ndarray | None, resolution: int) -> np.ndarray 
 # --------------------------------------------------------------------------- injection
 
 
+def injection_positions(vpls: VplArrays, spec: GridSpec, offset_cells: float = 0.0
+                        ) -> np.ndarray:
+    """(M, 3) where the VPLs are injected: ``p + δ·cell_size·n`` (docs/MODEL.md
+    "Injection")."""
+    offset = float(offset_cells)
+    if not (np.isfinite(offset) and offset >= 0.0):
+        raise ValueError(f"the injection offset must be a finite number of cells >= 0, got "
+                         f"{offset_cells!r}")
+    positions = np.asarray(vpls.positions, np.float64)
+    return positions + offset * spec.cell_size * np.asarray(vpls.normals, np.float64)
+
+
 def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
-           mode: str = "points", sh_order: int = 1) -> np.ndarray:
-    """grid[c, cell(p)] += k_I·Φ[c]·lobe(n) for every VPL inside the grid (both injection
-    modes compute this same sum); ``sh_order`` 2 uses the 9-coefficient L2 lobe."""
+           mode: str = "points", offset_cells: float = 0.0, sh_order: int = 1
+           ) -> np.ndarray:
+    """grid[c, cell(p + δ·h·n)] += k_I·Φ[c]·lobe(n) for every VPL inside the grid (both
+    injection modes compute this same sum); δ = ``offset_cells``, h the cell size;
+    ``sh_order`` 2 uses the 9-coefficient L2 lobe."""
     if mode not in INJECTION_MODES:
         raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
     corrections = corrections or Corrections()
     n = spec.resolution
     grid = np.zeros((3, n, n, n, SH_COEFFICIENTS[_order(sh_order)]))
-    cells = spec.cell_index(vpls.positions)
+    cells = spec.cell_index(injection_positions(vpls, spec, offset_cells))
     keep = spec.inside(cells)
     ix, iy, iz = cells[keep].T
     lobes = injection_factor(corrections) * cosine_lobe(np.asarray(vpls.normals)[keep],
@@ -164,6 +178,25 @@ def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | 
     return volume
 
 
+def inject_geometry_albedo(vpls: VplArrays, spec: GridSpec,
+                           corrections: Corrections | None = None) -> np.ndarray:
+    """(N+1)³×4 albedo sums of the geometry volume: each surfel adds
+    A/cell_size²·(a_r, a_g, a_b, 1) to the same geometry cell as in
+    :func:`inject_geometry` (zeros when the VPLs carry no albedo)."""
+    corrections = corrections or Corrections()
+    size = spec.resolution + 1
+    sums = np.zeros((size, size, size, 4))
+    if vpls.albedo is None:
+        return sums
+    cells = np.floor(spec.grid_coords(vpls.positions) + 0.5).astype(np.int64)
+    keep = np.all((cells >= 0) & (cells < size), axis=1)
+    area = vpls.surfel_area(corrections.surfel_area_squared)[keep] / spec.cell_size ** 2
+    albedo = np.asarray(vpls.albedo, np.float64)[keep]
+    values = area[:, None] * np.hstack([albedo, np.ones((len(albedo), 1))])
+    np.add.at(sums, tuple(cells[keep].T), values)
+    return sums
+
+
 # --------------------------------------------------------------------------- propagation
 
 
@@ -193,27 +226,57 @@ def _face_blockers(geometry: np.ndarray, axis: int, sign: int) -> np.ndarray:
     return np.moveaxis(mean, 0, axis)
 
 
+def _reflection_normals(blockers: np.ndarray, axis: int, sign: int) -> np.ndarray:
+    """(N, N, N, 3) direction of the reflected lobe per source cell: the blockers' mean
+    normal (band 1 of lobe(n) is (−c·n.y, c·n.z, −c·n.x)) where it faces back towards the
+    source (⟨normal, −d⟩ > 0), else −d."""
+    normal = np.stack([-blockers[..., 3], -blockers[..., 1], blockers[..., 2]], -1)
+    back = np.zeros(3)
+    back[axis] = -sign
+    facing = normal @ back > 0.0
+    length = np.linalg.norm(normal, axis=-1, keepdims=True)
+    unit = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+    return np.where(facing[..., None], unit, back)
+
+
 def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
-                     geometry: np.ndarray | None = None
+                     geometry: np.ndarray | None = None,
+                     geometry_albedo: np.ndarray | None = None, bounces: int = 1
                      ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
     ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
-    ``occluded`` and ``border_loss``. L1 or L2 after the grid's last axis; the geometry
-    volume is L1 either way."""
+    ``occluded``, ``border_loss``, ``reflected`` and ``blocked`` (the blocked flux that can
+    bounce: per source cell and direction, clamp+; only with ``bounces`` 2). L1 or L2
+    after the grid's last axis; the geometry volume is L1 either way.
+
+    ``bounces`` 2 (docs/MODEL.md "More bounces"): for every source cell and direction,
+    the flux the geometry volume blocks on the five faces, clamp+, times the shared face's
+    area-weighted mean albedo (``geometry_albedo`` sums), goes back into the source cell as
+    a cosine lobe (of the grid's order) around the blockers' normal."""
     corrections = corrections or Corrections()
     grid = _check_grid(grid)
     order = grid_sh_order(grid)
     n = grid.shape[1]
     geometry = _check_geometry(geometry, n)
+    if bounces not in (1, 2):
+        raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
+    reflect = bounces == 2
+    if reflect and geometry is None:
+        raise ValueError("bounces=2 reflects the light the geometry volume blocks: pass "
+                         "a geometry volume")
+    if reflect:
+        geometry_albedo = _check_geometry(
+            np.zeros_like(geometry) if geometry_albedo is None else geometry_albedo, n)
     front_angle, side_angle = face_solid_angles(corrections)
     scale = (reprojection_factor(corrections) * injection_factor(corrections)
              * propagation_factor(corrections))
     out = np.zeros_like(grid)
     terms = {name: np.zeros(3) for name in
-             ("propagated", "clamp_gain", "occluded", "border_loss")}
+             ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked")}
     for axis in range(3):
         for sign in (1, -1):
             blockers = None if geometry is None else _face_blockers(geometry, axis, sign)
+            blocked = np.zeros((3, n, n, n))   # flux the volume takes, per source cell
             # Sources whose neighbour along the direction is inside, and those neighbours.
             inside = [slice(None)] * 3
             shifted = [slice(None)] * 3
@@ -241,24 +304,41 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                     used * (1.0 - visibility)).reshape(3, -1).sum(1)
                 terms["border_loss"] += K.SH_FLUX_FACTOR * lobe[0] * sent[
                     (slice(None), *leaving)].reshape(3, -1).sum(1)
+                blocked += flux_per_intensity * used * (1.0 - visibility)
+            if reflect:
+                sums = _face_blockers(geometry_albedo, axis, sign)           # (N, N, N, 4)
+                area = sums[..., 3]
+                albedo = np.divide(sums[..., :3], area[..., None],
+                                   out=np.zeros_like(sums[..., :3]), where=area[..., None] > 0)
+                bounced = np.maximum(blocked, 0.0)
+                terms["blocked"] += bounced.reshape(3, -1).sum(1)
+                reflected = np.moveaxis(albedo, -1, 0) * bounced
+                lobes = cosine_lobe(_reflection_normals(blockers, axis, sign), order)
+                per_watt = lobes / (K.SH_FLUX_FACTOR * lobes[..., :1])
+                out += reflected[..., None] * per_watt
+                terms["reflected"] += reflected.reshape(3, -1).sum(1)
     return out, terms
 
 
 def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
-                      iterations: int = 1, geometry: np.ndarray | None = None
+                      iterations: int = 1, geometry: np.ndarray | None = None,
+                      geometry_albedo: np.ndarray | None = None, bounces: int = 1
                       ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """grid_0..grid_N, acc_N and the audit. Ping-pong: grid_t = P(grid_{t−1}); in place:
-    grid_t = P(acc_{t−1}) (the light step t adds). Either way acc_N = Σ grid_t."""
+    grid_t = P(acc_{t−1}) (the light step t adds). Either way acc_N = Σ grid_t.
+    ``geometry_albedo``, ``bounces``: see :func:`propagation_step`."""
     corrections = corrections or Corrections()
     grid = _check_grid(grid)
     if int(iterations) < 0:
         raise ValueError(f"iterations must be >= 0, got {iterations}")
     steps = [grid]
     accumulated = grid.copy()
-    terms = {name: [] for name in ("clamp_gain", "occluded", "border_loss")}
+    terms = {name: [] for name in ("clamp_gain", "occluded", "border_loss", "reflected",
+                                   "blocked")}
     for _ in range(int(iterations)):
         source = steps[-1] if corrections.ping_pong else accumulated
-        step, step_terms = propagation_step(source, corrections, geometry)
+        step, step_terms = propagation_step(source, corrections, geometry, geometry_albedo,
+                                            bounces)
         for name in terms:
             terms[name].append(step_terms[name])
         steps.append(step)
@@ -271,11 +351,66 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
         clamp_gain=np.array(terms["clamp_gain"]).reshape(-1, 3) if iterations else empty,
         occluded=np.array(terms["occluded"]).reshape(-1, 3) if iterations else empty,
         accumulated=flux(accumulated),
+        reflected=np.array(terms["reflected"]).reshape(-1, 3) if iterations else empty,
+        blocked=np.array(terms["blocked"]).reshape(-1, 3) if iterations else empty,
     )
     return steps, accumulated, audit
 
 
 def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
-              geometry: np.ndarray | None = None) -> list[np.ndarray]:
+              geometry: np.ndarray | None = None, geometry_albedo: np.ndarray | None = None,
+              bounces: int = 1) -> list[np.ndarray]:
     """grid_0..grid_N (see :func:`propagate_audited`)."""
-    return propagate_audited(grid, corrections, iterations, geometry)[0]
+    return propagate_audited(grid, corrections, iterations, geometry, geometry_albedo,
+                             bounces)[0]
+
+
+# --------------------------------------------------------------------------- final gather
+
+
+def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
+    """Trilinear lookup of a (3, N, N, N, 4) grid at world points (P, 3) -> (3, P, 4),
+    clamped to the edge like the GPU's linear filter (texel centres at ``i + ½``)."""
+    n = spec.resolution
+    u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
+    base = np.floor(u).astype(np.int64)
+    frac = u - base
+    out = np.zeros((grid.shape[0], len(u), 4))
+    for corner in np.ndindex(2, 2, 2):
+        offset = np.array(corner)
+        weight = np.prod(np.where(offset == 1, frac, 1.0 - frac), axis=1)
+        ix, iy, iz = np.clip(base + offset, 0, n - 1).T
+        out += weight[None, :, None] * grid[:, ix, iy, iz, :]
+    return out
+
+
+def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                      normals: np.ndarray, offset: float = 0.0) -> np.ndarray:
+    """(P, 3) irradiance ``clamp+(⟨s(x), lobe(−n)⟩)/h²`` at ``x = p + offset·n`` (world
+    units; docs/MODEL.md "Final gather")."""
+    normals = np.asarray(normals, np.float64)
+    samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
+    lobes = cosine_lobe(-normals)
+    irradiance = np.einsum("cpk,pk->pc", samples, lobes)
+    return np.maximum(irradiance, 0.0) / spec.cell_size ** 2
+
+
+def derivative_damping(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                       normals: np.ndarray) -> np.ndarray:
+    """(P, 3) factors ``clamp(E(p + ½h·n)/E(p − ½h·n), 0, 1)`` per channel, 1 where
+    ``E(p − ½h·n) = 0`` (docs/MODEL.md "Final gather", derivative damping)."""
+    half = 0.5 * spec.cell_size
+    front = gather_irradiance(grid, spec, positions, normals, half)
+    back = gather_irradiance(grid, spec, positions, normals, -half)
+    ratio = np.divide(front, back, out=np.ones_like(front), where=back > 0)
+    return np.clip(ratio, 0.0, 1.0)
+
+
+def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.ndarray,
+           damping: bool = False) -> np.ndarray:
+    """(P, 3) indirect irradiance the final gather computes at surface points: E(p), times
+    the derivative damping factor when ``damping``."""
+    irradiance = gather_irradiance(grid, spec, positions, normals)
+    if damping:
+        irradiance = irradiance * derivative_damping(grid, spec, positions, normals)
+    return irradiance

@@ -85,7 +85,8 @@ def light_view(scene: Scene, size: int) -> LightView:
 
 
 class RsmPass:
-    """Renders the RSM of a scene into three ``rgba32f`` textures (+ a depth buffer)."""
+    """Renders the RSM of a scene into four ``rgba32f`` textures (position, normal, flux,
+    albedo) and a depth buffer."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -103,7 +104,7 @@ class RsmPass:
         if max_size and size > max_size:
             raise ValueError(f"rsm_size {size} exceeds this driver's GL_MAX_TEXTURE_SIZE "
                              f"{max_size}")
-        self._textures = [self.ctx.texture((size, size), 4, dtype="f4") for _ in range(3)]
+        self._textures = [self.ctx.texture((size, size), 4, dtype="f4") for _ in range(4)]
         for texture in self._textures:
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
             texture.repeat_x = texture.repeat_y = False
@@ -121,9 +122,10 @@ class RsmPass:
             self._framebuffer.viewport = (0, 0, view.size, view.size)
             self._framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
             geometry.draw(program)
-        position, normal, flux = self._textures
+        position, normal, flux, albedo = self._textures
         return VplTextures(position, normal, flux, texel_area=view.texel_area,
-                           projection="orthographic" if view.orthographic else "perspective")
+                           projection="orthographic" if view.orthographic else "perspective",
+                           albedo=albedo)
 
     def _free(self) -> None:
         if self._framebuffer is not None:

@@ -32,13 +32,17 @@ def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:
 
 
 def render_view(result, name: str, bounds=None, z: int | None = None,
-                coefficient: int | None = None, exposure: float | None = None
+                coefficient: int | None = None, exposure: float | None = None,
+                cascade: int | None = None, positions: np.ndarray | None = None
                 ) -> np.ndarray:
     """The image of ``result`` for view ``name``.
 
     Options: ``exposure`` (direct/indirect; default the frame's), ``z`` (slice index of
     the grid views; default the middle), ``coefficient`` (grid-slice: None shows the flux
-    of each cell 2√π·c0 per colour; 0..3 shows that SH coefficient signed around grey).
+    of each cell 2√π·c0 per colour; 0..3 shows that SH coefficient signed around grey),
+    ``cascade`` (grid views: which cascade, 0 = the finest, the default); ``positions``
+    (cascade-weights: the G-buffer's world positions ``(H, W, 4)``, w = 1 where a surface
+    is seen; :meth:`Pipeline.view` passes them).
     """
     settings = result.settings
     exposure = settings.exposure if exposure is None else float(exposure)
@@ -61,16 +65,51 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     if name == "rsm-flux":
         return linear_to_srgb(normalise(result.rsm_flux[..., :3]))
     if name == "grid-slice":
-        return grid_slice(result.accumulated, z, coefficient)
+        return grid_slice(_cascade_item(result, "accumulated", cascade), z, coefficient)
     if name == "geometry-volume":
-        volume = result.geometry_volume
+        volume = _cascade_item(result, "geometry", cascade)
         if volume is None:   # geometry volume off: nothing blocks
             n = result.grid_spec.resolution + 1
             return np.zeros((n, n, 3), np.float32)
         index = volume.shape[2] // 2 if z is None else int(z)
         blocking = normalise(volume[:, :, index, 0]).T[::-1]
         return np.repeat(np.clip(blocking, 0.0, 1.0)[..., None], 3, axis=2).astype(np.float32)
+    if name == "cascade-weights":
+        if positions is None:
+            raise ValueError("the cascade-weights view needs the G-buffer positions")
+        return cascade_weight_image(result.cascade_specs or [result.grid_spec], positions)
     raise ValueError(f"unknown view {name!r}")
+
+
+CASCADE_COLOURS = np.array([[0.95, 0.35, 0.15], [0.25, 0.8, 0.3], [0.25, 0.45, 0.95],
+                            [0.9, 0.85, 0.2]], np.float32)
+"""Display colour of cascades 0..3 in the cascade-weights view (finest: orange-red)."""
+
+
+def cascade_weight_image(specs, positions: np.ndarray) -> np.ndarray:
+    """Each visible pixel coloured by the final gather's blend weights (docs/MODEL.md
+    "Cascades"): ``Σ_k W_k·colour_k``; pure colours where one cascade is used, mixtures in
+    the blend bands, black background."""
+    from explorer.lpv.cascades import blend_weights
+
+    positions = np.asarray(positions, np.float32)
+    weights = blend_weights(list(specs), positions[..., :3])
+    image = weights @ CASCADE_COLOURS[: weights.shape[-1]]
+    image *= (positions[..., 3:4] > 0.5)
+    return np.clip(image, 0.0, 1.0).astype(np.float32)
+
+
+def _cascade_item(result, what: str, cascade: int | None):
+    """Cascade ``cascade``'s accumulated grid or geometry volume (None/0: cascade 0, the
+    FrameResult's own field)."""
+    single = result.accumulated if what == "accumulated" else result.geometry_volume
+    if not cascade:
+        return single
+    items = getattr(result, f"cascade_{what}", None) or [single]
+    if not 0 <= int(cascade) < len(items):
+        raise ValueError(f"cascade {cascade} does not exist: this frame has {len(items)} "
+                         f"cascade(s), 0..{len(items) - 1}")
+    return items[int(cascade)]
 
 
 def grid_slice(grid: np.ndarray, z: int | None = None, coefficient: int | None = None

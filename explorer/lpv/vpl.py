@@ -24,6 +24,8 @@ class VplArrays:
     ``depth`` (M,) view depth from the light (used for the surfel area);
     ``texel_area``: for ``projection == "perspective"`` the area of one texel at depth 1
     (``4/(W·H)`` for a 90° frustum), for ``"orthographic"`` the world area of one texel.
+    ``albedo`` (M, 3), optional: the diffuse reflectance of each VPL's surface, which the
+    geometry volume needs to reflect blocked light (``Settings.bounces`` 2); None = 0.
     """
 
     positions: np.ndarray
@@ -32,10 +34,13 @@ class VplArrays:
     depth: np.ndarray
     texel_area: float
     projection: str = "perspective"
+    albedo: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         count = _rows(self.positions, "positions", 3)
-        for name, cols in (("normals", 3), ("flux", 3)):
+        named = [("normals", 3), ("flux", 3)] + ([("albedo", 3)] if self.albedo is not None
+                                                 else [])
+        for name, cols in named:
             if _rows(getattr(self, name), name, cols) != count:
                 raise ValueError(f"{name} must have {count} rows like positions")
         depth = np.asarray(self.depth)
@@ -66,7 +71,9 @@ class VplTextures:
 
     ``position.xyz`` world position, ``position.w`` = 1 where the light saw a surface and
     0 elsewhere (such texels are skipped); ``normal.xyz`` unit normal, ``normal.w`` = view
-    depth from the light; ``flux.rgb`` watts per channel.
+    depth from the light; ``flux.rgb`` watts per channel. ``albedo`` (optional, same size):
+    ``albedo.rgb`` the surface's diffuse reflectance (the RSM writes it; the geometry volume
+    reads it for ``Settings.bounces`` 2).
     """
 
     position: moderngl.Texture
@@ -74,6 +81,7 @@ class VplTextures:
     flux: moderngl.Texture
     texel_area: float
     projection: str = "perspective"
+    albedo: moderngl.Texture | None = None
 
     @property
     def size(self) -> tuple[int, int]:
@@ -96,11 +104,17 @@ class VplTextures:
         normal[:count, :3] = vpls.normals
         normal[:count, 3] = vpls.depth
         flux[:count, :3] = vpls.flux
+        arrays = [position, normal, flux]
+        if vpls.albedo is not None:
+            albedo = np.zeros_like(position)
+            albedo[:count, :3] = vpls.albedo
+            arrays.append(albedo)
         textures = [ctx.texture((width, height), 4, data.tobytes(), dtype="f4")
-                    for data in (position, normal, flux)]
+                    for data in arrays]
         for texture in textures:
             texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        return cls(*textures, texel_area=vpls.texel_area, projection=vpls.projection)
+        return cls(*textures[:3], texel_area=vpls.texel_area, projection=vpls.projection,
+                   albedo=textures[3] if len(textures) > 3 else None)
 
     def to_arrays(self) -> VplArrays:
         """Read the valid texels back as arrays (row-major over the texture)."""
@@ -109,13 +123,15 @@ class VplTextures:
 
         position, normal, flux = read(self.position), read(self.normal), read(self.flux)
         valid = position[:, 3] > 0.5
+        albedo = None if self.albedo is None else read(self.albedo)[valid, :3].copy()
         return VplArrays(position[valid, :3].copy(), normal[valid, :3].copy(),
                          flux[valid, :3].copy(), normal[valid, 3].copy(),
-                         self.texel_area, self.projection)
+                         self.texel_area, self.projection, albedo)
 
     def release(self) -> None:
-        for texture in (self.position, self.normal, self.flux):
-            texture.release()
+        for texture in (self.position, self.normal, self.flux, self.albedo):
+            if texture is not None:
+                texture.release()
 
 
 def _rows(array: np.ndarray, name: str, cols: int) -> int:

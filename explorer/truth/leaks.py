@@ -1,9 +1,11 @@
 """Numpy prototype of two published leak reductions, measured against the reference.
 
-Not part of the GPU pipeline: it re-runs injection and propagation with the numpy
-reference (``explorer.lpv.reference``) and a numpy copy of the final gather, so that the
-options can be measured before anyone changes a shader. ``python -m explorer.truth.leaks
---scene room`` prints the table recorded in docs/ERRORS.md.
+It re-runs injection and propagation with the numpy reference (``explorer.lpv.reference``,
+whose ``gather`` mirrors the GPU's final gather). The pipeline now has the first two as
+``Settings.injection_offset_cells`` and ``Settings.gather_damping`` (measured with
+``lpv-explorer compare`` in docs/ERRORS.md); this study also tries the gather offset.
+``python -m explorer.truth.leaks --scene room`` prints the table recorded in
+docs/ERRORS.md.
 
 * **Injection offset** (Kaplanyan & Dachsbacher): inject each VPL at ``p + δ·h·n``
   (``h`` the cell size, ``δ = ½``) instead of ``p``, so a VPL lands in the cell in front of
@@ -27,46 +29,13 @@ import numpy as np
 
 from explorer.lpv import reference as lpv_reference
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.reference import derivative_damping, gather_irradiance, sample_grid
 from explorer.lpv.vpl import VplArrays
 
+__all__ = ["VARIANTS", "derivative_damping", "gather_irradiance", "offset_vpls",
+           "sample_grid", "study", "variant_irradiance"]
+
 VARIANTS = ("baseline", "inject-offset", "gather-offset", "damping", "inject-offset+damping")
-
-
-def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
-    """Trilinear lookup of a (3, N, N, N, 4) grid at world points (P, 3) -> (3, P, 4),
-    clamped to the edge like the GPU's linear filter (texel centres at ``i + ½``)."""
-    n = spec.resolution
-    u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
-    base = np.floor(u).astype(np.int64)
-    frac = u - base
-    out = np.zeros((grid.shape[0], len(u), 4))
-    for corner in np.ndindex(2, 2, 2):
-        offset = np.array(corner)
-        weight = np.prod(np.where(offset == 1, frac, 1.0 - frac), axis=1)
-        ix, iy, iz = np.clip(base + offset, 0, n - 1).T
-        out += weight[None, :, None] * grid[:, ix, iy, iz, :]
-    return out
-
-
-def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
-                      normals: np.ndarray, offset: float = 0.0) -> np.ndarray:
-    """(P, 3) irradiance ``clamp+(⟨s(x), lobe(−n)⟩)/h²`` at ``x = p + offset·n``
-    (docs/MODEL.md "Final gather")."""
-    normals = np.asarray(normals, np.float64)
-    samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
-    lobes = lpv_reference.cosine_lobe(-normals)
-    irradiance = np.einsum("cpk,pk->pc", samples, lobes)
-    return np.maximum(irradiance, 0.0) / spec.cell_size ** 2
-
-
-def derivative_damping(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
-                       normals: np.ndarray) -> np.ndarray:
-    """(P, 3) factors in [0, 1]: ``clamp(E(p + ½h·n)/E(p − ½h·n), 0, 1)`` (module doc)."""
-    half = 0.5 * spec.cell_size
-    front = gather_irradiance(grid, spec, positions, normals, half)
-    back = gather_irradiance(grid, spec, positions, normals, -half)
-    ratio = np.divide(front, back, out=np.ones_like(front), where=back > 0)
-    return np.clip(ratio, 0.0, 1.0)
 
 
 def offset_vpls(vpls: VplArrays, distance: float) -> VplArrays:

@@ -27,6 +27,7 @@ from typing import Callable
 import numpy as np
 
 from explorer.gl.window import Window
+from explorer.lpv.settings import Settings
 from explorer.ui import persist
 from explorer.ui.state import AppState
 
@@ -55,7 +56,8 @@ def _default_pipeline_factory():
 
 
 class App:
-    def __init__(self, state: AppState | None = None, *, width: int = 1600, height: int = 960,
+    def __init__(self, state: AppState | None = None, *, width: int | None = None,
+                 height: int | None = None,
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
@@ -67,7 +69,9 @@ class App:
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-        self.window = Window(width, height, visible=visible, vsync=vsync)
+        # The window opens at the given size, else at the size it had when it was closed.
+        saved_w, saved_h = self.state.window_size
+        self.window = Window(width or saved_w, height or saved_h, visible=visible, vsync=vsync)
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
@@ -200,6 +204,8 @@ class App:
 
         if self.persist_settings:
             try:
+                if not self.window.minimised:
+                    self.state.window_size = self.window.size
                 persist.save_state(self.state)
             except OSError as exc:
                 print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)
@@ -319,6 +325,10 @@ class App:
     def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
         rt = self.state.runtime
         text = f"{type(exc).__name__}: {exc}"
+        if self._good_scene is None and settings.scene != Settings().scene and side == "A":
+            # The scene saved last time (a mesh since moved, say) cannot open: start from
+            # the default scene rather than an empty view.
+            self._good_scene = (Settings().scene, None, None, None)
         scene_error = self._good_scene is not None and settings.scene != self._good_scene[0]
         if scene_error and side == "A":
             # A mesh that fails to load: say so and keep the previous scene.
@@ -450,10 +460,13 @@ class App:
         for panel in PANELS:
             if not state.open_panels.get(panel.title, True):
                 continue
-            if not panel.padding or panel.title == "View":
+            if state.requests.focus_panel == panel.title and not self._needs_layout:
+                imgui.set_next_window_focus()
+                state.requests.focus_panel = None
+            if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
             expanded, still_open = imgui.begin(panel.title, True)
-            if not panel.padding or panel.title == "View":
+            if not panel.padding:
                 imgui.pop_style_var()
             if expanded:
                 try:

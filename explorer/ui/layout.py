@@ -31,11 +31,11 @@ class Panel:
     title: str
     gui: Callable[[AppState], None]
     area: str = "right"
-    padding: bool = True      # False: the content touches the window edges (the 3D view)
+    padding: bool = True      # False: (almost) no margin around the content (the 3D view)
 
 
 PANELS: list[Panel] = [
-    Panel("View", gui_view, "centre"),
+    Panel("View", gui_view, "centre", padding=False),
     Panel("Lessons", gui_lesson, "left"),   # first in its dock: the tab shown at start
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),

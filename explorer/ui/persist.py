@@ -104,6 +104,7 @@ def state_to_dict(state: AppState) -> dict:
         "auto_exposure": state.auto_exposure,
         "render_scale": state.render_scale,
         "mesh_path": state.mesh_path,
+        "window_size": list(state.window_size),
         "inspect": dataclasses.asdict(state.inspect),
         "open_panels": dict(state.open_panels),
         "layout_panels": list(state.layout_panels),
@@ -140,6 +141,11 @@ def apply_dict(state: AppState, data: Any) -> None:
     state.auto_exposure = bool(data.get("auto_exposure", False))
     state.render_scale = min(max(float(data.get("render_scale", 1.0)), 0.25), 2.0)
     state.mesh_path = str(data.get("mesh_path", ""))
+    size = data.get("window_size", [1600, 960])
+    if (not isinstance(size, list) or len(size) != 2
+            or not all(isinstance(v, int) and 200 <= v <= 16384 for v in size)):
+        raise SettingsFileError(f"window_size must be [width, height] in pixels, got {size!r}")
+    state.window_size = (size[0], size[1])
     state.inspect = inspect
     state.open_panels = dict(panels)
     layout_panels = data.get("layout_panels", [])

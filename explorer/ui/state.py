@@ -47,6 +47,7 @@ class InspectState:
     playing: bool = False
     play_rate: float = 4.0            # iterations per second while playing
     signed_scale: float = 0.0         # 0 = automatic scaling of signed data
+    glyphs: bool = False              # draw SH glyphs over grid slices
 
 
 @dataclass
@@ -97,6 +98,7 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
+    focus_panel: str | None = None    # bring this panel's tab to the front
     quit: bool = False
 
 
@@ -113,6 +115,7 @@ class AppState:
     render_scale: float = 1.0         # render resolution / view panel pixels
     follow_view_size: bool = True     # render at the view panel's size
     mesh_path: str = ""
+    window_size: tuple[int, int] = (1600, 960)
     inspect: InspectState = field(default_factory=InspectState)
     open_panels: dict[str, bool] = field(default_factory=dict)
     lesson_id: str | None = None

@@ -63,6 +63,56 @@ def gui_inspect(state: AppState) -> None:
     if top is not None:
         scale_bar(imgui.get_window_draw_list(), imgui.ImVec2(pos.x + size.x + 8, pos.y),
                   size.y, top, signed)
+    grid = _shown_grid(state, result)
+    if grid is not None:
+        _, ins.glyphs = imgui.checkbox("SH glyphs (intensity in the slice plane)", ins.glyphs)
+        if ins.glyphs:
+            _draw_glyphs(grid, ins.slice_z, pos, size)
+
+
+def _shown_grid(state: AppState, result):
+    ins = state.inspect
+    if ins.source == "grid-slice":
+        return result.accumulated
+    if ins.source == "propagation" and result.steps:
+        return result.steps[min(ins.iteration, len(result.steps) - 1)]
+    return None
+
+
+_GLYPH_SAMPLES = 20
+_GLYPH_MAX_CELLS = 48
+
+
+def _draw_glyphs(grid: np.ndarray, z: int, pos, size) -> None:
+    """Per cell, a polar curve of the radiant intensity (mean of the channels) toward the
+    directions of the slice plane: where light in that cell is heading."""
+    n = grid.shape[1]
+    if n > _GLYPH_MAX_CELLS:
+        imgui.text_disabled(f"glyphs are drawn for grids up to {_GLYPH_MAX_CELLS}³")
+        return
+    z = int(np.clip(z if z >= 0 else n // 2, 0, n - 1))
+    coeffs = grid[:, :, :, z, :].mean(axis=0)                   # (x, y, 4)
+    angles = np.linspace(0.0, 2.0 * np.pi, _GLYPH_SAMPLES, endpoint=False)
+    dirs = np.stack([np.cos(angles), np.sin(angles), np.zeros_like(angles)], axis=1)
+    basis = np.stack([images.sh_basis(d) for d in dirs], axis=1)  # (4, samples)
+    intensity = np.maximum(coeffs @ basis, 0.0)                 # (x, y, samples)
+    peak = float(intensity.max())
+    if peak <= 0.0:
+        return
+    cell_w, cell_h = size.x / n, size.y / n
+    radius = 0.5 * min(cell_w, cell_h) * intensity / peak
+    draw = imgui.get_window_draw_list()
+    colour = imgui.get_color_u32(imgui.ImVec4(0.55, 0.85, 1.0, 0.9))
+    for x in range(n):
+        for y in range(n):
+            r = radius[x, y]
+            if r.max() < 0.6:          # under a pixel: nothing to see
+                continue
+            cx = pos.x + (x + 0.5) * cell_w
+            cy = pos.y + (n - 1 - y + 0.5) * cell_h      # image rows run from high y down
+            points = [imgui.ImVec2(cx + r[i] * dirs[i, 0], cy - r[i] * dirs[i, 1])
+                      for i in range(_GLYPH_SAMPLES)]
+            draw.add_polyline(points, colour, 1.0, imgui.ImDrawFlags_.closed)
 
 
 def _grid_controls(state: AppState, resolution: int, components: bool = True) -> None:

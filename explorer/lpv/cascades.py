@@ -1,0 +1,238 @@
+"""Cascaded LPV: nested grids around the viewer (docs/MODEL.md "Cascades").
+
+Cascade ``k`` has ``grid_size``³ cells of edge ``c_k = c_0·2^k``. All cascades are
+centred on one *focus point* on the camera's line of sight (``Settings.cascade_focus``:
+0 = the eye, 1 = the camera's target), each snapped to the lattice of its own cell size
+so that moving the camera moves a cascade only by whole cells (no swimming). The lattice
+is anchored at the single grid's origin (:meth:`GridSpec.enclosing` of the scene).
+
+Every VPL is injected into every cascade that contains it (injection drops VPLs outside
+a grid), so each cascade holds and propagates all the light inside it; the final gather
+blends the cascades with weights that form a partition of unity, so no VPL is counted
+twice (:func:`blend_weights`, mirrored in ``shaders/cascades.glsl``).
+
+``cascades == 1`` is exactly the single scene-enclosing grid the pipeline always used.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.settings import MAX_CASCADES   # = MAX_CASCADES in cascades.glsl
+CASCADE_EDGE_CELLS = 0.5
+"""Outer shell of a cascade (in its cells) where its weight is 0: within half a cell of
+the border a trilinear lookup has no outer neighbour to blend with."""
+CASCADE_BAND_CELLS = 2.0
+"""Width (in the cascade's cells) of the band inside that shell over which a cascade's
+weight rises from 0 to 1 (smoothstep)."""
+MIN_CASCADE_GRID = 8
+"""Smallest grid_size with several cascades: a cascade must hold its finer neighbour
+(N/2 − 1 fine cells of room on each side, see :func:`cascade_specs`) plus the band."""
+TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
+GRIDS_PER_CASCADE = 4
+"""Light grids one cascade keeps on the GPU: injected, ping, pong, accumulated."""
+AUDIT_BYTES_PER_CELL = 48
+"""Per-cell audit records the propagation writes (12 floats)."""
+DEFAULT_TEXTURE_BUDGET = 4 << 30
+"""Default limit of the pipeline's LPV texture memory (bytes, all cascades together)."""
+
+
+def focus_point(eye, target, focus: float) -> np.ndarray:
+    """The point the cascades are centred on: ``eye + focus·(target − eye)``."""
+    eye = np.asarray(eye, np.float64)
+    return eye + float(focus) * (np.asarray(target, np.float64) - eye)
+
+
+def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | None = None
+                  ) -> list[GridSpec]:
+    """The ``count`` nested grids around ``centre``.
+
+    ``single`` is the scene-enclosing grid: with ``count == 1`` it is returned unchanged.
+    Otherwise cascade ``k`` has cell size ``c_k = c_0·2^k`` with
+    ``c_0 = finest_extent/N`` (``finest_extent`` None: ``single.cell_size/2^(count−1)``,
+    so the coarsest cascade has the single grid's cells and extent), and origin
+    ``A + (round((centre − A)/c_k) − ⌊N/2⌋)·c_k`` with ``A = single.origin``: the lattice
+    point nearest the centre, minus half a grid. Since ``|i_k − 2·i_{k+1}| ≤ 1`` (in
+    cascade-``k`` cells) every cascade lies inside the next with at least ``N/2 − 1`` of
+    its cells to spare on each side.
+    """
+    count = int(count)
+    if not 1 <= count <= MAX_CASCADES:
+        raise ValueError(f"cascades must be 1..{MAX_CASCADES}, got {count}")
+    if count == 1:
+        return [single]
+    n = single.resolution
+    if finest_extent is None:
+        finest = single.cell_size / 2 ** (count - 1)
+    else:
+        if not finest_extent > 0:
+            raise ValueError(f"cascade_extent must be positive, got {finest_extent!r}")
+        finest = float(finest_extent) / n
+    anchor = np.asarray(single.origin, np.float64)
+    centre = np.asarray(centre, np.float64)
+    specs = []
+    for k in range(count):
+        cell = finest * 2 ** k
+        nearest = np.round((centre - anchor) / cell)
+        origin = anchor + (nearest - n // 2) * cell
+        specs.append(GridSpec(tuple(float(v) for v in origin), cell, n))
+    return specs
+
+
+def cascade_iterations(settings, k: int) -> int:
+    """Propagation steps of cascade ``k`` (``Settings.cascade_iterations``): ``iterations``
+    in every cascade ("same"), or ``iterations·2^(K−1−k)`` ("same-distance", so the fine
+    cascades carry light as far in world units as the coarsest one)."""
+    if settings.cascade_iterations == "same-distance":
+        return int(settings.iterations) * 2 ** (int(settings.cascades) - 1 - int(k))
+    return int(settings.iterations)
+
+
+def own_weight(spec: GridSpec, points) -> np.ndarray:
+    """Weight ``w_k`` of one cascade at world ``points`` (..., 3): 0 outside the grid and in
+    its outer :data:`CASCADE_EDGE_CELLS`, rising by a smoothstep over
+    :data:`CASCADE_BAND_CELLS`, 1 further inside. ``d`` is the distance (in cells) from the
+    point to the nearest face of the grid."""
+    g = spec.grid_coords(points)
+    depth = np.min(np.minimum(g, spec.resolution - g), axis=-1)
+    t = np.clip((depth - CASCADE_EDGE_CELLS) / CASCADE_BAND_CELLS, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def blend_weights(specs: list[GridSpec], points) -> np.ndarray:
+    """Final-gather weights ``W_k`` (..., K) of the cascades at world ``points`` (..., 3).
+
+    Finest first: ``W_k = w_k·Π_{j<k}(1 − w_j)`` and the coarsest takes the rest,
+    ``W_{K−1} = Π_{j<K−1}(1 − w_j)``, so ``Σ_k W_k = 1`` everywhere (the product
+    telescopes). With one cascade ``W_0 = 1``: the single grid, sampled as before.
+    """
+    points = np.asarray(points, np.float64)
+    weights = np.zeros(points.shape[:-1] + (len(specs),))
+    remaining = np.ones(points.shape[:-1])
+    for k, spec in enumerate(specs):
+        w = own_weight(spec, points) if k < len(specs) - 1 else np.ones_like(remaining)
+        weights[..., k] = w * remaining
+        remaining = remaining * (1.0 - w)
+    return weights
+
+
+def texture_bytes(grid_size: int, cascades: int, grid_format: str, geometry: bool) -> int:
+    """GPU memory the LPV stages hold for ``cascades`` grids of ``grid_size``³ cells:
+    per cascade four light grids of three textures, the audit records, and the geometry
+    volume of ``(N+1)³`` texels when it is on."""
+    n = int(grid_size)
+    texel = TEXEL_BYTES[grid_format]
+    per_cascade = GRIDS_PER_CASCADE * 3 * texel * n ** 3 + AUDIT_BYTES_PER_CELL * n ** 3
+    if geometry:
+        per_cascade += texel * (n + 1) ** 3
+    return int(cascades) * per_cascade
+
+
+def check_limits(grid_size: int, cascades: int, grid_format: str, geometry: bool,
+                 budget_bytes: int, max_texture_units: int) -> None:
+    """A ValueError naming the limit when the cascades do not fit: the texture memory
+    budget, or the fragment shader's texture units (5 + 3 per cascade)."""
+    if cascades > 1 and grid_size < MIN_CASCADE_GRID:
+        raise ValueError(f"cascades need grid_size >= {MIN_CASCADE_GRID} (each cascade must "
+                         f"hold the next finer one), got {grid_size}")
+    needed = texture_bytes(grid_size, cascades, grid_format, geometry)
+    if budget_bytes and needed > budget_bytes:
+        raise ValueError(
+            f"{cascades} cascade(s) of {grid_size}^3 cells in {grid_format} need "
+            f"{needed / 2**20:.0f} MiB of LPV textures (4 grids x 3 channels + audit"
+            f"{' + geometry volume' if geometry else ''} per cascade), more than the "
+            f"budget of {budget_bytes / 2**20:.0f} MiB: use fewer cascades, a smaller "
+            f"grid or rgba16f")
+    units = 5 + 3 * cascades
+    if cascades > 1 and max_texture_units and units > max_texture_units:
+        raise ValueError(f"{cascades} cascades need {units} texture units in the final "
+                         f"gather, this driver has GL_MAX_TEXTURE_IMAGE_UNITS "
+                         f"{max_texture_units}")
+
+
+@dataclass
+class CascadeInput:
+    """One cascade as the final gather samples it."""
+
+    spec: GridSpec
+    textures: tuple
+    """The accumulated grid's r, g, b 3D textures (linear filter, clamped)."""
+
+
+def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str, object]:
+    """Uniforms of ``cascades.glsl`` for these cascades, their textures bound to units
+    ``first_unit`` … (three per cascade: r, g, b)."""
+    count = len(cascades)
+    if not 1 <= count <= MAX_CASCADES:
+        raise ValueError(f"the gather samples 1..{MAX_CASCADES} cascades, got {count}")
+    pad = MAX_CASCADES - count
+    origins = [c.spec.origin for c in cascades] + [(0.0, 0.0, 0.0)] * pad
+    cells = [float(c.spec.cell_size) for c in cascades] + [1.0] * pad
+    units = {channel: [first_unit + 3 * k + i for k in range(count)] +
+             [first_unit + i] * pad for i, channel in enumerate("rgb")}
+    for k, cascade in enumerate(cascades):
+        for i, texture in enumerate(cascade.textures):
+            texture.use(first_unit + 3 * k + i)
+    return {
+        "u_cascade_count": count,
+        "u_cascade_origin": origins,
+        "u_cascade_cell_size": cells,
+        "u_cascade_edge": CASCADE_EDGE_CELLS,
+        "u_cascade_band": CASCADE_BAND_CELLS,
+        "u_cascade_r": units["r"], "u_cascade_g": units["g"], "u_cascade_b": units["b"],
+    }
+
+
+class CascadeLevel:
+    """GPU resources and results of one coarser cascade (``k ≥ 1``) in the pipeline;
+    cascade 0 uses the pipeline's own single-grid resources. Each level has its own
+    :class:`~explorer.lpv.propagate.PropagatePass`, because a pass owns the accumulated
+    grid it returns."""
+
+    def __init__(self, ctx, programs) -> None:
+        from explorer.lpv.propagate import PropagatePass
+
+        self.ctx = ctx
+        self.injected = None            # LpvGrid
+        self.volume = None              # GeometryVolume | None
+        self.propagate = PropagatePass(ctx, programs)
+        self.output = None              # PropagationOutput of the last run
+        self.accumulated: np.ndarray | None = None
+        self.geometry: np.ndarray | None = None
+
+    def grid(self, resolution: int, fmt: str):
+        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt``."""
+        from explorer.lpv.textures import LpvGrid
+
+        if self.injected is None or self.injected.resolution != resolution or \
+                self.injected.format != fmt:
+            if self.injected is not None:
+                self.injected.release()
+            self.injected = LpvGrid(self.ctx, resolution, fmt)
+        return self.injected
+
+    def geometry_volume(self, resolution: int, fmt: str):
+        from explorer.lpv.geometry import GeometryVolume
+
+        if self.volume is None or self.volume.resolution != resolution or \
+                self.volume.format != fmt:
+            self.release_volume()
+            self.volume = GeometryVolume(self.ctx, resolution, fmt)
+        return self.volume
+
+    def release_volume(self) -> None:
+        if self.volume is not None:
+            self.volume.release()
+            self.volume = None
+        self.geometry = None
+
+    def release(self) -> None:
+        if self.injected is not None:
+            self.injected.release()
+            self.injected = None
+        self.release_volume()
+        self.propagate.release()
+        self.output = None

@@ -1,0 +1,87 @@
+#version 430 core
+// Cascaded LPV in the final gather (docs/MODEL.md "Cascades"); explorer/lpv/cascades.py
+// holds the same weights in numpy (blend_weights) and sets these uniforms
+// (cascade_uniforms). Every cascade has u_grid_resolution cells per axis.
+#ifndef CASCADES_GLSL
+#define CASCADES_GLSL 1
+
+#include "sh.glsl"
+#include "grid.glsl"
+
+#define MAX_CASCADES 4
+
+uniform int u_cascade_count;
+uniform vec3 u_cascade_origin[MAX_CASCADES];
+uniform float u_cascade_cell_size[MAX_CASCADES];
+uniform float u_cascade_edge;    // outer shell with weight 0 [cells]
+uniform float u_cascade_band;    // width of the smoothstep ramp inside it [cells]
+uniform sampler3D u_cascade_r[MAX_CASCADES];
+uniform sampler3D u_cascade_g[MAX_CASCADES];
+uniform sampler3D u_cascade_b[MAX_CASCADES];
+
+// w_k: 0 in the outer u_cascade_edge cells of cascade k (and outside it), a smoothstep
+// over the next u_cascade_band cells, 1 further inside; d = distance to the nearest face.
+float cascade_own_weight(int k, vec3 world) {
+    vec3 g = (world - u_cascade_origin[k]) / u_cascade_cell_size[k];
+    vec3 to_face = min(g, vec3(float(u_grid_resolution)) - g);
+    float depth = min(min(to_face.x, to_face.y), to_face.z);
+    float t = clamp((depth - u_cascade_edge) / u_cascade_band, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// Irradiance <s_k, lobe(-n)>/c_k² (clamped at 0) of cascade k at `world` (MODEL.md
+// "Final gather", with cascade k's cell size).
+vec3 cascade_irradiance_of(int k, vec3 world, vec4 lobe) {
+    vec3 coord = (world - u_cascade_origin[k]) / u_cascade_cell_size[k]
+               / float(u_grid_resolution);
+    vec3 intensity = vec3(dot(textureLod(u_cascade_r[k], coord, 0.0), lobe),
+                          dot(textureLod(u_cascade_g[k], coord, 0.0), lobe),
+                          dot(textureLod(u_cascade_b[k], coord, 0.0), lobe));
+    float cell = u_cascade_cell_size[k];
+    return max(intensity, vec3(0.0)) / (cell * cell);
+}
+
+// Directional-derivative damping factor (docs/MODEL.md "Final gather") from the irradiance
+// half a cell in front of and behind the surface: clamp(front/back, 0, 1) per channel, 1
+// where nothing arrives from behind. Shared by the single grid and the cascades.
+vec3 damping_ratio(vec3 front, vec3 back) {
+    vec3 ratio = vec3(1.0);
+    for (int c = 0; c < 3; ++c) {
+        if (back[c] > 0.0) {
+            ratio[c] = clamp(front[c] / back[c], 0.0, 1.0);
+        }
+    }
+    return ratio;
+}
+
+// One cascade's irradiance, damped over half of that cascade's cell when asked.
+vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, vec4 lobe, bool damping) {
+    vec3 irradiance = cascade_irradiance_of(k, world, lobe);
+    if (!damping) {
+        return irradiance;
+    }
+    vec3 half_cell = 0.5 * u_cascade_cell_size[k] * n;
+    return irradiance * damping_ratio(cascade_irradiance_of(k, world + half_cell, lobe),
+                                      cascade_irradiance_of(k, world - half_cell, lobe));
+}
+
+// Blended irradiance: finest first, W_k = w_k·Π_{j<k}(1 − w_j), the coarsest takes the
+// rest Π_{j<K−1}(1 − w_j), so Σ W_k = 1 (a partition of unity: a VPL injected into
+// several cascades is counted once). Cascades with W_k = 0 are not sampled.
+vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
+    vec4 lobe = sh_cosine_lobe(-n);
+    vec3 irradiance = vec3(0.0);
+    float remaining = 1.0;
+    for (int k = 0; k < u_cascade_count && k < MAX_CASCADES; ++k) {
+        float w = k == u_cascade_count - 1 ? 1.0 : cascade_own_weight(k, world);
+        float weight = w * remaining;
+        if (weight > 0.0) {
+            irradiance += weight * cascade_damped_irradiance_of(k, world, n, lobe, damping);
+        }
+        remaining *= 1.0 - w;
+        if (remaining <= 0.0) break;
+    }
+    return irradiance;
+}
+
+#endif
