@@ -127,6 +127,30 @@ def test_l2_inject_and_propagate_match_the_reference(ctx, case):
         assert audit.occluded.min() > 0
 
 
+def test_l2_with_injection_offset_and_second_bounce_matches_the_reference(ctx):
+    """The leak-reduction options work with L2: injection offset (points and compute) and
+    the geometry volume's reflection (bounces 2, reflected lobe of the grid's order)."""
+    vpls = random_vpls(60, SPEC, 120, texel_area=0.05)
+    expected = reference.inject(vpls, SPEC, offset_cells=0.5, sh_order=2)
+    for mode in ("points", "compute"):
+        grid = inject(vpls, SPEC, mode=mode, ctx=ctx, offset_cells=0.5, sh_order=2)
+        assert relative_error(grid, expected) < 1e-5
+    rng = np.random.default_rng(61)
+    normals = rng.standard_normal((9, 9, 9, 3))
+    normals /= np.linalg.norm(normals, axis=-1, keepdims=True)
+    geometry = 0.8 * rng.random((9, 9, 9))[..., None] * reference.cosine_lobe(normals)
+    albedo = np.concatenate([0.5 * rng.random((9, 9, 9, 3)), np.ones((9, 9, 9, 1))], -1)
+    grid = random_l2_grid(62, 8, 0.3)
+    steps, _, audit = propagate_with_audit(grid, Corrections(), 2, geometry, ctx=ctx,
+                                           geometry_albedo=albedo, bounces=2)
+    want_steps, _, want_audit = reference.propagate_audited(grid, Corrections(), 2, geometry,
+                                                            albedo, bounces=2)
+    for step, want in zip(steps, want_steps):
+        assert relative_error(step, want) < 1e-4
+    assert want_audit.reflected.min() > 0
+    assert np.abs(audit.reflected - want_audit.reflected).max() < 1e-4 * grid[..., 0].sum()
+
+
 def test_l2_in_place_propagation_runs_and_double_counts(ctx):
     grid = random_l2_grid(50, 8, 0.2)
     corrections = Corrections(ping_pong=False)
@@ -202,6 +226,8 @@ def test_l2_grid_round_trip_and_bad_input(ctx):
         LpvGrid(ctx, 4, sh_order=3)
     with pytest.raises(ValueError, match="sh_order must be 1"):
         Settings(sh_order=0)
+    with pytest.raises(ValueError, match="single grid"):
+        Settings(sh_order=2, cascades=2)
     with pytest.raises(ValueError, match="4 \\(L1\\) or 9 \\(L2\\)"):
         propagate(np.zeros((3, 4, 4, 4, 5)), ctx=ctx)
 
@@ -209,7 +235,8 @@ def test_l2_grid_round_trip_and_bad_input(ctx):
 def test_pipeline_with_l2(ctx):
     from explorer.lpv.pipeline import Pipeline
 
-    settings = Settings(grid_size=8, iterations=3, rsm_size=16, width=32, height=32)
+    settings = Settings(grid_size=8, iterations=3, rsm_size=16, width=32, height=32,
+                        gather_damping=True)
     pipeline = Pipeline(settings, ctx=ctx)
     try:
         first = pipeline.run(keep_steps=True)
