@@ -254,3 +254,44 @@ def test_pipeline_with_l2(ctx):
         assert lit.mean() > 0.3 and np.isfinite(second.indirect).all()
     finally:
         pipeline.release()
+
+
+# ------------------------------------------------------------------ command line
+
+
+def test_cli_sh_order_flags(tmp_path, capsys, gl_context):
+    import json
+
+    from explorer.cli import main as cli_main
+
+    out = tmp_path / "l2.png"
+    assert cli_main(["render", "--sh-order", "2", "--grid", "8", "--iterations", "2",
+                     "--rsm-size", "16", "--size", "32x32", "--out", str(out),
+                     "--view", "final", "--view", "grid-slice", "--coefficient", "8"]) == 0
+    assert (tmp_path / "l2-grid-slice.png").is_file()
+    assert cli_main(["render", "--sh-order", "3", "--out", str(out)]) == 2
+    assert "sh_order must be 1" in capsys.readouterr().err
+    # L1 has no coefficient 8: the view says so
+    assert cli_main(["render", "--grid", "8", "--iterations", "1", "--rsm-size", "16",
+                     "--size", "32x32", "--out", str(out), "--view", "grid-slice",
+                     "--coefficient", "8"]) == 1
+    assert "coefficient must be 0..3" in capsys.readouterr().err
+
+    bench = tmp_path / "bench.json"
+    assert cli_main(["bench", "--quick", "--grids", "8", "--iterations", "2",
+                     "--sh-order", "1,2", "--variants", "none", "--json", str(bench)]) == 0
+    rows = json.loads(bench.read_text())["rows"]
+    assert [row["sh_order"] for row in rows] == [1, 2]
+    assert all(row["propagation_gbs"] > 0 for row in rows)
+    capsys.readouterr()
+
+    table_dir = tmp_path / "cmp"
+    assert cli_main(["compare", "--preset", "corrected", "--sh-order", "1,2", "--width", "24",
+                     "--height", "20", "--rsm-size", "8", "--grid-size", "8",
+                     "--iterations", "2", "--quiet", "--out", str(table_dir)]) == 0
+    table = capsys.readouterr().out
+    assert "| corrected L1 | 2 | image |" in table and "| corrected L2 | 2 | image |" in table
+    assert (table_dir / "lpv-corrected-L2.png").is_file()
+    assert cli_main(["compare", "--sh-order", "2", "--cascades", "2", "--quiet",
+                     "--out", str(table_dir)]) == 2
+    assert "single grid" in capsys.readouterr().err
