@@ -79,3 +79,13 @@ def test_l2_lobe_around_any_normal_matches_the_rotation_integral():
         (phi_p / sp.pi * c * b for c, b in zip(sh.lobe_l2((0, 0, 1)), sh.L2_BASIS)),
         sp.S.Zero))
     assert sp.simplify(flux - phi_p) == 0
+
+
+def test_bands_one_and_two_cancel_over_the_faces_of_a_step():
+    """Flux conservation of an L2 step: only band 0 survives the face sums."""
+    from derivations import propagation
+
+    sums = get("propagation.l2_face_basis_sums").expr
+    assert sums[:, 0] == sp.ImmutableMatrix([6 * sh.C0] + [0] * 8)
+    assert sums[:, 1] == sp.ImmutableMatrix([24 * sh.C0] + [0] * 8)
+    assert propagation.face_basis_sums(sh.L1_BASIS)["side"][1:, :] == sp.zeros(3, 1)

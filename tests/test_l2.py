@@ -228,6 +228,11 @@ def test_l2_grid_round_trip_and_bad_input(ctx):
         Settings(sh_order=0)
     with pytest.raises(ValueError, match="single grid"):
         Settings(sh_order=2, cascades=2)
+    from explorer.lpv.cascades import texture_bytes
+
+    # four light grids of 3 channels, 3 texels per cell instead of 1
+    assert texture_bytes(8, 1, "rgba32f", False, sh_groups=3) - texture_bytes(
+        8, 1, "rgba32f", False) == 4 * 3 * 2 * 16 * 8 ** 3
     with pytest.raises(ValueError, match="4 \\(L1\\) or 9 \\(L2\\)"):
         propagate(np.zeros((3, 4, 4, 4, 5)), ctx=ctx)
 

@@ -445,7 +445,7 @@ class Pipeline:
                                  f"{self.max_texture_size}")
         check_cascade_limits(s.grid_size, s.cascades, s.grid_format,
                              s.geometry_volume != "off", self.texture_budget_bytes,
-                             self.max_texture_units)
+                             self.max_texture_units, sh_groups=3 if s.sh_order == 2 else 1)
 
     def _check(self, pass_name: str, array) -> None:
         """With ``settings.debug_nan``: a FloatingPointError naming ``pass_name`` if its
