@@ -29,20 +29,35 @@ ivec3 sh_group_texel(ivec3 cell, int k) {
     imageStore(img, sh_group_texel(cell, 2), sh_stored_.g2); }
 #endif
 
-// Trilinear sample of the grid at a world point (final gather), clamped to the edge. Per
-// group the z coordinate is clamped to the group's texel centres, which is exactly what
-// clamp-to-edge does at the faces of a separate N³ texture.
-ShVec sh_sample_grid(sampler3D tex, vec3 world) {
-#if SH_ORDER == 1
-    return texture(tex, grid_texcoord(world));
-#else
-    vec3 g = grid_coords(world);
+// L2: trilinear sample of the three groups at grid coordinates g [cells], clamped to the
+// edge. Per group the z coordinate is clamped to the group's texel centres, which is
+// exactly what clamp-to-edge does at the faces of a separate N³ texture.
+ShL2 sh2_sample_groups(sampler3D tex, vec3 g) {
     float n = float(u_grid_resolution);
     vec2 xy = g.xy / n;
     float z = clamp(g.z, 0.5, n - 0.5);
     float depth = 3.0 * n;
-    return ShL2(texture(tex, vec3(xy, z / depth)), texture(tex, vec3(xy, (z + n) / depth)),
-                texture(tex, vec3(xy, (z + 2.0 * n) / depth)));
+    return ShL2(textureLod(tex, vec3(xy, z / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + n) / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + 2.0 * n) / depth), 0.0));
+}
+
+// Trilinear sample of the grid at a world point (final gather), clamped to the edge.
+ShVec sh_sample_grid(sampler3D tex, vec3 world) {
+#if SH_ORDER == 1
+    return texture(tex, grid_texcoord(world));
+#else
+    return sh2_sample_groups(tex, grid_coords(world));
+#endif
+}
+
+// The same at grid coordinates g [cells] of a grid with u_grid_resolution cells per axis
+// but its own origin and cell size (a cascade, cascades.glsl); explicit LOD 0.
+ShVec sh_sample_cells(sampler3D tex, vec3 g) {
+#if SH_ORDER == 1
+    return textureLod(tex, g / float(u_grid_resolution), 0.0);
+#else
+    return sh2_sample_groups(tex, g);
 #endif
 }
 

@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from lpv_cases import cube_symmetries, random_grid, random_vpls, relative_error
+from test_pass_gather import setup  # noqa: F401 (the fixture)
 
 from explorer.lpv import constants as K
 from explorer.lpv import inject, propagate, reference
@@ -226,8 +227,6 @@ def test_l2_grid_round_trip_and_bad_input(ctx):
         LpvGrid(ctx, 4, sh_order=3)
     with pytest.raises(ValueError, match="sh_order must be 1"):
         Settings(sh_order=0)
-    with pytest.raises(ValueError, match="single grid"):
-        Settings(sh_order=2, cascades=2)
     from explorer.lpv.cascades import texture_bytes
 
     # four light grids of 3 channels, 3 texels per cell instead of 1
@@ -261,7 +260,69 @@ def test_pipeline_with_l2(ctx):
         pipeline.release()
 
 
+# ------------------------------------------------------------------ cascades
+
+
+def test_l2_cascade_gather_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture)
+    """Two L2 cascades in the final gather: Σ_k W_k·clamp+(<s_k, lobe₂(−n)>)/c_k²."""
+    from test_pass_gather import smooth_grid, trilinear
+
+    from explorer.lpv.cascades import CascadeInput, blend_weights, cascade_specs
+    from explorer.lpv.rsm import read_texture
+
+    _, scene, view, shadow, gbuffer, gather, _, spec = setup
+    n = spec.resolution
+    specs = cascade_specs(spec, 2, (0.1, -0.3, 0.05))
+    rng = np.random.default_rng(70)
+    base = np.concatenate([smooth_grid(spec), np.zeros((3, n, n, n, 5), np.float32)], -1)
+    base[..., 4:] = 0.004 * rng.standard_normal(base[..., 4:].shape)
+    values = [base, 0.5 * base[:, ::-1].copy()]
+    grids = [LpvGrid(ctx, n, sh_order=2) for _ in range(2)]
+    try:
+        for grid, value in zip(grids, values):
+            grid.write(value)
+        cascades = [CascadeInput(s, g.textures) for s, g in zip(specs, grids)]
+        gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades,
+                   sh_order=2)
+        indirect = read_texture(gather.targets["indirect"])[..., :3]
+    finally:
+        for grid in grids:
+            grid.release()
+    position = read_texture(gbuffer.position)
+    normal = read_texture(gbuffer.normal)[..., :3]
+    albedo = read_texture(gbuffer.albedo)[..., :3]
+    valid = position[..., 3] > 0.5
+    points = position[valid][:, :3]
+    weights = blend_weights(specs, points)
+    assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))
+    lobes = reference.cosine_lobe(-normal[valid], 2)
+    expected = np.zeros((len(points), 3))
+    for k, cascade in enumerate(specs):
+        s = trilinear(values[k].astype(np.float64), cascade.grid_coords(points))
+        irradiance = np.maximum(np.einsum("cmk,mk->mc", s, lobes), 0.0)
+        expected += weights[:, k:k + 1] * irradiance / cascade.cell_size ** 2
+    expected *= albedo[valid] / np.pi
+    assert np.max(np.abs(indirect[valid] - expected)) <= 2e-3 * np.max(np.abs(expected))
+
+
+def test_pipeline_with_l2_cascades(ctx):
+    from explorer.lpv.pipeline import Pipeline
+
+    settings = Settings(grid_size=16, iterations=3, rsm_size=16, width=32, height=32,
+                        cascades=2, sh_order=2)
+    pipeline = Pipeline(settings, ctx=ctx)
+    try:
+        result = pipeline.run()
+        assert [a.shape[-1] for a in result.cascade_accumulated] == [9, 9]
+        coarse = result.cascade_accumulated[1]
+        assert np.abs(coarse[..., 4:]).max() > 0
+        assert (result.indirect.sum(axis=2) > 0).mean() > 0.3
+    finally:
+        pipeline.release()
+
+
 # ------------------------------------------------------------------ command line
+# (last: the CLI creates and releases contexts of its own)
 
 
 def test_cli_sh_order_flags(tmp_path, capsys, gl_context):
@@ -297,6 +358,7 @@ def test_cli_sh_order_flags(tmp_path, capsys, gl_context):
     table = capsys.readouterr().out
     assert "| corrected L1 | 2 | image |" in table and "| corrected L2 | 2 | image |" in table
     assert (table_dir / "lpv-corrected-L2.png").is_file()
-    assert cli_main(["compare", "--sh-order", "2", "--cascades", "2", "--quiet",
-                     "--out", str(table_dir)]) == 2
-    assert "single grid" in capsys.readouterr().err
+    assert cli_main(["compare", "--sh-order", "1,3", "--quiet", "--out", str(table_dir)]) == 2
+    assert "must be 1 (L1) or 2 (L2)" in capsys.readouterr().err
+    # the commands made and released contexts of their own: the session's is current again
+    gl_context.__enter__()

@@ -207,15 +207,16 @@ class CascadeLevel:
         self.accumulated: np.ndarray | None = None
         self.geometry: np.ndarray | None = None
 
-    def grid(self, resolution: int, fmt: str):
-        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt``."""
+    def grid(self, resolution: int, fmt: str, sh_order: int = 1):
+        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt`` with SH of
+        ``sh_order`` (1 = L1, 2 = L2)."""
         from explorer.lpv.textures import LpvGrid
 
         if self.injected is None or self.injected.resolution != resolution or \
-                self.injected.format != fmt:
+                self.injected.format != fmt or self.injected.sh_order != sh_order:
             if self.injected is not None:
                 self.injected.release()
-            self.injected = LpvGrid(self.ctx, resolution, fmt)
+            self.injected = LpvGrid(self.ctx, resolution, fmt, sh_order)
         return self.injected
 
     def geometry_volume(self, resolution: int, fmt: str):

@@ -59,11 +59,7 @@ class GatherPass:
         damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
-        the grid's SH order (its texel layout, explorer/lpv/textures.py); L2 is single grid
-        only."""
-        if sh_order != 1 and cascades is not None and len(cascades) > 1:
-            raise ValueError("the L2 gather (sh_order 2) supports a single grid, not "
-                             f"{len(cascades)} cascades")
+        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", sh_defines(sh_order))
         if self._vertex_array is None or self._vertex_array.program is not program:

@@ -111,7 +111,7 @@ class FrameResult:
     cascade_specs: list[GridSpec] = field(default_factory=list)
     """GridSpec of each cascade; [grid_spec] for the single grid."""
     cascade_accumulated: list[np.ndarray] = field(default_factory=list)
-    """acc_N of each cascade, ``(3, N, N, N, 4)``."""
+    """acc_N of each cascade, ``(3, N, N, N, 4)`` (or ``9`` coefficients with L2)."""
     cascade_geometry: list[np.ndarray | None] = field(default_factory=list)
     """Geometry volume of each cascade (None when off)."""
     cascade_audits: list[GridAudit] = field(default_factory=list)
@@ -509,7 +509,7 @@ class Pipeline:
         """Every VPL into every coarser cascade (injection drops those outside a grid)."""
         for level, spec in zip(self._cascade_levels(specs), specs[1:]):
             self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
-                             level.grid(spec.resolution, s.grid_format),
+                             level.grid(spec.resolution, s.grid_format, s.sh_order),
                              s.injection_offset_cells)
 
     def _geometry_cascades(self, s: Settings, specs: list[GridSpec], occluders) -> None:

@@ -137,9 +137,6 @@ class Settings:
         if isinstance(self.sh_order, bool) or self.sh_order not in SH_ORDERS:
             raise ValueError(f"sh_order must be 1 (L1, 4 coefficients) or 2 (L2, 9 "
                              f"coefficients), got {self.sh_order!r}")
-        if self.sh_order == 2 and self.cascades > 1:
-            raise ValueError(f"sh_order 2 (L2) supports a single grid; cascades must be 1, "
-                             f"got {self.cascades!r}")
         for name in ("grid_size", "rsm_size", "width", "height", "downsample_factor"):
             if int(getattr(self, name)) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")
