@@ -236,6 +236,13 @@ def test_l2_grid_round_trip_and_bad_input(ctx):
         propagate(np.zeros((3, 4, 4, 4, 5)), ctx=ctx)
 
 
+def test_l2_half_float_grid_propagates(ctx):
+    grid = random_l2_grid(56, 8, 0.3)
+    half = propagate(grid, Corrections(), 2, ctx=ctx, fmt="rgba16f")
+    assert half[0].shape == (3, 8, 8, 8, 9)
+    assert relative_error(half[-1], reference.propagate(grid, Corrections(), 2)[-1]) < 5e-3
+
+
 def test_pipeline_with_l2(ctx):
     from explorer.lpv.pipeline import Pipeline
 
