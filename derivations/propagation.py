@@ -119,6 +119,24 @@ def step_flux_factor(front_weight: sp.Expr | None = None,
     return sp.simplify(ratio.subs(omega_front, 2 * sp.pi / 3 - 4 * omega_side))
 
 
+def face_basis_sums(basis: Sequence[sp.Expr] = sh.L2_BASIS) -> dict[str, sp.Matrix]:
+    """``Σ Y_k(e_f)`` over the 6 front faces and over the 24 side faces of one step.
+
+    A step sends ``Σ_f w_f·⟨s, Y(e_f)⟩·lobe(r_f)``; every reprojected lobe carries the same
+    flux per unit intensity, so the flux out is ``Σ_k s_k·Σ_f w_f·Y_k(e_f)`` times that.
+    Both sums vanish for every band-1 and band-2 function (the face set has the cube's
+    symmetry, and bands 1 and 2 hold no cube-invariant function), so only ``s_0`` is
+    carried, with L1 and with L2 alike: the corrected step conserves flux for both.
+    """
+    x, y, z = sh.x, sh.y, sh.z
+    sums = {"front": sp.zeros(len(basis), 1), "side": sp.zeros(len(basis), 1)}
+    for direction in AXES:
+        for face in faces(direction):
+            at = dict(zip((x, y, z), list(face.evaluation)))
+            sums[face.kind] += sp.Matrix([b.subs(at, simultaneous=True) for b in basis])
+    return {kind: total.applyfunc(sp.simplify) for kind, total in sums.items()}
+
+
 def step_flux_factor_for(injection_pi: bool, propagation_4pi: bool,
                          reprojection_pi: bool) -> sp.Expr:
     """Step flux factor for a choice of the three corrections (True = corrected)."""
@@ -158,6 +176,11 @@ def results() -> list[Result]:
         result(MODULE, "front_reprojection_direction", sp.ImmutableMatrix([0, 1, 0]),
                "Front-face evaluation and reprojection direction: the propagation axis "
                "(here +y)."),
+        result(MODULE, "l2_face_basis_sums", sp.ImmutableMatrix.hstack(
+            *(face_basis_sums()[kind] for kind in ("front", "side"))),
+               "Σ Y_k(e_f) of the L2 basis over the 6 front faces (column 0) and the 24 "
+               "side faces (column 1): only band 0 survives, so a corrected L2 step "
+               "conserves flux like an L1 step."),
         result(MODULE, "step_flux_factor", general,
                "Flux after ÷ before one propagation step, without clamping, occlusion or "
                "border: π·k_R·k_I·k_P."),

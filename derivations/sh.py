@@ -23,7 +23,9 @@ instant and exact.
 Clamped cosine lobe around ``+z``: ``(√π/2, 0, √(π/3), 0)``; around any unit ``n``
 (rotate: ``∫ clamp⁺⟨n,ω⟩ Y(ω) dω = ∫ clamp⁺(z') Y(R ω') dω'`` with ``R e_z = n``):
 ``(√π/2, −√(π/3) n_y, √(π/3) n_z, −√(π/3) n_x)``, linear in ``n`` (annotations §4.3).
-Its energy ``∫ clamp⁺(cos)² dω = 2π/3``; L1 keeps ``7/8`` of it and L2 ``127/128``.
+With band 2 (:func:`lobe_l2`) the lobe is ``A_l·Y_k(n)``, ``A = (π, 2π/3, π/4)``, and its
+first four coefficients are the L1 lobe. Its energy ``∫ clamp⁺(cos)² dω = 2π/3``; L1
+keeps ``7/8`` of it and L2 ``127/128``.
 The flux of an intensity SH vector ``f`` is ``∫ f·Y dω = 2√π·f_0``.
 
 Examples
@@ -126,8 +128,9 @@ def clamped_cosine_coefficients(basis: Sequence[sp.Expr]) -> tuple[sp.Expr, ...]
 
 
 @lru_cache(maxsize=None)
-def lobe_around_normal_spherical() -> tuple[sp.Expr, ...]:
-    """L1 lobe of ``clamp⁺⟨n, ω⟩`` for ``n = (sinθ cosφ, sinθ sinφ, cosθ)`` (all unit n).
+def lobe_around_normal_spherical(basis: tuple[sp.Expr, ...] = L1_BASIS) -> tuple[sp.Expr, ...]:
+    """Projection of ``clamp⁺⟨n, ω⟩`` onto ``basis`` (default L1) for
+    ``n = (sinθ cosφ, sinθ sinφ, cosθ)`` (all unit n).
 
     Change of variables ``ω = R ω'`` with ``R = R_z(φ) R_y(θ)`` (so ``R e_z = n``; the
     measure is rotation invariant): ``∫ clamp⁺(z') Y_k(R ω') dω'`` is a hemisphere integral
@@ -141,7 +144,7 @@ def lobe_around_normal_spherical() -> tuple[sp.Expr, ...]:
     subs = {x: rotated[0], y: rotated[1], z: rotated[2]}
     return tuple(sp.simplify(integrate_over_sphere(z * b.subs(subs, simultaneous=True),
                                                    hemisphere=True))
-                 for b in L1_BASIS)
+                 for b in basis)
 
 
 def lobe(normal: Sequence[sp.Expr] = (n_x, n_y, n_z)) -> sp.ImmutableMatrix:
@@ -149,6 +152,27 @@ def lobe(normal: Sequence[sp.Expr] = (n_x, n_y, n_z)) -> sp.ImmutableMatrix:
     c0, _, c1, _ = clamped_cosine_coefficients(L1_BASIS)
     nx, ny, nz = normal
     return sp.ImmutableMatrix([c0, -c1 * ny, c1 * nz, -c1 * nx])
+
+
+def zonal_rotation_factors(basis: Sequence[sp.Expr] = L2_BASIS) -> tuple[sp.Expr, ...]:
+    """Per coefficient, the factor ``A_l`` with ``lobe_k(n) = A_l·Y_k(n)``: the zonal
+    coefficient of band ``l`` around ``+z`` divided by ``Y_l0(+z)`` (rotating a function
+    symmetric about its axis multiplies band ``l`` by ``√(4π/(2l+1))·Y_lm(n)``, and
+    ``Y_l0(+z) = √((2l+1)/(4π))``). For the clamped cosine: ``(π, 2π/3, π/4)``."""
+    bands = [0] + [1] * 3 + [2] * 5
+    zonal = clamped_cosine_coefficients(basis)
+    at_pole = {x: 0, y: 0, z: 1}
+    per_band = {0: zonal[0] / basis[0].subs(at_pole), 1: zonal[2] / basis[2].subs(at_pole),
+                2: zonal[6] / basis[6].subs(at_pole)}
+    return tuple(sp.simplify(per_band[band]) for band in bands[:len(basis)])
+
+
+def lobe_l2(normal: Sequence[sp.Expr] = (n_x, n_y, n_z)) -> sp.ImmutableMatrix:
+    """L2 projection of ``clamp⁺⟨n, ω⟩`` for a unit ``n``: ``A_l·Y_k(n)`` with
+    ``A = (π, 2π/3, π/4)``; its first four coefficients are exactly :func:`lobe`."""
+    subs = dict(zip((x, y, z), normal))
+    return sp.ImmutableMatrix([sp.expand(a * b.subs(subs, simultaneous=True))
+                               for a, b in zip(zonal_rotation_factors(L2_BASIS), L2_BASIS)])
 
 
 def evaluate(coefficients: Sequence[sp.Expr], direction: Sequence[sp.Expr]) -> sp.Expr:
@@ -222,5 +246,20 @@ def results() -> list[Result]:
         result(MODULE, "l2_coslobe_c2", cos_l2[6],
                "Clamped cosine lobe around z, band 2: ∫_{H²} cos θ Y20 dω = √(5π)/8.",
                glsl_name="SH_L2_COSLOBE_C2"),
+        result(MODULE, "zonal_rotation_factors", sp.ImmutableMatrix(
+            [zonal_rotation_factors()[k] for k in (0, 1, 4)]),
+               "Clamped cosine, band factors A_l (l = 0, 1, 2) of lobe_k(n) = A_l·Y_k(n)."),
+        result(MODULE, "lobe_l2", lobe_l2(),
+               "L2 projection of clamp⁺⟨n, ω⟩ around a unit normal n (9 coefficients); the "
+               "first four are the L1 lobe."),
+        result(MODULE, "l2_lobe_c2", lobe_l2()[4].coeff(n_x * n_y),
+               "L2 lobe around n, coefficient of n_x·n_y in band 2 (m = −2): π/4·√15/(2√π).",
+               glsl_name="SH_L2_LOBE_C2"),
+        result(MODULE, "l2_lobe_c3", -lobe_l2()[6].subs({n_x: 0, n_y: 0, n_z: 0}),
+               "L2 lobe around n, m = 0 term: SH_L2_LOBE_C3·(3n_z² − 1), π/4·√5/(4√π).",
+               glsl_name="SH_L2_LOBE_C3"),
+        result(MODULE, "l2_lobe_c4", lobe_l2()[8].coeff(n_x**2),
+               "L2 lobe around n, coefficient of n_x² − n_y² (m = 2): π/4·√15/(4√π).",
+               glsl_name="SH_L2_LOBE_C4"),
     ]
     return r

@@ -1,12 +1,14 @@
 #version 430 core
 // Cascaded LPV in the final gather (docs/MODEL.md "Cascades"); explorer/lpv/cascades.py
 // holds the same weights in numpy (blend_weights) and sets these uniforms
-// (cascade_uniforms). Every cascade has u_grid_resolution cells per axis.
+// (cascade_uniforms). Every cascade has u_grid_resolution cells per axis. Light vectors
+// are ShVec: L1, or L2 with the texel layout of sh_grid.glsl (SH_ORDER of the includer).
 #ifndef CASCADES_GLSL
 #define CASCADES_GLSL 1
 
 #include "sh.glsl"
 #include "grid.glsl"
+#include "sh_grid.glsl"
 
 #define MAX_CASCADES 4
 
@@ -31,12 +33,11 @@ float cascade_own_weight(int k, vec3 world) {
 
 // Irradiance <s_k, lobe(-n)>/c_k² (clamped at 0) of cascade k at `world` (MODEL.md
 // "Final gather", with cascade k's cell size).
-vec3 cascade_irradiance_of(int k, vec3 world, vec4 lobe) {
-    vec3 coord = (world - u_cascade_origin[k]) / u_cascade_cell_size[k]
-               / float(u_grid_resolution);
-    vec3 intensity = vec3(dot(textureLod(u_cascade_r[k], coord, 0.0), lobe),
-                          dot(textureLod(u_cascade_g[k], coord, 0.0), lobe),
-                          dot(textureLod(u_cascade_b[k], coord, 0.0), lobe));
+vec3 cascade_irradiance_of(int k, vec3 world, ShVec lobe) {
+    vec3 g = (world - u_cascade_origin[k]) / u_cascade_cell_size[k];
+    vec3 intensity = vec3(sh_dot(sh_sample_cells(u_cascade_r[k], g), lobe),
+                          sh_dot(sh_sample_cells(u_cascade_g[k], g), lobe),
+                          sh_dot(sh_sample_cells(u_cascade_b[k], g), lobe));
     float cell = u_cascade_cell_size[k];
     return max(intensity, vec3(0.0)) / (cell * cell);
 }
@@ -55,7 +56,7 @@ vec3 damping_ratio(vec3 front, vec3 back) {
 }
 
 // One cascade's irradiance, damped over half of that cascade's cell when asked.
-vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, vec4 lobe, bool damping) {
+vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, ShVec lobe, bool damping) {
     vec3 irradiance = cascade_irradiance_of(k, world, lobe);
     if (!damping) {
         return irradiance;
@@ -69,7 +70,7 @@ vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, vec4 lobe, bool dam
 // rest Π_{j<K−1}(1 − w_j), so Σ W_k = 1 (a partition of unity: a VPL injected into
 // several cascades is counted once). Cascades with W_k = 0 are not sampled.
 vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
-    vec4 lobe = sh_cosine_lobe(-n);
+    ShVec lobe = shv_cosine_lobe(-n);
     vec3 irradiance = vec3(0.0);
     float remaining = 1.0;
     for (int k = 0; k < u_cascade_count && k < MAX_CASCADES; ++k) {

@@ -6,6 +6,8 @@
 //   3 the same in sRGB for the RGBA8 display texture,
 //   4 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
 //     from the LPV (summed by the energy audit).
+// SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe.
+#define SH_ORDER 1
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"
@@ -14,6 +16,7 @@
 #if defined FRAGMENT_SHADER
 #include "sh.glsl"
 #include "grid.glsl"
+#include "sh_grid.glsl"
 #include "cascades.glsl"
 
 uniform sampler2D u_gbuffer_position;
@@ -74,11 +77,10 @@ float shadow_visibility(vec3 world, float cos_light) {
 // LPV irradiance for normal n at world point x: E = clamp+(<s(x), lobe(-n)>) / cell²
 // (trilinear sample of the accumulated grid).
 vec3 lpv_irradiance(vec3 x, vec3 n) {
-    vec3 coord = grid_texcoord(x);
-    vec4 lobe = sh_cosine_lobe(-n);
-    vec3 intensity = vec3(dot(texture(u_lpv_r, coord), lobe),
-                          dot(texture(u_lpv_g, coord), lobe),
-                          dot(texture(u_lpv_b, coord), lobe));
+    ShVec lobe = shv_cosine_lobe(-n);   // L1 or L2 after SH_ORDER
+    vec3 intensity = vec3(sh_dot(sh_sample_grid(u_lpv_r, x), lobe),
+                          sh_dot(sh_sample_grid(u_lpv_g, x), lobe),
+                          sh_dot(sh_sample_grid(u_lpv_b, x), lobe));
     return max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
 }
 

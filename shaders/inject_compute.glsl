@@ -7,14 +7,17 @@
 //                            and no write conflicts, and every cell is written (no clear).
 // The list order depends on the atomic order, so sums may differ from the point injection
 // in the last bits only (float addition order).
+// SH_ORDER 2 stores L2 lobes (layout of sh_grid.glsl).
 #define INJECT_STAGE 0
 #define IMAGE_FORMAT rgba32f
+#define SH_ORDER 1
 
 #if defined COMPUTE_SHADER
 
 #include "grid.glsl"
 #include "vpl.glsl"
 #include "lpv_corrections.glsl"
+#include "sh_grid.glsl"
 
 layout(std430, binding = 0) buffer CellHeads { uint cell_heads[]; };
 layout(std430, binding = 1) buffer NextVpl { uint next_vpl[]; };
@@ -56,9 +59,9 @@ void main() {
         return;
     }
     float k_injection = lpv_injection_factor();
-    vec4 red = vec4(0.0);
-    vec4 green = vec4(0.0);
-    vec4 blue = vec4(0.0);
+    ShVec red = SHV_ZERO;
+    ShVec green = SHV_ZERO;
+    ShVec blue = SHV_ZERO;
     uint link = cell_heads[cell_slot(cell)];
     // Each VPL sits in at most one list, so a list is never longer than the VPL count; the
     // bound guards against a corrupted list hanging the GPU.
@@ -66,16 +69,16 @@ void main() {
     while (link != 0u && budget > 0) {
         int index = int(link) - 1;
         Vpl vpl = vpl_fetch(index);
-        vec4 lobe = k_injection * sh_cosine_lobe(vpl.normal);
-        red += vpl.flux.r * lobe;
-        green += vpl.flux.g * lobe;
-        blue += vpl.flux.b * lobe;
+        ShVec lobe = sh_scale(shv_cosine_lobe(vpl.normal), k_injection);
+        red = sh_add(red, sh_scale(lobe, vpl.flux.r));
+        green = sh_add(green, sh_scale(lobe, vpl.flux.g));
+        blue = sh_add(blue, sh_scale(lobe, vpl.flux.b));
         link = next_vpl[index];
         budget -= 1;
     }
-    imageStore(u_grid_r, cell, red);
-    imageStore(u_grid_g, cell, green);
-    imageStore(u_grid_b, cell, blue);
+    SH_IMAGE_STORE(u_grid_r, cell, red);
+    SH_IMAGE_STORE(u_grid_g, cell, green);
+    SH_IMAGE_STORE(u_grid_b, cell, blue);
 }
 
 #endif

@@ -14,11 +14,15 @@
 // sent by the border cells), and the flux reflected back into it and the blocked flux
 // that could bounce (reflection.glsl). audit_reduce.glsl sums them; a shared-memory reduction here
 // would need barrier(), which costs llvmpipe more than the whole step.
+// SH_ORDER 2 propagates L2 vectors (9 coefficients, stored as in sh_grid.glsl): the same
+// faces and weights, evaluated and reprojected with the L2 basis and lobe.
 #define IMAGE_FORMAT rgba32f
+#define SH_ORDER 1
 
 #if defined COMPUTE_SHADER
 
 #include "grid.glsl"
+#include "sh_grid.glsl"
 #include "propagation_faces.glsl"
 #include "reflection.glsl"
 
@@ -42,36 +46,36 @@ layout(IMAGE_FORMAT, binding = 5) uniform image3D u_accumulated_b;
 // Per-cell audit terms, quantity-major: cell_terms[quantity * N^3 + linear cell index].
 layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
 
-void load_source(ivec3 cell, out vec4 source[3]) {
+void load_source(ivec3 cell, out ShVec source[3]) {
     if (u_ping_pong) {
-        source[0] = texelFetch(u_source_r, cell, 0);
-        source[1] = texelFetch(u_source_g, cell, 0);
-        source[2] = texelFetch(u_source_b, cell, 0);
+        source[0] = SH_FETCH(u_source_r, cell);
+        source[1] = SH_FETCH(u_source_g, cell);
+        source[2] = SH_FETCH(u_source_b, cell);
     } else {
-        source[0] = imageLoad(u_target_r, cell);
-        source[1] = imageLoad(u_target_g, cell);
-        source[2] = imageLoad(u_target_b, cell);
+        source[0] = SH_IMAGE_LOAD(u_target_r, cell);
+        source[1] = SH_IMAGE_LOAD(u_target_g, cell);
+        source[2] = SH_IMAGE_LOAD(u_target_b, cell);
     }
 }
 
 void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     float front_weight = lpv_front_face_weight();
     float side_weight = lpv_side_face_weight();
-    vec4 received[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+    ShVec received[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
     LpvAudit audit = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
     for (int dir = 0; dir < 6; ++dir) {
         ivec3 source_cell = cell - LPV_DIRECTIONS[dir];
         if (grid_inside(source_cell)) {  // nothing enters from outside the grid
-            vec4 source[3];
+            ShVec source[3];
             load_source(source_cell, source);
             lpv_send(source, cell, dir, false, front_weight, side_weight, received, audit);
         }
     }
     // A border cell is also the source of the faces that leave the grid (audit only).
     if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
-        vec4 own[3];
+        ShVec own[3];
         load_source(cell, own);
-        vec4 unused[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+        ShVec unused[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
         for (int dir = 0; dir < 6; ++dir) {
             ivec3 outside = cell + LPV_DIRECTIONS[dir];
             if (!grid_inside(outside)) {
@@ -82,21 +86,24 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     vec3 reflected = vec3(0.0);
     vec3 blocked = vec3(0.0);
     if (u_reflect) {
-        vec4 own[3];
+        ShVec own[3];
         load_source(cell, own);
         lpv_reflect(own, cell, front_weight, side_weight, received, reflected, blocked);
     }
     if (u_ping_pong) {
-        imageStore(u_target_r, cell, received[0]);
-        imageStore(u_target_g, cell, received[1]);
-        imageStore(u_target_b, cell, received[2]);
-        imageStore(u_accumulated_r, cell, imageLoad(u_accumulated_r, cell) + received[0]);
-        imageStore(u_accumulated_g, cell, imageLoad(u_accumulated_g, cell) + received[1]);
-        imageStore(u_accumulated_b, cell, imageLoad(u_accumulated_b, cell) + received[2]);
+        SH_IMAGE_STORE(u_target_r, cell, received[0]);
+        SH_IMAGE_STORE(u_target_g, cell, received[1]);
+        SH_IMAGE_STORE(u_target_b, cell, received[2]);
+        SH_IMAGE_STORE(u_accumulated_r, cell,
+                       sh_add(SH_IMAGE_LOAD(u_accumulated_r, cell), received[0]));
+        SH_IMAGE_STORE(u_accumulated_g, cell,
+                       sh_add(SH_IMAGE_LOAD(u_accumulated_g, cell), received[1]));
+        SH_IMAGE_STORE(u_accumulated_b, cell,
+                       sh_add(SH_IMAGE_LOAD(u_accumulated_b, cell), received[2]));
     } else {
-        imageStore(u_target_r, cell, imageLoad(u_target_r, cell) + received[0]);
-        imageStore(u_target_g, cell, imageLoad(u_target_g, cell) + received[1]);
-        imageStore(u_target_b, cell, imageLoad(u_target_b, cell) + received[2]);
+        SH_IMAGE_STORE(u_target_r, cell, sh_add(SH_IMAGE_LOAD(u_target_r, cell), received[0]));
+        SH_IMAGE_STORE(u_target_g, cell, sh_add(SH_IMAGE_LOAD(u_target_g, cell), received[1]));
+        SH_IMAGE_STORE(u_target_b, cell, sh_add(SH_IMAGE_LOAD(u_target_b, cell), received[2]));
     }
     vec3 delivered = vec3(sh_flux(received[0]), sh_flux(received[1]), sh_flux(received[2]));
     vec3 terms[6] = vec3[6](delivered, audit.border, audit.clamp_gain, audit.occluded,

@@ -6,7 +6,8 @@
 // other axes (any frame gives the same sums). The front face of the target has normal d and
 // is evaluated along d; the side faces have normals +u, -u, +v, -v and are evaluated along
 // side/sqrt(5) + 2d/sqrt(5), the direction from the source centre to the side face's centre.
-// The target cell x gathers from the source x - d.
+// The target cell x gathers from the source x - d. Light vectors are ShVec (sh.glsl:
+// L1 or L2 after SH_ORDER); the geometry volume stays L1 (vec4).
 #ifndef PROPAGATION_FACES_GLSL
 #define PROPAGATION_FACES_GLSL 1
 
@@ -71,12 +72,13 @@ struct LpvAudit {
 //     I_f = <s, Y(e_f)> (clamp+ when `clamped`),  V_f = 1 - clamp(<blocker, Y(-e_f)>, 0, 1),
 //     received += weight * I_f * V_f * lobe(r_f)   (when the target is inside the grid).
 // The flux of a reprojected lobe scale*lobe(r) is sh_flux(scale * lobe(r)).
-void lpv_send_face(vec4 source[3], vec3 eval_direction, vec3 reprojection, float weight,
-                   bool clamped, vec4 blocker, bool leaving, inout vec4 received[3],
+void lpv_send_face(ShVec source[3], vec3 eval_direction, vec3 reprojection, float weight,
+                   bool clamped, vec4 blocker, bool leaving, inout ShVec received[3],
                    inout LpvAudit audit) {
-    vec4 basis = sh_eval(eval_direction);
-    vec4 lobe = sh_cosine_lobe(reprojection);
-    vec3 raw = vec3(dot(source[0], basis), dot(source[1], basis), dot(source[2], basis));
+    ShVec basis = shv_eval(eval_direction);
+    ShVec lobe = shv_cosine_lobe(reprojection);
+    vec3 raw = vec3(sh_dot(source[0], basis), sh_dot(source[1], basis),
+                    sh_dot(source[2], basis));
     vec3 used = clamped ? max(raw, vec3(0.0)) : raw;
     // A surfel blocks light that runs into its front side, i.e. travels against its normal:
     // the blocker lobe is evaluated at -e_f, so a lit wall does not shadow its own bounce.
@@ -88,17 +90,17 @@ void lpv_send_face(vec4 source[3], vec3 eval_direction, vec3 reprojection, float
     if (leaving) {
         audit.border += flux_per_intensity * visibility * used;
     } else {
-        vec4 scaled = weight * visibility * lobe;
-        received[0] += used.r * scaled;
-        received[1] += used.g * scaled;
-        received[2] += used.b * scaled;
+        ShVec scaled = sh_scale(lobe, weight * visibility);
+        received[0] = sh_add(received[0], sh_scale(scaled, used.r));
+        received[1] = sh_add(received[1], sh_scale(scaled, used.g));
+        received[2] = sh_add(received[2], sh_scale(scaled, used.b));
     }
 }
 
 // Light one source cell (SH vectors `source`: r, g, b) sends through the faces of its
 // neighbour `target` = source + d: the front face, then the four side faces.
-void lpv_send(vec4 source[3], ivec3 target, int dir, bool leaving, float front_weight,
-              float side_weight, inout vec4 received[3], inout LpvAudit audit) {
+void lpv_send(ShVec source[3], ivec3 target, int dir, bool leaving, float front_weight,
+              float side_weight, inout ShVec received[3], inout LpvAudit audit) {
     vec4 blocker = lpv_shared_face_blocker(target, dir);
     vec3 d = vec3(LPV_DIRECTIONS[dir]);
     lpv_send_face(source, d, d, front_weight, u_clamp_front_face, blocker, leaving,

@@ -3,7 +3,8 @@
 // cell towards a neighbour and that the geometry volume blocks is partly reflected back
 // into the sending cell, as a clamped cosine lobe around the blocking surfels' normal,
 // with flux = (area-weighted mean albedo of the shared face) x (blocked flux, clamp+).
-// Included by propagate.glsl; u_reflect is false for Settings.bounces 1.
+// Included by propagate.glsl; u_reflect is false for Settings.bounces 1. Light vectors are
+// ShVec (L1 or L2 after SH_ORDER, sh.glsl); the reflected lobe has the grid's order.
 #ifndef REFLECTION_GLSL
 #define REFLECTION_GLSL 1
 
@@ -37,8 +38,8 @@ vec3 lpv_reflection_normal(vec4 blocker, int dir) {
 // the light `own` sends to its six neighbours. `blocked` sums the blocked flux [W] that
 // can bounce (clamp+ per direction: blocking the negative lobe tail of L1 SH is no light
 // arriving at a surface), `reflected` the flux reflected.
-void lpv_reflect(vec4 own[3], ivec3 cell, float front_weight, float side_weight,
-                 inout vec4 received[3], inout vec3 reflected, inout vec3 blocked) {
+void lpv_reflect(ShVec own[3], ivec3 cell, float front_weight, float side_weight,
+                 inout ShVec received[3], inout vec3 reflected, inout vec3 blocked) {
     if (!u_reflect || !u_use_geometry) {
         return;
     }
@@ -47,7 +48,7 @@ void lpv_reflect(vec4 own[3], ivec3 cell, float front_weight, float side_weight,
         // The five faces towards `target`, sent as if leaving: only the audit is wanted,
         // whose `occluded` is exactly the flux the geometry volume takes from them.
         LpvAudit pair = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
-        vec4 unused[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+        ShVec unused[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
         lpv_send(own, target, dir, true, front_weight, side_weight, unused, pair);
         vec3 bounced = max(pair.occluded, vec3(0.0));
         blocked += bounced;
@@ -56,12 +57,12 @@ void lpv_reflect(vec4 own[3], ivec3 cell, float front_weight, float side_weight,
             continue;   // no albedo known on the face: nothing reflected
         }
         vec3 flux = albedo_sum.rgb / albedo_sum.w * bounced;
-        vec4 lobe = sh_cosine_lobe(lpv_reflection_normal(lpv_shared_face_blocker(target, dir),
-                                                         dir));
-        vec4 per_watt = lobe / sh_flux(lobe);
-        received[0] += flux.r * per_watt;
-        received[1] += flux.g * per_watt;
-        received[2] += flux.b * per_watt;
+        ShVec lobe = shv_cosine_lobe(lpv_reflection_normal(
+            lpv_shared_face_blocker(target, dir), dir));
+        ShVec per_watt = sh_divide(lobe, sh_flux(lobe));
+        received[0] = sh_add(received[0], sh_scale(per_watt, flux.r));
+        received[1] = sh_add(received[1], sh_scale(per_watt, flux.g));
+        received[2] = sh_add(received[2], sh_scale(per_watt, flux.b));
         reflected += flux;
     }
 }

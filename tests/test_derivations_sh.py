@@ -56,3 +56,36 @@ def test_double_sided_occlusion_cancels_band_one():
     assert occlusion.double_sided_lobe() == sp.ImmutableMatrix([sp.sqrt(sp.pi), 0, 0, 0])
     assert get("occlusion.double_sided_blocking").expr == sp.Rational(1, 2)
     assert occlusion.one_sided((0, 0, 1))[2] == sp.sqrt(sp.pi / 3)
+
+
+def test_l2_lobe_around_any_normal_matches_the_rotation_integral():
+    by_rotation = sh.lobe_around_normal_spherical(sh.L2_BASIS)
+    n = (sp.sin(sh.theta) * sp.cos(sh.phi), sp.sin(sh.theta) * sp.sin(sh.phi),
+         sp.cos(sh.theta))
+    closed = sh.lobe_l2(n)
+    assert all(sp.simplify(a - b) == 0 for a, b in zip(by_rotation, closed))
+    # The L1 part of the L2 lobe (and basis) is exactly the L1 one.
+    assert sh.lobe_l2()[:4] == list(sh.lobe())
+    assert sh.L2_BASIS[:4] == sh.L1_BASIS
+    assert get("sh.zonal_rotation_factors").expr == sp.ImmutableMatrix(
+        [sp.pi, 2 * sp.pi / 3, sp.pi / 4])
+    # Band-2 constants of the shaders' lobe: π/4 times the basis constants.
+    assert sp.simplify(get("sh.l2_lobe_c2").expr - sp.pi / 4 * sh.L2_C2) == 0
+    assert sp.simplify(get("sh.l2_lobe_c3").expr - sp.pi / 4 * sh.L2_C3) == 0
+    assert sp.simplify(get("sh.l2_lobe_c4").expr - sp.pi / 4 * sh.L2_C4) == 0
+    # A corrected VPL still carries exactly Φ with the L2 lobe (band 2 has no flux).
+    phi_p = sp.Symbol("Phi_p", positive=True)
+    flux = sh.integrate_over_sphere(sum(
+        (phi_p / sp.pi * c * b for c, b in zip(sh.lobe_l2((0, 0, 1)), sh.L2_BASIS)),
+        sp.S.Zero))
+    assert sp.simplify(flux - phi_p) == 0
+
+
+def test_bands_one_and_two_cancel_over_the_faces_of_a_step():
+    """Flux conservation of an L2 step: only band 0 survives the face sums."""
+    from derivations import propagation
+
+    sums = get("propagation.l2_face_basis_sums").expr
+    assert sums[:, 0] == sp.ImmutableMatrix([6 * sh.C0] + [0] * 8)
+    assert sums[:, 1] == sp.ImmutableMatrix([24 * sh.C0] + [0] * 8)
+    assert propagation.face_basis_sums(sh.L1_BASIS)["side"][1:, :] == sp.zeros(3, 1)

@@ -37,7 +37,7 @@ def trilinear(grid: np.ndarray, g: np.ndarray) -> np.ndarray:
     i0 = np.clip(np.floor(t).astype(int), 0, n - 1)
     i1 = np.minimum(i0 + 1, n - 1)
     f = t - i0
-    out = np.zeros((3, len(g), 4))
+    out = np.zeros((3, len(g), grid.shape[-1]))
     for corner in range(8):
         pick = [(corner >> axis) & 1 for axis in range(3)]
         idx = [np.where(p, i1[:, a], i0[:, a]) for a, p in enumerate(pick)]
@@ -113,6 +113,41 @@ def test_indirect_matches_numpy(setup):
     area = read_texture(gbuffer.normal)[..., 3]
     assert np.allclose(received[valid], irradiance * area[valid, None], rtol=2e-2,
                        atol=1e-3 * received.max())
+
+
+def test_l2_indirect_matches_numpy(setup):
+    """sh_order 2: E = <s, lobe_L2(−n)>/cell², with s sampled trilinearly from the 3 texel
+    groups stacked along z (clamped to each group's own edge)."""
+    from explorer.lpv.reference import cosine_lobe
+
+    ctx, scene, view, shadow, gbuffer, gather, _, _ = setup
+    # the back wall (z = −0.7) at grid z = 0.2: below the first texel centre, where a
+    # plain lookup into the stacked texture would blend in another group
+    spec = GridSpec((-1.0, -1.0, -0.75), 0.25, N)
+    values = np.concatenate([smooth_grid(spec), np.zeros((3, N, N, N, 5), np.float32)], -1)
+    idx = np.indices((N, N, N)).transpose(1, 2, 3, 0) / N
+    for k in range(4, 9):   # band 2 varying along z, so a blend across groups would show
+        values[..., k] = 0.006 * (k - 6) * (1.0 + idx[..., 2] - idx[..., k % 3])
+    grid = LpvGrid(ctx, N, sh_order=2)
+    try:
+        grid.write(values)
+        gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0,
+                   indirect_only=False, sh_order=2)
+    finally:
+        grid.release()
+    position = read_texture(gbuffer.position)
+    normal = read_texture(gbuffer.normal)[..., :3]
+    albedo = read_texture(gbuffer.albedo)[..., :3]
+    indirect = read_texture(gather.targets["indirect"])[..., :3]
+    valid = position[..., 3] > 0.5
+    assert (spec.grid_coords(position[valid][:, :3])[:, 2] < 0.5).sum() > 20
+    s = trilinear(values.astype(np.float64), spec.grid_coords(position[valid][:, :3]))
+    irradiance = np.maximum(np.einsum("cmk,mk->mc", s, cosine_lobe(-normal[valid], 2)), 0.0)
+    expected = albedo[valid] / math.pi * irradiance / spec.cell_size ** 2
+    assert np.allclose(indirect[valid], expected, rtol=2e-2, atol=1e-3 * expected.max())
+    l1_only = albedo[valid] / math.pi * np.maximum(np.einsum(
+        "cmk,mk->mc", s[..., :4], lobe(-normal[valid])), 0.0) / spec.cell_size ** 2
+    assert not np.allclose(indirect[valid], l1_only, rtol=2e-2, atol=1e-3 * expected.max())
 
 
 def test_pixel_areas_add_up_to_the_visible_surface(setup):

@@ -10,7 +10,8 @@ Bandwidth model: one propagation step reads the previous grid and writes the nex
 moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
 neighbour reads are assumed to hit the cache. The propagate pass time also holds the
 energy-audit reduction and the copy of grid_0 into the accumulation grid, so the figure is
-a lower bound of what the propagation kernel alone reaches.
+a lower bound of what the propagation kernel alone reaches. With ``--sh-order 2`` (L2) a
+cell holds 3 texels per channel, so a step moves 3× as many bytes.
 """
 
 from __future__ import annotations
@@ -86,6 +87,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cascades", type=parse_list, default=(1,),
                         help="LPV cascade counts, e.g. 1,2,3 (default 1); each count is a "
                              "row per grid and iteration count")
+    parser.add_argument("--sh-order", type=parse_list, default=(1,),
+                        help="SH orders of the grid, e.g. 1,2 (L1 and L2; default 1); each "
+                             "order is a row per grid and iteration count")
     parser.add_argument("--repeat", type=int, default=3,
                         help="timed frames per configuration; the median is reported")
     parser.add_argument("--quick", action="store_true",
@@ -97,9 +101,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", type=Path, help="also write the results as JSON here")
 
 
-def propagation_bytes(grid: int, iterations: int, fmt: str) -> int:
-    """Bytes one frame's propagation moves at least (module docstring)."""
-    return 4 * 3 * TEXEL_BYTES[fmt] * grid**3 * iterations
+def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -> int:
+    """Bytes one frame's propagation moves at least (module docstring); L2 (``sh_order``
+    2) stores 3 texels per cell and channel."""
+    groups = 3 if sh_order == 2 else 1
+    return 4 * 3 * groups * TEXEL_BYTES[fmt] * grid**3 * iterations
 
 
 def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
@@ -116,14 +122,21 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
         (width, height), rsm_size, repeat = args.size, args.rsm_size, max(1, args.repeat)
     rows = []
     cascade_counts = getattr(args, "cascades", None) or (1,)
+    sh_orders = getattr(args, "sh_order", None) or (1,)
+    for order in sh_orders:
+        if order not in (1, 2):
+            raise ValueError(f"--sh-order: the SH order must be 1 (L1) or 2 (L2), got {order}")
     for grid in grids:
-        runs = [("default", steps, k, {}) for steps in iterations for k in cascade_counts]
-        runs += [(name, max(iterations), 1, VARIANTS[name]) for name in args.variants]
-        for variant, steps, cascades, changes in runs:
+        runs = [("default", steps, k, order, {}) for steps in iterations
+                for k in cascade_counts for order in sh_orders]
+        runs += [(name, max(iterations), 1, sh_orders[0], VARIANTS[name])
+                 for name in args.variants]
+        for variant, steps, cascades, order, changes in runs:
             settings = Settings(scene=args.scene, corrections=preset(args.preset),
                                 grid_size=grid, iterations=steps, rsm_size=rsm_size,
                                 width=width, height=height, grid_format=args.format,
-                                geometry_volume=args.geometry_volume, cascades=cascades)
+                                geometry_volume=args.geometry_volume, cascades=cascades,
+                                sh_order=order)
             if changes.get("bounces", 1) > 1 and settings.geometry_volume == "off":
                 changes = {**changes, "geometry_volume": "one-sided"}
             settings = settings.with_changes(**changes)
@@ -137,11 +150,11 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
                         samples.setdefault(name, []).append(result.timings_ms[name])
             passes = {name: statistics.median(values) for name, values in samples.items()}
             row = {"variant": variant, "grid": grid, "iterations": steps, "cascades": cascades,
-                   "passes_ms": passes, "frame_ms": sum(passes.values()),
+                   "sh_order": order, "passes_ms": passes, "frame_ms": sum(passes.values()),
                    "methods": dict(pipeline.timing_methods)}
             propagate_ms = passes.get("propagate", 0.0)
             if steps > 0 and propagate_ms > 0:
-                moved = cascades * propagation_bytes(grid, steps, args.format)
+                moved = cascades * propagation_bytes(grid, steps, args.format, order)
                 row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
                 row["ms_per_step"] = propagate_ms / steps
             rows.append(row)
@@ -149,13 +162,14 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
 
 
 def format_table(rows: list[dict], peak_gbs: float | None) -> str:
-    header = ["variant", "grid", "iters", "cascades", *PASS_COLUMNS, "frame", "ms/step", "GB/s"]
+    header = ["variant", "grid", "iters", "cascades", "sh", *PASS_COLUMNS, "frame", "ms/step",
+              "GB/s"]
     if peak_gbs:
         header.append("% peak")
     lines = ["  ".join(f"{h:>10}" for h in header)]
     for row in rows:
         cells = [row.get("variant", "default"), f"{row['grid']}³", str(row["iterations"]),
-                 str(row.get("cascades", 1))]
+                 str(row.get("cascades", 1)), f"L{row.get('sh_order', 1)}"]
         cells += [f"{row['passes_ms'][name]:.2f}" if name in row["passes_ms"] else "-"
                   for name in PASS_COLUMNS]
         cells.append(f"{row['frame_ms']:.2f}")

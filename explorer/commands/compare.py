@@ -51,6 +51,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--geometry-volume", default="off",
                         choices=GEOMETRY_VOLUME_MODES,
                         help="LPV occlusion (default: off)")
+    parser.add_argument("--sh-order", default=None, metavar="ORDER[,ORDER]",
+                        help="spherical harmonics of the grid: 1 (L1, default), 2 (L2), or "
+                             "1,2 to compare both; the table's preset cell then names it")
     add_leak_arguments(parser)
     parser.add_argument("--min-distance", type=float, default=None,
                         help="reference 1/r² clamp distance in world units "
@@ -96,6 +99,7 @@ def main(args: argparse.Namespace) -> int:
         regions = [_parse_region(text) for text in args.region]
         iterations = _parse_iterations(args.iterations)
         cascade_counts = _parse_cascades(args.cascades)
+        sh_orders = _parse_sh_orders(args.sh_order)
         for name in ("width", "height", "rsm_size"):
             if getattr(args, name) < 1:
                 raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
@@ -110,6 +114,9 @@ def main(args: argparse.Namespace) -> int:
             changes["grid_size"] = args.grid_size
         changes.update(leak_changes(args))
         base = Settings(**changes, cascades=max(cascade_counts))   # validates the count
+        for order in sh_orders:   # L2 refuses some combinations (e.g. cascades)
+            for count in cascade_counts:
+                base.with_changes(sh_order=order, cascades=count)
         if iterations is None:
             iterations = [base.iterations]
     except ValueError as exc:
@@ -148,9 +155,11 @@ def main(args: argparse.Namespace) -> int:
     reference = gbuffer = reference_vpls = frame = None
     try:
         for name in names:
-            for steps, count in [(i, k) for i in iterations for k in cascade_counts]:
+            for steps, count, order in [(i, k, o) for i in iterations for k in cascade_counts
+                                        for o in sh_orders]:
                 frame = pipeline.run(base.with_changes(corrections=PRESETS[name],
-                                                       iterations=steps, cascades=count))
+                                                       iterations=steps, cascades=count,
+                                                       sh_order=order))
                 if reference is None or not _same_vpls(frame.vpls, reference_vpls):
                     started = time.perf_counter()
                     reference, gbuffer = reference_for_frame(
@@ -166,15 +175,19 @@ def main(args: argparse.Namespace) -> int:
                 if args.cascades is not None:
                     label += f"-c{count}"
                     steps = (steps, count)   # the table's iterations cell: "8, 2 cascades"
+                shown = name
+                if args.sh_order is not None:
+                    label += f"-L{order}"
+                    shown = f"{name} L{order}"   # the table's preset cell: "corrected L2"
                 images[label] = lpv
-                rows.append((name, steps, "image", error_stats(lpv, reference, valid)))
+                rows.append((shown, steps, "image", error_stats(lpv, reference, valid)))
                 for rect in regions:
                     mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
                     try:
                         stats = error_stats(lpv, reference, mask)
                     except EmptyRegionError:
                         stats = None
-                    rows.append((name, steps, ",".join(map(str, rect)), stats))
+                    rows.append((shown, steps, ",".join(map(str, rect)), stats))
     finally:
         pipeline.release()
         ctx.release()
@@ -224,6 +237,18 @@ def _parse_cascades(text: str | None) -> list[int]:
         raise ValueError(f"--cascades {text!r}: expected integers like 2 or 1,2,3") from None
     if any(not 1 <= v <= MAX_CASCADES for v in values):
         raise ValueError(f"--cascades {text!r}: cascades must be 1..{MAX_CASCADES}")
+    return values
+
+
+def _parse_sh_orders(text: str | None) -> list[int]:
+    if text is None:
+        return [1]
+    try:
+        values = [int(part) for part in text.split(",")]
+    except ValueError:
+        raise ValueError(f"--sh-order {text!r}: expected 1, 2 or 1,2") from None
+    if any(v not in (1, 2) for v in values):
+        raise ValueError(f"--sh-order {text!r}: the SH order must be 1 (L1) or 2 (L2)")
     return values
 
 

@@ -52,12 +52,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--geometry-volume", choices=GEOMETRY_VOLUME_MODES,
                         help="fuzzy occlusion")
     add_leak_arguments(parser)
+    add_sh_order_argument(parser)
     parser.add_argument("--indirect-only", action="store_true",
                         help="final image without the direct light")
     parser.add_argument("--slice", type=int, dest="z",
                         help="z slice of the grid views (default: the middle)")
-    parser.add_argument("--coefficient", type=int, choices=range(4),
-                        help="grid-slice: show this SH coefficient instead of the flux")
+    parser.add_argument("--coefficient", type=int, choices=range(9), metavar="K",
+                        help="grid-slice: show SH coefficient K (0..3, or 0..8 with "
+                             "--sh-order 2) instead of the flux")
     parser.add_argument("--cascades", type=int,
                         help="nested LPV grids around the camera's focus, each with twice the "
                              "cells of the last (default 1: one grid around the scene)")
@@ -95,6 +97,13 @@ def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
                              "--geometry-volume; default 1)")
 
 
+def add_sh_order_argument(parser: argparse.ArgumentParser) -> None:
+    """--sh-order: L1 (4 coefficients per colour) or L2 (9) spherical harmonics."""
+    parser.add_argument("--sh-order", type=int, metavar="ORDER",
+                        help="spherical harmonics of the light grid: 1 = L1, 4 coefficients "
+                             "(default), 2 = L2, 9 coefficients (docs/MODEL.md 'L2 option')")
+
+
 # (option dest, Settings field) pairs: an option given on the command line sets the field.
 STEP_OPTIONS = (("grid", "grid_size"), ("iterations", "iterations"),
                 ("rsm_size", "rsm_size"), ("exposure", "exposure"),
@@ -103,6 +112,7 @@ STEP_OPTIONS = (("grid", "grid_size"), ("iterations", "iterations"),
 """The options that also override a lesson step (``render --lesson``)."""
 CASCADE_OPTIONS = (("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
                    ("cascade_iterations", "cascade_iterations"))
+SH_OPTIONS = (("sh_order", "sh_order"),)
 LEAK_OPTIONS = (("injection_offset", "injection_offset_cells"),
                 ("gather_damping", "gather_damping"), ("bounces", "bounces"))
 
@@ -140,7 +150,7 @@ def settings_from_args(args: argparse.Namespace):
     from explorer.lpv.settings import Settings, preset
 
     changes: dict[str, object] = {"scene": args.scene, "corrections": preset(args.preset)}
-    changes.update(option_changes(args, STEP_OPTIONS + CASCADE_OPTIONS))
+    changes.update(option_changes(args, STEP_OPTIONS + CASCADE_OPTIONS + SH_OPTIONS))
     changes.update(leak_changes(args))
     changes.update(output_changes(args))
     return Settings(**changes)

@@ -119,30 +119,34 @@ def blend_weights(specs: list[GridSpec], points) -> np.ndarray:
     return weights
 
 
-def texture_bytes(grid_size: int, cascades: int, grid_format: str, geometry: bool) -> int:
+def texture_bytes(grid_size: int, cascades: int, grid_format: str, geometry: bool,
+                  sh_groups: int = 1) -> int:
     """GPU memory the LPV stages hold for ``cascades`` grids of ``grid_size``³ cells:
-    per cascade four light grids of three textures, the audit records, and the geometry
-    volume of ``(N+1)³`` texels when it is on."""
+    per cascade four light grids of three textures (``sh_groups`` texels per cell: 1 for
+    L1, 3 for L2), the audit records, and the geometry volume of ``(N+1)³`` texels when it
+    is on."""
     n = int(grid_size)
     texel = TEXEL_BYTES[grid_format]
-    per_cascade = GRIDS_PER_CASCADE * 3 * texel * n ** 3 + AUDIT_BYTES_PER_CELL * n ** 3
+    per_cascade = (GRIDS_PER_CASCADE * 3 * int(sh_groups) * texel * n ** 3
+                   + AUDIT_BYTES_PER_CELL * n ** 3)
     if geometry:
         per_cascade += texel * (n + 1) ** 3
     return int(cascades) * per_cascade
 
 
 def check_limits(grid_size: int, cascades: int, grid_format: str, geometry: bool,
-                 budget_bytes: int, max_texture_units: int) -> None:
+                 budget_bytes: int, max_texture_units: int, sh_groups: int = 1) -> None:
     """A ValueError naming the limit when the cascades do not fit: the texture memory
     budget, or the fragment shader's texture units (5 + 3 per cascade)."""
     if cascades > 1 and grid_size < MIN_CASCADE_GRID:
         raise ValueError(f"cascades need grid_size >= {MIN_CASCADE_GRID} (each cascade must "
                          f"hold the next finer one), got {grid_size}")
-    needed = texture_bytes(grid_size, cascades, grid_format, geometry)
+    needed = texture_bytes(grid_size, cascades, grid_format, geometry, sh_groups)
     if budget_bytes and needed > budget_bytes:
         raise ValueError(
             f"{cascades} cascade(s) of {grid_size}^3 cells in {grid_format} need "
-            f"{needed / 2**20:.0f} MiB of LPV textures (4 grids x 3 channels + audit"
+            f"{needed / 2**20:.0f} MiB of LPV textures (4 grids x 3 channels"
+            f"{' x 3 texels (L2)' if sh_groups > 1 else ''} + audit"
             f"{' + geometry volume' if geometry else ''} per cascade), more than the "
             f"budget of {budget_bytes / 2**20:.0f} MiB: use fewer cascades, a smaller "
             f"grid or rgba16f")
@@ -203,15 +207,16 @@ class CascadeLevel:
         self.accumulated: np.ndarray | None = None
         self.geometry: np.ndarray | None = None
 
-    def grid(self, resolution: int, fmt: str):
-        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt``."""
+    def grid(self, resolution: int, fmt: str, sh_order: int = 1):
+        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt`` with SH of
+        ``sh_order`` (1 = L1, 2 = L2)."""
         from explorer.lpv.textures import LpvGrid
 
         if self.injected is None or self.injected.resolution != resolution or \
-                self.injected.format != fmt:
+                self.injected.format != fmt or self.injected.sh_order != sh_order:
             if self.injected is not None:
                 self.injected.release()
-            self.injected = LpvGrid(self.ctx, resolution, fmt)
+            self.injected = LpvGrid(self.ctx, resolution, fmt, sh_order)
         return self.injected
 
     def geometry_volume(self, resolution: int, fmt: str):

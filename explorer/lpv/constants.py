@@ -42,6 +42,12 @@ SH_L2_COSLOBE_C0 = 0.886226925452758
 SH_L2_COSLOBE_C1 = 1.0233267079464885
 # sqrt(5)*sqrt(pi)/8  [sh.l2_coslobe_c2]
 SH_L2_COSLOBE_C2 = 0.4954159122007514
+# sqrt(15)*sqrt(pi)/8  [sh.l2_lobe_c2]
+SH_L2_LOBE_C2 = 0.8580855308097834
+# sqrt(5)*sqrt(pi)/16  [sh.l2_lobe_c3]
+SH_L2_LOBE_C3 = 0.2477079561003757
+# sqrt(15)*sqrt(pi)/16  [sh.l2_lobe_c4]
+SH_L2_LOBE_C4 = 0.4290427654048917
 # 1/pi  [corrections.injection_pi.flux_factor]
 INV_PI = 0.3183098861837907
 # sqrt(5)/5  [propagation.side_eval_small]
@@ -91,6 +97,9 @@ DERIVATION: dict[str, str] = {
     "SH_L2_COSLOBE_C0": "sh.l2_coslobe_c0",
     "SH_L2_COSLOBE_C1": "sh.l2_coslobe_c1",
     "SH_L2_COSLOBE_C2": "sh.l2_coslobe_c2",
+    "SH_L2_LOBE_C2": "sh.l2_lobe_c2",
+    "SH_L2_LOBE_C3": "sh.l2_lobe_c3",
+    "SH_L2_LOBE_C4": "sh.l2_lobe_c4",
     "INV_PI": "corrections.injection_pi.flux_factor",
     "SIDE_EVAL_SMALL": "propagation.side_eval_small",
     "SIDE_EVAL_BIG": "propagation.side_eval_big",

@@ -2,9 +2,10 @@
 (docs/MODEL.md "Final gather").
 
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
-the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² and the indirect radiance
-a/π·E (optionally damped by the directional derivative along n). The direct
-radiance is a/π times the light's irradiance I·cos θ/r² (spot) or
+the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
+SH order) and the indirect radiance a/π·E (optionally damped by the directional
+derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
+(spot) or
 E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
 """
 
@@ -18,6 +19,7 @@ from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
+from explorer.lpv.textures import sh_defines
 from explorer.lpv.vpl import VplTextures
 
 TARGETS = ("direct", "indirect", "final", "display", "received")
@@ -51,14 +53,16 @@ class GatherPass:
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
             grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
-            damping: bool = False, cascades: list[CascadeInput] | None = None) -> None:
+            damping: bool = False, cascades: list[CascadeInput] | None = None,
+            sh_order: int = 1) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
         clamped), or None for direct light only. ``damping``: the directional-derivative
         damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
-        instead of ``grid_textures``; None or one cascade = the single grid."""
+        instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
+        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""
         self._allocate(gbuffer.size)
-        program = self.programs.get("gather.glsl")
+        program = self.programs.get("gather.glsl", sh_defines(sh_order))
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)

@@ -7,6 +7,9 @@ Two GPU paths give the same grid up to float summation order:
 * ``"compute"``: the compute-shader gather the DX12 write-up proposes: bin the VPLs into
   per-cell linked lists, then one invocation per cell sums its list
   (``shaders/inject_compute.glsl``).
+
+The output grid's ``sh_order`` picks the lobe: L1 (4 coefficients) or L2 (9; the point
+path draws one point per texel group, docs/MODEL.md "L2 option").
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from explorer.lpv.textures import (
     image_format_defines,
     per_context,
     programs_for,
+    sh_defines,
 )
 from explorer.lpv.vpl import VplArrays, VplTextures
 
@@ -73,13 +77,14 @@ class InjectPass:
             self._inject_compute(vpls, uniforms, out)
 
     def _inject_points(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:
-        n = out.resolution
+        n, depth = out.resolution, out.groups * out.resolution
         layers = self._layers
-        if layers is None or layers.size != n or layers.format != out.format:
+        if layers is None or layers.size != n or layers.depth != depth or \
+                layers.format != out.format:
             if layers is not None:
                 layers.release()
-            layers = self._layers = LayeredTarget(self.ctx, n, 3, out.format)
-        program = self.programs.get("inject_points.glsl")
+            layers = self._layers = LayeredTarget(self.ctx, n, 3, out.format, depth=depth)
+        program = self.programs.get("inject_points.glsl", sh_defines(out.sh_order))
         set_uniforms(program, uniforms)
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
         for stack, volume in zip(layers.layers, out.volumes):
@@ -99,7 +104,8 @@ class InjectPass:
         self.ctx.memory_barrier()
 
         gather = self.programs.get("inject_compute.glsl",
-                                   {"INJECT_STAGE": 1, **image_format_defines(out.format)})
+                                   {"INJECT_STAGE": 1, **image_format_defines(out.format),
+                                    **sh_defines(out.sh_order)})
         out.bind_images(0, read=False, write=True)
         set_uniforms(gather, uniforms)  # images: units 0..2 by binding
         gather.run(*dispatch_size(n))
@@ -133,8 +139,9 @@ def _sized_buffer(ctx: moderngl.Context, buffer: moderngl.Buffer | None,
 
 def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
            mode: str = "points", ctx: moderngl.Context | None = None,
-           fmt: str = "rgba32f", offset_cells: float = 0.0) -> np.ndarray:
-    """Inject VPL arrays on the GPU and return the grid as float32 ``(3, N, N, N, 4)``.
+           fmt: str = "rgba32f", offset_cells: float = 0.0, sh_order: int = 1) -> np.ndarray:
+    """Inject VPL arrays on the GPU and return the grid as float32 ``(3, N, N, N, C)``,
+    C = 4 (``sh_order`` 1, L1) or 9 (``sh_order`` 2, L2).
 
     ``ctx`` None uses a headless context created on first use. VPLs outside the grid are
     dropped. ``fmt`` is the grid's texture format (``rgba32f`` or ``rgba16f``);
@@ -146,10 +153,10 @@ def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = No
         raise TypeError(f"spec must be a GridSpec, got {type(spec).__name__}")
     corrections = corrections or Corrections()
     ctx = ctx or default_context()
-    grid = LpvGrid(ctx, spec.resolution, fmt)
+    grid = LpvGrid(ctx, spec.resolution, fmt, sh_order)
     try:
         if vpls.count == 0:
-            return np.zeros((3,) + (spec.resolution,) * 3 + (4,), np.float32)
+            return np.zeros((3,) + (spec.resolution,) * 3 + (grid.coefficients,), np.float32)
         textures = VplTextures.from_arrays(ctx, vpls)
         try:
             injector = per_context(ctx, "inject", lambda: InjectPass(ctx, programs_for(ctx)))

@@ -12,7 +12,7 @@ scene      scene, camera, light, light_flux (loads the mesh once per scene name)
 rsm        scene, light, light_flux, rsm_size
 downsample (rsm, grid) downsample, downsample_factor
 inject     (downsample, grid) corrections, injection_mode, grid_format,
-           injection_offset_cells
+           injection_offset_cells, sh_order
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
 propagate  (inject, geometry) corrections, iterations, bounces (+ keep_steps)
 gbuffer    scene, camera, width, height
@@ -94,7 +94,7 @@ class FrameResult:
     vpls: VplArrays
     """The VPLs injected (after downsampling, or the ones handed to :meth:`Pipeline.run`)."""
     accumulated: np.ndarray
-    """acc_N, ``(3, N, N, N, 4)``."""
+    """acc_N, ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (``sh_order`` 2)."""
     steps: list[np.ndarray] | None
     geometry_volume: np.ndarray | None
     audit: EnergyAudit
@@ -111,7 +111,7 @@ class FrameResult:
     cascade_specs: list[GridSpec] = field(default_factory=list)
     """GridSpec of each cascade; [grid_spec] for the single grid."""
     cascade_accumulated: list[np.ndarray] = field(default_factory=list)
-    """acc_N of each cascade, ``(3, N, N, N, 4)``."""
+    """acc_N of each cascade, ``(3, N, N, N, 4)`` (or ``9`` coefficients with L2)."""
     cascade_geometry: list[np.ndarray | None] = field(default_factory=list)
     """Geometry volume of each cascade (None when off)."""
     cascade_audits: list[GridAudit] = field(default_factory=list)
@@ -235,7 +235,7 @@ class Pipeline:
             ran.append("downsample")
 
         inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format,
-                      s.injection_offset_cells, tuple(specs))
+                      s.injection_offset_cells, tuple(specs), s.sh_order)
         if self._changed("inject", inject_key):
             self._injected = self._replace_grid(self._injected, s)
 
@@ -310,7 +310,8 @@ class Pipeline:
             self._timed("gather", lambda: self._gather.run(
                 self._gbuffer, self._rsm_textures, self._light,
                 self._accumulated_grid.textures, spec, s.exposure, s.indirect_only,
-                s.gather_damping, cascades=self._cascade_inputs(specs)))
+                s.gather_damping, cascades=self._cascade_inputs(specs),
+                sh_order=self._accumulated_grid.sh_order))
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
@@ -419,11 +420,12 @@ class Pipeline:
             self._rsm_textures, s.downsample, s.downsample_factor, spec, self._light))
 
     def _replace_grid(self, grid: LpvGrid | None, s: Settings) -> LpvGrid:
-        if grid is not None and grid.resolution == s.grid_size and grid.format == s.grid_format:
+        if grid is not None and grid.resolution == s.grid_size and \
+                grid.format == s.grid_format and grid.sh_order == s.sh_order:
             return grid
         if grid is not None:
             grid.release()
-        return LpvGrid(self.ctx, s.grid_size, s.grid_format)
+        return LpvGrid(self.ctx, s.grid_size, s.grid_format, s.sh_order)
 
     def _release_volume(self) -> None:
         if self._volume is not None:
@@ -434,6 +436,12 @@ class Pipeline:
         if self.max_3d_texture_size and s.grid_size > self.max_3d_texture_size:
             raise ValueError(f"grid_size {s.grid_size} exceeds this driver's "
                              f"GL_MAX_3D_TEXTURE_SIZE {self.max_3d_texture_size}")
+        # L2 stacks its 3 texel groups along z (explorer/lpv/textures.py)
+        if s.sh_order == 2 and self.max_3d_texture_size and \
+                3 * s.grid_size > self.max_3d_texture_size:
+            raise ValueError(f"sh_order 2 stores 3·grid_size = {3 * s.grid_size} texels "
+                             f"along z, more than this driver's GL_MAX_3D_TEXTURE_SIZE "
+                             f"{self.max_3d_texture_size}")
         for name in ("rsm_size", "width", "height"):
             value = int(getattr(s, name))
             if value < 1:
@@ -443,7 +451,7 @@ class Pipeline:
                                  f"{self.max_texture_size}")
         check_cascade_limits(s.grid_size, s.cascades, s.grid_format,
                              s.geometry_volume != "off", self.texture_budget_bytes,
-                             self.max_texture_units)
+                             self.max_texture_units, sh_groups=3 if s.sh_order == 2 else 1)
 
     def _check(self, pass_name: str, array) -> None:
         """With ``settings.debug_nan``: a FloatingPointError naming ``pass_name`` if its
@@ -507,7 +515,7 @@ class Pipeline:
         """Every VPL into every coarser cascade (injection drops those outside a grid)."""
         for level, spec in zip(self._cascade_levels(specs), specs[1:]):
             self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
-                             level.grid(spec.resolution, s.grid_format),
+                             level.grid(spec.resolution, s.grid_format, s.sh_order),
                              s.injection_offset_cells)
 
     def _geometry_cascades(self, s: Settings, specs: list[GridSpec], occluders) -> None:

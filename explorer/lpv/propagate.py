@@ -22,6 +22,8 @@ from explorer.lpv.textures import (
     image_format_defines,
     per_context,
     programs_for,
+    sh_defines,
+    sh_order_of,
 )
 
 
@@ -62,20 +64,22 @@ class PropagatePass:
         self.audit = AuditReducer(ctx, programs)
         self._grids: dict[str, LpvGrid] = {}
 
-    def _scratch(self, name: str, resolution: int, fmt: str) -> LpvGrid:
+    def _scratch(self, name: str, resolution: int, fmt: str, sh_order: int) -> LpvGrid:
         grid = self._grids.get(name)
-        if grid is None or grid.resolution != resolution or grid.format != fmt:
+        if grid is None or grid.resolution != resolution or grid.format != fmt or \
+                grid.sh_order != sh_order:
             if grid is not None:
                 grid.release()
-            grid = self._grids[name] = LpvGrid(self.ctx, resolution, fmt)
+            grid = self._grids[name] = LpvGrid(self.ctx, resolution, fmt, sh_order)
         return grid
 
     def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
             iterations: int, geometry: GeometryVolume | None = None,
             keep_steps: bool = False, bounces: int = 1) -> PropagationOutput:
         """``bounces`` 2: the geometry volume reflects the light it blocks
-        (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``."""
-        n, fmt = spec.resolution, injected.format
+        (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
+        The injected grid's ``sh_order`` selects L1 or L2 propagation."""
+        n, fmt, order = spec.resolution, injected.format, injected.sh_order
         if bounces not in (1, 2) or isinstance(bounces, bool):
             raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
         if bounces == 2 and geometry is None:
@@ -91,13 +95,14 @@ class PropagatePass:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
         iterations = int(iterations)
 
-        accumulated = self._scratch("accumulated", n, fmt)
+        accumulated = self._scratch("accumulated", n, fmt, order)
         copy_grid(self.programs, injected, accumulated)
         self.audit.begin(n, iterations + 2)
         self.audit.measure_flux(0, injected)
         steps = [injected.read()] if keep_steps else None
 
-        program = self.programs.get("propagate.glsl", image_format_defines(fmt))
+        program = self.programs.get("propagate.glsl",
+                                    {**image_format_defines(fmt), **sh_defines(order)})
         set_uniforms(program, {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
@@ -109,7 +114,7 @@ class PropagatePass:
         previous = steps[0] if keep_steps else None
         for step in range(1, iterations + 1):
             if corrections.ping_pong:
-                target = self._scratch("ping" if step % 2 else "pong", n, fmt)
+                target = self._scratch("ping" if step % 2 else "pong", n, fmt, order)
             else:
                 # The race: the dispatch reads its neighbours from the grid it writes.
                 target = accumulated
@@ -155,17 +160,20 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                          ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
                          geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
-    """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit).
+    """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
+    ``grid`` (4 or 9 coefficients) selects L1 or L2.
     ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2)."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
-        raise ValueError(f"grid must have shape (3, N, N, N, 4), got {grid.shape}")
+        raise ValueError(f"grid must have shape (3, N, N, N, 4) or (3, N, N, N, 9), got "
+                         f"{grid.shape}")
     n = grid.shape[1]
-    grid = check_volume_array(grid, n, "grid", channels=3)
+    order = sh_order_of(grid.shape[4])
+    grid = check_volume_array(grid, n, "grid", channels=3, coefficients=grid.shape[4])
     corrections = corrections or Corrections()
     ctx = ctx or default_context()
     spec = GridSpec((0.0, 0.0, 0.0), 1.0, n)
-    injected = LpvGrid(ctx, n, fmt)
+    injected = LpvGrid(ctx, n, fmt, order)
     volume = None
     try:
         injected.write(grid)
@@ -188,6 +196,7 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
 def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
               geometry: np.ndarray | None = None, ctx: moderngl.Context | None = None,
               fmt: str = "rgba32f") -> list[np.ndarray]:
-    """GPU propagation of a ``(3, N, N, N, 4)`` grid: grid_0..grid_N as float32 arrays
-    (``geometry``: an optional ``(N+1, N+1, N+1, 4)`` geometry volume)."""
+    """GPU propagation of a ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (L2) grid:
+    grid_0..grid_N as float32 arrays (``geometry``: an optional ``(N+1, N+1, N+1, 4)`` L1
+    geometry volume)."""
     return propagate_with_audit(grid, corrections, iterations, geometry, ctx, fmt)[0]

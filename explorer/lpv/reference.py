@@ -4,7 +4,10 @@ Written independently of the GPU passes: where the shaders gather (one target ce
 its six neighbours), this module scatters (every source cell sends to its six neighbours,
 whole-grid array slices per direction and face), so a shared mistake is unlikely. It follows
 docs/MODEL.md literally and computes in float64. Results are arrays shaped
-``(3, N, N, N, 4)`` (channel, x, y, z, SH coefficient) like :func:`explorer.lpv.inject`.
+``(3, N, N, N, 4)`` (channel, x, y, z, SH coefficient) like :func:`explorer.lpv.inject`,
+or ``(3, N, N, N, 9)`` with L2 spherical harmonics (docs/MODEL.md "L2 option": the basis
+and the clamped-cosine lobe gain band 2; faces, weights, clamp and the L1 geometry volume
+are unchanged).
 
 In-place propagation (``ping_pong=False``) uses the race-free reading
 ``acc_t = acc_{t−1} + P(acc_{t−1})``. The GPU's in-place pass reads some neighbours after
@@ -23,17 +26,40 @@ from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, INJECTION_MODES, Correc
 from explorer.lpv.vpl import VplArrays
 
 
-def sh_basis(direction: np.ndarray) -> np.ndarray:
-    """Y(ω) = (c0, −c1·ω.y, c1·ω.z, −c1·ω.x) for unit directions shaped (..., 3)."""
+SH_COEFFICIENTS = {1: 4, 2: 9}
+
+
+def _order(sh_order: int) -> int:
+    if isinstance(sh_order, bool) or sh_order not in SH_COEFFICIENTS:
+        raise ValueError(f"sh_order must be 1 (L1) or 2 (L2), got {sh_order!r}")
+    return int(sh_order)
+
+
+def sh_basis(direction: np.ndarray, sh_order: int = 1) -> np.ndarray:
+    """Y(ω) = (c0, −c1·ω.y, c1·ω.z, −c1·ω.x) for unit directions shaped (..., 3); with
+    ``sh_order`` 2 followed by band 2 (c2·xy, −c2·yz, c3·(3z²−1), −c2·xz, c4·(x²−y²))."""
     x, y, z = np.moveaxis(np.asarray(direction, np.float64), -1, 0)
-    return np.stack([np.full_like(x, K.SH_C0), -K.SH_C1 * y, K.SH_C1 * z, -K.SH_C1 * x], -1)
+    band01 = [np.full_like(x, K.SH_C0), -K.SH_C1 * y, K.SH_C1 * z, -K.SH_C1 * x]
+    if _order(sh_order) == 1:
+        return np.stack(band01, -1)
+    band2 = [K.SH_L2_C2 * x * y, -K.SH_L2_C2 * y * z, K.SH_L2_C3 * (3.0 * z * z - 1.0),
+             -K.SH_L2_C2 * x * z, K.SH_L2_C4 * (x * x - y * y)]
+    return np.stack(band01 + band2, -1)
 
 
-def cosine_lobe(normal: np.ndarray) -> np.ndarray:
-    """SH projection of clamp+(<n, ω>) for unit normals shaped (..., 3)."""
+def cosine_lobe(normal: np.ndarray, sh_order: int = 1) -> np.ndarray:
+    """SH projection of clamp+(<n, ω>) for unit normals shaped (..., 3). L2: the zonal
+    rotation, band l of Y(n) times A_l = √(4π/(2l+1))·(zonal coefficient of band l)."""
     x, y, z = np.moveaxis(np.asarray(normal, np.float64), -1, 0)
-    return np.stack([np.full_like(x, K.SH_COSLOBE_C0), -K.SH_COSLOBE_C1 * y,
-                     K.SH_COSLOBE_C1 * z, -K.SH_COSLOBE_C1 * x], -1)
+    band01 = [np.full_like(x, K.SH_COSLOBE_C0), -K.SH_COSLOBE_C1 * y,
+              K.SH_COSLOBE_C1 * z, -K.SH_COSLOBE_C1 * x]
+    if _order(sh_order) == 1:
+        return np.stack(band01, -1)
+    # Band 2 from its zonal coefficient around +z (SH_L2_COSLOBE_C2), not from the
+    # shaders' SH_L2_LOBE_* constants: A_2 = √(4π/5)·SH_L2_COSLOBE_C2 (= π/4).
+    band2_factor = np.sqrt(4.0 * K.PI / 5.0) * K.SH_L2_COSLOBE_C2
+    band2 = sh_basis(np.stack([x, y, z], -1), 2)[..., 4:] * band2_factor
+    return np.concatenate([np.stack(band01, -1), band2], -1)
 
 
 def flux(grid: np.ndarray) -> np.ndarray:
@@ -71,10 +97,16 @@ def face_solid_angles(corrections: Corrections) -> tuple[float, float]:
 
 def _check_grid(grid: np.ndarray) -> np.ndarray:
     grid = np.asarray(grid, np.float64)
-    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] != 4 or not (
+    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] not in (4, 9) or not (
             grid.shape[1] == grid.shape[2] == grid.shape[3]):
-        raise ValueError(f"grid must have shape (3, N, N, N, 4), got {grid.shape}")
+        raise ValueError(f"grid must have shape (3, N, N, N, 4) (L1) or (3, N, N, N, 9) "
+                         f"(L2), got {grid.shape}")
     return grid
+
+
+def grid_sh_order(grid: np.ndarray) -> int:
+    """1 for a grid of 4 coefficients per cell, 2 for 9."""
+    return 1 if np.shape(grid)[-1] == 4 else 2
 
 
 def _check_geometry(geometry: np.ndarray | None, resolution: int) -> np.ndarray | None:
@@ -104,18 +136,21 @@ def injection_positions(vpls: VplArrays, spec: GridSpec, offset_cells: float = 0
 
 
 def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
-           mode: str = "points", offset_cells: float = 0.0) -> np.ndarray:
+           mode: str = "points", offset_cells: float = 0.0, sh_order: int = 1
+           ) -> np.ndarray:
     """grid[c, cell(p + δ·h·n)] += k_I·Φ[c]·lobe(n) for every VPL inside the grid (both
-    injection modes compute this same sum); δ = ``offset_cells``, h the cell size."""
+    injection modes compute this same sum); δ = ``offset_cells``, h the cell size;
+    ``sh_order`` 2 uses the 9-coefficient L2 lobe."""
     if mode not in INJECTION_MODES:
         raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
     corrections = corrections or Corrections()
     n = spec.resolution
-    grid = np.zeros((3, n, n, n, 4))
+    grid = np.zeros((3, n, n, n, SH_COEFFICIENTS[_order(sh_order)]))
     cells = spec.cell_index(injection_positions(vpls, spec, offset_cells))
     keep = spec.inside(cells)
     ix, iy, iz = cells[keep].T
-    lobes = injection_factor(corrections) * cosine_lobe(np.asarray(vpls.normals)[keep])
+    lobes = injection_factor(corrections) * cosine_lobe(np.asarray(vpls.normals)[keep],
+                                                        sh_order)
     for channel in range(3):
         weights = np.asarray(vpls.flux, np.float64)[keep, channel, None]
         np.add.at(grid[channel], (ix, iy, iz), weights * lobes)
@@ -211,14 +246,16 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
     """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
     ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
     ``occluded``, ``border_loss``, ``reflected`` and ``blocked`` (the blocked flux that can
-    bounce: per source cell and direction, clamp+; only with ``bounces`` 2).
+    bounce: per source cell and direction, clamp+; only with ``bounces`` 2). L1 or L2
+    after the grid's last axis; the geometry volume is L1 either way.
 
     ``bounces`` 2 (docs/MODEL.md "More bounces"): for every source cell and direction,
     the flux the geometry volume blocks on the five faces, clamp+, times the shared face's
     area-weighted mean albedo (``geometry_albedo`` sums), goes back into the source cell as
-    a cosine lobe around the blockers' normal."""
+    a cosine lobe (of the grid's order) around the blockers' normal."""
     corrections = corrections or Corrections()
     grid = _check_grid(grid)
+    order = grid_sh_order(grid)
     n = grid.shape[1]
     geometry = _check_geometry(geometry, n)
     if bounces not in (1, 2):
@@ -249,9 +286,9 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
             leaving[axis] = slice(n - 1, n) if sign > 0 else slice(0, 1)
             for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
                 weight = scale * (front_angle if is_front else side_angle)
-                lobe = cosine_lobe(reprojection)
+                lobe = cosine_lobe(reprojection, order)
                 flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
-                raw = grid @ sh_basis(evaluation)                        # (3, N, N, N)
+                raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
                 used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) \
                     else raw
                 if blockers is None:
@@ -276,7 +313,7 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                 bounced = np.maximum(blocked, 0.0)
                 terms["blocked"] += bounced.reshape(3, -1).sum(1)
                 reflected = np.moveaxis(albedo, -1, 0) * bounced
-                lobes = cosine_lobe(_reflection_normals(blockers, axis, sign))
+                lobes = cosine_lobe(_reflection_normals(blockers, axis, sign), order)
                 per_watt = lobes / (K.SH_FLUX_FACTOR * lobes[..., :1])
                 out += reflected[..., None] * per_watt
                 terms["reflected"] += reflected.reshape(3, -1).sum(1)

@@ -64,6 +64,8 @@ DOWNSAMPLE_MODES = ("none", "average", "brightest")
 INJECTION_MODES = ("points", "compute")
 GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")
 GRID_FORMATS = ("rgba32f", "rgba16f")
+SH_ORDERS = (1, 2)
+"""1 = L1 spherical harmonics (4 coefficients per colour), 2 = L2 (9)."""
 BOUNCES = (1, 2)
 MAX_INJECTION_OFFSET_CELLS = 1.0
 """A VPL moved by more than a cell would skip the cell in front of its surface."""
@@ -85,6 +87,10 @@ class Settings:
     injection_mode: str = "points"
     geometry_volume: str = "off"
     grid_format: str = "rgba32f"
+    sh_order: int = 1
+    """SH order of the light grid: 1 = L1 (4 coefficients per colour channel, as published),
+    2 = L2 (9; injection, propagation and gather use band 2 too; docs/MODEL.md "L2
+    option"). The geometry volume stays L1."""
     # --- cascaded LPV (docs/MODEL.md "Cascades", explorer/lpv/cascades.py) ---
     cascades: int = 1
     """Nested grids of grid_size³ cells, each with twice the cell size of the last;
@@ -128,6 +134,9 @@ class Settings:
         _check_choice("injection_mode", self.injection_mode, INJECTION_MODES)
         _check_choice("geometry_volume", self.geometry_volume, GEOMETRY_VOLUME_MODES)
         _check_choice("grid_format", self.grid_format, GRID_FORMATS)
+        if isinstance(self.sh_order, bool) or self.sh_order not in SH_ORDERS:
+            raise ValueError(f"sh_order must be 1 (L1, 4 coefficients) or 2 (L2, 9 "
+                             f"coefficients), got {self.sh_order!r}")
         for name in ("grid_size", "rsm_size", "width", "height", "downsample_factor"):
             if int(getattr(self, name)) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")

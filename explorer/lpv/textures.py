@@ -1,7 +1,11 @@
-"""GPU storage of the light grid: three RGBA 3D textures of L1 SH intensity (docs/MODEL.md).
+"""GPU storage of the light grid: three RGBA 3D textures of SH intensity (docs/MODEL.md).
 
 Numpy layout everywhere is ``(channel, x, y, z, coefficient)``; a 3D texture stores texel
 ``(x, y, z)`` with x running fastest, so uploads transpose to ``(z, y, x, coefficient)``.
+L1 (``sh_order`` 1): 4 coefficients, one ``N³`` texture per channel. L2 (``sh_order`` 2):
+9 coefficients in 3 groups of 4 (the last holds coefficient 8 and three zeros), stacked
+along z in one ``N×N×3N`` texture per channel: group k of cell (x, y, z) is texel
+(x, y, z + k·N) (``shaders/sh_grid.glsl``; docs/MODEL.md "L2 option").
 Also the lazily created default context and program cache of the numpy-facing API.
 """
 
@@ -14,6 +18,28 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.settings import GRID_FORMATS
 
 _TEXTURE_DTYPES = {"rgba32f": "f4", "rgba16f": "f2"}
+SH_ORDERS = (1, 2)
+SH_COEFFICIENTS = {1: 4, 2: 9}
+"""Coefficients per colour channel of each SH order."""
+SH_GROUPS = {1: 1, 2: 3}
+"""RGBA texel groups per cell (stacked along z) of each SH order."""
+
+
+def check_sh_order(sh_order: int) -> int:
+    """``sh_order`` if it is 1 (L1, 4 coefficients) or 2 (L2, 9); a ValueError otherwise."""
+    if isinstance(sh_order, bool) or sh_order not in SH_ORDERS:
+        raise ValueError(f"sh_order must be 1 (L1, 4 coefficients) or 2 (L2, 9 "
+                         f"coefficients), got {sh_order!r}")
+    return int(sh_order)
+
+
+def sh_order_of(coefficients: int) -> int:
+    """The SH order of a grid whose last axis holds ``coefficients`` (4 -> 1, 9 -> 2)."""
+    for order, count in SH_COEFFICIENTS.items():
+        if count == coefficients:
+            return order
+    raise ValueError(f"a grid needs 4 (L1) or 9 (L2) SH coefficients per cell, got "
+                     f"{coefficients}")
 _NUMPY_DTYPES = {"rgba32f": np.float32, "rgba16f": np.float16}
 
 
@@ -24,12 +50,12 @@ def check_format(fmt: str) -> str:
 
 
 def check_volume_array(array: np.ndarray, resolution: int, name: str,
-                       channels: int | None = None) -> np.ndarray:
-    """``array`` as float32 if it is shaped ``(channels, n, n, n, 4)`` (or ``(n, n, n, 4)``
-    when ``channels`` is None) with ``n == resolution``; a ValueError stating the expected
-    shape otherwise."""
+                       channels: int | None = None, coefficients: int = 4) -> np.ndarray:
+    """``array`` as float32 if it is shaped ``(channels, n, n, n, coefficients)`` (or
+    ``(n, n, n, coefficients)`` when ``channels`` is None) with ``n == resolution``; a
+    ValueError stating the expected shape otherwise."""
     array = np.asarray(array)
-    expected = (resolution,) * 3 + (4,)
+    expected = (resolution,) * 3 + (coefficients,)
     if channels is not None:
         expected = (channels,) + expected
     if array.shape != expected:
@@ -38,24 +64,38 @@ def check_volume_array(array: np.ndarray, resolution: int, name: str,
 
 
 class VolumeTexture:
-    """One RGBA float 3D texture of ``size``³ texels with numpy ``(x, y, z, 4)`` access."""
+    """One RGBA float 3D texture of ``size × size × depth`` texels (``depth`` defaults to
+    ``size``) with numpy ``(x, y, z, 4)`` access."""
 
-    def __init__(self, ctx: moderngl.Context, size: int, fmt: str = "rgba32f") -> None:
+    def __init__(self, ctx: moderngl.Context, size: int, fmt: str = "rgba32f",
+                 depth: int | None = None) -> None:
         self.ctx = ctx
         self.size = int(size)
+        self.depth = self.size if depth is None else int(depth)
         self.format = check_format(fmt)
-        self.texture = ctx.texture3d((self.size,) * 3, 4, dtype=_TEXTURE_DTYPES[fmt])
+        self.texture = ctx.texture3d((self.size, self.size, self.depth), 4,
+                                     dtype=_TEXTURE_DTYPES[fmt])
         # Linear filtering for the final gather's trilinear lookups; clamp to the edge so
         # the border cells do not blend with the opposite side.
         self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
 
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """Texels along x, y, z."""
+        return self.size, self.size, self.depth
+
     def read(self) -> np.ndarray:
         data = np.frombuffer(self.texture.read(), dtype=_NUMPY_DTYPES[self.format])
-        return data.reshape((self.size,) * 3 + (4,)).transpose(2, 1, 0, 3).astype(np.float32)
+        return data.reshape((self.depth, self.size, self.size, 4)).transpose(
+            2, 1, 0, 3).astype(np.float32)
 
     def write(self, volume: np.ndarray) -> None:
-        volume = check_volume_array(volume, self.size, "volume")
+        volume = np.asarray(volume)
+        if self.depth == self.size:
+            volume = check_volume_array(volume, self.size, "volume")
+        elif volume.shape != self.shape + (4,):
+            raise ValueError(f"volume must have shape {self.shape + (4,)}, got {volume.shape}")
         texels = np.ascontiguousarray(volume.transpose(2, 1, 0, 3), _NUMPY_DTYPES[self.format])
         self.texture.write(texels.tobytes())
 
@@ -71,16 +111,24 @@ class VolumeTexture:
 
 
 class LpvGrid:
-    """Three 3D textures (r, g, b channel), each texel = 4 L1 SH coefficients of radiant
-    intensity [W/sr] (docs/MODEL.md "Notation and storage")."""
+    """Three 3D textures (r, g, b channel) of SH radiant intensity [W/sr] (docs/MODEL.md
+    "Notation and storage"): L1 (``sh_order`` 1), each texel = 4 coefficients; L2
+    (``sh_order`` 2), 9 coefficients per cell in 3 texel groups stacked along z (module
+    docstring)."""
 
-    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f") -> None:
+    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f",
+                 sh_order: int = 1) -> None:
         if int(resolution) < 1:
             raise ValueError(f"resolution must be at least 1, got {resolution}")
         self.ctx = ctx
         self.resolution = int(resolution)
         self.format = check_format(fmt)
-        self.volumes = tuple(VolumeTexture(ctx, self.resolution, fmt) for _ in range(3))
+        self.sh_order = check_sh_order(sh_order)
+        self.coefficients = SH_COEFFICIENTS[self.sh_order]
+        self.groups = SH_GROUPS[self.sh_order]
+        self.volumes = tuple(VolumeTexture(ctx, self.resolution, fmt,
+                                           depth=self.groups * self.resolution)
+                             for _ in range(3))
         self.textures: tuple[moderngl.Texture3D, moderngl.Texture3D, moderngl.Texture3D] = (
             tuple(volume.texture for volume in self.volumes))
 
@@ -89,13 +137,24 @@ class LpvGrid:
             volume.clear()
 
     def read(self) -> np.ndarray:
-        """float32 ``(3, N, N, N, 4)`` = (channel, x, y, z, coefficient)."""
-        return np.stack([volume.read() for volume in self.volumes])
+        """float32 ``(3, N, N, N, C)`` = (channel, x, y, z, coefficient), C = 4 (L1) or 9."""
+        n = self.resolution
+        channels = []
+        for volume in self.volumes:
+            texels = volume.read()                               # (N, N, groups·N, 4)
+            groups = [texels[:, :, k * n:(k + 1) * n] for k in range(self.groups)]
+            channels.append(np.concatenate(groups, axis=-1)[..., :self.coefficients])
+        return np.stack(channels)
 
     def write(self, grid: np.ndarray) -> None:
-        grid = check_volume_array(grid, self.resolution, "grid", channels=3)
+        grid = check_volume_array(grid, self.resolution, "grid", channels=3,
+                                  coefficients=self.coefficients)
+        padding = 4 * self.groups - self.coefficients
         for volume, channel in zip(self.volumes, grid):
-            volume.write(channel)
+            if padding:
+                channel = np.concatenate(
+                    [channel, np.zeros(channel.shape[:3] + (padding,), np.float32)], -1)
+            volume.write(np.concatenate(np.split(channel, self.groups, axis=-1), axis=2))
 
     def use_as_textures(self, first_location: int) -> None:
         """Bind r, g, b as sampler3D units ``first_location`` .. ``first_location + 2``
@@ -118,22 +177,33 @@ def image_format_defines(fmt: str) -> dict[str, str]:
     return {"IMAGE_FORMAT": check_format(fmt)}
 
 
-def dispatch_size(resolution: int, local_size: int = 4) -> tuple[int, int, int]:
-    """Workgroups covering ``resolution``³ invocations with cubic groups of ``local_size``."""
-    groups = -(-int(resolution) // local_size)
-    return groups, groups, groups
+def dispatch_size(resolution: int | tuple[int, int, int], local_size: int = 4
+                  ) -> tuple[int, int, int]:
+    """Workgroups covering ``resolution``³ (or ``(x, y, z)``) invocations with cubic groups
+    of ``local_size``."""
+    shape = (resolution,) * 3 if np.ndim(resolution) == 0 else resolution
+    return tuple(-(-int(extent) // local_size) for extent in shape)
+
+
+def sh_defines(sh_order: int) -> dict[str, int]:
+    """The ``SH_ORDER`` define of the shaders that store light vectors."""
+    return {"SH_ORDER": check_sh_order(sh_order)}
 
 
 class LayeredTarget:
     """``count`` layered 2D-array render targets of ``size``³ texels: points drawn with
     ``gl_Layer = z`` land in texel ``(x, y, z)``. moderngl refuses a 3D texture as a
     framebuffer attachment, so the point passes render here and :func:`copy_volume` moves
-    each layer stack into its 3D texture (DESIGN.md "Platform facts")."""
+    each layer stack into its 3D texture (DESIGN.md "Platform facts"). ``depth`` layers
+    (default ``size``)."""
 
-    def __init__(self, ctx: moderngl.Context, size: int, count: int, fmt: str) -> None:
+    def __init__(self, ctx: moderngl.Context, size: int, count: int, fmt: str,
+                 depth: int | None = None) -> None:
         self.size = int(size)
+        self.depth = self.size if depth is None else int(depth)
         self.format = check_format(fmt)
-        self.layers = [ctx.texture_array((self.size,) * 3, 4, dtype=_TEXTURE_DTYPES[fmt])
+        self.layers = [ctx.texture_array((self.size, self.size, self.depth), 4,
+                                         dtype=_TEXTURE_DTYPES[fmt])
                        for _ in range(count)]
         for layers in self.layers:
             layers.filter = (moderngl.NEAREST, moderngl.NEAREST)
@@ -174,7 +244,7 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
     source.use(0)
     target.bind_image(0, read=False, write=True)
     set_uniforms(program, {"u_source": 0})
-    program.run(*dispatch_size(target.size))
+    program.run(*dispatch_size(target.shape))
     programs.ctx.memory_barrier()
 
 

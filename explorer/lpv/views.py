@@ -39,7 +39,8 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
 
     Options: ``exposure`` (direct/indirect; default the frame's), ``z`` (slice index of
     the grid views; default the middle), ``coefficient`` (grid-slice: None shows the flux
-    of each cell 2√π·c0 per colour; 0..3 shows that SH coefficient signed around grey),
+    of each cell 2√π·c0 per colour; 0..3 (0..8 for L2) shows that SH coefficient signed
+    around grey),
     ``cascade`` (grid views: which cascade, 0 = the finest, the default); ``positions``
     (cascade-weights: the G-buffer's world positions ``(H, W, 4)``, w = 1 where a surface
     is seen; :meth:`Pipeline.view` passes them).
@@ -125,8 +126,10 @@ def grid_slice(grid: np.ndarray, z: int | None = None, coefficient: int | None =
         image = normalise(SH_FLUX_FACTOR * np.maximum(cells[..., 0], 0.0))
         image = linear_to_srgb(image)
     else:
-        if coefficient not in (0, 1, 2, 3):
-            raise ValueError(f"coefficient must be 0..3, got {coefficient}")
+        last = grid.shape[-1] - 1   # 3 for L1, 8 for L2
+        if coefficient not in range(last + 1):
+            raise ValueError(f"coefficient must be 0..{last} for a grid of {last + 1} SH "
+                             f"coefficients, got {coefficient}")
         signed = cells[..., coefficient]
         peak = float(np.max(np.abs(signed))) or 1.0
         image = np.clip(0.5 + 0.5 * signed / peak, 0.0, 1.0)

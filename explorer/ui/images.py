@@ -73,12 +73,19 @@ def grid_slice(grid: np.ndarray, z: int, component: str, direction=None,
     on a heat scale per channel; "sh0".."sh3": that coefficient, signed (blue negative).
     Returns the image and the value that saturates the colours."""
     grid = np.asarray(grid, dtype=np.float32)
-    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] != 4:
-        raise ValueError(f"expected a grid shaped (3, N, N, N, 4), got {grid.shape}")
+    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] not in (4, 9):
+        raise ValueError(f"expected a grid shaped (3, N, N, N, 4) or (3, N, N, N, 9), got "
+                         f"{grid.shape}")
     z = int(np.clip(z, 0, grid.shape[3] - 1))
     cells = grid[:, :, :, z, :]                     # (3, x, y, 4)
     if component == "intensity":
-        basis = sh_basis(direction if direction is not None else (0.0, 1.0, 0.0))
+        towards = direction if direction is not None else (0.0, 1.0, 0.0)
+        if grid.shape[4] == 9:   # an L2 grid (Settings.sh_order 2)
+            from explorer.lpv.reference import sh_basis as basis_up_to
+
+            basis = basis_up_to(np.asarray(towards, np.float64) / np.linalg.norm(towards), 2)
+        else:
+            basis = sh_basis(towards)
         values = np.maximum(np.einsum("cxyk,k->xyc", cells, basis), 0.0)
         top = scale if scale > 0 else robust_max(values)
         image = tonemap(values, 1.0 / top)

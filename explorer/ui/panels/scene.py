@@ -9,6 +9,7 @@ from explorer.lpv.settings import (
     GEOMETRY_VOLUME_MODES,
     GRID_FORMATS,
     INJECTION_MODES,
+    SH_ORDERS,
 )
 from explorer.ui import camera, widgets
 from explorer.ui.state import AppState
@@ -71,6 +72,8 @@ def gui_scene(state: AppState) -> None:
     _choice(state, "Injection", "injection_mode", INJECTION_MODES)
     _choice(state, "Geometry volume", "geometry_volume", GEOMETRY_VOLUME_MODES)
     _choice(state, "Grid format", "grid_format", GRID_FORMATS)
+    if s.cascades == 1:   # L2 is single-grid only (Settings refuses it with cascades)
+        _choice_int(state, "SH order (1 = L1, 2 = L2)", "sh_order", SH_ORDERS)
 
     imgui.separator_text("Output")
     _, state.follow_view_size = imgui.checkbox("Render at view size", state.follow_view_size)
