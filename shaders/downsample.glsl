@@ -11,11 +11,7 @@
 //   flux of the rejected ones is lost, as the energy audit shows).
 
 #if defined VERTEX_SHADER
-void main() {
-    // one triangle covering the viewport
-    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
-}
+#include "fullscreen.glsl"
 #endif
 
 #if defined FRAGMENT_SHADER

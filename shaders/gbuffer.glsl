@@ -6,34 +6,22 @@
 uniform mat4 u_view;
 uniform mat4 u_projection;
 
-#if defined VERTEX_SHADER
-in vec3 in_position;
-in vec3 in_normal;
-in vec3 in_albedo;
-out vec3 v_position;
-out vec3 v_normal;
-out vec3 v_albedo;
+#include "surface.glsl"
 
+#if defined VERTEX_SHADER
 void main() {
-    v_position = in_position;
-    v_normal = in_normal;
-    v_albedo = in_albedo;
+    pass_surface();
     gl_Position = u_projection * u_view * vec4(in_position, 1.0);
 }
 #endif
 
 #if defined FRAGMENT_SHADER
-in vec3 v_position;
-in vec3 v_normal;
-in vec3 v_albedo;
-
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 
 void main() {
-    // Two-sided surfaces, as in the RSM pass: the normal faces the viewer.
-    vec3 normal = normalize(gl_FrontFacing ? v_normal : -v_normal);
+    vec3 normal = facing_normal();   // two-sided surfaces, as in the RSM pass
     // The pixel's footprint on the surface: the parallelogram spanned by the position's
     // screen derivatives (within one triangle they are exact). The energy audit sums
     // irradiance × this area.

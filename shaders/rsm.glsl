@@ -8,20 +8,14 @@
 uniform mat4 u_light_view;
 uniform mat4 u_light_projection;
 
+#include "surface.glsl"
+
 #if defined VERTEX_SHADER
-in vec3 in_position;
-in vec3 in_normal;
-in vec3 in_albedo;
-out vec3 v_position;
-out vec3 v_normal;
-out vec3 v_albedo;
 out float v_depth;
 
 void main() {
     vec4 view_position = u_light_view * vec4(in_position, 1.0);
-    v_position = in_position;
-    v_normal = in_normal;
-    v_albedo = in_albedo;
+    pass_surface();
     v_depth = -view_position.z;
     gl_Position = u_light_projection * view_position;
 }
@@ -36,9 +30,6 @@ uniform float u_light_irradiance;   // directional: E on a plane facing the ligh
 uniform float u_texel_world_area;   // directional: world area of one texel [m²]
 uniform vec2 u_rsm_size;
 
-in vec3 v_position;
-in vec3 v_normal;
-in vec3 v_albedo;
 in float v_depth;
 
 layout(location = 0) out vec4 out_position;
@@ -71,8 +62,7 @@ float texel_solid_angle(vec2 texel) {
 }
 
 void main() {
-    // Two-sided surfaces: the normal faces the side the light sees.
-    vec3 normal = normalize(gl_FrontFacing ? v_normal : -v_normal);
+    vec3 normal = facing_normal();   // two-sided surfaces: the side the light sees
     vec3 to_light = u_orthographic == 1 ? -u_light_direction
                                         : normalize(u_light_position - v_position);
     // The texel's footprint on the surface already shrinks with cos θ_i, so the flux the

@@ -115,8 +115,7 @@ def test_bounces_need_a_geometry_volume(ctx):
 def test_pipeline_second_bounce_adds_light_within_the_blocked_flux(ctx):
     settings = Settings(scene="cornell", width=24, height=20, rsm_size=16, grid_size=8,
                         iterations=4, geometry_volume="one-sided")
-    pipeline = Pipeline(settings, ctx)
-    try:
+    with Pipeline(settings, ctx) as pipeline:
         one = pipeline.run()
         two = pipeline.run(settings.with_changes(bounces=2))
         assert two.stages_run == ("propagate", "gather")
@@ -128,8 +127,6 @@ def test_pipeline_second_bounce_adds_light_within_the_blocked_flux(ctx):
         _, acc, audit = ref.propagate_audited(grid, settings.corrections, 4,
                                               two.geometry_volume, albedo, bounces=2)
         assert relative_error(two.accumulated, acc) < 1e-4
-    finally:
-        pipeline.release()
     # Reflected <= blocked (albedo <= 1). The net `occluded` can be smaller than `blocked`:
     # the geometry volume also blocks the negative tails of the L1 lobes (docs/MODEL.md).
     assert np.all(two.audit.reflected <= two.audit.blocked + 1e-6)

@@ -7,7 +7,13 @@ import json
 
 import numpy as np
 import pytest
-from test_pass_gather import lobe, setup, smooth_grid, trilinear  # noqa: F401 (fixture)
+from test_pass_gather import (
+    lobe,
+    read_gbuffer,
+    setup,  # noqa: F401 (the fixture)
+    smooth_grid,
+    trilinear,
+)
 
 from explorer.cli import main as cli_main
 from explorer.lpv.cascades import (
@@ -126,10 +132,7 @@ def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
-    position = read_texture(gbuffer.position)
-    normal = read_texture(gbuffer.normal)[..., :3]
-    albedo = read_texture(gbuffer.albedo)[..., :3]
-    valid = position[..., 3] > 0.5
+    position, normal, albedo, valid = read_gbuffer(gbuffer)
     points = position[valid][:, :3]
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))   # the band is on screen
@@ -144,8 +147,7 @@ def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture
 
 
 def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ctx: no GL errors
-    pipeline = Pipeline(SMALL, ctx=gl_context)
-    try:
+    with Pipeline(SMALL, ctx=gl_context) as pipeline:
         one = pipeline.run(SMALL.with_changes(cascades=1))
         assert one.cascade_specs == [one.grid_spec]
         scene = pipeline._scene
@@ -165,13 +167,10 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
                                                 cascade_iterations="same-distance"))
         assert other.grid_spec == one.grid_spec
         assert np.array_equal(other.final_image, image)
-    finally:
-        pipeline.release()
 
 
 def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_context, ctx):
-    pipeline = Pipeline(SMALL, ctx=gl_context)
-    try:
+    with Pipeline(SMALL, ctx=gl_context) as pipeline:
         result = pipeline.run(SMALL.with_changes(cascades=2))
         fine, coarse = result.cascade_specs
         assert coarse.cell_size == pytest.approx(2 * fine.cell_size)
@@ -213,13 +212,10 @@ def test_two_cascade_cornell_is_lit_and_the_coarse_cascade_sees_outer_light(gl_c
         far = pipeline.run(SMALL.with_changes(cascades=2, cascade_iterations="same-distance"))
         steps = [audit.per_step.shape[0] - 1 for audit in far.cascade_audits]
         assert steps == [2 * SMALL.iterations, SMALL.iterations]
-    finally:
-        pipeline.release()
 
 
 def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context, ctx):   # ctx: no GL errors
-    pipeline = Pipeline(SMALL, ctx=gl_context)
-    try:
+    with Pipeline(SMALL, ctx=gl_context) as pipeline:
         settings = SMALL.with_changes(cascades=2)
         first = pipeline.run(settings)
         camera = pipeline._scene.camera
@@ -243,8 +239,6 @@ def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context, ctx):   # c
             shift = (np.asarray(after.origin) - before.origin) / before.cell_size
             assert np.allclose(shift, np.round(shift), atol=1e-6)
             assert np.allclose(shift, [2 * fine / before.cell_size, 0, 0], atol=1e-6)
-    finally:
-        pipeline.release()
 
 
 def test_settings_beyond_the_limits_are_refused(gl_context):
@@ -255,13 +249,10 @@ def test_settings_beyond_the_limits_are_refused(gl_context):
         check_limits(16, 4, "rgba32f", False, 4 << 30, 16)
     with pytest.raises(ValueError, match="grid_size >= 8"):
         check_limits(4, 2, "rgba32f", False, 4 << 30, 32)
-    pipeline = Pipeline(SMALL, ctx=gl_context)
-    try:
+    with Pipeline(SMALL, ctx=gl_context) as pipeline:
         pipeline.texture_budget_bytes = 1 << 20
         with pytest.raises(ValueError, match="MiB of LPV textures"):
             pipeline.run(SMALL.with_changes(cascades=2))
-    finally:
-        pipeline.release()
 
 
 def test_cli_render_compare_and_bench_take_cascades(tmp_path, capsys, gl_context):
@@ -292,11 +283,8 @@ def test_cli_render_compare_and_bench_take_cascades(tmp_path, capsys, gl_context
 def test_gather_damping_acts_in_every_cascade(gl_context, ctx):   # ctx: no GL errors
     """Damping multiplies each cascade's irradiance by a factor in [0, 1]: with cascades it
     can only darken the indirect light, and it must change it somewhere."""
-    pipeline = Pipeline(SMALL, ctx=gl_context)
-    try:
+    with Pipeline(SMALL, ctx=gl_context) as pipeline:
         plain = pipeline.run(SMALL.with_changes(cascades=2)).indirect.copy()
         damped = pipeline.run(SMALL.with_changes(cascades=2, gather_damping=True)).indirect
-    finally:
-        pipeline.release()
     assert np.all(damped <= plain * (1 + 1e-5) + 1e-7)
     assert np.abs(damped - plain).max() > 1e-3 * plain.max()

@@ -57,11 +57,8 @@ def test_bad_offsets_are_refused(ctx):
 
 def _frame(ctx, **changes):
     settings = Settings(width=24, height=20, rsm_size=16, grid_size=8, **changes)
-    pipeline = Pipeline(settings, ctx)
-    try:
+    with Pipeline(settings, ctx) as pipeline:
         return pipeline.run()
-    finally:
-        pipeline.release()
 
 
 def test_cornell_walls_on_cell_faces_agree_with_the_reference_once_offset(ctx):

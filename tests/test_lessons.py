@@ -283,8 +283,7 @@ def test_every_step_renders_headlessly(shipped, ctx, tmp_path):
     out = Path(os.environ["LPV_LESSON_RENDERS"]) if os.environ.get("LPV_LESSON_RENDERS") \
         else tmp_path
     out.mkdir(parents=True, exist_ok=True)
-    pipeline = pipeline_module.Pipeline(preview_settings(lessons[0].steps[0]), ctx=ctx)
-    try:
+    with pipeline_module.Pipeline(preview_settings(lessons[0].steps[0]), ctx=ctx) as pipeline:
         for lesson in lessons:
             for step in lesson.steps:
                 image, result = render_step(pipeline, step, preview_settings(step))
@@ -293,8 +292,6 @@ def test_every_step_renders_headlessly(shipped, ctx, tmp_path):
                 assert np.isfinite(image).all() and image.min() >= 0.0 and image.max() <= 1.0
                 assert image.max() > 0.0, (lesson.id, step.number, "renders black")
                 _save(out / f"{lesson.path.stem}-step{step.number}.png", image)
-    finally:
-        pipeline.release()
 
 
 def _save(path: Path, image) -> None:

@@ -71,6 +71,16 @@ def setup(gl_context):
         thing.release()
 
 
+def read_gbuffer(gbuffer: GBufferPass) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                np.ndarray]:
+    """position (H, W, 4), normal (H, W, 3), albedo (H, W, 3) and the mask of the pixels
+    that saw a surface."""
+    position = read_texture(gbuffer.position)
+    normal = read_texture(gbuffer.normal)[..., :3]
+    albedo = read_texture(gbuffer.albedo)[..., :3]
+    return position, normal, albedo, position[..., 3] > 0.5
+
+
 def smooth_grid(spec: GridSpec) -> np.ndarray:
     """A grid whose coefficients vary smoothly over the cells (positive band 0)."""
     idx = np.indices((N, N, N)).transpose(1, 2, 3, 0) / N            # (N, N, N, 3)
@@ -88,11 +98,8 @@ def test_indirect_matches_numpy(setup):
     values = smooth_grid(spec)
     grid.write(values)
     gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0, indirect_only=False)
-    position = read_texture(gbuffer.position)
-    normal = read_texture(gbuffer.normal)[..., :3]
-    albedo = read_texture(gbuffer.albedo)[..., :3]
+    position, normal, albedo, valid = read_gbuffer(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
-    valid = position[..., 3] > 0.5
     assert valid.mean() > 0.3
     g = spec.grid_coords(position[valid][:, :3])
     s = trilinear(values.astype(np.float64), g)                      # (3, M, 4)
@@ -122,11 +129,8 @@ def test_direct_light_is_the_shadowed_lambertian(setup):
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.clear()
     gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0, indirect_only=False)
-    position = read_texture(gbuffer.position)
-    normal = read_texture(gbuffer.normal)[..., :3]
-    albedo = read_texture(gbuffer.albedo)[..., :3]
+    position, normal, albedo, valid = read_gbuffer(gbuffer)
     direct = read_texture(gather.targets["direct"])[..., :3]
-    valid = position[..., 3] > 0.5
     offset = np.asarray(scene.light.position) - position[..., :3]
     r2 = np.sum(offset**2, axis=-1)
     cos = np.sum(normal * offset, axis=-1) / np.sqrt(r2)

@@ -16,11 +16,8 @@ TINY = Settings(scene="cornell", width=20, height=16, rsm_size=8, grid_size=8, i
 
 @pytest.fixture(scope="module")
 def tiny_frame(gl_context):
-    pipeline = Pipeline(TINY, gl_context)
-    try:
+    with Pipeline(TINY, gl_context) as pipeline:
         yield pipeline.run()
-    finally:
-        pipeline.release()
 
 
 def test_gbuffer_matches_the_frame_pixel_for_pixel(ctx, tiny_frame):

@@ -22,11 +22,8 @@ from explorer.truth.leaks import (
 def test_numpy_gather_reproduces_the_pipeline_indirect(ctx):
     settings = Settings(scene="room", width=24, height=20, rsm_size=16, grid_size=8,
                         iterations=2)
-    pipeline = Pipeline(settings, ctx)
-    try:
+    with Pipeline(settings, ctx) as pipeline:
         frame = pipeline.run()
-    finally:
-        pipeline.release()
     gbuffer = gbuffer_from_frame(frame, ctx=ctx)
     valid = gbuffer.valid
     irradiance = gather_irradiance(frame.accumulated, frame.grid_spec,

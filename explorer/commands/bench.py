@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 
 from explorer.commands.render import parse_size
-from explorer.lpv.settings import GRID_FORMATS, PRESETS
+from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, GRID_FORMATS, PRESETS
 
 FULL_GRIDS = (16, 32, 64, 128)
 FULL_ITERATIONS = (4, 8, 16, 32, 64)
@@ -79,8 +79,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rsm-size", type=int, default=256, help="RSM size (default 256)")
     parser.add_argument("--format", default="rgba32f", choices=GRID_FORMATS,
                         help="grid texture format")
-    parser.add_argument("--geometry-volume", default="off",
-                        choices=("off", "one-sided", "double-sided"))
+    parser.add_argument("--geometry-volume", default="off", choices=GEOMETRY_VOLUME_MODES)
     parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
                         help=f"extra rows at each grid's largest iteration count: "
                              f"{', '.join(VARIANTS)} (comma list) or none (default: all)")
@@ -178,20 +177,16 @@ def main(args: argparse.Namespace) -> int:
     if args.peak_gbs is not None and not args.peak_gbs > 0:
         print("lpv-explorer bench: error: --peak-gbs must be positive", file=sys.stderr)
         return 2
-    pipeline = None
     try:
-        pipeline = Pipeline(Settings(scene=args.scene))
-        caps = probe(pipeline.ctx)
-        rows = run_bench(args, pipeline)
+        with Pipeline(Settings(scene=args.scene)) as pipeline:
+            caps = probe(pipeline.ctx)
+            rows = run_bench(args, pipeline)
     except (SceneError, ValueError) as exc:
         print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
         return 2
     except (GLUnavailableError, FloatingPointError) as exc:
         print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
         return 1
-    finally:
-        if pipeline is not None:
-            pipeline.release()
     methods = sorted({method for row in rows for method in row["methods"].values()})
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     print(f"device: {caps.renderer} ({caps.version}); {when}")

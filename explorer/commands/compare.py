@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from explorer.commands.render import add_leak_arguments, leak_changes
+from explorer.lpv.settings import CASCADE_ITERATIONS, GEOMETRY_VOLUME_MODES
 
 PRESET_CHOICES = ("all", "original", "corrected")
 REFERENCE_CHOICES = ("visible", "unoccluded")
@@ -44,11 +45,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="LPV cascades (nested grids around the camera's focus), or a "
                              "comma list to compare several (default: 1, the single grid)")
     parser.add_argument("--cascade-iterations", default="same",
-                        choices=("same", "same-distance"),
+                        choices=CASCADE_ITERATIONS,
                         help="propagation steps per cascade: the same in every cascade "
                              "(default), or 2x more per finer level (same distance)")
     parser.add_argument("--geometry-volume", default="off",
-                        choices=("off", "one-sided", "double-sided"),
+                        choices=GEOMETRY_VOLUME_MODES,
                         help="LPV occlusion (default: off)")
     add_leak_arguments(parser)
     parser.add_argument("--min-distance", type=float, default=None,

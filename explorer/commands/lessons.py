@@ -100,15 +100,18 @@ def add_render_arguments(parser: argparse.ArgumentParser) -> None:
                        help="step number within the lesson (default: 1)")
 
 
-_RENDER_OVERRIDES = (("grid", "grid_size"), ("iterations", "iterations"),
-                     ("rsm_size", "rsm_size"), ("exposure", "exposure"),
-                     ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
-                     ("geometry_volume", "geometry_volume"))
-
-
 def render_lesson_step(args: argparse.Namespace) -> int:
     """Render step ``args.step`` of lesson ``args.lesson`` to ``args.out``."""
-    from explorer.commands.render import CAMERA_VIEWS, format_audit, output_paths, write_png
+    from explorer.commands.render import (
+        CAMERA_VIEWS,
+        STEP_OPTIONS,
+        format_audit,
+        option_changes,
+        output_changes,
+        output_paths,
+        render_error,
+        write_png,
+    )
     from explorer.gl.context import GLUnavailableError
     from explorer.gl.program import ShaderError
     from explorer.lessons import (
@@ -131,44 +134,28 @@ def render_lesson_step(args: argparse.Namespace) -> int:
         lesson = find_lesson(args.lesson, lessons)
         step = lesson.step(args.step)
     except (KeyError, IndexError) as exc:
-        print(f"lpv-explorer render: error: {exc.args[0]}", file=sys.stderr)
-        return 2
-    changes: dict[str, object] = {}
-    for option, field in _RENDER_OVERRIDES:
-        if getattr(args, option, None) is not None:
-            changes[field] = getattr(args, option)
-    if args.size is not None:
-        changes["width"], changes["height"] = args.size
-    if args.indirect_only:
-        changes["indirect_only"] = True
-    if args.debug_nan:
-        changes["debug_nan"] = True
+        return render_error(exc.args[0], 2)
+    changes = {**option_changes(args, STEP_OPTIONS), **output_changes(args)}
     try:
         settings = step.settings().with_changes(**changes)
     except ValueError as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 2
+        return render_error(exc, 2)
     print(f"lesson {lesson.id}, step {step.number}/{len(lesson.steps)}: {step.title}")
     views = args.view or [step.view]
-    pipeline = None
     try:
-        pipeline = Pipeline(settings)
-        for view, path in output_paths(args.out, views).items():
-            if view == step.view:
-                image, _ = render_step(pipeline, step, settings)
-            else:
-                pipeline.run(settings)
-                image = pipeline.view(view)
-            write_png(image, path, enlarge=view not in CAMERA_VIEWS + COMPARE_VIEWS)
-            shown = f"{view} against {step.compare_preset}" if step.compare_preset and \
-                view == step.view else view
-            print(f"wrote {path} ({shown})")
-        if args.audit:
-            print(format_audit(pipeline.run(settings).audit))
+        with Pipeline(settings) as pipeline:
+            for view, path in output_paths(args.out, views).items():
+                if view == step.view:
+                    image, _ = render_step(pipeline, step, settings)
+                else:
+                    pipeline.run(settings)
+                    image = pipeline.view(view)
+                write_png(image, path, enlarge=view not in CAMERA_VIEWS + COMPARE_VIEWS)
+                shown = f"{view} against {step.compare_preset}" if step.compare_preset and \
+                    view == step.view else view
+                print(f"wrote {path} ({shown})")
+            if args.audit:
+                print(format_audit(pipeline.run(settings).audit))
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 1
-    finally:
-        if pipeline is not None:
-            pipeline.release()
+        return render_error(exc, 1)
     return 0

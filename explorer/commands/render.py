@@ -95,14 +95,43 @@ def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
                              "--geometry-volume; default 1)")
 
 
-def leak_changes(args: argparse.Namespace) -> dict[str, object]:
-    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
+# (option dest, Settings field) pairs: an option given on the command line sets the field.
+STEP_OPTIONS = (("grid", "grid_size"), ("iterations", "iterations"),
+                ("rsm_size", "rsm_size"), ("exposure", "exposure"),
+                ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
+                ("geometry_volume", "geometry_volume"))
+"""The options that also override a lesson step (``render --lesson``)."""
+CASCADE_OPTIONS = (("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
+                   ("cascade_iterations", "cascade_iterations"))
+LEAK_OPTIONS = (("injection_offset", "injection_offset_cells"),
+                ("gather_damping", "gather_damping"), ("bounces", "bounces"))
+
+
+def option_changes(args: argparse.Namespace,
+                   options: tuple[tuple[str, str], ...]) -> dict[str, object]:
+    """The Settings changes for the ``(dest, field)`` options given (not None) in ``args``."""
     changes: dict[str, object] = {}
-    for name, field in (("injection_offset", "injection_offset_cells"),
-                        ("gather_damping", "gather_damping"), ("bounces", "bounces")):
+    for name, field in options:
         value = getattr(args, name, None)
         if value is not None:
             changes[field] = value
+    return changes
+
+
+def leak_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
+    return option_changes(args, LEAK_OPTIONS)
+
+
+def output_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes of --size, --indirect-only and --debug-nan."""
+    changes: dict[str, object] = {}
+    if args.size is not None:
+        changes["width"], changes["height"] = args.size
+    if args.indirect_only:
+        changes["indirect_only"] = True
+    if args.debug_nan:
+        changes["debug_nan"] = True
     return changes
 
 
@@ -111,23 +140,9 @@ def settings_from_args(args: argparse.Namespace):
     from explorer.lpv.settings import Settings, preset
 
     changes: dict[str, object] = {"scene": args.scene, "corrections": preset(args.preset)}
-    for name, field in (("grid", "grid_size"), ("iterations", "iterations"),
-                        ("rsm_size", "rsm_size"), ("exposure", "exposure"),
-                        ("downsample", "downsample"),
-                        ("downsample_factor", "downsample_factor"),
-                        ("geometry_volume", "geometry_volume"),
-                        ("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
-                        ("cascade_iterations", "cascade_iterations")):
-        value = getattr(args, name, None)
-        if value is not None:
-            changes[field] = value
+    changes.update(option_changes(args, STEP_OPTIONS + CASCADE_OPTIONS))
     changes.update(leak_changes(args))
-    if args.size is not None:
-        changes["width"], changes["height"] = args.size
-    if args.indirect_only:
-        changes["indirect_only"] = True
-    if args.debug_nan:
-        changes["debug_nan"] = True
+    changes.update(output_changes(args))
     return Settings(**changes)
 
 
@@ -176,6 +191,12 @@ def format_cascade_audits(result) -> str:
     return "\n".join(lines)
 
 
+def render_error(error: object, code: int) -> int:
+    """Report a failed ``render`` (also ``render --lesson``) on stderr; returns ``code``."""
+    print(f"lpv-explorer render: error: {error}", file=sys.stderr)
+    return code
+
+
 def main(args: argparse.Namespace) -> int:
     from explorer.gl.context import GLUnavailableError
     from explorer.gl.program import ShaderError
@@ -190,30 +211,24 @@ def main(args: argparse.Namespace) -> int:
     try:
         settings = settings_from_args(args)
     except (ValueError, KeyError) as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 2
-    pipeline = None
+        return render_error(exc, 2)
     try:
-        pipeline = Pipeline(settings)
-        result = pipeline.run()
-        options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
-        for view, path in output_paths(args.out, views).items():
-            wanted = {k: v for k, v in options.items()
-                      if v is not None and view in ("grid-slice", "geometry-volume")
-                      and (k != "coefficient" or view == "grid-slice")}
-            write_png(pipeline.view(view, **wanted), path, enlarge=view not in CAMERA_VIEWS)
-            print(f"wrote {path} ({view})")
-        if args.audit:
-            print(format_audit(result.audit))
-            if len(result.cascade_audits) > 1:
-                print(format_cascade_audits(result))
+        with Pipeline(settings) as pipeline:
+            result = pipeline.run()
+            options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
+            for view, path in output_paths(args.out, views).items():
+                wanted = {k: v for k, v in options.items()
+                          if v is not None and view in ("grid-slice", "geometry-volume")
+                          and (k != "coefficient" or view == "grid-slice")}
+                write_png(pipeline.view(view, **wanted), path,
+                          enlarge=view not in CAMERA_VIEWS)
+                print(f"wrote {path} ({view})")
+            if args.audit:
+                print(format_audit(result.audit))
+                if len(result.cascade_audits) > 1:
+                    print(format_cascade_audits(result))
     except SceneError as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 2
+        return render_error(exc, 2)
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
-        print(f"lpv-explorer render: error: {exc}", file=sys.stderr)
-        return 1
-    finally:
-        if pipeline is not None:
-            pipeline.release()
+        return render_error(exc, 1)
     return 0

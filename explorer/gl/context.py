@@ -7,6 +7,8 @@ opens a context goes through :func:`create_headless_context` (EGL, no display) o
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import moderngl
@@ -39,6 +41,20 @@ def create_headless_context(require: int = REQUIRED_GL, check: bool = True) -> m
     if check:
         check_capabilities(ctx)
     return ctx
+
+
+@contextmanager
+def given_or_headless(ctx: moderngl.Context | None) -> Iterator[moderngl.Context]:
+    """``ctx`` itself, or for None a headless context that is released when the ``with``
+    block ends (for functions that take an optional context)."""
+    if ctx is not None:
+        yield ctx
+        return
+    ctx = create_headless_context()
+    try:
+        yield ctx
+    finally:
+        ctx.release()
 
 
 def wrap_current_context(require: int = REQUIRED_GL) -> moderngl.Context:

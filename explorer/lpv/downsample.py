@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import moderngl
 
+from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
@@ -32,7 +33,7 @@ class DownsamplePass:
         self.size: tuple[int, int] = (0, 0)
         self._textures: list[moderngl.Texture] = []
         self._framebuffer: moderngl.Framebuffer | None = None
-        self._vertex_array: moderngl.VertexArray | None = None
+        self._triangle = FullscreenTriangle(ctx)
 
     def _allocate(self, size: tuple[int, int]) -> None:
         if size == self.size:
@@ -53,11 +54,6 @@ class DownsamplePass:
         size = downsampled_size(vpls.size, factor)
         self._allocate(size)
         program = self.programs.get("downsample.glsl")
-        if self._vertex_array is None or self._vertex_array.program is not program:
-            # (a hot reload of the shader replaces the program)
-            if self._vertex_array is not None:
-                self._vertex_array.release()
-            self._vertex_array = self.ctx.vertex_array(program, [])
         vpls.position.use(0)
         vpls.normal.use(1)
         vpls.flux.use(2)
@@ -69,7 +65,7 @@ class DownsamplePass:
         })
         with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
             self._framebuffer.viewport = (0, 0, *size)
-            self._vertex_array.render(moderngl.TRIANGLES, vertices=3)
+            self._triangle.draw(program)
         position, normal, flux = self._textures
         return VplTextures(position, normal, flux, texel_area=vpls.texel_area * factor * factor,
                            projection=vpls.projection)
@@ -84,6 +80,4 @@ class DownsamplePass:
 
     def release(self) -> None:
         self._free_targets()
-        if self._vertex_array is not None:
-            self._vertex_array.release()
-            self._vertex_array = None
+        self._triangle.release()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import moderngl
 
+from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
@@ -32,7 +33,7 @@ class GatherPass:
         self.size: tuple[int, int] = (0, 0)
         self.targets: dict[str, moderngl.Texture] = {}
         self._framebuffer: moderngl.Framebuffer | None = None
-        self._vertex_array: moderngl.VertexArray | None = None
+        self._triangle = FullscreenTriangle(ctx)
         self._empty_grid: moderngl.Texture3D | None = None
 
     def _allocate(self, size: tuple[int, int]) -> None:
@@ -58,11 +59,6 @@ class GatherPass:
         instead of ``grid_textures``; None or one cascade = the single grid."""
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl")
-        if self._vertex_array is None or self._vertex_array.program is not program:
-            # (a hot reload of the shader replaces the program)
-            if self._vertex_array is not None:
-                self._vertex_array.release()
-            self._vertex_array = self.ctx.vertex_array(program, [])
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)
@@ -90,7 +86,7 @@ class GatherPass:
         set_uniforms(program, values)
         with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
             self._framebuffer.viewport = (0, 0, *self.size)
-            self._vertex_array.render(moderngl.TRIANGLES, vertices=3)
+            self._triangle.draw(program)
 
     CASCADE_FIRST_UNIT = 8
 
@@ -119,9 +115,7 @@ class GatherPass:
 
     def release(self) -> None:
         self._free_targets()
-        if self._vertex_array is not None:
-            self._vertex_array.release()
-            self._vertex_array = None
+        self._triangle.release()
         if self._empty_grid is not None:
             self._empty_grid.release()
             self._empty_grid = None

@@ -358,6 +358,12 @@ class Pipeline:
         return render_view(self.last_result, name, bounds=(scene.bounds_min, scene.bounds_max),
                            **options)
 
+    def __enter__(self) -> "Pipeline":
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.release()
+
     def release(self) -> None:
         for stage in (self._rsm, self._downsample, self._inject, self._geometry,
                       self._propagate, self._gbuffer, self._gather):
@@ -566,11 +572,8 @@ class Pipeline:
 
 def render(settings: Settings) -> FrameResult:
     """One frame with a throw-away headless pipeline (scripts, notebooks)."""
-    pipeline = Pipeline(settings)
-    try:
+    with Pipeline(settings) as pipeline:
         return pipeline.run()
-    finally:
-        pipeline.release()
 
 
 def _digest(vpls: VplArrays) -> str:

@@ -10,7 +10,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TypeVar
 
 import numpy as np
 
@@ -19,20 +20,36 @@ from explorer.scene.camera import depth_range
 from explorer.scene.transforms import look_at, normalized, orthographic, perspective
 
 SPOT_FOV_DEGREES = 90.0
+_LightT = TypeVar("_LightT", bound="_AimedLight")
 
 
 @dataclass(frozen=True)
-class SpotLight:
+class _AimedLight:
+    """What both lights share: they shine from ``position`` towards ``target`` with
+    ``flux`` watts per colour channel (white light); what the flux means is the
+    subclass's."""
+
     position: tuple[float, float, float]
     target: tuple[float, float, float]
     flux: float
-    """Total flux Φ_L in watts per colour channel (white light)."""
-
-    projection = "perspective"
 
     @property
     def direction(self) -> np.ndarray:
         return normalized(np.subtract(self.target, self.position))
+
+    def moved(self: _LightT, position, target) -> _LightT:
+        return replace(self, position=tuple(map(float, position)),
+                       target=tuple(map(float, target)))
+
+    def with_flux(self: _LightT, flux: float) -> _LightT:
+        return replace(self, flux=float(flux))
+
+
+@dataclass(frozen=True)
+class SpotLight(_AimedLight):
+    """``flux``: the total flux Φ_L in watts per colour channel (white light)."""
+
+    projection = "perspective"
 
     @property
     def intensity(self) -> float:
@@ -52,27 +69,14 @@ class SpotLight:
         plane in a 2×2 square, so ``4/(W·H)`` (``VplArrays.texel_area``)."""
         return 4.0 / (width * height)
 
-    def moved(self, position, target) -> "SpotLight":
-        return SpotLight(tuple(map(float, position)), tuple(map(float, target)), self.flux)
-
-    def with_flux(self, flux: float) -> "SpotLight":
-        return SpotLight(self.position, self.target, float(flux))
-
 
 @dataclass(frozen=True)
-class DirectionalLight:
-    position: tuple[float, float, float]
-    """A point on the side the light comes from; only ``target - position`` matters for
-    the direction, the box is centred on the scene."""
-    target: tuple[float, float, float]
-    flux: float
-    """Flux in watts per channel through the orthographic box (``E·(2R)²``)."""
+class DirectionalLight(_AimedLight):
+    """``position``: a point on the side the light comes from; only ``target - position``
+    matters for the direction, the box is centred on the scene. ``flux``: watts per channel
+    through the orthographic box (``E·(2R)²``)."""
 
     projection = "orthographic"
-
-    @property
-    def direction(self) -> np.ndarray:
-        return normalized(np.subtract(self.target, self.position))
 
     @staticmethod
     def half_width(bounds_min, bounds_max) -> float:
@@ -100,13 +104,6 @@ class DirectionalLight:
         """World area of one RSM texel: the box face ``(2R)²`` split into ``W·H`` texels."""
         side = 2.0 * self.half_width(bounds_min, bounds_max)
         return side * side / (width * height)
-
-    def moved(self, position, target) -> "DirectionalLight":
-        return DirectionalLight(tuple(map(float, position)), tuple(map(float, target)),
-                                self.flux)
-
-    def with_flux(self, flux: float) -> "DirectionalLight":
-        return DirectionalLight(self.position, self.target, float(flux))
 
 
 Light = SpotLight | DirectionalLight

@@ -62,13 +62,7 @@ def gbuffer_from_frame(frame, scene=None, ctx=None) -> GBuffer:
     if scene is None:
         scene = scene_for(frame.settings)
     height, width = albedo.shape[:2]
-    own_ctx = ctx is None
-    if own_ctx:
-        from explorer.gl.context import create_headless_context
+    from explorer.gl.context import given_or_headless
 
-        ctx = create_headless_context()
-    try:
+    with given_or_headless(ctx) as ctx:
         return render_gbuffer(ctx, scene, width, height)
-    finally:
-        if own_ctx:
-            ctx.release()

@@ -77,13 +77,10 @@ def study(scene: str = "room", iterations=(4, 8, 16), width: int = 128, height: 
     corrections = PRESETS["corrected"]
     settings = Settings(scene=scene, width=width, height=height, rsm_size=rsm_size,
                         grid_size=grid_size, corrections=corrections)
-    pipeline = Pipeline(settings, ctx)
-    try:
+    with Pipeline(settings, ctx) as pipeline:
         frame = pipeline.run()
         visible, gbuffer = reference_for_frame(frame, True, ctx=pipeline.ctx)
         unoccluded, _ = reference_for_frame(frame, False, ctx=pipeline.ctx)
-    finally:
-        pipeline.release()
     valid = gbuffer.valid
     weights = np.array([0.2126, 0.7152, 0.0722])
     shadowed = valid & (visible @ weights < 0.5 * (unoccluded @ weights))

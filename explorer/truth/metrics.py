@@ -65,13 +65,19 @@ def region_mask(shape: tuple[int, int], region=None) -> np.ndarray:
     return mask
 
 
-def _pair(test: np.ndarray, reference: np.ndarray, region) -> tuple[np.ndarray, np.ndarray]:
+def _images_and_mask(test: np.ndarray, reference: np.ndarray,
+                     region) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Both images checked (same shape) and the mask of ``region`` over them."""
     test = _image(test, "test image")
     reference = _image(reference, "reference image")
     if test.shape != reference.shape:
         raise ValueError(f"images differ in shape: test {test.shape}, reference "
                          f"{reference.shape}")
-    mask = region_mask(test.shape[:2], region)
+    return test, reference, region_mask(test.shape[:2], region)
+
+
+def _pair(test: np.ndarray, reference: np.ndarray, region) -> tuple[np.ndarray, np.ndarray]:
+    test, reference, mask = _images_and_mask(test, reference, region)
     return test[mask], reference[mask]
 
 
@@ -180,12 +186,7 @@ def error_image(test: np.ndarray, reference: np.ndarray, region=None, mode: str 
     """
     if mode not in ERROR_MODES:
         raise ValueError(f"mode must be one of {ERROR_MODES}, got {mode!r}")
-    test_img = _image(test, "test image")
-    ref_img = _image(reference, "reference image")
-    if test_img.shape != ref_img.shape:
-        raise ValueError(f"images differ in shape: test {test_img.shape}, reference "
-                         f"{ref_img.shape}")
-    mask = region_mask(test_img.shape[:2], region)
+    test_img, ref_img, mask = _images_and_mask(test, reference, region)
     t, r = _luminance(test_img), _luminance(ref_img)
     if mode == "difference":
         values = t - r

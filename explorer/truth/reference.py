@@ -261,18 +261,14 @@ def reference_irradiance(gbuffer: GBuffer, vpls: VplArrays | VplTextures, min_di
     ``ctx`` None opens a headless context for this call. ``options`` go to
     :meth:`ReferencePass.run` (``ray_offset``, ``tile_size``, ``vpl_chunk``, ``progress``).
     """
-    own_ctx = ctx is None
-    if own_ctx:
-        from explorer.gl.context import create_headless_context
+    from explorer.gl.context import given_or_headless
 
-        ctx = create_headless_context()
-    reference = ReferencePass(ctx)
-    try:
-        return reference.run(gbuffer, vpls, min_distance, triangles, visibility, **options)
-    finally:
-        reference.release()
-        if own_ctx:
-            ctx.release()
+    with given_or_headless(ctx) as ctx:
+        reference = ReferencePass(ctx)
+        try:
+            return reference.run(gbuffer, vpls, min_distance, triangles, visibility, **options)
+        finally:
+            reference.release()
 
 
 def outgoing_radiance(gbuffer: GBuffer, irradiance: np.ndarray) -> np.ndarray:

@@ -49,12 +49,9 @@ def reference_for_frame(frame, visibility: bool, min_distance: float | None = No
     the region where the comparison means something)."""
     if min_distance is None:
         min_distance = 0.5 * frame.grid_spec.cell_size
-    own_ctx = ctx is None
-    if own_ctx:
-        from explorer.gl.context import create_headless_context
+    from explorer.gl.context import given_or_headless
 
-        ctx = create_headless_context()
-    try:
+    with given_or_headless(ctx) as ctx:
         if scene is None and (visibility or getattr(frame, "gbuffer_position", None) is None):
             scene = scene_for(frame.settings)
         gbuffer = gbuffer_from_frame(frame, scene, ctx)
@@ -66,7 +63,4 @@ def reference_for_frame(frame, visibility: bool, min_distance: float | None = No
                                        ray_offset, tile_size, vpl_chunk, progress)
         finally:
             reference.release()
-    finally:
-        if own_ctx:
-            ctx.release()
     return outgoing_radiance(gbuffer, irradiance), gbuffer
