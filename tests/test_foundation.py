@@ -96,3 +96,21 @@ def test_vpl_arrays_reject_bad_shapes():
 
     with pytest.raises(ValueError, match=r"shape \(M, 3\)"):
         VplArrays(np.zeros((4, 2)), np.zeros((4, 3)), np.zeros((4, 3)), np.zeros(4), 1.0)
+
+
+def test_a_headless_context_made_and_released_restores_the_callers_context(ctx):
+    """A command or Pipeline that opens and releases its own context (e.g. a CLI call in a
+    test or a notebook) must leave the caller's context current and working."""
+    from explorer.gl.context import create_headless_context, release_headless_context
+    from explorer.gl.egl import current_egl
+
+    before = current_egl()
+    assert before is not None
+    own = create_headless_context()
+    assert current_egl() != before
+    release_headless_context(own)
+    assert current_egl() == before
+    texture = ctx.texture((2, 2), 4, dtype="f4")
+    texture.write(np.ones((2, 2, 4), np.float32).tobytes())
+    assert np.frombuffer(texture.read(), np.float32).tolist() == [1.0] * 16
+    texture.release()

@@ -122,7 +122,8 @@ def main(args: argparse.Namespace) -> int:
     except ValueError as exc:
         return _fail(str(exc))
 
-    from explorer.gl.context import GLUnavailableError, create_headless_context
+    from explorer.gl.context import (GLUnavailableError, create_headless_context,
+                                     release_headless_context)
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
     from explorer.truth.gbuffer import scene_for
@@ -190,7 +191,7 @@ def main(args: argparse.Namespace) -> int:
                     rows.append((shown, steps, ",".join(map(str, rect)), stats))
     finally:
         pipeline.release()
-        ctx.release()
+        release_headless_context(ctx)
 
     table = format_table(rows, args, frame)
     print(table)

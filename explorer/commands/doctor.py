@@ -80,7 +80,7 @@ def _open_context():
 
 
 def check_headless(report: Report) -> None:
-    from explorer.gl.context import GLUnavailableError, probe
+    from explorer.gl.context import GLUnavailableError, probe, release_headless_context
 
     try:
         import moderngl
@@ -99,7 +99,7 @@ def check_headless(report: Report) -> None:
     try:
         caps = probe(ctx)
     finally:
-        ctx.release()
+        release_headless_context(ctx)
     report.headless_ok = True
     report.vendor, report.renderer = caps.vendor, caps.renderer
     report.gl_version, report.gl_version_code = caps.version, caps.version_code

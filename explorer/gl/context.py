@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import moderngl
 
+from explorer.gl.egl import EglState, current_egl, restore_egl
+
 REQUIRED_GL = 430
 
 
@@ -31,6 +33,7 @@ def create_headless_context(require: int = REQUIRED_GL, check: bool = True) -> m
 
     ``check=False`` skips :func:`check_capabilities` (``lpv-explorer doctor`` reports
     what a too-old driver offers instead of failing on it)."""
+    previous = current_egl()
     try:
         ctx = moderngl.create_standalone_context(backend="egl", require=require)
     except Exception as exc:  # moderngl raises plain Exception for a missing EGL/GL
@@ -38,9 +41,27 @@ def create_headless_context(require: int = REQUIRED_GL, check: bool = True) -> m
             f"could not open a headless OpenGL {require // 100}.{require % 100 // 10} core "
             f"context through EGL: {exc}. {_APT_HINT}"
         ) from exc
+    _CURRENT_BEFORE[id(ctx)] = previous
     if check:
-        check_capabilities(ctx)
+        try:
+            check_capabilities(ctx)
+        except GLUnavailableError:
+            release_headless_context(ctx)
+            raise
     return ctx
+
+
+# What was current before each headless context was made (by id of the context).
+_CURRENT_BEFORE: dict[int, EglState | None] = {}
+
+
+def release_headless_context(ctx: moderngl.Context) -> None:
+    """Release a context made by :func:`create_headless_context` and make current again
+    whatever EGL context was current before it was made: a command or ``Pipeline`` run
+    inside a test session or a notebook must not leave the caller without a context."""
+    previous = _CURRENT_BEFORE.pop(id(ctx), None)
+    ctx.release()
+    restore_egl(previous)
 
 
 @contextmanager
@@ -54,7 +75,7 @@ def given_or_headless(ctx: moderngl.Context | None) -> Iterator[moderngl.Context
     try:
         yield ctx
     finally:
-        ctx.release()
+        release_headless_context(ctx)
 
 
 def wrap_current_context(require: int = REQUIRED_GL) -> moderngl.Context:

@@ -22,6 +22,7 @@ import glfw
 import moderngl
 
 from explorer.gl.context import GLUnavailableError, wrap_current_context
+from explorer.gl.egl import release_current_egl, restore_egl
 
 
 class WindowError(RuntimeError):
@@ -44,9 +45,9 @@ class Window:
         # A headless EGL context current on this thread (tests, notebooks) makes Mesa's
         # glXMakeCurrent fail with BadAccess, and Xlib then exits the process: set it
         # aside while the window lives and make it current again in close().
-        self._saved_egl = _release_current_egl()
+        self._saved_egl = release_current_egl()
         if not _init_glfw():
-            _restore_egl(self._saved_egl)
+            restore_egl(self._saved_egl)
             raise WindowError(
                 "glfw could not start: is there a display? (set DISPLAY, or run under "
                 "xvfb-run for a virtual one)")
@@ -66,7 +67,7 @@ class Window:
                 break
         if not self.handle:
             glfw.terminate()
-            _restore_egl(self._saved_egl)
+            restore_egl(self._saved_egl)
             raise WindowError("glfw could not open a window with an OpenGL 3.3+ core context")
         glfw.make_context_current(self.handle)
         glfw.swap_interval(1 if vsync else 0)
@@ -161,42 +162,8 @@ class Window:
             glfw.destroy_window(self.handle)
             self.handle = None
         glfw.terminate()
-        _restore_egl(self._saved_egl)
+        restore_egl(self._saved_egl)
         self._saved_egl = None
-
-
-_EGL_DRAW, _EGL_READ = 0x3059, 0x305A
-
-
-def _libegl():
-    try:
-        lib = ctypes.CDLL("libEGL.so.1")
-    except OSError:
-        return None
-    for name in ("eglGetCurrentContext", "eglGetCurrentDisplay"):
-        getattr(lib, name).restype = ctypes.c_void_p
-        getattr(lib, name).argtypes = []
-    lib.eglGetCurrentSurface.restype = ctypes.c_void_p
-    lib.eglGetCurrentSurface.argtypes = [ctypes.c_int32]
-    lib.eglMakeCurrent.restype = ctypes.c_uint32
-    lib.eglMakeCurrent.argtypes = [ctypes.c_void_p] * 4
-    return lib
-
-
-def _release_current_egl() -> tuple | None:
-    """Make no EGL context current; return what was current (for :func:`_restore_egl`)."""
-    lib = _libegl()
-    if lib is None or not lib.eglGetCurrentContext():
-        return None
-    saved = (lib.eglGetCurrentDisplay(), lib.eglGetCurrentSurface(_EGL_DRAW),
-             lib.eglGetCurrentSurface(_EGL_READ), lib.eglGetCurrentContext())
-    lib.eglMakeCurrent(saved[0], None, None, None)
-    return saved
-
-
-def _restore_egl(saved: tuple | None) -> None:
-    if saved is not None:
-        _libegl().eglMakeCurrent(*saved)
 
 
 def _init_glfw(attempts: int = 3) -> bool:

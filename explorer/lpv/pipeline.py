@@ -384,7 +384,9 @@ class Pipeline:
         self.programs.release()
         self._keys.clear()
         if self._owns_context:
-            self.ctx.release()
+            from explorer.gl.context import release_headless_context
+
+            release_headless_context(self.ctx)
 
     # ------------------------------------------------------------------ stages
     def _changed(self, stage: str, key: object) -> bool:
