@@ -1,6 +1,7 @@
 r"""Every number and closed form printed in the seed documents, checked against the exact value.
 
-The printed values were read from ``/work/shared/seeds/`` by hand and are held below as
+The printed values were read by hand from the seed documents (``shared/seeds/`` beside
+the project) and are held below as
 data (:data:`PRINTED`), each with the file and a short locator. For a decimal the check
 is: round and truncate the exact value to the printed number of significant digits;
 
@@ -26,7 +27,7 @@ Examples
 References
 ----------
 A. Kirsch, "Light Propagation Volumes — Annotations" (2010); the DirectX 11 LPV article and
-the DirectX 12 LPV blog in ``/work/shared/seeds/`` (see its README).
+the DirectX 12 LPV blog, in the seed documents (``shared/seeds/``; see its README).
 """
 
 from __future__ import annotations
