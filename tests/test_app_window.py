@@ -399,3 +399,47 @@ def test_a_saved_scene_that_no_longer_opens_falls_back_to_the_default(config_hom
         assert any("gone.obj" in m.text for m in app.state.messages if m.level == "error")
     finally:
         app.close()
+
+
+@needs_pipeline
+def test_new_options_change_the_view_and_a_refused_combination_keeps_the_settings(
+        config_home):
+    """Offset, bounces and cascades reach the view; a combination Settings refuses (a
+    second bounce without a geometry volume) is reported in the window, not raised."""
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        app.frame()
+        app.frame(capture=True)
+        base = _view_pixels(app)
+        assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+
+        before = app.state.settings
+        assert app.state.update(bounces=2) is False          # geometry volume is off
+        assert app.state.settings == before
+        assert "bounces" in app.state.messages[-1].text
+        assert app.state.messages[-1].level == "error"
+
+        assert app.state.update(injection_offset_cells=0.0)
+        app.frame(capture=True)
+        offset_zero = _view_pixels(app)
+        assert np.abs(offset_zero - base).mean() > 0.2, "the injection offset changed nothing"
+
+        assert app.state.update(injection_offset_cells=0.5, geometry_volume="one-sided",
+                                bounces=2)
+        app.frame(capture=True)
+        assert app.state.runtime.result.settings.bounces == 2
+        assert np.abs(_view_pixels(app) - base).mean() > 0.2, "a second bounce changed nothing"
+
+        assert app.state.update(bounces=1, geometry_volume="off", cascades=2)
+        app.state.inspect.source = "grid-slice"
+        app.state.inspect.cascade = 1
+        app.frame()
+        app.frame(capture=True)
+        result = app.state.runtime.result
+        assert len(result.cascade_specs) == 2 and app.state.inspect.cascade == 1
+        assert np.abs(_view_pixels(app) - base).mean() > 0.2, "two cascades changed nothing"
+        assert app.ctx.error == "GL_NO_ERROR"
+    finally:
+        app.close()

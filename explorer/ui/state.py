@@ -48,6 +48,7 @@ class InspectState:
     play_rate: float = 4.0            # iterations per second while playing
     signed_scale: float = 0.0         # 0 = automatic scaling of signed data
     glyphs: bool = False              # draw SH glyphs over grid slices
+    cascade: int = 0                  # which cascade grid-slice / geometry-volume show
 
 
 @dataclass
@@ -141,10 +142,18 @@ class AppState:
         else:
             self.settings = self.settings.with_changes(corrections=name)
 
-    def update(self, **changes) -> None:
+    def update(self, **changes) -> bool:
         """Change configuration A. B is built from A each frame (see
-        ``App.settings_for``), so scene, camera, light and sizes are always shared."""
-        self.settings = self.settings.with_changes(**changes)
+        ``App.settings_for``), so scene, camera, light and sizes are always shared.
+
+        A combination Settings refuses (e.g. a second bounce without a geometry volume)
+        is not applied: the window says why and keeps the settings it had."""
+        try:
+            self.settings = self.settings.with_changes(**changes)
+        except ValueError as exc:
+            self.notify(f"not applied: {exc}", "error")
+            return False
+        return True
 
     @property
     def comparing(self) -> bool:

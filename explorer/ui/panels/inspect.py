@@ -43,7 +43,7 @@ def gui_inspect(state: AppState) -> None:
         imgui.text_disabled(problem)
         return
     version = (ins.source, id(result), ins.slice_z, ins.component, ins.direction_azimuth,
-               ins.direction_elevation, ins.iteration, ins.signed_scale)
+               ins.direction_elevation, ins.iteration, ins.signed_scale, ins.cascade)
     rt = state.runtime
     if rt.inspect_cache is None or rt.inspect_cache[0] != version:
         # Only a new frame or a changed control recomputes and uploads the picture.
@@ -140,7 +140,7 @@ def _image_for(state: AppState, result):
         h, w = buffer.shape[:2]
         return (lambda: (images.rsm_image(buffer, ins.source), None, f"{w}×{h} texels")), None
     if ins.source == "geometry-volume":
-        volume = result.geometry_volume
+        volume = _cascade_pick(state, result, result.cascade_geometry, result.geometry_volume)
         if volume is None:
             return None, "the geometry volume is off (Scene → Geometry volume)"
         _grid_controls(state, volume.shape[2], components=False)
@@ -151,7 +151,8 @@ def _image_for(state: AppState, result):
 
         return make_volume, None
     if ins.source == "grid-slice":
-        grid, what = result.accumulated, "acc_N"
+        grid = _cascade_pick(state, result, result.cascade_accumulated, result.accumulated)
+        what = "acc_N" if ins.cascade == 0 else f"acc_N of cascade {ins.cascade}"
     else:
         steps = result.steps
         if not steps:
@@ -170,6 +171,20 @@ def _image_for(state: AppState, result):
         return image, top, f"{what}: flux {flux:.4g} W (sum of channels)"
 
     return make_slice, None
+
+
+def _cascade_pick(state: AppState, result, per_cascade: list, finest):
+    """With several cascades, a slider picks the cascade shown (0 = the finest)."""
+    ins = state.inspect
+    if len(per_cascade) < 2:
+        ins.cascade = 0
+        return finest
+    ins.cascade = min(ins.cascade, len(per_cascade) - 1)
+    _, ins.cascade = imgui.slider_int("Cascade", ins.cascade, 0, len(per_cascade) - 1)
+    spec = result.cascade_specs[ins.cascade]
+    imgui.same_line()
+    imgui.text_disabled(f"cell {spec.cell_size:.3g} m")
+    return per_cascade[ins.cascade]
 
 
 def _playback(state: AppState, last: int) -> None:

@@ -5,10 +5,13 @@ from __future__ import annotations
 from imgui_bundle import imgui
 
 from explorer.lpv.settings import (
+    BOUNCES,
+    CASCADE_ITERATIONS,
     DOWNSAMPLE_MODES,
     GEOMETRY_VOLUME_MODES,
     GRID_FORMATS,
     INJECTION_MODES,
+    MAX_CASCADES,
     SH_ORDERS,
 )
 from explorer.ui import camera, widgets
@@ -70,10 +73,45 @@ def gui_scene(state: AppState) -> None:
         if changed:
             state.update(downsample_factor=value)
     _choice(state, "Injection", "injection_mode", INJECTION_MODES)
-    _choice(state, "Geometry volume", "geometry_volume", GEOMETRY_VOLUME_MODES)
+    _geometry_volume_choice(state)
     _choice(state, "Grid format", "grid_format", GRID_FORMATS)
-    if s.cascades == 1:   # L2 is single-grid only (Settings refuses it with cascades)
-        _choice_int(state, "SH order (1 = L1, 2 = L2)", "sh_order", SH_ORDERS)
+    _choice_int(state, "SH order", "sh_order", SH_ORDERS)
+    _tooltip("1 = L1 (4 coefficients per colour), 2 = L2 (9). L2 keeps 127/128 of the "
+             "clamped cosine's energy (L1: 7/8); its measured error: docs/ERRORS.md")
+
+    imgui.separator_text("Leak reduction and bounces")
+    changed, value = imgui.slider_float("VPL offset [cells]",
+                                        s.injection_offset_cells, 0.0, 1.0, "%.2f")
+    if changed:
+        state.update(injection_offset_cells=round(float(value), 3))
+    _tooltip("VPLs move this far along their normal before injection (default 0.5): a wall "
+             "then stops lighting itself; room, 8 iterations: rel. L2 1.51 -> 0.555")
+    changed, value = imgui.checkbox("Gather damping", s.gather_damping)
+    if changed:
+        state.update(gather_damping=value)
+    _tooltip("scales E by clamp(E(p + h/2 n) / E(p - h/2 n), 0, 1): removes light that "
+             "arrives from behind a surface; a small effect (docs/ERRORS.md)")
+    _bounces_choice(state)
+
+    imgui.separator_text("Cascades")
+    changed, value = imgui.slider_int("Cascades", s.cascades, 1, MAX_CASCADES)
+    if changed:
+        state.update(cascades=value)
+    _tooltip("nested grids around the camera's target, each with twice the cell size of "
+             "the last, blended in the final gather")
+    if s.cascades > 1:
+        _choice(state, "Cascade iterations", "cascade_iterations", CASCADE_ITERATIONS)
+        changed, value = imgui.slider_float("Cascade focus", s.cascade_focus, 0.0, 1.0,
+                                            "%.2f")
+        if changed:
+            state.update(cascade_focus=float(value))
+        _tooltip("0 = centred on the eye, 1 = on the camera's target")
+        extent = s.cascade_extent or 0.0
+        changed, value = imgui.input_float("Finest extent [m]", extent, 0.0, 0.0, "%.3g")
+        _tooltip("edge of the finest cascade in world units; 0 = automatic (the coarsest "
+                 "cascade then has the single grid's cells)")
+        if changed and value >= 0.0:
+            state.update(cascade_extent=float(value) or None)
 
     imgui.separator_text("Output")
     _, state.follow_view_size = imgui.checkbox("Render at view size", state.follow_view_size)
@@ -104,6 +142,42 @@ def _light_angles(state: AppState) -> None:
     if changed_a or changed_e:
         new_position = camera.from_angles(target, azimuth, elevation, distance)
         state.update(light=(new_position, target))
+
+
+def _geometry_volume_choice(state: AppState) -> None:
+    s = state.settings
+    changed, value = widgets.combo("Geometry volume", s.geometry_volume, GEOMETRY_VOLUME_MODES)
+    if not changed:
+        return
+    if value == "off" and s.bounces > 1:
+        # The second bounce is reflected by the geometry volume: switching it off also
+        # goes back to one bounce, and the window says so.
+        if state.update(geometry_volume="off", bounces=1):
+            state.notify("geometry volume off: back to one bounce (the second bounce is "
+                         "the light the volume reflects)", "warning")
+        return
+    state.update(geometry_volume=value)
+
+
+def _bounces_choice(state: AppState) -> None:
+    s = state.settings
+    changed, index = imgui.combo("Bounces", BOUNCES.index(s.bounces), [str(b) for b in BOUNCES])
+    _tooltip("2: the geometry volume reflects part of the light it blocks (needs a geometry "
+             "volume; also carries third and later bounces)")
+    if not changed or BOUNCES[index] == s.bounces:
+        return
+    bounces = BOUNCES[index]
+    if bounces > 1 and s.geometry_volume == "off":
+        if state.update(bounces=bounces, geometry_volume="one-sided"):
+            state.notify("bounces = 2 needs blockers to reflect from: the geometry volume "
+                         "was switched on (one-sided)", "warning")
+        return
+    state.update(bounces=bounces)
+
+
+def _tooltip(text: str) -> None:
+    if imgui.is_item_hovered():
+        imgui.set_tooltip(text)
 
 
 def _choice(state: AppState, label: str, field: str, choices) -> None:
