@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 # name -> one-line help; the module is explorer.commands.<name>
@@ -57,7 +58,16 @@ def main(argv: list[str] | None = None) -> int:
         print(f"lpv-explorer: the command {args.command!r} is not available in this build",
               file=sys.stderr)
         return 2
-    return int(module.main(args) or 0)
+    try:
+        code = int(module.main(args) or 0)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        # The reader went away (`lpv-explorer lessons | head`): stop quietly, as Unix tools
+        # do. Point stdout at devnull so the interpreter's final flush cannot fail again.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141 - 128   # SIGPIPE's number, the code `head` pipelines expect
+    return code
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -114,3 +114,17 @@ def test_a_headless_context_made_and_released_restores_the_callers_context(ctx):
     texture.write(np.ones((2, 2, 4), np.float32).tobytes())
     assert np.frombuffer(texture.read(), np.float32).tolist() == [1.0] * 16
     texture.release()
+
+
+def test_cli_output_into_a_closed_pipe_ends_quietly():
+    """`lpv-explorer constants | head -1`: no BrokenPipeError traceback."""
+    import subprocess
+    import sys
+
+    reader = subprocess.Popen([sys.executable, "-c", "pass"], stdin=subprocess.PIPE)
+    reader.wait(timeout=30)            # the read end is gone: every write hits EPIPE
+    writer = subprocess.run([sys.executable, "-m", "explorer", "constants"],
+                            stdout=reader.stdin, stderr=subprocess.PIPE, timeout=120)
+    reader.stdin.close()
+    assert b"Traceback" not in writer.stderr, writer.stderr.decode()
+    assert writer.returncode == 13
