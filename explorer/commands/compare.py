@@ -215,16 +215,23 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
-def _parse_iterations(text: str | None) -> list[int] | None:
-    if text is None:
-        return None
+def _int_list(text: str, flag: str, example: str, valid, rule: str) -> list[int]:
+    """A comma list of integers from ``--flag``, each passing ``valid``; errors name the
+    flag, the expected form (``example``) and the ``rule`` broken."""
     try:
         values = [int(part) for part in text.split(",")]
     except ValueError:
-        raise ValueError(f"--iterations {text!r}: expected integers like 16 or 0,4,16") from None
-    if any(v < 0 for v in values):
-        raise ValueError(f"--iterations {text!r}: iterations must be >= 0")
+        raise ValueError(f"{flag} {text!r}: expected {example}") from None
+    if not all(valid(v) for v in values):
+        raise ValueError(f"{flag} {text!r}: {rule}")
     return values
+
+
+def _parse_iterations(text: str | None) -> list[int] | None:
+    if text is None:
+        return None
+    return _int_list(text, "--iterations", "integers like 16 or 0,4,16", lambda v: v >= 0,
+                     "iterations must be >= 0")
 
 
 def _parse_cascades(text: str | None) -> list[int]:
@@ -232,25 +239,17 @@ def _parse_cascades(text: str | None) -> list[int]:
 
     if text is None:
         return [1]
-    try:
-        values = [int(part) for part in text.split(",")]
-    except ValueError:
-        raise ValueError(f"--cascades {text!r}: expected integers like 2 or 1,2,3") from None
-    if any(not 1 <= v <= MAX_CASCADES for v in values):
-        raise ValueError(f"--cascades {text!r}: cascades must be 1..{MAX_CASCADES}")
-    return values
+    return _int_list(text, "--cascades", "integers like 2 or 1,2,3",
+                     lambda v: 1 <= v <= MAX_CASCADES, f"cascades must be 1..{MAX_CASCADES}")
 
 
 def _parse_sh_orders(text: str | None) -> list[int]:
+    from explorer.lpv.settings import SH_ORDERS
+
     if text is None:
         return [1]
-    try:
-        values = [int(part) for part in text.split(",")]
-    except ValueError:
-        raise ValueError(f"--sh-order {text!r}: expected 1, 2 or 1,2") from None
-    if any(v not in (1, 2) for v in values):
-        raise ValueError(f"--sh-order {text!r}: the SH order must be 1 (L1) or 2 (L2)")
-    return values
+    return _int_list(text, "--sh-order", "1, 2 or 1,2", lambda v: v in SH_ORDERS,
+                     "the SH order must be 1 (L1) or 2 (L2)")
 
 
 def _same_vpls(a, b) -> bool:
