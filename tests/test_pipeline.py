@@ -188,3 +188,18 @@ def test_grid_slice_orientation():
     row, column = np.unravel_index(np.argmax(image[..., 0]), image.shape[:2])
     assert (row, column) == (4 - 1 - 2, 1)   # y up, x to the right
     assert image[row, column, 1] == 0.0
+
+
+def test_base_scene_is_the_scene_before_the_settings_overrides():
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.lpv.settings import Settings
+
+    settings = Settings(scene="single-source", grid_size=8, iterations=1, rsm_size=16,
+                        width=16, height=16)
+    with Pipeline(settings) as pipeline:
+        assert pipeline.base_scene is None
+        default = pipeline.run().settings
+        camera = pipeline.base_scene.camera
+        moved = ((0.0, 3.0, 3.0), (0.0, 0.0, 0.0))
+        pipeline.run(default.with_changes(camera=moved))
+        assert pipeline.base_scene.camera == camera     # the scene's own camera, not moved

@@ -396,6 +396,12 @@ class Pipeline:
         self._current_stage = stage
         return True
 
+    @property
+    def base_scene(self) -> Scene | None:
+        """The scene of the last run as loaded, before the Settings' camera, light and
+        flux overrides (its own defaults); None before the first run."""
+        return self._scene_cache.get(self.settings.scene) if self._scene_cache else None
+
     def _load_scene(self, s: Settings) -> None:
         base = self._scene_cache.get(s.scene)
         if base is None:

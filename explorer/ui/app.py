@@ -349,7 +349,7 @@ class App:
         if self._defaults_for == scene_name:
             return
         self._defaults_for = scene_name
-        scene = getattr(pipeline, "scene", None)
+        scene = getattr(pipeline, "base_scene", None)
         if scene is None:
             try:
                 from explorer.scene import load_scene
