@@ -412,6 +412,15 @@ def test_render_command_renders_a_lesson_step(tmp_path):
     assert image.shape == (48, 48, 3)
     left, right = image[:, :23], image[:, 25:]
     assert left.mean() > right.mean()   # the original preset is much dimmer
+    # every option of a plain render also overrides the step (cascades, SH order, leaks)
+    done = render("--lesson", "injection", "--step", "1", "--out", str(out), *small,
+                  "--cascades", "2", "--sh-order", "2", "--injection-offset", "0",
+                  "--audit")
+    assert done.returncode == 0, done.stderr
+    assert "cascade 1" in done.stdout
+    done = render("--lesson", "injection", "--step", "1", "--out", str(out),
+                  "--injection-offset", "3")
+    assert done.returncode == 2 and "injection_offset_cells" in done.stderr
     done = render("--lesson", "nope", "--out", str(out))
     assert done.returncode == 2 and "no lesson 'nope'" in done.stderr
     done = render("--lesson", "reference", "--step", "99", "--out", str(out))

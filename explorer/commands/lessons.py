@@ -104,11 +104,11 @@ def render_lesson_step(args: argparse.Namespace) -> int:
     """Render step ``args.step`` of lesson ``args.lesson`` to ``args.out``."""
     from explorer.commands.render import (
         CAMERA_VIEWS,
-        STEP_OPTIONS,
-        format_audit,
+        SETTING_OPTIONS,
         option_changes,
         output_changes,
         output_paths,
+        print_audit,
         render_error,
         write_png,
     )
@@ -135,7 +135,7 @@ def render_lesson_step(args: argparse.Namespace) -> int:
         step = lesson.step(args.step)
     except (KeyError, IndexError) as exc:
         return render_error(exc.args[0], 2)
-    changes = {**option_changes(args, STEP_OPTIONS), **output_changes(args)}
+    changes = {**option_changes(args, SETTING_OPTIONS), **output_changes(args)}
     try:
         settings = step.settings().with_changes(**changes)
     except ValueError as exc:
@@ -155,7 +155,7 @@ def render_lesson_step(args: argparse.Namespace) -> int:
                     view == step.view else view
                 print(f"wrote {path} ({shown})")
             if args.audit:
-                print(format_audit(pipeline.run(settings).audit))
+                print_audit(pipeline.run(settings))
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
         return render_error(exc, 1)
     return 0

@@ -109,12 +109,15 @@ STEP_OPTIONS = (("grid", "grid_size"), ("iterations", "iterations"),
                 ("rsm_size", "rsm_size"), ("exposure", "exposure"),
                 ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
                 ("geometry_volume", "geometry_volume"))
-"""The options that also override a lesson step (``render --lesson``)."""
+"""The sizes and modes a command line sets (with the tables below, all of them also
+override a lesson step in ``render --lesson``)."""
 CASCADE_OPTIONS = (("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
                    ("cascade_iterations", "cascade_iterations"))
 SH_OPTIONS = (("sh_order", "sh_order"),)
 LEAK_OPTIONS = (("injection_offset", "injection_offset_cells"),
                 ("gather_damping", "gather_damping"), ("bounces", "bounces"))
+SETTING_OPTIONS = STEP_OPTIONS + CASCADE_OPTIONS + SH_OPTIONS + LEAK_OPTIONS
+"""Every (option, Settings field) pair ``render`` takes, plain or with ``--lesson``."""
 
 
 def option_changes(args: argparse.Namespace,
@@ -150,8 +153,7 @@ def settings_from_args(args: argparse.Namespace):
     from explorer.lpv.settings import Settings, preset
 
     changes: dict[str, object] = {"scene": args.scene, "corrections": preset(args.preset)}
-    changes.update(option_changes(args, STEP_OPTIONS + CASCADE_OPTIONS + SH_OPTIONS))
-    changes.update(leak_changes(args))
+    changes.update(option_changes(args, SETTING_OPTIONS))
     changes.update(output_changes(args))
     return Settings(**changes)
 
@@ -189,6 +191,13 @@ def format_audit(audit) -> str:
     lines += [f"  {name:<24}" + "".join(f"{float(v):11.4g}" for v in values)
               for name, values in rows]
     return "\n".join(lines)
+
+
+def print_audit(result) -> None:
+    """The energy audit of a frame, and one line per cascade when there are several."""
+    print(format_audit(result.audit))
+    if len(result.cascade_audits) > 1:
+        print(format_cascade_audits(result))
 
 
 def format_cascade_audits(result) -> str:
@@ -234,9 +243,7 @@ def main(args: argparse.Namespace) -> int:
                           enlarge=view not in CAMERA_VIEWS)
                 print(f"wrote {path} ({view})")
             if args.audit:
-                print(format_audit(result.audit))
-                if len(result.cascade_audits) > 1:
-                    print(format_cascade_audits(result))
+                print_audit(result)
     except SceneError as exc:
         return render_error(exc, 2)
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
