@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from explorer.gl.context import create_headless_context
+from explorer.gl.context import create_headless_context, release_headless_context
 
 
 @pytest.fixture(scope="session")
@@ -12,7 +12,7 @@ def gl_context():
     """One headless EGL context (Mesa llvmpipe in CI) for the whole session."""
     ctx = create_headless_context()
     yield ctx
-    ctx.release()
+    release_headless_context(ctx)
 
 
 @pytest.fixture
