@@ -223,9 +223,9 @@ def test_l2_grid_round_trip_and_bad_input(ctx):
             grid.write(values[..., :4])
     finally:
         grid.release()
-    with pytest.raises(ValueError, match="sh_order must be 1"):
+    with pytest.raises(ValueError, match="sh_order must be one of 1, 2"):
         LpvGrid(ctx, 4, sh_order=3)
-    with pytest.raises(ValueError, match="sh_order must be 1"):
+    with pytest.raises(ValueError, match="sh_order must be one of 1, 2"):
         Settings(sh_order=0)
     from explorer.lpv.cascades import texture_bytes
 
@@ -343,7 +343,7 @@ def test_cli_sh_order_flags(tmp_path, capsys, gl_context):
                      "--view", "final", "--view", "grid-slice", "--coefficient", "8"]) == 0
     assert (tmp_path / "l2-grid-slice.png").is_file()
     assert cli_main(["render", "--sh-order", "3", "--out", str(out)]) == 2
-    assert "sh_order must be 1" in capsys.readouterr().err
+    assert "sh_order must be one of 1, 2" in capsys.readouterr().err
     # L1 has no coefficient 8: the view says so
     assert cli_main(["render", "--grid", "8", "--iterations", "1", "--rsm-size", "16",
                      "--size", "32x32", "--out", str(out), "--view", "grid-slice",

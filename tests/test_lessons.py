@@ -187,7 +187,7 @@ def test_wrong_type_and_bad_values(tmp_path):
                    check_formula=None)
     assert error.field == "settings.grid_size" and "must be int" in str(error)
     error = _error(tmp_path, GOOD.replace("grid_size = 8", "grid_size = 0"), check_formula=None)
-    assert "grid_size must be at least 1" in str(error) and error.step == 2
+    assert "grid_size must be a whole number in [1, 256], got 0" in str(error) and error.step == 2
     error = _error(tmp_path, GOOD.replace("grid_size = 8", "iterations = true"),
                    check_formula=None)
     assert error.field == "settings.iterations"

@@ -7,8 +7,9 @@ uniforms, never as a second copy of a shader.
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, fields, replace
+
+from explorer.lpv.schema import SettingError, from_dict, setting, to_dict, validate
 
 
 @dataclass(frozen=True)
@@ -69,93 +70,158 @@ SH_ORDERS = (1, 2)
 BOUNCES = (1, 2)
 MAX_INJECTION_OFFSET_CELLS = 1.0
 """A VPL moved by more than a cell would skip the cell in front of its surface."""
+MAX_CASCADES = 4
+CASCADE_ITERATIONS = ("same", "same-distance")
+MAX_GRID_SIZE = 256
+"""256³ cells × 3 colours × 4 grids of RGBA32F is 3.2 GB: beyond that no GPU holds a grid
+and its ping-pong copies (the pipeline's texture budget refuses smaller ones too)."""
+MAX_ITERATIONS = 1024
+"""Light moves one cell per step: after 3·256 steps it has left the largest grid."""
+MAX_RSM_SIZE = 4096
+MAX_IMAGE_SIZE = 8192
 
 
 @dataclass(frozen=True)
 class Settings:
     """Everything a frame depends on. Immutable: the app compares settings to know
-    whether the pipeline must run again."""
+    whether the pipeline must run again.
 
-    scene: str = "cornell"
-    """A built-in scene name or a path to a mesh file trimesh can read."""
-    corrections: Corrections = field(default_factory=Corrections)
-    grid_size: int = 32
-    iterations: int = 16
-    rsm_size: int = 256
-    downsample: str = "none"
-    downsample_factor: int = 2
-    injection_mode: str = "points"
-    geometry_volume: str = "off"
-    grid_format: str = "rgba32f"
-    sh_order: int = 1
-    """SH order of the light grid: 1 = L1 (4 coefficients per colour channel, as published),
-    2 = L2 (9; injection, propagation and gather use band 2 too; docs/MODEL.md "L2
-    option"). The geometry volume stays L1."""
+    Every field is declared with :func:`explorer.lpv.schema.setting`: its type and range
+    are checked when a Settings is made, and the command line, persisted files, lessons,
+    the Scene panel and the pipeline's cache keys are all derived from these declarations.
+    """
+
+    scene: str = setting(
+        "cornell", kind="str", flag="--scene", stages=("scene",),
+        doc="A built-in scene name or a path to a mesh file trimesh can read.")
+    corrections: Corrections = setting(
+        kind="nested", nested=Corrections, default_factory=Corrections,
+        stages=("inject", "geometry", "propagate"),
+        doc="The switches between the published and the corrected formulas.")
+    grid_size: int = setting(
+        32, kind="int", low=1, high=MAX_GRID_SIZE, flag="--grid", widget="combo",
+        suggested=(8, 16, 24, 32, 48, 64), label="Grid size (cells³)",
+        group="Light propagation volume", stages=("grid",),
+        doc="Cells along each edge of the (each cascade's) grid: N³ cells.")
+    iterations: int = setting(
+        16, kind="int", low=0, high=MAX_ITERATIONS, flag="--iterations", widget="slider",
+        widget_high=64, label="Iterations", group="Light propagation volume",
+        stages=("propagate",),
+        doc="Propagation steps: light moves one cell per step.")
+    rsm_size: int = setting(
+        256, kind="int", low=1, high=MAX_RSM_SIZE, flag="--rsm-size", widget="combo",
+        suggested=(64, 128, 256, 512, 1024), label="RSM size (texels²)",
+        group="Light propagation volume", stages=("rsm",),
+        doc="Resolution of the (square) reflective shadow map.")
+    downsample: str = setting(
+        "none", kind="choice", choices=DOWNSAMPLE_MODES, flag="--downsample",
+        widget="combo", label="Downsample", group="Light propagation volume",
+        stages=("downsample",),
+        doc="Merge blocks of RSM texels into one VPL before injection: none, their "
+            "average, or the brightest.")
+    downsample_factor: int = setting(
+        2, kind="int", low=1, high=16, flag="--downsample-factor", widget="slider",
+        widget_high=8, label="Downsample factor", group="Light propagation volume",
+        stages=("downsample",),
+        doc="Edge of the block of RSM texels merged into one VPL.")
+    injection_mode: str = setting(
+        "points", kind="choice", choices=INJECTION_MODES, flag="--injection-mode",
+        widget="combo", label="Injection", group="Light propagation volume",
+        stages=("inject",),
+        doc="points: one point primitive per VPL with additive blending (DX11); compute: "
+            "each cell gathers its VPLs (DX12 proposal).")
+    geometry_volume: str = setting(
+        "off", kind="choice", choices=GEOMETRY_VOLUME_MODES, flag="--geometry-volume",
+        label="Geometry volume", group="Light propagation volume", stages=("geometry",),
+        doc="Fuzzy occlusion from the RSM's surfels: off, one-sided or double-sided.")
+    grid_format: str = setting(
+        "rgba32f", kind="choice", choices=GRID_FORMATS, flag="--grid-format",
+        widget="combo", label="Grid format", group="Light propagation volume",
+        stages=("inject", "geometry"),
+        doc="Texel format of the light and geometry grids (32- or 16-bit float).")
+    sh_order: int = setting(
+        1, kind="choice", choices=SH_ORDERS, flag="--sh-order", widget="combo",
+        label="SH order", group="Light propagation volume", stages=("inject",),
+        doc="SH order of the light grid: 1 = L1 (4 coefficients per colour channel, as "
+            "published), 2 = L2 (9; injection, propagation and gather use band 2 too; "
+            "docs/MODEL.md \"L2 option\"). The geometry volume stays L1.")
     # --- cascaded LPV (docs/MODEL.md "Cascades", explorer/lpv/cascades.py) ---
-    cascades: int = 1
-    """Nested grids of grid_size³ cells, each with twice the cell size of the last;
-    1 = the single grid enclosing the scene."""
-    cascade_extent: float | None = None
-    """Edge of the finest cascade in world units; None = the single grid's extent divided
-    by 2^(cascades−1), so the coarsest cascade has the single grid's cells."""
-    cascade_focus: float = 1.0
-    """Where the cascades are centred on the camera's line of sight: 0 = at the eye,
-    1 = at the camera's target (each cascade then snaps to its own cells)."""
-    cascade_iterations: str = "same"
-    """"same": every cascade propagates ``iterations`` steps (the LPV paper), so light
-    travels 2^k finest cells per step in cascade k; "same-distance": cascade k propagates
-    ``iterations·2^(cascades−1−k)`` steps, so every cascade carries light as far (in world
-    units) as the coarsest."""
-    width: int = 512
-    height: int = 512
-    exposure: float = 1.0
-    indirect_only: bool = False
-    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
-    """(eye, target) in world units; None = the scene's default camera."""
-    light: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
-    """(position, target) of the spot light; None = the scene's default light."""
-    light_flux: float | None = None
-    """Total flux of the light in watts per channel; None = the scene's default."""
-    debug_nan: bool = False
-    """Check every pass for NaN/Inf and name the pass that produced one."""
-    injection_offset_cells: float = 0.5
-    """Inject each VPL at p + δ·cell_size·n, δ in cells (docs/MODEL.md "Injection"):
-    half a cell, the LPV paper's practice, keeps a surface from gathering its own VPLs."""
-    gather_damping: bool = False
-    """Damp the gathered irradiance by the directional derivative along the normal
-    (docs/MODEL.md "Final gather")."""
-    bounces: int = 1
-    """1: the single indirect bounce; 2: the geometry volume also reflects the light it
-    blocks (docs/MODEL.md "More bounces"); needs a geometry volume."""
+    cascades: int = setting(
+        1, kind="int", low=1, high=MAX_CASCADES, flag="--cascades", widget="slider",
+        label="Cascades", group="Cascades", stages=("grid",),
+        doc="Nested grids of grid_size³ cells, each with twice the cell size of the last; "
+            "1 = the single grid enclosing the scene.")
+    cascade_extent: float | None = setting(
+        None, kind="float", optional=True, low=1e-6, high=1e6, flag="--cascade-extent",
+        widget="input", label="Finest extent", unit="m", group="Cascades",
+        stages=("grid",),
+        doc="Edge of the finest cascade in world units; None = the single grid's extent "
+            "divided by 2^(cascades−1), so the coarsest cascade has the single grid's "
+            "cells.")
+    cascade_focus: float = setting(
+        1.0, kind="float", low=0.0, high=1.0, flag="--cascade-focus", widget="slider",
+        label="Cascade focus", group="Cascades", stages=("grid",),
+        doc="Where the cascades are centred on the camera's line of sight: 0 = at the "
+            "eye, 1 = at the camera's target (each cascade then snaps to its own cells).")
+    cascade_iterations: str = setting(
+        "same", kind="choice", choices=CASCADE_ITERATIONS, flag="--cascade-iterations",
+        widget="combo", label="Cascade iterations", group="Cascades",
+        stages=("propagate",),
+        doc='"same": every cascade propagates ``iterations`` steps (the LPV paper), so '
+            "light travels 2^k finest cells per step in cascade k; \"same-distance\": "
+            "cascade k propagates ``iterations·2^(cascades−1−k)`` steps, so every cascade "
+            "carries light as far (in world units) as the coarsest.")
+    width: int = setting(
+        512, kind="int", low=1, high=MAX_IMAGE_SIZE, stages=("gbuffer",),
+        doc="Width of the rendered image in pixels (command line: --size WxH).")
+    height: int = setting(
+        512, kind="int", low=1, high=MAX_IMAGE_SIZE, stages=("gbuffer",),
+        doc="Height of the rendered image in pixels (command line: --size WxH).")
+    exposure: float = setting(
+        1.0, kind="float", low=0.0, low_open=True, high=1e6, flag="--exposure",
+        stages=("display",),
+        doc="Multiplier of the linear radiance before display.")
+    indirect_only: bool = setting(
+        False, kind="bool", flag="--indirect-only", stages=("display",),
+        doc="Show only the LPV's indirect light in the final image.")
+    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = setting(
+        None, kind="points", optional=True, stages=("grid", "gbuffer"),
+        doc="(eye, target) in world units; None = the scene's default camera.")
+    light: tuple[tuple[float, float, float], tuple[float, float, float]] | None = setting(
+        None, kind="points", optional=True, stages=("rsm",),
+        doc="(position, target) of the spot light; None = the scene's default light.")
+    light_flux: float | None = setting(
+        None, kind="float", optional=True, low=0.0, low_open=True, high=1e12,
+        stages=("rsm",),
+        doc="Total flux of the light in watts per channel; None = the scene's default.")
+    debug_nan: bool = setting(
+        False, kind="bool", flag="--debug-nan", label="Check passes for NaN/Inf",
+        widget="checkbox", group="Output",
+        doc="Check every pass for NaN/Inf and name the pass that produced one.")
+    injection_offset_cells: float = setting(
+        0.5, kind="float", low=0.0, high=MAX_INJECTION_OFFSET_CELLS,
+        flag="--injection-offset", widget="slider", label="VPL offset", unit="cells",
+        group="Leak reduction and bounces", stages=("inject",),
+        doc='Inject each VPL at p + δ·cell_size·n, δ in cells (docs/MODEL.md "Injection"): '
+            "half a cell, the LPV paper's practice, keeps a surface from gathering its own "
+            "VPLs.")
+    gather_damping: bool = setting(
+        False, kind="bool", flag="--gather-damping", widget="checkbox",
+        label="Gather damping", group="Leak reduction and bounces", stages=("gather",),
+        doc="Damp the gathered irradiance by the directional derivative along the normal "
+            '(docs/MODEL.md "Final gather").')
+    bounces: int = setting(
+        1, kind="choice", choices=BOUNCES, flag="--bounces", label="Bounces",
+        group="Leak reduction and bounces", stages=("propagate",),
+        doc="1: the single indirect bounce; 2: the geometry volume also reflects the light "
+            'it blocks (docs/MODEL.md "More bounces"); needs a geometry volume.')
 
     def __post_init__(self) -> None:
-        _check_cascades(self)
-        _check_choice("downsample", self.downsample, DOWNSAMPLE_MODES)
-        _check_choice("injection_mode", self.injection_mode, INJECTION_MODES)
-        _check_choice("geometry_volume", self.geometry_volume, GEOMETRY_VOLUME_MODES)
-        _check_choice("grid_format", self.grid_format, GRID_FORMATS)
-        if isinstance(self.sh_order, bool) or self.sh_order not in SH_ORDERS:
-            raise ValueError(f"sh_order must be 1 (L1, 4 coefficients) or 2 (L2, 9 "
-                             f"coefficients), got {self.sh_order!r}")
-        for name in ("grid_size", "rsm_size", "width", "height", "downsample_factor"):
-            if int(getattr(self, name)) < 1:
-                raise ValueError(f"{name} must be at least 1, got {getattr(self, name)!r}")
-        if self.iterations < 0:
-            raise ValueError(f"iterations must be >= 0, got {self.iterations!r}")
-        offset = self.injection_offset_cells
-        if isinstance(offset, bool) or not isinstance(offset, (int, float)) or not (
-                0.0 <= offset <= MAX_INJECTION_OFFSET_CELLS):
-            raise ValueError(f"injection_offset_cells must be a number of cells in "
-                             f"[0, {MAX_INJECTION_OFFSET_CELLS}], got {offset!r}")
-        if not isinstance(self.gather_damping, bool):
-            raise ValueError(f"gather_damping must be True or False, got "
-                             f"{self.gather_damping!r}")
-        if isinstance(self.bounces, bool) or self.bounces not in BOUNCES:
-            raise ValueError(f"bounces must be one of {BOUNCES}, got {self.bounces!r}")
+        validate(self)
         if self.bounces > 1 and self.geometry_volume == "off":
-            raise ValueError("bounces=2 reflects the light the geometry volume blocks, so it "
-                             "needs geometry_volume 'one-sided' or 'double-sided' (it is "
-                             "'off')")
+            raise SettingError("bounces", "bounces=2 reflects the light the geometry volume "
+                               "blocks, so it needs geometry_volume 'one-sided' or "
+                               "'double-sided' (it is 'off')")
 
     def with_changes(self, **changes) -> "Settings":
         """A copy with some fields changed; ``corrections`` may be given as a dict of
@@ -168,30 +234,14 @@ class Settings:
         return replace(self, **changes)
 
     def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
+        """Plain data (JSON/TOML) that :func:`explorer.lpv.schema.from_dict` reads back."""
+        return to_dict(self)
 
-
-MAX_CASCADES = 4
-CASCADE_ITERATIONS = ("same", "same-distance")
-
-
-def _check_cascades(settings: "Settings") -> None:
-    if not 1 <= int(settings.cascades) <= MAX_CASCADES or \
-            int(settings.cascades) != settings.cascades:
-        raise ValueError(f"cascades must be a whole number 1..{MAX_CASCADES}, got "
-                         f"{settings.cascades!r}")
-    if settings.cascade_extent is not None and not settings.cascade_extent > 0:
-        raise ValueError(f"cascade_extent must be positive (world units) or None, got "
-                         f"{settings.cascade_extent!r}")
-    _check_choice("cascade_iterations", settings.cascade_iterations, CASCADE_ITERATIONS)
-    if not 0.0 <= settings.cascade_focus <= 1.0:
-        raise ValueError(f"cascade_focus must lie in [0, 1] (0 = eye, 1 = target), got "
-                         f"{settings.cascade_focus!r}")
-
-
-def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:
-    if value not in choices:
-        raise ValueError(f"{name} must be one of {choices}, got {value!r}")
+    @classmethod
+    def from_dict(cls, data, base: "Settings | None" = None, where: str = "") -> "Settings":
+        """Settings from plain data (a settings file, a lesson table): ``base`` with the
+        given fields replaced; a :class:`SettingError` names the bad field."""
+        return from_dict(cls, data, base, where)
 
 
 # Names shared by the CLI (`render --view`), the app's view selector and the lessons.

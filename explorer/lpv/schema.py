@@ -1,0 +1,304 @@
+"""Typed, ranged fields: one declaration per setting, read by everything that parses one.
+
+A field of a settings dataclass is declared with :func:`setting`, which stores a
+:class:`Spec` in the field's metadata: its kind (int, float, bool, choice, ...), its range
+or choices, its documentation, its command-line flag, the widget that edits it and the
+pipeline stages that read it. Everything that turns outside data into settings derives
+from these specs:
+
+* the dataclass checks and normalises every field when it is constructed
+  (:func:`validate`, called from ``__post_init__``), so ``Settings(grid_size="8")`` or
+  ``Settings(exposure=float("nan"))`` fail at once with the field, the value and the
+  allowed range named;
+* persisted JSON and lesson tables go through :func:`from_dict` (lists become tuples, a
+  nested table becomes the nested dataclass, unknown keys are refused);
+* command lines through :func:`explorer.commands.options` (argparse built from the specs);
+* the Scene panel draws the fields that declare a widget;
+* the pipeline derives its cache keys from :attr:`Spec.stages` (the stages that read the
+  field; a change invalidates those and everything downstream).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any, Mapping
+
+STAGES = ("scene", "grid", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer",
+          "gather", "display")
+"""The pipeline's stages in execution order; ``display`` is the final, display-only
+shader (exposure, tone map, which buffer): changing only its fields re-runs no pass."""
+
+KINDS = ("int", "float", "bool", "str", "choice", "points", "nested")
+WIDGETS = ("combo", "slider", "checkbox", "input")
+
+
+class SettingError(ValueError):
+    """A value a settings field does not allow; the message names field, value, range."""
+
+    def __init__(self, field: str, message: str) -> None:
+        self.field = field
+        super().__init__(message)
+
+
+@dataclass(frozen=True)
+class Spec:
+    """What one settings field holds and who reads it."""
+
+    doc: str
+    kind: str
+    choices: tuple = ()
+    """For ``choice``: the allowed values (their type is checked too: ``"1"`` is not 1)."""
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    """The lower bound itself is excluded (``(low, high]``): e.g. an exposure of 0."""
+    optional: bool = False
+    """None is allowed (meaning "the scene's default" or "automatic")."""
+    flag: str | None = None
+    """Long command-line option, e.g. ``--grid``; None: not a plain option."""
+    widget: str | None = None
+    """How the Scene panel edits it generically (one of :data:`WIDGETS`); None: a panel
+    with its own control, or no control."""
+    label: str = ""
+    group: str = ""
+    """Section of the Scene panel the widget sits in."""
+    suggested: tuple = ()
+    """Values a combo offers for a numeric field (any allowed value can still be set)."""
+    widget_high: float | None = None
+    """Upper end of a slider when the allowed range is wider (the slider stays usable;
+    typing a value, Ctrl+click, can go up to ``high``)."""
+    unit: str = ""
+    stages: tuple[str, ...] = ()
+    """Pipeline stages that read the field directly (:data:`STAGES`)."""
+    nested: type | None = None
+    """For ``nested``: the dataclass type held."""
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"kind must be one of {KINDS}, got {self.kind!r}")
+        if self.widget is not None and self.widget not in WIDGETS:
+            raise ValueError(f"widget must be one of {WIDGETS}, got {self.widget!r}")
+        unknown = [s for s in self.stages if s not in STAGES]
+        if unknown:
+            raise ValueError(f"unknown stage(s) {unknown}; stages are {STAGES}")
+
+    # -- checking --------------------------------------------------------------------
+    def allowed(self) -> str:
+        """The allowed values in words, e.g. ``"a whole number in [1, 256]"``."""
+        if self.kind == "choice":
+            text = "one of " + ", ".join(repr(c) for c in self.choices)
+        elif self.kind in ("int", "float"):
+            noun = "a whole number" if self.kind == "int" else "a finite number"
+            text = noun + _range_text(self.low, self.high, self.low_open)
+        elif self.kind == "bool":
+            text = "true or false"
+        elif self.kind == "str":
+            text = "a non-empty text"
+        elif self.kind == "points":
+            text = "two different points [[x, y, z], [x, y, z]] of finite numbers"
+        else:
+            text = f"a {getattr(self.nested, '__name__', 'table')}"
+        return text + (" or None" if self.optional else "")
+
+    def check(self, name: str, value: Any) -> Any:
+        """``value`` normalised to the field's type; :class:`SettingError` if not allowed."""
+        if value is None:
+            if self.optional:
+                return None
+            raise self._error(name, value)
+        checker = _CHECKERS[self.kind]
+        try:
+            normal = checker(self, value)
+        except (TypeError, ValueError, OverflowError):
+            raise self._error(name, value) from None
+        if normal is _REFUSED:
+            raise self._error(name, value)
+        return normal
+
+    def _error(self, name: str, value: Any) -> SettingError:
+        shown = repr(value)
+        if len(shown) > 60:
+            shown = shown[:57] + "..."
+        return SettingError(name, f"{name} must be {self.allowed()}, got {shown}")
+
+
+_REFUSED = object()
+
+
+def _range_text(low, high, low_open: bool) -> str:
+    if low is None and high is None:
+        return ""
+    if high is None:
+        return f" {'>' if low_open else '>='} {_num(low)}"
+    if low is None:
+        return f" <= {_num(high)}"
+    return f" in {'(' if low_open else '['}{_num(low)}, {_num(high)}]"
+
+
+def _num(value: float) -> str:
+    return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else f"{value:g}"
+
+
+def _in_range(spec: Spec, number: float) -> bool:
+    if spec.low is not None and (number < spec.low or (spec.low_open and number == spec.low)):
+        return False
+    return spec.high is None or number <= spec.high
+
+
+def _check_int(spec: Spec, value: Any):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        return _REFUSED
+    number = int(value)
+    return number if _in_range(spec, number) else _REFUSED
+
+
+def _check_float(spec: Spec, value: Any):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return _REFUSED
+    number = float(value)
+    if not math.isfinite(number) or not _in_range(spec, number):
+        return _REFUSED
+    return number
+
+
+def _check_bool(spec: Spec, value: Any):
+    # numpy booleans are not bool instances but say so through their type name
+    if isinstance(value, bool) or type(value).__name__ == "bool_":
+        return bool(value)
+    return _REFUSED
+
+
+def _check_str(spec: Spec, value: Any):
+    return value if isinstance(value, str) and value.strip() else _REFUSED
+
+
+def _check_choice(spec: Spec, value: Any):
+    for choice in spec.choices:
+        if type(value) is type(choice) and value == choice:
+            return choice
+    return _REFUSED
+
+
+def _check_points(spec: Spec, value: Any):
+    if isinstance(value, (str, bytes)):
+        return _REFUSED
+    first, second = value
+    pair = []
+    for point in (first, second):
+        if isinstance(point, (str, bytes)):
+            return _REFUSED
+        coords = tuple(point)
+        if len(coords) != 3 or any(isinstance(c, bool) or not isinstance(c, numbers.Real)
+                                   for c in coords):
+            return _REFUSED
+        coords = tuple(float(c) for c in coords)
+        if not all(math.isfinite(c) for c in coords):
+            return _REFUSED
+        pair.append(coords)
+    if pair[0] == pair[1]:
+        return _REFUSED      # eye == target (or light position == target): no direction
+    return (pair[0], pair[1])
+
+
+def _check_nested(spec: Spec, value: Any):
+    return value if isinstance(value, spec.nested) else _REFUSED
+
+
+_CHECKERS = {"int": _check_int, "float": _check_float, "bool": _check_bool,
+             "str": _check_str, "choice": _check_choice, "points": _check_points,
+             "nested": _check_nested}
+
+
+# -- declaring ---------------------------------------------------------------------------
+def setting(default: Any = dataclasses.MISSING, *, doc: str, kind: str,
+            default_factory: Any = dataclasses.MISSING, **spec: Any) -> Any:
+    """A dataclass field carrying its :class:`Spec` (see the module docstring)."""
+    metadata = {"spec": Spec(doc=doc, kind=kind, **spec)}
+    if default_factory is not dataclasses.MISSING:
+        return dataclasses.field(default_factory=default_factory, metadata=metadata)
+    return dataclasses.field(default=default, metadata=metadata)
+
+
+@lru_cache(maxsize=None)
+def specs(cls: type) -> dict[str, Spec]:
+    """Field name -> :class:`Spec` of a dataclass declared with :func:`setting`."""
+    found = {f.name: f.metadata["spec"] for f in dataclasses.fields(cls)
+             if "spec" in f.metadata}
+    return found
+
+
+def validate(obj: Any) -> None:
+    """Check and normalise every declared field of ``obj`` in place (frozen or not); the
+    first bad field raises :class:`SettingError`."""
+    for name, spec in specs(type(obj)).items():
+        value = getattr(obj, name)
+        normal = spec.check(name, value)
+        if normal is not value:
+            object.__setattr__(obj, name, normal)
+
+
+def stages_reading(cls: type, stage: str) -> tuple[str, ...]:
+    """The fields of ``cls`` that ``stage`` reads directly."""
+    if stage not in STAGES:
+        raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
+    return tuple(name for name, spec in specs(cls).items() if stage in spec.stages)
+
+
+# -- outside data -------------------------------------------------------------------------
+def from_dict(cls: type, data: Any, base: Any = None, where: str = "") -> Any:
+    """An instance of ``cls`` from plain data (JSON, TOML): ``base`` (default: ``cls()``)
+    with the fields in ``data`` replaced. Lists become tuples, tables become nested
+    dataclasses; unknown keys and bad values raise :class:`SettingError` whose message
+    starts with ``where`` (e.g. ``"settings: "``)."""
+    if not isinstance(data, Mapping):
+        raise SettingError("", f"{where}expected a table of fields, got "
+                               f"{type(data).__name__}")
+    base = cls() if base is None else base
+    known = {f.name: f for f in dataclasses.fields(cls)}
+    unknown = sorted(str(key) for key in data if key not in known)
+    if unknown:
+        raise SettingError(unknown[0], f"{where}unknown field(s) {', '.join(unknown)}; "
+                                       f"known: {', '.join(known)}")
+    field_specs = specs(cls)
+    values = {}
+    for name, value in data.items():
+        spec = field_specs.get(name)
+        if spec is not None and spec.kind == "nested" and isinstance(value, Mapping):
+            value = from_dict(spec.nested, value, getattr(base, name), f"{where}{name}.")
+        elif spec is None and dataclasses.is_dataclass(getattr(base, name)) and \
+                isinstance(value, Mapping):
+            value = from_dict(type(getattr(base, name)), value, getattr(base, name),
+                              f"{where}{name}.")
+        elif spec is None:
+            value = _plain_field(known[name], getattr(base, name), value, where)
+        values[name] = value
+    try:
+        return dataclasses.replace(base, **values)
+    except SettingError as exc:
+        raise SettingError(exc.field, f"{where}{exc}") from None
+
+
+def _plain_field(f: dataclasses.Field, current: Any, value: Any, where: str) -> Any:
+    """A field without a spec (e.g. a correction switch): same type as its value now."""
+    if isinstance(current, bool):
+        if isinstance(value, bool):
+            return value
+        raise SettingError(f.name, f"{where}{f.name} must be true or false, got {value!r}")
+    return value
+
+
+def to_dict(obj: Any) -> dict:
+    """Plain data (dicts, lists, numbers, text) that :func:`from_dict` reads back."""
+    return _plain(dataclasses.asdict(obj))
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    return value
