@@ -98,7 +98,7 @@ CORRECTIONS: tuple[Correction, ...] = (
         "off: one step keeps ×{corrections.exact_constants.step_flux_original:.6f} "
         "instead of ×1",
         published=True, stages=("inject", "propagate"),
-        effects=(("", "step_flux_original"), (_RATIO, "flux_factor"))),
+        effects=(("published, one step:", "step_flux_original"), (_RATIO, "flux_factor"))),
     Correction(
         "side_faces", "Side faces",
         "Each neighbour sends light through five faces of the target cell; the front face "
@@ -106,7 +106,8 @@ CORRECTIONS: tuple[Correction, ...] = (
         "off: one step keeps about ×{corrections.side_faces.step_flux_original:.3f} of the "
         "flux",
         published=False, stages=("propagate",),
-        effects=(("", "step_flux_original"), (_RATIO, "flux_factor"))),
+        effects=(("front faces only, one step:", "step_flux_original"),
+                 (_RATIO, "flux_factor"))),
     Correction(
         "surfel_area_squared", "Occluder area grows with depth squared",
         "A texel of a perspective shadow map covers an area proportional to depth squared.",
@@ -119,7 +120,7 @@ CORRECTIONS: tuple[Correction, ...] = (
         "already moved.",
         "off: light counted again each step (flux grows)",
         published=False, stages=("propagate",),
-        effects=(("", "accumulated_original"), ("", "accumulated_corrected"),
+        effects=(("in place:", "accumulated_original"), ("ping-pong:", "accumulated_corrected"),
                  ("corrected ÷ published, flux-conserving step:", "flux_factor"))),
     Correction(
         "clamp_front_face", "Clamp the front face",
@@ -127,7 +128,7 @@ CORRECTIONS: tuple[Correction, ...] = (
         "light from travelling.",
         "on: clamping adds a little flux (the audit's clamp gain)",
         published=False, stages=("propagate",),
-        effects=(("", "clamp_gain"), ("", "lobe_behind"))),
+        effects=(("clamp gain:", "clamp_gain"), ("L1 lobe behind itself:", "lobe_behind"))),
 )
 
 BY_NAME: dict[str, Correction] = {entry.name: entry for entry in CORRECTIONS}

@@ -52,6 +52,11 @@ def _effect(formulas, caption: str, result: derived.Derived) -> None:
         widgets.caption(caption)
         imgui.same_line()
     widgets.formula(formulas, result.latex, True, tooltip=result.tooltip, scale=0.8)
-    if result.value is not None and result.value != round(result.value):
+    if result.value is not None and _needs_decimals(result.value):
         imgui.same_line()
         imgui.text_disabled(f"≈ {result.value:.7g}")
+
+
+def _needs_decimals(value: float) -> bool:
+    """True unless the value is short enough to read off its formula (1, −1/4, 12)."""
+    return len(f"{abs(value):.7g}".replace(".", "").strip("0")) > 3
