@@ -1,4 +1,4 @@
-"""The derivation results as the window and the lessons show them, without sympy.
+r"""The derivation results as the window and the lessons show them, without sympy.
 
 ``explorer/derived_table.py`` is generated from ``derivations/registry.py`` by
 ``python -m derivations.codegen`` (LaTeX typeset with the constants at codegen time; the
@@ -18,7 +18,14 @@ import difflib
 import re
 from dataclasses import dataclass
 
-from explorer.derived_table import RESULTS
+
+
+def _results() -> dict[str, tuple[str, str, float | None]]:
+    # Imported on first use, not with this module: derivations.registry imports
+    # unknown_name from here, and the codegen must run even when the table is missing.
+    from explorer.derived_table import RESULTS
+
+    return RESULTS
 
 
 @dataclass(frozen=True)
@@ -38,15 +45,16 @@ class Derived:
 
 def names() -> list[str]:
     """Every result name, in registry order."""
-    return list(RESULTS)
+    return list(_results())
 
 
 def get(name: str) -> Derived:
     """The result called ``name``; ``KeyError`` names the closest matches otherwise."""
+    results = _results()
     try:
-        latex, statement, value = RESULTS[name]
+        latex, statement, value = results[name]
     except KeyError:
-        raise unknown_name(name, list(RESULTS)) from None
+        raise unknown_name(name, list(results)) from None
     return Derived(name, latex, statement, value)
 
 
