@@ -6,14 +6,21 @@ Every registry result with a ``glsl_name`` becomes a constant in
   ``glsl_code`` from ``sp.N(expr, 12)`` (12 significant digits, more than a float holds);
 * ``explorer/lpv/constants.py``: ``NAME = value`` with the full double precision
   (``repr(float(sp.N(expr, 30)))``);
-* ``derivations/ERRATA.md``: the errata table (``derivations.errata.markdown``).
+* ``derivations/ERRATA.md``: the errata table (``derivations.errata.markdown``);
+* ``shaders/generated/corrections.glsl``: one ``uniform bool u_<name>;`` per entry of the
+  corrections registry (``explorer/lpv/corrections.py``), after checking that every
+  derivation the entry names exists;
+* ``explorer/derived_table.py``: every registry result as the window and the lesson loader
+  need it, without sympy: its LaTeX (``registry.latex``, a formula with its left-hand
+  side), statement and, for a number or a formula whose right-hand side is a number, its
+  value as a float.
 
 Each constant carries its closed form (or, for a published decimal, where it was printed)
 and the name of the derivation. No number is typed here: all come from ``derivations``.
 
 Usage::
 
-    python -m derivations.codegen           # (re)write both files
+    python -m derivations.codegen           # (re)write the generated files
     python -m derivations.codegen --check   # exit 1 when a committed file is stale
 """
 
@@ -27,12 +34,16 @@ import sympy as sp
 from sympy.printing.glsl import glsl_code
 
 from derivations import errata
-from derivations.registry import Result, all_results
+from derivations.registry import Result, all_results, latex, names
+from explorer.lpv.corrections import CORRECTIONS
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 GLSL_PATH = Path("shaders") / "generated" / "constants.glsl"
 PYTHON_PATH = Path("explorer") / "lpv" / "constants.py"
 ERRATA_PATH = Path("derivations") / "ERRATA.md"
+CORRECTIONS_GLSL_PATH = Path("shaders") / "generated" / "corrections.glsl"
+DERIVED_PATH = Path("explorer") / "derived_table.py"
+LINE_LIMIT = 99
 GLSL_DIGITS = 12
 REGENERATE = "python -m derivations.codegen"
 
@@ -109,10 +120,88 @@ def errata_source() -> str:
     ])
 
 
+def corrections_glsl_source() -> str:
+    """The uniform of every correction switch, in registry order."""
+    known = set(names())
+    for entry in CORRECTIONS:
+        missing = [name for name in entry.derivations() if name not in known]
+        if missing:
+            raise ValueError(f"correction {entry.name} names derivations that do not exist: "
+                             f"{', '.join(missing)} (add them to derivations/)")
+    lines = [
+        "#version 430 core",
+        "// GENERATED FILE, do not edit. Written by `" + REGENERATE + "` from the",
+        "// corrections registry (explorer/lpv/corrections.py); `" + REGENERATE + " --check`",
+        "// and the test suite fail when it is stale. One switch per uniform: true = corrected,",
+        "// false = as published (Corrections.as_uniforms()). lpv_corrections.glsl includes it.",
+        "",
+        "#ifndef LPV_GENERATED_CORRECTIONS",
+        "#define LPV_GENERATED_CORRECTIONS",
+        "",
+    ]
+    for entry in CORRECTIONS:
+        lines.append(f"uniform bool {entry.uniform};  // {entry.title}  "
+                     f"[read by: {', '.join(entry.stages)}]")
+    lines += ["", "#endif  // LPV_GENERATED_CORRECTIONS", ""]
+    return "\n".join(lines)
+
+
+def display_value(item: Result) -> float | None:
+    """The value the UI shows beside a result: a number, or the right-hand side of a
+    formula when that is a number; None otherwise."""
+    expr = item.expr.rhs if isinstance(item.expr, sp.Eq) else item.expr
+    if isinstance(expr, sp.Expr) and expr.is_number and expr.is_real:
+        return float(sp.N(expr, 30))
+    return None
+
+
+def _string_literal(text: str, indent: str) -> str:
+    """``text`` as Python string literal(s) on lines of at most :data:`LINE_LIMIT`
+    characters (adjacent literals concatenate)."""
+    room = LINE_LIMIT - len(indent) - 1  # the trailing comma
+    pieces: list[str] = []
+    current = ""
+    for char in text:
+        if current and len(repr(current + char)) > room:
+            cut = current.rfind(" ") + 1  # break after a space when the piece has one
+            if cut <= 0:
+                cut = len(current)
+            pieces.append(repr(current[:cut]))
+            current = current[cut:]
+        current += char
+    pieces.append(repr(current))
+    return ("\n" + indent).join(pieces)
+
+
+def derived_source() -> str:
+    lines = [
+        '"""Every derivation result as the UI shows it (GENERATED FILE, do not edit).',
+        "",
+        f"Written by ``{REGENERATE}`` from ``derivations/registry.py``;",
+        f"``{REGENERATE} --check`` and the test suite fail when it is stale. The window",
+        "and the lesson loader read the derivations from here (``explorer.derived``), so",
+        "they never import sympy. Each entry: name -> (LaTeX, statement, value), value the",
+        "number (or the number a formula equals) as a float, or None.",
+        '"""',
+        "",
+        "RESULTS: dict[str, tuple[str, str, float | None]] = {",
+    ]
+    indent = " " * 8
+    for item in all_results():
+        lines.append(f"    {item.name!r}: (")
+        lines.append(indent + _string_literal(latex(item.name), indent) + ",")
+        lines.append(indent + _string_literal(item.statement, indent) + ",")
+        lines.append(f"{indent}{display_value(item)!r},")
+        lines.append("    ),")
+    lines += ["}", ""]
+    return "\n".join(lines)
+
+
 def outputs() -> dict[Path, str]:
     """Relative path -> the text it must hold."""
     return {GLSL_PATH: glsl_source(), PYTHON_PATH: python_source(),
-            ERRATA_PATH: errata_source()}
+            ERRATA_PATH: errata_source(), CORRECTIONS_GLSL_PATH: corrections_glsl_source(),
+            DERIVED_PATH: derived_source()}
 
 
 def stale_files(root: Path = REPO_ROOT) -> list[Path]:
@@ -151,7 +240,7 @@ def main(argv: list[str] | None = None) -> int:
         for path in stale:
             print(f"stale: {path} (run `{REGENERATE}`)", file=sys.stderr)
         if not stale:
-            print(f"{len(constants())} constants up to date")
+            print(f"{len(constants())} constants and {len(outputs())} files up to date")
         return 1 if stale else 0
     changed = write(args.root)
     for path in changed:

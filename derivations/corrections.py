@@ -118,6 +118,10 @@ _STATEMENTS = {
 
 
 def results() -> list[Result]:
+    """The three published formulas, then the five implementation switches
+    (``derivations/implementation_switches.py``, which builds on this module)."""
+    from derivations import implementation_switches
+
     out: list[Result] = []
     eqs, factors, identities = formulas(), flux_factors(), flux_identities()
     glsl = {"injection_pi": "INV_PI"}
@@ -148,4 +152,4 @@ def results() -> list[Result]:
                sp.Eq(sp.Symbol("Phi_reprojected"), rep["reprojected_corrected"]),
                "The corrected reprojection re-emits all of the face's flux Φ_f."),
     ]
-    return out
+    return out + implementation_switches.results()

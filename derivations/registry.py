@@ -15,12 +15,14 @@ Examples
 
 from __future__ import annotations
 
-import difflib
 import importlib
 from dataclasses import dataclass
 from functools import lru_cache
 
 import sympy
+from sympy.printing.latex import LatexPrinter
+
+from explorer.derived import unknown_name
 
 # Modules in the order they are listed; each defines ``results()``.
 MODULES: tuple[str, ...] = (
@@ -39,7 +41,9 @@ class Result:
     """One named exact result.
 
     ``expr`` is a sympy number, expression, ``Eq`` (a formula) or ``ImmutableMatrix``
-    (a vector); ``glsl_name`` is set when the codegen emits it as a constant.
+    (a vector); ``glsl_name`` is set when the codegen emits it as a constant;
+    ``printed_decimals``: its rationals with a finite decimal expansion are decimals printed
+    in a source (e.g. 0.4006696846), so :func:`latex` typesets them as those decimals.
     """
 
     name: str
@@ -47,6 +51,7 @@ class Result:
     statement: str
     module: str
     glsl_name: str | None = None
+    printed_decimals: bool = False
 
     @property
     def is_number(self) -> bool:
@@ -55,11 +60,11 @@ class Result:
 
 
 def result(module: str, item: str, expr: sympy.Basic, statement: str,
-           glsl_name: str | None = None) -> Result:
+           glsl_name: str | None = None, printed_decimals: bool = False) -> Result:
     """Build a :class:`Result` named ``"<module>.<item>"`` (used by the modules)."""
     if not isinstance(expr, sympy.Basic):
         expr = sympy.sympify(expr)
-    return Result(f"{module}.{item}", expr, statement, module, glsl_name)
+    return Result(f"{module}.{item}", expr, statement, module, glsl_name, printed_decimals)
 
 
 @lru_cache(maxsize=None)
@@ -101,15 +106,31 @@ def get(name: str) -> Result:
     try:
         return index[name]
     except KeyError:
-        close = difflib.get_close_matches(name, index, n=6, cutoff=0.5)
-        if not close:
-            prefix = name.split(".", 1)[0]
-            close = [n for n in index if n.startswith(prefix + ".")][:12]
-        hint = f"; did you mean {', '.join(close)}?" if close else ""
-        raise KeyError(f"no derivation result named {name!r}{hint} "
-                       f"(`lpv-explorer constants` lists all {len(index)} names)") from None
+        raise unknown_name(name, list(index)) from None
+
+
+class _DecimalLatexPrinter(LatexPrinter):
+    """Typesets a rational with a finite decimal expansion (denominator 2^a·5^b) as that
+    decimal, exactly: for results that hold numbers printed in a source as decimals."""
+
+    def _print_Rational(self, expr: sympy.Rational) -> str:
+        q = int(expr.q)
+        for prime in (2, 5):
+            while q % prime == 0:
+                q //= prime
+        if q != 1:
+            return super()._print_Rational(expr)
+        places = 0
+        while (expr * 10 ** places).q != 1:
+            places += 1
+        digits = str(abs(int(expr * 10 ** places))).rjust(places + 1, "0")
+        sign = "-" if expr < 0 else ""
+        return f"{sign}{digits[:-places]}.{digits[-places:]}" if places else sign + digits
 
 
 def latex(name: str) -> str:
     """LaTeX of the named result (a formula keeps its ``=``)."""
-    return sympy.latex(get(name).expr)
+    item = get(name)
+    if item.printed_decimals:
+        return _DecimalLatexPrinter().doprint(item.expr)
+    return sympy.latex(item.expr)

@@ -171,15 +171,12 @@ class Lesson:
 
 # --- formula names -----------------------------------------------------------------------
 
-def _registry_lookup(name: str) -> Any:
-    """The derivation registered as ``name`` (``derivations.registry.get``)."""
-    try:
-        from derivations import registry
-    except ImportError as exc:
-        raise LookupError(
-            "the derivation registry (derivations/registry.py) is not available, so formula "
-            f"names cannot be checked ({exc})") from exc
-    return registry.get(name)
+def _derived_lookup(name: str) -> Any:
+    """The derivation result called ``name``, from the table generated from the registry
+    (``explorer.derived``: no sympy; the tests check the names against the registry)."""
+    from explorer import derived
+
+    return derived.get(name)
 
 
 FormulaCheck = Callable[[str], Any]
@@ -188,18 +185,18 @@ FormulaCheck = Callable[[str], Any]
 
 # --- loading -------------------------------------------------------------------------------
 
-class _UseRegistry:
-    """Default of ``check_formula``: :func:`_registry_lookup`, looked up at call time."""
+class _UseDerived:
+    """Default of ``check_formula``: :func:`_derived_lookup`, looked up at call time."""
 
 
 def load_lesson(path: Path | str,
-                check_formula: FormulaCheck | None | type[_UseRegistry] = _UseRegistry
+                check_formula: FormulaCheck | None | type[_UseDerived] = _UseDerived
                 ) -> Lesson:
     """Read and validate one lesson file. By default formula names are checked against
-    the derivation registry; ``check_formula=None`` skips them (for tools that must work
-    without the derivations), a callable replaces the registry."""
-    if check_formula is _UseRegistry:
-        check_formula = _registry_lookup
+    the derivation results (the generated table of the registry, ``explorer.derived``);
+    ``check_formula=None`` skips them, a callable replaces the check."""
+    if check_formula is _UseDerived:
+        check_formula = _derived_lookup
     path = Path(path)
     try:
         raw = path.read_bytes().decode("utf-8")
@@ -217,7 +214,7 @@ def load_lesson(path: Path | str,
 
 
 def load_all(directory: Path | str | None = None,
-             check_formula: FormulaCheck | None | type[_UseRegistry] = _UseRegistry
+             check_formula: FormulaCheck | None | type[_UseDerived] = _UseDerived
              ) -> tuple[list[Lesson], list[LessonError]]:
     """Every ``*.toml`` lesson in ``directory`` (default: the shipped lessons), ordered by
     file name, and the errors of those that failed. Duplicate ids are errors too."""

@@ -1,19 +1,13 @@
 #version 430 core
-// The Corrections switches (Corrections.as_uniforms()) and the factors they select
-// (docs/MODEL.md "Corrections": k_I, k_P, k_R and the published versus exact constants).
+// The factors the Corrections switches select (docs/MODEL.md "Corrections": k_I, k_P, k_R
+// and the published versus exact constants). The switches themselves (one uniform bool
+// u_<name> each, Corrections.as_uniforms()) are declared by the generated file, from the
+// corrections registry explorer/lpv/corrections.py.
 #ifndef LPV_CORRECTIONS_GLSL
 #define LPV_CORRECTIONS_GLSL 1
 
 #include "sh.glsl"
-
-uniform bool u_injection_pi;
-uniform bool u_propagation_4pi;
-uniform bool u_reprojection_pi;
-uniform bool u_exact_constants;
-uniform bool u_side_faces;
-uniform bool u_surfel_area_squared;
-uniform bool u_ping_pong;
-uniform bool u_clamp_front_face;
+#include "generated/corrections.glsl"
 
 // pi as the formulas use it: the DX11 article's decimals when exact constants are off.
 float lpv_pi() {

@@ -243,8 +243,7 @@ def test_duplicate_ids_are_reported(tmp_path):
 
 # --- CLI ---------------------------------------------------------------------------------
 
-def test_cli_lists_and_prints(capsys, monkeypatch, shipped):
-    monkeypatch.setattr("explorer.lessons._registry_lookup", _structure_only)
+def test_cli_lists_and_prints(capsys, shipped):
     lessons, _ = shipped
     assert cli_main(["lessons"]) == 0
     out = capsys.readouterr().out

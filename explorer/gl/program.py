@@ -6,11 +6,17 @@ stages live under ``#if defined VERTEX_SHADER`` / ``GEOMETRY_SHADER`` /
 ``#line`` directive so compiler line numbers match the file, resolves
 ``#include "file.glsl"`` relative to the shader folder (depth-guarded), and overrides only
 ``#define`` values already present in the source, so every file still compiles on its own.
+
+Uniforms are set strictly (:func:`set_uniforms`): a name the program's source does not
+declare raises, and a pass names the uniforms its program must actually read (e.g. the
+correction switches of its stage), so a misspelt or dropped switch cannot silently stay 0.
 """
 
 from __future__ import annotations
 
+import difflib
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -76,6 +82,20 @@ def preprocess(path: Path, stage: str, defines: dict[str, object] | None = None)
     return f"{version}\n#define {stage} 1\n#line 2\n{body}\n"
 
 
+_COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.DOTALL)
+_UNIFORM = re.compile(r"\buniform\b[^;{}]*?\b(\w+)\s*(?:\[[^\]]*\])?\s*;")
+
+
+def declared_uniforms(source: str) -> frozenset[str]:
+    """Names of the uniforms ``source`` declares (comments ignored; declarations inside
+    inactive ``#if`` branches count too: the name is known, only unused)."""
+    return frozenset(_UNIFORM.findall(_COMMENT.sub(" ", source)))
+
+
+class UniformError(ValueError):
+    """A uniform name the program does not declare, or one it should read but does not."""
+
+
 def stages_in(path: Path) -> list[str]:
     text = path.read_text()
     return [s for s in STAGES if re.search(rf"#if\s+defined\s*\(?\s*{s}\b", text)]
@@ -90,26 +110,53 @@ def load_program(ctx: moderngl.Context, name: str, defines: dict[str, object] | 
     stages = stages_in(path)
     if not stages:
         raise ShaderError(path, "no '#if defined <STAGE>_SHADER' section found")
+    sources = {s: preprocess(path, s, defines) for s in stages}
     try:
         if stages == ["COMPUTE_SHADER"]:
-            return ctx.compute_shader(preprocess(path, "COMPUTE_SHADER", defines))
-        sources = {s: preprocess(path, s, defines) for s in stages}
-        return ctx.program(
-            vertex_shader=sources.get("VERTEX_SHADER"),
-            geometry_shader=sources.get("GEOMETRY_SHADER"),
-            fragment_shader=sources.get("FRAGMENT_SHADER"),
-            varyings=varyings,
-        )
+            program = ctx.compute_shader(sources["COMPUTE_SHADER"])
+        else:
+            program = ctx.program(
+                vertex_shader=sources.get("VERTEX_SHADER"),
+                geometry_shader=sources.get("GEOMETRY_SHADER"),
+                fragment_shader=sources.get("FRAGMENT_SHADER"),
+                varyings=varyings,
+            )
     except moderngl.Error as exc:
         raise ShaderError(path, str(exc)) from exc
+    # What set_uniforms checks names against (moderngl keeps user data in ``extra``).
+    program.extra = {"name": name, "declared": frozenset().union(
+        *(declared_uniforms(source) for source in sources.values()))}
+    return program
 
 
-def set_uniforms(program, values: dict[str, object]) -> None:
-    """Set the uniforms the program actually uses; others are skipped silently because
-    the compiler removes unused uniforms."""
+def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) -> None:
+    """Set ``values`` on a program from :func:`load_program`.
+
+    A name the program's source does not declare raises :class:`UniformError` (a misspelt
+    uniform would otherwise keep the value 0). A declared name the compiler removed
+    because the program does not use it is skipped. ``reads``: uniforms the program must
+    use (the passes give the correction switches of their stage,
+    ``explorer.lpv.corrections.uniforms_read_by``); each must be in ``values`` and active
+    in the compiled program, else :class:`UniformError`.
+    """
+    info = program.extra if isinstance(getattr(program, "extra", None), dict) else {}
+    declared, label = info.get("declared"), info.get("name", "program")
+    if declared is None:
+        raise TypeError("set_uniforms needs a program made by load_program (ProgramCache), "
+                        "which records the uniforms its source declares")
+    for name in reads:
+        if name not in values:
+            raise UniformError(f"{label}: no value given for {name}, which it must read")
+        if name not in program:
+            raise UniformError(f"{label} must read the uniform {name} but the compiled program "
+                               f"does not use it (declared: {name in declared})")
     for key, value in values.items():
         if key in program:
             program[key] = value
+        elif key not in declared:
+            close = difflib.get_close_matches(key, sorted(declared), n=3)
+            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            raise UniformError(f"{label} declares no uniform {key!r}{hint}")
 
 
 @dataclass

@@ -16,6 +16,7 @@ import moderngl
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.cascades import CascadeInput, cascade_uniforms
+from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
@@ -28,6 +29,10 @@ TARGETS = ("direct", "indirect", "final", "display", "received")
 class GatherPass:
     """Full-screen pass writing the targets named in :data:`TARGETS`: four ``rgba32f``
     (``display`` is ``rgba8``, sRGB-encoded, for showing on screen)."""
+
+    STAGE = "gather"
+    """Its program reads this stage's correction switches (none today: a switch that
+    gets this stage must also hand its value to :meth:`run`)."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -87,7 +92,7 @@ class GatherPass:
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
         }
-        set_uniforms(program, values)
+        set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
         with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
             self._framebuffer.viewport = (0, 0, *self.size)
             self._triangle.draw(program)

@@ -9,6 +9,7 @@ import numpy as np
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import bind_vpl_textures, vpl_count
+from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.settings import Corrections
 from explorer.lpv.textures import (
     LayeredTarget,
@@ -76,6 +77,9 @@ class GeometryVolume:
 class GeometryPass:
     """Injects occluder surfels from a VPL texture set (the volume is overwritten)."""
 
+    STAGE = "geometry"
+    """Its program reads this stage's correction switches."""
+
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
@@ -103,7 +107,7 @@ class GeometryPass:
             "u_vpl_texel_area": float(vpls.texel_area),
             "u_vpl_orthographic": vpls.projection == "orthographic",
             "u_double_sided": mode == "double-sided",
-        })
+        }, reads=uniforms_read_by(self.STAGE))
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
         copy_volume(self.programs, layers.layers[0], out.volume)
         copy_volume(self.programs, layers.layers[1], out.albedo)

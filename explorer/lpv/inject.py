@@ -19,6 +19,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.settings import INJECTION_MODES, Corrections
 from explorer.lpv.textures import (
     LayeredTarget,
@@ -51,6 +52,9 @@ def vpl_count(vpls: VplTextures) -> int:
 
 class InjectPass:
     """Injects a VPL texture set into an :class:`LpvGrid` (the grid is overwritten)."""
+
+    STAGE = "inject"
+    """Its programs that write the grid read this stage's correction switches."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -85,7 +89,7 @@ class InjectPass:
                 layers.release()
             layers = self._layers = LayeredTarget(self.ctx, n, 3, out.format, depth=depth)
         program = self.programs.get("inject_points.glsl", sh_defines(out.sh_order))
-        set_uniforms(program, uniforms)
+        set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
         for stack, volume in zip(layers.layers, out.volumes):
             copy_volume(self.programs, stack, volume)
@@ -99,7 +103,7 @@ class InjectPass:
         self._links.bind_to_storage_buffer(1)
 
         link = self.programs.get("inject_compute.glsl", {"INJECT_STAGE": 0})
-        set_uniforms(link, uniforms)
+        set_uniforms(link, uniforms)  # bins VPLs into cells: no correction applies yet
         link.run(-(-count // 64))
         self.ctx.memory_barrier()
 
@@ -107,7 +111,8 @@ class InjectPass:
                                    {"INJECT_STAGE": 1, **image_format_defines(out.format),
                                     **sh_defines(out.sh_order)})
         out.bind_images(0, read=False, write=True)
-        set_uniforms(gather, uniforms)  # images: units 0..2 by binding
+        # images: units 0..2 by binding
+        set_uniforms(gather, uniforms, reads=uniforms_read_by(self.STAGE))
         gather.run(*dispatch_size(n))
         self.ctx.memory_barrier()
 

@@ -12,6 +12,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import AuditReducer, GridAudit
 from explorer.lpv.geometry import GeometryVolume
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.settings import Corrections
 from explorer.lpv.textures import (
     LpvGrid,
@@ -57,6 +58,8 @@ class PropagatePass:
 
     GEOMETRY_UNIT = 6
     ALBEDO_UNIT = 7
+    STAGE = "propagate"
+    """Its program reads this stage's correction switches."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -108,7 +111,7 @@ class PropagatePass:
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
             "u_geometry": self.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
             "u_geometry_albedo": self.ALBEDO_UNIT, "u_reflect": bounces == 2,
-        })
+        }, reads=uniforms_read_by(self.STAGE))
         groups = dispatch_size(n)
         source = injected
         previous = steps[0] if keep_steps else None

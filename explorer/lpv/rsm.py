@@ -52,6 +52,7 @@ class LightView:
         return float(np.sqrt(self.texel_area))
 
     def uniforms(self) -> dict[str, object]:
+        """The light's uniforms, as rsm.glsl and gather.glsl declare them."""
         return {
             "u_light_view": gl_matrix(self.view),
             "u_light_projection": gl_matrix(self.projection),
@@ -60,9 +61,12 @@ class LightView:
             "u_light_direction": tuple(map(float, self.direction)),
             "u_light_intensity": float(self.intensity),
             "u_light_irradiance": float(self.irradiance),
-            "u_texel_world_area": float(self.texel_area),
-            "u_rsm_size": (float(self.size), float(self.size)),
         }
+
+    def rsm_uniforms(self) -> dict[str, object]:
+        """:meth:`uniforms` and the map's texel area and size (rsm.glsl only)."""
+        return {**self.uniforms(), "u_texel_world_area": float(self.texel_area),
+                "u_rsm_size": (float(self.size), float(self.size))}
 
 
 def light_view(scene: Scene, size: int) -> LightView:
@@ -117,7 +121,7 @@ class RsmPass:
         stay valid until the next run with another size or :meth:`release`."""
         self._allocate(view.size)
         program = self.programs.get("rsm.glsl")
-        set_uniforms(program, view.uniforms())
+        set_uniforms(program, view.rsm_uniforms())
         with self.ctx.scope(self._framebuffer, enable_only=moderngl.DEPTH_TEST):
             self._framebuffer.viewport = (0, 0, view.size, view.size)
             self._framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)

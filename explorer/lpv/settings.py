@@ -1,64 +1,23 @@
-"""Settings of one LPV frame, and the switches between published and corrected formulas.
+"""Settings of one LPV frame.
 
-Every field of :class:`Corrections` is ``True`` for the corrected (recommended) behaviour;
-see ``docs/MODEL.md`` for the formula each one selects. They reach the shaders as
-uniforms, never as a second copy of a shader.
+The switches between published and corrected formulas (:class:`Corrections`, the
+presets) live in the corrections registry, ``explorer/lpv/corrections.py``; they are
+imported here because much code reads them from this module.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 
-from explorer.lpv.schema import SettingError, from_dict, setting, to_dict, validate
-
-
-@dataclass(frozen=True)
-class Corrections:
-    """Named switches, one per published formula or implementation detail."""
-
-    injection_pi: bool = True
-    """Divide the VPL intensity by π: I_p = Φ_p/π·⟨n,ω⟩⁺ (annotations §4.1)."""
-    propagation_4pi: bool = True
-    """Drop the 1/(4π) in Φ_f = Δω_f/(4π)·I(ω_c) (annotations §6.2)."""
-    reprojection_pi: bool = True
-    """Reproject with Φ_l = Φ_f instead of Φ_f/π (annotations §6.3)."""
-    exact_constants: bool = True
-    """Use the derived constants instead of the decimals printed in the DX11 article."""
-    side_faces: bool = True
-    """Propagate through the four side faces as well as the front face."""
-    surfel_area_squared: bool = True
-    """Surfel area grows with the squared view depth (annotations §5), not linearly."""
-    ping_pong: bool = True
-    """Read grid t−1 and write grid t, instead of the DX11 in-place read-modify-write."""
-    clamp_front_face: bool = True
-    """Clamp the front-face intensity at zero, as the DX11 propagation shader does."""
-
-    @classmethod
-    def names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls))
-
-    def as_uniforms(self) -> dict[str, int]:
-        """Uniform values for the shaders: ``u_<field>`` = 0 or 1."""
-        return {f"u_{name}": int(getattr(self, name)) for name in self.names()}
-
-
-PRESETS: dict[str, Corrections] = {
-    "corrected": Corrections(),
-    "original": Corrections(
-        injection_pi=False,
-        propagation_4pi=False,
-        reprojection_pi=False,
-        exact_constants=False,
-    ),
-}
-
-
-def preset(name: str) -> Corrections:
-    """The named preset; raises ``KeyError`` listing the valid names."""
-    try:
-        return PRESETS[name]
-    except KeyError:
-        raise KeyError(f"unknown preset {name!r}; choose one of {sorted(PRESETS)}") from None
+from explorer.lpv.corrections import CORRECTIONS, PRESETS, Corrections, preset  # noqa: F401
+from explorer.lpv.schema import (
+    STAGES,
+    SettingError,
+    from_dict,
+    setting,
+    to_dict,
+    validate,
+)
 
 
 DOWNSAMPLE_MODES = ("none", "average", "brightest")
@@ -96,7 +55,9 @@ class Settings:
         doc="A built-in scene name or a path to a mesh file trimesh can read.")
     corrections: Corrections = setting(
         kind="nested", nested=Corrections, default_factory=Corrections,
-        stages=("inject", "geometry", "propagate"),
+        # the stages whose programs read any switch (the registry says which per switch)
+        stages=tuple(stage for stage in STAGES
+                     if any(stage in entry.stages for entry in CORRECTIONS)),
         doc="The switches between the published and the corrected formulas.")
     grid_size: int = setting(
         32, kind="int", low=1, high=MAX_GRID_SIZE, flag="--grid", widget="combo",

@@ -1,5 +1,8 @@
 """Typeset LaTeX formulas as textures (imgui_microtex), with a text fallback.
 
+The LaTeX comes from the derivation table generated at codegen time
+(``explorer.derived``): typesetting a formula never runs sympy.
+
 MicroTeX builds a C++ ``std::locale("en_US.UTF-8")``; systems that lack that locale make
 it throw. We then compile the locale once with ``localedef`` into the user's cache dir and
 point glibc at it with ``LOCPATH`` (read when a locale is created, so setting it from

@@ -106,10 +106,9 @@ class LessonSession:
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
-        """All lessons, without resolving formula names (building the derivation registry
-        takes seconds; the panel looks each formula up when it shows it, and
-        `lpv-explorer lessons` and the tests check the names)."""
-        lessons, errors = load_all(directory, check_formula=None)
+        """All lessons, their formula names checked against the derivation results
+        generated from the registry (``explorer.derived``: a table, no sympy)."""
+        lessons, errors = load_all(directory)
         return cls(lessons=lessons, errors=errors)
 
     @property
@@ -359,24 +358,16 @@ def markdown_blocks(text: str) -> list[str]:
 
 
 def _formulas(state: Any, step: Step, imgui) -> None:
+    """The step's formulas, typeset from the generated derivation table (no sympy)."""
+    from explorer import derived
+    from explorer.ui import widgets
+
     formulas = getattr(getattr(state, "runtime", None), "formulas", None)
-    try:
-        from derivations import registry
-    except ImportError:
-        for name in step.formulas:
-            imgui.text_disabled(name)
-        return
     for name in step.formulas:
         try:
-            result = registry.get(name)
-            latex = registry.latex(name)
+            result = derived.get(name)
         except KeyError:
             imgui.text_disabled(f"{name} (not in the registry)")
             continue
-        try:
-            from explorer.ui import widgets
-
-            widgets.formula(formulas, latex, tooltip=f"{name}: {result.statement}")
-        except ImportError:
-            imgui.text_wrapped(latex)
+        widgets.formula(formulas, result.latex, tooltip=result.tooltip)
         imgui.text_disabled(result.statement)

@@ -5,9 +5,8 @@ from __future__ import annotations
 
 from imgui_bundle import imgui
 
-from explorer.lpv.settings import PRESETS, Corrections
+from explorer.lpv.corrections import CORRECTIONS, PRESETS
 from explorer.ui import widgets
-from explorer.ui.panels.corrections import INFO
 from explorer.ui.state import VIEW_MODES, AppState
 
 
@@ -45,8 +44,8 @@ def gui_compare(state: AppState) -> None:
         a, b = state.settings.corrections, corr
         state.settings = state.settings.with_changes(corrections=b)
         state.compare_settings = state.compare_settings.with_changes(corrections=a)
-    for key in Corrections.names():
-        changed, value = imgui.checkbox(INFO[key].title + "##B", bool(getattr(corr, key)))
+    for entry in CORRECTIONS:
+        changed, value = imgui.checkbox(entry.title + "##B", bool(getattr(corr, entry.name)))
         if changed:
             state.compare_settings = state.compare_settings.with_changes(
-                corrections={key: value})
+                corrections={entry.name: value})

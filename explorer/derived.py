@@ -1,0 +1,86 @@
+r"""The derivation results as the window and the lessons show them, without sympy.
+
+``explorer/derived_table.py`` is generated from ``derivations/registry.py`` by
+``python -m derivations.codegen`` (LaTeX typeset with the constants at codegen time; the
+test suite fails when it is stale). This module looks results up in it, so showing a
+formula never imports sympy or re-derives the registry.
+
+Examples
+--------
+>>> from explorer.derived import get
+>>> get("corrections.reprojection_pi.corrected").latex
+'\\Phi_{l} = \\Phi_{f}'
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from dataclasses import dataclass
+
+
+
+def _results() -> dict[str, tuple[str, str, float | None]]:
+    # Imported on first use, not with this module: derivations.registry imports
+    # unknown_name from here, and the codegen must run even when the table is missing.
+    from explorer.derived_table import RESULTS
+
+    return RESULTS
+
+
+@dataclass(frozen=True)
+class Derived:
+    """One derivation result: ``latex`` (a formula keeps its left-hand side), its
+    ``statement``, and ``value``, the number it is or a formula equals (None otherwise)."""
+
+    name: str
+    latex: str
+    statement: str
+    value: float | None
+
+    @property
+    def tooltip(self) -> str:
+        return f"{self.name}: {self.statement}"
+
+
+def names() -> list[str]:
+    """Every result name, in registry order."""
+    return list(_results())
+
+
+def get(name: str) -> Derived:
+    """The result called ``name``; ``KeyError`` names the closest matches otherwise."""
+    results = _results()
+    try:
+        latex, statement, value = results[name]
+    except KeyError:
+        raise unknown_name(name, list(results)) from None
+    return Derived(name, latex, statement, value)
+
+
+def unknown_name(name: str, known: list[str]) -> KeyError:
+    """The error for a result name not in ``known``, naming the closest matches (shared
+    with ``derivations.registry.get``)."""
+    close = difflib.get_close_matches(name, known, n=6, cutoff=0.5)
+    if not close:
+        prefix = name.split(".", 1)[0]
+        close = [n for n in known if n.startswith(prefix + ".")][:12]
+    hint = f"; did you mean {', '.join(close)}?" if close else ""
+    return KeyError(f"no derivation result named {name!r}{hint} "
+                    f"(`lpv-explorer constants` lists all {len(known)} names)")
+
+
+_FIELD = re.compile(r"\{([\w.]+)(?::([^}]*))?\}")
+
+
+def fill(text: str) -> str:
+    """``text`` with each ``{<result name>:<format>}`` replaced by the result's value
+    (e.g. ``{corrections.side_faces.step_flux_original:.3f}``); KeyError for an unknown
+    name, ValueError for a result without a value."""
+    def value(match: re.Match) -> str:
+        found = get(match.group(1))
+        if found.value is None:
+            raise ValueError(f"{found.name} has no numeric value to put in {text!r}")
+        return format(found.value, match.group(2) or "")
+
+    return _FIELD.sub(value, text)

@@ -1,0 +1,764 @@
+"""Every derivation result as the UI shows it (GENERATED FILE, do not edit).
+
+Written by ``python -m derivations.codegen`` from ``derivations/registry.py``;
+``python -m derivations.codegen --check`` and the test suite fail when it is stale. The window
+and the lesson loader read the derivations from here (``explorer.derived``), so
+they never import sympy. Each entry: name -> (LaTeX, statement, value), value the
+number (or the number a formula equals) as a float, or None.
+"""
+
+RESULTS: dict[str, tuple[str, str, float | None]] = {
+    'solid_angles.front_face': (
+        '4 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
+        "Solid angle of a neighbour's far face seen from the source cell centre.",
+        0.4006696846462392,
+    ),
+    'solid_angles.side_face': (
+        '- \\frac{\\pi}{3} + 2 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
+        "Solid angle of one of a neighbour's four side faces seen from the source cell centre.",
+        0.42343135443673907,
+    ),
+    'solid_angles.front_face_spherical': (
+        '- 2 \\pi + 2 \\operatorname{acos}{\\left(- \\frac{1}{10} \\right)} + 4 '
+        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        "Front face as two spherical triangles (Girard's excess); equals front_face.",
+        0.4006696846462392,
+    ),
+    'solid_angles.side_face_spherical': (
+        '- \\frac{4 \\pi}{3} + \\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + '
+        '\\operatorname{acos}{\\left(- \\frac{\\sqrt{3}}{6} \\right)} + '
+        '\\operatorname{acos}{\\left(- \\frac{3 \\sqrt{5}}{10} \\right)}',
+        "Side face as two spherical triangles (Girard's excess); equals side_face.",
+        0.42343135443673907,
+    ),
+    'solid_angles.tiling': (
+        '6 \\left(- \\frac{4 \\pi}{3} + 4 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} '
+        '\\right)} + 8 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}\\right) = '
+        '4 \\pi',
+        'The 6 front faces and 24 side faces of the neighbours cover the sphere exactly once '
+        '(front + 4 side = 2π/3).',
+        12.566370614359172,
+    ),
+    'solid_angles.cube_face': (
+        '\\frac{2 \\pi}{3}',
+        'One cube face seen from the cube centre: the whole field of a 90° square frustum (4π/6).',
+        2.0943951023931957,
+    ),
+    'solid_angles.sphere': (
+        '4 \\pi',
+        'Solid angle of the whole sphere, ∫_{S²} dω.',
+        12.566370614359172,
+    ),
+    'solid_angles.projected_hemisphere': (
+        '\\pi',
+        'Projected solid angle of the hemisphere, ∫_{H²} cos θ dω = π.',
+        3.141592653589793,
+    ),
+    'sh.c0': (
+        '\\frac{1}{2 \\sqrt{\\pi}}',
+        'Band-0 SH constant Y00 = 1/(2√π).',
+        0.28209479177387814,
+    ),
+    'sh.c1': (
+        '\\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
+        'Band-1 SH constant: Y1m = ±√3/(2√π)·(y, z, x).',
+        0.4886025119029199,
+    ),
+    'sh.basis_l1': (
+        '\\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} y}{2 '
+        '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} z}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} x}{2 '
+        '\\sqrt{\\pi}}\\end{matrix}\\right]',
+        "L1 real SH basis in the annotations' order and signs.",
+        None,
+    ),
+    'sh.coslobe_c0': (
+        '\\frac{\\sqrt{\\pi}}{2}',
+        'Band-0 coefficient of the clamped cosine lobe, ∫_{H²} cos θ Y00 dω.',
+        0.886226925452758,
+    ),
+    'sh.coslobe_c1': (
+        '\\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
+        'Band-1 coefficient of the clamped cosine lobe around z, ∫_{H²} cos θ Y10 dω.',
+        1.0233267079464885,
+    ),
+    'sh.lobe': (
+        '\\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
+        'n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
+        'n_{x}}{3}\\end{matrix}\\right]',
+        'SH projection of clamp⁺⟨n, ω⟩ around a unit normal n: linear in n.',
+        None,
+    ),
+    'sh.flux_factor': (
+        '2 \\sqrt{\\pi}',
+        'Flux of an intensity SH vector f: ∫ f·Y dω = 2√π·f0.',
+        3.544907701811032,
+    ),
+    'sh.clamped_cosine_energy': (
+        '\\frac{2 \\pi}{3}',
+        'Energy of the clamped cosine: ∫ clamp⁺(cos θ)² dω = 2π/3.',
+        2.0943951023931957,
+    ),
+    'sh.l1_energy_fraction': (
+        '\\frac{7}{8}',
+        "Share of the clamped cosine's energy kept by its L1 (4-coefficient) projection.",
+        0.875,
+    ),
+    'sh.l2_energy_fraction': (
+        '\\frac{127}{128}',
+        "Share of the clamped cosine's energy kept by its L2 (9-coefficient) projection.",
+        0.9921875,
+    ),
+    'sh.basis_l2': (
+        '\\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} y}{2 '
+        '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} z}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} x}{2 '
+        '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{15} x y}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{15} y z}{2 '
+        '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{5} \\left(3 z^{2} - 1\\right)}{4 \\sqrt{\\pi}}\\\\- '
+        '\\frac{\\sqrt{15} x z}{2 \\sqrt{\\pi}}\\\\\\frac{\\sqrt{15} \\left(x^{2} - '
+        'y^{2}\\right)}{4 \\sqrt{\\pi}}\\end{matrix}\\right]',
+        'L2 (9-coefficient) real SH basis, same convention.',
+        None,
+    ),
+    'sh.l2_c0': (
+        '\\frac{1}{2 \\sqrt{\\pi}}',
+        'L2 basis: Y00 constant.',
+        0.28209479177387814,
+    ),
+    'sh.l2_c1': (
+        '\\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
+        'L2 basis: band-1 constant.',
+        0.4886025119029199,
+    ),
+    'sh.l2_c2': (
+        '\\frac{\\sqrt{15}}{2 \\sqrt{\\pi}}',
+        'L2 basis: constant of xy, yz, xz (√15/(2√π)).',
+        1.0925484305920792,
+    ),
+    'sh.l2_c3': (
+        '\\frac{\\sqrt{5}}{4 \\sqrt{\\pi}}',
+        'L2 basis: constant of 3z²−1 (√5/(4√π)).',
+        0.31539156525252,
+    ),
+    'sh.l2_c4': (
+        '\\frac{\\sqrt{15}}{4 \\sqrt{\\pi}}',
+        'L2 basis: constant of x²−y² (√15/(4√π)).',
+        0.5462742152960396,
+    ),
+    'sh.l2_coslobe_c0': (
+        '\\frac{\\sqrt{\\pi}}{2}',
+        'Clamped cosine lobe, band 0 (L2 basis).',
+        0.886226925452758,
+    ),
+    'sh.l2_coslobe_c1': (
+        '\\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
+        'Clamped cosine lobe, band 1 (L2 basis).',
+        1.0233267079464885,
+    ),
+    'sh.l2_coslobe_c2': (
+        '\\frac{\\sqrt{5} \\sqrt{\\pi}}{8}',
+        'Clamped cosine lobe around z, band 2: ∫_{H²} cos θ Y20 dω = √(5π)/8.',
+        0.4954159122007514,
+    ),
+    'sh.zonal_rotation_factors': (
+        '\\left[\\begin{matrix}\\pi\\\\\\frac{2 \\pi}{3}\\\\\\frac{\\pi}{4}\\end{matrix}\\right]',
+        'Clamped cosine, band factors A_l (l = 0, 1, 2) of lobe_k(n) = A_l·Y_k(n).',
+        None,
+    ),
+    'sh.lobe_l2': (
+        '\\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
+        'n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
+        'n_{x}}{3}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x} n_{y}}{8}\\\\- \\frac{\\sqrt{15} '
+        '\\sqrt{\\pi} n_{y} n_{z}}{8}\\\\\\frac{3 \\sqrt{5} \\sqrt{\\pi} n_{z}^{2}}{16} - '
+        '\\frac{\\sqrt{5} \\sqrt{\\pi}}{16}\\\\- \\frac{\\sqrt{15} \\sqrt{\\pi} n_{x} '
+        'n_{z}}{8}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x}^{2}}{16} - \\frac{\\sqrt{15} '
+        '\\sqrt{\\pi} n_{y}^{2}}{16}\\end{matrix}\\right]',
+        'L2 projection of clamp⁺⟨n, ω⟩ around a unit normal n (9 coefficients); the first four '
+        'are the L1 lobe.',
+        None,
+    ),
+    'sh.l2_lobe_c2': (
+        '\\frac{\\sqrt{15} \\sqrt{\\pi}}{8}',
+        'L2 lobe around n, coefficient of n_x·n_y in band 2 (m = −2): π/4·√15/(2√π).',
+        0.8580855308097834,
+    ),
+    'sh.l2_lobe_c3': (
+        '\\frac{\\sqrt{5} \\sqrt{\\pi}}{16}',
+        'L2 lobe around n, m = 0 term: SH_L2_LOBE_C3·(3n_z² − 1), π/4·√5/(4√π).',
+        0.2477079561003757,
+    ),
+    'sh.l2_lobe_c4': (
+        '\\frac{\\sqrt{15} \\sqrt{\\pi}}{16}',
+        'L2 lobe around n, coefficient of n_x² − n_y² (m = 2): π/4·√15/(4√π).',
+        0.4290427654048917,
+    ),
+    'rsm.irradiance': (
+        'E = \\frac{\\Phi_{L}}{4 \\pi r^{2}}',
+        'Irradiance on a surfel facing a point light of flux Φ_L at distance r.',
+        None,
+    ),
+    'rsm.outgoing_radiance': (
+        'L_{o} = \\frac{\\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        '\\right)}\\right)}{4 \\pi^{2} r^{2}}',
+        'Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.',
+        None,
+    ),
+    'rsm.radiant_exitance': (
+        'M = \\frac{\\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        '\\right)}\\right)}{4 \\pi r^{2}}',
+        'Radiant exitance: ∫_{H²} L_o cos θ_o dω = π·L_o.',
+        None,
+    ),
+    'rsm.outgoing_flux_area': (
+        '\\Phi_{o} = \\frac{A \\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        '\\right)}\\right)}{4 \\pi r^{2}}',
+        'Flux reflected by a surfel of area A: Φ_o = A·M.',
+        None,
+    ),
+    'rsm.outgoing_flux': (
+        '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        '\\right)}\\right)}{4 \\pi}',
+        'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·cos⁺θ_i.',
+        None,
+    ),
+    'rsm.texel_flux': (
+        '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho}{4 \\pi}',
+        'Erratum: flux an RSM texel of solid angle ρ reflects, any incidence on the lit side: '
+        'c_diff·ρ/(4π)·Φ_L (the surfel area ρr²/cos θ_i cancels the cosine).',
+        None,
+    ),
+    'rsm.texel_flux_published_over_correct': (
+        '\\cos{\\left(\\theta_{i} \\right)}',
+        'The published texel flux over the correct one: cos θ_i, counted twice.',
+        None,
+    ),
+    'rsm.pixel_solid_angle_approx': (
+        '\\frac{2 \\pi}{3 H W}',
+        'Per-texel solid angle of a 90° frustum, approximated as (4π/6)/(W·H).',
+        None,
+    ),
+    'rsm.pixel_solid_angle_exact': (
+        '\\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 j}{H}\\right) \\left(-1 + '
+        '\\frac{2 i}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 j}{H}\\right)^{2} + \\left(-1 + '
+        '\\frac{2 i}{W}\\right)^{2} + 1}} \\right)} - '
+        '\\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 j}{H}\\right) \\left(-1 + '
+        '\\frac{2 i + 2}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 j}{H}\\right)^{2} + \\left(-1 + '
+        '\\frac{2 i + 2}{W}\\right)^{2} + 1}} \\right)} - '
+        '\\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 j + 2}{H}\\right) \\left(-1 + '
+        '\\frac{2 i}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 j + 2}{H}\\right)^{2} + \\left(-1 + '
+        '\\frac{2 i}{W}\\right)^{2} + 1}} \\right)} + '
+        '\\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 j + 2}{H}\\right) \\left(-1 + '
+        '\\frac{2 i + 2}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 j + 2}{H}\\right)^{2} + '
+        '\\left(-1 + \\frac{2 i + 2}{W}\\right)^{2} + 1}} \\right)}',
+        'Exact solid angle of texel (i, j) of a W×H 90° frustum (rectangle formula).',
+        None,
+    ),
+    'rsm.pixel_ratio_centre': (
+        '\\frac{\\pi}{6}',
+        'Large-map limit of approximate/exact texel solid angle at the centre: π/6.',
+        0.5235987755982989,
+    ),
+    'rsm.pixel_ratio_corner': (
+        '\\frac{\\sqrt{3} \\pi}{2}',
+        'Large-map limit of approximate/exact texel solid angle in a corner: √3π/2.',
+        2.720699046351327,
+    ),
+    'rsm.surfel_area': (
+        '\\frac{4 w^{2}}{H W}',
+        'World area of an RSM texel at view depth w (90° frustum): 4w²/(W·H).',
+        None,
+    ),
+    'corrections.injection_pi.original': (
+        'I_{p} = \\Phi_{p} \\max\\left(0, \\cos{\\left(\\theta \\right)}\\right)',
+        'VPL intensity as published (Crytek): emits π·Φ_p.',
+        None,
+    ),
+    'corrections.injection_pi.corrected': (
+        'I_{p} = \\frac{\\Phi_{p} \\max\\left(0, \\cos{\\left(\\theta \\right)}\\right)}{\\pi}',
+        'VPL intensity normalised by 1/π: emits exactly Φ_p.',
+        None,
+    ),
+    'corrections.injection_pi.flux_factor': (
+        '\\frac{1}{\\pi}',
+        'Corrected ÷ published VPL intensity: 1/π.',
+        0.3183098861837907,
+    ),
+    'corrections.propagation_4pi.original': (
+        '\\Phi_{f} = \\frac{\\Delta_{\\omega f} I_{c}}{4 \\pi}',
+        'Flux onto a face as published: Δω_f/(4π)·I(ω_c).',
+        None,
+    ),
+    'corrections.propagation_4pi.corrected': (
+        '\\Phi_{f} = \\Delta_{\\omega f} I_{c}',
+        'Flux onto a face: Δω_f·I(ω_c) = ∫_face I dω for constant I.',
+        None,
+    ),
+    'corrections.propagation_4pi.flux_factor': (
+        '4 \\pi',
+        'Corrected ÷ published face flux: 4π.',
+        12.566370614359172,
+    ),
+    'corrections.reprojection_pi.original': (
+        '\\Phi_{l} = \\frac{\\Phi_{f}}{\\pi}',
+        'Reprojected flux as published: Φ_l = Φ_f/π (loses 1 − 1/π).',
+        None,
+    ),
+    'corrections.reprojection_pi.corrected': (
+        '\\Phi_{l} = \\Phi_{f}',
+        'Reprojected flux: Φ_l = Φ_f (the lobe re-emits all of it).',
+        None,
+    ),
+    'corrections.reprojection_pi.flux_factor': (
+        '\\pi',
+        'Corrected ÷ published reprojected flux: π.',
+        3.141592653589793,
+    ),
+    'corrections.injection_pi.emitted_original': (
+        '\\Phi_{emitted} = \\pi \\Phi_{p}',
+        '∫ Φ_p·clamp⁺⟨n_p, ω⟩ dω = π·Φ_p: the published VPL emits π times its flux.',
+        None,
+    ),
+    'corrections.injection_pi.emitted_corrected': (
+        '\\Phi_{emitted} = \\Phi_{p}',
+        '∫ Φ_p/π·clamp⁺⟨n_p, ω⟩ dω = Φ_p: the corrected VPL emits its flux.',
+        None,
+    ),
+    'corrections.propagation_4pi.exact_face_flux': (
+        '\\Phi_{f} = \\Delta_{\\omega f} I_{c}',
+        'Flux of a constant intensity through a face: ∫_face I dω = Δω_f·I.',
+        None,
+    ),
+    'corrections.reprojection_pi.reprojected_original': (
+        '\\Phi_{reprojected} = \\frac{\\Phi_{f}}{\\pi}',
+        "The published reprojection re-emits Φ_f/π of the face's flux Φ_f.",
+        None,
+    ),
+    'corrections.reprojection_pi.reprojected_corrected': (
+        '\\Phi_{reprojected} = \\Phi_{f}',
+        "The corrected reprojection re-emits all of the face's flux Φ_f.",
+        None,
+    ),
+    'corrections.exact_constants.original': (
+        '\\left[\\begin{matrix}\\Delta_{\\omega front}\\\\\\Delta_{\\omega '
+        'side}\\\\\\pi_{formula}\\end{matrix}\\right] = '
+        '\\left[\\begin{matrix}0.4006696846\\\\0.4234413544\\\\3.1415926\\end{matrix}\\right]',
+        'Front and side solid angles and π as the DX11 article prints them.',
+        None,
+    ),
+    'corrections.exact_constants.corrected': (
+        '\\left[\\begin{matrix}\\Delta_{\\omega front}\\\\\\Delta_{\\omega '
+        'side}\\\\\\pi_{formula}\\end{matrix}\\right] = \\left[\\begin{matrix}4 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}\\\\- \\frac{\\pi}{3} + 2 '
+        '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} '
+        '\\right)}\\\\\\pi\\end{matrix}\\right]',
+        'The exact solid angles of the front and side faces (solid_angles) and π.',
+        None,
+    ),
+    'corrections.exact_constants.step_flux_original': (
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}} = \\frac{31416526533}{31415926000}',
+        'One step with the printed constants (other corrections on): 6(Δω_front + '
+        '4Δω_side)/(4π_f) of the flux, not 1.',
+        1.000019115559414,
+    ),
+    'corrections.exact_constants.step_flux_corrected': (
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}} = 1',
+        'One step with the exact constants keeps the flux: 6(Δω_front + 4Δω_side) = 4π.',
+        1.0,
+    ),
+    'corrections.exact_constants.injected_flux_original': (
+        '\\frac{\\Phi_{injected}}{\\Phi_{p}} = \\frac{5000000 \\pi}{15707963}',
+        'A VPL injected with k_I = 1/3.1415926 emits π/3.1415926 of its flux.',
+        1.0000000170581613,
+    ),
+    'corrections.exact_constants.flux_factor': (
+        '\\frac{31415926000}{31416526533}',
+        'Corrected ÷ published flux after one step: 31415926000/31416526533.',
+        0.9999808848059836,
+    ),
+    'corrections.side_faces.original': (
+        '\\Phi_{t+1} = \\frac{3 \\Delta_{\\omega front} \\Phi_{t}}{2 \\pi}',
+        'Front faces only: one step sends 6Δω_front/(4π) of the flux on.',
+        None,
+    ),
+    'corrections.side_faces.corrected': (
+        '\\Phi_{t+1} = \\frac{3 \\Phi_{t} \\left(\\Delta_{\\omega front} + 4 \\Delta_{\\omega '
+        'side}\\right)}{2 \\pi}',
+        'Front + 4 side faces per neighbour: 6(Δω_front + 4Δω_side)/(4π) of the flux.',
+        None,
+    ),
+    'corrections.side_faces.step_flux_original': (
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}} = \\frac{6 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}}{\\pi}',
+        'Front faces only, one step keeps 6·atan(√11/33)/π ≈ 0.19 of the flux.',
+        0.19130568257555955,
+    ),
+    'corrections.side_faces.step_flux_corrected': (
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}} = 1',
+        'All five faces: one step keeps all the flux.',
+        1.0,
+    ),
+    'corrections.side_faces.flux_factor': (
+        '\\frac{\\pi}{6 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}}',
+        'Corrected ÷ front-only flux after one step: π/(6·atan(√11/33)).',
+        5.227236256325174,
+    ),
+    'corrections.surfel_area_squared.original': (
+        'A_{s} = \\frac{4 w}{H W}',
+        'Surfel area growing linearly with view depth w (the bug of annotations §5).',
+        None,
+    ),
+    'corrections.surfel_area_squared.corrected': (
+        'A_{s} = \\frac{4 w^{2}}{H W}',
+        'Surfel area of a 90° W×H texel at view depth w: 4w²/(W·H) (rsm.surfel_area).',
+        None,
+    ),
+    'corrections.surfel_area_squared.flux_factor': (
+        'w',
+        'Squared ÷ linear surfel area (and occluder weight): w, so the linear area is too small '
+        'beyond w = 1 and too large nearer.',
+        None,
+    ),
+    'corrections.ping_pong.original': (
+        'acc_{t} = acc_{t-1} + P{\\left(acc_{t-1} \\right)}',
+        'DX11 in-place update, read race-free: light already propagated is propagated again (the '
+        'GPU version also races).',
+        None,
+    ),
+    'corrections.ping_pong.corrected': (
+        'acc_{t} = acc_{t-1} + P{\\left(grid_{t-1} \\right)}',
+        'Ping-pong: only the light in flight, grid_t = P(grid_t−1), moves on.',
+        None,
+    ),
+    'corrections.ping_pong.accumulated_original': (
+        'acc_{N} = grid_{0} \\left(P + 1\\right)^{N}',
+        'In place after N steps: (1 + P)^N grid_0, light propagated k times counted C(N, k) '
+        'times.',
+        None,
+    ),
+    'corrections.ping_pong.accumulated_corrected': (
+        'acc_{N} = grid_{0} \\sum_{t=0}^{N} P^{t}',
+        'Ping-pong after N steps: each power of P once.',
+        None,
+    ),
+    'corrections.ping_pong.flux_original': (
+        '\\frac{\\Phi_{N}}{\\Phi_{0}} = \\left(p + 1\\right)^{N}',
+        'In place, a step scaling flux by p accumulates (1 + p)^N: unbounded for any p > 0.',
+        None,
+    ),
+    'corrections.ping_pong.flux_corrected': (
+        '\\frac{\\Phi_{N}}{\\Phi_{0}} = \\sum_{t=0}^{N} p^{t}',
+        'Ping-pong accumulates the geometric series Σ p^t (→ 1/(1 − p) for p < 1).',
+        None,
+    ),
+    'corrections.ping_pong.flux_factor': (
+        '2^{- N} \\left(N + 1\\right)',
+        'Ping-pong ÷ in place accumulated flux for a flux-conserving step (p = 1): (N + 1)/2^N.',
+        None,
+    ),
+    'corrections.clamp_front_face.original': (
+        'I_{f} = I{\\left(\\omega_{c} \\right)}',
+        'Front-face intensity unclamped: negative SH lobes send negative light.',
+        None,
+    ),
+    'corrections.clamp_front_face.corrected': (
+        'I_{f} = \\max\\left(0, I{\\left(\\omega_{c} \\right)}\\right)',
+        'Front-face intensity clamped at zero, as the DX11 propagation shader does.',
+        None,
+    ),
+    'corrections.clamp_front_face.clamp_gain': (
+        '\\Delta I_{f} = \\max\\left(0, - I{\\left(\\omega_{c} \\right)}\\right)',
+        "Clamped − unclamped front-face intensity: max(0, −I) ≥ 0, the audit's clamp gain.",
+        None,
+    ),
+    'corrections.clamp_front_face.lobe_behind': (
+        'I_{L1}{\\left(- n \\right)} = - \\frac{1}{4}',
+        'The L1 lobe of clamp⁺⟨n, ω⟩ (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 where the lobe '
+        'it approximates is 0.',
+        -0.25,
+    ),
+    'propagation.side_eval_direction': (
+        '\\left[\\begin{matrix}\\frac{\\sqrt{5}}{5}\\\\\\frac{2 '
+        '\\sqrt{5}}{5}\\\\0\\end{matrix}\\right]',
+        'Evaluation direction of the side face x = 1/2 of the neighbour along +y: towards the '
+        'face centre (1/2, 1, 0).',
+        None,
+    ),
+    'propagation.side_eval_small': (
+        '\\frac{\\sqrt{5}}{5}',
+        'Side-face evaluation direction: component along the side normal, 1/√5.',
+        0.4472135954999579,
+    ),
+    'propagation.side_eval_big': (
+        '\\frac{2 \\sqrt{5}}{5}',
+        'Side-face evaluation direction: component along the propagation axis, 2/√5.',
+        0.8944271909999159,
+    ),
+    'propagation.side_reprojection_direction': (
+        '\\left[\\begin{matrix}1\\\\0\\\\0\\end{matrix}\\right]',
+        'Side-face reprojection direction: the face normal (here +x).',
+        None,
+    ),
+    'propagation.front_reprojection_direction': (
+        '\\left[\\begin{matrix}0\\\\1\\\\0\\end{matrix}\\right]',
+        'Front-face evaluation and reprojection direction: the propagation axis (here +y).',
+        None,
+    ),
+    'propagation.l2_face_basis_sums': (
+        '\\left[\\begin{matrix}\\frac{3}{\\sqrt{\\pi}} & \\frac{12}{\\sqrt{\\pi}}\\\\0 & 0\\\\0 '
+        '& 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\end{matrix}\\right]',
+        'Σ Y_k(e_f) of the L2 basis over the 6 front faces (column 0) and the 24 side faces '
+        '(column 1): only band 0 survives, so a corrected L2 step conserves flux like an L1 step.',
+        None,
+    ),
+    'propagation.step_flux_factor': (
+        '\\pi k_{I} k_{P} k_{R}',
+        'Flux after ÷ before one propagation step, without clamping, occlusion or border: '
+        'π·k_R·k_I·k_P.',
+        None,
+    ),
+    'propagation.step_flux_factor_original': (
+        '\\frac{1}{4 \\pi}',
+        'One propagation step with the published formulas keeps 1/(4π) of the flux.',
+        0.07957747154594767,
+    ),
+    'propagation.step_flux_factor_corrected': (
+        '1',
+        'One propagation step with the corrected formulas keeps all the flux.',
+        1.0,
+    ),
+    'propagation.step_flux_factor_dx11': (
+        '- \\frac{2 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}}{\\pi} + '
+        '\\frac{5}{6}',
+        'One step of the DX11 shader (weights Δω/(2π) front, Δω/(3π) side): (3Δω_front + '
+        '8Δω_side)/(4π).',
+        0.36521761376259326,
+    ),
+    'propagation.front_weight_dx11': (
+        '\\frac{1}{2 \\pi}',
+        'DX11 front-face weight ÷ Δω_front: 1/(2π) (published: 1/(4π), corrected: 1).',
+        0.15915494309189535,
+    ),
+    'propagation.side_weight_dx11': (
+        '\\frac{1}{3 \\pi}',
+        'DX11 side-face weight ÷ Δω_side: 1/(3π) (published: 1/(4π), corrected: 1).',
+        0.1061032953945969,
+    ),
+    'occlusion.one_sided': (
+        '\\left[\\begin{matrix}\\frac{\\sqrt{\\pi} A}{2 s^{2}}\\\\- \\frac{\\sqrt{3} '
+        '\\sqrt{\\pi} A n_{y}}{3 s^{2}}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} A n_{z}}{3 s^{2}}\\\\- '
+        '\\frac{\\sqrt{3} \\sqrt{\\pi} A n_{x}}{3 s^{2}}\\end{matrix}\\right]',
+        'Geometry-volume SH added by a one-sided occluder surfel of area A (cell size s).',
+        None,
+    ),
+    'occlusion.double_sided_lobe': (
+        '\\left[\\begin{matrix}\\sqrt{\\pi}\\\\0\\\\0\\\\0\\end{matrix}\\right]',
+        'lobe(n) + lobe(−n): band 1 cancels for every normal n, leaving (√π, 0, 0, 0).',
+        None,
+    ),
+    'occlusion.double_sided_blocking': (
+        '\\frac{1}{2}',
+        'A double-sided surfel blocks the same amount, 1/2 per unit A/s², in every direction.',
+        0.5,
+    ),
+    'errata.annotations.front_corner_dot_adjacent': (
+        '\\frac{9}{11}',
+        'front face: c1·c2 (adjacent corners) as printed in lpv-annotations.md (§2.1 front-face '
+        'worksheet, eq. (5)): 9/11.',
+        0.8181818181818182,
+    ),
+    'errata.annotations.front_corner_dot_diagonal': (
+        '\\frac{7}{11}',
+        'front face: c3·c2 (diagonal corners) as printed in lpv-annotations.md (§2.1 front-face '
+        'worksheet, eq. (7)): 7/11.',
+        0.6363636363636364,
+    ),
+    'errata.annotations.front_maple_delta': (
+        '\\pi - \\operatorname{acos}{\\left(\\frac{1}{10} \\right)}',
+        'front face: angle δ at a corner as printed in lpv-annotations.md (§2.1 front-face '
+        'worksheet, eq. (10)): π − arccos(1/10).',
+        1.6709637479564565,
+    ),
+    'errata.annotations.front_maple_alpha': (
+        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        'front face: angle α at a corner as printed in lpv-annotations.md (§2.1 front-face '
+        'worksheet, eq. (12)): arccos(3/20·√2·√10).',
+        0.8354818739782283,
+    ),
+    'errata.annotations.front_maple_closed_form': (
+        '- 2 \\operatorname{acos}{\\left(\\frac{1}{10} \\right)} + 4 '
+        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 front-face '
+        'worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 arccos(1/10).',
+        0.4006696846462392,
+    ),
+    'errata.annotations.front_maple_decimal': (
+        '\\frac{80133937}{200000000}',
+        'front-face solid angle as printed in lpv-annotations.md (§2.1 front-face worksheet, eq. '
+        "(14) 'at 10 digits'): 0.400669685.",
+        0.400669685,
+    ),
+    'errata.annotations.side_corner_dot': (
+        '\\frac{5 \\sqrt{33}}{33}',
+        'side face: c2·c4 as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. (6)): '
+        '5/33·√11·√3.',
+        0.8703882797784892,
+    ),
+    'errata.annotations.side_maple_closed_form': (
+        '- \\operatorname{acos}{\\left(\\frac{\\sqrt{3}}{6} \\right)} - '
+        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)} + '
+        '\\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + \\frac{2 \\pi}{3}',
+        'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 side-face '
+        'worksheet, eq. (21)): −arccos(√11√3√10√66/220) + arccos(√66√22/44) + '
+        'arccos(7√11√3√22√10/660) − arccos(√66√22/132) + arccos(√11√3√22√2/44) + '
+        'arccos(√11√3√66√2/132).',
+        0.42343135443673907,
+    ),
+    'errata.annotations.side_maple_20_digits': (
+        '\\frac{10585783860918476917}{25000000000000000000}',
+        'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
+        "(22) 'at 20 digits'): 0.42343135443673907668.",
+        0.42343135443673907,
+    ),
+    'errata.annotations.side_maple_5_digits': (
+        '\\frac{42347}{100000}',
+        'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
+        "(23) 'at 5 digits'): 0.42347.",
+        0.42347,
+    ),
+    'errata.annotations.front_integral_closed_form': (
+        '4 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
+        'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
+        'FrontFacingSolidAngle): 4 arctan(1/33·√11).',
+        0.4006696846462392,
+    ),
+    'errata.annotations.front_integral_decimal': (
+        '\\frac{1001674211}{2500000000}',
+        "front-face solid angle as printed in lpv-annotations.md (§2.2 FrontFacingSolidAngle '= "
+        "0.4006696844…'): 0.4006696844.",
+        0.4006696844,
+    ),
+    'errata.annotations.side_integral_closed_form': (
+        '- \\frac{\\pi}{3} + 2 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
+        'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
+        'SideFacingSolidAngle): −1/3 π + 2 arctan(3/11·√11).',
+        0.42343135443673907,
+    ),
+    'errata.annotations.side_integral_decimal': (
+        '\\frac{211715677}{500000000}',
+        "side-face solid angle as printed in lpv-annotations.md (§2.2 SideFacingSolidAngle '= "
+        "0.423431354…'): 0.423431354.",
+        0.423431354,
+    ),
+    'errata.annotations.coslobe_c0': (
+        '\\frac{\\sqrt{\\pi}}{2}',
+        'clamped cosine lobe s0 as printed in lpv-annotations.md (§4.3 eq. (12)): √π/2.',
+        0.886226925452758,
+    ),
+    'errata.annotations.coslobe_c1': (
+        '\\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
+        'clamped cosine lobe s2 as printed in lpv-annotations.md (§4.3 eq. (14)): √(π/3).',
+        1.0233267079464885,
+    ),
+    'errata.annotations.side_direction_small': (
+        '\\frac{\\sqrt{5}}{5}',
+        'side-face main direction, 1st component as printed in lpv-annotations.md (§6.1): 1/√5.',
+        0.4472135954999579,
+    ),
+    'errata.annotations.side_direction_big': (
+        '\\frac{2 \\sqrt{5}}{5}',
+        'side-face main direction, 2nd component as printed in lpv-annotations.md (§6.1): 2/√5.',
+        0.8944271909999159,
+    ),
+    'errata.dx11.rsm_vpls': (
+        '4194304',
+        'VPLs in a 2048×2048 RSM as printed in lpv-dx11-article.md (Injection, '
+        "'2048×2048=4194304'): 4194304.",
+        4194304.0,
+    ),
+    'errata.dx11.sh_c0': (
+        '\\frac{35261849}{125000000}',
+        'SH_C0 = 1/(2√π) as printed in lpv-dx11-article.md (#define SH_C0 (injection, '
+        'propagation and rendering shaders)): 0.282094792.',
+        0.282094792,
+    ),
+    'errata.dx11.sh_c1': (
+        '\\frac{30537657}{62500000}',
+        'SH_C1 = √3/(2√π) as printed in lpv-dx11-article.md (#define SH_C1): 0.488602512.',
+        0.488602512,
+    ),
+    'errata.dx11.coslobe_c0': (
+        '\\frac{35449077}{40000000}',
+        'SH_cosLobe_C0 = √π/2 as printed in lpv-dx11-article.md (#define SH_cosLobe_C0): '
+        '0.886226925.',
+        0.886226925,
+    ),
+    'errata.dx11.coslobe_c1': (
+        '\\frac{102332671}{100000000}',
+        'SH_cosLobe_C1 = √(π/3) as printed in lpv-dx11-article.md (#define SH_cosLobe_C1): '
+        '1.02332671.',
+        1.02332671,
+    ),
+    'errata.dx11.pi': (
+        '\\frac{15707963}{5000000}',
+        'PI as printed in lpv-dx11-article.md (#define PI 3.1415926f (and Pi in the propagation '
+        'shader)): 3.1415926.',
+        3.1415926,
+    ),
+    'errata.dx11.front_solid_angle': (
+        '\\frac{2003348423}{5000000000}',
+        'front-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
+        'directFaceSubtendedSolidAngle): 0.4006696846.',
+        0.4006696846,
+    ),
+    'errata.dx11.side_solid_angle': (
+        '\\frac{529301693}{1250000000}',
+        'side-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
+        'sideFaceSubtendedSolidAngle): 0.4234413544.',
+        0.4234413544,
+    ),
+    'errata.dx11.front_weight': (
+        '\\frac{2003348423}{31415926000}',
+        "front-face weight Δω_front/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
+        '(propagation shader, directFaceSubtendedSolidAngle): 0.4006696846f / Pi / 2.',
+        0.06376856193893504,
+    ),
+    'errata.dx11.side_weight': (
+        '\\frac{529301693}{11780972250}',
+        "side-face weight Δω_side/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
+        '(propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544f / Pi / 3.',
+        0.044928523874589385,
+    ),
+    'errata.dx11.side_eval_small': (
+        '\\frac{894427}{2000000}',
+        'side evaluation direction, small component 1/√5 as printed in lpv-dx11-article.md '
+        '(getEvalSideDirection, smallComponent): 0.4472135.',
+        0.4472135,
+    ),
+    'errata.dx11.side_eval_big': (
+        '\\frac{894427}{1000000}',
+        'side evaluation direction, big component 2/√5 as printed in lpv-dx11-article.md '
+        '(getEvalSideDirection, bigComponent): 0.894427.',
+        0.894427,
+    ),
+    'errata.dx11.surfel_weight': (
+        '\\frac{3}{200}',
+        'injection surfel weight as printed in lpv-dx11-article.md (injection pixel shader, '
+        'surfelWeight): 0.015.',
+        0.015,
+    ),
+    'errata.dx11.l1_accuracy': (
+        '\\frac{3}{4}',
+        'share of a clamped cosine kept by 4 SH coefficients as printed in lpv-dx11-article.md '
+        '(Pros and cons, first con): about 75%.',
+        0.75,
+    ),
+    'errata.dx12.y00': (
+        '\\frac{1}{2 \\sqrt{\\pi}}',
+        'Y_0^0 as printed in lpv-dx12-blog.md (Spherical Harmonics, first two bands): √(1/(4π)).',
+        0.28209479177387814,
+    ),
+    'errata.dx12.y1': (
+        '\\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
+        'Y_1^{-1} coefficient of −y as printed in lpv-dx12-blog.md (Spherical Harmonics, first '
+        'two bands): √(3/(4π)).',
+        0.4886025119029199,
+    ),
+}
