@@ -14,24 +14,13 @@ import numpy as np
 import pytest
 
 from explorer.ui.figures import FIGURES, make_figure
+from window_cases import display_problem
 from figure_cases import synthetic_result
 
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _display_problem() -> str | None:
-    try:
-        import imgui_bundle  # noqa: F401
-        import glfw
-    except ImportError as exc:  # pragma: no cover
-        return f"glfw/imgui_bundle missing: {exc}"
-    if not glfw.init():
-        return "no X server could be started (install Xvfb, or pytest-xvfb's xvfb)"
-    glfw.terminate()
-    return None
-
-
-_PROBLEM = _display_problem()
+_PROBLEM = display_problem()
 pytestmark = pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
 
 # Each kind with its defaults, and with one parameter changed (a visible change).

@@ -154,31 +154,11 @@ def readouts(params: Params, state: State, context=None) -> dict[str, float]:
 # ----------------------------------------------------------------------------- drawing
 
 
-def _to_plot(points: np.ndarray) -> np.ndarray:
-    """World (x, y, z) -> implot3d (x, −z, y): world y points up on screen."""
-    points = np.asarray(points, np.float64)
-    return np.stack([points[..., 0], -points[..., 2], points[..., 1]], -1)
-
-
-def _to_world(points: np.ndarray) -> np.ndarray:
-    points = np.asarray(points, np.float64)
-    return np.stack([points[..., 0], points[..., 2], -points[..., 1]], -1)
-
-
 def draw(params: Params, state: State, width: float, context) -> None:
-    views = ("cells", "sphere") if params.view == "both" else (params.view,)
-    if len(views) == 2 and style.side_by_side(width, 240.0):
-        each = (width - style.GAP) / 2.0
-        imgui.begin_group()
-        _cells(params, state, each)
-        imgui.end_group()
-        imgui.same_line(0.0, style.GAP)
-        imgui.begin_group()
-        _sphere(params, state, each)
-        imgui.end_group()
-    else:
-        for view in views:
-            (_cells if view == "cells" else _sphere)(params, state, width)
+    drawers = {"cells": lambda w: _cells(params, state, w),
+               "sphere": lambda w: _sphere(params, state, w)}
+    style.views(width, list(drawers.values()) if params.view == "both"
+                else [drawers[params.view]])
     _table(params, state, width)
 
 
@@ -195,7 +175,7 @@ def _begin_3d(title: str, width: float, centre: np.ndarray, half: float) -> bool
         return False
     flags = implot3d.AxisFlags_.lock | implot3d.AxisFlags_.no_tick_labels
     implot3d.setup_axes("x", "z", "y", flags, flags, flags)
-    c = _to_plot(centre)
+    c = style.to_implot3d(centre)
     implot3d.setup_axes_limits(c[0] - half, c[0] + half, c[1] - half, c[1] + half,
                                c[2] - half, c[2] + half, implot3d.Cond_.always)
     implot3d.setup_box_rotation(20.0, -35.0, False, implot3d.Cond_.once)
@@ -214,7 +194,7 @@ def _quad_spec(colour: imgui.ImVec4, alpha: float, line_alpha: float = 0.9) -> i
 
 def _plot_quads(label: str, corners: np.ndarray, spec: implot3d.Spec) -> None:
     """Quads (k, 4, 3) in world coordinates."""
-    p = _to_plot(np.asarray(corners).reshape(-1, 3))
+    p = style.to_implot3d(np.asarray(corners).reshape(-1, 3))
     implot3d.plot_quad(label, p[:, 0].copy(), p[:, 1].copy(), p[:, 2].copy(), spec)
 
 
@@ -239,7 +219,7 @@ def _plot_segments(label: str, segments: np.ndarray, colour: imgui.ImVec4, weigh
     spec.line_color = colour
     spec.line_weight = weight
     spec.flags = implot3d.LineFlags_.segments
-    p = _to_plot(np.asarray(segments).reshape(-1, 3))
+    p = style.to_implot3d(np.asarray(segments).reshape(-1, 3))
     implot3d.plot_line(label, p[:, 0].copy(), p[:, 1].copy(), p[:, 2].copy(), spec)
 
 
@@ -279,8 +259,8 @@ def _hover_face(faces: list[Face], state: State) -> None:
             or not imgui.is_window_hovered():
         return
     ray = implot3d.pixels_to_plot_ray(mouse)
-    origin = _to_world(np.array([ray.origin.x, ray.origin.y, ray.origin.z]))
-    direction = _to_world(np.array([ray.direction.x, ray.direction.y, ray.direction.z]))
+    origin = style.from_implot3d(np.array([ray.origin.x, ray.origin.y, ray.origin.z]))
+    direction = style.from_implot3d(np.array([ray.direction.x, ray.direction.y, ray.direction.z]))
     best, best_t = -1, np.inf
     for index, face in enumerate(faces):
         if abs(direction[face.axis]) < 1e-12:
@@ -334,7 +314,7 @@ def _sphere(params: Params, state: State, width: float) -> None:
             spec = _quad_spec(colour, alpha, 0.0)
             spec.flags = implot3d.QuadFlags_.no_lines
             _plot_quads(f"##{direction}{index}", quads, spec)
-            outline = _to_plot(edge)
+            outline = style.to_implot3d(edge)
             line = implot3d.Spec()
             line.line_color = style.with_alpha(style.TEXT, 0.8 if mine else 0.35)
             line.line_weight = 1.5 if mine else 1.0

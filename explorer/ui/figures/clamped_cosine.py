@@ -175,19 +175,10 @@ def readouts(params: Params, state: State, context=None) -> dict[str, float]:
 
 def draw(params: Params, state: State, width: float, context) -> None:
     orders = (1, 2) if params.orders == "both" else (int(params.orders[1]),)
-    views = ("polar", "3d") if params.view == "both" else (params.view,)
-    if len(views) == 2 and style.side_by_side(width, 240.0):
-        each = (width - style.GAP) / 2.0
-        imgui.begin_group()
-        _polar(state, orders, each)
-        imgui.end_group()
-        imgui.same_line(0.0, style.GAP)
-        imgui.begin_group()
-        _three_d(state, orders, each)
-        imgui.end_group()
-    else:
-        for view in views:
-            (_polar if view == "polar" else _three_d)(state, orders, width)
+    drawers = {"polar": lambda w: _polar(state, orders, w),
+               "3d": lambda w: _three_d(state, orders, w)}
+    style.views(width, list(drawers.values()) if params.view == "both"
+                else [drawers[params.view]])
     _table(params, state, orders, width)
 
 
@@ -251,12 +242,6 @@ def _handles(state: State) -> None:
         state.probe_deg = math.degrees(math.atan2(x, y))
 
 
-def _to_plot(points: np.ndarray) -> np.ndarray:
-    """World (x, y, z) -> implot3d (x, −z, y): world y (up in the slice) points up."""
-    points = np.asarray(points, np.float64)
-    return np.stack([points[..., 0], -points[..., 2], points[..., 1]], -1)
-
-
 @lru_cache(maxsize=32)
 def _lobe_mesh(nx: float, ny: float, nz: float, order: int, sign: int):
     """An implot3d Mesh of the surface r(ω)·ω with r = max(sign·value, 0); order 0 is the
@@ -274,7 +259,7 @@ def _lobe_mesh(nx: float, ny: float, nz: float, order: int, sign: int):
     radius = np.maximum(sign * values, 0.0)
     if radius.max() <= 0.0:
         return None
-    vertices = _to_plot(radius[..., None] * dirs).reshape(-1, 3)
+    vertices = style.to_implot3d(radius[..., None] * dirs).reshape(-1, 3)
     points = [implot3d.Point(float(x), float(y), float(z)) for x, y, z in vertices]
     idx = []
     for i in range(_MESH_ELEVATIONS - 1):
@@ -317,7 +302,7 @@ def _three_d(state: State, orders: tuple[int, ...], width: float) -> None:
     spec.line_color = style.with_alpha(style.EXACT, 0.35)
     spec.flags = implot3d.MeshFlags_.no_fill | implot3d.MeshFlags_.no_markers
     implot3d.plot_mesh("max(cos, 0)", exact, spec)
-    tip = _to_plot(n)
+    tip = style.to_implot3d(n)
     spec = implot3d.Spec()
     spec.line_color = style.HANDLE
     spec.line_weight = 3.0
@@ -329,7 +314,7 @@ def _three_d(state: State, orders: tuple[int, ...], width: float) -> None:
 
 def _slice_plane() -> None:
     """The polar slice's plane (world z = 0), faint, so the two views connect."""
-    corners = _to_plot(np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0],
+    corners = style.to_implot3d(np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0],
                                  [-1.0, 1.0, 0.0]]))
     spec = implot3d.Spec()
     spec.fill_color = style.TEXT

@@ -10,22 +10,22 @@ flux instead of watts. The Plots panel draws the same plot (:func:`draw_audit_pl
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
 from imgui_bundle import imgui, implot
 
 from explorer.ui.figures import plotting, style
-from explorer.ui.figures.flux_per_step import (
-    SIDES,
+from explorer.ui.figures.plotting import Series
+from explorer.ui.figures.results import (  # noqa: F401  (Params, State: this kind's)
+    Params,
+    State,
+    begin,
     chosen_results,
     injected,
-    no_results_note,
+    note,
     result_labels,
 )
-from explorer.ui.figures.plotting import Series
-from explorer.ui.figures.schema import param
 
 AUDIT_ROWS = (
     ("RSM", "rsm"),
@@ -41,28 +41,6 @@ AUDIT_ROWS = (
 OPTIONAL_ROWS = ("reflected",)
 """Rows shown only when some side has them (a second bounce)."""
 _ROW_HEIGHT = 21.0
-
-
-@dataclass(frozen=True)
-class Params:
-    sides: str = field(default="both", metadata=param(
-        "'a': configuration A only; 'both': A and, while a comparison is on, B.",
-        choices=SIDES))
-    scale: str = field(default="auto", metadata=param(
-        "Value axis: 'auto' (log when the bars span over two decades, else linear from 0), "
-        "'linear' or 'log'.", choices=plotting.SCALES))
-    relative: bool = field(default=False, metadata=param(
-        "Bars as shares of each side's injected flux instead of watts."))
-
-
-@dataclass
-class State:
-    scale: str
-    relative: bool
-
-    @classmethod
-    def from_params(cls, params: Params) -> "State":
-        return cls(params.scale, params.relative)
 
 
 def audit_values(audit) -> np.ndarray:
@@ -114,8 +92,9 @@ def draw_audit_plot(plot_id: str, series: Sequence[Series], width: float, scale:
     implot.setup_axes("share of injected flux" if relative else "flux [W]", "", 0,
                       implot.AxisFlags_.invert)
     # Room right of the longest bar for its label (the row names take ~150 pixels).
+    labels = [[bar_label(s.values[i], s.reference, relative) for i in rows] for s in series]
     plotting.setup_value_axis(implot.ImAxis_.x1, everything, chosen,
-                              plotting.label_room(width - 150.0, 170.0))
+                              plotting.label_room(width - 150.0, sum(labels, [])))
     positions = np.arange(len(rows), dtype=np.float64)
     implot.setup_axis_limits(implot.ImAxis_.y1, -0.6, len(rows) - 0.4, implot.Cond_.always)
     implot.setup_axis_ticks(implot.ImAxis_.y1, [float(p) for p in positions],
@@ -128,11 +107,8 @@ def draw_audit_plot(plot_id: str, series: Sequence[Series], width: float, scale:
         spec = style.line_spec(s.colour)
         spec.flags = implot.BarsFlags_.horizontal
         implot.plot_bars(s.label, values, ys, height_each * 0.9, spec)
-        for i, (value, y) in enumerate(zip(values, ys)):
-            watts = s.values[rows[i]]
-            plotting.text_right_of(bar_label(watts, s.reference, relative),
-                                   max(float(value), floor), float(y),
-                                   style.with_alpha(s.colour, 1.0))
+        for text, value, y in zip(labels[k], values, ys):
+            plotting.text_right_of(text, max(float(value), floor), float(y), s.colour)
     implot.end_plot()
 
 
@@ -148,17 +124,11 @@ def readouts(params: Params, state: State, context) -> dict[str, float]:
 
 
 def draw(params: Params, state: State, width: float, context) -> None:
-    results = chosen_results(params, context)
+    results = begin(params, state, context)
     if not results:
-        no_results_note()
         return
-    state.scale = plotting.scale_selector(state.scale)
-    imgui.same_line(0.0, 24.0)
-    _, state.relative = imgui.checkbox("share of injected", state.relative)
     draw_audit_plot("##energy audit", audit_series(results), width, state.scale,
                     state.relative)
-    imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
-    imgui.text_colored(style.MUTED, "Watts summed over the three colour channels; (Σ) rows "
-                       "add up every propagation step, so the accumulated flux counts the "
-                       "light once per step it stays in the grid.")
-    imgui.pop_text_wrap_pos()
+    note("Watts summed over the three colour channels; (Σ) rows add up every propagation "
+         "step, so the accumulated flux counts the light once per step it stays in the grid.",
+         width)

@@ -9,56 +9,27 @@ draw the same plot (:func:`draw_flux_plot`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
 from imgui_bundle import imgui, implot
 
-from explorer.ui import legend
 from explorer.ui.figures import plotting, style
 from explorer.ui.figures.plotting import Series
-from explorer.ui.figures.schema import param
-
-SIDES = ("a", "both")
-
-
-@dataclass(frozen=True)
-class Params:
-    sides: str = field(default="both", metadata=param(
-        "'a': configuration A only; 'both': A and, while a comparison is on, B.",
-        choices=SIDES))
-    scale: str = field(default="auto", metadata=param(
-        "Value axis: 'auto' (log when the values span over two decades, else linear from "
-        "0), 'linear' or 'log'.", choices=plotting.SCALES))
-    relative: bool = field(default=False, metadata=param(
-        "Plot the flux as a share of the injected flux instead of in watts."))
-
-
-@dataclass
-class State:
-    scale: str
-    relative: bool
-
-    @classmethod
-    def from_params(cls, params: Params) -> "State":
-        return cls(params.scale, params.relative)
+from explorer.ui.figures.results import (  # noqa: F401  (Params, State: this kind's)
+    Params,
+    State,
+    begin,
+    chosen_results,
+    injected,
+    note,
+    result_labels,
+)
 
 
 def flux_per_step(audit) -> np.ndarray:
     """(iterations + 1,) flux of grid_t summed over the colour channels."""
     return np.asarray(audit.per_step, dtype=np.float64).reshape(len(audit.per_step), -1).sum(1)
-
-
-def injected(audit) -> float:
-    return float(np.sum(audit.injected))
-
-
-def result_labels(results: Sequence) -> list[str]:
-    """Legend labels of one or two FrameResults, naming what differs between them."""
-    if len(results) >= 2:
-        return list(legend.side_labels(results[0].settings, results[1].settings))
-    return [f"A: {legend.describe(results[0].settings)}"] if results else []
 
 
 def flux_series(results: Sequence) -> list[Series]:
@@ -86,7 +57,8 @@ def draw_flux_plot(plot_id: str, series: Sequence[Series], size: imgui.ImVec2, s
     implot.setup_axes("step t", "share of injected [%]" if relative else "flux in flight [W]",
                       0, 0)
     # Room right of the last step for the end labels (the y axis takes ~70 pixels).
-    room = plotting.label_room(size.x - 70.0)
+    ends = [_end_text(s, values, relative) for s, values in zip(series, shown) if len(values)]
+    room = plotting.label_room(size.x - 70.0, ends)
     implot.setup_axis_limits(implot.ImAxis_.x1, -0.5, (last + 0.5) / (1.0 - room),
                              implot.Cond_.always)
     plotting.setup_value_axis(implot.ImAxis_.y1, everything, chosen)
@@ -96,7 +68,8 @@ def draw_flux_plot(plot_id: str, series: Sequence[Series], size: imgui.ImVec2, s
         implot.plot_line(s.label, xs, values,
                          style.line_spec(s.colour, 2.0, implot.Marker_.circle))
         if len(values):
-            _end_label(s, values, relative)
+            plotting.text_right_of(_end_text(s, values, relative), float(len(values) - 1),
+                                   float(values[-1]), s.colour)
     if mark is not None:
         implot.plot_inf_lines("##t", np.array([float(mark)]),
                               style.line_spec(style.HANDLE, 1.5))
@@ -108,15 +81,14 @@ def draw_flux_plot(plot_id: str, series: Sequence[Series], size: imgui.ImVec2, s
     implot.end_plot()
 
 
-def _end_label(s: Series, values: np.ndarray, relative: bool) -> None:
+def _end_text(s: Series, values: np.ndarray, relative: bool) -> str:
+    """The label at the end of a line: its last value, and its share of the injected flux."""
     last = float(values[-1])
     if relative:
-        text = style.percent(last / 100.0)
-    else:
-        text = style.watts(last)
-        if s.reference > 0:
-            text += f" ({style.share_of(last, s.reference)})"
-    plotting.text_right_of(text, float(len(values) - 1), last, s.colour)
+        return style.percent(last / 100.0)
+    if s.reference > 0:
+        return f"{style.watts(last)} ({style.share_of(last, s.reference)})"
+    return style.watts(last)
 
 
 def summary(results: Sequence) -> list[str]:
@@ -147,27 +119,10 @@ def readouts(params: Params, state: State, context) -> dict[str, float]:
     return values
 
 
-def chosen_results(params, context) -> tuple:
-    """The results ``params.sides`` asks for, of those the context holds."""
-    results = tuple(getattr(context, "results", ()) or ())
-    return results[:1] if params.sides == "a" else results[:2]
-
-
-def no_results_note() -> None:
-    imgui.text_disabled("No frame yet: this figure fills in once the pipeline has run.")
-
-
 def draw(params: Params, state: State, width: float, context) -> None:
-    results = chosen_results(params, context)
+    results = begin(params, state, context)
     if not results:
-        no_results_note()
         return
-    state.scale = plotting.scale_selector(state.scale)
-    imgui.same_line(0.0, 24.0)
-    _, state.relative = imgui.checkbox("share of injected", state.relative)
     draw_flux_plot("##flux per step", flux_series(results), style.plot_size(width, 0.5, 320.0),
                    state.scale, state.relative)
-    imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
-    for line in summary(results):
-        imgui.text_colored(style.MUTED, line)
-    imgui.pop_text_wrap_pos()
+    note("\n".join(summary(results)), width)

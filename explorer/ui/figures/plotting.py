@@ -64,9 +64,11 @@ def value_limits(values, scale: str, room: float = 0.0) -> tuple[float, float]:
     return low, high
 
 
-def label_room(axis_pixels: float, label_pixels: float = 150.0) -> float:
-    """The share of an axis ``axis_pixels`` long that a label of ``label_pixels`` needs."""
-    return min(label_pixels / max(axis_pixels, 1.0), 0.6)
+def label_room(axis_pixels: float, labels) -> float:
+    """The share of an axis ``axis_pixels`` long that the widest of ``labels`` needs
+    (with the gap :func:`text_right_of` leaves), at most 0.6."""
+    widest = max((imgui.calc_text_size(text).x for text in labels), default=0.0)
+    return min((widest + 12.0) / max(axis_pixels, 1.0), 0.6)
 
 
 def setup_value_axis(axis: int, values, scale: str, room: float = 0.0) -> None:

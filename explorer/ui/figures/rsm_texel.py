@@ -96,19 +96,9 @@ def readouts(params: Params, state: State, context=None) -> dict[str, float]:
 
 
 def draw(params: Params, state: State, width: float, context) -> None:
-    if params.plot and style.side_by_side(width, 260.0):
-        each = (width - style.GAP) / 2.0
-        imgui.begin_group()
-        _side_view(state, each)
-        imgui.end_group()
-        imgui.same_line(0.0, style.GAP)
-        imgui.begin_group()
-        _plot(state, each)
-        imgui.end_group()
-    else:
-        _side_view(state, width)
-        if params.plot:
-            _plot(state, width)
+    drawers = [lambda w: _side_view(state, w)] + ([lambda w: _plot(state, w)] if params.plot
+                                                  else [])
+    style.views(width, drawers, 260.0)
     _numbers(state, width)
 
 

@@ -7,8 +7,9 @@ L2 amber, anything negative red, what the reader drags yellow.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Callable, Sequence
 
+import numpy as np
 from imgui_bundle import imgui, implot
 
 from explorer.ui.widgets import ACCENT, DIM, ERROR, WARN
@@ -67,6 +68,23 @@ def share_of(value: float, reference: float) -> str:
 def side_by_side(width: float, min_each: float) -> bool:
     """Whether two panels of at least ``min_each`` pixels fit next to each other."""
     return width >= 2.0 * min_each + GAP
+
+
+def views(width: float, drawers: Sequence[Callable[[float], None]],
+          min_each: float = 240.0) -> None:
+    """Draw two views side by side when both fit ``min_each`` pixels, else one under the
+    other; each drawer gets the width it may use."""
+    if len(drawers) == 2 and side_by_side(width, min_each):
+        each = (width - GAP) / 2.0
+        for index, drawer in enumerate(drawers):
+            if index:
+                imgui.same_line(0.0, GAP)
+            imgui.begin_group()
+            drawer(each)
+            imgui.end_group()
+    else:
+        for drawer in drawers:
+            drawer(width)
 
 
 def square(width: float, most: float = 440.0) -> imgui.ImVec2:
@@ -128,3 +146,16 @@ def fill_polygon_in_plot(xs, ys, colour: imgui.ImVec4, alpha: float) -> None:
     points = [implot.plot_to_pixels(float(x), float(y)) for x, y in zip(xs, ys)]
     implot.get_plot_draw_list().add_concave_poly_filled(points, u32(colour, alpha))
     implot.pop_plot_clip_rect()
+
+
+def to_implot3d(points) -> np.ndarray:
+    """World (x, y, z) -> implot3d (x, −z, y), a rotation: implot3d draws its z axis up,
+    and world y is up in every scene and slice."""
+    points = np.asarray(points, np.float64)
+    return np.stack([points[..., 0], -points[..., 2], points[..., 1]], -1)
+
+
+def from_implot3d(points) -> np.ndarray:
+    """The inverse of :func:`to_implot3d`."""
+    points = np.asarray(points, np.float64)
+    return np.stack([points[..., 0], points[..., 2], -points[..., 1]], -1)
