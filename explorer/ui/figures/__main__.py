@@ -3,7 +3,8 @@
 With ``--screenshot out.png`` it draws ``--frames`` frames in a hidden window and writes
 the last one; without, it opens a window until you close it. ``--list`` prints the kinds
 and their parameters. The audit figures plot a pipeline run of the Cornell box at a small
-size (configuration A with ``--preset``, B with ``--compare``).
+size (configuration A with ``--preset``, B with ``--compare``). A value that starts with
+a minus sign but is not a number is written with ``=``: ``--direction=-z``.
 """
 
 from __future__ import annotations

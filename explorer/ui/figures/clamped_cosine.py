@@ -300,6 +300,7 @@ def _three_d(state: State, orders: tuple[int, ...], width: float) -> None:
     exact = _lobe_mesh(*key, 0, 1)
     spec = implot3d.Spec()
     spec.line_color = style.with_alpha(style.EXACT, 0.35)
+    spec.fill_color = style.EXACT          # the legend's swatch (the mesh is not filled)
     spec.flags = implot3d.MeshFlags_.no_fill | implot3d.MeshFlags_.no_markers
     implot3d.plot_mesh("max(cos, 0)", exact, spec)
     tip = style.to_implot3d(n)

@@ -34,7 +34,7 @@ from explorer.ui.textures import heat
 
 CORRECTIONS = tuple(PRESETS) + tuple(f"{name} off" for name in Corrections.names())
 """A preset, or the corrected preset with one switch off."""
-GLYPHS = ("lobe", "arrow", "none")
+GLYPHS = ("arrow", "lobe", "none")
 MAX_GRID = 16
 MAX_ITERATIONS = 32
 PLAY_RATE = 3.0            # steps per second while playing
@@ -60,9 +60,10 @@ class Params:
         "(e.g. 'side_faces off').", choices=CORRECTIONS))
     step: int = field(default=0, metadata=param(
         "The step t shown at first; at most iterations.", 0, MAX_ITERATIONS))
-    glyph: str = field(default="lobe", metadata=param(
-        "Per-cell glyph: 'lobe' (intensity toward the slice's directions, negative parts "
-        "red), 'arrow' (band-1 direction) or 'none'.", choices=GLYPHS))
+    glyph: str = field(default="arrow", metadata=param(
+        "Per-cell glyph: 'arrow' (along the band-1 vector, where the light is heading), "
+        "'lobe' (intensity toward the slice's directions, negative parts red; after a few "
+        "steps mostly round) or 'none'.", choices=GLYPHS))
     play: bool = field(default=False, metadata=param("Start playing the steps."))
     scale: str = field(default="auto", metadata=param(
         "Value axis of the flux plot: 'auto', 'linear' or 'log'.", choices=plotting.SCALES))
