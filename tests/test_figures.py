@@ -195,6 +195,10 @@ def test_clamped_cosine_numbers_match_the_exact_derivations(exact_sh, normal_deg
         assert r[f"l{order}_negative_flux"] == pytest.approx(
             float(exact["negative_share"]), rel=1e-3)
     assert exact_sh["profiles"][1]["negative_share"] == sp.Rational(-1, 8)
+    # the exact column: the lobe itself, never negative, 1 toward n, 0 from 90° on
+    assert (r["exact_energy"], r["exact_at_normal"], r["exact_min"]) == \
+        pytest.approx((1.0, 1.0, 0.0), abs=1e-12)
+    assert r["exact_min_angle_deg"] == pytest.approx(90.0) and r["exact_negative_flux"] == 0
 
 
 def test_clamped_cosine_projection_equals_the_reference_lobe():
@@ -208,7 +212,7 @@ def test_clamped_cosine_probe_reads_all_three_functions():
     params = make_figure("clamped-cosine", normal_deg=0, probe_deg=180).params
     r = clamped_cosine.readouts(params, clamped_cosine.State.from_params(params))
     assert r["probe_angle_deg"] == pytest.approx(180.0)
-    assert r["probe_exact"] == 0.0
+    assert r["exact_probe"] == 0.0
     assert r["l1_probe"] == pytest.approx(-0.25, abs=1e-12)      # 1/4 − 1/2
     assert r["l2_probe"] == pytest.approx(1 / 16, abs=1e-12)      # 1/4 − 1/2 + 5/16
 

@@ -93,11 +93,15 @@ class Projection:
     lobe_energy: float              # ∫ clamp⁺(cos)² dω (2π/3)
     lobe_flux: float                # ∫ clamp⁺(cos) dω (π)
     band_energy: np.ndarray         # (3,) Σ s_k² of bands 0, 1, 2 (Parseval)
-    negative_flux: dict[int, float]  # order -> ∫ min(projection, 0) dω
+    negative_flux: dict[int, float]  # order -> ∫ min(projection, 0) dω; 0: the lobe's own
 
     def energy_kept(self, order: int) -> float:
         """Share of the lobe's energy the projection up to band ``order`` keeps."""
         return float(self.band_energy[:order + 1].sum() / self.lobe_energy)
+
+    def energy_of_lobe(self) -> float:
+        """The lobe's own energy as a share of itself (the exact column of the table)."""
+        return self.lobe_energy / self.lobe_energy
 
     def evaluate(self, directions: np.ndarray, order: int) -> np.ndarray:
         """The projection up to band ``order`` toward unit ``directions`` (..., 3)."""
@@ -119,7 +123,7 @@ def _projection(nx: float, ny: float, nz: float) -> Projection:
     coefficients = basis.T @ (w * f)               # s_k = ∫ f Y_k dω
     bands = np.array([coefficients[0] ** 2, np.sum(coefficients[1:4] ** 2),
                       np.sum(coefficients[4:9] ** 2)])
-    negative = {}
+    negative = {0: float(w @ np.minimum(f, 0.0))}      # order 0: the exact lobe itself
     for order in (1, 2):
         count = (order + 1) ** 2
         negative[order] = float(w @ np.minimum(basis[:, :count] @ coefficients[:count], 0.0))
@@ -151,22 +155,23 @@ def readouts(params: Params, state: State, context=None) -> dict[str, float]:
     values = {"normal_deg": state.normal_deg, "probe_deg": state.probe_deg,
               "probe_angle_deg": math.degrees(math.acos(np.clip(
                   probe @ projection.normal, -1.0, 1.0))),
-              "lobe_energy": projection.lobe_energy, "lobe_flux": projection.lobe_flux,
-              "probe_exact": float(lobe(probe, projection.normal))}
+              "lobe_energy": projection.lobe_energy, "lobe_flux": projection.lobe_flux}
     for band in range(3):
         values[f"band{band}_energy"] = float(projection.band_energy[band]
                                              / projection.lobe_energy)
-    for order in (1, 2):
-        key = f"l{order}"
+    for order, key in ((0, "exact"), (1, "l1"), (2, "l2")):
         along = curves[key]
-        lowest = int(np.argmin(along))
-        values[f"{key}_energy"] = projection.energy_kept(order)
+        # The first sample within rounding of the minimum (the exact lobe is 0 from 90°).
+        lowest = int(np.argmax(along <= along.min() + 1e-12))
+        values[f"{key}_energy"] = (projection.energy_kept(order) if order
+                                   else projection.energy_of_lobe())
         values[f"{key}_at_normal"] = float(along[0])
         values[f"{key}_min"] = float(along[lowest])
         values[f"{key}_min_angle_deg"] = abs(math.degrees(
             (curves["angles"][lowest] - curves["angles"][0] + np.pi) % (2 * np.pi) - np.pi))
         values[f"{key}_negative_flux"] = projection.negative_flux[order] / projection.lobe_flux
-        values[f"{key}_probe"] = float(projection.evaluate(probe, order))
+        values[f"{key}_probe"] = float(lobe(probe, projection.normal) if not order
+                                       else projection.evaluate(probe, order))
     return values
 
 
@@ -330,23 +335,18 @@ def _table(params: Params, state: State, orders: tuple[int, ...], width: float) 
     columns = [("exact", style.EXACT)] + [(f"l{o}", style.L1 if o == 1 else style.L2)
                                           for o in orders]
     header = ["", "max(cos, 0)"] + [f"L{o} ({(o + 1) ** 2} coeff.)" for o in orders]
-    exact = {"energy": "100 %", "at_normal": "1.000", "min": "0 (never negative)",
-             "negative_flux": "0 %", "probe": style.num(r["probe_exact"])}
 
-    def row(title: str, name: str, fmt) -> list[str]:
-        cells = [title]
-        for key, _ in columns:
-            cells.append(exact[name] if key == "exact" else fmt(key))
-        return cells
+    def row(title: str, fmt) -> list[str]:
+        return [title] + [fmt(key) for key, _ in columns]
 
     rows = [
-        row("energy kept", "energy", lambda k: style.percent(r[f"{k}_energy"], 2)),
-        row("toward n", "at_normal", lambda k: style.num(r[f"{k}_at_normal"])),
-        row("most negative", "min", lambda k: f"{style.num(r[f'{k}_min'])} at "
+        row("energy kept", lambda k: style.percent(r[f"{k}_energy"], 2)),
+        row("toward n", lambda k: style.num(r[f"{k}_at_normal"], ".4f")),
+        row("lowest", lambda k: f"{style.num(r[f'{k}_min'])} at "
             f"{r[f'{k}_min_angle_deg']:.0f}° from n"),
-        row("flux in the tail", "negative_flux",
-            lambda k: style.percent(r[f"{k}_negative_flux"], 1) + " of the lobe's"),
-        row(f"toward ω ({r['probe_angle_deg']:.0f}° from n)", "probe",
+        row("flux in the tail", lambda k: style.percent(r[f"{k}_negative_flux"], 1)
+            + " of the lobe's"),
+        row(f"toward ω ({r['probe_angle_deg']:.0f}° from n)",
             lambda k: style.num(r[f"{k}_probe"])),
     ]
     style.readout_table("##cosine numbers", header, rows, width,
