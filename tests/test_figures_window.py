@@ -126,6 +126,10 @@ def test_cli_writes_a_screenshot_and_refuses_bad_parameters(tmp_path):
     unknown = subprocess.run([sys.executable, "-m", "explorer.ui.figures", "cosine"],
                              cwd=ROOT, env=env, capture_output=True, text=True, timeout=60)
     assert unknown.returncode == 2 and "unknown figure kind 'cosine'" in unknown.stderr
+    not_png = subprocess.run([sys.executable, "-m", "explorer.ui.figures", "rsm-texel",
+                              "--screenshot", str(tmp_path / "shot")], cwd=ROOT, env=env,
+                             capture_output=True, text=True, timeout=60)
+    assert not_png.returncode == 2 and "must name a .png file" in not_png.stderr
     listing = subprocess.run([sys.executable, "-m", "explorer.ui.figures", "--list"],
                              cwd=ROOT, env=env, capture_output=True, text=True, timeout=60)
     assert listing.returncode == 0

@@ -95,6 +95,10 @@ def main(argv: list[str] | None = None) -> int:
     except FigureParamError as exc:
         print(f"{PROG}: {exc}", file=sys.stderr)
         return 2
+    if args.screenshot is not None and args.screenshot.suffix.lower() != ".png":
+        print(f"{PROG}: --screenshot must name a .png file, got {str(args.screenshot)!r}",
+              file=sys.stderr)
+        return 2
     return show(spec, args)
 
 
@@ -110,7 +114,11 @@ def show(spec, args) -> int:
                 pass
             return 0
         window.render(spec, args.frames, args.figure_width)
-        path = window.screenshot(args.screenshot)
+        try:
+            path = window.screenshot(args.screenshot)
+        except OSError as exc:
+            print(f"{PROG}: could not write {args.screenshot}: {exc}", file=sys.stderr)
+            return 1
     print(f"{PROG}: wrote {path}")
     return 0
 

@@ -3,7 +3,7 @@
 A polar slice (the x–y plane: x right, y up) and a 3D view show clamp⁺⟨n, ω⟩, its L1
 (4-coefficient) and L2 (9-coefficient) SH projections, and where a projection goes
 negative (its tail behind the surface, shaded red). The projection is computed numerically
-each time the normal moves (docs/MODEL.md "Spherical harmonics"), and the table under the
+each time the normal moves (docs/MODEL.md "Notation and storage"), and the table under the
 plots reads the energy each order keeps (L1 7/8, L2 127/128, the same for every normal),
 the value toward the normal and the most negative value, the share of the lobe's flux in
 the negative tail, and all three functions toward a probe direction you drag.

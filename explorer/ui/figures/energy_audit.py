@@ -1,11 +1,12 @@
 """The energy audit as labelled bars: where each configuration gains or loses flux.
 
-One row per audit entry (docs/MODEL.md "Energy audit"; watts summed over the colour
-channels, and over the steps for the per-step terms), one bar per configuration, each
-labelled with its value and its share of that side's injected flux. The accumulated flux
-counts every step, so it is many times the injected flux: the value axis turns
-logarithmic when the bars span more than two decades, or shows shares of the injected
-flux instead of watts. The Plots panel draws the same plot (:func:`draw_audit_plot`).
+One row per audit entry (docs/MODEL.md "Propagation", its energy audit; watts summed over
+the colour channels, and over the steps for the per-step terms), one bar per
+configuration, each labelled with its value and its share of that side's injected flux.
+The accumulated flux counts every step, so it is many times the injected flux: the value
+axis turns logarithmic when the bars span more than two decades, or shows shares of the
+injected flux instead of watts. The Plots panel draws the same plot
+(:func:`draw_audit_plot`).
 """
 
 from __future__ import annotations

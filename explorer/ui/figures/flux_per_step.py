@@ -1,10 +1,10 @@
 """Flux in flight after each propagation step, for configuration A (and B).
 
-The flux of grid_t (docs/MODEL.md "Energy audit"), one line per configuration, on a
-linear axis from 0 or a log axis when the values span more than two decades; each line
-ends in a label with its last value and its share of that side's injected flux, and the
-legend names what differs between A and B. The Plots panel and the propagation stepper
-draw the same plot (:func:`draw_flux_plot`).
+The flux of grid_t (docs/MODEL.md "Propagation", its energy audit), one line per
+configuration, on a linear axis from 0 or a log axis when the values span more than two
+decades; each line ends in a label with its last value and its share of that side's
+injected flux, and the legend names what differs between A and B. The Plots panel and the
+propagation stepper draw the same plot (:func:`draw_flux_plot`).
 """
 
 from __future__ import annotations

@@ -3,11 +3,12 @@ stays.
 
 The light arrives straight down through one texel of its shadow map (a square of area A0
 across the beam, carrying the flux Φ0 = E0·A0). On a surface tilted by θ the texel's four
-corner rays meet the surface in a footprint of area A0/cos θ, and the surface receives the
-irradiance E0·cos θ; their product, the flux the texel stands for, is Φ0 at every tilt.
-That is why a reflective shadow map stores flux per texel (docs/MODEL.md "RSM"), and
-why a VPL's flux needs no cos θ of its own. The footprint is computed by intersecting the
-corner rays with the tilted plane; the plot beside it repeats that for every θ.
+corner rays meet the surface in a footprint of area A0/cos θ, and the surface receives
+the irradiance E0·cos θ; their product, the flux the texel stands for, is Φ0 at every
+tilt. That is why a reflective shadow map stores flux per texel (docs/MODEL.md
+"Reflective shadow map"), and why a VPL's flux needs no cos θ of its own. The footprint
+is computed by intersecting the corner rays with the tilted plane; the plot beside it
+repeats that for every θ.
 """
 
 from __future__ import annotations
@@ -110,7 +111,7 @@ def _side_view(state: State, width: float) -> None:
         return
     hidden = implot.AxisFlags_.no_decorations
     implot.setup_axes("", "", hidden, hidden)
-    implot.setup_axes_limits(-1.3, 1.3, -1.1, 1.9, implot.Cond_.once)
+    implot.setup_axes_limits(-1.5, 1.5, -1.2, 1.8, implot.Cond_.once)   # square: 3 × 3
     theta = state.theta_deg
     corners = footprint(theta, TEXEL)
     half = TEXEL / 2.0
@@ -129,7 +130,7 @@ def _side_view(state: State, width: float) -> None:
                                          corners[0, 1]]), style.NOTE, 0.10)
     # The surface, the footprint on it and its normal.
     tangent = np.array([math.cos(math.radians(theta)), -math.sin(math.radians(theta))])
-    ends = np.outer([-1.15, 1.15], tangent)
+    ends = np.outer([-1.0, 1.0], tangent)
     implot.plot_line("##surface", ends[:, 0].copy(), ends[:, 1].copy(),
                      style.line_spec(style.TEXT, 2.0))
     implot.plot_line("##footprint", corners[:2, 0].copy(), corners[:2, 1].copy(),
@@ -143,9 +144,16 @@ def _side_view(state: State, width: float) -> None:
                      style.line_spec(style.HANDLE, 1.5))
     implot.plot_line("##toward the light", np.array([0.0, 0.0]), np.array([0.0, 0.45]),
                      style.line_spec(style.with_alpha(style.HANDLE, 0.6), 1.0))
-    implot.plot_text(f"θ = {theta:.0f}°", 0.0, 0.4, imgui.ImVec2(-34.0, 0.0))
-    implot.plot_text("footprint A0/cos θ", float(corners[:2, 0].mean()),
-                     float(corners[:2, 1].mean()), imgui.ImVec2(-50.0, 24.0))
+    # Between the vertical and the normal, above the arc, whatever the tilt.
+    middle = math.radians(theta / 2.0)
+    implot.plot_text(f"θ = {theta:.0f}°", 0.6 * math.sin(middle), 0.6 * math.cos(middle),
+                     imgui.ImVec2(30.0, 0.0))
+    # Below the surface, far enough along −n (in pixels) that the text clears the line.
+    label = "footprint A0/cos θ"
+    sin_t, cos_t = math.sin(math.radians(theta)), math.cos(math.radians(theta))
+    away = 24.0 + 0.5 * imgui.calc_text_size(label).x * sin_t
+    implot.plot_text(label, float(corners[:2, 0].mean()), float(corners[:2, 1].mean()),
+                     imgui.ImVec2(-sin_t * away, cos_t * away))
     handle = ends[1]
     changed, x, y, *_ = implot.drag_point(0, float(handle[0]), float(handle[1]),
                                           style.HANDLE, 7.0)
