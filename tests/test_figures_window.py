@@ -122,7 +122,7 @@ def test_cli_writes_a_screenshot_and_refuses_bad_parameters(tmp_path):
                           "--theta-deg", "95"], cwd=ROOT, env=env, capture_output=True,
                          text=True, timeout=60)
     assert bad.returncode == 2
-    assert "theta_deg: must be a number in [0, 85], got 95" in bad.stderr
+    assert "theta_deg must be a finite number in [0, 85], got 95" in bad.stderr
     unknown = subprocess.run([sys.executable, "-m", "explorer.ui.figures", "cosine"],
                              cwd=ROOT, env=env, capture_output=True, text=True, timeout=60)
     assert unknown.returncode == 2 and "unknown figure kind 'cosine'" in unknown.stderr

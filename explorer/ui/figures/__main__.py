@@ -38,7 +38,7 @@ def _number(text: str) -> int | float:
         raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
 
 
-_CONVERT = {bool: _bool, int: _number, float: _number, str: str}
+_CONVERT = {"bool": _bool, "int": _number, "float": _number, "choice": str}
 
 
 def build_parser(kind: FigureKind | None) -> argparse.ArgumentParser:
@@ -59,7 +59,7 @@ def build_parser(kind: FigureKind | None) -> argparse.ArgumentParser:
         group = parser.add_argument_group(f"parameters of {kind.name}")
         for info in kind.params:
             flags = sorted({f"--{info.name}", f"--{info.name.replace('_', '-')}"})
-            group.add_argument(*flags, dest=f"param_{info.name}", type=_CONVERT[info.type],
+            group.add_argument(*flags, dest=f"param_{info.name}", type=_CONVERT[info.spec.kind],
                                default=None, help=f"{info.doc} ({info.allowed()}; default "
                                f"{info.default!r})")
     return parser

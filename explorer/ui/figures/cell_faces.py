@@ -13,7 +13,7 @@ Cells have side 2 with the source centred at the origin, as in the derivation.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -21,7 +21,7 @@ from imgui_bundle import imgui, implot3d
 
 from explorer.lpv import constants as K
 from explorer.ui.figures import style
-from explorer.ui.figures.schema import param
+from explorer.lpv.schema import setting, validate
 
 DIRECTIONS = ("+x", "-x", "+y", "-y", "+z", "-z")
 HIGHLIGHTS = ("none", "front", "side")
@@ -39,16 +39,17 @@ _NEIGHBOUR_COLOURS = tuple(imgui.ImVec4(*rgb, 1.0) for rgb in (
 
 @dataclass(frozen=True)
 class Params:
-    direction: str = field(default="+x", metadata=param(
-        "Which neighbour: the axis and sign of its offset from the source cell.",
-        choices=DIRECTIONS))
-    highlight: str = field(default="front", metadata=param(
-        "The face highlighted at first: 'front', 'side' (one of the four) or 'none'.",
-        choices=HIGHLIGHTS))
-    tiling: bool = field(default=True, metadata=param(
-        "Show all 30 faces of the six neighbours on the sphere, not only these five."))
-    view: str = field(default="both", metadata=param(
-        "'cells', 'sphere' or 'both' side by side.", choices=VIEWS))
+    direction: str = setting("+x", kind="choice", choices=DIRECTIONS,
+        doc="Which neighbour: the axis and sign of its offset from the source cell.")
+    highlight: str = setting("front", kind="choice", choices=HIGHLIGHTS,
+        doc="The face highlighted at first: 'front', 'side' (one of the four) or 'none'.")
+    tiling: bool = setting(True, kind="bool",
+        doc="Show all 30 faces of the six neighbours on the sphere, not only these five.")
+    view: str = setting("both", kind="choice", choices=VIEWS,
+        doc="'cells', 'sphere' or 'both' side by side.")
+
+    def __post_init__(self) -> None:
+        validate(self)
 
 
 @dataclass

@@ -12,7 +12,7 @@ the negative tail, and all three functions toward a probe direction you drag.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -20,7 +20,7 @@ from imgui_bundle import imgui, implot, implot3d
 
 from explorer.lpv.reference import sh_basis
 from explorer.ui.figures import style
-from explorer.ui.figures.schema import param
+from explorer.lpv.schema import setting, validate
 
 ORDERS = ("l1", "l2", "both")
 VIEWS = ("both", "polar", "3d")
@@ -33,15 +33,17 @@ _SLICE_RADIUS = 1.25
 
 @dataclass(frozen=True)
 class Params:
-    normal_deg: float = field(default=30.0, metadata=param(
-        "Direction of the normal in the slice, degrees from +y (up) toward +x.", -180, 180))
-    probe_deg: float = field(default=180.0, metadata=param(
-        "Direction of the probe whose three values the table reads, degrees from +y.",
-        -180, 180))
-    orders: str = field(default="both", metadata=param(
-        "Which projections to draw: 'l1', 'l2' or 'both'.", choices=ORDERS))
-    view: str = field(default="both", metadata=param(
-        "'polar' (the slice), '3d' or 'both' side by side.", choices=VIEWS))
+    normal_deg: float = setting(30.0, kind="float", low=-180, high=180,
+        doc="Direction of the normal in the slice, degrees from +y (up) toward +x.")
+    probe_deg: float = setting(180.0, kind="float", low=-180, high=180,
+        doc="Direction of the probe whose three values the table reads, degrees from +y.")
+    orders: str = setting("both", kind="choice", choices=ORDERS,
+        doc="Which projections to draw: 'l1', 'l2' or 'both'.")
+    view: str = setting("both", kind="choice", choices=VIEWS,
+        doc="'polar' (the slice), '3d' or 'both' side by side.")
+
+    def __post_init__(self) -> None:
+        validate(self)
 
 
 @dataclass

@@ -91,8 +91,8 @@ class FigureSpec:
 def figure_kind(name: str, where: str = "") -> FigureKind:
     """The kind called ``name``, or FigureParamError listing the kinds."""
     if not isinstance(name, str) or name not in FIGURES:
-        raise FigureParamError(where + "kind",
-                               f"unknown figure kind {name!r}; choose one of {list(FIGURES)}")
+        raise FigureParamError(where + "kind", f"{where}kind: unknown figure kind {name!r}; "
+                                               f"choose one of {list(FIGURES)}")
     return FIGURES[name]
 
 
@@ -101,14 +101,17 @@ def parse_figure(table: Mapping[str, Any], where: str = "") -> FigureSpec:
     ``id`` and ``caption`` strings, and the kind's parameters. ``where`` prefixes field
     names in errors (e.g. ``"figures[1]."``)."""
     if not isinstance(table, Mapping):
-        raise FigureParamError(where.rstrip(".") or "figure",
-                               f"must be a table with a kind, got {type(table).__name__}")
+        place = where.rstrip(".") or "figure"
+        raise FigureParamError(place, f"{place} must be a table with a kind, got "
+                                      f"{type(table).__name__}")
     if "kind" not in table:
-        raise FigureParamError(where + "kind", f"missing; choose one of {list(FIGURES)}")
+        raise FigureParamError(where + "kind", f"{where}kind is missing; choose one of "
+                                               f"{list(FIGURES)}")
     kind = figure_kind(table["kind"], where)
     for key in ("id", "caption"):
         if key in table and not isinstance(table[key], str):
-            raise FigureParamError(where + key, f"must be a string, got {table[key]!r}")
+            raise FigureParamError(where + key, f"{where}{key} must be a string, got "
+                                                f"{table[key]!r}")
     params = parse_params(kind.params_class,
                           {k: v for k, v in table.items() if k not in RESERVED_KEYS}, where)
     return FigureSpec(kind.name, params, table.get("caption", ""), table.get("id", ""))

@@ -3,7 +3,7 @@ state, which FrameResults they plot, and the legend labels of those results."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
@@ -11,21 +11,23 @@ from imgui_bundle import imgui
 
 from explorer.ui import legend
 from explorer.ui.figures import plotting, style
-from explorer.ui.figures.schema import param
+from explorer.lpv.schema import setting, validate
 
 SIDES = ("a", "both")
 
 
 @dataclass(frozen=True)
 class Params:
-    sides: str = field(default="both", metadata=param(
-        "'a': configuration A only; 'both': A and, while a comparison is on, B.",
-        choices=SIDES))
-    scale: str = field(default="auto", metadata=param(
-        "Value axis: 'auto' (log when the values span over two decades, else linear from "
-        "0), 'linear' or 'log'.", choices=plotting.SCALES))
-    relative: bool = field(default=False, metadata=param(
-        "Show each value as a share of its side's injected flux instead of in watts."))
+    sides: str = setting("both", kind="choice", choices=SIDES,
+        doc="'a': configuration A only; 'both': A and, while a comparison is on, B.")
+    scale: str = setting("auto", kind="choice", choices=plotting.SCALES,
+        doc="Value axis: 'auto' (log when the values span over two decades, else linear from "
+        "0), 'linear' or 'log'.")
+    relative: bool = setting(False, kind="bool",
+        doc="Show each value as a share of its side's injected flux instead of in watts.")
+
+    def __post_init__(self) -> None:
+        validate(self)
 
 
 @dataclass

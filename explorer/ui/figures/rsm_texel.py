@@ -14,13 +14,13 @@ repeats that for every θ.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from imgui_bundle import imgui, implot
 
 from explorer.ui.figures import plotting, style
-from explorer.ui.figures.schema import param
+from explorer.lpv.schema import setting, validate
 
 MAX_TILT = 85.0
 TEXEL = 0.5                  # texel edge in the side view (world units)
@@ -35,10 +35,13 @@ _CURVES = (("footprint", "footprint A/A0 = 1/cos θ", _FOOTPRINT),
 
 @dataclass(frozen=True)
 class Params:
-    theta_deg: float = field(default=30.0, metadata=param(
-        "Tilt of the surface away from facing the light, degrees.", 0, MAX_TILT))
-    plot: bool = field(default=True, metadata=param(
-        "Show the plot of footprint, irradiance and flux against the tilt."))
+    theta_deg: float = setting(30.0, kind="float", low=0, high=MAX_TILT,
+        doc="Tilt of the surface away from facing the light, degrees.")
+    plot: bool = setting(True, kind="bool",
+        doc="Show the plot of footprint, irradiance and flux against the tilt.")
+
+    def __post_init__(self) -> None:
+        validate(self)
 
 
 @dataclass
