@@ -1,18 +1,19 @@
 """The 3D view: the pipeline's final image, a split view of two configurations with a
-draggable divider, or their difference in false colour with a scale bar. Mouse: drag to
-orbit, wheel to zoom (the camera is shared by both sides)."""
+draggable divider, or their difference in false colour with a scale bar. The camera (shared
+by both sides) moves with the mouse and keys of explorer.ui.camera_controls; the overlays of
+the "Show in scene" panel are drawn into the single and split views
+(explorer.ui.overlays.in_view)."""
 
 from __future__ import annotations
 
 import numpy as np
 from imgui_bundle import imgui
 
-from explorer.ui import camera, images, widgets
+from explorer.ui import camera_controls, images, widgets
+from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
 from explorer.ui.textures import diverging, heat, tonemap
 
-ORBIT_DEGREES_PER_PIXEL = 0.35
-ZOOM_PER_WHEEL_STEP = 0.9
 _SCALE_BAR_WIDTH = 18.0
 # Pipeline.final_texture holds the bottom row first (GL convention), so the view samples
 # it upside down; textures the UI uploads from FrameResult arrays are top row first.
@@ -44,8 +45,10 @@ def gui_view(state: AppState) -> None:
     end = imgui.ImVec2(origin.x + size.x, origin.y + size.y)
     rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
     divider_grabbed = False
+    split_x = None
     if state.view_mode == "split" and rt.compare_texture_id:
         divider_grabbed = _split(state, draw, origin, end, hovered)
+        split_x = origin.x + (end.x - origin.x) * state.split_position
     elif state.view_mode == "difference" and rt.compare_result is not None:
         _difference(state, draw, origin, end)
     else:
@@ -55,19 +58,26 @@ def gui_view(state: AppState) -> None:
             _overlay(draw, origin, "configuration B is rendering…")
     if state.comparing and state.view_mode == "split":
         _label(draw, origin, end, state)
+    if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
+        in_view.over_image(state, draw, origin, end, hovered, split_x)
     if not divider_grabbed:
-        _mouse_camera(state, hovered, active)
+        camera_controls.handle_mouse(state, hovered, active, end.y - origin.y)
     if hovered and not active:
-        hint = "drag: orbit   wheel: zoom" + ("   divider: drag" if state.view_mode == "split"
+        hint = camera_controls.hint(state) + ("   divider: drag" if state.view_mode == "split"
                                               else "")
         draw.add_text((origin.x + 8, end.y - imgui.get_text_line_height() - 6),
                       imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.55)), hint)
 
 
 def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
-    """(GL texture name, stored bottom row first) of one side's chosen buffer, or None.
-    "final" is the pipeline's own texture; the other buffers are FrameResult arrays
-    tonemapped and uploaded to a texture the UI owns."""
+    """(GL texture name, stored bottom row first) of one side's chosen buffer with the
+    enabled overlays drawn in it, or None. "final" is the pipeline's own texture; the other
+    buffers are FrameResult arrays tonemapped and uploaded to a texture the UI owns."""
+    chosen = _buffer_texture(state, side)
+    return None if chosen is None else in_view.shown_texture(state, side, *chosen)
+
+
+def _buffer_texture(state: AppState, side: str) -> tuple[int, bool] | None:
     rt = state.runtime
     if state.view_buffer == "final":
         tex = rt.final_texture_id if side == "A" else rt.compare_texture_id
@@ -103,6 +113,8 @@ def _toolbar(state: AppState) -> None:
     if imgui.is_item_hovered():
         imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
     imgui.same_line()
+    camera_controls.toolbar(state)
+    _same_line_if_fits("Exposure" + " " * 30)
     imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
                                         "%.2f", imgui.SliderFlags_.logarithmic)
@@ -253,21 +265,3 @@ def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> Non
 
 def _u32(rgb) -> int:
     return imgui.get_color_u32(imgui.ImVec4(float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0))
-
-
-def _mouse_camera(state: AppState, hovered: bool, active: bool) -> None:
-    current = state.settings.camera or state.runtime.camera_default
-    if current is None:
-        return
-    eye, target = camera.as_pair(current)
-    io = imgui.get_io()
-    new = None
-    if active and imgui.is_mouse_dragging(0):
-        delta = imgui.get_mouse_drag_delta(0)
-        imgui.reset_mouse_drag_delta(0)
-        new = camera.orbit(eye, target, -delta.x * ORBIT_DEGREES_PER_PIXEL,
-                           delta.y * ORBIT_DEGREES_PER_PIXEL)
-    elif hovered and io.mouse_wheel != 0.0:
-        new = camera.dolly(eye, target, ZOOM_PER_WHEEL_STEP ** io.mouse_wheel)
-    if new is not None:
-        state.update(camera=new)

@@ -1,0 +1,339 @@
+"""The main view's picture with the overlays drawn in the scene.
+
+:meth:`Compositor.compose` is the one entry point the View panel calls, once per side
+(A, and B in split view): it copies the image the view would show into an offscreen
+framebuffer together with the depth of the frame's surfaces (the G-buffer's world positions
+projected with the frame's camera, ``shaders/overlay_background.glsl``), then draws the
+enabled overlays depth-tested against it and returns the texture to show.
+
+Nothing here runs an LPV pass: every overlay reads FrameResult arrays, uploaded to the GPU
+only when the array (or the overlay setting that derives from it) changes, and the whole
+picture is redrawn only when the result, the base image or an overlay setting changed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import astuple
+
+import moderngl
+import numpy as np
+
+from explorer.gl.fullscreen import FullscreenTriangle
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.grid import GridSpec
+from explorer.scene.transforms import gl_matrix
+from explorer.ui.camera import view_axes
+from explorer.ui.overlays import quantities as Q
+from explorer.ui.overlays.glyphs import GlyphRenderer
+from explorer.ui.overlays.lines import LineRenderer
+from explorer.ui.overlays.picking import view_projection
+from explorer.ui.overlays.slice import SliceRenderer
+from explorer.ui.overlays.splats import SplatRenderer
+from explorer.ui.state import OverlayState
+
+BACKGROUND = "overlay_background.glsl"
+LATTICE_COLOUR = (1.0, 1.0, 1.0, 0.35)
+CASCADE_COLOURS = ((0.35, 0.9, 1.0, 0.95), (1.0, 0.72, 0.3, 0.95), (0.6, 1.0, 0.4, 0.95),
+                   (1.0, 0.45, 0.8, 0.95))
+PICK_COLOUR = (1.0, 0.95, 0.25, 1.0)
+LIFT_CELLS = 0.05
+"""Discs lying on a surface are lifted by this many cells along their normal."""
+MAX_SPLAT_CELLS = 1.0
+"""No VPL disc is wider than this many cells (one VPL of a coarse RSM can be large)."""
+
+
+_VALUES = (int, float, str, bool, bytes, tuple, type(None), GridSpec)
+"""Version parts compared by value; anything else (arrays, results) by identity."""
+
+
+def vpl_radius_scale(size: float, drawn: int, total: int) -> float:
+    """Disc radius over surfel radius when ``drawn`` of ``total`` VPLs are shown: each disc
+    stands for total/drawn surfels, so the radius grows by √(total/drawn) and the discs
+    cover ``size²`` of the lit surfaces at any density."""
+    return size * (total / drawn) ** 0.5 if drawn > 0 else size
+
+
+class _Side:
+    """Framebuffer, renderers and upload versions of one side of the view."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.slice = SliceRenderer(ctx, programs)
+        self.glyphs = GlyphRenderer(ctx, programs)
+        self.splats = SplatRenderer(ctx, programs)
+        self.lines = LineRenderer(ctx, programs)
+        self.colour: moderngl.Texture | None = None
+        self.depth: moderngl.Texture | None = None
+        self.framebuffer: moderngl.Framebuffer | None = None
+        self.position: moderngl.Texture | None = None
+        self.key: object = None
+        self.result = None                   # the result of the last picture
+        self.field: Q.SliceField | None = None   # the slice of the last picture, if shown
+        self.field_cache: Q.SliceField | None = None
+        self._versions: dict[str, tuple] = {}
+        self._kept: dict[str, tuple] = {}
+
+    def stale(self, name: str, *parts) -> bool:
+        """Whether the upload ``name`` is out of date for ``parts`` (objects are compared
+        by identity and kept alive, so an id is never reused while it names a version).
+        Records ``parts`` as the new version."""
+        key = tuple(p if isinstance(p, _VALUES) else id(p) for p in parts)
+        if self._versions.get(name) == key:
+            return False
+        self._versions[name], self._kept[name] = key, parts
+        return True
+
+    def forget(self, name: str) -> None:
+        self._versions.pop(name, None)
+        self._kept.pop(name, None)
+
+    def allocate(self, size: tuple[int, int]) -> None:
+        if self.colour is not None and self.colour.size == size:
+            return
+        self.release_targets()
+        self.colour = self.ctx.texture(size, 4, dtype="f1")
+        self.colour.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.depth = self.ctx.depth_texture(size)
+        self.framebuffer = self.ctx.framebuffer([self.colour], self.depth)
+
+    def release_targets(self) -> None:
+        for item in (self.framebuffer, self.colour, self.depth):
+            if item is not None:
+                item.release()
+        self.framebuffer = self.colour = self.depth = None
+        self.key = None
+
+    def release(self) -> None:
+        self.release_targets()
+        if self.position is not None:
+            self.position.release()
+            self.position = None
+        for renderer in (self.slice, self.glyphs, self.splats, self.lines):
+            renderer.release()
+        self._versions.clear()
+        self._kept.clear()
+
+
+class Compositor:
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache | None = None) -> None:
+        self.ctx = ctx
+        self._owns_programs = programs is None
+        self.programs = programs or ProgramCache(ctx)
+        self._triangle = FullscreenTriangle(ctx)
+        self._sides: dict[str, _Side] = {}
+        self._external: dict[int, moderngl.Texture] = {}
+        self.notes: dict[str, list[str]] = {}
+        """Per side, why an enabled overlay is not drawn (e.g. the steps are not kept)."""
+        self.compositions = 0
+        """How many pictures were drawn (an unchanged request reuses the last one)."""
+
+    # ------------------------------------------------------------------ entry point
+    def compose(self, side: str, result, base_texture: int, base_top_first: bool,
+                overlays: OverlayState) -> int:
+        """The GL name of a texture (row 0 at the bottom, as GL draws) holding the view's
+        image of ``result`` (``base_texture``, stored top row first if ``base_top_first``)
+        with the overlays drawn in the scene."""
+        height, width = result.final_image.shape[:2]
+        layers = self._sides.get(side)
+        if layers is None:
+            layers = self._sides[side] = _Side(self.ctx, self.programs)
+        key = (id(result), int(base_texture), bool(base_top_first), astuple(overlays),
+               (width, height))
+        if layers.key == key and layers.colour is not None:
+            return layers.colour.glo
+        layers.allocate((width, height))
+        layers.key, layers.result = key, result
+        vp = view_projection(result)
+        notes: list[str] = []
+        try:
+            self._background(layers, result, base_texture, base_top_first, vp)
+            self._draw_overlays(layers, result, overlays, vp, notes)
+        finally:
+            self.ctx.depth_func = "<"
+        self.notes[side] = notes
+        self.compositions += 1
+        return layers.colour.glo
+
+    def slice_field(self, side: str) -> Q.SliceField | None:
+        """The slice's field of the last picture of ``side`` (for its colour bar)."""
+        layers = self._sides.get(side)
+        return None if layers is None else layers.field
+
+    def read(self, side: str) -> np.ndarray:
+        """The last picture of ``side`` as (H, W, 3) uint8, top row first."""
+        colour = self._sides[side].colour
+        width, height = colour.size
+        data = np.frombuffer(colour.read(), np.uint8).reshape(height, width, 4)
+        return np.ascontiguousarray(data[::-1, :, :3])
+
+    def release(self) -> None:
+        for layers in self._sides.values():
+            layers.release()
+        self._sides.clear()
+        self._external.clear()     # the view's textures belong to their owners
+        self._triangle.release()
+        if self._owns_programs:
+            self.programs.release()
+
+    # ------------------------------------------------------------------ passes
+    def _base(self, glo: int, size: tuple[int, int]) -> moderngl.Texture:
+        texture = self._external.get(glo)
+        if texture is None:
+            texture = self._external[glo] = self.ctx.external_texture(glo, size, 4, 0, "f1")
+        return texture
+
+    def _background(self, layers: _Side, result, base_texture: int, top_first: bool,
+                    vp: np.ndarray) -> None:
+        position = result.gbuffer_position
+        if layers.stale("position", position):
+            height, width = position.shape[:2]
+            rows = np.ascontiguousarray(np.asarray(position, np.float32)[::-1])
+            if layers.position is None or layers.position.size != (width, height):
+                if layers.position is not None:
+                    layers.position.release()
+                layers.position = self.ctx.texture((width, height), 4, dtype="f4")
+                layers.position.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            layers.position.write(rows.tobytes())
+        program = self.programs.get(BACKGROUND)
+        self._base(base_texture, layers.colour.size).use(0)
+        layers.position.use(1)
+        set_uniforms(program, {"u_base": 0, "u_position": 1, "u_base_top_first": int(top_first),
+                               "u_view_projection": gl_matrix(vp)})
+        target = layers.framebuffer
+        with self.ctx.scope(target, enable_only=moderngl.DEPTH_TEST):
+            target.viewport = (0, 0, *layers.colour.size)
+            target.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
+            self.ctx.depth_func = "1"      # write every pixel's colour and depth
+            self._triangle.draw(program)
+            self.ctx.depth_func = "<"
+
+    def _draw_overlays(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
+                       notes: list[str]) -> None:
+        target = layers.framebuffer
+        specs = result.cascade_specs or [result.grid_spec]
+        cascade = int(np.clip(overlays.cascade, 0, len(specs) - 1))
+        spec = specs[cascade]
+        layer = Q.slice_layer(overlays, spec.resolution)
+        lift = LIFT_CELLS * specs[0].cell_size
+        if overlays.blockers:
+            self._blockers(layers, result, cascade, vp, lift, notes)
+        if overlays.vpls:
+            if layers.stale("vpls", result.vpls, specs[0].cell_size):
+                layers.splats.upload("vpls", Q.vpl_splats(
+                    result.vpls, MAX_SPLAT_CELLS * specs[0].cell_size))
+            total = layers.splats.count("vpls")
+            count = int(round(overlays.vpl_density * total))
+            layers.splats.draw(target, vp, "vpls", count, lift,
+                               vpl_radius_scale(overlays.vpl_size, count, total))
+        if overlays.glyphs:
+            self._glyphs(layers, result, overlays, vp, notes)
+        self._wireframes(layers, specs, overlays, spec, layer, vp)
+        layers.field = None
+        if overlays.slice:
+            self._slice(layers, result, overlays, vp, notes)
+        self._picked(layers, result, overlays, vp, lift)
+
+    def _blockers(self, layers: _Side, result, cascade: int, vp: np.ndarray, lift: float,
+                  notes: list[str]) -> None:
+        volumes = result.cascade_geometry or [result.geometry_volume]
+        volume = volumes[min(cascade, len(volumes) - 1)]
+        if volume is None:
+            notes.append("blockers: the geometry volume is off (Scene → Geometry volume)")
+            return
+        spec = (result.cascade_specs or [result.grid_spec])[cascade]
+        _, _, forward = view_axes(result.camera.eye, result.camera.target)
+        if layers.stale("blockers", volume, cascade, tuple(map(float, forward))):
+            layers.splats.upload("blockers", Q.blocker_splats(
+                volume, spec, result.settings.geometry_volume, forward))
+        layers.splats.draw(layers.framebuffer, vp, "blockers", lift=lift)
+
+    def _glyphs(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
+                notes: list[str]) -> None:
+        o = overlays
+        picked = (o.picked_cascade, o.picked_i, o.picked_j, o.picked_k, o.picked_kind)
+        try:
+            if layers.stale("glyphs", result, o.glyph_cells, o.slice_quantity, o.slice_step,
+                            o.cascade, o.slice_axis, o.slice_index, o.glyph_scale,
+                            o.glyph_stride, o.glyph_sizing, picked):
+                layers.glyphs.upload(Q.glyphs(result, o))
+        except ValueError as exc:
+            layers.forget("glyphs")
+            notes.append(f"glyphs: {exc}")
+            return
+        _, _, forward = view_axes(result.camera.eye, result.camera.target)
+        layers.glyphs.draw(layers.framebuffer, vp, -forward)
+
+    def _slice(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
+               notes: list[str]) -> None:
+        o = overlays
+        try:
+            if layers.stale("field", result, o.slice_quantity, o.slice_step, o.cascade,
+                            o.direction_azimuth, o.direction_elevation, o.colour_map,
+                            o.slice_scale):
+                layers.field_cache = Q.slice_field(result, o)
+        except ValueError as exc:
+            layers.forget("field")
+            notes.append(f"slice: {exc}")
+            return
+        field = layers.field = layers.field_cache
+        layer = Q.slice_layer(o, field.spec.resolution)
+        if layers.stale("slice", field, o.slice_axis, layer):
+            layers.slice.upload(Q.slice_values(field.values, o.slice_axis, layer))
+        corner, edge_u, edge_v = Q.plane_corners(field.spec, o.slice_axis, layer)
+        layers.slice.draw(layers.framebuffer, vp, corner, edge_u, edge_v, field.low,
+                          field.high, field.colour_map, o.slice_opacity, o.slice_on_top)
+
+    def _wireframes(self, layers: _Side, specs: list, overlays: OverlayState, spec, layer: int,
+                    vp: np.ndarray) -> None:
+        segments, colours = [], []
+        if overlays.lattice:
+            lattice = Q.lattice_segments(spec, overlays.slice_axis, layer)
+            segments += [lattice, Q.grid_box(spec)]
+            colours += [np.tile(LATTICE_COLOUR, (len(lattice), 1)),
+                        np.tile(CASCADE_COLOURS[0][:3] + (0.8,), (12, 1))]
+        if overlays.cascade_boxes:
+            for k, cascade_spec in enumerate(specs):
+                segments.append(Q.grid_box(cascade_spec))
+                colours.append(np.tile(CASCADE_COLOURS[k % len(CASCADE_COLOURS)], (12, 1)))
+        if not segments:
+            return
+        if layers.stale("wire", overlays.lattice, overlays.cascade_boxes, tuple(specs),
+                        overlays.slice_axis, layer, spec):
+            layers.lines.upload("wire", np.concatenate(segments), np.concatenate(colours))
+        layers.lines.draw(layers.framebuffer, vp, "wire")
+
+    def _picked(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
+                lift: float) -> None:
+        """The picked cell's box and, for a picked pixel, its surface point (a ring and
+        its normal), drawn over everything so they stay visible."""
+        o = overlays
+        if o.picked_kind == "none":
+            return
+        specs = result.cascade_specs or [result.grid_spec]
+        segments = []
+        if 0 <= o.picked_cascade < len(specs) and o.picked_i >= 0:
+            cascade_spec = specs[o.picked_cascade]
+            cell = (o.picked_i, o.picked_j, o.picked_k)
+            if cascade_spec.inside(np.array(cell)):
+                segments.append(Q.cell_box(cascade_spec, cell))
+        marker = None
+        height, width = result.final_image.shape[:2]
+        if o.picked_kind == "pixel" and 0 <= o.picked_x < width and 0 <= o.picked_y < height:
+            position = result.gbuffer_position[o.picked_y, o.picked_x]
+            normal = result.gbuffer_normal[o.picked_y, o.picked_x, :3]
+            if position[3] > 0.5:
+                size = specs[0].cell_size
+                segments.append(np.array([[position[:3], position[:3] + normal * size]]))
+                marker = Q.Splats(position[None, :3].astype(np.float32),
+                                  normal[None].astype(np.float32),
+                                  np.array([PICK_COLOUR[:3]], np.float32),
+                                  np.array([0.25 * size], np.float32))
+        if segments:
+            segments = np.concatenate(segments)
+            if layers.stale("picked-lines", segments.tobytes()):
+                layers.lines.upload("picked", segments, np.tile(PICK_COLOUR, (len(segments), 1)))
+            layers.lines.draw(layers.framebuffer, vp, "picked", on_top=True)
+        if marker is not None:
+            if layers.stale("picked-marker", marker.packed().tobytes()):
+                layers.splats.upload("picked", marker)
+            layers.splats.draw(layers.framebuffer, vp, "picked", lift=lift)
