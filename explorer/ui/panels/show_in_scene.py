@@ -31,6 +31,9 @@ def gui_show_in_scene(state: AppState) -> None:
     if result is None:
         imgui.text_disabled("no frame yet")
         return
+    if getattr(result, "gbuffer_position", None) is None:
+        imgui.text_disabled("this frame holds no G-buffer to draw in")
+        return
     specs = result.cascade_specs or [result.grid_spec]
     _, o.slice = imgui.checkbox("Slice plane", o.slice)
     widgets.help_marker("a plane through one layer of cells, coloured by the quantity "
