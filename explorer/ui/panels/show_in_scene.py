@@ -35,31 +35,37 @@ def gui_show_in_scene(state: AppState) -> None:
         imgui.text_disabled("this frame holds no G-buffer to draw in")
         return
     specs = result.cascade_specs or [result.grid_spec]
-    _, o.slice = imgui.checkbox("Slice plane", o.slice)
-    widgets.help_marker("a plane through one layer of cells, coloured by the quantity "
-                        "below; hover it to read a cell, click to pick it; ctrl + wheel or "
-                        "[ ] over the view moves it")
+    _toggle(o, "slice", "Slice plane",
+            "a plane through one layer of cells, coloured by the quantity below; hover it "
+            "to read a cell, click to pick it; ctrl + wheel or [ ] over the view moves it")
     if o.slice or o.glyphs:
         _slice_controls(state, result, specs)
     imgui.separator()
-    _, o.glyphs = imgui.checkbox("SH glyphs", o.glyphs)
-    widgets.help_marker("each cell's intensity lobe |f(ω)| as a 3D polar surface: orange "
-                        "where f > 0, blue where f < 0 (SH ringing)")
-    if o.glyphs:
+    if _toggle(o, "glyphs", "SH glyphs",
+               "each cell's intensity lobe |f(ω)| as a 3D polar surface: orange where "
+               "f > 0, blue where f < 0 (SH ringing)"):
         _glyph_controls(state, result)
     imgui.separator()
-    _, o.vpls = imgui.checkbox("VPLs", o.vpls)
-    widgets.help_marker("each VPL a disc along its surfel's normal, coloured by its flux; "
-                        "a thinner subset draws larger discs so the lit area stays covered")
-    if o.vpls:
+    if _toggle(o, "vpls", "VPLs",
+               "each VPL a disc along its surfel's normal, coloured by its flux; a thinner "
+               "subset draws larger discs so the lit area stays covered"):
         _vpl_controls(state, result)
     imgui.separator()
-    _, o.lattice = imgui.checkbox("Cell lattice (on the slice plane) and grid box", o.lattice)
-    _, o.cascade_boxes = imgui.checkbox("Cascade extents", o.cascade_boxes)
-    _, o.blockers = imgui.checkbox("Blockers (geometry volume)", o.blockers)
-    widgets.help_marker("the geometry volume's occluders on the grid corners: a disc of the "
-                        "surfels' area facing their mean normal")
+    _toggle(o, "lattice", "Cell lattice (on the slice plane) and grid box")
+    _toggle(o, "cascade_boxes", "Cascade extents")
+    _toggle(o, "blockers", "Blockers (geometry volume)",
+            "the geometry volume's occluders on the grid corners: a disc of the surfels' "
+            "area facing their mean normal")
     _notes(state)
+
+
+def _toggle(overlays, name: str, label: str, help_text: str | None = None) -> bool:
+    """A checkbox for the overlay switch ``name``; returns whether it is on."""
+    _, value = imgui.checkbox(label, getattr(overlays, name))
+    setattr(overlays, name, value)
+    if help_text:
+        widgets.help_marker(help_text)
+    return value
 
 
 def _slice_controls(state: AppState, result, specs) -> None:
