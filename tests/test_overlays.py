@@ -371,6 +371,22 @@ def test_an_unchanged_request_draws_nothing_and_a_moved_slice_redraws(frame, com
     assert compositor.slice_field("A").spec == result.grid_spec
 
 
+def test_moving_the_slice_reuses_the_layer_of_vpls(frame, compositor):
+    pipeline, result = frame
+    overlays = OverlayState(slice=True, vpls=True, vpl_density=1.0)
+    compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    first, static = compositor.read("A"), compositor.static_draws
+    for layer in (2, 9, -1):
+        overlays.slice_index = layer
+        compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    assert compositor.static_draws == static
+    assert np.array_equal(compositor.read("A"), first)     # back in the middle
+    overlays.vpl_density = 0.5
+    compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    assert compositor.static_draws == static + 1
+    assert not np.array_equal(compositor.read("A"), first)
+
+
 def test_a_missing_input_is_a_note_not_an_error(frame, compositor):
     pipeline, result = frame
     no_steps = pipeline.run(CORNELL, keep_steps=False)

@@ -53,8 +53,30 @@ def vpl_radius_scale(size: float, drawn: int, total: int) -> float:
     return size * (total / drawn) ** 0.5 if drawn > 0 else size
 
 
+class _Target:
+    """An RGBA8 colour and a depth texture in one framebuffer."""
+
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int]) -> None:
+        self.size = size
+        self.colour = ctx.texture(size, 4, dtype="f1")
+        self.colour.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.depth = ctx.depth_texture(size)
+        self.depth.compare_func = ""          # read as plain values (overlay_background)
+        self.depth.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.framebuffer = ctx.framebuffer([self.colour], self.depth)
+
+    def release(self) -> None:
+        for item in (self.framebuffer, self.colour, self.depth):
+            item.release()
+
+
 class _Side:
-    """Framebuffer, renderers and upload versions of one side of the view."""
+    """Framebuffers, renderers and upload versions of one side of the view.
+
+    Two layers, so that moving the slice does not redraw what does not depend on it: the
+    static layer holds the frame with its depth, the blockers and the VPLs (tens of
+    thousands of discs); the output layer copies it and adds the glyphs, wireframes, the
+    slice and the picked point."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -62,11 +84,12 @@ class _Side:
         self.glyphs = GlyphRenderer(ctx, programs)
         self.splats = SplatRenderer(ctx, programs)
         self.lines = LineRenderer(ctx, programs)
-        self.colour: moderngl.Texture | None = None
-        self.depth: moderngl.Texture | None = None
-        self.framebuffer: moderngl.Framebuffer | None = None
+        self.static: _Target | None = None     # the frame + overlays tied to the frame
+        self.output: _Target | None = None     # the static layer + the slice's overlays
         self.position: moderngl.Texture | None = None
         self.key: object = None
+        self.static_key: object = None
+        self.static_notes: list[str] = []
         self.result = None                   # the result of the last picture
         self.field: Q.SliceField | None = None   # the slice of the last picture, if shown
         self.field_cache: Q.SliceField | None = None
@@ -88,20 +111,17 @@ class _Side:
         self._kept.pop(name, None)
 
     def allocate(self, size: tuple[int, int]) -> None:
-        if self.colour is not None and self.colour.size == size:
+        if self.output is not None and self.output.size == size:
             return
         self.release_targets()
-        self.colour = self.ctx.texture(size, 4, dtype="f1")
-        self.colour.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        self.depth = self.ctx.depth_texture(size)
-        self.framebuffer = self.ctx.framebuffer([self.colour], self.depth)
+        self.static, self.output = _Target(self.ctx, size), _Target(self.ctx, size)
 
     def release_targets(self) -> None:
-        for item in (self.framebuffer, self.colour, self.depth):
-            if item is not None:
-                item.release()
-        self.framebuffer = self.colour = self.depth = None
-        self.key = None
+        for target in (self.static, self.output):
+            if target is not None:
+                target.release()
+        self.static = self.output = None
+        self.key = self.static_key = None
 
     def release(self) -> None:
         self.release_targets()
@@ -126,6 +146,8 @@ class Compositor:
         """Per side, why an enabled overlay is not drawn (e.g. the steps are not kept)."""
         self.compositions = 0
         """How many pictures were drawn (an unchanged request reuses the last one)."""
+        self.static_draws = 0
+        """How many times a static layer (frame, blockers, VPLs) was drawn."""
 
     # ------------------------------------------------------------------ entry point
     def compose(self, side: str, result, base_texture: int, base_top_first: bool,
@@ -139,20 +161,29 @@ class Compositor:
             layers = self._sides[side] = _Side(self.ctx, self.programs)
         key = (id(result), int(base_texture), bool(base_top_first), astuple(overlays),
                (width, height))
-        if layers.key == key and layers.colour is not None:
-            return layers.colour.glo
+        if layers.key == key and layers.output is not None:
+            return layers.output.colour.glo
         layers.allocate((width, height))
         layers.key, layers.result = key, result
+        o = overlays
+        static_key = (id(result), int(base_texture), bool(base_top_first), (width, height),
+                      o.vpls, o.vpl_density, o.vpl_size, o.blockers, o.cascade)
         vp = view_projection(result)
         notes: list[str] = []
         try:
-            self._background(layers, result, base_texture, base_top_first, vp)
+            if layers.static_key != static_key:
+                self._background(layers, result, base_texture, base_top_first, vp)
+                self._static_overlays(layers, result, overlays, vp, layers.static_notes)
+                layers.static_key = static_key
+                self.static_draws += 1
+            notes += layers.static_notes
+            self._copy(layers.static, layers.output)
             self._draw_overlays(layers, result, overlays, vp, notes)
         finally:
             self.ctx.depth_func = "<"
         self.notes[side] = notes
         self.compositions += 1
-        return layers.colour.glo
+        return layers.output.colour.glo
 
     def slice_field(self, side: str) -> Q.SliceField | None:
         """The slice's field of the last picture of ``side`` (for its colour bar)."""
@@ -161,7 +192,7 @@ class Compositor:
 
     def read(self, side: str) -> np.ndarray:
         """The last picture of ``side`` as (H, W, 3) uint8, top row first."""
-        colour = self._sides[side].colour
+        colour = self._sides[side].output.colour
         width, height = colour.size
         data = np.frombuffer(colour.read(), np.uint8).reshape(height, width, 4)
         return np.ascontiguousarray(data[::-1, :, :3])
@@ -194,26 +225,41 @@ class Compositor:
                 layers.position = self.ctx.texture((width, height), 4, dtype="f4")
                 layers.position.filter = (moderngl.NEAREST, moderngl.NEAREST)
             layers.position.write(rows.tobytes())
+        layers.static_notes = []
+        self._fill(layers.static, self._base(base_texture, layers.static.size), top_first,
+                   depth_from=layers.position, view_projection=vp)
+
+    def _copy(self, source: _Target, target: _Target) -> None:
+        """``target`` := ``source``, colour and depth."""
+        self._fill(target, source.colour, False, depth_from=source.depth)
+
+    def _fill(self, target: _Target, colour: moderngl.Texture, top_first: bool,
+              depth_from: moderngl.Texture, view_projection: np.ndarray | None = None
+              ) -> None:
+        """Write every pixel of ``target``: the colour of ``colour`` and the depth of
+        ``depth_from``, a G-buffer position texture projected with ``view_projection``,
+        or (without one) a depth texture."""
         program = self.programs.get(BACKGROUND)
-        self._base(base_texture, layers.colour.size).use(0)
-        layers.position.use(1)
-        set_uniforms(program, {"u_base": 0, "u_position": 1, "u_base_top_first": int(top_first),
-                               "u_view_projection": gl_matrix(vp)})
-        target = layers.framebuffer
-        with self.ctx.scope(target, enable_only=moderngl.DEPTH_TEST):
-            target.viewport = (0, 0, *layers.colour.size)
-            target.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
+        colour.use(0)
+        depth_from.use(1)
+        projected = view_projection is not None
+        set_uniforms(program, {
+            "u_base": 0, "u_position": 1, "u_depth": 1, "u_base_top_first": int(top_first),
+            "u_depth_is_position": int(projected),
+            "u_view_projection": gl_matrix(view_projection if projected else np.eye(4))})
+        framebuffer = target.framebuffer
+        with self.ctx.scope(framebuffer, enable_only=moderngl.DEPTH_TEST):
+            framebuffer.viewport = (0, 0, *target.size)
             self.ctx.depth_func = "1"      # write every pixel's colour and depth
             self._triangle.draw(program)
             self.ctx.depth_func = "<"
 
-    def _draw_overlays(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
-                       notes: list[str]) -> None:
-        target = layers.framebuffer
+    def _static_overlays(self, layers: _Side, result, overlays: OverlayState,
+                         vp: np.ndarray, notes: list[str]) -> None:
+        """The overlays of the static layer: blockers and VPLs."""
+        target = layers.static.framebuffer
         specs = result.cascade_specs or [result.grid_spec]
         cascade = int(np.clip(overlays.cascade, 0, len(specs) - 1))
-        spec = specs[cascade]
-        layer = Q.slice_layer(overlays, spec.resolution)
         lift = LIFT_CELLS * specs[0].cell_size
         if overlays.blockers:
             self._blockers(layers, result, cascade, vp, lift, notes)
@@ -225,13 +271,21 @@ class Compositor:
             count = int(round(overlays.vpl_density * total))
             layers.splats.draw(target, vp, "vpls", count, lift,
                                vpl_radius_scale(overlays.vpl_size, count, total))
+
+    def _draw_overlays(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
+                       notes: list[str]) -> None:
+        """The overlays of the output layer: glyphs, wireframes, slice, picked point."""
+        specs = result.cascade_specs or [result.grid_spec]
+        cascade = int(np.clip(overlays.cascade, 0, len(specs) - 1))
+        spec = specs[cascade]
+        layer = Q.slice_layer(overlays, spec.resolution)
         if overlays.glyphs:
             self._glyphs(layers, result, overlays, vp, notes)
         self._wireframes(layers, specs, overlays, spec, layer, vp)
         layers.field = None
         if overlays.slice:
             self._slice(layers, result, overlays, vp, notes)
-        self._picked(layers, result, overlays, vp, lift)
+        self._picked(layers, result, overlays, vp, LIFT_CELLS * specs[0].cell_size)
 
     def _blockers(self, layers: _Side, result, cascade: int, vp: np.ndarray, lift: float,
                   notes: list[str]) -> None:
@@ -245,7 +299,7 @@ class Compositor:
         if layers.stale("blockers", volume, cascade, tuple(map(float, forward))):
             layers.splats.upload("blockers", Q.blocker_splats(
                 volume, spec, result.settings.geometry_volume, forward))
-        layers.splats.draw(layers.framebuffer, vp, "blockers", lift=lift)
+        layers.splats.draw(layers.static.framebuffer, vp, "blockers", lift=lift)
 
     def _glyphs(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                 notes: list[str]) -> None:
@@ -261,7 +315,7 @@ class Compositor:
             notes.append(f"glyphs: {exc}")
             return
         _, _, forward = view_axes(result.camera.eye, result.camera.target)
-        layers.glyphs.draw(layers.framebuffer, vp, -forward)
+        layers.glyphs.draw(layers.output.framebuffer, vp, -forward)
 
     def _slice(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                notes: list[str]) -> None:
@@ -280,7 +334,7 @@ class Compositor:
         if layers.stale("slice", field, o.slice_axis, layer):
             layers.slice.upload(Q.slice_values(field.values, o.slice_axis, layer))
         corner, edge_u, edge_v = Q.plane_corners(field.spec, o.slice_axis, layer)
-        layers.slice.draw(layers.framebuffer, vp, corner, edge_u, edge_v, field.low,
+        layers.slice.draw(layers.output.framebuffer, vp, corner, edge_u, edge_v, field.low,
                           field.high, field.colour_map, o.slice_opacity, o.slice_on_top)
 
     def _wireframes(self, layers: _Side, specs: list, overlays: OverlayState, spec, layer: int,
@@ -300,7 +354,7 @@ class Compositor:
         if layers.stale("wire", overlays.lattice, overlays.cascade_boxes, tuple(specs),
                         overlays.slice_axis, layer, spec):
             layers.lines.upload("wire", np.concatenate(segments), np.concatenate(colours))
-        layers.lines.draw(layers.framebuffer, vp, "wire")
+        layers.lines.draw(layers.output.framebuffer, vp, "wire")
 
     def _picked(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                 lift: float) -> None:
@@ -332,8 +386,8 @@ class Compositor:
             segments = np.concatenate(segments)
             if layers.stale("picked-lines", segments.tobytes()):
                 layers.lines.upload("picked", segments, np.tile(PICK_COLOUR, (len(segments), 1)))
-            layers.lines.draw(layers.framebuffer, vp, "picked", on_top=True)
+            layers.lines.draw(layers.output.framebuffer, vp, "picked", on_top=True)
         if marker is not None:
             if layers.stale("picked-marker", marker.packed().tobytes()):
                 layers.splats.upload("picked", marker)
-            layers.splats.draw(layers.framebuffer, vp, "picked", lift=lift)
+            layers.splats.draw(layers.output.framebuffer, vp, "picked", lift=lift)

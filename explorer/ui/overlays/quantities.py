@@ -171,7 +171,7 @@ def map_colours(values: np.ndarray, field: SliceField) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------- SH glyphs
-def glyph_directions(rings: int = 12, segments: int = 24) -> tuple[np.ndarray, np.ndarray]:
+def glyph_directions(rings: int = 8, segments: int = 16) -> tuple[np.ndarray, np.ndarray]:
     """A UV sphere of unit directions and its triangle indices: the glyph mesh."""
     theta = np.linspace(0.0, math.pi, rings + 1)
     phi = np.linspace(0.0, 2.0 * math.pi, segments + 1)

@@ -14,23 +14,25 @@ from explorer.ui.overlays.instanced import InstancedMesh
 from explorer.ui.overlays.quantities import Splats
 
 PROGRAM = "overlay_splat.glsl"
-DISC_SEGMENTS = 12
+DISC_SEGMENTS = 8
 
 
-def disc_mesh(segments: int = DISC_SEGMENTS) -> np.ndarray:
-    """(3·segments, 2) triangles of the unit disc (a fan around the centre)."""
-    angles = np.linspace(0.0, 2.0 * math.pi, segments + 1)
-    ring = np.stack([np.cos(angles), np.sin(angles)], -1)
-    triangles = [(np.zeros(2), ring[i], ring[i + 1]) for i in range(segments)]
-    return np.asarray(triangles, np.float32).reshape(-1, 2)
+def disc_mesh(segments: int = DISC_SEGMENTS) -> tuple[np.ndarray, np.ndarray]:
+    """(segments + 1, 2) points of the unit disc (its centre, then the rim) and the
+    (3·segments,) indices of its triangle fan: indexed, each point is shaded once."""
+    angles = np.arange(segments) * (2.0 * math.pi / segments)
+    points = np.concatenate([np.zeros((1, 2)), np.stack([np.cos(angles), np.sin(angles)], -1)])
+    fan = [(0, 1 + i, 1 + (i + 1) % segments) for i in range(segments)]
+    return points.astype(np.float32), np.asarray(fan, np.int32).ravel()
 
 
 class SplatRenderer:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
-        self._mesh = InstancedMesh(ctx, programs, PROGRAM, disc_mesh(), "2f", ("in_disc",),
+        points, fan = disc_mesh()
+        self._mesh = InstancedMesh(ctx, programs, PROGRAM, points, "2f", ("in_disc",),
                                    "3f 3f 3f 1f", ("in_position", "in_normal", "in_colour",
-                                                   "in_radius"))
+                                                   "in_radius"), fan)
 
     def upload(self, name: str, splats: Splats) -> None:
         self._mesh.upload(name, splats.packed())
