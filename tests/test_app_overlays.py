@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from explorer.lpv.settings import Settings
+from explorer.ui.overlays import picking
 from explorer.ui.state import AppState
 
 pytest.importorskip("glfw")
@@ -141,14 +142,15 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         io.add_mouse_button_event(0, False)
         app.frame()
         o = app.state.overlays
-        assert (o.picked_kind, o.picked_side, o.picked_x, o.picked_y) == ("pixel", "A", x, y)
+        assert (o.picked_kind, o.picked_side) == ("pixel", "A")
+        assert o.picked_point == tuple(float(v) for v in result.gbuffer_position[y, x, :3])
         pick = hover.pick
         assert np.array_equal(pick.position, result.gbuffer_position[y, x, :3])
         assert np.array_equal(pick.normal, result.gbuffer_normal[y, x, :3])
         assert np.array_equal(pick.direct, result.direct[y, x])
         assert np.array_equal(pick.indirect, result.indirect[y, x])
         cell = tuple(int(v) for v in result.grid_spec.cell_index(pick.position))
-        assert (o.picked_i, o.picked_j, o.picked_k) == cell
+        assert picking.cell_at(result, o.picked_cascade, o.picked_point) == cell
         assert np.array_equal(pick.cells[0].coefficients,
                               result.accumulated[(slice(None),) + cell])
         np.testing.assert_allclose(pick.indirect_from_grid, pick.indirect, rtol=1e-4)
@@ -168,7 +170,8 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         app.frame()
         io.add_mouse_button_event(0, False)
         app.frame()
-        assert o.picked_kind == "cell" and o.picked_k == 8
+        assert o.picked_kind == "cell"
+        assert picking.cell_at(result, o.picked_cascade, o.picked_point)[2] == 8
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
     finally:
@@ -185,13 +188,15 @@ def test_camera_controls_rerun_only_the_camera_stages():
         app.frame()
         after = app.state.runtime.result
         assert after is not before and after.stages_run == ("scene", "gbuffer", "gather")
-        app.state.overlays.picked_kind = "pixel"
-        app.state.overlays.picked_x, app.state.overlays.picked_y = 128, 96
         assert after.gbuffer_position[96, 128, 3] > 0.5
-        point = camera_controls.picked_point(app.state)
-        assert np.array_equal(point, after.gbuffer_position[96, 128, :3])
+        point = after.gbuffer_position[96, 128, :3]
+        app.state.overlays.pick("pixel", "A", 0, point)
         assert camera_controls.frame_picked(app.state)
         app.frame()
-        assert np.allclose(app.state.runtime.result.camera.target, point)
+        framed = app.state.runtime.result
+        assert np.allclose(framed.camera.target, point)
+        # the picked point stays anchored: the new frame shows it at the image centre
+        x, y = picking.pixel_of(framed, point)
+        assert abs(x - 128) <= 1 and abs(y - 96) <= 1
     finally:
         app.close()

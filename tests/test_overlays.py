@@ -130,6 +130,23 @@ def test_the_slice_is_hit_in_front_of_the_surface_only(frame):
     assert picking.slice_hit(result, spec, "z", back, x, y, on_top=True) is not None
 
 
+def test_a_picked_point_is_found_again_in_the_frame(frame):
+    """pixel_of: the pixel that shows a surface point (None when hidden); cell_at: the
+    cell holding it."""
+    _, result = frame
+    for x, y in _surface_pixels(result)[::11]:
+        point = result.gbuffer_position[y, x, :3]
+        assert picking.pixel_of(result, point) == (x, y)
+        assert picking.cell_at(result, 0, point) == tuple(result.grid_spec.cell_index(point))
+    # the back wall's point behind the short block is hidden in this frame
+    eye = np.asarray(result.camera.eye)
+    front = result.gbuffer_position[62, 70, :3]          # the short block
+    behind = eye + 1.3 * (front - eye)
+    assert picking.pixel_of(result, behind) is None
+    assert picking.pixel_of(result, (0.0, 50.0, 0.0)) is None   # out of the image
+    assert picking.cell_at(result, 0, (0.0, 50.0, 0.0)) is None
+
+
 @pytest.mark.parametrize("rect, mouse, pixel", [
     ((100, 50, 500, 350), (100, 50), (0, 0)),
     ((100, 50, 500, 350), (499.9, 349.9), (95, 71)),
@@ -194,6 +211,18 @@ def test_the_colour_table_is_the_colour_bars_map():
                        diverging(np.array([-1.0, 0.0, 1.0]), 1.0), atol=1e-2)
 
 
+def test_a_log_slice_spans_its_decades(frame):
+    _, result = frame
+    field = Q.slice_field(result, OverlayState(slice_log=True, slice_scale=2.0))
+    assert field.log and field.high == 2.0
+    assert field.low == pytest.approx(2.0 * 10 ** -Q.LOG_DECADES)
+    assert np.allclose(field.position([2.0, field.low, 2.0 * 10 ** (-Q.LOG_DECADES / 2), 0.0,
+                                       5.0]), [1.0, 0.0, 0.5, 0.0, 1.0])
+    assert field.value_at(0.5) == pytest.approx(2.0 * 10 ** (-Q.LOG_DECADES / 2))
+    signed = Q.slice_field(result, OverlayState(slice_log=True, slice_quantity="sh1"))
+    assert not signed.log                      # the diverging map stays linear
+
+
 def test_glyph_lobes_are_the_cells_intensity_and_fit_their_spacing(frame):
     _, result = frame
     overlays = OverlayState(glyphs=True, slice_axis="y", slice_index=5, glyph_sizing="linear")
@@ -211,16 +240,19 @@ def test_glyph_lobes_are_the_cells_intensity_and_fit_their_spacing(frame):
     assert np.allclose(glyphs.coefficients[0, :4],
                        result.accumulated[(slice(None),) + first].mean(0), rtol=1e-6)
     # the same lobes at any grid size: stride grows, spacing follows
-    big = Q.glyph_cells(OverlayState(), 64)
+    big = Q.glyph_cells(OverlayState(), GridSpec((0.0, 0.0, 0.0), 1.0 / 64, 64))
     assert big[1] == 4 and len(big[0]) == 16 * 16
     equal = Q.glyphs(result, OverlayState(glyph_sizing="equal", glyph_scale=2.0))
     peaks = (equal.scales[:, None] * np.abs(
         equal.coefficients.astype(np.float64) @
         reference.sh_basis(directions.astype(np.float64), 2).T)).max(1)
     assert np.allclose(peaks, equal.spacing, rtol=1e-5)
-    picked = Q.glyph_cells(OverlayState(glyph_cells="picked", picked_kind="cell", picked_i=0,
-                                        picked_j=5, picked_k=15), 16)[0]
+    spec = result.grid_spec
+    overlays = OverlayState(glyph_cells="picked")
+    overlays.pick("cell", "A", 0, spec.cell_centre(np.array([0, 5, 15])))
+    picked = Q.glyph_cells(overlays, spec)[0]
     assert len(picked) == 2 * 3 * 2                 # a corner cell keeps 12 neighbours
+    assert [0, 5, 15] in picked.tolist()
 
 
 def test_vpl_discs_have_their_surfels_area():
@@ -272,7 +304,7 @@ def test_overlay_state_persists_and_refuses_bad_values(tmp_path):
     state = AppState()
     state.overlays = OverlayState(slice=True, slice_axis="x", slice_index=3,
                                   slice_quantity="sh2", vpls=True, vpl_density=0.1,
-                                  picked_kind="cell", picked_i=1, picked_j=2, picked_k=3)
+                                  picked_kind="cell", picked_wx=0.25, picked_wy=-0.5)
     path = tmp_path / "settings.json"
     persist.save_state(state, path)
     loaded = AppState()
@@ -317,11 +349,14 @@ def test_the_compositor_shows_the_frame_unchanged_with_no_overlay(frame, composi
 @pytest.mark.parametrize("overlay", [
     dict(slice=True), dict(glyphs=True), dict(vpls=True), dict(lattice=True),
     dict(cascade_boxes=True), dict(blockers=True),
-    dict(picked_kind="pixel", picked_x=30, picked_y=62, picked_i=5, picked_j=1,
-         picked_k=9),
+    "picked",
 ])
 def test_each_overlay_changes_the_picture_and_runs_no_pass(frame, compositor, overlay):
     pipeline, result = frame
+    if overlay == "picked":            # a point on the floor, x, y = 30, 62
+        overlay = dict(picked_kind="pixel", picked_wx=float(result.gbuffer_position[62, 30, 0]),
+                       picked_wy=float(result.gbuffer_position[62, 30, 1]),
+                       picked_wz=float(result.gbuffer_position[62, 30, 2]))
     before = _picture(compositor, pipeline, result)
     keys = dict(pipeline._keys)
     after = _picture(compositor, pipeline, result, **overlay)
@@ -354,6 +389,29 @@ def test_the_slice_is_hidden_behind_nearer_surfaces(frame, compositor):
     changed = np.abs(behind - before).sum(axis=2) > 0
     assert not changed[nearer].any()
     assert (np.abs(over - before).sum(axis=2) > 0)[nearer].mean() > 0.9
+
+
+@pytest.mark.parametrize("log", [False, True])
+def test_the_slice_shows_each_cells_value_in_the_colour_bars_colour(frame, compositor, log):
+    """Every pixel whose ray crosses the slice (drawn opaque, over everything) has the
+    colour map's colour of the cell the ray crosses (quantities.map_colours); on a log
+    scale the cells below the bar are drawn faint and left out here."""
+    pipeline, result = frame
+    overlays = dict(slice=True, slice_axis="z", slice_index=7, slice_opacity=1.0,
+                    slice_on_top=True, slice_log=log)
+    picture = _picture(compositor, pipeline, result, **overlays)
+    field = compositor.slice_field("A")
+    expected, seen = [], []
+    for y in range(0, 72, 3):
+        for x in range(0, 96, 3):
+            cell = picking.slice_hit(result, field.spec, "z", 7, x, y, on_top=True)
+            if cell is not None and field.position(field.values[cell]) > 0:
+                expected.append(Q.map_colours(field.values[cell], field))
+                seen.append(picture[y, x])
+    expected = np.rint(np.asarray(expected) * 255.0)
+    assert len(seen) > 50
+    close = np.abs(np.asarray(seen) - expected).max(axis=1) <= 2
+    assert close.mean() > 0.97          # a few pixels sit on a cell border
 
 
 def test_an_unchanged_request_draws_nothing_and_a_moved_slice_redraws(frame, compositor):

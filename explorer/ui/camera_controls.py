@@ -47,22 +47,8 @@ def frame_scene(state: AppState) -> bool:
 
 
 def picked_point(state: AppState):
-    """World position of the picked pixel's surface or the picked cell's centre."""
-    from explorer.ui.overlays.picking import pick_cell, pick_pixel
-
-    o, rt = state.overlays, state.runtime
-    result = rt.result if o.picked_side == "A" else rt.compare_result
-    if result is None:
-        return None
-    if o.picked_kind == "pixel":
-        pick = pick_pixel(result, o.picked_x, o.picked_y)
-        if pick is not None and pick.surface:
-            return pick.position
-    if o.picked_kind in ("pixel", "cell"):
-        cell = pick_cell(result, o.picked_cascade, o.picked_i, o.picked_j, o.picked_k)
-        if cell is not None:
-            return cell.centre
-    return None
+    """World position of the picked surface point or cell centre, or None."""
+    return state.overlays.picked_point
 
 
 def frame_picked(state: AppState) -> bool:

@@ -84,6 +84,7 @@ class OverlayState:
     direction_elevation: float = 90.0
     colour_map: str = "auto"
     slice_scale: float = 0.0          # value at the top of the colour bar; 0 = automatic
+    slice_log: bool = False           # heat map over LOG_DECADES decades below the top
     slice_opacity: float = 0.8
     slice_on_top: bool = False        # drawn over the geometry instead of depth-tested
     cascade: int = 0                  # the cascade the slice, glyphs and lattice show
@@ -99,14 +100,14 @@ class OverlayState:
     lattice: bool = False             # the cell lattice on the slice plane + grid box
     cascade_boxes: bool = False       # every cascade's extent
     blockers: bool = False            # geometry volume blockers as oriented discs
-    picked_kind: str = "none"
+    # The picked point is anchored in the world, so it stays put when the camera moves
+    # (and with it the pixel that shows it, and the cascades that follow the camera).
+    picked_kind: str = "none"         # pixel: a surface point; cell: a cell's centre
     picked_side: str = "A"            # which configuration's frame the pick reads
-    picked_x: int = -1                # picked pixel (image column, row from the top)
-    picked_y: int = -1
-    picked_cascade: int = 0           # picked cell
-    picked_i: int = -1
-    picked_j: int = -1
-    picked_k: int = -1
+    picked_cascade: int = 0           # the cascade whose cell is picked
+    picked_wx: float = 0.0            # the picked world point
+    picked_wy: float = 0.0
+    picked_wz: float = 0.0
 
     def check(self) -> None:
         """A ValueError naming the first field whose value is out of its range."""
@@ -131,6 +132,17 @@ class OverlayState:
             value = getattr(self, name)
             if not low <= value <= high:
                 raise ValueError(f"{name} must lie in [{low}, {high}], got {value!r}")
+
+    @property
+    def picked_point(self) -> tuple[float, float, float] | None:
+        if self.picked_kind == "none":
+            return None
+        return (self.picked_wx, self.picked_wy, self.picked_wz)
+
+    def pick(self, kind: str, side: str, cascade: int, world) -> None:
+        """Anchor the picked point at ``world`` (a surface point or a cell centre)."""
+        self.picked_kind, self.picked_side, self.picked_cascade = kind, side, int(cascade)
+        self.picked_wx, self.picked_wy, self.picked_wz = (float(v) for v in world)
 
     @property
     def any_shown(self) -> bool:

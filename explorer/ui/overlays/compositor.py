@@ -26,7 +26,7 @@ from explorer.ui.camera import view_axes
 from explorer.ui.overlays import quantities as Q
 from explorer.ui.overlays.glyphs import GlyphRenderer
 from explorer.ui.overlays.lines import LineRenderer
-from explorer.ui.overlays.picking import view_projection
+from explorer.ui.overlays.picking import cell_at, pixel_of, view_projection
 from explorer.ui.overlays.slice import SliceRenderer
 from explorer.ui.overlays.splats import SplatRenderer
 from explorer.ui.state import OverlayState
@@ -304,7 +304,7 @@ class Compositor:
     def _glyphs(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                 notes: list[str]) -> None:
         o = overlays
-        picked = (o.picked_cascade, o.picked_i, o.picked_j, o.picked_k, o.picked_kind)
+        picked = (o.picked_cascade, o.picked_point)
         try:
             if layers.stale("glyphs", result, o.glyph_cells, o.slice_quantity, o.slice_step,
                             o.cascade, o.slice_axis, o.slice_index, o.glyph_scale,
@@ -323,7 +323,7 @@ class Compositor:
         try:
             if layers.stale("field", result, o.slice_quantity, o.slice_step, o.cascade,
                             o.direction_azimuth, o.direction_elevation, o.colour_map,
-                            o.slice_scale):
+                            o.slice_scale, o.slice_log):
                 layers.field_cache = Q.slice_field(result, o)
         except ValueError as exc:
             layers.forget("field")
@@ -335,7 +335,8 @@ class Compositor:
             layers.slice.upload(Q.slice_values(field.values, o.slice_axis, layer))
         corner, edge_u, edge_v = Q.plane_corners(field.spec, o.slice_axis, layer)
         layers.slice.draw(layers.output.framebuffer, vp, corner, edge_u, edge_v, field.low,
-                          field.high, field.colour_map, o.slice_opacity, o.slice_on_top)
+                          field.high, field.colour_map, o.slice_opacity, o.slice_on_top,
+                          field.log)
 
     def _wireframes(self, layers: _Side, specs: list, overlays: OverlayState, spec, layer: int,
                     vp: np.ndarray) -> None:
@@ -358,30 +359,26 @@ class Compositor:
 
     def _picked(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                 lift: float) -> None:
-        """The picked cell's box and, for a picked pixel, its surface point (a ring and
-        its normal), drawn over everything so they stay visible."""
+        """The picked cell's box and, for a picked surface point, a ring on the surface and
+        its normal; drawn over everything so they stay visible."""
         o = overlays
-        if o.picked_kind == "none":
+        point = o.picked_point
+        if point is None:
             return
         specs = result.cascade_specs or [result.grid_spec]
         segments = []
-        if 0 <= o.picked_cascade < len(specs) and o.picked_i >= 0:
-            cascade_spec = specs[o.picked_cascade]
-            cell = (o.picked_i, o.picked_j, o.picked_k)
-            if cascade_spec.inside(np.array(cell)):
-                segments.append(Q.cell_box(cascade_spec, cell))
+        cell = cell_at(result, o.picked_cascade, point)
+        if cell is not None:
+            segments.append(Q.cell_box(specs[o.picked_cascade], cell))
         marker = None
-        height, width = result.final_image.shape[:2]
-        if o.picked_kind == "pixel" and 0 <= o.picked_x < width and 0 <= o.picked_y < height:
-            position = result.gbuffer_position[o.picked_y, o.picked_x]
-            normal = result.gbuffer_normal[o.picked_y, o.picked_x, :3]
-            if position[3] > 0.5:
-                size = specs[0].cell_size
-                segments.append(np.array([[position[:3], position[:3] + normal * size]]))
-                marker = Q.Splats(position[None, :3].astype(np.float32),
-                                  normal[None].astype(np.float32),
-                                  np.array([PICK_COLOUR[:3]], np.float32),
-                                  np.array([0.25 * size], np.float32))
+        pixel = pixel_of(result, point) if o.picked_kind == "pixel" else None
+        if pixel is not None:
+            normal = result.gbuffer_normal[pixel[1], pixel[0], :3]
+            size = specs[0].cell_size
+            segments.append(np.array([[point, np.add(point, normal * size)]]))
+            marker = Q.Splats(np.array([point], np.float32), normal[None].astype(np.float32),
+                              np.array([PICK_COLOUR[:3]], np.float32),
+                              np.array([0.25 * size], np.float32))
         if segments:
             segments = np.concatenate(segments)
             if layers.stale("picked-lines", segments.tobytes()):

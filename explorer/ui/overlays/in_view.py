@@ -81,18 +81,14 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
 
 
 def set_picked(state: AppState, hover: Hover) -> None:
-    """Make ``hover`` the picked point: its pixel, and the cell it shows or samples."""
+    """Make ``hover`` the picked point: the surface point under a pixel (with the finest
+    cascade holding it), or the centre of a slice cell."""
     o = state.overlays
-    o.picked_side, (o.picked_x, o.picked_y) = hover.side, hover.pixel
-    cell = hover.cell
-    if cell is None and hover.pick is not None and hover.pick.cells:
-        cell = hover.pick.cells[0]
-    o.picked_kind = "cell" if hover.cell is not None else "pixel"
-    if cell is None:
-        o.picked_cascade, o.picked_i, o.picked_j, o.picked_k = 0, -1, -1, -1
-    else:
-        o.picked_cascade = cell.cascade
-        o.picked_i, o.picked_j, o.picked_k = cell.index
+    if hover.cell is not None:
+        o.pick("cell", hover.side, hover.cell.cascade, hover.cell.centre)
+    elif hover.pick is not None and hover.pick.surface:
+        cascade = hover.pick.cells[0].cascade if hover.pick.cells else 0
+        o.pick("pixel", hover.side, cascade, hover.pick.position)
 
 
 def over_image(state: AppState, draw, origin, end, hovered: bool,
@@ -180,7 +176,7 @@ def _colour_bar(draw, field: Q.SliceField, origin, end, at_left: bool) -> None:
     backdrop = imgui.get_color_u32(imgui.ImVec4(0.0, 0.0, 0.0, 0.55))
     draw.add_rect_filled((x - 6, y - 8), (x + _BAR_ROOM - 8, y + height + 12), backdrop, 4.0)
     scale_bar(draw, imgui.ImVec2(x, y), height, field.high,
-              signed=field.colour_map == "diverging")
+              signed=field.colour_map == "diverging", value_at=field.value_at)
 
 
 def _caption(draw, text: str, origin, end) -> None:

@@ -152,6 +152,31 @@ def pick_pixel(result, x: int, y: int, reference: np.ndarray | None = None
                     weights, from_grid)
 
 
+def cell_at(result, cascade: int, world) -> CellIndex | None:
+    """The cell of ``cascade`` holding the world point, None outside it."""
+    _, specs = _cascades(result)
+    if not 0 <= cascade < len(specs):
+        return None
+    index = specs[cascade].cell_index(np.asarray(world, np.float64))
+    return tuple(int(v) for v in index) if specs[cascade].inside(index) else None
+
+
+def pixel_of(result, world) -> tuple[int, int] | None:
+    """The pixel of this frame that shows the surface point ``world``, or None when it
+    lies outside the image or behind another surface (farther from the pixel's surface
+    point than 3 pixel footprints)."""
+    height, width = result.final_image.shape[:2]
+    world = np.asarray(world, np.float64)
+    x, y = np.floor(project(result, world)).astype(np.int64)
+    if not (0 <= x < width and 0 <= y < height):
+        return None
+    position = result.gbuffer_position[y, x]
+    footprint = np.sqrt(max(float(result.gbuffer_normal[y, x, 3]), 0.0))
+    if position[3] < 0.5 or np.linalg.norm(position[:3] - world) > 3.0 * footprint + 1e-6:
+        return None
+    return int(x), int(y)
+
+
 def view_pixel(rect, mouse, image_size) -> tuple[int, int] | None:
     """The image pixel under ``mouse`` when the image of ``image_size`` (width, height) is
     drawn stretched over ``rect`` (x0, y0, x1, y1); both in the same units (the View panel

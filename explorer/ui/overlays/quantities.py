@@ -24,6 +24,8 @@ GLYPH_TARGET_COUNT = 16
 PICKED_NEIGHBOURHOOD = 1
 """Glyph mode "picked": the picked cell and the cells up to this many steps away."""
 COLOUR_MAP_SIZE = 256
+LOG_DECADES = 3.0
+"""A logarithmic slice spans this many decades below the top of its scale."""
 
 
 # ------------------------------------------------------------------------- the slice
@@ -33,7 +35,8 @@ class SliceField:
 
     ``values`` (N, N, N) in the grid's (x, y, z) order; ``low``/``high`` the values at the
     bottom and top of the colour bar; ``colour_map`` "heat" or "diverging"; ``label`` what
-    the values are, with units; ``spec`` the grid they live on."""
+    the values are, with units; ``spec`` the grid they live on; ``log``: the heat map runs
+    over log10 of the values, ``low = high·10^−LOG_DECADES`` (values ≤ low are black)."""
 
     values: np.ndarray
     low: float
@@ -42,6 +45,22 @@ class SliceField:
     label: str
     spec: GridSpec
     cascade: int
+    log: bool = False
+
+    def position(self, values) -> np.ndarray:
+        """Where ``values`` fall on the colour bar, 0 (bottom) .. 1 (top)."""
+        values = np.asarray(values, np.float64)
+        if self.log:
+            ratio = np.maximum(values, 1e-300) / self.high
+            return np.clip(np.log10(ratio) / LOG_DECADES + 1.0, 0.0, 1.0)
+        span = max(self.high - self.low, 1e-30)
+        return np.clip((values - self.low) / span, 0.0, 1.0)
+
+    def value_at(self, position: float) -> float:
+        """The value at ``position`` (0 .. 1) of the colour bar (the bar's labels)."""
+        if self.log:
+            return self.high * 10.0 ** (LOG_DECADES * (position - 1.0))
+        return self.low + (self.high - self.low) * position
 
 
 SIGNED_QUANTITIES = tuple(f"sh{k}" for k in range(1, 9))
@@ -104,9 +123,10 @@ def slice_field(result, overlays: OverlayState) -> SliceField:
         top = overlays.slice_scale
     else:
         top = robust_max(np.abs(values) if colour_map == "diverging" else values)
-    low = -top if colour_map == "diverging" else 0.0
+    log = overlays.slice_log and colour_map == "heat"
+    low = -top if colour_map == "diverging" else (top * 10.0 ** -LOG_DECADES if log else 0.0)
     return SliceField(values.astype(np.float32), float(low), float(top), colour_map,
-                      _label(overlays, name, direction), spec, cascade)
+                      _label(overlays, name, direction), spec, cascade, log)
 
 
 def _label(overlays: OverlayState, name: str, direction: np.ndarray) -> str:
@@ -164,8 +184,7 @@ def colour_table(name: str, size: int = COLOUR_MAP_SIZE) -> np.ndarray:
 def map_colours(values: np.ndarray, field: SliceField) -> np.ndarray:
     """(..., 3) colours of ``values`` as the slice shader shows them (nearest entry of the
     colour table)."""
-    span = max(field.high - field.low, 1e-30)
-    t = np.clip((np.asarray(values, np.float64) - field.low) / span, 0.0, 1.0)
+    t = field.position(values)
     table = colour_table(field.colour_map)
     return table[np.rint(t * (len(table) - 1)).astype(np.int64)]
 
@@ -208,13 +227,16 @@ def glyph_stride(overlays: OverlayState, resolution: int) -> int:
     return overlays.glyph_stride if overlays.glyph_stride > 0 else auto_glyph_stride(resolution)
 
 
-def glyph_cells(overlays: OverlayState, resolution: int) -> tuple[np.ndarray, int]:
+def glyph_cells(overlays: OverlayState, spec: GridSpec) -> tuple[np.ndarray, int]:
     """(cell indices (G, 3), stride) of the glyphs: every ``stride``-th cell of the slice
-    layer (the middle cell of each stride block), or the picked cell's neighbourhood."""
+    layer (the middle cell of each stride block), or the cell holding the picked point and
+    its neighbours."""
+    resolution = spec.resolution
     if overlays.glyph_cells == "picked":
-        if overlays.picked_kind == "none" or overlays.picked_i < 0:
+        point = overlays.picked_point
+        if point is None:
             return np.zeros((0, 3), np.int64), 1
-        centre = np.array([overlays.picked_i, overlays.picked_j, overlays.picked_k])
+        centre = spec.cell_index(np.asarray(point))
         r = PICKED_NEIGHBOURHOOD
         offsets = np.stack(np.meshgrid(*[np.arange(-r, r + 1)] * 3, indexing="ij"),
                            -1).reshape(-1, 3)
@@ -248,7 +270,7 @@ def glyphs(result, overlays: OverlayState) -> Glyphs:
     spacing whatever the grid size, and a glyph whose peak is p reaches that times
     p/p_max ("linear"), √(p/p_max) ("sqrt") or 1 ("equal")."""
     grid, spec = glyph_source(result, overlays)
-    cells, stride = glyph_cells(overlays, spec.resolution)
+    cells, stride = glyph_cells(overlays, spec)
     grid = np.asarray(grid, np.float64)
     coefficients = np.zeros((len(cells), 9))
     if len(cells):

@@ -8,7 +8,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.scene.transforms import gl_matrix
-from explorer.ui.overlays.quantities import colour_table
+from explorer.ui.overlays.quantities import LOG_DECADES, colour_table
 from explorer.ui.textures import to_rgba8
 
 PROGRAM = "overlay_slice.glsl"
@@ -46,7 +46,7 @@ class SliceRenderer:
 
     def draw(self, target: moderngl.Framebuffer, view_projection: np.ndarray, corner,
              edge_u, edge_v, low: float, high: float, colour_map: str, opacity: float,
-             on_top: bool) -> None:
+             on_top: bool, log: bool = False) -> None:
         """Blend the quad over ``target``: depth-tested against what is there (not
         written), or over everything with ``on_top``."""
         if self._values is None:
@@ -62,7 +62,8 @@ class SliceRenderer:
             "u_view_projection": gl_matrix(view_projection),
             "u_corner": tuple(map(float, corner)), "u_edge_u": tuple(map(float, edge_u)),
             "u_edge_v": tuple(map(float, edge_v)), "u_values": 0, "u_colour_map": 1,
-            "u_low": float(low), "u_high": float(high), "u_opacity": float(opacity)})
+            "u_low": float(low), "u_high": float(high), "u_opacity": float(opacity),
+            "u_log": int(log), "u_decades": LOG_DECADES})
         flags = moderngl.BLEND | (moderngl.NOTHING if on_top else moderngl.DEPTH_TEST)
         with self.ctx.scope(target, enable_only=flags):
             self.ctx.blend_func = moderngl.DEFAULT_BLENDING

@@ -11,7 +11,7 @@ from imgui_bundle import imgui, implot
 
 from explorer.ui import camera_controls, widgets
 from explorer.ui.overlays.describe import cell_rows, pixel_rows
-from explorer.ui.overlays.picking import pick_cell, pick_pixel
+from explorer.ui.overlays.picking import cell_at, pick_cell, pick_pixel, pixel_of
 from explorer.ui.state import AppState
 
 
@@ -32,18 +32,22 @@ def gui_picked(state: AppState) -> None:
         o.glyphs, o.glyph_cells = True, "picked"
     imgui.same_line()
     if imgui.button("Clear"):
-        o.picked_kind, o.picked_i, o.picked_j, o.picked_k = "none", -1, -1, -1
+        o.picked_kind = "none"
         return
-    imgui.text_disabled(f"side {o.picked_side}")
+    point = o.picked_point
+    imgui.text_disabled(f"side {o.picked_side} · {o.picked_kind} at "
+                        + ", ".join(f"{v:.4g}" for v in point))
     if o.picked_kind == "pixel":
-        pick = pick_pixel(result, o.picked_x, o.picked_y)
-        if pick is None:
-            imgui.text_disabled("the picked pixel lies outside this frame")
+        pixel = pixel_of(result, point)
+        if pixel is None:
+            imgui.text_disabled("the picked point is hidden or outside the view in this frame")
         else:
-            _table("pixel", pixel_rows(pick, 6))
+            _table("pixel", pixel_rows(pick_pixel(result, *pixel), 6))
     _cell_picker(state, result)
-    cell = pick_cell(result, o.picked_cascade, o.picked_i, o.picked_j, o.picked_k)
+    index = cell_at(result, o.picked_cascade, point)
+    cell = None if index is None else pick_cell(result, o.picked_cascade, *index)
     if cell is None:
+        imgui.text_disabled(f"the point lies outside cascade {o.picked_cascade}")
         return
     _table("cell", cell_rows(cell, 6))
     if cell.in_flight is not None and len(cell.in_flight) > 1:
@@ -54,19 +58,21 @@ def gui_picked(state: AppState) -> None:
 
 
 def _cell_picker(state: AppState, result) -> None:
-    """Step through cells: i, j, k of the picked cascade."""
+    """Step through the cells: the cascade and i, j, k of the picked cell (picking its
+    centre)."""
     o = state.overlays
     specs = result.cascade_specs or [result.grid_spec]
-    if o.picked_i < 0:
-        return
     if len(specs) > 1:
-        changed, o.picked_cascade = imgui.slider_int("Cascade##picked", o.picked_cascade, 0,
-                                                     len(specs) - 1)
-    n = specs[min(o.picked_cascade, len(specs) - 1)].resolution
-    changed, ijk = imgui.input_int3("Cell i, j, k", [o.picked_i, o.picked_j, o.picked_k])
+        _, o.picked_cascade = imgui.slider_int("Cascade##picked", o.picked_cascade, 0,
+                                               len(specs) - 1)
+    spec = specs[min(o.picked_cascade, len(specs) - 1)]
+    index = cell_at(result, o.picked_cascade, o.picked_point)
+    if index is None:
+        return
+    changed, ijk = imgui.input_int3("Cell i, j, k", list(index))
     if changed:
-        o.picked_i, o.picked_j, o.picked_k = (int(np.clip(v, 0, n - 1)) for v in ijk)
-        o.picked_kind = "cell"
+        new = np.clip(ijk, 0, spec.resolution - 1)
+        o.pick("cell", o.picked_side, o.picked_cascade, spec.cell_centre(new))
 
 
 def _table(name: str, rows: list[tuple[str, str]]) -> None:

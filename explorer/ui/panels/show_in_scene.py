@@ -98,6 +98,11 @@ def _slice_controls(state: AppState, result, specs) -> None:
         steps = len(result.steps) - 1 if result.steps else state.settings.iterations
         _, o.slice_step = imgui.slider_int("Step t", min(o.slice_step, steps), 0, steps)
     _, o.colour_map = widgets.combo("Colour map", o.colour_map, COLOUR_MAPS)
+    if Q.resolved_colour_map(o) == "heat":
+        _, o.slice_log = imgui.checkbox(f"Log scale ({Q.LOG_DECADES:.0f} decades)",
+                                        o.slice_log)
+        widgets.help_marker("colours follow log10 of the value over the decades below the "
+                            "top of the bar; cells below the bar are drawn faint")
     _, o.slice_scale = imgui.input_float("Scale top (0 = auto)", o.slice_scale, 0.0, 0.0,
                                          "%.4g")
     o.slice_scale = max(o.slice_scale, 0.0)
@@ -108,7 +113,7 @@ def _slice_controls(state: AppState, result, specs) -> None:
 def _glyph_controls(state: AppState, result) -> None:
     o = state.overlays
     _, o.glyph_cells = widgets.combo("Cells", o.glyph_cells, GLYPH_CELLS)
-    if o.glyph_cells == "picked" and o.picked_i < 0:
+    if o.glyph_cells == "picked" and o.picked_point is None:
         imgui.text_disabled("pick a cell or a pixel in the view")
     _, o.glyph_scale = imgui.slider_float("Glyph size", o.glyph_scale, 0.1, 4.0, "%.2f",
                                           imgui.SliderFlags_.logarithmic)

@@ -237,9 +237,11 @@ def _difference(state: AppState, draw, origin, end) -> None:
              + (" (auto scale)" if state.difference_scale <= 0 else ""))
 
 
-def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> None:
+def scale_bar(draw, pos, height: float, top: float, signed: bool = False,
+              value_at=None) -> None:
     """A vertical colour-scale bar with ticks: heat from 0 (bottom) to ``top``, or with
-    ``signed`` the diverging map from −top (bottom) to +top."""
+    ``signed`` the diverging map from −top (bottom) to +top. ``value_at(fraction)``: the
+    value at a height fraction for the labels, when the scale is not linear."""
     steps = 32
     low = -top if signed else 0.0
 
@@ -258,7 +260,8 @@ def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> Non
     for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
         y = pos.y + (1.0 - frac) * height
         draw.add_line((pos.x + _SCALE_BAR_WIDTH, y), (pos.x + _SCALE_BAR_WIDTH + 4, y), white)
-        label = f"{low + (top - low) * frac:.2g}"
+        value = value_at(frac) if value_at is not None else low + (top - low) * frac
+        label = f"{value:.2g}"
         draw.add_text((pos.x + _SCALE_BAR_WIDTH + 6, min(y, pos.y + height - 14) - 6), white,
                       label)
 
