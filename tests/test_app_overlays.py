@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from explorer.lpv import reference
 from explorer.lpv.settings import Settings
 from explorer.ui.overlays import picking
 from explorer.ui.state import AppState
@@ -165,7 +166,13 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         o.slice, o.slice_axis, o.slice_index = True, "z", 8
         io.add_mouse_pos_event(*_screen_position(app, 128, 60))
         app.frame()
-        assert app.state.runtime.hover.cell is not None
+        hover = app.state.runtime.hover
+        assert hover.cell is not None and hover.cell.index[2] == 8
+        # the value under the mouse is the slice's quantity in that cell (acc_N's intensity
+        # toward +y, mean of the channels), recomputed here from the arrays
+        up = reference.sh_basis(np.array([0.0, 1.0, 0.0]))
+        expected = np.dot(result.accumulated[(slice(None),) + hover.cell.index], up).mean()
+        assert hover.slice_value[1] == pytest.approx(expected, rel=1e-5)
         io.add_mouse_button_event(0, True)
         app.frame()
         io.add_mouse_button_event(0, False)

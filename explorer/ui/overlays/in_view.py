@@ -58,6 +58,8 @@ class Hover:
     pixel: tuple[int, int]
     pick: PickInfo | None = None
     cell: CellInfo | None = None
+    slice_value: tuple[str, float] | None = None
+    """(what the slice shows, its value in the hovered cell) when hovering the slice."""
 
 
 def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None:
@@ -76,7 +78,12 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
             layer = Q.slice_layer(o, spec.resolution)
             cell = slice_hit(result, spec, o.slice_axis, layer, *pixel, on_top=o.slice_on_top)
             if cell is not None:
-                return Hover(side, pixel, cell=pick_cell(result, cascade, *cell))
+                compositor = state.runtime.compositor
+                field = None if compositor is None else compositor.slice_field(side)
+                value = None if field is None or field.spec != spec else (
+                    field.label, float(field.values[cell]))
+                return Hover(side, pixel, cell=pick_cell(result, cascade, *cell),
+                             slice_value=value)
     return Hover(side, pixel, pick=pick_pixel(result, *pixel))
 
 
@@ -154,6 +161,9 @@ def _tooltip(hover: Hover) -> None:
         return
     imgui.begin_tooltip()
     imgui.text_disabled(f"side {hover.side} · click to pick")
+    if hover.slice_value is not None:
+        label, value = hover.slice_value
+        imgui.text(f"{label}: {value:.4g} (mean of r, g, b)")
     if imgui.begin_table("##hover", 2):
         for label, value in rows:
             imgui.table_next_row()

@@ -38,7 +38,7 @@ def gui_show_in_scene(state: AppState) -> None:
     _toggle(o, "slice", "Slice plane",
             "a plane through one layer of cells, coloured by the quantity below; hover it "
             "to read a cell, click to pick it; ctrl + wheel or [ ] over the view moves it")
-    if o.slice or o.glyphs:
+    if o.slice or (o.glyphs and o.glyph_cells == "slice"):     # glyphs on the slice too
         _slice_controls(state, result, specs)
     imgui.separator()
     if _toggle(o, "glyphs", "SH glyphs",
