@@ -136,6 +136,11 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         io = imgui.get_io()
         io.add_mouse_pos_event(*_screen_position(app, x, y))
         app.frame()
+        assert app.state.runtime.hover is None, "a pointer that did not move reads nothing"
+        io.add_mouse_pos_event(*_screen_position(app, x + 3, y))
+        app.frame()
+        io.add_mouse_pos_event(*_screen_position(app, x, y))
+        app.frame()
         hover = app.state.runtime.hover
         assert hover is not None and hover.pixel == (x, y)
         io.add_mouse_button_event(0, True)

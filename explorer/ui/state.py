@@ -198,6 +198,7 @@ class Runtime:
     compositor: Any = None                # explorer.ui.overlays.Compositor (view overlays)
     hover: Any = None                     # overlays.in_view.Hover under the mouse, or None
     view_press: tuple | None = None       # where the left button went down on the view
+    pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
 
 
 @dataclass

@@ -13,6 +13,7 @@ picture is redrawn only when the result, the base image or an overlay setting ch
 
 from __future__ import annotations
 
+import time
 from dataclasses import astuple
 
 import moderngl
@@ -38,6 +39,7 @@ CASCADE_COLOURS = ((0.35, 0.9, 1.0, 0.95), (1.0, 0.72, 0.3, 0.95), (0.6, 1.0, 0.
 PICK_COLOUR = (1.0, 0.95, 0.25, 1.0)
 LIFT_CELLS = 0.05
 """Discs lying on a surface are lifted by this many cells along their normal."""
+SHADER_POLL_S = 0.5
 MAX_SPLAT_CELLS = 1.0
 """No VPL disc is wider than this many cells (one VPL of a coarse RSM can be large)."""
 
@@ -146,6 +148,7 @@ class Compositor:
         """Per side, why an enabled overlay is not drawn (e.g. the steps are not kept)."""
         self.compositions = 0
         """How many pictures were drawn (an unchanged request reuses the last one)."""
+        self._shader_poll = 0.0
         self.static_draws = 0
         """How many times a static layer (frame, blockers, VPLs) was drawn."""
 
@@ -155,6 +158,7 @@ class Compositor:
         """The GL name of a texture (row 0 at the bottom, as GL draws) holding the view's
         image of ``result`` (``base_texture``, stored top row first if ``base_top_first``)
         with the overlays drawn in the scene."""
+        self._reload_shaders()
         height, width = result.final_image.shape[:2]
         layers = self._sides.get(side)
         if layers is None:
@@ -184,6 +188,18 @@ class Compositor:
         self.notes[side] = notes
         self.compositions += 1
         return layers.output.colour.glo
+
+    def _reload_shaders(self) -> None:
+        """Hot reload: recompile the overlay programs whose files changed (polled every
+        SHADER_POLL_S; a failed compile keeps the last good program, its log in
+        ``self.programs.errors``) and redraw every side."""
+        now = time.monotonic()
+        if now - self._shader_poll < SHADER_POLL_S:
+            return
+        self._shader_poll = now
+        if self.programs.reload_if_changed():
+            for layers in self._sides.values():
+                layers.key = layers.static_key = None
 
     def slice_field(self, side: str) -> Q.SliceField | None:
         """The slice's field of the last picture of ``side`` (for its colour bar)."""

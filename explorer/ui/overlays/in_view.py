@@ -113,7 +113,12 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
                 _colour_bar(draw, field, origin, end, at_left)
                 if side == "A":
                     _caption(draw, field.label, origin, end)
-    if not hovered or rt.view_rect is None:
+    delta = imgui.get_io().mouse_delta
+    if hovered and (delta.x or delta.y):
+        rt.pointer_moved = True
+    # A pointer that never moved (a scripted run under Xvfb, where it rests mid-screen) is
+    # nobody's: no tooltip in screenshots.
+    if not hovered or rt.view_rect is None or not rt.pointer_moved:
         rt.hover = None
         return
     mouse = imgui.get_mouse_pos()

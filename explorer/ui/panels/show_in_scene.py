@@ -140,6 +140,8 @@ def _notes(state: AppState) -> None:
     compositor = state.runtime.compositor
     if compositor is None:
         return
+    for name, log in compositor.programs.errors.items():   # a failed hot reload
+        imgui.text_colored(widgets.ERROR, f"{name}: {log.strip().splitlines()[0]}")
     sides = ("A", "B") if state.view_mode == "split" else ("A",)
     for side in sides:
         for note in compositor.notes.get(side, []):

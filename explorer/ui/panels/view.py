@@ -114,7 +114,7 @@ def _toolbar(state: AppState) -> None:
         imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
     imgui.same_line()
     camera_controls.toolbar(state)
-    _same_line_if_fits("Exposure" + " " * 30)
+    _same_line_if_fits("Exposure", field=120 + imgui.get_style().item_inner_spacing.x)
     imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
                                         "%.2f", imgui.SliderFlags_.logarithmic)
@@ -134,10 +134,11 @@ def _toolbar(state: AppState) -> None:
         state.requests.screenshot = default_screenshot_path()
 
 
-def _same_line_if_fits(label: str, checkbox: bool = False) -> None:
-    """Continue the toolbar on this line if the next widget fits, else wrap."""
+def _same_line_if_fits(label: str, checkbox: bool = False, field: float = 0.0) -> None:
+    """Continue the toolbar on this line if the next widget fits, else wrap. ``field``:
+    the width of a slider or input in front of the label."""
     style = imgui.get_style()
-    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2
+    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2 + field
     if checkbox:
         width += imgui.get_frame_height() + style.item_inner_spacing.x
     imgui.same_line()
