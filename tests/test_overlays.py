@@ -456,3 +456,20 @@ def test_a_missing_input_is_a_note_not_an_error(frame, compositor):
                        OverlayState(slice=True, slice_quantity="sh6"))
     assert any("sh_order 2" in note for note in compositor.notes["A"])
     pipeline.run(CORNELL, keep_steps=True)
+
+
+def test_an_edited_overlay_shader_is_reloaded_and_redrawn(frame, compositor, monkeypatch):
+    from explorer.gl import program as program_module
+
+    pipeline, result = frame
+    stamp = [program_module.ProgramCache.newest_change()]
+    monkeypatch.setattr(program_module.ProgramCache, "newest_change",
+                        staticmethod(lambda: stamp[0]))
+    overlays = OverlayState(slice=True)
+    compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    drawn = compositor.compositions
+    stamp[0] += 10.0                                   # a shader file changed
+    compositor._shader_poll = 0.0
+    compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    assert compositor.compositions == drawn + 1
+    assert compositor.programs.errors == {}

@@ -141,7 +141,7 @@ def _notes(state: AppState) -> None:
     if compositor is None:
         return
     for name, log in compositor.programs.errors.items():   # a failed hot reload
-        imgui.text_colored(widgets.ERROR, f"{name}: {log.strip().splitlines()[0]}")
+        imgui.text_colored(widgets.ERROR, f"{name}: {(log.strip().splitlines() or [''])[0]}")
     sides = ("A", "B") if state.view_mode == "split" else ("A",)
     for side in sides:
         for note in compositor.notes.get(side, []):
