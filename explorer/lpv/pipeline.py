@@ -66,6 +66,7 @@ from explorer.lpv.textures import LpvGrid
 from explorer.lpv.views import render_view
 from explorer.lpv.vpl import VplArrays, VplTextures
 from explorer.scene import Scene, load_scene
+from explorer.scene.camera import Camera
 from explorer.scene.gpu import SceneBuffers
 
 STAGES = ("scene", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
@@ -117,6 +118,18 @@ class FrameResult:
     cascade_audits: list[GridAudit] = field(default_factory=list)
     """Injection and propagation audit of each cascade. Each cascade holds every VPL
     inside it, so their injected fluxes overlap and must not be summed."""
+    # The camera's view of the frame, for picking and for drawing in the scene
+    # (explorer/ui/overlays): what the G-buffer pass saw, row 0 at the top.
+    gbuffer_position: np.ndarray | None = None
+    """``(H, W, 4)`` world position of the surface under each pixel, w = 1 where a surface
+    was seen (0: background)."""
+    gbuffer_normal: np.ndarray | None = None
+    """``(H, W, 4)`` unit normal facing the camera, w = world area of the pixel's surface."""
+    camera: Camera | None = None
+    """The camera the frame was rendered with (the scene's, with Settings.camera applied)."""
+    scene_bounds: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    """(min, max) corners of the scene's box; with ``camera`` they fix the projection
+    (:meth:`Camera.projection_matrix`)."""
 
 
 class Pipeline:
@@ -583,7 +596,10 @@ class Pipeline:
             vpls=self._arrays["vpls"], accumulated=self._arrays["accumulated"],
             steps=self._arrays["steps"], geometry_volume=self._arrays["geometry"],
             audit=audit, timings_ms=dict(self.timings_ms),
-            timing_methods=dict(self.timing_methods), stages_run=tuple(ran))
+            timing_methods=dict(self.timing_methods), stages_run=tuple(ran),
+            gbuffer_position=position, gbuffer_normal=normal, camera=self._scene.camera,
+            scene_bounds=(tuple(map(float, self._scene.bounds_min)),
+                          tuple(map(float, self._scene.bounds_max))))
 
 
 def render(settings: Settings) -> FrameResult:

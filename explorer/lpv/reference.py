@@ -369,13 +369,14 @@ def propagate(grid: np.ndarray, corrections: Corrections | None = None, iteratio
 
 
 def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
-    """Trilinear lookup of a (3, N, N, N, 4) grid at world points (P, 3) -> (3, P, 4),
-    clamped to the edge like the GPU's linear filter (texel centres at ``i + ½``)."""
+    """Trilinear lookup of a (3, N, N, N, C) grid (C = 4 for L1, 9 for L2) at world points
+    (P, 3) -> (3, P, C), clamped to the edge like the GPU's linear filter (texel centres
+    at ``i + ½``)."""
     n = spec.resolution
     u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
     base = np.floor(u).astype(np.int64)
     frac = u - base
-    out = np.zeros((grid.shape[0], len(u), 4))
+    out = np.zeros((grid.shape[0], len(u), grid.shape[-1]))
     for corner in np.ndindex(2, 2, 2):
         offset = np.array(corner)
         weight = np.prod(np.where(offset == 1, frac, 1.0 - frac), axis=1)
@@ -390,7 +391,7 @@ def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
     units; docs/MODEL.md "Final gather")."""
     normals = np.asarray(normals, np.float64)
     samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
-    lobes = cosine_lobe(-normals)
+    lobes = cosine_lobe(-normals, grid_sh_order(grid))
     irradiance = np.einsum("cpk,pk->pc", samples, lobes)
     return np.maximum(irradiance, 0.0) / spec.cell_size ** 2
 

@@ -100,6 +100,7 @@ class App:
         from imgui_bundle import imgui, implot, implot3d
 
         from explorer.ui.formulas import FormulaCache
+        from explorer.ui.overlays.compositor import Compositor
         from explorer.ui.textures import UiTextures
 
         self._imgui_ctx = imgui.create_context()
@@ -128,6 +129,7 @@ class App:
         imgui.backends.opengl3_init("#version 330 core")
         rt = self.state.runtime
         rt.textures = UiTextures(self.ctx)
+        rt.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
         rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
         self._markdown_ctx = _markdown_context()
         rt.markdown_ready = self._markdown_ctx is not None
@@ -215,6 +217,8 @@ class App:
         rt = self.state.runtime
         if rt.textures is not None:
             rt.textures.release()
+        if rt.compositor is not None:
+            rt.compositor.release()
         if self.persist_settings:
             imgui.save_ini_settings_to_disk(str(self._layout_file))
         if self._markdown_ctx is not None:
@@ -278,7 +282,8 @@ class App:
             self.state.requests.open_scene = None
         if not self._follow_view_size():
             return
-        keep_steps = self.state.inspect.source == "propagation"
+        keep_steps = (self.state.inspect.source == "propagation"
+                      or self.state.overlays.needs_steps)
         if self._run_side("A", keep_steps):
             rt.final_texture_id = self._pipelines["A"].final_texture.glo
         if self.state.comparing:

@@ -17,8 +17,10 @@ from explorer.ui.panels.compare import gui_compare
 from explorer.ui.panels.corrections import gui_corrections
 from explorer.ui.panels.inspect import gui_inspect
 from explorer.ui.panels.messages import gui_messages, gui_shaders
+from explorer.ui.panels.picked import gui_picked
 from explorer.ui.panels.plots import gui_plots
 from explorer.ui.panels.scene import gui_scene
+from explorer.ui.panels.show_in_scene import gui_show_in_scene
 from explorer.ui.panels.view import gui_view
 from explorer.ui.lesson_panel import gui_lesson  # the lessons helper's panel
 from explorer.ui.state import AppState
@@ -40,8 +42,10 @@ PANELS: list[Panel] = [
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Compare", gui_compare, "left-bottom"),
+    Panel("Show in scene", gui_show_in_scene, "right"),   # first: the tab shown at start
     Panel("Inspect", gui_inspect, "right"),
     Panel("Plots", gui_plots, "right-bottom"),
+    Panel("Picked", gui_picked, "right-bottom"),
     Panel("Shaders", gui_shaders, "bottom"),
     Panel("Messages", gui_messages, "bottom"),
 ]

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from explorer.lpv.settings import Corrections, Settings
-from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, InspectState
+from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, InspectState, OverlayState
 
 FORMAT_VERSION = 1
 
@@ -106,6 +106,7 @@ def state_to_dict(state: AppState) -> dict:
         "mesh_path": state.mesh_path,
         "window_size": list(state.window_size),
         "inspect": dataclasses.asdict(state.inspect),
+        "overlays": dataclasses.asdict(state.overlays),
         "open_panels": dict(state.open_panels),
         "layout_panels": list(state.layout_panels),
     }
@@ -131,6 +132,11 @@ def apply_dict(state: AppState, data: Any) -> None:
         inspect = InspectState(**inspect_data)
     except TypeError as exc:
         raise SettingsFileError(f"inspect: {exc}") from None
+    try:
+        overlays = OverlayState(**data.get("overlays", {}))
+        overlays.check()
+    except (TypeError, ValueError) as exc:
+        raise SettingsFileError(f"overlays: {exc}") from None
     panels = data.get("open_panels", {})
     if not isinstance(panels, dict) or not all(isinstance(v, bool) for v in panels.values()):
         raise SettingsFileError("open_panels must map panel titles to true/false")
@@ -147,6 +153,7 @@ def apply_dict(state: AppState, data: Any) -> None:
         raise SettingsFileError(f"window_size must be [width, height] in pixels, got {size!r}")
     state.window_size = (size[0], size[1])
     state.inspect = inspect
+    state.overlays = overlays
     state.open_panels = dict(panels)
     layout_panels = data.get("layout_panels", [])
     if not isinstance(layout_panels, list) or not all(isinstance(t, str)

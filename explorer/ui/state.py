@@ -51,6 +51,112 @@ class InspectState:
     cascade: int = 0                  # which cascade grid-slice / geometry-volume show
 
 
+# --- overlays: what the main view draws in the scene (explorer/ui/overlays) -------------
+SLICE_AXES = ("x", "y", "z")
+SLICE_QUANTITIES = ("intensity", "flux", "in-flight", "sh0", "sh1", "sh2", "sh3", "sh4", "sh5",
+                    "sh6", "sh7", "sh8")
+"""What the slice plane shows per cell, the mean of the three colour channels:
+intensity toward a chosen direction [W/sr] of acc_N; flux 2√π·c0 [W] of acc_N; in-flight:
+the flux of grid_t, the light still travelling after t steps; sh<k>: coefficient k of acc_N
+(sh4..sh8 exist only with sh_order 2)."""
+COLOUR_MAPS = ("auto", "heat", "diverging")
+"""auto: diverging (blue < 0 < orange) for signed quantities (sh1..sh8), heat otherwise."""
+GLYPH_CELLS = ("slice", "picked")
+"""Where SH glyphs are drawn: every cell of the slice (thinned to stay readable) or the
+picked cell and its 26 neighbours."""
+GLYPH_SIZINGS = ("linear", "sqrt", "equal")
+"""Each glyph keeps its lobe's shape (radius ∝ |f(ω)|); its overall size grows with its
+peak value linearly, with the square root of it (dim cells stay visible), or not at all."""
+PICK_KINDS = ("none", "pixel", "cell")
+
+
+@dataclass
+class OverlayState:
+    """The main view's in-scene overlays (the "Show in scene" panel) and the picked point.
+    Plain typed fields with defaults; :meth:`check` says what a loaded value gets wrong."""
+
+    slice: bool = False
+    slice_axis: str = "z"
+    slice_index: int = -1             # cell layer along the axis; -1 = the middle one
+    slice_quantity: str = "intensity"
+    slice_step: int = 0               # t for "in-flight"
+    direction_azimuth: float = 0.0    # degrees; direction of "intensity"
+    direction_elevation: float = 90.0
+    colour_map: str = "auto"
+    slice_scale: float = 0.0          # value at the top of the colour bar; 0 = automatic
+    slice_log: bool = False           # heat map over LOG_DECADES decades below the top
+    slice_opacity: float = 0.8
+    slice_on_top: bool = False        # drawn over the geometry instead of depth-tested
+    cascade: int = 0                  # the cascade the slice, glyphs and lattice show
+    glyphs: bool = False
+    glyph_cells: str = "slice"
+    glyph_scale: float = 1.0          # lobe radius, in units of the glyph's cell spacing
+    glyph_stride: int = 0             # draw every k-th cell of the slice; 0 = automatic
+    glyph_sizing: str = "sqrt"        # how a glyph's size follows its peak (GLYPH_SIZINGS)
+    fly: bool = False                 # camera fly mode (WASD + mouse look) in the view
+    vpls: bool = False
+    vpl_density: float = 0.25         # fraction of the VPLs drawn (a fixed random subset)
+    vpl_size: float = 0.7             # disc radius / the radius of the VPL's surfel
+    lattice: bool = False             # the cell lattice on the slice plane + grid box
+    cascade_boxes: bool = False       # every cascade's extent
+    blockers: bool = False            # geometry volume blockers as oriented discs
+    # The picked point is anchored in the world, so it stays put when the camera moves
+    # (and with it the pixel that shows it, and the cascades that follow the camera).
+    picked_kind: str = "none"         # pixel: a surface point; cell: a cell's centre
+    picked_side: str = "A"            # which configuration's frame the pick reads
+    picked_cascade: int = 0           # the cascade whose cell is picked
+    picked_wx: float = 0.0            # the picked world point
+    picked_wy: float = 0.0
+    picked_wz: float = 0.0
+
+    def check(self) -> None:
+        """A ValueError naming the first field whose value is out of its range."""
+        choices = {"slice_axis": SLICE_AXES, "slice_quantity": SLICE_QUANTITIES,
+                   "colour_map": COLOUR_MAPS, "glyph_cells": GLYPH_CELLS,
+                   "glyph_sizing": GLYPH_SIZINGS,
+                   "picked_kind": PICK_KINDS, "picked_side": ("A", "B")}
+        defaults = OverlayState()
+        for name, value in vars(self).items():
+            kind = type(getattr(defaults, name))
+            if kind is float and isinstance(value, int) and not isinstance(value, bool):
+                setattr(self, name, float(value))
+            elif not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+                raise ValueError(f"{name} must be {kind.__name__}, got {value!r}")
+            if name in choices and value not in choices[name]:
+                raise ValueError(f"{name} must be one of {choices[name]}, "
+                                 f"got {value!r}")
+        ranges = {"slice_opacity": (0.0, 1.0), "vpl_density": (0.0, 1.0),
+                  "glyph_scale": (0.05, 8.0), "vpl_size": (0.05, 8.0),
+                  "slice_scale": (0.0, float("inf")), "glyph_stride": (0, 64)}
+        for name, (low, high) in ranges.items():
+            value = getattr(self, name)
+            if not low <= value <= high:
+                raise ValueError(f"{name} must lie in [{low}, {high}], got {value!r}")
+
+    @property
+    def picked_point(self) -> tuple[float, float, float] | None:
+        if self.picked_kind == "none":
+            return None
+        return (self.picked_wx, self.picked_wy, self.picked_wz)
+
+    def pick(self, kind: str, side: str, cascade: int, world) -> None:
+        """Anchor the picked point at ``world`` (a surface point or a cell centre)."""
+        self.picked_kind, self.picked_side, self.picked_cascade = kind, side, int(cascade)
+        self.picked_wx, self.picked_wy, self.picked_wz = (float(v) for v in world)
+
+    @property
+    def any_shown(self) -> bool:
+        """Whether the view must be composited (an overlay is on or a point is picked)."""
+        return (self.slice or self.glyphs or self.vpls or self.lattice or self.cascade_boxes
+                or self.blockers or self.picked_kind != "none")
+
+    @property
+    def needs_steps(self) -> bool:
+        """The slice or its glyphs show grid_t: the pipeline must keep every step (one
+        propagate run when this turns on)."""
+        return (self.slice or self.glyphs) and self.slice_quantity == "in-flight"
+
+
 @dataclass
 class Message:
     text: str
@@ -89,6 +195,10 @@ class Runtime:
     auto_exposure: tuple[float, float] = (1.0, 1.0)   # per side, from the last results
     play_clock: float = 0.0               # fractional iterations while playing
     vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
+    compositor: Any = None                # explorer.ui.overlays.Compositor (view overlays)
+    hover: Any = None                     # overlays.in_view.Hover under the mouse, or None
+    view_press: tuple | None = None       # where the left button went down on the view
+    pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
 
 
 @dataclass
@@ -118,6 +228,7 @@ class AppState:
     mesh_path: str = ""
     window_size: tuple[int, int] = (1600, 960)
     inspect: InspectState = field(default_factory=InspectState)
+    overlays: OverlayState = field(default_factory=OverlayState)
     open_panels: dict[str, bool] = field(default_factory=dict)
     lesson_id: str | None = None
     layout_panels: list[str] = field(default_factory=list)

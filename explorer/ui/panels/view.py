@@ -1,18 +1,19 @@
 """The 3D view: the pipeline's final image, a split view of two configurations with a
-draggable divider, or their difference in false colour with a scale bar. Mouse: drag to
-orbit, wheel to zoom (the camera is shared by both sides)."""
+draggable divider, or their difference in false colour with a scale bar. The camera (shared
+by both sides) moves with the mouse and keys of explorer.ui.camera_controls; the overlays of
+the "Show in scene" panel are drawn into the single and split views
+(explorer.ui.overlays.in_view)."""
 
 from __future__ import annotations
 
 import numpy as np
 from imgui_bundle import imgui
 
-from explorer.ui import camera, images, legend, widgets
+from explorer.ui import camera_controls, images, legend, widgets
+from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
 from explorer.ui.textures import diverging, heat, tonemap
 
-ORBIT_DEGREES_PER_PIXEL = 0.35
-ZOOM_PER_WHEEL_STEP = 0.9
 _SCALE_BAR_WIDTH = 18.0
 # Pipeline.final_texture holds the bottom row first (GL convention), so the view samples
 # it upside down; textures the UI uploads from FrameResult arrays are top row first.
@@ -44,8 +45,10 @@ def gui_view(state: AppState) -> None:
     end = imgui.ImVec2(origin.x + size.x, origin.y + size.y)
     rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
     divider_grabbed = False
+    split_x = None
     if state.view_mode == "split" and rt.compare_texture_id:
         divider_grabbed = _split(state, draw, origin, end, hovered)
+        split_x = origin.x + (end.x - origin.x) * state.split_position
     elif state.view_mode == "difference" and rt.compare_result is not None:
         _difference(state, draw, origin, end)
     else:
@@ -55,19 +58,26 @@ def gui_view(state: AppState) -> None:
             _overlay(draw, origin, "configuration B is rendering…")
     if state.comparing and state.view_mode == "split":
         _label(draw, origin, end, state)
+    if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
+        in_view.over_image(state, draw, origin, end, hovered, split_x)
     if not divider_grabbed:
-        _mouse_camera(state, hovered, active)
+        camera_controls.handle_mouse(state, hovered, active, end.y - origin.y)
     if hovered and not active:
-        hint = "drag: orbit   wheel: zoom" + ("   divider: drag" if state.view_mode == "split"
+        hint = camera_controls.hint(state) + ("   divider: drag" if state.view_mode == "split"
                                               else "")
         draw.add_text((origin.x + 8, end.y - imgui.get_text_line_height() - 6),
                       imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.55)), hint)
 
 
 def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
-    """(GL texture name, stored bottom row first) of one side's chosen buffer, or None.
-    "final" is the pipeline's own texture; the other buffers are FrameResult arrays
-    tonemapped and uploaded to a texture the UI owns."""
+    """(GL texture name, stored bottom row first) of one side's chosen buffer with the
+    enabled overlays drawn in it, or None. "final" is the pipeline's own texture; the other
+    buffers are FrameResult arrays tonemapped and uploaded to a texture the UI owns."""
+    chosen = _buffer_texture(state, side)
+    return None if chosen is None else in_view.shown_texture(state, side, *chosen)
+
+
+def _buffer_texture(state: AppState, side: str) -> tuple[int, bool] | None:
     rt = state.runtime
     if state.view_buffer == "final":
         tex = rt.final_texture_id if side == "A" else rt.compare_texture_id
@@ -103,6 +113,8 @@ def _toolbar(state: AppState) -> None:
     if imgui.is_item_hovered():
         imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
     imgui.same_line()
+    camera_controls.toolbar(state)
+    _same_line_if_fits("Exposure", field=120 + imgui.get_style().item_inner_spacing.x)
     imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
                                         "%.2f", imgui.SliderFlags_.logarithmic)
@@ -122,10 +134,11 @@ def _toolbar(state: AppState) -> None:
         state.requests.screenshot = default_screenshot_path()
 
 
-def _same_line_if_fits(label: str, checkbox: bool = False) -> None:
-    """Continue the toolbar on this line if the next widget fits, else wrap."""
+def _same_line_if_fits(label: str, checkbox: bool = False, field: float = 0.0) -> None:
+    """Continue the toolbar on this line if the next widget fits, else wrap. ``field``:
+    the width of a slider or input in front of the label."""
     style = imgui.get_style()
-    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2
+    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2 + field
     if checkbox:
         width += imgui.get_frame_height() + style.item_inner_spacing.x
     imgui.same_line()
@@ -222,9 +235,11 @@ def _difference(state: AppState, draw, origin, end) -> None:
              + (" (auto scale)" if state.difference_scale <= 0 else ""))
 
 
-def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> None:
+def scale_bar(draw, pos, height: float, top: float, signed: bool = False,
+              value_at=None) -> None:
     """A vertical colour-scale bar with ticks: heat from 0 (bottom) to ``top``, or with
-    ``signed`` the diverging map from −top (bottom) to +top."""
+    ``signed`` the diverging map from −top (bottom) to +top. ``value_at(fraction)``: the
+    value at a height fraction for the labels, when the scale is not linear."""
     steps = 32
     low = -top if signed else 0.0
 
@@ -243,28 +258,11 @@ def scale_bar(draw, pos, height: float, top: float, signed: bool = False) -> Non
     for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
         y = pos.y + (1.0 - frac) * height
         draw.add_line((pos.x + _SCALE_BAR_WIDTH, y), (pos.x + _SCALE_BAR_WIDTH + 4, y), white)
-        label = f"{low + (top - low) * frac:.2g}"
+        value = value_at(frac) if value_at is not None else low + (top - low) * frac
+        label = f"{value:.2g}"
         draw.add_text((pos.x + _SCALE_BAR_WIDTH + 6, min(y, pos.y + height - 14) - 6), white,
                       label)
 
 
 def _u32(rgb) -> int:
     return imgui.get_color_u32(imgui.ImVec4(float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0))
-
-
-def _mouse_camera(state: AppState, hovered: bool, active: bool) -> None:
-    current = state.settings.camera or state.runtime.camera_default
-    if current is None:
-        return
-    eye, target = camera.as_pair(current)
-    io = imgui.get_io()
-    new = None
-    if active and imgui.is_mouse_dragging(0):
-        delta = imgui.get_mouse_drag_delta(0)
-        imgui.reset_mouse_drag_delta(0)
-        new = camera.orbit(eye, target, -delta.x * ORBIT_DEGREES_PER_PIXEL,
-                           delta.y * ORBIT_DEGREES_PER_PIXEL)
-    elif hovered and io.mouse_wheel != 0.0:
-        new = camera.dolly(eye, target, ZOOM_PER_WHEEL_STEP ** io.mouse_wheel)
-    if new is not None:
-        state.update(camera=new)

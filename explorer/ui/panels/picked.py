@@ -1,0 +1,100 @@
+"""Picked panel: every value the pipeline holds for the picked pixel (world position,
+normal, direct, indirect and reference radiance, the indirect light recomputed from the
+grid) and for its cell (SH coefficients, flux, the cell's part of the energy audit, flux
+in flight per step). The values are read from the current FrameResult each frame, so they
+follow the frame when a switch changes it. Click in the view to pick."""
+
+from __future__ import annotations
+
+import numpy as np
+from imgui_bundle import imgui, implot
+
+from explorer.ui import camera_controls, widgets
+from explorer.ui.overlays.describe import cell_rows, pixel_rows
+from explorer.ui.overlays.picking import cell_at, pick_cell, pick_pixel, pixel_of
+from explorer.ui.state import AppState
+
+
+def gui_picked(state: AppState) -> None:
+    o, rt = state.overlays, state.runtime
+    if o.picked_kind == "none":
+        widgets.dim_text_wrapped("Click a pixel of the view (or a cell of the slice plane) "
+                                 "to read its values here; hovering shows them in a tooltip.")
+        return
+    result = rt.result if o.picked_side == "A" else rt.compare_result
+    if result is None or getattr(result, "gbuffer_position", None) is None:
+        imgui.text_disabled(f"no frame of side {o.picked_side}")
+        return
+    if imgui.button("Frame it (G)"):
+        camera_controls.frame_picked(state)
+    imgui.same_line()
+    if imgui.button("Glyphs around it"):
+        o.glyphs, o.glyph_cells = True, "picked"
+    imgui.same_line()
+    if imgui.button("Clear"):
+        o.picked_kind = "none"
+        return
+    point = o.picked_point
+    imgui.text_disabled(f"side {o.picked_side} · {o.picked_kind} at "
+                        + ", ".join(f"{v:.4g}" for v in point))
+    if o.picked_kind == "pixel":
+        pixel = pixel_of(result, point)
+        if pixel is None:
+            imgui.text_disabled("the picked point is hidden or outside the view in this frame")
+        else:
+            _table("pixel", pixel_rows(pick_pixel(result, *pixel), 6))
+    _cell_picker(state, result)
+    index = cell_at(result, o.picked_cascade, point)
+    cell = None if index is None else pick_cell(result, o.picked_cascade, *index)
+    if cell is None:
+        imgui.text_disabled(f"the point lies outside cascade {o.picked_cascade}")
+        return
+    _table("cell", cell_rows(cell, 6))
+    if cell.in_flight is not None and len(cell.in_flight) > 1:
+        _in_flight_plot(cell.in_flight)
+    else:
+        imgui.text_disabled("flux per step: record the steps (Inspect → propagation, or the "
+                            "slice's light in flight)")
+
+
+def _cell_picker(state: AppState, result) -> None:
+    """Step through the cells: the cascade and i, j, k of the picked cell (picking its
+    centre)."""
+    o = state.overlays
+    specs = result.cascade_specs or [result.grid_spec]
+    if len(specs) > 1:
+        _, o.picked_cascade = imgui.slider_int("Cascade##picked", o.picked_cascade, 0,
+                                               len(specs) - 1)
+    spec = specs[min(o.picked_cascade, len(specs) - 1)]
+    index = cell_at(result, o.picked_cascade, o.picked_point)
+    if index is None:
+        return
+    changed, ijk = imgui.input_int3("Cell i, j, k", list(index))
+    if changed:
+        new = np.clip(ijk, 0, spec.resolution - 1)
+        o.pick("cell", o.picked_side, o.picked_cascade, spec.cell_centre(new))
+
+
+def _table(name: str, rows: list[tuple[str, str]]) -> None:
+    flags = imgui.TableFlags_.row_bg | imgui.TableFlags_.borders_inner_v
+    if not imgui.begin_table(f"##{name}", 2, flags):
+        return
+    imgui.table_setup_column("what", imgui.TableColumnFlags_.width_fixed)
+    imgui.table_setup_column("value")
+    for label, value in rows:
+        imgui.table_next_row()
+        imgui.table_next_column()
+        imgui.text_disabled(label)
+        imgui.table_next_column()
+        imgui.text_wrapped(value)
+    imgui.end_table()
+
+
+def _in_flight_plot(in_flight: np.ndarray) -> None:
+    if not implot.begin_plot("Flux of grid_t in this cell [W]", (-1, 180)):
+        return
+    implot.setup_axes("step t", "W")
+    steps = np.arange(len(in_flight), dtype=np.float64)
+    for channel, name in enumerate(("r", "g", "b")):
+        implot.plot_line(name, steps, np.ascontiguousarray(in_flight[:, channel], np.float64))
+    implot.end_plot()

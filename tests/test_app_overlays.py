@@ -1,0 +1,214 @@
+"""The overlays in the explorer window under Xvfb, driven through the app state (and, for
+picking, imgui mouse events): each overlay changes the view, none runs a pipeline stage,
+picking a pixel of the Cornell box reads the frame's arrays, the camera controls re-run
+only the camera's stages."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from explorer.lpv import reference
+from explorer.lpv.settings import Settings
+from explorer.ui.overlays import picking
+from explorer.ui.state import AppState
+
+pytest.importorskip("glfw")
+from tests.test_app_window import _PROBLEM, _app, _view_pixels, config_home  # noqa: E402,F401
+
+pytestmark = [pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM)),
+              pytest.mark.usefixtures("config_home")]   # settings go to a temporary folder
+
+TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192,
+                geometry_volume="one-sided")
+
+
+class RunCounter:
+    """Wraps a pipeline's run() to count the runs that happen from now on."""
+
+    def __init__(self, pipeline) -> None:
+        self.count = 0
+        original = pipeline.run
+
+        def counted(*args, **kwargs):
+            self.count += 1
+            return original(*args, **kwargs)
+
+        pipeline.run = counted
+
+
+def _settled_app(view_mode: str = "single"):
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    state.view_mode = view_mode
+    app = _app(state)
+    for _ in range(3):
+        app.frame()
+    assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+    return app
+
+
+OVERLAYS = [("slice", dict(slice=True)), ("glyphs", dict(glyphs=True)),
+            ("vpls", dict(vpls=True)), ("lattice", dict(lattice=True)),
+            ("cascade extents", dict(cascade_boxes=True)), ("blockers", dict(blockers=True))]
+
+
+def test_each_overlay_changes_the_view_and_runs_no_stage():
+    app = _settled_app()
+    try:
+        runs = RunCounter(app._pipelines["A"])
+        result = app.state.runtime.result
+        app.frame(capture=True)
+        plain = _view_pixels(app)
+        for name, switches in OVERLAYS:
+            for key, value in switches.items():
+                setattr(app.state.overlays, key, value)
+            app.frame(capture=True)
+            shown = _view_pixels(app)
+            assert np.abs(shown - plain).sum(axis=2).astype(bool).sum() > 20, name
+            for key in switches:
+                setattr(app.state.overlays, key, False)
+        # the slice moves through the volume: a new picture, still no pass
+        app.state.overlays.slice = True
+        app.frame(capture=True)
+        first = _view_pixels(app)
+        app.state.overlays.slice_index = 3
+        app.state.overlays.slice_axis = "x"
+        app.frame(capture=True)
+        assert np.abs(_view_pixels(app) - first).mean() > 0.5
+        assert runs.count == 0 and app.state.runtime.result is result
+        # the light in flight needs the propagation steps: one run records them
+        app.state.overlays.slice_quantity = "in-flight"
+        app.frame()
+        assert runs.count == 1 and app.state.runtime.result.steps is not None
+        assert app.state.runtime.result.stages_run == ("propagate", "gather")
+        for step in range(TINY.iterations + 1):
+            app.state.overlays.slice_step = step
+            app.frame()
+        assert runs.count == 1
+        assert app.state.runtime.compositor.notes["A"] == []
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert errors == []
+        assert app.ctx.error == "GL_NO_ERROR"
+    finally:
+        app.close()
+
+
+def test_overlays_are_drawn_on_both_sides_of_the_split_view():
+    app = _settled_app("split")
+    try:
+        for _ in range(2):
+            app.frame()
+        assert app.state.runtime.compare_result is not None
+        runs_a, runs_b = RunCounter(app._pipelines["A"]), RunCounter(app._pipelines["B"])
+        app.frame(capture=True)
+        plain = _view_pixels(app)
+        app.state.overlays.vpls = True
+        app.state.overlays.vpl_density = 1.0
+        app.frame(capture=True)
+        changed = np.abs(_view_pixels(app) - plain).sum(axis=2) > 0
+        half = changed.shape[1] // 2
+        assert changed[:, :half - 8].sum() > 20 and changed[:, half + 8:].sum() > 20
+        assert runs_a.count == runs_b.count == 0
+    finally:
+        app.close()
+
+
+def _screen_position(app, x: int, y: int) -> tuple[float, float]:
+    """Where pixel (x, y) of the frame is drawn, in imgui's screen units."""
+    from imgui_bundle import imgui
+
+    x0, y0, x1, y1 = app.state.runtime.view_rect
+    width, height = app.state.settings.width, app.state.settings.height
+    scale = imgui.get_io().display_framebuffer_scale.x or 1.0
+    return ((x0 + (x + 0.5) / width * (x1 - x0)) / scale,
+            (y0 + (y + 0.5) / height * (y1 - y0)) / scale)
+
+
+def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
+    from imgui_bundle import imgui
+
+    app = _settled_app()
+    try:
+        result = app.state.runtime.result
+        x, y = 80, 170                          # the floor, left of the short block
+        assert result.gbuffer_normal[y, x, 1] > 0.99
+        io = imgui.get_io()
+        io.add_mouse_pos_event(*_screen_position(app, x, y))
+        app.frame()
+        assert app.state.runtime.hover is None, "a pointer that did not move reads nothing"
+        io.add_mouse_pos_event(*_screen_position(app, x + 3, y))
+        app.frame()
+        io.add_mouse_pos_event(*_screen_position(app, x, y))
+        app.frame()
+        hover = app.state.runtime.hover
+        assert hover is not None and hover.pixel == (x, y)
+        io.add_mouse_button_event(0, True)
+        app.frame()
+        io.add_mouse_button_event(0, False)
+        app.frame()
+        o = app.state.overlays
+        assert (o.picked_kind, o.picked_side) == ("pixel", "A")
+        assert o.picked_point == tuple(float(v) for v in result.gbuffer_position[y, x, :3])
+        pick = hover.pick
+        assert np.array_equal(pick.position, result.gbuffer_position[y, x, :3])
+        assert np.array_equal(pick.normal, result.gbuffer_normal[y, x, :3])
+        assert np.array_equal(pick.direct, result.direct[y, x])
+        assert np.array_equal(pick.indirect, result.indirect[y, x])
+        cell = tuple(int(v) for v in result.grid_spec.cell_index(pick.position))
+        assert picking.cell_at(result, o.picked_cascade, o.picked_point) == cell
+        assert np.array_equal(pick.cells[0].coefficients,
+                              result.accumulated[(slice(None),) + cell])
+        np.testing.assert_allclose(pick.indirect_from_grid, pick.indirect, rtol=1e-4)
+        # the picked point is drawn (its cell box and marker) and the Picked panel reads it
+        app.frame(capture=True)
+        assert app.state.runtime.compositor.compositions > 0
+        app.state.open_panels["Picked"] = True
+        app.state.requests.focus_panel = "Picked"
+        for _ in range(2):
+            app.frame()
+        # a click on the slice plane picks the cell under the mouse
+        o.slice, o.slice_axis, o.slice_index = True, "z", 8
+        io.add_mouse_pos_event(*_screen_position(app, 128, 60))
+        app.frame()
+        hover = app.state.runtime.hover
+        assert hover.cell is not None and hover.cell.index[2] == 8
+        # the value under the mouse is the slice's quantity in that cell (acc_N's intensity
+        # toward +y, mean of the channels), recomputed here from the arrays
+        up = reference.sh_basis(np.array([0.0, 1.0, 0.0]))
+        expected = np.dot(result.accumulated[(slice(None),) + hover.cell.index], up).mean()
+        assert hover.slice_value[1] == pytest.approx(expected, rel=1e-5)
+        io.add_mouse_button_event(0, True)
+        app.frame()
+        io.add_mouse_button_event(0, False)
+        app.frame()
+        assert o.picked_kind == "cell"
+        assert picking.cell_at(result, o.picked_cascade, o.picked_point)[2] == 8
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert errors == []
+    finally:
+        app.close()
+
+
+def test_camera_controls_rerun_only_the_camera_stages():
+    from explorer.ui import camera_controls
+
+    app = _settled_app()
+    try:
+        before = app.state.runtime.result
+        assert camera_controls.frame_scene(app.state)
+        app.frame()
+        after = app.state.runtime.result
+        assert after is not before and after.stages_run == ("scene", "gbuffer", "gather")
+        assert after.gbuffer_position[96, 128, 3] > 0.5
+        point = after.gbuffer_position[96, 128, :3]
+        app.state.overlays.pick("pixel", "A", 0, point)
+        assert camera_controls.frame_picked(app.state)
+        app.frame()
+        framed = app.state.runtime.result
+        assert np.allclose(framed.camera.target, point)
+        # the picked point stays anchored: the new frame shows it at the image centre
+        x, y = picking.pixel_of(framed, point)
+        assert abs(x - 128) <= 1 and abs(y - 96) <= 1
+    finally:
+        app.close()
