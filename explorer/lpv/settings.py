@@ -61,6 +61,14 @@ def preset(name: str) -> Corrections:
         raise KeyError(f"unknown preset {name!r}; choose one of {sorted(PRESETS)}") from None
 
 
+def preset_name(corrections: Corrections) -> str:
+    """The name of the preset equal to ``corrections``, or ``"custom"``."""
+    for name, value in PRESETS.items():
+        if value == corrections:
+            return name
+    return "custom"
+
+
 DOWNSAMPLE_MODES = ("none", "average", "brightest")
 INJECTION_MODES = ("points", "compute")
 GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")

@@ -20,16 +20,15 @@ from __future__ import annotations
 import sys
 import time
 import traceback
-from datetime import datetime
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 from explorer.gl.window import Window
-from explorer.lpv.settings import Settings
+from explorer.lpv.settings import PRESETS, Settings, preset_name
 from explorer.ui import persist
-from explorer.ui.state import AppState
+from explorer.ui.state import AppState, default_screenshot_path
 
 _MIN_RENDER_SIZE = 16
 _MAX_RENDER_SIZE = 2048
@@ -40,28 +39,13 @@ _EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
 CLEAR_COLOUR = (0.09, 0.095, 0.11, 1.0)
 
 
-def default_screenshot_path() -> Path:
-    return Path.cwd() / f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}.png"
-
-
-def _default_pipeline_factory():
-    """The Pipeline class, or None when this build lacks it (the window still opens)."""
-    try:
-        from explorer.lpv.pipeline import Pipeline
-    except ModuleNotFoundError as exc:
-        if exc.name and exc.name.startswith("explorer"):
-            return None
-        raise
-    return Pipeline
-
-
 class App:
     def __init__(self, state: AppState | None = None, *, width: int | None = None,
                  height: int | None = None,
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
-        None for a window without a pipeline (panels only)."""
+        None for a window without a pipeline (panels only: the window tests)."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         if persist_settings and state is None:
@@ -77,20 +61,21 @@ class App:
         rt.gl_problem = self.window.gl_problem
         if rt.gl_problem:
             print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
-        self._pipeline_class = (_default_pipeline_factory() if pipeline_class is ...
-                                else pipeline_class)
-        if self._pipeline_class is None and not rt.gl_problem:
-            rt.pipeline_error = ("no LPV pipeline in this build (explorer.lpv.pipeline); "
-                                 "the panels work, the view stays empty")
+        if pipeline_class is ...:
+            from explorer.lpv.pipeline import Pipeline as pipeline_class
+        self._pipeline_class = pipeline_class
+        if pipeline_class is None and not rt.gl_problem:
+            rt.pipeline_error = ("no LPV pipeline attached (App(pipeline_class=None)): the "
+                                 "panels work, the view stays empty")
         self._pipelines: dict[str, object] = {}
         self._last_run: dict[str, object] = {}
         self._failed: dict[str, object] = {}
+        self._ran_settings: Settings | None = None   # state.settings when A last ran
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
         self._exposure_seen: list = [None, None]
         self._pending_size: tuple | None = None
         self._shader_poll = 0.0
-        self._shader_stamp = 0.0
         self._capture = False
         self.last_pixels: np.ndarray | None = None
         self._init_imgui()
@@ -111,6 +96,11 @@ class App:
         self._layout_file = persist.layout_path()
         if self.persist_settings:
             self._layout_file.parent.mkdir(parents=True, exist_ok=True)
+            # imgui asserts on a layout it cannot use: check it first, set it aside if bad
+            problem = persist.check_layout_file(self._layout_file)
+            if problem:
+                print(f"lpv-explorer: {problem}", file=sys.stderr)
+                self.state.notify(problem, "warning")
             io.set_ini_filename(str(self._layout_file))
         else:
             io.set_ini_filename("")
@@ -206,6 +196,7 @@ class App:
             try:
                 if not self.window.minimised:
                     self.state.window_size = self.window.size
+                self._keep_settings_that_ran()
                 persist.save_state(self.state)
             except OSError as exc:
                 print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)
@@ -228,6 +219,13 @@ class App:
         implot.destroy_context(self._implot_ctx)
         imgui.destroy_context(self._imgui_ctx)
         self.window.close()
+
+    def _keep_settings_that_ran(self) -> None:
+        """Before saving: settings the pipeline refused are not written back; the last
+        settings that ran take their place (the defaults when none ran)."""
+        failed = self._failed.get("A")
+        if failed is not None and failed[0] == self.settings_for("A"):
+            self.state.settings = self._ran_settings or Settings()
 
     # -- pipelines -----------------------------------------------------------------------
     def settings_for(self, side: str):
@@ -314,6 +312,7 @@ class App:
         if side == "A":
             rt.result = result
             rt.pipeline_error = None
+            self._ran_settings = self.state.settings
             self._good_scene = (settings.scene, settings.camera, settings.light,
                                 settings.light_flux)
             self._scene_defaults(pipeline, settings.scene)
@@ -387,57 +386,18 @@ class App:
         rt.auto_exposure = (values[0], values[1])
 
     def _hot_reload(self) -> None:
-        """Recompile shaders whose files changed. With ``Pipeline.invalidate`` the
-        pipeline's ProgramCache reloads in place (a failed compile keeps the last good
-        program and records its log); without it a fresh pipeline is built and swapped in
-        only if it runs, so a broken shader never replaces a working one."""
-        from explorer.gl.program import ProgramCache, ShaderError
-
+        """Recompile shaders whose files changed: each pipeline's ProgramCache reloads in
+        place (a failed compile keeps the last good program and records its log)."""
         now = time.monotonic()
         if now - self._shader_poll < _SHADER_POLL_S or not self._pipelines:
             return
         self._shader_poll = now
         rt = self.state.runtime
-        stamp = ProgramCache.newest_change()
-        if not self._shader_stamp:
-            self._shader_stamp = stamp
-        changed, self._shader_stamp = stamp > self._shader_stamp, max(stamp, self._shader_stamp)
         for side, pipeline in list(self._pipelines.items()):
-            programs = getattr(pipeline, "programs", None)
-            invalidate = getattr(pipeline, "invalidate", None)
-            if isinstance(programs, ProgramCache) and callable(invalidate):
-                if programs.reload_if_changed():
-                    invalidate()
-                    self._last_run.pop(side, None)
-                    self.state.notify(f"shaders reloaded ({side})")
-                rt.shader_errors = dict(programs.errors)
-            elif changed:
-                self._rebuild(side, pipeline, ShaderError)
-
-    def _rebuild(self, side: str, old, shader_error) -> None:
-        rt = self.state.runtime
-        settings, keep_steps = self._last_run.get(side, (self.settings_for(side), False))
-        try:
-            fresh = self._pipeline_class(settings, ctx=self.ctx)
-            result = fresh.run(settings, keep_steps=keep_steps)
-        except shader_error as exc:
-            rt.shader_errors = {exc.path.name: exc.log}
-            self.state.notify(f"shader error in {exc.path.name}; keeping the last good "
-                              "programs", "error")
-            return
-        except Exception as exc:  # noqa: BLE001
-            rt.shader_errors = {"pipeline": f"{type(exc).__name__}: {exc}"}
-            return
-        finally:
-            self.ctx.screen.use()
-        old.release()
-        self._pipelines[side] = fresh
-        rt.shader_errors = {}
-        if side == "A":
-            rt.result, rt.final_texture_id = result, fresh.final_texture.glo
-        else:
-            rt.compare_result, rt.compare_texture_id = result, fresh.final_texture.glo
-        self.state.notify(f"shaders reloaded ({side})")
+            if pipeline.reload_shaders():
+                self._last_run.pop(side, None)
+                self.state.notify(f"shaders reloaded ({side})")
+            rt.shader_errors = dict(pipeline.programs.errors)
 
     # -- UI ------------------------------------------------------------------------------
     def _draw_ui(self) -> None:
@@ -505,12 +465,10 @@ class App:
                 state.requests.quit = True
             imgui.end_menu()
         if imgui.begin_menu("Presets"):
-            for name in ("original", "corrected"):
-                if imgui.menu_item_simple(f"A: {name}"):
-                    state.apply_preset(name)
-            for name in ("original", "corrected"):
-                if imgui.menu_item_simple(f"B: {name}"):
-                    state.apply_preset(name, compare=True)
+            for side in ("A", "B"):
+                for name in PRESETS:
+                    if imgui.menu_item_simple(f"{side}: {name}"):
+                        state.apply_preset(name, compare=side == "B")
             imgui.end_menu()
         if imgui.begin_menu("Windows"):
             for panel in PANELS:
@@ -588,11 +546,9 @@ class App:
                 self.state.notify(f"could not write {request}: {exc}", "error")
 
     def _update_title(self) -> None:
-        from explorer.ui.panels.view import _preset_name
-
         s = self.state.settings
         name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
-        self.window.set_title(f"lpv-explorer — {name} — {_preset_name(s.corrections)}")
+        self.window.set_title(f"lpv-explorer — {name} — {preset_name(s.corrections)}")
 
 
 def write_png(pixels: np.ndarray, path: str | Path) -> None:

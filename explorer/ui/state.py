@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from explorer.lpv.settings import PRESETS, Settings
+from explorer.lpv.schema import setting, validate
+from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS, PRESETS, Settings
 
 VIEW_MODES = ("single", "split", "difference")
 """single: configuration A; split: A left | B right with a draggable divider;
@@ -36,19 +38,41 @@ GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 coefficient (rgb of that coefficient, signed)."""
 
 
+MIN_WINDOW_SIZE = (200, 150)
+MAX_WINDOW_SIZE = 8192
+"""Largest window edge in pixels: X11 refuses windows past 32767 (Xlib aborts the
+process), and no screen is wider than this; the window's framebuffer must also fit a
+texture (GL_MAX_TEXTURE_SIZE is at least 8192 on a GL 4.3 driver)."""
+
+
 @dataclass
 class InspectState:
-    source: str = "rsm-flux"
-    slice_z: int = -1                 # -1 = the middle slice
-    component: str = "intensity"
-    direction_azimuth: float = 0.0    # degrees; direction of evaluation for "intensity"
-    direction_elevation: float = 90.0
-    iteration: int = 0                # for "propagation"
-    playing: bool = False
-    play_rate: float = 4.0            # iterations per second while playing
-    signed_scale: float = 0.0         # 0 = automatic scaling of signed data
-    glyphs: bool = False              # draw SH glyphs over grid slices
-    cascade: int = 0                  # which cascade grid-slice / geometry-volume show
+    """What the Inspect panel shows; persisted, so every field is declared and checked
+    by the settings schema (explorer/lpv/schema.py) when the file is read back."""
+
+    source: str = setting("rsm-flux", kind="choice", choices=INSPECT_SOURCES,
+                          doc="The buffer the Inspect panel shows.")
+    slice_z: int = setting(-1, kind="int", low=-1, high=MAX_GRID_SIZE,
+                           doc="z slice of the grid views; -1 = the middle slice.")
+    component: str = setting("intensity", kind="choice", choices=GRID_COMPONENTS,
+                             doc="What a grid slice shows.")
+    direction_azimuth: float = setting(0.0, kind="float", low=-180.0, high=180.0, unit="°",
+                                       doc="Direction the intensity is evaluated in.")
+    direction_elevation: float = setting(90.0, kind="float", low=-90.0, high=90.0, unit="°",
+                                         doc="Direction the intensity is evaluated in.")
+    iteration: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS,
+                             doc='The step t of grid_t the "propagation" source shows.')
+    playing: bool = setting(False, kind="bool", doc="Step through the iterations.")
+    play_rate: float = setting(4.0, kind="float", low=0.0, low_open=True, high=1000.0,
+                               doc="Iterations per second while playing.")
+    signed_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
+                                  doc="Top of the signed scale; 0 = automatic.")
+    glyphs: bool = setting(False, kind="bool", doc="Draw SH glyphs over grid slices.")
+    cascade: int = setting(0, kind="int", low=0, high=MAX_CASCADES - 1,
+                           doc="The cascade grid-slice and geometry-volume show.")
+
+    def __post_init__(self) -> None:
+        validate(self)
 
 
 @dataclass
@@ -103,29 +127,62 @@ class Requests:
     quit: bool = False
 
 
+def default_screenshot_path() -> Path:
+    """Where F12 and the View panel's button write: a time-stamped PNG in the folder the
+    explorer was started from."""
+    return Path.cwd() / f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}.png"
+
+
 @dataclass
 class AppState:
-    settings: Settings = field(default_factory=Settings)
-    compare_settings: Settings = field(  # configuration B: only its corrections are used
-        default_factory=lambda: Settings(corrections=PRESETS["original"]))
-    view_mode: str = "single"
-    view_buffer: str = "final"
-    split_position: float = 0.5       # divider, fraction of the view width
-    auto_exposure: bool = False       # expose each side of a comparison on its own
-    difference_scale: float = 0.0     # watts per pixel at the top of the scale; 0 = auto
-    render_scale: float = 1.0         # render resolution / view panel pixels
-    follow_view_size: bool = True     # render at the view panel's size
-    mesh_path: str = ""
-    window_size: tuple[int, int] = (1600, 960)
-    inspect: InspectState = field(default_factory=InspectState)
-    open_panels: dict[str, bool] = field(default_factory=dict)
+    """The window's state. The fields declared with :func:`setting` are what the settings
+    file holds (explorer/ui/persist.py): the schema checks them when the file is read
+    back, and the Scene panel draws those that declare a widget."""
+
+    settings: Settings = setting(kind="nested", nested=Settings, default_factory=Settings,
+                                 doc="Configuration A: what the view shows.")
+    compare_settings: Settings = setting(  # configuration B: only its corrections are used
+        kind="nested", nested=Settings,
+        default_factory=lambda: Settings(corrections=PRESETS["original"]),
+        doc="Configuration B of the compare views (only its corrections are used).")
+    view_mode: str = setting("single", kind="choice", choices=VIEW_MODES,
+                             doc="One configuration, split A|B, or their difference.")
+    view_buffer: str = setting("final", kind="choice", choices=VIEW_BUFFERS,
+                               doc="What the 3D view shows.")
+    split_position: float = setting(0.5, kind="float", low=0.02, high=0.98,
+                                    doc="The split view's divider, a fraction of its width.")
+    auto_exposure: bool = setting(False, kind="bool",
+                                  doc="Expose each side of a comparison on its own.")
+    difference_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
+                                      doc="Watts per pixel at the top of the difference "
+                                          "scale; 0 = automatic.")
+    render_scale: float = setting(1.0, kind="float", low=0.25, high=2.0, widget="slider",
+                                  label="Render scale", group="Output",
+                                  doc="Render resolution per View panel pixel.")
+    follow_view_size: bool = setting(True, kind="bool", widget="checkbox",
+                                     label="Render at view size", group="Output",
+                                     doc="Render at the View panel's size (times the render "
+                                         "scale) instead of a fixed resolution.")
+    mesh_path: str = setting("", kind="text", doc="The path typed in the Scene panel.")
+    window_size: tuple[int, int] = setting(
+        (1600, 960), kind="size", low=MIN_WINDOW_SIZE[1], high=MAX_WINDOW_SIZE,
+        doc="The window's size in pixels when it was closed.")
+    inspect: InspectState = setting(kind="nested", nested=InspectState,
+                                    default_factory=InspectState,
+                                    doc="What the Inspect panel shows.")
+    open_panels: dict[str, bool] = setting(kind="switches", default_factory=dict,
+                                           doc="Panel title -> shown.")
     lesson_id: str | None = None
-    layout_panels: list[str] = field(default_factory=list)
-    """Panel titles the saved dock layout was built for; a new panel rebuilds it."""
+    layout_panels: list[str] = setting(
+        kind="names", default_factory=list,
+        doc="Panel titles the saved dock layout was built for; a new panel rebuilds it.")
     plot_tab: str | None = None       # a name in settings.PLOTS: bring that plot's tab forward
     messages: list[Message] = field(default_factory=list)
     requests: Requests = field(default_factory=Requests)
     runtime: Runtime = field(default_factory=Runtime)
+
+    def __post_init__(self) -> None:
+        validate(self)
 
     # -- helpers panels use --------------------------------------------------------------
     def notify(self, text: str, level: str = "info") -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 from imgui_bundle import imgui, implot
 
+from explorer.lpv.settings import preset_name
 from explorer.ui.state import AppState
 
 AUDIT_ROWS = (
@@ -117,6 +118,4 @@ def _timings_plot(sides, height: float) -> None:
 
 
 def _label(result) -> str:
-    from explorer.ui.panels.view import _preset_name
-
-    return _preset_name(result.settings.corrections)
+    return preset_name(result.settings.corrections)

@@ -7,8 +7,9 @@ from __future__ import annotations
 import numpy as np
 from imgui_bundle import imgui
 
+from explorer.lpv.settings import preset_name
 from explorer.ui import camera, images, widgets
-from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
+from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
 from explorer.ui.textures import diverging, heat, tonemap
 
 ORBIT_DEGREES_PER_PIXEL = 0.35
@@ -117,8 +118,6 @@ def _toolbar(state: AppState) -> None:
         state.update(indirect_only=value)
     _same_line_if_fits("Screenshot (F12)")
     if imgui.button("Screenshot (F12)"):
-        from explorer.ui.app import default_screenshot_path
-
         state.requests.screenshot = default_screenshot_path()
 
 
@@ -177,8 +176,8 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
 
 
 def _label(draw, origin, end, state: AppState) -> None:
-    a = "A: " + _preset_name(state.settings.corrections)
-    b = "B: " + _preset_name(state.compare_settings.corrections)
+    a = "A: " + preset_name(state.settings.corrections)
+    b = "B: " + preset_name(state.compare_settings.corrections)
     pad = 6.0
     _overlay(draw, origin, a)
     width = imgui.calc_text_size(b).x
@@ -193,15 +192,6 @@ def _overlay(draw, pos, text: str) -> None:
     draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(0, 0, 0, 0.6)), 4.0)
     draw.add_text((p0.x + pad, p0.y + pad), imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 1)),
                   text)
-
-
-def _preset_name(corrections) -> str:
-    from explorer.lpv.settings import PRESETS
-
-    for name, value in PRESETS.items():
-        if value == corrections:
-            return name
-    return "custom"
 
 
 def _difference(state: AppState, draw, origin, end) -> None:
