@@ -35,7 +35,18 @@ def build_parser() -> argparse.ArgumentParser:
     for name, help_text in COMMANDS.items():
         sub_parser = sub.add_parser(name, help=help_text, description=help_text)
         _load(name).add_arguments(sub_parser)
+        parser.command_parsers[name] = sub_parser
     return parser
+
+
+def _parse(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.Namespace:
+    """Parse ``argv``; an option the command does not know is reported by that
+    command's parser (``lpv-explorer render: error: unrecognized arguments: ...``)."""
+    args, extras = parser.parse_known_args(argv)
+    if extras:
+        parser.command_parsers[args.command].error(
+            f"unrecognized arguments: {' '.join(extras)}")
+    return args
 
 
 def _load(name: str):
@@ -55,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     prog = f"lpv-explorer {argv[0]}" if argv[0] in COMMANDS else "lpv-explorer"
     try:
         parser = build_parser()
-        args = parser.parse_args(argv)
+        args = _parse(parser, argv)
         if args.command is None:
             parser.print_help()
             return 2

@@ -30,7 +30,7 @@ from explorer.commands.options import (
     sweep_values,
     value_type,
 )
-from explorer.lpv.schema import Spec
+from explorer.lpv.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
 REFERENCE_CHOICES = ("visible", "unoccluded")
@@ -78,6 +78,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
                         sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
                         aliases={"grid_size": ("--grid-size",)})
+    for name in ("width", "height"):     # compare's own spelling of --size, kept
+        parser.add_argument(f"--{name}", dest=name, type=setting_type(name), default=None,
+                            help=spec_help(specs(Settings)[name], DEFAULTS["size"][0]))
 
 
 def parse_region(text: str) -> tuple[int, int, int, int]:

@@ -43,7 +43,12 @@ class CommandError(Exception):
 
 class ArgumentParser(argparse.ArgumentParser):
     """argparse with a one-line error (``prog: error: message``) instead of the usage
-    text followed by the error; ``--help`` still shows the usage."""
+    text followed by the error; ``--help`` still shows the usage. ``command_parsers``:
+    the subcommands' parsers by name (``explorer.cli.build_parser`` fills it)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.command_parsers: dict[str, argparse.ArgumentParser] = {}
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
@@ -239,14 +244,16 @@ def check_settings(settings: Iterable[Callable[[], Settings]]) -> list[Settings]
         raise CommandError(exc) from None
 
 
-def check_scene(name: str) -> None:
+def check_scene(name: str, load: bool = False) -> None:
     """A built-in scene name or an existing file; :class:`CommandError` otherwise (the
-    loader's message: the built-in names and the mesh types)."""
-    from explorer.scene import SceneError
+    loader's message: the built-in names and the mesh types). With ``load`` a mesh file
+    is also read, so a file trimesh cannot use is refused now rather than later."""
+    from explorer.scene import SceneError, load_scene
     from explorer.scene.loader import check_scene_name
 
     try:
-        check_scene_name(name)
+        if check_scene_name(name) is not None and load:
+            load_scene(name)
     except SceneError as exc:
         raise CommandError(exc) from None
 
@@ -291,10 +298,12 @@ class Outputs:
         if path.is_dir() or folder_like:
             raise CommandError(f"{option} {path} is a folder; give a file name"
                                + (f" ending in {suffixes[0]}" if suffixes else ""))
+        if suffixes and not path.suffix:
+            raise CommandError(f"{option} {path} has no suffix; end the name in "
+                               f"{', '.join(suffixes)}")
         if suffixes and path.suffix.lower() not in suffixes:
-            found = f"'{path.suffix}'" if path.suffix else "no suffix"
-            raise CommandError(f"{option} {path}: {found} is not an image type this command "
-                               f"writes; use one of {', '.join(suffixes)}")
+            raise CommandError(f"{option} {path}: this command writes "
+                               f"{', '.join(suffixes)}, not {path.suffix!r}")
         self._writable_folder(path.parent, option)
         return path
 
@@ -362,17 +371,18 @@ class Progress:
         self.interval = interval
         self.clock = clock
         self._last_draw = -float("inf")
+        self._stage: str | None = None
         self._shown = 0               # characters on the line now
 
     def __call__(self, stage: str, done: int, total: int) -> None:
         if not self.enabled:
             return
         now = self.clock()
-        if done < total and now - self._last_draw < self.interval:
-            return
-        self._last_draw = now
+        if done < total and stage == self._stage and now - self._last_draw < self.interval:
+            return                      # a new stage and a finished one are always drawn
+        self._last_draw, self._stage = now, stage
         fraction = min(max(done / total, 0.0), 1.0) if total > 0 else 1.0
-        filled = int(round(fraction * self.width))
+        filled = int(fraction * self.width)
         line = (f"{self.label}: {stage} [{'#' * filled}{'.' * (self.width - filled)}] "
                 f"{int(100 * fraction):3d}% ({done}/{total})")
         self.stream.write("\r" + line + " " * max(self._shown - len(line), 0))

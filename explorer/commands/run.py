@@ -61,7 +61,7 @@ def window_size(width: int, height: int) -> tuple[int, int]:
 def main(args: argparse.Namespace) -> int:
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
-        check_scene(args.scene)
+        check_scene(args.scene, load=True)    # a broken mesh: refused before the window
     if args.lesson:
         _check_lesson(args.lesson)
     if args.screenshot is not None:

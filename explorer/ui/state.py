@@ -38,7 +38,8 @@ GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 coefficient (rgb of that coefficient, signed)."""
 
 
-MIN_WINDOW_SIZE = (200, 150)
+MIN_WINDOW_SIZE = 150
+"""Smallest window edge in pixels (the menu bar and a panel still fit)."""
 MAX_WINDOW_SIZE = 8192
 """Largest window edge in pixels: X11 refuses windows past 32767 (Xlib aborts the
 process), and no screen is wider than this; the window's framebuffer must also fit a
@@ -156,16 +157,16 @@ class AppState:
     difference_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
                                       doc="Watts per pixel at the top of the difference "
                                           "scale; 0 = automatic.")
-    render_scale: float = setting(1.0, kind="float", low=0.25, high=2.0, widget="slider",
-                                  label="Render scale", group="Output",
-                                  doc="Render resolution per View panel pixel.")
     follow_view_size: bool = setting(True, kind="bool", widget="checkbox",
                                      label="Render at view size", group="Output",
                                      doc="Render at the View panel's size (times the render "
                                          "scale) instead of a fixed resolution.")
+    render_scale: float = setting(1.0, kind="float", low=0.25, high=2.0, widget="slider",
+                                  label="Render scale", group="Output",
+                                  doc="Render resolution per View panel pixel.")
     mesh_path: str = setting("", kind="text", doc="The path typed in the Scene panel.")
     window_size: tuple[int, int] = setting(
-        (1600, 960), kind="size", low=MIN_WINDOW_SIZE[1], high=MAX_WINDOW_SIZE,
+        (1600, 960), kind="size", low=MIN_WINDOW_SIZE, high=MAX_WINDOW_SIZE,
         doc="The window's size in pixels when it was closed.")
     inspect: InspectState = setting(kind="nested", nested=InspectState,
                                     default_factory=InspectState,
