@@ -83,9 +83,9 @@ _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
 _LIGHT_KEYS = ("position", "target")
-# Settings fields with their own lesson keys (scene, corrections, camera, light) are not
-# accepted inside [settings]: one way to say each thing.
-_OWN_KEYS = ("scene", "corrections", "camera", "light")
+_OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
+"""Settings fields with their own lesson keys (scene, corrections, camera, light): not
+accepted inside [settings], so there is one way to say each thing."""
 _ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
 _FILE_PATTERN = re.compile(r"^(\d+)-([a-z0-9-]+)\.toml$")
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-import pytest
 
 from explorer.cli import main
 from explorer.commands.bench import propagation_bytes

@@ -22,18 +22,7 @@ import json
 import statistics
 from pathlib import Path
 
-from explorer.commands.options import (
-    CommandError,
-    Outputs,
-    Progress,
-    add_setting_options,
-    check_scene,
-    run_pipeline,
-    settings_from_args,
-    spec_help,
-    sweep_values,
-    value_type,
-)
+from explorer.commands import options
 from explorer.lpv.schema import Spec
 from explorer.lpv.settings import Settings, preset_name
 
@@ -77,15 +66,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
                         help=f"extra rows at each grid's largest iteration count: "
                              f"{', '.join(VARIANTS)} (comma list) or none (default: all)")
-    parser.add_argument("--repeat", type=value_type("repeat", REPEAT), default=None,
-                        help=spec_help(REPEAT, f"{DEFAULT_REPEAT}, 1 with --quick"))
+    parser.add_argument("--repeat", type=options.value_type("repeat", REPEAT), default=None,
+                        help=options.spec_help(REPEAT, f"{DEFAULT_REPEAT}, 1 with --quick"))
     parser.add_argument("--quick", action="store_true",
                         help="CI-sized run: grids 8,16, iterations 2,4, 64x64 image, 64² RSM, "
                              "one timed frame (options given still win)")
-    parser.add_argument("--peak-gbs", type=value_type("peak_gbs", PEAK_GBS), default=None,
-                        help=spec_help(PEAK_GBS))
+    parser.add_argument("--peak-gbs", type=options.value_type("peak_gbs", PEAK_GBS), default=None,
+                        help=options.spec_help(PEAK_GBS))
     parser.add_argument("--json", type=Path, help="also write the results as JSON here")
-    add_setting_options(parser, exclude=("exposure", "indirect_only"),
+    options.add_setting_options(parser, exclude=("exposure", "indirect_only"),
                         sweep=("grid_size", "iterations", "cascades", "sh_order"),
                         aliases={"grid_size": ("--grids",), "grid_format": ("--format",)})
 
@@ -100,7 +89,7 @@ def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -
 def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]:
     """Every (variant, Settings) the bench times, all made (so checked by the schema)
     before the first is timed. Left-out sweeps use the lists for this device."""
-    base = settings_from_args(args)
+    base = options.settings_from_args(args)
     if args.quick:
         if args.size is None:
             base = base.with_changes(width=QUICK_SIZES["width"], height=QUICK_SIZES["height"])
@@ -112,8 +101,8 @@ def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]
         iterations = SOFTWARE_ITERATIONS if software else FULL_ITERATIONS
     grids = args.grid_size or grids
     iterations = args.iterations or iterations
-    cascades = sweep_values(args, "cascades", base)
-    orders = sweep_values(args, "sh_order", base)
+    cascades = options.sweep_values(args, "cascades", base)
+    orders = options.sweep_values(args, "sh_order", base)
     runs = []
     try:
         for grid in grids:
@@ -129,7 +118,7 @@ def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]
                 runs.append((name, base.with_changes(grid_size=grid, iterations=max(iterations),
                                                      sh_order=orders[0], **changes)))
     except ValueError as exc:
-        raise CommandError(exc) from None
+        raise options.CommandError(exc) from None
     return runs
 
 
@@ -142,11 +131,11 @@ def run_bench(args: argparse.Namespace, pipeline, runs: list[tuple[str, Settings
     for done, (variant, settings) in enumerate(runs):
         if progress is not None:
             progress("timing", done, len(runs))
-        run_pipeline(pipeline, settings)                    # warm-up: compiles, allocates
+        options.run_pipeline(pipeline, settings)                    # warm-up: compiles, allocates
         samples: dict[str, list[float]] = {}
         for _ in range(repeat):
             pipeline.invalidate("rsm")
-            result = run_pipeline(pipeline, settings)
+            result = options.run_pipeline(pipeline, settings)
             for name in result.stages_run:
                 if name in result.timings_ms:
                     samples.setdefault(name, []).append(result.timings_ms[name])
@@ -191,19 +180,19 @@ def main(args: argparse.Namespace) -> int:
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
 
-    base = settings_from_args(args)
-    check_scene(base.scene)
-    with Outputs("--json") as outputs:
+    base = options.settings_from_args(args)
+    options.check_scene(base.scene)
+    with options.Outputs("--json") as outputs:
         json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
         try:
-            with Pipeline(base) as pipeline, Progress("bench") as progress:
+            with Pipeline(base) as pipeline, options.Progress("bench") as progress:
                 runs = plan(args, pipeline.software_renderer)
                 caps = probe(pipeline.ctx)
                 rows = run_bench(args, pipeline, runs, progress)
         except SceneError as exc:
-            raise CommandError(exc) from None
+            raise options.CommandError(exc) from None
         except (GLUnavailableError, FloatingPointError, ValueError) as exc:
-            raise CommandError(exc, 1) from None
+            raise options.CommandError(exc, 1) from None
         methods = sorted({method for row in rows for method in row["methods"].values()})
         when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
         print(f"device: {caps.renderer} ({caps.version}); {when}")

@@ -6,7 +6,7 @@ propagation, gather and the formulas the preset selects) does to that light.
 
 Every option is checked, the reference's cost bounded and the output folder made before
 any rendering; Ctrl-C removes what was written (see :class:`~explorer.commands.options.
-Outputs`).
+options.Outputs`).
 """
 
 from __future__ import annotations
@@ -17,19 +17,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from explorer.commands.options import (
-    CommandError,
-    Outputs,
-    Progress,
-    add_setting_options,
-    check_scene,
-    run_pipeline,
-    settings_from_args,
-    setting_type,
-    spec_help,
-    sweep_values,
-    value_type,
-)
+from explorer.commands import options
 from explorer.lpv.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
@@ -60,14 +48,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=None,
                         help="folder for the PNGs and table (default: ./compare-<scene>); "
                              "made before the rendering starts")
-    parser.add_argument("--min-distance", type=value_type("min_distance", MIN_DISTANCE),
-                        default=None, help=spec_help(MIN_DISTANCE))
+    parser.add_argument("--min-distance", type=options.value_type("min_distance", MIN_DISTANCE),
+                        default=None, help=options.spec_help(MIN_DISTANCE))
     parser.add_argument("--error-mode", default="log2-ratio",
                         choices=("log2-ratio", "difference"),
                         help="what the error image shows (default: log2-ratio)")
-    parser.add_argument("--error-scale", type=value_type("error_scale", ERROR_SCALE),
-                        default=None, help=spec_help(ERROR_SCALE))
-    parser.add_argument("--exposure", type=setting_type("exposure"), default=None,
+    parser.add_argument("--error-scale", type=options.value_type("error_scale", ERROR_SCALE),
+                        default=None, help=options.spec_help(ERROR_SCALE))
+    parser.add_argument("--exposure", type=options.setting_type("exposure"), default=None,
                         help="exposure of the LPV/reference PNGs (default: the reference's "
                              "99th percentile maps to white)")
     parser.add_argument("--region", action="append", default=[], metavar="X0,Y0,X1,Y1",
@@ -75,12 +63,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also report the metrics over this pixel rectangle (rows from "
                              "the top of the PNG, X1 and Y1 excluded); repeatable")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
+    options.add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
                         sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
                         aliases={"grid_size": ("--grid-size",)})
     for name in ("width", "height"):     # compare's own spelling of --size, kept
-        parser.add_argument(f"--{name}", dest=name, type=setting_type(name), default=None,
-                            help=spec_help(specs(Settings)[name], DEFAULTS["size"][0]))
+        parser.add_argument(f"--{name}", dest=name, type=options.setting_type(name), default=None,
+                            help=options.spec_help(specs(Settings)[name], DEFAULTS["size"][0]))
 
 
 def parse_region(text: str) -> tuple[int, int, int, int]:
@@ -110,9 +98,9 @@ class Run:
 
 def plan_runs(args: argparse.Namespace, base: Settings) -> list[Run]:
     """Every frame the command renders, each Settings made (so checked) before any work."""
-    iterations = sweep_values(args, "iterations", base)
-    cascades = sweep_values(args, "cascades", base)
-    orders = sweep_values(args, "sh_order", base)
+    iterations = options.sweep_values(args, "iterations", base)
+    cascades = options.sweep_values(args, "cascades", base)
+    orders = options.sweep_values(args, "sh_order", base)
     names = list(PRESETS) if args.preset == "all" else [args.preset]
     runs = []
     for name in names:
@@ -124,7 +112,7 @@ def plan_runs(args: argparse.Namespace, base: Settings) -> list[Run]:
                                                      iterations=steps, cascades=count,
                                                      sh_order=order)
                     except ValueError as exc:
-                        raise CommandError(exc) from None
+                        raise options.CommandError(exc) from None
                     label, preset, cell = (name if len(iterations) == 1 else
                                            f"{name}-it{steps}"), name, steps
                     if args.cascades is not None:
@@ -142,25 +130,25 @@ def check_cost(settings: Settings, regions: list[tuple[int, int, int, int]]) -> 
                                    if settings.downsample != "none" else 1)
     pairs = settings.width * settings.height * max(texels, 1) ** 2
     if pairs > MAX_REFERENCE_PAIRS:
-        raise CommandError(f"the reference would gather {settings.width}×{settings.height} "
+        raise options.CommandError(f"the reference would gather {settings.width}×{settings.height} "
                            f"pixels × up to {max(texels, 1) ** 2} VPLs = {pairs:.3g} pairs, "
                            f"more than {MAX_REFERENCE_PAIRS:.3g}: use a smaller --size or "
                            f"--rsm-size")
     for x0, y0, x1, y1 in regions:
         if x1 > settings.width or y1 > settings.height:
-            raise CommandError(f"--region {x0},{y0},{x1},{y1} leaves the {settings.width}×"
+            raise options.CommandError(f"--region {x0},{y0},{x1},{y1} leaves the {settings.width}×"
                                f"{settings.height} image")
 
 
 def main(args: argparse.Namespace) -> int:
-    base = settings_from_args(args)
-    check_scene(base.scene)
+    base = options.settings_from_args(args)
+    options.check_scene(base.scene)
     runs = plan_runs(args, base)
     check_cost(base, args.region)
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
-    with Outputs() as outputs:
+    with options.Outputs() as outputs:
         outputs.folder(out)
-        with Progress("compare", enabled=False if args.quiet else None) as progress:
+        with options.Progress("compare", enabled=False if args.quiet else None) as progress:
             rows, images, reference, gbuffer, frame = _render(args, base, runs, progress)
         table = format_table(rows, args, frame)
         print(table)
@@ -171,7 +159,7 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
-def _render(args, base: Settings, runs: list[Run], progress: Progress):
+def _render(args, base: Settings, runs: list[Run], progress: options.Progress):
     """Each run's LPV frame and, whenever the VPLs change, the reference: the table rows,
     the LPV images by label, and the last reference, G-buffer and frame."""
     import numpy as np
@@ -187,11 +175,11 @@ def _render(args, base: Settings, runs: list[Run], progress: Progress):
     try:
         scene = scene_for(base)
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
-        raise CommandError(f"cannot load scene {base.scene!r}: {exc}") from None
+        raise options.CommandError(f"cannot load scene {base.scene!r}: {exc}") from None
     try:
         ctx = create_headless_context()
     except GLUnavailableError as exc:
-        raise CommandError(exc, 1) from None
+        raise options.CommandError(exc, 1) from None
     min_distance = args.min_distance
     if min_distance is None and max(r.settings.cascades for r in runs) > 1:
         # one reference for every cascade count: half a cell of the single grid (cascade
@@ -205,7 +193,7 @@ def _render(args, base: Settings, runs: list[Run], progress: Progress):
     reference = gbuffer = reference_vpls = frame = None
     try:
         for run in runs:
-            frame = run_pipeline(pipeline, run.settings, progress)
+            frame = options.run_pipeline(pipeline, run.settings, progress)
             if reference is None or not _same_vpls(frame.vpls, reference_vpls):
                 started = time.perf_counter()
                 reference, gbuffer = reference_for_frame(
@@ -228,14 +216,14 @@ def _render(args, base: Settings, runs: list[Run], progress: Progress):
                     stats = None
                 rows.append((run.preset, run.steps, ",".join(map(str, rect)), stats))
     except (ValueError, FloatingPointError) as exc:
-        raise CommandError(exc, 1) from None
+        raise options.CommandError(exc, 1) from None
     finally:
         pipeline.release()
         release_headless_context(ctx)
     return rows, images, reference, gbuffer, frame
 
 
-def _write(outputs: Outputs, out: Path, args, images: dict, reference, valid,
+def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, valid,
            exposure: float) -> list[str]:
     """The reference, LPV and error PNGs; returns their names."""
     from explorer.truth.metrics import error_image

@@ -6,15 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from explorer.commands.options import (
-    CommandError,
-    Outputs,
-    Progress,
-    add_setting_options,
-    check_scene,
-    run_pipeline,
-    settings_from_args,
-)
+from explorer.commands import options
 from explorer.lpv.settings import VIEWS
 
 MIN_PNG_SIZE = 256
@@ -46,7 +38,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--lesson", metavar="ID", help="lesson id, number or file stem")
     group.add_argument("--step", type=int, default=None, metavar="K",
                        help="step number within the lesson (default: 1)")
-    add_setting_options(parser)
+    options.add_setting_options(parser)
 
 
 def main(args: argparse.Namespace) -> int:
@@ -56,18 +48,18 @@ def main(args: argparse.Namespace) -> int:
     from explorer.scene import SceneError
 
     step = _lesson_step(args)
-    settings = settings_from_args(args, base=step.settings() if step else None)
+    settings = options.settings_from_args(args, base=step.settings() if step else None)
     views = args.view or [step.view if step else "final"]
-    check_scene(settings.scene)
-    options = _view_options(args, settings, views)
-    with Outputs() as outputs:
+    options.check_scene(settings.scene)
+    wanted = _view_options(args, settings, views)
+    with options.Outputs() as outputs:
         paths = {view: outputs.file(path) for view, path in output_paths(args.out, views).items()}
         try:
-            with Pipeline(settings) as pipeline, Progress("render") as progress:
-                result = run_pipeline(pipeline, settings, progress)
+            with Pipeline(settings) as pipeline, options.Progress("render") as progress:
+                result = options.run_pipeline(pipeline, settings, progress)
                 progress.close()
                 for view, path in paths.items():
-                    image = _view_image(pipeline, step, settings, view, options)
+                    image = _view_image(pipeline, step, settings, view, wanted)
                     outputs.write(path, lambda p, image=image, view=view: write_png(
                         image, p, enlarge=view in _ENLARGED))
                     shown = f"{view} against {step.compare_preset}" if step and \
@@ -76,10 +68,10 @@ def main(args: argparse.Namespace) -> int:
                 if args.audit:
                     print_audit(result)
         except SceneError as exc:
-            raise CommandError(exc, 2) from None
+            raise options.CommandError(exc, 2) from None
         except (ValueError, FloatingPointError, GLUnavailableError, ShaderError,
                 OSError) as exc:
-            raise CommandError(exc, 1) from None
+            raise options.CommandError(exc, 1) from None
     return 0
 
 
@@ -87,7 +79,7 @@ def _lesson_step(args: argparse.Namespace):
     """The lesson step ``--lesson``/``--step`` name (printing which), or None."""
     if args.lesson is None:
         if args.step is not None:
-            raise CommandError("--step needs --lesson (the lesson whose step to render)")
+            raise options.CommandError("--step needs --lesson (the lesson whose step to render)")
         return None
     from explorer.lessons import find_lesson, load_all
 
@@ -96,43 +88,43 @@ def _lesson_step(args: argparse.Namespace):
         lesson = find_lesson(args.lesson, lessons, errors)
         step = lesson.step(1 if args.step is None else args.step)
     except (KeyError, IndexError) as exc:
-        raise CommandError(exc.args[0]) from None
+        raise options.CommandError(exc.args[0]) from None
     print(f"lesson {lesson.id}, step {step.number}/{len(lesson.steps)}: {step.title}")
     return step
 
 
 def _view_options(args: argparse.Namespace, settings, views: list[str]) -> dict[str, int]:
     """--slice, --coefficient and --cascade, checked against the grid they index."""
-    options = {}
+    chosen = {}
     if args.z is not None:
         slices = settings.grid_size + (1 if "geometry-volume" in views else 0)
         if not 0 <= args.z < slices:
-            raise CommandError(f"--slice must be a z index in [0, {slices - 1}] of the "
+            raise options.CommandError(f"--slice must be a z index in [0, {slices - 1}] of the "
                                f"{settings.grid_size}³ grid, got {args.z}")
-        options["z"] = args.z
+        chosen["z"] = args.z
     if args.coefficient is not None:
         count = 4 if settings.sh_order == 1 else 9
         if args.coefficient >= count:
-            raise CommandError(f"--coefficient must be in [0, {count - 1}] with --sh-order "
+            raise options.CommandError(f"--coefficient must be in [0, {count - 1}] with --sh-order "
                                f"{settings.sh_order}, got {args.coefficient}")
-        options["coefficient"] = args.coefficient
+        chosen["coefficient"] = args.coefficient
     if args.cascade is not None:
         if not 0 <= args.cascade < settings.cascades:
-            raise CommandError(f"--cascade must be in [0, {settings.cascades - 1}] with "
+            raise options.CommandError(f"--cascade must be in [0, {settings.cascades - 1}] with "
                                f"--cascades {settings.cascades}, got {args.cascade}")
-        options["cascade"] = args.cascade
-    return options
+        chosen["cascade"] = args.cascade
+    return chosen
 
 
-def _view_image(pipeline, step, settings, view: str, options: dict[str, int]):
+def _view_image(pipeline, step, settings, view: str, chosen: dict[str, int]):
     """The display image of ``view``: the step's own view as the lesson shows it (split
     and difference included), any other view from the pipeline."""
     if step is not None and view == step.view:
         from explorer.lessons import render_step
 
         return render_step(pipeline, step, settings)[0]
-    run_pipeline(pipeline, settings)   # a no-op unless a lesson comparison ran in between
-    wanted = {k: v for k, v in options.items() if view in SLICED_VIEWS
+    options.run_pipeline(pipeline, settings)   # a no-op unless a lesson comparison ran in between
+    wanted = {k: v for k, v in chosen.items() if view in SLICED_VIEWS
               and (k != "coefficient" or view == "grid-slice")}
     return pipeline.view(view, **wanted)
 

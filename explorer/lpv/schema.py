@@ -98,22 +98,12 @@ class Spec:
         elif self.kind in ("int", "float"):
             noun = "a whole number" if self.kind == "int" else "a finite number"
             text = noun + _range_text(self.low, self.high, self.low_open)
-        elif self.kind == "bool":
-            text = "true or false"
-        elif self.kind == "str":
-            text = "a non-empty text"
-        elif self.kind == "text":
-            text = "a text"
         elif self.kind == "size":
             text = "[width, height], whole numbers" + _range_text(self.low, self.high, False)
-        elif self.kind == "switches":
-            text = "a table of names to true/false"
-        elif self.kind == "names":
-            text = "a list of texts"
-        elif self.kind == "points":
-            text = "two different points [[x, y, z], [x, y, z]] of finite numbers"
-        else:
+        elif self.kind == "nested":
             text = f"a {getattr(self.nested, '__name__', 'table')}"
+        else:
+            text = _ALLOWED_TEXT[self.kind]
         return text + (" or None" if self.optional else "")
 
     def check(self, name: str, value: Any) -> Any:
@@ -139,6 +129,15 @@ class Spec:
 
 
 _REFUSED = object()
+_ALLOWED_TEXT = {
+    "bool": "true or false",
+    "str": "a non-empty text",
+    "text": "a text",
+    "switches": "a table of names to true/false",
+    "names": "a list of texts",
+    "points": "two different points [[x, y, z], [x, y, z]] of finite numbers",
+}
+"""What a kind allows when that does not depend on the spec (:meth:`Spec.allowed`)."""
 
 
 def _range_text(low, high, low_open: bool) -> str:
