@@ -205,3 +205,41 @@ def test_a_bad_layout_file_is_set_aside(tmp_path):
     problem = persist.check_layout_file(path)
     assert "Size=-5,937" in problem and "using the default layout" in problem
     assert not path.exists() and len(list(tmp_path.glob("imgui.ini.bad-*"))) == 1
+
+
+def test_what_the_window_saves_always_reads_back(tmp_path):
+    """A window dragged smaller than the smallest allowed size, or the last step of a
+    "same-distance" finest cascade in the Inspect panel, must not get the whole file set
+    aside on the next launch."""
+    from explorer.ui.state import MAX_WINDOW_SIZE, MIN_WINDOW_SIZE, fit_window_size
+
+    state = AppState()
+    state.window_size = fit_window_size((90, 40000))
+    assert state.window_size == (MIN_WINDOW_SIZE, MAX_WINDOW_SIZE)
+    state.inspect.iteration = 1024 * 8      # 4 cascades, same-distance: 2^3 × 1024 steps
+    path = tmp_path / "settings.json"
+    persist.save_state(state, path)
+    loaded = AppState()
+    assert persist.load_state(loaded, path) is None
+    assert loaded.window_size == state.window_size and loaded.inspect.iteration == 8192
+
+
+def test_the_scene_panel_draws_every_declared_widget_from_its_spec():
+    """Every field of Settings and AppState that declares a widget or a group is a control
+    of exactly one section; generic widgets take label, range and tooltip from the spec."""
+    from explorer.lpv.schema import specs
+    from explorer.ui.panels.scene import GROUPS, OWNERS, controls
+    from explorer.ui.setting_widgets import combo_options, label_of, slider_range, tooltip_of
+
+    drawn = [control for group in GROUPS for control in controls(group)]
+    declared = [(owner, name) for owner in OWNERS for name, spec in specs(owner).items()
+                if spec.widget or spec.group]
+    assert sorted(drawn, key=str) == sorted(declared, key=str) and len(set(drawn)) == len(drawn)
+    grid, iterations = specs(Settings)["grid_size"], specs(Settings)["iterations"]
+    assert label_of(grid, "grid_size") == "Grid size (cells³)"
+    assert combo_options(grid, 40) == [8, 16, 24, 32, 40, 48, 64]   # the current one too
+    assert slider_range(iterations) == (0, 64)                      # typing goes to 1024
+    assert "a whole number in [0, 1024]" in tooltip_of(iterations)
+    offset = specs(Settings)["injection_offset_cells"]
+    assert label_of(offset, "injection_offset_cells") == "VPL offset [cells]"
+    assert "0 = automatic" in tooltip_of(specs(Settings)["cascade_extent"])

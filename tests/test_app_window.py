@@ -536,3 +536,22 @@ def test_settings_the_pipeline_refused_are_not_written_back(config_home):
         app.close()
     saved = json.loads((config_home / "settings.json").read_text())
     assert saved["settings"]["grid_size"] == 16 and saved["settings"]["iterations"] == 4
+
+
+def test_the_scene_panel_shows_every_section(config_home, tmp_path):
+    """The Scene panel alone in its column, with the controls that only show sometimes
+    (downsample factor, cascade options, fixed resolution): drawn without an error."""
+    state = AppState(settings=TINY.with_changes(downsample="average", cascades=2,
+                                                geometry_volume="one-sided", bounces=2))
+    state.follow_view_size = False
+    app = _app(state, pipeline_class=None)
+    try:
+        app.frame()
+        for title in ("Lessons", "Corrections", "Compare"):
+            app.state.open_panels[title] = False
+        for _ in range(3):
+            app.frame()
+        app.screenshot(tmp_path / "scene.png")
+        assert [m.text for m in app.state.messages if m.level == "error"] == []
+    finally:
+        app.close()

@@ -28,7 +28,7 @@ import numpy as np
 from explorer.gl.window import Window
 from explorer.lpv.settings import PRESETS, Settings, preset_name
 from explorer.ui import persist
-from explorer.ui.state import AppState, default_screenshot_path
+from explorer.ui.state import AppState, default_screenshot_path, fit_window_size
 
 _MIN_RENDER_SIZE = 16
 _MAX_RENDER_SIZE = 2048
@@ -195,7 +195,7 @@ class App:
         if self.persist_settings:
             try:
                 if not self.window.minimised:
-                    self.state.window_size = self.window.size
+                    self.state.window_size = fit_window_size(self.window.size)
                 self._keep_settings_that_ran()
                 persist.save_state(self.state)
             except OSError as exc:

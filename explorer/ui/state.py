@@ -61,8 +61,10 @@ class InspectState:
                                        doc="Direction the intensity is evaluated in.")
     direction_elevation: float = setting(90.0, kind="float", low=-90.0, high=90.0, unit="°",
                                          doc="Direction the intensity is evaluated in.")
-    iteration: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS,
-                             doc='The step t of grid_t the "propagation" source shows.')
+    iteration: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS << (MAX_CASCADES - 1),
+                             doc='The step t of grid_t the "propagation" source shows (the '
+                                 'finest cascade runs up to 2^(cascades-1)·iterations steps '
+                                 'with "same-distance").')
     playing: bool = setting(False, kind="bool", doc="Step through the iterations.")
     play_rate: float = setting(4.0, kind="float", low=0.0, low_open=True, high=1000.0,
                                doc="Iterations per second while playing.")
@@ -126,6 +128,12 @@ class Requests:
     open_file_dialog: bool = False
     focus_panel: str | None = None    # bring this panel's tab to the front
     quit: bool = False
+
+
+def fit_window_size(size: tuple[int, int]) -> tuple[int, int]:
+    """A window size within [MIN_WINDOW_SIZE, MAX_WINDOW_SIZE] per edge: what the
+    settings file may hold (a window dragged smaller is saved at the smallest size)."""
+    return tuple(min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size)
 
 
 def default_screenshot_path() -> Path:
