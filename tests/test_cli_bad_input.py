@@ -308,3 +308,20 @@ def test_every_flagged_setting_is_an_option_and_reaches_the_settings():
         assert flag in help_text
     assert "a whole number in [1, 256]" in help_text          # ranges come from the specs
     assert settings_from_args(parser.parse_args(["render"])) == Settings()
+
+
+def test_gl_refusing_a_framebuffer_is_one_line_and_exit_1(tmp_path, capsys, monkeypatch):
+    """A driver with less memory than the schema's largest sizes assume: moderngl's own
+    error (e.g. an incomplete framebuffer) ends the command in one line, exit 1."""
+    import moderngl
+
+    class Refusing(_InterruptedPipeline):
+        def run(self, settings=None, **options):
+            raise moderngl.Error("framebuffer is not complete")
+
+    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", Refusing)
+    out = tmp_path / "big" / "frame.png"
+    assert main(["render", "--size", "8192x8192", "--out", str(out)]) == 1
+    line = _one_error_line(capsys.readouterr().err, "render")
+    assert line == "lpv-explorer render: error: framebuffer is not complete"
+    assert not (tmp_path / "big").exists()

@@ -176,7 +176,7 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    from explorer.gl.context import GLUnavailableError, probe
+    from explorer.gl.context import probe
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
 
@@ -191,7 +191,7 @@ def main(args: argparse.Namespace) -> int:
                 rows = run_bench(args, pipeline, runs, progress)
         except SceneError as exc:
             raise options.CommandError(exc) from None
-        except (GLUnavailableError, FloatingPointError, ValueError) as exc:
+        except options.render_failures() as exc:
             raise options.CommandError(exc, 1) from None
         methods = sorted({method for row in rows for method in row["methods"].values()})
         when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")

@@ -215,7 +215,7 @@ def _render(args, base: Settings, runs: list[Run], progress: options.Progress):
                 except EmptyRegionError:
                     stats = None
                 rows.append((run.preset, run.steps, ",".join(map(str, rect)), stats))
-    except (ValueError, FloatingPointError) as exc:
+    except options.render_failures() as exc:
         raise options.CommandError(exc, 1) from None
     finally:
         pipeline.release()

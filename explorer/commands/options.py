@@ -244,6 +244,20 @@ def check_settings(settings: Iterable[Callable[[], Settings]]) -> list[Settings]
         raise CommandError(exc) from None
 
 
+def render_failures() -> tuple[type[BaseException], ...]:
+    """What rendering raises for a request this machine cannot do (exit 1, one line): a
+    driver or texture-budget limit (ValueError), a NaN found by --debug-nan, no usable
+    GL, a shader that does not compile, GL refusing an object (an incomplete framebuffer:
+    ``moderngl.Error``), a file that cannot be written."""
+    import moderngl
+
+    from explorer.gl.context import GLUnavailableError
+    from explorer.gl.program import ShaderError
+
+    return (ValueError, FloatingPointError, OSError, GLUnavailableError, ShaderError,
+            moderngl.Error)
+
+
 def check_scene(name: str, load: bool = False) -> None:
     """A built-in scene name or an existing file; :class:`CommandError` otherwise (the
     loader's message: the built-in names and the mesh types). With ``load`` a mesh file

@@ -42,8 +42,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from explorer.gl.context import GLUnavailableError
-    from explorer.gl.program import ShaderError
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
 
@@ -69,8 +67,7 @@ def main(args: argparse.Namespace) -> int:
                     print_audit(result)
         except SceneError as exc:
             raise options.CommandError(exc, 2) from None
-        except (ValueError, FloatingPointError, GLUnavailableError, ShaderError,
-                OSError) as exc:
+        except options.render_failures() as exc:
             raise options.CommandError(exc, 1) from None
     return 0
 
