@@ -25,42 +25,61 @@ COMMANDS: dict[str, str] = {
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    from explorer.commands.options import ArgumentParser
+
+    parser = ArgumentParser(
         prog="lpv-explorer",
         description="Explore Light Propagation Volumes: derivations, GPU passes, lessons.",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, help_text in COMMANDS.items():
         sub_parser = sub.add_parser(name, help=help_text, description=help_text)
-        module = _load(name)
-        if module is not None:
-            module.add_arguments(sub_parser)
+        _load(name).add_arguments(sub_parser)
+        parser.command_parsers[name] = sub_parser
     return parser
 
 
+def _parse(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.Namespace:
+    """Parse ``argv``; an option the command does not know is reported by that
+    command's parser (``lpv-explorer render: error: unrecognized arguments: ...``)."""
+    args, extras = parser.parse_known_args(argv)
+    if extras:
+        parser.command_parsers[args.command].error(
+            f"unrecognized arguments: {' '.join(extras)}")
+    return args
+
+
 def _load(name: str):
-    try:
-        return importlib.import_module(f"explorer.commands.{name}")
-    except ModuleNotFoundError as exc:
-        if exc.name == f"explorer.commands.{name}":
-            return None
-        raise
+    return importlib.import_module(f"explorer.commands.{name}")
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; returns its exit status. Bad input and failed requests end as one
+    line on stderr (``lpv-explorer <cmd>: error: ...``), never a traceback: 2 for bad
+    input, 1 for a request that failed, 130 for Ctrl-C (after the command removed what it
+    had half written)."""
+    from explorer.commands.options import CommandError
+
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or (argv[0].startswith("-") and argv[0] not in ("-h", "--help")):
         argv = ["run", *argv]
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    module = _load(args.command)
-    if module is None:
-        print(f"lpv-explorer: the command {args.command!r} is not available in this build",
-              file=sys.stderr)
-        return 2
+    prog = f"lpv-explorer {argv[0]}" if argv[0] in COMMANDS else "lpv-explorer"
     try:
-        code = int(module.main(args) or 0)
+        parser = build_parser()
+        args = _parse(parser, argv)
+        if args.command is None:
+            parser.print_help()
+            return 2
+        code = int(_load(args.command).main(args) or 0)
         sys.stdout.flush()
+    except SystemExit as exc:       # argparse: --help (0) or a bad option (2)
+        return exc.code if isinstance(exc.code, int) else 2
+    except CommandError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return exc.code
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:
         # The reader went away (`lpv-explorer lessons | head`): stop quietly, as Unix tools
         # do. Point stdout at devnull so the interpreter's final flush cannot fail again.

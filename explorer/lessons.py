@@ -38,9 +38,8 @@ from __future__ import annotations
 
 import re
 import sys
-import typing
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -49,27 +48,44 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
+from explorer.lpv.schema import SettingError, Spec, check_fields, from_dict, specs
 from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Corrections, Settings
 from explorer.resources import lesson_dir
+from explorer.scene.builtin import BUILTIN_SCENES
 
-BUILTIN_SCENES = ("cornell", "single-source", "room")
-"""Scene names a lesson may use (the built-ins of ``explorer.scene.load_scene``)."""
 COMPARE_VIEWS = ("split", "difference")
 """Views that show the step's corrections against the ``compare`` preset."""
 STEP_VIEWS = VIEWS + COMPARE_VIEWS
 
-_LESSON_KEYS = ("id", "title", "summary", "scene", "settings", "corrections", "steps")
-_STEP_KEYS = ("title", "text", "formulas", "scene", "camera", "light", "settings",
-              "corrections", "view", "compare", "plot", "try_this")
-_TRY_KEYS = ("control", "prompt")
+# The lesson file's own keys, declared like the Settings fields and checked by the same
+# schema (explorer/lpv/schema.py). Tables with more structure (settings, corrections,
+# camera, light, formulas, try_this, steps) are read by the functions below.
+_SCENE = Spec(kind="choice", choices=tuple(BUILTIN_SCENES),
+              doc="A built-in scene (explorer/scene/builtin.py).")
+_LESSON_FIELDS = {
+    "id": Spec(kind="str", doc="What `lpv-explorer lessons ID` accepts."),
+    "title": Spec(kind="str", doc="The lesson's title."),
+    "summary": Spec(kind="str", doc="One paragraph: what the lesson shows."),
+    "scene": _SCENE,
+}
+_LESSON_TABLES = ("settings", "corrections", "steps")
+_STEP_FIELDS = {
+    "title": Spec(kind="str", doc="The step's title."),
+    "text": Spec(kind="str", doc="Markdown; inline math as $...$."),
+    "scene": _SCENE,
+    "view": Spec(kind="choice", choices=STEP_VIEWS, doc="What the view shows."),
+    "compare": Spec(kind="choice", choices=tuple(PRESETS),
+                    doc="The preset on the other side of a split/difference view."),
+    "plot": Spec(kind="choice", choices=PLOTS, doc="The plot brought forward."),
+}
+_STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this")
+_REQUIRED = ("id", "title", "summary")
+_STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
 _LIGHT_KEYS = ("position", "target")
-# Settings fields with their own lesson keys (scene, corrections, camera, light) are not
-# accepted inside [settings]: one way to say each thing.
-_OWN_KEYS = ("scene", "corrections", "camera", "light")
-_SETTING_TYPES: dict[str, Any] = {
-    name: hint for name, hint in typing.get_type_hints(Settings).items() if name not in _OWN_KEYS
-}
+_OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
+"""Settings fields with their own lesson keys (scene, corrections, camera, light): not
+accepted inside [settings], so there is one way to say each thing."""
 _ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
 _FILE_PATTERN = re.compile(r"^(\d+)-([a-z0-9-]+)\.toml$")
 
@@ -210,7 +226,7 @@ def load_lesson(path: Path | str,
         match = re.search(r"line (\d+)", str(exc))
         raise LessonError(path, f"TOML syntax error: {exc}",
                           line=int(match.group(1)) if match else None) from None
-    return _Validator(path, check_formula).lesson(data)
+    return _Reader(path, check_formula).lesson(data)
 
 
 def load_all(directory: Path | str | None = None,
@@ -237,11 +253,19 @@ def load_all(directory: Path | str | None = None,
     return lessons, errors
 
 
-def find_lesson(key: str, lessons: list[Lesson]) -> Lesson:
-    """The lesson whose id, number (``3`` or ``03``) or file stem is ``key``."""
+def find_lesson(key: str, lessons: list[Lesson],
+                errors: list[LessonError] | tuple = ()) -> Lesson:
+    """The lesson whose id, number (``3`` or ``03``) or file stem is ``key``. A KeyError
+    otherwise: the broken lesson's own error when ``key`` names one of ``errors`` (by file
+    stem, slug or number), else the list of lessons."""
     for lesson in lessons:
         if key in (lesson.id, lesson.path.stem) or (key.isdigit() and int(key) == lesson.number):
             return lesson
+    for error in errors:
+        match = _FILE_PATTERN.match(error.path.name)
+        names = {error.path.stem} | ({match.group(2)} if match else set())
+        if key in names or (match and key.isdigit() and int(key) == int(match.group(1))):
+            raise KeyError(f"lesson {key!r} is broken: {error}")
     known = ", ".join(lesson.id for lesson in lessons)
     raise KeyError(f"no lesson {key!r}; the lessons are: {known}")
 
@@ -253,8 +277,11 @@ def valid_controls() -> tuple[str, ...]:
         f"corrections.{name}" for name in Corrections.names())
 
 
-class _Validator:
-    """Walks one parsed file; every error carries the file, step and field."""
+class _Reader:
+    """Reads one parsed lesson file. Every value is checked by a schema :class:`Spec`
+    (the lesson's own keys above, the Settings fields for ``[settings]``); the reader adds
+    the lesson's structure (steps, required keys, compare ↔ view) and turns each
+    :class:`SettingError` into a :class:`LessonError` naming file, step and field."""
 
     def __init__(self, path: Path, check_formula: FormulaCheck | None) -> None:
         self.path = path
@@ -266,42 +293,36 @@ class _Validator:
         return LessonError(self.path, message, step=self.step_number,
                            step_title=self.step_title, field=field)
 
-    # generic checks
-    def no_unknown_keys(self, table: Mapping, allowed: tuple[str, ...], prefix: str = "") -> None:
+    def fields(self, table: Mapping, declared: dict[str, Spec], tables: tuple[str, ...],
+               required: tuple[str, ...] = (), prefix: str = "") -> dict[str, Any]:
+        """The ``declared`` keys of ``table`` checked by their specs; any key neither
+        declared nor one of ``tables`` is an error, and so is a missing required one."""
+        allowed = (*declared, *tables)
         for key in table:
             if key not in allowed:
-                raise self.error(prefix + key, f"unknown field; expected one of {list(allowed)}")
-
-    def string(self, table: Mapping, key: str, required: bool, prefix: str = "") -> str | None:
-        if key not in table:
-            if required:
-                raise self.error(prefix + key, "missing (a string is required)")
-            return None
-        value = table[key]
-        if not isinstance(value, str):
-            raise self.error(prefix + key, f"must be a string, got {_type_name(value)}")
-        if required and not value.strip():
-            raise self.error(prefix + key, "must not be empty")
-        return value
-
-    def choice(self, table: Mapping, key: str, choices: tuple[str, ...], what: str) -> str | None:
-        value = self.string(table, key, required=False)
-        if value is not None and value not in choices:
-            raise self.error(key, f"unknown {what} {value!r}; choose one of {list(choices)}")
-        return value
+                raise self.error(prefix + str(key),
+                                 f"unknown field; expected one of {list(allowed)}")
+        for key in required:
+            if key not in table:
+                raise self.error(prefix + key, "missing (required)")
+        values = {}
+        for key, spec in declared.items():
+            if key in table:
+                try:
+                    values[key] = spec.check(key, table[key])
+                except SettingError as exc:
+                    raise self.error(prefix + key, str(exc)) from None
+        return values
 
     # the lesson
     def lesson(self, data: Mapping) -> Lesson:
-        self.no_unknown_keys(data, _LESSON_KEYS)
-        lesson_id = self.string(data, "id", required=True)
-        if not _ID_PATTERN.match(lesson_id):
-            raise self.error("id", f"{lesson_id!r} must be lower-case letters, digits and '-'")
+        own = self.fields(data, _LESSON_FIELDS, _LESSON_TABLES, _REQUIRED)
+        if not _ID_PATTERN.match(own["id"]):
+            raise self.error("id", f"{own['id']!r} must be lower-case letters, digits and '-'")
         match = _FILE_PATTERN.match(self.path.name)
         if match is None:
             raise self.error(None, "the file name must look like NN-slug.toml")
-        title = self.string(data, "title", required=True)
-        summary = self.string(data, "summary", required=True)
-        default_scene = self.scene(data) or "cornell"
+        default_scene = own.get("scene", Settings().scene)
         default_settings = self.setting_overrides(data)
         default_corrections = self.corrections(data) if "corrections" in data else None
         raw_steps = data.get("steps")
@@ -310,51 +331,43 @@ class _Validator:
         steps = tuple(
             self.step(number, raw, default_scene, default_settings, default_corrections)
             for number, raw in enumerate(raw_steps, start=1))
-        return Lesson(id=lesson_id, title=title, summary=summary, steps=steps,
+        return Lesson(id=own["id"], title=own["title"], summary=own["summary"], steps=steps,
                       path=self.path, number=int(match.group(1)))
 
     def step(self, number: int, raw: Any, default_scene: str,
              default_settings: dict[str, Any], default_corrections: Corrections | None) -> Step:
         self.step_number, self.step_title = number, None
         if not isinstance(raw, Mapping):
-            raise self.error(None, f"a step must be a table, got {_type_name(raw)}")
+            raise self.error(None, f"a step must be a table, got {type(raw).__name__}")
         if isinstance(raw.get("title"), str):
             self.step_title = raw["title"]
-        self.no_unknown_keys(raw, _STEP_KEYS)
-        title = self.string(raw, "title", required=True)
-        text = self.string(raw, "text", required=True)
-        formulas = self.formulas(raw)
-        scene = self.scene(raw) or default_scene
+        own = self.fields(raw, _STEP_FIELDS, _STEP_TABLES, _STEP_REQUIRED)
         if "corrections" in raw:
             corrections = self.corrections(raw)
         else:
             corrections = default_corrections or PRESETS["corrected"]
         overrides = {**default_settings, **self.setting_overrides(raw)}
-        view = self.choice(raw, "view", STEP_VIEWS, "view") or "final"
-        compare_preset = self.choice(raw, "compare", tuple(PRESETS), "compare preset")
+        view, compare_preset = own.get("view", "final"), own.get("compare")
         if view in COMPARE_VIEWS and compare_preset is None:
             raise self.error("compare", f"view {view!r} needs a compare preset, one of "
                                         f"{list(PRESETS)}")
         if compare_preset is not None and view not in COMPARE_VIEWS:
             raise self.error("compare", f"compare only applies to the views {COMPARE_VIEWS}, "
                                         f"not {view!r}")
-        plot = self.choice(raw, "plot", PLOTS, "plot")
         step = Step(
-            number=number, title=title, text=text, formulas=formulas, scene=scene,
-            corrections=corrections, overrides=tuple(overrides.items()), view=view,
+            number=number, title=own["title"], text=own["text"], formulas=self.formulas(raw),
+            scene=own.get("scene", default_scene), corrections=corrections,
+            overrides=tuple(overrides.items()), view=view,
             compare=PRESETS[compare_preset] if compare_preset else None,
-            compare_preset=compare_preset, plot=plot, try_this=self.try_this(raw),
+            compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
             camera=self.pair(raw, "camera", _CAMERA_KEYS),
             light=self.pair(raw, "light", _LIGHT_KEYS))
-        try:  # Settings checks the values (choices, ranges) itself
+        try:  # the rules between fields (e.g. bounces 2 needs a geometry volume)
             step.settings()
-        except (ValueError, TypeError) as exc:
-            raise self.error("settings", str(exc)) from None
+        except SettingError as exc:
+            raise self.error(f"settings.{exc.field}", str(exc)) from None
         self.step_number = self.step_title = None
         return step
-
-    def scene(self, table: Mapping) -> str | None:
-        return self.choice(table, "scene", BUILTIN_SCENES, "scene")
 
     def formulas(self, raw: Mapping) -> tuple[str, ...]:
         names = raw.get("formulas", [])
@@ -375,98 +388,67 @@ class _Validator:
         return tuple(names)
 
     def corrections(self, table: Mapping) -> Corrections:
+        """A preset name, or a table: ``preset`` (default corrected) and switches."""
         value = table["corrections"]
         if isinstance(value, str):
             value = {"preset": value}
         if not isinstance(value, Mapping):
             raise self.error("corrections", "must be a preset name or a table of switches, "
-                                            f"got {_type_name(value)}")
-        self.no_unknown_keys(value, ("preset",) + Corrections.names(), prefix="corrections.")
-        name = value.get("preset", "corrected")
-        if name not in PRESETS:
-            raise self.error("corrections.preset", f"unknown preset {name!r}; choose one of "
-                                                   f"{list(PRESETS)}")
-        switches = {}
-        for key, flag in value.items():
-            if key == "preset":
-                continue
-            if not isinstance(flag, bool):
-                raise self.error(f"corrections.{key}", f"must be true or false, got "
-                                                       f"{_type_name(flag)}")
-            switches[key] = flag
-        return replace(PRESETS[name], **switches)
+                                            f"got {type(value).__name__}")
+        switches = {key: flag for key, flag in value.items() if key != "preset"}
+        name = self.fields({"preset": value.get("preset", "corrected")}, _PRESET, (),
+                           prefix="corrections.")["preset"]
+        try:
+            return from_dict(Corrections, switches, base=PRESETS[name])
+        except SettingError as exc:
+            raise self.error(f"corrections.{exc.field}", str(exc)) from None
 
     def setting_overrides(self, table: Mapping) -> dict[str, Any]:
+        """The ``[settings]`` table: each value checked by its Settings field's spec."""
         raw = table.get("settings", {})
         if not isinstance(raw, Mapping):
-            raise self.error("settings", f"must be a table, got {_type_name(raw)}")
+            raise self.error("settings", f"must be a table, got {type(raw).__name__}")
         for key in _OWN_KEYS:
             if key in raw:
                 raise self.error(f"settings.{key}", f"set {key!r} as a key of the step or "
                                                     "lesson, not inside [settings]")
-        self.no_unknown_keys(raw, tuple(_SETTING_TYPES), prefix="settings.")
-        result = {}
-        for key, value in raw.items():
-            result[key] = self.typed(f"settings.{key}", value, _SETTING_TYPES[key])
-        return result
-
-    def typed(self, field: str, value: Any, hint: Any) -> Any:
-        """``value`` checked against the Settings annotation ``hint``."""
-        allowed = typing.get_args(hint) if typing.get_origin(hint) is not None else (hint,)
-        for kind in allowed:
-            if kind is type(None):
-                continue  # TOML has no null: an optional field is simply left out
-            if kind is bool and isinstance(value, bool):
-                return value
-            if kind is int and isinstance(value, int) and not isinstance(value, bool):
-                return value
-            if kind is float and isinstance(value, (int, float)) and not isinstance(value, bool):
-                return float(value)
-            if kind is str and isinstance(value, str):
-                return value
-        wanted = " or ".join(k.__name__ for k in allowed if k is not type(None))
-        raise self.error(field, f"must be {wanted}, got {_type_name(value)} {value!r}")
+        try:
+            return check_fields(Settings, raw)
+        except SettingError as exc:
+            raise self.error(f"settings.{exc.field}", str(exc)) from None
 
     def pair(self, raw: Mapping, key: str, names: tuple[str, str]) -> tuple[Vec3, Vec3] | None:
+        """``camera = {eye, target}`` or ``light = {position, target}`` as the Settings
+        field of the same name checks it (finite, two different points)."""
         if key not in raw:
             return None
         table = raw[key]
-        if not isinstance(table, Mapping):
-            raise self.error(key, f"must be a table with {list(names)}, got {_type_name(table)}")
-        self.no_unknown_keys(table, names, prefix=f"{key}.")
-        result = []
-        for name in names:
-            vector = table.get(name)
-            if (not isinstance(vector, list) or len(vector) != 3 or not all(
-                    isinstance(v, (int, float)) and not isinstance(v, bool) for v in vector)):
-                raise self.error(f"{key}.{name}", f"must be three numbers [x, y, z], got "
-                                                  f"{vector!r}")
-            result.append(tuple(float(v) for v in vector))
-        return result[0], result[1]
+        if not isinstance(table, Mapping) or sorted(table) != sorted(names):
+            raise self.error(key, f"must be a table with exactly {list(names)}, got "
+                                  f"{table!r}")
+        try:
+            return specs(Settings)[key].check(key, (table[names[0]], table[names[1]]))
+        except SettingError as exc:
+            raise self.error(key, f"{exc} ({names[0]}, {names[1]})") from None
 
     def try_this(self, raw: Mapping) -> tuple[TryThis, ...]:
         items = raw.get("try_this", [])
         if not isinstance(items, list):
             raise self.error("try_this", "must be a list of {control, prompt} tables")
-        controls = valid_controls()
+        declared = {"control": Spec(kind="choice", choices=valid_controls(),
+                                    doc="A Settings field or corrections.<switch>."),
+                    "prompt": Spec(kind="str", doc="What to change and look for.")}
         result = []
         for index, item in enumerate(items):
-            prefix = f"try_this[{index}]."
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            self.no_unknown_keys(item, _TRY_KEYS, prefix=prefix)
-            control = self.string(item, "control", required=True, prefix=prefix)
-            if control not in controls:
-                raise self.error(prefix + "control", f"unknown control {control!r}; a Settings "
-                                 "field or corrections.<switch>: " + ", ".join(controls))
-            prompt = self.string(item, "prompt", required=True, prefix=prefix)
-            result.append(TryThis(control=control, prompt=prompt))
+            own = self.fields(item, declared, (), tuple(declared), prefix=f"try_this[{index}].")
+            result.append(TryThis(control=own["control"], prompt=own["prompt"]))
         return tuple(result)
 
 
-def _type_name(value: Any) -> str:
-    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
-            list: "a list", dict: "a table"}.get(type(value), type(value).__name__)
+_PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
+                          doc="The preset a corrections table starts from.")}
 
 
 def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: int = 32,

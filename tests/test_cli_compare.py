@@ -8,7 +8,7 @@ from PIL import Image
 
 from explorer.cli import main as cli_main
 
-TINY = ["--width", "24", "--height", "20", "--rsm-size", "8", "--grid-size", "8",
+TINY = ["--size", "24x20", "--rsm-size", "8", "--grid-size", "8",
         "--iterations", "2", "--quiet"]
 
 
@@ -64,7 +64,7 @@ def test_unknown_scene_exits_non_zero_with_a_clear_message(tmp_path, capsys):
     assert "no-such-scene" in captured.err and "error" in captured.err
 
 
-@pytest.mark.parametrize("bad", [["--region", "1,2,3"], ["--width", "0"],
+@pytest.mark.parametrize("bad", [["--region", "1,2,3"], ["--size", "0x20"],
                                  ["--min-distance", "-1"], ["--iterations", "2,x"],
                                  ["--error-scale", "0"]])
 def test_bad_arguments_exit_non_zero(tmp_path, capsys, bad):

@@ -344,11 +344,11 @@ def test_cli_sh_order_flags(tmp_path, capsys, gl_context):
     assert (tmp_path / "l2-grid-slice.png").is_file()
     assert cli_main(["render", "--sh-order", "3", "--out", str(out)]) == 2
     assert "sh_order must be one of 1, 2" in capsys.readouterr().err
-    # L1 has no coefficient 8: the view says so
+    # L1 has no coefficient 8: refused before any work
     assert cli_main(["render", "--grid", "8", "--iterations", "1", "--rsm-size", "16",
                      "--size", "32x32", "--out", str(out), "--view", "grid-slice",
-                     "--coefficient", "8"]) == 1
-    assert "coefficient must be 0..3" in capsys.readouterr().err
+                     "--coefficient", "8"]) == 2
+    assert "--coefficient must be in [0, 3] with --sh-order 1" in capsys.readouterr().err
 
     bench = tmp_path / "bench.json"
     assert cli_main(["bench", "--quick", "--grids", "8", "--iterations", "2",
@@ -366,6 +366,6 @@ def test_cli_sh_order_flags(tmp_path, capsys, gl_context):
     assert "| corrected L1 | 2 | image |" in table and "| corrected L2 | 2 | image |" in table
     assert (table_dir / "lpv-corrected-L2.png").is_file()
     assert cli_main(["compare", "--sh-order", "1,3", "--quiet", "--out", str(table_dir)]) == 2
-    assert "must be 1 (L1) or 2 (L2)" in capsys.readouterr().err
+    assert "sh_order must be one of 1, 2, got 3" in capsys.readouterr().err
     # the commands made and released contexts of their own: the session's is current again
     gl_context.__enter__()

@@ -185,7 +185,8 @@ def test_unknown_field_names_step_and_field(tmp_path):
 def test_wrong_type_and_bad_values(tmp_path):
     error = _error(tmp_path, GOOD.replace("grid_size = 8", 'grid_size = "8"'),
                    check_formula=None)
-    assert error.field == "settings.grid_size" and "must be int" in str(error)
+    assert error.field == "settings.grid_size"
+    assert "grid_size must be a whole number in [1, 256], got '8'" in str(error)
     error = _error(tmp_path, GOOD.replace("grid_size = 8", "grid_size = 0"), check_formula=None)
     assert "grid_size must be a whole number in [1, 256], got 0" in str(error) and error.step == 2
     error = _error(tmp_path, GOOD.replace("grid_size = 8", "iterations = true"),
@@ -193,23 +194,24 @@ def test_wrong_type_and_bad_values(tmp_path):
     assert error.field == "settings.iterations"
     error = _error(tmp_path, GOOD.replace('compare = "original"', 'compare = "fixed"'),
                    check_formula=None)
-    assert error.field == "compare" and "unknown compare preset" in str(error)
+    assert error.field == "compare" and "compare must be one of 'corrected'" in str(error)
     error = _error(tmp_path, GOOD.replace('compare = "original"\n', ""), check_formula=None)
     assert error.field == "compare" and "needs a compare preset" in str(error)
 
 
 def test_unknown_scene_view_plot_control(tmp_path):
     error = _error(tmp_path, GOOD.replace('"single-source"', '"sponza"'), check_formula=None)
-    assert (error.step, error.field) == (1, "scene") and "unknown scene 'sponza'" in str(error)
+    assert (error.step, error.field) == (1, "scene")
+    assert "scene must be one of 'cornell', 'single-source', 'room', got 'sponza'" in str(error)
     error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "sideways"'),
                    check_formula=None)
-    assert error.field == "view" and "unknown view" in str(error)
+    assert error.field == "view" and "view must be one of 'final'" in str(error)
     error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "split"\nplot = "pie"'),
                    check_formula=None)
     assert error.field == "plot"
     error = _error(tmp_path, GOOD.replace("corrections.side_faces", "corrections.magic"),
                    check_formula=None)
-    assert error.field == "try_this[0].control" and "unknown control" in str(error)
+    assert error.field == "try_this[0].control" and "control must be one of" in str(error)
 
 
 def test_unknown_formula_names_step_and_index(tmp_path):
@@ -263,8 +265,11 @@ def test_cli_reports_broken_lessons(tmp_path, capsys):
     captured = capsys.readouterr()
     assert "tiny" in captured.out
     assert "02-broken.toml" in captured.err and "settings.grid_sise" in captured.err
-    assert cli_main(["lessons", "--dir", str(tmp_path), "missing"]) == 1
+    assert cli_main(["lessons", "--dir", str(tmp_path), "missing"]) == 2
     assert "no lesson 'missing'" in capsys.readouterr().err
+    assert cli_main(["lessons", "--dir", str(tmp_path), "02"]) == 2   # the broken one
+    err = capsys.readouterr().err
+    assert "lesson '02' is broken" in err and "settings.grid_sise" in err
 
 
 # --- rendering every step ----------------------------------------------------------------

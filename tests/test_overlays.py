@@ -313,7 +313,7 @@ def test_overlay_state_persists_and_refuses_bad_values(tmp_path):
     data = json.loads(path.read_text())
     for field, value, complaint in (("slice_axis", "w", "slice_axis"),
                                     ("vpl_density", 3.0, "vpl_density"),
-                                    ("glyphs", "yes", "glyphs must be bool"),
+                                    ("glyphs", "yes", "glyphs must be true or false"),
                                     ("no_such", 1, "no_such")):
         bad = json.loads(json.dumps(data))
         bad["overlays"][field] = value

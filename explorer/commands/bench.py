@@ -20,11 +20,11 @@ import argparse
 import datetime
 import json
 import statistics
-import sys
 from pathlib import Path
 
-from explorer.commands.render import parse_size
-from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, GRID_FORMATS, PRESETS
+from explorer.commands import options
+from explorer.lpv.schema import Spec
+from explorer.lpv.settings import Settings, preset_name
 
 FULL_GRIDS = (16, 32, 64, 128)
 FULL_ITERATIONS = (4, 8, 16, 32, 64)
@@ -32,6 +32,7 @@ SOFTWARE_GRIDS = (16, 32, 64)
 SOFTWARE_ITERATIONS = (4, 8, 16)
 QUICK_GRIDS = (8, 16)
 QUICK_ITERATIONS = (2, 4)
+QUICK_SIZES = {"width": 64, "height": 64, "rsm_size": 64}
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
 VARIANTS: dict[str, dict[str, object]] = {
@@ -42,6 +43,12 @@ VARIANTS: dict[str, dict[str, object]] = {
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
 options against the default settings. bounces-2 turns a one-sided geometry volume on if
 --geometry-volume is off (it needs one)."""
+DEFAULT_REPEAT = 3
+REPEAT = Spec(kind="int", low=1, high=1000, doc="Timed frames per configuration; the "
+              "median is reported.")
+PEAK_GBS = Spec(kind="float", low=0.0, low_open=True, high=1e6, optional=True,
+                doc="The device's peak memory bandwidth in GB/s, to print the "
+                    "propagation's share of it.")
 
 
 def parse_variants(text: str) -> tuple[str, ...]:
@@ -55,50 +62,21 @@ def parse_variants(text: str) -> tuple[str, ...]:
     return names
 
 
-def parse_list(text: str) -> tuple[int, ...]:
-    try:
-        values = tuple(int(part) for part in text.split(",") if part.strip())
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got "
-                                         f"{text!r}") from None
-    if not values or min(values) < 0:
-        raise argparse.ArgumentTypeError(f"expected non-negative numbers, got {text!r}")
-    return values
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--scene", default="cornell", help="scene to render (default cornell)")
-    parser.add_argument("--preset", default="corrected", choices=sorted(PRESETS))
-    parser.add_argument("--grids", type=parse_list,
-                        help="grid resolutions, e.g. 16,32,64,128 (default: that list on a "
-                             "GPU, 16,32,64 on a software renderer)")
-    parser.add_argument("--iterations", type=parse_list,
-                        help="propagation steps, e.g. 4,8,16,32,64 (default: that list on a "
-                             "GPU, 4,8,16 on a software renderer)")
-    parser.add_argument("--size", type=parse_size, default=(512, 512),
-                        help="image size WxH (default 512x512)")
-    parser.add_argument("--rsm-size", type=int, default=256, help="RSM size (default 256)")
-    parser.add_argument("--format", default="rgba32f", choices=GRID_FORMATS,
-                        help="grid texture format")
-    parser.add_argument("--geometry-volume", default="off", choices=GEOMETRY_VOLUME_MODES)
     parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
                         help=f"extra rows at each grid's largest iteration count: "
                              f"{', '.join(VARIANTS)} (comma list) or none (default: all)")
-    parser.add_argument("--cascades", type=parse_list, default=(1,),
-                        help="LPV cascade counts, e.g. 1,2,3 (default 1); each count is a "
-                             "row per grid and iteration count")
-    parser.add_argument("--sh-order", type=parse_list, default=(1,),
-                        help="SH orders of the grid, e.g. 1,2 (L1 and L2; default 1); each "
-                             "order is a row per grid and iteration count")
-    parser.add_argument("--repeat", type=int, default=3,
-                        help="timed frames per configuration; the median is reported")
+    parser.add_argument("--repeat", type=options.value_type("repeat", REPEAT), default=None,
+                        help=options.spec_help(REPEAT, f"{DEFAULT_REPEAT}, 1 with --quick"))
     parser.add_argument("--quick", action="store_true",
                         help="CI-sized run: grids 8,16, iterations 2,4, 64x64 image, 64² RSM, "
-                             "one timed frame")
-    parser.add_argument("--peak-gbs", type=float,
-                        help="the device's peak memory bandwidth in GB/s, to print the "
-                             "propagation's share of it")
+                             "one timed frame (options given still win)")
+    parser.add_argument("--peak-gbs", type=options.value_type("peak_gbs", PEAK_GBS), default=None,
+                        help=options.spec_help(PEAK_GBS))
     parser.add_argument("--json", type=Path, help="also write the results as JSON here")
+    options.add_setting_options(parser, exclude=("exposure", "indirect_only"),
+                        sweep=("grid_size", "iterations", "cascades", "sh_order"),
+                        aliases={"grid_size": ("--grids",), "grid_format": ("--format",)})
 
 
 def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -> int:
@@ -108,56 +86,71 @@ def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -
     return 4 * 3 * groups * TEXEL_BYTES[fmt] * grid**3 * iterations
 
 
-def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
-    from explorer.lpv.settings import Settings, preset
-
-    quick = args.quick
-    if quick:
-        grids, iterations = args.grids or QUICK_GRIDS, args.iterations or QUICK_ITERATIONS
-        width, height, rsm_size, repeat = 64, 64, 64, 1
+def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]:
+    """Every (variant, Settings) the bench times, all made (so checked by the schema)
+    before the first is timed. Left-out sweeps use the lists for this device."""
+    base = options.settings_from_args(args)
+    if args.quick:
+        if args.size is None:
+            base = base.with_changes(width=QUICK_SIZES["width"], height=QUICK_SIZES["height"])
+        if args.rsm_size is None:
+            base = base.with_changes(rsm_size=QUICK_SIZES["rsm_size"])
+        grids, iterations = QUICK_GRIDS, QUICK_ITERATIONS
     else:
-        software = pipeline.software_renderer
-        grids = args.grids or (SOFTWARE_GRIDS if software else FULL_GRIDS)
-        iterations = args.iterations or (SOFTWARE_ITERATIONS if software else FULL_ITERATIONS)
-        (width, height), rsm_size, repeat = args.size, args.rsm_size, max(1, args.repeat)
+        grids = SOFTWARE_GRIDS if software else FULL_GRIDS
+        iterations = SOFTWARE_ITERATIONS if software else FULL_ITERATIONS
+    grids = args.grid_size or grids
+    iterations = args.iterations or iterations
+    cascades = options.sweep_values(args, "cascades", base)
+    orders = options.sweep_values(args, "sh_order", base)
+    runs = []
+    try:
+        for grid in grids:
+            for steps in iterations:
+                for count in cascades:
+                    for order in orders:
+                        runs.append(("default", base.with_changes(
+                            grid_size=grid, iterations=steps, cascades=count, sh_order=order)))
+            for name in args.variants:
+                changes = dict(VARIANTS[name])
+                if changes.get("bounces", 1) > 1 and base.geometry_volume == "off":
+                    changes["geometry_volume"] = "one-sided"
+                runs.append((name, base.with_changes(grid_size=grid, iterations=max(iterations),
+                                                     sh_order=orders[0], **changes)))
+    except ValueError as exc:
+        raise options.CommandError(exc) from None
+    return runs
+
+
+def run_bench(args: argparse.Namespace, pipeline, runs: list[tuple[str, Settings]],
+              progress=None) -> list[dict]:
+    """Time each run: a warm-up frame, then ``--repeat`` frames from the RSM on (the
+    median per pass); ``progress(stage, done, total)`` counts the runs."""
+    repeat = args.repeat or (1 if args.quick else DEFAULT_REPEAT)
     rows = []
-    cascade_counts = getattr(args, "cascades", None) or (1,)
-    sh_orders = getattr(args, "sh_order", None) or (1,)
-    for order in sh_orders:
-        if order not in (1, 2):
-            raise ValueError(f"--sh-order: the SH order must be 1 (L1) or 2 (L2), got {order}")
-    for grid in grids:
-        runs = [("default", steps, k, order, {}) for steps in iterations
-                for k in cascade_counts for order in sh_orders]
-        runs += [(name, max(iterations), 1, sh_orders[0], VARIANTS[name])
-                 for name in args.variants]
-        for variant, steps, cascades, order, changes in runs:
-            settings = Settings(scene=args.scene, corrections=preset(args.preset),
-                                grid_size=grid, iterations=steps, rsm_size=rsm_size,
-                                width=width, height=height, grid_format=args.format,
-                                geometry_volume=args.geometry_volume, cascades=cascades,
-                                sh_order=order)
-            if changes.get("bounces", 1) > 1 and settings.geometry_volume == "off":
-                changes = {**changes, "geometry_volume": "one-sided"}
-            settings = settings.with_changes(**changes)
-            pipeline.run(settings)                    # warm-up: compiles, allocates
-            samples: dict[str, list[float]] = {}
-            for _ in range(repeat):
-                pipeline.invalidate("rsm")
-                result = pipeline.run(settings)
-                for name in result.stages_run:
-                    if name in result.timings_ms:
-                        samples.setdefault(name, []).append(result.timings_ms[name])
-            passes = {name: statistics.median(values) for name, values in samples.items()}
-            row = {"variant": variant, "grid": grid, "iterations": steps, "cascades": cascades,
-                   "sh_order": order, "passes_ms": passes, "frame_ms": sum(passes.values()),
-                   "methods": dict(pipeline.timing_methods)}
-            propagate_ms = passes.get("propagate", 0.0)
-            if steps > 0 and propagate_ms > 0:
-                moved = cascades * propagation_bytes(grid, steps, args.format, order)
-                row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
-                row["ms_per_step"] = propagate_ms / steps
-            rows.append(row)
+    for done, (variant, settings) in enumerate(runs):
+        if progress is not None:
+            progress("timing", done, len(runs))
+        options.run_pipeline(pipeline, settings)                    # warm-up: compiles, allocates
+        samples: dict[str, list[float]] = {}
+        for _ in range(repeat):
+            pipeline.invalidate("rsm")
+            result = options.run_pipeline(pipeline, settings)
+            for name in result.stages_run:
+                if name in result.timings_ms:
+                    samples.setdefault(name, []).append(result.timings_ms[name])
+        passes = {name: statistics.median(values) for name, values in samples.items()}
+        steps, cascades = settings.iterations, settings.cascades
+        row = {"variant": variant, "grid": settings.grid_size, "iterations": steps,
+               "cascades": cascades, "sh_order": settings.sh_order, "passes_ms": passes,
+               "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods)}
+        propagate_ms = passes.get("propagate", 0.0)
+        if steps > 0 and propagate_ms > 0:
+            moved = cascades * propagation_bytes(settings.grid_size, steps,
+                                                 settings.grid_format, settings.sh_order)
+            row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
+            row["ms_per_step"] = propagate_ms / steps
+        rows.append(row)
     return rows
 
 
@@ -183,34 +176,35 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    from explorer.gl.context import GLUnavailableError, probe
+    from explorer.gl.context import probe
     from explorer.lpv.pipeline import Pipeline
-    from explorer.lpv.settings import Settings
     from explorer.scene import SceneError
 
-    if args.peak_gbs is not None and not args.peak_gbs > 0:
-        print("lpv-explorer bench: error: --peak-gbs must be positive", file=sys.stderr)
-        return 2
-    try:
-        with Pipeline(Settings(scene=args.scene)) as pipeline:
-            caps = probe(pipeline.ctx)
-            rows = run_bench(args, pipeline)
-    except (SceneError, ValueError) as exc:
-        print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
-        return 2
-    except (GLUnavailableError, FloatingPointError) as exc:
-        print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
-        return 1
-    methods = sorted({method for row in rows for method in row["methods"].values()})
-    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    print(f"device: {caps.renderer} ({caps.version}); {when}")
-    print(f"scene {args.scene}, preset {args.preset}, format {args.format}, "
-          f"geometry volume {args.geometry_volume}; timing: {', '.join(methods)}; "
-          f"milliseconds per pass (median){' [quick]' if args.quick else ''}")
-    print(format_table(rows, args.peak_gbs))
-    if args.peak_gbs is None:
-        print("(pass --peak-gbs <device peak bandwidth in GB/s> to see the share reached)")
-    if args.json is not None:
-        args.json.write_text(json.dumps({"device": caps.renderer, "version": caps.version,
-                                         "date": when, "rows": rows}, indent=2))
+    base = options.settings_from_args(args)
+    options.check_scene(base.scene)
+    with options.Outputs("--json") as outputs:
+        json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
+        try:
+            with Pipeline(base) as pipeline, options.Progress("bench") as progress:
+                runs = plan(args, pipeline.software_renderer)
+                caps = probe(pipeline.ctx)
+                rows = run_bench(args, pipeline, runs, progress)
+        except SceneError as exc:
+            raise options.CommandError(exc) from None
+        except options.render_failures() as exc:
+            raise options.CommandError(exc, 1) from None
+        methods = sorted({method for row in rows for method in row["methods"].values()})
+        when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        print(f"device: {caps.renderer} ({caps.version}); {when}")
+        print(f"scene {base.scene}, corrections {preset_name(base.corrections)}, format "
+              f"{base.grid_format}, geometry volume {base.geometry_volume}; timing: "
+              f"{', '.join(methods)}; milliseconds per pass (median)"
+              f"{' [quick]' if args.quick else ''}")
+        print(format_table(rows, args.peak_gbs))
+        if args.peak_gbs is None:
+            print("(pass --peak-gbs <device peak bandwidth in GB/s> to see the share reached)")
+        if json_path is not None:
+            payload = json.dumps({"device": caps.renderer, "version": caps.version,
+                                  "date": when, "rows": rows}, indent=2)
+            outputs.write(json_path, lambda p: p.write_text(payload))
     return 0

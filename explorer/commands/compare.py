@@ -3,6 +3,10 @@
 Both images come from the same frame: the reference gathers the very VPLs the LPV
 injected, at the pixels the camera sees, so the error measures what the grid (injection,
 propagation, gather and the formulas the preset selects) does to that light.
+
+Every option is checked, the reference's cost bounded and the output folder made before
+any rendering; Ctrl-C removes what was written (see :class:`~explorer.commands.options.
+options.Outputs`).
 """
 
 from __future__ import annotations
@@ -10,195 +14,221 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
-from explorer.commands.render import add_leak_arguments, leak_changes
-from explorer.lpv.settings import CASCADE_ITERATIONS, GEOMETRY_VOLUME_MODES
+from explorer.commands import options
+from explorer.lpv.schema import Spec, specs
+from explorer.lpv.settings import PRESETS, Settings
 
-PRESET_CHOICES = ("all", "original", "corrected")
 REFERENCE_CHOICES = ("visible", "unoccluded")
 LOG2_DEFAULT_SCALE = 3.0  # error images saturate at 8× too bright / too dark
+MAX_REFERENCE_PAIRS = 2**34
+"""Pixel × VPL pairs one reference may gather (1.7·10¹⁰, 64× the default 256² pixels ×
+64² VPLs): each pair costs a 1/r² term and, with visibility, a shadow ray through the
+BVH, so a larger request would run for hours. Smaller images or RSMs fit."""
+DEFAULTS = {"size": (256, 256), "rsm_size": 64}
+"""Sizes that keep the reference (pixels × VPLs) to seconds on a GPU."""
+MIN_DISTANCE = Spec(kind="float", low=0.0, high=1e6, optional=True,
+                    doc="The reference's 1/r² clamp distance in world units; default half a "
+                        "grid cell (with --cascades above 1, of the single scene-enclosing "
+                        "grid).")
+ERROR_SCALE = Spec(kind="float", low=0.0, low_open=True, high=1e6, optional=True,
+                   doc="Error value at full colour; default 3 stops for log2-ratio, the "
+                       "reference's 99th percentile for difference.")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--scene", default="cornell",
-                        help="built-in scene name or mesh file (default: cornell)")
-    parser.add_argument("--preset", default="all", choices=PRESET_CHOICES,
+    parser.add_argument("--preset", default="all", choices=("all", *PRESETS),
                         help="corrections preset(s) to render (default: all)")
     parser.add_argument("--reference", default="visible", choices=REFERENCE_CHOICES,
                         help="visible: shadow rays between VPLs and pixels; unoccluded: no "
                              "visibility, what LPV without a geometry volume approximates "
                              "(default: visible)")
     parser.add_argument("--out", type=Path, default=None,
-                        help="folder for the PNGs and table (default: ./compare-<scene>)")
-    parser.add_argument("--width", type=int, default=256, help="image width (default 256)")
-    parser.add_argument("--height", type=int, default=256, help="image height (default 256)")
-    parser.add_argument("--rsm-size", type=int, default=64,
-                        help="RSM side = VPLs per side; the reference costs pixels × VPLs "
-                             "(default 64)")
-    parser.add_argument("--grid-size", type=int, default=None,
-                        help="LPV resolution (default: the Settings default)")
-    parser.add_argument("--iterations", default=None, metavar="N[,N...]",
-                        help="propagation steps, or a comma list for a sweep (default: the "
-                             "Settings default)")
-    parser.add_argument("--cascades", default=None, metavar="K[,K...]",
-                        help="LPV cascades (nested grids around the camera's focus), or a "
-                             "comma list to compare several (default: 1, the single grid)")
-    parser.add_argument("--cascade-iterations", default="same",
-                        choices=CASCADE_ITERATIONS,
-                        help="propagation steps per cascade: the same in every cascade "
-                             "(default), or 2x more per finer level (same distance)")
-    parser.add_argument("--geometry-volume", default="off",
-                        choices=GEOMETRY_VOLUME_MODES,
-                        help="LPV occlusion (default: off)")
-    parser.add_argument("--sh-order", default=None, metavar="ORDER[,ORDER]",
-                        help="spherical harmonics of the grid: 1 (L1, default), 2 (L2), or "
-                             "1,2 to compare both; the table's preset cell then names it")
-    add_leak_arguments(parser)
-    parser.add_argument("--min-distance", type=float, default=None,
-                        help="reference 1/r² clamp distance in world units "
-                             "(default: half a grid cell; with --cascades above 1, of the "
-                             "single scene-enclosing grid)")
+                        help="folder for the PNGs and table (default: ./compare-<scene>); "
+                             "made before the rendering starts")
+    parser.add_argument("--min-distance", type=options.value_type("min_distance", MIN_DISTANCE),
+                        default=None, help=options.spec_help(MIN_DISTANCE))
     parser.add_argument("--error-mode", default="log2-ratio",
                         choices=("log2-ratio", "difference"),
                         help="what the error image shows (default: log2-ratio)")
-    parser.add_argument("--error-scale", type=float, default=None,
-                        help="error value at full colour (default: 3 stops for log2-ratio, "
-                             "the reference's 99th percentile for difference)")
-    parser.add_argument("--exposure", type=float, default=None,
+    parser.add_argument("--error-scale", type=options.value_type("error_scale", ERROR_SCALE),
+                        default=None, help=options.spec_help(ERROR_SCALE))
+    parser.add_argument("--exposure", type=options.setting_type("exposure"), default=None,
                         help="exposure of the LPV/reference PNGs (default: the reference's "
                              "99th percentile maps to white)")
     parser.add_argument("--region", action="append", default=[], metavar="X0,Y0,X1,Y1",
+                        type=parse_region,
                         help="also report the metrics over this pixel rectangle (rows from "
-                             "the top of the PNG); repeatable")
+                             "the top of the PNG, X1 and Y1 excluded); repeatable")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    options.add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
+                        sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
+                        aliases={"grid_size": ("--grid-size",)})
+    for name in ("width", "height"):     # compare's own spelling of --size, kept
+        parser.add_argument(f"--{name}", dest=name, type=options.setting_type(name), default=None,
+                            help=options.spec_help(specs(Settings)[name], DEFAULTS["size"][0]))
 
 
-def _fail(message: str, code: int = 2) -> int:
-    print(f"lpv-explorer compare: error: {message}", file=sys.stderr)
-    return code
-
-
-def _parse_region(text: str) -> tuple[int, int, int, int]:
+def parse_region(text: str) -> tuple[int, int, int, int]:
+    """``X0,Y0,X1,Y1`` with 0 <= X0 < X1 and 0 <= Y0 < Y1 (argparse ``type=``)."""
     parts = text.split(",")
-    if len(parts) != 4:
-        raise ValueError(f"--region {text!r}: expected X0,Y0,X1,Y1")
     try:
+        if len(parts) != 4:
+            raise ValueError
         x0, y0, x1, y1 = (int(p) for p in parts)
     except ValueError:
-        raise ValueError(f"--region {text!r}: expected four integers") from None
+        raise argparse.ArgumentTypeError(f"expected four integers X0,Y0,X1,Y1, got "
+                                         f"{text!r}") from None
+    if not (0 <= x0 < x1 and 0 <= y0 < y1):
+        raise argparse.ArgumentTypeError(f"{text!r}: need 0 <= X0 < X1 and 0 <= Y0 < Y1")
     return x0, y0, x1, y1
 
 
+@dataclass(frozen=True)
+class Run:
+    """One LPV frame of the comparison and how the table names it."""
+
+    settings: Settings
+    label: str        # file names: lpv-<label>.png, error-<label>.png
+    preset: str       # the table's preset cell
+    steps: object     # the table's iterations cell: N or (N, cascades)
+
+
+def plan_runs(args: argparse.Namespace, base: Settings) -> list[Run]:
+    """Every frame the command renders, each Settings made (so checked) before any work."""
+    iterations = options.sweep_values(args, "iterations", base)
+    cascades = options.sweep_values(args, "cascades", base)
+    orders = options.sweep_values(args, "sh_order", base)
+    names = list(PRESETS) if args.preset == "all" else [args.preset]
+    runs = []
+    for name in names:
+        for steps in iterations:
+            for count in cascades:
+                for order in orders:
+                    try:
+                        settings = base.with_changes(corrections=PRESETS[name],
+                                                     iterations=steps, cascades=count,
+                                                     sh_order=order)
+                    except ValueError as exc:
+                        raise options.CommandError(exc) from None
+                    label, preset, cell = (name if len(iterations) == 1 else
+                                           f"{name}-it{steps}"), name, steps
+                    if args.cascades is not None:
+                        label, cell = label + f"-c{count}", (steps, count)
+                    if args.sh_order is not None:
+                        label, preset = label + f"-L{order}", f"{name} L{order}"
+                    runs.append(Run(settings, label, preset, cell))
+    return runs
+
+
+def check_cost(settings: Settings, regions: list[tuple[int, int, int, int]]) -> None:
+    """The reference's pixel × VPL pairs within :data:`MAX_REFERENCE_PAIRS`, and every
+    region inside the image."""
+    texels = settings.rsm_size // (settings.downsample_factor
+                                   if settings.downsample != "none" else 1)
+    pairs = settings.width * settings.height * max(texels, 1) ** 2
+    if pairs > MAX_REFERENCE_PAIRS:
+        raise options.CommandError(f"the reference would gather {settings.width}×{settings.height} "
+                           f"pixels × up to {max(texels, 1) ** 2} VPLs = {pairs:.3g} pairs, "
+                           f"more than {MAX_REFERENCE_PAIRS:.3g}: use a smaller --size or "
+                           f"--rsm-size")
+    for x0, y0, x1, y1 in regions:
+        if x1 > settings.width or y1 > settings.height:
+            raise options.CommandError(f"--region {x0},{y0},{x1},{y1} leaves the {settings.width}×"
+                               f"{settings.height} image")
+
+
 def main(args: argparse.Namespace) -> int:
+    base = options.settings_from_args(args)
+    options.check_scene(base.scene)
+    runs = plan_runs(args, base)
+    check_cost(base, args.region)
+    out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
+    with options.Outputs() as outputs:
+        outputs.folder(out)
+        with options.Progress("compare", enabled=False if args.quiet else None) as progress:
+            rows, images, reference, gbuffer, frame = _render(args, base, runs, progress)
+        table = format_table(rows, args, frame)
+        print(table)
+        exposure = args.exposure or _auto_exposure(reference, gbuffer.valid)
+        written = _write(outputs, out, args, images, reference, gbuffer.valid, exposure)
+        outputs.write(out / "table.md", lambda p: p.write_text(table + "\n"))
+    print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
+    return 0
+
+
+def _render(args, base: Settings, runs: list[Run], progress: options.Progress):
+    """Each run's LPV frame and, whenever the VPLs change, the reference: the table rows,
+    the LPV images by label, and the last reference, G-buffer and frame."""
     import numpy as np
-
-    from explorer.lpv.settings import PRESETS, Settings
-
-    try:
-        regions = [_parse_region(text) for text in args.region]
-        iterations = _parse_iterations(args.iterations)
-        cascade_counts = _parse_cascades(args.cascades)
-        sh_orders = _parse_sh_orders(args.sh_order)
-        for name in ("width", "height", "rsm_size"):
-            if getattr(args, name) < 1:
-                raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
-        if args.min_distance is not None and not args.min_distance >= 0:
-            raise ValueError("--min-distance must be >= 0")
-        if args.error_scale is not None and not args.error_scale > 0:
-            raise ValueError("--error-scale must be positive")
-        changes = {"scene": args.scene, "width": args.width, "height": args.height,
-                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume,
-                   "cascade_iterations": args.cascade_iterations}
-        if args.grid_size is not None:
-            changes["grid_size"] = args.grid_size
-        changes.update(leak_changes(args))
-        base = Settings(**changes, cascades=max(cascade_counts))   # validates the count
-        for order in sh_orders:   # L2 refuses some combinations (e.g. cascades)
-            for count in cascade_counts:
-                base.with_changes(sh_order=order, cascades=count)
-        if iterations is None:
-            iterations = [base.iterations]
-    except ValueError as exc:
-        return _fail(str(exc))
 
     from explorer.gl.context import (GLUnavailableError, create_headless_context,
                                      release_headless_context)
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
     from explorer.truth.gbuffer import scene_for
-    from explorer.truth.metrics import EmptyRegionError, error_image, error_stats, rect_mask
+    from explorer.truth.metrics import EmptyRegionError, error_stats, rect_mask
     from explorer.truth.render import reference_for_frame
 
     try:
         scene = scene_for(base)
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
-        return _fail(f"cannot load scene {args.scene!r}: {exc}")
+        raise options.CommandError(f"cannot load scene {base.scene!r}: {exc}") from None
     try:
         ctx = create_headless_context()
     except GLUnavailableError as exc:
-        return _fail(str(exc), 1)
-
+        raise options.CommandError(exc, 1) from None
     min_distance = args.min_distance
-    if min_distance is None and max(cascade_counts) > 1:
+    if min_distance is None and max(r.settings.cascades for r in runs) > 1:
         # one reference for every cascade count: half a cell of the single grid (cascade
         # 0's cells shrink with more cascades, the reference must not)
         from explorer.lpv.grid import GridSpec
 
         single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, base.grid_size)
         min_distance = 0.5 * single.cell_size
-    names = ["original", "corrected"] if args.preset == "all" else [args.preset]
-    visibility = args.reference == "visible"
-    out = args.out if args.out is not None else Path(f"compare-{Path(args.scene).stem}")
     pipeline = Pipeline(base, ctx)
-    rows = []
-    images = {}
+    rows, images = [], {}
     reference = gbuffer = reference_vpls = frame = None
     try:
-        for name in names:
-            for steps, count, order in [(i, k, o) for i in iterations for k in cascade_counts
-                                        for o in sh_orders]:
-                frame = pipeline.run(base.with_changes(corrections=PRESETS[name],
-                                                       iterations=steps, cascades=count,
-                                                       sh_order=order))
-                if reference is None or not _same_vpls(frame.vpls, reference_vpls):
-                    started = time.perf_counter()
-                    reference, gbuffer = reference_for_frame(
-                        frame, visibility, min_distance, ctx=ctx, scene=scene,
-                        progress=None if args.quiet else _progress_printer())
-                    reference_vpls = frame.vpls
-                    if not args.quiet:
-                        print(f"\rreference ({args.reference}, {frame.vpls.count} VPLs): "
-                              f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
-                valid = gbuffer.valid
-                lpv = np.asarray(frame.indirect, np.float64)[..., :3]
-                label = name if len(iterations) == 1 else f"{name}-it{steps}"
-                if args.cascades is not None:
-                    label += f"-c{count}"
-                    steps = (steps, count)   # the table's iterations cell: "8, 2 cascades"
-                shown = name
-                if args.sh_order is not None:
-                    label += f"-L{order}"
-                    shown = f"{name} L{order}"   # the table's preset cell: "corrected L2"
-                images[label] = lpv
-                rows.append((shown, steps, "image", error_stats(lpv, reference, valid)))
-                for rect in regions:
-                    mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
-                    try:
-                        stats = error_stats(lpv, reference, mask)
-                    except EmptyRegionError:
-                        stats = None
-                    rows.append((shown, steps, ",".join(map(str, rect)), stats))
+        for run in runs:
+            frame = options.run_pipeline(pipeline, run.settings, progress)
+            if reference is None or not _same_vpls(frame.vpls, reference_vpls):
+                started = time.perf_counter()
+                reference, gbuffer = reference_for_frame(
+                    frame, args.reference == "visible", min_distance, ctx=ctx, scene=scene,
+                    progress=progress.fraction("reference"))
+                reference_vpls = frame.vpls
+                progress.close()
+                if not args.quiet:
+                    print(f"reference ({args.reference}, {frame.vpls.count} VPLs): "
+                          f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
+            valid = gbuffer.valid
+            lpv = np.asarray(frame.indirect, np.float64)[..., :3]
+            images[run.label] = lpv
+            rows.append((run.preset, run.steps, "image", error_stats(lpv, reference, valid)))
+            for rect in args.region:
+                mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
+                try:
+                    stats = error_stats(lpv, reference, mask)
+                except EmptyRegionError:
+                    stats = None
+                rows.append((run.preset, run.steps, ",".join(map(str, rect)), stats))
+    except options.render_failures() as exc:
+        raise options.CommandError(exc, 1) from None
     finally:
         pipeline.release()
         release_headless_context(ctx)
+    return rows, images, reference, gbuffer, frame
 
-    table = format_table(rows, args, frame)
-    print(table)
-    out.mkdir(parents=True, exist_ok=True)
-    valid = gbuffer.valid
-    exposure = args.exposure or _auto_exposure(reference, valid)
-    _save(out / "reference.png", reference * exposure)
+
+def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, valid,
+           exposure: float) -> list[str]:
+    """The reference, LPV and error PNGs; returns their names."""
+    from explorer.truth.metrics import error_image
+
+    outputs.write(out / "reference.png", lambda p: _save(p, reference * exposure))
     written = ["reference.png"]
     scale = args.error_scale
     if scale is None:
@@ -206,50 +236,11 @@ def main(args: argparse.Namespace) -> int:
         # ratio; for the difference, the reference's bright end (99th percentile).
         scale = LOG2_DEFAULT_SCALE if args.error_mode == "log2-ratio" else 1.0 / exposure
     for label, lpv in images.items():
-        _save(out / f"lpv-{label}.png", lpv * exposure)
+        outputs.write(out / f"lpv-{label}.png", lambda p, lpv=lpv: _save(p, lpv * exposure))
         error = error_image(lpv, reference, valid, args.error_mode, scale)
-        _save_error(out / f"error-{label}.png", error)
+        outputs.write(out / f"error-{label}.png", lambda p, e=error: _save_error(p, e))
         written += [f"lpv-{label}.png", f"error-{label}.png"]
-    (out / "table.md").write_text(table + "\n")
-    print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
-    return 0
-
-
-def _int_list(text: str, flag: str, example: str, valid, rule: str) -> list[int]:
-    """A comma list of integers from ``--flag``, each passing ``valid``; errors name the
-    flag, the expected form (``example``) and the ``rule`` broken."""
-    try:
-        values = [int(part) for part in text.split(",")]
-    except ValueError:
-        raise ValueError(f"{flag} {text!r}: expected {example}") from None
-    if not all(valid(v) for v in values):
-        raise ValueError(f"{flag} {text!r}: {rule}")
-    return values
-
-
-def _parse_iterations(text: str | None) -> list[int] | None:
-    if text is None:
-        return None
-    return _int_list(text, "--iterations", "integers like 16 or 0,4,16", lambda v: v >= 0,
-                     "iterations must be >= 0")
-
-
-def _parse_cascades(text: str | None) -> list[int]:
-    from explorer.lpv.settings import MAX_CASCADES
-
-    if text is None:
-        return [1]
-    return _int_list(text, "--cascades", "integers like 2 or 1,2,3",
-                     lambda v: 1 <= v <= MAX_CASCADES, f"cascades must be 1..{MAX_CASCADES}")
-
-
-def _parse_sh_orders(text: str | None) -> list[int]:
-    from explorer.lpv.settings import SH_ORDERS
-
-    if text is None:
-        return [1]
-    return _int_list(text, "--sh-order", "1, 2 or 1,2", lambda v: v in SH_ORDERS,
-                     "the SH order must be 1 (L1) or 2 (L2)")
+    return written
 
 
 def _same_vpls(a, b) -> bool:
@@ -260,24 +251,11 @@ def _same_vpls(a, b) -> bool:
             and np.array_equal(np.asarray(a.flux), np.asarray(b.flux)))
 
 
-def _progress_printer():
-    last = [-1]
-
-    def report(done: float) -> bool:
-        percent = int(100 * done)
-        if percent != last[0]:
-            last[0] = percent
-            print(f"\rreference: {percent:3d} %", end="", file=sys.stderr, flush=True)
-        return True
-
-    return report
-
-
 def format_table(rows, args, frame) -> str:
     """Markdown table: one row per preset, iteration count and region."""
     settings = frame.settings
     lines = [
-        f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
+        f"scene `{settings.scene}`, reference `{args.reference}`, {settings.width}×"
         f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
         f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
         f"offset {settings.injection_offset_cells:g} cells, gather damping "

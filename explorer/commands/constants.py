@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 
 VALUE_DIGITS = 20
 
@@ -66,7 +65,7 @@ def _print_text(entries: list[dict[str, object]]) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from derivations.registry import all_results, names
+    from derivations.registry import all_results
 
     if args.errata:
         from derivations import errata
@@ -77,11 +76,9 @@ def main(args: argparse.Namespace) -> int:
         try:
             selected = [_find(args.name)]
         except KeyError as exc:
-            print(f"lpv-explorer constants: {exc.args[0]}", file=sys.stderr)
-            print("known names:", file=sys.stderr)
-            for name in names():
-                print(f"  {name}", file=sys.stderr)
-            return 2
+            from explorer.commands.options import CommandError
+
+            raise CommandError(exc.args[0]) from None
     else:
         selected = all_results()
     entries = [entry(item) for item in selected]

@@ -20,28 +20,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
+    from explorer.commands.options import CommandError
     from explorer.lessons import find_lesson, load_all
 
+    if args.dir is not None and not args.dir.is_dir():
+        raise CommandError(f"--dir {args.dir}: no such folder")
     lessons, errors = load_all(args.dir)
+    if not lessons and not errors:
+        raise CommandError(f"no lessons (*.toml files) in {args.dir or 'the shipped lessons'}",
+                           1)
     if args.lesson is None:
         _print_list(lessons)
     else:
         try:
-            lesson = find_lesson(args.lesson, lessons)
+            lesson = find_lesson(args.lesson, lessons, errors)
         except KeyError as exc:
-            print(f"lpv-explorer lessons: {exc.args[0]}", file=sys.stderr)
-            _print_errors(errors)
-            return 1
+            raise CommandError(exc.args[0]) from None
         _print_lesson(lesson)
     _print_errors(errors)
     return 1 if errors else 0
 
 
 def _print_list(lessons) -> None:
-    if not lessons:
-        print("no lessons found")
-        return
-    width = max(len(lesson.id) for lesson in lessons)
+    width = max((len(lesson.id) for lesson in lessons), default=0)
     for lesson in lessons:
         count = len(lesson.steps)
         print(f"{lesson.number:02d}  {lesson.id:<{width}}  {lesson.title}  "
@@ -83,79 +84,3 @@ def _print_lesson(lesson) -> None:
 def _print_errors(errors) -> None:
     for error in errors:
         print(f"broken lesson: {error}", file=sys.stderr)
-
-
-# --- `lpv-explorer render --lesson ID --step K` -------------------------------------------
-# The render command (explorer/commands/render.py) adds the two options with
-# add_render_arguments() and hands over to render_lesson_step() when --lesson is given.
-
-def add_render_arguments(parser: argparse.ArgumentParser) -> None:
-    group = parser.add_argument_group(
-        "lesson steps", "render what a lesson step shows: its scene, settings, corrections "
-        "and view; --grid, --iterations, --size, --rsm-size, --exposure, --downsample, "
-        "--downsample-factor, --geometry-volume and --indirect-only override the step, "
-        "--scene and --preset are ignored")
-    group.add_argument("--lesson", metavar="ID", help="lesson id, number or file stem")
-    group.add_argument("--step", type=int, default=1, metavar="K",
-                       help="step number within the lesson (default: 1)")
-
-
-def render_lesson_step(args: argparse.Namespace) -> int:
-    """Render step ``args.step`` of lesson ``args.lesson`` to ``args.out``."""
-    from explorer.commands.render import (
-        CAMERA_VIEWS,
-        SETTING_OPTIONS,
-        option_changes,
-        output_changes,
-        output_paths,
-        print_audit,
-        render_error,
-        write_png,
-    )
-    from explorer.gl.context import GLUnavailableError
-    from explorer.gl.program import ShaderError
-    from explorer.lessons import (
-        COMPARE_VIEWS,
-        LessonError,
-        find_lesson,
-        load_lesson,
-        render_step,
-    )
-    from explorer.lpv.pipeline import Pipeline
-    from explorer.resources import lesson_dir
-
-    try:
-        lessons = []
-        for path in sorted(lesson_dir().glob("*.toml")):
-            try:
-                lessons.append(load_lesson(path, check_formula=None))
-            except LessonError:
-                continue  # `lpv-explorer lessons` reports broken lessons
-        lesson = find_lesson(args.lesson, lessons)
-        step = lesson.step(args.step)
-    except (KeyError, IndexError) as exc:
-        return render_error(exc.args[0], 2)
-    changes = {**option_changes(args, SETTING_OPTIONS), **output_changes(args)}
-    try:
-        settings = step.settings().with_changes(**changes)
-    except ValueError as exc:
-        return render_error(exc, 2)
-    print(f"lesson {lesson.id}, step {step.number}/{len(lesson.steps)}: {step.title}")
-    views = args.view or [step.view]
-    try:
-        with Pipeline(settings) as pipeline:
-            for view, path in output_paths(args.out, views).items():
-                if view == step.view:
-                    image, _ = render_step(pipeline, step, settings)
-                else:
-                    pipeline.run(settings)
-                    image = pipeline.view(view)
-                write_png(image, path, enlarge=view not in CAMERA_VIEWS + COMPARE_VIEWS)
-                shown = f"{view} against {step.compare_preset}" if step.compare_preset and \
-                    view == step.view else view
-                print(f"wrote {path} ({shown})")
-            if args.audit:
-                print_audit(pipeline.run(settings))
-    except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
-        return render_error(exc, 1)
-    return 0

@@ -1,161 +1,133 @@
-"""``lpv-explorer render``: one frame headlessly, written as PNG (one file per view)."""
+"""``lpv-explorer render``: one frame headlessly, written as PNG (one file per view); with
+``--lesson ID --step K`` the frame a lesson step shows, every option given overriding it."""
 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from explorer.lpv.settings import (
-    CASCADE_ITERATIONS,
-    DOWNSAMPLE_MODES,
-    GEOMETRY_VOLUME_MODES,
-    PRESETS,
-    VIEWS,
-)
+from explorer.commands import options
+from explorer.lpv.settings import VIEWS
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
 this size."""
 CAMERA_VIEWS = ("final", "direct", "indirect", "albedo", "cascade-weights")
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """``"WxH"`` -> (W, H); an ArgumentTypeError saying what is expected otherwise."""
-    try:
-        width, height = (int(part) for part in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size must look like 512x512, got {text!r}") from None
-    if width < 1 or height < 1:
-        raise argparse.ArgumentTypeError(f"size must be at least 1x1, got {text!r}")
-    return width, height
+SLICED_VIEWS = ("grid-slice", "geometry-volume")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--scene", default="cornell",
-                        help="built-in scene (cornell, single-source, room) or a mesh file "
-                             "(OBJ, GLB/glTF, PLY, STL); default: cornell")
-    parser.add_argument("--preset", default="corrected", choices=sorted(PRESETS),
-                        help="formulas: the corrected ones or the published ones")
     parser.add_argument("--out", default="frame.png", type=Path,
-                        help="PNG to write; with several --view, one file per view named "
-                             "<stem>-<view>.png")
+                        help="image to write (.png); with several --view, one file per view "
+                             "named <stem>-<view>.png")
     parser.add_argument("--view", action="append", choices=VIEWS, metavar="VIEW",
-                        help=f"what to write (repeatable): {', '.join(VIEWS)}; default: final")
-    parser.add_argument("--grid", type=int, help="grid resolution N (N³ cells)")
-    parser.add_argument("--iterations", type=int, help="propagation steps")
-    parser.add_argument("--size", type=parse_size, help="image size WxH")
-    parser.add_argument("--rsm-size", type=int, help="RSM resolution (square)")
-    parser.add_argument("--exposure", type=float, help="exposure multiplier")
-    parser.add_argument("--downsample", choices=DOWNSAMPLE_MODES, help="RSM downsample")
-    parser.add_argument("--downsample-factor", type=int, help="RSM downsample block size")
-    parser.add_argument("--geometry-volume", choices=GEOMETRY_VOLUME_MODES,
-                        help="fuzzy occlusion")
-    add_leak_arguments(parser)
-    add_sh_order_argument(parser)
-    parser.add_argument("--indirect-only", action="store_true",
-                        help="final image without the direct light")
+                        help=f"what to write (repeatable): {', '.join(VIEWS)}; default: final "
+                             f"(with --lesson: the step's view)")
     parser.add_argument("--slice", type=int, dest="z",
                         help="z slice of the grid views (default: the middle)")
     parser.add_argument("--coefficient", type=int, choices=range(9), metavar="K",
                         help="grid-slice: show SH coefficient K (0..3, or 0..8 with "
                              "--sh-order 2) instead of the flux")
-    parser.add_argument("--cascades", type=int,
-                        help="nested LPV grids around the camera's focus, each with twice the "
-                             "cells of the last (default 1: one grid around the scene)")
-    parser.add_argument("--cascade-extent", type=float,
-                        help="edge of the finest cascade in world units (default: the "
-                             "single grid's edge / 2^(cascades-1))")
-    parser.add_argument("--cascade-iterations", choices=CASCADE_ITERATIONS,
-                        help="same: every cascade propagates --iterations steps (default); "
-                             "same-distance: finer cascades propagate 2x more per level")
     parser.add_argument("--cascade", type=int, default=None,
                         help="grid views (grid-slice, geometry-volume): show this cascade "
                              "(0 = finest, the default)")
     parser.add_argument("--audit", action="store_true", help="print the energy audit")
-    parser.add_argument("--debug-nan", action="store_true",
-                        help="check every pass for NaN/Inf and name the first bad one")
-    # --lesson ID --step K (lessons helper): the options and their handling live in
-    # explorer/commands/lessons.py.
-    from explorer.commands.lessons import add_render_arguments
-
-    add_render_arguments(parser)
-
-
-def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
-    """--injection-offset, --gather-damping, --bounces (shared with ``compare``); left out
-    they keep the Settings defaults."""
-    parser.add_argument("--injection-offset", type=float, metavar="CELLS",
-                        help="inject each VPL this many cells along its normal "
-                             "(0..1; default 0.5)")
-    parser.add_argument("--gather-damping", action=argparse.BooleanOptionalAction,
-                        default=None,
-                        help="damp the indirect light by its derivative along the normal "
-                             "(default off)")
-    parser.add_argument("--bounces", type=int, choices=(1, 2),
-                        help="2: the geometry volume reflects the light it blocks (needs "
-                             "--geometry-volume; default 1)")
+    group = parser.add_argument_group(
+        "lesson steps", "render what a lesson step shows: its scene, settings, corrections "
+        "and view; every settings option given (and --preset) overrides the step")
+    group.add_argument("--lesson", metavar="ID", help="lesson id, number or file stem")
+    group.add_argument("--step", type=int, default=None, metavar="K",
+                       help="step number within the lesson (default: 1)")
+    options.add_setting_options(parser)
 
 
-def add_sh_order_argument(parser: argparse.ArgumentParser) -> None:
-    """--sh-order: L1 (4 coefficients per colour) or L2 (9) spherical harmonics."""
-    parser.add_argument("--sh-order", type=int, metavar="ORDER",
-                        help="spherical harmonics of the light grid: 1 = L1, 4 coefficients "
-                             "(default), 2 = L2, 9 coefficients (docs/MODEL.md 'L2 option')")
+def main(args: argparse.Namespace) -> int:
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.scene import SceneError
+
+    step = _lesson_step(args)
+    settings = options.settings_from_args(args, base=step.settings() if step else None)
+    views = args.view or [step.view if step else "final"]
+    options.check_scene(settings.scene)
+    wanted = _view_options(args, settings, views)
+    with options.Outputs() as outputs:
+        paths = {view: outputs.file(path) for view, path in output_paths(args.out, views).items()}
+        try:
+            with Pipeline(settings) as pipeline, options.Progress("render") as progress:
+                result = options.run_pipeline(pipeline, settings, progress)
+                progress.close()
+                for view, path in paths.items():
+                    image = _view_image(pipeline, step, settings, view, wanted)
+                    outputs.write(path, lambda p, image=image, view=view: write_png(
+                        image, p, enlarge=view in _ENLARGED))
+                    shown = f"{view} against {step.compare_preset}" if step and \
+                        step.compare_preset and view == step.view else view
+                    print(f"wrote {path} ({shown})")
+                if args.audit:
+                    print_audit(result)
+        except SceneError as exc:
+            raise options.CommandError(exc, 2) from None
+        except options.render_failures() as exc:
+            raise options.CommandError(exc, 1) from None
+    return 0
 
 
-# (option dest, Settings field) pairs: an option given on the command line sets the field.
-STEP_OPTIONS = (("grid", "grid_size"), ("iterations", "iterations"),
-                ("rsm_size", "rsm_size"), ("exposure", "exposure"),
-                ("downsample", "downsample"), ("downsample_factor", "downsample_factor"),
-                ("geometry_volume", "geometry_volume"))
-"""The sizes and modes a command line sets (with the tables below, all of them also
-override a lesson step in ``render --lesson``)."""
-CASCADE_OPTIONS = (("cascades", "cascades"), ("cascade_extent", "cascade_extent"),
-                   ("cascade_iterations", "cascade_iterations"))
-SH_OPTIONS = (("sh_order", "sh_order"),)
-LEAK_OPTIONS = (("injection_offset", "injection_offset_cells"),
-                ("gather_damping", "gather_damping"), ("bounces", "bounces"))
-SETTING_OPTIONS = STEP_OPTIONS + CASCADE_OPTIONS + SH_OPTIONS + LEAK_OPTIONS
-"""Every (option, Settings field) pair ``render`` takes, plain or with ``--lesson``."""
+def _lesson_step(args: argparse.Namespace):
+    """The lesson step ``--lesson``/``--step`` name (printing which), or None."""
+    if args.lesson is None:
+        if args.step is not None:
+            raise options.CommandError("--step needs --lesson (the lesson whose step to render)")
+        return None
+    from explorer.lessons import find_lesson, load_all
+
+    lessons, errors = load_all(check_formula=None)
+    try:
+        lesson = find_lesson(args.lesson, lessons, errors)
+        step = lesson.step(1 if args.step is None else args.step)
+    except (KeyError, IndexError) as exc:
+        raise options.CommandError(exc.args[0]) from None
+    print(f"lesson {lesson.id}, step {step.number}/{len(lesson.steps)}: {step.title}")
+    return step
 
 
-def option_changes(args: argparse.Namespace,
-                   options: tuple[tuple[str, str], ...]) -> dict[str, object]:
-    """The Settings changes for the ``(dest, field)`` options given (not None) in ``args``."""
-    changes: dict[str, object] = {}
-    for name, field in options:
-        value = getattr(args, name, None)
-        if value is not None:
-            changes[field] = value
-    return changes
+def _view_options(args: argparse.Namespace, settings, views: list[str]) -> dict[str, int]:
+    """--slice, --coefficient and --cascade, checked against the grid they index."""
+    chosen = {}
+    if args.z is not None:
+        slices = settings.grid_size + (1 if "geometry-volume" in views else 0)
+        if not 0 <= args.z < slices:
+            raise options.CommandError(f"--slice must be a z index in [0, {slices - 1}] of the "
+                               f"{settings.grid_size}³ grid, got {args.z}")
+        chosen["z"] = args.z
+    if args.coefficient is not None:
+        count = 4 if settings.sh_order == 1 else 9
+        if args.coefficient >= count:
+            raise options.CommandError(f"--coefficient must be in [0, {count - 1}] with --sh-order "
+                               f"{settings.sh_order}, got {args.coefficient}")
+        chosen["coefficient"] = args.coefficient
+    if args.cascade is not None:
+        if not 0 <= args.cascade < settings.cascades:
+            raise options.CommandError(f"--cascade must be in [0, {settings.cascades - 1}] with "
+                               f"--cascades {settings.cascades}, got {args.cascade}")
+        chosen["cascade"] = args.cascade
+    return chosen
 
 
-def leak_changes(args: argparse.Namespace) -> dict[str, object]:
-    """The Settings changes the :func:`add_leak_arguments` flags ask for."""
-    return option_changes(args, LEAK_OPTIONS)
+def _view_image(pipeline, step, settings, view: str, chosen: dict[str, int]):
+    """The display image of ``view``: the step's own view as the lesson shows it (split
+    and difference included), any other view from the pipeline."""
+    if step is not None and view == step.view:
+        from explorer.lessons import render_step
+
+        return render_step(pipeline, step, settings)[0]
+    options.run_pipeline(pipeline, settings)   # a no-op unless a lesson comparison ran in between
+    wanted = {k: v for k, v in chosen.items() if view in SLICED_VIEWS
+              and (k != "coefficient" or view == "grid-slice")}
+    return pipeline.view(view, **wanted)
 
 
-def output_changes(args: argparse.Namespace) -> dict[str, object]:
-    """The Settings changes of --size, --indirect-only and --debug-nan."""
-    changes: dict[str, object] = {}
-    if args.size is not None:
-        changes["width"], changes["height"] = args.size
-    if args.indirect_only:
-        changes["indirect_only"] = True
-    if args.debug_nan:
-        changes["debug_nan"] = True
-    return changes
-
-
-def settings_from_args(args: argparse.Namespace):
-    """Settings from the command line (fields left out keep their defaults)."""
-    from explorer.lpv.settings import Settings, preset
-
-    changes: dict[str, object] = {"scene": args.scene, "corrections": preset(args.preset)}
-    changes.update(option_changes(args, SETTING_OPTIONS))
-    changes.update(output_changes(args))
-    return Settings(**changes)
+_ENLARGED = tuple(view for view in VIEWS if view not in CAMERA_VIEWS)
+"""Views whose size is not the image size (RSM, grid): enlarged to MIN_PNG_SIZE."""
 
 
 def write_png(image, path: Path, enlarge: bool = False) -> None:
@@ -168,7 +140,6 @@ def write_png(image, path: Path, enlarge: bool = False) -> None:
     repeat = max(1, -(-MIN_PNG_SIZE // max(pixels.shape[:2])))
     if enlarge and repeat > 1:
         pixels = pixels.repeat(repeat, axis=0).repeat(repeat, axis=1)
-    path.parent.mkdir(parents=True, exist_ok=True)
     Image.fromarray((pixels * 255.0 + 0.5).astype(np.uint8), "RGB").save(path)
 
 
@@ -209,43 +180,3 @@ def format_cascade_audits(result) -> str:
                      f"{audit.accumulated.sum():13.4g}{audit.border_loss.sum():8.4g}")
     return "\n".join(lines)
 
-
-def render_error(error: object, code: int) -> int:
-    """Report a failed ``render`` (also ``render --lesson``) on stderr; returns ``code``."""
-    print(f"lpv-explorer render: error: {error}", file=sys.stderr)
-    return code
-
-
-def main(args: argparse.Namespace) -> int:
-    from explorer.gl.context import GLUnavailableError
-    from explorer.gl.program import ShaderError
-    from explorer.lpv.pipeline import Pipeline
-    from explorer.scene import SceneError
-
-    if getattr(args, "lesson", None) is not None:
-        from explorer.commands.lessons import render_lesson_step
-
-        return render_lesson_step(args)
-    views = args.view or ["final"]
-    try:
-        settings = settings_from_args(args)
-    except (ValueError, KeyError) as exc:
-        return render_error(exc, 2)
-    try:
-        with Pipeline(settings) as pipeline:
-            result = pipeline.run()
-            options = {"z": args.z, "coefficient": args.coefficient, "cascade": args.cascade}
-            for view, path in output_paths(args.out, views).items():
-                wanted = {k: v for k, v in options.items()
-                          if v is not None and view in ("grid-slice", "geometry-volume")
-                          and (k != "coefficient" or view == "grid-slice")}
-                write_png(pipeline.view(view, **wanted), path,
-                          enlarge=view not in CAMERA_VIEWS)
-                print(f"wrote {path} ({view})")
-            if args.audit:
-                print_audit(result)
-    except SceneError as exc:
-        return render_error(exc, 2)
-    except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
-        return render_error(exc, 1)
-    return 0

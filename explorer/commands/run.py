@@ -1,68 +1,82 @@
 """``lpv-explorer run``: open the explorer window.
 
 ``--screenshot PATH --frames N`` draws N frames, writes the last one (panels included) to
-PATH and exits: scripted runs, README screenshots and CI smoke tests.
+PATH and exits: scripted runs, README screenshots and CI smoke tests. Every option is
+checked before the window opens (an unknown lesson or scene, a window larger than
+:data:`~explorer.ui.state.MAX_WINDOW_SIZE`, a screenshot path that cannot be written).
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+
+from explorer.commands.options import (
+    CommandError,
+    Outputs,
+    check_scene,
+    setting_type,
+    size_type,
+    spec_help,
+    value_type,
+)
+from explorer.lpv.schema import Spec, specs
+from explorer.lpv.settings import PRESETS, Settings
+
+FRAMES = Spec(kind="int", low=1, high=10**9, optional=True,
+              doc="Draw this many frames, then exit (default with --screenshot: 30).")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from explorer.ui.state import VIEW_MODES, AppState
+
+    window = specs(AppState)["window_size"]
     parser.add_argument("--lesson", metavar="ID", help="open a lesson (e.g. 01 or its slug)")
-    parser.add_argument("--scene", metavar="NAME|PATH",
-                        help="a built-in scene (cornell, single-source, room) or a mesh file")
-    parser.add_argument("--preset", choices=("original", "corrected"),
-                        help="start with the published or the corrected formulas")
-    parser.add_argument("--compare", choices=("single", "split", "difference"),
+    parser.add_argument("--scene", metavar="NAME|PATH", type=setting_type("scene"),
+                        help=spec_help(specs(Settings)["scene"]))
+    parser.add_argument("--preset", choices=list(PRESETS),
+                        help="start with these formulas (configuration A)")
+    parser.add_argument("--compare", choices=VIEW_MODES,
                         help="view mode: one configuration, split A|B, or their difference")
-    parser.add_argument("--size", metavar="WxH", default=None,
-                        help="window size in pixels (default: as it was last closed)")
+    parser.add_argument("--size", metavar="WxH", default=None, type=size_type(window_size),
+                        help=f"window size in pixels, each in [{window.low:g}, "
+                             f"{window.high:g}] (default: as it was last closed)")
     parser.add_argument("--screenshot", metavar="PATH", type=Path,
                         help="write a PNG of the window after --frames frames, then exit")
-    parser.add_argument("--frames", metavar="N", type=int, default=None,
-                        help="draw N frames then exit (default with --screenshot: 30)")
+    parser.add_argument("--frames", metavar="N", type=value_type("frames", FRAMES),
+                        default=None, help=spec_help(FRAMES))
     parser.add_argument("--hidden", action="store_true",
                         help="do not show the window (scripted runs)")
     parser.add_argument("--no-persist", action="store_true",
                         help="neither read nor write the settings file")
 
 
-def _parse_size(text: str | None) -> tuple[int | None, int | None]:
-    if text is None:
-        return None, None   # the size the window had last time
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise SystemExit(f"lpv-explorer run: --size must look like 1280x800, got {text!r}")
-    if width < 200 or height < 150:
-        raise SystemExit("lpv-explorer run: --size must be at least 200x150")
-    return width, height
+def window_size(width: int, height: int) -> tuple[int, int]:
+    """(width, height) checked by the persisted window size's spec."""
+    from explorer.ui.state import AppState
+
+    return specs(AppState)["window_size"].check("window size", (width, height))
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.frames is not None and args.frames < 1:
-        print("lpv-explorer run: --frames must be at least 1", file=sys.stderr)
-        return 2
-    width, height = _parse_size(args.size)
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
+    if args.scene:
+        check_scene(args.scene, load=True)    # a broken mesh: refused before the window
+    if args.lesson:
+        _check_lesson(args.lesson)
+    if args.screenshot is not None:
+        Outputs("--screenshot").file(args.screenshot)
 
     from explorer.gl.window import WindowError
     from explorer.ui.app import App
     from explorer.ui.state import AppState
 
-    state = None
-    if args.no_persist:
-        state = AppState()
+    width, height = args.size or (None, None)
     try:
-        app = App(state, width=width, height=height, visible=not args.hidden,
-                  persist_settings=not args.no_persist)
+        app = App(AppState() if args.no_persist else None, width=width, height=height,
+                  visible=not args.hidden, persist_settings=not args.no_persist)
     except WindowError as exc:
-        print(f"lpv-explorer: {exc}", file=sys.stderr)
-        return 1
+        raise CommandError(exc, 1) from None
     try:
         if args.scene:
             app.state.requests.open_scene = args.scene
@@ -71,20 +85,19 @@ def main(args: argparse.Namespace) -> int:
         if args.compare:
             app.state.view_mode = args.compare
         if args.lesson:
-            problem = _open_lesson(app, args.lesson)
-            if problem:
-                print(f"lpv-explorer run: {problem}", file=sys.stderr)
-                return 2
+            app.state.lesson_id = args.lesson
         return app.run(frames=frames, screenshot=args.screenshot)
     finally:
         app.close()
 
 
-def _open_lesson(app, lesson_id: str) -> str | None:
-    """Hand the lesson to the lessons panel when this build has one."""
+def _check_lesson(key: str) -> None:
+    """The lesson exists and loads (its own error otherwise), before the window opens."""
+    from explorer.lessons import find_lesson, load_all
+
+    lessons, errors = load_all(check_formula=None)
     try:
-        from explorer import lessons  # noqa: F401
-    except ModuleNotFoundError:
-        return "this build has no lessons module"
-    app.state.lesson_id = lesson_id
-    return None
+        find_lesson(key, lessons, errors)
+    except KeyError as exc:
+        raise CommandError(exc.args[0]) from None
+

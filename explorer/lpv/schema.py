@@ -32,7 +32,11 @@ STAGES = ("scene", "grid", "rsm", "downsample", "inject", "geometry", "propagate
 """The pipeline's stages in execution order; ``display`` is the final, display-only
 shader (exposure, tone map, which buffer): changing only its fields re-runs no pass."""
 
-KINDS = ("int", "float", "bool", "str", "choice", "points", "nested")
+KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "switches",
+         "names", "nested")
+"""``str``: a non-empty text; ``text``: any text (may be empty); ``size``: [width, height]
+whole numbers in [low, high]; ``switches``: a table of names to true/false; ``names``: a
+list of texts."""
 WIDGETS = ("combo", "slider", "checkbox", "input")
 
 
@@ -94,14 +98,12 @@ class Spec:
         elif self.kind in ("int", "float"):
             noun = "a whole number" if self.kind == "int" else "a finite number"
             text = noun + _range_text(self.low, self.high, self.low_open)
-        elif self.kind == "bool":
-            text = "true or false"
-        elif self.kind == "str":
-            text = "a non-empty text"
-        elif self.kind == "points":
-            text = "two different points [[x, y, z], [x, y, z]] of finite numbers"
-        else:
+        elif self.kind == "size":
+            text = "[width, height], whole numbers" + _range_text(self.low, self.high, False)
+        elif self.kind == "nested":
             text = f"a {getattr(self.nested, '__name__', 'table')}"
+        else:
+            text = _ALLOWED_TEXT[self.kind]
         return text + (" or None" if self.optional else "")
 
     def check(self, name: str, value: Any) -> Any:
@@ -127,6 +129,15 @@ class Spec:
 
 
 _REFUSED = object()
+_ALLOWED_TEXT = {
+    "bool": "true or false",
+    "str": "a non-empty text",
+    "text": "a text",
+    "switches": "a table of names to true/false",
+    "names": "a list of texts",
+    "points": "two different points [[x, y, z], [x, y, z]] of finite numbers",
+}
+"""What a kind allows when that does not depend on the spec (:meth:`Spec.allowed`)."""
 
 
 def _range_text(low, high, low_open: bool) -> str:
@@ -176,6 +187,32 @@ def _check_str(spec: Spec, value: Any):
     return value if isinstance(value, str) and value.strip() else _REFUSED
 
 
+def _check_text(spec: Spec, value: Any):
+    return value if isinstance(value, str) else _REFUSED
+
+
+def _check_size(spec: Spec, value: Any):
+    if isinstance(value, (str, bytes, dict)):
+        return _REFUSED
+    width, height = value
+    checked = (_check_int(spec, width), _check_int(spec, height))
+    return _REFUSED if _REFUSED in checked else checked
+
+
+def _check_switches(spec: Spec, value: Any):
+    if not isinstance(value, Mapping) or not all(
+            isinstance(k, str) and isinstance(v, bool) for k, v in value.items()):
+        return _REFUSED
+    return dict(value)
+
+
+def _check_names(spec: Spec, value: Any):
+    if isinstance(value, (str, bytes, Mapping)):
+        return _REFUSED
+    names = list(value)
+    return names if all(isinstance(n, str) for n in names) else _REFUSED
+
+
 def _check_choice(spec: Spec, value: Any):
     for choice in spec.choices:
         if type(value) is type(choice) and value == choice:
@@ -209,8 +246,9 @@ def _check_nested(spec: Spec, value: Any):
 
 
 _CHECKERS = {"int": _check_int, "float": _check_float, "bool": _check_bool,
-             "str": _check_str, "choice": _check_choice, "points": _check_points,
-             "nested": _check_nested}
+             "str": _check_str, "text": _check_text, "choice": _check_choice,
+             "points": _check_points, "size": _check_size, "switches": _check_switches,
+             "names": _check_names, "nested": _check_nested}
 
 
 # -- declaring ---------------------------------------------------------------------------
@@ -249,27 +287,27 @@ def stages_reading(cls: type, stage: str) -> tuple[str, ...]:
 
 
 # -- outside data -------------------------------------------------------------------------
-def from_dict(cls: type, data: Any, base: Any = None, where: str = "") -> Any:
+def from_dict(cls: type, data: Any, base: Any = None, where: str = "",
+              declared_only: bool = False) -> Any:
     """An instance of ``cls`` from plain data (JSON, TOML): ``base`` (default: ``cls()``)
     with the fields in ``data`` replaced. Lists become tuples, tables become nested
     dataclasses; unknown keys and bad values raise :class:`SettingError` whose message
-    starts with ``where`` (e.g. ``"settings: "``)."""
+    starts with ``where`` (e.g. ``"settings: "``). With ``declared_only`` a field without
+    a :class:`Spec` counts as unknown (the app state: its runtime part is never read)."""
     if not isinstance(data, Mapping):
         place = where.rstrip(".") or cls.__name__
         raise SettingError(place, f"{place} must be a table of fields, got "
                                   f"{type(data).__name__}")
     base = cls() if base is None else base
     known = {f.name: f for f in dataclasses.fields(cls)}
-    unknown = sorted(str(key) for key in data if key not in known)
-    if unknown:
-        raise SettingError(where + unknown[0], f"{where}{unknown[0]}: unknown field; known: "
-                                               f"{', '.join(known)}")
     field_specs = specs(cls)
+    _refuse_unknown(tuple(field_specs) if declared_only else tuple(known), data, where)
     values = {}
     for name, value in data.items():
         spec = field_specs.get(name)
         if spec is not None and spec.kind == "nested" and isinstance(value, Mapping):
-            value = from_dict(spec.nested, value, getattr(base, name), f"{where}{name}.")
+            value = from_dict(spec.nested, value, getattr(base, name), f"{where}{name}.",
+                              declared_only and bool(specs(spec.nested)))
         elif spec is None and dataclasses.is_dataclass(getattr(base, name)) and \
                 isinstance(value, Mapping):
             value = from_dict(type(getattr(base, name)), value, getattr(base, name),
@@ -284,6 +322,33 @@ def from_dict(cls: type, data: Any, base: Any = None, where: str = "") -> Any:
         raise SettingError(where + exc.field, f"{where}{exc}") from None
 
 
+def check_fields(cls: type, data: Any, where: str = "") -> dict[str, Any]:
+    """The declared fields in ``data`` checked one at a time and normalised, without
+    making an instance: rules between fields (``__post_init__``) are left to whoever
+    combines them (a lesson's defaults with a step's own fields). Unknown keys raise."""
+    if not isinstance(data, Mapping):
+        place = where.rstrip(".") or cls.__name__
+        raise SettingError(place, f"{place} must be a table of fields, got "
+                                  f"{type(data).__name__}")
+    field_specs = specs(cls)
+    _refuse_unknown(tuple(field_specs), data, where)
+    checked = {}
+    for name, value in data.items():
+        try:
+            checked[name] = field_specs[name].check(name, value)
+        except SettingError as exc:
+            raise SettingError(where + name, f"{where}{exc}") from None
+    return checked
+
+
+def _refuse_unknown(known: tuple[str, ...], data: Mapping, where: str) -> None:
+    unknown = sorted(str(key) for key in data if key not in known)
+    if unknown:
+        raise SettingError(where + unknown[0], f"{where}{unknown[0]}: unknown field(s) "
+                                               f"{', '.join(unknown)}; known: "
+                                               f"{', '.join(known)}")
+
+
 def _plain_field(f: dataclasses.Field, current: Any, value: Any, where: str) -> Any:
     """A field without a spec (e.g. a correction switch): same type as its value now."""
     if isinstance(current, bool):
@@ -294,9 +359,21 @@ def _plain_field(f: dataclasses.Field, current: Any, value: Any, where: str) -> 
     return value
 
 
-def to_dict(obj: Any) -> dict:
-    """Plain data (dicts, lists, numbers, text) that :func:`from_dict` reads back."""
-    return _plain(dataclasses.asdict(obj))
+def to_dict(obj: Any, declared_only: bool = False) -> dict:
+    """Plain data (dicts, lists, numbers, text) that :func:`from_dict` reads back; with
+    ``declared_only`` only the fields that declare a :class:`Spec` (nested ones too)."""
+    if not declared_only:
+        return _plain(dataclasses.asdict(obj))
+    result = {}
+    for name, spec in specs(type(obj)).items():
+        value = getattr(obj, name)
+        if spec.kind == "nested" and specs(type(value)):
+            result[name] = to_dict(value, declared_only=True)
+        elif dataclasses.is_dataclass(value):
+            result[name] = to_dict(value)
+        else:
+            result[name] = _plain(value)
+    return result
 
 
 def _plain(value: Any) -> Any:

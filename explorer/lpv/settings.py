@@ -20,6 +20,14 @@ from explorer.lpv.schema import (
 )
 
 
+def preset_name(corrections: Corrections) -> str:
+    """The name of the preset equal to ``corrections``, or ``"custom"``."""
+    for name, value in PRESETS.items():
+        if value == corrections:
+            return name
+    return "custom"
+
+
 DOWNSAMPLE_MODES = ("none", "average", "brightest")
 INJECTION_MODES = ("points", "compute")
 GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")

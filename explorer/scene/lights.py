@@ -10,14 +10,19 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import TypeVar
 
 import numpy as np
 
-from explorer.lpv.constants import FOUR_PI
 from explorer.scene.camera import depth_range
 from explorer.scene.transforms import look_at, normalized, orthographic, perspective
+
+FULL_SPHERE_SR = 4.0 * math.pi
+"""Solid angle of the whole sphere [sr]: an isotropic point light spreads Φ_L over it
+(the derivations' ``solid_angles.sphere``; the scene sits below ``explorer.lpv`` and so
+does not read the generated constants)."""
 
 SPOT_FOV_DEGREES = 90.0
 _LightT = TypeVar("_LightT", bound="_AimedLight")
@@ -54,7 +59,7 @@ class SpotLight(_AimedLight):
     @property
     def intensity(self) -> float:
         """Isotropic radiant intensity ``Φ_L/(4π)`` [W/sr]."""
-        return self.flux / FOUR_PI
+        return self.flux / FULL_SPHERE_SR
 
     def view_matrix(self, bounds_min=None, bounds_max=None) -> np.ndarray:
         """World -> light view (the scene box is not needed for a spot)."""
@@ -114,5 +119,5 @@ def flux_for_irradiance(distance: float, irradiance: float = 2.0) -> float:
     distance ``r``: how built-in and loaded scenes pick a flux that is well exposed at any
     scale (``E = 2`` lights a white surface to a radiance near 0.5, leaving room for the
     indirect light)."""
-    return FOUR_PI * distance * distance * irradiance
+    return FULL_SPHERE_SR * distance * distance * irradiance
 

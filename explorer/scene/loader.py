@@ -31,14 +31,25 @@ def load_scene(name_or_path: str | Path) -> Scene:
     key = str(name_or_path)
     if key in BUILTIN_SCENES:
         return BUILTIN_SCENES[key]()
+    path = check_scene_name(key)
+    return scene_from_mesh(_read_mesh(path), path.stem, str(path))
+
+
+def check_scene_name(name_or_path: str | Path) -> Path | None:
+    """Without loading anything: None for a built-in scene name, the path of an existing
+    file otherwise; a :class:`SceneError` naming the built-in scenes when it is neither
+    (commands check ``--scene`` with this before any work)."""
+    key = str(name_or_path)
+    if key in BUILTIN_SCENES:
+        return None
     path = Path(key).expanduser()
     if not path.exists():
         raise SceneError(f"no built-in scene or mesh file named {key!r}: built-in scenes are "
-                         f"{', '.join(sorted(BUILTIN_SCENES))}; a path must point to a mesh "
+                         f"{', '.join(BUILTIN_SCENES)}; a path must point to a mesh "
                          f"file (OBJ, GLB/glTF, PLY, STL)")
     if not path.is_file():
         raise SceneError(f"{path} is not a file")
-    return scene_from_mesh(_read_mesh(path), path.stem, str(path))
+    return path
 
 
 def _read_mesh(path: Path) -> list[tuple[object, np.ndarray]]:

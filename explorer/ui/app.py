@@ -20,16 +20,16 @@ from __future__ import annotations
 import sys
 import time
 import traceback
-from datetime import datetime
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 from explorer.gl.window import Window
-from explorer.lpv.settings import Settings
-from explorer.ui import persist
-from explorer.ui.state import AppState
+from explorer.lpv.settings import PRESETS, Settings, preset_name
+from explorer.ui import persist, theme
+from explorer.ui.images import write_png
+from explorer.ui.state import AppState, default_screenshot_path, fit_window_size
 
 _MIN_RENDER_SIZE = 16
 _MAX_RENDER_SIZE = 2048
@@ -37,22 +37,6 @@ _RESIZE_SETTLE_S = 0.15       # re-render at a new view size once resizing pause
 _SHADER_POLL_S = 0.5
 _LAYOUT_FRAMES = 2          # frames before the View panel's size is trusted
 _EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
-CLEAR_COLOUR = (0.09, 0.095, 0.11, 1.0)
-
-
-def default_screenshot_path() -> Path:
-    return Path.cwd() / f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}.png"
-
-
-def _default_pipeline_factory():
-    """The Pipeline class, or None when this build lacks it (the window still opens)."""
-    try:
-        from explorer.lpv.pipeline import Pipeline
-    except ModuleNotFoundError as exc:
-        if exc.name and exc.name.startswith("explorer"):
-            return None
-        raise
-    return Pipeline
 
 
 class App:
@@ -61,7 +45,7 @@ class App:
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
-        None for a window without a pipeline (panels only)."""
+        None for a window without a pipeline (panels only: the window tests)."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         if persist_settings and state is None:
@@ -77,20 +61,21 @@ class App:
         rt.gl_problem = self.window.gl_problem
         if rt.gl_problem:
             print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
-        self._pipeline_class = (_default_pipeline_factory() if pipeline_class is ...
-                                else pipeline_class)
-        if self._pipeline_class is None and not rt.gl_problem:
-            rt.pipeline_error = ("no LPV pipeline in this build (explorer.lpv.pipeline); "
-                                 "the panels work, the view stays empty")
+        if pipeline_class is ...:
+            from explorer.lpv.pipeline import Pipeline as pipeline_class
+        self._pipeline_class = pipeline_class
+        if pipeline_class is None and not rt.gl_problem:
+            rt.pipeline_error = ("no LPV pipeline attached (App(pipeline_class=None)): the "
+                                 "panels work, the view stays empty")
         self._pipelines: dict[str, object] = {}
         self._last_run: dict[str, object] = {}
         self._failed: dict[str, object] = {}
+        self._ran_settings: Settings | None = None   # state.settings when A last ran
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
         self._exposure_seen: list = [None, None]
         self._pending_size: tuple | None = None
         self._shader_poll = 0.0
-        self._shader_stamp = 0.0
         self._capture = False
         self.last_pixels: np.ndarray | None = None
         self._init_imgui()
@@ -112,6 +97,11 @@ class App:
         self._layout_file = persist.layout_path()
         if self.persist_settings:
             self._layout_file.parent.mkdir(parents=True, exist_ok=True)
+            # imgui asserts on a layout it cannot use: check it first, set it aside if bad
+            problem = persist.check_layout_file(self._layout_file)
+            if problem:
+                print(f"lpv-explorer: {problem}", file=sys.stderr)
+                self.state.notify(problem, "warning")
             io.set_ini_filename(str(self._layout_file))
         else:
             io.set_ini_filename("")
@@ -123,15 +113,15 @@ class App:
         self._needs_layout = not (self.persist_settings and self._layout_file.exists()
                                   and sorted(self.state.layout_panels) == sorted(titles))
         self.state.layout_panels = titles
-        _style(self.window.content_scale)
-        _fonts(io)
+        theme.apply_style(self.window.content_scale)
+        theme.load_fonts(io)
         imgui.backends.glfw_init_for_opengl(self.window.address, True)
         imgui.backends.opengl3_init("#version 330 core")
         rt = self.state.runtime
         rt.textures = UiTextures(self.ctx)
         rt.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
         rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
-        self._markdown_ctx = _markdown_context()
+        self._markdown_ctx = theme.markdown_context()
         rt.markdown_ready = self._markdown_ctx is not None
         try:
             from imgui_bundle import portable_file_dialogs as pfd
@@ -185,7 +175,7 @@ class App:
         width, height = self.window.framebuffer_size
         self.ctx.screen.use()
         self.ctx.viewport = (0, 0, width, height)
-        self.ctx.clear(*CLEAR_COLOUR)
+        self.ctx.clear(*theme.CLEAR_COLOUR)
         imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
         self._after_render(capture)
         self.window.swap_buffers()
@@ -207,7 +197,8 @@ class App:
         if self.persist_settings:
             try:
                 if not self.window.minimised:
-                    self.state.window_size = self.window.size
+                    self.state.window_size = fit_window_size(self.window.size)
+                self._keep_settings_that_ran()
                 persist.save_state(self.state)
             except OSError as exc:
                 print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)
@@ -232,6 +223,13 @@ class App:
         implot.destroy_context(self._implot_ctx)
         imgui.destroy_context(self._imgui_ctx)
         self.window.close()
+
+    def _keep_settings_that_ran(self) -> None:
+        """Before saving: settings the pipeline refused are not written back; the last
+        settings that ran take their place (the defaults when none ran)."""
+        failed = self._failed.get("A")
+        if failed is not None and failed[0] == self.settings_for("A"):
+            self.state.settings = self._ran_settings or Settings()
 
     # -- pipelines -----------------------------------------------------------------------
     def settings_for(self, side: str):
@@ -319,6 +317,7 @@ class App:
         if side == "A":
             rt.result = result
             rt.pipeline_error = None
+            self._ran_settings = self.state.settings
             self._good_scene = (settings.scene, settings.camera, settings.light,
                                 settings.light_flux)
             self._scene_defaults(pipeline, settings.scene)
@@ -392,57 +391,18 @@ class App:
         rt.auto_exposure = (values[0], values[1])
 
     def _hot_reload(self) -> None:
-        """Recompile shaders whose files changed. With ``Pipeline.invalidate`` the
-        pipeline's ProgramCache reloads in place (a failed compile keeps the last good
-        program and records its log); without it a fresh pipeline is built and swapped in
-        only if it runs, so a broken shader never replaces a working one."""
-        from explorer.gl.program import ProgramCache, ShaderError
-
+        """Recompile shaders whose files changed: each pipeline's ProgramCache reloads in
+        place (a failed compile keeps the last good program and records its log)."""
         now = time.monotonic()
         if now - self._shader_poll < _SHADER_POLL_S or not self._pipelines:
             return
         self._shader_poll = now
         rt = self.state.runtime
-        stamp = ProgramCache.newest_change()
-        if not self._shader_stamp:
-            self._shader_stamp = stamp
-        changed, self._shader_stamp = stamp > self._shader_stamp, max(stamp, self._shader_stamp)
         for side, pipeline in list(self._pipelines.items()):
-            programs = getattr(pipeline, "programs", None)
-            invalidate = getattr(pipeline, "invalidate", None)
-            if isinstance(programs, ProgramCache) and callable(invalidate):
-                if programs.reload_if_changed():
-                    invalidate()
-                    self._last_run.pop(side, None)
-                    self.state.notify(f"shaders reloaded ({side})")
-                rt.shader_errors = dict(programs.errors)
-            elif changed:
-                self._rebuild(side, pipeline, ShaderError)
-
-    def _rebuild(self, side: str, old, shader_error) -> None:
-        rt = self.state.runtime
-        settings, keep_steps = self._last_run.get(side, (self.settings_for(side), False))
-        try:
-            fresh = self._pipeline_class(settings, ctx=self.ctx)
-            result = fresh.run(settings, keep_steps=keep_steps)
-        except shader_error as exc:
-            rt.shader_errors = {exc.path.name: exc.log}
-            self.state.notify(f"shader error in {exc.path.name}; keeping the last good "
-                              "programs", "error")
-            return
-        except Exception as exc:  # noqa: BLE001
-            rt.shader_errors = {"pipeline": f"{type(exc).__name__}: {exc}"}
-            return
-        finally:
-            self.ctx.screen.use()
-        old.release()
-        self._pipelines[side] = fresh
-        rt.shader_errors = {}
-        if side == "A":
-            rt.result, rt.final_texture_id = result, fresh.final_texture.glo
-        else:
-            rt.compare_result, rt.compare_texture_id = result, fresh.final_texture.glo
-        self.state.notify(f"shaders reloaded ({side})")
+            if pipeline.reload_shaders():
+                self._last_run.pop(side, None)
+                self.state.notify(f"shaders reloaded ({side})")
+            rt.shader_errors = dict(pipeline.programs.errors)
 
     # -- UI ------------------------------------------------------------------------------
     def _draw_ui(self) -> None:
@@ -510,12 +470,10 @@ class App:
                 state.requests.quit = True
             imgui.end_menu()
         if imgui.begin_menu("Presets"):
-            for name in ("original", "corrected"):
-                if imgui.menu_item_simple(f"A: {name}"):
-                    state.apply_preset(name)
-            for name in ("original", "corrected"):
-                if imgui.menu_item_simple(f"B: {name}"):
-                    state.apply_preset(name, compare=True)
+            for side in ("A", "B"):
+                for name in PRESETS:
+                    if imgui.menu_item_simple(f"{side}: {name}"):
+                        state.apply_preset(name, compare=side == "B")
             imgui.end_menu()
         if imgui.begin_menu("Windows"):
             for panel in PANELS:
@@ -593,20 +551,11 @@ class App:
                 self.state.notify(f"could not write {request}: {exc}", "error")
 
     def _update_title(self) -> None:
-        from explorer.ui.panels.view import _preset_name
-
         s = self.state.settings
         name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
-        self.window.set_title(f"lpv-explorer — {name} — {_preset_name(s.corrections)}")
+        self.window.set_title(f"lpv-explorer — {name} — {preset_name(s.corrections)}")
 
 
-def write_png(pixels: np.ndarray, path: str | Path) -> None:
-    from PIL import Image
-
-    path = Path(path)
-    if path.parent and not path.parent.exists():
-        path.parent.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(np.asarray(pixels, dtype=np.uint8), "RGB").save(path)
 
 
 def _eye_target(value) -> tuple | None:
@@ -626,59 +575,6 @@ def _eye_target(value) -> tuple | None:
         return None
 
 
-def _style(scale: float) -> None:
-    from imgui_bundle import imgui
-
-    imgui.style_colors_dark()
-    style = imgui.get_style()
-    style.window_rounding = 4.0
-    style.frame_rounding = 3.0
-    style.grab_rounding = 3.0
-    style.tab_rounding = 3.0
-    style.window_border_size = 1.0
-    style.frame_padding = (6.0, 4.0)
-    style.item_spacing = (8.0, 6.0)
-    style.scrollbar_size = 12.0
-    colours = {
-        imgui.Col_.window_bg: (0.11, 0.115, 0.13, 1.0),
-        imgui.Col_.title_bg: (0.09, 0.095, 0.11, 1.0),
-        imgui.Col_.title_bg_active: (0.13, 0.20, 0.32, 1.0),
-        imgui.Col_.frame_bg: (0.17, 0.18, 0.21, 1.0),
-        imgui.Col_.header: (0.20, 0.32, 0.50, 0.6),
-        imgui.Col_.check_mark: (0.45, 0.72, 1.0, 1.0),
-        imgui.Col_.slider_grab: (0.40, 0.62, 0.95, 1.0),
-        imgui.Col_.tab_selected: (0.20, 0.36, 0.58, 1.0),
-        imgui.Col_.docking_empty_bg: (0.07, 0.075, 0.085, 1.0),
-    }
-    for index, rgba in colours.items():
-        style.set_color_(index, imgui.ImVec4(*rgba))
-    if scale != 1.0:
-        style.scale_all_sizes(scale)
-        style.font_scale_dpi = scale
 
 
-def _markdown_context():
-    """A rich_md (imgui_md) context reading its fonts from imgui_bundle's assets, or None
-    when markdown cannot be rendered here (panels then fall back to wrapped text)."""
-    try:
-        import imgui_bundle
-        from imgui_bundle import rich_md
 
-        rich_md.set_assets_folder(str(Path(imgui_bundle.__file__).parent / "assets"))
-        return rich_md.create_context()
-    except Exception as exc:  # noqa: BLE001 - markdown is optional
-        print(f"lpv-explorer: markdown unavailable: {exc}", file=sys.stderr)
-        return None
-
-
-def _fonts(io) -> None:
-    """Roboto for text (the default bitmap font looks dated); falls back to imgui's."""
-    import imgui_bundle
-
-    font = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "Roboto" / \
-        "Roboto-Regular.ttf"
-    if font.is_file():
-        try:
-            io.fonts.add_font_from_file_ttf(str(font), 15.0)
-        except RuntimeError:
-            pass

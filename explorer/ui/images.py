@@ -7,6 +7,7 @@ Every function returns (H, W, 3) float32 in [0, 1], top row first, ready for
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -146,3 +147,12 @@ def vpl_groups(positions: np.ndarray, flux: np.ndarray, max_points: int = 4096,
         rgb = tuple(float(c) / (levels - 1) for c in codes[members][0])
         groups.append((tuple(max(c, 0.15) for c in rgb), positions[members]))
     return groups
+
+
+def write_png(pixels: np.ndarray, path: str | Path) -> None:
+    from PIL import Image
+
+    path = Path(path)
+    if path.parent and not path.parent.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(np.asarray(pixels, dtype=np.uint8), "RGB").save(path)

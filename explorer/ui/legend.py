@@ -10,21 +10,13 @@ from __future__ import annotations
 
 import dataclasses
 
-from explorer.lpv.settings import PRESETS, Corrections, Settings
+from explorer.lpv.settings import PRESETS, Corrections, Settings, preset_name
 
 IGNORED_FIELDS = ("width", "height", "exposure", "debug_nan", "camera", "light")
 """Fields that do not change what a plot of flux shows (B follows A's view and light;
 auto-exposure sets each side's exposure on its own)."""
 MAX_NAMED = 2
 """Differences listed by name before a label falls back to preset names."""
-
-
-def preset_name(corrections: Corrections) -> str | None:
-    """The name of the preset ``corrections`` equals, or None."""
-    for name, value in PRESETS.items():
-        if value == corrections:
-            return name
-    return None
 
 
 def _switch(value: bool) -> str:
@@ -54,7 +46,7 @@ def describe_corrections(corrections: Corrections) -> str:
     """"corrected preset", "original preset", or the switches that differ from the
     corrected preset ("side_faces off, ping_pong off")."""
     name = preset_name(corrections)
-    if name is not None:
+    if name != "custom":
         return f"{name} preset"
     off = [f"{n} {_switch(getattr(corrections, n))}" for n in Corrections.names()
            if getattr(corrections, n) != getattr(PRESETS["corrected"], n)]

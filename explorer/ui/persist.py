@@ -1,21 +1,27 @@
 """Settings and window layout between runs: ``$XDG_CONFIG_HOME/lpv-explorer/``.
 
-``settings.json`` holds the two configurations and the view choices (JSON only, never
-pickle: the file is read back as plain data and every value is validated by
-:class:`~explorer.lpv.settings.Settings`). ``imgui.ini`` next to it holds the dock layout.
-A file that cannot be read falls back to the defaults and says why.
+``settings.json`` holds the fields of :class:`~explorer.ui.state.AppState` declared with
+the settings schema (the two configurations, the view choices, the Inspect panel's
+state...): JSON only, never pickle, read back through :func:`explorer.lpv.schema.from_dict`
+so every value is type- and range-checked. ``imgui.ini`` next to it holds the dock
+layout; :func:`check_layout` reads it before imgui does.
+
+A file that fails is set aside, renamed ``<name>.bad-YYYYmmdd-HHMMSS``, and the defaults
+are used: the problem is reported once, with where the file went, and the next launch
+starts clean.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import os
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from explorer.lpv.settings import Corrections, Settings
-from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, InspectState, OverlayState
+from explorer.lpv.schema import SettingError, from_dict, specs, to_dict
+from explorer.ui.layout_file import LayoutFileError, check_layout
+from explorer.ui.state import AppState
 
 FORMAT_VERSION = 1
 
@@ -38,133 +44,56 @@ class SettingsFileError(ValueError):
     """The settings file exists but is not a valid lpv-explorer settings file."""
 
 
-def settings_from_dict(data: Any) -> Settings:
-    """A :class:`Settings` from its :meth:`Settings.to_dict` form, with clear errors."""
-    if not isinstance(data, dict):
-        raise SettingsFileError(f"settings must be a JSON object, got {type(data).__name__}")
-    known = {f.name for f in dataclasses.fields(Settings)}
-    unknown = sorted(set(data) - known)
-    if unknown:
-        raise SettingsFileError(f"unknown settings field(s): {', '.join(unknown)}")
-    values = dict(data)
-    if "corrections" in values:
-        corr = values["corrections"]
-        if not isinstance(corr, dict):
-            raise SettingsFileError("corrections must be an object of true/false switches")
-        bad = sorted(set(corr) - set(Corrections.names()))
-        if bad:
-            raise SettingsFileError(f"unknown correction(s): {', '.join(bad)}")
-        for name, value in corr.items():
-            if not isinstance(value, bool):
-                raise SettingsFileError(f"correction {name} must be true or false")
-        values["corrections"] = Corrections(**corr)
-    for name in ("camera", "light"):
-        if values.get(name) is not None:
-            values[name] = _pair_of_points(name, values[name])
-    defaults = Settings()
-    for f in dataclasses.fields(Settings):
-        if f.name in values and f.name not in ("corrections", "camera", "light"):
-            expected = type(getattr(defaults, f.name))
-            value = values[f.name]
-            if getattr(defaults, f.name) is None:  # optional numbers (light_flux)
-                if value is not None and (isinstance(value, bool)
-                                          or not isinstance(value, (int, float))):
-                    raise SettingsFileError(f"{f.name} must be a number or null")
-                continue
-            if expected is float and isinstance(value, int) and not isinstance(value, bool):
-                values[f.name] = float(value)
-            elif getattr(defaults, f.name) is not None and not isinstance(value, expected):
-                raise SettingsFileError(
-                    f"{f.name} must be {expected.__name__}, got {value!r}")
-    try:
-        return Settings(**values)
-    except (TypeError, ValueError) as exc:
-        raise SettingsFileError(str(exc)) from exc
-
-
-def _pair_of_points(name: str, value: Any) -> tuple:
-    try:
-        first, second = value
-        pair = (tuple(float(v) for v in first), tuple(float(v) for v in second))
-    except (TypeError, ValueError):
-        raise SettingsFileError(f"{name} must be two points [[x, y, z], [x, y, z]]") from None
-    if any(len(p) != 3 for p in pair):
-        raise SettingsFileError(f"{name} must be two points [[x, y, z], [x, y, z]]")
-    return pair
-
-
 def state_to_dict(state: AppState) -> dict:
-    return {
-        "format": FORMAT_VERSION,
-        "settings": state.settings.to_dict(),
-        "compare_settings": state.compare_settings.to_dict(),
-        "view_mode": state.view_mode,
-        "view_buffer": state.view_buffer,
-        "split_position": state.split_position,
-        "auto_exposure": state.auto_exposure,
-        "render_scale": state.render_scale,
-        "mesh_path": state.mesh_path,
-        "window_size": list(state.window_size),
-        "inspect": dataclasses.asdict(state.inspect),
-        "overlays": dataclasses.asdict(state.overlays),
-        "open_panels": dict(state.open_panels),
-        "layout_panels": list(state.layout_panels),
-    }
+    """What the settings file holds: the format version and every declared field."""
+    return {"format": FORMAT_VERSION, **to_dict(state, declared_only=True)}
 
 
 def apply_dict(state: AppState, data: Any) -> None:
-    """Fill ``state`` from a settings file's content; raises SettingsFileError."""
+    """Fill ``state``'s declared fields from a settings file's content (all or none);
+    raises SettingsFileError naming the field, the value and what is allowed."""
     if not isinstance(data, dict):
         raise SettingsFileError("the file must hold a JSON object")
     if data.get("format") != FORMAT_VERSION:
         raise SettingsFileError(
             f"unsupported format {data.get('format')!r} (this version writes {FORMAT_VERSION})")
-    settings = settings_from_dict(data.get("settings", {}))
-    compare = settings_from_dict(data.get("compare_settings", {}))
-    view_mode = data.get("view_mode", "single")
-    if view_mode not in VIEW_MODES:
-        raise SettingsFileError(f"view_mode must be one of {VIEW_MODES}, got {view_mode!r}")
-    view_buffer = data.get("view_buffer", "final")
-    if view_buffer not in VIEW_BUFFERS:
-        raise SettingsFileError(f"view_buffer must be one of {VIEW_BUFFERS}, got {view_buffer!r}")
-    inspect_data = data.get("inspect", {})
+    fields = {key: value for key, value in data.items() if key != "format"}
     try:
-        inspect = InspectState(**inspect_data)
-    except TypeError as exc:
-        raise SettingsFileError(f"inspect: {exc}") from None
+        loaded = from_dict(AppState, fields, AppState(), declared_only=True)
+    except SettingError as exc:
+        raise SettingsFileError(str(exc)) from None
+    for name in specs(AppState):
+        setattr(state, name, getattr(loaded, name))
+
+
+def set_aside(path: Path) -> Path:
+    """Rename a file that failed to ``<name>.bad-YYYYmmdd-HHMMSS`` (kept for the user to
+    look at, never read again); returns the new path."""
+    stamp = datetime.now().strftime("%Y%m%d-%H%M%S")
+    target = path.with_name(f"{path.name}.bad-{stamp}")
+    number = 1
+    while target.exists():
+        number += 1
+        target = path.with_name(f"{path.name}.bad-{stamp}-{number}")
+    os.replace(path, target)
+    return target
+
+
+def _setting_aside(path: Path, problem: str, what: str) -> str:
+    """The message for a file that failed: where it went, and that defaults are used."""
     try:
-        overlays = OverlayState(**data.get("overlays", {}))
-        overlays.check()
-    except (TypeError, ValueError) as exc:
-        raise SettingsFileError(f"overlays: {exc}") from None
-    panels = data.get("open_panels", {})
-    if not isinstance(panels, dict) or not all(isinstance(v, bool) for v in panels.values()):
-        raise SettingsFileError("open_panels must map panel titles to true/false")
-    state.settings, state.compare_settings = settings, compare
-    state.view_mode = view_mode
-    state.view_buffer = view_buffer
-    state.split_position = min(max(float(data.get("split_position", 0.5)), 0.05), 0.95)
-    state.auto_exposure = bool(data.get("auto_exposure", False))
-    state.render_scale = min(max(float(data.get("render_scale", 1.0)), 0.25), 2.0)
-    state.mesh_path = str(data.get("mesh_path", ""))
-    size = data.get("window_size", [1600, 960])
-    if (not isinstance(size, list) or len(size) != 2
-            or not all(isinstance(v, int) and 200 <= v <= 16384 for v in size)):
-        raise SettingsFileError(f"window_size must be [width, height] in pixels, got {size!r}")
-    state.window_size = (size[0], size[1])
-    state.inspect = inspect
-    state.overlays = overlays
-    state.open_panels = dict(panels)
-    layout_panels = data.get("layout_panels", [])
-    if not isinstance(layout_panels, list) or not all(isinstance(t, str)
-                                                      for t in layout_panels):
-        raise SettingsFileError("layout_panels must be a list of panel titles")
-    state.layout_panels = layout_panels
+        moved = set_aside(path)
+    except OSError as exc:
+        return f"could not read {path}: {problem}; could not move it aside ({exc}); " \
+               f"using the default {what}"
+    return f"could not read {path}: {problem}; moved it to {moved.name}; using the " \
+           f"default {what}"
 
 
 def load_state(state: AppState, path: Path | None = None) -> str | None:
     """Load the settings file into ``state``. Returns None on success or when there is no
-    file yet; otherwise the defaults stay and the returned text says what was wrong."""
+    file yet; otherwise the file is set aside, the defaults stay and the returned text
+    says what was wrong and where the file went."""
     path = path or settings_path()
     if not path.exists():
         return None
@@ -172,7 +101,21 @@ def load_state(state: AppState, path: Path | None = None) -> str | None:
         data = json.loads(path.read_text(encoding="utf-8"))
         apply_dict(state, data)
     except (OSError, UnicodeDecodeError, json.JSONDecodeError, SettingsFileError) as exc:
-        return f"could not read {path}: {exc}; using the default settings"
+        return _setting_aside(path, str(exc), "settings")
+    return None
+
+
+def check_layout_file(path: Path | None = None) -> str | None:
+    """Check the dock layout file before imgui loads it (imgui asserts, and the process
+    ends, on a layout it cannot use). None when it is fine or absent; otherwise it is set
+    aside and the text says why and where (the default layout is then built)."""
+    path = path or layout_path()
+    if not path.exists():
+        return None
+    try:
+        check_layout(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, LayoutFileError) as exc:
+        return _setting_aside(path, str(exc), "layout")
     return None
 
 

@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from explorer.lpv.settings import PRESETS, Settings
+from explorer.lpv.schema import setting, validate
+from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS, PRESETS, Settings
 
 VIEW_MODES = ("single", "split", "difference")
 """single: configuration A; split: A left | B right with a draggable divider;
@@ -36,19 +38,44 @@ GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 coefficient (rgb of that coefficient, signed)."""
 
 
+MIN_WINDOW_SIZE = 150
+"""Smallest window edge in pixels (the menu bar and a panel still fit)."""
+MAX_WINDOW_SIZE = 8192
+"""Largest window edge in pixels: X11 refuses windows past 32767 (Xlib aborts the
+process), and no screen is wider than this; the window's framebuffer must also fit a
+texture (GL_MAX_TEXTURE_SIZE is at least 8192 on a GL 4.3 driver)."""
+
+
 @dataclass
 class InspectState:
-    source: str = "rsm-flux"
-    slice_z: int = -1                 # -1 = the middle slice
-    component: str = "intensity"
-    direction_azimuth: float = 0.0    # degrees; direction of evaluation for "intensity"
-    direction_elevation: float = 90.0
-    iteration: int = 0                # for "propagation"
-    playing: bool = False
-    play_rate: float = 4.0            # iterations per second while playing
-    signed_scale: float = 0.0         # 0 = automatic scaling of signed data
-    glyphs: bool = False              # draw SH glyphs over grid slices
-    cascade: int = 0                  # which cascade grid-slice / geometry-volume show
+    """What the Inspect panel shows; persisted, so every field is declared and checked
+    by the settings schema (explorer/lpv/schema.py) when the file is read back."""
+
+    source: str = setting("rsm-flux", kind="choice", choices=INSPECT_SOURCES,
+                          doc="The buffer the Inspect panel shows.")
+    slice_z: int = setting(-1, kind="int", low=-1, high=MAX_GRID_SIZE,
+                           doc="z slice of the grid views; -1 = the middle slice.")
+    component: str = setting("intensity", kind="choice", choices=GRID_COMPONENTS,
+                             doc="What a grid slice shows.")
+    direction_azimuth: float = setting(0.0, kind="float", low=-180.0, high=180.0, unit="°",
+                                       doc="Direction the intensity is evaluated in.")
+    direction_elevation: float = setting(90.0, kind="float", low=-90.0, high=90.0, unit="°",
+                                         doc="Direction the intensity is evaluated in.")
+    iteration: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS << (MAX_CASCADES - 1),
+                             doc='The step t of grid_t the "propagation" source shows (the '
+                                 'finest cascade runs up to 2^(cascades-1)·iterations steps '
+                                 'with "same-distance").')
+    playing: bool = setting(False, kind="bool", doc="Step through the iterations.")
+    play_rate: float = setting(4.0, kind="float", low=0.0, low_open=True, high=1000.0,
+                               doc="Iterations per second while playing.")
+    signed_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
+                                  doc="Top of the signed scale; 0 = automatic.")
+    glyphs: bool = setting(False, kind="bool", doc="Draw SH glyphs over grid slices.")
+    cascade: int = setting(0, kind="int", low=0, high=MAX_CASCADES - 1,
+                           doc="The cascade grid-slice and geometry-volume show.")
+
+    def __post_init__(self) -> None:
+        validate(self)
 
 
 # --- overlays: what the main view draws in the scene (explorer/ui/overlays) -------------
@@ -72,66 +99,69 @@ PICK_KINDS = ("none", "pixel", "cell")
 
 @dataclass
 class OverlayState:
-    """The main view's in-scene overlays (the "Show in scene" panel) and the picked point.
-    Plain typed fields with defaults; :meth:`check` says what a loaded value gets wrong."""
+    """The main view's in-scene overlays (the "Show in scene" panel) and the picked point;
+    persisted, so every field is declared and checked by the settings schema."""
 
-    slice: bool = False
-    slice_axis: str = "z"
-    slice_index: int = -1             # cell layer along the axis; -1 = the middle one
-    slice_quantity: str = "intensity"
-    slice_step: int = 0               # t for "in-flight"
-    direction_azimuth: float = 0.0    # degrees; direction of "intensity"
-    direction_elevation: float = 90.0
-    colour_map: str = "auto"
-    slice_scale: float = 0.0          # value at the top of the colour bar; 0 = automatic
-    slice_log: bool = False           # heat map over LOG_DECADES decades below the top
-    slice_opacity: float = 0.8
-    slice_on_top: bool = False        # drawn over the geometry instead of depth-tested
-    cascade: int = 0                  # the cascade the slice, glyphs and lattice show
-    glyphs: bool = False
-    glyph_cells: str = "slice"
-    glyph_scale: float = 1.0          # lobe radius, in units of the glyph's cell spacing
-    glyph_stride: int = 0             # draw every k-th cell of the slice; 0 = automatic
-    glyph_sizing: str = "sqrt"        # how a glyph's size follows its peak (GLYPH_SIZINGS)
-    fly: bool = False                 # camera fly mode (WASD + mouse look) in the view
-    vpls: bool = False
-    vpl_density: float = 0.25         # fraction of the VPLs drawn (a fixed random subset)
-    vpl_size: float = 0.7             # disc radius / the radius of the VPL's surfel
-    lattice: bool = False             # the cell lattice on the slice plane + grid box
-    cascade_boxes: bool = False       # every cascade's extent
-    blockers: bool = False            # geometry volume blockers as oriented discs
+    slice: bool = setting(False, kind="bool", doc="Draw the slice plane.")
+    slice_axis: str = setting("z", kind="choice", choices=SLICE_AXES,
+                              doc="The axis the slice plane is normal to.")
+    slice_index: int = setting(-1, kind="int", low=-1, high=MAX_GRID_SIZE - 1,
+                               doc="Cell layer along the axis; -1 = the middle one.")
+    slice_quantity: str = setting("intensity", kind="choice", choices=SLICE_QUANTITIES,
+                                  doc="What the slice shows per cell.")
+    slice_step: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS << (MAX_CASCADES - 1),
+                              doc='The step t of "in-flight".')
+    direction_azimuth: float = setting(0.0, kind="float", low=-180.0, high=180.0, unit="°",
+                                       doc='Direction of "intensity".')
+    direction_elevation: float = setting(90.0, kind="float", low=-90.0, high=90.0, unit="°",
+                                         doc='Direction of "intensity".')
+    colour_map: str = setting("auto", kind="choice", choices=COLOUR_MAPS,
+                              doc="Colour map of the slice and its colour bar.")
+    slice_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
+                                 doc="Value at the top of the colour bar; 0 = automatic.")
+    slice_log: bool = setting(False, kind="bool",
+                              doc="Heat map over LOG_DECADES decades below the top.")
+    slice_opacity: float = setting(0.8, kind="float", low=0.0, high=1.0,
+                                   doc="Opacity of the slice plane.")
+    slice_on_top: bool = setting(False, kind="bool",
+                                 doc="Draw the slice over the geometry instead of "
+                                     "depth-tested.")
+    cascade: int = setting(0, kind="int", low=0, high=MAX_CASCADES - 1,
+                           doc="The cascade the slice, glyphs and lattice show.")
+    glyphs: bool = setting(False, kind="bool", doc="Draw SH glyphs.")
+    glyph_cells: str = setting("slice", kind="choice", choices=GLYPH_CELLS,
+                               doc="Where glyphs are drawn.")
+    glyph_scale: float = setting(1.0, kind="float", low=0.05, high=8.0,
+                                 doc="Lobe radius, in units of the glyph's cell spacing.")
+    glyph_stride: int = setting(0, kind="int", low=0, high=64,
+                                doc="Draw every k-th cell of the slice; 0 = automatic.")
+    glyph_sizing: str = setting("sqrt", kind="choice", choices=GLYPH_SIZINGS,
+                                doc="How a glyph's size follows its peak value.")
+    fly: bool = setting(False, kind="bool", doc="Camera fly mode (WASD + mouse look).")
+    vpls: bool = setting(False, kind="bool", doc="Draw the VPLs as discs.")
+    vpl_density: float = setting(0.25, kind="float", low=0.0, high=1.0,
+                                 doc="Fraction of the VPLs drawn (a fixed random subset).")
+    vpl_size: float = setting(0.7, kind="float", low=0.05, high=8.0,
+                              doc="Disc radius / the radius of the VPL's surfel.")
+    lattice: bool = setting(False, kind="bool",
+                            doc="The cell lattice on the slice plane and the grid box.")
+    cascade_boxes: bool = setting(False, kind="bool", doc="Every cascade's extent.")
+    blockers: bool = setting(False, kind="bool",
+                             doc="Geometry volume blockers as oriented discs.")
     # The picked point is anchored in the world, so it stays put when the camera moves
     # (and with it the pixel that shows it, and the cascades that follow the camera).
-    picked_kind: str = "none"         # pixel: a surface point; cell: a cell's centre
-    picked_side: str = "A"            # which configuration's frame the pick reads
-    picked_cascade: int = 0           # the cascade whose cell is picked
-    picked_wx: float = 0.0            # the picked world point
-    picked_wy: float = 0.0
-    picked_wz: float = 0.0
+    picked_kind: str = setting("none", kind="choice", choices=PICK_KINDS,
+                               doc="pixel: a surface point; cell: a cell's centre.")
+    picked_side: str = setting("A", kind="choice", choices=("A", "B"),
+                               doc="Which configuration's frame the pick reads.")
+    picked_cascade: int = setting(0, kind="int", low=0, high=MAX_CASCADES - 1,
+                                  doc="The cascade whose cell is picked.")
+    picked_wx: float = setting(0.0, kind="float", doc="The picked world point, x.")
+    picked_wy: float = setting(0.0, kind="float", doc="The picked world point, y.")
+    picked_wz: float = setting(0.0, kind="float", doc="The picked world point, z.")
 
-    def check(self) -> None:
-        """A ValueError naming the first field whose value is out of its range."""
-        choices = {"slice_axis": SLICE_AXES, "slice_quantity": SLICE_QUANTITIES,
-                   "colour_map": COLOUR_MAPS, "glyph_cells": GLYPH_CELLS,
-                   "glyph_sizing": GLYPH_SIZINGS,
-                   "picked_kind": PICK_KINDS, "picked_side": ("A", "B")}
-        defaults = OverlayState()
-        for name, value in vars(self).items():
-            kind = type(getattr(defaults, name))
-            if kind is float and isinstance(value, int) and not isinstance(value, bool):
-                setattr(self, name, float(value))
-            elif not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
-                raise ValueError(f"{name} must be {kind.__name__}, got {value!r}")
-            if name in choices and value not in choices[name]:
-                raise ValueError(f"{name} must be one of {choices[name]}, "
-                                 f"got {value!r}")
-        ranges = {"slice_opacity": (0.0, 1.0), "vpl_density": (0.0, 1.0),
-                  "glyph_scale": (0.05, 8.0), "vpl_size": (0.05, 8.0),
-                  "slice_scale": (0.0, float("inf")), "glyph_stride": (0, 64)}
-        for name, (low, high) in ranges.items():
-            value = getattr(self, name)
-            if not low <= value <= high:
-                raise ValueError(f"{name} must lie in [{low}, {high}], got {value!r}")
+    def __post_init__(self) -> None:
+        validate(self)
 
     @property
     def picked_point(self) -> tuple[float, float, float] | None:
@@ -213,32 +243,77 @@ class Requests:
     quit: bool = False
 
 
+def fit_window_size(size: tuple[int, int]) -> tuple[int, int]:
+    """A window size within [MIN_WINDOW_SIZE, MAX_WINDOW_SIZE] per edge: what the
+    settings file may hold (a window dragged smaller is saved at the smallest size)."""
+    return tuple(min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size)
+
+
+def default_screenshot_path() -> Path:
+    """Where F12 and the View panel's button write: a time-stamped PNG in the folder the
+    explorer was started from."""
+    return Path.cwd() / f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}.png"
+
+
 @dataclass
 class AppState:
-    settings: Settings = field(default_factory=Settings)
-    compare_settings: Settings = field(  # configuration B: only its corrections are used
-        default_factory=lambda: Settings(corrections=PRESETS["original"]))
-    view_mode: str = "single"
-    view_buffer: str = "final"
-    split_position: float = 0.5       # divider, fraction of the view width
-    auto_exposure: bool = False       # expose each side of a comparison on its own
-    difference_scale: float = 0.0     # watts per pixel at the top of the scale; 0 = auto
-    render_scale: float = 1.0         # render resolution / view panel pixels
-    follow_view_size: bool = True     # render at the view panel's size
-    mesh_path: str = ""
-    window_size: tuple[int, int] = (1600, 960)
-    inspect: InspectState = field(default_factory=InspectState)
-    overlays: OverlayState = field(default_factory=OverlayState)
-    open_panels: dict[str, bool] = field(default_factory=dict)
+    """The window's state. The fields declared with :func:`setting` are what the settings
+    file holds (explorer/ui/persist.py): the schema checks them when the file is read
+    back, and the Scene panel draws those that declare a widget."""
+
+    settings: Settings = setting(kind="nested", nested=Settings, default_factory=Settings,
+                                 doc="Configuration A: what the view shows.")
+    compare_settings: Settings = setting(  # configuration B: only its corrections are used
+        kind="nested", nested=Settings,
+        default_factory=lambda: Settings(corrections=PRESETS["original"]),
+        doc="Configuration B of the compare views (only its corrections are used).")
+    view_mode: str = setting("single", kind="choice", choices=VIEW_MODES,
+                             doc="One configuration, split A|B, or their difference.")
+    view_buffer: str = setting("final", kind="choice", choices=VIEW_BUFFERS,
+                               doc="What the 3D view shows.")
+    split_position: float = setting(0.5, kind="float", low=0.02, high=0.98,
+                                    doc="The split view's divider, a fraction of its width.")
+    auto_exposure: bool = setting(False, kind="bool",
+                                  doc="Expose each side of a comparison on its own.")
+    difference_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
+                                      doc="Watts per pixel at the top of the difference "
+                                          "scale; 0 = automatic.")
+    follow_view_size: bool = setting(True, kind="bool", widget="checkbox",
+                                     label="Render at view size", group="Output",
+                                     doc="Render at the View panel's size (times the render "
+                                         "scale) instead of a fixed resolution.")
+    render_scale: float = setting(1.0, kind="float", low=0.25, high=2.0, widget="slider",
+                                  label="Render scale", group="Output",
+                                  doc="Render resolution per View panel pixel.")
+    mesh_path: str = setting("", kind="text", doc="The path typed in the Scene panel.")
+    window_size: tuple[int, int] = setting(
+        (1600, 960), kind="size", low=MIN_WINDOW_SIZE, high=MAX_WINDOW_SIZE,
+        doc="The window's size in pixels when it was closed.")
+    inspect: InspectState = setting(kind="nested", nested=InspectState,
+                                    default_factory=InspectState,
+                                    doc="What the Inspect panel shows.")
+    overlays: OverlayState = setting(kind="nested", nested=OverlayState,
+                                     default_factory=OverlayState,
+                                     doc="What the main view draws in the scene, and the "
+                                         "picked point.")
+    open_panels: dict[str, bool] = setting(kind="switches", default_factory=dict,
+                                           doc="Panel title -> shown.")
     lesson_id: str | None = None
-    layout_panels: list[str] = field(default_factory=list)
-    """Panel titles the saved dock layout was built for; a new panel rebuilds it."""
+    layout_panels: list[str] = setting(
+        kind="names", default_factory=list,
+        doc="Panel titles the saved dock layout was built for; a new panel rebuilds it.")
     plot_tab: str | None = None       # a name in settings.PLOTS: bring that plot's tab forward
-    plot_scale: str = "auto"          # flux and audit plots: "auto" | "linear" | "log"
-    plot_relative: bool = False       # flux and audit plots: shares of the injected flux
+    plot_scale: str = setting("auto", kind="choice", choices=("auto", "linear", "log"),
+                              doc="Value axis of the flux and audit plots: log when the "
+                                  "values span over two decades (auto), or as chosen.")
+    plot_relative: bool = setting(False, kind="bool",
+                                  doc="Plot flux as shares of the injected flux.")
     messages: list[Message] = field(default_factory=list)
     requests: Requests = field(default_factory=Requests)
     runtime: Runtime = field(default_factory=Runtime)
+
+    def __post_init__(self) -> None:
+        validate(self)
 
     # -- helpers panels use --------------------------------------------------------------
     def notify(self, text: str, level: str = "info") -> None:

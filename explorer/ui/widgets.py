@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import numpy as np
 from imgui_bundle import imgui
+
+from explorer.ui.textures import diverging, heat
 
 ACCENT = imgui.ImVec4(0.33, 0.62, 0.98, 1.0)
 DIM = imgui.ImVec4(0.62, 0.64, 0.68, 1.0)
@@ -10,6 +13,8 @@ GOOD = imgui.ImVec4(0.45, 0.85, 0.55, 1.0)
 WARN = imgui.ImVec4(1.0, 0.75, 0.3, 1.0)
 ERROR = imgui.ImVec4(1.0, 0.42, 0.38, 1.0)
 LEVEL_COLOURS = {"info": DIM, "warning": WARN, "error": ERROR}
+SCALE_BAR_WIDTH = 18.0
+"""Width in pixels of the colour bar beside a false-colour image."""
 
 
 def button_active(label: str, active: bool, size=(0, 0)) -> bool:
@@ -92,3 +97,36 @@ def playback(playing: bool, step: int, last: int, clock: float, rate: float
             step = (step + int(clock)) % (last + 1)
             clock %= 1.0
     return playing, step, clock
+
+
+def scale_bar(draw, pos, height: float, top: float, signed: bool = False,
+              value_at=None) -> None:
+    """A vertical colour-scale bar with ticks: heat from 0 (bottom) to ``top``, or with
+    ``signed`` the diverging map from −top (bottom) to +top. ``value_at(fraction)``: the
+    value at a height fraction for the labels, when the scale is not linear."""
+    steps = 32
+    low = -top if signed else 0.0
+
+    def colour(frac: float):
+        if signed:
+            return diverging(np.array(2.0 * frac - 1.0), 1.0)
+        return heat(frac)
+
+    for i in range(steps):
+        t0, t1 = i / steps, (i + 1) / steps
+        c0, c1 = _u32(colour(1.0 - t0)), _u32(colour(1.0 - t1))
+        y0, y1 = pos.y + t0 * height, pos.y + t1 * height
+        draw.add_rect_filled_multi_color((pos.x, y0), (pos.x + SCALE_BAR_WIDTH, y1),
+                                         c0, c0, c1, c1)
+    white = imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.9))
+    for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
+        y = pos.y + (1.0 - frac) * height
+        draw.add_line((pos.x + SCALE_BAR_WIDTH, y), (pos.x + SCALE_BAR_WIDTH + 4, y), white)
+        value = value_at(frac) if value_at is not None else low + (top - low) * frac
+        label = f"{value:.2g}"
+        draw.add_text((pos.x + SCALE_BAR_WIDTH + 6, min(y, pos.y + height - 14) - 6), white,
+                      label)
+
+
+def _u32(rgb) -> int:
+    return imgui.get_color_u32(imgui.ImVec4(float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0))

@@ -28,7 +28,7 @@ class FigureWindow:
                  context: FigureContext | None = None) -> None:
         from imgui_bundle import imgui, implot, implot3d
 
-        from explorer.ui.app import _fonts, _style
+        from explorer.ui import theme
 
         self.window = Window(width, height, title="lpv-explorer figure", visible=visible,
                              vsync=False)
@@ -38,8 +38,8 @@ class FigureWindow:
         self._implot_ctx = implot.create_context()
         self._implot3d_ctx = implot3d.create_context()
         imgui.get_io().set_ini_filename("")
-        _style(self.window.content_scale)
-        _fonts(imgui.get_io())
+        theme.apply_style(self.window.content_scale)
+        theme.load_fonts(imgui.get_io())
         imgui.backends.glfw_init_for_opengl(self.window.address, True)
         imgui.backends.opengl3_init("#version 330 core")
         self.rect: tuple[tuple[float, float], tuple[float, float]] | None = None
@@ -57,7 +57,7 @@ class FigureWindow:
         """Draw one frame with ``spec``; False once the window should close."""
         from imgui_bundle import imgui
 
-        from explorer.ui.app import CLEAR_COLOUR
+        from explorer.ui.theme import CLEAR_COLOUR
 
         self.window.poll_events()
         if self.window.should_close():
@@ -110,7 +110,7 @@ class FigureWindow:
 
     def screenshot(self, path: str | Path) -> Path:
         """Write the last captured frame (the whole window) as a PNG."""
-        from explorer.ui.app import write_png
+        from explorer.ui.images import write_png
 
         if self.last_pixels is None:
             raise RuntimeError("no frame captured yet")

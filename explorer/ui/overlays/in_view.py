@@ -181,7 +181,7 @@ def _tooltip(hover: Hover) -> None:
 
 
 def _colour_bar(draw, field: Q.SliceField, origin, end, at_left: bool) -> None:
-    from explorer.ui.panels.view import scale_bar
+    from explorer.ui.widgets import scale_bar
 
     height = min(end.y - origin.y - 90.0, 260.0)
     if height < 40:

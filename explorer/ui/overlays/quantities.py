@@ -172,7 +172,7 @@ def plane_corners(spec: GridSpec, axis: str, layer: int) -> tuple[np.ndarray, np
 
 def colour_table(name: str, size: int = COLOUR_MAP_SIZE) -> np.ndarray:
     """(size, 3) float32 colours of a colour map from its bottom to its top: the same
-    functions the colour bar (panels.view.scale_bar) draws with."""
+    functions the colour bar (widgets.scale_bar) draws with."""
     t = np.linspace(0.0, 1.0, size)
     if name == "diverging":
         return diverging(2.0 * t - 1.0, 1.0).astype(np.float32)

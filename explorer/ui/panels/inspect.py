@@ -10,7 +10,7 @@ import numpy as np
 from imgui_bundle import imgui, implot3d
 
 from explorer.ui import glyphs, images, widgets
-from explorer.ui.panels.view import scale_bar
+from explorer.ui.widgets import scale_bar
 from explorer.ui.state import GRID_COMPONENTS, INSPECT_SOURCES, AppState
 
 SOURCE_LABELS = {

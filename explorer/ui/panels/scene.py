@@ -1,34 +1,74 @@
-"""Scene panel: scene or mesh file, camera, light direction, and the LPV's sizes and modes."""
+"""Scene panel: scene or mesh file, camera, light, and every setting that declares a
+widget in the settings schema, grouped by the spec's ``group``.
+
+The generic controls come from the specs (explorer/ui/setting_widgets.py); the controls
+with logic of their own stay here: the scene and mesh, the light's angles and flux, the
+geometry volume ↔ bounces coupling and the fixed resolution.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from imgui_bundle import imgui
 
-from explorer.lpv.settings import (
-    BOUNCES,
-    CASCADE_ITERATIONS,
-    DOWNSAMPLE_MODES,
-    GEOMETRY_VOLUME_MODES,
-    GRID_FORMATS,
-    INJECTION_MODES,
-    MAX_CASCADES,
-    SH_ORDERS,
-)
+from explorer.lpv.schema import SettingError, specs
+from explorer.lpv.settings import Settings
+from explorer.scene.builtin import BUILTIN_SCENES
 from explorer.ui import camera, widgets
+from explorer.ui.setting_widgets import draw_setting, tooltip_of
 from explorer.ui.state import AppState
 
-BUILTIN_SCENES = ("cornell", "single-source", "room")
-GRID_SIZES = (8, 16, 24, 32, 48, 64)
-RSM_SIZES = (64, 128, 256, 512, 1024)
+GROUPS = ("Light propagation volume", "Leak reduction and bounces", "Cascades", "Output")
+"""The panel's sections, top to bottom (each spec names the one it belongs in)."""
+OWNERS = (Settings, AppState)
+"""The classes whose declared fields the panel edits: configuration A and the view."""
 
 
 def gui_scene(state: AppState) -> None:
+    _scene_choice(state)
+    _camera_and_light(state)
+    for group in GROUPS:
+        imgui.separator_text(group)
+        for owner, name in controls(group):
+            if not _SHOWN_WHEN.get(name, lambda s: True)(state):
+                continue
+            if name in _CUSTOM:
+                _CUSTOM[name](state)
+            else:
+                _generic(state, owner, name)
+        if group in _AFTER:
+            _AFTER[group](state)
+
+
+def controls(group: str) -> list[tuple[type, str]]:
+    """(owner class, field) of every declared field in ``group``, in declaration order:
+    those with a widget and those with a custom control."""
+    return [(owner, name) for owner in OWNERS for name, spec in specs(owner).items()
+            if spec.group == group and (spec.widget or name in _CUSTOM)]
+
+
+def _generic(state: AppState, owner: type, name: str) -> None:
+    spec = specs(owner)[name]
+    target = state.settings if owner is Settings else state
+    changed, value = draw_setting(name, spec, getattr(target, name))
+    if not changed:
+        return
+    if owner is Settings:
+        state.update(**{name: value})      # the schema refuses; the window says why
+        return
+    try:
+        setattr(state, name, spec.check(name, value))
+    except SettingError as exc:
+        state.notify(f"not applied: {exc}", "error")
+
+
+def _scene_choice(state: AppState) -> None:
     s = state.settings
     imgui.separator_text("Scene")
-    scene_names = list(BUILTIN_SCENES)
-    current = s.scene if s.scene in scene_names else "(mesh file)"
+    current = s.scene if s.scene in BUILTIN_SCENES else "(mesh file)"
     if imgui.begin_combo("Scene", current):
-        for name in scene_names:
+        for name in BUILTIN_SCENES:
             if imgui.selectable(name, name == s.scene)[0]:
                 state.requests.open_scene = name
         imgui.end_combo()
@@ -44,10 +84,12 @@ def gui_scene(state: AppState) -> None:
         imgui.same_line()
         if imgui.button("…"):
             state.requests.open_file_dialog = True
-        if imgui.is_item_hovered():
-            imgui.set_tooltip("browse for a mesh file")
+        _tooltip("browse for a mesh file")
     widgets.dim_text_wrapped("or drop a mesh file onto the window")
 
+
+def _camera_and_light(state: AppState) -> None:
+    s = state.settings
     imgui.separator_text("Camera and light")
     if imgui.button("Reset camera"):
         state.update(camera=None)
@@ -58,75 +100,9 @@ def gui_scene(state: AppState) -> None:
     flux = s.light_flux if s.light_flux is not None else (state.runtime.light_flux_default
                                                           or 0.0)
     changed, flux = imgui.input_float("Light flux [W]", flux, 0.0, 0.0, "%.3g")
-    if changed and flux > 0:
+    _tooltip(tooltip_of(specs(Settings)["light_flux"]))
+    if changed and flux != 0.0:     # an emptied field reads 0: wait for a number
         state.update(light_flux=float(flux))
-
-    imgui.separator_text("Light propagation volume")
-    _choice_int(state, "Grid size (cells³)", "grid_size", GRID_SIZES)
-    changed, value = imgui.slider_int("Iterations", s.iterations, 0, 64)
-    if changed:
-        state.update(iterations=value)
-    _choice_int(state, "RSM size (texels²)", "rsm_size", RSM_SIZES)
-    _choice(state, "Downsample", "downsample", DOWNSAMPLE_MODES)
-    if s.downsample != "none":
-        changed, value = imgui.slider_int("Downsample factor", s.downsample_factor, 2, 8)
-        if changed:
-            state.update(downsample_factor=value)
-    _choice(state, "Injection", "injection_mode", INJECTION_MODES)
-    _geometry_volume_choice(state)
-    _choice(state, "Grid format", "grid_format", GRID_FORMATS)
-    _choice_int(state, "SH order", "sh_order", SH_ORDERS)
-    _tooltip("1 = L1 (4 coefficients per colour), 2 = L2 (9). L2 keeps 127/128 of the "
-             "clamped cosine's energy (L1: 7/8); its measured error: docs/ERRORS.md")
-
-    imgui.separator_text("Leak reduction and bounces")
-    changed, value = imgui.slider_float("VPL offset [cells]",
-                                        s.injection_offset_cells, 0.0, 1.0, "%.2f")
-    if changed:
-        state.update(injection_offset_cells=round(float(value), 3))
-    _tooltip("VPLs move this far along their normal before injection (default 0.5): a wall "
-             "then stops lighting itself; room, 8 iterations: rel. L2 1.51 -> 0.555")
-    changed, value = imgui.checkbox("Gather damping", s.gather_damping)
-    if changed:
-        state.update(gather_damping=value)
-    _tooltip("scales E by clamp(E(p + h/2 n) / E(p - h/2 n), 0, 1): removes light that "
-             "arrives from behind a surface; a small effect (docs/ERRORS.md)")
-    _bounces_choice(state)
-
-    imgui.separator_text("Cascades")
-    changed, value = imgui.slider_int("Cascades", s.cascades, 1, MAX_CASCADES)
-    if changed:
-        state.update(cascades=value)
-    _tooltip("nested grids around the camera's target, each with twice the cell size of "
-             "the last, blended in the final gather")
-    if s.cascades > 1:
-        _choice(state, "Cascade iterations", "cascade_iterations", CASCADE_ITERATIONS)
-        changed, value = imgui.slider_float("Cascade focus", s.cascade_focus, 0.0, 1.0,
-                                            "%.2f")
-        if changed:
-            state.update(cascade_focus=float(value))
-        _tooltip("0 = centred on the eye, 1 = on the camera's target")
-        extent = s.cascade_extent or 0.0
-        changed, value = imgui.input_float("Finest extent [m]", extent, 0.0, 0.0, "%.3g")
-        _tooltip("edge of the finest cascade in world units; 0 = automatic (the coarsest "
-                 "cascade then has the single grid's cells)")
-        if changed and value >= 0.0:
-            state.update(cascade_extent=float(value) or None)
-
-    imgui.separator_text("Output")
-    _, state.follow_view_size = imgui.checkbox("Render at view size", state.follow_view_size)
-    if state.follow_view_size:
-        changed, value = imgui.slider_float("Render scale", state.render_scale, 0.25, 2.0,
-                                            "%.2f")
-        if changed:
-            state.render_scale = value
-    else:
-        changed, size = imgui.input_int2("Resolution", [s.width, s.height])
-        if changed and min(size) >= 16:
-            state.update(width=int(size[0]), height=int(size[1]))
-    changed, value = imgui.checkbox("Check passes for NaN/Inf", s.debug_nan)
-    if changed:
-        state.update(debug_nan=value)
 
 
 def _light_angles(state: AppState) -> None:
@@ -145,8 +121,9 @@ def _light_angles(state: AppState) -> None:
 
 
 def _geometry_volume_choice(state: AppState) -> None:
-    s = state.settings
-    changed, value = widgets.combo("Geometry volume", s.geometry_volume, GEOMETRY_VOLUME_MODES)
+    s, spec = state.settings, specs(Settings)["geometry_volume"]
+    changed, value = widgets.combo(spec.label, s.geometry_volume, spec.choices)
+    _tooltip(tooltip_of(spec))
     if not changed:
         return
     if value == "off" and s.bounces > 1:
@@ -160,13 +137,14 @@ def _geometry_volume_choice(state: AppState) -> None:
 
 
 def _bounces_choice(state: AppState) -> None:
-    s = state.settings
-    changed, index = imgui.combo("Bounces", BOUNCES.index(s.bounces), [str(b) for b in BOUNCES])
-    _tooltip("2: the geometry volume reflects part of the light it blocks (needs a geometry "
-             "volume; also carries third and later bounces)")
-    if not changed or BOUNCES[index] == s.bounces:
+    s, spec = state.settings, specs(Settings)["bounces"]
+    choices = list(spec.choices)
+    changed, index = imgui.combo(spec.label, choices.index(s.bounces),
+                                 [str(b) for b in choices])
+    _tooltip(tooltip_of(spec))
+    if not changed or choices[index] == s.bounces:
         return
-    bounces = BOUNCES[index]
+    bounces = choices[index]
     if bounces > 1 and s.geometry_volume == "off":
         if state.update(bounces=bounces, geometry_volume="one-sided"):
             state.notify("bounces = 2 needs blockers to reflect from: the geometry volume "
@@ -175,20 +153,33 @@ def _bounces_choice(state: AppState) -> None:
     state.update(bounces=bounces)
 
 
+def _resolution(state: AppState) -> None:
+    """A fixed render size, when the render does not follow the View panel's size."""
+    if state.follow_view_size:
+        return
+    s = state.settings
+    changed, size = imgui.input_int2("Resolution", [s.width, s.height])
+    _tooltip(tooltip_of(specs(Settings)["width"]))
+    if changed and min(size) >= 16:     # typing "512" passes through "5": wait for it
+        state.update(width=int(size[0]), height=int(size[1]))
+
+
 def _tooltip(text: str) -> None:
     if imgui.is_item_hovered():
         imgui.set_tooltip(text)
 
 
-def _choice(state: AppState, label: str, field: str, choices) -> None:
-    changed, value = widgets.combo(label, getattr(state.settings, field), choices)
-    if changed:
-        state.update(**{field: value})
-
-
-def _choice_int(state: AppState, label: str, field: str, choices) -> None:
-    current = getattr(state.settings, field)
-    options = sorted(set(choices) | {current})
-    changed, index = imgui.combo(label, options.index(current), [str(v) for v in options])
-    if changed:
-        state.update(**{field: options[index]})
+_CUSTOM: dict[str, Callable[[AppState], None]] = {
+    "geometry_volume": _geometry_volume_choice,   # switching it off drops the 2nd bounce
+    "bounces": _bounces_choice,                   # a 2nd bounce switches the volume on
+}
+"""Declared fields whose control has logic of its own (drawn where the field is)."""
+_AFTER: dict[str, Callable[[AppState], None]] = {"Output": _resolution}
+_SHOWN_WHEN: dict[str, Callable[[AppState], bool]] = {
+    "downsample_factor": lambda state: state.settings.downsample != "none",
+    "cascade_extent": lambda state: state.settings.cascades > 1,
+    "cascade_focus": lambda state: state.settings.cascades > 1,
+    "cascade_iterations": lambda state: state.settings.cascades > 1,
+    "render_scale": lambda state: state.follow_view_size,
+}
+"""Controls shown only where they mean something."""

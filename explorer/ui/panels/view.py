@@ -6,15 +6,13 @@ the "Show in scene" panel are drawn into the single and split views
 
 from __future__ import annotations
 
-import numpy as np
 from imgui_bundle import imgui
 
 from explorer.ui import camera_controls, images, legend, widgets
 from explorer.ui.overlays import in_view
-from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
-from explorer.ui.textures import diverging, heat, tonemap
+from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
+from explorer.ui.textures import tonemap
 
-_SCALE_BAR_WIDTH = 18.0
 # Pipeline.final_texture holds the bottom row first (GL convention), so the view samples
 # it upside down; textures the UI uploads from FrameResult arrays are top row first.
 UV_TOP_LEFT, UV_BOTTOM_RIGHT = (0.0, 1.0), (1.0, 0.0)
@@ -26,7 +24,7 @@ def gui_view(state: AppState) -> None:
     avail = imgui.get_content_region_avail()
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     # The difference view keeps room for its scale bar beside the image.
-    bar = _SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
+    bar = widgets.SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
     rt.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
@@ -129,8 +127,6 @@ def _toolbar(state: AppState) -> None:
         state.update(indirect_only=value)
     _same_line_if_fits("Screenshot (F12)")
     if imgui.button("Screenshot (F12)"):
-        from explorer.ui.app import default_screenshot_path
-
         state.requests.screenshot = default_screenshot_path()
 
 
@@ -209,11 +205,6 @@ def _overlay(draw, pos, text: str) -> None:
                   text)
 
 
-def _preset_name(corrections) -> str:
-    """The preset's name, or "custom" (the window title)."""
-    return legend.preset_name(corrections) or "custom"
-
-
 def _difference(state: AppState, draw, origin, end) -> None:
     rt = state.runtime
     a, b = rt.result, rt.compare_result
@@ -227,42 +218,9 @@ def _difference(state: AppState, draw, origin, end) -> None:
         tex = rt.textures.upload("difference", image, version=version)
         rt.difference_cache = (version, tex, top)
     _, tex, top = rt.difference_cache
-    bar = _SCALE_BAR_WIDTH + 60.0
+    bar = widgets.SCALE_BAR_WIDTH + 60.0
     image_end = imgui.ImVec2(end.x - bar, end.y)
     draw.add_image(imgui.ImTextureRef(tex), origin, image_end)
-    scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top)
+    widgets.scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top)
     _overlay(draw, origin, f"|A − B| luminance of {state.view_buffer}"
              + (" (auto scale)" if state.difference_scale <= 0 else ""))
-
-
-def scale_bar(draw, pos, height: float, top: float, signed: bool = False,
-              value_at=None) -> None:
-    """A vertical colour-scale bar with ticks: heat from 0 (bottom) to ``top``, or with
-    ``signed`` the diverging map from −top (bottom) to +top. ``value_at(fraction)``: the
-    value at a height fraction for the labels, when the scale is not linear."""
-    steps = 32
-    low = -top if signed else 0.0
-
-    def colour(frac: float):
-        if signed:
-            return diverging(np.array(2.0 * frac - 1.0), 1.0)
-        return heat(frac)
-
-    for i in range(steps):
-        t0, t1 = i / steps, (i + 1) / steps
-        c0, c1 = _u32(colour(1.0 - t0)), _u32(colour(1.0 - t1))
-        y0, y1 = pos.y + t0 * height, pos.y + t1 * height
-        draw.add_rect_filled_multi_color((pos.x, y0), (pos.x + _SCALE_BAR_WIDTH, y1),
-                                         c0, c0, c1, c1)
-    white = imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.9))
-    for frac in (0.0, 0.25, 0.5, 0.75, 1.0):
-        y = pos.y + (1.0 - frac) * height
-        draw.add_line((pos.x + _SCALE_BAR_WIDTH, y), (pos.x + _SCALE_BAR_WIDTH + 4, y), white)
-        value = value_at(frac) if value_at is not None else low + (top - low) * frac
-        label = f"{value:.2g}"
-        draw.add_text((pos.x + _SCALE_BAR_WIDTH + 6, min(y, pos.y + height - 14) - 6), white,
-                      label)
-
-
-def _u32(rgb) -> int:
-    return imgui.get_color_u32(imgui.ImVec4(float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0))

@@ -1,5 +1,5 @@
 """Time the overlay compositor against the pipeline's own passes, in the same run:
-``python -m explorer.ui.overlays.bench [--size 512x512] [--grid 32] [--rsm 256]``.
+``python -m explorer.commands.overlay_bench [--size 512x512] [--grid 32] [--rsm 256]``.
 
 Each row redraws the picture ``--repeat`` times with one overlay on and prints the median
 wall-clock milliseconds (``ctx.finish()`` around each draw): moving the slice a layer each
@@ -28,14 +28,14 @@ OVERLAY_ROWS = {
 
 
 def main(argv: list[str] | None = None) -> int:
-    from explorer.commands.render import parse_size
+    from explorer.commands.options import image_size, size_type
     from explorer.lpv.pipeline import Pipeline
     from explorer.lpv.settings import Settings
     from explorer.ui.overlays.compositor import Compositor
     from explorer.ui.state import OverlayState
 
-    parser = argparse.ArgumentParser(prog="python -m explorer.ui.overlays.bench")
-    parser.add_argument("--size", type=parse_size, default=(512, 512))
+    parser = argparse.ArgumentParser(prog="python -m explorer.commands.overlay_bench")
+    parser.add_argument("--size", type=size_type(image_size), default=(512, 512))
     parser.add_argument("--grid", type=int, default=32)
     parser.add_argument("--rsm", type=int, default=256)
     parser.add_argument("--repeat", type=int, default=9)

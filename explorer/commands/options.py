@@ -1,0 +1,434 @@
+"""Command-line plumbing every subcommand shares.
+
+* options derived from the settings schema (:func:`add_setting_options`): each
+  :class:`~explorer.lpv.settings.Settings` field that declares a ``flag`` becomes an option
+  whose type, choices, help and allowed range come from its :class:`~explorer.lpv.schema.Spec`
+  (``--size WxH`` sets width and height, ``--preset`` the corrections);
+* :func:`settings_from_args`: the parsed options as Settings, through the schema;
+* :class:`CommandError`: what a command raises for bad input or a request it cannot do;
+  ``explorer.cli.main`` prints it as one line, ``lpv-explorer <cmd>: error: ...``;
+* :class:`Outputs`: output paths checked before any work starts (folder exists or can be
+  made, writable, a known image suffix), files written whole or not at all, and removed
+  again when the command fails or is interrupted;
+* :class:`Progress`: a bar on a terminal, nothing when piped;
+* :func:`run_pipeline`: the one place a command runs the pipeline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterable, Mapping
+from pathlib import Path
+from typing import Any, TextIO
+
+from explorer.lpv.schema import SettingError, Spec, specs
+from explorer.lpv.settings import PRESETS, Settings
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
+"""File types the image writers (Pillow) produce from an RGB image."""
+
+
+class CommandError(Exception):
+    """A command could not do what was asked; ``explorer.cli.main`` prints the message as
+    one line on stderr and exits with ``code`` (2: bad input, 1: it failed)."""
+
+    def __init__(self, message: object, code: int = 2) -> None:
+        super().__init__(str(message))
+        self.code = code
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with a one-line error (``prog: error: message``) instead of the usage
+    text followed by the error; ``--help`` still shows the usage. ``command_parsers``:
+    the subcommands' parsers by name (``explorer.cli.build_parser`` fills it)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.command_parsers: dict[str, argparse.ArgumentParser] = {}
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+# --- options from the schema -----------------------------------------------------------
+
+def setting_type(name: str, cls: type = Settings) -> Callable[[str], Any]:
+    """argparse ``type=`` for field ``name`` of ``cls``: the text converted to the field's
+    kind and checked by its spec; a bad value gives the schema's message."""
+    return value_type(name, specs(cls)[name])
+
+
+def value_type(name: str, spec: Spec) -> Callable[[str], Any]:
+    """argparse ``type=`` for a value ``spec`` describes (a command's own option)."""
+
+    def parse(text: str) -> Any:
+        try:
+            value = _from_text(spec, text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be {spec.allowed()}, got {text!r}") from None
+        try:
+            return spec.check(name, value)
+        except SettingError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    parse.__name__ = name
+    return parse
+
+
+def _from_text(spec: Spec, text: str) -> Any:
+    """Command-line text as the field's Python type (the spec then checks the value);
+    ValueError when it is not even that type."""
+    kind = spec.kind
+    if kind == "choice" and spec.choices and not isinstance(spec.choices[0], str):
+        kind = type(spec.choices[0]).__name__      # a numeric choice, e.g. sh_order
+    if kind == "int":
+        return int(text)
+    if kind == "float":
+        return float(text)
+    return text
+
+
+def list_type(name: str, cls: type = Settings) -> Callable[[str], tuple]:
+    """argparse ``type=`` for a comma list of values of field ``name`` (a sweep), each
+    checked as :func:`setting_type` checks one."""
+    one = setting_type(name, cls)
+
+    def parse(text: str) -> tuple:
+        parts = [part.strip() for part in text.split(",")]
+        if not all(parts):
+            raise argparse.ArgumentTypeError(
+                f"expected {name} values separated by commas, got {text!r}")
+        return tuple(one(part) for part in parts)
+
+    parse.__name__ = f"{name} list"
+    return parse
+
+
+def size_type(check: Callable[[int, int], tuple[int, int]]) -> Callable[[str], tuple]:
+    """argparse ``type=`` for ``WxH``; ``check(width, height)`` raises SettingError."""
+
+    def parse(text: str) -> tuple[int, int]:
+        try:
+            width, height = (int(part) for part in text.lower().split("x"))
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"size must look like 512x512 (width x height), got {text!r}") from None
+        try:
+            return check(width, height)
+        except SettingError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    parse.__name__ = "size"
+    return parse
+
+
+def image_size(width: int, height: int) -> tuple[int, int]:
+    """(width, height) checked by the Settings specs of ``width`` and ``height``."""
+    fields = specs(Settings)
+    return fields["width"].check("width", width), fields["height"].check("height", height)
+
+
+def spec_help(spec: Spec, default: object = None) -> str:
+    """Help text of an option: the field's doc, what it allows and its default."""
+    text = f"{spec.doc} Allowed: {spec.allowed()}"
+    if default is not None:
+        text += f"; default {default}"
+    return (text + ".").replace("%", "%%")     # argparse %-formats help texts
+
+
+def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[str] = (),
+                        sweep: Iterable[str] = (), defaults: Mapping[str, object] = (),
+                        aliases: Mapping[str, tuple[str, ...]] = ()) -> None:
+    """Add an option for every Settings field that declares a ``flag`` (``dest`` is the
+    field name; left out it is None and the field keeps its value), plus ``--size WxH``
+    and ``--preset``. ``sweep``: fields taking a comma list (one run per value);
+    ``defaults``: what this command uses when an option is left out (shown in the help,
+    applied by :func:`settings_from_args`); ``aliases``: extra flags per field."""
+    from explorer.scene.builtin import BUILTIN_SCENES
+
+    exclude, sweep = set(exclude), set(sweep)
+    defaults, aliases = dict(defaults), dict(aliases)
+    base = Settings()
+    group = parser.add_argument_group(
+        "settings", "each option sets one Settings field (explorer/lpv/settings.py); left "
+        "out, the field keeps its default")
+    for name, spec in specs(Settings).items():
+        if spec.flag is None or name in exclude:
+            continue
+        flags = (spec.flag, *aliases.get(name, ()))
+        shown = defaults.get(name, getattr(base, name))
+        help_text = spec_help(spec, _shown(shown))
+        if name == "scene":
+            help_text = help_text[:-1] + f"; built-in scenes: {', '.join(BUILTIN_SCENES)}."
+        if spec.kind == "bool":
+            group.add_argument(*flags, dest=name, action=argparse.BooleanOptionalAction,
+                               default=None, help=help_text)
+        elif name in sweep:
+            group.add_argument(*flags, dest=name, type=list_type(name), default=None,
+                               metavar=f"{_metavar(spec)}[,...]",
+                               help=help_text[:-1] + "; a comma list runs each value.")
+        else:
+            group.add_argument(*flags, dest=name, type=setting_type(name), default=None,
+                               metavar=_metavar(spec), help=help_text)
+    if "width" not in exclude:
+        size = defaults.get("size", (base.width, base.height))
+        group.add_argument("--size", type=size_type(image_size), default=None, metavar="WxH",
+                           help=f"image size in pixels: width and height, whole numbers in "
+                                f"[1, {specs(Settings)['width'].high:g}]; default "
+                                f"{size[0]}x{size[1]}")
+    if "corrections" not in exclude:
+        group.add_argument("--preset", choices=list(PRESETS), default=None,
+                           help=f"the formulas: {', '.join(PRESETS)} (default "
+                                f"{defaults.get('preset', 'corrected')})")
+    parser.set_defaults(_setting_defaults=defaults, _sweep=tuple(sorted(sweep)),
+                        _setting_options=tuple(sorted({"size", "preset"} - (
+                            {"preset"} if "corrections" in exclude else set()) - (
+                            {"size"} if "width" in exclude else set()))))
+
+
+def _metavar(spec: Spec) -> str:
+    if spec.kind == "choice":
+        return "{" + ",".join(str(choice) for choice in spec.choices) + "}"
+    return {"int": "N", "float": "X", "str": "TEXT"}.get(spec.kind, "VALUE")
+
+
+def _shown(value: object) -> object:
+    return "automatic" if value is None else value
+
+
+def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -> Settings:
+    """``base`` (default: ``Settings()`` with the command's defaults) with every option
+    given on the command line applied; sweep options are left to the command. A value
+    or combination the schema refuses raises :class:`CommandError`."""
+    defaults = dict(getattr(args, "_setting_defaults", {}))
+    sweep = set(getattr(args, "_sweep", ()))
+    changes: dict[str, object] = {}
+    if base is None:
+        changes.update({k: v for k, v in defaults.items() if k not in ("size", "preset")})
+        if "size" in defaults:
+            changes["width"], changes["height"] = defaults["size"]
+        if "preset" in defaults:
+            changes["corrections"] = defaults["preset"]
+    for name in specs(Settings):
+        value = getattr(args, name, None)
+        if value is not None and name not in sweep:
+            changes[name] = value
+    own = getattr(args, "_setting_options", ())   # --size and --preset, when they are ours
+    if "size" in own and args.size is not None:
+        changes["width"], changes["height"] = args.size
+    if "preset" in own and args.preset is not None:
+        changes["corrections"] = args.preset
+    try:
+        return (base or Settings()).with_changes(**changes)
+    except SettingError as exc:
+        raise CommandError(exc) from None
+
+
+def sweep_values(args: argparse.Namespace, name: str, base: Settings) -> tuple:
+    """The values of sweep option ``name``: those given, else the base's one value."""
+    given = getattr(args, name, None)
+    return tuple(given) if given else (getattr(base, name),)
+
+
+def check_settings(settings: Iterable[Callable[[], Settings]]) -> list[Settings]:
+    """Build every Settings a command will run before it runs any, so a combination the
+    schema refuses stops the command at once (one line) instead of half-way."""
+    try:
+        return [make() for make in settings]
+    except SettingError as exc:
+        raise CommandError(exc) from None
+
+
+def render_failures() -> tuple[type[BaseException], ...]:
+    """What rendering raises for a request this machine cannot do (exit 1, one line): a
+    driver or texture-budget limit (ValueError), a NaN found by --debug-nan, no usable
+    GL, a shader that does not compile, GL refusing an object (an incomplete framebuffer:
+    ``moderngl.Error``), a file that cannot be written."""
+    import moderngl
+
+    from explorer.gl.context import GLUnavailableError
+    from explorer.gl.program import ShaderError
+
+    return (ValueError, FloatingPointError, OSError, GLUnavailableError, ShaderError,
+            moderngl.Error)
+
+
+def check_scene(name: str, load: bool = False) -> None:
+    """A built-in scene name or an existing file; :class:`CommandError` otherwise (the
+    loader's message: the built-in names and the mesh types). With ``load`` a mesh file
+    is also read, so a file trimesh cannot use is refused now rather than later."""
+    from explorer.scene import SceneError, load_scene
+    from explorer.scene.loader import check_scene_name
+
+    try:
+        if check_scene_name(name) is not None and load:
+            load_scene(name)
+    except SceneError as exc:
+        raise CommandError(exc) from None
+
+
+# --- output paths ------------------------------------------------------------------------
+
+class Outputs:
+    """The files and folders one command writes.
+
+    Paths are checked when the command starts (:meth:`file`, :meth:`folder`), before any
+    work; each file is written whole (a temporary name, then renamed) by :meth:`write`;
+    if the command then fails or is interrupted (the ``with`` block ends with an
+    exception), the files written so far and the folders made for them are removed, so a
+    partial result is never mistaken for a finished one."""
+
+    def __init__(self, option: str = "--out") -> None:
+        self.option = option
+        self.written: list[Path] = []
+        self.made: list[Path] = []
+
+    def __enter__(self) -> "Outputs":
+        return self
+
+    def __exit__(self, exc_type, exc, traceback) -> None:
+        if exc_type is None:
+            return
+        for path in reversed(self.written):
+            path.unlink(missing_ok=True)
+        for folder in reversed(self.made):
+            try:
+                folder.rmdir()
+            except OSError:
+                pass                    # not empty: something else is in it now
+
+    def file(self, path: Path | str, suffixes: tuple[str, ...] = IMAGE_SUFFIXES,
+             option: str | None = None) -> Path:
+        """``path`` checked as a file to write: not a folder, a suffix in ``suffixes``
+        (any when empty), its folder made if missing and writable."""
+        option = option or self.option
+        folder_like = str(path).endswith(("/", os.sep))
+        path = Path(path).expanduser()
+        if path.is_dir() or folder_like:
+            raise CommandError(f"{option} {path} is a folder; give a file name"
+                               + (f" ending in {suffixes[0]}" if suffixes else ""))
+        if suffixes and not path.suffix:
+            raise CommandError(f"{option} {path} has no suffix; end the name in "
+                               f"{', '.join(suffixes)}")
+        if suffixes and path.suffix.lower() not in suffixes:
+            raise CommandError(f"{option} {path}: this command writes "
+                               f"{', '.join(suffixes)}, not {path.suffix!r}")
+        self._writable_folder(path.parent, option)
+        return path
+
+    def folder(self, path: Path | str, option: str | None = None) -> Path:
+        """``path`` checked as a folder to write into (made now if missing)."""
+        option = option or self.option
+        path = Path(path).expanduser()
+        if path.exists() and not path.is_dir():
+            raise CommandError(f"{option} {path} is a file, not a folder")
+        self._writable_folder(path, option)
+        return path
+
+    def _writable_folder(self, folder: Path, option: str) -> None:
+        missing = []
+        probe = folder
+        while not probe.exists() and probe != probe.parent:
+            missing.append(probe)
+            probe = probe.parent
+        if probe.exists() and not probe.is_dir():
+            raise CommandError(f"{option}: cannot make the folder {folder}: {probe} is a file")
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise CommandError(f"{option}: cannot make the folder {folder}: "
+                               f"{exc.strerror or exc}") from None
+        self.made += reversed(missing)
+        try:
+            with tempfile.TemporaryFile(dir=folder):
+                pass
+        except OSError as exc:
+            raise CommandError(f"{option}: cannot write in {folder}: {exc.strerror or exc}"
+                               ) from None
+
+    def write(self, path: Path, save: Callable[[Path], None]) -> Path:
+        """Write ``path`` whole: ``save(temporary path)`` (same suffix), then rename."""
+        partial = path.with_name(f".{path.stem}.partial{path.suffix}")
+        try:
+            save(partial)
+            os.replace(partial, path)
+        except BaseException:
+            partial.unlink(missing_ok=True)
+            raise
+        self.written.append(path)
+        return path
+
+
+# --- progress ----------------------------------------------------------------------------
+
+class Progress:
+    """Progress of a long command: ``progress(stage, done, total)`` redraws one line on a
+    terminal (a bar, the stage and the counts), at most every ``interval`` seconds; when
+    the stream is not a terminal (piped, a CI log) it stays silent.
+
+    The call matches the pipeline's progress callback; :meth:`fraction` adapts it to the
+    reference renderer's ``progress(fraction) -> bool``."""
+
+    def __init__(self, label: str, stream: TextIO | None = None, enabled: bool | None = None,
+                 width: int = 24, interval: float = 0.1,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.label = label
+        self.stream = sys.stderr if stream is None else stream
+        isatty = getattr(self.stream, "isatty", None)
+        self.enabled = bool(isatty and isatty()) if enabled is None else enabled
+        self.width = width
+        self.interval = interval
+        self.clock = clock
+        self._last_draw = -float("inf")
+        self._stage: str | None = None
+        self._shown = 0               # characters on the line now
+
+    def __call__(self, stage: str, done: int, total: int) -> None:
+        if not self.enabled:
+            return
+        now = self.clock()
+        if done < total and stage == self._stage and now - self._last_draw < self.interval:
+            return                      # a new stage and a finished one are always drawn
+        self._last_draw, self._stage = now, stage
+        fraction = min(max(done / total, 0.0), 1.0) if total > 0 else 1.0
+        filled = int(fraction * self.width)
+        line = (f"{self.label}: {stage} [{'#' * filled}{'.' * (self.width - filled)}] "
+                f"{int(100 * fraction):3d}% ({done}/{total})")
+        self.stream.write("\r" + line + " " * max(self._shown - len(line), 0))
+        self.stream.flush()
+        self._shown = len(line)
+
+    def fraction(self, stage: str, steps: int = 1000) -> Callable[[float], bool]:
+        """A ``progress(fraction) -> True`` callback drawing this bar for ``stage``."""
+        def report(done: float) -> bool:
+            self(stage, int(round(done * steps)), steps)
+            return True
+
+        return report
+
+    def close(self) -> None:
+        """Clear the bar's line, so what is printed next starts on a clean line."""
+        if self._shown:
+            self.stream.write("\r" + " " * self._shown + "\r")
+            self.stream.flush()
+            self._shown = 0
+
+    def __enter__(self) -> "Progress":
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+
+def run_pipeline(pipeline: Any, settings: Settings | None = None,
+                 progress: Callable[[str, int, int], None] | None = None, **options: Any):
+    """Run ``pipeline`` for ``settings``: the one call site every command shares.
+
+    MERGE (lead): once ``Pipeline.run`` takes ``progress(stage, done, total)``, pass
+    ``progress=progress`` here; until then ``progress`` is not called by the pipeline."""
+    return pipeline.run(settings, **options)

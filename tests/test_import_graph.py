@@ -1,0 +1,117 @@
+"""The import graph of ``explorer/``: no circles, arrows only downwards, no private names
+borrowed across modules. Read from the source with :mod:`ast` (imports inside functions
+count too: a lazy import is still a dependency)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+LAYERS = (
+    ("derivations", "explorer.resources", "explorer.gl", "explorer.derived",
+     "explorer.derived_table"),
+    ("explorer.scene",),
+    ("explorer.lpv",),
+    ("explorer.truth", "explorer.lessons"),
+    ("explorer.ui",),
+    ("explorer.commands",),
+    ("explorer.cli", "explorer.__main__", "explorer"),
+)
+"""Bottom to top: a module may import its own package and the layers below it. The
+derivations feed the constants; the scene is data the LPV passes read; truth (the
+reference) and lessons read both; the window and the commands sit on top."""
+
+
+def _modules() -> dict[str, Path]:
+    found = {}
+    for path in (ROOT / "explorer").rglob("*.py"):
+        parts = path.relative_to(ROOT).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        found[name] = path
+    return found
+
+
+def _imports(path: Path, known: dict[str, Path]) -> list[tuple[str, list[str], int]]:
+    """(module imported, names taken from it, line) for every import of ``path``."""
+    result = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            result += [(alias.name, [], node.lineno) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names = [alias.name for alias in node.names]
+            submodules = [f"{node.module}.{n}" for n in names if f"{node.module}.{n}" in known]
+            plain = [n for n in names if f"{node.module}.{n}" not in known]
+            if plain:    # `from explorer import lessons` takes a module, not the package
+                result.append((node.module, plain, node.lineno))
+            result += [(module, [], node.lineno) for module in submodules]
+    return result
+
+
+def _graph() -> dict[str, set[str]]:
+    known = _modules()
+    return {name: {target for target, _, _ in _imports(path, known)
+                   if target in known and target != name}
+            for name, path in known.items()}
+
+
+def _layer(module: str) -> int:
+    best, rank = -1, None
+    for index, prefixes in enumerate(LAYERS):
+        for prefix in prefixes:
+            if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > best:
+                best, rank = len(prefix), index
+    assert rank is not None, f"{module} is in no layer of LAYERS"
+    return rank
+
+
+def _package(module: str) -> str:
+    return ".".join(module.split(".")[:2])
+
+
+def test_explorer_has_no_import_circle():
+    graph = _graph()
+    state: dict[str, str] = {}
+    circles = []
+
+    def visit(node: str, trail: list[str]) -> None:
+        state[node] = "open"
+        for target in sorted(graph[node]):
+            if state.get(target) == "open":
+                circles.append(trail[trail.index(target):] + [target])
+            elif target not in state:
+                visit(target, trail + [target])
+        state[node] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [module])
+    assert circles == [], "import circles: " + "; ".join(" -> ".join(c) for c in circles)
+
+
+def test_every_import_points_down_the_layers():
+    graph = _graph()
+    upward = [f"{a} -> {b}" for a, targets in sorted(graph.items()) for b in sorted(targets)
+              if _package(a) != _package(b) and _layer(b) > _layer(a)]
+    assert upward == []
+
+
+def test_no_private_name_is_imported_from_another_module():
+    known = _modules()
+    borrowed = [f"{path.relative_to(ROOT)}:{line} imports {name} from {module}"
+                for module_name, path in known.items()
+                for module, names, line in _imports(path, known)
+                for name in names
+                if module.startswith("explorer") and module != module_name
+                and name.startswith("_")]
+    assert borrowed == []
+
+
+def test_the_checks_see_the_arrows_they_judge():
+    """The graph reader finds lazy imports inside functions (the kind the circles were
+    made of) and the layers rank what they should."""
+    graph = _graph()
+    assert "explorer.lpv.pipeline" in graph["explorer.commands.render"]   # inside main()
+    assert "explorer.scene" in graph["explorer.lpv.pipeline"]
+    assert _layer("explorer.scene.lights") < _layer("explorer.lpv.constants")
+    assert _layer("explorer.ui.app") < _layer("explorer.commands.run")
