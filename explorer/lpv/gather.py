@@ -55,9 +55,10 @@ class GatherPass:
             grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
             damping: bool = False, cascades: list[CascadeInput] | None = None,
             sh_order: int = 1) -> None:
-        """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
-        clamped), or None for direct light only. ``damping``: the directional-derivative
-        damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
+        """``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
+        trilinearly in the shader, clamped to the edge), or None for direct light only.
+        ``damping``: the directional-derivative damping of the indirect irradiance
+        (docs/MODEL.md "Final gather"); with cascades, per cascade.
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""

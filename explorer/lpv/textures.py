@@ -75,9 +75,9 @@ class VolumeTexture:
         self.format = check_format(fmt)
         self.texture = ctx.texture3d((self.size, self.size, self.depth), 4,
                                      dtype=_TEXTURE_DTYPES[fmt])
-        # Linear filtering for the final gather's trilinear lookups; clamp to the edge so
-        # the border cells do not blend with the opposite side.
-        self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        # Every shader reads texels with texelFetch: the final gather interpolates in the
+        # shader (sh_grid.glsl, float32 weights instead of the texture unit's 8-bit ones).
+        self.texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
 
     @property
@@ -158,7 +158,7 @@ class LpvGrid:
 
     def use_as_textures(self, first_location: int) -> None:
         """Bind r, g, b as sampler3D units ``first_location`` .. ``first_location + 2``
-        (linear filtering, clamped to the edge)."""
+        (read with texelFetch; the final gather interpolates in the shader)."""
         for offset, texture in enumerate(self.textures):
             texture.use(first_location + offset)
 
