@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from explorer.commands.render import add_leak_arguments, leak_changes
@@ -90,113 +91,198 @@ def _parse_region(text: str) -> tuple[int, int, int, int]:
     return x0, y0, x1, y1
 
 
-def main(args: argparse.Namespace) -> int:
-    import numpy as np
+@dataclass(frozen=True)
+class ComparePlan:
+    """The validated frames one ``compare`` run renders: every preset × iteration count ×
+    cascade count × SH order of ``base``, each against the reference."""
 
-    from explorer.lpv.settings import PRESETS, Settings
+    base: object                    # Settings (the scene, sizes, leak options, ...)
+    presets: list[str]
+    iterations: list[int]
+    cascade_counts: list[int]
+    sh_orders: list[int]
+    regions: list[tuple[int, int, int, int]]
+    visibility: bool
+    min_distance: float | None      # None: half a cell of the frame's grid
 
-    try:
-        regions = [_parse_region(text) for text in args.region]
-        iterations = _parse_iterations(args.iterations)
-        cascade_counts = _parse_cascades(args.cascades)
-        sh_orders = _parse_sh_orders(args.sh_order)
-        for name in ("width", "height", "rsm_size"):
-            if getattr(args, name) < 1:
-                raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
-        if args.min_distance is not None and not args.min_distance >= 0:
-            raise ValueError("--min-distance must be >= 0")
-        if args.error_scale is not None and not args.error_scale > 0:
-            raise ValueError("--error-scale must be positive")
-        changes = {"scene": args.scene, "width": args.width, "height": args.height,
-                   "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume,
-                   "cascade_iterations": args.cascade_iterations}
-        if args.grid_size is not None:
-            changes["grid_size"] = args.grid_size
-        changes.update(leak_changes(args))
-        base = Settings(**changes, cascades=max(cascade_counts))   # validates the count
-        for order in sh_orders:   # L2 refuses some combinations (e.g. cascades)
-            for count in cascade_counts:
-                base.with_changes(sh_order=order, cascades=count)
-        if iterations is None:
-            iterations = [base.iterations]
-    except ValueError as exc:
-        return _fail(str(exc))
 
-    from explorer.gl.context import (GLUnavailableError, create_headless_context,
-                                     release_headless_context)
-    from explorer.lpv.pipeline import Pipeline
-    from explorer.scene import SceneError
-    from explorer.truth.gbuffer import scene_for
-    from explorer.truth.metrics import EmptyRegionError, error_image, error_stats, rect_mask
-    from explorer.truth.render import reference_for_frame
+@dataclass
+class CompareRow:
+    """One line of the table: a frame's metrics over the whole image or one region
+    (``stats`` None: the region held no visible pixel)."""
 
-    try:
-        scene = scene_for(base)
-    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
-        return _fail(f"cannot load scene {args.scene!r}: {exc}")
-    try:
-        ctx = create_headless_context()
-    except GLUnavailableError as exc:
-        return _fail(str(exc), 1)
+    preset: str
+    iterations: int
+    cascades: int
+    sh_order: int
+    region: str                     # "image" or "x0,y0,x1,y1"
+    stats: object | None            # explorer.truth.metrics.ErrorStats
 
+
+@dataclass
+class Comparison:
+    rows: list[CompareRow]
+    images: dict[str, object]       # PNG label -> the LPV's indirect image (H, W, 3)
+    reference: object               # the reference image of the last frame (H, W, 3)
+    valid: object                   # (H, W) pixels that see a surface
+    frame: object                   # the last FrameResult (its settings head the table)
+
+
+class ReferenceCache:
+    """Reference images already rendered in this process, reused for a frame with the same
+    scene, image size, visibility, ``r_min`` and VPLs (the reference depends on nothing
+    else): the presets, iteration counts and options of one scene share one reference."""
+
+    def __init__(self) -> None:
+        self._entries: list[tuple[tuple, object, tuple]] = []
+
+    def get(self, key: tuple, vpls) -> tuple | None:
+        for entry_key, entry_vpls, value in self._entries:
+            if entry_key == key and _same_vpls(vpls, entry_vpls):
+                return value
+        return None
+
+    def put(self, key: tuple, vpls, value: tuple) -> None:
+        self._entries.append((key, vpls, value))
+
+
+def plan_comparison(args: argparse.Namespace, scene=None) -> ComparePlan:
+    """The frames ``args`` asks for; ValueError names the bad option. ``scene`` (loaded
+    when None) gives the single grid's cell for ``r_min`` with cascades."""
+    from explorer.lpv.settings import Settings
+
+    regions = [_parse_region(text) for text in args.region]
+    iterations = _parse_iterations(args.iterations)
+    cascade_counts = _parse_cascades(args.cascades)
+    sh_orders = _parse_sh_orders(args.sh_order)
+    for name in ("width", "height", "rsm_size"):
+        if getattr(args, name) < 1:
+            raise ValueError(f"--{name.replace('_', '-')} must be at least 1")
+    if args.min_distance is not None and not args.min_distance >= 0:
+        raise ValueError("--min-distance must be >= 0")
+    if getattr(args, "error_scale", None) is not None and not args.error_scale > 0:
+        raise ValueError("--error-scale must be positive")
+    changes = {"scene": args.scene, "width": args.width, "height": args.height,
+               "rsm_size": args.rsm_size, "geometry_volume": args.geometry_volume,
+               "cascade_iterations": args.cascade_iterations}
+    if args.grid_size is not None:
+        changes["grid_size"] = args.grid_size
+    changes.update(leak_changes(args))
+    base = Settings(**changes, cascades=max(cascade_counts))   # validates the count
+    for order in sh_orders:   # L2 refuses some combinations (e.g. cascades)
+        for count in cascade_counts:
+            base.with_changes(sh_order=order, cascades=count)
     min_distance = args.min_distance
     if min_distance is None and max(cascade_counts) > 1:
         # one reference for every cascade count: half a cell of the single grid (cascade
         # 0's cells shrink with more cascades, the reference must not)
         from explorer.lpv.grid import GridSpec
+        from explorer.truth.gbuffer import scene_for
 
+        scene = scene if scene is not None else scene_for(base)
         single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, base.grid_size)
         min_distance = 0.5 * single.cell_size
-    names = ["original", "corrected"] if args.preset == "all" else [args.preset]
-    visibility = args.reference == "visible"
-    out = args.out if args.out is not None else Path(f"compare-{Path(args.scene).stem}")
+    return ComparePlan(base, ["original", "corrected"] if args.preset == "all"
+                       else [args.preset], iterations or [base.iterations], cascade_counts,
+                       sh_orders, regions, args.reference == "visible", min_distance)
+
+
+def run_comparison(plan: ComparePlan, ctx, scene, references: ReferenceCache | None = None,
+                   progress: bool = False, label_cascades: bool = False,
+                   label_sh_order: bool = False) -> Comparison:
+    """Render every frame of ``plan`` and its metrics against the one-bounce reference
+    (rendered once per distinct VPL set, or taken from ``references``). The PNG labels
+    name the iteration count when there are several, and the cascade count and SH order
+    when ``label_cascades`` / ``label_sh_order``."""
+    import numpy as np
+
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.lpv.settings import PRESETS
+    from explorer.truth.metrics import EmptyRegionError, error_stats, rect_mask
+    from explorer.truth.render import reference_for_frame
+
+    references = references if references is not None else ReferenceCache()
+    base = plan.base
     pipeline = Pipeline(base, ctx)
-    rows = []
-    images = {}
-    reference = gbuffer = reference_vpls = frame = None
+    rows, images = [], {}
+    reference = gbuffer = frame = None
     try:
-        for name in names:
-            for steps, count, order in [(i, k, o) for i in iterations for k in cascade_counts
-                                        for o in sh_orders]:
+        for name in plan.presets:
+            for steps, count, order in [(i, k, o) for i in plan.iterations
+                                        for k in plan.cascade_counts for o in plan.sh_orders]:
                 frame = pipeline.run(base.with_changes(corrections=PRESETS[name],
                                                        iterations=steps, cascades=count,
                                                        sh_order=order))
-                if reference is None or not _same_vpls(frame.vpls, reference_vpls):
+                key = (base.scene, base.width, base.height, plan.visibility,
+                       plan.min_distance if plan.min_distance is not None
+                       else 0.5 * frame.grid_spec.cell_size)
+                cached = references.get(key, frame.vpls)
+                if cached is None:
                     started = time.perf_counter()
-                    reference, gbuffer = reference_for_frame(
-                        frame, visibility, min_distance, ctx=ctx, scene=scene,
-                        progress=None if args.quiet else _progress_printer())
-                    reference_vpls = frame.vpls
-                    if not args.quiet:
-                        print(f"\rreference ({args.reference}, {frame.vpls.count} VPLs): "
+                    cached = reference_for_frame(
+                        frame, plan.visibility, plan.min_distance, ctx=ctx, scene=scene,
+                        progress=_progress_printer() if progress else None)
+                    references.put(key, frame.vpls, cached)
+                    if progress:
+                        kind = "visible" if plan.visibility else "unoccluded"
+                        print(f"\rreference ({kind}, {frame.vpls.count} VPLs): "
                               f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
+                reference, gbuffer = cached
                 valid = gbuffer.valid
                 lpv = np.asarray(frame.indirect, np.float64)[..., :3]
-                label = name if len(iterations) == 1 else f"{name}-it{steps}"
-                if args.cascades is not None:
+                label = name if len(plan.iterations) == 1 else f"{name}-it{steps}"
+                if label_cascades:
                     label += f"-c{count}"
-                    steps = (steps, count)   # the table's iterations cell: "8, 2 cascades"
-                shown = name
-                if args.sh_order is not None:
+                if label_sh_order:
                     label += f"-L{order}"
-                    shown = f"{name} L{order}"   # the table's preset cell: "corrected L2"
                 images[label] = lpv
-                rows.append((shown, steps, "image", error_stats(lpv, reference, valid)))
-                for rect in regions:
+                rows.append(CompareRow(name, steps, count, order, "image",
+                                       error_stats(lpv, reference, valid)))
+                for rect in plan.regions:
                     mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
                     try:
                         stats = error_stats(lpv, reference, mask)
                     except EmptyRegionError:
                         stats = None
-                    rows.append((shown, steps, ",".join(map(str, rect)), stats))
+                    rows.append(CompareRow(name, steps, count, order, ",".join(map(str, rect)),
+                                           stats))
     finally:
         pipeline.release()
+    return Comparison(rows, images, reference, gbuffer.valid, frame)
+
+
+def main(args: argparse.Namespace) -> int:
+    from explorer.gl.context import (GLUnavailableError, create_headless_context,
+                                     release_headless_context)
+    from explorer.lpv.settings import Settings
+    from explorer.scene import SceneError
+    from explorer.truth.gbuffer import scene_for
+    from explorer.truth.metrics import error_image
+
+    try:
+        scene = scene_for(Settings(scene=args.scene))
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
+        return _fail(f"cannot load scene {args.scene!r}: {exc}")
+    try:
+        plan = plan_comparison(args, scene)
+    except ValueError as exc:
+        return _fail(str(exc))
+    try:
+        ctx = create_headless_context()
+    except GLUnavailableError as exc:
+        return _fail(str(exc), 1)
+    try:
+        comparison = run_comparison(plan, ctx, scene, progress=not args.quiet,
+                                    label_cascades=args.cascades is not None,
+                                    label_sh_order=args.sh_order is not None)
+    finally:
         release_headless_context(ctx)
 
-    table = format_table(rows, args, frame)
+    table = format_table(comparison.rows, args, comparison.frame)
     print(table)
+    out = args.out if args.out is not None else Path(f"compare-{Path(args.scene).stem}")
     out.mkdir(parents=True, exist_ok=True)
-    valid = gbuffer.valid
+    reference, valid = comparison.reference, comparison.valid
     exposure = args.exposure or _auto_exposure(reference, valid)
     _save(out / "reference.png", reference * exposure)
     written = ["reference.png"]
@@ -205,7 +291,7 @@ def main(args: argparse.Namespace) -> int:
         # One scale for every error image so that they compare: three stops for the log
         # ratio; for the difference, the reference's bright end (99th percentile).
         scale = LOG2_DEFAULT_SCALE if args.error_mode == "log2-ratio" else 1.0 / exposure
-    for label, lpv in images.items():
+    for label, lpv in comparison.images.items():
         _save(out / f"lpv-{label}.png", lpv * exposure)
         error = error_image(lpv, reference, valid, args.error_mode, scale)
         _save_error(out / f"error-{label}.png", error)
@@ -273,28 +359,45 @@ def _progress_printer():
     return report
 
 
-def format_table(rows, args, frame) -> str:
-    """Markdown table: one row per preset, iteration count and region."""
+METRIC_HEADERS = ("rel. L2", "RMSE", "flux ratio LPV/ref", "ratio r, g, b")
+METRIC_ALIGN = ("---:", "---:", "---:", "---")
+
+
+def metric_cells(stats) -> list[str]:
+    """The table cells of an ErrorStats (:data:`METRIC_HEADERS`), as every table of
+    docs/ERRORS.md prints them; None (an empty region) gives dashes."""
+    if stats is None:
+        return ["–", "–", "–", "empty region"]
+    return [f"{stats.relative_l2:.3f}", f"{stats.rmse:.4g}", f"{stats.flux_ratio:.3f}",
+            ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)]
+
+
+def settings_line(args: argparse.Namespace, frame) -> str:
+    """The line above the table: what was compared."""
     settings = frame.settings
+    return (f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
+            f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
+            f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
+            f"offset {settings.injection_offset_cells:g} cells, gather damping "
+            f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}")
+
+
+def format_table(rows: list[CompareRow], args: argparse.Namespace, frame) -> str:
+    """Markdown table: one row per preset, iteration count (and cascade count, SH order
+    when those options were given) and region."""
     lines = [
-        f"scene `{args.scene}`, reference `{args.reference}`, {settings.width}×"
-        f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
-        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
-        f"offset {settings.injection_offset_cells:g} cells, gather damping "
-        f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}",
+        settings_line(args, frame),
         "",
-        "| preset | iterations | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
-        "|---|---:|---|---:|---:|---:|---|",
+        "| preset | iterations | region | " + " | ".join(METRIC_HEADERS) + " |",
+        "|---|---:|---|" + "|".join(METRIC_ALIGN) + "|",
     ]
-    for name, steps, region, stats in rows:
-        if isinstance(steps, tuple):   # with --cascades
-            steps = f"{steps[0]}, {steps[1]} cascade{'s' if steps[1] > 1 else ''}"
-        if stats is None:
-            lines.append(f"| {name} | {steps} | {region} | – | – | – | empty region |")
-            continue
-        rgb = ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)
-        lines.append(f"| {name} | {steps} | {region} | {stats.relative_l2:.3f} | "
-                     f"{stats.rmse:.4g} | {stats.flux_ratio:.3f} | {rgb} |")
+    for row in rows:
+        name = row.preset if args.sh_order is None else f"{row.preset} L{row.sh_order}"
+        steps = str(row.iterations)
+        if args.cascades is not None:   # the iterations cell: "8, 2 cascades"
+            steps += f", {row.cascades} cascade{'s' if row.cascades > 1 else ''}"
+        lines.append(f"| {name} | {steps} | {row.region} | "
+                     + " | ".join(metric_cells(row.stats)) + " |")
     return "\n".join(lines)
 
 
