@@ -29,16 +29,21 @@ ivec3 sh_group_texel(ivec3 cell, int k) {
     imageStore(img, sh_group_texel(cell, 2), sh_stored_.g2); }
 #endif
 
-// Trilinear interpolation of the texels of `tex` at grid coordinates g [cells] (texel
-// centres at i + ½), clamped to the edge of the N³ block, for every texel group of the
-// light vector (group k of an L2 grid is the block starting at z texel k·N, layout above;
-// each group clamped to its own block, which is what clamp-to-edge does at the faces of a
-// separate N³ texture). These are the weights of a linear-filtered, clamp-to-edge texture
-// lookup, computed here in float32: a GPU's texture unit computes them with 8 fractional
-// bits (NVIDIA; D3D's SUBTEXEL_FRACTIONAL_BIT_COUNT), an error of up to 1/512 of the
-// difference between neighbouring texels that depends on the GPU. With texelFetch the
-// gather is float32-exact everywhere and matches the float64 numpy gather
-// (explorer/lpv/reference.py, docs/MODEL.md "Final gather") to about 1e-7.
+// Trilinear lookup of the grid (final gather, docs/MODEL.md "Final gather"): texel centres
+// at i + ½, clamped to the edge of the N³ block of each texel group (group k of an L2 grid
+// is the block starting at z texel k·N, layout above; clamping each group to its own block
+// is what clamp-to-edge does at the faces of a separate N³ texture).
+// SH_SHADER_FILTER 0: the texture unit's linear filter. 1: the same weights computed here
+// in float32 from 8 texelFetch per group. A GPU's texture unit computes the weights with 8
+// fractional bits (NVIDIA; D3D's SUBTEXEL_FRACTIONAL_BIT_COUNT), an error of up to 1/512 of
+// the difference between neighbouring texels, while llvmpipe's are float32 and 4-6 times
+// cheaper than the fetches here. explorer/lpv/gather.py measures the texture unit once per
+// context (filter_probe.glsl) and sets 1 where it is not exact, so the gather matches the
+// float64 numpy gather (explorer/lpv/reference.py) to float32 precision on every GPU.
+#ifndef SH_SHADER_FILTER
+#define SH_SHADER_FILTER 0
+#endif
+
 vec4 sh_trilinear_block(sampler3D tex, ivec3 lo, ivec3 hi, vec3 f, int dz) {
     return mix(mix(mix(texelFetch(tex, ivec3(lo.x, lo.y, lo.z + dz), 0),
                        texelFetch(tex, ivec3(hi.x, lo.y, lo.z + dz), 0), f.x),
@@ -55,6 +60,7 @@ vec4 sh_trilinear_block(sampler3D tex, ivec3 lo, ivec3 hi, vec3 f, int dz) {
 // cascade, cascades.glsl).
 ShVec sh_sample_cells(sampler3D tex, vec3 g) {
     int n = u_grid_resolution;
+#if SH_SHADER_FILTER
     vec3 t = clamp(g - 0.5, vec3(0.0), vec3(float(n - 1)));
     ivec3 lo = ivec3(floor(t));
     ivec3 hi = min(lo + 1, ivec3(n - 1));
@@ -65,6 +71,19 @@ ShVec sh_sample_cells(sampler3D tex, vec3 g) {
     return ShL2(sh_trilinear_block(tex, lo, hi, f, 0),
                 sh_trilinear_block(tex, lo, hi, f, n),
                 sh_trilinear_block(tex, lo, hi, f, 2 * n));
+#endif
+#else
+#if SH_ORDER == 1
+    return textureLod(tex, g / float(n), 0.0);
+#else
+    // per group the z coordinate is clamped to the group's texel centres
+    vec2 xy = g.xy / float(n);
+    float z = clamp(g.z, 0.5, float(n) - 0.5);
+    float depth = 3.0 * float(n);
+    return ShL2(textureLod(tex, vec3(xy, z / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + float(n)) / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + 2.0 * float(n)) / depth), 0.0));
+#endif
 #endif
 }
 

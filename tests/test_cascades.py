@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from lpv_cases import relative_error
 from test_pass_gather import (
+    FILTERS,
     TOLERANCE,
+    filtering,
     setup,  # noqa: F401 (the fixture)
     smooth_grid,
     visible_points,
@@ -118,7 +120,8 @@ def test_blend_weights_are_a_continuous_partition_of_unity():
     assert own_weight(fine, np.array(fine.origin)[None])[0] == 0.0
 
 
-def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture)
+@FILTERS
+def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811 (fixture)
     _, scene, view, shadow, gbuffer, gather, grid, spec = setup
     n = spec.resolution
     specs = cascade_specs(spec, 2, (0.1, -0.3, 0.05))
@@ -129,7 +132,8 @@ def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture
         coarse.write(values[1])
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
-        gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades)
+        with filtering(gather, shader_filter):
+            gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()

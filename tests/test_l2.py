@@ -270,9 +270,10 @@ def test_pipeline_with_l2(ctx):
 # ------------------------------------------------------------------ cascades
 
 
-def test_l2_cascade_gather_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture)
+@pytest.mark.parametrize("shader_filter", [False, True], ids=["texture-unit", "shader-filter"])
+def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811
     """Two L2 cascades in the final gather: Σ_k W_k·clamp+(<s_k, lobe₂(−n)>)/c_k²."""
-    from test_pass_gather import TOLERANCE, smooth_grid, visible_points
+    from test_pass_gather import TOLERANCE, filtering, smooth_grid, visible_points
 
     from explorer.lpv.cascades import CascadeInput, blend_weights, cascade_specs
     from explorer.lpv.rsm import read_texture
@@ -289,8 +290,9 @@ def test_l2_cascade_gather_blends_like_numpy(setup, ctx):  # noqa: F811 (the fix
         for grid, value in zip(grids, values):
             grid.write(value)
         cascades = [CascadeInput(s, g.textures) for s, g in zip(specs, grids)]
-        gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades,
-                   sh_order=2)
+        with filtering(gather, shader_filter):
+            gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades,
+                       sh_order=2)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         for grid in grids:

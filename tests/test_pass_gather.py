@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -11,7 +12,7 @@ from lpv_cases import relative_error
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import reference as ref
-from explorer.lpv.gather import GatherPass
+from explorer.lpv.gather import EXACT_FILTER, GatherPass, linear_filter_error
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
@@ -25,9 +26,24 @@ IMAGE = (48, 40)
 ALBEDO = np.array([0.9, 0.6, 0.3])
 TOLERANCE = 1e-5
 """GPU against the float64 reference, relative to the largest expected value: the same
-bound as the injection and geometry passes. The gather interpolates in float32 in the
-shader (shaders/sh_grid.glsl), so the two agree to about 5e-7 on llvmpipe; a 1 % change
-anywhere in the gather is 1e3 times this."""
+bound as the injection and geometry passes. Both ways of interpolating the grid
+(shaders/sh_grid.glsl: the texture unit where its weights are exact, as on llvmpipe, or the
+shader's own float32 weights) agree with the reference to about 5e-7 on llvmpipe; a 1 %
+change anywhere in the gather is 1e3 times this."""
+FILTERS = pytest.mark.parametrize("shader_filter", [False, True],
+                                  ids=["texture-unit", "shader-filter"])
+
+
+@contextlib.contextmanager
+def filtering(gather: GatherPass, shader_filter: bool):
+    """Run the gather with the grid interpolated by the texture unit or by the shader,
+    whichever this GPU would pick (GatherPass.shader_filter)."""
+    chosen = gather.shader_filter
+    gather.shader_filter = shader_filter
+    try:
+        yield
+    finally:
+        gather.shader_filter = chosen
 
 
 @pytest.fixture(scope="module")
@@ -85,15 +101,17 @@ def visible_points(gbuffer: GBufferPass) -> tuple[np.ndarray, np.ndarray, np.nda
     return position[valid][:, :3], normal[valid], albedo[valid], valid
 
 
+@FILTERS
 @pytest.mark.parametrize("damping", [False, True], ids=["plain", "damping"])
-def test_indirect_matches_numpy(setup, damping):
+def test_indirect_matches_numpy(setup, damping, shader_filter):
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     values = smooth_grid(spec)
     if damping:   # brighter towards −y: the floor (normal +y) gets light from behind
         values = values[:, :, ::-1].copy()
     grid.write(values)
-    gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0, indirect_only=False,
-               damping=damping)
+    with filtering(gather, shader_filter):
+        gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0,
+                   indirect_only=False, damping=damping)
     points, normals, albedo, valid = visible_points(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert valid.mean() > 0.3
@@ -109,7 +127,8 @@ def test_indirect_matches_numpy(setup, damping):
         assert irradiance.sum() < 0.99 * ref.gather(values, spec, points, normals).sum()
 
 
-def test_l2_indirect_matches_numpy(setup):
+@FILTERS
+def test_l2_indirect_matches_numpy(setup, shader_filter):
     """sh_order 2: E = <s, lobe_L2(−n)>/cell², with s sampled trilinearly from the 3 texel
     groups stacked along z (clamped to each group's own edge)."""
     ctx, scene, view, shadow, gbuffer, gather, _, _ = setup
@@ -123,8 +142,9 @@ def test_l2_indirect_matches_numpy(setup):
     grid = LpvGrid(ctx, N, sh_order=2)
     try:
         grid.write(values)
-        gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0,
-                   indirect_only=False, sh_order=2)
+        with filtering(gather, shader_filter):
+            gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0,
+                       indirect_only=False, sh_order=2)
     finally:
         grid.release()
     points, normals, albedo, valid = visible_points(gbuffer)
@@ -186,3 +206,14 @@ def test_exposure_indirect_only_and_display(setup):
     gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=2.5, indirect_only=True)
     final = read_texture(gather.targets["final"])[..., :3]
     assert np.allclose(final, 2.5 * indirect, rtol=1e-5, atol=1e-7)
+
+
+def test_the_gather_filters_in_the_shader_where_the_texture_unit_is_not_exact(setup):
+    """filter_probe.glsl measures the texture unit's weights: any conformant filter errs by
+    less than 1/256 (8 fractional bits); the gather interpolates in the shader exactly when
+    the error is above EXACT_FILTER (llvmpipe: about 1e-7, so the texture unit is used)."""
+    ctx, *_, gather, _, _ = setup
+    error = linear_filter_error(ctx)
+    assert 0.0 <= error < 2.0 ** -8
+    assert gather.shader_filter == (error > EXACT_FILTER)
+    assert linear_filter_error(ctx) == error   # measured once per context

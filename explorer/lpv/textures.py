@@ -75,9 +75,10 @@ class VolumeTexture:
         self.format = check_format(fmt)
         self.texture = ctx.texture3d((self.size, self.size, self.depth), 4,
                                      dtype=_TEXTURE_DTYPES[fmt])
-        # Every shader reads texels with texelFetch: the final gather interpolates in the
-        # shader (sh_grid.glsl, float32 weights instead of the texture unit's 8-bit ones).
-        self.texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        # Linear filtering for the final gather's trilinear lookups (where the texture
+        # unit's weights are exact, see sh_grid.glsl); clamp to the edge so the border
+        # cells do not blend with the opposite side.
+        self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
 
     @property
@@ -158,7 +159,7 @@ class LpvGrid:
 
     def use_as_textures(self, first_location: int) -> None:
         """Bind r, g, b as sampler3D units ``first_location`` .. ``first_location + 2``
-        (read with texelFetch; the final gather interpolates in the shader)."""
+        (linear filtering, clamped to the edge)."""
         for offset, texture in enumerate(self.textures):
             texture.use(first_location + offset)
 
