@@ -195,7 +195,7 @@ class LayeredTarget:
     """``count`` layered 2D-array render targets of ``size``³ texels: points drawn with
     ``gl_Layer = z`` land in texel ``(x, y, z)``. moderngl refuses a 3D texture as a
     framebuffer attachment, so the point passes render here and :func:`copy_volume` moves
-    each layer stack into its 3D texture (DESIGN.md "Platform facts"). ``depth`` layers
+    each layer stack into its 3D texture. ``depth`` layers
     (default ``size``)."""
 
     def __init__(self, ctx: moderngl.Context, size: int, count: int, fmt: str,

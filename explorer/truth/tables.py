@@ -80,10 +80,11 @@ def save(data: dict, path: Path = DATA) -> None:
     for index, name in enumerate(names):
         table = data["tables"][name]
         lines.append(f"    {json.dumps(name)}: {{")
-        keys = [key for key in table if key != "rows"]
-        for key in keys:
+        for key in (key for key in table if key not in ("runs", "rows")):
             value = json.dumps(table[key], ensure_ascii=False)
             lines.append(f"      {json.dumps(key)}: {value},")
+        runs = [f"        {json.dumps(run, ensure_ascii=False)}" for run in table["runs"]]
+        lines.append('      "runs": [\n' + ",\n".join(runs) + "\n      ],")
         rows = [f"        {json.dumps(row, ensure_ascii=False)}" for row in table.get("rows", [])]
         lines.append('      "rows": [' + ("\n" + ",\n".join(rows) + "\n      ]" if rows else "]"))
         lines.append("    }" + ("," if index < len(names) - 1 else ""))
