@@ -86,3 +86,39 @@ def test_document_and_data_file_must_name_the_same_tables():
     with pytest.raises(ValueError, match="blocks of no table: nope"):
         tables.render_document(f"{tables.marker('nope')}\n<!-- end measured -->\n",
                                dict(DATA, tables={}))
+
+
+README_SOURCES = {
+    ("cornell", "—"): ("cornell-visible", {}),
+    ("room", "—"): ("room-visible", {}),
+    ("cornell", "one-sided geometry volume"): ("bounces-cornell",
+                                               {"variant": "one-sided, bounces 1"}),
+    ("room", "one-sided geometry volume"): ("bounces-room", {"variant": "one-sided, bounces 1"}),
+}
+"""Where each row of the README's accuracy table comes from: (scene, variant) -> (table,
+run labels)."""
+
+
+def test_readme_accuracy_table_quotes_the_recorded_values():
+    """Each "relative L2 / flux ratio" cell of README.md's "How accurate is LPV" table is the
+    recorded row of that scene, preset and iteration count ("same": equal to the 4-iteration
+    cell), so re-measuring shows a stale README here."""
+    text = (tables.ROOT / "README.md").read_text(encoding="utf-8")
+    section = text[text.index("## How accurate is LPV"):text.index("## Benchmarks")]
+    lines = [line for line in section.splitlines()
+             if line.startswith(("| cornell |", "| room |"))]
+    assert len(lines) == len(README_SOURCES) + 2   # + the two "original" rows
+    for line in lines:
+        scene, preset, variant, *cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        name, labels = README_SOURCES[(scene, variant)]
+        rows = DATA["tables"][name]["rows"]
+        first = None
+        for iterations, cell in zip((4, 8, 16), cells):
+            row, = [r for r in rows if r["labels"] == labels and r["preset"] == preset
+                    and r["iterations"] == iterations and r["region"] == "image"]
+            recorded = f"{row['relative_l2']:.3f} / {row['flux_ratio']:.3f}"
+            first = first or recorded
+            if cell == "same":
+                assert recorded == first, (line, iterations)
+            else:
+                assert cell.replace("**", "") == recorded, (line, iterations)
