@@ -6,8 +6,10 @@
 //   3 the same in sRGB for the RGBA8 display texture,
 //   4 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
 //     from the LPV (summed by the energy audit).
-// SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe.
+// SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe. SH_SHADER_FILTER:
+// the grid lookup's interpolation (sh_grid.glsl).
 #define SH_ORDER 1
+#define SH_SHADER_FILTER 0
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"

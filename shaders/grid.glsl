@@ -1,6 +1,6 @@
 #version 430 core
 // World <-> grid mapping of docs/MODEL.md; the uniforms are GridSpec.uniforms().
-// Grid coordinate g = (p - origin)/cell_size, cell index floor(g), texture coordinate g/N.
+// Grid coordinate g = (p - origin)/cell_size, cell index floor(g).
 #ifndef GRID_GLSL
 #define GRID_GLSL 1
 
@@ -14,10 +14,6 @@ vec3 grid_coords(vec3 world) {
 
 ivec3 grid_cell(vec3 world) {
     return ivec3(floor(grid_coords(world)));
-}
-
-vec3 grid_texcoord(vec3 world) {
-    return grid_coords(world) / float(u_grid_resolution);
 }
 
 // Whether an integer cell lies in a cube of `resolution` cells per axis.

@@ -7,6 +7,8 @@
 // In place (the DX11 shader): neighbours are read from the very image being written and the
 // step is added to it, acc += P(acc). Invocations race: some neighbours are already updated
 // when read, so the result depends on the GPU's invocation order. Kept to show the hazard.
+// What it can produce (one value per schedule of neighbour reads) is
+// explorer/lpv/reference.py in_place_step_candidates.
 //
 // The same dispatch measures the step's energy audit (GridAudit): every cell writes 18
 // numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,

@@ -29,36 +29,67 @@ ivec3 sh_group_texel(ivec3 cell, int k) {
     imageStore(img, sh_group_texel(cell, 2), sh_stored_.g2); }
 #endif
 
-// L2: trilinear sample of the three groups at grid coordinates g [cells], clamped to the
-// edge. Per group the z coordinate is clamped to the group's texel centres, which is
-// exactly what clamp-to-edge does at the faces of a separate N³ texture.
-ShL2 sh2_sample_groups(sampler3D tex, vec3 g) {
-    float n = float(u_grid_resolution);
-    vec2 xy = g.xy / n;
-    float z = clamp(g.z, 0.5, n - 0.5);
-    float depth = 3.0 * n;
-    return ShL2(textureLod(tex, vec3(xy, z / depth), 0.0),
-                textureLod(tex, vec3(xy, (z + n) / depth), 0.0),
-                textureLod(tex, vec3(xy, (z + 2.0 * n) / depth), 0.0));
-}
-
-// Trilinear sample of the grid at a world point (final gather), clamped to the edge.
-ShVec sh_sample_grid(sampler3D tex, vec3 world) {
-#if SH_ORDER == 1
-    return texture(tex, grid_texcoord(world));
-#else
-    return sh2_sample_groups(tex, grid_coords(world));
+// Trilinear lookup of the grid (final gather, docs/MODEL.md "Final gather"): texel centres
+// at i + ½, clamped to the edge of the N³ block of each texel group (group k of an L2 grid
+// is the block starting at z texel k·N, layout above; clamping each group to its own block
+// is what clamp-to-edge does at the faces of a separate N³ texture).
+// SH_SHADER_FILTER 0: the texture unit's linear filter. 1: the same weights computed here
+// in float32 from 8 texelFetch per group. A GPU's texture unit computes the weights with 8
+// fractional bits (NVIDIA; D3D's SUBTEXEL_FRACTIONAL_BIT_COUNT), an error of up to 1/512 of
+// the difference between neighbouring texels, while llvmpipe's are float32 and 4-6 times
+// cheaper than the fetches here. explorer/lpv/gather.py measures the texture unit once per
+// context (filter_probe.glsl) and sets 1 where it is not exact, so the gather matches the
+// float64 numpy gather (explorer/lpv/reference.py) to float32 precision on every GPU.
+#ifndef SH_SHADER_FILTER
+#define SH_SHADER_FILTER 0
 #endif
+
+vec4 sh_trilinear_block(sampler3D tex, ivec3 lo, ivec3 hi, vec3 f, int dz) {
+    return mix(mix(mix(texelFetch(tex, ivec3(lo.x, lo.y, lo.z + dz), 0),
+                       texelFetch(tex, ivec3(hi.x, lo.y, lo.z + dz), 0), f.x),
+                   mix(texelFetch(tex, ivec3(lo.x, hi.y, lo.z + dz), 0),
+                       texelFetch(tex, ivec3(hi.x, hi.y, lo.z + dz), 0), f.x), f.y),
+               mix(mix(texelFetch(tex, ivec3(lo.x, lo.y, hi.z + dz), 0),
+                       texelFetch(tex, ivec3(hi.x, lo.y, hi.z + dz), 0), f.x),
+                   mix(texelFetch(tex, ivec3(lo.x, hi.y, hi.z + dz), 0),
+                       texelFetch(tex, ivec3(hi.x, hi.y, hi.z + dz), 0), f.x), f.y), f.z);
 }
 
-// The same at grid coordinates g [cells] of a grid with u_grid_resolution cells per axis
-// but its own origin and cell size (a cascade, cascades.glsl); explicit LOD 0.
+// Trilinear sample of the grid's light vector at grid coordinates g [cells] of a grid with
+// u_grid_resolution cells per axis (its own origin and cell size: the single grid or a
+// cascade, cascades.glsl).
 ShVec sh_sample_cells(sampler3D tex, vec3 g) {
+    int n = u_grid_resolution;
+#if SH_SHADER_FILTER
+    vec3 t = clamp(g - 0.5, vec3(0.0), vec3(float(n - 1)));
+    ivec3 lo = ivec3(floor(t));
+    ivec3 hi = min(lo + 1, ivec3(n - 1));
+    vec3 f = t - vec3(lo);
 #if SH_ORDER == 1
-    return textureLod(tex, g / float(u_grid_resolution), 0.0);
+    return sh_trilinear_block(tex, lo, hi, f, 0);
 #else
-    return sh2_sample_groups(tex, g);
+    return ShL2(sh_trilinear_block(tex, lo, hi, f, 0),
+                sh_trilinear_block(tex, lo, hi, f, n),
+                sh_trilinear_block(tex, lo, hi, f, 2 * n));
 #endif
+#else
+#if SH_ORDER == 1
+    return textureLod(tex, g / float(n), 0.0);
+#else
+    // per group the z coordinate is clamped to the group's texel centres
+    vec2 xy = g.xy / float(n);
+    float z = clamp(g.z, 0.5, float(n) - 0.5);
+    float depth = 3.0 * float(n);
+    return ShL2(textureLod(tex, vec3(xy, z / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + float(n)) / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + 2.0 * float(n)) / depth), 0.0));
+#endif
+#endif
+}
+
+// The same at a world point of the grid of grid.glsl (final gather).
+ShVec sh_sample_grid(sampler3D tex, vec3 world) {
+    return sh_sample_cells(tex, grid_coords(world));
 }
 
 #endif

@@ -75,3 +75,26 @@ def transform_grid(grid: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     out[:, moved[0], moved[1], moved[2]] = np.stack(
         [coefficients[..., 0], -rotated[..., 1], rotated[..., 2], -rotated[..., 0]], -1)
     return out
+
+
+def in_place_schedules(steps: list[np.ndarray], corrections, geometry=None,
+                       geometry_albedo=None, bounces: int = 1) -> tuple[float, np.ndarray]:
+    """For GPU in-place steps (grid_0 and the light each step added): the largest distance,
+    relative to the largest accumulated value, between a step and the nearest value the
+    in-place pass can produce (:func:`explorer.lpv.reference.in_place_step_candidates`,
+    given the GPU's own accumulation before and after the step), and per step the number
+    of (channel, cell) pairs whose nearest read schedule is not the race-free one."""
+    from explorer.lpv.reference import in_place_step_candidates
+
+    before = np.asarray(steps[0], np.float64)
+    worst, raced = 0.0, []
+    for step in steps[1:]:
+        step = np.asarray(step, np.float64)
+        after = before + step
+        candidates = in_place_step_candidates(before, after, corrections, geometry,
+                                              geometry_albedo, bounces)
+        distance = np.abs(candidates - step[None]).max(axis=-1)     # (64, 3, N, N, N)
+        worst = max(worst, float(distance.min(axis=0).max()) / float(np.abs(after).max()))
+        raced.append(int((distance.argmin(axis=0) != 0).sum()))
+        before = after
+    return worst, np.array(raced)

@@ -7,15 +7,18 @@ import json
 
 import numpy as np
 import pytest
+from lpv_cases import relative_error
 from test_pass_gather import (
-    lobe,
-    read_gbuffer,
+    FILTERS,
+    TOLERANCE,
+    filtering,
     setup,  # noqa: F401 (the fixture)
     smooth_grid,
-    trilinear,
+    visible_points,
 )
 
 from explorer.cli import main as cli_main
+from explorer.lpv import reference as ref
 from explorer.lpv.cascades import (
     CASCADE_BAND_CELLS,
     CASCADE_EDGE_CELLS,
@@ -117,7 +120,8 @@ def test_blend_weights_are_a_continuous_partition_of_unity():
     assert own_weight(fine, np.array(fine.origin)[None])[0] == 0.0
 
 
-def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture)
+@FILTERS
+def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811 (fixture)
     _, scene, view, shadow, gbuffer, gather, grid, spec = setup
     n = spec.resolution
     specs = cascade_specs(spec, 2, (0.1, -0.3, 0.05))
@@ -128,22 +132,17 @@ def test_gather_shader_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture
         coarse.write(values[1])
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
-        gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades)
+        with filtering(gather, shader_filter):
+            gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
-    position, normal, albedo, valid = read_gbuffer(gbuffer)
-    points = position[valid][:, :3]
+    points, normals, albedo, valid = visible_points(gbuffer)
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))   # the band is on screen
-    expected = np.zeros((len(points), 3))
-    for k, cascade in enumerate(specs):
-        s = trilinear(values[k].astype(np.float64), cascade.grid_coords(points))
-        irradiance = np.maximum(np.einsum("cmk,mk->mc", s, lobe(-normal[valid])), 0.0)
-        expected += weights[:, k:k + 1] * irradiance / cascade.cell_size ** 2
-    expected *= albedo[valid] / np.pi
-    got = indirect[valid]
-    assert np.max(np.abs(got - expected)) <= 2e-3 * np.max(np.abs(expected))
+    expected = ref.indirect_radiance(albedo, ref.gather_cascades(values, specs, points,
+                                                                 normals))
+    assert relative_error(indirect[valid], expected) < TOLERANCE
 
 
 def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ctx: no GL errors

@@ -270,9 +270,10 @@ def test_pipeline_with_l2(ctx):
 # ------------------------------------------------------------------ cascades
 
 
-def test_l2_cascade_gather_blends_like_numpy(setup, ctx):  # noqa: F811 (the fixture)
+@pytest.mark.parametrize("shader_filter", [False, True], ids=["texture-unit", "shader-filter"])
+def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811
     """Two L2 cascades in the final gather: Σ_k W_k·clamp+(<s_k, lobe₂(−n)>)/c_k²."""
-    from test_pass_gather import smooth_grid, trilinear
+    from test_pass_gather import TOLERANCE, filtering, smooth_grid, visible_points
 
     from explorer.lpv.cascades import CascadeInput, blend_weights, cascade_specs
     from explorer.lpv.rsm import read_texture
@@ -289,27 +290,19 @@ def test_l2_cascade_gather_blends_like_numpy(setup, ctx):  # noqa: F811 (the fix
         for grid, value in zip(grids, values):
             grid.write(value)
         cascades = [CascadeInput(s, g.textures) for s, g in zip(specs, grids)]
-        gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades,
-                   sh_order=2)
+        with filtering(gather, shader_filter):
+            gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades,
+                       sh_order=2)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         for grid in grids:
             grid.release()
-    position = read_texture(gbuffer.position)
-    normal = read_texture(gbuffer.normal)[..., :3]
-    albedo = read_texture(gbuffer.albedo)[..., :3]
-    valid = position[..., 3] > 0.5
-    points = position[valid][:, :3]
+    points, normals, albedo, valid = visible_points(gbuffer)
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))
-    lobes = reference.cosine_lobe(-normal[valid], 2)
-    expected = np.zeros((len(points), 3))
-    for k, cascade in enumerate(specs):
-        s = trilinear(values[k].astype(np.float64), cascade.grid_coords(points))
-        irradiance = np.maximum(np.einsum("cmk,mk->mc", s, lobes), 0.0)
-        expected += weights[:, k:k + 1] * irradiance / cascade.cell_size ** 2
-    expected *= albedo[valid] / np.pi
-    assert np.max(np.abs(indirect[valid] - expected)) <= 2e-3 * np.max(np.abs(expected))
+    expected = reference.indirect_radiance(
+        albedo, reference.gather_cascades(values, specs, points, normals))
+    assert relative_error(indirect[valid], expected) < TOLERANCE
 
 
 def test_pipeline_with_l2_cascades(ctx):

@@ -79,10 +79,9 @@ def test_gather_damping_matches_the_numpy_gather(ctx, damping):
     valid = gbuffer.valid
     irradiance = ref.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
                             gbuffer.normal[valid], damping=damping)
-    expected = gbuffer.albedo[valid] / np.pi * irradiance
+    expected = ref.indirect_radiance(gbuffer.albedo[valid], irradiance)
     assert expected.max() > 0
-    np.testing.assert_allclose(frame.indirect[valid], expected, rtol=1e-3,
-                               atol=1e-5 * expected.max())
+    assert relative_error(frame.indirect[valid], expected) < 1e-5   # as tests/test_pass_gather
     if damping:
         undamped = ref.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
                               gbuffer.normal[valid])

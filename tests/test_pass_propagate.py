@@ -6,7 +6,7 @@ import itertools
 
 import numpy as np
 import pytest
-from lpv_cases import random_grid, random_vpls, relative_error
+from lpv_cases import in_place_schedules, random_grid, random_vpls, relative_error
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import inject, propagate, reference
@@ -92,6 +92,8 @@ def test_in_place_propagation_races_and_double_counts(ctx):
     gpu_steps, gpu_accumulated, gpu_audit = propagate_with_audit(grid, in_place, 3, ctx=ctx)
     gpu_in_place = sum(gpu_steps)
     assert relative_error(gpu_accumulated, gpu_in_place) < 1e-5
+    # each cell's step is the shader's formula for one schedule of neighbour reads
+    assert in_place_schedules(gpu_steps, in_place)[0] < 1e-5
     # The audit measures what the racing dispatch really added.
     assert np.allclose(gpu_audit.per_step, [reference.flux(step) for step in gpu_steps],
                        rtol=1e-4)

@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import itertools
+import subprocess
+import sys
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -108,3 +111,19 @@ def test_sh_helpers_hold_the_documented_values():
     assert np.isclose(R.flux(lobe[None, None, None, None])[0], np.pi)
     # the L1 lobe on its own axis: 1/4 + 1/2 (band 0 + band 1; the exact function gives 1)
     assert np.isclose(lobe @ R.sh_basis(direction), 0.25 + 0.5)
+
+
+def test_constants_are_the_derivations_not_the_generated_mirror():
+    """The reference evaluates its constants from the sympy derivations, so a constant the
+    codegen wrote wrongly into both mirrors (explorer/lpv/constants.py and the GLSL) makes
+    every GPU-against-reference test fail. It never imports the generated module."""
+    script = ("import sys; from explorer.lpv import reference as R; "
+              "[getattr(R.K, name) for name in R.DerivedConstants.DERIVATIONS]; "
+              "print('explorer.lpv.constants' in sys.modules)")
+    loaded = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            check=True, cwd=Path(__file__).resolve().parents[1])
+    assert loaded.stdout.strip() == "False"
+    for name in R.DerivedConstants.DERIVATIONS:   # today both agree to the last bit or two
+        assert getattr(R.K, name) == pytest.approx(getattr(K, name), rel=1e-15, abs=0)
+    with pytest.raises(AttributeError, match="no derived constant"):
+        R.K.SH_C9

@@ -88,12 +88,51 @@ def parse_region(text: str) -> tuple[int, int, int, int]:
 
 @dataclass(frozen=True)
 class Run:
-    """One LPV frame of the comparison and how the table names it."""
+    """One LPV frame of the comparison and how its files are named."""
 
     settings: Settings
     label: str        # file names: lpv-<label>.png, error-<label>.png
-    preset: str       # the table's preset cell
-    steps: object     # the table's iterations cell: N or (N, cascades)
+    preset: str       # the preset's name (the table adds the SH order when swept)
+
+
+@dataclass
+class CompareRow:
+    """One line of the table: a frame's metrics over the whole image or one region
+    (``stats`` None: the region held no visible pixel)."""
+
+    preset: str
+    iterations: int
+    cascades: int
+    sh_order: int
+    region: str                     # "image" or "x0,y0,x1,y1"
+    stats: object | None            # explorer.truth.metrics.ErrorStats
+
+
+@dataclass
+class Comparison:
+    rows: list[CompareRow]
+    images: dict[str, object]       # PNG label -> the LPV's indirect image (H, W, 3)
+    reference: object               # the reference image of the last frame (H, W, 3)
+    valid: object                   # (H, W) pixels that see a surface
+    frame: object                   # the last FrameResult (its settings head the table)
+
+
+class ReferenceCache:
+    """Reference images already rendered in this process, reused for a frame with the same
+    scene, image size, visibility, ``r_min`` and VPLs (the reference depends on nothing
+    else): the presets, iteration counts and options of one scene share one reference."""
+
+    def __init__(self) -> None:
+        self._entries: list[tuple[tuple, object, tuple]] = []
+
+    def get(self, key: tuple, vpls) -> tuple | None:
+        for entry_key, entry_vpls, value in self._entries:
+            if entry_key == key and _same_vpls(vpls, entry_vpls):
+                return value
+        return None
+
+    def put(self, key: tuple, vpls, value: tuple) -> None:
+        self._entries.append((key, vpls, value))
 
 
 def plan_runs(args: argparse.Namespace, base: Settings) -> list[Run]:
@@ -113,13 +152,12 @@ def plan_runs(args: argparse.Namespace, base: Settings) -> list[Run]:
                                                      sh_order=order)
                     except ValueError as exc:
                         raise options.CommandError(exc) from None
-                    label, preset, cell = (name if len(iterations) == 1 else
-                                           f"{name}-it{steps}"), name, steps
+                    label = name if len(iterations) == 1 else f"{name}-it{steps}"
                     if args.cascades is not None:
-                        label, cell = label + f"-c{count}", (steps, count)
+                        label += f"-c{count}"
                     if args.sh_order is not None:
-                        label, preset = label + f"-L{order}", f"{name} L{order}"
-                    runs.append(Run(settings, label, preset, cell))
+                        label += f"-L{order}"
+                    runs.append(Run(settings, label, name))
     return runs
 
 
@@ -141,86 +179,106 @@ def check_cost(settings: Settings, regions: list[tuple[int, int, int, int]]) -> 
 
 
 def main(args: argparse.Namespace) -> int:
+    from explorer.gl.context import GLUnavailableError, given_or_headless
+
     base = options.settings_from_args(args)
     options.check_scene(base.scene)
     runs = plan_runs(args, base)
     check_cost(base, args.region)
+    scene = _load_scene(base)
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
     with options.Outputs() as outputs:
         outputs.folder(out)
         with options.Progress("compare", enabled=False if args.quiet else None) as progress:
-            rows, images, reference, gbuffer, frame = _render(args, base, runs, progress)
-        table = format_table(rows, args, frame)
+            try:
+                with given_or_headless(None) as ctx:
+                    comparison = run_comparison(args, runs, ctx, scene, progress=progress)
+            except GLUnavailableError as exc:
+                raise options.CommandError(exc, 1) from None
+            except options.render_failures() as exc:
+                raise options.CommandError(exc, 1) from None
+        table = format_table(comparison.rows, args, comparison.frame)
         print(table)
-        exposure = args.exposure or _auto_exposure(reference, gbuffer.valid)
-        written = _write(outputs, out, args, images, reference, gbuffer.valid, exposure)
+        reference, valid = comparison.reference, comparison.valid
+        exposure = args.exposure or _auto_exposure(reference, valid)
+        written = _write(outputs, out, args, comparison.images, reference, valid, exposure)
         outputs.write(out / "table.md", lambda p: p.write_text(table + "\n"))
     print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
     return 0
 
 
-def _render(args, base: Settings, runs: list[Run], progress: options.Progress):
-    """Each run's LPV frame and, whenever the VPLs change, the reference: the table rows,
-    the LPV images by label, and the last reference, G-buffer and frame."""
-    import numpy as np
-
-    from explorer.gl.context import (GLUnavailableError, create_headless_context,
-                                     release_headless_context)
-    from explorer.lpv.pipeline import Pipeline
+def _load_scene(base: Settings):
     from explorer.scene import SceneError
     from explorer.truth.gbuffer import scene_for
+
+    try:
+        return scene_for(base)
+    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
+        raise options.CommandError(f"cannot load scene {base.scene!r}: {exc}") from None
+
+
+def reference_distance(args: argparse.Namespace, runs: list[Run], scene) -> float | None:
+    """The reference's ``r_min``: ``--min-distance``, or None (half a cell of the frame's
+    grid) unless cascades are compared: then half a cell of the single grid, for every
+    cascade count (cascade 0's cells shrink with more cascades, the reference must not)."""
+    if args.min_distance is not None or max(r.settings.cascades for r in runs) == 1:
+        return args.min_distance
+    from explorer.lpv.grid import GridSpec
+
+    single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max,
+                                runs[0].settings.grid_size)
+    return 0.5 * single.cell_size
+
+
+def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
+                   references: ReferenceCache | None = None,
+                   progress: options.Progress | None = None) -> Comparison:
+    """Render every run's LPV frame and its metrics against the one-bounce reference
+    (rendered once per distinct VPL set, or taken from ``references``)."""
+    import numpy as np
+
+    from explorer.lpv.pipeline import Pipeline
     from explorer.truth.metrics import EmptyRegionError, error_stats, rect_mask
     from explorer.truth.render import reference_for_frame
 
-    try:
-        scene = scene_for(base)
-    except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
-        raise options.CommandError(f"cannot load scene {base.scene!r}: {exc}") from None
-    try:
-        ctx = create_headless_context()
-    except GLUnavailableError as exc:
-        raise options.CommandError(exc, 1) from None
-    min_distance = args.min_distance
-    if min_distance is None and max(r.settings.cascades for r in runs) > 1:
-        # one reference for every cascade count: half a cell of the single grid (cascade
-        # 0's cells shrink with more cascades, the reference must not)
-        from explorer.lpv.grid import GridSpec
-
-        single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, base.grid_size)
-        min_distance = 0.5 * single.cell_size
-    pipeline = Pipeline(base, ctx)
+    references = references if references is not None else ReferenceCache()
+    visibility = args.reference == "visible"
+    min_distance = reference_distance(args, runs, scene)
     rows, images = [], {}
-    reference = gbuffer = reference_vpls = frame = None
-    try:
+    reference = gbuffer = frame = None
+    with Pipeline(runs[0].settings, ctx) as pipeline:
         for run in runs:
             frame = options.run_pipeline(pipeline, run.settings, progress)
-            if reference is None or not _same_vpls(frame.vpls, reference_vpls):
+            settings = frame.settings
+            key = (settings.scene, settings.width, settings.height, visibility,
+                   min_distance if min_distance is not None
+                   else 0.5 * frame.grid_spec.cell_size)
+            cached = references.get(key, frame.vpls)
+            if cached is None:
                 started = time.perf_counter()
-                reference, gbuffer = reference_for_frame(
-                    frame, args.reference == "visible", min_distance, ctx=ctx, scene=scene,
-                    progress=progress.fraction("reference"))
-                reference_vpls = frame.vpls
-                progress.close()
-                if not args.quiet:
+                cached = reference_for_frame(
+                    frame, visibility, min_distance, ctx=ctx, scene=scene,
+                    progress=None if progress is None else progress.fraction("reference"))
+                references.put(key, frame.vpls, cached)
+                if progress is not None:
+                    progress.close()
+                if not getattr(args, "quiet", True):
                     print(f"reference ({args.reference}, {frame.vpls.count} VPLs): "
                           f"{time.perf_counter() - started:.1f} s", file=sys.stderr)
+            reference, gbuffer = cached
             valid = gbuffer.valid
             lpv = np.asarray(frame.indirect, np.float64)[..., :3]
             images[run.label] = lpv
-            rows.append((run.preset, run.steps, "image", error_stats(lpv, reference, valid)))
+            cells = (run.preset, settings.iterations, settings.cascades, settings.sh_order)
+            rows.append(CompareRow(*cells, "image", error_stats(lpv, reference, valid)))
             for rect in args.region:
                 mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
                 try:
                     stats = error_stats(lpv, reference, mask)
                 except EmptyRegionError:
                     stats = None
-                rows.append((run.preset, run.steps, ",".join(map(str, rect)), stats))
-    except options.render_failures() as exc:
-        raise options.CommandError(exc, 1) from None
-    finally:
-        pipeline.release()
-        release_headless_context(ctx)
-    return rows, images, reference, gbuffer, frame
+                rows.append(CompareRow(*cells, ",".join(map(str, rect)), stats))
+    return Comparison(rows, images, reference, gbuffer.valid, frame)
 
 
 def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, valid,
@@ -251,28 +309,45 @@ def _same_vpls(a, b) -> bool:
             and np.array_equal(np.asarray(a.flux), np.asarray(b.flux)))
 
 
-def format_table(rows, args, frame) -> str:
-    """Markdown table: one row per preset, iteration count and region."""
+METRIC_HEADERS = ("rel. L2", "RMSE", "flux ratio LPV/ref", "ratio r, g, b")
+METRIC_ALIGN = ("---:", "---:", "---:", "---")
+
+
+def metric_cells(stats) -> list[str]:
+    """The table cells of an ErrorStats (:data:`METRIC_HEADERS`), as every table of
+    docs/ERRORS.md prints them; None (an empty region) gives dashes."""
+    if stats is None:
+        return ["–", "–", "–", "empty region"]
+    return [f"{stats.relative_l2:.3f}", f"{stats.rmse:.4g}", f"{stats.flux_ratio:.3f}",
+            ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)]
+
+
+def settings_line(args: argparse.Namespace, frame) -> str:
+    """The line above the table: what was compared."""
     settings = frame.settings
+    return (f"scene `{settings.scene}`, reference `{args.reference}`, {settings.width}×"
+            f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
+            f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
+            f"offset {settings.injection_offset_cells:g} cells, gather damping "
+            f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}")
+
+
+def format_table(rows: list[CompareRow], args: argparse.Namespace, frame) -> str:
+    """Markdown table: one row per preset, iteration count (and cascade count, SH order
+    when those options were given) and region."""
     lines = [
-        f"scene `{settings.scene}`, reference `{args.reference}`, {settings.width}×"
-        f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
-        f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
-        f"offset {settings.injection_offset_cells:g} cells, gather damping "
-        f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}",
+        settings_line(args, frame),
         "",
-        "| preset | iterations | region | rel. L2 | RMSE | flux ratio LPV/ref | ratio r, g, b |",
-        "|---|---:|---|---:|---:|---:|---|",
+        "| preset | iterations | region | " + " | ".join(METRIC_HEADERS) + " |",
+        "|---|---:|---|" + "|".join(METRIC_ALIGN) + "|",
     ]
-    for name, steps, region, stats in rows:
-        if isinstance(steps, tuple):   # with --cascades
-            steps = f"{steps[0]}, {steps[1]} cascade{'s' if steps[1] > 1 else ''}"
-        if stats is None:
-            lines.append(f"| {name} | {steps} | {region} | – | – | – | empty region |")
-            continue
-        rgb = ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)
-        lines.append(f"| {name} | {steps} | {region} | {stats.relative_l2:.3f} | "
-                     f"{stats.rmse:.4g} | {stats.flux_ratio:.3f} | {rgb} |")
+    for row in rows:
+        name = row.preset if args.sh_order is None else f"{row.preset} L{row.sh_order}"
+        steps = str(row.iterations)
+        if args.cascades is not None:   # the iterations cell: "8, 2 cascades"
+            steps += f", {row.cascades} cascade{'s' if row.cascades > 1 else ''}"
+        lines.append(f"| {name} | {steps} | {row.region} | "
+                     + " | ".join(metric_cells(row.stats)) + " |")
     return "\n".join(lines)
 
 

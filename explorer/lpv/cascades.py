@@ -163,7 +163,7 @@ class CascadeInput:
 
     spec: GridSpec
     textures: tuple
-    """The accumulated grid's r, g, b 3D textures (linear filter, clamped)."""
+    """The accumulated grid's r, g, b 3D textures (sampled as in the single-grid gather)."""
 
 
 def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str, object]:

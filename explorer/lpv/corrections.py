@@ -175,9 +175,10 @@ Corrections.__doc__ = (
 
 
 PRESETS: dict[str, Corrections] = {
-    "corrected": Corrections(),
     "original": Corrections(**{entry.name: not entry.published for entry in CORRECTIONS}),
+    "corrected": Corrections(),
 }
+"""Published first, then corrected: the order menus, sweeps and tables list them in."""
 
 
 def preset(name: str) -> Corrections:

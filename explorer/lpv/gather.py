@@ -20,10 +20,45 @@ from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
-from explorer.lpv.textures import sh_defines
+from explorer.lpv.textures import per_context, sh_defines
 from explorer.lpv.vpl import VplTextures
 
 TARGETS = ("direct", "indirect", "final", "display", "received")
+EXACT_FILTER = 1e-5
+"""Largest weight error of a linear-filtered lookup that counts as exact (float32 weights
+err by about 1e-7, a texture unit's 8-bit weights by up to 2e-3)."""
+PROBE_SAMPLES = 64
+
+
+def linear_filter_error(ctx: moderngl.Context) -> float:
+    """The largest weight error of the texture unit's linear filter (``filter_probe.glsl``),
+    measured once per context: interpolating 0 and 1 at fractions t must give t."""
+    return per_context(ctx, "linear-filter-error", lambda: _measure_filter_error(ctx))
+
+
+def _measure_filter_error(ctx: moderngl.Context) -> float:
+    import numpy as np
+
+    programs = ProgramCache(ctx)
+    ramp = ctx.texture3d((2, 1, 1), 4, np.array([[0.0] * 4, [1.0] * 4], "f4").tobytes(),
+                         dtype="f4")
+    ramp.filter = (moderngl.LINEAR, moderngl.LINEAR)
+    ramp.repeat_x = ramp.repeat_y = ramp.repeat_z = False
+    samples = ctx.buffer(reserve=4 * PROBE_SAMPLES)
+    try:
+        program = programs.get("filter_probe.glsl")
+        ramp.use(0)
+        samples.bind_to_storage_buffer(0)
+        set_uniforms(program, {"u_ramp": 0, "u_count": PROBE_SAMPLES})
+        program.run(-(-PROBE_SAMPLES // 64))
+        ctx.finish()
+        got = np.frombuffer(samples.read(), "f4").astype(np.float64)
+    finally:
+        samples.release()
+        ramp.release()
+        programs.release()
+    expected = (np.arange(PROBE_SAMPLES) + 0.37) / PROBE_SAMPLES
+    return float(np.abs(got - expected).max())
 
 
 class GatherPass:
@@ -42,6 +77,9 @@ class GatherPass:
         self._framebuffer: moderngl.Framebuffer | None = None
         self._triangle = FullscreenTriangle(ctx)
         self._empty_grid: moderngl.Texture3D | None = None
+        self.shader_filter = linear_filter_error(ctx) > EXACT_FILTER
+        """Interpolate the grid in the shader (``SH_SHADER_FILTER``, sh_grid.glsl) because
+        the texture unit's weights are not exact on this GPU."""
 
     def _allocate(self, size: tuple[int, int]) -> None:
         if size == self.size:
@@ -60,14 +98,16 @@ class GatherPass:
             grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
             damping: bool = False, cascades: list[CascadeInput] | None = None,
             sh_order: int = 1) -> None:
-        """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
-        clamped), or None for direct light only. ``damping``: the directional-derivative
-        damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
+        """``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
+        trilinearly in the shader, clamped to the edge), or None for direct light only.
+        ``damping``: the directional-derivative damping of the indirect irradiance
+        (docs/MODEL.md "Final gather"); with cascades, per cascade.
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""
         self._allocate(gbuffer.size)
-        program = self.programs.get("gather.glsl", sh_defines(sh_order))
+        program = self.programs.get("gather.glsl", {
+            **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)

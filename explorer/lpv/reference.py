@@ -13,18 +13,64 @@ In-place propagation (``ping_pong=False``) uses the race-free reading
 ``acc_t = acc_{t−1} + P(acc_{t−1})``. The GPU's in-place pass reads some neighbours after
 they were already updated in the same step, so it differs from this by an amount that
 depends on the invocation order; both double count light propagated before.
+:func:`in_place_step_candidates` states exactly what the racing pass can produce.
+
+Every constant (SH basis and lobe, flux factor, face solid angles, π and the published
+decimals) is the float64 value of its exact sympy derivation, read through
+``derivations.registry`` on first use (:data:`K`), not the generated mirror
+``explorer/lpv/constants.py`` the shaders' constants come from: a wrong generated constant
+then makes the GPU disagree with this reference.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from explorer.lpv import constants as K
 from explorer.lpv.audit import GridAudit
+from explorer.lpv.cascades import blend_weights
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, INJECTION_MODES, Corrections
 from explorer.lpv.vpl import VplArrays
 
+
+class DerivedConstants:
+    """The constants this reference uses, each the float64 value of the exact result of a
+    derivation (``derivations.registry``), evaluated from sympy on first access. Loading
+    the registry runs every derivation once (about 2 s), so nothing is evaluated at
+    import."""
+
+    DERIVATIONS: dict[str, str] = {
+        "PI": "solid_angles.projected_hemisphere",
+        "SH_C0": "sh.c0",
+        "SH_C1": "sh.c1",
+        "SH_L2_C2": "sh.l2_c2",
+        "SH_L2_C3": "sh.l2_c3",
+        "SH_L2_C4": "sh.l2_c4",
+        "SH_COSLOBE_C0": "sh.coslobe_c0",
+        "SH_COSLOBE_C1": "sh.coslobe_c1",
+        "SH_L2_COSLOBE_C2": "sh.l2_coslobe_c2",
+        "SH_FLUX_FACTOR": "sh.flux_factor",
+        "FRONT_FACE_SOLID_ANGLE": "solid_angles.front_face",
+        "SIDE_FACE_SOLID_ANGLE": "solid_angles.side_face",
+        "PUBLISHED_PI": "errata.dx11.pi",
+        "PUBLISHED_FRONT_FACE_SOLID_ANGLE": "errata.dx11.front_solid_angle",
+        "PUBLISHED_SIDE_FACE_SOLID_ANGLE": "errata.dx11.side_solid_angle",
+    }
+    """Constant name -> derivation result name."""
+
+    def __getattr__(self, name: str) -> float:
+        if name not in self.DERIVATIONS:
+            raise AttributeError(f"no derived constant {name!r}; known: "
+                                 f"{', '.join(self.DERIVATIONS)}")
+        from derivations.registry import get
+
+        value = float(get(self.DERIVATIONS[name]).expr.evalf(30))
+        setattr(self, name, value)   # evaluated once
+        return value
+
+
+K = DerivedConstants()
+"""``K.SH_C0`` etc.: see :class:`DerivedConstants`."""
 
 SH_COEFFICIENTS = {1: 4, 2: 9}
 
@@ -239,6 +285,85 @@ def _reflection_normals(blockers: np.ndarray, axis: int, sign: int) -> np.ndarra
     return np.where(facing[..., None], unit, back)
 
 
+AUDIT_TERMS = ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked")
+DIRECTIONS = tuple((axis, sign) for axis in range(3) for sign in (1, -1))
+"""The six propagation directions sign·e_axis."""
+
+
+def _check_step_inputs(grid, geometry, geometry_albedo, bounces):
+    grid = _check_grid(grid)
+    n = grid.shape[1]
+    geometry = _check_geometry(geometry, n)
+    if bounces not in (1, 2):
+        raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
+    if bounces == 2 and geometry is None:
+        raise ValueError("bounces=2 reflects the light the geometry volume blocks: pass "
+                         "a geometry volume")
+    if bounces == 2:
+        geometry_albedo = _check_geometry(
+            np.zeros_like(geometry) if geometry_albedo is None else geometry_albedo, n)
+    return grid, geometry, geometry_albedo
+
+
+def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Corrections,
+                    geometry: np.ndarray | None, geometry_albedo: np.ndarray | None,
+                    reflect: bool) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """What every source cell sends along ``sign``·e_axis in one step: the light delivered
+    into the neighbour cells (3, N, N, N, K) (zero in the first layer, which has no source
+    inside), the light reflected back into the source cells (zeros unless ``reflect``) and
+    this direction's audit terms (:data:`AUDIT_TERMS`, each (3,) watts)."""
+    order = grid_sh_order(grid)
+    n = grid.shape[1]
+    front_angle, side_angle = face_solid_angles(corrections)
+    scale = (reprojection_factor(corrections) * injection_factor(corrections)
+             * propagation_factor(corrections))
+    delivered = np.zeros_like(grid)
+    reflected_back = np.zeros_like(grid)
+    terms = {name: np.zeros(3) for name in AUDIT_TERMS}
+    blockers = None if geometry is None else _face_blockers(geometry, axis, sign)
+    blocked = np.zeros((3, n, n, n))   # flux the volume takes, per source cell
+    # Sources whose neighbour along the direction is inside, and those neighbours.
+    inside = [slice(None)] * 3
+    shifted = [slice(None)] * 3
+    leaving = [slice(None)] * 3
+    inside[axis] = slice(0, n - 1) if sign > 0 else slice(1, n)
+    shifted[axis] = slice(1, n) if sign > 0 else slice(0, n - 1)
+    leaving[axis] = slice(n - 1, n) if sign > 0 else slice(0, 1)
+    for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
+        weight = scale * (front_angle if is_front else side_angle)
+        lobe = cosine_lobe(reprojection, order)
+        flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
+        raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
+        used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) else raw
+        if blockers is None:
+            visibility = np.ones((n, n, n))
+        else:
+            # blocking of light travelling along e_f hits surfels facing -e_f
+            visibility = 1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0)
+        sent = weight * used * visibility                         # (3, N, N, N)
+        delivered[(slice(None), *shifted)] += sent[(slice(None), *inside)][..., None] * lobe
+        terms["propagated"] += flux_per_intensity * raw.reshape(3, -1).sum(1)
+        terms["clamp_gain"] += flux_per_intensity * (used - raw).reshape(3, -1).sum(1)
+        terms["occluded"] += flux_per_intensity * (
+            used * (1.0 - visibility)).reshape(3, -1).sum(1)
+        terms["border_loss"] += K.SH_FLUX_FACTOR * lobe[0] * sent[
+            (slice(None), *leaving)].reshape(3, -1).sum(1)
+        blocked += flux_per_intensity * used * (1.0 - visibility)
+    if reflect:
+        sums = _face_blockers(geometry_albedo, axis, sign)           # (N, N, N, 4)
+        area = sums[..., 3]
+        albedo = np.divide(sums[..., :3], area[..., None],
+                           out=np.zeros_like(sums[..., :3]), where=area[..., None] > 0)
+        bounced = np.maximum(blocked, 0.0)
+        terms["blocked"] += bounced.reshape(3, -1).sum(1)
+        reflected = np.moveaxis(albedo, -1, 0) * bounced
+        lobes = cosine_lobe(_reflection_normals(blockers, axis, sign), order)
+        per_watt = lobes / (K.SH_FLUX_FACTOR * lobes[..., :1])
+        reflected_back += reflected[..., None] * per_watt
+        terms["reflected"] += reflected.reshape(3, -1).sum(1)
+    return delivered, reflected_back, terms
+
+
 def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                      geometry: np.ndarray | None = None,
                      geometry_albedo: np.ndarray | None = None, bounces: int = 1
@@ -254,70 +379,59 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
     area-weighted mean albedo (``geometry_albedo`` sums), goes back into the source cell as
     a cosine lobe (of the grid's order) around the blockers' normal."""
     corrections = corrections or Corrections()
-    grid = _check_grid(grid)
-    order = grid_sh_order(grid)
-    n = grid.shape[1]
-    geometry = _check_geometry(geometry, n)
-    if bounces not in (1, 2):
-        raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
-    reflect = bounces == 2
-    if reflect and geometry is None:
-        raise ValueError("bounces=2 reflects the light the geometry volume blocks: pass "
-                         "a geometry volume")
-    if reflect:
-        geometry_albedo = _check_geometry(
-            np.zeros_like(geometry) if geometry_albedo is None else geometry_albedo, n)
-    front_angle, side_angle = face_solid_angles(corrections)
-    scale = (reprojection_factor(corrections) * injection_factor(corrections)
-             * propagation_factor(corrections))
+    grid, geometry, geometry_albedo = _check_step_inputs(grid, geometry, geometry_albedo,
+                                                         bounces)
     out = np.zeros_like(grid)
-    terms = {name: np.zeros(3) for name in
-             ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked")}
-    for axis in range(3):
-        for sign in (1, -1):
-            blockers = None if geometry is None else _face_blockers(geometry, axis, sign)
-            blocked = np.zeros((3, n, n, n))   # flux the volume takes, per source cell
-            # Sources whose neighbour along the direction is inside, and those neighbours.
-            inside = [slice(None)] * 3
-            shifted = [slice(None)] * 3
-            leaving = [slice(None)] * 3
-            inside[axis] = slice(0, n - 1) if sign > 0 else slice(1, n)
-            shifted[axis] = slice(1, n) if sign > 0 else slice(0, n - 1)
-            leaving[axis] = slice(n - 1, n) if sign > 0 else slice(0, 1)
-            for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
-                weight = scale * (front_angle if is_front else side_angle)
-                lobe = cosine_lobe(reprojection, order)
-                flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
-                raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
-                used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) \
-                    else raw
-                if blockers is None:
-                    visibility = np.ones((n, n, n))
-                else:
-                    # blocking of light travelling along e_f hits surfels facing -e_f
-                    visibility = 1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0)
-                sent = weight * used * visibility                         # (3, N, N, N)
-                out[(slice(None), *shifted)] += sent[(slice(None), *inside)][..., None] * lobe
-                terms["propagated"] += flux_per_intensity * raw.reshape(3, -1).sum(1)
-                terms["clamp_gain"] += flux_per_intensity * (used - raw).reshape(3, -1).sum(1)
-                terms["occluded"] += flux_per_intensity * (
-                    used * (1.0 - visibility)).reshape(3, -1).sum(1)
-                terms["border_loss"] += K.SH_FLUX_FACTOR * lobe[0] * sent[
-                    (slice(None), *leaving)].reshape(3, -1).sum(1)
-                blocked += flux_per_intensity * used * (1.0 - visibility)
-            if reflect:
-                sums = _face_blockers(geometry_albedo, axis, sign)           # (N, N, N, 4)
-                area = sums[..., 3]
-                albedo = np.divide(sums[..., :3], area[..., None],
-                                   out=np.zeros_like(sums[..., :3]), where=area[..., None] > 0)
-                bounced = np.maximum(blocked, 0.0)
-                terms["blocked"] += bounced.reshape(3, -1).sum(1)
-                reflected = np.moveaxis(albedo, -1, 0) * bounced
-                lobes = cosine_lobe(_reflection_normals(blockers, axis, sign), order)
-                per_watt = lobes / (K.SH_FLUX_FACTOR * lobes[..., :1])
-                out += reflected[..., None] * per_watt
-                terms["reflected"] += reflected.reshape(3, -1).sum(1)
+    terms = {name: np.zeros(3) for name in AUDIT_TERMS}
+    for axis, sign in DIRECTIONS:
+        delivered, reflected, direction_terms = _direction_step(
+            grid, axis, sign, corrections, geometry, geometry_albedo, bounces == 2)
+        out += delivered + reflected
+        for name in AUDIT_TERMS:
+            terms[name] += direction_terms[name]
     return out, terms
+
+
+def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
+                             corrections: Corrections | None = None,
+                             geometry: np.ndarray | None = None,
+                             geometry_albedo: np.ndarray | None = None, bounces: int = 1
+                             ) -> np.ndarray:
+    """(64, 3, N, N, N, K): every value the in-place propagation step (``ping_pong``
+    False, ``shaders/propagate.glsl``) can add to a cell, one per read schedule.
+
+    In place, one dispatch reads and writes the accumulated grid: the invocation of cell x
+    reads its six source neighbours x − d, each of which another invocation may or may not
+    have updated already, then writes ``acc[x] + received`` once. So the step it adds is
+    ``Σ_d D_d(source read) + R(acc_{t−1}[x])``, where each neighbour's read is either its
+    value ``before`` the step (acc_{t−1}) or ``after`` it (acc_t: every cell is written
+    exactly once per step), and R, the reflection of the cell's own blocked light
+    (``bounces`` 2), always sees its own cell before its own write. Candidate ``j`` reads
+    direction ``DIRECTIONS[i]`` after the update where bit i of j is set (j = 0 is the
+    race-free reading of :func:`propagate_audited`). Which candidate a GPU produces depends
+    on its invocation order; the statement that holds on every GPU is that each cell's
+    step is one of these, per colour channel (r, g and b are separate images, each read
+    whole: one texel per cell with L1)."""
+    corrections = corrections or Corrections()
+    before, geometry, geometry_albedo = _check_step_inputs(before, geometry,
+                                                           geometry_albedo, bounces)
+    after = _check_grid(after)
+    if after.shape != before.shape:
+        raise ValueError(f"before and after must have the same shape, got {before.shape} "
+                         f"and {after.shape}")
+    own = np.zeros_like(before)
+    reads = []
+    for axis, sign in DIRECTIONS:
+        old, reflected, _ = _direction_step(before, axis, sign, corrections, geometry,
+                                            geometry_albedo, bounces == 2)
+        new, _, _ = _direction_step(after, axis, sign, corrections, geometry,
+                                    geometry_albedo, False)
+        own += reflected
+        reads.append((old, new))
+    candidates = np.empty((2 ** len(DIRECTIONS),) + before.shape)
+    for j in range(len(candidates)):
+        candidates[j] = own + sum(pair[(j >> i) & 1] for i, pair in enumerate(reads))
+    return candidates
 
 
 def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
@@ -333,8 +447,7 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
         raise ValueError(f"iterations must be >= 0, got {iterations}")
     steps = [grid]
     accumulated = grid.copy()
-    terms = {name: [] for name in ("clamp_gain", "occluded", "border_loss", "reflected",
-                                   "blocked")}
+    terms = {name: [] for name in AUDIT_TERMS if name != "propagated"}
     for _ in range(int(iterations)):
         source = steps[-1] if corrections.ping_pong else accumulated
         step, step_terms = propagation_step(source, corrections, geometry, geometry_albedo,
@@ -369,9 +482,10 @@ def propagate(grid: np.ndarray, corrections: Corrections | None = None, iteratio
 
 
 def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
-    """Trilinear lookup of a (3, N, N, N, C) grid (C = 4 for L1, 9 for L2) at world points
-    (P, 3) -> (3, P, C), clamped to the edge like the GPU's linear filter (texel centres
-    at ``i + ½``)."""
+    """Trilinear lookup of a (3, N, N, N, K) grid (K = 4 or 9) at world points (P, 3) ->
+    (3, P, K): texel centres at ``i + ½``, clamped to the edge (docs/MODEL.md "Final
+    gather"; every coefficient group of an L2 grid clamps to the grid's own edge)."""
+    grid = np.asarray(grid, np.float64)
     n = spec.resolution
     u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
     base = np.floor(u).astype(np.int64)
@@ -388,7 +502,7 @@ def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndar
 def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
                       normals: np.ndarray, offset: float = 0.0) -> np.ndarray:
     """(P, 3) irradiance ``clamp+(⟨s(x), lobe(−n)⟩)/h²`` at ``x = p + offset·n`` (world
-    units; docs/MODEL.md "Final gather")."""
+    units; docs/MODEL.md "Final gather"), with the L1 or L2 lobe after the grid's order."""
     normals = np.asarray(normals, np.float64)
     samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
     lobes = cosine_lobe(-normals, grid_sh_order(grid))
@@ -415,3 +529,24 @@ def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.
     if damping:
         irradiance = irradiance * derivative_damping(grid, spec, positions, normals)
     return irradiance
+
+
+def gather_cascades(grids: list[np.ndarray], specs: list[GridSpec], positions: np.ndarray,
+                    normals: np.ndarray, damping: bool = False) -> np.ndarray:
+    """(P, 3) irradiance of nested cascades, finest first: ``Σ_k W_k·E_k`` with the blend
+    weights ``W_k`` of docs/MODEL.md "Cascades" and ``E_k`` cascade k's :func:`gather`
+    (damped over half of its own cell when ``damping``). One cascade is :func:`gather`."""
+    if len(grids) != len(specs) or not grids:
+        raise ValueError(f"need one grid per cascade spec, got {len(grids)} grids and "
+                         f"{len(specs)} specs")
+    weights = blend_weights(list(specs), positions)
+    total = np.zeros((len(weights), 3))
+    for k, (grid, spec) in enumerate(zip(grids, specs)):
+        total += weights[:, k:k + 1] * gather(grid, spec, positions, normals, damping)
+    return total
+
+
+def indirect_radiance(albedo: np.ndarray, irradiance: np.ndarray) -> np.ndarray:
+    """Outgoing indirect radiance ``a/π·E`` of a Lambertian surface (docs/MODEL.md "Final
+    gather")."""
+    return np.asarray(albedo, np.float64) / K.PI * np.asarray(irradiance, np.float64)

@@ -75,8 +75,9 @@ class VolumeTexture:
         self.format = check_format(fmt)
         self.texture = ctx.texture3d((self.size, self.size, self.depth), 4,
                                      dtype=_TEXTURE_DTYPES[fmt])
-        # Linear filtering for the final gather's trilinear lookups; clamp to the edge so
-        # the border cells do not blend with the opposite side.
+        # Linear filtering for the final gather's trilinear lookups (where the texture
+        # unit's weights are exact, see sh_grid.glsl); clamp to the edge so the border
+        # cells do not blend with the opposite side.
         self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.texture.repeat_x = self.texture.repeat_y = self.texture.repeat_z = False
 
@@ -194,7 +195,7 @@ class LayeredTarget:
     """``count`` layered 2D-array render targets of ``size``³ texels: points drawn with
     ``gl_Layer = z`` land in texel ``(x, y, z)``. moderngl refuses a 3D texture as a
     framebuffer attachment, so the point passes render here and :func:`copy_volume` moves
-    each layer stack into its 3D texture (DESIGN.md "Platform facts"). ``depth`` layers
+    each layer stack into its 3D texture. ``depth`` layers
     (default ``size``)."""
 
     def __init__(self, ctx: moderngl.Context, size: int, count: int, fmt: str,

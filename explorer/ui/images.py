@@ -55,10 +55,16 @@ def rsm_image(buffer: np.ndarray, kind: str) -> np.ndarray:
     return tonemap(data, 1.0 / robust_max(data))
 
 
-def sh_basis(direction: np.ndarray) -> np.ndarray:
-    """L1 SH basis in docs/MODEL.md's order and signs: (c0, −c1·y, c1·z, −c1·x)."""
+def sh_basis(direction: np.ndarray, sh_order: int = 1) -> np.ndarray:
+    """SH basis in docs/MODEL.md's order and signs at a unit direction: L1 (c0, −c1·y,
+    c1·z, −c1·x), with ``sh_order`` 2 followed by band 2 (c2·xy, −c2·yz, c3·(3z²−1),
+    −c2·xz, c4·(x²−y²)), from the generated constants the shaders use."""
     x, y, z = (float(v) for v in direction)
-    return np.array([C.SH_C0, -C.SH_C1 * y, C.SH_C1 * z, -C.SH_C1 * x], dtype=np.float32)
+    basis = [C.SH_C0, -C.SH_C1 * y, C.SH_C1 * z, -C.SH_C1 * x]
+    if sh_order == 2:
+        basis += [C.SH_L2_C2 * x * y, -C.SH_L2_C2 * y * z, C.SH_L2_C3 * (3.0 * z * z - 1.0),
+                  -C.SH_L2_C2 * x * z, C.SH_L2_C4 * (x * x - y * y)]
+    return np.array(basis, dtype=np.float32)
 
 
 def direction_from_angles(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
@@ -81,12 +87,8 @@ def grid_slice(grid: np.ndarray, z: int, component: str, direction=None,
     cells = grid[:, :, :, z, :]                     # (3, x, y, 4)
     if component == "intensity":
         towards = direction if direction is not None else (0.0, 1.0, 0.0)
-        if grid.shape[4] == 9:   # an L2 grid (Settings.sh_order 2)
-            from explorer.lpv.reference import sh_basis as basis_up_to
-
-            basis = basis_up_to(np.asarray(towards, np.float64) / np.linalg.norm(towards), 2)
-        else:
-            basis = sh_basis(towards)
+        unit = np.asarray(towards, np.float64) / np.linalg.norm(towards)
+        basis = sh_basis(unit, 2 if grid.shape[4] == 9 else 1)   # L2: Settings.sh_order 2
         values = np.maximum(np.einsum("cxyk,k->xyc", cells, basis), 0.0)
         top = scale if scale > 0 else robust_max(values)
         image = tonemap(values, 1.0 / top)
