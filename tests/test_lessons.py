@@ -194,7 +194,8 @@ def test_wrong_type_and_bad_values(tmp_path):
     assert error.field == "settings.iterations"
     error = _error(tmp_path, GOOD.replace('compare = "original"', 'compare = "fixed"'),
                    check_formula=None)
-    assert error.field == "compare" and "compare must be one of 'original', 'corrected'" in str(error)
+    assert error.field == "compare"
+    assert "compare must be one of 'original', 'corrected'" in str(error)
     error = _error(tmp_path, GOOD.replace('compare = "original"\n', ""), check_formula=None)
     assert error.field == "compare" and "needs a compare preset" in str(error)
 

@@ -46,7 +46,8 @@ METRICS = ("relative_l2", "rmse", "flux_ratio", "flux_ratio_rgb")
 FIELDS = {"preset": ("preset", "---"), "iterations": ("iterations", "---:"),
           "cascades": ("cascades", "---:"), "sh": ("SH", "---"), "region": ("region", "---")}
 """Row fields a table can show as a column: name in the data -> (header, alignment)."""
-BLOCK = re.compile(r"<!-- measured: (?P<name>[\w.-]+) \(python -m explorer\.commands\.tables\) -->\n"
+BLOCK = re.compile(r"<!-- measured: (?P<name>[\w.-]+) "
+                   r"\(python -m explorer\.commands\.tables\) -->\n"
                    r"(?P<body>.*?)<!-- end measured -->", re.S)
 
 
