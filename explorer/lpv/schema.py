@@ -255,14 +255,15 @@ def from_dict(cls: type, data: Any, base: Any = None, where: str = "") -> Any:
     dataclasses; unknown keys and bad values raise :class:`SettingError` whose message
     starts with ``where`` (e.g. ``"settings: "``)."""
     if not isinstance(data, Mapping):
-        raise SettingError("", f"{where}expected a table of fields, got "
-                               f"{type(data).__name__}")
+        place = where.rstrip(".") or cls.__name__
+        raise SettingError(place, f"{place} must be a table of fields, got "
+                                  f"{type(data).__name__}")
     base = cls() if base is None else base
     known = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted(str(key) for key in data if key not in known)
     if unknown:
-        raise SettingError(unknown[0], f"{where}unknown field(s) {', '.join(unknown)}; "
-                                       f"known: {', '.join(known)}")
+        raise SettingError(where + unknown[0], f"{where}{unknown[0]}: unknown field; known: "
+                                               f"{', '.join(known)}")
     field_specs = specs(cls)
     values = {}
     for name, value in data.items():
@@ -279,7 +280,8 @@ def from_dict(cls: type, data: Any, base: Any = None, where: str = "") -> Any:
     try:
         return dataclasses.replace(base, **values)
     except SettingError as exc:
-        raise SettingError(exc.field, f"{where}{exc}") from None
+        # a field checked by the dataclass names itself; give it its full path
+        raise SettingError(where + exc.field, f"{where}{exc}") from None
 
 
 def _plain_field(f: dataclasses.Field, current: Any, value: Any, where: str) -> Any:
@@ -287,7 +289,8 @@ def _plain_field(f: dataclasses.Field, current: Any, value: Any, where: str) -> 
     if isinstance(current, bool):
         if isinstance(value, bool):
             return value
-        raise SettingError(f.name, f"{where}{f.name} must be true or false, got {value!r}")
+        raise SettingError(where + f.name, f"{where}{f.name} must be true or false, got "
+                                           f"{value!r}")
     return value
 
 

@@ -123,6 +123,8 @@ class AppState:
     layout_panels: list[str] = field(default_factory=list)
     """Panel titles the saved dock layout was built for; a new panel rebuilds it."""
     plot_tab: str | None = None       # a name in settings.PLOTS: bring that plot's tab forward
+    plot_scale: str = "auto"          # flux and audit plots: "auto" | "linear" | "log"
+    plot_relative: bool = False       # flux and audit plots: shares of the injected flux
     messages: list[Message] = field(default_factory=list)
     requests: Requests = field(default_factory=Requests)
     runtime: Runtime = field(default_factory=Runtime)

@@ -72,3 +72,23 @@ def help_marker(text: str) -> None:
     imgui.text_disabled("(?)")
     if imgui.is_item_hovered():
         imgui.set_tooltip(text)
+
+
+def playback(playing: bool, step: int, last: int, clock: float, rate: float
+             ) -> tuple[bool, int, float]:
+    """Play/Pause and a step slider 0..``last``; while playing, ``clock`` (fractional
+    steps) advances by ``rate`` steps per second and the step wraps around. Returns the new
+    (playing, step, clock); moving the slider pauses."""
+    if imgui.button("Pause" if playing else "Play"):
+        playing = not playing
+    imgui.same_line()
+    imgui.set_next_item_width(-1)
+    changed, value = imgui.slider_int("##t", min(step, last), 0, last, "t = %d")
+    if changed:
+        step, playing = value, False
+    if playing:
+        clock += imgui.get_io().delta_time * rate
+        if clock >= 1.0:
+            step = (step + int(clock)) % (last + 1)
+            clock %= 1.0
+    return playing, step, clock

@@ -9,7 +9,7 @@ import numpy as np
 
 from imgui_bundle import imgui, implot3d
 
-from explorer.ui import images, widgets
+from explorer.ui import glyphs, images, widgets
 from explorer.ui.panels.view import scale_bar
 from explorer.ui.state import GRID_COMPONENTS, INSPECT_SOURCES, AppState
 
@@ -79,7 +79,6 @@ def _shown_grid(state: AppState, result):
     return None
 
 
-_GLYPH_SAMPLES = 20
 _GLYPH_MAX_CELLS = 48
 
 
@@ -91,28 +90,8 @@ def _draw_glyphs(grid: np.ndarray, z: int, pos, size) -> None:
         imgui.text_disabled(f"glyphs are drawn for grids up to {_GLYPH_MAX_CELLS}³")
         return
     z = int(np.clip(z if z >= 0 else n // 2, 0, n - 1))
-    coeffs = grid[:, :, :, z, :].mean(axis=0)                   # (x, y, 4)
-    angles = np.linspace(0.0, 2.0 * np.pi, _GLYPH_SAMPLES, endpoint=False)
-    dirs = np.stack([np.cos(angles), np.sin(angles), np.zeros_like(angles)], axis=1)
-    basis = np.stack([images.sh_basis(d) for d in dirs], axis=1)  # (4, samples)
-    intensity = np.maximum(coeffs @ basis, 0.0)                 # (x, y, samples)
-    peak = float(intensity.max())
-    if peak <= 0.0:
-        return
-    cell_w, cell_h = size.x / n, size.y / n
-    radius = 0.5 * min(cell_w, cell_h) * intensity / peak
-    draw = imgui.get_window_draw_list()
-    colour = imgui.get_color_u32(imgui.ImVec4(0.55, 0.85, 1.0, 0.9))
-    for x in range(n):
-        for y in range(n):
-            r = radius[x, y]
-            if r.max() < 0.6:          # under a pixel: nothing to see
-                continue
-            cx = pos.x + (x + 0.5) * cell_w
-            cy = pos.y + (n - 1 - y + 0.5) * cell_h      # image rows run from high y down
-            points = [imgui.ImVec2(cx + r[i] * dirs[i, 0], cy - r[i] * dirs[i, 1])
-                      for i in range(_GLYPH_SAMPLES)]
-            draw.add_polyline(points, colour, 1.0, imgui.ImDrawFlags_.closed)
+    glyphs.draw_lobe_glyphs(imgui.get_window_draw_list(), grid, z, pos, size,
+                            imgui.get_color_u32(imgui.ImVec4(0.55, 0.85, 1.0, 0.9)))
 
 
 def _grid_controls(state: AppState, resolution: int, components: bool = True) -> None:
@@ -188,20 +167,9 @@ def _cascade_pick(state: AppState, result, per_cascade: list, finest):
 
 
 def _playback(state: AppState, last: int) -> None:
-    ins = state.inspect
-    if imgui.button("Pause" if ins.playing else "Play"):
-        ins.playing = not ins.playing
-    imgui.same_line()
-    imgui.set_next_item_width(-1)
-    changed, value = imgui.slider_int("##t", min(ins.iteration, last), 0, last, "t = %d")
-    if changed:
-        ins.iteration, ins.playing = value, False
-    if ins.playing:
-        rt = state.runtime
-        rt.play_clock += imgui.get_io().delta_time * ins.play_rate
-        if rt.play_clock >= 1.0:
-            ins.iteration = (ins.iteration + int(rt.play_clock)) % (last + 1)
-            rt.play_clock %= 1.0
+    ins, rt = state.inspect, state.runtime
+    ins.playing, ins.iteration, rt.play_clock = widgets.playback(
+        ins.playing, ins.iteration, last, rt.play_clock, ins.play_rate)
 
 
 def _vpl_plot(state: AppState, result) -> None:

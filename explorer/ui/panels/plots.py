@@ -1,37 +1,22 @@
-"""Plots panel (implot), one tab each: flux in flight per propagation step for A and B
-(log scale), the energy audit as bars, and the GPU time of each pass."""
+"""Plots panel (implot), one tab each: flux in flight per propagation step for A and B,
+the energy audit as labelled bars, and the GPU time of each pass.
+
+The flux and audit plots are the lesson figures' own (explorer/ui/figures/flux_per_step.py
+and energy_audit.py): a linear/log choice whose "auto" picks log when the values span more
+than two decades and otherwise a linear axis from 0, values written on the bars and line
+ends with their share of the injected flux, and legends that name what differs between A
+and B.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 from imgui_bundle import imgui, implot
 
+from explorer.ui.figures import plotting
+from explorer.ui.figures.energy_audit import audit_series, draw_audit_plot
+from explorer.ui.figures.flux_per_step import draw_flux_plot, flux_series
 from explorer.ui.state import AppState
-
-AUDIT_ROWS = (
-    ("RSM", "rsm"),
-    ("injected", "injected"),
-    ("accumulated", "accumulated"),
-    ("gathered", "gathered"),
-    ("border loss", "border_loss"),
-    ("clamp gain", "clamp_gain"),
-    ("occluded", "occluded"),
-)
-_LOG_FLOOR = 1e-12
-
-
-def audit_values(audit) -> np.ndarray:
-    """One number per AUDIT_ROWS entry: watts summed over colour channels (and over steps
-    for the per-step losses)."""
-    values = []
-    for _, field in AUDIT_ROWS:
-        data = getattr(audit, field, None)
-        values.append(float(np.sum(data)) if data is not None else 0.0)
-    return np.array(values, dtype=np.float64)
-
-
-def flux_per_step(audit) -> np.ndarray:
-    return np.asarray(audit.per_step, dtype=np.float64).reshape(len(audit.per_step), -1).sum(1)
 
 
 def gui_plots(state: AppState) -> None:
@@ -39,9 +24,9 @@ def gui_plots(state: AppState) -> None:
     if rt.result is None:
         imgui.text_disabled("no frame yet")
         return
-    sides = [("A", rt.result)]
+    results = [rt.result]
     if state.comparing and rt.compare_result is not None:
-        sides.append(("B", rt.compare_result))
+        results.append(rt.compare_result)
     if not imgui.begin_tab_bar("plots"):
         return
     for name, title, plot in (("flux-per-step", "Flux per step", _flux_plot),
@@ -49,57 +34,38 @@ def gui_plots(state: AppState) -> None:
                               ("timings", "GPU time", _timings_plot)):
         flags = imgui.TabItemFlags_.set_selected if state.plot_tab == name else 0
         if imgui.begin_tab_item(title, None, flags)[0]:
-            plot(sides, imgui.get_content_region_avail().y - 4)
+            plot(state, results)
             imgui.end_tab_item()
     state.plot_tab = None
     imgui.end_tab_bar()
 
 
-def _flux_plot(sides, height: float) -> None:
-    if not implot.begin_plot("Flux in flight per propagation step", (-1, height)):
-        return
-    implot.setup_axes("step t", "flux [W]", implot.AxisFlags_.auto_fit,
-                      implot.AxisFlags_.auto_fit)
-    series = [np.maximum(flux_per_step(result.audit), _LOG_FLOOR) for _, result in sides]
-    if max(float(ys.max() / ys.min()) for ys in series) > 20.0:
-        # Log only when the data spans decades: within one decade implot labels no tick.
-        implot.setup_axis_scale(implot.ImAxis_.y1, implot.Scale_.log10)
-    for name, result in sides:
-        ys = np.maximum(flux_per_step(result.audit), _LOG_FLOOR)
-        xs = np.arange(len(ys), dtype=np.float64)
-        spec = implot.Spec()
-        spec.marker = implot.Marker_.circle
-        spec.marker_size = 3.0
-        spec.line_weight = 2.0
-        implot.plot_line(f"{name}: {_label(result)}", xs, ys, spec)
-    implot.end_plot()
+def _axis_controls(state: AppState) -> None:
+    state.plot_scale = plotting.scale_selector(state.plot_scale)
+    imgui.same_line(0.0, 24.0)
+    _, state.plot_relative = imgui.checkbox("share of injected", state.plot_relative)
 
 
-def _audit_plot(sides, height: float) -> None:
-    """Horizontal bars, one row per audit entry, one bar per side."""
-    if not implot.begin_plot("Energy audit (sum of channels)", (-1, height)):
-        return
-    implot.setup_axes("flux [W]", "", implot.AxisFlags_.auto_fit,
-                      implot.AxisFlags_.auto_fit | implot.AxisFlags_.invert)
-    implot.setup_legend(implot.Location_.south_east)
-    rows = np.arange(len(AUDIT_ROWS), dtype=np.float64)
-    implot.setup_axis_ticks(implot.ImAxis_.y1, [float(r) for r in rows],
-                            [r[0] for r in AUDIT_ROWS])
-    width = 0.8 / len(sides)
-    for i, (name, result) in enumerate(sides):
-        spec = implot.Spec()
-        spec.flags = implot.BarsFlags_.horizontal
-        positions = rows + (i - (len(sides) - 1) / 2) * width
-        implot.plot_bars(f"{name}: {_label(result)}", audit_values(result.audit), positions,
-                         width, spec)
-    implot.end_plot()
+def _flux_plot(state: AppState, results: list) -> None:
+    _axis_controls(state)
+    avail = imgui.get_content_region_avail()
+    draw_flux_plot("Flux in flight per propagation step", flux_series(results),
+                   imgui.ImVec2(avail.x, avail.y - 4), state.plot_scale, state.plot_relative)
 
 
-def _timings_plot(sides, height: float) -> None:
-    result = sides[0][1]
+def _audit_plot(state: AppState, results: list) -> None:
+    _axis_controls(state)
+    avail = imgui.get_content_region_avail()
+    draw_audit_plot("Energy audit (sum of channels)", audit_series(results), avail.x,
+                    state.plot_scale, state.plot_relative, avail.y - 4)
+
+
+def _timings_plot(state: AppState, results: list) -> None:
+    result = results[0]
     timings = dict(getattr(result, "timings_ms", {}) or {})
     methods = dict(getattr(result, "timing_methods", {}) or {})
     total = sum(timings.values())
+    height = imgui.get_content_region_avail().y - 4
     if not implot.begin_plot(f"Time per pass, A (total {total:.1f} ms)", (-1, height)):
         return
     names = list(timings)
@@ -114,9 +80,3 @@ def _timings_plot(sides, height: float) -> None:
         implot.plot_bars("##ms", np.array([timings[n] for n in names], dtype=np.float64),
                          np.arange(len(names), dtype=np.float64), 0.6, spec)
     implot.end_plot()
-
-
-def _label(result) -> str:
-    from explorer.ui.panels.view import _preset_name
-
-    return _preset_name(result.settings.corrections)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from imgui_bundle import imgui
 
-from explorer.ui import camera, images, widgets
+from explorer.ui import camera, images, legend, widgets
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
 from explorer.ui.textures import diverging, heat, tonemap
 
@@ -177,8 +177,9 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
 
 
 def _label(draw, origin, end, state: AppState) -> None:
-    a = "A: " + _preset_name(state.settings.corrections)
-    b = "B: " + _preset_name(state.compare_settings.corrections)
+    # B is A with the compare corrections (App.settings_for): name what differs.
+    a, b = legend.side_labels(state.settings, state.settings.with_changes(
+        corrections=state.compare_settings.corrections))
     pad = 6.0
     _overlay(draw, origin, a)
     width = imgui.calc_text_size(b).x
@@ -196,12 +197,8 @@ def _overlay(draw, pos, text: str) -> None:
 
 
 def _preset_name(corrections) -> str:
-    from explorer.lpv.settings import PRESETS
-
-    for name, value in PRESETS.items():
-        if value == corrections:
-            return name
-    return "custom"
+    """The preset's name, or "custom" (the window title)."""
+    return legend.preset_name(corrections) or "custom"
 
 
 def _difference(state: AppState, draw, origin, end) -> None:

@@ -1,0 +1,146 @@
+"""One figure alone in a glfw window: for looking at it, for tests and for screenshots.
+
+The window is made like the app's (:class:`explorer.gl.window.Window`, imgui with implot
+and implot3d, the app's style and font) and shows a single full-window imgui pane with the
+figure at the given width::
+
+    with FigureWindow(900, 700, visible=False) as win:
+        spec = make_figure("clamped-cosine", normal_deg=45)
+        pixels = win.render(spec, frames=3)      # (H, W, 3) of the figure's rectangle
+        win.screenshot("cosine.png")             # the whole window
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from explorer.gl.window import Window
+from explorer.ui.figures.host import FigureContext
+from explorer.ui.figures.registry import FigureSpec, draw_figure
+
+_PADDING = 16.0
+
+
+class FigureWindow:
+    def __init__(self, width: int = 900, height: int = 700, visible: bool = True,
+                 context: FigureContext | None = None) -> None:
+        from imgui_bundle import imgui, implot, implot3d
+
+        from explorer.ui.app import _fonts, _style
+
+        self.window = Window(width, height, title="lpv-explorer figure", visible=visible,
+                             vsync=False)
+        self.ctx = self.window.ctx
+        self.context = context or FigureContext()
+        self._imgui_ctx = imgui.create_context()
+        self._implot_ctx = implot.create_context()
+        self._implot3d_ctx = implot3d.create_context()
+        imgui.get_io().set_ini_filename("")
+        _style(self.window.content_scale)
+        _fonts(imgui.get_io())
+        imgui.backends.glfw_init_for_opengl(self.window.address, True)
+        imgui.backends.opengl3_init("#version 330 core")
+        self.rect: tuple[tuple[float, float], tuple[float, float]] | None = None
+        """Screen rectangle (pixels) of the figure drawn last."""
+        self.last_pixels: np.ndarray | None = None
+
+    def __enter__(self) -> "FigureWindow":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def frame(self, spec: FigureSpec, figure_width: float | None = None,
+              capture: bool = False) -> bool:
+        """Draw one frame with ``spec``; False once the window should close."""
+        from imgui_bundle import imgui
+
+        from explorer.ui.app import CLEAR_COLOUR
+
+        self.window.poll_events()
+        if self.window.should_close():
+            return False
+        imgui.backends.opengl3_new_frame()
+        imgui.backends.glfw_new_frame()
+        imgui.new_frame()
+        viewport = imgui.get_main_viewport()
+        imgui.set_next_window_pos(viewport.pos)
+        imgui.set_next_window_size(viewport.size)
+        flags = (imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.no_move
+                 | imgui.WindowFlags_.no_saved_settings
+                 | imgui.WindowFlags_.no_bring_to_front_on_focus)
+        imgui.push_style_var(imgui.StyleVar_.window_padding, (_PADDING, _PADDING))
+        imgui.begin("figure", None, flags)
+        imgui.pop_style_var()
+        width = figure_width or imgui.get_content_region_avail().x
+        self.rect = draw_figure(spec, width, self.context)
+        imgui.end()
+        imgui.render()
+        fb_width, fb_height = self.window.framebuffer_size
+        self.ctx.screen.use()
+        self.ctx.viewport = (0, 0, fb_width, fb_height)
+        self.ctx.clear(*CLEAR_COLOUR)
+        imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
+        if capture:
+            self.last_pixels = self.window.read_pixels()
+        self.window.swap_buffers()
+        return True
+
+    def render(self, spec: FigureSpec, frames: int = 3,
+               figure_width: float | None = None) -> np.ndarray:
+        """Draw ``frames`` frames (imgui lays out over the first ones) and return the
+        pixels of the figure's rectangle, (h, w, 3) uint8."""
+        for index in range(max(int(frames), 1)):
+            self.frame(spec, figure_width, capture=index == frames - 1)
+        return self.figure_pixels()
+
+    def figure_pixels(self) -> np.ndarray:
+        if self.last_pixels is None or self.rect is None:
+            raise RuntimeError("no frame captured yet")
+        from imgui_bundle import imgui
+
+        scale = imgui.get_io().display_framebuffer_scale
+        (x0, y0), (x1, y1) = self.rect
+        h, w = self.last_pixels.shape[:2]
+        cols = slice(max(int(x0 * scale.x), 0), min(int(np.ceil(x1 * scale.x)), w))
+        rows = slice(max(int(y0 * scale.y), 0), min(int(np.ceil(y1 * scale.y)), h))
+        return self.last_pixels[rows, cols]
+
+    def screenshot(self, path: str | Path) -> Path:
+        """Write the last captured frame (the whole window) as a PNG."""
+        from explorer.ui.app import write_png
+
+        if self.last_pixels is None:
+            raise RuntimeError("no frame captured yet")
+        write_png(self.last_pixels, path)
+        return Path(path)
+
+    def close(self) -> None:
+        from imgui_bundle import imgui, implot, implot3d
+
+        if self.window.handle is None:
+            return
+        imgui.backends.opengl3_shutdown()
+        imgui.backends.glfw_shutdown()
+        implot3d.destroy_context(self._implot3d_ctx)
+        implot.destroy_context(self._implot_ctx)
+        imgui.destroy_context(self._imgui_ctx)
+        self.window.close()
+
+
+def pipeline_results(ctx, settings: list) -> tuple:
+    """FrameResults of the LPV pipeline for each Settings, run on the window's context
+    (what the audit figures plot, when no app supplies them)."""
+    from explorer.lpv.pipeline import Pipeline
+
+    results = []
+    for one in settings:
+        pipeline = Pipeline(one, ctx=ctx)
+        try:
+            results.append(pipeline.run(one))
+        finally:
+            pipeline.release()
+            ctx.screen.use()
+    return tuple(results)

@@ -1,0 +1,19 @@
+"""Data the figure tests share: FrameResult stand-ins built from the numpy reference."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+from explorer.lpv.audit import EnergyAudit
+from explorer.lpv.settings import PRESETS, Settings
+from explorer.ui.figures import make_figure, propagation_stepper
+
+
+def synthetic_result(corrections: str, iterations: int = 6):
+    """A FrameResult stand-in (settings and an EnergyAudit) from the numpy reference."""
+    params = make_figure("propagation-stepper", iterations=iterations,
+                         corrections=corrections).params
+    audit = propagation_stepper.run(params).audit
+    full = EnergyAudit.from_grid_audit(audit, rsm=audit.injected,
+                                       gathered=0.4 * audit.injected)
+    return SimpleNamespace(settings=Settings(corrections=PRESETS[corrections]), audit=full)
