@@ -5,6 +5,7 @@ meaning the window can lay out itself (``explorer/ui/textflow.py``) and the test
 check without a window:
 
 * paragraphs separated by a blank line; ``* `` / ``- `` bullets and ``1. `` numbered items;
+* tables: lines that start with ``|``, the first row the header, a ``|---|`` line under it;
 * ``**bold**``, ``*italic*``, ```code```;
 * ``$...$`` inline math and ``$$...$$`` display math (LaTeX, typeset by MicroTeX; a
   display formula states its left-hand side);
@@ -83,6 +84,14 @@ class DisplayMath:
 
 
 @dataclass(frozen=True)
+class Table:
+    """``header`` and ``rows``: each a tuple of cells, each cell a tuple of runs."""
+
+    header: tuple[tuple[Run, ...], ...]
+    rows: tuple[tuple[tuple[Run, ...], ...], ...]
+
+
+@dataclass(frozen=True)
 class FigureRef:
     id: str
 
@@ -92,7 +101,7 @@ class FormulaRef:
     name: str
 
 
-Block = Paragraph | Item | DisplayMath | FigureRef | FormulaRef
+Block = Paragraph | Item | DisplayMath | Table | FigureRef | FormulaRef
 
 _FIELD = re.compile(r"\{\{\s*([^{}:\s]+)\s*(?::([^{}]*))?\}\}")
 _ITEM = re.compile(r"^(?:([*-])|(\d+)\.)\s+(.*)$")
@@ -120,9 +129,15 @@ def parse(text: str) -> tuple[Block, ...]:
     unbalanced delimiters."""
     blocks: list[Block] = []
     for chunk in _chunks(text):
+        if chunk[0] == "table":
+            blocks.append(_table(chunk[1]))
+            continue
         if chunk[0] == "item":
             _, marker, body = chunk
-            blocks.append(Item(_runs(body), marker))
+            pieces = _split_blocks(body)
+            if pieces and isinstance(pieces[0], Paragraph):   # the item's own text
+                pieces[0] = Item(pieces[0].runs, marker)
+            blocks.extend(pieces)
             continue
         for piece in _split_blocks(chunk[1]):
             blocks.append(piece)
@@ -146,8 +161,16 @@ def _chunks(text: str) -> list[tuple]:
         current.clear()
         marker = None
 
+    table: list[str] = []
     for line in text.strip().splitlines():
         stripped = line.strip()
+        if table and not stripped.startswith("|"):
+            chunks.append(("table", list(table)))
+            table.clear()
+        if not in_display and stripped.startswith("|"):
+            flush()
+            table.append(stripped)
+            continue
         if in_display:
             current.append(stripped)
             if stripped.count("$$") % 2:
@@ -167,7 +190,36 @@ def _chunks(text: str) -> list[tuple]:
     if in_display:
         raise TextError("a $$ display formula is not closed")
     flush()
+    if table:
+        chunks.append(("table", table))
     return chunks
+
+
+_RULE = re.compile(r"^\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?$")
+
+
+def _table(lines: list[str]) -> Table:
+    """A pipe table: the header row, a ``|---|---|`` rule, the body rows."""
+    if len(lines) < 2 or not _RULE.match(lines[1]):
+        raise TextError(f"a table needs a header row and a |---| rule under it: {lines[0]!r}")
+
+    def cells(line: str) -> list[str]:
+        body = line.strip()
+        if body.startswith("|"):
+            body = body[1:]
+        if body.endswith("|"):
+            body = body[:-1]
+        return [cell.strip() for cell in body.split("|")]
+
+    header = cells(lines[0])
+    rows = []
+    for line in lines[2:]:
+        row = cells(line)
+        if len(row) != len(header):
+            raise TextError(f"a table row has {len(row)} cells, the header {len(header)}: "
+                            f"{line!r}")
+        rows.append(tuple(_runs(cell) for cell in row))
+    return Table(tuple(_runs(cell) for cell in header), tuple(rows))
 
 
 def _split_blocks(body: str) -> list[Block]:
@@ -265,6 +317,19 @@ def substitute(text: str, value_of) -> str:
         return value_of(name, (match.group(2) or "").strip())
 
     return _FIELD.sub(replace, text)
+
+
+def all_runs(blocks: tuple[Block, ...]) -> list[Run]:
+    """Every run of ``blocks``: paragraphs, list items and table cells."""
+    runs: list[Run] = []
+    for block in blocks:
+        if isinstance(block, (Paragraph, Item)):
+            runs.extend(block.runs)
+        elif isinstance(block, Table):
+            for row in (block.header,) + block.rows:
+                for cell in row:
+                    runs.extend(cell)
+    return runs
 
 
 def runs_text(runs: tuple[Run, ...]) -> str:

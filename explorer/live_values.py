@@ -53,6 +53,8 @@ class LiveContext:
     result: Any = None
     error: Any = None
     figures: dict[str, dict[str, float]] = field(default_factory=dict)
+    renderer: str = ""
+    """GL_RENDERER of the context the frame ran on."""
 
 
 class Unavailable(LookupError):
@@ -130,6 +132,16 @@ def _lit_vpls(context: LiveContext) -> int:
     return int(np.count_nonzero(np.asarray(vpls.flux).sum(axis=1) > 0))
 
 
+def _vpl_depth(reduce) -> Callable[[LiveContext], float]:
+    def read(context: LiveContext) -> float:
+        vpls = _result(context).vpls
+        lit = np.asarray(vpls.flux).sum(axis=1) > 0
+        if not lit.any():
+            raise Unavailable("no lit VPL")
+        return float(reduce(np.asarray(vpls.depth)[lit]))
+    return read
+
+
 def _time(name: str) -> Callable[[LiveContext], float]:
     def read(context: LiveContext) -> float:
         timings = getattr(_result(context), "timings_ms", {}) or {}
@@ -139,6 +151,21 @@ def _time(name: str) -> Callable[[LiveContext], float]:
             raise Unavailable(f"the {name} pass did not run")
         return float(timings[name])
     return read
+
+
+def _timer(context: LiveContext) -> str:
+    methods = getattr(_result(context), "timing_methods", {}) or {}
+    method = methods.get("propagate")
+    if method is None:
+        raise Unavailable("the propagation pass was not timed")
+    return "GPU timer queries" if method == "timer-query" else "the wall clock"
+
+
+def _renderer(context: LiveContext) -> str:
+    renderer = getattr(context, "renderer", None)
+    if not renderer:
+        raise Unavailable("the renderer is not known")
+    return str(renderer)
 
 
 def _memory_mib(context: LiveContext) -> float:
@@ -217,9 +244,27 @@ def _fixed() -> dict[str, Quantity]:
                  lambda c: float(_per_step(c)[-1])),
         Quantity("audit.accumulated_over_injected", "acc_N flux / injected flux", "",
                  lambda c: _ratio(_audit_sum("accumulated")(c), _audit_sum("injected")(c))),
+        Quantity("audit.gathered_over_rsm", "gathered flux / RSM flux", "",
+                 lambda c: _ratio(_audit_sum("gathered")(c), _audit_sum("rsm")(c))),
+        Quantity("audit.clamp_gain_share", "flux the front-face clamp created over all "
+                 "steps / injected flux", "",
+                 lambda c: _ratio(_audit_sum("clamp_gain")(c), _audit_sum("injected")(c))),
+        Quantity("audit.occluded_share", "flux the geometry volume removed over all steps "
+                 "/ injected flux", "",
+                 lambda c: _ratio(_audit_sum("occluded")(c), _audit_sum("injected")(c))),
+        Quantity("audit.border_loss_share", "flux that left through the grid border over "
+                 "all steps / injected flux", "",
+                 lambda c: _ratio(_audit_sum("border_loss")(c), _audit_sum("injected")(c))),
+        Quantity("audit.max_over_first", "largest flux in flight over all steps / injected "
+                 "flux (above 1: some step added light)", "",
+                 lambda c: _ratio(float(_per_step(c).max()), float(_per_step(c)[0]))),
         Quantity("frame.vpls", "VPLs injected (RSM texels after downsampling)", "",
                  lambda c: int(_result(c).vpls.count), "d"),
         Quantity("frame.lit_vpls", "VPLs that carry flux", "", _lit_vpls, "d"),
+        Quantity("frame.vpl_depth_min", "nearest depth of a lit VPL in the light's view "
+                 "(w, along the light's axis)", "m", _vpl_depth(np.min), ".2f"),
+        Quantity("frame.vpl_depth_max", "farthest depth of a lit VPL in the light's view",
+                 "m", _vpl_depth(np.max), ".2f"),
         Quantity("frame.cell_size", "edge of a cell of the (finest) grid", "m",
                  lambda c: float(_result(c).grid_spec.cell_size)),
         Quantity("frame.grid_extent", "edge of the (finest) grid", "m",
@@ -235,6 +280,13 @@ def _fixed() -> dict[str, Quantity]:
                  _memory_mib, ".1f"),
         Quantity("frame.time.total", "time of all passes that ran for this frame", "ms",
                  _time("total"), ".0f"),
+        Quantity("frame.timer", "how the propagation pass was timed: GPU timer queries, or "
+                 "the wall clock around a finished dispatch (llvmpipe, compute)", "",
+                 _timer, ""),
+        Quantity("frame.renderer", "the GL renderer the frame ran on", "", _renderer, ""),
+        Quantity("frame.grid_origin", "corner of the (finest) grid in world units: it moves "
+                 "in whole cells when cascades follow the camera", "m",
+                 lambda c: tuple(float(v) for v in _result(c).grid_spec.origin), ".3f"),
         *[Quantity(f"frame.time.{name}", f"time of the {name} pass (timer query on a GPU, "
                    "wall clock around compute on llvmpipe)", "ms", _time(name), ".1f")
           for name in PASSES],

@@ -1,4 +1,6 @@
-"""``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps.
+"""``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
+``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
+shows it (a hidden window: needs a display, e.g. ``xvfb-run``).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.
@@ -17,10 +19,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a lesson id, number or file stem: print its steps")
     parser.add_argument("--dir", type=Path, default=None, metavar="PATH",
                         help="read lessons from this folder instead of the shipped ones")
+    group = parser.add_argument_group("export a step as the window shows it")
+    group.add_argument("--export", metavar="ID", help="lesson id, number or file stem")
+    group.add_argument("--step", type=int, default=1, metavar="K",
+                       help="step of the exported lesson (default: 1)")
+    group.add_argument("--out", type=Path, default=None, metavar="PNG",
+                       help="the PNG to write (default: ./<lesson>-step<K>.png)")
+    group.add_argument("--size", default="1600x900", metavar="WxH",
+                       help="window size in pixels (default: 1600x900)")
 
 
 def main(args: argparse.Namespace) -> int:
     from explorer.lessons import find_lesson, load_all
+
+    if args.export:
+        return _export(args)
 
     lessons, errors = load_all(args.dir)
     if args.lesson is None:
@@ -158,4 +171,33 @@ def render_lesson_step(args: argparse.Namespace) -> int:
                 print_audit(pipeline.run(settings))
     except (ValueError, FloatingPointError, GLUnavailableError, ShaderError, OSError) as exc:
         return render_error(exc, 1)
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from explorer.gl.window import WindowError
+    from explorer.ui.export import export_step
+
+    try:
+        width, height = (int(v) for v in args.size.lower().split("x"))
+    except ValueError:
+        print(f"lpv-explorer lessons: --size must look like 1600x900, got {args.size!r}",
+              file=sys.stderr)
+        return 2
+    if width < 640 or height < 400:
+        print("lpv-explorer lessons: --size must be at least 640x400", file=sys.stderr)
+        return 2
+    out = args.out or Path.cwd() / f"{args.export}-step{args.step}.png"
+    if out.suffix.lower() != ".png":
+        print(f"lpv-explorer lessons: --out must be a .png file, got {out}", file=sys.stderr)
+        return 2
+    try:
+        path = export_step(args.export, args.step, out, width, height)
+    except (KeyError, IndexError) as exc:
+        print(f"lpv-explorer lessons: {exc.args[0]}", file=sys.stderr)
+        return 2
+    except (WindowError, TimeoutError, OSError) as exc:
+        print(f"lpv-explorer lessons: {exc}", file=sys.stderr)
+        return 1
+    print(f"wrote {path}")
     return 0

@@ -13,6 +13,8 @@ from pathlib import Path
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--lesson", metavar="ID", help="open a lesson (e.g. 01 or its slug)")
+    parser.add_argument("--step", metavar="K", type=int, default=None,
+                        help="with --lesson: open the lesson at step K (default: 1)")
     parser.add_argument("--scene", metavar="NAME|PATH",
                         help="a built-in scene (cornell, single-source, room) or a mesh file")
     parser.add_argument("--preset", choices=("original", "corrected"),
@@ -47,6 +49,14 @@ def main(args: argparse.Namespace) -> int:
     if args.frames is not None and args.frames < 1:
         print("lpv-explorer run: --frames must be at least 1", file=sys.stderr)
         return 2
+    if args.step is not None and not args.lesson:
+        print("lpv-explorer run: --step needs --lesson", file=sys.stderr)
+        return 2
+    if args.lesson:
+        problem = check_lesson_step(args.lesson, args.step)
+        if problem:
+            print(f"lpv-explorer run: {problem}", file=sys.stderr)
+            return 2
     width, height = _parse_size(args.size)
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
 
@@ -71,20 +81,22 @@ def main(args: argparse.Namespace) -> int:
         if args.compare:
             app.state.view_mode = args.compare
         if args.lesson:
-            problem = _open_lesson(app, args.lesson)
-            if problem:
-                print(f"lpv-explorer run: {problem}", file=sys.stderr)
-                return 2
+            app.state.lesson_id, app.state.lesson_step = args.lesson, args.step or 1
         return app.run(frames=frames, screenshot=args.screenshot)
     finally:
         app.close()
 
 
-def _open_lesson(app, lesson_id: str) -> str | None:
-    """Hand the lesson to the lessons panel when this build has one."""
+def check_lesson_step(lesson_id: str, step: int | None) -> str | None:
+    """Why ``--lesson ID --step K`` cannot open (no such lesson or step), else None;
+    checked before a window opens."""
+    from explorer.lessons import find_lesson, load_all
+
+    lessons, _ = load_all()
     try:
-        from explorer import lessons  # noqa: F401
-    except ModuleNotFoundError:
-        return "this build has no lessons module"
-    app.state.lesson_id = lesson_id
+        lesson = find_lesson(lesson_id, lessons)
+        if step is not None:
+            lesson.step(step)
+    except (KeyError, IndexError) as exc:
+        return str(exc.args[0])
     return None

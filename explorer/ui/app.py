@@ -37,6 +37,7 @@ _RESIZE_SETTLE_S = 0.15       # re-render at a new view size once resizing pause
 _SHADER_POLL_S = 0.5
 _LAYOUT_FRAMES = 2          # frames before the View panel's size is trusted
 _EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
+_TASK_BUDGET_S = 0.06         # background GPU work per frame (the Error panel's reference)
 CLEAR_COLOUR = (0.09, 0.095, 0.11, 1.0)
 
 
@@ -75,6 +76,7 @@ class App:
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
+        rt.gl_renderer = str(self.ctx.info.get("GL_RENDERER", "")) if self.ctx else ""
         if rt.gl_problem:
             print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
         self._pipeline_class = (_default_pipeline_factory() if pipeline_class is ...
@@ -123,7 +125,9 @@ class App:
                                   and sorted(self.state.layout_panels) == sorted(titles))
         self.state.layout_panels = titles
         _style(self.window.content_scale)
-        _fonts(io)
+        from explorer.ui import fonts
+
+        self.state.runtime.fonts = fonts.load(io, 15.0)   # Roboto + math symbols
         imgui.backends.glfw_init_for_opengl(self.window.address, True)
         imgui.backends.opengl3_init("#version 330 core")
         rt = self.state.runtime
@@ -175,6 +179,7 @@ class App:
         if not self.state.runtime.gl_problem:
             self._hot_reload()
             self._update_pipelines()
+            self._background_tasks()
         imgui.backends.opengl3_new_frame()
         imgui.backends.glfw_new_frame()
         imgui.new_frame()
@@ -213,6 +218,9 @@ class App:
             pipeline.release()
         self._pipelines.clear()
         rt = self.state.runtime
+        for task in rt.tasks:
+            task.release()
+        rt.tasks.clear()
         if rt.textures is not None:
             rt.textures.release()
         if self.persist_settings:
@@ -238,7 +246,8 @@ class App:
             if state.comparing and state.auto_exposure:
                 a = a.with_changes(exposure=rt.auto_exposure[0])
             return a
-        b = a.with_changes(corrections=state.compare_settings.corrections)
+        b = a.with_changes(corrections=state.compare_settings.corrections,
+                           **dict(state.compare_overrides))
         if state.auto_exposure:
             b = b.with_changes(exposure=rt.auto_exposure[1])
         return b
@@ -313,6 +322,7 @@ class App:
         self._failed.pop(side, None)
         if side == "A":
             rt.result = result
+            rt.frame_view = pipeline.view
             rt.pipeline_error = None
             self._good_scene = (settings.scene, settings.camera, settings.light,
                                 settings.light_flux)
@@ -321,6 +331,20 @@ class App:
         else:
             rt.compare_result = result
         return True
+
+    def _background_tasks(self) -> None:
+        """Advance the panels' background GPU work (``runtime.tasks``) within a small
+        time budget, so that the window keeps drawing while it runs."""
+        for task in list(self.state.runtime.tasks):
+            try:
+                task.advance(self.ctx, _TASK_BUDGET_S)
+            except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
+                self.state.notify(f"{type(task).__name__} failed: {exc}", "error")
+                traceback.print_exception(exc, file=sys.stderr)
+                task.release()
+                self.state.runtime.tasks.remove(task)
+            finally:
+                self.ctx.screen.use()
 
     def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
         rt = self.state.runtime
@@ -443,7 +467,7 @@ class App:
     def _draw_ui(self) -> None:
         from imgui_bundle import imgui
 
-        from explorer.ui.layout import PANELS, build_default_layout
+        from explorer.ui.layout import PANELS, build_default_layout, window_class
 
         state = self.state
         self._main_menu()
@@ -457,12 +481,17 @@ class App:
         if state.runtime.gl_problem:
             self._gl_problem_window()
             return
+        focus = state.requests.focus_panel
+        focus = (focus,) if isinstance(focus, str) else tuple(focus or ())
         for panel in PANELS:
+            if panel.title in focus and not self._needs_layout:
+                state.open_panels[panel.title] = True
             if not state.open_panels.get(panel.title, True):
                 continue
-            if state.requests.focus_panel == panel.title and not self._needs_layout:
+            if panel.title in focus and not self._needs_layout:
                 imgui.set_next_window_focus()
-                state.requests.focus_panel = None
+            if panel.window_class:
+                imgui.set_next_window_class(window_class(panel))
             if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
             expanded, still_open = imgui.begin(panel.title, True)
@@ -475,6 +504,8 @@ class App:
                     self._panel_failed(panel.title, exc)
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
+        if focus and not self._needs_layout:
+            state.requests.focus_panel = None
         if imgui.is_key_pressed(imgui.Key.f12, False):
             state.requests.screenshot = default_screenshot_path()
         self._file_dialog()
@@ -664,16 +695,3 @@ def _markdown_context():
     except Exception as exc:  # noqa: BLE001 - markdown is optional
         print(f"lpv-explorer: markdown unavailable: {exc}", file=sys.stderr)
         return None
-
-
-def _fonts(io) -> None:
-    """Roboto for text (the default bitmap font looks dated); falls back to imgui's."""
-    import imgui_bundle
-
-    font = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "Roboto" / \
-        "Roboto-Regular.ttf"
-    if font.is_file():
-        try:
-            io.fonts.add_font_from_file_ttf(str(font), 15.0)
-        except RuntimeError:
-            pass

@@ -30,6 +30,7 @@ INSPECT_SOURCES = (
     "propagation",                              # grid_t at a chosen iteration t
     "geometry-volume",                          # occlusion grid, one z slice
     "vpls",                                     # the injected VPLs as 3D points
+    "cascade-weights",                          # which cascade the gather reads per pixel
 )
 GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 """What a grid slice shows: the intensity evaluated in a chosen direction (rgb), or one SH
@@ -89,6 +90,15 @@ class Runtime:
     auto_exposure: tuple[float, float] = (1.0, 1.0)   # per side, from the last results
     play_clock: float = 0.0               # fractional iterations while playing
     vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
+    fonts: Any = None                     # explorer.ui.fonts.Fonts (prose styles)
+    gl_renderer: str = ""                 # GL_RENDERER of the window's context
+    frame_view: Any = None
+    """``Pipeline.view`` of configuration A's pipeline (a view the FrameResult alone
+    cannot make, e.g. cascade-weights, which needs the G-buffer); None before a run."""
+    tasks: list = field(default_factory=list)
+    """Background work the app loop advances each frame with its GL context (objects
+    with ``advance(ctx, budget_s)`` and ``release()``), e.g. the Error panel's
+    reference render."""
 
 
 @dataclass
@@ -99,7 +109,7 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
-    focus_panel: str | None = None    # bring this panel's tab to the front
+    focus_panel: str | tuple | None = None   # bring this panel's (these panels') tab forward
     quit: bool = False
 
 
@@ -108,6 +118,9 @@ class AppState:
     settings: Settings = field(default_factory=Settings)
     compare_settings: Settings = field(  # configuration B: only its corrections are used
         default_factory=lambda: Settings(corrections=PRESETS["original"]))
+    compare_overrides: tuple = ()
+    """(field, value) pairs in which B also differs from A (a lesson's before | after
+    view of a try-this); not persisted."""
     view_mode: str = "single"
     view_buffer: str = "final"
     split_position: float = 0.5       # divider, fraction of the view width
@@ -120,6 +133,7 @@ class AppState:
     inspect: InspectState = field(default_factory=InspectState)
     open_panels: dict[str, bool] = field(default_factory=dict)
     lesson_id: str | None = None
+    lesson_step: int | None = None     # the step `run --lesson ID --step K` opens
     layout_panels: list[str] = field(default_factory=list)
     """Panel titles the saved dock layout was built for; a new panel rebuilds it."""
     plot_tab: str | None = None       # a name in settings.PLOTS: bring that plot's tab forward

@@ -22,6 +22,7 @@ from explorer.ui.figures import (
     clamped_cosine,
     energy_audit,
     flux_per_step,
+    pipeline_overview,
     propagation_stepper,
     rsm_texel,
 )
@@ -66,10 +67,11 @@ FIGURES: dict[str, FigureKind] = {kind.name: kind for kind in (
     _kind(rsm_texel, "rsm-texel", "An RSM texel on a tilted surface"),
     _kind(energy_audit, "energy-audit", "Energy audit"),
     _kind(flux_per_step, "flux-per-step", "Flux in flight per propagation step"),
+    _kind(pipeline_overview, "pipeline", "The LPV pipeline at a glance"),
 )}
 
 
-USES_RESULTS = ("energy-audit", "flux-per-step")
+USES_RESULTS = ("energy-audit", "flux-per-step", "pipeline")
 """Kinds that plot the FrameResults of the context (A, and B while comparing)."""
 
 
