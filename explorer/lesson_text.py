@@ -11,9 +11,10 @@ check without a window:
   display formula states its left-hand side);
 * ``{{name}}`` or ``{{name:format}}``: a live number (:mod:`explorer.live_values`), also
   inside math, e.g. ``$c_0 = {{derived.sh.c0:.6f}}$``;
-* markers: ``{{figure:ID}}`` (a figure of the step, block level), ``{{formula:NAME}}``
-  (a derivation result typeset as display math, block level), ``{{try:K}}`` (the step's
-  K-th try-this as a button in the line).
+* markers: ``{{figure:ID}}`` (a figure of the step) and ``{{formula:NAME}}`` (a
+  derivation result typeset as display math) stand between paragraphs (one inside a
+  paragraph splits it there); ``{{try:K}}`` is the step's K-th try-this as a button in
+  the line.
 
 Examples
 --------
@@ -106,6 +107,7 @@ Block = Paragraph | Item | DisplayMath | Table | FigureRef | FormulaRef
 _FIELD = re.compile(r"\{\{\s*([^{}:\s]+)\s*(?::([^{}]*))?\}\}")
 _ITEM = re.compile(r"^(?:([*-])|(\d+)\.)\s+(.*)$")
 _DISPLAY = re.compile(r"\$\$(.+?)\$\$", re.S)
+MARKER_FIELD = re.compile(r"\{\{\s*(figure|formula|try)\s*:\s*([^{}\s]+)\s*\}\}")
 _BLOCK_MARKER = re.compile(r"\{\{\s*(figure|formula)\s*:\s*([^{}\s]+)\s*\}\}")
 
 
@@ -232,7 +234,7 @@ def _split_blocks(body: str) -> list[Block]:
         if before:
             out.append(Paragraph(_runs(before)))
         if match.group(1) is not None:
-            out.append(DisplayMath(match.group(1).strip()))
+            out.append(DisplayMath(" ".join(match.group(1).split())))
         elif match.group(2) == "figure":
             out.append(FigureRef(match.group(3)))
         else:
@@ -279,8 +281,15 @@ def _runs(body: str) -> tuple[Run, ...]:
         position = match.end()
         kind = match.lastgroup
         token = match.group(kind)
-        if kind == "code":
-            runs.append(Text(token[1:-1], "code"))
+        if kind == "code":      # live numbers stay live inside code
+            inner, at = token[1:-1], 0
+            for field in _FIELD.finditer(inner):
+                if field.start() > at:
+                    runs.append(Text(inner[at:field.start()], "code"))
+                runs.append(Value(field.group(1), (field.group(2) or "").strip(), "code"))
+                at = field.end()
+            if at < len(inner):
+                runs.append(Text(inner[at:], "code"))
         elif kind == "math":
             runs.append(Math(token[1:-1].strip()))
         elif kind == "field":

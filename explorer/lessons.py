@@ -686,7 +686,7 @@ _LATEX_SYMBOLS = {
     r"\cos": "cos", r"\sin": "sin",
     r"\tilde": "", r"\mathrm": "", r"\text": "",
 }
-_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
+_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\ ": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
 # Only glyphs the window's font (Roboto) has: digits 1-3 as superscripts, no subscripts.
 _SUPERSCRIPTS = {"1": "¹", "2": "²", "3": "³"}
 _ATOM = r"[A-Za-z]|[0-9.]+|π"

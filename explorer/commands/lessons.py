@@ -61,9 +61,23 @@ def _print_list(lessons) -> None:
               f"({count} step{'s' if count != 1 else ''})")
 
 
-def _print_lesson(lesson) -> None:
+def _plain(text: str) -> str:
+    """Lesson text for a terminal: derived numbers filled in, live ones named in
+    brackets (they are measured in the window), markers spelled out, math as text."""
+    from explorer import lesson_text, live_values
     from explorer.lessons import math_to_text
 
+    def value(name: str, fmt: str) -> str:
+        if name.startswith("derived."):
+            return live_values.render(name, fmt, live_values.LiveContext())
+        return f"[{name}]"
+
+    text = lesson_text.substitute(text, value)
+    text = lesson_text.MARKER_FIELD.sub(lambda m: f"[{m.group(1)} {m.group(2)}]", text)
+    return math_to_text(text.replace("$$", "$"))
+
+
+def _print_lesson(lesson) -> None:
     print(f"{lesson.title}  [{lesson.id}, {lesson.path.name}]")
     print(textwrap.fill(lesson.summary, width=88))
     for step in lesson.steps:
@@ -82,13 +96,13 @@ def _print_lesson(lesson) -> None:
             shows.append(", ".join(f"{k}={v}" for k, v in step.overrides))
         print(textwrap.fill("shows: " + "; ".join(shows), width=88, subsequent_indent="  "))
         print()
-        print(math_to_text(step.text.strip()))
+        print(_plain(step.text.strip()))
         if step.formulas:
             print()
             print("formulas: " + ", ".join(step.formulas))
         for item in step.try_this:
-            print(textwrap.fill(f"try this [{item.control}]: {item.prompt}", width=88,
-                                subsequent_indent="  "))
+            print(textwrap.fill(f"try this [{item.control} = {item.value!r}]: "
+                                f"{_plain(item.prompt)}", width=88, subsequent_indent="  "))
     print()
     print(f"render a step: lpv-explorer render --lesson {lesson.id} --step 1")
 

@@ -276,25 +276,60 @@ def _article(state: Any, session: LessonSession) -> None:
     if rest:
         page.draw(rest)
     if step.try_this:
-        _try_section(page, step)
+        _try_section(state, session, page, step)
     _next_step(state, session, width)
     imgui.end_group()
+
+
+def try_context(state: Any, session: LessonSession, index: int,
+                base: live_values.LiveContext) -> tuple[live_values.LiveContext, str]:
+    """What the ``index``-th try-this's prompt quotes, and where it comes from: the
+    configuration the button sets (the right side of a before | after split). Its frame
+    quantities are read once it is on screen; its errors come from the Error panel's
+    cache, so a configuration measured once keeps its numbers."""
+    from explorer.ui.panels.error import error_service
+
+    step = session.step
+    item = step.try_this[index - 1]
+    own = session.saved if session.saved is not None else current_screen(state)
+    after = item.apply(step_settings(step, own)).with_changes(
+        width=state.settings.width, height=state.settings.height)
+    active = session.applied and session.tried == index
+    cached = error_service(state).result_for(after)
+    error = cached.stats if cached is not None else None
+    if active and not item.split:
+        return replace(base, error=error), "the frame on screen"
+    if active:
+        result = state.runtime.compare_result if state.comparing else None
+        return (replace(base, settings=after, result=result, error=error),
+                "the right half of the split view")
+    return (replace(base, settings=after, result=None, error=error),
+            "the configuration this button sets: press it to read the frame")
+
+
+def step_settings(step: Step, own):
+    from explorer.ui.lesson_panel import step_screen
+
+    return step_screen(step, own).settings
 
 
 def _page_env(state: Any, session: LessonSession, step: Step,
               context: live_values.LiveContext) -> PageEnv:
     from explorer import derived
 
+    source = {"context": context, "where": "the frame on screen"}
+
     def value(name: str, fmt: str) -> tuple[str, str]:
         quantity = live_values.lookup(name, step.figure_ids)
-        text = live_values.render(name, fmt, context, step.figure_ids)
+        text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         tip = f"{name}{unit}: {quantity.doc}"
         if text == live_values.PENDING:
-            tip += "\n(not available yet" + (": measure it in the Error panel)"
-                                             if quantity.source == "error" else ")")
+            tip += "\n(not available yet: " + (
+                "measure it in the Error panel)" if quantity.source == "error"
+                else f"{source['where']})")
         elif quantity.measured:
-            tip += "\nmeasured on the frame on screen; it changes with the settings"
+            tip += f"\nmeasured on {source['where']}; it changes with the settings"
         return text, tip
 
     def button(index: int) -> tuple[str, str, bool]:
@@ -329,16 +364,22 @@ def _page_env(state: Any, session: LessonSession, step: Step,
 
     env = PageEnv(fonts=state.runtime.fonts, formulas=state.runtime.formulas, value=value,
                   button=button, on_button=on_button, figure=figure, formula=formula)
+    env.source = source
     return env
 
 
-def _try_section(page: Page, step: Step) -> None:
-    """Every try-this of the step: its button and its prompt (with live numbers)."""
+def _try_section(state: Any, session: LessonSession, page: Page, step: Step) -> None:
+    """Every try-this of the step: its button and its prompt, whose live numbers describe
+    the configuration the button sets (:func:`try_context`)."""
     imgui.separator_text("Try this")
+    source = page.env.source
+    base = source["context"]
     for index, item in enumerate(step.try_this, start=1):
+        source["context"], source["where"] = try_context(state, session, index, base)
         runs = (lesson_text.TryButton(index), lesson_text.Text(" ")) + \
             lesson_text.parse(item.prompt)[0].runs
         page.draw((lesson_text.Paragraph(runs),))
+    source["context"], source["where"] = base, "the frame on screen"
 
 
 def _error_banner(state: Any) -> None:

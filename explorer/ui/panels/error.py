@@ -210,8 +210,8 @@ def _numbers(result: ErrorResult) -> None:
     imgui.text("flux ratio LPV/ref")
     imgui.same_line()
     imgui.text_colored(widgets.ACCENT, f"{stats.flux_ratio:.3f}")
-    imgui.same_line(0, 18)
-    imgui.text_disabled("r, g, b " + ", ".join(f"{v:.2f}" for v in stats.flux_ratio_rgb))
+    imgui.text_disabled("flux ratio per channel (r, g, b): "
+                        + ", ".join(f"{v:.2f}" for v in stats.flux_ratio_rgb))
     widgets.dim_text_wrapped(
         f"{s.width}×{s.height} px, RSM {s.rsm_size}², {m.reference} reference, "
         f"{stats.pixels} pixels see a surface; indirect light only (no exposure).")
