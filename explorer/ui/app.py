@@ -322,7 +322,7 @@ class App:
         self._failed.pop(side, None)
         if side == "A":
             rt.result = result
-            rt.frame_view = pipeline.view
+            rt.frame_view = getattr(pipeline, "view", None)
             rt.pipeline_error = None
             self._good_scene = (settings.scene, settings.camera, settings.light,
                                 settings.light_flux)
