@@ -214,47 +214,49 @@ def _derived(name: str) -> Callable[[LiveContext], float]:
 
 # --- the table -------------------------------------------------------------------------
 
+AUDIT_SUMS = (
+    ("rsm", "flux the RSM texels reflect (sum of channels)"),
+    ("injected", "flux injected into the grid, grid_0"),
+    ("accumulated", "flux of the accumulated grid acc_N"),
+    ("gathered", "flux the visible surfaces receive in the final gather"),
+    ("border_loss", "flux that left the grid through its border, all steps"),
+    ("clamp_gain", "flux created by the front-face clamp, all steps"),
+    ("occluded", "flux the geometry volume removed, all steps"),
+    ("reflected", "flux the geometry volume reflected back (bounces 2), all steps"),
+)
+"""EnergyAudit fields quoted as ``audit.<field>``: watts summed over the colour channels
+(and over the steps for the per-step terms)."""
+AUDIT_RATIOS = (
+    ("injected_over_rsm", "injected", "rsm", "injected flux / RSM flux"),
+    ("accumulated_over_injected", "accumulated", "injected", "acc_N flux / injected flux"),
+    ("gathered_over_rsm", "gathered", "rsm", "gathered flux / RSM flux"),
+    ("clamp_gain_share", "clamp_gain", "injected",
+     "flux the front-face clamp created over all steps / injected flux"),
+    ("occluded_share", "occluded", "injected",
+     "flux the geometry volume removed over all steps / injected flux"),
+    ("border_loss_share", "border_loss", "injected",
+     "flux that left through the grid border over all steps / injected flux"),
+)
+"""``audit.<name>``: one audit sum over another."""
+
+
+def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
+    return lambda c: _ratio(_audit_sum(top)(c), _audit_sum(bottom)(c))
+
+
 def _fixed() -> dict[str, Quantity]:
     from explorer.lpv.pipeline import PASSES
 
     items = [
-        Quantity("audit.rsm", "flux the RSM texels reflect (sum of channels)", "W",
-                 _audit_sum("rsm")),
-        Quantity("audit.injected", "flux injected into the grid, grid_0", "W",
-                 _audit_sum("injected")),
-        Quantity("audit.accumulated", "flux of the accumulated grid acc_N", "W",
-                 _audit_sum("accumulated")),
-        Quantity("audit.gathered", "flux the visible surfaces receive in the final gather",
-                 "W", _audit_sum("gathered")),
-        Quantity("audit.border_loss", "flux that left the grid through its border, all "
-                 "steps", "W", _audit_sum("border_loss")),
-        Quantity("audit.clamp_gain", "flux created by the front-face clamp, all steps", "W",
-                 _audit_sum("clamp_gain")),
-        Quantity("audit.occluded", "flux the geometry volume removed, all steps", "W",
-                 _audit_sum("occluded")),
-        Quantity("audit.reflected", "flux the geometry volume reflected back (bounces 2)",
-                 "W", _audit_sum("reflected")),
-        Quantity("audit.injected_over_rsm", "injected flux / RSM flux", "",
-                 lambda c: _ratio(_audit_sum("injected")(c), _audit_sum("rsm")(c))),
+        *[Quantity(f"audit.{name}", doc, "W", _audit_sum(name)) for name, doc in AUDIT_SUMS],
+        *[Quantity(f"audit.{name}", doc, "", _audit_ratio(top, bottom))
+          for name, top, bottom, doc in AUDIT_RATIOS],
         Quantity("audit.step_ratio", "flux in flight after one step / before it", "",
                  _step_ratio),
         Quantity("audit.last_over_first", "flux in flight after the last step / injected",
                  "", _last_over_first),
         Quantity("audit.in_flight_last", "flux in flight after the last step", "W",
                  lambda c: float(_per_step(c)[-1])),
-        Quantity("audit.accumulated_over_injected", "acc_N flux / injected flux", "",
-                 lambda c: _ratio(_audit_sum("accumulated")(c), _audit_sum("injected")(c))),
-        Quantity("audit.gathered_over_rsm", "gathered flux / RSM flux", "",
-                 lambda c: _ratio(_audit_sum("gathered")(c), _audit_sum("rsm")(c))),
-        Quantity("audit.clamp_gain_share", "flux the front-face clamp created over all "
-                 "steps / injected flux", "",
-                 lambda c: _ratio(_audit_sum("clamp_gain")(c), _audit_sum("injected")(c))),
-        Quantity("audit.occluded_share", "flux the geometry volume removed over all steps "
-                 "/ injected flux", "",
-                 lambda c: _ratio(_audit_sum("occluded")(c), _audit_sum("injected")(c))),
-        Quantity("audit.border_loss_share", "flux that left through the grid border over "
-                 "all steps / injected flux", "",
-                 lambda c: _ratio(_audit_sum("border_loss")(c), _audit_sum("injected")(c))),
         Quantity("audit.max_over_first", "largest flux in flight over all steps / injected "
                  "flux (above 1: some step added light)", "",
                  lambda c: _ratio(float(_per_step(c).max()), float(_per_step(c)[0]))),

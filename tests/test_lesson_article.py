@@ -217,6 +217,11 @@ def test_every_view_plot_and_panel_a_lesson_names_exists(shipped):
         for step in lesson.steps:
             assert step.view in MAIN_VIEW_BUFFERS + INSPECT_VIEWS + COMPARE_VIEWS
             assert step.plot is None or step.plot in PLOTS
+            # a step quoting the error shows the Error panel, which then measures
+            quoted = [name for text in [step.text] + [t.prompt for t in step.try_this]
+                      for name, _ in lt.placeholders(text)]
+            if any(name.startswith("error.") for name in quoted):
+                assert step.plot == "error", (lesson.id, step.number)
         for where, text, _ in texts_of(lesson):
             for panel in re.findall(r"\b([A-Z][a-z]+) panel\b", text):
                 assert panel in titles, (where, panel)

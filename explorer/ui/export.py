@@ -43,7 +43,7 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
             ready = rt.result is not None and frames > SETTLE_FRAMES
             if ready and uses_error(wanted):
                 service = error_service(app.state)
-                service.auto = True
+                service.lesson_wants = True
                 ready = service.result_for() is not None or service.problem is not None
             if ready:
                 ready_at = frames if ready_at is None else ready_at

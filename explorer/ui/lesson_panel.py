@@ -257,11 +257,12 @@ def show_screen(state: Any, screen: Screen) -> None:
     if screen.inspect_source is not None and hasattr(state, "inspect"):
         state.inspect.source = screen.inspect_source
         focus.append("Inspect")
-    if screen.plot == "error":
-        focus.append("Error")
+    if hasattr(state, "runtime"):
         from explorer.ui.panels.error import want_measurement
 
-        want_measurement(state)
+        want_measurement(state, screen.plot == "error")
+    if screen.plot == "error":
+        focus.append("Error")
     elif screen.plot is not None and hasattr(state, "plot_tab"):
         state.plot_tab = screen.plot
         focus.append("Plots")

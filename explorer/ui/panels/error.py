@@ -43,6 +43,9 @@ class ErrorService:
         self.state = state
         self.measurement = Measurement()
         self.auto = False
+        """The reader asked to measure every configuration shown."""
+        self.lesson_wants = False
+        """The lesson step on screen shows the error (its plot is "error")."""
         self.requested: Any = None
         self.cache: OrderedDict[Any, ErrorResult] = OrderedDict()
         self.job: ErrorJob | None = None
@@ -89,7 +92,8 @@ class ErrorService:
         if self.job is not None and self.job_key != key:
             self.cancel()                         # the settings moved on: stop
         if self.job is None:
-            wanted = key == self.requested or (self.auto and now - self._seen_at >= DEBOUNCE_S)
+            every = self.auto or self.lesson_wants
+            wanted = key == self.requested or (every and now - self._seen_at >= DEBOUNCE_S)
             if not wanted or key in self.cache or self.problem:
                 return
             settings = self.state.settings
@@ -133,9 +137,10 @@ def error_service(state) -> ErrorService:
     return service
 
 
-def want_measurement(state) -> None:
-    """A lesson step shows the error: measure every configuration it shows."""
-    error_service(state).auto = True
+def want_measurement(state, wanted: bool = True) -> None:
+    """A lesson step shows the error (or no longer does): measure every configuration
+    it shows while it is on screen."""
+    error_service(state).lesson_wants = wanted
 
 
 def current_stats(state):
@@ -172,17 +177,21 @@ def _controls(service: ErrorService) -> None:
         imgui.same_line()
         if imgui.button("Cancel"):
             service.cancel()
-            service.auto = False
+            service.auto = service.lesson_wants = False
     elif service.result_for() is None:
         if imgui.button("Measure"):
             service.measure()
     else:
         imgui.text_colored(widgets.GOOD, "measured")
     imgui.same_line()
-    _, service.auto = imgui.checkbox("every change", service.auto)
+    changed, every = imgui.checkbox("every change", service.auto or service.lesson_wants)
+    if changed:
+        service.auto, service.lesson_wants = every, False
     if imgui.is_item_hovered():
         imgui.set_tooltip("measure each configuration shown, once it has stayed unchanged "
-                          f"for {DEBOUNCE_S:g} s; results are cached per settings")
+                          f"for {DEBOUNCE_S:g} s; results are cached per settings"
+                          + ("\n(on while the lesson step shows the error)"
+                             if service.lesson_wants and not service.auto else ""))
     m = service.measurement
     imgui.set_next_item_width(70)
     changed_size, size = widgets.combo("px", str(m.size), [str(v) for v in SIZES])
