@@ -81,3 +81,37 @@ def test_error_job_measures_and_its_metrics_are_the_modules(ctx):
     assert result.stats.flux_ratio == pytest.approx(
         flux_ratio(result.lpv, result.reference, result.valid))
     assert 0.0 < result.stats.flux_ratio < 10.0
+
+
+def test_error_service_cancels_on_change_and_caches_per_settings(ctx):
+    """The Error panel's background task: a measurement runs a little per frame, a
+    settings change cancels it, every finished one is kept and found again."""
+    from types import SimpleNamespace
+
+    from explorer.ui.panels.error import ErrorService
+
+    state = SimpleNamespace(settings=SMALL)
+    service = ErrorService(state)
+    service.measurement = Measurement(size=24, rsm_size=16, reference="unoccluded")
+    try:
+        service.measure()
+        service.advance(ctx, 0.0)                      # renders the LPV frame
+        assert service.running and service.result_for() is None
+        state.settings = SMALL.with_changes(iterations=2)
+        service.advance(ctx, 0.0)
+        assert not service.running                    # the settings moved on: cancelled
+        service.measure()
+        for _ in range(20):
+            service.advance(ctx, 0.0)
+            if not service.running:
+                break
+        second = service.result_for()
+        assert second is not None and second.settings.iterations == 2
+        state.settings = SMALL                        # back: nothing cached, nothing asked
+        service.advance(ctx, 0.0)
+        assert not service.running and service.result_for() is None
+        state.settings = SMALL.with_changes(iterations=2, exposure=3.0, width=400,
+                                            height=320)  # same measurement (display, aspect)
+        assert service.result_for() is second
+    finally:
+        service.release()
