@@ -120,6 +120,13 @@ def test_export_writes_a_lesson_step(tmp_path):
     assert image.shape == (720, 1280, 3)
     article = image[60:700, 10:440]
     assert article.std() > 20                       # the article column holds text
+    # with a try-this pressed: a before | after split, the window's right half differs
+    proc = _run(["-m", "explorer", "lessons", "--export", "radiometry", "--step", "4",
+                 "--try", "1", "--out", str(out), "--size", "1280x720"], tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    proc = _run(["-m", "explorer", "lessons", "--export", "radiometry", "--step", "4",
+                 "--try", "7", "--out", str(out)], tmp_path)
+    assert proc.returncode == 2 and "try-this 1..1" in proc.stderr
     proc = _run(["-m", "explorer", "lessons", "--export", "nope", "--out", str(out)], tmp_path)
     assert proc.returncode == 2 and "no lesson 'nope'" in proc.stderr
     proc = _run(["-m", "explorer", "lessons", "--export", "overview", "--out",

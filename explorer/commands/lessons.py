@@ -27,6 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="the PNG to write (default: ./<lesson>-step<K>.png)")
     group.add_argument("--size", default="1600x900", metavar="WxH",
                        help="window size in pixels (default: 1600x900)")
+    group.add_argument("--try", dest="try_this", type=int, default=None, metavar="K",
+                       help="press the step's K-th try-this button before writing")
 
 
 def main(args: argparse.Namespace) -> int:
@@ -206,7 +208,8 @@ def _export(args: argparse.Namespace) -> int:
         print(f"lpv-explorer lessons: --out must be a .png file, got {out}", file=sys.stderr)
         return 2
     try:
-        path = export_step(args.export, args.step, out, width, height)
+        path = export_step(args.export, args.step, out, width, height,
+                           try_this=args.try_this)
     except (KeyError, IndexError) as exc:
         print(f"lpv-explorer lessons: {exc.args[0]}", file=sys.stderr)
         return 2

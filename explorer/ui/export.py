@@ -16,10 +16,11 @@ SETTLE_FRAMES = 4
 
 
 def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height: int = 900,
-                wait_s: float = 600.0) -> Path:
-    """Open a hidden window at ``lesson_id`` step ``step``, draw until the step is ready,
-    write the window to ``out``. Raises WindowError without a display, KeyError/IndexError
-    for a lesson or step that does not exist, TimeoutError when the frame never comes."""
+                wait_s: float = 600.0, try_this: int | None = None) -> Path:
+    """Open a hidden window at ``lesson_id`` step ``step`` (with its ``try_this``-th
+    button pressed, 1-based, when given), draw until the step is ready, write the window
+    to ``out``. Raises WindowError without a display, KeyError/IndexError for a lesson,
+    step or try-this that does not exist, TimeoutError when the frame never comes."""
     from explorer.lessons import find_lesson, load_all
     from explorer.ui.app import App, write_png
     from explorer.ui.article import uses_error
@@ -29,6 +30,9 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
     lessons, _ = load_all()
     lesson = find_lesson(lesson_id, lessons)
     wanted = lesson.step(step)
+    if try_this is not None and not 1 <= try_this <= len(wanted.try_this):
+        raise IndexError(f"step {step} of {lesson.id} has try-this 1..{len(wanted.try_this)}"
+                         f", not {try_this}")
     state = AppState(lesson_id=lesson.id, lesson_step=step)
     app = App(state, width=width, height=height, visible=False, vsync=False,
               persist_settings=False)
@@ -36,11 +40,20 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
         start = time.monotonic()
         ready_at = None
         frames = 0
+        pressed = try_this is None
         while True:
             app.frame()
             frames += 1
             rt = app.state.runtime
-            ready = rt.result is not None and frames > SETTLE_FRAMES
+            if not pressed and frames == SETTLE_FRAMES:
+                from explorer.ui.lesson_panel import current_screen, show_screen
+
+                session = app.state.lesson_session
+                show_screen(app.state, session.toggle_try(try_this, current_screen(app.state)))
+                pressed = True
+            ready = (rt.result is not None and frames > SETTLE_FRAMES and pressed
+                     and rt.result.settings == app.settings_for("A")
+                     and (not app.state.comparing or rt.compare_result is not None))
             if ready and uses_error(wanted):
                 service = error_service(app.state)
                 service.lesson_wants = True
