@@ -159,15 +159,19 @@ def _lesson_list(state: Any, session: LessonSession) -> None:
                              "are read from what is on screen, and every \"try this\" is a "
                              "button. Your own settings come back when you leave.")
     imgui.spacing()
+    imgui.begin_child("contents", (0, -imgui.get_frame_height_with_spacing()))
     for lesson in session.lessons:
         imgui.push_id(lesson.id)
         if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
             session.open(lesson.id)
             state.lesson_id = lesson.id
             show_screen(state, session.apply(current_screen(state)))
-        if imgui.is_item_hovered():
-            imgui.set_tooltip(f"{lesson.summary}\n({len(lesson.steps)} steps)")
+        imgui.indent(28.0)
+        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps)")
+        imgui.unindent(28.0)
+        imgui.spacing()
         imgui.pop_id()
+    imgui.end_child()
     for error in session.errors:
         imgui.text_colored(widgets.ERROR, f"broken: {error}")
     if imgui.small_button("Reload lessons"):
