@@ -17,7 +17,10 @@ _STEP = r"\frac{\Phi_{t+1}}{\Phi_{t}}"
 
 
 def _printed(what: str) -> str:
-    """The symbol of a value as a source printed it."""
+    """The symbol of a value as a source printed it (a compound symbol in brackets, so
+    the mark applies to all of it)."""
+    if any(part in what for part in (" ", "/", r"\cdot")):
+        what = r"\left(" + what + r"\right)"
     return what + r"^{\mathrm{printed}}"
 
 

@@ -89,7 +89,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         '\\mathrm{lobe}(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} '
         '\\sqrt{\\pi} n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} '
         '\\sqrt{\\pi} n_{x}}{3}\\end{matrix}\\right]',
-        'SH projection of clamp⁺⟨n, ω⟩ around a unit normal n: linear in n.',
+        'SH projection of max(0, ⟨n, ω⟩) around a unit normal n: linear in n.',
         None,
     ),
     'sh.flux_factor': (
@@ -99,7 +99,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.clamped_cosine_energy': (
         '\\int \\max(\\cos\\theta, 0)^{2} \\, d\\omega = \\frac{2 \\pi}{3}',
-        'Energy of the clamped cosine: ∫ clamp⁺(cos θ)² dω = 2π/3.',
+        'Energy of the clamped cosine: ∫ max(0, cos θ)² dω = 2π/3.',
         2.0943951023931957,
     ),
     'sh.l1_energy_fraction': (
@@ -176,7 +176,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         '\\sqrt{\\pi} n_{z}^{2}}{16} - \\frac{\\sqrt{5} \\sqrt{\\pi}}{16}\\\\- \\frac{\\sqrt{15} '
         '\\sqrt{\\pi} n_{x} n_{z}}{8}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x}^{2}}{16} - '
         '\\frac{\\sqrt{15} \\sqrt{\\pi} n_{y}^{2}}{16}\\end{matrix}\\right]',
-        'L2 projection of clamp⁺⟨n, ω⟩ around a unit normal n (9 coefficients); the first four '
+        'L2 projection of max(0, ⟨n, ω⟩) around a unit normal n (9 coefficients); the first four '
         'are the L1 lobe.',
         None,
     ),
@@ -221,7 +221,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     'rsm.outgoing_flux': (
         '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho \\max\\left(0, \\cos{\\left(\\theta_{i} '
         '\\right)}\\right)}{4 \\pi}',
-        'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·cos⁺θ_i.',
+        'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·max(0, cos '
+        'θ_i).',
         None,
     ),
     'rsm.texel_flux': (
@@ -320,12 +321,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'corrections.injection_pi.emitted_original': (
         '\\Phi_{emitted} = \\pi \\Phi_{p}',
-        '∫ Φ_p·clamp⁺⟨n_p, ω⟩ dω = π·Φ_p: the published VPL emits π times its flux.',
+        '∫ Φ_p·max(0, ⟨n_p, ω⟩) dω = π·Φ_p: the published VPL emits π times its flux.',
         None,
     ),
     'corrections.injection_pi.emitted_corrected': (
         '\\Phi_{emitted} = \\Phi_{p}',
-        '∫ Φ_p/π·clamp⁺⟨n_p, ω⟩ dω = Φ_p: the corrected VPL emits its flux.',
+        '∫ Φ_p/π·max(0, ⟨n_p, ω⟩) dω = Φ_p: the corrected VPL emits its flux.',
         None,
     ),
     'corrections.propagation_4pi.exact_face_flux': (
@@ -480,8 +481,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'corrections.clamp_front_face.lobe_behind': (
         'I_{L1}{\\left(- n \\right)} = - \\frac{1}{4}',
-        'The L1 lobe of clamp⁺⟨n, ω⟩ (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 where the lobe '
-        'it approximates is 0.',
+        'The L1 lobe of max(0, ⟨n, ω⟩) (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 where the '
+        'lobe it approximates is 0.',
         -0.25,
     ),
     'propagation.side_eval_direction': (
@@ -574,19 +575,19 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.5,
     ),
     'errata.annotations.front_corner_dot_adjacent': (
-        'c_{1} \\cdot c_{2}^{\\mathrm{printed}} = \\frac{9}{11}',
+        '\\left(c_{1} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{9}{11}',
         'front face: c1·c2 (adjacent corners) as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (5)): 9/11.',
         0.8181818181818182,
     ),
     'errata.annotations.front_corner_dot_diagonal': (
-        'c_{3} \\cdot c_{2}^{\\mathrm{printed}} = \\frac{7}{11}',
+        '\\left(c_{3} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{7}{11}',
         'front face: c3·c2 (diagonal corners) as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (7)): 7/11.',
         0.6363636363636364,
     ),
     'errata.annotations.front_maple_delta': (
-        '\\delta^{\\mathrm{printed}} = \\pi - \\operatorname{acos}{\\left(\\frac{1}{10} \\right)}',
+        '\\delta^{\\mathrm{printed}} = \\pi - \\operatorname{acos}{\\left(0.1 \\right)}',
         'front face: angle δ at a corner as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (10)): π − arccos(1/10).',
         1.6709637479564565,
@@ -600,20 +601,20 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'errata.annotations.front_maple_closed_form': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = - 2 '
-        '\\operatorname{acos}{\\left(\\frac{1}{10} \\right)} + 4 '
-        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        '\\operatorname{acos}{\\left(0.1 \\right)} + 4 \\operatorname{acos}{\\left(\\frac{3 '
+        '\\sqrt{5}}{10} \\right)}',
         'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 arccos(1/10).',
         0.4006696846462392,
     ),
     'errata.annotations.front_maple_decimal': (
-        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = \\frac{80133937}{200000000}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.400669685',
         'front-face solid angle as printed in lpv-annotations.md (§2.1 front-face worksheet, eq. '
         "(14) 'at 10 digits'): 0.400669685.",
         0.400669685,
     ),
     'errata.annotations.side_corner_dot': (
-        'c_{2} \\cdot c_{4}^{\\mathrm{printed}} = \\frac{5 \\sqrt{33}}{33}',
+        '\\left(c_{2} \\cdot c_{4}\\right)^{\\mathrm{printed}} = \\frac{5 \\sqrt{33}}{33}',
         'side face: c2·c4 as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. (6)): '
         '5/33·√11·√3.',
         0.8703882797784892,
@@ -630,14 +631,13 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_20_digits': (
-        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = '
-        '\\frac{10585783860918476917}{25000000000000000000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42343135443673907668',
         'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
         "(22) 'at 20 digits'): 0.42343135443673907668.",
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_5_digits': (
-        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = \\frac{42347}{100000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42347',
         'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
         "(23) 'at 5 digits'): 0.42347.",
         0.42347,
@@ -650,7 +650,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.4006696846462392,
     ),
     'errata.annotations.front_integral_decimal': (
-        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = \\frac{1001674211}{2500000000}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696844',
         "front-face solid angle as printed in lpv-annotations.md (§2.2 FrontFacingSolidAngle '= "
         "0.4006696844…'): 0.4006696844.",
         0.4006696844,
@@ -663,7 +663,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.42343135443673907,
     ),
     'errata.annotations.side_integral_decimal': (
-        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = \\frac{211715677}{500000000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.423431354',
         "side-face solid angle as printed in lpv-annotations.md (§2.2 SideFacingSolidAngle '= "
         "0.423431354…'): 0.423431354.",
         0.423431354,
@@ -695,42 +695,42 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         4194304.0,
     ),
     'errata.dx11.sh_c0': (
-        '\\mathrm{SH\\_C0}^{\\mathrm{printed}} = \\frac{35261849}{125000000}',
+        '\\mathrm{SH\\_C0}^{\\mathrm{printed}} = 0.282094792',
         'SH_C0 = 1/(2√π) as printed in lpv-dx11-article.md (#define SH_C0 (injection, '
         'propagation and rendering shaders)): 0.282094792.',
         0.282094792,
     ),
     'errata.dx11.sh_c1': (
-        '\\mathrm{SH\\_C1}^{\\mathrm{printed}} = \\frac{30537657}{62500000}',
+        '\\mathrm{SH\\_C1}^{\\mathrm{printed}} = 0.488602512',
         'SH_C1 = √3/(2√π) as printed in lpv-dx11-article.md (#define SH_C1): 0.488602512.',
         0.488602512,
     ),
     'errata.dx11.coslobe_c0': (
-        '\\mathrm{SH\\_cosLobe\\_C0}^{\\mathrm{printed}} = \\frac{35449077}{40000000}',
+        '\\mathrm{SH\\_cosLobe\\_C0}^{\\mathrm{printed}} = 0.886226925',
         'SH_cosLobe_C0 = √π/2 as printed in lpv-dx11-article.md (#define SH_cosLobe_C0): '
         '0.886226925.',
         0.886226925,
     ),
     'errata.dx11.coslobe_c1': (
-        '\\mathrm{SH\\_cosLobe\\_C1}^{\\mathrm{printed}} = \\frac{102332671}{100000000}',
+        '\\mathrm{SH\\_cosLobe\\_C1}^{\\mathrm{printed}} = 1.02332671',
         'SH_cosLobe_C1 = √(π/3) as printed in lpv-dx11-article.md (#define SH_cosLobe_C1): '
         '1.02332671.',
         1.02332671,
     ),
     'errata.dx11.pi': (
-        '\\mathrm{PI}^{\\mathrm{printed}} = \\frac{15707963}{5000000}',
+        '\\mathrm{PI}^{\\mathrm{printed}} = 3.1415926',
         'PI as printed in lpv-dx11-article.md (#define PI 3.1415926f (and Pi in the propagation '
         'shader)): 3.1415926.',
         3.1415926,
     ),
     'errata.dx11.front_solid_angle': (
-        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = \\frac{2003348423}{5000000000}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696846',
         'front-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
         'directFaceSubtendedSolidAngle): 0.4006696846.',
         0.4006696846,
     ),
     'errata.dx11.side_solid_angle': (
-        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = \\frac{529301693}{1250000000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.4234413544',
         'side-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
         'sideFaceSubtendedSolidAngle): 0.4234413544.',
         0.4234413544,
@@ -748,25 +748,25 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.044928523874589385,
     ),
     'errata.dx11.side_eval_small': (
-        'e_{\\mathrm{side},x}^{\\mathrm{printed}} = \\frac{894427}{2000000}',
+        'e_{\\mathrm{side},x}^{\\mathrm{printed}} = 0.4472135',
         'side evaluation direction, small component 1/√5 as printed in lpv-dx11-article.md '
         '(getEvalSideDirection, smallComponent): 0.4472135.',
         0.4472135,
     ),
     'errata.dx11.side_eval_big': (
-        'e_{\\mathrm{side},y}^{\\mathrm{printed}} = \\frac{894427}{1000000}',
+        'e_{\\mathrm{side},y}^{\\mathrm{printed}} = 0.894427',
         'side evaluation direction, big component 2/√5 as printed in lpv-dx11-article.md '
         '(getEvalSideDirection, bigComponent): 0.894427.',
         0.894427,
     ),
     'errata.dx11.surfel_weight': (
-        'w_{\\mathrm{surfel}}^{\\mathrm{printed}} = \\frac{3}{200}',
+        'w_{\\mathrm{surfel}}^{\\mathrm{printed}} = 0.015',
         'injection surfel weight as printed in lpv-dx11-article.md (injection pixel shader, '
         'surfelWeight): 0.015.',
         0.015,
     ),
     'errata.dx11.l1_accuracy': (
-        'E_{L1} / E^{\\mathrm{printed}} = \\frac{3}{4}',
+        '\\left(E_{L1} / E\\right)^{\\mathrm{printed}} = 0.75',
         'share of a clamped cosine kept by 4 SH coefficients as printed in lpv-dx11-article.md '
         '(Pros and cons, first con): about 75%.',
         0.75,

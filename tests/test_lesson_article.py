@@ -313,9 +313,14 @@ def test_every_derivation_result_has_a_left_hand_side():
     registry = pytest.importorskip("derivations.registry")
     from derivations.symbols import SYMBOLS
 
+    from explorer.ui import fonts
+
     assert set(SYMBOLS) <= set(registry.names())
     for name in derived.names():
-        assert "=" in derived.get(name).latex, name
+        result = derived.get(name)
+        assert "=" in result.latex, name
+        # statements are drawn under formulas and in tooltips, in the window's fonts
+        assert fonts.missing(result.statement, "italic") == set(), name
 
 
 def test_figures_of_the_lessons_parse_and_each_is_placed(shipped):
