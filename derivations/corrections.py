@@ -138,10 +138,10 @@ def results() -> list[Result]:
     out += [
         result(MODULE, "injection_pi.emitted_original",
                sp.Eq(sp.Symbol("Phi_emitted"), inj["emitted_original"]),
-               "∫ Φ_p·clamp⁺⟨n_p, ω⟩ dω = π·Φ_p: the published VPL emits π times its flux."),
+               "∫ Φ_p·max(0, ⟨n_p, ω⟩) dω = π·Φ_p: the published VPL emits π times its flux."),
         result(MODULE, "injection_pi.emitted_corrected",
                sp.Eq(sp.Symbol("Phi_emitted"), inj["emitted_corrected"]),
-               "∫ Φ_p/π·clamp⁺⟨n_p, ω⟩ dω = Φ_p: the corrected VPL emits its flux."),
+               "∫ Φ_p/π·max(0, ⟨n_p, ω⟩) dω = Φ_p: the corrected VPL emits its flux."),
         result(MODULE, "propagation_4pi.exact_face_flux",
                sp.Eq(Phi_f, prop["should_be"]),
                "Flux of a constant intensity through a face: ∫_face I dω = Δω_f·I."),

@@ -391,5 +391,6 @@ def results() -> list[Result]:
         out.append(result(
             MODULE, item.key, item.value,
             f"{item.quantity} as printed in {item.source} ({item.locator}): {item.printed}.",
-            glsl_name=item.glsl_name))
+            # typeset a printed decimal as the decimal it was, not as a fraction
+            glsl_name=item.glsl_name, printed_decimals=True))
     return out

@@ -243,6 +243,6 @@ def results() -> list[Result]:
                "gain."),
         result(MODULE, "clamp_front_face.lobe_behind",
                sp.Eq(sp.Function("I_L1")(-sp.Symbol("n")), behind),
-               "The L1 lobe of clamp⁺⟨n, ω⟩ (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 "
+               "The L1 lobe of max(0, ⟨n, ω⟩) (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 "
                "where the lobe it approximates is 0."),
     ]

@@ -129,8 +129,18 @@ class _DecimalLatexPrinter(LatexPrinter):
 
 
 def latex(name: str) -> str:
-    """LaTeX of the named result (a formula keeps its ``=``)."""
+    """LaTeX of the named result, always with a left-hand side: a formula keeps its
+    ``=``; any other result is written ``symbol = value`` with its symbol from
+    :data:`derivations.symbols.SYMBOLS`."""
+    from derivations.symbols import SYMBOLS
+
     item = get(name)
     if item.printed_decimals:
-        return _DecimalLatexPrinter().doprint(item.expr)
-    return sympy.latex(item.expr)
+        body = _DecimalLatexPrinter().doprint(item.expr)
+    else:
+        body = sympy.latex(item.expr)
+    if isinstance(item.expr, sympy.Equality):
+        return body
+    if name not in SYMBOLS:
+        raise KeyError(f"{name} is not a formula and has no symbol in derivations/symbols.py")
+    return f"{SYMBOLS[name]} = {body}"

@@ -175,7 +175,8 @@ def results() -> list[Result]:
         "Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.",
         "Radiant exitance: ∫_{H²} L_o cos θ_o dω = π·L_o.",
         "Flux reflected by a surfel of area A: Φ_o = A·M.",
-        "Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·cos⁺θ_i.",
+        "Flux reflected by an RSM texel of solid angle ρ = A/r²: "
+        "c_diff·ρ/(4π)·Φ_L·max(0, cos θ_i).",
     )
     out = [result(MODULE, n, eq, s) for n, eq, s in zip(names, steps, statements)]
     out += [

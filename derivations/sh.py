@@ -217,12 +217,12 @@ def results() -> list[Result]:
                "Band-1 coefficient of the clamped cosine lobe around z, ∫_{H²} cos θ Y10 dω.",
                glsl_name="SH_COSLOBE_C1"),
         result(MODULE, "lobe", lobe(),
-               "SH projection of clamp⁺⟨n, ω⟩ around a unit normal n: linear in n."),
+               "SH projection of max(0, ⟨n, ω⟩) around a unit normal n: linear in n."),
         result(MODULE, "flux_factor", flux_factor,
                "Flux of an intensity SH vector f: ∫ f·Y dω = 2√π·f0.",
                glsl_name="SH_FLUX_FACTOR"),
         result(MODULE, "clamped_cosine_energy", clamped_cosine_energy(),
-               "Energy of the clamped cosine: ∫ clamp⁺(cos θ)² dω = 2π/3."),
+               "Energy of the clamped cosine: ∫ max(0, cos θ)² dω = 2π/3."),
         result(MODULE, "l1_energy_fraction", captured_energy_fraction(L1_BASIS),
                "Share of the clamped cosine's energy kept by its L1 (4-coefficient) "
                "projection."),
@@ -250,7 +250,7 @@ def results() -> list[Result]:
             [zonal_rotation_factors()[k] for k in (0, 1, 4)]),
                "Clamped cosine, band factors A_l (l = 0, 1, 2) of lobe_k(n) = A_l·Y_k(n)."),
         result(MODULE, "lobe_l2", lobe_l2(),
-               "L2 projection of clamp⁺⟨n, ω⟩ around a unit normal n (9 coefficients); the "
+               "L2 projection of max(0, ⟨n, ω⟩) around a unit normal n (9 coefficients); the "
                "first four are the L1 lobe."),
         result(MODULE, "l2_lobe_c2", lobe_l2()[4].coeff(n_x * n_y),
                "L2 lobe around n, coefficient of n_x·n_y in band 2 (m = −2): π/4·√15/(2√π).",

@@ -9,23 +9,27 @@ number (or the number a formula equals) as a float, or None.
 
 RESULTS: dict[str, tuple[str, str, float | None]] = {
     'solid_angles.front_face': (
-        '4 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
+        '\\Delta\\omega_{\\mathrm{front}} = 4 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} '
+        '\\right)}',
         "Solid angle of a neighbour's far face seen from the source cell centre.",
         0.4006696846462392,
     ),
     'solid_angles.side_face': (
-        '- \\frac{\\pi}{3} + 2 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
+        '\\Delta\\omega_{\\mathrm{side}} = - \\frac{\\pi}{3} + 2 '
+        '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
         "Solid angle of one of a neighbour's four side faces seen from the source cell centre.",
         0.42343135443673907,
     ),
     'solid_angles.front_face_spherical': (
-        '- 2 \\pi + 2 \\operatorname{acos}{\\left(- \\frac{1}{10} \\right)} + 4 '
-        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        '\\Delta\\omega_{\\mathrm{front}} = - 2 \\pi + 2 \\operatorname{acos}{\\left(- '
+        '\\frac{1}{10} \\right)} + 4 \\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} '
+        '\\right)}',
         "Front face as two spherical triangles (Girard's excess); equals front_face.",
         0.4006696846462392,
     ),
     'solid_angles.side_face_spherical': (
-        '- \\frac{4 \\pi}{3} + \\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + '
+        '\\Delta\\omega_{\\mathrm{side}} = - \\frac{4 \\pi}{3} + '
+        '\\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + '
         '\\operatorname{acos}{\\left(- \\frac{\\sqrt{3}}{6} \\right)} + '
         '\\operatorname{acos}{\\left(- \\frac{3 \\sqrt{5}}{10} \\right)}',
         "Side face as two spherical triangles (Girard's excess); equals side_face.",
@@ -40,77 +44,77 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         12.566370614359172,
     ),
     'solid_angles.cube_face': (
-        '\\frac{2 \\pi}{3}',
+        '\\Delta\\omega_{\\mathrm{cube\\ face}} = \\frac{2 \\pi}{3}',
         'One cube face seen from the cube centre: the whole field of a 90° square frustum (4π/6).',
         2.0943951023931957,
     ),
     'solid_angles.sphere': (
-        '4 \\pi',
+        '\\int_{S^2} d\\omega = 4 \\pi',
         'Solid angle of the whole sphere, ∫_{S²} dω.',
         12.566370614359172,
     ),
     'solid_angles.projected_hemisphere': (
-        '\\pi',
+        '\\int_{H^2} \\cos\\theta \\, d\\omega = \\pi',
         'Projected solid angle of the hemisphere, ∫_{H²} cos θ dω = π.',
         3.141592653589793,
     ),
     'sh.c0': (
-        '\\frac{1}{2 \\sqrt{\\pi}}',
+        'c_{0} = \\frac{1}{2 \\sqrt{\\pi}}',
         'Band-0 SH constant Y00 = 1/(2√π).',
         0.28209479177387814,
     ),
     'sh.c1': (
-        '\\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
+        'c_{1} = \\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
         'Band-1 SH constant: Y1m = ±√3/(2√π)·(y, z, x).',
         0.4886025119029199,
     ),
     'sh.basis_l1': (
-        '\\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} y}{2 '
+        'Y(x, y, z) = \\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} y}{2 '
         '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} z}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} x}{2 '
         '\\sqrt{\\pi}}\\end{matrix}\\right]',
         "L1 real SH basis in the annotations' order and signs.",
         None,
     ),
     'sh.coslobe_c0': (
-        '\\frac{\\sqrt{\\pi}}{2}',
+        '\\mathrm{lobe}_{0}(+z) = \\frac{\\sqrt{\\pi}}{2}',
         'Band-0 coefficient of the clamped cosine lobe, ∫_{H²} cos θ Y00 dω.',
         0.886226925452758,
     ),
     'sh.coslobe_c1': (
-        '\\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
+        '\\mathrm{lobe}_{2}(+z) = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
         'Band-1 coefficient of the clamped cosine lobe around z, ∫_{H²} cos θ Y10 dω.',
         1.0233267079464885,
     ),
     'sh.lobe': (
-        '\\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
-        'n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
-        'n_{x}}{3}\\end{matrix}\\right]',
-        'SH projection of clamp⁺⟨n, ω⟩ around a unit normal n: linear in n.',
+        '\\mathrm{lobe}(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} '
+        '\\sqrt{\\pi} n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} '
+        '\\sqrt{\\pi} n_{x}}{3}\\end{matrix}\\right]',
+        'SH projection of max(0, ⟨n, ω⟩) around a unit normal n: linear in n.',
         None,
     ),
     'sh.flux_factor': (
-        '2 \\sqrt{\\pi}',
+        '\\Phi / f_{0} = 2 \\sqrt{\\pi}',
         'Flux of an intensity SH vector f: ∫ f·Y dω = 2√π·f0.',
         3.544907701811032,
     ),
     'sh.clamped_cosine_energy': (
-        '\\frac{2 \\pi}{3}',
-        'Energy of the clamped cosine: ∫ clamp⁺(cos θ)² dω = 2π/3.',
+        '\\int \\max(\\cos\\theta, 0)^{2} \\, d\\omega = \\frac{2 \\pi}{3}',
+        'Energy of the clamped cosine: ∫ max(0, cos θ)² dω = 2π/3.',
         2.0943951023931957,
     ),
     'sh.l1_energy_fraction': (
-        '\\frac{7}{8}',
+        'E_{L1} / E = \\frac{7}{8}',
         "Share of the clamped cosine's energy kept by its L1 (4-coefficient) projection.",
         0.875,
     ),
     'sh.l2_energy_fraction': (
-        '\\frac{127}{128}',
+        'E_{L2} / E = \\frac{127}{128}',
         "Share of the clamped cosine's energy kept by its L2 (9-coefficient) projection.",
         0.9921875,
     ),
     'sh.basis_l2': (
-        '\\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} y}{2 '
-        '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} z}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} x}{2 '
+        'Y_{L2}(x, y, z) = \\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} '
+        'y}{2 \\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} z}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} x}{2 '
         '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{15} x y}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{15} y z}{2 '
         '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{5} \\left(3 z^{2} - 1\\right)}{4 \\sqrt{\\pi}}\\\\- '
         '\\frac{\\sqrt{15} x z}{2 \\sqrt{\\pi}}\\\\\\frac{\\sqrt{15} \\left(x^{2} - '
@@ -119,74 +123,75 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'sh.l2_c0': (
-        '\\frac{1}{2 \\sqrt{\\pi}}',
+        'c_{0} = \\frac{1}{2 \\sqrt{\\pi}}',
         'L2 basis: Y00 constant.',
         0.28209479177387814,
     ),
     'sh.l2_c1': (
-        '\\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
+        'c_{1} = \\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
         'L2 basis: band-1 constant.',
         0.4886025119029199,
     ),
     'sh.l2_c2': (
-        '\\frac{\\sqrt{15}}{2 \\sqrt{\\pi}}',
+        'c_{2} = \\frac{\\sqrt{15}}{2 \\sqrt{\\pi}}',
         'L2 basis: constant of xy, yz, xz (√15/(2√π)).',
         1.0925484305920792,
     ),
     'sh.l2_c3': (
-        '\\frac{\\sqrt{5}}{4 \\sqrt{\\pi}}',
+        'c_{3} = \\frac{\\sqrt{5}}{4 \\sqrt{\\pi}}',
         'L2 basis: constant of 3z²−1 (√5/(4√π)).',
         0.31539156525252,
     ),
     'sh.l2_c4': (
-        '\\frac{\\sqrt{15}}{4 \\sqrt{\\pi}}',
+        'c_{4} = \\frac{\\sqrt{15}}{4 \\sqrt{\\pi}}',
         'L2 basis: constant of x²−y² (√15/(4√π)).',
         0.5462742152960396,
     ),
     'sh.l2_coslobe_c0': (
-        '\\frac{\\sqrt{\\pi}}{2}',
+        '\\mathrm{lobe}_{0}(+z) = \\frac{\\sqrt{\\pi}}{2}',
         'Clamped cosine lobe, band 0 (L2 basis).',
         0.886226925452758,
     ),
     'sh.l2_coslobe_c1': (
-        '\\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
+        '\\mathrm{lobe}_{2}(+z) = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
         'Clamped cosine lobe, band 1 (L2 basis).',
         1.0233267079464885,
     ),
     'sh.l2_coslobe_c2': (
-        '\\frac{\\sqrt{5} \\sqrt{\\pi}}{8}',
+        '\\mathrm{lobe}_{6}(+z) = \\frac{\\sqrt{5} \\sqrt{\\pi}}{8}',
         'Clamped cosine lobe around z, band 2: ∫_{H²} cos θ Y20 dω = √(5π)/8.',
         0.4954159122007514,
     ),
     'sh.zonal_rotation_factors': (
-        '\\left[\\begin{matrix}\\pi\\\\\\frac{2 \\pi}{3}\\\\\\frac{\\pi}{4}\\end{matrix}\\right]',
+        '(A_{0}, A_{1}, A_{2}) = \\left[\\begin{matrix}\\pi\\\\\\frac{2 '
+        '\\pi}{3}\\\\\\frac{\\pi}{4}\\end{matrix}\\right]',
         'Clamped cosine, band factors A_l (l = 0, 1, 2) of lobe_k(n) = A_l·Y_k(n).',
         None,
     ),
     'sh.lobe_l2': (
-        '\\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
-        'n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} \\sqrt{\\pi} '
-        'n_{x}}{3}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x} n_{y}}{8}\\\\- \\frac{\\sqrt{15} '
-        '\\sqrt{\\pi} n_{y} n_{z}}{8}\\\\\\frac{3 \\sqrt{5} \\sqrt{\\pi} n_{z}^{2}}{16} - '
-        '\\frac{\\sqrt{5} \\sqrt{\\pi}}{16}\\\\- \\frac{\\sqrt{15} \\sqrt{\\pi} n_{x} '
-        'n_{z}}{8}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x}^{2}}{16} - \\frac{\\sqrt{15} '
-        '\\sqrt{\\pi} n_{y}^{2}}{16}\\end{matrix}\\right]',
-        'L2 projection of clamp⁺⟨n, ω⟩ around a unit normal n (9 coefficients); the first four '
+        '\\mathrm{lobe}_{L2}(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- '
+        '\\frac{\\sqrt{3} \\sqrt{\\pi} n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- '
+        '\\frac{\\sqrt{3} \\sqrt{\\pi} n_{x}}{3}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x} '
+        'n_{y}}{8}\\\\- \\frac{\\sqrt{15} \\sqrt{\\pi} n_{y} n_{z}}{8}\\\\\\frac{3 \\sqrt{5} '
+        '\\sqrt{\\pi} n_{z}^{2}}{16} - \\frac{\\sqrt{5} \\sqrt{\\pi}}{16}\\\\- \\frac{\\sqrt{15} '
+        '\\sqrt{\\pi} n_{x} n_{z}}{8}\\\\\\frac{\\sqrt{15} \\sqrt{\\pi} n_{x}^{2}}{16} - '
+        '\\frac{\\sqrt{15} \\sqrt{\\pi} n_{y}^{2}}{16}\\end{matrix}\\right]',
+        'L2 projection of max(0, ⟨n, ω⟩) around a unit normal n (9 coefficients); the first four '
         'are the L1 lobe.',
         None,
     ),
     'sh.l2_lobe_c2': (
-        '\\frac{\\sqrt{15} \\sqrt{\\pi}}{8}',
+        'k_{xy} = \\frac{\\sqrt{15} \\sqrt{\\pi}}{8}',
         'L2 lobe around n, coefficient of n_x·n_y in band 2 (m = −2): π/4·√15/(2√π).',
         0.8580855308097834,
     ),
     'sh.l2_lobe_c3': (
-        '\\frac{\\sqrt{5} \\sqrt{\\pi}}{16}',
+        'k_{3z^{2}-1} = \\frac{\\sqrt{5} \\sqrt{\\pi}}{16}',
         'L2 lobe around n, m = 0 term: SH_L2_LOBE_C3·(3n_z² − 1), π/4·√5/(4√π).',
         0.2477079561003757,
     ),
     'sh.l2_lobe_c4': (
-        '\\frac{\\sqrt{15} \\sqrt{\\pi}}{16}',
+        'k_{x^{2}-y^{2}} = \\frac{\\sqrt{15} \\sqrt{\\pi}}{16}',
         'L2 lobe around n, coefficient of n_x² − n_y² (m = 2): π/4·√15/(4√π).',
         0.4290427654048917,
     ),
@@ -216,7 +221,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     'rsm.outgoing_flux': (
         '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho \\max\\left(0, \\cos{\\left(\\theta_{i} '
         '\\right)}\\right)}{4 \\pi}',
-        'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·cos⁺θ_i.',
+        'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·max(0, cos '
+        'θ_i).',
         None,
     ),
     'rsm.texel_flux': (
@@ -226,19 +232,19 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.texel_flux_published_over_correct': (
-        '\\cos{\\left(\\theta_{i} \\right)}',
+        '\\Phi_{o}^{\\mathrm{published}} / \\Phi_{o} = \\cos{\\left(\\theta_{i} \\right)}',
         'The published texel flux over the correct one: cos θ_i, counted twice.',
         None,
     ),
     'rsm.pixel_solid_angle_approx': (
-        '\\frac{2 \\pi}{3 H W}',
+        '\\Delta\\omega_{\\mathrm{texel}} = \\frac{2 \\pi}{3 H W}',
         'Per-texel solid angle of a 90° frustum, approximated as (4π/6)/(W·H).',
         None,
     ),
     'rsm.pixel_solid_angle_exact': (
-        '\\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 j}{H}\\right) \\left(-1 + '
-        '\\frac{2 i}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 j}{H}\\right)^{2} + \\left(-1 + '
-        '\\frac{2 i}{W}\\right)^{2} + 1}} \\right)} - '
+        '\\Delta\\omega_{ij} = \\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 '
+        'j}{H}\\right) \\left(-1 + \\frac{2 i}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 '
+        'j}{H}\\right)^{2} + \\left(-1 + \\frac{2 i}{W}\\right)^{2} + 1}} \\right)} - '
         '\\operatorname{atan}{\\left(\\frac{\\left(-1 + \\frac{2 j}{H}\\right) \\left(-1 + '
         '\\frac{2 i + 2}{W}\\right)}{\\sqrt{\\left(-1 + \\frac{2 j}{H}\\right)^{2} + \\left(-1 + '
         '\\frac{2 i + 2}{W}\\right)^{2} + 1}} \\right)} - '
@@ -252,17 +258,19 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.pixel_ratio_centre': (
-        '\\frac{\\pi}{6}',
+        '\\frac{\\Delta\\omega_{\\mathrm{texel}}}{\\Delta\\omega_{ij}}\\Big|_{\\mathrm{centre}} '
+        '= \\frac{\\pi}{6}',
         'Large-map limit of approximate/exact texel solid angle at the centre: π/6.',
         0.5235987755982989,
     ),
     'rsm.pixel_ratio_corner': (
-        '\\frac{\\sqrt{3} \\pi}{2}',
+        '\\frac{\\Delta\\omega_{\\mathrm{texel}}}{\\Delta\\omega_{ij}}\\Big|_{\\mathrm{corner}} '
+        '= \\frac{\\sqrt{3} \\pi}{2}',
         'Large-map limit of approximate/exact texel solid angle in a corner: √3π/2.',
         2.720699046351327,
     ),
     'rsm.surfel_area': (
-        '\\frac{4 w^{2}}{H W}',
+        'A_{\\mathrm{texel}} = \\frac{4 w^{2}}{H W}',
         'World area of an RSM texel at view depth w (90° frustum): 4w²/(W·H).',
         None,
     ),
@@ -277,7 +285,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.injection_pi.flux_factor': (
-        '\\frac{1}{\\pi}',
+        '\\frac{\\Phi_{\\mathrm{corrected}}}{\\Phi_{\\mathrm{published}}} = \\frac{1}{\\pi}',
         'Corrected ÷ published VPL intensity: 1/π.',
         0.3183098861837907,
     ),
@@ -292,7 +300,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.propagation_4pi.flux_factor': (
-        '4 \\pi',
+        '\\frac{\\Phi_{\\mathrm{corrected}}}{\\Phi_{\\mathrm{published}}} = 4 \\pi',
         'Corrected ÷ published face flux: 4π.',
         12.566370614359172,
     ),
@@ -307,18 +315,18 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.reprojection_pi.flux_factor': (
-        '\\pi',
+        '\\frac{\\Phi_{\\mathrm{corrected}}}{\\Phi_{\\mathrm{published}}} = \\pi',
         'Corrected ÷ published reprojected flux: π.',
         3.141592653589793,
     ),
     'corrections.injection_pi.emitted_original': (
         '\\Phi_{emitted} = \\pi \\Phi_{p}',
-        '∫ Φ_p·clamp⁺⟨n_p, ω⟩ dω = π·Φ_p: the published VPL emits π times its flux.',
+        '∫ Φ_p·max(0, ⟨n_p, ω⟩) dω = π·Φ_p: the published VPL emits π times its flux.',
         None,
     ),
     'corrections.injection_pi.emitted_corrected': (
         '\\Phi_{emitted} = \\Phi_{p}',
-        '∫ Φ_p/π·clamp⁺⟨n_p, ω⟩ dω = Φ_p: the corrected VPL emits its flux.',
+        '∫ Φ_p/π·max(0, ⟨n_p, ω⟩) dω = Φ_p: the corrected VPL emits its flux.',
         None,
     ),
     'corrections.propagation_4pi.exact_face_flux': (
@@ -369,6 +377,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         1.0000000170581613,
     ),
     'corrections.exact_constants.flux_factor': (
+        '\\frac{\\Phi_{\\mathrm{corrected}}}{\\Phi_{\\mathrm{published}}} = '
         '\\frac{31415926000}{31416526533}',
         'Corrected ÷ published flux after one step: 31415926000/31416526533.',
         0.9999808848059836,
@@ -396,7 +405,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         1.0,
     ),
     'corrections.side_faces.flux_factor': (
-        '\\frac{\\pi}{6 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}}',
+        '\\frac{\\Phi_{\\mathrm{5\\ faces}}}{\\Phi_{\\mathrm{front\\ only}}} = \\frac{\\pi}{6 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}}',
         'Corrected ÷ front-only flux after one step: π/(6·atan(√11/33)).',
         5.227236256325174,
     ),
@@ -411,7 +421,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.surfel_area_squared.flux_factor': (
-        'w',
+        'A_{w^{2}} / A_{w} = w',
         'Squared ÷ linear surfel area (and occluder weight): w, so the linear area is too small '
         'beyond w = 1 and too large nearer.',
         None,
@@ -449,7 +459,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.ping_pong.flux_factor': (
-        '2^{- N} \\left(N + 1\\right)',
+        '\\frac{\\Phi_{\\mathrm{ping\\ pong}}}{\\Phi_{\\mathrm{in\\ place}}} = 2^{- N} \\left(N '
+        '+ 1\\right)',
         'Ping-pong ÷ in place accumulated flux for a flux-conserving step (p = 1): (N + 1)/2^N.',
         None,
     ),
@@ -470,139 +481,147 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'corrections.clamp_front_face.lobe_behind': (
         'I_{L1}{\\left(- n \\right)} = - \\frac{1}{4}',
-        'The L1 lobe of clamp⁺⟨n, ω⟩ (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 where the lobe '
-        'it approximates is 0.',
+        'The L1 lobe of max(0, ⟨n, ω⟩) (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 where the '
+        'lobe it approximates is 0.',
         -0.25,
     ),
     'propagation.side_eval_direction': (
-        '\\left[\\begin{matrix}\\frac{\\sqrt{5}}{5}\\\\\\frac{2 '
+        'e_{\\mathrm{side}} = \\left[\\begin{matrix}\\frac{\\sqrt{5}}{5}\\\\\\frac{2 '
         '\\sqrt{5}}{5}\\\\0\\end{matrix}\\right]',
         'Evaluation direction of the side face x = 1/2 of the neighbour along +y: towards the '
         'face centre (1/2, 1, 0).',
         None,
     ),
     'propagation.side_eval_small': (
-        '\\frac{\\sqrt{5}}{5}',
+        'e_{\\mathrm{side},x} = \\frac{\\sqrt{5}}{5}',
         'Side-face evaluation direction: component along the side normal, 1/√5.',
         0.4472135954999579,
     ),
     'propagation.side_eval_big': (
-        '\\frac{2 \\sqrt{5}}{5}',
+        'e_{\\mathrm{side},y} = \\frac{2 \\sqrt{5}}{5}',
         'Side-face evaluation direction: component along the propagation axis, 2/√5.',
         0.8944271909999159,
     ),
     'propagation.side_reprojection_direction': (
-        '\\left[\\begin{matrix}1\\\\0\\\\0\\end{matrix}\\right]',
+        'r_{\\mathrm{side}} = \\left[\\begin{matrix}1\\\\0\\\\0\\end{matrix}\\right]',
         'Side-face reprojection direction: the face normal (here +x).',
         None,
     ),
     'propagation.front_reprojection_direction': (
+        'e_{\\mathrm{front}} = r_{\\mathrm{front}} = '
         '\\left[\\begin{matrix}0\\\\1\\\\0\\end{matrix}\\right]',
         'Front-face evaluation and reprojection direction: the propagation axis (here +y).',
         None,
     ),
     'propagation.l2_face_basis_sums': (
-        '\\left[\\begin{matrix}\\frac{3}{\\sqrt{\\pi}} & \\frac{12}{\\sqrt{\\pi}}\\\\0 & 0\\\\0 '
-        '& 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\end{matrix}\\right]',
+        '\\Big(\\sum_{f} Y_{k}(e_{f})\\Big) = \\left[\\begin{matrix}\\frac{3}{\\sqrt{\\pi}} & '
+        '\\frac{12}{\\sqrt{\\pi}}\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & 0\\\\0 & '
+        '0\\\\0 & 0\\end{matrix}\\right]',
         'Σ Y_k(e_f) of the L2 basis over the 6 front faces (column 0) and the 24 side faces '
         '(column 1): only band 0 survives, so a corrected L2 step conserves flux like an L1 step.',
         None,
     ),
     'propagation.step_flux_factor': (
-        '\\pi k_{I} k_{P} k_{R}',
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}} = \\pi k_{I} k_{P} k_{R}',
         'Flux after ÷ before one propagation step, without clamping, occlusion or border: '
         'π·k_R·k_I·k_P.',
         None,
     ),
     'propagation.step_flux_factor_original': (
-        '\\frac{1}{4 \\pi}',
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}}\\Big|_{\\mathrm{published}} = \\frac{1}{4 \\pi}',
         'One propagation step with the published formulas keeps 1/(4π) of the flux.',
         0.07957747154594767,
     ),
     'propagation.step_flux_factor_corrected': (
-        '1',
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}}\\Big|_{\\mathrm{corrected}} = 1',
         'One propagation step with the corrected formulas keeps all the flux.',
         1.0,
     ),
     'propagation.step_flux_factor_dx11': (
-        '- \\frac{2 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}}{\\pi} + '
-        '\\frac{5}{6}',
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}}\\Big|_{\\mathrm{DX11}} = - \\frac{2 '
+        '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}}{\\pi} + \\frac{5}{6}',
         'One step of the DX11 shader (weights Δω/(2π) front, Δω/(3π) side): (3Δω_front + '
         '8Δω_side)/(4π).',
         0.36521761376259326,
     ),
     'propagation.front_weight_dx11': (
-        '\\frac{1}{2 \\pi}',
+        'w_{\\mathrm{front}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{front}} = \\frac{1}{2 '
+        '\\pi}',
         'DX11 front-face weight ÷ Δω_front: 1/(2π) (published: 1/(4π), corrected: 1).',
         0.15915494309189535,
     ),
     'propagation.side_weight_dx11': (
-        '\\frac{1}{3 \\pi}',
+        'w_{\\mathrm{side}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{side}} = \\frac{1}{3 '
+        '\\pi}',
         'DX11 side-face weight ÷ Δω_side: 1/(3π) (published: 1/(4π), corrected: 1).',
         0.1061032953945969,
     ),
     'occlusion.one_sided': (
-        '\\left[\\begin{matrix}\\frac{\\sqrt{\\pi} A}{2 s^{2}}\\\\- \\frac{\\sqrt{3} '
+        'B(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi} A}{2 s^{2}}\\\\- \\frac{\\sqrt{3} '
         '\\sqrt{\\pi} A n_{y}}{3 s^{2}}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} A n_{z}}{3 s^{2}}\\\\- '
         '\\frac{\\sqrt{3} \\sqrt{\\pi} A n_{x}}{3 s^{2}}\\end{matrix}\\right]',
         'Geometry-volume SH added by a one-sided occluder surfel of area A (cell size s).',
         None,
     ),
     'occlusion.double_sided_lobe': (
+        '\\mathrm{lobe}(n) + \\mathrm{lobe}(-n) = '
         '\\left[\\begin{matrix}\\sqrt{\\pi}\\\\0\\\\0\\\\0\\end{matrix}\\right]',
         'lobe(n) + lobe(−n): band 1 cancels for every normal n, leaving (√π, 0, 0, 0).',
         None,
     ),
     'occlusion.double_sided_blocking': (
-        '\\frac{1}{2}',
+        'B_{\\mathrm{double}} \\, s^{2} / A = \\frac{1}{2}',
         'A double-sided surfel blocks the same amount, 1/2 per unit A/s², in every direction.',
         0.5,
     ),
     'errata.annotations.front_corner_dot_adjacent': (
-        '\\frac{9}{11}',
+        '\\left(c_{1} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{9}{11}',
         'front face: c1·c2 (adjacent corners) as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (5)): 9/11.',
         0.8181818181818182,
     ),
     'errata.annotations.front_corner_dot_diagonal': (
-        '\\frac{7}{11}',
+        '\\left(c_{3} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{7}{11}',
         'front face: c3·c2 (diagonal corners) as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (7)): 7/11.',
         0.6363636363636364,
     ),
     'errata.annotations.front_maple_delta': (
-        '\\pi - \\operatorname{acos}{\\left(\\frac{1}{10} \\right)}',
+        '\\delta^{\\mathrm{printed}} = \\pi - \\operatorname{acos}{\\left(0.1 \\right)}',
         'front face: angle δ at a corner as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (10)): π − arccos(1/10).',
         1.6709637479564565,
     ),
     'errata.annotations.front_maple_alpha': (
-        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        '\\alpha^{\\mathrm{printed}} = \\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} '
+        '\\right)}',
         'front face: angle α at a corner as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (12)): arccos(3/20·√2·√10).',
         0.8354818739782283,
     ),
     'errata.annotations.front_maple_closed_form': (
-        '- 2 \\operatorname{acos}{\\left(\\frac{1}{10} \\right)} + 4 '
-        '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = - 2 '
+        '\\operatorname{acos}{\\left(0.1 \\right)} + 4 \\operatorname{acos}{\\left(\\frac{3 '
+        '\\sqrt{5}}{10} \\right)}',
         'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 front-face '
         'worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 arccos(1/10).',
         0.4006696846462392,
     ),
     'errata.annotations.front_maple_decimal': (
-        '\\frac{80133937}{200000000}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.400669685',
         'front-face solid angle as printed in lpv-annotations.md (§2.1 front-face worksheet, eq. '
         "(14) 'at 10 digits'): 0.400669685.",
         0.400669685,
     ),
     'errata.annotations.side_corner_dot': (
-        '\\frac{5 \\sqrt{33}}{33}',
+        '\\left(c_{2} \\cdot c_{4}\\right)^{\\mathrm{printed}} = \\frac{5 \\sqrt{33}}{33}',
         'side face: c2·c4 as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. (6)): '
         '5/33·√11·√3.',
         0.8703882797784892,
     ),
     'errata.annotations.side_maple_closed_form': (
-        '- \\operatorname{acos}{\\left(\\frac{\\sqrt{3}}{6} \\right)} - '
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = - '
+        '\\operatorname{acos}{\\left(\\frac{\\sqrt{3}}{6} \\right)} - '
         '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)} + '
         '\\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + \\frac{2 \\pi}{3}',
         'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 side-face '
@@ -612,151 +631,153 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_20_digits': (
-        '\\frac{10585783860918476917}{25000000000000000000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42343135443673907668',
         'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
         "(22) 'at 20 digits'): 0.42343135443673907668.",
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_5_digits': (
-        '\\frac{42347}{100000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42347',
         'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
         "(23) 'at 5 digits'): 0.42347.",
         0.42347,
     ),
     'errata.annotations.front_integral_closed_form': (
-        '4 \\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 4 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
         'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
         'FrontFacingSolidAngle): 4 arctan(1/33·√11).',
         0.4006696846462392,
     ),
     'errata.annotations.front_integral_decimal': (
-        '\\frac{1001674211}{2500000000}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696844',
         "front-face solid angle as printed in lpv-annotations.md (§2.2 FrontFacingSolidAngle '= "
         "0.4006696844…'): 0.4006696844.",
         0.4006696844,
     ),
     'errata.annotations.side_integral_closed_form': (
-        '- \\frac{\\pi}{3} + 2 \\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = - \\frac{\\pi}{3} + 2 '
+        '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
         'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
         'SideFacingSolidAngle): −1/3 π + 2 arctan(3/11·√11).',
         0.42343135443673907,
     ),
     'errata.annotations.side_integral_decimal': (
-        '\\frac{211715677}{500000000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.423431354',
         "side-face solid angle as printed in lpv-annotations.md (§2.2 SideFacingSolidAngle '= "
         "0.423431354…'): 0.423431354.",
         0.423431354,
     ),
     'errata.annotations.coslobe_c0': (
-        '\\frac{\\sqrt{\\pi}}{2}',
+        's_{0}^{\\mathrm{printed}} = \\frac{\\sqrt{\\pi}}{2}',
         'clamped cosine lobe s0 as printed in lpv-annotations.md (§4.3 eq. (12)): √π/2.',
         0.886226925452758,
     ),
     'errata.annotations.coslobe_c1': (
-        '\\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
+        's_{2}^{\\mathrm{printed}} = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
         'clamped cosine lobe s2 as printed in lpv-annotations.md (§4.3 eq. (14)): √(π/3).',
         1.0233267079464885,
     ),
     'errata.annotations.side_direction_small': (
-        '\\frac{\\sqrt{5}}{5}',
+        'e_{\\mathrm{side},x}^{\\mathrm{printed}} = \\frac{\\sqrt{5}}{5}',
         'side-face main direction, 1st component as printed in lpv-annotations.md (§6.1): 1/√5.',
         0.4472135954999579,
     ),
     'errata.annotations.side_direction_big': (
-        '\\frac{2 \\sqrt{5}}{5}',
+        'e_{\\mathrm{side},y}^{\\mathrm{printed}} = \\frac{2 \\sqrt{5}}{5}',
         'side-face main direction, 2nd component as printed in lpv-annotations.md (§6.1): 2/√5.',
         0.8944271909999159,
     ),
     'errata.dx11.rsm_vpls': (
-        '4194304',
+        'N_{\\mathrm{VPL}}^{\\mathrm{printed}} = 4194304',
         'VPLs in a 2048×2048 RSM as printed in lpv-dx11-article.md (Injection, '
         "'2048×2048=4194304'): 4194304.",
         4194304.0,
     ),
     'errata.dx11.sh_c0': (
-        '\\frac{35261849}{125000000}',
+        '\\mathrm{SH\\_C0}^{\\mathrm{printed}} = 0.282094792',
         'SH_C0 = 1/(2√π) as printed in lpv-dx11-article.md (#define SH_C0 (injection, '
         'propagation and rendering shaders)): 0.282094792.',
         0.282094792,
     ),
     'errata.dx11.sh_c1': (
-        '\\frac{30537657}{62500000}',
+        '\\mathrm{SH\\_C1}^{\\mathrm{printed}} = 0.488602512',
         'SH_C1 = √3/(2√π) as printed in lpv-dx11-article.md (#define SH_C1): 0.488602512.',
         0.488602512,
     ),
     'errata.dx11.coslobe_c0': (
-        '\\frac{35449077}{40000000}',
+        '\\mathrm{SH\\_cosLobe\\_C0}^{\\mathrm{printed}} = 0.886226925',
         'SH_cosLobe_C0 = √π/2 as printed in lpv-dx11-article.md (#define SH_cosLobe_C0): '
         '0.886226925.',
         0.886226925,
     ),
     'errata.dx11.coslobe_c1': (
-        '\\frac{102332671}{100000000}',
+        '\\mathrm{SH\\_cosLobe\\_C1}^{\\mathrm{printed}} = 1.02332671',
         'SH_cosLobe_C1 = √(π/3) as printed in lpv-dx11-article.md (#define SH_cosLobe_C1): '
         '1.02332671.',
         1.02332671,
     ),
     'errata.dx11.pi': (
-        '\\frac{15707963}{5000000}',
+        '\\mathrm{PI}^{\\mathrm{printed}} = 3.1415926',
         'PI as printed in lpv-dx11-article.md (#define PI 3.1415926f (and Pi in the propagation '
         'shader)): 3.1415926.',
         3.1415926,
     ),
     'errata.dx11.front_solid_angle': (
-        '\\frac{2003348423}{5000000000}',
+        '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696846',
         'front-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
         'directFaceSubtendedSolidAngle): 0.4006696846.',
         0.4006696846,
     ),
     'errata.dx11.side_solid_angle': (
-        '\\frac{529301693}{1250000000}',
+        '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.4234413544',
         'side-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
         'sideFaceSubtendedSolidAngle): 0.4234413544.',
         0.4234413544,
     ),
     'errata.dx11.front_weight': (
-        '\\frac{2003348423}{31415926000}',
+        'w_{\\mathrm{front}}^{\\mathrm{printed}} = \\frac{2003348423}{31415926000}',
         "front-face weight Δω_front/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
         '(propagation shader, directFaceSubtendedSolidAngle): 0.4006696846f / Pi / 2.',
         0.06376856193893504,
     ),
     'errata.dx11.side_weight': (
-        '\\frac{529301693}{11780972250}',
+        'w_{\\mathrm{side}}^{\\mathrm{printed}} = \\frac{529301693}{11780972250}',
         "side-face weight Δω_side/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
         '(propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544f / Pi / 3.',
         0.044928523874589385,
     ),
     'errata.dx11.side_eval_small': (
-        '\\frac{894427}{2000000}',
+        'e_{\\mathrm{side},x}^{\\mathrm{printed}} = 0.4472135',
         'side evaluation direction, small component 1/√5 as printed in lpv-dx11-article.md '
         '(getEvalSideDirection, smallComponent): 0.4472135.',
         0.4472135,
     ),
     'errata.dx11.side_eval_big': (
-        '\\frac{894427}{1000000}',
+        'e_{\\mathrm{side},y}^{\\mathrm{printed}} = 0.894427',
         'side evaluation direction, big component 2/√5 as printed in lpv-dx11-article.md '
         '(getEvalSideDirection, bigComponent): 0.894427.',
         0.894427,
     ),
     'errata.dx11.surfel_weight': (
-        '\\frac{3}{200}',
+        'w_{\\mathrm{surfel}}^{\\mathrm{printed}} = 0.015',
         'injection surfel weight as printed in lpv-dx11-article.md (injection pixel shader, '
         'surfelWeight): 0.015.',
         0.015,
     ),
     'errata.dx11.l1_accuracy': (
-        '\\frac{3}{4}',
+        '\\left(E_{L1} / E\\right)^{\\mathrm{printed}} = 0.75',
         'share of a clamped cosine kept by 4 SH coefficients as printed in lpv-dx11-article.md '
         '(Pros and cons, first con): about 75%.',
         0.75,
     ),
     'errata.dx12.y00': (
-        '\\frac{1}{2 \\sqrt{\\pi}}',
+        'Y_{0}^{0}^{\\mathrm{printed}} = \\frac{1}{2 \\sqrt{\\pi}}',
         'Y_0^0 as printed in lpv-dx12-blog.md (Spherical Harmonics, first two bands): √(1/(4π)).',
         0.28209479177387814,
     ),
     'errata.dx12.y1': (
-        '\\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
+        'c_{1}^{\\mathrm{printed}} = \\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
         'Y_1^{-1} coefficient of −y as printed in lpv-dx12-blog.md (Spherical Harmonics, first '
         'two bands): √(3/(4π)).',
         0.4886025119029199,

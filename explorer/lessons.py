@@ -27,8 +27,18 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     [steps.settings]
     iterations = 4
     [[steps.try_this]]
-    control = "corrections.injection_pi"   # a Settings field or corrections.<switch>
-    prompt = "..."
+    control = "corrections.injection_pi"   # a Settings field, corrections.<switch> or
+    value = false                          # "corrections" (a preset); the value to set
+    prompt = "..."                         # may quote live numbers, {{audit.injected}}
+    split = true                           # optional: show before | after side by side
+    [[steps.figures]]                      # inline live figures (explorer/ui/figures)
+    kind = "clamped-cosine"
+    id = "lobe"                            # placed in the text by {{figure:lobe}}
+    normal_deg = 30
+
+The text is the markdown dialect of :mod:`explorer.lesson_text`: inline and display math,
+live numbers ``{{name:format}}`` (:mod:`explorer.live_values`), ``{{figure:ID}}``,
+``{{formula:NAME}}`` and ``{{try:K}}`` markers; the validator checks every one of them.
 
 Errors are :class:`LessonError` naming the file, the step (number and title) and the
 field; :func:`load_all` collects them so one broken lesson never hides the others.
@@ -39,7 +49,7 @@ from __future__ import annotations
 import re
 import sys
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -78,7 +88,8 @@ _STEP_FIELDS = {
                     doc="The preset on the other side of a split/difference view."),
     "plot": Spec(kind="choice", choices=PLOTS, doc="The plot brought forward."),
 }
-_STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this")
+_STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
+                "figures")
 _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
@@ -116,11 +127,29 @@ class LessonError(ValueError):
 
 @dataclass(frozen=True)
 class TryThis:
-    """A prompt asking the reader to change one control and look for an effect."""
+    """A prompt asking the reader to change one control and look for an effect; the
+    window's button sets ``control`` to ``value``, nothing else."""
 
     control: str
-    """A Settings field name, or ``corrections.<switch>``."""
+    """A Settings field name, ``corrections.<switch>`` or ``corrections`` (a preset name,
+    or a Corrections value given as a table like a step's ``corrections``)."""
     prompt: str
+    value: Any = None
+    """The value the button sets (checked against the settings schema when loaded)."""
+    split: bool = False
+    """Show the change as before | after in the split view."""
+    label: str = ""
+    """The button's text (default: the control's label and the value)."""
+
+    def change(self) -> dict[str, Any]:
+        """The change as ``Settings.with_changes`` keywords."""
+        if self.control.startswith("corrections."):
+            return {"corrections": {self.control.split(".", 1)[1]: self.value}}
+        return {self.control: self.value}
+
+    def apply(self, settings: Settings) -> Settings:
+        """``settings`` with this change made."""
+        return settings.with_changes(**self.change())
 
 
 @dataclass(frozen=True)
@@ -143,6 +172,12 @@ class Step:
     try_this: tuple[TryThis, ...]
     camera: tuple[Vec3, Vec3] | None = None
     light: tuple[Vec3, Vec3] | None = None
+    figures: tuple[Any, ...] = ()
+    """Inline figures (``explorer.ui.figures.FigureSpec``), in file order."""
+
+    @property
+    def figure_ids(self) -> tuple[str, ...]:
+        return tuple(spec.instance_id for spec in self.figures)
 
     def settings(self, base: Settings | None = None) -> Settings:
         """The Settings this step shows: ``base`` (default: ``Settings()``) with the
@@ -361,11 +396,13 @@ class _Reader:
             compare=PRESETS[compare_preset] if compare_preset else None,
             compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
             camera=self.pair(raw, "camera", _CAMERA_KEYS),
-            light=self.pair(raw, "light", _LIGHT_KEYS))
+            light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw))
         try:  # the rules between fields (e.g. bounces 2 needs a geometry volume)
             step.settings()
         except SettingError as exc:
             raise self.error(f"settings.{exc.field}", str(exc)) from None
+        step = self.try_values(step)
+        self.article(step)
         self.step_number = self.step_title = None
         return step
 
@@ -434,17 +471,136 @@ class _Reader:
     def try_this(self, raw: Mapping) -> tuple[TryThis, ...]:
         items = raw.get("try_this", [])
         if not isinstance(items, list):
-            raise self.error("try_this", "must be a list of {control, prompt} tables")
+            raise self.error("try_this", "must be a list of {control, prompt, value} tables")
         declared = {"control": Spec(kind="choice", choices=valid_controls(),
                                     doc="A Settings field or corrections.<switch>."),
-                    "prompt": Spec(kind="str", doc="What to change and look for.")}
+                    "prompt": Spec(kind="str", doc="What to change and look for."),
+                    "split": Spec(kind="bool", doc="Show the step | the change side by side."),
+                    "label": Spec(kind="text", doc="The button's text (default: the change).")}
         result = []
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            own = self.fields(item, declared, (), tuple(declared), prefix=f"try_this[{index}].")
-            result.append(TryThis(control=own["control"], prompt=own["prompt"]))
+            own = self.fields(item, declared, ("value",), ("control", "prompt", "value"),
+                              prefix=f"try_this[{index}].")
+            result.append(TryThis(control=own["control"], prompt=own["prompt"],
+                                  value=item["value"], split=own.get("split", False),
+                                  label=own.get("label", "")))
         return tuple(result)
+
+    # --- the article: try-this values, figures, markers and live numbers ----------------
+    # (new keys of the explorable lessons; explorer/lesson_text.py, explorer/live_values.py)
+
+    def try_values(self, step: Step) -> Step:
+        """``step`` with each try-this value checked against the settings schema on top of
+        the step's settings (and normalised: TOML lists become tuples)."""
+        from explorer.lpv.schema import SettingError
+
+        base = step.settings()
+        checked = []
+        for index, item in enumerate(step.try_this):
+            field = f"try_this[{index}].value"
+            if item.control == "corrections":
+                if isinstance(item.value, Mapping):     # a preset with switches changed
+                    value = self.corrections({"corrections": item.value})
+                elif isinstance(item.value, str) and item.value in PRESETS:
+                    value = item.value
+                else:
+                    raise self.error(field, f"a corrections preset, one of {list(PRESETS)}, "
+                                            f"or a table of switches; got {item.value!r}")
+            elif item.control.startswith("corrections."):
+                if not isinstance(item.value, bool):
+                    raise self.error(field, f"{item.control} is a switch: true or false, got "
+                                            f"{item.value!r}")
+                value = item.value
+            else:
+                try:
+                    value = getattr(Settings.from_dict({item.control: item.value}, base),
+                                    item.control)
+                except (SettingError, ValueError, TypeError) as exc:
+                    raise self.error(field, str(exc)) from None
+            changed = replace(item, value=value)
+            try:
+                after = changed.apply(base)
+            except (ValueError, TypeError) as exc:
+                raise self.error(field, str(exc)) from None
+            if after == base:
+                raise self.error(field, f"{item.control} is already {value!r} in this step: "
+                                        "the button would change nothing")
+            checked.append(changed)
+        return replace(step, try_this=tuple(checked))
+
+    def figures(self, raw: Mapping) -> tuple[Any, ...]:
+        items = raw.get("figures", [])
+        if not isinstance(items, list):
+            raise self.error("figures", "must be a list of [[steps.figures]] tables")
+        if not items:
+            return ()
+        from explorer.figure_params import FigureParamError, parse_figure
+
+        specs = []
+        for index, table in enumerate(items):
+            try:
+                specs.append(parse_figure(table, f"figures[{index}]."))
+            except (FigureParamError, ValueError) as exc:
+                raise self.error(getattr(exc, "field", f"figures[{index}]"), str(exc)
+                                 ) from None
+        ids = [spec.instance_id for spec in specs]
+        for index, name in enumerate(ids):
+            if ids.index(name) != index:
+                raise self.error(f"figures[{index}].id", f"two figures of the step are "
+                                 f"called {name!r}; give each its own id")
+        return tuple(specs)
+
+    def article(self, step: Step) -> None:
+        """Every marker and live number of the step's text, prompts and figure captions
+        resolves: figures and try-this entries exist, formulas are derivation results,
+        quantities are known and their formats apply."""
+        from explorer import lesson_text, live_values
+
+        try:
+            blocks = lesson_text.parse(step.text)
+        except lesson_text.TextError as exc:
+            raise self.error("text", str(exc)) from None
+        for block in blocks:
+            if isinstance(block, lesson_text.FigureRef) and block.id not in step.figure_ids:
+                raise self.error("text", f"{{{{figure:{block.id}}}}}: the step has no figure "
+                                 f"with that id (its figures: {list(step.figure_ids)})")
+            if isinstance(block, lesson_text.FormulaRef) and self.check_formula is not None:
+                try:
+                    self.check_formula(block.name)
+                except (LookupError, ValueError) as exc:
+                    reason = exc.args[0] if exc.args else exc
+                    raise self.error("text", f"{{{{formula:{block.name}}}}}: {reason}"
+                                     ) from None
+        for run in lesson_text.all_runs(blocks):
+            if isinstance(run, lesson_text.TryButton) and not (
+                    1 <= run.index <= len(step.try_this)):
+                raise self.error("text", f"{{{{try:{run.index}}}}}: the step has "
+                                 f"{len(step.try_this)} try-this entries")
+        for index, item in enumerate(step.try_this):
+            for field, text in ((f"try_this[{index}].prompt", item.prompt),
+                                (f"try_this[{index}].label", item.label)):
+                try:
+                    blocks = lesson_text.parse(text)
+                except lesson_text.TextError as exc:
+                    raise self.error(field, str(exc)) from None
+                if len(blocks) > 1 or any(not isinstance(b, lesson_text.Paragraph)
+                                          for b in blocks):
+                    raise self.error(field, "must be one paragraph of text (no lists, "
+                                            "display math, tables or markers)")
+        texts = [("text", step.text)] + [
+            (f"try_this[{i}].prompt", item.prompt) for i, item in enumerate(step.try_this)
+        ] + [(f"figures[{i}].caption", spec.caption) for i, spec in enumerate(step.figures)]
+        for field, text in texts:
+            for name, fmt in lesson_text.placeholders(text):
+                try:
+                    quantity = live_values.lookup(name, step.figure_ids)
+                    live_values.check_format(fmt, quantity)
+                except KeyError as exc:
+                    raise self.error(field, f"{{{{{name}}}}}: {exc.args[0]}") from None
+                except ValueError as exc:
+                    raise self.error(field, f"{{{{{name}:{fmt}}}}}: {exc}") from None
 
 
 _PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
@@ -509,7 +665,7 @@ _LATEX_SYMBOLS = {
     r"\cos": "cos", r"\sin": "sin",
     r"\tilde": "", r"\mathrm": "", r"\text": "",
 }
-_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
+_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\ ": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
 # Only glyphs the window's font (Roboto) has: digits 1-3 as superscripts, no subscripts.
 _SUPERSCRIPTS = {"1": "¹", "2": "²", "3": "³"}
 _ATOM = r"[A-Za-z]|[0-9.]+|π"

@@ -41,7 +41,8 @@ def _settled_app(view_mode: str = "single"):
     state = AppState(settings=TINY)
     state.follow_view_size = False
     state.view_mode = view_mode
-    app = _app(state)
+    # big enough that the view shows every frame pixel at least once (no pick rounding)
+    app = _app(state, width=1600, height=900)
     for _ in range(3):
         app.frame()
     assert app.state.runtime.result is not None, app.state.runtime.pipeline_error

@@ -47,7 +47,7 @@ BAD = [
     ("render --cascade 2", 2, "--cascade must be in [0, 0]"),
     ("render --step 2", 2, "--step needs --lesson"),
     ("render --lesson nosuch", 2, "no lesson 'nosuch'"),
-    ("render --lesson 3 --step 99", 2, "has steps 1..6, not 99"),
+    ("render --lesson 4 --step 99", 2, "has steps 1..6, not 99"),
     ("render --bogus", 2, "unrecognized arguments: --bogus"),
     # render: output paths checked before the work
     ("render --out {tmp}/adir", 2, "is a folder"),

@@ -1,4 +1,6 @@
-"""``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps.
+"""``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
+``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
+shows it (a hidden window: needs a display, e.g. ``xvfb-run``).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.
@@ -11,12 +13,36 @@ import sys
 import textwrap
 from pathlib import Path
 
+from explorer.commands.options import size_type
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("lesson", nargs="?", metavar="ID",
                         help="a lesson id, number or file stem: print its steps")
     parser.add_argument("--dir", type=Path, default=None, metavar="PATH",
                         help="read lessons from this folder instead of the shipped ones")
+    group = parser.add_argument_group("export a step as the window shows it")
+    group.add_argument("--export", metavar="ID", help="lesson id, number or file stem")
+    group.add_argument("--step", type=int, default=1, metavar="K",
+                       help="step of the exported lesson (default: 1)")
+    group.add_argument("--out", type=Path, default=None, metavar="PNG",
+                       help="the PNG to write (default: ./<lesson>-step<K>.png)")
+    group.add_argument("--size", default=(1600, 900), metavar="WxH",
+                       type=size_type(_export_size),
+                       help="window size in pixels, at least 640x400 (default: 1600x900)")
+    group.add_argument("--try", dest="try_this", type=int, default=None, metavar="K",
+                       help="press the step's K-th try-this button before writing")
+
+
+def _export_size(width: int, height: int) -> tuple[int, int]:
+    """An export window size: the persisted window size's range, and room for the article
+    beside the view (640x400 at least)."""
+    from explorer.lpv.schema import SettingError, specs
+    from explorer.ui.state import AppState
+
+    if width < 640 or height < 400:
+        raise SettingError("size", f"size must be at least 640x400, got {width}x{height}")
+    return specs(AppState)["window_size"].check("size", (width, height))
 
 
 def main(args: argparse.Namespace) -> int:
@@ -25,6 +51,8 @@ def main(args: argparse.Namespace) -> int:
 
     if args.dir is not None and not args.dir.is_dir():
         raise CommandError(f"--dir {args.dir}: no such folder")
+    if args.export:
+        return _export(args)
     lessons, errors = load_all(args.dir)
     if not lessons and not errors:
         raise CommandError(f"no lessons (*.toml files) in {args.dir or 'the shipped lessons'}",
@@ -49,9 +77,23 @@ def _print_list(lessons) -> None:
               f"({count} step{'s' if count != 1 else ''})")
 
 
-def _print_lesson(lesson) -> None:
+def _plain(text: str) -> str:
+    """Lesson text for a terminal: derived numbers filled in, live ones named in
+    brackets (they are measured in the window), markers spelled out, math as text."""
+    from explorer import lesson_text, live_values
     from explorer.lessons import math_to_text
 
+    def value(name: str, fmt: str) -> str:
+        if name.startswith("derived."):
+            return live_values.render(name, fmt, live_values.LiveContext())
+        return f"[{name}]"
+
+    text = lesson_text.substitute(text, value)
+    text = lesson_text.MARKER_FIELD.sub(lambda m: f"[{m.group(1)} {m.group(2)}]", text)
+    return math_to_text(text.replace("$$", "$"))
+
+
+def _print_lesson(lesson) -> None:
     print(f"{lesson.title}  [{lesson.id}, {lesson.path.name}]")
     print(textwrap.fill(lesson.summary, width=88))
     for step in lesson.steps:
@@ -70,13 +112,13 @@ def _print_lesson(lesson) -> None:
             shows.append(", ".join(f"{k}={v}" for k, v in step.overrides))
         print(textwrap.fill("shows: " + "; ".join(shows), width=88, subsequent_indent="  "))
         print()
-        print(math_to_text(step.text.strip()))
+        print(_plain(step.text.strip()))
         if step.formulas:
             print()
             print("formulas: " + ", ".join(step.formulas))
         for item in step.try_this:
-            print(textwrap.fill(f"try this [{item.control}]: {item.prompt}", width=88,
-                                subsequent_indent="  "))
+            print(textwrap.fill(f"try this [{item.control} = {item.value!r}]: "
+                                f"{_plain(item.prompt)}", width=88, subsequent_indent="  "))
     print()
     print(f"render a step: lpv-explorer render --lesson {lesson.id} --step 1")
 
@@ -84,3 +126,24 @@ def _print_lesson(lesson) -> None:
 def _print_errors(errors) -> None:
     for error in errors:
         print(f"broken lesson: {error}", file=sys.stderr)
+
+
+def _export(args: argparse.Namespace) -> int:
+    """Write step ``args.step`` of lesson ``args.export`` as the window shows it."""
+    from explorer.commands.options import CommandError, Outputs
+    from explorer.gl.window import WindowError
+    from explorer.ui.export import export_step
+
+    with Outputs() as outputs:
+        out = outputs.file(args.out or Path.cwd() / f"{args.export}-step{args.step}.png",
+                           suffixes=(".png",))
+        width, height = args.size
+        try:
+            outputs.write(out, lambda path: export_step(args.export, args.step, path, width,
+                                                        height, try_this=args.try_this))
+        except (KeyError, IndexError) as exc:
+            raise CommandError(exc.args[0]) from None
+        except (WindowError, TimeoutError) as exc:
+            raise CommandError(exc, 1) from None
+    print(f"wrote {out}")
+    return 0

@@ -25,6 +25,8 @@ from explorer.lpv.settings import PRESETS, Settings
 
 FRAMES = Spec(kind="int", low=1, high=10**9, optional=True,
               doc="Draw this many frames, then exit (default with --screenshot: 30).")
+STEP = Spec(kind="int", low=1, high=1000, optional=True,
+            doc="Open the lesson at this step (default: 1).")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,6 +38,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=spec_help(specs(Settings)["scene"]))
     parser.add_argument("--preset", choices=list(PRESETS),
                         help="start with these formulas (configuration A)")
+    parser.add_argument("--step", metavar="K", type=value_type("step", STEP), default=None,
+                        help="with --lesson: " + spec_help(STEP))
     parser.add_argument("--compare", choices=VIEW_MODES,
                         help="view mode: one configuration, split A|B, or their difference")
     parser.add_argument("--size", metavar="WxH", default=None, type=size_type(window_size),
@@ -59,11 +63,13 @@ def window_size(width: int, height: int) -> tuple[int, int]:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.step is not None and not args.lesson:
+        raise CommandError("--step needs --lesson")
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
         check_scene(args.scene, load=True)    # a broken mesh: refused before the window
     if args.lesson:
-        _check_lesson(args.lesson)
+        _check_lesson(args.lesson, args.step)
     if args.screenshot is not None:
         Outputs("--screenshot").file(args.screenshot)
 
@@ -85,19 +91,21 @@ def main(args: argparse.Namespace) -> int:
         if args.compare:
             app.state.view_mode = args.compare
         if args.lesson:
-            app.state.lesson_id = args.lesson
+            app.state.lesson_id, app.state.lesson_step = args.lesson, args.step or 1
         return app.run(frames=frames, screenshot=args.screenshot)
     finally:
         app.close()
 
 
-def _check_lesson(key: str) -> None:
-    """The lesson exists and loads (its own error otherwise), before the window opens."""
+def _check_lesson(key: str, step: int | None) -> None:
+    """The lesson exists and loads (its own error otherwise) and has step ``step``, before
+    the window opens."""
     from explorer.lessons import find_lesson, load_all
 
     lessons, errors = load_all(check_formula=None)
     try:
-        find_lesson(key, lessons, errors)
-    except KeyError as exc:
+        lesson = find_lesson(key, lessons, errors)
+        if step is not None:
+            lesson.step(step)
+    except (KeyError, IndexError) as exc:
         raise CommandError(exc.args[0]) from None
-

@@ -99,7 +99,7 @@ class GBuffer:
         return width, height
 
 
-def _default_ray_offset(triangles: np.ndarray | None, gbuffer: GBuffer) -> float:
+def default_ray_offset(triangles: np.ndarray | None, gbuffer: GBuffer) -> float:
     """1/1000 of the scene's bounding diagonal: far above float32 rounding of positions
     read back from a rasterised G-buffer, far below any feature of the built-in scenes."""
     if triangles is not None and len(triangles):
@@ -154,7 +154,7 @@ class ReferencePass:
             bvh = triangles if isinstance(triangles, Bvh) else build_bvh(triangles)
         if ray_offset is None:
             soup = bvh.triangles if bvh is not None else None
-            ray_offset = _default_ray_offset(soup, gbuffer)
+            ray_offset = default_ray_offset(soup, gbuffer)
         width, height = gbuffer.size
         ctx = self.ctx
         owned = []  # GL objects this call creates and must free
@@ -317,7 +317,7 @@ def numpy_reference_irradiance(gbuffer: GBuffer, vpls: VplArrays, min_distance: 
     if visibility and triangles is None:
         raise ValueError("visibility=True needs the scene triangles")
     if ray_offset is None:
-        ray_offset = _default_ray_offset(triangles if visibility else None, gbuffer)
+        ray_offset = default_ray_offset(triangles if visibility else None, gbuffer)
     valid = np.asarray(gbuffer.valid, bool)
     p = np.asarray(gbuffer.position, np.float64)[valid]
     n = np.asarray(gbuffer.normal, np.float64)[valid]

@@ -37,6 +37,7 @@ _RESIZE_SETTLE_S = 0.15       # re-render at a new view size once resizing pause
 _SHADER_POLL_S = 0.5
 _LAYOUT_FRAMES = 2          # frames before the View panel's size is trusted
 _EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
+_TASK_BUDGET_S = 0.06         # background GPU work per frame (the Error panel's reference)
 
 
 class App:
@@ -59,6 +60,7 @@ class App:
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
+        rt.gl_renderer = str(self.ctx.info.get("GL_RENDERER", "")) if self.ctx else ""
         if rt.gl_problem:
             print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
         if pipeline_class is ...:
@@ -114,7 +116,9 @@ class App:
                                   and sorted(self.state.layout_panels) == sorted(titles))
         self.state.layout_panels = titles
         theme.apply_style(self.window.content_scale)
-        theme.load_fonts(io)
+        from explorer.ui import fonts
+
+        self.state.runtime.fonts = fonts.load(io, 15.0)   # Roboto + math symbols
         imgui.backends.glfw_init_for_opengl(self.window.address, True)
         imgui.backends.opengl3_init("#version 330 core")
         rt = self.state.runtime
@@ -167,6 +171,7 @@ class App:
         if not self.state.runtime.gl_problem:
             self._hot_reload()
             self._update_pipelines()
+            self._background_tasks()
         imgui.backends.opengl3_new_frame()
         imgui.backends.glfw_new_frame()
         imgui.new_frame()
@@ -206,6 +211,9 @@ class App:
             pipeline.release()
         self._pipelines.clear()
         rt = self.state.runtime
+        for task in rt.tasks:
+            task.release()
+        rt.tasks.clear()
         if rt.textures is not None:
             rt.textures.release()
         if rt.compositor is not None:
@@ -240,7 +248,8 @@ class App:
             if state.comparing and state.auto_exposure:
                 a = a.with_changes(exposure=rt.auto_exposure[0])
             return a
-        b = a.with_changes(corrections=state.compare_settings.corrections)
+        b = a.with_changes(corrections=state.compare_settings.corrections,
+                           **dict(state.compare_overrides))
         if state.auto_exposure:
             b = b.with_changes(exposure=rt.auto_exposure[1])
         return b
@@ -316,6 +325,7 @@ class App:
         self._failed.pop(side, None)
         if side == "A":
             rt.result = result
+            rt.frame_view = getattr(pipeline, "view", None)
             rt.pipeline_error = None
             self._ran_settings = self.state.settings
             self._good_scene = (settings.scene, settings.camera, settings.light,
@@ -325,6 +335,20 @@ class App:
         else:
             rt.compare_result = result
         return True
+
+    def _background_tasks(self) -> None:
+        """Advance the panels' background GPU work (``runtime.tasks``) within a small
+        time budget, so that the window keeps drawing while it runs."""
+        for task in list(self.state.runtime.tasks):
+            try:
+                task.advance(self.ctx, _TASK_BUDGET_S)
+            except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
+                self.state.notify(f"{type(task).__name__} failed: {exc}", "error")
+                traceback.print_exception(exc, file=sys.stderr)
+                task.release()
+                self.state.runtime.tasks.remove(task)
+            finally:
+                self.ctx.screen.use()
 
     def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
         rt = self.state.runtime
@@ -408,7 +432,7 @@ class App:
     def _draw_ui(self) -> None:
         from imgui_bundle import imgui
 
-        from explorer.ui.layout import PANELS, build_default_layout
+        from explorer.ui.layout import PANELS, build_default_layout, window_class
 
         state = self.state
         self._main_menu()
@@ -422,12 +446,17 @@ class App:
         if state.runtime.gl_problem:
             self._gl_problem_window()
             return
+        focus = state.requests.focus_panel
+        focus = (focus,) if isinstance(focus, str) else tuple(focus or ())
         for panel in PANELS:
+            if panel.title in focus and not self._needs_layout:
+                state.open_panels[panel.title] = True
             if not state.open_panels.get(panel.title, True):
                 continue
-            if state.requests.focus_panel == panel.title and not self._needs_layout:
+            if panel.title in focus and not self._needs_layout:
                 imgui.set_next_window_focus()
-                state.requests.focus_panel = None
+            if panel.window_class:
+                imgui.set_next_window_class(window_class(panel))
             if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
             expanded, still_open = imgui.begin(panel.title, True)
@@ -440,6 +469,8 @@ class App:
                     self._panel_failed(panel.title, exc)
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
+        if focus and not self._needs_layout:
+            state.requests.focus_panel = None
         if imgui.is_key_pressed(imgui.Key.f12, False):
             state.requests.screenshot = default_screenshot_path()
         self._file_dialog()
@@ -573,8 +604,3 @@ def _eye_target(value) -> tuple | None:
         return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
     except (TypeError, ValueError):
         return None
-
-
-
-
-

@@ -59,6 +59,7 @@ class Formula:
     width: int
     height: int
     latex: str
+    baseline: int = 0    # pixels from the image's top to the formula's baseline
 
 
 class FormulaCache:
@@ -74,22 +75,8 @@ class FormulaCache:
 
     def _init(self) -> None:
         self._tried = True
-        problem = ensure_utf8_locale()
-        if problem:
-            self.error = problem
-            return
-        try:
-            import imgui_bundle
-            from imgui_bundle import imgui_microtex
-
-            fonts = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "latex"
-            imgui_microtex.init(str(fonts / "latinmodern-math.clm1"),
-                                str(fonts / "latinmodern-math.otf"))
-            imgui_microtex.render("x", 10.0, 0xFFFFFFFF)  # fails here if the locale is bad
-        except Exception as exc:  # noqa: BLE001 - any failure means "show the source"
-            self.error = f"imgui_microtex unavailable: {exc}"
-            return
-        self._ready = True
+        self.error = init_microtex()
+        self._ready = self.error is None
 
     @property
     def available(self) -> bool:
@@ -97,24 +84,51 @@ class FormulaCache:
             self._init()
         return self._ready
 
-    def get(self, latex: str, scale: float = 1.0) -> Formula:
+    def get(self, latex: str, scale: float = 1.0, inline: bool = False) -> Formula:
+        """``latex`` typeset at ``scale`` × the cache's font size, in TeX's display style
+        (formula blocks) or its text style (``inline``: math within a line of prose)."""
         size = round(self.font_size * scale, 1)
-        key = (latex, size)
+        key = (latex, size, inline)
         if key in self._cache:
             return self._cache[key]
         formula = Formula(0, 0, 0, latex)
         if self.available:
             try:
-                from imgui_bundle import imgui_microtex
-
-                rendered = imgui_microtex.render(latex, size, 0xFFFFFFFF,
-                                                 imgui_microtex.TexStyle.display)
-                pixels = np.array(rendered.pixels_as_array(), copy=True)
+                rendered, pixels = typeset(latex, size, inline)
                 if pixels.size:
-                    tex = self.textures.upload(f"formula:{latex}:{size}", pixels,
+                    tex = self.textures.upload(f"formula:{latex}:{size}:{inline}", pixels,
                                                version=key, nearest=False)
-                    formula = Formula(tex, pixels.shape[1], pixels.shape[0], latex)
+                    formula = Formula(tex, pixels.shape[1], pixels.shape[0], latex,
+                                      int(rendered.baseline_y))
             except Exception as exc:  # noqa: BLE001 - a formula MicroTeX cannot parse
                 self.error = f"could not typeset {latex!r}: {exc}"
         self._cache[key] = formula
         return formula
+
+
+def typeset(latex: str, size: float, inline: bool = False):
+    """(MicroTeX's RenderedFormula, its RGBA pixels as an (H, W, 4) array) of ``latex``
+    in white; needs :func:`init_microtex` first. No GL involved (tests use it too)."""
+    from imgui_bundle import imgui_microtex
+
+    style = imgui_microtex.TexStyle.text if inline else imgui_microtex.TexStyle.display
+    rendered = imgui_microtex.render(latex, size, 0xFFFFFFFF, style)
+    return rendered, np.array(rendered.pixels_as_array(), copy=True)
+
+
+def init_microtex() -> str | None:
+    """Load MicroTeX's fonts (once); None when it works, else why it cannot."""
+    problem = ensure_utf8_locale()
+    if problem:
+        return problem
+    try:
+        import imgui_bundle
+        from imgui_bundle import imgui_microtex
+
+        fonts = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "latex"
+        imgui_microtex.init(str(fonts / "latinmodern-math.clm1"),
+                            str(fonts / "latinmodern-math.otf"))
+        imgui_microtex.render("x", 10.0, 0xFFFFFFFF)  # fails here if the locale is bad
+    except Exception as exc:  # noqa: BLE001 - any failure means "show the source"
+        return f"imgui_microtex unavailable: {exc}"
+    return None

@@ -1,8 +1,15 @@
 """The panel list and the default dock layout.
 
 To add a panel, append ``Panel(title, gui_function, area)`` to :data:`PANELS` (or call
-:func:`register`); ``area`` names where the default layout docks it: "left", "left-bottom",
-"right", "right-bottom", "bottom" or "centre".
+:func:`register`); ``area`` names where the default layout docks it: "article" (the
+lesson column, which holds the Lesson panel alone), "left", "left-bottom", "right",
+"right-bottom", "bottom" or "centre".
+
+The default layout reads like an explorable article: the lesson column on the left, the
+3D view beside it (the view answers every control in the text), the tool panels in a
+column on the right ("left"/"left-bottom" panels at its top, "right" in the middle,
+"right-bottom" at the bottom) and the messages under the view. Column widths follow the
+window's width (:func:`column_widths`), from 1280×720 up.
 """
 
 from __future__ import annotations
@@ -22,10 +29,14 @@ from explorer.ui.panels.plots import gui_plots
 from explorer.ui.panels.scene import gui_scene
 from explorer.ui.panels.show_in_scene import gui_show_in_scene
 from explorer.ui.panels.view import gui_view
-from explorer.ui.lesson_panel import gui_lesson  # the lessons helper's panel
+from explorer.ui.article import gui_article
+from explorer.ui.panels.error import gui_error
 from explorer.ui.state import AppState
 
-AREAS = ("centre", "left", "left-bottom", "right", "right-bottom", "bottom")
+AREAS = ("centre", "article", "left", "left-bottom", "right", "right-bottom", "bottom")
+ARTICLE_CLASS = 0x4C455353
+"""imgui window class of the Lesson panel: windows of other classes cannot dock into its
+node (no tabs), and it cannot be tabbed into theirs."""
 
 
 @dataclass(frozen=True)
@@ -34,11 +45,12 @@ class Panel:
     gui: Callable[[AppState], None]
     area: str = "right"
     padding: bool = True      # False: (almost) no margin around the content (the 3D view)
+    window_class: int = 0     # nonzero: a dock of its own (see ARTICLE_CLASS)
 
 
 PANELS: list[Panel] = [
     Panel("View", gui_view, "centre", padding=False),
-    Panel("Lessons", gui_lesson, "left"),   # first in its dock: the tab shown at start
+    Panel("Lesson", gui_article, "article", window_class=ARTICLE_CLASS),
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Compare", gui_compare, "left-bottom"),
@@ -46,6 +58,7 @@ PANELS: list[Panel] = [
     Panel("Inspect", gui_inspect, "right"),
     Panel("Plots", gui_plots, "right-bottom"),
     Panel("Picked", gui_picked, "right-bottom"),
+    Panel("Error", gui_error, "right-bottom"),
     Panel("Shaders", gui_shaders, "bottom"),
     Panel("Messages", gui_messages, "bottom"),
 ]
@@ -61,22 +74,46 @@ def register(panel: Panel, before: str | None = None) -> None:
     PANELS.insert(titles.index(before) if before in titles else len(PANELS), panel)
 
 
+def column_widths(width: float) -> tuple[float, float]:
+    """(article, tool column) widths in pixels for a window ``width`` wide: the article
+    about a third, never narrower than a readable column nor wider than a long line; the
+    rest goes to the 3D view."""
+    article = min(max(0.36 * width, 400.0), 700.0)
+    tools = min(max(0.24 * width, 290.0), 480.0)
+    return article, tools
+
+
+def window_class(panel: Panel):
+    """The imgui window class a panel with ``window_class`` is begun with."""
+    klass = imgui.WindowClass()
+    klass.class_id = panel.window_class
+    klass.docking_allow_unclassed = False
+    return klass
+
+
 def build_default_layout(dockspace_id: int, size) -> None:
-    """Split the dockspace: view in the centre, corrections and scene left, inspect and
-    plots right, messages under the view."""
+    """Split the dockspace: the lesson column left, the view in the centre with the
+    messages under it, the tool panels in three rows on the right."""
     internal.dock_builder_remove_node(dockspace_id)
     internal.dock_builder_add_node(dockspace_id, imgui.DockNodeFlags_.none
                                    | internal.DockNodeFlagsPrivate_.dock_space)
     internal.dock_builder_set_node_size(dockspace_id, size)
-    left, rest = _split(dockspace_id, imgui.Dir.left, 0.27)
-    right, centre = _split(rest, imgui.Dir.right, 0.33)
-    bottom, centre = _split(centre, imgui.Dir.down, 0.18)
-    left_bottom, left = _split(left, imgui.Dir.down, 0.42)
-    right_bottom, right = _split(right, imgui.Dir.down, 0.55)
-    nodes = {"centre": centre, "left": left, "left-bottom": left_bottom, "right": right,
-             "right-bottom": right_bottom, "bottom": bottom}
+    article_px, tools_px = column_widths(float(size.x))
+    article, rest = _split(dockspace_id, imgui.Dir.left, article_px / float(size.x))
+    tools, centre = _split(rest, imgui.Dir.right, tools_px / max(float(size.x) - article_px,
+                                                                 1.0))
+    bottom, centre = _split(centre, imgui.Dir.down, 0.16)
+    tools_top, tools_rest = _split(tools, imgui.Dir.up, 0.36)
+    tools_bottom, tools_middle = _split(tools_rest, imgui.Dir.down, 0.5)
+    nodes = {"centre": centre, "article": article, "left": tools_top,
+             "left-bottom": tools_top, "right": tools_middle, "right-bottom": tools_bottom,
+             "bottom": bottom}
     for panel in PANELS:
         internal.dock_builder_dock_window(panel.title, nodes[panel.area])
+    node = internal.dock_builder_get_node(article)
+    if node is not None:
+        node.set_local_flags(node.local_flags | internal.DockNodeFlagsPrivate_.no_docking_over_me
+                             | internal.DockNodeFlagsPrivate_.no_window_menu_button)
     internal.dock_builder_finish(dockspace_id)
 
 

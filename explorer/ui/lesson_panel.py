@@ -1,9 +1,10 @@
-"""Lesson panel: read a lesson step by step and put each step's configuration on screen.
+"""Lesson state: which lesson and step is read, and what each step puts on screen.
 
-The panel follows the app's convention, ``gui_lesson(state: AppState)``. What it
-remembers between frames (which lesson, which step, the reader's own configuration
-saved while a lesson step is applied) lives in a :class:`LessonSession`, a plain object
-with no imgui in it, so navigation and apply/leave/return are tested headlessly.
+The Lesson panel (``explorer/ui/article.py``, ``gui_article(state)``) draws the article;
+what it remembers between frames (which lesson, which step, the reader's own
+configuration saved while a lesson step is applied, the try-this on screen) lives in a
+:class:`LessonSession`, a plain object with no imgui in it, so navigation,
+apply/try/leave/return are tested headlessly.
 
 "Apply this step" saves the reader's configuration (settings of A and B, view mode) the
 first time, then shows the step: its scene, settings and corrections on top of the
@@ -15,7 +16,7 @@ and the step's plot tab. "Leave lesson settings" restores the saved configuratio
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from explorer.lessons import (
@@ -25,11 +26,11 @@ from explorer.lessons import (
     Step,
     find_lesson,
     load_all,
-    math_to_text,
 )
 from explorer.lpv.settings import Settings
 
-INSPECT_VIEWS = ("rsm-position", "rsm-normal", "rsm-flux", "grid-slice", "geometry-volume")
+INSPECT_VIEWS = ("rsm-position", "rsm-normal", "rsm-flux", "grid-slice", "geometry-volume",
+                 "cascade-weights")
 """Step views the app shows in its Inspect panel rather than in the main view."""
 MAIN_VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
 """Step views the main view shows (``AppState.view_buffer``)."""
@@ -45,6 +46,9 @@ class Screen:
     view_buffer: str = "final"     # what the main view shows: final | direct | indirect | albedo
     inspect_source: str | None = None
     plot: str | None = None
+    compare_overrides: tuple = ()
+    """Fields (other than the corrections) in which configuration B differs from A: a
+    try-this shown as before | after."""
 
 
 def step_screen(step: Step, own: Screen) -> Screen:
@@ -64,6 +68,29 @@ def step_screen(step: Step, own: Screen) -> Screen:
                   view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
                   plot=step.plot)
+
+
+def try_screen(step: Step, index: int, own: Screen) -> Screen:
+    """What the step shows with its ``index``-th (1-based) try-this applied: the change
+    on top of the step, or with ``split`` the step (A, left) against the step with the
+    change (B, right)."""
+    item = step.try_this[index - 1]
+    screen = step_screen(step, own)
+    after = item.apply(screen.settings)
+    if not item.split:
+        return replace(screen, settings=after)
+    changed = {name: getattr(after, name) for name in _settings_fields()
+               if name != "corrections" and getattr(after, name) != getattr(screen.settings,
+                                                                            name)}
+    compare = screen.compare_settings.with_changes(corrections=after.corrections)
+    return replace(screen, compare_settings=compare, view_mode="split",
+                   compare_overrides=tuple(changed.items()))
+
+
+def _settings_fields() -> tuple[str, ...]:
+    from dataclasses import fields
+
+    return tuple(f.name for f in fields(Settings))
 
 
 def shows_step(settings: Settings, step: Step) -> bool:
@@ -103,6 +130,8 @@ class LessonSession:
     """(lesson id, step) currently on screen, or None."""
     left: bool = False
     """The reader left the lesson's settings (and may go back to them)."""
+    tried: int | None = None
+    """The try-this (1-based) whose change is on screen, or None."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
@@ -157,12 +186,33 @@ class LessonSession:
             self.saved = current
         self.applied_step = (self.lesson.id, step.number)
         self.left = False
+        self.tried = None
         return step_screen(step, self.saved)
+
+    def apply_try(self, index: int, current: Screen) -> Screen:
+        """The step with its ``index``-th try-this applied (the step is applied first if
+        it was not; the reader's own configuration stays saved for leaving)."""
+        step = self.step
+        if step is None:
+            raise RuntimeError("no lesson is open")
+        if not 1 <= index <= len(step.try_this):
+            raise IndexError(f"step {step.number} has try-this 1..{len(step.try_this)}, "
+                             f"not {index}")
+        self.apply(current)
+        self.tried = index
+        return try_screen(step, index, self.saved)
+
+    def toggle_try(self, index: int, current: Screen) -> Screen:
+        """One click on a try-this button: apply it, or undo it when it is on screen."""
+        if self.tried == index and self.applied:
+            return self.apply(current)
+        return self.apply_try(index, current)
 
     def leave(self) -> Screen | None:
         """Give the reader's own configuration back (None when nothing was applied)."""
         saved, self.saved, self.applied_step = self.saved, None, None
         self.left = saved is not None
+        self.tried = None
         return saved
 
     def close(self) -> Screen | None:
@@ -189,7 +239,8 @@ def session_of(state: Any) -> LessonSession:
 def current_screen(state: Any) -> Screen:
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
                   view_mode=state.view_mode,
-                  view_buffer=getattr(state, "view_buffer", "final"))
+                  view_buffer=getattr(state, "view_buffer", "final"),
+                  compare_overrides=tuple(getattr(state, "compare_overrides", ())))
 
 
 def show_screen(state: Any, screen: Screen) -> None:
@@ -198,176 +249,22 @@ def show_screen(state: Any, screen: Screen) -> None:
     state.settings = screen.settings
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
+    if hasattr(state, "compare_overrides"):
+        state.compare_overrides = tuple(screen.compare_overrides)
     if hasattr(state, "view_buffer"):
         state.view_buffer = screen.view_buffer
+    focus = []
     if screen.inspect_source is not None and hasattr(state, "inspect"):
         state.inspect.source = screen.inspect_source
-    if screen.plot is not None and hasattr(state, "plot_tab"):
+        focus.append("Inspect")
+    if hasattr(state, "runtime"):
+        from explorer.ui.panels.error import want_measurement
+
+        want_measurement(state, screen.plot == "error")
+    if screen.plot == "error":
+        focus.append("Error")
+    elif screen.plot is not None and hasattr(state, "plot_tab"):
         state.plot_tab = screen.plot
-
-
-def sync_requested_lesson(state: Any, session: LessonSession) -> None:
-    """Follow ``state.lesson_id`` (set by ``run --lesson ID``) and apply its first step."""
-    wanted = getattr(state, "lesson_id", None)
-    if not wanted:
-        return
-    if session.lesson is not None and wanted in (session.lesson.id, session.lesson.path.stem):
-        return
-    try:
-        session.open(wanted)
-    except KeyError as exc:
-        state.lesson_id = None
-        if hasattr(state, "notify"):
-            state.notify(str(exc.args[0]), "error")
-        return
-    state.lesson_id = session.lesson.id
-    show_screen(state, session.apply(current_screen(state)))
-
-
-def gui_lesson(state: Any) -> None:
-    """The Lessons panel."""
-    from imgui_bundle import imgui
-
-    session = session_of(state)
-    sync_requested_lesson(state, session)
-    if session.lesson is None:
-        _lesson_list(state, session, imgui)
-        return
-    lesson, step = session.lesson, session.step
-    if imgui.small_button("< Lessons"):
-        restored = session.close()
-        if restored is not None:
-            show_screen(state, restored)
-        state.lesson_id = None
-        return
-    imgui.same_line()
-    imgui.text_colored(imgui.ImVec4(0.33, 0.62, 0.98, 1.0), lesson.title)
-
-    # navigation: previous / step list / next
-    changed = False
-    imgui.begin_disabled(session.step_number <= 1)
-    if imgui.arrow_button("##previous", imgui.Dir.left):
-        changed = session.previous()
-    imgui.end_disabled()
-    imgui.same_line()
-    imgui.set_next_item_width(max(imgui.get_content_region_avail().x - 30.0, 60.0))
-    if imgui.begin_combo("##steps", f"{step.number}/{session.step_count}  {step.title}"):
-        for item in lesson.steps:
-            if imgui.selectable(f"{item.number}. {item.title}",
-                                item.number == step.number)[0]:
-                changed = session.go(item.number) or changed
-        imgui.end_combo()
-    imgui.same_line()
-    imgui.begin_disabled(session.step_number >= session.step_count)
-    if imgui.arrow_button("##next", imgui.Dir.right):
-        changed = session.next()
-    imgui.end_disabled()
-    step = session.step
-    if changed and session.applied:
-        show_screen(state, session.apply(current_screen(state)))
-
-    # apply / leave / return
-    # "on screen" until the reader changes something the step set
-    on_screen = (session.applied_step == (lesson.id, step.number)
-                 and session.saved is not None
-                 and shows_step(state.settings, step))
-    if session.applied:
-        if on_screen:
-            imgui.text_disabled("showing this step")
-        elif imgui.button("Apply this step"):
-            show_screen(state, session.apply(current_screen(state)))
-        imgui.same_line()
-        if imgui.button("Leave lesson settings"):
-            show_screen(state, session.leave())
-    else:
-        if imgui.button("Back to the lesson" if session.left else "Apply this step"):
-            show_screen(state, session.apply(current_screen(state)))
-    imgui.separator()
-
-    imgui.push_style_color(imgui.Col_.text, imgui.ImVec4(0.62, 0.64, 0.68, 1.0))
-    imgui.text_wrapped(step_caption(step))
-    imgui.pop_style_color()
-    _markdown(state, step.text, imgui)
-    if step.formulas:
-        imgui.separator_text("Formulas")
-        _formulas(state, step, imgui)
-    if step.try_this:
-        imgui.separator_text("Try this")
-        for item in step.try_this:
-            imgui.bullet()
-            imgui.same_line()
-            imgui.text_colored(imgui.ImVec4(1.0, 0.75, 0.3, 1.0), item.control)
-            imgui.text_wrapped(item.prompt)
-
-
-def _lesson_list(state: Any, session: LessonSession, imgui) -> None:
-    imgui.text_wrapped("Pick a lesson. Each step sets the scene, settings and view it talks "
-                       "about; your own settings come back when you leave.")
-    for lesson in session.lessons:
-        if imgui.selectable(f"{lesson.number:02d}  {lesson.title}", False)[0]:
-            session.open(lesson.id)
-            state.lesson_id = lesson.id
-            show_screen(state, session.apply(current_screen(state)))
-        if imgui.is_item_hovered():
-            imgui.set_tooltip(f"{lesson.summary}\n({len(lesson.steps)} steps)")
-    for error in session.errors:
-        imgui.text_colored(imgui.ImVec4(1.0, 0.42, 0.38, 1.0), f"broken: {error}")
-    if imgui.small_button("Reload lessons"):
-        fresh = LessonSession.load()
-        session.lessons, session.errors = fresh.lessons, fresh.errors
-
-
-def _markdown(state: Any, text: str, imgui) -> None:
-    """Step text through imgui_md (``rich_md``) when the app made a markdown context
-    (``state.runtime.markdown_ready``), with inline math turned into text the window's
-    font can draw; wrapped plain paragraphs otherwise."""
-    text = math_to_text(text)
-    if getattr(getattr(state, "runtime", None), "markdown_ready", False):
-        from imgui_bundle import imgui_md
-
-        imgui_md.render_unindented(text)
-        return
-    for block in markdown_blocks(text):
-        imgui.text_wrapped(block)
-        imgui.spacing()
-
-
-def markdown_blocks(text: str) -> list[str]:
-    """Paragraphs and list items of ``text`` with hard line breaks joined and the
-    ``**bold**`` markers removed (the plain-text fallback of the panel)."""
-    blocks: list[str] = []
-    current: list[str] = []
-
-    def flush() -> None:
-        if current:
-            blocks.append(" ".join(current).replace("**", ""))
-            current.clear()
-
-    for line in text.strip().splitlines():
-        stripped = line.strip()
-        if not stripped:
-            flush()
-        elif stripped.startswith("* ") or (stripped.split(" ", 1)[0].rstrip(".").isdigit()
-                                          and stripped.split(" ", 1)[0].endswith(".")):
-            flush()
-            current.append(stripped)
-        else:
-            current.append(stripped)
-    flush()
-    return blocks
-
-
-def _formulas(state: Any, step: Step, imgui) -> None:
-    """The step's formulas, typeset from the generated derivation table (no sympy)."""
-    from explorer import derived
-    from explorer.ui import widgets
-
-    formulas = getattr(getattr(state, "runtime", None), "formulas", None)
-    for name in step.formulas:
-        try:
-            result = derived.get(name)
-        except KeyError:
-            imgui.text_disabled(f"{name} (not in the registry)")
-            continue
-        widgets.formula(formulas, result.latex, tooltip=result.tooltip)
-        imgui.text_disabled(result.statement)
+        focus.append("Plots")
+    if focus and hasattr(state, "requests"):
+        state.requests.focus_panel = tuple(focus)

@@ -32,6 +32,7 @@ INSPECT_SOURCES = (
     "propagation",                              # grid_t at a chosen iteration t
     "geometry-volume",                          # occlusion grid, one z slice
     "vpls",                                     # the injected VPLs as 3D points
+    "cascade-weights",                          # which cascade the gather reads per pixel
 )
 GRID_COMPONENTS = ("intensity", "sh0", "sh1", "sh2", "sh3")
 """What a grid slice shows: the intensity evaluated in a chosen direction (rgb), or one SH
@@ -229,6 +230,15 @@ class Runtime:
     hover: Any = None                     # overlays.in_view.Hover under the mouse, or None
     view_press: tuple | None = None       # where the left button went down on the view
     pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
+    fonts: Any = None                     # explorer.ui.fonts.Fonts (prose styles)
+    gl_renderer: str = ""                 # GL_RENDERER of the window's context
+    frame_view: Any = None
+    """``Pipeline.view`` of configuration A's pipeline (a view the FrameResult alone
+    cannot make, e.g. cascade-weights, which needs the G-buffer); None before a run."""
+    tasks: list = field(default_factory=list)
+    """Background work the app loop advances each frame with its GL context (objects
+    with ``advance(ctx, budget_s)`` and ``release()``), e.g. the Error panel's
+    reference render."""
 
 
 @dataclass
@@ -239,7 +249,7 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
-    focus_panel: str | None = None    # bring this panel's tab to the front
+    focus_panel: str | tuple | None = None   # bring this panel's (these panels') tab forward
     quit: bool = False
 
 
@@ -298,7 +308,11 @@ class AppState:
                                          "picked point.")
     open_panels: dict[str, bool] = setting(kind="switches", default_factory=dict,
                                            doc="Panel title -> shown.")
+    compare_overrides: tuple = ()
+    """(field, value) pairs in which B also differs from A (a lesson's before | after
+    view of a try-this); not persisted."""
     lesson_id: str | None = None
+    lesson_step: int | None = None     # the step `run --lesson ID --step K` opens
     layout_panels: list[str] = setting(
         kind="names", default_factory=list,
         doc="Panel titles the saved dock layout was built for; a new panel rebuilds it.")

@@ -1,5 +1,5 @@
-"""The window's look, shared by the explorer and the one-figure window: colours, fonts and
-the markdown context."""
+"""The window's look, shared by the explorer and the one-figure window: colours and the
+markdown context (fonts: explorer/ui/fonts.py)."""
 
 from __future__ import annotations
 
@@ -53,16 +53,3 @@ def markdown_context():
     except Exception as exc:  # noqa: BLE001 - markdown is optional
         print(f"lpv-explorer: markdown unavailable: {exc}", file=sys.stderr)
         return None
-
-
-def load_fonts(io) -> None:
-    """Roboto for text (the default bitmap font looks dated); falls back to imgui's."""
-    import imgui_bundle
-
-    font = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "Roboto" / \
-        "Roboto-Regular.ttf"
-    if font.is_file():
-        try:
-            io.fonts.add_font_from_file_ttf(str(font), 15.0)
-        except RuntimeError:
-            pass

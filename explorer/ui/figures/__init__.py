@@ -18,7 +18,7 @@ from explorer.ui.figures.registry import (
     make_figure,
     parse_figure,
 )
-from explorer.ui.figures.schema import FigureParamError, ParamInfo
+from explorer.figure_params import FigureParamError, ParamInfo
 
 __all__ = ["FIGURES", "FigureContext", "FigureKind", "FigureParamError", "FigureSpec",
            "ParamInfo", "draw_figure", "figure_kind", "make_figure", "parse_figure"]

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from explorer.ui.figures.registry import FIGURES, USES_RESULTS, FigureKind, parse_figure
-from explorer.ui.figures.schema import FigureParamError, ParamInfo
+from explorer.figure_params import FigureParamError, ParamInfo
 
 PROG = "python -m explorer.ui.figures"
 

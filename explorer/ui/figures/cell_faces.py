@@ -21,11 +21,9 @@ from imgui_bundle import imgui, implot3d
 
 from explorer.lpv import constants as K
 from explorer.ui.figures import style
-from explorer.lpv.schema import setting, validate
+from explorer.figure_params import DIRECTIONS
+from explorer.figure_params import CellFacesParams as Params
 
-DIRECTIONS = ("+x", "-x", "+y", "-y", "+z", "-z")
-HIGHLIGHTS = ("none", "front", "side")
-VIEWS = ("both", "cells", "sphere")
 _AXIS_NAMES = "xyz"
 _QUADRATURE_NODES = 24
 _PATCH_STEPS = 10
@@ -35,21 +33,6 @@ _SIDE_COLOUR = imgui.ImVec4(0.35, 0.80, 0.72, 1.0)
 _NEIGHBOUR_COLOURS = tuple(imgui.ImVec4(*rgb, 1.0) for rgb in (
     (0.95, 0.45, 0.40), (0.95, 0.70, 0.35), (0.45, 0.80, 0.45),
     (0.35, 0.75, 0.85), (0.45, 0.55, 0.98), (0.78, 0.50, 0.90)))
-
-
-@dataclass(frozen=True)
-class Params:
-    direction: str = setting("+x", kind="choice", choices=DIRECTIONS,
-        doc="Which neighbour: the axis and sign of its offset from the source cell.")
-    highlight: str = setting("front", kind="choice", choices=HIGHLIGHTS,
-        doc="The face highlighted at first: 'front', 'side' (one of the four) or 'none'.")
-    tiling: bool = setting(True, kind="bool",
-        doc="Show all 30 faces of the six neighbours on the sphere, not only these five.")
-    view: str = setting("both", kind="choice", choices=VIEWS,
-        doc="'cells', 'sphere' or 'both' side by side.")
-
-    def __post_init__(self) -> None:
-        validate(self)
 
 
 @dataclass

@@ -20,30 +20,13 @@ from imgui_bundle import imgui, implot, implot3d
 
 from explorer.lpv.reference import sh_basis
 from explorer.ui.figures import style
-from explorer.lpv.schema import setting, validate
+from explorer.figure_params import ClampedCosineParams as Params
 
-ORDERS = ("l1", "l2", "both")
-VIEWS = ("both", "polar", "3d")
 _MU_NODES = 64          # Gauss–Legendre nodes on each of μ ∈ [−1, 0] and [0, 1]
 _PHI_NODES = 96
 _CURVE_SAMPLES = 721    # 0.5° steps around the slice, the normal's direction included
 _MESH_ELEVATIONS, _MESH_AZIMUTHS = 19, 37
 _SLICE_RADIUS = 1.25
-
-
-@dataclass(frozen=True)
-class Params:
-    normal_deg: float = setting(30.0, kind="float", low=-180, high=180,
-        doc="Direction of the normal in the slice, degrees from +y (up) toward +x.")
-    probe_deg: float = setting(180.0, kind="float", low=-180, high=180,
-        doc="Direction of the probe whose three values the table reads, degrees from +y.")
-    orders: str = setting("both", kind="choice", choices=ORDERS,
-        doc="Which projections to draw: 'l1', 'l2' or 'both'.")
-    view: str = setting("both", kind="choice", choices=VIEWS,
-        doc="'polar' (the slice), '3d' or 'both' side by side.")
-
-    def __post_init__(self) -> None:
-        validate(self)
 
 
 @dataclass

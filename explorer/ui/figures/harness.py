@@ -28,7 +28,7 @@ class FigureWindow:
                  context: FigureContext | None = None) -> None:
         from imgui_bundle import imgui, implot, implot3d
 
-        from explorer.ui import theme
+        from explorer.ui import fonts, theme
 
         self.window = Window(width, height, title="lpv-explorer figure", visible=visible,
                              vsync=False)
@@ -39,7 +39,7 @@ class FigureWindow:
         self._implot3d_ctx = implot3d.create_context()
         imgui.get_io().set_ini_filename("")
         theme.apply_style(self.window.content_scale)
-        theme.load_fonts(imgui.get_io())
+        fonts.load(imgui.get_io(), 15.0)
         imgui.backends.glfw_init_for_opengl(self.window.address, True)
         imgui.backends.opengl3_init("#version 330 core")
         self.rect: tuple[tuple[float, float], tuple[float, float]] | None = None

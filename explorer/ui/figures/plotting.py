@@ -14,9 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 from imgui_bundle import imgui, implot
 
+from explorer.figure_params import SCALES  # noqa: F401  (re-export: the plots' axis choices)
 from explorer.ui.figures import style
 
-SCALES = ("auto", "linear", "log")
 LOG_DECADES = 2.0
 _HEADROOM = 1.08
 

@@ -26,57 +26,16 @@ from explorer.lpv.settings import PRESETS, Corrections
 from explorer.lpv.vpl import VplArrays
 from explorer.ui import glyphs, legend, widgets
 from explorer.ui.figures import plotting, style
-from explorer.ui.figures.cell_faces import DIRECTIONS
 from explorer.ui.figures.flux_per_step import draw_flux_plot
 from explorer.ui.figures.plotting import Series
-from explorer.lpv.schema import SettingError, setting, validate
+from explorer.figure_params import STEPPER_CORRECTIONS as CORRECTIONS
+from explorer.figure_params import STEPPER_GLYPHS as GLYPHS
+from explorer.figure_params import PropagationStepperParams as Params
 from explorer.ui.textures import heat
 
-CORRECTIONS = tuple(PRESETS) + tuple(f"{name} off" for name in Corrections.names())
 """A preset, or the corrected preset with one switch off."""
-GLYPHS = ("arrow", "lobe", "none")
-MAX_GRID = 16
-MAX_ITERATIONS = 32
 PLAY_RATE = 3.0            # steps per second while playing
 SOURCE_FLUX = 1.0          # watts per colour channel of the one VPL
-
-
-@dataclass(frozen=True)
-class Params:
-    grid_size: int = setting(9, kind="int", low=3, high=MAX_GRID,
-        doc="Cells along each edge of the grid.")
-    source_x: int = setting(2, kind="int", low=0, high=MAX_GRID - 1,
-        doc="Cell of the light along x (0 = left); below grid_size.")
-    source_y: int = setting(4, kind="int", low=0, high=MAX_GRID - 1,
-        doc="Cell of the light along y (0 = bottom); below grid_size. The slice shown is the "
-        "middle one along z, where the light is.")
-    normal: str = setting("+x", kind="choice", choices=DIRECTIONS,
-        doc="The surface normal of the light (it emits a clamped cosine around it).")
-    iterations: int = setting(8, kind="int", low=1, high=MAX_ITERATIONS,
-        doc="Propagation steps computed.")
-    corrections: str = setting("corrected", kind="choice", choices=CORRECTIONS,
-        doc="The formulas: a preset, or the corrected preset with one switch off "
-        "(e.g. 'side_faces off').")
-    step: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS,
-        doc="The step t shown at first; at most iterations.")
-    glyph: str = setting("arrow", kind="choice", choices=GLYPHS,
-        doc="Per-cell glyph: 'arrow' (along the band-1 vector, where the light is heading), "
-        "'lobe' (intensity toward the slice's directions, negative parts red; after a few "
-        "steps mostly round) or 'none'.")
-    play: bool = setting(False, kind="bool",
-        doc="Start playing the steps.")
-    scale: str = setting("auto", kind="choice", choices=plotting.SCALES,
-        doc="Value axis of the flux plot: 'auto', 'linear' or 'log'.")
-
-    def __post_init__(self) -> None:
-        validate(self)
-        for name in ("source_x", "source_y"):
-            if getattr(self, name) >= self.grid_size:
-                raise SettingError(name, f"{name} must be a cell below grid_size "
-                                         f"({self.grid_size}), got {getattr(self, name)}")
-        if self.step > self.iterations:
-            raise SettingError("step", f"step must be at most iterations ({self.iterations}), "
-                                       f"got {self.step}")
 
 
 @dataclass

@@ -15,22 +15,28 @@ at a given width, keeping its interactive state in a :class:`FigureContext`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping
+from typing import Any, Callable
 
 from explorer.ui.figures import (
     cell_faces,
     clamped_cosine,
     energy_audit,
     flux_per_step,
+    pipeline_overview,
     propagation_stepper,
     rsm_texel,
 )
 from explorer.ui.figures.host import FigureContext
-from explorer.ui.figures.schema import FigureParamError, ParamInfo, parse_params, schema
-
-RESERVED_KEYS = ("kind", "id", "caption")
-"""Keys of a figure table that are not parameters of its kind."""
-
+from explorer.figure_params import (  # noqa: F401  (re-exported for the window)
+    FIGURE_PARAMS,
+    RESERVED_KEYS,
+    FigureParamError,
+    FigureSpec,
+    ParamInfo,
+    make_figure,
+    parse_figure,
+    schema,
+)
 
 @dataclass(frozen=True)
 class FigureKind:
@@ -66,26 +72,12 @@ FIGURES: dict[str, FigureKind] = {kind.name: kind for kind in (
     _kind(rsm_texel, "rsm-texel", "An RSM texel on a tilted surface"),
     _kind(energy_audit, "energy-audit", "Energy audit"),
     _kind(flux_per_step, "flux-per-step", "Flux in flight per propagation step"),
+    _kind(pipeline_overview, "pipeline", "The LPV pipeline at a glance"),
 )}
 
 
-USES_RESULTS = ("energy-audit", "flux-per-step")
+USES_RESULTS = ("energy-audit", "flux-per-step", "pipeline")
 """Kinds that plot the FrameResults of the context (A, and B while comparing)."""
-
-
-@dataclass(frozen=True)
-class FigureSpec:
-    """A figure as a lesson step embeds it."""
-
-    kind: str
-    params: Any
-    caption: str = ""
-    id: str = ""
-    """Instance id; two figures on a page need different ids (default: the kind)."""
-
-    @property
-    def instance_id(self) -> str:
-        return self.id or self.kind
 
 
 def figure_kind(name: str, where: str = "") -> FigureKind:
@@ -94,32 +86,6 @@ def figure_kind(name: str, where: str = "") -> FigureKind:
         raise FigureParamError(where + "kind", f"{where}kind: unknown figure kind {name!r}; "
                                                f"choose one of {list(FIGURES)}")
     return FIGURES[name]
-
-
-def parse_figure(table: Mapping[str, Any], where: str = "") -> FigureSpec:
-    """A :class:`FigureSpec` from a lesson's figure table: ``kind`` (required), optional
-    ``id`` and ``caption`` strings, and the kind's parameters. ``where`` prefixes field
-    names in errors (e.g. ``"figures[1]."``)."""
-    if not isinstance(table, Mapping):
-        place = where.rstrip(".") or "figure"
-        raise FigureParamError(place, f"{place} must be a table with a kind, got "
-                                      f"{type(table).__name__}")
-    if "kind" not in table:
-        raise FigureParamError(where + "kind", f"{where}kind is missing; choose one of "
-                                               f"{list(FIGURES)}")
-    kind = figure_kind(table["kind"], where)
-    for key in ("id", "caption"):
-        if key in table and not isinstance(table[key], str):
-            raise FigureParamError(where + key, f"{where}{key} must be a string, got "
-                                                f"{table[key]!r}")
-    params = parse_params(kind.params_class,
-                          {k: v for k, v in table.items() if k not in RESERVED_KEYS}, where)
-    return FigureSpec(kind.name, params, table.get("caption", ""), table.get("id", ""))
-
-
-def make_figure(kind: str, **params: Any) -> FigureSpec:
-    """A FigureSpec from keyword parameters (code, tests), checked like a lesson's."""
-    return parse_figure({"kind": kind, **params})
 
 
 def draw_figure(spec: FigureSpec, width: float, context: FigureContext

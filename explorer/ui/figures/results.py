@@ -11,23 +11,8 @@ from imgui_bundle import imgui
 
 from explorer.ui import legend
 from explorer.ui.figures import plotting, style
-from explorer.lpv.schema import setting, validate
-
-SIDES = ("a", "both")
-
-
-@dataclass(frozen=True)
-class Params:
-    sides: str = setting("both", kind="choice", choices=SIDES,
-        doc="'a': configuration A only; 'both': A and, while a comparison is on, B.")
-    scale: str = setting("auto", kind="choice", choices=plotting.SCALES,
-        doc="Value axis: 'auto' (log when the values span over two decades, else linear from "
-        "0), 'linear' or 'log'.")
-    relative: bool = setting(False, kind="bool",
-        doc="Show each value as a share of its side's injected flux instead of in watts.")
-
-    def __post_init__(self) -> None:
-        validate(self)
+from explorer.figure_params import SIDES  # noqa: F401  (re-export)
+from explorer.figure_params import ResultsParams as Params
 
 
 @dataclass

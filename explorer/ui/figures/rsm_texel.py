@@ -20,9 +20,9 @@ import numpy as np
 from imgui_bundle import imgui, implot
 
 from explorer.ui.figures import plotting, style
-from explorer.lpv.schema import setting, validate
+from explorer.figure_params import MAX_TILT
+from explorer.figure_params import RsmTexelParams as Params
 
-MAX_TILT = 85.0
 TEXEL = 0.5                  # texel edge in the side view (world units)
 _LIGHT_HEIGHT = 1.5
 _CURVE_SAMPLES = 171
@@ -31,17 +31,6 @@ _IRRADIANCE = imgui.ImVec4(1.0, 0.68, 0.26, 1.0)
 _CURVES = (("footprint", "footprint A/A0 = 1/cos θ", _FOOTPRINT),
            ("irradiance", "irradiance E/E0 = cos θ", _IRRADIANCE),
            ("flux", "flux E·A/Φ0", style.EXACT))
-
-
-@dataclass(frozen=True)
-class Params:
-    theta_deg: float = setting(30.0, kind="float", low=0, high=MAX_TILT,
-        doc="Tilt of the surface away from facing the light, degrees.")
-    plot: bool = setting(True, kind="bool",
-        doc="Show the plot of footprint, irradiance and flux against the tilt.")
-
-    def __post_init__(self) -> None:
-        validate(self)
 
 
 @dataclass

@@ -21,6 +21,7 @@ SOURCE_LABELS = {
     "propagation": "LPV: propagation step t (slice)",
     "geometry-volume": "Geometry volume (slice)",
     "vpls": "VPLs as 3D points",
+    "cascade-weights": "Cascade weights (which grid each pixel reads)",
 }
 
 
@@ -114,6 +115,8 @@ def _image_for(state: AppState, result):
     """Draw the source's controls; return (a function computing (image, scale top or None,
     caption), None), or (None, why there is nothing to show)."""
     ins = state.inspect
+    if ins.source == "cascade-weights":
+        return _cascade_weights(state, result)
     if ins.source.startswith("rsm-"):
         buffer = getattr(result, ins.source.replace("-", "_"))
         h, w = buffer.shape[:2]
@@ -150,6 +153,31 @@ def _image_for(state: AppState, result):
         return image, top, f"{what}: flux {flux:.4g} W (sum of channels)"
 
     return make_slice, None
+
+
+def _cascade_weights(state: AppState, result):
+    """The final gather's blend weights per pixel (docs/MODEL.md "Cascades"), from the
+    pipeline's own view: it needs the G-buffer, which the FrameResult does not carry."""
+    from explorer.lpv.views import CASCADE_COLOURS
+
+    view = state.runtime.frame_view
+    if view is None:
+        return None, "no frame yet"
+    count = len(result.cascade_specs or [result.grid_spec])
+    for k in range(count):
+        if k:
+            imgui.same_line()
+        imgui.color_button(f"##cascade{k}", imgui.ImVec4(*map(float, CASCADE_COLOURS[k]), 1.0),
+                           0, (12, 12))
+        imgui.same_line()
+        imgui.text(f"cascade {k}" + (" (finest)" if k == 0 and count > 1 else ""))
+
+    def make():
+        image = view("cascade-weights")
+        return image, None, (f"{count} cascade(s); mixed colours: the gather blends two "
+                             "cascades there; black: background")
+
+    return make, None
 
 
 def _cascade_pick(state: AppState, result, per_cascade: list, finest):

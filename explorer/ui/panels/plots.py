@@ -19,6 +19,10 @@ from explorer.ui.figures.flux_per_step import draw_flux_plot, flux_series
 from explorer.ui.state import AppState
 
 
+TABS = ("flux-per-step", "audit", "timings")
+"""The plots (settings.PLOTS) this panel shows as tabs; "error" is the Error panel."""
+
+
 def gui_plots(state: AppState) -> None:
     rt = state.runtime
     if rt.result is None:
@@ -29,9 +33,8 @@ def gui_plots(state: AppState) -> None:
         results.append(rt.compare_result)
     if not imgui.begin_tab_bar("plots"):
         return
-    for name, title, plot in (("flux-per-step", "Flux per step", _flux_plot),
-                              ("audit", "Energy audit", _audit_plot),
-                              ("timings", "GPU time", _timings_plot)):
+    for name, title, plot in zip(TABS, ("Flux per step", "Energy audit", "GPU time"),
+                                 (_flux_plot, _audit_plot, _timings_plot)):
         flags = imgui.TabItemFlags_.set_selected if state.plot_tab == name else 0
         if imgui.begin_tab_item(title, None, flags)[0]:
             plot(state, results)

@@ -186,9 +186,10 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
 
 
 def _label(draw, origin, end, state: AppState) -> None:
-    # B is A with the compare corrections (App.settings_for): name what differs.
+    # B is A with the compare corrections and overrides (App.settings_for): name what
+    # differs.
     a, b = legend.side_labels(state.settings, state.settings.with_changes(
-        corrections=state.compare_settings.corrections))
+        corrections=state.compare_settings.corrections, **dict(state.compare_overrides)))
     pad = 6.0
     _overlay(draw, origin, a)
     width = imgui.calc_text_size(b).x

@@ -1,0 +1,414 @@
+"""Live numbers for lesson prose: every ``{{name:format}}`` a lesson writes is one quantity
+named here, read from what is on screen now.
+
+Sources (the first part of the name):
+
+* ``settings.<field>`` and ``corrections.<switch>`` / ``corrections.preset``: the
+  configuration shown (configuration A);
+* ``audit.*`` and ``frame.*``: the current FrameResult (energy audit in watts summed
+  over the three colour channels, pass times, grid geometry) and the texture memory
+  the settings need;
+* ``error.*``: the Error panel's comparison of this configuration with the one-bounce
+  reference (``explorer/truth``); pending ("…") until it has been computed;
+* ``derived.<result>``: a derivation result's value from the generated table
+  (``explorer.derived``): an exact constant, the same on every machine;
+* ``figure.<id>.<readout>``: a number an inline figure of the step shows now.
+
+So a number in a lesson is either derived (a constant of the model, exact) or measured
+(read from the frame or the error measurement at the settings on screen); nothing is
+typed in. :func:`lookup` refuses unknown names with the closest matches.
+
+Examples
+--------
+>>> lookup("audit.injected").unit
+'W'
+>>> render("derived.sh.c0", ".4f", LiveContext())
+'0.2821'
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass, field, fields
+from typing import Any, Callable
+
+import numpy as np
+
+PENDING = "…"
+"""Shown for a quantity that is not available yet (no frame, error not computed)."""
+SOURCES = ("settings", "corrections", "audit", "frame", "error", "derived", "figure")
+MEASURED_SOURCES = ("audit", "frame", "error", "figure")
+"""Sources whose numbers are measured on the frame (the others are configuration or
+exact constants)."""
+
+
+@dataclass
+class LiveContext:
+    """What live numbers read: configuration A, its FrameResult, the error measurement
+    of that configuration (an ``explorer.truth.metrics.ErrorStats``, None until
+    computed) and the readouts of the step's figures (id -> name -> value)."""
+
+    settings: Any = None
+    result: Any = None
+    error: Any = None
+    figures: dict[str, dict[str, float]] = field(default_factory=dict)
+    renderer: str = ""
+    """GL_RENDERER of the context the frame ran on."""
+
+
+class Unavailable(LookupError):
+    """The quantity exists but has no value now (no frame yet, error not computed)."""
+
+
+@dataclass(frozen=True)
+class Quantity:
+    name: str
+    doc: str
+    unit: str
+    read: Callable[[LiveContext], Any]
+    format: str = ".3g"
+    """Format used when the lesson gives none."""
+
+    @property
+    def source(self) -> str:
+        return self.name.split(".", 1)[0]
+
+    @property
+    def measured(self) -> bool:
+        return self.source in MEASURED_SOURCES
+
+    def value(self, context: LiveContext) -> Any:
+        """The value now; :class:`Unavailable` when it has none yet."""
+        return self.read(context)
+
+
+# --- readers ---------------------------------------------------------------------------
+
+def _result(context: LiveContext):
+    if context.result is None:
+        raise Unavailable("no frame yet")
+    return context.result
+
+
+def _settings(context: LiveContext):
+    if context.settings is not None:
+        return context.settings
+    if context.result is not None:
+        return context.result.settings
+    raise Unavailable("no settings")
+
+
+def _audit_sum(name: str) -> Callable[[LiveContext], float]:
+    def read(context: LiveContext) -> float:
+        data = getattr(_result(context).audit, name, None)
+        return 0.0 if data is None else float(np.sum(data))
+    return read
+
+
+def _per_step(context: LiveContext) -> np.ndarray:
+    steps = np.asarray(_result(context).audit.per_step, np.float64)
+    return steps.reshape(len(steps), -1).sum(axis=1)
+
+
+def _ratio(top: float, bottom: float) -> float:
+    return top / bottom if bottom != 0 else math.inf if top else math.nan
+
+
+def _step_ratio(context: LiveContext) -> float:
+    steps = _per_step(context)
+    if len(steps) < 2:
+        raise Unavailable("no propagation step (iterations = 0)")
+    return _ratio(float(steps[1]), float(steps[0]))
+
+
+def _last_over_first(context: LiveContext) -> float:
+    steps = _per_step(context)
+    return _ratio(float(steps[-1]), float(steps[0]))
+
+
+def _lit_vpls(context: LiveContext) -> int:
+    vpls = _result(context).vpls
+    return int(np.count_nonzero(np.asarray(vpls.flux).sum(axis=1) > 0))
+
+
+def _vpl_depth(reduce) -> Callable[[LiveContext], float]:
+    def read(context: LiveContext) -> float:
+        vpls = _result(context).vpls
+        lit = np.asarray(vpls.flux).sum(axis=1) > 0
+        if not lit.any():
+            raise Unavailable("no lit VPL")
+        return float(reduce(np.asarray(vpls.depth)[lit]))
+    return read
+
+
+def _time(name: str) -> Callable[[LiveContext], float]:
+    def read(context: LiveContext) -> float:
+        timings = getattr(_result(context), "timings_ms", {}) or {}
+        if name == "total":
+            return float(sum(timings.values()))
+        if name not in timings:
+            raise Unavailable(f"the {name} pass did not run")
+        return float(timings[name])
+    return read
+
+
+def _timer(context: LiveContext) -> str:
+    methods = getattr(_result(context), "timing_methods", {}) or {}
+    method = methods.get("propagate")
+    if method is None:
+        raise Unavailable("the propagation pass was not timed")
+    return "GPU timer queries" if method == "timer-query" else "the wall clock"
+
+
+def _renderer(context: LiveContext) -> str:
+    renderer = getattr(context, "renderer", None)
+    if not renderer:
+        raise Unavailable("the renderer is not known")
+    return str(renderer)
+
+
+def _memory_mib(context: LiveContext) -> float:
+    from explorer.lpv.cascades import texture_bytes
+
+    s = _settings(context)
+    groups = 1 if s.sh_order == 1 else 3
+    return texture_bytes(s.grid_size, s.cascades, s.grid_format, s.geometry_volume != "off",
+                         groups) / 2 ** 20
+
+
+def _error(name: str, channel: int | None = None) -> Callable[[LiveContext], float]:
+    def read(context: LiveContext) -> float:
+        if context.error is None:
+            raise Unavailable("the error against the reference is not computed yet")
+        value = getattr(context.error, name)
+        return float(value[channel] if channel is not None else value)
+    return read
+
+
+def _setting(name: str) -> Callable[[LiveContext], Any]:
+    return lambda context: getattr(_settings(context), name)
+
+
+def _switch(name: str) -> Callable[[LiveContext], str]:
+    return lambda context: "on" if getattr(_settings(context).corrections, name) else "off"
+
+
+def _preset(context: LiveContext) -> str:
+    from explorer.lpv.settings import PRESETS
+
+    corrections = _settings(context).corrections
+    for name, value in PRESETS.items():
+        if value == corrections:
+            return name
+    return "custom"
+
+
+def _derived(name: str) -> Callable[[LiveContext], float]:
+    def read(context: LiveContext) -> float:
+        from explorer import derived
+
+        return float(derived.get(name).value)
+    return read
+
+
+# --- the table -------------------------------------------------------------------------
+
+AUDIT_SUMS = (
+    ("rsm", "flux the RSM texels reflect (sum of channels)"),
+    ("injected", "flux injected into the grid, grid_0"),
+    ("accumulated", "flux of the accumulated grid acc_N"),
+    ("gathered", "flux the visible surfaces receive in the final gather"),
+    ("border_loss", "flux that left the grid through its border, all steps"),
+    ("clamp_gain", "flux created by the front-face clamp, all steps"),
+    ("occluded", "flux the geometry volume removed, all steps"),
+    ("reflected", "flux the geometry volume reflected back (bounces 2), all steps"),
+)
+"""EnergyAudit fields quoted as ``audit.<field>``: watts summed over the colour channels
+(and over the steps for the per-step terms)."""
+AUDIT_RATIOS = (
+    ("injected_over_rsm", "injected", "rsm", "injected flux / RSM flux"),
+    ("accumulated_over_injected", "accumulated", "injected", "acc_N flux / injected flux"),
+    ("gathered_over_rsm", "gathered", "rsm", "gathered flux / RSM flux"),
+    ("clamp_gain_share", "clamp_gain", "injected",
+     "flux the front-face clamp created over all steps / injected flux"),
+    ("occluded_share", "occluded", "injected",
+     "flux the geometry volume removed over all steps / injected flux"),
+    ("border_loss_share", "border_loss", "injected",
+     "flux that left through the grid border over all steps / injected flux"),
+)
+"""``audit.<name>``: one audit sum over another."""
+
+
+def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
+    return lambda c: _ratio(_audit_sum(top)(c), _audit_sum(bottom)(c))
+
+
+def _fixed() -> dict[str, Quantity]:
+    from explorer.lpv.pipeline import PASSES
+
+    items = [
+        *[Quantity(f"audit.{name}", doc, "W", _audit_sum(name)) for name, doc in AUDIT_SUMS],
+        *[Quantity(f"audit.{name}", doc, "", _audit_ratio(top, bottom))
+          for name, top, bottom, doc in AUDIT_RATIOS],
+        Quantity("audit.step_ratio", "flux in flight after one step / before it", "",
+                 _step_ratio),
+        Quantity("audit.last_over_first", "flux in flight after the last step / injected",
+                 "", _last_over_first),
+        Quantity("audit.in_flight_last", "flux in flight after the last step", "W",
+                 lambda c: float(_per_step(c)[-1])),
+        Quantity("audit.max_over_first", "largest flux in flight over all steps / injected "
+                 "flux (above 1: some step added light)", "",
+                 lambda c: _ratio(float(_per_step(c).max()), float(_per_step(c)[0]))),
+        Quantity("frame.vpls", "VPLs injected (RSM texels after downsampling)", "",
+                 lambda c: int(_result(c).vpls.count), "d"),
+        Quantity("frame.lit_vpls", "VPLs that carry flux", "", _lit_vpls, "d"),
+        Quantity("frame.vpl_depth_min", "nearest depth of a lit VPL in the light's view "
+                 "(w, along the light's axis)", "m", _vpl_depth(np.min), ".2f"),
+        Quantity("frame.vpl_depth_max", "farthest depth of a lit VPL in the light's view",
+                 "m", _vpl_depth(np.max), ".2f"),
+        Quantity("frame.cell_size", "edge of a cell of the (finest) grid", "m",
+                 lambda c: float(_result(c).grid_spec.cell_size)),
+        Quantity("frame.grid_extent", "edge of the (finest) grid", "m",
+                 lambda c: float(_result(c).grid_spec.extent)),
+        Quantity("frame.cells", "cells of one grid, N³", "",
+                 lambda c: int(_settings(c).grid_size) ** 3, "d"),
+        Quantity("frame.face_evaluations", "face evaluations per colour and frame: 30 per "
+                 "cell and step (6 neighbours × 5 faces)", "",
+                 lambda c: 30 * int(_settings(c).grid_size) ** 3 * int(_settings(c).iterations)
+                 * int(_settings(c).cascades), ",d"),
+        Quantity("frame.lpv_memory_mib", "GPU memory of the LPV textures at these settings "
+                 "(light grids, audit records, geometry volume; all cascades)", "MiB",
+                 _memory_mib, ".1f"),
+        Quantity("frame.time.total", "time of all passes that ran for this frame", "ms",
+                 _time("total"), ".0f"),
+        Quantity("frame.timer", "how the propagation pass was timed: GPU timer queries, or "
+                 "the wall clock around a finished dispatch (llvmpipe, compute)", "",
+                 _timer, ""),
+        Quantity("frame.renderer", "the GL renderer the frame ran on", "", _renderer, ""),
+        Quantity("frame.grid_origin", "corner of the (finest) grid in world units: it moves "
+                 "in whole cells when cascades follow the camera", "m",
+                 lambda c: tuple(float(v) for v in _result(c).grid_spec.origin), ".3f"),
+        *[Quantity(f"frame.time.{name}", f"time of the {name} pass (timer query on a GPU, "
+                   "wall clock around compute on llvmpipe)", "ms", _time(name), ".1f")
+          for name in PASSES],
+        Quantity("error.relative_l2", "‖LPV − reference‖ / ‖reference‖ over the visible "
+                 "pixels (0 is exact; a black image scores 1)", "", _error("relative_l2"),
+                 ".2f"),
+        Quantity("error.flux_ratio", "light on screen, LPV / reference (1 is exact)", "",
+                 _error("flux_ratio"), ".2f"),
+        Quantity("error.rmse", "root mean square of LPV − reference", "W/(m²·sr)",
+                 _error("rmse"), ".3g"),
+        *[Quantity(f"error.flux_ratio_{colour}", f"flux ratio of the {colour} channel", "",
+                   _error("flux_ratio_rgb", i), ".2f")
+          for i, colour in enumerate(("red", "green", "blue"))],
+        Quantity("corrections.preset", "the corrections preset shown (or custom)", "",
+                 _preset, ""),
+    ]
+    return {item.name: item for item in items}
+
+
+_TABLE: dict[str, Quantity] | None = None
+
+
+def table() -> dict[str, Quantity]:
+    """Every fixed quantity (settings, switches, audit, frame, error); ``derived.*`` and
+    ``figure.*`` names are checked by :func:`lookup`."""
+    global _TABLE
+    if _TABLE is None:
+        from explorer.lpv.settings import Corrections, Settings
+
+        items = _fixed()
+        for f in fields(Settings):
+            if f.name in ("corrections", "camera", "light"):
+                continue
+            spec = f.metadata.get("spec") if f.metadata else None
+            doc = getattr(spec, "doc", "") or f.name
+            items[f"settings.{f.name}"] = Quantity(
+                f"settings.{f.name}", doc, getattr(spec, "unit", ""), _setting(f.name), "")
+        for name in Corrections.names():
+            items[f"corrections.{name}"] = Quantity(
+                f"corrections.{name}", f"whether the {name} correction is on", "",
+                _switch(name), "")
+        _TABLE = items
+    return _TABLE
+
+
+def lookup(name: str, figure_ids: tuple[str, ...] = ()) -> Quantity:
+    """The quantity called ``name``; ``figure_ids``: the figures of the step, for
+    ``figure.<id>.<readout>``. KeyError with the closest names otherwise."""
+    source = name.split(".", 1)[0]
+    if source == "derived":
+        from explorer import derived
+
+        result = derived.get(name[len("derived."):])   # KeyError names close matches
+        if result.value is None:
+            raise KeyError(f"derived.{result.name} has no numeric value (it is a formula); "
+                           "show it with {{formula:" + result.name + "}}")
+        return Quantity(name, result.statement, "", _derived(result.name), ".6g")
+    if source == "figure":
+        parts = name.split(".")
+        if len(parts) != 3:
+            raise KeyError(f"{name!r}: a figure number is figure.<figure id>.<readout>")
+        if parts[1] not in figure_ids:
+            raise KeyError(f"{name!r}: the step has no figure with id {parts[1]!r} "
+                           f"(its figures: {list(figure_ids) or 'none'})")
+        figure_id, readout = parts[1], parts[2]
+
+        def read(context: LiveContext) -> float:
+            values = context.figures.get(figure_id)
+            if values is None or readout not in values:
+                raise Unavailable(f"figure {figure_id!r} shows no {readout!r} yet")
+            return float(values[readout])
+        return Quantity(name, f"the {readout} the figure {figure_id} shows", "", read, ".3g")
+    items = table()
+    if name in items:
+        return items[name]
+    close = difflib.get_close_matches(name, list(items), n=5, cutoff=0.6)
+    hint = f"; did you mean {', '.join(close)}?" if close else ""
+    raise KeyError(f"no live quantity {name!r}{hint} (sources: {', '.join(SOURCES)})")
+
+
+def check_format(fmt: str, quantity: Quantity) -> None:
+    """ValueError when ``fmt`` cannot format the quantity's kind of value."""
+    probe: Any = 1.5
+    if quantity.source in ("settings", "corrections") or quantity.format == "":
+        return          # configuration values are shown as they are (text or number)
+    if quantity.format.endswith("d"):
+        probe = 3
+    try:
+        format(probe, fmt)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"format {fmt!r} does not apply to {quantity.name}: {exc}") from None
+
+
+def render(name: str, fmt: str, context: LiveContext,
+           figure_ids: tuple[str, ...] = ()) -> str:
+    """The text a lesson shows for ``{{name:fmt}}`` now: the formatted value, or
+    :data:`PENDING` when the quantity has no value yet. Unknown names raise KeyError."""
+    quantity = lookup(name, figure_ids)
+    try:
+        value = quantity.value(context)
+    except Unavailable:
+        return PENDING
+    return format_value(value, fmt or quantity.format)
+
+
+def format_value(value: Any, fmt: str) -> str:
+    """``value`` as text: booleans as on/off, floats with ``fmt`` (a Python format spec),
+    a minus sign rather than a hyphen, inf and nan spelled out."""
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if isinstance(value, str):
+        return value
+    if isinstance(value, float) and not math.isfinite(value):
+        return "∞" if value > 0 else "−∞" if value < 0 else "undefined"
+    if isinstance(value, (tuple, list)):
+        return "(" + ", ".join(format_value(v, fmt) for v in value) + ")"
+    if fmt == "" and isinstance(value, float):
+        fmt = "g"
+    try:
+        text = format(value, fmt)
+    except (ValueError, TypeError):
+        text = str(value)
+    return text.replace("-", "−") if isinstance(value, (int, float)) else text

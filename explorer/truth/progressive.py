@@ -1,0 +1,214 @@
+"""The error of an LPV frame against the one-bounce reference, computed a few tiles at a
+time so that a window can keep drawing (and cancel) while it runs.
+
+:class:`ProgressiveReference` splits the frame's G-buffer into square tiles and runs the
+reference pass (:class:`~explorer.truth.reference.ReferencePass`) on one tile per
+:meth:`~ProgressiveReference.step`, with the VPL textures and the BVH built once. Each
+pixel sums the same VPLs in the same order as a one-shot
+:func:`~explorer.truth.render.reference_for_frame`, so the finished image is that image.
+
+:class:`ErrorJob` measures one configuration: it renders the LPV frame at the
+measurement's size (:func:`measured_settings`: a smaller image and RSM than the window's,
+because the reference costs pixels × VPLs), then the reference tile by tile, then the
+metrics of ``explorer/truth/metrics.py`` over the pixels that see a surface.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from explorer.truth.metrics import ErrorImage, ErrorStats, error_image, error_stats
+from explorer.truth.reference import GBuffer, ReferencePass, default_ray_offset, \
+    outgoing_radiance
+
+REFERENCE_MODES = ("visible", "unoccluded")
+"""visible: a shadow ray per VPL and pixel; unoccluded: no visibility (what an LPV without
+a geometry volume approximates)."""
+LOG2_SCALE = 3.0
+"""The error image saturates at 8× too bright or too dark (as ``lpv-explorer compare``)."""
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """How a configuration is measured: the image's longer side in pixels, the RSM size
+    (VPLs = rsm_size², before the lit ones are picked) and the reference's visibility."""
+
+    size: int = 128
+    rsm_size: int = 64
+    reference: str = "visible"
+
+    def __post_init__(self) -> None:
+        if self.reference not in REFERENCE_MODES:
+            raise ValueError(f"reference must be one of {REFERENCE_MODES}, got "
+                             f"{self.reference!r}")
+        if not 8 <= self.size <= 2048 or not 1 <= self.rsm_size <= 1024:
+            raise ValueError(f"size must be in [8, 2048] and rsm_size in [1, 1024], got "
+                             f"{self.size}, {self.rsm_size}")
+
+
+def measured_settings(settings, measurement: Measurement, aspect: float = 1.0):
+    """``settings`` as measured: the image ``measurement.size`` pixels on its longer side
+    with the given width/height ``aspect``, the RSM ``measurement.rsm_size``², everything
+    else (scene, camera, light, grid, corrections, ...) unchanged."""
+    aspect = float(aspect) if aspect > 0 else 1.0
+    if aspect >= 1.0:
+        width, height = measurement.size, max(8, round(measurement.size / aspect))
+    else:
+        width, height = max(8, round(measurement.size * aspect)), measurement.size
+    return settings.with_changes(width=width, height=height, rsm_size=measurement.rsm_size)
+
+
+def tiles(width: int, height: int, tile: int) -> list[tuple[int, int, int, int]]:
+    """Half-open pixel rectangles (x0, y0, x1, y1) covering the image, row by row."""
+    return [(x, y, min(x + tile, width), min(y + tile, height))
+            for y in range(0, height, tile) for x in range(0, width, tile)]
+
+
+def crop(gbuffer: GBuffer, rect: tuple[int, int, int, int]) -> GBuffer:
+    x0, y0, x1, y1 = rect
+    return GBuffer(np.asarray(gbuffer.position)[y0:y1, x0:x1],
+                   np.asarray(gbuffer.normal)[y0:y1, x0:x1],
+                   np.asarray(gbuffer.albedo)[y0:y1, x0:x1],
+                   np.asarray(gbuffer.valid)[y0:y1, x0:x1])
+
+
+class ProgressiveReference:
+    """The reference radiance of ``frame`` (a FrameResult), one tile per :meth:`step`."""
+
+    def __init__(self, ctx, frame, visibility: bool, tile: int = 32,
+                 min_distance: float | None = None, scene=None) -> None:
+        from explorer.lpv.vpl import VplTextures
+        from explorer.truth.bvh import build_bvh
+        from explorer.truth.gbuffer import gbuffer_from_frame, scene_for, scene_triangles
+        from explorer.truth.render import lit_vpls
+
+        if tile < 1:
+            raise ValueError(f"tile must be >= 1, got {tile}")
+        self.ctx = ctx
+        self.visibility = bool(visibility)
+        self.min_distance = (0.5 * frame.grid_spec.cell_size if min_distance is None
+                             else float(min_distance))
+        if scene is None and (visibility or getattr(frame, "gbuffer_position", None) is None):
+            scene = scene_for(frame.settings)
+        self.gbuffer = gbuffer_from_frame(frame, scene, ctx)
+        self.bvh = build_bvh(scene_triangles(scene)) if visibility else None
+        self.ray_offset = default_ray_offset(
+            self.bvh.triangles if self.bvh is not None else None, self.gbuffer)
+        vpls = lit_vpls(frame.vpls)
+        self.vpls = VplTextures.from_arrays(ctx, vpls) if vpls.count else None
+        width, height = self.gbuffer.size
+        self.irradiance = np.zeros((height, width, 3), np.float32)
+        self.tiles = tiles(width, height, tile)
+        self.tile_size = tile
+        self.done_tiles = 0
+        self._pass = ReferencePass(ctx)
+
+    @property
+    def fraction(self) -> float:
+        return self.done_tiles / len(self.tiles) if self.tiles else 1.0
+
+    @property
+    def done(self) -> bool:
+        return self.done_tiles >= len(self.tiles)
+
+    def step(self) -> bool:
+        """Gather the next tile; True once every tile is done."""
+        if self.done:
+            return True
+        rect = self.tiles[self.done_tiles]
+        part = crop(self.gbuffer, rect)
+        if self.vpls is not None and np.asarray(part.valid).any():
+            x0, y0, x1, y1 = rect
+            self.irradiance[y0:y1, x0:x1] = self._pass.run(
+                part, self.vpls, self.min_distance, self.bvh, self.visibility,
+                self.ray_offset, tile_size=self.tile_size)
+        self.done_tiles += 1
+        return self.done
+
+    def radiance(self) -> np.ndarray:
+        """Outgoing radiance a/π·E (H, W, 3) of the tiles done so far (zero elsewhere)."""
+        return outgoing_radiance(self.gbuffer, self.irradiance)
+
+    def release(self) -> None:
+        self._pass.release()
+        if self.vpls is not None:
+            for texture in (self.vpls.position, self.vpls.normal, self.vpls.flux):
+                texture.release()
+            self.vpls = None
+
+
+@dataclass(frozen=True)
+class ErrorResult:
+    """A finished measurement: the LPV's and the reference's indirect radiance, the
+    pixels that count, the metrics and the false-colour error."""
+
+    settings: object
+    """The Settings measured (``measured_settings`` of the configuration)."""
+    measurement: Measurement
+    lpv: np.ndarray
+    reference: np.ndarray
+    valid: np.ndarray
+    stats: ErrorStats
+    error: ErrorImage
+
+
+class ErrorJob:
+    """Measures ``settings`` with ``measurement``: LPV frame, reference, metrics.
+
+    ``pipeline``: a Pipeline on the same context to render the LPV frame with (kept by
+    the caller between jobs, so its programs are compiled once). Call :meth:`advance`
+    until :attr:`result` is set; :meth:`release` frees the GL objects at any time."""
+
+    def __init__(self, settings, measurement: Measurement, aspect: float = 1.0) -> None:
+        self.measurement = measurement
+        self.settings = measured_settings(settings, measurement, aspect)
+        self.frame = None
+        self.reference: ProgressiveReference | None = None
+        self.result: ErrorResult | None = None
+
+    @property
+    def fraction(self) -> float:
+        if self.result is not None:
+            return 1.0
+        if self.reference is None:
+            return 0.0
+        return 0.05 + 0.95 * self.reference.fraction
+
+    @property
+    def stage(self) -> str:
+        if self.result is not None:
+            return "done"
+        return "LPV frame" if self.reference is None else "reference"
+
+    def advance(self, ctx, pipeline, budget_s: float) -> bool:
+        """Work for about ``budget_s`` seconds (at least one step); True when done."""
+        start = time.perf_counter()
+        if self.result is not None:
+            return True
+        if self.frame is None:
+            self.frame = pipeline.run(self.settings)
+            self.reference = ProgressiveReference(
+                ctx, self.frame, self.measurement.reference == "visible")
+            return False
+        while not self.reference.step():
+            if time.perf_counter() - start >= budget_s:
+                return False
+        self.result = self._finish()
+        self.reference.release()
+        return True
+
+    def _finish(self) -> ErrorResult:
+        reference = self.reference.radiance()
+        lpv = np.asarray(self.frame.indirect, np.float32)
+        valid = np.asarray(self.reference.gbuffer.valid, bool)
+        stats = error_stats(lpv, reference, valid)
+        image = error_image(lpv, reference, valid, "log2-ratio", LOG2_SCALE)
+        return ErrorResult(self.settings, self.measurement, lpv, reference, valid, stats,
+                           image)
+
+    def release(self) -> None:
+        if self.reference is not None:
+            self.reference.release()

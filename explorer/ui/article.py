@@ -1,0 +1,421 @@
+"""The Lesson panel: a lesson step read as an article, with the 3D view beside it.
+
+The step's text is laid out by the text flow (``explorer/ui/textflow.py``): prose, inline
+and display math typeset by MicroTeX, live numbers filled from the frame on screen
+(``explorer/live_values.py``), inline figures (``explorer/ui/figures``) and try-this
+buttons. A try-this button applies exactly its change on top of the step (a second click
+undoes it; ``split`` ones show before | after in the split view); leaving the lesson gives
+the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+from imgui_bundle import imgui
+
+from explorer import lesson_text, live_values
+from explorer.lessons import Lesson, Step, TryThis
+from explorer.ui import widgets
+from explorer.ui.lesson_panel import (
+    LessonSession,
+    current_screen,
+    session_of,
+    show_screen,
+    shows_step,
+    step_caption,
+)
+from explorer.ui.textflow import Page, PageEnv
+
+MAX_COLUMN = 720.0
+"""Widest the text column gets (pixels at scale 1): longer lines read badly."""
+TITLE_SCALE = 1.35
+
+
+# --- labels ------------------------------------------------------------------------------
+
+def try_label(item: TryThis) -> tuple[str, str]:
+    """(button text, tooltip) of a try-this: the control's label from the settings
+    schema (or the correction's title) and the value, its documentation as tooltip."""
+    from explorer.lpv.corrections import CORRECTIONS
+    from explorer.lpv.schema import specs
+    from explorer.lpv.settings import Settings
+
+    value = live_values.format_value(item.value, "g")
+    if item.control == "corrections":
+        if not isinstance(item.value, str):
+            off = [name for name in item.value.names() if not getattr(item.value, name)]
+            value = "switches off: " + (", ".join(off) or "none")
+        label, doc = f"{value} preset", "every correction switch as the preset sets it"
+        if not isinstance(item.value, str):
+            label, doc = value, "the correction switches set as listed"
+    elif item.control.startswith("corrections."):
+        name = item.control.split(".", 1)[1]
+        entry = next(e for e in CORRECTIONS if e.name == name)
+        label, doc = f"{entry.title}: {value}", entry.why
+    else:
+        spec = specs(Settings)[item.control]
+        label = f"{spec.label or item.control.replace('_', ' ')}: {value}"
+        doc = spec.doc
+    if item.label:
+        label = item.label
+    tip = f"{item.control} = {value}\n{doc}"
+    if item.split:
+        tip += "\nShown as before | after in the split view."
+    return label, tip
+
+
+# --- live numbers ------------------------------------------------------------------------
+
+def live_context(state: Any, step: Step) -> live_values.LiveContext:
+    """What the step's placeholders read now (figures: those the step quotes)."""
+    from explorer.ui.panels.error import current_stats
+
+    rt = state.runtime
+    figures = {}
+    wanted = {name.split(".")[1] for text in _texts(step)
+              for name, _ in lesson_text.placeholders(text) if name.startswith("figure.")}
+    if wanted:
+        from explorer.ui.figures import FIGURES
+
+        context = figure_context(state)
+        for spec in step.figures:
+            if spec.instance_id in wanted:
+                kind = FIGURES[spec.kind]
+                instance = context.state_for(spec.instance_id, spec.kind, spec.params,
+                                             kind.make_state)
+                figures[spec.instance_id] = kind.readouts(spec.params, instance, context)
+    return live_values.LiveContext(settings=state.settings, result=rt.result,
+                                   error=current_stats(state), figures=figures,
+                                   renderer=rt.gl_renderer)
+
+
+def _texts(step: Step) -> list[str]:
+    return [step.text] + [t.prompt for t in step.try_this] + [f.caption for f in step.figures]
+
+
+def uses_error(step: Step) -> bool:
+    return any(name.startswith("error.") for text in _texts(step)
+               for name, _ in lesson_text.placeholders(text))
+
+
+def figure_context(state: Any):
+    """The figures' shared context (their interactive state), kept on the app state."""
+    context = getattr(state, "lesson_figures", None)
+    if context is None:
+        from explorer.ui.figures import FigureContext
+
+        context = FigureContext()
+        state.lesson_figures = context
+    return context
+
+
+# --- the panel ---------------------------------------------------------------------------
+
+def gui_article(state: Any) -> None:
+    session = session_of(state)
+    sync_requested(state, session)
+    if session.lesson is None:
+        _lesson_list(state, session)
+        return
+    _header(state, session)
+    imgui.separator()
+    imgui.begin_child("article", (0, 0), imgui.ChildFlags_.none,
+                      imgui.WindowFlags_.always_vertical_scrollbar)
+    try:
+        _article(state, session)
+    finally:
+        imgui.end_child()
+
+
+def sync_requested(state: Any, session: LessonSession) -> None:
+    """Follow ``state.lesson_id`` / ``state.lesson_step`` (``run --lesson ID --step K``):
+    open the lesson at that step and apply it."""
+    wanted = getattr(state, "lesson_id", None)
+    if not wanted:
+        return
+    step = getattr(state, "lesson_step", None)
+    same = session.lesson is not None and wanted in (session.lesson.id,
+                                                     session.lesson.path.stem)
+    if same and step is None:
+        return
+    try:
+        lesson = session.open(wanted)
+        if step is not None:
+            lesson.step(step)          # IndexError names the range
+            session.go(step)
+    except (KeyError, IndexError) as exc:
+        state.lesson_id = state.lesson_step = None
+        state.notify(str(exc.args[0]), "error")
+        return
+    state.lesson_id, state.lesson_step = session.lesson.id, None
+    show_screen(state, session.apply(current_screen(state)))
+
+
+def _lesson_list(state: Any, session: LessonSession) -> None:
+    widgets.dim_text_wrapped("Each lesson is a short article. Its steps set the scene, the "
+                             "settings and the view they talk about; the numbers in the text "
+                             "are read from what is on screen, and every \"try this\" is a "
+                             "button. Your own settings come back when you leave.")
+    imgui.spacing()
+    imgui.begin_child("contents", (0, -imgui.get_frame_height_with_spacing()))
+    for lesson in session.lessons:
+        imgui.push_id(lesson.id)
+        if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
+            session.open(lesson.id)
+            state.lesson_id = lesson.id
+            show_screen(state, session.apply(current_screen(state)))
+        imgui.indent(28.0)
+        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps)")
+        imgui.unindent(28.0)
+        imgui.spacing()
+        imgui.pop_id()
+    imgui.end_child()
+    for error in session.errors:
+        imgui.text_colored(widgets.ERROR, f"broken: {error}")
+    if imgui.small_button("Reload lessons"):
+        fresh = LessonSession.load()
+        session.lessons, session.errors = fresh.lessons, fresh.errors
+
+
+def _header(state: Any, session: LessonSession) -> None:
+    lesson, step = session.lesson, session.step
+    if imgui.small_button("< All lessons"):
+        restored = session.close()
+        if restored is not None:
+            show_screen(state, restored)
+        state.lesson_id = None
+        return
+    imgui.same_line()
+    imgui.text_colored(widgets.ACCENT, f"{lesson.number:02d}  {lesson.title}")
+    changed = False
+    imgui.begin_disabled(session.step_number <= 1)
+    if imgui.arrow_button("##previous", imgui.Dir.left):
+        changed = session.previous()
+    imgui.end_disabled()
+    imgui.same_line()
+    imgui.set_next_item_width(max(imgui.get_content_region_avail().x - 30.0, 60.0))
+    if imgui.begin_combo("##steps", f"Step {step.number} of {session.step_count}: "
+                                    f"{step.title}"):
+        for item in lesson.steps:
+            if imgui.selectable(f"{item.number}. {item.title}", item.number == step.number)[0]:
+                changed = session.go(item.number) or changed
+        imgui.end_combo()
+    imgui.same_line()
+    imgui.begin_disabled(session.step_number >= session.step_count)
+    if imgui.arrow_button("##next", imgui.Dir.right):
+        changed = session.next()
+    imgui.end_disabled()
+    if changed:
+        _goto(state, session)
+    _status(state, session)
+
+
+def _goto(state: Any, session: LessonSession) -> None:
+    """Show the step now selected (when lesson settings are on screen)."""
+    if session.applied:
+        show_screen(state, session.apply(current_screen(state)))
+
+
+def _status(state: Any, session: LessonSession) -> None:
+    step = session.step
+    if session.applied:
+        if session.tried is not None:
+            label, _ = try_label(step.try_this[session.tried - 1])
+            imgui.text_colored(widgets.WARN, f"trying: {label}")
+            imgui.same_line()
+            if imgui.small_button("Undo"):
+                show_screen(state, session.apply(current_screen(state)))
+        elif shows_step(state.settings, step):
+            imgui.text_disabled("showing this step's settings")
+        else:
+            imgui.text_colored(widgets.WARN, "you changed the step's settings")
+            imgui.same_line()
+            if imgui.small_button("Reset step"):
+                show_screen(state, session.apply(current_screen(state)))
+        imgui.same_line()
+        if imgui.small_button("Leave lesson settings"):
+            show_screen(state, session.leave())
+    else:
+        imgui.text_disabled("your own settings are on screen")
+        imgui.same_line()
+        if imgui.small_button("Back to the lesson" if session.left else "Show this step"):
+            show_screen(state, session.apply(current_screen(state)))
+
+
+def _article(state: Any, session: LessonSession) -> None:
+    step = session.step
+    avail = imgui.get_content_region_avail().x
+    width = min(avail - 6.0, MAX_COLUMN * imgui.get_style().font_scale_dpi)
+    left = imgui.get_cursor_pos_x() + max((avail - width) * 0.5, 0.0)
+    imgui.set_cursor_pos_x(left)
+    context = live_context(state, step)
+    env = _page_env(state, session, step, context)
+    page = Page(env, width)
+    env.page = page
+    imgui.begin_group()
+    page.push("bold")
+    imgui.push_font(None, page.size * TITLE_SCALE)
+    imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
+    imgui.text_wrapped(step.title)
+    imgui.pop_text_wrap_pos()
+    imgui.pop_font()
+    page.pop()
+    page.push("italic")
+    imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
+    imgui.text_colored(widgets.DIM, step_caption(step))
+    imgui.pop_text_wrap_pos()
+    page.pop()
+    imgui.spacing()
+    if uses_error(step) and context.error is None:
+        _error_banner(state)
+    blocks = lesson_text.parse(step.text)
+    page.draw(blocks)
+    placed = {b.id for b in blocks if isinstance(b, lesson_text.FigureRef)}
+    shown = {b.name for b in blocks if isinstance(b, lesson_text.FormulaRef)}
+    rest = tuple(lesson_text.FigureRef(spec.instance_id) for spec in step.figures
+                 if spec.instance_id not in placed)
+    rest += tuple(lesson_text.FormulaRef(name) for name in step.formulas if name not in shown)
+    if rest:
+        page.draw(rest)
+    if step.try_this:
+        _try_section(state, session, page, step)
+    _next_step(state, session, width)
+    imgui.end_group()
+
+
+def try_context(state: Any, session: LessonSession, index: int,
+                base: live_values.LiveContext) -> tuple[live_values.LiveContext, str]:
+    """What the ``index``-th try-this's prompt quotes, and where it comes from: the
+    configuration the button sets (the right side of a before | after split). Its frame
+    quantities are read once it is on screen; its errors come from the Error panel's
+    cache, so a configuration measured once keeps its numbers."""
+    from explorer.ui.panels.error import error_service
+
+    step = session.step
+    item = step.try_this[index - 1]
+    own = session.saved if session.saved is not None else current_screen(state)
+    after = item.apply(step_settings(step, own)).with_changes(
+        width=state.settings.width, height=state.settings.height)
+    active = session.applied and session.tried == index
+    cached = error_service(state).result_for(after)
+    error = cached.stats if cached is not None else None
+    if active and not item.split:
+        return replace(base, error=error), "the frame on screen"
+    if active:
+        result = state.runtime.compare_result if state.comparing else None
+        return (replace(base, settings=after, result=result, error=error),
+                "the right half of the split view")
+    return (replace(base, settings=after, result=None, error=error),
+            "the configuration this button sets: press it to read the frame")
+
+
+def step_settings(step: Step, own):
+    from explorer.ui.lesson_panel import step_screen
+
+    return step_screen(step, own).settings
+
+
+def _page_env(state: Any, session: LessonSession, step: Step,
+              context: live_values.LiveContext) -> PageEnv:
+    from explorer import derived
+
+    source = {"context": context, "where": "the frame on screen"}
+
+    def value(name: str, fmt: str) -> tuple[str, str]:
+        quantity = live_values.lookup(name, step.figure_ids)
+        text = live_values.render(name, fmt, source["context"], step.figure_ids)
+        unit = f" [{quantity.unit}]" if quantity.unit else ""
+        tip = f"{name}{unit}: {quantity.doc}"
+        if text == live_values.PENDING:
+            tip += "\n(not available yet: " + (
+                "measure it in the Error panel)" if quantity.source == "error"
+                else f"{source['where']})")
+        elif quantity.measured:
+            tip += f"\nmeasured on {source['where']}; it changes with the settings"
+        return text, tip
+
+    def button(index: int) -> tuple[str, str, bool]:
+        label, tip = try_label(step.try_this[index - 1])
+        active = session.tried == index and session.applied
+        return ("Undo: " + label if active else label), tip, active
+
+    def on_button(index: int) -> None:
+        show_screen(state, session.toggle_try(index, current_screen(state)))
+
+    def figure(figure_id: str, width: float) -> None:
+        from explorer.ui.figures import draw_figure
+
+        page = env.page
+        spec = next(s for s in step.figures if s.instance_id == figure_id)
+        context_figures = figure_context(state)
+        context_figures.update_from_app(state)
+        draw_figure(replace(spec, caption=""), width, context_figures)
+        if spec.caption:      # through the text flow: it may quote live numbers
+            caption = lesson_text.parse(spec.caption)
+            runs = tuple(lesson_text.Text(r.text, "italic") if isinstance(r, lesson_text.Text)
+                         else r for r in lesson_text.all_runs(caption))
+            page.push("italic")
+            imgui.push_style_color(imgui.Col_.text, widgets.DIM)
+            page.paragraph(runs, 0.0, *page.metrics())
+            imgui.pop_style_color()
+            page.pop()
+
+    def formula(name: str) -> tuple[str, str]:
+        result = derived.get(name)
+        return result.latex, result.statement
+
+    env = PageEnv(fonts=state.runtime.fonts, formulas=state.runtime.formulas, value=value,
+                  button=button, on_button=on_button, figure=figure, formula=formula)
+    env.source = source
+    return env
+
+
+def _try_section(state: Any, session: LessonSession, page: Page, step: Step) -> None:
+    """Every try-this of the step: its button and its prompt, whose live numbers describe
+    the configuration the button sets (:func:`try_context`)."""
+    imgui.separator_text("Try this")
+    source = page.env.source
+    base = source["context"]
+    for index, item in enumerate(step.try_this, start=1):
+        source["context"], source["where"] = try_context(state, session, index, base)
+        runs = (lesson_text.TryButton(index), lesson_text.Text(" ")) + \
+            lesson_text.parse(item.prompt)[0].runs
+        page.draw((lesson_text.Paragraph(runs),))
+    source["context"], source["where"] = base, "the frame on screen"
+
+
+def _error_banner(state: Any) -> None:
+    from explorer.ui.panels.error import error_service
+
+    service = error_service(state)
+    if service.running:
+        job = service.job
+        imgui.progress_bar(job.fraction, (-1, 0),
+                           f"measuring the error against the reference: {job.fraction:.0%}")
+        return
+    widgets.dim_text_wrapped("The numbers marked … are measured against the reference "
+                             "renderer; the Error panel computes them in the background.")
+    if imgui.small_button("Measure now"):
+        service.measure()
+        state.requests.focus_panel = ("Error",)
+
+
+def _next_step(state: Any, session: LessonSession, width: float) -> None:
+    imgui.spacing()
+    if session.step_number < session.step_count:
+        following = session.lesson.step(session.step_number + 1)
+        if imgui.button(f"Next: {following.title}  >"):
+            session.next()
+            _goto(state, session)
+    else:
+        index = session.lessons.index(session.lesson) if session.lesson in session.lessons \
+            else -1
+        if 0 <= index < len(session.lessons) - 1:
+            following: Lesson = session.lessons[index + 1]
+            if imgui.button(f"Next lesson: {following.title}  >"):
+                session.open(following.id)
+                state.lesson_id = following.id
+                _goto(state, session)
+    imgui.dummy((width, 24))

@@ -1,0 +1,72 @@
+"""Write a lesson step as the window shows it (article column, 3D view, panels) to a PNG,
+from a hidden window: ``lpv-explorer lessons --export ID --step K --out step.png``.
+
+The window draws frames until the step's frame has been rendered and its typeset text
+and figures are on screen; a step that quotes measured errors (``{{error.*}}``) also
+waits for the Error panel's measurement, up to ``wait_s`` seconds.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+SETTLE_FRAMES = 4
+"""Frames drawn after everything is ready (layout, textures uploaded in the last one)."""
+
+
+def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height: int = 900,
+                wait_s: float = 600.0, try_this: int | None = None) -> Path:
+    """Open a hidden window at ``lesson_id`` step ``step`` (with its ``try_this``-th
+    button pressed, 1-based, when given), draw until the step is ready, write the window
+    to ``out``. Raises WindowError without a display, KeyError/IndexError for a lesson,
+    step or try-this that does not exist, TimeoutError when the frame never comes."""
+    from explorer.lessons import find_lesson, load_all
+    from explorer.ui.app import App, write_png
+    from explorer.ui.article import uses_error
+    from explorer.ui.panels.error import error_service
+    from explorer.ui.state import AppState
+
+    lessons, _ = load_all()
+    lesson = find_lesson(lesson_id, lessons)
+    wanted = lesson.step(step)
+    if try_this is not None and not 1 <= try_this <= len(wanted.try_this):
+        raise IndexError(f"step {step} of {lesson.id} has try-this 1..{len(wanted.try_this)}"
+                         f", not {try_this}")
+    state = AppState(lesson_id=lesson.id, lesson_step=step)
+    app = App(state, width=width, height=height, visible=False, vsync=False,
+              persist_settings=False)
+    try:
+        start = time.monotonic()
+        ready_at = None
+        frames = 0
+        pressed = try_this is None
+        while True:
+            app.frame()
+            frames += 1
+            rt = app.state.runtime
+            if not pressed and frames == SETTLE_FRAMES:
+                from explorer.ui.lesson_panel import current_screen, show_screen
+
+                session = app.state.lesson_session
+                show_screen(app.state, session.toggle_try(try_this, current_screen(app.state)))
+                pressed = True
+            ready = (rt.result is not None and frames > SETTLE_FRAMES and pressed
+                     and rt.result.settings == app.settings_for("A")
+                     and (not app.state.comparing or rt.compare_result is not None))
+            if ready and uses_error(wanted):
+                service = error_service(app.state)
+                service.lesson_wants = True
+                ready = service.result_for() is not None or service.problem is not None
+            if ready:
+                ready_at = frames if ready_at is None else ready_at
+                if frames - ready_at >= SETTLE_FRAMES:
+                    break
+            if time.monotonic() - start > wait_s:
+                raise TimeoutError(f"lesson {lesson.id} step {step} was not ready after "
+                                   f"{wait_s:g} s")
+        app.frame(capture=True)
+        write_png(app.last_pixels, out)
+    finally:
+        app.close()
+    return Path(out)

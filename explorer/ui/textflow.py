@@ -1,0 +1,356 @@
+"""A text-flow widget: lesson prose laid out in lines like a page, drawn with imgui.
+
+Blocks come from :mod:`explorer.lesson_text`. Within a paragraph every run becomes boxes
+(a word with its trailing space, an inline formula, a live number, a button) that
+:func:`layout` breaks into lines no wider than the column and aligns on a common baseline:
+a formula typeset by MicroTeX sits with its own baseline (``RenderedFormula.baseline_y``)
+on the text's. Display formulas are centred and typeset smaller when they would not fit;
+figures are drawn at the column's width by their own code.
+
+:func:`layout` is pure (boxes in, positioned lines out) so its rules are tested without a
+window; :class:`Page` measures and draws with imgui.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from explorer import lesson_text as lt
+
+MIN_DISPLAY_SCALE = 0.55
+"""A display formula wider than the column is typeset down to this scale, then squeezed."""
+PARAGRAPH_GAP = 0.6
+"""Space after a block, in lines of body text."""
+
+
+@dataclass
+class Box:
+    """One unbreakable piece of a line. ``ascent``/``descent``: above/below the baseline;
+    ``space``: width of the trailing space (dropped at the end of a line)."""
+
+    width: float
+    ascent: float
+    descent: float
+    kind: str                 # "text" | "math" | "value" | "button"
+    payload: Any = None
+    space: float = 0.0
+    glue: bool = False
+    """No break allowed before this box (it follows the previous one without a space,
+    e.g. a comma after a formula)."""
+    x: float = 0.0            # set by layout: left edge relative to the column
+
+
+@dataclass
+class Line:
+    boxes: list[Box] = field(default_factory=list)
+    ascent: float = 0.0
+    descent: float = 0.0
+    y: float = 0.0            # top of the line relative to the paragraph
+
+    @property
+    def height(self) -> float:
+        return self.ascent + self.descent
+
+
+def layout(boxes: list[Box], width: float, min_ascent: float = 0.0,
+           min_descent: float = 0.0, leading: float = 0.0) -> list[Line]:
+    """Greedy line breaking: boxes stay in order, a line takes boxes while they fit in
+    ``width`` (its trailing space excluded); a box wider than the column gets a line of
+    its own; a glued box moves to the next line together with the box(es) it is glued
+    to. Each line's ascent and descent are the largest of its boxes (at least the
+    font's), so text and formulas share one baseline; ``leading`` is added between
+    lines."""
+    lines: list[Line] = []
+    current = Line()
+    x = 0.0
+    for box in boxes:
+        if current.boxes and x + box.width > width + 1e-6:
+            carried: list[Box] = []
+            if box.glue:
+                # the chain of glued boxes this one ends moves along, unless it is all
+                # the line holds
+                head = len(current.boxes) - 1
+                while head > 0 and current.boxes[head].glue:
+                    head -= 1
+                if head > 0:
+                    carried = current.boxes[head:]
+                    current.boxes = current.boxes[:head]
+            lines.append(current)
+            current, x = Line(), 0.0
+            for moved in carried:
+                moved.x = x
+                current.boxes.append(moved)
+                x += moved.width + moved.space
+        box.x = x
+        current.boxes.append(box)
+        x += box.width + box.space
+    if current.boxes:
+        lines.append(current)
+    y = 0.0
+    for line in lines:
+        line.ascent = max([min_ascent] + [b.ascent for b in line.boxes])
+        line.descent = max([min_descent] + [b.descent for b in line.boxes])
+        line.y = y
+        y += line.height + leading
+    return lines
+
+
+_WORDS = re.compile(r"\S+\s*|\s+")
+
+
+def words(text: str) -> list[tuple[str, bool]]:
+    """``text`` cut after each run of spaces: (word, followed by a space) pairs. A run
+    that starts with a space (after a formula) keeps it as a word of its own."""
+    out = []
+    for piece in _WORDS.findall(text):
+        stripped = piece.rstrip()
+        if not stripped:
+            out.append(("", True))
+        else:
+            out.append((stripped, len(stripped) < len(piece)))
+    return out
+
+
+@dataclass
+class PageEnv:
+    """What a page reads while it draws (all callbacks return plain data)."""
+
+    fonts: Any = None                          # explorer.ui.fonts.Fonts or None
+    formulas: Any = None                       # explorer.ui.formulas.FormulaCache or None
+    value: Callable[[str, str], tuple[str, str]] = lambda name, fmt: (name, "")
+    """(name, format) -> (text shown, tooltip)."""
+    button: Callable[[int], tuple[str, str, bool]] = lambda index: (f"try {index}", "", False)
+    """try index -> (label, tooltip, active)."""
+    on_button: Callable[[int], None] = lambda index: None
+    figure: Callable[[str, float], None] = lambda figure_id, width: None
+    formula: Callable[[str], tuple[str, str]] = lambda name: (name, "")
+    """derivation name -> (LaTeX with its left-hand side, statement)."""
+    page: Any = None
+    """The Page drawing with this environment (figures lay out their captions with it)."""
+
+
+ACCENT = (0.45, 0.72, 1.0, 1.0)
+BUTTON_TEXT = (1.0, 0.80, 0.40, 1.0)
+CODE_BG = (1.0, 1.0, 1.0, 0.07)
+DIM = (0.62, 0.64, 0.68, 1.0)
+
+
+class Page:
+    """Draws blocks into the current imgui window, ``width`` pixels wide from the cursor."""
+
+    def __init__(self, env: PageEnv, width: float) -> None:
+        from imgui_bundle import imgui
+
+        self.imgui = imgui
+        self.env = env
+        self.width = max(float(width), 40.0)
+        self.size = env.fonts.body_size if env.fonts is not None else imgui.get_font_size()
+
+    # -- fonts -----------------------------------------------------------------------
+    def push(self, style: str) -> None:
+        font = self.env.fonts.get(style) if self.env.fonts is not None else None
+        self.imgui.push_font(font, self.size)
+
+    def pop(self) -> None:
+        self.imgui.pop_font()
+
+    def metrics(self) -> tuple[float, float]:
+        """(ascent, descent) of the body font at the body size, in pixels."""
+        self.push("regular")
+        baked = self.imgui.get_font_baked()
+        ascent, descent = float(baked.ascent), float(-baked.descent)
+        self.pop()
+        return ascent, descent
+
+    def text_width(self, text: str, style: str) -> float:
+        self.push(style)
+        width = self.imgui.calc_text_size(text).x
+        self.pop()
+        return width
+
+    # -- blocks ----------------------------------------------------------------------
+    def draw(self, blocks: tuple) -> None:
+        imgui = self.imgui
+        ascent, descent = self.metrics()
+        gap = (ascent + descent) * PARAGRAPH_GAP
+        for index, block in enumerate(blocks):
+            imgui.push_id(index)
+            if isinstance(block, lt.Paragraph):
+                self.paragraph(block.runs, 0.0, ascent, descent)
+            elif isinstance(block, lt.Item):
+                self.paragraph(block.runs, ascent * 1.4, ascent, descent, block.marker)
+            elif isinstance(block, lt.DisplayMath):
+                latex = lt.substitute(block.latex, lambda n, f: self.env.value(n, f)[0])
+                self.display(latex, "")
+            elif isinstance(block, lt.FormulaRef):
+                latex, statement = self.env.formula(block.name)
+                self.display(latex, statement)
+            elif isinstance(block, lt.Table):
+                self.table(block, ascent, descent)
+            elif isinstance(block, lt.FigureRef):
+                self.env.figure(block.id, self.width)
+            imgui.pop_id()
+            imgui.dummy((self.width, gap))
+
+    def paragraph(self, runs, indent: float, ascent: float, descent: float,
+                  marker: str | None = None) -> None:
+        imgui = self.imgui
+        boxes = self.boxes(runs, ascent, descent)
+        leading = (ascent + descent) * 0.22
+        lines = layout(boxes, self.width - indent, ascent, descent, leading)
+        origin = imgui.get_cursor_screen_pos()
+        if marker:
+            self.push("regular")
+            imgui.set_cursor_screen_pos((origin.x + indent * 0.25, origin.y + (
+                lines[0].ascent - ascent if lines else 0.0)))
+            imgui.text_colored(imgui.ImVec4(*DIM), marker)
+            self.pop()
+        for number, line in enumerate(lines):
+            top = origin.y + line.y
+            for box_number, box in enumerate(line.boxes):
+                x = origin.x + indent + box.x
+                y = top + line.ascent - box.ascent
+                imgui.push_id(number * 1000 + box_number)
+                self.draw_box(box, x, y)
+                imgui.pop_id()
+        height = (lines[-1].y + lines[-1].height) if lines else 0.0
+        imgui.set_cursor_screen_pos(origin)
+        imgui.dummy((self.width, height))
+
+    def table(self, block: lt.Table, ascent: float, descent: float) -> None:
+        """A table as wide as the column, each cell laid out like a paragraph."""
+        imgui = self.imgui
+        flags = (imgui.TableFlags_.borders_inner_h | imgui.TableFlags_.borders_outer
+                 | imgui.TableFlags_.row_bg | imgui.TableFlags_.sizing_stretch_prop)
+        columns = len(block.header)
+        if not imgui.begin_table("##table", columns, flags, (self.width, 0)):
+            return
+        first = 0.7 if columns > 2 else 1.0     # the row names' column a little narrower
+        for column in range(columns):
+            imgui.table_setup_column(f"##c{column}", imgui.TableColumnFlags_.width_stretch,
+                                     first if column == 0 else 1.0)
+        outer = self.width
+        for row_number, row in enumerate((block.header,) + block.rows):
+            imgui.table_next_row()
+            for column, runs in enumerate(row):
+                imgui.table_set_column_index(column)
+                imgui.push_id(row_number * 100 + column)
+                if row_number == 0:
+                    runs = tuple(lt.Text(r.text, "bold") if isinstance(r, lt.Text) else r
+                                 for r in runs)
+                self.width = max(imgui.get_content_region_avail().x, 20.0)
+                self.paragraph(runs, 0.0, ascent, descent)
+                imgui.pop_id()
+        self.width = outer
+        imgui.end_table()
+
+    def boxes(self, runs, ascent: float, descent: float) -> list[Box]:
+        out = self._boxes(runs, ascent, descent)
+        for before, box in zip(out, out[1:]):
+            box.glue = before.space == 0.0
+        return out
+
+    def _boxes(self, runs, ascent: float, descent: float) -> list[Box]:
+        imgui = self.imgui
+        out: list[Box] = []
+        space = self.text_width(" ", "regular")
+        for run in runs:
+            if isinstance(run, lt.Text):
+                for word, spaced in words(run.text):
+                    if not word:
+                        if out:
+                            out[-1].space = space
+                        continue
+                    out.append(Box(self.text_width(word, run.style), ascent, descent, "text",
+                                   (word, run.style), space if spaced else 0.0))
+            elif isinstance(run, lt.Value):
+                text, tooltip = self.env.value(run.name, run.format)
+                out.append(Box(self.text_width(text, run.style), ascent, descent, "value",
+                               (text, run.style, tooltip)))
+            elif isinstance(run, lt.Math):
+                latex = lt.substitute(run.latex, lambda n, f: self.env.value(n, f)[0])
+                formula = (self.env.formulas.get(latex, 1.0, inline=True)
+                           if self.env.formulas is not None else None)
+                if formula is None or not formula.texture_id:
+                    out.append(Box(self.text_width(latex, "code"), ascent, descent, "text",
+                                   (latex, "code")))
+                else:
+                    out.append(Box(float(formula.width), float(formula.baseline),
+                                   float(formula.height - formula.baseline), "math", formula))
+            elif isinstance(run, lt.TryButton):
+                label, tooltip, active = self.env.button(run.index)
+                pad = imgui.get_style().frame_padding.x
+                out.append(Box(self.text_width(label, "regular") + 2 * pad, ascent, descent,
+                               "button", (run.index, label, tooltip, active)))
+        return out
+
+    def draw_box(self, box: Box, x: float, y: float) -> None:
+        imgui = self.imgui
+        imgui.set_cursor_screen_pos((x, y))
+        if box.kind == "text":
+            word, style = box.payload
+            if style == "code":
+                draw = imgui.get_window_draw_list()
+                draw.add_rect_filled((x - 2, y), (x + box.width + 2, y + box.ascent + box.descent),
+                                     imgui.get_color_u32(imgui.ImVec4(*CODE_BG)), 3.0)
+            self.push(style)
+            imgui.text_unformatted(word)
+            self.pop()
+        elif box.kind == "value":
+            text, style, tooltip = box.payload
+            self.push(style)
+            imgui.text_colored(imgui.ImVec4(*ACCENT), text)
+            self.pop()
+            if tooltip and imgui.is_item_hovered():
+                imgui.set_tooltip(tooltip)
+        elif box.kind == "math":
+            formula = box.payload
+            imgui.image(imgui.ImTextureRef(formula.texture_id),
+                        (float(formula.width), float(formula.height)))
+        elif box.kind == "button":
+            index, label, tooltip, active = box.payload
+            self.push("regular")
+            colour = (0.20, 0.42, 0.75, 1.0) if active else (0.30, 0.24, 0.10, 1.0)
+            imgui.push_style_color(imgui.Col_.button, imgui.ImVec4(*colour))
+            imgui.push_style_color(imgui.Col_.text, imgui.ImVec4(*BUTTON_TEXT))
+            if imgui.small_button(f"{label}##try{index}"):
+                self.env.on_button(index)
+            imgui.pop_style_color(2)
+            self.pop()
+            if tooltip and imgui.is_item_hovered():
+                imgui.set_tooltip(tooltip)
+
+    def display(self, latex: str, statement: str) -> None:
+        """A display formula centred in the column, typeset smaller if it is too wide."""
+        imgui = self.imgui
+        formulas = self.env.formulas
+        origin = imgui.get_cursor_screen_pos()
+        formula = formulas.get(latex, 1.15) if formulas is not None else None
+        if formula is not None and formula.texture_id and formula.width > self.width:
+            scale = max(1.15 * self.width / formula.width, MIN_DISPLAY_SCALE)
+            formula = formulas.get(latex, scale)
+        if formula is None or not formula.texture_id:
+            self.push("code")
+            imgui.push_text_wrap_pos(origin.x + self.width)
+            imgui.text_wrapped(latex)
+            imgui.pop_text_wrap_pos()
+            self.pop()
+        else:
+            width, height = float(formula.width), float(formula.height)
+            if width > self.width:
+                height *= self.width / width
+                width = self.width
+            imgui.set_cursor_screen_pos((origin.x + (self.width - width) * 0.5, origin.y))
+            imgui.image(imgui.ImTextureRef(formula.texture_id), (width, height))
+            if statement and imgui.is_item_hovered():
+                imgui.set_tooltip(statement)
+        if statement:
+            cursor = imgui.get_cursor_screen_pos()
+            imgui.set_cursor_screen_pos((origin.x, cursor.y))
+            self.push("italic")
+            imgui.push_text_wrap_pos(origin.x + self.width)
+            imgui.text_colored(imgui.ImVec4(*DIM), statement)
+            imgui.pop_text_wrap_pos()
+            self.pop()

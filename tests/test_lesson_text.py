@@ -1,0 +1,117 @@
+"""Lesson prose: the parser (blocks, runs, markers, live numbers, tables) and the text
+flow's line breaking, without a window."""
+
+from __future__ import annotations
+
+import pytest
+
+from explorer import lesson_text as lt
+from explorer.ui.textflow import Box, layout, words
+
+
+def test_paragraphs_items_and_display_math():
+    blocks = lt.parse("First **bold** and *it*\nline.\n\n* one `code`\n  more\n"
+                      "2. two $x^2$\n\n$$E = mc^2$$\n\nafter")
+    kinds = [type(b).__name__ for b in blocks]
+    assert kinds == ["Paragraph", "Item", "Item", "DisplayMath", "Paragraph"]
+    assert blocks[0].runs == (lt.Text("First "), lt.Text("bold", "bold"), lt.Text(" and "),
+                              lt.Text("it", "italic"), lt.Text(" line."))
+    assert blocks[1].marker == "•" and lt.Text("code", "code") in blocks[1].runs
+    assert blocks[1].runs[-1] == lt.Text(" more")
+    assert blocks[2].marker == "2." and blocks[2].runs[-1] == lt.Math("x^2")
+    assert blocks[3] == lt.DisplayMath("E = mc^2")
+
+
+def test_display_math_splits_a_paragraph_and_spans_lines():
+    blocks = lt.parse("before\n$$a =\n\n b$$\nafter $y$.")
+    assert blocks == (lt.Paragraph((lt.Text("before"),)), lt.DisplayMath("a = b"),
+                      lt.Paragraph((lt.Text("after "), lt.Math("y"), lt.Text("."))))
+    # inside a list item too: the item keeps its text, the formula follows it
+    blocks = lt.parse("1. **Cosine.** It is\n   $$E = s/h^2$$\n2. next")
+    assert [type(b).__name__ for b in blocks] == ["Item", "DisplayMath", "Item"]
+    # a figure marker inside a paragraph splits it
+    blocks = lt.parse("see {{figure:lobe}} here")
+    assert blocks == (lt.Paragraph((lt.Text("see"),)), lt.FigureRef("lobe"),
+                      lt.Paragraph((lt.Text("here"),)))
+
+
+def test_live_numbers_markers_and_placeholders_in_math():
+    text = ("Flux {{audit.injected:.3g}} W, **{{settings.grid_size}}** cells {{try:2}}\n\n"
+            "{{figure:lobe}}\n\n{{formula:sh.c0}}\n\n$c_0 = {{derived.sh.c0:.4f}}$")
+    blocks = lt.parse(text)
+    runs = blocks[0].runs
+    assert lt.Value("audit.injected", ".3g") in runs
+    assert lt.Value("settings.grid_size", "", "bold") in runs
+    assert lt.TryButton(2) in runs
+    assert blocks[1] == lt.FigureRef("lobe") and blocks[2] == lt.FormulaRef("sh.c0")
+    assert blocks[3].runs[0] == lt.Math("c_0 = {{derived.sh.c0:.4f}}")
+    assert lt.placeholders(text) == [("audit.injected", ".3g"), ("settings.grid_size", ""),
+                                     ("derived.sh.c0", ".4f")]
+    filled = lt.substitute(blocks[3].runs[0].latex, lambda name, fmt: f"<{name}|{fmt}>")
+    assert lt.parse("mode `{{settings.downsample}}` on")[0].runs == (
+        lt.Text("mode "), lt.Value("settings.downsample", "", "code"), lt.Text(" on"))
+    assert filled == "c_0 = <derived.sh.c0|.4f>"
+
+
+def test_tables():
+    blocks = lt.parse("| | A | B |\n|---|:---:|---|\n| row | **x** | $y$ |\n\nafter")
+    table = blocks[0]
+    assert isinstance(table, lt.Table) and len(table.header) == 3 and len(table.rows) == 1
+    assert table.rows[0][1] == (lt.Text("x", "bold"),) and table.rows[0][2] == (lt.Math("y"),)
+    assert isinstance(blocks[1], lt.Paragraph)
+    assert lt.Math("y") in lt.all_runs(blocks)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("a $x", "unclosed \\$"),
+    ("a **b", "unclosed \\*\\*"),
+    ("a {{audit.injected", "unclosed \\{\\{"),
+    ("{{try:x}}", "try-this number"),
+    ("$$a = b", "not closed"),
+    ("| a | b |\n| c | d |", "rule under it"),
+    ("| a | b |\n|---|---|\n| c |", "1 cells, the header 2"),
+])
+def test_bad_prose_is_refused(text, message):
+    with pytest.raises(lt.TextError, match=message):
+        lt.parse(text)
+
+
+def test_words_keep_their_spaces():
+    assert words("a b,  c") == [("a", True), ("b,", True), ("c", False)]
+    assert words(" is") == [("", True), ("is", False)]
+
+
+def _boxes(widths, spaces=None, glue=()):
+    spaces = spaces or [2.0] * len(widths)
+    return [Box(w, 10.0, 3.0, "text", i, space=s, glue=i in glue)
+            for i, (w, s) in enumerate(zip(widths, spaces))]
+
+
+def test_layout_breaks_lines_in_order_within_the_column():
+    boxes = _boxes([10, 20, 15, 30, 5, 25])
+    lines = layout(boxes, 40.0)
+    order = [b.payload for line in lines for b in line.boxes]
+    assert order == list(range(6))
+    for line in lines:
+        last = line.boxes[-1]
+        assert last.x + last.width <= 40.0 or len(line.boxes) == 1
+    assert [b.payload for b in lines[0].boxes] == [0, 1]
+    # a box wider than the column gets a line of its own
+    lines = layout(_boxes([10, 60, 10]), 40.0)
+    assert [[b.payload for b in line.boxes] for line in lines] == [[0], [1], [2]]
+
+
+def test_glued_boxes_move_to_the_next_line_together():
+    # "x" + "," glued: the comma never starts a line on its own
+    boxes = _boxes([12, 12, 12, 4], spaces=[2, 2, 0, 2], glue=(3,))
+    lines = layout(boxes, 40.0)
+    assert [[b.payload for b in line.boxes] for line in lines] == [[0, 1], [2, 3]]
+
+
+def test_lines_share_one_baseline():
+    boxes = [Box(10, 10, 3, "text", 0, 2.0), Box(10, 18, 6, "math", 1, 2.0),
+             Box(10, 10, 3, "text", 2, 2.0)]
+    lines = layout(boxes, 100.0, min_ascent=12.0, min_descent=4.0, leading=2.0)
+    assert len(lines) == 1 and lines[0].ascent == 18.0 and lines[0].descent == 6.0
+    lines = layout(boxes, 12.0, min_ascent=12.0, min_descent=4.0, leading=2.0)
+    assert [line.y for line in lines] == [0.0, 16.0 + 2.0, 18.0 + 24.0 + 2.0]

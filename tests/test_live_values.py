@@ -1,0 +1,137 @@
+"""Live numbers: each name is one quantity, and its value is that quantity computed from
+the frame (checked here against the FrameResult's own arrays), the settings, the error
+measurement or the derivation table."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from explorer import derived
+from explorer import live_values as lv
+from explorer.lpv.settings import PRESETS, Settings
+
+SMALL = Settings(width=48, height=40, grid_size=12, iterations=5, rsm_size=24)
+
+
+@pytest.fixture(scope="module")
+def frame(gl_context):
+    from explorer.lpv.pipeline import Pipeline
+
+    gl_context.__enter__()
+    with Pipeline(SMALL, ctx=gl_context) as pipeline:
+        return pipeline.run(SMALL)
+
+
+def test_names_are_checked_and_close_matches_offered():
+    assert lv.lookup("audit.injected").unit == "W"
+    assert lv.lookup("settings.grid_size").source == "settings"
+    with pytest.raises(KeyError, match="did you mean audit.injected"):
+        lv.lookup("audit.injectd")
+    with pytest.raises(KeyError, match="no derivation result"):
+        lv.lookup("derived.sh.c9")
+    with pytest.raises(KeyError, match="a formula"):
+        lv.lookup("derived.sh.lobe")                 # no numeric value
+    with pytest.raises(KeyError, match="no figure with id 'lobe'"):
+        lv.lookup("figure.lobe.l1_energy", figure_ids=("faces",))
+    assert lv.lookup("figure.lobe.l1_energy", figure_ids=("lobe",)).measured
+    with pytest.raises(ValueError, match="does not apply"):
+        lv.check_format(".3q", lv.lookup("audit.injected"))
+
+
+def test_every_fixed_name_reads_a_value_from_a_real_frame(frame):
+    from explorer.truth.metrics import ErrorStats
+
+    stats = ErrorStats(0.5, 0.01, 0.9, (0.8, 0.9, 1.0), 100)
+    context = lv.LiveContext(settings=SMALL, result=frame, error=stats, renderer="llvmpipe")
+    for name in lv.table():
+        if name.startswith("frame.time.") and name != "frame.time.total" and \
+                name.rsplit(".", 1)[1] not in frame.timings_ms:
+            # a pass that did not run (no downsampling, no geometry volume): no time
+            assert lv.render(name, "", context) == lv.PENDING
+            continue
+        text = lv.render(name, "", context)
+        assert text != lv.PENDING and text, name
+
+
+def test_audit_numbers_are_the_frames_own_sums(frame):
+    context = lv.LiveContext(settings=SMALL, result=frame)
+    audit = frame.audit
+
+    def value(name):
+        return lv.lookup(name).value(context)
+
+    for name in ("rsm", "injected", "accumulated", "gathered", "border_loss", "clamp_gain",
+                 "occluded"):
+        assert value(f"audit.{name}") == pytest.approx(float(np.sum(getattr(audit, name))))
+    per_step = np.asarray(audit.per_step).sum(axis=1)
+    assert value("audit.step_ratio") == pytest.approx(per_step[1] / per_step[0])
+    assert value("audit.last_over_first") == pytest.approx(per_step[-1] / per_step[0])
+    assert value("audit.max_over_first") == pytest.approx(per_step.max() / per_step[0])
+    assert value("audit.injected_over_rsm") == pytest.approx(
+        np.sum(audit.injected) / np.sum(audit.rsm))
+    # corrected formulas: the grid receives what the RSM reflects (docs/MODEL.md)
+    assert value("audit.injected_over_rsm") == pytest.approx(1.0, rel=1e-4)
+
+
+def test_frame_numbers(frame):
+    from explorer.lpv.cascades import texture_bytes
+
+    context = lv.LiveContext(settings=SMALL, result=frame)
+
+    def value(name):
+        return lv.lookup(name).value(context)
+
+    lit = np.asarray(frame.vpls.flux).sum(axis=1) > 0
+    assert value("frame.vpls") == frame.vpls.count
+    assert value("frame.lit_vpls") == int(lit.sum())
+    assert value("frame.vpl_depth_max") == pytest.approx(float(frame.vpls.depth[lit].max()))
+    assert value("frame.cell_size") == pytest.approx(frame.grid_spec.cell_size)
+    assert value("frame.cells") == 12 ** 3
+    assert value("frame.face_evaluations") == 30 * 12 ** 3 * 5
+    assert value("frame.lpv_memory_mib") == pytest.approx(
+        texture_bytes(12, 1, "rgba32f", False) / 2 ** 20)
+    assert value("frame.time.propagate") == pytest.approx(frame.timings_ms["propagate"])
+    assert value("frame.time.total") == pytest.approx(sum(frame.timings_ms.values()))
+    assert value("frame.timer") in ("GPU timer queries", "the wall clock")
+
+
+def test_settings_switches_derived_and_error():
+    original = SMALL.with_changes(corrections="original")
+    context = lv.LiveContext(settings=original)
+    assert lv.render("settings.grid_size", "", context) == "12"
+    assert lv.render("settings.geometry_volume", "", context) == "off"
+    assert lv.render("corrections.injection_pi", "", context) == "off"
+    assert lv.render("corrections.preset", "", context) == "original"
+    custom = lv.LiveContext(settings=SMALL.with_changes(corrections={"side_faces": False}))
+    assert lv.render("corrections.preset", "", custom) == "custom"
+    assert lv.render("derived.sh.c0", ".10f", context) == f"{derived.get('sh.c0').value:.10f}"
+    assert lv.render("derived.corrections.clamp_front_face.lobe_behind", ".2f",
+                     context) == "−0.25"                   # a true minus sign
+    assert lv.render("error.relative_l2", ".2f", context) == lv.PENDING
+    stats = SimpleNamespace(relative_l2=0.714, flux_ratio=0.5, rmse=0.1,
+                            flux_ratio_rgb=(0.4, 0.5, 0.6))
+    measured = lv.LiveContext(settings=SMALL, error=stats)
+    assert lv.render("error.relative_l2", ".2f", measured) == "0.71"
+    assert lv.render("error.flux_ratio_blue", ".1f", measured) == "0.6"
+    assert PRESETS["corrected"] == SMALL.corrections
+
+
+def test_nothing_is_read_before_a_frame():
+    context = lv.LiveContext()
+    for name in ("audit.injected", "frame.vpls", "frame.time.rsm", "settings.iterations",
+                 "figure.x.y"):
+        ids = ("x",) if name.startswith("figure") else ()
+        assert lv.render(name, "", context, ids) == lv.PENDING
+
+
+def test_format_value():
+    assert lv.format_value(True, "") == "on"
+    assert lv.format_value(-0.5, ".2f") == "−0.50"
+    assert lv.format_value(math.inf, ".2f") == "∞"
+    assert lv.format_value((1.0, -2.0), ".1f") == "(1.0, −2.0)"
+    assert lv.format_value(12345, ",d") == "12,345"
+    assert lv.format_value("room", "") == "room"
