@@ -18,6 +18,7 @@
 // faces and weights, evaluated and reprojected with the L2 basis and lobe.
 #define IMAGE_FORMAT rgba32f
 #define SH_ORDER 1
+#define PROPAGATE_AUDIT 1
 
 #if defined COMPUTE_SHADER
 
@@ -71,6 +72,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
             lpv_send(source, cell, dir, false, front_weight, side_weight, received, audit);
         }
     }
+#if PROPAGATE_AUDIT
     // A border cell is also the source of the faces that leave the grid (audit only).
     if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
         ShVec own[3];
@@ -83,6 +85,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
             }
         }
     }
+#endif
     vec3 reflected = vec3(0.0);
     vec3 blocked = vec3(0.0);
     if (u_reflect) {
@@ -120,12 +123,14 @@ void main() {
     }
     float audit[AUDIT_VALUES];
     propagate_cell(cell, audit);
+#if PROPAGATE_AUDIT
     int n = u_grid_resolution;
     int cells = n * n * n;
     int linear = cell.x + n * (cell.y + n * cell.z);
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         cell_terms[i * cells + linear] = audit[i];
     }
+#endif
 }
 
 #endif

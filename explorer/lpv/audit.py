@@ -51,14 +51,19 @@ class GridAudit:
     """(iterations, 3) flux the geometry volume blocked in step t+1 that can bounce: per
     source cell and direction clamped at 0 (``bounces`` 2 only; zeros otherwise).
     ``reflected <= blocked`` whenever every albedo is <= 1."""
+    steps_measured: bool = True
+    """False when the propagation ran without the per-step audit (``need_audit=False``):
+    ``injected`` and ``accumulated`` are measured, the per-step terms after step 0 are
+    NaN."""
 
     @property
     def iterations(self) -> int:
         return int(self.border_loss.shape[0])
 
     def as_dict(self) -> dict[str, list]:
-        """Plain lists, for JSON output and plots."""
-        return {name: np.asarray(value).tolist() for name, value in vars(self).items()}
+        """Plain lists, for JSON output and plots (``steps_measured`` stays a bool)."""
+        return {name: value if isinstance(value, bool) else np.asarray(value).tolist()
+                for name, value in vars(self).items()}
 
 
 @dataclass
@@ -124,18 +129,22 @@ class AuditReducer:
     def partial_count(self) -> int:
         return -(-self._resolution ** 3 // CELLS_PER_PARTIAL)
 
-    def begin(self, resolution: int, slots: int) -> None:
-        """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid."""
+    def begin(self, resolution: int, slots: int, cell_records: bool = True) -> None:
+        """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid, and the
+        per-cell records of a propagation step when ``cell_records``."""
         self._resolution = int(resolution)
         self._slots = int(slots)
         self._buffer("partials", self.partial_count * AUDIT_VALUES * 4)
-        self._buffer("cells", self._resolution ** 3 * AUDIT_VALUES * 4)
+        if cell_records:
+            self._buffer("cells", self._resolution ** 3 * AUDIT_VALUES * 4)
         self._buffer("results", self._slots * AUDIT_VALUES * 4).clear()
 
     def bind(self) -> None:
-        """Bind the storage buffers: partials 2, results 3, per-cell records 4."""
+        """Bind the storage buffers: partials 2, results 3, per-cell records 4 (when
+        allocated)."""
         for name, binding in (("partials", 2), ("results", 3), ("cells", 4)):
-            self._buffers[name].bind_to_storage_buffer(binding)
+            if name in self._buffers:
+                self._buffers[name].bind_to_storage_buffer(binding)
 
     def _run_partials(self, stage: int, uniforms: dict[str, object]) -> None:
         self.bind()
