@@ -23,8 +23,10 @@ uniform sampler3D u_source_g;
 uniform sampler3D u_source_b;
 uniform sampler3D u_geometry;      // (N+1)^3 texels centred on the light grid's corners
 uniform bool u_use_geometry;
-uniform float u_front_weight;      // k_R k_I k_P dw_front
-uniform float u_side_weight;       // k_R k_I k_P dw_side
+
+// k_R k_I k_P dw_f with the corrected factors: k_R k_I k_P = 1/pi.
+const float FRONT_WEIGHT = FRONT_FACE_SOLID_ANGLE * INV_PI;
+const float SIDE_WEIGHT = SIDE_FACE_SOLID_ANGLE * INV_PI;
 
 layout(IMAGE_FORMAT, binding = 0) uniform writeonly image3D u_target_r;
 layout(IMAGE_FORMAT, binding = 1) uniform writeonly image3D u_target_g;
@@ -84,15 +86,15 @@ void main() {
         vec3 d = vec3(DIRECTIONS[dir]);
         vec3 fu = vec3(u);
         vec3 fv = vec3(v);
-        face(sr, sg, sb, blocker, d, d, u_front_weight, true);
+        face(sr, sg, sb, blocker, d, d, FRONT_WEIGHT, true);
         face(sr, sg, sb, blocker, SIDE_EVAL_BIG * d + SIDE_EVAL_SMALL * fu, fu,
-             u_side_weight, false);
+             SIDE_WEIGHT, false);
         face(sr, sg, sb, blocker, SIDE_EVAL_BIG * d - SIDE_EVAL_SMALL * fu, -fu,
-             u_side_weight, false);
+             SIDE_WEIGHT, false);
         face(sr, sg, sb, blocker, SIDE_EVAL_BIG * d + SIDE_EVAL_SMALL * fv, fv,
-             u_side_weight, false);
+             SIDE_WEIGHT, false);
         face(sr, sg, sb, blocker, SIDE_EVAL_BIG * d - SIDE_EVAL_SMALL * fv, -fv,
-             u_side_weight, false);
+             SIDE_WEIGHT, false);
     }
     imageStore(u_target_r, cell, r_sum);
     imageStore(u_target_g, cell, g_sum);

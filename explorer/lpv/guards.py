@@ -13,9 +13,9 @@ of the first bad value).
   64 steps. :func:`growth_explanation` says why wherever the growth is shown.
 * Mesh scale: positions are float32 and the shaders square lengths, so a scene much
   smaller than :data:`MIN_SCENE_EXTENT` loses its light (squared distances fall below
-  the shaders' guards, areas underflow) and one larger than :data:`MAX_SCENE_EXTENT`
-  overflows (squared distances and the light's flux, which grows with the squared size,
-  pass 3.4·10³⁸).
+  the shaders' guards) and one larger than :data:`MAX_SCENE_EXTENT` overflows (the
+  G-buffer's pixel area ∝ size² is a length of a cross product, whose square ∝ size⁴
+  passes 3.4·10³⁸; beyond ~10¹⁹ the RSM's flux, ∝ size², does too).
 """
 
 from __future__ import annotations
@@ -33,12 +33,14 @@ from explorer.lpv.constants import (
     SIDE_FACE_SOLID_ANGLE,
 )
 
+FLOAT32_MAX = float(np.finfo(np.float32).max)
 MIN_SCENE_EXTENT = 1e-5
 """Below this edge of the scene's bounding box (world units) the light fades: the
-gather's squared-distance guard (1e-12) and float32 areas take over."""
-MAX_SCENE_EXTENT = 1e15
-"""Above it squared lengths and the light's flux (∝ size²) come close to float32's
-3.4·10³⁸."""
+gather's squared-distance guard (1e-12) takes over (measured: the Cornell box scaled to
+2e-7 keeps 4 % of its light, at 2e-6 all of it)."""
+MAX_SCENE_EXTENT = 1e9
+"""Above it the G-buffer's pixel areas overflow (measured: the Cornell box scaled to
+2e10 has infinite areas at its silhouettes, at 2e9 none; at 2e19 the RSM is NaN)."""
 
 
 def switches_off(corrections) -> tuple[str, ...]:
@@ -67,8 +69,10 @@ def all_finite(array: np.ndarray) -> bool:
 def pass_warning(pass_name: str, corrections, detail: str) -> str:
     """The warning of a pass whose output is not finite."""
     text = f"the {pass_name} pass produced {detail}; {switch_text(corrections)}"
-    growth = growth_explanation(corrections)
-    return f"{text} ({growth})" if growth else text
+    if growth_explanation(corrections) is not None:
+        text += (f"; with these switches the flux grows ×{growth_per_step(corrections):.4g} "
+                 f"per step")
+    return text
 
 
 def array_warning(pass_name: str, array: np.ndarray, corrections) -> str | None:
@@ -137,8 +141,10 @@ def growth_warning(corrections, iterations: int, measured: float | None = None
     if explanation is None or iterations < 1:
         return None
     total = growth_per_step(corrections) ** iterations
-    shown = "beyond float32" if not math.isfinite(total) or total > 3.4e38 else f"{total:.3g}"
-    text = f"{explanation}; ×{shown} after {iterations} steps"
+    if not math.isfinite(total) or total > FLOAT32_MAX:
+        text = f"{explanation}; after {iterations} steps beyond float32's range (3.4e38)"
+    else:
+        text = f"{explanation}; ×{total:.3g} after {iterations} steps"
     if measured is not None and math.isfinite(measured):
         text += f" (measured: accumulated/injected flux = {measured:.3g})"
     return text
@@ -155,8 +161,8 @@ def scale_warning(bounds_min, bounds_max) -> str | None:
         effect = (f"smaller than {MIN_SCENE_EXTENT:g}: squared distances and areas fall "
                   f"below what float32 and the shaders resolve, so the light fades to black")
     else:
-        effect = (f"larger than {MAX_SCENE_EXTENT:g}: squared distances and the light's "
-                  f"flux overflow float32 (NaN or infinity in the RSM)")
+        effect = (f"larger than {MAX_SCENE_EXTENT:g}: squared lengths overflow float32 "
+                  f"(infinite pixel areas, NaN or infinity in the RSM)")
     return (f"the scene is {extent:.3g} world units across, {effect}; rescale the mesh "
             f"(e.g. to metres)")
 

@@ -115,10 +115,9 @@ class Job:
                         tuple(sorted(self._ran, key=order.__getitem__)))
 
     # ------------------------------------------------------------------ work
-    def advance(self, budget_ms: float | None = None, preview: bool = False) -> Progress:
+    def advance(self, budget_ms: float | None = None) -> Progress:
         """Do whole units of work until ``budget_ms`` milliseconds are spent (None: until
-        the frame is finished). ``preview``: afterwards, gather and display the
-        accumulation so far while the propagation is unfinished (:meth:`preview`)."""
+        the frame is finished); at least one unit per call."""
         if self.cancelled:
             raise RuntimeError("the job was cancelled (another job started)")
         start = time.perf_counter()
@@ -133,29 +132,23 @@ class Job:
                     break
             self._run_unit()
             worked = True
-        if preview and not self.done and self._stage == "propagate":
-            self.preview()
         return self.progress
 
     def preview(self) -> bool:
         """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
         view then shows the light growing step by step); False when there is nothing to
-        show yet (before the G-buffer, the RSM or the first propagation step)."""
+        show yet (before the G-buffer, the RSM or the first propagation step) or when the
+        job is finished (``final_texture`` then holds the frame)."""
         if self.done or not (self.evaluated("gbuffer") and self.evaluated("rsm")):
             return False
-        if not (self._stage == "propagate" or self.evaluated("propagate")):
+        started = self._stage == "propagate" and self._done > 0
+        if not (started or self.evaluated("propagate")):
             return False
         return self.pipeline.show_preview(self)
 
     def cancel(self) -> None:
         """Stop here; a stage in the middle of its work runs again in the next job."""
-        if self._work is not None:
-            self._work.close()
-        self._work = None
-        self._stage = None
-        self.cancelled = True
-        if self.pipeline.job is self:
-            self.pipeline.job = None
+        self._abandon()
 
     # ------------------------------------------------------------------ stages
     def _begin_next(self) -> bool:
@@ -191,24 +184,31 @@ class Job:
         name = self._stage
         started = time.perf_counter()
         try:
-            next(self._work)
-            finished = False
-        except StopIteration:
-            finished = True
+            try:
+                next(self._work)
+                finished = False
+            except StopIteration:
+                finished = True
+            self.pipeline.unit_ms[name] = (time.perf_counter() - started) * 1e3
+            self._done += 1
+            if finished:
+                self.pipeline.keys[name] = self._key
+            self._report()
         except BaseException:
-            # the stage's key stays forgotten: it runs again next time
-            self._work, self._stage = None, None
-            if self.pipeline.job is self:
-                self.pipeline.job = None
-            self.cancelled = True
+            # an unfinished stage keeps its key forgotten: it runs again next time
+            self._abandon()
             raise
-        self.pipeline.unit_ms[name] = (time.perf_counter() - started) * 1e3
-        self._done += 1
-        self._report()
         if finished:
             self._work = None
-            self.pipeline.keys[name] = self._key
             self._complete(name, self._key, ran=True)
+
+    def _abandon(self) -> None:
+        if self._work is not None:
+            self._work.close()
+        self._work, self._stage = None, None
+        self.cancelled = True
+        if self.pipeline.job is self:
+            self.pipeline.job = None
 
     def _complete(self, name: str, out_key: object, ran: bool) -> None:
         self.out_keys[name] = out_key
