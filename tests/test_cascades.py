@@ -278,7 +278,8 @@ def test_cli_render_compare_and_bench_take_cascades(tmp_path, capsys, gl_context
     assert cli_main(["bench", "--quick", "--grids", "8", "--iterations", "2",
                      "--cascades", "1,2", "--variants", "none", "--json", str(bench)]) == 0
     rows = json.loads(bench.read_text())["rows"]
-    assert [(row["grid"], row["cascades"]) for row in rows] == [(8, 1), (8, 2)]
+    assert [(row["variant"], row["grid"], row["cascades"]) for row in rows] == [
+        ("default", 8, 1), ("default", 8, 2), ("baseline", 8, 1)]
 
 
 def test_gather_damping_acts_in_every_cascade(gl_context, ctx):   # ctx: no GL errors

@@ -12,6 +12,13 @@ neighbour reads are assumed to hit the cache. The propagate pass time also holds
 energy-audit reduction and the copy of grid_0 into the accumulation grid, so the figure is
 a lower bound of what the propagation kernel alone reaches. With ``--sh-order 2`` (L2) a
 cell holds 3 texels per channel, so a step moves 3× as many bytes.
+
+Rows are timed as the window runs the frame: without the per-step energy audit (the
+``audit`` variant adds it). Baseline: for every single-cascade L1 row the minimal
+propagation kernel (``shaders/propagate_minimal.glsl``: five faces per neighbour and the
+geometry volume's occlusion, no switches, no audit) propagates the same injected grid,
+timed alternately with the pipeline's own propagation in the same run; the ``×base``
+column is the ratio of the two, and a ``baseline`` row per grid shows the kernel's time.
 """
 
 from __future__ import annotations
@@ -38,10 +45,12 @@ VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
     "bounces-2": {"bounces": 2},
+    "audit": {"need_audit": True},
 }
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
-options against the default settings. bounces-2 turns a one-sided geometry volume on if
---geometry-volume is off (it needs one)."""
+options against the default settings, and the propagation with its per-step energy audit
+(``need_audit`` is a run option, not a Settings field). bounces-2 turns a one-sided
+geometry volume on if --geometry-volume is off (it needs one)."""
 
 
 def parse_variants(text: str) -> tuple[str, ...]:
@@ -109,7 +118,7 @@ def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -
 
 
 def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
-    from explorer.lpv.settings import Settings, preset
+    from explorer.lpv.propagate import BaselinePropagatePass
 
     quick = args.quick
     if quick:
@@ -126,44 +135,87 @@ def run_bench(args: argparse.Namespace, pipeline) -> list[dict]:
     for order in sh_orders:
         if order not in (1, 2):
             raise ValueError(f"--sh-order: the SH order must be 1 (L1) or 2 (L2), got {order}")
-    for grid in grids:
-        runs = [("default", steps, k, order, {}) for steps in iterations
-                for k in cascade_counts for order in sh_orders]
-        runs += [(name, max(iterations), 1, sh_orders[0], VARIANTS[name])
-                 for name in args.variants]
-        for variant, steps, cascades, order, changes in runs:
-            settings = Settings(scene=args.scene, corrections=preset(args.preset),
-                                grid_size=grid, iterations=steps, rsm_size=rsm_size,
-                                width=width, height=height, grid_format=args.format,
-                                geometry_volume=args.geometry_volume, cascades=cascades,
-                                sh_order=order)
-            if changes.get("bounces", 1) > 1 and settings.geometry_volume == "off":
-                changes = {**changes, "geometry_volume": "one-sided"}
-            settings = settings.with_changes(**changes)
-            pipeline.run(settings)                    # warm-up: compiles, allocates
-            samples: dict[str, list[float]] = {}
-            for _ in range(repeat):
-                pipeline.invalidate("rsm")
-                result = pipeline.run(settings)
-                for name in result.stages_run:
-                    if name in result.timings_ms:
-                        samples.setdefault(name, []).append(result.timings_ms[name])
-            passes = {name: statistics.median(values) for name, values in samples.items()}
-            row = {"variant": variant, "grid": grid, "iterations": steps, "cascades": cascades,
-                   "sh_order": order, "passes_ms": passes, "frame_ms": sum(passes.values()),
-                   "methods": dict(pipeline.timing_methods)}
-            propagate_ms = passes.get("propagate", 0.0)
-            if steps > 0 and propagate_ms > 0:
-                moved = cascades * propagation_bytes(grid, steps, args.format, order)
-                row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
-                row["ms_per_step"] = propagate_ms / steps
-            rows.append(row)
+    baseline = BaselinePropagatePass(pipeline.ctx, pipeline.programs)
+    try:
+        for grid in grids:
+            runs = [("default", steps, k, order, {}) for steps in iterations
+                    for k in cascade_counts for order in sh_orders]
+            runs += [(name, max(iterations), 1, sh_orders[0], VARIANTS[name])
+                     for name in args.variants]
+            rows += _bench_grid(args, pipeline, baseline, grid, runs,
+                                (width, height, rsm_size, repeat))
+    finally:
+        baseline.release()
     return rows
+
+
+def _bench_grid(args, pipeline, baseline, grid: int, runs, sizes) -> list[dict]:
+    """The rows of one grid size, and its baseline row (module docstring)."""
+    from explorer.lpv.settings import Settings, preset
+
+    (width, height, rsm_size, repeat), rows, baseline_row = sizes, [], None
+    for variant, steps, cascades, order, changes in runs:
+        changes = dict(changes)
+        need_audit = bool(changes.pop("need_audit", False))
+        settings = Settings(scene=args.scene, corrections=preset(args.preset),
+                            grid_size=grid, iterations=steps, rsm_size=rsm_size,
+                            width=width, height=height, grid_format=args.format,
+                            geometry_volume=args.geometry_volume, cascades=cascades,
+                            sh_order=order)
+        if changes.get("bounces", 1) > 1 and settings.geometry_volume == "off":
+            changes = {**changes, "geometry_volume": "one-sided"}
+        settings = settings.with_changes(**changes)
+        compare = steps > 0 and cascades == 1 and order == 1 and variant in ("default",
+                                                                             "audit")
+        pipeline.run(settings, need_audit=need_audit)   # warm-up: compiles, allocates
+        if compare:
+            _time_baseline(pipeline, baseline, steps)
+        samples: dict[str, list[float]] = {}
+        for _ in range(repeat):       # the pipeline and the baseline alternately
+            pipeline.invalidate("rsm")
+            result = pipeline.run(settings, need_audit=need_audit)
+            for name in result.stages_run:
+                if name in result.timings_ms:
+                    samples.setdefault(name, []).append(result.timings_ms[name])
+            if compare:
+                samples.setdefault("baseline", []).append(
+                    _time_baseline(pipeline, baseline, steps))
+        medians = {name: statistics.median(values) for name, values in samples.items()}
+        baseline_ms = medians.pop("baseline", None)
+        passes = medians
+        row = {"variant": variant, "grid": grid, "iterations": steps, "cascades": cascades,
+               "sh_order": order, "passes_ms": passes, "frame_ms": sum(passes.values()),
+               "methods": dict(pipeline.timing_methods)}
+        propagate_ms = passes.get("propagate", 0.0)
+        if steps > 0 and propagate_ms > 0:
+            moved = cascades * propagation_bytes(grid, steps, args.format, order)
+            row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
+            row["ms_per_step"] = propagate_ms / steps
+        if baseline_ms:
+            row["baseline_ms"] = baseline_ms
+            row["kernel_ratio"] = propagate_ms / baseline_ms
+            if variant == "default" and (baseline_row is None or
+                                         steps >= baseline_row["iterations"]):
+                baseline_row = {"variant": "baseline", "grid": grid, "iterations": steps,
+                                "cascades": 1, "sh_order": 1,
+                                "passes_ms": {"propagate": baseline_ms},
+                                "frame_ms": baseline_ms, "ms_per_step": baseline_ms / steps,
+                                "kernel_ratio": 1.0, "methods": {}}
+        rows.append(row)
+    return rows + ([baseline_row] if baseline_row else [])
+
+
+def _time_baseline(pipeline, baseline, steps: int) -> float:
+    """Milliseconds of ``steps`` steps of the baseline kernel on the grid the pipeline
+    just injected (cascade 0), timed like the pipeline's passes."""
+    injected, spec, volume = pipeline.propagation_inputs(0)
+    return pipeline.measure("baseline", lambda: baseline.run(injected, spec, steps,
+                                                             volume))[1]
 
 
 def format_table(rows: list[dict], peak_gbs: float | None) -> str:
     header = ["variant", "grid", "iters", "cascades", "sh", *PASS_COLUMNS, "frame", "ms/step",
-              "GB/s"]
+              "×base", "GB/s"]
     if peak_gbs:
         header.append("% peak")
     lines = ["  ".join(f"{h:>10}" for h in header)]
@@ -174,6 +226,7 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
                   for name in PASS_COLUMNS]
         cells.append(f"{row['frame_ms']:.2f}")
         cells.append(f"{row['ms_per_step']:.3f}" if "ms_per_step" in row else "-")
+        cells.append(f"{row['kernel_ratio']:.2f}" if "kernel_ratio" in row else "-")
         gbs = row.get("propagation_gbs")
         cells.append(f"{gbs:.2f}" if gbs is not None else "-")
         if peak_gbs:

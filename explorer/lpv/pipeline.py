@@ -540,13 +540,23 @@ class Pipeline:
         self._warnings[stage] = self._array_warnings(stage, s, arrays)
 
     def _timed(self, name: str, work, accumulate: bool = False):
-        """Run ``work()`` and record its GPU time in milliseconds (module docstring);
-        ``accumulate`` adds it to the time recorded so far (a stage of several units)."""
-        use_clock = self.software_renderer
+        """Run ``work()`` and record its GPU time in ``timings_ms[name]`` (module
+        docstring); ``accumulate`` adds it to the time recorded so far (a stage of several
+        units)."""
+        result, elapsed, self.timing_methods[name] = self.measure(name, work)
+        self.timings_ms[name] = elapsed + (self.timings_ms.get(name, 0.0) if accumulate
+                                           else 0.0)
+        return result
+
+    def measure(self, name: str, work) -> tuple[object, float, str]:
+        """``(work(), milliseconds, method)``: the GPU time of ``work`` by a timer query
+        (one query object per ``name``, reused: moderngl cannot free them) or, on a
+        software renderer or without a query result, the wall clock between two
+        ``ctx.finish()`` calls (module docstring)."""
         self.ctx.finish()
         start = time.perf_counter()
         query = None
-        if not use_clock:   # one query object per pass, reused (moderngl cannot free them)
+        if not self.software_renderer:
             query = self._queries.get(name)
             if query is None:
                 query = self._queries[name] = self.ctx.query(time=True)
@@ -559,12 +569,15 @@ class Pipeline:
         wall_ms = (time.perf_counter() - start) * 1e3
         query_ms = 0.0 if query is None else query.elapsed / 1e6
         if 0.0 < query_ms < _QUERY_UNAVAILABLE_MS:
-            elapsed, self.timing_methods[name] = query_ms, "timer-query"
-        else:
-            elapsed, self.timing_methods[name] = wall_ms, "wall-clock"
-        self.timings_ms[name] = elapsed + (self.timings_ms.get(name, 0.0) if accumulate
-                                           else 0.0)
-        return result
+            return result, query_ms, "timer-query"
+        return result, wall_ms, "wall-clock"
+
+    def propagation_inputs(self, level: int = 0):
+        """``(injected grid, GridSpec, geometry volume or None)`` of cascade ``level``'s
+        last propagation, on the GPU (``lpv-explorer bench`` propagates them again with
+        its baseline kernel)."""
+        cascade = self._levels[level]
+        return cascade.injected, self._specs[level], cascade.volume
 
     def _result(self, job: Job) -> FrameResult:
         s = job.settings
