@@ -226,8 +226,7 @@ class Pipeline:
         the surface under the pixel (|∂p/∂x × ∂p/∂y| from the G-buffer). Only surfaces the
         camera sees count, once per pixel, so it is not expected to equal the injected
         flux: it says how much LPV light lands on what is on screen."""
-        received = self._arrays["gather"]["received"]
-        return received[..., :3].astype(np.float64).sum(axis=(0, 1))
+        return self._arrays["gathered"].copy()
 
     def check_limits(self, s: Settings) -> None:
         """A one-line ValueError when ``s`` asks for more than the driver or the memory
@@ -378,6 +377,9 @@ class Pipeline:
             "rsm", lambda: self._rsm.run(self._geometry_buffers, self._light))
         self._arrays["rsm"] = tuple(read_texture(t) for t in (
             self._rsm_textures.position, self._rsm_textures.normal, self._rsm_textures.flux))
+        flux = self._arrays["rsm"][2][..., :3]
+        self._arrays["rsm_flux"] = np.add.reduce(flux.reshape(-1, 3), axis=0,
+                                                 dtype=np.float64)
         self._check("rsm", s, self._arrays["rsm"])
 
     def _stage_downsample(self, job: Job) -> None:
@@ -484,6 +486,9 @@ class Pipeline:
         targets = self._gather.targets
         self._arrays["gather"] = {name: read_texture(targets[name])
                                   for name in ("direct", "indirect", "received")}
+        received = self._arrays["gather"]["received"][..., :3]
+        self._arrays["gathered"] = np.add.reduce(received.reshape(-1, 3), axis=0,
+                                                 dtype=np.float64)
         self._check("gather", s, self._arrays["gather"].values())
 
     def _stage_display(self, job: Job) -> None:
@@ -587,8 +592,7 @@ class Pipeline:
         levels = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
                               level.output.audit)
                   for spec, level in zip(self._specs, self._levels)]
-        rsm_total = rsm_flux[..., :3].astype(np.float64).sum(axis=(0, 1))
-        audit = EnergyAudit.from_grid_audit(levels[0].audit, rsm=rsm_total,
+        audit = EnergyAudit.from_grid_audit(levels[0].audit, rsm=self._arrays["rsm_flux"],
                                             gathered=self.gathered_flux())
         warnings = [w for stage in STAGES for w in self._warnings.get(stage, [])]
         if s.iterations > 0:
