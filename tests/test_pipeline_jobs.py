@@ -165,9 +165,16 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     with Pipeline(other, ctx=gl_context) as fresh:
         assert np.allclose(second.result.accumulated, fresh.run().accumulated, rtol=1e-6,
                            atol=1e-9)
-    # going back: the half-done propagation of the cancelled job runs again
+    # asking again for the frame in progress carries on with the same job
+    third = pipeline.start(SMALL.with_changes(iterations=12))
+    third.advance(0.0)
+    assert pipeline.start(SMALL.with_changes(iterations=12)) is third and not third.cancelled
+    assert pipeline.start(SMALL.with_changes(iterations=12), keep_steps=True) is not third
+    assert third.cancelled
+    # going back: the geometry volume (off again) was completed by the third job, the
+    # propagation is done again
     back = pipeline.run(SMALL.with_changes(iterations=10))
-    assert back.stages_run == ("geometry", "propagate", "gather", "display")
+    assert back.stages_run == ("propagate", "gather", "display")
 
 
 def test_an_interrupted_run_leaves_the_pipeline_consistent(pipeline, gl_context):

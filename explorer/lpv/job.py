@@ -75,7 +75,7 @@ class Job:
         self.need_audit = bool(need_audit)
         self.vpls = vpls
         self.vpls_key = None if vpls is None else pipeline.vpl_digest(vpls)
-        self._progress_callback = progress
+        self.progress_callback = progress
         self._index = 0
         self._work: Iterator[None] | None = None
         self._stage: str | None = None
@@ -89,6 +89,15 @@ class Job:
         self.cancelled = False
 
     # ------------------------------------------------------------------ state
+    def asks_for(self, settings: "Settings", keep_steps: bool, need_audit: bool,
+                 vpls: "VplArrays | None") -> bool:
+        """Whether this unfinished job computes the frame these arguments ask for."""
+        if self.done or self.cancelled or settings != self.settings:
+            return False
+        vpls_key = None if vpls is None else self.pipeline.vpl_digest(vpls)
+        return (bool(keep_steps), bool(need_audit), vpls_key) == (
+            self.keep_steps, self.need_audit, self.vpls_key)
+
     @property
     def done(self) -> bool:
         return self._result is not None
@@ -218,5 +227,5 @@ class Job:
         self._index += 1
 
     def _report(self) -> None:
-        if self._progress_callback is not None and self._stage is not None:
-            self._progress_callback(self._stage, self._done, self._total)
+        if self.progress_callback is not None and self._stage is not None:
+            self.progress_callback(self._stage, self._done, self._total)

@@ -157,11 +157,17 @@ class Pipeline:
         propagation kernel skips the audit and only the injected and accumulated flux
         are measured (a later job that needs the audit propagates again). ``vpls``:
         inject these VPLs instead of the RSM's (the RSM still renders for the direct
-        light and its shadow); lessons and tests use it for hand-made light."""
-        if self.job is not None:
-            self.job.cancel()
-        if settings is not None:
-            self.settings = settings
+        light and its shadow); lessons and tests use it for hand-made light. Asking again
+        for the frame the job in progress makes returns that job, so a caller may start
+        every frame."""
+        settings = self.settings if settings is None else settings
+        current = self.job
+        if current is not None and current.asks_for(settings, keep_steps, need_audit, vpls):
+            current.progress_callback = progress
+            return current           # the same frame: carry on where it is
+        if current is not None:
+            current.cancel()
+        self.settings = settings
         self.check_limits(self.settings)
         self.job = Job(self, self.settings, keep_steps, need_audit, vpls, progress)
         return self.job
