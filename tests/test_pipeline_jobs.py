@@ -286,3 +286,27 @@ def test_gather_writes_linear_light_only(pipeline):
     targets = pipeline._gather.targets
     assert set(targets) == {"direct", "indirect", "received"}
     assert np.allclose(read_texture(targets["direct"])[..., :3], result.direct)
+
+
+def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
+    from explorer.lpv.gather import bands
+
+    assert bands((960, 540)) == [(round(i * 540 / 8), round((i + 1) * 540 / 8))
+                                 for i in range(8)]
+    assert bands((10, 3), band_pixels=1) == [(0, 1), (1, 2), (2, 3)]   # a row at least
+    assert bands((64, 64)) == [(0, 64)]
+    settings = SMALL.with_changes(width=300, height=260)              # 78000 pixels
+    calls = []
+    with Pipeline(settings, ctx=gl_context) as pipe:
+        banded = pipe.run(progress=lambda *call: calls.append(call))
+        assert [c for c in calls if c[0] == "gather"] == [("gather", 0, 2), ("gather", 1, 2),
+                                                          ("gather", 2, 2)]
+        pipe._gather_levels(settings)                                  # all rows at once
+        whole = read_texture(pipe._gather.targets["indirect"])[..., :3]
+        assert np.array_equal(banded.indirect, whole) and banded.indirect.max() > 0
+        # one band leaves the other rows alone
+        pipe._gather._targets.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+        pipe._gather_levels(settings, (0, 100))                        # GL rows: bottom up
+        band = read_texture(pipe._gather.targets["indirect"])[..., :3]
+        assert np.array_equal(band[-100:], whole[-100:])
+        assert not band[:-100].any()

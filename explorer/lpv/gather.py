@@ -24,6 +24,19 @@ from explorer.lpv.textures import sh_defines
 from explorer.lpv.vpl import VplTextures
 
 TARGETS = ("direct", "indirect", "received")
+BAND_PIXELS = 1 << 16
+"""Pixels of one band of the gather (one unit of a time-sliced frame): at 960×540 the
+gather runs as 8 bands, none longer than a frame budget on llvmpipe takes."""
+
+
+def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[int, int]]:
+    """Row ranges ``(first, end)`` covering an image of ``size`` (width, height) in bands
+    of about ``band_pixels`` pixels each (at least one row)."""
+    width, height = int(size[0]), int(size[1])
+    count = max(1, min(height, -(-width * height // band_pixels)))
+    edges = [round(i * height / count) for i in range(count + 1)]
+    return [(edges[i], edges[i + 1]) for i in range(count)]
+
 
 
 class GatherPass:
@@ -48,13 +61,16 @@ class GatherPass:
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
             grid_textures, spec: GridSpec, damping: bool = False,
-            cascades: list[CascadeInput] | None = None, sh_order: int = 1) -> None:
+            cascades: list[CascadeInput] | None = None, sh_order: int = 1,
+            rows: tuple[int, int] | None = None) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
         clamped), or None for direct light only. ``damping``: the directional-derivative
         damping of the indirect irradiance (docs/MODEL.md "Final gather").
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
-        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""
+        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
+        ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
+        the others keep what they hold."""
         self._targets.allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", sh_defines(sh_order))
         gbuffer.position.use(0)
@@ -80,7 +96,7 @@ class GatherPass:
             **self._cascade_uniforms(cascades, grid_textures, spec),
         }
         set_uniforms(program, values)
-        with self._targets.drawing():
+        with self._targets.drawing(rows=rows):
             self._triangle.draw(program)
 
     CASCADE_FIRST_UNIT = 8

@@ -53,7 +53,7 @@ from explorer.lpv.cascades import check_limits as check_cascade_limits
 from explorer.lpv.display import DisplayPass
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult
-from explorer.lpv.gather import GatherPass
+from explorer.lpv.gather import GatherPass, bands
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.geometry import GeometryPass
 from explorer.lpv.grid import GridSpec
@@ -310,6 +310,8 @@ class Pipeline:
         """Units of work ``stage`` takes (for progress and the frame budget)."""
         if stage in ("inject", "geometry"):
             return len(self._specs)
+        if stage == "gather":
+            return len(bands((job.settings.width, job.settings.height)))
         if stage == "propagate":
             return max(1, sum(cascade_iterations(job.settings, k)
                               for k in range(len(self._specs))))
@@ -486,9 +488,15 @@ class Pipeline:
             for level in levels:
                 level.running = None
 
-    def _stage_gather(self, job: Job) -> None:
+    def _stage_gather(self, job: Job) -> Iterator[None]:
+        """The gather in bands of rows (explorer/lpv/gather.py ``bands``), one per unit."""
         s = job.settings
-        self._timed("gather", lambda: self._gather_levels(s))
+        rows = bands((s.width, s.height))
+        self.timings_ms["gather"] = 0.0
+        for index, band in enumerate(rows):
+            self._timed("gather", lambda: self._gather_levels(s, band), accumulate=True)
+            if index < len(rows) - 1:
+                yield
         targets = self._gather.targets
         self._arrays["gather"] = {name: read_texture(targets[name])
                                   for name in ("direct", "indirect", "received")}
@@ -522,9 +530,9 @@ class Pipeline:
             level.release()
         del self._levels[keep:]
 
-    def _gather_levels(self, s: Settings) -> None:
+    def _gather_levels(self, s: Settings, rows: tuple[int, int] | None = None) -> None:
         """The gather of every level's accumulation as it is now (docs/MODEL.md "Final
-        gather", "Cascades")."""
+        gather", "Cascades"), of the rows ``rows`` or the whole image."""
         levels = self._levels[: len(self._specs)]
         textures = [level.accumulation_textures for level in levels]
         cascades = None
@@ -532,7 +540,7 @@ class Pipeline:
             cascades = [CascadeInput(spec, t) for spec, t in zip(self._specs, textures)]
         self._gather.run(self._gbuffer, self._rsm_textures, self._light, textures[0],
                          self._specs[0], s.gather_damping, cascades=cascades,
-                         sh_order=levels[0].injected.sh_order)
+                         sh_order=levels[0].injected.sh_order, rows=rows)
 
     def _array_warnings(self, pass_name: str, s: Settings, arrays) -> list[str]:
         """Warnings of read-back arrays that hold NaN or infinity; with ``debug_nan`` a

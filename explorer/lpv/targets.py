@@ -53,16 +53,25 @@ class RenderTargets:
         self.size = size
 
     @contextmanager
-    def drawing(self, clear: bool = False) -> Iterator[moderngl.Framebuffer]:
+    def drawing(self, clear: bool = False, rows: tuple[int, int] | None = None
+                ) -> Iterator[moderngl.Framebuffer]:
         """Bind the framebuffer over its whole size (cleared to zero, depth to 1, when
-        ``clear``); the previous framebuffer and enable flags come back afterwards."""
+        ``clear``); ``rows`` = (first, end): draw only those rows (GL order, row 0 at the
+        bottom), the others keep their texels. The previous framebuffer and enable flags
+        come back afterwards."""
         if self._scope is None:
             raise RuntimeError("render targets used before allocate()")
         with self._scope:
             self.framebuffer.viewport = (0, 0, *self.size)
-            if clear:
-                self.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-            yield self.framebuffer
+            if rows is not None:
+                first, end = rows
+                self.framebuffer.scissor = (0, first, self.size[0], end - first)
+            try:
+                if clear:
+                    self.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+                yield self.framebuffer
+            finally:
+                self.framebuffer.scissor = None
 
     def release(self) -> None:
         for resource in (self._scope, self.framebuffer, self._depth, *self.textures):
