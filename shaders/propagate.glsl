@@ -116,8 +116,12 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     }
 }
 
+// First cell of this dispatch: a step is dispatched in slabs of z layers
+// (explorer/lpv/propagate.py `slabs`), each a unit of a time-sliced frame.
+uniform ivec3 u_cell_offset;
+
 void main() {
-    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    ivec3 cell = ivec3(gl_GlobalInvocationID) + u_cell_offset;
     if (!grid_inside(cell)) {
         return;
     }

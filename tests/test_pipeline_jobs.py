@@ -310,3 +310,30 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
         band = read_texture(pipe._gather.targets["indirect"])[..., :3]
         assert np.array_equal(band[-100:], whole[-100:])
         assert not band[:-100].any()
+
+
+def test_a_large_step_runs_in_slabs_with_the_same_result(gl_context, ctx, monkeypatch):
+    """A propagation step is dispatched in slabs of z layers (units of a time-sliced
+    frame): the result is the one-slab result, and the progress counts steps."""
+    import sys
+
+    propagate = sys.modules["explorer.lpv.propagate"]   # the package exports a function
+    assert propagate.slabs(64) == [(z, z + 8) for z in range(0, 64, 8)]
+    assert propagate.slabs(32) == [(0, 32)]
+    assert propagate.slabs(128) == [(z, z + 4) for z in range(0, 128, 4)]
+    assert propagate.slabs(10, slab_cells=250) == [(0, 4), (4, 8), (8, 10)]
+    settings = SMALL.with_changes(geometry_volume="one-sided", bounces=2)
+    with Pipeline(settings, ctx=gl_context) as pipe:
+        whole = pipe.run(settings)
+        monkeypatch.setattr(propagate, "SLAB_CELLS", 8 * 8 * 2)          # 4 z layers
+        pipe.invalidate("propagate")
+        calls = []
+        sliced = pipe.run(settings, progress=lambda *call: calls.append(call))
+    steps = [done for stage, done, _ in calls if stage == "propagate"]
+    # the start, then after each of the two slabs of every step the steps completed
+    assert steps == [0, 0] + sorted(2 * list(range(1, settings.iterations))) + [
+        settings.iterations]
+    assert np.allclose(sliced.accumulated, whole.accumulated, rtol=1e-6, atol=1e-9)
+    for name in ("per_step", "border_loss", "occluded", "reflected"):
+        assert np.allclose(getattr(sliced.audit, name), getattr(whole.audit, name),
+                           rtol=1e-5, atol=1e-9), name

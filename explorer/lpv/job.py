@@ -2,10 +2,11 @@
 
 :meth:`explorer.lpv.pipeline.Pipeline.start` makes a :class:`Job`; each
 :meth:`Job.advance` does whole units of work (a stage, one cascade of the injection or
-the geometry volume, one propagation step) until its time budget is spent, choosing the
-next unit only when its measured time still fits (at least one unit per call), and
-returns a :class:`Progress`. The stages run in :data:`explorer.lpv.stages.EXECUTION_ORDER`;
-a stage whose key has not changed since its last completed run is skipped.
+the geometry volume, a slab of a propagation step, a band of the gather) until its time
+budget is spent, choosing the next unit only when its measured time still fits (at least
+one unit per call), and returns a :class:`Progress`. The stages run in
+:data:`explorer.lpv.stages.EXECUTION_ORDER`; a stage whose key has not changed since its
+last completed run is skipped.
 
 Starting another job cancels this one: the stage it was in the middle of is discarded
 (its key was forgotten when it started, so it runs again), the completed ones are kept.
@@ -46,7 +47,8 @@ class Progress:
     stage: str | None
     """The stage in progress, None once the job is finished."""
     done: int
-    """Units of that stage done (propagation: steps, all cascades together)."""
+    """Units of that stage done (propagation: steps, all cascades together; a large grid's
+    step takes several units, its slabs)."""
     total: int
     finished: bool
     stages_run: tuple[str, ...]
@@ -77,7 +79,7 @@ class Job:
         self.vpls_key = None if vpls is None else pipeline.vpl_digest(vpls)
         self.progress_callback = progress
         self._index = 0
-        self._work: Iterator[None] | None = None
+        self._work: Iterator[int | None] | None = None
         self._stage: str | None = None
         self._key: tuple | None = None
         self._done = 0
@@ -194,12 +196,12 @@ class Job:
         started = time.perf_counter()
         try:
             try:
-                next(self._work)
+                count = next(self._work)
                 finished = False
             except StopIteration:
-                finished = True
+                count, finished = self._total, True
             self.pipeline.unit_ms[name] = (time.perf_counter() - started) * 1e3
-            self._done += 1
+            self._done = self._done + 1 if count is None else count
             if finished:
                 self.pipeline.keys[name] = self._key
             self._report()

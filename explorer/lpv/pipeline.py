@@ -307,7 +307,8 @@ class Pipeline:
         return tuple(specs)
 
     def stage_units(self, stage: str, job: Job) -> int:
-        """Units of work ``stage`` takes (for progress and the frame budget)."""
+        """The total of ``stage``'s progress count: its units, or for the propagation its
+        steps (all levels together; each step is one or more slabs)."""
         if stage in ("inject", "geometry"):
             return len(self._specs)
         if stage == "gather":
@@ -317,8 +318,10 @@ class Pipeline:
                               for k in range(len(self._specs))))
         return 1
 
-    def stage_work(self, stage: str, job: Job) -> Iterator[None]:
-        """The work of ``stage`` as a generator: each ``next()`` does one unit."""
+    def stage_work(self, stage: str, job: Job) -> Iterator[int | None]:
+        """The work of ``stage`` as a generator: each ``next()`` does one unit and yields
+        the progress in the stage's own count (None: one more unit) until the last unit
+        ends it."""
         method = getattr(self, f"_stage_{stage}")
         if inspect.isgeneratorfunction(method):
             return method(job)
@@ -357,7 +360,7 @@ class Pipeline:
 
     # ------------------------------------------------------------------ stages
     # One method per stage of explorer/lpv/stages.py: a plain method is one unit of work,
-    # a generator yields after each unit but the last.
+    # a generator yields after each unit but the last (see stage_work).
     def _stage_scene(self, job: Job) -> None:
         s = job.settings
         base = self._scene_cache.get(s.scene)
@@ -447,9 +450,11 @@ class Pipeline:
                 yield
         self._warnings["geometry"] = warnings
 
-    def _stage_propagate(self, job: Job) -> Iterator[None]:
-        """Every level's steps, interleaved so that each level is as far along as the
-        others (a progressive picture shows all cascades growing together)."""
+    def _stage_propagate(self, job: Job) -> Iterator[int]:
+        """Every level's steps, one slab of a step per unit (explorer/lpv/propagate.py
+        ``slabs``), interleaved so that each level is as far along as the others (a
+        progressive picture shows all cascades growing together). Yields the steps done,
+        all levels together."""
         s = job.settings
         levels = self._levels[: len(self._specs)]
         self.timings_ms["propagate"] = 0.0
@@ -462,14 +467,12 @@ class Pipeline:
                     level.injected, spec, s.corrections, cascade_iterations(s, k),
                     level.volume, keep_steps=job.keep_steps, bounces=s.bounces,
                     audit=audit[k]), accumulate=True)
-            remaining = sum(level.running.iterations for level in levels)
-            while remaining:
+            while not all(level.running.finished for level in levels):
                 behind = min((lv for lv in levels if not lv.running.finished),
-                             key=lambda lv: lv.running.done / lv.running.iterations)
-                self._timed("propagate", behind.running.step, accumulate=True)
-                remaining -= 1
-                if remaining:
-                    yield
+                             key=lambda lv: lv.running.fraction)
+                self._timed("propagate", behind.running.advance, accumulate=True)
+                if not all(level.running.finished for level in levels):
+                    yield sum(level.running.done for level in levels)
             warnings = []
             for k, level in enumerate(levels):
                 level.output = self._timed("propagate", level.running.finish,

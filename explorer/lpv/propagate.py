@@ -125,10 +125,28 @@ class PropagatePass:
         self.audit.release()
 
 
+SLAB_CELLS = 32 ** 3
+"""Cells one unit of a propagation step covers at most (a slab of z layers, a multiple of
+the 4-layer workgroup): a 64³ step is 8 units, each a few frames' budget on llvmpipe."""
+
+
+def slabs(resolution: int, slab_cells: int | None = None) -> list[tuple[int, int]]:
+    """z ranges ``(first, end)`` of the slabs one step of a ``resolution``³ grid is
+    dispatched in: ``slab_cells`` (default :data:`SLAB_CELLS`) / N² layers each, rounded
+    down to a multiple of 4 (the workgroup's depth, so no cell is in two slabs), at
+    least 4."""
+    n = int(resolution)
+    slab_cells = SLAB_CELLS if slab_cells is None else int(slab_cells)
+    depth = max(4, slab_cells // (n * n) // 4 * 4)
+    return [(z, min(z + depth, n)) for z in range(0, n, depth)]
+
+
 class PropagationRun:
-    """One propagation in progress (made by :meth:`PropagatePass.start`): :meth:`step`
-    adds one step to :attr:`accumulated`, :meth:`finish` measures the audit and returns
-    the :class:`PropagationOutput`. Between steps :attr:`accumulated` holds
+    """One propagation in progress (made by :meth:`PropagatePass.start`): :meth:`advance`
+    dispatches one slab of the current step (:func:`slabs`; a step's slabs are
+    independent in ping-pong, since they read grid t−1 and write their own cells),
+    :meth:`step` a whole step, :meth:`finish` measures the audit and returns the
+    :class:`PropagationOutput`. Between steps :attr:`accumulated` holds
     acc_t = Σ_{t'≤t} grid_t' (the light gathered so far, for a progressive picture)."""
 
     def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
@@ -163,14 +181,35 @@ class PropagationRun:
             "u_geometry_albedo": owner.ALBEDO_UNIT, "u_reflect": bounces == 2,
         })
         self._groups = dispatch_size(n)
+        self._slabs = slabs(n)
+        self._slab = 0
 
     @property
     def finished(self) -> bool:
         """True when every step has run (:meth:`finish` may be called)."""
         return self.done >= self.iterations
 
+    @property
+    def units_per_step(self) -> int:
+        """Slabs (calls of :meth:`advance`) per step."""
+        return len(self._slabs)
+
+    @property
+    def fraction(self) -> float:
+        """How far along the propagation is, 0..1 (slabs included)."""
+        if not self.iterations:
+            return 1.0
+        return (self.done + self._slab / len(self._slabs)) / self.iterations
+
     def step(self) -> None:
         """Propagate one more step (docs/MODEL.md "Iterations and accumulation")."""
+        target = self.done + 1
+        while self.done < target:
+            self.advance()
+
+    def advance(self) -> None:
+        """Dispatch the next slab of the current step; after the step's last slab, its
+        audit, its kept grid and the swap of the grids."""
         if self.finished:
             raise RuntimeError(f"all {self.iterations} propagation steps have run")
         owner, step = self._owner, self.done + 1
@@ -186,8 +225,14 @@ class PropagationRun:
         target.bind_images(0)
         self.accumulated.bind_images(3)
         owner.audit.bind()
-        self._program.run(*self._groups)
+        first, end = self._slabs[self._slab]
+        set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+        self._program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
         owner.ctx.memory_barrier()
+        self._slab += 1
+        if self._slab < len(self._slabs):
+            return
+        self._slab = 0
         if self._with_audit:
             owner.audit.sum_cell_records(step)
         if self._keep_steps:
