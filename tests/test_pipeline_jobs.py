@@ -114,12 +114,16 @@ def test_a_toggle_shows_progressive_frames_that_end_at_the_one_shot_frame(pipeli
     frames, steps = [], []
     while not job.done:
         progress = job.advance(0.0)                      # one unit of work per call
-        if progress.stage == "propagate" and job.preview():
+        advanced = progress.stage == "propagate" and progress.done not in steps
+        if advanced and job.preview():
             steps.append(progress.done)
             frames.append(np.frombuffer(pipeline.final_texture.read(), np.uint8).copy())
-    assert steps == list(range(1, SMALL.iterations))     # the last step finishes the job
+    assert steps == list(range(1, SMALL.iterations + 1))  # then a unit finishes the level
     assert progress.finished and progress.label == "done"
-    assert all(not np.array_equal(a, b) for a, b in zip(frames, frames[1:]))   # it grows
+    # the light grows step by step (the last steps may add less than an 8-bit level)
+    distinct = {frame.tobytes() for frame in frames}
+    assert len(distinct) >= SMALL.iterations - 2
+    assert frames[-1].astype(np.int64).sum() > frames[0].astype(np.int64).sum()
     result = job.result
     assert result.stages_run == ("inject", "geometry", "propagate", "gather", "display")
     with Pipeline(toggled, ctx=gl_context) as fresh:
@@ -133,9 +137,10 @@ def test_a_toggle_shows_progressive_frames_that_end_at_the_one_shot_frame(pipeli
 def test_a_budget_does_whole_units_and_the_progress_names_the_step(pipeline):
     pipeline.run(SMALL)
     job = pipeline.start(SMALL.with_changes(iterations=8))
-    progress = job.advance(0.0)
-    assert progress.stage == "propagate" and progress.done == 1 and progress.total == 8
-    assert progress.label == "propagating 1/8"
+    progress = job.advance(0.0)                           # grid_0 into the accumulation
+    assert progress.stage == "propagate" and progress.done == 0 and progress.total == 8
+    progress = job.advance(0.0)                           # the first step
+    assert progress.done == 1 and progress.label == "propagating 1/8"
     progress = job.advance(1e9)                           # a budget without end finishes
     assert progress.finished and job.done
     assert job.result.audit.per_step.shape == (9, 3)
@@ -144,7 +149,7 @@ def test_a_budget_does_whole_units_and_the_progress_names_the_step(pipeline):
 def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_context):
     pipeline.run(SMALL)
     first = pipeline.start(SMALL.with_changes(iterations=10))
-    for _ in range(3):
+    for _ in range(4):                                    # the start and three steps
         first.advance(0.0)
     assert first.stage == "propagate" and first.progress.done == 3
     calls = []
@@ -159,7 +164,8 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     # that changed, and propagates all ten steps again
     assert second.result.stages_run == ("geometry", "propagate", "gather", "display")
     assert calls[0] == ("geometry", 0, 1)
-    assert [c for c in calls if c[0] == "propagate"][:2] == [("propagate", 0, 10),
+    assert [c for c in calls if c[0] == "propagate"][:3] == [("propagate", 0, 10),
+                                                             ("propagate", 0, 10),
                                                              ("propagate", 1, 10)]
     assert calls[-1] == ("display", 1, 1)
     with Pipeline(other, ctx=gl_context) as fresh:
@@ -299,8 +305,8 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
     calls = []
     with Pipeline(settings, ctx=gl_context) as pipe:
         banded = pipe.run(progress=lambda *call: calls.append(call))
-        assert [c for c in calls if c[0] == "gather"] == [("gather", 0, 2), ("gather", 1, 2),
-                                                          ("gather", 2, 2)]
+        # two bands, then three read-backs (direct, indirect, received): a unit each
+        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 5) for k in range(6)]
         pipe._gather_levels(settings)                                  # all rows at once
         whole = read_texture(pipe._gather.targets["indirect"])[..., :3]
         assert np.array_equal(banded.indirect, whole) and banded.indirect.max() > 0
@@ -330,9 +336,10 @@ def test_a_large_step_runs_in_slabs_with_the_same_result(gl_context, ctx, monkey
         calls = []
         sliced = pipe.run(settings, progress=lambda *call: calls.append(call))
     steps = [done for stage, done, _ in calls if stage == "propagate"]
-    # the start, then after each of the two slabs of every step the steps completed
-    assert steps == [0, 0] + sorted(2 * list(range(1, settings.iterations))) + [
-        settings.iterations]
+    # the stage's start, the level's start, after each of the two slabs of every step the
+    # steps completed, and the level's audit and read-back
+    assert steps == [0, 0, 0] + sorted(2 * list(range(1, settings.iterations))) + [
+        settings.iterations] * 3
     assert np.allclose(sliced.accumulated, whole.accumulated, rtol=1e-6, atol=1e-9)
     for name in ("per_step", "border_loss", "occluded", "reflected"):
         assert np.allclose(getattr(sliced.audit, name), getattr(whole.audit, name),

@@ -68,6 +68,7 @@ from explorer.lpv.limits import (
     check_grid_textures,
     check_memory,
 )
+from explorer.lpv.propagate import slabs
 from explorer.lpv.rsm import LightView, RsmPass, light_view, read_texture
 from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
@@ -311,8 +312,10 @@ class Pipeline:
         steps (all levels together; each step is one or more slabs)."""
         if stage in ("inject", "geometry"):
             return len(self._specs)
+        if stage == "gbuffer":
+            return 1 + READ_BACK_TEXTURES
         if stage == "gather":
-            return len(bands((job.settings.width, job.settings.height)))
+            return len(bands((job.settings.width, job.settings.height))) + READ_BACK_TEXTURES
         if stage == "propagate":
             return max(1, sum(cascade_iterations(job.settings, k)
                               for k in range(len(self._specs))))
@@ -373,12 +376,15 @@ class Pipeline:
         self._warnings["scene"] = _present(
             [guards.scale_warning(base.bounds_min, base.bounds_max)])
 
-    def _stage_gbuffer(self, job: Job) -> None:
+    def _stage_gbuffer(self, job: Job) -> Iterator[None]:
+        """The G-buffer, then the read-back of each of its textures (one unit each)."""
         s = job.settings
         scene = self._scene_for(s)
         self._timed("gbuffer", lambda: self._gbuffer.run(self._geometry_buffers, scene,
                                                          (s.width, s.height)))
-        self._arrays["gbuffer"] = tuple(read_texture(t) for t in self._gbuffer.textures)
+        yield
+        arrays = yield from _read_back(self._gbuffer.textures)
+        self._arrays["gbuffer"] = tuple(arrays)
         self._check("gbuffer", s, self._arrays["gbuffer"])
 
     def _stage_rsm(self, job: Job) -> None:
@@ -451,32 +457,40 @@ class Pipeline:
         self._warnings["geometry"] = warnings
 
     def _stage_propagate(self, job: Job) -> Iterator[int]:
-        """Every level's steps, one slab of a step per unit (explorer/lpv/propagate.py
-        ``slabs``), interleaved so that each level is as far along as the others (a
-        progressive picture shows all cascades growing together). Yields the steps done,
-        all levels together."""
+        """Every level's propagation: a unit to start each level (grid_0 into the
+        accumulation), one per slab of a step (explorer/lpv/propagate.py ``slabs``), the
+        levels interleaved so that each is as far along as the others (a progressive
+        picture shows all cascades growing together), and two to finish each level (its
+        audit, then its read-back). Yields the steps done, all levels together."""
         s = job.settings
         levels = self._levels[: len(self._specs)]
         self.timings_ms["propagate"] = 0.0
         audit = [job.need_audit and audit_fits(spec.resolution, self.limits)
                  for spec in self._specs]
+        steps = [cascade_iterations(s, k) for k in range(len(levels))]
+        more = _countdown(3 * len(levels) + sum(
+            count * len(slabs(spec.resolution)) for count, spec in zip(steps, self._specs)))
         try:
             for k, (level, spec) in enumerate(zip(levels, self._specs)):
                 level.output = None
                 level.running = self._timed("propagate", lambda: level.propagate.start(
-                    level.injected, spec, s.corrections, cascade_iterations(s, k),
-                    level.volume, keep_steps=job.keep_steps, bounces=s.bounces,
-                    audit=audit[k]), accumulate=True)
+                    level.injected, spec, s.corrections, steps[k], level.volume,
+                    keep_steps=job.keep_steps, bounces=s.bounces, audit=audit[k]),
+                    accumulate=True)
+                if more():
+                    yield 0
             while not all(level.running.finished for level in levels):
                 behind = min((lv for lv in levels if not lv.running.finished),
                              key=lambda lv: lv.running.fraction)
                 self._timed("propagate", behind.running.advance, accumulate=True)
-                if not all(level.running.finished for level in levels):
+                if more():
                     yield sum(level.running.done for level in levels)
             warnings = []
             for k, level in enumerate(levels):
                 level.output = self._timed("propagate", level.running.finish,
                                            accumulate=True)
+                if more():
+                    yield sum(steps)
                 level.accumulated = level.output.accumulated.read()
                 name = _pass_name("propagate", k, len(levels))
                 warnings += _present([guards.flux_warning(
@@ -486,23 +500,25 @@ class Pipeline:
                 if job.need_audit and not audit[k]:
                     warnings.append(audit_skipped_warning(self._specs[k].resolution,
                                                           self.limits))
+                if more():
+                    yield sum(steps)
             self._warnings["propagate"] = warnings
         finally:
             for level in levels:
                 level.running = None
 
     def _stage_gather(self, job: Job) -> Iterator[None]:
-        """The gather in bands of rows (explorer/lpv/gather.py ``bands``), one per unit."""
+        """The gather in bands of rows (explorer/lpv/gather.py ``bands``), one per unit,
+        then the read-back of each target (one unit each)."""
         s = job.settings
-        rows = bands((s.width, s.height))
         self.timings_ms["gather"] = 0.0
-        for index, band in enumerate(rows):
+        for band in bands((s.width, s.height)):
             self._timed("gather", lambda: self._gather_levels(s, band), accumulate=True)
-            if index < len(rows) - 1:
-                yield
+            yield
         targets = self._gather.targets
-        self._arrays["gather"] = {name: read_texture(targets[name])
-                                  for name in ("direct", "indirect", "received")}
+        names = ("direct", "indirect", "received")
+        arrays = yield from _read_back([targets[name] for name in names])
+        self._arrays["gather"] = dict(zip(names, arrays))
         received = self._arrays["gather"]["received"][..., :3]
         self._arrays["gathered"] = np.add.reduce(received.reshape(-1, 3), axis=0,
                                                  dtype=np.float64)
@@ -626,6 +642,33 @@ class Pipeline:
             vpls=self._arrays["vpls"], audit=audit, timings_ms=dict(self.timings_ms),
             timing_methods=dict(self.timing_methods), stages_run=job.progress.stages_run,
             warnings=warnings)
+
+
+def _countdown(units: int):
+    """``more()``: True until it has been called ``units`` times, so that a stage's
+    generator yields after every unit but its last."""
+    left = [units]
+
+    def more() -> bool:
+        left[0] -= 1
+        return left[0] > 0
+
+    return more
+
+
+READ_BACK_TEXTURES = 3
+"""Textures the G-buffer and the gather stages each read back (one unit apiece)."""
+
+
+def _read_back(textures) -> Iterator[None]:
+    """Read each texture back (:func:`read_texture`), one unit each; returns the arrays
+    (``yield from``). At 960×540 a read-back takes as long as a band of the gather."""
+    arrays = []
+    for index, texture in enumerate(textures):
+        arrays.append(read_texture(texture))
+        if index < len(textures) - 1:
+            yield
+    return arrays
 
 
 def _single_unit(method, job: Job) -> Iterator[None]:
