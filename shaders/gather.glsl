@@ -1,10 +1,9 @@
 #version 430 core
-// Final gather + direct light + exposure + display encoding (docs/MODEL.md "Final gather").
+// Final gather + direct light (docs/MODEL.md "Final gather"), linear: exposure and display
+// encoding are display.glsl's, so changing them re-runs no gather.
 // Full-screen pass over the G-buffer. Targets:
 //   0 direct radiance (shadowed Lambertian from the light), 1 indirect radiance (LPV),
-//   2 final linear colour = exposure·(direct + indirect) (or exposure·indirect),
-//   3 the same in sRGB for the RGBA8 display texture,
-//   4 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
+//   2 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
 //     from the LPV (summed by the energy audit).
 // SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe. SH_SHADER_FILTER:
 // the grid lookup's interpolation (sh_grid.glsl).
@@ -38,15 +37,11 @@ uniform vec3 u_light_direction;
 uniform float u_light_intensity;       // spot: Φ_L/(4π)
 uniform float u_light_irradiance;      // directional: E
 uniform float u_shadow_texel;          // texel edge at depth 1 (spot) or in world units
-uniform float u_exposure;
-uniform int u_indirect_only;
 uniform int u_has_grid;
 
 layout(location = 0) out vec4 out_direct;
 layout(location = 1) out vec4 out_indirect;
-layout(location = 2) out vec4 out_final;
-layout(location = 3) out vec4 out_display;
-layout(location = 4) out vec4 out_received;
+layout(location = 2) out vec4 out_received;
 
 // Fraction of a 3×3 texel neighbourhood of the shadow map that does not hide `world`
 // (percentage-closer filtering). The bias grows with the texel's footprint and with the
@@ -102,17 +97,11 @@ vec3 lpv_derivative_damping(vec3 p, vec3 n) {
     return damping_ratio(front, back);   // cascades.glsl
 }
 
-vec3 linear_to_srgb(vec3 linear) {
-    vec3 c = clamp(linear, 0.0, 1.0);
-    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
-}
-
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec4 position = texelFetch(u_gbuffer_position, pixel, 0);
     if (position.w < 0.5) {   // background
-        out_direct = out_indirect = out_final = out_received = vec4(0.0);
-        out_display = vec4(0.0, 0.0, 0.0, 1.0);
+        out_direct = out_indirect = out_received = vec4(0.0);
         return;
     }
     vec4 normal_area = texelFetch(u_gbuffer_normal, pixel, 0);
@@ -150,11 +139,8 @@ void main() {
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
 
-    vec3 final_colour = u_exposure * (u_indirect_only == 1 ? indirect : direct + indirect);
     out_direct = vec4(direct, 1.0);
     out_indirect = vec4(indirect, 1.0);
-    out_final = vec4(final_colour, 1.0);
-    out_display = vec4(linear_to_srgb(final_colour), 1.0);
     out_received = vec4(indirect_irradiance * normal_area.w, 0.0);
 }
 #endif

@@ -196,7 +196,7 @@ class _InterruptedPipeline:
         return False
 
     def run(self, settings=None, **options):
-        return types.SimpleNamespace(settings=settings)
+        return types.SimpleNamespace(settings=settings, warnings=[])
 
     def view(self, name, **options):
         self.views += 1

@@ -21,6 +21,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.lights import DirectionalLight
@@ -95,52 +96,28 @@ class RsmPass:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self._size = 0
-        self._textures: list[moderngl.Texture] = []
-        self._depth: moderngl.Renderbuffer | None = None
-        self._framebuffer: moderngl.Framebuffer | None = None
-
-    def _allocate(self, size: int) -> None:
-        if size == self._size:
-            return
-        self._free()
-        max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
-        if max_size and size > max_size:
-            raise ValueError(f"rsm_size {size} exceeds this driver's GL_MAX_TEXTURE_SIZE "
-                             f"{max_size}")
-        self._textures = [self.ctx.texture((size, size), 4, dtype="f4") for _ in range(4)]
-        for texture in self._textures:
-            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            texture.repeat_x = texture.repeat_y = False
-        self._depth = self.ctx.depth_renderbuffer((size, size))
-        self._framebuffer = self.ctx.framebuffer(self._textures, self._depth)
-        self._size = size
+        self._targets = RenderTargets(ctx, ("f4",) * 4, depth=True,
+                                      enable=moderngl.DEPTH_TEST)
 
     def run(self, geometry: SceneBuffers, view: LightView) -> VplTextures:
         """Render the RSM seen by ``view``; the returned textures belong to this pass and
         stay valid until the next run with another size or :meth:`release`."""
-        self._allocate(view.size)
+        max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
+        if max_size and view.size > max_size:
+            raise ValueError(f"rsm_size {view.size} exceeds this driver's GL_MAX_TEXTURE_SIZE "
+                             f"{max_size}")
+        self._targets.allocate((view.size, view.size))
         program = self.programs.get("rsm.glsl")
         set_uniforms(program, view.rsm_uniforms())
-        with self.ctx.scope(self._framebuffer, enable_only=moderngl.DEPTH_TEST):
-            self._framebuffer.viewport = (0, 0, view.size, view.size)
-            self._framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        with self._targets.drawing(clear=True):
             geometry.draw(program)
-        position, normal, flux, albedo = self._textures
+        position, normal, flux, albedo = self._targets.textures
         return VplTextures(position, normal, flux, texel_area=view.texel_area,
                            projection="orthographic" if view.orthographic else "perspective",
                            albedo=albedo)
 
-    def _free(self) -> None:
-        if self._framebuffer is not None:
-            self._framebuffer.release()
-            self._depth.release()
-        for texture in self._textures:
-            texture.release()
-        self._textures, self._framebuffer, self._depth, self._size = [], None, None, 0
-
     def release(self) -> None:
-        self._free()
+        self._targets.release()
 
 
 def read_texture(texture: moderngl.Texture) -> np.ndarray:
