@@ -528,6 +528,29 @@ def test_settings_the_pipeline_refused_are_not_written_back(config_home):
     assert saved["settings"]["grid_size"] == 16 and saved["settings"]["iterations"] == 4
 
 
+@needs_pipeline
+def test_the_numeric_guards_warn_in_the_messages_once(config_home):
+    """FrameResult.warnings arrive in the Messages panel when a result brings them, once:
+    a display-only change keeps the warning and posts nothing new."""
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        app.frame()
+        assert app.state.runtime.result.warnings == []
+        app.state.set_corrections(injection_pi=False)   # the published injection alone
+        app.frame()
+        grows = [m for m in app.state.messages
+                 if m.level == "warning" and m.text.startswith("the flux grows")]
+        assert len(grows) == 1 and app.state.runtime.result.warnings
+        app.state.update(exposure=0.5)
+        app.frame()
+        assert app.state.runtime.result.settings.exposure == 0.5
+        assert sum(m.text.startswith("the flux grows") for m in app.state.messages) == 1
+    finally:
+        app.close()
+
+
 def test_the_scene_panel_shows_every_section(config_home, tmp_path):
     """The Scene panel alone in its column, with the controls that only show sometimes
     (downsample factor, cascade options, fixed resolution): drawn without an error."""

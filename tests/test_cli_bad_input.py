@@ -18,7 +18,7 @@ import pytest
 from explorer.cli import main
 from explorer.commands.options import Outputs, Progress, settings_from_args
 from explorer.lpv.schema import specs
-from explorer.lpv.settings import PRESETS, Settings
+from explorer.lpv.settings import PRESETS, Corrections, Settings
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -279,6 +279,33 @@ def test_progress_draws_a_bar_on_a_terminal_and_nothing_when_piped():
         quiet("propagate", 1, 2)
         quiet.fraction("reference")(0.5)
     assert piped.text == ""
+
+
+def test_run_pipeline_draws_the_stages_and_prints_each_warning_once(gl_context):
+    """options.run_pipeline hands the bar to Pipeline.run (progress per stage) and prints
+    FrameResult.warnings on stderr, piped or not, each text once per command."""
+    from explorer.commands.options import run_pipeline
+    from explorer.lpv.pipeline import Pipeline
+
+    # the published injection alone: the flux grows ×π per step (a numeric guard warns)
+    growing = Settings(grid_size=8, iterations=4, rsm_size=16, width=24, height=16,
+                       corrections=Corrections(injection_pi=False))
+    terminal, piped = _Terminal(tty=True), _Terminal(tty=False)
+    with Pipeline(growing, ctx=gl_context) as pipeline:
+        bar = Progress("render", terminal, interval=0.0)
+        result = run_pipeline(pipeline, growing, bar)
+        assert any(w.startswith("the flux grows") for w in result.warnings)
+        for stage in ("rsm", "inject", "propagate", "gather", "display"):
+            assert f"render: {stage} [" in terminal.text
+        assert terminal.text.count("lpv-explorer render: warning: the flux grows") == 1
+        run_pipeline(pipeline, growing, bar)                # the same warning: not again
+        assert terminal.text.count("lpv-explorer render: warning: the flux grows") == 1
+        quiet = Progress("compare", piped)
+        run_pipeline(pipeline, growing.with_changes(iterations=5), quiet)
+    # piped: no bar, but the warnings
+    lines = piped.text.splitlines()
+    assert lines and all(line.startswith("lpv-explorer compare: warning: ") for line in lines)
+    assert any("the flux grows" in line for line in lines)
 
 
 def test_every_flagged_setting_is_an_option_and_reaches_the_settings():

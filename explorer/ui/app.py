@@ -70,6 +70,7 @@ class App:
         self._pipelines: dict[str, object] = {}
         self._last_run: dict[str, object] = {}
         self._failed: dict[str, object] = {}
+        self._warned: dict[str, tuple[str, ...]] = {}   # side -> warnings of its last result
         self._ran_settings: Settings | None = None   # state.settings when A last ran
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
@@ -314,6 +315,7 @@ class App:
         rt.pipeline_ms = (time.perf_counter() - start) * 1000.0
         self._last_run[side] = (settings, keep_steps)
         self._failed.pop(side, None)
+        self._post_warnings(side, result)
         if side == "A":
             rt.result = result
             rt.pipeline_error = None
@@ -325,6 +327,16 @@ class App:
         else:
             rt.compare_result = result
         return True
+
+    def _post_warnings(self, side: str, result) -> None:
+        """The numeric guards' warnings of a new result (``FrameResult.warnings``) in the
+        Messages panel: each one the side's previous result did not have, once."""
+        warnings = tuple(getattr(result, "warnings", ()) or ())
+        before = self._warned.get(side, ())
+        for text in warnings:
+            if text not in before:
+                self.state.notify(text if side == "A" else f"B: {text}", "warning")
+        self._warned[side] = warnings
 
     def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
         rt = self.state.runtime
