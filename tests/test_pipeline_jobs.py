@@ -4,7 +4,6 @@ progressive frames, cancellation, interruption, and the stage table itself."""
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -12,6 +11,7 @@ import pytest
 from explorer.lpv import schema, stages
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import read_texture
+from explorer.lpv.corrections import CORRECTIONS, preset
 from explorer.lpv.settings import Corrections, Settings
 
 SMALL = Settings(scene="cornell", grid_size=8, iterations=6, rsm_size=32, width=40,
@@ -125,7 +125,7 @@ def test_a_toggle_shows_progressive_frames_that_end_at_the_one_shot_frame(pipeli
     assert len(distinct) >= SMALL.iterations - 2
     assert frames[-1].astype(np.int64).sum() > frames[0].astype(np.int64).sum()
     result = job.result
-    assert result.stages_run == ("inject", "geometry", "propagate", "gather", "display")
+    assert result.stages_run == ("propagate", "gather", "display")   # side_faces: propagate
     with Pipeline(toggled, ctx=gl_context) as fresh:
         once = fresh.run(need_audit=False)
         assert np.allclose(result.accumulated, once.accumulated, rtol=1e-6, atol=1e-9)
@@ -242,20 +242,27 @@ def test_stage_keys_come_from_the_schema():
     assert stages.downstream("gbuffer") == ("gbuffer", "gather", "display")
 
 
-def test_per_switch_stages_plug_into_the_keys():
-    """A nested settings dataclass whose fields declare stages contributes to a stage's
-    key only the fields that stage reads (the hook for per-switch correction stages)."""
-
-    @dataclass(frozen=True)
-    class Switches:
-        early: bool = schema.setting(True, kind="bool", stages=("inject",), doc="x")
-        late: bool = schema.setting(True, kind="bool", stages=("propagate",), doc="y")
-
-    one, other = Switches(), Switches(early=False)
-    assert stages._nested_inputs(one, "propagate") == stages._nested_inputs(other,
-                                                                            "propagate")
-    assert stages._nested_inputs(one, "inject") != stages._nested_inputs(other, "inject")
-    assert stages._nested_inputs(Corrections(), "inject") == Corrections()   # whole value
+def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):
+    """Of the corrections a stage's key holds the switches the registry says its programs
+    read (Correction.stages, explorer/lpv/corrections.py), so a switch re-runs only the
+    stages that read it, and then everything downstream."""
+    for stage in schema.STAGES:
+        read = [entry.name for entry in CORRECTIONS if stage in entry.stages]
+        assert [name for name, _ in stages._nested_inputs(Corrections(), stage)] == read
+    in_place = Corrections(ping_pong=False)           # read by the propagation only
+    assert stages._nested_inputs(in_place, "inject") == stages._nested_inputs(
+        Corrections(), "inject")
+    assert stages._nested_inputs(in_place, "propagate") != stages._nested_inputs(
+        Corrections(), "propagate")
+    # the "original" preset leaves the geometry volume's switch corrected
+    assert stages._nested_inputs(preset("original"), "geometry") == stages._nested_inputs(
+        Corrections(), "geometry")
+    with_volume = SMALL.with_changes(geometry_volume="one-sided")
+    pipeline.run(with_volume)
+    assert pipeline.run(with_volume.with_changes(corrections={"ping_pong": False})
+                        ).stages_run == ("propagate", "gather", "display")
+    assert pipeline.run(with_volume.with_changes(corrections={"surfel_area_squared": False})
+                        ).stages_run == ("geometry", "propagate", "gather", "display")
 
 
 def test_render_targets_release_their_scopes(gl_context):

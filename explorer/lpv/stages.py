@@ -25,11 +25,11 @@ be gathered while the propagation is still running. :func:`describe` prints the 
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
-from explorer.lpv.schema import STAGES, specs, stages_reading
+from explorer.lpv.corrections import CORRECTIONS, Corrections
+from explorer.lpv.schema import STAGES, stages_reading
 
 
 @dataclass(frozen=True)
@@ -99,16 +99,14 @@ def stage_inputs(settings: Any, stage: str) -> tuple:
 
 
 def _nested_inputs(value: Any, stage: str) -> Any:
-    """The part of a field's value that ``stage`` reads. Per-switch stages plug in here:
-    a nested settings dataclass (``Corrections``) whose own fields declare ``stages``
-    contributes only the switches this stage reads, so e.g. toggling a switch that only
-    the propagation reads re-runs no injection. Without such declarations the whole value
-    counts (any switch re-runs every stage that reads ``corrections``)."""
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        nested = specs(type(value))
-        if any(spec.stages for spec in nested.values()):
-            return tuple((name, getattr(value, name)) for name, spec in nested.items()
-                         if stage in spec.stages)
+    """The part of a field's value that ``stage`` reads. Of the corrections only the
+    switches the registry says the stage's programs read (:attr:`Correction.stages`,
+    explorer/lpv/corrections.py), so e.g. toggling a switch that only the propagation
+    reads re-runs no injection, and the "original" preset (which leaves the geometry
+    volume's switch corrected) re-runs no geometry volume."""
+    if isinstance(value, Corrections):
+        return tuple((entry.name, getattr(value, entry.name)) for entry in CORRECTIONS
+                     if stage in entry.stages)
     return value
 
 
