@@ -15,7 +15,9 @@ from explorer.ui.state import AppState
 def test_settings_round_trip_through_json(tmp_path):
     state = AppState()
     state.settings = Settings(grid_size=16, iterations=4, corrections=PRESETS["original"],
-                              camera=((1.0, 2.0, 3.0), (0.0, 0.5, 0.0)), light_flux=7.5)
+                              camera=((1.0, 2.0, 3.0), (0.0, 0.5, 0.0)), light_flux=7.5,
+                              spot_cone_degrees=(20.0, 50.0), shadow_kernel=5,
+                              tone_map="linear-clip", auto_exposure=False)
     state.view_mode = "split"
     state.split_position = 0.3
     state.inspect.source = "grid-slice"
@@ -35,6 +37,12 @@ def test_settings_round_trip_through_json(tmp_path):
     (json.dumps({"format": 1, "settings": {"corrections": {"nope": True}}}), "nope"),
     (json.dumps({"format": 1, "settings": {"downsample": "median"}}), "downsample"),
     (json.dumps({"format": 1, "view_mode": "quad"}), "view_mode"),
+    (json.dumps({"format": 1, "settings": {"spot_cone_degrees": [50, "wide"]}}),
+     "spot_cone_degrees"),
+    (json.dumps({"format": 1, "settings": {"spot_cone_degrees": [60, 30]}}),
+     "spot_cone_degrees"),
+    (json.dumps({"format": 1, "settings": {"tone_map": "sepia"}}), "tone_map"),
+    (json.dumps({"format": 1, "settings": {"shadow_kernel": 0}}), "shadow_kernel"),
     (json.dumps({"format": 99}), "format"),
 ])
 def test_a_bad_settings_file_falls_back_to_defaults_and_says_why(tmp_path, content, complaint):

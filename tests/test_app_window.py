@@ -280,14 +280,21 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         assert indirect.std() > 1.0 and np.abs(indirect - split).mean() > 1.0
         app.state.view_buffer = "final"
 
+        rt = app.state.runtime          # the display's auto exposure (on by default):
+        assert rt.compare_result.display_scale == rt.result.display_scale   # B at A's scale
         app.state.auto_exposure = True                     # expose each side on its own
         for _ in range(3):
+            app.frame()
+        assert rt.compare_result.display_scale != rt.result.display_scale
+        app.state.update(auto_exposure=False)              # a fixed display exposure: per
+        for _ in range(3):                                 # side sets the exposures
             app.frame()
         exposure_a, exposure_b = app.state.runtime.auto_exposure
         assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
         assert app.state.runtime.result.settings.exposure == exposure_a
         assert app.state.runtime.compare_result.settings.exposure == exposure_b
         app.state.auto_exposure = False
+        app.state.update(auto_exposure=True, exposure=1.0)
 
         app.state.view_mode = "difference"
         app.state.inspect.source = "vpls"

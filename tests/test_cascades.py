@@ -229,7 +229,8 @@ def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context, ctx):   # c
         moved = pipeline.run(settings.with_changes(
             camera=(tuple(eye + nudge), tuple(target + nudge))))
         assert moved.cascade_specs == centred.cascade_specs
-        assert moved.stages_run == ("scene", "gbuffer", "gather")   # scene: camera only
+        # scene: camera only
+        assert moved.stages_run == ("scene", "gbuffer", "gather", "display")
         # a whole coarse cell: every cascade moves by whole cells, and the LPV runs again
         step = np.array([2 * fine, 0.0, 0.0])
         far = pipeline.run(settings.with_changes(camera=(tuple(eye + step),

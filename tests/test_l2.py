@@ -252,7 +252,7 @@ def test_pipeline_with_l2(ctx):
     try:
         first = pipeline.run(keep_steps=True)
         second = pipeline.run(settings.with_changes(sh_order=2), keep_steps=True)
-        assert second.stages_run == ("inject", "propagate", "gather")
+        assert second.stages_run == ("inject", "propagate", "gather", "display")
         assert first.accumulated.shape[-1] == 4 and second.accumulated.shape[-1] == 9
         # The L1 part of the injected L2 grid is the L1 grid (same flux); propagation then
         # differs through band 2. (The Cornell walls lie on cell faces, so compare with the

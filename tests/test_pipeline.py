@@ -70,15 +70,19 @@ def test_presets_differ_by_the_published_factors(pipeline):
 def test_rerun_skips_unchanged_stages(pipeline):
     pipeline.run(SMALL)
     assert pipeline.run(SMALL).stages_run == ()
-    assert pipeline.run(SMALL.with_changes(exposure=2.0)).stages_run == ("gather",)
+    assert pipeline.run(SMALL.with_changes(exposure=2.0)).stages_run == ("gather", "display")
     assert pipeline.run(SMALL.with_changes(exposure=2.0, iterations=3)).stages_run == (
-        "propagate", "gather")
+        "propagate", "gather", "display")
     changed = pipeline.run(SMALL.with_changes(exposure=2.0, iterations=3,
                                               corrections="original")).stages_run
-    assert changed == ("inject", "geometry", "propagate", "gather")
+    assert changed == ("inject", "geometry", "propagate", "gather", "display")
     assert pipeline.run(SMALL.with_changes(width=32, exposure=2.0, iterations=3,
                                            corrections="original")).stages_run == (
-        "gbuffer", "gather")
+        "gbuffer", "gather", "display")
+    # the display alone: tone curve and auto exposure touch no linear image
+    assert pipeline.run(SMALL.with_changes(width=32, exposure=2.0, iterations=3,
+                                           corrections="original", tone_map="linear-clip",
+                                           auto_exposure=False)).stages_run == ("display",)
     pipeline.invalidate()
     assert pipeline.run(SMALL).stages_run[:2] == ("scene", "rsm")
 
@@ -157,7 +161,7 @@ def test_room_scene_with_directional_light(pipeline):
 def test_moving_the_camera_does_not_repropagate(pipeline):
     pipeline.run(SMALL)
     moved = SMALL.with_changes(camera=((0.2, 0.3, 4.0), (0.0, 0.0, 0.0)))
-    assert pipeline.run(moved).stages_run == ("scene", "gbuffer", "gather")
+    assert pipeline.run(moved).stages_run == ("scene", "gbuffer", "gather", "display")
 
 
 def test_a_failed_stage_runs_again(pipeline):

@@ -12,7 +12,13 @@ import sys
 import time
 from pathlib import Path
 
-from explorer.commands.render import add_leak_arguments, leak_changes
+from explorer.commands.render import (
+    LIGHT_OPTIONS,
+    add_leak_arguments,
+    add_light_arguments,
+    leak_changes,
+    option_changes,
+)
 from explorer.lpv.settings import CASCADE_ITERATIONS, GEOMETRY_VOLUME_MODES
 
 PRESET_CHOICES = ("all", "original", "corrected")
@@ -55,6 +61,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="spherical harmonics of the grid: 1 (L1, default), 2 (L2), or "
                              "1,2 to compare both; the table's preset cell then names it")
     add_leak_arguments(parser)
+    add_light_arguments(parser)
     parser.add_argument("--min-distance", type=float, default=None,
                         help="reference 1/r² clamp distance in world units "
                              "(default: half a grid cell; with --cascades above 1, of the "
@@ -113,6 +120,7 @@ def main(args: argparse.Namespace) -> int:
         if args.grid_size is not None:
             changes["grid_size"] = args.grid_size
         changes.update(leak_changes(args))
+        changes.update(option_changes(args, LIGHT_OPTIONS))
         base = Settings(**changes, cascades=max(cascade_counts))   # validates the count
         for order in sh_orders:   # L2 refuses some combinations (e.g. cascades)
             for count in cascade_counts:

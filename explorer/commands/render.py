@@ -10,9 +10,11 @@ from explorer.lpv.settings import (
     CASCADE_ITERATIONS,
     DOWNSAMPLE_MODES,
     GEOMETRY_VOLUME_MODES,
+    MAX_SHADOW_KERNEL,
     PRESETS,
     VIEWS,
 )
+from explorer.lpv.tonemap import TONE_MAPS
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
@@ -33,8 +35,8 @@ def parse_size(text: str) -> tuple[int, int]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scene", default="cornell",
-                        help="built-in scene (cornell, single-source, room) or a mesh file "
-                             "(OBJ, GLB/glTF, PLY, STL); default: cornell")
+                        help="built-in scene (cornell, single-source, room, atrium) or a mesh "
+                             "file (OBJ, GLB/glTF, PLY, STL); default: cornell")
     parser.add_argument("--preset", default="corrected", choices=sorted(PRESETS),
                         help="formulas: the corrected ones or the published ones")
     parser.add_argument("--out", default="frame.png", type=Path,
@@ -53,6 +55,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="fuzzy occlusion")
     add_leak_arguments(parser)
     add_sh_order_argument(parser)
+    add_light_arguments(parser)
+    add_display_arguments(parser)
     parser.add_argument("--indirect-only", action="store_true",
                         help="final image without the direct light")
     parser.add_argument("--slice", type=int, dest="z",
@@ -97,6 +101,40 @@ def add_leak_arguments(parser: argparse.ArgumentParser) -> None:
                              "--geometry-volume; default 1)")
 
 
+def parse_cone(text: str) -> tuple[float, float]:
+    """``"INNER,OUTER"`` half-angles in degrees -> (inner, outer)."""
+    try:
+        inner, outer = (float(part) for part in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"cone angles must look like 30,60 (inner and outer "
+                                         f"half-angles in degrees), got {text!r}") from None
+    return inner, outer
+
+
+def add_light_arguments(parser: argparse.ArgumentParser) -> None:
+    """--spot-cone/--no-spot-cone and --cone-angles (shared with ``compare``)."""
+    parser.add_argument("--spot-cone", action=argparse.BooleanOptionalAction, default=None,
+                        help="spot lights shine through their cone with a smooth falloff "
+                             "(default); --no-spot-cone: the 90° square frustum with uniform "
+                             "intensity (the published setup)")
+    parser.add_argument("--cone-angles", type=parse_cone, metavar="INNER,OUTER",
+                        help="the spot cone's inner and outer half-angles in degrees "
+                             "(0 <= inner <= outer <= 80; default: the scene's)")
+
+
+def add_display_arguments(parser: argparse.ArgumentParser) -> None:
+    """--shadow-kernel, --tone-map, --auto-exposure/--no-auto-exposure."""
+    parser.add_argument("--shadow-kernel", type=int, metavar="K",
+                        help=f"PCF box of the direct light's shadows, K texels wide "
+                             f"(1..{MAX_SHADOW_KERNEL}; 1 = hard; default 3)")
+    parser.add_argument("--tone-map", choices=TONE_MAPS,
+                        help="display tone curve: filmic (ACES fit, default) or linear-clip")
+    parser.add_argument("--auto-exposure", action=argparse.BooleanOptionalAction,
+                        default=None,
+                        help="expose the log-average luminance at middle grey, with "
+                             "--exposure as a compensation (default on)")
+
+
 def add_sh_order_argument(parser: argparse.ArgumentParser) -> None:
     """--sh-order: L1 (4 coefficients per colour) or L2 (9) spherical harmonics."""
     parser.add_argument("--sh-order", type=int, metavar="ORDER",
@@ -116,7 +154,11 @@ CASCADE_OPTIONS = (("cascades", "cascades"), ("cascade_extent", "cascade_extent"
 SH_OPTIONS = (("sh_order", "sh_order"),)
 LEAK_OPTIONS = (("injection_offset", "injection_offset_cells"),
                 ("gather_damping", "gather_damping"), ("bounces", "bounces"))
-SETTING_OPTIONS = STEP_OPTIONS + CASCADE_OPTIONS + SH_OPTIONS + LEAK_OPTIONS
+LIGHT_OPTIONS = (("spot_cone", "spot_cone"), ("cone_angles", "spot_cone_degrees"))
+DISPLAY_OPTIONS = (("shadow_kernel", "shadow_kernel"), ("tone_map", "tone_map"),
+                   ("auto_exposure", "auto_exposure"))
+SETTING_OPTIONS = (STEP_OPTIONS + CASCADE_OPTIONS + SH_OPTIONS + LEAK_OPTIONS + LIGHT_OPTIONS
+                   + DISPLAY_OPTIONS)
 """Every (option, Settings field) pair ``render`` takes, plain or with ``--lesson``."""
 
 

@@ -1,12 +1,12 @@
-"""Final gather: direct light, LPV indirect light, exposure and display encoding
-(docs/MODEL.md "Final gather").
+"""Final gather: direct light, LPV indirect light and exposure (docs/MODEL.md "Final
+gather"); the display pass (explorer/lpv/display.py) encodes the result for the screen.
 
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
 SH order) and the indirect radiance a/π·E (optionally damped by the directional
 derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
-(spot) or
-E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
+(spot, times the cone's falloff f) or E_L·cos θ (directional), shadowed with the RSM's
+depth (normal.w) through a PCF box ``shadow_kernel`` texels wide.
 """
 
 from __future__ import annotations
@@ -19,15 +19,15 @@ from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
+from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
 from explorer.lpv.textures import sh_defines
 from explorer.lpv.vpl import VplTextures
 
-TARGETS = ("direct", "indirect", "final", "display", "received")
+TARGETS = ("direct", "indirect", "final", "received")
 
 
 class GatherPass:
-    """Full-screen pass writing the targets named in :data:`TARGETS`: four ``rgba32f``
-    (``display`` is ``rgba8``, sRGB-encoded, for showing on screen)."""
+    """Full-screen pass writing the ``rgba32f`` targets named in :data:`TARGETS`."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -43,10 +43,8 @@ class GatherPass:
             return
         self._free_targets()
         for name in TARGETS:
-            dtype = "f1" if name == "display" else "f4"
-            texture = self.ctx.texture(size, 4, dtype=dtype)
-            texture.filter = (moderngl.LINEAR, moderngl.LINEAR) if name == "display" else (
-                moderngl.NEAREST, moderngl.NEAREST)
+            texture = self.ctx.texture(size, 4, dtype="f4")
+            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
             self.targets[name] = texture
         self._framebuffer = self.ctx.framebuffer([self.targets[n] for n in TARGETS])
         self.size = size
@@ -54,13 +52,14 @@ class GatherPass:
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
             grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
             damping: bool = False, cascades: list[CascadeInput] | None = None,
-            sh_order: int = 1) -> None:
+            sh_order: int = 1, shadow_kernel: int = DEFAULT_SHADOW_KERNEL) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (linear filter,
         clamped), or None for direct light only. ``damping``: the directional-derivative
         damping of the indirect irradiance (docs/MODEL.md "Final gather"), single grid only.
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
-        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""
+        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
+        ``shadow_kernel``: width of the PCF box in shadow-map texels (1 = one hard test)."""
         self._allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", sh_defines(sh_order))
         gbuffer.position.use(0)
@@ -79,6 +78,7 @@ class GatherPass:
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
             "u_shadow_texel": light.texel_world_size,
+            "u_shadow_kernel": int(shadow_kernel),
             "u_exposure": float(exposure),
             "u_indirect_only": int(indirect_only),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),

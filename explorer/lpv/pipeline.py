@@ -8,15 +8,18 @@ reads every intermediate result back as numpy arrays (:class:`FrameResult`).
 Stages and the Settings fields they read:
 
 ========== ==================================================================
-scene      scene, camera, light, light_flux (loads the mesh once per scene name)
-rsm        scene, light, light_flux, rsm_size
+scene      scene, camera, light, light_flux, spot_cone, spot_cone_degrees (loads the mesh
+           once per scene name)
+rsm        scene, light, light_flux, spot_cone, spot_cone_degrees, rsm_size
 downsample (rsm, grid) downsample, downsample_factor
 inject     (downsample, grid) corrections, injection_mode, grid_format,
            injection_offset_cells, sh_order
 geometry   (downsample, grid) corrections, geometry_volume, grid_format
 propagate  (inject, geometry) corrections, iterations, bounces (+ keep_steps)
 gbuffer    scene, camera, width, height
-gather     (gbuffer, rsm, propagate) exposure, indirect_only, gather_damping
+gather     (gbuffer, rsm, propagate) exposure, indirect_only, gather_damping,
+           shadow_kernel
+display    (gather) tone_map, auto_exposure (+ display_scale_override)
 ========== ==================================================================
 
 ``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``; with
@@ -53,6 +56,7 @@ from explorer.lpv.cascades import (
     focus_point,
 )
 from explorer.lpv.cascades import check_limits as check_cascade_limits
+from explorer.lpv.display import DisplayPass, display_scale
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.gather import GatherPass
 from explorer.lpv.gbuffer import GBufferPass
@@ -68,8 +72,10 @@ from explorer.lpv.vpl import VplArrays, VplTextures
 from explorer.scene import Scene, load_scene
 from explorer.scene.gpu import SceneBuffers
 
-STAGES = ("scene", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
-PASSES = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+STAGES = ("scene", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather",
+          "display")
+PASSES = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather",
+          "display")
 _QUERY_UNAVAILABLE_MS = (2**32 - 1) / 1e6
 """A timer query that reads 2³²−1 ns has no result (Mesa answers so on first use)."""
 
@@ -117,6 +123,11 @@ class FrameResult:
     cascade_audits: list[GridAudit] = field(default_factory=list)
     """Injection and propagation audit of each cascade. Each cascade holds every VPL
     inside it, so their injected fluxes overlap and must not be summed."""
+    display_scale: float = 1.0
+    """What the display multiplies ``final_image`` by before the tone curve
+    (docs/MODEL.md "Display"): the auto exposure key/L̄, 1 without it, or
+    ``Pipeline.display_scale_override``. ``render_view("final")`` and the display texture
+    both use it."""
 
 
 class Pipeline:
@@ -149,6 +160,11 @@ class Pipeline:
         self._propagate = PropagatePass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
         self._gather = GatherPass(ctx, self.programs)
+        self._display = DisplayPass(ctx, self.programs)
+        self.display_scale_override: float | None = None
+        """Show the frame with this display scale instead of its own (the window shows
+        configuration B at A's exposure); None = the frame's own (auto exposure or 1)."""
+        self._display_scale = 1.0
         self._keys: dict[str, object] = {}
         self._scene_cache: dict[str, Scene] = {}
         self._scene: Scene | None = None
@@ -174,11 +190,11 @@ class Pipeline:
     # ------------------------------------------------------------------ public API
     @property
     def final_texture(self) -> moderngl.Texture:
-        """RGBA8 sRGB-encoded final image (exposure applied) of the last run, for display.
-        Row 0 is the bottom row, as OpenGL draws it."""
-        if "display" not in self._gather.targets:
+        """RGBA8 final image of the last run as shown (display scale, tone curve, sRGB;
+        docs/MODEL.md "Display"). Row 0 is the bottom row, as OpenGL draws it."""
+        if self._display.texture is None:
             raise RuntimeError("the pipeline has not run yet: call run() first")
-        return self._gather.targets["display"]
+        return self._display.texture
 
     def run(self, settings: Settings | None = None, keep_steps: bool = False,
             vpls: VplArrays | None = None) -> FrameResult:
@@ -201,7 +217,7 @@ class Pipeline:
     def _run(self, s: Settings, keep_steps: bool, vpls: VplArrays | None) -> FrameResult:
         ran: list[str] = []
 
-        scene_key = (s.scene, s.camera, s.light, s.light_flux)
+        scene_key = (s.scene, s.camera, s.light, s.light_flux, s.spot_cone, s.spot_cone_degrees)
         if self._changed("scene", scene_key):
             self._load_scene(s)
             ran.append("scene")
@@ -212,7 +228,7 @@ class Pipeline:
 
         # the camera does not change what the light sees: moving it re-runs only the
         # G-buffer and the gather
-        light_key = (s.scene, s.light, s.light_flux)
+        light_key = (s.scene, s.light, s.light_flux, s.spot_cone, s.spot_cone_degrees)
         rsm_key = (light_key, s.rsm_size)
         if self._changed("rsm", rsm_key):
             self._light = light_view(scene, s.rsm_size)
@@ -305,19 +321,26 @@ class Pipeline:
             ran.append("gbuffer")
 
         gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only,
-                      s.gather_damping)
+                      s.gather_damping, s.shadow_kernel)
         if self._changed("gather", gather_key):
             self._timed("gather", lambda: self._gather.run(
                 self._gbuffer, self._rsm_textures, self._light,
                 self._accumulated_grid.textures, spec, s.exposure, s.indirect_only,
                 s.gather_damping, cascades=self._cascade_inputs(specs),
-                sh_order=self._accumulated_grid.sh_order))
+                sh_order=self._accumulated_grid.sh_order, shadow_kernel=s.shadow_kernel))
             targets = self._gather.targets
             self._arrays["gather"] = {name: read_texture(targets[name])
                                       for name in ("direct", "indirect", "final", "received")}
             for array in self._arrays["gather"].values():
                 self._check("gather", array)
             ran.append("gather")
+
+        display_key = (gather_key, s.tone_map, s.auto_exposure, self.display_scale_override)
+        if self._changed("display", display_key):
+            self._display_scale = self._frame_display_scale(s)
+            self._timed("display", lambda: self._display.run(
+                self._gather.targets["final"], self._display_scale, s.tone_map))
+            ran.append("display")
 
         self.last_result = self._result(s, spec, ran)
         self._add_cascade_results(self.last_result, specs)
@@ -367,7 +390,7 @@ class Pipeline:
 
     def release(self) -> None:
         for stage in (self._rsm, self._downsample, self._inject, self._geometry,
-                      self._propagate, self._gbuffer, self._gather):
+                      self._propagate, self._gbuffer, self._gather, self._display):
             stage.release()
         for grid in (self._injected,):
             if grid is not None:
@@ -410,7 +433,7 @@ class Pipeline:
             if self._geometry_buffers is not None:
                 self._geometry_buffers.release()
             self._geometry_buffers = SceneBuffers(self.ctx, base)
-        self._scene = base.with_overrides(s.camera, s.light, s.light_flux)
+        self._scene = base.for_settings(s)
 
     def _select_vpls(self, s: Settings, spec: GridSpec, vpls: VplArrays | None
                      ) -> VplTextures:
@@ -559,6 +582,19 @@ class Pipeline:
         result.cascade_audits = [self._grid_audit] + [lv.output.audit for lv in levels]
 
     # ------------------------------------------------------------------ results
+    def _frame_display_scale(self, s: Settings) -> float:
+        """The display scale of the frame just gathered: the override, or the auto
+        exposure of its unexposed image over the pixels that show a surface."""
+        if self.display_scale_override is not None:
+            return float(self.display_scale_override)
+        if not s.auto_exposure:
+            return 1.0
+        gather = self._arrays["gather"]
+        unexposed = gather["indirect"][..., :3]
+        if not s.indirect_only:
+            unexposed = unexposed + gather["direct"][..., :3]
+        return display_scale(unexposed, self._arrays["gbuffer"][0][..., 3] > 0.5, True)
+
     def gathered_flux(self) -> np.ndarray:
         """(3,) flux [W] the visible surfaces receive from the LPV: the sum over pixels of
         the indirect irradiance E (docs/MODEL.md "Final gather") times the world area of
@@ -583,7 +619,8 @@ class Pipeline:
             vpls=self._arrays["vpls"], accumulated=self._arrays["accumulated"],
             steps=self._arrays["steps"], geometry_volume=self._arrays["geometry"],
             audit=audit, timings_ms=dict(self.timings_ms),
-            timing_methods=dict(self.timing_methods), stages_run=tuple(ran))
+            timing_methods=dict(self.timing_methods), stages_run=tuple(ran),
+            display_scale=self._display_scale)
 
 
 def render(settings: Settings) -> FrameResult:

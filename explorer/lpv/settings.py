@@ -10,6 +10,8 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field, fields, replace
 
+from explorer.lpv.tonemap import TONE_MAPS
+
 
 @dataclass(frozen=True)
 class Corrections:
@@ -69,6 +71,10 @@ SH_ORDERS = (1, 2)
 BOUNCES = (1, 2)
 MAX_INJECTION_OFFSET_CELLS = 1.0
 """A VPL moved by more than a cell would skip the cell in front of its surface."""
+MAX_SHADOW_KERNEL = 9
+"""Widest PCF box in shadow-map texels (the gather fetches (k+1)² texels per pixel)."""
+DEFAULT_SHADOW_KERNEL = 3
+"""``Settings.shadow_kernel``'s default (also the gather pass's)."""
 
 
 @dataclass(frozen=True)
@@ -127,6 +133,27 @@ class Settings:
     bounces: int = 1
     """1: the single indirect bounce; 2: the geometry volume also reflects the light it
     blocks (docs/MODEL.md "More bounces"); needs a geometry volume."""
+    # --- images that look right (docs/MODEL.md "Spot cone", "Final gather", "Display") ---
+    spot_cone: bool = True
+    """A spot light shines through its cone with a smooth angular falloff f shared by the
+    RSM and the direct light (read by the scene and rsm stages); False: through the 90°
+    square frustum with uniform intensity (the published setup, as the RSM lessons
+    measure it). Directional lights ignore it."""
+    spot_cone_degrees: tuple[float, float] | None = None
+    """(inner, outer) half-angles of the spot's cone in degrees, 0 <= inner <= outer <= 80,
+    outer > 0; None = the scene light's own cone (scene and rsm stages)."""
+    shadow_kernel: int = DEFAULT_SHADOW_KERNEL
+    """Width of the PCF box of the direct light's shadow test in shadow-map texels,
+    1..MAX_SHADOW_KERNEL: shadow edges become linear ramps this wide; 1 = one hard test
+    (gather stage)."""
+    tone_map: str = "filmic"
+    """The display's tone curve, one of TONE_MAPS: "filmic" (ACES fit, highlights roll
+    off) or "linear-clip" (values above 1 clip to white); display stage only, the linear
+    images are unchanged."""
+    auto_exposure: bool = True
+    """Scale the displayed image by key/L̄ (log-average luminance of the unexposed image,
+    key 0.18) before the tone curve; ``exposure`` then acts as a compensation on top.
+    Display stage only."""
 
     def __post_init__(self) -> None:
         _check_cascades(self)
@@ -152,6 +179,7 @@ class Settings:
                              f"{self.gather_damping!r}")
         if isinstance(self.bounces, bool) or self.bounces not in BOUNCES:
             raise ValueError(f"bounces must be one of {BOUNCES}, got {self.bounces!r}")
+        _check_look(self)
         if self.bounces > 1 and self.geometry_volume == "off":
             raise ValueError("bounces=2 reflects the light the geometry volume blocks, so it "
                              "needs geometry_volume 'one-sided' or 'double-sided' (it is "
@@ -187,6 +215,31 @@ def _check_cascades(settings: "Settings") -> None:
     if not 0.0 <= settings.cascade_focus <= 1.0:
         raise ValueError(f"cascade_focus must lie in [0, 1] (0 = eye, 1 = target), got "
                          f"{settings.cascade_focus!r}")
+
+
+def _check_look(settings: "Settings") -> None:
+    """The fields of the spot cone, the PCF and the display."""
+    for name in ("spot_cone", "auto_exposure"):
+        if not isinstance(getattr(settings, name), bool):
+            raise ValueError(f"{name} must be True or False, got {getattr(settings, name)!r}")
+    cone = settings.spot_cone_degrees
+    if cone is not None:
+        from explorer.scene.lights import MAX_CONE_DEGREES
+
+        try:
+            inner, outer = (float(v) for v in cone)
+        except (TypeError, ValueError):
+            inner, outer = -1.0, -1.0
+        if not (0.0 <= inner <= outer <= MAX_CONE_DEGREES and outer > 0.0):
+            raise ValueError(f"spot_cone_degrees must be (inner, outer) half-angles in "
+                             f"degrees with 0 <= inner <= outer <= {MAX_CONE_DEGREES:g} and "
+                             f"outer > 0, or None; got {cone!r}")
+    kernel = settings.shadow_kernel
+    if isinstance(kernel, bool) or not isinstance(kernel, int) or not (
+            1 <= kernel <= MAX_SHADOW_KERNEL):
+        raise ValueError(f"shadow_kernel must be a whole number of texels 1..{MAX_SHADOW_KERNEL}"
+                         f" (1 = hard shadows), got {kernel!r}")
+    _check_choice("tone_map", settings.tone_map, TONE_MAPS)
 
 
 def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:

@@ -234,14 +234,27 @@ class App:
         """The Settings the pipeline of ``side`` ("A" or "B") runs with this frame."""
         state, rt = self.state, self.state.runtime
         a = state.settings
+        # With the display's auto exposure (Settings.auto_exposure) each side already has
+        # its own display scale; "per side" then only decides whether B keeps it
+        # (_display_override). Without it, per side sets each side's exposure.
+        per_side_exposure = state.auto_exposure and not a.auto_exposure
         if side == "A":
-            if state.comparing and state.auto_exposure:
+            if state.comparing and per_side_exposure:
                 a = a.with_changes(exposure=rt.auto_exposure[0])
             return a
         b = a.with_changes(corrections=state.compare_settings.corrections)
-        if state.auto_exposure:
+        if per_side_exposure:
             b = b.with_changes(exposure=rt.auto_exposure[1])
         return b
+
+    def _display_override(self, side: str) -> float | None:
+        """The display scale side B is shown with: A's, so that the two sides of a
+        comparison are exposed alike (unless "Auto-exposure per side" is on); None (its
+        own) for A and for B per side."""
+        rt = self.state.runtime
+        if side == "A" or self.state.auto_exposure or rt.result is None:
+            return None
+        return float(getattr(rt.result, "display_scale", 1.0))
 
     def _follow_view_size(self) -> bool:
         """Keep the render size at the View panel's pixels; False while the size is
@@ -290,6 +303,11 @@ class App:
         """Run one side's pipeline if its settings changed; True if it has a result."""
         rt = self.state.runtime
         settings = self.settings_for(side)
+        override = self._display_override(side)
+        existing = self._pipelines.get(side)
+        if existing is not None and getattr(existing, "display_scale_override", None) != override:
+            existing.display_scale_override = override
+            self._last_run.pop(side, None)   # the pipeline re-runs only its display stage
         last = self._last_run.get(side)
         if last is not None and last == (settings, keep_steps):
             return True
@@ -300,6 +318,7 @@ class App:
             pipeline = self._pipelines.get(side)
             if pipeline is None:
                 pipeline = self._pipeline_class(settings, ctx=self.ctx)
+                pipeline.display_scale_override = override
                 self._pipelines[side] = pipeline
             result = pipeline.run(settings, keep_steps=keep_steps)
         except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
@@ -361,6 +380,7 @@ class App:
         light = getattr(scene, "light", None)
         rt.light_default = _eye_target(light)
         rt.light_flux_default = getattr(light, "flux", None)
+        rt.light_cone_default = getattr(light, "cone_degrees", None)
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
@@ -374,7 +394,8 @@ class App:
         from explorer.ui.images import auto_exposure
 
         rt = self.state.runtime
-        if not (self.state.comparing and self.state.auto_exposure):
+        if not (self.state.comparing and self.state.auto_exposure) or \
+                self.state.settings.auto_exposure:
             return
         values = list(rt.auto_exposure)
         for i, result in enumerate((rt.result, rt.compare_result)):

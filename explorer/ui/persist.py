@@ -61,9 +61,12 @@ def settings_from_dict(data: Any) -> Settings:
     for name in ("camera", "light"):
         if values.get(name) is not None:
             values[name] = _pair_of_points(name, values[name])
+    if values.get("spot_cone_degrees") is not None:
+        values["spot_cone_degrees"] = _two_numbers("spot_cone_degrees",
+                                                   values["spot_cone_degrees"])
     defaults = Settings()
     for f in dataclasses.fields(Settings):
-        if f.name in values and f.name not in ("corrections", "camera", "light"):
+        if f.name in values and f.name not in _STRUCTURED:
             expected = type(getattr(defaults, f.name))
             value = values[f.name]
             if getattr(defaults, f.name) is None:  # optional numbers (light_flux)
@@ -80,6 +83,20 @@ def settings_from_dict(data: Any) -> Settings:
         return Settings(**values)
     except (TypeError, ValueError) as exc:
         raise SettingsFileError(str(exc)) from exc
+
+
+_STRUCTURED = ("corrections", "camera", "light", "spot_cone_degrees")
+"""Fields read above, not by the per-type check."""
+
+
+def _two_numbers(name: str, value: Any) -> tuple[float, float]:
+    try:
+        first, second = value
+        if any(isinstance(v, bool) for v in (first, second)):
+            raise TypeError
+        return float(first), float(second)
+    except (TypeError, ValueError):
+        raise SettingsFileError(f"{name} must be two numbers [inner, outer] or null") from None
 
 
 def _pair_of_points(name: str, value: Any) -> tuple:

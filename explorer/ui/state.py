@@ -75,6 +75,7 @@ class Runtime:
     camera_default: tuple | None = None   # the scene's (eye, target) once known
     light_default: tuple | None = None    # the scene's (position, target) once known
     light_flux_default: float | None = None
+    light_cone_default: tuple | None = None   # the scene spot's (inner, outer) cone, degrees
     scene_bounds: tuple | None = None
     frame_ms: float = 0.0
     pipeline_ms: float = 0.0

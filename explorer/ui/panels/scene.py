@@ -12,12 +12,14 @@ from explorer.lpv.settings import (
     GRID_FORMATS,
     INJECTION_MODES,
     MAX_CASCADES,
+    MAX_SHADOW_KERNEL,
     SH_ORDERS,
 )
+from explorer.scene.lights import MAX_CONE_DEGREES
 from explorer.ui import camera, widgets
 from explorer.ui.state import AppState
 
-BUILTIN_SCENES = ("cornell", "single-source", "room")
+BUILTIN_SCENES = ("cornell", "single-source", "room", "atrium")
 GRID_SIZES = (8, 16, 24, 32, 48, 64)
 RSM_SIZES = (64, 128, 256, 512, 1024)
 
@@ -60,6 +62,13 @@ def gui_scene(state: AppState) -> None:
     changed, flux = imgui.input_float("Light flux [W]", flux, 0.0, 0.0, "%.3g")
     if changed and flux > 0:
         state.update(light_flux=float(flux))
+    _spot_cone(state)
+    changed, value = imgui.slider_int("Shadow PCF [texels]", s.shadow_kernel, 1,
+                                      MAX_SHADOW_KERNEL)
+    if changed:
+        state.update(shadow_kernel=value)
+    _tooltip("width of the box over which the direct light's shadow test is averaged: "
+             "shadow edges become ramps this many shadow-map texels wide; 1 = hard")
 
     imgui.separator_text("Light propagation volume")
     _choice_int(state, "Grid size (cells³)", "grid_size", GRID_SIZES)
@@ -142,6 +151,26 @@ def _light_angles(state: AppState) -> None:
     if changed_a or changed_e:
         new_position = camera.from_angles(target, azimuth, elevation, distance)
         state.update(light=(new_position, target))
+
+
+def _spot_cone(state: AppState) -> None:
+    """The spot's cone: on/off, and its inner and outer half-angles."""
+    s = state.settings
+    default = state.runtime.light_cone_default
+    changed, value = imgui.checkbox("Spot cone", s.spot_cone)
+    if changed:
+        state.update(spot_cone=value)
+    _tooltip("on: the spot fades smoothly from its inner to its outer angle, in the RSM and "
+             "the direct light alike (docs/MODEL.md 'Spot cone'); off: the 90° square "
+             "frustum with uniform intensity")
+    cone = s.spot_cone_degrees or default
+    if not s.spot_cone or cone is None:
+        return
+    changed, angles = imgui.slider_float2("Cone inner/outer [°]", list(cone), 0.0,
+                                          MAX_CONE_DEGREES, "%.1f")
+    if changed:
+        inner, outer = sorted(float(a) for a in angles)
+        state.update(spot_cone_degrees=(inner, max(outer, 0.5)))
 
 
 def _geometry_volume_choice(state: AppState) -> None:

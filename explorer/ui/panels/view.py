@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 from imgui_bundle import imgui
 
+from explorer.lpv.tonemap import TONE_MAPS, display_encode
 from explorer.ui import camera, images, widgets
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState
 from explorer.ui.textures import diverging, heat, tonemap
@@ -67,7 +68,8 @@ def gui_view(state: AppState) -> None:
 def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
     """(GL texture name, stored bottom row first) of one side's chosen buffer, or None.
     "final" is the pipeline's own texture; the other buffers are FrameResult arrays
-    tonemapped and uploaded to a texture the UI owns."""
+    encoded like it (the frame's display scale and tone curve; albedo as it is) and
+    uploaded to a texture the UI owns."""
     rt = state.runtime
     if state.view_buffer == "final":
         tex = rt.final_texture_id if side == "A" else rt.compare_texture_id
@@ -75,11 +77,15 @@ def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
     result = rt.result if side == "A" else rt.compare_result
     if result is None:
         return None
-    exposure = 1.0 if state.view_buffer == "albedo" else result.settings.exposure
     version = (state.view_buffer, id(result))
-    tex = rt.textures.upload(f"view-{side}", tonemap(linear_image(result, state.view_buffer),
-                                                     exposure),
-                             version=version, nearest=False)
+    linear = linear_image(result, state.view_buffer)
+    if state.view_buffer == "albedo":
+        image = tonemap(linear, 1.0)
+    else:
+        image = display_encode(result.settings.exposure * linear,
+                               getattr(result, "display_scale", 1.0),
+                               getattr(result.settings, "tone_map", "linear-clip"))
+    tex = rt.textures.upload(f"view-{side}", image, version=version, nearest=False)
     return tex, False
 
 
@@ -111,6 +117,21 @@ def _toolbar(state: AppState) -> None:
     if state.comparing:
         _same_line_if_fits("Auto-exposure per side", checkbox=True)
         _, state.auto_exposure = imgui.checkbox("Auto-exposure per side", state.auto_exposure)
+    _same_line_if_fits("Auto exposure", checkbox=True)
+    changed, value = imgui.checkbox("Auto exposure", state.settings.auto_exposure)
+    if changed:
+        state.update(auto_exposure=value)
+    if imgui.is_item_hovered():
+        imgui.set_tooltip("expose the image's log-average luminance at middle grey (0.18); "
+                          "the Exposure slider then compensates on top")
+    imgui.same_line()
+    imgui.set_next_item_width(100)
+    changed, value = widgets.combo("##tonemap", state.settings.tone_map, TONE_MAPS)
+    if changed:
+        state.update(tone_map=value)
+    if imgui.is_item_hovered():
+        imgui.set_tooltip("tone curve: filmic rolls highlights off (ACES fit), linear-clip "
+                          "clips everything above 1 to white")
     _same_line_if_fits("Indirect only", checkbox=True)
     changed, value = imgui.checkbox("Indirect only", state.settings.indirect_only)
     if changed:
