@@ -5,6 +5,10 @@ With ``--cascades`` every cascade count is a row: the inject, geometry and propa
 columns then hold all cascades together (each cascade is a full grid), and the bandwidth
 counts every cascade's grids.
 
+``--scene`` picks what is rendered; the header names it with its triangle count, which
+the RSM and G-buffer passes scale with: ``bench --scene atrium`` times the large
+procedural courtyard (over 100 000 triangles) instead of the 34-triangle Cornell box.
+
 Bandwidth model: one propagation step reads the previous grid and writes the next one
 (3 textures × one texel per cell each) and reads and writes the accumulation grid, so it
 moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
@@ -33,7 +37,8 @@ SOFTWARE_ITERATIONS = (4, 8, 16)
 QUICK_GRIDS = (8, 16)
 QUICK_ITERATIONS = (2, 4)
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
-PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather",
+                "display")
 VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
@@ -67,7 +72,9 @@ def parse_list(text: str) -> tuple[int, ...]:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--scene", default="cornell", help="scene to render (default cornell)")
+    parser.add_argument("--scene", default="cornell",
+                        help="scene to render (default cornell; atrium: the large procedural "
+                             "courtyard)")
     parser.add_argument("--preset", default="corrected", choices=sorted(PRESETS))
     parser.add_argument("--grids", type=parse_list,
                         help="grid resolutions, e.g. 16,32,64,128 (default: that list on a "
@@ -195,6 +202,7 @@ def main(args: argparse.Namespace) -> int:
         with Pipeline(Settings(scene=args.scene)) as pipeline:
             caps = probe(pipeline.ctx)
             rows = run_bench(args, pipeline)
+            triangles = pipeline.base_scene.triangle_count
     except (SceneError, ValueError) as exc:
         print(f"lpv-explorer bench: error: {exc}", file=sys.stderr)
         return 2
@@ -204,7 +212,8 @@ def main(args: argparse.Namespace) -> int:
     methods = sorted({method for row in rows for method in row["methods"].values()})
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     print(f"device: {caps.renderer} ({caps.version}); {when}")
-    print(f"scene {args.scene}, preset {args.preset}, format {args.format}, "
+    print(f"scene {args.scene} ({triangles} triangles), preset {args.preset}, "
+          f"format {args.format}, "
           f"geometry volume {args.geometry_volume}; timing: {', '.join(methods)}; "
           f"milliseconds per pass (median){' [quick]' if args.quick else ''}")
     print(format_table(rows, args.peak_gbs))
@@ -212,5 +221,6 @@ def main(args: argparse.Namespace) -> int:
         print("(pass --peak-gbs <device peak bandwidth in GB/s> to see the share reached)")
     if args.json is not None:
         args.json.write_text(json.dumps({"device": caps.renderer, "version": caps.version,
-                                         "date": when, "rows": rows}, indent=2))
+                                         "date": when, "scene": args.scene,
+                                         "triangles": triangles, "rows": rows}, indent=2))
     return 0

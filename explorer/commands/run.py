@@ -14,7 +14,8 @@ from pathlib import Path
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--lesson", metavar="ID", help="open a lesson (e.g. 01 or its slug)")
     parser.add_argument("--scene", metavar="NAME|PATH",
-                        help="a built-in scene (cornell, single-source, room) or a mesh file")
+                        help="a built-in scene (cornell, single-source, room, atrium) or a "
+                             "mesh file")
     parser.add_argument("--preset", choices=("original", "corrected"),
                         help="start with the published or the corrected formulas")
     parser.add_argument("--compare", choices=("single", "split", "difference"),

@@ -10,13 +10,13 @@
 
 Auto exposure: the log-average luminance ``L̄ = exp(mean(log(δ + L)))`` (Reinhard et al.
 2002, "Photographic tone reproduction") and the scale ``key/L̄`` that exposes it at
-``key``. The average runs over the pixels that show a surface *and* lie between the 80th
-and 98th percentile of their luminance (the window game engines meter with, e.g. Unreal's
-default histogram): spot-lit rooms and sunlit courtyards are mostly shadow, and a mean
-over every pixel would expose for the shadows and burn out the lit surfaces; the top 2 %
-(highlights) are left out too. ``δ`` is a tiny fraction of the brightest luminance, so an
-unlit pixel in the window keeps ``L̄`` finite and the scale stays exactly inversely
-proportional to the light's flux (auto exposure undoes any change of flux).
+``key``. The average runs over the pixels that show a surface *and* lie between the 70th
+and 98th percentile of their luminance (the bright part of the image, as histogram
+metering in game engines does): spot-lit rooms and sunlit courtyards are mostly shadow,
+and a mean over every pixel would expose for the shadows and burn out the lit surfaces;
+the top 2 % (highlights) are left out too. ``δ`` is a tiny fraction of the brightest
+luminance, so an unlit pixel in the window keeps ``L̄`` finite and the scale stays exactly
+inversely proportional to the light's flux (auto exposure undoes any change of flux).
 """
 
 from __future__ import annotations
@@ -27,10 +27,10 @@ TONE_MAPS = ("linear-clip", "filmic")
 """``Settings.tone_map`` choices; their index is the GLSL ``TONE_MAP_*`` constant."""
 ACES_FIT = (2.51, 0.03, 2.43, 0.59, 0.14)
 """Coefficients a, b, c, d, e of ``x(ax + b)/(x(cx + d) + e)`` (shaders/tonemap.glsl)."""
-AUTO_EXPOSURE_KEY = 0.4
+AUTO_EXPOSURE_KEY = 0.45
 """The exposed log-average luminance of the metered window under auto exposure: the lit
-surfaces land on the filmic curve's mid tones (0.4 → 0.48, sRGB 0.72)."""
-METERED_PERCENTILES = (50.0, 98.0)
+surfaces land on the filmic curve's upper mid tones (0.45 → 0.58, sRGB 0.79)."""
+METERED_PERCENTILES = (70.0, 98.0)
 """The luminance window (percentiles of the surface pixels) the auto exposure averages."""
 LOG_AVERAGE_FLOOR = 1e-4
 """``δ`` of the log average, relative to the brightest luminance."""
@@ -77,8 +77,9 @@ def luminance(image: np.ndarray) -> np.ndarray:
 def log_average_luminance(image: np.ndarray, mask: np.ndarray | None = None,
                           percentiles: tuple[float, float] = METERED_PERCENTILES) -> float:
     """``exp(mean(log(δ + L)))`` over the pixels of ``mask`` (all when None) whose
-    luminance lies between the two ``percentiles`` of theirs (``(0, 100)``: all of them),
-    ``δ`` = :data:`LOG_AVERAGE_FLOOR` × the brightest; 0 when none is lit."""
+    luminance ranks between the two ``percentiles`` of theirs (``(0, 100)``: all of them;
+    at least one pixel), ``δ`` = :data:`LOG_AVERAGE_FLOOR` × the brightest; 0 when none
+    is lit."""
     lum = np.nan_to_num(luminance(image))
     if mask is not None:
         lum = lum[np.asarray(mask, bool)]
@@ -86,8 +87,13 @@ def log_average_luminance(image: np.ndarray, mask: np.ndarray | None = None,
     peak = float(lum.max()) if lum.size else 0.0
     if not peak > 0.0:
         return 0.0
-    low, high = np.percentile(lum, percentiles)
-    window = lum[(lum >= low) & (lum <= high)]
+    # the window by rank, so it is never empty: the sorted values from ⌊n·p_low/100⌋ up to
+    # ⌈n·p_high/100⌉ (exclusive), at least one
+    ranked = np.sort(lum)
+    count = len(ranked)
+    first = min(int(np.floor(count * percentiles[0] / 100.0)), count - 1)
+    stop = max(int(np.ceil(count * percentiles[1] / 100.0)), first + 1)
+    window = ranked[first:stop]
     delta = LOG_AVERAGE_FLOOR * peak
     return float(np.exp(np.mean(np.log(delta + window))))
 

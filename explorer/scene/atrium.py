@@ -309,9 +309,17 @@ def _drapes(mesh: MeshBuilder, sign: float) -> None:
              DRAPE_COLOURS[(start + k + 2) % count])
 
 
+SUN_FROM = (3.0, 10.0, 10.0)
+"""A point on the sun's side: the sun shines from there towards the origin (44° above the
+horizon, from the south, a little east). The south wing's shadow covers the courtyard
+floor up to z ≈ −4 while the north arcades and their drapes are in full sun, so the
+drapes throw their colours onto the shaded floor in front of them."""
+
+
 def atrium() -> Scene:
     """The atrium scene (module docstring): over 100 000 triangles, a camera in the
-    courtyard looking along it, and a low sun that lights the north curtains."""
+    courtyard looking along it (the first key of :data:`FLY_THROUGH`), and the sun
+(:data:`SUN_FROM`) lighting the north arcades."""
     mesh = MeshBuilder()
     _floor(mesh)
     for sign in (-1.0, 1.0):
@@ -328,12 +336,6 @@ def atrium() -> Scene:
     eye, target = FLY_THROUGH[0]
     return Scene("atrium", positions, normals, albedo, Camera(eye, target, 60.0), sun, lo, hi)
 
-
-SUN_FROM = (3.0, 10.0, 10.0)
-"""A point on the sun's side: the sun shines from there towards the origin (44° above the
-horizon, from the south, a little east). The south wing's shadow covers the courtyard
-floor up to z ≈ −4 while the north arcades and their drapes are in full sun, so the
-drapes throw their colours onto the shaded floor in front of them."""
 
 # --- fly-through ----------------------------------------------------------------------------
 

@@ -27,7 +27,8 @@ MIN_TRIANGLE_AREA_FRACTION = 1e-12
 
 
 def load_scene(name_or_path: str | Path) -> Scene:
-    """A built-in scene (``"cornell"``, ``"single-source"``, ``"room"``) or a mesh file."""
+    """A built-in scene (``"cornell"``, ``"single-source"``, ``"room"``, ``"atrium"``) or a
+    mesh file."""
     key = str(name_or_path)
     if key in BUILTIN_SCENES:
         return BUILTIN_SCENES[key]()

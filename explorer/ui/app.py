@@ -381,6 +381,7 @@ class App:
         rt.light_default = _eye_target(light)
         rt.light_flux_default = getattr(light, "flux", None)
         rt.light_cone_default = getattr(light, "cone_degrees", None)
+        rt.light_is_spot = hasattr(light, "cone_degrees")
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:

@@ -76,6 +76,7 @@ class Runtime:
     light_default: tuple | None = None    # the scene's (position, target) once known
     light_flux_default: float | None = None
     light_cone_default: tuple | None = None   # the scene spot's (inner, outer) cone, degrees
+    light_is_spot: bool = True                # False for a directional light (no cone)
     scene_bounds: tuple | None = None
     frame_ms: float = 0.0
     pipeline_ms: float = 0.0

@@ -157,6 +157,8 @@ def _spot_cone(state: AppState) -> None:
     """The spot's cone: on/off, and its inner and outer half-angles."""
     s = state.settings
     default = state.runtime.light_cone_default
+    if not state.runtime.light_is_spot:
+        return
     changed, value = imgui.checkbox("Spot cone", s.spot_cone)
     if changed:
         state.update(spot_cone=value)
