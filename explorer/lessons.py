@@ -192,6 +192,19 @@ FormulaCheck = Callable[[str], Any]
 """Raises (KeyError/LookupError/ValueError) when a formula name does not resolve."""
 
 
+def _numbers(value: Any, count: int) -> bool:
+    """``value`` is a TOML array of ``count`` numbers."""
+    return isinstance(value, list) and len(value) == count and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+
+
+def _hint_name(hint: Any) -> str:
+    """``float``, or ``an array of 2 numbers`` for ``tuple[float, float]``."""
+    if typing.get_origin(hint) is tuple:
+        return f"an array of {len(typing.get_args(hint))} numbers"
+    return hint.__name__
+
+
 # --- loading -------------------------------------------------------------------------------
 
 class _UseRegistry:
@@ -433,7 +446,9 @@ class _Validator:
                 return float(value)
             if kind is str and isinstance(value, str):
                 return value
-        wanted = " or ".join(k.__name__ for k in allowed if k is not type(None))
+            if typing.get_origin(kind) is tuple and _numbers(value, len(typing.get_args(kind))):
+                return tuple(float(v) for v in value)   # e.g. spot_cone_degrees = [30, 60]
+        wanted = " or ".join(_hint_name(k) for k in allowed if k is not type(None))
         raise self.error(field, f"must be {wanted}, got {_type_name(value)} {value!r}")
 
     def pair(self, raw: Mapping, key: str, names: tuple[str, str]) -> tuple[Vec3, Vec3] | None:
