@@ -40,6 +40,21 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     assert set(rows[1]["methods"].values()) <= {"timer-query", "wall-clock"}
 
 
+def test_bench_reports_the_atrium(tmp_path, capsys):
+    out = tmp_path / "atrium.json"
+    assert main(["bench", "--quick", "--scene", "atrium", "--grids", "8", "--iterations", "2",
+                 "--cascades", "1,3", "--variants", "none", "--json", str(out)]) == 0
+    printed = capsys.readouterr().out
+    data = json.loads(out.read_text())
+    assert data["scene"] == "atrium" and data["triangles"] >= 100_000
+    assert f"scene atrium ({data['triangles']} triangles)" in printed
+    rows = [row for row in data["rows"] if row["variant"] == "default"]
+    assert [row["cascades"] for row in rows] == [1, 3]
+    for row in rows:
+        for name in ("rsm", "gbuffer", "propagate", "gather", "display"):
+            assert row["passes_ms"][name] > 0
+
+
 def test_bandwidth_model():
     # read + write the grid, read + write the accumulation: 4 × 3 textures × 16 B per cell
     assert propagation_bytes(32, 8, "rgba32f") == 192 * 32**3 * 8

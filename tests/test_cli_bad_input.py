@@ -39,6 +39,14 @@ BAD = [
     ("render --cascade-extent inf", 2, "cascade_extent must be a finite number"),
     ("render --cascade-extent 1e-30", 2, "cascade_extent must be a finite number in [1e-06"),
     ("render --sh-order 3", 2, "sh_order must be one of 1, 2, got 3"),
+    ("render --cone-angles 60,30", 2, "spot_cone_degrees must be two numbers [first, second] "
+                                      "with 0 <= first <= second <= 80, second > 0"),
+    ("render --cone-angles 30", 2, "spot_cone_degrees must be two numbers"),
+    ("render --cone-angles 0,0", 2, "second > 0 or None, got (0.0, 0.0)"),
+    ("render --cone-angles 10,90", 2, "second <= 80"),
+    ("render --shadow-kernel 10", 2, "shadow_kernel must be a whole number in [1, 9]"),
+    ("render --tone-map sepia", 2, "tone_map must be one of 'linear-clip', 'filmic'"),
+    ("compare --cone-angles 50,nan", 2, "spot_cone_degrees must be two numbers"),
     ("render --bounces 2", 2, "needs geometry_volume 'one-sided' or 'double-sided'"),
     ("render --preset nope", 2, "invalid choice: 'nope'"),
     ("render --scene nosuch", 2, "no built-in scene or mesh file named 'nosuch'"),
@@ -319,7 +327,9 @@ def test_every_flagged_setting_is_an_option_and_reaches_the_settings():
          "--cascades", "1", "--cascade-extent", "2.5", "--cascade-focus", "0.5",
          "--cascade-iterations", "same-distance", "--exposure", "2", "--indirect-only",
          "--debug-nan", "--injection-offset", "0", "--gather-damping", "--bounces", "2",
-         "--scene", "room", "--size", "64x32", "--preset", "original"])
+         "--scene", "room", "--size", "64x32", "--preset", "original", "--no-spot-cone",
+         "--cone-angles", "30,60", "--shadow-kernel", "5", "--tone-map", "linear-clip",
+         "--no-auto-exposure"])
     expected = Settings(grid_size=16, iterations=0, rsm_size=64, downsample="average",
                         downsample_factor=4, injection_mode="compute",
                         geometry_volume="one-sided", grid_format="rgba16f", sh_order=2,
@@ -327,7 +337,9 @@ def test_every_flagged_setting_is_an_option_and_reaches_the_settings():
                         cascade_iterations="same-distance", exposure=2.0, indirect_only=True,
                         debug_nan=True, injection_offset_cells=0.0, gather_damping=True,
                         bounces=2, scene="room", width=64, height=32,
-                        corrections=PRESETS["original"])
+                        corrections=PRESETS["original"], spot_cone=False,
+                        spot_cone_degrees=(30.0, 60.0), shadow_kernel=5,
+                        tone_map="linear-clip", auto_exposure=False)
     assert settings_from_args(args) == expected
     flagged = {spec.flag for spec in specs(Settings).values() if spec.flag}
     help_text = parser.command_parsers["render"].format_help()

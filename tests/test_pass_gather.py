@@ -18,7 +18,7 @@ from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.textures import LpvGrid
-from explorer.lpv.views import linear_to_srgb
+from explorer.lpv.tonemap import linear_to_srgb
 from explorer.scene import Camera, MeshBuilder, Scene, SpotLight
 from explorer.scene.gpu import SceneBuffers
 

@@ -84,6 +84,10 @@ def test_rerun_skips_unchanged_stages(pipeline):
     assert pipeline.run(SMALL.with_changes(width=32, exposure=2.0, iterations=3,
                                            corrections="original")).stages_run == (
         "gbuffer", "gather", "display")
+    # the display alone: tone curve and auto exposure touch no linear image
+    assert pipeline.run(SMALL.with_changes(width=32, exposure=2.0, iterations=3,
+                                           corrections="original", tone_map="linear-clip",
+                                           auto_exposure=False)).stages_run == ("display",)
     pipeline.invalidate()
     assert pipeline.run(SMALL).stages_run[:3] == ("scene", "grid", "rsm")
 

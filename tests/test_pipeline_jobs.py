@@ -231,14 +231,16 @@ def test_cascades_are_a_list_of_levels(pipeline):
 def test_stage_keys_come_from_the_schema():
     stages.check_declarations()
     assert [name for name, _ in stages.stage_inputs(SMALL, "display")] == [
-        "exposure", "indirect_only"]
+        "exposure", "indirect_only", "tone_map", "auto_exposure"]
     for stage in schema.STAGES:
         names = [name for name, _ in stages.stage_inputs(SMALL, stage)]
         assert names == list(schema.stages_reading(Settings, stage))
     table = stages.describe()
     for stage in schema.STAGES:
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
-    assert "display    (gather) exposure, indirect_only" in table
+    assert "display    (gather) exposure, indirect_only, tone_map, auto_exposure" in table
+    assert "rsm        (scene) rsm_size, light, light_flux, spot_cone, spot_cone_degrees" \
+        in table
     assert stages.downstream("gbuffer") == ("gbuffer", "gather", "display")
 
 

@@ -5,6 +5,10 @@ With ``--cascades`` every cascade count is a row: the inject, geometry and propa
 columns then hold all cascades together (each cascade is a full grid), and the bandwidth
 counts every cascade's grids.
 
+``--scene`` picks what is rendered; the header names it with its triangle count, which
+the RSM and G-buffer passes scale with: ``bench --scene atrium`` times the large
+procedural courtyard (over 100 000 triangles) instead of the 34-triangle Cornell box.
+
 Bandwidth model: one propagation step reads the previous grid and writes the next one
 (3 textures × one texel per cell each) and reads and writes the accumulation grid, so it
 moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
@@ -252,6 +256,7 @@ def main(args: argparse.Namespace) -> int:
                 runs = plan(args, pipeline.software_renderer)
                 caps = probe(pipeline.ctx)
                 rows = run_bench(args, pipeline, runs, progress)
+                triangles = pipeline.base_scene.triangle_count
         except SceneError as exc:
             raise options.CommandError(exc) from None
         except options.render_failures() as exc:
@@ -259,7 +264,8 @@ def main(args: argparse.Namespace) -> int:
         methods = sorted({method for row in rows for method in row["methods"].values()})
         when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
         print(f"device: {caps.renderer} ({caps.version}); {when}")
-        print(f"scene {base.scene}, corrections {preset_name(base.corrections)}, format "
+        print(f"scene {base.scene} ({triangles} triangles), corrections "
+              f"{preset_name(base.corrections)}, format "
               f"{base.grid_format}, geometry volume {base.geometry_volume}; timing: "
               f"{', '.join(methods)}; milliseconds per pass (median)"
               f"{' [quick]' if args.quick else ''}")
@@ -268,6 +274,7 @@ def main(args: argparse.Namespace) -> int:
             print("(pass --peak-gbs <device peak bandwidth in GB/s> to see the share reached)")
         if json_path is not None:
             payload = json.dumps({"device": caps.renderer, "version": caps.version,
-                                  "date": when, "rows": rows}, indent=2)
+                                  "date": when, "scene": base.scene,
+                                  "triangles": triangles, "rows": rows}, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
     return 0

@@ -90,6 +90,9 @@ def _from_text(spec: Spec, text: str) -> Any:
         return int(text)
     if kind == "float":
         return float(text)
+    if kind == "range2":                          # "30,60"
+        first, second = text.split(",")
+        return float(first), float(second)
     return text
 
 
@@ -149,8 +152,6 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
     and ``--preset``. ``sweep``: fields taking a comma list (one run per value);
     ``defaults``: what this command uses when an option is left out (shown in the help,
     applied by :func:`settings_from_args`); ``aliases``: extra flags per field."""
-    from explorer.scene.builtin import BUILTIN_SCENES
-
     exclude, sweep = set(exclude), set(sweep)
     defaults, aliases = dict(defaults), dict(aliases)
     base = Settings()
@@ -164,7 +165,7 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
         shown = defaults.get(name, getattr(base, name))
         help_text = spec_help(spec, _shown(shown))
         if name == "scene":
-            help_text = help_text[:-1] + f"; built-in scenes: {', '.join(BUILTIN_SCENES)}."
+            help_text = scene_help(help_text)
         if spec.kind == "bool":
             group.add_argument(*flags, dest=name, action=argparse.BooleanOptionalAction,
                                default=None, help=help_text)
@@ -191,10 +192,19 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
                             {"size"} if "width" in exclude else set()))))
 
 
+def scene_help(help_text: str) -> str:
+    """The scene option's help text (ending in a full stop) with the built-in scenes
+    (explorer/scene/builtin.py, their one list) named."""
+    from explorer.scene.builtin import BUILTIN_SCENES
+
+    return help_text[:-1] + f"; built-in scenes: {', '.join(BUILTIN_SCENES)}."
+
+
 def _metavar(spec: Spec) -> str:
     if spec.kind == "choice":
         return "{" + ",".join(str(choice) for choice in spec.choices) + "}"
-    return {"int": "N", "float": "X", "str": "TEXT"}.get(spec.kind, "VALUE")
+    return {"int": "N", "float": "X", "str": "TEXT", "range2": "LOW,HIGH"}.get(spec.kind,
+                                                                              "VALUE")
 
 
 def _shown(value: object) -> object:

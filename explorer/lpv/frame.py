@@ -70,6 +70,11 @@ class FrameResult:
     """Plain-text warnings of the numeric guards (explorer/lpv/guards.py): a pass whose
     output is not finite (with the switches that are off), flux that grows every step,
     a mesh whose scale makes the light vanish or overflow."""
+    display_scale: float = 1.0
+    """What the display multiplies ``final_image`` by before the tone curve
+    (docs/MODEL.md "Display"): the auto exposure key/L̄, 1 without it, or
+    ``Pipeline.display_scale_override``. ``render_view("final")`` and the display texture
+    both use it."""
     # The camera's view of the frame, for picking and for drawing in the scene
     # (explorer/ui/overlays); with gbuffer_position and gbuffer_normal above.
     camera: Camera | None = None
@@ -83,7 +88,8 @@ class FrameResult:
     @property
     def final_image(self) -> np.ndarray:
         """Linear colour, exposure applied (``exposure·indirect`` when ``indirect_only``):
-        what the display stage encodes (computed on first use)."""
+        what the display stage scales by :attr:`display_scale`, tone-maps and encodes
+        (computed on first use)."""
         if self._final_image is None:
             s = self.settings
             self._final_image = exposed_image(self.direct, self.indirect, s.exposure,

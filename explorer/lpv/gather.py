@@ -5,8 +5,8 @@ At a visible point with normal n and albedo a the accumulated grid is sampled tr
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
 SH order) and the indirect radiance a/π·E (optionally damped by the directional
 derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
-(spot) or
-E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
+(spot, times the cone's falloff f) or E_L·cos θ (directional), shadowed with the RSM's
+depth (normal.w) through a PCF box ``shadow_kernel`` texels wide.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
+from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import per_context, sh_defines
 from explorer.lpv.vpl import VplTextures
@@ -104,7 +105,8 @@ class GatherPass:
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
             grid_textures, spec: GridSpec, damping: bool = False,
             cascades: list[CascadeInput] | None = None, sh_order: int = 1,
-            rows: tuple[int, int] | None = None) -> None:
+            rows: tuple[int, int] | None = None,
+            shadow_kernel: int = DEFAULT_SHADOW_KERNEL) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
         trilinearly, clamped to the edge), or None for direct light only. ``damping``: the
         directional-derivative damping of the indirect irradiance (docs/MODEL.md "Final
@@ -113,7 +115,8 @@ class GatherPass:
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
         ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
-        the others keep what they hold."""
+        the others keep what they hold. ``shadow_kernel``: width of the PCF box in
+        shadow-map texels (1 = one hard test)."""
         self._targets.allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", {
             **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
@@ -133,6 +136,7 @@ class GatherPass:
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
             "u_shadow_texel": light.texel_world_size,
+            "u_shadow_kernel": int(shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
             "u_gather_damping": int(damping),
             **light.uniforms(),

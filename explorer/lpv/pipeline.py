@@ -50,7 +50,7 @@ from explorer.lpv.cascades import (
     focus_point,
 )
 from explorer.lpv.cascades import check_limits as check_cascade_limits
-from explorer.lpv.display import DisplayPass
+from explorer.lpv.display import DisplayPass, display_scale, exposed_image
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult
 from explorer.lpv.gather import GatherPass, bands
@@ -111,6 +111,13 @@ class Pipeline:
         self._gbuffer = GBufferPass(ctx, self.programs)
         self._gather = GatherPass(ctx, self.programs)
         self._display = DisplayPass(ctx, self.programs)
+        self.display_scale_override: float | None = None
+        """Show frames with this display scale instead of their own (the window shows
+        configuration B at A's exposure); None = the frame's own (auto exposure or 1). An
+        input of the display stage: changing it runs that stage alone."""
+        self._display_scale = 1.0
+        self._auto_scale: tuple[dict, bool, float] | None = None
+        """(the gathered arrays, indirect_only, their auto exposure scale)."""
         self.keys: dict[str, object] = {}
         """Stage -> key of its last completed run (forgotten while it runs)."""
         self.out_keys: dict[str, object] = {}
@@ -138,9 +145,9 @@ class Pipeline:
     # ------------------------------------------------------------------ public API
     @property
     def final_texture(self) -> moderngl.Texture:
-        """RGBA8 sRGB-encoded final image (exposure applied) of the last frame shown (a
-        finished run, or a job's preview), for display. Row 0 is the bottom row, as
-        OpenGL draws it."""
+        """RGBA8 final image as shown (exposure, display scale, tone curve, sRGB;
+        docs/MODEL.md "Display") of the last frame shown (a finished run, or a job's
+        preview). Row 0 is the bottom row, as OpenGL draws it."""
         if self._display.texture is None:
             raise RuntimeError("the pipeline has not run yet: call run() first")
         return self._display.texture
@@ -273,8 +280,11 @@ class Pipeline:
 
     # ------------------------------------------------------------------ what a Job calls
     def extra_input(self, stage: str, job: Job) -> object:
-        """Inputs of ``stage`` besides Settings fields and upstream stages."""
-        return job.vpls_key if stage == "downsample" else None
+        """Inputs of ``stage`` besides Settings fields and upstream stages: hand-made VPLs
+        (downsample), the display scale override (display)."""
+        if stage == "downsample":
+            return job.vpls_key
+        return self.display_scale_override if stage == "display" else None
 
     def satisfied(self, stage: str, job: Job) -> bool:
         """Whether the last completed run of ``stage`` has everything ``job`` asks for
@@ -344,9 +354,10 @@ class Pipeline:
         self.keys.pop("display", None)
         s = job.settings
         self._timed("gather", lambda: self._gather_levels(s))
-        targets = self._gather.targets
-        self._timed("display", lambda: self._display.run(
-            targets["direct"], targets["indirect"], s.exposure, s.indirect_only))
+        # the last frame's display scale: the auto exposure needs the read-back images,
+        # and a steady exposure shows the light growing
+        self._show(s, self._display_scale if self.display_scale_override is None
+                   else self.display_scale_override)
         return True
 
     @staticmethod
@@ -526,15 +537,38 @@ class Pipeline:
 
     def _stage_display(self, job: Job) -> None:
         s = job.settings
+        self._display_scale = self._frame_display_scale(s)
+        self._show(s, self._display_scale)
+
+    def _show(self, s: Settings, scale: float) -> None:
+        """The display pass on the gather's targets as they are now."""
         targets = self._gather.targets
         self._timed("display", lambda: self._display.run(
-            targets["direct"], targets["indirect"], s.exposure, s.indirect_only))
+            targets["direct"], targets["indirect"], s.exposure, s.indirect_only, s.tone_map,
+            scale))
+
+    def _frame_display_scale(self, s: Settings) -> float:
+        """The display scale of the frame just gathered: the override, or the auto
+        exposure of its unexposed image over the pixels that show a surface (measured
+        once per gathered frame and ``indirect_only``; an exposure change reuses it)."""
+        if self.display_scale_override is not None:
+            return float(self.display_scale_override)
+        if not s.auto_exposure:
+            return 1.0
+        gather = self._arrays["gather"]       # a new dict each time the gather completes
+        cached = self._auto_scale
+        if cached is None or cached[0] is not gather or cached[1] != s.indirect_only:
+            unexposed = exposed_image(gather["direct"][..., :3], gather["indirect"][..., :3],
+                                      1.0, s.indirect_only)
+            mask = self._arrays["gbuffer"][0][..., 3] > 0.5
+            cached = self._auto_scale = (gather, s.indirect_only,
+                                         display_scale(unexposed, mask, True))
+        return cached[2]
 
     # ------------------------------------------------------------------ helpers
     def _scene_for(self, s: Settings) -> Scene:
-        """The loaded scene with the Settings' camera, light and flux applied."""
-        self._scene = self._scene_cache[s.scene].with_overrides(s.camera, s.light,
-                                                                s.light_flux)
+        """The loaded scene with the Settings' camera, light, flux and spot cone applied."""
+        self._scene = self._scene_cache[s.scene].for_settings(s)
         return self._scene
 
     def _levels_for(self, specs: list[GridSpec]) -> list[CascadeLevel]:
@@ -559,7 +593,8 @@ class Pipeline:
             cascades = [CascadeInput(spec, t) for spec, t in zip(self._specs, textures)]
         self._gather.run(self._gbuffer, self._rsm_textures, self._light, textures[0],
                          self._specs[0], s.gather_damping, cascades=cascades,
-                         sh_order=levels[0].injected.sh_order, rows=rows)
+                         sh_order=levels[0].injected.sh_order, rows=rows,
+                         shadow_kernel=s.shadow_kernel)
 
     def _array_warnings(self, pass_name: str, s: Settings, arrays) -> list[str]:
         """Warnings of read-back arrays that hold NaN or infinity; with ``debug_nan`` a
@@ -641,7 +676,7 @@ class Pipeline:
             rsm_position=rsm_position, rsm_normal=rsm_normal, rsm_flux=rsm_flux,
             vpls=self._arrays["vpls"], audit=audit, timings_ms=dict(self.timings_ms),
             timing_methods=dict(self.timing_methods), stages_run=job.progress.stages_run,
-            warnings=warnings, camera=self._scene.camera,
+            warnings=warnings, display_scale=self._display_scale, camera=self._scene.camera,
             scene_bounds=(tuple(map(float, self._scene.bounds_min)),
                           tuple(map(float, self._scene.bounds_max))))
 

@@ -62,7 +62,8 @@ DECLARATIONS: dict[str, StageDecl] = {decl.name: decl for decl in (
     StageDecl("gbuffer", ("scene",), "position, normal, albedo seen by the camera"),
     StageDecl("gather", ("gbuffer", "rsm", "propagate"), "linear direct and LPV indirect "
               "radiance per pixel"),
-    StageDecl("display", ("gather",), "exposure and encoding of the shown RGBA8 image"),
+    StageDecl("display", ("gather",), "exposure, auto exposure, tone curve and encoding of "
+              "the shown RGBA8 image (+ Pipeline.display_scale_override)"),
 )}
 
 EXECUTION_ORDER = ("scene", "grid", "gbuffer", "rsm", "downsample", "inject", "geometry",
