@@ -30,6 +30,7 @@ import numpy as np
 from explorer.lpv import reference as lpv_reference
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.reference import derivative_damping, gather_irradiance, sample_grid
+from explorer.lpv.tonemap import luminance
 from explorer.lpv.vpl import VplArrays
 
 __all__ = ["VARIANTS", "derivative_damping", "gather_irradiance", "offset_vpls",
@@ -84,8 +85,7 @@ def study(scene: str = "room", iterations=(4, 8, 16), width: int = 128, height: 
         visible, gbuffer = reference_for_frame(frame, True, ctx=pipeline.ctx)
         unoccluded, _ = reference_for_frame(frame, False, ctx=pipeline.ctx)
     valid = gbuffer.valid
-    weights = np.array([0.2126, 0.7152, 0.0722])
-    shadowed = valid & (visible @ weights < 0.5 * (unoccluded @ weights))
+    shadowed = valid & (luminance(visible) < 0.5 * luminance(unoccluded))
     positions, normals = gbuffer.position[valid], gbuffer.normal[valid]
     albedo = gbuffer.albedo[valid]
     rows = []
