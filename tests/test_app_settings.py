@@ -267,3 +267,8 @@ def test_the_scene_panel_draws_every_declared_widget_from_its_spec():
     offset = specs(Settings)["injection_offset_cells"]
     assert label_of(offset, "injection_offset_cells") == "VPL offset [cells]"
     assert "0 = automatic" in tooltip_of(specs(Settings)["cascade_extent"])
+    # look's fields: generic widgets, but the cone pair (a custom two-handled slider)
+    assert [name for _, name in controls("Light and shadows")] == [
+        "spot_cone", "spot_cone_degrees", "shadow_kernel"]
+    assert [name for _, name in controls("Display")] == ["tone_map", "auto_exposure"]
+    assert label_of(specs(Settings)["shadow_kernel"], "shadow_kernel") == "Shadow PCF [texels]"
