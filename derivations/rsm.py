@@ -32,6 +32,18 @@ Surfel area. At view depth ``w`` a 90° frustum's cross-section is ``2w·tan 45�
 wide, so a texel covers ``(2w)²/(W·H) = 4w²/(W·H)``: quadratic in ``w``, the bug the
 annotations warn about (§5) being the linear ``4w/(W·H)``.
 
+Spot cone (docs/MODEL.md "Spot cone"). A spot with a cone radiates ``I·f(θ)`` with
+``f = smoothstep(cos θ_o, cos θ_i, cos θ) = 3t² − 2t³``,
+``t = clamp((cos θ − cos θ_o)/(cos θ_i − cos θ_o), 0, 1)``. Because ``f`` is a polynomial
+in ``cos θ`` and ``dω = −d(cos θ)·dφ``, the solid angle it weights is exact:
+``∫f dω = 2π·(1 − (cos θ_i + cos θ_o)/2)`` (:func:`cone_solid_angle`), the flux leaving
+the cone ``Φ_L/(4π)·∫f dω`` and, on a surface that catches the whole cone, the reflected
+flux ``c_diff·Φ_L·(1 − (cos θ_i + cos θ_o)/2)/2``. Its RSM frustum is the square one
+around the outer cone (``t = tan θ_o`` at depth 1), so a texel covers
+``4t²w²/(W·H)`` at depth ``w`` and reflects ``c_diff·ρ·f(θ_c)·Φ_L/(4π)`` with ``θ_c`` the
+angle of its centre direction: the midpoint rule of ``∫_texel f dω``, whose error over the
+whole map falls as ``1/W²``.
+
 Examples
 --------
 >>> from derivations.rsm import outgoing_flux_steps
@@ -125,6 +137,36 @@ def approx_over_exact_limit(u: sp.Expr, v: sp.Expr) -> sp.Expr:
     return sp.simplify(rectangle_solid_angle(-1, 1, -1, 1, 1) / (4 * pixel_density(u, v)))
 
 
+cos_c, cos_i, cos_o = sp.symbols("cos_theta cos_theta_i cos_theta_o", real=True)
+theta_o_sym = sp.Symbol("theta_o", positive=True)
+
+
+def spot_falloff() -> sp.Expr:
+    """``f`` between the two angles: ``3t² − 2t³`` with ``t = (cos θ − cos θ_o)/(cos θ_i −
+    cos θ_o)`` (1 inside the inner angle, 0 outside the outer one)."""
+    t = (cos_c - cos_o) / (cos_i - cos_o)
+    return 3 * t**2 - 2 * t**3
+
+
+def cone_solid_angle() -> sp.Expr:
+    """``∫_{S²} f dω`` for ``cos θ_o < cos θ_i``: ``2π∫f d(cos θ)`` over ``[cos θ_o,
+    cos θ_i]`` (the ramp) plus ``2π(1 − cos θ_i)`` (the cap where f = 1)."""
+    ramp = sp.integrate(spot_falloff(), (cos_c, cos_o, cos_i))
+    return sp.factor(sp.simplify(2 * sp.pi * (ramp + (1 - cos_i))))
+
+
+def cone_total_flux() -> sp.Expr:
+    """Flux reflected by a diffuse surface of reflectance ``c_diff`` that catches the whole
+    cone: the texel fluxes ``c_diff·ρ·f·Φ_L/(4π)`` summed into an integral."""
+    return sp.simplify(c_diff * Phi_L / (4 * sp.pi) * cone_solid_angle())
+
+
+def cone_surfel_area() -> sp.Expr:
+    """World area of an RSM texel at view depth ``w`` when the frustum holds a cone of
+    outer half-angle ``θ_o``: ``(2·w·tan θ_o)²/(W·H)``."""
+    return (2 * w * sp.tan(theta_o_sym)) ** 2 / (W * H)
+
+
 def surfel_area() -> sp.Expr:
     """World area of one texel at view depth ``w``: ``(2·w·tan(π/4))²/(W·H)``."""
     return sp.simplify((2 * w * sp.tan(sp.pi / 4)) ** 2 / (W * H))
@@ -196,5 +238,17 @@ def results() -> list[Result]:
                "Large-map limit of approximate/exact texel solid angle in a corner: √3π/2."),
         result(MODULE, "surfel_area", surfel_area(),
                "World area of an RSM texel at view depth w (90° frustum): 4w²/(W·H)."),
+        result(MODULE, "spot_falloff", sp.Eq(sp.Symbol("f"), spot_falloff()),
+               "Spot cone falloff between the inner and outer angles: smoothstep of cos θ, "
+               "3t² − 2t³ with t = (cos θ − cos θ_o)/(cos θ_i − cos θ_o)."),
+        result(MODULE, "cone_solid_angle", cone_solid_angle(),
+               "Solid angle the spot cone's falloff weights, ∫f dω = 2π(1 − (cos θ_i + "
+               "cos θ_o)/2): exact, f being a polynomial in cos θ."),
+        result(MODULE, "cone_total_flux", cone_total_flux(),
+               "Flux reflected by a surface that catches the whole cone: "
+               "c_diff·Φ_L·(1 − (cos θ_i + cos θ_o)/2)/2."),
+        result(MODULE, "cone_surfel_area", cone_surfel_area(),
+               "World area of an RSM texel at view depth w when the square frustum holds "
+               "the outer cone θ_o: 4w²tan²θ_o/(W·H)."),
     ]
     return out

@@ -68,6 +68,9 @@ SYMBOLS: dict[str, str] = {
     "rsm.pixel_ratio_corner": r"\frac{\Delta\omega_{\mathrm{texel}}}{\Delta\omega_{ij}}"
                               r"\Big|_{\mathrm{corner}}",
     "rsm.surfel_area": r"A_{\mathrm{texel}}",
+    "rsm.cone_solid_angle": r"\int_{S^2} f \, d\omega",
+    "rsm.cone_total_flux": r"\Phi_{\mathrm{cone}}",
+    "rsm.cone_surfel_area": r"A_{\mathrm{texel}}^{\mathrm{cone}}",
     # corrections: corrected over published
     "corrections.injection_pi.flux_factor": _RATIO,
     "corrections.propagation_4pi.flux_factor": _RATIO,

@@ -274,6 +274,34 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'World area of an RSM texel at view depth w (90° frustum): 4w²/(W·H).',
         None,
     ),
+    'rsm.spot_falloff': (
+        'f = - \\frac{2 \\left(cos_{\\theta} - cos_{\\theta o}\\right)^{3}}{\\left(cos_{\\theta '
+        'i} - cos_{\\theta o}\\right)^{3}} + \\frac{3 \\left(cos_{\\theta} - cos_{\\theta '
+        'o}\\right)^{2}}{\\left(cos_{\\theta i} - cos_{\\theta o}\\right)^{2}}',
+        'Spot cone falloff between the inner and outer angles: smoothstep of cos θ, 3t² − 2t³ '
+        'with t = (cos θ − cos θ_o)/(cos θ_i − cos θ_o).',
+        None,
+    ),
+    'rsm.cone_solid_angle': (
+        '\\int_{S^2} f \\, d\\omega = - \\pi \\left(cos_{\\theta i} + cos_{\\theta o} - 2\\right)',
+        "Solid angle the spot cone's falloff weights, ∫f dω = 2π(1 − (cos θ_i + cos θ_o)/2): "
+        'exact, f being a polynomial in cos θ.',
+        None,
+    ),
+    'rsm.cone_total_flux': (
+        '\\Phi_{\\mathrm{cone}} = \\frac{\\Phi_{L} c_{diff} \\left(- cos_{\\theta i} - '
+        'cos_{\\theta o} + 2\\right)}{4}',
+        'Flux reflected by a surface that catches the whole cone: c_diff·Φ_L·(1 − (cos θ_i + cos '
+        'θ_o)/2)/2.',
+        None,
+    ),
+    'rsm.cone_surfel_area': (
+        'A_{\\mathrm{texel}}^{\\mathrm{cone}} = \\frac{4 w^{2} \\tan^{2}{\\left(\\theta_{o} '
+        '\\right)}}{H W}',
+        'World area of an RSM texel at view depth w when the square frustum holds the outer cone '
+        'θ_o: 4w²tan²θ_o/(W·H).',
+        None,
+    ),
     'corrections.injection_pi.original': (
         'I_{p} = \\Phi_{p} \\max\\left(0, \\cos{\\left(\\theta \\right)}\\right)',
         'VPL intensity as published (Crytek): emits π·Φ_p.',

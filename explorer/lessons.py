@@ -63,6 +63,11 @@ from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Corrections, Settings
 from explorer.resources import lesson_dir
 from explorer.scene.builtin import BUILTIN_SCENES
 
+LESSON_DEFAULTS: dict[str, Any] = {"spot_cone": False, "auto_exposure": False}
+"""Settings every step starts from unless its lesson or the step sets them: the spot's 90°
+square frustum (the lessons' texts and measured numbers are about it) and a fixed exposure
+(their prompts ask the reader to watch the image brighten with the flux, the bounces or
+the published formulas, which an auto exposure would undo)."""
 COMPARE_VIEWS = ("split", "difference")
 """Views that show the step's corrections against the ``compare`` preset."""
 STEP_VIEWS = VIEWS + COMPARE_VIEWS
@@ -185,11 +190,12 @@ class Step:
 
         Scene, corrections, camera and light always come from the step (a step that
         names no camera gets the scene's default one), so a step looks the same whatever
-        was on screen before; fields the step does not mention (window size, exposure,
-        ...) keep the value of ``base``."""
+        was on screen before; so do the :data:`LESSON_DEFAULTS`. Other fields the step
+        does not mention (window size, exposure, ...) keep the value of ``base``."""
         base = Settings() if base is None else base
         return base.with_changes(scene=self.scene, corrections=self.corrections,
-                                 camera=self.camera, light=self.light, **dict(self.overrides))
+                                 camera=self.camera, light=self.light,
+                                 **{**LESSON_DEFAULTS, **dict(self.overrides)})
 
     def compare_settings(self, base: Settings | None = None) -> Settings | None:
         """The other side of a split/difference view (the step's settings with the
@@ -631,7 +637,7 @@ def render_step(pipeline: Any, step: Step, settings: Settings | None = None
     final images, scaled so that the largest difference is white."""
     import numpy as np
 
-    from explorer.lpv.views import linear_to_srgb
+    from explorer.lpv.tonemap import linear_to_srgb
 
     settings = step.settings() if settings is None else settings
     result = pipeline.run(settings)
@@ -640,7 +646,9 @@ def render_step(pipeline: Any, step: Step, settings: Settings | None = None
     mine_display = pipeline.view("final")
     mine_linear = np.array(result.final_image, copy=True)
     pipeline.run(settings.with_changes(corrections=step.compare))
-    other_display = pipeline.view("final")
+    # the other side at this side's display scale: an auto exposure must not hide the
+    # difference in brightness the step shows
+    other_display = pipeline.view("final", display_scale=result.display_scale)
     other_linear = pipeline.last_result.final_image
     if step.view == "split":
         image = np.array(mine_display, copy=True)

@@ -245,7 +245,7 @@ def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
 
 
 def _fixed() -> dict[str, Quantity]:
-    from explorer.lpv.pipeline import PASSES
+    from explorer.lpv.stages import PASSES
 
     items = [
         *[Quantity(f"audit.{name}", doc, "W", _audit_sum(name)) for name, doc in AUDIT_SUMS],

@@ -10,10 +10,12 @@
 // Stages (select with AUDIT_STAGE):
 //   0: partial records of the flux of one grid (the injected grid, the accumulation);
 //   1: partial records of the per-cell records propagate.glsl wrote (cell_terms);
-//   2: one workgroup folds the partial records into result slot u_result_slot.
-// Stages 0 and 1 run one invocation per partial; invocation p sums the cells p, p + P,
-// p + 2P, ... (P partials, 64 cells each at most): no barrier() (slow on llvmpipe) and
-// neighbouring invocations read neighbouring memory.
+//   2: every slot's partial records folded into its result (once, before the read-back).
+// Stages 0 and 1 run one invocation per partial and write slot u_result_slot's region of
+// `partials` (P records per slot); invocation p sums the cells p, p + P, p + 2P, ...:
+// neighbouring invocations read neighbouring memory. Stage 2 runs one invocation per
+// (slot, value), summing that value over the slot's P partials. No barrier() anywhere:
+// llvmpipe pays more for it than for a whole propagation step.
 #define AUDIT_STAGE 0
 
 #if defined COMPUTE_SHADER
@@ -28,9 +30,11 @@ layout(std430, binding = 2) buffer Partials { float partials[]; };
 layout(std430, binding = 3) buffer Results { float results[]; };
 layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
 
-uniform int u_partial_count;
+uniform int u_partial_count;    // P, partial records per slot
 
 #if AUDIT_STAGE == 0 || AUDIT_STAGE == 1
+
+uniform int u_result_slot;
 
 layout(local_size_x = 64) in;
 
@@ -61,43 +65,30 @@ void main() {
         }
 #endif
     }
+    int record = u_result_slot * u_partial_count + partial;
     for (int i = 0; i < AUDIT_VALUES; ++i) {
-        partials[partial * AUDIT_VALUES + i] = sums[i];
+        partials[record * AUDIT_VALUES + i] = sums[i];
     }
 }
 
 #else
 
-layout(local_size_x = 256) in;
-const uint GROUP_SIZE = 256u;
+layout(local_size_x = 64) in;
 
-uniform int u_result_slot;
-
-shared float shared_sums[AUDIT_VALUES][GROUP_SIZE];
+uniform int u_slot_count;
 
 void main() {
-    uint lane = gl_LocalInvocationIndex;
-    for (int i = 0; i < AUDIT_VALUES; ++i) {
-        float sum = 0.0;
-        for (uint partial = lane; partial < uint(u_partial_count); partial += GROUP_SIZE) {
-            sum += partials[partial * uint(AUDIT_VALUES) + uint(i)];
-        }
-        shared_sums[i][lane] = sum;
+    int index = int(gl_GlobalInvocationID.x);
+    if (index >= u_slot_count * AUDIT_VALUES) {
+        return;
     }
-    barrier();
-    for (uint stride = GROUP_SIZE / 2u; stride > 0u; stride /= 2u) {
-        if (lane < stride) {
-            for (int i = 0; i < AUDIT_VALUES; ++i) {
-                shared_sums[i][lane] += shared_sums[i][lane + stride];
-            }
-        }
-        barrier();
+    int slot = index / AUDIT_VALUES;
+    int value = index % AUDIT_VALUES;
+    float sum = 0.0;
+    for (int partial = 0; partial < u_partial_count; ++partial) {
+        sum += partials[(slot * u_partial_count + partial) * AUDIT_VALUES + value];
     }
-    if (lane == 0u) {
-        for (int i = 0; i < AUDIT_VALUES; ++i) {
-            results[u_result_slot * AUDIT_VALUES + i] = shared_sums[i][0];
-        }
-    }
+    results[index] = sum;
 }
 
 #endif

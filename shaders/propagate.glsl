@@ -20,6 +20,7 @@
 // faces and weights, evaluated and reprojected with the L2 basis and lobe.
 #define IMAGE_FORMAT rgba32f
 #define SH_ORDER 1
+#define PROPAGATE_AUDIT 1
 
 #if defined COMPUTE_SHADER
 
@@ -73,6 +74,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
             lpv_send(source, cell, dir, false, front_weight, side_weight, received, audit);
         }
     }
+#if PROPAGATE_AUDIT
     // A border cell is also the source of the faces that leave the grid (audit only).
     if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
         ShVec own[3];
@@ -85,6 +87,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
             }
         }
     }
+#endif
     vec3 reflected = vec3(0.0);
     vec3 blocked = vec3(0.0);
     if (u_reflect) {
@@ -115,19 +118,25 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     }
 }
 
+// First cell of this dispatch: a step is dispatched in slabs of z layers
+// (explorer/lpv/propagate.py `slabs`), each a unit of a time-sliced frame.
+uniform ivec3 u_cell_offset;
+
 void main() {
-    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    ivec3 cell = ivec3(gl_GlobalInvocationID) + u_cell_offset;
     if (!grid_inside(cell)) {
         return;
     }
     float audit[AUDIT_VALUES];
     propagate_cell(cell, audit);
+#if PROPAGATE_AUDIT
     int n = u_grid_resolution;
     int cells = n * n * n;
     int linear = cell.x + n * (cell.y + n * cell.z);
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         cell_terms[i * cells + linear] = audit[i];
     }
+#endif
 }
 
 #endif

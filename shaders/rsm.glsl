@@ -22,13 +22,16 @@ void main() {
 #endif
 
 #if defined FRAGMENT_SHADER
-uniform int u_orthographic;         // 0: spot light (90° frustum), 1: directional light
+#include "spot.glsl"
+
+uniform int u_orthographic;         // 0: spot light, 1: directional light
 uniform vec3 u_light_position;      // spot
 uniform vec3 u_light_direction;     // directional: the direction the light travels
 uniform float u_light_intensity;    // spot: Φ_L / (4π)  [W/sr]
 uniform float u_light_irradiance;   // directional: E on a plane facing the light [W/m²]
 uniform float u_texel_world_area;   // directional: world area of one texel [m²]
 uniform vec2 u_rsm_size;
+uniform float u_frustum_half_width; // spot: t = tan(fov/2), the frustum cuts depth 1 in [-t, t]²
 
 in float v_depth;
 
@@ -48,12 +51,17 @@ float triangle_solid_angle(vec3 a, vec3 b, vec3 c, float triple) {
     return 2.0 * atan(triple, denominator);
 }
 
+// The texel's corners on the plane at view depth 1 (the frustum cuts it in [-t, t]²).
+vec2 texel_corner(vec2 texel) {
+    return (texel / u_rsm_size * 2.0 - 1.0) * u_frustum_half_width;
+}
+
 // Exact solid angle of the RSM texel under this fragment, seen from the spot light: the
-// texel is the square [x0, x1]×[y0, y1] of the plane at view depth 1 (the 90° frustum
-// cuts that plane in [-1, 1]²), split into two triangles.
+// texel is the rectangle [x0, x1]×[y0, y1] of the plane at view depth 1, split into two
+// triangles.
 float texel_solid_angle(vec2 texel) {
-    vec2 lo = texel / u_rsm_size * 2.0 - 1.0;
-    vec2 hi = (texel + 1.0) / u_rsm_size * 2.0 - 1.0;
+    vec2 lo = texel_corner(texel);
+    vec2 hi = texel_corner(texel + 1.0);
     float triple = (hi.x - lo.x) * (hi.y - lo.y);
     vec3 c00 = vec3(lo.x, lo.y, 1.0), c10 = vec3(hi.x, lo.y, 1.0);
     vec3 c11 = vec3(hi.x, hi.y, 1.0), c01 = vec3(lo.x, hi.y, 1.0);
@@ -68,11 +76,17 @@ void main() {
     // The texel's footprint on the surface already shrinks with cos θ_i, so the flux the
     // surface intercepts through one texel is I·ρ (spot) or E·A_texel (directional) and
     // the reflected flux is c_diff times that; cos θ_i only decides whether the light
-    // reaches the front of the surface (docs/MODEL.md, "Reflective shadow map").
+    // reaches the front of the surface (docs/MODEL.md, "Reflective shadow map"). A spot
+    // cone scales the texel's flux by its falloff at the texel's centre direction
+    // (docs/MODEL.md "Spot cone"): the direction (c, 1) at depth 1 is cos θ = 1/|(c, 1)|
+    // off the axis.
     float faces_light = dot(normal, to_light) > 0.0 ? 1.0 : 0.0;
+    vec2 texel = floor(gl_FragCoord.xy);
+    vec2 centre = texel_corner(texel + 0.5);
     float incident = u_orthographic == 1
         ? u_light_irradiance * u_texel_world_area
-        : u_light_intensity * texel_solid_angle(floor(gl_FragCoord.xy));
+        : u_light_intensity * texel_solid_angle(texel)
+          * spot_falloff(inversesqrt(1.0 + dot(centre, centre)));
     out_position = vec4(v_position, 1.0);
     out_normal = vec4(normal, v_depth);
     out_flux = vec4(v_albedo * incident * faces_light, 0.0);

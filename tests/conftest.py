@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from explorer.gl.context import create_headless_context, release_headless_context
+from explorer.gl.program import ProgramCache
 
 
 @pytest.fixture(scope="session")
@@ -24,3 +25,11 @@ def ctx(gl_context):
     assert gl_context.error == "GL_NO_ERROR"
     yield gl_context
     assert gl_context.error == "GL_NO_ERROR"
+
+
+@pytest.fixture(scope="module")
+def programs(gl_context):
+    """A program cache on the session context, shared by the tests of one module."""
+    cache = ProgramCache(gl_context)
+    yield cache
+    cache.release()

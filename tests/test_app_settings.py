@@ -16,7 +16,9 @@ from explorer.ui.state import AppState
 def test_settings_round_trip_through_json(tmp_path):
     state = AppState()
     state.settings = Settings(grid_size=16, iterations=4, corrections=PRESETS["original"],
-                              camera=((1.0, 2.0, 3.0), (0.0, 0.5, 0.0)), light_flux=7.5)
+                              camera=((1.0, 2.0, 3.0), (0.0, 0.5, 0.0)), light_flux=7.5,
+                              spot_cone_degrees=(20.0, 50.0), shadow_kernel=5,
+                              tone_map="linear-clip", auto_exposure=False)
     state.view_mode = "split"
     state.split_position = 0.3
     state.inspect.source = "grid-slice"
@@ -28,6 +30,18 @@ def test_settings_round_trip_through_json(tmp_path):
     assert loaded.view_mode == "split" and loaded.split_position == pytest.approx(0.3)
     assert loaded.inspect.source == "grid-slice"
     assert persist.state_to_dict(loaded) == persist.state_to_dict(state)
+
+
+def test_a_file_written_before_the_rename_keeps_the_per_side_exposure(tmp_path):
+    """The compare views' per-side exposure was saved as ``auto_exposure`` before Settings
+    got an auto exposure of its own; such a file reads it as expose_sides_separately."""
+    path = tmp_path / "settings.json"
+    path.write_text(json.dumps({"format": 1, "auto_exposure": True}))
+    state = AppState()
+    assert persist.load_state(state, path) is None
+    assert state.expose_sides_separately is True and state.settings.auto_exposure is True
+    assert "auto_exposure" not in persist.state_to_dict(state)
+    assert persist.state_to_dict(state)["expose_sides_separately"] is True
 
 
 def _file(**fields) -> str:
@@ -47,7 +61,7 @@ BAD_FILES = [
                                           "4096]"),
     (_file(inspect={"slice_z": "abc"}), "inspect.slice_z must be a whole number"),
     (_file(inspect={"source": "bogus"}), "inspect.source must be one of 'rsm-position'"),
-    (_file(auto_exposure="no"), "auto_exposure must be true or false, got 'no'"),
+    (_file(auto_exposure="no"), "expose_sides_separately must be true or false, got 'no'"),
     ('{"format": 1, "settings": {"exposure": NaN}}', "settings.exposure must be a finite"),
     (_file(settings={"exposure": -1}), "settings.exposure must be a finite number in (0,"),
     ('{"format": 1, "settings": {"light_flux": Infinity}}', "settings.light_flux must be"),
@@ -67,6 +81,16 @@ BAD_FILES = [
     (_file(settings={"corrections": {"nope": True}}), "nope"),
     (_file(settings={"downsample": "median"}), "downsample"),
     (_file(view_mode="quad"), "view_mode"),
+    (_file(settings={"spot_cone_degrees": [50, "wide"]}), "settings.spot_cone_degrees must "
+                                                          "be two numbers"),
+    (_file(settings={"spot_cone_degrees": [60, 30]}), "0 <= first <= second <= 80, second > "
+                                                      "0 or None, got [60, 30]"),
+    (_file(settings={"spot_cone_degrees": [0, 0]}), "settings.spot_cone_degrees"),
+    (_file(settings={"tone_map": "sepia"}), "settings.tone_map must be one of 'linear-clip', "
+                                            "'filmic'"),
+    (_file(settings={"shadow_kernel": 0}), "settings.shadow_kernel must be a whole number in "
+                                           "[1, 9]"),
+    (_file(settings={"auto_exposure": "no"}), "settings.auto_exposure must be true or false"),
     (json.dumps({"format": 99}), "format"),
 ]
 
@@ -243,3 +267,8 @@ def test_the_scene_panel_draws_every_declared_widget_from_its_spec():
     offset = specs(Settings)["injection_offset_cells"]
     assert label_of(offset, "injection_offset_cells") == "VPL offset [cells]"
     assert "0 = automatic" in tooltip_of(specs(Settings)["cascade_extent"])
+    # look's fields: generic widgets, but the cone pair (a custom two-handled slider)
+    assert [name for _, name in controls("Light and shadows")] == [
+        "spot_cone", "spot_cone_degrees", "shadow_kernel"]
+    assert [name for _, name in controls("Display")] == ["tone_map", "auto_exposure"]
+    assert label_of(specs(Settings)["shadow_kernel"], "shadow_kernel") == "Shadow PCF [texels]"

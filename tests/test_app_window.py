@@ -149,6 +149,7 @@ class RecordingPipeline:
     def __init__(self, settings, ctx=None):
         self.ctx = ctx
         self.final_texture = ctx.texture((settings.width, settings.height), 4, dtype="f1")
+        self.display_scale_override = None
 
     def run(self, settings, keep_steps=False):
         if settings.scene.endswith("broken.obj"):
@@ -173,7 +174,7 @@ class RecordingPipeline:
             settings=settings, final_image=data[..., :3].astype(np.float32) / 255.0,
             rsm_position=rsm, rsm_normal=rsm, rsm_flux=rsm, accumulated=grid,
             steps=[grid] * steps if keep_steps else None, geometry_volume=None, audit=audit,
-            timings_ms={"rsm": 1.0, "propagate": 2.0})
+            timings_ms={"rsm": 1.0, "propagate": 2.0}, warnings=[], display_scale=1.0)
 
     def reload_shaders(self):
         return False
@@ -275,14 +276,21 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         assert indirect.std() > 1.0 and np.abs(indirect - split).mean() > 1.0
         app.state.view_buffer = "final"
 
-        app.state.auto_exposure = True                     # expose each side on its own
+        rt = app.state.runtime          # the display's auto exposure (on by default):
+        assert rt.compare_result.display_scale == rt.result.display_scale   # B at A's scale
+        app.state.expose_sides_separately = True           # each side on its own
         for _ in range(3):
             app.frame()
-        exposure_a, exposure_b = app.state.runtime.auto_exposure
+        assert rt.compare_result.display_scale != rt.result.display_scale
+        app.state.update(auto_exposure=False)              # a fixed display exposure: the
+        for _ in range(3):                                 # sides get their exposures
+            app.frame()
+        exposure_a, exposure_b = app.state.runtime.side_exposures
         assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
         assert app.state.runtime.result.settings.exposure == exposure_a
         assert app.state.runtime.compare_result.settings.exposure == exposure_b
-        app.state.auto_exposure = False
+        app.state.expose_sides_separately = False
+        app.state.update(auto_exposure=True, exposure=1.0)
 
         app.state.view_mode = "difference"
         app.state.inspect.source = "vpls"
@@ -451,7 +459,10 @@ _BAD_STARTS = [
      "settings.grid_size"),
     ("settings.json", {**_GOOD_SETTINGS, "inspect": {"slice_z": "abc"}}, "inspect.slice_z"),
     ("settings.json", {**_GOOD_SETTINGS, "inspect": {"source": "bogus"}}, "inspect.source"),
-    ("settings.json", {**_GOOD_SETTINGS, "auto_exposure": "no"}, "auto_exposure"),
+    ("settings.json", {**_GOOD_SETTINGS, "expose_sides_separately": "no"},
+     "expose_sides_separately"),
+    ("settings.json", {**_GOOD_SETTINGS, "settings": {"auto_exposure": "no"}},
+     "settings.auto_exposure"),
     ("imgui.ini", "Parent=0x00000001 SizeRef=431,555", "no earlier line defines"),
     ("imgui.ini", "Size=-5,937 Split=X", "Size=-5,937"),
 ]
@@ -526,6 +537,29 @@ def test_settings_the_pipeline_refused_are_not_written_back(config_home):
         app.close()
     saved = json.loads((config_home / "settings.json").read_text())
     assert saved["settings"]["grid_size"] == 16 and saved["settings"]["iterations"] == 4
+
+
+@needs_pipeline
+def test_the_numeric_guards_warn_in_the_messages_once(config_home):
+    """FrameResult.warnings arrive in the Messages panel when a result brings them, once:
+    a display-only change keeps the warning and posts nothing new."""
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state)
+    try:
+        app.frame()
+        assert app.state.runtime.result.warnings == []
+        app.state.set_corrections(injection_pi=False)   # the published injection alone
+        app.frame()
+        grows = [m for m in app.state.messages
+                 if m.level == "warning" and m.text.startswith("the flux grows")]
+        assert len(grows) == 1 and app.state.runtime.result.warnings
+        app.state.update(exposure=0.5)
+        app.frame()
+        assert app.state.runtime.result.settings.exposure == 0.5
+        assert sum(m.text.startswith("the flux grows") for m in app.state.messages) == 1
+    finally:
+        app.close()
 
 
 def test_the_scene_panel_shows_every_section(config_home, tmp_path):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 
 from explorer.cli import main
 from explorer.commands.bench import propagation_bytes
@@ -19,9 +20,17 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     rows = data["rows"]
     assert [(row["variant"], row["grid"], row["iterations"]) for row in rows] == [
         ("default", 8, 0), ("default", 8, 2), ("offset-0", 8, 2), ("damping", 8, 2),
-        ("bounces-2", 8, 2)]
-    assert "geometry" in rows[-1]["passes_ms"]        # bounces 2 needs the geometry volume
-    for row in rows:
+        ("bounces-2", 8, 2), ("audit", 8, 2), ("baseline", 8, 2)]
+    assert "geometry" in rows[4]["passes_ms"]         # bounces 2 needs the geometry volume
+    # the minimal kernel, timed alternately with the pipeline's propagation
+    baseline = rows[-1]
+    assert baseline["passes_ms"] == {"propagate": rows[1]["baseline_ms"]}
+    assert baseline["passes_ms"]["propagate"] > 0 and baseline["kernel_ratio"] == 1.0
+    assert rows[1]["kernel_ratio"] == pytest.approx(
+        rows[1]["passes_ms"]["propagate"] / rows[1]["baseline_ms"])
+    assert "kernel_ratio" in rows[5] and "kernel_ratio" not in rows[0]   # audit; no steps
+    assert "×base" in printed and "baseline" in printed
+    for row in rows[:-1]:
         for name in ("rsm", "inject", "propagate", "gbuffer", "gather"):
             assert row["passes_ms"][name] > 0
         assert row["frame_ms"] >= sum(row["passes_ms"].values()) - 1e-9
@@ -29,6 +38,21 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     assert "propagation_gbs" not in rows[0]          # no steps, no bandwidth
     assert rows[1]["propagation_gbs"] > 0
     assert set(rows[1]["methods"].values()) <= {"timer-query", "wall-clock"}
+
+
+def test_bench_reports_the_atrium(tmp_path, capsys):
+    out = tmp_path / "atrium.json"
+    assert main(["bench", "--quick", "--scene", "atrium", "--grids", "8", "--iterations", "2",
+                 "--cascades", "1,3", "--variants", "none", "--json", str(out)]) == 0
+    printed = capsys.readouterr().out
+    data = json.loads(out.read_text())
+    assert data["scene"] == "atrium" and data["triangles"] >= 100_000
+    assert f"scene atrium ({data['triangles']} triangles)" in printed
+    rows = [row for row in data["rows"] if row["variant"] == "default"]
+    assert [row["cascades"] for row in rows] == [1, 3]
+    for row in rows:
+        for name in ("rsm", "gbuffer", "propagate", "gather", "display"):
+            assert row["passes_ms"][name] > 0
 
 
 def test_bandwidth_model():

@@ -127,7 +127,7 @@ def test_pipeline_second_bounce_adds_light_within_the_blocked_flux(ctx):
     with Pipeline(settings, ctx) as pipeline:
         one = pipeline.run()
         two = pipeline.run(settings.with_changes(bounces=2))
-        assert two.stages_run == ("propagate", "gather")
+        assert two.stages_run == ("propagate", "gather", "display")
         # The pipeline's reflection is the reference's, from the RSM's albedo.
         vpls = one.vpls
         assert vpls.albedo is not None and vpls.albedo.max() > 0

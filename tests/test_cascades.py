@@ -133,7 +133,7 @@ def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F8
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, shadow, view, None, specs[0], 1.0, False, cascades=cascades)
+            gather.run(gbuffer, shadow, view, None, specs[0], cascades=cascades)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
@@ -154,12 +154,13 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
         image = one.final_image.copy()
         # the cascade code path with two identical cascades gives the same image
         gather = pipeline._gather
-        grid = pipeline._accumulated_grid
+        grid = pipeline._levels[0].output.accumulated
         twice = [CascadeInput(one.grid_spec, grid.textures)] * 2
         gather.run(pipeline._gbuffer, pipeline._rsm_textures, pipeline._light, None,
-                   one.grid_spec, SMALL.exposure, False, cascades=twice)
-        blended = read_texture(gather.targets["final"])[..., :3]
-        assert np.allclose(blended, image, rtol=1e-5, atol=1e-7)
+                   one.grid_spec, cascades=twice)
+        blended = sum(read_texture(gather.targets[name])[..., :3]
+                      for name in ("direct", "indirect"))
+        assert np.allclose(SMALL.exposure * blended, image, rtol=1e-5, atol=1e-7)
         # one cascade ignores the cascade placement settings
         other = pipeline.run(SMALL.with_changes(cascades=1, cascade_focus=0.2,
                                                 cascade_extent=0.7,
@@ -228,7 +229,7 @@ def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context, ctx):   # c
         moved = pipeline.run(settings.with_changes(
             camera=(tuple(eye + nudge), tuple(target + nudge))))
         assert moved.cascade_specs == centred.cascade_specs
-        assert moved.stages_run == ("scene", "gbuffer", "gather")   # scene: camera only
+        assert moved.stages_run == ("gbuffer", "gather", "display")   # the camera's only
         # a whole coarse cell: every cascade moves by whole cells, and the LPV runs again
         step = np.array([2 * fine, 0.0, 0.0])
         far = pipeline.run(settings.with_changes(camera=(tuple(eye + step),
@@ -249,8 +250,8 @@ def test_settings_beyond_the_limits_are_refused(gl_context):
     with pytest.raises(ValueError, match="grid_size >= 8"):
         check_limits(4, 2, "rgba32f", False, 4 << 30, 32)
     with Pipeline(SMALL, ctx=gl_context) as pipeline:
-        pipeline.texture_budget_bytes = 1 << 20
-        with pytest.raises(ValueError, match="MiB of LPV textures"):
+        pipeline.memory_budget_bytes = 1 << 20
+        with pytest.raises(ValueError, match="more than the memory budget of 1.0 MiB"):
             pipeline.run(SMALL.with_changes(cascades=2))
 
 
@@ -276,7 +277,8 @@ def test_cli_render_compare_and_bench_take_cascades(tmp_path, capsys, gl_context
     assert cli_main(["bench", "--quick", "--grids", "8", "--iterations", "2",
                      "--cascades", "1,2", "--variants", "none", "--json", str(bench)]) == 0
     rows = json.loads(bench.read_text())["rows"]
-    assert [(row["grid"], row["cascades"]) for row in rows] == [(8, 1), (8, 2)]
+    assert [(row["variant"], row["grid"], row["cascades"]) for row in rows] == [
+        ("default", 8, 1), ("default", 8, 2), ("baseline", 8, 1)]
 
 
 def test_gather_damping_acts_in_every_cascade(gl_context, ctx):   # ctx: no GL errors

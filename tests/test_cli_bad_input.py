@@ -18,7 +18,7 @@ import pytest
 from explorer.cli import main
 from explorer.commands.options import Outputs, Progress, settings_from_args
 from explorer.lpv.schema import specs
-from explorer.lpv.settings import PRESETS, Settings
+from explorer.lpv.settings import PRESETS, Corrections, Settings
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -39,6 +39,14 @@ BAD = [
     ("render --cascade-extent inf", 2, "cascade_extent must be a finite number"),
     ("render --cascade-extent 1e-30", 2, "cascade_extent must be a finite number in [1e-06"),
     ("render --sh-order 3", 2, "sh_order must be one of 1, 2, got 3"),
+    ("render --cone-angles 60,30", 2, "spot_cone_degrees must be two numbers [first, second] "
+                                      "with 0 <= first <= second <= 80, second > 0"),
+    ("render --cone-angles 30", 2, "spot_cone_degrees must be two numbers"),
+    ("render --cone-angles 0,0", 2, "second > 0 or None, got (0.0, 0.0)"),
+    ("render --cone-angles 10,90", 2, "second <= 80"),
+    ("render --shadow-kernel 10", 2, "shadow_kernel must be a whole number in [1, 9]"),
+    ("render --tone-map sepia", 2, "tone_map must be one of 'linear-clip', 'filmic'"),
+    ("compare --cone-angles 50,nan", 2, "spot_cone_degrees must be two numbers"),
     ("render --bounces 2", 2, "needs geometry_volume 'one-sided' or 'double-sided'"),
     ("render --preset nope", 2, "invalid choice: 'nope'"),
     ("render --scene nosuch", 2, "no built-in scene or mesh file named 'nosuch'"),
@@ -196,7 +204,7 @@ class _InterruptedPipeline:
         return False
 
     def run(self, settings=None, **options):
-        return types.SimpleNamespace(settings=settings)
+        return types.SimpleNamespace(settings=settings, warnings=[])
 
     def view(self, name, **options):
         self.views += 1
@@ -281,6 +289,33 @@ def test_progress_draws_a_bar_on_a_terminal_and_nothing_when_piped():
     assert piped.text == ""
 
 
+def test_run_pipeline_draws_the_stages_and_prints_each_warning_once(gl_context):
+    """options.run_pipeline hands the bar to Pipeline.run (progress per stage) and prints
+    FrameResult.warnings on stderr, piped or not, each text once per command."""
+    from explorer.commands.options import run_pipeline
+    from explorer.lpv.pipeline import Pipeline
+
+    # the published injection alone: the flux grows ×π per step (a numeric guard warns)
+    growing = Settings(grid_size=8, iterations=4, rsm_size=16, width=24, height=16,
+                       corrections=Corrections(injection_pi=False))
+    terminal, piped = _Terminal(tty=True), _Terminal(tty=False)
+    with Pipeline(growing, ctx=gl_context) as pipeline:
+        bar = Progress("render", terminal, interval=0.0)
+        result = run_pipeline(pipeline, growing, bar)
+        assert any(w.startswith("the flux grows") for w in result.warnings)
+        for stage in ("rsm", "inject", "propagate", "gather", "display"):
+            assert f"render: {stage} [" in terminal.text
+        assert terminal.text.count("lpv-explorer render: warning: the flux grows") == 1
+        run_pipeline(pipeline, growing, bar)                # the same warning: not again
+        assert terminal.text.count("lpv-explorer render: warning: the flux grows") == 1
+        quiet = Progress("compare", piped)
+        run_pipeline(pipeline, growing.with_changes(iterations=5), quiet)
+    # piped: no bar, but the warnings
+    lines = piped.text.splitlines()
+    assert lines and all(line.startswith("lpv-explorer compare: warning: ") for line in lines)
+    assert any("the flux grows" in line for line in lines)
+
+
 def test_every_flagged_setting_is_an_option_and_reaches_the_settings():
     from explorer.cli import build_parser
 
@@ -292,7 +327,9 @@ def test_every_flagged_setting_is_an_option_and_reaches_the_settings():
          "--cascades", "1", "--cascade-extent", "2.5", "--cascade-focus", "0.5",
          "--cascade-iterations", "same-distance", "--exposure", "2", "--indirect-only",
          "--debug-nan", "--injection-offset", "0", "--gather-damping", "--bounces", "2",
-         "--scene", "room", "--size", "64x32", "--preset", "original"])
+         "--scene", "room", "--size", "64x32", "--preset", "original", "--no-spot-cone",
+         "--cone-angles", "30,60", "--shadow-kernel", "5", "--tone-map", "linear-clip",
+         "--no-auto-exposure"])
     expected = Settings(grid_size=16, iterations=0, rsm_size=64, downsample="average",
                         downsample_factor=4, injection_mode="compute",
                         geometry_volume="one-sided", grid_format="rgba16f", sh_order=2,
@@ -300,7 +337,9 @@ def test_every_flagged_setting_is_an_option_and_reaches_the_settings():
                         cascade_iterations="same-distance", exposure=2.0, indirect_only=True,
                         debug_nan=True, injection_offset_cells=0.0, gather_damping=True,
                         bounces=2, scene="room", width=64, height=32,
-                        corrections=PRESETS["original"])
+                        corrections=PRESETS["original"], spot_cone=False,
+                        spot_cone_degrees=(30.0, 60.0), shadow_kernel=5,
+                        tone_map="linear-clip", auto_exposure=False)
     assert settings_from_args(args) == expected
     flagged = {spec.flag for spec in specs(Settings).values() if spec.flag}
     help_text = parser.command_parsers["render"].format_help()

@@ -12,6 +12,7 @@ import pytest
 from explorer.cli import main as cli_main
 from explorer.lessons import (
     COMPARE_VIEWS,
+    LESSON_DEFAULTS,
     LessonError,
     Step,
     find_lesson,
@@ -81,6 +82,9 @@ def test_steps_apply_on_top_of_a_base(shipped):
                 assert getattr(settings, name) == value
             if "width" not in dict(step.overrides):
                 assert settings.width == 300
+            # the published square frustum and a fixed exposure, unless the step asks
+            for name, value in LESSON_DEFAULTS.items():
+                assert getattr(settings, name) == dict(step.overrides).get(name, value)
             if step.view in COMPARE_VIEWS:
                 other = step.compare_settings(base)
                 assert other.corrections == step.compare
@@ -198,6 +202,18 @@ def test_wrong_type_and_bad_values(tmp_path):
     error = _error(tmp_path, GOOD.replace("grid_size = 8", "iterations = true"),
                    check_formula=None)
     assert error.field == "settings.iterations"
+    error = _error(tmp_path, GOOD.replace("grid_size = 8", "spot_cone_degrees = [30, 'x']"),
+                   check_formula=None)
+    assert error.field == "settings.spot_cone_degrees" and "two numbers" in str(error)
+    error = _error(tmp_path, GOOD.replace("grid_size = 8", "spot_cone_degrees = [50, 20]"),
+                   check_formula=None)
+    assert "spot_cone_degrees must be two numbers [first, second] with 0 <= first <= second" \
+        in str(error)
+    cone = _write(tmp_path, "51-cone.toml", GOOD.replace(
+        "grid_size = 8", "spot_cone = true\nspot_cone_degrees = [30, 60]\nauto_exposure = true"))
+    step = load_lesson(cone, check_formula=None).step(2)
+    assert step.settings().spot_cone_degrees == (30.0, 60.0)
+    assert step.settings().spot_cone and step.settings().auto_exposure
     error = _error(tmp_path, GOOD.replace('compare = "original"', 'compare = "fixed"'),
                    check_formula=None)
     assert error.field == "compare"
@@ -209,7 +225,8 @@ def test_wrong_type_and_bad_values(tmp_path):
 def test_unknown_scene_view_plot_control(tmp_path):
     error = _error(tmp_path, GOOD.replace('"single-source"', '"sponza"'), check_formula=None)
     assert (error.step, error.field) == (1, "scene")
-    assert "scene must be one of 'cornell', 'single-source', 'room', got 'sponza'" in str(error)
+    assert "scene must be one of 'cornell', 'single-source', 'room', 'atrium', got 'sponza'" \
+        in str(error)
     error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "sideways"'),
                    check_formula=None)
     assert error.field == "view" and "view must be one of 'final'" in str(error)

@@ -12,12 +12,13 @@ from lpv_cases import relative_error
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import reference as ref
+from explorer.lpv.display import DisplayPass, exposed_image
 from explorer.lpv.gather import EXACT_FILTER, GatherPass, linear_filter_error
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.textures import LpvGrid
-from explorer.lpv.views import linear_to_srgb
+from explorer.lpv.tonemap import linear_to_srgb
 from explorer.scene import Camera, MeshBuilder, Scene, SpotLight
 from explorer.scene.gpu import SceneBuffers
 
@@ -110,8 +111,7 @@ def test_indirect_matches_numpy(setup, damping, shader_filter):
         values = values[:, :, ::-1].copy()
     grid.write(values)
     with filtering(gather, shader_filter):
-        gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0,
-                   indirect_only=False, damping=damping)
+        gather.run(gbuffer, shadow, view, grid.textures, spec, damping=damping)
     points, normals, albedo, valid = visible_points(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert valid.mean() > 0.3
@@ -143,8 +143,7 @@ def test_l2_indirect_matches_numpy(setup, shader_filter):
     try:
         grid.write(values)
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0,
-                       indirect_only=False, sh_order=2)
+            gather.run(gbuffer, shadow, view, grid.textures, spec, sh_order=2)
     finally:
         grid.release()
     points, normals, albedo, valid = visible_points(gbuffer)
@@ -170,7 +169,7 @@ def test_pixel_areas_add_up_to_the_visible_surface(setup):
 def test_direct_light_is_the_shadowed_lambertian(setup):
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.clear()
-    gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=1.0, indirect_only=False)
+    gather.run(gbuffer, shadow, view, grid.textures, spec)
     position, normal, albedo, valid = read_gbuffer(gbuffer)
     direct = read_texture(gather.targets["direct"])[..., :3]
     offset = np.asarray(scene.light.position) - position[..., :3]
@@ -191,21 +190,31 @@ def test_direct_light_is_the_shadowed_lambertian(setup):
     assert np.all(direct[outside] == 0.0)
 
 
-def test_exposure_indirect_only_and_display(setup):
+def test_display_pass_exposes_and_encodes_the_linear_buffers(setup):
+    """The display stage (shaders/display.glsl): exposure·(direct + indirect), or
+    exposure·indirect, clipped and sRGB-encoded; the gather itself stays linear."""
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.write(smooth_grid(spec))
-    gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=2.5, indirect_only=False)
+    gather.run(gbuffer, shadow, view, grid.textures, spec)
     direct = read_texture(gather.targets["direct"])[..., :3]
     indirect = read_texture(gather.targets["indirect"])[..., :3]
-    final = read_texture(gather.targets["final"])[..., :3]
-    assert np.allclose(final, 2.5 * (direct + indirect), rtol=1e-5, atol=1e-7)
+    assert direct.max() > 0 and indirect.max() > 0
+    display = DisplayPass(ctx, ProgramCache(ctx))
     width, height = IMAGE
-    display = np.frombuffer(gather.targets["display"].read(), np.uint8).reshape(
-        height, width, 4)[::-1, :, :3] / 255.0
-    assert np.allclose(display, linear_to_srgb(final), atol=1.5 / 255)
-    gather.run(gbuffer, shadow, view, grid.textures, spec, exposure=2.5, indirect_only=True)
-    final = read_texture(gather.targets["final"])[..., :3]
-    assert np.allclose(final, 2.5 * indirect, rtol=1e-5, atol=1e-7)
+    try:
+        for indirect_only in (False, True):
+            shown_linear = indirect if indirect_only else direct + indirect
+            exposure = 2.0 / float(shown_linear.max())   # the brightest pixels clip
+            texture = display.run(gather.targets["direct"], gather.targets["indirect"],
+                                  exposure, indirect_only)
+            shown = np.frombuffer(texture.read(), np.uint8).reshape(
+                height, width, 4)[::-1, :, :3] / 255.0
+            exposed = exposed_image(direct, indirect, exposure, indirect_only)
+            assert np.allclose(exposed, exposure * shown_linear, rtol=1e-6, atol=1e-8)
+            assert np.allclose(shown, linear_to_srgb(exposed), atol=1.5 / 255)
+            assert np.any(shown == 1.0) and np.any((shown > 0.05) & (shown < 0.95))
+    finally:
+        display.release()
 
 
 def test_the_gather_filters_in_the_shader_where_the_texture_unit_is_not_exact(setup):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from contextlib import contextmanager
 
 import numpy as np
 import pytest
@@ -150,3 +151,77 @@ def test_bad_input_is_named(ctx):
     finally:
         volume.release()
         injected.release()
+
+
+def injected_case(ctx, seed: int, mode: str):
+    """(grid, geometry volume or None) injected on the GPU from random VPLs."""
+    vpls = random_vpls(seed, SPEC, 150, texel_area=0.05)
+    grid = inject(vpls, SPEC, Corrections(), ctx=ctx)
+    geometry = None if mode == "off" else inject_geometry(vpls, SPEC, Corrections(), mode,
+                                                          ctx=ctx)
+    return grid, geometry
+
+
+@contextmanager
+def on_gpu(ctx, grid: np.ndarray, geometry: np.ndarray | None):
+    """The grid and the geometry volume as GPU textures, released afterwards."""
+    injected = LpvGrid(ctx, SPEC.resolution)
+    volume = None
+    try:
+        injected.write(grid)
+        if geometry is not None:
+            volume = GeometryVolume(ctx, SPEC.resolution)
+            volume.write(geometry)
+        yield injected, volume
+    finally:
+        injected.release()
+        if volume is not None:
+            volume.release()
+
+
+@pytest.mark.parametrize("mode", ["off", "one-sided"])
+def test_without_the_audit_the_accumulation_is_the_same(ctx, mode):
+    """need_audit=False compiles the audit out (PROPAGATE_AUDIT 0): same grids, and only
+    the injected and accumulated flux are measured."""
+    grid, geometry = injected_case(ctx, 31, mode)
+    want_steps, want_accumulated, want_audit = reference.propagate_audited(
+        grid, Corrections(), 5, geometry)
+    propagator = PropagatePass(ctx, ProgramCache(ctx))
+    try:
+        with on_gpu(ctx, grid, geometry) as (injected, volume):
+            output = propagator.run(injected, SPEC, Corrections(), 5, volume,
+                                    keep_steps=True, audit=False)
+            accumulated = output.accumulated.read()
+        assert relative_error(accumulated, want_accumulated) < 1e-4
+        for step, want in zip(output.steps, want_steps):
+            assert relative_error(step, want) < 1e-4
+        audit = output.audit
+        assert not audit.steps_measured
+        assert np.allclose(audit.injected, want_audit.injected, rtol=1e-5)
+        assert np.allclose(audit.accumulated, want_audit.accumulated, rtol=1e-5)
+        assert audit.per_step.shape == (6, 3) and np.all(np.isnan(audit.per_step[1:]))
+    finally:
+        propagator.release()
+
+
+@pytest.mark.parametrize("mode", ["off", "one-sided", "double-sided"])
+def test_baseline_kernel_propagates_like_the_corrected_pass(ctx, mode):
+    """shaders/propagate_minimal.glsl, the bench's baseline, computes the corrected
+    propagation: the same accumulation as propagate.glsl and the numpy reference."""
+    from explorer.lpv.propagate import BaselinePropagatePass
+
+    grid, geometry = injected_case(ctx, 32, mode)
+    _, want = propagate_with_audit(grid, Corrections(), 6, geometry, ctx=ctx)[:2]
+    expected = reference.propagate_audited(grid, Corrections(), 6, geometry)[1]
+    baseline = BaselinePropagatePass(ctx, ProgramCache(ctx))
+    try:
+        with on_gpu(ctx, grid, geometry) as (injected, volume):
+            got = baseline.run(injected, SPEC, 6, volume).read()
+        assert relative_error(got, want) < 1e-5
+        assert relative_error(got, expected) < 1e-4
+        l2 = LpvGrid(ctx, 4, sh_order=2)
+        with pytest.raises(ValueError, match="L1 only"):
+            baseline.run(l2, GridSpec((0, 0, 0), 1.0, 4), 1)
+        l2.release()
+    finally:
+        baseline.release()

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from explorer.gl.program import ProgramCache
 from explorer.lpv.downsample import DownsamplePass, downsampled_size
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view
@@ -35,13 +34,6 @@ def raw(texture) -> np.ndarray:
     """Texture as (rows from the bottom, columns, 4), the GL layout."""
     width, height = texture.size
     return np.frombuffer(texture.read(), np.float32).reshape(height, width, 4)
-
-
-@pytest.fixture(scope="module")
-def programs(gl_context):
-    cache = ProgramCache(gl_context)
-    yield cache
-    cache.release()
 
 
 def render_rsm(ctx, programs, scene, size=SIZE):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -25,8 +26,8 @@ def pipeline(gl_context):
 def floor_redness(pipeline, result) -> tuple[float, float]:
     """Red/green ratio of the indirect light on the floor near the red (x < −0.5) and
     near the green (x > 0.5) wall."""
-    position = pipeline._arrays["gbuffer"][0]
-    normal = pipeline._arrays["gbuffer"][1]
+    position = result.gbuffer_position
+    normal = result.gbuffer_normal
     floor = (position[..., 3] > 0.5) & (normal[..., 1] > 0.9) & (position[..., 1] < -0.99)
     near_red = floor & (position[..., 0] < -0.5)
     near_green = floor & (position[..., 0] > 0.5)
@@ -70,17 +71,25 @@ def test_presets_differ_by_the_published_factors(pipeline):
 def test_rerun_skips_unchanged_stages(pipeline):
     pipeline.run(SMALL)
     assert pipeline.run(SMALL).stages_run == ()
-    assert pipeline.run(SMALL.with_changes(exposure=2.0)).stages_run == ("gather",)
+    # display-only changes run the display pass alone
+    assert pipeline.run(SMALL.with_changes(exposure=2.0)).stages_run == ("display",)
+    assert pipeline.run(SMALL.with_changes(exposure=2.0, indirect_only=True)).stages_run == (
+        "display",)
     assert pipeline.run(SMALL.with_changes(exposure=2.0, iterations=3)).stages_run == (
-        "propagate", "gather")
+        "propagate", "gather", "display")
     changed = pipeline.run(SMALL.with_changes(exposure=2.0, iterations=3,
                                               corrections="original")).stages_run
-    assert changed == ("inject", "geometry", "propagate", "gather")
+    # the registry's stages per switch: "original" changes no switch the geometry reads
+    assert changed == ("inject", "propagate", "gather", "display")
     assert pipeline.run(SMALL.with_changes(width=32, exposure=2.0, iterations=3,
                                            corrections="original")).stages_run == (
-        "gbuffer", "gather")
+        "gbuffer", "gather", "display")
+    # the display alone: tone curve and auto exposure touch no linear image
+    assert pipeline.run(SMALL.with_changes(width=32, exposure=2.0, iterations=3,
+                                           corrections="original", tone_map="linear-clip",
+                                           auto_exposure=False)).stages_run == ("display",)
     pipeline.invalidate()
-    assert pipeline.run(SMALL).stages_run[:2] == ("scene", "rsm")
+    assert pipeline.run(SMALL).stages_run[:3] == ("scene", "grid", "rsm")
 
 
 def test_exposure_scales_the_final_image_only(pipeline):
@@ -149,13 +158,13 @@ def test_a_nan_light_is_caught_at_the_rsm(pipeline):
 
 def test_grid_larger_than_the_driver_allows_is_refused(pipeline):
     # llvmpipe allows 2048 texels, more than Settings ever do: pretend a smaller driver
-    driver_limit = pipeline.max_3d_texture_size
-    pipeline.max_3d_texture_size = 16
+    driver_limits = pipeline.limits
+    pipeline.limits = replace(driver_limits, max_3d_texture_size=16)
     try:
         with pytest.raises(ValueError, match="GL_MAX_3D_TEXTURE_SIZE 16"):
             pipeline.run(SMALL.with_changes(grid_size=17))
     finally:
-        pipeline.max_3d_texture_size = driver_limit
+        pipeline.limits = driver_limits
 
 
 def test_room_scene_with_directional_light(pipeline):
@@ -170,7 +179,7 @@ def test_room_scene_with_directional_light(pipeline):
 def test_moving_the_camera_does_not_repropagate(pipeline):
     pipeline.run(SMALL)
     moved = SMALL.with_changes(camera=((0.2, 0.3, 4.0), (0.0, 0.0, 0.0)))
-    assert pipeline.run(moved).stages_run == ("scene", "gbuffer", "gather")
+    assert pipeline.run(moved).stages_run == ("gbuffer", "gather", "display")
 
 
 def test_a_failed_stage_runs_again(pipeline):

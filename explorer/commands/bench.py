@@ -5,6 +5,10 @@ With ``--cascades`` every cascade count is a row: the inject, geometry and propa
 columns then hold all cascades together (each cascade is a full grid), and the bandwidth
 counts every cascade's grids.
 
+``--scene`` picks what is rendered; the header names it with its triangle count, which
+the RSM and G-buffer passes scale with: ``bench --scene atrium`` times the large
+procedural courtyard (over 100 000 triangles) instead of the 34-triangle Cornell box.
+
 Bandwidth model: one propagation step reads the previous grid and writes the next one
 (3 textures × one texel per cell each) and reads and writes the accumulation grid, so it
 moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
@@ -12,6 +16,13 @@ neighbour reads are assumed to hit the cache. The propagate pass time also holds
 energy-audit reduction and the copy of grid_0 into the accumulation grid, so the figure is
 a lower bound of what the propagation kernel alone reaches. With ``--sh-order 2`` (L2) a
 cell holds 3 texels per channel, so a step moves 3× as many bytes.
+
+Rows are timed as the window runs the frame: without the per-step energy audit (the
+``audit`` variant adds it). Baseline: for every single-cascade L1 row the minimal
+propagation kernel (``shaders/propagate_minimal.glsl``: five faces per neighbour and the
+geometry volume's occlusion, no switches, no audit) propagates the same injected grid,
+timed alternately with the pipeline's own propagation in the same run; the ``×base``
+column is the ratio of the two, and a ``baseline`` row per grid shows the kernel's time.
 """
 
 from __future__ import annotations
@@ -34,15 +45,20 @@ QUICK_GRIDS = (8, 16)
 QUICK_ITERATIONS = (2, 4)
 QUICK_SIZES = {"width": 64, "height": 64, "rsm_size": 64}
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
-PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
+PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather",
+                "display")
 VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
     "bounces-2": {"bounces": 2},
+    "audit": {"need_audit": True},
 }
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
-options against the default settings. bounces-2 turns a one-sided geometry volume on if
---geometry-volume is off (it needs one)."""
+options against the default settings, and the propagation with its per-step energy audit
+(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`). bounces-2 turns
+a one-sided geometry volume on if --geometry-volume is off (it needs one)."""
+RUN_OPTIONS = ("need_audit",)
+"""Keys of a variant that go to ``Pipeline.run`` instead of the Settings."""
 DEFAULT_REPEAT = 3
 REPEAT = Spec(kind="int", low=1, high=1000, doc="Timed frames per configuration; the "
               "median is reported.")
@@ -88,7 +104,8 @@ def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -
 
 def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]:
     """Every (variant, Settings) the bench times, all made (so checked by the schema)
-    before the first is timed. Left-out sweeps use the lists for this device."""
+    before the first is timed, grid by grid. Left-out sweeps use the lists for this
+    device."""
     base = options.settings_from_args(args)
     if args.quick:
         if args.size is None:
@@ -112,7 +129,8 @@ def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]
                         runs.append(("default", base.with_changes(
                             grid_size=grid, iterations=steps, cascades=count, sh_order=order)))
             for name in args.variants:
-                changes = dict(VARIANTS[name])
+                changes = {key: value for key, value in VARIANTS[name].items()
+                           if key not in RUN_OPTIONS}
                 if changes.get("bounces", 1) > 1 and base.geometry_volume == "off":
                     changes["geometry_volume"] = "one-sided"
                 runs.append((name, base.with_changes(grid_size=grid, iterations=max(iterations),
@@ -123,40 +141,88 @@ def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]
 
 
 def run_bench(args: argparse.Namespace, pipeline, runs: list[tuple[str, Settings]],
-              progress=None) -> list[dict]:
+              progress: options.Progress | None = None) -> list[dict]:
     """Time each run: a warm-up frame, then ``--repeat`` frames from the RSM on (the
-    median per pass); ``progress(stage, done, total)`` counts the runs."""
+    median per pass), and after each grid's runs its baseline row (module docstring);
+    ``progress``: an :class:`options.Progress` showing the run and its stage."""
+    from explorer.lpv.propagate import BaselinePropagatePass
+
     repeat = args.repeat or (1 if args.quick else DEFAULT_REPEAT)
-    rows = []
-    for done, (variant, settings) in enumerate(runs):
-        if progress is not None:
-            progress("timing", done, len(runs))
-        options.run_pipeline(pipeline, settings)                    # warm-up: compiles, allocates
-        samples: dict[str, list[float]] = {}
-        for _ in range(repeat):
-            pipeline.invalidate("rsm")
-            result = options.run_pipeline(pipeline, settings)
-            for name in result.stages_run:
-                if name in result.timings_ms:
-                    samples.setdefault(name, []).append(result.timings_ms[name])
-        passes = {name: statistics.median(values) for name, values in samples.items()}
-        steps, cascades = settings.iterations, settings.cascades
-        row = {"variant": variant, "grid": settings.grid_size, "iterations": steps,
-               "cascades": cascades, "sh_order": settings.sh_order, "passes_ms": passes,
-               "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods)}
-        propagate_ms = passes.get("propagate", 0.0)
-        if steps > 0 and propagate_ms > 0:
-            moved = cascades * propagation_bytes(settings.grid_size, steps,
-                                                 settings.grid_format, settings.sh_order)
-            row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
-            row["ms_per_step"] = propagate_ms / steps
-        rows.append(row)
-    return rows
+    rows: list[dict] = []
+    baseline = BaselinePropagatePass(pipeline.ctx, pipeline.programs)
+    baseline_row = None
+    try:
+        for done, (variant, settings) in enumerate(runs):
+            if baseline_row is not None and baseline_row["grid"] != settings.grid_size:
+                rows.append(baseline_row)
+                baseline_row = None
+            if progress is not None:    # the bar names the run, then its stage
+                progress.prefix = f"{variant} {settings.grid_size}³ ({done + 1}/{len(runs)}) "
+            row = _time_run(pipeline, baseline, variant, settings, repeat, progress)
+            if "baseline_ms" in row and variant == "default" and (
+                    baseline_row is None or row["iterations"] >= baseline_row["iterations"]):
+                baseline_row = {"variant": "baseline", "grid": row["grid"],
+                                "iterations": row["iterations"], "cascades": 1, "sh_order": 1,
+                                "passes_ms": {"propagate": row["baseline_ms"]},
+                                "frame_ms": row["baseline_ms"],
+                                "ms_per_step": row["baseline_ms"] / row["iterations"],
+                                "kernel_ratio": 1.0, "methods": {}}
+            rows.append(row)
+    finally:
+        baseline.release()
+    return rows + ([baseline_row] if baseline_row else [])
+
+
+def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
+              progress) -> dict:
+    """The row of one run: pass medians, bandwidth, and for a single-cascade L1 row the
+    baseline kernel timed alternately with the pipeline's propagation."""
+    need_audit = bool(VARIANTS.get(variant, {}).get("need_audit", False))
+    steps, cascades = settings.iterations, settings.cascades
+    compare = steps > 0 and cascades == 1 and settings.sh_order == 1 and \
+        variant in ("default", "audit")
+    run = {"need_audit": need_audit, "progress": progress}
+    options.run_pipeline(pipeline, settings, **run)     # warm-up: compiles, allocates
+    if compare:
+        _time_baseline(pipeline, baseline, steps)
+    samples: dict[str, list[float]] = {}
+    for _ in range(repeat):               # the pipeline and the baseline alternately
+        pipeline.invalidate("rsm")
+        result = options.run_pipeline(pipeline, settings, **run)
+        for name in result.stages_run:
+            if name in result.timings_ms:
+                samples.setdefault(name, []).append(result.timings_ms[name])
+        if compare:
+            samples.setdefault("baseline", []).append(
+                _time_baseline(pipeline, baseline, steps))
+    passes = {name: statistics.median(values) for name, values in samples.items()}
+    baseline_ms = passes.pop("baseline", None)
+    row = {"variant": variant, "grid": settings.grid_size, "iterations": steps,
+           "cascades": cascades, "sh_order": settings.sh_order, "passes_ms": passes,
+           "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods)}
+    propagate_ms = passes.get("propagate", 0.0)
+    if steps > 0 and propagate_ms > 0:
+        moved = cascades * propagation_bytes(settings.grid_size, steps,
+                                             settings.grid_format, settings.sh_order)
+        row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
+        row["ms_per_step"] = propagate_ms / steps
+    if baseline_ms:
+        row["baseline_ms"] = baseline_ms
+        row["kernel_ratio"] = propagate_ms / baseline_ms
+    return row
+
+
+def _time_baseline(pipeline, baseline, steps: int) -> float:
+    """Milliseconds of ``steps`` steps of the baseline kernel on the grid the pipeline
+    just injected (cascade 0), timed like the pipeline's passes."""
+    injected, spec, volume = pipeline.propagation_inputs(0)
+    return pipeline.measure("baseline", lambda: baseline.run(injected, spec, steps,
+                                                             volume))[1]
 
 
 def format_table(rows: list[dict], peak_gbs: float | None) -> str:
     header = ["variant", "grid", "iters", "cascades", "sh", *PASS_COLUMNS, "frame", "ms/step",
-              "GB/s"]
+              "×base", "GB/s"]
     if peak_gbs:
         header.append("% peak")
     lines = ["  ".join(f"{h:>10}" for h in header)]
@@ -167,6 +233,7 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
                   for name in PASS_COLUMNS]
         cells.append(f"{row['frame_ms']:.2f}")
         cells.append(f"{row['ms_per_step']:.3f}" if "ms_per_step" in row else "-")
+        cells.append(f"{row['kernel_ratio']:.2f}" if "kernel_ratio" in row else "-")
         gbs = row.get("propagation_gbs")
         cells.append(f"{gbs:.2f}" if gbs is not None else "-")
         if peak_gbs:
@@ -189,6 +256,7 @@ def main(args: argparse.Namespace) -> int:
                 runs = plan(args, pipeline.software_renderer)
                 caps = probe(pipeline.ctx)
                 rows = run_bench(args, pipeline, runs, progress)
+                triangles = pipeline.base_scene.triangle_count
         except SceneError as exc:
             raise options.CommandError(exc) from None
         except options.render_failures() as exc:
@@ -196,7 +264,8 @@ def main(args: argparse.Namespace) -> int:
         methods = sorted({method for row in rows for method in row["methods"].values()})
         when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
         print(f"device: {caps.renderer} ({caps.version}); {when}")
-        print(f"scene {base.scene}, corrections {preset_name(base.corrections)}, format "
+        print(f"scene {base.scene} ({triangles} triangles), corrections "
+              f"{preset_name(base.corrections)}, format "
               f"{base.grid_format}, geometry volume {base.geometry_volume}; timing: "
               f"{', '.join(methods)}; milliseconds per pass (median)"
               f"{' [quick]' if args.quick else ''}")
@@ -205,6 +274,7 @@ def main(args: argparse.Namespace) -> int:
             print("(pass --peak-gbs <device peak bandwidth in GB/s> to see the share reached)")
         if json_path is not None:
             payload = json.dumps({"device": caps.renderer, "version": caps.version,
-                                  "date": when, "rows": rows}, indent=2)
+                                  "date": when, "scene": base.scene,
+                                  "triangles": triangles, "rows": rows}, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
     return 0

@@ -360,11 +360,9 @@ def _auto_exposure(reference, valid) -> float:
 
 
 def _to_srgb8(linear):
-    import numpy as np
+    from explorer.lpv.tonemap import linear_to_srgb
 
-    x = np.clip(np.nan_to_num(np.asarray(linear, np.float64)), 0.0, 1.0)
-    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return (srgb * 255.0 + 0.5).astype(np.uint8)
+    return (linear_to_srgb(linear) * 255.0 + 0.5).astype("uint8")
 
 
 def _save(path: Path, linear) -> None:

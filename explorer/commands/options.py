@@ -90,6 +90,9 @@ def _from_text(spec: Spec, text: str) -> Any:
         return int(text)
     if kind == "float":
         return float(text)
+    if kind == "range2":                          # "30,60"
+        first, second = text.split(",")
+        return float(first), float(second)
     return text
 
 
@@ -149,8 +152,6 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
     and ``--preset``. ``sweep``: fields taking a comma list (one run per value);
     ``defaults``: what this command uses when an option is left out (shown in the help,
     applied by :func:`settings_from_args`); ``aliases``: extra flags per field."""
-    from explorer.scene.builtin import BUILTIN_SCENES
-
     exclude, sweep = set(exclude), set(sweep)
     defaults, aliases = dict(defaults), dict(aliases)
     base = Settings()
@@ -164,7 +165,7 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
         shown = defaults.get(name, getattr(base, name))
         help_text = spec_help(spec, _shown(shown))
         if name == "scene":
-            help_text = help_text[:-1] + f"; built-in scenes: {', '.join(BUILTIN_SCENES)}."
+            help_text = scene_help(help_text)
         if spec.kind == "bool":
             group.add_argument(*flags, dest=name, action=argparse.BooleanOptionalAction,
                                default=None, help=help_text)
@@ -191,10 +192,19 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
                             {"size"} if "width" in exclude else set()))))
 
 
+def scene_help(help_text: str) -> str:
+    """The scene option's help text (ending in a full stop) with the built-in scenes
+    (explorer/scene/builtin.py, their one list) named."""
+    from explorer.scene.builtin import BUILTIN_SCENES
+
+    return help_text[:-1] + f"; built-in scenes: {', '.join(BUILTIN_SCENES)}."
+
+
 def _metavar(spec: Spec) -> str:
     if spec.kind == "choice":
         return "{" + ",".join(str(choice) for choice in spec.choices) + "}"
-    return {"int": "N", "float": "X", "str": "TEXT"}.get(spec.kind, "VALUE")
+    return {"int": "N", "float": "X", "str": "TEXT", "range2": "LOW,HIGH"}.get(spec.kind,
+                                                                              "VALUE")
 
 
 def _shown(value: object) -> object:
@@ -372,7 +382,9 @@ class Progress:
     the stream is not a terminal (piped, a CI log) it stays silent.
 
     The call matches the pipeline's progress callback; :meth:`fraction` adapts it to the
-    reference renderer's ``progress(fraction) -> bool``."""
+    reference renderer's ``progress(fraction) -> bool``. :attr:`prefix` is shown before
+    the stage (a command running many frames names the frame there). :meth:`warn` prints
+    the pipeline's warnings (always, piped or not), each text once per command."""
 
     def __init__(self, label: str, stream: TextIO | None = None, enabled: bool | None = None,
                  width: int = 24, interval: float = 0.1,
@@ -387,11 +399,14 @@ class Progress:
         self._last_draw = -float("inf")
         self._stage: str | None = None
         self._shown = 0               # characters on the line now
+        self.prefix = ""
+        self._warned: set[str] = set()
 
     def __call__(self, stage: str, done: int, total: int) -> None:
         if not self.enabled:
             return
         now = self.clock()
+        stage = self.prefix + stage
         if done < total and stage == self._stage and now - self._last_draw < self.interval:
             return                      # a new stage and a finished one are always drawn
         self._last_draw, self._stage = now, stage
@@ -411,6 +426,18 @@ class Progress:
 
         return report
 
+    def warn(self, messages: Iterable[str]) -> None:
+        """Print each message not printed before as ``lpv-explorer <label>: warning: ...``
+        on the stream (the bar's line cleared first)."""
+        new = [text for text in dict.fromkeys(messages) if text not in self._warned]
+        if not new:
+            return
+        self.close()
+        for text in new:
+            self.stream.write(f"lpv-explorer {self.label}: warning: {text}\n")
+            self._warned.add(text)
+        self.stream.flush()
+
     def close(self) -> None:
         """Clear the bar's line, so what is printed next starts on a clean line."""
         if self._shown:
@@ -428,7 +455,12 @@ class Progress:
 def run_pipeline(pipeline: Any, settings: Settings | None = None,
                  progress: Callable[[str, int, int], None] | None = None, **options: Any):
     """Run ``pipeline`` for ``settings``: the one call site every command shares.
-
-    MERGE (lead): once ``Pipeline.run`` takes ``progress(stage, done, total)``, pass
-    ``progress=progress`` here; until then ``progress`` is not called by the pipeline."""
-    return pipeline.run(settings, **options)
+    ``progress(stage, done, total)`` is called as the stages run (a :class:`Progress`
+    bar), and a :class:`Progress` prints the frame's warnings (``FrameResult.warnings``:
+    the numeric guards, explorer/lpv/guards.py) once each; ``options`` go to
+    ``Pipeline.run`` (``keep_steps``, ``vpls``, ``need_audit``)."""
+    result = pipeline.run(settings, progress=progress, **options)
+    warn = getattr(progress, "warn", None)
+    if warn is not None:
+        warn(result.warnings)
+    return result

@@ -15,6 +15,7 @@ from explorer.commands.options import (
     CommandError,
     Outputs,
     check_scene,
+    scene_help,
     setting_type,
     size_type,
     spec_help,
@@ -35,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     window = specs(AppState)["window_size"]
     parser.add_argument("--lesson", metavar="ID", help="open a lesson (e.g. 01 or its slug)")
     parser.add_argument("--scene", metavar="NAME|PATH", type=setting_type("scene"),
-                        help=spec_help(specs(Settings)["scene"]))
+                        help=scene_help(spec_help(specs(Settings)["scene"])))
     parser.add_argument("--preset", choices=list(PRESETS),
                         help="start with these formulas (configuration A)")
     parser.add_argument("--step", metavar="K", type=value_type("step", STEP), default=None,

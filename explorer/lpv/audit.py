@@ -51,14 +51,19 @@ class GridAudit:
     """(iterations, 3) flux the geometry volume blocked in step t+1 that can bounce: per
     source cell and direction clamped at 0 (``bounces`` 2 only; zeros otherwise).
     ``reflected <= blocked`` whenever every albedo is <= 1."""
+    steps_measured: bool = True
+    """False when the propagation ran without the per-step audit (``need_audit=False``):
+    ``injected`` and ``accumulated`` are measured, the per-step terms after step 0 are
+    NaN."""
 
     @property
     def iterations(self) -> int:
         return int(self.border_loss.shape[0])
 
     def as_dict(self) -> dict[str, list]:
-        """Plain lists, for JSON output and plots."""
-        return {name: np.asarray(value).tolist() for name, value in vars(self).items()}
+        """Plain lists, for JSON output and plots (``steps_measured`` stays a bool)."""
+        return {name: value if isinstance(value, bool) else np.asarray(value).tolist()
+                for name, value in vars(self).items()}
 
 
 @dataclass
@@ -91,18 +96,23 @@ def check_finite(array: np.ndarray, pass_name: str) -> np.ndarray:
     return array
 
 
-CELLS_PER_PARTIAL = 64
-"""Cells one invocation of the first reduction stage sums (``audit_reduce.glsl``)."""
+MAX_PARTIALS = 512
+"""Partial records per audit slot at most (``audit_reduce.glsl`` stages 0 and 1): each
+invocation of the first stage sums every P-th cell, P = min(⌈N³/64⌉, MAX_PARTIALS), so
+the partial records of 1026 slots (1024 iterations) take 37 MB, within one storage
+block."""
 
 
 class AuditReducer:
     """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
     18 floats (flux, border loss, clamp gain, occluded, reflected, blocked; 3 channels
-    each); :meth:`read`
-    fetches every slot at once, the only read-back.
+    each). Each measurement (:meth:`measure_flux`, :meth:`sum_cell_records`) reduces its
+    records to partial sums in its own slot's region; :meth:`read` folds every slot at
+    once (one dispatch, no barrier: llvmpipe pays dearly for ``barrier()``) and reads them
+    back, the only read-back.
 
-    Storage buffers while a pass runs (see :meth:`bind`): 2 partial records, 3 results,
-    4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats).
+    Storage buffers while a pass runs (see :meth:`bind`): 2 partial records (all slots),
+    3 results, 4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats).
     """
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
@@ -122,56 +132,59 @@ class AuditReducer:
 
     @property
     def partial_count(self) -> int:
-        return -(-self._resolution ** 3 // CELLS_PER_PARTIAL)
+        """Partial records per slot."""
+        return min(-(-self._resolution ** 3 // 64), MAX_PARTIALS)
 
-    def begin(self, resolution: int, slots: int) -> None:
-        """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid."""
+    def begin(self, resolution: int, slots: int, cell_records: bool = True) -> None:
+        """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid, and the
+        per-cell records of a propagation step when ``cell_records``."""
         self._resolution = int(resolution)
         self._slots = int(slots)
-        self._buffer("partials", self.partial_count * AUDIT_VALUES * 4)
-        self._buffer("cells", self._resolution ** 3 * AUDIT_VALUES * 4)
-        self._buffer("results", self._slots * AUDIT_VALUES * 4).clear()
+        # every slot is measured once before read(): no clearing needed
+        self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
+        if cell_records:
+            self._buffer("cells", self._resolution ** 3 * AUDIT_VALUES * 4)
+        self._buffer("results", self._slots * AUDIT_VALUES * 4)
 
     def bind(self) -> None:
-        """Bind the storage buffers: partials 2, results 3, per-cell records 4."""
+        """Bind the storage buffers: partials 2, results 3, per-cell records 4 (when
+        allocated)."""
         for name, binding in (("partials", 2), ("results", 3), ("cells", 4)):
-            self._buffers[name].bind_to_storage_buffer(binding)
+            if name in self._buffers:
+                self._buffers[name].bind_to_storage_buffer(binding)
 
-    def _run_partials(self, stage: int, uniforms: dict[str, object]) -> None:
-        self.bind()
-        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
-        set_uniforms(program, {**uniforms, "u_grid_resolution": self._resolution,
-                               "u_partial_count": self.partial_count})
-        program.run(-(-self.partial_count // 64))
-        self.ctx.memory_barrier()
-
-    def total(self, slot: int) -> None:
-        """Fold the partial records into ``slot``."""
+    def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object]) -> None:
         if not 0 <= slot < self._slots:
             raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
         self.bind()
-        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 2})
-        set_uniforms(program, {"u_partial_count": self.partial_count, "u_result_slot": slot})
-        program.run(1)
+        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
+        set_uniforms(program, {**uniforms, "u_grid_resolution": self._resolution,
+                               "u_partial_count": self.partial_count,
+                               "u_result_slot": slot})
+        program.run(-(-self.partial_count // 64))
         self.ctx.memory_barrier()
 
     def measure_flux(self, slot: int, grid: LpvGrid) -> None:
-        """Fill ``slot`` with the flux of ``grid`` (sampler units 0..2 while it runs)."""
+        """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs)."""
         if grid.resolution != self._resolution:
             raise ValueError(f"audit prepared for {self._resolution}^3 cells, the grid has "
                              f"{grid.resolution}^3")
         grid.use_as_textures(0)
-        self._run_partials(0, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2})
-        self.total(slot)
+        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2})
 
     def sum_cell_records(self, slot: int) -> None:
-        """Fill ``slot`` with the sums of the per-cell records a propagation step wrote."""
-        self._run_partials(1, {})
-        self.total(slot)
+        """Reduce the per-cell records a propagation step wrote into ``slot``."""
+        self._run_partials(1, slot, {})
 
     def read(self) -> np.ndarray:
         """(slots, 18) float64: flux, border loss, clamp gain, occluded, reflected, blocked
-        (3 channels each)."""
+        (3 channels each) of every slot, folded from their partial sums."""
+        self.bind()
+        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 2})
+        set_uniforms(program, {"u_partial_count": self.partial_count,
+                               "u_slot_count": self._slots})
+        program.run(-(-self._slots * AUDIT_VALUES // 64))
+        self.ctx.memory_barrier()
         raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
         return np.frombuffer(raw, np.float32).reshape(self._slots, AUDIT_VALUES).astype(
             np.float64)

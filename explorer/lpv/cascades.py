@@ -34,8 +34,8 @@ MIN_CASCADE_GRID = 8
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 GRIDS_PER_CASCADE = 4
 """Light grids one cascade keeps on the GPU: injected, ping, pong, accumulated."""
-AUDIT_BYTES_PER_CELL = 48
-"""Per-cell audit records the propagation writes (12 floats)."""
+AUDIT_BYTES_PER_CELL = 72
+"""Per-cell audit records the propagation writes (18 floats; only with the audit)."""
 DEFAULT_TEXTURE_BUDGET = 4 << 30
 """Default limit of the pipeline's LPV texture memory (bytes, all cascades together)."""
 
@@ -191,10 +191,10 @@ def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str,
 
 
 class CascadeLevel:
-    """GPU resources and results of one coarser cascade (``k ≥ 1``) in the pipeline;
-    cascade 0 uses the pipeline's own single-grid resources. Each level has its own
-    :class:`~explorer.lpv.propagate.PropagatePass`, because a pass owns the accumulated
-    grid it returns."""
+    """GPU resources and results of one cascade level ``k`` in the pipeline (level 0 is
+    the finest cascade, or the single grid): its injected grid, geometry volume,
+    propagation (each level has its own :class:`~explorer.lpv.propagate.PropagatePass`,
+    because a pass owns the accumulated grid it returns) and the arrays read back."""
 
     def __init__(self, ctx, programs) -> None:
         from explorer.lpv.propagate import PropagatePass
@@ -203,7 +203,8 @@ class CascadeLevel:
         self.injected = None            # LpvGrid
         self.volume = None              # GeometryVolume | None
         self.propagate = PropagatePass(ctx, programs)
-        self.output = None              # PropagationOutput of the last run
+        self.running = None             # PropagationRun in progress
+        self.output = None              # PropagationOutput of the last completed run
         self.accumulated: np.ndarray | None = None
         self.geometry: np.ndarray | None = None
 
@@ -228,6 +229,14 @@ class CascadeLevel:
             self.volume = GeometryVolume(self.ctx, resolution, fmt)
         return self.volume
 
+    @property
+    def accumulation_textures(self):
+        """The r, g, b textures of the accumulation so far (the one in progress, else the
+        last completed), or None before any propagation."""
+        if self.running is not None:
+            return self.running.accumulated.textures
+        return None if self.output is None else self.output.accumulated.textures
+
     def release_volume(self) -> None:
         if self.volume is not None:
             self.volume.release()
@@ -240,4 +249,4 @@ class CascadeLevel:
             self.injected = None
         self.release_volume()
         self.propagate.release()
-        self.output = None
+        self.running = self.output = None

@@ -16,6 +16,7 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
+from explorer.lpv.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 
 MODES = {"average": 1, "brightest": 2}
@@ -30,20 +31,12 @@ class DownsamplePass:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self.size: tuple[int, int] = (0, 0)
-        self._textures: list[moderngl.Texture] = []
-        self._framebuffer: moderngl.Framebuffer | None = None
+        self._targets = RenderTargets(ctx, ("f4",) * 3)
         self._triangle = FullscreenTriangle(ctx)
 
-    def _allocate(self, size: tuple[int, int]) -> None:
-        if size == self.size:
-            return
-        self._free_targets()
-        self._textures = [self.ctx.texture(size, 4, dtype="f4") for _ in range(3)]
-        for texture in self._textures:
-            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self._framebuffer = self.ctx.framebuffer(self._textures)
-        self.size = size
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._targets.size
 
     def run(self, vpls: VplTextures, mode: str, factor: int, spec: GridSpec,
             light: LightView) -> VplTextures:
@@ -51,8 +44,7 @@ class DownsamplePass:
             raise ValueError(f"downsample mode must be one of {tuple(MODES)}, got {mode!r}")
         if int(factor) < 1:
             raise ValueError(f"downsample_factor must be at least 1, got {factor}")
-        size = downsampled_size(vpls.size, factor)
-        self._allocate(size)
+        self._targets.allocate(downsampled_size(vpls.size, factor))
         program = self.programs.get("downsample.glsl")
         vpls.position.use(0)
         vpls.normal.use(1)
@@ -63,21 +55,12 @@ class DownsamplePass:
             "u_light_direction": tuple(map(float, light.direction)),
             **spec.uniforms(),
         })
-        with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
-            self._framebuffer.viewport = (0, 0, *size)
+        with self._targets.drawing():
             self._triangle.draw(program)
-        position, normal, flux = self._textures
+        position, normal, flux = self._targets.textures
         return VplTextures(position, normal, flux, texel_area=vpls.texel_area * factor * factor,
                            projection=vpls.projection)
 
-    def _free_targets(self) -> None:
-        if self._framebuffer is not None:
-            self._framebuffer.release()
-            self._framebuffer = None
-        for texture in self._textures:
-            texture.release()
-        self._textures, self.size = [], (0, 0)
-
     def release(self) -> None:
-        self._free_targets()
+        self._targets.release()
         self._triangle.release()

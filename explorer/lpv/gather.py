@@ -1,12 +1,12 @@
-"""Final gather: direct light, LPV indirect light, exposure and display encoding
-(docs/MODEL.md "Final gather").
+"""Final gather: direct light and LPV indirect light, linear (docs/MODEL.md "Final
+gather"); exposure and display encoding are the display pass's (explorer/lpv/display.py).
 
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
 SH order) and the indirect radiance a/π·E (optionally damped by the directional
 derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
-(spot) or
-E_L·cos θ (directional), shadowed with the RSM's depth (normal.w).
+(spot, times the cone's falloff f) or E_L·cos θ (directional), shadowed with the RSM's
+depth (normal.w) through a PCF box ``shadow_kernel`` texels wide.
 """
 
 from __future__ import annotations
@@ -20,14 +20,28 @@ from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
+from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
+from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import per_context, sh_defines
 from explorer.lpv.vpl import VplTextures
 
-TARGETS = ("direct", "indirect", "final", "display", "received")
+TARGETS = ("direct", "indirect", "received")
+BAND_PIXELS = 1 << 16
+"""Pixels of one band of the gather (one unit of a time-sliced frame): at 960×540 the
+gather runs as 8 bands, none longer than a frame budget on llvmpipe takes."""
 EXACT_FILTER = 1e-5
 """Largest weight error of a linear-filtered lookup that counts as exact (float32 weights
 err by about 1e-7, a texture unit's 8-bit weights by up to 2e-3)."""
 PROBE_SAMPLES = 64
+
+
+def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[int, int]]:
+    """Row ranges ``(first, end)`` covering an image of ``size`` (width, height) in bands
+    of about ``band_pixels`` pixels each (at least one row)."""
+    width, height = int(size[0]), int(size[1])
+    count = max(1, min(height, -(-width * height // band_pixels)))
+    edges = [round(i * height / count) for i in range(count + 1)]
+    return [(edges[i], edges[i + 1]) for i in range(count)]
 
 
 def linear_filter_error(ctx: moderngl.Context) -> float:
@@ -62,8 +76,8 @@ def _measure_filter_error(ctx: moderngl.Context) -> float:
 
 
 class GatherPass:
-    """Full-screen pass writing the targets named in :data:`TARGETS`: four ``rgba32f``
-    (``display`` is ``rgba8``, sRGB-encoded, for showing on screen)."""
+    """Full-screen pass writing the ``rgba32f`` targets named in :data:`TARGETS`: linear
+    direct and indirect radiance and the LPV flux each pixel's surface receives."""
 
     STAGE = "gather"
     """Its program reads this stage's correction switches (none today: a switch that
@@ -72,40 +86,38 @@ class GatherPass:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self.size: tuple[int, int] = (0, 0)
-        self.targets: dict[str, moderngl.Texture] = {}
-        self._framebuffer: moderngl.Framebuffer | None = None
+        self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS))
         self._triangle = FullscreenTriangle(ctx)
         self._empty_grid: moderngl.Texture3D | None = None
         self.shader_filter = linear_filter_error(ctx) > EXACT_FILTER
         """Interpolate the grid in the shader (``SH_SHADER_FILTER``, sh_grid.glsl) because
         the texture unit's weights are not exact on this GPU."""
 
-    def _allocate(self, size: tuple[int, int]) -> None:
-        if size == self.size:
-            return
-        self._free_targets()
-        for name in TARGETS:
-            dtype = "f1" if name == "display" else "f4"
-            texture = self.ctx.texture(size, 4, dtype=dtype)
-            texture.filter = (moderngl.LINEAR, moderngl.LINEAR) if name == "display" else (
-                moderngl.NEAREST, moderngl.NEAREST)
-            self.targets[name] = texture
-        self._framebuffer = self.ctx.framebuffer([self.targets[n] for n in TARGETS])
-        self.size = size
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._targets.size
+
+    @property
+    def targets(self) -> dict[str, moderngl.Texture]:
+        """Target name -> texture (empty before the first run)."""
+        return dict(zip(TARGETS, self._targets.textures))
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
-            grid_textures, spec: GridSpec, exposure: float, indirect_only: bool,
-            damping: bool = False, cascades: list[CascadeInput] | None = None,
-            sh_order: int = 1) -> None:
+            grid_textures, spec: GridSpec, damping: bool = False,
+            cascades: list[CascadeInput] | None = None, sh_order: int = 1,
+            rows: tuple[int, int] | None = None,
+            shadow_kernel: int = DEFAULT_SHADOW_KERNEL) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
-        trilinearly in the shader, clamped to the edge), or None for direct light only.
-        ``damping``: the directional-derivative damping of the indirect irradiance
-        (docs/MODEL.md "Final gather"); with cascades, per cascade.
+        trilinearly, clamped to the edge), or None for direct light only. ``damping``: the
+        directional-derivative damping of the indirect irradiance (docs/MODEL.md "Final
+        gather"); with cascades, per cascade.
         ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
-        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py)."""
-        self._allocate(gbuffer.size)
+        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
+        ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
+        the others keep what they hold. ``shadow_kernel``: width of the PCF box in
+        shadow-map texels (1 = one hard test)."""
+        self._targets.allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", {
             **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
         gbuffer.position.use(0)
@@ -124,8 +136,7 @@ class GatherPass:
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
             "u_shadow_texel": light.texel_world_size,
-            "u_exposure": float(exposure),
-            "u_indirect_only": int(indirect_only),
+            "u_shadow_kernel": int(shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
             "u_gather_damping": int(damping),
             **light.uniforms(),
@@ -133,8 +144,7 @@ class GatherPass:
             **self._cascade_uniforms(cascades, grid_textures, spec),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
-        with self.ctx.scope(self._framebuffer, enable_only=moderngl.NOTHING):
-            self._framebuffer.viewport = (0, 0, *self.size)
+        with self._targets.drawing(rows=rows):
             self._triangle.draw(program)
 
     CASCADE_FIRST_UNIT = 8
@@ -154,16 +164,8 @@ class GatherPass:
             self._empty_grid = self.ctx.texture3d((1, 1, 1), 4, dtype="f4")
         return self._empty_grid
 
-    def _free_targets(self) -> None:
-        if self._framebuffer is not None:
-            self._framebuffer.release()
-            self._framebuffer = None
-        for texture in self.targets.values():
-            texture.release()
-        self.targets, self.size = {}, (0, 0)
-
     def release(self) -> None:
-        self._free_targets()
+        self._targets.release()
         self._triangle.release()
         if self._empty_grid is not None:
             self._empty_grid.release()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import moderngl
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.targets import RenderTargets
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix
@@ -16,10 +17,16 @@ class GBufferPass:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self.size: tuple[int, int] = (0, 0)
-        self.textures: list[moderngl.Texture] = []
-        self._depth: moderngl.Renderbuffer | None = None
-        self._framebuffer: moderngl.Framebuffer | None = None
+        self._targets = RenderTargets(ctx, ("f4",) * 3, depth=True,
+                                      enable=moderngl.DEPTH_TEST)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._targets.size
+
+    @property
+    def textures(self) -> list[moderngl.Texture]:
+        return self._targets.textures
 
     @property
     def position(self) -> moderngl.Texture:
@@ -33,19 +40,8 @@ class GBufferPass:
     def albedo(self) -> moderngl.Texture:
         return self.textures[2]
 
-    def _allocate(self, size: tuple[int, int]) -> None:
-        if size == self.size:
-            return
-        self.release()
-        self.textures = [self.ctx.texture(size, 4, dtype="f4") for _ in range(3)]
-        for texture in self.textures:
-            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self._depth = self.ctx.depth_renderbuffer(size)
-        self._framebuffer = self.ctx.framebuffer(self.textures, self._depth)
-        self.size = size
-
     def run(self, geometry: SceneBuffers, scene: Scene, size: tuple[int, int]) -> None:
-        self._allocate(size)
+        self._targets.allocate(size)
         width, height = size
         camera = scene.camera
         program = self.programs.get("gbuffer.glsl")
@@ -54,15 +50,8 @@ class GBufferPass:
             "u_projection": gl_matrix(camera.projection_matrix(
                 width / height, scene.bounds_min, scene.bounds_max)),
         })
-        with self.ctx.scope(self._framebuffer, enable_only=moderngl.DEPTH_TEST):
-            self._framebuffer.viewport = (0, 0, width, height)
-            self._framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        with self._targets.drawing(clear=True):
             geometry.draw(program)
 
     def release(self) -> None:
-        if self._framebuffer is not None:
-            self._framebuffer.release()
-            self._depth.release()
-        for texture in self.textures:
-            texture.release()
-        self.textures, self._framebuffer, self._depth, self.size = [], None, None, (0, 0)
+        self._targets.release()

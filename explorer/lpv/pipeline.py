@@ -1,29 +1,25 @@
-"""The LPV frame: RSM -> downsample -> inject (+ geometry volume) -> propagate -> gather.
+"""The LPV frame: RSM -> downsample -> inject (+ geometry volume) -> propagate -> gather ->
+display.
 
-:class:`Pipeline` owns the pass objects and their GPU resources, runs only the stages whose
-inputs changed since the last run (each stage has a key made of the Settings fields it
-reads plus the keys of the stages it depends on), times every pass, audits the energy and
-reads every intermediate result back as numpy arrays (:class:`FrameResult`).
+:class:`Pipeline` owns the pass objects and their GPU resources and runs the stages
+declared in :mod:`explorer.lpv.stages` (their table: ``stages.describe()``). A stage runs
+only when its key changed: the Settings fields it reads (declared once, in the settings
+schema), the output keys of its upstream stages and its extra inputs. Every stage is
+timed, its output is checked for NaN and infinity (warnings in ``FrameResult.warnings``,
+or a FloatingPointError with ``debug_nan``), and what ``FrameResult`` holds is read
+back when the stage runs.
 
-Stages and the Settings fields they read:
+Two ways to run a frame:
 
-========== ==================================================================
-scene      scene, camera, light, light_flux (loads the mesh once per scene name)
-rsm        scene, light, light_flux, rsm_size
-downsample (rsm, grid) downsample, downsample_factor
-inject     (downsample, grid) corrections, injection_mode, grid_format,
-           injection_offset_cells, sh_order
-geometry   (downsample, grid) corrections, geometry_volume, grid_format
-propagate  (inject, geometry) corrections, iterations, bounces (+ keep_steps)
-gbuffer    scene, camera, width, height
-gather     (gbuffer, rsm, propagate) exposure, indirect_only, gather_damping
-========== ==================================================================
+* :meth:`Pipeline.run`: the whole frame at once (scripts, the CLI, tests), with the
+  energy audit by default and a ``progress(stage, done, total)`` callback;
+* :meth:`Pipeline.start`: a :class:`~explorer.lpv.job.Job` that the window advances a
+  few milliseconds per frame (``job.advance(budget_ms)``), showing the accumulation grow
+  (``job.preview()``) and cancelled by the next ``start`` with other settings.
 
-``grid`` is the :class:`GridSpec` enclosing the scene's bounds at ``grid_size``; with
-``cascades`` > 1 it is the list of cascade specs (docs/MODEL.md "Cascades"), which also
-depends on the camera (through the snapped focus point) and on ``cascade_extent`` and
-``cascade_focus``. The inject, geometry and propagate stages then run every cascade
-(their timings hold all cascades together) and the gather blends them.
+Cascades (docs/MODEL.md "Cascades") are a list of levels, level 0 the finest (or the
+single grid enclosing the scene); inject, geometry and propagate run every level (their
+timings hold all levels together) and the gather blends them.
 
 Timings: on a GPU every pass is timed with a GL timer query (``ctx.query(time=True)``).
 Mesa's llvmpipe reads 0 around compute dispatches and, around draws, either 2³²−1 (no
@@ -36,16 +32,17 @@ later), so on a software renderer every pass is timed with the wall clock betwee
 from __future__ import annotations
 
 import hashlib
+import inspect
 import time
-from dataclasses import dataclass, field
+from collections.abc import Iterator
 
 import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv.audit import EnergyAudit, GridAudit, check_finite
+from explorer.lpv import guards
+from explorer.lpv.audit import EnergyAudit, check_finite
 from explorer.lpv.cascades import (
-    DEFAULT_TEXTURE_BUDGET,
     CascadeInput,
     CascadeLevel,
     cascade_iterations,
@@ -53,83 +50,37 @@ from explorer.lpv.cascades import (
     focus_point,
 )
 from explorer.lpv.cascades import check_limits as check_cascade_limits
+from explorer.lpv.display import DisplayPass, display_scale, exposed_image
 from explorer.lpv.downsample import DownsamplePass
-from explorer.lpv.gather import GatherPass
+from explorer.lpv.frame import FrameResult, LevelResult
+from explorer.lpv.gather import GatherPass, bands
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.geometry import GeometryPass, GeometryVolume
+from explorer.lpv.geometry import GeometryPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import InjectPass
-from explorer.lpv.propagate import PropagatePass
+from explorer.lpv.job import Job, ProgressCallback
+from explorer.lpv.limits import (
+    DEFAULT_MEMORY_BUDGET,
+    DriverLimits,
+    audit_fits,
+    audit_skipped_warning,
+    check_framebuffers,
+    check_grid_textures,
+    check_memory,
+)
+from explorer.lpv.propagate import slabs
 from explorer.lpv.rsm import LightView, RsmPass, light_view, read_texture
+from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
-from explorer.lpv.textures import LpvGrid
 from explorer.lpv.views import render_view
 from explorer.lpv.vpl import VplArrays, VplTextures
 from explorer.scene import Scene, load_scene
-from explorer.scene.camera import Camera
 from explorer.scene.gpu import SceneBuffers
 
-STAGES = ("scene", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
-PASSES = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather")
 _QUERY_UNAVAILABLE_MS = (2**32 - 1) / 1e6
 """A timer query that reads 2³²−1 ns has no result (Mesa answers so on first use)."""
 
-
-@dataclass
-class FrameResult:
-    """Everything one frame computed, as numpy arrays. Images are ``(H, W, 3)`` float32
-    with row 0 at the top; RSM arrays ``(Hr, Wr, 4)``, row 0 at the top."""
-
-    settings: Settings
-    grid_spec: GridSpec
-    final_image: np.ndarray
-    """Linear colour, exposure applied (``exposure·indirect`` when ``indirect_only``)."""
-    direct: np.ndarray
-    """Linear direct radiance (no exposure)."""
-    indirect: np.ndarray
-    """Linear LPV radiance albedo/π·E (no exposure)."""
-    albedo: np.ndarray
-    rsm_position: np.ndarray
-    rsm_normal: np.ndarray
-    rsm_flux: np.ndarray
-    vpls: VplArrays
-    """The VPLs injected (after downsampling, or the ones handed to :meth:`Pipeline.run`)."""
-    accumulated: np.ndarray
-    """acc_N, ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (``sh_order`` 2)."""
-    steps: list[np.ndarray] | None
-    geometry_volume: np.ndarray | None
-    audit: EnergyAudit
-    timings_ms: dict[str, float]
-    """Pass name -> milliseconds of its last run (also for passes skipped this time)."""
-    timing_methods: dict[str, str] = field(default_factory=dict)
-    """Pass name -> "timer-query" or "wall-clock"."""
-    stages_run: tuple[str, ...] = ()
-    """The stages that ran for this result (the others were up to date)."""
-    # Cascades (docs/MODEL.md "Cascades"): the fields above without a cascade index
-    # (grid_spec, accumulated, steps, geometry_volume, audit's grid terms) are cascade 0's,
-    # the finest; the lists below hold every cascade, finest first (one entry when
-    # settings.cascades == 1). audit.gathered is the blended final gather's.
-    cascade_specs: list[GridSpec] = field(default_factory=list)
-    """GridSpec of each cascade; [grid_spec] for the single grid."""
-    cascade_accumulated: list[np.ndarray] = field(default_factory=list)
-    """acc_N of each cascade, ``(3, N, N, N, 4)`` (or ``9`` coefficients with L2)."""
-    cascade_geometry: list[np.ndarray | None] = field(default_factory=list)
-    """Geometry volume of each cascade (None when off)."""
-    cascade_audits: list[GridAudit] = field(default_factory=list)
-    """Injection and propagation audit of each cascade. Each cascade holds every VPL
-    inside it, so their injected fluxes overlap and must not be summed."""
-    # The camera's view of the frame, for picking and for drawing in the scene
-    # (explorer/ui/overlays): what the G-buffer pass saw, row 0 at the top.
-    gbuffer_position: np.ndarray | None = None
-    """``(H, W, 4)`` world position of the surface under each pixel, w = 1 where a surface
-    was seen (0: background)."""
-    gbuffer_normal: np.ndarray | None = None
-    """``(H, W, 4)`` unit normal facing the camera, w = world area of the pixel's surface."""
-    camera: Camera | None = None
-    """The camera the frame was rendered with (the scene's, with Settings.camera applied)."""
-    scene_bounds: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
-    """(min, max) corners of the scene's box; with ``camera`` they fix the projection
-    (:meth:`Camera.projection_matrix`)."""
+__all__ = ["FrameResult", "LevelResult", "Pipeline", "render"]
 
 
 class Pipeline:
@@ -146,207 +97,111 @@ class Pipeline:
         self.ctx = ctx
         self.settings = settings
         self.programs = ProgramCache(ctx)
-        info = ctx.info
-        self.max_3d_texture_size = int(info.get("GL_MAX_3D_TEXTURE_SIZE", 0) or 0)
-        self.max_texture_size = int(info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
-        self.max_texture_units = int(info.get("GL_MAX_TEXTURE_IMAGE_UNITS", 0) or 0)
-        self.texture_budget_bytes = DEFAULT_TEXTURE_BUDGET
-        """Refuse settings whose LPV textures (all cascades) would need more bytes."""
-        renderer = str(info.get("GL_RENDERER", "")).lower()
+        self.limits = DriverLimits.of(ctx.info)
+        """The GL limits every request is checked against (explorer/lpv/limits.py)."""
+        self.memory_budget_bytes = DEFAULT_MEMORY_BUDGET
+        """Refuse settings whose textures and read-back arrays would need more bytes."""
+        renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
         self.software_renderer = any(name in renderer for name in ("llvmpipe", "softpipe",
                                                                    "swrast", "lavapipe"))
         self._rsm = RsmPass(ctx, self.programs)
         self._downsample = DownsamplePass(ctx, self.programs)
         self._inject = InjectPass(ctx, self.programs)
         self._geometry = GeometryPass(ctx, self.programs)
-        self._propagate = PropagatePass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
         self._gather = GatherPass(ctx, self.programs)
-        self._keys: dict[str, object] = {}
+        self._display = DisplayPass(ctx, self.programs)
+        self.display_scale_override: float | None = None
+        """Show frames with this display scale instead of their own (the window shows
+        configuration B at A's exposure); None = the frame's own (auto exposure or 1). An
+        input of the display stage: changing it runs that stage alone."""
+        self._display_scale = 1.0
+        self._auto_scale: tuple[dict, bool, float] | None = None
+        """(the gathered arrays, indirect_only, their auto exposure scale)."""
+        self.keys: dict[str, object] = {}
+        """Stage -> key of its last completed run (forgotten while it runs)."""
+        self.out_keys: dict[str, object] = {}
+        """By-value stage -> its last value (the grid specs)."""
+        self.unit_ms: dict[str, float] = {}
+        """Stage -> measured milliseconds of its last unit of work (a job's budget)."""
+        self.job: Job | None = None
+        """The job in progress, if any."""
         self._scene_cache: dict[str, Scene] = {}
         self._scene: Scene | None = None
         self._geometry_buffers: SceneBuffers | None = None
         self._light: LightView | None = None
-        self._spec: GridSpec | None = None
+        self._specs: list[GridSpec] = []
+        self._levels: list[CascadeLevel] = []
         self._rsm_textures: VplTextures | None = None
         self._vpl_textures: VplTextures | None = None
         self._override_textures: VplTextures | None = None
-        self._injected: LpvGrid | None = None
-        self._volume: GeometryVolume | None = None
-        self._accumulated_grid: LpvGrid | None = None
         self._arrays: dict[str, object] = {}
-        self._grid_audit: GridAudit | None = None
-        self._specs: list[GridSpec] = []
-        self._levels: list[CascadeLevel] = []     # cascades 1.. (cascade 0: the above)
+        self._warnings: dict[str, list[str]] = {}
         self.timings_ms: dict[str, float] = {}
         self.timing_methods: dict[str, str] = {}
         self._queries: dict[str, moderngl.Query] = {}
-        self._current_stage: str | None = None
         self.last_result: FrameResult | None = None
 
     # ------------------------------------------------------------------ public API
     @property
     def final_texture(self) -> moderngl.Texture:
-        """RGBA8 sRGB-encoded final image (exposure applied) of the last run, for display.
-        Row 0 is the bottom row, as OpenGL draws it."""
-        if "display" not in self._gather.targets:
+        """RGBA8 final image as shown (exposure, display scale, tone curve, sRGB;
+        docs/MODEL.md "Display") of the last frame shown (a finished run, or a job's
+        preview). Row 0 is the bottom row, as OpenGL draws it."""
+        if self._display.texture is None:
             raise RuntimeError("the pipeline has not run yet: call run() first")
-        return self._gather.targets["display"]
+        return self._display.texture
+
+    def start(self, settings: Settings | None = None, keep_steps: bool = False,
+              vpls: VplArrays | None = None, need_audit: bool = True,
+              progress: ProgressCallback | None = None) -> Job:
+        """A :class:`~explorer.lpv.job.Job` for a frame with ``settings`` (default: the
+        last ones); the job in progress, if any, is cancelled first. Limits are checked
+        here: a request that does not fit raises a one-line ValueError before anything is
+        allocated.
+
+        ``keep_steps``: keep grid_0..grid_N of every cascade. ``need_audit``: measure the
+        per-step energy audit (a plot, a lesson or a command needs it); without it the
+        propagation kernel skips the audit and only the injected and accumulated flux
+        are measured (a later job that needs the audit propagates again). ``vpls``:
+        inject these VPLs instead of the RSM's (the RSM still renders for the direct
+        light and its shadow); lessons and tests use it for hand-made light. Asking again
+        for the frame the job in progress makes returns that job, so a caller may start
+        every frame."""
+        settings = self.settings if settings is None else settings
+        current = self.job
+        if current is not None and current.asks_for(settings, keep_steps, need_audit, vpls):
+            current.progress_callback = progress
+            return current           # the same frame: carry on where it is
+        if current is not None:
+            current.cancel()
+        self.settings = settings
+        self.check_limits(self.settings)
+        self.job = Job(self, self.settings, keep_steps, need_audit, vpls, progress)
+        return self.job
 
     def run(self, settings: Settings | None = None, keep_steps: bool = False,
-            vpls: VplArrays | None = None) -> FrameResult:
-        """Render a frame; only the stages whose inputs changed run again.
-
-        ``vpls``: inject these VPLs instead of the RSM's (the RSM still renders for the
-        direct light and its shadow); lessons and tests use it for hand-made light.
-        """
-        if settings is not None:
-            self.settings = settings
-        self._check_limits(self.settings)
-        self._current_stage = None
-        try:
-            return self._run(self.settings, keep_steps, vpls)
-        except BaseException:
-            # the failed stage (and all after it) must run again next time
-            self.invalidate(self._current_stage or "scene")
-            raise
-
-    def _run(self, s: Settings, keep_steps: bool, vpls: VplArrays | None) -> FrameResult:
-        ran: list[str] = []
-
-        scene_key = (s.scene, s.camera, s.light, s.light_flux)
-        if self._changed("scene", scene_key):
-            self._load_scene(s)
-            ran.append("scene")
-        scene = self._scene
-        specs = self._cascade_specs(s, scene)
-        spec = specs[0]
-        self._spec = spec
-
-        # the camera does not change what the light sees: moving it re-runs only the
-        # G-buffer and the gather
-        light_key = (s.scene, s.light, s.light_flux)
-        rsm_key = (light_key, s.rsm_size)
-        if self._changed("rsm", rsm_key):
-            self._light = light_view(scene, s.rsm_size)
-            self._rsm_textures = self._timed(
-                "rsm", lambda: self._rsm.run(self._geometry_buffers, self._light))
-            self._arrays["rsm"] = tuple(read_texture(t) for t in (
-                self._rsm_textures.position, self._rsm_textures.normal,
-                self._rsm_textures.flux))
-            for array in self._arrays["rsm"]:
-                self._check("rsm", array)
-            ran.append("rsm")
-
-        override_key = None if vpls is None else _digest(vpls)
-        downsample_key = (rsm_key, spec, s.downsample, s.downsample_factor, override_key)
-        if self._changed("downsample", downsample_key):
-            self._vpl_textures = self._select_vpls(s, spec, vpls)
-            self._arrays["vpls"] = self._vpl_textures.to_arrays()
-            if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
-                self._check("downsample", self._arrays["vpls"].flux)
-            ran.append("downsample")
-
-        inject_key = (downsample_key, s.corrections, s.injection_mode, s.grid_format,
-                      s.injection_offset_cells, tuple(specs), s.sh_order)
-        if self._changed("inject", inject_key):
-            self._injected = self._replace_grid(self._injected, s)
-
-            def inject_all() -> None:   # cascade 0, then the coarser cascades
-                self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
-                                 self._injected, s.injection_offset_cells)
-                self._inject_cascades(s, specs)
-
-            self._timed("inject", inject_all)
-            if s.debug_nan:
-                self._check("inject", self._injected.read())
-            ran.append("inject")
-
-        geometry_key = (downsample_key, s.corrections, s.geometry_volume, s.grid_format,
-                        tuple(specs))
-        if self._changed("geometry", geometry_key):
-            occluders = self._rsm_textures if vpls is None else self._vpl_textures
-            if s.geometry_volume == "off":
-                self.timings_ms.pop("geometry", None)
-                self._release_volume()
-                self._arrays["geometry"] = None
-                for level in self._levels:
-                    level.release_volume()
-            else:
-                if self._volume is None or self._volume.resolution != spec.resolution or \
-                        self._volume.format != s.grid_format:
-                    self._release_volume()
-                    self._volume = GeometryVolume(self.ctx, spec.resolution, s.grid_format)
-
-                def geometry_all() -> None:   # cascade 0, then the coarser cascades
-                    self._geometry.run(occluders, spec, s.corrections, s.geometry_volume,
-                                       self._volume)
-                    self._geometry_cascades(s, specs, occluders)
-
-                self._timed("geometry", geometry_all)
-                self._arrays["geometry"] = self._volume.read()
-                self._check("geometry", self._arrays["geometry"])
-            ran.append("geometry")
-
-        propagate_key = (inject_key, geometry_key, s.iterations, s.bounces, keep_steps,
-                         s.cascade_iterations)
-        if self._changed("propagate", propagate_key):
-
-            def propagate_all():   # cascade 0 (returned), then the coarser cascades
-                finest = self._propagate.run(self._injected, spec, s.corrections,
-                                             cascade_iterations(s, 0), self._volume,
-                                             keep_steps=keep_steps, bounces=s.bounces)
-                self._propagate_cascades(s, specs)
-                return finest
-
-            output = self._timed("propagate", propagate_all)
-            self._accumulated_grid = output.accumulated
-            self._grid_audit = output.audit
-            self._arrays["accumulated"] = output.accumulated.read()
-            self._arrays["steps"] = output.steps
-            self._check("propagate", self._arrays["accumulated"])
-            ran.append("propagate")
-
-        gbuffer_key = (s.scene, s.camera, s.width, s.height)
-        if self._changed("gbuffer", gbuffer_key):
-            self._timed("gbuffer", lambda: self._gbuffer.run(
-                self._geometry_buffers, scene, (s.width, s.height)))
-            self._arrays["gbuffer"] = tuple(read_texture(t)
-                                            for t in self._gbuffer.textures)
-            for array in self._arrays["gbuffer"]:
-                self._check("gbuffer", array)
-            ran.append("gbuffer")
-
-        gather_key = (gbuffer_key, rsm_key, propagate_key, s.exposure, s.indirect_only,
-                      s.gather_damping)
-        if self._changed("gather", gather_key):
-            self._timed("gather", lambda: self._gather.run(
-                self._gbuffer, self._rsm_textures, self._light,
-                self._accumulated_grid.textures, spec, s.exposure, s.indirect_only,
-                s.gather_damping, cascades=self._cascade_inputs(specs),
-                sh_order=self._accumulated_grid.sh_order))
-            targets = self._gather.targets
-            self._arrays["gather"] = {name: read_texture(targets[name])
-                                      for name in ("direct", "indirect", "final", "received")}
-            for array in self._arrays["gather"].values():
-                self._check("gather", array)
-            ran.append("gather")
-
-        self.last_result = self._result(s, spec, ran)
-        self._add_cascade_results(self.last_result, specs)
-        return self.last_result
+            vpls: VplArrays | None = None, need_audit: bool = True,
+            progress: ProgressCallback | None = None) -> FrameResult:
+        """Render a frame at once; only the stages whose inputs changed run again.
+        ``progress(stage, done, total)`` is called as it goes (see :meth:`start` for the
+        other options). An exception, KeyboardInterrupt included, leaves the unfinished
+        stage to run again next time and propagates."""
+        job = self.start(settings, keep_steps, vpls, need_audit, progress)
+        job.advance(None)
+        return job.result
 
     def invalidate(self, stage: str | None = None) -> None:
-        """Make the next :meth:`run` redo ``stage`` and every stage after it in
-        :data:`STAGES` (all stages when None), e.g. to time a whole frame or after editing
-        a scene file."""
+        """Make the next run redo ``stage`` and every stage after it in
+        :data:`~explorer.lpv.schema.STAGES` (all stages when None), e.g. to time a whole
+        frame or after editing a scene file."""
         if stage is not None and stage not in STAGES:
             raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
         first = STAGES.index(stage) if stage is not None else 0
         if first == 0:
             self._scene_cache.clear()
         for name in STAGES[first:]:
-            self._keys.pop(name, None)
+            self.keys.pop(name, None)
 
     def reload_shaders(self) -> bool:
         """Recompile the programs whose ``.glsl`` files changed (a failed compile keeps the
@@ -366,11 +221,36 @@ class Pipeline:
             raise ValueError(f"unknown view {name!r}; choose one of {VIEWS}")
         if self.last_result is None:
             self.run()
-        scene = self._scene
+        result = self.last_result
         if name == "cascade-weights":
-            options["positions"] = self._arrays["gbuffer"][0]
-        return render_view(self.last_result, name, bounds=(scene.bounds_min, scene.bounds_max),
+            options["positions"] = result.gbuffer_position
+        scene = self._scene
+        return render_view(result, name, bounds=(scene.bounds_min, scene.bounds_max),
                            **options)
+
+    @property
+    def base_scene(self) -> Scene | None:
+        """The scene of the last run as loaded, before the Settings' camera, light and
+        flux overrides (its own defaults); None before the first run."""
+        return self._scene_cache.get(self.settings.scene) if self._scene_cache else None
+
+    def gathered_flux(self) -> np.ndarray:
+        """(3,) flux [W] the visible surfaces receive from the LPV: the sum over pixels of
+        the indirect irradiance E (docs/MODEL.md "Final gather") times the world area of
+        the surface under the pixel (|∂p/∂x × ∂p/∂y| from the G-buffer). Only surfaces the
+        camera sees count, once per pixel, so it is not expected to equal the injected
+        flux: it says how much LPV light lands on what is on screen."""
+        return self._arrays["gathered"].copy()
+
+    def check_limits(self, s: Settings) -> None:
+        """A one-line ValueError when ``s`` asks for more than the driver or the memory
+        budget allows (explorer/lpv/limits.py)."""
+        check_grid_textures(s, self.limits)
+        check_framebuffers(s, self.limits)
+        check_cascade_limits(s.grid_size, s.cascades, s.grid_format,
+                             s.geometry_volume != "off", 0, self.limits.max_texture_units,
+                             sh_groups=3 if s.sh_order == 2 else 1)
+        check_memory(s, self.memory_budget_bytes)
 
     def __enter__(self) -> "Pipeline":
         return self
@@ -379,14 +259,11 @@ class Pipeline:
         self.release()
 
     def release(self) -> None:
+        if self.job is not None:
+            self.job.cancel()
         for stage in (self._rsm, self._downsample, self._inject, self._geometry,
-                      self._propagate, self._gbuffer, self._gather):
+                      self._gbuffer, self._gather, self._display):
             stage.release()
-        for grid in (self._injected,):
-            if grid is not None:
-                grid.release()
-        self._injected = None
-        self._release_volume()
         self._release_levels(0)
         if self._override_textures is not None:
             self._override_textures.release()
@@ -395,27 +272,111 @@ class Pipeline:
             self._geometry_buffers.release()
             self._geometry_buffers = None
         self.programs.release()
-        self._keys.clear()
+        self.keys.clear()
         if self._owns_context:
             from explorer.gl.context import release_headless_context
 
             release_headless_context(self.ctx)
 
-    # ------------------------------------------------------------------ stages
-    def _changed(self, stage: str, key: object) -> bool:
-        if self._keys.get(stage) == key:
-            return False
-        self._keys[stage] = key
-        self._current_stage = stage
+    # ------------------------------------------------------------------ what a Job calls
+    def extra_input(self, stage: str, job: Job) -> object:
+        """Inputs of ``stage`` besides Settings fields and upstream stages: hand-made VPLs
+        (downsample), the display scale override (display)."""
+        if stage == "downsample":
+            return job.vpls_key
+        return self.display_scale_override if stage == "display" else None
+
+    def satisfied(self, stage: str, job: Job) -> bool:
+        """Whether the last completed run of ``stage`` has everything ``job`` asks for
+        (the propagation's kept steps and audit)."""
+        if stage != "propagate":
+            return True
+        for level in self._levels[: len(self._specs)]:
+            output = level.output
+            if output is None:
+                return False
+            if job.keep_steps and output.steps is None:
+                return False
+            if job.need_audit and not output.audit.steps_measured and \
+                    audit_fits(level.injected.resolution, self.limits):
+                return False
         return True
 
-    @property
-    def base_scene(self) -> Scene | None:
-        """The scene of the last run as loaded, before the Settings' camera, light and
-        flux overrides (its own defaults); None before the first run."""
-        return self._scene_cache.get(self.settings.scene) if self._scene_cache else None
+    def evaluate(self, stage: str, job: Job) -> object:
+        """The value of a by-value stage (``grid``: the tuple of cascade specs)."""
+        if stage != "grid":
+            raise ValueError(f"{stage} is not a by-value stage")
+        scene = self._scene_for(job.settings)
+        single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, job.settings.grid_size)
+        s = job.settings
+        if s.cascades == 1:
+            specs = [single]
+        else:
+            centre = focus_point(scene.camera.eye, scene.camera.target, s.cascade_focus)
+            specs = cascade_specs(single, s.cascades, centre, s.cascade_extent)
+        self._specs = specs
+        return tuple(specs)
 
-    def _load_scene(self, s: Settings) -> None:
+    def stage_units(self, stage: str, job: Job) -> int:
+        """The total of ``stage``'s progress count: its units, or for the propagation its
+        steps (all levels together; each step is one or more slabs)."""
+        if stage in ("inject", "geometry"):
+            return len(self._specs)
+        if stage == "gbuffer":
+            return 1 + READ_BACK_TEXTURES
+        if stage == "gather":
+            return len(bands((job.settings.width, job.settings.height))) + READ_BACK_TEXTURES
+        if stage == "propagate":
+            return max(1, sum(cascade_iterations(job.settings, k)
+                              for k in range(len(self._specs))))
+        return 1
+
+    def stage_work(self, stage: str, job: Job) -> Iterator[int | None]:
+        """The work of ``stage`` as a generator: each ``next()`` does one unit and yields
+        the progress in the stage's own count (None: one more unit) until the last unit
+        ends it."""
+        method = getattr(self, f"_stage_{stage}")
+        if inspect.isgeneratorfunction(method):
+            return method(job)
+        return _single_unit(method, job)
+
+    def finish_job(self, job: Job) -> FrameResult:
+        """The FrameResult of a job whose stages are all complete."""
+        self.last_result = self._result(job)
+        return self.last_result
+
+    def show_preview(self, job: Job) -> bool:
+        """Gather and display the accumulation as it is now (see :meth:`Job.preview`);
+        the gather and display stages then run again when the job gets there."""
+        if any(level.accumulation_textures is None for level in self._levels[:len(self._specs)]):
+            return False
+        self.keys.pop("gather", None)
+        self.keys.pop("display", None)
+        s = job.settings
+        self._timed("gather", lambda: self._gather_levels(s))
+        # the last frame's display scale: the auto exposure needs the read-back images,
+        # and a steady exposure shows the light growing
+        self._show(s, self._display_scale if self.display_scale_override is None
+                   else self.display_scale_override)
+        return True
+
+    @staticmethod
+    def vpl_digest(vpls: VplArrays) -> str:
+        """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
+        digest = hashlib.sha1()
+        arrays = [vpls.positions, vpls.normals, vpls.flux, vpls.depth]
+        if vpls.albedo is not None:
+            arrays.append(vpls.albedo)
+        for array in arrays:
+            digest.update(np.ascontiguousarray(array, np.float32).tobytes())
+        digest.update(repr((vpls.texel_area, vpls.projection)).encode())
+        return digest.hexdigest()
+
+    # ------------------------------------------------------------------ stages
+    # One method per stage of explorer/lpv/stages.py: a plain method is one unit of work,
+    # a generator yields after each unit but the last (see stage_work).
+    def _stage_scene(self, job: Job) -> None:
+        s = job.settings
         base = self._scene_cache.get(s.scene)
         if base is None:
             base = load_scene(s.scene)
@@ -423,70 +384,252 @@ class Pipeline:
             if self._geometry_buffers is not None:
                 self._geometry_buffers.release()
             self._geometry_buffers = SceneBuffers(self.ctx, base)
-        self._scene = base.with_overrides(s.camera, s.light, s.light_flux)
+        self._warnings["scene"] = _present(
+            [guards.scale_warning(base.bounds_min, base.bounds_max)])
 
-    def _select_vpls(self, s: Settings, spec: GridSpec, vpls: VplArrays | None
-                     ) -> VplTextures:
+    def _stage_gbuffer(self, job: Job) -> Iterator[None]:
+        """The G-buffer, then the read-back of each of its textures (one unit each)."""
+        s = job.settings
+        scene = self._scene_for(s)
+        self._timed("gbuffer", lambda: self._gbuffer.run(self._geometry_buffers, scene,
+                                                         (s.width, s.height)))
+        yield
+        arrays = yield from _read_back(self._gbuffer.textures)
+        self._arrays["gbuffer"] = tuple(arrays)
+        self._check("gbuffer", s, self._arrays["gbuffer"])
+
+    def _stage_rsm(self, job: Job) -> None:
+        s = job.settings
+        self._light = light_view(self._scene_for(s), s.rsm_size)
+        self._rsm_textures = self._timed(
+            "rsm", lambda: self._rsm.run(self._geometry_buffers, self._light))
+        self._arrays["rsm"] = tuple(read_texture(t) for t in (
+            self._rsm_textures.position, self._rsm_textures.normal, self._rsm_textures.flux))
+        flux = self._arrays["rsm"][2][..., :3]
+        self._arrays["rsm_flux"] = np.add.reduce(flux.reshape(-1, 3), axis=0,
+                                                 dtype=np.float64)
+        self._check("rsm", s, self._arrays["rsm"])
+
+    def _stage_downsample(self, job: Job) -> None:
+        s, vpls = job.settings, job.vpls
         if self._override_textures is not None:
             self._override_textures.release()
             self._override_textures = None
         if vpls is not None:
             self.timings_ms.pop("downsample", None)
             self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
-            return self._override_textures
-        if s.downsample == "none" or s.downsample_factor == 1:
+            self._vpl_textures = self._override_textures
+        elif s.downsample == "none" or s.downsample_factor == 1:
             self.timings_ms.pop("downsample", None)
-            return self._rsm_textures
-        return self._timed("downsample", lambda: self._downsample.run(
-            self._rsm_textures, s.downsample, s.downsample_factor, spec, self._light))
+            self._vpl_textures = self._rsm_textures
+        else:
+            self._vpl_textures = self._timed("downsample", lambda: self._downsample.run(
+                self._rsm_textures, s.downsample, s.downsample_factor, self._specs[0],
+                self._light))
+        self._arrays["vpls"] = self._vpl_textures.to_arrays()
+        if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
+            self._check("downsample", s, [self._arrays["vpls"].flux])
 
-    def _replace_grid(self, grid: LpvGrid | None, s: Settings) -> LpvGrid:
-        if grid is not None and grid.resolution == s.grid_size and \
-                grid.format == s.grid_format and grid.sh_order == s.sh_order:
-            return grid
-        if grid is not None:
-            grid.release()
-        return LpvGrid(self.ctx, s.grid_size, s.grid_format, s.sh_order)
+    def _stage_inject(self, job: Job) -> Iterator[None]:
+        s = job.settings
+        levels = self._levels_for(self._specs)
+        self.timings_ms["inject"] = 0.0
+        for k, (level, spec) in enumerate(zip(levels, self._specs)):
+            grid = level.grid(spec.resolution, s.grid_format, s.sh_order)
+            self._timed("inject", lambda: self._inject.run(
+                self._vpl_textures, spec, s.corrections, s.injection_mode, grid,
+                s.injection_offset_cells), accumulate=True)
+            if s.debug_nan:
+                check_finite(grid.read(), _pass_name("inject", k, len(levels)))
+            if k < len(levels) - 1:
+                yield
 
-    def _release_volume(self) -> None:
-        if self._volume is not None:
-            self._volume.release()
-            self._volume = None
+    def _stage_geometry(self, job: Job) -> Iterator[None]:
+        s = job.settings
+        levels = self._levels_for(self._specs)
+        if s.geometry_volume == "off":
+            self.timings_ms.pop("geometry", None)
+            self._warnings["geometry"] = []
+            for level in levels:
+                level.release_volume()
+            return
+        occluders = self._rsm_textures if job.vpls is None else self._vpl_textures
+        self.timings_ms["geometry"] = 0.0
+        warnings = []
+        for k, (level, spec) in enumerate(zip(levels, self._specs)):
+            volume = level.geometry_volume(spec.resolution, s.grid_format)
+            self._timed("geometry", lambda: self._geometry.run(
+                occluders, spec, s.corrections, s.geometry_volume, volume), accumulate=True)
+            level.geometry = volume.read()
+            warnings += self._array_warnings(_pass_name("geometry", k, len(levels)), s,
+                                             [level.geometry])
+            if k < len(levels) - 1:
+                yield
+        self._warnings["geometry"] = warnings
 
-    def _check_limits(self, s: Settings) -> None:
-        if self.max_3d_texture_size and s.grid_size > self.max_3d_texture_size:
-            raise ValueError(f"grid_size {s.grid_size} exceeds this driver's "
-                             f"GL_MAX_3D_TEXTURE_SIZE {self.max_3d_texture_size}")
-        # L2 stacks its 3 texel groups along z (explorer/lpv/textures.py)
-        if s.sh_order == 2 and self.max_3d_texture_size and \
-                3 * s.grid_size > self.max_3d_texture_size:
-            raise ValueError(f"sh_order 2 stores 3·grid_size = {3 * s.grid_size} texels "
-                             f"along z, more than this driver's GL_MAX_3D_TEXTURE_SIZE "
-                             f"{self.max_3d_texture_size}")
-        for name in ("rsm_size", "width", "height"):
-            value = int(getattr(s, name))
-            if value < 1:
-                raise ValueError(f"{name} must be at least 1, got {value}")
-            if self.max_texture_size and value > self.max_texture_size:
-                raise ValueError(f"{name} {value} exceeds this driver's GL_MAX_TEXTURE_SIZE "
-                                 f"{self.max_texture_size}")
-        check_cascade_limits(s.grid_size, s.cascades, s.grid_format,
-                             s.geometry_volume != "off", self.texture_budget_bytes,
-                             self.max_texture_units, sh_groups=3 if s.sh_order == 2 else 1)
+    def _stage_propagate(self, job: Job) -> Iterator[int]:
+        """Every level's propagation: a unit to start each level (grid_0 into the
+        accumulation), one per slab of a step (explorer/lpv/propagate.py ``slabs``), the
+        levels interleaved so that each is as far along as the others (a progressive
+        picture shows all cascades growing together), and two to finish each level (its
+        audit, then its read-back). Yields the steps done, all levels together."""
+        s = job.settings
+        levels = self._levels[: len(self._specs)]
+        self.timings_ms["propagate"] = 0.0
+        audit = [job.need_audit and audit_fits(spec.resolution, self.limits)
+                 for spec in self._specs]
+        steps = [cascade_iterations(s, k) for k in range(len(levels))]
+        more = _countdown(3 * len(levels) + sum(
+            count * len(slabs(spec.resolution)) for count, spec in zip(steps, self._specs)))
+        try:
+            for k, (level, spec) in enumerate(zip(levels, self._specs)):
+                level.output = None
+                level.running = self._timed("propagate", lambda: level.propagate.start(
+                    level.injected, spec, s.corrections, steps[k], level.volume,
+                    keep_steps=job.keep_steps, bounces=s.bounces, audit=audit[k]),
+                    accumulate=True)
+                if more():
+                    yield 0
+            while not all(level.running.finished for level in levels):
+                behind = min((lv for lv in levels if not lv.running.finished),
+                             key=lambda lv: lv.running.fraction)
+                self._timed("propagate", behind.running.advance, accumulate=True)
+                if more():
+                    yield sum(level.running.done for level in levels)
+            warnings = []
+            for k, level in enumerate(levels):
+                level.output = self._timed("propagate", level.running.finish,
+                                           accumulate=True)
+                if more():
+                    yield sum(steps)
+                level.accumulated = level.output.accumulated.read()
+                name = _pass_name("propagate", k, len(levels))
+                warnings += _present([guards.flux_warning(
+                    _pass_name("inject", k, len(levels)), level.output.audit.injected,
+                    s.corrections)])
+                warnings += self._array_warnings(name, s, [level.accumulated])
+                if job.need_audit and not audit[k]:
+                    warnings.append(audit_skipped_warning(self._specs[k].resolution,
+                                                          self.limits))
+                if more():
+                    yield sum(steps)
+            self._warnings["propagate"] = warnings
+        finally:
+            for level in levels:
+                level.running = None
 
-    def _check(self, pass_name: str, array) -> None:
-        """With ``settings.debug_nan``: a FloatingPointError naming ``pass_name`` if its
-        output holds NaN or infinity."""
-        if self.settings.debug_nan:
-            check_finite(np.asarray(array), f"the {pass_name} pass")
+    def _stage_gather(self, job: Job) -> Iterator[None]:
+        """The gather in bands of rows (explorer/lpv/gather.py ``bands``), one per unit,
+        then the read-back of each target (one unit each)."""
+        s = job.settings
+        self.timings_ms["gather"] = 0.0
+        for band in bands((s.width, s.height)):
+            self._timed("gather", lambda: self._gather_levels(s, band), accumulate=True)
+            yield
+        targets = self._gather.targets
+        names = ("direct", "indirect", "received")
+        arrays = yield from _read_back([targets[name] for name in names])
+        self._arrays["gather"] = dict(zip(names, arrays))
+        received = self._arrays["gather"]["received"][..., :3]
+        self._arrays["gathered"] = np.add.reduce(received.reshape(-1, 3), axis=0,
+                                                 dtype=np.float64)
+        self._check("gather", s, self._arrays["gather"].values())
 
-    def _timed(self, name: str, work):
-        """Run ``work()`` and record its GPU time in milliseconds (module docstring)."""
-        use_clock = self.software_renderer
+    def _stage_display(self, job: Job) -> None:
+        s = job.settings
+        self._display_scale = self._frame_display_scale(s)
+        self._show(s, self._display_scale)
+
+    def _show(self, s: Settings, scale: float) -> None:
+        """The display pass on the gather's targets as they are now."""
+        targets = self._gather.targets
+        self._timed("display", lambda: self._display.run(
+            targets["direct"], targets["indirect"], s.exposure, s.indirect_only, s.tone_map,
+            scale))
+
+    def _frame_display_scale(self, s: Settings) -> float:
+        """The display scale of the frame just gathered: the override, or the auto
+        exposure of its unexposed image over the pixels that show a surface (measured
+        once per gathered frame and ``indirect_only``; an exposure change reuses it)."""
+        if self.display_scale_override is not None:
+            return float(self.display_scale_override)
+        if not s.auto_exposure:
+            return 1.0
+        gather = self._arrays["gather"]       # a new dict each time the gather completes
+        cached = self._auto_scale
+        if cached is None or cached[0] is not gather or cached[1] != s.indirect_only:
+            unexposed = exposed_image(gather["direct"][..., :3], gather["indirect"][..., :3],
+                                      1.0, s.indirect_only)
+            mask = self._arrays["gbuffer"][0][..., 3] > 0.5
+            cached = self._auto_scale = (gather, s.indirect_only,
+                                         display_scale(unexposed, mask, True))
+        return cached[2]
+
+    # ------------------------------------------------------------------ helpers
+    def _scene_for(self, s: Settings) -> Scene:
+        """The loaded scene with the Settings' camera, light, flux and spot cone applied."""
+        self._scene = self._scene_cache[s.scene].for_settings(s)
+        return self._scene
+
+    def _levels_for(self, specs: list[GridSpec]) -> list[CascadeLevel]:
+        """One :class:`CascadeLevel` per spec (extra levels are released)."""
+        self._release_levels(len(specs))
+        while len(self._levels) < len(specs):
+            self._levels.append(CascadeLevel(self.ctx, self.programs))
+        return self._levels
+
+    def _release_levels(self, keep: int) -> None:
+        for level in self._levels[keep:]:
+            level.release()
+        del self._levels[keep:]
+
+    def _gather_levels(self, s: Settings, rows: tuple[int, int] | None = None) -> None:
+        """The gather of every level's accumulation as it is now (docs/MODEL.md "Final
+        gather", "Cascades"), of the rows ``rows`` or the whole image."""
+        levels = self._levels[: len(self._specs)]
+        textures = [level.accumulation_textures for level in levels]
+        cascades = None
+        if len(levels) > 1:
+            cascades = [CascadeInput(spec, t) for spec, t in zip(self._specs, textures)]
+        self._gather.run(self._gbuffer, self._rsm_textures, self._light, textures[0],
+                         self._specs[0], s.gather_damping, cascades=cascades,
+                         sh_order=levels[0].injected.sh_order, rows=rows,
+                         shadow_kernel=s.shadow_kernel)
+
+    def _array_warnings(self, pass_name: str, s: Settings, arrays) -> list[str]:
+        """Warnings of read-back arrays that hold NaN or infinity; with ``debug_nan`` a
+        FloatingPointError naming the pass instead."""
+        found = []
+        for array in arrays:
+            if s.debug_nan:
+                check_finite(np.asarray(array), f"the {pass_name} pass")
+            warning = guards.array_warning(pass_name, array, s.corrections)
+            if warning is not None:
+                found.append(warning)
+                break
+        return found
+
+    def _check(self, stage: str, s: Settings, arrays) -> None:
+        self._warnings[stage] = self._array_warnings(stage, s, arrays)
+
+    def _timed(self, name: str, work, accumulate: bool = False):
+        """Run ``work()`` and record its GPU time in ``timings_ms[name]`` (module
+        docstring); ``accumulate`` adds it to the time recorded so far (a stage of several
+        units)."""
+        result, elapsed, self.timing_methods[name] = self.measure(name, work)
+        self.timings_ms[name] = elapsed + (self.timings_ms.get(name, 0.0) if accumulate
+                                           else 0.0)
+        return result
+
+    def measure(self, name: str, work) -> tuple[object, float, str]:
+        """``(work(), milliseconds, method)``: the GPU time of ``work`` by a timer query
+        (one query object per ``name``, reused: moderngl cannot free them) or, on a
+        software renderer or without a query result, the wall clock between two
+        ``ctx.finish()`` calls (module docstring)."""
         self.ctx.finish()
         start = time.perf_counter()
         query = None
-        if not use_clock:   # one query object per pass, reused (moderngl cannot free them)
+        if not self.software_renderer:
             query = self._queries.get(name)
             if query is None:
                 query = self._queries[name] = self.ctx.query(time=True)
@@ -499,122 +642,88 @@ class Pipeline:
         wall_ms = (time.perf_counter() - start) * 1e3
         query_ms = 0.0 if query is None else query.elapsed / 1e6
         if 0.0 < query_ms < _QUERY_UNAVAILABLE_MS:
-            self.timings_ms[name], self.timing_methods[name] = query_ms, "timer-query"
-        else:
-            self.timings_ms[name], self.timing_methods[name] = wall_ms, "wall-clock"
-        return result
+            return result, query_ms, "timer-query"
+        return result, wall_ms, "wall-clock"
 
-    # ------------------------------------------------------------------ cascades
-    # docs/MODEL.md "Cascades". Cascade 0 runs through the single-grid code above
-    # (self._injected, self._volume, self._propagate); cascades 1.. live in self._levels
-    # and run through the same pass objects (inject, geometry) or their own
-    # PropagatePass.
-    def _cascade_specs(self, s: Settings, scene: Scene) -> list[GridSpec]:
-        single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, s.grid_size)
-        if s.cascades == 1:
-            specs = [single]
-        else:
-            camera = scene.camera
-            centre = focus_point(camera.eye, camera.target, s.cascade_focus)
-            specs = cascade_specs(single, s.cascades, centre, s.cascade_extent)
-        self._specs = specs
-        return specs
+    def propagation_inputs(self, level: int = 0):
+        """``(injected grid, GridSpec, geometry volume or None)`` of cascade ``level``'s
+        last propagation, on the GPU (``lpv-explorer bench`` propagates them again with
+        its baseline kernel)."""
+        cascade = self._levels[level]
+        return cascade.injected, self._specs[level], cascade.volume
 
-    def _release_levels(self, keep: int) -> None:
-        """Free the cascade levels beyond the first ``keep``."""
-        for level in self._levels[keep:]:
-            level.release()
-        del self._levels[keep:]
-
-    def _cascade_levels(self, specs: list[GridSpec]) -> list[CascadeLevel]:
-        self._release_levels(len(specs) - 1)
-        while len(self._levels) < len(specs) - 1:
-            self._levels.append(CascadeLevel(self.ctx, self.programs))
-        return self._levels
-
-    def _inject_cascades(self, s: Settings, specs: list[GridSpec]) -> None:
-        """Every VPL into every coarser cascade (injection drops those outside a grid)."""
-        for level, spec in zip(self._cascade_levels(specs), specs[1:]):
-            self._inject.run(self._vpl_textures, spec, s.corrections, s.injection_mode,
-                             level.grid(spec.resolution, s.grid_format, s.sh_order),
-                             s.injection_offset_cells)
-
-    def _geometry_cascades(self, s: Settings, specs: list[GridSpec], occluders) -> None:
-        for level, spec in zip(self._cascade_levels(specs), specs[1:]):
-            volume = level.geometry_volume(spec.resolution, s.grid_format)
-            self._geometry.run(occluders, spec, s.corrections, s.geometry_volume, volume)
-            level.geometry = volume.read()
-            self._check("geometry", level.geometry)
-
-    def _propagate_cascades(self, s: Settings, specs: list[GridSpec]) -> None:
-        """``cascade_iterations(s, k)`` steps in cascade k (the same count in every cascade
-        by default: light then travels 2^k cells of the finest cascade per step)."""
-        for k, (level, spec) in enumerate(zip(self._cascade_levels(specs), specs[1:]), 1):
-            level.output = level.propagate.run(level.injected, spec, s.corrections,
-                                               cascade_iterations(s, k), level.volume,
-                                               bounces=s.bounces)
-            level.accumulated = level.output.accumulated.read()
-            self._check("propagate", level.accumulated)
-
-    def _cascade_inputs(self, specs: list[GridSpec]) -> list[CascadeInput] | None:
-        if len(specs) == 1:
-            return None
-        inputs = [CascadeInput(specs[0], self._accumulated_grid.textures)]
-        inputs += [CascadeInput(spec, level.output.accumulated.textures)
-                   for level, spec in zip(self._levels, specs[1:])]
-        return inputs
-
-    def _add_cascade_results(self, result: FrameResult, specs: list[GridSpec]) -> None:
-        levels = self._levels[: len(specs) - 1]
-        result.cascade_specs = list(specs)
-        result.cascade_accumulated = [result.accumulated] + [lv.accumulated for lv in levels]
-        result.cascade_geometry = [result.geometry_volume] + [lv.geometry for lv in levels]
-        result.cascade_audits = [self._grid_audit] + [lv.output.audit for lv in levels]
-
-    # ------------------------------------------------------------------ results
-    def gathered_flux(self) -> np.ndarray:
-        """(3,) flux [W] the visible surfaces receive from the LPV: the sum over pixels of
-        the indirect irradiance E (docs/MODEL.md "Final gather") times the world area of
-        the surface under the pixel (|∂p/∂x × ∂p/∂y| from the G-buffer). Only surfaces the
-        camera sees count, once per pixel, so it is not expected to equal the injected
-        flux: it says how much LPV light lands on what is on screen."""
-        received = self._arrays["gather"]["received"]
-        return received[..., :3].astype(np.float64).sum(axis=(0, 1))
-
-    def _result(self, s: Settings, spec: GridSpec, ran: list[str]) -> FrameResult:
+    def _result(self, job: Job) -> FrameResult:
+        s = job.settings
         rsm_position, rsm_normal, rsm_flux = self._arrays["rsm"]
         position, normal, albedo = self._arrays["gbuffer"]
         gather = self._arrays["gather"]
-        rsm_total = rsm_flux[..., :3].astype(np.float64).sum(axis=(0, 1))
-        audit = EnergyAudit.from_grid_audit(self._grid_audit, rsm=rsm_total,
+        levels = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
+                              level.output.audit)
+                  for spec, level in zip(self._specs, self._levels)]
+        audit = EnergyAudit.from_grid_audit(levels[0].audit, rsm=self._arrays["rsm_flux"],
                                             gathered=self.gathered_flux())
+        warnings = [w for stage in STAGES for w in self._warnings.get(stage, [])]
+        if s.iterations > 0:
+            injected = float(np.sum(audit.injected))
+            ratio = float(np.sum(audit.accumulated)) / injected if injected else None
+            growth = guards.growth_warning(s.corrections, s.iterations, ratio)
+            if growth is not None:
+                warnings.append(growth)
         return FrameResult(
-            settings=s, grid_spec=spec,
-            final_image=gather["final"][..., :3], direct=gather["direct"][..., :3],
-            indirect=gather["indirect"][..., :3], albedo=albedo[..., :3],
+            settings=s, cascades=levels,
+            direct=gather["direct"][..., :3], indirect=gather["indirect"][..., :3],
+            albedo=albedo[..., :3], gbuffer_position=position, gbuffer_normal=normal,
             rsm_position=rsm_position, rsm_normal=rsm_normal, rsm_flux=rsm_flux,
-            vpls=self._arrays["vpls"], accumulated=self._arrays["accumulated"],
-            steps=self._arrays["steps"], geometry_volume=self._arrays["geometry"],
-            audit=audit, timings_ms=dict(self.timings_ms),
-            timing_methods=dict(self.timing_methods), stages_run=tuple(ran),
-            gbuffer_position=position, gbuffer_normal=normal, camera=self._scene.camera,
+            vpls=self._arrays["vpls"], audit=audit, timings_ms=dict(self.timings_ms),
+            timing_methods=dict(self.timing_methods), stages_run=job.progress.stages_run,
+            warnings=warnings, display_scale=self._display_scale, camera=self._scene.camera,
             scene_bounds=(tuple(map(float, self._scene.bounds_min)),
                           tuple(map(float, self._scene.bounds_max))))
+
+
+def _countdown(units: int):
+    """``more()``: True until it has been called ``units`` times, so that a stage's
+    generator yields after every unit but its last."""
+    left = [units]
+
+    def more() -> bool:
+        left[0] -= 1
+        return left[0] > 0
+
+    return more
+
+
+READ_BACK_TEXTURES = 3
+"""Textures the G-buffer and the gather stages each read back (one unit apiece)."""
+
+
+def _read_back(textures) -> Iterator[None]:
+    """Read each texture back (:func:`read_texture`), one unit each; returns the arrays
+    (``yield from``). At 960×540 a read-back takes as long as a band of the gather."""
+    arrays = []
+    for index, texture in enumerate(textures):
+        arrays.append(read_texture(texture))
+        if index < len(textures) - 1:
+            yield
+    return arrays
+
+
+def _single_unit(method, job: Job) -> Iterator[None]:
+    """A one-unit stage as a generator: the work runs at the first ``next()``."""
+    method(job)
+    return
+    yield  # unreachable: makes this function a generator
+
+
+def _pass_name(stage: str, level: int, count: int) -> str:
+    return stage if count == 1 else f"{stage} (cascade {level})"
+
+
+def _present(items: list) -> list:
+    return [item for item in items if item is not None]
 
 
 def render(settings: Settings) -> FrameResult:
     """One frame with a throw-away headless pipeline (scripts, notebooks)."""
     with Pipeline(settings) as pipeline:
         return pipeline.run()
-
-
-def _digest(vpls: VplArrays) -> str:
-    """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
-    digest = hashlib.sha1()
-    arrays = [vpls.positions, vpls.normals, vpls.flux, vpls.depth]
-    if vpls.albedo is not None:
-        arrays.append(vpls.albedo)
-    for array in arrays:
-        digest.update(np.ascontiguousarray(array, np.float32).tobytes())
-    digest.update(repr((vpls.texel_area, vpls.projection)).encode())
-    return digest.hexdigest()

@@ -49,11 +49,20 @@ class PropagatePass:
     Ping-pong (``corrections.ping_pong``): grid_t = P(grid_{t−1}) alternates between two
     scratch grids and is added into the accumulation grid by the same dispatch. In place
     (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
-    a data race kept on purpose. Either way the dispatch also sums the step's audit terms
-    (for in place: of what the racing invocations actually read and added).
+    a data race kept on purpose.
+
+    Energy audit (``audit=True``): the dispatch also sums the step's audit terms (for in
+    place: of what the racing invocations actually read and added), one reduction per
+    step. Without it the kernel is compiled without the audit (``PROPAGATE_AUDIT 0``) and
+    only the injected and the accumulated flux are measured (two reductions per run), which
+    is what the pipeline's numeric guards read.
+
+    :meth:`start` returns a :class:`PropagationRun` that advances one step at a time (the
+    pipeline spreads the steps over frames); :meth:`run` does all steps at once.
 
     GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
-    format and 48 bytes per cell of audit records (≈100 MB each at 128³ in rgba32f).
+    format and, with the audit, 72 bytes per cell of audit records (≈100 MB each at 128³
+    in rgba32f).
     """
 
     GEOMETRY_UNIT = 6
@@ -76,13 +85,15 @@ class PropagatePass:
             grid = self._grids[name] = LpvGrid(self.ctx, resolution, fmt, sh_order)
         return grid
 
-    def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
-            iterations: int, geometry: GeometryVolume | None = None,
-            keep_steps: bool = False, bounces: int = 1) -> PropagationOutput:
-        """``bounces`` 2: the geometry volume reflects the light it blocks
+    def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
+              iterations: int, geometry: GeometryVolume | None = None,
+              keep_steps: bool = False, bounces: int = 1, audit: bool = True
+              ) -> "PropagationRun":
+        """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
+        propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
         (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
         The injected grid's ``sh_order`` selects L1 or L2 propagation."""
-        n, fmt, order = spec.resolution, injected.format, injected.sh_order
+        n = spec.resolution
         if bounces not in (1, 2) or isinstance(bounces, bool):
             raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
         if bounces == 2 and geometry is None:
@@ -96,50 +107,163 @@ class PropagatePass:
                              f"the light grid has {n}^3 cells")
         if int(iterations) != iterations or iterations < 0:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
-        iterations = int(iterations)
+        return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
+                              keep_steps, bounces, audit)
 
-        accumulated = self._scratch("accumulated", n, fmt, order)
-        copy_grid(self.programs, injected, accumulated)
-        self.audit.begin(n, iterations + 2)
-        self.audit.measure_flux(0, injected)
-        steps = [injected.read()] if keep_steps else None
+    def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
+            iterations: int, geometry: GeometryVolume | None = None,
+            keep_steps: bool = False, bounces: int = 1, audit: bool = True
+            ) -> PropagationOutput:
+        """All ``iterations`` steps at once (see :meth:`start`)."""
+        progress = self.start(injected, spec, corrections, iterations, geometry, keep_steps,
+                              bounces, audit)
+        while not progress.finished:
+            progress.step()
+        return progress.finish()
 
-        program = self.programs.get("propagate.glsl",
-                                    {**image_format_defines(fmt), **sh_defines(order)})
-        set_uniforms(program, {
+    def release(self) -> None:
+        for grid in self._grids.values():
+            grid.release()
+        self._grids.clear()
+        self.audit.release()
+
+
+SLAB_CELLS = 32 ** 3
+"""Cells one unit of a propagation step covers at most (a slab of z layers, a multiple of
+the 4-layer workgroup): a 64³ step is 8 units, each a few frames' budget on llvmpipe."""
+
+
+def slabs(resolution: int, slab_cells: int | None = None) -> list[tuple[int, int]]:
+    """z ranges ``(first, end)`` of the slabs one step of a ``resolution``³ grid is
+    dispatched in: ``slab_cells`` (default :data:`SLAB_CELLS`) / N² layers each, rounded
+    down to a multiple of 4 (the workgroup's depth, so no cell is in two slabs), at
+    least 4."""
+    n = int(resolution)
+    slab_cells = SLAB_CELLS if slab_cells is None else int(slab_cells)
+    depth = max(4, slab_cells // (n * n) // 4 * 4)
+    return [(z, min(z + depth, n)) for z in range(0, n, depth)]
+
+
+class PropagationRun:
+    """One propagation in progress (made by :meth:`PropagatePass.start`): :meth:`advance`
+    dispatches one slab of the current step (:func:`slabs`; a step's slabs are
+    independent in ping-pong, since they read grid t−1 and write their own cells),
+    :meth:`step` a whole step, :meth:`finish` measures the audit and returns the
+    :class:`PropagationOutput`. Between steps :attr:`accumulated` holds
+    acc_t = Σ_{t'≤t} grid_t' (the light gathered so far, for a progressive picture)."""
+
+    def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
+                 corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
+                 keep_steps: bool, bounces: int, audit: bool) -> None:
+        n, fmt, order = spec.resolution, injected.format, injected.sh_order
+        self._owner = owner
+        self._corrections = corrections
+        self._geometry = geometry
+        self._keep_steps = keep_steps
+        self._with_audit = bool(audit)
+        self.iterations = iterations
+        self.done = 0
+        self.accumulated = owner._scratch("accumulated", n, fmt, order)
+        self._scratch = {name: owner._scratch(name, n, fmt, order) if corrections.ping_pong
+                         else None for name in ("ping", "pong")}
+        copy_grid(owner.programs, injected, self.accumulated)
+        # slots: 0 the injected flux, 1..N the steps (audit only), last the accumulation
+        self._slots = iterations + 2 if audit else 2
+        owner.audit.begin(n, self._slots, cell_records=self._with_audit)
+        owner.audit.measure_flux(0, injected)
+        self.steps = [injected.read()] if keep_steps else None
+        self._previous = self.steps[0] if keep_steps else None
+        self._source = injected
+        self._program = owner.programs.get("propagate.glsl", {
+            **image_format_defines(fmt), **sh_defines(order),
+            "PROPAGATE_AUDIT": int(self._with_audit)})
+        set_uniforms(self._program, {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
-            "u_geometry": self.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
-            "u_geometry_albedo": self.ALBEDO_UNIT, "u_reflect": bounces == 2,
-        }, reads=uniforms_read_by(self.STAGE))
-        groups = dispatch_size(n)
-        source = injected
-        previous = steps[0] if keep_steps else None
-        for step in range(1, iterations + 1):
-            if corrections.ping_pong:
-                target = self._scratch("ping" if step % 2 else "pong", n, fmt, order)
-            else:
-                # The race: the dispatch reads its neighbours from the grid it writes.
-                target = accumulated
-            source.use_as_textures(0)
-            if geometry is not None:
-                geometry.use_as_texture(self.GEOMETRY_UNIT)
-                geometry.albedo.texture.use(self.ALBEDO_UNIT)
-            target.bind_images(0)
-            accumulated.bind_images(3)
-            self.audit.bind()
-            program.run(*groups)
-            self.ctx.memory_barrier()
-            self.audit.sum_cell_records(step)
-            if keep_steps:
-                current = target.read()
-                steps.append(current if corrections.ping_pong else current - previous)
-                previous = current
-            source = target
-        self.audit.measure_flux(iterations + 1, accumulated)
+            "u_geometry": owner.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
+            "u_geometry_albedo": owner.ALBEDO_UNIT, "u_reflect": bounces == 2,
+        }, reads=uniforms_read_by(owner.STAGE))
+        self._groups = dispatch_size(n)
+        self._slabs = slabs(n)
+        self._slab = 0
 
-        sums = self.audit.read()
-        audit = GridAudit(
+    @property
+    def finished(self) -> bool:
+        """True when every step has run (:meth:`finish` may be called)."""
+        return self.done >= self.iterations
+
+    @property
+    def units_per_step(self) -> int:
+        """Slabs (calls of :meth:`advance`) per step."""
+        return len(self._slabs)
+
+    @property
+    def fraction(self) -> float:
+        """How far along the propagation is, 0..1 (slabs included)."""
+        if not self.iterations:
+            return 1.0
+        return (self.done + self._slab / len(self._slabs)) / self.iterations
+
+    def step(self) -> None:
+        """Propagate one more step (docs/MODEL.md "Iterations and accumulation")."""
+        target = self.done + 1
+        while self.done < target:
+            self.advance()
+
+    def advance(self) -> None:
+        """Dispatch the next slab of the current step; after the step's last slab, its
+        audit, its kept grid and the swap of the grids."""
+        if self.finished:
+            raise RuntimeError(f"all {self.iterations} propagation steps have run")
+        owner, step = self._owner, self.done + 1
+        if self._corrections.ping_pong:
+            target = self._scratch["ping" if step % 2 else "pong"]
+        else:
+            # The race: the dispatch reads its neighbours from the grid it writes.
+            target = self.accumulated
+        self._source.use_as_textures(0)
+        if self._geometry is not None:
+            self._geometry.use_as_texture(owner.GEOMETRY_UNIT)
+            self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
+        target.bind_images(0)
+        self.accumulated.bind_images(3)
+        owner.audit.bind()
+        first, end = self._slabs[self._slab]
+        set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+        self._program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
+        owner.ctx.memory_barrier()
+        self._slab += 1
+        if self._slab < len(self._slabs):
+            return
+        self._slab = 0
+        if self._with_audit:
+            owner.audit.sum_cell_records(step)
+        if self._keep_steps:
+            current = target.read()
+            self.steps.append(current if self._corrections.ping_pong
+                              else current - self._previous)
+            self._previous = current
+        self._source = target
+        self.done = step
+
+    def finish(self) -> PropagationOutput:
+        """The accumulation, the kept steps and the audit (after the last step)."""
+        if not self.finished:
+            raise RuntimeError(f"propagation stopped after {self.done} of "
+                               f"{self.iterations} steps")
+        audit = self._owner.audit
+        audit.measure_flux(self._slots - 1, self.accumulated)
+        sums = audit.read()
+        return PropagationOutput(accumulated=self.accumulated, steps=self.steps,
+                                 audit=grid_audit(sums, self.iterations, self._with_audit))
+
+
+def grid_audit(sums: np.ndarray, iterations: int, per_step: bool) -> GridAudit:
+    """The :class:`GridAudit` of the reduced slots ``sums`` (slot 0 the injected flux, the
+    last the accumulation, the steps between when ``per_step``; otherwise the per-step
+    terms are NaN and :attr:`GridAudit.steps_measured` is False)."""
+    if per_step:
+        return GridAudit(
             injected=sums[0, 0:3],
             per_step=sums[: iterations + 1, 0:3],
             border_loss=sums[1: iterations + 1, 3:6],
@@ -149,13 +273,65 @@ class PropagatePass:
             reflected=sums[1: iterations + 1, 12:15],
             blocked=sums[1: iterations + 1, 15:18],
         )
-        return PropagationOutput(accumulated=accumulated, steps=steps, audit=audit)
+    unknown = np.full((iterations, 3), np.nan)
+    first = np.concatenate([sums[0:1, 0:3], unknown])
+    return GridAudit(injected=sums[0, 0:3], per_step=first, border_loss=unknown.copy(),
+                     clamp_gain=unknown.copy(), occluded=unknown.copy(),
+                     accumulated=sums[1, 0:3], reflected=unknown.copy(),
+                     blocked=unknown.copy(), steps_measured=False)
+
+
+class BaselinePropagatePass:
+    """The least a propagation needs (``shaders/propagate_minimal.glsl``): the corrected
+    L1 ping-pong step with the geometry volume's occlusion, no switches, no audit. It is
+    the baseline ``lpv-explorer bench`` times :class:`PropagatePass` against in the same
+    run; with the corrected switches both give the same accumulation."""
+
+    GEOMETRY_UNIT = PropagatePass.GEOMETRY_UNIT
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._grids: dict[str, LpvGrid] = {}
+
+    def run(self, injected: LpvGrid, spec: GridSpec, iterations: int,
+            geometry: GeometryVolume | None = None) -> LpvGrid:
+        """acc_N of ``iterations`` steps (owned by the pass, valid until its next run)."""
+        n, fmt = spec.resolution, injected.format
+        if injected.sh_order != 1:
+            raise ValueError("the baseline propagation is L1 only (sh_order 1)")
+        grids = {}
+        for name in ("ping", "pong", "accumulated"):
+            grid = self._grids.get(name)
+            if grid is None or grid.resolution != n or grid.format != fmt:
+                if grid is not None:
+                    grid.release()
+                grid = self._grids[name] = LpvGrid(self.ctx, n, fmt)
+            grids[name] = grid
+        accumulated = grids["accumulated"]
+        copy_grid(self.programs, injected, accumulated)
+        program = self.programs.get("propagate_minimal.glsl", image_format_defines(fmt))
+        set_uniforms(program, {**spec.uniforms(), "u_source_r": 0, "u_source_g": 1,
+                               "u_source_b": 2, "u_geometry": self.GEOMETRY_UNIT,
+                               "u_use_geometry": geometry is not None})
+        groups = dispatch_size(n)
+        source = injected
+        for step in range(1, int(iterations) + 1):
+            target = grids["ping" if step % 2 else "pong"]
+            source.use_as_textures(0)
+            if geometry is not None:
+                geometry.use_as_texture(self.GEOMETRY_UNIT)
+            target.bind_images(0)
+            accumulated.bind_images(3)
+            program.run(*groups)
+            self.ctx.memory_barrier()
+            source = target
+        return accumulated
 
     def release(self) -> None:
         for grid in self._grids.values():
             grid.release()
         self._grids.clear()
-        self.audit.release()
 
 
 def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = None,

@@ -11,6 +11,11 @@ so the cosines cancel), and a diffuse surface reflects Φ_o = c_diff·I·ρ. ρ 
 exactly per texel in the shader from the texel's corner directions. A directional light
 of irradiance E gives Φ_o = c_diff·E·A_texel with A_texel the texel's area on a plane
 facing the light. Surfaces facing away from the light reflect nothing.
+
+Spot cone (docs/MODEL.md "Spot cone"). A spot with a cone radiates ``I·f(θ)``; its square
+frustum is ``2·θ_outer`` wide, and each texel's flux is ``c_diff·I·ρ·f(θ_c)`` with ``θ_c``
+the angle of the texel's centre direction from the axis (``f`` from shaders/spot.glsl,
+the function the direct light uses too).
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.lights import DirectionalLight
@@ -42,9 +48,15 @@ class LightView:
     irradiance: float
     """Directional: E [W/m²] on a plane facing the light (0 for a spot)."""
     texel_area: float
-    """``VplTextures.texel_area``: spot, area of a texel at view depth 1 (4/(W·H));
+    """``VplTextures.texel_area``: spot, area of a texel at view depth 1 (4t²/(W·H));
     directional, world area of a texel."""
     size: int
+    spot_cone: bool = False
+    """A spot with a cone: intensity I·f(θ) (shaders/spot.glsl); False: f = 1."""
+    cone_cosines: tuple[float, float] = (-1.0, -1.0)
+    """(cos θ_inner, cos θ_outer) of the cone."""
+    frustum_half_width: float = 1.0
+    """Spot: t = tan(fov/2), the frustum cuts the plane at view depth 1 in [-t, t]²."""
 
     @property
     def texel_world_size(self) -> float:
@@ -61,12 +73,17 @@ class LightView:
             "u_light_direction": tuple(map(float, self.direction)),
             "u_light_intensity": float(self.intensity),
             "u_light_irradiance": float(self.irradiance),
+            # the spot cone's falloff (shaders/spot.glsl, read by both programs)
+            "u_spot_cone": int(self.spot_cone),
+            "u_spot_cos_inner": float(self.cone_cosines[0]),
+            "u_spot_cos_outer": float(self.cone_cosines[1]),
         }
 
     def rsm_uniforms(self) -> dict[str, object]:
-        """:meth:`uniforms` and the map's texel area and size (rsm.glsl only)."""
+        """:meth:`uniforms` and the map's texel area, size and frustum (rsm.glsl only)."""
         return {**self.uniforms(), "u_texel_world_area": float(self.texel_area),
-                "u_rsm_size": (float(self.size), float(self.size))}
+                "u_rsm_size": (float(self.size), float(self.size)),
+                "u_frustum_half_width": float(self.frustum_half_width)}
 
 
 def light_view(scene: Scene, size: int) -> LightView:
@@ -85,6 +102,9 @@ def light_view(scene: Scene, size: int) -> LightView:
         irradiance=light.irradiance(lo, hi) if orthographic else 0.0,
         texel_area=light.texel_area(size, size, lo, hi),
         size=int(size),
+        spot_cone=not orthographic and light.has_cone,
+        cone_cosines=(-1.0, -1.0) if orthographic else light.cone_cosines,
+        frustum_half_width=1.0 if orthographic else light.frustum_half_width,
     )
 
 
@@ -95,52 +115,28 @@ class RsmPass:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self._size = 0
-        self._textures: list[moderngl.Texture] = []
-        self._depth: moderngl.Renderbuffer | None = None
-        self._framebuffer: moderngl.Framebuffer | None = None
-
-    def _allocate(self, size: int) -> None:
-        if size == self._size:
-            return
-        self._free()
-        max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
-        if max_size and size > max_size:
-            raise ValueError(f"rsm_size {size} exceeds this driver's GL_MAX_TEXTURE_SIZE "
-                             f"{max_size}")
-        self._textures = [self.ctx.texture((size, size), 4, dtype="f4") for _ in range(4)]
-        for texture in self._textures:
-            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            texture.repeat_x = texture.repeat_y = False
-        self._depth = self.ctx.depth_renderbuffer((size, size))
-        self._framebuffer = self.ctx.framebuffer(self._textures, self._depth)
-        self._size = size
+        self._targets = RenderTargets(ctx, ("f4",) * 4, depth=True,
+                                      enable=moderngl.DEPTH_TEST)
 
     def run(self, geometry: SceneBuffers, view: LightView) -> VplTextures:
         """Render the RSM seen by ``view``; the returned textures belong to this pass and
         stay valid until the next run with another size or :meth:`release`."""
-        self._allocate(view.size)
+        max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE", 0) or 0)
+        if max_size and view.size > max_size:
+            raise ValueError(f"rsm_size {view.size} exceeds this driver's GL_MAX_TEXTURE_SIZE "
+                             f"{max_size}")
+        self._targets.allocate((view.size, view.size))
         program = self.programs.get("rsm.glsl")
         set_uniforms(program, view.rsm_uniforms())
-        with self.ctx.scope(self._framebuffer, enable_only=moderngl.DEPTH_TEST):
-            self._framebuffer.viewport = (0, 0, view.size, view.size)
-            self._framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        with self._targets.drawing(clear=True):
             geometry.draw(program)
-        position, normal, flux, albedo = self._textures
+        position, normal, flux, albedo = self._targets.textures
         return VplTextures(position, normal, flux, texel_area=view.texel_area,
                            projection="orthographic" if view.orthographic else "perspective",
                            albedo=albedo)
 
-    def _free(self) -> None:
-        if self._framebuffer is not None:
-            self._framebuffer.release()
-            self._depth.release()
-        for texture in self._textures:
-            texture.release()
-        self._textures, self._framebuffer, self._depth, self._size = [], None, None, 0
-
     def release(self) -> None:
-        self._free()
+        self._targets.release()
 
 
 def read_texture(texture: moderngl.Texture) -> np.ndarray:

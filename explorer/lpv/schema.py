@@ -32,11 +32,13 @@ STAGES = ("scene", "grid", "rsm", "downsample", "inject", "geometry", "propagate
 """The pipeline's stages in execution order; ``display`` is the final, display-only
 shader (exposure, tone map, which buffer): changing only its fields re-runs no pass."""
 
-KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "switches",
-         "names", "nested")
+KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
+         "switches", "names", "nested")
 """``str``: a non-empty text; ``text``: any text (may be empty); ``size``: [width, height]
-whole numbers in [low, high]; ``switches``: a table of names to true/false; ``names``: a
-list of texts."""
+whole numbers in [low, high]; ``range2``: a pair (first, second) of finite numbers with
+low <= first <= second <= high (``low_open``: second > low, the pair is not empty at the
+low end), e.g. a spot cone's inner and outer angle; ``switches``: a table of names to
+true/false; ``names``: a list of texts."""
 WIDGETS = ("combo", "slider", "checkbox", "input")
 
 
@@ -86,6 +88,8 @@ class Spec:
             raise ValueError(f"kind must be one of {KINDS}, got {self.kind!r}")
         if self.widget is not None and self.widget not in WIDGETS:
             raise ValueError(f"widget must be one of {WIDGETS}, got {self.widget!r}")
+        if self.kind == "range2" and (self.low is None or self.high is None):
+            raise ValueError("a range2 field needs both low and high")
         unknown = [s for s in self.stages if s not in STAGES]
         if unknown:
             raise ValueError(f"unknown stage(s) {unknown}; stages are {STAGES}")
@@ -100,6 +104,10 @@ class Spec:
             text = noun + _range_text(self.low, self.high, self.low_open)
         elif self.kind == "size":
             text = "[width, height], whole numbers" + _range_text(self.low, self.high, False)
+        elif self.kind == "range2":
+            text = (f"two numbers [first, second] with {_num(self.low)} <= first <= second "
+                    f"<= {_num(self.high)}" + (f", second > {_num(self.low)}"
+                                               if self.low_open else ""))
         elif self.kind == "nested":
             text = f"a {getattr(self.nested, '__name__', 'table')}"
         else:
@@ -199,6 +207,20 @@ def _check_size(spec: Spec, value: Any):
     return _REFUSED if _REFUSED in checked else checked
 
 
+def _check_range2(spec: Spec, value: Any):
+    if isinstance(value, (str, bytes, Mapping)):
+        return _REFUSED
+    first, second = value
+    if any(isinstance(v, bool) or not isinstance(v, numbers.Real) for v in (first, second)):
+        return _REFUSED
+    first, second = float(first), float(second)
+    if not (math.isfinite(first) and math.isfinite(second)) or first > second:
+        return _REFUSED
+    if first < spec.low or second > spec.high or (spec.low_open and second <= spec.low):
+        return _REFUSED
+    return first, second
+
+
 def _check_switches(spec: Spec, value: Any):
     if not isinstance(value, Mapping) or not all(
             isinstance(k, str) and isinstance(v, bool) for k, v in value.items()):
@@ -247,7 +269,8 @@ def _check_nested(spec: Spec, value: Any):
 
 _CHECKERS = {"int": _check_int, "float": _check_float, "bool": _check_bool,
              "str": _check_str, "text": _check_text, "choice": _check_choice,
-             "points": _check_points, "size": _check_size, "switches": _check_switches,
+             "points": _check_points, "size": _check_size, "range2": _check_range2,
+             "switches": _check_switches,
              "names": _check_names, "nested": _check_nested}
 
 

@@ -18,6 +18,8 @@ from explorer.lpv.schema import (
     to_dict,
     validate,
 )
+from explorer.lpv.tonemap import TONE_MAPS
+from explorer.scene.lights import MAX_CONE_DEGREES
 
 
 def preset_name(corrections: Corrections) -> str:
@@ -46,6 +48,10 @@ MAX_ITERATIONS = 1024
 """Light moves one cell per step: after 3·256 steps it has left the largest grid."""
 MAX_RSM_SIZE = 4096
 MAX_IMAGE_SIZE = 8192
+MAX_SHADOW_KERNEL = 9
+"""Widest PCF box in shadow-map texels (the gather fetches (k+1)² texels per pixel)."""
+DEFAULT_SHADOW_KERNEL = 3
+"""``Settings.shadow_kernel``'s default (also the gather pass's)."""
 
 
 @dataclass(frozen=True)
@@ -184,6 +190,38 @@ class Settings:
         group="Leak reduction and bounces", stages=("propagate",),
         doc="1: the single indirect bounce; 2: the geometry volume also reflects the light "
             'it blocks (docs/MODEL.md "More bounces"); needs a geometry volume.')
+    # --- images that look right (docs/MODEL.md "Spot cone", "Final gather", "Display") ---
+    spot_cone: bool = setting(
+        True, kind="bool", flag="--spot-cone", widget="checkbox", label="Spot cone",
+        group="Light and shadows", stages=("rsm", "gather"),
+        doc='A spot light shines through its cone with a smooth angular falloff f '
+            '(docs/MODEL.md "Spot cone"), the same in the RSM and the direct light; off: '
+            "through the 90° square frustum with uniform intensity (the published setup, "
+            "as the RSM lessons measure it). Directional lights ignore it.")
+    spot_cone_degrees: tuple[float, float] | None = setting(
+        None, kind="range2", optional=True, low=0.0, low_open=True, high=MAX_CONE_DEGREES,
+        flag="--cone-angles", label="Cone inner/outer", unit="°", group="Light and shadows",
+        stages=("rsm", "gather"),
+        doc="(inner, outer) half-angles of the spot's cone in degrees: f = 1 inside the "
+            "inner angle, 0 outside the outer one; None = the scene light's own cone.")
+    shadow_kernel: int = setting(
+        DEFAULT_SHADOW_KERNEL, kind="int", low=1, high=MAX_SHADOW_KERNEL,
+        flag="--shadow-kernel", widget="slider", label="Shadow PCF", unit="texels",
+        group="Light and shadows", stages=("gather",),
+        doc="Width of the PCF box of the direct light's shadow test in shadow-map texels: "
+            "shadow edges become linear ramps this wide; 1 = one hard test.")
+    tone_map: str = setting(
+        "filmic", kind="choice", choices=TONE_MAPS, flag="--tone-map", widget="combo",
+        label="Tone map", group="Display", stages=("display",),
+        doc='The display\'s tone curve (docs/MODEL.md "Display"): filmic (ACES fit, '
+            "highlights roll off) or linear-clip (values above 1 clip to white); the linear "
+            "images are unchanged.")
+    auto_exposure: bool = setting(
+        True, kind="bool", flag="--auto-exposure", widget="checkbox", label="Auto exposure",
+        group="Display", stages=("display",),
+        doc="Scale the displayed image by key/L̄ (the log-average luminance of its brighter "
+            "surfaces) before the tone curve; the exposure then acts as a compensation on "
+            "top.")
 
     def __post_init__(self) -> None:
         validate(self)

@@ -1,9 +1,10 @@
 """Display images of a :class:`~explorer.lpv.pipeline.FrameResult` for every name in
 ``settings.VIEWS``: ``(H, W, 3)`` float32 in [0, 1].
 
-Radiometric views (final, direct, indirect, albedo, rsm-flux) are sRGB-encoded; data views
-(positions, normals, grid slices) are mapped linearly to [0, 1] and not encoded, so their
-values stay proportional to what they show.
+Radiometric views are sRGB-encoded: final, direct and indirect as the display shows them
+(the frame's display scale and tone curve, docs/MODEL.md "Display"), albedo and rsm-flux
+directly; data views (positions, normals, grid slices) are mapped linearly to [0, 1] and
+not encoded, so their values stay proportional to what they show.
 """
 
 from __future__ import annotations
@@ -11,13 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from explorer.lpv.constants import SH_FLUX_FACTOR
-
-
-def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
-    """The sRGB encoding (IEC 61966-2-1) of linear values clipped to [0, 1]."""
-    c = np.clip(np.nan_to_num(np.asarray(linear, np.float32)), 0.0, 1.0)
-    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055
-                    ).astype(np.float32)
+from explorer.lpv.tonemap import display_encode, linear_to_srgb
 
 
 def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:
@@ -33,8 +28,8 @@ def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:
 
 def render_view(result, name: str, bounds=None, z: int | None = None,
                 coefficient: int | None = None, exposure: float | None = None,
-                cascade: int | None = None, positions: np.ndarray | None = None
-                ) -> np.ndarray:
+                cascade: int | None = None, positions: np.ndarray | None = None,
+                display_scale: float | None = None) -> np.ndarray:
     """The image of ``result`` for view ``name``.
 
     Options: ``exposure`` (direct/indirect; default the frame's), ``z`` (slice index of
@@ -43,14 +38,18 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     around grey),
     ``cascade`` (grid views: which cascade, 0 = the finest, the default); ``positions``
     (cascade-weights: the G-buffer's world positions ``(H, W, 4)``, w = 1 where a surface
-    is seen; :meth:`Pipeline.view` passes them).
+    is seen; :meth:`Pipeline.view` passes them); ``display_scale`` (final, direct,
+    indirect: the scale before the tone curve; default the frame's ``display_scale``, e.g.
+    another frame's to show two frames at one exposure).
     """
     settings = result.settings
     exposure = settings.exposure if exposure is None else float(exposure)
+    scale = getattr(result, "display_scale", 1.0) if display_scale is None else display_scale
+    tone_map = getattr(settings, "tone_map", "linear-clip")
     if name == "final":
-        return linear_to_srgb(result.final_image)
+        return display_encode(result.final_image, scale, tone_map)
     if name in ("direct", "indirect"):
-        return linear_to_srgb(exposure * getattr(result, name))
+        return display_encode(exposure * getattr(result, name), scale, tone_map)
     if name == "albedo":
         return linear_to_srgb(result.albedo)
     if name == "rsm-position":

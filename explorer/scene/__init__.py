@@ -1,6 +1,7 @@
 """Scenes: built-in ones and meshes read with trimesh, their camera and light.
 
-``load_scene("cornell")`` / ``"single-source"`` / ``"room"`` or a path to a mesh file.
+``load_scene("cornell")`` / ``"single-source"`` / ``"room"`` / ``"atrium"`` or a path to a
+mesh file.
 """
 
 from explorer.scene.builtin import BUILTIN_SCENES

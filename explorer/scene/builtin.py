@@ -1,4 +1,5 @@
-"""The built-in scenes: ``cornell``, ``single-source`` and ``room``.
+"""The built-in scenes: ``cornell``, ``single-source``, ``room`` and ``atrium`` (a large
+procedural courtyard, explorer/scene/atrium.py).
 
 Units are metres; albedos are linear reflectances. Every light's flux comes from
 :func:`~explorer.scene.lights.flux_for_irradiance` so that the main lit surface receives
@@ -9,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from explorer.scene.atrium import atrium
 from explorer.scene.camera import Camera
 from explorer.scene.lights import DirectionalLight, SpotLight, flux_for_irradiance
 from explorer.scene.model import MeshBuilder, Scene
@@ -20,14 +22,18 @@ ORANGE = (0.90, 0.45, 0.08)
 BLUE = (0.20, 0.35, 0.80)
 
 X, Y, Z = np.eye(3)
+CORNELL_CONE_DEGREES = (40.0, 70.0)
+"""Inner and outer half-angles of the Cornell box's spot cone."""
 
 
 def cornell_box() -> Scene:
     """A 2 m Cornell box open towards +z: red wall at x = −1, green wall at x = +1, white
     floor, ceiling and back, two white blocks, and a spot light under the ceiling near the
-    open front, aimed down at the back of the box. Its 90° frustum lights the floor, the
-    back wall and most of both coloured walls, which then bleed red and green onto the
-    floor, the blocks and the back wall."""
+    open front, aimed down at the back of the box. It lights the floor, the back wall and
+    both coloured walls, which then bleed red and green onto the floor, the blocks and the
+    back wall. The spot's cone (40° inner, 70° outer half-angle)
+    lights the whole box and fades out smoothly towards the open front; with
+    ``Settings.spot_cone`` off it is the 90° square frustum the lessons measure."""
     mesh = MeshBuilder()
     mesh.rect((0, -1, 0), Y, X, 1, 1, WHITE)      # floor
     mesh.rect((0, 1, 0), -Y, X, 1, 1, WHITE)      # ceiling
@@ -37,7 +43,8 @@ def cornell_box() -> Scene:
     mesh.box((0.34, -0.7, 0.3), (0.6, 0.6, 0.6), WHITE, rotation_y_degrees=-18.0)
     mesh.box((-0.34, -0.4, -0.32), (0.6, 1.2, 0.6), WHITE, rotation_y_degrees=18.0)
     positions, normals, albedo = mesh.arrays()
-    light = SpotLight((0.0, 0.9, 0.9), (0.0, -0.5, -0.8), flux_for_irradiance(2.2))
+    light = SpotLight((0.0, 0.9, 0.9), (0.0, -0.5, -0.8), flux_for_irradiance(2.2),
+                      cone_degrees=CORNELL_CONE_DEGREES)
     camera = Camera((0.0, 0.55, 4.4), (0.0, -0.15, 0.0), 38.0)
     return Scene("cornell", positions, normals, albedo, camera, light,
                  (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
@@ -45,11 +52,14 @@ def cornell_box() -> Scene:
 
 def single_source() -> Scene:
     """One small white patch lit by a spot light 0.3 m above it, in an otherwise empty
-    2 m box: the smallest scene that injects light (for lessons and tests)."""
+    2 m box: the smallest scene that injects light (for lessons and tests). The cone's
+    inner angle (40°) holds the whole patch (its corners are 35.3° off the axis) and its
+    outer angle is the 90° frustum's, so the RSM is the same with the cone on or off."""
     mesh = MeshBuilder()
     mesh.rect((0.0, -0.5, 0.0), Y, X, 0.15, 0.15, (0.8, 0.8, 0.8))
     positions, normals, albedo = mesh.arrays()
-    light = SpotLight((0.0, -0.2, 0.0), (0.0, -0.5, 0.0), flux_for_irradiance(0.3))
+    light = SpotLight((0.0, -0.2, 0.0), (0.0, -0.5, 0.0), flux_for_irradiance(0.3),
+                      cone_degrees=(40.0, 45.0))
     camera = Camera((0.0, 0.6, 2.6), (0.0, -0.4, 0.0), 40.0)
     return Scene("single-source", positions, normals, albedo, camera, light,
                  (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
@@ -80,4 +90,5 @@ BUILTIN_SCENES = {
     "cornell": cornell_box,
     "single-source": single_source,
     "room": room,
+    "atrium": atrium,
 }

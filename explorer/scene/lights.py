@@ -1,8 +1,10 @@
 """Lights that render a reflective shadow map (docs/MODEL.md, "Reflective shadow map").
 
-* :class:`SpotLight`: a point light of total flux ``Φ_L`` radiating the isotropic
-  intensity ``Φ_L/(4π)``, seen through a 90° square frustum (only what lies in the frustum
-  is lit: that is what makes it a spot).
+* :class:`SpotLight`: a point light of total flux ``Φ_L`` radiating the intensity
+  ``Φ_L/(4π)·f(θ)``. Without a cone ``f = 1`` inside a 90° square frustum (the published
+  setup); with a cone (``cone_degrees = (inner, outer)`` half-angles) ``f`` falls smoothly
+  from 1 inside the inner angle to 0 at the outer one (:func:`spot_falloff`, docs/MODEL.md
+  "Spot cone"), and the RSM frustum is the square one that holds the outer cone.
 * :class:`DirectionalLight`: parallel light of irradiance ``E`` (on a plane facing the
   light) through an orthographic box that holds the scene; ``flux`` is the flux through
   that box, ``E = flux / (2R)²`` with ``R`` the box's half width.
@@ -25,6 +27,10 @@ FULL_SPHERE_SR = 4.0 * math.pi
 does not read the generated constants)."""
 
 SPOT_FOV_DEGREES = 90.0
+"""Field of view of a spot light without a cone (its square frustum)."""
+MAX_CONE_DEGREES = 80.0
+"""Largest outer half-angle of a spot cone: the RSM frustum is 2·outer wide, and its
+texels at the edge grow as 1/cos² of it."""
 _LightT = TypeVar("_LightT", bound="_AimedLight")
 
 
@@ -50,16 +56,85 @@ class _AimedLight:
         return replace(self, flux=float(flux))
 
 
+def spot_falloff(cos_axis, cos_inner: float, cos_outer: float) -> np.ndarray:
+    """The spot cone's angular falloff ``f`` at the angle θ from the axis, given as
+    ``cos θ`` (docs/MODEL.md "Spot cone"): ``smoothstep(cos θ_o, cos θ_i, cos θ)``, i.e.
+    ``3t² − 2t³`` with ``t = clamp((cos θ − cos θ_o)/(cos θ_i − cos θ_o), 0, 1)``; a hard
+    step at the outer angle when inner = outer. The numpy twin of ``spot_falloff`` in
+    shaders/spot.glsl."""
+    c = np.asarray(cos_axis, np.float64)
+    if cos_inner <= cos_outer:
+        return (c >= cos_outer).astype(np.float64)
+    t = np.clip((c - cos_outer) / (cos_inner - cos_outer), 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
 @dataclass(frozen=True)
 class SpotLight(_AimedLight):
-    """``flux``: the total flux Φ_L in watts per colour channel (white light)."""
+    """``flux``: the total flux Φ_L in watts per colour channel (white light) the point
+    light would radiate over the whole sphere; the cone lets ``Φ_L/(4π)·∫f dω`` out.
+    ``cone_degrees``: ``(inner, outer)`` half-angles of the cone in degrees,
+    ``0 ≤ inner ≤ outer ≤`` :data:`MAX_CONE_DEGREES`, or None for the 90° square frustum
+    with uniform intensity."""
+
+    cone_degrees: tuple[float, float] | None = None
 
     projection = "perspective"
 
+    def __post_init__(self) -> None:
+        if self.cone_degrees is None:
+            return
+        try:
+            inner, outer = (float(v) for v in self.cone_degrees)
+        except (TypeError, ValueError):
+            raise ValueError(f"cone_degrees must be (inner, outer) half-angles in degrees, "
+                             f"got {self.cone_degrees!r}") from None
+        if not (0.0 <= inner <= outer <= MAX_CONE_DEGREES and outer > 0.0):
+            raise ValueError(f"cone_degrees (inner, outer) must satisfy 0 <= inner <= outer "
+                             f"<= {MAX_CONE_DEGREES:g} with outer > 0, got "
+                             f"{self.cone_degrees!r}")
+        object.__setattr__(self, "cone_degrees", (inner, outer))
+
     @property
     def intensity(self) -> float:
-        """Isotropic radiant intensity ``Φ_L/(4π)`` [W/sr]."""
+        """Radiant intensity on the axis ``Φ_L/(4π)`` [W/sr] (times ``f`` off the axis)."""
         return self.flux / FULL_SPHERE_SR
+
+    @property
+    def has_cone(self) -> bool:
+        return self.cone_degrees is not None
+
+    @property
+    def cone_cosines(self) -> tuple[float, float]:
+        """``(cos θ_inner, cos θ_outer)``; ``(-1, -1)`` without a cone (``f = 1``)."""
+        if self.cone_degrees is None:
+            return -1.0, -1.0
+        inner, outer = self.cone_degrees
+        return math.cos(math.radians(inner)), math.cos(math.radians(outer))
+
+    @property
+    def fov_degrees(self) -> float:
+        """Field of view of the square RSM frustum: 90°, or twice the outer angle (the
+        square frustum that just holds the cone)."""
+        return SPOT_FOV_DEGREES if self.cone_degrees is None else 2.0 * self.cone_degrees[1]
+
+    @property
+    def frustum_half_width(self) -> float:
+        """``tan(fov/2)``: the frustum cuts the plane at view depth 1 in the square
+        ``[-t, t]²`` (exactly 1 for the 90° frustum)."""
+        if self.cone_degrees is None:
+            return 1.0
+        return math.tan(math.radians(self.cone_degrees[1]))
+
+    def falloff(self, cos_axis) -> np.ndarray:
+        """``f`` at the angle from the axis given as ``cos θ`` (1 without a cone)."""
+        if self.cone_degrees is None:
+            return np.ones_like(np.asarray(cos_axis, np.float64))
+        return spot_falloff(cos_axis, *self.cone_cosines)
+
+    def with_cone(self, cone_degrees: tuple[float, float] | None) -> "SpotLight":
+        """This light with another cone (None: the 90° square frustum)."""
+        return replace(self, cone_degrees=cone_degrees)
 
     def view_matrix(self, bounds_min=None, bounds_max=None) -> np.ndarray:
         """World -> light view (the scene box is not needed for a spot)."""
@@ -67,12 +142,14 @@ class SpotLight(_AimedLight):
 
     def projection_matrix(self, bounds_min, bounds_max) -> np.ndarray:
         near, far = depth_range(self.position, bounds_min, bounds_max)
-        return perspective(SPOT_FOV_DEGREES, 1.0, near, far)
+        return perspective(self.fov_degrees, 1.0, near, far)
 
     def texel_area(self, width: int, height: int, bounds_min=None, bounds_max=None) -> float:
-        """Area of one RSM texel on the plane at view depth 1: the 90° frustum cuts that
-        plane in a 2×2 square, so ``4/(W·H)`` (``VplArrays.texel_area``)."""
-        return 4.0 / (width * height)
+        """Area of one RSM texel on the plane at view depth 1: the frustum cuts that plane
+        in a ``2t × 2t`` square, so ``4t²/(W·H)`` (``4/(W·H)`` for the 90° frustum;
+        ``VplArrays.texel_area``)."""
+        t = self.frustum_half_width
+        return 4.0 * t * t / (width * height)
 
 
 @dataclass(frozen=True)

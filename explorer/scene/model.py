@@ -49,10 +49,13 @@ class Scene:
         rows = np.hstack([self.positions, self.normals, self.albedo]).astype(np.float32)
         return np.ascontiguousarray(rows).tobytes()
 
-    def with_overrides(self, camera=None, light=None, light_flux: float | None = None
-                       ) -> "Scene":
-        """The scene with ``Settings.camera`` / ``light`` / ``light_flux`` applied
-        (``None`` keeps the scene's own)."""
+    def with_overrides(self, camera=None, light=None, light_flux: float | None = None,
+                       spot_cone: bool = True,
+                       spot_cone_degrees: tuple[float, float] | None = None) -> "Scene":
+        """The scene with ``Settings.camera`` / ``light`` / ``light_flux`` /
+        ``spot_cone_degrees`` applied (``None`` keeps the scene's own); ``spot_cone``
+        False turns a spot light's cone off (the 90° square frustum). A directional light
+        ignores the two spot arguments."""
         scene = self
         if camera is not None:
             eye, target = camera
@@ -63,7 +66,18 @@ class Scene:
             scene = replace(scene, light=scene.light.moved(position, target))
         if light_flux is not None:
             scene = replace(scene, light=scene.light.with_flux(light_flux))
+        if hasattr(scene.light, "with_cone"):   # a spot light
+            if not spot_cone:
+                scene = replace(scene, light=scene.light.with_cone(None))
+            elif spot_cone_degrees is not None:
+                scene = replace(scene, light=scene.light.with_cone(spot_cone_degrees))
         return scene
+
+    def for_settings(self, settings) -> "Scene":
+        """The scene with every override of ``settings`` (an ``explorer.lpv.settings.
+        Settings``) applied: camera, light, flux and the spot cone."""
+        return self.with_overrides(settings.camera, settings.light, settings.light_flux,
+                                   settings.spot_cone, settings.spot_cone_degrees)
 
 
 class MeshBuilder:
@@ -113,6 +127,17 @@ class MeshBuilder:
         ]
         for face in faces:
             self.quad([corner(*c) for c in face], albedo)
+
+    def add_triangles(self, positions, normals, albedo) -> None:
+        """A triangle soup: ``(3T, 3)`` corner positions and normals, one albedo for all
+        (the procedural scenes' curved parts)."""
+        positions = np.asarray(positions, np.float64)
+        normals = np.asarray(normals, np.float64)
+        if positions.shape != normals.shape or positions.ndim != 2 or \
+                positions.shape[1] != 3 or len(positions) % 3:
+            raise ValueError(f"positions and normals must both be (3T, 3) arrays, got "
+                             f"{positions.shape} and {normals.shape}")
+        self._add(positions, normals, albedo)
 
     def _add(self, positions, normals, albedo) -> None:
         self._positions.append(positions)

@@ -22,8 +22,7 @@ def scene_for(settings):
     """The scene a Settings renders, with its camera/light overrides applied."""
     from explorer.scene import load_scene
 
-    return load_scene(settings.scene).with_overrides(settings.camera, settings.light,
-                                                     settings.light_flux)
+    return load_scene(settings.scene).for_settings(settings)
 
 
 def render_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:

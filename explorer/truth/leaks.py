@@ -30,6 +30,7 @@ import numpy as np
 from explorer.lpv import reference as lpv_reference
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.reference import derivative_damping, gather_irradiance, sample_grid
+from explorer.lpv.tonemap import luminance
 from explorer.lpv.vpl import VplArrays
 
 __all__ = ["VARIANTS", "derivative_damping", "gather_irradiance", "offset_vpls",
@@ -65,10 +66,12 @@ def variant_irradiance(variant: str, vpls: VplArrays, spec: GridSpec, correction
 
 
 def study(scene: str = "room", iterations=(4, 8, 16), width: int = 128, height: int = 128,
-          rsm_size: int = 64, grid_size: int = 32, ctx=None) -> list[dict]:
+          rsm_size: int = 64, grid_size: int = 32, ctx=None, spot_cone: bool = True
+          ) -> list[dict]:
     """Every variant × iteration count against both references; one dict per row with
     relative L2 and flux ratios (whole image, and the pixels where the visible reference
-    has less than half the unoccluded light: where a leak would show)."""
+    has less than half the unoccluded light: where a leak would show). ``spot_cone``:
+    ``Settings.spot_cone`` (False: the 90° square frustum docs/ERRORS.md measured)."""
     from explorer.lpv.pipeline import Pipeline
     from explorer.lpv.settings import PRESETS, Settings
     from explorer.truth.metrics import error_stats
@@ -76,14 +79,13 @@ def study(scene: str = "room", iterations=(4, 8, 16), width: int = 128, height: 
 
     corrections = PRESETS["corrected"]
     settings = Settings(scene=scene, width=width, height=height, rsm_size=rsm_size,
-                        grid_size=grid_size, corrections=corrections)
+                        grid_size=grid_size, corrections=corrections, spot_cone=spot_cone)
     with Pipeline(settings, ctx) as pipeline:
         frame = pipeline.run()
         visible, gbuffer = reference_for_frame(frame, True, ctx=pipeline.ctx)
         unoccluded, _ = reference_for_frame(frame, False, ctx=pipeline.ctx)
     valid = gbuffer.valid
-    weights = np.array([0.2126, 0.7152, 0.0722])
-    shadowed = valid & (visible @ weights < 0.5 * (unoccluded @ weights))
+    shadowed = valid & (luminance(visible) < 0.5 * luminance(unoccluded))
     positions, normals = gbuffer.position[valid], gbuffer.normal[valid]
     albedo = gbuffer.albedo[valid]
     rows = []
@@ -124,6 +126,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scene", default="room")
     parser.add_argument("--iterations", default="4,8,16")
     parser.add_argument("--size", type=int, default=128, help="image width and height")
+    parser.add_argument("--spot-cone", action=argparse.BooleanOptionalAction, default=True,
+                        help="spot lights through their cone (default) or, with "
+                             "--no-spot-cone, the 90° square frustum")
     args = parser.parse_args(argv)
     try:
         steps = [int(v) for v in args.iterations.split(",")]
@@ -131,7 +136,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"--iterations {args.iterations!r}: expected integers like 4,8,16",
               file=sys.stderr)
         return 2
-    print(format_rows(study(args.scene, steps, args.size, args.size)))
+    print(format_rows(study(args.scene, steps, args.size, args.size,
+                            spot_cone=args.spot_cone)))
     return 0
 
 

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from explorer.lpv.tonemap import luminance
+
 Rect = tuple[int, int, int, int]
 
 
@@ -159,10 +161,6 @@ def diverging_colormap(values: np.ndarray, scale: float) -> np.ndarray:
     return np.where(s[..., None] < 0, lower, upper)
 
 
-def _luminance(image: np.ndarray) -> np.ndarray:
-    return image @ np.array([0.2126, 0.7152, 0.0722])  # Rec. 709 weights, linear RGB
-
-
 @dataclass(frozen=True)
 class ErrorImage:
     """``rgb`` (H, W, 3) in [0, 1]; ``values`` (H, W) the signed error that was coloured
@@ -187,7 +185,7 @@ def error_image(test: np.ndarray, reference: np.ndarray, region=None, mode: str 
     if mode not in ERROR_MODES:
         raise ValueError(f"mode must be one of {ERROR_MODES}, got {mode!r}")
     test_img, ref_img, mask = _images_and_mask(test, reference, region)
-    t, r = _luminance(test_img), _luminance(ref_img)
+    t, r = luminance(test_img), luminance(ref_img)
     if mode == "difference":
         values = t - r
     else:

@@ -72,6 +72,7 @@ class App:
         self._pipelines: dict[str, object] = {}
         self._last_run: dict[str, object] = {}
         self._failed: dict[str, object] = {}
+        self._warned: dict[str, tuple[str, ...]] = {}   # side -> warnings of its last result
         self._ran_settings: Settings | None = None   # state.settings when A last ran
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
@@ -244,15 +245,28 @@ class App:
         """The Settings the pipeline of ``side`` ("A" or "B") runs with this frame."""
         state, rt = self.state, self.state.runtime
         a = state.settings
+        # With the display's auto exposure (Settings.auto_exposure) each side already has
+        # its own display scale; expose_sides_separately then only decides whether B keeps
+        # it (_display_override). Without it, it sets each side's exposure.
+        per_side_exposure = state.expose_sides_separately and not a.auto_exposure
         if side == "A":
-            if state.comparing and state.auto_exposure:
-                a = a.with_changes(exposure=rt.auto_exposure[0])
+            if state.comparing and per_side_exposure:
+                a = a.with_changes(exposure=rt.side_exposures[0])
             return a
         b = a.with_changes(corrections=state.compare_settings.corrections,
                            **dict(state.compare_overrides))
-        if state.auto_exposure:
-            b = b.with_changes(exposure=rt.auto_exposure[1])
+        if per_side_exposure:
+            b = b.with_changes(exposure=rt.side_exposures[1])
         return b
+
+    def _display_override(self, side: str) -> float | None:
+        """The display scale side B is shown with: A's, so that the two sides of a
+        comparison are exposed alike (unless "Expose sides separately" is on); None (its
+        own) for A and for B exposed on its own."""
+        rt = self.state.runtime
+        if side == "A" or self.state.expose_sides_separately or rt.result is None:
+            return None
+        return float(rt.result.display_scale)
 
     def _follow_view_size(self) -> bool:
         """Keep the render size at the View panel's pixels; False while the size is
@@ -296,12 +310,17 @@ class App:
         if self.state.comparing:
             if self._run_side("B", False):
                 rt.compare_texture_id = self._pipelines["B"].final_texture.glo
-        self._update_auto_exposure()
+        self._update_side_exposures()
 
     def _run_side(self, side: str, keep_steps: bool) -> bool:
         """Run one side's pipeline if its settings changed; True if it has a result."""
         rt = self.state.runtime
         settings = self.settings_for(side)
+        override = self._display_override(side)
+        existing = self._pipelines.get(side)
+        if existing is not None and getattr(existing, "display_scale_override", None) != override:
+            existing.display_scale_override = override
+            self._last_run.pop(side, None)   # the pipeline re-runs only its display stage
         last = self._last_run.get(side)
         if last is not None and last == (settings, keep_steps):
             return True
@@ -312,6 +331,7 @@ class App:
             pipeline = self._pipelines.get(side)
             if pipeline is None:
                 pipeline = self._pipeline_class(settings, ctx=self.ctx)
+                pipeline.display_scale_override = override
                 self._pipelines[side] = pipeline
             result = pipeline.run(settings, keep_steps=keep_steps)
         except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
@@ -323,6 +343,7 @@ class App:
         rt.pipeline_ms = (time.perf_counter() - start) * 1000.0
         self._last_run[side] = (settings, keep_steps)
         self._failed.pop(side, None)
+        self._post_warnings(side, result)
         if side == "A":
             rt.result = result
             rt.frame_view = getattr(pipeline, "view", None)
@@ -349,6 +370,16 @@ class App:
                 self.state.runtime.tasks.remove(task)
             finally:
                 self.ctx.screen.use()
+
+    def _post_warnings(self, side: str, result) -> None:
+        """The numeric guards' warnings of a new result (``FrameResult.warnings``) in the
+        Messages panel: each one the side's previous result did not have, once."""
+        warnings = tuple(getattr(result, "warnings", ()) or ())
+        before = self._warned.get(side, ())
+        for text in warnings:
+            if text not in before:
+                self.state.notify(text if side == "A" else f"B: {text}", "warning")
+        self._warned[side] = warnings
 
     def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
         rt = self.state.runtime
@@ -389,6 +420,8 @@ class App:
         light = getattr(scene, "light", None)
         rt.light_default = _eye_target(light)
         rt.light_flux_default = getattr(light, "flux", None)
+        rt.light_cone_default = getattr(light, "cone_degrees", None)
+        rt.light_is_spot = hasattr(light, "cone_degrees")
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
@@ -397,14 +430,15 @@ class App:
         self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None)
         self.state.notify(f"opening {name_or_path}")
 
-    def _update_auto_exposure(self) -> None:
+    def _update_side_exposures(self) -> None:
         """Per-side exposure from the latest results (computed once per new result)."""
         from explorer.ui.images import auto_exposure
 
         rt = self.state.runtime
-        if not (self.state.comparing and self.state.auto_exposure):
+        if not (self.state.comparing and self.state.expose_sides_separately) or \
+                self.state.settings.auto_exposure:
             return
-        values = list(rt.auto_exposure)
+        values = list(rt.side_exposures)
         for i, result in enumerate((rt.result, rt.compare_result)):
             if result is None or self._exposure_seen[i] == id(result):
                 continue
@@ -412,7 +446,7 @@ class App:
             value = auto_exposure(result.final_image, result.settings.exposure)
             if abs(value - values[i]) > _EXPOSURE_TOLERANCE * max(values[i], 1e-12):
                 values[i] = float(f"{value:.3g}")
-        rt.auto_exposure = (values[0], values[1])
+        rt.side_exposures = (values[0], values[1])
 
     def _hot_reload(self) -> None:
         """Recompile shaders whose files changed: each pipeline's ProgramCache reloads in

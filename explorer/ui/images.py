@@ -12,12 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from explorer.lpv import constants as C
+from explorer.lpv.tonemap import luminance
 from explorer.ui.textures import diverging, heat, robust_max, tonemap
-
-
-def luminance(image: np.ndarray) -> np.ndarray:
-    image = np.asarray(image, dtype=np.float32)
-    return image[..., 0] * 0.2126 + image[..., 1] * 0.7152 + image[..., 2] * 0.0722
 
 
 def auto_exposure(final_image: np.ndarray, exposure_used: float, key: float = 0.85) -> float:

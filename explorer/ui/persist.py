@@ -24,6 +24,10 @@ from explorer.ui.layout_file import LayoutFileError, check_layout
 from explorer.ui.state import AppState
 
 FORMAT_VERSION = 1
+RENAMED = {"auto_exposure": "expose_sides_separately"}
+"""Old name -> new name of fields renamed since files of this format were written (the
+per-side exposure of the compare views was ``auto_exposure`` before ``Settings`` got an
+auto exposure of its own); read under the new name."""
 
 
 def config_dir() -> Path:
@@ -57,7 +61,8 @@ def apply_dict(state: AppState, data: Any) -> None:
     if data.get("format") != FORMAT_VERSION:
         raise SettingsFileError(
             f"unsupported format {data.get('format')!r} (this version writes {FORMAT_VERSION})")
-    fields = {key: value for key, value in data.items() if key != "format"}
+    fields = {RENAMED.get(key, key) if RENAMED.get(key) not in data else key: value
+              for key, value in data.items() if key != "format"}
     try:
         loaded = from_dict(AppState, fields, AppState(), declared_only=True)
     except SettingError as exc:

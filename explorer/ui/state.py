@@ -212,6 +212,8 @@ class Runtime:
     camera_default: tuple | None = None   # the scene's (eye, target) once known
     light_default: tuple | None = None    # the scene's (position, target) once known
     light_flux_default: float | None = None
+    light_cone_default: tuple | None = None   # the scene spot's (inner, outer) cone, degrees
+    light_is_spot: bool = True                # False for a directional light (no cone)
     scene_bounds: tuple | None = None
     frame_ms: float = 0.0
     pipeline_ms: float = 0.0
@@ -223,7 +225,7 @@ class Runtime:
     split_dragging: bool = False          # the split view's divider is held
     difference_cache: tuple | None = None  # (version, texture id, scale top)
     inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
-    auto_exposure: tuple[float, float] = (1.0, 1.0)   # per side, from the last results
+    side_exposures: tuple[float, float] = (1.0, 1.0)  # A, B when exposed separately
     play_clock: float = 0.0               # fractional iterations while playing
     vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
     compositor: Any = None                # explorer.ui.overlays.Compositor (view overlays)
@@ -283,8 +285,10 @@ class AppState:
                                doc="What the 3D view shows.")
     split_position: float = setting(0.5, kind="float", low=0.02, high=0.98,
                                     doc="The split view's divider, a fraction of its width.")
-    auto_exposure: bool = setting(False, kind="bool",
-                                  doc="Expose each side of a comparison on its own.")
+    expose_sides_separately: bool = setting(
+        False, kind="bool", doc="Expose each side of a comparison on its own (with the "
+                                "display's auto exposure: B keeps its own display scale "
+                                "instead of A's).")
     difference_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
                                       doc="Watts per pixel at the top of the difference "
                                           "scale; 0 = automatic.")

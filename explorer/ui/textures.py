@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from explorer.lpv.tonemap import linear_to_srgb
+
 
 @dataclass
 class _Entry:
@@ -104,8 +106,7 @@ def diverging(values: np.ndarray, scale: float) -> np.ndarray:
 
 def tonemap(image: np.ndarray, exposure: float = 1.0) -> np.ndarray:
     """Linear radiance → display sRGB in [0, 1] (clamp, then the sRGB curve)."""
-    x = np.clip(np.nan_to_num(np.asarray(image, dtype=np.float32)) * exposure, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+    return linear_to_srgb(np.nan_to_num(np.asarray(image, dtype=np.float32)) * exposure)
 
 
 def robust_max(values: np.ndarray, percentile: float = 99.5) -> float:

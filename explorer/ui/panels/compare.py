@@ -27,11 +27,14 @@ def gui_compare(state: AppState) -> None:
                                             0.0, 2.0, "%.3g")
         if changed:
             state.difference_scale = max(value, 0.0)
-    _, state.auto_exposure = imgui.checkbox("Auto-exposure per side", state.auto_exposure)
-    widgets.help_marker("Expose each side so its brightest 1% sits near white; otherwise "
-                        "both use A's exposure.")
-    if state.auto_exposure:
-        ea, eb = state.runtime.auto_exposure
+    _, state.expose_sides_separately = imgui.checkbox("Expose sides separately",
+                                                      state.expose_sides_separately)
+    widgets.help_marker("With the display's auto exposure each side keeps its own display "
+                        "scale (otherwise B is shown at A's). Without it, each side's "
+                        "exposure puts its brightest 1% near white (otherwise both use A's "
+                        "exposure).")
+    if state.expose_sides_separately and not state.settings.auto_exposure:
+        ea, eb = state.runtime.side_exposures
         imgui.text_disabled(f"exposure A {ea:.3g}   B {eb:.3g}")
 
     imgui.separator_text("Configuration B")

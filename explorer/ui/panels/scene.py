@@ -3,7 +3,8 @@ widget in the settings schema, grouped by the spec's ``group``.
 
 The generic controls come from the specs (explorer/ui/setting_widgets.py); the controls
 with logic of their own stay here: the scene and mesh, the light's angles and flux, the
-geometry volume ↔ bounces coupling and the fixed resolution.
+spot cone's two angles (one field, defaulting to the scene's cone), the geometry volume ↔
+bounces coupling and the fixed resolution.
 """
 
 from __future__ import annotations
@@ -16,10 +17,11 @@ from explorer.lpv.schema import SettingError, specs
 from explorer.lpv.settings import Settings
 from explorer.scene.builtin import BUILTIN_SCENES
 from explorer.ui import camera, widgets
-from explorer.ui.setting_widgets import draw_setting, tooltip_of
+from explorer.ui.setting_widgets import draw_setting, label_of, tooltip_of
 from explorer.ui.state import AppState
 
-GROUPS = ("Light propagation volume", "Leak reduction and bounces", "Cascades", "Output")
+GROUPS = ("Light and shadows", "Light propagation volume", "Leak reduction and bounces",
+          "Cascades", "Display", "Output")
 """The panel's sections, top to bottom (each spec names the one it belongs in)."""
 OWNERS = (Settings, AppState)
 """The classes whose declared fields the panel edits: configuration A and the view."""
@@ -120,6 +122,21 @@ def _light_angles(state: AppState) -> None:
         state.update(light=(new_position, target))
 
 
+def _spot_cone_angles(state: AppState) -> None:
+    """The cone's inner and outer half-angles as one two-handled slider (the pair is one
+    field; unset, it shows the scene light's own cone)."""
+    s, spec = state.settings, specs(Settings)["spot_cone_degrees"]
+    cone = s.spot_cone_degrees or state.runtime.light_cone_default
+    if cone is None:
+        return
+    changed, angles = imgui.slider_float2(label_of(spec, "spot_cone_degrees"), list(cone),
+                                          spec.low, spec.high, "%.1f")
+    _tooltip(tooltip_of(spec))
+    if changed:
+        inner, outer = sorted(float(a) for a in angles)
+        state.update(spot_cone_degrees=(inner, max(outer, 0.5)))
+
+
 def _geometry_volume_choice(state: AppState) -> None:
     s, spec = state.settings, specs(Settings)["geometry_volume"]
     changed, value = widgets.combo(spec.label, s.geometry_volume, spec.choices)
@@ -170,12 +187,15 @@ def _tooltip(text: str) -> None:
 
 
 _CUSTOM: dict[str, Callable[[AppState], None]] = {
+    "spot_cone_degrees": _spot_cone_angles,       # a pair; unset = the scene's own cone
     "geometry_volume": _geometry_volume_choice,   # switching it off drops the 2nd bounce
     "bounces": _bounces_choice,                   # a 2nd bounce switches the volume on
 }
 """Declared fields whose control has logic of its own (drawn where the field is)."""
 _AFTER: dict[str, Callable[[AppState], None]] = {"Output": _resolution}
 _SHOWN_WHEN: dict[str, Callable[[AppState], bool]] = {
+    "spot_cone": lambda state: state.runtime.light_is_spot,
+    "spot_cone_degrees": lambda state: state.runtime.light_is_spot and state.settings.spot_cone,
     "downsample_factor": lambda state: state.settings.downsample != "none",
     "cascade_extent": lambda state: state.settings.cascades > 1,
     "cascade_focus": lambda state: state.settings.cascades > 1,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from imgui_bundle import imgui
 
+from explorer.lpv.tonemap import display_encode
 from explorer.ui import camera_controls, images, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
@@ -70,7 +71,8 @@ def gui_view(state: AppState) -> None:
 def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
     """(GL texture name, stored bottom row first) of one side's chosen buffer with the
     enabled overlays drawn in it, or None. "final" is the pipeline's own texture; the other
-    buffers are FrameResult arrays tonemapped and uploaded to a texture the UI owns."""
+    buffers are FrameResult arrays encoded like it (the frame's display scale and tone
+    curve; albedo as it is) and uploaded to a texture the UI owns."""
     chosen = _buffer_texture(state, side)
     return None if chosen is None else in_view.shown_texture(state, side, *chosen)
 
@@ -83,11 +85,14 @@ def _buffer_texture(state: AppState, side: str) -> tuple[int, bool] | None:
     result = rt.result if side == "A" else rt.compare_result
     if result is None:
         return None
-    exposure = 1.0 if state.view_buffer == "albedo" else result.settings.exposure
     version = (state.view_buffer, id(result))
-    tex = rt.textures.upload(f"view-{side}", tonemap(linear_image(result, state.view_buffer),
-                                                     exposure),
-                             version=version, nearest=False)
+    linear = linear_image(result, state.view_buffer)
+    if state.view_buffer == "albedo":
+        image = tonemap(linear, 1.0)
+    else:   # as the display pass shows the final image (docs/MODEL.md "Display")
+        image = display_encode(result.settings.exposure * linear, result.display_scale,
+                               result.settings.tone_map)
+    tex = rt.textures.upload(f"view-{side}", image, version=version, nearest=False)
     return tex, False
 
 
@@ -118,9 +123,13 @@ def _toolbar(state: AppState) -> None:
                                         "%.2f", imgui.SliderFlags_.logarithmic)
     if changed:
         state.update(exposure=value)
+    if imgui.is_item_hovered():
+        imgui.set_tooltip("multiplies the linear radiance; with the display's auto exposure "
+                          "(Scene panel, Display) a compensation on top of it")
     if state.comparing:
-        _same_line_if_fits("Auto-exposure per side", checkbox=True)
-        _, state.auto_exposure = imgui.checkbox("Auto-exposure per side", state.auto_exposure)
+        _same_line_if_fits("Expose sides separately", checkbox=True)
+        _, state.expose_sides_separately = imgui.checkbox("Expose sides separately",
+                                                          state.expose_sides_separately)
     _same_line_if_fits("Indirect only", checkbox=True)
     changed, value = imgui.checkbox("Indirect only", state.settings.indirect_only)
     if changed:

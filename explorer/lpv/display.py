@@ -1,0 +1,77 @@
+"""The display stage: the frame as shown (``shaders/display.glsl``, docs/MODEL.md
+"Display").
+
+A full-screen pass reads the gather's linear direct and indirect radiance and writes the
+``rgba8`` texture the window shows: ``exposure·(direct + indirect)`` (``exposure·indirect``
+with ``indirect_only``) times the display scale (the auto exposure ``key/L̄``, or 1),
+through the tone curve and the sRGB encoding (``display_encode`` of shaders/tonemap.glsl).
+It reads only the Settings fields declared for the ``display`` stage, so changing the
+exposure, the tone curve, the auto exposure or what is shown runs this pass and no other.
+The numpy twin: :func:`exposed_image` followed by
+:func:`explorer.lpv.tonemap.display_encode` (``render_view("final")`` uses it for PNGs).
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from explorer.gl.fullscreen import FullscreenTriangle
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.targets import RenderTargets
+from explorer.lpv.tonemap import auto_exposure_scale, tone_map_index
+
+
+def exposed_image(direct: np.ndarray, indirect: np.ndarray, exposure: float,
+                  indirect_only: bool) -> np.ndarray:
+    """The linear colour the display encodes (numpy twin of display.glsl's ``exposed``):
+    ``exposure·(direct + indirect)``, or ``exposure·indirect`` with ``indirect_only``."""
+    linear = indirect if indirect_only else direct + indirect
+    return (np.float32(exposure) * linear).astype(np.float32)
+
+
+def display_scale(unexposed: np.ndarray, mask: np.ndarray | None, auto_exposure: bool
+                  ) -> float:
+    """The display scale of a frame: ``key/L̄`` of its unexposed image over the pixels
+    that show a surface (``mask``) with auto exposure, else 1. The image must be the one
+    shown before the exposure (``direct + indirect``, or ``indirect`` alone), so that the
+    exposure still acts as a compensation on top of the auto exposure."""
+    return auto_exposure_scale(unexposed, mask) if auto_exposure else 1.0
+
+
+class DisplayPass:
+    """Writes :attr:`texture`: ``rgba8``, sRGB-encoded, linear filtering for display; row
+    0 is the bottom row, as OpenGL draws it."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._targets = RenderTargets(ctx, ("f1",), linear=(0,))
+        self._triangle = FullscreenTriangle(ctx)
+
+    @property
+    def texture(self) -> moderngl.Texture | None:
+        """The display texture of the last run (None before the first)."""
+        return self._targets.textures[0] if self._targets.textures else None
+
+    def run(self, direct: moderngl.Texture, indirect: moderngl.Texture, exposure: float,
+            indirect_only: bool, tone_map: str = "linear-clip",
+            scale: float = 1.0) -> moderngl.Texture:
+        """Expose, tone-map and encode the linear ``direct`` and ``indirect`` textures
+        (same size); ``scale``: the display scale (auto exposure) on top of ``exposure``.
+        The defaults show the exposed colour clipped to [0, 1]."""
+        self._targets.allocate(direct.size)
+        program = self.programs.get("display.glsl")
+        direct.use(0)
+        indirect.use(1)
+        set_uniforms(program, {"u_direct": 0, "u_indirect": 1, "u_exposure": float(exposure),
+                               "u_indirect_only": int(indirect_only),
+                               "u_display_scale": float(scale),
+                               "u_tone_map": tone_map_index(tone_map)})
+        with self._targets.drawing():
+            self._triangle.draw(program)
+        return self.texture
+
+    def release(self) -> None:
+        self._targets.release()
+        self._triangle.release()

@@ -1,0 +1,131 @@
+"""What one frame computed, as numpy arrays (:class:`FrameResult`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from explorer.lpv.audit import EnergyAudit, GridAudit
+from explorer.lpv.display import exposed_image
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.settings import Settings
+from explorer.lpv.vpl import VplArrays
+from explorer.scene.camera import Camera
+
+
+@dataclass
+class LevelResult:
+    """One cascade level (docs/MODEL.md "Cascades"); level 0 is the finest, or the single
+    grid enclosing the scene."""
+
+    spec: GridSpec
+    accumulated: np.ndarray
+    """acc_N, ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (``sh_order`` 2)."""
+    steps: list[np.ndarray] | None
+    """grid_0..grid_N when the frame kept its steps (``keep_steps``), else None."""
+    geometry_volume: np.ndarray | None
+    """``(N+1, N+1, N+1, 4)`` blocking SH, None when the geometry volume is off."""
+    audit: GridAudit
+    """Injection and propagation audit of this level. Each cascade holds every VPL
+    inside it, so the injected fluxes of the levels overlap and must not be summed."""
+
+
+@dataclass
+class FrameResult:
+    """Everything one frame computed, as numpy arrays. Images are ``(H, W, 3)`` float32
+    with row 0 at the top; RSM arrays ``(Hr, Wr, 4)``, row 0 at the top.
+
+    ``cascades`` holds every cascade level, finest first (one entry when
+    ``settings.cascades == 1``); ``grid_spec``, ``accumulated``, ``steps`` and
+    ``geometry_volume`` are level 0's."""
+
+    settings: Settings
+    cascades: list[LevelResult]
+    direct: np.ndarray
+    """Linear direct radiance (no exposure)."""
+    indirect: np.ndarray
+    """Linear LPV radiance albedo/π·E (no exposure)."""
+    albedo: np.ndarray
+    gbuffer_position: np.ndarray
+    """``(H, W, 4)`` world position of each pixel's surface, w = 1 where one is seen."""
+    gbuffer_normal: np.ndarray
+    """``(H, W, 4)`` viewer-facing normal, w = the surface's world area under the pixel."""
+    rsm_position: np.ndarray
+    rsm_normal: np.ndarray
+    rsm_flux: np.ndarray
+    vpls: VplArrays
+    """The VPLs injected (after downsampling, or the ones handed to the pipeline)."""
+    audit: EnergyAudit
+    """Level 0's audit plus the RSM's flux and the flux the visible surfaces gather
+    (the blended gather's with cascades)."""
+    timings_ms: dict[str, float]
+    """Pass name -> milliseconds of its last run (also for passes skipped this time)."""
+    timing_methods: dict[str, str] = field(default_factory=dict)
+    """Pass name -> "timer-query" or "wall-clock"."""
+    stages_run: tuple[str, ...] = ()
+    """The stages that ran for this result (the others were up to date), in
+    :data:`explorer.lpv.schema.STAGES` order."""
+    warnings: list[str] = field(default_factory=list)
+    """Plain-text warnings of the numeric guards (explorer/lpv/guards.py): a pass whose
+    output is not finite (with the switches that are off), flux that grows every step,
+    a mesh whose scale makes the light vanish or overflow."""
+    display_scale: float = 1.0
+    """What the display multiplies ``final_image`` by before the tone curve
+    (docs/MODEL.md "Display"): the auto exposure key/L̄, 1 without it, or
+    ``Pipeline.display_scale_override``. ``render_view("final")`` and the display texture
+    both use it."""
+    # The camera's view of the frame, for picking and for drawing in the scene
+    # (explorer/ui/overlays); with gbuffer_position and gbuffer_normal above.
+    camera: Camera | None = None
+    """The camera the frame was rendered with (the scene's, with Settings.camera applied)."""
+    scene_bounds: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    """(min, max) corners of the scene's box; with ``camera`` they fix the projection
+    (:meth:`Camera.projection_matrix`)."""
+    _final_image: np.ndarray | None = field(default=None, init=False, repr=False,
+                                            compare=False)
+
+    @property
+    def final_image(self) -> np.ndarray:
+        """Linear colour, exposure applied (``exposure·indirect`` when ``indirect_only``):
+        what the display stage scales by :attr:`display_scale`, tone-maps and encodes
+        (computed on first use)."""
+        if self._final_image is None:
+            s = self.settings
+            self._final_image = exposed_image(self.direct, self.indirect, s.exposure,
+                                              s.indirect_only)
+        return self._final_image
+
+    # level 0 (the finest cascade, or the single grid)
+    @property
+    def grid_spec(self) -> GridSpec:
+        return self.cascades[0].spec
+
+    @property
+    def accumulated(self) -> np.ndarray:
+        return self.cascades[0].accumulated
+
+    @property
+    def steps(self) -> list[np.ndarray] | None:
+        return self.cascades[0].steps
+
+    @property
+    def geometry_volume(self) -> np.ndarray | None:
+        return self.cascades[0].geometry_volume
+
+    # every level, finest first
+    @property
+    def cascade_specs(self) -> list[GridSpec]:
+        return [level.spec for level in self.cascades]
+
+    @property
+    def cascade_accumulated(self) -> list[np.ndarray]:
+        return [level.accumulated for level in self.cascades]
+
+    @property
+    def cascade_geometry(self) -> list[np.ndarray | None]:
+        return [level.geometry_volume for level in self.cascades]
+
+    @property
+    def cascade_audits(self) -> list[GridAudit]:
+        return [level.audit for level in self.cascades]

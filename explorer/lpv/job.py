@@ -1,0 +1,252 @@
+"""A frame in progress: the pipeline's work split into units that fit a frame budget.
+
+:meth:`explorer.lpv.pipeline.Pipeline.start` makes a :class:`Job`; each
+:meth:`Job.advance` does whole units of work (a stage, one cascade of the injection or
+the geometry volume, a slab of a propagation step, a band of the gather) until its time
+budget is spent, choosing the next unit only when its measured time still fits (at least
+one unit per call), and returns a :class:`Progress`. The stages run in
+:data:`explorer.lpv.stages.EXECUTION_ORDER`; a stage whose key has not changed since its
+last completed run is skipped.
+
+Starting another job cancels this one: the stage it was in the middle of is discarded
+(its key was forgotten when it started, so it runs again), the completed ones are kept.
+An exception (a KeyboardInterrupt too) leaves the pipeline in the same consistent state
+and propagates.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+from explorer.lpv.schema import STAGES
+from explorer.lpv.stages import DECLARATIONS, EXECUTION_ORDER, stage_key
+
+if TYPE_CHECKING:
+    from explorer.lpv.frame import FrameResult
+    from explorer.lpv.settings import Settings
+    from explorer.lpv.vpl import VplArrays
+
+ProgressCallback = Callable[[str, int, int], None]
+"""``progress(stage, done, total)``: called when a stage starts (done 0) and after each of
+its units."""
+
+
+class Pipeline(Protocol):
+    """What a job calls on the pipeline that made it
+    (:class:`explorer.lpv.pipeline.Pipeline`, its "what a Job calls" section); named
+    here so that this module does not import the pipeline, which imports it."""
+
+    keys: dict[str, object]
+    out_keys: dict[str, object]
+    unit_ms: dict[str, float]
+    job: "Job | None"
+
+    def extra_input(self, stage: str, job: "Job") -> object: ...
+    def satisfied(self, stage: str, job: "Job") -> bool: ...
+    def evaluate(self, stage: str, job: "Job") -> object: ...
+    def stage_units(self, stage: str, job: "Job") -> int: ...
+    def stage_work(self, stage: str, job: "Job") -> Iterator[int | None]: ...
+    def finish_job(self, job: "Job") -> "FrameResult": ...
+    def show_preview(self, job: "Job") -> bool: ...
+    def vpl_digest(self, vpls: "VplArrays") -> str: ...
+
+_VERBS = {"scene": "loading the scene", "grid": "placing the grids", "rsm": "rendering the RSM",
+          "downsample": "downsampling", "inject": "injecting", "geometry":
+          "building the geometry volume", "propagate": "propagating", "gbuffer":
+          "rendering the G-buffer", "gather": "gathering", "display": "displaying"}
+
+
+@dataclass(frozen=True)
+class Progress:
+    """Where a job stands after :meth:`Job.advance`."""
+
+    stage: str | None
+    """The stage in progress, None once the job is finished."""
+    done: int
+    """Units of that stage done (propagation: steps, all cascades together; a large grid's
+    step takes several units, its slabs)."""
+    total: int
+    finished: bool
+    stages_run: tuple[str, ...]
+    """The stages completed so far, in :data:`explorer.lpv.schema.STAGES` order."""
+
+    @property
+    def label(self) -> str:
+        """A short line for the window, e.g. ``"propagating 5/8"``."""
+        if self.finished:
+            return "done"
+        if self.stage is None:
+            return "waiting"
+        verb = _VERBS.get(self.stage, self.stage)
+        return f"{verb} {self.done}/{self.total}" if self.total > 1 else verb
+
+
+class Job:
+    """The work of one frame (module docstring). Made by :meth:`Pipeline.start`."""
+
+    def __init__(self, pipeline: Pipeline, settings: "Settings", keep_steps: bool,
+                 need_audit: bool, vpls: "VplArrays | None",
+                 progress: ProgressCallback | None) -> None:
+        self.pipeline = pipeline
+        self.settings = settings
+        self.keep_steps = bool(keep_steps)
+        self.need_audit = bool(need_audit)
+        self.vpls = vpls
+        self.vpls_key = None if vpls is None else pipeline.vpl_digest(vpls)
+        self.progress_callback = progress
+        self._index = 0
+        self._work: Iterator[int | None] | None = None
+        self._stage: str | None = None
+        self._key: tuple | None = None
+        self._done = 0
+        self._total = 0
+        self.out_keys: dict[str, object] = {}
+        """Output key of every stage evaluated so far (run or up to date)."""
+        self._ran: list[str] = []
+        self._result: FrameResult | None = None
+        self.cancelled = False
+
+    # ------------------------------------------------------------------ state
+    def asks_for(self, settings: "Settings", keep_steps: bool, need_audit: bool,
+                 vpls: "VplArrays | None") -> bool:
+        """Whether this unfinished job computes the frame these arguments ask for."""
+        if self.done or self.cancelled or settings != self.settings:
+            return False
+        vpls_key = None if vpls is None else self.pipeline.vpl_digest(vpls)
+        return (bool(keep_steps), bool(need_audit), vpls_key) == (
+            self.keep_steps, self.need_audit, self.vpls_key)
+
+    @property
+    def done(self) -> bool:
+        return self._result is not None
+
+    @property
+    def result(self) -> "FrameResult":
+        if self._result is None:
+            raise RuntimeError("the job has not finished: advance() until job.done")
+        return self._result
+
+    @property
+    def stage(self) -> str | None:
+        """The stage in progress (None between stages and once finished)."""
+        return self._stage
+
+    def evaluated(self, stage: str) -> bool:
+        """Whether ``stage`` is complete (ran or was up to date) in this job."""
+        return stage in self.out_keys
+
+    @property
+    def progress(self) -> Progress:
+        order = {name: i for i, name in enumerate(STAGES)}
+        return Progress(self._stage, self._done, self._total, self.done,
+                        tuple(sorted(self._ran, key=order.__getitem__)))
+
+    # ------------------------------------------------------------------ work
+    def advance(self, budget_ms: float | None = None) -> Progress:
+        """Do whole units of work until ``budget_ms`` milliseconds are spent (None: until
+        the frame is finished); at least one unit per call."""
+        if self.cancelled:
+            raise RuntimeError("the job was cancelled (another job started)")
+        start = time.perf_counter()
+        worked = False
+        while self._result is None:
+            if self._work is None and not self._begin_next():
+                continue
+            if budget_ms is not None and worked:
+                spent = (time.perf_counter() - start) * 1e3
+                estimate = self.pipeline.unit_ms.get(self._stage or "", 0.0)
+                if spent + estimate > budget_ms:
+                    break
+            self._run_unit()
+            worked = True
+        return self.progress
+
+    def preview(self) -> bool:
+        """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
+        view then shows the light growing step by step); False when there is nothing to
+        show yet (before the G-buffer, the RSM or the first propagation step) or when the
+        job is finished (``final_texture`` then holds the frame)."""
+        if self.done or not (self.evaluated("gbuffer") and self.evaluated("rsm")):
+            return False
+        started = self._stage == "propagate" and self._done > 0
+        if not (started or self.evaluated("propagate")):
+            return False
+        return self.pipeline.show_preview(self)
+
+    def cancel(self) -> None:
+        """Stop here; a stage in the middle of its work runs again in the next job."""
+        self._abandon()
+
+    # ------------------------------------------------------------------ stages
+    def _begin_next(self) -> bool:
+        """Evaluate the next stage: skip it when up to date, else start its work (True).
+        Finishes the job after the last stage."""
+        if self._index == len(EXECUTION_ORDER):
+            self._result = self.pipeline.finish_job(self)
+            self._stage = None
+            if self.pipeline.job is self:
+                self.pipeline.job = None
+            return False
+        name = EXECUTION_ORDER[self._index]
+        pipeline = self.pipeline
+        key = stage_key(self.settings, name, self.out_keys, pipeline.extra_input(name, self))
+        if DECLARATIONS[name].by_value:
+            value = pipeline.evaluate(name, self)
+            if pipeline.out_keys.get(name) != value or pipeline.keys.get(name) is None:
+                self._ran.append(name)
+            pipeline.keys[name], pipeline.out_keys[name] = key, value
+            self._complete(name, value, ran=False)
+            return False
+        if pipeline.keys.get(name) == key and pipeline.satisfied(name, self):
+            self._complete(name, key, ran=False)
+            return False
+        pipeline.keys.pop(name, None)      # its outputs are about to be overwritten
+        self._stage, self._key, self._done = name, key, 0
+        self._total = pipeline.stage_units(name, self)
+        self._work = pipeline.stage_work(name, self)
+        self._report()
+        return True
+
+    def _run_unit(self) -> None:
+        name = self._stage
+        started = time.perf_counter()
+        try:
+            try:
+                count = next(self._work)
+                finished = False
+            except StopIteration:
+                count, finished = self._total, True
+            self.pipeline.unit_ms[name] = (time.perf_counter() - started) * 1e3
+            self._done = self._done + 1 if count is None else count
+            if finished:
+                self.pipeline.keys[name] = self._key
+            self._report()
+        except BaseException:
+            # an unfinished stage keeps its key forgotten: it runs again next time
+            self._abandon()
+            raise
+        if finished:
+            self._work = None
+            self._complete(name, self._key, ran=True)
+
+    def _abandon(self) -> None:
+        if self._work is not None:
+            self._work.close()
+        self._work, self._stage = None, None
+        self.cancelled = True
+        if self.pipeline.job is self:
+            self.pipeline.job = None
+
+    def _complete(self, name: str, out_key: object, ran: bool) -> None:
+        self.out_keys[name] = out_key
+        if ran:
+            self._ran.append(name)
+        self._stage = None
+        self._index += 1
+
+    def _report(self) -> None:
+        if self.progress_callback is not None and self._stage is not None:
+            self.progress_callback(self._stage, self._done, self._total)

@@ -1,0 +1,81 @@
+"""Render targets of the full-screen and raster passes (RSM, G-buffer, downsample, gather,
+display): colour textures of one size, an optional depth buffer, their framebuffer and
+the scope that binds it, made together and released together.
+
+The scope is made once per allocation and reused for every draw: a moderngl ``Scope``
+that is dropped without ``release()`` leaks its native object (the context's default
+``gc_mode`` frees nothing), so a ``with ctx.scope(...)`` per draw leaked one per frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import moderngl
+
+
+class RenderTargets:
+    """RGBA textures of ``dtypes`` (``"f4"`` float, ``"f1"`` 8-bit) at one size, drawn to
+    through one framebuffer with ``enable`` flags (e.g. ``moderngl.DEPTH_TEST``) and, with
+    ``depth``, a depth renderbuffer. Textures are clamped to the edge; ``linear`` names the
+    indices sampled with linear filtering (the others are nearest)."""
+
+    def __init__(self, ctx: moderngl.Context, dtypes: tuple[str, ...], depth: bool = False,
+                 enable: int = moderngl.NOTHING, linear: tuple[int, ...] = ()) -> None:
+        self.ctx = ctx
+        self.dtypes = tuple(dtypes)
+        self.depth = depth
+        self.enable = enable
+        self.linear = tuple(linear)
+        self.size: tuple[int, int] = (0, 0)
+        self.textures: list[moderngl.Texture] = []
+        self._depth: moderngl.Renderbuffer | None = None
+        self.framebuffer: moderngl.Framebuffer | None = None
+        self._scope: moderngl.Scope | None = None
+
+    def allocate(self, size: tuple[int, int]) -> None:
+        """Make the targets ``size`` (width, height) big; nothing happens at the same size."""
+        size = (int(size[0]), int(size[1]))
+        if size == self.size:
+            return
+        self.release()
+        for index, dtype in enumerate(self.dtypes):
+            texture = self.ctx.texture(size, 4, dtype=dtype)
+            smooth = moderngl.LINEAR if index in self.linear else moderngl.NEAREST
+            texture.filter = (smooth, smooth)
+            texture.repeat_x = texture.repeat_y = False
+            self.textures.append(texture)
+        if self.depth:
+            self._depth = self.ctx.depth_renderbuffer(size)
+        self.framebuffer = self.ctx.framebuffer(self.textures, self._depth)
+        self._scope = self.ctx.scope(self.framebuffer, enable_only=self.enable)
+        self.size = size
+
+    @contextmanager
+    def drawing(self, clear: bool = False, rows: tuple[int, int] | None = None
+                ) -> Iterator[moderngl.Framebuffer]:
+        """Bind the framebuffer over its whole size (cleared to zero, depth to 1, when
+        ``clear``); ``rows`` = (first, end): draw only those rows (GL order, row 0 at the
+        bottom), the others keep their texels. The previous framebuffer and enable flags
+        come back afterwards."""
+        if self._scope is None:
+            raise RuntimeError("render targets used before allocate()")
+        with self._scope:
+            self.framebuffer.viewport = (0, 0, *self.size)
+            if rows is not None:
+                first, end = rows
+                self.framebuffer.scissor = (0, first, self.size[0], end - first)
+            try:
+                if clear:
+                    self.framebuffer.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+                yield self.framebuffer
+            finally:
+                self.framebuffer.scissor = None
+
+    def release(self) -> None:
+        for resource in (self._scope, self.framebuffer, self._depth, *self.textures):
+            if resource is not None:
+                resource.release()
+        self._scope = self.framebuffer = self._depth = None
+        self.textures, self.size = [], (0, 0)

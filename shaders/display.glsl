@@ -1,0 +1,35 @@
+#version 430 core
+// The final image as shown (the display stage, docs/MODEL.md "Display"): the gather's
+// linear direct and indirect radiance, exposed, tone-mapped and sRGB-encoded into the RGBA8
+// display texture. Everything that only changes how the frame looks (exposure, indirect
+// only, auto exposure, the tone curve) lives here, so changing it runs this pass alone.
+// Full-screen pass, one texel per pixel.
+//     exposed = exposure · (direct + indirect)   (exposure · indirect with u_indirect_only)
+//     shown   = display_encode(exposed, display scale, tone map)   (tonemap.glsl)
+// The display scale is the auto exposure key/L̄ (or 1). Numpy twin:
+// FrameResult.final_image (the exposed colour) through explorer.lpv.tonemap.display_encode.
+
+#if defined VERTEX_SHADER
+#include "fullscreen.glsl"
+#endif
+
+#if defined FRAGMENT_SHADER
+#include "tonemap.glsl"
+
+uniform sampler2D u_direct;        // rgba32f linear radiance (gather.glsl target 0)
+uniform sampler2D u_indirect;      // rgba32f linear radiance (gather.glsl target 1)
+uniform float u_exposure;          // Settings.exposure
+uniform float u_display_scale;     // auto exposure key/L̄, or 1
+uniform int u_indirect_only;
+uniform int u_tone_map;            // TONE_MAP_LINEAR_CLIP or TONE_MAP_FILMIC
+
+layout(location = 0) out vec4 out_display;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec3 indirect = texelFetch(u_indirect, pixel, 0).rgb;
+    vec3 direct = u_indirect_only == 1 ? vec3(0.0) : texelFetch(u_direct, pixel, 0).rgb;
+    vec3 exposed = u_exposure * (direct + indirect);
+    out_display = vec4(display_encode(exposed, u_display_scale, u_tone_map), 1.0);
+}
+#endif
