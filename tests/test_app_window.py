@@ -140,28 +140,63 @@ def test_a_minimised_window_skips_rendering(config_home, monkeypatch):
         app.close()
 
 
+class _FinishedJob:
+    """A job that completes its frame on the first advance (the Job interface the
+    window's controller drives)."""
+
+    def __init__(self, result):
+        from explorer.lpv.job import Progress
+
+        self._result, self.done, self.cancelled = result, False, False
+        self.progress = Progress("scene", 0, 1, False, ())
+
+    def advance(self, budget_ms=None):
+        from explorer.lpv.job import Progress
+
+        self.done = True
+        self.progress = Progress(None, 0, 0, True, ("rsm", "propagate"))
+        return self.progress
+
+    @property
+    def result(self):
+        return self._result
+
+    def preview(self):
+        return False
+
+    def cancel(self):
+        self.cancelled = True
+
+
 class RecordingPipeline:
-    """A test double with the Pipeline interface: counts runs, fails for "broken.obj",
-    and paints its final texture a colour that depends on the corrections."""
+    """A test double with the Pipeline interface: counts the frames it starts, fails for
+    "broken.obj", and holds linear direct light whose level depends on the corrections."""
 
     runs: list = []
 
     def __init__(self, settings, ctx=None):
         self.ctx = ctx
-        self.final_texture = ctx.texture((settings.width, settings.height), 4, dtype="f1")
-        self.display_scale_override = None
+        self.textures = None
 
-    def run(self, settings, keep_steps=False):
+    @property
+    def linear_textures(self):
+        return self.textures
+
+    def start(self, settings, keep_steps=False, need_audit=True, progress=None):
         if settings.scene.endswith("broken.obj"):
             raise ValueError(f"{settings.scene}: no triangles")
         RecordingPipeline.runs.append(settings)
         level = 200 if settings.corrections.propagation_4pi else 40
-        if self.final_texture.size != (settings.width, settings.height):
-            self.final_texture.release()
-            self.final_texture = self.ctx.texture((settings.width, settings.height), 4,
-                                                  dtype="f1")
-        data = np.full((settings.height, settings.width, 4), level, np.uint8)
-        self.final_texture.write(data.tobytes())
+        size = (settings.width, settings.height)
+        if self.textures is None or self.textures[0].size != size:
+            self.release()
+            self.textures = tuple(self.ctx.texture(size, 4, dtype="f4") for _ in range(3))
+        direct = np.zeros((settings.height, settings.width, 4), np.float32)
+        direct[..., :3], direct[..., 3] = level / 255.0, 1.0
+        self.textures[0].write(direct.tobytes())
+        self.textures[1].write(np.zeros_like(direct).tobytes())
+        self.textures[2].write(np.ones_like(direct).tobytes())
+        data = np.full((settings.height, settings.width, 3), level / 255.0, np.float32)
         n, steps = settings.grid_size, settings.iterations + 1
         grid = np.zeros((3, n, n, n, 4), np.float32)
         audit = types.SimpleNamespace(
@@ -170,11 +205,12 @@ class RecordingPipeline:
             border_loss=np.zeros((steps - 1, 3)), clamp_gain=np.zeros((steps - 1, 3)),
             occluded=np.zeros((steps - 1, 3)))
         rsm = np.zeros((8, 8, 4), np.float32)
-        return types.SimpleNamespace(
-            settings=settings, final_image=data[..., :3].astype(np.float32) / 255.0,
-            rsm_position=rsm, rsm_normal=rsm, rsm_flux=rsm, accumulated=grid,
-            steps=[grid] * steps if keep_steps else None, geometry_volume=None, audit=audit,
-            timings_ms={"rsm": 1.0, "propagate": 2.0}, warnings=[], display_scale=1.0)
+        return _FinishedJob(types.SimpleNamespace(
+            settings=settings, final_image=data, direct=data, indirect=data * 0,
+            albedo=data * 0 + 1, rsm_position=rsm, rsm_normal=rsm, rsm_flux=rsm,
+            accumulated=grid, steps=[grid] * steps if keep_steps else None,
+            geometry_volume=None, audit=audit, timings_ms={"rsm": 1.0, "propagate": 2.0},
+            stages_run=("rsm", "propagate"), warnings=[], display_scale=1.0))
 
     def reload_shaders(self):
         return False
@@ -182,7 +218,9 @@ class RecordingPipeline:
     programs = types.SimpleNamespace(errors={})
 
     def release(self):
-        self.final_texture.release()
+        for texture in self.textures or ():
+            texture.release()
+        self.textures = None
 
 
 def test_pipeline_reruns_only_on_change_and_a_broken_mesh_keeps_the_scene(config_home):
@@ -191,12 +229,15 @@ def test_pipeline_reruns_only_on_change_and_a_broken_mesh_keeps_the_scene(config
     state.follow_view_size = False
     app = _app(state, pipeline_class=RecordingPipeline)
     try:
+        app.settle()      # a first picture at a reduced size, then the full size
+        ran = len(RecordingPipeline.runs)
+        assert ran == 2 and RecordingPipeline.runs[-1].width == TINY.width
         for _ in range(3):
             app.frame()
-        assert len(RecordingPipeline.runs) == 1, "same settings must not re-run"
+        assert len(RecordingPipeline.runs) == ran, "same settings must not re-run"
         app.state.set_corrections(propagation_4pi=False)
         app.frame()
-        assert len(RecordingPipeline.runs) == 2
+        assert len(RecordingPipeline.runs) == ran + 1
         assert app.state.runtime.result.settings.corrections.propagation_4pi is False
 
         app.window.dropped_paths.append(config_home / "broken.obj")   # drag and drop
@@ -244,8 +285,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
     state.follow_view_size = False
     app = _app(state)
     try:
-        for _ in range(2):
-            app.frame()
+        app.settle()
         app.frame(capture=True)
         assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
         corrected = _view_pixels(app)
@@ -253,6 +293,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         assert app.ctx.error == "GL_NO_ERROR"
 
         app.state.set_corrections(propagation_4pi=False)        # the Corrections checkbox
+        app.settle()
         app.frame(capture=True)
         flipped = _view_pixels(app)
         assert np.abs(flipped - corrected).mean() > 1.0, "flipping 1/(4π) changed nothing"
@@ -261,7 +302,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.state.compare_settings = app.state.compare_settings.with_changes(
             corrections="original")
         app.state.view_mode, app.state.split_position = "split", 0.5
-        app.frame()
+        app.settle()
         app.frame(capture=True)
         split = _view_pixels(app)
         half = split.shape[1] // 2
@@ -277,18 +318,20 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.state.view_buffer = "final"
 
         rt = app.state.runtime          # the display's auto exposure (on by default):
-        assert rt.compare_result.display_scale == rt.result.display_scale   # B at A's scale
+        assert rt.compare_result.display_scale != rt.result.display_scale   # their own,
+        assert rt.displays["B"].scale == rt.displays["A"].scale   # but B is shown at A's
         app.state.expose_sides_separately = True           # each side on its own
-        for _ in range(3):
-            app.frame()
-        assert rt.compare_result.display_scale != rt.result.display_scale
+        app.frame()
+        assert rt.displays["B"].scale == rt.compare_result.display_scale
+        assert rt.displays["A"].scale == rt.result.display_scale
         app.state.update(auto_exposure=False)              # a fixed display exposure: the
         for _ in range(3):                                 # sides get their exposures
             app.frame()
         exposure_a, exposure_b = app.state.runtime.side_exposures
         assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
-        assert app.state.runtime.result.settings.exposure == exposure_a
-        assert app.state.runtime.compare_result.settings.exposure == exposure_b
+        assert rt.displays["A"].exposure == exposure_a
+        assert rt.displays["B"].exposure == exposure_b
+        assert rt.displays["A"].scale == rt.displays["B"].scale == 1.0
         app.state.expose_sides_separately = False
         app.state.update(auto_exposure=True, exposure=1.0)
 
@@ -297,7 +340,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.frame()
         app.state.inspect.source = "propagation"
         app.state.inspect.glyphs = True
-        app.frame()
+        app.settle()
         app.frame(capture=True)
         assert _view_pixels(app).std() > 1.0
         assert app.state.runtime.result.steps is not None
@@ -307,8 +350,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         broken = config_home.parent.parent / "broken.obj"
         broken.write_text("v 0 0 0\nthis is not a mesh\n")
         app.state.requests.open_scene = str(broken)           # the path field's Open button
-        app.frame()
-        app.frame()
+        app.settle()
         assert app.state.settings.scene == "cornell"
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert len(errors) == 1 and "broken.obj" in errors[0]
@@ -329,18 +371,19 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.state.view_mode = "single"
         for bump in (0.0, 10.0):           # the first poll only records the time stamp
             stamp[0] += bump
-            app._shader_poll = 0.0
+            app.controller.poll_shaders(app.state)
             app.frame()
         shader_errors = app.state.runtime.shader_errors
         assert shader_errors and "syntax error" in next(iter(shader_errors.values()))
         app.state.set_corrections(propagation_4pi=False)   # still renders with the old ones
+        app.settle()
         app.frame(capture=True)
         assert np.abs(_view_pixels(app) - flipped).mean() < 1.0
         assert app.state.runtime.result.settings.corrections.propagation_4pi is False
 
         monkeypatch.setattr(program_module, "load_program", good_load)
         stamp[0] += 10.0
-        app._shader_poll = 0.0
+        app.controller.poll_shaders(app.state)
         app.frame()
         assert app.state.runtime.shader_errors == {}
         assert any(m.text.startswith("shaders reloaded") for m in app.state.messages)
@@ -395,8 +438,7 @@ def test_a_saved_scene_that_no_longer_opens_falls_back_to_the_default(config_hom
     state.follow_view_size = False
     app = _app(state)
     try:
-        for _ in range(3):
-            app.frame()
+        app.settle()
         assert app.state.settings.scene == Settings().scene
         assert app.state.runtime.result is not None
         assert any("gone.obj" in m.text for m in app.state.messages if m.level == "error")
@@ -413,7 +455,7 @@ def test_new_options_change_the_view_and_a_refused_combination_keeps_the_setting
     state.follow_view_size = False
     app = _app(state)
     try:
-        app.frame()
+        app.settle()
         app.frame(capture=True)
         base = _view_pixels(app)
         assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
@@ -425,12 +467,14 @@ def test_new_options_change_the_view_and_a_refused_combination_keeps_the_setting
         assert app.state.messages[-1].level == "error"
 
         assert app.state.update(injection_offset_cells=0.0)
+        app.settle()
         app.frame(capture=True)
         offset_zero = _view_pixels(app)
         assert np.abs(offset_zero - base).mean() > 0.2, "the injection offset changed nothing"
 
         assert app.state.update(injection_offset_cells=0.5, geometry_volume="one-sided",
                                 bounces=2)
+        app.settle()
         app.frame(capture=True)
         assert app.state.runtime.result.settings.bounces == 2
         assert np.abs(_view_pixels(app) - base).mean() > 0.2, "a second bounce changed nothing"
@@ -438,7 +482,7 @@ def test_new_options_change_the_view_and_a_refused_combination_keeps_the_setting
         assert app.state.update(bounces=1, geometry_volume="off", cascades=2)
         app.state.inspect.source = "grid-slice"
         app.state.inspect.cascade = 1
-        app.frame()
+        app.settle()
         app.frame(capture=True)
         result = app.state.runtime.result
         assert len(result.cascade_specs) == 2 and app.state.inspect.cascade == 1
@@ -515,10 +559,10 @@ def test_a_bad_file_stops_the_window_never_and_is_set_aside_once(config_home, ca
 class RefusingPipeline(RecordingPipeline):
     """Refuses grid sizes above 16, as the real pipeline refuses what the driver lacks."""
 
-    def run(self, settings, keep_steps=False):
+    def start(self, settings, keep_steps=False, need_audit=True, progress=None):
         if settings.grid_size > 16:
             raise ValueError(f"grid_size {settings.grid_size} exceeds this driver's limit")
-        return super().run(settings, keep_steps)
+        return super().start(settings, keep_steps, need_audit, progress)
 
 
 def test_settings_the_pipeline_refused_are_not_written_back(config_home):
@@ -528,7 +572,7 @@ def test_settings_the_pipeline_refused_are_not_written_back(config_home):
     state.follow_view_size = False
     app = App(state, **SMALL, persist_settings=True, pipeline_class=RefusingPipeline)
     try:
-        app.frame()
+        app.settle()
         assert app.state.runtime.result is not None
         app.state.update(grid_size=32, iterations=5)
         app.frame()
@@ -547,16 +591,18 @@ def test_the_numeric_guards_warn_in_the_messages_once(config_home):
     state.follow_view_size = False
     app = _app(state)
     try:
-        app.frame()
+        app.settle()
         assert app.state.runtime.result.warnings == []
         app.state.set_corrections(injection_pi=False)   # the published injection alone
-        app.frame()
+        app.settle()
         grows = [m for m in app.state.messages
                  if m.level == "warning" and m.text.startswith("the flux grows")]
         assert len(grows) == 1 and app.state.runtime.result.warnings
+        result = app.state.runtime.result
         app.state.update(exposure=0.5)
         app.frame()
-        assert app.state.runtime.result.settings.exposure == 0.5
+        assert app.state.runtime.displays["A"].exposure == 0.5
+        assert app.state.runtime.result is result, "a display change runs no pass"
         assert sum(m.text.startswith("the flux grows") for m in app.state.messages) == 1
     finally:
         app.close()

@@ -78,11 +78,30 @@ class Window:
             self.gl_problem = str(exc)
             self.ctx = moderngl.create_context()
         self.dropped_paths: deque[Path] = deque()
+        self.events = 0
+        """Input and window events since :meth:`take_events` (an idle app waits for one)."""
         glfw.set_drop_callback(self.handle, self._on_drop)
+        # Installed before imgui's backend, which chains to them: every event is counted.
+        for install in (glfw.set_cursor_pos_callback, glfw.set_mouse_button_callback,
+                        glfw.set_scroll_callback, glfw.set_key_callback,
+                        glfw.set_char_callback, glfw.set_window_size_callback,
+                        glfw.set_framebuffer_size_callback, glfw.set_window_focus_callback,
+                        glfw.set_window_refresh_callback, glfw.set_cursor_enter_callback,
+                        glfw.set_window_iconify_callback, glfw.set_window_content_scale_callback):
+            install(self.handle, self._on_event)
 
     # -- events -------------------------------------------------------------------------
     def _on_drop(self, _window, paths) -> None:
         self.dropped_paths.extend(Path(p) for p in paths)
+        self.events += 1
+
+    def _on_event(self, *_args) -> None:
+        self.events += 1
+
+    def take_events(self) -> int:
+        """How many events arrived since the last call."""
+        count, self.events = self.events, 0
+        return count
 
     @property
     def address(self) -> int:
@@ -98,7 +117,7 @@ class Window:
     @staticmethod
     def poll_events(timeout: float | None = None) -> None:
         """Process pending events; with ``timeout``, sleep until one arrives or it expires
-        (used while minimised so an idle app does not spin)."""
+        (an idle or minimised app does not spin)."""
         if timeout is None:
             glfw.poll_events()
         else:

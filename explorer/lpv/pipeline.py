@@ -152,6 +152,17 @@ class Pipeline:
             raise RuntimeError("the pipeline has not run yet: call run() first")
         return self._display.texture
 
+    @property
+    def linear_textures(self) -> tuple[moderngl.Texture, moderngl.Texture, moderngl.Texture]:
+        """``(direct, indirect, albedo)``: the gather's linear ``rgba32f`` radiance and the
+        G-buffer's albedo (w = 1 on a surface), as the last gather or preview left them
+        (the window copies them and applies the display itself, explorer/ui/picture.py).
+        They are rewritten while a job runs."""
+        targets = self._gather.targets
+        if not targets or not self._gbuffer.textures:
+            raise RuntimeError("the pipeline has not gathered yet: call run() first")
+        return targets["direct"], targets["indirect"], self._gbuffer.textures[2]
+
     def start(self, settings: Settings | None = None, keep_steps: bool = False,
               vpls: VplArrays | None = None, need_audit: bool = True,
               progress: ProgressCallback | None = None) -> Job:

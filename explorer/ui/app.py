@@ -1,16 +1,19 @@
-"""The explorer window: one glfw window, imgui panels over one AppState, two pipelines.
+"""The explorer window shell: one glfw window, imgui panels over one AppState, and the
+frame loop; the pipelines are the :class:`~explorer.ui.controller.PipelineController`'s.
 
-The app is a thin shell over the headless :class:`explorer.lpv.pipeline.Pipeline`: each
-frame it hands the current Settings to the pipeline (which re-runs only when the Settings
-differ from the last run's), shows ``Pipeline.final_texture`` in the View panel and lets
-the panels read the FrameResult. Configuration B (compare views) is a second Pipeline with
-its own Settings that differ from A's only in the corrections (and, optionally, exposure).
+Each frame the shell polls input, hands the state to the controller with the frame
+budget (``AppState.frame_budget_ms`` of pipeline work: a change renders over several
+frames, the view showing the light grow, "propagating 5/8"), draws the panels and the
+view (explorer/ui/view_composer.py composes what it shows from the sides' pictures), and
+swaps. When nothing changed, no job runs and nothing animates, the loop waits for events
+instead of drawing (``wait_when_idle``); input draws at once. While the mouse moves the
+camera the controller renders at a reduced size, and at full size once it stops.
 
 Drive it from code (tests, scripts)::
 
     app = App(width=800, height=600, visible=False)
     app.state.set_corrections(propagation_4pi=False)
-    app.frame()                      # the change is visible in this frame
+    app.settle()                     # frames until the picture has converged
     app.screenshot("shot.png")       # the whole window, panels included
     app.close()
 """
@@ -20,6 +23,7 @@ from __future__ import annotations
 import sys
 import time
 import traceback
+from dataclasses import astuple
 from pathlib import Path
 from typing import Callable
 
@@ -34,21 +38,40 @@ from explorer.ui.state import AppState, default_screenshot_path, fit_window_size
 _MIN_RENDER_SIZE = 16
 _MAX_RENDER_SIZE = 2048
 _RESIZE_SETTLE_S = 0.15       # re-render at a new view size once resizing pauses this long
-_SHADER_POLL_S = 0.5
 _LAYOUT_FRAMES = 2          # frames before the View panel's size is trusted
-_EXPOSURE_TOLERANCE = 0.05    # relative change of auto-exposure worth a re-run
-_TASK_BUDGET_S = 0.06         # background GPU work per frame (the Error panel's reference)
+INTERACTION_SETTLE_S = 0.2
+"""After the last wheel step or key move the camera counts as moving this much longer."""
+FRAMES_AFTER_INPUT = 2
+"""Frames drawn after input or a change before the loop may wait (imgui settles hover
+and click states over a frame or two)."""
+IDLE_TIMEOUT_S = 0.5
+"""An idle loop wakes this often without input (shader files, the Error panel's delay);
+it draws only if something changed."""
+MESSAGE_SHOWN_S = 20.0        # the status line shows the last message this long
+DRAG_FPS = 15.0
+"""Frame rate aimed at while the camera is dragged (issue #10): the pipelines get what a
+frame at this rate leaves after the window's own drawing, and render at the size that
+fits (explorer/ui/controller.py DRAG_SCALES)."""
+MIN_DRAG_BUDGET_MS = 4.0
+SETTLE_FRAMES = 100000
 
 
 class App:
     def __init__(self, state: AppState | None = None, *, width: int | None = None,
                  height: int | None = None,
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
-                 pipeline_class: Callable | None | object = ...) -> None:
+                 pipeline_class: Callable | None | object = ...,
+                 wait_when_idle: bool | None = None,
+                 idle_timeout_s: float = IDLE_TIMEOUT_S) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
-        None for a window without a pipeline (panels only: the window tests)."""
+        None for a window without a pipeline (panels only: the window tests).
+        ``wait_when_idle``: wait for events instead of drawing when nothing changed
+        (default: for a visible window; a hidden one is scripted and draws every
+        :meth:`frame`); ``idle_timeout_s``: the longest such wait."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
+        self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
+        self.idle_timeout_s = float(idle_timeout_s)
         if persist_settings and state is None:
             problem = persist.load_state(self.state)
             if problem:
@@ -65,21 +88,26 @@ class App:
             print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
         if pipeline_class is ...:
             from explorer.lpv.pipeline import Pipeline as pipeline_class
-        self._pipeline_class = pipeline_class
+        from explorer.ui.controller import PipelineController
+
+        self.controller = PipelineController(
+            self.ctx, None if rt.gl_problem else pipeline_class)
         if pipeline_class is None and not rt.gl_problem:
             rt.pipeline_error = ("no LPV pipeline attached (App(pipeline_class=None)): the "
                                  "panels work, the view stays empty")
-        self._pipelines: dict[str, object] = {}
-        self._last_run: dict[str, object] = {}
-        self._failed: dict[str, object] = {}
-        self._warned: dict[str, tuple[str, ...]] = {}   # side -> warnings of its last result
-        self._ran_settings: Settings | None = None   # state.settings when A last ran
-        self._good_scene: tuple | None = None
-        self._defaults_for: str | None = None
-        self._exposure_seen: list = [None, None]
         self._pending_size: tuple | None = None
-        self._shader_poll = 0.0
         self._capture = False
+        self._quiet = False           # the last frame found nothing to do: wait next time
+        self._draws_pending = 0       # frames still to draw after input or a change
+        self._seen: tuple | None = None   # the state as the last drawn frame left it
+        self._drawn_at = 0.0              # time.monotonic() of the last drawn frame
+        self._shown_result = None     # A's result the title was made for
+        self.status = None
+        """The controller's status of the last frame (explorer.ui.controller)."""
+        self.ui_ms = 30.0
+        """The window's own time per drawn frame (smoothed), besides pipeline work."""
+        self.frames_skipped = 0
+        """frame() calls that found nothing to do and drew nothing."""
         self.last_pixels: np.ndarray | None = None
         self._init_imgui()
 
@@ -125,6 +153,10 @@ class App:
         rt = self.state.runtime
         rt.textures = UiTextures(self.ctx)
         rt.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
+        if not rt.gl_problem:
+            from explorer.ui.view_composer import ViewComposer
+
+            rt.composer = ViewComposer(self.ctx, self.controller.programs)
         rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
         self._markdown_ctx = theme.markdown_context()
         rt.markdown_ready = self._markdown_ctx is not None
@@ -137,30 +169,51 @@ class App:
 
     # -- the loop ------------------------------------------------------------------------
     def run(self, frames: int | None = None, screenshot: Path | None = None) -> int:
-        """Run until the window closes (or for ``frames`` frames, then write
-        ``screenshot`` if given). Returns an exit status."""
+        """Run until the window closes (or for ``frames`` frames, then, with
+        ``screenshot``, until the picture has converged, and write the window to it).
+        Returns an exit status."""
         count = 0
-        while self.frame(capture=screenshot is not None and frames is not None
-                         and count == frames - 1):
+        while self.frame():
             count += 1
             if frames is not None and count >= frames:
                 break
         if screenshot is not None:
-            if self.last_pixels is None:
+            if count == 0 or not self.settle():
                 print("lpv-explorer: no frame was drawn, no screenshot written",
                       file=sys.stderr)
                 return 1
+            self.frame(capture=True)
             write_png(self.last_pixels, screenshot)
             print(f"lpv-explorer: wrote {screenshot}")
         return 0
 
-    def frame(self, capture: bool = False) -> bool:
-        """Process events and draw one frame; False once the window should close.
+    def settle(self, max_frames: int = SETTLE_FRAMES) -> bool:
+        """Draw frames until no job runs, no background task works and the camera is
+        still (scripts and tests: the picture has converged); False if the window
+        closed first."""
+        for _ in range(max_frames):
+            if not self.frame(force=True):
+                return False
+            status = self.status
+            if status is not None and not status.active and not self._interacting():
+                return True              # a frame that found nothing left to do
+            if status is None and self.state.runtime.frame_index > _LAYOUT_FRAMES:
+                return True          # no pipeline (or no GL): nothing to wait for
+        return True
+
+    def frame(self, capture: bool = False, force: bool = False) -> bool:
+        """Process events, advance the pipelines within the frame budget and draw one
+        frame; with nothing to do (no input, no change, no work, no animation) an idle
+        window waits for events instead and draws nothing (``force``: draw anyway).
+        False once the window should close.
 
         ``capture``: keep the drawn frame (panels included) in :attr:`last_pixels`."""
         from imgui_bundle import imgui
 
         start = time.perf_counter()
+        force = force or capture or not self.wait_when_idle
+        if self._quiet and not force:
+            self.window.poll_events(timeout=self._idle_timeout())
         self.window.poll_events()
         if self.window.should_close() or self.state.requests.quit:
             return False
@@ -169,14 +222,27 @@ class App:
             # Nothing to draw into: skip GL work entirely and sleep until an event.
             self.window.poll_events(timeout=0.1)
             return True
-        if not self.state.runtime.gl_problem:
-            self._hot_reload()
+        rt = self.state.runtime
+        events = self.window.take_events()
+        changed = self._seen != self._fingerprint()
+        self.status = None
+        if not rt.gl_problem:
             self._update_pipelines()
-            self._background_tasks()
+        status = self.status
+        worked = status is not None and status.active
+        if not (force or events or changed or worked or rt.redraw or self._draws_pending
+                or self._message_expired()):
+            self._quiet = True
+            self.frames_skipped += 1
+            return True
+        rt.redraw = rt.audit_wanted = False      # what is drawn now asks again
         imgui.backends.opengl3_new_frame()
         imgui.backends.glfw_new_frame()
         imgui.new_frame()
         self._draw_ui()
+        from explorer.ui import widgets
+
+        rt.redraw = rt.redraw or widgets.animating()
         imgui.render()
         width, height = self.window.framebuffer_size
         self.ctx.screen.use()
@@ -185,10 +251,51 @@ class App:
         imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
         self._after_render(capture)
         self.window.swap_buffers()
-        rt = self.state.runtime
         rt.frame_index += 1
         rt.frame_ms = (time.perf_counter() - start) * 1000.0
+        work_ms = status.work_ms if status is not None else 0.0
+        # the window's own cost per frame (panels, drawing, swap), smoothed
+        self.ui_ms += 0.2 * (max(rt.frame_ms - work_ms, 0.0) - self.ui_ms)
+        self._draws_pending = FRAMES_AFTER_INPUT if (events or changed) else max(
+            self._draws_pending - 1, 0)
+        self._seen = self._fingerprint()
+        self._drawn_at = time.monotonic()
+        self._quiet = not (worked or rt.redraw or self._draws_pending or self._interacting())
         return True
+
+    def _interacting(self) -> bool:
+        return self.state.runtime.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
+
+    def _idle_timeout(self) -> float:
+        """How long an idle loop may wait: the idle timeout, or less when the status
+        line's message is due to disappear sooner."""
+        timeout = self.idle_timeout_s
+        messages = self.state.messages
+        if messages and messages[-1].level != "error":
+            left = messages[-1].created + MESSAGE_SHOWN_S - time.monotonic()
+            if left > 0:
+                timeout = min(timeout, left + 0.05)
+        return max(timeout, 0.0)
+
+    def _message_expired(self) -> bool:
+        """The status line shows a message whose time is up: draw it away."""
+        messages = self.state.messages
+        if not messages or messages[-1].level == "error":
+            return False
+        created = messages[-1].created
+        return self._drawn_at - created < MESSAGE_SHOWN_S <= time.monotonic() - created
+
+    def _fingerprint(self) -> tuple:
+        """What the window shows depends on besides input and the pipelines' work, so
+        that a script or test that changes the state between frames gets it drawn."""
+        s = self.state
+        return (s.settings, s.compare_settings, s.compare_overrides, s.view_mode,
+                s.view_buffer, s.split_position, s.expose_sides_separately,
+                s.difference_scale, s.difference_colour_map, s.follow_view_size,
+                s.render_scale, s.frame_budget_ms, s.progressive, astuple(s.inspect),
+                astuple(s.overlays), tuple(s.open_panels.items()), s.lesson_id,
+                s.lesson_step, s.plot_tab, len(s.messages), astuple(s.requests),
+                s.runtime.side_exposures)
 
     def screenshot(self, path: str | Path) -> Path:
         """Draw a frame and write it, panels included, to ``path`` (PNG)."""
@@ -208,17 +315,16 @@ class App:
                 persist.save_state(self.state)
             except OSError as exc:
                 print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)
-        for pipeline in self._pipelines.values():
-            pipeline.release()
-        self._pipelines.clear()
         rt = self.state.runtime
         for task in rt.tasks:
             task.release()
         rt.tasks.clear()
-        if rt.textures is not None:
-            rt.textures.release()
-        if rt.compositor is not None:
-            rt.compositor.release()
+        for owned in (rt.composer, rt.textures, rt.compositor):
+            if owned is not None:
+                owned.release()
+        rt.composer = None
+        rt.pictures = {}
+        self.controller.release()
         if self.persist_settings:
             imgui.save_ini_settings_to_disk(str(self._layout_file))
         if self._markdown_ctx is not None:
@@ -236,41 +342,13 @@ class App:
     def _keep_settings_that_ran(self) -> None:
         """Before saving: settings the pipeline refused are not written back; the last
         settings that ran take their place (the defaults when none ran)."""
-        failed = self._failed.get("A")
-        if failed is not None and failed[0] == self.settings_for("A"):
-            self.state.settings = self._ran_settings or Settings()
+        if self.controller.failed_settings == self.state.settings:
+            self.state.settings = self.controller.ran_settings or Settings()
 
     # -- pipelines -----------------------------------------------------------------------
-    def settings_for(self, side: str):
-        """The Settings the pipeline of ``side`` ("A" or "B") runs with this frame."""
-        state, rt = self.state, self.state.runtime
-        a = state.settings
-        # With the display's auto exposure (Settings.auto_exposure) each side already has
-        # its own display scale; expose_sides_separately then only decides whether B keeps
-        # it (_display_override). Without it, it sets each side's exposure.
-        per_side_exposure = state.expose_sides_separately and not a.auto_exposure
-        if side == "A":
-            if state.comparing and per_side_exposure:
-                a = a.with_changes(exposure=rt.side_exposures[0])
-            return a
-        b = a.with_changes(corrections=state.compare_settings.corrections,
-                           **dict(state.compare_overrides))
-        if per_side_exposure:
-            b = b.with_changes(exposure=rt.side_exposures[1])
-        return b
-
-    def _display_override(self, side: str) -> float | None:
-        """The display scale side B is shown with: A's, so that the two sides of a
-        comparison are exposed alike (unless "Expose sides separately" is on); None (its
-        own) for A and for B exposed on its own."""
-        rt = self.state.runtime
-        if side == "A" or self.state.expose_sides_separately or rt.result is None:
-            return None
-        return float(rt.result.display_scale)
-
     def _follow_view_size(self) -> bool:
         """Keep the render size at the View panel's pixels; False while the size is
-        not known yet (the first frame), so the first run already has the right size."""
+        not known yet (the first frames), so the first run already has the right size."""
         state, rt = self.state, self.state.runtime
         if not state.follow_view_size:
             return True
@@ -295,133 +373,28 @@ class App:
         return True
 
     def _update_pipelines(self) -> None:
-        rt = self.state.runtime
-        if self._pipeline_class is None:
+        """Hand the state to the controller with the frame budget; publish what the view
+        needs to show each side."""
+        state, rt = self.state, self.state.runtime
+        if self.controller.pipeline_class is None:
             return
-        if self.state.requests.open_scene:
-            self._open_scene(self.state.requests.open_scene)
-            self.state.requests.open_scene = None
+        if state.requests.open_scene:
+            self._open_scene(state.requests.open_scene)
+            state.requests.open_scene = None
         if not self._follow_view_size():
             return
-        keep_steps = (self.state.inspect.source == "propagation"
-                      or self.state.overlays.needs_steps)
-        if self._run_side("A", keep_steps):
-            rt.final_texture_id = self._pipelines["A"].final_texture.glo
-        if self.state.comparing:
-            if self._run_side("B", False):
-                rt.compare_texture_id = self._pipelines["B"].final_texture.glo
-        self._update_side_exposures()
-
-    def _run_side(self, side: str, keep_steps: bool) -> bool:
-        """Run one side's pipeline if its settings changed; True if it has a result."""
-        rt = self.state.runtime
-        settings = self.settings_for(side)
-        override = self._display_override(side)
-        existing = self._pipelines.get(side)
-        if existing is not None and getattr(existing, "display_scale_override", None) != override:
-            existing.display_scale_override = override
-            self._last_run.pop(side, None)   # the pipeline re-runs only its display stage
-        last = self._last_run.get(side)
-        if last is not None and last == (settings, keep_steps):
-            return True
-        if self._failed.get(side) == (settings, keep_steps):
-            return side in self._last_run
-        start = time.perf_counter()
-        try:
-            pipeline = self._pipelines.get(side)
-            if pipeline is None:
-                pipeline = self._pipeline_class(settings, ctx=self.ctx)
-                pipeline.display_scale_override = override
-                self._pipelines[side] = pipeline
-            result = pipeline.run(settings, keep_steps=keep_steps)
-        except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
-            self._failed[side] = (settings, keep_steps)
-            self._pipeline_failed(side, settings, exc)
-            return side in self._last_run
-        finally:
-            self.ctx.screen.use()
-        rt.pipeline_ms = (time.perf_counter() - start) * 1000.0
-        self._last_run[side] = (settings, keep_steps)
-        self._failed.pop(side, None)
-        self._post_warnings(side, result)
-        if side == "A":
-            rt.result = result
-            rt.frame_view = getattr(pipeline, "view", None)
-            rt.pipeline_error = None
-            self._ran_settings = self.state.settings
-            self._good_scene = (settings.scene, settings.camera, settings.light,
-                                settings.light_flux)
-            self._scene_defaults(pipeline, settings.scene)
+        keep_steps = state.inspect.source == "propagation" or state.overlays.needs_steps
+        drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
+        self.status = self.controller.update(
+            state, state.frame_budget_ms, keep_steps=keep_steps,
+            need_audit=rt.audit_wanted, interacting=self._interacting(),
+            drag_budget_ms=drag_budget)
+        rt.progress = dict(self.status.labels)
+        rt.displays = {side: self.controller.side_display(state, side)
+                       for side in rt.pictures}
+        if rt.result is not None and rt.result is not self._shown_result:
+            self._shown_result = rt.result
             self._update_title()
-        else:
-            rt.compare_result = result
-        return True
-
-    def _background_tasks(self) -> None:
-        """Advance the panels' background GPU work (``runtime.tasks``) within a small
-        time budget, so that the window keeps drawing while it runs."""
-        for task in list(self.state.runtime.tasks):
-            try:
-                task.advance(self.ctx, _TASK_BUDGET_S)
-            except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
-                self.state.notify(f"{type(task).__name__} failed: {exc}", "error")
-                traceback.print_exception(exc, file=sys.stderr)
-                task.release()
-                self.state.runtime.tasks.remove(task)
-            finally:
-                self.ctx.screen.use()
-
-    def _post_warnings(self, side: str, result) -> None:
-        """The numeric guards' warnings of a new result (``FrameResult.warnings``) in the
-        Messages panel: each one the side's previous result did not have, once."""
-        warnings = tuple(getattr(result, "warnings", ()) or ())
-        before = self._warned.get(side, ())
-        for text in warnings:
-            if text not in before:
-                self.state.notify(text if side == "A" else f"B: {text}", "warning")
-        self._warned[side] = warnings
-
-    def _pipeline_failed(self, side: str, settings, exc: Exception) -> None:
-        rt = self.state.runtime
-        text = f"{type(exc).__name__}: {exc}"
-        if self._good_scene is None and settings.scene != Settings().scene and side == "A":
-            # The scene saved last time (a mesh since moved, say) cannot open: start from
-            # the default scene rather than an empty view.
-            self._good_scene = (Settings().scene, None, None, None)
-        scene_error = self._good_scene is not None and settings.scene != self._good_scene[0]
-        if scene_error and side == "A":
-            # A mesh that fails to load: say so and keep the previous scene.
-            scene, camera, light, flux = self._good_scene
-            self.state.notify(f"could not open {settings.scene}: {exc}", "error")
-            self.state.update(scene=scene, camera=camera, light=light, light_flux=flux)
-            print(f"lpv-explorer: could not open {settings.scene}: {exc}", file=sys.stderr)
-            return
-        rt.pipeline_error = f"pipeline {side} failed: {text}"
-        self.state.notify(rt.pipeline_error, "error")
-        print(f"lpv-explorer: {rt.pipeline_error}", file=sys.stderr)
-        traceback.print_exception(exc, file=sys.stderr)
-
-    def _scene_defaults(self, pipeline, scene_name: str) -> None:
-        """The scene's own camera and light (before any override), so orbiting and the
-        light sliders start from what is shown. Loaded once per scene."""
-        rt = self.state.runtime
-        if self._defaults_for == scene_name:
-            return
-        self._defaults_for = scene_name
-        scene = getattr(pipeline, "base_scene", None)
-        if scene is None:
-            try:
-                from explorer.scene import load_scene
-
-                scene = load_scene(scene_name)
-            except Exception:  # noqa: BLE001 - defaults are a convenience
-                scene = None
-        rt.camera_default = _eye_target(getattr(scene, "camera", None))
-        light = getattr(scene, "light", None)
-        rt.light_default = _eye_target(light)
-        rt.light_flux_default = getattr(light, "flux", None)
-        rt.light_cone_default = getattr(light, "cone_degrees", None)
-        rt.light_is_spot = hasattr(light, "cone_degrees")
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
@@ -429,38 +402,6 @@ class App:
         # A new scene starts from its own camera and light.
         self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None)
         self.state.notify(f"opening {name_or_path}")
-
-    def _update_side_exposures(self) -> None:
-        """Per-side exposure from the latest results (computed once per new result)."""
-        from explorer.ui.images import auto_exposure
-
-        rt = self.state.runtime
-        if not (self.state.comparing and self.state.expose_sides_separately) or \
-                self.state.settings.auto_exposure:
-            return
-        values = list(rt.side_exposures)
-        for i, result in enumerate((rt.result, rt.compare_result)):
-            if result is None or self._exposure_seen[i] == id(result):
-                continue
-            self._exposure_seen[i] = id(result)
-            value = auto_exposure(result.final_image, result.settings.exposure)
-            if abs(value - values[i]) > _EXPOSURE_TOLERANCE * max(values[i], 1e-12):
-                values[i] = float(f"{value:.3g}")
-        rt.side_exposures = (values[0], values[1])
-
-    def _hot_reload(self) -> None:
-        """Recompile shaders whose files changed: each pipeline's ProgramCache reloads in
-        place (a failed compile keeps the last good program and records its log)."""
-        now = time.monotonic()
-        if now - self._shader_poll < _SHADER_POLL_S or not self._pipelines:
-            return
-        self._shader_poll = now
-        rt = self.state.runtime
-        for side, pipeline in list(self._pipelines.items()):
-            if pipeline.reload_shaders():
-                self._last_run.pop(side, None)
-                self.state.notify(f"shaders reloaded ({side})")
-            rt.shader_errors = dict(pipeline.programs.errors)
 
     # -- UI ------------------------------------------------------------------------------
     def _draw_ui(self) -> None:
@@ -620,21 +561,3 @@ class App:
         name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
         self.window.set_title(f"lpv-explorer — {name} — {preset_name(s.corrections)}")
 
-
-
-
-def _eye_target(value) -> tuple | None:
-    """(eye, target) from a camera/light object or pair, or None."""
-    if value is None:
-        return None
-    for eye_name, target_name in (("eye", "target"), ("position", "target")):
-        if hasattr(value, eye_name) and hasattr(value, target_name):
-            eye, target = getattr(value, eye_name), getattr(value, target_name)
-            if callable(eye):   # DirectionalLight.eye(bounds) is a method: use position
-                continue
-            return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
-    try:
-        eye, target = value
-        return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
-    except (TypeError, ValueError):
-        return None

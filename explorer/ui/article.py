@@ -95,6 +95,18 @@ def _texts(step: Step) -> list[str]:
     return [step.text] + [t.prompt for t in step.try_this] + [f.caption for f in step.figures]
 
 
+AUDIT_FIGURES = ("flux-per-step", "energy-audit")
+"""Figure kinds that plot the per-step energy audit of the frame."""
+
+
+def uses_audit(step: Step) -> bool:
+    """Whether the step shows the per-step energy audit (a figure or an ``audit.*``
+    number): the window then asks the pipelines to measure it."""
+    return any(spec.kind in AUDIT_FIGURES for spec in step.figures) or any(
+        name.startswith("audit.") for text in _texts(step)
+        for name, _ in lesson_text.placeholders(text))
+
+
 def uses_error(step: Step) -> bool:
     return any(name.startswith("error.") for text in _texts(step)
                for name, _ in lesson_text.placeholders(text))
@@ -250,6 +262,8 @@ def _article(state: Any, session: LessonSession) -> None:
     width = min(avail - 6.0, MAX_COLUMN * imgui.get_style().font_scale_dpi)
     left = imgui.get_cursor_pos_x() + max((avail - width) * 0.5, 0.0)
     imgui.set_cursor_pos_x(left)
+    if uses_audit(step):
+        state.runtime.want_audit()
     context = live_context(state, step)
     env = _page_env(state, session, step, context)
     page = Page(env, width)

@@ -4,10 +4,14 @@ Orbit mode: left drag orbits, middle drag or shift + left drag pans, the wheel z
 Fly mode: left drag looks around, W/A/S/D move, Q/E go down/up, shift is faster, the wheel
 moves forward. Either mode: F frames the scene, G frames the picked point.
 Every move replaces ``Settings.camera``; the pipeline then re-renders the G-buffer and the
-gather only (the light's passes do not depend on the camera).
+gather only (the light's passes do not depend on the camera). Moves are recorded in
+``runtime.interaction``: while a drag lasts (and a moment after a wheel step or a fly
+key) the window renders at a reduced size, and at full size once the camera rests.
 """
 
 from __future__ import annotations
+
+import time
 
 import numpy as np
 from imgui_bundle import imgui
@@ -89,10 +93,14 @@ def hint(state: AppState) -> str:
 def handle_mouse(state: AppState, hovered: bool, active: bool, view_height: float) -> None:
     """Camera moves from the mouse and keys while the view image is hovered or dragged.
     ``view_height``: the image's height on screen (pan speed)."""
+    interaction = state.runtime.interaction
+    interaction.held = False
     current = current_camera(state)
     if current is None:
         return
     io = imgui.get_io()
+    interaction.held = ((active and imgui.is_mouse_dragging(0))
+                        or (hovered and imgui.is_mouse_dragging(2)))
     if hovered and not io.want_text_input:
         if imgui.is_key_pressed(imgui.Key.f, False):
             frame_scene(state)
@@ -127,7 +135,10 @@ def handle_mouse(state: AppState, hovered: bool, active: bool, view_height: floa
             new = camera.dolly(eye, target, ZOOM_PER_WHEEL_STEP ** io.mouse_wheel)
     elif fly and hovered:
         new = _fly_keys(state, eye, target, io)
+        if new is not None:
+            state.runtime.request_redraw()      # held keys send no events: keep drawing
     if new is not None:
+        interaction.moved_at = time.monotonic()
         state.update(camera=new)
 
 

@@ -13,10 +13,23 @@ import time
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Callable, Protocol
 
 from explorer.lpv.schema import setting, validate
 from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS, PRESETS, Settings
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from explorer.lpv.frame import FrameResult
+    from explorer.ui.controller import SideDisplay
+    from explorer.ui.fonts import Fonts
+    from explorer.ui.formulas import FormulaCache
+    from explorer.ui.overlays.compositor import Compositor
+    from explorer.ui.overlays.in_view import Hover
+    from explorer.ui.picture import Picture
+    from explorer.ui.textures import UiTextures
+    from explorer.ui.view_composer import ViewComposer
 
 VIEW_MODES = ("single", "split", "difference")
 """single: configuration A; split: A left | B right with a draggable divider;
@@ -196,15 +209,37 @@ class Message:
 
 
 @dataclass
+class Interaction:
+    """The camera's mouse and keyboard moves (explorer/ui/camera_controls.py): the view
+    renders at a reduced size while they last."""
+
+    held: bool = False
+    """A drag that moves the camera is in progress (the button is down)."""
+    moved_at: float = -1e9
+    """time.monotonic() of the last camera move by the mouse, wheel or keys."""
+
+    def active(self, now: float, settle_s: float) -> bool:
+        """Whether the camera is being moved: held, or moved less than ``settle_s`` ago
+        (wheel steps and fly keys come as single events)."""
+        return self.held or now - self.moved_at < settle_s
+
+
+@dataclass
 class Runtime:
     """What the app loop hands to the panels each frame. Not persisted."""
 
-    result: Any = None                # FrameResult of configuration A
-    compare_result: Any = None        # FrameResult of configuration B (compare views)
-    final_texture_id: int = 0         # GL name of Pipeline.final_texture (A)
-    compare_texture_id: int = 0       # GL name of the second pipeline's final texture (B)
-    textures: Any = None              # explorer.ui.textures.UiTextures (UI-owned textures)
-    formulas: Any = None              # explorer.ui.formulas.FormulaCache
+    result: "FrameResult | None" = None           # configuration A's last finished frame
+    compare_result: "FrameResult | None" = None   # B's (compare views)
+    pictures: "dict[str, Picture]" = field(default_factory=dict)
+    """Side -> its last picture (a finished frame or a progressive preview), which the
+    view shows (explorer/ui/picture.py)."""
+    displays: "dict[str, SideDisplay]" = field(default_factory=dict)
+    """Side -> how the view shows it (exposure, display scale, tone curve)."""
+    composer: "ViewComposer | None" = None        # draws the view's images (view.glsl)
+    progress: dict[str, str] = field(default_factory=dict)
+    """Side -> its job's progress ("propagating 5/8"); empty when the picture is final."""
+    textures: "UiTextures | None" = None          # UI-owned textures (uploads)
+    formulas: "FormulaCache | None" = None
     markdown_ready: bool = False      # imgui_bundle.rich_md can render (lesson text)
     pipeline_error: str | None = None
     gl_problem: str | None = None
@@ -216,31 +251,56 @@ class Runtime:
     light_is_spot: bool = True                # False for a directional light (no cone)
     scene_bounds: tuple | None = None
     frame_ms: float = 0.0
-    pipeline_ms: float = 0.0
+    pipeline_ms: float = 0.0          # time of the last finished frame's job, all frames
     view_size: tuple[int, int] = (0, 0)   # pixels the 3D view panel offers
     view_rect: tuple | None = None        # (x0, y0, x1, y1) framebuffer pixels of the image
-    frame_index: int = 0
-    file_dialog: Any = None               # a pending portable_file_dialogs.open_file
+    frame_index: int = 0                  # frames drawn (an idle window draws none)
+    file_dialog: object | None = None     # a pending portable_file_dialogs.open_file
     file_dialog_available: bool | None = None
     split_dragging: bool = False          # the split view's divider is held
-    difference_cache: tuple | None = None  # (version, texture id, scale top)
     inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
     side_exposures: tuple[float, float] = (1.0, 1.0)  # A, B when exposed separately
+    exposure_seen: list = field(default_factory=lambda: [None, None])
+    """Per side, the (result, indirect only) its exposure was last measured on."""
     play_clock: float = 0.0               # fractional iterations while playing
     vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
-    compositor: Any = None                # explorer.ui.overlays.Compositor (view overlays)
-    hover: Any = None                     # overlays.in_view.Hover under the mouse, or None
+    compositor: "Compositor | None" = None   # the View panel's in-scene overlays
+    hover: "Hover | None" = None          # what is under the mouse in the view, or None
     view_press: tuple | None = None       # where the left button went down on the view
     pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
-    fonts: Any = None                     # explorer.ui.fonts.Fonts (prose styles)
+    fonts: "Fonts | None" = None          # prose styles
     gl_renderer: str = ""                 # GL_RENDERER of the window's context
-    frame_view: Any = None
+    interaction: Interaction = field(default_factory=Interaction)
+    audit_wanted: bool = False
+    """A panel drawn this frame shows the per-step energy audit (a plot, a lesson figure or
+    a live number): the pipelines measure it (``need_audit``) while this is so."""
+    redraw: bool = False
+    """Something drawn this frame moves by itself (playback, fly keys held): draw the
+    next frame too, even with no input."""
+    frame_view: "Callable[..., np.ndarray] | None" = None
     """``Pipeline.view`` of configuration A's pipeline (a view the FrameResult alone
     cannot make, e.g. cascade-weights, which needs the G-buffer); None before a run."""
-    tasks: list = field(default_factory=list)
-    """Background work the app loop advances each frame with its GL context (objects
-    with ``advance(ctx, budget_s)`` and ``release()``), e.g. the Error panel's
-    reference render."""
+    tasks: "list[BackgroundTask]" = field(default_factory=list)
+    """Background work the controller advances within the frame budget with its GL
+    context (objects with ``advance(ctx, budget_s)``, ``release()`` and ``running``),
+    e.g. the Error panel's reference render."""
+
+    def want_audit(self) -> None:
+        """Called by what shows the per-step energy audit while it is drawn."""
+        self.audit_wanted = True
+
+    def request_redraw(self) -> None:
+        """Called by what animates, every frame it animates."""
+        self.redraw = True
+
+
+class BackgroundTask(Protocol):
+    """Work a panel hands to the frame loop (``runtime.tasks``)."""
+
+    running: bool
+
+    def advance(self, ctx, budget_s: float) -> None: ...
+    def release(self) -> None: ...
 
 
 @dataclass
@@ -292,6 +352,20 @@ class AppState:
     difference_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
                                       doc="Watts per pixel at the top of the difference "
                                           "scale; 0 = automatic.")
+    difference_colour_map: str = setting("heat", kind="choice", choices=("heat", "diverging"),
+                                         doc="The difference view: |A − B| on the heat map, "
+                                             "or the signed A − B on the diverging map.")
+    frame_budget_ms: float = setting(30.0, kind="float", low=2.0, high=1000.0,
+                                     widget="slider", label="Frame budget", unit="ms",
+                                     group="Output",
+                                     doc="Pipeline work per drawn frame: a change renders "
+                                         "over several frames and the window keeps "
+                                         "responding.")
+    progressive: bool = setting(True, kind="bool", widget="checkbox",
+                                label="Show the light converging", group="Output",
+                                doc="Show the picture after every few propagation steps "
+                                    "while it converges, instead of only the converged "
+                                    "one.")
     follow_view_size: bool = setting(True, kind="bool", widget="checkbox",
                                      label="Render at view size", group="Output",
                                      doc="Render at the View panel's size (times the render "

@@ -79,6 +79,17 @@ def help_marker(text: str) -> None:
         imgui.set_tooltip(text)
 
 
+_animating = False
+
+
+def animating() -> bool:
+    """Whether a playback drawn since the last call is playing (the window then draws
+    the next frame without waiting for input); resets."""
+    global _animating
+    playing, _animating = _animating, False
+    return playing
+
+
 def playback(playing: bool, step: int, last: int, clock: float, rate: float
              ) -> tuple[bool, int, float]:
     """Play/Pause and a step slider 0..``last``; while playing, ``clock`` (fractional
@@ -92,6 +103,8 @@ def playback(playing: bool, step: int, last: int, clock: float, rate: float
     if changed:
         step, playing = value, False
     if playing:
+        global _animating
+        _animating = True
         clock += imgui.get_io().delta_time * rate
         if clock >= 1.0:
             step = (step + int(clock)) % (last + 1)

@@ -154,24 +154,27 @@ class Compositor:
 
     # ------------------------------------------------------------------ entry point
     def compose(self, side: str, result, base_texture: int, base_top_first: bool,
-                overlays: OverlayState) -> int:
+                overlays: OverlayState, base_version: object = None) -> int:
         """The GL name of a texture (row 0 at the bottom, as GL draws) holding the view's
         image of ``result`` (``base_texture``, stored top row first if ``base_top_first``)
-        with the overlays drawn in the scene."""
+        with the overlays drawn in the scene. ``base_version``: what the base texture
+        holds, when the same texture is redrawn with other contents (the view composer's
+        images: a new exposure, a progressive picture)."""
         self._reload_shaders()
         height, width = result.final_image.shape[:2]
         layers = self._sides.get(side)
         if layers is None:
             layers = self._sides[side] = _Side(self.ctx, self.programs)
-        key = (id(result), int(base_texture), bool(base_top_first), astuple(overlays),
-               (width, height))
+        key = (id(result), int(base_texture), base_version, bool(base_top_first),
+               astuple(overlays), (width, height))
         if layers.key == key and layers.output is not None:
             return layers.output.colour.glo
         layers.allocate((width, height))
         layers.key, layers.result = key, result
         o = overlays
-        static_key = (id(result), int(base_texture), bool(base_top_first), (width, height),
-                      o.vpls, o.vpl_density, o.vpl_size, o.blockers, o.cascade)
+        static_key = (id(result), int(base_texture), base_version, bool(base_top_first),
+                      (width, height), o.vpls, o.vpl_density, o.vpl_size, o.blockers,
+                      o.cascade)
         vp = view_projection(result)
         notes: list[str] = []
         try:

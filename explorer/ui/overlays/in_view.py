@@ -31,17 +31,19 @@ def side_result(state: AppState, side: str):
     return rt.result if side == "A" else rt.compare_result
 
 
-def shown_texture(state: AppState, side: str, texture: int, bottom_first: bool
-                  ) -> tuple[int, bool]:
+def shown_texture(state: AppState, side: str, texture: int, bottom_first: bool,
+                  version: object = None) -> tuple[int, bool]:
     """(texture, stored bottom row first) the view draws for ``side``: the overlays
-    composited over ``texture`` when any is shown, else ``texture`` itself."""
+    composited over ``texture`` (holding ``version``) when any is shown, else
+    ``texture`` itself."""
     rt, overlays = state.runtime, state.overlays
     result = side_result(state, side)
     if (not overlays.any_shown or rt.compositor is None or result is None
             or getattr(result, "gbuffer_position", None) is None):
         return texture, bottom_first
     try:
-        return rt.compositor.compose(side, result, texture, not bottom_first, overlays), True
+        return rt.compositor.compose(side, result, texture, not bottom_first, overlays,
+                                     version), True
     except Exception as exc:  # noqa: BLE001 - the view still shows the frame
         text = f"overlays could not be drawn: {type(exc).__name__}: {exc}"
         if not state.messages or state.messages[-1].text != text:

@@ -13,7 +13,8 @@ from explorer.ui.state import VIEW_MODES, AppState
 def gui_compare(state: AppState) -> None:
     widgets.dim_text_wrapped(
         "B shares scene, camera, light and LPV settings with A; only the corrections "
-        "differ. Split: A left, B right. Difference: |A - B| in false colour.")
+        "differ. Split: A left, B right. Difference: |A - B| (or A - B) in false "
+        "colour.")
     for mode in VIEW_MODES:
         if imgui.radio_button(mode.capitalize() + "##cmp", state.view_mode == mode):
             state.view_mode = mode
@@ -23,10 +24,9 @@ def gui_compare(state: AppState) -> None:
         _, state.split_position = imgui.slider_float("Divider", state.split_position, 0.02,
                                                      0.98, "%.2f")
     if state.view_mode == "difference":
-        changed, value = imgui.slider_float("Scale top (0 = auto)", state.difference_scale,
-                                            0.0, 2.0, "%.3g")
-        if changed:
-            state.difference_scale = max(value, 0.0)
+        from explorer.ui.panels.view import difference_controls
+
+        difference_controls(state)
     _, state.expose_sides_separately = imgui.checkbox("Expose sides separately",
                                                       state.expose_sides_separately)
     widgets.help_marker("With the display's auto exposure each side keeps its own display "

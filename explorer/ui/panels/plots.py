@@ -50,6 +50,7 @@ def _axis_controls(state: AppState) -> None:
 
 
 def _flux_plot(state: AppState, results: list) -> None:
+    state.runtime.want_audit()          # the pipelines measure the audit while it shows
     _axis_controls(state)
     avail = imgui.get_content_region_avail()
     draw_flux_plot("Flux in flight per propagation step", flux_series(results),
@@ -57,6 +58,7 @@ def _flux_plot(state: AppState, results: list) -> None:
 
 
 def _audit_plot(state: AppState, results: list) -> None:
+    state.runtime.want_audit()
     _axis_controls(state)
     avail = imgui.get_content_region_avail()
     draw_audit_plot("Energy audit (sum of channels)", audit_series(results), avail.x,

@@ -1,6 +1,10 @@
-"""The 3D view: the pipeline's final image, a split view of two configurations with a
-draggable divider, or their difference in false colour with a scale bar. The camera (shared
-by both sides) moves with the mouse and keys of explorer.ui.camera_controls; the overlays of
+"""The 3D view: one configuration's picture, a split view of two configurations with a
+draggable divider, or their difference in false colour with a scale bar. The images come
+from the view composer (explorer/ui/view_composer.py, one pass of ``shaders/view.glsl``
+over the sides' pictures), so exposure, buffer, indirect only, the divider and the
+difference's scale and colour map run no pipeline stage; while a side is still
+converging its progress ("propagating 5/8") shows in the corner. The camera (shared by
+both sides) moves with the mouse and keys of explorer.ui.camera_controls; the overlays of
 the "Show in scene" panel are drawn into the single and split views
 (explorer.ui.overlays.in_view)."""
 
@@ -8,15 +12,10 @@ from __future__ import annotations
 
 from imgui_bundle import imgui
 
-from explorer.lpv.tonemap import display_encode
-from explorer.ui import camera_controls, images, legend, widgets
+from explorer.ui import camera_controls, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
-from explorer.ui.textures import tonemap
-
-# Pipeline.final_texture holds the bottom row first (GL convention), so the view samples
-# it upside down; textures the UI uploads from FrameResult arrays are top row first.
-UV_TOP_LEFT, UV_BOTTOM_RIGHT = (0.0, 1.0), (1.0, 0.0)
+from explorer.ui.view_composer import DIFFERENCE_MAPS
 
 
 def gui_view(state: AppState) -> None:
@@ -29,7 +28,8 @@ def gui_view(state: AppState) -> None:
     rt.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
-    if not rt.final_texture_id:
+    pictures = rt.pictures
+    if "A" not in pictures or rt.composer is None:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
@@ -45,18 +45,19 @@ def gui_view(state: AppState) -> None:
     rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
     divider_grabbed = False
     split_x = None
-    if state.view_mode == "split" and rt.compare_texture_id:
+    if state.view_mode == "split" and "B" in pictures:
         divider_grabbed = _split(state, draw, origin, end, hovered)
         split_x = origin.x + (end.x - origin.x) * state.split_position
-    elif state.view_mode == "difference" and rt.compare_result is not None:
+    elif state.view_mode == "difference" and "B" in pictures:
         _difference(state, draw, origin, end)
     else:
-        tex, flipped = side_texture(state, "A") or (rt.final_texture_id, True)
+        tex, flipped = side_texture(state, "A")
         draw.add_image(imgui.ImTextureRef(tex), origin, end, *_uv(0.0, 1.0, flipped))
         if state.comparing:
             _overlay(draw, origin, "configuration B is rendering…")
     if state.comparing and state.view_mode == "split":
         _label(draw, origin, end, state)
+    _progress(state, draw, origin, end)
     if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
         in_view.over_image(state, draw, origin, end, hovered, split_x)
     if not divider_grabbed:
@@ -68,37 +69,23 @@ def gui_view(state: AppState) -> None:
                       imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.55)), hint)
 
 
-def side_texture(state: AppState, side: str) -> tuple[int, bool] | None:
-    """(GL texture name, stored bottom row first) of one side's chosen buffer with the
-    enabled overlays drawn in it, or None. "final" is the pipeline's own texture; the other
-    buffers are FrameResult arrays encoded like it (the frame's display scale and tone
-    curve; albedo as it is) and uploaded to a texture the UI owns."""
-    chosen = _buffer_texture(state, side)
-    return None if chosen is None else in_view.shown_texture(state, side, *chosen)
-
-
-def _buffer_texture(state: AppState, side: str) -> tuple[int, bool] | None:
+def side_texture(state: AppState, side: str) -> tuple[int, bool]:
+    """(GL texture name, stored bottom row first) of one side's chosen buffer as the
+    display shows it (the view composer's image of the side's picture), with the enabled
+    overlays drawn in it."""
     rt = state.runtime
-    if state.view_buffer == "final":
-        tex = rt.final_texture_id if side == "A" else rt.compare_texture_id
-        return (tex, True) if tex else None
-    result = rt.result if side == "A" else rt.compare_result
-    if result is None:
-        return None
-    version = (state.view_buffer, id(result))
-    linear = linear_image(result, state.view_buffer)
-    if state.view_buffer == "albedo":
-        image = tonemap(linear, 1.0)
-    else:   # as the display pass shows the final image (docs/MODEL.md "Display")
-        image = display_encode(result.settings.exposure * linear, result.display_scale,
-                               result.settings.tone_map)
-    tex = rt.textures.upload(f"view-{side}", image, version=version, nearest=False)
-    return tex, False
+    picture = rt.pictures[side]
+    display = rt.displays.get(side) or _display(state, side)
+    tex = rt.composer.side_image(side, picture, display, state.view_buffer)
+    return in_view.shown_texture(state, side, tex, True,
+                                 (picture.stamp, display, state.view_buffer))
 
 
-def linear_image(result, buffer: str):
-    """The linear (H, W, 3) image of ``buffer`` (VIEW_BUFFERS) from a FrameResult."""
-    return result.final_image if buffer == "final" else getattr(result, buffer)
+def _display(state: AppState, side: str):
+    from explorer.ui.controller import SideDisplay
+
+    s = state.settings
+    return SideDisplay(s.exposure, 1.0, s.tone_map, s.indirect_only)
 
 
 def _uv(u0: float, u1: float, flipped: bool):
@@ -153,12 +140,29 @@ def _same_line_if_fits(label: str, checkbox: bool = False, field: float = 0.0) -
 
 def _centred_message(state: AppState, avail) -> None:
     rt = state.runtime
-    text = rt.gl_problem or rt.pipeline_error or "rendering…"
+    progress = rt.progress.get("A")
+    text = rt.gl_problem or rt.pipeline_error or (
+        f"rendering… {progress}" if progress else "rendering…")
     colour = widgets.ERROR if (rt.gl_problem or rt.pipeline_error) else widgets.DIM
     imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + avail.x - 16)
     imgui.dummy((0, avail.y * 0.4))
     imgui.text_colored(colour, text)
     imgui.pop_text_wrap_pos()
+
+
+def _progress(state: AppState, draw, origin, end) -> None:
+    """Each side still converging says where it is, in the view's bottom right corner
+    ("A: propagating 5/8")."""
+    rt = state.runtime
+    sides = [side for side in ("A", "B") if side in rt.progress
+             and (side == "A" or state.comparing)]
+    if not sides:
+        return
+    text = "   ".join(f"{side}: {rt.progress[side]}" if state.comparing else rt.progress[side]
+                       for side in sides)
+    width = imgui.calc_text_size(text).x
+    line = imgui.get_text_line_height()
+    _overlay(draw, imgui.ImVec2(end.x - width - 20, end.y - line - 2 * 6 - 8), text)
 
 
 def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
@@ -167,8 +171,8 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
     width = end.x - origin.x
     x = origin.x + width * state.split_position
     frac = state.split_position
-    tex_a, flip_a = side_texture(state, "A") or (rt.final_texture_id, True)
-    tex_b, flip_b = side_texture(state, "B") or (rt.compare_texture_id, True)
+    tex_a, flip_a = side_texture(state, "A")
+    tex_b, flip_b = side_texture(state, "B")
     draw.add_image(imgui.ImTextureRef(tex_a), origin, (x, end.y), *_uv(0.0, frac, flip_a))
     draw.add_image(imgui.ImTextureRef(tex_b), (x, origin.y), end, *_uv(frac, 1.0, flip_b))
     mouse = imgui.get_mouse_pos()
@@ -217,20 +221,27 @@ def _overlay(draw, pos, text: str) -> None:
 
 def _difference(state: AppState, draw, origin, end) -> None:
     rt = state.runtime
-    a, b = rt.result, rt.compare_result
-    image_a, image_b = linear_image(a, state.view_buffer), linear_image(b, state.view_buffer)
-    if image_a.shape != image_b.shape:
-        _overlay(draw, origin, "the two sides differ in size; waiting for B")
-        return
-    version = ("difference", id(a), id(b), state.difference_scale, state.view_buffer)
-    if rt.difference_cache is None or rt.difference_cache[0] != version:
-        image, top = images.difference(image_a, image_b, state.difference_scale)
-        tex = rt.textures.upload("difference", image, version=version)
-        rt.difference_cache = (version, tex, top)
-    _, tex, top = rt.difference_cache
+    a, b = rt.pictures["A"], rt.pictures["B"]
+    displays = [rt.displays.get(side) or _display(state, side) for side in ("A", "B")]
+    shown = rt.composer.difference(a, b, *displays, state.view_buffer,
+                                   state.difference_scale, state.difference_colour_map)
     bar = widgets.SCALE_BAR_WIDTH + 60.0
     image_end = imgui.ImVec2(end.x - bar, end.y)
-    draw.add_image(imgui.ImTextureRef(tex), origin, image_end)
-    widgets.scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y, top)
-    _overlay(draw, origin, f"|A − B| luminance of {state.view_buffer}"
+    draw.add_image(imgui.ImTextureRef(shown.texture), origin, image_end,
+                   *_uv(0.0, 1.0, True))
+    widgets.scale_bar(draw, imgui.ImVec2(image_end.x + 8, origin.y), end.y - origin.y,
+                      shown.top, signed=shown.signed)
+    what = "A − B" if shown.signed else "|A − B|"
+    _overlay(draw, origin, f"{what} luminance of {state.view_buffer}"
              + (" (auto scale)" if state.difference_scale <= 0 else ""))
+
+
+def difference_controls(state: AppState) -> None:
+    """The difference view's scale and colour map (the Compare panel)."""
+    changed, value = imgui.slider_float("Scale top (0 = auto)", state.difference_scale,
+                                        0.0, 2.0, "%.3g")
+    if changed:
+        state.difference_scale = max(value, 0.0)
+    _, state.difference_colour_map = widgets.combo("Colour map##difference",
+                                                   state.difference_colour_map,
+                                                   DIFFERENCE_MAPS)

@@ -1,0 +1,673 @@
+"""The window's pipeline controller: configurations A and B, their jobs within a frame
+budget, progressive pictures, failures, hot reload and the display of each side, with no
+window (tests drive it with a headless context).
+
+Each frame the window shell calls :meth:`PipelineController.update` with the app state
+and a budget in milliseconds. The controller
+
+* asks each side's pipeline for the frame the state describes (:meth:`Pipeline.start`;
+  a request that differs from the job in flight cancels it, and the pipeline keeps the
+  stages that completed), and advances the jobs until the budget is spent, whole units of
+  work at a time (explorer/lpv/job.py), both sides alternately in split view;
+* publishes pictures: when a job finishes, and (``AppState.progressive``) while the
+  propagation runs, a preview of the accumulation so far after each few steps, copied
+  into the side's :class:`~explorer.ui.picture.Picture`;
+* runs no stage for a display-only change: the pipeline's Settings have the display
+  stage's fields pinned (:data:`PINNED_DISPLAY`), and exposure, tone curve, indirect
+  only and the auto exposure of each side are the view composer's
+  (:meth:`side_display`, explorer/ui/view_composer.py);
+* renders at a reduced size while the camera is dragged (``interacting``): the largest
+  of :data:`DRAG_SCALES` whose camera-dependent work (G-buffer, gather, display) fits the
+  frame budget as last measured, and at the full size once the drag ends;
+* keeps the last good result when a request fails (one message per failure; a scene
+  that does not open restores the previous one), reloads changed shaders (a compile error
+  keeps the last good program and shows the log), and advances the panels' background
+  tasks (``runtime.tasks``, the Error panel's reference) in what is left of the budget.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import traceback
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Callable, Protocol
+
+import numpy as np
+
+from explorer.lpv.schema import stages_reading
+from explorer.lpv.settings import Settings
+from explorer.ui.picture import Picture, Stamp
+
+if TYPE_CHECKING:
+    import moderngl
+
+    from explorer.gl.program import ProgramCache
+    from explorer.lpv.frame import FrameResult
+    from explorer.lpv.job import Job, Progress
+    from explorer.ui.state import AppState
+
+SIDES = ("A", "B")
+PINNED_DISPLAY: dict[str, object] = {
+    name: getattr(Settings(), name) for name in stages_reading(Settings, "display")}
+"""The display stage's fields, fixed in what the pipelines run: the view composer applies
+the real ones, so changing them runs no stage (exposure, tone map, indirect only, auto
+exposure)."""
+CAMERA_STAGES = frozenset({"grid", "gbuffer", "gather", "display"})
+"""What a camera move runs (with one cascade the grid stage only recomputes its specs)."""
+DRAG_SCALES = (1.0, 0.5, 0.25)
+"""Render-size factors tried while the camera is dragged, largest first."""
+FIRST_DRAG_SCALE = 0.5
+"""Used until a camera-only frame has been timed."""
+FIRST_PICTURE_SCALE = 0.25
+"""The first picture after launch renders at this fraction of the size (quick to show),
+then the full size follows."""
+MIN_RENDER_EDGE = 16
+EXPOSURE_TOLERANCE = 0.05
+"""Relative change of a side's own exposure (exposed separately) worth applying."""
+SHADER_POLL_S = 0.5
+MIN_TASK_MS = 2.0
+"""Background tasks run when at least this much of the budget is left."""
+
+
+class PipelineLike(Protocol):
+    """What the controller calls on a pipeline (explorer.lpv.pipeline.Pipeline)."""
+
+    programs: "ProgramCache"
+
+    def start(self, settings: Settings, keep_steps: bool = ..., need_audit: bool = ...,
+              progress: Callable[[str, int, int], None] | None = ...) -> "Job": ...
+    def reload_shaders(self) -> bool: ...
+    def release(self) -> None: ...
+    @property
+    def linear_textures(self) -> tuple: ...
+
+
+@dataclass(frozen=True)
+class Request:
+    """The frame one side's pipeline is asked for."""
+
+    settings: Settings
+    """What the pipeline runs: the side's settings with :data:`PINNED_DISPLAY` and, while
+    interacting, a reduced size."""
+    keep_steps: bool = False
+    need_audit: bool = False
+    interactive: bool = False
+    """Made while the camera is dragged (reduced size)."""
+
+    def covered_by(self, done: "Request | None") -> bool:
+        """Whether the frame ``done`` computed already has all this request asks for
+        (the same settings, and its steps and audit when asked)."""
+        return (done is not None and done.settings == self.settings
+                and done.keep_steps >= self.keep_steps and done.need_audit >= self.need_audit)
+
+
+@dataclass(frozen=True)
+class SideDisplay:
+    """How the view shows one side: the display stage's parameters (docs/MODEL.md
+    "Display")."""
+
+    exposure: float
+    scale: float
+    """The display scale: auto exposure key/L̄, or 1, or A's (B shown at A's exposure)."""
+    tone_map: str
+    indirect_only: bool
+
+
+@dataclass(frozen=True)
+class WorkUnit:
+    """What one call into a side's job did this frame (the benchmark's frame profile)."""
+
+    side: str
+    what: str
+    """The job's label after the call ("propagating 5/8", "done"), or "preview",
+    "snapshot", a task's class name."""
+    ms: float
+
+
+@dataclass
+class ControllerStatus:
+    """What :meth:`PipelineController.update` did and where the work stands."""
+
+    busy: bool = False
+    """A job or a background task still has work: the window must keep drawing."""
+    published: bool = False
+    """A side has a new picture this frame."""
+    labels: dict[str, str] = field(default_factory=dict)
+    """Side -> its job's progress ("propagating 5/8"); absent when the side is idle."""
+    work: list[WorkUnit] = field(default_factory=list)
+    work_ms: float = 0.0
+    failures: int = 0
+    """Requests that failed this frame (a message was posted; the state may have been
+    put back, e.g. a scene that does not open)."""
+
+    @property
+    def active(self) -> bool:
+        """Anything happened or is still to happen: the window draws this frame."""
+        return self.busy or self.published or bool(self.work) or self.failures > 0
+
+
+@dataclass
+class SideState:
+    """One side's pipeline, job and last results."""
+
+    name: str
+    pipeline: PipelineLike | None = None
+    picture: Picture | None = None
+    job: "Job | None" = None
+    request: Request | None = None
+    """The request of the job in flight."""
+    done: Request | None = None
+    """The request of the last finished frame (what :attr:`result` shows)."""
+    failed: Request | None = None
+    result: "FrameResult | None" = None
+    progress: "Progress | None" = None
+    previewed: int = 0
+    """Propagation steps of the job's last preview."""
+    job_ms: float = 0.0
+    """Time spent in the job in flight so far."""
+    serial: int = 0
+    auto_scale: float | None = None
+    """The auto exposure of the side's last picture (previews keep it: a steady
+    exposure shows the light growing)."""
+    scale_cache: dict = field(default_factory=dict)
+    """(id(result), indirect_only) -> auto exposure scale."""
+    warned: tuple[str, ...] = ()
+    stage_runs: Counter = field(default_factory=Counter)
+    """Stage -> how many times it started on this side (tests and the benchmark)."""
+
+
+class PipelineController:
+    """Owns the pipelines of sides A and B (module docstring)."""
+
+    def __init__(self, ctx: "moderngl.Context", pipeline_class: Callable | None) -> None:
+        from explorer.gl.program import ProgramCache
+
+        self.ctx = ctx
+        self.pipeline_class = pipeline_class
+        self.programs = ProgramCache(ctx)
+        """The pictures' copy program (the pipelines have their own caches)."""
+        self.sides: dict[str, SideState] = {name: SideState(name) for name in SIDES}
+        self.drag_scale = FIRST_DRAG_SCALE
+        self.camera_ms_per_pixel: float | None = None
+        """Measured cost of the last camera-only frame per pixel."""
+        self.camera_ms: dict[float, float] = {}
+        """Drag scale -> milliseconds of the last camera-only frame at about that scale
+        (chooses :attr:`drag_scale`)."""
+        self.ran_settings: Settings | None = None
+        """state.settings when A last finished a frame."""
+        self.failed_settings: Settings | None = None
+        """state.settings when A last failed (None once it finishes a frame again)."""
+        self._good_scene: tuple | None = None
+        self._defaults_for: str | None = None
+        self._shader_poll = 0.0
+        self._turn = 0
+        self._first_done = False
+        self._status = ControllerStatus()
+        self._side_budget_ms = 30.0
+        self.full_pixels = 0
+        """Pixels of the full render size (the state's, each update)."""
+
+    # ------------------------------------------------------------------ requests
+    def settings_for(self, state: "AppState", side: str) -> Settings:
+        """The Settings ``side`` shows: A's, and for B A's with the compare corrections
+        and overrides (display fields as the user set them)."""
+        a = state.settings
+        if side == "A":
+            return a
+        return a.with_changes(corrections=state.compare_settings.corrections,
+                              **dict(state.compare_overrides))
+
+    def request_for(self, state: "AppState", side: str, keep_steps: bool, need_audit: bool,
+                    interacting: bool) -> Request:
+        settings = self.settings_for(state, side).with_changes(**PINNED_DISPLAY)
+        scale = 1.0
+        if interacting:
+            scale = self.drag_scale
+        elif not self._first_done:
+            scale = FIRST_PICTURE_SCALE
+        if scale < 1.0:
+            settings = settings.with_changes(
+                width=max(MIN_RENDER_EDGE, int(round(settings.width * scale))),
+                height=max(MIN_RENDER_EDGE, int(round(settings.height * scale))))
+        return Request(settings, keep_steps and side == "A", need_audit,
+                       interactive=scale < 1.0)
+
+    def active_sides(self, state: "AppState") -> tuple[str, ...]:
+        return SIDES if state.comparing else ("A",)
+
+    # ------------------------------------------------------------------ the frame
+    def update(self, state: "AppState", budget_ms: float, *, keep_steps: bool = False,
+               need_audit: bool = False, interacting: bool = False,
+               drag_budget_ms: float | None = None) -> ControllerStatus:
+        """Start, advance and publish within ``budget_ms`` milliseconds (module
+        docstring); fills ``state.runtime``. ``drag_budget_ms``: what a frame may spend
+        on the pipelines while the camera is dragged (the window's frame time for the
+        drag's frame rate, less its own drawing; default ``budget_ms``): the drag scale
+        is chosen so that a camera frame fits it, and a drag's frame gets that much."""
+        status = self._status = ControllerStatus()
+        if self.pipeline_class is None:
+            return status
+        self._hot_reload(state)
+        start = time.perf_counter()
+        active = self.active_sides(state)
+        drag_budget_ms = budget_ms if drag_budget_ms is None else drag_budget_ms
+        if interacting:
+            budget_ms = max(budget_ms, drag_budget_ms)
+        self._side_budget_ms = drag_budget_ms / len(active)
+        self.full_pixels = state.settings.width * state.settings.height
+        for name in active:
+            self._ask(state, self.sides[name],
+                      self.request_for(state, name, keep_steps, need_audit, interacting))
+        running = [self.sides[name] for name in active if self.sides[name].job is not None]
+        self._advance(state, running, budget_ms, start, status)
+        left = budget_ms - (time.perf_counter() - start) * 1e3
+        self._tasks(state, left, status)
+        for name in active:
+            side = self.sides[name]
+            if side.job is not None:
+                status.busy = True
+                status.labels[name] = (side.progress.label if side.progress is not None
+                                       else "starting")
+        if any(getattr(task, "running", False) for task in state.runtime.tasks):
+            status.busy = True
+        self._publish_runtime(state)
+        status.work_ms = (time.perf_counter() - start) * 1e3
+        return status
+
+    def _ask(self, state: "AppState", side: SideState, request: Request) -> None:
+        """Start a job for ``request`` unless the last frame or the job in flight already
+        computes it, or it failed before."""
+        if side.job is not None and side.request == request:
+            return
+        if side.job is None and (request.covered_by(side.done) or request == side.failed):
+            return
+        if side.job is not None and side.request.interactive and request.interactive:
+            return     # a drag's frame finishes before the next starts: never starved
+        try:
+            if side.pipeline is None:
+                side.pipeline = self.pipeline_class(request.settings, ctx=self.ctx)
+            side.job = side.pipeline.start(
+                request.settings, keep_steps=request.keep_steps, need_audit=request.need_audit,
+                progress=_StageCounter(side.stage_runs))
+        except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
+            self._failed(state, side, request, exc)
+            return
+        finally:
+            self.ctx.screen.use()
+        side.request, side.previewed, side.job_ms = request, 0, 0.0
+        side.progress = side.job.progress
+
+    def _advance(self, state: "AppState", running: list[SideState], budget_ms: float,
+                 start: float, status: ControllerStatus) -> None:
+        """Advance the jobs until the budget is spent: the sides take turns (who goes
+        first alternates between frames), each given an equal share of what is left; a
+        side whose job has more work goes round again while its next unit still fits. At
+        most one progressive preview per side and frame, before its first turn."""
+        if not running:
+            return
+        self._turn = (self._turn + 1) % len(running)
+        order = running[self._turn:] + running[:self._turn]
+        previewed: set[str] = set()
+        while order:
+            left = budget_ms - (time.perf_counter() - start) * 1e3
+            side = order.pop(0)
+            if side.job is None:
+                continue
+            if side.name in previewed and not self._fits(side, left / (len(order) + 1)):
+                continue
+            if side.name not in previewed:
+                previewed.add(side.name)
+                self._preview_if_due(state, side, status)
+                if side.job is None:
+                    continue
+                left = budget_ms - (time.perf_counter() - start) * 1e3
+            self._step(state, side, max(left, 0.0) / (len(order) + 1), status)
+            if side.job is not None:
+                order.append(side)
+
+    @staticmethod
+    def _fits(side: SideState, left_ms: float) -> bool:
+        """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms``."""
+        unit_ms = getattr(side.pipeline, "unit_ms", {}) or {}
+        return left_ms > 0.0 and unit_ms.get(side.job.stage or "", 0.0) <= left_ms
+
+    def _step(self, state: "AppState", side: SideState, budget_ms: float,
+              status: ControllerStatus) -> None:
+        began = time.perf_counter()
+        try:
+            side.progress = side.job.advance(budget_ms)
+        except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
+            request = side.request
+            side.job, side.request = None, None
+            self._failed(state, side, request, exc)
+            return
+        finally:
+            self.ctx.screen.use()
+        elapsed = (time.perf_counter() - began) * 1e3
+        side.job_ms += elapsed
+        status.work.append(WorkUnit(side.name, side.progress.label, elapsed))
+        if side.job.done:
+            self._finished(state, side, status)
+
+    def _preview_if_due(self, state: "AppState", side: SideState,
+                        status: ControllerStatus) -> None:
+        """A progressive picture when the propagation advanced since the last one."""
+        progress = side.progress
+        if (not state.progressive or progress is None or progress.stage != "propagate"
+                or progress.done <= side.previewed):
+            return
+        began = time.perf_counter()
+        try:
+            shown = side.job.preview()
+            if shown:
+                side.serial += 1
+                self._snapshot(side, Stamp(side.serial, False, progress.done, progress.total),
+                               side.result)
+                if side.auto_scale is None and state.settings.auto_exposure:
+                    side.auto_scale = _picture_scale(side.picture, state.settings.indirect_only)
+                status.published = True
+        except Exception as exc:  # noqa: BLE001 - the job's own run reports it next
+            print(f"lpv-explorer: preview of {side.name} failed: {exc}", file=sys.stderr)
+        finally:
+            self.ctx.screen.use()
+        side.previewed = progress.done
+        elapsed = (time.perf_counter() - began) * 1e3
+        side.job_ms += elapsed
+        status.work.append(WorkUnit(side.name, f"preview {progress.done}/{progress.total}",
+                                    elapsed))
+
+    def _snapshot(self, side: SideState, stamp: Stamp, result: "FrameResult | None") -> None:
+        if side.picture is None:
+            side.picture = Picture(self.ctx, self.programs)
+        side.picture.copy_from(*side.pipeline.linear_textures, stamp, result)
+
+    def _finished(self, state: "AppState", side: SideState, status: ControllerStatus) -> None:
+        job, request = side.job, side.request
+        result = job.result
+        side.job, side.request = None, None
+        side.done, side.failed, side.result = request, None, result
+        side.serial += 1
+        began = time.perf_counter()
+        self._snapshot(side, Stamp(side.serial, True), result)
+        self.ctx.screen.use()
+        status.work.append(WorkUnit(side.name, "snapshot",
+                                    (time.perf_counter() - began) * 1e3))
+        status.published = True
+        side.auto_scale = float(result.display_scale)
+        side.scale_cache.clear()
+        ran = set(result.stages_run)
+        if ran and ran <= CAMERA_STAGES and "gather" in ran:
+            self._measure_camera(request, side.job_ms)
+        if side.name == "A":
+            self._first_done = True     # the first (small) picture is out: full size next
+        self._post_warnings(state, side, result)
+        rt = state.runtime
+        if side.name == "A":
+            rt.pipeline_error = None
+            if not request.interactive:
+                self.ran_settings = state.settings
+                self.failed_settings = None
+            s = request.settings
+            self._good_scene = (s.scene, s.camera, s.light, s.light_flux)
+            self._scene_defaults(state, side.pipeline, s.scene)
+        rt.pipeline_ms = side.job_ms
+
+    def _measure_camera(self, request: Request, elapsed_ms: float) -> None:
+        """Choose the drag scale from the camera-only frames timed so far: the largest of
+        DRAG_SCALES whose frame fits the drag budget (shared by the sides on screen). A
+        scale not timed yet is predicted from the time per pixel of the nearest one."""
+        pixels = request.settings.width * request.settings.height
+        full = max(self.full_pixels, 1)
+        scale = min(DRAG_SCALES, key=lambda k: abs(k * k * full - pixels))
+        self.camera_ms[scale] = elapsed_ms
+        self.camera_ms_per_pixel = elapsed_ms / max(pixels, 1)
+
+        def predicted(k: float) -> float:
+            if k in self.camera_ms:
+                return self.camera_ms[k]
+            nearest = min(self.camera_ms, key=lambda m: abs(m - k))
+            return self.camera_ms[nearest] * (k / nearest) ** 2
+
+        fits = [k for k in DRAG_SCALES if predicted(k) <= self._side_budget_ms]
+        self.drag_scale = fits[0] if fits else DRAG_SCALES[-1]
+
+    # ------------------------------------------------------------------ display
+    def side_display(self, state: "AppState", side: str) -> SideDisplay:
+        """How ``side`` is shown: the state's exposure, tone curve and indirect only, and
+        its display scale (the auto exposure of its picture, A's for B unless each side
+        is exposed separately)."""
+        s = state.settings
+        per_side = state.comparing and state.expose_sides_separately
+        exposure = s.exposure
+        if per_side and not s.auto_exposure:
+            exposure = state.runtime.side_exposures[SIDES.index(side)]
+        own = side == "A" or per_side
+        scale = self._auto_scale(state, self.sides[side if own else "A"])
+        return SideDisplay(float(exposure), scale, s.tone_map, s.indirect_only)
+
+    def _auto_scale(self, state: "AppState", side: SideState) -> float:
+        s = state.settings
+        if not s.auto_exposure:
+            return 1.0
+        result = side.result
+        if result is None or side.picture is None or not side.picture.stamp.final:
+            return side.auto_scale if side.auto_scale is not None else 1.0
+        if not s.indirect_only:     # what the pipeline measured (PINNED_DISPLAY)
+            return float(result.display_scale)
+        key = (id(result), True)
+        if key not in side.scale_cache:
+            side.scale_cache[key] = _result_scale(result, True)
+        return side.scale_cache[key]
+
+    def _update_side_exposures(self, state: "AppState") -> None:
+        """Each side's own exposure when the sides are exposed separately without the
+        display's auto exposure (once per new result)."""
+        from explorer.lpv.display import exposed_image
+        from explorer.ui.images import auto_exposure
+
+        rt = state.runtime
+        if not (state.comparing and state.expose_sides_separately) or \
+                state.settings.auto_exposure:
+            return
+        values = list(rt.side_exposures)
+        for i, name in enumerate(SIDES):
+            result = self.sides[name].result
+            key = (id(result), state.settings.indirect_only)
+            if result is None or rt.exposure_seen[i] == key:
+                continue
+            rt.exposure_seen[i] = key
+            linear = exposed_image(result.direct, result.indirect, 1.0,
+                                   state.settings.indirect_only)
+            value = auto_exposure(linear, 1.0)
+            if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
+                values[i] = float(f"{value:.3g}")
+        rt.side_exposures = (values[0], values[1])
+
+    # ------------------------------------------------------------------ runtime
+    def _publish_runtime(self, state: "AppState") -> None:
+        rt = state.runtime
+        a, b = self.sides["A"], self.sides["B"]
+        rt.result = a.result
+        rt.compare_result = b.result if state.comparing else None
+        rt.frame_view = getattr(a.pipeline, "view", None) if a.result is not None else None
+        rt.pictures = {name: side.picture for name, side in self.sides.items()
+                       if side.picture is not None and side.picture.ready}
+        self._update_side_exposures(state)
+
+    @property
+    def busy(self) -> bool:
+        return any(side.job is not None for side in self.sides.values())
+
+    def stage_runs(self, side: str = "A") -> Counter:
+        return self.sides[side].stage_runs
+
+    # ------------------------------------------------------------------ failures
+    def _failed(self, state: "AppState", side: SideState, request: Request | None,
+                exc: Exception) -> None:
+        side.failed = request
+        self._status.failures += 1
+        if side.name == "A":
+            self.failed_settings = state.settings
+        rt = state.runtime
+        settings = request.settings if request is not None else state.settings
+        text = f"{type(exc).__name__}: {exc}"
+        default_scene = Settings().scene
+        if self._good_scene is None and settings.scene != default_scene and side.name == "A":
+            # The scene saved last time (a mesh since moved, say) cannot open: start from
+            # the default scene rather than an empty view.
+            self._good_scene = (default_scene, None, None, None)
+        if self._good_scene is not None and settings.scene != self._good_scene[0]:
+            if side.name == "A":
+                # A mesh that fails to load: say so and keep the previous scene.
+                scene, camera, light, flux = self._good_scene
+                state.notify(f"could not open {settings.scene}: {exc}", "error")
+                state.update(scene=scene, camera=camera, light=light, light_flux=flux)
+                print(f"lpv-explorer: could not open {settings.scene}: {exc}",
+                      file=sys.stderr)
+            return
+        rt.pipeline_error = f"pipeline {side.name} failed: {text}"
+        state.notify(rt.pipeline_error, "error")
+        print(f"lpv-explorer: {rt.pipeline_error}", file=sys.stderr)
+        traceback.print_exception(exc, file=sys.stderr)
+
+    def failed_request(self, side: str = "A") -> Request | None:
+        return self.sides[side].failed
+
+    def _post_warnings(self, state: "AppState", side: SideState,
+                       result: "FrameResult") -> None:
+        """The numeric guards' warnings of a new result in the Messages panel: each one
+        the side's previous result did not have, once."""
+        warnings = tuple(getattr(result, "warnings", ()) or ())
+        for text in warnings:
+            if text not in side.warned:
+                state.notify(text if side.name == "A" else f"B: {text}", "warning")
+        side.warned = warnings
+
+    def _scene_defaults(self, state: "AppState", pipeline, scene_name: str) -> None:
+        """The scene's own camera and light (before any override), so orbiting and the
+        light sliders start from what is shown. Loaded once per scene."""
+        rt = state.runtime
+        if self._defaults_for == scene_name:
+            return
+        self._defaults_for = scene_name
+        scene = getattr(pipeline, "base_scene", None)
+        if scene is None:
+            try:
+                from explorer.scene import load_scene
+
+                scene = load_scene(scene_name)
+            except Exception:  # noqa: BLE001 - defaults are a convenience
+                scene = None
+        rt.camera_default = eye_target(getattr(scene, "camera", None))
+        light = getattr(scene, "light", None)
+        rt.light_default = eye_target(light)
+        rt.light_flux_default = getattr(light, "flux", None)
+        rt.light_cone_default = getattr(light, "cone_degrees", None)
+        rt.light_is_spot = hasattr(light, "cone_degrees")
+
+    # ------------------------------------------------------------------ shaders, tasks
+    def _hot_reload(self, state: "AppState", now: float | None = None) -> None:
+        """Recompile shaders whose files changed (polled every SHADER_POLL_S): a failed
+        compile keeps the last good program and records its log in
+        ``runtime.shader_errors``; a side whose programs changed renders again."""
+        now = time.monotonic() if now is None else now
+        if now - self._shader_poll < SHADER_POLL_S:
+            return
+        self._shader_poll = now
+        errors: dict[str, str] = {}
+        for side in self.sides.values():
+            if side.pipeline is None:
+                continue
+            if side.pipeline.reload_shaders():
+                side.done = None
+                state.notify(f"shaders reloaded ({side.name})")
+            errors.update(side.pipeline.programs.errors)
+        self.programs.reload_if_changed()
+        errors.update(self.programs.errors)
+        state.runtime.shader_errors = errors
+
+    def poll_shaders(self, state: "AppState") -> None:
+        """Check the shader files now (the next update reloads what changed)."""
+        self._shader_poll = 0.0
+        self._hot_reload(state)
+
+    def _tasks(self, state: "AppState", left_ms: float, status: ControllerStatus) -> None:
+        """The panels' background GPU work (``runtime.tasks``) in what is left of the
+        budget."""
+        tasks = state.runtime.tasks
+        if not tasks or left_ms < MIN_TASK_MS:
+            return
+        share = left_ms / len(tasks)
+        for task in list(tasks):
+            began = time.perf_counter()
+            try:
+                task.advance(self.ctx, share / 1e3)
+            except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
+                state.notify(f"{type(task).__name__} failed: {exc}", "error")
+                traceback.print_exception(exc, file=sys.stderr)
+                task.release()
+                tasks.remove(task)
+            finally:
+                self.ctx.screen.use()
+            if getattr(task, "running", False):
+                status.work.append(WorkUnit("task", type(task).__name__,
+                                            (time.perf_counter() - began) * 1e3))
+
+    def release(self) -> None:
+        for side in self.sides.values():
+            if side.picture is not None:
+                side.picture.release()
+            if side.pipeline is not None:
+                side.pipeline.release()
+        self.sides = {name: SideState(name) for name in SIDES}
+        self.programs.release()
+
+
+class _StageCounter:
+    """A job's progress callback that counts each stage once when it starts."""
+
+    def __init__(self, counts: Counter) -> None:
+        self.counts = counts
+        self.last: str | None = None
+
+    def __call__(self, stage: str, done: int, total: int) -> None:
+        if stage != self.last:
+            self.last = stage
+            self.counts.update([stage])
+
+
+def _result_scale(result: "FrameResult", indirect_only: bool) -> float:
+    """The auto exposure of a finished frame shown with ``indirect_only`` (the display
+    stage's measure, explorer/lpv/display.py)."""
+    from explorer.lpv.display import display_scale, exposed_image
+
+    unexposed = exposed_image(result.direct, result.indirect, 1.0, indirect_only)
+    mask = np.asarray(result.gbuffer_position)[..., 3] > 0.5
+    return display_scale(unexposed, mask, True)
+
+
+def _picture_scale(picture: Picture, indirect_only: bool) -> float:
+    """The auto exposure of a picture read back (a first preview)."""
+    from explorer.lpv.display import display_scale, exposed_image
+
+    direct, indirect, mask = picture.read()
+    return display_scale(exposed_image(direct, indirect, 1.0, indirect_only), mask, True)
+
+
+def eye_target(value) -> tuple | None:
+    """(eye, target) from a camera/light object or pair, or None."""
+    if value is None:
+        return None
+    for eye_name, target_name in (("eye", "target"), ("position", "target")):
+        if hasattr(value, eye_name) and hasattr(value, target_name):
+            eye, target = getattr(value, eye_name), getattr(value, target_name)
+            if callable(eye):   # DirectionalLight.eye(bounds) is a method: use position
+                continue
+            return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
+    try:
+        eye, target = value
+        return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
+    except (TypeError, ValueError):
+        return None

@@ -1,0 +1,108 @@
+"""One side's picture as the window shows it: the window's own copy of the pipeline's
+linear buffers (``shaders/view_snapshot.glsl``).
+
+The pipeline rewrites its targets while a job runs (a camera move re-renders the
+G-buffer before the gather, the gather runs in bands of rows, a preview gathers the
+accumulation so far), so the view never reads them directly: when a frame finishes or a
+progressive preview is made, the controller copies them here in one draw, and the view
+composes what it shows from these copies (explorer/ui/view_composer.py) for as long as
+it likes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import moderngl
+import numpy as np
+
+from explorer.gl.fullscreen import FullscreenTriangle
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.targets import RenderTargets
+
+if TYPE_CHECKING:
+    from explorer.lpv.frame import FrameResult
+
+SNAPSHOT = "view_snapshot.glsl"
+
+
+@dataclass(frozen=True)
+class Stamp:
+    """What a picture shows."""
+
+    serial: int
+    """Increases with every picture the side publishes (the view redraws on a new one)."""
+    final: bool
+    """A finished frame (else a progressive preview of the propagation)."""
+    done: int = 0
+    """Propagation steps in the picture (all cascades together) ..."""
+    total: int = 0
+    """... of this many."""
+
+
+class Picture:
+    """Linear direct and indirect radiance (``rgba32f``) and albedo (``rgba16f``, w = 1
+    on a surface) of one side, row 0 at the bottom, with what they show (:attr:`stamp`)
+    and the finished frame they belong to (:attr:`result`, the last finished one for a
+    preview)."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._targets = RenderTargets(ctx, ("f4", "f4", "f2"))
+        self._triangle = FullscreenTriangle(ctx)
+        self.stamp: Stamp | None = None
+        self.result: FrameResult | None = None
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._targets.size
+
+    @property
+    def direct(self) -> moderngl.Texture:
+        return self._targets.textures[0]
+
+    @property
+    def indirect(self) -> moderngl.Texture:
+        return self._targets.textures[1]
+
+    @property
+    def albedo(self) -> moderngl.Texture:
+        return self._targets.textures[2]
+
+    @property
+    def ready(self) -> bool:
+        return self.stamp is not None
+
+    def copy_from(self, direct: moderngl.Texture, indirect: moderngl.Texture,
+                  albedo: moderngl.Texture, stamp: Stamp,
+                  result: "FrameResult | None") -> None:
+        """Copy the pipeline's textures (all the same size) in one draw."""
+        self._targets.allocate(direct.size)
+        program = self.programs.get(SNAPSHOT)
+        direct.use(0)
+        indirect.use(1)
+        albedo.use(2)
+        set_uniforms(program, {"u_direct": 0, "u_indirect": 1, "u_albedo": 2})
+        with self._targets.drawing():
+            self._triangle.draw(program)
+        self.stamp, self.result = stamp, result
+
+    def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(direct, indirect, surface mask)`` as numpy, top row first: ``(H, W, 3)``
+        float32 twice and ``(H, W)`` bool (the auto exposure of a first preview, which
+        has no finished frame to take it from)."""
+        width, height = self.size
+        arrays = []
+        for texture, dtype in ((self.direct, np.float32), (self.indirect, np.float32),
+                               (self.albedo, np.float16)):
+            data = np.frombuffer(texture.read(), dtype).reshape(height, width, 4)
+            arrays.append(data[::-1])
+        direct, indirect, albedo = arrays
+        return direct[..., :3].copy(), indirect[..., :3].copy(), albedo[..., 3] > 0.5
+
+    def release(self) -> None:
+        self._targets.release()
+        self._triangle.release()
+        self.stamp, self.result = None, None

@@ -1,0 +1,189 @@
+"""What the View panel shows, composed on the GPU from the sides' pictures
+(``shaders/view.glsl``): the chosen buffer of one side as the display shows it, or the
+difference of A and B in false colour.
+
+Every display-only choice is a uniform of that one pass (exposure, tone curve, indirect
+only, each side's display scale, the buffer shown, the difference's scale and colour
+map), so changing one draws it once and runs no stage of the pipeline; an unchanged
+request draws nothing (:attr:`ViewComposer.draws` counts the draws). The split view
+needs no pass at all: the panel draws the two sides' images left and right of the
+divider. The overlays' compositor (explorer/ui/overlays/compositor.py) draws on top of a
+side's image.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from explorer.gl.fullscreen import FullscreenTriangle
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.targets import RenderTargets
+from explorer.lpv.tonemap import luminance, tone_map_index
+from explorer.ui.controller import SideDisplay
+from explorer.ui.picture import Picture
+from explorer.ui.state import VIEW_BUFFERS
+from explorer.ui.textures import robust_max, to_rgba8
+
+VIEW = "view.glsl"
+DIFFERENCE_MAPS = ("heat", "diverging")
+"""|A − B| on the heat map, or the signed A − B on the diverging map."""
+
+
+@dataclass(frozen=True)
+class Difference:
+    """The difference image's texture and the value at the top of its scale bar."""
+
+    texture: int
+    top: float
+    signed: bool
+
+
+class _Output:
+    """One RGBA8 image the view shows and the key of what it holds."""
+
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.targets = RenderTargets(ctx, ("f1",), linear=(0,))
+        self.key: object = None
+
+    def release(self) -> None:
+        self.targets.release()
+        self.key = None
+
+
+class ViewComposer:
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._triangle = FullscreenTriangle(ctx)
+        self._outputs: dict[str, _Output] = {}
+        self._maps: dict[str, moderngl.Texture] = {}
+        self._auto_top_cache: tuple | None = None
+        """(result A, result B, buffer, indirect only, exposure ratio, top): one entry,
+        holding the results it was measured on (never an id that could be reused)."""
+        self.draws = 0
+        """Passes drawn so far (an unchanged request draws nothing)."""
+
+    # ------------------------------------------------------------------ entry points
+    def side_image(self, side: str, picture: Picture, display: SideDisplay,
+                   buffer: str) -> int:
+        """The GL name of an RGBA8 texture (row 0 at the bottom) with ``buffer`` of
+        ``picture`` as the display shows it (docs/MODEL.md "Display")."""
+        key = ("side", id(picture), picture.stamp, picture.size, display, buffer)
+        output = self._output(side)
+        if output.key != key:
+            self._draw(output, picture.size, {
+                "u_mode": 0, "u_buffer": VIEW_BUFFERS.index(buffer),
+                "u_indirect_only": int(display.indirect_only),
+                "u_tone_map": tone_map_index(display.tone_map),
+                "u_exposure_a": display.exposure, "u_scale_a": display.scale},
+                picture, None)
+            output.key = key
+        return output.targets.textures[0].glo
+
+    def difference(self, a: Picture, b: Picture, display_a: SideDisplay,
+                   display_b: SideDisplay, buffer: str, scale: float,
+                   colour_map: str = "heat") -> Difference:
+        """False-colour luminance difference of ``buffer`` (each side's exposure for
+        "final", as ``FrameResult.final_image``) at ``a``'s size; ``scale``: the value at
+        the top of the scale (0: the 99.5th percentile of |A − B| over the last finished
+        frames of both sides)."""
+        if colour_map not in DIFFERENCE_MAPS:
+            raise ValueError(f"colour map must be one of {DIFFERENCE_MAPS}, got "
+                             f"{colour_map!r}")
+        signed = colour_map == "diverging"
+        top = scale if scale > 0 else self._auto_top(a, b, display_a, display_b, buffer)
+        key = ("difference", id(a), a.stamp, a.size, id(b), b.stamp, b.size, buffer,
+               display_a.exposure, display_b.exposure, display_a.indirect_only, top, signed)
+        output = self._output("difference")
+        if output.key != key:
+            self._colour_map(colour_map).use(6)
+            self._draw(output, a.size, {
+                "u_mode": 1, "u_buffer": VIEW_BUFFERS.index(buffer),
+                "u_indirect_only": int(display_a.indirect_only), "u_tone_map": 0,
+                "u_exposure_a": display_a.exposure, "u_exposure_b": display_b.exposure,
+                "u_scale_a": 1.0, "u_signed": int(signed), "u_top": float(top),
+                "u_colour_map": 6}, a, b)
+            output.key = key
+        return Difference(output.targets.textures[0].glo, float(top), signed)
+
+    def read(self, name: str) -> np.ndarray:
+        """The last image of ``name`` ("A", "B" or "difference") as (H, W, 4) uint8, top
+        row first (tests)."""
+        texture = self._outputs[name].targets.textures[0]
+        width, height = texture.size
+        return np.frombuffer(texture.read(), np.uint8).reshape(height, width, 4)[::-1]
+
+    def release(self) -> None:
+        for output in self._outputs.values():
+            output.release()
+        self._outputs.clear()
+        for texture in self._maps.values():
+            texture.release()
+        self._maps.clear()
+        self._triangle.release()
+        self._auto_top_cache = None
+
+    # ------------------------------------------------------------------ helpers
+    def _output(self, name: str) -> _Output:
+        output = self._outputs.get(name)
+        if output is None:
+            output = self._outputs[name] = _Output(self.ctx)
+        return output
+
+    def _draw(self, output: _Output, size: tuple[int, int], uniforms: dict,
+              a: Picture, b: Picture | None) -> None:
+        output.targets.allocate(size)
+        program = self.programs.get(VIEW)
+        b = b or a
+        for unit, texture in enumerate((a.direct, a.indirect, a.albedo,
+                                        b.direct, b.indirect, b.albedo)):
+            texture.use(unit)
+        set_uniforms(program, {"u_direct_a": 0, "u_indirect_a": 1, "u_albedo_a": 2,
+                               "u_direct_b": 3, "u_indirect_b": 4, "u_albedo_b": 5,
+                               **uniforms})
+        with output.targets.drawing():
+            self._triangle.draw(program)
+        self.ctx.screen.use()
+        self.draws += 1
+
+    def _colour_map(self, name: str) -> moderngl.Texture:
+        texture = self._maps.get(name)
+        if texture is None:
+            from explorer.ui.overlays.quantities import colour_table
+
+            table = to_rgba8(colour_table(name)[None])
+            texture = self.ctx.texture((table.shape[1], 1), 4, table.tobytes(), dtype="f1")
+            texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            texture.repeat_x = texture.repeat_y = False
+            self._maps[name] = texture
+        return texture
+
+    def _auto_top(self, a: Picture, b: Picture, display_a: SideDisplay,
+                  display_b: SideDisplay, buffer: str) -> float:
+        """The 99.5th percentile of |ΔL| over the sides' last finished frames (cached;
+        the luminance is linear, so with the same exposure on both sides it scales with
+        the exposure and is measured once)."""
+        ra, rb = a.result, b.result
+        if ra is None or rb is None or ra.direct.shape != rb.direct.shape:
+            return 1.0
+        final = buffer == "final"
+        ratio = display_b.exposure / display_a.exposure if final else 1.0
+        wanted = (buffer, display_a.indirect_only, ratio)
+        cached = self._auto_top_cache
+        if cached is None or cached[0] is not ra or cached[1] is not rb or \
+                cached[2:5] != wanted:
+            la = luminance(_linear(ra, buffer, display_a.indirect_only))
+            lb = luminance(_linear(rb, buffer, display_a.indirect_only))
+            cached = self._auto_top_cache = (ra, rb, *wanted,
+                                             robust_max(np.abs(la - ratio * lb)))
+        return cached[5] * (display_a.exposure if final else 1.0)
+
+
+def _linear(result, buffer: str, indirect_only: bool) -> np.ndarray:
+    """The unexposed linear image of ``buffer`` of a finished frame."""
+    if buffer == "final":
+        return result.indirect if indirect_only else result.direct + result.indirect
+    return getattr(result, buffer)
