@@ -24,17 +24,17 @@ TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192,
 
 
 class RunCounter:
-    """Wraps a pipeline's run() to count the runs that happen from now on."""
+    """Wraps a pipeline's start() to count the frames asked of it from now on."""
 
     def __init__(self, pipeline) -> None:
         self.count = 0
-        original = pipeline.run
+        original = pipeline.start
 
         def counted(*args, **kwargs):
             self.count += 1
             return original(*args, **kwargs)
 
-        pipeline.run = counted
+        pipeline.start = counted
 
 
 def _settled_app(view_mode: str = "single"):
@@ -43,8 +43,7 @@ def _settled_app(view_mode: str = "single"):
     state.view_mode = view_mode
     # big enough that the view shows every frame pixel at least once (no pick rounding)
     app = _app(state, width=1600, height=900)
-    for _ in range(3):
-        app.frame()
+    app.settle()
     assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
     return app
 
@@ -57,7 +56,7 @@ OVERLAYS = [("slice", dict(slice=True)), ("glyphs", dict(glyphs=True)),
 def test_each_overlay_changes_the_view_and_runs_no_stage():
     app = _settled_app()
     try:
-        runs = RunCounter(app._pipelines["A"])
+        runs = RunCounter(app.controller.sides["A"].pipeline)
         result = app.state.runtime.result
         app.frame(capture=True)
         plain = _view_pixels(app)
@@ -78,9 +77,11 @@ def test_each_overlay_changes_the_view_and_runs_no_stage():
         app.frame(capture=True)
         assert np.abs(_view_pixels(app) - first).mean() > 0.5
         assert runs.count == 0 and app.state.runtime.result is result
-        # the light in flight needs the propagation steps: one run records them
+        # the light in flight needs the propagation steps: one run records them (with no
+        # progressive pictures, which would gather the accumulation as it grows)
+        app.state.progressive = False
         app.state.overlays.slice_quantity = "in-flight"
-        app.frame()
+        app.settle()
         assert runs.count == 1 and app.state.runtime.result.steps is not None
         # the same light again, with its steps: nothing downstream changed
         assert app.state.runtime.result.stages_run == ("propagate",)
@@ -99,10 +100,8 @@ def test_each_overlay_changes_the_view_and_runs_no_stage():
 def test_overlays_are_drawn_on_both_sides_of_the_split_view():
     app = _settled_app("split")
     try:
-        for _ in range(2):
-            app.frame()
         assert app.state.runtime.compare_result is not None
-        runs_a, runs_b = RunCounter(app._pipelines["A"]), RunCounter(app._pipelines["B"])
+        runs_a, runs_b = (RunCounter(app.controller.sides[side].pipeline) for side in "AB")
         app.frame(capture=True)
         plain = _view_pixels(app)
         app.state.overlays.vpls = True
@@ -199,14 +198,14 @@ def test_camera_controls_rerun_only_the_camera_stages():
     try:
         before = app.state.runtime.result
         assert camera_controls.frame_scene(app.state)
-        app.frame()
+        app.settle()
         after = app.state.runtime.result
         assert after is not before and after.stages_run == ("gbuffer", "gather", "display")
         assert after.gbuffer_position[96, 128, 3] > 0.5
         point = after.gbuffer_position[96, 128, :3]
         app.state.overlays.pick("pixel", "A", 0, point)
         assert camera_controls.frame_picked(app.state)
-        app.frame()
+        app.settle()
         framed = app.state.runtime.result
         assert np.allclose(framed.camera.target, point)
         # the picked point stays anchored: the new frame shows it at the image centre

@@ -41,8 +41,9 @@ own = Settings(grid_size=12, iterations=3, rsm_size=32, exposure=2.0)
 state = AppState(settings=own, lesson_id="radiometry", lesson_step=4)
 app = App(state, width=1280, height=720, visible=False, vsync=False, persist_settings=False)
 try:
-    for _ in range(6):
+    for _ in range(3):
         assert app.frame()
+    assert app.settle()
     session = state.lesson_session
     step = session.step
     assert session.lesson.id == "radiometry" and step.number == 4 and session.applied
@@ -67,8 +68,7 @@ try:
     index = next(i for i, t in enumerate(step.try_this, 1) if t.split)
     item = step.try_this[index - 1]
     show_screen(state, session.toggle_try(index, current_screen(state)))
-    for _ in range(3):
-        app.frame()
+    app.settle()
     assert state.view_mode == "split" and state.settings.grid_size == 16
     assert app.settings_for("B").grid_size == item.value
     assert rt.compare_result is not None and rt.compare_result.settings.grid_size == item.value

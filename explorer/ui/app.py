@@ -346,6 +346,10 @@ class App:
             self.state.settings = self.controller.ran_settings or Settings()
 
     # -- pipelines -----------------------------------------------------------------------
+    def settings_for(self, side: str) -> Settings:
+        """The Settings side ``side`` ("A" or "B") shows (the controller's)."""
+        return self.controller.settings_for(self.state, side)
+
     def _follow_view_size(self) -> bool:
         """Keep the render size at the View panel's pixels; False while the size is
         not known yet (the first frames), so the first run already has the right size."""

@@ -38,7 +38,7 @@ import numpy as np
 
 from explorer.lpv.schema import stages_reading
 from explorer.lpv.settings import Settings
-from explorer.ui.picture import Picture, Stamp
+from explorer.ui.picture import Picture, SideDisplay, Stamp
 
 if TYPE_CHECKING:
     import moderngl
@@ -101,18 +101,6 @@ class Request:
         (the same settings, and its steps and audit when asked)."""
         return (done is not None and done.settings == self.settings
                 and done.keep_steps >= self.keep_steps and done.need_audit >= self.need_audit)
-
-
-@dataclass(frozen=True)
-class SideDisplay:
-    """How the view shows one side: the display stage's parameters (docs/MODEL.md
-    "Display")."""
-
-    exposure: float
-    scale: float
-    """The display scale: auto exposure key/L̄, or 1, or A's (B shown at A's exposure)."""
-    tone_map: str
-    indirect_only: bool
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Write a lesson step as the window shows it (article column, 3D view, panels) to a PNG,
 from a hidden window: ``lpv-explorer lessons --export ID --step K --out step.png``.
 
-The window draws frames until the step's frame has been rendered and its typeset text
+The window draws frames until the step's frame has converged and its typeset text
 and figures are on screen; a step that quotes measured errors (``{{error.*}}``) also
 waits for the Error panel's measurement, up to ``wait_s`` seconds.
 """
@@ -51,8 +51,9 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                 session = app.state.lesson_session
                 show_screen(app.state, session.toggle_try(try_this, current_screen(app.state)))
                 pressed = True
+            converged = app.status is not None and not app.status.active   # nothing left
             ready = (rt.result is not None and frames > SETTLE_FRAMES and pressed
-                     and rt.result.settings == app.settings_for("A")
+                     and converged
                      and (not app.state.comparing or rt.compare_result is not None))
             if ready and uses_error(wanted):
                 service = error_service(app.state)

@@ -28,6 +28,18 @@ SNAPSHOT = "view_snapshot.glsl"
 
 
 @dataclass(frozen=True)
+class SideDisplay:
+    """How the view shows one side's picture: the display stage's parameters
+    (docs/MODEL.md "Display")."""
+
+    exposure: float
+    scale: float
+    """The display scale: auto exposure key/L̄, or 1, or A's (B shown at A's exposure)."""
+    tone_map: str
+    indirect_only: bool
+
+
+@dataclass(frozen=True)
 class Stamp:
     """What a picture shows."""
 

@@ -22,22 +22,18 @@ if TYPE_CHECKING:
     import numpy as np
 
     from explorer.lpv.frame import FrameResult
-    from explorer.ui.controller import SideDisplay
     from explorer.ui.fonts import Fonts
     from explorer.ui.formulas import FormulaCache
-    from explorer.ui.overlays.compositor import Compositor
-    from explorer.ui.overlays.in_view import Hover
-    from explorer.ui.picture import Picture
+    from explorer.ui.picture import Picture, SideDisplay
     from explorer.ui.textures import UiTextures
-    from explorer.ui.view_composer import ViewComposer
 
 VIEW_MODES = ("single", "split", "difference")
 """single: configuration A; split: A left | B right with a draggable divider;
 difference: false-colour |A − B| with a scale bar."""
 
 VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
-"""What the 3D view shows (the first names of settings.VIEWS): the pipeline's final image,
-or one FrameResult buffer tonemapped at the current exposure."""
+"""What the 3D view shows (the first names of settings.VIEWS): the final image, or one
+linear buffer of the picture, as the display shows it (``shaders/view.glsl`` BUFFER_*)."""
 
 INSPECT_SOURCES = (
     "rsm-position", "rsm-normal", "rsm-flux",   # RSM buffers
@@ -235,7 +231,8 @@ class Runtime:
     view shows (explorer/ui/picture.py)."""
     displays: "dict[str, SideDisplay]" = field(default_factory=dict)
     """Side -> how the view shows it (exposure, display scale, tone curve)."""
-    composer: "ViewComposer | None" = None        # draws the view's images (view.glsl)
+    composer: object | None = None
+    """explorer.ui.view_composer.ViewComposer: draws the view's images (view.glsl)."""
     progress: dict[str, str] = field(default_factory=dict)
     """Side -> its job's progress ("propagating 5/8"); empty when the picture is final."""
     textures: "UiTextures | None" = None          # UI-owned textures (uploads)
@@ -264,8 +261,11 @@ class Runtime:
     """Per side, the (result, indirect only) its exposure was last measured on."""
     play_clock: float = 0.0               # fractional iterations while playing
     vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
-    compositor: "Compositor | None" = None   # the View panel's in-scene overlays
-    hover: "Hover | None" = None          # what is under the mouse in the view, or None
+    compositor: object | None = None
+    """explorer.ui.overlays.compositor.Compositor: the View panel's in-scene overlays
+    (named, not imported: it reads this module's OverlayState)."""
+    hover: object | None = None
+    """explorer.ui.overlays.in_view.Hover under the mouse in the view, or None."""
     view_press: tuple | None = None       # where the left button went down on the view
     pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
     fonts: "Fonts | None" = None          # prose styles

@@ -22,8 +22,7 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.tonemap import luminance, tone_map_index
-from explorer.ui.controller import SideDisplay
-from explorer.ui.picture import Picture
+from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS
 from explorer.ui.textures import robust_max, to_rgba8
 

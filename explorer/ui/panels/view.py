@@ -82,7 +82,7 @@ def side_texture(state: AppState, side: str) -> tuple[int, bool]:
 
 
 def _display(state: AppState, side: str):
-    from explorer.ui.controller import SideDisplay
+    from explorer.ui.picture import SideDisplay
 
     s = state.settings
     return SideDisplay(s.exposure, 1.0, s.tone_map, s.indirect_only)
