@@ -102,6 +102,7 @@ class App:
         self._seen: tuple | None = None   # the state as the last drawn frame left it
         self._drawn_at = 0.0              # time.monotonic() of the last drawn frame
         self._shown_result = None     # A's result the title was made for
+        self._interacted = False      # the last update ran while the camera moved
         self.status = None
         """The controller's status of the last frame (explorer.ui.controller)."""
         self.ui_ms = 30.0
@@ -195,7 +196,7 @@ class App:
             if not self.frame(force=True):
                 return False
             status = self.status
-            if status is not None and not status.active and not self._interacting():
+            if status is not None and not status.active and not self._interacted:
                 return True              # a frame that found nothing left to do
             if status is None and self.state.runtime.frame_index > _LAYOUT_FRAMES:
                 return True          # no pipeline (or no GL): nothing to wait for
@@ -389,9 +390,10 @@ class App:
             return
         keep_steps = state.inspect.source == "propagation" or state.overlays.needs_steps
         drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
+        self._interacted = self._interacting()
         self.status = self.controller.update(
             state, state.frame_budget_ms, keep_steps=keep_steps,
-            need_audit=rt.audit_wanted, interacting=self._interacting(),
+            need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)

@@ -215,10 +215,12 @@ class PipelineController:
             scale = self.drag_scale
         elif not self._first_done:
             scale = FIRST_PICTURE_SCALE
+        # no edge below MIN_RENDER_EDGE, the aspect kept
+        scale = min(max(scale, MIN_RENDER_EDGE / max(min(settings.width, settings.height), 1)),
+                    1.0)
         if scale < 1.0:
-            settings = settings.with_changes(
-                width=max(MIN_RENDER_EDGE, int(round(settings.width * scale))),
-                height=max(MIN_RENDER_EDGE, int(round(settings.height * scale))))
+            settings = settings.with_changes(width=int(round(settings.width * scale)),
+                                             height=int(round(settings.height * scale)))
         return Request(settings, keep_steps and side == "A", need_audit,
                        interactive=scale < 1.0)
 
@@ -283,7 +285,7 @@ class PipelineController:
             self._failed(state, side, request, exc)
             return
         finally:
-            self.ctx.screen.use()
+            _use_screen(self.ctx)
         side.request, side.previewed, side.job_ms = request, 0, 0.0
         side.progress = side.job.progress
 
@@ -332,7 +334,7 @@ class PipelineController:
             self._failed(state, side, request, exc)
             return
         finally:
-            self.ctx.screen.use()
+            _use_screen(self.ctx)
         elapsed = (time.perf_counter() - began) * 1e3
         side.job_ms += elapsed
         status.work.append(WorkUnit(side.name, side.progress.label, elapsed))
@@ -359,7 +361,7 @@ class PipelineController:
         except Exception as exc:  # noqa: BLE001 - the job's own run reports it next
             print(f"lpv-explorer: preview of {side.name} failed: {exc}", file=sys.stderr)
         finally:
-            self.ctx.screen.use()
+            _use_screen(self.ctx)
         side.previewed = progress.done
         elapsed = (time.perf_counter() - began) * 1e3
         side.job_ms += elapsed
@@ -379,7 +381,7 @@ class PipelineController:
         side.serial += 1
         began = time.perf_counter()
         self._snapshot(side, Stamp(side.serial, True), result)
-        self.ctx.screen.use()
+        _use_screen(self.ctx)
         status.work.append(WorkUnit(side.name, "snapshot",
                                     (time.perf_counter() - began) * 1e3))
         status.published = True
@@ -598,7 +600,7 @@ class PipelineController:
                 task.release()
                 tasks.remove(task)
             finally:
-                self.ctx.screen.use()
+                _use_screen(self.ctx)
             if getattr(task, "running", False):
                 status.work.append(WorkUnit("task", type(task).__name__,
                                             (time.perf_counter() - began) * 1e3))
@@ -659,3 +661,10 @@ def eye_target(value) -> tuple | None:
         return (tuple(float(v) for v in eye), tuple(float(v) for v in target))
     except (TypeError, ValueError):
         return None
+
+
+def _use_screen(ctx) -> None:
+    """Bind the window's framebuffer again after offscreen work (a headless context has
+    none)."""
+    if ctx.screen is not None:
+        ctx.screen.use()

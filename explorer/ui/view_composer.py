@@ -145,7 +145,7 @@ class ViewComposer:
                                **uniforms})
         with output.targets.drawing():
             self._triangle.draw(program)
-        self.ctx.screen.use()
+        _use_screen(self.ctx)
         self.draws += 1
 
     def _colour_map(self, name: str) -> moderngl.Texture:
@@ -186,3 +186,10 @@ def _linear(result, buffer: str, indirect_only: bool) -> np.ndarray:
     if buffer == "final":
         return result.indirect if indirect_only else result.direct + result.indirect
     return getattr(result, buffer)
+
+
+def _use_screen(ctx) -> None:
+    """Bind the window's framebuffer again after offscreen work (a headless context has
+    none)."""
+    if ctx.screen is not None:
+        ctx.screen.use()

@@ -1,0 +1,91 @@
+"""The window's frame loop under Xvfb: an idle window draws nothing and runs no stage
+until input or a change arrives; a camera drag (imgui mouse events on the view) renders
+at a reduced size and the full size follows when it ends."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import pytest
+
+from explorer.ui.state import AppState
+
+pytest.importorskip("glfw")
+from tests.test_app_window import (  # noqa: E402,F401
+    _PROBLEM,
+    TINY,
+    _app,
+    config_home,
+    needs_pipeline,
+)
+
+pytestmark = [pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM)),
+              pytest.mark.usefixtures("config_home"), needs_pipeline]
+
+
+def _stages_begun(app) -> Counter:
+    return Counter(app.controller.stage_runs("A"))
+
+
+def test_an_idle_window_draws_nothing_until_something_changes():
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state, wait_when_idle=True, idle_timeout_s=0.01)
+    try:
+        assert app.settle()
+        for _ in range(4):            # the frames imgui draws after the last change
+            app.frame()
+        drawn, stages = app.state.runtime.frame_index, _stages_begun(app)
+        skipped = app.frames_skipped
+        for _ in range(20):
+            assert app.frame()
+        assert app.state.runtime.frame_index == drawn, "an idle window drew"
+        assert app.frames_skipped - skipped == 20
+        assert _stages_begun(app) == stages
+        app.state.update(exposure=2.0)            # a change: drawn at once, no stage runs
+        app.frame()
+        assert app.state.runtime.frame_index == drawn + 1
+        assert app.state.runtime.displays["A"].exposure == 2.0
+        assert _stages_begun(app) == stages
+        app.window._on_event()                   # any input event draws too
+        app.frame()
+        assert app.state.runtime.frame_index == drawn + 2
+    finally:
+        app.close()
+
+
+def test_a_drag_on_the_view_renders_smaller_then_refines():
+    from imgui_bundle import imgui
+
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state, width=1200, height=800)
+    try:
+        assert app.settle()
+        full = app.state.runtime.result.direct.shape[:2]
+        x0, y0, x1, y1 = app.state.runtime.view_rect
+        scale = imgui.get_io().display_framebuffer_scale.x or 1.0
+        x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
+        io = imgui.get_io()
+        io.add_mouse_pos_event(x, y)
+        app.frame()
+        io.add_mouse_button_event(0, True)
+        app.frame()
+        app.controller.drag_scale = 0.5        # as if a camera frame had been timed
+        sizes = []
+        for step in range(1, 8):              # the drag: the camera orbits each frame
+            io.add_mouse_pos_event(x + 6 * step, y)
+            app.frame()
+            assert app.state.runtime.interaction.held
+            sizes.append(app.state.runtime.result.direct.shape[:2])
+        camera = app.state.settings.camera
+        assert camera is not None
+        assert any(size[0] < full[0] and size[1] < full[1] for size in sizes), sizes
+        io.add_mouse_button_event(0, False)
+        assert app.settle()                   # the drag ended: the full size follows
+        assert not app.state.runtime.interaction.held
+        assert app.state.runtime.result.direct.shape[:2] == full
+        assert app.state.runtime.result.camera.eye == pytest.approx(camera[0])
+        assert [m.text for m in app.state.messages if m.level == "error"] == []
+    finally:
+        app.close()

@@ -1,0 +1,244 @@
+"""The window's pipeline controller without a window (explorer/ui/controller.py), on the
+headless context: which stages a change runs (counted where the pipeline starts them),
+progressive pictures that end on the one-shot frame, cancellation mid-propagation, both
+sides of the split view advancing, and the view composer's single draw per display
+change (explorer/ui/view_composer.py)."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from explorer.lpv.pipeline import Pipeline
+from explorer.lpv.settings import Settings
+from explorer.ui.controller import (
+    CAMERA_STAGES,
+    DRAG_SCALES,
+    PINNED_DISPLAY,
+    PipelineController,
+)
+from explorer.ui.state import AppState
+from explorer.ui.view_composer import ViewComposer
+
+SMALL = Settings(scene="cornell", grid_size=8, iterations=6, rsm_size=32, width=48,
+                 height=36)
+BUDGET_MS = 1.0
+"""A budget smaller than any unit: each update does one unit per side."""
+
+
+class CountingPipeline(Pipeline):
+    """A real pipeline that counts the stages it begins (``stage_work`` is called once
+    per stage a job runs, not for the stages that are up to date)."""
+
+    def __init__(self, settings, ctx=None):
+        super().__init__(settings, ctx=ctx)
+        self.began: Counter = Counter()
+
+    def stage_work(self, stage, job):
+        self.began[stage] += 1
+        return super().stage_work(stage, job)
+
+
+@pytest.fixture
+def controller(gl_context, ctx):
+    control = PipelineController(gl_context, CountingPipeline)
+    yield control
+    control.release()
+
+
+def _state(**changes) -> AppState:
+    state = AppState(settings=SMALL.with_changes(**changes))
+    state.follow_view_size = False
+    return state
+
+
+def _settle(controller, state, budget_ms=50.0, limit=2000, **options) -> list:
+    """Update until a frame finds nothing to do; returns every status."""
+    statuses = []
+    for _ in range(limit):
+        status = controller.update(state, budget_ms, **options)
+        statuses.append(status)
+        if not status.active:
+            return statuses
+    raise AssertionError("the controller never settled")
+
+
+def _counts(controller) -> dict[str, Counter]:
+    return {name: Counter(side.pipeline.began) for name, side in controller.sides.items()
+            if side.pipeline is not None}
+
+
+def _ran_since(controller, before: dict[str, Counter]) -> dict[str, set[str]]:
+    now = _counts(controller)
+    return {name: {stage for stage, count in (now[name] - before.get(name, Counter())).items()
+                   if count} for name in now}
+
+
+def test_display_only_changes_run_no_stage_and_draw_once(controller, gl_context):
+    state = _state()
+    state.view_mode = "split"
+    _settle(controller, state)
+    composer = ViewComposer(gl_context, controller.programs)
+    try:
+        def shown():
+            for side in ("A", "B"):
+                composer.side_image(side, state.runtime.pictures[side],
+                                    controller.side_display(state, side), state.view_buffer)
+            composer.difference(state.runtime.pictures["A"], state.runtime.pictures["B"],
+                                controller.side_display(state, "A"),
+                                controller.side_display(state, "B"), state.view_buffer,
+                                state.difference_scale, state.difference_colour_map)
+            return composer.read("A").copy()
+
+        first = shown()
+        before, draws = _counts(controller), composer.draws
+        assert shown().tolist() == first.tolist() and composer.draws == draws, \
+            "an unchanged view draws nothing"
+        changes = [("exposure", lambda: state.update(exposure=3.0)),
+                   ("tone map", lambda: state.update(tone_map="linear-clip")),
+                   ("indirect only", lambda: state.update(indirect_only=True)),
+                   ("auto exposure", lambda: state.update(auto_exposure=False)),
+                   ("buffer", lambda: setattr(state, "view_buffer", "direct")),
+                   ("difference scale", lambda: setattr(state, "difference_scale", 0.5)),
+                   ("colour map", lambda: setattr(state, "difference_colour_map",
+                                                  "diverging")),
+                   ("divider", lambda: setattr(state, "split_position", 0.3)),
+                   ("sides exposed apart", lambda: setattr(state, "expose_sides_separately",
+                                                           True))]
+        for name, change in changes:
+            change()
+            status = controller.update(state, 50.0)
+            assert not status.active, name
+            draws = composer.draws
+            shown()
+            assert composer.draws - draws <= 3, name     # A, B and the difference at most
+        assert _ran_since(controller, before) == {"A": set(), "B": set()}
+        assert composer.draws > 0
+        # what the pipelines ran has the display stage's fields pinned
+        result = state.runtime.result
+        assert all(getattr(result.settings, name) == value
+                   for name, value in PINNED_DISPLAY.items())
+    finally:
+        composer.release()
+
+
+def test_a_camera_change_runs_only_the_camera_stages(controller):
+    state = _state()
+    _settle(controller, state)
+    camera = state.runtime.camera_default
+    eye = tuple(c + 0.3 for c in camera[0])
+    before = _counts(controller)
+    state.update(camera=(eye, camera[1]))
+    _settle(controller, state)
+    ran = _ran_since(controller, before)["A"]
+    assert ran and ran <= CAMERA_STAGES and "gather" in ran and "propagate" not in ran
+    assert set(state.runtime.result.stages_run) <= CAMERA_STAGES
+
+
+def test_a_toggle_shows_growing_pictures_that_end_on_the_one_shot_frame(controller,
+                                                                         gl_context):
+    state = _state()
+    _settle(controller, state)
+    state.set_corrections(propagation_4pi=False)
+    steps, finals = [], 0
+    for _ in range(500):
+        status = controller.update(state, BUDGET_MS)
+        picture = state.runtime.pictures["A"]
+        if status.published and not picture.stamp.final:
+            steps.append(picture.stamp.done)
+        finals += bool(status.published and picture.stamp.final)
+        if not status.active:
+            break
+    assert len(steps) >= 2 and steps == sorted(set(steps)), steps   # strictly increasing
+    assert finals == 1 and state.runtime.pictures["A"].stamp.final
+    result = state.runtime.result
+    with Pipeline(result.settings, ctx=gl_context) as once:
+        expected = once.run(result.settings, need_audit=False)
+    for name in ("direct", "indirect"):
+        got, want = getattr(result, name), getattr(expected, name)
+        assert np.abs(got - want).max() <= 1e-6 * max(np.abs(want).max(), 1e-30), name
+    direct, indirect, mask = state.runtime.pictures["A"].read()   # what the view shows
+    np.testing.assert_allclose(indirect, expected.indirect, rtol=0, atol=1e-6 * max(
+        float(np.abs(expected.indirect).max()), 1e-30))
+    np.testing.assert_allclose(direct, expected.direct, rtol=0, atol=1e-6 * max(
+        float(np.abs(expected.direct).max()), 1e-30))
+    assert mask.any()
+
+
+def test_a_change_mid_propagation_cancels_and_restarts(controller, gl_context):
+    state = _state()
+    _settle(controller, state)
+    state.set_corrections(propagation_4pi=False)
+    side = controller.sides["A"]
+    for _ in range(500):
+        controller.update(state, BUDGET_MS)
+        progress = side.progress
+        if progress is not None and progress.stage == "propagate" and \
+                0 < progress.done < progress.total:
+            break
+    else:
+        raise AssertionError("never caught the propagation in the middle")
+    job = side.job
+    before = _counts(controller)
+    state.set_corrections(clamp_front_face=False)        # a switch of the propagation
+    controller.update(state, BUDGET_MS)
+    assert job.cancelled and side.job is not job
+    _settle(controller, state)
+    ran = _ran_since(controller, before)["A"]
+    assert "propagate" in ran and not ran & {"rsm", "inject", "downsample"}
+    result = state.runtime.result
+    assert result.settings.corrections == state.settings.corrections
+    with Pipeline(result.settings, ctx=gl_context) as once:
+        expected = once.run(result.settings, need_audit=False)
+    assert np.abs(result.indirect - expected.indirect).max() <= 1e-6 * max(
+        float(np.abs(expected.indirect).max()), 1e-30)
+
+
+def test_split_view_advances_both_sides_in_turn(controller):
+    state = _state()
+    state.view_mode = "split"
+    _settle(controller, state)
+    state.update(iterations=5)          # both sides propagate again
+    statuses = _settle(controller, state, budget_ms=BUDGET_MS)
+    busy = [status for status in statuses if len(status.labels) == 2]
+    assert len(busy) >= 4
+    # while both have work, every frame advances both
+    for status in busy[:4]:
+        assert {unit.side for unit in status.work} >= {"A", "B"}, status.work
+    assert state.runtime.result.settings.iterations == 5
+    assert state.runtime.compare_result.settings.iterations == 5
+
+
+def test_a_drag_renders_smaller_and_the_rest_refines(controller):
+    state = _state()
+    _settle(controller, state)
+    full = state.runtime.result.direct.shape[:2]
+    camera = state.runtime.camera_default
+    for step in (1, 2, 3):    # a drag whose frames cannot fit: the scale falls to the least
+        state.update(camera=(tuple(c + 0.1 * step for c in camera[0]), camera[1]))
+        _settle(controller, state, interacting=True, drag_budget_ms=1e-3)
+    dragged = state.runtime.result.direct.shape[:2]
+    assert controller.drag_scale == DRAG_SCALES[-1]
+    assert dragged[0] < full[0] and dragged[1] < full[1]
+    assert dragged[1] / dragged[0] == pytest.approx(full[1] / full[0], rel=0.1)
+    before = _counts(controller)
+    _settle(controller, state)          # the drag ended: full size, camera stages only
+    assert state.runtime.result.direct.shape[:2] == full
+    assert _ran_since(controller, before)["A"] <= CAMERA_STAGES
+
+
+def test_a_request_that_fails_keeps_the_last_good_picture(controller):
+    state = _state()
+    _settle(controller, state)
+    good = state.runtime.result
+    picture = state.runtime.pictures["A"].stamp
+    controller.sides["A"].pipeline.memory_budget_bytes = 1    # refuses any frame
+    state.update(grid_size=16)
+    statuses = _settle(controller, state)
+    assert sum(status.failures for status in statuses) == 1
+    assert state.runtime.result is good and state.runtime.pictures["A"].stamp == picture
+    assert "pipeline A failed" in state.runtime.pipeline_error
+    assert [m.level for m in state.messages].count("error") == 1
+    assert controller.failed_settings == state.settings
