@@ -141,6 +141,7 @@ def test_a_toggle_shows_growing_pictures_that_end_on_the_one_shot_frame(controll
                                                                          gl_context):
     state = _state()
     _settle(controller, state)
+    controller.preview_interval_s = 0.0     # a picture after every step
     state.set_corrections(propagation_4pi=False)
     steps, finals = [], 0
     for _ in range(500):

@@ -78,7 +78,26 @@ def parse_variants(text: str) -> tuple[str, ...]:
     return names
 
 
+INTERACTIVE_FRAMES = Spec(kind="int", low=1, high=100000,
+                          doc="Frames of the camera orbit in --interactive.")
+SOAK_MINUTES = Spec(kind="float", low=0.0, low_open=True, high=1440.0,
+                    doc="Minutes of view switches, toggles and camera moves in the window.")
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--interactive", action="store_true",
+                        help="drive the real window through a scripted session (launch, "
+                             "idle, orbit, exposure sweep, every correction toggled, grid "
+                             "64³) and print its responsiveness (needs a display: xvfb-run)")
+    parser.add_argument("--frames", type=options.value_type("frames", INTERACTIVE_FRAMES),
+                        default=60, help=options.spec_help(INTERACTIVE_FRAMES) + " (60)")
+    parser.add_argument("--soak", metavar="MINUTES",
+                        type=options.value_type("soak", SOAK_MINUTES), default=None,
+                        help=options.spec_help(SOAK_MINUTES) + " Prints resident memory "
+                             "and GL objects at the start and the end.")
+    parser.add_argument("--root", type=Path, default=None,
+                        help="with --interactive/--soak: the source tree whose window is "
+                             "driven (default: this one), e.g. an older checkout")
     parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
                         help=f"extra rows at each grid's largest iteration count: "
                              f"{', '.join(VARIANTS)} (comma list) or none (default: all)")
@@ -243,6 +262,10 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.interactive or args.soak is not None:
+        from explorer.commands.interactive_bench import run_window_bench
+
+        return run_window_bench(args)
     from explorer.gl.context import probe
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError

@@ -53,6 +53,8 @@ DRAG_FPS = 15.0
 frame at this rate leaves after the window's own drawing, and render at the size that
 fits (explorer/ui/controller.py DRAG_SCALES)."""
 MIN_DRAG_BUDGET_MS = 4.0
+PROGRESS_REDRAW_S = 0.25
+"""While a job runs and no new picture or input arrives, the window draws this often."""
 SETTLE_FRAMES = 100000
 
 
@@ -213,7 +215,7 @@ class App:
 
         start = time.perf_counter()
         force = force or capture or not self.wait_when_idle
-        if self._quiet and not force:
+        if self._quiet and not force and self._seen == self._fingerprint():
             self.window.poll_events(timeout=self._idle_timeout())
         self.window.poll_events()
         if self.window.should_close() or self.state.requests.quit:
@@ -231,9 +233,16 @@ class App:
             self._update_pipelines()
         status = self.status
         worked = status is not None and status.active
-        if not (force or events or changed or worked or rt.redraw or self._draws_pending
-                or self._message_expired()):
-            self._quiet = True
+        must_draw = (force or events or changed or rt.redraw or self._draws_pending
+                     or self._message_expired() or (status is not None and (
+                         status.published or status.failures > 0)))
+        if not must_draw and not worked:
+            self._quiet = True              # nothing to do: wait for events next time
+            self.frames_skipped += 1
+            return True
+        if not must_draw and time.monotonic() - self._drawn_at < PROGRESS_REDRAW_S:
+            # a job runs with nothing new to show: its time goes to the job (input is
+            # still read between budgets); the progress label is redrawn this often
             self.frames_skipped += 1
             return True
         rt.redraw = rt.audit_wanted = False      # what is drawn now asks again

@@ -67,6 +67,9 @@ MIN_RENDER_EDGE = 16
 EXPOSURE_TOLERANCE = 0.05
 """Relative change of a side's own exposure (exposed separately) worth applying."""
 SHADER_POLL_S = 0.5
+PREVIEW_INTERVAL_S = 0.25
+"""Progressive pictures after the first of a job come at most this often: a preview
+gathers the whole image, which at full size costs as much as a few propagation steps."""
 MIN_TASK_MS = 2.0
 """Background tasks run when at least this much of the budget is left."""
 
@@ -153,6 +156,7 @@ class SideState:
     progress: "Progress | None" = None
     previewed: int = 0
     """Propagation steps of the job's last preview."""
+    previewed_at: float = 0.0
     job_ms: float = 0.0
     """Time spent in the job in flight so far."""
     serial: int = 0
@@ -178,6 +182,7 @@ class PipelineController:
         """The pictures' copy program (the pipelines have their own caches)."""
         self.sides: dict[str, SideState] = {name: SideState(name) for name in SIDES}
         self.drag_scale = FIRST_DRAG_SCALE
+        self.preview_interval_s = PREVIEW_INTERVAL_S
         self.camera_ms_per_pixel: float | None = None
         """Measured cost of the last camera-only frame per pixel."""
         self.camera_ms: dict[float, float] = {}
@@ -349,6 +354,10 @@ class PipelineController:
                 or progress.done <= side.previewed):
             return
         began = time.perf_counter()
+        if side.previewed > 0 and \
+                time.monotonic() - side.previewed_at < self.preview_interval_s:
+            return
+        side.previewed_at = time.monotonic()
         try:
             shown = side.job.preview()
             if shown:

@@ -1,0 +1,324 @@
+"""The interaction benchmark's driver: a real explorer window taken through a scripted
+session, run as a script in a child process (``lpv-explorer bench --interactive`` starts
+it and reads its JSON). It only uses what every version of the window has (``App``,
+``app.frame()``, ``app.state.settings``, ``set_corrections``, ``update``, the runtime's
+result and view rectangle, imgui mouse events), so the same driver measures an older
+checkout too (``--root``); what only the responsive window offers (its pictures, its
+per-frame work log) is read when present.
+
+The session (issue #10): launch, converge, idle, orbit N frames by dragging the mouse
+over the view, an exposure sweep, each correction toggled, the grid at 64³. Times are
+wall-clock on this machine, to be compared only with another run on the same machine.
+
+Soak (``--soak MINUTES``): view switches, buffers, toggles and camera moves for that
+long; prints resident memory and the GL objects alive at the start and the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ctypes
+import json
+import os
+import statistics
+import sys
+import time
+
+LIT_LEVEL = 100
+"""A view pixel with a channel above this is lit (the dark background is about 25)."""
+LIT_SHARE = 0.05
+SETTLE_LIMIT_S = 120.0
+IDLE_S = 3.0
+DRAG_PIXELS = 6.0
+EXPOSURES = (0.5, 1.0, 2.0, 4.0, 1.0)
+RENDER_SIZE = (960, 540)
+WINDOW_SIZE = (1600, 960)
+
+
+# --- what the window offers -------------------------------------------------------------
+def picture_serial(app) -> object:
+    """What changes whenever the view gets a new picture: the responsive window's picture
+    stamp, else the identity of the frame result (a synchronous window)."""
+    pictures = getattr(app.state.runtime, "pictures", None)
+    if pictures and "A" in pictures:
+        return pictures["A"].stamp.serial
+    return id(app.state.runtime.result)
+
+
+def poke(app) -> None:
+    """Count an injected imgui event as window input, as glfw's callback would (a
+    window that waits for events when idle must wake for it)."""
+    getattr(app.window, "_on_event", lambda: None)()
+
+
+def busy(app) -> bool:
+    """Work in flight, or the camera still counts as moving (the full size follows)."""
+    status = getattr(app, "status", None)
+    return bool(status is not None and status.active) or bool(getattr(app, "_interacted",
+                                                                     False))
+
+
+def draw(app) -> float:
+    """One frame that draws (an idle responsive window would skip it); milliseconds."""
+    start = time.perf_counter()
+    try:
+        app.frame(force=True)
+    except TypeError:                  # a window whose frame() always draws
+        app.frame()
+    return (time.perf_counter() - start) * 1e3
+
+
+def lit(app) -> bool:
+    import numpy as np
+
+    rect = app.state.runtime.view_rect
+    pixels = app.last_pixels
+    if rect is None or pixels is None:
+        return False
+    x0, y0, x1, y1 = (int(round(v)) for v in rect)
+    view = pixels[y0 + 2:y1 - 2, x0 + 2:x1 - 2]
+    return view.size > 0 and float(np.mean(view.max(axis=2) > LIT_LEVEL)) > LIT_SHARE
+
+
+class Recorder:
+    """Times frames and keeps the longest one with what ran in it."""
+
+    def __init__(self, app) -> None:
+        self.app = app
+        self.longest = (0.0, "")
+        self.frames = 0
+
+    def frame(self) -> float:
+        start = time.perf_counter()
+        self.app.frame()
+        ms = (time.perf_counter() - start) * 1e3
+        self.frames += 1
+        if ms > self.longest[0]:
+            status = getattr(self.app, "status", None)
+            if status is None:
+                work = "(no work log: a synchronous window runs the pipeline in its frame)"
+            else:
+                work = ", ".join(f"{unit.side} {unit.what} {unit.ms:.0f} ms"
+                                 for unit in status.work) or "no pipeline work"
+                work += f"; window drawing and the rest {ms - status.work_ms:.0f} ms"
+            self.longest = (ms, work)
+        return ms
+
+    def converge(self) -> float:
+        """Frames until the picture has converged; milliseconds."""
+        start = time.perf_counter()
+        self.frame()
+        while busy(self.app) and time.perf_counter() - start < SETTLE_LIMIT_S:
+            self.frame()
+        self.frame()
+        return (time.perf_counter() - start) * 1e3
+
+    def until_new_picture(self, before: object) -> tuple[float, float]:
+        """(ms to the first new picture, ms until converged) from now."""
+        start = time.perf_counter()
+        first = None
+        while time.perf_counter() - start < SETTLE_LIMIT_S:
+            self.frame()
+            now = (time.perf_counter() - start) * 1e3
+            if first is None and picture_serial(self.app) != before:
+                first = now
+            if first is not None and not busy(self.app):
+                return first, now
+        return (first or float("nan")), float("nan")
+
+
+# --- the session ------------------------------------------------------------------------
+def open_app(grid: int):
+    from explorer.lpv.settings import Settings
+    from explorer.ui.app import App
+    from explorer.ui.state import AppState
+
+    state = AppState(settings=Settings(grid_size=grid, width=RENDER_SIZE[0],
+                                       height=RENDER_SIZE[1]))
+    state.follow_view_size = False
+    return App(state, width=WINDOW_SIZE[0], height=WINDOW_SIZE[1], visible=True, vsync=False,
+               persist_settings=False)
+
+
+def session(spawned: float, frames: int, grid: int) -> dict:
+    from imgui_bundle import imgui
+
+    app = open_app(grid)
+    figures: dict[str, object] = {}
+    try:
+        rec = Recorder(app)
+        # launch to the first lit frame
+        while time.time() - spawned < SETTLE_LIMIT_S:
+            app.frame(capture=True)
+            if lit(app):
+                break
+        figures["launch_to_first_lit_frame_s"] = time.time() - spawned
+        rec.converge()
+        figures["launch_to_converged_s"] = time.time() - spawned
+        # idle: the loop as a user leaves it, then the cost of a redraw with nothing new
+        drawn = app.state.runtime.frame_index
+        cpu, wall = time.process_time(), time.perf_counter()
+        while time.perf_counter() - wall < IDLE_S:
+            app.frame()
+        wall = time.perf_counter() - wall
+        figures["idle_cpu_percent"] = 100.0 * (time.process_time() - cpu) / wall
+        figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame_index - drawn) / wall
+        redraw = statistics.median(draw(app) for _ in range(10))
+        figures["idle_frame_ms"] = redraw
+        # orbit: drag the mouse across the view
+        x0, y0, x1, y1 = app.state.runtime.view_rect
+        scale = imgui.get_io().display_framebuffer_scale.x or 1.0
+        x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
+        io = imgui.get_io()
+        io.add_mouse_pos_event(x, y)
+        poke(app)
+        rec.frame()
+        io.add_mouse_button_event(0, True)
+        poke(app)
+        rec.frame()
+        pictures, last = 0, picture_serial(app)
+        start = time.perf_counter()
+        for step in range(1, frames + 1):
+            io.add_mouse_pos_event(x + DRAG_PIXELS * (step % 60) - 180.0, y)
+            poke(app)
+            rec.frame()
+            serial = picture_serial(app)
+            pictures += serial != last
+            last = serial
+        orbit_s = time.perf_counter() - start
+        figures["orbit_fps"] = pictures / orbit_s
+        figures["orbit_window_fps"] = frames / orbit_s
+        result = app.state.runtime.result
+        figures["orbit_render_size"] = list(result.direct.shape[1::-1]) if result else None
+        io.add_mouse_button_event(0, False)
+        poke(app)
+        figures["orbit_refine_ms"] = rec.converge()
+        # display-only changes: what a frame with the change costs over a plain redraw
+        changed = []
+        for value in EXPOSURES:
+            app.state.update(exposure=value)
+            changed.append(rec.frame())
+        figures["display_change_frame_ms"] = statistics.median(changed)
+        figures["display_change_ms"] = max(statistics.median(changed) - redraw, 0.0)
+        rec.converge()
+        # each correction toggled, and back
+        figures["toggles"] = toggles(app, rec)
+        firsts = [t["first_update_ms"] for t in figures["toggles"].values()]
+        finals = [t["converged_ms"] for t in figures["toggles"].values()]
+        figures["toggle_first_update_ms"] = statistics.median(firsts)
+        figures["toggle_converged_ms"] = statistics.median(finals)
+        # the grid at 64³
+        before = picture_serial(app)
+        app.state.update(grid_size=64)
+        first, final = rec.until_new_picture(before)
+        figures["grid64_first_update_ms"], figures["grid64_converged_ms"] = first, final
+        before = picture_serial(app)
+        name = next(iter(figures["toggles"]))
+        corrections = app.state.settings.corrections
+        app.state.set_corrections(**{name: not getattr(corrections, name)})
+        first, final = rec.until_new_picture(before)
+        figures["grid64_toggle_first_update_ms"] = first
+        figures["grid64_toggle_converged_ms"] = final
+        figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = \
+            rec.longest
+        figures["frames"] = rec.frames
+        figures["renderer"] = app.state.runtime.gl_renderer if hasattr(
+            app.state.runtime, "gl_renderer") else ""
+    finally:
+        app.close()
+    return figures
+
+
+def toggles(app, rec: Recorder) -> dict:
+    from dataclasses import fields
+
+    times = {}
+    for entry in fields(app.state.settings.corrections):
+        name = entry.name
+        value = getattr(app.state.settings.corrections, name)
+        before = picture_serial(app)
+        app.state.set_corrections(**{name: not value})
+        first, final = rec.until_new_picture(before)
+        times[name] = {"first_update_ms": first, "converged_ms": final}
+        app.state.set_corrections(**{name: value})
+        rec.converge()
+    return times
+
+
+# --- soak -------------------------------------------------------------------------------
+def resident_mib() -> float:
+    with open("/proc/self/status", encoding="ascii") as status:
+        for line in status:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+GL_KINDS = ("Texture", "Buffer", "Framebuffer", "Renderbuffer", "Program", "VertexArray",
+            "Query", "Sampler")
+
+
+def gl_objects(limit: int = 8192) -> dict[str, int]:
+    """How many names of each kind of GL object are alive in the current context: the
+    ``glIs*`` test of every name below ``limit`` (objects are named from 1 up)."""
+    gl = ctypes.CDLL("libGL.so.1")
+    counts = {}
+    for kind in GL_KINDS:
+        test = getattr(gl, f"glIs{kind}")
+        test.restype, test.argtypes = ctypes.c_ubyte, [ctypes.c_uint]
+        counts[kind] = sum(1 for name in range(1, limit) if test(name))
+    return counts
+
+
+def soak(minutes: float, grid: int) -> dict:
+    from explorer.ui import camera
+
+    app = open_app(grid)
+    try:
+        rec = Recorder(app)
+        rec.converge()
+        start = {"rss_mib": resident_mib(), "gl": gl_objects()}
+        modes = ("single", "split", "difference")
+        buffers = ("final", "direct", "indirect", "albedo")
+        from dataclasses import fields
+
+        names = [entry.name for entry in fields(app.state.settings.corrections)]
+        end_at = time.monotonic() + minutes * 60.0
+        step = 0
+        while time.monotonic() < end_at:
+            step += 1
+            app.state.view_mode = modes[step % len(modes)]
+            app.state.view_buffer = buffers[step % len(buffers)]
+            corrections = app.state.settings.corrections
+            name = names[step % len(names)]
+            app.state.set_corrections(**{name: not getattr(corrections, name)})
+            eye, target = (app.state.settings.camera
+                           or app.state.runtime.camera_default)
+            app.state.update(camera=camera.orbit(eye, target, 7.0, 0.0))
+            rec.converge()
+        end = {"rss_mib": resident_mib(), "gl": gl_objects()}
+        return {"minutes": minutes, "cycles": step, "frames": rec.frames, "start": start,
+                "end": end}
+    finally:
+        app.close()
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--spawned", type=float, default=time.time(),
+                        help="time.time() when the parent started this process")
+    parser.add_argument("--frames", type=int, default=60)
+    parser.add_argument("--grid", type=int, default=32)
+    parser.add_argument("--soak", type=float, default=None, metavar="MINUTES")
+    parser.add_argument("--json", required=True)
+    args = parser.parse_args(argv)
+    figures = soak(args.soak, args.grid) if args.soak else session(args.spawned,
+                                                                    args.frames, args.grid)
+    figures["root"] = os.path.dirname(os.path.dirname(sys.modules["explorer"].__file__))
+    with open(args.json, "w", encoding="utf-8") as out:
+        json.dump(figures, out, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,105 @@
+"""``lpv-explorer bench --interactive`` and ``--soak MINUTES``: the real window driven
+by :mod:`explorer.commands.interaction` in a child process (so that launch is measured
+from a fresh interpreter, and ``--root`` can point at another checkout), its figures
+printed and, with ``--json``, written under the keys of issue #10."""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from explorer.commands import interaction, options
+
+KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".2f"),
+        ("launch_to_converged_s", "launch to the converged frame", "s", ".2f"),
+        ("idle_frame_ms", "a redraw with nothing new", "ms", ".1f"),
+        ("idle_cpu_percent", "CPU while idle", "%", ".1f"),
+        ("idle_frames_drawn_per_s", "frames drawn per second while idle", "/s", ".1f"),
+        ("orbit_fps", "orbit: new pictures per second", "fps", ".1f"),
+        ("orbit_window_fps", "orbit: frames per second", "fps", ".1f"),
+        ("orbit_refine_ms", "orbit released to the full-size frame", "ms", ".0f"),
+        ("display_change_ms", "display-only change, over a redraw", "ms", ".1f"),
+        ("display_change_frame_ms", "display-only change, its whole frame", "ms", ".1f"),
+        ("toggle_first_update_ms", "toggle to the first updated picture (median)", "ms",
+         ".0f"),
+        ("toggle_converged_ms", "toggle to the converged picture (median)", "ms", ".0f"),
+        ("grid64_first_update_ms", "grid 64³: first updated picture", "ms", ".0f"),
+        ("grid64_converged_ms", "grid 64³: converged", "ms", ".0f"),
+        ("grid64_toggle_first_update_ms", "64³ toggle: first updated picture", "ms", ".0f"),
+        ("grid64_toggle_converged_ms", "64³ toggle: converged", "ms", ".0f"),
+        ("longest_blocked_frame_ms", "longest frame", "ms", ".0f"))
+
+
+def run_window_bench(args: argparse.Namespace) -> int:
+    if not os.environ.get("DISPLAY"):
+        raise options.CommandError("the window bench needs a display: run it under "
+                                   "xvfb-run -a -s '-screen 0 1700x1100x24'")
+    root = (args.root or Path(__file__).resolve().parents[2]).resolve()
+    if not (root / "explorer" / "ui" / "app.py").is_file():
+        raise options.CommandError(f"--root {root}: no explorer/ui/app.py there")
+    with options.Outputs("--json") as outputs:
+        json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
+        figures = _child(root, args)
+        when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        figures.update(date=when, root=str(root))
+        print(f"window of {root} on {figures.get('renderer') or 'this GL'}; {when}")
+        if args.soak is not None:
+            _print_soak(figures)
+        else:
+            _print_session(figures)
+        if json_path is not None:
+            payload = json.dumps(figures, indent=2)
+            outputs.write(json_path, lambda p: p.write_text(payload))
+    return 0
+
+
+def _child(root: Path, args: argparse.Namespace) -> dict:
+    with tempfile.TemporaryDirectory(prefix="lpv-bench-") as folder:
+        out = Path(folder) / "figures.json"
+        # a copy of the driver alone in its folder: run as a script, its folder comes
+        # first on sys.path, and explorer/commands/ holds names like "constants"
+        driver = Path(folder) / "lpv_interaction_driver.py"
+        shutil.copyfile(interaction.__file__, driver)
+        command = [sys.executable, str(driver),
+                   "--json", str(out), "--frames", str(args.frames)]
+        if args.soak is not None:
+            command += ["--soak", str(args.soak)]
+        env = dict(os.environ, PYTHONPATH=str(root),
+                   XDG_CONFIG_HOME=str(Path(folder) / "config"))
+        command += ["--spawned", repr(time.time())]
+        proc = subprocess.run(command, cwd=root, env=env, capture_output=True, text=True)
+        if proc.returncode != 0 or not out.is_file():
+            tail = proc.stderr.strip().splitlines()[-5:]
+            raise options.CommandError("the window session failed: " + " | ".join(tail), 1)
+        return json.loads(out.read_text())
+
+
+def _print_session(figures: dict) -> None:
+    for key, label, unit, fmt in KEYS:
+        value = figures.get(key)
+        if value is not None:
+            print(f"  {label:<48} {format(value, fmt):>9} {unit}")
+    size = figures.get("orbit_render_size")
+    if size:
+        print(f"  {'orbit: render size while dragging':<48} {size[0]:>5}×{size[1]}")
+    print(f"  longest frame ran: {figures.get('longest_blocked_frame_work', '')}")
+    for name, times in figures.get("toggles", {}).items():
+        print(f"    toggle {name:<22} first {times['first_update_ms']:7.0f} ms   converged "
+              f"{times['converged_ms']:7.0f} ms")
+
+
+def _print_soak(figures: dict) -> None:
+    start, end = figures["start"], figures["end"]
+    print(f"  soak {figures['minutes']:g} min: {figures['cycles']} cycles, "
+          f"{figures['frames']} frames")
+    print(f"  resident memory  start {start['rss_mib']:.0f} MiB   end {end['rss_mib']:.0f} MiB")
+    for kind in start["gl"]:
+        print(f"  GL {kind:<13} start {start['gl'][kind]:5d}   end {end['gl'][kind]:5d}")
