@@ -87,6 +87,9 @@ class Recorder:
         self.app = app
         self.longest = (0.0, "")
         self.frames = 0
+        self.phase = "launch"
+        self.slow: list[tuple[float, str]] = []
+        """The five longest frames with their phase and what ran in them."""
 
     def frame(self) -> float:
         start = time.perf_counter()
@@ -101,7 +104,11 @@ class Recorder:
                 work = ", ".join(f"{unit.side} {unit.what} {unit.ms:.0f} ms"
                                  for unit in status.work) or "no pipeline work"
                 work += f"; window drawing and the rest {ms - status.work_ms:.0f} ms"
-            self.longest = (ms, work)
+            self.longest = (ms, f"{self.phase}: {work}")
+        if len(self.slow) < 5 or ms > self.slow[-1][0]:
+            status = getattr(self.app, "status", None)
+            rest = "" if status is None else f" (pipeline {status.work_ms:.0f} ms)"
+            self.slow = sorted(self.slow + [(ms, f"{self.phase}{rest}")], reverse=True)[:5]
         return ms
 
     def converge(self) -> float:
@@ -153,6 +160,7 @@ def session(spawned: float, frames: int, grid: int) -> dict:
             if lit(app):
                 break
         figures["launch_to_first_lit_frame_s"] = time.time() - spawned
+        rec.phase = "converge"
         rec.converge()
         figures["launch_to_converged_s"] = time.time() - spawned
         # idle: the loop as a user leaves it, then the cost of a redraw with nothing new
@@ -166,6 +174,7 @@ def session(spawned: float, frames: int, grid: int) -> dict:
         redraw = statistics.median(draw(app) for _ in range(10))
         figures["idle_frame_ms"] = redraw
         # orbit: drag the mouse across the view
+        rec.phase = "orbit"
         x0, y0, x1, y1 = app.state.runtime.view_rect
         scale = imgui.get_io().display_framebuffer_scale.x or 1.0
         x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
@@ -194,6 +203,7 @@ def session(spawned: float, frames: int, grid: int) -> dict:
         poke(app)
         figures["orbit_refine_ms"] = rec.converge()
         # display-only changes: what a frame with the change costs over a plain redraw
+        rec.phase = "display"
         changed = []
         for value in EXPOSURES:
             app.state.update(exposure=value)
@@ -202,12 +212,14 @@ def session(spawned: float, frames: int, grid: int) -> dict:
         figures["display_change_ms"] = max(statistics.median(changed) - redraw, 0.0)
         rec.converge()
         # each correction toggled, and back
+        rec.phase = "toggles"
         figures["toggles"] = toggles(app, rec)
         firsts = [t["first_update_ms"] for t in figures["toggles"].values()]
         finals = [t["converged_ms"] for t in figures["toggles"].values()]
         figures["toggle_first_update_ms"] = statistics.median(firsts)
         figures["toggle_converged_ms"] = statistics.median(finals)
         # the grid at 64³
+        rec.phase = "grid 64"
         before = picture_serial(app)
         app.state.update(grid_size=64)
         first, final = rec.until_new_picture(before)
@@ -222,6 +234,7 @@ def session(spawned: float, frames: int, grid: int) -> dict:
         figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = \
             rec.longest
         figures["frames"] = rec.frames
+        figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
         figures["renderer"] = app.state.runtime.gl_renderer if hasattr(
             app.state.runtime, "gl_renderer") else ""
     finally:

@@ -91,6 +91,8 @@ def _print_session(figures: dict) -> None:
     if size:
         print(f"  {'orbit: render size while dragging':<48} {size[0]:>5}×{size[1]}")
     print(f"  longest frame ran: {figures.get('longest_blocked_frame_work', '')}")
+    for line in figures.get("slowest_frames", []):
+        print(f"    slow frame: {line}")
     for name, times in figures.get("toggles", {}).items():
         print(f"    toggle {name:<22} first {times['first_update_ms']:7.0f} ms   converged "
               f"{times['converged_ms']:7.0f} ms")

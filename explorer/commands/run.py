@@ -1,7 +1,8 @@
 """``lpv-explorer run``: open the explorer window.
 
-``--screenshot PATH --frames N`` draws N frames, writes the last one (panels included) to
-PATH and exits: scripted runs, README screenshots and CI smoke tests. Every option is
+``--screenshot PATH --frames N`` draws N frames, lets the picture converge (the pipeline
+works a few milliseconds per frame), writes the window (panels included) to PATH and
+exits: scripted runs, README screenshots and CI smoke tests. Every option is
 checked before the window opens (an unknown lesson or scene, a window larger than
 :data:`~explorer.ui.state.MAX_WINDOW_SIZE`, a screenshot path that cannot be written).
 """
@@ -25,7 +26,8 @@ from explorer.lpv.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
 FRAMES = Spec(kind="int", low=1, high=10**9, optional=True,
-              doc="Draw this many frames, then exit (default with --screenshot: 30).")
+              doc="Draw this many frames, then exit (default with --screenshot: 30; the "
+                  "screenshot waits for the converged picture).")
 STEP = Spec(kind="int", low=1, high=1000, optional=True,
             doc="Open the lesson at this step (default: 1).")
 

@@ -16,10 +16,12 @@ depends on the invocation order; both double count light propagated before.
 :func:`in_place_step_candidates` states exactly what the racing pass can produce.
 
 Every constant (SH basis and lobe, flux factor, face solid angles, π and the published
-decimals) is the float64 value of its exact sympy derivation, read through
-``derivations.registry`` on first use (:data:`K`), not the generated mirror
-``explorer/lpv/constants.py`` the shaders' constants come from: a wrong generated constant
-then makes the GPU disagree with this reference.
+decimals) is the float64 value of its exact sympy derivation (:data:`K`), read from the
+table of derivation results ``explorer/derived_table.py`` (the codegen writes it from
+``derivations.registry``; the test suite fails when it is stale), not the generated
+mirror ``explorer/lpv/constants.py`` the shaders' constants come from: a wrong shader
+constant then makes the GPU disagree with this reference. Reading the table runs no
+sympy, so the window's picking and glyphs never stall on the registry (issue #10).
 """
 
 from __future__ import annotations
@@ -35,9 +37,9 @@ from explorer.lpv.vpl import VplArrays
 
 class DerivedConstants:
     """The constants this reference uses, each the float64 value of the exact result of a
-    derivation (``derivations.registry``), evaluated from sympy on first access. Loading
-    the registry runs every derivation once (about 2 s), so nothing is evaluated at
-    import."""
+    derivation (``derivations.registry``), looked up on first access in the codegen's
+    table of results (``explorer.derived``): deriving the registry takes seconds of
+    sympy, which a window must never wait for."""
 
     DERIVATIONS: dict[str, str] = {
         "PI": "solid_angles.projected_hemisphere",
@@ -62,10 +64,14 @@ class DerivedConstants:
         if name not in self.DERIVATIONS:
             raise AttributeError(f"no derived constant {name!r}; known: "
                                  f"{', '.join(self.DERIVATIONS)}")
-        from derivations.registry import get
+        from explorer.derived import get
 
-        value = float(get(self.DERIVATIONS[name]).expr.evalf(30))
-        setattr(self, name, value)   # evaluated once
+        value = get(self.DERIVATIONS[name]).value
+        if value is None:
+            raise AttributeError(f"the derivation {self.DERIVATIONS[name]} behind {name} "
+                                 "is not a number")
+        value = float(value)
+        setattr(self, name, value)   # looked up once
         return value
 
 
