@@ -284,22 +284,22 @@ def gl_objects(limit: int = 8192) -> dict[str, int]:
 
 
 def soak(minutes: float, grid: int) -> dict:
+    """The soak (module docstring). "start" is taken after one warm-up round of every
+    view mode and buffer (the second side's pipeline and the view's images are made
+    then, once); resident memory is also sampled every minute."""
+    from dataclasses import fields
+
     from explorer.ui import camera
 
     app = open_app(grid)
     try:
         rec = Recorder(app)
         rec.converge()
-        start = {"rss_mib": resident_mib(), "gl": gl_objects()}
         modes = ("single", "split", "difference")
         buffers = ("final", "direct", "indirect", "albedo")
-        from dataclasses import fields
-
         names = [entry.name for entry in fields(app.state.settings.corrections)]
-        end_at = time.monotonic() + minutes * 60.0
-        step = 0
-        while time.monotonic() < end_at:
-            step += 1
+
+        def cycle(step: int) -> None:
             app.state.view_mode = modes[step % len(modes)]
             app.state.view_buffer = buffers[step % len(buffers)]
             corrections = app.state.settings.corrections
@@ -309,9 +309,21 @@ def soak(minutes: float, grid: int) -> dict:
                            or app.state.runtime.camera_default)
             app.state.update(camera=camera.orbit(eye, target, 7.0, 0.0))
             rec.converge()
+
+        for step in range(len(modes) * len(buffers)):      # warm-up
+            cycle(step)
+        start = {"rss_mib": resident_mib(), "gl": gl_objects()}
+        began = time.monotonic()
+        samples = [(0.0, start["rss_mib"])]
+        step = 0
+        while time.monotonic() - began < minutes * 60.0:
+            step += 1
+            cycle(step)
+            if time.monotonic() - began >= 60.0 * len(samples):
+                samples.append((round((time.monotonic() - began) / 60.0, 2), resident_mib()))
         end = {"rss_mib": resident_mib(), "gl": gl_objects()}
         return {"minutes": minutes, "cycles": step, "frames": rec.frames, "start": start,
-                "end": end}
+                "end": end, "rss_mib_by_minute": samples}
     finally:
         app.close()
 

@@ -102,6 +102,11 @@ def _print_soak(figures: dict) -> None:
     start, end = figures["start"], figures["end"]
     print(f"  soak {figures['minutes']:g} min: {figures['cycles']} cycles, "
           f"{figures['frames']} frames")
-    print(f"  resident memory  start {start['rss_mib']:.0f} MiB   end {end['rss_mib']:.0f} MiB")
+    print(f"  resident memory  start {start['rss_mib']:.0f} MiB   end {end['rss_mib']:.0f} MiB"
+          " (start: after one warm-up round of every view mode and buffer)")
     for kind in start["gl"]:
         print(f"  GL {kind:<13} start {start['gl'][kind]:5d}   end {end['gl'][kind]:5d}")
+    samples = figures.get("rss_mib_by_minute", [])
+    if samples:
+        print("  resident memory by minute: " + ", ".join(f"{minute:g}: {mib:.0f}"
+                                                          for minute, mib in samples))

@@ -53,7 +53,7 @@ DRAG_FPS = 15.0
 frame at this rate leaves after the window's own drawing, and render at the size that
 fits (explorer/ui/controller.py DRAG_SCALES)."""
 MIN_DRAG_BUDGET_MS = 4.0
-PROGRESS_REDRAW_S = 0.25
+PROGRESS_REDRAW_S = 0.5
 """While a job runs and no new picture or input arrives, the window draws this often."""
 SETTLE_FRAMES = 100000
 
@@ -403,7 +403,7 @@ class App:
         self.status = self.controller.update(
             state, state.frame_budget_ms, keep_steps=keep_steps,
             need_audit=rt.audit_wanted, interacting=self._interacted,
-            drag_budget_ms=drag_budget)
+            drag_budget_ms=drag_budget, draw_ms=self.ui_ms)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}

@@ -68,8 +68,11 @@ EXPOSURE_TOLERANCE = 0.05
 """Relative change of a side's own exposure (exposed separately) worth applying."""
 SHADER_POLL_S = 0.5
 PREVIEW_INTERVAL_S = 0.25
-"""Progressive pictures after the first of a job come at most this often: a preview
-gathers the whole image, which at full size costs as much as a few propagation steps."""
+"""Progressive pictures after the first of a job come at most this often ..."""
+PREVIEW_SHARE = 0.25
+"""... and take at most this share of the time: a preview gathers the whole image (at
+full size as much as a few propagation steps) and the window draws it, so the interval
+grows with what the last preview and a drawn frame cost."""
 MIN_TASK_MS = 2.0
 """Background tasks run when at least this much of the budget is left."""
 
@@ -157,6 +160,8 @@ class SideState:
     previewed: int = 0
     """Propagation steps of the job's last preview."""
     previewed_at: float = 0.0
+    preview_ms: float = 0.0
+    """What the side's last preview cost (gather, display, copy)."""
     job_ms: float = 0.0
     """Time spent in the job in flight so far."""
     serial: int = 0
@@ -183,6 +188,9 @@ class PipelineController:
         self.sides: dict[str, SideState] = {name: SideState(name) for name in SIDES}
         self.drag_scale = FIRST_DRAG_SCALE
         self.preview_interval_s = PREVIEW_INTERVAL_S
+        """The shortest time between two previews of a job (0: after every step)."""
+        self.draw_ms = 0.0
+        """What the window spends drawing a frame (the shell's measure)."""
         self.camera_ms_per_pixel: float | None = None
         """Measured cost of the last camera-only frame per pixel."""
         self.camera_ms: dict[float, float] = {}
@@ -235,15 +243,19 @@ class PipelineController:
     # ------------------------------------------------------------------ the frame
     def update(self, state: "AppState", budget_ms: float, *, keep_steps: bool = False,
                need_audit: bool = False, interacting: bool = False,
-               drag_budget_ms: float | None = None) -> ControllerStatus:
+               drag_budget_ms: float | None = None,
+               draw_ms: float | None = None) -> ControllerStatus:
         """Start, advance and publish within ``budget_ms`` milliseconds (module
         docstring); fills ``state.runtime``. ``drag_budget_ms``: what a frame may spend
         on the pipelines while the camera is dragged (the window's frame time for the
         drag's frame rate, less its own drawing; default ``budget_ms``): the drag scale
-        is chosen so that a camera frame fits it, and a drag's frame gets that much."""
+        is chosen so that a camera frame fits it, and a drag's frame gets that much.
+        ``draw_ms``: what the window spends drawing a frame (paces the previews)."""
         status = self._status = ControllerStatus()
         if self.pipeline_class is None:
             return status
+        if draw_ms is not None:
+            self.draw_ms = draw_ms
         self._hot_reload(state)
         start = time.perf_counter()
         active = self.active_sides(state)
@@ -354,9 +366,10 @@ class PipelineController:
                 or progress.done <= side.previewed):
             return
         began = time.perf_counter()
-        if side.previewed > 0 and \
-                time.monotonic() - side.previewed_at < self.preview_interval_s:
-            return
+        if side.previewed > 0 and self.preview_interval_s > 0.0:
+            cost_s = (side.preview_ms + self.draw_ms) / 1e3 / PREVIEW_SHARE
+            if time.monotonic() - side.previewed_at < max(self.preview_interval_s, cost_s):
+                return
         side.previewed_at = time.monotonic()
         try:
             shown = side.job.preview()
@@ -374,6 +387,7 @@ class PipelineController:
         side.previewed = progress.done
         elapsed = (time.perf_counter() - began) * 1e3
         side.job_ms += elapsed
+        side.preview_ms = elapsed
         status.work.append(WorkUnit(side.name, f"preview {progress.done}/{progress.total}",
                                     elapsed))
 
