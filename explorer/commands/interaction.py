@@ -92,9 +92,11 @@ class Recorder:
         """The five longest frames with their phase and what ran in them."""
 
     def frame(self) -> float:
+        """One frame() call; milliseconds it blocked (without an idle wait for events,
+        which input ends at once)."""
         start = time.perf_counter()
         self.app.frame()
-        ms = (time.perf_counter() - start) * 1e3
+        ms = (time.perf_counter() - start - getattr(self.app, "last_wait_s", 0.0)) * 1e3
         self.frames += 1
         if ms > self.longest[0]:
             status = getattr(self.app, "status", None)

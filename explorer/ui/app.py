@@ -110,6 +110,8 @@ class App:
         self.ui_ms = 30.0
         """The window's own time per drawn frame (smoothed), besides pipeline work."""
         self.frames_skipped = 0
+        self.last_wait_s = 0.0
+        """How long the last frame() waited for events (an idle window)."""
         """frame() calls that found nothing to do and drew nothing."""
         self.last_pixels: np.ndarray | None = None
         self._init_imgui()
@@ -213,10 +215,14 @@ class App:
         ``capture``: keep the drawn frame (panels included) in :attr:`last_pixels`."""
         from imgui_bundle import imgui
 
-        start = time.perf_counter()
         force = force or capture or not self.wait_when_idle
-        if self._quiet and not force and self._seen == self._fingerprint():
+        self.last_wait_s = 0.0
+        if self._quiet and not force and not self.window.events and \
+                self._seen == self._fingerprint():
+            waited = time.perf_counter()
             self.window.poll_events(timeout=self._idle_timeout())
+            self.last_wait_s = time.perf_counter() - waited
+        start = time.perf_counter()         # the frame's time, without the idle wait
         self.window.poll_events()
         if self.window.should_close() or self.state.requests.quit:
             return False
