@@ -3,13 +3,16 @@
 // and B (their linear direct and indirect radiance and albedo, view_snapshot.glsl). Every
 // display-only choice lives here, so changing it draws this pass once and runs no stage
 // of the pipeline:
-//   u_mode 0, one side: the chosen buffer as the display shows it (docs/MODEL.md
+//   VIEW_MODE 0, one side: the chosen buffer as the display shows it (docs/MODEL.md
 //     "Display"): final = display_encode(exposure·(direct + indirect)) (exposure·indirect
 //     with indirect only); direct and indirect encoded alike; albedo clamped and
 //     sRGB-encoded. The same as display.glsl for "final".
-//   u_mode 1, difference: the luminance of the chosen linear buffer of A minus B (final:
+//   VIEW_MODE 1, difference: the luminance of the chosen linear buffer of A minus B (final:
 //     with each side's exposure, as FrameResult.final_image), |A − B| on the heat map or
 //     A − B on the diverging map, over u_top (the scale bar's top).
+// The mode and the buffer are compile-time constants (the composer compiles one program
+// per pair on first use, ProgramCache defines): llvmpipe runs both sides of a branch on a
+// uniform, which made a uniform-driven pass cost 2.6 times the display pass.
 // Full-screen pass; row 0 at the bottom, as GL draws. Side B may be another size than the
 // output (it lags A while the camera moves): it is sampled at the same place in the image.
 
@@ -26,8 +29,8 @@ const int BUFFER_INDIRECT = 2;
 const int BUFFER_ALBEDO = 3;
 const vec3 REC709_LUMA = vec3(0.2126, 0.7152, 0.0722);   // explorer/lpv/tonemap.py
 
-uniform int u_mode;                // 0 one side, 1 difference
-uniform int u_buffer;              // BUFFER_*
+#define VIEW_MODE 0                // 0 one side, 1 difference
+#define VIEW_BUFFER 0              // BUFFER_*
 uniform int u_indirect_only;
 uniform int u_tone_map;            // TONE_MAP_* of tonemap.glsl
 uniform sampler2D u_direct_a;
@@ -48,15 +51,15 @@ layout(location = 0) out vec4 out_colour;
 // The linear colour of the chosen buffer (FrameResult.final_image for "final").
 vec3 linear_buffer(sampler2D direct, sampler2D indirect, sampler2D albedo, ivec2 at,
                    float exposure) {
-    if (u_buffer == BUFFER_ALBEDO) {
+    if (VIEW_BUFFER == BUFFER_ALBEDO) {
         return texelFetch(albedo, at, 0).rgb;
     }
     vec3 d = texelFetch(direct, at, 0).rgb;
     vec3 i = texelFetch(indirect, at, 0).rgb;
-    if (u_buffer == BUFFER_DIRECT) {
+    if (VIEW_BUFFER == BUFFER_DIRECT) {
         return d;
     }
-    if (u_buffer == BUFFER_INDIRECT) {
+    if (VIEW_BUFFER == BUFFER_INDIRECT) {
         return i;
     }
     return exposure * (u_indirect_only == 1 ? i : d + i);
@@ -64,16 +67,15 @@ vec3 linear_buffer(sampler2D direct, sampler2D indirect, sampler2D albedo, ivec2
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    if (u_mode == 0) {
-        vec3 linear = linear_buffer(u_direct_a, u_indirect_a, u_albedo_a, pixel, u_exposure_a);
-        if (u_buffer == BUFFER_ALBEDO) {
-            out_colour = vec4(linear_to_srgb(linear), 1.0);
-        } else {
-            float exposure = u_buffer == BUFFER_FINAL ? 1.0 : u_exposure_a;
-            out_colour = vec4(display_encode(exposure * linear, u_scale_a, u_tone_map), 1.0);
-        }
-        return;
+#if VIEW_MODE == 0
+    vec3 linear = linear_buffer(u_direct_a, u_indirect_a, u_albedo_a, pixel, u_exposure_a);
+    if (VIEW_BUFFER == BUFFER_ALBEDO) {
+        out_colour = vec4(linear_to_srgb(linear), 1.0);
+    } else {
+        float exposure = VIEW_BUFFER == BUFFER_FINAL ? 1.0 : u_exposure_a;
+        out_colour = vec4(display_encode(exposure * linear, u_scale_a, u_tone_map), 1.0);
     }
+#else
     ivec2 size = textureSize(u_direct_a, 0);
     ivec2 at_b = pixel * textureSize(u_direct_b, 0) / size;
     float a = dot(linear_buffer(u_direct_a, u_indirect_a, u_albedo_a, pixel, u_exposure_a),
@@ -86,5 +88,6 @@ void main() {
     // the table's texel centres: entry k at (k + 0.5)/entries, linear filtering between
     out_colour = vec4(texture(u_colour_map, vec2((t * (entries - 1.0) + 0.5) / entries, 0.5)).rgb,
                       1.0);
+#endif
 }
 #endif

@@ -28,6 +28,7 @@ KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".
         ("orbit_refine_ms", "orbit released to the full-size frame", "ms", ".0f"),
         ("display_change_ms", "display-only change, over a redraw", "ms", ".1f"),
         ("display_change_frame_ms", "display-only change, its whole frame", "ms", ".1f"),
+        ("display_pass_ms", "display-only change, the view pass alone", "ms", ".2f"),
         ("toggle_first_update_ms", "toggle to the first updated picture (median)", "ms",
          ".0f"),
         ("toggle_converged_ms", "toggle to the converged picture (median)", "ms", ".0f"),

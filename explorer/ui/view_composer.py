@@ -73,8 +73,7 @@ class ViewComposer:
         key = ("side", id(picture), picture.stamp, picture.size, display, buffer)
         output = self._output(side)
         if output.key != key:
-            self._draw(output, picture.size, {
-                "u_mode": 0, "u_buffer": VIEW_BUFFERS.index(buffer),
+            self._draw(output, picture.size, 0, buffer, {
                 "u_indirect_only": int(display.indirect_only),
                 "u_tone_map": tone_map_index(display.tone_map),
                 "u_exposure_a": display.exposure, "u_scale_a": display.scale},
@@ -99,8 +98,7 @@ class ViewComposer:
         output = self._output("difference")
         if output.key != key:
             self._colour_map(colour_map).use(6)
-            self._draw(output, a.size, {
-                "u_mode": 1, "u_buffer": VIEW_BUFFERS.index(buffer),
+            self._draw(output, a.size, 1, buffer, {
                 "u_indirect_only": int(display_a.indirect_only), "u_tone_map": 0,
                 "u_exposure_a": display_a.exposure, "u_exposure_b": display_b.exposure,
                 "u_scale_a": 1.0, "u_signed": int(signed), "u_top": float(top),
@@ -132,10 +130,13 @@ class ViewComposer:
             output = self._outputs[name] = _Output(self.ctx)
         return output
 
-    def _draw(self, output: _Output, size: tuple[int, int], uniforms: dict,
-              a: Picture, b: Picture | None) -> None:
+    def _draw(self, output: _Output, size: tuple[int, int], mode: int, buffer: str,
+              uniforms: dict, a: Picture, b: Picture | None) -> None:
+        """One pass of view.glsl, its mode (0 one side, 1 difference) and buffer compiled
+        in (one program per pair, made on first use)."""
         output.targets.allocate(size)
-        program = self.programs.get(VIEW)
+        program = self.programs.get(VIEW, {"VIEW_MODE": mode,
+                                           "VIEW_BUFFER": VIEW_BUFFERS.index(buffer)})
         b = b or a
         for unit, texture in enumerate((a.direct, a.indirect, a.albedo,
                                         b.direct, b.indirect, b.albedo)):
