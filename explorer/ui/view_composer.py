@@ -24,7 +24,7 @@ from explorer.lpv.targets import RenderTargets
 from explorer.lpv.tonemap import luminance, tone_map_index
 from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS
-from explorer.ui.textures import robust_max, to_rgba8
+from explorer.ui.textures import robust_max
 
 VIEW = "view.glsl"
 DIFFERENCE_MAPS = ("heat", "diverging")
@@ -152,13 +152,9 @@ class ViewComposer:
     def _colour_map(self, name: str) -> moderngl.Texture:
         texture = self._maps.get(name)
         if texture is None:
-            from explorer.ui.overlays.quantities import colour_table
+            from explorer.ui.overlays.slice import colour_map_texture
 
-            table = to_rgba8(colour_table(name)[None])
-            texture = self.ctx.texture((table.shape[1], 1), 4, table.tobytes(), dtype="f1")
-            texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            texture.repeat_x = texture.repeat_y = False
-            self._maps[name] = texture
+            texture = self._maps[name] = colour_map_texture(self.ctx, name, linear=True)
         return texture
 
     def _auto_top(self, a: Picture, b: Picture, display_a: SideDisplay,

@@ -14,6 +14,18 @@ from explorer.ui.textures import to_rgba8
 PROGRAM = "overlay_slice.glsl"
 
 
+def colour_map_texture(ctx: moderngl.Context, name: str, linear: bool = False
+                       ) -> moderngl.Texture:
+    """The colour map ``name`` as a COLOUR_MAP_SIZE × 1 RGBA8 texture, bottom of the bar
+    first (nearest entries, or ``linear`` interpolation between them)."""
+    table = to_rgba8(colour_table(name)[None])
+    texture = ctx.texture((table.shape[1], 1), 4, table.tobytes(), dtype="f1")
+    smooth = moderngl.LINEAR if linear else moderngl.NEAREST
+    texture.filter = (smooth, smooth)
+    texture.repeat_x = texture.repeat_y = False
+    return texture
+
+
 class SliceRenderer:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -38,10 +50,7 @@ class SliceRenderer:
     def _colour_map(self, name: str) -> moderngl.Texture:
         texture = self._maps.get(name)
         if texture is None:
-            table = to_rgba8(colour_table(name)[None])
-            texture = self.ctx.texture((table.shape[1], 1), 4, table.tobytes(), dtype="f1")
-            texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            self._maps[name] = texture
+            texture = self._maps[name] = colour_map_texture(self.ctx, name)
         return texture
 
     def draw(self, target: moderngl.Framebuffer, view_projection: np.ndarray, corner,
