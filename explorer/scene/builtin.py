@@ -78,12 +78,12 @@ def cornell_box() -> Scene:
                      name="spot", cone_degrees=CORNELL_CONE_DEGREES)
     rig = (
         spot,
-        # a warm bulb hanging in the left front corner: a point light (six RSM faces)
-        PointLight((-0.55, 0.5, 0.45), flux_for_irradiance(1.0, 1.5), name="bulb",
-                   colour=WARM),
         # a cool narrow spot from the right front onto the tall block
         SpotLight((0.8, 0.3, 0.95), (-0.34, -0.3, -0.32), flux_for_irradiance(1.7),
                   name="lamp", colour=COOL, cone_degrees=(18.0, 28.0)),
+        # a warm bulb hanging in the left front corner: a point light (six RSM faces)
+        PointLight((-0.55, 0.5, 0.45), flux_for_irradiance(1.0, 1.5), name="bulb",
+                   colour=WARM),
         # low daylight through the open front
         _sun(lo, hi, (0.6, 1.6, 3.0), 1.2, colour=DAYLIGHT),
     )
