@@ -93,7 +93,7 @@ def _from_text(spec: Spec, text: str) -> Any:
     if kind == "range2":                          # "30,60"
         first, second = text.split(",")
         return float(first), float(second)
-    if kind == "names":                           # "spot,bulb"
+    if kind in ("names", "name_set"):              # "spot,bulb"
         return [part.strip() for part in text.split(",")]
     if kind == "transforms":                      # "short block=0.1,0,0,0,30,0"
         name, equals, numbers = text.partition("=")
@@ -215,7 +215,8 @@ def _metavar(spec: Spec) -> str:
     if spec.kind == "choice":
         return "{" + ",".join(str(choice) for choice in spec.choices) + "}"
     return {"int": "N", "float": "X", "str": "TEXT", "range2": "LOW,HIGH",
-            "names": "NAME[,NAME...]"}.get(spec.kind, "VALUE")
+            "names": "NAME[,NAME...]", "name_set": "NAME[,NAME...]"}.get(spec.kind,
+                                                                         "VALUE")
 
 
 def _shown(value: object) -> object:

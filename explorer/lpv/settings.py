@@ -179,7 +179,8 @@ class Settings:
         doc="Total flux of the primary light in watts per channel; None = the scene's "
             "default.")
     lights: tuple[str, ...] | None = setting(
-        None, kind="names", optional=True, flag="--lights", stages=("rsm",),
+        None, kind="name_set", optional=True, high=MAX_LIGHTS, flag="--lights",
+        stages=("rsm",),
         doc=f"Names of the scene's lights that shine, the first being the primary light "
             f"(1 to {MAX_LIGHTS}; e.g. cornell: spot, bulb, lamp, sun); each has its own "
             f'RSM and all inject into one grid (docs/MODEL.md "Several lights"). None = '
@@ -246,13 +247,6 @@ class Settings:
 
     def __post_init__(self) -> None:
         validate(self)
-        if self.lights is not None:
-            names = tuple(self.lights)
-            if not names or len(set(names)) != len(names) or len(names) > MAX_LIGHTS or \
-                    not all(name.strip() for name in names):
-                raise SettingError("lights", f"lights must name 1 to {MAX_LIGHTS} different "
-                                   f"lights of the scene, got {list(names)}")
-            object.__setattr__(self, "lights", names)
         if self.bounces > 1 and self.geometry_volume == "off":
             raise SettingError("bounces", "bounces=2 reflects the light the geometry volume "
                                "blocks, so it needs geometry_volume 'one-sided' or "
