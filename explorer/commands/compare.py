@@ -336,10 +336,13 @@ def metric_cells(stats) -> list[str]:
 def settings_line(args: argparse.Namespace, frame) -> str:
     """The line above the table: what was compared."""
     settings = frame.settings
-    lights = ", ".join(frame.light_names) or "the scene's"
-    return (f"scene `{settings.scene}` (lights: {lights}), reference `{args.reference}`, "
-            f"{settings.width}×{settings.height} px, RSM {settings.rsm_size}² per view, "
-            f"{len(frame.vpl_sets) or 1} view(s) ({frame.vpls.count} VPLs), grid "
+    scene = f"scene `{settings.scene}`"
+    rsm = f"RSM {settings.rsm_size}² ({frame.vpls.count} VPLs)"
+    if len(frame.vpl_sets) > 1:      # several lights, or a point light's six faces
+        scene += f" (lights {', '.join(frame.light_names)}: {len(frame.vpl_sets)} RSM views)"
+        rsm = f"RSM {settings.rsm_size}² per view ({frame.vpls.count} VPLs)"
+    return (f"{scene}, reference `{args.reference}`, {settings.width}×{settings.height} px, "
+            f"{rsm}, grid "
             f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
             f"offset {settings.injection_offset_cells:g} cells, gather damping "
             f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}")

@@ -43,8 +43,9 @@ def draw(state, origin, end) -> bool:
     from ``origin`` to ``end`` (screen coordinates) and apply a drag to the settings.
     Returns True while the gizmo is hovered or dragged."""
     animation, scene, result = animation_of(state), scene_of(state), state.runtime.result
-    if animation.selected is None or scene is None or result is None or \
-            getattr(result, "camera", None) is None or result.scene_bounds is None:
+    if animation.selected is None or scene is None or \
+            getattr(result, "camera", None) is None or \
+            getattr(result, "scene_bounds", None) is None:
         return False
     try:
         obj = scene.object_named(animation.selected)
