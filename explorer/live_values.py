@@ -150,9 +150,8 @@ def _primary_rsm(context: LiveContext) -> float:
     return float(per_light[0].sum())
 
 
-def _stages_run(context: LiveContext) -> str:
-    stages = _result(context).stages_run
-    return ", ".join(stages) if stages else "none"
+def _ran(stage: str) -> Callable[[LiveContext], str]:
+    return lambda c: "yes" if stage in _result(c).stages_run else "no"
 
 
 def _time(name: str) -> Callable[[LiveContext], float]:
@@ -285,8 +284,10 @@ def _fixed() -> dict[str, Quantity]:
                  "channels; a point light's six faces together)", "W", _primary_rsm),
         Quantity("audit.rsm_primary_share", "the primary light's share of the RSM flux", "",
                  lambda c: _ratio(_primary_rsm(c), _audit_sum("rsm")(c))),
-        Quantity("frame.stages_run", "the stages this frame ran (the others were up to "
-                 "date)", "", _stages_run, ""),
+        Quantity("frame.stages_ran", "how many stages this frame ran (the others were up "
+                 "to date)", "", lambda c: len(_result(c).stages_run), "d"),
+        Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
+                 "(yes/no)", "", _ran("gbuffer"), ""),
         Quantity("frame.moved_objects", "objects moved from where the scene puts them "
                  "(Settings.object_transforms)", "",
                  lambda c: len(_settings(c).object_transforms), "d"),

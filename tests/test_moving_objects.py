@@ -236,3 +236,17 @@ def test_stability_command_prints_both_rows(capsys):
     assert main(["stability", "--move", "object", "--object", "vase", "--frames", "1",
                  "--size", "16x16", "--rsm-size", "8", "--grid", "8"]) == 2
     assert "has no object 'vase'" in capsys.readouterr().err
+
+
+def test_a_lesson_step_starts_with_the_scenes_own_lights_and_objects():
+    """Lights and objects of the scene on screen would not exist in a step's scene: every
+    step starts from its scene's own (unless it sets them)."""
+    from explorer.lessons import find_lesson, load_all
+
+    lessons, errors = load_all(check_formula=None)
+    lesson = find_lesson("in-practice", lessons, errors)
+    base = Settings(lights=("bulb",), object_transforms={"short block": (0.1, 0.0, 0.0)})
+    first = lesson.step(1).settings(base)
+    assert first.lights is None and first.object_transforms == ()
+    several = next(step for step in lesson.steps if step.title == "Several lights in one volume")
+    assert several.settings(base).lights == ("sun", "lamp")

@@ -286,3 +286,23 @@ def test_a_light_colour_scales_its_flux_per_channel():
     assert np.allclose(bulb.channel_flux, bulb.flux * np.asarray(bulb.colour))
     with pytest.raises(ValueError, match="colour must be three finite numbers"):
         PointLight((0, 0, 0), 1.0, name="x", colour=(1.0, -1.0, 0.0))
+
+
+def test_lessons_quote_the_lights_from_the_frame(cornell):
+    """The live numbers the lessons quote about several lights are read from the frame."""
+    from explorer import live_values as lv
+
+    frame = run_lights(cornell, CORNELL, "spot", "bulb")
+    context = lv.LiveContext(result=frame)
+
+    def value(name):
+        return lv.lookup(name).value(context)
+
+    assert value("frame.lights") == 2 and value("frame.rsm_views") == 7
+    assert value("audit.rsm_primary") == pytest.approx(float(frame.audit.rsm_per_light[0].sum()))
+    assert 0.0 < value("audit.rsm_primary_share") < 1.0
+    assert value("frame.gbuffer_ran") in ("yes", "no")
+    moved = cornell.run(CORNELL.with_changes(object_transforms={"tall block": (0, 0, 0.05)}))
+    context = lv.LiveContext(result=moved)
+    assert value("frame.moved_objects") == 1 and value("frame.gbuffer_ran") == "yes"
+    assert value("frame.stages_ran") == len(moved.stages_run)

@@ -432,8 +432,9 @@ class App:
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
             return
-        # A new scene starts from its own camera and light.
-        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None)
+        # A new scene starts from its own camera, lights and objects.
+        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None,
+                          lights=None, object_transforms=())
         self.state.notify(f"opening {name_or_path}")
 
     def _update_side_exposures(self) -> None:
