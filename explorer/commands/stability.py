@@ -56,7 +56,7 @@ def main(args: argparse.Namespace) -> int:
             step = args.step if args.step is not None else 0.1 * first.grid_spec.cell_size
             motion = Motion(args.move, step, args.axis, args.moving_object)
             if args.move == "object":
-                motion.object_name(pipeline._scene)      # a clear error before the rows
+                motion.object_name(pipeline.base_scene)      # a clear error first
             runs = [measure(lambda s: options.run_pipeline(pipeline, s),
                             lambda s: pipeline.base_scene.for_settings(s), base, motion,
                             args.frames, snap) for snap in (True, False)]

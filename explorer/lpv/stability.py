@@ -29,7 +29,7 @@ import numpy as np
 from explorer.lpv.reference import gather_cascades, indirect_radiance
 from explorer.lpv.settings import Settings
 from explorer.lpv.tonemap import luminance
-from explorer.scene.model import Scene
+from explorer.scene.model import Scene, SceneError
 
 MOVES = ("light", "object", "camera")
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -61,7 +61,7 @@ class Motion:
         if self.object is not None:
             return scene.object_named(self.object).name
         if not scene.objects:
-            raise ValueError(f"scene {scene.name!r} has no object that can move")
+            raise SceneError(f"scene {scene.name!r} has no object that can move")
         return scene.objects[min(1, len(scene.objects) - 1)].name
 
     def settings(self, base: Settings, scene: Scene, frame: int) -> Settings:
