@@ -68,6 +68,10 @@ LESSON_DEFAULTS: dict[str, Any] = {"spot_cone": False, "auto_exposure": False}
 square frustum (the lessons' texts and measured numbers are about it) and a fixed exposure
 (their prompts ask the reader to watch the image brighten with the flux, the bounces or
 the published formulas, which an auto exposure would undo)."""
+SCENE_STATE: dict[str, Any] = {"lights": None, "object_transforms": ()}
+"""What belongs to the scene on screen and starts afresh with every step (a step may set
+them in its [settings]): which lights shine and where the objects are; lights or objects
+of another scene would not even exist in the step's."""
 COMPARE_VIEWS = ("split", "difference")
 """Views that show the step's corrections against the ``compare`` preset."""
 STEP_VIEWS = VIEWS + COMPARE_VIEWS
@@ -190,12 +194,14 @@ class Step:
 
         Scene, corrections, camera and light always come from the step (a step that
         names no camera gets the scene's default one), so a step looks the same whatever
-        was on screen before; so do the :data:`LESSON_DEFAULTS`. Other fields the step
-        does not mention (window size, exposure, ...) keep the value of ``base``."""
+        was on screen before; so do the :data:`LESSON_DEFAULTS` and the
+        :data:`SCENE_STATE` (the scene's own lights, its objects where it puts them).
+        Other fields the step does not mention (window size, exposure, ...) keep the value
+        of ``base``."""
         base = Settings() if base is None else base
         return base.with_changes(scene=self.scene, corrections=self.corrections,
                                  camera=self.camera, light=self.light,
-                                 **{**LESSON_DEFAULTS, **dict(self.overrides)})
+                                 **{**LESSON_DEFAULTS, **SCENE_STATE, **dict(self.overrides)})
 
     def compare_settings(self, base: Settings | None = None) -> Settings | None:
         """The other side of a split/difference view (the step's settings with the

@@ -74,12 +74,17 @@ class EnergyAudit(GridAudit):
     """(3,) sum of the RSM texels' flux."""
     gathered: np.ndarray = field(default_factory=lambda: np.zeros(3))
     """(3,) flux received by the visible surfaces in the final gather."""
+    rsm_per_light: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """(L, 3) the RSM flux of each light that shines (``FrameResult.light_names`` order;
+    a point light's six faces together); ``rsm`` is their sum."""
 
     @classmethod
-    def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray,
-                        gathered: np.ndarray) -> "EnergyAudit":
-        return cls(**vars(audit), rsm=np.asarray(rsm, np.float64),
-                   gathered=np.asarray(gathered, np.float64))
+    def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray, gathered: np.ndarray,
+                        rsm_per_light: np.ndarray | None = None) -> "EnergyAudit":
+        rsm = np.asarray(rsm, np.float64)
+        per_light = rsm[None] if rsm_per_light is None else rsm_per_light
+        return cls(**vars(audit), rsm=rsm, gathered=np.asarray(gathered, np.float64),
+                   rsm_per_light=np.asarray(per_light, np.float64))
 
 
 def check_finite(array: np.ndarray, pass_name: str) -> np.ndarray:

@@ -46,8 +46,8 @@ def focus_point(eye, target, focus: float) -> np.ndarray:
     return eye + float(focus) * (np.asarray(target, np.float64) - eye)
 
 
-def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | None = None
-                  ) -> list[GridSpec]:
+def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | None = None,
+                  snap: bool = True) -> list[GridSpec]:
     """The ``count`` nested grids around ``centre``.
 
     ``single`` is the scene-enclosing grid: with ``count == 1`` it is returned unchanged.
@@ -57,7 +57,9 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
     ``A + (round((centre − A)/c_k) − ⌊N/2⌋)·c_k`` with ``A = single.origin``: the lattice
     point nearest the centre, minus half a grid. Since ``|i_k − 2·i_{k+1}| ≤ 1`` (in
     cascade-``k`` cells) every cascade lies inside the next with at least ``N/2 − 1`` of
-    its cells to spare on each side.
+    its cells to spare on each side. ``snap`` False (``Settings.cascade_snap``) drops the
+    rounding: origin ``centre − ⌊N/2⌋·c_k``, so every cascade moves with the centre by any
+    fraction of a cell (the VPLs then land in other cells as it moves: the light swims).
     """
     count = int(count)
     if not 1 <= count <= MAX_CASCADES:
@@ -76,7 +78,9 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
     specs = []
     for k in range(count):
         cell = finest * 2 ** k
-        nearest = np.round((centre - anchor) / cell)
+        nearest = (centre - anchor) / cell
+        if snap:
+            nearest = np.round(nearest)
         origin = anchor + (nearest - n // 2) * cell
         specs.append(GridSpec(tuple(float(v) for v in origin), cell, n))
     return specs

@@ -55,7 +55,9 @@ class FrameResult:
     rsm_normal: np.ndarray
     rsm_flux: np.ndarray
     vpls: VplArrays
-    """The VPLs injected (after downsampling, or the ones handed to the pipeline)."""
+    """The VPLs injected (after downsampling, or the ones handed to the pipeline), every
+    light's together (``texel_area`` and ``projection`` are the first view's: see
+    :attr:`vpl_sets` for each view's own)."""
     audit: EnergyAudit
     """Level 0's audit plus the RSM's flux and the flux the visible surfaces gather
     (the blended gather's with cascades)."""
@@ -82,6 +84,14 @@ class FrameResult:
     scene_bounds: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
     """(min, max) corners of the scene's box; with ``camera`` they fix the projection
     (:meth:`Camera.projection_matrix`)."""
+    vpl_sets: list[VplArrays] = field(default_factory=list)
+    """The VPLs of each RSM view (docs/MODEL.md "Several lights"; one entry for one
+    light, six for a point light), their own ``texel_area`` and ``projection`` each."""
+    light_names: tuple[str, ...] = ()
+    """The lights that shone, primary first (``audit.rsm_per_light`` has their order)."""
+    view_lights: tuple[int, ...] = ()
+    """For each entry of :attr:`vpl_sets`: the index of its light in :attr:`light_names`
+    (hand-made VPLs: one set, light 0)."""
     _final_image: np.ndarray | None = field(default=None, init=False, repr=False,
                                             compare=False)
 

@@ -241,6 +241,12 @@ class Runtime:
     """Background work the app loop advances each frame with its GL context (objects
     with ``advance(ctx, budget_s)`` and ``release()``), e.g. the Error panel's
     reference render."""
+    scene: tuple | None = None
+    """(scene name, the scene as loaded, before the Settings' overrides): its lights,
+    objects and paths (the Lights & objects panel)."""
+    animation: Any = None
+    """explorer.ui.animation.Animation: the paths and fly-through that play, the object
+    the gizmo moves."""
 
 
 @dataclass
