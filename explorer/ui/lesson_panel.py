@@ -113,7 +113,7 @@ def step_caption(step: Step) -> str:
     view (an Inspect source, the split or difference view, a buffer)."""
     drawn = overlay_words(step.overlays())
     if drawn:
-        where = f"the main view: {drawn}"
+        where = f"the main view ({drawn})"
     elif step.view in INSPECT_VIEWS:
         where = f"the {step.view} view in the Inspect panel"
     elif step.view in COMPARE_VIEWS:
@@ -130,6 +130,7 @@ def step_caption(step: Step) -> str:
 
 _SLICE_WORDS = {"intensity": "the intensity of acc_N", "flux": "the flux per cell of acc_N",
                 "in-flight": "the light in flight after step {t}"}
+_INJECTED_WORDS = "the injected light, before any step"
 
 
 def overlay_words(overlays: OverlayState) -> str:
@@ -137,11 +138,14 @@ def overlay_words(overlays: OverlayState) -> str:
     o, parts = overlays, []
     if o.slice:
         what = _SLICE_WORDS.get(o.slice_quantity, f"SH coefficient {o.slice_quantity[2:]}")
+        if o.slice_quantity == "in-flight" and o.slice_step == 0:
+            what = _INJECTED_WORDS
         parts.append(f"a {o.slice_axis} slice through the grid showing "
                      + what.format(t=o.slice_step))
     if o.glyphs:
         parts.append("SH glyphs " + ("around the picked cell" if o.glyph_cells == "picked"
-                                     else "on the slice" if o.slice else "on a slice"))
+                                     else "on the slice" if o.slice
+                                     else f"on a {o.slice_axis} layer of cells"))
     if o.vpls:
         parts.append("the VPLs as discs")
     if o.blockers:
