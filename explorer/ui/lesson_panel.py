@@ -145,7 +145,7 @@ def overlay_words(overlays: OverlayState) -> str:
     if o.glyphs:
         parts.append("SH glyphs " + ("around the picked cell" if o.glyph_cells == "picked"
                                      else "on the slice" if o.slice
-                                     else f"on a {o.slice_axis} layer of cells"))
+                                     else f"on one {o.slice_axis} layer of cells"))
     if o.vpls:
         parts.append("the VPLs as discs")
     if o.blockers:
