@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from lpv_cases import run_frame
 
 from explorer.lpv.settings import Settings
 from explorer.truth.progressive import pixel_reference
@@ -15,11 +16,7 @@ SMALL = Settings(width=40, height=32, grid_size=12, iterations=4, rsm_size=16)
 
 @pytest.fixture(scope="module")
 def frame(gl_context):
-    from explorer.lpv.pipeline import Pipeline
-
-    gl_context.__enter__()
-    with Pipeline(SMALL, ctx=gl_context) as pipeline:
-        return pipeline.run(SMALL)
+    return run_frame(gl_context, SMALL)
 
 
 @pytest.mark.parametrize("visibility", [False, True], ids=["unoccluded", "visible"])
