@@ -175,7 +175,8 @@ def cell_audit(result, cascade: int, index: CellIndex) -> CellAuditInfo | str:
     level = result.cascades[cascade] if 0 <= cascade < len(result.cascades) else None
     records = None if level is None else getattr(level, "cell_records", None)
     if records is None:
-        return "the frame ran without the per-step audit: no per-cell records"
+        return ("this frame ran without the per-step energy audit, so its cells have no "
+                "records (a frame measures it when a plot, a lesson or a command asks)")
     read = records.read(index)
     if read is None:
         return ("a newer propagation has overwritten this frame's records; they come "
