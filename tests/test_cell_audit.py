@@ -199,5 +199,11 @@ def test_every_cascade_of_a_frame_has_its_records(ctx):
                            for cell in itertools.product(range(n), repeat=3))
             delivered = level.audit.per_step[1:].sum(0)
             assert np.allclose(received, delivered, rtol=1e-4)
+        # without the per-step audit there are no records, and the Picked panel says why
+        from explorer.ui.overlays.picking import cell_audit
+
+        bare = pipeline.run(settings.with_changes(iterations=3), need_audit=False)
+        assert all(level.cell_records is None for level in bare.cascades)
+        assert "without the per-step energy audit" in cell_audit(bare, 0, (1, 1, 1))
     finally:
         pipeline.release()
