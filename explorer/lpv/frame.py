@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from explorer.lpv.audit import EnergyAudit, GridAudit
+from explorer.lpv.audit import CellAuditRecords, EnergyAudit, GridAudit
 from explorer.lpv.display import exposed_image
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import Settings
@@ -29,6 +29,10 @@ class LevelResult:
     audit: GridAudit
     """Injection and propagation audit of this level. Each cascade holds every VPL
     inside it, so the injected fluxes of the levels overlap and must not be summed."""
+    cell_records: CellAuditRecords | None = None
+    """The propagation's per-cell audit records, still on the GPU: read one cell at a
+    time (``cell_records.read((i, j, k))``) while no later propagation of this level has
+    overwritten them; None when the frame ran without the per-step audit."""
 
 
 @dataclass

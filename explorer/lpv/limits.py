@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from explorer.lpv.cascades import AUDIT_BYTES_PER_CELL, texture_bytes
+from explorer.lpv.cascades import AUDIT_RECORD_BYTES, texture_bytes
 
 DEFAULT_MEMORY_BUDGET = 4 << 30
 """Default limit of one pipeline's memory (GPU textures + host read-back), bytes."""
@@ -142,14 +142,15 @@ def check_grid_textures(settings, limits: DriverLimits) -> None:
 
 def audit_fits(grid_size: int, limits: DriverLimits) -> bool:
     """Whether the per-cell audit records of a ``grid_size``³ grid fit one shader storage
-    block (128 MiB on llvmpipe: up to 122³ cells)."""
+    block each (128 MiB on llvmpipe: up to 122³ cells)."""
     largest = limits.max_storage_block_bytes
-    return not largest or AUDIT_BYTES_PER_CELL * int(grid_size) ** 3 <= largest
+    return not largest or AUDIT_RECORD_BYTES * int(grid_size) ** 3 <= largest
 
 
 def audit_skipped_warning(grid_size: int, limits: DriverLimits) -> str:
     return (f"the per-step energy audit of a {grid_size}^3 grid needs "
-            f"{_mib(AUDIT_BYTES_PER_CELL * grid_size ** 3)} of per-cell records, more than "
+            f"storage blocks of {_mib(AUDIT_RECORD_BYTES * grid_size ** 3)} for its per-cell "
+            f"records, more than "
             f"this driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE "
             f"({_mib(limits.max_storage_block_bytes)}): only the injected and accumulated "
             f"flux were measured")

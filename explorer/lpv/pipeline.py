@@ -751,7 +751,7 @@ class Pipeline:
         position, normal, albedo = self._arrays["gbuffer"]
         gather = self._arrays["gather"]
         levels = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
-                              level.output.audit)
+                              level.output.audit, level.output.cell_records)
                   for spec, level in zip(self._specs, self._levels)]
         audit = EnergyAudit.from_grid_audit(levels[0].audit, rsm=self._arrays["rsm_flux"],
                                             gathered=self.gathered_flux(),

@@ -310,7 +310,7 @@ class App:
         if self._run_side("A", keep_steps):
             rt.final_texture_id = self._pipelines["A"].final_texture.glo
         if self.state.comparing:
-            if self._run_side("B", False):
+            if self._run_side("B", self.state.overlays.needs_steps):
                 rt.compare_texture_id = self._pipelines["B"].final_texture.glo
         self._update_side_exposures()
 
