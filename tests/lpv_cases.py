@@ -98,3 +98,13 @@ def in_place_schedules(steps: list[np.ndarray], corrections, geometry=None,
         raced.append(int((distance.argmin(axis=0) != 0).sum()))
         before = after
     return worst, np.array(raced)
+
+
+def run_frame(gl_context, settings):
+    """One FrameResult of ``settings`` on the tests' session context (for module fixtures
+    that read a small frame)."""
+    from explorer.lpv.pipeline import Pipeline
+
+    gl_context.__enter__()
+    with Pipeline(settings, ctx=gl_context) as pipeline:
+        return pipeline.run(settings)

@@ -239,8 +239,8 @@ def test_stage_keys_come_from_the_schema():
     for stage in schema.STAGES:
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
     assert "display    (gather) exposure, indirect_only, tone_map, auto_exposure" in table
-    assert "rsm        (scene) rsm_size, light, light_flux, spot_cone, spot_cone_degrees" \
-        in table
+    assert "rsm        (scene) rsm_size, light, light_flux, lights, spot_cone, " \
+        "spot_cone_degrees" in table
     assert stages.downstream("gbuffer") == ("gbuffer", "gather", "display")
 
 

@@ -1,5 +1,7 @@
 """Geometry volume (fuzzy occlusion): occluder surfels from the VPLs in a grid whose cell
-centres sit on the light grid's corners (docs/MODEL.md "Geometry volume")."""
+centres sit on the light grid's corners (docs/MODEL.md "Geometry volume"). With several
+RSM views (several lights, a point light's faces) each view's volume is built alone and
+merged per cell by :func:`merge_volumes` (docs/MODEL.md "Several lights")."""
 
 from __future__ import annotations
 
@@ -16,7 +18,9 @@ from explorer.lpv.textures import (
     VolumeTexture,
     copy_volume,
     default_context,
+    dispatch_size,
     draw_points_additively,
+    image_format_defines,
     per_context,
     programs_for,
 )
@@ -116,6 +120,34 @@ class GeometryPass:
         if self._layers is not None:
             self._layers.release()
             self._layers = None
+
+
+def merge_volumes(programs: ProgramCache, merged: GeometryVolume,
+                  view: GeometryVolume) -> None:
+    """Fold ``view`` into ``merged`` in place: per geometry cell the volume whose band-0
+    coefficient (the surfels' area there) is larger wins, with its albedo sums
+    (``shaders/geometry_merge.glsl``). Units 0 and 1 hold ``view`` while it runs."""
+    if merged.resolution != view.resolution or merged.format != view.format:
+        raise ValueError("merged geometry volumes must have one resolution and format")
+    program = programs.get("geometry_merge.glsl", image_format_defines(merged.format))
+    view.volume.texture.use(0)
+    view.albedo.texture.use(1)
+    merged.volume.bind_image(0, read=True, write=True)
+    merged.albedo.bind_image(1, read=True, write=True)
+    set_uniforms(program, {"u_view_blocker": 0, "u_view_albedo": 1})
+    program.run(*dispatch_size(merged.volume.shape))
+    programs.ctx.memory_barrier()
+
+
+def merged_volume_reference(volumes: list[np.ndarray]) -> np.ndarray:
+    """Numpy twin of :func:`merge_volumes` over ``volumes`` ((N+1)³×4 each, in order):
+    per cell the first volume with the largest coefficient 0."""
+    stack = np.stack([np.asarray(v, np.float64) for v in volumes])
+    merged = stack[0].copy()
+    for volume in stack[1:]:
+        wins = volume[..., 0] > merged[..., 0]
+        merged[wins] = volume[wins]
+    return merged
 
 
 def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,

@@ -7,7 +7,9 @@ frames, the view showing the light grow, "propagating 5/8"), draws the panels an
 view (explorer/ui/view_composer.py composes what it shows from the sides' pictures), and
 swaps. When nothing changed, no job runs and nothing animates, the loop waits for events
 instead of drawing (``wait_when_idle``); input draws at once. While the mouse moves the
-camera the controller renders at a reduced size, and at full size once it stops.
+camera (or the gizmo an object) and while the scene's animation or fly-through plays
+(explorer/ui/animation.py, ticked before the controller's update) the controller renders
+at a reduced size, and at full size once it stops.
 
 Drive it from code (tests, scripts)::
 
@@ -31,7 +33,7 @@ import numpy as np
 
 from explorer.gl.window import Window
 from explorer.lpv.settings import PRESETS, Settings, preset_name
-from explorer.ui import persist, theme
+from explorer.ui import animation, persist, theme
 from explorer.ui.images import write_png
 from explorer.ui.state import AppState, default_screenshot_path, fit_window_size
 
@@ -195,7 +197,7 @@ class App:
     def settle(self, max_frames: int = SETTLE_FRAMES) -> bool:
         """Draw frames until no job runs, no background task works and the camera is
         still (scripts and tests: the picture has converged); False if the window
-        closed first."""
+        closed first. A playing animation never settles: pause it first."""
         for _ in range(max_frames):
             if not self.frame(force=True):
                 return False
@@ -213,7 +215,7 @@ class App:
         False once the window should close.
 
         ``capture``: keep the drawn frame (panels included) in :attr:`last_pixels`."""
-        from imgui_bundle import imgui
+        from imgui_bundle import imgui, imguizmo
 
         force = force or capture or not self.wait_when_idle
         self.last_wait_s = 0.0
@@ -233,8 +235,10 @@ class App:
             return True
         rt = self.state.runtime
         events = self.window.take_events()
-        changed = self._seen != self._fingerprint()
         self.status = None
+        if not rt.gl_problem:
+            animation.tick(self.state)       # playing paths and fly-through: new Settings
+        changed = self._seen != self._fingerprint()
         if not rt.gl_problem:
             self._update_pipelines()
         status = self.status
@@ -255,6 +259,7 @@ class App:
         imgui.backends.opengl3_new_frame()
         imgui.backends.glfw_new_frame()
         imgui.new_frame()
+        imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
         from explorer.ui import widgets
 
@@ -280,7 +285,13 @@ class App:
         return True
 
     def _interacting(self) -> bool:
-        return self.state.runtime.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
+        """The camera or an object is being moved (a drag, the gizmo, a wheel step or a
+        fly key a moment ago) or the animation plays (its paths move the light and objects,
+        the fly-through the camera): the pipelines render at the drag's reduced size, a
+        frame in flight finishes before the next starts, and the loop does not idle."""
+        rt = self.state.runtime
+        return (rt.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
+                or (rt.animation is not None and rt.animation.active))
 
     def _idle_timeout(self) -> float:
         """How long an idle loop may wait: the idle timeout, or less when the status
@@ -403,11 +414,10 @@ class App:
             state.requests.open_scene = None
         if not self._follow_view_size():
             return
-        keep_steps = state.inspect.source == "propagation" or state.overlays.needs_steps
         drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
         self._interacted = self._interacting()
         self.status = self.controller.update(
-            state, state.frame_budget_ms, keep_steps=keep_steps,
+            state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms)
         rt.progress = dict(self.status.labels)
@@ -420,8 +430,9 @@ class App:
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
             return
-        # A new scene starts from its own camera and light.
-        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None)
+        # A new scene starts from its own camera, lights and objects.
+        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None,
+                          lights=None, object_transforms=())
         self.state.notify(f"opening {name_or_path}")
 
     # -- UI ------------------------------------------------------------------------------

@@ -220,7 +220,7 @@ class PipelineController:
         return a.with_changes(corrections=state.compare_settings.corrections,
                               **dict(state.compare_overrides))
 
-    def request_for(self, state: "AppState", side: str, keep_steps: bool, need_audit: bool,
+    def request_for(self, state: "AppState", side: str, need_audit: bool,
                     interacting: bool) -> Request:
         settings = self.settings_for(state, side).with_changes(**PINNED_DISPLAY)
         scale = 1.0
@@ -234,14 +234,14 @@ class PipelineController:
         if scale < 1.0:
             settings = settings.with_changes(width=int(round(settings.width * scale)),
                                              height=int(round(settings.height * scale)))
-        return Request(settings, keep_steps and side == "A", need_audit,
+        return Request(settings, keeps_steps(state, side), need_audit,
                        interactive=scale < 1.0)
 
     def active_sides(self, state: "AppState") -> tuple[str, ...]:
         return SIDES if state.comparing else ("A",)
 
     # ------------------------------------------------------------------ the frame
-    def update(self, state: "AppState", budget_ms: float, *, keep_steps: bool = False,
+    def update(self, state: "AppState", budget_ms: float, *,
                need_audit: bool = False, interacting: bool = False,
                drag_budget_ms: float | None = None,
                draw_ms: float | None = None) -> ControllerStatus:
@@ -266,7 +266,7 @@ class PipelineController:
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
             self._ask(state, self.sides[name],
-                      self.request_for(state, name, keep_steps, need_audit, interacting))
+                      self.request_for(state, name, need_audit, interacting))
         running = [self.sides[name] for name in active if self.sides[name].job is not None]
         self._advance(state, running, budget_ms, start, status)
         left = budget_ms - (time.perf_counter() - start) * 1e3
@@ -559,8 +559,10 @@ class PipelineController:
         side.warned = warnings
 
     def _scene_defaults(self, state: "AppState", pipeline, scene_name: str) -> None:
-        """The scene's own camera and light (before any override), so orbiting and the
-        light sliders start from what is shown. Loaded once per scene."""
+        """The scene as loaded (``runtime.scene``: its lights, objects and paths for the
+        Lights & objects panel) and its own camera and primary light (before any
+        override), so orbiting and the light sliders start from what is shown. Loaded
+        once per scene."""
         rt = state.runtime
         if self._defaults_for == scene_name:
             return
@@ -573,8 +575,12 @@ class PipelineController:
                 scene = load_scene(scene_name)
             except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
+        rt.scene = None if scene is None else (scene_name, scene)
         rt.camera_default = eye_target(getattr(scene, "camera", None))
-        light = getattr(scene, "light", None)
+        try:     # the primary light of the lights that shine (Settings.lights)
+            light = scene.with_lights(state.settings.lights).light
+        except Exception:  # noqa: BLE001 - no scene, or lights it does not have
+            light = getattr(scene, "light", None)
         rt.light_default = eye_target(light)
         rt.light_flux_default = getattr(light, "flux", None)
         rt.light_cone_default = getattr(light, "cone_degrees", None)
@@ -636,6 +642,14 @@ class PipelineController:
                 side.pipeline.release()
         self.sides = {name: SideState(name) for name in SIDES}
         self.programs.release()
+
+
+def keeps_steps(state: "AppState", side: str) -> bool:
+    """Whether ``side``'s frame keeps grid_0..grid_N of every cascade: the in-scene
+    overlays show the light in flight (drawn over both sides of a split view; a lesson's
+    ``[steps.show]`` sets them), or the Inspect panel steps through A's propagation."""
+    return state.overlays.needs_steps or (side == "A"
+                                          and state.inspect.source == "propagation")
 
 
 class _StageCounter:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from imgui_bundle import imgui
 
-from explorer.ui import camera_controls, legend, widgets
+from explorer.ui import camera_controls, gizmo, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
 from explorer.ui.view_composer import DIFFERENCE_MAPS
@@ -38,8 +38,11 @@ def gui_view(state: AppState) -> None:
     origin = imgui.get_cursor_screen_pos()
     origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5, origin.y)
     imgui.set_cursor_screen_pos(origin)
+    over_gizmo = gizmo.hovered()        # the gizmo's handles take the click, not the camera
+    imgui.begin_disabled(over_gizmo)
     imgui.invisible_button("##view", size)
     hovered, active = imgui.is_item_hovered(), imgui.is_item_active()
+    imgui.end_disabled()
     draw = imgui.get_window_draw_list()
     end = imgui.ImVec2(origin.x + size.x, origin.y + size.y)
     rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
@@ -60,8 +63,11 @@ def gui_view(state: AppState) -> None:
     _progress(state, draw, origin, end)
     if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
         in_view.over_image(state, draw, origin, end, hovered, split_x)
+        divider_grabbed |= gizmo.draw(state, origin, end)   # the selected object's gizmo
     if not divider_grabbed:
         camera_controls.handle_mouse(state, hovered, active, end.y - origin.y)
+    else:               # the divider or the gizmo has the mouse: only a gizmo drag moves
+        rt.interaction.held = gizmo.using()
     if hovered and not active:
         hint = camera_controls.hint(state) + ("   divider: drag" if state.view_mode == "split"
                                               else "")
