@@ -76,3 +76,46 @@ def test_the_windows_service_computes_caches_and_describes_a_pixel(ctx, frame):
     ratio = frame.indirect[y, x] / found["visible"]
     assert rows["indirect / reference (visible)"] == \
         "(" + ", ".join(f"{v:.3g}" for v in ratio) + ")"
+
+
+def test_the_service_works_in_units_of_one_bvh_node_or_one_vpl_chunk(ctx, frame):
+    """No call does much: with no time budget every advance does exactly one unit (the
+    scene posed and its BVH started, one BVH node, a pixel's gather started or read back,
+    one chunk of VPLs), in that order; the BVH has as many nodes as the one-shot build,
+    each pixel as many chunks as its VPLs fill, and the values are the one-shot ones."""
+    from explorer.truth.bvh import build_bvh
+    from explorer.truth.gbuffer import scene_for, scene_triangles
+    from explorer.truth.render import lit_vpls
+    from explorer.ui.overlays.pixel_reference import PixelReferences
+
+    valid = np.argwhere(frame.gbuffer_position[..., 3] > 0.5)
+    y, x = (int(v) for v in valid[len(valid) // 3])
+    chunk = 8
+    service = PixelReferences(vpl_chunk=chunk)
+    try:
+        service.request(frame, (x, y))
+        kinds, texts = [], set()
+        for _ in range(10000):
+            service.advance(ctx, 0.0)
+            done = [kind for kind, count in service.units.items() if count]
+            assert sum(service.units.values()) == 1, service.units
+            kinds.append(done[0])
+            texts.add((service.progress() or "").split("…")[0])
+            if not service.running:
+                break
+        assert not service.running and service.problem is None
+        nodes = len(build_bvh(scene_triangles(scene_for(frame.settings))).nodes)
+        chunks = -(-lit_vpls(frame.vpls).count // chunk)
+        per_pixel = ["pixels"] + ["VPL chunks"] * chunks + ["pixels"]
+        assert kinds == ["scene"] + ["BVH nodes"] * nodes + per_pixel * 2   # both modes
+        assert {"building BVH", "gathering the reference", ""} <= texts
+        for mode, visibility in (("visible", True), ("unoccluded", False)):
+            np.testing.assert_allclose(service.value(frame, (x, y), mode),
+                                       pixel_reference(ctx, frame, x, y, visibility),
+                                       rtol=1e-5, atol=1e-9)
+        # the BVH is kept for the same geometry: another pixel starts with its gather
+        service.request(frame, (x + 1, y), modes=("visible",))
+        service.advance(ctx, 0.0)
+        assert dict(service.units) == {"pixels": 1}
+    finally:
+        service.release()

@@ -59,21 +59,34 @@ def test_progressive_reference_equals_the_one_shot_reference(ctx, visibility):
     np.testing.assert_allclose(got, expected, rtol=1e-5, atol=1e-6 * expected.max())
 
 
-def test_error_job_measures_and_its_metrics_are_the_modules(ctx):
+@pytest.mark.parametrize("reference", ["unoccluded", "visible"])
+def test_error_job_measures_and_its_metrics_are_the_modules(ctx, reference):
+    """The job goes through its stages in small units (with no budget, one per call: a
+    unit of the pipeline's job, a BVH node, a dispatch of the reference; a call that sets
+    up the next stage does none) and ends on the one-shot reference of its frame."""
     from explorer.lpv.pipeline import Pipeline
     from explorer.truth.metrics import flux_ratio, relative_l2
+    from explorer.truth.render import reference_for_frame
 
-    measurement = Measurement(size=24, rsm_size=16, reference="unoccluded")
+    measurement = Measurement(size=24, rsm_size=16, reference=reference)
     job = ErrorJob(SMALL, measurement, aspect=1.0)
+    stages, units, fractions = [], [], []
     with Pipeline(job.settings, ctx=ctx) as pipeline:
         assert job.stage == "LPV frame" and job.fraction == 0.0
-        rounds = 0
         while not job.advance(ctx, pipeline, budget_s=0.0):
-            rounds += 1
-            assert job.stage == "reference"
+            units.append(job.units)
+            fractions.append(job.fraction)
+            if not stages or stages[-1] != job.stage:
+                stages.append(job.stage)
+        expected, _ = reference_for_frame(job.frame, reference == "visible", ctx=ctx)
     job.release()
     result = job.result
-    assert rounds >= 1 and job.fraction == 1.0   # the LPV frame, then the one tile
+    wanted = ["LPV frame", "building BVH", "reference"] if reference == "visible" else \
+        ["LPV frame", "reference"]
+    assert stages == wanted and job.fraction == 1.0
+    assert set(units) <= {0, 1} and units.count(1) > 10     # the frame alone has more
+    assert fractions == sorted(fractions)
+    np.testing.assert_array_equal(result.reference, expected)
     assert result.lpv.shape == result.reference.shape == (24, 24, 3)
     assert result.valid.any()
     assert result.stats.relative_l2 == pytest.approx(
@@ -101,7 +114,7 @@ def test_error_service_cancels_on_change_and_caches_per_settings(ctx):
         service.advance(ctx, 0.0)
         assert not service.running                    # the settings moved on: cancelled
         service.measure()
-        for _ in range(20):
+        for _ in range(2000):                         # one small unit per call
             service.advance(ctx, 0.0)
             if not service.running:
                 break

@@ -254,3 +254,26 @@ def test_a_chunk_cut_short_by_the_driver_is_refused(ctx, monkeypatch):
         renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
         assert "llvmpipe" not in renderer, "llvmpipe cut nothing: the limit test is stale"
         np.testing.assert_allclose(lifted, expected, rtol=1e-5)
+
+
+def test_the_bvh_built_node_by_node_is_the_one_shot_bvh():
+    """BvhBuilder (the window builds a large scene's BVH between frames): a node per step,
+    the same nodes and triangle order as build_bvh, and advance with no time does one."""
+    from explorer.truth.bvh import BvhBuilder
+
+    triangles = np.random.default_rng(5).random((300, 3, 3))
+    whole = build_bvh(triangles, leaf_size=2)
+    builder = BvhBuilder(triangles, leaf_size=2)
+    steps = 0
+    while not builder.done:
+        assert builder.advance(0.0) == 1
+        steps += 1
+        assert 0.0 <= builder.fraction <= 1.0
+    assert builder.step(5) == 0 and builder.fraction == 1.0
+    assert steps == len(whole.nodes)
+    stepped = builder.result()
+    assert stepped.depth == whole.depth
+    np.testing.assert_array_equal(stepped.triangles, whole.triangles)
+    assert stepped.nodes.tobytes() == whole.nodes.tobytes()
+    with pytest.raises(RuntimeError, match="not finished"):
+        BvhBuilder(triangles).result()

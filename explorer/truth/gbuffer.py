@@ -18,11 +18,16 @@ def scene_triangles(scene) -> np.ndarray:
     return np.asarray(scene.positions, np.float64).reshape(-1, 3, 3)
 
 
-def scene_for(settings):
-    """The scene a Settings renders, with its camera/light overrides applied."""
+def scene_for(settings, loaded=None):
+    """The scene a Settings renders, with its overrides applied (camera, lights, object
+    transforms). ``loaded``: the scene ``settings.scene`` names as already loaded, before
+    the overrides (``Pipeline.base_scene``, the window's ``runtime.scene``), which saves
+    loading it again (the atrium takes a tenth of a second); None: loaded here."""
     from explorer.scene import load_scene
 
-    return load_scene(settings.scene).for_settings(settings)
+    if loaded is None:
+        loaded = load_scene(settings.scene)
+    return loaded.for_settings(settings)
 
 
 def render_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:

@@ -3,17 +3,20 @@ time so that a window can keep drawing (and cancel) while it runs.
 
 :class:`ProgressiveReference` splits the frame's G-buffer into square tiles and runs the
 reference pass (:class:`~explorer.truth.reference.ReferencePass`) on one tile per
-:meth:`~ProgressiveReference.step`, with the VPL textures and the BVH built once. Each
-pixel sums the same VPLs in the same order as a one-shot
+:meth:`~ProgressiveReference.step`, or on a few of its dispatches (a tile × a chunk of
+VPLs) per :meth:`~ProgressiveReference.advance`, with the VPL textures and the BVH built
+once. Each pixel sums the same VPLs in the same order as a one-shot
 :func:`~explorer.truth.render.reference_for_frame`, so the finished image is that image.
 
 :class:`ErrorJob` measures one configuration: it renders the LPV frame at the
 measurement's size (:func:`measured_settings`: a smaller image and RSM than the window's,
-because the reference costs pixels × VPLs), then the reference tile by tile, then the
-metrics of ``explorer/truth/metrics.py`` over the pixels that see a surface.
+because the reference costs pixels × VPLs), builds the scene's BVH for the shadow rays,
+then the reference, then the metrics of ``explorer/truth/metrics.py`` over the pixels
+that see a surface; every step in units small enough for a window's frame.
 
 :func:`pixel_reference` is the same reference at one pixel of a frame (a 1×1 tile at the
-frame's resolution, the frame's own VPLs): the window's picked pixel.
+frame's resolution, the frame's own VPLs): the window's picked pixel
+(:func:`pixel_job` makes it steppable).
 """
 
 from __future__ import annotations
@@ -24,12 +27,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from explorer.truth.metrics import ErrorImage, ErrorStats, error_image, error_stats
-from explorer.truth.reference import GBuffer, ReferencePass, default_ray_offset, \
-    outgoing_radiance
+from explorer.truth.reference import (
+    GBuffer,
+    ReferenceGather,
+    ReferencePass,
+    default_ray_offset,
+    outgoing_radiance,
+)
 
 REFERENCE_MODES = ("visible", "unoccluded")
 """visible: a shadow ray per VPL and pixel; unoccluded: no visibility (what an LPV without
 a geometry volume approximates)."""
+FRAME_SHARE, BVH_SHARE = 0.05, 0.2
+"""ErrorJob.fraction: the share of the LPV frame and of the BVH (visible reference)."""
 LOG2_SCALE = 3.0
 """The error image saturates at 8× too bright or too dark (as ``lpv-explorer compare``)."""
 
@@ -79,13 +89,18 @@ def crop(gbuffer: GBuffer, rect: tuple[int, int, int, int]) -> GBuffer:
 
 
 class ProgressiveReference:
-    """The reference radiance of ``frame`` (a FrameResult), one tile per :meth:`step`."""
+    """The reference radiance of ``frame`` (a FrameResult), one tile per :meth:`step`, or
+    a few dispatches (a tile × a chunk of VPLs each) per :meth:`advance`."""
 
     def __init__(self, ctx, frame, visibility: bool, tile: int = 32,
                  min_distance: float | None = None, scene=None,
-                 region: tuple[int, int, int, int] | None = None, bvh=None) -> None:
+                 region: tuple[int, int, int, int] | None = None, bvh=None,
+                 reference_pass: ReferencePass | None = None, vpl_chunk: int = 4096) -> None:
         """``region`` (x0, y0, x1, y1): only these pixels (the others stay zero); ``bvh``:
-        the scene's prebuilt :class:`~explorer.truth.bvh.Bvh` for the shadow rays."""
+        the scene's prebuilt :class:`~explorer.truth.bvh.Bvh` for the shadow rays (built
+        here from ``scene`` otherwise); ``reference_pass``: a pass to use (and not
+        release), so that its program is compiled once for many references;
+        ``vpl_chunk``: VPLs per dispatch (:meth:`ReferencePass.run`)."""
         from explorer.lpv.vpl import VplTextures
         from explorer.truth.bvh import build_bvh
         from explorer.truth.gbuffer import gbuffer_from_frame, scene_for, scene_triangles
@@ -107,41 +122,87 @@ class ProgressiveReference:
         self.bvh = bvh if visibility else None
         self.ray_offset = default_ray_offset(
             self.bvh.triangles if self.bvh is not None else None, self.gbuffer)
-        vpls = lit_vpls(frame.vpls)
-        self.vpls = VplTextures.from_arrays(ctx, vpls) if vpls.count else None
         width, height = self.gbuffer.size
-        self.irradiance = np.zeros((height, width, 3), np.float32)
         x0, y0, x1, y1 = (0, 0, width, height) if region is None else region
         if not (0 <= x0 < x1 <= width and 0 <= y0 < y1 <= height):
             raise ValueError(f"region {region} is not a rectangle of the {width}x{height} "
                              "image")
+        vpls = lit_vpls(frame.vpls)
+        self.vpls = VplTextures.from_arrays(ctx, vpls) if vpls.count else None
+        self.irradiance = np.zeros((height, width, 3), np.float32)
         self.tiles = [(x0 + a, y0 + b, x0 + c, y0 + d)
                       for a, b, c, d in tiles(x1 - x0, y1 - y0, tile)]
         self.tile_size = tile
+        self.vpl_chunk = int(vpl_chunk)
         self.done_tiles = 0
-        self._pass = ReferencePass(ctx)
+        self._owns_pass = reference_pass is None
+        self._pass = ReferencePass(ctx) if reference_pass is None else reference_pass
+        self._gather: ReferenceGather | None = None
+        """The dispatches of the tile in progress."""
 
     @property
     def fraction(self) -> float:
-        return self.done_tiles / len(self.tiles) if self.tiles else 1.0
+        if not self.tiles:
+            return 1.0
+        partial = self._gather.done / self._gather.total if self._gather is not None and \
+            self._gather.total else 0.0
+        return (self.done_tiles + partial) / len(self.tiles)
 
     @property
     def done(self) -> bool:
         return self.done_tiles >= len(self.tiles)
 
     def step(self) -> bool:
-        """Gather the next tile; True once every tile is done."""
+        """Gather the next tile (all its dispatches); True once every tile is done."""
         if self.done:
             return True
-        rect = self.tiles[self.done_tiles]
-        part = crop(self.gbuffer, rect)
-        if self.vpls is not None and np.asarray(part.valid).any():
-            x0, y0, x1, y1 = rect
-            self.irradiance[y0:y1, x0:x1] = self._pass.run(
-                part, self.vpls, self.min_distance, self.bvh, self.visibility,
-                self.ray_offset, tile_size=self.tile_size)
-        self.done_tiles += 1
+        gather = self._tile_gather()
+        if gather is None:
+            self.done_tiles += 1                # no surface or no VPL: zero
+        else:
+            gather.step(gather.total - gather.done)
+            self._finish_tile()
         return self.done
+
+    def advance(self, budget_s: float) -> int:
+        """Dispatches for about ``budget_s`` seconds, at least one while any is left
+        (tiles without a surface cost none); returns how many ran."""
+        start = time.perf_counter()
+        ran = 0
+        while not self.done:
+            left = budget_s - (time.perf_counter() - start)
+            if ran and left <= 0.0:
+                break
+            gather = self._tile_gather()
+            if gather is None:
+                self.done_tiles += 1
+                continue
+            ran += gather.advance(max(left, 0.0))
+            if gather.finished:
+                self._finish_tile()
+        return ran
+
+    def _tile_gather(self) -> ReferenceGather | None:
+        """The current tile's gather (started on first use); None for a tile with nothing
+        to gather."""
+        if self._gather is None:
+            part = crop(self.gbuffer, self.tiles[self.done_tiles])
+            if self.vpls is None or not np.asarray(part.valid).any():
+                return None
+            self._gather = self._pass.start(part, self.vpls, self.min_distance, self.bvh,
+                                            self.visibility, self.ray_offset,
+                                            tile_size=self.tile_size,
+                                            vpl_chunk=self.vpl_chunk)
+        return self._gather
+
+    def _finish_tile(self) -> None:
+        x0, y0, x1, y1 = self.tiles[self.done_tiles]
+        try:
+            self.irradiance[y0:y1, x0:x1] = self._gather.irradiance()
+        finally:
+            self._gather.release()
+            self._gather = None
+        self.done_tiles += 1
 
     def radiance(self) -> np.ndarray:
         """Outgoing radiance a/π·E (H, W, 3) of the tiles done so far (zero elsewhere)."""
@@ -155,11 +216,29 @@ class ProgressiveReference:
         return albedo / np.pi * self.irradiance[y, x].astype(np.float64)
 
     def release(self) -> None:
-        self._pass.release()
+        if self._gather is not None:
+            self._gather.release()
+            self._gather = None
+        if self._owns_pass:
+            self._pass.release()
         if self.vpls is not None:
             for texture in (self.vpls.position, self.vpls.normal, self.vpls.flux):
                 texture.release()
             self.vpls = None
+
+
+def pixel_job(ctx, frame, x: int, y: int, visibility: bool, scene=None, bvh=None,
+              reference_pass: ReferencePass | None = None,
+              vpl_chunk: int = 4096) -> ProgressiveReference:
+    """The reference of the one pixel (x, y) of ``frame`` (row 0 at the top) as a
+    :class:`ProgressiveReference` of a 1×1 tile: :func:`pixel_reference` runs it at once,
+    a window a few VPL chunks per frame (its value: ``radiance_at(x, y)`` once done)."""
+    height, width = frame.final_image.shape[:2]
+    if not (0 <= x < width and 0 <= y < height):
+        raise ValueError(f"pixel ({x}, {y}) is outside the {width}x{height} frame")
+    return ProgressiveReference(ctx, frame, visibility, tile=1, scene=scene,
+                                region=(int(x), int(y), int(x) + 1, int(y) + 1), bvh=bvh,
+                                reference_pass=reference_pass, vpl_chunk=vpl_chunk)
 
 
 def pixel_reference(ctx, frame, x: int, y: int, visibility: bool, scene=None,
@@ -170,11 +249,7 @@ def pixel_reference(ctx, frame, x: int, y: int, visibility: bool, scene=None,
     pixel is a 1×1 tile of the frame's own image, so it sums the same VPLs in the same
     order as the full reference image (:func:`~explorer.truth.render.reference_for_frame`)
     and equals its pixel."""
-    height, width = frame.final_image.shape[:2]
-    if not (0 <= x < width and 0 <= y < height):
-        raise ValueError(f"pixel ({x}, {y}) is outside the {width}x{height} frame")
-    reference = ProgressiveReference(ctx, frame, visibility, tile=1, scene=scene,
-                                     region=(int(x), int(y), int(x) + 1, int(y) + 1), bvh=bvh)
+    reference = pixel_job(ctx, frame, x, y, visibility, scene, bvh)
     try:
         reference.step()
         return reference.radiance_at(int(x), int(y))
@@ -198,46 +273,91 @@ class ErrorResult:
 
 
 class ErrorJob:
-    """Measures ``settings`` with ``measurement``: LPV frame, reference, metrics.
+    """Measures ``settings`` with ``measurement``: LPV frame, the scene's BVH (for the
+    visible reference), reference, metrics.
 
     ``pipeline``: a Pipeline on the same context to render the LPV frame with (kept by
     the caller between jobs, so its programs are compiled once). Call :meth:`advance`
-    until :attr:`result` is set; :meth:`release` frees the GL objects at any time."""
+    until :attr:`result` is set; :meth:`release` frees the GL objects at any time. Each
+    call does small units of work within its budget, at least one: a unit of the
+    pipeline's job (explorer/lpv/job.py), a node of the BVH
+    (:class:`~explorer.truth.bvh.BvhBuilder`: a large scene's BVH takes seconds in all),
+    a dispatch of the reference (a tile × a chunk of VPLs); :attr:`units` says how many
+    the last call did."""
 
     def __init__(self, settings, measurement: Measurement, aspect: float = 1.0) -> None:
         self.measurement = measurement
         self.settings = measured_settings(settings, measurement, aspect)
+        self.visibility = measurement.reference == "visible"
         self.frame = None
+        self.bvh = None
         self.reference: ProgressiveReference | None = None
         self.result: ErrorResult | None = None
+        self.units = 0
+        """Units of work the last :meth:`advance` did."""
+        self._job = None
+        self._scene = None
+        self._builder = None
 
     @property
     def fraction(self) -> float:
         if self.result is not None:
             return 1.0
-        if self.reference is None:
+        if self.frame is None:
             return 0.0
-        return 0.05 + 0.95 * self.reference.fraction
+        bvh_share = BVH_SHARE if self.visibility else 0.0
+        if self.reference is None:
+            built = self._builder.fraction if self._builder is not None else 0.0
+            return FRAME_SHARE + bvh_share * (1.0 if self.bvh is not None else built)
+        return FRAME_SHARE + bvh_share + (1.0 - FRAME_SHARE - bvh_share) * \
+            self.reference.fraction
 
     @property
     def stage(self) -> str:
         if self.result is not None:
             return "done"
-        return "LPV frame" if self.reference is None else "reference"
+        if self.frame is None:
+            return "LPV frame"
+        if self.visibility and self.bvh is None:
+            return "building BVH"
+        return "reference"
 
     def advance(self, ctx, pipeline, budget_s: float) -> bool:
-        """Work for about ``budget_s`` seconds (at least one step); True when done."""
+        """Work for about ``budget_s`` seconds (at least one unit); True when done."""
+        from explorer.truth.bvh import BvhBuilder
+        from explorer.truth.gbuffer import scene_for, scene_triangles
+
         start = time.perf_counter()
+        self.units = 0
         if self.result is not None:
             return True
         if self.frame is None:
-            self.frame = pipeline.run(self.settings)
-            self.reference = ProgressiveReference(
-                ctx, self.frame, self.measurement.reference == "visible")
+            if self._job is None:
+                self._job = pipeline.start(self.settings)
+            self._job.advance(budget_s * 1e3)
+            self.units = 1
+            if self._job.done:
+                self.frame, self._job = self._job.result, None
+                # the pipeline has the scene loaded: pose it, do not load it again
+                self._scene = scene_for(self.frame.settings,
+                                        getattr(pipeline, "base_scene", None))
             return False
-        while not self.reference.step():
-            if time.perf_counter() - start >= budget_s:
+        left = budget_s - (time.perf_counter() - start)
+        if self.visibility and self.bvh is None:
+            if self._builder is None:
+                self._builder = BvhBuilder(scene_triangles(self._scene))
                 return False
+            self.units = self._builder.advance(left)
+            if self._builder.done:
+                self.bvh, self._builder = self._builder.result(), None
+            return False
+        if self.reference is None:
+            self.reference = ProgressiveReference(ctx, self.frame, self.visibility,
+                                                  scene=self._scene, bvh=self.bvh)
+            return False
+        self.units = self.reference.advance(left)
+        if not self.reference.done:
+            return False
         self.result = self._finish()
         self.reference.release()
         return True

@@ -19,11 +19,13 @@ Shadow rays run between the two points pushed ``ray_offset`` along their normals
 a surface does not shadow itself.
 
 The GPU pass works in tiles of pixels × chunks of VPLs, one dispatch each, so that a long
-render reports progress and can be cancelled from the ``progress`` callback.
+render reports progress and can be cancelled from the ``progress`` callback, and a window
+can run a few dispatches per frame (:class:`ReferenceGather`).
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -40,6 +42,9 @@ every loop of a shader invocation once 65535 loop-condition checks have run in t
 loops together, measured on Mesa 22.3), which cut long VPL chunks with shadow rays short.
 Chunks are sized so the worst case stays below this budget (:func:`safe_vpl_chunk`), and
 the shader flags a chunk that did not finish anyway (:class:`IncompleteRender`)."""
+
+DISPATCHES_PER_FINISH = 8
+"""ReferenceGather.advance waits for the GL to finish its dispatches this often."""
 
 ProgressCallback = Callable[[float], "bool | None"]
 """Called after every dispatch with the fraction done in [0, 1]; returning False cancels."""
@@ -141,6 +146,49 @@ class ReferencePass:
         ``visibility`` needs ``triangles`` ((T, 3, 3) or a prebuilt :class:`Bvh`).
         Raises :class:`Cancelled` when ``progress`` returns False.
         """
+        gather = self.start(gbuffer, vpls, min_distance, triangles, visibility, ray_offset,
+                            tile_size, vpl_chunk)
+        try:
+            if progress is None:
+                gather.step(gather.total)
+            while not gather.finished:
+                gather.step(1)
+                self.ctx.finish()  # make the fraction mean work finished, not queued
+                if progress(gather.done / gather.total) is False:
+                    raise Cancelled(f"reference render cancelled after {gather.done} of "
+                                    f"{gather.total} dispatches")
+            return gather.irradiance()
+        finally:
+            gather.release()
+
+    def start(self, gbuffer: GBuffer, vpls: VplArrays | VplTextures, min_distance: float,
+              triangles: np.ndarray | Bvh | None = None, visibility: bool = False,
+              ray_offset: float | None = None, tile_size: int = 64,
+              vpl_chunk: int = 4096) -> "ReferenceGather":
+        """:meth:`run` as a :class:`ReferenceGather` whose dispatches the caller runs, a
+        few at a time (a window between its frames)."""
+        return ReferenceGather(self, gbuffer, vpls, min_distance, triangles, visibility,
+                               ray_offset, tile_size, vpl_chunk)
+
+    def release(self) -> None:
+        if self._owns_program:
+            self.program.release()
+
+
+class ReferenceGather:
+    """One :meth:`ReferencePass.run` split into its dispatches: a tile of pixels × a chunk
+    of VPLs each, tiles row by row and each tile's chunks in order (every pixel sums the
+    same VPLs in the same order however the dispatches are grouped). :meth:`step` runs a
+    given number of them, :meth:`advance` runs them for a time budget; between calls the
+    context may do other work (bindings are made again on each call).
+    :meth:`irradiance` reads the result once :attr:`finished`; :meth:`release` frees the
+    GL objects at any time."""
+
+    def __init__(self, reference: ReferencePass, gbuffer: GBuffer,
+                 vpls: VplArrays | VplTextures, min_distance: float,
+                 triangles: np.ndarray | Bvh | None = None, visibility: bool = False,
+                 ray_offset: float | None = None, tile_size: int = 64,
+                 vpl_chunk: int = 4096) -> None:
         import moderngl
 
         min_distance = _check_min_distance(min_distance)
@@ -155,102 +203,148 @@ class ReferencePass:
         if ray_offset is None:
             soup = bvh.triangles if bvh is not None else None
             ray_offset = default_ray_offset(soup, gbuffer)
-        width, height = gbuffer.size
-        ctx = self.ctx
-        owned = []  # GL objects this call creates and must free
+        self.ctx = ctx = reference.ctx
+        self.program = reference.program
+        width, height = self.size = gbuffer.size
+        self._owned: list = []  # GL objects this gather created and must free
+        self.done = 0
+        self.tiles: list[tuple[int, int]] = []
+        self.chunks: list[int] = []
+        self.vpl_chunk = int(vpl_chunk)
+        self.total = 0
+        self._result = None
+        if isinstance(vpls, VplArrays):
+            if vpls.count == 0:
+                return                      # nothing to gather: zero irradiance
+            vpls = VplTextures.from_arrays(ctx, vpls)
+            self._owned.extend([vpls.position, vpls.normal, vpls.flux])
+        self._vpls = vpls
 
         def texture(array: np.ndarray, size: tuple[int, int]):
             tex = ctx.texture(size, 4, np.ascontiguousarray(array, np.float32).tobytes(),
                               dtype="f4")
             tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            owned.append(tex)
+            self._owned.append(tex)
             return tex
 
-        try:
-            if isinstance(vpls, VplArrays):
-                if vpls.count == 0:
-                    return np.zeros((height, width, 3), np.float32)
-                vpls = VplTextures.from_arrays(ctx, vpls)
-                owned.extend([vpls.position, vpls.normal, vpls.flux])
-            valid = np.asarray(gbuffer.valid, bool)[..., None].astype(np.float32)
-            position = texture(np.concatenate([gbuffer.position, valid], axis=-1),
+        valid = np.asarray(gbuffer.valid, bool)[..., None].astype(np.float32)
+        self._position = texture(np.concatenate([gbuffer.position, valid], axis=-1),
+                                 (width, height))
+        self._normal = texture(np.concatenate([gbuffer.normal, valid], axis=-1),
                                (width, height))
-            normal = texture(np.concatenate([gbuffer.normal, valid], axis=-1), (width, height))
-            # w starts at 1 and drops to 0 where a dispatch did not finish its chunk
-            cleared = np.zeros((height, width, 4))
-            cleared[..., 3] = 1.0
-            result = texture(cleared, (width, height))
-            if bvh is not None and bvh.triangle_count:
-                corners = np.concatenate(
-                    [bvh.triangles, np.zeros(bvh.triangles.shape[:2] + (1,))], axis=-1)
-                tri_buffer = ctx.buffer(np.ascontiguousarray(corners, np.float32).tobytes())
-                node_buffer = ctx.buffer(bvh.nodes.tobytes())
-                node_count = len(bvh.nodes)
-            else:  # the shader never reads them, but the bindings must hold a buffer
-                tri_buffer = ctx.buffer(reserve=64)
-                node_buffer = ctx.buffer(reserve=64)
-                node_count = 0
-            owned.extend([tri_buffer, node_buffer])
+        # w starts at 1 and drops to 0 where a dispatch did not finish its chunk
+        cleared = np.zeros((height, width, 4))
+        cleared[..., 3] = 1.0
+        self._result = texture(cleared, (width, height))
+        if bvh is not None and bvh.triangle_count:
+            corners = np.concatenate(
+                [bvh.triangles, np.zeros(bvh.triangles.shape[:2] + (1,))], axis=-1)
+            self._tri_buffer = ctx.buffer(np.ascontiguousarray(corners, np.float32).tobytes())
+            self._node_buffer = ctx.buffer(bvh.nodes.tobytes())
+            node_count = len(bvh.nodes)
+        else:  # the shader never reads them, but the bindings must hold a buffer
+            self._tri_buffer = ctx.buffer(reserve=64)
+            self._node_buffer = ctx.buffer(reserve=64)
+            node_count = 0
+        self._owned.extend([self._tri_buffer, self._node_buffer])
+        vpl_width, vpl_height = vpls.size
+        self.vpl_count = vpl_width * vpl_height
+        self._values = {
+            "u_image_size": (width, height),
+            "u_min_distance_sq": min_distance * min_distance,
+            "u_visibility": int(bool(visibility)),
+            "u_ray_offset": float(ray_offset),
+            "u_node_count": node_count,
+        }
+        self.tiles = [(x, y) for y in range(0, height, tile_size)
+                      for x in range(0, width, tile_size)]
+        if reference.loop_limited:
+            self.vpl_chunk = safe_vpl_chunk(vpl_chunk, bvh)
+        self.chunks = list(range(0, self.vpl_count, self.vpl_chunk))
+        self.total = len(self.tiles) * len(self.chunks)
+        self._groups = -(-tile_size // _LOCAL_SIZE)
 
-            program = self.program
-            for unit, (name, tex) in enumerate((
-                    ("u_gbuffer_position", position), ("u_gbuffer_normal", normal),
-                    ("u_vpl_position", vpls.position), ("u_vpl_normal", vpls.normal),
-                    ("u_vpl_flux", vpls.flux))):
-                tex.use(location=unit)
-                if name in program:
-                    program[name] = unit
-            result.bind_to_image(0, read=True, write=True)
-            tri_buffer.bind_to_storage_buffer(0)
-            node_buffer.bind_to_storage_buffer(1)
-            vpl_width, vpl_height = vpls.size
-            total_vpls = vpl_width * vpl_height
-            values = {
-                "u_image_size": (width, height),
-                "u_min_distance_sq": min_distance * min_distance,
-                "u_visibility": int(bool(visibility)),
-                "u_ray_offset": float(ray_offset),
-                "u_node_count": node_count,
-            }
-            for key, value in values.items():
-                if key in program:
-                    program[key] = value
-            tiles = [(x, y) for y in range(0, height, tile_size)
-                     for x in range(0, width, tile_size)]
-            if self.loop_limited:
-                vpl_chunk = safe_vpl_chunk(vpl_chunk, bvh)
-            chunks = list(range(0, total_vpls, vpl_chunk))
-            total = len(tiles) * len(chunks)
-            groups = -(-tile_size // _LOCAL_SIZE)
-            done = 0
-            for origin in tiles:
-                if "u_tile_origin" in program:
-                    program["u_tile_origin"] = origin
-                for begin in chunks:
-                    program["u_vpl_begin"] = begin
-                    program["u_vpl_end"] = min(begin + vpl_chunk, total_vpls)
-                    program.run(groups, groups, 1)
-                    done += 1
-                    if progress is not None:
-                        ctx.finish()  # make the fraction mean work finished, not queued
-                        if progress(done / total) is False:
-                            raise Cancelled(f"reference render cancelled after {done} of "
-                                            f"{total} dispatches")
-            ctx.memory_barrier()
-            data = np.frombuffer(result.read(), dtype=np.float32).reshape(height, width, 4)
-            cut = int(np.count_nonzero(data[..., 3] < 0.5))
-            if cut:
-                raise IncompleteRender(
-                    f"the GL driver ended the VPL loop early at {cut} pixels (llvmpipe's "
-                    f"loop limit); pass a smaller vpl_chunk (was {vpl_chunk})")
-            return data[..., :3].copy()
-        finally:
-            for obj in owned:
-                obj.release()
+    @property
+    def finished(self) -> bool:
+        return self.done >= self.total
+
+    def _bind(self) -> None:
+        program = self.program
+        for unit, (name, tex) in enumerate((
+                ("u_gbuffer_position", self._position), ("u_gbuffer_normal", self._normal),
+                ("u_vpl_position", self._vpls.position), ("u_vpl_normal", self._vpls.normal),
+                ("u_vpl_flux", self._vpls.flux))):
+            tex.use(location=unit)
+            if name in program:
+                program[name] = unit
+        self._result.bind_to_image(0, read=True, write=True)
+        self._tri_buffer.bind_to_storage_buffer(0)
+        self._node_buffer.bind_to_storage_buffer(1)
+        for key, value in self._values.items():
+            if key in program:
+                program[key] = value
+
+    def step(self, dispatches: int = 1) -> int:
+        """Run up to ``dispatches`` more dispatches; returns how many ran."""
+        count = min(int(dispatches), self.total - self.done)
+        if count <= 0:
+            return 0
+        self._bind()
+        for _ in range(count):
+            self._dispatch()
+        return count
+
+    def advance(self, budget_s: float) -> int:
+        """Run dispatches for about ``budget_s`` seconds (at least one while any is left);
+        returns how many ran. The context finishes them every
+        :data:`DISPATCHES_PER_FINISH` and before returning, so the clock measures work
+        done, not queued (llvmpipe runs a dispatch when it is issued)."""
+        if self.finished:
+            return 0
+        start = time.perf_counter()
+        self._bind()
+        ran = 0
+        while not self.finished and (ran == 0 or time.perf_counter() - start < budget_s):
+            self._dispatch()
+            ran += 1
+            if ran % DISPATCHES_PER_FINISH == 0:
+                self.ctx.finish()
+        self.ctx.finish()
+        return ran
+
+    def _dispatch(self) -> None:
+        program = self.program
+        tile, chunk = divmod(self.done, len(self.chunks))
+        if "u_tile_origin" in program:
+            program["u_tile_origin"] = self.tiles[tile]
+        begin = self.chunks[chunk]
+        program["u_vpl_begin"] = begin
+        program["u_vpl_end"] = min(begin + self.vpl_chunk, self.vpl_count)
+        program.run(self._groups, self._groups, 1)
+        self.done += 1
+
+    def irradiance(self) -> np.ndarray:
+        """(H, W, 3) float32 irradiance of the finished gather; raises
+        :class:`IncompleteRender` where the driver cut a dispatch short."""
+        if not self.finished:
+            raise RuntimeError(f"the gather is not finished: {self.done} of {self.total} "
+                               "dispatches ran")
+        width, height = self.size
+        if self._result is None:
+            return np.zeros((height, width, 3), np.float32)
+        self.ctx.memory_barrier()
+        data = np.frombuffer(self._result.read(), dtype=np.float32).reshape(height, width, 4)
+        cut = int(np.count_nonzero(data[..., 3] < 0.5))
+        if cut:
+            raise IncompleteRender(
+                f"the GL driver ended the VPL loop early at {cut} pixels (llvmpipe's "
+                f"loop limit); pass a smaller vpl_chunk (was {self.vpl_chunk})")
+        return data[..., :3].copy()
 
     def release(self) -> None:
-        if self._owns_program:
-            self.program.release()
+        for obj in self._owned:
+            obj.release()
+        self._owned = []
 
 
 def reference_irradiance(gbuffer: GBuffer, vpls: VplArrays | VplTextures, min_distance: float,

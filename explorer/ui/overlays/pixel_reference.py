@@ -2,25 +2,37 @@
 
 The Picked panel's button asks for the reference at the picked pixel
 (:func:`explorer.truth.progressive.pixel_reference`: a 1×1 tile of the frame's own image
-with the frame's own VPLs, shadow rays for "visible", none for "unoccluded"); the app loop
-computes one pixel per call of :meth:`PixelReferences.advance` (``runtime.tasks``), and the
-values are cached per (settings, pixel, mode), so the tooltip and the panel show them next
-to the LPV's indirect radiance whenever that pixel of those settings is under the mouse or
-picked again. No imgui here: the cache and the queue are tested headlessly.
+with the frame's own VPLs, shadow rays for "visible", none for "unoccluded"); the window's
+controller advances the work within its background-task budget (``runtime.tasks``), and
+the values are cached per (settings, pixel, mode), so the tooltip and the panel show them
+next to the LPV's indirect radiance whenever that pixel of those settings is under the
+mouse or picked again. No imgui here: the cache and the queue are tested headlessly.
+
+The work comes in small units, so that no call of :meth:`PixelReferences.advance` holds
+a frame for long even in the atrium (186 000 triangles): the scene's BVH for the shadow
+rays, built a few nodes per call (:class:`~explorer.truth.bvh.BvhBuilder`, seconds in
+all; kept while the scene's geometry stays the same), then the pixel's gather, a few
+chunks of VPLs per call (with the atrium's BVH a chunk is one VPL: thousands of
+dispatches). :attr:`PixelReferences.units` counts what the last call did.
 """
 
 from __future__ import annotations
 
-from collections import OrderedDict
+import time
+from collections import Counter, OrderedDict
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
-from explorer.truth.progressive import REFERENCE_MODES, pixel_reference
+from explorer.truth.progressive import REFERENCE_MODES, pixel_job
 
 CACHE_SIZE = 256
 """Reference values kept (three numbers each)."""
+UNITS = ("scene", "BVH nodes", "VPL chunks", "pixels")
+"""What :attr:`PixelReferences.units` counts: posing the scene and starting its BVH (one
+unit), BVH nodes built, dispatches of the gather (a chunk of VPLs each), pixels started
+or finished (one unit each: the G-buffer and VPL uploads, the read-back)."""
 
 
 @dataclass(frozen=True)
@@ -32,13 +44,25 @@ class _Request:
 
 
 class PixelReferences:
-    """Reference radiance per (settings, pixel, mode): requested, computed, cached."""
+    """Reference radiance per (settings, pixel, mode): requested, computed, cached.
 
-    def __init__(self) -> None:
+    ``loaded_scene(name)``: the scene ``name`` as the window loaded it (before the
+    Settings' overrides), or None; the BVH is built from it posed for the frame's settings
+    (loaded here when None). ``vpl_chunk``: VPLs per dispatch of the gather."""
+
+    def __init__(self, loaded_scene: Callable[[str], Any] | None = None,
+                 vpl_chunk: int = 4096) -> None:
         self.cache: OrderedDict[tuple, np.ndarray] = OrderedDict()
         self.pending: list[_Request] = []
         self.problem: str | None = None
-        self._scene: tuple | None = None     # (scene name, scene, bvh) for shadow rays
+        self.units: Counter = Counter()
+        """What the last :meth:`advance` did (:data:`UNITS`)."""
+        self.vpl_chunk = int(vpl_chunk)
+        self._loaded_scene = loaded_scene
+        self._bvh: tuple | None = None       # (geometry key, Bvh) for shadow rays
+        self._builder: tuple | None = None   # (geometry key, BvhBuilder) while building
+        self._job: tuple | None = None       # (request, ProgressiveReference) in progress
+        self._pass = None                    # ReferencePass: compiled once
 
     @staticmethod
     def key(frame, pixel, mode: str) -> tuple:
@@ -69,42 +93,103 @@ class PixelReferences:
         where = (frame.settings, (int(pixel[0]), int(pixel[1])))
         return any(request.key[:2] == where for request in self.pending)
 
-    # -- the app loop's task interface -------------------------------------------------
+    @property
+    def running(self) -> bool:
+        """Work is queued (the controller keeps the window drawing)."""
+        return bool(self.pending)
+
+    def progress(self) -> str | None:
+        """What the work in progress does, in words with its share done, or None."""
+        if self._builder is not None and self.pending:
+            return f"building BVH… {self._builder[1].fraction:.0%}"
+        if self._job is not None:
+            return f"gathering the reference… {self._job[1].fraction:.0%}"
+        return "starting…" if self.pending else None
+
+    # -- the controller's task interface -----------------------------------------------
     def advance(self, ctx, budget_s: float) -> None:
-        """Compute one queued pixel (one mode): a single tile, all VPLs."""
-        if not self.pending:
-            return
-        request = self.pending.pop(0)
+        """Work on the queue for about ``budget_s`` seconds, at least one unit while any is
+        left (:attr:`units`)."""
+        start = time.perf_counter()
+        self.units = Counter()
         try:
-            scene, bvh = self._scene_for(request.frame, request.mode == "visible")
-            value = pixel_reference(ctx, request.frame, *request.pixel,
-                                    request.mode == "visible", scene=scene, bvh=bvh)
+            while self.pending:
+                left = budget_s - (time.perf_counter() - start)
+                if sum(self.units.values()) and left <= 0.0:
+                    break
+                self._work(ctx, self.pending[0], left)
         except Exception as exc:  # noqa: BLE001 - shown in the panel, the app goes on
             self.problem = f"{type(exc).__name__}: {exc}"
             self.pending.clear()
+            self._drop_work()
+
+    def _work(self, ctx, request: _Request, left_s: float) -> None:
+        """One step of ``request``: its BVH (visible), then its gather, then its value."""
+        from explorer.truth.reference import ReferencePass
+
+        visible = request.mode == "visible"
+        bvh = self._bvh_for(request.frame.settings, left_s) if visible else None
+        if visible and bvh is None:
+            return                               # still building
+        if self._job is None or self._job[0] is not request:
+            self._release_job()
+            if self._pass is None:
+                self._pass = ReferencePass(ctx)
+            self._job = (request, pixel_job(ctx, request.frame, *request.pixel, visible,
+                                            bvh=bvh, reference_pass=self._pass,
+                                            vpl_chunk=self.vpl_chunk))
+            self.units["pixels"] += 1
             return
+        job = self._job[1]
+        if not job.done:
+            self.units["VPL chunks"] += job.advance(left_s)
+            return
+        self.units["pixels"] += 1                # the value, on the call after the last chunk
+        value = job.radiance_at(*request.pixel)
+        self._release_job()
+        self.pending.pop(0)
         self.cache[request.key] = value
         self.cache.move_to_end(request.key)
         while len(self.cache) > CACHE_SIZE:
             self.cache.popitem(last=False)
 
-    def _scene_for(self, frame, visibility: bool):
-        """(scene, bvh) for shadow rays, kept while the scene stays the same (a mesh's
-        BVH is the costly part); (None, None) without visibility."""
-        if not visibility:
-            return None, None
-        name = frame.settings.scene
-        if self._scene is None or self._scene[0] != name:
-            from explorer.truth.bvh import build_bvh
-            from explorer.truth.gbuffer import scene_for, scene_triangles
+    def _bvh_for(self, settings, left_s: float):
+        """The BVH of the scene ``settings`` pose (kept while the geometry stays the same:
+        the scene and its objects' transforms), or None while it is being built."""
+        from explorer.truth.bvh import BvhBuilder
+        from explorer.truth.gbuffer import scene_for, scene_triangles
 
-            scene = scene_for(frame.settings)
-            self._scene = (name, scene, build_bvh(scene_triangles(scene)))
-        return self._scene[1], self._scene[2]
+        geometry = (settings.scene, settings.object_transforms)
+        if self._bvh is not None and self._bvh[0] == geometry:
+            return self._bvh[1]
+        if self._builder is None or self._builder[0] != geometry:
+            loaded = self._loaded_scene(settings.scene) if self._loaded_scene else None
+            scene = scene_for(settings, loaded)
+            self._builder = (geometry, BvhBuilder(scene_triangles(scene)))
+            self.units["scene"] += 1
+            return None
+        builder = self._builder[1]
+        self.units["BVH nodes"] += builder.advance(left_s)
+        if builder.done:         # the gather starts on the next call
+            self._bvh, self._builder = (geometry, builder.result()), None
+        return None
+
+    def _release_job(self) -> None:
+        if self._job is not None:
+            self._job[1].release()
+            self._job = None
+
+    def _drop_work(self) -> None:
+        self._release_job()
+        self._builder = None
 
     def release(self) -> None:
         self.pending.clear()
-        self._scene = None
+        self._drop_work()
+        self._bvh = None
+        if self._pass is not None:
+            self._pass.release()
+            self._pass = None
 
 
 def pixel_references(state) -> PixelReferences:
@@ -113,7 +198,12 @@ def pixel_references(state) -> PixelReferences:
     for task in tasks:
         if isinstance(task, PixelReferences):
             return task
-    service = PixelReferences()
+
+    def loaded_scene(name: str):
+        loaded = state.runtime.scene
+        return loaded[1] if loaded is not None and loaded[0] == name else None
+
+    service = PixelReferences(loaded_scene)
     tasks.append(service)
     return service
 

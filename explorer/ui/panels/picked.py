@@ -71,7 +71,7 @@ def _reference_button(state: AppState, result, pixel) -> None:
     if len(service.values(result, pixel)) == 2:
         return
     if service.computing(result, pixel):
-        imgui.text_disabled("computing the reference radiance at this pixel…")
+        imgui.text_disabled(f"reference radiance at this pixel: {service.progress()}")
     elif imgui.button("Reference radiance at this pixel"):
         service.request(result, pixel)
     if imgui.is_item_hovered():
