@@ -614,11 +614,12 @@ class PipelineController:
 
     def _tasks(self, state: "AppState", left_ms: float, status: ControllerStatus) -> None:
         """The panels' background GPU work (``runtime.tasks``) in what is left of the
-        budget."""
+        budget, shared by the tasks that have work (an idle one is still called: it may
+        start some, e.g. the Error panel's measurement of a new configuration)."""
         tasks = state.runtime.tasks
         if not tasks or left_ms < MIN_TASK_MS:
             return
-        share = left_ms / len(tasks)
+        share = left_ms / max(sum(bool(getattr(task, "running", True)) for task in tasks), 1)
         for task in list(tasks):
             began = time.perf_counter()
             try:

@@ -117,21 +117,33 @@ class PixelReferences:
                 left = budget_s - (time.perf_counter() - start)
                 if sum(self.units.values()) and left <= 0.0:
                     break
-                self._work(ctx, self.pending[0], left)
+                if not self._work(ctx, self.pending[0], left):
+                    break
         except Exception as exc:  # noqa: BLE001 - shown in the panel, the app goes on
             self.problem = f"{type(exc).__name__}: {exc}"
             self.pending.clear()
             self._drop_work()
 
-    def _work(self, ctx, request: _Request, left_s: float) -> None:
-        """One step of ``request``: its BVH (visible), then its gather, then its value."""
+    def _work(self, ctx, request: _Request, left_s: float) -> bool:
+        """One step of ``request``: its BVH (visible), then its gather, then its value.
+        False when the next step is a setup (posing the scene, starting a pixel: tens of
+        milliseconds in the atrium) and this call has already worked: it waits for the
+        next call, which starts with it."""
         from explorer.truth.reference import ReferencePass
 
+        first = not sum(self.units.values())
         visible = request.mode == "visible"
-        bvh = self._bvh_for(request.frame.settings, left_s) if visible else None
-        if visible and bvh is None:
-            return                               # still building
+        if visible:
+            if not first and self._bvh_setup_due(request.frame.settings):
+                return False
+            bvh = self._bvh_for(request.frame.settings, left_s)
+            if bvh is None:
+                return True                      # still building
+        else:
+            bvh = None
         if self._job is None or self._job[0] is not request:
+            if not first:
+                return False
             self._release_job()
             if self._pass is None:
                 self._pass = ReferencePass(ctx)
@@ -139,11 +151,11 @@ class PixelReferences:
                                             bvh=bvh, reference_pass=self._pass,
                                             vpl_chunk=self.vpl_chunk))
             self.units["pixels"] += 1
-            return
+            return True
         job = self._job[1]
         if not job.done:
             self.units["VPL chunks"] += job.advance(left_s)
-            return
+            return True
         self.units["pixels"] += 1                # the value, on the call after the last chunk
         value = job.radiance_at(*request.pixel)
         self._release_job()
@@ -152,6 +164,18 @@ class PixelReferences:
         self.cache.move_to_end(request.key)
         while len(self.cache) > CACHE_SIZE:
             self.cache.popitem(last=False)
+        return True
+
+    @staticmethod
+    def _geometry(settings) -> tuple:
+        """What the BVH depends on: the scene and its objects' transforms."""
+        return (settings.scene, settings.object_transforms)
+
+    def _bvh_setup_due(self, settings) -> bool:
+        """Whether the next step of a visible request poses the scene for a new BVH."""
+        geometry = self._geometry(settings)
+        return (self._bvh is None or self._bvh[0] != geometry) and (
+            self._builder is None or self._builder[0] != geometry)
 
     def _bvh_for(self, settings, left_s: float):
         """The BVH of the scene ``settings`` pose (kept while the geometry stays the same:
@@ -159,7 +183,7 @@ class PixelReferences:
         from explorer.truth.bvh import BvhBuilder
         from explorer.truth.gbuffer import scene_for, scene_triangles
 
-        geometry = (settings.scene, settings.object_transforms)
+        geometry = self._geometry(settings)
         if self._bvh is not None and self._bvh[0] == geometry:
             return self._bvh[1]
         if self._builder is None or self._builder[0] != geometry:
