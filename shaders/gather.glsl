@@ -3,7 +3,7 @@
 // encoding are display.glsl's, so changing them re-runs no gather.
 // Full-screen pass over the G-buffer. Targets:
 //   0 direct radiance (shadowed Lambertian from the light, times the spot cone's falloff),
-//   1 indirect radiance (LPV),
+//   1 indirect radiance (LPV; with glossy reflections their radiance too, glossy.glsl),
 //   2 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
 //     from the LPV (summed by the energy audit).
 // SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe. SH_SHADER_FILTER:
@@ -21,6 +21,7 @@
 #include "sh_grid.glsl"
 #include "cascades.glsl"
 #include "spot.glsl"
+#include "glossy.glsl"
 
 uniform sampler2D u_gbuffer_position;
 uniform sampler2D u_gbuffer_normal;
@@ -169,6 +170,9 @@ void main() {
                             * lpv_derivative_damping(position.xyz, n);
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
+    if (u_has_grid == 1) {
+        indirect += glossy_reflection(position.xyz, n);   // glossy.glsl (off: 0)
+    }
 
     out_direct = vec4(direct, 1.0);
     out_indirect = vec4(indirect, 1.0);

@@ -11,6 +11,8 @@ depth (normal.w) through a PCF box ``shadow_kernel`` texels wide.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import moderngl
 
 from explorer.gl.fullscreen import FullscreenTriangle
@@ -33,6 +35,36 @@ EXACT_FILTER = 1e-5
 """Largest weight error of a linear-filtered lookup that counts as exact (float32 weights
 err by about 1e-7, a texture unit's 8-bit weights by up to 2e-3)."""
 PROBE_SAMPLES = 64
+
+
+@dataclass(frozen=True)
+class Glossy:
+    """The glossy reflection's parameters (docs/MODEL.md "Glossy reflections"; the
+    ``glossy_*`` Settings) and the eye it reflects."""
+
+    roughness: float
+    strength: float
+    """k_s, the specular reflectance."""
+    samples: int
+    eye: tuple[float, float, float]
+
+    @classmethod
+    def of(cls, settings, eye) -> "Glossy | None":
+        """The Settings' glossy term seen from ``eye``, or None when it is off."""
+        if not settings.glossy:
+            return None
+        return cls(float(settings.glossy_roughness), float(settings.glossy_strength),
+                   int(settings.glossy_samples), tuple(map(float, eye)))
+
+    def uniforms(self) -> dict[str, object]:
+        return {"u_glossy": 1, "u_glossy_g": 1.0 - self.roughness,
+                "u_glossy_strength": self.strength, "u_glossy_samples": self.samples,
+                "u_camera_position": self.eye}
+
+
+NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
+             "u_glossy_samples": 0, "u_camera_position": (0.0, 0.0, 0.0)}
+"""glossy.glsl's uniforms with the glossy term off."""
 
 
 def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[int, int]]:
@@ -106,7 +138,7 @@ class GatherPass:
             grid_textures, spec: GridSpec, damping: bool = False,
             cascades: list[CascadeInput] | None = None, sh_order: int = 1,
             rows: tuple[int, int] | None = None,
-            shadow_kernel: int = DEFAULT_SHADOW_KERNEL) -> None:
+            shadow_kernel: int = DEFAULT_SHADOW_KERNEL, glossy: Glossy | None = None) -> None:
         """``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
         trilinearly, clamped to the edge), or None for direct light only. ``damping``: the
         directional-derivative damping of the indirect irradiance (docs/MODEL.md "Final
@@ -116,7 +148,8 @@ class GatherPass:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
         ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
         the others keep what they hold. ``shadow_kernel``: width of the PCF box in
-        shadow-map texels (1 = one hard test)."""
+        shadow-map texels (1 = one hard test). ``glossy``: add the glossy reflection of
+        the grid to the indirect radiance (None: off)."""
         self._targets.allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", {
             **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
@@ -142,6 +175,7 @@ class GatherPass:
             **light.uniforms(),
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
+            **(NO_GLOSSY if glossy is None else glossy.uniforms()),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):

@@ -1,7 +1,12 @@
 """Geometry volume (fuzzy occlusion): occluder surfels from the VPLs in a grid whose cell
-centres sit on the light grid's corners (docs/MODEL.md "Geometry volume")."""
+centres sit on the light grid's corners (docs/MODEL.md "Geometry volume"), and with camera
+occluders also from the camera's G-buffer pixels that the light does not see
+(docs/MODEL.md "Camera occluders")."""
 
 from __future__ import annotations
+
+import math
+from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -21,10 +26,52 @@ from explorer.lpv.textures import (
     programs_for,
 )
 from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.scene.transforms import gl_matrix
 
 GEOMETRY_MODES = ("one-sided", "double-sided")
 ALBEDO_UNIT = 3
 """Sampler unit of the VPL albedo texture (units 0..2 hold position, normal, flux)."""
+CAMERA_UNITS = {"u_surfel_position": 0, "u_surfel_normal": 1, "u_surfel_albedo": 2,
+                "u_shadow_position": 3, "u_shadow_normal": 4}
+"""Sampler units of the camera-surfel program (G-buffer, then the light's shadow map)."""
+LIGHT_MAP_UNIFORMS = ("u_light_view", "u_light_projection", "u_orthographic",
+                      "u_light_position", "u_light_direction")
+"""The light's uniforms (LightView.uniforms) the camera-surfel program reads."""
+
+
+def camera_pixel_area(fov_y_degrees: float, height: int) -> float:
+    """Area of one camera pixel at view depth 1 on a plane facing the camera,
+    ``(2·tan(fov_y/2)/H)²`` (derivation occlusion.camera_surfel_area): a surfel at depth
+    ``w`` covers this times ``w²``, the RSM texel's rule."""
+    edge = 2.0 * math.tan(math.radians(fov_y_degrees) / 2.0) / int(height)
+    return edge * edge
+
+
+@dataclass(frozen=True)
+class CameraSurfels:
+    """The camera's G-buffer as occluder surfels, and the light's shadow map to leave out
+    the surfaces the RSM already holds (docs/MODEL.md "Camera occluders")."""
+
+    position: moderngl.Texture
+    """G-buffer world position, w = 1 where a surface was seen."""
+    normal: moderngl.Texture
+    """G-buffer normal facing the camera."""
+    albedo: moderngl.Texture
+    view: np.ndarray
+    """The camera's 4×4 view matrix (numpy, world → view)."""
+    pixel_area: float
+    """:func:`camera_pixel_area` of the camera and image height."""
+    shadow: VplTextures
+    """The RSM: position (w = seen) and normal (w = view depth from the light)."""
+    light_uniforms: dict
+    """``LightView.uniforms()`` of the light that rendered ``shadow``."""
+    shadow_texel: float
+    """``LightView.texel_world_size``: a texel's edge at depth 1 (spot) or in world units."""
+
+    @property
+    def count(self) -> int:
+        width, height = self.position.size
+        return width * height
 
 
 class GeometryVolume:
@@ -86,7 +133,8 @@ class GeometryPass:
         self._layers: LayeredTarget | None = None
 
     def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
-            mode: str, out: GeometryVolume) -> None:
+            mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
+        """Inject the VPLs' surfels (and ``camera``'s, when given) into ``out``."""
         if mode not in GEOMETRY_MODES:
             raise ValueError(f"geometry mode must be one of {GEOMETRY_MODES}, got {mode!r}")
         if out.resolution != spec.resolution:
@@ -109,8 +157,29 @@ class GeometryPass:
             "u_double_sided": mode == "double-sided",
         }, reads=uniforms_read_by(self.STAGE))
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+        if camera is not None:
+            self._draw_camera_surfels(camera, spec, corrections, mode, layers)
         copy_volume(self.programs, layers.layers[0], out.volume)
         copy_volume(self.programs, layers.layers[1], out.albedo)
+
+    def _draw_camera_surfels(self, camera: CameraSurfels, spec: GridSpec,
+                             corrections: Corrections, mode: str,
+                             layers: LayeredTarget) -> None:
+        """Add the camera's surfels to ``layers`` (drawn after the VPLs' surfels)."""
+        program = self.programs.get("geometry_inject.glsl", {"CAMERA_SURFELS": 1})
+        textures = (camera.position, camera.normal, camera.albedo, camera.shadow.position,
+                    camera.shadow.normal)
+        for texture, unit in zip(textures, CAMERA_UNITS.values()):
+            texture.use(unit)
+        light = {name: camera.light_uniforms[name] for name in LIGHT_MAP_UNIFORMS}
+        set_uniforms(program, {
+            **spec.uniforms(), **corrections.as_uniforms(), **CAMERA_UNITS, **light,
+            "u_shadow_texel": float(camera.shadow_texel),
+            "u_camera_view": gl_matrix(camera.view),
+            "u_pixel_area": float(camera.pixel_area),
+            "u_double_sided": mode == "double-sided",
+        }, reads=uniforms_read_by(self.STAGE))
+        draw_points_additively(self.ctx, program, layers, camera.count, clear=False)
 
     def release(self) -> None:
         if self._layers is not None:
