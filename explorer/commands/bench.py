@@ -46,17 +46,28 @@ QUICK_ITERATIONS = (2, 4)
 QUICK_SIZES = {"width": 64, "height": 64, "rsm_size": 64}
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather",
-                "display")
+                "fog", "display")
 VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
     "bounces-2": {"bounces": 2},
     "audit": {"need_audit": True},
+    "geometry": {},
+    "camera-occluders": {"camera_occluders": True},
+    "fog-16": {"fog": True, "fog_steps": 16},
+    "fog-32": {"fog": True, "fog_steps": 32},
+    "fog-64": {"fog": True, "fog_steps": 64},
+    "glossy": {"glossy": True},
 }
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
-options against the default settings, and the propagation with its per-step energy audit
-(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`). bounces-2 turns
-a one-sided geometry volume on if --geometry-volume is off (it needs one)."""
+options against the default settings, the propagation with its per-step energy audit
+(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`), and what each
+feature beyond diffuse costs (docs/MODEL.md "Camera occluders", "Fog", "Glossy
+reflections"): ``geometry`` (the RSM's occluders alone) against ``camera-occluders`` in
+the geometry column, the fog column at 16, 32 and 64 march steps, and ``glossy`` against
+``default`` in the gather column. The variants in :data:`NEEDS_GEOMETRY` turn a one-sided
+geometry volume on if --geometry-volume is off (they need one)."""
+NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders")
 RUN_OPTIONS = ("need_audit",)
 """Keys of a variant that go to ``Pipeline.run`` instead of the Settings."""
 DEFAULT_REPEAT = 3
@@ -131,7 +142,7 @@ def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]
             for name in args.variants:
                 changes = {key: value for key, value in VARIANTS[name].items()
                            if key not in RUN_OPTIONS}
-                if changes.get("bounces", 1) > 1 and base.geometry_volume == "off":
+                if name in NEEDS_GEOMETRY and base.geometry_volume == "off":
                     changes["geometry_volume"] = "one-sided"
                 runs.append((name, base.with_changes(grid_size=grid, iterations=max(iterations),
                                                      sh_order=orders[0], **changes)))

@@ -28,6 +28,8 @@ IMAGE_TEXTURES = (3, 3)
 buffer and the ``rgba8`` display texture."""
 IMAGE_READ_BACK = 6
 """Image arrays read back: the G-buffer's three and the gather's three."""
+FOG_TEXTURES = 2
+"""With fog: the fog pass's two ``rgba32f`` targets, both read back too."""
 TEXEL = 16
 """Bytes of one ``rgba32f`` texel."""
 
@@ -48,7 +50,9 @@ def memory_requests(settings) -> list[Request]:
     pixels = s.width * s.height
     # a read-back array is the bytes object plus the flipped float32 copy: twice its size
     rsm = rsm_texels * (RSM_TEXTURES * TEXEL + 4 + RSM_READ_BACK * TEXEL * 2)
-    images = pixels * (sum(IMAGE_TEXTURES) * TEXEL + 4 + 4 + IMAGE_READ_BACK * TEXEL * 2)
+    fog = FOG_TEXTURES if s.fog else 0
+    images = pixels * ((sum(IMAGE_TEXTURES) + fog) * TEXEL + 4 + 4
+                       + (IMAGE_READ_BACK + fog) * TEXEL * 2)
     groups = 3 if s.sh_order == 2 else 1
     grids = texture_bytes(s.grid_size, s.cascades, s.grid_format, s.geometry_volume != "off",
                           groups)
@@ -56,8 +60,8 @@ def memory_requests(settings) -> list[Request]:
     grids += s.cascades * 3 * s.grid_size ** 3 * 4 * (9 if s.sh_order == 2 else 4) * 2
     return [Request("rsm_size", f"rsm_size {s.rsm_size} (RSM textures and their read-back)",
                     rsm),
-            Request("width", f"{s.width}x{s.height} pixels (G-buffer, gather and display "
-                             f"targets and their read-back)", images),
+            Request("width", f"{s.width}x{s.height} pixels (G-buffer, gather, fog and "
+                             f"display targets and their read-back)", images),
             Request("grid_size", f"{s.cascades} cascade(s) of {s.grid_size}^3 cells in "
                                  f"{s.grid_format} (light grids, audit records, geometry "
                                  f"volume, read-back)", grids)]
