@@ -31,18 +31,25 @@ def pipeline(gl_context):
     pipe.release()
 
 
-def reference_volume(pipeline, result, mode: str = "one-sided"):
-    """The reference geometry volume: the RSM's surfels plus the camera surfels the
-    reference picks from the frame's own G-buffer and shadow map."""
+def reference_surfels(pipeline, result):
+    """``(the RSM's surfels, the camera surfels the reference picks from the frame's own
+    G-buffer and shadow map)``."""
     light = pipeline._light
     light_map = media.LightMap.of(light, result.rsm_position, result.rsm_normal)
     albedo = np.dstack([result.albedo, np.ones(result.albedo.shape[:2])])
     camera = media.camera_surfels(result.gbuffer_position, result.gbuffer_normal, albedo,
                                   result.camera, light_map, light.position, light.direction)
-    rsm = pipeline._rsm_textures.to_arrays()
+    return pipeline._rsm_textures.to_arrays(), camera
+
+
+def reference_volume(pipeline, result, mode: str = "one-sided", spec=None):
+    """The reference geometry volume of the grid ``spec`` (default: level 0's): the RSM's
+    surfels plus the camera's, and the camera's surfels."""
+    rsm, camera = reference_surfels(pipeline, result)
+    spec = result.grid_spec if spec is None else spec
     corrections = result.settings.corrections
-    volume = (reference.inject_geometry(rsm, result.grid_spec, corrections, mode)
-              + reference.inject_geometry(camera, result.grid_spec, corrections, mode))
+    volume = (reference.inject_geometry(rsm, spec, corrections, mode)
+              + reference.inject_geometry(camera, spec, corrections, mode))
     return volume, camera
 
 
@@ -59,15 +66,8 @@ def test_camera_surfels_match_the_reference(pipeline, changes):
 
 def test_camera_surfels_reach_every_cascade(pipeline):
     result = pipeline.run(ROOM.with_changes(cascades=2, grid_size=8))
-    light = pipeline._light
-    light_map = media.LightMap.of(light, result.rsm_position, result.rsm_normal)
-    albedo = np.dstack([result.albedo, np.ones(result.albedo.shape[:2])])
-    camera = media.camera_surfels(result.gbuffer_position, result.gbuffer_normal, albedo,
-                                  result.camera, light_map, light.position, light.direction)
-    rsm = pipeline._rsm_textures.to_arrays()
     for level in result.cascades:
-        expected = reference.inject_geometry(rsm, level.spec) + reference.inject_geometry(
-            camera, level.spec)
+        expected, _ = reference_volume(pipeline, result, spec=level.spec)
         assert relative_error(level.geometry_volume, expected) < 1e-5
 
 
