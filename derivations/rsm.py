@@ -44,6 +44,12 @@ around the outer cone (``t = tan θ_o`` at depth 1), so a texel covers
 angle of its centre direction: the midpoint rule of ``∫_texel f dω``, whose error over the
 whole map falls as ``1/W²``.
 
+Point light (docs/MODEL.md "Several lights"). An isotropic point light renders six RSM
+faces, the 90° frusta along ±x, ±y, ±z, each one cube face of ``4π/6``
+(``solid_angles.cube_face``): they tile the sphere, every texel reflects
+``c_diff·ρ·Φ_L/(4π)``, and in a closed room of reflectance ``c_diff`` the six faces'
+texels sum to ``6·(4π/6)·c_diff·Φ_L/(4π) = c_diff·Φ_L`` (:func:`point_light_room_flux`).
+
 Examples
 --------
 >>> from derivations.rsm import outgoing_flux_steps
@@ -167,6 +173,13 @@ def cone_surfel_area() -> sp.Expr:
     return (2 * w * sp.tan(theta_o_sym)) ** 2 / (W * H)
 
 
+def point_light_room_flux() -> sp.Expr:
+    """Flux the six cube faces of a point light reflect in a closed room of reflectance
+    ``c_diff``: the texels' solid angles add up to six cube faces, the whole sphere."""
+    faces = 6 * rectangle_solid_angle(-1, 1, -1, 1, 1)
+    return sp.simplify(c_diff * faces * Phi_L / (4 * sp.pi))
+
+
 def surfel_area() -> sp.Expr:
     """World area of one texel at view depth ``w``: ``(2·w·tan(π/4))²/(W·H)``."""
     return sp.simplify((2 * w * sp.tan(sp.pi / 4)) ** 2 / (W * H))
@@ -247,6 +260,9 @@ def results() -> list[Result]:
         result(MODULE, "cone_total_flux", cone_total_flux(),
                "Flux reflected by a surface that catches the whole cone: "
                "c_diff·Φ_L·(1 − (cos θ_i + cos θ_o)/2)/2."),
+        result(MODULE, "point_light_room_flux", point_light_room_flux(),
+               "Flux a point light's six RSM faces (90° frusta along ±x, ±y, ±z, one cube "
+               "face each) reflect in a closed room of reflectance c_diff: c_diff·Φ_L."),
         result(MODULE, "cone_surfel_area", cone_surfel_area(),
                "World area of an RSM texel at view depth w when the square frustum holds "
                "the outer cone θ_o: 4w²tan²θ_o/(W·H)."),

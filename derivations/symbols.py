@@ -71,6 +71,7 @@ SYMBOLS: dict[str, str] = {
     "rsm.cone_solid_angle": r"\int_{S^2} f \, d\omega",
     "rsm.cone_total_flux": r"\Phi_{\mathrm{cone}}",
     "rsm.cone_surfel_area": r"A_{\mathrm{texel}}^{\mathrm{cone}}",
+    "rsm.point_light_room_flux": r"\Phi_{\mathrm{room}}",
     # corrections: corrected over published
     "corrections.injection_pi.flux_factor": _RATIO,
     "corrections.propagation_4pi.flux_factor": _RATIO,

@@ -1,4 +1,4 @@
-"""Command line: ``lpv-explorer [run|render|constants|lessons|compare|bench|doctor]``.
+"""Command line: ``lpv-explorer [run|render|constants|lessons|compare|bench|stability|doctor]``.
 
 Each subcommand lives in ``explorer/commands/<name>.py`` and exposes
 ``add_arguments(parser)`` and ``main(args) -> int``. Modules are imported only when their
@@ -20,6 +20,8 @@ COMMANDS: dict[str, str] = {
     "lessons": "list the lessons",
     "compare": "compare LPV against the one-bounce reference (error tables and images)",
     "bench": "time each GPU pass over grid sizes and iterations",
+    "stability": "frame-to-frame change of the indirect light while a light, an object or "
+                 "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
 }
 

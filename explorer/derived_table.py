@@ -295,6 +295,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'θ_o)/2)/2.',
         None,
     ),
+    'rsm.point_light_room_flux': (
+        '\\Phi_{\\mathrm{room}} = \\Phi_{L} c_{diff}',
+        "Flux a point light's six RSM faces (90° frusta along ±x, ±y, ±z, one cube face each) "
+        'reflect in a closed room of reflectance c_diff: c_diff·Φ_L.',
+        None,
+    ),
     'rsm.cone_surfel_area': (
         'A_{\\mathrm{texel}}^{\\mathrm{cone}} = \\frac{4 w^{2} \\tan^{2}{\\left(\\theta_{o} '
         '\\right)}}{H W}',

@@ -35,6 +35,10 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     kind = "clamped-cosine"
     id = "lobe"                            # placed in the text by {{figure:lobe}}
     normal_deg = 30
+    [steps.show]                           # what the main view draws in the scene
+    slice = true                           # (explorer/overlay_params.py OverlayState)
+    slice_quantity = "in-flight"
+    slice_step = 2
 
 The text is the markdown dialect of :mod:`explorer.lesson_text`: inline and display math,
 live numbers ``{{name:format}}`` (:mod:`explorer.live_values`), ``{{figure:ID}}``,
@@ -68,6 +72,10 @@ LESSON_DEFAULTS: dict[str, Any] = {"spot_cone": False, "auto_exposure": False}
 square frustum (the lessons' texts and measured numbers are about it) and a fixed exposure
 (their prompts ask the reader to watch the image brighten with the flux, the bounces or
 the published formulas, which an auto exposure would undo)."""
+SCENE_STATE: dict[str, Any] = {"lights": None, "object_transforms": ()}
+"""What belongs to the scene on screen and starts afresh with every step (a step may set
+them in its [settings]): which lights shine and where the objects are; lights or objects
+of another scene would not even exist in the step's."""
 COMPARE_VIEWS = ("split", "difference")
 """Views that show the step's corrections against the ``compare`` preset."""
 STEP_VIEWS = VIEWS + COMPARE_VIEWS
@@ -94,7 +102,7 @@ _STEP_FIELDS = {
     "plot": Spec(kind="choice", choices=PLOTS, doc="The plot brought forward."),
 }
 _STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
-                "figures")
+                "figures", "show")
 _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
@@ -179,6 +187,17 @@ class Step:
     light: tuple[Vec3, Vec3] | None = None
     figures: tuple[Any, ...] = ()
     """Inline figures (``explorer.ui.figures.FigureSpec``), in file order."""
+    show: tuple[tuple[str, Any], ...] = ()
+    """OverlayState fields the step sets (its ``[steps.show]`` table, checked), in file
+    order: what the main view draws in the scene."""
+
+    def overlays(self, base: Any = None) -> Any:
+        """The in-scene overlays this step shows (an ``OverlayState``): nothing drawn or
+        picked but what its ``show`` table sets; ``base`` (the reader's overlays) lends
+        only the reader's own controls (``overlay_params.READER_FIELDS``)."""
+        from explorer.overlay_params import step_overlays
+
+        return step_overlays(dict(self.show), base)
 
     @property
     def figure_ids(self) -> tuple[str, ...]:
@@ -190,12 +209,14 @@ class Step:
 
         Scene, corrections, camera and light always come from the step (a step that
         names no camera gets the scene's default one), so a step looks the same whatever
-        was on screen before; so do the :data:`LESSON_DEFAULTS`. Other fields the step
-        does not mention (window size, exposure, ...) keep the value of ``base``."""
+        was on screen before; so do the :data:`LESSON_DEFAULTS` and the
+        :data:`SCENE_STATE` (the scene's own lights, its objects where it puts them).
+        Other fields the step does not mention (window size, exposure, ...) keep the value
+        of ``base``."""
         base = Settings() if base is None else base
         return base.with_changes(scene=self.scene, corrections=self.corrections,
                                  camera=self.camera, light=self.light,
-                                 **{**LESSON_DEFAULTS, **dict(self.overrides)})
+                                 **{**LESSON_DEFAULTS, **SCENE_STATE, **dict(self.overrides)})
 
     def compare_settings(self, base: Settings | None = None) -> Settings | None:
         """The other side of a split/difference view (the step's settings with the
@@ -404,13 +425,28 @@ class _Reader:
             camera=self.pair(raw, "camera", _CAMERA_KEYS),
             light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw))
         try:  # the rules between fields (e.g. bounces 2 needs a geometry volume)
-            step.settings()
+            settings = step.settings()
         except SettingError as exc:
             raise self.error(f"settings.{exc.field}", str(exc)) from None
+        step = replace(step, show=self.show(raw, settings))
         step = self.try_values(step)
         self.article(step)
         self.step_number = self.step_title = None
         return step
+
+    def show(self, raw: Mapping, settings: Settings) -> tuple[tuple[str, Any], ...]:
+        """The ``[steps.show]`` table: each field checked by its OverlayState spec and
+        against the step's settings (``overlay_params.check_show``)."""
+        table = raw.get("show", {})
+        if not isinstance(table, Mapping):
+            raise self.error("show", f"must be a table of overlay fields, got "
+                                     f"{type(table).__name__}")
+        from explorer.overlay_params import check_show
+
+        try:
+            return tuple(check_show(table, settings).items())
+        except SettingError as exc:
+            raise self.error(f"show.{exc.field}", str(exc)) from None
 
     def formulas(self, raw: Mapping) -> tuple[str, ...]:
         names = raw.get("formulas", [])

@@ -142,6 +142,18 @@ def _vpl_depth(reduce) -> Callable[[LiveContext], float]:
     return read
 
 
+def _primary_rsm(context: LiveContext) -> float:
+    """The primary light's RSM flux (its row of ``audit.rsm_per_light``), channels summed."""
+    per_light = np.asarray(_result(context).audit.rsm_per_light, np.float64)
+    if per_light.size == 0:
+        raise Unavailable("no per-light RSM flux")
+    return float(per_light[0].sum())
+
+
+def _ran(stage: str) -> Callable[[LiveContext], str]:
+    return lambda c: "yes" if stage in _result(c).stages_run else "no"
+
+
 def _time(name: str) -> Callable[[LiveContext], float]:
     def read(context: LiveContext) -> float:
         timings = getattr(_result(context), "timings_ms", {}) or {}
@@ -289,6 +301,22 @@ def _fixed() -> dict[str, Quantity]:
         Quantity("frame.vpls", "VPLs injected (RSM texels after downsampling)", "",
                  lambda c: int(_result(c).vpls.count), "d"),
         Quantity("frame.lit_vpls", "VPLs that carry flux", "", _lit_vpls, "d"),
+        Quantity("frame.lights", "lights that shine (Settings.lights)", "",
+                 lambda c: len(_result(c).light_names), "d"),
+        Quantity("frame.rsm_views", "RSM views of the lights that shine: one per spot or "
+                 "directional light, six per point light", "",
+                 lambda c: len(_result(c).vpl_sets), "d"),
+        Quantity("audit.rsm_primary", "flux the primary light's RSM reflects (sum of "
+                 "channels; a point light's six faces together)", "W", _primary_rsm),
+        Quantity("audit.rsm_primary_share", "the primary light's share of the RSM flux", "",
+                 lambda c: _ratio(_primary_rsm(c), _audit_sum("rsm")(c))),
+        Quantity("frame.stages_ran", "how many stages this frame ran (the others were up "
+                 "to date)", "", lambda c: len(_result(c).stages_run), "d"),
+        Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
+                 "(yes/no)", "", _ran("gbuffer"), ""),
+        Quantity("frame.moved_objects", "objects moved from where the scene puts them "
+                 "(Settings.object_transforms)", "",
+                 lambda c: len(_settings(c).object_transforms), "d"),
         Quantity("frame.vpl_depth_min", "nearest depth of a lit VPL in the light's view "
                  "(w, along the light's axis)", "m", _vpl_depth(np.min), ".2f"),
         Quantity("frame.vpl_depth_max", "farthest depth of a lit VPL in the light's view",
@@ -351,7 +379,7 @@ def table() -> dict[str, Quantity]:
 
         items = _fixed()
         for f in fields(Settings):
-            if f.name in ("corrections", "camera", "light"):
+            if f.name in ("corrections", "camera", "light", "object_transforms"):
                 continue
             spec = f.metadata.get("spec") if f.metadata else None
             doc = getattr(spec, "doc", "") or f.name

@@ -9,8 +9,10 @@
 // phase function p scatters towards the eye (ω_o = −ray direction):
 //     LPV     L_p = clamp+(<s(x) ⊙ a, Y(ω_o)>)/c²        (lpv_lobe.glsl; a_l = g^l for HG,
 //                                                        band 0 only when isotropic)
-//     direct  L_p = p(<ω_l, ω_o>)·E⊥(x)·V(x)              (ω_l the light's direction of
-//             travel, E⊥ = I·f/r² (spot) or E (directional), V the shadow map's test)
+//     direct  L_p = Σ_v κ_v·p(<ω_v, ω_o>)·E⊥_v(x)·V_v(x)  (over every RSM view v, as the
+//             gather's direct light: ω_v its light's direction of travel, E⊥ = I·f/r²
+//             (spot), I/r² (the point light's face that holds x) or E (directional), κ_v
+//             its colour, V_v its own shadow map's test in its tile of the RSM atlas)
 // Targets: 0 = (direct in-scattering rgb, T), 1 = (LPV in-scattering rgb, 0). The display
 // composes T·surface + in-scattering (display.glsl). Neither the light on its way to the
 // medium or the surfaces nor the propagation is attenuated by the medium.
@@ -26,7 +28,6 @@
 #include "sh.glsl"
 #include "lpv_lobe.glsl"
 #include "light_map.glsl"
-#include "spot.glsl"
 
 uniform sampler2D u_gbuffer_position;   // w = 1 where a surface was seen
 uniform mat4 u_inverse_view_projection; // camera clip -> world (rays of background pixels)
@@ -37,10 +38,6 @@ uniform float u_fog_density;             // σ_t [1/m]
 uniform float u_fog_albedo;              // α = σ_s/σ_t
 uniform float u_fog_g;                   // HG asymmetry; 0 with the isotropic phase function
 uniform int u_fog_steps;
-uniform vec3 u_light_position;
-uniform vec3 u_light_direction;          // the direction the light travels (spot: its axis)
-uniform float u_light_intensity;         // spot: Φ_L/(4π)
-uniform float u_light_irradiance;        // directional: E
 
 layout(location = 0) out vec4 out_fog_direct;
 layout(location = 1) out vec4 out_fog_lpv;
@@ -53,24 +50,18 @@ float phase(float cos_theta) {
     return INV_FOUR_PI * (1.0 - g * g) / (denominator * sqrt(denominator));
 }
 
-// The direct light's in-scattered radiance p·E⊥·V towards `to_eye` at `x`.
-float direct_inscattering(vec3 x, vec3 to_eye) {
-    vec3 travel;
-    float irradiance;
-    if (u_orthographic == 1) {
-        travel = u_light_direction;
-        irradiance = u_light_irradiance;
-    } else {
-        vec3 offset = x - u_light_position;
-        float distance_squared = max(dot(offset, offset), 1e-12);
-        travel = offset * inversesqrt(distance_squared);
-        irradiance = u_light_intensity / distance_squared
-                   * spot_falloff(dot(travel, u_light_direction));
+// The direct light's in-scattered radiance Σ_v κ_v·p·E⊥_v·V_v towards `to_eye` at `x`.
+vec3 direct_inscattering(vec3 x, vec3 to_eye) {
+    vec3 total = vec3(0.0);
+    for (int light = 0; light < u_light_count; ++light) {
+        vec3 to_light;
+        float irradiance = light_arrival(light, x, to_light);
+        if (irradiance > 0.0 && light_map_reaches(light, x, 1.0)) {
+            total += u_lights[light].colour_texel.rgb
+                   * (phase(dot(-to_light, to_eye)) * irradiance);
+        }
     }
-    if (irradiance <= 0.0 || !light_map_reaches(x, 1.0)) {
-        return 0.0;
-    }
-    return phase(dot(travel, to_eye)) * irradiance;
+    return total;
 }
 
 // The ray's parameter interval inside the box (slab method); empty when t1 <= t0.
@@ -106,7 +97,7 @@ void main() {
     float path = max(t1 - t0, 0.0);
     float step = path / float(u_fog_steps);
     vec3 to_eye = -direction;
-    float direct = 0.0;
+    vec3 direct = vec3(0.0);
     vec3 lpv = vec3(0.0);
     for (int i = 0; i < u_fog_steps && path > 0.0; ++i) {
         float weight = u_fog_albedo * (exp(-u_fog_density * step * float(i))
@@ -118,7 +109,7 @@ void main() {
         direct += weight * direct_inscattering(x, to_eye);
         lpv += weight * lpv_lobe_radiance(x, to_eye, u_fog_g);
     }
-    out_fog_direct = vec4(vec3(direct), exp(-u_fog_density * path));
+    out_fog_direct = vec4(direct, exp(-u_fog_density * path));
     out_fog_lpv = vec4(lpv, 0.0);
 }
 #endif

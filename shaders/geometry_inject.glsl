@@ -10,11 +10,12 @@
 // the area-weighted mean albedo of a geometry cell is rgb / w (docs/MODEL.md "More
 // bounces"); 0 where the VPL textures carry no albedo.
 // CAMERA_SURFELS 1 (docs/MODEL.md "Camera occluders"): the points are the camera's G-buffer
-// pixels instead of VPLs, drawn into the same targets after the RSM's surfels. A pixel at
-// view depth w is a surfel of area pixel_area * w^2 (the RSM texel's rule, with
-// pixel_area = (2 tan(fov_y/2) / H)^2), facing the camera; a pixel the light sees (the
-// shadow-map test passes with the plane's largest depth offset within a texel as bias) is
-// skipped, because the RSM already holds a surfel of that surface.
+// pixels instead of VPLs, drawn into their own targets and added to the views' merged
+// volume. A pixel at view depth w is a surfel of area pixel_area * w^2 (the RSM texel's
+// rule, with pixel_area = (2 tan(fov_y/2) / H)^2), facing the camera; a pixel that ANY RSM
+// view sees (its shadow-map test passes with the plane's largest depth offset within a
+// texel as bias) is skipped, because that view's volume already holds a surfel of that
+// surface, and the per-cell merge of the views keeps it at most once.
 #ifndef CAMERA_SURFELS
 #define CAMERA_SURFELS 0
 #endif
@@ -39,18 +40,28 @@ uniform sampler2D u_surfel_normal;     // G-buffer normal, facing the camera
 uniform sampler2D u_surfel_albedo;     // G-buffer albedo
 uniform mat4 u_camera_view;
 uniform float u_pixel_area;            // a pixel's area at view depth 1
-uniform vec3 u_light_position;         // spot
-uniform vec3 u_light_direction;        // directional: the direction the light travels
 
-// Whether the RSM holds this surface: the light reaches the point within the largest depth
-// difference between a plane's point and its texel's centre, (√2/2)·texel·tan θ
-// (derivation occlusion.reprojection_depth_bound; tan θ capped at 10, grazing light).
-bool seen_by_light(vec3 position, vec3 normal) {
-    vec3 to_light = u_orthographic == 1 ? -u_light_direction
-                                        : normalize(u_light_position - position);
+// Whether RSM view `light` holds this surface: the light reaches the point within the
+// largest depth difference between a plane's point and its texel's centre,
+// (√2/2)·texel·tan θ (derivation occlusion.reprojection_depth_bound; tan θ capped at 10,
+// grazing light).
+bool seen_by_view(int light, vec3 position, vec3 normal) {
+    vec3 to_light = light_is_orthographic(light)
+                  ? -u_lights[light].axis_power.xyz
+                  : normalize(u_lights[light].position_kind.xyz - position);
     float cos_light = max(abs(dot(normal, to_light)), 1e-6);
     float tangent = min(sqrt(max(1.0 - cos_light * cos_light, 0.0)) / cos_light, 10.0);
-    return light_map_reaches(position, 0.5 * sqrt(2.0) * tangent);
+    return light_map_reaches(light, position, 0.5 * sqrt(2.0) * tangent);
+}
+
+// Whether any RSM view holds this surface.
+bool seen_by_lights(vec3 position, vec3 normal) {
+    for (int light = 0; light < u_light_count; ++light) {
+        if (seen_by_view(light, position, normal)) {
+            return true;
+        }
+    }
+    return false;
 }
 
 void main() {
@@ -61,7 +72,7 @@ void main() {
     float depth = -(u_camera_view * vec4(position.xyz, 1.0)).z;
     v_cell = ivec3(floor(grid_coords(position.xyz) + 0.5));
     v_keep = int(position.w > 0.5 && grid_inside(v_cell, u_grid_resolution + 1)
-                 && !seen_by_light(position.xyz, v_normal));
+                 && !seen_by_lights(position.xyz, v_normal));
     v_area = u_pixel_area * (u_surfel_area_squared ? depth * depth : depth)
            / (u_grid_cell_size * u_grid_cell_size);
     v_albedo = texelFetch(u_surfel_albedo, pixel, 0).rgb;

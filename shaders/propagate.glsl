@@ -12,10 +12,14 @@
 //
 // The same dispatch measures the step's energy audit (GridAudit): every cell writes 18
 // numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,
-// and as a source its border loss, clamp gain and occluded flux (faces leaving the grid are
-// sent by the border cells), and the flux reflected back into it and the blocked flux
-// that could bounce (reflection.glsl). audit_reduce.glsl sums them; a shared-memory reduction here
-// would need barrier(), which costs llvmpipe more than the whole step.
+// the clamp gain and occluded flux of the faces it gathers through, as a border cell the
+// border loss, clamp gain and occluded flux of the faces it sends out of the grid, and the
+// flux reflected back into it and the blocked flux that could bounce (reflection.glsl);
+// explorer/lpv/reference.py propagation_step_cells books them alike. audit_reduce.glsl sums
+// them; a shared-memory reduction here would need barrier(), which costs llvmpipe more than
+// the whole step. Each cell also adds its record to its own running sum over the steps in
+// `cell_sums` (no other invocation touches it), which the window reads back for one picked
+// cell (explorer/lpv/audit.py CellAuditRecords).
 // SH_ORDER 2 propagates L2 vectors (9 coefficients, stored as in sh_grid.glsl): the same
 // faces and weights, evaluated and reprojected with the L2 basis and lobe.
 #define IMAGE_FORMAT rgba32f
@@ -48,6 +52,9 @@ layout(IMAGE_FORMAT, binding = 5) uniform image3D u_accumulated_b;
 
 // Per-cell audit terms, quantity-major: cell_terms[quantity * N^3 + linear cell index].
 layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
+// Their sums over the steps so far, cell-major (one cell's record is 18 adjacent floats, one
+// small read): cell_sums[linear cell index * 18 + quantity]. Zeroed before the first step.
+layout(std430, binding = 5) buffer CellSums { float cell_sums[]; };
 
 void load_source(ivec3 cell, out ShVec source[3]) {
     if (u_ping_pong) {
@@ -135,6 +142,7 @@ void main() {
     int linear = cell.x + n * (cell.y + n * cell.z);
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         cell_terms[i * cells + linear] = audit[i];
+        cell_sums[linear * AUDIT_VALUES + i] += audit[i];
     }
 #endif
 }

@@ -1,5 +1,6 @@
 #version 430 core
-// Shadow map + reflective shadow map in one MRT pass (docs/MODEL.md "Reflective shadow map").
+// Shadow map + reflective shadow map in one MRT pass (docs/MODEL.md "Reflective shadow map"):
+// one view of one light (a point light renders six, docs/MODEL.md "Several lights").
 // Targets: 0 = world position (w = 1 where a surface was seen), 1 = normal facing the light
 // (w = view depth from the light), 2 = reflected flux per texel (rgb, watts), 3 = diffuse
 // albedo (rgb; read by the geometry volume to reflect blocked light, docs/MODEL.md
@@ -32,6 +33,7 @@ uniform float u_light_irradiance;   // directional: E on a plane facing the ligh
 uniform float u_texel_world_area;   // directional: world area of one texel [m²]
 uniform vec2 u_rsm_size;
 uniform float u_frustum_half_width; // spot: t = tan(fov/2), the frustum cuts depth 1 in [-t, t]²
+uniform vec3 u_light_colour;        // the light's flux per channel is its flux times this
 
 in float v_depth;
 
@@ -89,7 +91,7 @@ void main() {
           * spot_falloff(inversesqrt(1.0 + dot(centre, centre)));
     out_position = vec4(v_position, 1.0);
     out_normal = vec4(normal, v_depth);
-    out_flux = vec4(v_albedo * incident * faces_light, 0.0);
+    out_flux = vec4(v_albedo * u_light_colour * incident * faces_light, 0.0);
     out_albedo = vec4(v_albedo, 0.0);
 }
 #endif

@@ -192,6 +192,64 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         app.close()
 
 
+def test_the_picked_pixel_reads_its_reference_and_the_picked_cell_its_audit(tmp_path):
+    """Issue #15: the Picked panel's reference radiance (computed in the app loop's
+    background, equal to the full reference image's pixel) and the picked cell's own audit
+    records, read back from the GPU."""
+    from explorer.truth.progressive import pixel_reference
+    from explorer.truth.render import reference_for_frame
+    from explorer.ui.overlays.describe import cell_audit_rows
+    from explorer.ui.overlays.in_view import pick_with_references
+    from explorer.ui.overlays.pixel_reference import pixel_references
+
+    app = _settled_app()
+    try:
+        rt, o = app.state.runtime, app.state.overlays
+        result = rt.result
+        x, y = 80, 170                          # the floor, left of the short block
+        o.pick("pixel", "A", 0, result.gbuffer_position[y, x, :3])
+        app.state.open_panels["Picked"] = True
+        app.state.requests.focus_panel = "Picked"
+        service = pixel_references(app.state)
+        service.request(result, (x, y))
+        for _ in range(20):
+            app.frame()
+            if len(service.values(result, (x, y))) == 2:
+                break
+        found = dict(service.values(result, (x, y)))
+        assert set(found) == {"visible", "unoccluded"} and service.problem is None
+        full, _ = reference_for_frame(result, False, ctx=app.ctx)
+        np.testing.assert_allclose(found["unoccluded"], full[y, x], rtol=1e-5)
+        np.testing.assert_array_equal(found["visible"],
+                                      pixel_reference(app.ctx, result, x, y, True))
+        assert found["visible"].max() > 0
+        pick = pick_with_references(app.state, result, (x, y))
+        assert dict(pick.references).keys() == found.keys()
+        # the picked cell's audit: its records on the GPU, and acc_N = grid_0 + received
+        cell = picking.cell_at(result, o.picked_cascade, o.picked_point)
+        info = picking.cell_audit(result, o.picked_cascade, cell)
+        assert isinstance(info, picking.CellAuditInfo) and info.steps == TINY.iterations
+        assert info.total.received.max() > 0 and info.last is not None
+        labels = [label for label, _ in cell_audit_rows(info)]
+        assert "received, all 4 steps" in labels and "occluded, step 4" in labels
+        app.frame(capture=True)
+        from explorer.ui.images import write_png
+
+        write_png(app.last_pixels, tmp_path / "picked.png")
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert errors == []
+        # a newer propagation overwrites the records: the old frame says so
+        app.state.update(iterations=3)
+        for _ in range(3):
+            app.frame()
+        assert rt.result is not result
+        other = tuple((c + 1) % 16 for c in cell)
+        assert isinstance(picking.cell_audit(result, 0, other), str)
+        assert isinstance(picking.cell_audit(rt.result, 0, other), picking.CellAuditInfo)
+    finally:
+        app.close()
+
+
 def test_camera_controls_rerun_only_the_camera_stages():
     from explorer.ui import camera_controls
 

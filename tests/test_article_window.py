@@ -132,3 +132,35 @@ def test_export_writes_a_lesson_step(tmp_path):
     proc = _run(["-m", "explorer", "lessons", "--export", "overview", "--out",
                  str(tmp_path / "x.jpg")], tmp_path)
     assert proc.returncode == 2 and ".png" in proc.stderr
+
+
+_OVERLAY_SCRIPT = r"""
+import sys
+import numpy as np
+from PIL import Image
+from explorer.ui.export import export_step
+
+out = sys.argv[1]
+shown = export_step("solid-angles", 1, f"{out}/shown.png", 1280, 720)
+bare = export_step("solid-angles", 1, f"{out}/bare.png", 1280, 720, overlays=False)
+assert shown.view_rect == bare.view_rect and shown.view_rect is not None
+x0, y0, x1, y1 = shown.view_rect
+a = np.asarray(Image.open(shown.path)).astype(int)
+b = np.asarray(Image.open(bare.path)).astype(int)
+view_a, view_b = a[y0:y1, x0:x1], b[y0:y1, x0:x1]
+differ = float((np.abs(view_a - view_b).sum(axis=2) > 30).mean())
+lit_a = float((view_a.max(axis=2) > 40).mean())
+lit_b = float((view_b.max(axis=2) > 40).mean())
+print(f"overlays ok {differ:.3f} {lit_a:.3f} {lit_b:.3f}")
+"""
+
+
+def test_a_single_source_step_draws_in_the_void(tmp_path):
+    """Issue #11: the exported step shows the grid's light in the main view; without its
+    overlays the same step is a lit patch in a black void."""
+    proc = _run(["-c", _OVERLAY_SCRIPT, str(tmp_path)], tmp_path)
+    assert proc.returncode == 0 and "overlays ok" in proc.stdout, proc.stdout + proc.stderr
+    differ, lit_shown, lit_bare = map(float, proc.stdout.split("overlays ok")[1].split())
+    assert differ > 0.1                 # a tenth of the view changed
+    assert lit_bare < 0.05              # the patch alone: nearly all of the view is black
+    assert lit_shown > 3 * lit_bare     # the slice and its glyphs fill it

@@ -22,7 +22,8 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
         ("default", 8, 0), ("default", 8, 2), ("offset-0", 8, 2), ("damping", 8, 2),
         ("bounces-2", 8, 2), ("audit", 8, 2), ("geometry", 8, 2),
         ("camera-occluders", 8, 2), ("fog-16", 8, 2), ("fog-32", 8, 2), ("fog-64", 8, 2),
-        ("glossy", 8, 2), ("baseline", 8, 2)]
+        ("glossy", 8, 2), ("lights-2", 8, 2), ("lights-4", 8, 2), ("moving-object", 8, 2),
+        ("baseline", 8, 2)]
     named = {row["variant"]: row for row in rows}
     for name in ("bounces-2", "geometry", "camera-occluders"):   # they need the volume
         assert "geometry" in named[name]["passes_ms"]
@@ -45,6 +46,15 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     assert "propagation_gbs" not in rows[0]          # no steps, no bandwidth
     assert rows[1]["propagation_gbs"] > 0
     assert set(rows[1]["methods"].values()) <= {"timer-query", "wall-clock"}
+    # several lights: cornell's first 2 and 4 lights, the point light with six RSM views
+    by_variant = {row["variant"]: row for row in rows}
+    assert (by_variant["default"]["lights"], by_variant["default"]["views"]) == (1, 1)
+    assert (by_variant["lights-2"]["lights"], by_variant["lights-2"]["views"]) == (2, 2)
+    assert (by_variant["lights-4"]["lights"], by_variant["lights-4"]["views"]) == (4, 9)
+    # the moving object re-poses the scene and re-runs the G-buffer every frame
+    moving = by_variant["moving-object"]["passes_ms"]
+    assert moving["pose"] > 0 and moving["gbuffer"] > 0 and "pose" not in rows[1]["passes_ms"]
+    assert "moving-object" in printed and "4/9" in printed
 
 
 def test_bench_reports_the_atrium(tmp_path, capsys):

@@ -1,15 +1,16 @@
-"""Camera occluders (docs/MODEL.md "Camera occluders"): the G-buffer's pixels that the light
-does not see join the geometry volume, against the numpy reference, each surface once,
-and only rebuilt when the camera is used."""
+"""Camera occluders (docs/MODEL.md "Camera occluders"): the G-buffer's pixels that no RSM
+view sees join the geometry volume, against the numpy reference (one light and several),
+each surface once, and only rebuilt when the camera is used."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from lpv_cases import relative_error
+from lpv_cases import frame_view_lights, relative_error
 
 from explorer.lpv import reference
 from explorer.lpv import reference_media as media
+from explorer.lpv.geometry import merged_volume_reference
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
 
@@ -32,29 +33,29 @@ def pipeline(gl_context):
 
 
 def reference_surfels(pipeline, result):
-    """``(the RSM's surfels, the camera surfels the reference picks from the frame's own
-    G-buffer and shadow map)``."""
-    light = pipeline._light
-    light_map = media.LightMap.of(light, result.rsm_position, result.rsm_normal)
+    """``(each RSM view's surfels, the camera surfels the reference picks from the frame's
+    own G-buffer and every view's shadow map)``."""
     albedo = np.dstack([result.albedo, np.ones(result.albedo.shape[:2])])
     camera = media.camera_surfels(result.gbuffer_position, result.gbuffer_normal, albedo,
-                                  result.camera, light_map, light.position, light.direction)
-    return pipeline._rsm_textures.to_arrays(), camera
+                                  result.camera, frame_view_lights(pipeline))
+    return [rsm.to_arrays() for rsm in pipeline._rsm_sets], camera
 
 
 def reference_volume(pipeline, result, mode: str = "one-sided", spec=None):
-    """The reference geometry volume of the grid ``spec`` (default: level 0's): the RSM's
-    surfels plus the camera's, and the camera's surfels."""
-    rsm, camera = reference_surfels(pipeline, result)
+    """The reference geometry volume of the grid ``spec`` (default: level 0's): the RSM
+    views' volumes merged per cell plus the camera's surfels, and the camera's surfels."""
+    views, camera = reference_surfels(pipeline, result)
     spec = result.grid_spec if spec is None else spec
     corrections = result.settings.corrections
-    volume = (reference.inject_geometry(rsm, spec, corrections, mode)
+    volume = (merged_volume_reference([reference.inject_geometry(vpls, spec, corrections, mode)
+                                       for vpls in views])
               + reference.inject_geometry(camera, spec, corrections, mode))
     return volume, camera
 
 
 @pytest.mark.parametrize("changes", [{}, {"geometry_volume": "double-sided"},
-                                     {"corrections": {"surfel_area_squared": False}}])
+                                     {"corrections": {"surfel_area_squared": False}},
+                                     {"lights": ("sun", "lamp")}])     # + a point light
 def test_camera_surfels_match_the_reference(pipeline, changes):
     settings = ROOM.with_changes(**changes)
     result = pipeline.run(settings)
@@ -82,6 +83,33 @@ def test_a_surface_both_see_blocks_exactly_once(gl_context):
         assert camera.count == 0
         without = pipe.run(PATCH.with_changes(camera_occluders=False)).geometry_volume
         assert np.array_equal(with_camera, without)
+
+
+def test_a_surface_the_camera_and_one_of_two_lights_see_blocks_exactly_once(gl_context):
+    """single-source's spot turned away from the patch and its bulb, whose −y face sees
+    it: the camera's pixels of the patch are tested against every view's map, so the
+    bulb's view holds them and none is added. The volume with camera occluders is exactly
+    the one without, which is the bulb's alone (the spot's views hold nothing); tested
+    against the spot's map only, every pixel would have been added a second time."""
+    turned = PATCH.with_changes(light=((0.0, -0.2, 0.0), (0.0, 1.0, 0.0)),
+                                lights=("spot", "bulb"))
+    with Pipeline(turned, ctx=gl_context) as pipe:
+        with_camera = pipe.run(turned).geometry_volume.copy()
+        result = pipe.last_result
+        seen = int((result.gbuffer_position[..., 3] > 0.5).sum())
+        assert seen > 100
+        views = frame_view_lights(pipe)
+        assert [light.kind for light, _ in views] == ["spot"] + ["point"] * 6
+        albedo = np.dstack([result.albedo, np.ones(result.albedo.shape[:2])])
+        spot_only = media.camera_surfels(result.gbuffer_position, result.gbuffer_normal,
+                                         albedo, result.camera, views[:1])
+        assert spot_only.count == seen
+        _, camera = reference_volume(pipe, result)
+        assert camera.count == 0
+        without = pipe.run(turned.with_changes(camera_occluders=False)).geometry_volume
+        assert np.array_equal(with_camera, without)
+        bulb = pipe.run(turned.with_changes(lights=("bulb",))).geometry_volume
+        assert np.array_equal(with_camera, bulb) and bulb[..., 0].max() > 0
 
 
 def test_a_surface_only_the_camera_sees_blocks_with_its_pixel_area(gl_context):

@@ -40,6 +40,7 @@ def glossy_term(pipeline, settings):
 @pytest.mark.parametrize("changes", [
     {}, {"cascades": 2}, {"sh_order": 2, "glossy_roughness": 0.0},
     {"glossy_roughness": 1.0, "glossy_samples": 7, "glossy_strength": 0.9},
+    {"lights": ("spot", "lamp", "bulb", "sun")},        # every light of the Cornell rig
 ])
 def test_the_march_matches_the_reference(pipeline, changes):
     got, expected, _ = glossy_term(pipeline, PLAIN.with_changes(**changes))

@@ -507,10 +507,19 @@ def test_lesson_panel_in_the_window(tmp_path):
 
 
 def test_panel_step_caption_says_where_to_look(shipped):
+    from dataclasses import replace
+
     from explorer.ui.lesson_panel import step_caption
 
     lessons, _ = shipped
-    captions = {step_caption(step) for lesson in lessons for step in lesson.steps}
-    assert "Look at the grid-slice view in the Inspect panel." in captions
+    steps = [step for lesson in lessons for step in lesson.steps]
+    captions = {step_caption(step) for step in steps}
+    # a step that draws in the scene points at the main view, not at the Inspect panel
+    shown = [step for step in steps if step.overlays().any_shown]
+    assert shown and all(step_caption(s).startswith("Look at the main view (") for s in shown)
+    grid_step = next(s for s in shown if s.view == "grid-slice")
+    assert "slice through the grid" in step_caption(grid_step)
+    assert step_caption(replace(grid_step, show=())) == \
+        "Look at the grid-slice view in the Inspect panel."
     assert any("split view: this step against the original preset" in c for c in captions)
     assert any(c.endswith("and the flux-per-step plot.") for c in captions)

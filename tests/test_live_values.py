@@ -9,6 +9,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from lpv_cases import run_frame
 
 from explorer import derived
 from explorer import live_values as lv
@@ -21,11 +22,7 @@ FOG_NAMES = ("frame.fog_lpv_share", "frame.fog_transmittance")
 
 @pytest.fixture(scope="module")
 def frame(gl_context):
-    from explorer.lpv.pipeline import Pipeline
-
-    gl_context.__enter__()
-    with Pipeline(SMALL, ctx=gl_context) as pipeline:
-        return pipeline.run(SMALL)
+    return run_frame(gl_context, SMALL)
 
 
 def test_names_are_checked_and_close_matches_offered():

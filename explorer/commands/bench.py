@@ -9,6 +9,14 @@ counts every cascade's grids.
 the RSM and G-buffer passes scale with: ``bench --scene atrium`` times the large
 procedural courtyard (over 100 000 triangles) instead of the 34-triangle Cornell box.
 
+Several lights and moving objects (docs/MODEL.md "Several lights", "Moving objects and
+temporal stability"): the ``lights-2`` and ``lights-4`` rows light the scene with the
+first 2 or 4 lights of its rig (``lights`` column: lights/RSM views; a point light
+renders six views), and the ``moving-object`` row moves the scene's second object a
+little before every timed frame, so the frame re-poses it (the ``pose`` column: the
+wall-clock time of moving its corners and writing them to the vertex buffer) and runs
+every stage after the scene's again, the G-buffer included.
+
 Bandwidth model: one propagation step reads the previous grid and writes the next one
 (3 textures × one texel per cell each) and reads and writes the accumulation grid, so it
 moves at least ``4 × 3 × texel_bytes`` per cell (192 B with rgba32f, 96 B with rgba16f);
@@ -45,8 +53,8 @@ QUICK_GRIDS = (8, 16)
 QUICK_ITERATIONS = (2, 4)
 QUICK_SIZES = {"width": 64, "height": 64, "rsm_size": 64}
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
-PASS_COLUMNS = ("rsm", "downsample", "inject", "geometry", "propagate", "gbuffer", "gather",
-                "fog", "display")
+PASS_COLUMNS = ("pose", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer",
+                "gather", "fog", "display")
 VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
@@ -58,17 +66,24 @@ VARIANTS: dict[str, dict[str, object]] = {
     "fog-32": {"fog": True, "fog_steps": 32},
     "fog-64": {"fog": True, "fog_steps": 64},
     "glossy": {"glossy": True},
+    "lights-2": {"light_count": 2},
+    "lights-4": {"light_count": 4},
+    "moving-object": {"move_object": True},
 }
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
 options against the default settings, the propagation with its per-step energy audit
-(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`), and what each
+(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`), what each
 feature beyond diffuse costs (docs/MODEL.md "Camera occluders", "Fog", "Glossy
 reflections"): ``geometry`` (the RSM's occluders alone) against ``camera-occluders`` in
 the geometry column, the fog column at 16, 32 and 64 march steps, and ``glossy`` against
-``default`` in the gather column. The variants in :data:`NEEDS_GEOMETRY` turn a one-sided
-geometry volume on if --geometry-volume is off (they need one)."""
+``default`` in the gather column; several lights (the first ``light_count`` of the
+scene's rig; a scene with fewer has no such row) and a moving object (module docstring).
+The variants in :data:`NEEDS_GEOMETRY` turn a one-sided geometry volume on if
+--geometry-volume is off (they need one)."""
 NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders")
-RUN_OPTIONS = ("need_audit",)
+RUN_OPTIONS = ("need_audit", "light_count", "move_object")
+MOVE_STEP = 1e-3
+"""World units the moving-object row moves its object before each frame."""
 """Keys of a variant that go to ``Pipeline.run`` instead of the Settings."""
 DEFAULT_REPEAT = 3
 REPEAT = Spec(kind="int", low=1, high=1000, doc="Timed frames per configuration; the "
@@ -113,10 +128,11 @@ def propagation_bytes(grid: int, iterations: int, fmt: str, sh_order: int = 1) -
     return 4 * 3 * groups * TEXEL_BYTES[fmt] * grid**3 * iterations
 
 
-def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]:
+def plan(args: argparse.Namespace, software: bool, rig: tuple[str, ...] = ("light",)
+         ) -> list[tuple[str, Settings]]:
     """Every (variant, Settings) the bench times, all made (so checked by the schema)
     before the first is timed, grid by grid. Left-out sweeps use the lists for this
-    device."""
+    device; ``rig``: the scene's light names (the lights-N rows light the first N)."""
     base = options.settings_from_args(args)
     if args.quick:
         if args.size is None:
@@ -144,6 +160,11 @@ def plan(args: argparse.Namespace, software: bool) -> list[tuple[str, Settings]]
                            if key not in RUN_OPTIONS}
                 if name in NEEDS_GEOMETRY and base.geometry_volume == "off":
                     changes["geometry_volume"] = "one-sided"
+                count = VARIANTS[name].get("light_count")
+                if count is not None:
+                    if len(rig) < count:
+                        continue
+                    changes["lights"] = rig[:count]
                 runs.append((name, base.with_changes(grid_size=grid, iterations=max(iterations),
                                                      sh_order=orders[0], **changes)))
     except ValueError as exc:
@@ -189,6 +210,7 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
     """The row of one run: pass medians, bandwidth, and for a single-cascade L1 row the
     baseline kernel timed alternately with the pipeline's propagation."""
     need_audit = bool(VARIANTS.get(variant, {}).get("need_audit", False))
+    moving = bool(VARIANTS.get(variant, {}).get("move_object", False))
     steps, cascades = settings.iterations, settings.cascades
     compare = steps > 0 and cascades == 1 and settings.sh_order == 1 and \
         variant in ("default", "audit")
@@ -197,12 +219,18 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
     if compare:
         _time_baseline(pipeline, baseline, steps)
     samples: dict[str, list[float]] = {}
-    for _ in range(repeat):               # the pipeline and the baseline alternately
-        pipeline.invalidate("rsm")
-        result = options.run_pipeline(pipeline, settings, **run)
+    for index in range(repeat):           # the pipeline and the baseline alternately
+        if moving:                        # the move re-runs the scene stage and all after it
+            frame_settings = _moved(settings, pipeline.base_scene, index + 1)
+        else:
+            frame_settings = settings
+            pipeline.invalidate("rsm")
+        result = options.run_pipeline(pipeline, frame_settings, **run)
         for name in result.stages_run:
             if name in result.timings_ms:
                 samples.setdefault(name, []).append(result.timings_ms[name])
+        if moving:
+            samples.setdefault("pose", []).append(pipeline.pose_ms)
         if compare:
             samples.setdefault("baseline", []).append(
                 _time_baseline(pipeline, baseline, steps))
@@ -210,7 +238,8 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
     baseline_ms = passes.pop("baseline", None)
     row = {"variant": variant, "grid": settings.grid_size, "iterations": steps,
            "cascades": cascades, "sh_order": settings.sh_order, "passes_ms": passes,
-           "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods)}
+           "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods),
+           "lights": len(result.light_names), "views": len(result.view_lights)}
     propagate_ms = passes.get("propagate", 0.0)
     if steps > 0 and propagate_ms > 0:
         moved = cascades * propagation_bytes(settings.grid_size, steps,
@@ -223,6 +252,17 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
     return row
 
 
+def _moved(settings: Settings, scene, frame: int) -> Settings:
+    """``settings`` with the scene's second object (its first when it has one) moved
+    ``frame``·:data:`MOVE_STEP` along x."""
+    if not scene.objects:
+        raise options.CommandError(f"the moving-object row needs an object that can move; "
+                                   f"scene {scene.name!r} has none (--variants without "
+                                   f"moving-object)")
+    name = scene.objects[min(1, len(scene.objects) - 1)].name
+    return settings.with_changes(object_transforms={name: (frame * MOVE_STEP, 0.0, 0.0)})
+
+
 def _time_baseline(pipeline, baseline, steps: int) -> float:
     """Milliseconds of ``steps`` steps of the baseline kernel on the grid the pipeline
     just injected (cascade 0), timed like the pipeline's passes."""
@@ -232,14 +272,17 @@ def _time_baseline(pipeline, baseline, steps: int) -> float:
 
 
 def format_table(rows: list[dict], peak_gbs: float | None) -> str:
-    header = ["variant", "grid", "iters", "cascades", "sh", *PASS_COLUMNS, "frame", "ms/step",
-              "×base", "GB/s"]
+    header = ["variant", "grid", "iters", "cascades", "sh", "lights", *PASS_COLUMNS, "frame",
+              "ms/step", "×base", "GB/s"]
     if peak_gbs:
         header.append("% peak")
-    lines = ["  ".join(f"{h:>10}" for h in header)]
+    widths = [max(10, *(len(row.get("variant", "default")) for row in rows))] + \
+        [10] * (len(header) - 1)
+    lines = ["  ".join(f"{h:>{w}}" for h, w in zip(header, widths))]
     for row in rows:
         cells = [row.get("variant", "default"), f"{row['grid']}³", str(row["iterations"]),
-                 str(row.get("cascades", 1)), f"L{row.get('sh_order', 1)}"]
+                 str(row.get("cascades", 1)), f"L{row.get('sh_order', 1)}",
+                 f"{row['lights']}/{row['views']}" if "lights" in row else "-"]
         cells += [f"{row['passes_ms'][name]:.2f}" if name in row["passes_ms"] else "-"
                   for name in PASS_COLUMNS]
         cells.append(f"{row['frame_ms']:.2f}")
@@ -249,14 +292,14 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
         cells.append(f"{gbs:.2f}" if gbs is not None else "-")
         if peak_gbs:
             cells.append(f"{100 * gbs / peak_gbs:.1f}" if gbs is not None else "-")
-        lines.append("  ".join(f"{c:>10}" for c in cells))
+        lines.append("  ".join(f"{c:>{w}}" for c, w in zip(cells, widths)))
     return "\n".join(lines)
 
 
 def main(args: argparse.Namespace) -> int:
     from explorer.gl.context import probe
     from explorer.lpv.pipeline import Pipeline
-    from explorer.scene import SceneError
+    from explorer.scene import SceneError, load_scene
 
     base = options.settings_from_args(args)
     options.check_scene(base.scene)
@@ -264,7 +307,7 @@ def main(args: argparse.Namespace) -> int:
         json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
         try:
             with Pipeline(base) as pipeline, options.Progress("bench") as progress:
-                runs = plan(args, pipeline.software_renderer)
+                runs = plan(args, pipeline.software_renderer, load_scene(base.scene).light_names)
                 caps = probe(pipeline.ctx)
                 rows = run_bench(args, pipeline, runs, progress)
                 triangles = pipeline.base_scene.triangle_count

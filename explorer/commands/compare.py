@@ -2,7 +2,9 @@
 
 Both images come from the same frame: the reference gathers the very VPLs the LPV
 injected, at the pixels the camera sees, so the error measures what the grid (injection,
-propagation, gather and the formulas the preset selects) does to that light.
+propagation, gather and the formulas the preset selects) does to that light. With several
+lights (``--lights spot,bulb``) the frame's VPLs are every light's, and the reference sums
+them all (docs/MODEL.md "Several lights").
 
 Every option is checked, the reference's cost bounded and the output folder made before
 any rendering; Ctrl-C removes what was written (see :class:`~explorer.commands.options.
@@ -161,15 +163,18 @@ def plan_runs(args: argparse.Namespace, base: Settings) -> list[Run]:
     return runs
 
 
-def check_cost(settings: Settings, regions: list[tuple[int, int, int, int]]) -> None:
-    """The reference's pixel × VPL pairs within :data:`MAX_REFERENCE_PAIRS`, and every
-    region inside the image."""
+def check_cost(settings: Settings, regions: list[tuple[int, int, int, int]],
+               views: int = 1) -> None:
+    """The reference's pixel × VPL pairs within :data:`MAX_REFERENCE_PAIRS` (``views`` RSM
+    views: several lights, a point light's six faces), and every region inside the
+    image."""
     texels = settings.rsm_size // (settings.downsample_factor
                                    if settings.downsample != "none" else 1)
-    pairs = settings.width * settings.height * max(texels, 1) ** 2
+    vpls = views * max(texels, 1) ** 2
+    pairs = settings.width * settings.height * vpls
     if pairs > MAX_REFERENCE_PAIRS:
         raise options.CommandError(f"the reference would gather {settings.width}×{settings.height} "
-                           f"pixels × up to {max(texels, 1) ** 2} VPLs = {pairs:.3g} pairs, "
+                           f"pixels × up to {vpls} VPLs = {pairs:.3g} pairs, "
                            f"more than {MAX_REFERENCE_PAIRS:.3g}: use a smaller --size or "
                            f"--rsm-size")
     for x0, y0, x1, y1 in regions:
@@ -184,8 +189,8 @@ def main(args: argparse.Namespace) -> int:
     base = options.settings_from_args(args)
     options.check_scene(base.scene)
     runs = plan_runs(args, base)
-    check_cost(base, args.region)
     scene = _load_scene(base)
+    check_cost(base, args.region, _view_count(scene))
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
     with options.Outputs() as outputs:
         outputs.folder(out)
@@ -215,6 +220,12 @@ def _load_scene(base: Settings):
         return scene_for(base)
     except (SceneError, FileNotFoundError, KeyError, ValueError) as exc:
         raise options.CommandError(f"cannot load scene {base.scene!r}: {exc}") from None
+
+
+def _view_count(scene) -> int:
+    """RSM views of the lights that shine: one per spot or directional light, six per point
+    light."""
+    return sum(6 if light.kind == "point" else 1 for light in scene.lights)
 
 
 def reference_distance(args: argparse.Namespace, runs: list[Run], scene) -> float | None:
@@ -325,8 +336,13 @@ def metric_cells(stats) -> list[str]:
 def settings_line(args: argparse.Namespace, frame) -> str:
     """The line above the table: what was compared."""
     settings = frame.settings
-    return (f"scene `{settings.scene}`, reference `{args.reference}`, {settings.width}×"
-            f"{settings.height} px, RSM {settings.rsm_size}² ({frame.vpls.count} VPLs), grid "
+    scene = f"scene `{settings.scene}`"
+    rsm = f"RSM {settings.rsm_size}² ({frame.vpls.count} VPLs)"
+    if len(frame.vpl_sets) > 1:      # several lights, or a point light's six faces
+        scene += f" (lights {', '.join(frame.light_names)}: {len(frame.vpl_sets)} RSM views)"
+        rsm = f"RSM {settings.rsm_size}² per view ({frame.vpls.count} VPLs)"
+    return (f"{scene}, reference `{args.reference}`, {settings.width}×{settings.height} px, "
+            f"{rsm}, grid "
             f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
             f"offset {settings.injection_offset_cells:g} cells, gather damping "
             f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}")

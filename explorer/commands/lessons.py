@@ -32,6 +32,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help="window size in pixels, at least 640x400 (default: 1600x900)")
     group.add_argument("--try", dest="try_this", type=int, default=None, metavar="K",
                        help="press the step's K-th try-this button before writing")
+    group.add_argument("--no-overlays", dest="overlays", action="store_false",
+                       help="leave out the in-scene overlays the step's [steps.show] sets "
+                            "(to see what the main view shows without them)")
 
 
 def _export_size(width: int, height: int) -> tuple[int, int]:
@@ -140,7 +143,8 @@ def _export(args: argparse.Namespace) -> int:
         width, height = args.size
         try:
             outputs.write(out, lambda path: export_step(args.export, args.step, path, width,
-                                                        height, try_this=args.try_this))
+                                                        height, try_this=args.try_this,
+                                                        overlays=args.overlays))
         except (KeyError, IndexError) as exc:
             raise CommandError(exc.args[0]) from None
         except (WindowError, TimeoutError) as exc:

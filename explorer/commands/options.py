@@ -93,6 +93,13 @@ def _from_text(spec: Spec, text: str) -> Any:
     if kind == "range2":                          # "30,60"
         first, second = text.split(",")
         return float(first), float(second)
+    if kind in ("names", "name_set"):              # "spot,bulb"
+        return [part.strip() for part in text.split(",")]
+    if kind == "transforms":                      # "short block=0.1,0,0,0,30,0"
+        name, equals, numbers = text.partition("=")
+        if not equals:
+            raise ValueError("expected NAME=numbers")
+        return {name.strip(): [float(part) for part in numbers.split(",")]}
     return text
 
 
@@ -169,6 +176,10 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
         if spec.kind == "bool":
             group.add_argument(*flags, dest=name, action=argparse.BooleanOptionalAction,
                                default=None, help=help_text)
+        elif spec.kind == "transforms":       # one object per option, repeatable
+            group.add_argument(*flags, dest=name, type=setting_type(name), default=None,
+                               action="append", metavar="NAME=TX,TY,TZ[,RX,RY,RZ[,SX,SY,SZ]]",
+                               help=help_text[:-1] + "; repeat for several objects.")
         elif name in sweep:
             group.add_argument(*flags, dest=name, type=list_type(name), default=None,
                                metavar=f"{_metavar(spec)}[,...]",
@@ -203,8 +214,9 @@ def scene_help(help_text: str) -> str:
 def _metavar(spec: Spec) -> str:
     if spec.kind == "choice":
         return "{" + ",".join(str(choice) for choice in spec.choices) + "}"
-    return {"int": "N", "float": "X", "str": "TEXT", "range2": "LOW,HIGH"}.get(spec.kind,
-                                                                              "VALUE")
+    return {"int": "N", "float": "X", "str": "TEXT", "range2": "LOW,HIGH",
+            "names": "NAME[,NAME...]", "name_set": "NAME[,NAME...]"}.get(spec.kind,
+                                                                         "VALUE")
 
 
 def _shown(value: object) -> object:
@@ -224,8 +236,10 @@ def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -
             changes["width"], changes["height"] = defaults["size"]
         if "preset" in defaults:
             changes["corrections"] = defaults["preset"]
-    for name in specs(Settings):
+    for name, spec in specs(Settings).items():
         value = getattr(args, name, None)
+        if spec.kind == "transforms" and value is not None:    # repeated --object options
+            value = _merged_transforms(name, value)
         if value is not None and name not in sweep:
             changes[name] = value
     own = getattr(args, "_setting_options", ())   # --size and --preset, when they are ours
@@ -237,6 +251,18 @@ def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -
         return (base or Settings()).with_changes(**changes)
     except SettingError as exc:
         raise CommandError(exc) from None
+
+
+def _merged_transforms(name: str, given: list) -> tuple:
+    """The transforms of repeated ``--object`` options as one value; an object named twice
+    is a :class:`CommandError`."""
+    merged: dict[str, tuple] = {}
+    for item in given:
+        for key, values in item:
+            if key in merged:
+                raise CommandError(f"{specs(Settings)[name].flag} names object {key!r} twice")
+            merged[key] = values
+    return tuple(sorted(merged.items()))
 
 
 def sweep_values(args: argparse.Namespace, name: str, base: Settings) -> tuple:

@@ -1,5 +1,8 @@
 """``lpv-explorer render``: one frame headlessly, written as PNG (one file per view); with
-``--lesson ID --step K`` the frame a lesson step shows, every option given overriding it."""
+``--lesson ID --step K`` the frame a lesson step shows, every option given overriding it.
+``--time T`` puts the scene's animation paths (its primary light, its animated objects) at
+``T`` seconds, ``--fly-through T`` the camera on the scene's camera path (the atrium's) at
+parameter ``T`` (one loop per unit)."""
 
 from __future__ import annotations
 
@@ -7,12 +10,20 @@ import argparse
 from pathlib import Path
 
 from explorer.commands import options
+from explorer.lpv.schema import Spec
 from explorer.lpv.settings import VIEWS
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
 this size."""
 CAMERA_VIEWS = ("final", "direct", "indirect", "albedo", "cascade-weights")
+TIME = Spec(kind="float", low=0.0, high=1e6,
+            doc="Put the scene's animation paths (explorer/scene/animation.py) at this time "
+                "in seconds: its primary light and its animated objects move there "
+                "(an explicit --object or the light's settings win).")
+FLY_THROUGH = Spec(kind="float", low=-1e6, high=1e6,
+                   doc="Put the camera on the scene's camera path at this parameter (one "
+                       "loop per unit; the atrium's fly-through).")
 SLICED_VIEWS = ("grid-slice", "geometry-volume")
 
 
@@ -32,6 +43,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="grid views (grid-slice, geometry-volume): show this cascade "
                              "(0 = finest, the default)")
     parser.add_argument("--audit", action="store_true", help="print the energy audit")
+    parser.add_argument("--time", type=options.value_type("time", TIME), default=None,
+                        metavar="SECONDS", help=options.spec_help(TIME))
+    parser.add_argument("--animate", type=_names, default=None, metavar="PATH[,PATH...]",
+                        help="with --time: the paths that play (light and/or object "
+                             "names; default: every path of the scene)")
+    parser.add_argument("--fly-through", type=options.value_type("fly_through", FLY_THROUGH),
+                        default=None, metavar="T", help=options.spec_help(FLY_THROUGH))
     group = parser.add_argument_group(
         "lesson steps", "render what a lesson step shows: its scene, settings, corrections "
         "and view; every settings option given (and --preset) overrides the step")
@@ -49,6 +67,7 @@ def main(args: argparse.Namespace) -> int:
     settings = options.settings_from_args(args, base=step.settings() if step else None)
     views = args.view or [step.view if step else "final"]
     options.check_scene(settings.scene)
+    settings = animated(args, settings)
     wanted = _view_options(args, settings, views)
     with options.Outputs() as outputs:
         paths = {view: outputs.file(path) for view, path in output_paths(args.out, views).items()}
@@ -70,6 +89,45 @@ def main(args: argparse.Namespace) -> int:
         except options.render_failures() as exc:
             raise options.CommandError(exc, 1) from None
     return 0
+
+
+def _names(text: str) -> tuple[str, ...]:
+    names = tuple(part.strip() for part in text.split(","))
+    if not all(names):
+        raise argparse.ArgumentTypeError(f"expected path names separated by commas, got "
+                                         f"{text!r}")
+    return names
+
+
+def animated(args: argparse.Namespace, settings):
+    """``settings`` with ``--time`` (the scene's paths at that time) and ``--fly-through``
+    (the camera on its path) applied; an option given explicitly (``--object``) wins
+    over a path."""
+    if args.time is None and args.fly_through is None:
+        if args.animate is not None:
+            raise options.CommandError("--animate needs --time (when to put the paths)")
+        return settings
+    from explorer.scene import SceneError, load_scene
+    from explorer.scene.animation import camera_at, pose_changes
+
+    try:
+        scene = load_scene(settings.scene)
+        changes = {}
+        if args.time is not None:
+            changes = pose_changes(scene, args.time, args.animate, settings.object_transforms)
+            if getattr(args, "light", None) is not None or settings.light is not None:
+                changes.pop("light", None)
+            explicit = dict(settings.object_transforms)
+            if "object_transforms" in changes:
+                changes["object_transforms"] = tuple(sorted(
+                    {**dict(changes["object_transforms"]), **explicit}.items()))
+        elif args.animate is not None:
+            raise options.CommandError("--animate needs --time (when to put the paths)")
+        if args.fly_through is not None:
+            changes["camera"] = camera_at(scene, args.fly_through)
+    except SceneError as exc:
+        raise options.CommandError(exc) from None
+    return settings.with_changes(**changes)
 
 
 def _lesson_step(args: argparse.Namespace):

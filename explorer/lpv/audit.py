@@ -4,7 +4,9 @@ All numbers are flux in watts per colour channel, computed from intensity SH as
 ``Φ = 2√π·f0``. :class:`GridAudit` is what the propagation pass measures on the GPU (the propagation
 dispatch writes per-cell records, ``shaders/audit_reduce.glsl`` sums them; only the totals
 are read back);
-:class:`EnergyAudit` adds what the pipeline measures around it.
+:class:`EnergyAudit` adds what the pipeline measures around it. The per-cell records stay
+on the GPU (the last step's, and their sums over the steps): :class:`CellAuditRecords`
+reads one cell's on demand (the window's picked cell), a small read at its offset.
 
 Balance of one step ``t`` (exact up to rounding, any switches):
 ``per_step[t] = propagated[t] + clamp_gain[t] − occluded[t] − border_loss[t] +
@@ -26,6 +28,8 @@ from explorer.lpv.textures import LpvGrid
 AUDIT_VALUES = 18
 """Numbers per audit slot: flux, border loss, clamp gain, occluded, reflected, blocked
 (3 channels each)."""
+CELL_SUMS_BINDING = 5
+"""Storage binding of the per-cell sums over the steps (``shaders/propagate.glsl``)."""
 
 
 @dataclass
@@ -74,12 +78,85 @@ class EnergyAudit(GridAudit):
     """(3,) sum of the RSM texels' flux."""
     gathered: np.ndarray = field(default_factory=lambda: np.zeros(3))
     """(3,) flux received by the visible surfaces in the final gather."""
+    rsm_per_light: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """(L, 3) the RSM flux of each light that shines (``FrameResult.light_names`` order;
+    a point light's six faces together); ``rsm`` is their sum."""
 
     @classmethod
-    def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray,
-                        gathered: np.ndarray) -> "EnergyAudit":
-        return cls(**vars(audit), rsm=np.asarray(rsm, np.float64),
-                   gathered=np.asarray(gathered, np.float64))
+    def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray, gathered: np.ndarray,
+                        rsm_per_light: np.ndarray | None = None) -> "EnergyAudit":
+        rsm = np.asarray(rsm, np.float64)
+        per_light = rsm[None] if rsm_per_light is None else rsm_per_light
+        return cls(**vars(audit), rsm=rsm, gathered=np.asarray(gathered, np.float64),
+                   rsm_per_light=np.asarray(per_light, np.float64))
+
+
+@dataclass(frozen=True)
+class CellAudit:
+    """One cell's audit record (``shaders/propagate.glsl``; each (3,) watts per channel),
+    booked to the cell whose invocation computes it, as
+    :func:`explorer.lpv.reference.propagation_step_cells` books it."""
+
+    received: np.ndarray
+    """Flux the step(s) delivered into the cell (reflections included)."""
+    border_loss: np.ndarray
+    """Flux the cell sent out of the grid (border cells only)."""
+    clamp_gain: np.ndarray
+    """Flux the front-face clamp added on the faces the cell gathered through (and, for a
+    border cell, on those it sent out of the grid)."""
+    occluded: np.ndarray
+    """Flux the geometry volume removed on those faces."""
+    reflected: np.ndarray
+    """Flux the geometry volume reflected back into the cell (``bounces`` 2)."""
+    blocked: np.ndarray
+    """Flux the cell sent that the volume blocked and that can bounce (``bounces`` 2)."""
+
+    @classmethod
+    def from_record(cls, values) -> "CellAudit":
+        """From the 18 numbers of a record (the order of ``shaders/audit_reduce.glsl``)."""
+        values = np.asarray(values, np.float64).reshape(6, 3)
+        return cls(*values)
+
+
+class CellAuditRecords:
+    """The per-cell audit records one propagation left on the GPU, read one cell at a
+    time: the sums over all steps (one read of 72 bytes at the cell's offset) and the last
+    step's record (18 reads of 4 bytes: that buffer is laid out per quantity for the
+    reduction). Reads are cached per cell. The buffers belong to the propagation pass: a
+    later propagation overwrites them, after which :meth:`read` returns None (the frame
+    that showed them is out of date)."""
+
+    def __init__(self, reducer: "AuditReducer", resolution: int, steps: int) -> None:
+        self._reducer = reducer
+        self._generation = reducer.generation
+        self.resolution = int(resolution)
+        self.steps = int(steps)
+        self._cache: dict[tuple[int, int, int], tuple[CellAudit, CellAudit | None]] = {}
+
+    @property
+    def current(self) -> bool:
+        """Whether the records on the GPU are still this propagation's."""
+        return self._reducer.generation == self._generation and self._reducer.has_records
+
+    def read(self, cell) -> tuple[CellAudit, CellAudit | None] | None:
+        """(the sums over all steps, the last step's record or None without steps) of
+        cell (i, j, k); None when the records were overwritten or released. An IndexError
+        names a cell outside the grid."""
+        index = tuple(int(v) for v in cell)
+        n = self.resolution
+        if len(index) != 3 or not all(0 <= v < n for v in index):
+            raise IndexError(f"cell {index} is outside the {n}^3 grid")
+        if index in self._cache:
+            return self._cache[index]
+        if not self.current:
+            return None
+        linear = index[0] + n * (index[1] + n * index[2])
+        sums = self._reducer.read_cell_sums(linear)
+        last = self._reducer.read_cell_terms(linear) if self.steps else None
+        record = (CellAudit.from_record(sums),
+                  None if last is None else CellAudit.from_record(last))
+        self._cache[index] = record
+        return record
 
 
 def check_finite(array: np.ndarray, pass_name: str) -> np.ndarray:
@@ -112,7 +189,9 @@ class AuditReducer:
     back, the only read-back.
 
     Storage buffers while a pass runs (see :meth:`bind`): 2 partial records (all slots),
-    3 results, 4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats).
+    3 results, 4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats, the
+    current step's), 5 their per-cell sums over the steps (``18·N³`` floats, zeroed by
+    :meth:`begin`).
     """
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
@@ -121,6 +200,10 @@ class AuditReducer:
         self._buffers: dict[str, moderngl.Buffer] = {}
         self._slots = 0
         self._resolution = 0
+        self.generation = 0
+        """Counts :meth:`begin` calls: the per-cell records of a propagation are current
+        while it has not changed (:class:`CellAuditRecords`)."""
+        self.has_records = False
 
     def _buffer(self, name: str, size: int) -> moderngl.Buffer:
         buffer = self._buffers.get(name)
@@ -140,18 +223,41 @@ class AuditReducer:
         per-cell records of a propagation step when ``cell_records``."""
         self._resolution = int(resolution)
         self._slots = int(slots)
+        self.generation += 1
+        self.has_records = bool(cell_records)
         # every slot is measured once before read(): no clearing needed
         self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
         if cell_records:
-            self._buffer("cells", self._resolution ** 3 * AUDIT_VALUES * 4)
+            size = self._resolution ** 3 * AUDIT_VALUES * 4
+            self._buffer("cells", size)
+            self._buffer("cell_sums", size).clear(size=size)
         self._buffer("results", self._slots * AUDIT_VALUES * 4)
 
     def bind(self) -> None:
-        """Bind the storage buffers: partials 2, results 3, per-cell records 4 (when
-        allocated)."""
-        for name, binding in (("partials", 2), ("results", 3), ("cells", 4)):
+        """Bind the storage buffers: partials 2, results 3, per-cell records 4 and their
+        sums 5 (when allocated)."""
+        for name, binding in (("partials", 2), ("results", 3), ("cells", 4),
+                              ("cell_sums", CELL_SUMS_BINDING)):
             if name in self._buffers:
                 self._buffers[name].bind_to_storage_buffer(binding)
+
+    def read_cell_sums(self, linear: int) -> np.ndarray:
+        """(18,) float64: cell ``linear``'s record summed over the steps so far (one read
+        of 72 bytes at its offset)."""
+        self.ctx.memory_barrier()
+        raw = self._buffers["cell_sums"].read(size=AUDIT_VALUES * 4,
+                                              offset=int(linear) * AUDIT_VALUES * 4)
+        return np.frombuffer(raw, np.float32).astype(np.float64)
+
+    def read_cell_terms(self, linear: int) -> np.ndarray:
+        """(18,) float64: cell ``linear``'s record of the last step (quantity-major: one
+        read of 4 bytes per number)."""
+        self.ctx.memory_barrier()
+        cells = self._resolution ** 3
+        buffer = self._buffers["cells"]
+        return np.array([np.frombuffer(buffer.read(size=4, offset=(i * cells + int(linear))
+                                                   * 4), np.float32)[0]
+                         for i in range(AUDIT_VALUES)], np.float64)
 
     def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object]) -> None:
         if not 0 <= slot < self._slots:
@@ -193,3 +299,4 @@ class AuditReducer:
         for buffer in self._buffers.values():
             buffer.release()
         self._buffers.clear()
+        self.has_records = False

@@ -34,8 +34,11 @@ MIN_CASCADE_GRID = 8
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 GRIDS_PER_CASCADE = 4
 """Light grids one cascade keeps on the GPU: injected, ping, pong, accumulated."""
-AUDIT_BYTES_PER_CELL = 72
-"""Per-cell audit records the propagation writes (18 floats; only with the audit)."""
+AUDIT_RECORD_BYTES = 72
+"""One per-cell audit record (18 floats); one storage block holds one record per cell."""
+AUDIT_BYTES_PER_CELL = 2 * AUDIT_RECORD_BYTES
+"""Per-cell audit records the propagation keeps (only with the audit): the last step's
+and the sum over the steps."""
 DEFAULT_TEXTURE_BUDGET = 4 << 30
 """Default limit of the pipeline's LPV texture memory (bytes, all cascades together)."""
 
@@ -46,8 +49,8 @@ def focus_point(eye, target, focus: float) -> np.ndarray:
     return eye + float(focus) * (np.asarray(target, np.float64) - eye)
 
 
-def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | None = None
-                  ) -> list[GridSpec]:
+def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | None = None,
+                  snap: bool = True) -> list[GridSpec]:
     """The ``count`` nested grids around ``centre``.
 
     ``single`` is the scene-enclosing grid: with ``count == 1`` it is returned unchanged.
@@ -57,7 +60,9 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
     ``A + (round((centre − A)/c_k) − ⌊N/2⌋)·c_k`` with ``A = single.origin``: the lattice
     point nearest the centre, minus half a grid. Since ``|i_k − 2·i_{k+1}| ≤ 1`` (in
     cascade-``k`` cells) every cascade lies inside the next with at least ``N/2 − 1`` of
-    its cells to spare on each side.
+    its cells to spare on each side. ``snap`` False (``Settings.cascade_snap``) drops the
+    rounding: origin ``centre − ⌊N/2⌋·c_k``, so every cascade moves with the centre by any
+    fraction of a cell (the VPLs then land in other cells as it moves: the light swims).
     """
     count = int(count)
     if not 1 <= count <= MAX_CASCADES:
@@ -76,7 +81,9 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
     specs = []
     for k in range(count):
         cell = finest * 2 ** k
-        nearest = np.round((centre - anchor) / cell)
+        nearest = (centre - anchor) / cell
+        if snap:
+            nearest = np.round(nearest)
         origin = anchor + (nearest - n // 2) * cell
         specs.append(GridSpec(tuple(float(v) for v in origin), cell, n))
     return specs

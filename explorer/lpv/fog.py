@@ -5,12 +5,13 @@ that fills the scene's box, ray-marched per pixel (``shaders/fog.glsl``, docs/MO
 The pass writes two ``rgba32f`` targets the display stage composes over the surfaces:
 ``direct`` (the direct light's in-scattered radiance in rgb, the transmittance to the
 surface in alpha) and ``lpv`` (the LPV's in-scattered radiance in rgb). Its inputs are the
-G-buffer (where each view ray ends), the light's shadow map and the accumulated grid of
-every cascade.
+G-buffer (where each view ray ends), the RSM views (light records, ``light_records.py``)
+with their shadow maps (the RSM atlas) and the accumulated grid of every cascade.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -20,6 +21,7 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
+from explorer.lpv.light_records import LightRecordBuffer, view_list
 from explorer.lpv.rsm import LightView
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import sh_defines
@@ -29,7 +31,8 @@ from explorer.scene.transforms import gl_matrix
 
 TARGETS = ("fog_direct", "fog_lpv")
 FIRST_GRID_UNIT = 3
-"""Units 0..2: G-buffer position, shadow-map position and normal; the grids follow."""
+"""Units 0..2: G-buffer position, shadow-map (atlas) position and normal; the grids
+follow."""
 
 
 @dataclass(frozen=True)
@@ -71,19 +74,23 @@ class FogPass:
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS))
         self._triangle = FullscreenTriangle(ctx)
+        self._lights = LightRecordBuffer(ctx)
 
     @property
     def targets(self) -> dict[str, moderngl.Texture]:
         """Target name -> texture (empty before the first run)."""
         return dict(zip(TARGETS, self._targets.textures))
 
-    def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView, scene: Scene,
+    def run(self, gbuffer: GBufferPass, shadow: VplTextures,
+            lights: LightView | Sequence[LightView], scene: Scene,
             cascades: list[CascadeInput], medium: Medium, sh_order: int = 1,
-            shader_filter: bool = False, rows: tuple[int, int] | None = None) -> None:
+            shader_filter: bool = False, rows: tuple[int, int] | None = None,
+            shadow_tiles: Sequence[tuple[int, int]] | None = None) -> None:
         """March every pixel's view ray (of the rows ``rows``, GL order, or all) through
         the medium, lit by ``cascades`` (finest first; one for the single grid) and the
-        light whose shadow map ``shadow`` holds. ``shader_filter``: interpolate the grid in
-        the shader (the gather's probe, ``GatherPass.shader_filter``)."""
+        RSM views ``lights``, whose shadow maps ``shadow`` holds at ``shadow_tiles``
+        (lower-left texels; None: one view, the RSM itself). ``shader_filter``: interpolate
+        the grid in the shader (the gather's probe, ``GatherPass.shader_filter``)."""
         if not cascades:
             raise ValueError("the fog needs the accumulated grid of at least one cascade")
         self._targets.allocate(gbuffer.size)
@@ -92,17 +99,17 @@ class FogPass:
         gbuffer.position.use(0)
         shadow.position.use(1)
         shadow.normal.use(2)
+        light_count = self._lights.bind(view_list(lights), shadow_tiles)
         eye, inverse = camera_rays(scene, gbuffer.size)
         set_uniforms(program, {
             "u_gbuffer_position": 0, "u_shadow_position": 1, "u_shadow_normal": 2,
-            "u_shadow_texel": light.texel_world_size,
+            "u_light_count": light_count,
             "u_inverse_view_projection": gl_matrix(inverse),
             "u_camera_position": tuple(map(float, eye)),
             "u_medium_min": tuple(map(float, scene.bounds_min)),
             "u_medium_max": tuple(map(float, scene.bounds_max)),
             "u_fog_density": medium.density, "u_fog_albedo": medium.albedo,
             "u_fog_g": medium.g, "u_fog_steps": medium.steps,
-            **light.uniforms(),
             **cascades[0].spec.uniforms(),
             **cascade_uniforms(cascades, FIRST_GRID_UNIT),
         })
@@ -112,3 +119,4 @@ class FogPass:
     def release(self) -> None:
         self._targets.release()
         self._triangle.release()
+        self._lights.release()

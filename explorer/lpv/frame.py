@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from explorer.lpv.audit import EnergyAudit, GridAudit
+from explorer.lpv.audit import CellAuditRecords, EnergyAudit, GridAudit
 from explorer.lpv.display import FogImages, exposed_image
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import Settings
@@ -29,6 +29,10 @@ class LevelResult:
     audit: GridAudit
     """Injection and propagation audit of this level. Each cascade holds every VPL
     inside it, so the injected fluxes of the levels overlap and must not be summed."""
+    cell_records: CellAuditRecords | None = None
+    """The propagation's per-cell audit records, still on the GPU: read one cell at a
+    time (``cell_records.read((i, j, k))``) while no later propagation of this level has
+    overwritten them; None when the frame ran without the per-step audit."""
 
 
 @dataclass
@@ -55,7 +59,9 @@ class FrameResult:
     rsm_normal: np.ndarray
     rsm_flux: np.ndarray
     vpls: VplArrays
-    """The VPLs injected (after downsampling, or the ones handed to the pipeline)."""
+    """The VPLs injected (after downsampling, or the ones handed to the pipeline), every
+    light's together (``texel_area`` and ``projection`` are the first view's: see
+    :attr:`vpl_sets` for each view's own)."""
     audit: EnergyAudit
     """Level 0's audit plus the RSM's flux and the flux the visible surfaces gather
     (the blended gather's with cascades)."""
@@ -86,6 +92,14 @@ class FrameResult:
     """The fog's transmittance and in-scattered radiance (docs/MODEL.md "Fog"); None when
     ``settings.fog`` is off. ``direct`` and ``indirect`` stay the surfaces' own radiance;
     :attr:`final_image` composes the two."""
+    vpl_sets: list[VplArrays] = field(default_factory=list)
+    """The VPLs of each RSM view (docs/MODEL.md "Several lights"; one entry for one
+    light, six for a point light), their own ``texel_area`` and ``projection`` each."""
+    light_names: tuple[str, ...] = ()
+    """The lights that shone, primary first (``audit.rsm_per_light`` has their order)."""
+    view_lights: tuple[int, ...] = ()
+    """For each entry of :attr:`vpl_sets`: the index of its light in :attr:`light_names`
+    (hand-made VPLs: one set, light 0)."""
     _final_image: np.ndarray | None = field(default=None, init=False, repr=False,
                                             compare=False)
 

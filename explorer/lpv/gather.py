@@ -4,13 +4,17 @@ gather"); exposure and display encoding are the display pass's (explorer/lpv/dis
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
 SH order) and the indirect radiance a/π·E (optionally damped by the directional
-derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
-(spot, times the cone's falloff f) or E_L·cos θ (directional), shadowed with the RSM's
-depth (normal.w) through a PCF box ``shadow_kernel`` texels wide.
+derivative along n). The direct radiance is a/π times the irradiance of every RSM view,
+I·cos θ/r² (spot, times the cone's falloff f; a point light's face for the points it
+holds) or E_L·cos θ (directional), times its colour, each shadowed with its own RSM's
+depth (normal.w) through a PCF box ``shadow_kernel`` texels wide (docs/MODEL.md "Several
+lights"; the views' records: explorer/lpv/light_records.py). With ``Glossy`` the glossy
+march (docs/MODEL.md "Glossy reflections") adds to the indirect radiance.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -21,6 +25,7 @@ from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.light_records import LightRecordBuffer, view_list
 from explorer.lpv.rsm import LightView
 from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
 from explorer.lpv.targets import RenderTargets
@@ -121,6 +126,7 @@ class GatherPass:
         self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS))
         self._triangle = FullscreenTriangle(ctx)
         self._empty_grid: moderngl.Texture3D | None = None
+        self._lights = LightRecordBuffer(ctx)
         self.shader_filter = linear_filter_error(ctx) > EXACT_FILTER
         """Interpolate the grid in the shader (``SH_SHADER_FILTER``, sh_grid.glsl) because
         the texture unit's weights are not exact on this GPU."""
@@ -134,12 +140,17 @@ class GatherPass:
         """Target name -> texture (empty before the first run)."""
         return dict(zip(TARGETS, self._targets.textures))
 
-    def run(self, gbuffer: GBufferPass, shadow: VplTextures, light: LightView,
-            grid_textures, spec: GridSpec, damping: bool = False,
-            cascades: list[CascadeInput] | None = None, sh_order: int = 1,
-            rows: tuple[int, int] | None = None,
-            shadow_kernel: int = DEFAULT_SHADOW_KERNEL, glossy: Glossy | None = None) -> None:
-        """``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
+    def run(self, gbuffer: GBufferPass, shadow: VplTextures,
+            lights: LightView | Sequence[LightView], grid_textures, spec: GridSpec,
+            damping: bool = False, cascades: list[CascadeInput] | None = None,
+            sh_order: int = 1, rows: tuple[int, int] | None = None,
+            shadow_kernel: int = DEFAULT_SHADOW_KERNEL,
+            shadow_tiles: Sequence[tuple[int, int]] | None = None,
+            glossy: Glossy | None = None) -> None:
+        """``shadow``: the RSM (one view) or the RSM atlas of every view; ``lights``: the
+        view(s), their shadow maps at ``shadow_tiles`` (lower-left texels in ``shadow``;
+        None: one view at (0, 0)).
+        ``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
         trilinearly, clamped to the edge), or None for direct light only. ``damping``: the
         directional-derivative damping of the indirect irradiance (docs/MODEL.md "Final
         gather"); with cascades, per cascade.
@@ -164,15 +175,15 @@ class GatherPass:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):
             texture.use(unit)
+        light_count = self._lights.bind(view_list(lights), shadow_tiles)
         values = {
             "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
-            "u_shadow_texel": light.texel_world_size,
+            "u_light_count": light_count,
             "u_shadow_kernel": int(shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
             "u_gather_damping": int(damping),
-            **light.uniforms(),
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
             **(NO_GLOSSY if glossy is None else glossy.uniforms()),
@@ -204,3 +215,4 @@ class GatherPass:
         if self._empty_grid is not None:
             self._empty_grid.release()
             self._empty_grid = None
+        self._lights.release()

@@ -20,10 +20,12 @@ of the first bad value).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
+from explorer.lpv.corrections import CORRECTIONS
 from explorer.lpv.constants import (
     FRONT_FACE_SOLID_ANGLE,
     PI,
@@ -122,8 +124,10 @@ def growth_explanation(corrections) -> str | None:
         return None
     reasons = []
     if factor > 1.0 + 1e-6:
-        off = [name for name in ("injection_pi", "propagation_4pi", "reprojection_pi")
-               if not getattr(corrections, name)]
+        # the switches that are off and change this factor when turned on
+        off = [entry.name for entry in CORRECTIONS if not getattr(corrections, entry.name)
+               and not math.isclose(step_flux_factor(dataclasses.replace(
+                   corrections, **{entry.name: True})), factor)]
         reasons.append(f"π·k_R·k_I·k_P = {factor:.4g} instead of 1 (off: {', '.join(off)}): "
                        f"the published injection keeps the 1/π that only the corrected "
                        f"propagation and reprojection compensate")

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from explorer.lpv.cascades import AUDIT_BYTES_PER_CELL, texture_bytes
+from explorer.lpv.cascades import AUDIT_RECORD_BYTES, texture_bytes
 
 DEFAULT_MEMORY_BUDGET = 4 << 30
 """Default limit of one pipeline's memory (GPU textures + host read-back), bytes."""
@@ -43,13 +43,17 @@ class Request:
     bytes: int
 
 
-def memory_requests(settings) -> list[Request]:
-    """The memory a frame with ``settings`` holds, by request (module docstring)."""
+def memory_requests(settings, views: int = 1) -> list[Request]:
+    """The memory a frame with ``settings`` holds, by request (module docstring), with
+    ``views`` RSM views (several lights; a point light has six): each view's RSM textures
+    and read-back, and with several views their atlas (explorer/lpv/atlas.py)."""
     s = settings
     rsm_texels = s.rsm_size ** 2
     pixels = s.width * s.height
     # a read-back array is the bytes object plus the flipped float32 copy: twice its size
-    rsm = rsm_texels * (RSM_TEXTURES * TEXEL + 4 + RSM_READ_BACK * TEXEL * 2)
+    rsm = views * rsm_texels * (RSM_TEXTURES * TEXEL + 4 + RSM_READ_BACK * TEXEL * 2)
+    if views > 1:
+        rsm += views * rsm_texels * RSM_TEXTURES * TEXEL
     fog = FOG_TEXTURES if s.fog else 0
     images = pixels * ((sum(IMAGE_TEXTURES) + fog) * TEXEL + 4 + 4
                        + (IMAGE_READ_BACK + fog) * TEXEL * 2)
@@ -58,8 +62,9 @@ def memory_requests(settings) -> list[Request]:
                           groups)
     # the accumulation of every cascade is read back too (float32, 4 or 9 coefficients)
     grids += s.cascades * 3 * s.grid_size ** 3 * 4 * (9 if s.sh_order == 2 else 4) * 2
-    return [Request("rsm_size", f"rsm_size {s.rsm_size} (RSM textures and their read-back)",
-                    rsm),
+    what = ("RSM textures and their read-back" if views == 1 else
+            f"{views} RSM views of several lights: their textures, atlas and read-back")
+    return [Request("rsm_size", f"rsm_size {s.rsm_size} ({what})", rsm),
             Request("width", f"{s.width}x{s.height} pixels (G-buffer, gather, fog and "
                              f"display targets and their read-back)", images),
             Request("grid_size", f"{s.cascades} cascade(s) of {s.grid_size}^3 cells in "
@@ -67,12 +72,12 @@ def memory_requests(settings) -> list[Request]:
                                  f"volume, read-back)", grids)]
 
 
-def check_memory(settings, budget_bytes: int) -> None:
-    """A ValueError naming the largest request when the frame needs more than
-    ``budget_bytes``."""
+def check_memory(settings, budget_bytes: int, views: int = 1) -> None:
+    """A ValueError naming the largest request when the frame (with ``views`` RSM views)
+    needs more than ``budget_bytes``."""
     if not budget_bytes:
         return
-    requests = memory_requests(settings)
+    requests = memory_requests(settings, views)
     total = sum(r.bytes for r in requests)
     if total <= budget_bytes:
         return
@@ -141,14 +146,15 @@ def check_grid_textures(settings, limits: DriverLimits) -> None:
 
 def audit_fits(grid_size: int, limits: DriverLimits) -> bool:
     """Whether the per-cell audit records of a ``grid_size``³ grid fit one shader storage
-    block (128 MiB on llvmpipe: up to 122³ cells)."""
+    block each (128 MiB on llvmpipe: up to 122³ cells)."""
     largest = limits.max_storage_block_bytes
-    return not largest or AUDIT_BYTES_PER_CELL * int(grid_size) ** 3 <= largest
+    return not largest or AUDIT_RECORD_BYTES * int(grid_size) ** 3 <= largest
 
 
 def audit_skipped_warning(grid_size: int, limits: DriverLimits) -> str:
     return (f"the per-step energy audit of a {grid_size}^3 grid needs "
-            f"{_mib(AUDIT_BYTES_PER_CELL * grid_size ** 3)} of per-cell records, more than "
+            f"storage blocks of {_mib(AUDIT_RECORD_BYTES * grid_size ** 3)} for its per-cell "
+            f"records, more than "
             f"this driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE "
             f"({_mib(limits.max_storage_block_bytes)}): only the injected and accumulated "
             f"flux were measured")

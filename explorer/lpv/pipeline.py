@@ -1,5 +1,5 @@
 """The LPV frame: RSM -> downsample -> inject (+ geometry volume) -> propagate -> gather ->
-display.
+fog -> display.
 
 :class:`Pipeline` owns the pass objects and their GPU resources and runs the stages
 declared in :mod:`explorer.lpv.stages` (their table: ``stages.describe()``). A stage runs
@@ -16,6 +16,19 @@ Two ways to run a frame:
 * :meth:`Pipeline.start`: a :class:`~explorer.lpv.job.Job` that the window advances a
   few milliseconds per frame (``job.advance(budget_ms)``), showing the accumulation grow
   (``job.preview()``) and cancelled by the next ``start`` with other settings.
+
+Several lights (docs/MODEL.md "Several lights"): the RSM stage renders one RSM per view of
+every light that shines (a point light has six), the views' VPLs are copied side by side
+into one atlas (explorer/lpv/atlas.py) that the injection reads at once, the geometry
+volume merges the views' volumes per cell, and the gather sums every view's direct light
+with its own shadow map. One view needs no atlas: its RSM is used as it is. The fog's
+direct in-scattering sums every view's too, and camera occluders keep the G-buffer
+pixels no view's shadow map holds, added to the merged volume (docs/MODEL.md "Fog",
+"Camera occluders").
+
+Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage, which
+rewrites only their corners in the vertex buffer; the stages downstream of it (RSM,
+G-buffer and all that follows) then run again through their keys.
 
 Cascades (docs/MODEL.md "Cascades") are a list of levels, level 0 the finest (or the
 single grid enclosing the scene); inject, geometry and propagate run every level (their
@@ -41,6 +54,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import guards
+from explorer.lpv.atlas import PerView, VplAtlas
 from explorer.lpv.audit import EnergyAudit, check_finite
 from explorer.lpv.cascades import (
     CascadeInput,
@@ -56,7 +70,13 @@ from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult
 from explorer.lpv.gather import GatherPass, Glossy, bands
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.geometry import CameraSurfels, GeometryPass, camera_pixel_area
+from explorer.lpv.geometry import (
+    CameraSurfels,
+    GeometryPass,
+    GeometryVolume,
+    camera_pixel_area,
+    merge_volumes,
+)
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import InjectPass
 from explorer.lpv.job import Job, ProgressCallback
@@ -70,7 +90,7 @@ from explorer.lpv.limits import (
     check_memory,
 )
 from explorer.lpv.propagate import slabs
-from explorer.lpv.rsm import LightView, RsmPass, light_view, read_texture
+from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
 from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
 from explorer.lpv.views import render_view
@@ -105,8 +125,16 @@ class Pipeline:
         renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
         self.software_renderer = any(name in renderer for name in ("llvmpipe", "softpipe",
                                                                    "swrast", "lavapipe"))
-        self._rsm = RsmPass(ctx, self.programs)
-        self._downsample = DownsamplePass(ctx, self.programs)
+        self._rsm = PerView(lambda: RsmPass(ctx, self.programs))
+        """One RSM pass per view (each owns the textures it renders)."""
+        self._downsample = PerView(lambda: DownsamplePass(ctx, self.programs))
+        self._rsm_atlas = VplAtlas(ctx, self.programs)
+        self._vpl_atlas = VplAtlas(ctx, self.programs)
+        self._scratch_volume: GeometryVolume | None = None
+        """One view's geometry volume before it is merged (several views)."""
+        self.pose_ms = 0.0
+        """Wall-clock milliseconds the scene stage last spent posing objects and writing
+        their corners to the vertex buffer (``lpv-explorer bench``'s moving object)."""
         self._inject = InjectPass(ctx, self.programs)
         self._geometry = GeometryPass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
@@ -129,9 +157,15 @@ class Pipeline:
         self.job: Job | None = None
         """The job in progress, if any."""
         self._scene_cache: dict[str, Scene] = {}
+        self._posed: Scene | None = None
+        """The loaded scene with the Settings' object transforms applied."""
         self._scene: Scene | None = None
         self._geometry_buffers: SceneBuffers | None = None
-        self._light: LightView | None = None
+        self._light: list[LightView] = []
+        """The RSM views of every light that shines (primary first)."""
+        self._rsm_sets: list[VplTextures] = []
+        self._vpl_sets: list[VplTextures] = []
+        self._shadow_tiles: list[tuple[int, int]] = [(0, 0)]
         self._specs: list[GridSpec] = []
         self._levels: list[CascadeLevel] = []
         self._rsm_textures: VplTextures | None = None
@@ -263,9 +297,13 @@ class Pipeline:
     def release(self) -> None:
         if self.job is not None:
             self.job.cancel()
-        for stage in (self._rsm, self._downsample, self._inject, self._geometry,
-                      self._gbuffer, self._gather, self._fog, self._display):
+        for stage in (self._rsm, self._downsample, self._rsm_atlas, self._vpl_atlas,
+                      self._inject, self._geometry, self._gbuffer, self._gather, self._fog,
+                      self._display):
             stage.release()
+        if self._scratch_volume is not None:
+            self._scratch_volume.release()
+            self._scratch_volume = None
         self._release_levels(0)
         if self._override_textures is not None:
             self._override_textures.release()
@@ -315,7 +353,8 @@ class Pipeline:
             specs = [single]
         else:
             centre = focus_point(scene.camera.eye, scene.camera.target, s.cascade_focus)
-            specs = cascade_specs(single, s.cascades, centre, s.cascade_extent)
+            specs = cascade_specs(single, s.cascades, centre, s.cascade_extent,
+                                  s.cascade_snap)
         self._specs = specs
         return tuple(specs)
 
@@ -324,6 +363,8 @@ class Pipeline:
         steps (all levels together; each step is one or more slabs)."""
         if stage in ("inject", "geometry"):
             return len(self._specs)
+        if stage == "rsm":
+            return len(light_views(self._scene_for(job.settings), job.settings.rsm_size)) + 1
         if stage == "gbuffer":
             return 1 + READ_BACK_TEXTURES
         if stage == "gather":
@@ -381,14 +422,22 @@ class Pipeline:
     # One method per stage of explorer/lpv/stages.py: a plain method is one unit of work,
     # a generator yields after each unit but the last (see stage_work).
     def _stage_scene(self, job: Job) -> None:
+        """Load the mesh (once per scene name) and pose its objects: only the corners of
+        objects whose transform changed are written to the vertex buffer again."""
         s = job.settings
         base = self._scene_cache.get(s.scene)
         if base is None:
             base = load_scene(s.scene)
             self._scene_cache = {s.scene: base}
+            self._posed = None
             if self._geometry_buffers is not None:
                 self._geometry_buffers.release()
             self._geometry_buffers = SceneBuffers(self.ctx, base)
+        started = time.perf_counter()
+        self._posed = base.posed(s.object_transforms)
+        self._geometry_buffers.show(self._posed)
+        self.ctx.finish()
+        self.pose_ms = (time.perf_counter() - started) * 1e3
         self._warnings["scene"] = _present(
             [guards.scale_warning(base.bounds_min, base.bounds_max)])
 
@@ -403,17 +452,41 @@ class Pipeline:
         self._arrays["gbuffer"] = tuple(arrays)
         self._check("gbuffer", s, self._arrays["gbuffer"])
 
-    def _stage_rsm(self, job: Job) -> None:
+    def _stage_rsm(self, job: Job) -> Iterator[None]:
+        """One RSM per view of every light that shines (a unit each), then the atlas of
+        their shadow maps and VPLs (several views) and the read-back (one unit)."""
         s = job.settings
-        self._light = light_view(self._scene_for(s), s.rsm_size)
-        self._rsm_textures = self._timed(
-            "rsm", lambda: self._rsm.run(self._geometry_buffers, self._light))
-        self._arrays["rsm"] = tuple(read_texture(t) for t in (
-            self._rsm_textures.position, self._rsm_textures.normal, self._rsm_textures.flux))
-        flux = self._arrays["rsm"][2][..., :3]
-        self._arrays["rsm_flux"] = np.add.reduce(flux.reshape(-1, 3), axis=0,
-                                                 dtype=np.float64)
-        self._check("rsm", s, self._arrays["rsm"])
+        views = light_views(self._scene_for(s), s.rsm_size)
+        check_memory(s, self.memory_budget_bytes, views=len(views))
+        self.timings_ms["rsm"] = 0.0
+        sets = []
+        for k, view in enumerate(views):
+            sets.append(self._timed("rsm", lambda: self._rsm.run(
+                k, self._geometry_buffers, view), accumulate=True))
+            yield
+        self._light, self._rsm_sets = views, sets
+        self._rsm_textures, self._shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm")
+        flux = [read_texture(rsm.flux) for rsm in sets]
+        first = sets[0]
+        self._arrays["rsm"] = (read_texture(first.position), read_texture(first.normal),
+                               flux[0])
+        per_view = np.array([np.add.reduce(f[..., :3].reshape(-1, 3), axis=0,
+                                           dtype=np.float64) for f in flux])
+        per_light = np.zeros((max(v.light_index for v in views) + 1, 3))
+        np.add.at(per_light, [v.light_index for v in views], per_view)
+        self._arrays["rsm_flux"] = per_light.sum(axis=0)
+        self._arrays["rsm_flux_per_light"] = per_light
+        self._check("rsm", s, [*self._arrays["rsm"], *flux])
+
+    def _atlas(self, atlas: VplAtlas, sets: list[VplTextures], stage: str
+               ) -> tuple[VplTextures, list[tuple[int, int]]]:
+        """The one set, or the atlas of several (timed into ``stage``), and where each
+        view's tile starts."""
+        if len(sets) == 1:
+            return sets[0], [(0, 0)]
+        textures = self._timed(stage, lambda: atlas.build(
+            sets, self.limits.max_framebuffer_size), accumulate=True)
+        return textures, [atlas.layout.origin(k) for k in range(len(sets))]
 
     def _stage_downsample(self, job: Job) -> None:
         s, vpls = job.settings, job.vpls
@@ -424,14 +497,22 @@ class Pipeline:
             self.timings_ms.pop("downsample", None)
             self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
             self._vpl_textures = self._override_textures
+            self._vpl_sets = [self._override_textures]
         elif s.downsample == "none" or s.downsample_factor == 1:
             self.timings_ms.pop("downsample", None)
-            self._vpl_textures = self._rsm_textures
+            self._vpl_textures, self._vpl_sets = self._rsm_textures, list(self._rsm_sets)
         else:
-            self._vpl_textures = self._timed("downsample", lambda: self._downsample.run(
-                self._rsm_textures, s.downsample, s.downsample_factor, self._specs[0],
-                self._light))
-        self._arrays["vpls"] = self._vpl_textures.to_arrays()
+            self.timings_ms["downsample"] = 0.0
+            self._vpl_sets = [self._timed("downsample", lambda: self._downsample.run(
+                k, rsm, s.downsample, s.downsample_factor, self._specs[0], view),
+                accumulate=True) for k, (rsm, view) in enumerate(zip(self._rsm_sets,
+                                                                    self._light))]
+            self._vpl_textures, _ = self._atlas(self._vpl_atlas, self._vpl_sets, "downsample")
+        sets = [vpl_set.to_arrays() for vpl_set in self._vpl_sets]
+        self._arrays["vpl_sets"] = sets
+        self._arrays["vpls"] = sets[0] if len(sets) == 1 else VplArrays.concatenate(sets)
+        self._arrays["view_lights"] = (0,) if vpls is not None else tuple(
+            view.light_index for view in self._light)
         if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
             self._check("downsample", s, [self._arrays["vpls"].flux])
 
@@ -458,15 +539,14 @@ class Pipeline:
             for level in levels:
                 level.release_volume()
             return
-        occluders = self._rsm_textures if job.vpls is None else self._vpl_textures
+        occluders = self._rsm_sets if job.vpls is None else [self._vpl_textures]
         camera = self._camera_surfels(s) if s.uses_camera_occluders else None
         self.timings_ms["geometry"] = 0.0
         warnings = []
         for k, (level, spec) in enumerate(zip(levels, self._specs)):
             volume = level.geometry_volume(spec.resolution, s.grid_format)
-            self._timed("geometry", lambda: self._geometry.run(
-                occluders, spec, s.corrections, s.geometry_volume, volume, camera),
-                accumulate=True)
+            self._timed("geometry", lambda: self._geometry_of_views(
+                occluders, spec, s, volume, camera), accumulate=True)
             level.geometry = volume.read()
             warnings += self._array_warnings(_pass_name("geometry", k, len(levels)), s,
                                              [level.geometry])
@@ -475,15 +555,41 @@ class Pipeline:
         self._warnings["geometry"] = warnings
 
     def _camera_surfels(self, s: Settings) -> CameraSurfels:
-        """The G-buffer as occluder surfels, tested against the light's shadow map
+        """The G-buffer as occluder surfels, tested against every RSM view's shadow map
         (docs/MODEL.md "Camera occluders")."""
         camera = self._scene.camera
         return CameraSurfels(
             position=self._gbuffer.position, normal=self._gbuffer.normal,
             albedo=self._gbuffer.albedo, view=camera.view_matrix(),
             pixel_area=camera_pixel_area(camera.fov_y_degrees, s.height),
-            shadow=self._rsm_textures, light_uniforms=self._light.uniforms(),
-            shadow_texel=self._light.texel_world_size)
+            shadow=self._rsm_textures, views=tuple(self._light),
+            tiles=tuple(self._shadow_tiles))
+
+    def _geometry_of_views(self, occluders: list[VplTextures], spec: GridSpec, s: Settings,
+                           volume: GeometryVolume, camera: CameraSurfels | None) -> None:
+        """The geometry volume of every view, merged per cell (docs/MODEL.md "Several
+        lights"): the first view's volume, then each further view's built in a scratch
+        volume and folded in by :func:`merge_volumes`; then ``camera``'s surfels, added
+        (docs/MODEL.md "Camera occluders": they hold only surfaces no view holds). With
+        one view they are drawn with its surfels (the same sum, no scratch volume)."""
+        alone = len(occluders) == 1
+        self._geometry.run(occluders[0], spec, s.corrections, s.geometry_volume, volume,
+                           camera if alone else None)
+        if alone:
+            return
+        scratch = self._scratch_volume
+        if scratch is None or scratch.resolution != spec.resolution or \
+                scratch.format != s.grid_format:
+            if scratch is not None:
+                scratch.release()
+            scratch = self._scratch_volume = GeometryVolume(self.ctx, spec.resolution,
+                                                            s.grid_format)
+        for vpls in occluders[1:]:
+            self._geometry.run(vpls, spec, s.corrections, s.geometry_volume, scratch)
+            merge_volumes(self.programs, volume, scratch)
+        if camera is not None:
+            self._geometry.run(None, spec, s.corrections, s.geometry_volume, scratch, camera)
+            merge_volumes(self.programs, volume, scratch, add=True)
 
     def _stage_propagate(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
@@ -571,7 +677,7 @@ class Pipeline:
             self._timed("fog", lambda: self._fog.run(
                 self._gbuffer, self._rsm_textures, self._light, self._scene, cascades, medium,
                 sh_order=levels[0].injected.sh_order, shader_filter=self._gather.shader_filter,
-                rows=band), accumulate=True)
+                rows=band, shadow_tiles=self._shadow_tiles), accumulate=True)
             yield
         targets = self._fog.targets
         direct, lpv = yield from _read_back([targets[name] for name in FOG_TARGETS])
@@ -616,8 +722,10 @@ class Pipeline:
 
     # ------------------------------------------------------------------ helpers
     def _scene_for(self, s: Settings) -> Scene:
-        """The loaded scene with the Settings' camera, light, flux and spot cone applied."""
-        self._scene = self._scene_cache[s.scene].for_settings(s)
+        """The posed scene with the Settings' lights, camera, light, flux and spot cone
+        applied."""
+        posed = self._posed if self._posed is not None else self._scene_cache[s.scene]
+        self._scene = posed.for_settings(s)
         return self._scene
 
     def _levels_for(self, specs: list[GridSpec]) -> list[CascadeLevel]:
@@ -643,7 +751,7 @@ class Pipeline:
         self._gather.run(self._gbuffer, self._rsm_textures, self._light, textures[0],
                          self._specs[0], s.gather_damping, cascades=cascades,
                          sh_order=levels[0].injected.sh_order, rows=rows,
-                         shadow_kernel=s.shadow_kernel,
+                         shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
                          glossy=Glossy.of(s, self._scene.camera.eye))
 
     def _array_warnings(self, pass_name: str, s: Settings, arrays) -> list[str]:
@@ -708,10 +816,11 @@ class Pipeline:
         position, normal, albedo = self._arrays["gbuffer"]
         gather = self._arrays["gather"]
         levels = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
-                              level.output.audit)
+                              level.output.audit, level.output.cell_records)
                   for spec, level in zip(self._specs, self._levels)]
         audit = EnergyAudit.from_grid_audit(levels[0].audit, rsm=self._arrays["rsm_flux"],
-                                            gathered=self.gathered_flux())
+                                            gathered=self.gathered_flux(),
+                                            rsm_per_light=self._arrays["rsm_flux_per_light"])
         warnings = [w for stage in STAGES for w in self._warnings.get(stage, [])]
         if s.iterations > 0:
             injected = float(np.sum(audit.injected))
@@ -724,7 +833,10 @@ class Pipeline:
             direct=gather["direct"][..., :3], indirect=gather["indirect"][..., :3],
             albedo=albedo[..., :3], gbuffer_position=position, gbuffer_normal=normal,
             rsm_position=rsm_position, rsm_normal=rsm_normal, rsm_flux=rsm_flux,
-            vpls=self._arrays["vpls"], audit=audit, timings_ms=dict(self.timings_ms),
+            vpls=self._arrays["vpls"], vpl_sets=list(self._arrays["vpl_sets"]),
+            light_names=tuple(light.name for light in self._scene.lights),
+            view_lights=self._arrays["view_lights"], audit=audit,
+            timings_ms=dict(self.timings_ms),
             timing_methods=dict(self.timing_methods), stages_run=job.progress.stages_run,
             warnings=warnings, display_scale=self._display_scale, camera=self._scene.camera,
             scene_bounds=(tuple(map(float, self._scene.bounds_min)),

@@ -9,7 +9,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.audit import AuditReducer, GridAudit
+from explorer.lpv.audit import AuditReducer, CellAuditRecords, GridAudit
 from explorer.lpv.geometry import GeometryVolume
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.corrections import uniforms_read_by
@@ -36,6 +36,9 @@ class PropagationOutput:
     """grid_0..grid_N as (3, N, N, N, 4) arrays when keep_steps. In place, grid_t is the
     light step t added (acc_t − acc_{t−1}), so Σ grid_t = acc_N in both modes."""
     audit: GridAudit
+    cell_records: CellAuditRecords | None = None
+    """Each cell's audit record (its sum over the steps, the last step's), read one cell
+    at a time from the GPU; None without the audit."""
 
 
 def copy_grid(programs: ProgramCache, source: LpvGrid, target: LpvGrid) -> None:
@@ -61,8 +64,8 @@ class PropagatePass:
     pipeline spreads the steps over frames); :meth:`run` does all steps at once.
 
     GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
-    format and, with the audit, 72 bytes per cell of audit records (≈100 MB each at 128³
-    in rgba32f).
+    format and, with the audit, 144 bytes per cell of audit records (the last step's and
+    their sums over the steps: ≈300 MB at 128³).
     """
 
     GEOMETRY_UNIT = 6
@@ -254,8 +257,11 @@ class PropagationRun:
         audit = self._owner.audit
         audit.measure_flux(self._slots - 1, self.accumulated)
         sums = audit.read()
+        records = (CellAuditRecords(audit, self.accumulated.resolution, self.iterations)
+                   if self._with_audit else None)
         return PropagationOutput(accumulated=self.accumulated, steps=self.steps,
-                                 audit=grid_audit(sums, self.iterations, self._with_audit))
+                                 audit=grid_audit(sums, self.iterations, self._with_audit),
+                                 cell_records=records)
 
 
 def grid_audit(sums: np.ndarray, iterations: int, per_step: bool) -> GridAudit:

@@ -289,6 +289,10 @@ def _reflection_normals(blockers: np.ndarray, axis: int, sign: int) -> np.ndarra
 AUDIT_TERMS = ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked")
 DIRECTIONS = tuple((axis, sign) for axis in range(3) for sign in (1, -1))
 """The six propagation directions sign·e_axis."""
+CELL_TERMS = ("received", "border_loss", "clamp_gain", "occluded", "reflected", "blocked")
+"""The per-cell audit record of a step, in the order of ``shaders/audit_reduce.glsl``:
+each (3, N, N, N) watts, booked to the cell whose invocation of ``shaders/propagate.glsl``
+computes it (:func:`propagation_step_cells`)."""
 
 
 def _check_step_inputs(grid, geometry, geometry_albedo, bounces):
@@ -308,11 +312,16 @@ def _check_step_inputs(grid, geometry, geometry_albedo, bounces):
 
 def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Corrections,
                     geometry: np.ndarray | None, geometry_albedo: np.ndarray | None,
-                    reflect: bool) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+                    reflect: bool
+                    ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray], np.ndarray]:
     """What every source cell sends along ``sign``·e_axis in one step: the light delivered
     into the neighbour cells (3, N, N, N, K) (zero in the first layer, which has no source
-    inside), the light reflected back into the source cells (zeros unless ``reflect``) and
-    this direction's audit terms (:data:`AUDIT_TERMS`, each (3,) watts)."""
+    inside), the light reflected back into the source cells (zeros unless ``reflect``),
+    this direction's audit terms per cell ((3, N, N, N) watts each, :data:`AUDIT_TERMS`
+    but ``propagated``) and its ``propagated`` flux (3,). A term is booked as the GPU
+    books it: a face that stays inside the grid to its target cell, which gathers it; a
+    face leaving the grid, its border loss, and the light reflected back and blocked, to
+    the source cell."""
     order = grid_sh_order(grid)
     n = grid.shape[1]
     front_angle, side_angle = face_solid_angles(corrections)
@@ -320,7 +329,8 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
              * propagation_factor(corrections))
     delivered = np.zeros_like(grid)
     reflected_back = np.zeros_like(grid)
-    terms = {name: np.zeros(3) for name in AUDIT_TERMS}
+    cells = {name: np.zeros((3, n, n, n)) for name in AUDIT_TERMS if name != "propagated"}
+    propagated = np.zeros(3)
     blockers = None if geometry is None else _face_blockers(geometry, axis, sign)
     blocked = np.zeros((3, n, n, n))   # flux the volume takes, per source cell
     # Sources whose neighbour along the direction is inside, and those neighbours.
@@ -330,6 +340,15 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
     inside[axis] = slice(0, n - 1) if sign > 0 else slice(1, n)
     shifted[axis] = slice(1, n) if sign > 0 else slice(0, n - 1)
     leaving[axis] = slice(n - 1, n) if sign > 0 else slice(0, 1)
+    every, to_target = (slice(None), *inside), (slice(None), *shifted)
+    border = (slice(None), *leaving)
+
+    def book(name: str, per_source: np.ndarray) -> None:
+        """Add a per-source-cell term: to the target where the face stays inside the
+        grid, to the source itself where it leaves."""
+        cells[name][to_target] += per_source[every]
+        cells[name][border] += per_source[border]
+
     for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
         weight = scale * (front_angle if is_front else side_angle)
         lobe = cosine_lobe(reprojection, order)
@@ -342,13 +361,11 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
             # blocking of light travelling along e_f hits surfels facing -e_f
             visibility = 1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0)
         sent = weight * used * visibility                         # (3, N, N, N)
-        delivered[(slice(None), *shifted)] += sent[(slice(None), *inside)][..., None] * lobe
-        terms["propagated"] += flux_per_intensity * raw.reshape(3, -1).sum(1)
-        terms["clamp_gain"] += flux_per_intensity * (used - raw).reshape(3, -1).sum(1)
-        terms["occluded"] += flux_per_intensity * (
-            used * (1.0 - visibility)).reshape(3, -1).sum(1)
-        terms["border_loss"] += K.SH_FLUX_FACTOR * lobe[0] * sent[
-            (slice(None), *leaving)].reshape(3, -1).sum(1)
+        delivered[to_target] += sent[every][..., None] * lobe
+        book("clamp_gain", flux_per_intensity * (used - raw))
+        book("occluded", flux_per_intensity * used * (1.0 - visibility))
+        cells["border_loss"][border] += K.SH_FLUX_FACTOR * lobe[0] * sent[border]
+        propagated += flux_per_intensity * raw.reshape(3, -1).sum(1)
         blocked += flux_per_intensity * used * (1.0 - visibility)
     if reflect:
         sums = _face_blockers(geometry_albedo, axis, sign)           # (N, N, N, 4)
@@ -356,13 +373,13 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
         albedo = np.divide(sums[..., :3], area[..., None],
                            out=np.zeros_like(sums[..., :3]), where=area[..., None] > 0)
         bounced = np.maximum(blocked, 0.0)
-        terms["blocked"] += bounced.reshape(3, -1).sum(1)
+        cells["blocked"] += bounced
         reflected = np.moveaxis(albedo, -1, 0) * bounced
         lobes = cosine_lobe(_reflection_normals(blockers, axis, sign), order)
         per_watt = lobes / (K.SH_FLUX_FACTOR * lobes[..., :1])
         reflected_back += reflected[..., None] * per_watt
-        terms["reflected"] += reflected.reshape(3, -1).sum(1)
-    return delivered, reflected_back, terms
+        cells["reflected"] += reflected
+    return delivered, reflected_back, cells, propagated
 
 
 def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
@@ -379,18 +396,48 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
     the flux the geometry volume blocks on the five faces, clamp+, times the shared face's
     area-weighted mean albedo (``geometry_albedo`` sums), goes back into the source cell as
     a cosine lobe (of the grid's order) around the blockers' normal."""
+    out, cells, propagated = _step_with_cells(grid, corrections, geometry, geometry_albedo,
+                                              bounces)
+    terms = {name: value.reshape(3, -1).sum(1) for name, value in cells.items()
+             if name != "received"}
+    return out, {"propagated": propagated, **terms}
+
+
+def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = None,
+                           geometry: np.ndarray | None = None,
+                           geometry_albedo: np.ndarray | None = None, bounces: int = 1
+                           ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """One step P(grid) and its audit record per cell (:data:`CELL_TERMS`, each
+    (3, N, N, N) watts), as ``shaders/propagate.glsl`` writes it for the cell whose
+    invocation computes it: ``received`` the flux of the cell's new value (everything the
+    step delivered into it, reflections included); ``border_loss`` the flux the cell sent
+    out of the grid (border cells only); ``clamp_gain`` and ``occluded`` those of the
+    faces the cell gathered through, and of the faces it sent out of the grid;
+    ``reflected`` and ``blocked`` (``bounces`` 2) those of the light the cell sent. Summed
+    over the cells they are :func:`propagation_step`'s terms, and ``received`` sums to
+    the flux of the new grid."""
+    out, cells, _ = _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces)
+    return out, cells
+
+
+def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces):
+    """(P(grid), the per-cell terms, the propagated total (3,))."""
     corrections = corrections or Corrections()
     grid, geometry, geometry_albedo = _check_step_inputs(grid, geometry, geometry_albedo,
                                                          bounces)
     out = np.zeros_like(grid)
-    terms = {name: np.zeros(3) for name in AUDIT_TERMS}
+    n = grid.shape[1]
+    cells = {name: np.zeros((3, n, n, n)) for name in CELL_TERMS}
+    propagated = np.zeros(3)
     for axis, sign in DIRECTIONS:
-        delivered, reflected, direction_terms = _direction_step(
+        delivered, reflected, direction_cells, direction_propagated = _direction_step(
             grid, axis, sign, corrections, geometry, geometry_albedo, bounces == 2)
         out += delivered + reflected
-        for name in AUDIT_TERMS:
-            terms[name] += direction_terms[name]
-    return out, terms
+        propagated += direction_propagated
+        for name, value in direction_cells.items():
+            cells[name] += value
+    cells["received"] = K.SH_FLUX_FACTOR * out[..., 0]
+    return out, cells, propagated
 
 
 def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
@@ -423,10 +470,10 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
     own = np.zeros_like(before)
     reads = []
     for axis, sign in DIRECTIONS:
-        old, reflected, _ = _direction_step(before, axis, sign, corrections, geometry,
-                                            geometry_albedo, bounces == 2)
-        new, _, _ = _direction_step(after, axis, sign, corrections, geometry,
-                                    geometry_albedo, False)
+        old, reflected, _, _ = _direction_step(before, axis, sign, corrections, geometry,
+                                               geometry_albedo, bounces == 2)
+        new, _, _, _ = _direction_step(after, axis, sign, corrections, geometry,
+                                       geometry_albedo, False)
         own += reflected
         reads.append((old, new))
     candidates = np.empty((2 ** len(DIRECTIONS),) + before.shape)

@@ -7,9 +7,11 @@ exact derivation). Images and maps are arrays with row 0 at the top, as
 :class:`~explorer.lpv.frame.FrameResult` holds them; a pixel ``(row, column)`` of an
 ``H``-row image is GL texel ``(column, H − 1 − row)``.
 
-* :func:`light_map_reaches`: the shadow-map test of ``shaders/light_map.glsl``;
-* :func:`camera_surfels`: the G-buffer pixels that become occluder surfels, with their
-  areas (``CAMERA_SURFELS`` in ``shaders/geometry_inject.glsl``);
+* :class:`ViewLight` and :class:`LightMap`: one RSM view's light (``light_arrival`` of
+  ``shaders/light_records.glsl``) and its shadow map; :func:`light_map_reaches`: the
+  shadow-map test of ``shaders/light_map.glsl``;
+* :func:`camera_surfels`: the G-buffer pixels that become occluder surfels (those no view
+  holds), with their areas (``CAMERA_SURFELS`` in ``shaders/geometry_inject.glsl``);
 * :func:`lobe_radiance`: the LPV's radiance through a Henyey–Greenstein lobe
   (``shaders/lpv_lobe.glsl``), the building block of the next two;
 * :func:`march_fog`: the fog's transmittance and in-scattered radiance along view rays
@@ -19,6 +21,7 @@ exact derivation). Images and maps are arrays with row 0 at the top, as
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,7 +42,7 @@ FOG_BIAS_TEXELS = 1.0
 
 @dataclass(frozen=True)
 class LightMap:
-    """The light's shadow map as the reference reads it: ``view`` and ``projection``
+    """One RSM view's shadow map as the reference reads it: ``view`` and ``projection``
     (4×4, world → clip), whether it is orthographic, a texel's edge at depth 1 (spot) or in
     world units (``LightView.texel_world_size``), and the RSM's position ``(H, W, 4)``
     (w = seen) and normal ``(H, W, 4)`` (w = view depth) arrays, row 0 at the top."""
@@ -57,6 +60,80 @@ class LightMap:
         return cls(np.asarray(light.view, np.float64), np.asarray(light.projection, np.float64),
                    bool(light.orthographic), float(light.texel_world_size),
                    np.asarray(position), np.asarray(normal))
+
+
+@dataclass(frozen=True)
+class ViewLight:
+    """The light of one RSM view, as the gather and the fog see it
+    (``light_arrival`` in shaders/light_records.glsl): a spot (``position``, ``axis``,
+    ``intensity`` Φ_L/(4π), its cone's cosines or None), one face of a point light
+    (``axis`` the face's axis: it lights only the points whose direction from the light
+    falls in that face), or a directional light (``axis`` its direction of travel,
+    ``irradiance`` E); ``colour`` scales every channel."""
+
+    kind: str
+    position: np.ndarray
+    axis: np.ndarray
+    intensity: float
+    irradiance: float
+    cone_cosines: tuple[float, float] | None
+    colour: np.ndarray
+
+    @classmethod
+    def of(cls, view) -> "ViewLight":
+        """From a :class:`~explorer.lpv.rsm.LightView`."""
+        return cls(str(view.kind), np.asarray(view.position, np.float64),
+                   np.asarray(view.direction, np.float64), float(view.intensity),
+                   float(view.irradiance),
+                   tuple(view.cone_cosines) if view.spot_cone else None,
+                   np.asarray(view.colour, np.float64))
+
+    def to_light(self, points: np.ndarray) -> np.ndarray:
+        """(P, 3) unit directions from each point towards the light."""
+        points = np.asarray(points, np.float64)
+        if self.kind == "directional":
+            return np.broadcast_to(-self.axis, points.shape)
+        offset = self.position - points
+        return offset / np.sqrt(np.maximum(np.sum(offset * offset, axis=1), 1e-12))[:, None]
+
+    def arrival(self, points: np.ndarray) -> np.ndarray:
+        """(P,) irradiance on a plane facing the light, without colour or shadow: I·f/r²
+        (spot), I/r² where this point-light face holds the point (else 0), E
+        (directional)."""
+        points = np.asarray(points, np.float64)
+        if self.kind == "directional":
+            return np.full(len(points), self.irradiance)
+        travel = points - self.position
+        distance_squared = np.maximum(np.sum(travel * travel, axis=1), 1e-12)
+        falloff = 1.0 if self.cone_cosines is None else spot_falloff(
+            (travel / np.sqrt(distance_squared)[:, None]) @ self.axis, *self.cone_cosines)
+        irradiance = self.intensity / distance_squared * falloff
+        if self.kind == "point":
+            irradiance = np.where(in_cube_face(travel, self.axis), irradiance, 0.0)
+        return irradiance
+
+
+def in_cube_face(directions: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """(P,) whether each direction falls in the cube face whose axis is ``axis``: its
+    largest |component| (ties going to x, then y, then z) is the face's, with its sign
+    (docs/MODEL.md "Several lights")."""
+    directions = np.asarray(directions, np.float64)
+    magnitude = np.abs(directions)
+    major = np.where((magnitude[:, 0] >= magnitude[:, 1]) & (magnitude[:, 0] >= magnitude[:, 2]),
+                     0, np.where(magnitude[:, 1] >= magnitude[:, 2], 1, 2))
+    face = int(np.argmax(np.abs(axis)))
+    return (major == face) & (directions[:, face] * axis[face] > 0)
+
+
+def view_lights(views, rsm_positions: Sequence[np.ndarray], rsm_normals: Sequence[np.ndarray]
+                ) -> list[tuple[ViewLight, LightMap]]:
+    """Each RSM view (:class:`~explorer.lpv.rsm.LightView`) with its shadow map, from the
+    views' own RSM position and normal arrays (row 0 at the top)."""
+    views = list(views)
+    if not len(views) == len(rsm_positions) == len(rsm_normals):
+        raise ValueError(f"{len(views)} views need as many RSM position and normal arrays")
+    return [(ViewLight.of(view), LightMap.of(view, position, normal))
+            for view, position, normal in zip(views, rsm_positions, rsm_normals)]
 
 
 def _homogeneous(points: np.ndarray) -> np.ndarray:
@@ -93,27 +170,25 @@ def camera_pixel_area(fov_y_degrees: float, height: int) -> float:
 
 
 def camera_surfels(position: np.ndarray, normal: np.ndarray, albedo: np.ndarray, camera,
-                   light: LightMap, light_position=None, light_direction=None
-                   ) -> VplArrays:
+                   views: Sequence[tuple["ViewLight", LightMap]]) -> VplArrays:
     """The G-buffer pixels that become occluder surfels: every pixel that shows a surface
-    the light does not reach (the shadow test with the bias (√2/2)·tan θ texels, θ the
-    angle between the normal and the light's ray, tan θ ≤ 10). Each is a "VPL" without
-    flux whose ``depth`` is its view depth from the camera and whose ``texel_area`` is the
-    pixel's area at depth 1, so :func:`explorer.lpv.reference.inject_geometry` gives it
-    the area ``pixel_area·w²``. ``light_position`` (spot) or ``light_direction``
-    (directional, the direction the light travels) fixes θ."""
+    no RSM view of ``views`` reaches (each view's shadow test with the bias (√2/2)·tan θ
+    texels, θ the angle between the normal and that view's light ray, tan θ ≤ 10). Each
+    is a "VPL" without flux whose ``depth`` is its view depth from the camera and whose
+    ``texel_area`` is the pixel's area at depth 1, so
+    :func:`explorer.lpv.reference.inject_geometry` gives it the area ``pixel_area·w²``."""
     height = position.shape[0]
     seen = position[..., 3] > 0.5
     points = np.asarray(position[seen, :3], np.float64)
     normals = np.asarray(normal[seen, :3], np.float64)
-    if light.orthographic:
-        to_light = np.broadcast_to(-np.asarray(light_direction, np.float64), points.shape)
-    else:
-        offset = np.asarray(light_position, np.float64) - points
-        to_light = offset / np.linalg.norm(offset, axis=1, keepdims=True)
-    cos_light = np.maximum(np.abs(np.sum(normals * to_light, axis=1)), 1e-6)
-    tangent = np.minimum(np.sqrt(np.maximum(1.0 - cos_light**2, 0.0)) / cos_light, MAX_SLOPE)
-    keep = ~light_map_reaches(points, light, np.sqrt(0.5) * tangent)
+    held = np.zeros(len(points), bool)
+    for light, light_map in views:
+        to_light = light.to_light(points)
+        cos_light = np.maximum(np.abs(np.sum(normals * to_light, axis=1)), 1e-6)
+        tangent = np.minimum(np.sqrt(np.maximum(1.0 - cos_light**2, 0.0)) / cos_light,
+                             MAX_SLOPE)
+        held |= light_map_reaches(points, light_map, np.sqrt(0.5) * tangent)
+    keep = ~held
     depth = -(_homogeneous(points[keep]) @ np.asarray(camera.view_matrix(), np.float64).T)[:, 2]
     return VplArrays(points[keep], normals[keep], np.zeros((int(keep.sum()), 3)), depth,
                      camera_pixel_area(camera.fov_y_degrees, height),
@@ -150,51 +225,25 @@ def lobe_radiance(grids: list[np.ndarray], specs: list[GridSpec], points: np.nda
 # --------------------------------------------------------------------------- fog
 
 
-@dataclass(frozen=True)
-class FogLight:
-    """The light as the fog sees it: a spot (``position``, ``axis``, ``intensity`` Φ_L/(4π),
-    and its cone's cosines or None) or a directional light (``axis`` its direction of
-    travel, ``irradiance`` E)."""
-
-    orthographic: bool
-    position: np.ndarray
-    axis: np.ndarray
-    intensity: float
-    irradiance: float
-    cone_cosines: tuple[float, float] | None
-
-    @classmethod
-    def of(cls, light) -> "FogLight":
-        """From a :class:`~explorer.lpv.rsm.LightView`."""
-        return cls(bool(light.orthographic), np.asarray(light.position, np.float64),
-                   np.asarray(light.direction, np.float64), float(light.intensity),
-                   float(light.irradiance),
-                   tuple(light.cone_cosines) if light.spot_cone else None)
-
-
 def hg_phase(cosine: np.ndarray, g: float) -> np.ndarray:
     """Henyey–Greenstein phase function, normalised over the sphere (1/(4π) at g = 0)."""
     denominator = 1.0 + g * g - 2.0 * g * np.asarray(cosine, np.float64)
     return K.INV_FOUR_PI * (1.0 - g * g) / denominator**1.5
 
 
-def direct_inscattering(points: np.ndarray, to_eye: np.ndarray, light: FogLight,
-                        light_map: LightMap, g: float) -> np.ndarray:
-    """(P,) ``p(<ω_l, ω_o>)·E⊥·V`` of the direct light at points in the medium."""
+def direct_inscattering(points: np.ndarray, to_eye: np.ndarray,
+                        views: Sequence[tuple[ViewLight, LightMap]], g: float) -> np.ndarray:
+    """(P, 3) ``Σ_v κ_v·p(<ω_v, ω_o>)·E⊥_v·V_v`` of the direct light of every RSM view at
+    points in the medium, each view tested against its own shadow map."""
     points = np.asarray(points, np.float64)
-    if light.orthographic:
-        travel = np.broadcast_to(light.axis, points.shape)
-        irradiance = np.full(len(points), light.irradiance)
-    else:
-        offset = points - light.position
-        distance_squared = np.maximum(np.sum(offset * offset, axis=1), 1e-12)
-        travel = offset / np.sqrt(distance_squared)[:, None]
-        falloff = 1.0 if light.cone_cosines is None else spot_falloff(
-            travel @ light.axis, *light.cone_cosines)
-        irradiance = light.intensity / distance_squared * falloff
-    visible = light_map_reaches(points, light_map, FOG_BIAS_TEXELS) & (irradiance > 0)
-    cosine = np.sum(travel * to_eye, axis=1)
-    return np.where(visible, hg_phase(cosine, g) * irradiance, 0.0)
+    total = np.zeros((len(points), 3))
+    for light, light_map in views:
+        irradiance = light.arrival(points)
+        visible = light_map_reaches(points, light_map, FOG_BIAS_TEXELS) & (irradiance > 0)
+        cosine = np.sum(-light.to_light(points) * to_eye, axis=1)
+        total += np.where(visible, hg_phase(cosine, g) * irradiance, 0.0)[:, None] \
+            * light.colour
+    return total
 
 
 def ray_box(origins: np.ndarray, directions: np.ndarray, box_min, box_max
@@ -233,11 +282,12 @@ def pixel_rays(eye, inverse_view_projection: np.ndarray, position: np.ndarray
 
 def march_fog(eye, directions: np.ndarray, distances: np.ndarray, box, grids: list[np.ndarray],
               specs: list[GridSpec], density: float, albedo: float, g: float, steps: int,
-              light: FogLight, light_map: LightMap
+              views: Sequence[tuple[ViewLight, LightMap]]
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(transmittance (P,), direct (P,), lpv (P, 3))`` of view rays from ``eye`` along
+    """``(transmittance (P,), direct (P, 3), lpv (P, 3))`` of view rays from ``eye`` along
     unit ``directions`` that end at ``distances`` (inf: never), in a medium filling
-    ``box = (min, max)`` (docs/MODEL.md "Fog"): the part of the ray inside the box,
+    ``box = (min, max)``, lit by the grids and the RSM ``views`` (:func:`view_lights`)
+    (docs/MODEL.md "Fog"): the part of the ray inside the box,
     ``[t0, t1]`` of length ℓ, split into ``steps`` equal segments ``[a, b]`` sampled at
     their midpoints, each weighted by ``α·(T(a) − T(b))``; ``T = exp(−σ_t·ℓ)``."""
     directions = np.asarray(directions, np.float64)
@@ -249,7 +299,7 @@ def march_fog(eye, directions: np.ndarray, distances: np.ndarray, box, grids: li
     path = np.maximum(t1 - t0, 0.0)
     step = path / steps
     to_eye = -directions
-    direct = np.zeros(len(directions))
+    direct = np.zeros((len(directions), 3))
     lpv = np.zeros((len(directions), 3))
     marching = path > 0
     for i in range(steps):
@@ -258,8 +308,8 @@ def march_fog(eye, directions: np.ndarray, distances: np.ndarray, box, grids: li
         if not active.any():
             continue
         points = eye + (t0[active] + (i + 0.5) * step[active])[:, None] * directions[active]
-        direct[active] += weight[active] * direct_inscattering(points, to_eye[active], light,
-                                                               light_map, g)
+        direct[active] += weight[active, None] * direct_inscattering(points, to_eye[active],
+                                                                     views, g)
         lpv[active] += weight[active, None] * lobe_radiance(grids, specs, points,
                                                             to_eye[active], g)
     return np.exp(-density * path), direct, lpv

@@ -16,11 +16,16 @@ Spot cone (docs/MODEL.md "Spot cone"). A spot with a cone radiates ``I·f(θ)``;
 frustum is ``2·θ_outer`` wide, and each texel's flux is ``c_diff·I·ρ·f(θ_c)`` with ``θ_c``
 the angle of the texel's centre direction from the axis (``f`` from shaders/spot.glsl,
 the function the direct light uses too).
+
+Several lights (docs/MODEL.md "Several lights"). Every light that shines has its own RSM
+*views* (:func:`light_views`): a spot or a directional light one, a point light six (its
+cube-map faces, each the RSM of a cone-less 90° spot of the same flux). A light's colour
+scales its flux per channel (``u_light_colour``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -29,7 +34,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
-from explorer.scene.lights import DirectionalLight
+from explorer.scene.lights import DirectionalLight, Light, PointLight
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix
 
@@ -57,6 +62,16 @@ class LightView:
     """(cos θ_inner, cos θ_outer) of the cone."""
     frustum_half_width: float = 1.0
     """Spot: t = tan(fov/2), the frustum cuts the plane at view depth 1 in [-t, t]²."""
+    colour: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    """The light's colour: its flux in channel c is the flux times colour[c]."""
+    light_index: int = 0
+    """Which of the scene's shining lights (``Scene.lights``) this view belongs to."""
+    light_name: str = "light"
+    kind: str = "spot"
+    """``"spot"``, ``"directional"`` or ``"point"`` (one face of a point light's cube)."""
+    face: int = -1
+    """A point light's face: index into ``explorer.scene.lights.CUBE_FACE_AXES`` (-1 for
+    other lights)."""
 
     @property
     def texel_world_size(self) -> float:
@@ -77,6 +92,7 @@ class LightView:
             "u_spot_cone": int(self.spot_cone),
             "u_spot_cos_inner": float(self.cone_cosines[0]),
             "u_spot_cos_outer": float(self.cone_cosines[1]),
+            "u_light_colour": tuple(map(float, self.colour)),
         }
 
     def rsm_uniforms(self) -> dict[str, object]:
@@ -87,25 +103,39 @@ class LightView:
 
 
 def light_view(scene: Scene, size: int) -> LightView:
-    """The light's matrices and radiometry for an RSM of ``size``² texels."""
-    light, lo, hi = scene.light, scene.bounds_min, scene.bounds_max
-    orthographic = isinstance(light, DirectionalLight)
-    view = light.view_matrix(lo, hi)
-    position = (light.eye(lo, hi) if orthographic else np.asarray(light.position, np.float64))
-    return LightView(
-        view=view,
-        projection=light.projection_matrix(lo, hi),
-        orthographic=orthographic,
-        position=position,
-        direction=light.direction,
-        intensity=0.0 if orthographic else light.intensity,
-        irradiance=light.irradiance(lo, hi) if orthographic else 0.0,
-        texel_area=light.texel_area(size, size, lo, hi),
-        size=int(size),
-        spot_cone=not orthographic and light.has_cone,
-        cone_cosines=(-1.0, -1.0) if orthographic else light.cone_cosines,
-        frustum_half_width=1.0 if orthographic else light.frustum_half_width,
-    )
+    """The primary light's (first) view for an RSM of ``size``² texels: the light's
+    only view, or face +x of a point light (:func:`light_views` gives every view)."""
+    return _views_of(scene.light, 0, scene, size)[0]
+
+
+def light_views(scene: Scene, size: int) -> list[LightView]:
+    """Every RSM view of the lights that shine (``Scene.lights``, primary first): one per
+    spot or directional light, six per point light (docs/MODEL.md "Several lights")."""
+    return [view for index, light in enumerate(scene.lights)
+            for view in _views_of(light, index, scene, size)]
+
+
+def _views_of(light: Light, index: int, scene: Scene, size: int) -> list[LightView]:
+    """The views of one light: its matrices and radiometry for RSMs of ``size``² texels."""
+    lo, hi = scene.bounds_min, scene.bounds_max
+    common = {"size": int(size), "colour": tuple(map(float, light.colour)),
+              "light_index": index, "light_name": light.name}
+    if isinstance(light, PointLight):
+        return [replace(_views_of(face, index, scene, size)[0], kind="point", face=k)
+                for k, face in enumerate(light.faces())]
+    if isinstance(light, DirectionalLight):
+        return [LightView(
+            view=light.view_matrix(lo, hi), projection=light.projection_matrix(lo, hi),
+            orthographic=True, position=light.eye(lo, hi), direction=light.direction,
+            intensity=0.0, irradiance=light.irradiance(lo, hi),
+            texel_area=light.texel_area(size, size, lo, hi), kind="directional", **common)]
+    return [LightView(
+        view=light.view_matrix(lo, hi), projection=light.projection_matrix(lo, hi),
+        orthographic=False, position=np.asarray(light.position, np.float64),
+        direction=light.direction, intensity=light.intensity, irradiance=0.0,
+        texel_area=light.texel_area(size, size, lo, hi), spot_cone=light.has_cone,
+        cone_cosines=light.cone_cosines, frustum_half_width=light.frustum_half_width,
+        kind="spot", **common)]
 
 
 class RsmPass:

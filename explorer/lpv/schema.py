@@ -34,12 +34,15 @@ STAGES = ("scene", "grid", "rsm", "downsample", "inject", "geometry", "propagate
 composition of the fog): changing only its fields re-runs no pass."""
 
 KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
-         "switches", "names", "nested")
+         "switches", "names", "name_set", "transforms", "nested")
 """``str``: a non-empty text; ``text``: any text (may be empty); ``size``: [width, height]
 whole numbers in [low, high]; ``range2``: a pair (first, second) of finite numbers with
 low <= first <= second <= high (``low_open``: second > low, the pair is not empty at the
 low end), e.g. a spot cone's inner and outer angle; ``switches``: a table of names to
-true/false; ``names``: a list of texts."""
+true/false; ``names``: a list of texts; ``name_set``: 1 to ``high`` different non-empty
+texts in order, held as a tuple (e.g. the lights that shine); ``transforms``: a table of
+object names to 3, 6 or 9 numbers (translation, rotation in degrees, scale:
+explorer/scene/objects.py), held as sorted ``(name, nine numbers)`` pairs."""
 WIDGETS = ("combo", "slider", "checkbox", "input")
 
 
@@ -111,6 +114,8 @@ class Spec:
                                                if self.low_open else ""))
         elif self.kind == "nested":
             text = f"a {getattr(self.nested, '__name__', 'table')}"
+        elif self.kind == "name_set":
+            text = f"a list of 1 to {_num(self.high)} different names"
         else:
             text = _ALLOWED_TEXT[self.kind]
         return text + (" or None" if self.optional else "")
@@ -144,6 +149,8 @@ _ALLOWED_TEXT = {
     "text": "a text",
     "switches": "a table of names to true/false",
     "names": "a list of texts",
+    "transforms": "a table of object names to [tx, ty, tz(, rx, ry, rz(, sx, sy, sz))] "
+                  "with finite offsets and each scale in [0.01, 100]",
     "points": "two different points [[x, y, z], [x, y, z]] of finite numbers",
 }
 """What a kind allows when that does not depend on the spec (:meth:`Spec.allowed`)."""
@@ -236,6 +243,22 @@ def _check_names(spec: Spec, value: Any):
     return names if all(isinstance(n, str) for n in names) else _REFUSED
 
 
+def _check_name_set(spec: Spec, value: Any):
+    names = _check_names(spec, value)
+    if names is _REFUSED or not names or len(set(names)) != len(names) or \
+            not all(name.strip() for name in names) or \
+            (spec.high is not None and len(names) > spec.high):
+        return _REFUSED
+    return tuple(names)
+
+
+def _check_transforms(spec: Spec, value: Any):
+    from explorer.scene.objects import check_transforms
+
+    checked = check_transforms(value)
+    return _REFUSED if checked is None else checked
+
+
 def _check_choice(spec: Spec, value: Any):
     for choice in spec.choices:
         if type(value) is type(choice) and value == choice:
@@ -272,7 +295,8 @@ _CHECKERS = {"int": _check_int, "float": _check_float, "bool": _check_bool,
              "str": _check_str, "text": _check_text, "choice": _check_choice,
              "points": _check_points, "size": _check_size, "range2": _check_range2,
              "switches": _check_switches,
-             "names": _check_names, "nested": _check_nested}
+             "names": _check_names, "name_set": _check_name_set,
+             "transforms": _check_transforms, "nested": _check_nested}
 
 
 # -- declaring ---------------------------------------------------------------------------

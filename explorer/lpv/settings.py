@@ -20,6 +20,7 @@ from explorer.lpv.schema import (
 )
 from explorer.lpv.tonemap import TONE_MAPS
 from explorer.scene.lights import MAX_CONE_DEGREES
+from explorer.scene.model import MAX_LIGHTS
 
 
 def preset_name(corrections: Corrections) -> str:
@@ -145,6 +146,12 @@ class Settings:
         label="Cascade focus", group="Cascades", stages=("grid",),
         doc="Where the cascades are centred on the camera's line of sight: 0 = at the "
             "eye, 1 = at the camera's target (each cascade then snaps to its own cells).")
+    cascade_snap: bool = setting(
+        True, kind="bool", flag="--cascade-snap", widget="checkbox", label="Snap to cells",
+        group="Cascades", stages=("grid",),
+        doc="Snap each cascade to the lattice of its own cells, so that a moving camera "
+            "moves it by whole cells only; off: centred exactly on the focus point (the "
+            "light swims as the camera moves; `lpv-explorer stability` measures it).")
     cascade_iterations: str = setting(
         "same", kind="choice", choices=CASCADE_ITERATIONS, flag="--cascade-iterations",
         widget="combo", label="Cascade iterations", group="Cascades",
@@ -171,11 +178,26 @@ class Settings:
         doc="(eye, target) in world units; None = the scene's default camera.")
     light: tuple[tuple[float, float, float], tuple[float, float, float]] | None = setting(
         None, kind="points", optional=True, stages=("rsm",),
-        doc="(position, target) of the spot light; None = the scene's default light.")
+        doc="(position, target) of the primary light (the first that shines; a point "
+            "light ignores the target); None = where the scene puts it.")
     light_flux: float | None = setting(
         None, kind="float", optional=True, low=0.0, low_open=True, high=1e12,
         stages=("rsm",),
-        doc="Total flux of the light in watts per channel; None = the scene's default.")
+        doc="Total flux of the primary light in watts per channel; None = the scene's "
+            "default.")
+    lights: tuple[str, ...] | None = setting(
+        None, kind="name_set", optional=True, high=MAX_LIGHTS, flag="--lights",
+        stages=("rsm",),
+        doc=f"Names of the scene's lights that shine, the first being the primary light "
+            f"(1 to {MAX_LIGHTS}; e.g. cornell: spot, bulb, lamp, sun); each has its own "
+            f'RSM and all inject into one grid (docs/MODEL.md "Several lights"). None = '
+            f"the scene's own choice.")
+    object_transforms: tuple[tuple[str, tuple[float, ...]], ...] = setting(
+        (), kind="transforms", flag="--object", stages=("scene",),
+        doc="Moved objects: object name -> [tx, ty, tz, rx, ry, rz, sx, sy, sz] "
+            "(translation, rotation in degrees about x then y then z, scale; about the "
+            "object's pivot, explorer/scene/objects.py); 3 or 6 numbers leave the rest "
+            "unchanged. The RSM, the G-buffer and everything after them follow.")
     debug_nan: bool = setting(
         False, kind="bool", flag="--debug-nan", label="Check passes for NaN/Inf",
         widget="checkbox", group="Output",

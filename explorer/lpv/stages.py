@@ -64,17 +64,19 @@ class StageDecl:
 
 
 DECLARATIONS: dict[str, StageDecl] = {decl.name: decl for decl in (
-    StageDecl("scene", (), "loads the mesh (once per scene name)", gpu=False),
+    StageDecl("scene", (), "loads the mesh (once per scene name) and poses its objects "
+              "(writes the moved ones' corners)", gpu=False),
     StageDecl("grid", ("scene",), "the GridSpec of each cascade: the grid enclosing the "
               "scene, or the cascades around the camera's focus point", by_value=True,
               gpu=False),
-    StageDecl("rsm", ("scene",), "the reflective shadow map of the (overridden) light"),
+    StageDecl("rsm", ("scene",), "a reflective shadow map per view of every light that "
+              "shines (a point light has six), and their atlas"),
     StageDecl("downsample", ("rsm", "grid"), "the VPLs: the RSM texels, merged blocks of "
               "them, or hand-made VPLs"),
     StageDecl("inject", ("downsample", "grid"), "VPLs -> SH light grid of every cascade"),
     StageDecl("geometry", ("downsample", "grid"), "the geometry volume of every cascade "
               "(occluders: the RSM texels, or hand-made VPLs; with camera occluders also the "
-              "G-buffer's pixels the light does not see)",
+              "G-buffer's pixels no RSM view sees)",
               upstream_when=(("gbuffer", "uses_camera_occluders"),)),
     StageDecl("propagate", ("inject", "geometry"), "iterations steps in every cascade "
               "(+ the energy audit on request)"),

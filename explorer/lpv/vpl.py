@@ -55,6 +55,22 @@ class VplArrays:
     def count(self) -> int:
         return int(np.asarray(self.positions).shape[0])
 
+    @classmethod
+    def concatenate(cls, sets: list["VplArrays"]) -> "VplArrays":
+        """Every VPL of ``sets`` in one set (several lights' VPLs: docs/MODEL.md "Several
+        lights"). ``texel_area`` and ``projection`` are the first set's, so
+        :meth:`surfel_area` is right for its VPLs only; the albedo is kept when every set
+        has one."""
+        if not sets:
+            raise ValueError("no VPL sets to concatenate")
+
+        def stack(name: str) -> np.ndarray:
+            return np.concatenate([np.asarray(getattr(v, name)) for v in sets])
+
+        albedo = stack("albedo") if all(v.albedo is not None for v in sets) else None
+        return cls(stack("positions"), stack("normals"), stack("flux"), stack("depth"),
+                   sets[0].texel_area, sets[0].projection, albedo)
+
     def surfel_area(self, squared: bool) -> np.ndarray:
         """World area of each VPL's surfel (annotations §5): ``texel_area·depth²``, or
         ``texel_area·depth`` when ``squared`` is False (the published bug); orthographic

@@ -24,8 +24,9 @@ import math
 import numpy as np
 
 from explorer.scene.camera import Camera
-from explorer.scene.lights import DirectionalLight
+from explorer.scene.lights import DirectionalLight, PointLight, flux_for_irradiance
 from explorer.scene.model import MeshBuilder, Scene
+from explorer.scene.paths import KeyframePath, catmull_rom
 
 PITCH = 3.0
 """Distance between neighbouring columns along x."""
@@ -332,9 +333,16 @@ def atrium() -> Scene:
     hi = (END_WALL_X + WALL_THICKNESS, HEIGHT, BACK_WALL_Z + WALL_THICKNESS)
     sun_irradiance = 2.0
     side = 2.0 * DirectionalLight.half_width(lo, hi)
-    sun = DirectionalLight(SUN_FROM, (0.0, 0.0, 0.0), sun_irradiance * side * side)
+    sun = DirectionalLight(SUN_FROM, (0.0, 0.0, 0.0), sun_irradiance * side * side,
+                           name="sun")
+    # warm lamps under the two ground arcades, off by default (Settings.lights)
+    lamps = tuple(PointLight((x, 2.6, sign * (ARCADE_Z + 1.5)), flux_for_irradiance(2.0, 1.5),
+                             name=name, colour=(1.0, 0.7, 0.4))
+                  for name, x, sign in (("lamp north", -4.5, -1.0), ("lamp south", 4.5, 1.0)))
     eye, target = FLY_THROUGH[0]
-    return Scene("atrium", positions, normals, albedo, Camera(eye, target, 60.0), sun, lo, hi)
+    return Scene("atrium", positions, normals, albedo, Camera(eye, target, 60.0),
+                 (sun, *lamps), lo, hi, lights_on=("sun",), light_path=SUN_PATH,
+                 camera_path=FLY_THROUGH_PATH)
 
 
 # --- fly-through ----------------------------------------------------------------------------
@@ -351,20 +359,12 @@ FLY_THROUGH: tuple[tuple[tuple[float, float, float], tuple[float, float, float]]
 )
 """Keyframes (eye, target) of a closed loop around the courtyard, at the heights of a
 walker and a little above; :func:`fly_through` interpolates them."""
-
-
-def catmull_rom(points: np.ndarray, t: float | np.ndarray) -> np.ndarray:
-    """The closed uniform Catmull-Rom spline through ``points`` (K, D) at ``t`` in [0, 1)
-    (one K-th per segment): it passes through every point and its velocity is continuous
-    (C¹), so a camera on it never jerks."""
-    points = np.asarray(points, np.float64)
-    count = len(points)
-    s = np.asarray(t, np.float64) % 1.0 * count
-    index = np.floor(s).astype(int)
-    f = (s - index)[..., None]
-    p0, p1, p2, p3 = (points[(index + k) % count] for k in (-1, 0, 1, 2))
-    return 0.5 * (2 * p1 + (p2 - p0) * f + (2 * p0 - 5 * p1 + 4 * p2 - p3) * f * f
-                  + (3 * p1 - p0 - 3 * p2 + p3) * f * f * f)
+FLY_THROUGH_PATH = KeyframePath(tuple((*eye, *target) for eye, target in FLY_THROUGH), 1.0)
+"""The same keys as the scene's camera path (one loop per unit of its parameter)."""
+SUN_PATH = KeyframePath(tuple((*where, 0.0, 0.0, 0.0) for where in (
+    SUN_FROM, (10.0, 10.0, 4.0), (-3.0, 12.0, 9.0), (-10.0, 10.0, 4.0))), 60.0)
+"""The sun's path (the primary light's animation): a loop from :data:`SUN_FROM` over the
+east, back over the south wing and round the west, in a minute."""
 
 
 def fly_through(t: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -1,4 +1,5 @@
-"""The scene's triangles on the GPU, shared by the RSM and G-buffer passes."""
+"""The scene's triangles on the GPU, shared by the RSM and G-buffer passes. Moving an
+object rewrites only that object's corners (:meth:`SceneBuffers.show`)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ import moderngl
 from explorer.scene.model import Scene
 
 VERTEX_FORMAT = ("3f 3f 3f", "in_position", "in_normal", "in_albedo")
+VERTEX_BYTES = 36
+"""Bytes of one corner: position, normal, albedo (three float32 each)."""
 
 
 class SceneBuffers:
@@ -19,6 +22,25 @@ class SceneBuffers:
         self.vertex_count = len(scene.positions)
         self.buffer = ctx.buffer(scene.vertex_bytes())
         self._arrays: dict[int, moderngl.VertexArray] = {}
+        self._pose = dict(scene.pose)
+
+    def show(self, scene: Scene) -> int:
+        """Make the buffer hold ``scene``'s corners: ``scene`` is the buffer's scene posed
+        (``Scene.posed``) another way, and only the objects whose transform changed are
+        written again. Returns the number of corners written."""
+        if len(scene.positions) != self.vertex_count:
+            raise ValueError(f"scene {scene.name!r} has {len(scene.positions)} corners, the "
+                             f"buffer {self.vertex_count}: make new SceneBuffers for it")
+        pose = dict(scene.pose)
+        written = 0
+        for obj in scene.objects:
+            if pose.get(obj.name) != self._pose.get(obj.name):
+                self.buffer.write(scene.vertex_bytes(obj.first, obj.stop),
+                                  offset=obj.first * VERTEX_BYTES)
+                written += obj.count
+        self._pose = pose
+        self.scene = scene
+        return written
 
     def draw(self, program: moderngl.Program) -> None:
         key = id(program)

@@ -8,6 +8,14 @@
 * :class:`DirectionalLight`: parallel light of irradiance ``E`` (on a plane facing the
   light) through an orthographic box that holds the scene; ``flux`` is the flux through
   that box, ``E = flux / (2R)²`` with ``R`` the box's half width.
+* :class:`PointLight`: an isotropic point light of total flux ``Φ_L`` (intensity
+  ``Φ_L/(4π)`` in every direction). Its RSM is a cube map: six 90° square frusta along
+  ±x, ±y, ±z (:meth:`PointLight.faces`), each exactly the RSM of a cone-less spot light of
+  the same flux, so the six faces' texel solid angles cover the sphere once and a closed
+  room of reflectance ``c`` reflects ``c·Φ_L`` (docs/MODEL.md "Several lights").
+
+Every light has a ``name`` (unique within a scene) and a ``colour``: it radiates
+``flux·colour[c]`` in colour channel ``c`` (white: ``(1, 1, 1)``).
 """
 
 from __future__ import annotations
@@ -31,18 +39,50 @@ SPOT_FOV_DEGREES = 90.0
 MAX_CONE_DEGREES = 80.0
 """Largest outer half-angle of a spot cone: the RSM frustum is 2·outer wide, and its
 texels at the edge grow as 1/cos² of it."""
-_LightT = TypeVar("_LightT", bound="_AimedLight")
+WHITE_LIGHT = (1.0, 1.0, 1.0)
+_LightT = TypeVar("_LightT", bound="_LightBase")
+LIGHT_KINDS = ("spot", "point", "directional")
+
+
+def _check_colour(light) -> None:
+    """Normalise ``light.colour`` to three finite floats >= 0 (not all zero)."""
+    try:
+        colour = tuple(float(c) for c in light.colour)
+    except (TypeError, ValueError):
+        colour = ()
+    if len(colour) != 3 or not all(math.isfinite(c) and c >= 0.0 for c in colour) or \
+            not any(colour):
+        raise ValueError(f"light {light.name!r}: colour must be three finite numbers >= 0, "
+                         f"not all 0, got {light.colour!r}")
+    object.__setattr__(light, "colour", colour)
+
+
+class _LightBase:
+    """What every light offers: a new flux, and the flux per colour channel."""
+
+    def with_flux(self: _LightT, flux: float) -> _LightT:
+        return replace(self, flux=float(flux))
+
+    @property
+    def channel_flux(self) -> np.ndarray:
+        """(3,) ``flux·colour``: the watts of each colour channel."""
+        return float(self.flux) * np.asarray(self.colour, np.float64)
 
 
 @dataclass(frozen=True)
-class _AimedLight:
-    """What both lights share: they shine from ``position`` towards ``target`` with
-    ``flux`` watts per colour channel (white light); what the flux means is the
-    subclass's."""
+class _AimedLight(_LightBase):
+    """What the spot and the directional light share: they shine from ``position``
+    towards ``target`` with ``flux`` watts per colour channel (times ``colour``); what
+    the flux means is the subclass's."""
 
     position: tuple[float, float, float]
     target: tuple[float, float, float]
     flux: float
+    name: str = "light"
+    colour: tuple[float, float, float] = WHITE_LIGHT
+
+    def __post_init__(self) -> None:
+        _check_colour(self)
 
     @property
     def direction(self) -> np.ndarray:
@@ -51,9 +91,6 @@ class _AimedLight:
     def moved(self: _LightT, position, target) -> _LightT:
         return replace(self, position=tuple(map(float, position)),
                        target=tuple(map(float, target)))
-
-    def with_flux(self: _LightT, flux: float) -> _LightT:
-        return replace(self, flux=float(flux))
 
 
 def spot_falloff(cos_axis, cos_inner: float, cos_outer: float) -> np.ndarray:
@@ -80,8 +117,10 @@ class SpotLight(_AimedLight):
     cone_degrees: tuple[float, float] | None = None
 
     projection = "perspective"
+    kind = "spot"
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         if self.cone_degrees is None:
             return
         try:
@@ -159,6 +198,7 @@ class DirectionalLight(_AimedLight):
     through the orthographic box (``E·(2R)²``)."""
 
     projection = "orthographic"
+    kind = "directional"
 
     @staticmethod
     def half_width(bounds_min, bounds_max) -> float:
@@ -188,7 +228,55 @@ class DirectionalLight(_AimedLight):
         return side * side / (width * height)
 
 
-Light = SpotLight | DirectionalLight
+CUBE_FACE_AXES = ((1.0, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, -1.0, 0.0),
+                  (0.0, 0.0, 1.0), (0.0, 0.0, -1.0))
+"""The forward axes of a point light's six RSM faces (+x, −x, +y, −y, +z, −z)."""
+
+
+@dataclass(frozen=True)
+class PointLight(_LightBase):
+    """An isotropic point light: ``flux`` is the total flux Φ_L in watts per colour
+    channel (times ``colour``), radiated as ``Φ_L/(4π)`` W/sr in every direction."""
+
+    position: tuple[float, float, float]
+    flux: float
+    name: str = "light"
+    colour: tuple[float, float, float] = WHITE_LIGHT
+
+    projection = "perspective"
+    kind = "point"
+
+    def __post_init__(self) -> None:
+        _check_colour(self)
+
+    @property
+    def intensity(self) -> float:
+        """Radiant intensity ``Φ_L/(4π)`` [W/sr] in every direction."""
+        return self.flux / FULL_SPHERE_SR
+
+    @property
+    def target(self) -> tuple[float, float, float]:
+        """A point below the light (a point light has no direction; Settings.light's
+        ``(position, target)`` pair keeps this one)."""
+        x, y, z = self.position
+        return (x, y - 1.0, z)
+
+    def moved(self, position, target=None) -> "PointLight":
+        """The light at ``position`` (``target`` is ignored: it shines everywhere)."""
+        return replace(self, position=tuple(map(float, position)))
+
+    def faces(self) -> tuple[SpotLight, ...]:
+        """The six cube-map faces as cone-less 90° spot lights of the same flux and colour,
+        aimed along :data:`CUBE_FACE_AXES`: their frusta tile the sphere of directions, so
+        their RSMs together are the point light's (docs/MODEL.md "Several lights")."""
+        position = np.asarray(self.position, np.float64)
+        return tuple(SpotLight(tuple(map(float, position)),
+                               tuple(map(float, position + np.asarray(axis))), self.flux,
+                               name=self.name, colour=self.colour)
+                     for axis in CUBE_FACE_AXES)
+
+
+Light = SpotLight | DirectionalLight | PointLight
 
 
 def flux_for_irradiance(distance: float, irradiance: float = 2.0) -> float:

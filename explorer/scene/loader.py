@@ -17,8 +17,15 @@ import numpy as np
 
 from explorer.scene.builtin import BUILTIN_SCENES
 from explorer.scene.camera import Camera
-from explorer.scene.lights import SpotLight, flux_for_irradiance
+from explorer.scene.lights import (
+    DirectionalLight,
+    Light,
+    PointLight,
+    SpotLight,
+    flux_for_irradiance,
+)
 from explorer.scene.model import Scene, SceneError
+from explorer.scene.objects import SceneObject
 
 FALLBACK_ALBEDO = 0.6
 """Linear grey for meshes that carry no colour."""
@@ -53,8 +60,9 @@ def check_scene_name(name_or_path: str | Path) -> Path | None:
     return path
 
 
-def _read_mesh(path: Path) -> list[tuple[object, np.ndarray]]:
-    """The file's triangle meshes with their world transforms."""
+def _read_mesh(path: Path) -> list[tuple[str, object, np.ndarray]]:
+    """The file's triangle meshes with their names (scene-graph node) and world
+    transforms."""
     import trimesh
 
     if path.stat().st_size == 0:
@@ -74,9 +82,9 @@ def _read_mesh(path: Path) -> list[tuple[object, np.ndarray]]:
                 transform, geometry_name = loaded.graph[node]
                 geometry = loaded.geometry.get(geometry_name)
                 if isinstance(geometry, trimesh.Trimesh):
-                    parts.append((geometry, np.asarray(transform, np.float64)))
+                    parts.append((str(node), geometry, np.asarray(transform, np.float64)))
         elif isinstance(loaded, trimesh.Trimesh):
-            parts = [(loaded, np.eye(4))]
+            parts = [(path.stem, loaded, np.eye(4))]
         else:
             parts = []
             if hasattr(loaded, "vertices"):
@@ -98,18 +106,28 @@ def _read_mesh(path: Path) -> list[tuple[object, np.ndarray]]:
 
 def scene_from_mesh(mesh, name: str, source: str = "<mesh>") -> Scene:
     """A :class:`Scene` from a ``trimesh.Trimesh`` (or a list of ``(mesh, 4×4 transform)``
-    pairs) with a default camera and spot light."""
+    pairs or ``(name, mesh, transform)`` triples) with a default camera and light rig
+    (:func:`default_camera_and_light`, :func:`spare_lights`). Each part with triangles is
+    an object that can be moved, named after its scene-graph node."""
     parts = mesh if isinstance(mesh, list) else [(mesh, np.eye(4))]
-    soups = [_triangle_soup(part, transform, source) for part, transform in parts]
-    soups = [soup for soup in soups if soup is not None]
+    parts = [part if len(part) == 3 else (f"part {k + 1}", *part)
+             for k, part in enumerate(parts)]
+    soups, names = [], []
+    for part_name, part, transform in parts:
+        soup = _triangle_soup(part, transform, source)
+        if soup is not None:
+            soups.append(soup)
+            names.append(part_name)
     if not soups:
         raise SceneError(f"{source}: the mesh is empty (no triangles)")
     corners, normals, albedo = (np.concatenate(arrays) for arrays in zip(*soups))
+    owner = np.concatenate([np.full(len(soup[0]), k) for k, soup in enumerate(soups)])
     usable = _usable(corners)
     if not np.any(usable):
         raise SceneError(f"{source}: no triangle has a non-zero area, so no normals can be "
                          f"computed ({len(corners)} degenerate triangles)")
     corners, normals, albedo = corners[usable], normals[usable], albedo[usable]
+    objects = _objects(names, owner[usable], corners)
     face_normals = _face_normals(corners)
     missing = ~np.all(np.isfinite(normals), axis=(1, 2))
     normals[missing] = np.repeat(face_normals[missing, None, :], 3, axis=1)
@@ -122,8 +140,27 @@ def scene_from_mesh(mesh, name: str, source: str = "<mesh>") -> Scene:
     lo, hi = flat.min(axis=0), flat.max(axis=0)
     camera, light = default_camera_and_light(lo, hi)
     return Scene(name, flat.astype(np.float32), normals.reshape(-1, 3).astype(np.float32),
-                 albedo.reshape(-1, 3).astype(np.float32), camera, light,
-                 tuple(map(float, lo)), tuple(map(float, hi)))
+                 albedo.reshape(-1, 3).astype(np.float32), camera,
+                 (light, *spare_lights(lo, hi)), tuple(map(float, lo)), tuple(map(float, hi)),
+                 objects=objects, lights_on=(light.name,))
+
+
+def _objects(names: list[str], owner: np.ndarray, corners: np.ndarray
+             ) -> tuple[SceneObject, ...]:
+    """One object per part (``owner``: the part of each kept triangle, in order), named
+    after the part (a number added to a name that repeats)."""
+    objects, seen = [], {}
+    starts = np.flatnonzero(np.diff(owner, prepend=-1))
+    stops = np.append(starts[1:], len(owner))
+    for start, stop in zip(starts, stops):
+        base = names[int(owner[start])]
+        seen[base] = seen.get(base, 0) + 1
+        label = base if seen[base] == 1 else f"{base} {seen[base]}"
+        part = corners[start:stop].reshape(-1, 3)
+        pivot = 0.5 * (part.min(axis=0) + part.max(axis=0))
+        objects.append(SceneObject(label, 3 * int(start), 3 * int(stop - start),
+                                   tuple(float(v) for v in pivot)))
+    return tuple(objects)
 
 
 def _triangle_soup(mesh, transform: np.ndarray, source: str):
@@ -173,8 +210,23 @@ def default_camera_and_light(lo: np.ndarray, hi: np.ndarray) -> tuple[Camera, Sp
     distance = float(np.linalg.norm(light_position - centre))
     camera = Camera(tuple(map(float, eye)), tuple(map(float, centre)), 45.0)
     light = SpotLight(tuple(map(float, light_position)), tuple(map(float, centre)),
-                      flux_for_irradiance(distance), cone_degrees=(35.0, 45.0))
+                      flux_for_irradiance(distance), name="spot", cone_degrees=(35.0, 45.0))
     return camera, light
+
+
+def spare_lights(lo: np.ndarray, hi: np.ndarray) -> tuple[Light, ...]:
+    """The lights a loaded mesh offers besides its spot (off until ``Settings.lights``
+    names them): a warm point light above the box's centre and daylight from the front
+    left, both giving about the spot's irradiance on the box's centre."""
+    centre = 0.5 * (np.asarray(lo, np.float64) + np.asarray(hi, np.float64))
+    radius = max(0.5 * float(np.linalg.norm(np.subtract(hi, lo))), 1e-6)
+    bulb_position = centre + radius * np.array([0.0, 0.9, 0.0])
+    side = 2.0 * DirectionalLight.half_width(lo, hi)
+    sun_from = centre + radius * np.array([-1.0, 2.0, 1.5])
+    return (PointLight(tuple(map(float, bulb_position)), flux_for_irradiance(0.9 * radius),
+                       name="bulb", colour=(1.0, 0.72, 0.42)),
+            DirectionalLight(tuple(map(float, sun_from)), tuple(map(float, centre)),
+                             2.0 * side * side, name="sun", colour=(1.0, 0.95, 0.86)))
 
 
 def _file_vertex_normals(mesh, vertex_count: int) -> np.ndarray | None:

@@ -1,15 +1,28 @@
-"""A scene: a triangle soup with per-corner normals and linear albedo, a camera, a light,
-and the box the light grid must enclose."""
+"""A scene: a triangle soup with per-corner normals and linear albedo, a camera, a rig of
+lights, the objects that can move, their animation paths, and the box the light grid must
+enclose."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
+from typing import Iterable, Iterator
 
 import numpy as np
 
 from explorer.scene.camera import Camera
 from explorer.scene.lights import Light
+from explorer.scene.objects import (
+    ObjectTransform,
+    SceneObject,
+    check_transforms,
+    transform_corners,
+)
+from explorer.scene.paths import KeyframePath
+
+MAX_LIGHTS = 8
+"""Lights that may shine at once (a point light renders six RSM faces: 48 at most)."""
 
 
 class SceneError(ValueError):
@@ -26,10 +39,30 @@ class Scene:
     albedo: np.ndarray
     """(3T, 3) float32 linear diffuse reflectance in [0, 1] per corner."""
     camera: Camera
-    light: Light
+    rig: tuple[Light, ...]
+    """Every light the scene offers (a single light is accepted and made a 1-tuple);
+    :attr:`lights_on` says which shine."""
     bounds_min: tuple[float, float, float]
     bounds_max: tuple[float, float, float]
-    """The box the LPV grid encloses (at least the geometry's bounding box)."""
+    """The box the LPV grid encloses (at least the geometry's bounding box). Moving an
+    object does not move it."""
+    objects: tuple[SceneObject, ...] = ()
+    """The parts that can be moved (explorer/scene/objects.py); triangles in no object
+    stay put."""
+    lights_on: tuple[str, ...] | None = None
+    """Names of the rig's lights that shine, the first being the *primary* light (the one
+    ``Settings.light``, ``light_flux`` and ``spot_cone_degrees`` override); None: all."""
+    light_path: KeyframePath | None = None
+    """The primary light's animation: keys ``(position, target)``."""
+    object_paths: tuple[tuple[str, KeyframePath], ...] = ()
+    """Animations of objects by name: keys of nine transform numbers."""
+    camera_path: KeyframePath | None = None
+    """A camera path (keys ``(eye, target)``, one loop per unit of its parameter): the
+    atrium's fly-through."""
+    pose: tuple[tuple[str, tuple[float, ...]], ...] = ()
+    """The object transforms :meth:`posed` applied to this scene's arrays."""
+    built: "Scene | None" = field(default=None, compare=False, repr=False)
+    """The scene as built, before :meth:`posed` moved its objects (None: this one)."""
 
     def __post_init__(self) -> None:
         count = len(self.positions)
@@ -38,46 +71,166 @@ class Scene:
         for name in ("normals", "albedo"):
             if np.shape(getattr(self, name)) != (count, 3):
                 raise SceneError(f"scene {self.name!r}: {name} must have shape ({count}, 3)")
+        rig = self.rig if isinstance(self.rig, tuple) else (self.rig,)
+        object.__setattr__(self, "rig", rig)
+        names = [light.name for light in rig]
+        if not rig or len(set(names)) != len(names):
+            raise SceneError(f"scene {self.name!r} needs at least one light and unique light "
+                             f"names, got {names}")
+        _check_objects(self.name, self.objects, count)
+        if self.lights_on is not None:
+            self._check_light_names(self.lights_on, "lights_on")
+        for name, path in self.object_paths:
+            if name not in self.object_names or path.width != 9:
+                raise SceneError(f"scene {self.name!r}: the path of {name!r} must move one of "
+                                 f"its objects {self.object_names} with 9 numbers per key")
+        for path, what in ((self.light_path, "light"), (self.camera_path, "camera")):
+            if path is not None and path.width != 6:
+                raise SceneError(f"scene {self.name!r}: the {what} path needs 6 numbers per "
+                                 f"key (position/eye and target)")
 
     @property
     def triangle_count(self) -> int:
         return len(self.positions) // 3
 
-    def vertex_bytes(self) -> bytes:
-        """Interleaved ``position, normal, albedo`` float32 rows for a vertex buffer
-        (format ``"3f 3f 3f"``)."""
-        rows = np.hstack([self.positions, self.normals, self.albedo]).astype(np.float32)
-        return np.ascontiguousarray(rows).tobytes()
+    @property
+    def light_names(self) -> tuple[str, ...]:
+        """The names of every light of the rig, in order."""
+        return tuple(light.name for light in self.rig)
 
+    @property
+    def object_names(self) -> tuple[str, ...]:
+        return tuple(obj.name for obj in self.objects)
+
+    @property
+    def lights(self) -> tuple[Light, ...]:
+        """The lights that shine, primary first (:attr:`lights_on`)."""
+        if self.lights_on is None:
+            return self.rig
+        by_name = {light.name: light for light in self.rig}
+        return tuple(by_name[name] for name in self.lights_on)
+
+    @property
+    def light(self) -> Light:
+        """The primary light: the first that shines."""
+        return self.lights[0]
+
+    def vertex_bytes(self, first: int = 0, stop: int | None = None) -> bytes:
+        """Interleaved ``position, normal, albedo`` float32 rows for a vertex buffer
+        (format ``"3f 3f 3f"``), of corners ``first`` .. ``stop`` (default: all)."""
+        part = slice(first, stop)
+        rows = np.hstack([self.positions[part], self.normals[part], self.albedo[part]])
+        return np.ascontiguousarray(rows, np.float32).tobytes()
+
+    # -- lights --------------------------------------------------------------------------
+    def _check_light_names(self, names: Iterable[str], field: str) -> tuple[str, ...]:
+        names = tuple(names)
+        unknown = [name for name in names if name not in self.light_names]
+        if unknown or not names or len(set(names)) != len(names) or len(names) > MAX_LIGHTS:
+            raise SceneError(f"{field} must name 1 to {MAX_LIGHTS} different lights of scene "
+                             f"{self.name!r} ({', '.join(self.light_names)}), got "
+                             f"{list(names)}")
+        return names
+
+    def with_lights(self, names: Iterable[str] | None) -> "Scene":
+        """The scene with the lights ``names`` shining (the first is the primary); None
+        keeps the scene's own choice. A :class:`SceneError` names the rig's lights when a
+        name is not one of them."""
+        if names is None:
+            return self
+        return replace(self, lights_on=self._check_light_names(names, "lights"))
+
+    def with_primary(self, light: Light) -> "Scene":
+        """The scene with its primary light replaced by ``light`` (in the rig, by name)."""
+        primary = self.light.name
+        rig = tuple(light if entry.name == primary else entry for entry in self.rig)
+        return replace(self, rig=rig)
+
+    # -- objects -------------------------------------------------------------------------
+    def object_named(self, name: str) -> SceneObject:
+        for obj in self.objects:
+            if obj.name == name:
+                return obj
+        raise SceneError(f"scene {self.name!r} has no object {name!r}; its objects are "
+                         f"{', '.join(self.object_names) or 'none'}")
+
+    def posed(self, transforms) -> "Scene":
+        """The scene with its objects moved: ``transforms`` is ``((name, nine numbers),
+        ...)`` or a table (``Settings.object_transforms``; 3, 6 or 9 numbers each),
+        applied to the corners as built (:attr:`built`: a scene already posed is posed
+        again from those). A :class:`SceneError` names the scene's objects when a name is
+        not one of them."""
+        pairs = check_transforms(transforms or ())
+        if pairs is None:
+            raise SceneError(f"object transforms must map object names to 3, 6 or 9 numbers "
+                             f"(translation, rotation in degrees, scale), got {transforms!r}")
+        if pairs == self.pose:
+            return self
+        for name, _ in pairs:
+            self.object_named(name)
+        built = self.built if self.built is not None else self
+        if not pairs:
+            return replace(self, positions=built.positions, normals=built.normals, pose=(),
+                           built=None)
+        positions = built.positions.copy()
+        normals = built.normals.copy()
+        for name, values in pairs:
+            transform = ObjectTransform.from_values(values)
+            if transform.is_identity:
+                continue
+            obj = self.object_named(name)
+            part = slice(obj.first, obj.stop)
+            moved, turned = transform_corners(built.positions[part], built.normals[part],
+                                              transform, obj.pivot)
+            positions[part], normals[part] = moved, turned
+        return replace(self, positions=positions, normals=normals, pose=pairs, built=built)
+
+    # -- Settings ------------------------------------------------------------------------
     def with_overrides(self, camera=None, light=None, light_flux: float | None = None,
                        spot_cone: bool = True,
-                       spot_cone_degrees: tuple[float, float] | None = None) -> "Scene":
-        """The scene with ``Settings.camera`` / ``light`` / ``light_flux`` /
-        ``spot_cone_degrees`` applied (``None`` keeps the scene's own); ``spot_cone``
-        False turns a spot light's cone off (the 90° square frustum). A directional light
-        ignores the two spot arguments."""
-        scene = self
+                       spot_cone_degrees: tuple[float, float] | None = None,
+                       lights: Iterable[str] | None = None, transforms=None) -> "Scene":
+        """The scene with ``Settings.object_transforms`` (``transforms``), ``lights`` (the
+        names that shine), ``camera`` and the primary light's ``light`` / ``light_flux``
+        / ``spot_cone_degrees`` applied (``None`` keeps the scene's own); ``spot_cone``
+        False turns every spot light's cone off (the 90° square frustum). Other lights
+        ignore the spot arguments."""
+        scene = self.posed(transforms) if transforms is not None else self
+        scene = scene.with_lights(lights)
         if camera is not None:
             eye, target = camera
             scene = replace(scene, camera=replace(scene.camera, eye=tuple(map(float, eye)),
                                                   target=tuple(map(float, target))))
         if light is not None:
             position, target = light
-            scene = replace(scene, light=scene.light.moved(position, target))
+            scene = scene.with_primary(scene.light.moved(position, target))
         if light_flux is not None:
-            scene = replace(scene, light=scene.light.with_flux(light_flux))
-        if hasattr(scene.light, "with_cone"):   # a spot light
-            if not spot_cone:
-                scene = replace(scene, light=scene.light.with_cone(None))
-            elif spot_cone_degrees is not None:
-                scene = replace(scene, light=scene.light.with_cone(spot_cone_degrees))
+            scene = scene.with_primary(scene.light.with_flux(light_flux))
+        if not spot_cone:
+            scene = replace(scene, rig=tuple(entry.with_cone(None) if entry.kind == "spot"
+                                             else entry for entry in scene.rig))
+        elif spot_cone_degrees is not None and scene.light.kind == "spot":
+            scene = scene.with_primary(scene.light.with_cone(spot_cone_degrees))
         return scene
 
     def for_settings(self, settings) -> "Scene":
         """The scene with every override of ``settings`` (an ``explorer.lpv.settings.
-        Settings``) applied: camera, light, flux and the spot cone."""
+        Settings``) applied: object transforms, the lights that shine, camera, the primary
+        light's placement and flux, and the spot cones."""
         return self.with_overrides(settings.camera, settings.light, settings.light_flux,
-                                   settings.spot_cone, settings.spot_cone_degrees)
+                                   settings.spot_cone, settings.spot_cone_degrees,
+                                   settings.lights, settings.object_transforms)
+
+
+def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> None:
+    names = [obj.name for obj in objects]
+    if len(set(names)) != len(names):
+        raise SceneError(f"scene {scene!r}: object names must be unique, got {names}")
+    for obj in objects:
+        if obj.first % 3 or obj.count % 3 or obj.count <= 0 or obj.first < 0 or \
+                obj.stop > count:
+            raise SceneError(f"scene {scene!r}: object {obj.name!r} must hold whole "
+                             f"triangles within the scene's {count} corners")
 
 
 class MeshBuilder:
@@ -87,6 +240,21 @@ class MeshBuilder:
         self._positions: list[np.ndarray] = []
         self._normals: list[np.ndarray] = []
         self._albedo: list[np.ndarray] = []
+        self._corners = 0
+        self.objects: list[SceneObject] = []
+
+    @contextmanager
+    def object(self, name: str) -> Iterator[None]:
+        """Everything added inside the ``with`` block becomes the object ``name``, pivoting
+        about the centre of its bounding box."""
+        first, parts = self._corners, len(self._positions)
+        yield
+        if self._corners == first:
+            raise ValueError(f"object {name!r} holds no triangles")
+        corners = np.vstack(self._positions[parts:])
+        pivot = 0.5 * (corners.min(axis=0) + corners.max(axis=0))
+        self.objects.append(SceneObject(name, first, self._corners - first,
+                                        tuple(float(v) for v in pivot)))
 
     def quad(self, corners, albedo) -> None:
         """A planar quad; ``corners`` counter-clockwise seen from the side its normal
@@ -143,6 +311,7 @@ class MeshBuilder:
         self._positions.append(positions)
         self._normals.append(normals)
         self._albedo.append(np.tile(np.asarray(albedo, np.float64), (len(positions), 1)))
+        self._corners += len(positions)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         return tuple(np.vstack(parts).astype(np.float32)

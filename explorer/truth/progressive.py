@@ -11,6 +11,9 @@ pixel sums the same VPLs in the same order as a one-shot
 measurement's size (:func:`measured_settings`: a smaller image and RSM than the window's,
 because the reference costs pixels × VPLs), then the reference tile by tile, then the
 metrics of ``explorer/truth/metrics.py`` over the pixels that see a surface.
+
+:func:`pixel_reference` is the same reference at one pixel of a frame (a 1×1 tile at the
+frame's resolution, the frame's own VPLs): the window's picked pixel.
 """
 
 from __future__ import annotations
@@ -79,7 +82,10 @@ class ProgressiveReference:
     """The reference radiance of ``frame`` (a FrameResult), one tile per :meth:`step`."""
 
     def __init__(self, ctx, frame, visibility: bool, tile: int = 32,
-                 min_distance: float | None = None, scene=None) -> None:
+                 min_distance: float | None = None, scene=None,
+                 region: tuple[int, int, int, int] | None = None, bvh=None) -> None:
+        """``region`` (x0, y0, x1, y1): only these pixels (the others stay zero); ``bvh``:
+        the scene's prebuilt :class:`~explorer.truth.bvh.Bvh` for the shadow rays."""
         from explorer.lpv.vpl import VplTextures
         from explorer.truth.bvh import build_bvh
         from explorer.truth.gbuffer import gbuffer_from_frame, scene_for, scene_triangles
@@ -91,17 +97,26 @@ class ProgressiveReference:
         self.visibility = bool(visibility)
         self.min_distance = (0.5 * frame.grid_spec.cell_size if min_distance is None
                              else float(min_distance))
-        if scene is None and (visibility or getattr(frame, "gbuffer_position", None) is None):
+        needs_scene = (visibility and bvh is None) or getattr(frame, "gbuffer_position",
+                                                             None) is None
+        if scene is None and needs_scene:
             scene = scene_for(frame.settings)
         self.gbuffer = gbuffer_from_frame(frame, scene, ctx)
-        self.bvh = build_bvh(scene_triangles(scene)) if visibility else None
+        if visibility and bvh is None:
+            bvh = build_bvh(scene_triangles(scene))
+        self.bvh = bvh if visibility else None
         self.ray_offset = default_ray_offset(
             self.bvh.triangles if self.bvh is not None else None, self.gbuffer)
         vpls = lit_vpls(frame.vpls)
         self.vpls = VplTextures.from_arrays(ctx, vpls) if vpls.count else None
         width, height = self.gbuffer.size
         self.irradiance = np.zeros((height, width, 3), np.float32)
-        self.tiles = tiles(width, height, tile)
+        x0, y0, x1, y1 = (0, 0, width, height) if region is None else region
+        if not (0 <= x0 < x1 <= width and 0 <= y0 < y1 <= height):
+            raise ValueError(f"region {region} is not a rectangle of the {width}x{height} "
+                             "image")
+        self.tiles = [(x0 + a, y0 + b, x0 + c, y0 + d)
+                      for a, b, c, d in tiles(x1 - x0, y1 - y0, tile)]
         self.tile_size = tile
         self.done_tiles = 0
         self._pass = ReferencePass(ctx)
@@ -132,12 +147,39 @@ class ProgressiveReference:
         """Outgoing radiance a/π·E (H, W, 3) of the tiles done so far (zero elsewhere)."""
         return outgoing_radiance(self.gbuffer, self.irradiance)
 
+    def radiance_at(self, x: int, y: int) -> np.ndarray:
+        """(3,) float64 outgoing radiance a/π·E of pixel (x, y) (zero without a surface)."""
+        if not bool(np.asarray(self.gbuffer.valid)[y, x]):
+            return np.zeros(3)
+        albedo = np.asarray(self.gbuffer.albedo, np.float64)[y, x]
+        return albedo / np.pi * self.irradiance[y, x].astype(np.float64)
+
     def release(self) -> None:
         self._pass.release()
         if self.vpls is not None:
             for texture in (self.vpls.position, self.vpls.normal, self.vpls.flux):
                 texture.release()
             self.vpls = None
+
+
+def pixel_reference(ctx, frame, x: int, y: int, visibility: bool, scene=None,
+                    bvh=None) -> np.ndarray:
+    """(3,) one-bounce reference radiance of pixel (x, y) (row 0 at the top) of ``frame``
+    (a FrameResult), in the units of ``frame.indirect``: every lit VPL of the frame
+    gathered at that pixel's surface point, with shadow rays when ``visibility``. The
+    pixel is a 1×1 tile of the frame's own image, so it sums the same VPLs in the same
+    order as the full reference image (:func:`~explorer.truth.render.reference_for_frame`)
+    and equals its pixel."""
+    height, width = frame.final_image.shape[:2]
+    if not (0 <= x < width and 0 <= y < height):
+        raise ValueError(f"pixel ({x}, {y}) is outside the {width}x{height} frame")
+    reference = ProgressiveReference(ctx, frame, visibility, tile=1, scene=scene,
+                                     region=(int(x), int(y), int(x) + 1, int(y) + 1), bvh=bvh)
+    try:
+        reference.step()
+        return reference.radiance_at(int(x), int(y))
+    finally:
+        reference.release()
 
 
 @dataclass(frozen=True)

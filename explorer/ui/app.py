@@ -27,7 +27,7 @@ import numpy as np
 
 from explorer.gl.window import Window
 from explorer.lpv.settings import PRESETS, Settings, preset_name
-from explorer.ui import persist, theme
+from explorer.ui import animation, persist, theme
 from explorer.ui.images import write_png
 from explorer.ui.state import AppState, default_screenshot_path, fit_window_size
 
@@ -158,7 +158,7 @@ class App:
         """Process events and draw one frame; False once the window should close.
 
         ``capture``: keep the drawn frame (panels included) in :attr:`last_pixels`."""
-        from imgui_bundle import imgui
+        from imgui_bundle import imgui, imguizmo
 
         start = time.perf_counter()
         self.window.poll_events()
@@ -171,11 +171,13 @@ class App:
             return True
         if not self.state.runtime.gl_problem:
             self._hot_reload()
+            animation.tick(self.state)       # playing paths and fly-through: new Settings
             self._update_pipelines()
             self._background_tasks()
         imgui.backends.opengl3_new_frame()
         imgui.backends.glfw_new_frame()
         imgui.new_frame()
+        imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
         imgui.render()
         width, height = self.window.framebuffer_size
@@ -308,7 +310,7 @@ class App:
         if self._run_side("A", keep_steps):
             rt.final_texture_id = self._pipelines["A"].final_texture.glo
         if self.state.comparing:
-            if self._run_side("B", False):
+            if self._run_side("B", self.state.overlays.needs_steps):
                 rt.compare_texture_id = self._pipelines["B"].final_texture.glo
         self._update_side_exposures()
 
@@ -416,8 +418,12 @@ class App:
                 scene = load_scene(scene_name)
             except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
+        rt.scene = None if scene is None else (scene_name, scene)
         rt.camera_default = _eye_target(getattr(scene, "camera", None))
-        light = getattr(scene, "light", None)
+        try:     # the primary light of the lights that shine (Settings.lights)
+            light = scene.with_lights(self.state.settings.lights).light
+        except Exception:  # noqa: BLE001 - no scene, or lights it does not have
+            light = getattr(scene, "light", None)
         rt.light_default = _eye_target(light)
         rt.light_flux_default = getattr(light, "flux", None)
         rt.light_cone_default = getattr(light, "cone_degrees", None)
@@ -426,8 +432,9 @@ class App:
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
             return
-        # A new scene starts from its own camera and light.
-        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None)
+        # A new scene starts from its own camera, lights and objects.
+        self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None,
+                          lights=None, object_transforms=())
         self.state.notify(f"opening {name_or_path}")
 
     def _update_side_exposures(self) -> None:

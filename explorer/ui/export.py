@@ -9,23 +9,36 @@ waits for the Error panel's measurement, up to ``wait_s`` seconds.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 SETTLE_FRAMES = 4
 """Frames drawn after everything is ready (layout, textures uploaded in the last one)."""
 
 
+@dataclass(frozen=True)
+class ExportedStep:
+    """A written step: the PNG and where the 3D view's image lies in it."""
+
+    path: Path
+    view_rect: tuple[int, int, int, int] | None
+    """(x0, y0, x1, y1) pixels of the PNG (row 0 at the top) the view's image covers."""
+
+
 def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height: int = 900,
-                wait_s: float = 600.0, try_this: int | None = None) -> Path:
+                wait_s: float = 600.0, try_this: int | None = None,
+                overlays: bool = True) -> ExportedStep:
     """Open a hidden window at ``lesson_id`` step ``step`` (with its ``try_this``-th
     button pressed, 1-based, when given), draw until the step is ready, write the window
-    to ``out``. Raises WindowError without a display, KeyError/IndexError for a lesson,
-    step or try-this that does not exist, TimeoutError when the frame never comes."""
+    to ``out``. ``overlays`` False: the step without the in-scene overlays its
+    ``[steps.show]`` table sets (what the main view shows without them). Raises
+    WindowError without a display, KeyError/IndexError for a lesson, step or try-this that
+    does not exist, TimeoutError when the frame never comes."""
     from explorer.lessons import find_lesson, load_all
     from explorer.ui.app import App, write_png
     from explorer.ui.article import uses_error
     from explorer.ui.panels.error import error_service
-    from explorer.ui.state import AppState
+    from explorer.ui.state import AppState, OverlayState
 
     lessons, _ = load_all()
     lesson = find_lesson(lesson_id, lessons)
@@ -45,6 +58,8 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
             app.frame()
             frames += 1
             rt = app.state.runtime
+            if not overlays and app.state.overlays.any_shown:
+                app.state.overlays = OverlayState()     # the step as if it showed none
             if not pressed and frames == SETTLE_FRAMES:
                 from explorer.ui.lesson_panel import current_screen, show_screen
 
@@ -67,6 +82,8 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                                    f"{wait_s:g} s")
         app.frame(capture=True)
         write_png(app.last_pixels, out)
+        rect = app.state.runtime.view_rect
     finally:
         app.close()
-    return Path(out)
+    return ExportedStep(Path(out), None if rect is None else tuple(int(round(v))
+                                                                     for v in rect))

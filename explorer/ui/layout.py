@@ -23,6 +23,7 @@ from imgui_bundle.imgui import internal
 from explorer.ui.panels.compare import gui_compare
 from explorer.ui.panels.corrections import gui_corrections
 from explorer.ui.panels.inspect import gui_inspect
+from explorer.ui.panels.lights import gui_lights
 from explorer.ui.panels.messages import gui_messages, gui_shaders
 from explorer.ui.panels.picked import gui_picked
 from explorer.ui.panels.plots import gui_plots
@@ -53,6 +54,7 @@ PANELS: list[Panel] = [
     Panel("Lesson", gui_article, "article", window_class=ARTICLE_CLASS),
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
+    Panel("Lights & objects", gui_lights, "left-bottom"),
     Panel("Compare", gui_compare, "left-bottom"),
     Panel("Show in scene", gui_show_in_scene, "right"),   # first: the tab shown at start
     Panel("Inspect", gui_inspect, "right"),

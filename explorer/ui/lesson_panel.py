@@ -6,12 +6,15 @@ configuration saved while a lesson step is applied, the try-this on screen) live
 :class:`LessonSession`, a plain object with no imgui in it, so navigation,
 apply/try/leave/return are tested headlessly.
 
-"Apply this step" saves the reader's configuration (settings of A and B, view mode) the
-first time, then shows the step: its scene, settings and corrections on top of the
-reader's own settings (window size, exposure and the like are kept), the compare preset
-as configuration B for split/difference steps, the inspect source for RSM and grid views,
-and the step's plot tab. "Leave lesson settings" restores the saved configuration and
-"Back to the lesson" applies the step again.
+"Apply this step" saves the reader's configuration (settings of A and B, view mode, the
+in-scene overlays) the first time, then shows the step: its scene, settings and
+corrections on top of the reader's own settings (window size, exposure and the like are
+kept), the compare preset as configuration B for split/difference steps, the overlays its
+``[steps.show]`` table sets (nothing else drawn or picked), the inspect source for RSM and
+grid views, and the step's plot tab. "Leave lesson settings" restores the saved
+configuration and "Back to the lesson" applies the step again. Overlays the reader turns
+on while a step is shown stay through its try-this buttons (they change settings, not
+what is drawn) until the step changes.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from explorer.lessons import (
     find_lesson,
     load_all,
 )
+from explorer.overlay_params import OverlayState
 from explorer.lpv.settings import Settings
 
 INSPECT_VIEWS = ("rsm-position", "rsm-normal", "rsm-flux", "grid-slice", "geometry-volume",
@@ -49,6 +53,9 @@ class Screen:
     compare_overrides: tuple = ()
     """Fields (other than the corrections) in which configuration B differs from A: a
     try-this shown as before | after."""
+    overlays: OverlayState | None = None
+    """What the main view draws in the scene (a private copy; None: not part of this
+    screen, the window's overlays stay as they are)."""
 
 
 def step_screen(step: Step, own: Screen) -> Screen:
@@ -67,7 +74,7 @@ def step_screen(step: Step, own: Screen) -> Screen:
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
                   view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
-                  plot=step.plot)
+                  plot=step.plot, overlays=step.overlays(own.overlays))
 
 
 def try_screen(step: Step, index: int, own: Screen) -> Screen:
@@ -101,8 +108,13 @@ def shows_step(settings: Settings, step: Step) -> bool:
 
 
 def step_caption(step: Step) -> str:
-    """Where to look for this step, in words (shown above the step's text)."""
-    if step.view in INSPECT_VIEWS:
+    """Where to look for this step, in words (shown above the step's text): the main
+    view and what it draws in the scene when the step shows overlays, else the step's
+    view (an Inspect source, the split or difference view, a buffer)."""
+    drawn = overlay_words(step.overlays())
+    if drawn:
+        where = f"the main view ({drawn})"
+    elif step.view in INSPECT_VIEWS:
         where = f"the {step.view} view in the Inspect panel"
     elif step.view in COMPARE_VIEWS:
         where = f"the {step.view} view: this step against the {step.compare_preset} preset"
@@ -114,6 +126,39 @@ def step_caption(step: Step) -> str:
     if step.plot:
         parts.append(f"the {step.plot} plot")
     return " and ".join(parts) + "."
+
+
+_SLICE_WORDS = {"intensity": "the intensity of acc_N", "flux": "the flux per cell of acc_N",
+                "in-flight": "the light in flight after step {t}"}
+_INJECTED_WORDS = "the injected light, before any step"
+
+
+def overlay_words(overlays: OverlayState) -> str:
+    """What ``overlays`` draw in the scene, in words ("" when nothing is drawn)."""
+    o, parts = overlays, []
+    if o.slice:
+        what = _SLICE_WORDS.get(o.slice_quantity, f"SH coefficient {o.slice_quantity[2:]}")
+        if o.slice_quantity == "in-flight" and o.slice_step == 0:
+            what = _INJECTED_WORDS
+        parts.append(f"a {o.slice_axis} slice through the grid showing "
+                     + what.format(t=o.slice_step))
+    if o.glyphs:
+        parts.append("SH glyphs " + ("around the picked cell" if o.glyph_cells == "picked"
+                                     else "on the slice" if o.slice
+                                     else f"on one {o.slice_axis} layer of cells"))
+    if o.vpls:
+        parts.append("the VPLs as discs")
+    if o.blockers:
+        parts.append("the geometry volume's blockers")
+    if o.lattice:
+        parts.append("the cell lattice")
+    if o.cascade_boxes:
+        parts.append("every cascade's extent")
+    if o.picked_kind != "none" and not (o.glyphs and o.glyph_cells == "picked"):
+        parts.append(f"a picked {o.picked_kind} (Picked panel)")
+    if len(parts) > 1:
+        return ", ".join(parts[:-1]) + " and " + parts[-1]
+    return parts[0] if parts else ""
 
 
 @dataclass
@@ -178,16 +223,18 @@ class LessonSession:
 
     def apply(self, current: Screen) -> Screen:
         """The configuration for the current step; the first apply saves ``current`` as
-        the reader's own configuration."""
+        the reader's own configuration. Applied again while the step is on screen (a
+        try-this undone), the overlays on screen stay."""
         step = self.step
         if step is None:
             raise RuntimeError("no lesson is open")
         if self.saved is None:
-            self.saved = current
+            self.saved = _own_copy(current)
+        same = self.applied_step == (self.lesson.id, step.number)
         self.applied_step = (self.lesson.id, step.number)
         self.left = False
         self.tried = None
-        return step_screen(step, self.saved)
+        return _keep_overlays(step_screen(step, self.saved), current, same)
 
     def apply_try(self, index: int, current: Screen) -> Screen:
         """The step with its ``index``-th try-this applied (the step is applied first if
@@ -198,9 +245,10 @@ class LessonSession:
         if not 1 <= index <= len(step.try_this):
             raise IndexError(f"step {step.number} has try-this 1..{len(step.try_this)}, "
                              f"not {index}")
+        same = self.applied_step == (self.lesson.id, step.number)
         self.apply(current)
         self.tried = index
-        return try_screen(step, index, self.saved)
+        return _keep_overlays(try_screen(step, index, self.saved), current, same)
 
     def toggle_try(self, index: int, current: Screen) -> Screen:
         """One click on a try-this button: apply it, or undo it when it is on screen."""
@@ -222,6 +270,21 @@ class LessonSession:
         return restored
 
 
+def _own_copy(screen: Screen) -> Screen:
+    """``screen`` with a private copy of its overlays (the window edits them in place)."""
+    if screen.overlays is None:
+        return screen
+    return replace(screen, overlays=replace(screen.overlays))
+
+
+def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
+    """``screen`` with the overlays on screen now when the step stays the same (the
+    reader's additions survive a try-this), else as the step sets them."""
+    if not same_step or current.overlays is None:
+        return screen
+    return replace(screen, overlays=replace(current.overlays))
+
+
 # --- imgui ---------------------------------------------------------------------------------
 
 _SESSION_ATTRIBUTE = "lesson_session"
@@ -237,15 +300,18 @@ def session_of(state: Any) -> LessonSession:
 
 
 def current_screen(state: Any) -> Screen:
+    overlays = getattr(state, "overlays", None)
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
                   view_mode=state.view_mode,
                   view_buffer=getattr(state, "view_buffer", "final"),
-                  compare_overrides=tuple(getattr(state, "compare_overrides", ())))
+                  compare_overrides=tuple(getattr(state, "compare_overrides", ())),
+                  overlays=None if overlays is None else replace(overlays))
 
 
 def show_screen(state: Any, screen: Screen) -> None:
     """Put ``screen`` into the app state (settings of A and B, view mode and buffer,
-    inspect source, plot tab)."""
+    in-scene overlays, inspect source, plot tab). Overlays bring the Show in scene panel
+    forward (its controls), else an inspect source brings the Inspect panel."""
     state.settings = screen.settings
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
@@ -254,8 +320,16 @@ def show_screen(state: Any, screen: Screen) -> None:
     if hasattr(state, "view_buffer"):
         state.view_buffer = screen.view_buffer
     focus = []
+    drawn = screen.overlays is not None and screen.overlays.any_shown
+    if screen.overlays is not None and hasattr(state, "overlays"):
+        state.overlays = replace(screen.overlays)
     if screen.inspect_source is not None and hasattr(state, "inspect"):
         state.inspect.source = screen.inspect_source
+    if drawn:
+        focus.append("Show in scene")
+        if screen.overlays.picked_kind != "none" and screen.plot is None:
+            focus.append("Picked")
+    elif screen.inspect_source is not None and hasattr(state, "inspect"):
         focus.append("Inspect")
     if hasattr(state, "runtime"):
         from explorer.ui.panels.error import want_measurement

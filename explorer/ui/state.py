@@ -17,6 +17,15 @@ from typing import Any
 
 from explorer.lpv.schema import setting, validate
 from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS, PRESETS, Settings
+from explorer.overlay_params import (  # noqa: F401 - the overlays' names, re-exported
+    COLOUR_MAPS,
+    GLYPH_CELLS,
+    GLYPH_SIZINGS,
+    PICK_KINDS,
+    SLICE_AXES,
+    SLICE_QUANTITIES,
+    OverlayState,
+)
 
 VIEW_MODES = ("single", "split", "difference")
 """single: configuration A; split: A left | B right with a draggable divider;
@@ -79,115 +88,6 @@ class InspectState:
         validate(self)
 
 
-# --- overlays: what the main view draws in the scene (explorer/ui/overlays) -------------
-SLICE_AXES = ("x", "y", "z")
-SLICE_QUANTITIES = ("intensity", "flux", "in-flight", "sh0", "sh1", "sh2", "sh3", "sh4", "sh5",
-                    "sh6", "sh7", "sh8")
-"""What the slice plane shows per cell, the mean of the three colour channels:
-intensity toward a chosen direction [W/sr] of acc_N; flux 2√π·c0 [W] of acc_N; in-flight:
-the flux of grid_t, the light still travelling after t steps; sh<k>: coefficient k of acc_N
-(sh4..sh8 exist only with sh_order 2)."""
-COLOUR_MAPS = ("auto", "heat", "diverging")
-"""auto: diverging (blue < 0 < orange) for signed quantities (sh1..sh8), heat otherwise."""
-GLYPH_CELLS = ("slice", "picked")
-"""Where SH glyphs are drawn: every cell of the slice (thinned to stay readable) or the
-picked cell and its 26 neighbours."""
-GLYPH_SIZINGS = ("linear", "sqrt", "equal")
-"""Each glyph keeps its lobe's shape (radius ∝ |f(ω)|); its overall size grows with its
-peak value linearly, with the square root of it (dim cells stay visible), or not at all."""
-PICK_KINDS = ("none", "pixel", "cell")
-
-
-@dataclass
-class OverlayState:
-    """The main view's in-scene overlays (the "Show in scene" panel) and the picked point;
-    persisted, so every field is declared and checked by the settings schema."""
-
-    slice: bool = setting(False, kind="bool", doc="Draw the slice plane.")
-    slice_axis: str = setting("z", kind="choice", choices=SLICE_AXES,
-                              doc="The axis the slice plane is normal to.")
-    slice_index: int = setting(-1, kind="int", low=-1, high=MAX_GRID_SIZE - 1,
-                               doc="Cell layer along the axis; -1 = the middle one.")
-    slice_quantity: str = setting("intensity", kind="choice", choices=SLICE_QUANTITIES,
-                                  doc="What the slice shows per cell.")
-    slice_step: int = setting(0, kind="int", low=0, high=MAX_ITERATIONS << (MAX_CASCADES - 1),
-                              doc='The step t of "in-flight".')
-    direction_azimuth: float = setting(0.0, kind="float", low=-180.0, high=180.0, unit="°",
-                                       doc='Direction of "intensity".')
-    direction_elevation: float = setting(90.0, kind="float", low=-90.0, high=90.0, unit="°",
-                                         doc='Direction of "intensity".')
-    colour_map: str = setting("auto", kind="choice", choices=COLOUR_MAPS,
-                              doc="Colour map of the slice and its colour bar.")
-    slice_scale: float = setting(0.0, kind="float", low=0.0, high=1e12,
-                                 doc="Value at the top of the colour bar; 0 = automatic.")
-    slice_log: bool = setting(False, kind="bool",
-                              doc="Heat map over LOG_DECADES decades below the top.")
-    slice_opacity: float = setting(0.8, kind="float", low=0.0, high=1.0,
-                                   doc="Opacity of the slice plane.")
-    slice_on_top: bool = setting(False, kind="bool",
-                                 doc="Draw the slice over the geometry instead of "
-                                     "depth-tested.")
-    cascade: int = setting(0, kind="int", low=0, high=MAX_CASCADES - 1,
-                           doc="The cascade the slice, glyphs and lattice show.")
-    glyphs: bool = setting(False, kind="bool", doc="Draw SH glyphs.")
-    glyph_cells: str = setting("slice", kind="choice", choices=GLYPH_CELLS,
-                               doc="Where glyphs are drawn.")
-    glyph_scale: float = setting(1.0, kind="float", low=0.05, high=8.0,
-                                 doc="Lobe radius, in units of the glyph's cell spacing.")
-    glyph_stride: int = setting(0, kind="int", low=0, high=64,
-                                doc="Draw every k-th cell of the slice; 0 = automatic.")
-    glyph_sizing: str = setting("sqrt", kind="choice", choices=GLYPH_SIZINGS,
-                                doc="How a glyph's size follows its peak value.")
-    fly: bool = setting(False, kind="bool", doc="Camera fly mode (WASD + mouse look).")
-    vpls: bool = setting(False, kind="bool", doc="Draw the VPLs as discs.")
-    vpl_density: float = setting(0.25, kind="float", low=0.0, high=1.0,
-                                 doc="Fraction of the VPLs drawn (a fixed random subset).")
-    vpl_size: float = setting(0.7, kind="float", low=0.05, high=8.0,
-                              doc="Disc radius / the radius of the VPL's surfel.")
-    lattice: bool = setting(False, kind="bool",
-                            doc="The cell lattice on the slice plane and the grid box.")
-    cascade_boxes: bool = setting(False, kind="bool", doc="Every cascade's extent.")
-    blockers: bool = setting(False, kind="bool",
-                             doc="Geometry volume blockers as oriented discs.")
-    # The picked point is anchored in the world, so it stays put when the camera moves
-    # (and with it the pixel that shows it, and the cascades that follow the camera).
-    picked_kind: str = setting("none", kind="choice", choices=PICK_KINDS,
-                               doc="pixel: a surface point; cell: a cell's centre.")
-    picked_side: str = setting("A", kind="choice", choices=("A", "B"),
-                               doc="Which configuration's frame the pick reads.")
-    picked_cascade: int = setting(0, kind="int", low=0, high=MAX_CASCADES - 1,
-                                  doc="The cascade whose cell is picked.")
-    picked_wx: float = setting(0.0, kind="float", doc="The picked world point, x.")
-    picked_wy: float = setting(0.0, kind="float", doc="The picked world point, y.")
-    picked_wz: float = setting(0.0, kind="float", doc="The picked world point, z.")
-
-    def __post_init__(self) -> None:
-        validate(self)
-
-    @property
-    def picked_point(self) -> tuple[float, float, float] | None:
-        if self.picked_kind == "none":
-            return None
-        return (self.picked_wx, self.picked_wy, self.picked_wz)
-
-    def pick(self, kind: str, side: str, cascade: int, world) -> None:
-        """Anchor the picked point at ``world`` (a surface point or a cell centre)."""
-        self.picked_kind, self.picked_side, self.picked_cascade = kind, side, int(cascade)
-        self.picked_wx, self.picked_wy, self.picked_wz = (float(v) for v in world)
-
-    @property
-    def any_shown(self) -> bool:
-        """Whether the view must be composited (an overlay is on or a point is picked)."""
-        return (self.slice or self.glyphs or self.vpls or self.lattice or self.cascade_boxes
-                or self.blockers or self.picked_kind != "none")
-
-    @property
-    def needs_steps(self) -> bool:
-        """The slice or its glyphs show grid_t: the pipeline must keep every step (one
-        propagate run when this turns on)."""
-        return (self.slice or self.glyphs) and self.slice_quantity == "in-flight"
-
-
 @dataclass
 class Message:
     text: str
@@ -241,6 +141,12 @@ class Runtime:
     """Background work the app loop advances each frame with its GL context (objects
     with ``advance(ctx, budget_s)`` and ``release()``), e.g. the Error panel's
     reference render."""
+    scene: tuple | None = None
+    """(scene name, the scene as loaded, before the Settings' overrides): its lights,
+    objects and paths (the Lights & objects panel)."""
+    animation: Any = None
+    """explorer.ui.animation.Animation: the paths and fly-through that play, the object
+    the gizmo moves."""
 
 
 @dataclass

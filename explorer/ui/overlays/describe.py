@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from explorer.ui.overlays.picking import CellInfo, PickInfo
+from explorer.ui.overlays.picking import CellAuditInfo, CellInfo, PickInfo
+from explorer.ui.overlays.pixel_reference import ratio
 
 
 def vector(values, digits: int = 4) -> str:
@@ -29,11 +30,32 @@ def pixel_rows(pick: PickInfo, digits: int = 4) -> list[tuple[str, str]]:
         rows.append(("indirect from grid", vector(pick.indirect_from_grid, digits)))
     if pick.reference is not None:
         rows.append(("reference", vector(pick.reference, digits)))
+    for mode, value in pick.references:
+        rows.append((f"reference ({mode})", vector(value, digits)))
+        rows.append((f"indirect / reference ({mode})", vector(ratio(pick.indirect, value), 3)))
     if len(pick.weights) > 1:
         rows.append(("cascade weights", vector(pick.weights, 3)))
     for cell in pick.cells:
         rows.append((f"cell (cascade {cell.cascade})",
                      f"{cell.index}  flux {vector(cell.flux, digits)} W"))
+    return rows
+
+
+def cell_audit_rows(info: CellAuditInfo, digits: int = 4) -> list[tuple[str, str]]:
+    """(label, value) rows of a cell's audit records [W]: over all steps, and the last
+    step's; the reflection terms only where a step reflected anything."""
+    rows = [("injected (acc_N − received)", vector(info.injected, digits))]
+    parts = [(f"all {info.steps} steps", info.total)]
+    if info.last is not None:
+        parts.append((f"step {info.steps}", info.last))
+    bounced = any(np.any(audit.reflected) or np.any(audit.blocked) for _, audit in parts)
+    for when, audit in parts:
+        terms = [("received", audit.received), ("sent out of the grid", audit.border_loss),
+                 ("clamp gain", audit.clamp_gain), ("occluded", audit.occluded)]
+        if bounced:
+            terms += [("reflected back", audit.reflected), ("blocked, can bounce",
+                                                           audit.blocked)]
+        rows += [(f"{name}, {when}", vector(value, digits)) for name, value in terms]
     return rows
 
 

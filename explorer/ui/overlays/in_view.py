@@ -6,7 +6,7 @@ move the slice. The View panel calls :func:`shown_texture` per side and
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from imgui_bundle import imgui
 
@@ -84,7 +84,19 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
                     field.label, float(field.values[cell]))
                 return Hover(side, pixel, cell=pick_cell(result, cascade, *cell),
                              slice_value=value)
-    return Hover(side, pixel, pick=pick_pixel(result, *pixel))
+    return Hover(side, pixel, pick=pick_with_references(state, result, pixel))
+
+
+def pick_with_references(state: AppState, result, pixel) -> PickInfo | None:
+    """:func:`pick_pixel` with the reference radiance of every mode computed for this
+    pixel of this frame (the Picked panel's button)."""
+    from explorer.ui.overlays.pixel_reference import pixel_references
+
+    pick = pick_pixel(result, *pixel)
+    if pick is None or not pick.surface:
+        return pick
+    found = pixel_references(state).values(result, pixel)
+    return replace(pick, references=found) if found else pick
 
 
 def set_picked(state: AppState, hover: Hover) -> None:
@@ -161,7 +173,7 @@ def _slice_wheel(state: AppState) -> None:
 
 def _tooltip(hover: Hover) -> None:
     rows = cell_rows(hover.cell, 3) if hover.cell is not None else (
-        pixel_rows(hover.pick, 3)[:8] if hover.pick is not None else [])
+        _pixel_tooltip_rows(hover.pick) if hover.pick is not None else [])
     if not rows:
         return
     imgui.begin_tooltip()
@@ -178,6 +190,15 @@ def _tooltip(hover: Hover) -> None:
             imgui.text(value)
         imgui.end_table()
     imgui.end_tooltip()
+
+
+def _pixel_tooltip_rows(pick: PickInfo) -> list[tuple[str, str]]:
+    """The first rows of the pixel (position to final) and, once computed, its reference
+    radiance with the ratio LPV / reference."""
+    rows = pixel_rows(pick, 3)
+    shown = rows[:8]
+    shown += [row for row in rows[8:] if row[0].startswith(("reference", "indirect / ref"))]
+    return shown
 
 
 def _colour_bar(draw, field: Q.SliceField, origin, end, at_left: bool) -> None:

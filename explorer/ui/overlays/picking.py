@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from explorer.lpv import constants as C
+from explorer.lpv.audit import CellAudit
 from explorer.lpv.cascades import blend_weights
 from explorer.lpv.reference import gather
 from explorer.ui.overlays.quantities import plane_axes
@@ -28,8 +29,8 @@ class CellInfo:
     The per-cell audit (docs/MODEL.md "Energy audit", restricted to this cell): the flux
     2√π·c0 of acc_N and, when the propagation steps were kept (finest cascade), of every
     grid_t; acc_N = Σ_t grid_t holds per cell, so ``accumulated_from_steps`` equals
-    ``flux`` to rounding. The border, clamp and occlusion terms are summed on the GPU and
-    exist only as grid totals (FrameResult.audit)."""
+    ``flux`` to rounding. The border, clamp and occlusion terms of the cell are records
+    on the GPU, read for the picked cell only (:func:`cell_audit`)."""
 
     cascade: int
     index: CellIndex
@@ -78,6 +79,9 @@ class PickInfo:
     indirect_from_grid: np.ndarray | None
     """albedo/π · Σ_k W_k·E_k recomputed in numpy from the accumulated grids (trilinear
     lookup, docs/MODEL.md "Final gather"): what the gather shader should have written."""
+    references: tuple[tuple[str, np.ndarray], ...] = ()
+    """(mode, (3,) radiance) of the one-bounce reference at this pixel for each mode
+    computed ("visible", "unoccluded"; explorer/ui/overlays/pixel_reference.py)."""
 
 
 # ------------------------------------------------------------------------- cells
@@ -150,6 +154,37 @@ def pick_pixel(result, x: int, y: int, reference: np.ndarray | None = None
                     np.asarray(result.indirect[y, x], np.float64),
                     np.asarray(result.final_image[y, x], np.float64), ref, tuple(cells),
                     weights, from_grid)
+
+
+@dataclass(frozen=True)
+class CellAuditInfo:
+    """The picked cell's audit records (explorer/lpv/audit.py CellAudit), read back from
+    the GPU: summed over the propagation's steps and of its last step."""
+
+    steps: int
+    total: CellAudit
+    last: CellAudit | None
+    injected: np.ndarray
+    """(3,) the cell's injected flux: flux of acc_N minus all it received (acc_N =
+    grid_0 + Σ_t received_t holds per cell)."""
+
+
+def cell_audit(result, cascade: int, index: CellIndex) -> CellAuditInfo | str:
+    """The audit of cell ``index`` of ``cascade`` read from the GPU records of the frame
+    (a small read, cached), or why there is none, in words."""
+    level = result.cascades[cascade] if 0 <= cascade < len(result.cascades) else None
+    records = None if level is None else getattr(level, "cell_records", None)
+    if records is None:
+        return ("this frame ran without the per-step energy audit, so its cells have no "
+                "records (a frame measures it when a plot, a lesson or a command asks)")
+    read = records.read(index)
+    if read is None:
+        return ("a newer propagation has overwritten this frame's records; they come "
+                "back with its frame")
+    total, last = read
+    flux = C.SH_FLUX_FACTOR * np.asarray(level.accumulated[(slice(None),) + tuple(index)
+                                                           + (0,)], np.float64)
+    return CellAuditInfo(records.steps, total, last, flux - total.received)
 
 
 def cell_at(result, cascade: int, world) -> CellIndex | None:

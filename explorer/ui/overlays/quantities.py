@@ -24,6 +24,8 @@ GLYPH_TARGET_COUNT = 16
 PICKED_NEIGHBOURHOOD = 1
 """Glyph mode "picked": the picked cell and the cells up to this many steps away."""
 COLOUR_MAP_SIZE = 256
+PERCENTILE_CELLS = 1000
+"""Cells holding light from which on the automatic colour scale is a percentile."""
 LOG_DECADES = 3.0
 """A logarithmic slice spans this many decades below the top of its scale."""
 
@@ -122,11 +124,27 @@ def slice_field(result, overlays: OverlayState) -> SliceField:
     if overlays.slice_scale > 0:
         top = overlays.slice_scale
     else:
-        top = robust_max(np.abs(values) if colour_map == "diverging" else values)
+        top = automatic_top(np.abs(values) if colour_map == "diverging" else values)
     log = overlays.slice_log and colour_map == "heat"
     low = -top if colour_map == "diverging" else (top * 10.0 ** -LOG_DECADES if log else 0.0)
     return SliceField(values.astype(np.float32), float(low), float(top), colour_map,
                       _label(overlays, name, direction), spec, cascade, log)
+
+
+def automatic_top(values: np.ndarray) -> float:
+    """The top of an automatic colour scale, taken over the cells that hold anything: the
+    robust maximum (a few extreme cells beside a wall do not wash the slice out), or the
+    maximum when fewer than :data:`PERCENTILE_CELLS` cells hold light. In its first steps
+    light fills a few cells around its source; over all cells a percentile would fall
+    inside those few, and over a few hundred it would still saturate the brightest ones,
+    which are the light the slice is there to show."""
+    values = np.asarray(values)
+    holding = values[values != 0]
+    if holding.size == 0:
+        return robust_max(values)
+    if holding.size < PERCENTILE_CELLS:
+        return float(max(holding.max(), 1e-12))
+    return robust_max(holding)
 
 
 def _label(overlays: OverlayState, name: str, direction: np.ndarray) -> str:

@@ -1,8 +1,10 @@
 """Picked panel: every value the pipeline holds for the picked pixel (world position,
-normal, direct, indirect and reference radiance, the indirect light recomputed from the
-grid) and for its cell (SH coefficients, flux, the cell's part of the energy audit, flux
-in flight per step). The values are read from the current FrameResult each frame, so they
-follow the frame when a switch changes it. Click in the view to pick."""
+normal, direct and indirect radiance, the indirect light recomputed from the grid, and on
+request the one-bounce reference radiance with the ratio LPV / reference) and for its
+cell (SH coefficients, flux, flux in flight per step, and the cell's own audit records read
+back from the GPU: what it received, sent out of the grid, gained by the clamp and lost to
+occlusion). The values are read from the current FrameResult each frame, so they follow
+the frame when a switch changes it. Click in the view to pick."""
 
 from __future__ import annotations
 
@@ -10,8 +12,10 @@ import numpy as np
 from imgui_bundle import imgui, implot
 
 from explorer.ui import camera_controls, widgets
-from explorer.ui.overlays.describe import cell_rows, pixel_rows
-from explorer.ui.overlays.picking import cell_at, pick_cell, pick_pixel, pixel_of
+from explorer.ui.overlays.describe import cell_audit_rows, cell_rows, pixel_rows
+from explorer.ui.overlays.in_view import pick_with_references
+from explorer.ui.overlays.picking import CellAuditInfo, cell_at, cell_audit, pick_cell, pixel_of
+from explorer.ui.overlays.pixel_reference import pixel_references
 from explorer.ui.state import AppState
 
 
@@ -42,7 +46,8 @@ def gui_picked(state: AppState) -> None:
         if pixel is None:
             imgui.text_disabled("the picked point is hidden or outside the view in this frame")
         else:
-            _table("pixel", pixel_rows(pick_pixel(result, *pixel), 6))
+            _table("pixel", pixel_rows(pick_with_references(state, result, pixel), 6))
+            _reference_button(state, result, pixel)
     _cell_picker(state, result)
     index = cell_at(result, o.picked_cascade, point)
     cell = None if index is None else pick_cell(result, o.picked_cascade, *index)
@@ -55,6 +60,40 @@ def gui_picked(state: AppState) -> None:
     else:
         imgui.text_disabled("flux per step: record the steps (Inspect → propagation, or the "
                             "slice's light in flight)")
+    _cell_audit(result, cell)
+
+
+def _reference_button(state: AppState, result, pixel) -> None:
+    """Compute the reference radiance at the picked pixel (both modes), in the
+    background; the table above and the tooltip show it once done."""
+    service = pixel_references(state)
+    if len(service.values(result, pixel)) == 2:
+        return
+    if service.computing(result, pixel):
+        imgui.text_disabled("computing the reference radiance at this pixel…")
+    elif imgui.button("Reference radiance at this pixel"):
+        service.request(result, pixel)
+    if imgui.is_item_hovered():
+        imgui.set_tooltip("the one-bounce reference (explorer/truth): every VPL of this frame "
+                          "gathered at this pixel alone, with shadow rays (visible) and "
+                          "without (unoccluded); cached per settings and pixel")
+    if service.problem:
+        imgui.text_colored(widgets.ERROR, service.problem)
+
+
+def _cell_audit(result, cell) -> None:
+    """The cell's own audit records [W], read from the GPU for this cell only."""
+    imgui.separator_text("Audit of this cell [W]")
+    info = cell_audit(result, cell.cascade, cell.index)
+    if not isinstance(info, CellAuditInfo):
+        imgui.text_disabled(info)
+        return
+    _table("cell-audit", cell_audit_rows(info, 6))
+    widgets.dim_text_wrapped(
+        "received: flux the steps delivered into the cell; sent out of the grid: what it "
+        "sent through the grid's border; clamp gain and occluded: on the faces it gathered "
+        "through (and, at the border, those it sent out). Summed over all cells they are "
+        "the Energy audit plot's bars.")
 
 
 def _cell_picker(state: AppState, result) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from imgui_bundle import imgui
 
 from explorer.lpv.tonemap import display_encode
-from explorer.ui import camera_controls, images, legend, widgets
+from explorer.ui import camera_controls, gizmo, images, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
 from explorer.ui.textures import tonemap
@@ -38,8 +38,11 @@ def gui_view(state: AppState) -> None:
     origin = imgui.get_cursor_screen_pos()
     origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5, origin.y)
     imgui.set_cursor_screen_pos(origin)
+    over_gizmo = gizmo.hovered()        # the gizmo's handles take the click, not the camera
+    imgui.begin_disabled(over_gizmo)
     imgui.invisible_button("##view", size)
     hovered, active = imgui.is_item_hovered(), imgui.is_item_active()
+    imgui.end_disabled()
     draw = imgui.get_window_draw_list()
     end = imgui.ImVec2(origin.x + size.x, origin.y + size.y)
     rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
@@ -59,6 +62,7 @@ def gui_view(state: AppState) -> None:
         _label(draw, origin, end, state)
     if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
         in_view.over_image(state, draw, origin, end, hovered, split_x)
+        divider_grabbed |= gizmo.draw(state, origin, end)   # the selected object's gizmo
     if not divider_grabbed:
         camera_controls.handle_mouse(state, hovered, active, end.y - origin.y)
     if hovered and not active:
