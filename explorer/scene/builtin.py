@@ -158,7 +158,8 @@ def two_rooms() -> Scene:
     camera in the right room looking at the shared wall. The light cannot reach the right
     room, and its cone (20°/30°) does not reach the shared wall either, so the shadow map
     holds no surfel of it: every bit of LPV light in the right room leaked through that
-    wall (docs/MODEL.md "Camera occluders")."""
+    wall (docs/MODEL.md "Camera occluders"). Its rig adds a warm point light in the right
+    room, ``lamp`` (off by default)."""
     mesh = MeshBuilder()
     mesh.rect((0.0, 0.0, 0.0), Y, X, 2.0, 1.5, WHITE)          # floor of both rooms
     mesh.rect((0.0, 2.0, 0.0), -Y, X, 2.0, 1.5, WHITE)         # ceiling
@@ -168,11 +169,14 @@ def two_rooms() -> Scene:
     mesh.rect((2.0, 1.0, 0.0), -X, Z, 1.5, 1.0, WHITE)         # far wall of the right room
     mesh.box((0.0, 1.0, 0.0), (0.06, 2.0, 3.0), WHITE)         # the shared wall
     positions, normals, albedo = mesh.arrays()
-    light = SpotLight((-1.2, 1.9, 0.0), (-1.2, 0.0, 0.0), flux_for_irradiance(1.9),
-                      cone_degrees=(20.0, 30.0))
+    spot = SpotLight((-1.2, 1.9, 0.0), (-1.2, 0.0, 0.0), flux_for_irradiance(1.9),
+                     name="spot", cone_degrees=(20.0, 30.0))
+    # a warm bulb in the right room (off by default): it sees the shared wall's right face
+    lamp = PointLight((1.2, 1.5, -0.6), flux_for_irradiance(1.0, 1.5), name="lamp",
+                      colour=WARM)
     camera = Camera((1.9, 1.7, 1.4), (0.0, 0.45, -0.4), 75.0)
-    return Scene("two-rooms", positions, normals, albedo, camera, light,
-                 (-2.0, 0.0, -1.5), (2.0, 2.0, 1.5))
+    return Scene("two-rooms", positions, normals, albedo, camera, (spot, lamp),
+                 (-2.0, 0.0, -1.5), (2.0, 2.0, 1.5), lights_on=("spot",))
 
 
 BUILTIN_SCENES = {
