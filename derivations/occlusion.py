@@ -51,6 +51,29 @@ def isotropic_blocking() -> sp.Expr:
     return sp.simplify(sh.evaluate(list(double_sided_lobe()), omega))
 
 
+fov_y, height, depth, tilt = sp.symbols("theta_y H w theta", positive=True)
+texel = sp.Symbol("delta", positive=True)
+
+
+def camera_surfel_area() -> sp.Expr:
+    """World area of one camera pixel at view depth ``w`` on a plane facing the camera
+    (docs/MODEL.md "Camera occluders"): the frustum is ``2w·tan(θ_y/2)`` tall at depth
+    ``w`` and ``H`` pixels high, and pixels are square, so ``(2w·tan(θ_y/2)/H)²``: the
+    RSM texel's rule ``texel_area·w²`` with ``texel_area = (2·tan(θ_y/2)/H)²``."""
+    edge = 2 * depth * sp.tan(fov_y / 2) / height
+    return edge**2
+
+
+def reprojection_depth_bound() -> sp.Expr:
+    """Largest difference between the light-view depth of a point on a plane and the depth
+    the shadow map stores for the same plane at the centre of the texel the point falls
+    in: the point lies at most half a texel diagonal, ``(√2/2)·δ`` (``δ`` the texel's edge
+    at that depth), from the centre, and the plane's depth changes by ``tan θ`` per unit
+    of sideways distance (``θ`` the angle between the plane's normal and the light's
+    direction)."""
+    return sp.sqrt(2) / 2 * texel * sp.tan(tilt)
+
+
 def results() -> list[Result]:
     return [
         result(MODULE, "one_sided", sp.ImmutableMatrix(area / cell**2 * one_sided()),
@@ -61,4 +84,10 @@ def results() -> list[Result]:
         result(MODULE, "double_sided_blocking", isotropic_blocking(),
                "A double-sided surfel blocks the same amount, 1/2 per unit A/s², in every "
                "direction."),
+        result(MODULE, "camera_surfel_area", camera_surfel_area(),
+               "World area of a camera pixel at view depth w on a plane facing the camera "
+               "(vertical field of view θ_y, H pixels high): the RSM texel's rule."),
+        result(MODULE, "reprojection_depth_bound", reprojection_depth_bound(),
+               "How far the shadow map's stored depth can differ from a point's own depth on "
+               "the same plane: half a texel diagonal times tan θ."),
     ]

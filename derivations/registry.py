@@ -32,6 +32,7 @@ MODULES: tuple[str, ...] = (
     "corrections",
     "propagation",
     "occlusion",
+    "media",
     "errata",
 )
 

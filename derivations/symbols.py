@@ -99,6 +99,15 @@ SYMBOLS: dict[str, str] = {
     "occlusion.one_sided": r"B(n)",
     "occlusion.double_sided_lobe": r"\mathrm{lobe}(n) + \mathrm{lobe}(-n)",
     "occlusion.double_sided_blocking": r"B_{\mathrm{double}} \, s^{2} / A",
+    "occlusion.camera_surfel_area": r"A_{\mathrm{pixel}}",
+    "occlusion.reprojection_depth_bound": r"\max |\Delta d|",
+    # participating media and the glossy lobe
+    "media.isotropic_phase": r"p_{\mathrm{iso}}",
+    "media.isotropic_normalisation": r"\int_{S^2} p_{\mathrm{iso}} \, d\omega",
+    "media.hg_normalisation": r"\int_{S^2} p_{\mathrm{HG}} \, d\omega",
+    "media.hg_band_factors": r"(a_{0}, a_{1}, a_{2}, a_{3})_{\mathrm{HG}}",
+    "media.hg_zonal_coefficients": r"\Big(\int_{S^2} p_{\mathrm{HG}} Y_{l0} \, d\omega\Big)",
+    "media.isotropic_band_factors": r"(a_{0}, a_{1}, a_{2}, a_{3})_{\mathrm{iso}}",
     # errata: values as the sources printed them
     "errata.annotations.front_corner_dot_adjacent": _printed(r"c_{1} \cdot c_{2}"),
     "errata.annotations.front_corner_dot_diagonal": _printed(r"c_{3} \cdot c_{2}"),

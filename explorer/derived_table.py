@@ -608,6 +608,71 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'A double-sided surfel blocks the same amount, 1/2 per unit A/s², in every direction.',
         0.5,
     ),
+    'occlusion.camera_surfel_area': (
+        'A_{\\mathrm{pixel}} = \\frac{4 w^{2} \\tan^{2}{\\left(\\frac{\\theta_{y}}{2} '
+        '\\right)}}{H^{2}}',
+        'World area of a camera pixel at view depth w on a plane facing the camera (vertical '
+        "field of view θ_y, H pixels high): the RSM texel's rule.",
+        None,
+    ),
+    'occlusion.reprojection_depth_bound': (
+        '\\max |\\Delta d| = \\frac{\\sqrt{2} \\delta \\tan{\\left(\\theta \\right)}}{2}',
+        "How far the shadow map's stored depth can differ from a point's own depth on the same "
+        'plane: half a texel diagonal times tan θ.',
+        None,
+    ),
+    'media.isotropic_phase': (
+        'p_{\\mathrm{iso}} = \\frac{1}{4 \\pi}',
+        'The isotropic phase function, 1/(4π) per steradian.',
+        0.07957747154594767,
+    ),
+    'media.isotropic_normalisation': (
+        '\\int_{S^2} p_{\\mathrm{iso}} \\, d\\omega = 1',
+        'The isotropic phase function integrates to 1 over the sphere.',
+        1.0,
+    ),
+    'media.hg_phase': (
+        'p_{HG} = \\frac{1 - g^{2}}{4 \\pi \\left(g^{2} - 2 g t + 1\\right)^{\\frac{3}{2}}}',
+        'Henyey–Greenstein phase function at the scattering cosine t, asymmetry g.',
+        None,
+    ),
+    'media.hg_normalisation': (
+        '\\int_{S^2} p_{\\mathrm{HG}} \\, d\\omega = 1',
+        'The HG phase function integrates to 1 over the sphere for every g.',
+        1.0,
+    ),
+    'media.hg_band_factors': (
+        '(a_{0}, a_{1}, a_{2}, a_{3})_{\\mathrm{HG}} = '
+        '\\left[\\begin{matrix}1\\\\g\\\\g^{2}\\\\g^{3}\\end{matrix}\\right]',
+        'SH convolution factors a_l = 2π∫p_HG P_l dt of the HG lobe, bands 0..3: g^l exactly '
+        '(Funk–Hecke).',
+        None,
+    ),
+    'media.hg_zonal_coefficients': (
+        '\\Big(\\int_{S^2} p_{\\mathrm{HG}} Y_{l0} \\, d\\omega\\Big) = '
+        '\\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} g}{2 '
+        '\\sqrt{\\pi}}\\\\\\frac{\\sqrt{5} g^{2}}{2 \\sqrt{\\pi}}\\\\\\frac{\\sqrt{7} g^{3}}{2 '
+        '\\sqrt{\\pi}}\\end{matrix}\\right]',
+        'Zonal SH coefficients of the HG lobe around +z: g^l·√((2l+1)/(4π)).',
+        None,
+    ),
+    'media.isotropic_band_factors': (
+        '(a_{0}, a_{1}, a_{2}, a_{3})_{\\mathrm{iso}} = '
+        '\\left[\\begin{matrix}1\\\\0\\\\0\\\\0\\end{matrix}\\right]',
+        'SH convolution factors of the isotropic phase function: band 0 only.',
+        None,
+    ),
+    'media.transmittance': (
+        'T = e^{- \\ell \\sigma_{t}}',
+        'Transmittance of a homogeneous medium over a length ℓ (Beer–Lambert).',
+        None,
+    ),
+    'media.segment_inscatter': (
+        'L_{s} = L_{p} \\alpha \\left(1 - e^{- \\ell \\sigma_{t}}\\right)',
+        'Single scattering of a constant in-scattered radiance L_p over a ray of length ℓ: '
+        'α·L_p·(1 − e^{−σ_t ℓ}).',
+        None,
+    ),
     'errata.annotations.front_corner_dot_adjacent': (
         '\\left(c_{1} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{9}{11}',
         'front face: c1·c2 (adjacent corners) as printed in lpv-annotations.md (§2.1 front-face '

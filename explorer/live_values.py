@@ -180,6 +180,32 @@ def _renderer(context: LiveContext) -> str:
     return str(renderer)
 
 
+def _fog(context: LiveContext):
+    fog = getattr(_result(context), "fog", None)
+    if fog is None:
+        raise Unavailable("the frame has no fog (settings.fog is off)")
+    return fog
+
+
+def _fog_lpv_share(context: LiveContext) -> float:
+    """The LPV's share of the light the fog scatters towards the eye (luminance)."""
+    from explorer.lpv.tonemap import luminance
+
+    fog = _fog(context)
+    lpv = float(np.sum(luminance(fog.lpv)))
+    direct = float(np.sum(luminance(fog.direct)))
+    return _ratio(lpv, lpv + direct)
+
+
+def _fog_transmittance(context: LiveContext) -> float:
+    """Mean transmittance over the pixels that show a surface."""
+    fog = _fog(context)
+    seen = _result(context).gbuffer_position[..., 3] > 0.5
+    if not seen.any():
+        raise Unavailable("no surface on screen")
+    return float(np.mean(fog.transmittance[seen]))
+
+
 def _memory_mib(context: LiveContext) -> float:
     from explorer.lpv.cascades import texture_bytes
 
@@ -314,6 +340,11 @@ def _fixed() -> dict[str, Quantity]:
                  "the wall clock around a finished dispatch (llvmpipe, compute)", "",
                  _timer, ""),
         Quantity("frame.renderer", "the GL renderer the frame ran on", "", _renderer, ""),
+        Quantity("frame.fog_lpv_share", "share of the light the fog scatters towards the "
+                 "eye that comes from the LPV (the rest is the direct light), by luminance",
+                 "", _fog_lpv_share, ".0%"),
+        Quantity("frame.fog_transmittance", "mean transmittance exp(−σ_t·ℓ) from the eye to "
+                 "the surfaces on screen", "", _fog_transmittance, ".2f"),
         Quantity("frame.grid_origin", "corner of the (finest) grid in world units: it moves "
                  "in whole cells when cascades follow the camera", "m",
                  lambda c: tuple(float(v) for v in _result(c).grid_spec.origin), ".3f"),

@@ -66,11 +66,13 @@ vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, ShVec lobe, bool da
                                       cascade_irradiance_of(k, world - half_cell, lobe));
 }
 
-// Blended irradiance: finest first, W_k = w_k·Π_{j<k}(1 − w_j), the coarsest takes the
-// rest Π_{j<K−1}(1 − w_j), so Σ W_k = 1 (a partition of unity: a VPL injected into
-// several cascades is counted once). Cascades with W_k = 0 are not sampled.
-vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
-    ShVec lobe = shv_cosine_lobe(-n);
+// Blended lookup Σ_k W_k·clamp+(<s_k, kernel>)/c_k² (damped along n when asked): finest
+// first, W_k = w_k·Π_{j<k}(1 − w_j), the coarsest takes the rest Π_{j<K−1}(1 − w_j), so
+// Σ W_k = 1 (a partition of unity: a VPL injected into several cascades is counted once).
+// Cascades with W_k = 0 are not sampled. With the cosine lobe around −n as the kernel it is
+// the irradiance; with Y(ω) filtered by a lobe's SH factors, the radiance arriving from a
+// lobe around −ω (docs/MODEL.md "Fog", "Glossy reflections").
+vec3 cascade_blend(vec3 world, ShVec lobe, vec3 n, bool damping) {
     vec3 irradiance = vec3(0.0);
     float remaining = 1.0;
     for (int k = 0; k < u_cascade_count && k < MAX_CASCADES; ++k) {
@@ -83,6 +85,14 @@ vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
         if (remaining <= 0.0) break;
     }
     return irradiance;
+}
+
+vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
+    return cascade_blend(world, shv_cosine_lobe(-n), n, damping);
+}
+
+vec3 cascade_radiance(vec3 world, ShVec kernel) {
+    return cascade_blend(world, kernel, vec3(0.0), false);
 }
 
 #endif

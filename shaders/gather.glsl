@@ -2,8 +2,8 @@
 // Final gather + direct light (docs/MODEL.md "Final gather"), linear: exposure and display
 // encoding are display.glsl's, so changing them re-runs no gather.
 // Full-screen pass over the G-buffer. Targets:
-//   0 direct radiance (shadowed Lambertian from the light, times the spot cone's falloff),
-//   1 indirect radiance (LPV),
+//   0 direct radiance (shadowed Lambertian from every light view, times a spot's falloff),
+//   1 indirect radiance (LPV; with glossy reflections their radiance too, glossy.glsl),
 //   2 indirect irradiance × the pixel's world area = flux [W] the pixel's surface receives
 //     from the LPV (summed by the energy audit).
 // SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe. SH_SHADER_FILTER:
@@ -20,7 +20,8 @@
 #include "grid.glsl"
 #include "sh_grid.glsl"
 #include "cascades.glsl"
-#include "spot.glsl"
+#include "light_map.glsl"
+#include "glossy.glsl"
 
 uniform sampler2D u_gbuffer_position;
 uniform sampler2D u_gbuffer_normal;
@@ -29,25 +30,7 @@ uniform sampler3D u_lpv_r;
 uniform sampler3D u_lpv_g;
 uniform sampler3D u_lpv_b;
 // The shadow maps of every RSM view, side by side (the RSM atlas, explorer/lpv/atlas.py;
-// one view: its RSM): position (w = 1 where the light saw a surface), normal (w = view
-// depth from the light).
-uniform sampler2D u_shadow_position;
-uniform sampler2D u_shadow_normal;
-
-// One record per RSM view (explorer/lpv/gather.py light_records).
-struct LightRecord {
-    mat4 view;              // world -> light view
-    mat4 projection;
-    vec4 position_kind;     // xyz: position (spot, point) or the orthographic eye; w: kind
-                            // 0 spot, 1 directional, 2 a face of a point light's cube
-    vec4 axis_power;        // xyz: spot axis, directional travel direction or the face's
-                            // axis; w: intensity Φ_L/(4π) (spot, point) or irradiance E
-    vec4 colour_texel;      // rgb: colour; w: shadow texel edge at depth 1 or in world units
-    vec4 cone;              // x: 1 = the spot has a cone, y: cos inner, z: cos outer
-    ivec4 tile;             // xy: lower-left texel of the view's shadow map, zw: its size
-};
-layout(std430, binding = 5) readonly buffer LightRecords { LightRecord u_lights[]; };
-uniform int u_light_count;
+// one view: its RSM), and one record per view: light_map.glsl, light_records.glsl.
 
 uniform int u_shadow_kernel;           // PCF box width in shadow-map texels; 1 = hard
 uniform int u_has_grid;
@@ -55,15 +38,6 @@ uniform int u_has_grid;
 layout(location = 0) out vec4 out_direct;
 layout(location = 1) out vec4 out_indirect;
 layout(location = 2) out vec4 out_received;
-
-// 1 where texel `at` of the shadow map `tile` (clamped to it) does not hide a point at
-// light-view depth `depth`, else 0.
-float shadow_test(ivec2 at, ivec4 tile, float depth, float bias) {
-    at = clamp(at, ivec2(0), tile.zw - 1) + tile.xy;
-    bool seen = texelFetch(u_shadow_position, at, 0).w > 0.5;
-    float stored = texelFetch(u_shadow_normal, at, 0).w;
-    return (!seen || depth <= stored + bias) ? 1.0 : 0.0;
-}
 
 // Fraction of a box k = u_shadow_kernel shadow-map texels wide, centred on `world`'s
 // projection into view `light`, that does not hide `world` (percentage-closer filtering,
@@ -74,23 +48,18 @@ float shadow_test(ivec2 at, ivec4 tile, float depth, float bias) {
 // from the light, since texels up to k/2 + 1/2 away store the depth of the same surface a
 // little nearer or farther.
 float shadow_visibility(int light, vec3 world, float cos_light) {
-    vec4 view_position = u_lights[light].view * vec4(world, 1.0);
-    vec4 clip = u_lights[light].projection * view_position;
-    if (clip.w <= 0.0) return 0.0;
-    vec3 ndc = clip.xyz / clip.w;
-    if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) return 0.0;   // outside the light's frustum
-    bool orthographic = u_lights[light].position_kind.w == 1.0;
-    float depth = -view_position.z;
-    float texel_edge = u_lights[light].colour_texel.w;
-    float texel = orthographic ? texel_edge : texel_edge * depth;
+    vec2 point;    // texel i spans [i, i + 1)
+    float depth, texel;
+    if (!light_map_project(light, world, point, depth, texel)) {
+        return 0.0;   // outside the light's frustum
+    }
     float tangent = sqrt(max(1.0 - cos_light * cos_light, 0.0)) / max(cos_light, 0.1);
     int kernel = max(u_shadow_kernel, 1);
     float width = float(kernel);
     float bias = texel * (1.0 + (0.5 * width + 0.5) * tangent);
     ivec4 tile = u_lights[light].tile;
-    vec2 point = (ndc.xy * 0.5 + 0.5) * vec2(tile.zw);   // texel i spans [i, i + 1)
     if (kernel == 1) {
-        return shadow_test(ivec2(floor(point)), tile, depth, bias);
+        return light_map_test(ivec2(floor(point)), tile, depth, bias);
     }
     vec2 lo = point - 0.5 * width;
     vec2 hi = point + 0.5 * width;
@@ -104,7 +73,7 @@ float shadow_visibility(int light, vec3 world, float cos_light) {
             float x = float(first.x + i);
             float weight = wy * max(min(x + 1.0, hi.x) - max(x, lo.x), 0.0);
             if (weight > 0.0) {
-                lit += weight * shadow_test(first + ivec2(i, j), tile, depth, bias);
+                lit += weight * light_map_test(first + ivec2(i, j), tile, depth, bias);
                 total += weight;
             }
         }
@@ -112,45 +81,17 @@ float shadow_visibility(int light, vec3 world, float cos_light) {
     return lit / total;
 }
 
-// Whether the direction d from a point light falls in the cube face whose axis is `axis`
-// (cube-map face selection: the largest |component| of d, ties going to x, then y, then
-// z). The six faces partition the directions, so each point counts one face's light once
-// (docs/MODEL.md "Several lights").
-bool in_cube_face(vec3 d, vec3 axis) {
-    vec3 a = abs(d);
-    int major = (a.x >= a.y && a.x >= a.z) ? 0 : (a.y >= a.z ? 1 : 2);
-    int face = abs(axis.x) > 0.5 ? 0 : (abs(axis.y) > 0.5 ? 1 : 2);
-    return major == face && d[major] * axis[face] > 0.0;
-}
-
 // Direct irradiance at p (normal n) summed over every light's views: I·f·cos θ/r² (spot,
 // f its cone's falloff at the angle from its axis), I·cos θ/r² (point light, from the one
-// face whose directions hold p) or E·cos θ (directional), each times its colour and its
-// own shadow map's visibility: the radiometry of the RSM flux.
+// face whose directions hold p) or E·cos θ (directional) (light_arrival, light_records.glsl),
+// each times its colour and its own shadow map's visibility: the radiometry of the RSM flux.
 vec3 direct_irradiance(vec3 p, vec3 n) {
     vec3 total = vec3(0.0);
     for (int light = 0; light < u_light_count; ++light) {
-        float kind = u_lights[light].position_kind.w;
-        vec3 axis = u_lights[light].axis_power.xyz;
-        float power = u_lights[light].axis_power.w;
         vec3 to_light;
-        float irradiance;
-        if (kind == 1.0) {
-            to_light = -axis;
-            irradiance = power;
-        } else {
-            vec3 offset = u_lights[light].position_kind.xyz - p;
-            if (kind == 2.0 && !in_cube_face(-offset, axis)) {
-                continue;
-            }
-            float distance_squared = max(dot(offset, offset), 1e-12);
-            to_light = offset * inversesqrt(distance_squared);
-            vec4 cone = u_lights[light].cone;
-            irradiance = power / distance_squared
-                       * spot_falloff_of(dot(-to_light, axis), cone.x > 0.5, cone.y, cone.z);
-        }
+        float irradiance = light_arrival(light, p, to_light);
         float cos_light = dot(n, to_light);
-        if (cos_light > 0.0) {
+        if (irradiance > 0.0 && cos_light > 0.0) {
             total += u_lights[light].colour_texel.rgb * (irradiance * cos_light
                      * shadow_visibility(light, p, cos_light));
         }
@@ -208,6 +149,9 @@ void main() {
                             * lpv_derivative_damping(position.xyz, n);
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
+    if (u_has_grid == 1) {
+        indirect += glossy_reflection(position.xyz, n);   // glossy.glsl (off: 0)
+    }
 
     out_direct = vec4(direct, 1.0);
     out_indirect = vec4(indirect, 1.0);

@@ -9,21 +9,82 @@
 // A second target sums the surfels' albedo weighted by their area, (A/cell_size^2)*(a, 1):
 // the area-weighted mean albedo of a geometry cell is rgb / w (docs/MODEL.md "More
 // bounces"); 0 where the VPL textures carry no albedo.
+// CAMERA_SURFELS 1 (docs/MODEL.md "Camera occluders"): the points are the camera's G-buffer
+// pixels instead of VPLs, drawn into their own targets and added to the views' merged
+// volume. A pixel at view depth w is a surfel of area pixel_area * w^2 (the RSM texel's
+// rule, with pixel_area = (2 tan(fov_y/2) / H)^2), facing the camera; a pixel that ANY RSM
+// view sees (its shadow-map test passes with the plane's largest depth offset within a
+// texel as bias) is skipped, because that view's volume already holds a surfel of that
+// surface, and the per-cell merge of the views keeps it at most once.
+#ifndef CAMERA_SURFELS
+#define CAMERA_SURFELS 0
+#endif
 
 #if defined VERTEX_SHADER
 
 #include "grid.glsl"
-#include "vpl.glsl"
 #include "lpv_corrections.glsl"
-
-uniform float u_vpl_texel_area;
-uniform bool u_vpl_orthographic;
 
 flat out ivec3 v_cell;
 flat out int v_keep;
 flat out vec3 v_normal;
 flat out float v_area;
 flat out vec3 v_albedo;
+
+#if CAMERA_SURFELS
+
+#include "light_map.glsl"
+
+uniform sampler2D u_surfel_position;   // G-buffer position (w = 1 where a surface was seen)
+uniform sampler2D u_surfel_normal;     // G-buffer normal, facing the camera
+uniform sampler2D u_surfel_albedo;     // G-buffer albedo
+uniform mat4 u_camera_view;
+uniform float u_pixel_area;            // a pixel's area at view depth 1
+
+// Whether RSM view `light` holds this surface: the light reaches the point within the
+// largest depth difference between a plane's point and its texel's centre,
+// (√2/2)·texel·tan θ (derivation occlusion.reprojection_depth_bound; tan θ capped at 10,
+// grazing light).
+bool seen_by_view(int light, vec3 position, vec3 normal) {
+    vec3 to_light = light_is_orthographic(light)
+                  ? -u_lights[light].axis_power.xyz
+                  : normalize(u_lights[light].position_kind.xyz - position);
+    float cos_light = max(abs(dot(normal, to_light)), 1e-6);
+    float tangent = min(sqrt(max(1.0 - cos_light * cos_light, 0.0)) / cos_light, 10.0);
+    return light_map_reaches(light, position, 0.5 * sqrt(2.0) * tangent);
+}
+
+// Whether any RSM view holds this surface.
+bool seen_by_lights(vec3 position, vec3 normal) {
+    for (int light = 0; light < u_light_count; ++light) {
+        if (seen_by_view(light, position, normal)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void main() {
+    int width = textureSize(u_surfel_position, 0).x;
+    ivec2 pixel = ivec2(gl_VertexID % width, gl_VertexID / width);
+    vec4 position = texelFetch(u_surfel_position, pixel, 0);
+    v_normal = texelFetch(u_surfel_normal, pixel, 0).xyz;
+    float depth = -(u_camera_view * vec4(position.xyz, 1.0)).z;
+    v_cell = ivec3(floor(grid_coords(position.xyz) + 0.5));
+    v_keep = int(position.w > 0.5 && grid_inside(v_cell, u_grid_resolution + 1)
+                 && !seen_by_lights(position.xyz, v_normal));
+    v_area = u_pixel_area * (u_surfel_area_squared ? depth * depth : depth)
+           / (u_grid_cell_size * u_grid_cell_size);
+    v_albedo = texelFetch(u_surfel_albedo, pixel, 0).rgb;
+    gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+}
+
+#else
+
+#include "vpl.glsl"
+
+uniform float u_vpl_texel_area;
+uniform bool u_vpl_orthographic;
 
 uniform sampler2D u_vpl_albedo;
 uniform bool u_has_albedo;
@@ -49,6 +110,8 @@ void main() {
     }
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }
+
+#endif  // CAMERA_SURFELS
 
 #endif
 

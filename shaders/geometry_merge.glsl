@@ -5,7 +5,12 @@
 // area-weighted albedo. A surface two lights both see is then counted once, not twice;
 // two different surfaces in one cell, each seen by another light only, count as the
 // larger of the two.
+// MERGE_ADD 1 adds the volume instead: the camera occluders' surfels (docs/MODEL.md
+// "Camera occluders"), which no view holds, so adding them counts no surface twice.
 #define IMAGE_FORMAT rgba32f
+#ifndef MERGE_ADD
+#define MERGE_ADD 0
+#endif
 
 #if defined COMPUTE_SHADER
 
@@ -22,10 +27,16 @@ void main() {
         return;
     }
     vec4 blocker = texelFetch(u_view_blocker, texel, 0);
+#if MERGE_ADD
+    imageStore(u_merged_blocker, texel, imageLoad(u_merged_blocker, texel) + blocker);
+    imageStore(u_merged_albedo, texel,
+               imageLoad(u_merged_albedo, texel) + texelFetch(u_view_albedo, texel, 0));
+#else
     if (blocker.x > imageLoad(u_merged_blocker, texel).x) {
         imageStore(u_merged_blocker, texel, blocker);
         imageStore(u_merged_albedo, texel, texelFetch(u_view_albedo, texel, 0));
     }
+#endif
 }
 
 #endif

@@ -108,3 +108,16 @@ def run_frame(gl_context, settings):
     gl_context.__enter__()
     with Pipeline(settings, ctx=gl_context) as pipeline:
         return pipeline.run(settings)
+
+
+def frame_view_lights(pipeline) -> list:
+    """Every RSM view of ``pipeline``'s last frame with its own shadow map, as the media
+    reference reads them (``reference_media.view_lights``): one per spot or directional
+    light, six per point light."""
+    from explorer.lpv import reference_media
+    from explorer.lpv.rsm import read_texture
+
+    sets = pipeline._rsm_sets
+    return reference_media.view_lights(pipeline._light,
+                                       [read_texture(rsm.position) for rsm in sets],
+                                       [read_texture(rsm.normal) for rsm in sets])

@@ -271,4 +271,24 @@ def test_the_scene_panel_draws_every_declared_widget_from_its_spec():
     assert [name for _, name in controls("Light and shadows")] == [
         "spot_cone", "spot_cone_degrees", "shadow_kernel"]
     assert [name for _, name in controls("Display")] == ["tone_map", "auto_exposure"]
+    # beyond diffuse: generic widgets in their own section, the camera occluders with the
+    # other leak reductions
+    assert [name for _, name in controls("Fog and glossy")] == [
+        "fog", "fog_density", "fog_albedo", "fog_phase", "fog_g", "fog_steps", "glossy",
+        "glossy_roughness", "glossy_strength", "glossy_samples"]
+    assert "camera_occluders" in [name for _, name in controls("Leak reduction and bounces")]
+    assert label_of(specs(Settings)["fog_density"], "fog_density") == "Fog density σt [1/m]"
     assert label_of(specs(Settings)["shadow_kernel"], "shadow_kernel") == "Shadow PCF [texels]"
+
+
+def test_fog_and_glossy_controls_show_only_when_switched_on():
+    from explorer.ui.panels.scene import _SHOWN_WHEN
+
+    state = AppState()
+    hidden = ("fog_density", "fog_albedo", "fog_phase", "fog_g", "fog_steps",
+              "glossy_roughness", "glossy_strength", "glossy_samples", "camera_occluders")
+    assert not any(_SHOWN_WHEN[name](state) for name in hidden)
+    state.update(fog=True, glossy=True, geometry_volume="one-sided")
+    assert all(_SHOWN_WHEN[name](state) for name in hidden)
+    state.update(fog_phase="isotropic")          # g means nothing to the isotropic function
+    assert not _SHOWN_WHEN["fog_g"](state) and _SHOWN_WHEN["fog_steps"](state)

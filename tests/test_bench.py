@@ -20,9 +20,16 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     rows = data["rows"]
     assert [(row["variant"], row["grid"], row["iterations"]) for row in rows] == [
         ("default", 8, 0), ("default", 8, 2), ("offset-0", 8, 2), ("damping", 8, 2),
-        ("bounces-2", 8, 2), ("audit", 8, 2), ("lights-2", 8, 2), ("lights-4", 8, 2),
-        ("moving-object", 8, 2), ("baseline", 8, 2)]
-    assert "geometry" in rows[4]["passes_ms"]         # bounces 2 needs the geometry volume
+        ("bounces-2", 8, 2), ("audit", 8, 2), ("geometry", 8, 2),
+        ("camera-occluders", 8, 2), ("fog-16", 8, 2), ("fog-32", 8, 2), ("fog-64", 8, 2),
+        ("glossy", 8, 2), ("lights-2", 8, 2), ("lights-4", 8, 2), ("moving-object", 8, 2),
+        ("baseline", 8, 2)]
+    named = {row["variant"]: row for row in rows}
+    for name in ("bounces-2", "geometry", "camera-occluders"):   # they need the volume
+        assert "geometry" in named[name]["passes_ms"]
+    for name in ("fog-16", "fog-32", "fog-64"):
+        assert named[name]["passes_ms"]["fog"] > 0
+    assert "fog" not in named["glossy"]["passes_ms"] and "fog" not in rows[1]["passes_ms"]
     # the minimal kernel, timed alternately with the pipeline's propagation
     baseline = rows[-1]
     assert baseline["passes_ms"] == {"propagate": rows[1]["baseline_ms"]}

@@ -38,7 +38,7 @@ def test_every_shipped_lesson_validates(shipped):
     lessons, errors = shipped
     assert errors == [], "\n".join(str(e) for e in errors)
     assert len(lessons) >= 14
-    assert lessons[0].id == "overview" and lessons[-1].id == "in-practice"
+    assert lessons[0].id == "overview" and lessons[-1].id == "beyond-diffuse"
     for lesson in lessons:
         assert 3 <= len(lesson.steps) <= 6, lesson.id
         assert lesson.path.name.startswith(f"{lesson.number:02d}-")
@@ -103,14 +103,17 @@ def test_lessons_cover_the_topics(shipped):
                   "final gather", "in place", "leak", "cascade", "reference",
                   # the lesson on LPV in practice
                   "snapped", "flicker", "depth and normal buffer", "several lights",
-                  "memory", "voxel cone tracing", "ddgi", "screen-space gi"):
+                  "memory", "voxel cone tracing", "ddgi", "screen-space gi",
+                  # beyond diffuse
+                  "depth and normal buffer", "transmittance", "henyey–greenstein",
+                  "phase function", "glossy", "what it gets wrong"):
         assert topic in text, topic
     used_views = {step.view for lesson in lessons for step in lesson.steps}
     used_plots = {step.plot for lesson in lessons for step in lesson.steps}
     assert {"split", "difference"} <= used_views
     assert {"flux-per-step", "error"} <= used_plots
     used_scenes = {step.scene for lesson in lessons for step in lesson.steps}
-    assert used_scenes == {"cornell", "single-source", "room"}
+    assert used_scenes == {"cornell", "single-source", "room", "two-rooms"}
 
 
 def test_find_lesson_by_id_number_and_stem(shipped):
@@ -225,8 +228,8 @@ def test_wrong_type_and_bad_values(tmp_path):
 def test_unknown_scene_view_plot_control(tmp_path):
     error = _error(tmp_path, GOOD.replace('"single-source"', '"sponza"'), check_formula=None)
     assert (error.step, error.field) == (1, "scene")
-    assert "scene must be one of 'cornell', 'single-source', 'room', 'atrium', got 'sponza'" \
-        in str(error)
+    assert "scene must be one of 'cornell', 'single-source', 'room', 'two-rooms', 'atrium', " \
+        "got 'sponza'" in str(error)
     error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "sideways"'),
                    check_formula=None)
     assert error.field == "view" and "view must be one of 'final'" in str(error)

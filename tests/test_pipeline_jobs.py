@@ -238,10 +238,18 @@ def test_stage_keys_come_from_the_schema():
     table = stages.describe()
     for stage in schema.STAGES:
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
-    assert "display    (gather) exposure, indirect_only, tone_map, auto_exposure" in table
+    assert "display    (gather, fog) exposure, indirect_only, tone_map, auto_exposure" \
+        in table
     assert "rsm        (scene) rsm_size, light, light_flux, lights, spot_cone, " \
         "spot_cone_degrees" in table
-    assert stages.downstream("gbuffer") == ("gbuffer", "gather", "display")
+    assert "geometry   (downsample, grid, gbuffer if uses_camera_occluders)" in table
+    # conditional upstream stages count only while their flag is on
+    assert stages.downstream("gbuffer", SMALL) == ("gbuffer", "gather", "display")
+    assert stages.downstream("gbuffer", SMALL.with_changes(fog=True, camera_occluders=True,
+                                                           geometry_volume="one-sided")) == (
+        "geometry", "propagate", "gbuffer", "gather", "fog", "display")
+    assert stages.downstream("gbuffer") == stages.downstream("gbuffer", SMALL.with_changes(
+        fog=True, camera_occluders=True, geometry_volume="one-sided"))
 
 
 def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):

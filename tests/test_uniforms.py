@@ -23,7 +23,8 @@ STAGE_PROGRAMS = {
     InjectPass.STAGE: [("inject_points.glsl", sh_defines(order)) for order in SH_ORDERS]
     + [("inject_compute.glsl", {"INJECT_STAGE": 1, **image_format_defines(fmt),
                                 **sh_defines(order)}) for fmt, order in VARIANTS],
-    GeometryPass.STAGE: [("geometry_inject.glsl", {})],
+    GeometryPass.STAGE: [("geometry_inject.glsl", {}),
+                         ("geometry_inject.glsl", {"CAMERA_SURFELS": 1})],
     PropagatePass.STAGE: [("propagate.glsl", {**image_format_defines(fmt), **sh_defines(order)})
                           for fmt, order in VARIANTS],
     GatherPass.STAGE: [("gather.glsl", sh_defines(order)) for order in SH_ORDERS],

@@ -54,22 +54,33 @@ QUICK_ITERATIONS = (2, 4)
 QUICK_SIZES = {"width": 64, "height": 64, "rsm_size": 64}
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 PASS_COLUMNS = ("pose", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer",
-                "gather", "display")
+                "gather", "fog", "display")
 VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
     "bounces-2": {"bounces": 2},
     "audit": {"need_audit": True},
+    "geometry": {},
+    "camera-occluders": {"camera_occluders": True},
+    "fog-16": {"fog": True, "fog_steps": 16},
+    "fog-32": {"fog": True, "fog_steps": 32},
+    "fog-64": {"fog": True, "fog_steps": 64},
+    "glossy": {"glossy": True},
     "lights-2": {"light_count": 2},
     "lights-4": {"light_count": 4},
     "moving-object": {"move_object": True},
 }
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
 options against the default settings, the propagation with its per-step energy audit
-(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`), several lights
-(the first ``light_count`` of the scene's rig; a scene with fewer has no such row) and a
-moving object (module docstring). bounces-2 turns a one-sided geometry volume on if
---geometry-volume is off (it needs one)."""
+(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`), what each
+feature beyond diffuse costs (docs/MODEL.md "Camera occluders", "Fog", "Glossy
+reflections"): ``geometry`` (the RSM's occluders alone) against ``camera-occluders`` in
+the geometry column, the fog column at 16, 32 and 64 march steps, and ``glossy`` against
+``default`` in the gather column; several lights (the first ``light_count`` of the
+scene's rig; a scene with fewer has no such row) and a moving object (module docstring).
+The variants in :data:`NEEDS_GEOMETRY` turn a one-sided geometry volume on if
+--geometry-volume is off (they need one)."""
+NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders")
 RUN_OPTIONS = ("need_audit", "light_count", "move_object")
 MOVE_STEP = 1e-3
 """World units the moving-object row moves its object before each frame."""
@@ -166,7 +177,7 @@ def plan(args: argparse.Namespace, software: bool, rig: tuple[str, ...] = ("ligh
             for name in args.variants:
                 changes = {key: value for key, value in VARIANTS[name].items()
                            if key not in RUN_OPTIONS}
-                if changes.get("bounces", 1) > 1 and base.geometry_volume == "off":
+                if name in NEEDS_GEOMETRY and base.geometry_volume == "off":
                     changes["geometry_volume"] = "one-sided"
                 count = VARIANTS[name].get("light_count")
                 if count is not None:

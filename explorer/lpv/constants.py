@@ -54,6 +54,8 @@ INV_PI = 0.3183098861837907
 SIDE_EVAL_SMALL = 0.4472135954999579
 # 2*sqrt(5)/5  [propagation.side_eval_big]
 SIDE_EVAL_BIG = 0.8944271909999159
+# 1/(4*pi)  [media.isotropic_phase]
+INV_FOUR_PI = 0.07957747154594767
 # printed in lpv-dx11-article.md; exact 1/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c0]
 PUBLISHED_SH_C0 = 0.282094792
 # printed in lpv-dx11-article.md; exact sqrt(3)/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c1]
@@ -103,6 +105,7 @@ DERIVATION: dict[str, str] = {
     "INV_PI": "corrections.injection_pi.flux_factor",
     "SIDE_EVAL_SMALL": "propagation.side_eval_small",
     "SIDE_EVAL_BIG": "propagation.side_eval_big",
+    "INV_FOUR_PI": "media.isotropic_phase",
     "PUBLISHED_SH_C0": "errata.dx11.sh_c0",
     "PUBLISHED_SH_C1": "errata.dx11.sh_c1",
     "PUBLISHED_SH_COSLOBE_C0": "errata.dx11.coslobe_c0",

@@ -3,7 +3,8 @@
 
 A full-screen pass reads the gather's linear direct and indirect radiance and writes the
 ``rgba8`` texture the window shows: ``exposure·(direct + indirect)`` (``exposure·indirect``
-with ``indirect_only``) times the display scale (the auto exposure ``key/L̄``, or 1),
+with ``indirect_only``; with fog the surfaces seen through the medium plus its
+in-scattering, docs/MODEL.md "Fog") times the display scale (the auto exposure ``key/L̄``, or 1),
 through the tone curve and the sRGB encoding (``display_encode`` of shaders/tonemap.glsl).
 It reads only the Settings fields declared for the ``display`` stage, so changing the
 exposure, the tone curve, the auto exposure or what is shown runs this pass and no other.
@@ -12,6 +13,8 @@ The numpy twin: :func:`exposed_image` followed by
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -22,11 +25,29 @@ from explorer.lpv.targets import RenderTargets
 from explorer.lpv.tonemap import auto_exposure_scale, tone_map_index
 
 
+@dataclass
+class FogImages:
+    """What the fog stage read back (docs/MODEL.md "Fog"), row 0 at the top."""
+
+    transmittance: np.ndarray
+    """``(H, W)``: exp(−σ_t·ℓ) along each pixel's view ray to its surface."""
+    direct: np.ndarray
+    """``(H, W, 3)``: the direct light's in-scattered radiance."""
+    lpv: np.ndarray
+    """``(H, W, 3)``: the LPV's in-scattered radiance."""
+
+
 def exposed_image(direct: np.ndarray, indirect: np.ndarray, exposure: float,
-                  indirect_only: bool) -> np.ndarray:
+                  indirect_only: bool, fog: FogImages | None = None) -> np.ndarray:
     """The linear colour the display encodes (numpy twin of display.glsl's ``exposed``):
-    ``exposure·(direct + indirect)``, or ``exposure·indirect`` with ``indirect_only``."""
+    ``exposure·(direct + indirect)``, or ``exposure·indirect`` with ``indirect_only``;
+    with ``fog`` the surfaces are seen through the medium, ``T·surface + in-scattering``
+    (the LPV's in-scattering only, with ``indirect_only``)."""
     linear = indirect if indirect_only else direct + indirect
+    if fog is not None:
+        linear = fog.transmittance[..., None] * linear + fog.lpv
+        if not indirect_only:
+            linear = linear + fog.direct
     return (np.float32(exposure) * linear).astype(np.float32)
 
 
@@ -56,18 +77,26 @@ class DisplayPass:
 
     def run(self, direct: moderngl.Texture, indirect: moderngl.Texture, exposure: float,
             indirect_only: bool, tone_map: str = "linear-clip",
-            scale: float = 1.0) -> moderngl.Texture:
+            scale: float = 1.0,
+            fog: tuple[moderngl.Texture, moderngl.Texture] | None = None
+            ) -> moderngl.Texture:
         """Expose, tone-map and encode the linear ``direct`` and ``indirect`` textures
-        (same size); ``scale``: the display scale (auto exposure) on top of ``exposure``.
-        The defaults show the exposed colour clipped to [0, 1]."""
+        (same size); ``scale``: the display scale (auto exposure) on top of ``exposure``;
+        ``fog``: the fog pass's (direct + transmittance, LPV) targets to compose. The
+        defaults show the exposed colour clipped to [0, 1]."""
         self._targets.allocate(direct.size)
         program = self.programs.get("display.glsl")
         direct.use(0)
         indirect.use(1)
+        fog_direct, fog_lpv = fog if fog is not None else (direct, indirect)
+        fog_direct.use(2)
+        fog_lpv.use(3)
         set_uniforms(program, {"u_direct": 0, "u_indirect": 1, "u_exposure": float(exposure),
                                "u_indirect_only": int(indirect_only),
                                "u_display_scale": float(scale),
-                               "u_tone_map": tone_map_index(tone_map)})
+                               "u_tone_map": tone_map_index(tone_map),
+                               "u_fog": int(fog is not None), "u_fog_direct": 2,
+                               "u_fog_lpv": 3})
         with self._targets.drawing():
             self._triangle.draw(program)
         return self.texture

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from explorer.lpv.audit import CellAuditRecords, EnergyAudit, GridAudit
-from explorer.lpv.display import exposed_image
+from explorer.lpv.display import FogImages, exposed_image
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import Settings
 from explorer.lpv.vpl import VplArrays
@@ -88,6 +88,10 @@ class FrameResult:
     scene_bounds: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
     """(min, max) corners of the scene's box; with ``camera`` they fix the projection
     (:meth:`Camera.projection_matrix`)."""
+    fog: FogImages | None = None
+    """The fog's transmittance and in-scattered radiance (docs/MODEL.md "Fog"); None when
+    ``settings.fog`` is off. ``direct`` and ``indirect`` stay the surfaces' own radiance;
+    :attr:`final_image` composes the two."""
     vpl_sets: list[VplArrays] = field(default_factory=list)
     """The VPLs of each RSM view (docs/MODEL.md "Several lights"; one entry for one
     light, six for a point light), their own ``texel_area`` and ``projection`` each."""
@@ -101,13 +105,13 @@ class FrameResult:
 
     @property
     def final_image(self) -> np.ndarray:
-        """Linear colour, exposure applied (``exposure·indirect`` when ``indirect_only``):
-        what the display stage scales by :attr:`display_scale`, tone-maps and encodes
-        (computed on first use)."""
+        """Linear colour, exposure applied (``exposure·indirect`` when ``indirect_only``;
+        the fog composed over it when there is one): what the display stage scales by
+        :attr:`display_scale`, tone-maps and encodes (computed on first use)."""
         if self._final_image is None:
             s = self.settings
             self._final_image = exposed_image(self.direct, self.indirect, s.exposure,
-                                              s.indirect_only)
+                                              s.indirect_only, self.fog)
         return self._final_image
 
     # level 0 (the finest cascade, or the single grid)

@@ -4,17 +4,20 @@ gather"); exposure and display encoding are the display pass's (explorer/lpv/dis
 At a visible point with normal n and albedo a the accumulated grid is sampled trilinearly;
 the irradiance is E = max(<s, lobe(-n)>, 0) / cell_size² (L1 or L2 lobe after the grid's
 SH order) and the indirect radiance a/π·E (optionally damped by the directional
-derivative along n). The direct radiance is a/π times the light's irradiance I·cos θ/r²
-(spot, times the cone's falloff f) or E_L·cos θ (directional), shadowed with the RSM's
-depth (normal.w) through a PCF box ``shadow_kernel`` texels wide.
+derivative along n). The direct radiance is a/π times the irradiance of every RSM view,
+I·cos θ/r² (spot, times the cone's falloff f; a point light's face for the points it
+holds) or E_L·cos θ (directional), times its colour, each shadowed with its own RSM's
+depth (normal.w) through a PCF box ``shadow_kernel`` texels wide (docs/MODEL.md "Several
+lights"; the views' records: explorer/lpv/light_records.py). With ``Glossy`` the glossy
+march (docs/MODEL.md "Glossy reflections") adds to the indirect radiance.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import moderngl
-import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
@@ -22,12 +25,12 @@ from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.light_records import LightRecordBuffer, view_list
 from explorer.lpv.rsm import LightView
 from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import per_context, sh_defines
 from explorer.lpv.vpl import VplTextures
-from explorer.scene.transforms import gl_matrix
 
 TARGETS = ("direct", "indirect", "received")
 BAND_PIXELS = 1 << 16
@@ -37,37 +40,36 @@ EXACT_FILTER = 1e-5
 """Largest weight error of a linear-filtered lookup that counts as exact (float32 weights
 err by about 1e-7, a texture unit's 8-bit weights by up to 2e-3)."""
 PROBE_SAMPLES = 64
-LIGHT_BINDING = 5
-"""Storage-buffer binding of the light records (``LightRecords`` in gather.glsl)."""
-LIGHT_KINDS = {"spot": 0.0, "directional": 1.0, "point": 2.0}
-LIGHT_RECORD = np.dtype([("view", "<f4", 16), ("projection", "<f4", 16),
-                         ("position_kind", "<f4", 4), ("axis_power", "<f4", 4),
-                         ("colour_texel", "<f4", 4), ("cone", "<f4", 4),
-                         ("tile", "<i4", 4)])
-"""One ``LightRecord`` of gather.glsl in std430 layout (208 bytes; matrices column-major)."""
 
 
-def light_records(views: Sequence[LightView],
-                  tiles: Sequence[tuple[int, int]] | None = None) -> np.ndarray:
-    """The gather's light records: one per RSM view, its shadow map at ``tiles[k]``
-    (lower-left texel in the shadow atlas; None: every view at (0, 0), i.e. one view)."""
-    views = list(views)
-    if tiles is None:
-        tiles = [(0, 0)] * len(views)
-    if len(tiles) != len(views):
-        raise ValueError(f"{len(views)} light views need as many shadow tiles, got "
-                         f"{len(tiles)}")
-    records = np.zeros(len(views), LIGHT_RECORD)
-    for record, view, tile in zip(records, views, tiles):
-        power = view.irradiance if view.orthographic else view.intensity
-        record["view"] = gl_matrix(view.view)
-        record["projection"] = gl_matrix(view.projection)
-        record["position_kind"] = (*map(float, view.position), LIGHT_KINDS[view.kind])
-        record["axis_power"] = (*map(float, view.direction), float(power))
-        record["colour_texel"] = (*map(float, view.colour), view.texel_world_size)
-        record["cone"] = (float(view.spot_cone), *view.cone_cosines, 0.0)
-        record["tile"] = (*map(int, tile), view.size, view.size)
-    return records
+@dataclass(frozen=True)
+class Glossy:
+    """The glossy reflection's parameters (docs/MODEL.md "Glossy reflections"; the
+    ``glossy_*`` Settings) and the eye it reflects."""
+
+    roughness: float
+    strength: float
+    """k_s, the specular reflectance."""
+    samples: int
+    eye: tuple[float, float, float]
+
+    @classmethod
+    def of(cls, settings, eye) -> "Glossy | None":
+        """The Settings' glossy term seen from ``eye``, or None when it is off."""
+        if not settings.glossy:
+            return None
+        return cls(float(settings.glossy_roughness), float(settings.glossy_strength),
+                   int(settings.glossy_samples), tuple(map(float, eye)))
+
+    def uniforms(self) -> dict[str, object]:
+        return {"u_glossy": 1, "u_glossy_g": 1.0 - self.roughness,
+                "u_glossy_strength": self.strength, "u_glossy_samples": self.samples,
+                "u_camera_position": self.eye}
+
+
+NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
+             "u_glossy_samples": 0, "u_camera_position": (0.0, 0.0, 0.0)}
+"""glossy.glsl's uniforms with the glossy term off."""
 
 
 def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[int, int]]:
@@ -124,7 +126,7 @@ class GatherPass:
         self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS))
         self._triangle = FullscreenTriangle(ctx)
         self._empty_grid: moderngl.Texture3D | None = None
-        self._lights: moderngl.Buffer | None = None
+        self._lights = LightRecordBuffer(ctx)
         self.shader_filter = linear_filter_error(ctx) > EXACT_FILTER
         """Interpolate the grid in the shader (``SH_SHADER_FILTER``, sh_grid.glsl) because
         the texture unit's weights are not exact on this GPU."""
@@ -143,7 +145,8 @@ class GatherPass:
             damping: bool = False, cascades: list[CascadeInput] | None = None,
             sh_order: int = 1, rows: tuple[int, int] | None = None,
             shadow_kernel: int = DEFAULT_SHADOW_KERNEL,
-            shadow_tiles: Sequence[tuple[int, int]] | None = None) -> None:
+            shadow_tiles: Sequence[tuple[int, int]] | None = None,
+            glossy: Glossy | None = None) -> None:
         """``shadow``: the RSM (one view) or the RSM atlas of every view; ``lights``: the
         view(s), their shadow maps at ``shadow_tiles`` (lower-left texels in ``shadow``;
         None: one view at (0, 0)).
@@ -156,7 +159,8 @@ class GatherPass:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
         ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
         the others keep what they hold. ``shadow_kernel``: width of the PCF box in
-        shadow-map texels (1 = one hard test)."""
+        shadow-map texels (1 = one hard test). ``glossy``: add the glossy reflection of
+        the grid to the indirect radiance (None: off)."""
         self._targets.allocate(gbuffer.size)
         program = self.programs.get("gather.glsl", {
             **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
@@ -171,33 +175,22 @@ class GatherPass:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):
             texture.use(unit)
-        views = [lights] if isinstance(lights, LightView) else list(lights)
-        self._bind_lights(light_records(views, shadow_tiles))
+        light_count = self._lights.bind(view_list(lights), shadow_tiles)
         values = {
             "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
-            "u_light_count": len(views),
+            "u_light_count": light_count,
             "u_shadow_kernel": int(shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
             "u_gather_damping": int(damping),
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
+            **(NO_GLOSSY if glossy is None else glossy.uniforms()),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):
             self._triangle.draw(program)
-
-    def _bind_lights(self, records: np.ndarray) -> None:
-        """Upload the light records into the storage buffer (grown when needed) and bind
-        it to :data:`LIGHT_BINDING`."""
-        data = records.tobytes()
-        if self._lights is None or self._lights.size < len(data):
-            if self._lights is not None:
-                self._lights.release()
-            self._lights = self.ctx.buffer(reserve=max(len(data), LIGHT_RECORD.itemsize))
-        self._lights.write(data)
-        self._lights.bind_to_storage_buffer(LIGHT_BINDING)
 
     CASCADE_FIRST_UNIT = 8
 
@@ -222,6 +215,4 @@ class GatherPass:
         if self._empty_grid is not None:
             self._empty_grid.release()
             self._empty_grid = None
-        if self._lights is not None:
-            self._lights.release()
-            self._lights = None
+        self._lights.release()

@@ -1,9 +1,15 @@
 """Geometry volume (fuzzy occlusion): occluder surfels from the VPLs in a grid whose cell
 centres sit on the light grid's corners (docs/MODEL.md "Geometry volume"). With several
 RSM views (several lights, a point light's faces) each view's volume is built alone and
-merged per cell by :func:`merge_volumes` (docs/MODEL.md "Several lights")."""
+merged per cell by :func:`merge_volumes` (docs/MODEL.md "Several lights"); with camera
+occluders the camera's G-buffer pixels that no RSM view sees add their surfels to the
+merged volume (docs/MODEL.md "Camera occluders")."""
 
 from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -11,6 +17,8 @@ import numpy as np
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import bind_vpl_textures, vpl_count
+from explorer.lpv.light_records import LightRecordBuffer
+from explorer.lpv.rsm import LightView
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.settings import Corrections
 from explorer.lpv.textures import (
@@ -25,10 +33,51 @@ from explorer.lpv.textures import (
     programs_for,
 )
 from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.scene.transforms import gl_matrix
 
 GEOMETRY_MODES = ("one-sided", "double-sided")
 ALBEDO_UNIT = 3
 """Sampler unit of the VPL albedo texture (units 0..2 hold position, normal, flux)."""
+CAMERA_UNITS = {"u_surfel_position": 0, "u_surfel_normal": 1, "u_surfel_albedo": 2,
+                "u_shadow_position": 3, "u_shadow_normal": 4}
+"""Sampler units of the camera-surfel program (G-buffer, then the RSM views' shadow
+maps)."""
+
+
+def camera_pixel_area(fov_y_degrees: float, height: int) -> float:
+    """Area of one camera pixel at view depth 1 on a plane facing the camera,
+    ``(2·tan(fov_y/2)/H)²`` (derivation occlusion.camera_surfel_area): a surfel at depth
+    ``w`` covers this times ``w²``, the RSM texel's rule."""
+    edge = 2.0 * math.tan(math.radians(fov_y_degrees) / 2.0) / int(height)
+    return edge * edge
+
+
+@dataclass(frozen=True)
+class CameraSurfels:
+    """The camera's G-buffer as occluder surfels, and the RSM views' shadow maps to leave
+    out the surfaces any view already holds (docs/MODEL.md "Camera occluders")."""
+
+    position: moderngl.Texture
+    """G-buffer world position, w = 1 where a surface was seen."""
+    normal: moderngl.Texture
+    """G-buffer normal facing the camera."""
+    albedo: moderngl.Texture
+    view: np.ndarray
+    """The camera's 4×4 view matrix (numpy, world → view)."""
+    pixel_area: float
+    """:func:`camera_pixel_area` of the camera and image height."""
+    shadow: VplTextures
+    """The RSM (one view) or the RSM atlas: position (w = seen) and normal (w = view depth
+    from the light)."""
+    views: Sequence[LightView]
+    """The RSM views whose shadow maps ``shadow`` holds."""
+    tiles: Sequence[tuple[int, int]] | None = None
+    """Lower-left texel of each view's map in ``shadow`` (None: one view at (0, 0))."""
+
+    @property
+    def count(self) -> int:
+        width, height = self.position.size
+        return width * height
 
 
 class GeometryVolume:
@@ -88,20 +137,36 @@ class GeometryPass:
         self.ctx = ctx
         self.programs = programs
         self._layers: LayeredTarget | None = None
+        self._lights = LightRecordBuffer(ctx)
 
-    def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
-            mode: str, out: GeometryVolume) -> None:
+    def run(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
+            mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
+        """Inject the VPLs' surfels (None: none) and ``camera``'s, when given, into
+        ``out``."""
         if mode not in GEOMETRY_MODES:
             raise ValueError(f"geometry mode must be one of {GEOMETRY_MODES}, got {mode!r}")
         if out.resolution != spec.resolution:
             raise ValueError(f"the geometry volume belongs to a {out.resolution}^3 grid but "
                              f"the grid spec has {spec.resolution}^3 cells")
+        if vpls is None and camera is None:
+            raise ValueError("the geometry pass needs VPLs, camera surfels or both")
         size = spec.resolution + 1
         layers = self._layers
         if layers is None or layers.size != size or layers.format != out.format:
             if layers is not None:
                 layers.release()
             layers = self._layers = LayeredTarget(self.ctx, size, 2, out.format)
+        if vpls is not None:
+            self._draw_vpl_surfels(vpls, spec, corrections, mode, layers)
+        if camera is not None:
+            self._draw_camera_surfels(camera, spec, corrections, mode, layers,
+                                      clear=vpls is None)
+        copy_volume(self.programs, layers.layers[0], out.volume)
+        copy_volume(self.programs, layers.layers[1], out.albedo)
+
+    def _draw_vpl_surfels(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
+                          mode: str, layers: LayeredTarget) -> None:
+        """Clear ``layers`` and draw the VPLs' surfels into them."""
         program = self.programs.get("geometry_inject.glsl")
         if vpls.albedo is not None:
             vpls.albedo.use(ALBEDO_UNIT)
@@ -113,23 +178,44 @@ class GeometryPass:
             "u_double_sided": mode == "double-sided",
         }, reads=uniforms_read_by(self.STAGE))
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
-        copy_volume(self.programs, layers.layers[0], out.volume)
-        copy_volume(self.programs, layers.layers[1], out.albedo)
+
+    def _draw_camera_surfels(self, camera: CameraSurfels, spec: GridSpec,
+                             corrections: Corrections, mode: str, layers: LayeredTarget,
+                             clear: bool) -> None:
+        """Draw the camera's surfels into ``layers`` (added to what they hold unless
+        ``clear``)."""
+        program = self.programs.get("geometry_inject.glsl", {"CAMERA_SURFELS": 1})
+        textures = (camera.position, camera.normal, camera.albedo, camera.shadow.position,
+                    camera.shadow.normal)
+        for texture, unit in zip(textures, CAMERA_UNITS.values()):
+            texture.use(unit)
+        light_count = self._lights.bind(camera.views, camera.tiles)
+        set_uniforms(program, {
+            **spec.uniforms(), **corrections.as_uniforms(), **CAMERA_UNITS,
+            "u_light_count": light_count,
+            "u_camera_view": gl_matrix(camera.view),
+            "u_pixel_area": float(camera.pixel_area),
+            "u_double_sided": mode == "double-sided",
+        }, reads=uniforms_read_by(self.STAGE))
+        draw_points_additively(self.ctx, program, layers, camera.count, clear=clear)
 
     def release(self) -> None:
         if self._layers is not None:
             self._layers.release()
             self._layers = None
+        self._lights.release()
 
 
 def merge_volumes(programs: ProgramCache, merged: GeometryVolume,
-                  view: GeometryVolume) -> None:
+                  view: GeometryVolume, add: bool = False) -> None:
     """Fold ``view`` into ``merged`` in place: per geometry cell the volume whose band-0
-    coefficient (the surfels' area there) is larger wins, with its albedo sums
+    coefficient (the surfels' area there) is larger wins, with its albedo sums; with
+    ``add``, ``view`` is added instead (the camera occluders' surfels, which no view holds)
     (``shaders/geometry_merge.glsl``). Units 0 and 1 hold ``view`` while it runs."""
     if merged.resolution != view.resolution or merged.format != view.format:
         raise ValueError("merged geometry volumes must have one resolution and format")
-    program = programs.get("geometry_merge.glsl", image_format_defines(merged.format))
+    program = programs.get("geometry_merge.glsl", {**image_format_defines(merged.format),
+                                                   "MERGE_ADD": int(add)})
     view.volume.texture.use(0)
     view.albedo.texture.use(1)
     merged.volume.bind_image(0, read=True, write=True)

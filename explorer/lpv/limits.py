@@ -28,6 +28,8 @@ IMAGE_TEXTURES = (3, 3)
 buffer and the ``rgba8`` display texture."""
 IMAGE_READ_BACK = 6
 """Image arrays read back: the G-buffer's three and the gather's three."""
+FOG_TEXTURES = 2
+"""With fog: the fog pass's two ``rgba32f`` targets, both read back too."""
 TEXEL = 16
 """Bytes of one ``rgba32f`` texel."""
 
@@ -52,7 +54,9 @@ def memory_requests(settings, views: int = 1) -> list[Request]:
     rsm = views * rsm_texels * (RSM_TEXTURES * TEXEL + 4 + RSM_READ_BACK * TEXEL * 2)
     if views > 1:
         rsm += views * rsm_texels * RSM_TEXTURES * TEXEL
-    images = pixels * (sum(IMAGE_TEXTURES) * TEXEL + 4 + 4 + IMAGE_READ_BACK * TEXEL * 2)
+    fog = FOG_TEXTURES if s.fog else 0
+    images = pixels * ((sum(IMAGE_TEXTURES) + fog) * TEXEL + 4 + 4
+                       + (IMAGE_READ_BACK + fog) * TEXEL * 2)
     groups = 3 if s.sh_order == 2 else 1
     grids = texture_bytes(s.grid_size, s.cascades, s.grid_format, s.geometry_volume != "off",
                           groups)
@@ -61,8 +65,8 @@ def memory_requests(settings, views: int = 1) -> list[Request]:
     what = ("RSM textures and their read-back" if views == 1 else
             f"{views} RSM views of several lights: their textures, atlas and read-back")
     return [Request("rsm_size", f"rsm_size {s.rsm_size} ({what})", rsm),
-            Request("width", f"{s.width}x{s.height} pixels (G-buffer, gather and display "
-                             f"targets and their read-back)", images),
+            Request("width", f"{s.width}x{s.height} pixels (G-buffer, gather, fog and "
+                             f"display targets and their read-back)", images),
             Request("grid_size", f"{s.cascades} cascade(s) of {s.grid_size}^3 cells in "
                                  f"{s.grid_format} (light grids, audit records, geometry "
                                  f"volume, read-back)", grids)]

@@ -1,5 +1,5 @@
 """The LPV frame: RSM -> downsample -> inject (+ geometry volume) -> propagate -> gather ->
-display.
+fog -> display.
 
 :class:`Pipeline` owns the pass objects and their GPU resources and runs the stages
 declared in :mod:`explorer.lpv.stages` (their table: ``stages.describe()``). A stage runs
@@ -21,7 +21,10 @@ Several lights (docs/MODEL.md "Several lights"): the RSM stage renders one RSM p
 every light that shines (a point light has six), the views' VPLs are copied side by side
 into one atlas (explorer/lpv/atlas.py) that the injection reads at once, the geometry
 volume merges the views' volumes per cell, and the gather sums every view's direct light
-with its own shadow map. One view needs no atlas: its RSM is used as it is.
+with its own shadow map. One view needs no atlas: its RSM is used as it is. The fog's
+direct in-scattering sums every view's too, and camera occluders keep the G-buffer
+pixels no view's shadow map holds, added to the merged volume (docs/MODEL.md "Fog",
+"Camera occluders").
 
 Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage, which
 rewrites only their corners in the vertex buffer; the stages downstream of it (RSM,
@@ -61,12 +64,19 @@ from explorer.lpv.cascades import (
     focus_point,
 )
 from explorer.lpv.cascades import check_limits as check_cascade_limits
-from explorer.lpv.display import DisplayPass, display_scale, exposed_image
+from explorer.lpv.display import DisplayPass, FogImages, display_scale, exposed_image
+from explorer.lpv.fog import FogPass, Medium
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult
-from explorer.lpv.gather import GatherPass, bands
+from explorer.lpv.gather import GatherPass, Glossy, bands
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.geometry import GeometryPass, GeometryVolume, merge_volumes
+from explorer.lpv.geometry import (
+    CameraSurfels,
+    GeometryPass,
+    GeometryVolume,
+    camera_pixel_area,
+    merge_volumes,
+)
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import InjectPass
 from explorer.lpv.job import Job, ProgressCallback
@@ -129,14 +139,15 @@ class Pipeline:
         self._geometry = GeometryPass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
         self._gather = GatherPass(ctx, self.programs)
+        self._fog = FogPass(ctx, self.programs)
         self._display = DisplayPass(ctx, self.programs)
         self.display_scale_override: float | None = None
         """Show frames with this display scale instead of their own (the window shows
         configuration B at A's exposure); None = the frame's own (auto exposure or 1). An
         input of the display stage: changing it runs that stage alone."""
         self._display_scale = 1.0
-        self._auto_scale: tuple[dict, bool, float] | None = None
-        """(the gathered arrays, indirect_only, their auto exposure scale)."""
+        self._auto_scale: tuple[dict, FogImages | None, bool, float] | None = None
+        """(the gathered arrays, the fog's, indirect_only, their auto exposure scale)."""
         self.keys: dict[str, object] = {}
         """Stage -> key of its last completed run (forgotten while it runs)."""
         self.out_keys: dict[str, object] = {}
@@ -298,7 +309,7 @@ class Pipeline:
         if self.job is not None:
             self.job.cancel()
         for stage in (self._rsm, self._downsample, self._rsm_atlas, self._vpl_atlas,
-                      self._inject, self._geometry, self._gbuffer, self._gather,
+                      self._inject, self._geometry, self._gbuffer, self._gather, self._fog,
                       self._display):
             stage.release()
         if self._scratch_volume is not None:
@@ -369,6 +380,8 @@ class Pipeline:
             return 1 + READ_BACK_TEXTURES
         if stage == "gather":
             return len(bands((job.settings.width, job.settings.height))) + READ_BACK_TEXTURES
+        if stage == "fog" and job.settings.fog:
+            return len(bands((job.settings.width, job.settings.height))) + len(FOG_TARGETS)
         if stage == "propagate":
             return max(1, sum(cascade_iterations(job.settings, k)
                               for k in range(len(self._specs))))
@@ -398,9 +411,10 @@ class Pipeline:
         s = job.settings
         self._timed("gather", lambda: self._gather_levels(s))
         # the last frame's display scale: the auto exposure needs the read-back images,
-        # and a steady exposure shows the light growing
+        # and a steady exposure shows the light growing; the fog is marched once the
+        # propagation is done, so a preview shows the surfaces without it
         self._show(s, self._display_scale if self.display_scale_override is None
-                   else self.display_scale_override)
+                   else self.display_scale_override, fog=False)
         return True
 
     @staticmethod
@@ -537,12 +551,13 @@ class Pipeline:
                 level.release_volume()
             return
         occluders = self._rsm_sets if job.vpls is None else [self._vpl_textures]
+        camera = self._camera_surfels(s) if s.uses_camera_occluders else None
         self.timings_ms["geometry"] = 0.0
         warnings = []
         for k, (level, spec) in enumerate(zip(levels, self._specs)):
             volume = level.geometry_volume(spec.resolution, s.grid_format)
             self._timed("geometry", lambda: self._geometry_of_views(
-                occluders, spec, s, volume), accumulate=True)
+                occluders, spec, s, volume, camera), accumulate=True)
             level.geometry = volume.read()
             warnings += self._array_warnings(_pass_name("geometry", k, len(levels)), s,
                                              [level.geometry])
@@ -550,13 +565,28 @@ class Pipeline:
                 yield
         self._warnings["geometry"] = warnings
 
+    def _camera_surfels(self, s: Settings) -> CameraSurfels:
+        """The G-buffer as occluder surfels, tested against every RSM view's shadow map
+        (docs/MODEL.md "Camera occluders")."""
+        camera = self._scene.camera
+        return CameraSurfels(
+            position=self._gbuffer.position, normal=self._gbuffer.normal,
+            albedo=self._gbuffer.albedo, view=camera.view_matrix(),
+            pixel_area=camera_pixel_area(camera.fov_y_degrees, s.height),
+            shadow=self._rsm_textures, views=tuple(self._light),
+            tiles=tuple(self._shadow_tiles))
+
     def _geometry_of_views(self, occluders: list[VplTextures], spec: GridSpec, s: Settings,
-                           volume: GeometryVolume) -> None:
+                           volume: GeometryVolume, camera: CameraSurfels | None) -> None:
         """The geometry volume of every view, merged per cell (docs/MODEL.md "Several
         lights"): the first view's volume, then each further view's built in a scratch
-        volume and folded in by :func:`merge_volumes`."""
-        self._geometry.run(occluders[0], spec, s.corrections, s.geometry_volume, volume)
-        if len(occluders) == 1:
+        volume and folded in by :func:`merge_volumes`; then ``camera``'s surfels, added
+        (docs/MODEL.md "Camera occluders": they hold only surfaces no view holds). With
+        one view they are drawn with its surfels (the same sum, no scratch volume)."""
+        alone = len(occluders) == 1
+        self._geometry.run(occluders[0], spec, s.corrections, s.geometry_volume, volume,
+                           camera if alone else None)
+        if alone:
             return
         scratch = self._scratch_volume
         if scratch is None or scratch.resolution != spec.resolution or \
@@ -568,6 +598,9 @@ class Pipeline:
         for vpls in occluders[1:]:
             self._geometry.run(vpls, spec, s.corrections, s.geometry_volume, scratch)
             merge_volumes(self.programs, volume, scratch)
+        if camera is not None:
+            self._geometry.run(None, spec, s.corrections, s.geometry_volume, scratch, camera)
+            merge_volumes(self.programs, volume, scratch, add=True)
 
     def _stage_propagate(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
@@ -637,17 +670,46 @@ class Pipeline:
                                                  dtype=np.float64)
         self._check("gather", s, self._arrays["gather"].values())
 
+    def _stage_fog(self, job: Job) -> Iterator[None]:
+        """The fog's march in bands of rows (one per unit), then the read-back of its two
+        targets (docs/MODEL.md "Fog"); nothing while ``fog`` is off."""
+        s = job.settings
+        if not s.fog:
+            self.timings_ms.pop("fog", None)
+            self._arrays["fog"] = None
+            self._warnings["fog"] = []
+            return
+        levels = self._levels[: len(self._specs)]
+        cascades = [CascadeInput(spec, level.accumulation_textures)
+                    for spec, level in zip(self._specs, levels)]
+        medium = Medium.of(s)
+        self.timings_ms["fog"] = 0.0
+        for band in bands((s.width, s.height)):
+            self._timed("fog", lambda: self._fog.run(
+                self._gbuffer, self._rsm_textures, self._light, self._scene, cascades, medium,
+                sh_order=levels[0].injected.sh_order, shader_filter=self._gather.shader_filter,
+                rows=band, shadow_tiles=self._shadow_tiles), accumulate=True)
+            yield
+        targets = self._fog.targets
+        direct, lpv = yield from _read_back([targets[name] for name in FOG_TARGETS])
+        self._arrays["fog"] = FogImages(direct[..., 3].copy(), direct[..., :3], lpv[..., :3])
+        self._check("fog", s, [direct, lpv])
+
     def _stage_display(self, job: Job) -> None:
         s = job.settings
         self._display_scale = self._frame_display_scale(s)
         self._show(s, self._display_scale)
 
-    def _show(self, s: Settings, scale: float) -> None:
-        """The display pass on the gather's targets as they are now."""
+    def _show(self, s: Settings, scale: float, fog: bool = True) -> None:
+        """The display pass on the gather's targets as they are now (and the fog's, when
+        the frame has one and ``fog``)."""
         targets = self._gather.targets
+        fog_targets = None
+        if fog and s.fog and self._arrays.get("fog") is not None:
+            fog_targets = (self._fog.targets["fog_direct"], self._fog.targets["fog_lpv"])
         self._timed("display", lambda: self._display.run(
             targets["direct"], targets["indirect"], s.exposure, s.indirect_only, s.tone_map,
-            scale))
+            scale, fog_targets))
 
     def _frame_display_scale(self, s: Settings) -> float:
         """The display scale of the frame just gathered: the override, or the auto
@@ -658,14 +720,16 @@ class Pipeline:
         if not s.auto_exposure:
             return 1.0
         gather = self._arrays["gather"]       # a new dict each time the gather completes
+        fog = self._arrays.get("fog") if s.fog else None    # likewise a new FogImages
         cached = self._auto_scale
-        if cached is None or cached[0] is not gather or cached[1] != s.indirect_only:
+        if cached is None or cached[0] is not gather or cached[1] is not fog or \
+                cached[2] != s.indirect_only:
             unexposed = exposed_image(gather["direct"][..., :3], gather["indirect"][..., :3],
-                                      1.0, s.indirect_only)
+                                      1.0, s.indirect_only, fog)
             mask = self._arrays["gbuffer"][0][..., 3] > 0.5
-            cached = self._auto_scale = (gather, s.indirect_only,
+            cached = self._auto_scale = (gather, fog, s.indirect_only,
                                          display_scale(unexposed, mask, True))
-        return cached[2]
+        return cached[3]
 
     # ------------------------------------------------------------------ helpers
     def _scene_for(self, s: Settings) -> Scene:
@@ -698,7 +762,8 @@ class Pipeline:
         self._gather.run(self._gbuffer, self._rsm_textures, self._light, textures[0],
                          self._specs[0], s.gather_damping, cascades=cascades,
                          sh_order=levels[0].injected.sh_order, rows=rows,
-                         shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles)
+                         shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
+                         glossy=Glossy.of(s, self._scene.camera.eye))
 
     def _array_warnings(self, pass_name: str, s: Settings, arrays) -> list[str]:
         """Warnings of read-back arrays that hold NaN or infinity; with ``debug_nan`` a
@@ -786,7 +851,8 @@ class Pipeline:
             timing_methods=dict(self.timing_methods), stages_run=job.progress.stages_run,
             warnings=warnings, display_scale=self._display_scale, camera=self._scene.camera,
             scene_bounds=(tuple(map(float, self._scene.bounds_min)),
-                          tuple(map(float, self._scene.bounds_max))))
+                          tuple(map(float, self._scene.bounds_max))),
+            fog=self._arrays.get("fog") if s.fog else None)
 
 
 def _countdown(units: int):
@@ -803,6 +869,8 @@ def _countdown(units: int):
 
 READ_BACK_TEXTURES = 3
 """Textures the G-buffer and the gather stages each read back (one unit apiece)."""
+FOG_TARGETS = ("fog_direct", "fog_lpv")
+"""The fog pass's targets, read back one unit apiece."""
 
 
 def _read_back(textures) -> Iterator[None]:

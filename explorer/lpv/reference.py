@@ -57,6 +57,7 @@ class DerivedConstants:
         "PUBLISHED_PI": "errata.dx11.pi",
         "PUBLISHED_FRONT_FACE_SOLID_ANGLE": "errata.dx11.front_solid_angle",
         "PUBLISHED_SIDE_FACE_SOLID_ANGLE": "errata.dx11.side_solid_angle",
+        "INV_FOUR_PI": "media.isotropic_phase",
     }
     """Constant name -> derivation result name."""
 

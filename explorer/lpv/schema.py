@@ -28,9 +28,10 @@ from functools import lru_cache
 from typing import Any, Mapping
 
 STAGES = ("scene", "grid", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer",
-          "gather", "display")
-"""The pipeline's stages in execution order; ``display`` is the final, display-only
-shader (exposure, tone map, which buffer): changing only its fields re-runs no pass."""
+          "gather", "fog", "display")
+"""The pipeline's stages; ``fog`` ray-marches the medium (docs/MODEL.md "Fog"), and
+``display`` is the final, display-only shader (exposure, tone map, which buffer, the
+composition of the fog): changing only its fields re-runs no pass."""
 
 KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
          "switches", "names", "name_set", "transforms", "nested")

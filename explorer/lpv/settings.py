@@ -38,6 +38,13 @@ GRID_FORMATS = ("rgba32f", "rgba16f")
 SH_ORDERS = (1, 2)
 """1 = L1 spherical harmonics (4 coefficients per colour), 2 = L2 (9)."""
 BOUNCES = (1, 2)
+FOG_PHASES = ("isotropic", "henyey-greenstein")
+MAX_FOG_G = 0.95
+"""|g| of the Henyey–Greenstein phase function: at |g| = 1 it is a delta (no longer a
+function to march with), and near it the lobe is far narrower than anything an L1 or L2
+grid resolves."""
+MAX_FOG_STEPS = 512
+MAX_GLOSSY_SAMPLES = 32
 MAX_INJECTION_OFFSET_CELLS = 1.0
 """A VPL moved by more than a cell would skip the cell in front of its surface."""
 MAX_CASCADES = 4
@@ -212,6 +219,66 @@ class Settings:
         group="Leak reduction and bounces", stages=("propagate",),
         doc="1: the single indirect bounce; 2: the geometry volume also reflects the light "
             'it blocks (docs/MODEL.md "More bounces"); needs a geometry volume.')
+    camera_occluders: bool = setting(
+        False, kind="bool", flag="--camera-occluders", widget="checkbox",
+        label="Camera occluders", group="Leak reduction and bounces", stages=("geometry",),
+        doc="Also inject the camera's G-buffer pixels into the geometry volume, except those "
+            'the light sees (already in the RSM) (docs/MODEL.md "Camera occluders"); needs '
+            "a geometry volume and does nothing while it is off.")
+    # --- beyond diffuse (docs/MODEL.md "Fog", "Glossy reflections") ---
+    fog: bool = setting(
+        False, kind="bool", flag="--fog", widget="checkbox", label="Fog",
+        group="Fog and glossy", stages=("fog",),
+        doc="A homogeneous medium in the scene's box, lit by the LPV and the direct light "
+            '(single scattering, ray-marched per pixel; docs/MODEL.md "Fog").')
+    fog_density: float = setting(
+        0.3, kind="float", low=0.0, high=1e3, flag="--fog-density", widget="slider",
+        widget_high=3.0, label="Fog density σt", unit="1/m", group="Fog and glossy",
+        stages=("fog",),
+        doc="Extinction coefficient σ_t of the medium: the transmittance over a length ℓ is "
+            "exp(−σ_t·ℓ).")
+    fog_albedo: float = setting(
+        0.8, kind="float", low=0.0, high=1.0, flag="--fog-albedo", widget="slider",
+        label="Fog albedo", group="Fog and glossy", stages=("fog",),
+        doc="Single-scattering albedo α = σ_s/σ_t: the share of the extinguished light the "
+            "medium scatters (the rest it absorbs).")
+    fog_phase: str = setting(
+        "henyey-greenstein", kind="choice", choices=FOG_PHASES, flag="--fog-phase",
+        widget="combo", label="Phase function", group="Fog and glossy", stages=("fog",),
+        doc="isotropic: 1/(4π) in every direction; henyey-greenstein: a lobe around the "
+            "light's direction of travel with asymmetry fog_g (its SH factors are g^l).")
+    fog_g: float = setting(
+        0.4, kind="float", low=-MAX_FOG_G, high=MAX_FOG_G, flag="--fog-g", widget="slider",
+        label="HG asymmetry g", group="Fog and glossy", stages=("fog",),
+        doc="Henyey–Greenstein asymmetry: > 0 scatters forward (bright towards the light), "
+            "< 0 backward, 0 isotropic. Ignored with the isotropic phase function.")
+    fog_steps: int = setting(
+        32, kind="int", low=1, high=MAX_FOG_STEPS, flag="--fog-steps", widget="slider",
+        widget_high=128, label="March steps", group="Fog and glossy", stages=("fog",),
+        doc="Samples per view ray through the medium (midpoint of equal segments, each "
+            "weighted by its exact transmittance difference).")
+    glossy: bool = setting(
+        False, kind="bool", flag="--glossy", widget="checkbox", label="Glossy reflections",
+        group="Fog and glossy", stages=("gather",),
+        doc="Add a glossy reflection of the LPV's light: the gather marches the grid along "
+            'the reflected view direction (docs/MODEL.md "Glossy reflections").')
+    glossy_roughness: float = setting(
+        0.3, kind="float", low=0.0, high=1.0, flag="--glossy-roughness", widget="slider",
+        label="Roughness", group="Fog and glossy", stages=("gather",),
+        doc="Width of the glossy lobe: a Henyey–Greenstein lobe with g = 1 − roughness (0: "
+            "the sharpest lobe the grid's SH holds; 1: the mean incident radiance).")
+    glossy_strength: float = setting(
+        0.5, kind="float", low=0.0, high=1.0, flag="--glossy-strength", widget="slider",
+        label="Specular reflectance", group="Fog and glossy", stages=("gather",),
+        doc="k_s: the share of the incident radiance from the reflected direction that the "
+            "surface reflects towards the eye (added to its diffuse albedo, not taken from "
+            "it).")
+    glossy_samples: int = setting(
+        4, kind="int", low=1, high=MAX_GLOSSY_SAMPLES, flag="--glossy-samples",
+        widget="slider", widget_high=16, label="Glossy samples", group="Fog and glossy",
+        stages=("gather",),
+        doc="Grid lookups along the reflected ray, one finest cell apart from half a cell "
+            "off the surface; their mean is the incident radiance.")
     # --- images that look right (docs/MODEL.md "Spot cone", "Final gather", "Display") ---
     spot_cone: bool = setting(
         True, kind="bool", flag="--spot-cone", widget="checkbox", label="Spot cone",
@@ -251,6 +318,11 @@ class Settings:
             raise SettingError("bounces", "bounces=2 reflects the light the geometry volume "
                                "blocks, so it needs geometry_volume 'one-sided' or "
                                "'double-sided' (it is 'off')")
+
+    @property
+    def uses_camera_occluders(self) -> bool:
+        """Whether the geometry volume holds camera surfels (and so reads the G-buffer)."""
+        return self.camera_occluders and self.geometry_volume != "off"
 
     def with_changes(self, **changes) -> "Settings":
         """A copy with some fields changed; ``corrections`` may be given as a dict of

@@ -7,7 +7,10 @@ source. From the two the pipeline derives
 
 * the *key* of a stage: the values of the fields it reads, the output keys of its
   upstream stages, and its extra inputs (hand-made VPLs for ``downsample``);
-  :func:`stage_key`;
+  :func:`stage_key`. A stage may also have *conditional* upstream stages
+  (:attr:`StageDecl.upstream_when`): their output keys count only while a Settings flag
+  says the stage uses them, e.g. the geometry volume reads the G-buffer only with camera
+  occluders on, so that otherwise moving the camera does not rebuild it;
 * its *output key*, what the stages downstream see: the key itself, or, for a stage
   declared ``by_value``, the value it computed (the cascade grid specs: moving the camera
   with one cascade changes the ``grid`` stage's inputs but not its specs, so nothing
@@ -44,6 +47,20 @@ class StageDecl:
     every time its inputs change, which counts as run only when its value changed)."""
     gpu: bool = True
     """A timed GPU pass (``scene`` and ``grid`` are CPU work)."""
+    upstream_when: tuple[tuple[str, str], ...] = ()
+    """``(stage, flag)``: ``stage`` is upstream only while the Settings attribute ``flag``
+    (a field or a property) is true; otherwise its output key is left out of this
+    stage's key."""
+
+    def upstream_for(self, settings: Any) -> tuple[str, ...]:
+        """The upstream stages whose output keys make this stage's key for ``settings``."""
+        return self.upstream + tuple(stage for stage, flag in self.upstream_when
+                                     if getattr(settings, flag))
+
+    @property
+    def all_upstream(self) -> tuple[str, ...]:
+        """Every stage that may be upstream (the conditional ones included)."""
+        return self.upstream + tuple(stage for stage, _ in self.upstream_when)
 
 
 DECLARATIONS: dict[str, StageDecl] = {decl.name: decl for decl in (
@@ -58,18 +75,24 @@ DECLARATIONS: dict[str, StageDecl] = {decl.name: decl for decl in (
               "them, or hand-made VPLs"),
     StageDecl("inject", ("downsample", "grid"), "VPLs -> SH light grid of every cascade"),
     StageDecl("geometry", ("downsample", "grid"), "the geometry volume of every cascade "
-              "(occluders: the RSM texels, or hand-made VPLs)"),
+              "(occluders: the RSM texels, or hand-made VPLs; with camera occluders also the "
+              "G-buffer's pixels no RSM view sees)",
+              upstream_when=(("gbuffer", "uses_camera_occluders"),)),
     StageDecl("propagate", ("inject", "geometry"), "iterations steps in every cascade "
               "(+ the energy audit on request)"),
     StageDecl("gbuffer", ("scene",), "position, normal, albedo seen by the camera"),
     StageDecl("gather", ("gbuffer", "rsm", "propagate"), "linear direct and LPV indirect "
               "radiance per pixel"),
-    StageDecl("display", ("gather",), "exposure, auto exposure, tone curve and encoding of "
-              "the shown RGBA8 image (+ Pipeline.display_scale_override)"),
+    StageDecl("fog", (), "single scattering of the LPV and the direct light in a "
+              "homogeneous medium, ray-marched per pixel, and its transmittance",
+              upstream_when=(("gbuffer", "fog"), ("rsm", "fog"), ("propagate", "fog"))),
+    StageDecl("display", ("gather", "fog"), "exposure, auto exposure, tone curve and "
+              "encoding of the shown RGBA8 image, the fog composed over the surfaces "
+              "(+ Pipeline.display_scale_override)"),
 )}
 
 EXECUTION_ORDER = ("scene", "grid", "gbuffer", "rsm", "downsample", "inject", "geometry",
-                   "propagate", "gather", "display")
+                   "propagate", "gather", "fog", "display")
 PASSES = tuple(name for name in STAGES if DECLARATIONS[name].gpu)
 """The timed GPU passes, in the schema's order (FrameResult.timings_ms names these)."""
 
@@ -81,18 +104,21 @@ def check_declarations() -> None:
         raise ValueError(f"declared stages {sorted(DECLARATIONS)} and execution order "
                          f"{EXECUTION_ORDER} must both be the schema's {STAGES}")
     for index, name in enumerate(EXECUTION_ORDER):
-        late = [up for up in DECLARATIONS[name].upstream
+        late = [up for up in DECLARATIONS[name].all_upstream
                 if EXECUTION_ORDER.index(up) >= index]
         if late:
             raise ValueError(f"stage {name} runs before its upstream stage(s) {late}")
 
 
-def downstream(stage: str) -> tuple[str, ...]:
+def downstream(stage: str, settings: Any = None) -> tuple[str, ...]:
     """``stage`` and every stage that depends on it, directly or not, in :data:`STAGES`
-    order."""
+    order: with ``settings``, through the conditional upstream stages those settings
+    use; without, through every one that may be used."""
     found = {stage}
     for name in EXECUTION_ORDER:
-        if any(up in found for up in DECLARATIONS[name].upstream):
+        decl = DECLARATIONS[name]
+        ups = decl.all_upstream if settings is None else decl.upstream_for(settings)
+        if any(up in found for up in ups):
             found.add(name)
     return tuple(name for name in STAGES if name in found)
 
@@ -119,8 +145,8 @@ def stage_key(settings: Any, stage: str, upstream_keys: dict[str, Any],
               extra: Any = None) -> tuple:
     """The key a completed run of ``stage`` is remembered by (module docstring)."""
     decl = DECLARATIONS[stage]
-    return (stage_inputs(settings, stage), tuple(upstream_keys[up] for up in decl.upstream),
-            extra)
+    return (stage_inputs(settings, stage),
+            tuple(upstream_keys[up] for up in decl.upstream_for(settings)), extra)
 
 
 def describe(settings_type: type | None = None) -> str:
@@ -130,7 +156,8 @@ def describe(settings_type: type | None = None) -> str:
     lines = []
     for name in EXECUTION_ORDER:
         decl = DECLARATIONS[name]
-        upstream = f"({', '.join(decl.upstream)}) " if decl.upstream else ""
+        ups = list(decl.upstream) + [f"{stage} if {flag}" for stage, flag in decl.upstream_when]
+        upstream = f"({', '.join(ups)}) " if ups else ""
         fields = ", ".join(stages_reading(settings_type, name)) or "-"
         lines.append(f"{name:<10} {upstream}{fields}: {decl.doc}")
     return "\n".join(lines)

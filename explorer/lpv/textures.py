@@ -217,15 +217,17 @@ class LayeredTarget:
 
 
 def draw_points_additively(ctx: moderngl.Context, program: moderngl.Program,
-                           target: LayeredTarget, count: int) -> None:
-    """Clear ``target`` and draw ``count`` attribute-less points into it with ONE,ONE float
-    blending (sums, negative values kept). The previous framebuffer and enable flags come
-    back afterwards; the blend function is left at moderngl's default."""
+                           target: LayeredTarget, count: int, clear: bool = True) -> None:
+    """Clear ``target`` (unless ``clear`` is False: add to what it holds) and draw ``count``
+    attribute-less points into it with ONE,ONE float blending (sums, negative values
+    kept). The previous framebuffer and enable flags come back afterwards; the blend
+    function is left at moderngl's default."""
     vertex_array = ctx.vertex_array(program, [])
     scope = ctx.scope(target.framebuffer, enable_only=moderngl.BLEND)
     try:
         with scope:
-            target.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+            if clear:
+                target.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
             ctx.blend_equation = moderngl.FUNC_ADD
             ctx.blend_func = moderngl.ONE, moderngl.ONE
             vertex_array.render(mode=moderngl.POINTS, vertices=count)

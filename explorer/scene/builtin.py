@@ -1,5 +1,5 @@
-"""The built-in scenes: ``cornell``, ``single-source``, ``room`` and ``atrium`` (a large
-procedural courtyard, explorer/scene/atrium.py).
+"""The built-in scenes: ``cornell``, ``single-source``, ``room``, ``two-rooms`` and
+``atrium`` (a large procedural courtyard, explorer/scene/atrium.py).
 
 Units are metres; albedos are linear reflectances. Every light's flux comes from
 :func:`~explorer.scene.lights.flux_for_irradiance` so that the main lit surface receives
@@ -152,9 +152,37 @@ def room() -> Scene:
                       _turn((0.0, 0.0, 0.4))], 8.0)),))
 
 
+def two_rooms() -> Scene:
+    """Two closed 2 m × 2 m × 3 m rooms side by side, sharing a wall 6 cm thick at x = 0,
+    with a spot light under the ceiling of the left room aimed at its floor, and the
+    camera in the right room looking at the shared wall. The light cannot reach the right
+    room, and its cone (20°/30°) does not reach the shared wall either, so the shadow map
+    holds no surfel of it: every bit of LPV light in the right room leaked through that
+    wall (docs/MODEL.md "Camera occluders"). Its rig adds a warm point light in the right
+    room, ``lamp`` (off by default)."""
+    mesh = MeshBuilder()
+    mesh.rect((0.0, 0.0, 0.0), Y, X, 2.0, 1.5, WHITE)          # floor of both rooms
+    mesh.rect((0.0, 2.0, 0.0), -Y, X, 2.0, 1.5, WHITE)         # ceiling
+    mesh.rect((0.0, 1.0, -1.5), Z, X, 2.0, 1.0, WHITE)         # back walls
+    mesh.rect((0.0, 1.0, 1.5), -Z, X, 2.0, 1.0, WHITE)         # front walls
+    mesh.rect((-2.0, 1.0, 0.0), X, Z, 1.5, 1.0, RED)           # far wall of the left room
+    mesh.rect((2.0, 1.0, 0.0), -X, Z, 1.5, 1.0, WHITE)         # far wall of the right room
+    mesh.box((0.0, 1.0, 0.0), (0.06, 2.0, 3.0), WHITE)         # the shared wall
+    positions, normals, albedo = mesh.arrays()
+    spot = SpotLight((-1.2, 1.9, 0.0), (-1.2, 0.0, 0.0), flux_for_irradiance(1.9),
+                     name="spot", cone_degrees=(20.0, 30.0))
+    # a warm bulb in the right room (off by default): it sees the shared wall's right face
+    lamp = PointLight((1.2, 1.5, -0.6), flux_for_irradiance(1.0, 1.5), name="lamp",
+                      colour=WARM)
+    camera = Camera((1.9, 1.7, 1.4), (0.0, 0.45, -0.4), 75.0)
+    return Scene("two-rooms", positions, normals, albedo, camera, (spot, lamp),
+                 (-2.0, 0.0, -1.5), (2.0, 2.0, 1.5), lights_on=("spot",))
+
+
 BUILTIN_SCENES = {
     "cornell": cornell_box,
     "single-source": single_source,
     "room": room,
+    "two-rooms": two_rooms,
     "atrium": atrium,
 }

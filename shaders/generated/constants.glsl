@@ -32,6 +32,7 @@ const float SH_L2_LOBE_C4 = 0.429042765405;  // sqrt(15)*sqrt(pi)/16  [sh.l2_lob
 const float INV_PI = 0.318309886184;  // 1/pi  [corrections.injection_pi.flux_factor]
 const float SIDE_EVAL_SMALL = 0.4472135955;  // sqrt(5)/5  [propagation.side_eval_small]
 const float SIDE_EVAL_BIG = 0.894427191;  // 2*sqrt(5)/5  [propagation.side_eval_big]
+const float INV_FOUR_PI = 0.0795774715459;  // 1/(4*pi)  [media.isotropic_phase]
 const float PUBLISHED_SH_C0 = 0.282094792;  // printed in lpv-dx11-article.md; exact 1/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c0]
 const float PUBLISHED_SH_C1 = 0.488602512;  // printed in lpv-dx11-article.md; exact sqrt(3)/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c1]
 const float PUBLISHED_SH_COSLOBE_C0 = 0.886226925;  // printed in lpv-dx11-article.md; exact sqrt(pi)/2 (correct)  [errata.dx11.coslobe_c0]

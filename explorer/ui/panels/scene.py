@@ -21,7 +21,7 @@ from explorer.ui.setting_widgets import draw_setting, label_of, tooltip_of
 from explorer.ui.state import AppState
 
 GROUPS = ("Light and shadows", "Light propagation volume", "Leak reduction and bounces",
-          "Cascades", "Display", "Output")
+          "Fog and glossy", "Cascades", "Display", "Output")
 """The panel's sections, top to bottom (each spec names the one it belongs in)."""
 OWNERS = (Settings, AppState)
 """The classes whose declared fields the panel edits: configuration A and the view."""
@@ -201,5 +201,11 @@ _SHOWN_WHEN: dict[str, Callable[[AppState], bool]] = {
     "cascade_focus": lambda state: state.settings.cascades > 1,
     "cascade_iterations": lambda state: state.settings.cascades > 1,
     "render_scale": lambda state: state.follow_view_size,
+    "camera_occluders": lambda state: state.settings.geometry_volume != "off",
+    **{name: (lambda state: state.settings.fog) for name in (
+        "fog_density", "fog_albedo", "fog_phase", "fog_steps")},
+    "fog_g": lambda state: state.settings.fog and state.settings.fog_phase != "isotropic",
+    **{name: (lambda state: state.settings.glossy) for name in (
+        "glossy_roughness", "glossy_strength", "glossy_samples")},
 }
 """Controls shown only where they mean something."""

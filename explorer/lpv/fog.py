@@ -1,0 +1,122 @@
+"""Fog: single scattering of the LPV's light and the direct light in a homogeneous medium
+that fills the scene's box, ray-marched per pixel (``shaders/fog.glsl``, docs/MODEL.md
+"Fog"). The numpy twin is :func:`explorer.lpv.reference_media.march_fog`.
+
+The pass writes two ``rgba32f`` targets the display stage composes over the surfaces:
+``direct`` (the direct light's in-scattered radiance in rgb, the transmittance to the
+surface in alpha) and ``lpv`` (the LPV's in-scattered radiance in rgb). Its inputs are the
+G-buffer (where each view ray ends), the RSM views (light records, ``light_records.py``)
+with their shadow maps (the RSM atlas) and the accumulated grid of every cascade.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from explorer.gl.fullscreen import FullscreenTriangle
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.cascades import CascadeInput, cascade_uniforms
+from explorer.lpv.gbuffer import GBufferPass
+from explorer.lpv.light_records import LightRecordBuffer, view_list
+from explorer.lpv.rsm import LightView
+from explorer.lpv.targets import RenderTargets
+from explorer.lpv.textures import sh_defines
+from explorer.lpv.vpl import VplTextures
+from explorer.scene.model import Scene
+from explorer.scene.transforms import gl_matrix
+
+TARGETS = ("fog_direct", "fog_lpv")
+FIRST_GRID_UNIT = 3
+"""Units 0..2: G-buffer position, shadow-map (atlas) position and normal; the grids
+follow."""
+
+
+@dataclass(frozen=True)
+class Medium:
+    """The homogeneous medium and how it is marched (the ``fog_*`` Settings)."""
+
+    density: float
+    """Extinction σ_t [1/m]."""
+    albedo: float
+    """Single-scattering albedo α = σ_s/σ_t."""
+    g: float
+    """Henyey–Greenstein asymmetry (0: isotropic)."""
+    steps: int
+
+    @classmethod
+    def of(cls, settings) -> "Medium":
+        """The medium the Settings describe (``fog_g`` is used only with the HG phase)."""
+        g = settings.fog_g if settings.fog_phase == "henyey-greenstein" else 0.0
+        return cls(float(settings.fog_density), float(settings.fog_albedo), float(g),
+                   int(settings.fog_steps))
+
+
+def camera_rays(scene: Scene, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """``(eye, inverse view-projection)`` of the scene's camera for an image of ``size``:
+    what the G-buffer pass rendered with, so that a background pixel's ray is the one its
+    pixel centre would have had."""
+    camera = scene.camera
+    width, height = size
+    projection = camera.projection_matrix(width / height, scene.bounds_min, scene.bounds_max)
+    view_projection = projection @ camera.view_matrix()
+    return np.asarray(camera.eye, np.float64), np.linalg.inv(view_projection)
+
+
+class FogPass:
+    """Full-screen pass writing the targets named in :data:`TARGETS`."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS))
+        self._triangle = FullscreenTriangle(ctx)
+        self._lights = LightRecordBuffer(ctx)
+
+    @property
+    def targets(self) -> dict[str, moderngl.Texture]:
+        """Target name -> texture (empty before the first run)."""
+        return dict(zip(TARGETS, self._targets.textures))
+
+    def run(self, gbuffer: GBufferPass, shadow: VplTextures,
+            lights: LightView | Sequence[LightView], scene: Scene,
+            cascades: list[CascadeInput], medium: Medium, sh_order: int = 1,
+            shader_filter: bool = False, rows: tuple[int, int] | None = None,
+            shadow_tiles: Sequence[tuple[int, int]] | None = None) -> None:
+        """March every pixel's view ray (of the rows ``rows``, GL order, or all) through
+        the medium, lit by ``cascades`` (finest first; one for the single grid) and the
+        RSM views ``lights``, whose shadow maps ``shadow`` holds at ``shadow_tiles``
+        (lower-left texels; None: one view, the RSM itself). ``shader_filter``: interpolate
+        the grid in the shader (the gather's probe, ``GatherPass.shader_filter``)."""
+        if not cascades:
+            raise ValueError("the fog needs the accumulated grid of at least one cascade")
+        self._targets.allocate(gbuffer.size)
+        program = self.programs.get("fog.glsl", {**sh_defines(sh_order),
+                                                 "SH_SHADER_FILTER": int(shader_filter)})
+        gbuffer.position.use(0)
+        shadow.position.use(1)
+        shadow.normal.use(2)
+        light_count = self._lights.bind(view_list(lights), shadow_tiles)
+        eye, inverse = camera_rays(scene, gbuffer.size)
+        set_uniforms(program, {
+            "u_gbuffer_position": 0, "u_shadow_position": 1, "u_shadow_normal": 2,
+            "u_light_count": light_count,
+            "u_inverse_view_projection": gl_matrix(inverse),
+            "u_camera_position": tuple(map(float, eye)),
+            "u_medium_min": tuple(map(float, scene.bounds_min)),
+            "u_medium_max": tuple(map(float, scene.bounds_max)),
+            "u_fog_density": medium.density, "u_fog_albedo": medium.albedo,
+            "u_fog_g": medium.g, "u_fog_steps": medium.steps,
+            **cascades[0].spec.uniforms(),
+            **cascade_uniforms(cascades, FIRST_GRID_UNIT),
+        })
+        with self._targets.drawing(rows=rows):
+            self._triangle.draw(program)
+
+    def release(self) -> None:
+        self._targets.release()
+        self._triangle.release()
+        self._lights.release()
