@@ -9,7 +9,8 @@
 // The display scale is the auto exposure key/L̄ (or 1). With fog (docs/MODEL.md "Fog") the
 // surfaces are seen through the medium and the medium's in-scattering adds to them:
 //     exposed = exposure · (T·(direct + indirect) + fog_direct + fog_lpv)
-// (exposure · (T·indirect + fog_lpv) with u_indirect_only: the LPV's light alone).
+// (exposure · (T·indirect + fog_lpv) with u_indirect_only: the LPV's light alone;
+// fog_compose.glsl, which the window's view pass shares).
 // Numpy twin: FrameResult.final_image (the exposed colour, explorer.lpv.display
 // exposed_image) through explorer.lpv.tonemap.display_encode.
 
@@ -19,6 +20,7 @@
 
 #if defined FRAGMENT_SHADER
 #include "tonemap.glsl"
+#include "fog_compose.glsl"
 
 uniform sampler2D u_direct;        // rgba32f linear radiance (gather.glsl target 0)
 uniform sampler2D u_indirect;      // rgba32f linear radiance (gather.glsl target 1)
@@ -38,10 +40,8 @@ void main() {
     vec3 direct = u_indirect_only == 1 ? vec3(0.0) : texelFetch(u_direct, pixel, 0).rgb;
     vec3 linear = direct + indirect;
     if (u_fog == 1) {
-        vec4 fog_direct = texelFetch(u_fog_direct, pixel, 0);
-        vec3 fog_lpv = texelFetch(u_fog_lpv, pixel, 0).rgb;
-        linear = fog_direct.a * linear + fog_lpv
-               + (u_indirect_only == 1 ? vec3(0.0) : fog_direct.rgb);
+        linear = seen_through_fog(linear, texelFetch(u_fog_direct, pixel, 0),
+                                  texelFetch(u_fog_lpv, pixel, 0).rgb, u_indirect_only == 1);
     }
     vec3 exposed = u_exposure * linear;
     out_display = vec4(display_encode(exposed, u_display_scale, u_tone_map), 1.0);

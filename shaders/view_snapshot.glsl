@@ -1,6 +1,7 @@
 #version 430 core
 // The window's copy of one side's picture (explorer/ui/picture.py): the gather's linear
-// direct and indirect radiance and the G-buffer's albedo, copied texel for texel into
+// direct and indirect radiance and the G-buffer's albedo (SOURCES 3), or the fog pass's two
+// targets of a frame with fog (SOURCES 2, docs/MODEL.md "Fog"), copied texel for texel into
 // textures the window owns, so that the view keeps showing a whole picture while the
 // pipeline rewrites its own targets (a camera move re-renders the G-buffer before the
 // gather, the gather runs in bands). Full-screen pass, one texel per pixel.
@@ -10,18 +11,24 @@
 #endif
 
 #if defined FRAGMENT_SHADER
-uniform sampler2D u_direct;        // rgba32f linear radiance (gather.glsl target 0)
-uniform sampler2D u_indirect;      // rgba32f linear radiance (gather.glsl target 1)
-uniform sampler2D u_albedo;        // G-buffer albedo, w = 1 where a surface is seen
+#define SOURCES 3
 
-layout(location = 0) out vec4 out_direct;
-layout(location = 1) out vec4 out_indirect;
-layout(location = 2) out vec4 out_albedo;
+uniform sampler2D u_source0;       // direct radiance, or the fog's direct in-scattering
+uniform sampler2D u_source1;       // indirect radiance, or the fog's LPV in-scattering
+uniform sampler2D u_source2;       // albedo, w = 1 where a surface is seen
+
+layout(location = 0) out vec4 out_copy0;
+layout(location = 1) out vec4 out_copy1;
+#if SOURCES == 3
+layout(location = 2) out vec4 out_copy2;
+#endif
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    out_direct = texelFetch(u_direct, pixel, 0);
-    out_indirect = texelFetch(u_indirect, pixel, 0);
-    out_albedo = texelFetch(u_albedo, pixel, 0);
+    out_copy0 = texelFetch(u_source0, pixel, 0);
+    out_copy1 = texelFetch(u_source1, pixel, 0);
+#if SOURCES == 3
+    out_copy2 = texelFetch(u_source2, pixel, 0);
+#endif
 }
 #endif

@@ -243,3 +243,36 @@ def test_a_request_that_fails_keeps_the_last_good_picture(controller):
     assert "pipeline A failed" in state.runtime.pipeline_error
     assert [m.level for m in state.messages].count("error") == 1
     assert controller.failed_settings == state.settings
+
+
+@pytest.mark.parametrize("indirect_only", [False, True], ids=["final", "indirect-only"])
+def test_the_view_shows_a_frame_with_fog_as_the_display_stage_does(controller, gl_context,
+                                                                   indirect_only):
+    """The picture keeps a finished frame's fog and the view pass composes it as the
+    display stage does (one fog_compose.glsl): the view's image equals a one-shot
+    pipeline's display texture to a step of 8 bits, and differs from the frame without
+    fog."""
+    state = _state(fog=True, fog_density=1.5, fog_steps=8, indirect_only=indirect_only)
+    _settle(controller, state)
+    picture = state.runtime.pictures["A"]
+    assert picture.stamp.final and picture.has_fog
+    composer = ViewComposer(gl_context, controller.programs)
+    try:
+        def shown():
+            composer.side_image("A", state.runtime.pictures["A"],
+                                controller.side_display(state, "A"), "final")
+            return composer.read("A")[..., :3].astype(int)
+
+        with_fog = shown()
+        with Pipeline(state.settings, ctx=gl_context) as once:
+            once.run(state.settings, need_audit=False)
+            width, height = once.final_texture.size
+            display = np.frombuffer(once.final_texture.read(), np.uint8).reshape(
+                height, width, 4)[::-1, :, :3].astype(int)
+        assert np.abs(with_fog - display).max() <= 1
+        state.update(fog=False)
+        _settle(controller, state)
+        assert not state.runtime.pictures["A"].has_fog
+        assert np.abs(shown() - with_fog).max() > 20      # the fog showed
+    finally:
+        composer.release()

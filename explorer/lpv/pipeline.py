@@ -199,6 +199,17 @@ class Pipeline:
             raise RuntimeError("the pipeline has not gathered yet: call run() first")
         return targets["direct"], targets["indirect"], self._gbuffer.textures[2]
 
+    @property
+    def fog_textures(self) -> tuple[moderngl.Texture, moderngl.Texture] | None:
+        """``(fog_direct, fog_lpv)``: the fog pass's ``rgba32f`` targets of the last frame
+        (the direct light's in-scattered radiance with the transmittance in w, the LPV's
+        in-scattered radiance), which the display composes over :attr:`linear_textures`
+        (docs/MODEL.md "Fog"); None when that frame has no fog."""
+        if not self.settings.fog or self._arrays.get("fog") is None:
+            return None
+        targets = self._fog.targets
+        return targets["fog_direct"], targets["fog_lpv"]
+
     def start(self, settings: Settings | None = None, keep_steps: bool = False,
               vpls: VplArrays | None = None, need_audit: bool = True,
               progress: ProgressCallback | None = None) -> Job:

@@ -54,8 +54,11 @@ PINNED_DISPLAY: dict[str, object] = {
 """The display stage's fields, fixed in what the pipelines run: the view composer applies
 the real ones, so changing them runs no stage (exposure, tone map, indirect only, auto
 exposure)."""
-CAMERA_STAGES = frozenset({"grid", "gbuffer", "gather", "display"})
-"""What a camera move runs (with one cascade the grid stage only recomputes its specs)."""
+CAMERA_STAGES = frozenset({"grid", "gbuffer", "gather", "fog", "display"})
+"""What a camera move runs (with one cascade the grid stage only recomputes its specs; the
+fog's march, when it is on, follows the view rays): the work per pixel that a drag's
+reduced size makes cheaper, measured to choose that size. (With camera occluders a move
+also re-runs the geometry volume and the propagation: such frames are not measured.)"""
 DRAG_SCALES = (1.0, 0.5, 0.25)
 """Render-size factors tried while the camera is dragged, largest first."""
 FIRST_DRAG_SCALE = 0.5
@@ -88,6 +91,8 @@ class PipelineLike(Protocol):
     def release(self) -> None: ...
     @property
     def linear_textures(self) -> tuple: ...
+    @property
+    def fog_textures(self) -> tuple | None: ...
 
 
 @dataclass(frozen=True)
@@ -392,9 +397,12 @@ class PipelineController:
                                     elapsed))
 
     def _snapshot(self, side: SideState, stamp: Stamp, result: "FrameResult | None") -> None:
+        """Copy the side's linear buffers into its picture; a finished frame's fog too (a
+        preview shows the surfaces without it, as the pipeline's own preview does)."""
         if side.picture is None:
             side.picture = Picture(self.ctx, self.programs)
-        side.picture.copy_from(*side.pipeline.linear_textures, stamp, result)
+        fog = getattr(side.pipeline, "fog_textures", None) if stamp.final else None
+        side.picture.copy_from(*side.pipeline.linear_textures, stamp, result, fog)
 
     def _finished(self, state: "AppState", side: SideState, status: ControllerStatus) -> None:
         job, request = side.job, side.request
@@ -492,7 +500,7 @@ class PipelineController:
                 continue
             rt.exposure_seen[i] = key
             linear = exposed_image(result.direct, result.indirect, 1.0,
-                                   state.settings.indirect_only)
+                                   state.settings.indirect_only, result.fog)
             value = auto_exposure(linear, 1.0)
             if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
                 values[i] = float(f"{value:.3g}")
@@ -671,7 +679,8 @@ def _result_scale(result: "FrameResult", indirect_only: bool) -> float:
     stage's measure, explorer/lpv/display.py)."""
     from explorer.lpv.display import display_scale, exposed_image
 
-    unexposed = exposed_image(result.direct, result.indirect, 1.0, indirect_only)
+    unexposed = exposed_image(result.direct, result.indirect, 1.0, indirect_only,
+                              getattr(result, "fog", None))
     mask = np.asarray(result.gbuffer_position)[..., 3] > 0.5
     return display_scale(unexposed, mask, True)
 

@@ -57,12 +57,16 @@ class Picture:
     """Linear direct and indirect radiance (``rgba32f``) and albedo (``rgba16f``, w = 1
     on a surface) of one side, row 0 at the bottom, with what they show (:attr:`stamp`)
     and the finished frame they belong to (:attr:`result`, the last finished one for a
-    preview)."""
+    preview); for a frame with fog also the fog pass's two targets (:attr:`has_fog`),
+    which the view composes over the surfaces as the display stage does."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4", "f4", "f2"))
+        self._fog_targets = RenderTargets(ctx, ("f4", "f4"))
+        self.has_fog = False
+        """The picture holds fog (:attr:`fog_direct`, :attr:`fog_lpv`)."""
         self._triangle = FullscreenTriangle(ctx)
         self.stamp: Stamp | None = None
         self.result: FrameResult | None = None
@@ -84,22 +88,39 @@ class Picture:
         return self._targets.textures[2]
 
     @property
+    def fog_direct(self) -> moderngl.Texture:
+        """The direct light's in-scattered radiance, the transmittance in w (fog.glsl)."""
+        return self._fog_targets.textures[0]
+
+    @property
+    def fog_lpv(self) -> moderngl.Texture:
+        """The LPV's in-scattered radiance (fog.glsl)."""
+        return self._fog_targets.textures[1]
+
+    @property
     def ready(self) -> bool:
         return self.stamp is not None
 
     def copy_from(self, direct: moderngl.Texture, indirect: moderngl.Texture,
                   albedo: moderngl.Texture, stamp: Stamp,
-                  result: "FrameResult | None") -> None:
-        """Copy the pipeline's textures (all the same size) in one draw."""
-        self._targets.allocate(direct.size)
-        program = self.programs.get(SNAPSHOT)
-        direct.use(0)
-        indirect.use(1)
-        albedo.use(2)
-        set_uniforms(program, {"u_direct": 0, "u_indirect": 1, "u_albedo": 2})
-        with self._targets.drawing():
-            self._triangle.draw(program)
+                  result: "FrameResult | None",
+                  fog: "tuple[moderngl.Texture, moderngl.Texture] | None" = None) -> None:
+        """Copy the pipeline's textures (all the same size) in one draw, and ``fog`` (the
+        fog pass's direct and LPV targets of a frame with fog) in a second."""
+        self._copy(self._targets, (direct, indirect, albedo))
+        self.has_fog = fog is not None
+        if fog is not None:
+            self._copy(self._fog_targets, fog)
         self.stamp, self.result = stamp, result
+
+    def _copy(self, targets: RenderTargets, sources) -> None:
+        targets.allocate(sources[0].size)
+        program = self.programs.get(SNAPSHOT, {"SOURCES": len(sources)})
+        for unit, texture in enumerate(sources):
+            texture.use(unit)
+        set_uniforms(program, {f"u_source{unit}": unit for unit in range(len(sources))})
+        with targets.drawing():
+            self._triangle.draw(program)
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(direct, indirect, surface mask)`` as numpy, top row first: ``(H, W, 3)``
@@ -116,5 +137,7 @@ class Picture:
 
     def release(self) -> None:
         self._targets.release()
+        self._fog_targets.release()
+        self.has_fog = False
         self._triangle.release()
         self.stamp, self.result = None, None

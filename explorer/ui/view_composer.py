@@ -20,6 +20,7 @@ import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.display import exposed_image
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.tonemap import luminance, tone_map_index
 from explorer.ui.picture import Picture, SideDisplay
@@ -132,18 +133,26 @@ class ViewComposer:
 
     def _draw(self, output: _Output, size: tuple[int, int], mode: int, buffer: str,
               uniforms: dict, a: Picture, b: Picture | None) -> None:
-        """One pass of view.glsl, its mode (0 one side, 1 difference) and buffer compiled
-        in (one program per pair, made on first use)."""
+        """One pass of view.glsl, its mode (0 one side, 1 difference), buffer and each
+        side's fog compiled in (one program per combination, made on first use)."""
         output.targets.allocate(size)
-        program = self.programs.get(VIEW, {"VIEW_MODE": mode,
-                                           "VIEW_BUFFER": VIEW_BUFFERS.index(buffer)})
+        b_shown = b
         b = b or a
-        for unit, texture in enumerate((a.direct, a.indirect, a.albedo,
-                                        b.direct, b.indirect, b.albedo)):
-            texture.use(unit)
+        # the fog is composed over "final" only (direct and indirect are the surfaces' own)
+        fog_a = buffer == "final" and a.has_fog
+        fog_b = buffer == "final" and b_shown is not None and b.has_fog
+        program = self.programs.get(VIEW, {"VIEW_MODE": mode,
+                                           "VIEW_BUFFER": VIEW_BUFFERS.index(buffer),
+                                           "FOG_A": int(fog_a), "FOG_B": int(fog_b)})
+        textures = (a.direct, a.indirect, a.albedo, b.direct, b.indirect, b.albedo,
+                    a.fog_direct if fog_a else a.direct, a.fog_lpv if fog_a else a.direct,
+                    b.fog_direct if fog_b else b.direct, b.fog_lpv if fog_b else b.direct)
+        for unit, texture in zip((0, 1, 2, 3, 4, 5, 7, 8, 9, 10), textures):
+            texture.use(unit)          # unit 6: the difference's colour map
         set_uniforms(program, {"u_direct_a": 0, "u_indirect_a": 1, "u_albedo_a": 2,
                                "u_direct_b": 3, "u_indirect_b": 4, "u_albedo_b": 5,
-                               **uniforms})
+                               "u_fog_direct_a": 7, "u_fog_lpv_a": 8,
+                               "u_fog_direct_b": 9, "u_fog_lpv_b": 10, **uniforms})
         with output.targets.drawing():
             self._triangle.draw(program)
         _use_screen(self.ctx)
@@ -179,9 +188,11 @@ class ViewComposer:
 
 
 def _linear(result, buffer: str, indirect_only: bool) -> np.ndarray:
-    """The unexposed linear image of ``buffer`` of a finished frame."""
+    """The unexposed linear image of ``buffer`` of a finished frame (with its fog for
+    "final", as the display composes it)."""
     if buffer == "final":
-        return result.indirect if indirect_only else result.direct + result.indirect
+        return exposed_image(result.direct, result.indirect, 1.0, indirect_only,
+                             getattr(result, "fog", None))
     return getattr(result, buffer)
 
 
