@@ -124,6 +124,41 @@ def test_display_only_changes_run_no_stage_and_draw_once(controller, gl_context)
         composer.release()
 
 
+def test_a_before_after_split_of_a_display_field_shows_it_on_side_b(controller, gl_context):
+    """A lesson's try-this "indirect light alone, beside the full image" overrides
+    indirect_only for B only: B's side shows the indirect light alone (what its pipeline's
+    display stage would show at A's display scale), A the full image."""
+    state = _state(auto_exposure=False, exposure=2.0)
+    state.view_mode = "split"
+    state.compare_settings = state.compare_settings.with_changes(
+        corrections=state.settings.corrections)
+    state.compare_overrides = (("indirect_only", True),)
+    _settle(controller, state)
+    display_a = controller.side_display(state, "A")
+    display_b = controller.side_display(state, "B")
+    assert not display_a.indirect_only and display_b.indirect_only
+    assert display_b.scale == display_a.scale, "B is shown at A's display scale"
+    composer = ViewComposer(gl_context, controller.programs)
+    try:
+        images = {}
+        for side, display in (("A", display_a), ("B", display_b)):
+            composer.side_image(side, state.runtime.pictures[side], display, "final")
+            images[side] = composer.read(side)[..., :3].astype(int)
+        # the same frame on both sides: only the display differs; the direct light is gone
+        # on B, so B is darker everywhere and much darker where the spot shines
+        assert (images["B"] <= images["A"] + 1).all()
+        assert (images["A"] - images["B"]).max() > 100
+        with Pipeline(SMALL.with_changes(indirect_only=True, auto_exposure=False,
+                                         exposure=2.0), ctx=gl_context) as once:
+            once.run(need_audit=False)
+            width, height = once.final_texture.size
+            alone = np.frombuffer(once.final_texture.read(), np.uint8).reshape(
+                height, width, 4)[::-1, :, :3].astype(int)
+        assert np.abs(images["B"] - alone).max() <= 1
+    finally:
+        composer.release()
+
+
 def test_a_camera_change_runs_only_the_camera_stages(controller):
     state = _state()
     _settle(controller, state)

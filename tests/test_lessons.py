@@ -4,6 +4,7 @@ broken files give errors that name the file, the step and the field."""
 from __future__ import annotations
 
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -282,6 +283,11 @@ def test_cli_lists_and_prints(capsys, shipped):
     assert cli_main(["lessons", lessons[0].id]) == 0
     out = capsys.readouterr().out
     assert lessons[0].steps[-1].title in out and "try this" in out
+    # the export options alone export nothing: refused, not silently ignored
+    assert cli_main(["lessons", "--step", "2"]) == 2
+    assert "--step needs --export ID" in capsys.readouterr().err
+    assert cli_main(["lessons", lessons[0].id, "--try", "1", "--no-overlays"]) == 2
+    assert "--try, --no-overlays need --export ID" in capsys.readouterr().err
 
 
 def test_cli_reports_broken_lessons(tmp_path, capsys):
@@ -430,7 +436,7 @@ def test_inline_math_reads_as_plain_text(shipped):
     """The terminal form of a lesson (``lpv-explorer lessons ID``): math as text, derived
     numbers filled in, live ones named, markers spelled out."""
     from explorer.commands.lessons import _plain
-    from explorer.lessons import math_to_text
+    from explorer.lessons import MATH_COMMANDS, math_to_text
 
     assert math_to_text(r"$\Phi = \int_{S^2} I(\omega)\,d\omega$") == "Φ = ∫_S² I(ω) dω"
     assert math_to_text(r"$\frac{\Delta\omega_f}{4\pi}$ and $c_1 = \sqrt{3}/(2\sqrt{\pi})$") \
@@ -438,6 +444,10 @@ def test_inline_math_reads_as_plain_text(shipped):
     assert math_to_text(r"$\langle n, \omega\rangle$") == "<n, ω>"
     assert math_to_text(r"$(x^2 + 9)^{-3/2}$, $87.5\%$, $\{\pm x\}$") \
         == "(x² + 9)^(-3/2), 87.5%, {± x}"
+    # nested braces and sizing commands (lesson 06's injection formula)
+    assert math_to_text(r"$f \mathrel{+}= k\,\left(\frac{\sqrt{\pi}}{2},\; "
+                        r"-\sqrt{\pi/3}\,n_y\right)$") == "f += k ((√π)/2, -√(π/3) n_y)"
+    assert math_to_text(r"$\frac{1}{2\sqrt{\pi}}$, $\alpha\,\sigma_t$") == "1/(2√π), α σ_t"
     assert _plain(r"$c_0 = {{derived.sh.c0:.4f}}$ and {{audit.injected:.3g}} W {{try:1}}") \
         == "c_0 = 0.2821 and [audit.injected] W [try 1]"
     lessons, _ = shipped
@@ -446,6 +456,12 @@ def test_inline_math_reads_as_plain_text(shipped):
             plain = _plain(step.text)
             assert "$" not in plain and "\\" not in plain and "{{" not in plain, \
                 (lesson.id, step.number)
+            # every command the lessons' math uses is one the text form knows (an unknown
+            # one would leave its name in the text: "left(frac√π2")
+            texts = (step.text, *(item.prompt for item in step.try_this))
+            for math in re.findall(r"\$+([^$]+)\$+", "\n".join(texts)):
+                for command in re.findall(r"\\[A-Za-z]+", math):
+                    assert command in MATH_COMMANDS, (lesson.id, step.number, command)
 
 
 _WINDOW_SCRIPT = """

@@ -23,7 +23,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="read lessons from this folder instead of the shipped ones")
     group = parser.add_argument_group("export a step as the window shows it")
     group.add_argument("--export", metavar="ID", help="lesson id, number or file stem")
-    group.add_argument("--step", type=int, default=1, metavar="K",
+    group.add_argument("--step", type=int, default=None, metavar="K",
                        help="step of the exported lesson (default: 1)")
     group.add_argument("--out", type=Path, default=None, metavar="PNG",
                        help="the PNG to write (default: ./<lesson>-step<K>.png)")
@@ -56,6 +56,12 @@ def main(args: argparse.Namespace) -> int:
         raise CommandError(f"--dir {args.dir}: no such folder")
     if args.export:
         return _export(args)
+    given = [flag for flag, value in (("--step", args.step), ("--out", args.out),
+                                      ("--try", args.try_this)) if value is not None]
+    given += [] if args.overlays else ["--no-overlays"]
+    if given:
+        raise CommandError(f"{', '.join(given)} need{'s' if len(given) == 1 else ''} "
+                           "--export ID")
     lessons, errors = load_all(args.dir)
     if not lessons and not errors:
         raise CommandError(f"no lessons (*.toml files) in {args.dir or 'the shipped lessons'}",
@@ -137,12 +143,13 @@ def _export(args: argparse.Namespace) -> int:
     from explorer.gl.window import WindowError
     from explorer.ui.export import export_step
 
+    step = 1 if args.step is None else args.step
     with Outputs() as outputs:
-        out = outputs.file(args.out or Path.cwd() / f"{args.export}-step{args.step}.png",
+        out = outputs.file(args.out or Path.cwd() / f"{args.export}-step{step}.png",
                            suffixes=(".png",))
         width, height = args.size
         try:
-            outputs.write(out, lambda path: export_step(args.export, args.step, path, width,
+            outputs.write(out, lambda path: export_step(args.export, step, path, width,
                                                         height, try_this=args.try_this,
                                                         overlays=args.overlays))
         except (KeyError, IndexError) as exc:

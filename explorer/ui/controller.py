@@ -382,8 +382,9 @@ class PipelineController:
                 side.serial += 1
                 self._snapshot(side, Stamp(side.serial, False, progress.done, progress.total),
                                side.result)
-                if side.auto_scale is None and state.settings.auto_exposure:
-                    side.auto_scale = _picture_scale(side.picture, state.settings.indirect_only)
+                display = self.settings_for(state, side.name)
+                if side.auto_scale is None and display.auto_exposure:
+                    side.auto_scale = _picture_scale(side.picture, display.indirect_only)
                 status.published = True
         except Exception as exc:  # noqa: BLE001 - the job's own run reports it next
             print(f"lpv-explorer: preview of {side.name} failed: {exc}", file=sys.stderr)
@@ -456,20 +457,23 @@ class PipelineController:
 
     # ------------------------------------------------------------------ display
     def side_display(self, state: "AppState", side: str) -> SideDisplay:
-        """How ``side`` is shown: the state's exposure, tone curve and indirect only, and
-        its display scale (the auto exposure of its picture, A's for B unless each side
-        is exposed separately)."""
-        s = state.settings
+        """How ``side`` is shown: its exposure, tone curve and indirect only (B's are A's
+        unless a lesson's before | after split overrides them, e.g. the indirect light
+        alone on the right), and its display scale (the auto exposure of its picture,
+        A's for B unless each side is exposed separately)."""
+        s = self.settings_for(state, side)
         per_side = state.comparing and state.expose_sides_separately
         exposure = s.exposure
-        if per_side and not s.auto_exposure:
+        if per_side and not state.settings.auto_exposure:
             exposure = state.runtime.side_exposures[SIDES.index(side)]
         own = side == "A" or per_side
-        scale = self._auto_scale(state, self.sides[side if own else "A"])
+        scale = self._auto_scale(state, self.sides[side if own else "A"],
+                                 s if own else state.settings)
         return SideDisplay(float(exposure), scale, s.tone_map, s.indirect_only)
 
-    def _auto_scale(self, state: "AppState", side: SideState) -> float:
-        s = state.settings
+    def _auto_scale(self, state: "AppState", side: SideState, s: Settings) -> float:
+        """The auto exposure of ``side``'s picture shown with the display fields of
+        ``s``."""
         if not s.auto_exposure:
             return 1.0
         result = side.result
@@ -495,12 +499,13 @@ class PipelineController:
         values = list(rt.side_exposures)
         for i, name in enumerate(SIDES):
             result = self.sides[name].result
-            key = (id(result), state.settings.indirect_only)
+            indirect_only = self.settings_for(state, name).indirect_only
+            key = (id(result), indirect_only)
             if result is None or rt.exposure_seen[i] == key:
                 continue
             rt.exposure_seen[i] = key
-            linear = exposed_image(result.direct, result.indirect, 1.0,
-                                   state.settings.indirect_only, result.fog)
+            linear = exposed_image(result.direct, result.indirect, 1.0, indirect_only,
+                                   result.fog)
             value = auto_exposure(linear, 1.0)
             if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
                 values[i] = float(f"{value:.3g}")

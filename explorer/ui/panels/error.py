@@ -173,7 +173,12 @@ def gui_error(state) -> None:
 def _controls(service: ErrorService) -> None:
     if service.running:
         job = service.job
-        imgui.progress_bar(job.fraction, (-80, 0), f"{job.stage} {job.fraction:.0%}")
+        # leave room on the line for the Cancel button and the "every change" checkbox
+        style = imgui.get_style()
+        after = (imgui.calc_text_size("Cancel").x + 2 * style.frame_padding.x
+                 + imgui.get_frame_height() + style.item_inner_spacing.x
+                 + imgui.calc_text_size("every change").x + 2 * style.item_spacing.x)
+        imgui.progress_bar(job.fraction, (-after, 0), f"{job.stage} {job.fraction:.0%}")
         imgui.same_line()
         if imgui.button("Cancel"):
             service.cancel()
