@@ -369,3 +369,14 @@ text = "The flux is {{audit.injectd:.3g}} W."
     path.write_text(same, encoding="utf-8")
     with pytest.raises(LessonError, match="already 32"):
         load_lesson(path)
+
+
+@pytest.mark.parametrize("width", [640.0, 800.0, 1024.0, 1280.0, 1600.0, 1920.0, 3840.0])
+def test_the_default_layout_leaves_the_view_at_least_its_share(width):
+    from explorer.ui.layout import VIEW_SHARE, column_widths
+
+    article, tools = column_widths(width)
+    assert width - article - tools >= VIEW_SHARE * width - 1e-9
+    # From 1280 px up the columns keep their readable widths.
+    if width >= 1280.0:
+        assert article >= 400.0 and tools >= 290.0

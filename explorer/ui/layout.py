@@ -79,10 +79,20 @@ def register(panel: Panel, before: str | None = None) -> None:
 def column_widths(width: float) -> tuple[float, float]:
     """(article, tool column) widths in pixels for a window ``width`` wide: the article
     about a third, never narrower than a readable column nor wider than a long line; the
-    rest goes to the 3D view."""
+    rest goes to the 3D view. In a window narrower than 1280 px the two columns shrink
+    together so that the view keeps :data:`VIEW_SHARE` of the width (a squeezed view
+    answers no control visibly)."""
     article = min(max(0.36 * width, 400.0), 700.0)
     tools = min(max(0.24 * width, 290.0), 480.0)
+    most = (1.0 - VIEW_SHARE) * width
+    if article + tools > most:
+        shrink = most / (article + tools)
+        article, tools = article * shrink, tools * shrink
     return article, tools
+
+
+VIEW_SHARE = 0.4
+"""The smallest share of the window's width the default layout leaves to the 3D view."""
 
 
 def window_class(panel: Panel):
