@@ -172,98 +172,142 @@ def open_app(grid: int):
 
 
 def session(spawned: float, frames: int, grid: int) -> dict:
-    from imgui_bundle import imgui
-
+    """The session (module docstring): its phases in order, their figures in one dict."""
     app = open_app(grid)
-    figures: dict[str, object] = {}
     try:
         rec = Recorder(app)
-        # launch to the first lit frame
-        while time.time() - spawned < SETTLE_LIMIT_S:
-            app.frame(capture=True)
-            if lit(app):
-                break
-        figures["launch_to_first_lit_frame_s"] = time.time() - spawned
-        rec.phase = "converge"
-        rec.converge()
-        figures["launch_to_converged_s"] = time.time() - spawned
-        # idle: the loop as a user leaves it, then the cost of a redraw with nothing new
-        drawn = app.state.runtime.frame_index
-        cpu, wall = time.process_time(), time.perf_counter()
-        while time.perf_counter() - wall < IDLE_S:
-            app.frame()
-        wall = time.perf_counter() - wall
-        figures["idle_cpu_percent"] = 100.0 * (time.process_time() - cpu) / wall
-        figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame_index - drawn) / wall
-        redraw = statistics.median(draw(app) for _ in range(10))
-        figures["idle_frame_ms"] = redraw
-        # orbit: drag the mouse across the view
-        rec.phase = "orbit"
-        x0, y0, x1, y1 = app.state.runtime.view_rect
-        scale = imgui.get_io().display_framebuffer_scale.x or 1.0
-        x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
-        io = imgui.get_io()
-        io.add_mouse_pos_event(x, y)
-        poke(app)
-        rec.frame()
-        io.add_mouse_button_event(0, True)
-        poke(app)
-        rec.frame()
-        pictures, last = 0, picture_serial(app)
-        start = time.perf_counter()
-        for step in range(1, frames + 1):
-            io.add_mouse_pos_event(x + DRAG_PIXELS * (step % 60) - 180.0, y)
-            poke(app)
-            rec.frame()
-            serial = picture_serial(app)
-            pictures += serial != last
-            last = serial
-        orbit_s = time.perf_counter() - start
-        figures["orbit_fps"] = pictures / orbit_s
-        figures["orbit_window_fps"] = frames / orbit_s
-        result = app.state.runtime.result
-        figures["orbit_render_size"] = list(result.direct.shape[1::-1]) if result else None
-        io.add_mouse_button_event(0, False)
-        poke(app)
-        figures["orbit_refine_ms"] = rec.converge()
-        # display-only changes: what a frame with the change costs over a plain redraw
-        rec.phase = "display"
-        changed = []
-        for value in EXPOSURES:
-            app.state.update(exposure=value)
-            changed.append(rec.frame())
-        figures["display_change_frame_ms"] = statistics.median(changed)
-        figures["display_change_ms"] = max(statistics.median(changed) - redraw, 0.0)
-        figures["display_pass_ms"] = display_pass_ms(app)
-        rec.converge()
-        # each correction toggled, and back
-        rec.phase = "toggles"
-        figures["toggles"] = toggles(app, rec)
-        firsts = [t["first_update_ms"] for t in figures["toggles"].values()]
-        finals = [t["converged_ms"] for t in figures["toggles"].values()]
-        figures["toggle_first_update_ms"] = statistics.median(firsts)
-        figures["toggle_converged_ms"] = statistics.median(finals)
-        # the grid at 64³
-        rec.phase = "grid 64"
-        before = picture_serial(app)
-        app.state.update(grid_size=64)
-        first, final = rec.until_new_picture(before)
-        figures["grid64_first_update_ms"], figures["grid64_converged_ms"] = first, final
-        before = picture_serial(app)
-        name = next(iter(figures["toggles"]))
-        corrections = app.state.settings.corrections
-        app.state.set_corrections(**{name: not getattr(corrections, name)})
-        first, final = rec.until_new_picture(before)
-        figures["grid64_toggle_first_update_ms"] = first
-        figures["grid64_toggle_converged_ms"] = final
-        figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = \
-            rec.longest
-        figures["frames"] = rec.frames
-        figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
-        figures["renderer"] = app.state.runtime.gl_renderer if hasattr(
-            app.state.runtime, "gl_renderer") else ""
+        figures = launch_phase(app, rec, spawned)
+        figures.update(idle_phase(app))
+        figures.update(orbit_phase(app, rec, frames))
+        figures.update(display_phase(app, rec, figures["idle_frame_ms"]))
+        figures.update(toggle_phase(app, rec))
+        figures.update(grid64_phase(app, rec, next(iter(figures["toggles"]))))
+        figures.update(session_summary(app, rec))
     finally:
         app.close()
+    return figures
+
+
+def launch_phase(app, rec: Recorder, spawned: float) -> dict:
+    """Seconds from the process start (``spawned``) to the first lit frame and to the
+    converged picture."""
+    figures = {}
+    while time.time() - spawned < SETTLE_LIMIT_S:
+        app.frame(capture=True)
+        if lit(app):
+            break
+    figures["launch_to_first_lit_frame_s"] = time.time() - spawned
+    rec.phase = "converge"
+    rec.converge()
+    figures["launch_to_converged_s"] = time.time() - spawned
+    return figures
+
+
+def idle_phase(app) -> dict:
+    """The loop as a user leaves it (CPU share, frames drawn), then the cost of a redraw
+    with nothing new (``idle_frame_ms``, the baseline of the display changes)."""
+    figures = {}
+    drawn = app.state.runtime.frame_index
+    cpu, wall = time.process_time(), time.perf_counter()
+    while time.perf_counter() - wall < IDLE_S:
+        app.frame()
+    wall = time.perf_counter() - wall
+    figures["idle_cpu_percent"] = 100.0 * (time.process_time() - cpu) / wall
+    figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame_index - drawn) / wall
+    figures["idle_frame_ms"] = statistics.median(draw(app) for _ in range(10))
+    return figures
+
+
+def orbit_phase(app, rec: Recorder, frames: int) -> dict:
+    """Drag the mouse across the view for ``frames`` frames: new pictures and window
+    frames per second, the size rendered while dragging, then the refinement's time."""
+    from imgui_bundle import imgui
+
+    figures = {}
+    rec.phase = "orbit"
+    x0, y0, x1, y1 = app.state.runtime.view_rect
+    scale = imgui.get_io().display_framebuffer_scale.x or 1.0
+    x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
+    io = imgui.get_io()
+    io.add_mouse_pos_event(x, y)
+    poke(app)
+    rec.frame()
+    io.add_mouse_button_event(0, True)
+    poke(app)
+    rec.frame()
+    pictures, last = 0, picture_serial(app)
+    start = time.perf_counter()
+    for step in range(1, frames + 1):
+        io.add_mouse_pos_event(x + DRAG_PIXELS * (step % 60) - 180.0, y)
+        poke(app)
+        rec.frame()
+        serial = picture_serial(app)
+        pictures += serial != last
+        last = serial
+    orbit_s = time.perf_counter() - start
+    figures["orbit_fps"] = pictures / orbit_s
+    figures["orbit_window_fps"] = frames / orbit_s
+    result = app.state.runtime.result
+    figures["orbit_render_size"] = list(result.direct.shape[1::-1]) if result else None
+    io.add_mouse_button_event(0, False)
+    poke(app)
+    figures["orbit_refine_ms"] = rec.converge()
+    return figures
+
+
+def display_phase(app, rec: Recorder, redraw_ms: float) -> dict:
+    """Display-only changes (the exposure sweep): what a frame with the change costs
+    over a plain redraw (``redraw_ms``), and the view composer's pass alone."""
+    figures = {}
+    rec.phase = "display"
+    changed = []
+    for value in EXPOSURES:
+        app.state.update(exposure=value)
+        changed.append(rec.frame())
+    figures["display_change_frame_ms"] = statistics.median(changed)
+    figures["display_change_ms"] = max(statistics.median(changed) - redraw_ms, 0.0)
+    figures["display_pass_ms"] = display_pass_ms(app)
+    rec.converge()
+    return figures
+
+
+def toggle_phase(app, rec: Recorder) -> dict:
+    """Each correction toggled and back (:func:`toggles`), with the medians."""
+    rec.phase = "toggles"
+    times = toggles(app, rec)
+    return {"toggles": times,
+            "toggle_first_update_ms": statistics.median(
+                t["first_update_ms"] for t in times.values()),
+            "toggle_converged_ms": statistics.median(t["converged_ms"] for t in times.values())}
+
+
+def grid64_phase(app, rec: Recorder, correction: str) -> dict:
+    """The grid at 64³, then ``correction`` toggled at that size: time to the first new
+    picture and to the converged one, each."""
+    figures = {}
+    rec.phase = "grid 64"
+    before = picture_serial(app)
+    app.state.update(grid_size=64)
+    first, final = rec.until_new_picture(before)
+    figures["grid64_first_update_ms"], figures["grid64_converged_ms"] = first, final
+    before = picture_serial(app)
+    corrections = app.state.settings.corrections
+    app.state.set_corrections(**{correction: not getattr(corrections, correction)})
+    first, final = rec.until_new_picture(before)
+    figures["grid64_toggle_first_update_ms"] = first
+    figures["grid64_toggle_converged_ms"] = final
+    return figures
+
+
+def session_summary(app, rec: Recorder) -> dict:
+    """The longest blocked frame and what ran in it, the frame count, the five slowest
+    frames and the renderer."""
+    figures = {}
+    figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = rec.longest
+    figures["frames"] = rec.frames
+    figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
+    figures["renderer"] = app.state.runtime.gl_renderer if hasattr(
+        app.state.runtime, "gl_renderer") else ""
     return figures
 
 

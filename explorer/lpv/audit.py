@@ -17,6 +17,7 @@ corrected formulas with side faces and exact constants: the 30 faces cover 4π).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import moderngl
@@ -157,6 +158,16 @@ class CellAuditRecords:
                   None if last is None else CellAudit.from_record(last))
         self._cache[index] = record
         return record
+
+
+def flux_per_light(flux: Sequence[np.ndarray], light_of_view: Sequence[int]) -> np.ndarray:
+    """``(lights, 3)`` float64: the flux of every RSM view's flux image (``(H, W, 4)``),
+    summed into its light's row (a point light's six views make one light)."""
+    per_view = np.array([np.add.reduce(f[..., :3].reshape(-1, 3), axis=0, dtype=np.float64)
+                         for f in flux])
+    per_light = np.zeros((max(light_of_view) + 1, 3))
+    np.add.at(per_light, list(light_of_view), per_view)
+    return per_light
 
 
 def check_finite(array: np.ndarray, pass_name: str) -> np.ndarray:

@@ -89,6 +89,22 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
     return specs
 
 
+def frame_specs(settings, scene) -> list[GridSpec]:
+    """The grids of a frame: the ``grid_size``³ grid enclosing ``scene``, or with
+    ``settings.cascades`` > 1 the cascades around the camera's focus point."""
+    single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, settings.grid_size)
+    if settings.cascades == 1:
+        return [single]
+    centre = focus_point(scene.camera.eye, scene.camera.target, settings.cascade_focus)
+    return cascade_specs(single, settings.cascades, centre, settings.cascade_extent,
+                         settings.cascade_snap)
+
+
+def level_pass_name(stage: str, level: int, count: int) -> str:
+    """How messages name ``stage``'s pass on cascade ``level`` of ``count``."""
+    return stage if count == 1 else f"{stage} (cascade {level})"
+
+
 def cascade_iterations(settings, k: int) -> int:
     """Propagation steps of cascade ``k`` (``Settings.cascade_iterations``): ``iterations``
     in every cascade ("same"), or ``iterations·2^(K−1−k)`` ("same-distance", so the fine

@@ -14,6 +14,7 @@ The numpy twin: :func:`exposed_image` followed by
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import moderngl
@@ -58,6 +59,31 @@ def display_scale(unexposed: np.ndarray, mask: np.ndarray | None, auto_exposure:
     shown before the exposure (``direct + indirect``, or ``indirect`` alone), so that the
     exposure still acts as a compensation on top of the auto exposure."""
     return auto_exposure_scale(unexposed, mask) if auto_exposure else 1.0
+
+
+class AutoExposure:
+    """The auto exposure scale of the frame last gathered, measured once per gathered
+    frame, fog and ``indirect_only`` (an exposure change reuses it). The images are told
+    apart by identity: each completed gather or fog stage reads back new arrays."""
+
+    def __init__(self) -> None:
+        self._measured: tuple[Mapping, FogImages | None, bool, float] | None = None
+        """(the gathered arrays, the fog's, indirect_only, their scale)."""
+
+    def scale(self, gather: Mapping[str, np.ndarray], fog: FogImages | None,
+              indirect_only: bool, position: np.ndarray) -> float:
+        """:func:`display_scale` of the unexposed image of ``gather``'s ``direct`` and
+        ``indirect`` (and ``fog``) over the pixels whose G-buffer ``position`` shows a
+        surface (w = 1)."""
+        measured = self._measured
+        if measured is None or measured[0] is not gather or measured[1] is not fog or \
+                measured[2] != indirect_only:
+            unexposed = exposed_image(gather["direct"][..., :3], gather["indirect"][..., :3],
+                                      1.0, indirect_only, fog)
+            measured = self._measured = (gather, fog, indirect_only,
+                                         display_scale(unexposed, position[..., 3] > 0.5,
+                                                       True))
+        return measured[3]
 
 
 class DisplayPass:

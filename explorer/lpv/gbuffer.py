@@ -10,6 +10,9 @@ from explorer.scene.gpu import SceneBuffers
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix
 
+TARGETS = ("position", "normal", "albedo")
+"""The ``rgba32f`` textures the G-buffer renders, in :attr:`GBufferPass.textures` order."""
+
 
 class GBufferPass:
     """Renders the camera's view of the scene into three ``rgba32f`` textures."""
@@ -17,7 +20,7 @@ class GBufferPass:
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self._targets = RenderTargets(ctx, ("f4",) * 3, depth=True,
+        self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS), depth=True,
                                       enable=moderngl.DEPTH_TEST)
 
     @property

@@ -225,6 +225,53 @@ def merge_volumes(programs: ProgramCache, merged: GeometryVolume,
     programs.ctx.memory_barrier()
 
 
+class MergedGeometryPass:
+    """The geometry volume of every RSM view, merged per cell (docs/MODEL.md "Several
+    lights"), with the camera's surfels added (docs/MODEL.md "Camera occluders"): one
+    :class:`GeometryPass` and the scratch volume each further view is built in."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self.single = GeometryPass(ctx, programs)
+        self._scratch: GeometryVolume | None = None
+        """One view's geometry volume before it is merged (several views)."""
+
+    def run(self, occluders: Sequence[VplTextures], spec: GridSpec, corrections: Corrections,
+            mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
+        """Into ``out``: the first view's volume, then each further view's built in the
+        scratch volume and folded in by :func:`merge_volumes`; then ``camera``'s surfels,
+        added (they hold only surfaces no view holds). With one view they are drawn with
+        its surfels (the same sum, no scratch volume)."""
+        alone = len(occluders) == 1
+        self.single.run(occluders[0], spec, corrections, mode, out, camera if alone else None)
+        if alone:
+            return
+        scratch = self._scratch_like(out)
+        for vpls in occluders[1:]:
+            self.single.run(vpls, spec, corrections, mode, scratch)
+            merge_volumes(self.programs, out, scratch)
+        if camera is not None:
+            self.single.run(None, spec, corrections, mode, scratch, camera)
+            merge_volumes(self.programs, out, scratch, add=True)
+
+    def _scratch_like(self, volume: GeometryVolume) -> GeometryVolume:
+        scratch = self._scratch
+        if scratch is None or scratch.resolution != volume.resolution or \
+                scratch.format != volume.format:
+            if scratch is not None:
+                scratch.release()
+            scratch = self._scratch = GeometryVolume(self.ctx, volume.resolution,
+                                                     volume.format)
+        return scratch
+
+    def release(self) -> None:
+        self.single.release()
+        if self._scratch is not None:
+            self._scratch.release()
+            self._scratch = None
+
+
 def merged_volume_reference(volumes: list[np.ndarray]) -> np.ndarray:
     """Numpy twin of :func:`merge_volumes` over ``volumes`` ((N+1)³×4 each, in order):
     per cell the first volume with the largest coefficient 0."""

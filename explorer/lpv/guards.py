@@ -22,9 +22,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
+from explorer.lpv.audit import EnergyAudit, check_finite
 from explorer.lpv.corrections import CORRECTIONS
 from explorer.lpv.constants import (
     FRONT_FACE_SOLID_ANGLE,
@@ -34,6 +36,7 @@ from explorer.lpv.constants import (
     PUBLISHED_SIDE_FACE_SOLID_ANGLE,
     SIDE_FACE_SOLID_ANGLE,
 )
+from explorer.lpv.schema import STAGES
 
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 MIN_SCENE_EXTENT = 1e-5
@@ -82,6 +85,19 @@ def array_warning(pass_name: str, array: np.ndarray, corrections) -> str | None:
     if all_finite(array):
         return None
     return pass_warning(pass_name, corrections, nonfinite_text(array))
+
+
+def arrays_warnings(pass_name: str, arrays: Iterable[np.ndarray], settings) -> list[str]:
+    """The warning of the first of a pass's read-back ``arrays`` that holds NaN or
+    infinity (one per pass), [] when all are finite; with ``settings.debug_nan`` a
+    FloatingPointError naming the pass instead (:func:`explorer.lpv.audit.check_finite`)."""
+    for array in arrays:
+        if settings.debug_nan:
+            check_finite(np.asarray(array), f"the {pass_name} pass")
+        warning = array_warning(pass_name, array, settings.corrections)
+        if warning is not None:
+            return [warning]
+    return []
 
 
 def flux_warning(pass_name: str, flux: np.ndarray, corrections) -> str | None:
@@ -152,6 +168,23 @@ def growth_warning(corrections, iterations: int, measured: float | None = None
     if measured is not None and math.isfinite(measured):
         text += f" (measured: accumulated/injected flux = {measured:.3g})"
     return text
+
+
+def frame_warnings(by_stage: Mapping[str, Sequence[str]], settings,
+                   audit: EnergyAudit) -> list[str]:
+    """A frame's warnings: every stage's (``by_stage``), in :data:`STAGES` order, then
+    the growth warning with the accumulated/injected flux ``audit`` measured."""
+    warnings = [w for stage in STAGES for w in by_stage.get(stage, [])]
+    if settings.iterations > 0:
+        injected = float(np.sum(audit.injected))
+        ratio = float(np.sum(audit.accumulated)) / injected if injected else None
+        warnings += found(growth_warning(settings.corrections, settings.iterations, ratio))
+    return warnings
+
+
+def found(*warnings: str | None) -> list[str]:
+    """The warnings that were found (None: a check that found nothing)."""
+    return [warning for warning in warnings if warning is not None]
 
 
 def scale_warning(bounds_min, bounds_max) -> str | None:

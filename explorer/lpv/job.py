@@ -51,7 +51,6 @@ class Pipeline(Protocol):
     def stage_work(self, stage: str, job: "Job") -> Iterator[int | None]: ...
     def finish_job(self, job: "Job") -> "FrameResult": ...
     def show_preview(self, job: "Job") -> bool: ...
-    def vpl_digest(self, vpls: "VplArrays") -> str: ...
 
 _VERBS = {"scene": "loading the scene", "grid": "placing the grids", "rsm": "rendering the RSM",
           "downsample": "downsampling", "inject": "injecting", "geometry":
@@ -95,7 +94,7 @@ class Job:
         self.keep_steps = bool(keep_steps)
         self.need_audit = bool(need_audit)
         self.vpls = vpls
-        self.vpls_key = None if vpls is None else pipeline.vpl_digest(vpls)
+        self.vpls_key = None if vpls is None else vpls.digest()
         self.progress_callback = progress
         self._index = 0
         self._work: Iterator[int | None] | None = None
@@ -115,7 +114,7 @@ class Job:
         """Whether this unfinished job computes the frame these arguments ask for."""
         if self.done or self.cancelled or settings != self.settings:
             return False
-        vpls_key = None if vpls is None else self.pipeline.vpl_digest(vpls)
+        vpls_key = None if vpls is None else vpls.digest()
         return (bool(keep_steps), bool(need_audit), vpls_key) == (
             self.keep_steps, self.need_audit, self.vpls_key)
 

@@ -34,20 +34,15 @@ Cascades (docs/MODEL.md "Cascades") are a list of levels, level 0 the finest (or
 single grid enclosing the scene); inject, geometry and propagate run every level (their
 timings hold all levels together) and the gather blends them.
 
-Timings: on a GPU every pass is timed with a GL timer query (``ctx.query(time=True)``).
-Mesa's llvmpipe reads 0 around compute dispatches and, around draws, either 2³²−1 (no
-result) or a few microseconds of command submission (it rasterises on worker threads
-later), so on a software renderer every pass is timed with the wall clock between two
-``ctx.finish()`` calls. A query that reads 0 or 2³²−1 falls back to the wall clock too.
-``Pipeline.timing_methods`` records which method timed each pass.
+Timings: every pass is timed by :class:`~explorer.lpv.timing.PassTimer` (a GL timer
+query, or the wall clock on a software renderer), in ``FrameResult.timings_ms``.
 """
 
 from __future__ import annotations
 
-import hashlib
 import inspect
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import moderngl
 import numpy as np
@@ -55,28 +50,25 @@ import numpy as np
 from explorer.gl.program import ProgramCache
 from explorer.lpv import guards
 from explorer.lpv.atlas import PerView, VplAtlas
-from explorer.lpv.audit import EnergyAudit, check_finite
+from explorer.lpv import fog as fog_pass
+from explorer.lpv import gather as gather_pass
+from explorer.lpv import gbuffer as gbuffer_pass
+from explorer.lpv.audit import check_finite, flux_per_light
 from explorer.lpv.cascades import (
     CascadeInput,
     CascadeLevel,
     cascade_iterations,
-    cascade_specs,
-    focus_point,
+    frame_specs,
+    level_pass_name,
 )
 from explorer.lpv.cascades import check_limits as check_cascade_limits
-from explorer.lpv.display import DisplayPass, FogImages, display_scale, exposed_image
+from explorer.lpv.display import AutoExposure, DisplayPass, FogImages
 from explorer.lpv.fog import FogPass, Medium
 from explorer.lpv.downsample import DownsamplePass
-from explorer.lpv.frame import FrameResult, LevelResult
+from explorer.lpv.frame import FrameResult, LevelResult, frame_result
 from explorer.lpv.gather import GatherPass, Glossy, bands
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.geometry import (
-    CameraSurfels,
-    GeometryPass,
-    GeometryVolume,
-    camera_pixel_area,
-    merge_volumes,
-)
+from explorer.lpv.geometry import CameraSurfels, MergedGeometryPass, camera_pixel_area
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import InjectPass
 from explorer.lpv.job import Job, ProgressCallback
@@ -94,12 +86,11 @@ from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
 from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
 from explorer.lpv.views import render_view
+from explorer.lpv.timing import PassTimer
 from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.lpv.work_units import countdown, read_back, single_unit
 from explorer.scene import Scene, load_scene
 from explorer.scene.gpu import SceneBuffers
-
-_QUERY_UNAVAILABLE_MS = (2**32 - 1) / 1e6
-"""A timer query that reads 2³²−1 ns has no result (Mesa answers so on first use)."""
 
 __all__ = ["FrameResult", "LevelResult", "Pipeline", "render"]
 
@@ -122,21 +113,18 @@ class Pipeline:
         """The GL limits every request is checked against (explorer/lpv/limits.py)."""
         self.memory_budget_bytes = DEFAULT_MEMORY_BUDGET
         """Refuse settings whose textures and read-back arrays would need more bytes."""
-        renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
-        self.software_renderer = any(name in renderer for name in ("llvmpipe", "softpipe",
-                                                                   "swrast", "lavapipe"))
+        self.timer = PassTimer(ctx)
+        """Times every pass (``timings_ms``, ``timing_methods``; explorer/lpv/timing.py)."""
         self._rsm = PerView(lambda: RsmPass(ctx, self.programs))
         """One RSM pass per view (each owns the textures it renders)."""
         self._downsample = PerView(lambda: DownsamplePass(ctx, self.programs))
         self._rsm_atlas = VplAtlas(ctx, self.programs)
         self._vpl_atlas = VplAtlas(ctx, self.programs)
-        self._scratch_volume: GeometryVolume | None = None
-        """One view's geometry volume before it is merged (several views)."""
         self.pose_ms = 0.0
         """Wall-clock milliseconds the scene stage last spent posing objects and writing
         their corners to the vertex buffer (``lpv-explorer bench``'s moving object)."""
         self._inject = InjectPass(ctx, self.programs)
-        self._geometry = GeometryPass(ctx, self.programs)
+        self._geometry = MergedGeometryPass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
         self._gather = GatherPass(ctx, self.programs)
         self._fog = FogPass(ctx, self.programs)
@@ -146,8 +134,7 @@ class Pipeline:
         configuration B at A's exposure); None = the frame's own (auto exposure or 1). An
         input of the display stage: changing it runs that stage alone."""
         self._display_scale = 1.0
-        self._auto_scale: tuple[dict, FogImages | None, bool, float] | None = None
-        """(the gathered arrays, the fog's, indirect_only, their auto exposure scale)."""
+        self._auto_exposure = AutoExposure()
         self.keys: dict[str, object] = {}
         """Stage -> key of its last completed run (forgotten while it runs)."""
         self.out_keys: dict[str, object] = {}
@@ -173,12 +160,30 @@ class Pipeline:
         self._override_textures: VplTextures | None = None
         self._arrays: dict[str, object] = {}
         self._warnings: dict[str, list[str]] = {}
-        self.timings_ms: dict[str, float] = {}
-        self.timing_methods: dict[str, str] = {}
-        self._queries: dict[str, moderngl.Query] = {}
+        """Stage -> the warnings of its last run (explorer/lpv/guards.py)."""
         self.last_result: FrameResult | None = None
 
     # ------------------------------------------------------------------ public API
+    @property
+    def timings_ms(self) -> dict[str, float]:
+        """Pass name -> milliseconds of its last run (:attr:`timer`'s)."""
+        return self.timer.timings_ms
+
+    @property
+    def timing_methods(self) -> dict[str, str]:
+        """Pass name -> "timer-query" or "wall-clock" (:attr:`timer`'s)."""
+        return self.timer.methods
+
+    @property
+    def software_renderer(self) -> bool:
+        """Whether the context renders in software (e.g. llvmpipe)."""
+        return self.timer.software_renderer
+
+    def measure(self, name: str, work: Callable[[], object]) -> tuple[object, float, str]:
+        """``(work(), milliseconds, method)``, recording nothing
+        (:meth:`explorer.lpv.timing.PassTimer.measure`)."""
+        return self.timer.measure(name, work)
+
     @property
     def final_texture(self) -> moderngl.Texture:
         """RGBA8 final image as shown (exposure, display scale, tone curve, sRGB;
@@ -323,9 +328,6 @@ class Pipeline:
                       self._inject, self._geometry, self._gbuffer, self._gather, self._fog,
                       self._display):
             stage.release()
-        if self._scratch_volume is not None:
-            self._scratch_volume.release()
-            self._scratch_volume = None
         self._release_levels(0)
         if self._override_textures is not None:
             self._override_textures.release()
@@ -368,17 +370,8 @@ class Pipeline:
         """The value of a by-value stage (``grid``: the tuple of cascade specs)."""
         if stage != "grid":
             raise ValueError(f"{stage} is not a by-value stage")
-        scene = self._scene_for(job.settings)
-        single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, job.settings.grid_size)
-        s = job.settings
-        if s.cascades == 1:
-            specs = [single]
-        else:
-            centre = focus_point(scene.camera.eye, scene.camera.target, s.cascade_focus)
-            specs = cascade_specs(single, s.cascades, centre, s.cascade_extent,
-                                  s.cascade_snap)
-        self._specs = specs
-        return tuple(specs)
+        self._specs = frame_specs(job.settings, self._scene_for(job.settings))
+        return tuple(self._specs)
 
     def stage_units(self, stage: str, job: Job) -> int:
         """The total of ``stage``'s progress count: its units, or for the propagation its
@@ -388,11 +381,13 @@ class Pipeline:
         if stage == "rsm":
             return len(light_views(self._scene_for(job.settings), job.settings.rsm_size)) + 1
         if stage == "gbuffer":
-            return 1 + READ_BACK_TEXTURES
+            return 1 + len(gbuffer_pass.TARGETS)
         if stage == "gather":
-            return len(bands((job.settings.width, job.settings.height))) + READ_BACK_TEXTURES
+            return len(bands((job.settings.width, job.settings.height))) + \
+                len(gather_pass.TARGETS)
         if stage == "fog" and job.settings.fog:
-            return len(bands((job.settings.width, job.settings.height))) + len(FOG_TARGETS)
+            return len(bands((job.settings.width, job.settings.height))) + \
+                len(fog_pass.TARGETS)
         if stage == "propagate":
             return max(1, sum(cascade_iterations(job.settings, k)
                               for k in range(len(self._specs))))
@@ -405,11 +400,13 @@ class Pipeline:
         method = getattr(self, f"_stage_{stage}")
         if inspect.isgeneratorfunction(method):
             return method(job)
-        return _single_unit(method, job)
+        return single_unit(lambda: method(job))
 
     def finish_job(self, job: Job) -> FrameResult:
         """The FrameResult of a job whose stages are all complete."""
-        self.last_result = self._result(job)
+        self.last_result = frame_result(
+            job.settings, self._arrays, list(zip(self._specs, self._levels)), self._scene,
+            self._warnings, self.timer, job.progress.stages_run, self._display_scale)
         return self.last_result
 
     def show_preview(self, job: Job) -> bool:
@@ -420,25 +417,13 @@ class Pipeline:
         self.keys.pop("gather", None)
         self.keys.pop("display", None)
         s = job.settings
-        self._timed("gather", lambda: self._gather_levels(s))
+        self.timer.timed("gather", lambda: self._gather_levels(s))
         # the last frame's display scale: the auto exposure needs the read-back images,
         # and a steady exposure shows the light growing; the fog is marched once the
         # propagation is done, so a preview shows the surfaces without it
         self._show(s, self._display_scale if self.display_scale_override is None
                    else self.display_scale_override, fog=False)
         return True
-
-    @staticmethod
-    def vpl_digest(vpls: VplArrays) -> str:
-        """Content hash of hand-made VPLs, so the same arrays do not re-run injection."""
-        digest = hashlib.sha1()
-        arrays = [vpls.positions, vpls.normals, vpls.flux, vpls.depth]
-        if vpls.albedo is not None:
-            arrays.append(vpls.albedo)
-        for array in arrays:
-            digest.update(np.ascontiguousarray(array, np.float32).tobytes())
-        digest.update(repr((vpls.texel_area, vpls.projection)).encode())
-        return digest.hexdigest()
 
     # ------------------------------------------------------------------ stages
     # One method per stage of explorer/lpv/stages.py: a plain method is one unit of work,
@@ -460,19 +445,19 @@ class Pipeline:
         self._geometry_buffers.show(self._posed)
         self.ctx.finish()
         self.pose_ms = (time.perf_counter() - started) * 1e3
-        self._warnings["scene"] = _present(
-            [guards.scale_warning(base.bounds_min, base.bounds_max)])
+        self._warnings["scene"] = guards.found(
+            guards.scale_warning(base.bounds_min, base.bounds_max))
 
     def _stage_gbuffer(self, job: Job) -> Iterator[None]:
         """The G-buffer, then the read-back of each of its textures (one unit each)."""
         s = job.settings
         scene = self._scene_for(s)
-        self._timed("gbuffer", lambda: self._gbuffer.run(self._geometry_buffers, scene,
+        self.timer.timed("gbuffer", lambda: self._gbuffer.run(self._geometry_buffers, scene,
                                                          (s.width, s.height)))
         yield
-        arrays = yield from _read_back(self._gbuffer.textures)
+        arrays = yield from read_back(self._gbuffer.textures)
         self._arrays["gbuffer"] = tuple(arrays)
-        self._check("gbuffer", s, self._arrays["gbuffer"])
+        self._warnings["gbuffer"] = guards.arrays_warnings("gbuffer", arrays, s)
 
     def _stage_rsm(self, job: Job) -> Iterator[None]:
         """One RSM per view of every light that shines (a unit each), then the atlas of
@@ -480,10 +465,10 @@ class Pipeline:
         s = job.settings
         views = light_views(self._scene_for(s), s.rsm_size)
         check_memory(s, self.memory_budget_bytes, views=len(views))
-        self.timings_ms["rsm"] = 0.0
+        self.timer.reset("rsm")
         sets = []
         for k, view in enumerate(views):
-            sets.append(self._timed("rsm", lambda: self._rsm.run(
+            sets.append(self.timer.timed("rsm", lambda: self._rsm.run(
                 k, self._geometry_buffers, view), accumulate=True))
             yield
         self._light, self._rsm_sets = views, sets
@@ -492,13 +477,10 @@ class Pipeline:
         first = sets[0]
         self._arrays["rsm"] = (read_texture(first.position), read_texture(first.normal),
                                flux[0])
-        per_view = np.array([np.add.reduce(f[..., :3].reshape(-1, 3), axis=0,
-                                           dtype=np.float64) for f in flux])
-        per_light = np.zeros((max(v.light_index for v in views) + 1, 3))
-        np.add.at(per_light, [v.light_index for v in views], per_view)
+        per_light = flux_per_light(flux, [view.light_index for view in views])
         self._arrays["rsm_flux"] = per_light.sum(axis=0)
         self._arrays["rsm_flux_per_light"] = per_light
-        self._check("rsm", s, [*self._arrays["rsm"], *flux])
+        self._warnings["rsm"] = guards.arrays_warnings("rsm", [*self._arrays["rsm"], *flux], s)
 
     def _atlas(self, atlas: VplAtlas, sets: list[VplTextures], stage: str
                ) -> tuple[VplTextures, list[tuple[int, int]]]:
@@ -506,7 +488,7 @@ class Pipeline:
         view's tile starts."""
         if len(sets) == 1:
             return sets[0], [(0, 0)]
-        textures = self._timed(stage, lambda: atlas.build(
+        textures = self.timer.timed(stage, lambda: atlas.build(
             sets, self.limits.max_framebuffer_size), accumulate=True)
         return textures, [atlas.layout.origin(k) for k in range(len(sets))]
 
@@ -516,16 +498,16 @@ class Pipeline:
             self._override_textures.release()
             self._override_textures = None
         if vpls is not None:
-            self.timings_ms.pop("downsample", None)
+            self.timer.forget("downsample")
             self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
             self._vpl_textures = self._override_textures
             self._vpl_sets = [self._override_textures]
         elif s.downsample == "none" or s.downsample_factor == 1:
-            self.timings_ms.pop("downsample", None)
+            self.timer.forget("downsample")
             self._vpl_textures, self._vpl_sets = self._rsm_textures, list(self._rsm_sets)
         else:
-            self.timings_ms["downsample"] = 0.0
-            self._vpl_sets = [self._timed("downsample", lambda: self._downsample.run(
+            self.timer.reset("downsample")
+            self._vpl_sets = [self.timer.timed("downsample", lambda: self._downsample.run(
                 k, rsm, s.downsample, s.downsample_factor, self._specs[0], view),
                 accumulate=True) for k, (rsm, view) in enumerate(zip(self._rsm_sets,
                                                                     self._light))]
@@ -536,19 +518,20 @@ class Pipeline:
         self._arrays["view_lights"] = (0,) if vpls is not None else tuple(
             view.light_index for view in self._light)
         if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
-            self._check("downsample", s, [self._arrays["vpls"].flux])
+            self._warnings["downsample"] = guards.arrays_warnings(
+                "downsample", [self._arrays["vpls"].flux], s)
 
     def _stage_inject(self, job: Job) -> Iterator[None]:
         s = job.settings
         levels = self._levels_for(self._specs)
-        self.timings_ms["inject"] = 0.0
+        self.timer.reset("inject")
         for k, (level, spec) in enumerate(zip(levels, self._specs)):
             grid = level.grid(spec.resolution, s.grid_format, s.sh_order)
-            self._timed("inject", lambda: self._inject.run(
+            self.timer.timed("inject", lambda: self._inject.run(
                 self._vpl_textures, spec, s.corrections, s.injection_mode, grid,
                 s.injection_offset_cells), accumulate=True)
             if s.debug_nan:
-                check_finite(grid.read(), _pass_name("inject", k, len(levels)))
+                check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
             if k < len(levels) - 1:
                 yield
 
@@ -556,22 +539,23 @@ class Pipeline:
         s = job.settings
         levels = self._levels_for(self._specs)
         if s.geometry_volume == "off":
-            self.timings_ms.pop("geometry", None)
+            self.timer.forget("geometry")
             self._warnings["geometry"] = []
             for level in levels:
                 level.release_volume()
             return
         occluders = self._rsm_sets if job.vpls is None else [self._vpl_textures]
         camera = self._camera_surfels(s) if s.uses_camera_occluders else None
-        self.timings_ms["geometry"] = 0.0
+        self.timer.reset("geometry")
         warnings = []
         for k, (level, spec) in enumerate(zip(levels, self._specs)):
             volume = level.geometry_volume(spec.resolution, s.grid_format)
-            self._timed("geometry", lambda: self._geometry_of_views(
-                occluders, spec, s, volume, camera), accumulate=True)
+            self.timer.timed("geometry", lambda: self._geometry.run(
+                occluders, spec, s.corrections, s.geometry_volume, volume, camera),
+                accumulate=True)
             level.geometry = volume.read()
-            warnings += self._array_warnings(_pass_name("geometry", k, len(levels)), s,
-                                             [level.geometry])
+            warnings += guards.arrays_warnings(level_pass_name("geometry", k, len(levels)),
+                                               [level.geometry], s)
             if k < len(levels) - 1:
                 yield
         self._warnings["geometry"] = warnings
@@ -587,32 +571,6 @@ class Pipeline:
             shadow=self._rsm_textures, views=tuple(self._light),
             tiles=tuple(self._shadow_tiles))
 
-    def _geometry_of_views(self, occluders: list[VplTextures], spec: GridSpec, s: Settings,
-                           volume: GeometryVolume, camera: CameraSurfels | None) -> None:
-        """The geometry volume of every view, merged per cell (docs/MODEL.md "Several
-        lights"): the first view's volume, then each further view's built in a scratch
-        volume and folded in by :func:`merge_volumes`; then ``camera``'s surfels, added
-        (docs/MODEL.md "Camera occluders": they hold only surfaces no view holds). With
-        one view they are drawn with its surfels (the same sum, no scratch volume)."""
-        alone = len(occluders) == 1
-        self._geometry.run(occluders[0], spec, s.corrections, s.geometry_volume, volume,
-                           camera if alone else None)
-        if alone:
-            return
-        scratch = self._scratch_volume
-        if scratch is None or scratch.resolution != spec.resolution or \
-                scratch.format != s.grid_format:
-            if scratch is not None:
-                scratch.release()
-            scratch = self._scratch_volume = GeometryVolume(self.ctx, spec.resolution,
-                                                            s.grid_format)
-        for vpls in occluders[1:]:
-            self._geometry.run(vpls, spec, s.corrections, s.geometry_volume, scratch)
-            merge_volumes(self.programs, volume, scratch)
-        if camera is not None:
-            self._geometry.run(None, spec, s.corrections, s.geometry_volume, scratch, camera)
-            merge_volumes(self.programs, volume, scratch, add=True)
-
     def _stage_propagate(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
         accumulation), one per slab of a step (explorer/lpv/propagate.py ``slabs``), the
@@ -621,16 +579,16 @@ class Pipeline:
         audit, then its read-back). Yields the steps done, all levels together."""
         s = job.settings
         levels = self._levels[: len(self._specs)]
-        self.timings_ms["propagate"] = 0.0
+        self.timer.reset("propagate")
         audit = [job.need_audit and audit_fits(spec.resolution, self.limits)
                  for spec in self._specs]
         steps = [cascade_iterations(s, k) for k in range(len(levels))]
-        more = _countdown(3 * len(levels) + sum(
+        more = countdown(3 * len(levels) + sum(
             count * len(slabs(spec.resolution)) for count, spec in zip(steps, self._specs)))
         try:
             for k, (level, spec) in enumerate(zip(levels, self._specs)):
                 level.output = None
-                level.running = self._timed("propagate", lambda: level.propagate.start(
+                level.running = self.timer.timed("propagate", lambda: level.propagate.start(
                     level.injected, spec, s.corrections, steps[k], level.volume,
                     keep_steps=job.keep_steps, bounces=s.bounces, audit=audit[k]),
                     accumulate=True)
@@ -639,21 +597,21 @@ class Pipeline:
             while not all(level.running.finished for level in levels):
                 behind = min((lv for lv in levels if not lv.running.finished),
                              key=lambda lv: lv.running.fraction)
-                self._timed("propagate", behind.running.advance, accumulate=True)
+                self.timer.timed("propagate", behind.running.advance, accumulate=True)
                 if more():
                     yield sum(level.running.done for level in levels)
             warnings = []
             for k, level in enumerate(levels):
-                level.output = self._timed("propagate", level.running.finish,
+                level.output = self.timer.timed("propagate", level.running.finish,
                                            accumulate=True)
                 if more():
                     yield sum(steps)
                 level.accumulated = level.output.accumulated.read()
-                name = _pass_name("propagate", k, len(levels))
-                warnings += _present([guards.flux_warning(
-                    _pass_name("inject", k, len(levels)), level.output.audit.injected,
-                    s.corrections)])
-                warnings += self._array_warnings(name, s, [level.accumulated])
+                warnings += guards.found(guards.flux_warning(
+                    level_pass_name("inject", k, len(levels)), level.output.audit.injected,
+                    s.corrections))
+                warnings += guards.arrays_warnings(
+                    level_pass_name("propagate", k, len(levels)), [level.accumulated], s)
                 if job.need_audit and not audit[k]:
                     warnings.append(audit_skipped_warning(self._specs[k].resolution,
                                                           self.limits))
@@ -668,25 +626,25 @@ class Pipeline:
         """The gather in bands of rows (explorer/lpv/gather.py ``bands``), one per unit,
         then the read-back of each target (one unit each)."""
         s = job.settings
-        self.timings_ms["gather"] = 0.0
+        self.timer.reset("gather")
         for band in bands((s.width, s.height)):
-            self._timed("gather", lambda: self._gather_levels(s, band), accumulate=True)
+            self.timer.timed("gather", lambda: self._gather_levels(s, band), accumulate=True)
             yield
         targets = self._gather.targets
-        names = ("direct", "indirect", "received")
-        arrays = yield from _read_back([targets[name] for name in names])
+        names = gather_pass.TARGETS
+        arrays = yield from read_back([targets[name] for name in names])
         self._arrays["gather"] = dict(zip(names, arrays))
         received = self._arrays["gather"]["received"][..., :3]
         self._arrays["gathered"] = np.add.reduce(received.reshape(-1, 3), axis=0,
                                                  dtype=np.float64)
-        self._check("gather", s, self._arrays["gather"].values())
+        self._warnings["gather"] = guards.arrays_warnings("gather", arrays, s)
 
     def _stage_fog(self, job: Job) -> Iterator[None]:
         """The fog's march in bands of rows (one per unit), then the read-back of its two
         targets (docs/MODEL.md "Fog"); nothing while ``fog`` is off."""
         s = job.settings
         if not s.fog:
-            self.timings_ms.pop("fog", None)
+            self.timer.forget("fog")
             self._arrays["fog"] = None
             self._warnings["fog"] = []
             return
@@ -694,17 +652,17 @@ class Pipeline:
         cascades = [CascadeInput(spec, level.accumulation_textures)
                     for spec, level in zip(self._specs, levels)]
         medium = Medium.of(s)
-        self.timings_ms["fog"] = 0.0
+        self.timer.reset("fog")
         for band in bands((s.width, s.height)):
-            self._timed("fog", lambda: self._fog.run(
+            self.timer.timed("fog", lambda: self._fog.run(
                 self._gbuffer, self._rsm_textures, self._light, self._scene, cascades, medium,
                 sh_order=levels[0].injected.sh_order, shader_filter=self._gather.shader_filter,
                 rows=band, shadow_tiles=self._shadow_tiles), accumulate=True)
             yield
         targets = self._fog.targets
-        direct, lpv = yield from _read_back([targets[name] for name in FOG_TARGETS])
+        direct, lpv = yield from read_back([targets[name] for name in fog_pass.TARGETS])
         self._arrays["fog"] = FogImages(direct[..., 3].copy(), direct[..., :3], lpv[..., :3])
-        self._check("fog", s, [direct, lpv])
+        self._warnings["fog"] = guards.arrays_warnings("fog", [direct, lpv], s)
 
     def _stage_display(self, job: Job) -> None:
         s = job.settings
@@ -717,8 +675,8 @@ class Pipeline:
         targets = self._gather.targets
         fog_targets = None
         if fog and s.fog and self._arrays.get("fog") is not None:
-            fog_targets = (self._fog.targets["fog_direct"], self._fog.targets["fog_lpv"])
-        self._timed("display", lambda: self._display.run(
+            fog_targets = tuple(self._fog.targets[name] for name in fog_pass.TARGETS)
+        self.timer.timed("display", lambda: self._display.run(
             targets["direct"], targets["indirect"], s.exposure, s.indirect_only, s.tone_map,
             scale, fog_targets))
 
@@ -730,17 +688,9 @@ class Pipeline:
             return float(self.display_scale_override)
         if not s.auto_exposure:
             return 1.0
-        gather = self._arrays["gather"]       # a new dict each time the gather completes
-        fog = self._arrays.get("fog") if s.fog else None    # likewise a new FogImages
-        cached = self._auto_scale
-        if cached is None or cached[0] is not gather or cached[1] is not fog or \
-                cached[2] != s.indirect_only:
-            unexposed = exposed_image(gather["direct"][..., :3], gather["indirect"][..., :3],
-                                      1.0, s.indirect_only, fog)
-            mask = self._arrays["gbuffer"][0][..., 3] > 0.5
-            cached = self._auto_scale = (gather, fog, s.indirect_only,
-                                         display_scale(unexposed, mask, True))
-        return cached[3]
+        return self._auto_exposure.scale(self._arrays["gather"],
+                                         self._arrays.get("fog") if s.fog else None,
+                                         s.indirect_only, self._arrays["gbuffer"][0])
 
     # ------------------------------------------------------------------ helpers
     def _scene_for(self, s: Settings) -> Scene:
@@ -776,138 +726,12 @@ class Pipeline:
                          shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
                          glossy=Glossy.of(s, self._scene.camera.eye))
 
-    def _array_warnings(self, pass_name: str, s: Settings, arrays) -> list[str]:
-        """Warnings of read-back arrays that hold NaN or infinity; with ``debug_nan`` a
-        FloatingPointError naming the pass instead."""
-        found = []
-        for array in arrays:
-            if s.debug_nan:
-                check_finite(np.asarray(array), f"the {pass_name} pass")
-            warning = guards.array_warning(pass_name, array, s.corrections)
-            if warning is not None:
-                found.append(warning)
-                break
-        return found
-
-    def _check(self, stage: str, s: Settings, arrays) -> None:
-        self._warnings[stage] = self._array_warnings(stage, s, arrays)
-
-    def _timed(self, name: str, work, accumulate: bool = False):
-        """Run ``work()`` and record its GPU time in ``timings_ms[name]`` (module
-        docstring); ``accumulate`` adds it to the time recorded so far (a stage of several
-        units)."""
-        result, elapsed, self.timing_methods[name] = self.measure(name, work)
-        self.timings_ms[name] = elapsed + (self.timings_ms.get(name, 0.0) if accumulate
-                                           else 0.0)
-        return result
-
-    def measure(self, name: str, work) -> tuple[object, float, str]:
-        """``(work(), milliseconds, method)``: the GPU time of ``work`` by a timer query
-        (one query object per ``name``, reused: moderngl cannot free them) or, on a
-        software renderer or without a query result, the wall clock between two
-        ``ctx.finish()`` calls (module docstring)."""
-        self.ctx.finish()
-        start = time.perf_counter()
-        query = None
-        if not self.software_renderer:
-            query = self._queries.get(name)
-            if query is None:
-                query = self._queries[name] = self.ctx.query(time=True)
-        if query is None:
-            result = work()
-        else:
-            with query:
-                result = work()
-        self.ctx.finish()
-        wall_ms = (time.perf_counter() - start) * 1e3
-        query_ms = 0.0 if query is None else query.elapsed / 1e6
-        if 0.0 < query_ms < _QUERY_UNAVAILABLE_MS:
-            return result, query_ms, "timer-query"
-        return result, wall_ms, "wall-clock"
-
     def propagation_inputs(self, level: int = 0):
         """``(injected grid, GridSpec, geometry volume or None)`` of cascade ``level``'s
         last propagation, on the GPU (``lpv-explorer bench`` propagates them again with
         its baseline kernel)."""
         cascade = self._levels[level]
         return cascade.injected, self._specs[level], cascade.volume
-
-    def _result(self, job: Job) -> FrameResult:
-        s = job.settings
-        rsm_position, rsm_normal, rsm_flux = self._arrays["rsm"]
-        position, normal, albedo = self._arrays["gbuffer"]
-        gather = self._arrays["gather"]
-        levels = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
-                              level.output.audit, level.output.cell_records)
-                  for spec, level in zip(self._specs, self._levels)]
-        audit = EnergyAudit.from_grid_audit(levels[0].audit, rsm=self._arrays["rsm_flux"],
-                                            gathered=self.gathered_flux(),
-                                            rsm_per_light=self._arrays["rsm_flux_per_light"])
-        warnings = [w for stage in STAGES for w in self._warnings.get(stage, [])]
-        if s.iterations > 0:
-            injected = float(np.sum(audit.injected))
-            ratio = float(np.sum(audit.accumulated)) / injected if injected else None
-            growth = guards.growth_warning(s.corrections, s.iterations, ratio)
-            if growth is not None:
-                warnings.append(growth)
-        return FrameResult(
-            settings=s, cascades=levels,
-            direct=gather["direct"][..., :3], indirect=gather["indirect"][..., :3],
-            albedo=albedo[..., :3], gbuffer_position=position, gbuffer_normal=normal,
-            rsm_position=rsm_position, rsm_normal=rsm_normal, rsm_flux=rsm_flux,
-            vpls=self._arrays["vpls"], vpl_sets=list(self._arrays["vpl_sets"]),
-            light_names=tuple(light.name for light in self._scene.lights),
-            view_lights=self._arrays["view_lights"], audit=audit,
-            timings_ms=dict(self.timings_ms),
-            timing_methods=dict(self.timing_methods), stages_run=job.progress.stages_run,
-            warnings=warnings, display_scale=self._display_scale, camera=self._scene.camera,
-            scene_bounds=(tuple(map(float, self._scene.bounds_min)),
-                          tuple(map(float, self._scene.bounds_max))),
-            fog=self._arrays.get("fog") if s.fog else None)
-
-
-def _countdown(units: int):
-    """``more()``: True until it has been called ``units`` times, so that a stage's
-    generator yields after every unit but its last."""
-    left = [units]
-
-    def more() -> bool:
-        left[0] -= 1
-        return left[0] > 0
-
-    return more
-
-
-READ_BACK_TEXTURES = 3
-"""Textures the G-buffer and the gather stages each read back (one unit apiece)."""
-FOG_TARGETS = ("fog_direct", "fog_lpv")
-"""The fog pass's targets, read back one unit apiece."""
-
-
-def _read_back(textures) -> Iterator[None]:
-    """Read each texture back (:func:`read_texture`), one unit each; returns the arrays
-    (``yield from``). At 960×540 a read-back takes as long as a band of the gather."""
-    arrays = []
-    for index, texture in enumerate(textures):
-        arrays.append(read_texture(texture))
-        if index < len(textures) - 1:
-            yield
-    return arrays
-
-
-def _single_unit(method, job: Job) -> Iterator[None]:
-    """A one-unit stage as a generator: the work runs at the first ``next()``."""
-    method(job)
-    return
-    yield  # unreachable: makes this function a generator
-
-
-def _pass_name(stage: str, level: int, count: int) -> str:
-    return stage if count == 1 else f"{stage} (cascade {level})"
-
-
-def _present(items: list) -> list:
-    return [item for item in items if item is not None]
 
 
 def render(settings: Settings) -> FrameResult:

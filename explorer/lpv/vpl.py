@@ -6,6 +6,7 @@ lessons and notebooks build the same thing from numpy arrays. See docs/MODEL.md.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import moderngl
@@ -54,6 +55,18 @@ class VplArrays:
     @property
     def count(self) -> int:
         return int(np.asarray(self.positions).shape[0])
+
+    def digest(self) -> str:
+        """Content hash of the arrays, so that the same hand-made VPLs handed to the
+        pipeline again do not run the injection again (a stage key)."""
+        digest = hashlib.sha1()
+        arrays = [self.positions, self.normals, self.flux, self.depth]
+        if self.albedo is not None:
+            arrays.append(self.albedo)
+        for array in arrays:
+            digest.update(np.ascontiguousarray(array, np.float32).tobytes())
+        digest.update(repr((self.texel_area, self.projection)).encode())
+        return digest.hexdigest()
 
     @classmethod
     def concatenate(cls, sets: list["VplArrays"]) -> "VplArrays":
