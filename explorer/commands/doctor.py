@@ -107,8 +107,10 @@ def check_headless(report: Report) -> None:
     report.max_3d_texture_size = caps.max_3d_texture_size
     report.max_draw_buffers = caps.max_draw_buffers
     report.missing = list(caps.missing)
+    from explorer.lpv.timing import SOFTWARE_RENDERERS
+
     report.software_renderer = any(word in caps.renderer.lower()
-                                   for word in ("llvmpipe", "softpipe", "swrast"))
+                                   for word in SOFTWARE_RENDERERS)
     if report.missing:
         report.advice.append(_VERSION_HELP)
     if 0 < caps.max_3d_texture_size < LARGEST_GRID:
