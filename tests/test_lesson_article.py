@@ -369,3 +369,18 @@ text = "The flux is {{audit.injectd:.3g}} W."
     path.write_text(same, encoding="utf-8")
     with pytest.raises(LessonError, match="already 32"):
         load_lesson(path)
+
+
+def test_a_try_this_says_what_its_pending_numbers_wait_for():
+    """A "…" in a prompt is explained under it: before the press, the number is read once
+    the button is pressed; after it, an error number waits for the Error panel and a frame
+    number for the frame; a prompt whose numbers all have values gets no note."""
+    from explorer.ui.article import pending_note
+
+    empty = lv.LiveContext(settings=Settings())
+    frame_prompt = "One step keeps {{audit.step_ratio:.4f}} of the flux."
+    error_prompt = "Relative L2 {{error.relative_l2:.3f}}, {{audit.gathered:.3g}} W."
+    assert "press the button" in pending_note(frame_prompt, empty, active=False)
+    assert "next frame" in pending_note(frame_prompt, empty, active=True)
+    assert "Error panel" in pending_note(error_prompt, empty, active=True)
+    assert pending_note("{{settings.iterations}} steps", empty, active=False) == ""
