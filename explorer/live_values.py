@@ -283,6 +283,7 @@ def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
 
 
 def _fixed() -> dict[str, Quantity]:
+    from explorer.lpv.schema import STAGES
     from explorer.lpv.stages import PASSES
 
     items = [
@@ -312,6 +313,8 @@ def _fixed() -> dict[str, Quantity]:
                  lambda c: _ratio(_primary_rsm(c), _audit_sum("rsm")(c))),
         Quantity("frame.stages_ran", "how many stages this frame ran (the others were up "
                  "to date)", "", lambda c: len(_result(c).stages_run), "d"),
+        Quantity("frame.stages", "stages of the pipeline (explorer.lpv.schema.STAGES)", "",
+                 lambda c: len(STAGES), "d"),
         Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
                  "(yes/no)", "", _ran("gbuffer"), ""),
         Quantity("frame.moved_objects", "objects moved from where the scene puts them "

@@ -371,12 +371,16 @@ text = "The flux is {{audit.injectd:.3g}} W."
         load_lesson(path)
 
 
-@pytest.mark.parametrize("width", [640.0, 800.0, 1024.0, 1280.0, 1600.0, 1920.0, 3840.0])
-def test_the_default_layout_leaves_the_view_at_least_its_share(width):
-    from explorer.ui.layout import VIEW_SHARE, column_widths
+def test_a_try_this_says_what_its_pending_numbers_wait_for():
+    """A "…" in a prompt is explained under it: before the press, the number is read once
+    the button is pressed; after it, an error number waits for the Error panel and a frame
+    number for the frame; a prompt whose numbers all have values gets no note."""
+    from explorer.ui.article import pending_note
 
-    article, tools = column_widths(width)
-    assert width - article - tools >= VIEW_SHARE * width - 1e-9
-    # From 1280 px up the columns keep their readable widths.
-    if width >= 1280.0:
-        assert article >= 400.0 and tools >= 290.0
+    empty = lv.LiveContext(settings=Settings())
+    frame_prompt = "One step keeps {{audit.step_ratio:.4f}} of the flux."
+    error_prompt = "Relative L2 {{error.relative_l2:.3f}}, {{audit.gathered:.3g}} W."
+    assert "press the button" in pending_note(frame_prompt, empty, active=False)
+    assert "next frame" in pending_note(frame_prompt, empty, active=True)
+    assert "Error panel" in pending_note(error_prompt, empty, active=True)
+    assert pending_note("{{settings.iterations}} steps", empty, active=False) == ""

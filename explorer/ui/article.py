@@ -325,6 +325,24 @@ def try_context(state: Any, session: LessonSession, index: int,
             "the configuration this button sets: press it to read the frame")
 
 
+def pending_note(prompt: str, context: live_values.LiveContext, active: bool,
+                 figure_ids: tuple[str, ...] = ()) -> str:
+    """What the "…" of a try-this prompt stand for, in words ("" when every number of
+    the prompt has a value): numbers of the configuration the button sets are read once
+    it is pressed; once it is, an error waits for the Error panel's measurement and a
+    frame quantity for the frame."""
+    pending = [live_values.lookup(name, figure_ids).source
+               for name, fmt in lesson_text.placeholders(prompt)
+               if live_values.render(name, fmt, context, figure_ids) == live_values.PENDING]
+    if not pending:
+        return ""
+    if not active:
+        return "…: read once you press the button"
+    if "error" in pending:
+        return "…: the Error panel measures it against the reference, in the background"
+    return "…: read from the next frame"
+
+
 def step_settings(step: Step, own):
     from explorer.ui.lesson_panel import step_screen
 
@@ -396,6 +414,10 @@ def _try_section(state: Any, session: LessonSession, page: Page, step: Step) -> 
         source["context"], source["where"] = try_context(state, session, index, base)
         runs = (lesson_text.TryButton(index), lesson_text.Text(" ")) + \
             lesson_text.parse(item.prompt)[0].runs
+        note = pending_note(item.prompt, source["context"],
+                            session.applied and session.tried == index, step.figure_ids)
+        if note:       # in the same paragraph: it explains this prompt's "…"
+            runs += (lesson_text.Text(f" ({note})", "italic"),)
         page.draw((lesson_text.Paragraph(runs),))
     source["context"], source["where"] = base, "the frame on screen"
 

@@ -94,6 +94,23 @@ def column_widths(width: float) -> tuple[float, float]:
 VIEW_SHARE = 0.4
 """The smallest share of the window's width the default layout leaves to the 3D view."""
 
+PLOT_ROW_MIN_PX = 300.0
+"""The tool column's bottom row (plots, Picked, Error) needs about this much height for a
+readable plot (its tab bar, axis choices and seven labelled bars) or the Error panel's
+three images."""
+
+
+def tool_rows(height: float) -> tuple[float, float]:
+    """(top, bottom) heights in pixels of the tool column's first and last rows in a
+    dockspace ``height`` tall; the middle row (Show in scene, Inspect) gets the rest.
+
+    Tall windows split the column about 36/32/32. Short ones (720 px) keep the bottom row
+    at :data:`PLOT_ROW_MIN_PX`, at most 45 % of the column, and give the top row (the
+    corrections, which scroll) a little over half of what is left."""
+    bottom = max(0.32 * height, min(PLOT_ROW_MIN_PX, 0.45 * height))
+    top = min(0.36 * height, 0.53 * (height - bottom))
+    return top, bottom
+
 
 def window_class(panel: Panel):
     """The imgui window class a panel with ``window_class`` is begun with."""
@@ -115,8 +132,11 @@ def build_default_layout(dockspace_id: int, size) -> None:
     tools, centre = _split(rest, imgui.Dir.right, tools_px / max(float(size.x) - article_px,
                                                                  1.0))
     bottom, centre = _split(centre, imgui.Dir.down, 0.16)
-    tools_top, tools_rest = _split(tools, imgui.Dir.up, 0.36)
-    tools_bottom, tools_middle = _split(tools_rest, imgui.Dir.down, 0.5)
+    height = max(float(size.y), 1.0)
+    top_px, bottom_px = tool_rows(height)
+    tools_top, tools_rest = _split(tools, imgui.Dir.up, top_px / height)
+    tools_bottom, tools_middle = _split(tools_rest, imgui.Dir.down,
+                                        bottom_px / max(height - top_px, 1.0))
     nodes = {"centre": centre, "article": article, "left": tools_top,
              "left-bottom": tools_top, "right": tools_middle, "right-bottom": tools_bottom,
              "bottom": bottom}

@@ -36,6 +36,10 @@ from explorer.lpv.settings import Settings
 INSPECT_VIEWS = ("rsm-position", "rsm-normal", "rsm-flux", "grid-slice", "geometry-volume",
                  "cascade-weights")
 """Step views the app shows in its Inspect panel rather than in the main view."""
+NOT_IN_SCENE_VIEWS = ("cascade-weights",)
+"""Inspect views no in-scene overlay repeats (the cascade boxes outline the cascades; the
+weights say which one each pixel reads): a step that draws overlays and names one of these
+still brings the Inspect panel forward and says so."""
 MAIN_VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
 """Step views the main view shows (``AppState.view_buffer``)."""
 
@@ -112,7 +116,9 @@ def step_caption(step: Step) -> str:
     view and what it draws in the scene when the step shows overlays, else the step's
     view (an Inspect source, the split or difference view, a buffer)."""
     drawn = overlay_words(step.overlays())
-    if drawn:
+    if drawn and step.view in NOT_IN_SCENE_VIEWS:
+        where = f"the main view ({drawn}), the {step.view} view in the Inspect panel"
+    elif drawn:
         where = f"the main view ({drawn})"
     elif step.view in INSPECT_VIEWS:
         where = f"the {step.view} view in the Inspect panel"
@@ -325,7 +331,9 @@ def show_screen(state: Any, screen: Screen) -> None:
         state.overlays = replace(screen.overlays)
     if screen.inspect_source is not None and hasattr(state, "inspect"):
         state.inspect.source = screen.inspect_source
-    if drawn:
+    if screen.inspect_source in NOT_IN_SCENE_VIEWS and hasattr(state, "inspect"):
+        focus.append("Inspect")
+    elif drawn:
         focus.append("Show in scene")
         if screen.overlays.picked_kind != "none" and screen.plot is None:
             focus.append("Picked")

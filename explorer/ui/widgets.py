@@ -27,6 +27,20 @@ def button_active(label: str, active: bool, size=(0, 0)) -> bool:
     return pressed
 
 
+def same_line_if_fits(label: str, checkbox: bool = False, field: float = 0.0,
+                      spacing: float = -1.0) -> None:
+    """Continue a row of widgets on this line if the next widget fits, else wrap. ``field``:
+    the width of a slider or input in front of the label; ``spacing``: the gap before it
+    (-1: the style's)."""
+    style = imgui.get_style()
+    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2 + field
+    if checkbox:
+        width += imgui.get_frame_height() + style.item_inner_spacing.x
+    imgui.same_line(0.0, spacing)
+    if imgui.get_content_region_avail().x < width:
+        imgui.new_line()
+
+
 def dim_text_wrapped(text: str) -> None:
     imgui.push_style_color(imgui.Col_.text, DIM)
     imgui.text_wrapped(text)

@@ -88,7 +88,8 @@ def draw_audit_plot(plot_id: str, series: Sequence[Series], width: float, scale:
     chosen = plotting.choose_scale(everything, scale)
     size = imgui.ImVec2(width, height or audit_plot_height(series))
     if not implot.begin_plot(plot_id, size, implot.Flags_.no_menus
-                             | implot.Flags_.no_box_select):
+                             | implot.Flags_.no_box_select
+                             | plotting.legend_flags(len(series), size.y)):
         return
     implot.setup_axes("share of injected flux" if relative else "flux [W]", "", 0,
                       implot.AxisFlags_.invert)
@@ -100,7 +101,7 @@ def draw_audit_plot(plot_id: str, series: Sequence[Series], width: float, scale:
     implot.setup_axis_limits(implot.ImAxis_.y1, -0.6, len(rows) - 0.4, implot.Cond_.always)
     implot.setup_axis_ticks(implot.ImAxis_.y1, [float(p) for p in positions],
                             [AUDIT_ROWS[i][0] for i in rows])
-    implot.setup_legend(implot.Location_.south_east)
+    plotting.legend_above()
     floor = plotting.value_limits(everything, chosen)[0] if chosen == "log" else 0.0
     height_each = 0.8 / max(len(series), 1)
     for k, (s, values) in enumerate(zip(series, shown)):

@@ -51,7 +51,8 @@ def draw_flux_plot(plot_id: str, series: Sequence[Series], size: imgui.ImVec2, s
     everything = np.concatenate(shown) if shown else np.zeros(0)
     chosen = plotting.choose_scale(everything, scale)
     if not implot.begin_plot(plot_id, size, implot.Flags_.no_menus
-                             | implot.Flags_.no_box_select):
+                             | implot.Flags_.no_box_select
+                             | plotting.legend_flags(len(series), size.y)):
         return
     last = max((len(v) for v in shown), default=1) - 1
     implot.setup_axes("step t", "share of injected [%]" if relative else "flux in flight [W]",
@@ -62,7 +63,7 @@ def draw_flux_plot(plot_id: str, series: Sequence[Series], size: imgui.ImVec2, s
     implot.setup_axis_limits(implot.ImAxis_.x1, -0.5, (last + 0.5) / (1.0 - room),
                              implot.Cond_.always)
     plotting.setup_value_axis(implot.ImAxis_.y1, everything, chosen)
-    implot.setup_legend(implot.Location_.south_west)
+    plotting.legend_above()
     for s, values in zip(series, shown):
         xs = np.arange(len(values), dtype=np.float64)
         implot.plot_line(s.label, xs, values,

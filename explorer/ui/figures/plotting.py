@@ -92,6 +92,23 @@ def scale_selector(current: str, label: str = "axis") -> str:
     return current
 
 
+LEGEND_MIN_HEIGHT = 200.0
+"""A plot shorter than this shows a legend only when it has several series to tell apart."""
+
+
+def legend_flags(series_count: int, height: float) -> int:
+    """``begin_plot`` flags for the legend: none in a short plot of one series (its row
+    would take the room of the bars; the panel names configuration A)."""
+    return implot.Flags_.no_legend if series_count < 2 and height < LEGEND_MIN_HEIGHT else 0
+
+
+def legend_above() -> None:
+    """The plot's legend in one row above the plot area, outside it: inside, it covered
+    the bars' and line ends' value labels in a short plot."""
+    implot.setup_legend(implot.Location_.north,
+                        implot.LegendFlags_.outside | implot.LegendFlags_.horizontal)
+
+
 @dataclass(frozen=True)
 class Series:
     """One configuration's data in a plot: its legend label and colour."""

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 from imgui_bundle import imgui, implot
 
+from explorer.ui import widgets
 from explorer.ui.figures import plotting
 from explorer.ui.figures.energy_audit import audit_series, draw_audit_plot
 from explorer.ui.figures.flux_per_step import draw_flux_plot, flux_series
@@ -43,9 +44,18 @@ def gui_plots(state: AppState) -> None:
     imgui.end_tab_bar()
 
 
+TITLE_MIN_HEIGHT = 260.0
+"""Below this height a plot drops its title (the tab names it) to keep room for its rows."""
+
+
+def _title(title: str, height: float) -> str:
+    """The plot's title, or only its id where the panel is short."""
+    return title if height >= TITLE_MIN_HEIGHT else "##" + title
+
+
 def _axis_controls(state: AppState) -> None:
     state.plot_scale = plotting.scale_selector(state.plot_scale)
-    imgui.same_line(0.0, 24.0)
+    widgets.same_line_if_fits("share of injected", checkbox=True, spacing=24.0)
     _, state.plot_relative = imgui.checkbox("share of injected", state.plot_relative)
 
 
@@ -53,7 +63,7 @@ def _flux_plot(state: AppState, results: list) -> None:
     state.runtime.want_audit()          # the pipelines measure the audit while it shows
     _axis_controls(state)
     avail = imgui.get_content_region_avail()
-    draw_flux_plot("Flux in flight per propagation step", flux_series(results),
+    draw_flux_plot(_title("Flux in flight per propagation step", avail.y), flux_series(results),
                    imgui.ImVec2(avail.x, avail.y - 4), state.plot_scale, state.plot_relative)
 
 
@@ -61,8 +71,8 @@ def _audit_plot(state: AppState, results: list) -> None:
     state.runtime.want_audit()
     _axis_controls(state)
     avail = imgui.get_content_region_avail()
-    draw_audit_plot("Energy audit (sum of channels)", audit_series(results), avail.x,
-                    state.plot_scale, state.plot_relative, avail.y - 4)
+    draw_audit_plot(_title("Energy audit (sum of channels)", avail.y), audit_series(results),
+                    avail.x, state.plot_scale, state.plot_relative, avail.y - 4)
 
 
 def _timings_plot(state: AppState, results: list) -> None:

@@ -110,7 +110,7 @@ def _toolbar(state: AppState) -> None:
         imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
     imgui.same_line()
     camera_controls.toolbar(state)
-    _same_line_if_fits("Exposure", field=120 + imgui.get_style().item_inner_spacing.x)
+    widgets.same_line_if_fits("Exposure", field=120 + imgui.get_style().item_inner_spacing.x)
     imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
                                         "%.2f", imgui.SliderFlags_.logarithmic)
@@ -120,28 +120,16 @@ def _toolbar(state: AppState) -> None:
         imgui.set_tooltip("multiplies the linear radiance; with the display's auto exposure "
                           "(Scene panel, Display) a compensation on top of it")
     if state.comparing:
-        _same_line_if_fits("Expose sides separately", checkbox=True)
+        widgets.same_line_if_fits("Expose sides separately", checkbox=True)
         _, state.expose_sides_separately = imgui.checkbox("Expose sides separately",
                                                           state.expose_sides_separately)
-    _same_line_if_fits("Indirect only", checkbox=True)
+    widgets.same_line_if_fits("Indirect only", checkbox=True)
     changed, value = imgui.checkbox("Indirect only", state.settings.indirect_only)
     if changed:
         state.update(indirect_only=value)
-    _same_line_if_fits("Screenshot (F12)")
+    widgets.same_line_if_fits("Screenshot (F12)")
     if imgui.button("Screenshot (F12)"):
         state.requests.screenshot = default_screenshot_path()
-
-
-def _same_line_if_fits(label: str, checkbox: bool = False, field: float = 0.0) -> None:
-    """Continue the toolbar on this line if the next widget fits, else wrap. ``field``:
-    the width of a slider or input in front of the label."""
-    style = imgui.get_style()
-    width = imgui.calc_text_size(label).x + style.frame_padding.x * 2 + field
-    if checkbox:
-        width += imgui.get_frame_height() + style.item_inner_spacing.x
-    imgui.same_line()
-    if imgui.get_content_region_avail().x < width:
-        imgui.new_line()
 
 
 def _centred_message(state: AppState, avail) -> None:
