@@ -275,7 +275,11 @@ needs_pipeline = pytest.mark.skipif(not _pipeline_available(),
 
 
 def _view_pixels(app) -> np.ndarray:
-    x0, y0, x1, y1 = (int(round(v)) for v in app.state.runtime.view_rect)
+    # The size is rounded on its own, so that one picture moved by a toolbar row (the split
+    # view's extra checkbox) keeps its pixel count whatever the rounding of its edges.
+    left, top, right, bottom = app.state.runtime.view_rect
+    x0, y0 = int(round(left)), int(round(top))
+    x1, y1 = x0 + int(round(right - left)), y0 + int(round(bottom - top))
     return app.last_pixels[y0 + 2:y1 - 2, x0 + 2:x1 - 2].astype(np.float32)
 
 
