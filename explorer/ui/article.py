@@ -364,6 +364,8 @@ def _page_env(state: Any, session: LessonSession, step: Step,
             tip += "\n(not available yet: " + (
                 "measure it in the Error panel)" if quantity.source == "error"
                 else f"{source['where']})")
+        elif quantity.constant:
+            tip += "\na fixed property of the pipeline: no setting changes it"
         elif quantity.measured:
             tip += f"\nmeasured on {source['where']}; it changes with the settings"
         return text, tip
