@@ -200,7 +200,9 @@ def _header(state: Any, session: LessonSession) -> None:
         state.lesson_id = None
         return
     imgui.same_line()
+    imgui.push_text_wrap_pos(0.0)     # a long title wraps beside the button (1280 px)
     imgui.text_colored(widgets.ACCENT, f"{lesson.number:02d}  {lesson.title}")
+    imgui.pop_text_wrap_pos()
     changed = False
     imgui.begin_disabled(session.step_number <= 1)
     if imgui.arrow_button("##previous", imgui.Dir.left):
