@@ -652,3 +652,22 @@ def test_several_panels_asked_forward_at_once_all_come_forward(config_home):
         assert app.state.requests.focus_panel is None
     finally:
         app.close()
+
+
+def test_the_corrections_panel_fits_its_column_at_1280(config_home):
+    """At 1280×720 the tool column is about 300 px wide: the Corrections panel's widest
+    line (a consequence's formula and its '≈ value') wraps instead of running past the
+    right edge (imgui's content width of the window stays within its inner width)."""
+    from imgui_bundle import imgui
+
+    app = _app(pipeline_class=None, width=1280, height=720)
+    try:
+        app.state.requests.focus_panel = "Corrections"
+        for _ in range(4):
+            app.frame()
+        window = imgui.internal.find_window_by_name("Corrections")
+        assert not window.hidden
+        inner = window.inner_rect.max.x - window.inner_rect.min.x
+        assert 0 < window.content_size.x <= inner, (window.content_size.x, inner)
+    finally:
+        app.close()
