@@ -132,7 +132,7 @@ SYMBOLS: dict[str, str] = {
     "errata.dx11.sh_c1": _printed(r"\mathrm{SH\_C1}"),
     "errata.dx11.coslobe_c0": _printed(r"\mathrm{SH\_cosLobe\_C0}"),
     "errata.dx11.coslobe_c1": _printed(r"\mathrm{SH\_cosLobe\_C1}"),
-    "errata.dx11.pi": _printed(r"\mathrm{PI}"),
+    "errata.dx11.pi": _printed(r"\pi"),
     "errata.dx11.front_solid_angle": _printed(_FRONT),
     "errata.dx11.side_solid_angle": _printed(_SIDE),
     "errata.dx11.front_weight": _printed(r"w_{\mathrm{front}}"),

@@ -817,7 +817,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         1.02332671,
     ),
     'errata.dx11.pi': (
-        '\\mathrm{PI}^{\\mathrm{printed}} = 3.1415926',
+        '\\pi^{\\mathrm{printed}} = 3.1415926',
         'PI as printed in lpv-dx11-article.md (#define PI 3.1415926f (and Pi in the propagation '
         'shader)): 3.1415926.',
         3.1415926,

@@ -69,6 +69,9 @@ class Quantity:
     read: Callable[[LiveContext], Any]
     format: str = ".3g"
     """Format used when the lesson gives none."""
+    constant: bool = False
+    """A fixed property of the program (the pipeline's stage count): read with the frame
+    but neither measured nor changed by any setting."""
 
     @property
     def source(self) -> str:
@@ -76,7 +79,7 @@ class Quantity:
 
     @property
     def measured(self) -> bool:
-        return self.source in MEASURED_SOURCES
+        return self.source in MEASURED_SOURCES and not self.constant
 
     def value(self, context: LiveContext) -> Any:
         """The value now; :class:`Unavailable` when it has none yet."""
@@ -314,7 +317,7 @@ def _fixed() -> dict[str, Quantity]:
         Quantity("frame.stages_ran", "how many stages this frame ran (the others were up "
                  "to date)", "", lambda c: len(_result(c).stages_run), "d"),
         Quantity("frame.stages", "stages of the pipeline (explorer.lpv.schema.STAGES)", "",
-                 lambda c: len(STAGES), "d"),
+                 lambda c: len(STAGES), "d", constant=True),
         Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
                  "(yes/no)", "", _ran("gbuffer"), ""),
         Quantity("frame.moved_objects", "objects moved from where the scene puts them "

@@ -629,3 +629,49 @@ def test_the_scene_panel_shows_every_section(config_home, tmp_path):
         assert [m.text for m in app.state.messages if m.level == "error"] == []
     finally:
         app.close()
+
+
+def test_several_panels_asked_forward_at_once_all_come_forward(config_home):
+    """A lesson step may ask for panels in different dock nodes at once (lesson 12's
+    cascades: Inspect and Error). A dock node selects the tab of the window holding the
+    keyboard focus, so the app focuses them one a frame; each ends up the visible tab of
+    its node, in place of the first tab the default layout shows (Show in scene, Plots)."""
+    from imgui_bundle import imgui
+
+    app = _app(pipeline_class=None, width=1280, height=720)
+    try:
+        for _ in range(2):         # the first frame docks the windows
+            app.frame()
+
+        def shown(title: str) -> bool:
+            window = imgui.internal.find_window_by_name(title)
+            return window is not None and not window.hidden
+
+        assert shown("Show in scene") and not shown("Inspect") and not shown("Error")
+        app.state.requests.focus_panel = ("Inspect", "Error")
+        for _ in range(4):
+            app.frame()
+        assert shown("Inspect") and not shown("Show in scene")
+        assert shown("Error") and not shown("Plots")
+        assert app.state.requests.focus_panel is None
+    finally:
+        app.close()
+
+
+def test_the_corrections_panel_fits_its_column_at_1280(config_home):
+    """At 1280×720 the tool column is about 300 px wide: the Corrections panel's widest
+    line (a consequence's formula and its '≈ value') wraps instead of running past the
+    right edge (imgui's content width of the window stays within its inner width)."""
+    from imgui_bundle import imgui
+
+    app = _app(pipeline_class=None, width=1280, height=720)
+    try:
+        app.state.requests.focus_panel = "Corrections"
+        for _ in range(4):
+            app.frame()
+        window = imgui.internal.find_window_by_name("Corrections")
+        assert not window.hidden
+        inner = window.inner_rect.max.x - window.inner_rect.min.x
+        assert 0 < window.content_size.x <= inner, (window.content_size.x, inner)
+    finally:
+        app.close()

@@ -323,6 +323,15 @@ def test_every_derivation_result_has_a_left_hand_side():
         assert fonts.missing(result.statement, "italic") == set(), name
 
 
+def test_the_printed_pi_is_typeset_as_pi():
+    """The DX11 sample's PI macro is the number pi as printed: its left-hand side is the
+    Greek letter with the printed mark (lesson 11 step 1), not the macro's name."""
+    from explorer import derived
+
+    lhs = derived.get("errata.dx11.pi").latex.split("=")[0].strip()
+    assert lhs == r"\pi^{\mathrm{printed}}"
+
+
 def test_figures_of_the_lessons_parse_and_each_is_placed(shipped):
     """Figures are drawn where the text places them ({{figure:ID}}); the kinds used
     cover the registry's."""

@@ -563,3 +563,30 @@ def test_a_step_naming_the_cascade_weights_brings_the_inspect_panel(shipped):
     assert state.inspect.source == "cascade-weights"
     assert "Inspect" in state.requests.focus_panel
     assert "Show in scene" not in state.requests.focus_panel
+
+
+def test_the_leak_steps_look_at_the_dark_side_of_the_orange_wall(shipped):
+    """Lesson 12 steps 1-2 ask for the light on the dark side of the room's thin orange
+    wall: their camera sees that face (the +x side, away from the sun) well off grazing;
+    the room's own camera looks along the wall and sees it edge-on."""
+    import numpy as np
+
+    from explorer.scene import load_scene
+
+    lesson = find_lesson("limits", *shipped)
+    room = load_scene("room")
+    wall = next(o for o in room.objects if o.name == "thin wall")
+    normals = room.normals[wall.first:wall.first + wall.count]
+    positions = room.positions[wall.first:wall.first + wall.count]
+    dark = normals[:, 0] > 0.99                       # the face turned away from the sun
+    centre = positions[dark].mean(axis=0)
+    assert room.light.position[0] < centre[0], "the sun lights the -x side"
+
+    def facing(eye) -> float:
+        to_eye = np.asarray(eye, float) - centre
+        return float(to_eye[0] / np.linalg.norm(to_eye))   # cosine against +x
+
+    assert abs(facing(room.camera.eye)) < 0.2               # the default view: edge-on
+    for step in lesson.steps[:2]:
+        assert step.camera is not None, step.number
+        assert facing(step.camera[0]) > 0.4, step.number

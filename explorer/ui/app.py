@@ -453,14 +453,18 @@ class App:
         if state.runtime.gl_problem:
             self._gl_problem_window()
             return
-        focus = state.requests.focus_panel
-        focus = (focus,) if isinstance(focus, str) else tuple(focus or ())
+        requested = state.requests.focus_panel
+        focus = (requested,) if isinstance(requested, str) else tuple(requested or ())
+        # One panel a frame: a dock node selects the tab of the window that holds the
+        # keyboard focus when its tab bar updates (next frame), so of several panels
+        # focused in one frame only the last would come forward (lesson 12's Inspect
+        # lost to Error). The others wait for the following frames.
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True
             if not state.open_panels.get(panel.title, True):
                 continue
-            if panel.title in focus and not self._needs_layout:
+            if focus and panel.title == focus[0] and not self._needs_layout:
                 imgui.set_next_window_focus()
             if panel.window_class:
                 imgui.set_next_window_class(window_class(panel))
@@ -476,8 +480,8 @@ class App:
                     self._panel_failed(panel.title, exc)
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
-        if focus and not self._needs_layout:
-            state.requests.focus_panel = None
+        if focus and not self._needs_layout and state.requests.focus_panel is requested:
+            state.requests.focus_panel = focus[1:] or None   # (a panel may have asked anew)
         if imgui.is_key_pressed(imgui.Key.f12, False):
             state.requests.screenshot = default_screenshot_path()
         self._file_dialog()

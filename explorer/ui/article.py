@@ -200,7 +200,9 @@ def _header(state: Any, session: LessonSession) -> None:
         state.lesson_id = None
         return
     imgui.same_line()
+    imgui.push_text_wrap_pos(0.0)     # a long title wraps beside the button (1280 px)
     imgui.text_colored(widgets.ACCENT, f"{lesson.number:02d}  {lesson.title}")
+    imgui.pop_text_wrap_pos()
     changed = False
     imgui.begin_disabled(session.step_number <= 1)
     if imgui.arrow_button("##previous", imgui.Dir.left):
@@ -364,6 +366,8 @@ def _page_env(state: Any, session: LessonSession, step: Step,
             tip += "\n(not available yet: " + (
                 "measure it in the Error panel)" if quantity.source == "error"
                 else f"{source['where']})")
+        elif quantity.constant:
+            tip += "\na fixed property of the pipeline: no setting changes it"
         elif quantity.measured:
             tip += f"\nmeasured on {source['where']}; it changes with the settings"
         return text, tip

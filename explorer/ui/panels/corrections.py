@@ -53,8 +53,9 @@ def _effect(formulas, caption: str, result: derived.Derived) -> None:
         imgui.same_line()
     widgets.formula(formulas, result.latex, True, tooltip=result.tooltip, scale=0.8)
     if result.value is not None and _needs_decimals(result.value):
-        imgui.same_line()
-        imgui.text_disabled(f"≈ {result.value:.7g}")
+        decimals = f"≈ {result.value:.7g}"
+        widgets.same_line_if_fits(decimals)    # wraps in a narrow column (1280 px window)
+        imgui.text_disabled(decimals)
 
 
 def _needs_decimals(value: float) -> bool:
