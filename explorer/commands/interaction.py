@@ -246,12 +246,14 @@ def session(spawned: float, frames: int, grid: int) -> dict:
         # the grid at 64³
         rec.phase = "grid 64"
         before = picture_serial(app)
+        poke(app)                       # the click that makes the change
         app.state.update(grid_size=64)
         first, final = rec.until_new_picture(before)
         figures["grid64_first_update_ms"], figures["grid64_converged_ms"] = first, final
         before = picture_serial(app)
         name = next(iter(figures["toggles"]))
         corrections = app.state.settings.corrections
+        poke(app)
         app.state.set_corrections(**{name: not getattr(corrections, name)})
         first, final = rec.until_new_picture(before)
         figures["grid64_toggle_first_update_ms"] = first
@@ -275,9 +277,11 @@ def toggles(app, rec: Recorder) -> dict:
         name = entry.name
         value = getattr(app.state.settings.corrections, name)
         before = picture_serial(app)
+        poke(app)       # the click on the checkbox (a window that counts input sees it)
         app.state.set_corrections(**{name: not value})
         first, final = rec.until_new_picture(before)
         times[name] = {"first_update_ms": first, "converged_ms": final}
+        poke(app)
         app.state.set_corrections(**{name: value})
         rec.converge()
     return times

@@ -107,6 +107,7 @@ class App:
         self._drawn_at = 0.0              # time.monotonic() of the last drawn frame
         self._shown_result = None     # A's result the title was made for
         self._interacted = False      # the last update ran while the camera moved
+        self._input_at = time.monotonic()     # the last input (the controller's budget)
         self.status = None
         """The controller's status of the last frame (explorer.ui.controller)."""
         self.ui_ms = 30.0
@@ -235,6 +236,8 @@ class App:
             return True
         rt = self.state.runtime
         events = self.window.take_events()
+        if events:
+            self._input_at = time.monotonic()
         self.status = None
         if not rt.gl_problem:
             animation.tick(self.state)       # playing paths and fly-through: new Settings
@@ -419,13 +422,20 @@ class App:
         self.status = self.controller.update(
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
-            drag_budget_ms=drag_budget, draw_ms=self.ui_ms)
+            drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
+            quiet_s=time.monotonic() - self._input_at, input_pending=self._input_pending)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}
         if rt.result is not None and rt.result is not self._shown_result:
             self._shown_result = rt.result
             self._update_title()
+
+    def _input_pending(self) -> bool:
+        """Whether input arrived since this frame began (the controller asks between
+        units of a quiet frame's longer budget, and stops at the frame budget if so)."""
+        self.window.poll_events()
+        return self.window.events > 0
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:
