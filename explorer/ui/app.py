@@ -55,8 +55,10 @@ DRAG_FPS = 15.0
 frame at this rate leaves after the window's own drawing, and render at the size that
 fits (explorer/ui/controller.py DRAG_SCALES)."""
 MIN_DRAG_BUDGET_MS = 4.0
-PROGRESS_REDRAW_S = 0.5
-"""While a job runs and no new picture or input arrives, the window draws this often."""
+PROGRESS_REDRAW_S = 1.0
+"""While a job runs and no new picture or input arrives, the window draws this often
+(the progress label; each drawing costs the job about as much as a propagation step on
+llvmpipe)."""
 SETTLE_FRAMES = 100000
 
 

@@ -79,10 +79,11 @@ EXPOSURE_TOLERANCE = 0.05
 SHADER_POLL_S = 0.5
 PREVIEW_INTERVAL_S = 0.25
 """Progressive pictures after the first of a job come at most this often ..."""
-PREVIEW_SHARE = 0.25
+PREVIEW_SHARE = 0.1
 """... and take at most this share of the time: a preview gathers the image and the
 window draws it, so the interval grows with what the last preview and a drawn frame
-cost."""
+cost (at 64³ on llvmpipe about every 0.6 s; a quarter of the time, as before issue #10's
+second round, made the converged picture come later than a window without previews)."""
 PREVIEW_SCALE = 0.5
 """Progressive previews gather at this fraction of each edge (a quarter of the pixels;
 the finished frame comes at the full size): a full-size preview cost as much as four
@@ -364,7 +365,8 @@ class PipelineController:
         side whose job has more work goes round again while its next unit still fits. At
         most one progressive preview per side and frame, before its first turn. With a
         quiet budget a turn is at most the frame budget long, so that input is looked for
-        between turns."""
+        between turns, and a frame that publishes a preview (it is drawn) keeps to the
+        frame budget."""
         if not running:
             return
         budget = self._budget
@@ -381,6 +383,8 @@ class PipelineController:
             if side.name not in previewed:
                 previewed.add(side.name)
                 self._preview_if_due(state, side, status)
+                if status.published:    # this frame is drawn: no quiet budget on top
+                    budget.ms = min(budget.ms, budget.base_ms)
                 if side.job is None:
                     continue
                 left = budget.left()
