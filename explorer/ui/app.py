@@ -257,7 +257,9 @@ class App:
             return True
         if not must_draw and time.monotonic() - self._drawn_at < PROGRESS_REDRAW_S:
             # a job runs with nothing new to show: its time goes to the job (input is
-            # still read between budgets); the progress label is redrawn this often
+            # still read between budgets); the progress label is redrawn this often.
+            # The next frame goes on with it, never waiting for events.
+            self._quiet = False
             self.frames_skipped += 1
             return True
         rt.redraw = rt.audit_wanted = False      # what is drawn now asks again
@@ -300,8 +302,14 @@ class App:
 
     def _idle_timeout(self) -> float:
         """How long an idle loop may wait: the idle timeout, or less when the status
-        line's message is due to disappear sooner."""
+        line's message is due to disappear sooner or a camera move settles sooner (its
+        full-size frame starts then)."""
         timeout = self.idle_timeout_s
+        interaction = self.state.runtime.interaction
+        if not interaction.held:      # a camera move settling: the full size follows then
+            settles = interaction.moved_at + INTERACTION_SETTLE_S - time.monotonic()
+            if settles > 0:
+                timeout = min(timeout, settles + 0.01)
         messages = self.state.messages
         if messages and messages[-1].level != "error":
             left = messages[-1].created + MESSAGE_SHOWN_S - time.monotonic()

@@ -18,7 +18,7 @@ and a budget in milliseconds. The controller
 * gives the pipelines more of each frame while the user leaves the window alone
   (:data:`QUIET_BUDGET_MS` once no input came for :data:`QUIET_AFTER_S`; the shell's
   ``input_pending`` is asked between units, and input drops the frame back to the
-  budget at once);
+  budget at once; the background tasks keep to the frame budget);
 * runs no stage for a display-only change: the pipeline's Settings have the display
   stage's fields pinned (:data:`PINNED_DISPLAY`), and exposure, tone curve, indirect
   only and the auto exposure of each side are the view composer's
@@ -193,7 +193,7 @@ class SideState:
     propagate_from: tuple[float, int] | None = None
     """(:attr:`job_ms`, steps) at the job's first preview: the propagation's pace since."""
     preview_ms: float = 0.0
-    """What the side's last preview cost (gather, display, copy)."""
+    """What the side's last preview cost (gather, copy; display at the full size)."""
     previews_ms: float = 0.0
     """What the job's previews cost so far (in :attr:`job_ms`)."""
     job_ms: float = 0.0
@@ -320,7 +320,8 @@ class PipelineController:
                       self.request_for(state, name, need_audit, interacting))
         running = [self.sides[name] for name in active if self.sides[name].job is not None]
         self._advance(state, running, status)
-        self._tasks(state, self._budget.left(), status)
+        # the panels' tasks keep to the frame budget: nobody asks for input inside them
+        self._tasks(state, min(self._budget.left(), self._budget.base_left()), status)
         self.budget_used_ms = self._budget.ms
         for name in active:
             side = self.sides[name]
@@ -761,6 +762,10 @@ class _Budget:
         if self.ms > self.base_ms and self.input_pending is not None and self.input_pending():
             self.ms = self.base_ms
         return self.ms - (time.perf_counter() - self.start) * 1e3
+
+    def base_left(self) -> float:
+        """Milliseconds left of the frame budget alone."""
+        return self.base_ms - (time.perf_counter() - self.start) * 1e3
 
 
 class _StageCounter:
