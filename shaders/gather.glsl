@@ -34,6 +34,9 @@ uniform sampler3D u_lpv_b;
 
 uniform int u_shadow_kernel;           // PCF box width in shadow-map texels; 1 = hard
 uniform int u_has_grid;
+uniform ivec2 u_target_size;          // the targets' size: the G-buffer's, or less for a
+                                      // reduced preview (each pixel reads the texel below
+                                      // it, as view_snapshot.glsl maps its sources)
 
 layout(location = 0) out vec4 out_direct;
 layout(location = 1) out vec4 out_indirect;
@@ -126,7 +129,7 @@ vec3 lpv_derivative_damping(vec3 p, vec3 n) {
 }
 
 void main() {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 pixel = ivec2(gl_FragCoord.xy) * textureSize(u_gbuffer_position, 0) / u_target_size;
     vec4 position = texelFetch(u_gbuffer_position, pixel, 0);
     if (position.w < 0.5) {   // background
         out_direct = out_indirect = out_received = vec4(0.0);

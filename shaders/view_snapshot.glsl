@@ -4,7 +4,9 @@
 // targets of a frame with fog (SOURCES 2, docs/MODEL.md "Fog"), copied texel for texel into
 // textures the window owns, so that the view keeps showing a whole picture while the
 // pipeline rewrites its own targets (a camera move re-renders the G-buffer before the
-// gather, the gather runs in bands). Full-screen pass, one texel per pixel.
+// gather, the gather runs in bands). Full-screen pass at the first source's size: a source
+// of that size is copied texel for texel, a larger one (the G-buffer's albedo beside a
+// reduced preview's gather, explorer/lpv/gather.py) gives the texel below each pixel.
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"
@@ -25,10 +27,11 @@ layout(location = 2) out vec4 out_copy2;
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 size = textureSize(u_source0, 0);
     out_copy0 = texelFetch(u_source0, pixel, 0);
-    out_copy1 = texelFetch(u_source1, pixel, 0);
+    out_copy1 = texelFetch(u_source1, pixel * textureSize(u_source1, 0) / size, 0);
 #if SOURCES == 3
-    out_copy2 = texelFetch(u_source2, pixel, 0);
+    out_copy2 = texelFetch(u_source2, pixel * textureSize(u_source2, 0) / size, 0);
 #endif
 }
 #endif

@@ -54,6 +54,33 @@ def test_an_idle_window_draws_nothing_until_something_changes():
         app.close()
 
 
+def _drag(app) -> list:
+    """Press the mouse over the view and orbit a few frames (not released); the render
+    sizes of those frames. Each event is counted as glfw's callback would (a window that
+    waits for events wakes for it)."""
+    from imgui_bundle import imgui
+
+    x0, y0, x1, y1 = app.state.runtime.view_rect
+    scale = imgui.get_io().display_framebuffer_scale.x or 1.0
+    x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
+    io = imgui.get_io()
+    io.add_mouse_pos_event(x, y)
+    app.window._on_event()
+    app.frame()
+    io.add_mouse_button_event(0, True)
+    app.window._on_event()
+    app.frame()
+    app.controller.drag_scale = 0.5        # as if a camera frame had been timed
+    sizes = []
+    for step in range(1, 8):              # the drag: the camera orbits each frame
+        io.add_mouse_pos_event(x + 6 * step, y)
+        app.window._on_event()
+        app.frame()
+        assert app.state.runtime.interaction.held
+        sizes.append(app.state.runtime.result.direct.shape[:2])
+    return sizes
+
+
 def test_a_drag_on_the_view_renders_smaller_then_refines():
     from imgui_bundle import imgui
 
@@ -63,21 +90,8 @@ def test_a_drag_on_the_view_renders_smaller_then_refines():
     try:
         assert app.settle()
         full = app.state.runtime.result.direct.shape[:2]
-        x0, y0, x1, y1 = app.state.runtime.view_rect
-        scale = imgui.get_io().display_framebuffer_scale.x or 1.0
-        x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
         io = imgui.get_io()
-        io.add_mouse_pos_event(x, y)
-        app.frame()
-        io.add_mouse_button_event(0, True)
-        app.frame()
-        app.controller.drag_scale = 0.5        # as if a camera frame had been timed
-        sizes = []
-        for step in range(1, 8):              # the drag: the camera orbits each frame
-            io.add_mouse_pos_event(x + 6 * step, y)
-            app.frame()
-            assert app.state.runtime.interaction.held
-            sizes.append(app.state.runtime.result.direct.shape[:2])
+        sizes = _drag(app)
         camera = app.state.settings.camera
         assert camera is not None
         assert any(size[0] < full[0] and size[1] < full[1] for size in sizes), sizes
@@ -87,5 +101,36 @@ def test_a_drag_on_the_view_renders_smaller_then_refines():
         assert app.state.runtime.result.direct.shape[:2] == full
         assert app.state.runtime.result.camera.eye == pytest.approx(camera[0])
         assert [m.text for m in app.state.messages if m.level == "error"] == []
+    finally:
+        app.close()
+
+
+def test_a_released_drag_refines_without_waiting_for_the_idle_timeout():
+    """An idle loop waits for events, but not past the moment a camera move settles (its
+    full-size frame starts then), and never while a job runs."""
+    from imgui_bundle import imgui
+
+    from explorer.ui.app import INTERACTION_SETTLE_S
+
+    state = AppState(settings=TINY)
+    state.follow_view_size = False
+    app = _app(state, width=1200, height=800, wait_when_idle=True, idle_timeout_s=30.0)
+    try:
+        assert app.settle()
+        full = app.state.runtime.result.direct.shape[:2]
+        _drag(app)
+        imgui.get_io().add_mouse_button_event(0, False)
+        app.window._on_event()
+        app.frame()                            # the release: the camera settles now
+        assert not app.state.runtime.interaction.held
+        assert app._idle_timeout() <= INTERACTION_SETTLE_S + 0.02
+        waits = []
+        for _ in range(500):
+            app.frame()
+            waits.append(app.last_wait_s)
+            if app.state.runtime.result.direct.shape[:2] == full and not app.status.active:
+                break
+        assert app.state.runtime.result.direct.shape[:2] == full
+        assert max(waits) <= INTERACTION_SETTLE_S + 1.0, waits     # not the 30 s timeout
     finally:
         app.close()

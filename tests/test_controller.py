@@ -1,8 +1,9 @@
 """The window's pipeline controller without a window (explorer/ui/controller.py), on the
 headless context: which stages a change runs (counted where the pipeline starts them),
-progressive pictures that end on the one-shot frame, cancellation mid-propagation, both
-sides of the split view advancing, and the view composer's single draw per display
-change (explorer/ui/view_composer.py)."""
+progressive pictures (reduced, and fewer for a short job) that end on the one-shot frame
+at full size, cancellation mid-propagation, both sides of the split view advancing, the
+quiet frame's longer budget that input cuts back, and the view composer's single draw
+per display change (explorer/ui/view_composer.py)."""
 
 from __future__ import annotations
 
@@ -11,12 +12,17 @@ from collections import Counter
 import numpy as np
 import pytest
 
+from explorer.lpv.gather import reduced_size
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
+from explorer.ui import controller as controller_module
 from explorer.ui.controller import (
     CAMERA_STAGES,
     DRAG_SCALES,
     PINNED_DISPLAY,
+    PREVIEW_SCALE,
+    QUIET_AFTER_S,
+    QUIET_BUDGET_MS,
     PipelineController,
 )
 from explorer.ui.state import AppState
@@ -311,3 +317,113 @@ def test_the_view_shows_a_frame_with_fog_as_the_display_stage_does(controller, g
         assert np.abs(shown() - with_fog).max() > 20      # the fog showed
     finally:
         composer.release()
+
+
+def _toggle_pictures(controller, state, budget_ms=BUDGET_MS, **options) -> list:
+    """Toggle a propagation switch and update until settled: the (stamp, size) of every
+    picture published on the way."""
+    state.set_corrections(propagation_4pi=not state.settings.corrections.propagation_4pi)
+    shown = []
+    for _ in range(2000):
+        status = controller.update(state, budget_ms, **options)
+        picture = state.runtime.pictures["A"]
+        if status.published:
+            shown.append((picture.stamp, picture.size))
+        if not status.active:
+            return shown
+    raise AssertionError("the controller never settled")
+
+
+def test_previews_come_reduced_and_the_finished_frame_at_full_size(controller, gl_context):
+    state = _state()
+    _settle(controller, state)
+    full = (SMALL.width, SMALL.height)
+    controller.preview_interval_s = 0.0     # a picture after every step
+    shown = _toggle_pictures(controller, state)
+    previews = [size for stamp, size in shown if not stamp.final]
+    assert len(previews) >= 2
+    assert set(previews) == {reduced_size(full, PREVIEW_SCALE)}, previews
+    assert shown[-1][0].final and shown[-1][1] == full
+    result = state.runtime.result
+    with Pipeline(result.settings, ctx=gl_context) as once:
+        expected = once.run(result.settings, need_audit=False)
+    direct, indirect, mask = state.runtime.pictures["A"].read()
+    for got, want in ((direct, expected.direct), (indirect, expected.indirect)):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-6 * max(
+            float(np.abs(want).max()), 1e-30))
+    assert mask.any()
+
+
+def test_a_reduced_preview_is_the_full_preview_at_the_texels_below(gl_context):
+    """The preview at half of each edge holds, at each pixel, what the full-size preview
+    of the same accumulation holds at the G-buffer texel below it (gather.glsl's and
+    view_snapshot.glsl's mapping); direct light and albedo as the G-buffer gives them."""
+    settings = SMALL.with_changes(width=50, height=37)      # odd sizes: rounding
+    with Pipeline(settings, ctx=gl_context) as pipeline:
+        pipeline.run(settings, need_audit=False)
+        job = pipeline.start(settings.with_changes(iterations=settings.iterations + 3),
+                             need_audit=False)
+        while not (job.progress.stage == "propagate" and job.progress.done >= 2):
+            job.advance(0.0)
+        assert job.preview(1.0)
+        full = [_texture_array(t) for t in pipeline.preview_textures]
+        assert job.preview(PREVIEW_SCALE)
+        small = [_texture_array(t) for t in pipeline.preview_textures[:2]]
+        job.cancel()
+    size = reduced_size((settings.width, settings.height), PREVIEW_SCALE)
+    assert small[0].shape[:2] == (size[1], size[0])
+    rows = np.arange(size[1]) * settings.height // size[1]
+    cols = np.arange(size[0]) * settings.width // size[0]
+    below = [array[rows][:, cols] for array in full]
+    assert below[0][..., 3].any() and np.abs(below[1][..., :3]).max() > 0.0
+    for got, want in zip(small, below[:2]):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-6 * max(
+            float(np.abs(want).max()), 1e-30))
+
+
+def _texture_array(texture) -> np.ndarray:
+    """An rgba32f or rgba16f texture as (H, W, 4) float32, row 0 at the bottom."""
+    dtype = np.float16 if texture.dtype == "f2" else np.float32
+    width, height = texture.size
+    return np.frombuffer(texture.read(), dtype).reshape(height, width, 4).astype(np.float32)
+
+
+def test_a_short_job_shows_one_preview_and_then_the_finished_frame(controller, monkeypatch):
+    """After the first preview, none while the finished frame is due within FINISH_SOON_S
+    (set here beyond any job; then to 0, when every step shows one)."""
+    state = _state(iterations=40)
+    _settle(controller, state)
+    controller.preview_interval_s = 1e-9     # due after every step ...
+    monkeypatch.setattr(controller_module, "PREVIEW_SHARE", 1e9)   # ... whatever it costs
+    monkeypatch.setattr(controller_module, "FINISH_SOON_S", 1e9)
+    shown = _toggle_pictures(controller, state)
+    assert [stamp.final for stamp, _ in shown] == [False, True]
+    monkeypatch.setattr(controller_module, "FINISH_SOON_S", 0.0)
+    shown = _toggle_pictures(controller, state)
+    steps = [stamp.done for stamp, _ in shown if not stamp.final]
+    assert len(steps) >= 3 and shown[-1][0].final, steps
+
+
+def test_a_quiet_frame_gets_the_longer_budget_and_input_cuts_it_back(controller):
+    state = _state(iterations=40)
+    _settle(controller, state)
+    state.set_corrections(propagation_4pi=False)
+    controller.update(state, BUDGET_MS, quiet_s=0.0)     # the click: the frame budget
+    assert controller.budget_used_ms == BUDGET_MS
+
+    def units(status) -> int:
+        return sum(unit.side == "A" and unit.what.startswith("propagating")
+                   for unit in status.work)
+
+    status = controller.update(state, BUDGET_MS, quiet_s=QUIET_AFTER_S)   # left alone
+    assert controller.budget_used_ms == QUIET_BUDGET_MS and units(status) > 1
+    state.set_corrections(propagation_4pi=True)          # a job that starts afresh
+    asked = []
+
+    def input_pending() -> bool:
+        asked.append(True)
+        return True
+    status = controller.update(state, BUDGET_MS, quiet_s=1.0, input_pending=input_pending)
+    assert asked and controller.budget_used_ms == BUDGET_MS and units(status) == 1
+    status = controller.update(state, BUDGET_MS, quiet_s=1.0, interacting=True)
+    assert controller.budget_used_ms < QUIET_BUDGET_MS     # a drag keeps its own budget

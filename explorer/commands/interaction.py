@@ -287,11 +287,13 @@ def grid64_phase(app, rec: Recorder, correction: str) -> dict:
     figures = {}
     rec.phase = "grid 64"
     before = picture_serial(app)
+    poke(app)                       # the click that makes the change
     app.state.update(grid_size=64)
     first, final = rec.until_new_picture(before)
     figures["grid64_first_update_ms"], figures["grid64_converged_ms"] = first, final
     before = picture_serial(app)
     corrections = app.state.settings.corrections
+    poke(app)
     app.state.set_corrections(**{correction: not getattr(corrections, correction)})
     first, final = rec.until_new_picture(before)
     figures["grid64_toggle_first_update_ms"] = first
@@ -319,9 +321,11 @@ def toggles(app, rec: Recorder) -> dict:
         name = entry.name
         value = getattr(app.state.settings.corrections, name)
         before = picture_serial(app)
+        poke(app)       # the click on the checkbox (a window that counts input sees it)
         app.state.set_corrections(**{name: not value})
         first, final = rec.until_new_picture(before)
         times[name] = {"first_update_ms": first, "converged_ms": final}
+        poke(app)
         app.state.set_corrections(**{name: value})
         rec.converge()
     return times

@@ -81,6 +81,11 @@ def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[i
     return [(edges[i], edges[i + 1]) for i in range(count)]
 
 
+def reduced_size(size: tuple[int, int], scale: float) -> tuple[int, int]:
+    """``size`` (width, height) times ``scale``, each edge at least one pixel."""
+    return (max(1, int(round(size[0] * scale))), max(1, int(round(size[1] * scale))))
+
+
 def linear_filter_error(ctx: moderngl.Context) -> float:
     """The largest weight error of the texture unit's linear filter (``filter_probe.glsl``),
     measured once per context: interpolating 0 and 1 at fractions t must give t."""
@@ -146,7 +151,7 @@ class GatherPass:
             sh_order: int = 1, rows: tuple[int, int] | None = None,
             shadow_kernel: int = DEFAULT_SHADOW_KERNEL,
             shadow_tiles: Sequence[tuple[int, int]] | None = None,
-            glossy: Glossy | None = None) -> None:
+            glossy: Glossy | None = None, size: tuple[int, int] | None = None) -> None:
         """``shadow``: the RSM (one view) or the RSM atlas of every view; ``lights``: the
         view(s), their shadow maps at ``shadow_tiles`` (lower-left texels in ``shadow``;
         None: one view at (0, 0)).
@@ -160,8 +165,10 @@ class GatherPass:
         ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
         the others keep what they hold. ``shadow_kernel``: width of the PCF box in
         shadow-map texels (1 = one hard test). ``glossy``: add the glossy reflection of
-        the grid to the indirect radiance (None: off)."""
-        self._targets.allocate(gbuffer.size)
+        the grid to the indirect radiance (None: off). ``size``: the targets' size (default
+        the G-buffer's); a smaller one gathers a reduced picture, each pixel at the
+        G-buffer texel below it (:func:`reduced_size`; the window's quick previews)."""
+        self._targets.allocate(size or gbuffer.size)
         program = self.programs.get("gather.glsl", {
             **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
         gbuffer.position.use(0)
@@ -184,6 +191,7 @@ class GatherPass:
             "u_shadow_kernel": int(shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
             "u_gather_damping": int(damping),
+            "u_target_size": self._targets.size,
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
             **(NO_GLOSSY if glossy is None else glossy.uniforms()),

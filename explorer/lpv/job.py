@@ -50,7 +50,7 @@ class Pipeline(Protocol):
     def stage_units(self, stage: str, job: "Job") -> int: ...
     def stage_work(self, stage: str, job: "Job") -> Iterator[int | None]: ...
     def finish_job(self, job: "Job") -> "FrameResult": ...
-    def show_preview(self, job: "Job") -> bool: ...
+    def show_preview(self, job: "Job", scale: float = ...) -> bool: ...
 
 _VERBS = {"scene": "loading the scene", "grid": "placing the grids", "rsm": "rendering the RSM",
           "downsample": "downsampling", "inject": "injecting", "geometry":
@@ -163,17 +163,18 @@ class Job:
             worked = True
         return self.progress
 
-    def preview(self) -> bool:
+    def preview(self, scale: float = 1.0) -> bool:
         """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
         view then shows the light growing step by step); False when there is nothing to
         show yet (before the G-buffer, the RSM or the first propagation step) or when the
-        job is finished (``final_texture`` then holds the frame)."""
+        job is finished (``final_texture`` then holds the frame). ``scale`` < 1: a reduced
+        linear picture in ``Pipeline.preview_textures`` instead (no display pass)."""
         if self.done or not (self.evaluated("gbuffer") and self.evaluated("rsm")):
             return False
         started = self._stage == "propagate" and self._done > 0
         if not (started or self.evaluated("propagate")):
             return False
-        return self.pipeline.show_preview(self)
+        return self.pipeline.show_preview(self, scale)
 
     def cancel(self) -> None:
         """Stop here; a stage in the middle of its work runs again in the next job."""

@@ -66,7 +66,7 @@ from explorer.lpv.display import AutoExposure, DisplayPass, FogImages
 from explorer.lpv.fog import FogPass, Medium
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult, frame_result
-from explorer.lpv.gather import GatherPass, Glossy, bands
+from explorer.lpv.gather import GatherPass, Glossy, bands, reduced_size
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.geometry import CameraSurfels, MergedGeometryPass, camera_pixel_area
 from explorer.lpv.grid import GridSpec
@@ -127,6 +127,10 @@ class Pipeline:
         self._geometry = MergedGeometryPass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
         self._gather = GatherPass(ctx, self.programs)
+        self._preview_gather: GatherPass | None = None
+        """The reduced previews' own targets (made at the first one)."""
+        self.preview_textures: tuple | None = None
+        """``(direct, indirect, albedo)`` of the last preview (:meth:`show_preview`)."""
         self._fog = FogPass(ctx, self.programs)
         self._display = DisplayPass(ctx, self.programs)
         self.display_scale_override: float | None = None
@@ -326,8 +330,10 @@ class Pipeline:
             self.job.cancel()
         for stage in (self._rsm, self._downsample, self._rsm_atlas, self._vpl_atlas,
                       self._inject, self._geometry, self._gbuffer, self._gather, self._fog,
-                      self._display):
-            stage.release()
+                      self._display, self._preview_gather):
+            if stage is not None:
+                stage.release()
+        self._preview_gather, self.preview_textures = None, None
         self._release_levels(0)
         if self._override_textures is not None:
             self._override_textures.release()
@@ -409,20 +415,33 @@ class Pipeline:
             self._warnings, self.timer, job.progress.stages_run, self._display_scale)
         return self.last_result
 
-    def show_preview(self, job: Job) -> bool:
+    def show_preview(self, job: Job, scale: float = 1.0) -> bool:
         """Gather and display the accumulation as it is now (see :meth:`Job.preview`);
-        the gather and display stages then run again when the job gets there."""
+        the gather and display stages then run again when the job gets there.
+        ``scale`` < 1: gather it at that fraction of each edge into targets of its own
+        instead, and no display pass (the window's quick previews: the job's gather and
+        display stay as they are); :attr:`preview_textures` then holds that picture."""
         if any(level.accumulation_textures is None for level in self._levels[:len(self._specs)]):
             return False
+        s = job.settings
+        if scale < 1.0:
+            if self._preview_gather is None:
+                self._preview_gather = GatherPass(self.ctx, self.programs)
+            self._gather_levels(s, into=self._preview_gather,
+                                size=reduced_size(self._gbuffer.size, scale))
+            targets = self._preview_gather.targets
+            self.preview_textures = (targets["direct"], targets["indirect"],
+                                     self._gbuffer.textures[2])
+            return True
         self.keys.pop("gather", None)
         self.keys.pop("display", None)
-        s = job.settings
         self.timer.timed("gather", lambda: self._gather_levels(s))
         # the last frame's display scale: the auto exposure needs the read-back images,
         # and a steady exposure shows the light growing; the fog is marched once the
         # propagation is done, so a preview shows the surfaces without it
         self._show(s, self._display_scale if self.display_scale_override is None
                    else self.display_scale_override, fog=False)
+        self.preview_textures = self.linear_textures
         return True
 
     # ------------------------------------------------------------------ stages
@@ -712,19 +731,22 @@ class Pipeline:
             level.release()
         del self._levels[keep:]
 
-    def _gather_levels(self, s: Settings, rows: tuple[int, int] | None = None) -> None:
+    def _gather_levels(self, s: Settings, rows: tuple[int, int] | None = None,
+                       into: GatherPass | None = None,
+                       size: tuple[int, int] | None = None) -> None:
         """The gather of every level's accumulation as it is now (docs/MODEL.md "Final
-        gather", "Cascades"), of the rows ``rows`` or the whole image."""
+        gather", "Cascades"), of the rows ``rows`` or the whole image; ``into``/``size``:
+        another gather pass's targets, at that size (a reduced preview)."""
         levels = self._levels[: len(self._specs)]
         textures = [level.accumulation_textures for level in levels]
         cascades = None
         if len(levels) > 1:
             cascades = [CascadeInput(spec, t) for spec, t in zip(self._specs, textures)]
-        self._gather.run(self._gbuffer, self._rsm_textures, self._light, textures[0],
-                         self._specs[0], s.gather_damping, cascades=cascades,
-                         sh_order=levels[0].injected.sh_order, rows=rows,
-                         shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
-                         glossy=Glossy.of(s, self._scene.camera.eye))
+        (into or self._gather).run(
+            self._gbuffer, self._rsm_textures, self._light, textures[0], self._specs[0],
+            s.gather_damping, cascades=cascades, sh_order=levels[0].injected.sh_order,
+            rows=rows, shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
+            glossy=Glossy.of(s, self._scene.camera.eye), size=size)
 
     def propagation_inputs(self, level: int = 0):
         """``(injected grid, GridSpec, geometry volume or None)`` of cascade ``level``'s

@@ -55,8 +55,10 @@ DRAG_FPS = 15.0
 frame at this rate leaves after the window's own drawing, and render at the size that
 fits (explorer/ui/controller.py DRAG_SCALES)."""
 MIN_DRAG_BUDGET_MS = 4.0
-PROGRESS_REDRAW_S = 0.5
-"""While a job runs and no new picture or input arrives, the window draws this often."""
+PROGRESS_REDRAW_S = 1.0
+"""While a job runs and no new picture or input arrives, the window draws this often
+(the progress label; each drawing costs the job about as much as a propagation step on
+llvmpipe)."""
 SETTLE_FRAMES = 100000
 
 
@@ -107,6 +109,7 @@ class App:
         self._drawn_at = 0.0              # time.monotonic() of the last drawn frame
         self._shown_result = None     # A's result the title was made for
         self._interacted = False      # the last update ran while the camera moved
+        self._input_at = time.monotonic()     # the last input (the controller's budget)
         self.status = None
         """The controller's status of the last frame (explorer.ui.controller)."""
         self.ui_ms = 30.0
@@ -235,6 +238,8 @@ class App:
             return True
         rt = self.state.runtime
         events = self.window.take_events()
+        if events:
+            self._input_at = time.monotonic()
         self.status = None
         if not rt.gl_problem:
             animation.tick(self.state)       # playing paths and fly-through: new Settings
@@ -252,7 +257,9 @@ class App:
             return True
         if not must_draw and time.monotonic() - self._drawn_at < PROGRESS_REDRAW_S:
             # a job runs with nothing new to show: its time goes to the job (input is
-            # still read between budgets); the progress label is redrawn this often
+            # still read between budgets); the progress label is redrawn this often.
+            # The next frame goes on with it, never waiting for events.
+            self._quiet = False
             self.frames_skipped += 1
             return True
         rt.redraw = rt.audit_wanted = False      # what is drawn now asks again
@@ -295,8 +302,14 @@ class App:
 
     def _idle_timeout(self) -> float:
         """How long an idle loop may wait: the idle timeout, or less when the status
-        line's message is due to disappear sooner."""
+        line's message is due to disappear sooner or a camera move settles sooner (its
+        full-size frame starts then)."""
         timeout = self.idle_timeout_s
+        interaction = self.state.runtime.interaction
+        if not interaction.held:      # a camera move settling: the full size follows then
+            settles = interaction.moved_at + INTERACTION_SETTLE_S - time.monotonic()
+            if settles > 0:
+                timeout = min(timeout, settles + 0.01)
         messages = self.state.messages
         if messages and messages[-1].level != "error":
             left = messages[-1].created + MESSAGE_SHOWN_S - time.monotonic()
@@ -419,13 +432,20 @@ class App:
         self.status = self.controller.update(
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
-            drag_budget_ms=drag_budget, draw_ms=self.ui_ms)
+            drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
+            quiet_s=time.monotonic() - self._input_at, input_pending=self._input_pending)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}
         if rt.result is not None and rt.result is not self._shown_result:
             self._shown_result = rt.result
             self._update_title()
+
+    def _input_pending(self) -> bool:
+        """Whether input arrived since this frame began (the controller asks between
+        units of a quiet frame's longer budget, and stops at the frame budget if so)."""
+        self.window.poll_events()
+        return self.window.events > 0
 
     def _open_scene(self, name_or_path: str) -> None:
         if name_or_path == self.state.settings.scene:

@@ -9,9 +9,16 @@ and a budget in milliseconds. The controller
   a request that differs from the job in flight cancels it, and the pipeline keeps the
   stages that completed), and advances the jobs until the budget is spent, whole units of
   work at a time (explorer/lpv/job.py), both sides alternately in split view;
-* publishes pictures: when a job finishes, and (``AppState.progressive``) while the
-  propagation runs, a preview of the accumulation so far after each few steps, copied
-  into the side's :class:`~explorer.ui.picture.Picture`;
+* publishes pictures: when a job finishes (at the full size), and
+  (``AppState.progressive``) while the propagation runs, a preview of the accumulation so
+  far after each few steps, gathered at :data:`PREVIEW_SCALE` of each edge (a quarter of
+  the pixels: quick to gather and to copy), copied into the side's
+  :class:`~explorer.ui.picture.Picture`; after a job's first preview, none while the
+  finished frame is due within :data:`FINISH_SOON_S`;
+* gives the pipelines more of each frame while the user leaves the window alone
+  (:data:`QUIET_BUDGET_MS` once no input came for :data:`QUIET_AFTER_S`; the shell's
+  ``input_pending`` is asked between units, and input drops the frame back to the
+  budget at once; the background tasks keep to the frame budget);
 * runs no stage for a display-only change: the pipeline's Settings have the display
   stage's fields pinned (:data:`PINNED_DISPLAY`), and exposure, tone curve, indirect
   only and the auto exposure of each side are the view composer's
@@ -72,10 +79,27 @@ EXPOSURE_TOLERANCE = 0.05
 SHADER_POLL_S = 0.5
 PREVIEW_INTERVAL_S = 0.25
 """Progressive pictures after the first of a job come at most this often ..."""
-PREVIEW_SHARE = 0.25
-"""... and take at most this share of the time: a preview gathers the whole image (at
-full size as much as a few propagation steps) and the window draws it, so the interval
-grows with what the last preview and a drawn frame cost."""
+PREVIEW_SHARE = 0.1
+"""... and take at most this share of the time: a preview gathers the image and the
+window draws it, so the interval grows with what the last preview and a drawn frame
+cost (at 64³ on llvmpipe about every 0.6 s; a quarter of the time, as before issue #10's
+second round, made the converged picture come later than a window without previews)."""
+PREVIEW_SCALE = 0.5
+"""Progressive previews gather at this fraction of each edge (a quarter of the pixels;
+the finished frame comes at the full size): a full-size preview cost as much as four
+propagation steps at 32³ on llvmpipe (issue #10)."""
+FINISH_SOON_S = 0.5
+"""After a job's first preview no other comes once the finished frame is due within this
+(the propagation's pace so far, then the gather and display as last timed): it would be
+on screen too briefly to be worth its gather and its drawing. A short job (32³ on
+llvmpipe) thus shows one growing picture, a long one (64³) several."""
+QUIET_AFTER_S = 0.15
+"""No input for this long: the user is watching, the pipelines get :data:`QUIET_BUDGET_MS`
+a frame ..."""
+QUIET_BUDGET_MS = 100.0
+"""... (or the frame budget if larger) instead of the frame budget, so that fewer frames
+share the work; the shell's ``input_pending`` is asked between units and input brings
+the budget back at once. A frame stays within this plus one unit and a drawing."""
 MIN_TASK_MS = 2.0
 """Background tasks run when at least this much of the budget is left."""
 
@@ -93,6 +117,7 @@ class PipelineLike(Protocol):
     def linear_textures(self) -> tuple: ...
     @property
     def fog_textures(self) -> tuple | None: ...
+    preview_textures: tuple | None
 
 
 @dataclass(frozen=True)
@@ -165,8 +190,12 @@ class SideState:
     previewed: int = 0
     """Propagation steps of the job's last preview."""
     previewed_at: float = 0.0
+    propagate_from: tuple[float, int] | None = None
+    """(:attr:`job_ms`, steps) at the job's first preview: the propagation's pace since."""
     preview_ms: float = 0.0
-    """What the side's last preview cost (gather, display, copy)."""
+    """What the side's last preview cost (gather, copy; display at the full size)."""
+    previews_ms: float = 0.0
+    """What the job's previews cost so far (in :attr:`job_ms`)."""
     job_ms: float = 0.0
     """Time spent in the job in flight so far."""
     serial: int = 0
@@ -193,7 +222,15 @@ class PipelineController:
         self.sides: dict[str, SideState] = {name: SideState(name) for name in SIDES}
         self.drag_scale = FIRST_DRAG_SCALE
         self.preview_interval_s = PREVIEW_INTERVAL_S
-        """The shortest time between two previews of a job (0: after every step)."""
+        """The shortest time between two previews of a job (0: after every step, and
+        to the end)."""
+        self.preview_scale = PREVIEW_SCALE
+        """Fraction of each edge a progressive preview gathers (1: the full size)."""
+        self.quiet_budget_ms = QUIET_BUDGET_MS
+        """A frame's budget once no input came for :data:`QUIET_AFTER_S` (at least the
+        frame budget; 0: never more than the frame budget)."""
+        self.budget_used_ms = 0.0
+        """The budget the last update worked to (the frame budget or the quiet one)."""
         self.draw_ms = 0.0
         """What the window spends drawing a frame (the shell's measure)."""
         self.camera_ms_per_pixel: float | None = None
@@ -212,6 +249,7 @@ class PipelineController:
         self._first_done = False
         self._status = ControllerStatus()
         self._side_budget_ms = 30.0
+        self._budget = _Budget(0.0, 0.0, 0.0, None)
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
 
@@ -249,13 +287,17 @@ class PipelineController:
     def update(self, state: "AppState", budget_ms: float, *,
                need_audit: bool = False, interacting: bool = False,
                drag_budget_ms: float | None = None,
-               draw_ms: float | None = None) -> ControllerStatus:
+               draw_ms: float | None = None, quiet_s: float = 0.0,
+               input_pending: Callable[[], bool] | None = None) -> ControllerStatus:
         """Start, advance and publish within ``budget_ms`` milliseconds (module
         docstring); fills ``state.runtime``. ``drag_budget_ms``: what a frame may spend
         on the pipelines while the camera is dragged (the window's frame time for the
         drag's frame rate, less its own drawing; default ``budget_ms``): the drag scale
         is chosen so that a camera frame fits it, and a drag's frame gets that much.
-        ``draw_ms``: what the window spends drawing a frame (paces the previews)."""
+        ``draw_ms``: what the window spends drawing a frame (paces the previews).
+        ``quiet_s``: seconds since the last input; from :data:`QUIET_AFTER_S` on, the
+        frame gets :attr:`quiet_budget_ms` unless ``input_pending()`` (asked between
+        units) says input arrived, which ends it at ``budget_ms``."""
         status = self._status = ControllerStatus()
         if self.pipeline_class is None:
             return status
@@ -267,15 +309,20 @@ class PipelineController:
         drag_budget_ms = budget_ms if drag_budget_ms is None else drag_budget_ms
         if interacting:
             budget_ms = max(budget_ms, drag_budget_ms)
+        base_ms = budget_ms
+        if not interacting and quiet_s >= QUIET_AFTER_S:
+            budget_ms = max(budget_ms, self.quiet_budget_ms)
+        self._budget = _Budget(start, budget_ms, base_ms, input_pending)
         self._side_budget_ms = drag_budget_ms / len(active)
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
             self._ask(state, self.sides[name],
                       self.request_for(state, name, need_audit, interacting))
         running = [self.sides[name] for name in active if self.sides[name].job is not None]
-        self._advance(state, running, budget_ms, start, status)
-        left = budget_ms - (time.perf_counter() - start) * 1e3
-        self._tasks(state, left, status)
+        self._advance(state, running, status)
+        # the panels' tasks keep to the frame budget: nobody asks for input inside them
+        self._tasks(state, min(self._budget.left(), self._budget.base_left()), status)
+        self.budget_used_ms = self._budget.ms
         for name in active:
             side = self.sides[name]
             if side.job is not None:
@@ -309,21 +356,26 @@ class PipelineController:
         finally:
             _use_screen(self.ctx)
         side.request, side.previewed, side.job_ms = request, 0, 0.0
+        side.previews_ms, side.propagate_from = 0.0, None
         side.progress = side.job.progress
 
-    def _advance(self, state: "AppState", running: list[SideState], budget_ms: float,
-                 start: float, status: ControllerStatus) -> None:
+    def _advance(self, state: "AppState", running: list[SideState],
+                 status: ControllerStatus) -> None:
         """Advance the jobs until the budget is spent: the sides take turns (who goes
         first alternates between frames), each given an equal share of what is left; a
         side whose job has more work goes round again while its next unit still fits. At
-        most one progressive preview per side and frame, before its first turn."""
+        most one progressive preview per side and frame, before its first turn. With a
+        quiet budget a turn is at most the frame budget long, so that input is looked for
+        between turns, and a frame that publishes a preview (it is drawn) keeps to the
+        frame budget."""
         if not running:
             return
+        budget = self._budget
         self._turn = (self._turn + 1) % len(running)
         order = running[self._turn:] + running[:self._turn]
         previewed: set[str] = set()
         while order:
-            left = budget_ms - (time.perf_counter() - start) * 1e3
+            left = budget.left()
             side = order.pop(0)
             if side.job is None:
                 continue
@@ -332,10 +384,15 @@ class PipelineController:
             if side.name not in previewed:
                 previewed.add(side.name)
                 self._preview_if_due(state, side, status)
+                if status.published:    # this frame is drawn: no quiet budget on top
+                    budget.ms = min(budget.ms, budget.base_ms)
                 if side.job is None:
                     continue
-                left = budget_ms - (time.perf_counter() - start) * 1e3
-            self._step(state, side, max(left, 0.0) / (len(order) + 1), status)
+                left = budget.left()
+            share = max(left, 0.0) / (len(order) + 1)
+            if budget.ms > budget.base_ms:
+                share = min(share, budget.base_ms)
+            self._step(state, side, share, status)
             if side.job is not None:
                 order.append(side)
 
@@ -375,13 +432,18 @@ class PipelineController:
             cost_s = (side.preview_ms + self.draw_ms) / 1e3 / PREVIEW_SHARE
             if time.monotonic() - side.previewed_at < max(self.preview_interval_s, cost_s):
                 return
+            if self._finish_due_ms(side) < FINISH_SOON_S * 1e3:
+                return      # the finished frame follows sooner than a preview is worth
         side.previewed_at = time.monotonic()
+        if side.previewed == 0:
+            side.propagate_from = (side.job_ms, progress.done)
         try:
-            shown = side.job.preview()
+            shown = side.job.preview(self.preview_scale)
             if shown:
                 side.serial += 1
+                textures = getattr(side.pipeline, "preview_textures", None)
                 self._snapshot(side, Stamp(side.serial, False, progress.done, progress.total),
-                               side.result)
+                               side.result, textures)
                 display = self.settings_for(state, side.name)
                 if side.auto_scale is None and display.auto_exposure:
                     side.auto_scale = _picture_scale(side.picture, display.indirect_only)
@@ -393,17 +455,36 @@ class PipelineController:
         side.previewed = progress.done
         elapsed = (time.perf_counter() - began) * 1e3
         side.job_ms += elapsed
+        side.previews_ms += elapsed
         side.preview_ms = elapsed
         status.work.append(WorkUnit(side.name, f"preview {progress.done}/{progress.total}",
                                     elapsed))
 
-    def _snapshot(self, side: SideState, stamp: Stamp, result: "FrameResult | None") -> None:
-        """Copy the side's linear buffers into its picture; a finished frame's fog too (a
-        preview shows the surfaces without it, as the pipeline's own preview does)."""
+    def _finish_due_ms(self, side: SideState) -> float:
+        """When ``side``'s job should finish, in milliseconds of work from now: its
+        propagation steps left at the pace since its first preview, then the gather and
+        display as the pipeline last timed them (infinite before a pace is known)."""
+        progress = side.progress
+        if side.propagate_from is None or progress is None or progress.stage != "propagate":
+            return float("inf")
+        ms, steps = side.propagate_from
+        if progress.done <= steps:
+            return float("inf")
+        per_step = (side.job_ms - side.previews_ms - ms) / (progress.done - steps)
+        timings = getattr(side.pipeline, "timings_ms", None) or {}
+        rest = sum(timings.get(stage, 0.0) for stage in ("gather", "fog", "display"))
+        return (progress.total - progress.done) * max(per_step, 0.0) + rest
+
+    def _snapshot(self, side: SideState, stamp: Stamp, result: "FrameResult | None",
+                  textures: tuple | None = None) -> None:
+        """Copy the side's linear buffers (``textures``: a preview's own, e.g. reduced)
+        into its picture; a finished frame's fog too (a preview shows the surfaces without
+        it, as the pipeline's own preview does)."""
         if side.picture is None:
             side.picture = Picture(self.ctx, self.programs)
         fog = getattr(side.pipeline, "fog_textures", None) if stamp.final else None
-        side.picture.copy_from(*side.pipeline.linear_textures, stamp, result, fog)
+        side.picture.copy_from(*(textures or side.pipeline.linear_textures), stamp, result,
+                               fog)
 
     def _finished(self, state: "AppState", side: SideState, status: ControllerStatus) -> None:
         job, request = side.job, side.request
@@ -664,6 +745,27 @@ def keeps_steps(state: "AppState", side: str) -> bool:
     ``[steps.show]`` sets them), or the Inspect panel steps through A's propagation."""
     return state.overlays.needs_steps or (side == "A"
                                           and state.inspect.source == "propagation")
+
+
+class _Budget:
+    """One update's time: ``ms`` from ``start``, back to ``base_ms`` once
+    ``input_pending()`` says input arrived (asked only while more than the base is left
+    to spend)."""
+
+    def __init__(self, start: float, ms: float, base_ms: float,
+                 input_pending: Callable[[], bool] | None) -> None:
+        self.start, self.ms, self.base_ms = start, ms, base_ms
+        self.input_pending = input_pending
+
+    def left(self) -> float:
+        """Milliseconds left (negative once overspent)."""
+        if self.ms > self.base_ms and self.input_pending is not None and self.input_pending():
+            self.ms = self.base_ms
+        return self.ms - (time.perf_counter() - self.start) * 1e3
+
+    def base_left(self) -> float:
+        """Milliseconds left of the frame budget alone."""
+        return self.base_ms - (time.perf_counter() - self.start) * 1e3
 
 
 class _StageCounter:

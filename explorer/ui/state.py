@@ -270,12 +270,14 @@ class AppState:
                                      group="Output",
                                      doc="Pipeline work per drawn frame: a change renders "
                                          "over several frames and the window keeps "
-                                         "responding.")
+                                         "responding (100 ms, or this if more, while no "
+                                         "input comes; input brings it back at once).")
     progressive: bool = setting(True, kind="bool", widget="checkbox",
                                 label="Show the light converging", group="Output",
-                                doc="Show the picture after every few propagation steps "
-                                    "while it converges, instead of only the converged "
-                                    "one.")
+                                doc="Show the picture at half resolution after every "
+                                    "few propagation steps while it converges (one "
+                                    "for a short propagation), instead of only the "
+                                    "converged one.")
     follow_view_size: bool = setting(True, kind="bool", widget="checkbox",
                                      label="Render at view size", group="Output",
                                      doc="Render at the View panel's size (times the render "
