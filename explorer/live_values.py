@@ -102,15 +102,30 @@ def _settings(context: LiveContext):
     raise Unavailable("no settings")
 
 
+NOT_MEASURED = ("the frame's propagation measured {what} only (audit mode {mode}): the "
+                "full energy audit runs while the Energy audit plot, a picked cell or a "
+                "lesson quoting this term is shown")
+"""Why an audit term has no value (:class:`Unavailable`; the lesson's tooltip says it)."""
+
+
 def _audit_sum(name: str) -> Callable[[LiveContext], float]:
     def read(context: LiveContext) -> float:
-        data = getattr(_result(context).audit, name, None)
+        audit = _result(context).audit
+        data = getattr(audit, name, None)
+        if data is None and getattr(audit, "mode", "full") != "full":
+            raise Unavailable(NOT_MEASURED.format(
+                what="the flux per step" if audit.mode == "flux"
+                else "the injected and accumulated flux", mode=audit.mode))
         return 0.0 if data is None else float(np.sum(data))
     return read
 
 
 def _per_step(context: LiveContext) -> np.ndarray:
-    steps = np.asarray(_result(context).audit.per_step, np.float64)
+    audit = _result(context).audit
+    if not getattr(audit, "steps_measured", True):
+        raise Unavailable(NOT_MEASURED.format(what="the injected and accumulated flux",
+                                              mode=audit.mode))
+    steps = np.asarray(audit.per_step, np.float64)
     return steps.reshape(len(steps), -1).sum(axis=1)
 
 
@@ -281,6 +296,26 @@ AUDIT_RATIOS = (
 """``audit.<name>``: one audit sum over another."""
 
 
+PER_STEP_QUANTITIES = ("audit.step_ratio", "audit.last_over_first", "audit.in_flight_last",
+                       "audit.max_over_first")
+"""``audit.*`` numbers read from the flux per step (audit mode ``flux`` measures them)."""
+
+
+def audit_needed(name: str) -> str:
+    """The audit mode (explorer.lpv.audit.AUDIT_MODES) the frame must be propagated with
+    for ``name`` to have a value: ``full`` for the terms only the full audit measures
+    (and ratios of them), ``flux`` for the per-step numbers, ``off`` otherwise."""
+    from explorer.lpv.audit import TERMS_OF_FULL_AUDIT
+
+    if not name.startswith("audit."):
+        return "off"
+    short = name[len("audit."):]
+    ratios = {ratio: (top, bottom) for ratio, top, bottom, _ in AUDIT_RATIOS}
+    if short in TERMS_OF_FULL_AUDIT or set(ratios.get(short, ())) & set(TERMS_OF_FULL_AUDIT):
+        return "full"
+    return "flux" if name in PER_STEP_QUANTITIES else "off"
+
+
 def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
     return lambda c: _ratio(_audit_sum(top)(c), _audit_sum(bottom)(c))
 
@@ -445,6 +480,17 @@ def check_format(fmt: str, quantity: Quantity) -> None:
         format(probe, fmt)
     except (ValueError, TypeError) as exc:
         raise ValueError(f"format {fmt!r} does not apply to {quantity.name}: {exc}") from None
+
+
+def pending_reason(name: str, context: LiveContext,
+                   figure_ids: tuple[str, ...] = ()) -> str | None:
+    """Why ``name`` shows :data:`PENDING` now (the :class:`Unavailable` message), or None
+    when it has a value."""
+    try:
+        lookup(name, figure_ids).value(context)
+    except Unavailable as exc:
+        return str(exc)
+    return None
 
 
 def render(name: str, fmt: str, context: LiveContext,

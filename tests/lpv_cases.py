@@ -100,14 +100,14 @@ def in_place_schedules(steps: list[np.ndarray], corrections, geometry=None,
     return worst, np.array(raced)
 
 
-def run_frame(gl_context, settings):
+def run_frame(gl_context, settings, need_audit: str = "full"):
     """One FrameResult of ``settings`` on the tests' session context (for module fixtures
-    that read a small frame)."""
+    that read a small frame), its energy audit measured in mode ``need_audit``."""
     from explorer.lpv.pipeline import Pipeline
 
     gl_context.__enter__()
     with Pipeline(settings, ctx=gl_context) as pipeline:
-        return pipeline.run(settings)
+        return pipeline.run(settings, need_audit=need_audit)
 
 
 def frame_view_lights(pipeline) -> list:

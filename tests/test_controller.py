@@ -427,3 +427,39 @@ def test_a_quiet_frame_gets_the_longer_budget_and_input_cuts_it_back(controller)
     assert asked and controller.budget_used_ms == BUDGET_MS and units(status) == 1
     status = controller.update(state, BUDGET_MS, quiet_s=1.0, interacting=True)
     assert controller.budget_used_ms < QUIET_BUDGET_MS     # a drag keeps its own budget
+
+
+def test_the_shown_plot_chooses_the_audit_the_propagation_measures(controller):
+    """The Plots panel's tab asks for the audit it needs (explorer/ui/panels/plots.py
+    AUDIT_OF_TAB, through runtime.want_audit as the window's frame does): the flux-per-step
+    tab gets the flux per step from the minimal kernel, the Energy audit tab reruns only
+    the propagation for every term, and going back to flux or to no audit runs nothing."""
+    from explorer.ui.panels.plots import AUDIT_OF_TAB
+
+    state = _state()
+
+    def show(tab: str | None) -> dict[str, set[str]]:
+        before = _counts(controller)
+        state.runtime.audit_wanted = "off"          # as the window's frame starts
+        if tab is not None:
+            state.runtime.want_audit(AUDIT_OF_TAB[tab])
+        _settle(controller, state, need_audit=state.runtime.audit_wanted)
+        return _ran_since(controller, before)
+
+    show(None)
+    audit = state.runtime.result.audit
+    assert audit.mode == "off" and np.isnan(audit.per_step[1:]).all()
+    assert show("flux-per-step") == {"A": {"propagate"}}
+    audit = state.runtime.result.audit
+    assert audit.mode == "flux" and np.isfinite(audit.per_step).all()
+    assert audit.border_loss is None and state.runtime.result.cascades[0].cell_records is None
+    flux = audit.per_step.copy()
+    assert show("audit") == {"A": {"propagate"}}
+    audit = state.runtime.result.audit
+    assert audit.mode == "full" and audit.border_loss is not None
+    assert np.allclose(audit.per_step, flux, rtol=1e-6)
+    assert show("flux-per-step") == {"A": set()}           # the full audit covers it
+    assert show("timings") == {"A": set()}
+    state.runtime.want_audit("full")
+    state.runtime.want_audit("flux")           # a picked cell and the flux plot at once
+    assert state.runtime.audit_wanted == "full", "want_audit keeps the most asked for"

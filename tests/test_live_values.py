@@ -159,3 +159,40 @@ def test_fog_numbers(gl_context):
     assert lv.lookup("frame.fog_transmittance").value(context) == pytest.approx(
         float(result.fog.transmittance[seen].mean()))
     assert lv.render("frame.time.fog", ".1f", context) != lv.PENDING
+
+
+@pytest.mark.parametrize("mode", ["flux", "off"])
+def test_terms_the_audit_mode_did_not_measure_wait_with_a_reason(gl_context, frame, mode):
+    """A frame propagated with the flux-only audit (or none) has no border loss, clamp
+    gain, occlusion or reflection: those numbers (and ratios of them) show "…" and say
+    why, while what the mode measures reads as on the full audit's frame."""
+    from explorer.ui.article import uses_audit
+
+    cheap = run_frame(gl_context, SMALL, need_audit=mode)
+    context = lv.LiveContext(settings=SMALL, result=cheap)
+    full = lv.LiveContext(settings=SMALL, result=frame)
+    for name in lv.table():
+        if not name.startswith("audit."):
+            continue
+        needed = lv.audit_needed(name)
+        if needed == "full" or (needed == "flux" and mode == "off"):
+            assert lv.render(name, "", context) == lv.PENDING, name
+            reason = lv.pending_reason(name, context)
+            assert f"audit mode {mode}" in reason and "full energy audit" in reason, name
+        else:
+            assert lv.lookup(name).value(context) == pytest.approx(
+                lv.lookup(name).value(full), rel=1e-5), name
+    for name in ("audit.border_loss", "audit.clamp_gain_share", "audit.reflected"):
+        assert lv.audit_needed(name) == "full"
+    assert lv.audit_needed("audit.step_ratio") == "flux"
+    assert lv.audit_needed("audit.injected_over_rsm") == "off"
+    # a lesson step asks the window for what its numbers and figures need
+    step = SimpleNamespace(text="{{audit.step_ratio:.3f}}", try_this=(), figures=())
+    assert uses_audit(step) == "flux"
+    step.text += " and {{audit.border_loss_share:.2%}}"
+    assert uses_audit(step) == "full"
+    step = SimpleNamespace(text="{{audit.accumulated:.3g}}", try_this=(),
+                           figures=(SimpleNamespace(kind="flux-per-step", caption=""),))
+    assert uses_audit(step) == "flux"
+    step.figures += (SimpleNamespace(kind="energy-audit", caption=""),)
+    assert uses_audit(step) == "full"

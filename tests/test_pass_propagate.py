@@ -225,3 +225,44 @@ def test_baseline_kernel_propagates_like_the_corrected_pass(ctx, mode):
         l2.release()
     finally:
         baseline.release()
+
+
+@pytest.mark.parametrize("ping_pong", [True, False])
+def test_the_flux_only_audit_measures_the_full_audits_flux_per_step(ctx, ping_pong):
+    """audit="flux" runs the minimal kernel (PROPAGATE_AUDIT 0) and reduces each step's
+    grid: the same grids as the full audit, the same flux per step (1e-6 relative), and
+    the terms only the full audit measures are None (with no per-cell records)."""
+    grid, geometry = injected_case(ctx, 31, "one-sided")
+    corrections = Corrections(ping_pong=ping_pong)
+    propagator = PropagatePass(ctx, ProgramCache(ctx))
+    try:
+        with on_gpu(ctx, grid, geometry) as (injected, volume):
+            outputs = {}
+            for mode in ("full", "flux"):
+                output = propagator.run(injected, SPEC, corrections, 5, volume,
+                                        keep_steps=True, audit=mode)
+                outputs[mode] = (output, output.accumulated.read())
+        (full, full_acc), (flux, flux_acc) = outputs["full"], outputs["flux"]
+        if ping_pong:
+            assert np.array_equal(flux_acc, full_acc)
+            assert all(np.array_equal(a, b) for a, b in zip(flux.steps, full.steps))
+            scale = np.abs(full.audit.per_step).max()
+            assert np.abs(flux.audit.per_step - full.audit.per_step).max() <= 1e-6 * scale
+            assert np.allclose(flux.audit.accumulated, full.audit.accumulated, rtol=1e-6)
+        else:
+            # in place races (its grids differ from run to run): the flux per step is
+            # that of the run's own steps (acc_t − acc_{t−1}, kept), float64 numpy sums
+            want = np.array([reference.flux(step) for step in flux.steps])
+            assert np.allclose(flux.audit.per_step, want, rtol=1e-4)
+        assert flux.audit.mode == "flux" and flux.audit.steps_measured
+        assert not flux.audit.terms_measured and flux.cell_records is None
+        assert all(getattr(flux.audit, name) is None for name in
+                   ("border_loss", "clamp_gain", "occluded", "reflected", "blocked"))
+    finally:
+        propagator.release()
+
+
+def test_an_unknown_audit_mode_is_refused_by_name(ctx):
+    grid, geometry = injected_case(ctx, 7, "off")
+    with pytest.raises(ValueError, match="audit mode must be one of off, flux, full"):
+        propagate_with_audit(grid, iterations=1, ctx=ctx, audit="some")

@@ -215,6 +215,23 @@ def test_the_audit_and_the_steps_are_computed_when_asked(pipeline):
     assert all(len(level.steps) == SMALL.iterations + 1 for level in kept.cascades)
 
 
+def test_a_flux_audit_propagates_again_for_the_full_audit_and_not_back(pipeline):
+    """Mode flux measures the flux per step with the minimal kernel; asking for the full
+    audit then runs the propagation again (and only it), while a full audit already
+    covers a later flux or off request."""
+    pipeline.run(SMALL, need_audit="off")
+    flux = pipeline.run(SMALL, need_audit="flux")
+    assert flux.stages_run == ("propagate",) and flux.audit.mode == "flux"
+    assert np.isfinite(flux.audit.per_step).all() and flux.audit.border_loss is None
+    assert pipeline.run(SMALL, need_audit="off").stages_run == ()
+    full = pipeline.run(SMALL, need_audit="full")
+    assert full.stages_run == ("propagate",) and full.audit.terms_measured
+    assert np.allclose(flux.audit.per_step, full.audit.per_step, rtol=1e-6)
+    assert pipeline.run(SMALL, need_audit="flux").stages_run == ()
+    with pytest.raises(ValueError, match="audit mode must be one of"):
+        pipeline.run(SMALL, need_audit="most")
+
+
 def test_cascades_are_a_list_of_levels(pipeline):
     result = pipeline.run(SMALL.with_changes(cascades=2))
     assert len(result.cascades) == 2

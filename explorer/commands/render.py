@@ -208,14 +208,22 @@ def output_paths(out: Path, views: list[str]) -> dict[str, Path]:
     return {view: out.with_name(f"{out.stem}-{view}{suffix}") for view in views}
 
 
+def _all_steps(term):
+    """A per-step audit term summed over the steps; NaN where its audit mode did not
+    measure it (None)."""
+    import numpy as np
+
+    return np.full(3, np.nan) if term is None else np.asarray(term).sum(axis=0)
+
+
 def format_audit(audit) -> str:
     rows = [("rsm", audit.rsm), ("injected", audit.injected),
             ("accumulated", audit.accumulated), ("gathered", audit.gathered),
-            ("border loss (all steps)", audit.border_loss.sum(axis=0)),
-            ("clamp gain (all steps)", audit.clamp_gain.sum(axis=0)),
-            ("occluded (all steps)", audit.occluded.sum(axis=0)),
-            ("blocked, bounces 2", audit.blocked.sum(axis=0)),
-            ("reflected, bounces 2", audit.reflected.sum(axis=0))]
+            ("border loss (all steps)", _all_steps(audit.border_loss)),
+            ("clamp gain (all steps)", _all_steps(audit.clamp_gain)),
+            ("occluded (all steps)", _all_steps(audit.occluded)),
+            ("blocked, bounces 2", _all_steps(audit.blocked)),
+            ("reflected, bounces 2", _all_steps(audit.reflected))]
     lines = ["energy audit [W]            red        green       blue"]
     lines += [f"  {name:<24}" + "".join(f"{float(v):11.4g}" for v in values)
               for name, values in rows]
@@ -235,6 +243,6 @@ def format_cascade_audits(result) -> str:
     lines = ["cascades [W, summed over r, g, b]  cell size   injected  accumulated  border"]
     for k, (spec, audit) in enumerate(zip(result.cascade_specs, result.cascade_audits)):
         lines.append(f"  cascade {k:<26}{spec.cell_size:10.4g}{audit.injected.sum():11.4g}"
-                     f"{audit.accumulated.sum():13.4g}{audit.border_loss.sum():8.4g}")
+                     f"{audit.accumulated.sum():13.4g}{_all_steps(audit.border_loss).sum():8.4g}")
     return "\n".join(lines)
 

@@ -33,42 +33,86 @@ CELL_SUMS_BINDING = 5
 """Storage binding of the per-cell sums over the steps (``shaders/propagate.glsl``)."""
 
 
+AUDIT_MODES = ("off", "flux", "full")
+"""What a propagation measures, least first (each covers the ones before it):
+``off`` the injected and accumulated flux only (the minimal kernel, ``PROPAGATE_AUDIT 0``);
+``flux`` also the flux in flight after every step, reduced from each step's grid
+(:meth:`AuditReducer.measure_flux`, still the minimal kernel); ``full`` also every other
+term of the balance and the per-cell records (``PROPAGATE_AUDIT 1``, ~2.5× a step's cost
+on llvmpipe)."""
+TERMS_OF_FULL_AUDIT = ("border_loss", "clamp_gain", "occluded", "reflected", "blocked")
+""":class:`GridAudit` terms only the full audit measures (None in the other modes)."""
+
+
+def audit_mode(value: "str | bool") -> str:
+    """The audit mode ``value`` names (:data:`AUDIT_MODES`); a bool is the older API:
+    True the full audit, False none."""
+    if isinstance(value, bool):
+        return "full" if value else "off"
+    if value not in AUDIT_MODES:
+        raise ValueError(f"audit mode must be one of {', '.join(AUDIT_MODES)} (or a bool), "
+                         f"got {value!r}")
+    return value
+
+
+def audit_covers(done: "str | bool", asked: "str | bool") -> bool:
+    """Whether a propagation measured in mode ``done`` has what mode ``asked`` needs."""
+    return AUDIT_MODES.index(audit_mode(done)) >= AUDIT_MODES.index(audit_mode(asked))
+
+
+def strongest_audit(*modes: "str | bool") -> str:
+    """The mode that covers all of ``modes`` (``off`` for none)."""
+    return max((audit_mode(m) for m in modes), key=AUDIT_MODES.index, default="off")
+
+
 @dataclass
 class GridAudit:
-    """Flux bookkeeping of one injection + propagation (all float64 watts per channel)."""
+    """Flux bookkeeping of one injection + propagation (all float64 watts per channel).
+    A term the propagation's audit mode (:data:`AUDIT_MODES`) did not measure is None."""
 
     injected: np.ndarray
     """(3,) flux of grid_0."""
     per_step: np.ndarray
-    """(iterations+1, 3) flux of grid_t, the light in flight after t steps."""
-    border_loss: np.ndarray
-    """(iterations, 3) flux sent out of the grid by step t+1."""
-    clamp_gain: np.ndarray
-    """(iterations, 3) flux created by the front-face clamp in step t+1."""
-    occluded: np.ndarray
-    """(iterations, 3) flux removed by the geometry volume in step t+1."""
+    """(iterations+1, 3) flux of grid_t, the light in flight after t steps (NaN after
+    step 0 in mode ``off``)."""
+    border_loss: np.ndarray | None
+    """(iterations, 3) flux sent out of the grid by step t+1 (full audit only)."""
+    clamp_gain: np.ndarray | None
+    """(iterations, 3) flux created by the front-face clamp in step t+1 (full audit only)."""
+    occluded: np.ndarray | None
+    """(iterations, 3) flux removed by the geometry volume in step t+1 (full audit only)."""
     accumulated: np.ndarray
     """(3,) flux of acc_N = Σ grid_t."""
-    reflected: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    reflected: np.ndarray | None = field(default_factory=lambda: np.zeros((0, 3)))
     """(iterations, 3) flux the geometry volume reflected back in step t+1 (``bounces`` 2,
-    docs/MODEL.md "More bounces"); zeros otherwise."""
-    blocked: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    docs/MODEL.md "More bounces"); zeros otherwise (full audit only)."""
+    blocked: np.ndarray | None = field(default_factory=lambda: np.zeros((0, 3)))
     """(iterations, 3) flux the geometry volume blocked in step t+1 that can bounce: per
-    source cell and direction clamped at 0 (``bounces`` 2 only; zeros otherwise).
-    ``reflected <= blocked`` whenever every albedo is <= 1."""
-    steps_measured: bool = True
-    """False when the propagation ran without the per-step audit (``need_audit=False``):
-    ``injected`` and ``accumulated`` are measured, the per-step terms after step 0 are
-    NaN."""
+    source cell and direction clamped at 0 (``bounces`` 2 only; zeros otherwise; full
+    audit only). ``reflected <= blocked`` whenever every albedo is <= 1."""
+    mode: str = "full"
+    """The audit mode that measured it (:data:`AUDIT_MODES`)."""
+
+    @property
+    def steps_measured(self) -> bool:
+        """Whether :attr:`per_step` is measured after step 0 (modes ``flux`` and
+        ``full``)."""
+        return self.mode != "off"
+
+    @property
+    def terms_measured(self) -> bool:
+        """Whether the terms of :data:`TERMS_OF_FULL_AUDIT` are measured (mode ``full``)."""
+        return self.mode == "full"
 
     @property
     def iterations(self) -> int:
-        return int(self.border_loss.shape[0])
+        return int(self.per_step.shape[0]) - 1
 
-    def as_dict(self) -> dict[str, list]:
-        """Plain lists, for JSON output and plots (``steps_measured`` stays a bool)."""
-        return {name: value if isinstance(value, bool) else np.asarray(value).tolist()
-                for name, value in vars(self).items()}
+    def as_dict(self) -> dict[str, object]:
+        """Plain lists, for JSON output and plots (``mode`` stays a string, a term not
+        measured None)."""
+        return {name: value if value is None or isinstance(value, str)
+                else np.asarray(value).tolist() for name, value in vars(self).items()}
 
 
 @dataclass

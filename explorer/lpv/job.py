@@ -21,6 +21,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
+from explorer.lpv.audit import audit_mode
 from explorer.lpv.schema import STAGES
 from explorer.lpv.stages import DECLARATIONS, EXECUTION_ORDER, stage_key
 
@@ -87,12 +88,13 @@ class Job:
     """The work of one frame (module docstring). Made by :meth:`Pipeline.start`."""
 
     def __init__(self, pipeline: Pipeline, settings: "Settings", keep_steps: bool,
-                 need_audit: bool, vpls: "VplArrays | None",
+                 need_audit: "str | bool", vpls: "VplArrays | None",
                  progress: ProgressCallback | None) -> None:
         self.pipeline = pipeline
         self.settings = settings
         self.keep_steps = bool(keep_steps)
-        self.need_audit = bool(need_audit)
+        self.need_audit = audit_mode(need_audit)
+        """The audit mode asked for (:data:`explorer.lpv.audit.AUDIT_MODES`)."""
         self.vpls = vpls
         self.vpls_key = None if vpls is None else vpls.digest()
         self.progress_callback = progress
@@ -109,13 +111,13 @@ class Job:
         self.cancelled = False
 
     # ------------------------------------------------------------------ state
-    def asks_for(self, settings: "Settings", keep_steps: bool, need_audit: bool,
+    def asks_for(self, settings: "Settings", keep_steps: bool, need_audit: "str | bool",
                  vpls: "VplArrays | None") -> bool:
         """Whether this unfinished job computes the frame these arguments ask for."""
         if self.done or self.cancelled or settings != self.settings:
             return False
         vpls_key = None if vpls is None else vpls.digest()
-        return (bool(keep_steps), bool(need_audit), vpls_key) == (
+        return (bool(keep_steps), audit_mode(need_audit), vpls_key) == (
             self.keep_steps, self.need_audit, self.vpls_key)
 
     @property

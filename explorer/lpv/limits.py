@@ -157,7 +157,7 @@ def audit_skipped_warning(grid_size: int, limits: DriverLimits) -> str:
             f"records, more than "
             f"this driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE "
             f"({_mib(limits.max_storage_block_bytes)}): only the injected and accumulated "
-            f"flux were measured")
+            f"flux and the flux per step were measured")
 
 
 def _mib(size: int) -> str:

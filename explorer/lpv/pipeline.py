@@ -53,7 +53,7 @@ from explorer.lpv.atlas import PerView, VplAtlas
 from explorer.lpv import fog as fog_pass
 from explorer.lpv import gather as gather_pass
 from explorer.lpv import gbuffer as gbuffer_pass
-from explorer.lpv.audit import check_finite, flux_per_light
+from explorer.lpv.audit import audit_covers, check_finite, flux_per_light
 from explorer.lpv.cascades import (
     CascadeInput,
     CascadeLevel,
@@ -220,17 +220,19 @@ class Pipeline:
         return targets["fog_direct"], targets["fog_lpv"]
 
     def start(self, settings: Settings | None = None, keep_steps: bool = False,
-              vpls: VplArrays | None = None, need_audit: bool = True,
+              vpls: VplArrays | None = None, need_audit: str | bool = True,
               progress: ProgressCallback | None = None) -> Job:
         """A :class:`~explorer.lpv.job.Job` for a frame with ``settings`` (default: the
         last ones); the job in progress, if any, is cancelled first. Limits are checked
         here: a request that does not fit raises a one-line ValueError before anything is
         allocated.
 
-        ``keep_steps``: keep grid_0..grid_N of every cascade. ``need_audit``: measure the
-        per-step energy audit (a plot, a lesson or a command needs it); without it the
-        propagation kernel skips the audit and only the injected and accumulated flux
-        are measured (a later job that needs the audit propagates again). ``vpls``:
+        ``keep_steps``: keep grid_0..grid_N of every cascade. ``need_audit``: what the
+        energy audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`; True ``full``,
+        False ``off``): ``full`` every term (the Energy audit plot, a picked cell, a
+        lesson or command quoting them), ``flux`` only the flux in flight per step (the
+        flux-per-step plot; the minimal kernel), ``off`` only the injected and
+        accumulated flux. A later job that needs more propagates again. ``vpls``:
         inject these VPLs instead of the RSM's (the RSM still renders for the direct
         light and its shadow); lessons and tests use it for hand-made light. Asking again
         for the frame the job in progress makes returns that job, so a caller may start
@@ -248,7 +250,7 @@ class Pipeline:
         return self.job
 
     def run(self, settings: Settings | None = None, keep_steps: bool = False,
-            vpls: VplArrays | None = None, need_audit: bool = True,
+            vpls: VplArrays | None = None, need_audit: str | bool = True,
             progress: ProgressCallback | None = None) -> FrameResult:
         """Render a frame at once; only the stages whose inputs changed run again.
         ``progress(stage, done, total)`` is called as it goes (see :meth:`start` for the
@@ -356,6 +358,14 @@ class Pipeline:
             return job.vpls_key
         return self.display_scale_override if stage == "display" else None
 
+    def _audit_mode(self, job: Job, resolution: int) -> str:
+        """The audit mode a ``resolution``³ level propagates with for ``job``: the one it
+        asks for, but ``flux`` for ``full`` when the per-cell records do not fit this
+        driver's storage blocks (:func:`audit_fits`; the flux needs no records)."""
+        if job.need_audit == "full" and not audit_fits(resolution, self.limits):
+            return "flux"
+        return job.need_audit
+
     def satisfied(self, stage: str, job: Job) -> bool:
         """Whether the last completed run of ``stage`` has everything ``job`` asks for
         (the propagation's kept steps and audit)."""
@@ -367,8 +377,8 @@ class Pipeline:
                 return False
             if job.keep_steps and output.steps is None:
                 return False
-            if job.need_audit and not output.audit.steps_measured and \
-                    audit_fits(level.injected.resolution, self.limits):
+            if not audit_covers(output.audit.mode, self._audit_mode(job, level.injected
+                                                                     .resolution)):
                 return False
         return True
 
@@ -599,8 +609,7 @@ class Pipeline:
         s = job.settings
         levels = self._levels[: len(self._specs)]
         self.timer.reset("propagate")
-        audit = [job.need_audit and audit_fits(spec.resolution, self.limits)
-                 for spec in self._specs]
+        audit = [self._audit_mode(job, spec.resolution) for spec in self._specs]
         steps = [cascade_iterations(s, k) for k in range(len(levels))]
         more = countdown(3 * len(levels) + sum(
             count * len(slabs(spec.resolution)) for count, spec in zip(steps, self._specs)))
@@ -631,7 +640,7 @@ class Pipeline:
                     s.corrections))
                 warnings += guards.arrays_warnings(
                     level_pass_name("propagate", k, len(levels)), [level.accumulated], s)
-                if job.need_audit and not audit[k]:
+                if audit[k] != job.need_audit:
                     warnings.append(audit_skipped_warning(self._specs[k].resolution,
                                                           self.limits))
                 if more():

@@ -9,7 +9,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.audit import AuditReducer, CellAuditRecords, GridAudit
+from explorer.lpv.audit import AuditReducer, CellAuditRecords, GridAudit, audit_mode
 from explorer.lpv.geometry import GeometryVolume
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.corrections import uniforms_read_by
@@ -54,17 +54,20 @@ class PropagatePass:
     (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
     a data race kept on purpose.
 
-    Energy audit (``audit=True``): the dispatch also sums the step's audit terms (for in
-    place: of what the racing invocations actually read and added), one reduction per
-    step. Without it the kernel is compiled without the audit (``PROPAGATE_AUDIT 0``) and
-    only the injected and the accumulated flux are measured (two reductions per run), which
-    is what the pipeline's numeric guards read.
+    Energy audit (``audit``, a mode of :data:`explorer.lpv.audit.AUDIT_MODES`; True is
+    ``full``, False ``off``): ``full``: the dispatch also sums the step's audit terms (for
+    in place: of what the racing invocations actually read and added), one reduction per
+    step. ``flux``: the kernel is compiled without the audit (``PROPAGATE_AUDIT 0``) and
+    each step's grid is reduced to its flux afterwards (for in place: the accumulation's,
+    the step's flux being the difference), one reduction per step, no per-cell records.
+    ``off``: no audit in the kernel and only the injected and the accumulated flux are
+    measured (two reductions per run), which is what the pipeline's numeric guards read.
 
     :meth:`start` returns a :class:`PropagationRun` that advances one step at a time (the
     pipeline spreads the steps over frames); :meth:`run` does all steps at once.
 
     GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
-    format and, with the audit, 144 bytes per cell of audit records (the last step's and
+    format and, with the full audit, 144 bytes per cell of audit records (the last step's and
     their sums over the steps: ≈300 MB at 128³).
     """
 
@@ -90,7 +93,7 @@ class PropagatePass:
 
     def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
               iterations: int, geometry: GeometryVolume | None = None,
-              keep_steps: bool = False, bounces: int = 1, audit: bool = True
+              keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full"
               ) -> "PropagationRun":
         """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
         propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
@@ -111,11 +114,11 @@ class PropagatePass:
         if int(iterations) != iterations or iterations < 0:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
         return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
-                              keep_steps, bounces, audit)
+                              keep_steps, bounces, audit_mode(audit))
 
     def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
             iterations: int, geometry: GeometryVolume | None = None,
-            keep_steps: bool = False, bounces: int = 1, audit: bool = True
+            keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full"
             ) -> PropagationOutput:
         """All ``iterations`` steps at once (see :meth:`start`)."""
         progress = self.start(injected, spec, corrections, iterations, geometry, keep_steps,
@@ -157,21 +160,23 @@ class PropagationRun:
 
     def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
                  corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
-                 keep_steps: bool, bounces: int, audit: bool) -> None:
+                 keep_steps: bool, bounces: int, audit: str) -> None:
         n, fmt, order = spec.resolution, injected.format, injected.sh_order
         self._owner = owner
         self._corrections = corrections
         self._geometry = geometry
         self._keep_steps = keep_steps
-        self._with_audit = bool(audit)
+        self._mode = audit
+        self._with_audit = audit == "full"
         self.iterations = iterations
         self.done = 0
         self.accumulated = owner._scratch("accumulated", n, fmt, order)
         self._scratch = {name: owner._scratch(name, n, fmt, order) if corrections.ping_pong
                          else None for name in ("ping", "pong")}
         copy_grid(owner.programs, injected, self.accumulated)
-        # slots: 0 the injected flux, 1..N the steps (audit only), last the accumulation
-        self._slots = iterations + 2 if audit else 2
+        # slots: 0 the injected flux, 1..N the steps (full or flux audit), last the
+        # accumulation
+        self._slots = iterations + 2 if audit != "off" else 2
         owner.audit.begin(n, self._slots, cell_records=self._with_audit)
         owner.audit.measure_flux(0, injected)
         self.steps = [injected.read()] if keep_steps else None
@@ -241,6 +246,10 @@ class PropagationRun:
         self._slab = 0
         if self._with_audit:
             owner.audit.sum_cell_records(step)
+        elif self._mode == "flux":
+            # in place the step's grid is not kept apart: the slot holds acc_t and
+            # grid_audit takes the differences (the flux is linear in the grid)
+            owner.audit.measure_flux(step, target)
         if self._keep_steps:
             current = target.read()
             self.steps.append(current if self._corrections.ping_pong
@@ -260,15 +269,20 @@ class PropagationRun:
         records = (CellAuditRecords(audit, self.accumulated.resolution, self.iterations)
                    if self._with_audit else None)
         return PropagationOutput(accumulated=self.accumulated, steps=self.steps,
-                                 audit=grid_audit(sums, self.iterations, self._with_audit),
+                                 audit=grid_audit(sums, self.iterations, self._mode,
+                                                  self._corrections.ping_pong),
                                  cell_records=records)
 
 
-def grid_audit(sums: np.ndarray, iterations: int, per_step: bool) -> GridAudit:
+def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
+               ping_pong: bool = True) -> GridAudit:
     """The :class:`GridAudit` of the reduced slots ``sums`` (slot 0 the injected flux, the
-    last the accumulation, the steps between when ``per_step``; otherwise the per-step
-    terms are NaN and :attr:`GridAudit.steps_measured` is False)."""
-    if per_step:
+    last the accumulation, the steps between in modes ``full`` and ``flux``; in mode
+    ``off`` the per-step flux after step 0 is NaN). Mode ``flux`` without ``ping_pong``:
+    the step slots hold acc_t, whose differences are the steps' flux. The terms a mode
+    does not measure are None."""
+    mode = audit_mode(mode)
+    if mode == "full":
         return GridAudit(
             injected=sums[0, 0:3],
             per_step=sums[: iterations + 1, 0:3],
@@ -279,12 +293,17 @@ def grid_audit(sums: np.ndarray, iterations: int, per_step: bool) -> GridAudit:
             reflected=sums[1: iterations + 1, 12:15],
             blocked=sums[1: iterations + 1, 15:18],
         )
-    unknown = np.full((iterations, 3), np.nan)
-    first = np.concatenate([sums[0:1, 0:3], unknown])
-    return GridAudit(injected=sums[0, 0:3], per_step=first, border_loss=unknown.copy(),
-                     clamp_gain=unknown.copy(), occluded=unknown.copy(),
-                     accumulated=sums[1, 0:3], reflected=unknown.copy(),
-                     blocked=unknown.copy(), steps_measured=False)
+    if mode == "flux":
+        per_step = sums[: iterations + 1, 0:3].copy()
+        if not ping_pong:
+            per_step[1:] = np.diff(per_step, axis=0)
+        accumulated = sums[iterations + 1, 0:3]
+    else:
+        per_step = np.concatenate([sums[0:1, 0:3], np.full((iterations, 3), np.nan)])
+        accumulated = sums[1, 0:3]
+    return GridAudit(injected=sums[0, 0:3], per_step=per_step, border_loss=None,
+                     clamp_gain=None, occluded=None, accumulated=accumulated, reflected=None,
+                     blocked=None, mode=mode)
 
 
 class BaselinePropagatePass:
@@ -344,10 +363,12 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                          iterations: int = 1, geometry: np.ndarray | None = None,
                          ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
                          geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                         audit: str | bool = "full",
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
     ``grid`` (4 or 9 coefficients) selects L1 or L2.
-    ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2)."""
+    ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2).
+    ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`)."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
         raise ValueError(f"grid must have shape (3, N, N, N, 4) or (3, N, N, N, 9), got "
@@ -370,7 +391,7 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
         propagator = per_context(ctx, "propagate",
                                  lambda: PropagatePass(ctx, programs_for(ctx)))
         output = propagator.run(injected, spec, corrections, iterations, volume,
-                                keep_steps=True, bounces=bounces)
+                                keep_steps=True, bounces=bounces, audit=audit)
         return output.steps, output.accumulated.read(), output.audit
     finally:
         injected.release()

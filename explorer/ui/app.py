@@ -262,7 +262,7 @@ class App:
             self._quiet = False
             self.frames_skipped += 1
             return True
-        rt.redraw = rt.audit_wanted = False      # what is drawn now asks again
+        rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
         imgui.backends.opengl3_new_frame()
         imgui.backends.glfw_new_frame()
         imgui.new_frame()

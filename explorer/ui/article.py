@@ -95,16 +95,21 @@ def _texts(step: Step) -> list[str]:
     return [step.text] + [t.prompt for t in step.try_this] + [f.caption for f in step.figures]
 
 
-AUDIT_FIGURES = ("flux-per-step", "energy-audit")
-"""Figure kinds that plot the per-step energy audit of the frame."""
+AUDIT_FIGURES = {"flux-per-step": "flux", "energy-audit": "full"}
+"""Figure kinds that plot the energy audit of the frame, and the audit mode
+(explorer.lpv.audit.AUDIT_MODES) each needs."""
 
 
-def uses_audit(step: Step) -> bool:
-    """Whether the step shows the per-step energy audit (a figure or an ``audit.*``
-    number): the window then asks the pipelines to measure it."""
-    return any(spec.kind in AUDIT_FIGURES for spec in step.figures) or any(
-        name.startswith("audit.") for text in _texts(step)
-        for name, _ in lesson_text.placeholders(text))
+def uses_audit(step: Step) -> str:
+    """The audit mode the step needs (a figure of :data:`AUDIT_FIGURES` or an ``audit.*``
+    number, :func:`explorer.live_values.audit_needed`): the window asks the pipelines to
+    measure that much while it shows; ``off`` when it quotes none."""
+    from explorer.lpv.audit import strongest_audit
+
+    return strongest_audit(
+        *[AUDIT_FIGURES.get(spec.kind, "off") for spec in step.figures],
+        *[live_values.audit_needed(name) for text in _texts(step)
+          for name, _ in lesson_text.placeholders(text)])
 
 
 def uses_error(step: Step) -> bool:
@@ -264,8 +269,7 @@ def _article(state: Any, session: LessonSession) -> None:
     width = min(avail - 6.0, MAX_COLUMN * imgui.get_style().font_scale_dpi)
     left = imgui.get_cursor_pos_x() + max((avail - width) * 0.5, 0.0)
     imgui.set_cursor_pos_x(left)
-    if uses_audit(step):
-        state.runtime.want_audit()
+    state.runtime.want_audit(uses_audit(step))
     context = live_context(state, step)
     env = _page_env(state, session, step, context)
     page = Page(env, width)
@@ -345,6 +349,16 @@ def pending_note(prompt: str, context: live_values.LiveContext, active: bool,
     return "…: read from the next frame"
 
 
+def _pending_audit(name: str, context: live_values.LiveContext,
+                   figure_ids: tuple[str, ...]) -> str | None:
+    """The reason an ``audit.*`` number waits for (its audit mode did not measure it),
+    closing the tooltip's parenthesis; None for other numbers or no frame yet."""
+    if not name.startswith("audit.") or context.result is None:
+        return None
+    reason = live_values.pending_reason(name, context, figure_ids)
+    return None if reason is None else reason + ")"
+
+
 def step_settings(step: Step, own):
     from explorer.ui.lesson_panel import step_screen
 
@@ -365,7 +379,8 @@ def _page_env(state: Any, session: LessonSession, step: Step,
         if text == live_values.PENDING:
             tip += "\n(not available yet: " + (
                 "measure it in the Error panel)" if quantity.source == "error"
-                else f"{source['where']})")
+                else _pending_audit(name, source["context"], step.figure_ids)
+                or f"{source['where']})")
         elif quantity.constant:
             tip += "\na fixed property of the pipeline: no setting changes it"
         elif quantity.measured:

@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Callable, Protocol
 
 import numpy as np
 
+from explorer.lpv.audit import audit_covers, audit_mode
 from explorer.lpv.schema import stages_reading
 from explorer.lpv.settings import Settings
 from explorer.ui.picture import Picture, SideDisplay, Stamp
@@ -109,7 +110,7 @@ class PipelineLike(Protocol):
 
     programs: "ProgramCache"
 
-    def start(self, settings: Settings, keep_steps: bool = ..., need_audit: bool = ...,
+    def start(self, settings: Settings, keep_steps: bool = ..., need_audit: str | bool = ...,
               progress: Callable[[str, int, int], None] | None = ...) -> "Job": ...
     def reload_shaders(self) -> bool: ...
     def release(self) -> None: ...
@@ -128,7 +129,8 @@ class Request:
     """What the pipeline runs: the side's settings with :data:`PINNED_DISPLAY` and, while
     interacting, a reduced size."""
     keep_steps: bool = False
-    need_audit: bool = False
+    need_audit: str = "off"
+    """The audit mode (explorer.lpv.audit.AUDIT_MODES) what is shown needs."""
     interactive: bool = False
     """Made while the camera is dragged (reduced size)."""
 
@@ -136,7 +138,8 @@ class Request:
         """Whether the frame ``done`` computed already has all this request asks for
         (the same settings, and its steps and audit when asked)."""
         return (done is not None and done.settings == self.settings
-                and done.keep_steps >= self.keep_steps and done.need_audit >= self.need_audit)
+                and done.keep_steps >= self.keep_steps
+                and audit_covers(done.need_audit, self.need_audit))
 
 
 @dataclass(frozen=True)
@@ -263,7 +266,7 @@ class PipelineController:
         return a.with_changes(corrections=state.compare_settings.corrections,
                               **dict(state.compare_overrides))
 
-    def request_for(self, state: "AppState", side: str, need_audit: bool,
+    def request_for(self, state: "AppState", side: str, need_audit: str | bool,
                     interacting: bool) -> Request:
         settings = self.settings_for(state, side).with_changes(**PINNED_DISPLAY)
         scale = 1.0
@@ -277,7 +280,7 @@ class PipelineController:
         if scale < 1.0:
             settings = settings.with_changes(width=int(round(settings.width * scale)),
                                              height=int(round(settings.height * scale)))
-        return Request(settings, keeps_steps(state, side), need_audit,
+        return Request(settings, keeps_steps(state, side), audit_mode(need_audit),
                        interactive=scale < 1.0)
 
     def active_sides(self, state: "AppState") -> tuple[str, ...]:
@@ -285,12 +288,14 @@ class PipelineController:
 
     # ------------------------------------------------------------------ the frame
     def update(self, state: "AppState", budget_ms: float, *,
-               need_audit: bool = False, interacting: bool = False,
+               need_audit: str | bool = "off", interacting: bool = False,
                drag_budget_ms: float | None = None,
                draw_ms: float | None = None, quiet_s: float = 0.0,
                input_pending: Callable[[], bool] | None = None) -> ControllerStatus:
         """Start, advance and publish within ``budget_ms`` milliseconds (module
-        docstring); fills ``state.runtime``. ``drag_budget_ms``: what a frame may spend
+        docstring); fills ``state.runtime``. ``need_audit``: the audit mode what is
+        drawn needs (explorer.lpv.audit.AUDIT_MODES; the window's
+        ``runtime.audit_wanted``). ``drag_budget_ms``: what a frame may spend
         on the pipelines while the camera is dragged (the window's frame time for the
         drag's frame rate, less its own drawing; default ``budget_ms``): the drag scale
         is chosen so that a camera frame fits it, and a drag's frame gets that much.

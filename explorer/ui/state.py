@@ -175,9 +175,10 @@ class Runtime:
     fonts: "Fonts | None" = None          # prose styles
     gl_renderer: str = ""                 # GL_RENDERER of the window's context
     interaction: Interaction = field(default_factory=Interaction)
-    audit_wanted: bool = False
-    """A panel drawn this frame shows the per-step energy audit (a plot, a lesson figure or
-    a live number): the pipelines measure it (``need_audit``) while this is so."""
+    audit_wanted: str = "off"
+    """The most a panel drawn this frame needs of the energy audit (a plot, a lesson
+    figure or a live number; explorer.lpv.audit.AUDIT_MODES): the pipelines measure that
+    much (``need_audit``) while this is so."""
     redraw: bool = False
     """Something drawn this frame moves by itself (playback, fly keys held): draw the
     next frame too, even with no input."""
@@ -195,9 +196,12 @@ class Runtime:
     """The paths and fly-through that play, the object the gizmo moves (made on first use
     by explorer.ui.animation.animation_of)."""
 
-    def want_audit(self) -> None:
-        """Called by what shows the per-step energy audit while it is drawn."""
-        self.audit_wanted = True
+    def want_audit(self, mode: str = "full") -> None:
+        """Called by what shows the energy audit while it is drawn, with the audit mode
+        it needs (``flux``: only the flux per step; ``full``: every term)."""
+        from explorer.lpv.audit import strongest_audit
+
+        self.audit_wanted = strongest_audit(self.audit_wanted, mode)
 
     def request_redraw(self) -> None:
         """Called by what animates, every frame it animates."""

@@ -11,6 +11,7 @@ injected flux instead of watts. The Plots panel draws the same plot
 
 from __future__ import annotations
 
+import math
 from typing import Sequence
 
 import numpy as np
@@ -39,6 +40,8 @@ AUDIT_ROWS = (
     ("reflected (Σ)", "reflected"),
 )
 """(label, EnergyAudit field); (Σ) rows add up every propagation step."""
+NOT_MEASURED = "… not measured yet"
+"""Label of a term the frame's audit mode did not measure (the full audit follows)."""
 OPTIONAL_ROWS = ("reflected",)
 """Rows shown only when some side has them (a second bounce)."""
 _ROW_HEIGHT = 21.0
@@ -46,11 +49,14 @@ _ROW_HEIGHT = 21.0
 
 def audit_values(audit) -> np.ndarray:
     """One number per AUDIT_ROWS entry: watts summed over colour channels (and over steps
-    for the per-step terms); 0 for an entry the audit lacks."""
+    for the per-step terms); 0 for an entry the audit lacks, NaN for a term its audit
+    mode did not measure (explorer.lpv.audit.AUDIT_MODES: the full audit is on its way)."""
+    measured_all = getattr(audit, "mode", "full") == "full"
     values = []
     for _, name in AUDIT_ROWS:
         data = getattr(audit, name, None)
-        values.append(float(np.sum(data)) if data is not None else 0.0)
+        values.append(float(np.sum(data)) if data is not None
+                      else 0.0 if measured_all else math.nan)
     return np.array(values, dtype=np.float64)
 
 
@@ -63,11 +69,15 @@ def audit_series(results: Sequence) -> list[Series]:
 def shown_rows(series: Sequence[Series]) -> list[int]:
     """Indices of AUDIT_ROWS to draw: all but the optional rows nobody has."""
     return [i for i, (_, name) in enumerate(AUDIT_ROWS)
-            if name not in OPTIONAL_ROWS or any(s.values[i] != 0.0 for s in series)]
+            if name not in OPTIONAL_ROWS
+            or any(s.values[i] != 0.0 and not math.isnan(s.values[i]) for s in series)]
 
 
 def bar_label(value: float, reference: float, relative: bool) -> str:
-    """"0.912 W · 91.2 % of injected", shares first when the axis shows shares."""
+    """"0.912 W · 91.2 % of injected", shares first when the axis shows shares; "… not
+    measured yet" for a term the frame's audit mode did not measure (NaN)."""
+    if math.isnan(value):
+        return NOT_MEASURED
     share = style.share_of(value, reference)
     if relative:
         return f"{share} · {style.watts(value)}"
@@ -81,9 +91,9 @@ def audit_plot_height(series: Sequence[Series]) -> float:
 def draw_audit_plot(plot_id: str, series: Sequence[Series], width: float, scale: str,
                     relative: bool = False, height: float | None = None) -> None:
     rows = shown_rows(series)
-    shown = [np.array([s.values[i] for i in rows]) / (s.reference if relative and
-                                                       s.reference > 0 else 1.0)
-             for s in series]
+    # a term not measured yet (NaN) draws no bar, only its label
+    shown = [np.nan_to_num(np.array([s.values[i] for i in rows]) / (
+        s.reference if relative and s.reference > 0 else 1.0)) for s in series]
     everything = np.concatenate(shown) if shown else np.zeros(0)
     chosen = plotting.choose_scale(everything, scale)
     size = imgui.ImVec2(width, height or audit_plot_height(series))
@@ -119,6 +129,8 @@ def readouts(params: Params, state: State, context) -> dict[str, float]:
     for s in audit_series(chosen_results(params, context)):
         side = s.label[0].lower()
         for (_, name), value in zip(AUDIT_ROWS, s.values):
+            if math.isnan(value):
+                continue          # not measured yet: the readout waits ("…")
             values[f"{side}_{name}"] = float(value)
             if s.reference > 0:
                 values[f"{side}_{name}_share"] = float(value / s.reference)

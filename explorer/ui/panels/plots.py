@@ -22,6 +22,10 @@ from explorer.ui.state import AppState
 
 TABS = ("flux-per-step", "audit", "timings")
 """The plots (settings.PLOTS) this panel shows as tabs; "error" is the Error panel."""
+AUDIT_OF_TAB = {"flux-per-step": "flux", "audit": "full", "timings": "off"}
+"""The energy audit (explorer.lpv.audit.AUDIT_MODES) each tab needs while it is shown:
+the pipelines measure that much (``runtime.want_audit``). The flux per step comes from
+the minimal propagation kernel; only the Energy audit tab needs the full audit."""
 
 
 def gui_plots(state: AppState) -> None:
@@ -38,6 +42,7 @@ def gui_plots(state: AppState) -> None:
                                  (_flux_plot, _audit_plot, _timings_plot)):
         flags = imgui.TabItemFlags_.set_selected if state.plot_tab == name else 0
         if imgui.begin_tab_item(title, None, flags)[0]:
+            state.runtime.want_audit(AUDIT_OF_TAB[name])
             plot(state, results)
             imgui.end_tab_item()
     state.plot_tab = None
@@ -60,7 +65,6 @@ def _axis_controls(state: AppState) -> None:
 
 
 def _flux_plot(state: AppState, results: list) -> None:
-    state.runtime.want_audit()          # the pipelines measure the audit while it shows
     _axis_controls(state)
     avail = imgui.get_content_region_avail()
     draw_flux_plot(_title("Flux in flight per propagation step", avail.y), flux_series(results),
@@ -68,7 +72,6 @@ def _flux_plot(state: AppState, results: list) -> None:
 
 
 def _audit_plot(state: AppState, results: list) -> None:
-    state.runtime.want_audit()
     _axis_controls(state)
     avail = imgui.get_content_region_avail()
     draw_audit_plot(_title("Energy audit (sum of channels)", avail.y), audit_series(results),
