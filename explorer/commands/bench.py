@@ -59,7 +59,8 @@ VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
     "bounces-2": {"bounces": 2},
-    "audit": {"need_audit": True},
+    "audit": {"need_audit": "full"},
+    "audit-flux": {"need_audit": "flux"},
     "geometry": {},
     "camera-occluders": {"camera_occluders": True},
     "fog-16": {"fog": True, "fog_steps": 16},
@@ -71,8 +72,10 @@ VARIANTS: dict[str, dict[str, object]] = {
     "moving-object": {"move_object": True},
 }
 """Extra rows (at each grid's largest iteration count): the leak-reduction and bounce
-options against the default settings, the propagation with its per-step energy audit
-(``need_audit`` is a run option, not a Settings field: :data:`RUN_OPTIONS`), what each
+options against the default settings, the propagation with its full per-step energy
+audit (``audit``) and with the flux per step only (``audit-flux``: the minimal kernel
+and one flux reduction per step; the Plots panel's flux tab) (``need_audit`` is a run
+option, not a Settings field: :data:`RUN_OPTIONS`), what each
 feature beyond diffuse costs (docs/MODEL.md "Camera occluders", "Fog", "Glossy
 reflections"): ``geometry`` (the RSM's occluders alone) against ``camera-occluders`` in
 the geometry column, the fog column at 16, 32 and 64 march steps, and ``glossy`` against
@@ -228,11 +231,11 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
               progress) -> dict:
     """The row of one run: pass medians, bandwidth, and for a single-cascade L1 row the
     baseline kernel timed alternately with the pipeline's propagation."""
-    need_audit = bool(VARIANTS.get(variant, {}).get("need_audit", False))
+    need_audit = VARIANTS.get(variant, {}).get("need_audit", "off")
     moving = bool(VARIANTS.get(variant, {}).get("move_object", False))
     steps, cascades = settings.iterations, settings.cascades
     compare = steps > 0 and cascades == 1 and settings.sh_order == 1 and \
-        variant in ("default", "audit")
+        variant in ("default", "audit", "audit-flux")
     run = {"need_audit": need_audit, "progress": progress}
     options.run_pipeline(pipeline, settings, **run)     # warm-up: compiles, allocates
     if compare:
