@@ -224,7 +224,15 @@ def test_the_picked_pixel_reads_its_reference_and_the_picked_cell_its_audit(tmp_
         assert found["visible"].max() > 0
         pick = pick_with_references(app.state, result, (x, y))
         assert dict(pick.references).keys() == found.keys()
-        # the picked cell's audit: its records on the GPU, and acc_N = grid_0 + received
+        # the picked cell's audit: its records on the GPU, and acc_N = grid_0 + received.
+        # The default layout's flux plot asks only for the flux per step (no records);
+        # the Picked panel, now shown, asks for the full audit: only propagate runs again
+        for _ in range(40):
+            if rt.result.cascades[0].cell_records is not None:
+                break
+            app.frame()
+        assert rt.result.cascades[0].cell_records is not None and rt.result is not result
+        result = rt.result
         cell = picking.cell_at(result, o.picked_cascade, o.picked_point)
         info = picking.cell_audit(result, o.picked_cascade, cell)
         assert isinstance(info, picking.CellAuditInfo) and info.steps == TINY.iterations
