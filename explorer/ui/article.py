@@ -11,7 +11,7 @@ the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 from imgui_bundle import imgui
 
@@ -27,6 +27,9 @@ from explorer.ui.lesson_panel import (
     step_caption,
 )
 from explorer.ui.textflow import Page, PageEnv
+
+if TYPE_CHECKING:
+    from explorer.ui.state import AppState
 
 MAX_COLUMN = 720.0
 """Widest the text column gets (pixels at scale 1): longer lines read badly."""
@@ -68,7 +71,7 @@ def try_label(item: TryThis) -> tuple[str, str]:
 
 # --- live numbers ------------------------------------------------------------------------
 
-def live_context(state: Any, step: Step) -> live_values.LiveContext:
+def live_context(state: AppState, step: Step) -> live_values.LiveContext:
     """What the step's placeholders read now (figures: those the step quotes)."""
     from explorer.ui.panels.error import current_stats
 
@@ -117,7 +120,7 @@ def uses_error(step: Step) -> bool:
                for name, _ in lesson_text.placeholders(text))
 
 
-def figure_context(state: Any):
+def figure_context(state: AppState):
     """The figures' shared context (their interactive state), kept on the app state."""
     context = getattr(state, "lesson_figures", None)
     if context is None:
@@ -130,7 +133,7 @@ def figure_context(state: Any):
 
 # --- the panel ---------------------------------------------------------------------------
 
-def gui_article(state: Any) -> None:
+def gui_article(state: AppState) -> None:
     session = session_of(state)
     sync_requested(state, session)
     if session.lesson is None:
@@ -146,7 +149,7 @@ def gui_article(state: Any) -> None:
         imgui.end_child()
 
 
-def sync_requested(state: Any, session: LessonSession) -> None:
+def sync_requested(state: AppState, session: LessonSession) -> None:
     """Follow ``state.lesson_id`` / ``state.lesson_step`` (``run --lesson ID --step K``):
     open the lesson at that step and apply it."""
     wanted = getattr(state, "lesson_id", None)
@@ -170,7 +173,7 @@ def sync_requested(state: Any, session: LessonSession) -> None:
     show_screen(state, session.apply(current_screen(state)))
 
 
-def _lesson_list(state: Any, session: LessonSession) -> None:
+def _lesson_list(state: AppState, session: LessonSession) -> None:
     widgets.dim_text_wrapped("Each lesson is a short article. Its steps set the scene, the "
                              "settings and the view they talk about; the numbers in the text "
                              "are read from what is on screen, and every \"try this\" is a "
@@ -196,7 +199,7 @@ def _lesson_list(state: Any, session: LessonSession) -> None:
         session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
-def _header(state: Any, session: LessonSession) -> None:
+def _header(state: AppState, session: LessonSession) -> None:
     lesson, step = session.lesson, session.step
     if imgui.small_button("< All lessons"):
         restored = session.close()
@@ -231,13 +234,13 @@ def _header(state: Any, session: LessonSession) -> None:
     _status(state, session)
 
 
-def _goto(state: Any, session: LessonSession) -> None:
+def _goto(state: AppState, session: LessonSession) -> None:
     """Show the step now selected (when lesson settings are on screen)."""
     if session.applied:
         show_screen(state, session.apply(current_screen(state)))
 
 
-def _status(state: Any, session: LessonSession) -> None:
+def _status(state: AppState, session: LessonSession) -> None:
     step = session.step
     if session.applied:
         if session.tried is not None:
@@ -263,7 +266,7 @@ def _status(state: Any, session: LessonSession) -> None:
             show_screen(state, session.apply(current_screen(state)))
 
 
-def _article(state: Any, session: LessonSession) -> None:
+def _article(state: AppState, session: LessonSession) -> None:
     step = session.step
     avail = imgui.get_content_region_avail().x
     width = min(avail - 6.0, MAX_COLUMN * imgui.get_style().font_scale_dpi)
@@ -305,7 +308,7 @@ def _article(state: Any, session: LessonSession) -> None:
     imgui.end_group()
 
 
-def try_context(state: Any, session: LessonSession, index: int,
+def try_context(state: AppState, session: LessonSession, index: int,
                 base: live_values.LiveContext) -> tuple[live_values.LiveContext, str]:
     """What the ``index``-th try-this's prompt quotes, and where it comes from: the
     configuration the button sets (the right side of a before | after split). Its frame
@@ -365,7 +368,7 @@ def step_settings(step: Step, own):
     return step_screen(step, own).settings
 
 
-def _page_env(state: Any, session: LessonSession, step: Step,
+def _page_env(state: AppState, session: LessonSession, step: Step,
               context: live_values.LiveContext) -> PageEnv:
     from explorer import derived
 
@@ -423,7 +426,7 @@ def _page_env(state: Any, session: LessonSession, step: Step,
     return env
 
 
-def _try_section(state: Any, session: LessonSession, page: Page, step: Step) -> None:
+def _try_section(state: AppState, session: LessonSession, page: Page, step: Step) -> None:
     """Every try-this of the step: its button and its prompt, whose live numbers describe
     the configuration the button sets (:func:`try_context`)."""
     imgui.separator_text("Try this")
@@ -441,7 +444,7 @@ def _try_section(state: Any, session: LessonSession, page: Page, step: Step) -> 
     source["context"], source["where"] = base, "the frame on screen"
 
 
-def _error_banner(state: Any) -> None:
+def _error_banner(state: AppState) -> None:
     from explorer.ui.panels.error import error_service
 
     service = error_service(state)
@@ -457,7 +460,7 @@ def _error_banner(state: Any) -> None:
         state.requests.focus_panel = ("Error",)
 
 
-def _next_step(state: Any, session: LessonSession, width: float) -> None:
+def _next_step(state: AppState, session: LessonSession, width: float) -> None:
     imgui.spacing()
     if session.step_number < session.step_count:
         following = session.lesson.step(session.step_number + 1)

@@ -20,7 +20,7 @@ what is drawn) until the step changes.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 from explorer.lessons import (
     COMPARE_VIEWS,
@@ -32,6 +32,9 @@ from explorer.lessons import (
 )
 from explorer.overlay_params import OverlayState
 from explorer.lpv.settings import Settings
+
+if TYPE_CHECKING:
+    from explorer.ui.state import AppState
 
 INSPECT_VIEWS = ("rsm-position", "rsm-normal", "rsm-flux", "grid-slice", "geometry-volume",
                  "cascade-weights")
@@ -296,7 +299,7 @@ def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
 _SESSION_ATTRIBUTE = "lesson_session"
 
 
-def session_of(state: Any) -> LessonSession:
+def session_of(state: AppState) -> LessonSession:
     """The LessonSession kept on the app state (created and loaded on first use)."""
     session = getattr(state, _SESSION_ATTRIBUTE, None)
     if session is None:
@@ -305,7 +308,7 @@ def session_of(state: Any) -> LessonSession:
     return session
 
 
-def current_screen(state: Any) -> Screen:
+def current_screen(state: AppState) -> Screen:
     overlays = getattr(state, "overlays", None)
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
                   view_mode=state.view_mode,
@@ -314,7 +317,7 @@ def current_screen(state: Any) -> Screen:
                   overlays=None if overlays is None else replace(overlays))
 
 
-def show_screen(state: Any, screen: Screen) -> None:
+def show_screen(state: AppState, screen: Screen) -> None:
     """Put ``screen`` into the app state (settings of A and B, view mode and buffer,
     in-scene overlays, inspect source, plot tab). Overlays bring the Show in scene panel
     forward (its controls), else an inspect source brings the Inspect panel."""

@@ -11,14 +11,17 @@ step), so a step always opens on what its author set.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
+
+if TYPE_CHECKING:
+    from explorer.ui.state import AppState
 
 
 @dataclass
 class _Instance:
     kind: str
     params: Any
-    state: Any
+    state: AppState
 
 
 @dataclass
