@@ -73,6 +73,10 @@ BAD = [
     ("compare --region 10,10,5,5", 2, "need 0 <= X0 < X1 and 0 <= Y0 < Y1"),
     ("compare --region 1,2,3", 2, "expected four integers"),
     ("compare --region 0,0,300,10", 2, "leaves the 256×256 image"),
+    ("compare --region-mask nope", 2, "--region-mask: scene 'cornell' has no surface "
+                                      "named 'nope'; its surfaces are: floor, ceiling"),
+    ("compare --scene atrium --region-mask curtains", 2, "its surfaces are: floor, north "
+                                                        "columns, north arcade walls"),
     ("compare --error-scale 0", 2, "error_scale must be a finite number in (0,"),
     ("compare --iterations 2,x", 2, "got 'x'"),
     ("compare --cascades 9", 2, "cascades must be a whole number in [1, 4]"),

@@ -64,6 +64,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         type=parse_region,
                         help="also report the metrics over this pixel rectangle (rows from "
                              "the top of the PNG, X1 and Y1 excluded); repeatable")
+    parser.add_argument("--region-mask", action="append", default=[], metavar="NAME",
+                        help="also report the metrics over the pixels that see the scene's "
+                             "surface NAME (a part such as 'tall block' or 'north curtains', "
+                             "else a movable object; explorer/scene/parts.py); an unknown "
+                             "name lists the scene's surfaces; repeatable")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     options.add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
                         sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
@@ -106,8 +111,9 @@ class CompareRow:
     iterations: int
     cascades: int
     sh_order: int
-    region: str                     # "image" or "x0,y0,x1,y1"
+    region: str                     # "image", "x0,y0,x1,y1" or a --region-mask name
     stats: object | None            # explorer.truth.metrics.ErrorStats
+    means: tuple[float, float] | None = None    # LPV and reference mean radiance
 
 
 @dataclass
@@ -183,6 +189,16 @@ def check_cost(settings: Settings, regions: list[tuple[int, int, int, int]],
                                f"{settings.height} image")
 
 
+def check_masks(scene, names: list[str]) -> None:
+    """Every ``--region-mask`` name a surface of ``scene`` (explorer/scene/parts.py)."""
+    from explorer.truth.surface_masks import check_surface_names
+
+    try:
+        check_surface_names(scene, names)
+    except ValueError as exc:
+        raise options.CommandError(f"--region-mask: {exc}") from None
+
+
 def main(args: argparse.Namespace) -> int:
     from explorer.gl.context import GLUnavailableError, given_or_headless
 
@@ -191,6 +207,7 @@ def main(args: argparse.Namespace) -> int:
     runs = plan_runs(args, base)
     scene = _load_scene(base)
     check_cost(base, args.region, _view_count(scene))
+    check_masks(scene, args.region_mask)
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
     with options.Outputs() as outputs:
         outputs.folder(out)
@@ -249,14 +266,21 @@ def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
     import numpy as np
 
     from explorer.lpv.pipeline import Pipeline
-    from explorer.truth.metrics import EmptyRegionError, error_stats, rect_mask
+    from explorer.truth.metrics import rect_mask
     from explorer.truth.render import reference_for_frame
+    from explorer.truth.surface_masks import render_triangle_ids, surface_masks
 
     references = references if references is not None else ReferenceCache()
     visibility = args.reference == "visible"
     min_distance = reference_distance(args, runs, scene)
     rows, images = [], {}
     reference = gbuffer = frame = None
+    names = getattr(args, "region_mask", [])
+    masks = {}
+    if names:   # the runs differ in the LPV's settings only: one scene, one image size
+        first = runs[0].settings
+        masks = surface_masks(scene, render_triangle_ids(ctx, scene, first.width,
+                                                         first.height), names)
     with Pipeline(runs[0].settings, ctx) as pipeline:
         for run in runs:
             frame = options.run_pipeline(pipeline, run.settings, progress)
@@ -281,15 +305,26 @@ def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
             lpv = np.asarray(frame.indirect, np.float64)[..., :3]
             images[run.label] = lpv
             cells = (run.preset, settings.iterations, settings.cascades, settings.sh_order)
-            rows.append(CompareRow(*cells, "image", error_stats(lpv, reference, valid)))
-            for rect in args.region:
-                mask = rect_mask(valid.shape, [rect]) & valid  # rows from the top
-                try:
-                    stats = error_stats(lpv, reference, mask)
-                except EmptyRegionError:
-                    stats = None
-                rows.append(CompareRow(*cells, ",".join(map(str, rect)), stats))
+            regions = {"image": valid}
+            for rect in args.region:           # rows from the top
+                regions[",".join(map(str, rect))] = rect_mask(valid.shape, [rect]) & valid
+            for name, mask in masks.items():
+                regions[name] = mask & valid
+            for region, mask in regions.items():
+                rows.append(CompareRow(*cells, region, *region_metrics(lpv, reference, mask)))
     return Comparison(rows, images, reference, gbuffer.valid, frame)
+
+
+def region_metrics(lpv, reference, mask) -> tuple[object | None, tuple[float, float] | None]:
+    """The ErrorStats and the (LPV, reference) mean radiance over ``mask``; (None, None)
+    when it holds no pixel."""
+    from explorer.truth.metrics import EmptyRegionError, error_stats, mean_radiance
+
+    try:
+        stats = error_stats(lpv, reference, mask)
+    except EmptyRegionError:
+        return None, None
+    return stats, (mean_radiance(lpv, mask), mean_radiance(reference, mask))
 
 
 def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, valid,
@@ -333,6 +368,16 @@ def metric_cells(stats) -> list[str]:
             ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)]
 
 
+MEAN_HEADERS = ("pixels", "LPV mean", "ref. mean")
+
+
+def mean_cells(row: CompareRow) -> list[str]:
+    """The pixel count and the two mean radiances of a row (:data:`MEAN_HEADERS`)."""
+    if row.stats is None or row.means is None:
+        return ["0", "–", "–"]
+    return [str(row.stats.pixels), *(f"{value:.4g}" for value in row.means)]
+
+
 def settings_line(args: argparse.Namespace, frame) -> str:
     """The line above the table: what was compared."""
     settings = frame.settings
@@ -354,8 +399,9 @@ def format_table(rows: list[CompareRow], args: argparse.Namespace, frame) -> str
     lines = [
         settings_line(args, frame),
         "",
-        "| preset | iterations | region | " + " | ".join(METRIC_HEADERS) + " |",
-        "|---|---:|---|" + "|".join(METRIC_ALIGN) + "|",
+        "| preset | iterations | region | " + " | ".join(METRIC_HEADERS + MEAN_HEADERS)
+        + " |",
+        "|---|---:|---|" + "|".join(METRIC_ALIGN + ("---:",) * len(MEAN_HEADERS)) + "|",
     ]
     for row in rows:
         name = row.preset if args.sh_order is None else f"{row.preset} L{row.sh_order}"
@@ -363,7 +409,7 @@ def format_table(rows: list[CompareRow], args: argparse.Namespace, frame) -> str
         if args.cascades is not None:   # the iterations cell: "8, 2 cascades"
             steps += f", {row.cascades} cascade{'s' if row.cascades > 1 else ''}"
         lines.append(f"| {name} | {steps} | {row.region} | "
-                     + " | ".join(metric_cells(row.stats)) + " |")
+                     + " | ".join(metric_cells(row.stats) + mean_cells(row)) + " |")
     return "\n".join(lines)
 
 

@@ -247,8 +247,9 @@ def _floor(mesh: MeshBuilder) -> None:
     # _quads lists every cell's first triangles, then every cell's second ones
     cells = np.add.outer(np.arange(len(xs) - 1), np.arange(len(zs) - 1)).ravel()
     light = np.tile(cells % 2 == 0, 2)
-    for pick, shade in ((light, FLOOR_LIGHT), (~light, FLOOR_DARK)):
-        _add(mesh, (tris[pick], normals[pick]), shade)
+    with mesh.part("floor"):
+        for pick, shade in ((light, FLOOR_LIGHT), (~light, FLOOR_DARK)):
+            _add(mesh, (tris[pick], normals[pick]), shade)
 
 
 def column_parts(storey: Storey) -> list[tuple[np.ndarray, np.ndarray, tuple]]:
@@ -272,27 +273,39 @@ def _column(mesh: MeshBuilder, parts, x: float, z: float) -> None:
         _add(mesh, (tris + np.array([x, 0.0, z]), normals), albedo)
 
 
+def side_name(sign: float) -> str:
+    """The long side at ``z`` of ``sign``: north (z < 0, the sunlit arcades) or south."""
+    return "north" if sign < 0 else "south"
+
+
 def _side(mesh: MeshBuilder, sign: float) -> None:
     """One long side (``z`` of the sign): two arcades, the gallery slabs, the parapet and
-    the back wall."""
+    the back wall, each a part named after the side (``north columns``, ...)."""
     z = sign * ARCADE_Z
+    side = side_name(sign)
     for storey in STOREYS:
         parts = column_parts(storey)
-        for x in column_xs():
-            _column(mesh, parts, x, z)
-        _add(mesh, arcade_wall(storey, z), STONE)
+        with mesh.part(f"{side} columns"):
+            for x in column_xs():
+                _column(mesh, parts, x, z)
+        with mesh.part(f"{side} arcade walls"):
+            _add(mesh, arcade_wall(storey, z), STONE)
     slab_depth = BACK_WALL_Z - ARCADE_Z + WALL_THICKNESS / 2
     slab_z = sign * (ARCADE_Z - WALL_THICKNESS / 2 + slab_depth / 2)
     length = 2 * END_WALL_X
-    _add(mesh, box((0.0, (GROUND.top + UPPER.floor) / 2, slab_z),
-                   (length, UPPER.floor - GROUND.top, slab_depth)), STONE_DARK)  # gallery floor
-    _add(mesh, box((0.0, (UPPER.top + HEIGHT) / 2, slab_z),
-                   (length, HEIGHT - UPPER.top, slab_depth)), STONE_DARK)        # roof
+    with mesh.part(f"{side} gallery floor"):
+        _add(mesh, box((0.0, (GROUND.top + UPPER.floor) / 2, slab_z),
+                       (length, UPPER.floor - GROUND.top, slab_depth)), STONE_DARK)
+    with mesh.part(f"{side} roof"):
+        _add(mesh, box((0.0, (UPPER.top + HEIGHT) / 2, slab_z),
+                       (length, HEIGHT - UPPER.top, slab_depth)), STONE_DARK)
     width = PITCH - 2 * UPPER.capital_half_width
-    for x in bay_centres():                                                      # parapet
-        _add(mesh, box((x, UPPER.floor + 0.5, z), (width, 1.0, 0.2)), STONE)
-    _add(mesh, box((0.0, HEIGHT / 2, sign * (BACK_WALL_Z + WALL_THICKNESS / 2)),
-                   (length, HEIGHT, WALL_THICKNESS)), STONE)                     # back wall
+    with mesh.part(f"{side} parapet"):
+        for x in bay_centres():
+            _add(mesh, box((x, UPPER.floor + 0.5, z), (width, 1.0, 0.2)), STONE)
+    with mesh.part(f"{side} back wall"):
+        _add(mesh, box((0.0, HEIGHT / 2, sign * (BACK_WALL_Z + WALL_THICKNESS / 2)),
+                       (length, HEIGHT, WALL_THICKNESS)), STONE)
 
 
 def _drapes(mesh: MeshBuilder, sign: float) -> None:
@@ -301,13 +314,16 @@ def _drapes(mesh: MeshBuilder, sign: float) -> None:
     two sides start at different colours)."""
     start = 0 if sign < 0 else 2
     count = len(DRAPE_COLOURS)
+    side = side_name(sign)
     for k, x in enumerate(bay_centres()):
-        _add(mesh, drape(x, PITCH - 0.75, GROUND.spring - 0.1, 0.3, sign * (ARCADE_Z - 0.55),
-                         folds=7, depth=0.07, columns=40, rows=56),
-             DRAPE_COLOURS[(start + k) % count])
-        _add(mesh, drape(x, PITCH - 1.0, UPPER.spring - 0.1, UPPER.floor + 1.2,
-                         sign * (ARCADE_Z - 0.35), folds=5, depth=0.05, columns=28, rows=36),
-             DRAPE_COLOURS[(start + k + 2) % count])
+        with mesh.part(f"{side} curtains"):
+            _add(mesh, drape(x, PITCH - 0.75, GROUND.spring - 0.1, 0.3,
+                             sign * (ARCADE_Z - 0.55), folds=7, depth=0.07, columns=40,
+                             rows=56), DRAPE_COLOURS[(start + k) % count])
+        with mesh.part(f"{side} banners"):
+            _add(mesh, drape(x, PITCH - 1.0, UPPER.spring - 0.1, UPPER.floor + 1.2,
+                             sign * (ARCADE_Z - 0.35), folds=5, depth=0.05, columns=28,
+                             rows=36), DRAPE_COLOURS[(start + k + 2) % count])
 
 
 SUN_FROM = (3.0, 10.0, 10.0)
@@ -326,8 +342,10 @@ def atrium() -> Scene:
     for sign in (-1.0, 1.0):
         _side(mesh, sign)
         _drapes(mesh, sign)
-        _add(mesh, box((sign * (END_WALL_X + WALL_THICKNESS / 2), HEIGHT / 2, 0.0),
-                       (WALL_THICKNESS, HEIGHT, 2 * BACK_WALL_Z + 2 * WALL_THICKNESS)), STONE)
+        with mesh.part("west end wall" if sign < 0 else "east end wall"):
+            _add(mesh, box((sign * (END_WALL_X + WALL_THICKNESS / 2), HEIGHT / 2, 0.0),
+                           (WALL_THICKNESS, HEIGHT, 2 * BACK_WALL_Z + 2 * WALL_THICKNESS)),
+                 STONE)
     positions, normals, albedo = mesh.arrays()
     lo = (-END_WALL_X - WALL_THICKNESS, 0.0, -BACK_WALL_Z - WALL_THICKNESS)
     hi = (END_WALL_X + WALL_THICKNESS, HEIGHT, BACK_WALL_Z + WALL_THICKNESS)
@@ -341,8 +359,8 @@ def atrium() -> Scene:
                   for name, x, sign in (("lamp north", -4.5, -1.0), ("lamp south", 4.5, 1.0)))
     eye, target = FLY_THROUGH[0]
     return Scene("atrium", positions, normals, albedo, Camera(eye, target, 60.0),
-                 (sun, *lamps), lo, hi, lights_on=("sun",), light_path=SUN_PATH,
-                 camera_path=FLY_THROUGH_PATH)
+                 (sun, *lamps), lo, hi, **mesh.part_fields(), lights_on=("sun",),
+                 light_path=SUN_PATH, camera_path=FLY_THROUGH_PATH)
 
 
 # --- fly-through ----------------------------------------------------------------------------

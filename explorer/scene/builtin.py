@@ -63,14 +63,15 @@ def cornell_box() -> Scene:
     ``Settings.spot_cone`` off it is the 90° square frustum the lessons measure."""
     mesh = MeshBuilder()
     with mesh.object("box"):
-        mesh.rect((0, -1, 0), Y, X, 1, 1, WHITE)      # floor
-        mesh.rect((0, 1, 0), -Y, X, 1, 1, WHITE)      # ceiling
-        mesh.rect((0, 0, -1), Z, X, 1, 1, WHITE)      # back wall
-        mesh.rect((-1, 0, 0), X, Z, 1, 1, RED)        # left wall
-        mesh.rect((1, 0, 0), -X, Z, 1, 1, GREEN)      # right wall
-    with mesh.object("short block"):
+        for name, centre, normal, u_axis, albedo in (
+                ("floor", (0, -1, 0), Y, X, WHITE), ("ceiling", (0, 1, 0), -Y, X, WHITE),
+                ("back wall", (0, 0, -1), Z, X, WHITE), ("left wall", (-1, 0, 0), X, Z, RED),
+                ("right wall", (1, 0, 0), -X, Z, GREEN)):
+            with mesh.part(name):
+                mesh.rect(centre, normal, u_axis, 1, 1, albedo)
+    with mesh.object("short block"), mesh.part("short block"):
         mesh.box((0.34, -0.7, 0.3), (0.6, 0.6, 0.6), WHITE, rotation_y_degrees=-18.0)
-    with mesh.object("tall block"):
+    with mesh.object("tall block"), mesh.part("tall block"):
         mesh.box((-0.34, -0.4, -0.32), (0.6, 1.2, 0.6), WHITE, rotation_y_degrees=18.0)
     positions, normals, albedo = mesh.arrays()
     lo, hi = (-1.0, -1.0, -1.0), (1.0, 1.0, 1.0)
@@ -91,7 +92,7 @@ def cornell_box() -> Scene:
     circle = [(0.45 * np.sin(a), 0.9, 0.55 + 0.35 * np.cos(a), *spot.target)
               for a in np.linspace(0.0, 2.0 * np.pi, 8, endpoint=False)]
     return Scene("cornell", positions, normals, albedo, camera, rig, lo, hi,
-                 objects=tuple(mesh.objects), lights_on=("spot",),
+                 objects=tuple(mesh.objects), **mesh.part_fields(), lights_on=("spot",),
                  light_path=KeyframePath(circle, 8.0),
                  object_paths=(("short block", KeyframePath(
                      [_turn(), _turn((0.15, 0.0, -0.1), 30.0), _turn((0.1, 0.0, 0.15), 60.0),
@@ -126,13 +127,17 @@ def room() -> Scene:
     walls and what the geometry volume's occlusion does about it."""
     mesh = MeshBuilder()
     with mesh.object("room"):
-        mesh.rect((0.0, 0.0, 0.0), Y, X, 2.0, 2.0, WHITE)                  # floor
-        mesh.box((0.0, 0.6, -2.0), (4.0, 1.2, 0.06), WHITE)               # back wall
-        mesh.box((-2.0, 0.6, 0.0), (0.06, 1.2, 4.0), BLUE)                # left wall
-        mesh.box((2.0, 0.6, 0.0), (0.06, 1.2, 4.0), WHITE)                # right wall
-    with mesh.object("thin wall"):
+        with mesh.part("floor"):
+            mesh.rect((0.0, 0.0, 0.0), Y, X, 2.0, 2.0, WHITE)
+        for name, centre, size, albedo in (
+                ("back wall", (0.0, 0.6, -2.0), (4.0, 1.2, 0.06), WHITE),
+                ("left wall", (-2.0, 0.6, 0.0), (0.06, 1.2, 4.0), BLUE),
+                ("right wall", (2.0, 0.6, 0.0), (0.06, 1.2, 4.0), WHITE)):
+            with mesh.part(name):
+                mesh.box(centre, size, albedo)
+    with mesh.object("thin wall"), mesh.part("thin wall"):
         mesh.box((0.3, 0.6, -0.75), (0.04, 1.2, 2.5), ORANGE)
-    with mesh.object("pillars"):
+    with mesh.object("pillars"), mesh.part("pillars"):
         mesh.box((-1.0, 0.6, 0.9), (0.2, 1.2, 0.2), WHITE)
         mesh.box((1.1, 0.6, 0.9), (0.2, 1.2, 0.2), WHITE)
     positions, normals, albedo = mesh.arrays()
@@ -145,7 +150,7 @@ def room() -> Scene:
     orbit = [(np.sqrt(5.0) * np.cos(a), 3.0, np.sqrt(5.0) * np.sin(a), 0.0, 0.0, 0.0)
              for a in np.arctan2(1.0, -2.0) + np.linspace(0.0, 2.0 * np.pi, 8, endpoint=False)]
     return Scene("room", positions, normals, albedo, camera, (sun, lamp), lo, hi,
-                 objects=tuple(mesh.objects), lights_on=("sun",),
+                 objects=tuple(mesh.objects), **mesh.part_fields(), lights_on=("sun",),
                  light_path=KeyframePath(orbit, 24.0),
                  object_paths=(("thin wall", KeyframePath(
                      [_turn(), _turn((0.5, 0.0, 0.0)), _turn((0.5, 0.0, 0.4), 30.0),
@@ -161,13 +166,17 @@ def two_rooms() -> Scene:
     wall (docs/MODEL.md "Camera occluders"). Its rig adds a warm point light in the right
     room, ``lamp`` (off by default)."""
     mesh = MeshBuilder()
-    mesh.rect((0.0, 0.0, 0.0), Y, X, 2.0, 1.5, WHITE)          # floor of both rooms
-    mesh.rect((0.0, 2.0, 0.0), -Y, X, 2.0, 1.5, WHITE)         # ceiling
-    mesh.rect((0.0, 1.0, -1.5), Z, X, 2.0, 1.0, WHITE)         # back walls
-    mesh.rect((0.0, 1.0, 1.5), -Z, X, 2.0, 1.0, WHITE)         # front walls
-    mesh.rect((-2.0, 1.0, 0.0), X, Z, 1.5, 1.0, RED)           # far wall of the left room
-    mesh.rect((2.0, 1.0, 0.0), -X, Z, 1.5, 1.0, WHITE)         # far wall of the right room
-    mesh.box((0.0, 1.0, 0.0), (0.06, 2.0, 3.0), WHITE)         # the shared wall
+    for name, centre, normal, u_axis, half_u, half_v, albedo in (
+            ("floor", (0.0, 0.0, 0.0), Y, X, 2.0, 1.5, WHITE),          # of both rooms
+            ("ceiling", (0.0, 2.0, 0.0), -Y, X, 2.0, 1.5, WHITE),
+            ("back walls", (0.0, 1.0, -1.5), Z, X, 2.0, 1.0, WHITE),
+            ("front walls", (0.0, 1.0, 1.5), -Z, X, 2.0, 1.0, WHITE),
+            ("left far wall", (-2.0, 1.0, 0.0), X, Z, 1.5, 1.0, RED),
+            ("right far wall", (2.0, 1.0, 0.0), -X, Z, 1.5, 1.0, WHITE)):
+        with mesh.part(name):
+            mesh.rect(centre, normal, u_axis, half_u, half_v, albedo)
+    with mesh.part("shared wall"):
+        mesh.box((0.0, 1.0, 0.0), (0.06, 2.0, 3.0), WHITE)
     positions, normals, albedo = mesh.arrays()
     spot = SpotLight((-1.2, 1.9, 0.0), (-1.2, 0.0, 0.0), flux_for_irradiance(1.9),
                      name="spot", cone_degrees=(20.0, 30.0))
@@ -176,7 +185,8 @@ def two_rooms() -> Scene:
                       colour=WARM)
     camera = Camera((1.9, 1.7, 1.4), (0.0, 0.45, -0.4), 75.0)
     return Scene("two-rooms", positions, normals, albedo, camera, (spot, lamp),
-                 (-2.0, 0.0, -1.5), (2.0, 2.0, 1.5), lights_on=("spot",))
+                 (-2.0, 0.0, -1.5), (2.0, 2.0, 1.5), **mesh.part_fields(),
+                 lights_on=("spot",))
 
 
 BUILTIN_SCENES = {

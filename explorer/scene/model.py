@@ -63,6 +63,14 @@ class Scene:
     """The object transforms :meth:`posed` applied to this scene's arrays."""
     built: "Scene | None" = field(default=None, compare=False, repr=False)
     """The scene as built, before :meth:`posed` moved its objects (None: this one)."""
+    parts: tuple[str, ...] = ()
+    """Names of the scene's surfaces as built (the Cornell box's ``floor``, ``left wall``,
+    ...; the atrium's ``north columns``, ...): finer than :attr:`objects` and never
+    moved; what ``lpv-explorer compare --region-mask`` measures
+    (explorer/scene/parts.py)."""
+    triangle_parts: np.ndarray | None = field(default=None, compare=False, repr=False)
+    """(T,) index into :attr:`parts` of each triangle, −1 for a triangle in no part; None
+    when the scene names no parts."""
 
     def __post_init__(self) -> None:
         count = len(self.positions)
@@ -78,6 +86,7 @@ class Scene:
             raise SceneError(f"scene {self.name!r} needs at least one light and unique light "
                              f"names, got {names}")
         _check_objects(self.name, self.objects, count)
+        _check_parts(self.name, self.parts, self.triangle_parts, count // 3)
         if self.lights_on is not None:
             self._check_light_names(self.lights_on, "lights_on")
         for name, path in self.object_paths:
@@ -233,6 +242,18 @@ def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> 
                              f"triangles within the scene's {count} corners")
 
 
+def _check_parts(scene: str, parts: tuple[str, ...], triangle_parts, triangles: int) -> None:
+    if len(set(parts)) != len(parts):
+        raise SceneError(f"scene {scene!r}: part names must be unique, got {list(parts)}")
+    if (triangle_parts is None) != (not parts):
+        raise SceneError(f"scene {scene!r}: parts and triangle_parts go together")
+    if triangle_parts is not None and (
+            np.shape(triangle_parts) != (triangles,)
+            or np.any((triangle_parts < -1) | (triangle_parts >= len(parts)))):
+        raise SceneError(f"scene {scene!r}: triangle_parts must hold one index in "
+                         f"[-1, {len(parts) - 1}] per triangle ({triangles})")
+
+
 class MeshBuilder:
     """Collects quads and boxes into a triangle soup (for the built-in scenes)."""
 
@@ -242,6 +263,32 @@ class MeshBuilder:
         self._albedo: list[np.ndarray] = []
         self._corners = 0
         self.objects: list[SceneObject] = []
+        self.parts: list[str] = []
+        self._part_of_chunk: list[int] = []    # per added chunk: index into parts, or -1
+        self._part = -1
+
+    @contextmanager
+    def part(self, name: str) -> Iterator[None]:
+        """Everything added inside the ``with`` block belongs to the part ``name`` (a
+        named surface, :attr:`Scene.parts`); a block may name a part again to add to it."""
+        if self._part != -1:
+            raise ValueError(f"part {name!r} inside part {self.parts[self._part]!r}")
+        if name not in self.parts:
+            self.parts.append(name)
+        self._part = self.parts.index(name)
+        try:
+            yield
+        finally:
+            self._part = -1
+
+    def part_fields(self) -> dict:
+        """``parts`` and ``triangle_parts`` for :class:`Scene` (nothing without parts)."""
+        if not self.parts:
+            return {}
+        counts = [len(chunk) // 3 for chunk in self._positions]
+        return {"parts": tuple(self.parts),
+                "triangle_parts": np.repeat(np.asarray(self._part_of_chunk, np.int32),
+                                            counts)}
 
     @contextmanager
     def object(self, name: str) -> Iterator[None]:
@@ -311,6 +358,7 @@ class MeshBuilder:
         self._positions.append(positions)
         self._normals.append(normals)
         self._albedo.append(np.tile(np.asarray(albedo, np.float64), (len(positions), 1)))
+        self._part_of_chunk.append(self._part)
         self._corners += len(positions)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -115,6 +115,13 @@ def flux_ratio(test: np.ndarray, reference: np.ndarray, region=None,
     return _flux(float(t.sum()), float(r.sum()))
 
 
+def mean_radiance(image: np.ndarray, region=None) -> float:
+    """Mean of ``image`` over the region's pixels and all channels (radiance): the two
+    means of a region have the ratio :func:`flux_ratio` (same pixels, same count)."""
+    image = _image(image, "image")
+    return float(np.mean(image[region_mask(image.shape[:2], region)]))
+
+
 def _flux(test_sum: float, reference_sum: float) -> float:
     if reference_sum == 0.0 and test_sum == 0.0:
         return 1.0
