@@ -156,7 +156,8 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
         gather = pipeline._gather
         grid = pipeline._levels[0].output.accumulated
         twice = [CascadeInput(one.grid_spec, grid.textures)] * 2
-        gather.run(pipeline._gbuffer, pipeline._rsm_textures, pipeline._light, None,
+        lights = pipeline.light_views
+        gather.run(pipeline._gbuffer, lights.rsm_textures, lights.views, None,
                    one.grid_spec, cascades=twice)
         blended = sum(read_texture(gather.targets[name])[..., :3]
                       for name in ("direct", "indirect"))

@@ -168,7 +168,8 @@ def test_a_uniform_field_scatters_its_radiance_times_one_minus_t(pipeline, ctx, 
         data[..., 0] = s0[channel]
         textures.append(ctx.texture3d((spec.resolution,) * 3, 4, data.tobytes(), dtype="f4"))
     try:
-        pipeline._fog.run(pipeline._gbuffer, pipeline._rsm_textures, pipeline._light,
+        lights = pipeline.light_views
+        pipeline._fog.run(pipeline._gbuffer, lights.rsm_textures, lights.views,
                           pipeline._scene, [CascadeInput(spec, tuple(textures))],
                           Medium.of(settings))
         lpv = read_texture(pipeline._fog.targets["fog_lpv"])[..., :3]

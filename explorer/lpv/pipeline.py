@@ -17,14 +17,12 @@ Two ways to run a frame:
   few milliseconds per frame (``job.advance(budget_ms)``), showing the accumulation grow
   (``job.preview()``) and cancelled by the next ``start`` with other settings.
 
-Several lights (docs/MODEL.md "Several lights"): the RSM stage renders one RSM per view of
-every light that shines (a point light has six), the views' VPLs are copied side by side
-into one atlas (explorer/lpv/atlas.py) that the injection reads at once, the geometry
-volume merges the views' volumes per cell, and the gather sums every view's direct light
-with its own shadow map. One view needs no atlas: its RSM is used as it is. The fog's
-direct in-scattering sums every view's too, and camera occluders keep the G-buffer
-pixels no view's shadow map holds, added to the merged volume (docs/MODEL.md "Fog",
-"Camera occluders").
+Several lights (docs/MODEL.md "Several lights"): :attr:`Pipeline.light_views`
+(explorer/lpv/light_views.py) renders one RSM per view of every light that shines and
+puts the views side by side for the injection; the geometry volume merges the views'
+volumes per cell, the gather and the fog sum every view's direct light with its own
+shadow map, and camera occluders keep the G-buffer pixels no view's shadow map holds
+(docs/MODEL.md "Fog", "Camera occluders").
 
 Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage, which
 rewrites only their corners in the vertex buffer; the stages downstream of it (RSM,
@@ -49,11 +47,10 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import guards
-from explorer.lpv.atlas import PerView, VplAtlas
 from explorer.lpv import fog as fog_pass
 from explorer.lpv import gather as gather_pass
 from explorer.lpv import gbuffer as gbuffer_pass
-from explorer.lpv.audit import audit_covers, check_finite, flux_per_light
+from explorer.lpv.audit import audit_covers, check_finite
 from explorer.lpv.cascades import (
     CascadeInput,
     CascadeLevel,
@@ -64,7 +61,6 @@ from explorer.lpv.cascades import (
 from explorer.lpv.cascades import check_limits as check_cascade_limits
 from explorer.lpv.display import AutoExposure, DisplayPass, FogImages
 from explorer.lpv.fog import FogPass, Medium
-from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult, frame_result
 from explorer.lpv.gather import GatherPass, Glossy, bands, reduced_size
 from explorer.lpv.gbuffer import GBufferPass
@@ -82,12 +78,12 @@ from explorer.lpv.limits import (
     check_memory,
 )
 from explorer.lpv.propagate import slabs
-from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
+from explorer.lpv.light_views import LightViews
 from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
 from explorer.lpv.views import render_view
 from explorer.lpv.timing import PassTimer
-from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.lpv.vpl import VplArrays
 from explorer.lpv.work_units import countdown, read_back, single_unit
 from explorer.scene import Scene, load_scene
 from explorer.scene.gpu import SceneBuffers
@@ -115,11 +111,9 @@ class Pipeline:
         """Refuse settings whose textures and read-back arrays would need more bytes."""
         self.timer = PassTimer(ctx)
         """Times every pass (``timings_ms``, ``timing_methods``; explorer/lpv/timing.py)."""
-        self._rsm = PerView(lambda: RsmPass(ctx, self.programs))
-        """One RSM pass per view (each owns the textures it renders)."""
-        self._downsample = PerView(lambda: DownsamplePass(ctx, self.programs))
-        self._rsm_atlas = VplAtlas(ctx, self.programs)
-        self._vpl_atlas = VplAtlas(ctx, self.programs)
+        self.light_views = LightViews(ctx, self.programs, self.timer)
+        """The RSM and downsample passes of every light view, their atlases and what the
+        ``rsm`` and ``downsample`` stages left (explorer/lpv/light_views.py)."""
         self.pose_ms = 0.0
         """Wall-clock milliseconds the scene stage last spent posing objects and writing
         their corners to the vertex buffer (``lpv-explorer bench``'s moving object)."""
@@ -152,16 +146,8 @@ class Pipeline:
         """The loaded scene with the Settings' object transforms applied."""
         self._scene: Scene | None = None
         self._geometry_buffers: SceneBuffers | None = None
-        self._light: list[LightView] = []
-        """The RSM views of every light that shines (primary first)."""
-        self._rsm_sets: list[VplTextures] = []
-        self._vpl_sets: list[VplTextures] = []
-        self._shadow_tiles: list[tuple[int, int]] = [(0, 0)]
         self._specs: list[GridSpec] = []
         self._levels: list[CascadeLevel] = []
-        self._rsm_textures: VplTextures | None = None
-        self._vpl_textures: VplTextures | None = None
-        self._override_textures: VplTextures | None = None
         self._arrays: dict[str, object] = {}
         self._warnings: dict[str, list[str]] = {}
         """Stage -> the warnings of its last run (explorer/lpv/guards.py)."""
@@ -330,16 +316,12 @@ class Pipeline:
     def release(self) -> None:
         if self.job is not None:
             self.job.cancel()
-        for stage in (self._rsm, self._downsample, self._rsm_atlas, self._vpl_atlas,
-                      self._inject, self._geometry, self._gbuffer, self._gather, self._fog,
-                      self._display, self._preview_gather):
+        for stage in (self.light_views, self._inject, self._geometry, self._gbuffer,
+                      self._gather, self._fog, self._display, self._preview_gather):
             if stage is not None:
                 stage.release()
         self._preview_gather, self.preview_textures = None, None
         self._release_levels(0)
-        if self._override_textures is not None:
-            self._override_textures.release()
-            self._override_textures = None
         if self._geometry_buffers is not None:
             self._geometry_buffers.release()
             self._geometry_buffers = None
@@ -395,7 +377,7 @@ class Pipeline:
         if stage in ("inject", "geometry"):
             return len(self._specs)
         if stage == "rsm":
-            return len(light_views(self._scene_for(job.settings), job.settings.rsm_size)) + 1
+            return len(LightViews.of(self._scene_for(job.settings), job.settings.rsm_size)) + 1
         if stage == "gbuffer":
             return 1 + len(gbuffer_pass.TARGETS)
         if stage == "gather":
@@ -492,61 +474,21 @@ class Pipeline:
         """One RSM per view of every light that shines (a unit each), then the atlas of
         their shadow maps and VPLs (several views) and the read-back (one unit)."""
         s = job.settings
-        views = light_views(self._scene_for(s), s.rsm_size)
+        views = LightViews.of(self._scene_for(s), s.rsm_size)
         check_memory(s, self.memory_budget_bytes, views=len(views))
-        self.timer.reset("rsm")
-        sets = []
-        for k, view in enumerate(views):
-            sets.append(self.timer.timed("rsm", lambda: self._rsm.run(
-                k, self._geometry_buffers, view), accumulate=True))
-            yield
-        self._light, self._rsm_sets = views, sets
-        self._rsm_textures, self._shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm")
-        flux = [read_texture(rsm.flux) for rsm in sets]
-        first = sets[0]
-        self._arrays["rsm"] = (read_texture(first.position), read_texture(first.normal),
-                               flux[0])
-        per_light = flux_per_light(flux, [view.light_index for view in views])
-        self._arrays["rsm_flux"] = per_light.sum(axis=0)
-        self._arrays["rsm_flux_per_light"] = per_light
-        self._warnings["rsm"] = guards.arrays_warnings("rsm", [*self._arrays["rsm"], *flux], s)
-
-    def _atlas(self, atlas: VplAtlas, sets: list[VplTextures], stage: str
-               ) -> tuple[VplTextures, list[tuple[int, int]]]:
-        """The one set, or the atlas of several (timed into ``stage``), and where each
-        view's tile starts."""
-        if len(sets) == 1:
-            return sets[0], [(0, 0)]
-        textures = self.timer.timed(stage, lambda: atlas.build(
-            sets, self.limits.max_framebuffer_size), accumulate=True)
-        return textures, [atlas.layout.origin(k) for k in range(len(sets))]
+        yield from self.light_views.render(views, self._geometry_buffers,
+                                           self.limits.max_framebuffer_size)
+        arrays, checked = self.light_views.rsm_read_back()
+        self._arrays.update(arrays)
+        self._warnings["rsm"] = guards.arrays_warnings("rsm", checked, s)
 
     def _stage_downsample(self, job: Job) -> None:
-        s, vpls = job.settings, job.vpls
-        if self._override_textures is not None:
-            self._override_textures.release()
-            self._override_textures = None
-        if vpls is not None:
-            self.timer.forget("downsample")
-            self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
-            self._vpl_textures = self._override_textures
-            self._vpl_sets = [self._override_textures]
-        elif s.downsample == "none" or s.downsample_factor == 1:
-            self.timer.forget("downsample")
-            self._vpl_textures, self._vpl_sets = self._rsm_textures, list(self._rsm_sets)
-        else:
-            self.timer.reset("downsample")
-            self._vpl_sets = [self.timer.timed("downsample", lambda: self._downsample.run(
-                k, rsm, s.downsample, s.downsample_factor, self._specs[0], view),
-                accumulate=True) for k, (rsm, view) in enumerate(zip(self._rsm_sets,
-                                                                    self._light))]
-            self._vpl_textures, _ = self._atlas(self._vpl_atlas, self._vpl_sets, "downsample")
-        sets = [vpl_set.to_arrays() for vpl_set in self._vpl_sets]
-        self._arrays["vpl_sets"] = sets
-        self._arrays["vpls"] = sets[0] if len(sets) == 1 else VplArrays.concatenate(sets)
-        self._arrays["view_lights"] = (0,) if vpls is not None else tuple(
-            view.light_index for view in self._light)
-        if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
+        """The VPLs the injection reads (explorer/lpv/light_views.py ``choose_vpls``)
+        and their read-back."""
+        s = job.settings
+        self._arrays.update(self.light_views.choose_vpls(s, job.vpls, self._specs[0],
+                                                         self.limits.max_framebuffer_size))
+        if job.vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
             self._warnings["downsample"] = guards.arrays_warnings(
                 "downsample", [self._arrays["vpls"].flux], s)
 
@@ -557,7 +499,7 @@ class Pipeline:
         for k, (level, spec) in enumerate(zip(levels, self._specs)):
             grid = level.grid(spec.resolution, s.grid_format, s.sh_order)
             self.timer.timed("inject", lambda: self._inject.run(
-                self._vpl_textures, spec, s.corrections, s.injection_mode, grid,
+                self.light_views.vpl_textures, spec, s.corrections, s.injection_mode, grid,
                 s.injection_offset_cells), accumulate=True)
             if s.debug_nan:
                 check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
@@ -573,7 +515,7 @@ class Pipeline:
             for level in levels:
                 level.release_volume()
             return
-        occluders = self._rsm_sets if job.vpls is None else [self._vpl_textures]
+        occluders = self.light_views.occluders(hand_made=job.vpls is not None)
         camera = self._camera_surfels(s) if s.uses_camera_occluders else None
         self.timer.reset("geometry")
         warnings = []
@@ -592,13 +534,13 @@ class Pipeline:
     def _camera_surfels(self, s: Settings) -> CameraSurfels:
         """The G-buffer as occluder surfels, tested against every RSM view's shadow map
         (docs/MODEL.md "Camera occluders")."""
-        camera = self._scene.camera
+        camera, lights = self._scene.camera, self.light_views
         return CameraSurfels(
             position=self._gbuffer.position, normal=self._gbuffer.normal,
             albedo=self._gbuffer.albedo, view=camera.view_matrix(),
             pixel_area=camera_pixel_area(camera.fov_y_degrees, s.height),
-            shadow=self._rsm_textures, views=tuple(self._light),
-            tiles=tuple(self._shadow_tiles))
+            shadow=lights.rsm_textures, views=tuple(lights.views),
+            tiles=tuple(lights.shadow_tiles))
 
     def _stage_propagate(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
@@ -679,13 +621,14 @@ class Pipeline:
         levels = self._levels[: len(self._specs)]
         cascades = [CascadeInput(spec, level.accumulation_textures)
                     for spec, level in zip(self._specs, levels)]
-        medium = Medium.of(s)
+        medium, lights = Medium.of(s), self.light_views
         self.timer.reset("fog")
         for band in bands((s.width, s.height)):
             self.timer.timed("fog", lambda: self._fog.run(
-                self._gbuffer, self._rsm_textures, self._light, self._scene, cascades, medium,
-                sh_order=levels[0].injected.sh_order, shader_filter=self._gather.shader_filter,
-                rows=band, shadow_tiles=self._shadow_tiles), accumulate=True)
+                self._gbuffer, lights.rsm_textures, lights.views, self._scene, cascades,
+                medium, sh_order=levels[0].injected.sh_order,
+                shader_filter=self._gather.shader_filter, rows=band,
+                shadow_tiles=lights.shadow_tiles), accumulate=True)
             yield
         targets = self._fog.targets
         direct, lpv = yield from read_back([targets[name] for name in fog_pass.TARGETS])
@@ -751,10 +694,11 @@ class Pipeline:
         cascades = None
         if len(levels) > 1:
             cascades = [CascadeInput(spec, t) for spec, t in zip(self._specs, textures)]
+        lights = self.light_views
         (into or self._gather).run(
-            self._gbuffer, self._rsm_textures, self._light, textures[0], self._specs[0],
+            self._gbuffer, lights.rsm_textures, lights.views, textures[0], self._specs[0],
             s.gather_damping, cascades=cascades, sh_order=levels[0].injected.sh_order,
-            rows=rows, shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
+            rows=rows, shadow_kernel=s.shadow_kernel, shadow_tiles=lights.shadow_tiles,
             glossy=Glossy.of(s, self._scene.camera.eye), size=size)
 
     def propagation_inputs(self, level: int = 0):
