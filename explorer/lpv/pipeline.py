@@ -24,9 +24,9 @@ volumes per cell, the gather and the fog sum every view's direct light with its 
 shadow map, and camera occluders keep the G-buffer pixels no view's shadow map holds
 (docs/MODEL.md "Fog", "Camera occluders").
 
-Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage, which
-rewrites only their corners in the vertex buffer; the stages downstream of it (RSM,
-G-buffer and all that follows) then run again through their keys.
+Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage
+(:attr:`Pipeline.scene_state`, explorer/lpv/scene_state.py), which rewrites only their
+corners in the vertex buffer; the stages downstream of it then run again by their keys.
 
 Cascades (docs/MODEL.md "Cascades") are a list of levels, level 0 the finest (or the
 single grid enclosing the scene); inject, geometry and propagate run every level (their
@@ -39,7 +39,6 @@ query, or the wall clock on a software renderer), in ``FrameResult.timings_ms``.
 from __future__ import annotations
 
 import inspect
-import time
 from collections.abc import Callable, Iterator
 
 import moderngl
@@ -79,14 +78,14 @@ from explorer.lpv.limits import (
 )
 from explorer.lpv.propagate import slabs
 from explorer.lpv.light_views import LightViews
+from explorer.lpv.scene_state import SceneState
 from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
 from explorer.lpv.views import render_view
 from explorer.lpv.timing import PassTimer
 from explorer.lpv.vpl import VplArrays
 from explorer.lpv.work_units import countdown, read_back, single_unit
-from explorer.scene import Scene, load_scene
-from explorer.scene.gpu import SceneBuffers
+from explorer.scene import Scene
 
 __all__ = ["FrameResult", "LevelResult", "Pipeline", "render"]
 
@@ -114,9 +113,9 @@ class Pipeline:
         self.light_views = LightViews(ctx, self.programs, self.timer)
         """The RSM and downsample passes of every light view, their atlases and what the
         ``rsm`` and ``downsample`` stages left (explorer/lpv/light_views.py)."""
-        self.pose_ms = 0.0
-        """Wall-clock milliseconds the scene stage last spent posing objects and writing
-        their corners to the vertex buffer (``lpv-explorer bench``'s moving object)."""
+        self.scene_state = SceneState(ctx)
+        """The loaded and posed scene, its vertex buffer and the frame's scene with the
+        Settings applied (explorer/lpv/scene_state.py)."""
         self._inject = InjectPass(ctx, self.programs)
         self._geometry = MergedGeometryPass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
@@ -141,11 +140,6 @@ class Pipeline:
         """Stage -> measured milliseconds of its last unit of work (a job's budget)."""
         self.job: Job | None = None
         """The job in progress, if any."""
-        self._scene_cache: dict[str, Scene] = {}
-        self._posed: Scene | None = None
-        """The loaded scene with the Settings' object transforms applied."""
-        self._scene: Scene | None = None
-        self._geometry_buffers: SceneBuffers | None = None
         self._specs: list[GridSpec] = []
         self._levels: list[CascadeLevel] = []
         self._arrays: dict[str, object] = {}
@@ -254,7 +248,7 @@ class Pipeline:
             raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
         first = STAGES.index(stage) if stage is not None else 0
         if first == 0:
-            self._scene_cache.clear()
+            self.scene_state.forget()
         for name in STAGES[first:]:
             self.keys.pop(name, None)
 
@@ -279,7 +273,7 @@ class Pipeline:
         result = self.last_result
         if name == "cascade-weights":
             options["positions"] = result.gbuffer_position
-        scene = self._scene
+        scene = self.scene_state.scene
         return render_view(result, name, bounds=(scene.bounds_min, scene.bounds_max),
                            **options)
 
@@ -287,7 +281,13 @@ class Pipeline:
     def base_scene(self) -> Scene | None:
         """The scene of the last run as loaded, before the Settings' camera, light and
         flux overrides (its own defaults); None before the first run."""
-        return self._scene_cache.get(self.settings.scene) if self._scene_cache else None
+        return self.scene_state.base(self.settings.scene)
+
+    @property
+    def pose_ms(self) -> float:
+        """Wall-clock milliseconds the scene stage last spent posing objects
+        (:attr:`SceneState.pose_ms`)."""
+        return self.scene_state.pose_ms
 
     def gathered_flux(self) -> np.ndarray:
         """(3,) flux [W] the visible surfaces receive from the LPV: the sum over pixels of
@@ -322,9 +322,7 @@ class Pipeline:
                 stage.release()
         self._preview_gather, self.preview_textures = None, None
         self._release_levels(0)
-        if self._geometry_buffers is not None:
-            self._geometry_buffers.release()
-            self._geometry_buffers = None
+        self.scene_state.release()
         self.programs.release()
         self.keys.clear()
         if self._owns_context:
@@ -368,7 +366,7 @@ class Pipeline:
         """The value of a by-value stage (``grid``: the tuple of cascade specs)."""
         if stage != "grid":
             raise ValueError(f"{stage} is not a by-value stage")
-        self._specs = frame_specs(job.settings, self._scene_for(job.settings))
+        self._specs = frame_specs(job.settings, self.scene_state.for_settings(job.settings))
         return tuple(self._specs)
 
     def stage_units(self, stage: str, job: Job) -> int:
@@ -377,7 +375,8 @@ class Pipeline:
         if stage in ("inject", "geometry"):
             return len(self._specs)
         if stage == "rsm":
-            return len(LightViews.of(self._scene_for(job.settings), job.settings.rsm_size)) + 1
+            scene = self.scene_state.for_settings(job.settings)
+            return len(LightViews.of(scene, job.settings.rsm_size)) + 1
         if stage == "gbuffer":
             return 1 + len(gbuffer_pass.TARGETS)
         if stage == "gather":
@@ -403,8 +402,9 @@ class Pipeline:
     def finish_job(self, job: Job) -> FrameResult:
         """The FrameResult of a job whose stages are all complete."""
         self.last_result = frame_result(
-            job.settings, self._arrays, list(zip(self._specs, self._levels)), self._scene,
-            self._warnings, self.timer, job.progress.stages_run, self._display_scale)
+            job.settings, self._arrays, list(zip(self._specs, self._levels)),
+            self.scene_state.scene, self._warnings, self.timer, job.progress.stages_run,
+            self._display_scale)
         return self.last_result
 
     def show_preview(self, job: Job, scale: float = 1.0) -> bool:
@@ -440,31 +440,18 @@ class Pipeline:
     # One method per stage of explorer/lpv/stages.py: a plain method is one unit of work,
     # a generator yields after each unit but the last (see stage_work).
     def _stage_scene(self, job: Job) -> None:
-        """Load the mesh (once per scene name) and pose its objects: only the corners of
-        objects whose transform changed are written to the vertex buffer again."""
-        s = job.settings
-        base = self._scene_cache.get(s.scene)
-        if base is None:
-            base = load_scene(s.scene)
-            self._scene_cache = {s.scene: base}
-            self._posed = None
-            if self._geometry_buffers is not None:
-                self._geometry_buffers.release()
-            self._geometry_buffers = SceneBuffers(self.ctx, base)
-        started = time.perf_counter()
-        self._posed = base.posed(s.object_transforms)
-        self._geometry_buffers.show(self._posed)
-        self.ctx.finish()
-        self.pose_ms = (time.perf_counter() - started) * 1e3
+        """Load the mesh (once per scene name) and pose its objects
+        (:meth:`SceneState.load_and_pose`)."""
+        base = self.scene_state.load_and_pose(job.settings)
         self._warnings["scene"] = guards.found(
             guards.scale_warning(base.bounds_min, base.bounds_max))
 
     def _stage_gbuffer(self, job: Job) -> Iterator[None]:
         """The G-buffer, then the read-back of each of its textures (one unit each)."""
         s = job.settings
-        scene = self._scene_for(s)
-        self.timer.timed("gbuffer", lambda: self._gbuffer.run(self._geometry_buffers, scene,
-                                                         (s.width, s.height)))
+        scene = self.scene_state.for_settings(s)
+        self.timer.timed("gbuffer", lambda: self._gbuffer.run(
+            self.scene_state.buffers, scene, (s.width, s.height)))
         yield
         arrays = yield from read_back(self._gbuffer.textures)
         self._arrays["gbuffer"] = tuple(arrays)
@@ -474,9 +461,9 @@ class Pipeline:
         """One RSM per view of every light that shines (a unit each), then the atlas of
         their shadow maps and VPLs (several views) and the read-back (one unit)."""
         s = job.settings
-        views = LightViews.of(self._scene_for(s), s.rsm_size)
+        views = LightViews.of(self.scene_state.for_settings(s), s.rsm_size)
         check_memory(s, self.memory_budget_bytes, views=len(views))
-        yield from self.light_views.render(views, self._geometry_buffers,
+        yield from self.light_views.render(views, self.scene_state.buffers,
                                            self.limits.max_framebuffer_size)
         arrays, checked = self.light_views.rsm_read_back()
         self._arrays.update(arrays)
@@ -534,7 +521,7 @@ class Pipeline:
     def _camera_surfels(self, s: Settings) -> CameraSurfels:
         """The G-buffer as occluder surfels, tested against every RSM view's shadow map
         (docs/MODEL.md "Camera occluders")."""
-        camera, lights = self._scene.camera, self.light_views
+        camera, lights = self.scene_state.scene.camera, self.light_views
         return CameraSurfels(
             position=self._gbuffer.position, normal=self._gbuffer.normal,
             albedo=self._gbuffer.albedo, view=camera.view_matrix(),
@@ -625,8 +612,8 @@ class Pipeline:
         self.timer.reset("fog")
         for band in bands((s.width, s.height)):
             self.timer.timed("fog", lambda: self._fog.run(
-                self._gbuffer, lights.rsm_textures, lights.views, self._scene, cascades,
-                medium, sh_order=levels[0].injected.sh_order,
+                self._gbuffer, lights.rsm_textures, lights.views, self.scene_state.scene,
+                cascades, medium, sh_order=levels[0].injected.sh_order,
                 shader_filter=self._gather.shader_filter, rows=band,
                 shadow_tiles=lights.shadow_tiles), accumulate=True)
             yield
@@ -664,13 +651,6 @@ class Pipeline:
                                          s.indirect_only, self._arrays["gbuffer"][0])
 
     # ------------------------------------------------------------------ helpers
-    def _scene_for(self, s: Settings) -> Scene:
-        """The posed scene with the Settings' lights, camera, light, flux and spot cone
-        applied."""
-        posed = self._posed if self._posed is not None else self._scene_cache[s.scene]
-        self._scene = posed.for_settings(s)
-        return self._scene
-
     def _levels_for(self, specs: list[GridSpec]) -> list[CascadeLevel]:
         """One :class:`CascadeLevel` per spec (extra levels are released)."""
         self._release_levels(len(specs))
@@ -699,7 +679,7 @@ class Pipeline:
             self._gbuffer, lights.rsm_textures, lights.views, textures[0], self._specs[0],
             s.gather_damping, cascades=cascades, sh_order=levels[0].injected.sh_order,
             rows=rows, shadow_kernel=s.shadow_kernel, shadow_tiles=lights.shadow_tiles,
-            glossy=Glossy.of(s, self._scene.camera.eye), size=size)
+            glossy=Glossy.of(s, self.scene_state.scene.camera.eye), size=size)
 
     def propagation_inputs(self, level: int = 0):
         """``(injected grid, GridSpec, geometry volume or None)`` of cascade ``level``'s
