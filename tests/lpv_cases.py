@@ -117,7 +117,7 @@ def frame_view_lights(pipeline) -> list:
     from explorer.lpv import reference_media
     from explorer.lpv.rsm import read_texture
 
-    sets = pipeline._rsm_sets
-    return reference_media.view_lights(pipeline._light,
+    sets = pipeline.light_views.rsm_sets
+    return reference_media.view_lights(pipeline.light_views.views,
                                        [read_texture(rsm.position) for rsm in sets],
                                        [read_texture(rsm.normal) for rsm in sets])

@@ -658,20 +658,38 @@ def test_several_panels_asked_forward_at_once_all_come_forward(config_home):
         app.close()
 
 
-def test_the_corrections_panel_fits_its_column_at_1280(config_home):
-    """At 1280×720 the tool column is about 300 px wide: the Corrections panel's widest
-    line (a consequence's formula and its '≈ value') wraps instead of running past the
-    right edge (imgui's content width of the window stays within its inner width)."""
+def _content_fits_at_1280(title: str, state: AppState | None = None) -> None:
+    """Panel ``title`` brought forward in a 1280×720 window: imgui's content width of the
+    window (its widest item) stays within its inner width."""
     from imgui_bundle import imgui
 
-    app = _app(pipeline_class=None, width=1280, height=720)
+    app = _app(state, pipeline_class=None, width=1280, height=720)
     try:
-        app.state.requests.focus_panel = "Corrections"
+        for _ in range(2):         # the first frame docks the windows
+            app.frame()
+        app.state.requests.focus_panel = title
         for _ in range(4):
             app.frame()
-        window = imgui.internal.find_window_by_name("Corrections")
+        window = imgui.internal.find_window_by_name(title)
         assert not window.hidden
         inner = window.inner_rect.max.x - window.inner_rect.min.x
         assert 0 < window.content_size.x <= inner, (window.content_size.x, inner)
     finally:
         app.close()
+
+
+def test_the_corrections_panel_fits_its_column_at_1280(config_home):
+    """At 1280×720 the tool column is about 300 px wide: the Corrections panel's widest
+    line (a consequence's formula and its '≈ value') wraps instead of running past the
+    right edge."""
+    _content_fits_at_1280("Corrections")
+
+
+def test_the_scene_panel_fits_its_column_at_1280(config_home):
+    """At 1280×720 the Scene panel's fields with long labels ("Shadow PCF [texels]",
+    "Fog density σt [1/m]") are narrowed so that field and label end within the column,
+    every sometimes-shown control included."""
+    state = AppState(settings=TINY.with_changes(downsample="average", cascades=2, fog=True,
+                                                glossy=True, fog_phase="henyey-greenstein"))
+    state.follow_view_size = False
+    _content_fits_at_1280("Scene", state)

@@ -38,7 +38,7 @@ def reference_surfels(pipeline, result):
     albedo = np.dstack([result.albedo, np.ones(result.albedo.shape[:2])])
     camera = media.camera_surfels(result.gbuffer_position, result.gbuffer_normal, albedo,
                                   result.camera, frame_view_lights(pipeline))
-    return [rsm.to_arrays() for rsm in pipeline._rsm_sets], camera
+    return [rsm.to_arrays() for rsm in pipeline.light_views.rsm_sets], camera
 
 
 def reference_volume(pipeline, result, mode: str = "one-sided", spec=None):

@@ -149,14 +149,15 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
     with Pipeline(SMALL, ctx=gl_context) as pipeline:
         one = pipeline.run(SMALL.with_changes(cascades=1))
         assert one.cascade_specs == [one.grid_spec]
-        scene = pipeline._scene
+        scene = pipeline.scene_state.scene
         assert one.grid_spec == GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 16)
         image = one.final_image.copy()
         # the cascade code path with two identical cascades gives the same image
         gather = pipeline._gather
         grid = pipeline._levels[0].output.accumulated
         twice = [CascadeInput(one.grid_spec, grid.textures)] * 2
-        gather.run(pipeline._gbuffer, pipeline._rsm_textures, pipeline._light, None,
+        lights = pipeline.light_views
+        gather.run(pipeline._gbuffer, lights.rsm_textures, lights.views, None,
                    one.grid_spec, cascades=twice)
         blended = sum(read_texture(gather.targets[name])[..., :3]
                       for name in ("direct", "indirect"))
@@ -218,7 +219,7 @@ def test_camera_moves_shift_cascades_by_whole_cells_only(gl_context, ctx):   # c
     with Pipeline(SMALL, ctx=gl_context) as pipeline:
         settings = SMALL.with_changes(cascades=2)
         first = pipeline.run(settings)
-        camera = pipeline._scene.camera
+        camera = pipeline.scene_state.scene.camera
         fine = first.cascade_specs[0].cell_size
         # the focus point at the lattice point its cascades snapped to: nudges below half
         # a fine cell move no grid, so only the camera's own stages run again

@@ -35,7 +35,7 @@ def pipeline(gl_context):
 def reference_fog(pipeline, result):
     """The reference march of every pixel of ``result`` (transmittance, direct, LPV)."""
     s = result.settings
-    scene = pipeline._scene
+    scene = pipeline.scene_state.scene
     eye, inverse = camera_rays(scene, (s.width, s.height))
     directions, distances = media.pixel_rays(eye, inverse, result.gbuffer_position)
     medium = Medium.of(s)
@@ -95,7 +95,7 @@ def test_transmittance_is_exp_of_the_path_in_the_box(pipeline):
     surface: the Cornell camera stands outside the box, so ℓ < distance to the surface."""
     result = pipeline.run(FOG)
     s = result.settings
-    scene = pipeline._scene
+    scene = pipeline.scene_state.scene
     eye, inverse = camera_rays(scene, (s.width, s.height))
     directions, distances = media.pixel_rays(eye, inverse, result.gbuffer_position)
     flat = directions.reshape(-1, 3)
@@ -168,8 +168,9 @@ def test_a_uniform_field_scatters_its_radiance_times_one_minus_t(pipeline, ctx, 
         data[..., 0] = s0[channel]
         textures.append(ctx.texture3d((spec.resolution,) * 3, 4, data.tobytes(), dtype="f4"))
     try:
-        pipeline._fog.run(pipeline._gbuffer, pipeline._rsm_textures, pipeline._light,
-                          pipeline._scene, [CascadeInput(spec, tuple(textures))],
+        lights = pipeline.light_views
+        pipeline._fog.run(pipeline._gbuffer, lights.rsm_textures, lights.views,
+                          pipeline.scene_state.scene, [CascadeInput(spec, tuple(textures))],
                           Medium.of(settings))
         lpv = read_texture(pipeline._fog.targets["fog_lpv"])[..., :3]
         transmittance = read_texture(pipeline._fog.targets["fog_direct"])[..., 3]

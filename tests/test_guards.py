@@ -107,7 +107,7 @@ def test_the_memory_budget_is_checked_before_anything_is_allocated(gl_context):
         assert "\n" not in message
         assert message.startswith("rsm_size 2048 (RSM textures and their read-back) needs")
         assert "memory budget of 64.0 MiB" in message and "lower rsm_size" in message
-        assert pipe.keys == {} and pipe._rsm.passes == []
+        assert pipe.keys == {} and pipe.light_views.rsm.passes == []
         requests = {r.name: r.bytes for r in memory_requests(big)}
         assert requests["rsm_size"] > 64 << 20 > requests["grid_size"]
         image = SMALL.with_changes(width=4096, height=4096)

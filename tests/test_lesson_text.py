@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from explorer import lesson_text as lt
-from explorer.ui.textflow import Box, layout, words
+from explorer.ui.textflow import Box, column_widths, layout, words
 
 
 def test_paragraphs_items_and_display_math():
@@ -115,3 +115,21 @@ def test_lines_share_one_baseline():
     assert len(lines) == 1 and lines[0].ascent == 18.0 and lines[0].descent == 6.0
     lines = layout(boxes, 12.0, min_ascent=12.0, min_descent=4.0, leading=2.0)
     assert [line.y for line in lines] == [0.0, 16.0 + 2.0, 18.0 + 24.0 + 2.0]
+
+
+def test_table_columns_are_at_least_as_wide_as_their_widest_word():
+    # room to spare: the weights share the width
+    assert column_widths([10.0, 10.0], [1.0, 3.0], 100.0) == [25.0, 75.0]
+    # a column whose share is narrower than its widest word ("Screen-space" in lesson
+    # 14) gets that word's width; the others share what is left by their weights
+    widths = column_widths([10.0, 10.0, 90.0], [0.5, 1.0, 1.0], 200.0)
+    assert widths == [pytest.approx(110 / 3), pytest.approx(220 / 3), 90.0]
+    assert sum(widths) == pytest.approx(200.0)
+    # fixing one column can push another below its word: that one is fixed too
+    widths = column_widths([60.0, 60.0, 10.0], [1.0, 1.0, 4.0], 180.0)
+    assert widths == [60.0, 60.0, pytest.approx(60.0)]
+    # the words do not fit at all: shared in proportion to them
+    assert column_widths([60.0, 180.0], [1.0, 1.0], 120.0) == [30.0, 90.0]
+    assert all(w >= m for w, m in zip(column_widths([5.0, 70.0, 5.0, 70.0],
+                                                   [0.7, 1.0, 1.0, 1.0], 160.0),
+                                      [5.0, 70.0, 5.0, 70.0]))

@@ -16,9 +16,10 @@ from explorer.lpv.settings import Corrections, Settings
 
 SMALL = Settings(scene="cornell", grid_size=8, iterations=6, rsm_size=32, width=40,
                  height=32)
-PASS_OBJECTS = {"rsm": "_rsm", "downsample": "_downsample", "inject": "_inject",
-                "geometry": "_geometry", "gbuffer": "_gbuffer", "gather": "_gather",
-                "display": "_display"}
+PASS_OBJECTS = {"rsm": "light_views.rsm", "downsample": "light_views.downsample",
+                "inject": "_inject", "geometry": "_geometry", "gbuffer": "_gbuffer",
+                "gather": "_gather", "display": "_display"}
+"""Stage -> the pipeline's pass object, as a dotted path of attributes."""
 
 
 class PassCounter:
@@ -29,7 +30,10 @@ class PassCounter:
         self.pipeline = pipeline
         self.calls: dict[str, int] = {}
         for stage, attribute in PASS_OBJECTS.items():
-            self._wrap(getattr(pipeline, attribute), "run", stage)
+            owner = pipeline
+            for name in attribute.split("."):
+                owner = getattr(owner, name)
+            self._wrap(owner, "run", stage)
 
     def _wrap(self, obj, method: str, name: str) -> None:
         original = getattr(obj, method)

@@ -17,18 +17,16 @@ Two ways to run a frame:
   few milliseconds per frame (``job.advance(budget_ms)``), showing the accumulation grow
   (``job.preview()``) and cancelled by the next ``start`` with other settings.
 
-Several lights (docs/MODEL.md "Several lights"): the RSM stage renders one RSM per view of
-every light that shines (a point light has six), the views' VPLs are copied side by side
-into one atlas (explorer/lpv/atlas.py) that the injection reads at once, the geometry
-volume merges the views' volumes per cell, and the gather sums every view's direct light
-with its own shadow map. One view needs no atlas: its RSM is used as it is. The fog's
-direct in-scattering sums every view's too, and camera occluders keep the G-buffer
-pixels no view's shadow map holds, added to the merged volume (docs/MODEL.md "Fog",
-"Camera occluders").
+Several lights (docs/MODEL.md "Several lights"): :attr:`Pipeline.light_views`
+(explorer/lpv/light_views.py) renders one RSM per view of every light that shines and
+puts the views side by side for the injection; the geometry volume merges the views'
+volumes per cell, the gather and the fog sum every view's direct light with its own
+shadow map, and camera occluders keep the G-buffer pixels no view's shadow map holds
+(docs/MODEL.md "Fog", "Camera occluders").
 
-Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage, which
-rewrites only their corners in the vertex buffer; the stages downstream of it (RSM,
-G-buffer and all that follows) then run again through their keys.
+Moving objects (``Settings.object_transforms``) are posed by the ``scene`` stage
+(:attr:`Pipeline.scene_state`, explorer/lpv/scene_state.py), which rewrites only their
+corners in the vertex buffer; the stages downstream of it then run again by their keys.
 
 Cascades (docs/MODEL.md "Cascades") are a list of levels, level 0 the finest (or the
 single grid enclosing the scene); inject, geometry and propagate run every level (their
@@ -41,7 +39,6 @@ query, or the wall clock on a software renderer), in ``FrameResult.timings_ms``.
 from __future__ import annotations
 
 import inspect
-import time
 from collections.abc import Callable, Iterator
 
 import moderngl
@@ -49,11 +46,10 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import guards
-from explorer.lpv.atlas import PerView, VplAtlas
 from explorer.lpv import fog as fog_pass
 from explorer.lpv import gather as gather_pass
 from explorer.lpv import gbuffer as gbuffer_pass
-from explorer.lpv.audit import audit_covers, check_finite, flux_per_light
+from explorer.lpv.audit import audit_covers, check_finite
 from explorer.lpv.cascades import (
     CascadeInput,
     CascadeLevel,
@@ -64,7 +60,6 @@ from explorer.lpv.cascades import (
 from explorer.lpv.cascades import check_limits as check_cascade_limits
 from explorer.lpv.display import AutoExposure, DisplayPass, FogImages
 from explorer.lpv.fog import FogPass, Medium
-from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame import FrameResult, LevelResult, frame_result
 from explorer.lpv.gather import GatherPass, Glossy, bands, reduced_size
 from explorer.lpv.gbuffer import GBufferPass
@@ -82,15 +77,15 @@ from explorer.lpv.limits import (
     check_memory,
 )
 from explorer.lpv.propagate import slabs
-from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
+from explorer.lpv.light_views import LightViews
+from explorer.lpv.scene_state import SceneState
 from explorer.lpv.schema import STAGES
 from explorer.lpv.settings import VIEWS, Settings
 from explorer.lpv.views import render_view
 from explorer.lpv.timing import PassTimer
-from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.lpv.vpl import VplArrays
 from explorer.lpv.work_units import countdown, read_back, single_unit
-from explorer.scene import Scene, load_scene
-from explorer.scene.gpu import SceneBuffers
+from explorer.scene import Scene
 
 __all__ = ["FrameResult", "LevelResult", "Pipeline", "render"]
 
@@ -115,14 +110,12 @@ class Pipeline:
         """Refuse settings whose textures and read-back arrays would need more bytes."""
         self.timer = PassTimer(ctx)
         """Times every pass (``timings_ms``, ``timing_methods``; explorer/lpv/timing.py)."""
-        self._rsm = PerView(lambda: RsmPass(ctx, self.programs))
-        """One RSM pass per view (each owns the textures it renders)."""
-        self._downsample = PerView(lambda: DownsamplePass(ctx, self.programs))
-        self._rsm_atlas = VplAtlas(ctx, self.programs)
-        self._vpl_atlas = VplAtlas(ctx, self.programs)
-        self.pose_ms = 0.0
-        """Wall-clock milliseconds the scene stage last spent posing objects and writing
-        their corners to the vertex buffer (``lpv-explorer bench``'s moving object)."""
+        self.light_views = LightViews(ctx, self.programs, self.timer)
+        """The RSM and downsample passes of every light view, their atlases and what the
+        ``rsm`` and ``downsample`` stages left (explorer/lpv/light_views.py)."""
+        self.scene_state = SceneState(ctx)
+        """The loaded and posed scene, its vertex buffer and the frame's scene with the
+        Settings applied (explorer/lpv/scene_state.py)."""
         self._inject = InjectPass(ctx, self.programs)
         self._geometry = MergedGeometryPass(ctx, self.programs)
         self._gbuffer = GBufferPass(ctx, self.programs)
@@ -147,21 +140,8 @@ class Pipeline:
         """Stage -> measured milliseconds of its last unit of work (a job's budget)."""
         self.job: Job | None = None
         """The job in progress, if any."""
-        self._scene_cache: dict[str, Scene] = {}
-        self._posed: Scene | None = None
-        """The loaded scene with the Settings' object transforms applied."""
-        self._scene: Scene | None = None
-        self._geometry_buffers: SceneBuffers | None = None
-        self._light: list[LightView] = []
-        """The RSM views of every light that shines (primary first)."""
-        self._rsm_sets: list[VplTextures] = []
-        self._vpl_sets: list[VplTextures] = []
-        self._shadow_tiles: list[tuple[int, int]] = [(0, 0)]
         self._specs: list[GridSpec] = []
         self._levels: list[CascadeLevel] = []
-        self._rsm_textures: VplTextures | None = None
-        self._vpl_textures: VplTextures | None = None
-        self._override_textures: VplTextures | None = None
         self._arrays: dict[str, object] = {}
         self._warnings: dict[str, list[str]] = {}
         """Stage -> the warnings of its last run (explorer/lpv/guards.py)."""
@@ -268,7 +248,7 @@ class Pipeline:
             raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
         first = STAGES.index(stage) if stage is not None else 0
         if first == 0:
-            self._scene_cache.clear()
+            self.scene_state.forget()
         for name in STAGES[first:]:
             self.keys.pop(name, None)
 
@@ -293,7 +273,7 @@ class Pipeline:
         result = self.last_result
         if name == "cascade-weights":
             options["positions"] = result.gbuffer_position
-        scene = self._scene
+        scene = self.scene_state.scene
         return render_view(result, name, bounds=(scene.bounds_min, scene.bounds_max),
                            **options)
 
@@ -301,7 +281,13 @@ class Pipeline:
     def base_scene(self) -> Scene | None:
         """The scene of the last run as loaded, before the Settings' camera, light and
         flux overrides (its own defaults); None before the first run."""
-        return self._scene_cache.get(self.settings.scene) if self._scene_cache else None
+        return self.scene_state.base(self.settings.scene)
+
+    @property
+    def pose_ms(self) -> float:
+        """Wall-clock milliseconds the scene stage last spent posing objects
+        (:attr:`SceneState.pose_ms`)."""
+        return self.scene_state.pose_ms
 
     def gathered_flux(self) -> np.ndarray:
         """(3,) flux [W] the visible surfaces receive from the LPV: the sum over pixels of
@@ -330,19 +316,13 @@ class Pipeline:
     def release(self) -> None:
         if self.job is not None:
             self.job.cancel()
-        for stage in (self._rsm, self._downsample, self._rsm_atlas, self._vpl_atlas,
-                      self._inject, self._geometry, self._gbuffer, self._gather, self._fog,
-                      self._display, self._preview_gather):
+        for stage in (self.light_views, self._inject, self._geometry, self._gbuffer,
+                      self._gather, self._fog, self._display, self._preview_gather):
             if stage is not None:
                 stage.release()
         self._preview_gather, self.preview_textures = None, None
         self._release_levels(0)
-        if self._override_textures is not None:
-            self._override_textures.release()
-            self._override_textures = None
-        if self._geometry_buffers is not None:
-            self._geometry_buffers.release()
-            self._geometry_buffers = None
+        self.scene_state.release()
         self.programs.release()
         self.keys.clear()
         if self._owns_context:
@@ -386,7 +366,7 @@ class Pipeline:
         """The value of a by-value stage (``grid``: the tuple of cascade specs)."""
         if stage != "grid":
             raise ValueError(f"{stage} is not a by-value stage")
-        self._specs = frame_specs(job.settings, self._scene_for(job.settings))
+        self._specs = frame_specs(job.settings, self.scene_state.for_settings(job.settings))
         return tuple(self._specs)
 
     def stage_units(self, stage: str, job: Job) -> int:
@@ -395,7 +375,8 @@ class Pipeline:
         if stage in ("inject", "geometry"):
             return len(self._specs)
         if stage == "rsm":
-            return len(light_views(self._scene_for(job.settings), job.settings.rsm_size)) + 1
+            scene = self.scene_state.for_settings(job.settings)
+            return len(LightViews.of(scene, job.settings.rsm_size)) + 1
         if stage == "gbuffer":
             return 1 + len(gbuffer_pass.TARGETS)
         if stage == "gather":
@@ -421,8 +402,9 @@ class Pipeline:
     def finish_job(self, job: Job) -> FrameResult:
         """The FrameResult of a job whose stages are all complete."""
         self.last_result = frame_result(
-            job.settings, self._arrays, list(zip(self._specs, self._levels)), self._scene,
-            self._warnings, self.timer, job.progress.stages_run, self._display_scale)
+            job.settings, self._arrays, list(zip(self._specs, self._levels)),
+            self.scene_state.scene, self._warnings, self.timer, job.progress.stages_run,
+            self._display_scale)
         return self.last_result
 
     def show_preview(self, job: Job, scale: float = 1.0) -> bool:
@@ -458,31 +440,18 @@ class Pipeline:
     # One method per stage of explorer/lpv/stages.py: a plain method is one unit of work,
     # a generator yields after each unit but the last (see stage_work).
     def _stage_scene(self, job: Job) -> None:
-        """Load the mesh (once per scene name) and pose its objects: only the corners of
-        objects whose transform changed are written to the vertex buffer again."""
-        s = job.settings
-        base = self._scene_cache.get(s.scene)
-        if base is None:
-            base = load_scene(s.scene)
-            self._scene_cache = {s.scene: base}
-            self._posed = None
-            if self._geometry_buffers is not None:
-                self._geometry_buffers.release()
-            self._geometry_buffers = SceneBuffers(self.ctx, base)
-        started = time.perf_counter()
-        self._posed = base.posed(s.object_transforms)
-        self._geometry_buffers.show(self._posed)
-        self.ctx.finish()
-        self.pose_ms = (time.perf_counter() - started) * 1e3
+        """Load the mesh (once per scene name) and pose its objects
+        (:meth:`SceneState.load_and_pose`)."""
+        base = self.scene_state.load_and_pose(job.settings)
         self._warnings["scene"] = guards.found(
             guards.scale_warning(base.bounds_min, base.bounds_max))
 
     def _stage_gbuffer(self, job: Job) -> Iterator[None]:
         """The G-buffer, then the read-back of each of its textures (one unit each)."""
         s = job.settings
-        scene = self._scene_for(s)
-        self.timer.timed("gbuffer", lambda: self._gbuffer.run(self._geometry_buffers, scene,
-                                                         (s.width, s.height)))
+        scene = self.scene_state.for_settings(s)
+        self.timer.timed("gbuffer", lambda: self._gbuffer.run(
+            self.scene_state.buffers, scene, (s.width, s.height)))
         yield
         arrays = yield from read_back(self._gbuffer.textures)
         self._arrays["gbuffer"] = tuple(arrays)
@@ -492,61 +461,21 @@ class Pipeline:
         """One RSM per view of every light that shines (a unit each), then the atlas of
         their shadow maps and VPLs (several views) and the read-back (one unit)."""
         s = job.settings
-        views = light_views(self._scene_for(s), s.rsm_size)
+        views = LightViews.of(self.scene_state.for_settings(s), s.rsm_size)
         check_memory(s, self.memory_budget_bytes, views=len(views))
-        self.timer.reset("rsm")
-        sets = []
-        for k, view in enumerate(views):
-            sets.append(self.timer.timed("rsm", lambda: self._rsm.run(
-                k, self._geometry_buffers, view), accumulate=True))
-            yield
-        self._light, self._rsm_sets = views, sets
-        self._rsm_textures, self._shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm")
-        flux = [read_texture(rsm.flux) for rsm in sets]
-        first = sets[0]
-        self._arrays["rsm"] = (read_texture(first.position), read_texture(first.normal),
-                               flux[0])
-        per_light = flux_per_light(flux, [view.light_index for view in views])
-        self._arrays["rsm_flux"] = per_light.sum(axis=0)
-        self._arrays["rsm_flux_per_light"] = per_light
-        self._warnings["rsm"] = guards.arrays_warnings("rsm", [*self._arrays["rsm"], *flux], s)
-
-    def _atlas(self, atlas: VplAtlas, sets: list[VplTextures], stage: str
-               ) -> tuple[VplTextures, list[tuple[int, int]]]:
-        """The one set, or the atlas of several (timed into ``stage``), and where each
-        view's tile starts."""
-        if len(sets) == 1:
-            return sets[0], [(0, 0)]
-        textures = self.timer.timed(stage, lambda: atlas.build(
-            sets, self.limits.max_framebuffer_size), accumulate=True)
-        return textures, [atlas.layout.origin(k) for k in range(len(sets))]
+        yield from self.light_views.render(views, self.scene_state.buffers,
+                                           self.limits.max_framebuffer_size)
+        arrays, checked = self.light_views.rsm_read_back()
+        self._arrays.update(arrays)
+        self._warnings["rsm"] = guards.arrays_warnings("rsm", checked, s)
 
     def _stage_downsample(self, job: Job) -> None:
-        s, vpls = job.settings, job.vpls
-        if self._override_textures is not None:
-            self._override_textures.release()
-            self._override_textures = None
-        if vpls is not None:
-            self.timer.forget("downsample")
-            self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
-            self._vpl_textures = self._override_textures
-            self._vpl_sets = [self._override_textures]
-        elif s.downsample == "none" or s.downsample_factor == 1:
-            self.timer.forget("downsample")
-            self._vpl_textures, self._vpl_sets = self._rsm_textures, list(self._rsm_sets)
-        else:
-            self.timer.reset("downsample")
-            self._vpl_sets = [self.timer.timed("downsample", lambda: self._downsample.run(
-                k, rsm, s.downsample, s.downsample_factor, self._specs[0], view),
-                accumulate=True) for k, (rsm, view) in enumerate(zip(self._rsm_sets,
-                                                                    self._light))]
-            self._vpl_textures, _ = self._atlas(self._vpl_atlas, self._vpl_sets, "downsample")
-        sets = [vpl_set.to_arrays() for vpl_set in self._vpl_sets]
-        self._arrays["vpl_sets"] = sets
-        self._arrays["vpls"] = sets[0] if len(sets) == 1 else VplArrays.concatenate(sets)
-        self._arrays["view_lights"] = (0,) if vpls is not None else tuple(
-            view.light_index for view in self._light)
-        if vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
+        """The VPLs the injection reads (explorer/lpv/light_views.py ``choose_vpls``)
+        and their read-back."""
+        s = job.settings
+        self._arrays.update(self.light_views.choose_vpls(s, job.vpls, self._specs[0],
+                                                         self.limits.max_framebuffer_size))
+        if job.vpls is None:   # hand-made VPLs are the caller's: a NaN shows up at inject
             self._warnings["downsample"] = guards.arrays_warnings(
                 "downsample", [self._arrays["vpls"].flux], s)
 
@@ -557,7 +486,7 @@ class Pipeline:
         for k, (level, spec) in enumerate(zip(levels, self._specs)):
             grid = level.grid(spec.resolution, s.grid_format, s.sh_order)
             self.timer.timed("inject", lambda: self._inject.run(
-                self._vpl_textures, spec, s.corrections, s.injection_mode, grid,
+                self.light_views.vpl_textures, spec, s.corrections, s.injection_mode, grid,
                 s.injection_offset_cells), accumulate=True)
             if s.debug_nan:
                 check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
@@ -573,7 +502,7 @@ class Pipeline:
             for level in levels:
                 level.release_volume()
             return
-        occluders = self._rsm_sets if job.vpls is None else [self._vpl_textures]
+        occluders = self.light_views.occluders(hand_made=job.vpls is not None)
         camera = self._camera_surfels(s) if s.uses_camera_occluders else None
         self.timer.reset("geometry")
         warnings = []
@@ -592,13 +521,13 @@ class Pipeline:
     def _camera_surfels(self, s: Settings) -> CameraSurfels:
         """The G-buffer as occluder surfels, tested against every RSM view's shadow map
         (docs/MODEL.md "Camera occluders")."""
-        camera = self._scene.camera
+        camera, lights = self.scene_state.scene.camera, self.light_views
         return CameraSurfels(
             position=self._gbuffer.position, normal=self._gbuffer.normal,
             albedo=self._gbuffer.albedo, view=camera.view_matrix(),
             pixel_area=camera_pixel_area(camera.fov_y_degrees, s.height),
-            shadow=self._rsm_textures, views=tuple(self._light),
-            tiles=tuple(self._shadow_tiles))
+            shadow=lights.rsm_textures, views=tuple(lights.views),
+            tiles=tuple(lights.shadow_tiles))
 
     def _stage_propagate(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
@@ -679,13 +608,14 @@ class Pipeline:
         levels = self._levels[: len(self._specs)]
         cascades = [CascadeInput(spec, level.accumulation_textures)
                     for spec, level in zip(self._specs, levels)]
-        medium = Medium.of(s)
+        medium, lights = Medium.of(s), self.light_views
         self.timer.reset("fog")
         for band in bands((s.width, s.height)):
             self.timer.timed("fog", lambda: self._fog.run(
-                self._gbuffer, self._rsm_textures, self._light, self._scene, cascades, medium,
-                sh_order=levels[0].injected.sh_order, shader_filter=self._gather.shader_filter,
-                rows=band, shadow_tiles=self._shadow_tiles), accumulate=True)
+                self._gbuffer, lights.rsm_textures, lights.views, self.scene_state.scene,
+                cascades, medium, sh_order=levels[0].injected.sh_order,
+                shader_filter=self._gather.shader_filter, rows=band,
+                shadow_tiles=lights.shadow_tiles), accumulate=True)
             yield
         targets = self._fog.targets
         direct, lpv = yield from read_back([targets[name] for name in fog_pass.TARGETS])
@@ -721,13 +651,6 @@ class Pipeline:
                                          s.indirect_only, self._arrays["gbuffer"][0])
 
     # ------------------------------------------------------------------ helpers
-    def _scene_for(self, s: Settings) -> Scene:
-        """The posed scene with the Settings' lights, camera, light, flux and spot cone
-        applied."""
-        posed = self._posed if self._posed is not None else self._scene_cache[s.scene]
-        self._scene = posed.for_settings(s)
-        return self._scene
-
     def _levels_for(self, specs: list[GridSpec]) -> list[CascadeLevel]:
         """One :class:`CascadeLevel` per spec (extra levels are released)."""
         self._release_levels(len(specs))
@@ -751,11 +674,12 @@ class Pipeline:
         cascades = None
         if len(levels) > 1:
             cascades = [CascadeInput(spec, t) for spec, t in zip(self._specs, textures)]
+        lights = self.light_views
         (into or self._gather).run(
-            self._gbuffer, self._rsm_textures, self._light, textures[0], self._specs[0],
+            self._gbuffer, lights.rsm_textures, lights.views, textures[0], self._specs[0],
             s.gather_damping, cascades=cascades, sh_order=levels[0].injected.sh_order,
-            rows=rows, shadow_kernel=s.shadow_kernel, shadow_tiles=self._shadow_tiles,
-            glossy=Glossy.of(s, self._scene.camera.eye), size=size)
+            rows=rows, shadow_kernel=s.shadow_kernel, shadow_tiles=lights.shadow_tiles,
+            glossy=Glossy.of(s, self.scene_state.scene.camera.eye), size=size)
 
     def propagation_inputs(self, level: int = 0):
         """``(injected grid, GridSpec, geometry volume or None)`` of cascade ``level``'s

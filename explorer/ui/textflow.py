@@ -97,6 +97,26 @@ def layout(boxes: list[Box], width: float, min_ascent: float = 0.0,
     return lines
 
 
+def column_widths(widest: list[float], weights: list[float], width: float) -> list[float]:
+    """Widths of a table's columns sharing ``width`` in proportion to ``weights``, except
+    that a column narrower than its widest unbreakable box (``widest``: a word never
+    breaks) gets that width and the others share what is left. When even the widest
+    boxes do not fit, the columns share ``width`` in proportion to them."""
+    total = sum(widest)
+    if total >= width:
+        return [width * w / total for w in widest] if total > 0 else [0.0] * len(widest)
+    fixed: dict[int, float] = {}
+    while True:
+        free = [k for k in range(len(weights)) if k not in fixed]
+        room = width - sum(fixed.values())
+        share = sum(weights[k] for k in free)
+        widths = {k: room * weights[k] / share for k in free}
+        short = [k for k in free if widths[k] < widest[k]]
+        if not short:
+            return [fixed.get(k, widths.get(k, 0.0)) for k in range(len(weights))]
+        fixed.update({k: widest[k] for k in short})
+
+
 _WORDS = re.compile(r"\S+\s*|\s+")
 
 
@@ -220,26 +240,36 @@ class Page:
         imgui.dummy((self.width, height))
 
     def table(self, block: lt.Table, ascent: float, descent: float) -> None:
-        """A table as wide as the column, each cell laid out like a paragraph."""
+        """A table as wide as the column, each cell laid out like a paragraph; a column
+        is at least as wide as its widest word (:func:`column_widths`), so that a long
+        heading such as "Screen-space" stays within its cell."""
         imgui = self.imgui
         flags = (imgui.TableFlags_.borders_inner_h | imgui.TableFlags_.borders_outer
                  | imgui.TableFlags_.row_bg | imgui.TableFlags_.sizing_stretch_prop)
         columns = len(block.header)
+        header = tuple(tuple(lt.Text(r.text, "bold") if isinstance(r, lt.Text) else r
+                             for r in runs) for runs in block.header)
+        rows = (header,) + block.rows
+        widest = [max((box.width for runs in (row[column] for row in rows)
+                       for box in self.boxes(runs, ascent, descent)), default=0.0)
+                  for column in range(columns)]
+        padding = imgui.get_style().cell_padding.x * 2
+        first = 0.7 if columns > 2 else 1.0     # the row names' column a little narrower
+        # the cells' text widths: the table's width less each cell's padding and the
+        # borders (one pixel each); imgui shares the width in proportion to the weights
+        widths = column_widths(widest, [first] + [1.0] * (columns - 1),
+                               self.width - columns * (padding + 1.0) - 1.0)
         if not imgui.begin_table("##table", columns, flags, (self.width, 0)):
             return
-        first = 0.7 if columns > 2 else 1.0     # the row names' column a little narrower
         for column in range(columns):
             imgui.table_setup_column(f"##c{column}", imgui.TableColumnFlags_.width_stretch,
-                                     first if column == 0 else 1.0)
+                                     widths[column] + padding)
         outer = self.width
-        for row_number, row in enumerate((block.header,) + block.rows):
+        for row_number, row in enumerate(rows):
             imgui.table_next_row()
             for column, runs in enumerate(row):
                 imgui.table_set_column_index(column)
                 imgui.push_id(row_number * 100 + column)
-                if row_number == 0:
-                    runs = tuple(lt.Text(r.text, "bold") if isinstance(r, lt.Text) else r
-                                 for r in runs)
                 self.width = max(imgui.get_content_region_avail().x, 20.0)
                 self.paragraph(runs, 0.0, ascent, descent)
                 imgui.pop_id()

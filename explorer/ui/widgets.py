@@ -41,6 +41,21 @@ def same_line_if_fits(label: str, checkbox: bool = False, field: float = 0.0,
         imgui.new_line()
 
 
+MIN_FIELD_WIDTH = 80.0
+"""A field narrowed by :func:`fit_next_item` keeps at least this width (pixels)."""
+
+
+def fit_next_item(label: str) -> None:
+    """Narrow the next field (slider, combo, input) so that it and its label, drawn right
+    of it, end within the column: imgui's item width (about 65 % of the window) plus a
+    long label runs past the right edge of a narrow panel (the tool column at 1280×720).
+    A field whose label fits keeps the usual width, so the fields stay aligned."""
+    text = label.split("##")[0]
+    room = (imgui.get_content_region_avail().x - imgui.calc_text_size(text).x
+            - imgui.get_style().item_inner_spacing.x)
+    imgui.set_next_item_width(max(min(imgui.calc_item_width(), room), MIN_FIELD_WIDTH))
+
+
 def dim_text_wrapped(text: str) -> None:
     imgui.push_style_color(imgui.Col_.text, DIM)
     imgui.text_wrapped(text)

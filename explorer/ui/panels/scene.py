@@ -53,6 +53,7 @@ def controls(group: str) -> list[tuple[type, str]]:
 def _generic(state: AppState, owner: type, name: str) -> None:
     spec = specs(owner)[name]
     target = state.settings if owner is Settings else state
+    widgets.fit_next_item(label_of(spec, name))
     changed, value = draw_setting(name, spec, getattr(target, name))
     if not changed:
         return
@@ -69,6 +70,7 @@ def _scene_choice(state: AppState) -> None:
     s = state.settings
     imgui.separator_text("Scene")
     current = s.scene if s.scene in BUILTIN_SCENES else "(mesh file)"
+    widgets.fit_next_item("Scene")
     if imgui.begin_combo("Scene", current):
         for name in BUILTIN_SCENES:
             if imgui.selectable(name, name == s.scene)[0]:
@@ -101,6 +103,7 @@ def _camera_and_light(state: AppState) -> None:
     _light_angles(state)
     flux = s.light_flux if s.light_flux is not None else (state.runtime.light_flux_default
                                                           or 0.0)
+    widgets.fit_next_item("Light flux [W]")
     changed, flux = imgui.input_float("Light flux [W]", flux, 0.0, 0.0, "%.3g")
     _tooltip(tooltip_of(specs(Settings)["light_flux"]))
     if changed and flux != 0.0:     # an emptied field reads 0: wait for a number
@@ -114,7 +117,9 @@ def _light_angles(state: AppState) -> None:
         return
     position, target = camera.as_pair(light)
     azimuth, elevation, distance = camera.to_angles(position, target)
+    widgets.fit_next_item("Light azimuth")
     changed_a, azimuth = imgui.slider_float("Light azimuth", azimuth, -180.0, 180.0, "%.1f°")
+    widgets.fit_next_item("Light elevation")
     changed_e, elevation = imgui.slider_float("Light elevation", elevation, -89.0, 89.0,
                                               "%.1f°")
     if changed_a or changed_e:
@@ -129,6 +134,7 @@ def _spot_cone_angles(state: AppState) -> None:
     cone = s.spot_cone_degrees or state.runtime.light_cone_default
     if cone is None:
         return
+    widgets.fit_next_item(label_of(spec, "spot_cone_degrees"))
     changed, angles = imgui.slider_float2(label_of(spec, "spot_cone_degrees"), list(cone),
                                           spec.low, spec.high, "%.1f")
     _tooltip(tooltip_of(spec))
@@ -139,6 +145,7 @@ def _spot_cone_angles(state: AppState) -> None:
 
 def _geometry_volume_choice(state: AppState) -> None:
     s, spec = state.settings, specs(Settings)["geometry_volume"]
+    widgets.fit_next_item(spec.label)
     changed, value = widgets.combo(spec.label, s.geometry_volume, spec.choices)
     _tooltip(tooltip_of(spec))
     if not changed:
@@ -156,6 +163,7 @@ def _geometry_volume_choice(state: AppState) -> None:
 def _bounces_choice(state: AppState) -> None:
     s, spec = state.settings, specs(Settings)["bounces"]
     choices = list(spec.choices)
+    widgets.fit_next_item(spec.label)
     changed, index = imgui.combo(spec.label, choices.index(s.bounces),
                                  [str(b) for b in choices])
     _tooltip(tooltip_of(spec))
@@ -175,6 +183,7 @@ def _resolution(state: AppState) -> None:
     if state.follow_view_size:
         return
     s = state.settings
+    widgets.fit_next_item("Resolution")
     changed, size = imgui.input_int2("Resolution", [s.width, s.height])
     _tooltip(tooltip_of(specs(Settings)["width"]))
     if changed and min(size) >= 16:     # typing "512" passes through "5": wait for it

@@ -1,0 +1,148 @@
+"""The light's side of a frame: one RSM per view of every light that shines (a point light
+has six), their VPLs (downsampled or hand-made) and the atlases that copy several views
+side by side (explorer/lpv/atlas.py), so that the injection reads every view's VPLs at
+once and the gather and the fog every view's shadow map (docs/MODEL.md "Several lights").
+
+:class:`LightViews` is owned by the pipeline (``Pipeline.light_views``); its ``rsm`` and
+``downsample`` stages call :meth:`LightViews.render` and :meth:`LightViews.choose_vpls`,
+and every later stage reads what they leave: the views, each view's RSM set, the shadow
+maps as one set (:attr:`LightViews.rsm_textures`, the atlas of several views, with
+:attr:`LightViews.shadow_tiles`) and the VPLs the injection reads
+(:attr:`LightViews.vpl_textures`). One view needs no atlas: its set is used as it is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache
+from explorer.lpv.atlas import PerView, VplAtlas
+from explorer.lpv.audit import flux_per_light
+from explorer.lpv.downsample import DownsamplePass
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
+from explorer.lpv.settings import Settings
+from explorer.lpv.timing import PassTimer
+from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.scene import Scene
+from explorer.scene.gpu import SceneBuffers
+
+
+class LightViews:
+    """The RSM and downsample passes of every light view, the atlases of their textures
+    and what the last ``rsm`` and ``downsample`` stages left."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache,
+                 timer: PassTimer) -> None:
+        self.ctx = ctx
+        self.timer = timer
+        """The pipeline's timer: the passes and atlases are timed into its ``rsm`` and
+        ``downsample`` entries."""
+        self.rsm = PerView(lambda: RsmPass(ctx, programs))
+        """One RSM pass per view (each owns the textures it renders)."""
+        self.downsample = PerView(lambda: DownsamplePass(ctx, programs))
+        self._rsm_atlas = VplAtlas(ctx, programs)
+        self._vpl_atlas = VplAtlas(ctx, programs)
+        self.views: list[LightView] = []
+        """The RSM views of every light that shines (primary first)."""
+        self.rsm_sets: list[VplTextures] = []
+        """Each view's RSM, in the order of :attr:`views`."""
+        self.rsm_textures: VplTextures | None = None
+        """Every view's RSM (and shadow map) as one set: the atlas, or the one view's."""
+        self.shadow_tiles: list[tuple[int, int]] = [(0, 0)]
+        """Where each view's tile starts in :attr:`rsm_textures`."""
+        self.vpl_sets: list[VplTextures] = []
+        """The VPLs the injection reads, per view (one set for hand-made VPLs)."""
+        self.vpl_textures: VplTextures | None = None
+        """:attr:`vpl_sets` as one set (the atlas, or the one set)."""
+        self._override_textures: VplTextures | None = None
+        """Hand-made VPLs uploaded by :meth:`choose_vpls` (released at the next call)."""
+
+    @staticmethod
+    def of(scene: Scene, rsm_size: int) -> list[LightView]:
+        """The RSM views of ``scene``'s lights that shine (:func:`explorer.lpv.rsm.light_views`)."""
+        return light_views(scene, rsm_size)
+
+    def render(self, views: list[LightView], geometry: SceneBuffers,
+               largest: int) -> Iterator[None]:
+        """The ``rsm`` stage's GPU work: one RSM per view (a unit each, yielding after
+        it), then the atlas of their shadow maps and VPLs within ``largest`` texels per
+        side (several views)."""
+        self.timer.reset("rsm")
+        sets = []
+        for k, view in enumerate(views):
+            sets.append(self.timer.timed("rsm", lambda: self.rsm.run(k, geometry, view),
+                                         accumulate=True))
+            yield
+        self.views, self.rsm_sets = views, sets
+        self.rsm_textures, self.shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm",
+                                                           largest)
+
+    def rsm_read_back(self) -> tuple[dict[str, object], list[np.ndarray]]:
+        """The last RSMs read back: ``rsm`` (the primary view's position, normal and
+        flux), ``rsm_flux_per_light`` (each light's flux summed over its views;
+        docs/MODEL.md "Several lights") and ``rsm_flux`` (their sum); and every array
+        read, for the finiteness check."""
+        flux = [read_texture(rsm.flux) for rsm in self.rsm_sets]
+        first = self.rsm_sets[0]
+        primary = (read_texture(first.position), read_texture(first.normal), flux[0])
+        per_light = flux_per_light(flux, [view.light_index for view in self.views])
+        arrays = {"rsm": primary, "rsm_flux": per_light.sum(axis=0),
+                  "rsm_flux_per_light": per_light}
+        return arrays, [*primary, *flux]
+
+    def choose_vpls(self, s: Settings, vpls: VplArrays | None, spec: GridSpec,
+                    largest: int) -> dict[str, object]:
+        """The ``downsample`` stage's GPU work: the VPLs the injection reads are the
+        hand-made ``vpls``, the RSMs as they are, or each view's RSM downsampled onto the
+        finest grid ``spec`` (then their atlas within ``largest`` texels per side).
+        Returns them read back: ``vpl_sets`` (per set), ``vpls`` (all of them) and
+        ``view_lights`` (each set's light index)."""
+        if self._override_textures is not None:
+            self._override_textures.release()
+            self._override_textures = None
+        if vpls is not None:
+            self.timer.forget("downsample")
+            self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
+            self.vpl_textures = self._override_textures
+            self.vpl_sets = [self._override_textures]
+        elif s.downsample == "none" or s.downsample_factor == 1:
+            self.timer.forget("downsample")
+            self.vpl_textures, self.vpl_sets = self.rsm_textures, list(self.rsm_sets)
+        else:
+            self.timer.reset("downsample")
+            self.vpl_sets = [self.timer.timed("downsample", lambda: self.downsample.run(
+                k, rsm, s.downsample, s.downsample_factor, spec, view), accumulate=True)
+                for k, (rsm, view) in enumerate(zip(self.rsm_sets, self.views))]
+            self.vpl_textures, _ = self._atlas(self._vpl_atlas, self.vpl_sets, "downsample",
+                                               largest)
+        sets = [vpl_set.to_arrays() for vpl_set in self.vpl_sets]
+        return {"vpl_sets": sets,
+                "vpls": sets[0] if len(sets) == 1 else VplArrays.concatenate(sets),
+                "view_lights": (0,) if vpls is not None else tuple(
+                    view.light_index for view in self.views)}
+
+    def occluders(self, hand_made: bool) -> list[VplTextures]:
+        """The sets the geometry volume is built from: every view's RSM, or the
+        hand-made VPLs (they have no RSM of their own)."""
+        return [self.vpl_textures] if hand_made else self.rsm_sets
+
+    def _atlas(self, atlas: VplAtlas, sets: list[VplTextures], stage: str, largest: int
+               ) -> tuple[VplTextures, list[tuple[int, int]]]:
+        """The one set, or the atlas of several (timed into ``stage``), and where each
+        view's tile starts."""
+        if len(sets) == 1:
+            return sets[0], [(0, 0)]
+        textures = self.timer.timed(stage, lambda: atlas.build(sets, largest),
+                                    accumulate=True)
+        return textures, [atlas.layout.origin(k) for k in range(len(sets))]
+
+    def release(self) -> None:
+        for owned in (self.rsm, self.downsample, self._rsm_atlas, self._vpl_atlas):
+            owned.release()
+        if self._override_textures is not None:
+            self._override_textures.release()
+            self._override_textures = None

@@ -1,0 +1,78 @@
+"""The scene side of a frame: the mesh as loaded (once per scene name), its objects posed
+by ``Settings.object_transforms`` in the vertex buffer, and the posed scene with the
+Settings' camera, lights, flux and spot cone applied.
+
+:class:`SceneState` is owned by the pipeline (``Pipeline.scene_state``); its ``scene``
+stage calls :meth:`SceneState.load_and_pose`, and the stages after it read the posed
+scene through :meth:`SceneState.for_settings` and draw :attr:`SceneState.buffers`.
+"""
+
+from __future__ import annotations
+
+import time
+
+import moderngl
+
+from explorer.lpv.settings import Settings
+from explorer.scene import Scene, load_scene
+from explorer.scene.gpu import SceneBuffers
+
+
+class SceneState:
+    """The loaded scene, its posed copy and vertex buffer, and the last scene a stage
+    asked for with the Settings applied."""
+
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.ctx = ctx
+        self._loaded: dict[str, Scene] = {}
+        """Scene name -> the scene as loaded (the last name only)."""
+        self._posed: Scene | None = None
+        """The loaded scene with the Settings' object transforms applied."""
+        self.scene: Scene | None = None
+        """The posed scene with the Settings applied, as :meth:`for_settings` last made
+        it (the frame's camera and lights)."""
+        self.buffers: SceneBuffers | None = None
+        """The posed scene's vertex buffer on the GPU."""
+        self.pose_ms = 0.0
+        """Wall-clock milliseconds :meth:`load_and_pose` last spent posing objects and
+        writing their corners to the vertex buffer (``lpv-explorer bench``'s moving
+        object)."""
+
+    def base(self, name: str) -> Scene | None:
+        """The scene ``name`` as loaded, before any Settings (None when not loaded)."""
+        return self._loaded.get(name)
+
+    def load_and_pose(self, s: Settings) -> Scene:
+        """Load the mesh (once per scene name) and pose its objects: only the corners of
+        objects whose transform changed are written to the vertex buffer again. Returns
+        the scene as loaded."""
+        base = self._loaded.get(s.scene)
+        if base is None:
+            base = load_scene(s.scene)
+            self._loaded = {s.scene: base}
+            self._posed = None
+            if self.buffers is not None:
+                self.buffers.release()
+            self.buffers = SceneBuffers(self.ctx, base)
+        started = time.perf_counter()
+        self._posed = base.posed(s.object_transforms)
+        self.buffers.show(self._posed)
+        self.ctx.finish()
+        self.pose_ms = (time.perf_counter() - started) * 1e3
+        return base
+
+    def for_settings(self, s: Settings) -> Scene:
+        """The posed scene with the Settings' lights, camera, light, flux and spot cone
+        applied (kept as :attr:`scene`)."""
+        posed = self._posed if self._posed is not None else self._loaded[s.scene]
+        self.scene = posed.for_settings(s)
+        return self.scene
+
+    def forget(self) -> None:
+        """Load the mesh again at the next :meth:`load_and_pose` (a scene file edited)."""
+        self._loaded.clear()
+
+    def release(self) -> None:
+        if self.buffers is not None:
+            self.buffers.release()
+            self.buffers = None
