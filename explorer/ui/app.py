@@ -123,15 +123,14 @@ class App:
 
     # -- setup ---------------------------------------------------------------------------
     def _init_imgui(self) -> None:
-        from imgui_bundle import imgui, implot, implot3d
+        from imgui_bundle import imgui
 
         from explorer.ui.formulas import FormulaCache
+        from explorer.ui.imgui_host import ImguiHost
         from explorer.ui.overlays.compositor import Compositor
         from explorer.ui.textures import UiTextures
 
-        self._imgui_ctx = imgui.create_context()
-        self._implot_ctx = implot.create_context()
-        self._implot3d_ctx = implot3d.create_context()
+        self._imgui = ImguiHost(self.window)
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
@@ -158,8 +157,7 @@ class App:
         from explorer.ui import fonts
 
         self.state.runtime.fonts = fonts.load(io, 15.0)   # Roboto + math symbols
-        imgui.backends.glfw_init_for_opengl(self.window.address, True)
-        imgui.backends.opengl3_init("#version 330 core")
+        self._imgui.start_backends()
         rt = self.state.runtime
         rt.textures = UiTextures(self.ctx)
         rt.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
@@ -218,7 +216,7 @@ class App:
         False once the window should close.
 
         ``capture``: keep the drawn frame (panels included) in :attr:`last_pixels`."""
-        from imgui_bundle import imgui, imguizmo
+        from imgui_bundle import imguizmo
 
         force = force or capture or not self.wait_when_idle
         self.last_wait_s = 0.0
@@ -263,20 +261,13 @@ class App:
             self.frames_skipped += 1
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
-        imgui.backends.opengl3_new_frame()
-        imgui.backends.glfw_new_frame()
-        imgui.new_frame()
+        self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
-        imgui.render()
-        width, height = self.window.framebuffer_size
-        self.ctx.screen.use()
-        self.ctx.viewport = (0, 0, width, height)
-        self.ctx.clear(*theme.CLEAR_COLOUR)
-        imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
+        self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
         self.window.swap_buffers()
         rt.frame_index += 1
@@ -345,7 +336,7 @@ class App:
         return path
 
     def close(self) -> None:
-        from imgui_bundle import imgui, implot, implot3d
+        from imgui_bundle import imgui
 
         if self.persist_settings:
             try:
@@ -372,11 +363,7 @@ class App:
 
             rich_md.destroy_context(self._markdown_ctx)
             self._markdown_ctx = None
-        imgui.backends.opengl3_shutdown()
-        imgui.backends.glfw_shutdown()
-        implot3d.destroy_context(self._implot3d_ctx)
-        implot.destroy_context(self._implot_ctx)
-        imgui.destroy_context(self._imgui_ctx)
+        self._imgui.shutdown()
         self.window.close()
 
     def _keep_settings_that_ran(self) -> None:

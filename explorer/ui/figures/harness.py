@@ -26,22 +26,20 @@ _PADDING = 16.0
 class FigureWindow:
     def __init__(self, width: int = 900, height: int = 700, visible: bool = True,
                  context: FigureContext | None = None) -> None:
-        from imgui_bundle import imgui, implot, implot3d
+        from imgui_bundle import imgui
 
         from explorer.ui import fonts, theme
+        from explorer.ui.imgui_host import ImguiHost
 
         self.window = Window(width, height, title="lpv-explorer figure", visible=visible,
                              vsync=False)
         self.ctx = self.window.ctx
         self.context = context or FigureContext()
-        self._imgui_ctx = imgui.create_context()
-        self._implot_ctx = implot.create_context()
-        self._implot3d_ctx = implot3d.create_context()
+        self._imgui = ImguiHost(self.window)
         imgui.get_io().set_ini_filename("")
         theme.apply_style(self.window.content_scale)
         fonts.load(imgui.get_io(), 15.0)
-        imgui.backends.glfw_init_for_opengl(self.window.address, True)
-        imgui.backends.opengl3_init("#version 330 core")
+        self._imgui.start_backends()
         self.rect: tuple[tuple[float, float], tuple[float, float]] | None = None
         """Screen rectangle (pixels) of the figure drawn last."""
         self.last_pixels: np.ndarray | None = None
@@ -62,9 +60,7 @@ class FigureWindow:
         self.window.poll_events()
         if self.window.should_close():
             return False
-        imgui.backends.opengl3_new_frame()
-        imgui.backends.glfw_new_frame()
-        imgui.new_frame()
+        self._imgui.new_frame()
         viewport = imgui.get_main_viewport()
         imgui.set_next_window_pos(viewport.pos)
         imgui.set_next_window_size(viewport.size)
@@ -77,12 +73,7 @@ class FigureWindow:
         width = figure_width or imgui.get_content_region_avail().x
         self.rect = draw_figure(spec, width, self.context)
         imgui.end()
-        imgui.render()
-        fb_width, fb_height = self.window.framebuffer_size
-        self.ctx.screen.use()
-        self.ctx.viewport = (0, 0, fb_width, fb_height)
-        self.ctx.clear(*CLEAR_COLOUR)
-        imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
+        self._imgui.render(self.ctx, CLEAR_COLOUR)
         if capture:
             self.last_pixels = self.window.read_pixels()
         self.window.swap_buffers()
@@ -118,15 +109,9 @@ class FigureWindow:
         return Path(path)
 
     def close(self) -> None:
-        from imgui_bundle import imgui, implot, implot3d
-
         if self.window.handle is None:
             return
-        imgui.backends.opengl3_shutdown()
-        imgui.backends.glfw_shutdown()
-        implot3d.destroy_context(self._implot3d_ctx)
-        implot.destroy_context(self._implot_ctx)
-        imgui.destroy_context(self._imgui_ctx)
+        self._imgui.shutdown()
         self.window.close()
 
 

@@ -1,0 +1,63 @@
+"""imgui with implot and implot3d on a glfw window's OpenGL context: the contexts, the
+backends, one frame's begin and end, and the shutdown. The explorer's window
+(:mod:`explorer.ui.app`) and the one-figure window (:mod:`explorer.ui.figures.harness`)
+both draw through it, so they set imgui up and tear it down the same way."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import moderngl
+
+    from explorer.gl.window import Window
+
+
+class ImguiHost:
+    """Creates the three contexts (imgui, implot, implot3d); :meth:`start_backends` binds
+    them to ``window`` once the caller has configured io, style and fonts."""
+
+    def __init__(self, window: Window) -> None:
+        from imgui_bundle import imgui, implot, implot3d
+
+        self.window = window
+        self._imgui_ctx = imgui.create_context()
+        self._implot_ctx = implot.create_context()
+        self._implot3d_ctx = implot3d.create_context()
+
+    def start_backends(self) -> None:
+        """The glfw and OpenGL 3 backends (after io, style and fonts are set)."""
+        from imgui_bundle import imgui
+
+        imgui.backends.glfw_init_for_opengl(self.window.address, True)
+        imgui.backends.opengl3_init("#version 330 core")
+
+    @staticmethod
+    def new_frame() -> None:
+        from imgui_bundle import imgui
+
+        imgui.backends.opengl3_new_frame()
+        imgui.backends.glfw_new_frame()
+        imgui.new_frame()
+
+    def render(self, ctx: moderngl.Context, clear_colour: tuple[float, ...]) -> None:
+        """End the frame: render imgui's draw data over the cleared default framebuffer
+        (the caller reads pixels and swaps buffers)."""
+        from imgui_bundle import imgui
+
+        imgui.render()
+        width, height = self.window.framebuffer_size
+        ctx.screen.use()
+        ctx.viewport = (0, 0, width, height)
+        ctx.clear(*clear_colour)
+        imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
+
+    def shutdown(self) -> None:
+        """The backends, then the contexts in the reverse order of their creation."""
+        from imgui_bundle import imgui, implot, implot3d
+
+        imgui.backends.opengl3_shutdown()
+        imgui.backends.glfw_shutdown()
+        implot3d.destroy_context(self._implot3d_ctx)
+        implot.destroy_context(self._implot_ctx)
+        imgui.destroy_context(self._imgui_ctx)
