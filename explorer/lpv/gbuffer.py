@@ -45,16 +45,21 @@ class GBufferPass:
 
     def run(self, geometry: SceneBuffers, scene: Scene, size: tuple[int, int]) -> None:
         self._targets.allocate(size)
-        width, height = size
-        camera = scene.camera
         program = self.programs.get("gbuffer.glsl")
-        set_uniforms(program, {
-            "u_view": gl_matrix(camera.view_matrix()),
-            "u_projection": gl_matrix(camera.projection_matrix(
-                width / height, scene.bounds_min, scene.bounds_max)),
-        })
+        set_uniforms(program, camera_uniforms(scene, size))
         with self._targets.drawing(clear=True):
             geometry.draw(program)
 
     def release(self) -> None:
         self._targets.release()
+
+
+def camera_uniforms(scene: Scene, size: tuple[int, int]) -> dict[str, object]:
+    """``u_view`` and ``u_projection`` of ``scene``'s camera for an image of ``size``: the
+    G-buffer's, and of every pass that must see exactly its pixels (the surface masks'
+    triangle ids, explorer/truth/surface_masks.py)."""
+    width, height = size
+    camera = scene.camera
+    return {"u_view": gl_matrix(camera.view_matrix()),
+            "u_projection": gl_matrix(camera.projection_matrix(
+                width / height, scene.bounds_min, scene.bounds_max))}

@@ -36,10 +36,10 @@ def render_triangle_ids(ctx, scene, width: int, height: int) -> np.ndarray:
     """(H, W) index of the triangle each pixel sees (−1: no surface), row 0 at the top
     like the G-buffer (explorer/truth/gbuffer.py ``render_gbuffer``)."""
     from explorer.gl.program import ProgramCache, set_uniforms
+    from explorer.lpv.gbuffer import camera_uniforms
     from explorer.lpv.rsm import read_texture
     from explorer.lpv.targets import RenderTargets
     from explorer.scene.gpu import SceneBuffers
-    from explorer.scene.transforms import gl_matrix
 
     if scene.triangle_count > MAX_TRIANGLES:
         raise ValueError(f"scene {scene.name!r} has {scene.triangle_count} triangles; "
@@ -52,11 +52,7 @@ def render_triangle_ids(ctx, scene, width: int, height: int) -> np.ndarray:
     try:
         targets.allocate((width, height))
         program = programs.get("triangle_id.glsl")
-        set_uniforms(program, {      # the G-buffer pass's matrices (explorer/lpv/gbuffer.py)
-            "u_view": gl_matrix(scene.camera.view_matrix()),
-            "u_projection": gl_matrix(scene.camera.projection_matrix(
-                width / height, scene.bounds_min, scene.bounds_max)),
-        })
+        set_uniforms(program, camera_uniforms(scene, (width, height)))   # the G-buffer's
         with targets.drawing(clear=True):
             buffers.draw(program)
         ids = read_texture(targets.textures[0])[..., 0]
