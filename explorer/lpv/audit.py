@@ -108,12 +108,6 @@ class GridAudit:
     def iterations(self) -> int:
         return int(self.per_step.shape[0]) - 1
 
-    def as_dict(self) -> dict[str, object]:
-        """Plain lists, for JSON output and plots (``mode`` stays a string, a term not
-        measured None)."""
-        return {name: value if value is None or isinstance(value, str)
-                else np.asarray(value).tolist() for name, value in vars(self).items()}
-
 
 @dataclass
 class EnergyAudit(GridAudit):
