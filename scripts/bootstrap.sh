@@ -19,6 +19,11 @@ esac
 # a UTF-8 locale for the formula renderer, the X client libraries glfw loads.
 apt_packages=(libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libglx-mesa0 xvfb xauth
               libxrandr2 libxinerama1 libxcursor1 libxi6 libxxf86vm1 locales python3-venv)
+# The test suite also opens the static site in a real browser (Debian's chromium, driven by
+# chromium-driver): Playwright's own browser download is not used.
+if [ "$mode" = test ]; then
+  apt_packages+=(chromium chromium-driver)
+fi
 missing=()
 for pkg in "${apt_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "ok installed" || missing+=("$pkg")
@@ -49,7 +54,7 @@ if [ "$mode" = launch ]; then
   exec .venv/bin/lpv-explorer "$@"
 fi
 
-.venv/bin/python -m pip install -q -e ".[test]"
+.venv/bin/python -m pip install -q -e ".[test,exr,truth]"
 .venv/bin/ruff check .
 # pytest exits 5 when it collected no test: that is a failure here, like any non-zero code.
 exec .venv/bin/python -m pytest "$@"
