@@ -68,12 +68,14 @@ class App:
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...,
                  wait_when_idle: bool | None = None,
-                 idle_timeout_s: float = IDLE_TIMEOUT_S) -> None:
+                 idle_timeout_s: float = IDLE_TIMEOUT_S, test_engine: bool = False) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
         None for a window without a pipeline (panels only: the window tests).
         ``wait_when_idle``: wait for events instead of drawing when nothing changed
         (default: for a visible window; a hidden one is scripted and draws every
-        :meth:`frame`); ``idle_timeout_s``: the longest such wait."""
+        :meth:`frame`); ``idle_timeout_s``: the longest such wait. ``test_engine``: start
+        Dear ImGui Test Engine in the window (:attr:`test_engine` queues click tests,
+        explorer/ui/test_engine.py)."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
@@ -119,10 +121,13 @@ class App:
         """How long the last frame() waited for events (an idle window)."""
         """frame() calls that found nothing to do and drew nothing."""
         self.last_pixels: np.ndarray | None = None
-        self._init_imgui()
+        self.panel_errors: list[str] = []
+        """Every panel failure so far (an exception its gui function raised)."""
+        self._init_imgui(test_engine)
+        self.test_engine = self._imgui.test_engine
 
     # -- setup ---------------------------------------------------------------------------
-    def _init_imgui(self) -> None:
+    def _init_imgui(self, test_engine: bool = False) -> None:
         from imgui_bundle import imgui
 
         from explorer.ui.formulas import FormulaCache
@@ -130,7 +135,7 @@ class App:
         from explorer.ui.overlays.compositor import Compositor
         from explorer.ui.textures import UiTextures
 
-        self._imgui = ImguiHost(self.window)
+        self._imgui = ImguiHost(self.window, test_engine=test_engine)
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
@@ -270,6 +275,7 @@ class App:
         self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
         self.window.swap_buffers()
+        self._imgui.post_swap()
         rt.frame_index += 1
         rt.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0
@@ -481,10 +487,13 @@ class App:
             if not panel.padding:
                 imgui.pop_style_var()
             if expanded:
+                stacks = imgui.internal.ErrorRecoveryState()
+                imgui.internal.error_recovery_store_state(stacks)
                 try:
                     panel.gui(state)
                 except Exception as exc:  # noqa: BLE001 - one broken panel, not the app
                     self._panel_failed(panel.title, exc)
+                    _recover_stacks(stacks)
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
         if focus and not self._needs_layout and state.requests.focus_panel is requested:
@@ -495,6 +504,7 @@ class App:
 
     def _panel_failed(self, title: str, exc: Exception) -> None:
         text = f"panel {title}: {type(exc).__name__}: {exc}"
+        self.panel_errors.append(text)
         if not self.state.messages or self.state.messages[-1].text != text:
             self.state.notify(text, "error")
             print(f"lpv-explorer: {text}", file=sys.stderr)
@@ -604,3 +614,18 @@ class App:
         name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
         self.window.set_title(f"lpv-explorer — {name} — {preset_name(s.corrections)}")
 
+
+
+def _recover_stacks(stacks) -> None:
+    """Close what a failed panel left open (children, groups, fonts, styles, ids) back to
+    ``stacks``, so that the frame still ends cleanly (imgui would assert in its end-of-
+    frame checks). The recovery's own reports are off meanwhile: the failure was shown."""
+    from imgui_bundle import imgui
+
+    io = imgui.get_io()
+    asserts = io.config_error_recovery_enable_assert
+    io.config_error_recovery_enable_assert = False
+    try:
+        imgui.internal.error_recovery_try_to_recover_state(stacks)
+    finally:
+        io.config_error_recovery_enable_assert = asserts

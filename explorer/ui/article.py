@@ -139,7 +139,8 @@ def gui_article(state: AppState) -> None:
     if session.lesson is None:
         _lesson_list(state, session)
         return
-    _header(state, session)
+    if not _header(state, session):
+        return                       # "< All lessons": the list shows from the next frame
     imgui.separator()
     imgui.begin_child("article", (0, 0), imgui.ChildFlags_.none,
                       imgui.WindowFlags_.always_vertical_scrollbar)
@@ -199,14 +200,16 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
         session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
-def _header(state: AppState, session: LessonSession) -> None:
+def _header(state: AppState, session: LessonSession) -> bool:
+    """The lesson's title, step list and arrows, and its status line; False when the
+    reader went back to the list (nothing of the lesson may be drawn after that)."""
     lesson, step = session.lesson, session.step
     if imgui.small_button("< All lessons"):
         restored = session.close()
         if restored is not None:
             show_screen(state, restored)
         state.lesson_id = None
-        return
+        return False
     imgui.same_line()
     imgui.push_text_wrap_pos(0.0)     # a long title wraps beside the button (1280 px)
     imgui.text_colored(widgets.ACCENT, f"{lesson.number:02d}  {lesson.title}")
@@ -232,6 +235,7 @@ def _header(state: AppState, session: LessonSession) -> None:
     if changed:
         _goto(state, session)
     _status(state, session)
+    return True
 
 
 def _goto(state: AppState, session: LessonSession) -> None:

@@ -1,0 +1,168 @@
+"""Run click sessions in the real explorer window (a child process of the click tests,
+tests/test_click_window.py; or by hand: ``xvfb-run -a python tests/click_app.py
+navigation``).
+
+Each session is one window and one Dear ImGui Test Engine test (explorer/ui/
+test_engine.py) whose function clicks, drags and types through the window by label and
+checks what each action shows. A session fails on a failed check, on a Python exception
+in the test or in any panel (the window's panels report theirs and keep running), and on
+an imgui assert (the process aborts). The last line printed is a JSON report:
+``{"session": ..., "passed": ..., "clicks": N, "controls": [...], "problems": [...],
+"seconds": ...}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+WINDOW = (1280, 720)
+SESSION_TIMEOUT_S = 900.0
+
+
+class Clicks:
+    """What a session's test function uses: the engine's test context, the app, and
+    checks that collect failures instead of stopping at the first."""
+
+    def __init__(self, app, ctx, problems: list[str], shots: Path | None) -> None:
+        self.app = app
+        self.state = app.state
+        self.ctx = ctx
+        self.problems = problems
+        self.controls: list[str] = []
+        self.shots = shots
+        self._seen_errors = 0
+
+    # -- actions ----------------------------------------------------------------------
+    def click(self, ref: str, what: str | None = None) -> None:
+        """Click the item ``ref`` (a test engine reference: "//Window/**/label"), then
+        let a frame run; a panel failing on it is a problem named after the click."""
+        self.ctx.item_click(ref)
+        self.controls.append(what or ref)
+        self.settle_input()
+        self._panel_errors(what or ref)
+
+    def check_box(self, ref: str, on: bool, what: str | None = None) -> None:
+        (self.ctx.item_check if on else self.ctx.item_uncheck)(ref)
+        self.controls.append(what or ref)
+        self.settle_input()
+        self._panel_errors(what or ref)
+
+    def menu(self, path: str) -> None:
+        """A main-menu item, e.g. "Windows/Reset layout"."""
+        self.ctx.menu_click("//##MainMenuBar/" + path)
+        self.controls.append("menu " + path)
+        self.settle_input()
+        self._panel_errors("menu " + path)
+
+    def settle_input(self, frames: int = 2) -> None:
+        self.ctx.yield_(frames)
+
+    def until(self, predicate, what: str, frames: int = 600) -> bool:
+        """Draw frames until ``predicate()``; a problem when it never holds."""
+        for _ in range(frames):
+            if predicate():
+                return True
+            self.ctx.yield_()
+        self.problems.append(f"never happened within {frames} frames: {what}")
+        return False
+
+    def converged(self, frames: int = 3000) -> bool:
+        """Draw frames until the pipelines have nothing left to do."""
+        app = self.app
+        return self.until(lambda: app.status is not None and not app.status.active
+                          and app.state.runtime.result is not None,
+                          "the frame converged", frames)
+
+    # -- checks -----------------------------------------------------------------------
+    def check(self, condition: bool, what: str) -> bool:
+        if not condition:
+            self.problems.append(what)
+            print(f"click check failed: {what}", file=sys.stderr, flush=True)
+        return bool(condition)
+
+    def exists(self, ref: str) -> bool:
+        return bool(self.ctx.item_exists(ref))
+
+    def scroll_y(self, window_ref: str) -> float:
+        """The vertical scroll of a window or child window (e.g. the article)."""
+        info = self.ctx.window_info(window_ref)
+        return float(info.window.scroll.y) if info.window is not None else float("nan")
+
+    def screenshot(self, name: str) -> None:
+        if self.shots is None:
+            return
+        # the window writes it after its next frame (a test runs on the engine's
+        # thread, where no GL context is current: it must not draw itself)
+        self.state.requests.screenshot = self.shots / f"{name}.png"
+        self.ctx.yield_(2)
+
+    def _panel_errors(self, after: str) -> None:
+        errors = self.app.panel_errors
+        for text in errors[self._seen_errors:]:
+            self.problems.append(f"after {after}: {text}")
+        self._seen_errors = len(errors)
+
+
+def run_session(name: str, shots: Path | None = None) -> dict:
+    from click_sessions import SESSIONS
+
+    from explorer.ui.app import App
+
+    session = SESSIONS[name]
+    state = session.state()
+    app = App(state, width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
+              persist_settings=False, test_engine=True)
+    clicks: dict = {}
+    problems: list[str] = []
+    start = time.monotonic()
+    try:
+        engine = app.test_engine
+
+        def body(ctx) -> None:
+            c = Clicks(app, ctx, problems, shots)
+            clicks["c"] = c
+            session.run(c)
+
+        exceptions = engine.add("click", name, body)
+        while not engine.idle:
+            if not app.frame():
+                problems.append("the window closed")
+                break
+            if time.monotonic() - start > SESSION_TIMEOUT_S:
+                problems.append(f"the session ran past {SESSION_TIMEOUT_S:g} s")
+                break
+        outcome = engine.results()[0]
+        problems += exceptions
+    finally:
+        app.close()
+    c = clicks.get("c")
+    report = {"session": name, "passed": outcome.passed and not problems,
+              "status": outcome.status, "clicks": len(c.controls) if c else 0,
+              "controls": sorted(set(c.controls)) if c else [],
+              "problems": list(dict.fromkeys(problems)),
+              "seconds": round(time.monotonic() - start, 1)}
+    return report
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("session")
+    parser.add_argument("--shots", type=Path, default=None,
+                        help="write the screenshots the session takes to this folder")
+    args = parser.parse_args()
+    if args.shots is not None:
+        args.shots.mkdir(parents=True, exist_ok=True)
+    report = run_session(args.session, args.shots)
+    print(json.dumps(report))
+    return 0 if report["passed"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
