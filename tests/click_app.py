@@ -61,6 +61,20 @@ class Clicks:
         self.settle_input()
         self._panel_errors("menu " + path)
 
+    def wheel(self, window_ref: str, notches: float) -> None:
+        """Turn the mouse wheel over the middle of a window (negative: scroll down)."""
+        from imgui_bundle import imgui
+
+        window = self.ctx.window_info(window_ref).window
+        if window is None:
+            self.problems.append(f"no window {window_ref} to scroll")
+            return
+        self.ctx.mouse_move_to_pos(imgui.ImVec2(window.pos.x + window.size.x * 0.5,
+                                                window.pos.y + window.size.y * 0.5))
+        self.ctx.mouse_wheel_y(notches)
+        self.controls.append(f"wheel over {window_ref}")
+        self.settle_input()
+
     def settle_input(self, frames: int = 2) -> None:
         self.ctx.yield_(frames)
 

@@ -142,10 +142,18 @@ def gui_article(state: AppState) -> None:
     if not _header(state, session):
         return                       # "< All lessons": the list shows from the next frame
     imgui.separator()
+    scroll = session.opening_scroll()       # a new step opens at its top
+    if scroll is not None:
+        imgui.set_next_window_scroll((-1.0, scroll))
     imgui.begin_child("article", (0, 0), imgui.ChildFlags_.none,
                       imgui.WindowFlags_.always_vertical_scrollbar)
     try:
         _article(state, session)
+        if session.resume_frames > 0:            # until the text's height is known
+            session.resume_frames -= 1
+            imgui.set_scroll_y(session.scroll)
+        else:
+            session.scroll = imgui.get_scroll_y()
     finally:
         imgui.end_child()
 
@@ -184,11 +192,13 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
     for lesson in session.lessons:
         imgui.push_id(lesson.id)
         if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
-            session.open(lesson.id)
+            session.open(lesson.id, resume=True)     # where the reader left it
             state.lesson_id = lesson.id
             show_screen(state, session.apply(current_screen(state)))
         imgui.indent(28.0)
-        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps)")
+        left_at = session.places.get(lesson.id, (1, 0.0))[0]
+        where = f"; you left it at step {left_at}" if left_at > 1 else ""
+        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps{where})")
         imgui.unindent(28.0)
         imgui.spacing()
         imgui.pop_id()
