@@ -15,7 +15,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -38,6 +40,10 @@ class Clicks:
         self.controls: list[str] = []
         self.shots = shots
         self._seen_errors = 0
+        self.expect_quit = False
+        """The next action asks the window to close (File/Quit): the runner notes it
+        (:attr:`quit_seen`) and keeps the window open for the rest of the session."""
+        self.quit_seen = False
 
     # -- actions ----------------------------------------------------------------------
     def click(self, ref: str, what: str | None = None) -> None:
@@ -47,6 +53,40 @@ class Clicks:
         self.controls.append(what or ref)
         self.settle_input()
         self._panel_errors(what or ref)
+
+    def click_in(self, window_ref: str, label: str, what: str | None = None) -> bool:
+        """Click the item labelled ``label`` (escaped, :func:`label_ref`) in the window
+        or child window ``window_ref``, scrolling it into view first as a reader would
+        (the engine finds an item by its label only once it was drawn on screen)."""
+        ref = self.find(window_ref, label)
+        if ref is None:
+            self.check(False, f"no item {label!r} in {window_ref}")
+            return False
+        self.click(ref, what)
+        return True
+
+    def find(self, window_ref: str, label: str) -> str | None:
+        """The reference of the item labelled ``label`` in ``window_ref``, scrolled on
+        screen; None if the window has none."""
+        from imgui_bundle import imgui
+
+        te = imgui.test_engine
+        ref = f"{window_ref}/**/{label}"
+        if self.exists(ref):
+            return ref
+        window = self.ctx.window_info(window_ref).window
+        if window is None:
+            return None
+        by_id = te.TestRef(window.id_)
+        self.ctx.scroll_to_top(by_id)
+        y, step = 0.0, max(window.size.y * 0.6, 40.0)
+        while True:
+            if self.exists(ref):
+                return ref
+            if y >= window.scroll_max.y:
+                return None
+            y = min(y + step, window.scroll_max.y)
+            self.ctx.scroll_to_y(by_id, y)
 
     def check_box(self, ref: str, on: bool, what: str | None = None) -> None:
         (self.ctx.item_check if on else self.ctx.item_uncheck)(ref)
@@ -102,12 +142,56 @@ class Clicks:
         return bool(condition)
 
     def exists(self, ref: str) -> bool:
-        return bool(self.ctx.item_exists(ref))
+        from imgui_bundle import imgui
+
+        info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+        return info is not None and info.id_ != 0
+
+    def window(self, window_ref: str):
+        """The imgui window (internal.Window) ``window_ref`` names, or None (no error)."""
+        from imgui_bundle import imgui
+
+        return self.ctx.window_info(window_ref, imgui.test_engine.TestOpFlags_.no_error).window
 
     def scroll_y(self, window_ref: str) -> float:
         """The vertical scroll of a window or child window (e.g. the article)."""
         info = self.ctx.window_info(window_ref)
         return float(info.window.scroll.y) if info.window is not None else float("nan")
+
+    def view_pixels(self):
+        """The 3D view's pixels as the window shows them now (H, W, 3 uint8), or None."""
+        import tempfile
+
+        shot = Path(tempfile.mkdtemp(prefix="click-")) / "view.png"
+        self.state.requests.screenshot = shot       # the window keeps the frame it writes
+        self.ctx.yield_(2)
+        rect, pixels = self.state.runtime.view_rect, self.app.last_pixels
+        shot.unlink(missing_ok=True)
+        shot.parent.rmdir()
+        if rect is None or pixels is None:
+            return None
+        x0, y0, x1, y1 = (int(round(v)) for v in rect)
+        return pixels[y0:y1, x0:x1].copy()
+
+    def picture_changes(self, action, what: str, min_change: float = 1.0) -> None:
+        """``action()`` changes the converged picture the view shows (mean absolute
+        difference over the view, 0..255, at least ``min_change``)."""
+        import numpy as np
+
+        self.converged()
+        before = _thumbnail(self.view_pixels())
+        action()
+        self.converged()
+        self.settle_input(3)
+        after = _thumbnail(self.view_pixels())
+        if before is None or after is None:
+            self.check(False, f"{what}: the view's picture could not be compared ("
+                       f"{None if before is None else before.shape}, "
+                       f"{None if after is None else after.shape})")
+            return
+        change = float(np.abs(before.astype(float) - after.astype(float)).mean())
+        self.check(change >= min_change,
+                   f"{what}: the picture changes (mean |difference| {change:.2f} of 255)")
 
     def screenshot(self, name: str) -> None:
         if self.shots is None:
@@ -122,6 +206,18 @@ class Clicks:
         for text in errors[self._seen_errors:]:
             self.problems.append(f"after {after}: {text}")
         self._seen_errors = len(errors)
+
+
+def _thumbnail(pixels, size: int = 64):
+    """``pixels`` sampled on a size x size grid (the view's image changes size with the
+    view mode: a legend row under a split or a difference)."""
+    import numpy as np
+
+    if pixels is None or pixels.size == 0:
+        return None
+    rows = np.linspace(0, pixels.shape[0] - 1, size).astype(int)
+    columns = np.linspace(0, pixels.shape[1] - 1, size).astype(int)
+    return pixels[rows][:, columns]
 
 
 def run_session(name: str, shots: Path | None = None) -> dict:
@@ -147,6 +243,11 @@ def run_session(name: str, shots: Path | None = None) -> dict:
         exceptions = engine.add("click", name, body)
         while not engine.idle:
             if not app.frame():
+                c = clicks.get("c")
+                if c is not None and c.expect_quit and app.state.requests.quit:
+                    c.quit_seen, c.expect_quit = True, False
+                    app.state.requests.quit = False
+                    continue
                 problems.append("the window closed")
                 break
             if time.monotonic() - start > SESSION_TIMEOUT_S:
@@ -171,6 +272,11 @@ def main() -> int:
     parser.add_argument("--shots", type=Path, default=None,
                         help="write the screenshots the session takes to this folder")
     args = parser.parse_args()
+    if args.shots is not None:
+        args.shots = args.shots.resolve()
+    # what the window writes where it was started (File/Screenshot) goes to a folder
+    # of its own
+    os.chdir(tempfile.mkdtemp(prefix="click-session-"))
     if args.shots is not None:
         args.shots.mkdir(parents=True, exist_ok=True)
     report = run_session(args.session, args.shots)

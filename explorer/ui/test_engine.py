@@ -68,6 +68,11 @@ class TestEngine:
         io.config_no_throttle = True
         io.config_restore_focus_after_tests = False
         io.config_capture_enabled = False
+        # a session is one long test (many clicks in one window): the engine's watchdog
+        # would otherwise stop it after a minute
+        io.config_watchdog_warning = 600.0
+        io.config_watchdog_kill_test = 1800.0
+        io.config_watchdog_kill_app = 3600.0
         te.start(self.engine, imgui_context)
         self._new_frame = _gil_free(_NEW_FRAME)
         self._render = _gil_free(_RENDER)
