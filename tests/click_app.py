@@ -71,7 +71,10 @@ class Clicks:
         from imgui_bundle import imgui
 
         te = imgui.test_engine
-        ref = f"{window_ref}/**/{label}"
+        # a wildcard search runs from the top-level window (the engine does not take a
+        # child window as its start); the child is what scrolls
+        top = "//" + window_ref.removeprefix("//").split("/")[0]
+        ref = f"{top}/**/{label}"
         if self.exists(ref):
             return ref
         window = self.ctx.window_info(window_ref).window

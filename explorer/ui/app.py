@@ -116,6 +116,9 @@ class App:
         """The controller's status of the last frame (explorer.ui.controller)."""
         self.ui_ms = 30.0
         """The window's own time per drawn frame (smoothed), besides pipeline work."""
+        self.drew_change = False
+        """The last drawn frame's panels changed the state (a lesson step applied, a
+        button pressed): the pipelines have not seen it yet, whatever their status."""
         self.frames_skipped = 0
         self.last_wait_s = 0.0
         """How long the last frame() waited for events (an idle window)."""
@@ -181,38 +184,59 @@ class App:
             rt.file_dialog_available = False
 
     # -- the loop ------------------------------------------------------------------------
-    def run(self, frames: int | None = None, screenshot: Path | None = None) -> int:
+    def run(self, frames: int | None = None, screenshot: Path | None = None,
+            converged: bool = True) -> int:
         """Run until the window closes (or for ``frames`` frames, then, with
-        ``screenshot``, until the picture has converged, and write the window to it).
-        Returns an exit status."""
+        ``screenshot``, until the picture has converged, and write the window to it;
+        ``converged`` False: write the frame after ``frames`` as it is, its view saying
+        "propagating k/N" if it is still converging). Returns an exit status."""
         count = 0
         while self.frame():
             count += 1
             if frames is not None and count >= frames:
                 break
         if screenshot is not None:
-            if count == 0 or not self.settle():
+            if count == 0:
                 print("lpv-explorer: no frame was drawn, no screenshot written",
                       file=sys.stderr)
                 return 1
+            began, waited = time.monotonic(), 0
+            if converged:
+                print("lpv-explorer: waiting for the converged frame (--no-wait writes "
+                      "the frame as it is)", flush=True)
+                waited = self.settle()
+                if waited is None:
+                    print("lpv-explorer: the window closed before the frame converged, "
+                          "no screenshot written", file=sys.stderr)
+                    return 1
             self.frame(capture=True)
             write_png(self.last_pixels, screenshot)
-            print(f"lpv-explorer: wrote {screenshot}")
+            progress = self.state.runtime.progress.get("A")
+            if converged:
+                print(f"lpv-explorer: wrote {screenshot} (converged after {count} + "
+                      f"{waited} frames, {time.monotonic() - began:.1f} s of waiting)")
+            else:
+                print(f"lpv-explorer: wrote {screenshot} after {count} frames ("
+                      + (f"not converged: {progress}" if progress else "converged") + ")")
         return 0
 
-    def settle(self, max_frames: int = SETTLE_FRAMES) -> bool:
-        """Draw frames until no job runs, no background task works and the camera is
-        still (scripts and tests: the picture has converged); False if the window
-        closed first. A playing animation never settles: pause it first."""
-        for _ in range(max_frames):
+    def settle(self, max_frames: int = SETTLE_FRAMES) -> int | None:
+        """Draw frames until no job runs, no background task works, the camera is still
+        and the last frame's panels changed nothing the pipelines have not seen yet
+        (scripts and tests: the picture has converged). Returns the frames drawn (at
+        least 1), or None if the window closed first. A playing animation never settles:
+        pause it first."""
+        for drawn in range(1, max_frames + 1):
             if not self.frame(force=True):
-                return False
+                return None
             status = self.status
+            if self.drew_change:
+                continue                 # a step or a button changed the settings
             if status is not None and not status.active and not self._interacted:
-                return True              # a frame that found nothing left to do
+                return drawn             # a frame that found nothing left to do
             if status is None and self.state.runtime.frame_index > _LAYOUT_FRAMES:
-                return True          # no pipeline (or no GL): nothing to wait for
-        return True
+                return drawn         # no pipeline (or no GL): nothing to wait for
+        return max_frames
 
     def frame(self, capture: bool = False, force: bool = False) -> bool:
         """Process events, advance the pipelines within the frame budget and draw one
@@ -266,6 +290,7 @@ class App:
             self.frames_skipped += 1
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
+        before_draw = self._fingerprint()
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
@@ -284,6 +309,7 @@ class App:
         self._draws_pending = FRAMES_AFTER_INPUT if (events or changed) else max(
             self._draws_pending - 1, 0)
         self._seen = self._fingerprint()
+        self.drew_change = self._seen != before_draw
         self._drawn_at = time.monotonic()
         self._quiet = not (worked or rt.redraw or self._draws_pending or self._interacting())
         return True

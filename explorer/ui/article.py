@@ -153,7 +153,7 @@ def gui_article(state: AppState) -> None:
             session.resume_frames -= 1
             imgui.set_scroll_y(session.scroll)
         else:
-            session.scroll = imgui.get_scroll_y()
+            session.keep_scroll(imgui.get_scroll_y())
     finally:
         imgui.end_child()
 
@@ -376,6 +376,20 @@ def _pending_audit(name: str, context: live_values.LiveContext,
     return None if reason is None else reason + ")"
 
 
+PROVISIONAL = "≈"
+"""Marks a number read from a frame that is still converging (the view says
+"propagating k/N"): it changes until the frame has converged; its tooltip says so. (No
+line of text announces it: the article would move under the reader's mouse each time a
+try-this starts a new frame.)"""
+
+
+def provisional(quantity) -> bool:
+    """Whether ``quantity`` is read from the pipeline's frame (and so changes while it
+    converges): frame and audit numbers; not settings, constants, the Error panel's
+    measurement or a figure's own readout."""
+    return quantity.source in ("frame", "audit") and not quantity.constant
+
+
 def step_settings(step: Step, own):
     from explorer.ui.lesson_panel import step_screen
 
@@ -388,12 +402,19 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
     source = {"context": context, "where": "the frame on screen"}
 
+    converging = state.runtime.progress.get("A")
+
     def value(name: str, fmt: str) -> tuple[str, str]:
         quantity = live_values.lookup(name, step.figure_ids)
         text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         tip = f"{name}{unit}: {quantity.doc}"
-        if text == live_values.PENDING:
+        if (converging and text != live_values.PENDING
+                and source["where"] == "the frame on screen" and provisional(quantity)):
+            text = PROVISIONAL + text
+            tip += (f"\nprovisional: read from the frame while it converges "
+                    f"({converging}); it settles with the frame")
+        elif text == live_values.PENDING:
             tip += "\n(not available yet: " + (
                 "measure it in the Error panel)" if quantity.source == "error"
                 else _pending_audit(name, source["context"], step.figure_ids)

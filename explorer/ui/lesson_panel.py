@@ -197,6 +197,8 @@ class LessonSession:
     """The article's scroll offset as last drawn (the panel keeps it up to date)."""
     shown: tuple[str, int] | None = None
     """(lesson id, step) the article showed last: another one opens at its top."""
+    _open_scroll: float = 0.0
+    """The scroll :meth:`open` chose for the lesson it opened (0: its top)."""
     resume_frames: int = 0
     """Frames the panel still scrolls the article to :attr:`scroll` (a resumed lesson:
     its text's height is known only once it was drawn)."""
@@ -229,7 +231,7 @@ class LessonSession:
         if self.lesson is None or lesson.id != self.lesson.id:
             step, scroll = self.places.get(lesson.id, (1, 0.0)) if resume else (1, 0.0)
             self.lesson, self.step_number = lesson, max(1, min(step, len(lesson.steps)))
-            self.scroll = scroll
+            self.scroll = self._open_scroll = scroll
             self.shown = None
         return lesson
 
@@ -242,11 +244,17 @@ class LessonSession:
         where = (self.lesson.id, self.step_number)
         if self.shown == where:
             return None
-        resumed = self.shown is None and self.places.get(self.lesson.id, (0, 0.0))[0] == \
-            self.step_number
-        self.shown = where
-        self.resume_frames = RESUME_FRAMES if resumed and self.scroll > 0 else 0
-        return self.scroll if resumed else 0.0
+        scroll = self._open_scroll if self.shown is None else 0.0
+        self._open_scroll = 0.0
+        self.shown, self.scroll = where, scroll
+        self.resume_frames = RESUME_FRAMES if scroll > 0 else 0
+        return scroll
+
+    def keep_scroll(self, scroll: float) -> None:
+        """The article's scroll as just drawn, kept for :meth:`close`: only while it
+        showed the step that is current (a click in it may have changed the step)."""
+        if self.lesson is not None and self.shown == (self.lesson.id, self.step_number):
+            self.scroll = scroll
 
     def go(self, number: int) -> bool:
         """Move to step ``number``, clamped to the lesson; True when the step changed."""
