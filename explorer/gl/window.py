@@ -40,7 +40,10 @@ class Window:
     """
 
     def __init__(self, width: int = 1600, height: int = 960, title: str = "lpv-explorer",
-                 visible: bool = True, vsync: bool = True) -> None:
+                 visible: bool = True, vsync: bool = True,
+                 position: tuple[int, int] | None = None) -> None:
+        """``position``: the window's top-left corner on the desktop (default: where the
+        window manager puts it)."""
         glfw.set_error_callback(_print_glfw_error)
         # A headless EGL context current on this thread (tests, notebooks) makes Mesa's
         # glXMakeCurrent fail with BadAccess, and Xlib then exits the process: set it
@@ -62,6 +65,9 @@ class Window:
             glfw.window_hint(glfw.VISIBLE, bool(visible))
             glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
             glfw.window_hint(glfw.RESIZABLE, True)
+            if position is not None and hasattr(glfw, "POSITION_X"):    # glfw 3.4
+                glfw.window_hint(glfw.POSITION_X, int(position[0]))
+                glfw.window_hint(glfw.POSITION_Y, int(position[1]))
             self.handle = glfw.create_window(int(width), int(height), title, None, None)
             if self.handle:
                 break
@@ -183,6 +189,19 @@ class Window:
         glfw.terminate()
         restore_egl(self._saved_egl)
         self._saved_egl = None
+
+
+def work_area() -> tuple[int, int, int, int] | None:
+    """(x, y, width, height) of the primary monitor's work area (the desktop less its
+    panels and task bars), in screen coordinates; None without a display or monitor."""
+    glfw.set_error_callback(_print_glfw_error)
+    if not _init_glfw():
+        return None
+    monitor = glfw.get_primary_monitor()
+    if not monitor:
+        return None
+    x, y, width, height = glfw.get_monitor_workarea(monitor)
+    return (int(x), int(y), int(width), int(height)) if width > 0 and height > 0 else None
 
 
 def _init_glfw(attempts: int = 3) -> bool:

@@ -85,9 +85,18 @@ class App:
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-        # The window opens at the given size, else at the size it had when it was closed.
+        # The window opens at the given size, else at the size it had when it was closed
+        # (the default the first time), shrunk to fit the monitor's work area and
+        # centred on it: a size saved on a larger screen, or the default on a small one,
+        # would cut off the tool column.
         saved_w, saved_h = self.state.window_size
-        self.window = Window(width or saved_w, height or saved_h, visible=visible, vsync=vsync)
+        size, position = (width or saved_w, height or saved_h), None
+        if width is None or height is None:
+            from explorer.gl.window import work_area
+            from explorer.ui.state import fit_work_area
+
+            size, position = fit_work_area(size, work_area() if visible else None)
+        self.window = Window(*size, visible=visible, vsync=vsync, position=position)
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
