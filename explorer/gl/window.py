@@ -41,17 +41,21 @@ class Window:
 
     def __init__(self, width: int = 1600, height: int = 960, title: str = "lpv-explorer",
                  visible: bool = True, vsync: bool = True,
-                 position: tuple[int, int] | None = None) -> None:
+                 position: tuple[int, int] | None = None, headless: bool = False) -> None:
         """``position``: the window's top-left corner on the desktop (default: where the
-        window manager puts it)."""
+        window manager puts it). ``headless``: no display at all: glfw's null platform
+        with an EGL context (Mesa's surfaceless EGL); the window is never shown, draws
+        into its default framebuffer and reads it back as a hidden one does (exports)."""
         glfw.set_error_callback(_print_glfw_error)
         # A headless EGL context current on this thread (tests, notebooks) makes Mesa's
         # glXMakeCurrent fail with BadAccess, and Xlib then exits the process: set it
         # aside while the window lives and make it current again in close().
         self._saved_egl = release_current_egl()
-        if not _init_glfw():
+        self.headless = bool(headless)
+        if not _init_glfw(headless=self.headless):
             restore_egl(self._saved_egl)
             raise WindowError(
+                "glfw could not start headless (its null platform)" if self.headless else
                 "glfw could not start: is there a display? (set DISPLAY, or run under "
                 "xvfb-run for a virtual one)")
         self.handle = None
@@ -62,7 +66,9 @@ class Window:
             glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, minor)
             glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
             glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
-            glfw.window_hint(glfw.VISIBLE, bool(visible))
+            glfw.window_hint(glfw.VISIBLE, bool(visible) and not self.headless)
+            if self.headless:
+                glfw.window_hint(glfw.CONTEXT_CREATION_API, glfw.EGL_CONTEXT_API)
             glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
             glfw.window_hint(glfw.RESIZABLE, True)
             if position is not None and hasattr(glfw, "POSITION_X"):    # glfw 3.4
@@ -204,9 +210,20 @@ def work_area() -> tuple[int, int, int, int] | None:
     return (int(x), int(y), int(width), int(height)) if width > 0 and height > 0 else None
 
 
-def _init_glfw(attempts: int = 3) -> bool:
+def headless_available() -> bool:
+    """Whether this glfw has the null platform (glfw 3.4) that :class:`Window` needs for
+    ``headless``."""
+    return hasattr(glfw, "PLATFORM_NULL")
+
+
+def _init_glfw(attempts: int = 3, headless: bool = False) -> bool:
     """``glfw.init()``, retried briefly: a busy X server (e.g. Xvfb on a loaded CI machine)
-    occasionally refuses one connection."""
+    occasionally refuses one connection. ``headless``: on glfw's null platform (no
+    display); the hint is set either way, as it outlives a ``glfw.terminate()``."""
+    if headless_available():
+        glfw.init_hint(glfw.PLATFORM, glfw.PLATFORM_NULL if headless else glfw.ANY_PLATFORM)
+    elif headless:
+        return False
     for attempt in range(attempts):
         if glfw.init():
             return True

@@ -68,14 +68,16 @@ class App:
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...,
                  wait_when_idle: bool | None = None,
-                 idle_timeout_s: float = IDLE_TIMEOUT_S, test_engine: bool = False) -> None:
+                 idle_timeout_s: float = IDLE_TIMEOUT_S, test_engine: bool = False,
+                 headless: bool = False) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
         None for a window without a pipeline (panels only: the window tests).
         ``wait_when_idle``: wait for events instead of drawing when nothing changed
         (default: for a visible window; a hidden one is scripted and draws every
         :meth:`frame`); ``idle_timeout_s``: the longest such wait. ``test_engine``: start
         Dear ImGui Test Engine in the window (:attr:`test_engine` queues click tests,
-        explorer/ui/test_engine.py)."""
+        explorer/ui/test_engine.py). ``headless``: no display needed (glfw's null
+        platform with EGL, :class:`~explorer.gl.window.Window`): exports and scripts."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
@@ -91,12 +93,13 @@ class App:
         # would cut off the tool column.
         saved_w, saved_h = self.state.window_size
         size, position = (width or saved_w, height or saved_h), None
-        if width is None or height is None:
+        if (width is None or height is None) and not headless:
             from explorer.gl.window import work_area
             from explorer.ui.state import fit_work_area
 
             size, position = fit_work_area(size, work_area() if visible else None)
-        self.window = Window(*size, visible=visible, vsync=vsync, position=position)
+        self.window = Window(*size, visible=visible and not headless, vsync=vsync,
+                             position=position, headless=headless)
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
