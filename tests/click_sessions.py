@@ -197,6 +197,113 @@ def run_try_this(c, lessons=None) -> None:
         c.click(f"{LESSON}/**/< All lessons", "< All lessons")
 
 
+# --- every inline figure's controls -------------------------------------------------------
+
+def _figure_state(c, spec):
+    from explorer.ui.article import figure_context
+    from explorer.ui.figures import FIGURES
+
+    return figure_context(c.state).state_for(spec.instance_id, spec.kind, spec.params,
+                                             FIGURES[spec.kind].make_state)
+
+
+def _drag(c, start, delta, what: str) -> None:
+    """Press the mouse at ``start`` (screen pixels), move it by ``delta`` over a few
+    frames, release."""
+    from imgui_bundle import imgui
+
+    c.ctx.mouse_move_to_pos(imgui.ImVec2(float(start[0]), float(start[1])))
+    c.settle_input()
+    c.ctx.mouse_down(0)
+    c.settle_input()
+    for part in (0.3, 0.6, 1.0):
+        c.ctx.mouse_move_to_pos(imgui.ImVec2(float(start[0] + part * delta[0]),
+                                             float(start[1] + part * delta[1])))
+        c.settle_input()
+    c.ctx.mouse_up(0)
+    c.controls.append(what)
+    c.settle_input()
+
+
+def _scale_controls(c, spec, figure, where: str) -> None:
+    for scale in ("log", "linear", "auto"):
+        c.click_in(ARTICLE, scale, f"{spec.kind}: axis {scale}")
+        c.check(figure().scale == scale, f"{where}: the axis is {scale}")
+
+
+def _figure_controls(c, spec, where: str) -> None:
+    """Every control of the figure ``spec`` on screen, each checked on the figure's state."""
+    from explorer.figure_params import PIPELINE_STAGES, STEPPER_GLYPHS
+    from explorer.ui.figures.cell_faces import neighbour_faces
+
+    def figure():
+        return _figure_state(c, spec)
+
+    c.settle_input(2)
+    if spec.kind == "pipeline":
+        for key, title, _ in PIPELINE_STAGES:
+            c.click_in(ARTICLE, f"##stage-{key}", f"pipeline: {title}")
+            c.check(figure().highlight == key, f"{where}: {title} is lit")
+    elif spec.kind in ("flux-per-step", "energy-audit"):
+        _scale_controls(c, spec, figure, where)
+        was = figure().relative
+        c.click_in(ARTICLE, "share of injected", f"{spec.kind}: share")
+        c.check(figure().relative is (not was), f"{where}: share of injected")
+    elif spec.kind == "cell-faces":
+        for index, face in enumerate(neighbour_faces(spec.params.direction)):
+            c.click_in(ARTICLE, label_ref(f"{face.name}##row{index}"),
+                       f"cell-faces: row {face.name}")
+            c.check(figure().highlighted == index, f"{where}: face {face.name} highlighted")
+    elif spec.kind == "propagation-stepper":
+        c.click_in(ARTICLE, "Play", "stepper: Play")
+        c.check(figure().playing, f"{where}: plays")
+        c.click_in(ARTICLE, "Pause", "stepper: Pause")
+        c.check(not figure().playing, f"{where}: pauses")
+        ref = c.find(ARTICLE, "##t")
+        if c.check(ref is not None, f"{where}: the step slider"):
+            c.ctx.item_input_value(ref, 2)
+            c.controls.append("stepper: step slider")
+            c.settle_input()
+            c.check(figure().step == 2, f"{where}: the slider sets step 2")
+        for glyph in STEPPER_GLYPHS:
+            if c.click_in(ARTICLE, "glyph", "stepper: glyph list"):
+                c.click(f"//$FOCUSED/{label_ref(glyph)}", f"stepper: glyph {glyph}")
+                c.check(figure().glyph == glyph, f"{where}: glyph {glyph}")
+        _scale_controls(c, spec, figure, where)
+    elif spec.kind in ("clamped-cosine", "rsm-texel"):
+        c.find(ARTICLE, "##slice" if spec.kind == "clamped-cosine" else "##side view")
+        handles = ((("n", "normal_deg", (25.0, 12.0)), ("ω", "probe_deg", (25.0, 12.0)))
+                   if spec.kind == "clamped-cosine" else (("tilt", "theta_deg", (-20., -25.)),))
+        for handle, attribute, delta in handles:
+            c.settle_input(2)
+            before = getattr(figure(), attribute)
+            at = figure().handles.get(handle)
+            if c.check(at is not None, f"{where}: the {handle} handle is drawn"):
+                _drag(c, (at.x, at.y), delta, f"{spec.kind}: drag {handle}")
+                after = getattr(figure(), attribute)
+                c.check(abs(after - before) > 1.0,
+                        f"{where}: dragging {handle} moves it ({before:.1f} -> {after:.1f})")
+    else:
+        c.check(False, f"{where}: no clicks written for figure kind {spec.kind}")
+
+
+def run_figures(c, only=None) -> None:
+    session = c.state.lesson_session
+    c.settle_input(3)
+    for lesson in session.lessons:
+        steps = [step for step in lesson.steps if step.figures
+                 and (only is None or (lesson.id, step.number) in only)]
+        if not steps:
+            continue
+        _open_from_list(c, lesson)
+        for step in steps:
+            if session.step_number != step.number:
+                _to_step(c, lesson, step.number)
+            for spec in step.figures:
+                _figure_controls(c, spec, f"{lesson.id} {step.number} {spec.kind}")
+        c.click(f"{LESSON}/**/< All lessons", "< All lessons")
+
+
 def _panel_titles() -> list[str]:
     from explorer.ui.layout import PANELS
 
@@ -268,20 +375,7 @@ def run_window(c) -> None:
     c.check(c.quit_seen, "File/Quit closes the window")
 
 
-def run_explore(c) -> None:
-    c.settle_input(3)
-    print("conv", c.converged(), c.state.runtime.view_rect, flush=True)
-    px = c.view_pixels()
-    print("px", None if px is None else px.shape, c.app.last_pixels is None, flush=True)
-    for t in ("View", "Lesson"):
-        c.menu(f"Windows/{t}")
-        print(t, c.state.open_panels.get(t), flush=True)
-        c.menu(f"Windows/{t}")
-        print(t, c.state.open_panels.get(t), flush=True)
-
-
 SESSIONS = {
-    "explore": Session(small_state, run_explore, ""),
     "lessons": Session(small_state, run_lessons,
                        "every lesson from the list and back, every step with Next, every "
                        "Next lesson, Previous back to the first step"),
@@ -289,6 +383,10 @@ SESSIONS = {
                       "the step list, a lesson left half-way comes back there, Leave "
                       "lesson settings / Back to the lesson, Reset step"),
     "try-this": Session(small_state, run_try_this, "every try-this and its Undo"),
+    "figures": Session(small_state, run_figures, "every inline figure's controls"),
+    "figures-drag": Session(small_state, lambda c: run_figures(c, {
+        ("spherical-harmonics", 2), ("reflective-shadow-maps", 2), ("solid-angles", 5)}),
+        "the draggable figures and the stepper (a short session for trying fixes)"),
     "window": Session(small_state, run_window,
                       "Split/Difference/Single, every Corrections checkbox and preset, "
                       "every menu item (Presets, Windows, Reset layout, File)"),
