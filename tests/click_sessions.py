@@ -212,17 +212,55 @@ def _drag(c, start, delta, what: str) -> None:
     frames, release."""
     from imgui_bundle import imgui
 
+    # implot takes a handle that was hovered for a few frames before the press
     c.ctx.mouse_move_to_pos(imgui.ImVec2(float(start[0]), float(start[1])))
-    c.settle_input()
+    c.settle_input(5)
     c.ctx.mouse_down(0)
-    c.settle_input()
-    for part in (0.3, 0.6, 1.0):
+    c.settle_input(5)
+    for part in (0.2, 0.4, 0.6, 0.8, 1.0):
         c.ctx.mouse_move_to_pos(imgui.ImVec2(float(start[0] + part * delta[0]),
                                              float(start[1] + part * delta[1])))
         c.settle_input()
     c.ctx.mouse_up(0)
     c.controls.append(what)
     c.settle_input()
+
+
+def _below(c, known: str, dx: float):
+    """Click the widget on the line below the item labelled ``known``, ``dx`` pixels in
+    from its left edge (for a widget whose label the engine's search does not see: the
+    stepper's glyph combo under its Play button)."""
+    from imgui_bundle import imgui
+
+    ref = c.find(ARTICLE, known)
+    if ref is None:
+        return False
+    rect = c.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error).rect_full
+    spacing = imgui.get_style().item_spacing.y
+    c.ctx.mouse_move_to_pos(imgui.ImVec2(rect.min.x + dx,
+                                         rect.max.y + spacing + imgui.get_frame_height() / 2))
+    c.ctx.mouse_click(0)
+    c.settle_input()
+    return True
+
+
+def _reveal(c, where):
+    """Scroll the article until the screen point ``where()`` (a figure's handle, drawn
+    each frame) lies in its middle third; the point then, or None."""
+    from imgui_bundle import imgui
+
+    for _ in range(3):                 # the point moves with the scroll: look again
+        window = c.window(ARTICLE)
+        point = where()
+        if window is None or point is None:
+            return point
+        middle = window.pos.y + 0.5 * window.size.y
+        if abs(point.y - middle) <= window.size.y / 6:
+            break
+        target = min(max(window.scroll.y + point.y - middle, 0.0), window.scroll_max.y)
+        c.ctx.scroll_to_y(imgui.test_engine.TestRef(window.id_), target)
+        c.settle_input(4)
+    return where()
 
 
 def _scale_controls(c, spec, figure, where: str) -> None:
@@ -265,19 +303,21 @@ def _figure_controls(c, spec, where: str) -> None:
             c.controls.append("stepper: step slider")
             c.settle_input()
             c.check(figure().step == 2, f"{where}: the slider sets step 2")
-        for glyph in STEPPER_GLYPHS:
-            if c.click_in(ARTICLE, "glyph", "stepper: glyph list"):
-                c.click(f"//$FOCUSED/{label_ref(glyph)}", f"stepper: glyph {glyph}")
+        for index, glyph in enumerate(STEPPER_GLYPHS):
+            # the engine's search misses the combo's label: it is under Play
+            if c.check(_below(c, "Play", 40.0), f"{where}: the glyph list"):
+                c.controls.append("stepper: glyph list")
+                # imgui.combo's entries: selectables under push_id(index)
+                c.click(f"//$FOCUSED/$${index}/{label_ref(glyph)}", f"stepper: glyph {glyph}")
                 c.check(figure().glyph == glyph, f"{where}: glyph {glyph}")
         _scale_controls(c, spec, figure, where)
     elif spec.kind in ("clamped-cosine", "rsm-texel"):
-        c.find(ARTICLE, "##slice" if spec.kind == "clamped-cosine" else "##side view")
         handles = ((("n", "normal_deg", (25.0, 12.0)), ("ω", "probe_deg", (25.0, 12.0)))
-                   if spec.kind == "clamped-cosine" else (("tilt", "theta_deg", (-20., -25.)),))
+                   if spec.kind == "clamped-cosine" else (("tilt", "theta_deg", (24., -20.)),))
         for handle, attribute, delta in handles:
             c.settle_input(2)
             before = getattr(figure(), attribute)
-            at = figure().handles.get(handle)
+            at = _reveal(c, lambda h=handle: figure().handles.get(h))
             if c.check(at is not None, f"{where}: the {handle} handle is drawn"):
                 _drag(c, (at.x, at.y), delta, f"{spec.kind}: drag {handle}")
                 after = getattr(figure(), attribute)
