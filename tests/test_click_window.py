@@ -40,6 +40,7 @@ def _least_clicks(session: str) -> int:
     return {"lessons": 2 * len(lessons) + (steps - len(lessons)) + (len(lessons) - 1),
             "return": 12,
             "try-this": 2 * tries,
+            "figures": 40,
             "window": 2 * len(CORRECTIONS) + 2 * len(PANELS) + 3 + 4,
             }[session]
 
@@ -55,7 +56,7 @@ def _run_session(name: str, tmp_path: Path) -> dict:
     return json.loads(lines[-1])
 
 
-@pytest.mark.parametrize("session", ["lessons", "return", "try-this", "window"])
+@pytest.mark.parametrize("session", ["lessons", "return", "try-this", "figures", "window"])
 def test_click_session(session: str, tmp_path: Path) -> None:
     report = _run_session(session, tmp_path)
     problems = "\n".join(report["problems"])
