@@ -317,7 +317,8 @@ class LessonSession:
         """Close the lesson (remembering its step and scroll for :meth:`open` with
         ``resume``), restoring the reader's configuration if a step was applied."""
         if self.lesson is not None:
-            self.places[self.lesson.id] = (self.step_number, self.scroll)
+            drawn = self.shown == (self.lesson.id, self.step_number)
+            self.places[self.lesson.id] = (self.step_number, self.scroll if drawn else 0.0)
         restored = self.leave()
         self.lesson, self.step_number, self.left = None, 1, False
         self.shown, self.scroll = None, 0.0
