@@ -62,8 +62,45 @@ class Clicks:
         if ref is None:
             self.check(False, f"no item {label!r} in {window_ref}")
             return False
+        self._steady(ref)
         self.click(ref, what)
         return True
+
+    def click_until(self, window_ref: str, label: str, done, what: str,
+                    attempts: int = 3) -> bool:
+        """Click the item ``label`` in ``window_ref`` until ``done()`` holds: a lesson's
+        text reflows while its frame converges (a number arrives, a note goes), so an
+        item can move between the engine finding it and the mouse arriving; the click
+        waits for the item to stand still and is tried again if it missed."""
+        from imgui_bundle import imgui
+
+        flags = imgui.test_engine.TestOpFlags_.no_check_hovered_id
+        for _ in range(attempts):
+            ref = self.find(window_ref, label)
+            if ref is None:
+                self.check(False, f"no item {label!r} in {window_ref}")
+                return False
+            self._steady(ref)
+            self.ctx.item_click(ref, 0, flags)
+            self.controls.append(what)
+            self.settle_input()
+            self._panel_errors(what)
+            if done():
+                return True
+        return self.check(False, f"{what}: {attempts} clicks on {label!r} did nothing")
+
+    def _steady(self, ref: str, frames: int = 40) -> None:
+        """Wait until the item ``ref`` stays where it is for two frames."""
+        from imgui_bundle import imgui
+
+        last = None
+        for _ in range(frames):
+            info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+            rect = None if info is None else (info.rect_full.min.x, info.rect_full.min.y)
+            if rect is not None and rect == last:
+                return
+            last = rect
+            self.ctx.yield_()
 
     def find(self, window_ref: str, label: str) -> str | None:
         """The reference of the item labelled ``label`` in ``window_ref``, scrolled on

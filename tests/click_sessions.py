@@ -157,6 +157,23 @@ def run_return(c) -> None:
     c.click(f"{LESSON}/**/< All lessons", "< All lessons")
 
 
+_VIEW_SIZED = ("width", "height")
+"""Settings the window sets itself (the render size follows the View panel)."""
+
+
+def _same_settings(shown, wanted) -> bool:
+    return shown == wanted.with_changes(**{name: getattr(shown, name) for name in _VIEW_SIZED})
+
+
+def _settings_difference(shown, wanted) -> str:
+    from dataclasses import fields
+
+    differ = [f"{f.name}: {getattr(shown, f.name)!r} != {getattr(wanted, f.name)!r}"
+              for f in fields(shown) if f.name not in _VIEW_SIZED
+              and getattr(shown, f.name) != getattr(wanted, f.name)]
+    return "; ".join(differ) or "the same settings"
+
+
 # --- every try-this and its Undo ---------------------------------------------------------
 
 def run_try_this(c, lessons=None) -> None:
@@ -177,21 +194,29 @@ def run_try_this(c, lessons=None) -> None:
             for index, item in enumerate(step.try_this, start=1):
                 label, _ = try_label(item)
                 where = f"{lesson.id} {step.number} try {index}"
-                c.click_in(ARTICLE, label_ref(f"{label}##try{index}"), "try this")
+                c.click_until(ARTICLE, label_ref(f"{label}##try{index}"),
+                              lambda i=index: session.tried == i, "try this")
                 wanted = try_screen(step, index, session.saved)
                 c.check(session.tried == index, f"{where}: the try-this is on screen")
-                c.check(c.state.settings == wanted.settings
+                shown = c.state.settings
+                c.check(_same_settings(shown, wanted.settings)
                         and c.state.view_mode == wanted.view_mode
                         and c.state.compare_settings.corrections
-                        == wanted.compare_settings.corrections,
-                        f"{where}: the settings the button sets")
+                        == wanted.compare_settings.corrections
+                        and tuple(c.state.compare_overrides)
+                        == tuple(wanted.compare_overrides),
+                        f"{where}: the settings the button sets "
+                        f"({_settings_difference(shown, wanted.settings)}, view "
+                        f"{c.state.view_mode} / {wanted.view_mode})")
                 undo = label_ref(f"Undo: {label}##try{index}")
                 c.check(c.find(ARTICLE, undo) is not None,
                         f"{where}: its button now reads Undo")
                 if index % 2:
-                    c.click_in(ARTICLE, undo, "try this: Undo (its button)")
+                    c.click_until(ARTICLE, undo, lambda: session.tried is None,
+                                  "try this: Undo (its button)")
                 else:
-                    c.click(f"{LESSON}/**/Undo", "try this: Undo (the status line)")
+                    c.click_until(LESSON, "Undo", lambda: session.tried is None,
+                                  "try this: Undo (the status line)")
                 _shows(c, lesson, step.number, f"{where} undone")
                 c.check(session.tried is None, f"{where} undone: no try-this on screen")
         c.click(f"{LESSON}/**/< All lessons", "< All lessons")
