@@ -72,7 +72,9 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                 session = app.state.lesson_session
                 show_screen(app.state, session.toggle_try(try_this, current_screen(app.state)))
                 pressed = True
-            converged = app.status is not None and not app.status.active   # nothing left
+            # nothing left to do, and nothing the panels changed in the frame just drawn
+            converged = (app.status is not None and not app.status.active
+                         and not app.drew_change)
             ready = (rt.result is not None and frames > SETTLE_FRAMES and pressed
                      and converged
                      and (not app.state.comparing or rt.compare_result is not None))
