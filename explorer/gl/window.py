@@ -30,6 +30,9 @@ class WindowError(RuntimeError):
 
 
 _GL_REQUESTS = ((4, 3), (3, 3))
+_HEADLESS_SPARE: list = []
+"""The (handle, moderngl context, GL problem) of a closed headless window, reused by the
+next one (see :meth:`Window.close`)."""
 
 
 class Window:
@@ -52,6 +55,8 @@ class Window:
         # aside while the window lives and make it current again in close().
         self._saved_egl = release_current_egl()
         self.headless = bool(headless)
+        if not self.headless and _HEADLESS_SPARE:
+            _drop_headless_spare()            # glfw is on its null platform: start over
         if not _init_glfw(headless=self.headless):
             restore_egl(self._saved_egl)
             raise WindowError(
@@ -60,7 +65,8 @@ class Window:
                 "xvfb-run for a virtual one)")
         self.handle = None
         self.gl_problem: str | None = None
-        for major, minor in _GL_REQUESTS:
+        spare = _HEADLESS_SPARE.pop() if self.headless and _HEADLESS_SPARE else None
+        for major, minor in _GL_REQUESTS if spare is None else ():
             glfw.default_window_hints()
             glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, major)
             glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, minor)
@@ -77,18 +83,22 @@ class Window:
             self.handle = glfw.create_window(int(width), int(height), title, None, None)
             if self.handle:
                 break
+        if spare is not None:
+            self.handle, self.ctx, self.gl_problem = spare
+            glfw.set_window_size(self.handle, int(width), int(height))
         if not self.handle:
             glfw.terminate()
             restore_egl(self._saved_egl)
             raise WindowError("glfw could not open a window with an OpenGL 3.3+ core context")
         glfw.make_context_current(self.handle)
         glfw.swap_interval(1 if vsync else 0)
-        try:
-            self.ctx = wrap_current_context()
-        except GLUnavailableError as exc:
-            # Keep a context that can at least draw the explanation.
-            self.gl_problem = str(exc)
-            self.ctx = moderngl.create_context()
+        if spare is None:
+            try:
+                self.ctx = wrap_current_context()
+            except GLUnavailableError as exc:
+                # Keep a context that can at least draw the explanation.
+                self.gl_problem = str(exc)
+                self.ctx = moderngl.create_context()
         self.dropped_paths: deque[Path] = deque()
         self.events = 0
         """Input and window events since :meth:`take_events` (an idle app waits for one)."""
@@ -189,10 +199,17 @@ class Window:
         return pixels[::-1].copy()
 
     def close(self) -> None:
+        if self.handle is not None and self.headless:
+            # kept for the next headless window of this process: moderngl finds a
+            # second EGL context made current by glfw no more (through GLX)
+            glfw.make_context_current(None)
+            _HEADLESS_SPARE.append((self.handle, self.ctx, self.gl_problem))
+            self.handle = None
         if self.handle is not None:
             glfw.destroy_window(self.handle)
             self.handle = None
-        glfw.terminate()
+        if not self.headless:
+            glfw.terminate()
         restore_egl(self._saved_egl)
         self._saved_egl = None
 
@@ -208,6 +225,14 @@ def work_area() -> tuple[int, int, int, int] | None:
         return None
     x, y, width, height = glfw.get_monitor_workarea(monitor)
     return (int(x), int(y), int(width), int(height)) if width > 0 and height > 0 else None
+
+
+def _drop_headless_spare() -> None:
+    while _HEADLESS_SPARE:
+        handle, ctx, _ = _HEADLESS_SPARE.pop()
+        ctx.release()
+        glfw.destroy_window(handle)
+    glfw.terminate()
 
 
 def headless_available() -> bool:
