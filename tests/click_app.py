@@ -177,8 +177,14 @@ class Clicks:
     # -- checks -----------------------------------------------------------------------
     def check(self, condition: bool, what: str) -> bool:
         if not condition:
+            first = not self.problems
             self.problems.append(what)
             print(f"click check failed: {what}", file=sys.stderr, flush=True)
+            if first:            # what the window looked like (with --shots) and held
+                hidden = [t for t, shown in self.state.open_panels.items() if not shown]
+                print(f"  hidden panels: {hidden or 'none'}; panel errors: "
+                      f"{self.app.panel_errors[-3:]}", file=sys.stderr, flush=True)
+                self.screenshot("first-failure")
         return bool(condition)
 
     def exists(self, ref: str) -> bool:
