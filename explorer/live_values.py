@@ -321,8 +321,7 @@ def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
 
 
 def _fixed() -> dict[str, Quantity]:
-    from explorer.lpv.schema import STAGES
-    from explorer.lpv.stages import PASSES
+    from explorer.lpv.stage_list import PASSES, STAGES
 
     items = [
         *[Quantity(f"audit.{name}", doc, "W", _audit_sum(name)) for name, doc in AUDIT_SUMS],
@@ -351,7 +350,7 @@ def _fixed() -> dict[str, Quantity]:
                  lambda c: _ratio(_primary_rsm(c), _audit_sum("rsm")(c))),
         Quantity("frame.stages_ran", "how many stages this frame ran (the others were up "
                  "to date)", "", lambda c: len(_result(c).stages_run), "d"),
-        Quantity("frame.stages", "stages of the pipeline (explorer.lpv.schema.STAGES)", "",
+        Quantity("frame.stages", "stages of the pipeline (explorer.lpv.stage_list.STAGES)", "",
                  lambda c: len(STAGES), "d", constant=True),
         Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
                  "(yes/no)", "", _ran("gbuffer"), ""),

@@ -153,11 +153,11 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
         assert one.grid_spec == GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 16)
         image = one.final_image.copy()
         # the cascade code path with two identical cascades gives the same image
-        gather = pipeline._gather
-        grid = pipeline._levels[0].output.accumulated
+        gather = pipeline.state.gather_pass
+        grid = pipeline.state.levels[0].output.accumulated
         twice = [CascadeInput(one.grid_spec, grid.textures)] * 2
         lights = pipeline.light_views
-        gather.run(pipeline._gbuffer, lights.rsm_textures, lights.views, None,
+        gather.run(pipeline.state.gbuffer_pass, lights.rsm_textures, lights.views, None,
                    one.grid_spec, cascades=twice)
         blended = sum(read_texture(gather.targets[name])[..., :3]
                       for name in ("direct", "indirect"))

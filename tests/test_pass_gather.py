@@ -13,7 +13,7 @@ from lpv_cases import relative_error
 from explorer.gl.program import ProgramCache
 from explorer.lpv import reference as ref
 from explorer.lpv.display import DisplayPass, exposed_image
-from explorer.lpv.gather import EXACT_FILTER, GatherPass, linear_filter_error
+from explorer.lpv.gather import EXACT_FILTER, GatherParams, GatherPass, linear_filter_error
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
@@ -111,7 +111,7 @@ def test_indirect_matches_numpy(setup, damping, shader_filter):
         values = values[:, :, ::-1].copy()
     grid.write(values)
     with filtering(gather, shader_filter):
-        gather.run(gbuffer, shadow, view, grid.textures, spec, damping=damping)
+        gather.run(gbuffer, shadow, view, grid.textures, spec, GatherParams(damping=damping))
     points, normals, albedo, valid = visible_points(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert valid.mean() > 0.3

@@ -67,6 +67,25 @@ class Glossy:
                 "u_camera_position": self.eye}
 
 
+@dataclass(frozen=True)
+class GatherParams:
+    """What the gather reads of the Settings (and the eye the glossy term reflects)."""
+
+    damping: bool = False
+    """The directional-derivative damping of the indirect irradiance (docs/MODEL.md
+    "Final gather"); with cascades, per cascade."""
+    shadow_kernel: int = DEFAULT_SHADOW_KERNEL
+    """Width of the PCF box in shadow-map texels (1 = one hard test)."""
+    glossy: Glossy | None = None
+    """The glossy reflection of the grid added to the indirect radiance (None: off)."""
+
+    @classmethod
+    def of(cls, settings, eye) -> "GatherParams":
+        """The Settings' gather, its glossy term seen from ``eye``."""
+        return cls(bool(settings.gather_damping), int(settings.shadow_kernel),
+                   Glossy.of(settings, eye))
+
+
 NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
              "u_glossy_samples": 0, "u_camera_position": (0.0, 0.0, 0.0)}
 """glossy.glsl's uniforms with the glossy term off."""
@@ -147,25 +166,22 @@ class GatherPass:
 
     def run(self, gbuffer: GBufferPass, shadow: VplTextures,
             lights: LightView | Sequence[LightView], grid_textures, spec: GridSpec,
-            damping: bool = False, cascades: list[CascadeInput] | None = None,
-            sh_order: int = 1, rows: tuple[int, int] | None = None,
-            shadow_kernel: int = DEFAULT_SHADOW_KERNEL,
+            params: GatherParams = GatherParams(), *,
+            cascades: list[CascadeInput] | None = None, sh_order: int = 1,
             shadow_tiles: Sequence[tuple[int, int]] | None = None,
-            glossy: Glossy | None = None, size: tuple[int, int] | None = None) -> None:
+            rows: tuple[int, int] | None = None, size: tuple[int, int] | None = None
+            ) -> None:
         """``shadow``: the RSM (one view) or the RSM atlas of every view; ``lights``: the
         view(s), their shadow maps at ``shadow_tiles`` (lower-left texels in ``shadow``;
         None: one view at (0, 0)).
         ``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
-        trilinearly, clamped to the edge), or None for direct light only. ``damping``: the
-        directional-derivative damping of the indirect irradiance (docs/MODEL.md "Final
-        gather"); with cascades, per cascade.
-        ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
+        trilinearly, clamped to the edge), or None for direct light only. ``params``: what
+        the Settings ask of the gather (:class:`GatherParams`: damping, PCF kernel, glossy
+        term). ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
         ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
-        the others keep what they hold. ``shadow_kernel``: width of the PCF box in
-        shadow-map texels (1 = one hard test). ``glossy``: add the glossy reflection of
-        the grid to the indirect radiance (None: off). ``size``: the targets' size (default
+        the others keep what they hold. ``size``: the targets' size (default
         the G-buffer's); a smaller one gathers a reduced picture, each pixel at the
         G-buffer texel below it (:func:`reduced_size`; the window's quick previews)."""
         self._targets.allocate(size or gbuffer.size)
@@ -188,13 +204,13 @@ class GatherPass:
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
             "u_light_count": light_count,
-            "u_shadow_kernel": int(shadow_kernel),
+            "u_shadow_kernel": int(params.shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
-            "u_gather_damping": int(damping),
+            "u_gather_damping": int(params.damping),
             "u_target_size": self._targets.size,
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
-            **(NO_GLOSSY if glossy is None else glossy.uniforms()),
+            **(NO_GLOSSY if params.glossy is None else params.glossy.uniforms()),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):

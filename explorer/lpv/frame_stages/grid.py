@@ -1,0 +1,15 @@
+"""The ``grid`` stage (by value): the GridSpec of each cascade, the grid enclosing the
+scene or the cascades around the camera's focus point (explorer/lpv/cascades.py)."""
+
+from __future__ import annotations
+
+from explorer.lpv.cascades import frame_specs
+from explorer.lpv.frame_stages.base import Stage as StageBase
+
+
+class Stage(StageBase):
+    def evaluate(self, job) -> tuple:
+        """The tuple of cascade specs (what the stages downstream see)."""
+        s = job.settings
+        self.state.specs = frame_specs(s, self.host.scene_state.for_settings(s))
+        return tuple(self.state.specs)
