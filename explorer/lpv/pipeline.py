@@ -42,6 +42,7 @@ query, or the wall clock on a software renderer), in ``FrameResult.timings_ms``.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Iterator
 
 import moderngl
@@ -378,7 +379,25 @@ class Pipeline:
         return cascade.injected, self.state.specs[level], cascade.volume
 
 
-def render(settings: Settings) -> FrameResult:
-    """One frame with a throw-away headless pipeline (scripts, notebooks)."""
-    with Pipeline(settings) as pipeline:
-        return pipeline.run()
+def render(settings: Settings | None = None, *, vpls: VplArrays | None = None,
+           keep_steps: bool = False, need_audit: str | bool = True,
+           ctx: moderngl.Context | None = None, **changes) -> FrameResult:
+    """One frame with a throw-away pipeline (scripts, notebooks), headless unless ``ctx``
+    is given: ``settings`` (default ``Settings()``) with ``changes`` applied by
+    :meth:`Settings.with_changes` (so ``corrections="original"`` names a preset and a
+    dict changes single switches); ``vpls``, ``keep_steps`` and ``need_audit`` as for
+    :meth:`Pipeline.start`. A bad value raises a one-line ValueError naming the field.
+
+    >>> from explorer.lpv import render
+    >>> frame = render(grid_size=16, iterations=8, width=160, height=120)  # doctest: +SKIP
+    >>> frame.audit.gathered, frame.final_image.shape                       # doctest: +SKIP
+    """
+    settings = Settings() if settings is None else settings
+    unknown = sorted(set(changes) - {f.name for f in dataclasses.fields(Settings)})
+    if unknown:
+        raise ValueError(f"unknown setting(s) {', '.join(unknown)}; see Settings' fields "
+                         f"(lpv-explorer render --help lists them with their flags)")
+    if changes:
+        settings = settings.with_changes(**changes)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        return pipeline.run(keep_steps=keep_steps, vpls=vpls, need_audit=need_audit)

@@ -13,9 +13,10 @@ settings schema). Everything else is derived from this list:
 * :data:`EXECUTION_ORDER`, the order a job runs them in: the list's, with every ``eager``
   stage moved to the first GPU pass after its upstream stages (the G-buffer runs first among the
   passes, so that a progressive picture can be gathered while the propagation runs);
-* :data:`PASSES` (the timed GPU passes), :data:`VERBS` (``Job.progress.label``) and
+* :data:`PASSES` (the timed GPU passes), :data:`VERBS` (``Job.progress.label``),
   :data:`CORRECTION_STAGES` (the stages whose programs may read a correction uniform,
-  ``explorer.lpv.corrections.STAGES``);
+  ``explorer.lpv.corrections.STAGES``) and :data:`PIXEL_STAGES` (the work per pixel a
+  reduced size makes cheaper, the window's camera moves);
 * the cache keys and invalidation (:mod:`explorer.lpv.stages`) and the loop that runs
   them (:class:`explorer.lpv.job.Job` over :class:`explorer.lpv.pipeline.Pipeline`).
 
@@ -51,6 +52,9 @@ class StageDecl:
     """Runs as soon as its upstream stages have run, not in the list's place."""
     corrections: bool = False
     """Its programs may read correction uniforms (``set_uniforms(reads=...)``)."""
+    per_pixel: bool = False
+    """Its work grows with the image's pixels (a reduced size while dragging makes it
+    cheaper)."""
 
     def upstream_for(self, settings: Any) -> tuple[str, ...]:
         """The upstream stages whose output keys make this stage's key for ``settings``."""
@@ -82,15 +86,16 @@ STAGE_LIST: tuple[StageDecl, ...] = (
     StageDecl("propagate", ("inject", "geometry"), "propagating", "iterations steps in "
               "every cascade (+ the energy audit on request)", corrections=True),
     StageDecl("gbuffer", ("scene",), "rendering the G-buffer", "position, normal, albedo "
-              "seen by the camera", eager=True),
+              "seen by the camera", eager=True, per_pixel=True),
     StageDecl("gather", ("gbuffer", "rsm", "propagate"), "gathering", "linear direct and "
-              "LPV indirect radiance per pixel", corrections=True),
+              "LPV indirect radiance per pixel", corrections=True, per_pixel=True),
     StageDecl("fog", (), "marching the fog", "single scattering of the LPV and the direct "
               "light in a homogeneous medium, ray-marched per pixel, and its transmittance",
-              upstream_when=(("gbuffer", "fog"), ("rsm", "fog"), ("propagate", "fog"))),
+              upstream_when=(("gbuffer", "fog"), ("rsm", "fog"), ("propagate", "fog")),
+              per_pixel=True),
     StageDecl("display", ("gather", "fog"), "displaying", "exposure, auto exposure, tone "
               "curve and encoding of the shown RGBA8 image, the fog composed over the "
-              "surfaces (+ Pipeline.display_scale_override)"),
+              "surfaces (+ Pipeline.display_scale_override)", per_pixel=True),
 )
 
 DECLARATIONS: dict[str, StageDecl] = {decl.name: decl for decl in STAGE_LIST}
@@ -101,6 +106,8 @@ PASSES: tuple[str, ...] = tuple(decl.name for decl in STAGE_LIST if decl.gpu)
 VERBS: dict[str, str] = {decl.name: decl.verb for decl in STAGE_LIST}
 CORRECTION_STAGES: tuple[str, ...] = tuple(decl.name for decl in STAGE_LIST
                                            if decl.corrections)
+PIXEL_STAGES: tuple[str, ...] = tuple(decl.name for decl in STAGE_LIST if decl.per_pixel)
+"""The stages whose work grows with the image's pixels."""
 
 
 def execution_order(stage_list: tuple[StageDecl, ...] = STAGE_LIST) -> tuple[str, ...]:

@@ -23,13 +23,12 @@ class Params:
     offset_cells: float
     grid_format: str
     sh_order: int
-    debug_nan: bool
 
     @classmethod
     def of(cls, settings) -> "Params":
         return cls(settings.corrections, settings.injection_mode,
                    float(settings.injection_offset_cells), settings.grid_format,
-                   int(settings.sh_order), bool(settings.debug_nan))
+                   int(settings.sh_order))
 
 
 class Stage(StageBase):
@@ -49,7 +48,7 @@ class Stage(StageBase):
             host.timer.timed("inject", lambda: self.inject.run(
                 host.light_views.vpl_textures, spec, p.corrections, p.mode, grid,
                 p.offset_cells), accumulate=True)
-            if p.debug_nan:
+            if job.settings.debug_nan:       # a check, not an input: no key holds it
                 check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
             if k < len(levels) - 1:
                 yield
