@@ -1,8 +1,9 @@
 """Settings of one LPV frame.
 
 The switches between published and corrected formulas (:class:`Corrections`, the
-presets) live in the corrections registry, ``explorer/lpv/corrections.py``; they are
-imported here because much code reads them from this module.
+presets) come from the corrections registry (``explorer/correction_registry.py``, made
+into the dataclass by ``explorer/lpv/corrections.py``); they are imported here because
+much code reads them from this module.
 """
 
 from __future__ import annotations
