@@ -14,6 +14,9 @@ from explorer.lpv.frame_state import FogImages
 from explorer.lpv.gather import bands
 from explorer.lpv.work_units import read_back
 
+Params = Medium
+"""What the fog reads of the Settings (``Medium.of(settings)``)."""
+
 
 class Stage(StageBase):
     def __init__(self, host, decl) -> None:
@@ -35,7 +38,7 @@ class Stage(StageBase):
         levels = state.cascades
         cascades = [CascadeInput(spec, level.accumulation_textures)
                     for spec, level in zip(state.specs, levels)]
-        medium, lights = Medium.of(s), host.light_views
+        medium, lights = Params.of(s), host.light_views
         host.timer.reset("fog")
         for band in bands((s.width, s.height)):
             host.timer.timed("fog", lambda: self.fog.run(

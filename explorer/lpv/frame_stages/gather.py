@@ -14,6 +14,9 @@ from explorer.lpv.frame_state import GatherImages
 from explorer.lpv.gather import TARGETS, GatherPass, GatherParams, bands
 from explorer.lpv.work_units import read_back
 
+Params = GatherParams
+"""What the gather reads of the Settings (``GatherParams.of(settings, eye)``)."""
+
 
 class Stage(StageBase):
     def __init__(self, host, decl) -> None:
@@ -50,7 +53,7 @@ class Stage(StageBase):
         lights = host.light_views
         (into or self.gather).run(
             state.gbuffer_pass, lights.rsm_textures, lights.views, textures[0], specs[0],
-            GatherParams.of(s, host.scene_state.scene.camera.eye), cascades=cascades,
+            Params.of(s, host.scene_state.scene.camera.eye), cascades=cascades,
             sh_order=levels[0].injected.sh_order, shadow_tiles=lights.shadow_tiles,
             rows=rows, size=size)
 
