@@ -170,9 +170,8 @@ def test_a_uniform_field_scatters_its_radiance_times_one_minus_t(pipeline, ctx, 
     try:
         lights = pipeline.light_views
         fog = pipeline.state.fog_pass
-        fog.run(pipeline.state.gbuffer_pass, lights.rsm_textures, lights.views,
-                pipeline.scene_state.scene, [CascadeInput(spec, tuple(textures))],
-                Medium.of(settings))
+        fog.run(pipeline.state.gbuffer_pass, lights.shadow_maps, pipeline.scene_state.scene,
+                [CascadeInput(spec, tuple(textures))], Medium.of(settings))
         lpv = read_texture(fog.targets["fog_lpv"])[..., :3]
         transmittance = read_texture(fog.targets["fog_direct"])[..., 3]
     finally:

@@ -14,7 +14,6 @@ march (docs/MODEL.md "Glossy reflections") adds to the indirect radiance.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -25,12 +24,10 @@ from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.light_records import LightRecordBuffer, view_list
-from explorer.lpv.rsm import LightView
+from explorer.lpv.light_records import LightRecordBuffer, ShadowMaps
 from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import per_context, sh_defines
-from explorer.lpv.vpl import VplTextures
 
 TARGETS = ("direct", "indirect", "received")
 BAND_PIXELS = 1 << 16
@@ -164,16 +161,12 @@ class GatherPass:
         """Target name -> texture (empty before the first run)."""
         return dict(zip(TARGETS, self._targets.textures))
 
-    def run(self, gbuffer: GBufferPass, shadow: VplTextures,
-            lights: LightView | Sequence[LightView], grid_textures, spec: GridSpec,
+    def run(self, gbuffer: GBufferPass, shadow: ShadowMaps, grid_textures, spec: GridSpec,
             params: GatherParams = GatherParams(), *,
             cascades: list[CascadeInput] | None = None, sh_order: int = 1,
-            shadow_tiles: Sequence[tuple[int, int]] | None = None,
             rows: tuple[int, int] | None = None, size: tuple[int, int] | None = None
             ) -> None:
-        """``shadow``: the RSM (one view) or the RSM atlas of every view; ``lights``: the
-        view(s), their shadow maps at ``shadow_tiles`` (lower-left texels in ``shadow``;
-        None: one view at (0, 0)).
+        """``shadow``: the RSM views that light the pixels, with their shadow maps.
         ``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
         trilinearly, clamped to the edge), or None for direct light only. ``params``: what
         the Settings ask of the gather (:class:`GatherParams`: damping, PCF kernel, glossy
@@ -190,15 +183,15 @@ class GatherPass:
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)
-        shadow.position.use(3)
-        shadow.normal.use(4)
+        shadow.textures.position.use(3)
+        shadow.textures.normal.use(4)
         if grid_textures is None and cascades:
             grid_textures = cascades[0].textures
         if grid_textures is None:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):
             texture.use(unit)
-        light_count = self._lights.bind(view_list(lights), shadow_tiles)
+        light_count = self._lights.bind(shadow.views, shadow.tiles)
         values = {
             "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
             "u_shadow_position": 3, "u_shadow_normal": 4,

@@ -24,6 +24,7 @@ from explorer.lpv.audit import flux_per_light
 from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame_state import RsmImages, VplImages
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
 from explorer.lpv.settings import Settings
 from explorer.lpv.timing import PassTimer
@@ -122,6 +123,11 @@ class LightViews:
             vpls=sets[0] if len(sets) == 1 else VplArrays.concatenate(sets), sets=sets,
             view_lights=(0,) if vpls is not None else tuple(
                 view.light_index for view in self.views))
+
+    @property
+    def shadow_maps(self) -> ShadowMaps:
+        """Every view's shadow map as the gather and the fog read them."""
+        return ShadowMaps(self.rsm_textures, tuple(self.views), tuple(self.shadow_tiles))
 
     def occluders(self, hand_made: bool) -> list[VplTextures]:
         """The sets the geometry volume is built from: every view's RSM, or the

@@ -38,14 +38,13 @@ class Stage(StageBase):
         levels = state.cascades
         cascades = [CascadeInput(spec, level.accumulation_textures)
                     for spec, level in zip(state.specs, levels)]
-        medium, lights = Params.of(s), host.light_views
+        medium, shadow = Params.of(s), host.light_views.shadow_maps
         host.timer.reset("fog")
         for band in bands((s.width, s.height)):
             host.timer.timed("fog", lambda: self.fog.run(
-                state.gbuffer_pass, lights.rsm_textures, lights.views, host.scene_state.scene,
-                cascades, medium, sh_order=levels[0].injected.sh_order,
-                shader_filter=state.gather_pass.shader_filter, rows=band,
-                shadow_tiles=lights.shadow_tiles), accumulate=True)
+                state.gbuffer_pass, shadow, host.scene_state.scene, cascades, medium,
+                sh_order=levels[0].injected.sh_order,
+                shader_filter=state.gather_pass.shader_filter, rows=band), accumulate=True)
             yield
         direct, lpv = yield from read_back([self.fog.targets[name] for name in TARGETS])
         state.fog = FogImages(direct[..., 3].copy(), direct[..., :3], lpv[..., :3])

@@ -50,12 +50,10 @@ class Stage(StageBase):
         cascades = None
         if len(levels) > 1:
             cascades = [CascadeInput(spec, t) for spec, t in zip(specs, textures)]
-        lights = host.light_views
         (into or self.gather).run(
-            state.gbuffer_pass, lights.rsm_textures, lights.views, textures[0], specs[0],
+            state.gbuffer_pass, host.light_views.shadow_maps, textures[0], specs[0],
             Params.of(s, host.scene_state.scene.camera.eye), cascades=cascades,
-            sh_order=levels[0].injected.sh_order, shadow_tiles=lights.shadow_tiles,
-            rows=rows, size=size)
+            sh_order=levels[0].injected.sh_order, rows=rows, size=size)
 
     def release(self) -> None:
         self.gather.release()
