@@ -76,7 +76,8 @@ __all__ = ["FrameResult", "LevelResult", "Pipeline", "render"]
 
 
 class Pipeline:
-    """Orders the passes of one LPV frame and keeps their results between runs."""
+    """Runs the declared stages of an LPV frame (one object each, :attr:`stages`) with the
+    services they share, and keeps what they left (:attr:`state`) between runs."""
 
     def __init__(self, settings: Settings, ctx: moderngl.Context | None = None) -> None:
         if ctx is None:
