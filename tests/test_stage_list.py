@@ -121,3 +121,25 @@ def test_no_other_module_lists_the_stages():
               if path.name != "stage_list.py"
               for line, names in _stage_name_literals(path)]
     assert listed == []
+
+
+def test_a_frame_leaves_each_stage_its_typed_field(gl_context):
+    """What the stages hand on is typed and complete once a frame is done; the fog's
+    field is None while the fog is off and its images once it is on."""
+    from explorer.lpv.frame_state import FogImages, GatherImages, GBufferImages, RsmImages
+    from explorer.lpv.frame_state import VplImages
+    from explorer.lpv.pipeline import Pipeline
+
+    small = Settings(grid_size=8, iterations=3, rsm_size=32, width=40, height=32)
+    with Pipeline(small, ctx=gl_context) as pipeline:
+        result = pipeline.run()
+        state = pipeline.state
+        assert isinstance(state.gbuffer, GBufferImages) and isinstance(state.rsm, RsmImages)
+        assert isinstance(state.vpls, VplImages) and isinstance(state.gather, GatherImages)
+        assert state.fog is None and len(state.cascades) == len(state.specs) == 1
+        assert state.gbuffer.position.shape == (32, 40, 4)
+        assert result.vpls is state.vpls.vpls and result.display_scale == state.display_scale
+        assert {"scene", "rsm", "gbuffer", "gather", "fog"} <= set(state.warnings) <= set(
+            STAGES)                        # the stages that check what they made said so
+        pipeline.run(small.with_changes(fog=True))
+        assert isinstance(pipeline.state.fog, FogImages)
