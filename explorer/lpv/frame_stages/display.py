@@ -5,10 +5,16 @@ RGBA8 image, the fog composed over the surfaces (explorer/lpv/display.py, docs/M
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from explorer.lpv.display import AutoExposure, DisplayPass
 from explorer.lpv.fog import TARGETS as FOG_TARGETS
 from explorer.lpv.frame_stages.base import Stage as StageBase
+from explorer.lpv.frame_stages.base import StageHost
+from explorer.lpv.stage_list import StageDecl
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
 
 
 @dataclass(frozen=True)
@@ -29,15 +35,15 @@ class Params:
 
 
 class Stage(StageBase):
-    def __init__(self, host, decl) -> None:
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
         super().__init__(host, decl)
         self.display = DisplayPass(host.ctx, host.programs)
         self.auto_exposure = AutoExposure()
 
-    def extra_input(self, job) -> object:
+    def extra_input(self, job: Job) -> object:
         return self.host.display_scale_override
 
-    def run(self, job) -> None:
+    def run(self, job: Job) -> None:
         p = Params.of(job.settings)
         self.state.display_scale = self.frame_scale(p)
         self.show(p, self.state.display_scale)

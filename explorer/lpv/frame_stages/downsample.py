@@ -4,15 +4,20 @@ their read-back."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from explorer.lpv import guards
 from explorer.lpv.frame_stages.base import Stage as StageBase
 
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
 
 class Stage(StageBase):
-    def extra_input(self, job) -> object:
+    def extra_input(self, job: Job) -> object:
         return job.vpls_key            # hand-made VPLs are an input of their own
 
-    def run(self, job) -> None:
+    def run(self, job: Job) -> None:
         s, host = job.settings, self.host
         self.state.vpls = host.light_views.choose_vpls(
             s, job.vpls, self.state.specs[0], host.limits.max_framebuffer_size)

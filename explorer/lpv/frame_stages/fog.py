@@ -5,30 +5,36 @@ read-back of its two targets (explorer/lpv/fog.py, docs/MODEL.md "Fog"); nothing
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
 from explorer.lpv.cascades import CascadeInput
 from explorer.lpv.fog import TARGETS, FogPass, Medium
 from explorer.lpv.frame_stages.base import Stage as StageBase
+from explorer.lpv.frame_stages.base import StageHost
 from explorer.lpv.frame_state import FogImages
 from explorer.lpv.gather import bands
+from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.work_units import read_back
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
 
 Params = Medium
 """What the fog reads of the Settings (``Medium.of(settings)``)."""
 
 
 class Stage(StageBase):
-    def __init__(self, host, decl) -> None:
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
         super().__init__(host, decl)
         self.fog = FogPass(host.ctx, host.programs)
         self.state.fog_pass = self.fog
 
-    def units(self, job) -> int:
+    def units(self, job: Job) -> int:
         s = job.settings
         return len(bands((s.width, s.height))) + len(TARGETS) if s.fog else 1
 
-    def work(self, job) -> Iterator[None]:
+    def work(self, job: Job) -> Iterator[None]:
         s, host, state = job.settings, self.host, self.state
         if not s.fog:
             host.timer.forget("fog")

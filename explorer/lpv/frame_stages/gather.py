@@ -6,28 +6,34 @@ it is (the progressive previews)."""
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
 from explorer.lpv.cascades import CascadeInput
 from explorer.lpv.frame_stages.base import Stage as StageBase
+from explorer.lpv.frame_stages.base import StageHost
 from explorer.lpv.frame_state import GatherImages
-from explorer.lpv.gather import TARGETS, GatherPass, GatherParams, bands
+from explorer.lpv.gather import TARGETS, GatherParams, GatherPass, bands
+from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.work_units import read_back
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
 
 Params = GatherParams
 """What the gather reads of the Settings (``GatherParams.of(settings, eye)``)."""
 
 
 class Stage(StageBase):
-    def __init__(self, host, decl) -> None:
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
         super().__init__(host, decl)
         self.gather = GatherPass(host.ctx, host.programs)
         self.state.gather_pass = self.gather
 
-    def units(self, job) -> int:
+    def units(self, job: Job) -> int:
         return len(bands((job.settings.width, job.settings.height))) + len(TARGETS)
 
-    def work(self, job) -> Iterator[None]:
+    def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
         host.timer.reset("gather")
         for band in bands((s.width, s.height)):

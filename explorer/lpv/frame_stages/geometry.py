@@ -6,12 +6,18 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
 from explorer.lpv.cascades import level_pass_name
 from explorer.lpv.corrections import Corrections
 from explorer.lpv.frame_stages.base import Stage as StageBase
+from explorer.lpv.frame_stages.base import StageHost
 from explorer.lpv.geometry import CameraSurfels, MergedGeometryPass, camera_pixel_area
+from explorer.lpv.stage_list import StageDecl
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
 
 
 @dataclass(frozen=True)
@@ -33,14 +39,14 @@ class Params:
 
 
 class Stage(StageBase):
-    def __init__(self, host, decl) -> None:
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
         super().__init__(host, decl)
         self.geometry = MergedGeometryPass(host.ctx, host.programs)
 
-    def units(self, job) -> int:
+    def units(self, job: Job) -> int:
         return len(self.state.specs)
 
-    def work(self, job) -> Iterator[None]:
+    def work(self, job: Job) -> Iterator[None]:
         p, host, state = Params.of(job.settings), self.host, self.state
         levels = self.levels()
         if p.mode == "off":

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
 from explorer.lpv.audit import audit_covers
@@ -14,6 +15,9 @@ from explorer.lpv.frame_stages.base import Stage as StageBase
 from explorer.lpv.limits import audit_fits, audit_skipped_warning
 from explorer.lpv.propagate import slabs
 from explorer.lpv.work_units import countdown
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
 
 
 @dataclass(frozen=True)
@@ -33,11 +37,11 @@ class Params:
 
 
 class Stage(StageBase):
-    def units(self, job) -> int:
+    def units(self, job: Job) -> int:
         """The steps of every level together (each step is one or more slabs)."""
         return max(1, sum(Params.of(job.settings, len(self.state.specs)).steps))
 
-    def audit_mode(self, job, resolution: int) -> str:
+    def audit_mode(self, job: Job, resolution: int) -> str:
         """The audit mode a ``resolution``³ level propagates with for ``job``: the one it
         asks for, but ``flux`` for ``full`` when the per-cell records do not fit this
         driver's storage blocks (:func:`audit_fits`; the flux needs no records)."""
@@ -45,7 +49,7 @@ class Stage(StageBase):
             return "flux"
         return job.need_audit
 
-    def satisfied(self, job) -> bool:
+    def satisfied(self, job: Job) -> bool:
         """Whether the last propagation kept the steps and the audit ``job`` asks for."""
         for level in self.state.cascades:
             output = level.output
@@ -58,7 +62,7 @@ class Stage(StageBase):
                 return False
         return True
 
-    def work(self, job) -> Iterator[int]:
+    def work(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
         accumulation), one per slab of a step (``slabs``), the levels interleaved so that
         each is as far along as the others (a progressive picture shows all cascades
