@@ -64,11 +64,8 @@ def _size_text(size: int) -> str:
     return f"{size / MiB:.0f} MB" if size >= MiB else f"{size / 1024:.0f} KB"
 
 
-def read_bytes(path: Path | str, kind: str, cap: int | None = None) -> bytes:
-    """The bytes of the regular file ``path``; :class:`UserFileError` for anything else
-    (missing, not a regular file, unreadable, larger than the kind's cap)."""
-    path = Path(path)
-    limit = _kind_cap(kind, cap)
+def _open_regular(path: Path, kind: str, limit: int) -> int:
+    """A descriptor of the regular file ``path`` no larger than ``limit`` bytes."""
     try:
         # O_NONBLOCK: opening a FIFO with no writer would otherwise wait forever.
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
@@ -89,6 +86,30 @@ def read_bytes(path: Path | str, kind: str, cap: int | None = None) -> bytes:
         if info.st_size > limit:
             raise UserFileError(f"{path}: the {kind} is {_size_text(info.st_size)}, over "
                                 f"the {_size_text(limit)} a {kind} may have")
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
+
+
+def check_regular_file(path: Path | str, kind: str, cap: int | None = None) -> int:
+    """The size of the regular file ``path``, read nothing; :class:`UserFileError` as
+    :func:`read_bytes` gives (for files another library then opens itself)."""
+    path = Path(path)
+    fd = _open_regular(path, kind, _kind_cap(kind, cap))
+    try:
+        return os.fstat(fd).st_size
+    finally:
+        os.close(fd)
+
+
+def read_bytes(path: Path | str, kind: str, cap: int | None = None) -> bytes:
+    """The bytes of the regular file ``path``; :class:`UserFileError` for anything else
+    (missing, not a regular file, unreadable, larger than the kind's cap)."""
+    path = Path(path)
+    limit = _kind_cap(kind, cap)
+    fd = _open_regular(path, kind, limit)
+    try:
         chunks, total = [], 0
         while True:
             chunk = os.read(fd, min(MiB, limit + 1 - total))

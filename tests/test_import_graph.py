@@ -9,7 +9,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYERS = (
-    ("derivations", "explorer.resources", "explorer.gl", "explorer.derived",
+    ("derivations", "explorer.resources", "explorer.safe_files", "explorer.gl", "explorer.derived",
      "explorer.derived_table"),
     ("explorer.scene",),
     ("explorer.lpv",),

@@ -362,6 +362,7 @@ class Outputs:
         option = option or self.option
         folder_like = str(path).endswith(("/", os.sep))
         path = Path(path).expanduser()
+        self._name_fits(path, option)
         if path.is_dir() or folder_like:
             raise CommandError(f"{option} {path} is a folder; give a file name"
                                + (f" ending in {suffixes[0]}" if suffixes else ""))
@@ -372,13 +373,15 @@ class Outputs:
             raise CommandError(f"{option} {path}: this command writes "
                                f"{', '.join(suffixes)}, not {path.suffix!r}")
         self._writable_folder(path.parent, option)
-        self._name_fits(path, option)
         return path
 
     @staticmethod
     def _name_fits(path: Path, option: str) -> None:
+        probe = path.parent
+        while not probe.exists() and probe != probe.parent:
+            probe = probe.parent      # the folder may not be made yet: ask its parent
         try:
-            longest = os.pathconf(path.parent, "PC_NAME_MAX")
+            longest = os.pathconf(probe, "PC_NAME_MAX")
         except (OSError, ValueError):
             longest = 255
         length = len(os.fsencode(path.name))

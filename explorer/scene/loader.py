@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from explorer.safe_files import UserFileError
 from explorer.scene.builtin import BUILTIN_SCENES
 from explorer.scene.camera import Camera
 from explorer.scene.lights import (
@@ -24,6 +25,7 @@ from explorer.scene.lights import (
     SpotLight,
     flux_for_irradiance,
 )
+from explorer.scene.mesh_limits import check_mesh_file
 from explorer.scene.model import Scene, SceneError
 from explorer.scene.objects import SceneObject
 
@@ -65,8 +67,10 @@ def _read_mesh(path: Path) -> list[tuple[str, object, np.ndarray]]:
     transforms."""
     import trimesh
 
-    if path.stat().st_size == 0:
-        raise SceneError(f"{path}: the file is empty")
+    try:
+        check_mesh_file(path)         # a regular file within the size caps, unpacked too
+    except UserFileError as exc:
+        raise SceneError(str(exc)) from None
     # trimesh logs (and sometimes prints tracebacks for) recoverable problems; the user
     # gets our message instead.
     logger = logging.getLogger("trimesh")
