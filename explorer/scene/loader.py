@@ -42,7 +42,14 @@ def load_scene(name_or_path: str | Path) -> Scene:
     if key in BUILTIN_SCENES:
         return BUILTIN_SCENES[key]()
     path = check_scene_name(key)
-    return scene_from_mesh(_read_mesh(path), path.stem, str(path))
+    parts = _read_mesh(path)
+    try:
+        return scene_from_mesh(parts, path.stem, str(path))
+    except (ValueError, IndexError, TypeError) as exc:
+        # trimesh read the file, but its arrays do not fit together (a vertex with two
+        # coordinates, a face index past the vertices): a broken file, not our bug.
+        raise SceneError(f"{path}: the mesh's data is inconsistent ({type(exc).__name__}: "
+                         f"{exc})") from None
 
 
 def check_scene_name(name_or_path: str | Path) -> Path | None:
