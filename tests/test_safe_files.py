@@ -289,3 +289,64 @@ def test_standard_output_full_or_closed_is_one_line_and_exit_1(redirect, reason)
     lines = done.stderr.strip().splitlines()
     assert lines == [f"lpv-explorer constants: error: cannot write to standard output: "
                      f"{reason}"], done.stderr
+
+
+def test_ctrl_c_between_two_views_of_one_render_keeps_the_users_files(tmp_path, monkeypatch,
+                                                                      capsys):
+    """The real render command, interrupted while it writes its second view: both files
+    that were there before hold what they held, and nothing else is left."""
+    from explorer.cli import main
+    from explorer.commands import render
+
+    first, second = tmp_path / "shot-final.png", tmp_path / "shot-direct.png"
+    first.write_bytes(b"the user's final")
+    second.write_bytes(b"the user's direct")
+    real = render.write_png
+    calls = []
+
+    def interrupted(image, path, **kwargs):
+        calls.append(path)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        real(image, path, **kwargs)
+
+    monkeypatch.setattr(render, "write_png", interrupted)
+    code = main(["render", "--grid", "8", "--iterations", "2", "--rsm-size", "32",
+                 "--size", "64x48", "--view", "final", "--view", "direct",
+                 "--out", str(tmp_path / "shot.png")])
+    assert code == 130 and len(calls) == 2
+    assert first.read_bytes() == b"the user's final"
+    assert second.read_bytes() == b"the user's direct"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["shot-direct.png", "shot-final.png"]
+
+
+def test_a_window_screenshot_onto_a_full_disk_is_a_message_not_a_crash(tmp_path,
+                                                                       monkeypatch):
+    from window_cases import display_problem
+
+    problem = display_problem()
+    if problem is not None:
+        pytest.skip(str(problem))
+    from PIL import Image
+
+    from explorer.ui.app import App
+    from explorer.ui.state import AppState
+
+    def full(self, fp, format=None, **params):
+        Path(fp).write_bytes(b"half a png")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    app = App(AppState(), width=640, height=480, visible=False, vsync=False,
+              persist_settings=False, pipeline_class=None)
+    try:
+        app.frame()
+        monkeypatch.setattr(Image.Image, "save", full)
+        app.state.requests.screenshot = tmp_path / "shots" / "full.png"
+        app.frame()
+        app.frame()
+        errors = [m.text for m in app.state.messages if m.level == "error"]
+        assert any("No space left on device" in text for text in errors), errors
+    finally:
+        app.close()
+    assert list((tmp_path / "shots").iterdir()) == []
