@@ -282,12 +282,12 @@ def test_a_mesh_that_is_a_fifo_is_refused_at_once(fifo, no_hang):
 @pytest.mark.parametrize("redirect, reason", [(">/dev/full", "No space left on device"),
                                               (">&-", "standard output is closed")])
 def test_standard_output_full_or_closed_is_one_line_and_exit_1(redirect, reason):
-    command = f"{sys.executable} -m explorer constants {redirect}"
+    command = f"{sys.executable} -m explorer lessons {redirect}"
     done = subprocess.run(["bash", "-c", command], cwd=ROOT, capture_output=True, text=True,
                           timeout=120)
     assert done.returncode == 1
     lines = done.stderr.strip().splitlines()
-    assert lines == [f"lpv-explorer constants: error: cannot write to standard output: "
+    assert lines == [f"lpv-explorer lessons: error: cannot write to standard output: "
                      f"{reason}"], done.stderr
 
 
