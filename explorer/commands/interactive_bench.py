@@ -59,6 +59,7 @@ def run_window_bench(args: argparse.Namespace) -> int:
         if json_path is not None:
             payload = json.dumps(figures, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
+            print(f"wrote {json_path}")
     return 0
 
 
