@@ -70,7 +70,11 @@ from explorer.scene.builtin import BUILTIN_SCENES
 
 MAX_FORMULAS_PER_STEP = 120
 """Most formulas (inline and display math, derivation formulas) one step may typeset:
-the richest shipped step has about 40; each is a texture the window draws every frame."""
+the richest shipped step has 13; each is a texture the window draws every frame."""
+MAX_STEP_TEXT = 16_000
+"""Longest text of one step, in characters: the longest shipped step has about 1 700."""
+MAX_STEPS = 40
+"""Most steps in one lesson: the longest shipped lesson has 6."""
 
 LESSON_DEFAULTS: dict[str, Any] = {"spot_cone": False, "auto_exposure": False}
 """Settings every step starts from unless its lesson or the step sets them: the spot's 90°
@@ -393,6 +397,9 @@ class _Reader:
         raw_steps = data.get("steps")
         if not isinstance(raw_steps, list) or not raw_steps:
             raise self.error("steps", "a lesson needs at least one [[steps]] table")
+        if len(raw_steps) > MAX_STEPS:
+            raise self.error("steps", f"{len(raw_steps)} steps, over the {MAX_STEPS} a "
+                             f"lesson may have (split it into lessons)")
         steps = tuple(
             self.step(number, raw, default_scene, default_settings, default_corrections)
             for number, raw in enumerate(raw_steps, start=1))
@@ -607,6 +614,10 @@ class _Reader:
             blocks = lesson_text.parse(step.text)
         except lesson_text.TextError as exc:
             raise self.error("text", str(exc)) from None
+        if len(step.text) > MAX_STEP_TEXT:
+            raise self.error("text", f"{len(step.text)} characters, over the "
+                             f"{MAX_STEP_TEXT} one step may have (the window draws a step's "
+                             f"whole article every frame: split the step)")
         formulas = sum(isinstance(item, (lesson_text.Math, lesson_text.DisplayMath,
                                          lesson_text.FormulaRef))
                        for item in [*blocks, *lesson_text.all_runs(blocks)])

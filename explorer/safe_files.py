@@ -44,8 +44,9 @@ CAPS: dict[str, int] = {
     "array file": 2048 * MiB,
 }
 """Largest file of each kind the explorer reads. A lesson is prose: the longest shipped
-lesson is about 30 KB, so 256 KB leaves room for eight times more while a lesson the
-window cannot draw fluidly is refused; a settings or layout file is a few KB."""
+lesson is about 13 KB, so 256 KB leaves room for far more while a 10 MB lesson the window
+could not draw fluidly is refused (lessons.py also caps a step's text and formulas); a
+settings or layout file is a few KB."""
 
 MAX_NESTING = 32
 """Deepest nesting of tables and arrays in a JSON or TOML file the explorer accepts: its

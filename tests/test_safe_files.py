@@ -350,3 +350,16 @@ def test_a_window_screenshot_onto_a_full_disk_is_a_message_not_a_crash(tmp_path,
     finally:
         app.close()
     assert list((tmp_path / "shots").iterdir()) == []
+
+
+def test_a_lesson_too_large_to_draw_fluidly_is_refused_with_the_cap(tmp_path):
+    from explorer.lessons import MAX_STEP_TEXT, LessonError, load_lesson
+
+    shipped = (ROOT / "lessons" / "01-overview.toml").read_text(encoding="utf-8")
+    long_step = tmp_path / "01-overview.toml"
+    marker = "text = '''"
+    assert marker in shipped
+    long_step.write_text(shipped.replace(marker, marker + "word " * (MAX_STEP_TEXT // 4), 1),
+                         encoding="utf-8")
+    with pytest.raises(LessonError, match=f"over the {MAX_STEP_TEXT} one step may have"):
+        load_lesson(long_step)
