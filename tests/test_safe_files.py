@@ -363,3 +363,50 @@ def test_a_lesson_too_large_to_draw_fluidly_is_refused_with_the_cap(tmp_path):
                          encoding="utf-8")
     with pytest.raises(LessonError, match=f"over the {MAX_STEP_TEXT} one step may have"):
         load_lesson(long_step)
+
+
+def test_the_window_starts_with_fifos_for_its_settings_and_layout(tmp_path, monkeypatch,
+                                                                  no_hang):
+    """settings.json and imgui.ini both FIFOs: the window opens (no wait), says once that
+    each was set aside, and saves real files when it closes."""
+    from window_cases import display_problem
+
+    problem = display_problem()
+    if problem is not None:
+        pytest.skip(str(problem))
+    from explorer.ui.app import App
+
+    config = tmp_path / "config" / "lpv-explorer"
+    config.mkdir(parents=True)
+    os.mkfifo(config / "settings.json")
+    os.mkfifo(config / "imgui.ini")
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    app = App(width=640, height=480, visible=False, vsync=False, pipeline_class=None)
+    try:
+        app.frame()
+        warnings = [m.text for m in app.state.messages if m.level == "warning"]
+        assert sum("is a FIFO" in text for text in warnings) == 2, warnings
+    finally:
+        app.close()
+    assert (config / "settings.json").is_file() and (config / "imgui.ini").is_file()
+
+
+def test_the_window_starts_when_its_config_folder_cannot_be_made(tmp_path, monkeypatch):
+    from window_cases import display_problem
+
+    problem = display_problem()
+    if problem is not None:
+        pytest.skip(str(problem))
+    from explorer.ui.app import App
+
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("")
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(blocker))
+    app = App(width=640, height=480, visible=False, vsync=False, pipeline_class=None)
+    try:
+        app.frame()
+        warnings = [m.text for m in app.state.messages if m.level == "warning"]
+        assert any("running without saving settings" in text for text in warnings)
+    finally:
+        app.close()
+    assert blocker.is_file()
