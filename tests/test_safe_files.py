@@ -410,3 +410,20 @@ def test_the_window_starts_when_its_config_folder_cannot_be_made(tmp_path, monke
     finally:
         app.close()
     assert blocker.is_file()
+
+
+def test_a_folder_that_vanishes_mid_write_is_one_line(tmp_path):
+    import shutil
+
+    from explorer.commands.options import CommandError, Outputs
+
+    folder = tmp_path / "out"
+
+    def vanish(path):
+        path.write_bytes(b"png")
+        shutil.rmtree(folder)
+
+    with pytest.raises(CommandError, match=r"cannot write .*x.png: No such file"):
+        with Outputs() as outputs:
+            outputs.write(outputs.file(folder / "x.png"), vanish)
+    assert list(tmp_path.iterdir()) == []
