@@ -20,14 +20,27 @@ Example::
     print(frame.audit.injected, frame.stages_run, frame.warnings)
 """
 
-from explorer.lpv.corrections import PRESETS, Corrections
-from explorer.lpv.frame import FrameResult, LevelResult
+import importlib
+
+# inject and propagate share their names with their modules: bound now, so that importing
+# the module later cannot shadow the function. The rest is imported on first use (PEP
+# 562), so that ``import explorer.lpv.reference`` (the numpy twin) loads neither the
+# pipeline nor the generated constants mirror: the twin takes its constants from the
+# derivations alone (tests/test_reference.py).
 from explorer.lpv.inject import inject
-from explorer.lpv.job import Job, Progress
-from explorer.lpv.pipeline import Pipeline, render
 from explorer.lpv.propagate import propagate
-from explorer.lpv.settings import Settings
-from explorer.lpv.stage_list import STAGE_LIST
+
+_HOMES = {"Corrections": "corrections", "PRESETS": "corrections", "FrameResult": "frame",
+          "LevelResult": "frame", "Job": "job", "Progress": "job",
+          "Pipeline": "pipeline", "render": "pipeline", "Settings": "settings",
+          "STAGE_LIST": "stage_list"}
+
+
+def __getattr__(name: str):
+    if name in _HOMES:
+        return getattr(importlib.import_module(f"explorer.lpv.{_HOMES[name]}"), name)
+    raise AttributeError(f"module 'explorer.lpv' has no attribute {name!r}")
+
 
 __all__ = ["Corrections", "FrameResult", "Job", "LevelResult", "PRESETS", "Pipeline",
            "Progress", "STAGE_LIST", "Settings", "inject", "propagate", "render"]
