@@ -7,16 +7,11 @@ it clicked and every check that failed."""
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from window_cases import display_problem
-
-ROOT = Path(__file__).resolve().parent.parent
+from window_cases import display_problem, run_child
 _PROBLEM = display_problem()
 pytestmark = pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
 
@@ -46,10 +41,7 @@ def _least_clicks(session: str) -> int:
 
 
 def _run_session(name: str, tmp_path: Path) -> dict:
-    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path / "config"),
-               XDG_CACHE_HOME=str(tmp_path / "cache"))
-    done = subprocess.run([sys.executable, str(ROOT / "tests" / "click_app.py"), name],
-                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=1200)
+    done = run_child(["tests/click_app.py", name], tmp_path, timeout=1500)
     lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
     assert lines, (f"the click session {name} ended without a report (exit {done.returncode})"
                    f":\n{done.stderr[-4000:]}")

@@ -4,14 +4,11 @@ context (issue #25 item 6), and it waits for the converged frame and says so."""
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parent.parent
+from window_cases import run_child
 
 
 def test_lessons_export_runs_without_a_display(tmp_path):
@@ -20,11 +17,9 @@ def test_lessons_export_runs_without_a_display(tmp_path):
     if not headless_available():
         pytest.skip("this glfw has no null platform (glfw 3.4 needed)")
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    env.update(XDG_CONFIG_HOME=str(tmp_path / "config"), XDG_CACHE_HOME=str(tmp_path / "c"))
     out = tmp_path / "step.png"
-    done = subprocess.run([sys.executable, "-m", "explorer", "lessons", "--export",
-                           "overview", "--step", "2", "--out", str(out), "--size", "640x400"],
-                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    done = run_child(["-m", "explorer", "lessons", "--export", "overview", "--step", "2",
+                      "--out", str(out), "--size", "640x400"], tmp_path, env=env)
     assert done.returncode == 0, done.stderr[-3000:]
     assert "waiting for the converged frame" in done.stdout
     assert "(the converged frame)" in done.stdout

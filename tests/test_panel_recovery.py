@@ -5,16 +5,9 @@ article's child, then imgui asserted and the window died)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
-from window_cases import display_problem
-
-ROOT = Path(__file__).resolve().parent.parent
+from window_cases import display_problem, run_child
 
 _SCRIPT = r"""
 from imgui_bundle import imgui
@@ -42,10 +35,7 @@ print(len(errors), errors[0], "|", shown[-1])
 
 @pytest.mark.skipif(display_problem() is not None, reason=str(display_problem()))
 def test_a_panel_that_raises_mid_widgets_is_reported_and_the_frame_ends_cleanly(tmp_path):
-    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path / "config"),
-               XDG_CACHE_HOME=str(tmp_path / "cache"))
-    done = subprocess.run([sys.executable, "-c", _SCRIPT], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=300)
+    done = run_child(["-c", _SCRIPT], tmp_path, timeout=300)
     assert done.returncode == 0, done.stderr[-3000:]
     count, rest = done.stdout.strip().splitlines()[-1].split(" ", 1)
     assert int(count) == 4                      # every frame drew, every frame reported

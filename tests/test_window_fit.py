@@ -3,17 +3,10 @@ the user gave it (issue #25 item 6)."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
 from explorer.ui.state import MIN_WINDOW_SIZE, WINDOW_FRAME_PX, fit_work_area
-from window_cases import display_problem
-
-ROOT = Path(__file__).resolve().parent.parent
+from window_cases import display_problem, run_child
 
 
 def test_a_window_larger_than_the_work_area_shrinks_to_fit_it_centred():
@@ -71,10 +64,7 @@ print(json.dumps({"area": area, "opened": opened, "again": again,
 def test_the_window_opens_within_the_work_area_and_reopens_at_the_users_size(tmp_path):
     import json
 
-    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path / "config"),
-               XDG_CACHE_HOME=str(tmp_path / "cache"))
-    done = subprocess.run([sys.executable, "-c", _SCRIPT], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=300)
+    done = run_child(["-c", _SCRIPT], tmp_path, timeout=300)
     assert done.returncode == 0, done.stderr[-3000:]
     report = json.loads(done.stdout.strip().splitlines()[-1])
     x, y, width, height = report["area"]
