@@ -114,19 +114,20 @@ class Clicks:
         ref = f"{top}/**/{label}"
         if self.exists(ref):
             return ref
-        window = self.ctx.window_info(window_ref).window
+        window = self.window(window_ref)
         if window is None:
             return None
-        by_id = te.TestRef(window.id_)
-        self.ctx.scroll_to_top(by_id)
-        y, step = 0.0, max(window.size.y * 0.6, 40.0)
-        while True:
+        self.ctx.scroll_to_top(te.TestRef(window.id_))
+        # down with the wheel, as a reader does: the text may grow or shrink meanwhile
+        # (a number arrives, a banner goes), where a scroll to a set offset would fail
+        for _ in range(200):
             if self.exists(ref):
                 return ref
-            if y >= window.scroll_max.y:
+            window = self.window(window_ref)
+            if window is None or window.scroll.y >= window.scroll_max.y:
                 return None
-            y = min(y + step, window.scroll_max.y)
-            self.ctx.scroll_to_y(by_id, y)
+            self.wheel(window_ref, -2.0, record=False)
+        return None
 
     def check_box(self, ref: str, on: bool, what: str | None = None) -> None:
         (self.ctx.item_check if on else self.ctx.item_uncheck)(ref)
@@ -141,18 +142,19 @@ class Clicks:
         self.settle_input()
         self._panel_errors("menu " + path)
 
-    def wheel(self, window_ref: str, notches: float) -> None:
+    def wheel(self, window_ref: str, notches: float, record: bool = True) -> None:
         """Turn the mouse wheel over the middle of a window (negative: scroll down)."""
         from imgui_bundle import imgui
 
-        window = self.ctx.window_info(window_ref).window
+        window = self.window(window_ref)
         if window is None:
             self.problems.append(f"no window {window_ref} to scroll")
             return
         self.ctx.mouse_move_to_pos(imgui.ImVec2(window.pos.x + window.size.x * 0.5,
                                                 window.pos.y + window.size.y * 0.5))
         self.ctx.mouse_wheel_y(notches)
-        self.controls.append(f"wheel over {window_ref}")
+        if record:
+            self.controls.append(f"wheel over {window_ref}")
         self.settle_input()
 
     def settle_input(self, frames: int = 2) -> None:

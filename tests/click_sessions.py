@@ -174,6 +174,26 @@ def _settings_difference(shown, wanted) -> str:
     return "; ".join(differ) or "the same settings"
 
 
+def _provisional_while_converging(c, step, where: str) -> None:
+    """While the frame converges (the view says "propagating k/N"), every number the
+    step's text reads from the frame is drawn marked provisional (≈)."""
+    from explorer import lesson_text, live_values
+    from explorer.ui import article
+
+    progress = c.state.runtime.progress.get("A")
+    if not progress:
+        return
+    session = c.state.lesson_session
+    env = article._page_env(c.state, session, step, article.live_context(c.state, step))
+    for name, fmt in lesson_text.placeholders(step.text):
+        if not article.provisional(live_values.lookup(name, step.figure_ids)):
+            continue
+        text, tip = env.value(name, fmt)
+        if text != live_values.PENDING and c.state.runtime.progress.get("A"):
+            c.check(text.startswith(article.PROVISIONAL) and "provisional" in tip,
+                    f"{where}: {name} reads {text!r} while the frame is {progress}")
+
+
 # --- every try-this and its Undo ---------------------------------------------------------
 
 def run_try_this(c, lessons=None) -> None:
@@ -208,6 +228,7 @@ def run_try_this(c, lessons=None) -> None:
                         f"{where}: the settings the button sets "
                         f"({_settings_difference(shown, wanted.settings)}, view "
                         f"{c.state.view_mode} / {wanted.view_mode})")
+                _provisional_while_converging(c, step, where)
                 undo = label_ref(f"Undo: {label}##try{index}")
                 c.check(c.find(ARTICLE, undo) is not None,
                         f"{where}: its button now reads Undo")
@@ -269,12 +290,14 @@ def _below(c, known: str, dx: float):
     return True
 
 
+WHEEL_PX = 5 * 15.0
+"""What one wheel notch scrolls a window by (imgui: five lines of its font)."""
+
+
 def _reveal(c, where):
     """Scroll the article until the screen point ``where()`` (a figure's handle, drawn
     each frame) lies in its middle third; the point then, or None."""
-    from imgui_bundle import imgui
-
-    for _ in range(3):                 # the point moves with the scroll: look again
+    for _ in range(6):                 # the point moves with the scroll: look again
         window = c.window(ARTICLE)
         point = where()
         if window is None or point is None:
@@ -282,9 +305,10 @@ def _reveal(c, where):
         middle = window.pos.y + 0.5 * window.size.y
         if abs(point.y - middle) <= window.size.y / 6:
             break
-        target = min(max(window.scroll.y + point.y - middle, 0.0), window.scroll_max.y)
-        c.ctx.scroll_to_y(imgui.test_engine.TestRef(window.id_), target)
-        c.settle_input(4)
+        # the wheel, not a set offset: the figure's text may change height meanwhile
+        notches = max(min((middle - point.y) / WHEEL_PX, 8.0), -8.0)
+        c.wheel(ARTICLE, notches, record=False)
+        c.settle_input(2)
     return where()
 
 
