@@ -143,14 +143,16 @@ class Clicks:
         self._panel_errors("menu " + path)
 
     def wheel(self, window_ref: str, notches: float, record: bool = True) -> None:
-        """Turn the mouse wheel over the middle of a window (negative: scroll down)."""
+        """Turn the mouse wheel over a window's right edge (its scroll bar: over a plot
+        in the text the wheel would zoom the plot instead), half-way down; negative
+        notches scroll down."""
         from imgui_bundle import imgui
 
         window = self.window(window_ref)
         if window is None:
             self.problems.append(f"no window {window_ref} to scroll")
             return
-        self.ctx.mouse_move_to_pos(imgui.ImVec2(window.pos.x + window.size.x * 0.5,
+        self.ctx.mouse_move_to_pos(imgui.ImVec2(window.pos.x + window.size.x - 5.0,
                                                 window.pos.y + window.size.y * 0.5))
         self.ctx.mouse_wheel_y(notches)
         if record:

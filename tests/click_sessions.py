@@ -426,6 +426,27 @@ def run_window(c) -> None:
         c.click(ref, f"Corrections: {entry.title}")
         c.check(getattr(state.settings.corrections, entry.name) is was,
                 f"Corrections: {entry.title} switches back")
+    # the Compare panel: its view modes, B's presets, Swap A/B, every B switch
+    c.ctx.window_focus("//Compare")
+    c.settle_input(2)
+    for mode in ("Split", "Difference", "Single"):
+        c.click(f"//Compare/**/{mode}##cmp", f"Compare: {mode}")
+        c.check(state.view_mode == mode.lower(), f"Compare: {mode} is the view mode")
+    for name in PRESETS:
+        c.click(f"//Compare/**/{name.capitalize()}##B", f"Compare: B {name}")
+        c.check(state.compare_settings.corrections == PRESETS[name], f"Compare: B {name}")
+    a, b = state.settings.corrections, state.compare_settings.corrections
+    c.click("//Compare/**/Swap A\\/B", "Compare: Swap A/B")
+    c.check(state.settings.corrections == b and state.compare_settings.corrections == a,
+            "Compare: Swap A/B swaps the corrections")
+    c.click("//Compare/**/Swap A\\/B", "Compare: Swap A/B")
+    for entry in CORRECTIONS:
+        was = getattr(state.compare_settings.corrections, entry.name)
+        ref = f"//Compare/**/{label_ref(entry.title)}##B"
+        c.click(ref, f"Compare: B {entry.title}")
+        c.check(getattr(state.compare_settings.corrections, entry.name) is (not was),
+                f"Compare: B {entry.title} switches")
+        c.click(ref, f"Compare: B {entry.title}")
     first = CORRECTIONS[0]
     c.picture_changes(lambda: c.click(f"//Corrections/**/{label_ref(first.title)}",
                                       f"Corrections: {first.title}"),
