@@ -40,6 +40,9 @@ class Clicks:
         self.controls: list[str] = []
         self.shots = shots
         self._seen_errors = 0
+        self.waiting = False
+        """The session waits for the pipelines (:meth:`until`): the runner stops telling
+        the window that input arrives, so it works with the quiet budget."""
         self.expect_quit = False
         """The next action asks the window to close (File/Quit): the runner notes it
         (:attr:`quit_seen`) and keeps the window open for the rest of the session."""
@@ -164,10 +167,14 @@ class Clicks:
 
     def until(self, predicate, what: str, frames: int = 600) -> bool:
         """Draw frames until ``predicate()``; a problem when it never holds."""
-        for _ in range(frames):
-            if predicate():
-                return True
-            self.ctx.yield_()
+        self.waiting = True
+        try:
+            for _ in range(frames):
+                if predicate():
+                    return True
+                self.ctx.yield_()
+        finally:
+            self.waiting = False
         self.problems.append(f"never happened within {frames} frames: {what}")
         return False
 
@@ -292,8 +299,10 @@ def run_session(name: str, shots: Path | None = None) -> dict:
 
         exceptions = engine.add("click", name, body)
         while not engine.idle:
+            c = clicks.get("c")
+            if c is not None and not c.waiting:
+                app.note_input()         # the engine's mouse and keys: a reader at work
             if not app.frame():
-                c = clicks.get("c")
                 if c is not None and c.expect_quit and app.state.requests.quit:
                     c.quit_seen, c.expect_quit = True, False
                     app.state.requests.quit = False

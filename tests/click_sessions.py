@@ -25,13 +25,20 @@ class Session:
     doc: str
 
 
+CLICK_BUDGET_MS = 8.0
+"""Pipeline work per frame while the session clicks (a reader's input keeps the window to
+the frame budget): frames stay short, so the clicks are quick; a session that waits for
+the converged picture gets the quiet budget meanwhile."""
+
+
 def small_state():
     """The reader's own configuration at the start of every session."""
     from explorer.lpv.settings import Settings
     from explorer.ui.state import AppState
 
     return AppState(settings=Settings(grid_size=8, iterations=3, rsm_size=32),
-                    render_scale=0.25)
+                    render_scale=0.25, frame_budget_ms=CLICK_BUDGET_MS)
+
 
 
 def label_ref(label: str) -> str:

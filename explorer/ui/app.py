@@ -340,6 +340,12 @@ class App:
         self._quiet = not (worked or rt.redraw or self._draws_pending or self._interacting())
         return True
 
+    def note_input(self) -> None:
+        """Input arrived that the window's events do not show (Dear ImGui Test Engine's
+        simulated mouse and keys): the pipelines keep to the frame budget, as for a
+        reader's input, instead of the quiet budget of a window nobody touches."""
+        self._input_at = time.monotonic()
+
     def _interacting(self) -> bool:
         """The camera or an object is being moved (a drag, the gizmo, a wheel step or a
         fly key a moment ago) or the animation plays (its paths move the light and objects,
