@@ -51,7 +51,12 @@ class Clicks:
     # -- actions ----------------------------------------------------------------------
     def click(self, ref: str, what: str | None = None) -> None:
         """Click the item ``ref`` (a test engine reference: "//Window/**/label"), then
-        let a frame run; a panel failing on it is a problem named after the click."""
+        let a frame run; a panel failing on it is a problem named after the click. An
+        item the engine cannot find is a failed check (the engine itself would stop the
+        whole session at it)."""
+        if "**" in ref and not self.exists(ref):
+            self.check(False, f"{what or ref}: no item {ref!r} on screen")
+            return
         self.ctx.item_click(ref)
         self.controls.append(what or ref)
         self.settle_input()

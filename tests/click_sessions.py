@@ -425,12 +425,12 @@ def run_window(c) -> None:
         c.check(state.view_mode == mode.lower(), f"View: {mode} is the view mode")
     # every correction switch, off and on again
     for entry in CORRECTIONS:
-        ref = f"//Corrections/**/{label_ref(entry.title)}"
+        title = label_ref(entry.title)
         was = getattr(state.settings.corrections, entry.name)
-        c.click(ref, f"Corrections: {entry.title}")
+        c.click_in("//Corrections", title, f"Corrections: {entry.title}")
         c.check(getattr(state.settings.corrections, entry.name) is (not was),
                 f"Corrections: {entry.title} switches {'off' if was else 'on'}")
-        c.click(ref, f"Corrections: {entry.title}")
+        c.click_in("//Corrections", title, f"Corrections: {entry.title}")
         c.check(getattr(state.settings.corrections, entry.name) is was,
                 f"Corrections: {entry.title} switches back")
     # the Compare panel: its view modes, B's presets, Swap A/B, every B switch
@@ -449,16 +449,17 @@ def run_window(c) -> None:
     c.click("//Compare/**/Swap A\\/B", "Compare: Swap A/B")
     for entry in CORRECTIONS:
         was = getattr(state.compare_settings.corrections, entry.name)
-        ref = f"//Compare/**/{label_ref(entry.title)}##B"
-        c.click(ref, f"Compare: B {entry.title}")
+        label = f"{label_ref(entry.title)}##B"
+        c.click_in("//Compare", label, f"Compare: B {entry.title}")
         c.check(getattr(state.compare_settings.corrections, entry.name) is (not was),
                 f"Compare: B {entry.title} switches")
-        c.click(ref, f"Compare: B {entry.title}")
+        c.click_in("//Compare", label, f"Compare: B {entry.title}")
+    c.ctx.window_focus("//Corrections")            # its tab forward again
     first = CORRECTIONS[0]
-    c.picture_changes(lambda: c.click(f"//Corrections/**/{label_ref(first.title)}",
-                                      f"Corrections: {first.title}"),
+    c.picture_changes(lambda: c.click_in("//Corrections", label_ref(first.title),
+                                         f"Corrections: {first.title}"),
                       f"Corrections: {first.title}")
-    c.click(f"//Corrections/**/{label_ref(first.title)}", f"Corrections: {first.title}")
+    c.click_in("//Corrections", label_ref(first.title), f"Corrections: {first.title}")
     # the menus: presets for A and B, every window hidden and shown, reset layout
     for name in PRESETS:
         c.menu(f"Presets/A: {name}")
