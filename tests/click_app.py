@@ -128,12 +128,19 @@ class Clicks:
         self.ctx.scroll_to_top(te.TestRef(window.id_))
         # down with the wheel, as a reader does: the text may grow or shrink meanwhile
         # (a number arrives, a banner goes), where a scroll to a set offset would fail
+        # (until the wheel moves it no more: a text just opened knows its height only
+        # once it was drawn, so its scroll limit is not trusted)
+        last, still = None, 0
         for _ in range(200):
             if self.exists(ref):
                 return ref
             window = self.window(window_ref)
-            if window is None or window.scroll.y >= window.scroll_max.y:
+            if window is None:
                 return None
+            still = still + 1 if window.scroll.y == last else 0
+            if still >= 2:
+                return None
+            last = window.scroll.y
             self.wheel(window_ref, -2.0, record=False)
         return None
 
