@@ -54,10 +54,14 @@ class Clicks:
         let a frame run; a panel failing on it is a problem named after the click. An
         item the engine cannot find is a failed check (the engine itself would stop the
         whole session at it)."""
+        from imgui_bundle import imgui
+
         if "**" in ref and not self.exists(ref):
             self.check(False, f"{what or ref}: no item {ref!r} on screen")
             return
-        self.ctx.item_click(ref)
+        # no engine error either when it goes between finding and clicking (the text
+        # reflowed): the session's own checks see what the click did or did not do
+        self.ctx.item_click(ref, 0, imgui.test_engine.TestOpFlags_.no_error)
         self.controls.append(what or ref)
         self.settle_input()
         self._panel_errors(what or ref)
@@ -82,7 +86,9 @@ class Clicks:
         waits for the item to stand still and is tried again if it missed."""
         from imgui_bundle import imgui
 
-        flags = imgui.test_engine.TestOpFlags_.no_check_hovered_id
+        te = imgui.test_engine
+        # no engine error for an item gone meanwhile: it would stop the whole session
+        flags = te.TestOpFlags_.no_check_hovered_id | te.TestOpFlags_.no_error
         for _ in range(attempts):
             ref = self.find(window_ref, label)
             if ref is None:
@@ -122,7 +128,7 @@ class Clicks:
         ref = f"{top}/**/{label}"
         if self.exists(ref):
             return ref
-        window = self.window(window_ref)
+        window = self._window_soon(window_ref)
         if window is None:
             return None
         self.ctx.scroll_to_top(te.TestRef(window.id_))
@@ -134,7 +140,7 @@ class Clicks:
         for _ in range(200):
             if self.exists(ref):
                 return ref
-            window = self.window(window_ref)
+            window = self._window_soon(window_ref)
             if window is None:
                 return None
             still = still + 1 if window.scroll.y == last else 0
@@ -221,6 +227,16 @@ class Clicks:
         from imgui_bundle import imgui
 
         return self.ctx.window_info(window_ref, imgui.test_engine.TestOpFlags_.no_error).window
+
+    def _window_soon(self, window_ref: str, frames: int = 20):
+        """The window ``window_ref`` once it is drawn (a child window the panel shows
+        again, e.g. the article after the lesson list, takes a frame or two)."""
+        for _ in range(frames):
+            window = self.window(window_ref)
+            if window is not None:
+                return window
+            self.ctx.yield_()
+        return None
 
     def scroll_y(self, window_ref: str) -> float:
         """The vertical scroll of a window or child window (e.g. the article)."""
