@@ -216,3 +216,25 @@ def test_exr_without_openexr_says_how_to_get_it(tmp_path, capsys, monkeypatch):
     assert main(["render", *SMALL, "--out", str(tmp_path / "f.exr")]) == 2
     err = capsys.readouterr().err
     assert "pip install 'lpv-explorer[exr]'" in err and err.count("\n") == 1
+
+
+def test_compare_json_and_dump_hold_the_reference(tmp_path, capsys):
+    """``compare --json`` prints only JSON on stdout; its last row's relative L2 error is
+    the one the dump's own indirect and reference images give."""
+    from explorer.truth.metrics import error_stats
+
+    dump = tmp_path / "cmp.npz"
+    capsys.readouterr()
+    assert main(["compare", "--scene", "cornell", "--width", "32", "--height", "24",
+                 "--rsm-size", "16", "--grid-size", "8", "--iterations", "2", "--quiet",
+                 "--out", str(tmp_path / "cmp"), "--json", "--dump", str(dump)]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert [(r["preset"], r["iterations"]) for r in report["rows"]] == [
+        ("original", 2), ("corrected", 2)]
+    assert json.loads((tmp_path / "cmp" / "table.json").read_text()) == report
+    arrays = read_npz(dump)
+    assert arrays["reference"].shape == arrays["indirect"].shape == (24, 32, 3)
+    valid = arrays["gbuffer_position"][..., 3] > 0.5
+    stats = error_stats(arrays["indirect"].astype(np.float64), arrays["reference"], valid)
+    assert stats.relative_l2 == pytest.approx(report["rows"][-1]["relative_l2"], rel=1e-12)
+    assert json.loads(dump.with_suffix(".json").read_text())["arrays"]["reference"]["units"]

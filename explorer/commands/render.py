@@ -194,8 +194,8 @@ def _write_view(outputs, path: Path, pipeline, result, step, settings, view: str
     print(f"wrote {path} ({shown})")
 
 
-def write_dump(outputs, path: Path, result, reference=None, extra: dict | None = None
-               ) -> None:
+def write_dump(outputs, path: Path, result, reference=None, extra: dict | None = None,
+               stream=None) -> None:
     """Every stage of ``result`` (its steps kept) into ``path`` and the sidecar beside it
     (explorer/exchange/); ``reference``: compare's reference image."""
     from explorer.exchange.files import write_npz
@@ -209,7 +209,7 @@ def write_dump(outputs, path: Path, result, reference=None, extra: dict | None =
     outputs.write(sidecar_path(path), lambda p: write_sidecar(p, data))
     steps = len(result.steps or ())
     print(f"wrote {path} ({len(arrays)} arrays, grid_0 … grid_{steps - 1}) and "
-          f"{sidecar_path(path)}")
+          f"{sidecar_path(path)}", file=stream)
 
 
 def _sliced(view: str, chosen: dict[str, int]) -> dict[str, int]:
