@@ -12,6 +12,7 @@ reached."""
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 import venv
@@ -24,6 +25,9 @@ from PIL import Image
 from window_cases import display_problem
 
 ROOT = Path(__file__).resolve().parents[1]
+SOURCE_FILES = ("pyproject.toml", "setup.py", "README.md", "explorer", "derivations",
+                "shaders", "lessons")
+"""What the wheel is built from (the package's sources and the files setup reads)."""
 pytestmark = pytest.mark.install
 
 
@@ -39,10 +43,18 @@ def installed(tmp_path_factory):
     """``(venv bin folder, a folder outside the checkout, environment)`` with the wheel of
     this checkout installed into a fresh venv."""
     base = tmp_path_factory.mktemp("wheel")
+    (base / "source").mkdir()
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
     env["PIP_CACHE_DIR"] = str(base / "pip-cache")
+    # build from a copy of what a source distribution holds: setuptools writes build/ and
+    # *.egg-info next to the sources, which must not litter the checkout
+    source = base / "source"
+    for name in SOURCE_FILES:
+        shutil.copy2(ROOT / name, source / name) if (ROOT / name).is_file() else \
+            shutil.copytree(ROOT / name, source / name,
+                            ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
     wheels = base / "dist"
-    built = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps",
+    built = subprocess.run([sys.executable, "-m", "pip", "wheel", str(source), "--no-deps",
                             "-w", str(wheels), "-q"], env=env, capture_output=True, text=True,
                            timeout=600)
     if built.returncode != 0 and "No matching distribution" in built.stderr + built.stdout:

@@ -123,10 +123,14 @@ def run_frame(pipeline, settings, progress, args: argparse.Namespace, vpls, grid
         return options.run_pipeline(pipeline, settings, progress, keep_steps=keep_steps,
                                     vpls=vpls)
     try:
-        return run_with_grid0(pipeline, settings, grid0, progress, vpls=vpls,
-                              check=lambda spec: check_grid_placement(args.grid0, spec))
+        result = run_with_grid0(pipeline, settings, grid0, progress, vpls=vpls,
+                                check=lambda spec: check_grid_placement(args.grid0, spec))
     except FileFormatError as exc:
         raise options.CommandError(exc) from None
+    warn = getattr(progress, "warn", None)       # as options.run_pipeline does
+    if warn is not None:
+        warn(result.warnings)
+    return result
 
 
 def main(args: argparse.Namespace) -> int:
@@ -334,10 +338,10 @@ def write_grid_slice_png(image, result, chosen: dict[str, int], path: Path) -> N
 
     from explorer.commands.scale_bar import save_with_scale_bar
     from explorer.lpv.tonemap import linear_to_srgb
-    from explorer.lpv.views import _cascade_item, grid_slice_scale, grid_slice_values
+    from explorer.lpv.views import cascade_item, grid_slice_scale, grid_slice_values
 
     coefficient, cascade = chosen.get("coefficient"), chosen.get("cascade")
-    grid = _cascade_item(result, "accumulated", cascade)
+    grid = cascade_item(result, "accumulated", cascade)
     values = grid_slice_values(grid, chosen.get("z"), coefficient)
     white = grid_slice_scale(values, coefficient)
     pixels = np.clip(np.nan_to_num(image), 0.0, 1.0)

@@ -125,20 +125,18 @@ def run_with_grid0(pipeline, settings, grid0: np.ndarray, progress=None, vpls=No
     everything after it run again (``Pipeline.invalidate("propagate")``). The result's
     ``steps[0]`` is checked to be ``grid0``, so the replacement cannot silently miss.
     ``vpls``: hand-made VPLs for both runs (the geometry volume's occluders). One cascade,
-    rgba32f."""
-    from explorer.commands.options import run_pipeline
-
+    rgba32f. The frame's warnings are the caller's to print (``result.warnings``)."""
     if settings.cascades != 1:
         raise ValueError("--grid0 feeds one grid: use --cascades 1")
     if settings.grid_format != "rgba32f":
         raise ValueError("--grid0 needs --grid-format rgba32f (a 16-bit grid would round it)")
-    run_pipeline(pipeline, settings, progress, vpls=vpls, need_audit="off")
+    pipeline.run(settings, vpls=vpls, need_audit="off", progress=progress)
     injected, spec, _ = pipeline.propagation_inputs(0)
     if check is not None:
         check(spec)
     injected.write(np.ascontiguousarray(grid0, np.float32))
     pipeline.invalidate("propagate")
-    result = run_pipeline(pipeline, settings, progress, vpls=vpls, keep_steps=True)
+    result = pipeline.run(settings, keep_steps=True, vpls=vpls, progress=progress)
     if not np.array_equal(result.steps[0], grid0):
         raise RuntimeError("the pipeline re-injected its own VPLs over the given grid_0")
     return result

@@ -27,7 +27,7 @@ FLOAT_VIEWS = {
 def float_view(result, view: str, z: int | None = None, coefficient: int | None = None,
                cascade: int | None = None, positions=None) -> np.ndarray:
     """The float image of ``view`` for ``result`` (:data:`FLOAT_VIEWS` says what it holds)."""
-    from explorer.lpv.views import _cascade_item, cascade_weight_image
+    from explorer.lpv.views import cascade_item, cascade_weight_image
 
     if view == "final":
         return np.asarray(result.final_image, np.float32)
@@ -36,9 +36,9 @@ def float_view(result, view: str, z: int | None = None, coefficient: int | None 
     if view.startswith("rsm-"):
         return np.asarray(getattr(result, view.replace("-", "_"))[..., :3], np.float32)
     if view == "grid-slice":
-        return grid_slice_values(_cascade_item(result, "accumulated", cascade), z, coefficient)
+        return grid_slice_values(cascade_item(result, "accumulated", cascade), z, coefficient)
     if view == "geometry-volume":
-        volume = _cascade_item(result, "geometry", cascade)
+        volume = cascade_item(result, "geometry", cascade)
         if volume is None:
             n = result.grid_spec.resolution + 1
             return np.zeros((n, n), np.float32)

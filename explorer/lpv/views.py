@@ -65,9 +65,9 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     if name == "rsm-flux":
         return linear_to_srgb(normalise(result.rsm_flux[..., :3]))
     if name == "grid-slice":
-        return grid_slice(_cascade_item(result, "accumulated", cascade), z, coefficient)
+        return grid_slice(cascade_item(result, "accumulated", cascade), z, coefficient)
     if name == "geometry-volume":
-        volume = _cascade_item(result, "geometry", cascade)
+        volume = cascade_item(result, "geometry", cascade)
         if volume is None:   # geometry volume off: nothing blocks
             n = result.grid_spec.resolution + 1
             return np.zeros((n, n, 3), np.float32)
@@ -99,7 +99,7 @@ def cascade_weight_image(specs, positions: np.ndarray) -> np.ndarray:
     return np.clip(image, 0.0, 1.0).astype(np.float32)
 
 
-def _cascade_item(result, what: str, cascade: int | None):
+def cascade_item(result, what: str, cascade: int | None):
     """Cascade ``cascade``'s accumulated grid or geometry volume (None/0: cascade 0, the
     FrameResult's own field)."""
     single = result.accumulated if what == "accumulated" else result.geometry_volume
