@@ -185,7 +185,8 @@ def _write_view(outputs, path: Path, pipeline, result, step, settings, view: str
     if path.suffix.lower() in FLOAT_IMAGE_SUFFIXES:
         data = float_view(result, view, positions=result.gbuffer_position,
                           **_sliced(view, wanted))
-        outputs.write(path, lambda p: write_float_image(p, data))
+        outputs.write(path, lambda p: write_float_image(
+            p, data, f"lpv-explorer render, view {view}: {FLOAT_VIEWS[view]}"))
         print(f"wrote {path} ({view}: {FLOAT_VIEWS[view]}, {data.shape[1]}×{data.shape[0]})")
         return
     image = _view_image(pipeline, step, settings, view, wanted)

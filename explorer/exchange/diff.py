@@ -99,10 +99,10 @@ def stage_diff(name: str, theirs: np.ndarray, ours: np.ndarray) -> StageDiff:
     for side, rows in (("theirs", a), ("ours", b)):
         bad = ~np.all(np.isfinite(rows), axis=1)
         if np.any(bad):
-            first = int(np.flatnonzero(bad)[0])
+            first, count = int(np.flatnonzero(bad)[0]), int(np.count_nonzero(bad))
             return _not_compared(name, kind, theirs,
-                                 f"{side} not finite at {np.count_nonzero(bad)} {kind}s, the "
-                                 f"first{_at(kind, _where(kind, first, shape))}")
+                                 f"{side} not finite at {count} {kind}{'s' * (count != 1)}, "
+                                 f"the first{_at(kind, _where(kind, first, shape))}")
     error = np.linalg.norm(a - b, axis=1)
     size = np.linalg.norm(b, axis=1)
     worst = int(np.argmax(error)) if error.size else 0

@@ -64,9 +64,10 @@ def has_openexr() -> bool:
     return True
 
 
-def write_exr(path: Path, image: np.ndarray) -> None:
+def write_exr(path: Path, image: np.ndarray, comment: str | None = None) -> None:
     """An ``(H, W, 3)`` (or ``(H, W)``) float image, row 0 at the top, as a 32-bit float
-    EXR (RGB, or one Y channel), uncompressed-lossless ZIP."""
+    EXR (RGB, or one Y channel), lossless ZIP; ``comment``: what it holds (the header's
+    ``comments`` attribute)."""
     try:
         import OpenEXR
     except ImportError:
@@ -79,6 +80,8 @@ def write_exr(path: Path, image: np.ndarray) -> None:
     else:
         raise ValueError(f"an EXR image is (H, W), (H, W, 3) or (H, W, 4), got {pixels.shape}")
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    if comment:
+        header["comments"] = comment
     with OpenEXR.File(header, channels) as image_file:
         image_file.write(str(path))
 
@@ -99,11 +102,12 @@ def read_exr(path: Path | str) -> np.ndarray:
         raise FileFormatError(f"{path}: not a readable EXR image ({exc})") from None
 
 
-def write_float_image(path: Path, image: np.ndarray) -> None:
-    """``image`` as float data in the format ``path``'s suffix names (.exr or .npy)."""
+def write_float_image(path: Path, image: np.ndarray, comment: str | None = None) -> None:
+    """``image`` as float data in the format ``path``'s suffix names (.exr, with
+    ``comment`` in its header, or .npy)."""
     suffix = path.suffix.lower()
     if suffix == ".exr":
-        write_exr(path, image)
+        write_exr(path, image, comment)
     elif suffix == ".npy":
         write_npy(path, image)
     else:
