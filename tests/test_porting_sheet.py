@@ -121,3 +121,27 @@ def test_sh_conventions_name_the_registry_basis():
 def test_unknown_format_is_refused_in_one_line(capsys):
     assert main(["constants", "--format", "metal"]) == 2
     assert "invalid choice: 'metal'" in capsys.readouterr().err
+
+
+def test_glsl_sheet_compiles_on_the_gl_driver_and_holds_the_floats(ctx, capsys):
+    """The GLSL sheet compiled by the driver (llvmpipe here) in a compute shader that
+    writes every constant out: each is the float nearest its exact value."""
+    import numpy as np
+
+    names = [c.name for c in porting.constants()]
+    body = "\n".join(f"    values[{k}] = {name};" for k, name in enumerate(names))
+    source = ("#version 430\n" + sheet("glsl", capsys) +
+              "layout(local_size_x = 1) in;\n"
+              "layout(std430, binding = 0) buffer Out { float values[]; };\n"
+              "void main() {\n" + body + "\n}\n")
+    program = ctx.compute_shader(source)
+    buffer = ctx.buffer(reserve=4 * len(names))
+    try:
+        buffer.bind_to_storage_buffer(0)
+        program.run(1)
+        got = np.frombuffer(buffer.read(), np.float32)
+    finally:
+        buffer.release()
+        program.release()
+    exact = np.array([float(sp.N(c.expr, 30)) for c in porting.constants()], np.float32)
+    assert np.array_equal(got, exact), [n for n, a, b in zip(names, got, exact) if a != b]

@@ -43,7 +43,10 @@ ARRAYS: dict[str, ArrayDoc] = {
     "vpl_albedo": ArrayDoc("(M, 3)", "unitless", "VPLs: diffuse reflectance of the VPL's "
                            "surface (bounces 2 reflect blocked light with it); absent: 0"),
     "vpl_texel_area": ArrayDoc("()", "world units² at depth 1 (perspective) or world "
-                               "units² (orthographic)", "area of one RSM texel"),
+                               "units² (orthographic)",
+                               "area of one RSM texel, the first RSM view's (several views: "
+                               "each one's is in the sidecar's rsm_views; VPLs fed back "
+                               "through --vpls use this one for all)"),
     "grid_origin": ArrayDoc("(3,)", "world units", "world position of the grid's minimum "
                             "corner (cascade 0)"),
     "grid_cell_size": ArrayDoc("()", "world units", "edge of one cell (cascade 0)"),
