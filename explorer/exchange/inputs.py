@@ -6,7 +6,8 @@ VPL file: ``vpl_position``, ``vpl_normal``, ``vpl_flux`` ``(M, 3)`` float arrays
 units, unit normals, watts per colour channel); optional ``vpl_depth`` ``(M,)`` and
 ``vpl_texel_area`` ``()`` (the geometry volume's surfel area ``texel_area·depth²``, so
 required when the geometry volume is on; without it they are unused) and ``vpl_albedo``
-``(M, 3)`` (bounces 2). Grid file: ``grid_0`` ``(3, N, N, N, C)`` float (W/sr SH
+``(M, 3)`` (bounces 2) and ``vpl_orthographic`` ``()`` bool (a directional light's
+texel area is a world area). Grid file: ``grid_0`` ``(3, N, N, N, C)`` float (W/sr SH
 coefficients, index [colour, x, y, z, k], C = 4 for ``--sh-order 1``, 9 for 2), and
 optionally ``grid_origin`` ``(3,)`` / ``grid_cell_size`` ``()``, which must then be the
 frame's grid (the grid is placed by the scene's box; the dump's sidecar says where).
@@ -78,10 +79,17 @@ def load_vpls(path: Path | str, geometry_volume: bool = False,
             raise FileFormatError(f"{where}: vpl_texel_area must be positive, got {texel_area}")
     else:   # unused without a geometry volume (only its surfels have an area)
         depth, texel_area = np.ones(count, np.float32), 1.0
+    projection = "perspective"
+    if "vpl_orthographic" in arrays:
+        flag = arrays["vpl_orthographic"]
+        if flag.shape != () or flag.dtype.kind not in "biu" or int(flag) not in (0, 1):
+            raise FileFormatError(f"{where}: vpl_orthographic must be one bool (or 0/1), got "
+                                  f"{flag.dtype} of shape {flag.shape}")
+        projection = "orthographic" if int(flag) else "perspective"
     albedo = None
     if "vpl_albedo" in arrays:
         albedo = _float_array(arrays, "vpl_albedo", (count, 3), where)
-    return VplArrays(positions, normals, flux, depth, texel_area, "perspective", albedo)
+    return VplArrays(positions, normals, flux, depth, texel_area, projection, albedo)
 
 
 def load_grid0(path: Path | str, settings, what: str = "--grid0") -> np.ndarray:

@@ -47,6 +47,9 @@ ARRAYS: dict[str, ArrayDoc] = {
                                "area of one RSM texel, the first RSM view's (several views: "
                                "each one's is in the sidecar's rsm_views; VPLs fed back "
                                "through --vpls use this one for all)"),
+    "vpl_orthographic": ArrayDoc("()", "bool", "true: vpl_texel_area is a world area "
+                                 "(directional light), false: an area at depth 1 "
+                                 "(perspective: the surfel's area is texel_area·depth²)"),
     "grid_origin": ArrayDoc("(3,)", "world units", "world position of the grid's minimum "
                             "corner (cascade 0)"),
     "grid_cell_size": ArrayDoc("()", "world units", "edge of one cell (cascade 0)"),
@@ -118,7 +121,8 @@ def frame_arrays(result, reference: np.ndarray | None = None) -> dict[str, np.nd
     vpls = result.vpls
     arrays.update(vpl_position=np.asarray(vpls.positions), vpl_normal=np.asarray(vpls.normals),
                   vpl_flux=np.asarray(vpls.flux), vpl_depth=np.asarray(vpls.depth),
-                  vpl_texel_area=np.asarray(vpls.texel_area, np.float64))
+                  vpl_texel_area=np.asarray(vpls.texel_area, np.float64),
+                  vpl_orthographic=np.asarray(vpls.projection == "orthographic"))
     if vpls.albedo is not None:
         arrays["vpl_albedo"] = np.asarray(vpls.albedo)
     for k, level in enumerate(result.cascades):
