@@ -38,6 +38,17 @@ def _run(command: list[str], cwd: Path, env: dict, timeout: float) -> subprocess
     return proc
 
 
+OFFLINE = ("No matching distribution", "Could not find a version", "Failed to establish",
+           "Temporary failure in name resolution")
+"""What pip prints when the package index cannot be reached."""
+
+
+def _skip_when_offline(proc: subprocess.CompletedProcess, what: str) -> None:
+    if proc.returncode != 0 and any(text in proc.stderr + proc.stdout for text in OFFLINE):
+        pytest.skip(f"{what} could not be fetched from the package index: "
+                    f"{proc.stderr.strip()[-200:]}")
+
+
 @pytest.fixture(scope="module")
 def installed(tmp_path_factory):
     """``(venv bin folder, a folder outside the checkout, environment)`` with the wheel of
@@ -57,8 +68,7 @@ def installed(tmp_path_factory):
     built = subprocess.run([sys.executable, "-m", "pip", "wheel", str(source), "--no-deps",
                             "-w", str(wheels), "-q"], env=env, capture_output=True, text=True,
                            timeout=600)
-    if built.returncode != 0 and "No matching distribution" in built.stderr + built.stdout:
-        pytest.skip(f"the build backend could not be fetched: {built.stderr.strip()[-200:]}")
+    _skip_when_offline(built, "the build backend (setuptools, wheel)")
     assert built.returncode == 0, built.stderr
     wheel, = wheels.glob("lpv_explorer-*.whl")
     target = base / "venv"
@@ -67,9 +77,7 @@ def installed(tmp_path_factory):
     proc = subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install",
                            "-q", str(wheel)], env=env, capture_output=True, text=True,
                           timeout=900)
-    if proc.returncode != 0 and ("No matching distribution" in proc.stderr
-                                 or "Could not find a version" in proc.stderr):
-        pytest.skip(f"the dependencies could not be fetched: {proc.stderr.strip()[-200:]}")
+    _skip_when_offline(proc, "the dependencies")
     assert proc.returncode == 0, proc.stderr
     outside = base / "elsewhere"
     outside.mkdir()
