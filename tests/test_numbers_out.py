@@ -89,7 +89,10 @@ def test_sidecar_places_the_grid_and_names_every_array(dumped, api_frame):
     view = np.asarray(camera["view_matrix"])
     eye = np.append(camera["eye"], 1.0)
     assert np.allclose(view @ eye, [0, 0, 0, 1])               # the eye at the view origin
-    assert sidecar["lights"][0]["kind"] == "spot"
+    light = sidecar["lights"][0]
+    assert light["kind"] == "spot"
+    rsm_view = np.asarray(light["rsm_view_matrix"])          # the light at its view origin
+    assert np.allclose(rsm_view @ np.append(light["position"], 1.0), [0, 0, 0, 1])
     assert [c["title"] for c in sidecar["conventions"]][0] == "What a cell stores"
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -42,10 +43,16 @@ def _plain(value):
     return value
 
 
-def light_entry(light) -> dict:
-    """One light as plain data: its kind and every field of its dataclass."""
+def light_entry(light, bounds) -> dict:
+    """One light as plain data: its kind, every field of its dataclass and, for a light
+    with one RSM view (spot, directional), that view's matrices (:data:`MATRIX_CONVENTION`)
+    for the scene box ``bounds``."""
     fields = {f.name: _plain(getattr(light, f.name)) for f in dataclasses.fields(light)}
-    return {"kind": getattr(light, "kind", type(light).__name__), **fields}
+    entry = {"kind": getattr(light, "kind", type(light).__name__), **fields}
+    if entry["kind"] in ("spot", "directional"):
+        entry["rsm_view_matrix"] = np.asarray(light.view_matrix(*bounds)).tolist()
+        entry["rsm_projection_matrix"] = np.asarray(light.projection_matrix(*bounds)).tolist()
+    return entry
 
 
 def camera_entry(result) -> dict:
@@ -96,7 +103,8 @@ def sidecar(result, arrays: dict[str, np.ndarray], scene=None, extra: dict | Non
         "grids": grid_entry(result),
         "camera": camera_entry(result),
         "scene_bounds": [list(result.scene_bounds[0]), list(result.scene_bounds[1])],
-        "lights": [light_entry(light) for light in scene.lights] if scene is not None else [],
+        "lights": [light_entry(light, result.scene_bounds) for light in scene.lights]
+        if scene is not None else [],
         "light_names": list(result.light_names),
         "rsm_views": [{"light": result.light_names[light] if result.light_names else None,
                        "vpls": vpls.count, "texel_area": vpls.texel_area,
@@ -112,8 +120,16 @@ def sidecar(result, arrays: dict[str, np.ndarray], scene=None, extra: dict | Non
     return data
 
 
+_NUMBER_LIST = re.compile(r"\[\s+([-+0-9.eE,\s]+?)\s+\]")
+"""A JSON list of plain numbers spread over lines by ``indent``."""
+
+
 def write_sidecar(path: Path, data: dict) -> None:
-    path.write_text(json.dumps(data, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    """``data`` as indented JSON, each list of numbers (a vector, a matrix row, a shape) on
+    one line."""
+    text = json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False)
+    text = _NUMBER_LIST.sub(lambda m: "[" + " ".join(m.group(1).split()) + "]", text)
+    path.write_text(text + "\n", encoding="utf-8")
 
 
 def read_settings(path: Path | str):
