@@ -16,7 +16,7 @@ LAYERS = (
     ("explorer.scene",),
     ("explorer.lpv",),
     ("explorer.truth", "explorer.lessons", "explorer.lesson_text", "explorer.live_values",
-     "explorer.figure_params", "explorer.overlay_params"),
+     "explorer.figure_params", "explorer.overlay_params", "explorer.exchange"),
     ("explorer.ui",),
     ("explorer.commands",),
     ("explorer.cli", "explorer.__main__", "explorer"),
