@@ -11,6 +11,7 @@ the file's vertex normals when it has them, else flat face normals. Every failur
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -104,45 +105,161 @@ def _read_mesh(path: Path) -> list[tuple[str, object, np.ndarray]]:
     return parts
 
 
+@dataclass(frozen=True)
+class MeshPart:
+    """One mesh of a scene with its world transform and what a scene file overrides."""
+
+    name: str
+    mesh: object
+    """A ``trimesh.Trimesh``."""
+    transform: np.ndarray
+    """4×4 model-to-world matrix."""
+    albedo: tuple[float, float, float] | None = None
+    """Linear albedo replacing the mesh's colours and texture; None: the file's."""
+    two_sided: bool | None = None
+    """True/False: two-/one-sided; None: the file's (glTF ``doubleSided``), else two-sided
+    (docs/MODEL.md "Sidedness")."""
+
+
+@dataclass(frozen=True)
+class _Surface:
+    """One part's triangles in world space, each array (T, 3, ...) per corner."""
+
+    corners: np.ndarray
+    normals: np.ndarray
+    """NaN where the file has none (filled with face normals later)."""
+    albedo: np.ndarray
+    """The colour, or the texture's factor for a textured part (linear)."""
+    uv: np.ndarray | None
+    texture: object
+    """The base-colour image (PIL) or None."""
+    two_sided: bool
+
+
 def scene_from_mesh(mesh, name: str, source: str = "<mesh>") -> Scene:
     """A :class:`Scene` from a ``trimesh.Trimesh`` (or a list of ``(mesh, 4×4 transform)``
-    pairs or ``(name, mesh, transform)`` triples) with a default camera and light rig
-    (:func:`default_camera_and_light`, :func:`spare_lights`). Each part with triangles is
-    an object that can be moved, named after its scene-graph node."""
+    pairs, ``(name, mesh, transform)`` triples or :class:`MeshPart`) with a default camera
+    and light rig (:func:`default_rig`: a light inside a closed mesh, else a spot above it,
+    and :func:`spare_lights`). Each part with triangles is an object that can be moved,
+    named after its scene-graph node."""
+    scene = scene_from_parts(_mesh_parts(mesh), name, source)
+    rig, notice = default_rig(scene)
+    camera = scene.camera
+    return replace(scene, rig=rig, lights_on=(rig[0].name,), notice=notice, camera=camera)
+
+
+def _mesh_parts(mesh) -> list[MeshPart]:
     parts = mesh if isinstance(mesh, list) else [(mesh, np.eye(4))]
-    parts = [part if len(part) == 3 else (f"part {k + 1}", *part)
-             for k, part in enumerate(parts)]
-    soups, names = [], []
-    for part_name, part, transform in parts:
-        soup = _triangle_soup(part, transform, source)
-        if soup is not None:
-            soups.append(soup)
-            names.append(part_name)
-    if not soups:
+    named = []
+    for k, part in enumerate(parts):
+        if isinstance(part, MeshPart):
+            named.append(part)
+        elif len(part) == 3:
+            named.append(MeshPart(str(part[0]), part[1], np.asarray(part[2], np.float64)))
+        else:
+            named.append(MeshPart(f"part {k + 1}", part[0], np.asarray(part[1], np.float64)))
+    return named
+
+
+def scene_from_parts(parts: list[MeshPart], name: str, source: str, camera=None,
+                     rig=None, bounds=None) -> Scene:
+    """A :class:`Scene` of ``parts``: their triangles, normals, albedo, texture coordinates,
+    base-colour textures and sidedness; ``camera`` / ``rig`` / ``bounds`` (lo, hi) as
+    given, else the default camera, a provisional spot light and the geometry's box."""
+    surfaces, names = [], []
+    for part in parts:
+        surface = _triangle_soup(part, source)
+        if surface is not None:
+            surfaces.append(surface)
+            names.append(part.name)
+    if not surfaces:
         raise SceneError(f"{source}: the mesh is empty (no triangles)")
-    corners, normals, albedo = (np.concatenate(arrays) for arrays in zip(*soups))
-    owner = np.concatenate([np.full(len(soup[0]), k) for k, soup in enumerate(soups)])
+    corners = np.concatenate([s.corners for s in surfaces])
+    normals = np.concatenate([s.normals for s in surfaces])
+    albedo = np.concatenate([s.albedo for s in surfaces])
+    owner = np.concatenate([np.full(len(s.corners), k) for k, s in enumerate(surfaces)])
     usable = _usable(corners)
     if not np.any(usable):
         raise SceneError(f"{source}: no triangle has a non-zero area, so no normals can be "
                          f"computed ({len(corners)} degenerate triangles)")
+    textures, texture_of_surface = _textures(surfaces)
+    textured = any(index >= 0 for index in texture_of_surface)
+    uv = np.concatenate([s.uv if s.uv is not None else np.zeros((len(s.corners), 3, 2))
+                         for s in surfaces])[usable] if textured else None
+    triangle_texture = np.asarray(texture_of_surface, np.int64)[owner[usable]] \
+        if textured else None
+    one_sided = np.array([not s.two_sided for s in surfaces])[owner[usable]]
     corners, normals, albedo = corners[usable], normals[usable], albedo[usable]
     objects = _objects(names, owner[usable], corners)
     face_normals = _face_normals(corners)
     missing = ~np.all(np.isfinite(normals), axis=(1, 2))
     normals[missing] = np.repeat(face_normals[missing, None, :], 3, axis=1)
     # a file normal opposite to the winding would turn the surface inside out for the
-    # light; trust the winding there.
+    # light; trust the winding there (it also says which side a one-sided surface has).
     flipped = np.einsum("tcj,tj->tc", normals, face_normals) < 0.0
     normals[flipped] *= -1.0
 
     flat = corners.reshape(-1, 3)
     lo, hi = flat.min(axis=0), flat.max(axis=0)
-    camera, light = default_camera_and_light(lo, hi)
+    if bounds is not None:
+        lo, hi = np.minimum(lo, bounds[0]), np.maximum(hi, bounds[1])
+    default_camera, light = default_camera_and_light(lo, hi)
     return Scene(name, flat.astype(np.float32), normals.reshape(-1, 3).astype(np.float32),
-                 albedo.reshape(-1, 3).astype(np.float32), camera,
-                 (light, *spare_lights(lo, hi)), tuple(map(float, lo)), tuple(map(float, hi)),
-                 objects=objects, lights_on=(light.name,))
+                 albedo.reshape(-1, 3).astype(np.float32), camera or default_camera,
+                 tuple(rig) if rig else (light,), tuple(map(float, lo)),
+                 tuple(map(float, hi)), objects=objects,
+                 uv=None if uv is None else uv.reshape(-1, 2).astype(np.float32),
+                 textures=textures, triangle_texture=triangle_texture,
+                 one_sided=one_sided if one_sided.any() else None)
+
+
+def default_rig(scene: Scene) -> tuple[tuple[Light, ...], str]:
+    """The lights for a scene that names none, and a sentence saying where the first is:
+    inside a closed mesh (a room) a point light at the enclosed point farthest from every
+    wall (explorer/scene/placement.py casts the rays); otherwise the spot of
+    :func:`default_camera_and_light` above the mesh. The spare lights follow."""
+    from explorer.scene.placement import light_inside
+
+    lo, hi = np.asarray(scene.bounds_min), np.asarray(scene.bounds_max)
+    inside = light_inside(scene)
+    spares = spare_lights(lo, hi)
+    if inside is not None:
+        position, distance = inside
+        bulb = PointLight(tuple(map(float, position)), flux_for_irradiance(distance),
+                          name="light")
+        where = ", ".join(f"{v:.3g}" for v in position)
+        return (bulb, *spares), (f"{scene.name}: no light given; the mesh is closed, so a "
+                                 f"point light 'light' is at ({where}) inside it (every "
+                                 f"ray from there meets a wall's front)")
+    _, spot = default_camera_and_light(lo, hi)
+    where = ", ".join(f"{v:.3g}" for v in spot.position)
+    aim = ", ".join(f"{v:.3g}" for v in spot.target)
+    return (spot, *spares), (f"{scene.name}: no light given; a spot light 'spot' is at "
+                             f"({where}) aimed at ({aim}) (no point of the mesh's box is "
+                             f"inside a closed room)")
+
+
+def _textures(surfaces: list[_Surface]) -> tuple[tuple[np.ndarray, ...], list[int]]:
+    """The distinct base-colour images of the surfaces as linear float32 arrays, and the
+    index of each surface's (−1: untextured)."""
+    images, index_of, owner = [], {}, []
+    for surface in surfaces:
+        image = surface.texture
+        if image is None:
+            owner.append(-1)
+            continue
+        if id(image) not in index_of:
+            index_of[id(image)] = len(images)
+            images.append(texture_linear(image))
+        owner.append(index_of[id(image)])
+    return tuple(images), owner
+
+
+def texture_linear(image) -> np.ndarray:
+    """A PIL image as (H, W, 3) float32 linear reflectance (sRGB decoded; alpha dropped:
+    the explorer has no transparency)."""
+    encoded = np.asarray(image.convert("RGB"), np.float64) / 255.0
+    return srgb_to_linear(encoded).astype(np.float32)
 
 
 def _objects(names: list[str], owner: np.ndarray, corners: np.ndarray
@@ -163,9 +280,9 @@ def _objects(names: list[str], owner: np.ndarray, corners: np.ndarray
     return tuple(objects)
 
 
-def _triangle_soup(mesh, transform: np.ndarray, source: str):
-    """(corners, normals, albedo), each (T, 3, 3), in world space; normals are NaN where
-    the file has none (filled with face normals later); None for a mesh with no faces."""
+def _triangle_soup(part: MeshPart, source: str) -> _Surface | None:
+    """The part's triangles in world space; None for a mesh with no faces."""
+    mesh, transform = part.mesh, part.transform
     faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     vertices = np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
     if len(faces) == 0:
@@ -175,6 +292,9 @@ def _triangle_soup(mesh, transform: np.ndarray, source: str):
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise SceneError(f"{source}: faces index vertices that do not exist")
     world = vertices @ transform[:3, :3].T + transform[:3, 3]
+    if np.linalg.det(transform[:3, :3]) < 0.0:
+        # a mirroring transform reverses the winding: swap two corners to keep the front
+        faces = faces[:, [0, 2, 1]]
     normals = _file_vertex_normals(mesh, len(vertices))
     if normals is None:
         corner_normals = np.full((len(faces), 3, 3), np.nan)
@@ -184,7 +304,13 @@ def _triangle_soup(mesh, transform: np.ndarray, source: str):
         normals = normals @ normal_matrix.T
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         corner_normals = normals[faces]
-    return world[faces], corner_normals, _corner_albedo(mesh, faces)
+    albedo, uv, texture, double_sided = _material(mesh, faces, len(vertices))
+    if part.albedo is not None:
+        albedo, uv, texture = np.broadcast_to(part.albedo, (len(faces), 3, 3)), None, None
+    two_sided = part.two_sided if part.two_sided is not None else \
+        (double_sided if double_sided is not None else True)
+    return _Surface(world[faces], corner_normals, np.array(albedo, np.float64), uv, texture,
+                    bool(two_sided))
 
 
 def _face_normals(corners: np.ndarray) -> np.ndarray:
@@ -247,39 +373,63 @@ def _file_vertex_normals(mesh, vertex_count: int) -> np.ndarray | None:
     return normals / length[:, None]
 
 
-def _corner_albedo(mesh, faces: np.ndarray) -> np.ndarray:
-    """(T, 3, 3) linear albedo per triangle corner."""
+def _material(mesh, faces: np.ndarray, vertex_count: int):
+    """``(albedo (T, 3, 3) linear, uv (T, 3, 2) or None, texture image or None,
+    double_sided or None)`` of a mesh. A glTF material (trimesh's PBRMaterial) gives its
+    linear ``baseColorFactor`` times its sRGB ``baseColorTexture`` and says whether it is
+    ``doubleSided`` (glTF's default: one-sided); an OBJ ``map_Kd`` is the colour alone
+    (exporters write arbitrary ``Kd`` beside it); a file that says nothing is two-sided."""
     visual = getattr(mesh, "visual", None)
     kind = getattr(visual, "kind", None)
-    srgb = None
+    material = getattr(visual, "material", None)
+    double_sided = None
+    if type(material).__name__ == "PBRMaterial":
+        double_sided = bool(getattr(material, "doubleSided", False))
+    fallback = np.full((len(faces), 3, 3), FALLBACK_ALBEDO)
     try:
         if kind == "vertex":
             srgb = np.asarray(visual.vertex_colors)[:, :3][faces]
-        elif kind == "face":
+            return _decoded(srgb), None, None, double_sided
+        if kind == "face":
             face_rgb = np.asarray(visual.face_colors)[:, :3]
-            srgb = np.repeat(face_rgb[:, None, :], 3, axis=1)
-        elif kind == "texture":
-            srgb = _texture_colours(visual, faces)
-    except Exception:
-        srgb = None
-    if srgb is None:
-        return np.full((len(faces), 3, 3), FALLBACK_ALBEDO)
-    return srgb_to_linear(np.asarray(srgb, np.float64) / 255.0)
+            return _decoded(np.repeat(face_rgb[:, None, :], 3, axis=1)), None, None, \
+                double_sided
+        if material is None:
+            return fallback, None, None, double_sided
+        factor = _material_factor(material)
+        image = getattr(material, "baseColorTexture", None)
+        if image is None:
+            image = getattr(material, "image", None)
+        uv = getattr(visual, "uv", None)
+        if image is not None and uv is not None and len(uv) == vertex_count:
+            corner_uv = np.asarray(uv, np.float64)[:, :2][faces]
+            if np.all(np.isfinite(corner_uv)):
+                linear = np.ones(3) if factor is None else factor
+                return np.broadcast_to(linear, (len(faces), 3, 3)), corner_uv, image, \
+                    double_sided
+        if factor is not None:
+            return np.broadcast_to(factor, (len(faces), 3, 3)), None, None, double_sided
+    except SceneError:
+        raise
+    except Exception:       # trimesh visuals of an unusual file: the neutral grey
+        pass
+    return fallback, None, None, double_sided
 
 
-def _texture_colours(visual, faces: np.ndarray) -> np.ndarray | None:
-    material = getattr(visual, "material", None)
-    uv = getattr(visual, "uv", None)
-    image = getattr(material, "image", None) or getattr(material, "baseColorTexture", None)
-    if uv is not None and image is not None:
-        from trimesh.visual.color import uv_to_color
-
-        colours = np.asarray(uv_to_color(uv, image))[:, :3]
-        return colours[faces]
+def _material_factor(material) -> np.ndarray | None:
+    """The material's own colour as linear RGB: glTF's ``baseColorFactor`` is linear
+    already, OBJ's ``Kd`` / trimesh's ``main_color`` is sRGB-encoded; None: none."""
+    factor = getattr(material, "baseColorFactor", None)
+    if factor is not None:
+        return np.asarray(factor, np.float64)[:3] / 255.0
     main = getattr(material, "main_color", None)
     if main is None:
         return None
-    return np.broadcast_to(np.asarray(main)[:3], (len(faces), 3, 3))
+    return _decoded(np.asarray(main)[:3])
+
+
+def _decoded(srgb8) -> np.ndarray:
+    return srgb_to_linear(np.asarray(srgb8, np.float64) / 255.0)
 
 
 def srgb_to_linear(encoded: np.ndarray) -> np.ndarray:
