@@ -70,7 +70,7 @@ def main(args: argparse.Namespace) -> int:
         raise CommandError("--step needs --lesson")
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
-        check_scene(args.scene, load=True)    # a broken mesh: refused before the window
+        check_scene(args.scene)    # a broken mesh or scene file: refused before the window
     if args.lesson:
         _check_lesson(args.lesson, args.step)
     if args.screenshot is not None:

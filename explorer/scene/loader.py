@@ -1,11 +1,16 @@
-"""``load_scene``: a built-in scene by name, or any mesh file trimesh reads.
+"""``load_scene``: a built-in scene by name, a scene file (``.toml``,
+explorer/scene/scene_file.py), or any mesh file trimesh reads.
 
-Meshes (OBJ, GLB/glTF, PLY, STL, ...) become a triangle soup with per-corner normals and
-linear albedo. Colours come from, in order: vertex colours, face colours, the material's
-texture sampled at the vertices, the material's base colour; otherwise a neutral grey.
-Colours in files are sRGB-encoded, so they are decoded to linear reflectance. Normals are
-the file's vertex normals when it has them, else flat face normals. Every failure is a
-:class:`SceneError` naming the file and the problem, never a trimesh traceback.
+Meshes (OBJ, GLB/glTF, PLY, STL, ...) become a triangle soup with per-corner normals,
+linear albedo and texture coordinates. Colours come from, in order: vertex colours, face
+colours, the material's base-colour texture (glTF ``baseColorTexture`` times its linear
+``baseColorFactor``, OBJ ``map_Kd``: sampled per pixel on the GPU, with mipmaps), the
+material's base colour; otherwise a neutral grey. Colours in files are sRGB-encoded (but
+glTF's factor), so they are decoded to linear reflectance. Normals are the file's vertex
+normals when it has them, else flat face normals. A glTF material says whether it is
+``doubleSided`` (glTF's default: one-sided); other files are two-sided (docs/MODEL.md
+"Sidedness"). Every failure is a :class:`SceneError` naming the file and the problem,
+never a trimesh traceback.
 """
 
 from __future__ import annotations
@@ -35,13 +40,17 @@ MIN_TRIANGLE_AREA_FRACTION = 1e-12
 
 
 def load_scene(name_or_path: str | Path) -> Scene:
-    """A built-in scene (``"cornell"``, ``"single-source"``, ``"room"``, ``"atrium"``) or a
-    mesh file."""
+    """A built-in scene (``"cornell"``, ``"single-source"``, ``"room"``, ``"atrium"``), a
+    scene file (``.toml``, explorer/scene/scene_file.py) or a mesh file."""
+    from explorer.scene.scene_file import is_scene_file, read_scene_file
+
     key = str(name_or_path)
     if key in BUILTIN_SCENES:
         return BUILTIN_SCENES[key]()
     path = check_scene_name(key)
-    return scene_from_mesh(_read_mesh(path), path.stem, str(path))
+    if is_scene_file(path):
+        return read_scene_file(path)
+    return scene_from_mesh(read_mesh_parts(path), path.stem, str(path))
 
 
 def check_scene_name(name_or_path: str | Path) -> Path | None:
@@ -54,14 +63,14 @@ def check_scene_name(name_or_path: str | Path) -> Path | None:
     path = Path(key).expanduser()
     if not path.exists():
         raise SceneError(f"no built-in scene or mesh file named {key!r}: built-in scenes are "
-                         f"{', '.join(BUILTIN_SCENES)}; a path must point to a mesh "
-                         f"file (OBJ, GLB/glTF, PLY, STL)")
+                         f"{', '.join(BUILTIN_SCENES)}; a path must point to a scene "
+                         f"file (.toml) or a mesh file (OBJ, GLB/glTF, PLY, STL)")
     if not path.is_file():
         raise SceneError(f"{path} is not a file")
     return path
 
 
-def _read_mesh(path: Path) -> list[tuple[str, object, np.ndarray]]:
+def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
     """The file's triangle meshes with their names (scene-graph node) and world
     transforms."""
     import trimesh

@@ -252,19 +252,28 @@ class Scene:
     def with_overrides(self, camera=None, light=None, light_flux: float | None = None,
                        spot_cone: bool = True,
                        spot_cone_degrees: tuple[float, float] | None = None,
-                       lights: Iterable[str] | None = None, transforms=None) -> "Scene":
+                       lights: Iterable[str] | None = None, transforms=None,
+                       camera_fov: float | None = None,
+                       light_kind: str | None = None) -> "Scene":
         """The scene with ``Settings.object_transforms`` (``transforms``), ``lights`` (the
-        names that shine), ``camera`` and the primary light's ``light`` / ``light_flux``
-        / ``spot_cone_degrees`` applied (``None`` keeps the scene's own); ``spot_cone``
-        False turns every spot light's cone off (the 90° square frustum). Other lights
-        ignore the spot arguments."""
+        names that shine), ``camera`` / ``camera_fov`` and the primary light's
+        ``light_kind`` / ``light`` / ``light_flux`` / ``spot_cone_degrees`` applied
+        (``None`` keeps the scene's own); ``spot_cone`` False turns every spot light's cone
+        off (the 90° square frustum). Other lights ignore the spot arguments."""
         scene = self.posed(transforms) if transforms is not None else self
         scene = scene.with_lights(lights)
         if camera is not None:
             eye, target = camera
             scene = replace(scene, camera=replace(scene.camera, eye=tuple(map(float, eye)),
                                                   target=tuple(map(float, target))))
-        if light is not None:
+        if camera_fov is not None:
+            scene = replace(scene, camera=replace(scene.camera, fov_y_degrees=float(camera_fov)))
+        if light_kind is not None and light_kind != scene.light.kind:
+            position, target = light if light is not None else \
+                (scene.light.position, scene.light.target)
+            scene = scene.with_primary(light_of_kind(light_kind, scene.light, position, target,
+                                                     self.bounds_min, self.bounds_max))
+        elif light is not None:
             position, target = light
             scene = scene.with_primary(scene.light.moved(position, target))
         if light_flux is not None:
@@ -282,7 +291,37 @@ class Scene:
         light's placement and flux, and the spot cones."""
         return self.with_overrides(settings.camera, settings.light, settings.light_flux,
                                    settings.spot_cone, settings.spot_cone_degrees,
-                                   settings.lights, settings.object_transforms)
+                                   settings.lights, settings.object_transforms,
+                                   getattr(settings, "camera_fov", None),
+                                   getattr(settings, "light_kind", None))
+
+
+def light_of_kind(kind: str, like: Light, position, target, bounds_min, bounds_max) -> Light:
+    """A ``kind`` light named and coloured as ``like``, at ``position`` aimed at ``target``
+    (a point light ignores it), with the flux that gives 2 W/m² at the target facing the
+    light (``flux_for_irradiance``; a point light: at the box's centre; a directional
+    light: on any plane facing it)."""
+    from explorer.scene.lights import (
+        DirectionalLight,
+        PointLight,
+        SpotLight,
+        flux_for_irradiance,
+    )
+
+    position, target = tuple(map(float, position)), tuple(map(float, target))
+    common = {"name": like.name, "colour": like.colour}
+    if kind == "directional":
+        side = 2.0 * DirectionalLight.half_width(bounds_min, bounds_max)
+        return DirectionalLight(position, target, 2.0 * side * side, **common)
+    if kind == "point":
+        # no target: 2 W/m² at the box's centre, or at a quarter of its radius when the
+        # light hangs nearer than that
+        centre = 0.5 * (np.asarray(bounds_min, np.float64) + np.asarray(bounds_max, np.float64))
+        radius = 0.5 * float(np.linalg.norm(np.subtract(bounds_max, bounds_min)))
+        distance = max(float(np.linalg.norm(centre - position)), 0.25 * radius, 1e-6)
+        return PointLight(position, flux_for_irradiance(distance), **common)
+    flux = flux_for_irradiance(max(float(np.linalg.norm(np.subtract(target, position))), 1e-6))
+    return SpotLight(position, target, flux, **common)
 
 
 def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> None:
