@@ -22,7 +22,6 @@ VERTEX_BYTES = 44
 """Bytes of one corner: position, normal, albedo (three float32 each), uv (two)."""
 BASE_COLOUR_UNIT = 0
 """The texture unit of ``u_base_colour`` (the scene passes bind no other texture)."""
-MAX_ANISOTROPY = 16.0
 
 
 class SceneBuffers:
@@ -103,13 +102,46 @@ def _texture(ctx: moderngl.Context, image: np.ndarray) -> moderngl.Texture:
     texture's mean is kept at every level), bilinear magnification, repeating edges
     (glTF's default sampler), anisotropic filtering where the driver has it."""
     height, width = image.shape[:2]
-    rows = np.ascontiguousarray(np.asarray(image, np.float32)[::-1])  # GL row 0: bottom
-    texture = ctx.texture((width, height), 3, rows.tobytes(), dtype="f4")
-    texture.build_mipmaps()
+    level = np.asarray(image, np.float32)[::-1]                       # GL row 0: bottom
+    texture = ctx.texture((width, height), 3, np.ascontiguousarray(level).tobytes(),
+                          dtype="f4")
+    texture.build_mipmaps()          # allocates the levels; their texels are written here
+    for index, smaller in enumerate(mip_levels(level)[1:], 1):
+        texture.write(np.ascontiguousarray(smaller).tobytes(), level=index)
     texture.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
     texture.repeat_x = texture.repeat_y = True
-    try:
-        texture.anisotropy = MAX_ANISOTROPY
-    except Exception:       # no anisotropic filtering on this driver: trilinear only
-        pass
     return texture
+
+
+def mip_levels(image: np.ndarray) -> list[np.ndarray]:
+    """The mip chain of a float32 (H, W, 3) image down to 1×1, GL's sizes (each level
+    ``max(1, n // 2)`` per axis): each texel the mean, in float64, of the 2 × 2 texels
+    above it (of 3 on the last row or column of an odd size). Made here rather than by
+    ``glGenerateMipmap`` so that a texel of a constant region is that constant bit for
+    bit at every level (the driver's float sum of four texels times 1/4 can miss it by
+    one unit in the last place), and a level's mean is the image's."""
+    levels = [np.asarray(image, np.float32)]
+    while levels[-1].shape[0] > 1 or levels[-1].shape[1] > 1:
+        above = levels[-1].astype(np.float64)
+        levels.append(_halved(_halved(above, 0), 1).astype(np.float32))
+    return levels
+
+
+def _halved(image: np.ndarray, axis: int) -> np.ndarray:
+    """``image`` averaged in pairs along ``axis`` (a length of 1 stays; an odd length's
+    last pair takes the leftover texel in as a third)."""
+    count = image.shape[axis]
+    if count == 1:
+        return image
+    half = count // 2
+    pairs = np.take(image, np.arange(2 * half), axis=axis)
+    shape = list(pairs.shape)
+    shape[axis:axis + 1] = [half, 2]
+    halved = pairs.reshape(shape).mean(axis=axis + 1)
+    if count % 2:
+        last = [slice(None)] * image.ndim
+        last[axis] = slice(half - 1, half)
+        tail = np.take(image, [count - 3, count - 2, count - 1], axis=axis).mean(
+            axis=axis, keepdims=True)
+        halved[tuple(last)] = tail
+    return halved

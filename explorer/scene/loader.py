@@ -409,11 +409,14 @@ def _material(mesh, faces: np.ndarray, vertex_count: int):
         image = getattr(material, "baseColorTexture", None)
         if image is None:
             image = getattr(material, "image", None)
+            texture_factor = np.ones(3)         # OBJ map_Kd: the texture is the colour
+        else:
+            texture_factor = np.ones(3) if factor is None else factor
         uv = getattr(visual, "uv", None)
         if image is not None and uv is not None and len(uv) == vertex_count:
             corner_uv = np.asarray(uv, np.float64)[:, :2][faces]
             if np.all(np.isfinite(corner_uv)):
-                linear = np.ones(3) if factor is None else factor
+                linear = texture_factor
                 return np.broadcast_to(linear, (len(faces), 3, 3)), corner_uv, image, \
                     double_sided
         if factor is not None:

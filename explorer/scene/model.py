@@ -179,7 +179,8 @@ class Scene:
         for index, image in enumerate(self.textures):
             mine = corner_texture == index
             height, width = image.shape[:2]
-            u, v = (self.uv[mine] % 1.0).T
+            uv = np.asarray(self.uv[mine], np.float64)
+            u, v = np.where((uv >= 0.0) & (uv <= 1.0), uv, uv % 1.0).T   # repeat outside
             column = np.clip((u * width).astype(int), 0, width - 1)
             row = np.clip(((1.0 - v) * height).astype(int), 0, height - 1)
             albedo[mine] *= image[row, column]
