@@ -301,3 +301,44 @@ def test_bad_overrides_are_one_line(capsys, option, message):
     assert main(["render", *option.split()]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and message in err
+
+
+def test_a_saved_scene_opens_the_same_again(tmp_path):
+    from explorer.scene.scene_writer import write_scene_file
+
+    settings = Settings(camera=((0.2, 0.4, 3.0), (0.0, -0.2, 0.0)), camera_fov=50.0,
+                        light=((0.1, 0.8, 0.6), (0.0, -0.6, -0.5)), light_flux=33.0,
+                        lights=("spot", "bulb"),
+                        object_transforms=(("short block", (0.1, 0.0, -0.2, 0.0, 25.0, 0.0,
+                                                            1.0, 1.5, 1.0)),))
+    shown = load_scene("cornell").for_settings(settings)
+    path = write_scene_file(shown, "cornell", tmp_path / "saved")
+    assert path.name == "saved.toml"
+    again = load_scene(str(path))
+    assert again.camera == shown.camera and again.lights_on == ("spot", "bulb")
+    # every light of the rig as shown (those on first, the primary first of them)
+    assert {light.name: light for light in again.rig} == \
+        {light.name: light for light in shown.rig}
+    assert again.light_names[:2] == ("spot", "bulb")
+    assert again.light.flux == 33.0 and again.light.position == (0.1, 0.8, 0.6)
+    assert np.allclose(again.positions, shown.positions, atol=1e-6)
+    assert (again.bounds_min, again.bounds_max) == (shown.bounds_min, shown.bounds_max)
+
+
+def test_saving_a_posed_scene_file_composes_the_poses(tmp_path):
+    from explorer.scene.scene_writer import write_scene_file
+
+    room_mesh().export(tmp_path / "room.obj")
+    trimesh.creation.box(extents=(0.4, 0.4, 0.4)).export(tmp_path / "block.obj")
+    source = tmp_path / "posed.toml"
+    source.write_text("[[meshes]]\npath = 'room.obj'\n[[meshes]]\npath = 'block.obj'\n"
+                      "translate = [0.0, 0.2, 0.0]\n[poses]\n'block' = [0.5, 0.0, 0.0, 0.0, "
+                      "30.0, 0.0]\n[[lights]]\nkind = 'point'\nposition = [0.0, 1.5, 0.0]\n")
+    shown = load_scene(str(source)).posed((("block", (0.0, 0.3, 0.0, 0.0, 15.0, 0.0, 2.0,
+                                                      2.0, 2.0)),))
+    (tmp_path / "sub").mkdir()
+    saved = write_scene_file(shown, str(source), tmp_path / "sub" / "again.toml")
+    text = saved.read_text()
+    assert 'path = "../room.obj"' in text and "[poses]" in text
+    again = load_scene(str(saved))
+    assert np.allclose(again.positions, shown.positions, atol=1e-5)
