@@ -234,7 +234,7 @@ def closed_room_frames(gl_context, tmp_path_factory):
                                      f'albedo = [0.7, 0.7, 0.7]\ntwo_sided = {sided}')
             path = write_room(folder, text, reverse_half=reverse, name=name)
             frames[reverse, sided == "true"] = run_frame(
-                gl_context, Settings(scene=str(path), **SMALL))
+                gl_context, Settings(scene=str(path), geometry_volume="one-sided", **SMALL))
     return frames
 
 
@@ -263,6 +263,19 @@ def test_reversed_winding_changes_a_one_sided_mesh_not_a_two_sided_one(closed_ro
     assert 0.2 < holes.mean() < 0.8
     assert np.abs(one_sided.direct - one_sided_reversed.direct).max() > 0.1
     assert one_sided_reversed.indirect.mean() < 0.9 * one_sided.indirect.mean()
+
+
+def test_the_geometry_volume_holds_only_the_sides_that_exist(closed_room_frames):
+    """The geometry volume is injected from the RSM: a one-sided wall the light sees from
+    behind leaves no blocker in it; a two-sided one does, whichever way it is wound."""
+    def blocking(frame) -> float:
+        return float(np.abs(frame.cascades[0].geometry_volume[..., 0]).sum())
+
+    two_sided = blocking(closed_room_frames[False, True])
+    assert two_sided > 0
+    assert np.isclose(blocking(closed_room_frames[True, True]), two_sided, rtol=1e-5)
+    assert np.isclose(blocking(closed_room_frames[False, False]), two_sided, rtol=1e-5)
+    assert blocking(closed_room_frames[True, False]) < 0.8 * two_sided
 
 
 def test_light_and_camera_overrides_on_the_command_line(tmp_path):

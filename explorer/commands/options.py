@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 import tempfile
 import time
@@ -49,6 +50,10 @@ class ArgumentParser(argparse.ArgumentParser):
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self.command_parsers: dict[str, argparse.ArgumentParser] = {}
+        # a value that starts with a minus and a digit is a value, not an option:
+        # ``--camera -1.5,1.7,1.8:0,0,0`` (argparse alone takes only a plain negative
+        # number for a value and would say "expected one argument")
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")

@@ -412,6 +412,9 @@ class App:
         if state.requests.open_scene:
             self._open_scene(state.requests.open_scene)
             state.requests.open_scene = None
+            if state.requests.scene_overrides:     # run --light / --camera, after the reset
+                state.update(**state.requests.scene_overrides)
+                state.requests.scene_overrides = None
         if not self._follow_view_size():
             return
         drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
