@@ -39,7 +39,15 @@ def test_the_window_opens_a_scene_file_and_saves_what_it_shows(tmp_path, monkeyp
         albedo = result.albedo[..., :3]
         floor = albedo[-40:].reshape(-1, 3)
         assert floor.max(axis=0).min() > 0.6 and floor.min(axis=0).max() < 0.1
+        # the Scene panel draws the light's kind, position and target
+        app.state.requests.focus_panel = "Scene"
+        for _ in range(3):
+            app.frame()
+        app.state.update(light_kind="point")
+        assert app.settle()
+        assert app.state.runtime.result.vpl_sets and len(app.state.runtime.result.vpl_sets) == 6
         app.screenshot(tmp_path / "scene-window.png")
+        app.state.update(light_kind=None)
         # the light moved and the camera turned in the window, then saved
         app.state.update(light=((0.5, 2.2, 0.5), (0.0, 0.0, -1.0)),
                          camera=((0.3, 1.4, 1.8), (0.0, 0.8, -1.0)))
