@@ -213,3 +213,12 @@ def test_map_kd_and_base_colour_texture_load(tmp_path, writer):
     corner_albedo = scene.corner_albedo()
     top_left = np.flatnonzero(np.all(np.isclose(scene.uv, (0.0, 1.0)), axis=1))
     assert np.allclose(corner_albedo[top_left], linear(MARK_SRGB) * factor, atol=1e-6)
+
+
+def test_a_huge_texture_is_reduced_to_fit():
+    from explorer.scene.loader import MAX_TEXTURE_EDGE, texture_linear
+
+    wide = Image.new("RGB", (MAX_TEXTURE_EDGE + 8, 4), (200, 10, 10))
+    reduced = texture_linear(wide)
+    assert max(reduced.shape[:2]) <= MAX_TEXTURE_EDGE
+    assert np.allclose(reduced, linear((200, 10, 10)))

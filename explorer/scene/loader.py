@@ -35,6 +35,8 @@ from explorer.scene.objects import SceneObject
 
 FALLBACK_ALBEDO = 0.6
 """Linear grey for meshes that carry no colour."""
+MAX_TEXTURE_EDGE = 4096
+"""Largest texture edge in texels kept (larger images are reduced when loaded)."""
 MIN_TRIANGLE_AREA_FRACTION = 1e-12
 """Triangles smaller than this fraction of the squared scene size have no usable normal."""
 
@@ -266,7 +268,13 @@ def _textures(surfaces: list[_Surface]) -> tuple[tuple[np.ndarray, ...], list[in
 
 def texture_linear(image) -> np.ndarray:
     """A PIL image as (H, W, 3) float32 linear reflectance (sRGB decoded; alpha dropped:
-    the explorer has no transparency)."""
+    the explorer has no transparency). An image wider or taller than
+    :data:`MAX_TEXTURE_EDGE` is first reduced by a whole factor (a box filter) to fit: the
+    texture and its mip chain are float32 on the GPU and in memory (a 4096² texture
+    already takes 256 MB with its mipmaps)."""
+    factor = -(-max(image.size) // MAX_TEXTURE_EDGE)
+    if factor > 1:
+        image = image.convert("RGB").reduce(factor)
     encoded = np.asarray(image.convert("RGB"), np.float64) / 255.0
     return srgb_to_linear(encoded).astype(np.float32)
 
