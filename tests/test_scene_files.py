@@ -132,6 +132,9 @@ BAD_FILES = [
     ("nmae = 'x'\n[[meshes]]\npath = 'MESH'\n", "the file: unknown key 'nmae'; allowed: name"),
     ("[[meshes]]\npath = 'MESH'\ncolour = [1, 1, 1]\n", "[[meshes]] #1: unknown key 'colour'"),
     ("[[meshes]]\npath = 'missing.obj'\n", "mesh file 'missing.obj' not found"),
+    ("[[meshes]]\npath = '.'\n", "mesh path '.' is not a file"),
+    ("[[meshes]]\npath = 'bad.toml.obj'\n", "[[meshes]] #1: "),
+    ("[[meshes]]\npath = 'other.toml'\n", "must name a mesh file, not a scene file"),
     ("[[meshes]]\nscale = 2.0\n", "[[meshes]] #1 needs path"),
     ("[[meshes]]\npath = 'MESH'\nscale = 0.0\n", "scale must be 3 numbers in [0.01, 100]"),
     ("[[meshes]]\npath = 'MESH'\ntwo_sided = 'yes'\n", "two_sided must be true or false"),
@@ -178,6 +181,7 @@ BAD_FILES = [
 @pytest.mark.parametrize("text, message", BAD_FILES)
 def test_scene_file_mistakes_are_one_line_scene_errors(tmp_path, text, message):
     room_mesh().export(tmp_path / "room.obj")
+    (tmp_path / "bad.toml.obj").write_text("v 0 0 0\n")       # a mesh without faces
     path = tmp_path / "bad.toml"
     path.write_text(text.replace("MESH", "room.obj"))
     with pytest.raises(SceneError) as info:

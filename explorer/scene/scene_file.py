@@ -169,7 +169,11 @@ def _meshes(data: dict, path: Path) -> Scene:
         albedo = _vector(entry, "albedo", where, table, low=0.0, high=1.0) \
             if "albedo" in entry else None
         two_sided = _flag(entry, "two_sided", where, table) if "two_sided" in entry else None
-        for node, mesh, node_transform in read_mesh_parts(mesh_path):
+        try:
+            nodes = read_mesh_parts(mesh_path)
+        except SceneError as exc:
+            raise SceneError(f"{where}: {table}: {exc}") from None
+        for node, mesh, node_transform in nodes:
             parts.append(MeshPart(node, mesh, transform @ node_transform,
                                   None if albedo is None else tuple(albedo), two_sided))
     return scene_from_parts(parts, path.stem, where)
@@ -183,6 +187,8 @@ def mesh_file(scene_path: Path, text: str) -> Path:
     if is_scene_file(mesh_path):
         raise SceneError(f"{scene_path}: a mesh path must name a mesh file, not a scene file "
                          f"({text})")
+    if mesh_path.exists() and not mesh_path.is_file():
+        raise SceneError(f"{scene_path}: mesh path {text!r} is not a file ({mesh_path})")
     if not mesh_path.is_file():
         raise SceneError(f"{scene_path}: mesh file {text!r} not found (looked for "
                          f"{mesh_path})")
