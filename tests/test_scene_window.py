@@ -81,3 +81,32 @@ def test_the_window_says_where_it_put_a_light(tmp_path, monkeypatch):
         assert app.state.runtime.result.direct.mean() > 0.05      # lit inside
     finally:
         app.close()
+
+
+@pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
+def test_save_scene_without_a_file_dialog_writes_a_new_file_beside_it(tmp_path, monkeypatch):
+    """Where no native dialog exists (this test's Xvfb), the menu item still saves: to a
+    new name beside the scene file, never over one."""
+    import shutil
+
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    from explorer.ui.app import App
+
+    for name in ("scene.toml", "room.glb"):
+        shutil.copy(EXAMPLE.parent / name, tmp_path / name)
+    app = App(AppState(settings=TINY.with_changes(scene=str(tmp_path / "scene.toml"))),
+              width=900, height=640, visible=False, vsync=False, persist_settings=False)
+    try:
+        assert app.settle()
+        app.state.runtime.file_dialog_available = False
+        app.state.requests.save_scene_dialog = True       # what the menu item asks
+        app.frame()
+        saved = tmp_path / "scene-2.toml"
+        assert saved.exists() and (tmp_path / "scene.toml").read_text() == \
+            (EXAMPLE.parent / "scene.toml").read_text()
+        assert app.state.messages[-1].text == f"scene saved to {saved}"
+        again = load_scene(str(saved))
+        assert again.light_names == ("ceiling spot", "bulb") and len(again.textures) == 1
+    finally:
+        app.close()

@@ -516,8 +516,7 @@ class App:
             if imgui.menu_item_simple("Open mesh…", enabled=bool(
                     state.runtime.file_dialog_available)):
                 state.requests.open_file_dialog = True
-            if imgui.menu_item_simple("Save scene as…", enabled=bool(
-                    state.runtime.file_dialog_available)):
+            if imgui.menu_item_simple("Save scene as…"):
                 state.requests.save_scene_dialog = True
             if imgui.menu_item_simple("Screenshot", "F12"):
                 state.requests.screenshot = default_screenshot_path()
@@ -583,10 +582,12 @@ class App:
                      "*.obj *.ply *.stl *.glb *.gltf *.off *.toml", "All files", "*"])
         if state.requests.save_scene_dialog:
             state.requests.save_scene_dialog = False
-            if rt.file_dialog_available and rt.file_dialog is None:
-                from imgui_bundle import portable_file_dialogs as pfd
+            from explorer.ui.scene_save import SAVE_FILTERS, default_save_path, save_current_scene
 
-                from explorer.ui.scene_save import SAVE_FILTERS, default_save_path
+            if not rt.file_dialog_available:     # no dialog here: a new file beside us
+                save_current_scene(state, default_save_path(state, fresh=True))
+            elif rt.file_dialog is None:
+                from imgui_bundle import portable_file_dialogs as pfd
 
                 rt.file_dialog = pfd.save_file("Save the scene", str(default_save_path(state)),
                                                SAVE_FILTERS)

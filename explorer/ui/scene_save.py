@@ -9,13 +9,20 @@ from pathlib import Path
 SAVE_FILTERS = ["Scene files", "*.toml", "All files", "*"]
 
 
-def default_save_path(state) -> Path:
+def default_save_path(state, fresh: bool = False) -> Path:
     """Where the save dialog starts: ``<scene>.toml`` in the folder the explorer was
-    started from (a scene file saved again: beside itself)."""
+    started from (a scene file saved again: beside itself). ``fresh``: a name no file
+    has yet (``<scene>-2.toml``, ...), where the menu item saves when this system has no
+    file dialog."""
     source = Path(state.settings.scene)
-    if source.suffix.lower() == ".toml":
-        return source
-    return Path.cwd() / f"{source.stem or 'scene'}.toml"
+    stem = source.stem or "scene"
+    folder = source.parent if source.suffix.lower() == ".toml" else Path.cwd()
+    path = folder / f"{stem}.toml"
+    number = 1
+    while fresh and path.exists():
+        number += 1
+        path = folder / f"{stem}-{number}.toml"
+    return path
 
 
 def save_current_scene(state, path: str | Path) -> Path | None:
