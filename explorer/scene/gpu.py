@@ -4,7 +4,7 @@ G-buffer passes. Moving an object rewrites only that object's corners
 
 Every draw binds a base-colour texture at :data:`BASE_COLOUR_UNIT` (a 1×1 white one for
 untextured triangles, so the shaders multiply the vertex albedo by the texture always and
-an untextured surface's albedo is its vertex albedo bit for bit) and says whether the
+an untextured surface's albedo is its vertex albedo bit for bit: times 1.0) and says whether the
 triangles are one-sided (``u_one_sided``, shaders/surface.glsl). The scene's triangles are
 drawn in runs that share both (:meth:`Scene.draw_runs`); a program that numbers triangles
 (``gl_PrimitiveID``, which restarts at every draw) adds ``u_first_triangle``.
@@ -98,9 +98,11 @@ class SceneBuffers:
 
 def _texture(ctx: moderngl.Context, image: np.ndarray) -> moderngl.Texture:
     """A linear float32 RGB image (row 0 at the top) as a mipmapped texture: trilinear
-    minification (each mip level the box-filtered average of the level above, so a
-    texture's mean is kept at every level), bilinear magnification, repeating edges
-    (glTF's default sampler), anisotropic filtering where the driver has it."""
+    minification (the levels of :func:`mip_levels`), bilinear magnification, repeating
+    edges (glTF's default sampler). No anisotropic filtering: it averages several taps,
+    so a constant texture sampled at texel centres would no longer return its value bit
+    for bit, and the RSM's flux with it would not be exactly the untextured one
+    (tests/test_textures.py)."""
     height, width = image.shape[:2]
     level = np.asarray(image, np.float32)[::-1]                       # GL row 0: bottom
     texture = ctx.texture((width, height), 3, np.ascontiguousarray(level).tobytes(),
@@ -118,8 +120,8 @@ def mip_levels(image: np.ndarray) -> list[np.ndarray]:
     ``max(1, n // 2)`` per axis): each texel the mean, in float64, of the 2 × 2 texels
     above it (of 3 on the last row or column of an odd size). Made here rather than by
     ``glGenerateMipmap`` so that a texel of a constant region is that constant bit for
-    bit at every level (the driver's float sum of four texels times 1/4 can miss it by
-    one unit in the last place), and a level's mean is the image's."""
+    bit at every level (the driver's float average of four texels can miss it by a unit
+    in the last place), and a level's mean is the image's."""
     levels = [np.asarray(image, np.float32)]
     while levels[-1].shape[0] > 1 or levels[-1].shape[1] > 1:
         above = levels[-1].astype(np.float64)
