@@ -94,6 +94,13 @@ target = [0.0, 0.0, 0.0]
     assert np.allclose(hi - lo, (1.5, 1.0, 2.0), atol=1e-6)
     assert np.allclose(0.5 * (lo + hi), (1.0, 1.5, 0.0), atol=1e-6)
     assert scene.bounds_min == (-5.0, -1.0, -5.0) and scene.bounds_max == (5.0, 4.0, 5.0)
+    assert scene.notice == ""
+    # a box too small for the meshes as placed grows to hold them (the poses move objects
+    # as the window does: the box does not follow them)
+    small = path.read_text().replace("max = [5.0, 4.0, 5.0]", "max = [5.0, 0.5, 5.0]")
+    path.write_text(small)
+    grown = load_scene(str(path))
+    assert grown.bounds_max[1] == pytest.approx(1.0) and "[grid] grown to min" in grown.notice
     assert scene.one_sided is not None and scene.one_sided.all()
     assert scene.light.kind == "directional"
 

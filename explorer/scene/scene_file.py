@@ -11,8 +11,8 @@ The format (every key but a mesh's ``path`` is optional; docs/SCENES.md shows it
     fov = 50.0                   # vertical, degrees, in [1, 170]
 
     [grid]                       # the box the light grid encloses (grown to hold
-    min = [-2.0, 0.0, -2.0]      # every mesh)
-    max = [2.0, 2.5, 2.0]
+    min = [-2.0, 0.0, -2.0]      # every mesh as placed; the poses move objects, not
+    max = [2.0, 2.5, 2.0]        # the box, as the window does; the notice says so)
 
     [[meshes]]
     path = "room.glb"            # relative to this file
@@ -119,9 +119,13 @@ def scene_from_table(data: dict, path: Path) -> Scene:
     else:
         base = _meshes(data, path)
     bounds = _grid(data.get("grid"), where)
+    grown = ""
     if bounds is not None:
         lo = np.minimum(base.bounds_min, bounds[0])
         hi = np.maximum(base.bounds_max, bounds[1])
+        if not (np.array_equal(lo, bounds[0]) and np.array_equal(hi, bounds[1])):
+            grown = (f"{where}: [grid] grown to min {_shown(lo)}, max {_shown(hi)} to hold "
+                     f"every mesh")
         base = replace(base, bounds_min=tuple(map(float, lo)), bounds_max=tuple(map(float, hi)))
     camera = _camera(data.get("camera"), where, base.camera)
     scene = replace(base, name=name, camera=camera)
@@ -135,7 +139,13 @@ def scene_from_table(data: dict, path: Path) -> Scene:
         scene = replace(scene, rig=rig, lights_on=(rig[0].name,), notice=notice)
     if "poses" in data:
         scene = _posed(scene, data["poses"], where)
+    if grown:
+        scene = replace(scene, notice="; ".join(filter(None, (scene.notice, grown))))
     return scene
+
+
+def _shown(values) -> str:
+    return "[" + ", ".join(f"{float(v):.4g}" for v in values) + "]"
 
 
 # --- sections ---------------------------------------------------------------------------
