@@ -9,8 +9,8 @@ material's base colour; otherwise a neutral grey. Colours in files are sRGB-enco
 glTF's factor), so they are decoded to linear reflectance. Normals are the file's vertex
 normals when it has them, else flat face normals. A glTF material says whether it is
 ``doubleSided`` (glTF's default: one-sided); other files are two-sided (docs/MODEL.md
-"Sidedness"). Every failure is a :class:`SceneError` naming the file and the problem,
-never a trimesh traceback.
+"Scene conventions"). Every failure is a :class:`SceneError` naming the file and the
+problem, never a trimesh traceback.
 """
 
 from __future__ import annotations
@@ -129,7 +129,7 @@ class MeshPart:
     """Linear albedo replacing the mesh's colours and texture; None: the file's."""
     two_sided: bool | None = None
     """True/False: two-/one-sided; None: the file's (glTF ``doubleSided``), else two-sided
-    (docs/MODEL.md "Sidedness")."""
+    (docs/MODEL.md "Scene conventions")."""
 
 
 @dataclass(frozen=True)
@@ -155,8 +155,7 @@ def scene_from_mesh(mesh, name: str, source: str = "<mesh>") -> Scene:
     named after its scene-graph node."""
     scene = scene_from_parts(_mesh_parts(mesh), name, source)
     rig, notice = default_rig(scene)
-    camera = scene.camera
-    return replace(scene, rig=rig, lights_on=(rig[0].name,), notice=notice, camera=camera)
+    return replace(scene, rig=rig, lights_on=(rig[0].name,), notice=notice)
 
 
 def _mesh_parts(mesh) -> list[MeshPart]:

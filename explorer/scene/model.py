@@ -87,7 +87,7 @@ class Scene:
     normal points to, counter-clockwise seen from the front); a one-sided triangle seen
     from behind is not there for that view: the RSM, the G-buffer and hence the geometry
     volume skip it. None: every triangle is two-sided (the default, docs/MODEL.md
-    "Sidedness")."""
+    "Scene conventions")."""
     notice: str = field(default="", compare=False)
     """What the loader chose for the user and a command prints (e.g. where it put a light
     for a mesh file without one); empty when nothing."""
