@@ -214,11 +214,25 @@ def test_a_closed_mesh_without_lights_gets_one_inside(tmp_path):
     position = np.asarray(scene.light.position)
     assert np.all(position > (-2.0, 0.0, -1.5)) and np.all(position < (2.0, 2.0, 1.5))
     assert "inside it" in scene.notice and scene.light.name in scene.notice
+    assert light_inside(scene).closed
     # a solid box (faces outwards) encloses no room: the spot above it, said so
     trimesh.creation.box().export(tmp_path / "solid.obj")
     solid = load_scene(str(tmp_path / "solid.obj"))
     assert isinstance(solid.light, SpotLight)
     assert light_inside(solid) is None and "spot light" in solid.notice
+    # a room without its front wall: a point light inside, in the box, said open
+    room = room_mesh()
+    front = np.flatnonzero(np.isclose(room.triangles_center[:, 2], ROOM[2] / 2))
+    assert len(front) == 2
+    keep = np.setdiff1d(np.arange(len(room.faces)), front)
+    trimesh.Trimesh(room.vertices, room.faces[keep], process=False).export(
+        tmp_path / "open.obj")
+    opened = load_scene(str(tmp_path / "open.obj"))
+    placement = light_inside(opened)
+    assert placement is not None and not placement.closed and placement.enclosed > 0.5
+    assert isinstance(opened.light, PointLight) and "open there" in opened.notice
+    assert np.all(np.asarray(opened.light.position) > (-2.0, 0.0, -1.5))
+    assert np.all(np.asarray(opened.light.position) < (2.0, 2.0, 1.5))
 
 
 def test_the_command_says_where_it_put_the_light(tmp_path, capsys):
@@ -377,7 +391,7 @@ def test_the_example_scene_file_loads_as_its_script_made_it(tmp_path):
     assert scene.lights_on == ("ceiling spot",) and scene.camera.fov_y_degrees == 75.0
     assert len(scene.textures) == 1 and scene.textures[0].shape == (64, 64, 3)
     assert scene.one_sided is not None and scene.one_sided.all()      # glTF's default
-    assert light_inside(scene) is not None                          # a closed room
+    assert light_inside(scene).closed                               # a closed room
     # the committed asset is what examples/make_textured_room.py makes
     spec = importlib.util.spec_from_file_location(
         "make_textured_room", root / "examples" / "make_textured_room.py")

@@ -225,28 +225,33 @@ def scene_from_parts(parts: list[MeshPart], name: str, source: str, camera=None,
 
 def default_rig(scene: Scene) -> tuple[tuple[Light, ...], str]:
     """The lights for a scene that names none, and a sentence saying where the first is:
-    inside a closed mesh (a room) a point light at the enclosed point farthest from every
-    wall (explorer/scene/placement.py casts the rays); otherwise the spot of
-    :func:`default_camera_and_light` above the mesh. The spare lights follow."""
+    a point light inside the mesh's box, inside the room of a closed mesh, at the most
+    enclosed point farthest from every surface (explorer/scene/placement.py casts the
+    rays); for a mesh with no such point (a solid object) the spot of
+    :func:`default_camera_and_light` above it. The spare lights follow."""
     from explorer.scene.placement import light_inside
 
     lo, hi = np.asarray(scene.bounds_min), np.asarray(scene.bounds_max)
     inside = light_inside(scene)
     spares = spare_lights(lo, hi)
     if inside is not None:
-        position, distance = inside
-        bulb = PointLight(tuple(map(float, position)), flux_for_irradiance(distance),
-                          name="light")
-        where = ", ".join(f"{v:.3g}" for v in position)
-        return (bulb, *spares), (f"{scene.name}: no light given; the mesh is closed, so a "
-                                 f"point light 'light' is at ({where}) inside it (every "
-                                 f"ray from there meets a wall's front)")
+        bulb = PointLight(tuple(map(float, inside.position)),
+                          flux_for_irradiance(inside.distance), name="light")
+        where = ", ".join(f"{v:.3g}" for v in inside.position)
+        if inside.closed:
+            why = ("the mesh is closed, so a point light 'light' is at ({where}) inside it "
+                   "(every ray from there meets a wall's front)")
+        else:
+            why = (f"a point light 'light' is at ({{where}}) inside the mesh's box, where "
+                   f"{inside.enclosed:.0%} of the rays meet a surface's front (the mesh is "
+                   f"open there)")
+        return (bulb, *spares), f"{scene.name}: no light given; " + why.format(where=where)
     _, spot = default_camera_and_light(lo, hi)
     where = ", ".join(f"{v:.3g}" for v in spot.position)
     aim = ", ".join(f"{v:.3g}" for v in spot.target)
     return (spot, *spares), (f"{scene.name}: no light given; a spot light 'spot' is at "
                              f"({where}) aimed at ({aim}) (no point of the mesh's box is "
-                             f"inside a closed room)")
+                             f"inside a room: the mesh is a solid or a sheet)")
 
 
 def _textures(surfaces: list[_Surface]) -> tuple[tuple[np.ndarray, ...], list[int]]:

@@ -1,11 +1,14 @@
-"""Where to put a light in a mesh that comes without one: inside it when it is closed.
+"""Where to put a light in a mesh that comes without one: inside its box, inside the
+room when it is closed.
 
 A point is *inside a room* when every ray from it meets a triangle and the first triangle
 each ray meets shows it its front (the side the triangle's normal points to): the walls
-face the point. A point outside a closed mesh, or inside a solid block (whose faces point
-away from it), fails. Candidates are the points of a regular lattice in the mesh's box;
-of those inside a room the one farthest from its nearest wall is chosen (the light then
-sits as far as it can from every surface, so no wall is lit at a grazing hot spot).
+face the point. A point inside a solid block (whose faces point away from it) sees backs
+and fails; a point of an open room (an open-fronted box, a roofless courtyard) sees fronts
+in most directions and nothing in the others, and holds the light when no closed room
+exists. Candidates are the points of a regular lattice in the mesh's box; of the most
+enclosed the one farthest from its nearest surface is chosen (the light then sits as far
+as it can from every surface, so no wall is lit at a grazing hot spot).
 
 The rays are cast in numpy (Möller–Trumbore, :func:`first_hits`), in chunks of triangles:
 a mesh of a hundred thousand triangles is tested at 8 candidates in about a second.
@@ -14,6 +17,7 @@ a mesh of a hundred thousand triangles is tested at 8 candidates in about a seco
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -27,6 +31,11 @@ pair): fewer candidates for larger meshes (a hundred thousand triangles: 8)."""
 LATTICE_STEPS = (5, 3, 2, 1)
 """Candidates per axis tried in order, the first whose work fits ``MAX_WORK``."""
 CHUNK_PAIRS = 2_000_000
+MIN_CLEARANCE = 0.02
+"""Nearest surface at least this share of the box's diagonal away from the light."""
+MIN_ENCLOSED = 0.5
+"""Share of rays that must meet a surface's front for a point of an open mesh to hold
+the light (an open-fronted box: about 5/6; a floor under a statue: about 1/2)."""
 
 
 def fibonacci_directions(count: int) -> np.ndarray:
@@ -75,10 +84,27 @@ def first_hits(origin: np.ndarray, directions: np.ndarray, corners: np.ndarray
     return best, which
 
 
-def light_inside(scene: Scene) -> tuple[np.ndarray, float] | None:
-    """``(position, mean distance to the walls)`` of the point inside the closed mesh
-    farthest from its nearest wall, or None when no candidate is inside a room (the mesh
-    is open, or its rooms are thinner than the lattice)."""
+@dataclass(frozen=True)
+class Placement:
+    """Where :func:`light_inside` puts a light."""
+
+    position: np.ndarray
+    distance: float
+    """Mean distance to the surfaces the rays from there meet (for the light's flux)."""
+    closed: bool
+    """True: every ray meets a surface's front (inside a closed room); False: most do
+    (an open room, a courtyard) and none meets a back."""
+    enclosed: float
+    """The share of the rays that meet a front."""
+
+
+def light_inside(scene: Scene) -> Placement | None:
+    """The candidate inside the mesh's box that is most enclosed: inside a closed room
+    if there is one (every ray meets a front), else where at least
+    :data:`MIN_ENCLOSED` of the rays meet a front and none a back (an open room); among
+    equally enclosed ones the farthest from its nearest surface, then the highest. None
+    when no candidate qualifies (a solid object, a single sheet: the caller puts a spot
+    light above the mesh instead)."""
     corners = np.asarray(scene.positions, np.float64).reshape(-1, 3, 3)
     lo, hi = np.asarray(scene.bounds_min, np.float64), np.asarray(scene.bounds_max, np.float64)
     directions = fibonacci_directions(RAY_DIRECTIONS)
@@ -88,17 +114,22 @@ def light_inside(scene: Scene) -> tuple[np.ndarray, float] | None:
     grid = np.stack(np.meshgrid(fractions, fractions, fractions, indexing="ij"), -1)
     candidates = lo + grid.reshape(-1, 3) * (hi - lo)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    per_candidate = np.empty((len(candidates), len(directions)))
-    inside = np.zeros(len(candidates), bool)
-    for k, origin in enumerate(candidates):
+    diagonal = float(np.linalg.norm(hi - lo))
+    best_key, best = None, None
+    for origin in candidates:
         distance, triangle = first_hits(origin, directions, corners)
+        hit = np.isfinite(distance)
         facing = np.einsum("rj,rj->r", normals[np.maximum(triangle, 0)], directions) < 0.0
-        per_candidate[k] = distance
-        inside[k] = bool(np.all(np.isfinite(distance) & facing))
-    if not inside.any():
-        return None
-    clearance = np.where(inside, per_candidate.min(axis=1), -np.inf)
-    # the clearest candidate; of equally clear ones, the highest (lights hang from above)
-    best = max(range(len(candidates)),
-               key=lambda k: (round(float(clearance[k]), 9), candidates[k][1]))
-    return candidates[best], float(per_candidate[best].mean())
+        if np.any(hit & ~facing):
+            continue                    # a back seen: inside a solid, or behind a wall
+        enclosed = float(hit.mean())
+        if enclosed < MIN_ENCLOSED:
+            continue
+        clearance = float(distance[hit].min())
+        if clearance < MIN_CLEARANCE * diagonal:
+            continue                    # on a surface (a flat mesh's box is the mesh)
+        key = (enclosed == 1.0, round(enclosed, 1), round(clearance, 9), float(origin[1]))
+        if best_key is None or key > best_key:
+            best_key = key
+            best = Placement(origin, float(distance[hit].mean()), enclosed == 1.0, enclosed)
+    return best
