@@ -215,6 +215,10 @@ def test_a_closed_mesh_without_lights_gets_one_inside(tmp_path):
     assert np.all(position > (-2.0, 0.0, -1.5)) and np.all(position < (2.0, 2.0, 1.5))
     assert "inside it" in scene.notice and scene.light.name in scene.notice
     assert light_inside(scene).closed
+    # the Cornell box is open at the front, though a point behind its tall block sees
+    # walls and blocks only
+    cornell = light_inside(load_scene("cornell"))
+    assert cornell is not None and not cornell.closed
     # a solid box (faces outwards) encloses no room: the spot above it, said so
     trimesh.creation.box().export(tmp_path / "solid.obj")
     solid = load_scene(str(tmp_path / "solid.obj"))
@@ -230,7 +234,7 @@ def test_a_closed_mesh_without_lights_gets_one_inside(tmp_path):
     opened = load_scene(str(tmp_path / "open.obj"))
     placement = light_inside(opened)
     assert placement is not None and not placement.closed and placement.enclosed > 0.5
-    assert isinstance(opened.light, PointLight) and "open there" in opened.notice
+    assert isinstance(opened.light, PointLight) and "the mesh is open" in opened.notice
     assert np.all(np.asarray(opened.light.position) > (-2.0, 0.0, -1.5))
     assert np.all(np.asarray(opened.light.position) < (2.0, 2.0, 1.5))
 

@@ -242,9 +242,9 @@ def default_rig(scene: Scene) -> tuple[tuple[Light, ...], str]:
             why = ("the mesh is closed, so a point light 'light' is at ({where}) inside it "
                    "(every ray from there meets a wall's front)")
         else:
-            why = (f"a point light 'light' is at ({{where}}) inside the mesh's box, where "
-                   f"{inside.enclosed:.0%} of the rays meet a surface's front (the mesh is "
-                   f"open there)")
+            why = (f"the mesh is open, so a point light 'light' is at ({{where}}) in its "
+                   f"box, its most enclosed point ({inside.enclosed:.0%} of the rays from "
+                   f"there meet a surface's front)")
         return (bulb, *spares), f"{scene.name}: no light given; " + why.format(where=where)
     _, spot = default_camera_and_light(lo, hi)
     where = ", ".join(f"{v:.3g}" for v in spot.position)

@@ -23,9 +23,9 @@ import numpy as np
 
 from explorer.scene.model import Scene
 
-RAY_DIRECTIONS = 26
+RAY_DIRECTIONS = 96
 """Rays per candidate: a Fibonacci sphere (even coverage, no axis-aligned gaps)."""
-MAX_WORK = 2.0e7
+MAX_WORK = 4.0e7
 """Largest (rays × triangles) pairs tested (about a second on one core; some 50 ns a
 pair): fewer candidates for larger meshes (a hundred thousand triangles: 8)."""
 LATTICE_STEPS = (5, 3, 2, 1)
@@ -92,8 +92,8 @@ class Placement:
     distance: float
     """Mean distance to the surfaces the rays from there meet (for the light's flux)."""
     closed: bool
-    """True: every ray meets a surface's front (inside a closed room); False: most do
-    (an open room, a courtyard) and none meets a back."""
+    """True: from every candidate that sees no back, every ray meets a surface's front
+    (a closed room); False: the mesh is open somewhere (an open room, a courtyard)."""
     enclosed: float
     """The share of the rays that meet a front."""
 
@@ -115,7 +115,7 @@ def light_inside(scene: Scene) -> Placement | None:
     candidates = lo + grid.reshape(-1, 3) * (hi - lo)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     diagonal = float(np.linalg.norm(hi - lo))
-    best_key, best = None, None
+    best_key, best, escapes = None, None, False
     for origin in candidates:
         distance, triangle = first_hits(origin, directions, corners)
         hit = np.isfinite(distance)
@@ -123,6 +123,7 @@ def light_inside(scene: Scene) -> Placement | None:
         if np.any(hit & ~facing):
             continue                    # a back seen: inside a solid, or behind a wall
         enclosed = float(hit.mean())
+        escapes |= enclosed < 1.0
         if enclosed < MIN_ENCLOSED:
             continue
         clearance = float(distance[hit].min())
@@ -132,4 +133,8 @@ def light_inside(scene: Scene) -> Placement | None:
         if best_key is None or key > best_key:
             best_key = key
             best = Placement(origin, float(distance[hit].mean()), enclosed == 1.0, enclosed)
+    if best is not None and escapes:
+        # a point hemmed in by objects is not a closed room when rays from another
+        # point that sees no back get out: the mesh is open
+        best = Placement(best.position, best.distance, False, best.enclosed)
     return best
