@@ -75,8 +75,6 @@ LIGHT_KEYS = ("kind", "name", "position", "target", "cone", "flux", "irradiance"
 FOV_RANGE = (1.0, 170.0)
 MAX_COORDINATE = 1e6
 MAX_FLUX = 1e12
-MAX_FILE_BYTES = 1 << 20
-"""A scene file is a page of text; anything larger is not one."""
 
 
 def is_scene_file(name_or_path: str | Path) -> bool:
@@ -88,20 +86,14 @@ def read_scene_file(path: Path) -> Scene:
     mistake, naming the file and the key."""
     import tomllib
 
-    where = str(path)
+    from explorer.safe_files import UserFileError, parse_toml, read_text
+
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise SceneError(f"{where}: cannot read it ({exc.strerror or exc})") from None
-    if len(raw) > MAX_FILE_BYTES:
-        raise SceneError(f"{where}: {len(raw)} bytes is too large for a scene file (at most "
-                         f"{MAX_FILE_BYTES})")
-    try:
-        data = tomllib.loads(raw.decode("utf-8"))
-    except UnicodeDecodeError:
-        raise SceneError(f"{where}: not UTF-8 text") from None
+        data = parse_toml(read_text(path, "scene file"), path)
+    except UserFileError as exc:
+        raise SceneError(str(exc)) from None
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{where}: not valid TOML ({exc})") from None
+        raise SceneError(f"{path}: not valid TOML ({exc})") from None
     return scene_from_table(data, path)
 
 

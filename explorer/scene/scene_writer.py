@@ -75,15 +75,13 @@ def write_scene_file(scene: Scene, source: str, destination: Path) -> Path:
     destination = Path(destination).expanduser()
     if destination.suffix.lower() != ".toml":
         destination = destination.with_name(destination.name + ".toml")
+    from explorer.safe_files import os_error_text, write_atomically
+
     text = scene_file_text(scene, source, destination)
-    partial = destination.with_name(f".{destination.name}.partial")
     try:
-        partial.write_text(text, encoding="utf-8")
-        os.replace(partial, destination)
+        return write_atomically(destination, text)
     except OSError as exc:
-        partial.unlink(missing_ok=True)
-        raise SceneError(f"cannot write {destination}: {exc.strerror or exc}") from None
-    return destination
+        raise SceneError(f"cannot write {destination}: {os_error_text(exc)}") from None
 
 
 def _light_lines(light: Light, on: bool) -> list[str]:
@@ -138,9 +136,11 @@ def _composed(first, then, pivot, name: str) -> tuple[float, ...]:
 def _read_table(path: Path) -> dict:
     import tomllib
 
+    from explorer.safe_files import UserFileError, parse_toml, read_text
+
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        return parse_toml(read_text(path, "scene file"), path)
+    except (UserFileError, tomllib.TOMLDecodeError) as exc:
         raise SceneError(f"cannot read the scene file {path} again: {exc}") from None
 
 
