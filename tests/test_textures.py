@@ -12,7 +12,7 @@ from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.rsm import RsmPass, light_view
 from explorer.scene import Camera, Scene, SpotLight, load_scene
 from explorer.scene.gpu import SceneBuffers
-from explorer.scene.loader import srgb_to_linear
+from explorer.scene.meshes import srgb_to_linear
 
 TEXELS = 64
 CELL = 8                      # texels per checker cell
@@ -216,7 +216,7 @@ def test_map_kd_and_base_colour_texture_load(tmp_path, writer):
 
 
 def test_a_huge_texture_is_reduced_to_fit():
-    from explorer.scene.loader import MAX_TEXTURE_EDGE, texture_linear
+    from explorer.scene.meshes import MAX_TEXTURE_EDGE, texture_linear
 
     wide = Image.new("RGB", (MAX_TEXTURE_EDGE + 8, 4), (200, 10, 10))
     reduced = texture_linear(wide)

@@ -125,7 +125,7 @@ def scene_from_table(data: dict, path: Path) -> Scene:
         rig, shining = _lights(data["lights"], where, scene)
         scene = replace(scene, rig=rig, lights_on=shining, notice="", light_path=None)
     elif "meshes" in data:
-        from explorer.scene.loader import default_rig
+        from explorer.scene.meshes import default_rig
 
         rig, notice = default_rig(scene)
         scene = replace(scene, rig=rig, lights_on=(rig[0].name,), notice=notice)
@@ -153,7 +153,7 @@ def _builtin(data: dict, where: str) -> Scene:
 
 
 def _meshes(data: dict, path: Path) -> Scene:
-    from explorer.scene.loader import MeshPart, read_mesh_parts, scene_from_parts
+    from explorer.scene.meshes import MeshPart, read_mesh_parts, scene_from_parts
 
     where = str(path)
     entries = data["meshes"]
