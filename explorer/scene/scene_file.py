@@ -145,7 +145,7 @@ def _shown(values) -> str:
 def _builtin(data: dict, where: str) -> Scene:
     from explorer.scene.builtin import BUILTIN_SCENES
 
-    key = data["builtin"]
+    key = _text(data, "builtin", where, "the file")
     if key not in BUILTIN_SCENES:
         raise SceneError(f"{where}: builtin = {key!r} is not a built-in scene; they are "
                          f"{', '.join(BUILTIN_SCENES)}")
