@@ -429,6 +429,9 @@ class App:
         if state.requests.open_scene:
             self._open_scene(state.requests.open_scene)
             state.requests.open_scene = None
+            if state.requests.scene_overrides:     # run --light / --camera, after the reset
+                state.update(**state.requests.scene_overrides)
+                state.requests.scene_overrides = None
         if not self._follow_view_size():
             return
         drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
@@ -456,7 +459,8 @@ class App:
             return
         # A new scene starts from its own camera, lights and objects.
         self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None,
-                          lights=None, object_transforms=())
+                          lights=None, object_transforms=(), camera_fov=None,
+                          light_kind=None)
         self.state.notify(f"opening {name_or_path}")
 
     # -- UI ------------------------------------------------------------------------------
@@ -529,6 +533,8 @@ class App:
             if imgui.menu_item_simple("Open mesh…", enabled=bool(
                     state.runtime.file_dialog_available)):
                 state.requests.open_file_dialog = True
+            if imgui.menu_item_simple("Save scene as…"):
+                state.requests.save_scene_dialog = True
             if imgui.menu_item_simple("Screenshot", "F12"):
                 state.requests.screenshot = default_screenshot_path()
             imgui.separator()
@@ -588,12 +594,29 @@ class App:
                 from imgui_bundle import portable_file_dialogs as pfd
 
                 rt.file_dialog = pfd.open_file(
-                    "Open a mesh", str(Path.home()),
-                    ["Meshes", "*.obj *.ply *.stl *.glb *.gltf *.off", "All files", "*"])
+                    "Open a mesh or a scene file", str(Path.home()),
+                    ["Meshes and scene files",
+                     "*.obj *.ply *.stl *.glb *.gltf *.off *.toml", "All files", "*"])
+        if state.requests.save_scene_dialog:
+            state.requests.save_scene_dialog = False
+            from explorer.ui.scene_save import SAVE_FILTERS, default_save_path, save_current_scene
+
+            if not rt.file_dialog_available:     # no dialog here: a new file beside us
+                save_current_scene(state, default_save_path(state, fresh=True))
+            elif rt.file_dialog is None:
+                from imgui_bundle import portable_file_dialogs as pfd
+
+                rt.file_dialog = pfd.save_file("Save the scene", str(default_save_path(state)),
+                                               SAVE_FILTERS)
         if rt.file_dialog is not None and rt.file_dialog.ready(0):
             chosen = rt.file_dialog.result()
+            saving = not isinstance(chosen, list)      # save_file gives one path (text)
             rt.file_dialog = None
-            if chosen:
+            if saving and chosen:
+                from explorer.ui.scene_save import save_current_scene
+
+                save_current_scene(state, chosen)
+            elif chosen:
                 state.mesh_path = chosen[0]
                 state.requests.open_scene = chosen[0]
 

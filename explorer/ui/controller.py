@@ -677,6 +677,8 @@ class PipelineController:
             except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
         rt.scene = None if scene is None else (scene_name, scene)
+        if getattr(scene, "notice", ""):       # e.g. where a light was put in a closed mesh
+            state.notify(scene.notice)
         rt.camera_default = eye_target(getattr(scene, "camera", None))
         try:     # the primary light of the lights that shine (Settings.lights)
             light = scene.with_lights(state.settings.lights).light

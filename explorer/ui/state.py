@@ -225,6 +225,8 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
+    save_scene_dialog: bool = False           # File → Save scene as… (explorer/ui/scene_save.py)
+    scene_overrides: dict | None = None       # Settings changes applied once open_scene opened
     focus_panel: str | tuple | None = None   # bring this panel's (these panels') tab forward
     quit: bool = False
 
