@@ -1,6 +1,7 @@
 """``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
 ``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
-shows it (a hidden window: needs a display, e.g. ``xvfb-run``).
+shows it, headless (glfw's null platform with EGL: no display needed), once its frame has
+converged (it says it waits).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.
@@ -144,6 +145,7 @@ def _export(args: argparse.Namespace) -> int:
     from explorer.ui.export import export_step
 
     step = 1 if args.step is None else args.step
+    print(f"exporting {args.export} step {step}: waiting for the converged frame", flush=True)
     with Outputs() as outputs:
         out = outputs.file(args.out or Path.cwd() / f"{args.export}-step{step}.png",
                            suffixes=(".png",))
@@ -156,5 +158,5 @@ def _export(args: argparse.Namespace) -> int:
             raise CommandError(exc.args[0]) from None
         except (WindowError, TimeoutError) as exc:
             raise CommandError(exc, 1) from None
-    print(f"wrote {out}")
+    print(f"wrote {out} (the converged frame)")
     return 0

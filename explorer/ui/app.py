@@ -68,12 +68,16 @@ class App:
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...,
                  wait_when_idle: bool | None = None,
-                 idle_timeout_s: float = IDLE_TIMEOUT_S) -> None:
+                 idle_timeout_s: float = IDLE_TIMEOUT_S, test_engine: bool = False,
+                 headless: bool = False) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
         None for a window without a pipeline (panels only: the window tests).
         ``wait_when_idle``: wait for events instead of drawing when nothing changed
         (default: for a visible window; a hidden one is scripted and draws every
-        :meth:`frame`); ``idle_timeout_s``: the longest such wait."""
+        :meth:`frame`); ``idle_timeout_s``: the longest such wait. ``test_engine``: start
+        Dear ImGui Test Engine in the window (:attr:`test_engine` queues click tests,
+        explorer/ui/test_engine.py). ``headless``: no display needed (glfw's null
+        platform with EGL, :class:`~explorer.gl.window.Window`): exports and scripts."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
@@ -93,9 +97,19 @@ class App:
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-        # The window opens at the given size, else at the size it had when it was closed.
+        # The window opens at the given size, else at the size it had when it was closed
+        # (the default the first time), shrunk to fit the monitor's work area and
+        # centred on it: a size saved on a larger screen, or the default on a small one,
+        # would cut off the tool column.
         saved_w, saved_h = self.state.window_size
-        self.window = Window(width or saved_w, height or saved_h, visible=visible, vsync=vsync)
+        size, position = (width or saved_w, height or saved_h), None
+        if (width is None or height is None) and not headless:
+            from explorer.gl.window import work_area
+            from explorer.ui.state import fit_work_area
+
+            size, position = fit_work_area(size, work_area() if visible else None)
+        self.window = Window(*size, visible=visible and not headless, vsync=vsync,
+                             position=position, headless=headless)
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
@@ -124,15 +138,21 @@ class App:
         """The controller's status of the last frame (explorer.ui.controller)."""
         self.ui_ms = 30.0
         """The window's own time per drawn frame (smoothed), besides pipeline work."""
+        self.drew_change = False
+        """The last drawn frame's panels changed the state (a lesson step applied, a
+        button pressed): the pipelines have not seen it yet, whatever their status."""
         self.frames_skipped = 0
         self.last_wait_s = 0.0
         """How long the last frame() waited for events (an idle window)."""
         """frame() calls that found nothing to do and drew nothing."""
         self.last_pixels: np.ndarray | None = None
-        self._init_imgui()
+        self.panel_errors: list[str] = []
+        """Every panel failure so far (an exception its gui function raised)."""
+        self._init_imgui(test_engine)
+        self.test_engine = self._imgui.test_engine
 
     # -- setup ---------------------------------------------------------------------------
-    def _init_imgui(self) -> None:
+    def _init_imgui(self, test_engine: bool = False) -> None:
         from imgui_bundle import imgui
 
         from explorer.ui.formulas import FormulaCache
@@ -140,7 +160,7 @@ class App:
         from explorer.ui.overlays.compositor import Compositor
         from explorer.ui.textures import UiTextures
 
-        self._imgui = ImguiHost(self.window)
+        self._imgui = ImguiHost(self.window, test_engine=test_engine)
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
@@ -190,38 +210,59 @@ class App:
             rt.file_dialog_available = False
 
     # -- the loop ------------------------------------------------------------------------
-    def run(self, frames: int | None = None, screenshot: Path | None = None) -> int:
+    def run(self, frames: int | None = None, screenshot: Path | None = None,
+            converged: bool = True) -> int:
         """Run until the window closes (or for ``frames`` frames, then, with
-        ``screenshot``, until the picture has converged, and write the window to it).
-        Returns an exit status."""
+        ``screenshot``, until the picture has converged, and write the window to it;
+        ``converged`` False: write the frame after ``frames`` as it is, its view saying
+        "propagating k/N" if it is still converging). Returns an exit status."""
         count = 0
         while self.frame():
             count += 1
             if frames is not None and count >= frames:
                 break
         if screenshot is not None:
-            if count == 0 or not self.settle():
+            if count == 0:
                 print("lpv-explorer: no frame was drawn, no screenshot written",
                       file=sys.stderr)
                 return 1
+            began, waited = time.monotonic(), 0
+            if converged:
+                print("lpv-explorer: waiting for the converged frame (--no-wait writes "
+                      "the frame as it is)", flush=True)
+                waited = self.settle()
+                if waited is None:
+                    print("lpv-explorer: the window closed before the frame converged, "
+                          "no screenshot written", file=sys.stderr)
+                    return 1
             self.frame(capture=True)
             write_png(self.last_pixels, screenshot)
-            print(f"lpv-explorer: wrote {screenshot}")
+            progress = self.state.runtime.progress.get("A")
+            if converged:
+                print(f"lpv-explorer: wrote {screenshot} (converged after {count} + "
+                      f"{waited} frames, {time.monotonic() - began:.1f} s of waiting)")
+            else:
+                print(f"lpv-explorer: wrote {screenshot} after {count} frames ("
+                      + (f"not converged: {progress}" if progress else "converged") + ")")
         return 0
 
-    def settle(self, max_frames: int = SETTLE_FRAMES) -> bool:
-        """Draw frames until no job runs, no background task works and the camera is
-        still (scripts and tests: the picture has converged); False if the window
-        closed first. A playing animation never settles: pause it first."""
-        for _ in range(max_frames):
+    def settle(self, max_frames: int = SETTLE_FRAMES) -> int | None:
+        """Draw frames until no job runs, no background task works, the camera is still
+        and the last frame's panels changed nothing the pipelines have not seen yet
+        (scripts and tests: the picture has converged). Returns the frames drawn (at
+        least 1), or None if the window closed first. A playing animation never settles:
+        pause it first."""
+        for drawn in range(1, max_frames + 1):
             if not self.frame(force=True):
-                return False
+                return None
             status = self.status
+            if self.drew_change:
+                continue                 # a step or a button changed the settings
             if status is not None and not status.active and not self._interacted:
-                return True              # a frame that found nothing left to do
+                return drawn             # a frame that found nothing left to do
             if status is None and self.state.runtime.frame_index > _LAYOUT_FRAMES:
-                return True          # no pipeline (or no GL): nothing to wait for
-        return True
+                return drawn         # no pipeline (or no GL): nothing to wait for
+        return max_frames
 
     def frame(self, capture: bool = False, force: bool = False) -> bool:
         """Process events, advance the pipelines within the frame budget and draw one
@@ -275,6 +316,7 @@ class App:
             self.frames_skipped += 1
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
+        before_draw = self._fingerprint()
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
@@ -284,6 +326,7 @@ class App:
         self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
         self.window.swap_buffers()
+        self._imgui.post_swap()
         rt.frame_index += 1
         rt.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0
@@ -292,6 +335,7 @@ class App:
         self._draws_pending = FRAMES_AFTER_INPUT if (events or changed) else max(
             self._draws_pending - 1, 0)
         self._seen = self._fingerprint()
+        self.drew_change = self._seen != before_draw
         self._drawn_at = time.monotonic()
         self._quiet = not (worked or rt.redraw or self._draws_pending or self._interacting())
         return True
@@ -502,10 +546,13 @@ class App:
             if not panel.padding:
                 imgui.pop_style_var()
             if expanded:
+                stacks = imgui.internal.ErrorRecoveryState()
+                imgui.internal.error_recovery_store_state(stacks)
                 try:
                     panel.gui(state)
                 except Exception as exc:  # noqa: BLE001 - one broken panel, not the app
                     self._panel_failed(panel.title, exc)
+                    _recover_stacks(stacks)
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
         if focus and not self._needs_layout and state.requests.focus_panel is requested:
@@ -516,6 +563,7 @@ class App:
 
     def _panel_failed(self, title: str, exc: Exception) -> None:
         text = f"panel {title}: {type(exc).__name__}: {exc}"
+        self.panel_errors.append(text)
         if not self.state.messages or self.state.messages[-1].text != text:
             self.state.notify(text, "error")
             print(f"lpv-explorer: {text}", file=sys.stderr)
@@ -644,3 +692,18 @@ class App:
         name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
         self.window.set_title(f"lpv-explorer — {name} — {preset_name(s.corrections)}")
 
+
+
+def _recover_stacks(stacks) -> None:
+    """Close what a failed panel left open (children, groups, fonts, styles, ids) back to
+    ``stacks``, so that the frame still ends cleanly (imgui would assert in its end-of-
+    frame checks). The recovery's own reports are off meanwhile: the failure was shown."""
+    from imgui_bundle import imgui
+
+    io = imgui.get_io()
+    asserts = io.config_error_recovery_enable_assert
+    io.config_error_recovery_enable_assert = False
+    try:
+        imgui.internal.error_recovery_try_to_recover_state(stacks)
+    finally:
+        io.config_error_recovery_enable_assert = asserts

@@ -170,6 +170,10 @@ def overlay_words(overlays: OverlayState) -> str:
     return parts[0] if parts else ""
 
 
+RESUME_FRAMES = 4
+"""Frames over which a resumed lesson's article scrolls back to where it was left."""
+
+
 @dataclass
 class LessonSession:
     """Which lesson and step the reader is on, and the configuration to return to."""
@@ -186,6 +190,18 @@ class LessonSession:
     """The reader left the lesson's settings (and may go back to them)."""
     tried: int | None = None
     """The try-this (1-based) whose change is on screen, or None."""
+    places: dict[str, tuple[int, float]] = field(default_factory=dict)
+    """Lesson id -> (step, article scroll in pixels) where the reader left it for the
+    list: opening it from the list again comes back there."""
+    scroll: float = 0.0
+    """The article's scroll offset as last drawn (the panel keeps it up to date)."""
+    shown: tuple[str, int] | None = None
+    """(lesson id, step) the article showed last: another one opens at its top."""
+    _open_scroll: float = 0.0
+    """The scroll :meth:`open` chose for the lesson it opened (0: its top)."""
+    resume_frames: int = 0
+    """Frames the panel still scrolls the article to :attr:`scroll` (a resumed lesson:
+    its text's height is known only once it was drawn)."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
@@ -207,13 +223,38 @@ class LessonSession:
         """True while a lesson step's configuration is on screen."""
         return self.saved is not None
 
-    def open(self, key: str) -> Lesson:
-        """Open the lesson with this id, number or file stem at its first step
-        (KeyError lists the lessons)."""
+    def open(self, key: str, resume: bool = False) -> Lesson:
+        """Open the lesson with this id, number or file stem (KeyError lists the
+        lessons) at its first step, or with ``resume`` where the reader left it for the
+        list (its step; :meth:`opening_scroll` its scroll)."""
         lesson = find_lesson(key, self.lessons)
         if self.lesson is None or lesson.id != self.lesson.id:
-            self.lesson, self.step_number = lesson, 1
+            step, scroll = self.places.get(lesson.id, (1, 0.0)) if resume else (1, 0.0)
+            self.lesson, self.step_number = lesson, max(1, min(step, len(lesson.steps)))
+            self.scroll = self._open_scroll = scroll
+            self.shown = None
         return lesson
+
+    def opening_scroll(self) -> float | None:
+        """Where the article should scroll to as it is drawn now: its top for a step it
+        did not show last (a step or lesson change), the remembered offset for a lesson
+        resumed from the list; None when it stays as the reader scrolled it."""
+        if self.lesson is None:
+            return None
+        where = (self.lesson.id, self.step_number)
+        if self.shown == where:
+            return None
+        scroll = self._open_scroll if self.shown is None else 0.0
+        self._open_scroll = 0.0
+        self.shown, self.scroll = where, scroll
+        self.resume_frames = RESUME_FRAMES if scroll > 0 else 0
+        return scroll
+
+    def keep_scroll(self, scroll: float) -> None:
+        """The article's scroll as just drawn, kept for :meth:`close`: only while it
+        showed the step that is current (a click in it may have changed the step)."""
+        if self.lesson is not None and self.shown == (self.lesson.id, self.step_number):
+            self.scroll = scroll
 
     def go(self, number: int) -> bool:
         """Move to step ``number``, clamped to the lesson; True when the step changed."""
@@ -273,9 +314,14 @@ class LessonSession:
         return saved
 
     def close(self) -> Screen | None:
-        """Close the lesson, restoring the reader's configuration if a step was applied."""
+        """Close the lesson (remembering its step and scroll for :meth:`open` with
+        ``resume``), restoring the reader's configuration if a step was applied."""
+        if self.lesson is not None:
+            drawn = self.shown == (self.lesson.id, self.step_number)
+            self.places[self.lesson.id] = (self.step_number, self.scroll if drawn else 0.0)
         restored = self.leave()
         self.lesson, self.step_number, self.left = None, 1, False
+        self.shown, self.scroll = None, 0.0
         return restored
 
 
