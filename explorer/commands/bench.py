@@ -27,10 +27,13 @@ cell holds 3 texels per channel, so a step moves 3× as many bytes.
 
 Rows are timed as the window runs the frame: without the per-step energy audit (the
 ``audit`` variant adds it). Baseline: for every single-cascade L1 row the minimal
-propagation kernel (``shaders/propagate_minimal.glsl``: five faces per neighbour and the
-geometry volume's occlusion, no switches, no audit) propagates the same injected grid,
-timed alternately with the pipeline's own propagation in the same run; the ``×base``
-column is the ratio of the two, and a ``baseline`` row per grid shows the kernel's time.
+propagation kernel (``shaders/propagate_minimal.glsl``: per neighbour three ``texelFetch``
+of the SH grid, and four of the geometry volume when there is one, five faces written
+out with the generated constants, the three target images written and added into the
+three accumulation images; one barrier per step and one ``finish`` for all; no switches,
+no audit) propagates the same injected grid, timed alternately with the pipeline's own
+propagation in the same run; the ``×base`` column is the ratio of the two, and a
+``baseline`` row per grid shows the kernel's time.
 """
 
 from __future__ import annotations
