@@ -10,6 +10,7 @@ import pytest
 from explorer.gl.program import ProgramCache, UniformError, declared_uniforms, set_uniforms
 from explorer.lpv.corrections import CORRECTIONS, STAGES, Corrections, uniforms_read_by
 from explorer.lpv.gather import GatherPass
+from explorer.lpv.gather import program_defines as gather_defines
 from explorer.lpv.geometry import GeometryPass
 from explorer.lpv.inject import InjectPass
 from explorer.lpv.propagate import COMPILED_SWITCHES, PropagatePass, program_defines
@@ -29,7 +30,9 @@ STAGE_PROGRAMS = {
         fmt, order, Corrections(ping_pong=ping_pong), audit=audit, geometry=geometry,
         reflect=geometry)) for fmt, order in VARIANTS for ping_pong in (True, False)
         for audit, geometry in ((False, False), (True, True))],
-    GatherPass.STAGE: [("gather.glsl", sh_defines(order)) for order in SH_ORDERS],
+    GatherPass.STAGE: [("gather.glsl", gather_defines(order, cascades=cascades, damping=damping))
+                       for order in SH_ORDERS for cascades in (False, True)
+                       for damping in (False, True)],
 }
 SWITCHES = {entry.uniform for entry in CORRECTIONS}
 
