@@ -114,3 +114,52 @@ def test_a_short_soak_drives_the_window_and_counts_what_it_holds(tmp_path, capsy
         assert counts["Texture"] > 0 and counts["Program"] > 0
     # the warm-up made every view's objects: the soak itself makes none
     assert data["end"]["gl"] == data["start"]["gl"]
+
+
+def test_overhead_rows_count_the_gl_work_of_each_kind_of_frame(tmp_path, capsys):
+    out = tmp_path / "overhead.json"
+    assert main(["bench", "--overhead", "--repeat", "1", "--iterations", "3",
+                 "--json", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "python ms" in printed and "uniform uploads" in printed
+    rows = {row["frame"]: row for row in json.loads(out.read_text())["overhead"]}
+    assert list(rows) == ["full", "light", "camera", "display"]
+    full, camera, display = rows["full"]["counts"], rows["camera"]["counts"], \
+        rows["display"]["counts"]
+    # the propagation: one dispatch and one barrier per step at least; none for a camera move
+    assert full["dispatches"] >= 3 and full["barriers"] >= 3
+    assert camera["dispatches"] == 0 and camera["draws"] >= 2     # G-buffer, gather
+    assert display["draws"] == 1 and display["dispatches"] == 0
+    assert full["GL calls"] > camera["GL calls"] > display["GL calls"] > 0
+    for row in rows.values():
+        assert 0 < row["outside_gl_ms"] <= row["wall_ms"]
+
+
+def test_the_call_counter_counts_one_upload_per_uniform_set_and_restores_moderngl(ctx):
+    import moderngl
+
+    from explorer.gl.call_counter import GlCallCounter
+
+    shader = ctx.compute_shader("""#version 430
+        layout(local_size_x = 1) in;
+        uniform float u_scale;
+        layout(std430, binding = 0) buffer Out { float values[]; };
+        void main() { values[gl_GlobalInvocationID.x] = u_scale; }""")
+    buffer = ctx.buffer(reserve=16)
+    run = moderngl.ComputeShader.run
+    try:
+        with GlCallCounter() as counter:
+            shader["u_scale"] = 2.0          # __setitem__ sets Uniform.value inside: one upload
+            buffer.bind_to_storage_buffer(0)
+            shader.run(4)
+            ctx.memory_barrier()
+            values = buffer.read()
+        calls = counter.tally.calls
+        assert (calls["uniform uploads"], calls["dispatches"], calls["barriers"],
+                calls["read-backs"], calls["bindings"]) == (1, 1, 1, 1, 1)
+        assert calls["GL calls"] == 5 and counter.tally.inside_s > 0
+        assert moderngl.ComputeShader.run is run     # unwrapped again
+        assert list(memoryview(values).cast("f")) == [2.0] * 4
+    finally:
+        shader.release()
+        buffer.release()

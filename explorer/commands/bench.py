@@ -121,6 +121,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="drive the real window through a scripted session (launch, "
                              "idle, orbit, exposure sweep, every correction toggled, grid "
                              "64³) and print its responsiveness (needs a display: xvfb-run)")
+    parser.add_argument("--overhead", action="store_true",
+                        help="per-frame CPU overhead on tiny sizes (8³, 64² image and RSM "
+                             "unless given): wall and Python milliseconds outside GL, GL "
+                             "calls, dispatches, draws, barriers, finishes, read-backs, "
+                             "uniform uploads and bindings, for a full, a light, a camera "
+                             "and a display frame (--repeat frames each, default 20)")
     parser.add_argument("--frames", type=options.value_type("frames", INTERACTIVE_FRAMES),
                         default=60, help=options.spec_help(INTERACTIVE_FRAMES) + " (60)")
     parser.add_argument("--soak", metavar="MINUTES",
@@ -332,6 +338,8 @@ def main(args: argparse.Namespace) -> int:
 
     base = options.settings_from_args(args)
     options.check_scene(base.scene)
+    if args.overhead:
+        return _overhead(args)
     with options.Outputs("--json") as outputs:
         json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
         try:
@@ -359,5 +367,38 @@ def main(args: argparse.Namespace) -> int:
             payload = json.dumps({"device": caps.renderer, "version": caps.version,
                                   "date": when, "scene": base.scene,
                                   "triangles": triangles, "rows": rows}, indent=2)
+            outputs.write(json_path, lambda p: p.write_text(payload))
+    return 0
+
+
+def _overhead(args: argparse.Namespace) -> int:
+    """``bench --overhead`` (explorer/commands/overhead_bench.py)."""
+    from explorer.commands.overhead_bench import (
+        DEFAULT_FRAMES, format_overhead, measure_overhead, tiny_settings)
+    from explorer.gl.context import probe
+    from explorer.lpv.pipeline import Pipeline
+
+    try:
+        settings = tiny_settings(args)
+    except ValueError as exc:
+        raise options.CommandError(exc) from None
+    with options.Outputs("--json") as outputs:
+        json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
+        try:
+            with Pipeline(settings) as pipeline:
+                caps = probe(pipeline.ctx)
+                rows = measure_overhead(pipeline, settings, args.repeat or DEFAULT_FRAMES)
+        except options.render_failures() as exc:
+            raise options.CommandError(exc, 1) from None
+        when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        print(f"device: {caps.renderer} ({caps.version}); {when}")
+        print(f"overhead per frame: scene {settings.scene}, {settings.grid_size}³, "
+              f"{settings.iterations} iterations, {settings.width}×{settings.height}, RSM "
+              f"{settings.rsm_size}²; python ms = wall time outside GL calls")
+        print(format_overhead(rows))
+        if json_path is not None:
+            payload = json.dumps({"device": caps.renderer, "version": caps.version,
+                                  "date": when, "settings": settings.to_dict(),
+                                  "overhead": rows}, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
     return 0
