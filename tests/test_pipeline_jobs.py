@@ -171,7 +171,7 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     assert [c for c in calls if c[0] == "propagate"][:3] == [("propagate", 0, 10),
                                                              ("propagate", 0, 10),
                                                              ("propagate", 1, 10)]
-    assert calls[-1] == ("display", 1, 1)
+    assert calls[-1] == ("display", 2, 2)          # the auto exposure, then the pass
     with Pipeline(other, ctx=gl_context) as fresh:
         assert np.allclose(second.result.accumulated, fresh.run().accumulated, rtol=1e-6,
                            atol=1e-9)
@@ -343,8 +343,9 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
     calls = []
     with Pipeline(settings, ctx=gl_context) as pipe:
         banded = pipe.run(progress=lambda *call: calls.append(call))
-        # two bands, then three read-backs (direct, indirect, received): a unit each
-        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 5) for k in range(6)]
+        # two bands, three read-backs (direct, indirect, received), then their sums and
+        # checks: a unit each
+        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 6) for k in range(7)]
         pipe._gather_levels(settings)                                  # all rows at once
         whole = read_texture(pipe._gather.targets["indirect"])[..., :3]
         assert np.array_equal(banded.indirect, whole) and banded.indirect.max() > 0

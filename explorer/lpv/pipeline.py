@@ -381,7 +381,9 @@ class Pipeline:
             return 1 + len(gbuffer_pass.TARGETS)
         if stage == "gather":
             return len(bands((job.settings.width, job.settings.height))) + \
-                len(gather_pass.TARGETS)
+                len(gather_pass.TARGETS) + 1
+        if stage == "display":
+            return 2
         if stage == "fog" and job.settings.fog:
             return len(bands((job.settings.width, job.settings.height))) + \
                 len(fog_pass.TARGETS)
@@ -590,6 +592,7 @@ class Pipeline:
         targets = self._gather.targets
         names = gather_pass.TARGETS
         arrays = yield from read_back([targets[name] for name in names])
+        yield       # the sums and the checks of the arrays: a unit of their own
         self._arrays["gather"] = dict(zip(names, arrays))
         received = self._arrays["gather"]["received"][..., :3]
         self._arrays["gathered"] = np.add.reduce(received.reshape(-1, 3), axis=0,
@@ -622,9 +625,12 @@ class Pipeline:
         self._arrays["fog"] = FogImages(direct[..., 3].copy(), direct[..., :3], lpv[..., :3])
         self._warnings["fog"] = guards.arrays_warnings("fog", [direct, lpv], s)
 
-    def _stage_display(self, job: Job) -> None:
+    def _stage_display(self, job: Job) -> Iterator[None]:
+        """Two units: the display scale (the auto exposure measures the read-back image on
+        the CPU), then the display pass."""
         s = job.settings
         self._display_scale = self._frame_display_scale(s)
+        yield
         self._show(s, self._display_scale)
 
     def _show(self, s: Settings, scale: float, fog: bool = True) -> None:
