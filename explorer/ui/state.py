@@ -307,6 +307,13 @@ class AppState:
     view of a try-this); not persisted."""
     lesson_id: str | None = None
     lesson_step: int | None = None     # the step `run --lesson ID --step K` opens
+    lesson_session: object | None = None
+    """explorer.ui.lesson_panel.LessonSession (named, not imported: it reads this module):
+    the course being read, the lesson open, its step, the reader's own screen to come back
+    to; made and loaded on first use by ``lesson_panel.session_of``; not persisted."""
+    lesson_figures: object | None = None
+    """explorer.ui.figures.FigureContext: the lesson figures' shared interactive state
+    (``article.figure_context``); not persisted."""
     layout_panels: list[str] = setting(
         kind="names", default_factory=list,
         doc="Panel titles the saved dock layout was built for; a new panel rebuilds it.")
