@@ -342,7 +342,7 @@ class PipelineController:
                 status.busy = True
                 status.labels[name] = (side.progress.label if side.progress is not None
                                        else "starting")
-        if any(task.running for task in state.runtime.tasks):
+        if any(task.running for task in state.runtime.services.tasks):
             status.busy = True
         self._publish_runtime(state)
         status.work_ms = (time.perf_counter() - start) * 1e3
@@ -521,14 +521,14 @@ class PipelineController:
         self._post_warnings(state, side, result)
         rt = state.runtime
         if side.name == "A":
-            rt.pipeline_error = None
+            rt.frame.pipeline_error = None
             if not request.interactive:
                 self.ran_settings = state.settings
                 self.failed_settings = None
             s = request.settings
             self._good_scene = (s.scene, s.camera, s.light, s.light_flux)
             self._scene_defaults(state, side.pipeline, s.scene)
-        rt.pipeline_ms = side.job_ms
+        rt.frame.pipeline_ms = side.job_ms
 
     def _measure_camera(self, request: Request, elapsed_ms: float) -> None:
         """Choose the drag scale from the camera-only frames timed so far: the largest of
@@ -558,12 +558,12 @@ class PipelineController:
     def _publish_runtime(self, state: "AppState") -> None:
         rt = state.runtime
         a, b = self.sides["A"], self.sides["B"]
-        rt.result = a.result
-        rt.compare_result = b.result if state.comparing else None
-        rt.frame_view = a.pipeline.view if a.pipeline is not None and a.result is not None \
+        rt.frame.result = a.result
+        rt.frame.compare_result = b.result if state.comparing else None
+        rt.frame.frame_view = a.pipeline.view if a.pipeline is not None and a.result is not None \
             else None
-        rt.pictures = {name: side.picture for name, side in self.sides.items()
-                       if side.picture is not None and side.picture.ready}
+        rt.frame.pictures = {name: side.picture for name, side in self.sides.items()
+                             if side.picture is not None and side.picture.ready}
         update_side_exposures(state, {name: side.result for name, side in self.sides.items()},
                               {name: self.settings_for(state, name).indirect_only
                                for name in self.sides})
@@ -599,9 +599,9 @@ class PipelineController:
                 print(f"lpv-explorer: could not open {settings.scene}: {exc}",
                       file=sys.stderr)
             return
-        rt.pipeline_error = f"pipeline {side.name} failed: {text}"
-        state.notify(rt.pipeline_error, "error")
-        print(f"lpv-explorer: {rt.pipeline_error}", file=sys.stderr)
+        rt.frame.pipeline_error = f"pipeline {side.name} failed: {text}"
+        state.notify(rt.frame.pipeline_error, "error")
+        print(f"lpv-explorer: {rt.frame.pipeline_error}", file=sys.stderr)
         traceback.print_exception(exc, file=sys.stderr)
 
     def failed_request(self, side: str = "A") -> Request | None:
@@ -634,20 +634,21 @@ class PipelineController:
                 scene = load_scene(scene_name)
             except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
-        rt.scene = None if scene is None else (scene_name, scene)
+        rt.scene_facts.scene = None if scene is None else (scene_name, scene)
         from explorer.scene import SpotLight
 
-        rt.camera_default = eye_target(scene.camera if scene is not None else None)
+        rt.scene_facts.camera_default = eye_target(scene.camera if scene is not None else None)
         light = None
         if scene is not None:
             try:     # the primary light of the lights that shine (Settings.lights)
                 light = scene.with_lights(state.settings.lights).light
             except Exception:  # noqa: BLE001 - lights the scene does not have
                 light = scene.light
-        rt.light_default = eye_target(light)
-        rt.light_flux_default = light.flux if light is not None else None
-        rt.light_is_spot = isinstance(light, SpotLight)
-        rt.light_cone_default = light.cone_degrees if rt.light_is_spot else None
+        rt.scene_facts.light_default = eye_target(light)
+        rt.scene_facts.light_flux_default = light.flux if light is not None else None
+        facts = rt.scene_facts
+        facts.light_is_spot = isinstance(light, SpotLight)
+        facts.light_cone_default = light.cone_degrees if facts.light_is_spot else None
 
     # ------------------------------------------------------------------ shaders, tasks
     def _hot_reload(self, state: "AppState", now: float | None = None) -> None:
@@ -668,7 +669,7 @@ class PipelineController:
             errors.update(side.pipeline.programs.errors)
         self.programs.reload_if_changed()
         errors.update(self.programs.errors)
-        state.runtime.shader_errors = errors
+        state.runtime.services.shader_errors = errors
 
     def poll_shaders(self, state: "AppState") -> None:
         """Check the shader files now (the next update reloads what changed)."""
@@ -679,7 +680,7 @@ class PipelineController:
         """The panels' background GPU work (``runtime.tasks``) in what is left of the
         budget, shared by the tasks that have work (an idle one is still called: it may
         start some, e.g. the Error panel's measurement of a new configuration)."""
-        tasks = state.runtime.tasks
+        tasks = state.runtime.services.tasks
         if not tasks or left_ms < MIN_TASK_MS:
             return
         share = left_ms / max(sum(bool(task.running) for task in tasks), 1)

@@ -43,7 +43,7 @@ def side_display(state: "AppState", sides: "dict[str, ShownSide]", side: str,
     per_side = state.comparing and state.expose_sides_separately
     exposure = settings.exposure
     if per_side and not state.settings.auto_exposure:
-        exposure = state.runtime.side_exposures[SIDES.index(side)]
+        exposure = state.runtime.frame.side_exposures[SIDES.index(side)]
     own = side == "A" or per_side
     scale = auto_scale(sides[side if own else "A"], settings if own else state.settings)
     return SideDisplay(float(exposure), scale, settings.tone_map, settings.indirect_only)
@@ -76,19 +76,19 @@ def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | N
     if not (state.comparing and state.expose_sides_separately) or \
             state.settings.auto_exposure:
         return
-    values = list(rt.side_exposures)
+    values = list(rt.frame.side_exposures)
     for i, name in enumerate(SIDES):
         result = results[name]
         key = (id(result), indirect_only[name])
-        if result is None or rt.exposure_seen[i] == key:
+        if result is None or rt.frame.exposure_seen[i] == key:
             continue
-        rt.exposure_seen[i] = key
+        rt.frame.exposure_seen[i] = key
         linear = exposed_image(result.direct, result.indirect, 1.0, indirect_only[name],
                                result.fog)
         value = auto_exposure(linear, 1.0)
         if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
             values[i] = float(f"{value:.3g}")
-    rt.side_exposures = (values[0], values[1])
+    rt.frame.side_exposures = (values[0], values[1])
 
 
 def result_scale(result: "FrameResult", indirect_only: bool) -> float:
