@@ -214,7 +214,9 @@ class PropagationRun:
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
             "u_geometry": owner.GEOMETRY_UNIT, "u_geometry_albedo": owner.ALBEDO_UNIT,
+            "u_cell_offset": (0, 0, 0),
         }, reads=uniforms_read_at_run_time())
+        self._program.extra["cell_offset"] = 0
         self._groups = dispatch_size(n)
         self._slabs = slabs(n)
         self._slab = 0
@@ -259,9 +261,14 @@ class PropagationRun:
             self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
         target.bind_images(0)
         self.accumulated.bind_images(3)
-        owner.audit.bind()
+        if self._with_audit:        # only the full audit's kernel writes the records
+            owner.audit.bind()
         first, end = self._slabs[self._slab]
-        set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+        # one slab a step up to 32³: set once. The offset last set is kept with the
+        # program, which the cascades' runs share (interleaved, each with its slabs).
+        if self._program.extra.get("cell_offset") != first:
+            set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+            self._program.extra["cell_offset"] = first
         self._program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
         owner.ctx.memory_barrier()
         self._slab += 1
