@@ -34,6 +34,7 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     baseline = rows[-1]
     assert baseline["passes_ms"] == {"propagate": rows[1]["baseline_ms"]}
     assert baseline["passes_ms"]["propagate"] > 0 and baseline["kernel_ratio"] == 1.0
+    # one timed frame: the median of one pair is that frame's ratio
     assert rows[1]["kernel_ratio"] == pytest.approx(
         rows[1]["passes_ms"]["propagate"] / rows[1]["baseline_ms"])
     assert "kernel_ratio" in rows[5] and "kernel_ratio" not in rows[0]   # audit; no steps

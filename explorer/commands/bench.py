@@ -32,7 +32,8 @@ of the SH grid, and four of the geometry volume when there is one, five faces wr
 out with the generated constants, the three target images written and added into the
 three accumulation images; one barrier per step and one ``finish`` for all; no switches,
 no audit) propagates the same injected grid, timed alternately with the pipeline's own
-propagation in the same run; the ``×base`` column is the ratio of the two, and a
+propagation in the same run; the ``×base`` column is the median of the frames' ratios of
+the two (each frame's propagation over the baseline timed right after it), and a
 ``baseline`` row per grid shows the kernel's time.
 """
 
@@ -267,6 +268,7 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
                 _time_baseline(pipeline, baseline, steps))
     passes = {name: statistics.median(values) for name, values in samples.items()}
     baseline_ms = passes.pop("baseline", None)
+    pairs = list(zip(samples.get("propagate", []), samples.get("baseline", [])))
     row = {"variant": variant, "grid": settings.grid_size, "iterations": steps,
            "cascades": cascades, "sh_order": settings.sh_order, "passes_ms": passes,
            "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods),
@@ -278,8 +280,11 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
         row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
         row["ms_per_step"] = propagate_ms / steps
     if baseline_ms:
+        # the median of each frame's ratio to the baseline timed right after it: on a
+        # shared machine the two medians can come from different moments of its load
         row["baseline_ms"] = baseline_ms
-        row["kernel_ratio"] = propagate_ms / baseline_ms
+        row["kernel_ratio"] = statistics.median(
+            ms / base for ms, base in pairs if base > 0)
     return row
 
 
