@@ -39,6 +39,8 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
         rows[1]["passes_ms"]["propagate"] / rows[1]["baseline_ms"])
     assert "kernel_ratio" in rows[5] and "kernel_ratio" not in rows[0]   # audit; no steps
     assert "kernel_ratio" in named["audit-flux"]        # the flux plot's audit mode
+    assert "kernel_ratio" in named["geometry"]          # against the kernel with occlusion
+    assert "kernel_ratio" not in named["bounces-2"]     # reflection: no minimal twin
     assert "×base" in printed and "baseline" in printed
     for row in rows[:-1]:
         for name in ("rsm", "inject", "propagate", "gbuffer", "gather"):

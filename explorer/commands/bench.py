@@ -88,6 +88,9 @@ scene's rig; a scene with fewer has no such row) and a moving object (module doc
 The variants in :data:`NEEDS_GEOMETRY` turn a one-sided geometry volume on if
 --geometry-volume is off (they need one)."""
 NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders")
+COMPARED = ("default", "audit", "audit-flux", "geometry")
+"""Rows whose propagation is timed against the minimal kernel (with the geometry volume's
+occlusion for ``geometry``): one bounce, L1, one cascade."""
 RUN_OPTIONS = ("need_audit", "light_count", "move_object")
 MOVE_STEP = 1e-3
 """World units the moving-object row moves its object before each frame."""
@@ -245,7 +248,7 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
     moving = bool(VARIANTS.get(variant, {}).get("move_object", False))
     steps, cascades = settings.iterations, settings.cascades
     compare = steps > 0 and cascades == 1 and settings.sh_order == 1 and \
-        variant in ("default", "audit", "audit-flux")
+        variant in COMPARED
     run = {"need_audit": need_audit, "progress": progress}
     options.run_pipeline(pipeline, settings, **run)     # warm-up: compiles, allocates
     if compare:
