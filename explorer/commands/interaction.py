@@ -126,6 +126,10 @@ class Recorder:
                 work = ", ".join(f"{unit.side} {unit.what} {unit.ms:.0f} ms"
                                  for unit in status.work) or "no pipeline work"
                 work += f"; window drawing and the rest {ms - status.work_ms:.0f} ms"
+                phases = getattr(self.app, "draw_phases_ms", None)
+                if phases:      # a window that times its own drawing by phase
+                    work += " (" + ", ".join(f"{name.replace('_', ' ')} {value:.0f} ms"
+                                             for name, value in phases.items()) + ")"
             self.longest = (ms, f"{self.phase}: {work}")
         if len(self.slow) < 5 or ms > self.slow[-1][0]:
             status = getattr(self.app, "status", None)
