@@ -136,6 +136,11 @@ def test_overhead_rows_count_the_gl_work_of_each_kind_of_frame(tmp_path, capsys)
     assert full["GL calls"] > camera["GL calls"] > display["GL calls"] > 0
     for row in rows.values():
         assert 0 < row["outside_gl_ms"] <= row["wall_ms"]
+        # the Python time by stage adds up to the frame's (the rest is the job's own)
+        assert sum(row["python_by_stage_ms"].values()) == pytest.approx(row["outside_gl_ms"])
+    assert {"propagate", "inject", "gather", "job"} <= set(rows["full"]["python_by_stage_ms"])
+    assert "propagate" not in rows["camera"]["python_by_stage_ms"]
+    assert "python ms of a full frame by stage: " in printed
 
 
 def test_the_call_counter_counts_one_upload_per_uniform_set_and_restores_moderngl(ctx):
