@@ -76,7 +76,7 @@ from explorer.lpv.limits import (
     check_grid_textures,
     check_memory,
 )
-from explorer.lpv.propagate import slabs
+from explorer.lpv.propagate import read_in_units, slabs
 from explorer.lpv.light_views import LightViews
 from explorer.lpv.scene_state import SceneState
 from explorer.lpv.schema import STAGES
@@ -565,7 +565,8 @@ class Pipeline:
                                            accumulate=True)
                 if more():
                     yield sum(steps)
-                level.accumulated = level.output.accumulated.read()
+                level.accumulated = yield from read_in_units(level.output.accumulated,
+                                                             sum(steps))
                 warnings += guards.found(guards.flux_warning(
                     level_pass_name("inject", k, len(levels)), level.output.audit.injected,
                     s.corrections))

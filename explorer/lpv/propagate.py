@@ -3,6 +3,7 @@ accumulation") with the energy audit measured on the GPU alongside every step.""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import moderngl
@@ -303,6 +304,18 @@ class PropagationRun:
                                  audit=grid_audit(sums, self.iterations, self._mode,
                                                   self._corrections.ping_pong),
                                  cell_records=records)
+
+
+def read_in_units(grid: LpvGrid, progress: int) -> Iterator[int]:
+    """Read ``grid`` back one colour channel per unit of work (``yield from``; yields
+    ``progress`` between channels, returns the ``(3, N, N, N, C)`` array): a 64³ grid's
+    read-back took as long as several propagation units on llvmpipe."""
+    channels = []
+    for channel in range(3):
+        channels.append(grid.read_channel(channel))
+        if channel < 2:
+            yield progress
+    return np.stack(channels)
 
 
 def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
