@@ -161,6 +161,9 @@ class _FinishedJob:
     def result(self):
         return self._result
 
+    def next_unit_ms(self):
+        return 0.0
+
     def preview(self):
         return False
 
@@ -176,6 +179,7 @@ class RecordingPipeline:
     # the rest of explorer.ui.controller.PipelineLike: no units timed, no fog, no
     # previews, no scene of its own (the controller loads the scene's defaults)
     unit_ms: dict = {}
+    unit_ms_at: dict = {}
     timings_ms: dict = {}
     fog_textures = None
     preview_textures = None

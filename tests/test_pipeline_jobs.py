@@ -387,3 +387,20 @@ def test_a_large_step_runs_in_slabs_with_the_same_result(gl_context, ctx, monkey
     for name in ("per_step", "border_loss", "occluded", "reflected"):
         assert np.allclose(getattr(sliced.audit, name), getattr(whole.audit, name),
                            rtol=1e-5, atol=1e-9), name
+
+
+def test_a_job_sizes_each_unit_by_the_same_unit_of_the_last_run(pipeline):
+    """A stage's units differ (a propagation's start, its steps, its audit and its
+    read-backs): the next unit is estimated by the one at the same place last time."""
+    pipeline.run(SMALL)
+    last = dict(pipeline.unit_ms_at)
+    pipeline.invalidate("propagate")
+    job = pipeline.start(SMALL)
+    estimates = []
+    while not job.done:
+        if job.stage == "propagate":
+            estimates.append(job.next_unit_ms())
+        job.advance(0.0)             # one unit
+    assert len(estimates) > SMALL.iterations
+    assert estimates == [last[("propagate", unit)] for unit in range(len(estimates))]
+    assert len(set(estimates)) > 1          # the units are not all alike

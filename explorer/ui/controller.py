@@ -113,6 +113,8 @@ class PipelineLike(Protocol):
     programs: "ProgramCache"
     unit_ms: dict[str, float]
     """Stage -> milliseconds of its last unit of work (what fits a budget)."""
+    unit_ms_at: dict[tuple[str, int], float]
+    """(stage, unit number) -> milliseconds it last took (``Job.next_unit_ms``)."""
     preview_textures: tuple | None
     """The last reduced preview's linear textures (``Job.preview`` with a scale < 1)."""
 
@@ -414,8 +416,7 @@ class PipelineController:
     @staticmethod
     def _fits(side: SideState, left_ms: float) -> bool:
         """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms``."""
-        unit_ms = side.pipeline.unit_ms
-        return left_ms > 0.0 and unit_ms.get(side.job.stage or "", 0.0) <= left_ms
+        return left_ms > 0.0 and side.job.next_unit_ms() <= left_ms
 
     def _step(self, state: "AppState", side: SideState, budget_ms: float,
               status: ControllerStatus) -> None:
