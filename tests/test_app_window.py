@@ -161,6 +161,8 @@ class _FinishedJob:
     def result(self):
         return self._result
 
+    stage = None          # between stages (the Job interface)
+
     def next_unit_ms(self):
         return 0.0
 

@@ -448,13 +448,21 @@ class App:
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
-            quiet_s=time.monotonic() - self._input_at, input_pending=self._input_pending)
+            quiet_s=self._quiet_s(), input_pending=self._input_pending)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}
         if rt.result is not None and rt.result is not self._shown_result:
             self._shown_result = rt.result
             self._update_title()
+
+    def _quiet_s(self) -> float:
+        """Seconds since the last input, as the controller's quiet budget reads them; 0
+        when this frame will be drawn anyway for the progress label (a frame that draws
+        keeps to the frame budget: its work and its drawing stay one frame's worth)."""
+        if time.monotonic() - self._drawn_at >= PROGRESS_REDRAW_S:
+            return 0.0
+        return time.monotonic() - self._input_at
 
     def _input_pending(self) -> bool:
         """Whether input arrived since this frame began (the controller asks between

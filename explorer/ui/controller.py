@@ -102,6 +102,9 @@ QUIET_BUDGET_MS = 100.0
 """... (or the frame budget if larger) instead of the frame budget, so that fewer frames
 share the work; the shell's ``input_pending`` is asked between units and input brings
 the budget back at once. A frame stays within this plus one unit and a drawing."""
+FINISHING_STAGES = frozenset(downstream("propagate")[1:])
+"""The stages after the propagation (gather, fog, display): a job in one of them is
+about to publish its finished frame, which is drawn, so its frame gets no quiet budget."""
 MIN_TASK_MS = 2.0
 """Background tasks run when at least this much of the budget is left."""
 
@@ -396,6 +399,10 @@ class PipelineController:
             side = order.pop(0)
             if side.job is None:
                 continue
+            if budget.ms > budget.base_ms and side.job.stage in FINISHING_STAGES:
+                # the job's finished frame is near, and it is drawn: the frame budget
+                budget.ms = budget.base_ms
+                left = budget.left()
             if side.name in previewed and not self._fits(side, left / (len(order) + 1)):
                 continue
             if side.name not in previewed:
