@@ -145,6 +145,10 @@ class App:
         self.last_wait_s = 0.0
         """How long the last frame() waited for events (an idle window)."""
         """frame() calls that found nothing to do and drew nothing."""
+        self._docked: dict[str, bool] = {}
+        """Panel title -> whether it was docked when last drawn (its background: _draw_ui)."""
+        self.draw_phases_ms: dict[str, float] = {}
+        """The last drawn frame's drawing by phase (:meth:`frame`), in milliseconds."""
         self.last_pixels: np.ndarray | None = None
         self.panel_errors: list[str] = []
         """Every panel failure so far (an exception its gui function raised)."""
@@ -317,16 +321,23 @@ class App:
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
         before_draw = self._fingerprint()
+        drawing = time.perf_counter()
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
+        built = time.perf_counter()
         self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
         self.window.swap_buffers()
         self._imgui.post_swap()
+        # the window's own drawing, apart from the pipeline's work (bench --interactive):
+        # the panels built on the CPU, then imgui's draw lists rendered and swapped (a
+        # software renderer rasterises them by the swap)
+        self.draw_phases_ms = {"panels": (built - drawing) * 1e3,
+                               "render_and_swap": (time.perf_counter() - built) * 1e3}
         rt.frame_index += 1
         rt.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0
@@ -484,13 +495,21 @@ class App:
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
-            quiet_s=time.monotonic() - self._input_at, input_pending=self._input_pending)
+            quiet_s=self._quiet_s(), input_pending=self._input_pending)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}
         if rt.result is not None and rt.result is not self._shown_result:
             self._shown_result = rt.result
             self._update_title()
+
+    def _quiet_s(self) -> float:
+        """Seconds since the last input, as the controller's quiet budget reads them; 0
+        when this frame will be drawn anyway for the progress label (a frame that draws
+        keeps to the frame budget: its work and its drawing stay one frame's worth)."""
+        if time.monotonic() - self._drawn_at >= PROGRESS_REDRAW_S:
+            return 0.0
+        return time.monotonic() - self._input_at
 
     def _input_pending(self) -> bool:
         """Whether input arrived since this frame began (the controller asks between
@@ -542,7 +561,18 @@ class App:
                 imgui.set_next_window_class(window_class(panel))
             if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
+            # A docked panel draws no background of its own: the frame's clear paints the
+            # same colour (theme.CLEAR_COLOUR). On a software renderer each full-window
+            # layer of fill is a large part of a frame (the panels' backgrounds cover the
+            # whole window, about 1.5 Mpx at 1600×960); imgui skips transparent fills. A
+            # floating panel keeps its background (docked: as of the last frame).
+            docked = self._docked.get(panel.title, False)
+            if docked:
+                imgui.push_style_color(imgui.Col_.window_bg, theme.DOCKED_WINDOW_BG)
             expanded, still_open = imgui.begin(panel.title, True)
+            if docked:
+                imgui.pop_style_color()
+            self._docked[panel.title] = imgui.is_window_docked()
             if not panel.padding:
                 imgui.pop_style_var()
             if expanded:

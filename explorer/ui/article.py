@@ -123,7 +123,7 @@ def uses_error(step: Step) -> bool:
 
 def figure_context(state: AppState):
     """The figures' shared context (their interactive state), kept on the app state."""
-    context = getattr(state, "lesson_figures", None)
+    context = state.lesson_figures
     if context is None:
         from explorer.ui.figures import FigureContext
 
@@ -162,10 +162,10 @@ def gui_article(state: AppState) -> None:
 def sync_requested(state: AppState, session: LessonSession) -> None:
     """Follow ``state.lesson_id`` / ``state.lesson_step`` (``run --lesson ID --step K``):
     open the lesson at that step and apply it."""
-    wanted = getattr(state, "lesson_id", None)
+    wanted = state.lesson_id
     if not wanted:
         return
-    step = getattr(state, "lesson_step", None)
+    step = state.lesson_step
     same = session.lesson is not None and wanted in (session.lesson.id,
                                                      session.lesson.path.stem)
     if same and step is None:

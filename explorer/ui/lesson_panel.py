@@ -342,25 +342,18 @@ def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
 
 # --- imgui ---------------------------------------------------------------------------------
 
-_SESSION_ATTRIBUTE = "lesson_session"
-
-
 def session_of(state: AppState) -> LessonSession:
     """The LessonSession kept on the app state (created and loaded on first use)."""
-    session = getattr(state, _SESSION_ATTRIBUTE, None)
-    if session is None:
-        session = LessonSession.load()
-        setattr(state, _SESSION_ATTRIBUTE, session)
-    return session
+    if state.lesson_session is None:
+        state.lesson_session = LessonSession.load()
+    return state.lesson_session
 
 
 def current_screen(state: AppState) -> Screen:
-    overlays = getattr(state, "overlays", None)
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
-                  view_mode=state.view_mode,
-                  view_buffer=getattr(state, "view_buffer", "final"),
-                  compare_overrides=tuple(getattr(state, "compare_overrides", ())),
-                  overlays=None if overlays is None else replace(overlays))
+                  view_mode=state.view_mode, view_buffer=state.view_buffer,
+                  compare_overrides=tuple(state.compare_overrides),
+                  overlays=replace(state.overlays))
 
 
 def show_screen(state: AppState, screen: Screen) -> None:
@@ -370,32 +363,29 @@ def show_screen(state: AppState, screen: Screen) -> None:
     state.settings = screen.settings
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
-    if hasattr(state, "compare_overrides"):
-        state.compare_overrides = tuple(screen.compare_overrides)
-    if hasattr(state, "view_buffer"):
-        state.view_buffer = screen.view_buffer
+    state.compare_overrides = tuple(screen.compare_overrides)
+    state.view_buffer = screen.view_buffer
     focus = []
     drawn = screen.overlays is not None and screen.overlays.any_shown
-    if screen.overlays is not None and hasattr(state, "overlays"):
+    if screen.overlays is not None:
         state.overlays = replace(screen.overlays)
-    if screen.inspect_source is not None and hasattr(state, "inspect"):
+    if screen.inspect_source is not None:
         state.inspect.source = screen.inspect_source
-    if screen.inspect_source in NOT_IN_SCENE_VIEWS and hasattr(state, "inspect"):
+    if screen.inspect_source in NOT_IN_SCENE_VIEWS:
         focus.append("Inspect")
     elif drawn:
         focus.append("Show in scene")
         if screen.overlays.picked_kind != "none" and screen.plot is None:
             focus.append("Picked")
-    elif screen.inspect_source is not None and hasattr(state, "inspect"):
+    elif screen.inspect_source is not None:
         focus.append("Inspect")
-    if hasattr(state, "runtime"):
-        from explorer.ui.panels.error import want_measurement
+    from explorer.ui.panels.error import want_measurement
 
-        want_measurement(state, screen.plot == "error")
+    want_measurement(state, screen.plot == "error")
     if screen.plot == "error":
         focus.append("Error")
-    elif screen.plot is not None and hasattr(state, "plot_tab"):
+    elif screen.plot is not None:
         state.plot_tab = screen.plot
         focus.append("Plots")
-    if focus and hasattr(state, "requests"):
+    if focus:
         state.requests.focus_panel = tuple(focus)
