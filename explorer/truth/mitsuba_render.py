@@ -1,0 +1,168 @@
+"""Mitsuba 3 as the independent ground truth: the exported scene (mitsuba_scene.py) rendered
+at the frame's pixels, split into the light an LPV frame is compared with.
+
+With Mitsuba's ``path`` integrator, ``max_depth`` d keeps paths of at most d − 1 bounces
+off surfaces (point-like and directional lights are never seen directly), so
+
+* direct light                 = render(max_depth 2),
+* one-bounce indirect light    = render(max_depth 3) − render(max_depth 2),
+* multi-bounce indirect light  = render(max_depth ∞) − render(max_depth 2).
+
+Both renders of a difference use the same seed: the path tracer draws the same samples
+for the first bounce whatever its depth limit, so the direct part cancels exactly and the
+difference holds only the noise of the added bounces (never negative). Each image is the
+mean of two seeds; half the relative L2 distance between the two seeds' images is the
+noise of that mean (two estimates with noise σ each differ by √2·σ; their mean has
+σ/√2), reported beside every error as Mitsuba's own noise level.
+
+Mitsuba is an optional extra (``pip install 'lpv-explorer[truth]'``);
+:func:`load_mitsuba` raises :class:`MitsubaUnavailable` with that line when it is missing.
+The ``scalar_rgb`` variant runs everywhere; ``llvm_ad_rgb`` (several times faster) needs an
+LLVM that Dr.Jit can drive (``DRJIT_LIBLLVM_PATH`` naming LLVM 16 or newer; Debian 12's
+LLVM 15 aborts it), so ``auto`` picks it only when that variable is set.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from explorer.truth.metrics import relative_l2
+from explorer.truth.mitsuba_scene import MitsubaScene, export_scene
+
+VARIANTS = ("auto", "scalar_rgb", "llvm_ad_rgb")
+INSTALL_HINT = "pip install 'lpv-explorer[truth]'"
+MULTI_BOUNCE_DEPTH = 64
+"""The path length limit of the "all bounces" render: with Russian roulette from depth 5
+the paths that reach it carry a negligible share (a white room of albedo 0.75 keeps
+0.75⁶³ ≈ 1e-8 of the light there)."""
+TRUTH_PARTS = ("direct", "one-bounce", "multi-bounce")
+SEEDS = (0, 1)
+
+
+class MitsubaUnavailable(RuntimeError):
+    """Mitsuba 3 cannot be imported or its variant cannot be set (one line: what to do)."""
+
+
+def pick_variant(variant: str = "auto") -> str:
+    """``auto``: ``llvm_ad_rgb`` when ``DRJIT_LIBLLVM_PATH`` names an LLVM for Dr.Jit, else
+    ``scalar_rgb``; another name is returned as it is (checked against :data:`VARIANTS`)."""
+    if variant not in VARIANTS:
+        raise ValueError(f"Mitsuba variant must be one of {', '.join(VARIANTS)}, got "
+                         f"{variant!r}")
+    if variant != "auto":
+        return variant
+    return "llvm_ad_rgb" if os.environ.get("DRJIT_LIBLLVM_PATH") else "scalar_rgb"
+
+
+def load_mitsuba(variant: str = "auto"):
+    """The ``mitsuba`` module with ``variant`` set (:func:`pick_variant`)."""
+    try:
+        import mitsuba as mi
+    except ImportError:
+        raise MitsubaUnavailable(f"Mitsuba 3 is not installed: {INSTALL_HINT}") from None
+    name = pick_variant(variant)
+    try:
+        mi.set_variant(name)
+    except (ImportError, AttributeError, RuntimeError, ValueError) as exc:
+        raise MitsubaUnavailable(f"Mitsuba variant {name!r} is not available ({exc}); try "
+                                 f"--mitsuba-variant scalar_rgb") from None
+    return mi
+
+
+def mitsuba_available() -> str | None:
+    """None when Mitsuba 3 can be imported, else the reason (tests print it)."""
+    try:
+        import mitsuba  # noqa: F401
+    except ImportError:
+        return f"Mitsuba 3 is not installed ({INSTALL_HINT})"
+    return None
+
+
+@dataclass
+class TruthPart:
+    """One kind of light (direct, one-bounce or multi-bounce indirect) as Mitsuba renders
+    it: the mean of the seeds and its noise."""
+
+    image: np.ndarray
+    """(H, W, 3) float64 linear radiance, row 0 at the top (the frame's order)."""
+    noise_l2: float
+    """Half the relative L2 distance between the seeds' images: the relative L2 noise of
+    :attr:`image`."""
+    noise_flux: float
+    """Half the relative difference of the seeds' total flux: the flux noise of
+    :attr:`image`."""
+    seeds: tuple[np.ndarray, np.ndarray]
+
+
+@dataclass
+class TruthImages:
+    """Mitsuba's direct, one-bounce and multi-bounce images of one scene and camera."""
+
+    parts: dict[str, TruthPart]
+    spp: int
+    variant: str
+    seconds: float
+
+    def __getitem__(self, name: str) -> TruthPart:
+        return self.parts[name]
+
+
+def _render(mi, exported: MitsubaScene, folder: Path, depth: int, spp: int, seed: int
+            ) -> np.ndarray:
+    description = exported.as_dict(mi, folder)
+    description["integrator"] = {"type": "path", "max_depth": int(depth)}
+    description["sampler"] = {"type": "independent", "sample_count": int(spp)}
+    image = mi.render(mi.load_dict(description), spp=int(spp), seed=int(seed))
+    return np.asarray(image, np.float64)[..., :3]
+
+
+def _part(seeds: list[np.ndarray]) -> TruthPart:
+    a, b = seeds
+    mean = 0.5 * (a + b)
+    total = float(a.sum() + b.sum())
+    flux = abs(float(a.sum() - b.sum())) / total if total > 0 else 0.0
+    return TruthPart(mean, 0.5 * relative_l2(a, b), flux, (a, b))
+
+
+def render_truth(scene, width: int, height: int, spp: int = 256, variant: str = "auto",
+                 parts: tuple[str, ...] = TRUTH_PARTS, progress=None) -> TruthImages:
+    """Mitsuba's images of ``scene`` (overrides applied) at ``width × height`` with
+    ``spp`` samples per pixel per seed. ``progress(done, total)`` after each render."""
+    import time
+
+    unknown = [name for name in parts if name not in TRUTH_PARTS]
+    if unknown or not parts:
+        raise ValueError(f"truth parts must be among {TRUTH_PARTS}, got {parts}")
+    if spp < 1:
+        raise ValueError(f"spp must be >= 1, got {spp}")
+    mi = load_mitsuba(variant)
+    exported = export_scene(scene, width, height)
+    depths = [2]
+    if "one-bounce" in parts:
+        depths.append(3)
+    if "multi-bounce" in parts:
+        depths.append(MULTI_BOUNCE_DEPTH)
+    started = time.perf_counter()
+    renders: dict[tuple[int, int], np.ndarray] = {}
+    with tempfile.TemporaryDirectory(prefix="lpv-mitsuba-") as folder:
+        exported.write_files(Path(folder))
+        total = len(depths) * len(SEEDS)
+        for seed in SEEDS:
+            for depth in depths:
+                renders[depth, seed] = _render(mi, exported, Path(folder), depth, spp, seed)
+                if progress is not None:
+                    progress(len(renders), total)
+    found = {}
+    for name in parts:
+        depth = {"direct": None, "one-bounce": 3, "multi-bounce": MULTI_BOUNCE_DEPTH}[name]
+        seeds = [renders[2, seed] if depth is None
+                 else np.maximum(renders[depth, seed] - renders[2, seed], 0.0)
+                 for seed in SEEDS]
+        found[name] = _part(seeds)
+    return TruthImages(found, int(spp), pick_variant(variant),
+                       time.perf_counter() - started)
