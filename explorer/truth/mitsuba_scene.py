@@ -35,9 +35,9 @@ import numpy as np
 from explorer.scene.lights import DirectionalLight, PointLight, SpotLight, spot_falloff
 
 MESH_FILE = "scene.ply"
-FALLOFF_TEXELS = 1024
+FALLOFF_TEXELS = 512
 """Edge of a spot's falloff texture: the smoothstep varies over hundreds of texels, so
-bilinear lookup reproduces it to about 1e-6."""
+bilinear lookup reproduces it to about 1e-5 (tests/test_mitsuba_export.py)."""
 SQUARE_FRUSTUM_CUTOFF_DEGREES = math.degrees(math.atan(math.sqrt(2.0))) + 0.5
 """Cutoff of a cone-less spot: just past the corner of its 90° square frustum
 (atan √2 = 54.7° from the axis); the texture is 0 outside the square."""
@@ -60,21 +60,24 @@ class MitsubaScene:
     width: int = 0
     height: int = 0
 
-    def write(self, path: Path) -> list[Path]:
-        """Write the scene to ``path`` (``.xml`` or ``.py``) and its files beside it;
-        returns every path written."""
+    def contents(self, path: Path) -> dict[Path, bytes]:
+        """Every file of the scene written as ``path`` (``.xml`` or ``.py``): the scene
+        itself first, then the PLY and the textures beside it."""
         path = Path(path)
         if path.suffix not in EXPORT_SUFFIXES:
             raise ExportError(f"the Mitsuba scene must be written to a .xml or .py file, got "
                               f"{path.name!r}")
-        folder = path.parent
-        written = []
-        for name, data in self.files.items():
-            (folder / name).write_bytes(data)
-            written.append(folder / name)
         text = to_xml(self) if path.suffix == ".xml" else to_python(self)
-        path.write_text(text)
-        return [path, *written]
+        return {path: text.encode("utf-8"),
+                **{path.parent / name: data for name, data in self.files.items()}}
+
+    def write(self, path: Path) -> list[Path]:
+        """Write the scene to ``path`` (``.xml`` or ``.py``) and its files beside it;
+        returns every path written."""
+        contents = self.contents(path)
+        for target, data in contents.items():
+            target.write_bytes(data)
+        return list(contents)
 
     def as_dict(self, mi, folder: Path) -> dict:
         """The dict ``mi.load_dict`` takes, reading this scene's files from ``folder``
@@ -199,7 +202,7 @@ def spot_falloff_texture(light: SpotLight, cutoff_degrees: float,
     ``d`` at ``u = ½ + ½·(d_x/d_z)/tan(cutoff)`` (and v from d_y), so texel centre (u, v)
     is the direction ``((2u − 1)·t, (2v − 1)·t, 1)``, t = tan(cutoff). A cone: the
     smoothstep of cos θ (:func:`spot_falloff`); no cone: 1 inside the square frustum
-    ``|x|, |y| ≤ 1`` (texel centres decide, half a texel of 1/1024 of the edge)."""
+    ``|x|, |y| ≤ 1`` (texel centres decide, half a texel of 1/512 of the edge)."""
     t = math.tan(math.radians(cutoff_degrees))
     centres = (np.arange(texels) + 0.5) / texels
     x, y = np.meshgrid((2.0 * centres - 1.0) * t, (2.0 * centres - 1.0) * t)
