@@ -155,7 +155,7 @@ def _frame_to_world(eye, forward, up) -> np.ndarray:
     return matrix
 
 
-def _view_frame(view: np.ndarray) -> np.ndarray:
+def view_frame(view: np.ndarray) -> np.ndarray:
     """The Mitsuba frame of an explorer view matrix (rows right, up, −forward; look_at in
     explorer/scene/transforms.py): the same eye, forward and up, so the image and a
     square frustum line up with the explorer's."""
@@ -168,7 +168,7 @@ def camera_sensor(camera, width: int, height: int) -> dict:
     """A perspective sensor with the explorer camera's frame and vertical field of view;
     a box filter makes each pixel the mean over its area, as a supersampled G-buffer."""
     return {"type": "perspective", "fov": float(camera.fov_y_degrees), "fov_axis": "y",
-            "to_world": _view_frame(camera.view_matrix()),
+            "to_world": view_frame(camera.view_matrix()),
             "film": {"type": "hdrfilm", "width": int(width), "height": int(height),
                      "pixel_format": "rgb", "rfilter": {"type": "box"}}}
 
@@ -186,7 +186,7 @@ def light_emitter(light, bounds_min, bounds_max) -> tuple[dict, bytes | None]:
     if isinstance(light, SpotLight):
         cutoff = (light.cone_degrees[1] if light.has_cone
                   else SQUARE_FRUSTUM_CUTOFF_DEGREES)
-        return {"type": "spot", "to_world": _view_frame(light.view_matrix()),
+        return {"type": "spot", "to_world": view_frame(light.view_matrix()),
                 "cutoff_angle": float(cutoff), "beam_width": float(cutoff),
                 "intensity": ("rgb", tuple(light.intensity * colour))}, \
             pfm_bytes(spot_falloff_texture(light, cutoff))
