@@ -30,7 +30,6 @@ Usage (from the repository root; needs ``pip install 'lpv-explorer[truth]'``)::
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import sys
@@ -219,19 +218,16 @@ def printed_differences(name: str, recorded: dict, fresh: dict) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m explorer.commands.truth_tables",
-                                     description=__doc__.split("\n\n")[0])
-    action = parser.add_mutually_exclusive_group(required=True)
-    action.add_argument("--check", action="store_true",
-                        help="docs/ERRORS.md is the data file, and a fresh run of the small "
-                             "tables prints the recorded digits")
-    action.add_argument("--measure", nargs="+", metavar="SIZE_OR_NAME",
-                        help="re-measure tables (small, large, all or names) and rewrite the "
-                             "data file and docs/ERRORS.md")
-    action.add_argument("--render", action="store_true",
-                        help="rewrite docs/ERRORS.md's physics tables from the data file")
-    parser.add_argument("--data", type=Path, default=DATA, help=argparse.SUPPRESS)
-    parser.add_argument("--document", type=Path, default=DOCUMENT, help=argparse.SUPPRESS)
+    from explorer.commands.tables import table_parser
+
+    parser = table_parser(
+        "python -m explorer.commands.truth_tables", __doc__.split("\n\n")[0], DATA,
+        DOCUMENT,
+        check="docs/ERRORS.md is the data file, and a fresh run of the small tables prints "
+              "the recorded digits",
+        measure="re-measure tables (small, large, all or names) and rewrite the data file "
+                "and docs/ERRORS.md",
+        render="rewrite docs/ERRORS.md's physics tables from the data file")
     args = parser.parse_args(argv)
     prog = parser.prog
     try:
