@@ -40,7 +40,8 @@ def test_readme_physics_table_is_the_data_file():
                ("geometry volume one-sided", "one-bounce"), ("corrected", "multi-bounce"))
     for line in rows:
         cells = [c.strip() for c in line.strip("|").split("|")]
-        table = {row["variant"]: row for row in data["tables"][f"physics-{cells[0]}"]["rows"]}
+        scene = cells[0].strip("`")
+        table = {row["variant"]: row for row in data["tables"][f"physics-{scene}"]["rows"]}
         for cell, (variant, truth) in zip(cells[1:], columns):
             metrics = table[variant][truth]
             flux, l2 = re.fullmatch(r"([\d.]+) \(([\d.]+)\)", cell).groups()
