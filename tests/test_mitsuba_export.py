@@ -136,3 +136,16 @@ def test_export_mitsuba_bad_input_is_one_line(tmp_path, capsys):
     assert len(errors) == 2 and all(line.startswith("lpv-explorer export-mitsuba: error:")
                                     for line in errors)
     assert not list(tmp_path.iterdir())
+
+
+def test_compare_truth_without_mitsuba_is_one_line(tmp_path, capsys, monkeypatch):
+    """A missing Mitsuba (import fails) is one line naming the extra, before rendering."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "mitsuba", None)      # `import mitsuba` raises
+    code = cli_main(["compare", "--truth", "mitsuba", "--size", "16x16", "--rsm-size", "8",
+                     "--quiet", "--out", str(tmp_path / "cmp")])
+    error = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(error) == 1
+    assert "Mitsuba 3 is not installed: pip install 'lpv-explorer[truth]'" in error[0]
+    assert not (tmp_path / "cmp" / "table.md").exists()
