@@ -26,13 +26,14 @@ from __future__ import annotations
 
 import os
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from explorer.truth.metrics import relative_l2
-from explorer.truth.mitsuba_scene import MitsubaScene, export_scene
+from explorer.truth.mitsuba_scene import export_scene
 
 VARIANTS = ("auto", "scalar_rgb", "llvm_ad_rgb")
 INSTALL_HINT = "pip install 'lpv-explorer[truth]'"
@@ -42,6 +43,7 @@ the paths that reach it carry a negligible share (a white room of albedo 0.75 ke
 0.75⁶³ ≈ 1e-8 of the light there)."""
 TRUTH_PARTS = ("direct", "one-bounce", "multi-bounce")
 SEEDS = (0, 1)
+SCENE_FILE = "scene.xml"
 
 
 class MitsubaUnavailable(RuntimeError):
@@ -112,13 +114,30 @@ class TruthImages:
         return self.parts[name]
 
 
-def _render(mi, exported: MitsubaScene, folder: Path, depth: int, spp: int, seed: int
-            ) -> np.ndarray:
-    description = exported.as_dict(mi, folder)
-    description["integrator"] = {"type": "path", "max_depth": int(depth)}
-    description["sampler"] = {"type": "independent", "sample_count": int(spp)}
-    image = mi.render(mi.load_dict(description), spp=int(spp), seed=int(seed))
-    return np.asarray(image, np.float64)[..., :3]
+def depths_for(parts: tuple[str, ...]) -> list[int]:
+    """The ``max_depth`` of each render the parts need (2 always: the direct light)."""
+    unknown = [name for name in parts if name not in TRUTH_PARTS]
+    if unknown or not parts:
+        raise ValueError(f"truth parts must be among {TRUTH_PARTS}, got {parts}")
+    return [2] + ([3] if "one-bounce" in parts else []) + (
+        [MULTI_BOUNCE_DEPTH] if "multi-bounce" in parts else [])
+
+
+def render_file(mi, path: Path, spp: int, depths: list[int], progress=None
+                ) -> dict[tuple[int, int], np.ndarray]:
+    """Render the exported scene file ``path`` once per depth and seed: ``(depth, seed)``
+    -> (H, W, 3) float64. ``progress(done, total)`` after each render."""
+    scene = mi.load_file(str(path))
+    renders = {}
+    total = len(depths) * len(SEEDS)
+    for seed in SEEDS:
+        for depth in depths:
+            integrator = mi.load_dict({"type": "path", "max_depth": int(depth)})
+            image = mi.render(scene, integrator=integrator, spp=int(spp), seed=int(seed))
+            renders[depth, seed] = np.asarray(image, np.float64)[..., :3]
+            if progress is not None:
+                progress(len(renders), total)
+    return renders
 
 
 def _part(seeds: list[np.ndarray]) -> TruthPart:
@@ -129,34 +148,11 @@ def _part(seeds: list[np.ndarray]) -> TruthPart:
     return TruthPart(mean, 0.5 * relative_l2(a, b), flux, (a, b))
 
 
-def render_truth(scene, width: int, height: int, spp: int = 256, variant: str = "auto",
-                 parts: tuple[str, ...] = TRUTH_PARTS, progress=None) -> TruthImages:
-    """Mitsuba's images of ``scene`` (overrides applied) at ``width × height`` with
-    ``spp`` samples per pixel per seed. ``progress(done, total)`` after each render."""
-    import time
-
-    unknown = [name for name in parts if name not in TRUTH_PARTS]
-    if unknown or not parts:
-        raise ValueError(f"truth parts must be among {TRUTH_PARTS}, got {parts}")
-    if spp < 1:
-        raise ValueError(f"spp must be >= 1, got {spp}")
-    mi = load_mitsuba(variant)
-    exported = export_scene(scene, width, height)
-    depths = [2]
-    if "one-bounce" in parts:
-        depths.append(3)
-    if "multi-bounce" in parts:
-        depths.append(MULTI_BOUNCE_DEPTH)
-    started = time.perf_counter()
-    renders: dict[tuple[int, int], np.ndarray] = {}
-    with tempfile.TemporaryDirectory(prefix="lpv-mitsuba-") as folder:
-        exported.write_files(Path(folder))
-        total = len(depths) * len(SEEDS)
-        for seed in SEEDS:
-            for depth in depths:
-                renders[depth, seed] = _render(mi, exported, Path(folder), depth, spp, seed)
-                if progress is not None:
-                    progress(len(renders), total)
+def truth_images(renders: dict[tuple[int, int], np.ndarray], parts: tuple[str, ...],
+                 spp: int, variant: str, seconds: float) -> TruthImages:
+    """The parts from the renders of :func:`render_file`: a difference of two depths of
+    the same seed is the light of the bounces between them (never negative but for
+    rounding, which is clamped)."""
     found = {}
     for name in parts:
         depth = {"direct": None, "one-bounce": 3, "multi-bounce": MULTI_BOUNCE_DEPTH}[name]
@@ -164,5 +160,52 @@ def render_truth(scene, width: int, height: int, spp: int = 256, variant: str = 
                  else np.maximum(renders[depth, seed] - renders[2, seed], 0.0)
                  for seed in SEEDS]
         found[name] = _part(seeds)
-    return TruthImages(found, int(spp), pick_variant(variant),
-                       time.perf_counter() - started)
+    return TruthImages(found, int(spp), variant, seconds)
+
+
+def render_truth(scene, width: int, height: int, spp: int = 256, variant: str = "auto",
+                 parts: tuple[str, ...] = TRUTH_PARTS, progress=None) -> TruthImages:
+    """Mitsuba's images of ``scene`` (overrides applied) at ``width × height`` with
+    ``spp`` samples per pixel per seed, in this process. ``progress(done, total)`` after
+    each render."""
+    if spp < 1:
+        raise ValueError(f"spp must be >= 1, got {spp}")
+    depths = depths_for(parts)
+    mi = load_mitsuba(variant)
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="lpv-mitsuba-") as folder:
+        path = Path(folder) / SCENE_FILE
+        export_scene(scene, width, height).write(path)
+        renders = render_file(mi, path, spp, depths, progress)
+    return truth_images(renders, parts, spp, pick_variant(variant),
+                        time.perf_counter() - started)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """The worker of explorer/truth/mitsuba_job.py: ``python -m
+    explorer.truth.mitsuba_render FOLDER SPP VARIANT PARTS`` renders FOLDER/scene.xml and
+    writes FOLDER/renders.npz (one array per depth and seed), counting the renders done
+    in FOLDER/progress."""
+    import sys
+
+    folder, spp, variant, parts = (argv if argv is not None else sys.argv[1:])
+    folder = Path(folder)
+
+    def progress(done: int, total: int) -> None:
+        (folder / "progress").write_text(f"{done} {total}")
+
+    try:
+        mi = load_mitsuba(variant)
+    except MitsubaUnavailable as exc:
+        (folder / "problem").write_text(str(exc))
+        return 1
+    renders = render_file(mi, folder / SCENE_FILE, int(spp),
+                          depths_for(tuple(parts.split(","))), progress)
+    np.savez(folder / "renders.partial.npz",
+             **{f"d{depth}_s{seed}": image for (depth, seed), image in renders.items()})
+    (folder / "renders.partial.npz").replace(folder / "renders.npz")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -20,9 +20,8 @@ What is exported, and how each explorer quantity maps onto a stock Mitsuba plugi
   mean over its area).
 
 :class:`MitsubaScene` holds that description as plain data; :meth:`MitsubaScene.write`
-writes the XML (``.xml``) or a Python script (``.py``, ``mi.load_dict``) next to the PLY
-and the textures, and :meth:`MitsubaScene.as_dict` gives the dict for an in-process
-render (explorer/truth/mitsuba_render.py)."""
+writes the XML (``.xml``, what explorer/truth/mitsuba_render.py renders) or a Python
+script (``.py``, ``mi.load_dict``) next to the PLY and the textures."""
 
 from __future__ import annotations
 
@@ -78,16 +77,6 @@ class MitsubaScene:
         for target, data in contents.items():
             target.write_bytes(data)
         return list(contents)
-
-    def as_dict(self, mi, folder: Path) -> dict:
-        """The dict ``mi.load_dict`` takes, reading this scene's files from ``folder``
-        (where :meth:`write_files` put them)."""
-        return {"type": "scene", **{name: _to_mitsuba(plugin, mi, folder)
-                                    for name, plugin in self.plugins.items()}}
-
-    def write_files(self, folder: Path) -> None:
-        for name, data in self.files.items():
-            (Path(folder) / name).write_bytes(data)
 
 
 # --- the scene -------------------------------------------------------------------------
@@ -315,18 +304,3 @@ if __name__ == "__main__":
     mi.util.write_bitmap(out, image)
     print("wrote", out)
 '''
-
-
-def _to_mitsuba(value, mi, folder: Path):
-    if isinstance(value, dict):
-        return {key: _to_mitsuba(item, mi, folder) for key, item in value.items()}
-    if isinstance(value, np.ndarray):
-        return mi.ScalarTransform4f(value.tolist())
-    if isinstance(value, tuple) and value and value[0] == "rgb":
-        return {"type": "rgb", "value": list(value[1])}
-    if isinstance(value, Path):
-        return str(Path(folder) / value)
-    if isinstance(value, tuple):
-        return list(value)
-    return value
-
