@@ -31,6 +31,7 @@ def _until(service, ctx, done, calls: int = 4000) -> None:
 
 def test_error_service_measures_against_mitsuba_and_cancels_on_change(ctx, monkeypatch):
     from explorer import live_values
+    from explorer.truth.mitsuba_job import ErrorReadout
     from explorer.ui.panels import error as panel
 
     monkeypatch.setattr(panel, "MITSUBA_SPP", 4)
@@ -50,7 +51,7 @@ def test_error_service_measures_against_mitsuba_and_cancels_on_change(ctx, monke
         _until(service, ctx, lambda: service.truth_for() is not None)
         truth = service.truth_for()
         assert 0.0 < truth.reference.flux_ratio < 2.0 and truth.one_bounce.pixels > 0
-        readout = panel.ErrorReadout(service.result_for().stats, truth)
+        readout = ErrorReadout(service.result_for().stats, truth)
         context = live_values.LiveContext(settings=SMALL, error=readout)
         assert live_values.table()["error.mitsuba_flux_ratio"].read(context) == \
             pytest.approx(truth.one_bounce.flux_ratio)
@@ -59,7 +60,7 @@ def test_error_service_measures_against_mitsuba_and_cancels_on_change(ctx, monke
         assert live_values.table()["error.flux_ratio"].read(context) == \
             pytest.approx(service.result_for().stats.flux_ratio)
         bare = live_values.LiveContext(settings=SMALL,
-                                       error=panel.ErrorReadout(readout.stats, None))
+                                       error=ErrorReadout(readout.stats, None))
         with pytest.raises(live_values.Unavailable, match="Mitsuba"):
             live_values.table()["error.mitsuba_flux_ratio"].read(bare)
     finally:

@@ -118,3 +118,25 @@ class TruthStats:
         self.reference = error_stats(reference, one.image, valid)
         self.noise = (one.noise_l2, one.noise_flux)
         self.truth = truth
+
+
+class ErrorReadout:
+    """What ``{{error.*}}`` reads: the ErrorStats of configuration A against the
+    reference (``relative_l2``, ``flux_ratio``, ...) and, once Mitsuba has measured it,
+    ``mitsuba_*`` (the LPV against Mitsuba's one bounce), ``mitsuba_multi_*`` (all
+    bounces) and ``reference_mitsuba_*`` (the reference against the one bounce); None
+    until then."""
+
+    PREFIXES = (("reference_mitsuba_", "reference"), ("mitsuba_multi_", "multi_bounce"),
+                ("mitsuba_", "one_bounce"))
+
+    def __init__(self, stats, truth=None) -> None:
+        self.stats, self.truth = stats, truth
+
+    def __getattr__(self, name: str):
+        for prefix, field in self.PREFIXES:
+            if name.startswith(prefix):
+                truth = self.__dict__["truth"]
+                return None if truth is None else getattr(getattr(truth, field),
+                                                          name[len(prefix):])
+        return getattr(self.__dict__["stats"], name)

@@ -203,32 +203,12 @@ def want_measurement(state, wanted: bool = True) -> None:
     error_service(state).lesson_wants = wanted
 
 
-class ErrorReadout:
-    """What ``{{error.*}}`` reads: the ErrorStats of configuration A against the
-    reference (``relative_l2``, ``flux_ratio``, ...) and, once Mitsuba has measured it,
-    ``mitsuba_*`` (the LPV against Mitsuba's one bounce), ``mitsuba_multi_*`` (all
-    bounces) and ``reference_mitsuba_*`` (the reference against the one bounce); None
-    until then."""
-
-    PREFIXES = (("reference_mitsuba_", "reference"), ("mitsuba_multi_", "multi_bounce"),
-                ("mitsuba_", "one_bounce"))
-
-    def __init__(self, stats, truth=None) -> None:
-        self.stats, self.truth = stats, truth
-
-    def __getattr__(self, name: str):
-        for prefix, field in self.PREFIXES:
-            if name.startswith(prefix):
-                truth = self.__dict__["truth"]
-                return None if truth is None else getattr(getattr(truth, field),
-                                                          name[len(prefix):])
-        return getattr(self.__dict__["stats"], name)
-
-
 def current_stats(state):
     """An :class:`ErrorReadout` of configuration A when measured, else None (lesson
     placeholders)."""
     service = error_service(state)
+    from explorer.truth.mitsuba_job import ErrorReadout
+
     result = service.result_for()
     return None if result is None else ErrorReadout(result.stats, service.truth_for())
 
