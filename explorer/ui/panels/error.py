@@ -64,6 +64,9 @@ class ErrorService:
         self.problem: str | None = None
         self.last: ErrorResult | None = None
         self.truth = TRUTHS[0]
+        self.lesson_truth = False
+        """The lesson step on screen quotes ``{{error.mitsuba_*}}``: measure against
+        Mitsuba (when installed) while it shows, whatever the combo says."""
         self.truths: OrderedDict[Any, Any] = OrderedDict()
         """key -> TruthStats (explorer/truth/mitsuba_job.py) of a finished measurement."""
         self.truth_job = None
@@ -109,13 +112,25 @@ class ErrorService:
             self.truth_job.release()
         self.truth_job = self.truth_key = None
 
+    @property
+    def against_mitsuba(self) -> bool:
+        """Measurements are held against Mitsuba (the combo, or the lesson step asks and
+        Mitsuba is installed)."""
+        if self.truth != TRUTHS[0]:
+            return True
+        if not self.lesson_truth:
+            return False
+        from explorer.truth.mitsuba_render import mitsuba_available
+
+        return mitsuba_available() is None
+
     def _advance_truth(self, key: Any) -> None:
         """Start, poll or end Mitsuba's render of the measurement of ``key``."""
-        if self.truth_job is not None and (self.truth_key != key or self.truth == TRUTHS[0]):
+        wanted = self.against_mitsuba
+        if self.truth_job is not None and (self.truth_key != key or not wanted):
             self.cancel_truth()                   # the settings moved on: stop
         result = self.cache.get(key)
-        if self.truth == TRUTHS[0] or result is None or key in self.truths or \
-                self.truth_problem:
+        if not wanted or result is None or key in self.truths or self.truth_problem:
             return
         from explorer.truth.mitsuba_job import MitsubaJob, TruthStats
 
@@ -199,8 +214,16 @@ def error_service(state) -> ErrorService:
 
 def want_measurement(state, wanted: bool = True) -> None:
     """A lesson step shows the error (or no longer does): measure every configuration
-    it shows while it is on screen."""
-    error_service(state).lesson_wants = wanted
+    it shows while it is on screen. A new step drops the previous one's wish for Mitsuba
+    (:func:`want_truth`)."""
+    service = error_service(state)
+    service.lesson_wants = wanted
+    service.lesson_truth = False
+
+
+def want_truth(state) -> None:
+    """The lesson step on screen quotes Mitsuba's numbers: measure against Mitsuba too."""
+    error_service(state).lesson_truth = True
 
 
 def current_stats(state):
@@ -287,10 +310,12 @@ def _truth_controls(service: ErrorService) -> None:
     missing = mitsuba_available()
     imgui.set_next_item_width(170)
     imgui.begin_disabled(missing is not None)
-    changed, truth = widgets.combo("truth", service.truth, TRUTHS)
+    shown = TRUTHS[1] if service.against_mitsuba else service.truth
+    changed, truth = widgets.combo("truth", shown, TRUTHS)
     imgui.end_disabled()
     if changed:
         service.truth, service.truth_problem = truth, None
+        service.lesson_truth = False
     if imgui.is_item_hovered(imgui.HoveredFlags_.allow_when_disabled):
         imgui.set_tooltip(missing or "also render the measured frame with Mitsuba 3 (a "
                           f"physically based path tracer, {MITSUBA_SPP} spp × 2 seeds, in "
