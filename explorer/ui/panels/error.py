@@ -334,14 +334,14 @@ def _truth(service: ErrorService) -> None:
     if truth is None:
         return
     one, multi, ref = truth.one_bounce, truth.multi_bounce, truth.reference
-    imgui.text("against Mitsuba, one bounce: flux ratio")
+    imgui.text("Mitsuba 1 bounce: flux")
     imgui.same_line()
     imgui.text_colored(widgets.ACCENT, f"{one.flux_ratio:.3f}")
     imgui.same_line()
-    imgui.text(f"relative L2 {one.relative_l2:.3f}")
-    imgui.text_disabled("per channel (r, g, b): "
-                        + ", ".join(f"{v:.2f}" for v in one.flux_ratio_rgb)
-                        + f"; all bounces: flux ratio {multi.flux_ratio:.3f}")
+    imgui.text(f"rel. L2 {one.relative_l2:.3f}")
+    widgets.dim_text_wrapped("per channel (r, g, b): "
+                             + ", ".join(f"{v:.2f}" for v in one.flux_ratio_rgb)
+                             + f"; all bounces: flux ratio {multi.flux_ratio:.3f}")
     widgets.dim_text_wrapped(
         f"The reference itself against Mitsuba's one bounce: flux ratio "
         f"{ref.flux_ratio:.3f}, relative L2 {ref.relative_l2:.3f} (Mitsuba's noise "
