@@ -32,7 +32,8 @@ def test_self_light_of_a_small_cornell_box(gl_context):
     result = measure(settings, gl_context)
     assert np.allclose(result.closure, 1.0, atol=0.05)      # the clamp, coarse 8³ cells
     index = np.arange(len(result.names))
-    assert np.all(result.reference[index, index] == 0.0)      # no surface lights itself
+    # no surface lights itself (a block: float rounding at its edges, 1e-15)
+    assert np.all(result.reference[index, index] < 1e-9 * result.reference.sum())
     assert result.lpv[index, index].sum() > 0.0               # the LPV's do
     shares = result.shares()
     white = [result.names.index(n) for n in ("floor", "back wall", "tall block")]
