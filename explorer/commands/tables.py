@@ -271,6 +271,15 @@ def table_parser(prog: str, description: str, data: Path, document: Path, check:
     return parser
 
 
+def report(problems: list[str], agreed: str) -> int:
+    """Print each problem, or ``agreed`` when there is none; the exit status (1: any)."""
+    for line in problems:
+        print(line)
+    if not problems:
+        print(agreed)
+    return 1 if problems else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = table_parser(
         "python -m explorer.commands.tables", __doc__.split("\n\n")[0], DATA, DOCUMENT,
@@ -322,12 +331,8 @@ def main(argv: list[str] | None = None) -> int:
     band = float(data["band"]["relative"])
     for name, result in results.items():
         problems += differences(name, data["tables"][name]["rows"], result.rows, band)
-    for line in problems:
-        print(line)
-    if not problems:
-        print(f"docs/ERRORS.md matches the data file; {len(names)} tables re-measured "
-              f"within {band:g} of the recorded values")
-    return 1 if problems else 0
+    return report(problems, f"docs/ERRORS.md matches the data file; {len(names)} tables "
+                            f"re-measured within {band:g} of the recorded values")
 
 
 if __name__ == "__main__":  # pragma: no cover

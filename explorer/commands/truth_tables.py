@@ -218,7 +218,7 @@ def printed_differences(name: str, recorded: dict, fresh: dict) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from explorer.commands.tables import table_parser
+    from explorer.commands.tables import report, table_parser
 
     parser = table_parser(
         "python -m explorer.commands.truth_tables", __doc__.split("\n\n")[0], DATA,
@@ -271,12 +271,8 @@ def main(argv: list[str] | None = None) -> int:
         "docs/ERRORS.md's physics tables are not the data file's (--render rewrites them)"]
     for name, result in results.items():
         problems += printed_differences(name, data["tables"][name], result)
-    for line in problems:
-        print(line)
-    if not problems:
-        print(f"docs/ERRORS.md matches the data file; {len(results)} tables re-measured "
-              f"to their printed digits")
-    return 1 if problems else 0
+    return report(problems, f"docs/ERRORS.md matches the data file; {len(results)} tables "
+                            f"re-measured to their printed digits")
 
 
 if __name__ == "__main__":  # pragma: no cover
