@@ -61,13 +61,48 @@ def pick_variant(variant: str = "auto") -> str:
     return "llvm_ad_rgb" if os.environ.get("DRJIT_LIBLLVM_PATH") else "scalar_rgb"
 
 
-def load_mitsuba(variant: str = "auto"):
-    """The ``mitsuba`` module with ``variant`` set (:func:`pick_variant`)."""
+_PROBE = ("import mitsuba as mi; mi.set_variant({name!r}); "
+          "mi.render(mi.load_dict({{'type': 'scene', 'shape': {{'type': 'sphere'}}, "
+          "'light': {{'type': 'constant'}}, 'integrator': {{'type': 'path'}}, "
+          "'camera': {{'type': 'perspective', "
+          "'film': {{'type': 'hdrfilm', 'width': 4, 'height': 4}}}}}}), spp=1)")
+_PROBED: dict[str, str | None] = {}
+
+
+def probe_variant(name: str) -> str | None:
+    """None when a JIT variant renders a 4×4 test image in a child process, else why
+    not: Dr.Jit aborts the whole process on an LLVM it cannot drive (Debian 12's LLVM 15),
+    so the first render of an ``llvm_*`` variant is tried where an abort costs nothing."""
+    if name not in _PROBED:
+        import subprocess
+        import sys
+
+        try:
+            run = subprocess.run([sys.executable, "-c", _PROBE.format(name=name)],
+                                 capture_output=True, text=True, timeout=300)
+            lines = (run.stderr or "").strip().splitlines()
+            _PROBED[name] = None if run.returncode == 0 else (
+                f"a test render ended with exit status {run.returncode}"
+                + (f": {lines[-1]}" if lines else ""))
+        except (OSError, subprocess.TimeoutExpired) as exc:
+            _PROBED[name] = f"a test render failed: {exc}"
+    return _PROBED[name]
+
+
+def load_mitsuba(variant: str = "auto", probe: bool = True):
+    """The ``mitsuba`` module with ``variant`` set (:func:`pick_variant`); a JIT variant
+    is first tried in a child process (:func:`probe_variant`) unless ``probe`` is False
+    (a worker whose parent tried it)."""
     try:
         import mitsuba as mi
     except ImportError:
         raise MitsubaUnavailable(f"Mitsuba 3 is not installed: {INSTALL_HINT}") from None
     name = pick_variant(variant)
+    problem = probe_variant(name) if probe and name != "scalar_rgb" else None
+    if problem is not None:
+        raise MitsubaUnavailable(f"Mitsuba variant {name!r} does not run here ({problem}); "
+                                 f"use --mitsuba-variant scalar_rgb, or point "
+                                 f"DRJIT_LIBLLVM_PATH at LLVM 16 or newer")
     try:
         mi.set_variant(name)
     except (ImportError, AttributeError, RuntimeError, ValueError) as exc:
@@ -194,8 +229,8 @@ def main(argv: list[str] | None = None) -> int:
     def progress(done: int, total: int) -> None:
         (folder / "progress").write_text(f"{done} {total}")
 
-    try:
-        mi = load_mitsuba(variant)
+    try:      # an abort here ends this child only: the parent reads its exit status
+        mi = load_mitsuba(variant, probe=False)
     except MitsubaUnavailable as exc:
         (folder / "problem").write_text(str(exc))
         return 1
