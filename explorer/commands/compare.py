@@ -236,11 +236,12 @@ def main(args: argparse.Namespace) -> int:
         exposure = args.exposure or _auto_exposure(reference, valid)
         written = _write(outputs, out, args, comparison.images, reference, valid, exposure)
         if args.truth == "mitsuba":
-            truth_table = compare_truth.run(args, comparison, scene, comparison.regions,
-                                            outputs, out, exposure)
+            truth_table, truth_files = compare_truth.run(args, comparison, scene,
+                                                         comparison.regions, outputs, out,
+                                                         exposure)
             print("\n" + truth_table)
             table += "\n\n" + truth_table
-            written += ["mitsuba-*.png", "error-mitsuba-*.png", "mitsuba.npz"]
+            written += truth_files
         outputs.write(out / "table.md", lambda p: p.write_text(table + "\n"))
     print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
     return 0

@@ -120,9 +120,9 @@ def format_truth_table(rows: list[TruthRow], truth) -> str:
 
 
 def run(args: argparse.Namespace, comparison, scene, regions: dict[str, np.ndarray],
-        outputs: options.Outputs, out: Path, exposure: float) -> str:
+        outputs: options.Outputs, out: Path, exposure: float) -> tuple[str, list[str]]:
     """Render Mitsuba's images at the comparison's pixels, write them and return the
-    table (printed by the caller)."""
+    table (printed by the caller) and the names of the files written."""
     from explorer.truth.mitsuba_render import MitsubaUnavailable, render_truth
 
     settings = comparison.frame.settings
@@ -139,12 +139,12 @@ def run(args: argparse.Namespace, comparison, scene, regions: dict[str, np.ndarr
     except MitsubaUnavailable as exc:
         raise options.CommandError(exc, 1) from None
     rows = truth_rows(comparison, truth, regions)
-    _write_images(outputs, out, comparison, truth, exposure)
-    return format_truth_table(rows, truth)
+    written = _write_images(outputs, out, comparison, truth, exposure)
+    return format_truth_table(rows, truth), written
 
 
 def _write_images(outputs: options.Outputs, out: Path, comparison, truth,
-                  exposure: float) -> None:
+                  exposure: float) -> list[str]:
     from explorer.commands.compare_report import save_error_png, save_png
     from explorer.truth.metrics import error_image
 
@@ -159,3 +159,5 @@ def _write_images(outputs: options.Outputs, out: Path, comparison, truth,
     arrays = {name.replace("-", "_"): part.image.astype(np.float32)
               for name, part in truth.parts.items()}
     outputs.write(out / "mitsuba.npz", lambda p: np.savez_compressed(p, **arrays))
+    return [f"mitsuba-{name}.png" for name in truth.parts] + [
+        f"error-mitsuba-{label}.png" for label in comparison.images] + ["mitsuba.npz"]
