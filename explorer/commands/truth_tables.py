@@ -115,6 +115,7 @@ def measure_table(table: dict, ctx) -> dict:
     scene = scene_for(base)
     truth = render_truth(scene, base.width, base.height, table["spp"], table["variant"])
     min_distance = None
+    masks = None
     references: list[tuple[object, tuple]] = []
     rows = []
     with Pipeline(base, ctx) as pipeline:
@@ -130,17 +131,19 @@ def measure_table(table: dict, ctx) -> dict:
                 references.append((frame.vpls, cached))
             reference, gbuffer = cached
             valid = gbuffer.valid
-            if not rows:
-                rows.append({"variant": "reference (project)", "reference": None,
-                             "one-bounce": _metrics(reference, truth["one-bounce"].image,
-                                                    valid),
-                             "multi-bounce": _metrics(reference,
-                                                      truth["multi-bounce"].image, valid)})
+            if masks is None:
+                masks = _region_masks(table, scene, base, valid, ctx)
             lpv = np.asarray(frame.indirect, np.float64)[..., :3]
-            rows.append({"variant": variant["label"],
-                         **{name: _metrics(lpv, reference if name == "reference"
-                                           else truth[name].image, valid)
-                            for name in TRUTHS}})
+            for region, mask in masks.items():
+                suffix = "" if region == "image" else f" · {region}"
+                if not any(row["variant"] == f"reference (project){suffix}" for row in rows):
+                    rows.append({"variant": f"reference (project){suffix}", "reference": None,
+                                 **{name: _metrics(reference, truth[name].image, mask)
+                                    for name in TRUTHS[1:]}})
+                rows.append({"variant": variant["label"] + suffix,
+                             **{name: _metrics(lpv, reference if name == "reference"
+                                               else truth[name].image, mask)
+                                for name in TRUTHS}})
     direct = _metrics(frame.direct[..., :3], truth["direct"].image, valid)
     caption = (f"scene `{base.scene}`, {base.width}×{base.height} px, RSM {base.rsm_size}², "
                f"grid {base.grid_size}³, {base.iterations} iterations unless the variant "
@@ -151,6 +154,20 @@ def measure_table(table: dict, ctx) -> dict:
                f"{truth['multi-bounce'].noise_flux:.4f}; the explorer's direct light / "
                f"Mitsuba's: flux {direct['flux_ratio']:.3f}")
     return {"rows": rows, "caption": caption, "seconds": time.perf_counter() - started}
+
+
+def _region_masks(table: dict, scene, settings, valid, ctx) -> dict[str, np.ndarray]:
+    """The whole image and each surface of ``table["regions"]`` (explorer/scene/parts.py)
+    among the pixels that see a surface."""
+    masks = {"image": valid}
+    names = table.get("regions", [])
+    if names:
+        from explorer.truth.surface_masks import render_triangle_ids, surface_masks
+
+        ids = render_triangle_ids(ctx, scene, settings.width, settings.height)
+        masks.update({name: mask & valid
+                      for name, mask in surface_masks(scene, ids, names).items()})
+    return masks
 
 
 def _same_vpls(a, b) -> bool:
