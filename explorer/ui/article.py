@@ -74,9 +74,11 @@ def try_label(item: TryThis) -> tuple[str, str]:
 
 def live_context(state: AppState, step: Step) -> live_values.LiveContext:
     """What the step's placeholders read now (figures: those the step quotes)."""
-    from explorer.ui.panels.error import current_stats
+    from explorer.ui.panels.error import current_stats, want_truth
 
     rt = state.runtime
+    if uses_truth(step):
+        want_truth(state)
     figures = {}
     wanted = {name.split(".")[1] for text in _texts(step)
               for name, _ in lesson_text.placeholders(text) if name.startswith("figure.")}
@@ -114,6 +116,13 @@ def uses_audit(step: Step) -> str:
         *[AUDIT_FIGURES.get(spec.kind, "off") for spec in step.figures],
         *[live_values.audit_needed(name) for text in _texts(step)
           for name, _ in lesson_text.placeholders(text)])
+
+
+def uses_truth(step: Step) -> bool:
+    """The step quotes a number measured against Mitsuba (``error.mitsuba_*``,
+    ``error.reference_mitsuba_*``)."""
+    return any(name.startswith(("error.mitsuba_", "error.reference_mitsuba_"))
+               for text in _texts(step) for name, _ in lesson_text.placeholders(text))
 
 
 def uses_error(step: Step) -> bool:
