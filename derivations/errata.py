@@ -47,9 +47,11 @@ from derivations.solid_angles import (
     spherical_angle, unit)
 
 MODULE = "errata"
-ANNOTATIONS = "lpv-annotations.md"
-DX11 = "lpv-dx11-article.md"
-DX12 = "lpv-dx12-blog.md"
+# The sources as a reader can find them (full references, not the names of the plain-text
+# copies the project was built from).
+ANNOTATIONS = "Kirsch, \"Light Propagation Volumes — Annotations\" (2010)"
+DX11 = "the DirectX 11 LPV implementation article"
+DX12 = "the DirectX 12 LPV write-up"
 VERDICTS = ("correct", "rounded", "truncated", "wrong", "approximate", "not derivable")
 
 _s = sp.sqrt

@@ -675,47 +675,48 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'errata.annotations.front_corner_dot_adjacent': (
         '\\left(c_{1} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{9}{11}',
-        'front face: c1·c2 (adjacent corners) as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (5)): 9/11.',
+        'front face: c1·c2 (adjacent corners) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (5)): 9/11.',
         0.8181818181818182,
     ),
     'errata.annotations.front_corner_dot_diagonal': (
         '\\left(c_{3} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{7}{11}',
-        'front face: c3·c2 (diagonal corners) as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (7)): 7/11.',
+        'front face: c3·c2 (diagonal corners) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (7)): 7/11.',
         0.6363636363636364,
     ),
     'errata.annotations.front_maple_delta': (
         '\\delta^{\\mathrm{printed}} = \\pi - \\operatorname{acos}{\\left(0.1 \\right)}',
-        'front face: angle δ at a corner as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (10)): π − arccos(1/10).',
+        'front face: angle δ at a corner as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (10)): π − arccos(1/10).',
         1.6709637479564565,
     ),
     'errata.annotations.front_maple_alpha': (
         '\\alpha^{\\mathrm{printed}} = \\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} '
         '\\right)}',
-        'front face: angle α at a corner as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (12)): arccos(3/20·√2·√10).',
+        'front face: angle α at a corner as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (12)): arccos(3/20·√2·√10).',
         0.8354818739782283,
     ),
     'errata.annotations.front_maple_closed_form': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = - 2 '
         '\\operatorname{acos}{\\left(0.1 \\right)} + 4 \\operatorname{acos}{\\left(\\frac{3 '
         '\\sqrt{5}}{10} \\right)}',
-        'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 arccos(1/10).',
+        'front-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 '
+        'arccos(1/10).',
         0.4006696846462392,
     ),
     'errata.annotations.front_maple_decimal': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.400669685',
-        'front-face solid angle as printed in lpv-annotations.md (§2.1 front-face worksheet, eq. '
-        "(14) 'at 10 digits'): 0.400669685.",
+        'front-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.1 front-face worksheet, eq. (14) 'at 10 digits'): 0.400669685.",
         0.400669685,
     ),
     'errata.annotations.side_corner_dot': (
         '\\left(c_{2} \\cdot c_{4}\\right)^{\\mathrm{printed}} = \\frac{5 \\sqrt{33}}{33}',
-        'side face: c2·c4 as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. (6)): '
-        '5/33·√11·√3.',
+        'side face: c2·c4 as printed in Kirsch, "Light Propagation Volumes — Annotations" (2010) '
+        '(§2.1 side-face worksheet, eq. (6)): 5/33·√11·√3.',
         0.8703882797784892,
     ),
     'errata.annotations.side_maple_closed_form': (
@@ -723,162 +724,170 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         '\\operatorname{acos}{\\left(\\frac{\\sqrt{3}}{6} \\right)} - '
         '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)} + '
         '\\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + \\frac{2 \\pi}{3}',
-        'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 side-face '
-        'worksheet, eq. (21)): −arccos(√11√3√10√66/220) + arccos(√66√22/44) + '
-        'arccos(7√11√3√22√10/660) − arccos(√66√22/132) + arccos(√11√3√22√2/44) + '
-        'arccos(√11√3√66√2/132).',
+        'side-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 side-face worksheet, eq. (21)): −arccos(√11√3√10√66/220) + '
+        'arccos(√66√22/44) + arccos(7√11√3√22√10/660) − arccos(√66√22/132) + '
+        'arccos(√11√3√22√2/44) + arccos(√11√3√66√2/132).',
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_20_digits': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42343135443673907668',
-        'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
-        "(22) 'at 20 digits'): 0.42343135443673907668.",
+        'side-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.1 side-face worksheet, eq. (22) 'at 20 digits'): 0.42343135443673907668.",
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_5_digits': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42347',
-        'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
-        "(23) 'at 5 digits'): 0.42347.",
+        'side-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.1 side-face worksheet, eq. (23) 'at 5 digits'): 0.42347.",
         0.42347,
     ),
     'errata.annotations.front_integral_closed_form': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 4 '
         '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
-        'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
-        'FrontFacingSolidAngle): 4 arctan(1/33·√11).',
+        'front-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.2 FrontFacingSolidAngle): 4 arctan(1/33·√11).',
         0.4006696846462392,
     ),
     'errata.annotations.front_integral_decimal': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696844',
-        "front-face solid angle as printed in lpv-annotations.md (§2.2 FrontFacingSolidAngle '= "
-        "0.4006696844…'): 0.4006696844.",
+        'front-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.2 FrontFacingSolidAngle '= 0.4006696844…'): 0.4006696844.",
         0.4006696844,
     ),
     'errata.annotations.side_integral_closed_form': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = - \\frac{\\pi}{3} + 2 '
         '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
-        'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
-        'SideFacingSolidAngle): −1/3 π + 2 arctan(3/11·√11).',
+        'side-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.2 SideFacingSolidAngle): −1/3 π + 2 arctan(3/11·√11).',
         0.42343135443673907,
     ),
     'errata.annotations.side_integral_decimal': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.423431354',
-        "side-face solid angle as printed in lpv-annotations.md (§2.2 SideFacingSolidAngle '= "
-        "0.423431354…'): 0.423431354.",
+        'side-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.2 SideFacingSolidAngle '= 0.423431354…'): 0.423431354.",
         0.423431354,
     ),
     'errata.annotations.coslobe_c0': (
         's_{0}^{\\mathrm{printed}} = \\frac{\\sqrt{\\pi}}{2}',
-        'clamped cosine lobe s0 as printed in lpv-annotations.md (§4.3 eq. (12)): √π/2.',
+        'clamped cosine lobe s0 as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        '(2010) (§4.3 eq. (12)): √π/2.',
         0.886226925452758,
     ),
     'errata.annotations.coslobe_c1': (
         's_{2}^{\\mathrm{printed}} = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
-        'clamped cosine lobe s2 as printed in lpv-annotations.md (§4.3 eq. (14)): √(π/3).',
+        'clamped cosine lobe s2 as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        '(2010) (§4.3 eq. (14)): √(π/3).',
         1.0233267079464885,
     ),
     'errata.annotations.side_direction_small': (
         'e_{\\mathrm{side},x}^{\\mathrm{printed}} = \\frac{\\sqrt{5}}{5}',
-        'side-face main direction, 1st component as printed in lpv-annotations.md (§6.1): 1/√5.',
+        'side-face main direction, 1st component as printed in Kirsch, "Light Propagation '
+        'Volumes — Annotations" (2010) (§6.1): 1/√5.',
         0.4472135954999579,
     ),
     'errata.annotations.side_direction_big': (
         'e_{\\mathrm{side},y}^{\\mathrm{printed}} = \\frac{2 \\sqrt{5}}{5}',
-        'side-face main direction, 2nd component as printed in lpv-annotations.md (§6.1): 2/√5.',
+        'side-face main direction, 2nd component as printed in Kirsch, "Light Propagation '
+        'Volumes — Annotations" (2010) (§6.1): 2/√5.',
         0.8944271909999159,
     ),
     'errata.dx11.rsm_vpls': (
         'N_{\\mathrm{VPL}}^{\\mathrm{printed}} = 4194304',
-        'VPLs in a 2048×2048 RSM as printed in lpv-dx11-article.md (Injection, '
-        "'2048×2048=4194304'): 4194304.",
+        'VPLs in a 2048×2048 RSM as printed in the DirectX 11 LPV implementation article '
+        "(Injection, '2048×2048=4194304'): 4194304.",
         4194304.0,
     ),
     'errata.dx11.sh_c0': (
         '\\mathrm{SH\\_C0}^{\\mathrm{printed}} = 0.282094792',
-        'SH_C0 = 1/(2√π) as printed in lpv-dx11-article.md (#define SH_C0 (injection, '
-        'propagation and rendering shaders)): 0.282094792.',
+        'SH_C0 = 1/(2√π) as printed in the DirectX 11 LPV implementation article (#define SH_C0 '
+        '(injection, propagation and rendering shaders)): 0.282094792.',
         0.282094792,
     ),
     'errata.dx11.sh_c1': (
         '\\mathrm{SH\\_C1}^{\\mathrm{printed}} = 0.488602512',
-        'SH_C1 = √3/(2√π) as printed in lpv-dx11-article.md (#define SH_C1): 0.488602512.',
+        'SH_C1 = √3/(2√π) as printed in the DirectX 11 LPV implementation article (#define '
+        'SH_C1): 0.488602512.',
         0.488602512,
     ),
     'errata.dx11.coslobe_c0': (
         '\\mathrm{SH\\_cosLobe\\_C0}^{\\mathrm{printed}} = 0.886226925',
-        'SH_cosLobe_C0 = √π/2 as printed in lpv-dx11-article.md (#define SH_cosLobe_C0): '
-        '0.886226925.',
+        'SH_cosLobe_C0 = √π/2 as printed in the DirectX 11 LPV implementation article (#define '
+        'SH_cosLobe_C0): 0.886226925.',
         0.886226925,
     ),
     'errata.dx11.coslobe_c1': (
         '\\mathrm{SH\\_cosLobe\\_C1}^{\\mathrm{printed}} = 1.02332671',
-        'SH_cosLobe_C1 = √(π/3) as printed in lpv-dx11-article.md (#define SH_cosLobe_C1): '
-        '1.02332671.',
+        'SH_cosLobe_C1 = √(π/3) as printed in the DirectX 11 LPV implementation article (#define '
+        'SH_cosLobe_C1): 1.02332671.',
         1.02332671,
     ),
     'errata.dx11.pi': (
         '\\pi^{\\mathrm{printed}} = 3.1415926',
-        'PI as printed in lpv-dx11-article.md (#define PI 3.1415926f (and Pi in the propagation '
-        'shader)): 3.1415926.',
+        'PI as printed in the DirectX 11 LPV implementation article (#define PI 3.1415926f (and '
+        'Pi in the propagation shader)): 3.1415926.',
         3.1415926,
     ),
     'errata.dx11.front_solid_angle': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696846',
-        'front-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
-        'directFaceSubtendedSolidAngle): 0.4006696846.',
+        'front-face solid angle as printed in the DirectX 11 LPV implementation article '
+        '(propagation shader, directFaceSubtendedSolidAngle): 0.4006696846.',
         0.4006696846,
     ),
     'errata.dx11.side_solid_angle': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.4234413544',
-        'side-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
-        'sideFaceSubtendedSolidAngle): 0.4234413544.',
+        'side-face solid angle as printed in the DirectX 11 LPV implementation article '
+        '(propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544.',
         0.4234413544,
     ),
     'errata.dx11.front_weight': (
         'w_{\\mathrm{front}}^{\\mathrm{printed}} = \\frac{2003348423}{31415926000}',
-        "front-face weight Δω_front/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
-        '(propagation shader, directFaceSubtendedSolidAngle): 0.4006696846f / Pi / 2.',
+        "front-face weight Δω_front/(4π) (Crytek's formula) as printed in the DirectX 11 LPV "
+        'implementation article (propagation shader, directFaceSubtendedSolidAngle): '
+        '0.4006696846f / Pi / 2.',
         0.06376856193893504,
     ),
     'errata.dx11.side_weight': (
         'w_{\\mathrm{side}}^{\\mathrm{printed}} = \\frac{529301693}{11780972250}',
-        "side-face weight Δω_side/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
-        '(propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544f / Pi / 3.',
+        "side-face weight Δω_side/(4π) (Crytek's formula) as printed in the DirectX 11 LPV "
+        'implementation article (propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544f '
+        '/ Pi / 3.',
         0.044928523874589385,
     ),
     'errata.dx11.side_eval_small': (
         'e_{\\mathrm{side},x}^{\\mathrm{printed}} = 0.4472135',
-        'side evaluation direction, small component 1/√5 as printed in lpv-dx11-article.md '
-        '(getEvalSideDirection, smallComponent): 0.4472135.',
+        'side evaluation direction, small component 1/√5 as printed in the DirectX 11 LPV '
+        'implementation article (getEvalSideDirection, smallComponent): 0.4472135.',
         0.4472135,
     ),
     'errata.dx11.side_eval_big': (
         'e_{\\mathrm{side},y}^{\\mathrm{printed}} = 0.894427',
-        'side evaluation direction, big component 2/√5 as printed in lpv-dx11-article.md '
-        '(getEvalSideDirection, bigComponent): 0.894427.',
+        'side evaluation direction, big component 2/√5 as printed in the DirectX 11 LPV '
+        'implementation article (getEvalSideDirection, bigComponent): 0.894427.',
         0.894427,
     ),
     'errata.dx11.surfel_weight': (
         'w_{\\mathrm{surfel}}^{\\mathrm{printed}} = 0.015',
-        'injection surfel weight as printed in lpv-dx11-article.md (injection pixel shader, '
-        'surfelWeight): 0.015.',
+        'injection surfel weight as printed in the DirectX 11 LPV implementation article '
+        '(injection pixel shader, surfelWeight): 0.015.',
         0.015,
     ),
     'errata.dx11.l1_accuracy': (
         '\\left(E_{L1} / E\\right)^{\\mathrm{printed}} = 0.75',
-        'share of a clamped cosine kept by 4 SH coefficients as printed in lpv-dx11-article.md '
-        '(Pros and cons, first con): about 75%.',
+        'share of a clamped cosine kept by 4 SH coefficients as printed in the DirectX 11 LPV '
+        'implementation article (Pros and cons, first con): about 75%.',
         0.75,
     ),
     'errata.dx12.y00': (
         'Y_{0}^{0}^{\\mathrm{printed}} = \\frac{1}{2 \\sqrt{\\pi}}',
-        'Y_0^0 as printed in lpv-dx12-blog.md (Spherical Harmonics, first two bands): √(1/(4π)).',
+        'Y_0^0 as printed in the DirectX 12 LPV write-up (Spherical Harmonics, first two bands): '
+        '√(1/(4π)).',
         0.28209479177387814,
     ),
     'errata.dx12.y1': (
         'c_{1}^{\\mathrm{printed}} = \\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
-        'Y_1^{-1} coefficient of −y as printed in lpv-dx12-blog.md (Spherical Harmonics, first '
-        'two bands): √(3/(4π)).',
+        'Y_1^{-1} coefficient of −y as printed in the DirectX 12 LPV write-up (Spherical '
+        'Harmonics, first two bands): √(3/(4π)).',
         0.4886025119029199,
     ),
 }

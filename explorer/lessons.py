@@ -39,6 +39,16 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     slice = true                           # (explorer/overlay_params.py OverlayState)
     slice_quantity = "in-flight"
     slice_step = 2
+    [[steps.marks]]                        # a labelled point in the scene
+    id = "dark"                            # (explorer/lesson_marks.py): drawn in the
+    label = "dark side"                    # view; with a normal it measures the LPV's
+    at = [0.33, 0.4, -0.6]                 # irradiance there, {{mark.dark.irradiance}}
+    normal = [1, 0, 0]
+    [[steps.checks]]                       # a claim of the text, checked in CI on the
+    claim = "the clamp adds light"         # step's converged frame
+    value = "audit.clamp_gain"             # (explorer/lesson_checks.py: fixed operators,
+    op = ">"                               # quantity names, numbers; never code)
+    than = 0
 
 The text is the markdown dialect of :mod:`explorer.lesson_text`: inline and display math,
 live numbers ``{{name:format}}`` (:mod:`explorer.live_values`), ``{{figure:ID}}``,
@@ -102,7 +112,7 @@ _STEP_FIELDS = {
     "plot": Spec(kind="choice", choices=PLOTS, doc="The plot brought forward."),
 }
 _STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
-                "figures", "show")
+                "figures", "show", "marks", "checks")
 _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
@@ -190,6 +200,15 @@ class Step:
     show: tuple[tuple[str, Any], ...] = ()
     """OverlayState fields the step sets (its ``[steps.show]`` table, checked), in file
     order: what the main view draws in the scene."""
+    marks: tuple[Any, ...] = ()
+    """Labelled points in the scene (``explorer.lesson_marks.Mark``), in file order."""
+    checks: tuple[Any, ...] = ()
+    """The text's claims about its live numbers (``explorer.lesson_checks.Check``)."""
+
+    @property
+    def mark_ids(self) -> tuple[str, ...]:
+        """The ids of the marks that measure (have a normal): ``mark.<id>.*`` names."""
+        return tuple(mark.id for mark in self.marks if mark.normal is not None)
 
     def overlays(self, base: Any = None) -> Any:
         """The in-scene overlays this step shows (an ``OverlayState``): nothing drawn or
@@ -428,9 +447,10 @@ class _Reader:
             settings = step.settings()
         except SettingError as exc:
             raise self.error(f"settings.{exc.field}", str(exc)) from None
-        step = replace(step, show=self.show(raw, settings))
+        step = replace(step, show=self.show(raw, settings), marks=self.marks(raw, step))
         step = self.try_values(step)
         self.article(step)
+        step = replace(step, checks=self.checks(raw, step))
         self.step_number = self.step_title = None
         return step
 
@@ -447,6 +467,48 @@ class _Reader:
             return tuple(check_show(table, settings).items())
         except SettingError as exc:
             raise self.error(f"show.{exc.field}", str(exc)) from None
+
+    def marks(self, raw: Mapping, step: Step) -> tuple[Any, ...]:
+        """The ``[[steps.marks]]`` tables (explorer/lesson_marks.py), each point inside
+        the step's scene; ids unique within the step."""
+        from explorer.lesson_marks import MarkError, parse_mark
+        from explorer.scene.builtin import BUILTIN_SCENES
+
+        items = raw.get("marks", [])
+        if not isinstance(items, list):
+            raise self.error("marks", "must be a list of [[steps.marks]] tables")
+        scene = BUILTIN_SCENES[step.scene]() if items else None
+        bounds = None if scene is None else (tuple(scene.bounds_min), tuple(scene.bounds_max))
+        marks = []
+        for index, table in enumerate(items):
+            try:
+                mark = parse_mark(table, bounds, f"marks[{index}].")
+            except MarkError as exc:
+                raise self.error(exc.field, str(exc)) from None
+            if any(other.id == mark.id for other in marks):
+                raise self.error(f"marks[{index}].id", f"two marks of the step are called "
+                                                       f"{mark.id!r}")
+            marks.append(mark)
+        return tuple(marks)
+
+    def checks(self, raw: Mapping, step: Step) -> tuple[Any, ...]:
+        """The ``[[steps.checks]]`` tables (explorer/lesson_checks.py): quantity names the
+        step can read, a fixed operator, literal bounds."""
+        from explorer import live_values
+        from explorer.lesson_checks import CheckError, parse_check
+
+        items = raw.get("checks", [])
+        if not isinstance(items, list):
+            raise self.error("checks", "must be a list of [[steps.checks]] tables")
+        checks = []
+        for index, table in enumerate(items):
+            try:
+                checks.append(parse_check(
+                    table, lambda name: live_values.lookup(name, (), step.mark_ids),
+                    len(step.try_this), step.compare is not None, f"checks[{index}]."))
+            except CheckError as exc:
+                raise self.error(exc.field, str(exc)) from None
+        return tuple(checks)
 
     def formulas(self, raw: Mapping) -> tuple[str, ...]:
         names = raw.get("formulas", [])
@@ -637,7 +699,7 @@ class _Reader:
         for field, text in texts:
             for name, fmt in lesson_text.placeholders(text):
                 try:
-                    quantity = live_values.lookup(name, step.figure_ids)
+                    quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
                     live_values.check_format(fmt, quantity)
                 except KeyError as exc:
                     raise self.error(field, f"{{{{{name}}}}}: {exc.args[0]}") from None
@@ -649,16 +711,26 @@ _PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
                           doc="The preset a corrections table starts from.")}
 
 
+def shrink_settings(settings: Settings, size: int | None = 64, max_grid: int | None = 16,
+                    rsm_size: int | None = 32, max_iterations: int | None = 8) -> Settings:
+    """``settings`` made smaller for a quick render: a ``size``² image, at most
+    ``max_grid``³ cells and ``max_iterations`` steps, at most a ``rsm_size``² RSM (None
+    keeps that setting). Everything a step compares (corrections, views) is kept."""
+    changes: dict[str, Any] = {}
+    if size is not None:
+        changes.update(width=size, height=size)
+    for name, limit in (("rsm_size", rsm_size), ("grid_size", max_grid),
+                        ("iterations", max_iterations)):
+        if limit is not None:
+            changes[name] = min(getattr(settings, name), limit)
+    return settings.with_changes(**changes)
+
+
 def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: int = 32,
                      max_iterations: int = 8, base: Settings | None = None) -> Settings:
     """The step's settings shrunk for a quick preview (tests, CI renders, thumbnails):
-    a ``size``² image, at most ``max_grid``³ cells and ``max_iterations`` steps, a
-    ``rsm_size``² RSM. Everything the step compares (corrections, views) is kept."""
-    settings = step.settings(base)
-    return settings.with_changes(
-        width=size, height=size, rsm_size=min(settings.rsm_size, rsm_size),
-        grid_size=min(settings.grid_size, max_grid),
-        iterations=min(settings.iterations, max_iterations))
+    :func:`shrink_settings` of :meth:`Step.settings`."""
+    return shrink_settings(step.settings(base), size, max_grid, rsm_size, max_iterations)
 
 
 def render_step(pipeline: Any, step: Step, settings: Settings | None = None

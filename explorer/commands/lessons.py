@@ -21,6 +21,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a lesson id, number or file stem: print its steps")
     parser.add_argument("--dir", type=Path, default=None, metavar="PATH",
                         help="read lessons from this folder instead of the shipped ones")
+    parser.add_argument("--check", action="store_true",
+                        help="verify the claims the steps check ([[steps.checks]]) on "
+                             "their converged frames, rendered headless at a small size; "
+                             "exit 1 if one fails")
     group = parser.add_argument_group("export a step as the window shows it")
     group.add_argument("--export", metavar="ID", help="lesson id, number or file stem")
     group.add_argument("--step", type=int, default=None, metavar="K",
@@ -59,6 +63,8 @@ def main(args: argparse.Namespace) -> int:
     given = [flag for flag, value in (("--step", args.step), ("--out", args.out),
                                       ("--try", args.try_this)) if value is not None]
     given += [] if args.overlays else ["--no-overlays"]
+    if args.check and not given:
+        return _check(args)
     if given:
         raise CommandError(f"{', '.join(given)} need{'s' if len(given) == 1 else ''} "
                            "--export ID")
@@ -76,6 +82,39 @@ def main(args: argparse.Namespace) -> int:
         _print_lesson(lesson)
     _print_errors(errors)
     return 1 if errors else 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    """Verify the checks of lesson ``args.lesson`` (all lessons when None)."""
+    from explorer.commands.options import CommandError
+    from explorer.gl.context import create_headless_context, release_headless_context
+    from explorer.lesson_checks import verify_step
+    from explorer.lessons import find_lesson, load_all, preview_settings
+    from explorer.lpv.pipeline import Pipeline
+
+    lessons, errors = load_all(args.dir)
+    if args.lesson is not None:
+        try:
+            lessons = [find_lesson(args.lesson, lessons, errors)]
+        except KeyError as exc:
+            raise CommandError(exc.args[0]) from None
+    steps = [(lesson, step) for lesson in lessons for step in lesson.steps if step.checks]
+    failed = total = 0
+    if steps:
+        ctx = create_headless_context()
+        try:
+            with Pipeline(preview_settings(steps[0][1]), ctx=ctx) as pipeline:
+                for lesson, step in steps:
+                    print(f"{lesson.path.stem} step {step.number}: {step.title}")
+                    for outcome in verify_step(pipeline, step):
+                        total += 1
+                        failed += not outcome.holds
+                        print(f"  {outcome}")
+        finally:
+            release_headless_context(ctx)
+    print(f"{total - failed} of {total} checks hold on {len(steps)} steps")
+    _print_errors(errors)
+    return 1 if failed or errors else 0
 
 
 def _print_list(lessons) -> None:

@@ -91,7 +91,8 @@ def live_context(state: AppState, step: Step) -> live_values.LiveContext:
                 figures[spec.instance_id] = kind.readouts(spec.params, instance, context)
     return live_values.LiveContext(settings=state.settings, result=rt.result,
                                    error=current_stats(state), figures=figures,
-                                   renderer=rt.gl_renderer)
+                                   renderer=rt.gl_renderer,
+                                   marks={mark.id: mark for mark in step.marks})
 
 
 def _texts(step: Step) -> list[str]:
@@ -340,7 +341,7 @@ def pending_note(prompt: str, context: live_values.LiveContext, active: bool,
     the prompt has a value): numbers of the configuration the button sets are read once
     it is pressed; once it is, an error waits for the Error panel's measurement and a
     frame quantity for the frame."""
-    pending = [live_values.lookup(name, figure_ids).source
+    pending = [live_values.lookup(name, figure_ids, tuple(context.marks)).source
                for name, fmt in lesson_text.placeholders(prompt)
                if live_values.render(name, fmt, context, figure_ids) == live_values.PENDING]
     if not pending:
@@ -375,7 +376,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
     source = {"context": context, "where": "the frame on screen"}
 
     def value(name: str, fmt: str) -> tuple[str, str]:
-        quantity = live_values.lookup(name, step.figure_ids)
+        quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
         text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         tip = f"{name}{unit}: {quantity.doc}"

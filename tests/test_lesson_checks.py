@@ -1,0 +1,191 @@
+"""Lesson checks (explorer/lesson_checks.py) and marks (explorer/lesson_marks.py): the
+tables are validated as data, and every check of the shipped lessons holds on the
+converged frame of its step (rendered headless at lesson_checks.CHECK_SIZE)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+
+from explorer.lesson_checks import CheckError, Outcome, evaluate, parse_check
+from explorer.lesson_marks import MarkError, parse_mark
+from explorer.lessons import LessonError, load_all, load_lesson
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    lessons, errors = load_all()
+    assert not errors, errors
+    return lessons
+
+
+def _lookup(name: str):
+    if name.startswith(("audit.", "frame.", "settings.", "figure.", "error.", "mark.")):
+        return name
+    raise KeyError(f"no live quantity {name!r}")
+
+
+def _parse(**table):
+    base = {"claim": "a claim", "value": "audit.clamp_gain", "op": ">", "than": 0}
+    base.update(table)
+    return parse_check({k: v for k, v in base.items() if v is not None}, _lookup,
+                       try_count=1, has_compare=False, prefix="checks[0].")
+
+
+@pytest.mark.parametrize("table, field, words", [
+    ({"op": "~"}, "checks[0].op", "is not one of"),
+    ({"op": "between", "than": [2, 1]}, "checks[0].than", "low < high"),
+    ({"op": "<", "than": "zero"}, "checks[0].than", "finite number"),
+    ({"value": "error.rmse"}, "checks[0].value", "step's frame"),
+    ({"value": "figure.lobe.peak"}, "checks[0].value", "step's frame"),
+    ({"over": "nothing.at_all"}, "checks[0].over", "no live quantity"),
+    ({"after_try": 2}, "checks[0].after_try", "1..1"),
+    ({"over_before_try": True}, "checks[0].over_before_try", "needs both"),
+    ({"side": "compare"}, "checks[0].side", "no compare preset"),
+    ({"claim": " "}, "checks[0].claim", "claim in words"),
+    ({"code": "1+1"}, "checks[0].code", "unknown field"),
+    ({"than": None}, "checks[0].than", "missing"),
+])
+def test_bad_check_tables_are_refused_with_the_field(table, field, words):
+    with pytest.raises(CheckError) as caught:
+        _parse(**table)
+    assert caught.value.field == field and words in str(caught.value)
+
+
+def test_evaluate_compares_ratios_and_reads_before_the_press():
+    values = {("audit.a", False): 2.0, ("audit.a", True): 5.0, ("audit.b", False): 4.0,
+              ("audit.b", True): 10.0}
+
+    def read(name, after):
+        return values[(name, after)]
+
+    assert evaluate(_parse(value="audit.a", over="audit.b", op="between", than=[0.4, 0.6]),
+                    read).holds
+    check = _parse(value="audit.a", over="audit.b", after_try=1, over_before_try=True,
+                   op=">", than=1.2)
+    outcome = evaluate(check, read)
+    assert outcome.holds and outcome.measured == pytest.approx(1.25)   # 5 after / 4 before
+    assert not evaluate(replace(check, than=1.3), read).holds
+    assert not evaluate(_parse(value="audit.a", op="<", than=2), read).holds
+    missing = evaluate(_parse(value="audit.a", after_try=1), lambda n, a: (_ for _ in ()).throw(
+        LookupError("no frame")))
+    assert not missing.holds and "no frame" in missing.reason
+    assert "FAILS" in str(missing)
+
+
+def test_a_check_on_a_word():
+    def read(name, after):
+        return "no"
+    assert evaluate(_parse(value="frame.gbuffer_ran", op="==", than="no"), read).holds
+    assert not evaluate(_parse(value="frame.gbuffer_ran", op=">", than=0), read).holds
+
+
+@pytest.mark.parametrize("table, field", [
+    ({"id": "Dark", "label": "x", "at": [0, 0, 0]}, "marks[0].id"),
+    ({"id": "dark", "label": "", "at": [0, 0, 0]}, "marks[0].label"),
+    ({"id": "dark", "label": "x", "at": [0, 0]}, "marks[0].at"),
+    ({"id": "dark", "label": "x", "at": [0, 9, 0]}, "marks[0].at"),      # outside the box
+    ({"id": "dark", "label": "x", "at": [0, 0, 0], "normal": [0, 0, 0]}, "marks[0].normal"),
+    ({"id": "dark", "label": "x"}, "marks[0].at"),
+])
+def test_bad_marks_are_refused(table, field):
+    with pytest.raises(MarkError) as caught:
+        parse_mark(table, ((-1, 0, -1), (1, 2, 1)), "marks[0].")
+    assert caught.value.field == field
+
+
+LESSON = '''
+id = "probe"
+title = "t"
+summary = "s"
+scene = "cornell"
+[[steps]]
+title = "one"
+text = "The floor gets {{mark.floor.irradiance:.3g}} W/m²."
+[[steps.marks]]
+id = "floor"
+label = "floor"
+at = [0.0, 0.01, 0.0]
+normal = [0, 1, 0]
+[[steps.checks]]
+claim = "the floor receives indirect light"
+value = "mark.floor.irradiance"
+op = ">"
+than = 0
+'''
+
+
+def test_a_lesson_file_with_marks_and_checks_loads_and_errors_name_the_step(tmp_path):
+    path = tmp_path / "01-probe.toml"
+    path.write_text(LESSON)
+    step = load_lesson(path).steps[0]
+    assert step.mark_ids == ("floor",) and step.checks[0].value == "mark.floor.irradiance"
+    path.write_text(LESSON.replace('value = "mark.floor.irradiance"',
+                                   'value = "mark.wall.irradiance"'))
+    with pytest.raises(LessonError) as caught:
+        load_lesson(path)
+    assert "step 1" in str(caught.value) and "checks[0].value" in str(caught.value)
+    assert "no mark with id 'wall'" in str(caught.value)
+    path.write_text(LESSON.replace("normal = [0, 1, 0]\n", ""))
+    with pytest.raises(LessonError, match="text"):   # the text quotes a mark that measures
+        load_lesson(path)
+
+
+def test_every_lesson_checks_its_claims(shipped):
+    """Every lesson declares checks; the course as a whole checks many of its steps."""
+    checked = [(lesson.id, step.number) for lesson in shipped for step in lesson.steps
+               if step.checks]
+    for lesson in shipped:
+        assert any(step.checks for step in lesson.steps), f"lesson {lesson.id} checks nothing"
+    assert len(checked) >= 30, len(checked)
+
+
+def test_every_check_holds_on_its_converged_frame(shipped, ctx):
+    """Each checked step rendered headless at CHECK_SIZE (and after its try-this, or on its
+    compare side, where a check reads there) to convergence; every claim holds. The same
+    frames with the operator reversed fail, so a check that could never fail is caught."""
+    from explorer.lesson_checks import verify_step
+    from explorer.lessons import preview_settings
+    from explorer.lpv.pipeline import Pipeline
+
+    failures: list[str] = []
+    count = 0
+    with Pipeline(preview_settings(shipped[0].steps[0]), ctx=ctx) as pipeline:
+        for lesson in shipped:
+            for step in lesson.steps:
+                if not step.checks:
+                    continue
+                for outcome in verify_step(pipeline, step):
+                    count += 1
+                    if not outcome.holds:
+                        failures.append(f"{lesson.path.name} step {step.number}: {outcome}")
+    assert not failures, "\n".join(failures)
+    assert count >= 30
+
+
+def test_a_false_claim_fails(shipped, ctx):
+    """A check that contradicts the frame fails with its claim and measured value."""
+    from explorer.lesson_checks import verify_step
+    from explorer.lessons import find_lesson, preview_settings
+    from explorer.lpv.pipeline import Pipeline
+
+    step = find_lesson("overview", shipped).steps[2]
+    assert step.checks
+    flipped = {">": "<=", ">=": "<", "<": ">=", "<=": ">"}
+    reversed_checks = tuple(replace(c, op=flipped[c.op]) for c in step.checks
+                            if c.op in flipped)
+    assert reversed_checks
+    with Pipeline(preview_settings(step), ctx=ctx) as pipeline:
+        outcomes: list[Outcome] = verify_step(pipeline, replace(step, checks=reversed_checks))
+    assert outcomes and not any(o.holds for o in outcomes)
+    assert "FAILS" in str(outcomes[0]) and "measured" in str(outcomes[0])
+
+
+def test_the_lessons_command_verifies_the_checks(capsys):
+    from explorer.cli import main
+
+    assert main(["lessons", "overview", "--check"]) == 0
+    out = capsys.readouterr().out
+    assert "holds:" in out and "FAILS" not in out
+
