@@ -228,7 +228,7 @@ def results() -> list[Result]:
     statements = (
         "Irradiance on a surfel facing a point light of flux Φ_L at distance r.",
         "Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.",
-        "Radiant exitance: ∫_{H²} L_o cos θ_o dω = π·L_o.",
+        "Radiant exitance: the integral of L_o cos θ_o dω over the hemisphere, π·L_o.",
         "Flux reflected by a surfel of area A: Φ_o = A·M.",
         "Flux reflected by an RSM texel of solid angle ρ = A/r²: "
         "c_diff·ρ/(4π)·Φ_L·max(0, cos θ_i).",

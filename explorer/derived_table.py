@@ -50,12 +50,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'solid_angles.sphere': (
         '\\int_{S^2} d\\omega = 4 \\pi',
-        'Solid angle of the whole sphere, ∫_{S²} dω.',
+        'Solid angle of the whole sphere: the integral of dω over all directions.',
         12.566370614359172,
     ),
     'solid_angles.projected_hemisphere': (
         '\\int_{H^2} \\cos\\theta \\, d\\omega = \\pi',
-        'Projected solid angle of the hemisphere, ∫_{H²} cos θ dω = π.',
+        'Projected solid angle of the hemisphere: the integral of cos θ dω over it, π.',
         3.141592653589793,
     ),
     'sh.c0': (
@@ -77,12 +77,14 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.coslobe_c0': (
         '\\mathrm{lobe}_{0}(+z) = \\frac{\\sqrt{\\pi}}{2}',
-        'Band-0 coefficient of the clamped cosine lobe, ∫_{H²} cos θ Y00 dω.',
+        'Band-0 coefficient of the clamped cosine lobe: the integral of cos θ · Y00 dω over the '
+        'hemisphere.',
         0.886226925452758,
     ),
     'sh.coslobe_c1': (
         '\\mathrm{lobe}_{2}(+z) = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
-        'Band-1 coefficient of the clamped cosine lobe around z, ∫_{H²} cos θ Y10 dω.',
+        'Band-1 coefficient of the clamped cosine lobe around z: the integral of cos θ · Y10 dω '
+        'over the hemisphere.',
         1.0233267079464885,
     ),
     'sh.lobe': (
@@ -159,7 +161,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.l2_coslobe_c2': (
         '\\mathrm{lobe}_{6}(+z) = \\frac{\\sqrt{5} \\sqrt{\\pi}}{8}',
-        'Clamped cosine lobe around z, band 2: ∫_{H²} cos θ Y20 dω = √(5π)/8.',
+        'Clamped cosine lobe around z, band 2: the integral of cos θ · Y20 dω over the '
+        'hemisphere, √(5π)/8.',
         0.4954159122007514,
     ),
     'sh.zonal_rotation_factors': (
@@ -201,32 +204,32 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.outgoing_radiance': (
-        'L_{o} = \\frac{\\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        'L_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\max\\left(0, \\cos{\\left(\\theta_{i} '
         '\\right)}\\right)}{4 \\pi^{2} r^{2}}',
         'Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.',
         None,
     ),
     'rsm.radiant_exitance': (
-        'M = \\frac{\\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        'M = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\max\\left(0, \\cos{\\left(\\theta_{i} '
         '\\right)}\\right)}{4 \\pi r^{2}}',
-        'Radiant exitance: ∫_{H²} L_o cos θ_o dω = π·L_o.',
+        'Radiant exitance: the integral of L_o cos θ_o dω over the hemisphere, π·L_o.',
         None,
     ),
     'rsm.outgoing_flux_area': (
-        '\\Phi_{o} = \\frac{A \\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
-        '\\right)}\\right)}{4 \\pi r^{2}}',
+        '\\Phi_{o} = \\frac{A \\Phi_{L} c_{\\mathrm{diff}} \\max\\left(0, '
+        '\\cos{\\left(\\theta_{i} \\right)}\\right)}{4 \\pi r^{2}}',
         'Flux reflected by a surfel of area A: Φ_o = A·M.',
         None,
     ),
     'rsm.outgoing_flux': (
-        '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho \\max\\left(0, \\cos{\\left(\\theta_{i} '
-        '\\right)}\\right)}{4 \\pi}',
+        '\\Phi_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\rho \\max\\left(0, '
+        '\\cos{\\left(\\theta_{i} \\right)}\\right)}{4 \\pi}',
         'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·max(0, cos '
         'θ_i).',
         None,
     ),
     'rsm.texel_flux': (
-        '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho}{4 \\pi}',
+        '\\Phi_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\rho}{4 \\pi}',
         'Erratum: flux an RSM texel of solid angle ρ reflects, any incidence on the lit side: '
         'c_diff·ρ/(4π)·Φ_L (the surfel area ρr²/cos θ_i cancels the cosine).',
         None,
@@ -275,28 +278,30 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.spot_falloff': (
-        'f = - \\frac{2 \\left(cos_{\\theta} - cos_{\\theta o}\\right)^{3}}{\\left(cos_{\\theta '
-        'i} - cos_{\\theta o}\\right)^{3}} + \\frac{3 \\left(cos_{\\theta} - cos_{\\theta '
-        'o}\\right)^{2}}{\\left(cos_{\\theta i} - cos_{\\theta o}\\right)^{2}}',
+        'f = - \\frac{2 \\left(\\cos\\theta - '
+        '\\cos\\theta_{o}\\right)^{3}}{\\left(\\cos\\theta_{i} - \\cos\\theta_{o}\\right)^{3}} + '
+        '\\frac{3 \\left(\\cos\\theta - \\cos\\theta_{o}\\right)^{2}}{\\left(\\cos\\theta_{i} - '
+        '\\cos\\theta_{o}\\right)^{2}}',
         'Spot cone falloff between the inner and outer angles: smoothstep of cos θ, 3t² − 2t³ '
         'with t = (cos θ − cos θ_o)/(cos θ_i − cos θ_o).',
         None,
     ),
     'rsm.cone_solid_angle': (
-        '\\int_{S^2} f \\, d\\omega = - \\pi \\left(cos_{\\theta i} + cos_{\\theta o} - 2\\right)',
+        '\\int_{S^2} f \\, d\\omega = - \\pi \\left(\\cos\\theta_{i} + \\cos\\theta_{o} - '
+        '2\\right)',
         "Solid angle the spot cone's falloff weights, ∫f dω = 2π(1 − (cos θ_i + cos θ_o)/2): "
         'exact, f being a polynomial in cos θ.',
         None,
     ),
     'rsm.cone_total_flux': (
-        '\\Phi_{\\mathrm{cone}} = \\frac{\\Phi_{L} c_{diff} \\left(- cos_{\\theta i} - '
-        'cos_{\\theta o} + 2\\right)}{4}',
+        '\\Phi_{\\mathrm{cone}} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\left(- \\cos\\theta_{i} '
+        '- \\cos\\theta_{o} + 2\\right)}{4}',
         'Flux reflected by a surface that catches the whole cone: c_diff·Φ_L·(1 − (cos θ_i + cos '
         'θ_o)/2)/2.',
         None,
     ),
     'rsm.point_light_room_flux': (
-        '\\Phi_{\\mathrm{room}} = \\Phi_{L} c_{diff}',
+        '\\Phi_{\\mathrm{room}} = \\Phi_{L} c_{\\mathrm{diff}}',
         "Flux a point light's six RSM faces (90° frusta along ±x, ±y, ±z, one cube face each) "
         'reflect in a closed room of reflectance c_diff: c_diff·Φ_L.',
         None,
@@ -324,12 +329,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.3183098861837907,
     ),
     'corrections.propagation_4pi.original': (
-        '\\Phi_{f} = \\frac{\\Delta_{\\omega f} I_{c}}{4 \\pi}',
+        '\\Phi_{f} = \\frac{\\Delta\\omega_{f} I_{c}}{4 \\pi}',
         'Flux onto a face as published: Δω_f/(4π)·I(ω_c).',
         None,
     ),
     'corrections.propagation_4pi.corrected': (
-        '\\Phi_{f} = \\Delta_{\\omega f} I_{c}',
+        '\\Phi_{f} = \\Delta\\omega_{f} I_{c}',
         'Flux onto a face: Δω_f·I(ω_c) = ∫_face I dω for constant I.',
         None,
     ),
@@ -364,7 +369,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.propagation_4pi.exact_face_flux': (
-        '\\Phi_{f} = \\Delta_{\\omega f} I_{c}',
+        '\\Phi_{f} = \\Delta\\omega_{f} I_{c}',
         'Flux of a constant intensity through a face: ∫_face I dω = Δω_f·I.',
         None,
     ),
@@ -379,15 +384,15 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.exact_constants.original': (
-        '\\left[\\begin{matrix}\\Delta_{\\omega front}\\\\\\Delta_{\\omega '
-        'side}\\\\\\pi_{formula}\\end{matrix}\\right] = '
+        '\\left[\\begin{matrix}\\Delta\\omega_{\\mathrm{front}}\\\\\\Delta\\omega_{\\mathrm{side}'
+        '}\\\\\\pi_{\\mathrm{formula}}\\end{matrix}\\right] = '
         '\\left[\\begin{matrix}0.4006696846\\\\0.4234413544\\\\3.1415926\\end{matrix}\\right]',
         'Front and side solid angles and π as the DX11 article prints them.',
         None,
     ),
     'corrections.exact_constants.corrected': (
-        '\\left[\\begin{matrix}\\Delta_{\\omega front}\\\\\\Delta_{\\omega '
-        'side}\\\\\\pi_{formula}\\end{matrix}\\right] = \\left[\\begin{matrix}4 '
+        '\\left[\\begin{matrix}\\Delta\\omega_{\\mathrm{front}}\\\\\\Delta\\omega_{\\mathrm{side}'
+        '}\\\\\\pi_{\\mathrm{formula}}\\end{matrix}\\right] = \\left[\\begin{matrix}4 '
         '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}\\\\- \\frac{\\pi}{3} + 2 '
         '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} '
         '\\right)}\\\\\\pi\\end{matrix}\\right]',
@@ -417,13 +422,13 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.9999808848059836,
     ),
     'corrections.side_faces.original': (
-        '\\Phi_{t+1} = \\frac{3 \\Delta_{\\omega front} \\Phi_{t}}{2 \\pi}',
+        '\\Phi_{t+1} = \\frac{3 \\Delta\\omega_{\\mathrm{front}} \\Phi_{t}}{2 \\pi}',
         'Front faces only: one step sends 6Δω_front/(4π) of the flux on.',
         None,
     ),
     'corrections.side_faces.corrected': (
-        '\\Phi_{t+1} = \\frac{3 \\Phi_{t} \\left(\\Delta_{\\omega front} + 4 \\Delta_{\\omega '
-        'side}\\right)}{2 \\pi}',
+        '\\Phi_{t+1} = \\frac{3 \\Phi_{t} \\left(\\Delta\\omega_{\\mathrm{front}} + 4 '
+        '\\Delta\\omega_{\\mathrm{side}}\\right)}{2 \\pi}',
         'Front + 4 side faces per neighbour: 6(Δω_front + 4Δω_side)/(4π) of the flux.',
         None,
     ),
@@ -632,7 +637,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         1.0,
     ),
     'media.hg_phase': (
-        'p_{HG} = \\frac{1 - g^{2}}{4 \\pi \\left(g^{2} - 2 g t + 1\\right)^{\\frac{3}{2}}}',
+        'p_{\\mathrm{HG}} = \\frac{1 - g^{2}}{4 \\pi \\left(g^{2} - 2 g t + '
+        '1\\right)^{\\frac{3}{2}}}',
         'Henyey–Greenstein phase function at the scattering cosine t, asymmetry g.',
         None,
     ),
@@ -670,7 +676,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     'media.segment_inscatter': (
         'L_{s} = L_{p} \\alpha \\left(1 - e^{- \\ell \\sigma_{t}}\\right)',
         'Single scattering of a constant in-scattered radiance L_p over a ray of length ℓ: '
-        'α·L_p·(1 − e^{−σ_t ℓ}).',
+        'α·L_p·(1 − exp(−σ_t·ℓ)).',
         None,
     ),
     'errata.annotations.front_corner_dot_adjacent': (
@@ -880,14 +886,14 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'errata.dx12.y00': (
         'Y_{0}^{0}^{\\mathrm{printed}} = \\frac{1}{2 \\sqrt{\\pi}}',
-        'Y_0^0 as printed in the DirectX 12 LPV write-up (Spherical Harmonics, first two bands): '
-        '√(1/(4π)).',
+        'Y(0, 0) as printed in the DirectX 12 LPV write-up (Spherical Harmonics, first two '
+        'bands): √(1/(4π)).',
         0.28209479177387814,
     ),
     'errata.dx12.y1': (
         'c_{1}^{\\mathrm{printed}} = \\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
-        'Y_1^{-1} coefficient of −y as printed in the DirectX 12 LPV write-up (Spherical '
-        'Harmonics, first two bands): √(3/(4π)).',
+        'coefficient of −y (the band-1 function Y(1, −1)) as printed in the DirectX 12 LPV '
+        'write-up (Spherical Harmonics, first two bands): √(3/(4π)).',
         0.4886025119029199,
     ),
 }
