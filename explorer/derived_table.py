@@ -260,6 +260,19 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'Exact solid angle of texel (i, j) of a W×H 90° frustum (rectangle formula).',
         None,
     ),
+    'rsm.pixel_solid_angle_corners': (
+        '\\Delta\\omega_{ij} = F{\\left(u_{i},v_{j} \\right)} - F{\\left(u_{i},v_{j+1} \\right)} '
+        '- F{\\left(u_{i+1},v_{j} \\right)} + F{\\left(u_{i+1},v_{j+1} \\right)}',
+        "Exact solid angle of texel (i, j) from the corner function F at the texel's edges u_i = "
+        '−1 + 2i/W, v_j = −1 + 2j/H on the image plane z = 1.',
+        None,
+    ),
+    'rsm.corner_function': (
+        'F{\\left(u,v \\right)} = \\operatorname{atan}{\\left(\\frac{u v}{\\sqrt{u^{2} + v^{2} + '
+        '1}} \\right)}',
+        "The rectangle formula's corner function on the image plane z = 1.",
+        None,
+    ),
     'rsm.pixel_ratio_centre': (
         '\\frac{\\Delta\\omega_{\\mathrm{texel}}}{\\Delta\\omega_{ij}}\\Big|_{\\mathrm{centre}} '
         '= \\frac{\\pi}{6}',
