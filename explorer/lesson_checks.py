@@ -197,7 +197,7 @@ def evaluate(check: Check, read: Callable[[str, bool], Any]) -> Outcome:
 
 # --- verifying a step on its frames --------------------------------------------------------
 
-CHECK_SIZE = {"size": 96, "max_grid": 32, "rsm_size": 64, "max_iterations": 64}
+CHECK_SIZE = {"size": 96, "max_grid": 64, "rsm_size": 64, "max_iterations": 64}
 """The sizes CI verifies the checks at (explorer.lessons.shrink_settings): small enough to
 run every checked step in seconds on llvmpipe, large enough that every claim of the
 shipped lessons holds there as it does at the steps' own sizes."""
@@ -222,6 +222,10 @@ def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None
             settings = step.settings()
             if after_try is not None:
                 settings = step.try_this[after_try - 1].apply(settings)
+                if shrink_settings(settings, **sizes) == shrink_settings(step.settings(),
+                                                                         **sizes):
+                    raise LookupError(f"at the check sizes {dict(sizes)} try-this "
+                                      f"{after_try} changes nothing")
             if side == "compare":
                 settings = settings.with_changes(corrections=step.compare)
             settings = shrink_settings(settings, **sizes)
