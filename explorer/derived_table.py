@@ -599,13 +599,15 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     'propagation.front_weight_dx11': (
         'w_{\\mathrm{front}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{front}} = \\frac{1}{2 '
         '\\pi}',
-        'DX11 front-face weight ÷ Δω_front: 1/(2π) (published: 1/(4π), corrected: 1).',
+        'DX11 front-face factor ÷ Δω_front, the whole factor of the face: 1/(2π) (corrected '
+        'model: k_P·k_R·k_I = 1/π; published: 1/(4π²)).',
         0.15915494309189535,
     ),
     'propagation.side_weight_dx11': (
         'w_{\\mathrm{side}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{side}} = \\frac{1}{3 '
         '\\pi}',
-        'DX11 side-face weight ÷ Δω_side: 1/(3π) (published: 1/(4π), corrected: 1).',
+        'DX11 side-face factor ÷ Δω_side, the whole factor of the face: 1/(3π) (corrected model: '
+        'k_P·k_R·k_I = 1/π; published: 1/(4π²)).',
         0.1061032953945969,
     ),
     'occlusion.one_sided': (
