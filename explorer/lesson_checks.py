@@ -229,6 +229,13 @@ def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None
             if side == "compare":
                 settings = settings.with_changes(corrections=step.compare)
             settings = shrink_settings(settings, **sizes)
+            if after_try is not None:
+                # as the reader does: the step on screen, then the press (the stages the
+                # press runs again are those its change invalidates)
+                before = step.settings()
+                if side == "compare":
+                    before = before.with_changes(corrections=step.compare)
+                pipeline.run(shrink_settings(before, **sizes))
             result = pipeline.run(settings)     # to convergence, with the full audit
             contexts[key] = LiveContext(settings=settings, result=result, marks=marks)
         return contexts[key]
