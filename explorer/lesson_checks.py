@@ -197,7 +197,7 @@ def evaluate(check: Check, read: Callable[[str, bool], Any]) -> Outcome:
 
 # --- verifying a step on its frames --------------------------------------------------------
 
-CHECK_SIZE = {"size": 96, "max_grid": 64, "rsm_size": 64, "max_iterations": 64}
+CHECK_SIZE = {"size": 64, "max_grid": 48, "rsm_size": 64, "max_iterations": 64}
 """The sizes CI verifies the checks at (explorer.lessons.shrink_settings): small enough to
 run every checked step in seconds on llvmpipe, large enough that every claim of the
 shipped lessons holds there as it does at the steps' own sizes."""

@@ -174,6 +174,32 @@ class TryThis:
         """``settings`` with this change made."""
         return settings.with_changes(**self.change())
 
+    def button(self) -> tuple[str, str]:
+        """(button text, what the change does) in words: :attr:`label`, else the
+        control's label from the settings schema (or the correction's title) and the
+        value; the second part is the control's documentation."""
+        from explorer.live_values import format_value
+        from explorer.lpv.corrections import CORRECTIONS
+
+        value = format_value(self.value, "g")
+        if self.control == "corrections":
+            if isinstance(self.value, str):
+                label, doc = f"{value} preset", "every correction switch as the preset sets it"
+            else:
+                off = [CORRECTIONS_TITLES.get(name, name) for name in self.value.names()
+                       if not getattr(self.value, name)]
+                label = "published: " + (", ".join(off) or "none")
+                doc = "the correction switches set as listed"
+        elif self.control.startswith("corrections."):
+            name = self.control.split(".", 1)[1]
+            entry = next(e for e in CORRECTIONS if e.name == name)
+            label, doc = f"{entry.title}: {value}", entry.why
+        else:
+            spec = specs(Settings)[self.control]
+            label = f"{spec.label or self.control.replace('_', ' ')}: {value}"
+            doc = spec.doc
+        return (self.label or label), doc
+
 
 @dataclass(frozen=True)
 class Step:
@@ -706,6 +732,23 @@ class _Reader:
                 except ValueError as exc:
                     raise self.error(field, f"{{{{{name}:{fmt}}}}}: {exc}") from None
 
+
+def _correction_titles() -> dict[str, str]:
+    from explorer.lpv.corrections import CORRECTIONS
+
+    return {entry.name: entry.title for entry in CORRECTIONS}
+
+
+class _Titles(dict):
+    """The corrections' titles by switch name, read on first use."""
+
+    def get(self, key, default=None):  # type: ignore[override]
+        if not self:
+            self.update(_correction_titles())
+        return super().get(key, default)
+
+
+CORRECTIONS_TITLES = _Titles()
 
 _PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
                           doc="The preset a corrections table starts from.")}

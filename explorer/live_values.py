@@ -276,8 +276,8 @@ def _derived(name: str) -> Callable[[LiveContext], float]:
 
 AUDIT_SUMS = (
     ("rsm", "flux the RSM texels reflect (sum of channels)"),
-    ("injected", "flux injected into the grid, grid_0"),
-    ("accumulated", "flux of the accumulated grid acc_N"),
+    ("injected", "flux injected into the grid (before any step)"),
+    ("accumulated", "flux of the accumulated grid (the sum of all steps)"),
     ("gathered", "flux the visible surfaces receive in the final gather"),
     ("border_loss", "flux that left the grid through its border, all steps"),
     ("clamp_gain", "flux created by the front-face clamp, all steps"),
@@ -288,7 +288,7 @@ AUDIT_SUMS = (
 (and over the steps for the per-step terms)."""
 AUDIT_RATIOS = (
     ("injected_over_rsm", "injected", "rsm", "injected flux / RSM flux"),
-    ("accumulated_over_injected", "accumulated", "injected", "acc_N flux / injected flux"),
+    ("accumulated_over_injected", "accumulated", "injected", "accumulated flux / injected flux"),
     ("gathered_over_rsm", "gathered", "rsm", "gathered flux / RSM flux"),
     ("clamp_gain_share", "clamp_gain", "injected",
      "flux the front-face clamp created over all steps / injected flux"),
@@ -359,8 +359,7 @@ def _fixed() -> dict[str, Quantity]:
                  lambda c: len(STAGES), "d", constant=True),
         Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
                  "(yes/no)", "", _ran("gbuffer"), ""),
-        Quantity("frame.moved_objects", "objects moved from where the scene puts them "
-                 "(Settings.object_transforms)", "",
+        Quantity("frame.moved_objects", "objects moved from where the scene puts them", "",
                  lambda c: len(_settings(c).object_transforms), "d"),
         Quantity("frame.vpl_depth_min", "nearest depth of a lit VPL in the light's view "
                  "(w, along the light's axis)", "m", _vpl_depth(np.min), ".2f"),

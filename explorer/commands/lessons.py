@@ -125,23 +125,45 @@ def _print_list(lessons) -> None:
               f"({count} step{'s' if count != 1 else ''})")
 
 
-def _plain(text: str) -> str:
+def _plain(text: str, mark_ids: tuple[str, ...] = (), settings=None) -> str:
     """Lesson text for a terminal: derived numbers filled in, live ones named in
     brackets (they are measured in the window), markers spelled out, math as text."""
     from explorer import lesson_text, live_values
     from explorer.lessons import math_to_text
 
     def value(name: str, fmt: str) -> str:
-        if name.startswith("derived."):
-            return live_values.render(name, fmt, live_values.LiveContext())
-        return f"[{name}]"
+        if name.startswith(("derived.", "settings.", "corrections.")):
+            return live_values.render(name, fmt, live_values.LiveContext(settings=settings))
+        try:
+            doc = live_values.lookup(name, (), tuple(mark_ids)).doc
+        except KeyError:
+            doc = name
+        return f"[{doc}]"
 
     text = lesson_text.substitute(text, value)
-    text = lesson_text.MARKER_FIELD.sub(lambda m: f"[{m.group(1)} {m.group(2)}]", text)
+    def marker(match) -> str:
+        if match.group(1) == "formula":
+            from explorer import derived
+
+            return f"[formula: {derived.get(match.group(2)).statement}]"
+        return f"[{match.group(1)} {match.group(2)}]"
+
+    text = lesson_text.MARKER_FIELD.sub(marker, text)
     return math_to_text(text.replace("$$", "$"))
 
 
+def _setting_label(name: str) -> str:
+    from explorer.lpv.schema import specs
+    from explorer.lpv.settings import Settings
+
+    spec = specs(Settings).get(name)
+    return (getattr(spec, "label", "") or name.replace("_", " ")).lower()
+
+
 def _print_lesson(lesson) -> None:
+    from explorer.lessons import CORRECTIONS_TITLES
+    from explorer.live_values import format_value
+
     print(f"{lesson.title}  [{lesson.id}, {lesson.path.name}]")
     print(textwrap.fill(lesson.summary, width=88))
     for step in lesson.steps:
@@ -152,21 +174,27 @@ def _print_lesson(lesson) -> None:
             shows.append(f"against {step.compare_preset}")
         if step.plot:
             shows.append(f"plot {step.plot}")
-        changed = [name for name in step.corrections.names()
+        changed = [CORRECTIONS_TITLES.get(name, name) for name in step.corrections.names()
                    if getattr(step.corrections, name) is False]
         shows.append("corrections: " + ("all on" if not changed else
-                                        "off: " + ", ".join(changed)))
+                                        "published: " + ", ".join(changed)))
         if step.overrides:
-            shows.append(", ".join(f"{k}={v}" for k, v in step.overrides))
+            shows.append(", ".join(f"{_setting_label(k)} {format_value(v, 'g')}"
+                                   for k, v in step.overrides))
         print(textwrap.fill("shows: " + "; ".join(shows), width=88, subsequent_indent="  "))
         print()
-        print(_plain(step.text.strip()))
+        print(_plain(step.text.strip(), step.mark_ids, step.settings()))
         if step.formulas:
+            from explorer import derived
+
             print()
-            print("formulas: " + ", ".join(step.formulas))
+            for name in step.formulas:
+                print(textwrap.fill("formula: " + derived.get(name).statement, width=88,
+                                    subsequent_indent="  "))
         for item in step.try_this:
-            print(textwrap.fill(f"try this [{item.control} = {item.value!r}]: "
-                                f"{_plain(item.prompt)}", width=88, subsequent_indent="  "))
+            prompt = _plain(item.prompt, step.mark_ids, item.apply(step.settings()))
+            print(textwrap.fill(f"try this [{item.button()[0]}]: {prompt}", width=88,
+                                subsequent_indent="  "))
     print()
     print(f"render a step: lpv-explorer render --lesson {lesson.id} --step 1")
 

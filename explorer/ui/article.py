@@ -39,31 +39,9 @@ TITLE_SCALE = 1.35
 # --- labels ------------------------------------------------------------------------------
 
 def try_label(item: TryThis) -> tuple[str, str]:
-    """(button text, tooltip) of a try-this: the control's label from the settings
-    schema (or the correction's title) and the value, its documentation as tooltip."""
-    from explorer.lpv.corrections import CORRECTIONS
-    from explorer.lpv.schema import specs
-    from explorer.lpv.settings import Settings
-
-    value = live_values.format_value(item.value, "g")
-    if item.control == "corrections":
-        if not isinstance(item.value, str):
-            off = [name for name in item.value.names() if not getattr(item.value, name)]
-            value = "switches off: " + (", ".join(off) or "none")
-        label, doc = f"{value} preset", "every correction switch as the preset sets it"
-        if not isinstance(item.value, str):
-            label, doc = value, "the correction switches set as listed"
-    elif item.control.startswith("corrections."):
-        name = item.control.split(".", 1)[1]
-        entry = next(e for e in CORRECTIONS if e.name == name)
-        label, doc = f"{entry.title}: {value}", entry.why
-    else:
-        spec = specs(Settings)[item.control]
-        label = f"{spec.label or item.control.replace('_', ' ')}: {value}"
-        doc = spec.doc
-    if item.label:
-        label = item.label
-    tip = f"{item.control} = {value}\n{doc}"
+    """(button text, tooltip) of a try-this, in words (``TryThis.button``): the
+    control's label and the value, its documentation as tooltip."""
+    label, tip = item.button()
     if item.split:
         tip += "\nShown as before | after in the split view."
     return label, tip

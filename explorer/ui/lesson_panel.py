@@ -137,7 +137,7 @@ def step_caption(step: Step) -> str:
     return " and ".join(parts) + "."
 
 
-_SLICE_WORDS = {"intensity": "the intensity of acc_N", "flux": "the flux per cell of acc_N",
+_SLICE_WORDS = {"intensity": "the accumulated intensity", "flux": "the accumulated flux per cell",
                 "in-flight": "the light in flight after step {t}"}
 _INJECTED_WORDS = "the injected light, before any step"
 
