@@ -6,7 +6,8 @@ A mark is one ``[[steps.marks]]`` table::
 
     [[steps.marks]]
     id = "dark"                       # quoted as {{mark.dark.irradiance}} and in checks
-    label = "dark side"               # the text drawn in the view
+    label = "dark side"               # the text drawn in the view (optional: a mark
+                                      # without a label measures but is not drawn)
     at = [0.33, 0.4, -0.6]            # the world point the arrow points at (metres)
     normal = [1, 0, 0]                # optional: the surface's normal there
 
@@ -47,6 +48,7 @@ class MarkError(ValueError):
 class Mark:
     id: str
     label: str
+    """Drawn in the view; "" for a mark that only measures."""
     at: Vec3
     normal: Vec3 | None = None
     """Unit normal (normalised when read), or None: the mark only labels its point."""
@@ -74,14 +76,18 @@ def parse_mark(table: Any, bounds: tuple[Vec3, Vec3] | None = None, prefix: str 
     for key in table:
         if key not in _KEYS:
             raise MarkError(prefix + str(key), f"unknown field; expected one of {list(_KEYS)}")
-    for key in ("id", "label", "at"):
+    for key in ("id", "at"):
         if key not in table:
             raise MarkError(prefix + key, "missing (required)")
-    ident, label = table["id"], table["label"]
+    ident, label = table["id"], table.get("label", "")
+    if "label" not in table and "normal" not in table:
+        raise MarkError(prefix + "label", "a mark needs a label (to be drawn) or a normal "
+                                          "(to measure), or both")
     if not isinstance(ident, str) or not _ID.match(ident):
         raise MarkError(prefix + "id", f"must be lower-case letters, digits and '_', "
                                        f"starting with a letter; got {ident!r}")
-    if not isinstance(label, str) or not label.strip() or len(label) > MAX_LABEL:
+    if not isinstance(label, str) or ("label" in table and not label.strip()) \
+            or len(label) > MAX_LABEL:
         raise MarkError(prefix + "label", f"must be a few words (1..{MAX_LABEL} characters), "
                                           f"got {label!r}")
     at = _vector(table["at"], prefix + "at", unit=False)

@@ -84,6 +84,7 @@ def test_a_check_on_a_word():
 @pytest.mark.parametrize("table, field", [
     ({"id": "Dark", "label": "x", "at": [0, 0, 0]}, "marks[0].id"),
     ({"id": "dark", "label": "", "at": [0, 0, 0]}, "marks[0].label"),
+    ({"id": "dark", "at": [0, 0, 0]}, "marks[0].label"),          # neither drawn nor measuring
     ({"id": "dark", "label": "x", "at": [0, 0]}, "marks[0].at"),
     ({"id": "dark", "label": "x", "at": [0, 9, 0]}, "marks[0].at"),      # outside the box
     ({"id": "dark", "label": "x", "at": [0, 0, 0], "normal": [0, 0, 0]}, "marks[0].normal"),
@@ -189,3 +190,41 @@ def test_the_lessons_command_verifies_the_checks(capsys):
     out = capsys.readouterr().out
     assert "holds:" in out and "FAILS" not in out
 
+
+
+def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped, ctx):
+    """A mark placed on the surface seen at a pixel measures the irradiance the GPU's
+    final gather computed there (indirect radiance = albedo·E/π), and the view draws it
+    at that pixel with its label inside the image; a mark behind a wall is drawn faded."""
+    import numpy as np
+
+    from explorer.lesson_marks import Mark, irradiance
+    from explorer.lessons import find_lesson, preview_settings
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.overlays.marks import placements
+
+    step = find_lesson("overview", shipped).steps[0]
+    settings = preview_settings(step, size=96, max_grid=16, rsm_size=32)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        result = pipeline.run(settings)
+    x, y = 48, 40
+    position = result.gbuffer_position[y, x]
+    normal = result.gbuffer_normal[y, x, :3]
+    assert position[3] > 0.5
+    mark = Mark("probe", "probe", tuple(map(float, position[:3])),
+                tuple(map(float, normal / np.linalg.norm(normal))))
+    albedo = result.albedo[y, x]
+    gathered = float(np.sum(result.indirect[y, x] * np.pi / np.maximum(albedo, 1e-6)))
+    assert irradiance(mark, result) == pytest.approx(gathered, rel=0.03)
+
+    origin, end = (100.0, 50.0), (100.0 + 2 * 96, 50.0 + 2 * 96)    # drawn at twice size
+    [placed] = placements(result, [mark], origin, end, lambda text: (8.0 * len(text), 14.0))
+    assert placed.point == pytest.approx((100 + 2 * (x + 0.5), 50 + 2 * (y + 0.5)), abs=2.5)
+    assert placed.visible
+    x0, y0, x1, y1 = placed.box
+    assert origin[0] <= x0 < x1 <= end[0] and origin[1] <= y0 < y1 <= end[1]
+    behind = Mark("behind", "behind the back wall", (0.0, 0.0, -1.2), None)
+    [hidden] = placements(result, [behind], origin, end, lambda text: (8.0 * len(text), 14.0))
+    assert not hidden.visible
+    assert placements(result, [Mark("probe", "", mark.at, mark.normal)], origin, end,
+                      lambda text: (1.0, 1.0)) == []          # a measuring mark is not drawn
