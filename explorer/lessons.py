@@ -31,6 +31,7 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     value = false                          # "corrections" (a preset); the value to set
     prompt = "..."                         # may quote live numbers, {{audit.injected}}
     split = true                           # optional: show before | after side by side
+    camera = { eye = [0, 2, 4], target = [0, 0, 0] }  # optional: reframe with the change
     [[steps.figures]]                      # inline live figures (explorer/ui/figures)
     kind = "clamped-cosine"
     id = "lobe"                            # placed in the text by {{figure:lobe}}
@@ -163,12 +164,19 @@ class TryThis:
     """Show the change as before | after in the split view."""
     label: str = ""
     """The button's text (default: the control's label and the value)."""
+    camera: "tuple[Vec3, Vec3] | None" = None
+    """Where the camera goes with the change (``camera = {eye, target}``): the reframe a
+    change of the grid or the scene needs to keep its feature in view."""
 
     def change(self) -> dict[str, Any]:
         """The change as ``Settings.with_changes`` keywords."""
         if self.control.startswith("corrections."):
-            return {"corrections": {self.control.split(".", 1)[1]: self.value}}
-        return {self.control: self.value}
+            change = {"corrections": {self.control.split(".", 1)[1]: self.value}}
+        else:
+            change = {self.control: self.value}
+        if self.camera is not None:
+            change["camera"] = self.camera
+        return change
 
     def apply(self, settings: Settings) -> Settings:
         """``settings`` with this change made."""
@@ -584,19 +592,22 @@ class _Reader:
         except SettingError as exc:
             raise self.error(f"settings.{exc.field}", str(exc)) from None
 
-    def pair(self, raw: Mapping, key: str, names: tuple[str, str]) -> tuple[Vec3, Vec3] | None:
+    def pair(self, raw: Mapping, key: str, names: tuple[str, str],
+             field: str | None = None) -> tuple[Vec3, Vec3] | None:
         """``camera = {eye, target}`` or ``light = {position, target}`` as the Settings
-        field of the same name checks it (finite, two different points)."""
+        field of the same name checks it (finite, two different points); ``field``: the
+        name errors give (default ``key``)."""
         if key not in raw:
             return None
+        field = field or key
         table = raw[key]
         if not isinstance(table, Mapping) or sorted(table) != sorted(names):
-            raise self.error(key, f"must be a table with exactly {list(names)}, got "
-                                  f"{table!r}")
+            raise self.error(field, f"must be a table with exactly {list(names)}, got "
+                                    f"{table!r}")
         try:
             return specs(Settings)[key].check(key, (table[names[0]], table[names[1]]))
         except SettingError as exc:
-            raise self.error(key, f"{exc} ({names[0]}, {names[1]})") from None
+            raise self.error(field, f"{exc} ({names[0]}, {names[1]})") from None
 
     def try_this(self, raw: Mapping) -> tuple[TryThis, ...]:
         items = raw.get("try_this", [])
@@ -611,11 +622,18 @@ class _Reader:
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            own = self.fields(item, declared, ("value",), ("control", "prompt", "value"),
-                              prefix=f"try_this[{index}].")
+            own = self.fields(item, declared, ("value", "camera"),
+                              ("control", "prompt", "value"), prefix=f"try_this[{index}].")
+            camera = self.pair(item, "camera", _CAMERA_KEYS, f"try_this[{index}].camera")
+            if camera is not None and own.get("split", False):
+                raise self.error(f"try_this[{index}].camera", "a split try-this shows both "
+                                 "sides from the step's camera; drop the camera or the split")
+            if camera is not None and own["control"] == "camera":
+                raise self.error(f"try_this[{index}].camera", "the control is the camera "
+                                 "already: give the new camera as its value")
             result.append(TryThis(control=own["control"], prompt=own["prompt"],
                                   value=item["value"], split=own.get("split", False),
-                                  label=own.get("label", "")))
+                                  label=own.get("label", ""), camera=camera))
         return tuple(result)
 
     # --- the article: try-this values, figures, markers and live numbers ----------------

@@ -228,3 +228,35 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
     assert not hidden.visible
     assert placements(result, [Mark("probe", "", mark.at, mark.normal)], origin, end,
                       lambda text: (1.0, 1.0)) == []          # a measuring mark is not drawn
+
+
+def test_a_try_this_may_reframe_the_camera(tmp_path):
+    """``camera`` in a try-this moves the camera with the change (the reframe a new grid
+    needs); with ``split`` it is refused (both sides share the step's camera)."""
+    text = LESSON.replace('''[[steps.checks]]''', '''[[steps.try_this]]
+control = "grid_size"
+value = 8
+camera = { eye = [0.0, 1.0, 4.0], target = [0.0, 0.0, 0.0] }
+prompt = "Coarser."
+[[steps.checks]]''', 1)
+    path = tmp_path / "01-probe.toml"
+    path.write_text(text)
+    step = load_lesson(path).steps[0]
+    after = step.try_this[0].apply(step.settings())
+    assert after.grid_size == 8 and after.camera == ((0.0, 1.0, 4.0), (0.0, 0.0, 0.0))
+    path.write_text(text.replace('prompt = "Coarser."', 'prompt = "Coarser."\nsplit = true'))
+    with pytest.raises(LessonError, match="try_this\\[0\\].camera"):
+        load_lesson(path)
+
+
+def test_glyph_peaks_are_the_largest_value_over_the_mesh():
+    import numpy as np
+
+    from explorer.lpv.reference import cosine_lobe
+    from explorer.ui.overlays.glyphs import glyph_peaks
+    from explorer.ui.overlays.quantities import glyph_directions
+
+    directions, _ = glyph_directions()
+    lobe = np.zeros((1, 9))
+    lobe[0, :4] = cosine_lobe(np.array([0.0, 1.0, 0.0]))      # straight up: a mesh pole
+    assert glyph_peaks(lobe, directions)[0] == pytest.approx(0.75)   # 1/4 + 1/2 along n
