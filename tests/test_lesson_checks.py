@@ -260,3 +260,34 @@ def test_glyph_peaks_are_the_largest_value_over_the_mesh():
     lobe = np.zeros((1, 9))
     lobe[0, :4] = cosine_lobe(np.array([0.0, 1.0, 0.0]))      # straight up: a mesh pole
     assert glyph_peaks(lobe, directions)[0] == pytest.approx(0.75)   # 1/4 + 1/2 along n
+
+
+def test_the_readers_mode_shows_the_panels_a_step_uses(shipped):
+    """Reader's mode: the article and the view always; the plot, Inspect, Show in scene,
+    Error and Corrections panels only for the steps that use them; nothing is hidden in
+    the explorer mode or outside a lesson."""
+    from types import SimpleNamespace
+
+    from explorer.lessons import find_lesson
+    from explorer.ui.lesson_panel import LessonSession, hidden_panels, step_panels
+
+    lessons = shipped
+    overview = find_lesson("overview", lessons)
+    assert step_panels(overview.steps[0]) == {"View", "Lesson"}
+    assert "Plots" in step_panels(find_lesson("radiometry", lessons).steps[0])
+    limits = find_lesson("limits", lessons)
+    assert "Error" in step_panels(limits.steps[1]) and "Inspect" in step_panels(limits.steps[5])
+    assert "Show in scene" in step_panels(find_lesson("solid-angles", lessons).steps[0])
+    assert "Corrections" in step_panels(find_lesson("propagation", lessons).steps[2])
+
+    session = LessonSession(lessons=lessons)
+    session.open("overview")
+    session.saved = object()                    # a step's configuration is on screen
+    state = SimpleNamespace(reader_mode=True, lesson_session=session)
+    hidden = hidden_panels(state)
+    assert "Corrections" in hidden and "Plots" in hidden
+    assert "View" not in hidden and "Lesson" not in hidden
+    state.reader_mode = False
+    assert hidden_panels(state) == frozenset()
+    state.reader_mode, session.saved = True, None   # left the lesson
+    assert hidden_panels(state) == frozenset()

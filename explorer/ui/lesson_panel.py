@@ -114,6 +114,56 @@ def shows_step(settings: Settings, step: Step) -> bool:
             and all(getattr(settings, name) == value for name, value in step.overrides))
 
 
+READER_PANELS = ("View", "Lesson")
+"""Panels the reader's mode always shows: the article and the 3D view it talks about."""
+_LIGHT_CONTROLS = ("light", "lights", "light_flux", "object_transforms")
+
+
+def step_panels(step: Step) -> frozenset[str]:
+    """The panels ``step`` uses (the reader's mode shows these alone): the article and the
+    view, the plot it names, the Inspect panel for a buffer the scene cannot show, the
+    Show in scene panel when it draws in the scene, the Error panel when it quotes an
+    error, the Corrections panel when it typesets or switches a correction, the Lights &
+    objects or Scene panel when a try-this moves a light, an object or the scene."""
+    from explorer.lesson_text import placeholders
+
+    used = set(READER_PANELS)
+    texts = [step.text] + [item.prompt for item in step.try_this]
+    controls = step.controls()
+    if step.plot is not None:
+        used.add("Plots")
+    if step.view in INSPECT_VIEWS and not step.show or step.view in NOT_IN_SCENE_VIEWS:
+        used.add("Inspect")
+    if step.show:
+        used.add("Show in scene")
+    if step.plot == "error" or any(name.startswith("error.") for text in texts
+                                   for name, _ in placeholders(text)):
+        used.add("Error")
+    if any(c.startswith("corrections") for c in controls) or any(
+            f.startswith("corrections.") for f in step.formulas):
+        used.add("Corrections")
+    if any(c in _LIGHT_CONTROLS for c in controls):
+        used.add("Lights & objects")
+    if "scene" in controls:
+        used.add("Scene")
+    return frozenset(used)
+
+
+def hidden_panels(state) -> frozenset[str]:
+    """Panels the reader's mode hides now: those the lesson step on screen does not use
+    (none in the explorer mode, or when no lesson step is applied)."""
+    if not getattr(state, "reader_mode", False):
+        return frozenset()
+    session = getattr(state, _SESSION_ATTRIBUTE, None)
+    step = None if session is None or not session.applied else session.step
+    if step is None:
+        return frozenset()
+    from explorer.ui.layout import PANELS
+
+    used = step_panels(step)
+    return frozenset(panel.title for panel in PANELS if panel.title not in used)
+
+
 def step_caption(step: Step) -> str:
     """Where to look for this step, in words (shown above the step's text): the main
     view and what it draws in the scene when the step shows overlays, else the step's
