@@ -55,6 +55,9 @@ The text is the markdown dialect of :mod:`explorer.lesson_text`: inline and disp
 live numbers ``{{name:format}}`` (:mod:`explorer.live_values`), ``{{figure:ID}}``,
 ``{{formula:NAME}}`` and ``{{try:K}}`` markers; the validator checks every one of them.
 
+The folder's ``glossary.toml`` is not a lesson: it holds the recurring terms the article
+explains on hover (:mod:`explorer.glossary`).
+
 Errors are :class:`LessonError` naming the file, the step (number and title) and the
 field; :func:`load_all` collects them so one broken lesson never hides the others.
 """
@@ -353,7 +356,11 @@ def load_all(directory: Path | str | None = None,
     lessons: list[Lesson] = []
     errors: list[LessonError] = []
     seen: dict[str, Path] = {}
+    from explorer.glossary import GLOSSARY_FILE
+
     for path in sorted(directory.glob("*.toml")):
+        if path.name == GLOSSARY_FILE:     # the course's glossary, not a lesson
+            continue
         try:
             lesson = load_lesson(path, check_formula)
         except LessonError as exc:

@@ -113,3 +113,33 @@ def test_the_printed_lessons_use_words(capsys):
         words = set(re.findall(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+", prose))
         assert not words & FIELDS, (lesson.id, words & FIELDS)
         assert not _QUANTITY.search(prose), (lesson.id, _QUANTITY.search(prose)[0])
+
+
+def test_the_glossary_explains_terms_the_lessons_use(tmp_path):
+    """Every glossary term occurs in the lessons (the four the course leans on among
+    them), its meaning is plain words, and a broken glossary is reported."""
+    from explorer.glossary import GlossaryError, defined_in, load_glossary, matches
+
+    terms = load_glossary()
+    assert {"VPL", "flux in flight", "clamp gain", "geometry volume"} <= \
+        {t.term for t in terms}
+    lessons, _ = load_all()
+    used: set[str] = set()
+    for lesson in lessons:
+        for step in lesson.steps:
+            used |= defined_in(_prose(step.text), terms)
+            for item in step.try_this:
+                used |= defined_in(_prose(item.prompt), terms)
+    assert used == {t.term for t in terms}, {t.term for t in terms} - used
+    for term in terms:
+        assert not _RAW_TEX.search(term.meaning) and not _QUANTITY.search(term.meaning)
+    found = matches("Its VPLs, and the flux in flight: clamp gain.".split(), terms)
+    assert [(first, count, term.term) for first, count, term in found] == [
+        (1, 1, "VPL"), (4, 3, "flux in flight"), (7, 2, "clamp gain")]
+    (tmp_path / "glossary.toml").write_text('[[terms]]\nterm = "VPL"\nmeaning = "$x$"\n')
+    with pytest.raises(GlossaryError, match="no math"):
+        load_glossary(tmp_path)
+    (tmp_path / "glossary.toml").write_text('[[terms]]\nterm = "VPL"\nmeaning = "a"\n'
+                                            '[[terms]]\nterm = "vpl"\nmeaning = "b"\n')
+    with pytest.raises(GlossaryError, match="already a spelling"):
+        load_glossary(tmp_path)

@@ -68,7 +68,13 @@ def main(args: argparse.Namespace) -> int:
     if given:
         raise CommandError(f"{', '.join(given)} need{'s' if len(given) == 1 else ''} "
                            "--export ID")
+    from explorer.glossary import GlossaryError, load_glossary
+
     lessons, errors = load_all(args.dir)
+    try:
+        load_glossary(args.dir)
+    except GlossaryError as exc:
+        errors.append(exc)
     if not lessons and not errors:
         raise CommandError(f"no lessons (*.toml files) in {args.dir or 'the shipped lessons'}",
                            1)

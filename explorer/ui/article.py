@@ -10,6 +10,7 @@ the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`
 
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -400,9 +401,26 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         return result.latex, result.statement
 
     env = PageEnv(fonts=state.runtime.fonts, formulas=state.runtime.formulas, value=value,
-                  button=button, on_button=on_button, figure=figure, formula=formula)
+                  button=button, on_button=on_button, figure=figure, formula=formula,
+                  glossary=_glossary(session))
     env.source = source
     return env
+
+
+def _glossary(session: LessonSession) -> tuple:
+    """The glossary of the session's lessons (explorer/glossary.py), read once; () when
+    it is missing or broken (the lessons command reports a broken one)."""
+    cached = getattr(session, "_glossary", None)
+    if cached is None:
+        from explorer.glossary import GlossaryError, load_glossary
+
+        try:
+            cached = load_glossary()
+        except GlossaryError as exc:
+            print(f"lpv-explorer: {exc}", file=sys.stderr)
+            cached = ()
+        session._glossary = cached
+    return cached
 
 
 def _try_section(state: AppState, session: LessonSession, page: Page, step: Step) -> None:
