@@ -32,6 +32,8 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     prompt = "..."                         # may quote live numbers, {{audit.injected}}
     split = true                           # optional: show before | after side by side
     camera = { eye = [0, 2, 4], target = [0, 0, 0] }  # optional: reframe with the change
+    predict = { question = "Brighter or darker?", choices = ["brighter", "darker"], answer = 2 }
+                                           # optional: asked before the button reveals it
     [[steps.figures]]                      # inline live figures (explorer/ui/figures)
     kind = "clamped-cosine"
     id = "lobe"                            # placed in the text by {{figure:lobe}}
@@ -153,6 +155,20 @@ class LessonError(ValueError):
 
 
 @dataclass(frozen=True)
+class Prediction:
+    """"Predict, then press": ``predict = {question, choices, answer}`` in a try-this. The
+    article asks ``question`` with the ``choices`` before the button is pressed; pressing
+    it shows the prompt and whether the guess was right. The loader requires a check of
+    the step after this try-this (``[[steps.checks]]`` with ``after_try``), so CI verifies
+    the answer on the frame."""
+
+    question: str
+    choices: tuple[str, ...]
+    answer: int
+    """1-based index of the right choice."""
+
+
+@dataclass(frozen=True)
 class TryThis:
     """A prompt asking the reader to change one control and look for an effect; the
     window's button sets ``control`` to ``value``, nothing else."""
@@ -170,6 +186,8 @@ class TryThis:
     camera: "tuple[Vec3, Vec3] | None" = None
     """Where the camera goes with the change (``camera = {eye, target}``): the reframe a
     change of the grid or the scene needs to keep its feature in view."""
+    predict: "Prediction | None" = None
+    """A question the article asks before the button reveals the answer."""
 
     def change(self) -> dict[str, Any]:
         """The change as ``Settings.with_changes`` keywords."""
@@ -492,6 +510,12 @@ class _Reader:
         step = self.try_values(step)
         self.article(step)
         step = replace(step, checks=self.checks(raw, step))
+        for index, item in enumerate(step.try_this, start=1):
+            if item.predict is not None and not any(c.after_try == index
+                                                    for c in step.checks):
+                raise self.error(f"try_this[{index - 1}].predict",
+                                 "a prediction needs a check of its answer: a "
+                                 f"[[steps.checks]] with after_try = {index}")
         self.step_number = self.step_title = None
         return step
 
@@ -629,7 +653,7 @@ class _Reader:
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            own = self.fields(item, declared, ("value", "camera"),
+            own = self.fields(item, declared, ("value", "camera", "predict"),
                               ("control", "prompt", "value"), prefix=f"try_this[{index}].")
             camera = self.pair(item, "camera", _CAMERA_KEYS, f"try_this[{index}].camera")
             if camera is not None and own.get("split", False):
@@ -640,8 +664,28 @@ class _Reader:
                                  "already: give the new camera as its value")
             result.append(TryThis(control=own["control"], prompt=own["prompt"],
                                   value=item["value"], split=own.get("split", False),
-                                  label=own.get("label", ""), camera=camera))
+                                  label=own.get("label", ""), camera=camera,
+                                  predict=self.prediction(item, f"try_this[{index}].predict")))
         return tuple(result)
+
+    def prediction(self, item: Mapping, field: str) -> Prediction | None:
+        table = item.get("predict")
+        if table is None:
+            return None
+        if not isinstance(table, Mapping) or set(table) != {"question", "choices", "answer"}:
+            raise self.error(field, "must be a table {question, choices, answer}")
+        question, choices, answer = table["question"], table["choices"], table["answer"]
+        if not isinstance(question, str) or not question.strip():
+            raise self.error(field + ".question", "must be the question in words")
+        if (not isinstance(choices, list) or not 2 <= len(choices) <= 4
+                or not all(isinstance(c, str) and c.strip() for c in choices)
+                or len(set(choices)) != len(choices)):
+            raise self.error(field + ".choices", "must be two to four different answers")
+        if isinstance(answer, bool) or not isinstance(answer, int) or \
+                not 1 <= answer <= len(choices):
+            raise self.error(field + ".answer", f"must be the number of the right choice, "
+                                                f"1..{len(choices)}; got {answer!r}")
+        return Prediction(question.strip(), tuple(c.strip() for c in choices), answer)
 
     # --- the article: try-this values, figures, markers and live numbers ----------------
     # (new keys of the explorable lessons; explorer/lesson_text.py, explorer/live_values.py)

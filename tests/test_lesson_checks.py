@@ -291,3 +291,37 @@ def test_the_readers_mode_shows_the_panels_a_step_uses(shipped):
     assert hidden_panels(state) == frozenset()
     state.reader_mode, session.saved = True, None   # left the lesson
     assert hidden_panels(state) == frozenset()
+
+
+def test_predict_then_press_is_validated_and_needs_a_check(tmp_path):
+    """A prediction names its question, two to four choices and the right one, and the
+    step must check its answer after that try-this (so CI verifies it)."""
+    from explorer.ui.article import verdict
+
+    try_this = '''[[steps.try_this]]
+control = "iterations"
+value = 4
+predict = { question = "Brighter or darker?", choices = ["brighter", "darker"], answer = 2 }
+prompt = "Darker."
+'''
+    check = '''[[steps.checks]]
+claim = "fewer steps: the floor darkens"
+value = "mark.floor.irradiance"
+after_try = 1
+over = "mark.floor.irradiance"
+over_before_try = true
+op = "<"
+than = 1
+'''
+    path = tmp_path / "01-probe.toml"
+    path.write_text(LESSON + try_this + check)
+    item = load_lesson(path).steps[0].try_this[0]
+    assert item.predict.choices == ("brighter", "darker") and item.predict.answer == 2
+    assert "right" in verdict(item.predict, 2) and "the answer is darker" in \
+        verdict(item.predict, 1)
+    path.write_text(LESSON + try_this)
+    with pytest.raises(LessonError, match="needs a check of its answer"):
+        load_lesson(path)
+    path.write_text(LESSON + try_this.replace("answer = 2", "answer = 3") + check)
+    with pytest.raises(LessonError, match="predict.answer"):
+        load_lesson(path)

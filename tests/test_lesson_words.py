@@ -42,6 +42,9 @@ def _learner_texts():
             for index, item in enumerate(step.try_this, start=1):
                 yield lesson.path.name, f"{where} try-this {index}", item.prompt
                 yield lesson.path.name, f"{where} try-this {index} label", item.label
+                if item.predict is not None:
+                    yield lesson.path.name, f"{where} try-this {index} predict", \
+                        " ".join((item.predict.question, *item.predict.choices))
             for spec in step.figures:
                 yield lesson.path.name, f"{where} figure {spec.instance_id}", spec.caption
             for mark in step.marks:

@@ -198,6 +198,11 @@ def _print_lesson(lesson) -> None:
                 print(textwrap.fill("formula: " + derived.get(name).statement, width=88,
                                     subsequent_indent="  "))
         for item in step.try_this:
+            if item.predict is not None:
+                choices = " / ".join(item.predict.choices)
+                answer = item.predict.choices[item.predict.answer - 1]
+                print(textwrap.fill(f"predict: {item.predict.question} ({choices}; the "
+                                    f"answer: {answer})", width=88, subsequent_indent="  "))
             prompt = _plain(item.prompt, step.mark_ids, item.apply(step.settings()))
             print(textwrap.fill(f"try this [{item.button()[0]}]: {prompt}", width=88,
                                 subsequent_indent="  "))

@@ -431,14 +431,51 @@ def _try_section(state: AppState, session: LessonSession, page: Page, step: Step
     base = source["context"]
     for index, item in enumerate(step.try_this, start=1):
         source["context"], source["where"] = try_context(state, session, index, base)
+        key = (session.lesson.id, step.number, index)
+        if session.applied and session.tried == index and item.predict is not None:
+            session.revealed.add(key)
+        if item.predict is not None and key not in session.revealed:
+            _prediction(session, page, item.predict, key)
+            continue
         runs = (lesson_text.TryButton(index), lesson_text.Text(" ")) + \
             lesson_text.parse(item.prompt)[0].runs
+        if item.predict is not None:
+            runs += (lesson_text.Text(" " + verdict(item.predict, session.guesses.get(key)),
+                                      "italic"),)
         note = pending_note(item.prompt, source["context"],
                             session.applied and session.tried == index, step.figure_ids)
         if note:       # in the same paragraph: it explains this prompt's "…"
             runs += (lesson_text.Text(f" ({note})", "italic"),)
         page.draw((lesson_text.Paragraph(runs),))
     source["context"], source["where"] = base, "the frame on screen"
+
+
+def verdict(prediction, guess: int | None) -> str:
+    """What the article says once a prediction's button was pressed."""
+    right = prediction.choices[prediction.answer - 1]
+    if guess is None:
+        return f"(The answer: {right}.)"
+    if guess == prediction.answer:
+        return f"(You predicted {right}: right.)"
+    return f"(You predicted {prediction.choices[guess - 1]}; the answer is {right}.)"
+
+
+def _prediction(session: LessonSession, page: Page, prediction, key) -> None:
+    """"Predict, then press": the question and its choices, then the button; the prompt
+    stays hidden until the button is pressed."""
+    index = key[2]
+    page.draw((lesson_text.Paragraph((lesson_text.Text("Predict: ", "bold"),
+                                      lesson_text.Text(prediction.question, "italic"))),))
+    guess = session.guesses.get(key)
+    for number, choice in enumerate(prediction.choices, start=1):
+        if number > 1:
+            imgui.same_line()
+        if imgui.radio_button(f"{choice}##predict{index}", guess == number):
+            session.guesses[key] = number
+    runs = (lesson_text.TryButton(index), lesson_text.Text(" "),
+            lesson_text.Text("then press to see what happens." if guess else
+                             "make your guess, then press to see.", "italic"))
+    page.draw((lesson_text.Paragraph(runs),))
 
 
 def _error_banner(state: AppState) -> None:

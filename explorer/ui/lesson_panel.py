@@ -236,6 +236,10 @@ class LessonSession:
     """The reader left the lesson's settings (and may go back to them)."""
     tried: int | None = None
     """The try-this (1-based) whose change is on screen, or None."""
+    guesses: dict[tuple[str, int, int], int] = field(default_factory=dict)
+    """(lesson id, step, try-this) -> the reader's guess (1-based) of a prediction."""
+    revealed: set[tuple[str, int, int]] = field(default_factory=set)
+    """Predictions whose try-this the reader pressed: their answer is shown."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
