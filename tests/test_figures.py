@@ -30,7 +30,8 @@ from figure_cases import synthetic_result
 
 def test_every_kind_validates_its_defaults_and_documents_each_parameter():
     assert set(FIGURES) == {"clamped-cosine", "cell-faces", "propagation-stepper",
-                            "rsm-texel", "energy-audit", "flux-per-step", "pipeline"}
+                            "rsm-texel", "energy-audit", "flux-per-step", "pipeline",
+                            "small-multiples"}
     for name, kind in FIGURES.items():
         spec = parse_figure({"kind": name})
         assert spec.params == kind.params_class()

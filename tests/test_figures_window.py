@@ -32,6 +32,7 @@ CHANGES = {
     "energy-audit": {"scale": "linear"},
     "flux-per-step": {"relative": True},
     "pipeline": {"highlight": "propagate"},
+    "small-multiples": {"quantity": "in-flight"},
 }
 MIN_HEIGHT = {"pipeline": 100}
 """Figures drawn as a compact strip (pixels); the others are at least 150 tall."""

@@ -325,3 +325,27 @@ than = 1
     path.write_text(LESSON + try_this.replace("answer = 2", "answer = 3") + check)
     with pytest.raises(LessonError, match="predict.answer"):
         load_lesson(path)
+
+
+def test_small_multiples_vary_one_thing_on_one_scale():
+    """The small-multiples figure: values checked per kind of variation; more steps
+    accumulate more light (the lingering lesson 07 shows), the published formulas less,
+    and L1 and L2 carry about the same flux."""
+    from explorer.figure_params import FigureParamError, make_figure
+    from explorer.ui.figures.small_multiples import State, panels, readouts
+
+    steps = make_figure("small-multiples", values="4, 8, 16").params
+    r = readouts(steps, State())
+    assert r["flux_1"] < r["flux_2"] < r["flux_3"]
+    assert r["flux_1"] == pytest.approx(15.0, rel=0.2)     # about (4 + 1) × 3 W injected
+    assert [p.title for p in panels(steps)] == ["4 steps", "8 steps", "16 steps"]
+    formulas = make_figure("small-multiples", vary="corrections",
+                           values="corrected, original").params
+    assert readouts(formulas, State())["last_over_first"] < 0.5
+    orders = make_figure("small-multiples", vary="sh_order", values="1, 2").params
+    assert readouts(orders, State())["last_over_first"] == pytest.approx(1.0, abs=0.1)
+    for bad in ({"values": "4"}, {"values": "4, 4"}, {"values": "4, 99"},
+                {"vary": "sh_order", "values": "1, 3"},
+                {"vary": "corrections", "values": "corrected, nonsense"}):
+        with pytest.raises(FigureParamError, match="values"):
+            make_figure("small-multiples", **bad)

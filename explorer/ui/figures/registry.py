@@ -25,6 +25,7 @@ from explorer.ui.figures import (
     pipeline_overview,
     propagation_stepper,
     rsm_texel,
+    small_multiples,
 )
 from explorer.ui.figures.host import FigureContext
 from explorer.figure_params import (  # noqa: F401  (re-exported for the window)
@@ -69,6 +70,8 @@ FIGURES: dict[str, FigureKind] = {kind.name: kind for kind in (
     _kind(cell_faces, "cell-faces", "A cell's neighbour, its five faces and their solid "
                                     "angles"),
     _kind(propagation_stepper, "propagation-stepper", "Propagation, step by step"),
+    _kind(small_multiples, "small-multiples", "Small multiples: one thing varied, side by "
+                                              "side"),
     _kind(rsm_texel, "rsm-texel", "An RSM texel on a tilted surface"),
     _kind(energy_audit, "energy-audit", "Energy audit"),
     _kind(flux_per_step, "flux-per-step", "Flux in flight per propagation step"),
