@@ -24,6 +24,7 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     view = "indirect"                # settings.VIEWS, or "split"/"difference" with compare
     compare = "original"             # preset shown on the other side of split/difference
     plot = "flux-per-step"           # settings.PLOTS
+    split_at = 0.4                   # the split view's divider, a fraction of the width
     [steps.settings]
     iterations = 4
     [[steps.try_this]]
@@ -116,6 +117,10 @@ _STEP_FIELDS = {
     "compare": Spec(kind="choice", choices=tuple(PRESETS),
                     doc="The preset on the other side of a split/difference view."),
     "plot": Spec(kind="choice", choices=PLOTS, doc="The plot brought forward."),
+    "split_at": Spec(kind="float", low=0.02, high=0.98,
+                     doc="Where the split view's divider stands, a fraction of the view's "
+                         "width (the step's split view and its split try-this): chosen so "
+                         "that the feature compared shows on both sides."),
 }
 _STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
                 "figures", "show", "marks", "checks")
@@ -259,6 +264,8 @@ class Step:
     """Labelled points in the scene (``explorer.lesson_marks.Mark``), in file order."""
     checks: tuple[Any, ...] = ()
     """The text's claims about its live numbers (``explorer.lesson_checks.Check``)."""
+    split_at: float | None = None
+    """The split view's divider (a fraction of the width), or None: the middle."""
 
     @property
     def mark_ids(self) -> tuple[str, ...]:
@@ -501,7 +508,12 @@ class _Reader:
             compare=PRESETS[compare_preset] if compare_preset else None,
             compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
             camera=self.pair(raw, "camera", _CAMERA_KEYS),
-            light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw))
+            light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw),
+            split_at=own.get("split_at"))
+        if step.split_at is not None and step.view != "split" and not any(
+                item.split for item in step.try_this):
+            raise self.error("split_at", "the step shows no split view (view = \"split\" "
+                                         "or a try-this with split = true)")
         try:  # the rules between fields (e.g. bounces 2 needs a geometry volume)
             settings = step.settings()
         except SettingError as exc:
@@ -872,7 +884,7 @@ def render_step(pipeline: Any, step: Step, settings: Settings | None = None
     other_linear = pipeline.last_result.final_image
     if step.view == "split":
         image = np.array(mine_display, copy=True)
-        half = image.shape[1] // 2
+        half = int(round(image.shape[1] * (0.5 if step.split_at is None else step.split_at)))
         image[:, half:] = other_display[:, half:]
         image[:, half] = 1.0  # the divider
         return image, result

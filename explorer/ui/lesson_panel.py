@@ -63,6 +63,9 @@ class Screen:
     overlays: OverlayState | None = None
     """What the main view draws in the scene (a private copy; None: not part of this
     screen, the window's overlays stay as they are)."""
+    split_position: float | None = None
+    """Where the split view's divider stands (a fraction of the view's width) when the
+    step says; None: where the reader left it."""
 
 
 def step_screen(step: Step, own: Screen) -> Screen:
@@ -81,7 +84,8 @@ def step_screen(step: Step, own: Screen) -> Screen:
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
                   view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
-                  plot=step.plot, overlays=step.overlays(own.overlays))
+                  plot=step.plot, overlays=step.overlays(own.overlays),
+                  split_position=step.split_at)
 
 
 def try_screen(step: Step, index: int, own: Screen) -> Screen:
@@ -368,7 +372,8 @@ def current_screen(state: AppState) -> Screen:
                   view_mode=state.view_mode,
                   view_buffer=getattr(state, "view_buffer", "final"),
                   compare_overrides=tuple(getattr(state, "compare_overrides", ())),
-                  overlays=None if overlays is None else replace(overlays))
+                  overlays=None if overlays is None else replace(overlays),
+                  split_position=getattr(state, "split_position", None))
 
 
 def show_screen(state: AppState, screen: Screen) -> None:
@@ -382,6 +387,8 @@ def show_screen(state: AppState, screen: Screen) -> None:
         state.compare_overrides = tuple(screen.compare_overrides)
     if hasattr(state, "view_buffer"):
         state.view_buffer = screen.view_buffer
+    if screen.split_position is not None and hasattr(state, "split_position"):
+        state.split_position = screen.split_position
     focus = []
     drawn = screen.overlays is not None and screen.overlays.any_shown
     if screen.overlays is not None and hasattr(state, "overlays"):
