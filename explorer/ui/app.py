@@ -550,10 +550,13 @@ class App:
         # keyboard focus when its tab bar updates (next frame), so of several panels
         # focused in one frame only the last would come forward (lesson 12's Inspect
         # lost to Error). The others wait for the following frames.
+        from explorer.ui.lesson_panel import hidden_panels
+
+        hidden = hidden_panels(state)     # the reader's mode: the panels the step uses
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True
-            if not state.open_panels.get(panel.title, True):
+            if not state.open_panels.get(panel.title, True) or panel.title in hidden:
                 continue
             if focus and panel.title == focus[0] and not self._needs_layout:
                 imgui.set_next_window_focus()
@@ -626,6 +629,9 @@ class App:
                         state.apply_preset(name, compare=side == "B")
             imgui.end_menu()
         if imgui.begin_menu("Windows"):
+            if imgui.menu_item_simple("Reader's mode", selected=state.reader_mode):
+                state.reader_mode = not state.reader_mode
+            imgui.separator()
             for panel in PANELS:
                 shown = state.open_panels.get(panel.title, True)
                 if imgui.menu_item_simple(panel.title, selected=shown):

@@ -63,6 +63,9 @@ class Screen:
     overlays: OverlayState | None = None
     """What the main view draws in the scene (a private copy; None: not part of this
     screen, the window's overlays stay as they are)."""
+    split_position: float | None = None
+    """Where the split view's divider stands (a fraction of the view's width) when the
+    step says; None: where the reader left it."""
 
 
 def step_screen(step: Step, own: Screen) -> Screen:
@@ -81,7 +84,8 @@ def step_screen(step: Step, own: Screen) -> Screen:
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
                   view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
-                  plot=step.plot, overlays=step.overlays(own.overlays))
+                  plot=step.plot, overlays=step.overlays(own.overlays),
+                  split_position=step.split_at)
 
 
 def try_screen(step: Step, index: int, own: Screen) -> Screen:
@@ -114,6 +118,56 @@ def shows_step(settings: Settings, step: Step) -> bool:
             and all(getattr(settings, name) == value for name, value in step.overrides))
 
 
+READER_PANELS = ("View", "Lesson")
+"""Panels the reader's mode always shows: the article and the 3D view it talks about."""
+_LIGHT_CONTROLS = ("light", "lights", "light_flux", "object_transforms")
+
+
+def step_panels(step: Step) -> frozenset[str]:
+    """The panels ``step`` uses (the reader's mode shows these alone): the article and the
+    view, the plot it names, the Inspect panel for a buffer the scene cannot show, the
+    Show in scene panel when it draws in the scene, the Error panel when it quotes an
+    error, the Corrections panel when it typesets or switches a correction, the Lights &
+    objects or Scene panel when a try-this moves a light, an object or the scene."""
+    from explorer.lesson_text import placeholders
+
+    used = set(READER_PANELS)
+    texts = [step.text] + [item.prompt for item in step.try_this]
+    controls = step.controls()
+    if step.plot is not None:
+        used.add("Plots")
+    if step.view in INSPECT_VIEWS and not step.show or step.view in NOT_IN_SCENE_VIEWS:
+        used.add("Inspect")
+    if step.show:
+        used.add("Show in scene")
+    if step.plot == "error" or any(name.startswith("error.") for text in texts
+                                   for name, _ in placeholders(text)):
+        used.add("Error")
+    if any(c.startswith("corrections") for c in controls) or any(
+            f.startswith("corrections.") for f in step.formulas):
+        used.add("Corrections")
+    if any(c in _LIGHT_CONTROLS for c in controls):
+        used.add("Lights & objects")
+    if "scene" in controls:
+        used.add("Scene")
+    return frozenset(used)
+
+
+def hidden_panels(state) -> frozenset[str]:
+    """Panels the reader's mode hides now: those the lesson step on screen does not use
+    (none in the explorer mode, or when no lesson step is applied)."""
+    if not state.reader_mode:
+        return frozenset()
+    session = state.lesson_session
+    step = None if session is None or not session.applied else session.step
+    if step is None:
+        return frozenset()
+    from explorer.ui.layout import PANELS
+
+    used = step_panels(step)
+    return frozenset(panel.title for panel in PANELS if panel.title not in used)
+
+
 def step_caption(step: Step) -> str:
     """Where to look for this step, in words (shown above the step's text): the main
     view and what it draws in the scene when the step shows overlays, else the step's
@@ -137,7 +191,7 @@ def step_caption(step: Step) -> str:
     return " and ".join(parts) + "."
 
 
-_SLICE_WORDS = {"intensity": "the intensity of acc_N", "flux": "the flux per cell of acc_N",
+_SLICE_WORDS = {"intensity": "the accumulated intensity", "flux": "the accumulated flux per cell",
                 "in-flight": "the light in flight after step {t}"}
 _INJECTED_WORDS = "the injected light, before any step"
 
@@ -202,6 +256,10 @@ class LessonSession:
     resume_frames: int = 0
     """Frames the panel still scrolls the article to :attr:`scroll` (a resumed lesson:
     its text's height is known only once it was drawn)."""
+    guesses: dict[tuple[str, int, int], int] = field(default_factory=dict)
+    """(lesson id, step, try-this) -> the reader's guess (1-based) of a prediction."""
+    revealed: set[tuple[str, int, int]] = field(default_factory=set)
+    """Predictions whose try-this the reader pressed: their answer is shown."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
@@ -353,7 +411,7 @@ def current_screen(state: AppState) -> Screen:
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
                   view_mode=state.view_mode, view_buffer=state.view_buffer,
                   compare_overrides=tuple(state.compare_overrides),
-                  overlays=replace(state.overlays))
+                  overlays=replace(state.overlays), split_position=state.split_position)
 
 
 def show_screen(state: AppState, screen: Screen) -> None:
@@ -365,6 +423,8 @@ def show_screen(state: AppState, screen: Screen) -> None:
     state.view_mode = screen.view_mode
     state.compare_overrides = tuple(screen.compare_overrides)
     state.view_buffer = screen.view_buffer
+    if screen.split_position is not None:
+        state.split_position = screen.split_position
     focus = []
     drawn = screen.overlays is not None and screen.overlays.any_shown
     if screen.overlays is not None:

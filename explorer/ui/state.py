@@ -394,6 +394,10 @@ class AppState:
                                          "picked point.")
     open_panels: dict[str, bool] = setting(kind="switches", default_factory=dict,
                                            doc="Panel title -> shown.")
+    reader_mode: bool = setting(True, kind="bool",
+                                doc="Reader's mode: while a lesson step is on screen, only "
+                                    "the panels the step uses are shown (the others come "
+                                    "back in the explorer mode).")
     compare_overrides: tuple = ()
     """(field, value) pairs in which B also differs from A (a lesson's before | after
     view of a try-this); not persisted."""
