@@ -1,4 +1,4 @@
-"""Command line: ``lpv-explorer [run|render|constants|lessons|compare|bench|stability|doctor]``.
+"""Command line: ``lpv-explorer [run|render|constants|lessons|compare|bench|stability|doctor|site]``.
 
 Each subcommand lives in ``explorer/commands/<name>.py`` and exposes
 ``add_arguments(parser)`` and ``main(args) -> int``. Modules are imported only when their
@@ -23,6 +23,7 @@ COMMANDS: dict[str, str] = {
     "stability": "frame-to-frame change of the indirect light while a light, an object or "
                  "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
+    "site": "build the course as a static web site (pages, pictures, baked numbers)",
 }
 
 

@@ -52,6 +52,8 @@ class Shot:
     """The Inspect panel's image for RSM and grid views (uint8), else None."""
     error: Any = None
     """ErrorStats against the one-bounce reference, when measured."""
+    compare_result: Any = None
+    """Configuration B's FrameResult of a split or difference view."""
 
 
 def step_screen(step: Step) -> Screen:
@@ -128,7 +130,7 @@ class FrameRenderer:
         inspect = None
         if view not in MAIN_VIEW_BUFFERS and view not in COMPARE_VIEWS:
             inspect = enlarge(to_bytes(pipeline.view(view)))
-        image = mine
+        image, other = mine, None
         if screen.mode in COMPARE_VIEWS and screen.compare is not None:
             mine_linear = np.array(result.final_image, copy=True)
             other_settings = self.sized(screen.compare)
@@ -148,7 +150,7 @@ class FrameRenderer:
                 image = to_bytes(linear_to_srgb(difference / scale) if scale > 0
                                  else np.zeros_like(difference))
         error = self.error(screen.settings) if want_error else None
-        return Shot(image, result, settings, inspect, error)
+        return Shot(image, result, settings, inspect, error, other)
 
     def _composed(self, side: str, result, display: np.ndarray, overlays) -> np.ndarray:
         """``display`` with the overlays drawn in the scene (the View panel's
