@@ -172,7 +172,8 @@ class _DualBaker(Baker):
         was = self.before.text(name, fmt)
         if was == self.baked[-1][2]:
             return after
-        return f'{after} <span class="was-note">(before: {self.before.span(name, fmt, "was")})</span>'
+        before = self.before.span(name, fmt, "was")
+        return f'{after} <span class="was-note">(before: {before})</span>'
 
 
 class _Writer:
@@ -231,7 +232,8 @@ class _Writer:
                     if spec.kind in PLOT_KINDS:
                         continue
                     key = f"{lesson.id}/{step.number}/{spec.instance_id}"
-                    out = self.root / "img" / lesson.id / f"step{step.number}-{spec.instance_id}.png"
+                    out = (self.root / "img" / lesson.id
+                           / f"step{step.number}-{spec.instance_id}.png")
                     out.parent.mkdir(parents=True, exist_ok=True)
                     jobs.append({"key": key, "lesson": lesson.id, "step": step.number,
                                  "figure": spec.instance_id, "out": str(out),
@@ -311,8 +313,8 @@ class _Writer:
             return (f'<a class="try-link" href="#{_anchor(step, index)}">'
                     f"{pages.esc(try_label(step.try_this[index - 1]))}</a>")
 
-        parts.append(f'<div class="prose">{prose.blocks(step.text, baker, figure_html.get, try_link)}'
-                     "</div>")
+        text = prose.blocks(step.text, baker, figure_html.get, try_link)
+        parts.append(f'<div class="prose">{text}</div>')
         parts += [html for fid, html in figure_html.items() if fid not in placed]
         parts += [prose.formula(name, baker) for name in step.formulas]
         self.report.baked[f"{lesson.id}/{step.number}"] = list(baker.baked)
@@ -362,16 +364,17 @@ class _Writer:
     def figure(self, lesson: Lesson, step: Step, spec, shot: Shot, baker: Baker) -> str:
         caption = prose.inline(spec.caption, baker) if spec.caption else ""
         caption_html = f"<figcaption>{caption}</figcaption>" if caption else ""
+        data = f'data-figure="{pages.esc(spec.instance_id)}" data-kind="{pages.esc(spec.kind)}"'
         if spec.kind in PLOT_KINDS:
-            return f'<figure class="plot">{self.plot(spec, shot)}{caption_html}</figure>'
+            return (f'<figure class="plot" {data}>{self.plot(spec, shot)}{caption_html}'
+                    "</figure>")
         answer = self.figure_answers[f"{lesson.id}/{step.number}/{spec.instance_id}"]
         images = [self._figure_image(path) for path in answer["files"]]
-        self.report.images += 0
         if len(images) == 1:
-            return (f'<figure class="figure">{images[0].tag(spec.kind)}{caption_html}'
+            return (f'<figure class="figure" {data}>{images[0].tag(spec.kind)}{caption_html}'
                     "</figure>")
         start = min(int(getattr(spec.params, "step", 0)), len(images) - 1)
-        return ('<figure class="figure stepper">' + pages.sequence(
+        return (f'<figure class="figure stepper" {data}>' + pages.sequence(
             [(image, f"step t = {t}") for t, image in enumerate(images)], start,
             "Propagation, step by step", caption or "", css="figure-sequence") + "</figure>")
 

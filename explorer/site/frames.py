@@ -195,4 +195,6 @@ class FrameRenderer:
             if owned is not None:
                 owned.release()
         self._compositor = self._pipeline = self._error_pipeline = None
-        self.ctx.release()
+        from explorer.gl.context import release_headless_context
+
+        release_headless_context(self.ctx)

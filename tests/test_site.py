@@ -1,0 +1,316 @@
+"""``lpv-explorer site``: a CI-sized build of two lessons (small pictures), read as files
+and in a real browser (Debian's chromium headless, driven by selenium and chromedriver).
+
+The build runs once per module as a user runs it (``python -m explorer site``). The
+browser checks skip with the reason printed when chromium or chromedriver is missing.
+"""
+
+from __future__ import annotations
+
+import html
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+from explorer import live_values
+from explorer.lessons import find_lesson, load_all
+
+LESSONS = ("overview", "solid-angles")
+SIZE = (320, 200)
+ROOT = Path(__file__).resolve().parents[1]
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+WIDTHS = (375, 1280)
+SCREENSHOTS = Path(os.environ.get("LPV_SITE_SCREENSHOTS", "")) if os.environ.get(
+    "LPV_SITE_SCREENSHOTS") else None
+"""Set to a folder to keep the browser's screenshots of every page at both widths."""
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("site") / "course"
+    start = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-m", "explorer", "site", str(out), "--lessons", ",".join(LESSONS),
+         "--size", f"{SIZE[0]}x{SIZE[1]}", "--figure-width", "320"],
+        cwd=ROOT, capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr + done.stdout
+    print(f"\n{done.stdout.strip()}\n(build {time.monotonic() - start:.0f} s)")
+    assert "site: " in done.stdout and " MB in " in done.stdout
+    return out
+
+
+@pytest.fixture(scope="module")
+def lessons():
+    found, _ = load_all()
+    return [find_lesson(key, found) for key in LESSONS]
+
+
+def page_of(site: Path, lesson) -> Path:
+    return site / f"{lesson.number:02d}-{lesson.id}.html"
+
+
+def sections(text: str) -> dict[int, str]:
+    """Step number -> the HTML of its <section>."""
+    found = re.findall(r'<section class="step" id="step-(\d+)">(.*?)</section>', text, re.S)
+    return {int(number): body for number, body in found}
+
+
+# --- the files -------------------------------------------------------------------------
+
+def test_every_step_is_on_its_page_with_all_its_figures(site, lessons):
+    index = (site / "index.html").read_text()
+    for lesson in lessons:
+        assert f'href="{page_of(site, lesson).name}"' in index
+        text = page_of(site, lesson).read_text()
+        found = sections(text)
+        assert sorted(found) == [step.number for step in lesson.steps]
+        for step in lesson.steps:
+            body = found[step.number]
+            assert html.escape(step.title) in body
+            assert body.count('<figure class="view">') == 1
+            figures = re.findall(r'data-figure="([^"]+)"', body)
+            assert sorted(figures) == sorted(step.figure_ids), (lesson.id, step.number)
+            assert len(re.findall(r'class="try" id=', body)) == len(step.try_this)
+            assert body.count("data-swipe") == len(step.try_this)
+            command = f"lpv-explorer run --lesson {lesson.id} --step {step.number}"
+            assert command in body
+    for image in re.findall(r'src="([^"]+)"', index + "".join(
+            page_of(site, lesson).read_text() for lesson in lessons)):
+        assert (site / image).is_file(), image
+
+
+def test_the_open_command_opens_that_step():
+    """The command each step shows is one ``run`` accepts (checked before any window)."""
+    from explorer.cli import build_parser
+
+    args = build_parser().parse_args(["run", "--lesson", "solid-angles", "--step", "2"])
+    assert (args.lesson, args.step) == ("solid-angles", 2)
+
+
+def test_baked_numbers_equal_the_converged_frames_live_values(site, lessons, gl_context):
+    """Each number of a step's prose equals what the window's article shows for the
+    step's frame, rendered here again at the site's size (figure readouts aside)."""
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.site.frames import uses_error
+
+    checked = 0
+    for lesson in lessons:
+        found = sections(page_of(site, lesson).read_text())
+        for step in lesson.steps:
+            prose = found[step.number].split('<div class="prose">', 1)[1].split(
+                '<div class="try"', 1)[0]
+            numbers = re.findall(r'class="live" data-q="([^"]+)" data-fmt="([^"]*)"[^>]*>'
+                                 r"([^<]*)<", prose)
+            if not numbers:
+                continue
+            settings = step.settings().with_changes(width=SIZE[0], height=SIZE[1])
+            pipeline = Pipeline(settings, ctx=gl_context)
+            try:
+                result = pipeline.run(settings, need_audit="full")
+            finally:
+                pipeline.release()
+            error = None
+            if uses_error([step.text]):
+                error = _error(gl_context, settings)
+            context = live_values.LiveContext(settings=settings, result=result, error=error,
+                                              renderer=gl_context.info["GL_RENDERER"])
+            for name, fmt, shown in numbers:
+                if name.startswith("figure."):
+                    continue
+                expected = live_values.render(html.unescape(name), html.unescape(fmt),
+                                              context, step.figure_ids)
+                assert html.unescape(shown) == expected, (lesson.id, step.number, name)
+                assert expected != live_values.PENDING
+                checked += 1
+    assert checked >= 5
+
+
+def _error(ctx, settings):
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.truth.progressive import ErrorJob, Measurement
+
+    measured = settings.with_changes(exposure=1.0, indirect_only=False)
+    job = ErrorJob(measured, Measurement(), settings.width / settings.height)
+    pipeline = Pipeline(job.settings, ctx=ctx)
+    try:
+        while not job.advance(ctx, pipeline, 30.0):
+            pass
+        return job.result.stats
+    finally:
+        job.release()
+        pipeline.release()
+
+
+class _Text(HTMLParser):
+    """The text a reader sees, and the attributes shown as tooltips, outside code, the
+    script and MathML's TeX annotations."""
+
+    SKIP = ("code", "script", "style", "annotation")
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.depth = 0
+        self.parts: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        if tag in self.SKIP:
+            self.depth += 1
+        elif not self.depth:
+            self.parts += [value or "" for name, value in attrs if name in ("title", "alt")]
+
+    def handle_endtag(self, tag):
+        if tag in self.SKIP:
+            self.depth -= 1
+
+    def handle_data(self, data):
+        if not self.depth:
+            self.parts.append(data)
+
+
+def test_no_raw_tex_in_the_output(site):
+    pages = sorted(site.glob("*.html"))
+    assert len(pages) == 1 + len(LESSONS)
+    for page in pages:
+        reader = _Text()
+        reader.feed(page.read_text())
+        text = "\n".join(reader.parts)
+        for mark in ("\\", "$", "{{", "}}"):
+            assert mark not in text, (page.name, mark, text[max(text.find(mark) - 80, 0):
+                                                              text.find(mark) + 80])
+        assert "<math" in page.read_text() or page.name == "index.html"
+
+
+def test_the_site_needs_no_network(site):
+    for path in site.rglob("*"):
+        if path.suffix in (".html", ".css", ".js"):
+            text = path.read_text()
+            assert not re.search(r"""(src|href)=["']?(https?:)?//""", text), path.name
+            assert "url(http" not in text and "@import" not in text, path.name
+
+
+# --- in the browser ---------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def browser():
+    if CHROMIUM is None or CHROMEDRIVER is None:
+        reason = ("Debian's chromium and chromium-driver are not installed "
+                  "(apt-get install chromium chromium-driver)")
+        print(f"\nskipped: {reason}")
+        pytest.skip(reason)
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
+                     "--disable-dev-shm-usage", "--hide-scrollbars"):
+        options.add_argument(argument)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    driver.set_page_load_timeout(60)
+    yield driver
+    driver.quit()
+
+
+def _open(driver, page: Path, width: int) -> None:
+    driver.set_window_size(width, 900)
+    driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
+        "width": width, "height": 900, "deviceScaleFactor": 1, "mobile": width < 600})
+    driver.get(page.as_uri())
+    driver.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "Promise.all([document.fonts.ready, ...Array.from(document.images, i => i.decode()"
+        ".catch(() => null))]).then(() => done(true));")
+
+
+def _picture(driver, element) -> bytes:
+    driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", element)
+    return element.screenshot_as_png
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_pages_in_chromium(site, browser, width):
+    """Every page loads without a console message of level SEVERE or WARNING, every
+    image and font loads, nothing is wider than the window."""
+    browser.get_log("browser")                          # drop what came before
+    for page in sorted(site.glob("*.html")):
+        _open(browser, page, width)
+        logs = [entry for entry in browser.get_log("browser")
+                if entry["level"] in ("SEVERE", "WARNING")]
+        assert logs == [], (page.name, logs)
+        broken = browser.execute_script(
+            "return Array.from(document.images).filter(i => !i.complete || i.naturalWidth"
+            " === 0).map(i => i.getAttribute('src'))")
+        assert broken == [], (page.name, broken)
+        fonts = browser.execute_script(
+            "return Array.from(document.fonts).map(f => [f.family, f.status])")
+        assert all(status != "error" for _, status in fonts), (page.name, fonts)
+        if browser.execute_script("return document.querySelector('math') !== null"):
+            assert ['"Latin Modern Math"', "loaded"] in [list(f) for f in fonts] or \
+                ["Latin Modern Math", "loaded"] in [list(f) for f in fonts], fonts
+        overflow = browser.execute_script(
+            "const d = document.documentElement; return [d.scrollWidth, d.clientWidth]")
+        assert overflow[0] <= overflow[1], (page.name, width, overflow)
+        if SCREENSHOTS is not None:
+            SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+            height = browser.execute_script("return document.documentElement.scrollHeight")
+            shot = browser.execute_cdp_cmd("Page.captureScreenshot", {
+                "format": "png", "captureBeyondViewport": True,
+                "clip": {"x": 0, "y": 0, "width": width, "height": min(height, 6000),
+                         "scale": 1}})
+            import base64
+
+            (SCREENSHOTS / f"{page.stem}-{width}.png").write_bytes(
+                base64.b64decode(shot["data"]))
+
+
+def test_every_slider_changes_the_picture(site, browser, lessons):
+    """Each swipe and each image sequence, moved from the keyboard as a reader would,
+    shows another picture; Play moves a sequence on by itself."""
+    from selenium.webdriver.common.keys import Keys
+
+    moved = plays = 0
+    for lesson in lessons:
+        _open(browser, page_of(site, lesson), 1280)
+        for widget in browser.find_elements("css selector", "[data-swipe], [data-sequence]"):
+            picture = widget if widget.get_attribute("data-swipe") is not None else \
+                widget.find_element("css selector", ".frames")
+            slider = widget.find_element("css selector", "input[type=range]")
+            before = _picture(browser, picture)
+            start = int(slider.get_attribute("value"))
+            key = Keys.HOME if start > int(slider.get_attribute("min")) else Keys.END
+            browser.execute_script("arguments[0].focus()", slider)
+            slider.send_keys(key)
+            assert slider.get_attribute("value") != str(start)
+            after = _picture(browser, picture)
+            assert after != before, (lesson.id, widget.get_attribute("outerHTML")[:200])
+            moved += 1
+            play = widget.find_elements("css selector", "button.play")
+            if play:
+                slider.send_keys(Keys.HOME)
+                still = _picture(browser, picture)
+                play[0].click()
+                time.sleep(1.2)
+                assert int(slider.get_attribute("value")) > 0
+                assert _picture(browser, picture) != still
+                plays += 1
+    expected = sum(len(step.try_this) for lesson in lessons for step in lesson.steps)
+    assert moved >= expected and plays >= 1
+
+
+def test_numbers_show_what_they_measure(site, browser, lessons):
+    """A live number shows its tooltip on a tap (touch screens show no title)."""
+    _open(browser, page_of(site, lessons[0]), 375)
+    number = browser.find_element("css selector", ".prose .live")
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", number)
+    number.click()
+    tip = browser.find_element("css selector", ".tip")
+    assert tip.is_displayed() and len(tip.text) > 10
