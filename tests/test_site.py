@@ -33,13 +33,19 @@ SCREENSHOTS = Path(os.environ.get("LPV_SITE_SCREENSHOTS", "")) if os.environ.get
 """Set to a folder to keep the browser's screenshots of every page at both widths."""
 
 
+BUILT = os.environ.get("LPV_SITE_DIR")
+"""Set to a site built before (e.g. the whole course) to check it instead of building."""
+
+
 @pytest.fixture(scope="module")
 def site(tmp_path_factory) -> Path:
+    if BUILT:
+        return Path(BUILT)
     out = tmp_path_factory.mktemp("site") / "course"
     start = time.monotonic()
     done = subprocess.run(
         [sys.executable, "-m", "explorer", "site", str(out), "--lessons", ",".join(LESSONS),
-         "--size", f"{SIZE[0]}x{SIZE[1]}", "--figure-width", "320"],
+         "--size", f"{SIZE[0]}x{SIZE[1]}", "--figure-width", "480"],
         cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr + done.stdout
     print(f"\n{done.stdout.strip()}\n(build {time.monotonic() - start:.0f} s)")
@@ -177,7 +183,7 @@ class _Text(HTMLParser):
 
 def test_no_raw_tex_in_the_output(site):
     pages = sorted(site.glob("*.html"))
-    assert len(pages) == 1 + len(LESSONS)
+    assert len(pages) >= 1 + len(LESSONS)
     for page in pages:
         reader = _Text()
         reader.feed(page.read_text())

@@ -448,11 +448,12 @@ class _Writer:
         for lesson in lessons:
             thumb = self.thumbs.get(lesson.id)
             picture = thumb.tag(f"Lesson {lesson.number}: {lesson.title}") if thumb else ""
-            steps = len(lesson.steps)
+            outline = "".join(f'<li><a href="{page_name(lesson)}#step-{step.number}">'
+                              f"{pages.esc(step.title)}</a></li>" for step in lesson.steps)
             cards.append(f'<li><a href="{page_name(lesson)}">{picture}<div class="text">'
                          f"<h2>{lesson.number}. {pages.esc(lesson.title)}</h2>"
-                         f"<p>{pages.esc(lesson.summary)}</p><p>{steps} step"
-                         f"{'s' if steps != 1 else ''}</p></div></a></li>")
+                         f"<p>{pages.esc(lesson.summary)}</p></div></a>"
+                         f'<ol class="outline">{outline}</ol></li>')
         body = ("<h1>Light Propagation Volumes, explained</h1>"
                 '<p class="summary">A course on Kaplanyan and Dachsbacher\'s real-time '
                 "indirect lighting, built from the lessons of lpv-explorer: each lesson a "

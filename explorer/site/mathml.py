@@ -16,6 +16,10 @@ import re
 
 from latex2mathml.converter import convert
 
+LONG_INLINE = 24
+"""Inline formulas with this much LaTeX or more may be wider than a phone's column: they
+are wrapped in ``<span class="long-math">``, which the stylesheet lets scroll sideways
+instead of widening the page."""
 _ANNOTATION = re.compile(r"<annotation\b.*?</annotation>", re.S)
 
 
@@ -36,7 +40,10 @@ def to_mathml(latex: str, display: bool = False) -> str:
     end = body.rindex("</math>")
     annotation = (f'<annotation encoding="application/x-tex">{html.escape(latex)}'
                   f"</annotation>")
-    return f"{body[:start]}<semantics>{body[start:end]}{annotation}</semantics></math>"
+    markup = f"{body[:start]}<semantics>{body[start:end]}{annotation}</semantics></math>"
+    if not display and len(latex) >= LONG_INLINE:
+        markup = f'<span class="long-math">{markup}</span>'
+    return markup
 
 
 def strip_annotations(markup: str) -> str:

@@ -18,7 +18,7 @@ import numpy as np
 
 SIDE_COLOURS = ("#2f6fdf", "#e0702f")
 """Configuration A, B (the window's blue and orange)."""
-WIDTH, HEIGHT = 640, 300
+WIDTH, HEIGHT = 560, 300
 
 
 def _num(value: float) -> str:
