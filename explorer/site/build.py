@@ -160,7 +160,8 @@ def try_label(item: TryThis) -> str:
 
 
 class _DualBaker(Baker):
-    """A try-this prompt's numbers: the value after the change, and before it beside."""
+    """A try-this prompt's numbers: the value after the change, and the measured ones'
+    value before it beside."""
 
     def __init__(self, after: Baker, before: Baker) -> None:
         super().__init__(after.context, after.figure_ids, after.where, after.pending,
@@ -169,6 +170,8 @@ class _DualBaker(Baker):
 
     def span(self, name: str, fmt: str, css: str = "") -> str:
         after = super().span(name, fmt, css)
+        if name.split(".", 1)[0] in ("settings", "corrections"):
+            return after            # the change the try-this names: its label says it
         was = self.before.text(name, fmt)
         if was == self.baked[-1][2]:
             return after
@@ -293,7 +296,8 @@ class _Writer:
         where = f"{lesson.id} step {step.number}: "
         stem = f"{lesson.id}/step{step.number}"
         texts = [step.text] + [spec.caption for spec in step.figures]
-        shot = self.shot(step_screen(step), step, texts)
+        # the prompts' numbers before the change are this frame's too
+        shot = self.shot(step_screen(step), step, texts + [t.prompt for t in step.try_this])
         view = self.image(shot.image, stem)
         if step.number == 1:
             self.thumbs[lesson.id] = self.image(shot.image, f"{stem}-thumb", width=THUMB_WIDTH)
@@ -322,6 +326,9 @@ class _Writer:
         sequence = self.iterations(step, stem)
         if sequence:
             parts.append(sequence)
+        if step.try_this and step_screen(step).mode != "single":
+            alone = self.shot(Screen(step.settings()), step, [])     # A without B beside
+            view = self.image(alone.image, f"{stem}-a")
         parts += [self.try_this(step, index, shot, view, figures, stem, where)
                   for index in range(1, len(step.try_this) + 1)]
         parts.append(pages.open_command(lesson.id, step.number))

@@ -65,15 +65,11 @@ def step_screen(step: Step) -> Screen:
 
 
 def try_screen(step: Step, index: int) -> Screen:
-    """The step with its ``index``-th (1-based) try-this pressed, shown whole (the page's
-    swipe puts it beside the step): the change applied to configuration A, and to B of a
-    step that compares, as the window applies it."""
+    """Configuration A of the step with its ``index``-th (1-based) try-this pressed,
+    shown whole: the page's swipe puts it against the step's configuration A (the
+    window's before | after split), so neither side is itself a split view."""
     item = step.try_this[index - 1]
-    screen = step_screen(step)
-    after = item.apply(screen.settings)
-    if item.split or screen.compare is None:
-        return Screen(after)
-    return Screen(after, screen.mode, after.with_changes(corrections=step.compare))
+    return Screen(item.apply(step.settings()))
 
 
 def uses_error(texts: list[str]) -> bool:
