@@ -79,9 +79,13 @@ class Axis:
         return [first + i * step for i in range(int((self.high - first) / step) + 1)]
 
     def label(self, value: float) -> str:
+        """The tick's SVG text content: a decade as 10 with a raised exponent."""
         if self.scale == "log":
             exponent = round(math.log10(value))
-            return "1" if exponent == 0 else f"10^{exponent}".replace("-", "−")
+            if exponent == 0:
+                return "1"
+            power = str(exponent).replace("-", "−")
+            return f'10<tspan dy="-5" font-size="9">{power}</tspan>'
         return _num(round(value, 12))
 
 
@@ -91,7 +95,7 @@ class Box:
 
     width: float = WIDTH
     height: float = HEIGHT
-    left: float = 64
+    left: float = 72
     right: float = 110
     top: float = 34
     bottom: float = 46
@@ -109,7 +113,7 @@ def _frame(box: Box, title: str, x_label: str, y_label: str) -> list[str]:
            f'<text class="axis-title" x="{box.left + w / 2:.1f}" y="{box.height - 8:g}" '
            f'text-anchor="middle">{html.escape(x_label)}</text>']
     if y_label:
-        out.append(f'<text class="axis-title" transform="translate(16 {box.top + h / 2:.1f}) '
+        out.append(f'<text class="axis-title" transform="translate(14 {box.top + h / 2:.1f}) '
                    f'rotate(-90)" text-anchor="middle">{html.escape(y_label)}</text>')
     return out
 
