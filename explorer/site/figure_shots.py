@@ -22,6 +22,8 @@ from pathlib import Path
 from typing import Any
 
 SCALE = 2
+FONT_SIZE = 15.0
+"""The one-figure window's font size before scaling (explorer/ui/figures/harness.py)."""
 PADDING = 16
 WINDOW_HEIGHT = 1900
 XVFB_SCREEN = "-screen 0 2800x2000x24"
@@ -71,6 +73,17 @@ def _results(job: dict[str, Any], step, ctx) -> tuple:
     return pipeline_results(ctx, settings)
 
 
+def _control_rows() -> int:
+    """Pixel rows of the stepper's own controls above its picture (Play and the step
+    slider, the glyph and axis choices: two rows of frames): the page plays the frames
+    with its own slider, so the picture leaves them out."""
+    from imgui_bundle import imgui
+
+    style = imgui.get_style()         # sizes already scaled by SCALE (theme.apply_style)
+    row = FONT_SIZE * SCALE + 2 * style.frame_padding.y + style.item_spacing.y
+    return int(round(2 * row))
+
+
 def draw(jobs: list[dict[str, Any]]) -> dict[str, Any]:
     from explorer.lessons import find_lesson, load_all
     from explorer.ui.figures.harness import FigureWindow
@@ -107,6 +120,8 @@ def draw(jobs: list[dict[str, Any]]) -> dict[str, Any]:
                 if t is not None:
                     state.step = t
                 pixels = window.render(spec, frames=4, figure_width=job["width"] * SCALE)
+                if job.get("sequence"):
+                    pixels = pixels[_control_rows():]
                 path = out if t is None else out.with_name(f"{out.stem}-{t}{out.suffix}")
                 write_png(pixels, path)
                 files.append(str(path))
