@@ -320,3 +320,57 @@ def test_numbers_show_what_they_measure(site, browser, lessons):
     number.click()
     tip = browser.find_element("css selector", ".tip")
     assert tip.is_displayed() and len(tip.text) > 10
+
+
+# --- without a build --------------------------------------------------------------------
+
+def test_every_formula_of_the_course_typesets_as_mathml():
+    """All the LaTeX the lessons hold (prose, display math, derivation results), with
+    their live numbers in place, converts; nothing of the TeX is left outside the
+    annotation."""
+    from explorer import derived, lesson_text
+    from explorer.site.mathml import strip_annotations, to_mathml
+
+    found, errors = load_all()
+    assert not errors
+    latex = []
+    for lesson in found:
+        for step in lesson.steps:
+            texts = [step.text] + [t.prompt for t in step.try_this] + [
+                f.caption for f in step.figures]
+            for text in texts:
+                blocks = lesson_text.parse(text)
+                latex += [b.latex for b in blocks if isinstance(b, lesson_text.DisplayMath)]
+                latex += [derived.get(b.name).latex for b in blocks
+                          if isinstance(b, lesson_text.FormulaRef)]
+                latex += [r.latex for r in lesson_text.all_runs(blocks)
+                          if isinstance(r, lesson_text.Math)]
+            latex += [derived.get(name).latex for name in step.formulas]
+    assert len(latex) > 100
+    for formula in latex:
+        filled = lesson_text.substitute(formula, lambda name, fmt: "1.5")
+        for display in (False, True):
+            markup = strip_annotations(to_mathml(filled, display))
+            assert "\\" not in markup and "{" not in markup, (formula, markup)
+            assert markup.count("<math") == 1
+
+
+def test_a_folder_that_is_not_a_site_is_refused_and_kept(tmp_path):
+    """OUT holding other files: one line, exit 2, the files untouched."""
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    done = subprocess.run([sys.executable, "-m", "explorer", "site", str(out), "--lessons",
+                           "1"], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2
+    assert done.stderr.count("\n") == 1 and "not empty" in done.stderr
+    assert (out / "notes.txt").read_text() == "keep me"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mine"]
+
+
+def test_an_unknown_lesson_is_one_line(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "explorer", "site", str(tmp_path / "s"),
+                           "--lessons", "1,nope"], cwd=ROOT, capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert "nope" in done.stderr and not (tmp_path / "s").exists()
