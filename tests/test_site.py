@@ -374,3 +374,20 @@ def test_an_unknown_lesson_is_one_line(tmp_path):
                           timeout=120)
     assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
     assert "nope" in done.stderr and not (tmp_path / "s").exists()
+
+
+def test_plots_have_axes_labels_and_a_value_per_point():
+    import numpy as np
+
+    from explorer.site.plots import audit_svg, flux_per_step_svg
+
+    svg = flux_per_step_svg([("A: corrected", np.array([3.0, 3.1, 3.18])),
+                             ("B: original", np.array([9.0, 0.7, 0.05]))], "log")
+    assert "step t" in svg and "flux in flight [W] (log)" in svg
+    titles = re.findall(r"<circle[^>]*><title>([^<]*)</title>", svg)
+    assert len(titles) == 6
+    assert titles[2] == "A: corrected: step 2: 3.18 W in flight (106.0 % of the injected flux)"
+    assert '10<tspan dy="-5" font-size="9">−2</tspan>' in svg       # a decade below 0.05
+    bars = audit_svg(["RSM", "injected"], [("A", np.array([2.0, 1.0]), 1.0)], "linear")
+    assert re.findall(r"<rect[^>]*><title>([^<]*)</title>", bars) == [
+        "A: RSM: 2 W (2× the injected flux)", "A: injected: 1 W (100.0 % of the injected flux)"]

@@ -32,10 +32,17 @@ def watts(value: float) -> str:
 
 
 def share(value: float, reference: float) -> str:
+    """``value`` relative to ``reference``: a percentage, or ``3.2×`` from twice on."""
     if reference == 0 or not math.isfinite(reference):
         return "–"
     ratio = value / reference
     return f"{_num(ratio)}×" if abs(ratio) >= 2 else f"{100 * ratio:.1f} %"
+
+
+def share_words(value: float, reference: float) -> str:
+    """The share in a sentence: "106.0 % of the injected flux", "16× the injected flux"."""
+    text = share(value, reference)
+    return f"{text} the injected flux" if text.endswith("×") else f"{text} of the injected flux"
 
 
 class Axis:
@@ -178,8 +185,8 @@ def flux_per_step_svg(series: Sequence[tuple[str, np.ndarray]], scale: str = "lo
         for t, ((x, y), v) in enumerate(zip(points, values)):
             text = (f"{label}: step {t}: " + (f"{v:.3g} % of the injected flux" if relative
                                               else f"{watts(float(v))} in flight ("
-                                                   f"{share(float(raw[t]), float(raw[0]))} of"
-                                                   " the injected flux)"))
+                                                   f"{share_words(float(raw[t]), float(raw[0]))}"
+                                                   ")"))
             out.append(f'<circle class="point" cx="{x:.1f}" cy="{y:.1f}" r="4" fill="{colour}">'
                        f"<title>{html.escape(text)}</title></circle>")
         last_x, last_y = points[-1]
@@ -218,7 +225,7 @@ def audit_svg(rows: Sequence[str], sides: Sequence[tuple[str, np.ndarray, float]
             length = 0.0 if not math.isfinite(value) else axis.at(abs(value))
             y = y0 + i * bar
             text = (f"{label}: {name}: {watts(float(watts_values[r]))} "
-                    f"({share(float(watts_values[r]), injected)} of the injected flux)")
+                    f"({share_words(float(watts_values[r]), injected)})")
             out.append(f'<rect class="bar" x="{box.left:g}" y="{y:g}" width="{length:.1f}" '
                        f'height="{bar - 2}" fill="{SIDE_COLOURS[i % 2]}"><title>'
                        f"{html.escape(text)}</title></rect>")
