@@ -391,3 +391,13 @@ def test_plots_have_axes_labels_and_a_value_per_point():
     bars = audit_svg(["RSM", "injected"], [("A", np.array([2.0, 1.0]), 1.0)], "linear")
     assert re.findall(r"<rect[^>]*><title>([^<]*)</title>", bars) == [
         "A: RSM: 2 W (2× the injected flux)", "A: injected: 1 W (100.0 % of the injected flux)"]
+
+
+def test_a_plot_point_shows_its_value_on_a_tap(site, browser, lessons):
+    _open(browser, page_of(site, lessons[0]), 375)
+    point = browser.find_element("css selector", "svg.plot .point")
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", point)
+    title = browser.execute_script("return arguments[0].querySelector('title').textContent",
+                                   point)
+    point.click()
+    assert browser.find_element("css selector", ".tip").text == title

@@ -71,9 +71,20 @@
     tip.style.left = left + "px";
     tip.style.top = (window.scrollY + box.bottom + 6) + "px";
   }
+  // A plot's point or bar: its <title> (what a mouse shows on hover) on a tap too.
+  function showTitle(target) {
+    var title = target.querySelector("title");
+    if (!title) { return false; }
+    target.setAttribute("data-tip", title.textContent);
+    showTip(target);
+    return true;
+  }
   document.addEventListener("click", function (event) {
-    var live = event.target.closest ? event.target.closest(".live") : null;
-    if (live) { showTip(live); } else { hideTip(); }
+    var target = event.target;
+    var live = target.closest ? target.closest(".live") : null;
+    if (live) { showTip(live); return; }
+    if (target.closest && target.closest("svg.plot") && showTitle(target)) { return; }
+    hideTip();
   });
   document.addEventListener("focusin", function (event) {
     if (event.target.classList && event.target.classList.contains("live")) {
