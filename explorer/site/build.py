@@ -31,6 +31,8 @@ PLOT_KINDS = ("flux-per-step", "energy-audit")
 SEQUENCE_ITERATIONS = (0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64)
 """The iteration counts an "iterations" sequence shows (up to the largest the step uses)."""
 THUMB_WIDTH = 480
+SHOWN_OVERLAYS = ("slice", "glyphs", "vpls", "lattice", "cascade_boxes", "blockers")
+"""The overlays a view's caption names (the others say how these are drawn)."""
 JPEG_QUALITY = 88
 
 
@@ -151,12 +153,44 @@ def _anchor(step: Step, index: int) -> str:
 
 
 def try_label(item: TryThis) -> str:
+    """The try-this button's text in words: its ``label``, else the control's label from
+    the settings schema (or the correction's title) and the value."""
     if item.label:
         return item.label
-    value = item.value
-    if isinstance(value, bool):
-        value = "on" if value else "off"
-    return f"{item.control} = {value}"
+    button = getattr(item, "button", None)          # the window's own wording, if any
+    if callable(button):
+        return button()[0]
+    from explorer.live_values import format_value
+    from explorer.lpv.corrections import BY_NAME
+    from explorer.lpv.schema import specs
+    from explorer.lpv.settings import Settings
+
+    value = format_value(item.value, "g")
+    if item.control.startswith("corrections."):
+        name = item.control.split(".", 1)[1]
+        title = BY_NAME[name].title if name in BY_NAME else name
+        return f"{title}: {value}"
+    if item.control == "corrections":
+        return f"{value} preset" if isinstance(item.value, str) else "other corrections"
+    spec = specs(Settings).get(item.control)
+    return f"{(spec.label if spec is not None and spec.label else item.control)}: {value}"
+
+
+def shown_in_scene(step: Step) -> list[str]:
+    """What the step's overlays draw, in the words of their documentation."""
+    from dataclasses import fields as dataclass_fields
+
+    from explorer.overlay_params import OverlayState
+
+    docs = {f.name: f.metadata["spec"].doc for f in dataclass_fields(OverlayState)
+            if f.metadata and "spec" in f.metadata}
+    words = []
+    for name, value in step.show:
+        if value is True and name in SHOWN_OVERLAYS:
+            doc = docs[name].rstrip(".")
+            doc = doc[len("Draw "):] if doc.startswith("Draw ") else doc
+            words.append(doc[:1].lower() + doc[1:])
+    return words
 
 
 class _DualBaker(Baker):
@@ -342,8 +376,8 @@ class _Writer:
                                "difference white"}
         shows = words.get(step.view, "the final image; the Inspect panel shows "
                                      f"{step.view}")
-        overlays = [name for name, value in step.show if value is True]
-        extra = f"; in the scene: {', '.join(overlays)}" if overlays else ""
+        overlays = shown_in_scene(step)
+        extra = f"; in the scene: {'; '.join(overlays)}" if overlays else ""
         return (f"The {pages.esc(step.scene)} scene: {pages.esc(shows)}{pages.esc(extra)}. "
                 f"Rendered at {self.options.size[0]}×{self.options.size[1]} by the LPV, "
                 "converged.")
