@@ -189,7 +189,7 @@ def shown_in_scene(step: Step) -> list[str]:
         if value is True and name in SHOWN_OVERLAYS:
             doc = docs[name].rstrip(".")
             doc = doc[len("Draw "):] if doc.startswith("Draw ") else doc
-            words.append(doc[:1].lower() + doc[1:])
+            words.append(doc if doc[:2].isupper() else doc[:1].lower() + doc[1:])
     return words
 
 
