@@ -101,42 +101,78 @@ def test_the_open_command_opens_that_step():
     assert (args.lesson, args.step) == ("solid-angles", 2)
 
 
-def test_baked_numbers_equal_the_converged_frames_live_values(site, lessons, gl_context):
-    """Each number of a step's prose equals what the window's article shows for the
-    step's frame, rendered here again at the site's size (figure readouts aside)."""
+_LIVE = re.compile(r'class="live" data-q="([^"]+)" data-fmt="([^"]*)"[^>]*>([^<]*)<')
+
+
+def _context(ctx, step, settings, texts):
+    """The live numbers' context of ``settings`` rendered afresh (the step's figures'
+    readouts from the figure code itself)."""
     from explorer.lpv.pipeline import Pipeline
     from explorer.site.frames import uses_error
+    from explorer.ui.figures.host import FigureContext
+    from explorer.ui.figures.registry import FIGURES
+
+    settings = settings.with_changes(width=SIZE[0], height=SIZE[1])
+    pipeline = Pipeline(settings, ctx=ctx)
+    try:
+        result = pipeline.run(settings, need_audit="full")
+    finally:
+        pipeline.release()
+    figures = {}
+    for spec in step.figures:
+        kind = FIGURES[spec.kind]
+        figures[spec.instance_id] = kind.readouts(spec.params, kind.make_state(spec.params),
+                                                  FigureContext(results=(result,)))
+    error = _error(ctx, settings) if uses_error(texts) else None
+    return live_values.LiveContext(settings=settings, result=result, error=error,
+                                   figures=figures, renderer=ctx.info["GL_RENDERER"])
+
+
+def _check(numbers, context, step, where) -> int:
+    for name, fmt, shown in numbers:
+        expected = live_values.render(html.unescape(name), html.unescape(fmt), context,
+                                      step.figure_ids)
+        assert html.unescape(shown) == expected, (where, name)
+        assert expected != live_values.PENDING, (where, name)
+    return len(numbers)
+
+
+def test_baked_numbers_equal_the_converged_frames_live_values(site, lessons, gl_context):
+    """Each number of a step's prose equals what the window's article shows for the
+    step's frame, rendered here again at the site's size; each number of a try-this
+    prompt what it shows after the change (and, beside a measured one, before it)."""
+    from explorer.ui.figures.registry import USES_RESULTS
 
     checked = 0
     for lesson in lessons:
         found = sections(page_of(site, lesson).read_text())
         for step in lesson.steps:
-            prose = found[step.number].split('<div class="prose">', 1)[1].split(
-                '<div class="try"', 1)[0]
-            numbers = re.findall(r'class="live" data-q="([^"]+)" data-fmt="([^"]*)"[^>]*>'
-                                 r"([^<]*)<", prose)
-            if not numbers:
-                continue
-            settings = step.settings().with_changes(width=SIZE[0], height=SIZE[1])
-            pipeline = Pipeline(settings, ctx=gl_context)
-            try:
-                result = pipeline.run(settings, need_audit="full")
-            finally:
-                pipeline.release()
-            error = None
-            if uses_error([step.text]):
-                error = _error(gl_context, settings)
-            context = live_values.LiveContext(settings=settings, result=result, error=error,
-                                              renderer=gl_context.info["GL_RENDERER"])
-            for name, fmt, shown in numbers:
-                if name.startswith("figure."):
+            body = found[step.number]
+            prose = body.split('<div class="prose">', 1)[1].split('<div class="try"', 1)[0]
+            cards = re.findall(r'<div class="try" id="[^"]+">(.*?)</div>\s*(?=<div class="try"|'
+                               r'<p class="open">)', body, re.S)
+            assert len(cards) == len(step.try_this)
+            texts = [step.text] + [t.prompt for t in step.try_this]
+            before = _context(gl_context, step, step.settings(), texts)
+            results_figures = any(spec.kind in USES_RESULTS for spec in step.figures)
+            numbers = [n for n in _LIVE.findall(prose)
+                       if not (results_figures and n[0].startswith("figure."))]
+            checked += _check(numbers, before, step, f"{lesson.id} step {step.number}")
+            for index, (item, card) in enumerate(zip(step.try_this, cards), 1):
+                prompt = card.split('<p class="prompt">', 1)[1]
+                was = re.findall(r'<span class="was-note">\(before: (<span [^>]*>[^<]*</span>)',
+                                 prompt)
+                after = [n for n in _LIVE.findall(re.sub(r'<span class="was-note">.*?</span>'
+                                                         r"</span>\)?", "", prompt))]
+                if not after:
                     continue
-                expected = live_values.render(html.unescape(name), html.unescape(fmt),
-                                              context, step.figure_ids)
-                assert html.unescape(shown) == expected, (lesson.id, step.number, name)
-                assert expected != live_values.PENDING
-                checked += 1
-    assert checked >= 5
+                context = _context(gl_context, step, item.apply(step.settings()),
+                                   [item.prompt])
+                where = f"{lesson.id} step {step.number} try {index}"
+                checked += _check(after, context, step, where)
+                checked += _check([_LIVE.search(w.replace('class="live was"', 'class="live"'))
+                                   .groups() for w in was], before, step, where + " before")
+    assert checked >= 10
 
 
 def _error(ctx, settings):
