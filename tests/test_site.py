@@ -21,6 +21,7 @@ import pytest
 
 from explorer import live_values
 from explorer.lessons import find_lesson, load_all
+from explorer.site.build import PLOT_OF_PANEL
 
 LESSONS = ("overview", "solid-angles")
 SIZE = (320, 200)
@@ -84,6 +85,9 @@ def test_every_step_is_on_its_page_with_all_its_figures(site, lessons):
             assert body.count('<figure class="view">') == 1
             figures = re.findall(r'data-figure="([^"]+)"', body)
             assert sorted(figures) == sorted(step.figure_ids), (lesson.id, step.number)
+            panel = PLOT_OF_PANEL.get(step.plot or "")
+            drawn = panel is not None and panel not in [f.kind for f in step.figures]
+            assert (f'data-plot="{panel}"' in body) == drawn, (lesson.id, step.number)
             assert len(re.findall(r'class="try" id=', body)) == len(step.try_this)
             assert body.count("data-swipe") == len(step.try_this)
             command = f"lpv-explorer run --lesson {lesson.id} --step {step.number}"

@@ -31,6 +31,8 @@ PLOT_KINDS = ("flux-per-step", "energy-audit")
 SEQUENCE_ITERATIONS = (0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64)
 """The iteration counts an "iterations" sequence shows (up to the largest the step uses)."""
 THUMB_WIDTH = 480
+PLOT_OF_PANEL = {"flux-per-step": "flux-per-step", "audit": "energy-audit"}
+"""A step's ``plot`` (the Plots panel's tab) -> the figure kind that draws it."""
 SHOWN_OVERLAYS = ("slice", "glyphs", "vpls", "lattice", "cascade_boxes", "blockers")
 """The overlays a view's caption names (the others say how these are drawn)."""
 JPEG_QUALITY = 88
@@ -355,6 +357,7 @@ class _Writer:
         parts.append(f'<div class="prose">{text}</div>')
         parts += [html for fid, html in figure_html.items() if fid not in placed]
         parts += [prose.formula(name, baker) for name in step.formulas]
+        parts.append(self.step_plot(step, shot))
         self.report.baked[f"{lesson.id}/{step.number}"] = list(baker.baked)
         self.report.pending += baker.pending
         sequence = self.iterations(step, stem)
@@ -418,6 +421,22 @@ class _Writer:
         return (f'<figure class="figure stepper" {data}>' + pages.sequence(
             [(image, f"step t = {t}") for t, image in enumerate(images)], start,
             "Propagation, step by step", caption or "", css="figure-sequence") + "</figure>")
+
+    def step_plot(self, step: Step, shot: Shot) -> str:
+        """The plot the step brings forward in the window's Plots panel (its ``plot``),
+        unless one of its figures already draws it: the flux per step or the energy
+        audit of this step's frames."""
+        from explorer.figure_params import make_figure
+
+        kind = PLOT_OF_PANEL.get(step.plot or "")
+        if kind is None or any(spec.kind == kind for spec in step.figures):
+            return ""
+        svg = self.plot(make_figure(kind), shot)
+        what = ("flux in flight after each propagation step" if kind == "flux-per-step"
+                else "where the frame gains and loses flux")
+        return (f'<figure class="plot panel-plot" data-plot="{kind}">{svg}<figcaption>The '
+                f"Plots panel for this frame: {what}. Hover or tap a point for its value."
+                "</figcaption></figure>")
 
     def plot(self, spec, shot: Shot) -> str:
         from explorer.site import plots
