@@ -21,7 +21,15 @@ import numpy as np
 from explorer import lesson_text, live_values
 from explorer.lessons import Lesson, Step, TryThis
 from explorer.site import pages, prose
-from explorer.site.frames import FrameRenderer, Screen, Shot, step_screen, try_screen, uses_error
+from explorer.site.frames import (
+    FrameRenderer,
+    Screen,
+    Shot,
+    step_screen,
+    to_bytes,
+    try_screen,
+    uses_error,
+)
 from explorer.site.values import Baker
 
 MARKER = "lpv-site.json"
@@ -318,9 +326,9 @@ class _Writer:
                                                   nav, lesson.summary), encoding="utf-8")
         self.page_names.append(name)
 
-    def shot(self, screen: Screen, step: Step, texts: list[str]) -> Shot:
+    def shot(self, screen: Screen, step: Step, texts: list[str], error: bool = False) -> Shot:
         return self.frames.shot(screen, step.view, step.overlays(),
-                                want_error=uses_error(texts))
+                                want_error=error or uses_error(texts))
 
     def context(self, shot: Shot, figures: dict[str, dict[str, float]]
                 ) -> live_values.LiveContext:
@@ -333,7 +341,8 @@ class _Writer:
         stem = f"{lesson.id}/step{step.number}"
         texts = [step.text] + [spec.caption for spec in step.figures]
         # the prompts' numbers before the change are this frame's too
-        shot = self.shot(step_screen(step), step, texts + [t.prompt for t in step.try_this])
+        shot = self.shot(step_screen(step), step, texts + [t.prompt for t in step.try_this],
+                         error=step.plot == "error")
         view = self.image(shot.image, stem)
         if step.number == 1:
             self.thumbs[lesson.id] = self.image(shot.image, f"{stem}-thumb", width=THUMB_WIDTH)
@@ -358,6 +367,8 @@ class _Writer:
         parts += [html for fid, html in figure_html.items() if fid not in placed]
         parts += [prose.formula(name, baker) for name in step.formulas]
         parts.append(self.step_plot(step, shot))
+        if step.plot == "error" and shot.error_result is not None:
+            parts.append(self.error_figure(shot.error_result, baker, stem))
         self.report.baked[f"{lesson.id}/{step.number}"] = list(baker.baked)
         self.report.pending += baker.pending
         sequence = self.iterations(step, stem)
@@ -437,6 +448,33 @@ class _Writer:
         return (f'<figure class="plot panel-plot" data-plot="{kind}">{svg}<figcaption>The '
                 f"Plots panel for this frame: {what}. Hover or tap a point for its value."
                 "</figcaption></figure>")
+
+    def error_figure(self, measured, baker: Baker, stem: str) -> str:
+        """The Error panel: the LPV's and the reference's indirect light at one exposure
+        and log2(LPV / reference) in false colour, with the two numbers it reports."""
+        from explorer.lpv.tonemap import linear_to_srgb
+        from explorer.truth.progressive import LOG2_SCALE
+        from explorer.ui.textures import robust_max
+
+        exposure = 1.0 / robust_max(measured.reference[measured.valid], 99.0)
+        pictures = (("LPV", linear_to_srgb(np.nan_to_num(measured.lpv) * exposure)),
+                    ("reference", linear_to_srgb(np.nan_to_num(measured.reference) * exposure)),
+                    ("log2(LPV / reference)", np.asarray(measured.error.rgb)))
+        cells = []
+        for index, (title, image) in enumerate(pictures):
+            pixels = np.kron(to_bytes(image), np.ones((2, 2, 1), np.uint8))   # 2×, sharp
+            picture = self.image(pixels, f"{stem}-error{index}", "png")
+            cells.append(f"<div>{picture.tag(title)}<p class=\"caption\">{pages.esc(title)}"
+                         "</p></div>")
+        s, m = measured.settings, measured.measurement
+        numbers = (f"relative L2 {baker.span('error.relative_l2', '.3f')}, flux ratio "
+                   f"LPV / reference {baker.span('error.flux_ratio', '.3f')}")
+        return (f'<figure class="error-panel" data-plot="error"><div class="triptych">'
+                f"{''.join(cells)}</div><figcaption>The Error panel for this frame: "
+                f"{numbers}. Blue: the LPV is darker than the one-bounce reference, red: "
+                f"brighter; saturates at ±{LOG2_SCALE:g} stops; grey: background. "
+                f"{s.width}×{s.height} px, RSM {s.rsm_size}², {pages.esc(m.reference)} "
+                "reference, indirect light only.</figcaption></figure>")
 
     def plot(self, spec, shot: Shot) -> str:
         from explorer.site import plots

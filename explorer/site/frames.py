@@ -54,6 +54,9 @@ class Shot:
     """ErrorStats against the one-bounce reference, when measured."""
     compare_result: Any = None
     """Configuration B's FrameResult of a split or difference view."""
+    error_result: Any = None
+    """The whole measurement (``explorer.truth.progressive.ErrorResult``: the LPV's and
+    the reference's indirect light, the false-colour error), when measured."""
 
 
 def step_screen(step: Step) -> Screen:
@@ -145,8 +148,9 @@ class FrameRenderer:
                 scale = float(difference.max())
                 image = to_bytes(linear_to_srgb(difference / scale) if scale > 0
                                  else np.zeros_like(difference))
-        error = self.error(screen.settings) if want_error else None
-        return Shot(image, result, settings, inspect, error, other)
+        measured = self.error(screen.settings) if want_error else None
+        return Shot(image, result, settings, inspect,
+                    None if measured is None else measured.stats, other, measured)
 
     def _composed(self, side: str, result, display: np.ndarray, overlays) -> np.ndarray:
         """``display`` with the overlays drawn in the scene (the View panel's
@@ -169,7 +173,7 @@ class FrameRenderer:
             texture.release()
 
     def error(self, settings: Settings):
-        """The Error panel's measurement of ``settings`` (its ErrorStats): the LPV and
+        """The Error panel's measurement of ``settings`` (its ErrorResult): the LPV and
         the visible one-bounce reference at the panel's default Measurement, the image's
         aspect kept."""
         from explorer.lpv.pipeline import Pipeline
@@ -182,7 +186,7 @@ class FrameRenderer:
         try:
             while not job.advance(self.ctx, self._error_pipeline, ERROR_BUDGET_S):
                 pass
-            return job.result.stats
+            return job.result
         finally:
             job.release()
 
