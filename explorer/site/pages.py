@@ -105,9 +105,11 @@ def try_card(number: int, anchor: str, label: str, pair: str, prompt: str) -> st
 
 
 def predict(question: str, answer: str, label: str = "Show the answer") -> str:
-    return (f'<div class="predict" data-predict><h3>Predict, then press</h3>'
-            f"<p>{question}</p><button type=\"button\" class=\"reveal\">{esc(label)}</button>"
-            f'<div class="answer" hidden>{answer}</div></div>')
+    """A question to answer before looking: the answer opens on a click (a
+    ``<details>``, so it works without the script too)."""
+    return (f'<div class="predict"><h3>Predict, then press</h3><p>{question}</p>'
+            f'<details><summary>{esc(label)}</summary><div class="answer">{answer}</div>'
+            "</details></div>")
 
 
 def open_command(lesson_id: str, step: int) -> str:

@@ -1,5 +1,5 @@
-// lpv-explorer course site: swipe comparisons, image sequences with Play, predict-then-
-// press reveals and tap-to-show tooltips. No framework; the pages read without it.
+// lpv-explorer course site: swipe comparisons, image sequences with Play and tap-to-show
+// tooltips. No framework; the pages read without it.
 (function () {
   "use strict";
 
@@ -39,15 +39,6 @@
       }, 1000 / rate);
     });
     show(parseInt(range.value, 10));
-  }
-
-  function predict(root) {
-    var button = root.querySelector("button.reveal");
-    var answer = root.querySelector(".answer");
-    button.addEventListener("click", function () {
-      answer.hidden = false;
-      button.hidden = true;
-    });
   }
 
   // A tooltip that also works by touch and keyboard: the live numbers' title text.
@@ -97,5 +88,4 @@
 
   document.querySelectorAll("[data-swipe]").forEach(swipe);
   document.querySelectorAll("[data-sequence]").forEach(sequence);
-  document.querySelectorAll("[data-predict]").forEach(predict);
 })();
