@@ -118,10 +118,8 @@ _STATEMENTS = {
 
 
 def results() -> list[Result]:
-    """The three published formulas, then the five implementation switches
-    (``derivations/implementation_switches.py``, which builds on this module)."""
-    from derivations import implementation_switches
-
+    """The three published formulas (the five implementation switches follow them in the
+    registry: ``derivations/implementation_switches.py``, which builds on this module)."""
     out: list[Result] = []
     eqs, factors, identities = formulas(), flux_factors(), flux_identities()
     glsl = {"injection_pi": "INV_PI"}
@@ -152,4 +150,4 @@ def results() -> list[Result]:
                sp.Eq(sp.Symbol("Phi_reprojected"), rep["reprojected_corrected"]),
                "The corrected reprojection re-emits all of the face's flux Φ_f."),
     ]
-    return out + implementation_switches.results()
+    return out

@@ -1,11 +1,12 @@
 r"""The five implementation switches, each as exact published and corrected statements.
 
 The three published formulas the annotations correct live in ``derivations/corrections``;
-the other five switches of ``Corrections`` (``explorer/lpv/corrections.py``) change how
+the other five switches of ``Corrections`` (``explorer/correction_registry.py``) change how
 the DX11 article implements the model. For each ``<key>`` this module derives
 ``corrections.<key>.original`` and ``.corrected`` (``Eq``s) and what the switch changes,
-exactly (docs/MODEL.md "Corrections", "Propagation", "Geometry volume"). The results are
-registered by ``derivations/corrections.py`` (so they are named ``corrections.…``).
+exactly (docs/MODEL.md "Corrections", "Propagation", "Geometry volume"). The registry
+lists this module right after ``derivations/corrections.py`` and names its results
+``corrections.…`` (:data:`MODULE`), as the switches' registry entries call them.
 
 ``exact_constants``. The DX11 article prints ``Δω_front = 0.4006696846``,
 ``Δω_side = 0.4234413544`` and ``π = 3.1415926`` (``errata.dx11.*``); the exact values are

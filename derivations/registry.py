@@ -1,7 +1,9 @@
 """The named exact results of every derivation module.
 
 Each module in :data:`MODULES` exposes ``results() -> list[Result]``; the registry
-collects them once (cached) under dotted names ``"<module>.<item>"``. The codegen, the
+collects them once (cached) under dotted names ``"<module>.<item>"``, ``<module>`` being
+the module's ``MODULE`` (``implementation_switches`` names its results ``corrections.…``,
+beside the published formulas it builds on). The codegen, the
 ``lpv-explorer constants`` command and the app read the results only from here.
 
 Examples
@@ -30,6 +32,7 @@ MODULES: tuple[str, ...] = (
     "sh",
     "rsm",
     "corrections",
+    "implementation_switches",
     "propagation",
     "occlusion",
     "media",
@@ -74,10 +77,11 @@ def _index() -> dict[str, Result]:
     glsl_names: dict[str, str] = {}
     for module_name in MODULES:
         module = importlib.import_module(f"derivations.{module_name}")
+        prefix = getattr(module, "MODULE", module_name)
         for item in module.results():
-            if not item.name.startswith(f"{module_name}."):
+            if not item.name.startswith(f"{prefix}."):
                 raise ValueError(f"result {item.name!r} is not named after its module "
-                                 f"{module_name!r}")
+                                 f"{prefix!r}")
             if item.name in index:
                 raise ValueError(f"two results are named {item.name!r}")
             if item.glsl_name is not None:

@@ -56,6 +56,61 @@ def _load(name: str):
     return importlib.import_module(f"explorer.commands.{name}")
 
 
+class StdoutError(Exception):
+    """Standard output cannot be written (closed, or on a full disk)."""
+
+
+class _GuardedStdout:
+    """Standard output that turns a failed write into :class:`StdoutError` (a broken pipe
+    stays ``BrokenPipeError``), so that no command mistakes it for a failure of its own
+    files and :func:`main` reports it as one line. ``stream`` None: stdout was closed
+    when the process started (``lpv-explorer constants >&-``)."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def _call(self, method: str, *args):
+        if self._stream is None:
+            raise StdoutError("standard output is closed")
+        try:
+            return getattr(self._stream, method)(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise StdoutError(exc.strerror or str(exc)) from None
+
+    def write(self, text: str) -> int:
+        return self._call("write", text)
+
+    def flush(self) -> None:
+        self._call("flush")
+
+    def isatty(self) -> bool:
+        return self._stream is not None and self._stream.isatty()
+
+    def __getattr__(self, name: str):
+        if self._stream is None:
+            raise StdoutError("standard output is closed")
+        return getattr(self._stream, name)
+
+
+def _silence_stdout() -> None:
+    """Point file descriptor 1 at /dev/null, so the interpreter's final flush of what is
+    still buffered cannot fail a second time."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+    except OSError:
+        pass
+    real = getattr(sys.stdout, "_stream", sys.stdout)
+    if real is not None:
+        try:
+            real.flush()
+        except OSError:
+            pass
+    sys.stdout = open(os.devnull, "w")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run one command; returns its exit status. Bad input and failed requests end as one
     line on stderr (``lpv-explorer <cmd>: error: ...``), never a traceback: 2 for bad
@@ -63,6 +118,10 @@ def main(argv: list[str] | None = None) -> int:
     had half written)."""
     from explorer.commands.options import CommandError
 
+    if sys.stderr is None:            # stderr closed: messages have nowhere to go
+        sys.stderr = open(os.devnull, "w")
+    if not isinstance(sys.stdout, _GuardedStdout):
+        sys.stdout = _GuardedStdout(sys.stdout)
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or (argv[0].startswith("-") and argv[0] not in ("-h", "--help")):
         argv = ["run", *argv]
@@ -83,11 +142,14 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except StdoutError as exc:
+        print(f"{prog}: error: cannot write to standard output: {exc}", file=sys.stderr)
+        _silence_stdout()
+        return 1
     except BrokenPipeError:
         # The reader went away (`lpv-explorer lessons | head`): stop quietly, as Unix tools
         # do. Point stdout at devnull so the interpreter's final flush cannot fail again.
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _silence_stdout()
         return 141 - 128   # SIGPIPE's number, the code `head` pipelines expect
     return code
 

@@ -14,7 +14,7 @@ window's figure kinds (``explorer/ui/figures/``, one module per kind) draw them.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from explorer.lpv.schema import SettingError, Spec, from_dict, setting, specs, validate
@@ -202,16 +202,48 @@ class RsmTexelParams:
         validate(self)
 
 
-FIGURE_PARAMS: dict[str, type] = {
-    "clamped-cosine": ClampedCosineParams,
-    "cell-faces": CellFacesParams,
-    "propagation-stepper": PropagationStepperParams,
-    "rsm-texel": RsmTexelParams,
-    "energy-audit": ResultsParams,
-    "flux-per-step": ResultsParams,
-    "pipeline": PipelineParams,
-}
-"""Figure kind -> its parameter dataclass (the window's FIGURES draws the same kinds)."""
+@dataclass(frozen=True)
+class FigureKindDecl:
+    """One figure kind a lesson may embed, declared once: everything else that names the
+    kind (the window's registry, the lesson loader, the audit a step asks for, the tests
+    that draw every kind) reads it from :data:`FIGURE_KINDS`."""
+
+    name: str
+    """What a lesson's ``kind = "..."`` says."""
+    params: type
+    """Its parameter dataclass (declared with ``setting(...)``)."""
+    title: str
+    module: str
+    """Its module under ``explorer/ui/figures/`` (``State``, ``draw``, ``readouts``)."""
+    results: bool = False
+    """It plots the FrameResults of the context (A, and B while comparing)."""
+    audit: str = "off"
+    """The energy audit its frames must measure (``explorer.lpv.audit.AUDIT_MODES``)."""
+    demo: Mapping[str, Any] = field(default_factory=dict)
+    """A parameter change that changes the figure visibly (its window test draws it with
+    the defaults and with this)."""
+
+
+FIGURE_KINDS: tuple[FigureKindDecl, ...] = (
+    FigureKindDecl("clamped-cosine", ClampedCosineParams,
+                   "Clamped cosine and its SH projections", "clamped_cosine",
+                   demo={"normal_deg": -60.0}),
+    FigureKindDecl("cell-faces", CellFacesParams,
+                   "A cell's neighbour, its five faces and their solid angles", "cell_faces",
+                   demo={"direction": "+y", "highlight": "side"}),
+    FigureKindDecl("propagation-stepper", PropagationStepperParams,
+                   "Propagation, step by step", "propagation_stepper", demo={"step": 4}),
+    FigureKindDecl("rsm-texel", RsmTexelParams, "An RSM texel on a tilted surface",
+                   "rsm_texel", demo={"theta_deg": 70.0}),
+    FigureKindDecl("energy-audit", ResultsParams, "Energy audit", "energy_audit",
+                   results=True, audit="full", demo={"scale": "linear"}),
+    FigureKindDecl("flux-per-step", ResultsParams, "Flux in flight per propagation step",
+                   "flux_per_step", results=True, audit="flux", demo={"relative": True}),
+    FigureKindDecl("pipeline", PipelineParams, "The LPV pipeline at a glance",
+                   "pipeline_overview", results=True, demo={"highlight": "propagate"}),
+)
+FIGURE_PARAMS: dict[str, type] = {kind.name: kind.params for kind in FIGURE_KINDS}
+"""Figure kind -> its parameter dataclass."""
 RESERVED_KEYS = ("kind", "id", "caption")
 """Keys of a figure table that are not parameters of its kind."""
 

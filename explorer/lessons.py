@@ -64,8 +64,17 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 
 from explorer.lpv.schema import SettingError, Spec, check_fields, from_dict, specs
 from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Corrections, Settings
+from explorer import safe_files
 from explorer.resources import lesson_dir
 from explorer.scene.builtin import BUILTIN_SCENES
+
+MAX_FORMULAS_PER_STEP = 120
+"""Most formulas (inline and display math, derivation formulas) one step may typeset:
+the richest shipped step has 13; each is a texture the window draws every frame."""
+MAX_STEP_TEXT = 16_000
+"""Longest text of one step, in characters: the longest shipped step has about 1 700."""
+MAX_STEPS = 40
+"""Most steps in one lesson: the longest shipped lesson has 6."""
 
 LESSON_DEFAULTS: dict[str, Any] = {"spot_cone": False, "auto_exposure": False}
 """Settings every step starts from unless its lesson or the step sets them: the spot's 90°
@@ -277,13 +286,11 @@ def load_lesson(path: Path | str,
         check_formula = _derived_lookup
     path = Path(path)
     try:
-        raw = path.read_bytes().decode("utf-8")
-    except OSError as exc:
-        raise LessonError(path, f"cannot read the file ({exc.strerror or exc})") from None
-    except UnicodeDecodeError as exc:
-        raise LessonError(path, f"not UTF-8 text ({exc.reason})") from None
-    try:
-        data = tomllib.loads(raw)
+        # regular files only (a FIFO is refused, never waited on), at most the lesson cap
+        raw = safe_files.read_text(path, "lesson")
+        data = safe_files.parse_toml(raw, path.name)
+    except safe_files.UserFileError as exc:
+        raise LessonError(path, str(exc).removeprefix(f"{path}: ")) from None
     except tomllib.TOMLDecodeError as exc:
         match = re.search(r"line (\d+)", str(exc))
         raise LessonError(path, f"TOML syntax error: {exc}",
@@ -390,6 +397,9 @@ class _Reader:
         raw_steps = data.get("steps")
         if not isinstance(raw_steps, list) or not raw_steps:
             raise self.error("steps", "a lesson needs at least one [[steps]] table")
+        if len(raw_steps) > MAX_STEPS:
+            raise self.error("steps", f"{len(raw_steps)} steps, over the {MAX_STEPS} a "
+                             f"lesson may have (split it into lessons)")
         steps = tuple(
             self.step(number, raw, default_scene, default_settings, default_corrections)
             for number, raw in enumerate(raw_steps, start=1))
@@ -604,6 +614,16 @@ class _Reader:
             blocks = lesson_text.parse(step.text)
         except lesson_text.TextError as exc:
             raise self.error("text", str(exc)) from None
+        if len(step.text) > MAX_STEP_TEXT:
+            raise self.error("text", f"{len(step.text)} characters, over the "
+                             f"{MAX_STEP_TEXT} one step may have (the window draws a step's "
+                             f"whole article every frame: split the step)")
+        formulas = sum(isinstance(item, (lesson_text.Math, lesson_text.DisplayMath,
+                                         lesson_text.FormulaRef))
+                       for item in [*blocks, *lesson_text.all_runs(blocks)])
+        if formulas > MAX_FORMULAS_PER_STEP:
+            raise self.error("text", f"{formulas} formulas in one step, over the "
+                             f"{MAX_FORMULAS_PER_STEP} a step may typeset (split the step)")
         for block in blocks:
             if isinstance(block, lesson_text.FigureRef) and block.id not in step.figure_ids:
                 raise self.error("text", f"{{{{figure:{block.id}}}}}: the step has no figure "

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from dataclasses import dataclass, field, fields
 from typing import Any, Callable
 
@@ -321,8 +322,7 @@ def _audit_ratio(top: str, bottom: str) -> Callable[[LiveContext], float]:
 
 
 def _fixed() -> dict[str, Quantity]:
-    from explorer.lpv.schema import STAGES
-    from explorer.lpv.stages import PASSES
+    from explorer.lpv.stage_list import PASSES, STAGES
 
     items = [
         *[Quantity(f"audit.{name}", doc, "W", _audit_sum(name)) for name, doc in AUDIT_SUMS],
@@ -351,7 +351,7 @@ def _fixed() -> dict[str, Quantity]:
                  lambda c: _ratio(_primary_rsm(c), _audit_sum("rsm")(c))),
         Quantity("frame.stages_ran", "how many stages this frame ran (the others were up "
                  "to date)", "", lambda c: len(_result(c).stages_run), "d"),
-        Quantity("frame.stages", "stages of the pipeline (explorer.lpv.schema.STAGES)", "",
+        Quantity("frame.stages", "stages of the pipeline (explorer.lpv.stage_list.STAGES)", "",
                  lambda c: len(STAGES), "d", constant=True),
         Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
                  "(yes/no)", "", _ran("gbuffer"), ""),
@@ -469,8 +469,28 @@ def lookup(name: str, figure_ids: tuple[str, ...] = ()) -> Quantity:
     raise KeyError(f"no live quantity {name!r}{hint} (sources: {', '.join(SOURCES)})")
 
 
+MAX_FORMAT_WIDTH = 40
+"""Widest field and most digits a lesson's format may ask for (``{{x:>40.12f}}`` at most):
+a number in prose needs far fewer, and ``{{x:>1000000000}}`` would print a 1 GB line."""
+
+_FORMAT_NUMBERS = re.compile(r"^(?:.?[<>=^])?[-+ ]?z?#?0?(\d*)[,_]?(?:\.(\d+))?[a-zA-Z%]?$")
+
+
+def bounded_format(fmt: str) -> bool:
+    """Whether the format spec ``fmt`` asks for at most :data:`MAX_FORMAT_WIDTH` columns
+    and digits (a spec this cannot read is left to ``format`` to judge)."""
+    match = _FORMAT_NUMBERS.match(fmt)
+    if match is None:
+        return not re.search(r"\d{3,}", fmt)
+    return all(int(number or 0) <= MAX_FORMAT_WIDTH for number in match.groups())
+
+
 def check_format(fmt: str, quantity: Quantity) -> None:
-    """ValueError when ``fmt`` cannot format the quantity's kind of value."""
+    """ValueError when ``fmt`` cannot format the quantity's kind of value, or asks for a
+    wider field or more digits than :data:`MAX_FORMAT_WIDTH`."""
+    if not bounded_format(fmt):
+        raise ValueError(f"format {fmt!r} asks for more than {MAX_FORMAT_WIDTH} columns or "
+                         f"digits")
     probe: Any = 1.5
     if quantity.source in ("settings", "corrections") or quantity.format == "":
         return          # configuration values are shown as they are (text or number)
@@ -518,6 +538,8 @@ def format_value(value: Any, fmt: str) -> str:
         return "(" + ", ".join(format_value(v, fmt) for v in value) + ")"
     if fmt == "" and isinstance(value, float):
         fmt = "g"
+    if not bounded_format(fmt):
+        fmt = ""
     try:
         text = format(value, fmt)
     except (ValueError, TypeError):

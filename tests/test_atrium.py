@@ -112,7 +112,7 @@ def test_atrium_renders_with_three_cascades(ctx):
     with Pipeline(settings, ctx=ctx) as pipeline:
         result = pipeline.run()
         cascade_image = pipeline.view("cascade-weights")
-        position = pipeline._arrays["gbuffer"][0]
+        position = pipeline.state.gbuffer.position
     assert len(result.cascade_specs) == 3
     assert all(np.all(audit.injected > 0) for audit in result.cascade_audits)
     assert np.isfinite(result.final_image).all() and result.final_image.max() > 0

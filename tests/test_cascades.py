@@ -28,6 +28,7 @@ from explorer.lpv.cascades import (
     check_limits,
     own_weight,
 )
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import read_texture
@@ -133,7 +134,7 @@ def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F8
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, shadow, view, None, specs[0], cascades=cascades)
+            gather.run(gbuffer, ShadowMaps(shadow, view), None, specs[0], cascades=cascades)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
@@ -153,12 +154,12 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
         assert one.grid_spec == GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 16)
         image = one.final_image.copy()
         # the cascade code path with two identical cascades gives the same image
-        gather = pipeline._gather
-        grid = pipeline._levels[0].output.accumulated
+        gather = pipeline.state.gather_pass
+        grid = pipeline.state.levels[0].output.accumulated
         twice = [CascadeInput(one.grid_spec, grid.textures)] * 2
         lights = pipeline.light_views
-        gather.run(pipeline._gbuffer, lights.rsm_textures, lights.views, None,
-                   one.grid_spec, cascades=twice)
+        gather.run(pipeline.state.gbuffer_pass, lights.shadow_maps, None, one.grid_spec,
+                   cascades=twice)
         blended = sum(read_texture(gather.targets[name])[..., :3]
                       for name in ("direct", "indirect"))
         assert np.allclose(SMALL.exposure * blended, image, rtol=1e-5, atol=1e-7)

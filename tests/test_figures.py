@@ -3,6 +3,7 @@ axis choices, and every number a figure shows against its exact value."""
 
 from __future__ import annotations
 
+import importlib
 import math
 from types import SimpleNamespace
 
@@ -28,12 +29,26 @@ from figure_cases import synthetic_result
 # ----------------------------------------------------------------------------- parameters
 
 
+def test_each_figure_module_is_a_declared_kind_and_each_kind_has_its_module():
+    """The kinds are declared once (explorer/figure_params.py FIGURE_KINDS); every module
+    of explorer/ui/figures/ that draws a figure is one of them."""
+    import pkgutil
+
+    import explorer.ui.figures as package
+    from explorer.figure_params import FIGURE_KINDS, FIGURE_PARAMS
+
+    drawing = {info.name for info in pkgutil.iter_modules(package.__path__)
+               if all(hasattr(importlib.import_module(f"{package.__name__}.{info.name}"), n)
+                      for n in ("State", "draw", "readouts"))}
+    assert drawing == {kind.module for kind in FIGURE_KINDS}
+    assert list(FIGURES) == list(FIGURE_PARAMS) == [kind.name for kind in FIGURE_KINDS]
+
+
 def test_every_kind_validates_its_defaults_and_documents_each_parameter():
-    assert set(FIGURES) == {"clamped-cosine", "cell-faces", "propagation-stepper",
-                            "rsm-texel", "energy-audit", "flux-per-step", "pipeline"}
     for name, kind in FIGURES.items():
         spec = parse_figure({"kind": name})
         assert spec.params == kind.params_class()
+        assert parse_figure({"kind": name, **kind.demo}).params != spec.params
         for info in kind.params:
             assert info.doc and info.allowed()
             # the default passes the field's own check, and every number has a range

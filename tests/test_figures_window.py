@@ -23,16 +23,8 @@ ROOT = Path(__file__).resolve().parent.parent
 _PROBLEM = display_problem()
 pytestmark = pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
 
-# Each kind with its defaults, and with one parameter changed (a visible change).
-CHANGES = {
-    "clamped-cosine": {"normal_deg": -60.0},
-    "cell-faces": {"direction": "+y", "highlight": "side"},
-    "propagation-stepper": {"step": 4},
-    "rsm-texel": {"theta_deg": 70.0},
-    "energy-audit": {"scale": "linear"},
-    "flux-per-step": {"relative": True},
-    "pipeline": {"highlight": "propagate"},
-}
+# Each kind with its defaults, and with its declared demo change (a visible change).
+CHANGES = {name: dict(kind.demo) for name, kind in FIGURES.items()}
 MIN_HEIGHT = {"pipeline": 100}
 """Figures drawn as a compact strip (pixels); the others are at least 150 tall."""
 BACKGROUND = np.array([28, 29, 33])    # widgets.window_bg (0.11, 0.115, 0.13) in 8 bits
@@ -54,7 +46,7 @@ def _not_empty(pixels: np.ndarray) -> float:
 
 
 def test_every_kind_is_covered():
-    assert set(CHANGES) == set(FIGURES)
+    assert set(CHANGES) == set(FIGURES) and all(CHANGES.values())
 
 
 @pytest.mark.parametrize("kind", sorted(CHANGES))

@@ -169,11 +169,11 @@ def test_a_uniform_field_scatters_its_radiance_times_one_minus_t(pipeline, ctx, 
         textures.append(ctx.texture3d((spec.resolution,) * 3, 4, data.tobytes(), dtype="f4"))
     try:
         lights = pipeline.light_views
-        pipeline._fog.run(pipeline._gbuffer, lights.rsm_textures, lights.views,
-                          pipeline.scene_state.scene, [CascadeInput(spec, tuple(textures))],
-                          Medium.of(settings))
-        lpv = read_texture(pipeline._fog.targets["fog_lpv"])[..., :3]
-        transmittance = read_texture(pipeline._fog.targets["fog_direct"])[..., 3]
+        fog = pipeline.state.fog_pass
+        fog.run(pipeline.state.gbuffer_pass, lights.shadow_maps, pipeline.scene_state.scene,
+                [CascadeInput(spec, tuple(textures))], Medium.of(settings))
+        lpv = read_texture(fog.targets["fog_lpv"])[..., :3]
+        transmittance = read_texture(fog.targets["fog_direct"])[..., 3]
     finally:
         for texture in textures:
             texture.release()

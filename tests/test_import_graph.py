@@ -1,6 +1,6 @@
-"""The import graph of ``explorer/``: no circles, arrows only downwards, no private names
-borrowed across modules. Read from the source with :mod:`ast` (imports inside functions
-count too: a lazy import is still a dependency)."""
+"""The import graph of every package (``explorer/`` and ``derivations/``): no circles,
+arrows only downwards, no private names borrowed across modules. Read from the source with
+:mod:`ast` (imports inside functions count too: a lazy import is still a dependency)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,11 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+PACKAGES = ("explorer", "derivations")
 LAYERS = (
-    ("derivations", "explorer.resources", "explorer.gl", "explorer.derived",
-     "explorer.derived_table"),
+    ("explorer.resources", "explorer.safe_files", "explorer.derived",
+     "explorer.derived_table", "explorer.correction_registry"),
+    ("derivations", "explorer.gl"),
     ("explorer.scene",),
     ("explorer.lpv",),
     ("explorer.truth", "explorer.lessons", "explorer.lesson_text", "explorer.live_values",
@@ -19,14 +21,16 @@ LAYERS = (
     ("explorer.commands",),
     ("explorer.cli", "explorer.__main__", "explorer"),
 )
-"""Bottom to top: a module may import its own package and the layers below it. The
-derivations feed the constants; the scene is data the LPV passes read; truth (the
-reference) and lessons read both; the window and the commands sit on top."""
+"""Bottom to top: a module may import its own package and the layers below it. Plain data
+first (the generated derivation table, the corrections registry), which the derivations
+read and check; the derivations feed the constants (the code generator never imports the
+LPV); the scene is data the LPV passes read; truth (the reference) and lessons read both;
+the window and the commands sit on top."""
 
 
 def _modules() -> dict[str, Path]:
     found = {}
-    for path in (ROOT / "explorer").rglob("*.py"):
+    for path in (path for package in PACKAGES for path in (ROOT / package).rglob("*.py")):
         parts = path.relative_to(ROOT).with_suffix("").parts
         name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
         found[name] = path
@@ -67,10 +71,12 @@ def _layer(module: str) -> int:
 
 
 def _package(module: str) -> str:
-    return ".".join(module.split(".")[:2])
+    """``explorer.<package>`` (or the top-level module), or ``derivations``."""
+    parts = module.split(".")
+    return ".".join(parts[:2]) if parts[0] == "explorer" else parts[0]
 
 
-def test_explorer_has_no_import_circle():
+def test_no_package_has_an_import_circle():
     graph = _graph()
     state: dict[str, str] = {}
     circles = []
@@ -103,7 +109,7 @@ def test_no_private_name_is_imported_from_another_module():
                 for module_name, path in known.items()
                 for module, names, line in _imports(path, known)
                 for name in names
-                if module.startswith("explorer") and module != module_name
+                if module.split(".")[0] in PACKAGES and module != module_name
                 and name.startswith("_")]
     assert borrowed == []
 
@@ -116,3 +122,19 @@ def test_the_checks_see_the_arrows_they_judge():
     assert "explorer.scene" in graph["explorer.lpv.pipeline"]
     assert _layer("explorer.scene.lights") < _layer("explorer.lpv.constants")
     assert _layer("explorer.ui.app") < _layer("explorer.commands.run")
+    assert "explorer.correction_registry" in graph["derivations.codegen"]
+    assert "explorer.derived" in graph["derivations.registry"]
+    assert _layer("derivations.codegen") < _layer("explorer.lpv.corrections")
+
+
+def test_the_code_generator_reads_no_lpv_module():
+    """It writes explorer/lpv/constants.py, so it must run whatever state the LPV package
+    is in (a stale or missing generated file included)."""
+    graph = _graph()
+    reached, todo = set(), ["derivations.codegen"]
+    while todo:
+        module = todo.pop()
+        for target in graph[module] - reached:
+            reached.add(target)
+            todo.append(target)
+    assert sorted(m for m in reached if m.startswith("explorer.lpv")) == []

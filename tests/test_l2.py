@@ -14,6 +14,7 @@ from explorer.lpv import constants as K
 from explorer.lpv import inject, propagate, reference
 from explorer.lpv.geometry import inject_geometry
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.propagate import propagate_with_audit
 from explorer.lpv.settings import PRESETS, Corrections, Settings
 from explorer.lpv.textures import LpvGrid
@@ -291,7 +292,7 @@ def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa
             grid.write(value)
         cascades = [CascadeInput(s, g.textures) for s, g in zip(specs, grids)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, shadow, view, None, specs[0], cascades=cascades,
+            gather.run(gbuffer, ShadowMaps(shadow, view), None, specs[0], cascades=cascades,
                        sh_order=2)
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:

@@ -13,7 +13,8 @@ from lpv_cases import relative_error
 from explorer.gl.program import ProgramCache
 from explorer.lpv import reference as ref
 from explorer.lpv.display import DisplayPass, exposed_image
-from explorer.lpv.gather import EXACT_FILTER, GatherPass, linear_filter_error
+from explorer.lpv.gather import EXACT_FILTER, GatherParams, GatherPass, linear_filter_error
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
@@ -111,7 +112,8 @@ def test_indirect_matches_numpy(setup, damping, shader_filter):
         values = values[:, :, ::-1].copy()
     grid.write(values)
     with filtering(gather, shader_filter):
-        gather.run(gbuffer, shadow, view, grid.textures, spec, damping=damping)
+        gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec,
+                   GatherParams(damping=damping))
     points, normals, albedo, valid = visible_points(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert valid.mean() > 0.3
@@ -143,7 +145,7 @@ def test_l2_indirect_matches_numpy(setup, shader_filter):
     try:
         grid.write(values)
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, shadow, view, grid.textures, spec, sh_order=2)
+            gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec, sh_order=2)
     finally:
         grid.release()
     points, normals, albedo, valid = visible_points(gbuffer)
@@ -169,7 +171,7 @@ def test_pixel_areas_add_up_to_the_visible_surface(setup):
 def test_direct_light_is_the_shadowed_lambertian(setup):
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.clear()
-    gather.run(gbuffer, shadow, view, grid.textures, spec)
+    gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec)
     position, normal, albedo, valid = read_gbuffer(gbuffer)
     direct = read_texture(gather.targets["direct"])[..., :3]
     offset = np.asarray(scene.light.position) - position[..., :3]
@@ -195,7 +197,7 @@ def test_display_pass_exposes_and_encodes_the_linear_buffers(setup):
     exposure·indirect, clipped and sRGB-encoded; the gather itself stays linear."""
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.write(smooth_grid(spec))
-    gather.run(gbuffer, shadow, view, grid.textures, spec)
+    gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec)
     direct = read_texture(gather.targets["direct"])[..., :3]
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert direct.max() > 0 and indirect.max() > 0

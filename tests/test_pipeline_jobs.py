@@ -4,11 +4,12 @@ progressive frames, cancellation, interruption, and the stage table itself."""
 from __future__ import annotations
 
 import dataclasses
+import types
 
 import numpy as np
 import pytest
 
-from explorer.lpv import schema, stages
+from explorer.lpv import schema, stage_list, stages
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import read_texture
 from explorer.lpv.corrections import CORRECTIONS, preset
@@ -16,10 +17,14 @@ from explorer.lpv.settings import Corrections, Settings
 
 SMALL = Settings(scene="cornell", grid_size=8, iterations=6, rsm_size=32, width=40,
                  height=32)
-PASS_OBJECTS = {"rsm": "light_views.rsm", "downsample": "light_views.downsample",
-                "inject": "_inject", "geometry": "_geometry", "gbuffer": "_gbuffer",
-                "gather": "_gather", "display": "_display"}
-"""Stage -> the pipeline's pass object, as a dotted path of attributes."""
+PASS_OBJECTS = {"rsm": lambda p: p.light_views.rsm,
+                "downsample": lambda p: p.light_views.downsample,
+                "inject": lambda p: p.stages["inject"].inject,
+                "geometry": lambda p: p.stages["geometry"].geometry,
+                "gbuffer": lambda p: p.stages["gbuffer"].gbuffer,
+                "gather": lambda p: p.stages["gather"].gather,
+                "display": lambda p: p.stages["display"].display}
+"""Stage -> the pipeline's pass object."""
 
 
 class PassCounter:
@@ -29,11 +34,8 @@ class PassCounter:
     def __init__(self, pipeline: Pipeline) -> None:
         self.pipeline = pipeline
         self.calls: dict[str, int] = {}
-        for stage, attribute in PASS_OBJECTS.items():
-            owner = pipeline
-            for name in attribute.split("."):
-                owner = getattr(owner, name)
-            self._wrap(owner, "run", stage)
+        for stage, owner in PASS_OBJECTS.items():
+            self._wrap(owner(pipeline), "run", stage)
 
     def _wrap(self, obj, method: str, name: str) -> None:
         original = getattr(obj, method)
@@ -46,7 +48,7 @@ class PassCounter:
 
     def ran(self, pipeline_result) -> set[str]:
         """The passes that ran since the last call (propagation: through the levels)."""
-        for level in self.pipeline._levels:
+        for level in self.pipeline.state.levels:
             if not getattr(level.propagate, "_counted", False):
                 self._wrap(level.propagate, "start", "propagate")
                 level.propagate._counted = True
@@ -253,11 +255,11 @@ def test_stage_keys_come_from_the_schema():
     stages.check_declarations()
     assert [name for name, _ in stages.stage_inputs(SMALL, "display")] == [
         "exposure", "indirect_only", "tone_map", "auto_exposure"]
-    for stage in schema.STAGES:
+    for stage in stage_list.STAGES:
         names = [name for name, _ in stages.stage_inputs(SMALL, stage)]
         assert names == list(schema.stages_reading(Settings, stage))
     table = stages.describe()
-    for stage in schema.STAGES:
+    for stage in stage_list.STAGES:
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
     assert "display    (gather, fog) exposure, indirect_only, tone_map, auto_exposure" \
         in table
@@ -269,15 +271,16 @@ def test_stage_keys_come_from_the_schema():
     assert stages.downstream("gbuffer", SMALL.with_changes(fog=True, camera_occluders=True,
                                                            geometry_volume="one-sided")) == (
         "geometry", "propagate", "gbuffer", "gather", "fog", "display")
-    assert stages.downstream("gbuffer") == stages.downstream("gbuffer", SMALL.with_changes(
-        fog=True, camera_occluders=True, geometry_volume="one-sided"))
+    every_flag = types.SimpleNamespace(**{flag: True for decl in stage_list.STAGE_LIST
+                                          for _, flag in decl.upstream_when})
+    assert stages.downstream("gbuffer") == stages.downstream("gbuffer", every_flag)
 
 
 def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):
     """Of the corrections a stage's key holds the switches the registry says its programs
     read (Correction.stages, explorer/lpv/corrections.py), so a switch re-runs only the
     stages that read it, and then everything downstream."""
-    for stage in schema.STAGES:
+    for stage in stage_list.STAGES:
         read = [entry.name for entry in CORRECTIONS if stage in entry.stages]
         assert [name for name, _ in stages._nested_inputs(Corrections(), stage)] == read
     in_place = Corrections(ping_pong=False)           # read by the propagation only
@@ -327,7 +330,7 @@ def test_render_targets_release_their_scopes(gl_context):
 
 def test_gather_writes_linear_light_only(pipeline):
     result = pipeline.run(SMALL)
-    targets = pipeline._gather.targets
+    targets = pipeline.state.gather_pass.targets
     assert set(targets) == {"direct", "indirect", "received"}
     assert np.allclose(read_texture(targets["direct"])[..., :3], result.direct)
 
@@ -345,13 +348,14 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
         banded = pipe.run(progress=lambda *call: calls.append(call))
         # two bands, then three read-backs (direct, indirect, received): a unit each
         assert [c for c in calls if c[0] == "gather"] == [("gather", k, 5) for k in range(6)]
-        pipe._gather_levels(settings)                                  # all rows at once
-        whole = read_texture(pipe._gather.targets["indirect"])[..., :3]
+        gather = pipe.stages["gather"]
+        gather.gather_levels(settings)                                 # all rows at once
+        whole = read_texture(gather.gather.targets["indirect"])[..., :3]
         assert np.array_equal(banded.indirect, whole) and banded.indirect.max() > 0
         # one band leaves the other rows alone
-        pipe._gather._targets.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
-        pipe._gather_levels(settings, (0, 100))                        # GL rows: bottom up
-        band = read_texture(pipe._gather.targets["indirect"])[..., :3]
+        gather.gather._targets.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
+        gather.gather_levels(settings, (0, 100))                       # GL rows: bottom up
+        band = read_texture(gather.gather.targets["indirect"])[..., :3]
         assert np.array_equal(band[-100:], whole[-100:])
         assert not band[:-100].any()
 

@@ -14,7 +14,8 @@ import sympy as sp
 from derivations.registry import get
 from explorer.gl.program import ProgramCache
 from explorer.lpv.atlas import AtlasLayout, PerView, VplAtlas
-from explorer.lpv.gather import GatherPass
+from explorer.lpv.gather import GatherParams, GatherPass
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.geometry import merged_volume_reference
 from explorer.lpv.grid import GridSpec
@@ -114,7 +115,8 @@ def test_the_direct_light_of_a_point_light_counts_each_point_once(box_rsms):
         tiles = [atlas.layout.origin(k) for k in range(len(sets))]
         gbuffer.run(geometry, scene, (64, 64))
         spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 4)
-        gather.run(gbuffer, shadow, views, None, spec, shadow_tiles=tiles, shadow_kernel=1)
+        gather.run(gbuffer, ShadowMaps(shadow, views, tiles), None, spec,
+                   GatherParams(shadow_kernel=1))
         position = read_texture(gbuffer.position)
         normal = read_texture(gbuffer.normal)[..., :3]
         direct = read_texture(gather.targets["direct"])[..., :3]

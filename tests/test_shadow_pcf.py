@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv.gather import GatherPass
+from explorer.lpv.gather import GatherParams, GatherPass
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
@@ -53,7 +54,8 @@ def visibility(gl_context):
         spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 4)
         images = {}
         for kernel in (1, 3, 7):
-            gather.run(gbuffer, shadow, view, None, spec, shadow_kernel=kernel)
+            gather.run(gbuffer, ShadowMaps(shadow, view), None, spec,
+                       GatherParams(shadow_kernel=kernel))
             images[kernel] = read_texture(gather.targets["direct"])[..., 0].astype(np.float64)
     finally:
         for thing in (gather, gbuffer, rsm, geometry, programs):

@@ -357,4 +357,5 @@ def main(args: argparse.Namespace) -> int:
                                   "date": when, "scene": base.scene,
                                   "triangles": triangles, "rows": rows}, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
+            print(f"wrote {json_path}")
     return 0

@@ -10,8 +10,12 @@ The session (issue #10): launch, converge, idle, orbit N frames by dragging the 
 over the view, an exposure sweep, each correction toggled, the grid at 64³. Times are
 wall-clock on this machine, to be compared only with another run on the same machine.
 
-Soak (``--soak MINUTES``): view switches, buffers, toggles and camera moves for that
-long; prints resident memory and the GL objects alive at the start and the end.
+Soak (``--soak MINUTES``): what a user does, for that long, round after round: every
+lesson's every step opened in turn (and its first try-this pressed and undone), each
+correction toggled, the grid size cycling 8, 16, 32, 48, 64, one and two cascades, the
+single, split and difference views and the four buffers, a click in the view (a picked
+pixel), the Error panel measuring, camera moves. Resident memory and the GL objects
+alive are sampled every minute; the first sample is taken after one warm-up round.
 """
 
 from __future__ import annotations
@@ -159,15 +163,15 @@ class Recorder:
 
 
 # --- the session ------------------------------------------------------------------------
-def open_app(grid: int):
+def open_app(grid: int, window: tuple[int, int] = WINDOW_SIZE,
+             render: tuple[int, int] = RENDER_SIZE):
     from explorer.lpv.settings import Settings
     from explorer.ui.app import App
     from explorer.ui.state import AppState
 
-    state = AppState(settings=Settings(grid_size=grid, width=RENDER_SIZE[0],
-                                       height=RENDER_SIZE[1]))
+    state = AppState(settings=Settings(grid_size=grid, width=render[0], height=render[1]))
     state.follow_view_size = False
-    return App(state, width=WINDOW_SIZE[0], height=WINDOW_SIZE[1], visible=True, vsync=False,
+    return App(state, width=window[0], height=window[1], visible=True, vsync=False,
                persist_settings=False)
 
 
@@ -356,23 +360,74 @@ def gl_objects(limit: int = 8192) -> dict[str, int]:
     return counts
 
 
+GRID_CYCLE = (8, 16, 32, 48, 64)
+SOAK_WINDOW = (960, 600)
+SOAK_RENDER = (320, 200)
+"""The soak's window and render sizes: small, so that the 2-core machine turns many
+rounds a minute; memory that grows per round shows sooner."""
+
+
+def _lesson_steps() -> list[tuple[str, int]]:
+    from explorer.lessons import load_all
+
+    lessons, _ = load_all()
+    return [(lesson.id, step.number) for lesson in lessons for step in lesson.steps]
+
+
+def _click_view(app, rec: Recorder, fraction: float) -> None:
+    """A click (press and release, no drag) at ``fraction`` across the view: a pick."""
+    from imgui_bundle import imgui
+
+    rect = app.state.runtime.view_rect
+    if rect is None:
+        return
+    x0, y0, x1, y1 = rect
+    scale = imgui.get_io().display_framebuffer_scale.x or 1.0
+    io = imgui.get_io()
+    io.add_mouse_pos_event((x0 + (x1 - x0) * fraction) / scale, (y0 + y1) / 2 / scale)
+    poke(app)
+    rec.frame()
+    io.add_mouse_button_event(0, True)
+    poke(app)
+    rec.frame()
+    io.add_mouse_button_event(0, False)
+    poke(app)
+    rec.frame()
+
+
 def soak(minutes: float, grid: int) -> dict:
-    """The soak (module docstring). "start" is taken after one warm-up round of every
-    view mode and buffer (the second side's pipeline and the view's images are made
-    then, once); resident memory is also sampled every minute."""
+    """The soak (module docstring): one round per lesson step, each round also changing
+    the grid, cascades, view, buffer and one correction, picking a pixel and (every
+    fifth round) measuring the error."""
     from dataclasses import fields
 
     from explorer.ui import camera
+    from explorer.ui.lesson_panel import current_screen, session_of, show_screen
+    from explorer.ui.panels.error import error_service
 
-    app = open_app(grid)
+    app = open_app(grid, window=SOAK_WINDOW, render=SOAK_RENDER)
     try:
         rec = Recorder(app)
         rec.converge()
         modes = ("single", "split", "difference")
         buffers = ("final", "direct", "indirect", "albedo")
         names = [entry.name for entry in fields(app.state.settings.corrections)]
+        steps = _lesson_steps()
+        session = session_of(app.state)
 
         def cycle(step: int) -> None:
+            lesson_id, number = steps[step % len(steps)]
+            session.open(lesson_id)
+            session.go(number)
+            show_screen(app.state, session.apply(current_screen(app.state)))
+            rec.converge()
+            if session.step is not None and session.step.try_this:
+                show_screen(app.state, session.apply_try(1, current_screen(app.state)))
+                rec.converge()
+                show_screen(app.state, session.apply(current_screen(app.state)))
+            app.state.update(grid_size=GRID_CYCLE[step % len(GRID_CYCLE)],
+                             cascades=1 + step % 2, width=SOAK_RENDER[0],
+                             height=SOAK_RENDER[1])
             app.state.view_mode = modes[step % len(modes)]
             app.state.view_buffer = buffers[step % len(buffers)]
             corrections = app.state.settings.corrections
@@ -382,21 +437,36 @@ def soak(minutes: float, grid: int) -> dict:
                            or app.state.runtime.camera_default)
             app.state.update(camera=camera.orbit(eye, target, 7.0, 0.0))
             rec.converge()
+            _click_view(app, rec, 0.3 + 0.1 * (step % 5))
+            if step % 5 == 0:
+                service = error_service(app.state)
+                service.lesson_wants = True
+                for _ in range(400):
+                    rec.frame()
+                    if service.result_for() is not None or service.problem is not None:
+                        break
+                service.lesson_wants = False
 
         for step in range(len(modes) * len(buffers)):      # warm-up
             cycle(step)
         start = {"rss_mib": resident_mib(), "gl": gl_objects()}
         began = time.monotonic()
-        samples = [(0.0, start["rss_mib"])]
+        samples = [{"minute": 0.0, "rss_mib": start["rss_mib"], "gl": start["gl"]}]
         step = 0
         while time.monotonic() - began < minutes * 60.0:
             step += 1
             cycle(step)
             if time.monotonic() - began >= 60.0 * len(samples):
-                samples.append((round((time.monotonic() - began) / 60.0, 2), resident_mib()))
+                sample = {"minute": round((time.monotonic() - began) / 60.0, 2),
+                          "rss_mib": resident_mib(), "gl": gl_objects()}
+                samples.append(sample)
+                print(f"soak {sample['minute']:5.1f} min  {sample['rss_mib']:6.0f} MiB  "
+                      + "  ".join(f"{kind} {count}" for kind, count in sample["gl"].items()),
+                      file=sys.stderr, flush=True)
         end = {"rss_mib": resident_mib(), "gl": gl_objects()}
         return {"minutes": minutes, "cycles": step, "frames": rec.frames, "start": start,
-                "end": end, "rss_mib_by_minute": samples}
+                "end": end, "rss_mib_by_minute": [(s["minute"], s["rss_mib"]) for s in samples],
+                "samples": samples}
     finally:
         app.close()
 

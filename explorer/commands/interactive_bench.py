@@ -59,6 +59,7 @@ def run_window_bench(args: argparse.Namespace) -> int:
         if json_path is not None:
             payload = json.dumps(figures, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
+            print(f"wrote {json_path}")
     return 0
 
 
@@ -107,7 +108,18 @@ def _print_soak(figures: dict) -> None:
           " (start: after one warm-up round of every view mode and buffer)")
     for kind in start["gl"]:
         print(f"  GL {kind:<13} start {start['gl'][kind]:5d}   end {end['gl'][kind]:5d}")
-    samples = figures.get("rss_mib_by_minute", [])
+    samples = figures.get("samples")
     if samples:
-        print("  resident memory by minute: " + ", ".join(f"{minute:g}: {mib:.0f}"
-                                                          for minute, mib in samples))
+        print("  minute  resident MiB  GL objects alive")
+        for sample in samples:
+            print(f"  {sample['minute']:6.1f}  {sample['rss_mib']:12.0f}  " + "  ".join(
+                f"{kind} {count}" for kind, count in sample["gl"].items()))
+        after5 = [s["rss_mib"] for s in samples if s["minute"] >= 5.0]
+        if len(after5) >= 2:
+            print(f"  growth after the first 5 minutes: {after5[-1] - after5[0]:+.0f} MiB "
+                  f"over {samples[-1]['minute'] - 5.0:.0f} min")
+    else:
+        old = figures.get("rss_mib_by_minute", [])
+        if old:
+            print("  resident memory by minute: " + ", ".join(f"{minute:g}: {mib:.0f}"
+                                                              for minute, mib in old))

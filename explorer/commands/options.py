@@ -314,24 +314,40 @@ class Outputs:
     """The files and folders one command writes.
 
     Paths are checked when the command starts (:meth:`file`, :meth:`folder`), before any
-    work; each file is written whole (a temporary name, then renamed) by :meth:`write`;
-    if the command then fails or is interrupted (the ``with`` block ends with an
-    exception), the files written so far and the folders made for them are removed, so a
-    partial result is never mistaken for a finished one."""
+    work: a folder, a missing suffix, a name longer than the file system allows, a folder
+    that cannot be made or written. Each file is written whole by :meth:`write` (a unique
+    temporary name beside it, ``explorer.safe_files.temporary_beside``, then renamed), so
+    no file of the user's that happens to have the temporary's name is ever touched. If
+    the command then fails or is interrupted (the ``with`` block ends with an exception),
+    everything it wrote is undone: a new file is removed, a file it replaced gets its old
+    content back (a hard link to the old file is kept until the command ends), and the
+    folders made for them are removed; a partial result is never mistaken for a finished
+    one and nothing of the user's is lost."""
 
     def __init__(self, option: str = "--out") -> None:
         self.option = option
         self.written: list[Path] = []
         self.made: list[Path] = []
+        self._previous: dict[Path, Path | None] = {}   # written path -> its old content
 
     def __enter__(self) -> "Outputs":
         return self
 
     def __exit__(self, exc_type, exc, traceback) -> None:
         if exc_type is None:
+            for backup in self._previous.values():
+                if backup is not None:
+                    backup.unlink(missing_ok=True)
             return
         for path in reversed(self.written):
-            path.unlink(missing_ok=True)
+            backup = self._previous.get(path)
+            try:
+                if backup is not None:
+                    os.replace(backup, path)
+                else:
+                    path.unlink(missing_ok=True)
+            except OSError:
+                pass                    # the folder went away: nothing left to restore
         for folder in reversed(self.made):
             try:
                 folder.rmdir()
@@ -341,10 +357,12 @@ class Outputs:
     def file(self, path: Path | str, suffixes: tuple[str, ...] = IMAGE_SUFFIXES,
              option: str | None = None) -> Path:
         """``path`` checked as a file to write: not a folder, a suffix in ``suffixes``
-        (any when empty), its folder made if missing and writable."""
+        (any when empty), a name the file system allows, its folder made if missing and
+        writable."""
         option = option or self.option
         folder_like = str(path).endswith(("/", os.sep))
         path = Path(path).expanduser()
+        self._name_fits(path, option)
         if path.is_dir() or folder_like:
             raise CommandError(f"{option} {path} is a folder; give a file name"
                                + (f" ending in {suffixes[0]}" if suffixes else ""))
@@ -356,6 +374,20 @@ class Outputs:
                                f"{', '.join(suffixes)}, not {path.suffix!r}")
         self._writable_folder(path.parent, option)
         return path
+
+    @staticmethod
+    def _name_fits(path: Path, option: str) -> None:
+        probe = path.parent
+        while not probe.exists() and probe != probe.parent:
+            probe = probe.parent      # the folder may not be made yet: ask its parent
+        try:
+            longest = os.pathconf(probe, "PC_NAME_MAX")
+        except (OSError, ValueError):
+            longest = 255
+        length = len(os.fsencode(path.name))
+        if length > longest:
+            raise CommandError(f"{option}: the file name is {length} bytes long, over the "
+                               f"{longest} the file system allows: {path.name[:40]}...")
 
     def folder(self, path: Path | str, option: str | None = None) -> Path:
         """``path`` checked as a folder to write into (made now if missing)."""
@@ -388,16 +420,49 @@ class Outputs:
                                ) from None
 
     def write(self, path: Path, save: Callable[[Path], None]) -> Path:
-        """Write ``path`` whole: ``save(temporary path)`` (same suffix), then rename."""
-        partial = path.with_name(f".{path.stem}.partial{path.suffix}")
+        """Write ``path`` whole: ``save(temporary path)`` (same suffix), then rename. A
+        write that fails (a full disk, a folder that went away) is a
+        :class:`CommandError` naming the file, with nothing left behind."""
+        from explorer.safe_files import os_error_text, temporary_beside
+
+        try:
+            partial = temporary_beside(path)
+        except OSError as exc:
+            raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
+        backup = None
         try:
             save(partial)
+            if path not in self._previous:
+                backup = self._keep_old(path)
             os.replace(partial, path)
-        except BaseException:
+        except BaseException as exc:
             partial.unlink(missing_ok=True)
+            if backup is not None:
+                backup.unlink(missing_ok=True)
+            if isinstance(exc, OSError):
+                raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
             raise
-        self.written.append(path)
+        if path not in self._previous:
+            self._previous[path] = backup
+            self.written.append(path)
         return path
+
+    @staticmethod
+    def _keep_old(path: Path) -> Path | None:
+        """A hard link to ``path``'s current content (None when there is no file yet), so
+        that an interrupted command can put it back."""
+        from explorer.safe_files import temporary_beside
+
+        if not path.is_file():
+            return None
+        backup = temporary_beside(path)
+        backup.unlink()
+        try:
+            os.link(path, backup)
+        except OSError:                 # a file system without hard links: copy it
+            import shutil
+            shutil.copy2(path, backup)
+        return backup
 
 
 # --- progress ----------------------------------------------------------------------------

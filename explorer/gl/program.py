@@ -23,6 +23,7 @@ from pathlib import Path
 import moderngl
 
 from explorer.resources import shader_dir
+from explorer.safe_files import UserFileError, read_text
 
 STAGES = ("VERTEX_SHADER", "GEOMETRY_SHADER", "FRAGMENT_SHADER", "COMPUTE_SHADER")
 _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$', re.MULTILINE)
@@ -46,7 +47,7 @@ def _resolve_includes(source: str, base: Path, depth: int, seen: tuple[Path, ...
             raise ShaderError(target, f"#include nested too deep or cyclic at {target.name}")
         if not target.is_file():
             raise ShaderError(target, f"#include file not found: {match.group(1)}")
-        text = target.read_text()
+        text = read_source(target)
         text = _strip_version(text)
         body = _resolve_includes(text, base, depth + 1, seen + (target,))
         return f"{body}\n"
@@ -61,9 +62,19 @@ def _strip_version(text: str) -> str:
     return "\n".join(lines)
 
 
+def read_source(path: Path) -> str:
+    """A shader file's text; :class:`ShaderError` (naming the file and line) when it
+    cannot be read, is not a regular file, is too large or is not UTF-8 (an editor saved
+    a stray byte): hot reload then keeps the last good program."""
+    try:
+        return read_text(path, "shader")
+    except UserFileError as exc:
+        raise ShaderError(path, str(exc)) from None
+
+
 def preprocess(path: Path, stage: str, defines: dict[str, object] | None = None) -> str:
     """The source handed to the compiler for one stage of ``path``."""
-    text = path.read_text()
+    text = read_source(path)
     lines = text.splitlines()
     if not lines or not lines[0].startswith("#version"):
         raise ShaderError(path, "line 1 must be '#version 430 core'")
@@ -97,7 +108,7 @@ class UniformError(ValueError):
 
 
 def stages_in(path: Path) -> list[str]:
-    text = path.read_text()
+    text = read_source(path)
     return [s for s in STAGES if re.search(rf"#if\s+defined\s*\(?\s*{s}\b", text)]
 
 
@@ -105,7 +116,7 @@ def load_program(ctx: moderngl.Context, name: str, defines: dict[str, object] | 
                  varyings: tuple[str, ...] = ()) -> moderngl.Program | moderngl.ComputeShader:
     """Compile ``shaders/<name>`` (a render program or a compute shader)."""
     path = shader_dir() / name
-    if not path.is_file():
+    if not path.exists():
         raise ShaderError(path, f"no shader file {path}")
     stages = stages_in(path)
     if not stages:
@@ -124,8 +135,11 @@ def load_program(ctx: moderngl.Context, name: str, defines: dict[str, object] | 
     except moderngl.Error as exc:
         raise ShaderError(path, str(exc)) from exc
     # What set_uniforms checks names against (moderngl keeps user data in ``extra``).
+    # "set" and "read": what the code has set on it and required it to read, so that a
+    # hot reload can refuse a new version that lacks them (see ProgramCache).
     program.extra = {"name": name, "declared": frozenset().union(
-        *(declared_uniforms(source) for source in sources.values()))}
+        *(declared_uniforms(source) for source in sources.values())),
+        "set": set(), "read": set()}
     return program
 
 
@@ -157,6 +171,8 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
             close = difflib.get_close_matches(key, sorted(declared), n=3)
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise UniformError(f"{label} declares no uniform {key!r}{hint}")
+    info.setdefault("set", set()).update(values)
+    info.setdefault("read", set()).update(reads)
 
 
 @dataclass
@@ -180,7 +196,14 @@ class ProgramCache:
 
     @staticmethod
     def newest_change() -> float:
-        return max((p.stat().st_mtime for p in shader_dir().rglob("*.glsl")), default=0.0)
+        """The newest modification time of the shader files (see :func:`shader_files`)."""
+        stamps = []
+        for path in shader_files():
+            try:
+                stamps.append(path.stat().st_mtime)
+            except OSError:             # removed between the listing and the stat
+                continue
+        return max(stamps, default=0.0)
 
     def reload_if_changed(self) -> bool:
         """Recompile every cached program if a shader file changed; True if any did."""
@@ -196,11 +219,22 @@ class ProgramCache:
             name, defines = key
             try:
                 fresh = load_program(self.ctx, name, dict(defines))
+                problem = _lacks_what_was_used(self._programs[key], fresh)
             except ShaderError as exc:
                 self.errors[name] = exc.log
                 continue
+            except Exception as exc:  # noqa: BLE001 - any failure keeps the last good one
+                self.errors[name] = f"{name}: {type(exc).__name__}: {exc}"
+                continue
+            if problem:
+                fresh.release()
+                self.errors[name] = problem
+                continue
             self.errors.pop(name, None)
-            self._programs[key].release()
+            old = self._programs[key]
+            fresh.extra["set"].update(old.extra.get("set", ()))
+            fresh.extra["read"].update(old.extra.get("read", ()))
+            old.release()
             self._programs[key] = fresh
             changed = True
         return changed
@@ -209,3 +243,39 @@ class ProgramCache:
         for program in self._programs.values():
             program.release()
         self._programs.clear()
+
+
+def shader_files() -> list[Path]:
+    """The ``*.glsl`` files under the shader folder that hot reload watches: regular
+    files only, no hidden names and no editor lock, swap or backup files (Emacs's
+    ``.#gather.glsl`` is a dangling link, vim's ``.gather.glsl.swp`` a hidden file), no
+    folders."""
+    found = []
+    root = shader_dir()
+    for path in root.rglob("*.glsl"):
+        relative = path.relative_to(root).parts
+        if any(part.startswith((".", "#")) or part.endswith("~") for part in relative):
+            continue
+        try:
+            if not path.is_file():
+                continue
+        except OSError:
+            continue
+        found.append(path)
+    return found
+
+
+def _lacks_what_was_used(old, fresh) -> str | None:
+    """Why a recompiled program cannot replace ``old``: it no longer declares a uniform
+    the code sets on it, or no longer uses one the code requires it to read. None when
+    it can."""
+    name = old.extra.get("name", "program")
+    missing = sorted(set(old.extra.get("set", ())) - fresh.extra["declared"])
+    if missing:
+        return (f"{name}: no longer declares the uniform(s) {', '.join(missing)} that the "
+                f"code sets; keeping the last good program")
+    unread = sorted(u for u in old.extra.get("read", ()) if u not in fresh)
+    if unread:
+        return (f"{name}: no longer uses the uniform(s) {', '.join(unread)} that its pass "
+                f"must read; keeping the last good program")
+    return None

@@ -1,142 +1,26 @@
-"""The corrections registry: one entry per switch between a published and a corrected form.
+"""The correction switches as the LPV reads them: the :class:`Corrections` dataclass (its
+fields come from the registry, :mod:`explorer.correction_registry`), the presets, and
+which uniforms each stage's programs must read (:func:`uniforms_read_by`).
 
-Everything else about a switch comes from its entry here (docs/MODEL.md "Corrections"):
-
-* the :class:`Corrections` dataclass (one ``bool`` field per entry, in registry order,
-  ``True`` = corrected) and the presets;
-* the shaders' uniform declarations, ``shaders/generated/corrections.glsl``
-  (``python -m derivations.codegen``), one ``uniform bool u_<name>`` per entry;
-* which passes must read the uniform (:attr:`Correction.stages`; the passes hand these to
-  ``explorer.gl.program.set_uniforms``, which raises when a program lacks one);
-* the Corrections panel (title, why, flux text) and the formulas it typesets: the
-  derivations ``corrections.<name>.original`` and ``.corrected`` (``derivations/``), as
-  LaTeX generated into ``explorer/derived_table.py``.
-
-This module imports nothing heavy: the window reads it at start.
+:data:`STAGES`, the stages whose programs may read a switch, comes from the declared
+stage list (:data:`explorer.lpv.stage_list.CORRECTION_STAGES`); every registry entry's
+stages are checked against it here. This module imports nothing heavy: the window reads
+it at start.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, fields
+from dataclasses import fields
 
-STAGES = ("inject", "geometry", "propagate", "gather")
-"""The pipeline stages whose passes may read a correction uniform."""
+from explorer.correction_registry import BY_NAME, CORRECTIONS, Correction
+from explorer.lpv.stage_list import CORRECTION_STAGES as STAGES
 
-
-@dataclass(frozen=True)
-class Correction:
-    """One switch. ``False`` selects the published form, ``True`` the corrected one."""
-
-    name: str
-    """Field of :class:`Corrections`; the uniform is ``u_<name>``, the derivations
-    ``corrections.<name>.original`` / ``.corrected``."""
-    title: str
-    why: str
-    """Why the corrected form is right, in one or two sentences."""
-    flux: str
-    """What switching it changes in the flux. ``{derivation name:format}`` fields are
-    filled with the derivation's value (``explorer.derived``)."""
-    published: bool
-    """True when the uncorrected form is what the published sources print: the "original"
-    preset switches it off. False for implementation details the preset leaves corrected."""
-    stages: tuple[str, ...]
-    """Stages whose programs read the uniform (a subset of :data:`STAGES`)."""
-    effects: tuple[tuple[str, str], ...]
-    """(caption, item) of the derivations ``corrections.<name>.<item>`` the panel shows
-    under the two formulas: what the switch changes, exactly."""
-
-    @property
-    def uniform(self) -> str:
-        return f"u_{self.name}"
-
-    @property
-    def original(self) -> str:
-        """Derivation name of the published form."""
-        return f"corrections.{self.name}.original"
-
-    @property
-    def corrected(self) -> str:
-        """Derivation name of the corrected form."""
-        return f"corrections.{self.name}.corrected"
-
-    def derivation(self, item: str) -> str:
-        return f"corrections.{self.name}.{item}"
-
-    def derivations(self) -> tuple[str, ...]:
-        """Every derivation name the entry refers to."""
-        return (self.original, self.corrected) + tuple(
-            self.derivation(item) for _, item in self.effects)
-
-
-_RATIO = "corrected ÷ published:"
-
-CORRECTIONS: tuple[Correction, ...] = (
-    Correction(
-        "injection_pi", "Injection: intensity = flux / π",
-        "A Lambertian emitter of flux Φ has peak intensity Φ/π, not Φ.",
-        "off: every VPL injects π times its flux (×3.14 on all indirect light)",
-        published=True, stages=("inject", "propagate"),
-        effects=((_RATIO, "flux_factor"),)),
-    Correction(
-        "propagation_4pi", "Propagation: no 1/(4π) per face",
-        "Flux through a face is solid angle times intensity; the extra 1/(4π) averages "
-        "twice.",
-        "off: each step keeps 1/(4π) = 0.0796 of the flux",
-        published=True, stages=("propagate",),
-        effects=((_RATIO, "flux_factor"),)),
-    Correction(
-        "reprojection_pi", "Reprojection: face flux kept as is",
-        "The face's flux becomes the new lobe's flux; dividing by π here undoes the "
-        "injection's π.",
-        "off alone: ×1/π per step; off together with injection: cancels",
-        published=True, stages=("propagate",),
-        effects=((_RATIO, "flux_factor"),)),
-    Correction(
-        "exact_constants", "Exact solid angles",
-        "The DX11 article prints rounded solid angles and π = 3.1415926.",
-        "off: one step keeps ×{corrections.exact_constants.step_flux_original:.6f} "
-        "instead of ×1",
-        published=True, stages=("inject", "propagate"),
-        effects=(("published, one step:", "step_flux_original"), (_RATIO, "flux_factor"))),
-    Correction(
-        "side_faces", "Side faces",
-        "Each neighbour sends light through five faces of the target cell; the front face "
-        "alone covers a fifth of the solid angle.",
-        "off: one step keeps about ×{corrections.side_faces.step_flux_original:.3f} of the "
-        "flux",
-        published=False, stages=("propagate",),
-        effects=(("front faces only, one step:", "step_flux_original"),
-                 (_RATIO, "flux_factor"))),
-    Correction(
-        "surfel_area_squared", "Occluder area grows with depth squared",
-        "A texel of a perspective shadow map covers an area proportional to depth squared.",
-        "off: far occluders block too little (geometry volume only)",
-        published=False, stages=("geometry",),
-        effects=((_RATIO, "flux_factor"),)),
-    Correction(
-        "ping_pong", "Ping-pong propagation",
-        "Reading and writing the same texture races and re-propagates light that has "
-        "already moved.",
-        "off: light counted again each step (flux grows)",
-        published=False, stages=("propagate",),
-        effects=(("in place:", "accumulated_original"), ("ping-pong:", "accumulated_corrected"),
-                 ("corrected ÷ published, flux-conserving step:", "flux_factor"))),
-    Correction(
-        "clamp_front_face", "Clamp the front face",
-        "A two-coefficient SH lobe goes negative behind itself; clamping stops negative "
-        "light from travelling.",
-        "on: clamping adds a little flux (the audit's clamp gain)",
-        published=False, stages=("propagate",),
-        effects=(("clamp gain:", "clamp_gain"), ("L1 lobe behind itself:", "lobe_behind"))),
-)
-
-BY_NAME: dict[str, Correction] = {entry.name: entry for entry in CORRECTIONS}
+__all__ = ["BY_NAME", "CORRECTIONS", "Correction", "Corrections", "PRESETS", "STAGES",
+           "preset", "uniforms_read_by"]
 
 
 def _check_registry() -> None:
-    if len(BY_NAME) != len(CORRECTIONS):
-        raise ValueError("two corrections share a name")
     for entry in CORRECTIONS:
         if not entry.stages or not set(entry.stages) <= set(STAGES):
             raise ValueError(f"correction {entry.name}: stages {entry.stages} must be a "

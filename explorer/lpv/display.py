@@ -14,28 +14,14 @@ The numpy twin: :func:`exposed_image` followed by
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
-
 import moderngl
 import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.frame_state import FogImages, GatherImages
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.tonemap import auto_exposure_scale, tone_map_index
-
-
-@dataclass
-class FogImages:
-    """What the fog stage read back (docs/MODEL.md "Fog"), row 0 at the top."""
-
-    transmittance: np.ndarray
-    """``(H, W)``: exp(−σ_t·ℓ) along each pixel's view ray to its surface."""
-    direct: np.ndarray
-    """``(H, W, 3)``: the direct light's in-scattered radiance."""
-    lpv: np.ndarray
-    """``(H, W, 3)``: the LPV's in-scattered radiance."""
 
 
 def exposed_image(direct: np.ndarray, indirect: np.ndarray, exposure: float,
@@ -67,10 +53,10 @@ class AutoExposure:
     apart by identity: each completed gather or fog stage reads back new arrays."""
 
     def __init__(self) -> None:
-        self._measured: tuple[Mapping, FogImages | None, bool, float] | None = None
+        self._measured: tuple[GatherImages, FogImages | None, bool, float] | None = None
         """(the gathered arrays, the fog's, indirect_only, their scale)."""
 
-    def scale(self, gather: Mapping[str, np.ndarray], fog: FogImages | None,
+    def scale(self, gather: GatherImages, fog: FogImages | None,
               indirect_only: bool, position: np.ndarray) -> float:
         """:func:`display_scale` of the unexposed image of ``gather``'s ``direct`` and
         ``indirect`` (and ``fog``) over the pixels whose G-buffer ``position`` shows a
@@ -78,7 +64,7 @@ class AutoExposure:
         measured = self._measured
         if measured is None or measured[0] is not gather or measured[1] is not fog or \
                 measured[2] != indirect_only:
-            unexposed = exposed_image(gather["direct"][..., :3], gather["indirect"][..., :3],
+            unexposed = exposed_image(gather.direct[..., :3], gather.indirect[..., :3],
                                       1.0, indirect_only, fog)
             measured = self._measured = (gather, fog, indirect_only,
                                          display_scale(unexposed, position[..., 3] > 0.5,

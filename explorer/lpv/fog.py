@@ -11,7 +11,6 @@ with their shadow maps (the RSM atlas) and the accumulated grid of every cascade
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -21,11 +20,9 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.light_records import LightRecordBuffer, view_list
-from explorer.lpv.rsm import LightView
+from explorer.lpv.light_records import LightRecordBuffer, ShadowMaps
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import sh_defines
-from explorer.lpv.vpl import VplTextures
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix
 
@@ -81,15 +78,12 @@ class FogPass:
         """Target name -> texture (empty before the first run)."""
         return dict(zip(TARGETS, self._targets.textures))
 
-    def run(self, gbuffer: GBufferPass, shadow: VplTextures,
-            lights: LightView | Sequence[LightView], scene: Scene,
+    def run(self, gbuffer: GBufferPass, shadow: ShadowMaps, scene: Scene,
             cascades: list[CascadeInput], medium: Medium, sh_order: int = 1,
-            shader_filter: bool = False, rows: tuple[int, int] | None = None,
-            shadow_tiles: Sequence[tuple[int, int]] | None = None) -> None:
+            shader_filter: bool = False, rows: tuple[int, int] | None = None) -> None:
         """March every pixel's view ray (of the rows ``rows``, GL order, or all) through
         the medium, lit by ``cascades`` (finest first; one for the single grid) and the
-        RSM views ``lights``, whose shadow maps ``shadow`` holds at ``shadow_tiles``
-        (lower-left texels; None: one view, the RSM itself). ``shader_filter``: interpolate
+        RSM views of ``shadow`` with their shadow maps. ``shader_filter``: interpolate
         the grid in the shader (the gather's probe, ``GatherPass.shader_filter``)."""
         if not cascades:
             raise ValueError("the fog needs the accumulated grid of at least one cascade")
@@ -97,9 +91,9 @@ class FogPass:
         program = self.programs.get("fog.glsl", {**sh_defines(sh_order),
                                                  "SH_SHADER_FILTER": int(shader_filter)})
         gbuffer.position.use(0)
-        shadow.position.use(1)
-        shadow.normal.use(2)
-        light_count = self._lights.bind(view_list(lights), shadow_tiles)
+        shadow.textures.position.use(1)
+        shadow.textures.normal.use(2)
+        light_count = self._lights.bind(shadow.views, shadow.tiles)
         eye, inverse = camera_rays(scene, gbuffer.size)
         set_uniforms(program, {
             "u_gbuffer_position": 0, "u_shadow_position": 1, "u_shadow_normal": 2,

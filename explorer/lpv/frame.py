@@ -1,24 +1,25 @@
-"""What one frame computed, as numpy arrays (:class:`FrameResult`), and how the pipeline's
-read-back arrays become one (:func:`frame_result`)."""
+"""What one frame computed, as numpy arrays (:class:`FrameResult`), and how what the
+stages left (:class:`~explorer.lpv.frame_state.FrameState`) becomes one
+(:func:`frame_result`)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from explorer.lpv import guards
 from explorer.lpv.audit import CellAuditRecords, EnergyAudit, GridAudit
-from explorer.lpv.display import FogImages, exposed_image
+from explorer.lpv.display import exposed_image
+from explorer.lpv.frame_state import FogImages
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import Settings
 from explorer.lpv.vpl import VplArrays
 from explorer.scene.camera import Camera
 
 if TYPE_CHECKING:
-    from explorer.lpv.cascades import CascadeLevel
+    from explorer.lpv.frame_state import FrameState
     from explorer.lpv.timing import PassTimer
     from explorer.scene.model import Scene
 
@@ -80,7 +81,7 @@ class FrameResult:
     """Pass name -> "timer-query" or "wall-clock"."""
     stages_run: tuple[str, ...] = ()
     """The stages that ran for this result (the others were up to date), in
-    :data:`explorer.lpv.schema.STAGES` order."""
+    :data:`explorer.lpv.stage_list.STAGES` order."""
     warnings: list[str] = field(default_factory=list)
     """Plain-text warnings of the numeric guards (explorer/lpv/guards.py): a pass whose
     output is not finite (with the switches that are off), flux that grows every step,
@@ -158,38 +159,31 @@ class FrameResult:
         return [level.audit for level in self.cascades]
 
 
-def frame_result(settings: Settings, read_back: Mapping[str, Any],
-                 levels: Sequence[tuple[GridSpec, CascadeLevel]], scene: Scene,
-                 stage_warnings: Mapping[str, Sequence[str]], timer: PassTimer,
-                 stages_run: tuple[str, ...], display_scale: float) -> FrameResult:
-    """The FrameResult of a completed frame: ``read_back`` holds the arrays the stages
-    read back, by name (``rsm``: the first view's position, normal and flux;
-    ``rsm_flux``, ``rsm_flux_per_light``; ``gbuffer``: position, normal, albedo;
-    ``gather``: its targets by name; ``gathered``; ``vpls``, ``vpl_sets``,
-    ``view_lights``; ``fog``), ``levels`` every cascade's spec and level, ``scene`` the
-    scene as rendered, ``stage_warnings`` each stage's warnings (the growth warning is
-    added here, from the audit) and ``timer`` the passes' times."""
+def frame_result(settings: Settings, state: FrameState, scene: Scene, timer: PassTimer,
+                 stages_run: tuple[str, ...]) -> FrameResult:
+    """The FrameResult of a completed frame: what the stages left in ``state``, ``scene``
+    the scene as rendered and ``timer`` the passes' times (the growth warning is added
+    to the stages' warnings here, from the audit)."""
     s = settings
-    rsm_position, rsm_normal, rsm_flux = read_back["rsm"]
-    position, normal, albedo = read_back["gbuffer"]
-    gather = read_back["gather"]
+    rsm, gbuffer, gather, vpls = state.rsm, state.gbuffer, state.gather, state.vpls
     cascades = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
                             level.output.audit, level.output.cell_records)
-                for spec, level in levels]
-    audit = EnergyAudit.from_grid_audit(cascades[0].audit, rsm=read_back["rsm_flux"],
-                                        gathered=np.array(read_back["gathered"]),
-                                        rsm_per_light=read_back["rsm_flux_per_light"])
+                for spec, level in zip(state.specs, state.levels)]
+    audit = EnergyAudit.from_grid_audit(cascades[0].audit, rsm=rsm.total_flux,
+                                        gathered=gather.gathered,
+                                        rsm_per_light=rsm.flux_per_light)
     return FrameResult(
         settings=s, cascades=cascades,
-        direct=gather["direct"][..., :3], indirect=gather["indirect"][..., :3],
-        albedo=albedo[..., :3], gbuffer_position=position, gbuffer_normal=normal,
-        rsm_position=rsm_position, rsm_normal=rsm_normal, rsm_flux=rsm_flux,
-        vpls=read_back["vpls"], vpl_sets=list(read_back["vpl_sets"]),
+        direct=gather.direct[..., :3], indirect=gather.indirect[..., :3],
+        albedo=gbuffer.albedo[..., :3], gbuffer_position=gbuffer.position,
+        gbuffer_normal=gbuffer.normal,
+        rsm_position=rsm.position, rsm_normal=rsm.normal, rsm_flux=rsm.flux,
+        vpls=vpls.vpls, vpl_sets=list(vpls.sets),
         light_names=tuple(light.name for light in scene.lights),
-        view_lights=read_back["view_lights"], audit=audit,
+        view_lights=vpls.view_lights, audit=audit,
         timings_ms=dict(timer.timings_ms), timing_methods=dict(timer.methods),
-        stages_run=stages_run, warnings=guards.frame_warnings(stage_warnings, s, audit),
-        display_scale=display_scale, camera=scene.camera,
+        stages_run=stages_run, warnings=guards.frame_warnings(state.warnings, s, audit),
+        display_scale=state.display_scale, camera=scene.camera,
         scene_bounds=(tuple(map(float, scene.bounds_min)),
                       tuple(map(float, scene.bounds_max))),
-        fog=read_back.get("fog") if s.fog else None)
+        fog=state.fog if s.fog else None)

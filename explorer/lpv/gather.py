@@ -14,7 +14,6 @@ march (docs/MODEL.md "Glossy reflections") adds to the indirect radiance.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -25,12 +24,10 @@ from explorer.lpv.cascades import CascadeInput, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.light_records import LightRecordBuffer, view_list
-from explorer.lpv.rsm import LightView
+from explorer.lpv.light_records import LightRecordBuffer, ShadowMaps
 from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
 from explorer.lpv.targets import RenderTargets
 from explorer.lpv.textures import per_context, sh_defines
-from explorer.lpv.vpl import VplTextures
 
 TARGETS = ("direct", "indirect", "received")
 BAND_PIXELS = 1 << 16
@@ -65,6 +62,25 @@ class Glossy:
         return {"u_glossy": 1, "u_glossy_g": 1.0 - self.roughness,
                 "u_glossy_strength": self.strength, "u_glossy_samples": self.samples,
                 "u_camera_position": self.eye}
+
+
+@dataclass(frozen=True)
+class GatherParams:
+    """What the gather reads of the Settings (and the eye the glossy term reflects)."""
+
+    damping: bool = False
+    """The directional-derivative damping of the indirect irradiance (docs/MODEL.md
+    "Final gather"); with cascades, per cascade."""
+    shadow_kernel: int = DEFAULT_SHADOW_KERNEL
+    """Width of the PCF box in shadow-map texels (1 = one hard test)."""
+    glossy: Glossy | None = None
+    """The glossy reflection of the grid added to the indirect radiance (None: off)."""
+
+    @classmethod
+    def of(cls, settings, eye) -> "GatherParams":
+        """The Settings' gather, its glossy term seen from ``eye``."""
+        return cls(bool(settings.gather_damping), int(settings.shadow_kernel),
+                   Glossy.of(settings, eye))
 
 
 NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
@@ -145,27 +161,20 @@ class GatherPass:
         """Target name -> texture (empty before the first run)."""
         return dict(zip(TARGETS, self._targets.textures))
 
-    def run(self, gbuffer: GBufferPass, shadow: VplTextures,
-            lights: LightView | Sequence[LightView], grid_textures, spec: GridSpec,
-            damping: bool = False, cascades: list[CascadeInput] | None = None,
-            sh_order: int = 1, rows: tuple[int, int] | None = None,
-            shadow_kernel: int = DEFAULT_SHADOW_KERNEL,
-            shadow_tiles: Sequence[tuple[int, int]] | None = None,
-            glossy: Glossy | None = None, size: tuple[int, int] | None = None) -> None:
-        """``shadow``: the RSM (one view) or the RSM atlas of every view; ``lights``: the
-        view(s), their shadow maps at ``shadow_tiles`` (lower-left texels in ``shadow``;
-        None: one view at (0, 0)).
+    def run(self, gbuffer: GBufferPass, shadow: ShadowMaps, grid_textures, spec: GridSpec,
+            params: GatherParams = GatherParams(), *,
+            cascades: list[CascadeInput] | None = None, sh_order: int = 1,
+            rows: tuple[int, int] | None = None, size: tuple[int, int] | None = None
+            ) -> None:
+        """``shadow``: the RSM views that light the pixels, with their shadow maps.
         ``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
-        trilinearly, clamped to the edge), or None for direct light only. ``damping``: the
-        directional-derivative damping of the indirect irradiance (docs/MODEL.md "Final
-        gather"); with cascades, per cascade.
-        ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
+        trilinearly, clamped to the edge), or None for direct light only. ``params``: what
+        the Settings ask of the gather (:class:`GatherParams`: damping, PCF kernel, glossy
+        term). ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
         instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
         the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
         ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
-        the others keep what they hold. ``shadow_kernel``: width of the PCF box in
-        shadow-map texels (1 = one hard test). ``glossy``: add the glossy reflection of
-        the grid to the indirect radiance (None: off). ``size``: the targets' size (default
+        the others keep what they hold. ``size``: the targets' size (default
         the G-buffer's); a smaller one gathers a reduced picture, each pixel at the
         G-buffer texel below it (:func:`reduced_size`; the window's quick previews)."""
         self._targets.allocate(size or gbuffer.size)
@@ -174,27 +183,27 @@ class GatherPass:
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)
-        shadow.position.use(3)
-        shadow.normal.use(4)
+        shadow.textures.position.use(3)
+        shadow.textures.normal.use(4)
         if grid_textures is None and cascades:
             grid_textures = cascades[0].textures
         if grid_textures is None:
             grid_textures = (self._empty(),) * 3
         for unit, texture in enumerate(grid_textures, start=5):
             texture.use(unit)
-        light_count = self._lights.bind(view_list(lights), shadow_tiles)
+        light_count = self._lights.bind(shadow.views, shadow.tiles)
         values = {
             "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
             "u_shadow_position": 3, "u_shadow_normal": 4,
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
             "u_light_count": light_count,
-            "u_shadow_kernel": int(shadow_kernel),
+            "u_shadow_kernel": int(params.shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
-            "u_gather_damping": int(damping),
+            "u_gather_damping": int(params.damping),
             "u_target_size": self._targets.size,
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),
-            **(NO_GLOSSY if glossy is None else glossy.uniforms()),
+            **(NO_GLOSSY if params.glossy is None else params.glossy.uniforms()),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):

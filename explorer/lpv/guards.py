@@ -36,7 +36,7 @@ from explorer.lpv.constants import (
     PUBLISHED_SIDE_FACE_SOLID_ANGLE,
     SIDE_FACE_SOLID_ANGLE,
 )
-from explorer.lpv.schema import STAGES
+from explorer.lpv.stage_list import STAGES
 
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 MIN_SCENE_EXTENT = 1e-5

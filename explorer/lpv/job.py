@@ -5,7 +5,7 @@
 the geometry volume, a slab of a propagation step, a band of the gather) until its time
 budget is spent, choosing the next unit only when its measured time still fits (at least
 one unit per call), and returns a :class:`Progress`. The stages run in
-:data:`explorer.lpv.stages.EXECUTION_ORDER`; a stage whose key has not changed since its
+:data:`explorer.lpv.stage_list.EXECUTION_ORDER`; a stage whose key has not changed since its
 last completed run is skipped.
 
 Starting another job cancels this one: the stage it was in the middle of is discarded
@@ -22,8 +22,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from explorer.lpv.audit import audit_mode
-from explorer.lpv.schema import STAGES
-from explorer.lpv.stages import DECLARATIONS, EXECUTION_ORDER, stage_key
+from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, STAGES, VERBS
+from explorer.lpv.stages import stage_key
 
 if TYPE_CHECKING:
     from explorer.lpv.frame import FrameResult
@@ -53,12 +53,6 @@ class Pipeline(Protocol):
     def finish_job(self, job: "Job") -> "FrameResult": ...
     def show_preview(self, job: "Job", scale: float = ...) -> bool: ...
 
-_VERBS = {"scene": "loading the scene", "grid": "placing the grids", "rsm": "rendering the RSM",
-          "downsample": "downsampling", "inject": "injecting", "geometry":
-          "building the geometry volume", "propagate": "propagating", "gbuffer":
-          "rendering the G-buffer", "gather": "gathering", "display": "displaying"}
-
-
 @dataclass(frozen=True)
 class Progress:
     """Where a job stands after :meth:`Job.advance`."""
@@ -71,7 +65,8 @@ class Progress:
     total: int
     finished: bool
     stages_run: tuple[str, ...]
-    """The stages completed so far, in :data:`explorer.lpv.schema.STAGES` order."""
+    """The stages completed so far, in the declared order
+    (:data:`explorer.lpv.stage_list.STAGES`)."""
 
     @property
     def label(self) -> str:
@@ -80,7 +75,7 @@ class Progress:
             return "done"
         if self.stage is None:
             return "waiting"
-        verb = _VERBS.get(self.stage, self.stage)
+        verb = VERBS.get(self.stage, self.stage)
         return f"{verb} {self.done}/{self.total}" if self.total > 1 else verb
 
 

@@ -8,11 +8,13 @@ docs/MODEL.md "Several lights"): one record per RSM view, in a storage buffer at
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
 from explorer.lpv.rsm import LightView
+from explorer.lpv.vpl import VplTextures
 from explorer.scene.transforms import gl_matrix
 
 LIGHT_BINDING = 5
@@ -52,6 +54,24 @@ def light_records(views: Sequence[LightView],
 def view_list(lights: LightView | Sequence[LightView]) -> list[LightView]:
     """``lights`` as a list of views (one view alone is a list of one)."""
     return [lights] if isinstance(lights, LightView) else list(lights)
+
+
+@dataclass(frozen=True)
+class ShadowMaps:
+    """The RSM views a pass lights and shadows with: their shadow maps as one set (one
+    view's RSM, or the atlas of several: ``LightViews.shadow_maps``) and where each view's
+    tile starts in it."""
+
+    textures: VplTextures
+    views: tuple[LightView, ...]
+    """One view alone is made a tuple of one."""
+    tiles: tuple[tuple[int, int], ...] | None = None
+    """Lower-left texel of each view's tile in :attr:`textures`; None: one view at (0, 0)."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "views", tuple(view_list(self.views)))
+        if self.tiles is not None:
+            object.__setattr__(self, "tiles", tuple(tuple(t) for t in self.tiles))
 
 
 class LightRecordBuffer:

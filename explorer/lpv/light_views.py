@@ -22,7 +22,9 @@ from explorer.gl.program import ProgramCache
 from explorer.lpv.atlas import PerView, VplAtlas
 from explorer.lpv.audit import flux_per_light
 from explorer.lpv.downsample import DownsamplePass
+from explorer.lpv.frame_state import RsmImages, VplImages
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
 from explorer.lpv.settings import Settings
 from explorer.lpv.timing import PassTimer
@@ -81,26 +83,23 @@ class LightViews:
         self.rsm_textures, self.shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm",
                                                            largest)
 
-    def rsm_read_back(self) -> tuple[dict[str, object], list[np.ndarray]]:
-        """The last RSMs read back: ``rsm`` (the primary view's position, normal and
-        flux), ``rsm_flux_per_light`` (each light's flux summed over its views;
-        docs/MODEL.md "Several lights") and ``rsm_flux`` (their sum); and every array
-        read, for the finiteness check."""
+    def rsm_read_back(self) -> tuple[RsmImages, list[np.ndarray]]:
+        """The last RSMs read back: the primary view's position, normal and flux, each
+        light's flux summed over its views (docs/MODEL.md "Several lights") and their
+        sum; and every array read, for the finiteness check."""
         flux = [read_texture(rsm.flux) for rsm in self.rsm_sets]
         first = self.rsm_sets[0]
         primary = (read_texture(first.position), read_texture(first.normal), flux[0])
         per_light = flux_per_light(flux, [view.light_index for view in self.views])
-        arrays = {"rsm": primary, "rsm_flux": per_light.sum(axis=0),
-                  "rsm_flux_per_light": per_light}
-        return arrays, [*primary, *flux]
+        return RsmImages(*primary, total_flux=per_light.sum(axis=0),
+                         flux_per_light=per_light), [*primary, *flux]
 
     def choose_vpls(self, s: Settings, vpls: VplArrays | None, spec: GridSpec,
-                    largest: int) -> dict[str, object]:
+                    largest: int) -> VplImages:
         """The ``downsample`` stage's GPU work: the VPLs the injection reads are the
         hand-made ``vpls``, the RSMs as they are, or each view's RSM downsampled onto the
         finest grid ``spec`` (then their atlas within ``largest`` texels per side).
-        Returns them read back: ``vpl_sets`` (per set), ``vpls`` (all of them) and
-        ``view_lights`` (each set's light index)."""
+        Returns them read back (per set, all of them, each set's light index)."""
         if self._override_textures is not None:
             self._override_textures.release()
             self._override_textures = None
@@ -120,10 +119,15 @@ class LightViews:
             self.vpl_textures, _ = self._atlas(self._vpl_atlas, self.vpl_sets, "downsample",
                                                largest)
         sets = [vpl_set.to_arrays() for vpl_set in self.vpl_sets]
-        return {"vpl_sets": sets,
-                "vpls": sets[0] if len(sets) == 1 else VplArrays.concatenate(sets),
-                "view_lights": (0,) if vpls is not None else tuple(
-                    view.light_index for view in self.views)}
+        return VplImages(
+            vpls=sets[0] if len(sets) == 1 else VplArrays.concatenate(sets), sets=sets,
+            view_lights=(0,) if vpls is not None else tuple(
+                view.light_index for view in self.views))
+
+    @property
+    def shadow_maps(self) -> ShadowMaps:
+        """Every view's shadow map as the gather and the fog read them."""
+        return ShadowMaps(self.rsm_textures, tuple(self.views), tuple(self.shadow_tiles))
 
     def occluders(self, hand_made: bool) -> list[VplTextures]:
         """The sets the geometry volume is built from: every view's RSM, or the

@@ -27,12 +27,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, Mapping
 
-STAGES = ("scene", "grid", "rsm", "downsample", "inject", "geometry", "propagate", "gbuffer",
-          "gather", "fog", "display")
-"""The pipeline's stages; ``fog`` ray-marches the medium (docs/MODEL.md "Fog"), and
-``display`` is the final, display-only shader (exposure, tone map, which buffer, the
-composition of the fog): changing only its fields re-runs no pass."""
-
 KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
          "switches", "names", "name_set", "transforms", "nested")
 """``str``: a non-empty text; ``text``: any text (may be empty); ``size``: [width, height]
@@ -83,7 +77,8 @@ class Spec:
     typing a value, Ctrl+click, can go up to ``high``)."""
     unit: str = ""
     stages: tuple[str, ...] = ()
-    """Pipeline stages that read the field directly (:data:`STAGES`)."""
+    """Pipeline stages that read the field directly (names the settings' owner checks:
+    :func:`check_stages`; the LPV's are ``explorer.lpv.stage_list.STAGES``)."""
     nested: type | None = None
     """For ``nested``: the dataclass type held."""
 
@@ -94,9 +89,6 @@ class Spec:
             raise ValueError(f"widget must be one of {WIDGETS}, got {self.widget!r}")
         if self.kind == "range2" and (self.low is None or self.high is None):
             raise ValueError("a range2 field needs both low and high")
-        unknown = [s for s in self.stages if s not in STAGES]
-        if unknown:
-            raise ValueError(f"unknown stage(s) {unknown}; stages are {STAGES}")
 
     # -- checking --------------------------------------------------------------------
     def allowed(self) -> str:
@@ -329,9 +321,16 @@ def validate(obj: Any) -> None:
 
 def stages_reading(cls: type, stage: str) -> tuple[str, ...]:
     """The fields of ``cls`` that ``stage`` reads directly."""
-    if stage not in STAGES:
-        raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
     return tuple(name for name, spec in specs(cls).items() if stage in spec.stages)
+
+
+def check_stages(cls: type, stages: tuple[str, ...]) -> None:
+    """A ValueError naming the field when a field of ``cls`` declares a stage that is not
+    one of ``stages`` (the schema itself knows no stage names)."""
+    for name, spec in specs(cls).items():
+        unknown = [stage for stage in spec.stages if stage not in stages]
+        if unknown:
+            raise ValueError(f"field {name}: unknown stage(s) {unknown}; stages are {stages}")
 
 
 # -- outside data -------------------------------------------------------------------------

@@ -1,8 +1,9 @@
 """Settings of one LPV frame.
 
 The switches between published and corrected formulas (:class:`Corrections`, the
-presets) live in the corrections registry, ``explorer/lpv/corrections.py``; they are
-imported here because much code reads them from this module.
+presets) come from the corrections registry (``explorer/correction_registry.py``, made
+into the dataclass by ``explorer/lpv/corrections.py``); they are imported here because
+much code reads them from this module.
 """
 
 from __future__ import annotations
@@ -11,13 +12,14 @@ from dataclasses import dataclass, replace
 
 from explorer.lpv.corrections import CORRECTIONS, PRESETS, Corrections, preset  # noqa: F401
 from explorer.lpv.schema import (
-    STAGES,
     SettingError,
+    check_stages,
     from_dict,
     setting,
     to_dict,
     validate,
 )
+from explorer.lpv.stage_list import STAGES
 from explorer.lpv.tonemap import TONE_MAPS
 from explorer.scene.lights import MAX_CONE_DEGREES
 from explorer.scene.model import MAX_LIGHTS
@@ -343,6 +345,9 @@ class Settings:
         """Settings from plain data (a settings file, a lesson table): ``base`` with the
         given fields replaced; a :class:`SettingError` names the bad field."""
         return from_dict(cls, data, base, where)
+
+
+check_stages(Settings, STAGES)
 
 
 # Names shared by the CLI (`render --view`), the app's view selector and the lessons.

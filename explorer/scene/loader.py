@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from explorer.safe_files import UserFileError
 from explorer.scene.builtin import BUILTIN_SCENES
 from explorer.scene.camera import Camera
 from explorer.scene.lights import (
@@ -24,6 +25,7 @@ from explorer.scene.lights import (
     SpotLight,
     flux_for_irradiance,
 )
+from explorer.scene.mesh_limits import check_mesh_file
 from explorer.scene.model import Scene, SceneError
 from explorer.scene.objects import SceneObject
 
@@ -40,7 +42,14 @@ def load_scene(name_or_path: str | Path) -> Scene:
     if key in BUILTIN_SCENES:
         return BUILTIN_SCENES[key]()
     path = check_scene_name(key)
-    return scene_from_mesh(_read_mesh(path), path.stem, str(path))
+    parts = _read_mesh(path)
+    try:
+        return scene_from_mesh(parts, path.stem, str(path))
+    except (ValueError, IndexError, TypeError) as exc:
+        # trimesh read the file, but its arrays do not fit together (a vertex with two
+        # coordinates, a face index past the vertices): a broken file, not our bug.
+        raise SceneError(f"{path}: the mesh's data is inconsistent ({type(exc).__name__}: "
+                         f"{exc})") from None
 
 
 def check_scene_name(name_or_path: str | Path) -> Path | None:
@@ -65,8 +74,10 @@ def _read_mesh(path: Path) -> list[tuple[str, object, np.ndarray]]:
     transforms."""
     import trimesh
 
-    if path.stat().st_size == 0:
-        raise SceneError(f"{path}: the file is empty")
+    try:
+        check_mesh_file(path)         # a regular file within the size caps, unpacked too
+    except UserFileError as exc:
+        raise SceneError(str(exc)) from None
     # trimesh logs (and sometimes prints tracebacks for) recoverable problems; the user
     # gets our message instead.
     logger = logging.getLogger("trimesh")

@@ -78,6 +78,16 @@ class App:
         self.persist_settings = persist_settings
         self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
         self.idle_timeout_s = float(idle_timeout_s)
+        if persist_settings:
+            unwritable = persist.writable_config_dir()
+            if unwritable:      # run on, saving nothing: said once, never a failed start
+                print(f"lpv-explorer: {unwritable}", file=sys.stderr)
+                self.state.notify(unwritable, "warning")
+                self.persist_settings = persist_settings = False
+                if state is None:
+                    problem = persist.load_state(self.state)
+                    if problem:
+                        self.state.notify(problem, "warning")
         if persist_settings and state is None:
             problem = persist.load_state(self.state)
             if problem:
@@ -135,22 +145,26 @@ class App:
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
         self._layout_file = persist.layout_path()
+        # imgui never opens the layout file itself (it would block on a FIFO and write in
+        # place): the app reads it safely and writes it atomically (persist.py).
+        io.set_ini_filename("")
+        self._layout_loaded = False
         if self.persist_settings:
-            self._layout_file.parent.mkdir(parents=True, exist_ok=True)
             # imgui asserts on a layout it cannot use: check it first, set it aside if bad
             problem = persist.check_layout_file(self._layout_file)
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-            io.set_ini_filename(str(self._layout_file))
-        else:
-            io.set_ini_filename("")
+            layout = persist.read_layout(self._layout_file)
+            if layout:
+                imgui.load_ini_settings_from_memory(layout)
+                self._layout_loaded = True
         from explorer.ui.layout import PANELS
 
         titles = [panel.title for panel in PANELS]
         # Rebuild the default layout on the first run and whenever the panel set changed
         # (a panel the saved layout does not know would otherwise float on its own).
-        self._needs_layout = not (self.persist_settings and self._layout_file.exists()
+        self._needs_layout = not (self._layout_loaded
                                   and sorted(self.state.layout_panels) == sorted(titles))
         self.state.layout_panels = titles
         theme.apply_style(self.window.content_scale)
@@ -357,7 +371,10 @@ class App:
         rt.pictures = {}
         self.controller.release()
         if self.persist_settings:
-            imgui.save_ini_settings_to_disk(str(self._layout_file))
+            try:
+                persist.save_layout(imgui.save_ini_settings_to_memory(), self._layout_file)
+            except OSError as exc:
+                print(f"lpv-explorer: could not save the layout: {exc}", file=sys.stderr)
         if self._markdown_ctx is not None:
             from imgui_bundle import rich_md
 

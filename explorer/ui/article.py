@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 from imgui_bundle import imgui
 
 from explorer import lesson_text, live_values
+from explorer.figure_params import FIGURE_KINDS
 from explorer.lessons import Lesson, Step, TryThis
 from explorer.ui import widgets
 from explorer.ui.lesson_panel import (
@@ -98,9 +99,9 @@ def _texts(step: Step) -> list[str]:
     return [step.text] + [t.prompt for t in step.try_this] + [f.caption for f in step.figures]
 
 
-AUDIT_FIGURES = {"flux-per-step": "flux", "energy-audit": "full"}
+AUDIT_FIGURES = {kind.name: kind.audit for kind in FIGURE_KINDS if kind.audit != "off"}
 """Figure kinds that plot the energy audit of the frame, and the audit mode
-(explorer.lpv.audit.AUDIT_MODES) each needs."""
+(explorer.lpv.audit.AUDIT_MODES) each needs (``FigureKindDecl.audit``)."""
 
 
 def uses_audit(step: Step) -> str:

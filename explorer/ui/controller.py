@@ -46,6 +46,8 @@ import numpy as np
 from explorer.lpv.audit import audit_covers, audit_mode
 from explorer.lpv.schema import stages_reading
 from explorer.lpv.settings import Settings
+from explorer.lpv.stage_list import PIXEL_STAGES
+from explorer.lpv.stages import downstream
 from explorer.ui.picture import Picture, SideDisplay, Stamp
 
 if TYPE_CHECKING:
@@ -62,7 +64,7 @@ PINNED_DISPLAY: dict[str, object] = {
 """The display stage's fields, fixed in what the pipelines run: the view composer applies
 the real ones, so changing them runs no stage (exposure, tone map, indirect only, auto
 exposure)."""
-CAMERA_STAGES = frozenset({"grid", "gbuffer", "gather", "fog", "display"})
+CAMERA_STAGES = frozenset(("grid", *PIXEL_STAGES))
 """What a camera move runs (with one cascade the grid stage only recomputes its specs; the
 fog's march, when it is on, follows the view rays): the work per pixel that a drag's
 reduced size makes cheaper, measured to choose that size. (With camera occluders a move
@@ -477,7 +479,7 @@ class PipelineController:
             return float("inf")
         per_step = (side.job_ms - side.previews_ms - ms) / (progress.done - steps)
         timings = getattr(side.pipeline, "timings_ms", None) or {}
-        rest = sum(timings.get(stage, 0.0) for stage in ("gather", "fog", "display"))
+        rest = sum(timings.get(stage, 0.0) for stage in downstream("propagate")[1:])
         return (progress.total - progress.done) * max(per_step, 0.0) + rest
 
     def _snapshot(self, side: SideState, stamp: Stamp, result: "FrameResult | None",

@@ -150,7 +150,11 @@ def vpl_groups(positions: np.ndarray, flux: np.ndarray, max_points: int = 4096,
 def write_png(pixels: np.ndarray, path: str | Path) -> None:
     from PIL import Image
 
+    from explorer.safe_files import write_atomically
+
     path = Path(path)
     if path.parent and not path.parent.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(np.asarray(pixels, dtype=np.uint8), "RGB").save(path)
+    image = Image.fromarray(np.asarray(pixels, dtype=np.uint8), "RGB")
+    # whole or not at all: a full disk or an interrupt leaves no half-written PNG
+    write_atomically(path, lambda partial: image.save(partial, format="PNG"))

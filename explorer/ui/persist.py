@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from explorer.lpv.schema import SettingError, from_dict, specs, to_dict
+from explorer.safe_files import UserFileError, parse_json, read_text, write_atomically
 from explorer.ui.layout_file import LayoutFileError, check_layout
 from explorer.ui.state import AppState
 
@@ -34,6 +35,21 @@ def config_dir() -> Path:
     """``$XDG_CONFIG_HOME/lpv-explorer`` (``~/.config/lpv-explorer`` when unset)."""
     base = os.environ.get("XDG_CONFIG_HOME") or str(Path.home() / ".config")
     return Path(base) / "lpv-explorer"
+
+
+def writable_config_dir() -> str | None:
+    """Make the config folder; None when it is there and writable, else why not (its
+    parent is a file, a read-only file system, no permission): the window then runs
+    without saving settings or layout, says so once, and does not fail to start."""
+    folder = config_dir()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = write_atomically(folder / ".write-probe", b"")
+        probe.unlink()
+    except OSError as exc:
+        return (f"cannot write the settings folder {folder} ({exc.strerror or exc}); "
+                f"running without saving settings")
+    return None
 
 
 def settings_path() -> Path:
@@ -100,12 +116,12 @@ def load_state(state: AppState, path: Path | None = None) -> str | None:
     file yet; otherwise the file is set aside, the defaults stay and the returned text
     says what was wrong and where the file went."""
     path = path or settings_path()
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = parse_json(read_text(path, "settings file"), path)
         apply_dict(state, data)
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError, SettingsFileError) as exc:
+    except (UserFileError, SettingsFileError) as exc:
         return _setting_aside(path, str(exc), "settings")
     return None
 
@@ -115,19 +131,37 @@ def check_layout_file(path: Path | None = None) -> str | None:
     ends, on a layout it cannot use). None when it is fine or absent; otherwise it is set
     aside and the text says why and where (the default layout is then built)."""
     path = path or layout_path()
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
     try:
-        check_layout(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, LayoutFileError) as exc:
+        check_layout(read_text(path, "layout file"))
+    except (UserFileError, LayoutFileError) as exc:
         return _setting_aside(path, str(exc), "layout")
     return None
 
 
+def read_layout(path: Path | None = None) -> str | None:
+    """The dock layout's text for imgui (None when there is none, or it cannot be read:
+    :func:`check_layout_file` has set a bad one aside)."""
+    path = path or layout_path()
+    if not os.path.lexists(path):
+        return None
+    try:
+        return read_text(path, "layout file")
+    except UserFileError:
+        return None
+
+
+def save_layout(text: str, path: Path | None = None) -> None:
+    """Write the dock layout atomically, with a temporary of this process's own."""
+    path = path or layout_path()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_atomically(path, text)
+
+
 def save_state(state: AppState, path: Path | None = None) -> None:
-    """Write the settings file atomically (a crash never leaves half a file)."""
+    """Write the settings file atomically (a crash never leaves half a file; two windows
+    saving at once each write their own temporary, so neither sees an empty file)."""
     path = path or settings_path()
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(state_to_dict(state), indent=2), encoding="utf-8")
-    os.replace(tmp, path)
+    write_atomically(path, json.dumps(state_to_dict(state), indent=2))

@@ -14,22 +14,16 @@ at a given width, keeping its interactive state in a :class:`FigureContext`.
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
-from explorer.ui.figures import (
-    cell_faces,
-    clamped_cosine,
-    energy_audit,
-    flux_per_step,
-    pipeline_overview,
-    propagation_stepper,
-    rsm_texel,
-)
 from explorer.ui.figures.host import FigureContext
 from explorer.figure_params import (  # noqa: F401  (re-exported for the window)
+    FIGURE_KINDS,
     FIGURE_PARAMS,
     RESERVED_KEYS,
+    FigureKindDecl,
     FigureParamError,
     FigureSpec,
     ParamInfo,
@@ -53,30 +47,26 @@ class FigureKind:
     readouts: Callable[[Any, Any, FigureContext], dict[str, float]]
     """(params, state, context) -> the numbers the figure shows now, by name, so prose
     next to it can quote them as they change."""
+    demo: Mapping[str, Any]
+    """A parameter change that changes the figure visibly."""
 
     @property
     def params(self) -> tuple[ParamInfo, ...]:
         return schema(self.params_class)
 
 
-def _kind(module, name: str, title: str) -> FigureKind:
-    return FigureKind(name, title, (module.__doc__ or "").strip().split("\n\n")[0],
-                      module.Params, module.State.from_params, module.draw, module.readouts)
+def _kind(decl: FigureKindDecl) -> FigureKind:
+    """The drawing side of a declared kind, from its module (``decl.module``)."""
+    module = importlib.import_module(f"explorer.ui.figures.{decl.module}")
+    return FigureKind(decl.name, decl.title,
+                      (module.__doc__ or "").strip().split("\n\n")[0], decl.params,
+                      module.State.from_params, module.draw, module.readouts, decl.demo)
 
 
-FIGURES: dict[str, FigureKind] = {kind.name: kind for kind in (
-    _kind(clamped_cosine, "clamped-cosine", "Clamped cosine and its SH projections"),
-    _kind(cell_faces, "cell-faces", "A cell's neighbour, its five faces and their solid "
-                                    "angles"),
-    _kind(propagation_stepper, "propagation-stepper", "Propagation, step by step"),
-    _kind(rsm_texel, "rsm-texel", "An RSM texel on a tilted surface"),
-    _kind(energy_audit, "energy-audit", "Energy audit"),
-    _kind(flux_per_step, "flux-per-step", "Flux in flight per propagation step"),
-    _kind(pipeline_overview, "pipeline", "The LPV pipeline at a glance"),
-)}
+FIGURES: dict[str, FigureKind] = {decl.name: _kind(decl) for decl in FIGURE_KINDS}
+"""Every kind of :data:`explorer.figure_params.FIGURE_KINDS`, in its order."""
 
-
-USES_RESULTS = ("energy-audit", "flux-per-step", "pipeline")
+USES_RESULTS = tuple(decl.name for decl in FIGURE_KINDS if decl.results)
 """Kinds that plot the FrameResults of the context (A, and B while comparing)."""
 
 

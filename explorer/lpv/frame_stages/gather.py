@@ -1,0 +1,65 @@
+"""The ``gather`` stage: linear direct and LPV indirect radiance per pixel
+(explorer/lpv/gather.py) in bands of rows (one per unit), then the read-back of each
+target (one unit each). :meth:`Stage.gather_levels` also gathers a job's accumulation as
+it is (the progressive previews)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+from explorer.lpv import guards
+from explorer.lpv.cascades import CascadeInput
+from explorer.lpv.frame_stages.base import Stage as StageBase
+from explorer.lpv.frame_stages.base import StageHost
+from explorer.lpv.frame_state import GatherImages
+from explorer.lpv.gather import TARGETS, GatherParams, GatherPass, bands
+from explorer.lpv.stage_list import StageDecl
+from explorer.lpv.work_units import read_back
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
+Params = GatherParams
+"""What the gather reads of the Settings (``GatherParams.of(settings, eye)``)."""
+
+
+class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.gather = GatherPass(host.ctx, host.programs)
+        self.state.gather_pass = self.gather
+
+    def units(self, job: Job) -> int:
+        return len(bands((job.settings.width, job.settings.height))) + len(TARGETS)
+
+    def work(self, job: Job) -> Iterator[None]:
+        s, host = job.settings, self.host
+        host.timer.reset("gather")
+        for band in bands((s.width, s.height)):
+            host.timer.timed("gather", lambda: self.gather_levels(s, band), accumulate=True)
+            yield
+        targets = self.gather.targets
+        arrays = yield from read_back([targets[name] for name in TARGETS])
+        self.state.gather = GatherImages(**dict(zip(TARGETS, arrays)))
+        self.state.warnings["gather"] = guards.arrays_warnings("gather", arrays, s)
+
+    def gather_levels(self, s, rows: tuple[int, int] | None = None,
+                      into: GatherPass | None = None,
+                      size: tuple[int, int] | None = None) -> None:
+        """The gather of every level's accumulation as it is now (docs/MODEL.md "Final
+        gather", "Cascades"), of the rows ``rows`` or the whole image; ``into``/``size``:
+        another gather pass's targets, at that size (a reduced preview)."""
+        host, state = self.host, self.state
+        levels, specs = state.cascades, state.specs
+        textures = [level.accumulation_textures for level in levels]
+        cascades = None
+        if len(levels) > 1:
+            cascades = [CascadeInput(spec, t) for spec, t in zip(specs, textures)]
+        (into or self.gather).run(
+            state.gbuffer_pass, host.light_views.shadow_maps, textures[0], specs[0],
+            Params.of(s, host.scene_state.scene.camera.eye), cascades=cascades,
+            sh_order=levels[0].injected.sh_order, rows=rows, size=size)
+
+    def release(self) -> None:
+        self.gather.release()

@@ -1,0 +1,137 @@
+"""What each stage of a frame leaves for the next: :class:`FrameState`, one typed field per
+thing a stage makes (its images read back, the cascade levels it fills, the passes whose
+textures hold its output on the GPU).
+
+The stages (explorer/lpv/frame_stages/) write their own fields and read their upstream
+stages' fields; :func:`explorer.lpv.frame.frame_result` assembles the
+:class:`~explorer.lpv.frame.FrameResult` from it once every stage is complete. A field
+keeps what the stage's last completed run left (a stage whose key has not changed does
+not run, and its field stays valid).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.vpl import VplArrays
+
+if TYPE_CHECKING:
+    from explorer.lpv.cascades import CascadeLevel
+    from explorer.lpv.fog import FogPass
+    from explorer.lpv.gather import GatherPass
+    from explorer.lpv.gbuffer import GBufferPass
+
+
+@dataclass
+class GBufferImages:
+    """The G-buffer read back, ``(H, W, 4)`` each, row 0 at the top."""
+
+    position: np.ndarray
+    """World position, w = 1 where a surface is seen."""
+    normal: np.ndarray
+    """Viewer-facing normal, w = the surface's world area under the pixel."""
+    albedo: np.ndarray
+
+
+@dataclass
+class RsmImages:
+    """The RSMs read back (docs/MODEL.md "Several lights")."""
+
+    position: np.ndarray
+    normal: np.ndarray
+    flux: np.ndarray
+    """The primary view's position, normal and flux, ``(Hr, Wr, 4)``."""
+    total_flux: np.ndarray
+    """(3,) every light's flux together."""
+    flux_per_light: np.ndarray
+    """(lights, 3): each light's flux summed over its views."""
+
+
+@dataclass
+class VplImages:
+    """The VPLs the injection read, read back."""
+
+    vpls: VplArrays
+    """Every set together."""
+    sets: list[VplArrays]
+    """Per set: one per RSM view, or the one hand-made set."""
+    view_lights: tuple[int, ...]
+    """The light index of each set."""
+
+
+@dataclass
+class GatherImages:
+    """The gather's ``rgba32f`` targets read back, row 0 at the top."""
+
+    direct: np.ndarray
+    indirect: np.ndarray
+    received: np.ndarray
+    """The LPV flux each pixel's surface receives (rgb)."""
+
+    @property
+    def gathered(self) -> np.ndarray:
+        """(3,) float64: the flux the visible surfaces receive from the LPV, summed over
+        the pixels (``Pipeline.gathered_flux``)."""
+        return np.add.reduce(self.received[..., :3].reshape(-1, 3), axis=0,
+                             dtype=np.float64)
+
+
+@dataclass
+class FogImages:
+    """What the fog stage read back (docs/MODEL.md "Fog"), row 0 at the top."""
+
+    transmittance: np.ndarray
+    """``(H, W)``: exp(−σ_t·ℓ) along each pixel's view ray to its surface."""
+    direct: np.ndarray
+    """``(H, W, 3)``: the direct light's in-scattered radiance."""
+    lpv: np.ndarray
+    """``(H, W, 3)``: the LPV's in-scattered radiance."""
+
+
+@dataclass
+class FrameState:
+    """What each stage leaves for the next (module docstring), by stage."""
+
+    specs: list[GridSpec] = field(default_factory=list)
+    """``grid``: each cascade's grid, finest first."""
+    levels: list[CascadeLevel] = field(default_factory=list)
+    """``inject``, ``geometry``, ``propagate``: each cascade's grids on the GPU and what
+    was read back of them (at least ``len(specs)`` once ``inject`` ran)."""
+    gbuffer: GBufferImages | None = None
+    rsm: RsmImages | None = None
+    vpls: VplImages | None = None
+    """``downsample``."""
+    gather: GatherImages | None = None
+    fog: FogImages | None = None
+    """None while the fog is off."""
+    display_scale: float = 1.0
+    """``display``: what it multiplied the exposed image by (docs/MODEL.md "Display")."""
+    warnings: dict[str, list[str]] = field(default_factory=dict)
+    """Stage -> the warnings of its last run (explorer/lpv/guards.py)."""
+    # the passes whose textures hold a stage's output on the GPU (set when the stages
+    # are made; the textures are (re)allocated when they run)
+    gbuffer_pass: GBufferPass | None = None
+    gather_pass: GatherPass | None = None
+    fog_pass: FogPass | None = None
+
+    @property
+    def cascades(self) -> list[CascadeLevel]:
+        """The levels of this frame's cascades (``len(specs)`` of them)."""
+        return self.levels[: len(self.specs)]
+
+    def levels_for_specs(self, make: Callable[[], CascadeLevel]) -> list[CascadeLevel]:
+        """One level per spec: missing ones made by ``make``, extra ones released."""
+        self.release_levels(len(self.specs))
+        while len(self.levels) < len(self.specs):
+            self.levels.append(make())
+        return self.levels
+
+    def release_levels(self, keep: int) -> None:
+        for level in self.levels[keep:]:
+            level.release()
+        del self.levels[keep:]
