@@ -153,8 +153,8 @@ def test_baked_numbers_equal_the_converged_frames_live_values(site, lessons, gl_
         for step in lesson.steps:
             body = found[step.number]
             prose = body.split('<div class="prose">', 1)[1].split('<div class="try"', 1)[0]
-            cards = re.findall(r'<div class="try" id="[^"]+">(.*?)</div>\s*(?=<div class="try"|'
-                               r'<p class="open">)', body, re.S)
+            cards = re.findall(r'<div class="try" id="[^"]+"[^>]*>(.*?)</div>\s*'
+                               r'(?=<div class="try"|<p class="open">)', body, re.S)
             assert len(cards) == len(step.try_this)
             texts = [step.text] + [t.prompt for t in step.try_this]
             if step.plot == "error":            # the page shows the Error panel's numbers
@@ -328,6 +328,8 @@ def test_every_slider_changes_the_picture(site, browser, lessons):
     moved = plays = 0
     for lesson in lessons:
         _open(browser, page_of(site, lesson), 1280)
+        for card in browser.find_elements("css selector", "[data-predict]"):
+            _predict(browser, card)
         for widget in browser.find_elements("css selector", "[data-swipe], [data-sequence]"):
             picture = widget if widget.get_attribute("data-swipe") is not None else \
                 widget.find_element("css selector", ".frames")
@@ -352,6 +354,18 @@ def test_every_slider_changes_the_picture(site, browser, lessons):
                 plays += 1
     expected = sum(len(step.try_this) for lesson in lessons for step in lesson.steps)
     assert moved >= expected and plays >= 1
+
+
+def _predict(browser, card) -> None:
+    """Pick the first choice of a predict-then-press: the verdict and the change show."""
+    reveal = card.find_element("css selector", ".reveal")
+    assert not reveal.is_displayed()
+    choice = card.find_element("css selector", "button.choice")
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", choice)
+    choice.click()
+    verdict = card.find_element("css selector", ".verdict").text
+    assert verdict.startswith("You predicted " + choice.text)
+    assert reveal.is_displayed()
 
 
 def test_numbers_show_what_they_measure(site, browser, lessons):

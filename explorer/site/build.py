@@ -515,7 +515,8 @@ class _Writer:
         self.report.pending += after_baker.pending
         label = try_label(item)
         pair = pages.swipe(before, after, "this step", label, step.title)
-        return pages.try_card(index, _anchor(step, index), label, pair, prompt)
+        return pages.try_card(index, _anchor(step, index), label, pair, prompt,
+                              getattr(item, "predict", None))
 
     def iterations(self, step: Step, stem: str) -> str:
         """The step's view at growing iteration counts, when a try-this changes them."""

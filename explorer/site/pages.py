@@ -99,17 +99,26 @@ def sequence(frames: list[tuple[Image, str]], start: int, title: str, caption: s
             f'<p class="caption">{caption}</p></div>')
 
 
-def try_card(number: int, anchor: str, label: str, pair: str, prompt: str) -> str:
-    return (f'<div class="try" id="{esc(anchor)}"><h3>Try this {number}: {esc(label)}</h3>'
-            f'{pair}<p class="prompt">{prompt}</p></div>')
-
-
-def predict(question: str, answer: str, label: str = "Show the answer") -> str:
-    """A question to answer before looking: the answer opens on a click (a
-    ``<details>``, so it works without the script too)."""
-    return (f'<div class="predict"><h3>Predict, then press</h3><p>{question}</p>'
-            f'<details><summary>{esc(label)}</summary><div class="answer">{answer}</div>'
-            "</details></div>")
+def try_card(number: int, anchor: str, label: str, pair: str, prompt: str,
+             prediction=None) -> str:
+    """A try-this: its before/after pair and its prompt. With a ``prediction`` (the
+    lesson's "predict, then press": question, choices, 1-based answer) the reader picks a
+    choice first; the script hides the pair and the prompt until then (without the
+    script they simply show, the answer under the question)."""
+    head = f'<h3>Try this {number}: {esc(label)}</h3>'
+    body = f'{pair}<p class="prompt">{prompt}</p>'
+    if prediction is None:
+        return f'<div class="try" id="{esc(anchor)}">{head}{body}</div>'
+    right = prediction.choices[prediction.answer - 1]
+    choices = "".join(f'<button type="button" class="choice secondary" data-choice="{i}">'
+                      f"{esc(choice)}</button>"
+                      for i, choice in enumerate(prediction.choices, 1))
+    return (f'<div class="try" id="{esc(anchor)}" data-predict '
+            f'data-answer="{prediction.answer}">{head}<div class="predict">'
+            f"<p><strong>Predict, then press:</strong> {esc(prediction.question)}</p>"
+            f'<div class="choices">{choices}</div><p class="verdict" aria-live="polite">'
+            f"<noscript>The answer: {esc(right)}.</noscript></p></div>"
+            f'<div class="reveal">{body}</div></div>')
 
 
 def open_command(lesson_id: str, step: int) -> str:

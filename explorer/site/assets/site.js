@@ -1,5 +1,5 @@
-// lpv-explorer course site: swipe comparisons, image sequences with Play and tap-to-show
-// tooltips. No framework; the pages read without it.
+// lpv-explorer course site: swipe comparisons, image sequences with Play, predict-then-
+// press and tap-to-show tooltips. No framework; the pages read without it.
 (function () {
   "use strict";
 
@@ -39,6 +39,26 @@
       }, 1000 / rate);
     });
     show(parseInt(range.value, 10));
+  }
+
+  // "Predict, then press": the change and what it did show once a choice is picked.
+  function predict(root) {
+    var reveal = root.querySelector(".reveal");
+    var verdict = root.querySelector(".verdict");
+    var buttons = root.querySelectorAll("button.choice");
+    var answer = parseInt(root.getAttribute("data-answer"), 10);
+    var right = buttons[answer - 1].textContent;
+    reveal.hidden = true;
+    buttons.forEach(function (button) {
+      button.addEventListener("click", function () {
+        var guess = parseInt(button.getAttribute("data-choice"), 10);
+        verdict.textContent = guess === answer ? "You predicted " + right + ": right."
+          : "You predicted " + button.textContent + "; the answer is " + right + ".";
+        buttons.forEach(function (other) { other.disabled = true; });
+        button.classList.add("chosen");
+        reveal.hidden = false;
+      });
+    });
   }
 
   // A tooltip that also works by touch and keyboard: the live numbers' title text.
@@ -88,4 +108,5 @@
 
   document.querySelectorAll("[data-swipe]").forEach(swipe);
   document.querySelectorAll("[data-sequence]").forEach(sequence);
+  document.querySelectorAll("[data-predict]").forEach(predict);
 })();
