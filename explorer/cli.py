@@ -1,5 +1,5 @@
 """Command line: ``lpv-explorer COMMAND`` (run, render, constants, lessons, compare, diff,
-export-mitsuba, bench, stability, doctor).
+export-mitsuba, site, bench, stability, doctor).
 
 Each subcommand lives in ``explorer/commands/<name>.py`` and exposes
 ``add_arguments(parser)`` and ``main(args) -> int``. Modules are imported only when their
@@ -29,6 +29,7 @@ COMMANDS: dict[str, str] = {
                  "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
     "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python, with its PLY mesh)",
+    "site": "build the course as a static web site (pages, pictures, baked numbers)",
 }
 
 
