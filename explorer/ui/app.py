@@ -552,7 +552,8 @@ class App:
         # lost to Error). The others wait for the following frames.
         from explorer.ui.lesson_panel import hidden_panels
 
-        hidden = hidden_panels(state)     # the reader's mode: the panels the step uses
+        # the reader's mode: the panels the step does not use are hidden
+        hidden = hidden_panels(state, (panel.title for panel in PANELS))
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True
