@@ -17,7 +17,9 @@ from pathlib import Path
 from explorer.commands.options import (
     CommandError,
     Outputs,
+    add_placement_options,
     check_scene,
+    placement_changes,
     scene_help,
     setting_type,
     size_type,
@@ -43,6 +45,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=scene_help(spec_help(specs(Settings)["scene"])))
     parser.add_argument("--preset", choices=list(PRESETS),
                         help="start with these formulas (configuration A)")
+    add_placement_options(parser)
+    parser.add_argument("--light-flux", metavar="W", type=setting_type("light_flux"),
+                        default=None, help=spec_help(specs(Settings)["light_flux"]))
     parser.add_argument("--step", metavar="K", type=value_type("step", STEP), default=None,
                         help="with --lesson: " + spec_help(STEP))
     parser.add_argument("--compare", choices=VIEW_MODES,
@@ -77,7 +82,7 @@ def main(args: argparse.Namespace) -> int:
         raise CommandError("--step needs --lesson")
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
-        check_scene(args.scene, load=True)    # a broken mesh: refused before the window
+        check_scene(args.scene)    # a broken mesh or scene file: refused before the window
     if args.lesson:
         _check_lesson(args.lesson, args.step)
     if args.screenshot is not None:
@@ -94,8 +99,13 @@ def main(args: argparse.Namespace) -> int:
     except WindowError as exc:
         raise CommandError(exc, 1) from None
     try:
-        if args.scene:
-            app.state.requests.open_scene = args.scene
+        placement = placement_changes(args)
+        if args.light_flux is not None:
+            placement["light_flux"] = args.light_flux
+        if args.scene or placement:
+            # opening a scene resets its camera and lights; --light / --camera come after
+            app.state.requests.open_scene = args.scene or app.state.settings.scene
+            app.state.requests.scene_overrides = placement or None
         if args.preset:
             app.state.apply_preset(args.preset)
         if args.compare:

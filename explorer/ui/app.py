@@ -145,6 +145,10 @@ class App:
         self.last_wait_s = 0.0
         """How long the last frame() waited for events (an idle window)."""
         """frame() calls that found nothing to do and drew nothing."""
+        self._docked: dict[str, bool] = {}
+        """Panel title -> whether it was docked when last drawn (its background: _draw_ui)."""
+        self.draw_phases_ms: dict[str, float] = {}
+        """The last drawn frame's drawing by phase (:meth:`frame`), in milliseconds."""
         self.last_pixels: np.ndarray | None = None
         self.panel_errors: list[str] = []
         """Every panel failure so far (an exception its gui function raised)."""
@@ -317,16 +321,23 @@ class App:
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
         before_draw = self._fingerprint()
+        drawing = time.perf_counter()
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
+        built = time.perf_counter()
         self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
         self.window.swap_buffers()
         self._imgui.post_swap()
+        # the window's own drawing, apart from the pipeline's work (bench --interactive):
+        # the panels built on the CPU, then imgui's draw lists rendered and swapped (a
+        # software renderer rasterises them by the swap)
+        self.draw_phases_ms = {"panels": (built - drawing) * 1e3,
+                               "render_and_swap": (time.perf_counter() - built) * 1e3}
         rt.frame_index += 1
         rt.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0
@@ -479,6 +490,9 @@ class App:
         if state.requests.open_scene:
             self._open_scene(state.requests.open_scene)
             state.requests.open_scene = None
+            if state.requests.scene_overrides:     # run --light / --camera, after the reset
+                state.update(**state.requests.scene_overrides)
+                state.requests.scene_overrides = None
         if not self._follow_view_size():
             return
         drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
@@ -487,13 +501,21 @@ class App:
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
-            quiet_s=time.monotonic() - self._input_at, input_pending=self._input_pending)
+            quiet_s=self._quiet_s(), input_pending=self._input_pending)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}
         if rt.result is not None and rt.result is not self._shown_result:
             self._shown_result = rt.result
             self._update_title()
+
+    def _quiet_s(self) -> float:
+        """Seconds since the last input, as the controller's quiet budget reads them; 0
+        when this frame will be drawn anyway for the progress label (a frame that draws
+        keeps to the frame budget: its work and its drawing stay one frame's worth)."""
+        if time.monotonic() - self._drawn_at >= PROGRESS_REDRAW_S:
+            return 0.0
+        return time.monotonic() - self._input_at
 
     def _input_pending(self) -> bool:
         """Whether input arrived since this frame began (the controller asks between
@@ -506,7 +528,8 @@ class App:
             return
         # A new scene starts from its own camera, lights and objects.
         self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None,
-                          lights=None, object_transforms=())
+                          lights=None, object_transforms=(), camera_fov=None,
+                          light_kind=None)
         self.state.notify(f"opening {name_or_path}")
 
     # -- UI ------------------------------------------------------------------------------
@@ -519,8 +542,11 @@ class App:
         self._main_menu()
         viewport = imgui.get_main_viewport()
         dock_id = imgui.get_id("lpv-dockspace")
-        if self._needs_layout or state.requests.reset_layout:
-            build_default_layout(dock_id, viewport.work_size)
+        size = viewport.work_size
+        # a window not yet sized (some glfw and imgui-bundle versions report 0 for the first
+        # frame) builds its layout on the next frame: the dock builder asserts on size 0
+        if (self._needs_layout or state.requests.reset_layout) and size.x > 0 and size.y > 0:
+            build_default_layout(dock_id, size)
             self._needs_layout = False
             state.requests.reset_layout = False
         imgui.dock_space_over_viewport(dock_id, viewport)
@@ -533,10 +559,14 @@ class App:
         # keyboard focus when its tab bar updates (next frame), so of several panels
         # focused in one frame only the last would come forward (lesson 12's Inspect
         # lost to Error). The others wait for the following frames.
+        from explorer.ui.lesson_panel import hidden_panels
+
+        # the reader's mode: the panels the step does not use are hidden
+        hidden = hidden_panels(state, (panel.title for panel in PANELS))
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True
-            if not state.open_panels.get(panel.title, True):
+            if not state.open_panels.get(panel.title, True) or panel.title in hidden:
                 continue
             if focus and panel.title == focus[0] and not self._needs_layout:
                 imgui.set_next_window_focus()
@@ -544,7 +574,18 @@ class App:
                 imgui.set_next_window_class(window_class(panel))
             if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
+            # A docked panel draws no background of its own: the frame's clear paints the
+            # same colour (theme.CLEAR_COLOUR). On a software renderer each full-window
+            # layer of fill is a large part of a frame (the panels' backgrounds cover the
+            # whole window, about 1.5 Mpx at 1600×960); imgui skips transparent fills. A
+            # floating panel keeps its background (docked: as of the last frame).
+            docked = self._docked.get(panel.title, False)
+            if docked:
+                imgui.push_style_color(imgui.Col_.window_bg, theme.DOCKED_WINDOW_BG)
             expanded, still_open = imgui.begin(panel.title, True)
+            if docked:
+                imgui.pop_style_color()
+            self._docked[panel.title] = imgui.is_window_docked()
             if not panel.padding:
                 imgui.pop_style_var()
             if expanded:
@@ -583,6 +624,8 @@ class App:
             if imgui.menu_item_simple("Open mesh…", enabled=bool(
                     state.runtime.file_dialog_available)):
                 state.requests.open_file_dialog = True
+            if imgui.menu_item_simple("Save scene as…"):
+                state.requests.save_scene_dialog = True
             if imgui.menu_item_simple("Screenshot", "F12"):
                 state.requests.screenshot = default_screenshot_path()
             imgui.separator()
@@ -596,6 +639,9 @@ class App:
                         state.apply_preset(name, compare=side == "B")
             imgui.end_menu()
         if imgui.begin_menu("Windows"):
+            if imgui.menu_item_simple("Reader's mode", selected=state.reader_mode):
+                state.reader_mode = not state.reader_mode
+            imgui.separator()
             for panel in PANELS:
                 shown = state.open_panels.get(panel.title, True)
                 if imgui.menu_item_simple(panel.title, selected=shown):
@@ -642,12 +688,29 @@ class App:
                 from imgui_bundle import portable_file_dialogs as pfd
 
                 rt.file_dialog = pfd.open_file(
-                    "Open a mesh", str(Path.home()),
-                    ["Meshes", "*.obj *.ply *.stl *.glb *.gltf *.off", "All files", "*"])
+                    "Open a mesh or a scene file", str(Path.home()),
+                    ["Meshes and scene files",
+                     "*.obj *.ply *.stl *.glb *.gltf *.off *.toml", "All files", "*"])
+        if state.requests.save_scene_dialog:
+            state.requests.save_scene_dialog = False
+            from explorer.ui.scene_save import SAVE_FILTERS, default_save_path, save_current_scene
+
+            if not rt.file_dialog_available:     # no dialog here: a new file beside us
+                save_current_scene(state, default_save_path(state, fresh=True))
+            elif rt.file_dialog is None:
+                from imgui_bundle import portable_file_dialogs as pfd
+
+                rt.file_dialog = pfd.save_file("Save the scene", str(default_save_path(state)),
+                                               SAVE_FILTERS)
         if rt.file_dialog is not None and rt.file_dialog.ready(0):
             chosen = rt.file_dialog.result()
+            saving = not isinstance(chosen, list)      # save_file gives one path (text)
             rt.file_dialog = None
-            if chosen:
+            if saving and chosen:
+                from explorer.ui.scene_save import save_current_scene
+
+                save_current_scene(state, chosen)
+            elif chosen:
                 state.mesh_path = chosen[0]
                 state.requests.open_scene = chosen[0]
 

@@ -38,7 +38,7 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
     a display (glfw's null platform with EGL; default: whenever this glfw has it)."""
     from explorer.lessons import find_lesson, load_all
     from explorer.ui.app import App, write_png
-    from explorer.ui.article import uses_error
+    from explorer.ui.article import uses_error, uses_truth
     from explorer.ui.panels.error import error_service
     from explorer.ui.state import AppState, OverlayState
 
@@ -82,6 +82,8 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                 service = error_service(app.state)
                 service.lesson_wants = True
                 ready = service.result_for() is not None or service.problem is not None
+                if ready and uses_truth(wanted) and service.against_mitsuba:
+                    ready = service.truth_for() is not None or bool(service.truth_problem)
             if ready:
                 ready_at = frames if ready_at is None else ready_at
                 if frames - ready_at >= SETTLE_FRAMES:

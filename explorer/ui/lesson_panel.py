@@ -19,6 +19,7 @@ what is drawn) until the step changes.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
@@ -63,6 +64,9 @@ class Screen:
     overlays: OverlayState | None = None
     """What the main view draws in the scene (a private copy; None: not part of this
     screen, the window's overlays stay as they are)."""
+    split_position: float | None = None
+    """Where the split view's divider stands (a fraction of the view's width) when the
+    step says; None: where the reader left it."""
 
 
 def step_screen(step: Step, own: Screen) -> Screen:
@@ -81,7 +85,8 @@ def step_screen(step: Step, own: Screen) -> Screen:
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
                   view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
-                  plot=step.plot, overlays=step.overlays(own.overlays))
+                  plot=step.plot, overlays=step.overlays(own.overlays),
+                  split_position=step.split_at)
 
 
 def try_screen(step: Step, index: int, own: Screen) -> Screen:
@@ -114,6 +119,55 @@ def shows_step(settings: Settings, step: Step) -> bool:
             and all(getattr(settings, name) == value for name, value in step.overrides))
 
 
+READER_PANELS = ("View", "Lesson")
+"""Panels the reader's mode always shows: the article and the 3D view it talks about."""
+_LIGHT_CONTROLS = ("light", "lights", "light_flux", "object_transforms")
+
+
+def step_panels(step: Step) -> frozenset[str]:
+    """The panels ``step`` uses (the reader's mode shows these alone): the article and the
+    view, the plot it names, the Inspect panel for a buffer the scene cannot show, the
+    Show in scene panel when it draws in the scene, the Error panel when it quotes an
+    error, the Corrections panel when it typesets or switches a correction, the Lights &
+    objects or Scene panel when a try-this moves a light, an object or the scene."""
+    from explorer.lesson_text import placeholders
+
+    used = set(READER_PANELS)
+    texts = [step.text] + [item.prompt for item in step.try_this]
+    controls = step.controls()
+    if step.plot is not None:
+        used.add("Plots")
+    if step.view in INSPECT_VIEWS and not step.show or step.view in NOT_IN_SCENE_VIEWS:
+        used.add("Inspect")
+    if step.show:
+        used.add("Show in scene")
+    if step.plot == "error" or any(name.startswith("error.") for text in texts
+                                   for name, _ in placeholders(text)):
+        used.add("Error")
+    if any(c.startswith("corrections") for c in controls) or any(
+            f.startswith("corrections.") for f in step.formulas):
+        used.add("Corrections")
+    if any(c in _LIGHT_CONTROLS for c in controls):
+        used.add("Lights & objects")
+    if "scene" in controls:
+        used.add("Scene")
+    return frozenset(used)
+
+
+def hidden_panels(state, titles: Iterable[str]) -> frozenset[str]:
+    """Of the panels ``titles`` (the window's, explorer.ui.layout.PANELS), those the
+    reader's mode hides now: the ones the lesson step on screen does not use (none in the
+    explorer mode, or when no lesson step is applied)."""
+    if not state.reader_mode:
+        return frozenset()
+    session = state.lesson_session
+    step = None if session is None or not session.applied else session.step
+    if step is None:
+        return frozenset()
+    used = step_panels(step)
+    return frozenset(title for title in titles if title not in used)
+
+
 def step_caption(step: Step) -> str:
     """Where to look for this step, in words (shown above the step's text): the main
     view and what it draws in the scene when the step shows overlays, else the step's
@@ -137,7 +191,7 @@ def step_caption(step: Step) -> str:
     return " and ".join(parts) + "."
 
 
-_SLICE_WORDS = {"intensity": "the intensity of acc_N", "flux": "the flux per cell of acc_N",
+_SLICE_WORDS = {"intensity": "the accumulated intensity", "flux": "the accumulated flux per cell",
                 "in-flight": "the light in flight after step {t}"}
 _INJECTED_WORDS = "the injected light, before any step"
 
@@ -202,6 +256,10 @@ class LessonSession:
     resume_frames: int = 0
     """Frames the panel still scrolls the article to :attr:`scroll` (a resumed lesson:
     its text's height is known only once it was drawn)."""
+    guesses: dict[tuple[str, int, int], int] = field(default_factory=dict)
+    """(lesson id, step, try-this) -> the reader's guess (1-based) of a prediction."""
+    revealed: set[tuple[str, int, int]] = field(default_factory=set)
+    """Predictions whose try-this the reader pressed: their answer is shown."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
@@ -342,25 +400,18 @@ def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
 
 # --- imgui ---------------------------------------------------------------------------------
 
-_SESSION_ATTRIBUTE = "lesson_session"
-
-
 def session_of(state: AppState) -> LessonSession:
     """The LessonSession kept on the app state (created and loaded on first use)."""
-    session = getattr(state, _SESSION_ATTRIBUTE, None)
-    if session is None:
-        session = LessonSession.load()
-        setattr(state, _SESSION_ATTRIBUTE, session)
-    return session
+    if state.lesson_session is None:
+        state.lesson_session = LessonSession.load()
+    return state.lesson_session
 
 
 def current_screen(state: AppState) -> Screen:
-    overlays = getattr(state, "overlays", None)
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
-                  view_mode=state.view_mode,
-                  view_buffer=getattr(state, "view_buffer", "final"),
-                  compare_overrides=tuple(getattr(state, "compare_overrides", ())),
-                  overlays=None if overlays is None else replace(overlays))
+                  view_mode=state.view_mode, view_buffer=state.view_buffer,
+                  compare_overrides=tuple(state.compare_overrides),
+                  overlays=replace(state.overlays), split_position=state.split_position)
 
 
 def show_screen(state: AppState, screen: Screen) -> None:
@@ -370,32 +421,31 @@ def show_screen(state: AppState, screen: Screen) -> None:
     state.settings = screen.settings
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
-    if hasattr(state, "compare_overrides"):
-        state.compare_overrides = tuple(screen.compare_overrides)
-    if hasattr(state, "view_buffer"):
-        state.view_buffer = screen.view_buffer
+    state.compare_overrides = tuple(screen.compare_overrides)
+    state.view_buffer = screen.view_buffer
+    if screen.split_position is not None:
+        state.split_position = screen.split_position
     focus = []
     drawn = screen.overlays is not None and screen.overlays.any_shown
-    if screen.overlays is not None and hasattr(state, "overlays"):
+    if screen.overlays is not None:
         state.overlays = replace(screen.overlays)
-    if screen.inspect_source is not None and hasattr(state, "inspect"):
+    if screen.inspect_source is not None:
         state.inspect.source = screen.inspect_source
-    if screen.inspect_source in NOT_IN_SCENE_VIEWS and hasattr(state, "inspect"):
+    if screen.inspect_source in NOT_IN_SCENE_VIEWS:
         focus.append("Inspect")
     elif drawn:
         focus.append("Show in scene")
         if screen.overlays.picked_kind != "none" and screen.plot is None:
             focus.append("Picked")
-    elif screen.inspect_source is not None and hasattr(state, "inspect"):
+    elif screen.inspect_source is not None:
         focus.append("Inspect")
-    if hasattr(state, "runtime"):
-        from explorer.ui.panels.error import want_measurement
+    from explorer.ui.panels.error import want_measurement
 
-        want_measurement(state, screen.plot == "error")
+    want_measurement(state, screen.plot == "error")
     if screen.plot == "error":
         focus.append("Error")
-    elif screen.plot is not None and hasattr(state, "plot_tab"):
+    elif screen.plot is not None:
         state.plot_tab = screen.plot
         focus.append("Plots")
-    if focus and hasattr(state, "requests"):
+    if focus:
         state.requests.focus_panel = tuple(focus)
