@@ -372,13 +372,17 @@ def _figure_controls(c, spec, where: str) -> None:
                    if spec.kind == "clamped-cosine" else (("tilt", "theta_deg", (24., -20.)),))
         for handle, attribute, delta in handles:
             c.settle_input(2)
-            before = getattr(figure(), attribute)
-            at = _reveal(c, lambda h=handle: figure().handles.get(h))
-            if c.check(at is not None, f"{where}: the {handle} handle is drawn"):
+            before = after = getattr(figure(), attribute)
+            for _ in range(2):           # implot takes a handle hovered long enough
+                at = _reveal(c, lambda h=handle: figure().handles.get(h))
+                if not c.check(at is not None, f"{where}: the {handle} handle is drawn"):
+                    break
                 _drag(c, (at.x, at.y), delta, f"{spec.kind}: drag {handle}")
                 after = getattr(figure(), attribute)
-                c.check(abs(after - before) > 1.0,
-                        f"{where}: dragging {handle} moves it ({before:.1f} -> {after:.1f})")
+                if abs(after - before) > 1.0:
+                    break
+            c.check(abs(after - before) > 1.0,
+                    f"{where}: dragging {handle} moves it ({before:.1f} -> {after:.1f})")
     else:
         c.check(False, f"{where}: no clicks written for figure kind {spec.kind}")
 
