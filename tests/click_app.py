@@ -61,7 +61,9 @@ class Clicks:
             return
         # no engine error either when it goes between finding and clicking (the text
         # reflowed): the session's own checks see what the click did or did not do
-        self.ctx.item_click(ref, 0, imgui.test_engine.TestOpFlags_.no_error)
+        te = imgui.test_engine
+        self.ctx.item_click(ref, 0, te.TestOpFlags_.no_error
+                            | te.TestOpFlags_.no_check_hovered_id)
         self.controls.append(what or ref)
         self.settle_input()
         self._panel_errors(what or ref)

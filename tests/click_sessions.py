@@ -103,13 +103,15 @@ def run_lessons(c) -> None:
     for index, lesson in enumerate(lessons):
         for number in range(2, len(lesson.steps) + 1):
             title = lesson.step(number).title
-            c.click_in(ARTICLE, label_ref(f"Next: {title}  >"), "Next")
+            c.click_until(ARTICLE, label_ref(f"Next: {title}  >"),
+                          lambda n=number: session.step_number == n, "Next")
             _shows(c, lesson, number, f"Next to {lesson.id} {number}")
             _at_top(c, f"Next to {lesson.id} {number}")
         if index + 1 < len(lessons):
             following = lessons[index + 1]
-            c.click_in(ARTICLE, label_ref(f"Next lesson: {following.title}  >"),
-                       "Next lesson")
+            c.click_until(ARTICLE, label_ref(f"Next lesson: {following.title}  >"),
+                          lambda f=following: session.lesson is not None
+                          and session.lesson.id == f.id, "Next lesson")
             _shows(c, following, 1, f"Next lesson to {following.id}")
             _at_top(c, f"Next lesson to {following.id}")
     # Previous, from the last step back to the first, opening each at its top
