@@ -155,7 +155,8 @@ def test_every_placeholder_resolves_for_every_step(shipped, measured):
                 settings, result, error = measured[(lesson.id, step.number, index)]
                 context = lv.LiveContext(settings=settings, result=result, error=error,
                                          figures=_figure_readouts(step, result),
-                                         renderer="llvmpipe")
+                                         renderer="llvmpipe",
+                                         marks={m.id: m for m in step.marks})
                 texts = ([step.text] + [s.caption for s in step.figures] if index == 0
                          else [step.try_this[index - 1].prompt])
                 for text in texts:

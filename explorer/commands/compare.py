@@ -78,6 +78,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "else a movable object; explorer/scene/parts.py); an unknown "
                              "name lists the scene's surfaces; repeatable")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    parser.add_argument("--json", action="store_true",
+                        help="print the rows as JSON on stdout (every metric at full "
+                             "precision) instead of the markdown table; table.json is also "
+                             "written")
+    parser.add_argument("--dump", type=Path, default=None, metavar="FILE.npz",
+                        help="also write the last frame's stages as float arrays and the "
+                             "reference image (`reference`), with FILE.json (as `render "
+                             "--dump`)")
     compare_truth.add_arguments(parser)
     options.add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
                         sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
@@ -222,6 +230,9 @@ def main(args: argparse.Namespace) -> int:
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
     with options.Outputs() as outputs:
         outputs.folder(out)
+        if args.dump is not None:
+            args.dump = outputs.file(args.dump, (".npz",), option="--dump")
+            outputs.file(args.dump.with_suffix(".json"), (".json",), option="--dump")
         with options.Progress("compare", enabled=False if args.quiet else None) as progress:
             try:
                 with given_or_headless(None) as ctx:
@@ -231,7 +242,8 @@ def main(args: argparse.Namespace) -> int:
             except options.render_failures() as exc:
                 raise options.CommandError(exc, 1) from None
         table = format_table(comparison.rows, args, comparison.frame)
-        print(table)
+        report = json_report(comparison, args)
+        print(report if args.json else table)
         reference, valid = comparison.reference, comparison.valid
         exposure = args.exposure or _auto_exposure(reference, valid)
         written = _write(outputs, out, args, comparison.images, reference, valid, exposure)
@@ -243,8 +255,41 @@ def main(args: argparse.Namespace) -> int:
             table += "\n\n" + truth_table
             written += truth_files
         outputs.write(out / "table.md", lambda p: p.write_text(table + "\n"))
-    print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
+        outputs.write(out / "table.json", lambda p: p.write_text(report + "\n"))
+        if args.dump is not None:
+            from explorer.commands.render import write_dump
+
+            write_dump(outputs, args.dump, comparison.frame, reference,
+                       extra={"reference_options": {"visibility": args.reference,
+                                                    "min_distance": args.min_distance}},
+                       stream=sys.stderr if args.json else sys.stdout)
+    print(f"wrote {', '.join(written)}, table.md, table.json to {out}/ (PNG exposure "
+          f"{exposure:.4g})", file=sys.stderr if args.json else sys.stdout)
     return 0
+
+
+def json_report(comparison: Comparison, args: argparse.Namespace) -> str:
+    """The rows as JSON (``--json``, table.json): what was compared and, per row, every
+    metric at full precision (None for an empty region)."""
+    import json
+
+    rows = []
+    for row in comparison.rows:
+        stats = row.stats
+        rows.append({
+            "preset": row.preset, "iterations": row.iterations, "cascades": row.cascades,
+            "sh_order": row.sh_order, "region": row.region,
+            "relative_l2": None if stats is None else stats.relative_l2,
+            "rmse": None if stats is None else stats.rmse,
+            "flux_ratio": None if stats is None else stats.flux_ratio,
+            "flux_ratio_rgb": None if stats is None else list(stats.flux_ratio_rgb),
+            "pixels": 0 if stats is None else stats.pixels,
+            "lpv_mean": None if row.means is None else row.means[0],
+            "reference_mean": None if row.means is None else row.means[1]})
+    frame = comparison.frame
+    return json.dumps({"compared": settings_line(args, frame), "reference": args.reference,
+                       "settings": frame.settings.to_dict(), "vpls": frame.vpls.count,
+                       "rows": rows}, indent=2, ensure_ascii=False)
 
 
 def load_scene(base: Settings):
@@ -299,9 +344,11 @@ def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
         first = runs[0].settings
         masks = surface_masks(scene, render_triangle_ids(ctx, scene, first.width,
                                                          first.height), names)
+    keep_steps = getattr(args, "dump", None) is not None     # --dump writes grid_0 … grid_N
     with Pipeline(runs[0].settings, ctx) as pipeline:
         for run in runs:
-            frame = options.run_pipeline(pipeline, run.settings, progress)
+            frame = options.run_pipeline(pipeline, run.settings, progress,
+                                         keep_steps=keep_steps)
             settings = frame.settings
             key = (settings.scene, settings.width, settings.height, visibility,
                    min_distance if min_distance is not None

@@ -49,24 +49,12 @@ def save_png(path: Path, linear) -> None:
 def save_error_png(path: Path, error) -> None:
     """The false-colour error (already display colours) with a colour bar and its scale."""
     import numpy as np
-    from PIL import Image, ImageDraw
 
+    from explorer.commands.scale_bar import save_with_scale_bar
     from explorer.truth.metrics import diverging_colormap
 
-    height, width = error.rgb.shape[:2]
-    ramp_height, text_height = max(6, height // 20), 12
-    ramp = np.linspace(-error.scale, error.scale, width)
-    bar = np.broadcast_to(diverging_colormap(ramp, error.scale)[None], (ramp_height, width, 3))
-    canvas = np.ones((height + ramp_height + 2 * text_height, width, 3))
-    canvas[:height] = error.rgb
-    canvas[height:height + ramp_height] = bar
-    image = Image.fromarray((np.clip(canvas, 0, 1) * 255 + 0.5).astype(np.uint8))
-    draw = ImageDraw.Draw(image)
+    width = error.rgb.shape[1]
+    ramp = diverging_colormap(np.linspace(-error.scale, error.scale, width), error.scale)
     unit = "log2(LPV/ref)" if error.mode == "log2-ratio" else "LPV - ref"
-    y = height + ramp_height
-    # first text row: the values at the ends of the ramp; second row: what is shown
-    draw.text((1, y), f"-{error.scale:.3g}", fill=(0, 0, 0))
-    label = f"+{error.scale:.3g}"
-    draw.text((max(width - 6 * len(label) - 1, 0), y), label, fill=(0, 0, 0))
-    draw.text((1, y + text_height), unit, fill=(0, 0, 0))
-    image.save(path)
+    save_with_scale_bar(path, error.rgb, ramp, f"-{error.scale:.3g}", f"+{error.scale:.3g}",
+                        unit)
