@@ -449,7 +449,7 @@ def test_inline_math_reads_as_plain_text(shipped):
                         r"-\sqrt{\pi/3}\,n_y\right)$") == "f += k ((√π)/2, -√(π/3) n_y)"
     assert math_to_text(r"$\frac{1}{2\sqrt{\pi}}$, $\alpha\,\sigma_t$") == "1/(2√π), α σ_t"
     assert _plain(r"$c_0 = {{derived.sh.c0:.4f}}$ and {{audit.injected:.3g}} W {{try:1}}") \
-        == "c_0 = 0.2821 and [audit.injected] W [try 1]"
+        == "c_0 = 0.2821 and [flux injected into the grid (before any step)] W [try 1]"
     lessons, _ = shipped
     for lesson in lessons:
         for step in lesson.steps:

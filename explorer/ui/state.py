@@ -291,6 +291,8 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
+    save_scene_dialog: bool = False           # File → Save scene as… (explorer/ui/scene_save.py)
+    scene_overrides: dict | None = None       # Settings changes applied once open_scene opened
     focus_panel: str | tuple | None = None   # bring this panel's (these panels') tab forward
     quit: bool = False
 
@@ -299,6 +301,29 @@ def fit_window_size(size: tuple[int, int]) -> tuple[int, int]:
     """A window size within [MIN_WINDOW_SIZE, MAX_WINDOW_SIZE] per edge: what the
     settings file may hold (a window dragged smaller is saved at the smallest size)."""
     return tuple(min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size)
+
+
+WINDOW_FRAME_PX = (16, 48)
+"""What a window manager adds around a window's content (borders, the title bar), at
+most, per axis: the content size that fits a work area is this much smaller."""
+
+
+def fit_work_area(size: tuple[int, int], area: tuple[int, int, int, int] | None
+                  ) -> tuple[tuple[int, int], tuple[int, int] | None]:
+    """(size, top-left position) of a window of ``size`` opened on a monitor whose work
+    area is ``area`` (x, y, width, height): shrunk to fit it, frame included (never
+    below :data:`MIN_WINDOW_SIZE`), and centred in it; ``size`` as it is and no position
+    without a work area."""
+    if area is None:
+        return tuple(size), None
+    x, y, width, height = area
+    frame_w, frame_h = WINDOW_FRAME_PX
+    w, h = (max(min(int(edge), room - frame), MIN_WINDOW_SIZE)
+            for edge, room, frame in zip(size, (width, height), WINDOW_FRAME_PX))
+    border = frame_w // 2                       # each side; the title bar is the rest
+    left = x + max((width - w - frame_w) // 2, 0) + border
+    top = y + max((height - h - frame_h) // 2, 0) + frame_h - border
+    return (w, h), (left, top)
 
 
 def default_screenshot_path() -> Path:
@@ -358,7 +383,8 @@ class AppState:
     mesh_path: str = setting("", kind="text", doc="The path typed in the Scene panel.")
     window_size: tuple[int, int] = setting(
         (1600, 960), kind="size", low=MIN_WINDOW_SIZE, high=MAX_WINDOW_SIZE,
-        doc="The window's size in pixels when it was closed.")
+        doc="The window's size in pixels when it was closed (it opens at this size, "
+            "shrunk to fit the monitor's work area).")
     inspect: InspectState = setting(kind="nested", nested=InspectState,
                                     default_factory=InspectState,
                                     doc="What the Inspect panel shows.")
@@ -368,6 +394,10 @@ class AppState:
                                          "picked point.")
     open_panels: dict[str, bool] = setting(kind="switches", default_factory=dict,
                                            doc="Panel title -> shown.")
+    reader_mode: bool = setting(True, kind="bool",
+                                doc="Reader's mode: while a lesson step is on screen, only "
+                                    "the panels the step uses are shown (the others come "
+                                    "back in the explorer mode).")
     compare_overrides: tuple = ()
     """(field, value) pairs in which B also differs from A (a lesson's before | after
     view of a try-this); not persisted."""
