@@ -1,5 +1,5 @@
-"""Command line: ``lpv-explorer COMMAND`` (run, render, constants, lessons, compare, diff, bench,
-stability, doctor).
+"""Command line: ``lpv-explorer COMMAND`` (run, render, constants, lessons, compare, diff,
+export-mitsuba, site, bench, stability, doctor).
 
 Each subcommand lives in ``explorer/commands/<name>.py`` and exposes
 ``add_arguments(parser)`` and ``main(args) -> int``. Modules are imported only when their
@@ -28,6 +28,8 @@ COMMANDS: dict[str, str] = {
     "stability": "frame-to-frame change of the indirect light while a light, an object or "
                  "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
+    "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python, with its PLY mesh)",
+    "site": "build the course as a static web site (pages, pictures, baked numbers)",
 }
 
 
@@ -57,7 +59,7 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.Namespa
 
 
 def _load(name: str):
-    return importlib.import_module(f"explorer.commands.{name}")
+    return importlib.import_module(f"explorer.commands.{name.replace('-', '_')}")
 
 
 class StdoutError(Exception):
