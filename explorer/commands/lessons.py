@@ -95,7 +95,7 @@ def _check(args: argparse.Namespace) -> int:
     """Verify the checks of lesson ``args.lesson`` (all lessons when None)."""
     from explorer.commands.options import CommandError
     from explorer.gl.context import create_headless_context, release_headless_context
-    from explorer.lesson_checks import verify_step
+    from explorer.lesson_verify import verify_step
     from explorer.lessons import find_lesson, load_all, preview_settings
     from explorer.lpv.pipeline import Pipeline
 

@@ -536,8 +536,11 @@ class App:
         self._main_menu()
         viewport = imgui.get_main_viewport()
         dock_id = imgui.get_id("lpv-dockspace")
-        if self._needs_layout or state.requests.reset_layout:
-            build_default_layout(dock_id, viewport.work_size)
+        size = viewport.work_size
+        # a window not yet sized (some glfw and imgui-bundle versions report 0 for the first
+        # frame) builds its layout on the next frame: the dock builder asserts on size 0
+        if (self._needs_layout or state.requests.reset_layout) and size.x > 0 and size.y > 0:
+            build_default_layout(dock_id, size)
             self._needs_layout = False
             state.requests.reset_layout = False
         imgui.dock_space_over_viewport(dock_id, viewport)
@@ -552,7 +555,8 @@ class App:
         # lost to Error). The others wait for the following frames.
         from explorer.ui.lesson_panel import hidden_panels
 
-        hidden = hidden_panels(state)     # the reader's mode: the panels the step uses
+        # the reader's mode: the panels the step does not use are hidden
+        hidden = hidden_panels(state, (panel.title for panel in PANELS))
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True
