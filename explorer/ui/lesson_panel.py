@@ -355,6 +355,8 @@ def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
 # --- imgui ---------------------------------------------------------------------------------
 
 _SESSION_ATTRIBUTE = "lesson_session"
+SESSION_ATTRIBUTE = _SESSION_ATTRIBUTE
+"""The app-state attribute holding the LessonSession (absent until a lesson is opened)."""
 
 
 def session_of(state: AppState) -> LessonSession:
