@@ -216,6 +216,10 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
     albedo = result.albedo[y, x]
     gathered = float(np.sum(result.indirect[y, x] * np.pi / np.maximum(albedo, 1e-6)))
     assert irradiance(mark, result) == pytest.approx(gathered, rel=0.03)
+    from explorer.lesson_marks import readout
+
+    shares = [readout(mark, result, f"{c}_share") for c in ("red", "green", "blue")]
+    assert sum(shares) == pytest.approx(1.0) and all(0.0 <= v <= 1.0 for v in shares)
 
     origin, end = (100.0, 50.0), (100.0 + 2 * 96, 50.0 + 2 * 96)    # drawn at twice size
     [placed] = placements(result, [mark], origin, end, lambda text: (8.0 * len(text), 14.0))
