@@ -197,8 +197,23 @@ def evaluate(check: Check, read: Callable[[str, bool], Any]) -> Outcome:
 
 # --- verifying a step on its frames --------------------------------------------------------
 
+def shrink_settings(settings: Any, size: int | None = 64, max_grid: int | None = 16,
+                    rsm_size: int | None = 32, max_iterations: int | None = 8) -> Any:
+    """``settings`` made smaller for a quick render: a ``size``² image, at most
+    ``max_grid``³ cells and ``max_iterations`` steps, at most a ``rsm_size``² RSM (None
+    keeps that setting). Everything a step compares (corrections, views) is kept."""
+    changes: dict[str, Any] = {}
+    if size is not None:
+        changes.update(width=size, height=size)
+    for name, limit in (("rsm_size", rsm_size), ("grid_size", max_grid),
+                        ("iterations", max_iterations)):
+        if limit is not None:
+            changes[name] = min(getattr(settings, name), limit)
+    return settings.with_changes(**changes)
+
+
 CHECK_SIZE = {"size": 64, "max_grid": 48, "rsm_size": 64, "max_iterations": 64}
-"""The sizes CI verifies the checks at (explorer.lessons.shrink_settings): small enough to
+"""The sizes CI verifies the checks at (:func:`shrink_settings`): small enough to
 run every checked step in seconds on llvmpipe, large enough that every claim of the
 shipped lessons holds there as it does at the steps' own sizes."""
 
@@ -209,7 +224,6 @@ def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None
     that ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) renders: the step as it opens,
     after a try-this, or on its compare side, each at ``sizes`` (default
     :data:`CHECK_SIZE`; None values keep the step's own)."""
-    from explorer.lessons import shrink_settings
     from explorer.live_values import LiveContext, Unavailable, lookup
 
     sizes = CHECK_SIZE if sizes is None else sizes

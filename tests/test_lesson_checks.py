@@ -288,13 +288,16 @@ def test_the_readers_mode_shows_the_panels_a_step_uses(shipped):
     session.open("overview")
     session.saved = object()                    # a step's configuration is on screen
     state = SimpleNamespace(reader_mode=True, lesson_session=session)
-    hidden = hidden_panels(state)
+    from explorer.ui.layout import PANELS
+
+    titles = [panel.title for panel in PANELS]
+    hidden = hidden_panels(state, titles)
     assert "Corrections" in hidden and "Plots" in hidden
     assert "View" not in hidden and "Lesson" not in hidden
     state.reader_mode = False
-    assert hidden_panels(state) == frozenset()
+    assert hidden_panels(state, titles) == frozenset()
     state.reader_mode, session.saved = True, None   # left the lesson
-    assert hidden_panels(state) == frozenset()
+    assert hidden_panels(state, titles) == frozenset()
 
 
 def test_predict_then_press_is_validated_and_needs_a_check(tmp_path):

@@ -485,7 +485,7 @@ class App:
         # lost to Error). The others wait for the following frames.
         from explorer.ui.lesson_panel import hidden_panels
 
-        hidden = hidden_panels(state)     # the reader's mode: the panels the step uses
+        hidden = hidden_panels(state, [panel.title for panel in PANELS])   # reader's mode
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True

@@ -153,19 +153,18 @@ def step_panels(step: Step) -> frozenset[str]:
     return frozenset(used)
 
 
-def hidden_panels(state) -> frozenset[str]:
-    """Panels the reader's mode hides now: those the lesson step on screen does not use
-    (none in the explorer mode, or when no lesson step is applied)."""
+def hidden_panels(state, titles) -> frozenset[str]:
+    """Of the panels ``titles``, those the reader's mode hides now: the ones the lesson
+    step on screen does not use (none in the explorer mode, or when no lesson step is
+    applied)."""
     if not getattr(state, "reader_mode", False):
         return frozenset()
     session = getattr(state, _SESSION_ATTRIBUTE, None)
     step = None if session is None or not session.applied else session.step
     if step is None:
         return frozenset()
-    from explorer.ui.layout import PANELS
-
     used = step_panels(step)
-    return frozenset(panel.title for panel in PANELS if panel.title not in used)
+    return frozenset(title for title in titles if title not in used)
 
 
 def step_caption(step: Step) -> str:
