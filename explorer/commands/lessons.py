@@ -1,6 +1,8 @@
 """``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
 ``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
-shows it (a hidden window: needs a display, e.g. ``xvfb-run``).
+shows it (a hidden window: needs a display, e.g. ``xvfb-run``);
+``lpv-explorer lessons [ID] --check`` verifies the steps' ``[[steps.checks]]`` on their
+converged frames, rendered headless (explorer/lesson_checks.py).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.
