@@ -855,12 +855,25 @@ _PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
                           doc="The preset a corrections table starts from.")}
 
 
+def shrink_settings(settings: Settings, size: int | None = 64, max_grid: int | None = 16,
+                    rsm_size: int | None = 32, max_iterations: int | None = 8) -> Settings:
+    """``settings`` made smaller for a quick render: a ``size``² image, at most
+    ``max_grid``³ cells and ``max_iterations`` steps, at most a ``rsm_size``² RSM (None
+    keeps that setting). Everything a step compares (corrections, views) is kept."""
+    changes: dict[str, Any] = {}
+    if size is not None:
+        changes.update(width=size, height=size)
+    for name, limit in (("rsm_size", rsm_size), ("grid_size", max_grid),
+                        ("iterations", max_iterations)):
+        if limit is not None:
+            changes[name] = min(getattr(settings, name), limit)
+    return settings.with_changes(**changes)
+
+
 def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: int = 32,
                      max_iterations: int = 8, base: Settings | None = None) -> Settings:
     """The step's settings shrunk for a quick preview (tests, CI renders, thumbnails):
-    :func:`explorer.lesson_checks.shrink_settings` of :meth:`Step.settings`."""
-    from explorer.lesson_checks import shrink_settings
-
+    :func:`shrink_settings` of :meth:`Step.settings`."""
     return shrink_settings(step.settings(base), size, max_grid, rsm_size, max_iterations)
 
 

@@ -242,7 +242,10 @@ def _error(name: str, channel: int | None = None) -> Callable[[LiveContext], flo
     def read(context: LiveContext) -> float:
         if context.error is None:
             raise Unavailable("the error against the reference is not computed yet")
-        value = getattr(context.error, name)
+        value = getattr(context.error, name, None)
+        if value is None:      # error.mitsuba_*: Mitsuba has not measured it (yet)
+            raise Unavailable("not measured against Mitsuba yet (Error panel: truth "
+                              "\"reference + Mitsuba\")")
         return float(value[channel] if channel is not None else value)
     return read
 
@@ -405,6 +408,23 @@ def _fixed() -> dict[str, Quantity]:
         *[Quantity(f"error.flux_ratio_{colour}", f"flux ratio of the {colour} channel", "",
                    _error("flux_ratio_rgb", i), ".2f")
           for i, colour in enumerate(("red", "green", "blue"))],
+        Quantity("error.mitsuba_flux_ratio", "light on screen, LPV / Mitsuba's one bounce "
+                 "(physics; the Error panel's truth \"reference + Mitsuba\")", "",
+                 _error("mitsuba_flux_ratio"), ".2f"),
+        Quantity("error.mitsuba_relative_l2", "‖LPV − Mitsuba's one bounce‖ / ‖Mitsuba's "
+                 "one bounce‖", "", _error("mitsuba_relative_l2"), ".2f"),
+        *[Quantity(f"error.mitsuba_flux_ratio_{colour}", f"flux ratio of the {colour} "
+                   "channel, LPV / Mitsuba's one bounce", "",
+                   _error("mitsuba_flux_ratio_rgb", i), ".2f")
+          for i, colour in enumerate(("red", "green", "blue"))],
+        Quantity("error.mitsuba_multi_flux_ratio", "light on screen, LPV / Mitsuba's every "
+                 "bounce", "", _error("mitsuba_multi_flux_ratio"), ".2f"),
+        Quantity("error.reference_mitsuba_flux_ratio", "light on screen, the project's "
+                 "reference / Mitsuba's one bounce: what the RSM's sampling costs", "",
+                 _error("reference_mitsuba_flux_ratio"), ".3f"),
+        Quantity("error.reference_mitsuba_relative_l2", "‖reference − Mitsuba's one "
+                 "bounce‖ / ‖Mitsuba's one bounce‖ (about half of it Mitsuba's noise)", "",
+                 _error("reference_mitsuba_relative_l2"), ".2f"),
         Quantity("corrections.preset", "the corrections preset shown (or custom)", "",
                  _preset, ""),
     ]

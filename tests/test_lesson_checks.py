@@ -1,6 +1,6 @@
 """Lesson checks (explorer/lesson_checks.py) and marks (explorer/lesson_marks.py): the
 tables are validated as data, and every check of the shipped lessons holds on the
-converged frame of its step (rendered headless at lesson_checks.CHECK_SIZE)."""
+converged frame of its step (rendered headless at lesson_verify.CHECK_SIZE)."""
 
 from __future__ import annotations
 
@@ -146,7 +146,7 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
     """Each checked step rendered headless at CHECK_SIZE (and after its try-this, or on its
     compare side, where a check reads there) to convergence; every claim holds. The same
     frames with the operator reversed fail, so a check that could never fail is caught."""
-    from explorer.lesson_checks import verify_step
+    from explorer.lesson_verify import verify_step
     from explorer.lessons import preview_settings
     from explorer.lpv.pipeline import Pipeline
 
@@ -167,7 +167,7 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
 
 def test_a_false_claim_fails(shipped, ctx):
     """A check that contradicts the frame fails with its claim and measured value."""
-    from explorer.lesson_checks import verify_step
+    from explorer.lesson_verify import verify_step
     from explorer.lessons import find_lesson, preview_settings
     from explorer.lpv.pipeline import Pipeline
 
@@ -287,10 +287,10 @@ def test_the_readers_mode_shows_the_panels_a_step_uses(shipped):
     session = LessonSession(lessons=lessons)
     session.open("overview")
     session.saved = object()                    # a step's configuration is on screen
-    state = SimpleNamespace(reader_mode=True, lesson_session=session)
     from explorer.ui.layout import PANELS
 
     titles = [panel.title for panel in PANELS]
+    state = SimpleNamespace(reader_mode=True, lesson_session=session)
     hidden = hidden_panels(state, titles)
     assert "Corrections" in hidden and "Plots" in hidden
     assert "View" not in hidden and "Lesson" not in hidden

@@ -1,8 +1,9 @@
 """``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
 ``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
-shows it (a hidden window: needs a display, e.g. ``xvfb-run``);
-``lpv-explorer lessons [ID] --check`` verifies the steps' ``[[steps.checks]]`` on their
-converged frames, rendered headless (explorer/lesson_checks.py).
+shows it, headless (glfw's null platform with EGL: no display needed), once its frame has
+converged (it says it waits); ``lpv-explorer lessons [ID] --check`` verifies the steps'
+``[[steps.checks]]`` on their converged frames, rendered headless
+(explorer/lesson_verify.py).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.
@@ -96,7 +97,7 @@ def _check(args: argparse.Namespace) -> int:
     """Verify the checks of lesson ``args.lesson`` (all lessons when None)."""
     from explorer.commands.options import CommandError
     from explorer.gl.context import create_headless_context, release_headless_context
-    from explorer.lesson_checks import verify_step
+    from explorer.lesson_verify import verify_step
     from explorer.lessons import find_lesson, load_all, preview_settings
     from explorer.lpv.pipeline import Pipeline
 
@@ -224,6 +225,7 @@ def _export(args: argparse.Namespace) -> int:
     from explorer.ui.export import export_step
 
     step = 1 if args.step is None else args.step
+    print(f"exporting {args.export} step {step}: waiting for the converged frame", flush=True)
     with Outputs() as outputs:
         out = outputs.file(args.out or Path.cwd() / f"{args.export}-step{step}.png",
                            suffixes=(".png",))
@@ -236,5 +238,5 @@ def _export(args: argparse.Namespace) -> int:
             raise CommandError(exc.args[0]) from None
         except (WindowError, TimeoutError) as exc:
             raise CommandError(exc, 1) from None
-    print(f"wrote {out}")
+    print(f"wrote {out} (the converged frame)")
     return 0

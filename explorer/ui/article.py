@@ -53,9 +53,11 @@ def try_label(item: TryThis) -> tuple[str, str]:
 
 def live_context(state: AppState, step: Step) -> live_values.LiveContext:
     """What the step's placeholders read now (figures: those the step quotes)."""
-    from explorer.ui.panels.error import current_stats
+    from explorer.ui.panels.error import current_stats, want_truth
 
     rt = state.runtime
+    if uses_truth(step):
+        want_truth(state)
     figures = {}
     wanted = {name.split(".")[1] for text in _texts(step)
               for name, _ in lesson_text.placeholders(text) if name.startswith("figure.")}
@@ -96,6 +98,13 @@ def uses_audit(step: Step) -> str:
           for name, _ in lesson_text.placeholders(text)])
 
 
+def uses_truth(step: Step) -> bool:
+    """The step quotes a number measured against Mitsuba (``error.mitsuba_*``,
+    ``error.reference_mitsuba_*``)."""
+    return any(name.startswith(("error.mitsuba_", "error.reference_mitsuba_"))
+               for text in _texts(step) for name, _ in lesson_text.placeholders(text))
+
+
 def uses_error(step: Step) -> bool:
     return any(name.startswith("error.") for text in _texts(step)
                for name, _ in lesson_text.placeholders(text))
@@ -103,7 +112,7 @@ def uses_error(step: Step) -> bool:
 
 def figure_context(state: AppState):
     """The figures' shared context (their interactive state), kept on the app state."""
-    context = getattr(state, "lesson_figures", None)
+    context = state.lesson_figures
     if context is None:
         from explorer.ui.figures import FigureContext
 
@@ -120,12 +129,21 @@ def gui_article(state: AppState) -> None:
     if session.lesson is None:
         _lesson_list(state, session)
         return
-    _header(state, session)
+    if not _header(state, session):
+        return                       # "< All lessons": the list shows from the next frame
     imgui.separator()
+    scroll = session.opening_scroll()       # a new step opens at its top
+    if scroll is not None:
+        imgui.set_next_window_scroll((-1.0, scroll))
     imgui.begin_child("article", (0, 0), imgui.ChildFlags_.none,
                       imgui.WindowFlags_.always_vertical_scrollbar)
     try:
         _article(state, session)
+        if session.resume_frames > 0:            # until the text's height is known
+            session.resume_frames -= 1
+            imgui.set_scroll_y(session.scroll)
+        else:
+            session.keep_scroll(imgui.get_scroll_y())
     finally:
         imgui.end_child()
 
@@ -133,10 +151,10 @@ def gui_article(state: AppState) -> None:
 def sync_requested(state: AppState, session: LessonSession) -> None:
     """Follow ``state.lesson_id`` / ``state.lesson_step`` (``run --lesson ID --step K``):
     open the lesson at that step and apply it."""
-    wanted = getattr(state, "lesson_id", None)
+    wanted = state.lesson_id
     if not wanted:
         return
-    step = getattr(state, "lesson_step", None)
+    step = state.lesson_step
     same = session.lesson is not None and wanted in (session.lesson.id,
                                                      session.lesson.path.stem)
     if same and step is None:
@@ -164,11 +182,13 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
     for lesson in session.lessons:
         imgui.push_id(lesson.id)
         if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
-            session.open(lesson.id)
+            session.open(lesson.id, resume=True)     # where the reader left it
             state.lesson_id = lesson.id
             show_screen(state, session.apply(current_screen(state)))
         imgui.indent(28.0)
-        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps)")
+        left_at = session.places.get(lesson.id, (1, 0.0))[0]
+        where = f"; you left it at step {left_at}" if left_at > 1 else ""
+        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps{where})")
         imgui.unindent(28.0)
         imgui.spacing()
         imgui.pop_id()
@@ -180,14 +200,16 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
         session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
-def _header(state: AppState, session: LessonSession) -> None:
+def _header(state: AppState, session: LessonSession) -> bool:
+    """The lesson's title, step list and arrows, and its status line; False when the
+    reader went back to the list (nothing of the lesson may be drawn after that)."""
     lesson, step = session.lesson, session.step
     if imgui.small_button("< All lessons"):
         restored = session.close()
         if restored is not None:
             show_screen(state, restored)
         state.lesson_id = None
-        return
+        return False
     imgui.same_line()
     imgui.push_text_wrap_pos(0.0)     # a long title wraps beside the button (1280 px)
     imgui.text_colored(widgets.ACCENT, f"{lesson.number:02d}  {lesson.title}")
@@ -213,6 +235,7 @@ def _header(state: AppState, session: LessonSession) -> None:
     if changed:
         _goto(state, session)
     _status(state, session)
+    return True
 
 
 def _goto(state: AppState, session: LessonSession) -> None:
@@ -351,6 +374,20 @@ def _pending_audit(name: str, context: live_values.LiveContext,
     return None if reason is None else reason + ")"
 
 
+PROVISIONAL = "≈"
+"""Marks a number read from a frame that is still converging (the view says
+"propagating k/N"): it changes until the frame has converged; its tooltip says so. (No
+line of text announces it: the article would move under the reader's mouse each time a
+try-this starts a new frame.)"""
+
+
+def provisional(quantity) -> bool:
+    """Whether ``quantity`` is read from the pipeline's frame (and so changes while it
+    converges): frame and audit numbers; not settings, constants, the Error panel's
+    measurement or a figure's own readout."""
+    return quantity.source in ("frame", "audit") and not quantity.constant
+
+
 def step_settings(step: Step, own):
     from explorer.ui.lesson_panel import step_screen
 
@@ -363,12 +400,19 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
     source = {"context": context, "where": "the frame on screen"}
 
+    converging = state.runtime.progress.get("A")
+
     def value(name: str, fmt: str) -> tuple[str, str]:
         quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
         text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         tip = f"{name}{unit}: {quantity.doc}"
-        if text == live_values.PENDING:
+        if (converging and text != live_values.PENDING
+                and source["where"] == "the frame on screen" and provisional(quantity)):
+            text = PROVISIONAL + text
+            tip += (f"\nprovisional: read from the frame while it converges "
+                    f"({converging}); it settles with the frame")
+        elif text == live_values.PENDING:
             tip += "\n(not available yet: " + (
                 "measure it in the Error panel)" if quantity.source == "error"
                 else _pending_audit(name, source["context"], step.figure_ids)
