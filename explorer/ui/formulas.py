@@ -62,8 +62,15 @@ class Formula:
     baseline: int = 0    # pixels from the image's top to the formula's baseline
 
 
+MAX_CACHED_FORMULAS = 1024
+"""Typeset formulas kept as textures at once; the least recently used go first. The whole
+course has a few hundred (a 30-minute soak through every step settled near 400 UI
+textures), so a reader never waits for one twice, and a long session stays bounded."""
+
+
 class FormulaCache:
-    """LaTeX → texture, rendered once per (formula, size). Textures belong to the UI."""
+    """LaTeX → texture, rendered once per (formula, size) and kept while among the
+    :data:`MAX_CACHED_FORMULAS` most recently used. Textures belong to the UI."""
 
     def __init__(self, textures, font_size: float = 18.0) -> None:
         self.textures = textures          # explorer.ui.textures.UiTextures
@@ -90,7 +97,12 @@ class FormulaCache:
         size = round(self.font_size * scale, 1)
         key = (latex, size, inline)
         if key in self._cache:
+            self._cache[key] = self._cache.pop(key)      # most recently used last
             return self._cache[key]
+        while len(self._cache) >= MAX_CACHED_FORMULAS:
+            (old_latex, old_size, old_inline), _ = next(iter(self._cache.items()))
+            del self._cache[(old_latex, old_size, old_inline)]
+            self.textures.discard(f"formula:{old_latex}:{old_size}:{old_inline}")
         formula = Formula(0, 0, 0, latex)
         if self.available:
             try:

@@ -52,6 +52,12 @@ class UiTextures:
         entry = self._entries.get(key)
         return entry.texture.glo if entry else 0
 
+    def discard(self, key: str) -> None:
+        """Release the texture under ``key`` (nothing when there is none)."""
+        entry = self._entries.pop(key, None)
+        if entry is not None:
+            entry.texture.release()
+
     def release(self) -> None:
         for entry in self._entries.values():
             entry.texture.release()
