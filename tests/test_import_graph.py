@@ -16,8 +16,11 @@ LAYERS = (
     ("explorer.scene",),
     ("explorer.lpv",),
     ("explorer.truth", "explorer.lessons", "explorer.lesson_text", "explorer.live_values",
-     "explorer.figure_params", "explorer.overlay_params"),
+     "explorer.figure_params", "explorer.overlay_params", "explorer.exchange",
+     "explorer.glossary", "explorer.lesson_checks", "explorer.lesson_marks",
+     "explorer.lesson_verify"),
     ("explorer.ui",),
+    ("explorer.site",),
     ("explorer.commands",),
     ("explorer.cli", "explorer.__main__", "explorer"),
 )

@@ -1,8 +1,10 @@
 """``lpv-explorer run``: open the explorer window.
 
-``--screenshot PATH --frames N`` draws N frames, lets the picture converge (the pipeline
-works a few milliseconds per frame), writes the window (panels included) to PATH and
-exits: scripted runs, README screenshots and CI smoke tests. Every option is
+``--screenshot PATH --frames N`` draws N frames, then waits for the converged picture
+(the pipeline works a few milliseconds per frame, and a lesson step applied by the
+panels starts a new frame) and says so, writes the window (panels included) to PATH and
+exits: scripted runs, README screenshots and CI smoke tests. ``--no-wait`` writes the
+frame after N frames as it is. Every option is
 checked before the window opens (an unknown lesson or scene, a window larger than
 :data:`~explorer.ui.state.MAX_WINDOW_SIZE`, a screenshot path that cannot be written).
 """
@@ -57,6 +59,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write a PNG of the window after --frames frames, then exit")
     parser.add_argument("--frames", metavar="N", type=value_type("frames", FRAMES),
                         default=None, help=spec_help(FRAMES))
+    parser.add_argument("--no-wait", dest="wait", action="store_false",
+                        help="with --screenshot: write the frame after --frames frames as "
+                             "it is, without waiting for it to converge (the view then "
+                             "says \"propagating k/N\" and the lesson's numbers are "
+                             "marked ≈)")
     parser.add_argument("--hidden", action="store_true",
                         help="do not show the window (scripted runs)")
     parser.add_argument("--no-persist", action="store_true",
@@ -105,7 +112,7 @@ def main(args: argparse.Namespace) -> int:
             app.state.view_mode = args.compare
         if args.lesson:
             app.state.lesson_id, app.state.lesson_step = args.lesson, args.step or 1
-        return app.run(frames=frames, screenshot=args.screenshot)
+        return app.run(frames=frames, screenshot=args.screenshot, converged=args.wait)
     finally:
         app.close()
 

@@ -25,7 +25,9 @@ _PADDING = 16.0
 
 class FigureWindow:
     def __init__(self, width: int = 900, height: int = 700, visible: bool = True,
-                 context: FigureContext | None = None) -> None:
+                 context: FigureContext | None = None, scale: float = 1.0) -> None:
+        """``scale``: draw the figure's sizes and fonts this many times larger (2 for the
+        web site's 2× images)."""
         from imgui_bundle import imgui
 
         from explorer.ui import fonts, theme
@@ -35,9 +37,10 @@ class FigureWindow:
                              vsync=False)
         self.ctx = self.window.ctx
         self.context = context or FigureContext()
+        self.scale = float(scale)
         self._imgui = ImguiHost(self.window)
         imgui.get_io().set_ini_filename("")
-        theme.apply_style(self.window.content_scale)
+        theme.apply_style(self.window.content_scale * scale)
         fonts.load(imgui.get_io(), 15.0)
         self._imgui.start_backends()
         self.rect: tuple[tuple[float, float], tuple[float, float]] | None = None
@@ -67,7 +70,8 @@ class FigureWindow:
         flags = (imgui.WindowFlags_.no_decoration | imgui.WindowFlags_.no_move
                  | imgui.WindowFlags_.no_saved_settings
                  | imgui.WindowFlags_.no_bring_to_front_on_focus)
-        imgui.push_style_var(imgui.StyleVar_.window_padding, (_PADDING, _PADDING))
+        pad = _PADDING * self.scale
+        imgui.push_style_var(imgui.StyleVar_.window_padding, (pad, pad))
         imgui.begin("figure", None, flags)
         imgui.pop_style_var()
         width = figure_width or imgui.get_content_region_avail().x

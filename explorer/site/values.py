@@ -1,0 +1,59 @@
+"""Live numbers baked into the page: each ``{{name:format}}`` a step quotes, formatted
+from the step's converged frame exactly as the window's article formats it
+(:func:`explorer.live_values.render`), with the window's tooltip text (what it measures,
+its unit, its name) on hover."""
+
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass, field
+
+from explorer import live_values
+
+
+@dataclass
+class Baker:
+    """Formats the live numbers of one configuration (one frame) of a step."""
+
+    context: live_values.LiveContext
+    figure_ids: tuple[str, ...] = ()
+    where: str = ""
+    """Where the numbers appear (for the build's report of numbers without a value)."""
+    pending: list[str] = field(default_factory=list)
+    """Quantities that had no value (``name: reason``), for the build's report."""
+    baked: list[tuple[str, str, str]] = field(default_factory=list)
+    """(name, format, text) of every number written, in order (tests compare them)."""
+
+    def text(self, name: str, fmt: str) -> str:
+        """The number as the window writes it (``…`` when it has no value)."""
+        shown = live_values.render(name, fmt, self.context, self.figure_ids)
+        if shown == live_values.PENDING:
+            reason = live_values.pending_reason(name, self.context, self.figure_ids)
+            self.pending.append(f"{self.where}{name}: {reason}")
+        self.baked.append((name, fmt, shown))
+        return shown
+
+    def tooltip(self, name: str) -> str:
+        quantity = live_values.lookup(name, self.figure_ids)
+        unit = f" [{quantity.unit}]" if quantity.unit else ""
+        how = (" Measured on this step's converged frame." if quantity.measured else
+               " An exact constant of the model." if quantity.source == "derived" else
+               " A setting of this step.")
+        return f"{quantity.doc}{unit} ({name}).{how}"
+
+    def attributes(self, name: str, fmt: str, shown: str) -> str:
+        return (f'class="live" data-q="{html.escape(name)}" data-fmt="{html.escape(fmt)}" '
+                f'title="{html.escape(self.tooltip(name))}" tabindex="0"')
+
+    def span(self, name: str, fmt: str, css: str = "") -> str:
+        """The number as an HTML span with its tooltip."""
+        shown = self.text(name, fmt)
+        extra = f" {css}" if css else ""
+        attrs = self.attributes(name, fmt, shown).replace('class="live"',
+                                                           f'class="live{extra}"')
+        return f"<span {attrs}>{html.escape(shown)}</span>"
+
+    def mn(self, name: str, fmt: str) -> str:
+        """The number as a MathML ``<mn>`` with its tooltip (a number inside math)."""
+        shown = self.text(name, fmt)
+        return f"<mn {self.attributes(name, fmt, shown)}>{html.escape(shown)}</mn>"
