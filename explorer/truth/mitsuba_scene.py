@@ -5,8 +5,10 @@ What is exported, and how each explorer quantity maps onto a stock Mitsuba plugi
 
 * the triangles: one binary PLY (``scene.ply``) with per-corner normals and the linear
   albedo as the float vertex colour, read by a ``twosided`` ``diffuse`` BSDF through a
-  ``mesh_attribute`` texture (every explorer surface reflects on both faces, the G-buffer
-  and the RSM turn the normal towards the viewer and the light). How the albedo reaches
+  ``mesh_attribute`` texture (an explorer surface reflects on both faces by default, the
+  G-buffer and the RSM turn the normal towards the viewer and the light; a one-sided mesh,
+  docs/MODEL.md "Scene conventions", is still exported two-sided, and a texture as its
+  colour at the corners, ``Scene.corner_albedo``). How the albedo reaches
   the BSDF is :func:`surface_bsdf`'s one job (per-pixel textures plug in there);
 * a spot light (intensity ``Φ_L/(4π)·colour·f(θ)``, docs/MODEL.md "Spot cone"): a ``spot``
   with ``cutoff_angle = beam_width`` (Mitsuba's own falloff, linear in the angle, is then
@@ -113,10 +115,13 @@ def surface_bsdf(scene) -> dict:
 
 def mesh_ply(scene) -> bytes:
     """Binary little-endian PLY of the triangle soup: per corner its position, normal and
-    linear albedo (``r g b`` floats, Mitsuba's ``vertex_color``), three corners a face."""
+    linear albedo (``r g b`` floats, Mitsuba's ``vertex_color``), three corners a face.
+    A textured surface's albedo is its texture sampled at the corners
+    (``Scene.corner_albedo``: an approximation, the explorer samples it per pixel; a
+    texture is not exported as a bitmap yet)."""
     positions = np.asarray(scene.positions, np.float32)
     normals = np.asarray(scene.normals, np.float32)
-    albedo = np.asarray(scene.albedo, np.float32)
+    albedo = np.asarray(scene.corner_albedo(), np.float32)
     count = len(positions)
     header = "\n".join([
         "ply", "format binary_little_endian 1.0", f"element vertex {count}",
