@@ -128,8 +128,11 @@ def _context(ctx, step, settings, texts):
         figures[spec.instance_id] = kind.readouts(spec.params, kind.make_state(spec.params),
                                                   FigureContext(results=(result,)))
     error = _error(ctx, settings) if uses_error(texts) else None
+    from explorer.site.values import context_marks
+
     return live_values.LiveContext(settings=settings, result=result, error=error,
-                                   figures=figures, renderer=ctx.info["GL_RENDERER"])
+                                   figures=figures, renderer=ctx.info["GL_RENDERER"],
+                                   **context_marks(step))
 
 
 def _check(numbers, context, step, where) -> int:
