@@ -529,7 +529,7 @@ class _Writer:
         after_baker = Baker(self.context(after_shot, figures, step), step.figure_ids,
                             f"{where}try {index}: ")
         prompt = prose.inline(item.prompt, _DualBaker(after_baker, before_baker))
-        self.report.pending += after_baker.pending
+        self.report.pending += after_baker.pending + before_baker.pending
         label = try_label(item)
         pair = pages.swipe(before, after, "this step", label, step.title)
         return pages.try_card(index, _anchor(step, index), label, pair, prompt,
