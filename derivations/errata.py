@@ -47,9 +47,11 @@ from derivations.solid_angles import (
     spherical_angle, unit)
 
 MODULE = "errata"
-ANNOTATIONS = "lpv-annotations.md"
-DX11 = "lpv-dx11-article.md"
-DX12 = "lpv-dx12-blog.md"
+# The sources as a reader can find them (full references, not the names of the plain-text
+# copies the project was built from).
+ANNOTATIONS = "Kirsch, \"Light Propagation Volumes — Annotations\" (2010)"
+DX11 = "the DirectX 11 LPV implementation article"
+DX12 = "the DirectX 12 LPV write-up"
 VERDICTS = ("correct", "rounded", "truncated", "wrong", "approximate", "not derivable")
 
 _s = sp.sqrt
@@ -246,10 +248,10 @@ def _printed() -> tuple[Printed, ...]:
                      "75 %.",
                 verdict_override="wrong"),
         # --- DX12 blog ---
-        Printed("dx12.y00", "Y_0^0", "√(1/(4π))", _s(1 / (4 * sp.pi)), sh.C0, DX12,
+        Printed("dx12.y00", "Y(0, 0)", "√(1/(4π))", _s(1 / (4 * sp.pi)), sh.C0, DX12,
                 "Spherical Harmonics, first two bands"),
-        Printed("dx12.y1", "Y_1^{-1} coefficient of −y", "√(3/(4π))", _s(3 / (4 * sp.pi)),
-                sh.C1, DX12, "Spherical Harmonics, first two bands"),
+        Printed("dx12.y1", "coefficient of −y (the band-1 function Y(1, −1))", "√(3/(4π))",
+                _s(3 / (4 * sp.pi)), sh.C1, DX12, "Spherical Harmonics, first two bands"),
         Printed("dx12.legendre_20", "P_2^0(x) (printed as P_0^2)", "½(3x²−1)",
                 (3 * sp.Symbol("x") ** 2 - 1) / 2, sp.assoc_legendre(2, 0, sp.Symbol("x")),
                 DX12, "associated Legendre list",

@@ -148,5 +148,5 @@ def results() -> list[Result]:
                "Transmittance of a homogeneous medium over a length ℓ (Beer–Lambert)."),
         result(MODULE, "segment_inscatter", segment_inscatter(),
                "Single scattering of a constant in-scattered radiance L_p over a ray of "
-               "length ℓ: α·L_p·(1 − e^{−σ_t ℓ})."),
+               "length ℓ: α·L_p·(1 − exp(−σ_t·ℓ))."),
     ]

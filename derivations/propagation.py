@@ -201,7 +201,9 @@ def results() -> list[Result]:
                "One step of the DX11 shader (weights Δω/(2π) front, Δω/(3π) side): "
                "(3Δω_front + 8Δω_side)/(4π)."),
         result(MODULE, "front_weight_dx11", sp.simplify(dx11_front / omega_front),
-               "DX11 front-face weight ÷ Δω_front: 1/(2π) (published: 1/(4π), corrected: 1)."),
+               "DX11 front-face factor ÷ Δω_front, the whole factor of the face: 1/(2π) "
+               "(corrected model: k_P·k_R·k_I = 1/π; published: 1/(4π²))."),
         result(MODULE, "side_weight_dx11", sp.simplify(dx11_side / omega_side),
-               "DX11 side-face weight ÷ Δω_side: 1/(3π) (published: 1/(4π), corrected: 1)."),
+               "DX11 side-face factor ÷ Δω_side, the whole factor of the face: 1/(3π) "
+               "(corrected model: k_P·k_R·k_I = 1/π; published: 1/(4π²))."),
     ]

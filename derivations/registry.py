@@ -137,13 +137,15 @@ def latex(name: str) -> str:
     """LaTeX of the named result, always with a left-hand side: a formula keeps its
     ``=``; any other result is written ``symbol = value`` with its symbol from
     :data:`derivations.symbols.SYMBOLS`."""
-    from derivations.symbols import SYMBOLS
+    from derivations.symbols import SYMBOL_LATEX, SYMBOLS
 
     item = get(name)
+    names = {symbol: SYMBOL_LATEX[symbol.name] for symbol in item.expr.free_symbols
+             if isinstance(symbol, sympy.Symbol) and symbol.name in SYMBOL_LATEX}
     if item.printed_decimals:
-        body = _DecimalLatexPrinter().doprint(item.expr)
+        body = _DecimalLatexPrinter({"symbol_names": names}).doprint(item.expr)
     else:
-        body = sympy.latex(item.expr)
+        body = sympy.latex(item.expr, symbol_names=names)
     if isinstance(item.expr, sympy.Equality):
         return body
     if name not in SYMBOLS:

@@ -132,6 +132,42 @@ def pixel_solid_angle_exact() -> sp.Expr:
     return rectangle_solid_angle(u0, u1, v0, v1, 1)
 
 
+CORNER = sp.Function("F")
+"""The corner function of the rectangle formula, ``solid_angles.rectangle_corner_term``."""
+_u, _v = sp.symbols("u v", real=True)
+_EDGES = sp.symbols("u_i u_{i+1} v_j v_{j+1}", real=True)
+
+
+def texel_edges(index: sp.Expr, size: sp.Expr) -> sp.Expr:
+    """Image-plane coordinate (plane ``z = 1``) of texel edge ``index`` of ``size``."""
+    return -1 + 2 * index / size
+
+
+def pixel_solid_angle_corners() -> sp.Equality:
+    """``Δω_ij`` as four corner terms of the texel's edges: the readable form of
+    :func:`pixel_solid_angle_exact` (``F`` and the edges substituted give it exactly)."""
+    u0, u1, v0, v1 = _EDGES
+    return sp.Eq(sp.Symbol(r"\Delta\omega_{ij}"),
+                 CORNER(u1, v1) - CORNER(u0, v1) - CORNER(u1, v0) + CORNER(u0, v0),
+                 evaluate=False)
+
+
+def corner_function() -> sp.Equality:
+    """``F(u, v) = atan(u·v/√(1 + u² + v²))``: the corner term on the plane ``z = 1``."""
+    return sp.Eq(CORNER(_u, _v), rectangle_corner_term(_u, _v, 1), evaluate=False)
+
+
+def corners_substituted() -> sp.Expr:
+    """:func:`pixel_solid_angle_corners` with ``F`` and the edges ``u_i = −1 + 2i/W``,
+    ``v_j = −1 + 2j/H`` substituted: equal to :func:`pixel_solid_angle_exact`."""
+    u0, u1, v0, v1 = _EDGES
+    edges = {u0: texel_edges(i, W), u1: texel_edges(i + 1, W), v0: texel_edges(j, H),
+             v1: texel_edges(j + 1, H)}
+    body = pixel_solid_angle_corners().rhs.replace(
+        CORNER, lambda a, b: rectangle_corner_term(a, b, 1))
+    return body.subs(edges, simultaneous=True)
+
+
 def pixel_density(u: sp.Expr, v: sp.Expr) -> sp.Expr:
     """Solid angle per image-plane area at ``(u, v, 1)``: ``(1 + u² + v²)^{-3/2}``."""
     return (1 + u**2 + v**2) ** sp.Rational(-3, 2)
@@ -228,7 +264,7 @@ def results() -> list[Result]:
     statements = (
         "Irradiance on a surfel facing a point light of flux Φ_L at distance r.",
         "Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.",
-        "Radiant exitance: ∫_{H²} L_o cos θ_o dω = π·L_o.",
+        "Radiant exitance: the integral of L_o cos θ_o dω over the hemisphere, π·L_o.",
         "Flux reflected by a surfel of area A: Φ_o = A·M.",
         "Flux reflected by an RSM texel of solid angle ρ = A/r²: "
         "c_diff·ρ/(4π)·Φ_L·max(0, cos θ_i).",
@@ -245,6 +281,11 @@ def results() -> list[Result]:
                "Per-texel solid angle of a 90° frustum, approximated as (4π/6)/(W·H)."),
         result(MODULE, "pixel_solid_angle_exact", pixel_solid_angle_exact(),
                "Exact solid angle of texel (i, j) of a W×H 90° frustum (rectangle formula)."),
+        result(MODULE, "pixel_solid_angle_corners", pixel_solid_angle_corners(),
+               "Exact solid angle of texel (i, j) from the corner function F at the texel's "
+               "edges u_i = −1 + 2i/W, v_j = −1 + 2j/H on the image plane z = 1."),
+        result(MODULE, "corner_function", corner_function(),
+               "The rectangle formula's corner function on the image plane z = 1."),
         result(MODULE, "pixel_ratio_centre", approx_over_exact_limit(0, 0),
                "Large-map limit of approximate/exact texel solid angle at the centre: π/6."),
         result(MODULE, "pixel_ratio_corner", approx_over_exact_limit(1, 1),

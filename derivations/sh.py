@@ -211,10 +211,12 @@ def results() -> list[Result]:
         result(MODULE, "basis_l1", sp.ImmutableMatrix(L1_BASIS),
                "L1 real SH basis in the annotations' order and signs."),
         result(MODULE, "coslobe_c0", cos_l1[0],
-               "Band-0 coefficient of the clamped cosine lobe, ∫_{H²} cos θ Y00 dω.",
+               "Band-0 coefficient of the clamped cosine lobe: the integral of cos θ · Y00 dω over "
+               "the hemisphere.",
                glsl_name="SH_COSLOBE_C0"),
         result(MODULE, "coslobe_c1", cos_l1[2],
-               "Band-1 coefficient of the clamped cosine lobe around z, ∫_{H²} cos θ Y10 dω.",
+               "Band-1 coefficient of the clamped cosine lobe around z: the integral of "
+               "cos θ · Y10 dω over the hemisphere.",
                glsl_name="SH_COSLOBE_C1"),
         result(MODULE, "lobe", lobe(),
                "SH projection of max(0, ⟨n, ω⟩) around a unit normal n: linear in n."),
@@ -244,7 +246,8 @@ def results() -> list[Result]:
         result(MODULE, "l2_coslobe_c1", cos_l2[2], "Clamped cosine lobe, band 1 (L2 basis).",
                glsl_name="SH_L2_COSLOBE_C1"),
         result(MODULE, "l2_coslobe_c2", cos_l2[6],
-               "Clamped cosine lobe around z, band 2: ∫_{H²} cos θ Y20 dω = √(5π)/8.",
+               "Clamped cosine lobe around z, band 2: the integral of cos θ · Y20 dω over the "
+               "hemisphere, √(5π)/8.",
                glsl_name="SH_L2_COSLOBE_C2"),
         result(MODULE, "zonal_rotation_factors", sp.ImmutableMatrix(
             [zonal_rotation_factors()[k] for k in (0, 1, 4)]),

@@ -348,12 +348,13 @@ def results() -> list[Result]:
                "One cube face seen from the cube centre: the whole field of a 90° square "
                "frustum (4π/6).",
                glsl_name="CUBE_FACE_SOLID_ANGLE"),
-        result(MODULE, "sphere", 4 * sp.pi, "Solid angle of the whole sphere, ∫_{S²} dω.",
+        result(MODULE, "sphere", 4 * sp.pi,
+               "Solid angle of the whole sphere: the integral of dω over all directions.",
                glsl_name="FOUR_PI"),
         result(MODULE, "projected_hemisphere",
                sp.integrate(sp.cos(_theta) * sp.sin(_theta), (_theta, 0, sp.pi / 2),
                             (_phi, 0, 2 * sp.pi)),
-               "Projected solid angle of the hemisphere, ∫_{H²} cos θ dω = π.",
+               "Projected solid angle of the hemisphere: the integral of cos θ dω over it, π.",
                glsl_name="PI"),
     ]
 

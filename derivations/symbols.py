@@ -24,6 +24,20 @@ def _printed(what: str) -> str:
     return what + r"^{\mathrm{printed}}"
 
 
+SYMBOL_LATEX: dict[str, str] = {
+    "Delta_omega_f": r"\Delta\omega_{f}",
+    "Delta_omega_front": _FRONT,
+    "Delta_omega_side": _SIDE,
+    "cos_theta": r"\cos\theta",
+    "cos_theta_i": r"\cos\theta_{i}",
+    "cos_theta_o": r"\cos\theta_{o}",
+    "c_diff": r"c_{\mathrm{diff}}",
+    "pi_formula": r"\pi_{\mathrm{formula}}",
+    "p_{HG}": r"p_{\mathrm{HG}}",
+}
+"""How a sympy symbol whose name sympy would typeset badly is written (``Delta_omega_f``
+would read ``\\Delta_{\\omega f}``, ``cos_theta_i`` ``cos_{\theta i}``): by its name."""
+
 SYMBOLS: dict[str, str] = {
     # solid angles
     "solid_angles.front_face": _FRONT,

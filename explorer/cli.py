@@ -1,4 +1,5 @@
-"""Command line: ``lpv-explorer [run|render|constants|lessons|compare|bench|stability|doctor|site]``.
+"""Command line: ``lpv-explorer COMMAND`` (run, render, constants, lessons, compare, diff,
+export-mitsuba, site, bench, stability, doctor).
 
 Each subcommand lives in ``explorer/commands/<name>.py`` and exposes
 ``add_arguments(parser)`` and ``main(args) -> int``. Modules are imported only when their
@@ -15,14 +16,19 @@ import sys
 # name -> one-line help; the module is explorer.commands.<name>
 COMMANDS: dict[str, str] = {
     "run": "open the explorer window (the default when no command is given)",
-    "render": "render a frame or a lesson step headlessly to PNG",
-    "constants": "list the exact constants the renderer uses",
+    "render": "render a frame or a lesson step headlessly to PNG, EXR or NPY, every stage "
+              "as float arrays with --dump",
+    "constants": "list the exact constants the renderer uses; --format glsl|hlsl|cpp|json: "
+                 "the porting sheet",
     "lessons": "list the lessons",
     "compare": "compare LPV against the one-bounce reference (error tables and images)",
+    "diff": "their stages (an .npz named as render --dump names them) against ours: the "
+            "largest and relative error per cell and pixel, and where",
     "bench": "time each GPU pass over grid sizes and iterations",
     "stability": "frame-to-frame change of the indirect light while a light, an object or "
                  "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
+    "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python, with its PLY mesh)",
     "site": "build the course as a static web site (pages, pictures, baked numbers)",
 }
 
@@ -53,7 +59,7 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.Namespa
 
 
 def _load(name: str):
-    return importlib.import_module(f"explorer.commands.{name}")
+    return importlib.import_module(f"explorer.commands.{name.replace('-', '_')}")
 
 
 class StdoutError(Exception):

@@ -45,6 +45,9 @@ class Correction:
     effects: tuple[tuple[str, str], ...]
     """(caption, item) of the derivations ``corrections.<name>.<item>`` the panel shows
     under the two formulas: what the switch changes, exactly."""
+    forms: tuple[str, str]
+    """(as published, corrected) in words and plain-text formulas: the row of the
+    corrections table in docs/MODEL.md (generated from here by ``derivations.codegen``)."""
 
     @property
     def uniform(self) -> str:
@@ -77,28 +80,34 @@ CORRECTIONS: tuple[Correction, ...] = (
         "A Lambertian emitter of flux Φ has peak intensity Φ/π, not Φ.",
         "off: every VPL injects π times its flux (×3.14 on all indirect light)",
         published=True, stages=("inject", "propagate"),
-        effects=((_RATIO, "flux_factor"),)),
+        effects=((_RATIO, "flux_factor"),),
+        forms=("`I_p(ω) = Φ_p·clamp+⟨n_p, ω⟩`",
+               "`I_p(ω) = Φ_p/π·clamp+⟨n_p, ω⟩`")),
     Correction(
         "propagation_4pi", "Propagation: no 1/(4π) per face",
         "Flux through a face is solid angle times intensity; the extra 1/(4π) averages "
         "twice.",
         "off: each step keeps 1/(4π) = 0.0796 of the flux",
         published=True, stages=("propagate",),
-        effects=((_RATIO, "flux_factor"),)),
+        effects=((_RATIO, "flux_factor"),),
+        forms=("`Φ_f = Δω_f/(4π)·I(ω_c)`", "`Φ_f = Δω_f·I(ω_c)`")),
     Correction(
         "reprojection_pi", "Reprojection: face flux kept as is",
         "The face's flux becomes the new lobe's flux; dividing by π here undoes the "
         "injection's π.",
         "off alone: ×1/π per step; off together with injection: cancels",
         published=True, stages=("propagate",),
-        effects=((_RATIO, "flux_factor"),)),
+        effects=((_RATIO, "flux_factor"),),
+        forms=("`Φ_l = Φ_f/π`", "`Φ_l = Φ_f`")),
     Correction(
         "exact_constants", "Exact solid angles",
         "The DX11 article prints rounded solid angles and π = 3.1415926.",
         "off: one step keeps ×{corrections.exact_constants.step_flux_original:.6f} "
         "instead of ×1",
         published=True, stages=("inject", "propagate"),
-        effects=(("published, one step:", "step_flux_original"), (_RATIO, "flux_factor"))),
+        effects=(("published, one step:", "step_flux_original"), (_RATIO, "flux_factor")),
+        forms=("the decimals printed in the DX11 article (front 0.4006696846, side "
+               "0.4234413544, π 3.1415926)", "exact values from the derivations")),
     Correction(
         "side_faces", "Side faces",
         "Each neighbour sends light through five faces of the target cell; the front face "
@@ -107,13 +116,16 @@ CORRECTIONS: tuple[Correction, ...] = (
         "flux",
         published=False, stages=("propagate",),
         effects=(("front faces only, one step:", "step_flux_original"),
-                 (_RATIO, "flux_factor"))),
+                 (_RATIO, "flux_factor")),
+        forms=("front faces only", "front face + 4 side faces per neighbour")),
     Correction(
         "surfel_area_squared", "Occluder area grows with depth squared",
         "A texel of a perspective shadow map covers an area proportional to depth squared.",
         "off: far occluders block too little (geometry volume only)",
         published=False, stages=("geometry",),
-        effects=((_RATIO, "flux_factor"),)),
+        effects=((_RATIO, "flux_factor"),),
+        forms=("surfel area `4·w/(W·H)` (linear in depth: the bug the annotations warn of)",
+               "`4·w²/(W·H)`")),
     Correction(
         "ping_pong", "Ping-pong propagation",
         "Reading and writing the same texture races and re-propagates light that has "
@@ -121,14 +133,18 @@ CORRECTIONS: tuple[Correction, ...] = (
         "off: light counted again each step (flux grows)",
         published=False, stages=("propagate",),
         effects=(("in place:", "accumulated_original"), ("ping-pong:", "accumulated_corrected"),
-                 ("corrected ÷ published, flux-conserving step:", "flux_factor"))),
+                 ("corrected ÷ published, flux-conserving step:", "flux_factor")),
+        forms=("DX11 in-place read-modify-write of one texture (a data race)",
+               "read grid t−1, write grid t")),
     Correction(
         "clamp_front_face", "Clamp the front face",
         "A two-coefficient SH lobe goes negative behind itself; clamping stops negative "
         "light from travelling.",
         "on: clamping adds a little flux (the audit's clamp gain)",
         published=False, stages=("propagate",),
-        effects=(("clamp gain:", "clamp_gain"), ("L1 lobe behind itself:", "lobe_behind"))),
+        effects=(("clamp gain:", "clamp_gain"), ("L1 lobe behind itself:", "lobe_behind")),
+        forms=("front-face term unclamped",
+               "`clamp+` on the front-face intensity, as the DX11 shader does")),
 )
 
 BY_NAME: dict[str, Correction] = {entry.name: entry for entry in CORRECTIONS}

@@ -50,12 +50,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'solid_angles.sphere': (
         '\\int_{S^2} d\\omega = 4 \\pi',
-        'Solid angle of the whole sphere, ∫_{S²} dω.',
+        'Solid angle of the whole sphere: the integral of dω over all directions.',
         12.566370614359172,
     ),
     'solid_angles.projected_hemisphere': (
         '\\int_{H^2} \\cos\\theta \\, d\\omega = \\pi',
-        'Projected solid angle of the hemisphere, ∫_{H²} cos θ dω = π.',
+        'Projected solid angle of the hemisphere: the integral of cos θ dω over it, π.',
         3.141592653589793,
     ),
     'sh.c0': (
@@ -77,12 +77,14 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.coslobe_c0': (
         '\\mathrm{lobe}_{0}(+z) = \\frac{\\sqrt{\\pi}}{2}',
-        'Band-0 coefficient of the clamped cosine lobe, ∫_{H²} cos θ Y00 dω.',
+        'Band-0 coefficient of the clamped cosine lobe: the integral of cos θ · Y00 dω over the '
+        'hemisphere.',
         0.886226925452758,
     ),
     'sh.coslobe_c1': (
         '\\mathrm{lobe}_{2}(+z) = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
-        'Band-1 coefficient of the clamped cosine lobe around z, ∫_{H²} cos θ Y10 dω.',
+        'Band-1 coefficient of the clamped cosine lobe around z: the integral of cos θ · Y10 dω '
+        'over the hemisphere.',
         1.0233267079464885,
     ),
     'sh.lobe': (
@@ -159,7 +161,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.l2_coslobe_c2': (
         '\\mathrm{lobe}_{6}(+z) = \\frac{\\sqrt{5} \\sqrt{\\pi}}{8}',
-        'Clamped cosine lobe around z, band 2: ∫_{H²} cos θ Y20 dω = √(5π)/8.',
+        'Clamped cosine lobe around z, band 2: the integral of cos θ · Y20 dω over the '
+        'hemisphere, √(5π)/8.',
         0.4954159122007514,
     ),
     'sh.zonal_rotation_factors': (
@@ -201,32 +204,32 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.outgoing_radiance': (
-        'L_{o} = \\frac{\\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        'L_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\max\\left(0, \\cos{\\left(\\theta_{i} '
         '\\right)}\\right)}{4 \\pi^{2} r^{2}}',
         'Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.',
         None,
     ),
     'rsm.radiant_exitance': (
-        'M = \\frac{\\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
+        'M = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\max\\left(0, \\cos{\\left(\\theta_{i} '
         '\\right)}\\right)}{4 \\pi r^{2}}',
-        'Radiant exitance: ∫_{H²} L_o cos θ_o dω = π·L_o.',
+        'Radiant exitance: the integral of L_o cos θ_o dω over the hemisphere, π·L_o.',
         None,
     ),
     'rsm.outgoing_flux_area': (
-        '\\Phi_{o} = \\frac{A \\Phi_{L} c_{diff} \\max\\left(0, \\cos{\\left(\\theta_{i} '
-        '\\right)}\\right)}{4 \\pi r^{2}}',
+        '\\Phi_{o} = \\frac{A \\Phi_{L} c_{\\mathrm{diff}} \\max\\left(0, '
+        '\\cos{\\left(\\theta_{i} \\right)}\\right)}{4 \\pi r^{2}}',
         'Flux reflected by a surfel of area A: Φ_o = A·M.',
         None,
     ),
     'rsm.outgoing_flux': (
-        '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho \\max\\left(0, \\cos{\\left(\\theta_{i} '
-        '\\right)}\\right)}{4 \\pi}',
+        '\\Phi_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\rho \\max\\left(0, '
+        '\\cos{\\left(\\theta_{i} \\right)}\\right)}{4 \\pi}',
         'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·max(0, cos '
         'θ_i).',
         None,
     ),
     'rsm.texel_flux': (
-        '\\Phi_{o} = \\frac{\\Phi_{L} c_{diff} \\rho}{4 \\pi}',
+        '\\Phi_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\rho}{4 \\pi}',
         'Erratum: flux an RSM texel of solid angle ρ reflects, any incidence on the lit side: '
         'c_diff·ρ/(4π)·Φ_L (the surfel area ρr²/cos θ_i cancels the cosine).',
         None,
@@ -257,6 +260,19 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'Exact solid angle of texel (i, j) of a W×H 90° frustum (rectangle formula).',
         None,
     ),
+    'rsm.pixel_solid_angle_corners': (
+        '\\Delta\\omega_{ij} = F{\\left(u_{i},v_{j} \\right)} - F{\\left(u_{i},v_{j+1} \\right)} '
+        '- F{\\left(u_{i+1},v_{j} \\right)} + F{\\left(u_{i+1},v_{j+1} \\right)}',
+        "Exact solid angle of texel (i, j) from the corner function F at the texel's edges u_i = "
+        '−1 + 2i/W, v_j = −1 + 2j/H on the image plane z = 1.',
+        None,
+    ),
+    'rsm.corner_function': (
+        'F{\\left(u,v \\right)} = \\operatorname{atan}{\\left(\\frac{u v}{\\sqrt{u^{2} + v^{2} + '
+        '1}} \\right)}',
+        "The rectangle formula's corner function on the image plane z = 1.",
+        None,
+    ),
     'rsm.pixel_ratio_centre': (
         '\\frac{\\Delta\\omega_{\\mathrm{texel}}}{\\Delta\\omega_{ij}}\\Big|_{\\mathrm{centre}} '
         '= \\frac{\\pi}{6}',
@@ -275,28 +291,30 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.spot_falloff': (
-        'f = - \\frac{2 \\left(cos_{\\theta} - cos_{\\theta o}\\right)^{3}}{\\left(cos_{\\theta '
-        'i} - cos_{\\theta o}\\right)^{3}} + \\frac{3 \\left(cos_{\\theta} - cos_{\\theta '
-        'o}\\right)^{2}}{\\left(cos_{\\theta i} - cos_{\\theta o}\\right)^{2}}',
+        'f = - \\frac{2 \\left(\\cos\\theta - '
+        '\\cos\\theta_{o}\\right)^{3}}{\\left(\\cos\\theta_{i} - \\cos\\theta_{o}\\right)^{3}} + '
+        '\\frac{3 \\left(\\cos\\theta - \\cos\\theta_{o}\\right)^{2}}{\\left(\\cos\\theta_{i} - '
+        '\\cos\\theta_{o}\\right)^{2}}',
         'Spot cone falloff between the inner and outer angles: smoothstep of cos θ, 3t² − 2t³ '
         'with t = (cos θ − cos θ_o)/(cos θ_i − cos θ_o).',
         None,
     ),
     'rsm.cone_solid_angle': (
-        '\\int_{S^2} f \\, d\\omega = - \\pi \\left(cos_{\\theta i} + cos_{\\theta o} - 2\\right)',
+        '\\int_{S^2} f \\, d\\omega = - \\pi \\left(\\cos\\theta_{i} + \\cos\\theta_{o} - '
+        '2\\right)',
         "Solid angle the spot cone's falloff weights, ∫f dω = 2π(1 − (cos θ_i + cos θ_o)/2): "
         'exact, f being a polynomial in cos θ.',
         None,
     ),
     'rsm.cone_total_flux': (
-        '\\Phi_{\\mathrm{cone}} = \\frac{\\Phi_{L} c_{diff} \\left(- cos_{\\theta i} - '
-        'cos_{\\theta o} + 2\\right)}{4}',
+        '\\Phi_{\\mathrm{cone}} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\left(- \\cos\\theta_{i} '
+        '- \\cos\\theta_{o} + 2\\right)}{4}',
         'Flux reflected by a surface that catches the whole cone: c_diff·Φ_L·(1 − (cos θ_i + cos '
         'θ_o)/2)/2.',
         None,
     ),
     'rsm.point_light_room_flux': (
-        '\\Phi_{\\mathrm{room}} = \\Phi_{L} c_{diff}',
+        '\\Phi_{\\mathrm{room}} = \\Phi_{L} c_{\\mathrm{diff}}',
         "Flux a point light's six RSM faces (90° frusta along ±x, ±y, ±z, one cube face each) "
         'reflect in a closed room of reflectance c_diff: c_diff·Φ_L.',
         None,
@@ -324,12 +342,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.3183098861837907,
     ),
     'corrections.propagation_4pi.original': (
-        '\\Phi_{f} = \\frac{\\Delta_{\\omega f} I_{c}}{4 \\pi}',
+        '\\Phi_{f} = \\frac{\\Delta\\omega_{f} I_{c}}{4 \\pi}',
         'Flux onto a face as published: Δω_f/(4π)·I(ω_c).',
         None,
     ),
     'corrections.propagation_4pi.corrected': (
-        '\\Phi_{f} = \\Delta_{\\omega f} I_{c}',
+        '\\Phi_{f} = \\Delta\\omega_{f} I_{c}',
         'Flux onto a face: Δω_f·I(ω_c) = ∫_face I dω for constant I.',
         None,
     ),
@@ -364,7 +382,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.propagation_4pi.exact_face_flux': (
-        '\\Phi_{f} = \\Delta_{\\omega f} I_{c}',
+        '\\Phi_{f} = \\Delta\\omega_{f} I_{c}',
         'Flux of a constant intensity through a face: ∫_face I dω = Δω_f·I.',
         None,
     ),
@@ -379,15 +397,15 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'corrections.exact_constants.original': (
-        '\\left[\\begin{matrix}\\Delta_{\\omega front}\\\\\\Delta_{\\omega '
-        'side}\\\\\\pi_{formula}\\end{matrix}\\right] = '
+        '\\left[\\begin{matrix}\\Delta\\omega_{\\mathrm{front}}\\\\\\Delta\\omega_{\\mathrm{side}'
+        '}\\\\\\pi_{\\mathrm{formula}}\\end{matrix}\\right] = '
         '\\left[\\begin{matrix}0.4006696846\\\\0.4234413544\\\\3.1415926\\end{matrix}\\right]',
         'Front and side solid angles and π as the DX11 article prints them.',
         None,
     ),
     'corrections.exact_constants.corrected': (
-        '\\left[\\begin{matrix}\\Delta_{\\omega front}\\\\\\Delta_{\\omega '
-        'side}\\\\\\pi_{formula}\\end{matrix}\\right] = \\left[\\begin{matrix}4 '
+        '\\left[\\begin{matrix}\\Delta\\omega_{\\mathrm{front}}\\\\\\Delta\\omega_{\\mathrm{side}'
+        '}\\\\\\pi_{\\mathrm{formula}}\\end{matrix}\\right] = \\left[\\begin{matrix}4 '
         '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}\\\\- \\frac{\\pi}{3} + 2 '
         '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} '
         '\\right)}\\\\\\pi\\end{matrix}\\right]',
@@ -417,13 +435,13 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         0.9999808848059836,
     ),
     'corrections.side_faces.original': (
-        '\\Phi_{t+1} = \\frac{3 \\Delta_{\\omega front} \\Phi_{t}}{2 \\pi}',
+        '\\Phi_{t+1} = \\frac{3 \\Delta\\omega_{\\mathrm{front}} \\Phi_{t}}{2 \\pi}',
         'Front faces only: one step sends 6Δω_front/(4π) of the flux on.',
         None,
     ),
     'corrections.side_faces.corrected': (
-        '\\Phi_{t+1} = \\frac{3 \\Phi_{t} \\left(\\Delta_{\\omega front} + 4 \\Delta_{\\omega '
-        'side}\\right)}{2 \\pi}',
+        '\\Phi_{t+1} = \\frac{3 \\Phi_{t} \\left(\\Delta\\omega_{\\mathrm{front}} + 4 '
+        '\\Delta\\omega_{\\mathrm{side}}\\right)}{2 \\pi}',
         'Front + 4 side faces per neighbour: 6(Δω_front + 4Δω_side)/(4π) of the flux.',
         None,
     ),
@@ -581,13 +599,15 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     'propagation.front_weight_dx11': (
         'w_{\\mathrm{front}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{front}} = \\frac{1}{2 '
         '\\pi}',
-        'DX11 front-face weight ÷ Δω_front: 1/(2π) (published: 1/(4π), corrected: 1).',
+        'DX11 front-face factor ÷ Δω_front, the whole factor of the face: 1/(2π) (corrected '
+        'model: k_P·k_R·k_I = 1/π; published: 1/(4π²)).',
         0.15915494309189535,
     ),
     'propagation.side_weight_dx11': (
         'w_{\\mathrm{side}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{side}} = \\frac{1}{3 '
         '\\pi}',
-        'DX11 side-face weight ÷ Δω_side: 1/(3π) (published: 1/(4π), corrected: 1).',
+        'DX11 side-face factor ÷ Δω_side, the whole factor of the face: 1/(3π) (corrected model: '
+        'k_P·k_R·k_I = 1/π; published: 1/(4π²)).',
         0.1061032953945969,
     ),
     'occlusion.one_sided': (
@@ -632,7 +652,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         1.0,
     ),
     'media.hg_phase': (
-        'p_{HG} = \\frac{1 - g^{2}}{4 \\pi \\left(g^{2} - 2 g t + 1\\right)^{\\frac{3}{2}}}',
+        'p_{\\mathrm{HG}} = \\frac{1 - g^{2}}{4 \\pi \\left(g^{2} - 2 g t + '
+        '1\\right)^{\\frac{3}{2}}}',
         'Henyey–Greenstein phase function at the scattering cosine t, asymmetry g.',
         None,
     ),
@@ -670,52 +691,53 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     'media.segment_inscatter': (
         'L_{s} = L_{p} \\alpha \\left(1 - e^{- \\ell \\sigma_{t}}\\right)',
         'Single scattering of a constant in-scattered radiance L_p over a ray of length ℓ: '
-        'α·L_p·(1 − e^{−σ_t ℓ}).',
+        'α·L_p·(1 − exp(−σ_t·ℓ)).',
         None,
     ),
     'errata.annotations.front_corner_dot_adjacent': (
         '\\left(c_{1} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{9}{11}',
-        'front face: c1·c2 (adjacent corners) as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (5)): 9/11.',
+        'front face: c1·c2 (adjacent corners) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (5)): 9/11.',
         0.8181818181818182,
     ),
     'errata.annotations.front_corner_dot_diagonal': (
         '\\left(c_{3} \\cdot c_{2}\\right)^{\\mathrm{printed}} = \\frac{7}{11}',
-        'front face: c3·c2 (diagonal corners) as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (7)): 7/11.',
+        'front face: c3·c2 (diagonal corners) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (7)): 7/11.',
         0.6363636363636364,
     ),
     'errata.annotations.front_maple_delta': (
         '\\delta^{\\mathrm{printed}} = \\pi - \\operatorname{acos}{\\left(0.1 \\right)}',
-        'front face: angle δ at a corner as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (10)): π − arccos(1/10).',
+        'front face: angle δ at a corner as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (10)): π − arccos(1/10).',
         1.6709637479564565,
     ),
     'errata.annotations.front_maple_alpha': (
         '\\alpha^{\\mathrm{printed}} = \\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} '
         '\\right)}',
-        'front face: angle α at a corner as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (12)): arccos(3/20·√2·√10).',
+        'front face: angle α at a corner as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (12)): arccos(3/20·√2·√10).',
         0.8354818739782283,
     ),
     'errata.annotations.front_maple_closed_form': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = - 2 '
         '\\operatorname{acos}{\\left(0.1 \\right)} + 4 \\operatorname{acos}{\\left(\\frac{3 '
         '\\sqrt{5}}{10} \\right)}',
-        'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 front-face '
-        'worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 arccos(1/10).',
+        'front-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 front-face worksheet, eq. (13)): 4 arccos(3/20·√2·√10) − 2 '
+        'arccos(1/10).',
         0.4006696846462392,
     ),
     'errata.annotations.front_maple_decimal': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.400669685',
-        'front-face solid angle as printed in lpv-annotations.md (§2.1 front-face worksheet, eq. '
-        "(14) 'at 10 digits'): 0.400669685.",
+        'front-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.1 front-face worksheet, eq. (14) 'at 10 digits'): 0.400669685.",
         0.400669685,
     ),
     'errata.annotations.side_corner_dot': (
         '\\left(c_{2} \\cdot c_{4}\\right)^{\\mathrm{printed}} = \\frac{5 \\sqrt{33}}{33}',
-        'side face: c2·c4 as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. (6)): '
-        '5/33·√11·√3.',
+        'side face: c2·c4 as printed in Kirsch, "Light Propagation Volumes — Annotations" (2010) '
+        '(§2.1 side-face worksheet, eq. (6)): 5/33·√11·√3.',
         0.8703882797784892,
     ),
     'errata.annotations.side_maple_closed_form': (
@@ -723,162 +745,170 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         '\\operatorname{acos}{\\left(\\frac{\\sqrt{3}}{6} \\right)} - '
         '\\operatorname{acos}{\\left(\\frac{3 \\sqrt{5}}{10} \\right)} + '
         '\\operatorname{acos}{\\left(\\frac{7 \\sqrt{15}}{30} \\right)} + \\frac{2 \\pi}{3}',
-        'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.1 side-face '
-        'worksheet, eq. (21)): −arccos(√11√3√10√66/220) + arccos(√66√22/44) + '
-        'arccos(7√11√3√22√10/660) − arccos(√66√22/132) + arccos(√11√3√22√2/44) + '
-        'arccos(√11√3√66√2/132).',
+        'side-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.1 side-face worksheet, eq. (21)): −arccos(√11√3√10√66/220) + '
+        'arccos(√66√22/44) + arccos(7√11√3√22√10/660) − arccos(√66√22/132) + '
+        'arccos(√11√3√22√2/44) + arccos(√11√3√66√2/132).',
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_20_digits': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42343135443673907668',
-        'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
-        "(22) 'at 20 digits'): 0.42343135443673907668.",
+        'side-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.1 side-face worksheet, eq. (22) 'at 20 digits'): 0.42343135443673907668.",
         0.42343135443673907,
     ),
     'errata.annotations.side_maple_5_digits': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.42347',
-        'side-face solid angle as printed in lpv-annotations.md (§2.1 side-face worksheet, eq. '
-        "(23) 'at 5 digits'): 0.42347.",
+        'side-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.1 side-face worksheet, eq. (23) 'at 5 digits'): 0.42347.",
         0.42347,
     ),
     'errata.annotations.front_integral_closed_form': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 4 '
         '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}',
-        'front-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
-        'FrontFacingSolidAngle): 4 arctan(1/33·√11).',
+        'front-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.2 FrontFacingSolidAngle): 4 arctan(1/33·√11).',
         0.4006696846462392,
     ),
     'errata.annotations.front_integral_decimal': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696844',
-        "front-face solid angle as printed in lpv-annotations.md (§2.2 FrontFacingSolidAngle '= "
-        "0.4006696844…'): 0.4006696844.",
+        'front-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.2 FrontFacingSolidAngle '= 0.4006696844…'): 0.4006696844.",
         0.4006696844,
     ),
     'errata.annotations.side_integral_closed_form': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = - \\frac{\\pi}{3} + 2 '
         '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)}',
-        'side-face solid angle (closed form) as printed in lpv-annotations.md (§2.2 '
-        'SideFacingSolidAngle): −1/3 π + 2 arctan(3/11·√11).',
+        'side-face solid angle (closed form) as printed in Kirsch, "Light Propagation Volumes — '
+        'Annotations" (2010) (§2.2 SideFacingSolidAngle): −1/3 π + 2 arctan(3/11·√11).',
         0.42343135443673907,
     ),
     'errata.annotations.side_integral_decimal': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.423431354',
-        "side-face solid angle as printed in lpv-annotations.md (§2.2 SideFacingSolidAngle '= "
-        "0.423431354…'): 0.423431354.",
+        'side-face solid angle as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        "(2010) (§2.2 SideFacingSolidAngle '= 0.423431354…'): 0.423431354.",
         0.423431354,
     ),
     'errata.annotations.coslobe_c0': (
         's_{0}^{\\mathrm{printed}} = \\frac{\\sqrt{\\pi}}{2}',
-        'clamped cosine lobe s0 as printed in lpv-annotations.md (§4.3 eq. (12)): √π/2.',
+        'clamped cosine lobe s0 as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        '(2010) (§4.3 eq. (12)): √π/2.',
         0.886226925452758,
     ),
     'errata.annotations.coslobe_c1': (
         's_{2}^{\\mathrm{printed}} = \\frac{\\sqrt{3} \\sqrt{\\pi}}{3}',
-        'clamped cosine lobe s2 as printed in lpv-annotations.md (§4.3 eq. (14)): √(π/3).',
+        'clamped cosine lobe s2 as printed in Kirsch, "Light Propagation Volumes — Annotations" '
+        '(2010) (§4.3 eq. (14)): √(π/3).',
         1.0233267079464885,
     ),
     'errata.annotations.side_direction_small': (
         'e_{\\mathrm{side},x}^{\\mathrm{printed}} = \\frac{\\sqrt{5}}{5}',
-        'side-face main direction, 1st component as printed in lpv-annotations.md (§6.1): 1/√5.',
+        'side-face main direction, 1st component as printed in Kirsch, "Light Propagation '
+        'Volumes — Annotations" (2010) (§6.1): 1/√5.',
         0.4472135954999579,
     ),
     'errata.annotations.side_direction_big': (
         'e_{\\mathrm{side},y}^{\\mathrm{printed}} = \\frac{2 \\sqrt{5}}{5}',
-        'side-face main direction, 2nd component as printed in lpv-annotations.md (§6.1): 2/√5.',
+        'side-face main direction, 2nd component as printed in Kirsch, "Light Propagation '
+        'Volumes — Annotations" (2010) (§6.1): 2/√5.',
         0.8944271909999159,
     ),
     'errata.dx11.rsm_vpls': (
         'N_{\\mathrm{VPL}}^{\\mathrm{printed}} = 4194304',
-        'VPLs in a 2048×2048 RSM as printed in lpv-dx11-article.md (Injection, '
-        "'2048×2048=4194304'): 4194304.",
+        'VPLs in a 2048×2048 RSM as printed in the DirectX 11 LPV implementation article '
+        "(Injection, '2048×2048=4194304'): 4194304.",
         4194304.0,
     ),
     'errata.dx11.sh_c0': (
         '\\mathrm{SH\\_C0}^{\\mathrm{printed}} = 0.282094792',
-        'SH_C0 = 1/(2√π) as printed in lpv-dx11-article.md (#define SH_C0 (injection, '
-        'propagation and rendering shaders)): 0.282094792.',
+        'SH_C0 = 1/(2√π) as printed in the DirectX 11 LPV implementation article (#define SH_C0 '
+        '(injection, propagation and rendering shaders)): 0.282094792.',
         0.282094792,
     ),
     'errata.dx11.sh_c1': (
         '\\mathrm{SH\\_C1}^{\\mathrm{printed}} = 0.488602512',
-        'SH_C1 = √3/(2√π) as printed in lpv-dx11-article.md (#define SH_C1): 0.488602512.',
+        'SH_C1 = √3/(2√π) as printed in the DirectX 11 LPV implementation article (#define '
+        'SH_C1): 0.488602512.',
         0.488602512,
     ),
     'errata.dx11.coslobe_c0': (
         '\\mathrm{SH\\_cosLobe\\_C0}^{\\mathrm{printed}} = 0.886226925',
-        'SH_cosLobe_C0 = √π/2 as printed in lpv-dx11-article.md (#define SH_cosLobe_C0): '
-        '0.886226925.',
+        'SH_cosLobe_C0 = √π/2 as printed in the DirectX 11 LPV implementation article (#define '
+        'SH_cosLobe_C0): 0.886226925.',
         0.886226925,
     ),
     'errata.dx11.coslobe_c1': (
         '\\mathrm{SH\\_cosLobe\\_C1}^{\\mathrm{printed}} = 1.02332671',
-        'SH_cosLobe_C1 = √(π/3) as printed in lpv-dx11-article.md (#define SH_cosLobe_C1): '
-        '1.02332671.',
+        'SH_cosLobe_C1 = √(π/3) as printed in the DirectX 11 LPV implementation article (#define '
+        'SH_cosLobe_C1): 1.02332671.',
         1.02332671,
     ),
     'errata.dx11.pi': (
         '\\pi^{\\mathrm{printed}} = 3.1415926',
-        'PI as printed in lpv-dx11-article.md (#define PI 3.1415926f (and Pi in the propagation '
-        'shader)): 3.1415926.',
+        'PI as printed in the DirectX 11 LPV implementation article (#define PI 3.1415926f (and '
+        'Pi in the propagation shader)): 3.1415926.',
         3.1415926,
     ),
     'errata.dx11.front_solid_angle': (
         '\\Delta\\omega_{\\mathrm{front}}^{\\mathrm{printed}} = 0.4006696846',
-        'front-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
-        'directFaceSubtendedSolidAngle): 0.4006696846.',
+        'front-face solid angle as printed in the DirectX 11 LPV implementation article '
+        '(propagation shader, directFaceSubtendedSolidAngle): 0.4006696846.',
         0.4006696846,
     ),
     'errata.dx11.side_solid_angle': (
         '\\Delta\\omega_{\\mathrm{side}}^{\\mathrm{printed}} = 0.4234413544',
-        'side-face solid angle as printed in lpv-dx11-article.md (propagation shader, '
-        'sideFaceSubtendedSolidAngle): 0.4234413544.',
+        'side-face solid angle as printed in the DirectX 11 LPV implementation article '
+        '(propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544.',
         0.4234413544,
     ),
     'errata.dx11.front_weight': (
         'w_{\\mathrm{front}}^{\\mathrm{printed}} = \\frac{2003348423}{31415926000}',
-        "front-face weight Δω_front/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
-        '(propagation shader, directFaceSubtendedSolidAngle): 0.4006696846f / Pi / 2.',
+        "front-face weight Δω_front/(4π) (Crytek's formula) as printed in the DirectX 11 LPV "
+        'implementation article (propagation shader, directFaceSubtendedSolidAngle): '
+        '0.4006696846f / Pi / 2.',
         0.06376856193893504,
     ),
     'errata.dx11.side_weight': (
         'w_{\\mathrm{side}}^{\\mathrm{printed}} = \\frac{529301693}{11780972250}',
-        "side-face weight Δω_side/(4π) (Crytek's formula) as printed in lpv-dx11-article.md "
-        '(propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544f / Pi / 3.',
+        "side-face weight Δω_side/(4π) (Crytek's formula) as printed in the DirectX 11 LPV "
+        'implementation article (propagation shader, sideFaceSubtendedSolidAngle): 0.4234413544f '
+        '/ Pi / 3.',
         0.044928523874589385,
     ),
     'errata.dx11.side_eval_small': (
         'e_{\\mathrm{side},x}^{\\mathrm{printed}} = 0.4472135',
-        'side evaluation direction, small component 1/√5 as printed in lpv-dx11-article.md '
-        '(getEvalSideDirection, smallComponent): 0.4472135.',
+        'side evaluation direction, small component 1/√5 as printed in the DirectX 11 LPV '
+        'implementation article (getEvalSideDirection, smallComponent): 0.4472135.',
         0.4472135,
     ),
     'errata.dx11.side_eval_big': (
         'e_{\\mathrm{side},y}^{\\mathrm{printed}} = 0.894427',
-        'side evaluation direction, big component 2/√5 as printed in lpv-dx11-article.md '
-        '(getEvalSideDirection, bigComponent): 0.894427.',
+        'side evaluation direction, big component 2/√5 as printed in the DirectX 11 LPV '
+        'implementation article (getEvalSideDirection, bigComponent): 0.894427.',
         0.894427,
     ),
     'errata.dx11.surfel_weight': (
         'w_{\\mathrm{surfel}}^{\\mathrm{printed}} = 0.015',
-        'injection surfel weight as printed in lpv-dx11-article.md (injection pixel shader, '
-        'surfelWeight): 0.015.',
+        'injection surfel weight as printed in the DirectX 11 LPV implementation article '
+        '(injection pixel shader, surfelWeight): 0.015.',
         0.015,
     ),
     'errata.dx11.l1_accuracy': (
         '\\left(E_{L1} / E\\right)^{\\mathrm{printed}} = 0.75',
-        'share of a clamped cosine kept by 4 SH coefficients as printed in lpv-dx11-article.md '
-        '(Pros and cons, first con): about 75%.',
+        'share of a clamped cosine kept by 4 SH coefficients as printed in the DirectX 11 LPV '
+        'implementation article (Pros and cons, first con): about 75%.',
         0.75,
     ),
     'errata.dx12.y00': (
         'Y_{0}^{0}^{\\mathrm{printed}} = \\frac{1}{2 \\sqrt{\\pi}}',
-        'Y_0^0 as printed in lpv-dx12-blog.md (Spherical Harmonics, first two bands): √(1/(4π)).',
+        'Y(0, 0) as printed in the DirectX 12 LPV write-up (Spherical Harmonics, first two '
+        'bands): √(1/(4π)).',
         0.28209479177387814,
     ),
     'errata.dx12.y1': (
         'c_{1}^{\\mathrm{printed}} = \\frac{\\sqrt{3}}{2 \\sqrt{\\pi}}',
-        'Y_1^{-1} coefficient of −y as printed in lpv-dx12-blog.md (Spherical Harmonics, first '
-        'two bands): √(3/(4π)).',
+        'coefficient of −y (the band-1 function Y(1, −1)) as printed in the DirectX 12 LPV '
+        'write-up (Spherical Harmonics, first two bands): √(3/(4π)).',
         0.4886025119029199,
     ),
 }

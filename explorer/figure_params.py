@@ -169,6 +169,69 @@ class PropagationStepperParams:
                                        f"got {self.step}")
 
 
+# --- small-multiples ---------------------------------------------------------------------
+MULTIPLES_VARY = ("iterations", "corrections", "sh_order")
+MULTIPLES_QUANTITIES = ("accumulated", "in-flight")
+MAX_MULTIPLES = 4
+
+
+@dataclass(frozen=True)
+class SmallMultiplesParams:
+    vary: str = setting("iterations", kind="choice", choices=MULTIPLES_VARY,
+        doc="What differs between the panels: the propagation steps, the formulas (a "
+        "preset or the corrected preset with one switch off) or the SH order (1 or 2).")
+    values: str = setting("4, 8, 16", kind="str",
+        doc="One value per panel, comma-separated (two to four): step counts, formula "
+        "names as for the stepper's corrections, or SH orders.")
+    quantity: str = setting("accumulated", kind="choice", choices=MULTIPLES_QUANTITIES,
+        doc="What each panel's slice shows: the accumulated grid (what the gather reads) "
+        "or the light in flight after the last step.")
+    iterations: int = setting(8, kind="int", low=1, high=STEPPER_MAX_ITERATIONS,
+        doc="Propagation steps of every panel when the panels vary something else.")
+    grid_size: int = setting(13, kind="int", low=3, high=STEPPER_MAX_GRID,
+        doc="Cells along each edge of the grid.")
+    source_x: int = setting(6, kind="int", low=0, high=STEPPER_MAX_GRID - 1,
+        doc="Cell of the light along x (0 = left); below grid_size.")
+    source_y: int = setting(1, kind="int", low=0, high=STEPPER_MAX_GRID - 1,
+        doc="Cell of the light along y (0 = bottom); below grid_size.")
+    normal: str = setting("+y", kind="choice", choices=DIRECTIONS,
+        doc="The surface normal of the light (it emits a clamped cosine around it).")
+    shared_scale: bool = setting(True, kind="bool",
+        doc="One colour scale for all panels (the brightest cell of any panel is white), so "
+        "that brightness compares across them; false: each panel its own.")
+
+    @property
+    def panel_values(self) -> tuple:
+        """The parsed :attr:`values`: ints for iterations and SH orders, names else."""
+        items = tuple(v.strip() for v in self.values.split(","))
+        if self.vary == "corrections":
+            return items
+        return tuple(int(v) for v in items)
+
+    def __post_init__(self) -> None:
+        validate(self)
+        for name in ("source_x", "source_y"):
+            if getattr(self, name) >= self.grid_size:
+                raise SettingError(name, f"{name} must be a cell below grid_size "
+                                         f"({self.grid_size}), got {getattr(self, name)}")
+        items = [v.strip() for v in self.values.split(",")]
+        if not 2 <= len(items) <= MAX_MULTIPLES or len(set(items)) != len(items):
+            raise SettingError("values", f"values must be 2 to {MAX_MULTIPLES} different "
+                                         f"comma-separated values, got {self.values!r}")
+        if self.vary == "corrections":
+            bad = [v for v in items if v not in STEPPER_CORRECTIONS]
+            if bad:
+                raise SettingError("values", f"values: {bad[0]!r} is not one of "
+                                             f"{list(STEPPER_CORRECTIONS)}")
+            return
+        allowed = range(1, STEPPER_MAX_ITERATIONS + 1) if self.vary == "iterations" \
+            else (1, 2)
+        for v in items:
+            if not v.isdigit() or int(v) not in allowed:
+                raise SettingError("values", f"{self.vary} values must be whole numbers in "
+                                             f"{allowed[0]}..{allowed[-1]}, got {v!r}")
+
+
 # --- energy-audit, flux-per-step (the frame's results) ----------------------------------
 SIDES = ("a", "both")
 
@@ -233,6 +296,9 @@ FIGURE_KINDS: tuple[FigureKindDecl, ...] = (
                    demo={"direction": "+y", "highlight": "side"}),
     FigureKindDecl("propagation-stepper", PropagationStepperParams,
                    "Propagation, step by step", "propagation_stepper", demo={"step": 4}),
+    FigureKindDecl("small-multiples", SmallMultiplesParams,
+                   "Small multiples: one thing varied, side by side", "small_multiples",
+                   demo={"quantity": "in-flight"}),
     FigureKindDecl("rsm-texel", RsmTexelParams, "An RSM texel on a tilted surface",
                    "rsm_texel", demo={"theta_deg": 70.0}),
     FigureKindDecl("energy-audit", ResultsParams, "Energy audit", "energy_audit",

@@ -24,6 +24,7 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     view = "indirect"                # settings.VIEWS, or "split"/"difference" with compare
     compare = "original"             # preset shown on the other side of split/difference
     plot = "flux-per-step"           # settings.PLOTS
+    split_at = 0.4                   # the split view's divider, a fraction of the width
     [steps.settings]
     iterations = 4
     [[steps.try_this]]
@@ -31,6 +32,9 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     value = false                          # "corrections" (a preset); the value to set
     prompt = "..."                         # may quote live numbers, {{audit.injected}}
     split = true                           # optional: show before | after side by side
+    camera = { eye = [0, 2, 4], target = [0, 0, 0] }  # optional: reframe with the change
+    predict = { question = "Brighter or darker?", choices = ["brighter", "darker"], answer = 2 }
+                                           # optional: asked before the button reveals it
     [[steps.figures]]                      # inline live figures (explorer/ui/figures)
     kind = "clamped-cosine"
     id = "lobe"                            # placed in the text by {{figure:lobe}}
@@ -39,10 +43,23 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     slice = true                           # (explorer/overlay_params.py OverlayState)
     slice_quantity = "in-flight"
     slice_step = 2
+    [[steps.marks]]                        # a labelled point in the scene
+    id = "dark"                            # (explorer/lesson_marks.py): drawn in the
+    label = "dark side"                    # view; with a normal it measures the LPV's
+    at = [0.33, 0.4, -0.6]                 # irradiance there, {{mark.dark.irradiance}}
+    normal = [1, 0, 0]
+    [[steps.checks]]                       # a claim of the text, checked in CI on the
+    claim = "the clamp adds light"         # step's converged frame
+    value = "audit.clamp_gain"             # (explorer/lesson_checks.py: fixed operators,
+    op = ">"                               # quantity names, numbers; never code)
+    than = 0
 
 The text is the markdown dialect of :mod:`explorer.lesson_text`: inline and display math,
 live numbers ``{{name:format}}`` (:mod:`explorer.live_values`), ``{{figure:ID}}``,
 ``{{formula:NAME}}`` and ``{{try:K}}`` markers; the validator checks every one of them.
+
+The folder's ``glossary.toml`` is not a lesson: it holds the recurring terms the article
+explains on hover (:mod:`explorer.glossary`).
 
 Errors are :class:`LessonError` naming the file, the step (number and title) and the
 field; :func:`load_all` collects them so one broken lesson never hides the others.
@@ -109,9 +126,13 @@ _STEP_FIELDS = {
     "compare": Spec(kind="choice", choices=tuple(PRESETS),
                     doc="The preset on the other side of a split/difference view."),
     "plot": Spec(kind="choice", choices=PLOTS, doc="The plot brought forward."),
+    "split_at": Spec(kind="float", low=0.02, high=0.98,
+                     doc="Where the split view's divider stands, a fraction of the view's "
+                         "width (the step's split view and its split try-this): chosen so "
+                         "that the feature compared shows on both sides."),
 }
 _STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
-                "figures", "show")
+                "figures", "show", "marks", "checks")
 _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
@@ -148,6 +169,20 @@ class LessonError(ValueError):
 
 
 @dataclass(frozen=True)
+class Prediction:
+    """"Predict, then press": ``predict = {question, choices, answer}`` in a try-this. The
+    article asks ``question`` with the ``choices`` before the button is pressed; pressing
+    it shows the prompt and whether the guess was right. The loader requires a check of
+    the step after this try-this (``[[steps.checks]]`` with ``after_try``), so CI verifies
+    the answer on the frame."""
+
+    question: str
+    choices: tuple[str, ...]
+    answer: int
+    """1-based index of the right choice."""
+
+
+@dataclass(frozen=True)
 class TryThis:
     """A prompt asking the reader to change one control and look for an effect; the
     window's button sets ``control`` to ``value``, nothing else."""
@@ -162,16 +197,51 @@ class TryThis:
     """Show the change as before | after in the split view."""
     label: str = ""
     """The button's text (default: the control's label and the value)."""
+    camera: "tuple[Vec3, Vec3] | None" = None
+    """Where the camera goes with the change (``camera = {eye, target}``): the reframe a
+    change of the grid or the scene needs to keep its feature in view."""
+    predict: "Prediction | None" = None
+    """A question the article asks before the button reveals the answer."""
 
     def change(self) -> dict[str, Any]:
         """The change as ``Settings.with_changes`` keywords."""
         if self.control.startswith("corrections."):
-            return {"corrections": {self.control.split(".", 1)[1]: self.value}}
-        return {self.control: self.value}
+            change = {"corrections": {self.control.split(".", 1)[1]: self.value}}
+        else:
+            change = {self.control: self.value}
+        if self.camera is not None:
+            change["camera"] = self.camera
+        return change
 
     def apply(self, settings: Settings) -> Settings:
         """``settings`` with this change made."""
         return settings.with_changes(**self.change())
+
+    def button(self) -> tuple[str, str]:
+        """(button text, what the change does) in words: :attr:`label`, else the
+        control's label from the settings schema (or the correction's title) and the
+        value; the second part is the control's documentation."""
+        from explorer.live_values import format_value
+        from explorer.lpv.corrections import CORRECTIONS
+
+        value = format_value(self.value, "g")
+        if self.control == "corrections":
+            if isinstance(self.value, str):
+                label, doc = f"{value} preset", "every correction switch as the preset sets it"
+            else:
+                off = [CORRECTIONS_TITLES.get(name, name) for name in self.value.names()
+                       if not getattr(self.value, name)]
+                label = "published: " + (", ".join(off) or "none")
+                doc = "the correction switches set as listed"
+        elif self.control.startswith("corrections."):
+            name = self.control.split(".", 1)[1]
+            entry = next(e for e in CORRECTIONS if e.name == name)
+            label, doc = f"{entry.title}: {value}", entry.why
+        else:
+            spec = specs(Settings)[self.control]
+            label = f"{spec.label or self.control.replace('_', ' ')}: {value}"
+            doc = spec.doc
+        return (self.label or label), doc
 
 
 @dataclass(frozen=True)
@@ -199,6 +269,17 @@ class Step:
     show: tuple[tuple[str, Any], ...] = ()
     """OverlayState fields the step sets (its ``[steps.show]`` table, checked), in file
     order: what the main view draws in the scene."""
+    marks: tuple[Any, ...] = ()
+    """Labelled points in the scene (``explorer.lesson_marks.Mark``), in file order."""
+    checks: tuple[Any, ...] = ()
+    """The text's claims about its live numbers (``explorer.lesson_checks.Check``)."""
+    split_at: float | None = None
+    """The split view's divider (a fraction of the width), or None: the middle."""
+
+    @property
+    def mark_ids(self) -> tuple[str, ...]:
+        """The ids of the marks that measure (have a normal): ``mark.<id>.*`` names."""
+        return tuple(mark.id for mark in self.marks if mark.normal is not None)
 
     def overlays(self, base: Any = None) -> Any:
         """The in-scene overlays this step shows (an ``OverlayState``): nothing drawn or
@@ -307,7 +388,11 @@ def load_all(directory: Path | str | None = None,
     lessons: list[Lesson] = []
     errors: list[LessonError] = []
     seen: dict[str, Path] = {}
+    from explorer.glossary import GLOSSARY_FILE
+
     for path in sorted(directory.glob("*.toml")):
+        if path.name == GLOSSARY_FILE:     # the course's glossary, not a lesson
+            continue
         try:
             lesson = load_lesson(path, check_formula)
         except LessonError as exc:
@@ -433,14 +518,26 @@ class _Reader:
             compare=PRESETS[compare_preset] if compare_preset else None,
             compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
             camera=self.pair(raw, "camera", _CAMERA_KEYS),
-            light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw))
+            light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw),
+            split_at=own.get("split_at"))
+        if step.split_at is not None and step.view != "split" and not any(
+                item.split for item in step.try_this):
+            raise self.error("split_at", "the step shows no split view (view = \"split\" "
+                                         "or a try-this with split = true)")
         try:  # the rules between fields (e.g. bounces 2 needs a geometry volume)
             settings = step.settings()
         except SettingError as exc:
             raise self.error(f"settings.{exc.field}", str(exc)) from None
-        step = replace(step, show=self.show(raw, settings))
+        step = replace(step, show=self.show(raw, settings), marks=self.marks(raw, step))
         step = self.try_values(step)
         self.article(step)
+        step = replace(step, checks=self.checks(raw, step))
+        for index, item in enumerate(step.try_this, start=1):
+            if item.predict is not None and not any(c.after_try == index
+                                                    for c in step.checks):
+                raise self.error(f"try_this[{index - 1}].predict",
+                                 "a prediction needs a check of its answer: a "
+                                 f"[[steps.checks]] with after_try = {index}")
         self.step_number = self.step_title = None
         return step
 
@@ -457,6 +554,48 @@ class _Reader:
             return tuple(check_show(table, settings).items())
         except SettingError as exc:
             raise self.error(f"show.{exc.field}", str(exc)) from None
+
+    def marks(self, raw: Mapping, step: Step) -> tuple[Any, ...]:
+        """The ``[[steps.marks]]`` tables (explorer/lesson_marks.py), each point inside
+        the step's scene; ids unique within the step."""
+        from explorer.lesson_marks import MarkError, parse_mark
+        from explorer.scene.builtin import BUILTIN_SCENES
+
+        items = raw.get("marks", [])
+        if not isinstance(items, list):
+            raise self.error("marks", "must be a list of [[steps.marks]] tables")
+        scene = BUILTIN_SCENES[step.scene]() if items else None
+        bounds = None if scene is None else (tuple(scene.bounds_min), tuple(scene.bounds_max))
+        marks = []
+        for index, table in enumerate(items):
+            try:
+                mark = parse_mark(table, bounds, f"marks[{index}].")
+            except MarkError as exc:
+                raise self.error(exc.field, str(exc)) from None
+            if any(other.id == mark.id for other in marks):
+                raise self.error(f"marks[{index}].id", f"two marks of the step are called "
+                                                       f"{mark.id!r}")
+            marks.append(mark)
+        return tuple(marks)
+
+    def checks(self, raw: Mapping, step: Step) -> tuple[Any, ...]:
+        """The ``[[steps.checks]]`` tables (explorer/lesson_checks.py): quantity names the
+        step can read, a fixed operator, literal bounds."""
+        from explorer import live_values
+        from explorer.lesson_checks import CheckError, parse_check
+
+        items = raw.get("checks", [])
+        if not isinstance(items, list):
+            raise self.error("checks", "must be a list of [[steps.checks]] tables")
+        checks = []
+        for index, table in enumerate(items):
+            try:
+                checks.append(parse_check(
+                    table, lambda name: live_values.lookup(name, (), step.mark_ids),
+                    len(step.try_this), step.compare is not None, f"checks[{index}]."))
+            except CheckError as exc:
+                raise self.error(exc.field, str(exc)) from None
+        return tuple(checks)
 
     def formulas(self, raw: Mapping) -> tuple[str, ...]:
         names = raw.get("formulas", [])
@@ -506,19 +645,22 @@ class _Reader:
         except SettingError as exc:
             raise self.error(f"settings.{exc.field}", str(exc)) from None
 
-    def pair(self, raw: Mapping, key: str, names: tuple[str, str]) -> tuple[Vec3, Vec3] | None:
+    def pair(self, raw: Mapping, key: str, names: tuple[str, str],
+             field: str | None = None) -> tuple[Vec3, Vec3] | None:
         """``camera = {eye, target}`` or ``light = {position, target}`` as the Settings
-        field of the same name checks it (finite, two different points)."""
+        field of the same name checks it (finite, two different points); ``field``: the
+        name errors give (default ``key``)."""
         if key not in raw:
             return None
+        field = field or key
         table = raw[key]
         if not isinstance(table, Mapping) or sorted(table) != sorted(names):
-            raise self.error(key, f"must be a table with exactly {list(names)}, got "
-                                  f"{table!r}")
+            raise self.error(field, f"must be a table with exactly {list(names)}, got "
+                                    f"{table!r}")
         try:
             return specs(Settings)[key].check(key, (table[names[0]], table[names[1]]))
         except SettingError as exc:
-            raise self.error(key, f"{exc} ({names[0]}, {names[1]})") from None
+            raise self.error(field, f"{exc} ({names[0]}, {names[1]})") from None
 
     def try_this(self, raw: Mapping) -> tuple[TryThis, ...]:
         items = raw.get("try_this", [])
@@ -533,12 +675,39 @@ class _Reader:
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            own = self.fields(item, declared, ("value",), ("control", "prompt", "value"),
-                              prefix=f"try_this[{index}].")
+            own = self.fields(item, declared, ("value", "camera", "predict"),
+                              ("control", "prompt", "value"), prefix=f"try_this[{index}].")
+            camera = self.pair(item, "camera", _CAMERA_KEYS, f"try_this[{index}].camera")
+            if camera is not None and own.get("split", False):
+                raise self.error(f"try_this[{index}].camera", "a split try-this shows both "
+                                 "sides from the step's camera; drop the camera or the split")
+            if camera is not None and own["control"] == "camera":
+                raise self.error(f"try_this[{index}].camera", "the control is the camera "
+                                 "already: give the new camera as its value")
             result.append(TryThis(control=own["control"], prompt=own["prompt"],
                                   value=item["value"], split=own.get("split", False),
-                                  label=own.get("label", "")))
+                                  label=own.get("label", ""), camera=camera,
+                                  predict=self.prediction(item, f"try_this[{index}].predict")))
         return tuple(result)
+
+    def prediction(self, item: Mapping, field: str) -> Prediction | None:
+        table = item.get("predict")
+        if table is None:
+            return None
+        if not isinstance(table, Mapping) or set(table) != {"question", "choices", "answer"}:
+            raise self.error(field, "must be a table {question, choices, answer}")
+        question, choices, answer = table["question"], table["choices"], table["answer"]
+        if not isinstance(question, str) or not question.strip():
+            raise self.error(field + ".question", "must be the question in words")
+        if (not isinstance(choices, list) or not 2 <= len(choices) <= 4
+                or not all(isinstance(c, str) and c.strip() for c in choices)
+                or len(set(choices)) != len(choices)):
+            raise self.error(field + ".choices", "must be two to four different answers")
+        if isinstance(answer, bool) or not isinstance(answer, int) or \
+                not 1 <= answer <= len(choices):
+            raise self.error(field + ".answer", f"must be the number of the right choice, "
+                                                f"1..{len(choices)}; got {answer!r}")
+        return Prediction(question.strip(), tuple(c.strip() for c in choices), answer)
 
     # --- the article: try-this values, figures, markers and live numbers ----------------
     # (new keys of the explorable lessons; explorer/lesson_text.py, explorer/live_values.py)
@@ -657,7 +826,7 @@ class _Reader:
         for field, text in texts:
             for name, fmt in lesson_text.placeholders(text):
                 try:
-                    quantity = live_values.lookup(name, step.figure_ids)
+                    quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
                     live_values.check_format(fmt, quantity)
                 except KeyError as exc:
                     raise self.error(field, f"{{{{{name}}}}}: {exc.args[0]}") from None
@@ -665,20 +834,47 @@ class _Reader:
                     raise self.error(field, f"{{{{{name}:{fmt}}}}}: {exc}") from None
 
 
+def _correction_titles() -> dict[str, str]:
+    from explorer.lpv.corrections import CORRECTIONS
+
+    return {entry.name: entry.title for entry in CORRECTIONS}
+
+
+class _Titles(dict):
+    """The corrections' titles by switch name, read on first use."""
+
+    def get(self, key, default=None):  # type: ignore[override]
+        if not self:
+            self.update(_correction_titles())
+        return super().get(key, default)
+
+
+CORRECTIONS_TITLES = _Titles()
+
 _PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
                           doc="The preset a corrections table starts from.")}
+
+
+def shrink_settings(settings: Settings, size: int | None = 64, max_grid: int | None = 16,
+                    rsm_size: int | None = 32, max_iterations: int | None = 8) -> Settings:
+    """``settings`` made smaller for a quick render: a ``size``² image, at most
+    ``max_grid``³ cells and ``max_iterations`` steps, at most a ``rsm_size``² RSM (None
+    keeps that setting). Everything a step compares (corrections, views) is kept."""
+    changes: dict[str, Any] = {}
+    if size is not None:
+        changes.update(width=size, height=size)
+    for name, limit in (("rsm_size", rsm_size), ("grid_size", max_grid),
+                        ("iterations", max_iterations)):
+        if limit is not None:
+            changes[name] = min(getattr(settings, name), limit)
+    return settings.with_changes(**changes)
 
 
 def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: int = 32,
                      max_iterations: int = 8, base: Settings | None = None) -> Settings:
     """The step's settings shrunk for a quick preview (tests, CI renders, thumbnails):
-    a ``size``² image, at most ``max_grid``³ cells and ``max_iterations`` steps, a
-    ``rsm_size``² RSM. Everything the step compares (corrections, views) is kept."""
-    settings = step.settings(base)
-    return settings.with_changes(
-        width=size, height=size, rsm_size=min(settings.rsm_size, rsm_size),
-        grid_size=min(settings.grid_size, max_grid),
-        iterations=min(settings.iterations, max_iterations))
+    :func:`shrink_settings` of :meth:`Step.settings`."""
+    return shrink_settings(step.settings(base), size, max_grid, rsm_size, max_iterations)
 
 
 def render_step(pipeline: Any, step: Step, settings: Settings | None = None
@@ -708,7 +904,7 @@ def render_step(pipeline: Any, step: Step, settings: Settings | None = None
     other_linear = pipeline.last_result.final_image
     if step.view == "split":
         image = np.array(mine_display, copy=True)
-        half = image.shape[1] // 2
+        half = int(round(image.shape[1] * (0.5 if step.split_at is None else step.split_at)))
         image[:, half:] = other_display[:, half:]
         image[:, half] = 1.0  # the divider
         return image, result

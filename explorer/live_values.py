@@ -12,7 +12,9 @@ Sources (the first part of the name):
   reference (``explorer/truth``); pending ("…") until it has been computed;
 * ``derived.<result>``: a derivation result's value from the generated table
   (``explorer.derived``): an exact constant, the same on every machine;
-* ``figure.<id>.<readout>``: a number an inline figure of the step shows now.
+* ``figure.<id>.<readout>``: a number an inline figure of the step shows now;
+* ``mark.<id>.<readout>``: a number measured at a mark the step places in its scene
+  (:mod:`explorer.lesson_marks`: the LPV's indirect irradiance there).
 
 So a number in a lesson is either derived (a constant of the model, exact) or measured
 (read from the frame or the error measurement at the settings on screen); nothing is
@@ -38,8 +40,8 @@ import numpy as np
 
 PENDING = "…"
 """Shown for a quantity that is not available yet (no frame, error not computed)."""
-SOURCES = ("settings", "corrections", "audit", "frame", "error", "derived", "figure")
-MEASURED_SOURCES = ("audit", "frame", "error", "figure")
+SOURCES = ("settings", "corrections", "audit", "frame", "error", "derived", "figure", "mark")
+MEASURED_SOURCES = ("audit", "frame", "error", "figure", "mark")
 """Sources whose numbers are measured on the frame (the others are configuration or
 exact constants)."""
 
@@ -56,6 +58,8 @@ class LiveContext:
     figures: dict[str, dict[str, float]] = field(default_factory=dict)
     renderer: str = ""
     """GL_RENDERER of the context the frame ran on."""
+    marks: dict[str, Any] = field(default_factory=dict)
+    """The step's marks (id -> ``explorer.lesson_marks.Mark``) for ``mark.*`` numbers."""
 
 
 class Unavailable(LookupError):
@@ -238,7 +242,10 @@ def _error(name: str, channel: int | None = None) -> Callable[[LiveContext], flo
     def read(context: LiveContext) -> float:
         if context.error is None:
             raise Unavailable("the error against the reference is not computed yet")
-        value = getattr(context.error, name)
+        value = getattr(context.error, name, None)
+        if value is None:      # error.mitsuba_*: Mitsuba has not measured it (yet)
+            raise Unavailable("not measured against Mitsuba yet (Error panel: truth "
+                              "\"reference + Mitsuba\")")
         return float(value[channel] if channel is not None else value)
     return read
 
@@ -273,8 +280,8 @@ def _derived(name: str) -> Callable[[LiveContext], float]:
 
 AUDIT_SUMS = (
     ("rsm", "flux the RSM texels reflect (sum of channels)"),
-    ("injected", "flux injected into the grid, grid_0"),
-    ("accumulated", "flux of the accumulated grid acc_N"),
+    ("injected", "flux injected into the grid (before any step)"),
+    ("accumulated", "flux of the accumulated grid (the sum of all steps)"),
     ("gathered", "flux the visible surfaces receive in the final gather"),
     ("border_loss", "flux that left the grid through its border, all steps"),
     ("clamp_gain", "flux created by the front-face clamp, all steps"),
@@ -285,7 +292,7 @@ AUDIT_SUMS = (
 (and over the steps for the per-step terms)."""
 AUDIT_RATIOS = (
     ("injected_over_rsm", "injected", "rsm", "injected flux / RSM flux"),
-    ("accumulated_over_injected", "accumulated", "injected", "acc_N flux / injected flux"),
+    ("accumulated_over_injected", "accumulated", "injected", "accumulated flux / injected flux"),
     ("gathered_over_rsm", "gathered", "rsm", "gathered flux / RSM flux"),
     ("clamp_gain_share", "clamp_gain", "injected",
      "flux the front-face clamp created over all steps / injected flux"),
@@ -355,8 +362,7 @@ def _fixed() -> dict[str, Quantity]:
                  lambda c: len(STAGES), "d", constant=True),
         Quantity("frame.gbuffer_ran", "whether this frame rendered the G-buffer again "
                  "(yes/no)", "", _ran("gbuffer"), ""),
-        Quantity("frame.moved_objects", "objects moved from where the scene puts them "
-                 "(Settings.object_transforms)", "",
+        Quantity("frame.moved_objects", "objects moved from where the scene puts them", "",
                  lambda c: len(_settings(c).object_transforms), "d"),
         Quantity("frame.vpl_depth_min", "nearest depth of a lit VPL in the light's view "
                  "(w, along the light's axis)", "m", _vpl_depth(np.min), ".2f"),
@@ -402,6 +408,23 @@ def _fixed() -> dict[str, Quantity]:
         *[Quantity(f"error.flux_ratio_{colour}", f"flux ratio of the {colour} channel", "",
                    _error("flux_ratio_rgb", i), ".2f")
           for i, colour in enumerate(("red", "green", "blue"))],
+        Quantity("error.mitsuba_flux_ratio", "light on screen, LPV / Mitsuba's one bounce "
+                 "(physics; the Error panel's truth \"reference + Mitsuba\")", "",
+                 _error("mitsuba_flux_ratio"), ".2f"),
+        Quantity("error.mitsuba_relative_l2", "‖LPV − Mitsuba's one bounce‖ / ‖Mitsuba's "
+                 "one bounce‖", "", _error("mitsuba_relative_l2"), ".2f"),
+        *[Quantity(f"error.mitsuba_flux_ratio_{colour}", f"flux ratio of the {colour} "
+                   "channel, LPV / Mitsuba's one bounce", "",
+                   _error("mitsuba_flux_ratio_rgb", i), ".2f")
+          for i, colour in enumerate(("red", "green", "blue"))],
+        Quantity("error.mitsuba_multi_flux_ratio", "light on screen, LPV / Mitsuba's every "
+                 "bounce", "", _error("mitsuba_multi_flux_ratio"), ".2f"),
+        Quantity("error.reference_mitsuba_flux_ratio", "light on screen, the project's "
+                 "reference / Mitsuba's one bounce: what the RSM's sampling costs", "",
+                 _error("reference_mitsuba_flux_ratio"), ".3f"),
+        Quantity("error.reference_mitsuba_relative_l2", "‖reference − Mitsuba's one "
+                 "bounce‖ / ‖Mitsuba's one bounce‖ (about half of it Mitsuba's noise)", "",
+                 _error("reference_mitsuba_relative_l2"), ".2f"),
         Quantity("corrections.preset", "the corrections preset shown (or custom)", "",
                  _preset, ""),
     ]
@@ -434,10 +457,35 @@ def table() -> dict[str, Quantity]:
     return _TABLE
 
 
-def lookup(name: str, figure_ids: tuple[str, ...] = ()) -> Quantity:
+def _mark_quantity(name: str, mark_ids: tuple[str, ...]) -> Quantity:
+    from explorer.lesson_marks import READOUTS, irradiance
+
+    parts = name.split(".")
+    if len(parts) != 3 or parts[2] not in READOUTS:
+        raise KeyError(f"{name!r}: a mark number is mark.<mark id>.<readout>, readouts: "
+                       f"{', '.join(READOUTS)}")
+    if parts[1] not in mark_ids:
+        raise KeyError(f"{name!r}: the step has no mark with id {parts[1]!r} (its marks "
+                       f"with a normal: {list(mark_ids) or 'none'})")
+    mark_id = parts[1]
+
+    def read(context: LiveContext) -> float:
+        mark = context.marks.get(mark_id)
+        if mark is None:
+            raise Unavailable(f"the mark {mark_id!r} is not in this context")
+        return irradiance(mark, _result(context))
+    doc, unit = READOUTS[parts[2]]
+    return Quantity(name, doc, unit, read, ".3g")
+
+
+def lookup(name: str, figure_ids: tuple[str, ...] = (),
+           mark_ids: tuple[str, ...] = ()) -> Quantity:
     """The quantity called ``name``; ``figure_ids``: the figures of the step, for
-    ``figure.<id>.<readout>``. KeyError with the closest names otherwise."""
+    ``figure.<id>.<readout>``; ``mark_ids``: its marks that measure (have a normal), for
+    ``mark.<id>.<readout>``. KeyError with the closest names otherwise."""
     source = name.split(".", 1)[0]
+    if source == "mark":
+        return _mark_quantity(name, mark_ids)
     if source == "derived":
         from explorer import derived
 
@@ -507,7 +555,7 @@ def pending_reason(name: str, context: LiveContext,
     """Why ``name`` shows :data:`PENDING` now (the :class:`Unavailable` message), or None
     when it has a value."""
     try:
-        lookup(name, figure_ids).value(context)
+        lookup(name, figure_ids, tuple(context.marks)).value(context)
     except Unavailable as exc:
         return str(exc)
     return None
@@ -517,7 +565,7 @@ def render(name: str, fmt: str, context: LiveContext,
            figure_ids: tuple[str, ...] = ()) -> str:
     """The text a lesson shows for ``{{name:fmt}}`` now: the formatted value, or
     :data:`PENDING` when the quantity has no value yet. Unknown names raise KeyError."""
-    quantity = lookup(name, figure_ids)
+    quantity = lookup(name, figure_ids, tuple(context.marks))
     try:
         value = quantity.value(context)
     except Unavailable:

@@ -56,6 +56,10 @@ class OverlayState:
                                  doc="Value at the top of the colour bar; 0 = automatic.")
     slice_log: bool = setting(False, kind="bool",
                               doc="Heat map over LOG_DECADES decades below the top.")
+    shared_scale: bool = setting(True, kind="bool",
+                                 doc="In a comparison, both sides' slices on one colour "
+                                     "scale (A's automatic top), so brightness compares "
+                                     "across the divider; false: each side its own.")
     slice_opacity: float = setting(0.8, kind="float", low=0.0, high=1.0,
                                    doc="Opacity of the slice plane.")
     slice_on_top: bool = setting(False, kind="bool",

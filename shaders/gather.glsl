@@ -8,8 +8,15 @@
 //     from the LPV (summed by the energy audit).
 // SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe. SH_SHADER_FILTER:
 // the grid lookup's interpolation (sh_grid.glsl).
+// GATHER_CASCADES (more than one cascade) and GATHER_DAMPING (the directional-derivative
+// damping) are chosen when the program is compiled (explorer/lpv/gather.py
+// `program_defines`): llvmpipe runs both sides of a branch on a uniform under a lane mask,
+// so as uniforms the single grid paid for the cascade blend's lookups and the undamped
+// gather for the damping's two extra grid samples.
 #define SH_ORDER 1
 #define SH_SHADER_FILTER 0
+#define GATHER_CASCADES 0
+#define GATHER_DAMPING 0
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"
@@ -116,12 +123,7 @@ vec3 lpv_irradiance(vec3 x, vec3 n) {
 // the back of the surface leaked through it. The central difference over one cell along n
 // gives the factor clamp(E(p + h/2 n) / E(p - h/2 n), 0, 1) per channel (1 where nothing
 // arrives from behind).
-uniform int u_gather_damping;
-
 vec3 lpv_derivative_damping(vec3 p, vec3 n) {
-    if (u_gather_damping == 0) {
-        return vec3(1.0);
-    }
     vec3 half_cell = 0.5 * u_grid_cell_size * n;
     vec3 front = lpv_irradiance(p + half_cell, n);
     vec3 back = lpv_irradiance(p - half_cell, n);
@@ -145,11 +147,15 @@ void main() {
     // Indirect light: trilinear sample of the accumulated grid at the surface; light
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
     vec3 indirect_irradiance = vec3(0.0);
-    if (u_has_grid == 1 && u_cascade_count > 1) {
-        indirect_irradiance = cascade_irradiance(position.xyz, n, u_gather_damping == 1);
-    } else if (u_has_grid == 1) {
+    if (u_has_grid == 1) {
+#if GATHER_CASCADES
+        indirect_irradiance = cascade_irradiance(position.xyz, n, GATHER_DAMPING == 1);
+#elif GATHER_DAMPING
         indirect_irradiance = lpv_irradiance(position.xyz, n)
                             * lpv_derivative_damping(position.xyz, n);
+#else
+        indirect_irradiance = lpv_irradiance(position.xyz, n);
+#endif
     }
     vec3 indirect = albedo * INV_PI * indirect_irradiance;
     if (u_has_grid == 1) {

@@ -1,7 +1,7 @@
 #version 430 core
 // G-buffer from the camera. Targets: 0 = world position (w = 1 where a surface was seen),
 // 1 = normal facing the camera (w = world area of the surface under the pixel),
-// 2 = linear albedo (w = 1).
+// 2 = linear albedo, the base-colour texture sampled per pixel (w = 1).
 
 uniform mat4 u_view;
 uniform mat4 u_projection;
@@ -21,13 +21,13 @@ layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 
 void main() {
-    vec3 normal = facing_normal();   // two-sided surfaces, as in the RSM pass
+    vec3 normal = surface_normal();  // sidedness as in the RSM pass
     // The pixel's footprint on the surface: the parallelogram spanned by the position's
     // screen derivatives (within one triangle they are exact). The energy audit sums
     // irradiance × this area.
     float pixel_area = length(cross(dFdx(v_position), dFdy(v_position)));
     out_position = vec4(v_position, 1.0);
     out_normal = vec4(normal, pixel_area);
-    out_albedo = vec4(v_albedo, 1.0);
+    out_albedo = vec4(surface_albedo(), 1.0);
 }
 #endif

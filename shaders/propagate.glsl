@@ -2,8 +2,9 @@
 // One propagation step as a gather (docs/MODEL.md "Propagation"): every target cell x sums,
 // over the 6 directions d and the faces of x seen from the source x - d,
 //     k_R * k_I * k_P * dw_f * I_f * V_f * lobe(r_f),   I_f = <s, Y(e_f)> (front: clamp+).
-// Ping-pong (u_ping_pong): read grid t-1 through samplers, write grid t, and add it to the
-// accumulation acc (each invocation touches only its own acc texel: no race).
+// Ping-pong (the ping_pong switch, compiled in as PROPAGATE_PING_PONG 1): read grid t-1
+// through samplers, write grid t, and add it to the accumulation acc (each invocation
+// touches only its own acc texel: no race).
 // In place (the DX11 shader): neighbours are read from the very image being written and the
 // step is added to it, acc += P(acc). Invocations race: some neighbours are already updated
 // when read, so the result depends on the GPU's invocation order. Kept to show the hazard.
@@ -25,6 +26,15 @@
 #define IMAGE_FORMAT rgba32f
 #define SH_ORDER 1
 #define PROPAGATE_AUDIT 1
+// The code paths are chosen when the program is compiled, from the switches and settings
+// (explorer/lpv/propagate.py `program_defines`): the ping-pong switch, whether there is a
+// geometry volume and whether it reflects (Settings.bounces 2). llvmpipe runs both sides of
+// a branch on a uniform under a lane mask, so each untaken path cost its full work: with
+// all three as uniforms the audit-off kernel took 2.5x the minimal kernel at 32^3
+// (BENCHMARKS.md). The other switches only select factors and stay uniforms.
+#define PROPAGATE_PING_PONG 1
+#define PROPAGATE_GEOMETRY 0
+#define PROPAGATE_REFLECT 0
 
 #if defined COMPUTE_SHADER
 
@@ -57,30 +67,39 @@ layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
 layout(std430, binding = 5) buffer CellSums { float cell_sums[]; };
 
 void load_source(ivec3 cell, out ShVec source[3]) {
-    if (u_ping_pong) {
-        source[0] = SH_FETCH(u_source_r, cell);
-        source[1] = SH_FETCH(u_source_g, cell);
-        source[2] = SH_FETCH(u_source_b, cell);
-    } else {
-        source[0] = SH_IMAGE_LOAD(u_target_r, cell);
-        source[1] = SH_IMAGE_LOAD(u_target_g, cell);
-        source[2] = SH_IMAGE_LOAD(u_target_b, cell);
-    }
+#if PROPAGATE_PING_PONG
+    source[0] = SH_FETCH(u_source_r, cell);
+    source[1] = SH_FETCH(u_source_g, cell);
+    source[2] = SH_FETCH(u_source_b, cell);
+#else
+    source[0] = SH_IMAGE_LOAD(u_target_r, cell);
+    source[1] = SH_IMAGE_LOAD(u_target_g, cell);
+    source[2] = SH_IMAGE_LOAD(u_target_b, cell);
+#endif
 }
+
+// The light the source cell - d sends into `cell` through its five faces (frame d, u, v).
+#define LPV_GATHER(inside, d, u, v) if (inside) { \
+        ShVec source[3]; \
+        load_source(cell - (d), source); \
+        lpv_send_frame(source, cell, d, u, v, false, front_weight, side_weight, received, \
+                       audit); \
+    }
 
 void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     float front_weight = lpv_front_face_weight();
     float side_weight = lpv_side_face_weight();
     ShVec received[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
     LpvAudit audit = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
-    for (int dir = 0; dir < 6; ++dir) {
-        ivec3 source_cell = cell - LPV_DIRECTIONS[dir];
-        if (grid_inside(source_cell)) {  // nothing enters from outside the grid
-            ShVec source[3];
-            load_source(source_cell, source);
-            lpv_send(source, cell, dir, false, front_weight, side_weight, received, audit);
-        }
-    }
+    // One call per neighbour with its constant frame (d, u, v), in the order of
+    // LPV_DIRECTIONS; nothing enters from outside the grid.
+    int last = u_grid_resolution - 1;
+    LPV_GATHER(cell.x > 0, ivec3(1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
+    LPV_GATHER(cell.x < last, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
+    LPV_GATHER(cell.y > 0, ivec3(0, 1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
+    LPV_GATHER(cell.y < last, ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
+    LPV_GATHER(cell.z > 0, ivec3(0, 0, 1), ivec3(1, 0, 0), ivec3(0, 1, 0));
+    LPV_GATHER(cell.z < last, ivec3(0, 0, -1), ivec3(1, 0, 0), ivec3(0, 1, 0));
 #if PROPAGATE_AUDIT
     // A border cell is also the source of the faces that leave the grid (audit only).
     if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
@@ -97,12 +116,13 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
 #endif
     vec3 reflected = vec3(0.0);
     vec3 blocked = vec3(0.0);
-    if (u_reflect) {
-        ShVec own[3];
-        load_source(cell, own);
-        lpv_reflect(own, cell, front_weight, side_weight, received, reflected, blocked);
-    }
-    if (u_ping_pong) {
+#if PROPAGATE_REFLECT
+    ShVec own[3];
+    load_source(cell, own);
+    lpv_reflect(own, cell, front_weight, side_weight, received, reflected, blocked);
+#endif
+#if PROPAGATE_PING_PONG
+    {
         SH_IMAGE_STORE(u_target_r, cell, received[0]);
         SH_IMAGE_STORE(u_target_g, cell, received[1]);
         SH_IMAGE_STORE(u_target_b, cell, received[2]);
@@ -112,11 +132,12 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
                        sh_add(SH_IMAGE_LOAD(u_accumulated_g, cell), received[1]));
         SH_IMAGE_STORE(u_accumulated_b, cell,
                        sh_add(SH_IMAGE_LOAD(u_accumulated_b, cell), received[2]));
-    } else {
-        SH_IMAGE_STORE(u_target_r, cell, sh_add(SH_IMAGE_LOAD(u_target_r, cell), received[0]));
-        SH_IMAGE_STORE(u_target_g, cell, sh_add(SH_IMAGE_LOAD(u_target_g, cell), received[1]));
-        SH_IMAGE_STORE(u_target_b, cell, sh_add(SH_IMAGE_LOAD(u_target_b, cell), received[2]));
     }
+#else
+    SH_IMAGE_STORE(u_target_r, cell, sh_add(SH_IMAGE_LOAD(u_target_r, cell), received[0]));
+    SH_IMAGE_STORE(u_target_g, cell, sh_add(SH_IMAGE_LOAD(u_target_g, cell), received[1]));
+    SH_IMAGE_STORE(u_target_b, cell, sh_add(SH_IMAGE_LOAD(u_target_b, cell), received[2]));
+#endif
     vec3 delivered = vec3(sh_flux(received[0]), sh_flux(received[1]), sh_flux(received[2]));
     vec3 terms[6] = vec3[6](delivered, audit.border, audit.clamp_gain, audit.occluded,
                             reflected, blocked);
@@ -131,7 +152,7 @@ uniform ivec3 u_cell_offset;
 
 void main() {
     ivec3 cell = ivec3(gl_GlobalInvocationID) + u_cell_offset;
-    if (!grid_inside(cell)) {
+    if (any(greaterThanEqual(cell, ivec3(u_grid_resolution)))) {
         return;
     }
     float audit[AUDIT_VALUES];

@@ -42,23 +42,30 @@ float lpv_side_face_weight() {
         * lpv_side_solid_angle();
 }
 
-// Geometry volume: (N+1)^3 texels, texel j centred on light-grid corner j.
+// Geometry volume: (N+1)^3 texels, texel j centred on light-grid corner j. Whether there is
+// one is chosen when the program is compiled (PROPAGATE_GEOMETRY, like the other code paths
+// of propagate.glsl), so a grid without one fetches nothing for it.
+#ifndef PROPAGATE_GEOMETRY
+#define PROPAGATE_GEOMETRY 0
+#endif
 uniform sampler3D u_geometry;
-uniform bool u_use_geometry;
 
-// Mean geometry SH over the face shared by `target` and its source target - d. Along the
-// axis of d that face is at corner target (d > 0) or target + 1 (d < 0); valid for targets
-// one cell outside the grid too (the face is then on the grid boundary).
-vec4 lpv_shared_face_blocker(ivec3 target, int dir) {
-    if (!u_use_geometry) {
-        return vec4(0.0);
-    }
-    ivec3 corner = target + max(-LPV_DIRECTIONS[dir], ivec3(0));
-    ivec3 u = LPV_TANGENT_U[dir];
-    ivec3 v = LPV_TANGENT_V[dir];
+// Mean geometry SH over the face shared by `target` and its source target - d (frame d, u, v).
+// Along the axis of d that face is at corner target (d > 0) or target + 1 (d < 0); valid for
+// targets one cell outside the grid too (the face is then on the grid boundary).
+vec4 lpv_face_blocker(ivec3 target, ivec3 d, ivec3 u, ivec3 v) {
+#if !PROPAGATE_GEOMETRY
+    return vec4(0.0);
+#endif
+    ivec3 corner = target + max(-d, ivec3(0));
     return 0.25 * (texelFetch(u_geometry, corner, 0) + texelFetch(u_geometry, corner + u, 0)
                  + texelFetch(u_geometry, corner + v, 0)
                  + texelFetch(u_geometry, corner + u + v, 0));
+}
+
+// The same for direction index `dir`.
+vec4 lpv_shared_face_blocker(ivec3 target, int dir) {
+    return lpv_face_blocker(target, LPV_DIRECTIONS[dir], LPV_TANGENT_U[dir], LPV_TANGENT_V[dir]);
 }
 
 // Audit terms of a step, per channel, in watts.
@@ -82,8 +89,12 @@ void lpv_send_face(ShVec source[3], vec3 eval_direction, vec3 reprojection, floa
     vec3 used = clamped ? max(raw, vec3(0.0)) : raw;
     // A surfel blocks light that runs into its front side, i.e. travels against its normal:
     // the blocker lobe is evaluated at -e_f, so a lit wall does not shadow its own bounce.
+#if PROPAGATE_GEOMETRY
     vec4 against = sh_eval(-eval_direction);
-    float visibility = u_use_geometry ? 1.0 - clamp(dot(blocker, against), 0.0, 1.0) : 1.0;
+    float visibility = 1.0 - clamp(dot(blocker, against), 0.0, 1.0);
+#else
+    float visibility = 1.0;
+#endif
     float flux_per_intensity = weight * sh_flux(lobe);
     audit.clamp_gain += flux_per_intensity * (used - raw);
     audit.occluded += flux_per_intensity * (1.0 - visibility) * used;
@@ -98,18 +109,22 @@ void lpv_send_face(ShVec source[3], vec3 eval_direction, vec3 reprojection, floa
 }
 
 // Light one source cell (SH vectors `source`: r, g, b) sends through the faces of its
-// neighbour `target` = source + d: the front face, then the four side faces.
-void lpv_send(ShVec source[3], ivec3 target, int dir, bool leaving, float front_weight,
-              float side_weight, inout ShVec received[3], inout LpvAudit audit) {
-    vec4 blocker = lpv_shared_face_blocker(target, dir);
-    vec3 d = vec3(LPV_DIRECTIONS[dir]);
+// neighbour `target` = source + d (frame d, u, v): the front face, then the four side faces.
+// propagate.glsl calls it with constant frames, one call per neighbour, so that the
+// compiler folds Y(e_f) and lobe(r_f) of every face into constants (a loop over an index
+// into LPV_DIRECTIONS kept them as run-time arithmetic and cost llvmpipe about 2x).
+void lpv_send_frame(ShVec source[3], ivec3 target, ivec3 d_cells, ivec3 u_cells,
+                    ivec3 v_cells, bool leaving, float front_weight, float side_weight,
+                    inout ShVec received[3], inout LpvAudit audit) {
+    vec4 blocker = lpv_face_blocker(target, d_cells, u_cells, v_cells);
+    vec3 d = vec3(d_cells);
     lpv_send_face(source, d, d, front_weight, u_clamp_front_face, blocker, leaving,
                   received, audit);
     if (side_weight == 0.0) {
         return;
     }
-    vec3 u = vec3(LPV_TANGENT_U[dir]);
-    vec3 v = vec3(LPV_TANGENT_V[dir]);
+    vec3 u = vec3(u_cells);
+    vec3 v = vec3(v_cells);
     vec3 towards_front = SIDE_EVAL_BIG * d;
     lpv_send_face(source, towards_front + SIDE_EVAL_SMALL * u, u, side_weight, false,
                   blocker, leaving, received, audit);
@@ -119,6 +134,13 @@ void lpv_send(ShVec source[3], ivec3 target, int dir, bool leaving, float front_
                   blocker, leaving, received, audit);
     lpv_send_face(source, towards_front - SIDE_EVAL_SMALL * v, -v, side_weight, false,
                   blocker, leaving, received, audit);
+}
+
+// The same for direction index `dir` (the audit's border faces, the reflection).
+void lpv_send(ShVec source[3], ivec3 target, int dir, bool leaving, float front_weight,
+              float side_weight, inout ShVec received[3], inout LpvAudit audit) {
+    lpv_send_frame(source, target, LPV_DIRECTIONS[dir], LPV_TANGENT_U[dir],
+                   LPV_TANGENT_V[dir], leaving, front_weight, side_weight, received, audit);
 }
 
 #endif

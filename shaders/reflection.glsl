@@ -3,14 +3,14 @@
 // cell towards a neighbour and that the geometry volume blocks is partly reflected back
 // into the sending cell, as a clamped cosine lobe around the blocking surfels' normal,
 // with flux = (area-weighted mean albedo of the shared face) x (blocked flux, clamp+).
-// Included by propagate.glsl; u_reflect is false for Settings.bounces 1. Light vectors are
+// Included by propagate.glsl, which calls it only when compiled with PROPAGATE_REFLECT 1
+// (Settings.bounces 2, with a geometry volume). Light vectors are
 // ShVec (L1 or L2 after SH_ORDER, sh.glsl); the reflected lobe has the grid's order.
 #ifndef REFLECTION_GLSL
 #define REFLECTION_GLSL 1
 
 #include "propagation_faces.glsl"
 
-uniform bool u_reflect;
 // (N+1)^3 texels like u_geometry: sum over the cell's surfels of (A/cell^2) * (albedo, 1).
 uniform sampler3D u_geometry_albedo;
 
@@ -40,9 +40,6 @@ vec3 lpv_reflection_normal(vec4 blocker, int dir) {
 // arriving at a surface), `reflected` the flux reflected.
 void lpv_reflect(ShVec own[3], ivec3 cell, float front_weight, float side_weight,
                  inout ShVec received[3], inout vec3 reflected, inout vec3 blocked) {
-    if (!u_reflect || !u_use_geometry) {
-        return;
-    }
     for (int dir = 0; dir < 6; ++dir) {
         ivec3 target = cell + LPV_DIRECTIONS[dir];
         // The five faces towards `target`, sent as if leaving: only the audit is wanted,

@@ -72,7 +72,8 @@ float texel_solid_angle(vec2 texel) {
 }
 
 void main() {
-    vec3 normal = facing_normal();   // two-sided surfaces: the side the light sees
+    vec3 normal = surface_normal();  // the side the light sees (a one-sided back: none)
+    vec3 albedo = surface_albedo();  // per pixel: the texture at this texel's surfel
     vec3 to_light = u_orthographic == 1 ? -u_light_direction
                                         : normalize(u_light_position - v_position);
     // The texel's footprint on the surface already shrinks with cos θ_i, so the flux the
@@ -91,7 +92,7 @@ void main() {
           * spot_falloff(inversesqrt(1.0 + dot(centre, centre)));
     out_position = vec4(v_position, 1.0);
     out_normal = vec4(normal, v_depth);
-    out_flux = vec4(v_albedo * u_light_colour * incident * faces_light, 0.0);
-    out_albedo = vec4(v_albedo, 0.0);
+    out_flux = vec4(albedo * u_light_colour * incident * faces_light, 0.0);
+    out_albedo = vec4(albedo, 0.0);
 }
 #endif

@@ -17,10 +17,14 @@ void main() {
 
 #if defined FRAGMENT_SHADER
 layout(location = 0) out vec4 out_triangle;
+uniform int u_first_triangle;   // SceneBuffers.draw draws runs: gl_PrimitiveID restarts
+uniform int u_one_sided;        // as in gbuffer.glsl: a one-sided back face is not there
 
 void main() {
-    // one draw call of every triangle (SceneBuffers.draw): gl_PrimitiveID is the index
-    // into the scene's triangle soup
-    out_triangle = vec4(float(gl_PrimitiveID + 1), 0.0, 0.0, 1.0);
+    if (u_one_sided == 1 && !gl_FrontFacing) {
+        discard;
+    }
+    // the index into the scene's triangle soup: the run's first triangle + gl_PrimitiveID
+    out_triangle = vec4(float(u_first_triangle + gl_PrimitiveID + 1), 0.0, 0.0, 1.0);
 }
 #endif

@@ -122,3 +122,20 @@ def test_readme_accuracy_table_quotes_the_recorded_values():
                 assert recorded == first, (line, iterations)
             else:
                 assert cell.replace("**", "") == recorded, (line, iterations)
+
+
+def test_readme_accuracy_table_prints_the_commands_that_measured_it():
+    """Beside the table, for each of its rows, the compare command line recorded for that
+    row's run (the Cornell rows need --no-spot-cone: without it they do not reproduce)."""
+    text = (tables.ROOT / "README.md").read_text(encoding="utf-8")
+    section = text[text.index("## How accurate is LPV"):text.index("## Benchmarks")]
+    commands = {line.strip() for line in section.splitlines()
+                if line.startswith("lpv-explorer compare ")}
+    for (scene, variant), (name, labels) in README_SOURCES.items():
+        runs = [run["args"] for run in DATA["tables"][name]["runs"]
+                if run.get("labels", {}) == labels
+                and "--preset original" not in run["args"]]
+        assert runs, (scene, variant)
+        for args in runs:
+            assert f"lpv-explorer compare {args}" in commands, (scene, variant, args)
+    assert all("--no-spot-cone" in line for line in commands if "cornell" in line)

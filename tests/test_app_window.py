@@ -161,6 +161,11 @@ class _FinishedJob:
     def result(self):
         return self._result
 
+    stage = None          # between stages (the Job interface)
+
+    def next_unit_ms(self):
+        return 0.0
+
     def preview(self):
         return False
 
@@ -173,10 +178,21 @@ class RecordingPipeline:
     "broken.obj", and holds linear direct light whose level depends on the corrections."""
 
     runs: list = []
+    # the rest of explorer.ui.controller.PipelineLike: no units timed, no fog, no
+    # previews, no scene of its own (the controller loads the scene's defaults)
+    unit_ms: dict = {}
+    unit_ms_at: dict = {}
+    timings_ms: dict = {}
+    fog_textures = None
+    preview_textures = None
+    base_scene = None
 
     def __init__(self, settings, ctx=None):
         self.ctx = ctx
         self.textures = None
+
+    def view(self, name, **options):
+        raise ValueError(f"the test pipeline has no view {name!r}")
 
     @property
     def linear_textures(self):
@@ -210,7 +226,7 @@ class RecordingPipeline:
             albedo=data * 0 + 1, rsm_position=rsm, rsm_normal=rsm, rsm_flux=rsm,
             accumulated=grid, steps=[grid] * steps if keep_steps else None,
             geometry_volume=None, audit=audit, timings_ms={"rsm": 1.0, "propagate": 2.0},
-            stages_run=("rsm", "propagate"), warnings=[], display_scale=1.0))
+            stages_run=("rsm", "propagate"), warnings=[], display_scale=1.0, fog=None))
 
     def reload_shaders(self):
         return False

@@ -54,7 +54,12 @@ try:
     assert window is not None and window.dock_node is not None
     assert window.dock_node.windows.size() == 1, window.dock_node.windows.size()
     for other in ("View", "Corrections", "Inspect", "Error"):
-        assert internal.find_window_by_name(other).dock_node.id_ != window.dock_node.id_
+        found = internal.find_window_by_name(other)   # the reader's mode hides unused ones
+        assert found is None or found.dock_node is None or \
+            found.dock_node.id_ != window.dock_node.id_
+    assert internal.find_window_by_name("View").dock_node.id_ != window.dock_node.id_
+    corrections = internal.find_window_by_name("Corrections")     # this step switches none
+    assert corrections is None or not corrections.active
     assert window.size.x >= 400
     # the text was typeset: formulas cached without errors, fonts loaded
     rt = state.runtime

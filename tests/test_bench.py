@@ -34,10 +34,13 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
     baseline = rows[-1]
     assert baseline["passes_ms"] == {"propagate": rows[1]["baseline_ms"]}
     assert baseline["passes_ms"]["propagate"] > 0 and baseline["kernel_ratio"] == 1.0
+    # one timed frame: the median of one pair is that frame's ratio
     assert rows[1]["kernel_ratio"] == pytest.approx(
         rows[1]["passes_ms"]["propagate"] / rows[1]["baseline_ms"])
     assert "kernel_ratio" in rows[5] and "kernel_ratio" not in rows[0]   # audit; no steps
     assert "kernel_ratio" in named["audit-flux"]        # the flux plot's audit mode
+    assert "kernel_ratio" in named["geometry"]          # against the kernel with occlusion
+    assert "kernel_ratio" not in named["bounces-2"]     # reflection: no minimal twin
     assert "×base" in printed and "baseline" in printed
     for row in rows[:-1]:
         for name in ("rsm", "inject", "propagate", "gbuffer", "gather"):
@@ -114,3 +117,57 @@ def test_a_short_soak_drives_the_window_and_counts_what_it_holds(tmp_path, capsy
         assert counts["Texture"] > 0 and counts["Program"] > 0
     # the warm-up made every view's objects: the soak itself makes none
     assert data["end"]["gl"] == data["start"]["gl"]
+
+
+def test_overhead_rows_count_the_gl_work_of_each_kind_of_frame(tmp_path, capsys):
+    out = tmp_path / "overhead.json"
+    assert main(["bench", "--overhead", "--repeat", "1", "--iterations", "3",
+                 "--json", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "python ms" in printed and "uniform uploads" in printed
+    rows = {row["frame"]: row for row in json.loads(out.read_text())["overhead"]}
+    assert list(rows) == ["full", "light", "camera", "display"]
+    full, camera, display = rows["full"]["counts"], rows["camera"]["counts"], \
+        rows["display"]["counts"]
+    # the propagation: one dispatch and one barrier per step at least; none for a camera move
+    assert full["dispatches"] >= 3 and full["barriers"] >= 3
+    assert camera["dispatches"] == 0 and camera["draws"] >= 2     # G-buffer, gather
+    assert display["draws"] == 1 and display["dispatches"] == 0
+    assert full["GL calls"] > camera["GL calls"] > display["GL calls"] > 0
+    for row in rows.values():
+        assert 0 < row["outside_gl_ms"] <= row["wall_ms"]
+        # the Python time by stage adds up to the frame's (the rest is the job's own)
+        assert sum(row["python_by_stage_ms"].values()) == pytest.approx(row["outside_gl_ms"])
+    assert {"propagate", "inject", "gather", "job"} <= set(rows["full"]["python_by_stage_ms"])
+    assert "propagate" not in rows["camera"]["python_by_stage_ms"]
+    assert "python ms of a full frame by stage: " in printed
+
+
+def test_the_call_counter_counts_one_upload_per_uniform_set_and_restores_moderngl(ctx):
+    import moderngl
+
+    from explorer.gl.call_counter import GlCallCounter
+
+    shader = ctx.compute_shader("""#version 430
+        layout(local_size_x = 1) in;
+        uniform float u_scale;
+        layout(std430, binding = 0) buffer Out { float values[]; };
+        void main() { values[gl_GlobalInvocationID.x] = u_scale; }""")
+    buffer = ctx.buffer(reserve=16)
+    run = moderngl.ComputeShader.run
+    try:
+        with GlCallCounter() as counter:
+            shader["u_scale"] = 2.0          # __setitem__ sets Uniform.value inside: one upload
+            buffer.bind_to_storage_buffer(0)
+            shader.run(4)
+            ctx.memory_barrier()
+            values = buffer.read()
+        calls = counter.tally.calls
+        assert (calls["uniform uploads"], calls["dispatches"], calls["barriers"],
+                calls["read-backs"], calls["bindings"]) == (1, 1, 1, 1, 1)
+        assert calls["GL calls"] == 5 and counter.tally.inside_s > 0
+        assert moderngl.ComputeShader.run is run     # unwrapped again
+        assert list(memoryview(values).cast("f")) == [2.0] * 4
+    finally:
+        shader.release()
+        buffer.release()

@@ -79,3 +79,15 @@ def test_generated_glsl_compiles(ctx):
     assert value == pytest.approx(2 * math.pi / 3, rel=1e-6)
     shader.release()
     buffer.release()
+
+
+def test_the_model_page_shows_the_registry_as_its_corrections_table():
+    """docs/MODEL.md's corrections table is generated: a row per registry entry, its
+    two forms (the hand-written page around it stays as it is)."""
+    from explorer.correction_registry import CORRECTIONS
+
+    table = codegen.corrections_table()
+    assert [line.split("`")[1] for line in table.splitlines()[2:]] == [
+        entry.name for entry in CORRECTIONS]
+    page = (codegen.REPO_ROOT / codegen.MODEL_PATH).read_text(encoding="utf-8")
+    assert f"{codegen.TABLE_BEGIN}\n{table}\n{codegen.TABLE_END}" in page

@@ -87,3 +87,13 @@ def test_module_examples_run():
 
     for module in (sa, sh, rsm, corrections, propagation, occlusion, errata, registry):
         assert doctest.testmod(module).failed == 0, module.__name__
+
+
+def test_the_readable_texel_solid_angle_is_the_exact_one():
+    """The lesson's form of Δω_ij (four corner terms F at the texel's edges) is exactly the
+    rectangle formula on the texel (rsm.pixel_solid_angle_exact)."""
+    import sympy as sp
+
+    from derivations import rsm
+
+    assert sp.simplify(rsm.corners_substituted() - rsm.pixel_solid_angle_exact()) == 0

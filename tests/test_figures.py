@@ -132,17 +132,17 @@ def test_the_context_takes_b_only_while_comparing():
 def test_legends_name_what_differs_between_a_and_b():
     a = Settings()
     assert legend.side_labels(a, a.with_changes(corrections={"propagation_4pi": False})) \
-        == ("A: propagation_4pi on", "B: propagation_4pi off")
+        == ("A: Propagation: no 1/(4π) per face on", "B: Propagation: no 1/(4π) per face off")
     assert legend.side_labels(a, a.with_changes(corrections="original")) \
         == ("A: corrected preset", "B: original preset")
     assert legend.side_labels(a, a.with_changes(grid_size=16, exposure=4.0)) \
-        == ("A: grid_size 32", "B: grid_size 16")
+        == ("A: Grid size (cells³) 32", "B: Grid size (cells³) 16")
     assert legend.side_labels(a, a.with_changes(exposure=4.0)) \
         == ("A: corrected preset", "B: same as A")
     assert legend.side_labels(a, a.with_changes(corrections="original", sh_order=2)) \
-        == ("A: corrected preset, sh_order 1", "B: original preset, sh_order 2")
+        == ("A: corrected preset, SH order 1", "B: original preset, SH order 2")
     custom = a.with_changes(corrections={"side_faces": False, "ping_pong": False})
-    assert legend.describe(custom) == "side_faces off, ping_pong off"
+    assert legend.describe(custom) == "Side faces off, Ping-pong propagation off"
     assert "custom" not in "".join(legend.side_labels(custom, a))
 
 

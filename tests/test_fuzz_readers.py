@@ -136,3 +136,15 @@ def test_fuzz_a_mesh(tmp_path, suffix):
     box.export(seed)
     path = tmp_path / f"mesh{suffix}"
     assert fuzz(seed.read_bytes(), path, load_scene, (SceneError,)) > 10
+
+
+def test_fuzz_a_scene_file(tmp_path):
+    """The shipped example scene file, mutated, beside its mesh (docs/SCENES.md)."""
+    import shutil
+
+    from explorer.scene import SceneError, load_scene
+
+    example = Path(__file__).resolve().parent.parent / "examples" / "textured-room"
+    shutil.copy(example / "room.glb", tmp_path / "room.glb")
+    path = tmp_path / "scene.toml"
+    assert fuzz((example / "scene.toml").read_bytes(), path, load_scene, (SceneError,)) > 10

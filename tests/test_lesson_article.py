@@ -12,6 +12,11 @@ from explorer import lesson_text as lt
 from explorer import live_values as lv
 from explorer.lessons import COMPARE_VIEWS, load_all, preview_settings
 from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Settings
+from explorer.truth.mitsuba_render import mitsuba_available
+
+MITSUBA = mitsuba_available()
+"""None when Mitsuba 3 is installed (the error.mitsuba_* numbers then resolve), else why
+not."""
 
 
 @pytest.fixture(scope="module")
@@ -99,6 +104,10 @@ def measured(shipped, gl_context):
                     pass
                 job.release()
                 error = job.result.stats
+                if MITSUBA is None and any(
+                        name.startswith(TRUTH_NAMES) for text in texts
+                        for name, _ in lt.placeholders(text)):
+                    error = _against_mitsuba(job.result)
             return settings, result, error
 
         for lesson in shipped:
@@ -110,6 +119,21 @@ def measured(shipped, gl_context):
                     after = _small(item.apply(base))
                     out[(lesson.id, step.number, index)] = measure(after, [item.prompt])
     return out
+
+
+TRUTH_NAMES = ("error.mitsuba_", "error.reference_mitsuba_")
+
+
+def _against_mitsuba(result):
+    """The error measurement held against a tiny Mitsuba render (4 spp per seed)."""
+    from explorer.truth.gbuffer import scene_for
+    from explorer.truth.mitsuba_job import ErrorReadout, TruthStats
+    from explorer.truth.mitsuba_render import render_truth
+
+    s = result.settings
+    truth = render_truth(scene_for(s), s.width, s.height, spp=4)
+    return ErrorReadout(result.stats, TruthStats(result.lpv, result.reference, result.valid,
+                                                 truth))
 
 
 def _figure_readouts(step, result):
@@ -131,12 +155,15 @@ def test_every_placeholder_resolves_for_every_step(shipped, measured):
                 settings, result, error = measured[(lesson.id, step.number, index)]
                 context = lv.LiveContext(settings=settings, result=result, error=error,
                                          figures=_figure_readouts(step, result),
-                                         renderer="llvmpipe")
+                                         renderer="llvmpipe",
+                                         marks={m.id: m for m in step.marks})
                 texts = ([step.text] + [s.caption for s in step.figures] if index == 0
                          else [step.try_this[index - 1].prompt])
                 for text in texts:
                     for name, fmt in lt.placeholders(text):
                         shown = lv.render(name, fmt, context, step.figure_ids)
+                        if MITSUBA is not None and name.startswith(TRUTH_NAMES):
+                            continue     # pending without Mitsuba, as in the window
                         assert shown != lv.PENDING and shown, \
                             (lesson.id, step.number, index, name)
                         assert "nan" not in shown.lower(), (lesson.id, step.number, name)

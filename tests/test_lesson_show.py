@@ -128,17 +128,11 @@ def test_a_picked_cell_with_glyphs_around_it_is_allowed(tmp_path):
 def test_applying_a_step_sets_its_overlays_and_leaving_restores_them(shipped):
     from explorer.ui.lesson_panel import LessonSession, Screen, current_screen, show_screen
 
-    class State:                              # the parts of AppState a screen touches
-        settings = Settings(width=320, height=240)
-        compare_settings = Settings()
-        view_mode = "single"
-        view_buffer = "final"
-        compare_overrides = ()
-        overlays = OverlayState(vpls=True, lattice=True, fly=True)
-        inspect = type("Inspect", (), {"source": "rsm-flux"})()
-        requests = type("Requests", (), {"focus_panel": None})()
+    from explorer.ui.state import AppState
 
-    state = State()
+    state = AppState(settings=Settings(width=320, height=240),
+                     overlays=OverlayState(vpls=True, lattice=True, fly=True))
+    state.inspect.source = "rsm-flux"
     state.overlays.pick("cell", "A", 0, (0.1, 0.2, 0.3))
     reader = replace(state.overlays)
     session = LessonSession(lessons=shipped)

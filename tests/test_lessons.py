@@ -449,7 +449,7 @@ def test_inline_math_reads_as_plain_text(shipped):
                         r"-\sqrt{\pi/3}\,n_y\right)$") == "f += k ((√π)/2, -√(π/3) n_y)"
     assert math_to_text(r"$\frac{1}{2\sqrt{\pi}}$, $\alpha\,\sigma_t$") == "1/(2√π), α σ_t"
     assert _plain(r"$c_0 = {{derived.sh.c0:.4f}}$ and {{audit.injected:.3g}} W {{try:1}}") \
-        == "c_0 = 0.2821 and [audit.injected] W [try 1]"
+        == "c_0 = 0.2821 and [flux injected into the grid (before any step)] W [try 1]"
     lessons, _ = shipped
     for lesson in lessons:
         for step in lesson.steps:
@@ -545,10 +545,8 @@ def test_a_step_naming_the_cascade_weights_brings_the_inspect_panel(shipped):
     """The cascades step draws the cascade boxes in the scene and its text reads the
     cascade-weights view: no overlay shows the weights, so the caption names the Inspect
     panel too and showing the step brings that panel (not Show in scene) forward."""
-    from types import SimpleNamespace
-
     from explorer.ui.lesson_panel import Screen, show_screen, step_caption, step_screen
-    from explorer.ui.state import InspectState, Requests
+    from explorer.ui.state import AppState
 
     lessons, _ = shipped
     step = next(s for lesson in lessons if lesson.id == "limits" for s in lesson.steps
@@ -556,9 +554,7 @@ def test_a_step_naming_the_cascade_weights_brings_the_inspect_panel(shipped):
     assert "the cascade-weights view in the Inspect panel" in step_caption(step)
     assert step_caption(step).startswith("Look at the main view (")
     own = Screen(settings=Settings(), compare_settings=Settings(), view_mode="single")
-    state = SimpleNamespace(settings=None, compare_settings=None, view_mode="single",
-                            overlays=None, inspect=InspectState(), requests=Requests(),
-                            plot_tab=None)
+    state = AppState()
     show_screen(state, step_screen(step, own))
     assert state.inspect.source == "cascade-weights"
     assert "Inspect" in state.requests.focus_panel

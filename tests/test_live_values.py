@@ -48,8 +48,14 @@ def test_names_are_checked_and_close_matches_offered():
 def test_every_fixed_name_reads_a_value_from_a_real_frame(frame):
     from explorer.truth.metrics import ErrorStats
 
+    from types import SimpleNamespace
+
+    from explorer.truth.mitsuba_job import ErrorReadout
+
     stats = ErrorStats(0.5, 0.01, 0.9, (0.8, 0.9, 1.0), 100)
-    context = lv.LiveContext(settings=SMALL, result=frame, error=stats, renderer="llvmpipe")
+    truth = SimpleNamespace(one_bounce=stats, multi_bounce=stats, reference=stats)
+    context = lv.LiveContext(settings=SMALL, result=frame, error=ErrorReadout(stats, truth),
+                             renderer="llvmpipe")
     for name in lv.table():
         if name.startswith("frame.time.") and name != "frame.time.total" and \
                 name.rsplit(".", 1)[1] not in frame.timings_ms:

@@ -173,7 +173,7 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     assert [c for c in calls if c[0] == "propagate"][:3] == [("propagate", 0, 10),
                                                              ("propagate", 0, 10),
                                                              ("propagate", 1, 10)]
-    assert calls[-1] == ("display", 1, 1)
+    assert calls[-1] == ("display", 2, 2)          # the auto exposure, then the pass
     with Pipeline(other, ctx=gl_context) as fresh:
         assert np.allclose(second.result.accumulated, fresh.run().accumulated, rtol=1e-6,
                            atol=1e-9)
@@ -263,7 +263,7 @@ def test_stage_keys_come_from_the_schema():
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
     assert "display    (gather, fog) exposure, indirect_only, tone_map, auto_exposure" \
         in table
-    assert "rsm        (scene) rsm_size, light, light_flux, lights, spot_cone, " \
+    assert "rsm        (scene) rsm_size, light, light_kind, light_flux, lights, spot_cone, " \
         "spot_cone_degrees" in table
     assert "geometry   (downsample, grid, gbuffer if uses_camera_occluders)" in table
     # conditional upstream stages count only while their flag is on
@@ -346,8 +346,9 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
     calls = []
     with Pipeline(settings, ctx=gl_context) as pipe:
         banded = pipe.run(progress=lambda *call: calls.append(call))
-        # two bands, then three read-backs (direct, indirect, received): a unit each
-        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 5) for k in range(6)]
+        # two bands, three read-backs (direct, indirect, received), then their sums and
+        # checks: a unit each
+        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 6) for k in range(7)]
         gather = pipe.stages["gather"]
         gather.gather_levels(settings)                                 # all rows at once
         whole = read_texture(gather.gather.targets["indirect"])[..., :3]
@@ -379,10 +380,27 @@ def test_a_large_step_runs_in_slabs_with_the_same_result(gl_context, ctx, monkey
         sliced = pipe.run(settings, progress=lambda *call: calls.append(call))
     steps = [done for stage, done, _ in calls if stage == "propagate"]
     # the stage's start, the level's start, after each of the two slabs of every step the
-    # steps completed, and the level's audit and read-back
+    # steps completed, and the level's audit and read-back (one colour channel a unit)
     assert steps == [0, 0, 0] + sorted(2 * list(range(1, settings.iterations))) + [
-        settings.iterations] * 3
+        settings.iterations] * 5
     assert np.allclose(sliced.accumulated, whole.accumulated, rtol=1e-6, atol=1e-9)
     for name in ("per_step", "border_loss", "occluded", "reflected"):
         assert np.allclose(getattr(sliced.audit, name), getattr(whole.audit, name),
                            rtol=1e-5, atol=1e-9), name
+
+
+def test_a_job_sizes_each_unit_by_the_same_unit_of_the_last_run(pipeline):
+    """A stage's units differ (a propagation's start, its steps, its audit and its
+    read-backs): the next unit is estimated by the one at the same place last time."""
+    pipeline.run(SMALL)
+    last = dict(pipeline.unit_ms_at)
+    pipeline.invalidate("propagate")
+    job = pipeline.start(SMALL)
+    estimates = []
+    while not job.done:
+        if job.stage == "propagate":
+            estimates.append(job.next_unit_ms())
+        job.advance(0.0)             # one unit
+    assert len(estimates) > SMALL.iterations
+    assert estimates == [last[("propagate", unit)] for unit in range(len(estimates))]
+    assert len(set(estimates)) > 1          # the units are not all alike

@@ -120,7 +120,11 @@ def test_texture_and_material_colours(tmp_path):
         uv=np.full((len(textured.vertices), 2), 0.5), image=Image.new("RGB", (4, 4),
                                                                       (0, 0, 255)))
     textured.export(tmp_path / "textured.glb")
-    assert np.allclose(load_scene(str(tmp_path / "textured.glb")).albedo, [0.0, 0.0, 1.0])
+    scene = load_scene(str(tmp_path / "textured.glb"))
+    # trimesh writes the image as baseColorTexture with baseColorFactor 0.4 (its default
+    # diffuse): glTF's albedo is the factor (linear) times the texture (sRGB decoded)
+    assert np.allclose(scene.albedo, 0.4) and len(scene.textures) == 1
+    assert np.allclose(scene.corner_albedo(), [0.0, 0.0, 0.4])
     material = trimesh.visual.material.PBRMaterial(baseColorFactor=[0, 255, 0, 255])
     plain = trimesh.creation.box()
     plain.visual = trimesh.visual.TextureVisuals(material=material)

@@ -10,9 +10,10 @@ import pytest
 from explorer.gl.program import ProgramCache, UniformError, declared_uniforms, set_uniforms
 from explorer.lpv.corrections import CORRECTIONS, STAGES, Corrections, uniforms_read_by
 from explorer.lpv.gather import GatherPass
+from explorer.lpv.gather import program_defines as gather_defines
 from explorer.lpv.geometry import GeometryPass
 from explorer.lpv.inject import InjectPass
-from explorer.lpv.propagate import PropagatePass
+from explorer.lpv.propagate import COMPILED_SWITCHES, PropagatePass, program_defines
 from explorer.lpv.settings import GRID_FORMATS, SH_ORDERS
 from explorer.lpv.textures import image_format_defines, sh_defines
 
@@ -25,9 +26,13 @@ STAGE_PROGRAMS = {
                                 **sh_defines(order)}) for fmt, order in VARIANTS],
     GeometryPass.STAGE: [("geometry_inject.glsl", {}),
                          ("geometry_inject.glsl", {"CAMERA_SURFELS": 1})],
-    PropagatePass.STAGE: [("propagate.glsl", {**image_format_defines(fmt), **sh_defines(order)})
-                          for fmt, order in VARIANTS],
-    GatherPass.STAGE: [("gather.glsl", sh_defines(order)) for order in SH_ORDERS],
+    PropagatePass.STAGE: [("propagate.glsl", program_defines(
+        fmt, order, Corrections(ping_pong=ping_pong), audit=audit, geometry=geometry,
+        reflect=geometry)) for fmt, order in VARIANTS for ping_pong in (True, False)
+        for audit, geometry in ((False, False), (True, True))],
+    GatherPass.STAGE: [("gather.glsl", gather_defines(order, cascades=cascades, damping=damping))
+                       for order in SH_ORDERS for cascades in (False, True)
+                       for damping in (False, True)],
 }
 SWITCHES = {entry.uniform for entry in CORRECTIONS}
 
@@ -42,11 +47,21 @@ def programs(ctx):
 def test_every_stage_program_reads_exactly_its_registry_switches(programs):
     assert set(STAGE_PROGRAMS) == set(STAGES)
     for stage, variants in STAGE_PROGRAMS.items():
-        wanted = set(uniforms_read_by(stage))
+        # the switches that choose a code path are compiled in as defines instead
+        wanted = set(uniforms_read_by(stage)) - set(COMPILED_SWITCHES)
         for name, defines in variants:
             program = programs.get(name, defines)
             active = {uniform for uniform in SWITCHES if uniform in program}
             assert active == wanted, (stage, name, defines)
+
+
+def test_a_compiled_switch_follows_its_correction():
+    """The propagation reads ping_pong as a define: each value compiles its own program."""
+    for uniform, define in COMPILED_SWITCHES.items():
+        entry = next(entry for entry in CORRECTIONS if entry.uniform == uniform)
+        for value in (True, False):
+            corrections = Corrections(**{entry.name: value})
+            assert program_defines("rgba32f", 1, corrections)[define] == int(value)
 
 
 def test_a_program_that_does_not_read_a_required_switch_fails(programs):

@@ -13,3 +13,19 @@ def display_problem() -> str | None:
         return "no X server could be started (install Xvfb, or pytest-xvfb's xvfb)"
     glfw.terminate()
     return None
+
+
+def run_child(args: list[str], tmp_path, timeout: float = 600, env: dict | None = None):
+    """Run ``python ARGS`` from the repository root in a child process (a GLX window
+    cannot become current where the tests' EGL context was; an imgui assert aborts the
+    child only), its settings and caches in ``tmp_path``; the CompletedProcess."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    base = dict(os.environ if env is None else env)
+    base.update(XDG_CONFIG_HOME=str(tmp_path / "config"),
+                XDG_CACHE_HOME=str(tmp_path / "cache"))
+    return subprocess.run([sys.executable, *args], cwd=Path(__file__).resolve().parent.parent,
+                          env=base, capture_output=True, text=True, timeout=timeout)

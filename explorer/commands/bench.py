@@ -27,10 +27,14 @@ cell holds 3 texels per channel, so a step moves 3× as many bytes.
 
 Rows are timed as the window runs the frame: without the per-step energy audit (the
 ``audit`` variant adds it). Baseline: for every single-cascade L1 row the minimal
-propagation kernel (``shaders/propagate_minimal.glsl``: five faces per neighbour and the
-geometry volume's occlusion, no switches, no audit) propagates the same injected grid,
-timed alternately with the pipeline's own propagation in the same run; the ``×base``
-column is the ratio of the two, and a ``baseline`` row per grid shows the kernel's time.
+propagation kernel (``shaders/propagate_minimal.glsl``: per neighbour three ``texelFetch``
+of the SH grid, and four of the geometry volume when there is one, five faces written
+out with the generated constants, the three target images written and added into the
+three accumulation images; one barrier per step and one ``finish`` for all; no switches,
+no audit) propagates the same injected grid, timed alternately with the pipeline's own
+propagation in the same run; the ``×base`` column is the median of the frames' ratios of
+the two (each frame's propagation over the baseline timed right after it), and a
+``baseline`` row per grid shows the kernel's time.
 """
 
 from __future__ import annotations
@@ -84,6 +88,9 @@ scene's rig; a scene with fewer has no such row) and a moving object (module doc
 The variants in :data:`NEEDS_GEOMETRY` turn a one-sided geometry volume on if
 --geometry-volume is off (they need one)."""
 NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders")
+COMPARED = ("default", "audit", "audit-flux", "geometry")
+"""Rows whose propagation is timed against the minimal kernel (with the geometry volume's
+occlusion for ``geometry``): one bounce, L1, one cascade."""
 RUN_OPTIONS = ("need_audit", "light_count", "move_object")
 MOVE_STEP = 1e-3
 """World units the moving-object row moves its object before each frame."""
@@ -118,6 +125,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="drive the real window through a scripted session (launch, "
                              "idle, orbit, exposure sweep, every correction toggled, grid "
                              "64³) and print its responsiveness (needs a display: xvfb-run)")
+    parser.add_argument("--overhead", action="store_true",
+                        help="per-frame CPU overhead on tiny sizes (8³, 64² image and RSM "
+                             "unless given): wall and Python milliseconds outside GL, GL "
+                             "calls, dispatches, draws, barriers, finishes, read-backs, "
+                             "uniform uploads and bindings, for a full, a light, a camera "
+                             "and a display frame (--repeat frames each, default 20)")
     parser.add_argument("--frames", type=options.value_type("frames", INTERACTIVE_FRAMES),
                         default=60, help=options.spec_help(INTERACTIVE_FRAMES) + " (60)")
     parser.add_argument("--soak", metavar="MINUTES",
@@ -235,7 +248,7 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
     moving = bool(VARIANTS.get(variant, {}).get("move_object", False))
     steps, cascades = settings.iterations, settings.cascades
     compare = steps > 0 and cascades == 1 and settings.sh_order == 1 and \
-        variant in ("default", "audit", "audit-flux")
+        variant in COMPARED
     run = {"need_audit": need_audit, "progress": progress}
     options.run_pipeline(pipeline, settings, **run)     # warm-up: compiles, allocates
     if compare:
@@ -258,6 +271,7 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
                 _time_baseline(pipeline, baseline, steps))
     passes = {name: statistics.median(values) for name, values in samples.items()}
     baseline_ms = passes.pop("baseline", None)
+    pairs = list(zip(samples.get("propagate", []), samples.get("baseline", [])))
     row = {"variant": variant, "grid": settings.grid_size, "iterations": steps,
            "cascades": cascades, "sh_order": settings.sh_order, "passes_ms": passes,
            "frame_ms": sum(passes.values()), "methods": dict(pipeline.timing_methods),
@@ -269,8 +283,11 @@ def _time_run(pipeline, baseline, variant: str, settings: Settings, repeat: int,
         row["propagation_gbs"] = moved / (propagate_ms * 1e-3) / 1e9
         row["ms_per_step"] = propagate_ms / steps
     if baseline_ms:
+        # the median of each frame's ratio to the baseline timed right after it: on a
+        # shared machine the two medians can come from different moments of its load
         row["baseline_ms"] = baseline_ms
-        row["kernel_ratio"] = propagate_ms / baseline_ms
+        row["kernel_ratio"] = statistics.median(
+            ms / base for ms, base in pairs if base > 0)
     return row
 
 
@@ -329,6 +346,8 @@ def main(args: argparse.Namespace) -> int:
 
     base = options.settings_from_args(args)
     options.check_scene(base.scene)
+    if args.overhead:
+        return _overhead(args)
     with options.Outputs("--json") as outputs:
         json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
         try:
@@ -358,4 +377,37 @@ def main(args: argparse.Namespace) -> int:
                                   "triangles": triangles, "rows": rows}, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
             print(f"wrote {json_path}")
+    return 0
+
+
+def _overhead(args: argparse.Namespace) -> int:
+    """``bench --overhead`` (explorer/commands/overhead_bench.py)."""
+    from explorer.commands.overhead_bench import (
+        DEFAULT_FRAMES, format_overhead, measure_overhead, tiny_settings)
+    from explorer.gl.context import probe
+    from explorer.lpv.pipeline import Pipeline
+
+    try:
+        settings = tiny_settings(args)
+    except ValueError as exc:
+        raise options.CommandError(exc) from None
+    with options.Outputs("--json") as outputs:
+        json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
+        try:
+            with Pipeline(settings) as pipeline:
+                caps = probe(pipeline.ctx)
+                rows = measure_overhead(pipeline, settings, args.repeat or DEFAULT_FRAMES)
+        except options.render_failures() as exc:
+            raise options.CommandError(exc, 1) from None
+        when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        print(f"device: {caps.renderer} ({caps.version}); {when}")
+        print(f"overhead per frame: scene {settings.scene}, {settings.grid_size}³, "
+              f"{settings.iterations} iterations, {settings.width}×{settings.height}, RSM "
+              f"{settings.rsm_size}²; python ms = wall time outside GL calls")
+        print(format_overhead(rows))
+        if json_path is not None:
+            payload = json.dumps({"device": caps.renderer, "version": caps.version,
+                                  "date": when, "settings": settings.to_dict(),
+                                  "overhead": rows}, indent=2)
+            outputs.write(json_path, lambda p: p.write_text(payload))
     return 0

@@ -16,10 +16,18 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from explorer.commands import options
+from explorer.commands import compare_truth, options
+from explorer.commands.compare_report import (  # noqa: F401  (tables.py reads them here)
+    METRIC_ALIGN,
+    METRIC_HEADERS,
+    metric_cells,
+    region_metrics,
+    save_error_png,
+    save_png,
+)
 from explorer.lpv.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
@@ -70,6 +78,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "else a movable object; explorer/scene/parts.py); an unknown "
                              "name lists the scene's surfaces; repeatable")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    parser.add_argument("--json", action="store_true",
+                        help="print the rows as JSON on stdout (every metric at full "
+                             "precision) instead of the markdown table; table.json is also "
+                             "written")
+    parser.add_argument("--dump", type=Path, default=None, metavar="FILE.npz",
+                        help="also write the last frame's stages as float arrays and the "
+                             "reference image (`reference`), with FILE.json (as `render "
+                             "--dump`)")
+    compare_truth.add_arguments(parser)
     options.add_setting_options(parser, exclude=("corrections", "exposure", "indirect_only"),
                         sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
                         aliases={"grid_size": ("--grid-size",)})
@@ -123,6 +140,7 @@ class Comparison:
     reference: object               # the reference image of the last frame (H, W, 3)
     valid: object                   # (H, W) pixels that see a surface
     frame: object                   # the last FrameResult (its settings head the table)
+    regions: dict = field(default_factory=dict)  # region name -> (H, W) mask, "image" first
 
 
 class ReferenceCache:
@@ -205,12 +223,16 @@ def main(args: argparse.Namespace) -> int:
     base = options.settings_from_args(args)
     options.check_scene(base.scene)
     runs = plan_runs(args, base)
-    scene = _load_scene(base)
+    scene = load_scene(base)
     check_cost(base, args.region, _view_count(scene))
     check_masks(scene, args.region_mask)
+    compare_truth.check_available(args)
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
     with options.Outputs() as outputs:
         outputs.folder(out)
+        if args.dump is not None:
+            args.dump = outputs.file(args.dump, (".npz",), option="--dump")
+            outputs.file(args.dump.with_suffix(".json"), (".json",), option="--dump")
         with options.Progress("compare", enabled=False if args.quiet else None) as progress:
             try:
                 with given_or_headless(None) as ctx:
@@ -220,16 +242,57 @@ def main(args: argparse.Namespace) -> int:
             except options.render_failures() as exc:
                 raise options.CommandError(exc, 1) from None
         table = format_table(comparison.rows, args, comparison.frame)
-        print(table)
+        report = json_report(comparison, args)
+        print(report if args.json else table)
         reference, valid = comparison.reference, comparison.valid
         exposure = args.exposure or _auto_exposure(reference, valid)
         written = _write(outputs, out, args, comparison.images, reference, valid, exposure)
+        if args.truth == "mitsuba":
+            truth_table, truth_files = compare_truth.run(args, comparison, scene,
+                                                         comparison.regions, outputs, out,
+                                                         exposure)
+            print("\n" + truth_table)
+            table += "\n\n" + truth_table
+            written += truth_files
         outputs.write(out / "table.md", lambda p: p.write_text(table + "\n"))
-    print(f"wrote {', '.join(written)}, table.md to {out}/ (PNG exposure {exposure:.4g})")
+        outputs.write(out / "table.json", lambda p: p.write_text(report + "\n"))
+        if args.dump is not None:
+            from explorer.commands.render import write_dump
+
+            write_dump(outputs, args.dump, comparison.frame, reference,
+                       extra={"reference_options": {"visibility": args.reference,
+                                                    "min_distance": args.min_distance}},
+                       stream=sys.stderr if args.json else sys.stdout)
+    print(f"wrote {', '.join(written)}, table.md, table.json to {out}/ (PNG exposure "
+          f"{exposure:.4g})", file=sys.stderr if args.json else sys.stdout)
     return 0
 
 
-def _load_scene(base: Settings):
+def json_report(comparison: Comparison, args: argparse.Namespace) -> str:
+    """The rows as JSON (``--json``, table.json): what was compared and, per row, every
+    metric at full precision (None for an empty region)."""
+    import json
+
+    rows = []
+    for row in comparison.rows:
+        stats = row.stats
+        rows.append({
+            "preset": row.preset, "iterations": row.iterations, "cascades": row.cascades,
+            "sh_order": row.sh_order, "region": row.region,
+            "relative_l2": None if stats is None else stats.relative_l2,
+            "rmse": None if stats is None else stats.rmse,
+            "flux_ratio": None if stats is None else stats.flux_ratio,
+            "flux_ratio_rgb": None if stats is None else list(stats.flux_ratio_rgb),
+            "pixels": 0 if stats is None else stats.pixels,
+            "lpv_mean": None if row.means is None else row.means[0],
+            "reference_mean": None if row.means is None else row.means[1]})
+    frame = comparison.frame
+    return json.dumps({"compared": settings_line(args, frame), "reference": args.reference,
+                       "settings": frame.settings.to_dict(), "vpls": frame.vpls.count,
+                       "rows": rows}, indent=2, ensure_ascii=False)
+
+
+def load_scene(base: Settings):
     from explorer.scene import SceneError
     from explorer.truth.gbuffer import scene_for
 
@@ -281,9 +344,11 @@ def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
         first = runs[0].settings
         masks = surface_masks(scene, render_triangle_ids(ctx, scene, first.width,
                                                          first.height), names)
+    keep_steps = getattr(args, "dump", None) is not None     # --dump writes grid_0 … grid_N
     with Pipeline(runs[0].settings, ctx) as pipeline:
         for run in runs:
-            frame = options.run_pipeline(pipeline, run.settings, progress)
+            frame = options.run_pipeline(pipeline, run.settings, progress,
+                                         keep_steps=keep_steps)
             settings = frame.settings
             key = (settings.scene, settings.width, settings.height, visibility,
                    min_distance if min_distance is not None
@@ -312,19 +377,7 @@ def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
                 regions[name] = mask & valid
             for region, mask in regions.items():
                 rows.append(CompareRow(*cells, region, *region_metrics(lpv, reference, mask)))
-    return Comparison(rows, images, reference, gbuffer.valid, frame)
-
-
-def region_metrics(lpv, reference, mask) -> tuple[object | None, tuple[float, float] | None]:
-    """The ErrorStats and the (LPV, reference) mean radiance over ``mask``; (None, None)
-    when it holds no pixel."""
-    from explorer.truth.metrics import EmptyRegionError, error_stats, mean_radiance
-
-    try:
-        stats = error_stats(lpv, reference, mask)
-    except EmptyRegionError:
-        return None, None
-    return stats, (mean_radiance(lpv, mask), mean_radiance(reference, mask))
+    return Comparison(rows, images, reference, gbuffer.valid, frame, regions)
 
 
 def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, valid,
@@ -332,7 +385,7 @@ def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, v
     """The reference, LPV and error PNGs; returns their names."""
     from explorer.truth.metrics import error_image
 
-    outputs.write(out / "reference.png", lambda p: _save(p, reference * exposure))
+    outputs.write(out / "reference.png", lambda p: save_png(p, reference * exposure))
     written = ["reference.png"]
     scale = args.error_scale
     if scale is None:
@@ -340,9 +393,9 @@ def _write(outputs: options.Outputs, out: Path, args, images: dict, reference, v
         # ratio; for the difference, the reference's bright end (99th percentile).
         scale = LOG2_DEFAULT_SCALE if args.error_mode == "log2-ratio" else 1.0 / exposure
     for label, lpv in images.items():
-        outputs.write(out / f"lpv-{label}.png", lambda p, lpv=lpv: _save(p, lpv * exposure))
+        outputs.write(out / f"lpv-{label}.png", lambda p, lpv=lpv: save_png(p, lpv * exposure))
         error = error_image(lpv, reference, valid, args.error_mode, scale)
-        outputs.write(out / f"error-{label}.png", lambda p, e=error: _save_error(p, e))
+        outputs.write(out / f"error-{label}.png", lambda p, e=error: save_error_png(p, e))
         written += [f"lpv-{label}.png", f"error-{label}.png"]
     return written
 
@@ -353,19 +406,6 @@ def _same_vpls(a, b) -> bool:
     return (b is not None and a.count == b.count
             and np.array_equal(np.asarray(a.positions), np.asarray(b.positions))
             and np.array_equal(np.asarray(a.flux), np.asarray(b.flux)))
-
-
-METRIC_HEADERS = ("rel. L2", "RMSE", "flux ratio LPV/ref", "ratio r, g, b")
-METRIC_ALIGN = ("---:", "---:", "---:", "---")
-
-
-def metric_cells(stats) -> list[str]:
-    """The table cells of an ErrorStats (:data:`METRIC_HEADERS`), as every table of
-    docs/ERRORS.md prints them; None (an empty region) gives dashes."""
-    if stats is None:
-        return ["–", "–", "–", "empty region"]
-    return [f"{stats.relative_l2:.3f}", f"{stats.rmse:.4g}", f"{stats.flux_ratio:.3f}",
-            ", ".join(f"{v:.3f}" for v in stats.flux_ratio_rgb)]
 
 
 MEAN_HEADERS = ("pixels", "LPV mean", "ref. mean")
@@ -419,42 +459,3 @@ def _auto_exposure(reference, valid) -> float:
     values = np.asarray(reference)[valid]
     top = float(np.percentile(values, 99.0)) if values.size else 0.0
     return 1.0 / top if top > 0 else 1.0
-
-
-def _to_srgb8(linear):
-    from explorer.lpv.tonemap import linear_to_srgb
-
-    return (linear_to_srgb(linear) * 255.0 + 0.5).astype("uint8")
-
-
-def _save(path: Path, linear) -> None:
-    """Linear (H, W, 3), row 0 at the top (FrameResult's order), to an sRGB PNG."""
-    from PIL import Image
-
-    Image.fromarray(_to_srgb8(linear)).save(path)
-
-
-def _save_error(path: Path, error) -> None:
-    """The false-colour error (already display colours) with a colour bar and its scale."""
-    import numpy as np
-    from PIL import Image, ImageDraw
-
-    from explorer.truth.metrics import diverging_colormap
-
-    height, width = error.rgb.shape[:2]
-    ramp_height, text_height = max(6, height // 20), 12
-    ramp = np.linspace(-error.scale, error.scale, width)
-    bar = np.broadcast_to(diverging_colormap(ramp, error.scale)[None], (ramp_height, width, 3))
-    canvas = np.ones((height + ramp_height + 2 * text_height, width, 3))
-    canvas[:height] = error.rgb
-    canvas[height:height + ramp_height] = bar
-    image = Image.fromarray((np.clip(canvas, 0, 1) * 255 + 0.5).astype(np.uint8))
-    draw = ImageDraw.Draw(image)
-    unit = "log2(LPV/ref)" if error.mode == "log2-ratio" else "LPV - ref"
-    y = height + ramp_height
-    # first text row: the values at the ends of the ramp; second row: what is shown
-    draw.text((1, y), f"-{error.scale:.3g}", fill=(0, 0, 0))
-    label = f"+{error.scale:.3g}"
-    draw.text((max(width - 6 * len(label) - 1, 0), y), label, fill=(0, 0, 0))
-    draw.text((1, y + text_height), unit, fill=(0, 0, 0))
-    image.save(path)

@@ -5,7 +5,9 @@ LaTeX), the value to 20 significant digits (``sp.N(expr, 20)``; formulas and vec
 none), the GLSL constant it feeds, and a one-line statement. ``--name`` selects one entry
 by registry name or by GLSL constant name; ``--json`` prints machine-readable output (a
 list, or one object with ``--name``). ``--errata`` prints the check of every number the
-seed documents print, as a markdown table.
+seed documents print, as a markdown table. ``--format glsl|hlsl|cpp|json`` prints the
+porting sheet (derivations/porting.py): the exact constants, the per-face weights Δω/π and
+the SH and grid conventions, ready to paste into an engine.
 """
 
 from __future__ import annotations
@@ -24,6 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "solid_angles.front_face, or a GLSL name such as SH_C1")
     parser.add_argument("--errata", action="store_true",
                         help="print the table of published numbers vs exact values (markdown)")
+    parser.add_argument("--format", choices=("glsl", "hlsl", "cpp", "json"), default=None,
+                        dest="sheet_format",
+                        help="print the porting sheet in this language: the exact constants, "
+                             "the per-face weights and the SH conventions (cpp: a header "
+                             "valid as C and C++)")
 
 
 def entry(item) -> dict[str, object]:
@@ -67,6 +74,11 @@ def _print_text(entries: list[dict[str, object]]) -> None:
 def main(args: argparse.Namespace) -> int:
     from derivations.registry import all_results
 
+    if args.sheet_format is not None:
+        from derivations.porting import sheet
+
+        print(sheet(args.sheet_format), end="")
+        return 0
     if args.errata:
         from derivations import errata
 

@@ -130,6 +130,10 @@ class Recorder:
                 work = ", ".join(f"{unit.side} {unit.what} {unit.ms:.0f} ms"
                                  for unit in status.work) or "no pipeline work"
                 work += f"; window drawing and the rest {ms - status.work_ms:.0f} ms"
+                phases = getattr(self.app, "draw_phases_ms", None)
+                if phases:      # a window that times its own drawing by phase
+                    work += " (" + ", ".join(f"{name.replace('_', ' ')} {value:.0f} ms"
+                                             for name, value in phases.items()) + ")"
             self.longest = (ms, f"{self.phase}: {work}")
         if len(self.slow) < 5 or ms > self.slow[-1][0]:
             status = getattr(self.app, "status", None)
@@ -218,7 +222,18 @@ def idle_phase(app) -> dict:
     wall = time.perf_counter() - wall
     figures["idle_cpu_percent"] = 100.0 * (time.process_time() - cpu) / wall
     figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame_index - drawn) / wall
-    figures["idle_frame_ms"] = statistics.median(draw(app) for _ in range(10))
+    phases: dict[str, list[float]] = {}
+    redraws = []
+    for _ in range(10):
+        redraws.append(draw(app))
+        for phase, ms in getattr(app, "draw_phases_ms", {}).items():
+            phases.setdefault(phase, []).append(ms)
+    figures["idle_frame_ms"] = statistics.median(redraws)
+    if phases:        # a window that times its own drawing by phase
+        figures["window_drawing_ms"] = statistics.median(
+            sum(values) for values in zip(*phases.values()))
+        for phase, values in phases.items():
+            figures[f"window_drawing_{phase}_ms"] = statistics.median(values)
     return figures
 
 

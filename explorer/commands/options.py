@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 import tempfile
 import time
@@ -49,6 +50,10 @@ class ArgumentParser(argparse.ArgumentParser):
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self.command_parsers: dict[str, argparse.ArgumentParser] = {}
+        # a value that starts with a minus and a digit is a value, not an option:
+        # ``--camera -1.5,1.7,1.8:0,0,0`` (argparse alone takes only a plain negative
+        # number for a value and would say "expected one argument")
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
@@ -187,6 +192,7 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
         else:
             group.add_argument(*flags, dest=name, type=setting_type(name), default=None,
                                metavar=_metavar(spec), help=help_text)
+    add_placement_options(group)
     if "width" not in exclude:
         size = defaults.get("size", (base.width, base.height))
         group.add_argument("--size", type=size_type(image_size), default=None, metavar="WxH",
@@ -201,6 +207,88 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
                         _setting_options=tuple(sorted({"size", "preset"} - (
                             {"preset"} if "corrections" in exclude else set()) - (
                             {"size"} if "width" in exclude else set()))))
+
+
+def add_placement_options(group) -> None:
+    """``--light KIND:x,y,z[:tx,ty,tz]`` and ``--camera ex,ey,ez:tx,ty,tz[:fov]``: a quick
+    look at one's own mesh without a scene file (they set ``Settings.light`` /
+    ``light_kind`` and ``camera`` / ``camera_fov``, :func:`placement_changes`)."""
+    from explorer.scene.lights import LIGHT_KINDS
+
+    group.add_argument("--light", dest="_light_option", type=light_option, default=None,
+                       metavar="KIND:X,Y,Z[:TX,TY,TZ]",
+                       help=f"the primary light: its kind ({', '.join(LIGHT_KINDS)}), "
+                            f"position and target (a spot and a directional light need "
+                            f"one; a point light ignores it); a new kind gets the flux "
+                            f"that gives 2 W/m²%% at the target unless --light-flux says")
+    group.add_argument("--camera", dest="_camera_option", type=camera_option, default=None,
+                       metavar="EX,EY,EZ:TX,TY,TZ[:FOV]",
+                       help="the camera: eye, target and optionally the vertical field of "
+                            "view in degrees, in [1, 170]")
+
+
+def _point(text: str, what: str) -> tuple[float, float, float]:
+    import math
+
+    try:
+        point = tuple(float(part) for part in text.split(","))
+    except ValueError:
+        point = ()
+    if len(point) != 3 or not all(math.isfinite(v) for v in point):
+        raise argparse.ArgumentTypeError(f"{what} must be three numbers x,y,z, got {text!r}")
+    return point
+
+
+def light_option(text: str) -> tuple[str, tuple, tuple]:
+    """``KIND:x,y,z[:tx,ty,tz]`` as ``(kind, position, target)`` (a point light without a
+    target: the point below it, as ``PointLight.target``)."""
+    from explorer.scene.lights import LIGHT_KINDS
+
+    kind, *points = text.split(":")
+    if kind not in LIGHT_KINDS or len(points) not in (1, 2):
+        raise argparse.ArgumentTypeError(
+            f"--light must look like KIND:x,y,z[:tx,ty,tz] with KIND one of "
+            f"{', '.join(LIGHT_KINDS)}, got {text!r}")
+    position = _point(points[0], "the light's position")
+    if len(points) == 1 and kind != "point":
+        raise argparse.ArgumentTypeError(
+            f"a {kind} light needs a target: --light {kind}:x,y,z:tx,ty,tz")
+    target = _point(points[1], "the light's target") if len(points) == 2 else \
+        (position[0], position[1] - 1.0, position[2])
+    if target == position:
+        raise argparse.ArgumentTypeError("the light's position and target must differ")
+    return kind, position, target
+
+
+def camera_option(text: str) -> tuple[tuple, tuple, float | None]:
+    """``ex,ey,ez:tx,ty,tz[:fov]`` as ``(eye, target, fov or None)``."""
+    parts = text.split(":")
+    if len(parts) not in (2, 3):
+        raise argparse.ArgumentTypeError(
+            f"--camera must look like ex,ey,ez:tx,ty,tz[:fov], got {text!r}")
+    eye, target = _point(parts[0], "the camera's eye"), _point(parts[1], "its target")
+    if eye == target:
+        raise argparse.ArgumentTypeError("the camera's eye and target must differ")
+    fov = None
+    if len(parts) == 3:
+        fov = setting_type("camera_fov")(parts[2])
+    return eye, target, fov
+
+
+def placement_changes(args: argparse.Namespace) -> dict[str, object]:
+    """The Settings changes ``--light`` and ``--camera`` ask for."""
+    changes: dict[str, object] = {}
+    light = getattr(args, "_light_option", None)
+    if light is not None:
+        kind, position, target = light
+        changes.update(light=(position, target), light_kind=kind)
+    camera = getattr(args, "_camera_option", None)
+    if camera is not None:
+        eye, target, fov = camera
+        changes["camera"] = (eye, target)
+        if fov is not None:
+            changes["camera_fov"] = fov
+    return changes
 
 
 def scene_help(help_text: str) -> str:
@@ -242,6 +330,7 @@ def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -
             value = _merged_transforms(name, value)
         if value is not None and name not in sweep:
             changes[name] = value
+    changes.update(placement_changes(args))
     own = getattr(args, "_setting_options", ())   # --size and --preset, when they are ours
     if "size" in own and args.size is not None:
         changes["width"], changes["height"] = args.size
@@ -294,16 +383,23 @@ def render_failures() -> tuple[type[BaseException], ...]:
             moderngl.Error)
 
 
-def check_scene(name: str, load: bool = False) -> None:
+def check_scene(name: str, stream: TextIO | None = None) -> None:
     """A built-in scene name or an existing file; :class:`CommandError` otherwise (the
-    loader's message: the built-in names and the mesh types). With ``load`` a mesh file
-    is also read, so a file trimesh cannot use is refused now rather than later."""
+    loader's message: the built-in names and the mesh types). A file (a scene file or a
+    mesh) is read and checked whole now, so a mistake is refused before any work rather
+    than later, and what the loader chose for the user (``Scene.notice``: where it put a
+    light) is printed on ``stream`` (stderr)."""
     from explorer.scene import SceneError, load_scene
     from explorer.scene.loader import check_scene_name
 
     try:
-        if check_scene_name(name) is not None and load:
-            load_scene(name)
+        path = check_scene_name(name)
+        if path is not None:
+            notice = load_scene(name).notice
+            if notice:
+                out = sys.stderr if stream is None else stream
+                out.write(f"lpv-explorer: {notice}\n")
+                out.flush()
     except SceneError as exc:
         raise CommandError(exc) from None
 

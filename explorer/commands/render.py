@@ -2,7 +2,15 @@
 ``--lesson ID --step K`` the frame a lesson step shows, every option given overriding it.
 ``--time T`` puts the scene's animation paths (its primary light, its animated objects) at
 ``T`` seconds, ``--fly-through T`` the camera on the scene's camera path (the atrium's) at
-parameter ``T`` (one loop per unit)."""
+parameter ``T`` (one loop per unit).
+
+Numbers out: ``--out x.exr`` or ``x.npy`` writes the view's float data instead of a
+picture (explorer/exchange/views.py); ``--dump out.npz`` every stage of the frame as float
+arrays with a JSON sidecar ``out.json`` (explorer/exchange/stages.py, sidecar.py).
+Numbers in: ``--vpls FILE.npz`` injects an engine's own VPLs, ``--grid0 FILE.npz``
+propagates its own injected grid (explorer/exchange/inputs.py has the layout). The
+grid-slice PNG carries a scale bar: the flux (or coefficient) at white and the slice's
+range."""
 
 from __future__ import annotations
 
@@ -29,8 +37,10 @@ SLICED_VIEWS = ("grid-slice", "geometry-volume")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="frame.png", type=Path,
-                        help="image to write (.png); with several --view, one file per view "
-                             "named <stem>-<view>.png")
+                        help="image to write: .png (the picture), .exr or .npy (the view's "
+                             "float data: radiance without tone curve, raw grid values; .exr "
+                             "needs the OpenEXR package); with several --view, one file per "
+                             "view named <stem>-<view><suffix>")
     parser.add_argument("--view", action="append", choices=VIEWS, metavar="VIEW",
                         help=f"what to write (repeatable): {', '.join(VIEWS)}; default: final "
                              f"(with --lesson: the step's view)")
@@ -50,6 +60,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "names; default: every path of the scene)")
     parser.add_argument("--fly-through", type=options.value_type("fly_through", FLY_THROUGH),
                         default=None, metavar="T", help=options.spec_help(FLY_THROUGH))
+    numbers = parser.add_argument_group(
+        "numbers in and out", "float arrays of every stage, an engine's own VPLs or grid "
+        "(the layout: `render --dump`'s arrays and its JSON sidecar)")
+    numbers.add_argument("--dump", type=Path, default=None, metavar="FILE.npz",
+                         help="also write every stage as float arrays (RSM, VPLs, grid_0 … "
+                              "grid_N, accumulated, geometry volume, irradiance, direct, "
+                              "indirect, final) and FILE.json: grid, camera, lights, settings "
+                              "and what each array holds in which units")
+    add_input_arguments(numbers)
     group = parser.add_argument_group(
         "lesson steps", "render what a lesson step shows: its scene, settings, corrections "
         "and view; every settings option given (and --preset) overrides the step")
@@ -59,29 +78,94 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     options.add_setting_options(parser)
 
 
+def add_input_arguments(group) -> None:
+    """``--vpls`` and ``--grid0`` (render and diff)."""
+    group.add_argument("--vpls", type=Path, default=None, metavar="FILE.npz",
+                       help="inject these VPLs instead of the RSM's: vpl_position, vpl_normal, "
+                            "vpl_flux (M, 3) floats; vpl_depth (M,) and vpl_texel_area () "
+                            "for the geometry volume; vpl_albedo (M, 3) optional (a dump's "
+                            "own arrays)")
+    group.add_argument("--grid0", type=Path, default=None, metavar="FILE.npz",
+                       help="propagate this injected grid instead of the frame's: grid_0 "
+                            "(3, N, N, N, 4|9) float, W/sr SH, index [colour, x, y, z, k] on "
+                            "the frame's grid (see a dump's sidecar); one cascade, rgba32f")
+
+
+def frame_inputs(args: argparse.Namespace, settings):
+    """``(vpls, grid0)`` from ``--vpls`` and ``--grid0`` (None when not given), checked
+    against ``settings`` before anything renders."""
+    from explorer.exchange.files import FileFormatError
+    from explorer.exchange.inputs import load_grid0, load_vpls
+
+    vpls = grid0 = None
+    try:
+        if args.vpls is not None:
+            vpls = load_vpls(args.vpls, settings.geometry_volume != "off")
+        if args.grid0 is not None:
+            if settings.cascades != 1:
+                raise options.CommandError("--grid0 feeds one grid: use --cascades 1")
+            if settings.grid_format != "rgba32f":
+                raise options.CommandError("--grid0 needs --grid-format rgba32f (a 16-bit "
+                                           "grid would round it)")
+            grid0 = load_grid0(args.grid0, settings)
+    except FileFormatError as exc:
+        raise options.CommandError(exc) from None
+    return vpls, grid0
+
+
+def run_frame(pipeline, settings, progress, args: argparse.Namespace, vpls, grid0,
+              keep_steps: bool):
+    """The frame, with ``--vpls`` and ``--grid0`` applied (explorer/exchange/inputs.py)."""
+    from explorer.exchange.files import FileFormatError
+    from explorer.exchange.inputs import check_grid_placement, run_with_grid0
+
+    if grid0 is None:
+        return options.run_pipeline(pipeline, settings, progress, keep_steps=keep_steps,
+                                    vpls=vpls)
+    try:
+        result = run_with_grid0(pipeline, settings, grid0, progress, vpls=vpls,
+                                check=lambda spec: check_grid_placement(args.grid0, spec))
+    except FileFormatError as exc:
+        raise options.CommandError(exc) from None
+    warn = getattr(progress, "warn", None)       # as options.run_pipeline does
+    if warn is not None:
+        warn(result.warnings)
+    return result
+
+
 def main(args: argparse.Namespace) -> int:
+    from explorer.exchange.files import EXR_MISSING, FLOAT_IMAGE_SUFFIXES, has_openexr
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError
 
     step = _lesson_step(args)
+    if step is not None and (args.vpls is not None or args.grid0 is not None):
+        raise options.CommandError("--vpls and --grid0 render the frame of the given "
+                                   "settings, not a lesson step")
     settings = options.settings_from_args(args, base=step.settings() if step else None)
     views = args.view or [step.view if step else "final"]
     options.check_scene(settings.scene)
     settings = animated(args, settings)
     wanted = _view_options(args, settings, views)
+    vpls, grid0 = frame_inputs(args, settings)
     with options.Outputs() as outputs:
-        paths = {view: outputs.file(path) for view, path in output_paths(args.out, views).items()}
+        paths = {view: outputs.file(path, options.IMAGE_SUFFIXES + FLOAT_IMAGE_SUFFIXES)
+                 for view, path in output_paths(args.out, views).items()}
+        if any(path.suffix.lower() == ".exr" for path in paths.values()) and not has_openexr():
+            raise options.CommandError(EXR_MISSING)
+        dump = None
+        if args.dump is not None:
+            dump = outputs.file(args.dump, (".npz",), option="--dump")
+            outputs.file(dump.with_suffix(".json"), (".json",), option="--dump")
         try:
             with Pipeline(settings) as pipeline, options.Progress("render") as progress:
-                result = options.run_pipeline(pipeline, settings, progress)
+                result = run_frame(pipeline, settings, progress, args, vpls, grid0,
+                                   keep_steps=dump is not None)
                 progress.close()
                 for view, path in paths.items():
-                    image = _view_image(pipeline, step, settings, view, wanted)
-                    outputs.write(path, lambda p, image=image, view=view: write_png(
-                        image, p, enlarge=view in _ENLARGED))
-                    shown = f"{view} against {step.compare_preset}" if step and \
-                        step.compare_preset and view == step.view else view
-                    print(f"wrote {path} ({shown})")
+                    _write_view(outputs, path, pipeline, result, step, settings, view, wanted)
+                if dump is not None:
+                    write_dump(outputs, dump, result)
                 if args.audit:
                     print_audit(result)
         except SceneError as exc:
@@ -89,6 +173,54 @@ def main(args: argparse.Namespace) -> int:
         except options.render_failures() as exc:
             raise options.CommandError(exc, 1) from None
     return 0
+
+
+def _write_view(outputs, path: Path, pipeline, result, step, settings, view: str,
+                wanted: dict[str, int]) -> None:
+    """One view's file: float data (.exr, .npy), or the picture (a grid slice with its
+    scale bar)."""
+    from explorer.exchange.files import FLOAT_IMAGE_SUFFIXES, write_float_image
+    from explorer.exchange.views import FLOAT_VIEWS, float_view
+
+    if path.suffix.lower() in FLOAT_IMAGE_SUFFIXES:
+        data = float_view(result, view, positions=result.gbuffer_position,
+                          **_sliced(view, wanted))
+        outputs.write(path, lambda p: write_float_image(
+            p, data, f"lpv-explorer render, view {view}: {FLOAT_VIEWS[view]}"))
+        print(f"wrote {path} ({view}: {FLOAT_VIEWS[view]}, {data.shape[1]}×{data.shape[0]})")
+        return
+    image = _view_image(pipeline, step, settings, view, wanted)
+    if view == "grid-slice":
+        outputs.write(path, lambda p: write_grid_slice_png(image, result, wanted, p))
+    else:
+        outputs.write(path, lambda p: write_png(image, p, enlarge=view in _ENLARGED))
+    shown = f"{view} against {step.compare_preset}" if step and \
+        step.compare_preset and view == step.view else view
+    print(f"wrote {path} ({shown})")
+
+
+def write_dump(outputs, path: Path, result, reference=None, extra: dict | None = None,
+               stream=None) -> None:
+    """Every stage of ``result`` (its steps kept) into ``path`` and the sidecar beside it
+    (explorer/exchange/); ``reference``: compare's reference image."""
+    from explorer.exchange.files import write_npz
+    from explorer.exchange.sidecar import sidecar, sidecar_path, write_sidecar
+    from explorer.exchange.stages import frame_arrays
+    from explorer.truth.gbuffer import scene_for
+
+    arrays = frame_arrays(result, reference)
+    data = sidecar(result, arrays, scene_for(result.settings), extra)
+    outputs.write(path, lambda p: write_npz(p, arrays))
+    outputs.write(sidecar_path(path), lambda p: write_sidecar(p, data))
+    steps = len(result.steps or ())
+    print(f"wrote {path} ({len(arrays)} arrays, grid_0 … grid_{steps - 1}) and "
+          f"{sidecar_path(path)}", file=stream)
+
+
+def _sliced(view: str, chosen: dict[str, int]) -> dict[str, int]:
+    """The --slice/--coefficient/--cascade options ``view`` takes."""
+    return {k: v for k, v in chosen.items() if view in SLICED_VIEWS
+            and (k != "coefficient" or view == "grid-slice")}
 
 
 def _names(text: str) -> tuple[str, ...]:
@@ -178,10 +310,9 @@ def _view_image(pipeline, step, settings, view: str, chosen: dict[str, int]):
         from explorer.lessons import render_step
 
         return render_step(pipeline, step, settings)[0]
-    options.run_pipeline(pipeline, settings)   # a no-op unless a lesson comparison ran in between
-    wanted = {k: v for k, v in chosen.items() if view in SLICED_VIEWS
-              and (k != "coefficient" or view == "grid-slice")}
-    return pipeline.view(view, **wanted)
+    if step is not None:    # the lesson's comparison may have run other settings since
+        options.run_pipeline(pipeline, settings)
+    return pipeline.view(view, **_sliced(view, chosen))
 
 
 _ENLARGED = tuple(view for view in VIEWS if view not in CAMERA_VIEWS)
@@ -201,10 +332,44 @@ def write_png(image, path: Path, enlarge: bool = False) -> None:
     Image.fromarray((pixels * 255.0 + 0.5).astype(np.uint8), "RGB").save(path)
 
 
+def write_grid_slice_png(image, result, chosen: dict[str, int], path: Path) -> None:
+    """The grid-slice picture enlarged, with its scale bar: the ramp from 0 (or −peak for a
+    coefficient) to the value shown as white, the slice's range and what it shows."""
+    import numpy as np
+
+    from explorer.commands.scale_bar import save_with_scale_bar
+    from explorer.lpv.tonemap import linear_to_srgb
+    from explorer.lpv.views import cascade_item, grid_slice_scale, grid_slice_values
+
+    coefficient, cascade = chosen.get("coefficient"), chosen.get("cascade")
+    grid = cascade_item(result, "accumulated", cascade)
+    values = grid_slice_values(grid, chosen.get("z"), coefficient)
+    white = grid_slice_scale(values, coefficient)
+    pixels = np.clip(np.nan_to_num(image), 0.0, 1.0)
+    repeat = max(1, -(-MIN_PNG_SIZE // max(pixels.shape[:2])))
+    pixels = pixels.repeat(repeat, axis=0).repeat(repeat, axis=1)
+    width = pixels.shape[1]
+    n = grid.shape[1]
+    z = n // 2 if chosen.get("z") is None else chosen["z"]
+    if coefficient is None:
+        ramp = np.repeat(linear_to_srgb(np.linspace(0.0, 1.0, width))[:, None], 3, axis=1)
+        low, high = "0", f"{white:.3g} W"
+        what = f"flux per cell [W], slice z = {z} (0..{n - 1})"
+    else:
+        ramp = np.repeat(np.linspace(0.0, 1.0, width)[:, None], 3, axis=1)
+        low, high = f"{-white:.3g}", f"+{white:.3g}"
+        what = f"SH coefficient {coefficient} [W/sr], slice z = {z} (0..{n - 1})"
+    finite = values[np.isfinite(values)]
+    span = (f"range {float(finite.min()):.3g} .. {float(finite.max()):.3g}" if finite.size
+            else "no finite value")
+    save_with_scale_bar(path, pixels, ramp, low, high,
+                        [what + (f", cascade {cascade}" if cascade else ""), span])
+
+
 def output_paths(out: Path, views: list[str]) -> dict[str, Path]:
     if len(views) == 1:
         return {views[0]: out}
-    suffix = out.suffix or ".png"
+    suffix = out.suffix or ".png"   # several views: one file each, the same suffix
     return {view: out.with_name(f"{out.stem}-{view}{suffix}") for view in views}
 
 

@@ -1,8 +1,10 @@
 """``lpv-explorer run``: open the explorer window.
 
-``--screenshot PATH --frames N`` draws N frames, lets the picture converge (the pipeline
-works a few milliseconds per frame), writes the window (panels included) to PATH and
-exits: scripted runs, README screenshots and CI smoke tests. Every option is
+``--screenshot PATH --frames N`` draws N frames, then waits for the converged picture
+(the pipeline works a few milliseconds per frame, and a lesson step applied by the
+panels starts a new frame) and says so, writes the window (panels included) to PATH and
+exits: scripted runs, README screenshots and CI smoke tests. ``--no-wait`` writes the
+frame after N frames as it is. Every option is
 checked before the window opens (an unknown lesson or scene, a window larger than
 :data:`~explorer.ui.state.MAX_WINDOW_SIZE`, a screenshot path that cannot be written).
 """
@@ -15,7 +17,9 @@ from pathlib import Path
 from explorer.commands.options import (
     CommandError,
     Outputs,
+    add_placement_options,
     check_scene,
+    placement_changes,
     scene_help,
     setting_type,
     size_type,
@@ -41,6 +45,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=scene_help(spec_help(specs(Settings)["scene"])))
     parser.add_argument("--preset", choices=list(PRESETS),
                         help="start with these formulas (configuration A)")
+    add_placement_options(parser)
+    parser.add_argument("--light-flux", metavar="W", type=setting_type("light_flux"),
+                        default=None, help=spec_help(specs(Settings)["light_flux"]))
     parser.add_argument("--step", metavar="K", type=value_type("step", STEP), default=None,
                         help="with --lesson: " + spec_help(STEP))
     parser.add_argument("--compare", choices=VIEW_MODES,
@@ -52,6 +59,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write a PNG of the window after --frames frames, then exit")
     parser.add_argument("--frames", metavar="N", type=value_type("frames", FRAMES),
                         default=None, help=spec_help(FRAMES))
+    parser.add_argument("--no-wait", dest="wait", action="store_false",
+                        help="with --screenshot: write the frame after --frames frames as "
+                             "it is, without waiting for it to converge (the view then "
+                             "says \"propagating k/N\" and the lesson's numbers are "
+                             "marked ≈)")
     parser.add_argument("--hidden", action="store_true",
                         help="do not show the window (scripted runs)")
     parser.add_argument("--no-persist", action="store_true",
@@ -70,7 +82,7 @@ def main(args: argparse.Namespace) -> int:
         raise CommandError("--step needs --lesson")
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
-        check_scene(args.scene, load=True)    # a broken mesh: refused before the window
+        check_scene(args.scene)    # a broken mesh or scene file: refused before the window
     if args.lesson:
         _check_lesson(args.lesson, args.step)
     if args.screenshot is not None:
@@ -87,15 +99,20 @@ def main(args: argparse.Namespace) -> int:
     except WindowError as exc:
         raise CommandError(exc, 1) from None
     try:
-        if args.scene:
-            app.state.requests.open_scene = args.scene
+        placement = placement_changes(args)
+        if args.light_flux is not None:
+            placement["light_flux"] = args.light_flux
+        if args.scene or placement:
+            # opening a scene resets its camera and lights; --light / --camera come after
+            app.state.requests.open_scene = args.scene or app.state.settings.scene
+            app.state.requests.scene_overrides = placement or None
         if args.preset:
             app.state.apply_preset(args.preset)
         if args.compare:
             app.state.view_mode = args.compare
         if args.lesson:
             app.state.lesson_id, app.state.lesson_step = args.lesson, args.step or 1
-        return app.run(frames=frames, screenshot=args.screenshot)
+        return app.run(frames=frames, screenshot=args.screenshot, converged=args.wait)
     finally:
         app.close()
 

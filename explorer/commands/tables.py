@@ -256,22 +256,40 @@ def names_of(data: dict, size: str) -> list[str]:
             if size == "all" or table["size"] == size]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m explorer.commands.tables",
-                                     description=__doc__.split("\n\n")[0])
+def table_parser(prog: str, description: str, data: Path, document: Path, check: str,
+                 measure: str, render: str) -> argparse.ArgumentParser:
+    """The options of a command that keeps generated tables in docs/ERRORS.md: one of
+    ``--check``, ``--measure SIZE_OR_NAME...`` and ``--render`` (each with its help), and
+    the hidden ``--data`` / ``--document`` paths (tests point them elsewhere)."""
+    parser = argparse.ArgumentParser(prog=prog, description=description)
     action = parser.add_mutually_exclusive_group(required=True)
-    action.add_argument("--check", action="store_true",
-                        help="compare docs/ERRORS.md with the data file, and a fresh run of "
-                             "the tables of --size with the recorded values")
-    action.add_argument("--measure", nargs="+", metavar="SIZE_OR_NAME",
-                        help="re-measure tables (small, large, all, or table names), write "
-                             "the values to the data file and the tables to docs/ERRORS.md")
-    action.add_argument("--render", action="store_true",
-                        help="rewrite docs/ERRORS.md's tables from the data file")
+    action.add_argument("--check", action="store_true", help=check)
+    action.add_argument("--measure", nargs="+", metavar="SIZE_OR_NAME", help=measure)
+    action.add_argument("--render", action="store_true", help=render)
+    parser.add_argument("--data", type=Path, default=data, help=argparse.SUPPRESS)
+    parser.add_argument("--document", type=Path, default=document, help=argparse.SUPPRESS)
+    return parser
+
+
+def report(problems: list[str], agreed: str) -> int:
+    """Print each problem, or ``agreed`` when there is none; the exit status (1: any)."""
+    for line in problems:
+        print(line)
+    if not problems:
+        print(agreed)
+    return 1 if problems else 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = table_parser(
+        "python -m explorer.commands.tables", __doc__.split("\n\n")[0], DATA, DOCUMENT,
+        check="compare docs/ERRORS.md with the data file, and a fresh run of the tables of "
+              "--size with the recorded values",
+        measure="re-measure tables (small, large, all, or table names), write the values "
+                "to the data file and the tables to docs/ERRORS.md",
+        render="rewrite docs/ERRORS.md's tables from the data file")
     parser.add_argument("--size", choices=(*SIZES, "all"), default="small",
                         help="tables --check runs (default: small)")
-    parser.add_argument("--data", type=Path, default=DATA, help=argparse.SUPPRESS)
-    parser.add_argument("--document", type=Path, default=DOCUMENT, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     try:
         data = load(args.data)
@@ -313,12 +331,8 @@ def main(argv: list[str] | None = None) -> int:
     band = float(data["band"]["relative"])
     for name, result in results.items():
         problems += differences(name, data["tables"][name]["rows"], result.rows, band)
-    for line in problems:
-        print(line)
-    if not problems:
-        print(f"docs/ERRORS.md matches the data file; {len(names)} tables re-measured "
-              f"within {band:g} of the recorded values")
-    return 1 if problems else 0
+    return report(problems, f"docs/ERRORS.md matches the data file; {len(names)} tables "
+                            f"re-measured within {band:g} of the recorded values")
 
 
 if __name__ == "__main__":  # pragma: no cover

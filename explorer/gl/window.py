@@ -30,6 +30,9 @@ class WindowError(RuntimeError):
 
 
 _GL_REQUESTS = ((4, 3), (3, 3))
+_HEADLESS_SPARE: list = []
+"""The (handle, moderngl context, GL problem) of a closed headless window, reused by the
+next one (see :meth:`Window.close`)."""
 
 
 class Window:
@@ -40,43 +43,62 @@ class Window:
     """
 
     def __init__(self, width: int = 1600, height: int = 960, title: str = "lpv-explorer",
-                 visible: bool = True, vsync: bool = True) -> None:
+                 visible: bool = True, vsync: bool = True,
+                 position: tuple[int, int] | None = None, headless: bool = False) -> None:
+        """``position``: the window's top-left corner on the desktop (default: where the
+        window manager puts it). ``headless``: no display at all: glfw's null platform
+        with an EGL context (Mesa's surfaceless EGL); the window is never shown, draws
+        into its default framebuffer and reads it back as a hidden one does (exports)."""
         glfw.set_error_callback(_print_glfw_error)
         # A headless EGL context current on this thread (tests, notebooks) makes Mesa's
         # glXMakeCurrent fail with BadAccess, and Xlib then exits the process: set it
         # aside while the window lives and make it current again in close().
         self._saved_egl = release_current_egl()
-        if not _init_glfw():
+        self.headless = bool(headless)
+        if not self.headless and _HEADLESS_SPARE:
+            _drop_headless_spare()            # glfw is on its null platform: start over
+        if not _init_glfw(headless=self.headless):
             restore_egl(self._saved_egl)
             raise WindowError(
+                "glfw could not start headless (its null platform)" if self.headless else
                 "glfw could not start: is there a display? (set DISPLAY, or run under "
                 "xvfb-run for a virtual one)")
         self.handle = None
         self.gl_problem: str | None = None
-        for major, minor in _GL_REQUESTS:
+        spare = _HEADLESS_SPARE.pop() if self.headless and _HEADLESS_SPARE else None
+        for major, minor in _GL_REQUESTS if spare is None else ():
             glfw.default_window_hints()
             glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, major)
             glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, minor)
             glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
             glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
-            glfw.window_hint(glfw.VISIBLE, bool(visible))
+            glfw.window_hint(glfw.VISIBLE, bool(visible) and not self.headless)
+            if self.headless:
+                glfw.window_hint(glfw.CONTEXT_CREATION_API, glfw.EGL_CONTEXT_API)
             glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
             glfw.window_hint(glfw.RESIZABLE, True)
+            if position is not None and hasattr(glfw, "POSITION_X"):    # glfw 3.4
+                glfw.window_hint(glfw.POSITION_X, int(position[0]))
+                glfw.window_hint(glfw.POSITION_Y, int(position[1]))
             self.handle = glfw.create_window(int(width), int(height), title, None, None)
             if self.handle:
                 break
+        if spare is not None:
+            self.handle, self.ctx, self.gl_problem = spare
+            glfw.set_window_size(self.handle, int(width), int(height))
         if not self.handle:
             glfw.terminate()
             restore_egl(self._saved_egl)
             raise WindowError("glfw could not open a window with an OpenGL 3.3+ core context")
         glfw.make_context_current(self.handle)
         glfw.swap_interval(1 if vsync else 0)
-        try:
-            self.ctx = wrap_current_context()
-        except GLUnavailableError as exc:
-            # Keep a context that can at least draw the explanation.
-            self.gl_problem = str(exc)
-            self.ctx = moderngl.create_context()
+        if spare is None:
+            try:
+                self.ctx = wrap_current_context()
+            except GLUnavailableError as exc:
+                # Keep a context that can at least draw the explanation.
+                self.gl_problem = str(exc)
+                self.ctx = moderngl.create_context()
         self.dropped_paths: deque[Path] = deque()
         self.events = 0
         """Input and window events since :meth:`take_events` (an idle app waits for one)."""
@@ -177,17 +199,56 @@ class Window:
         return pixels[::-1].copy()
 
     def close(self) -> None:
+        if self.handle is not None and self.headless:
+            # kept for the next headless window of this process: moderngl finds a
+            # second EGL context made current by glfw no more (through GLX)
+            glfw.make_context_current(None)
+            _HEADLESS_SPARE.append((self.handle, self.ctx, self.gl_problem))
+            self.handle = None
         if self.handle is not None:
             glfw.destroy_window(self.handle)
             self.handle = None
-        glfw.terminate()
+        if not self.headless:
+            glfw.terminate()
         restore_egl(self._saved_egl)
         self._saved_egl = None
 
 
-def _init_glfw(attempts: int = 3) -> bool:
+def work_area() -> tuple[int, int, int, int] | None:
+    """(x, y, width, height) of the primary monitor's work area (the desktop less its
+    panels and task bars), in screen coordinates; None without a display or monitor."""
+    glfw.set_error_callback(_print_glfw_error)
+    if not _init_glfw():
+        return None
+    monitor = glfw.get_primary_monitor()
+    if not monitor:
+        return None
+    x, y, width, height = glfw.get_monitor_workarea(monitor)
+    return (int(x), int(y), int(width), int(height)) if width > 0 and height > 0 else None
+
+
+def _drop_headless_spare() -> None:
+    while _HEADLESS_SPARE:
+        handle, ctx, _ = _HEADLESS_SPARE.pop()
+        ctx.release()
+        glfw.destroy_window(handle)
+    glfw.terminate()
+
+
+def headless_available() -> bool:
+    """Whether this glfw has the null platform (glfw 3.4) that :class:`Window` needs for
+    ``headless``."""
+    return hasattr(glfw, "PLATFORM_NULL")
+
+
+def _init_glfw(attempts: int = 3, headless: bool = False) -> bool:
     """``glfw.init()``, retried briefly: a busy X server (e.g. Xvfb on a loaded CI machine)
-    occasionally refuses one connection."""
+    occasionally refuses one connection. ``headless``: on glfw's null platform (no
+    display); the hint is set either way, as it outlives a ``glfw.terminate()``."""
+    if headless_available():
+        glfw.init_hint(glfw.PLATFORM, glfw.PLATFORM_NULL if headless else glfw.ANY_PLATFORM)
+    elif headless:
+        return False
     for attempt in range(attempts):
         if glfw.init():
             return True

@@ -56,27 +56,34 @@ SIDE_EVAL_SMALL = 0.4472135954999579
 SIDE_EVAL_BIG = 0.8944271909999159
 # 1/(4*pi)  [media.isotropic_phase]
 INV_FOUR_PI = 0.07957747154594767
-# printed in lpv-dx11-article.md; exact 1/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c0]
+# printed in the DirectX 11 LPV implementation article; exact 1/(2*sqrt(pi)) (rounded)
+#   [errata.dx11.sh_c0]
 PUBLISHED_SH_C0 = 0.282094792
-# printed in lpv-dx11-article.md; exact sqrt(3)/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c1]
+# printed in the DirectX 11 LPV implementation article; exact sqrt(3)/(2*sqrt(pi)) (rounded)
+#   [errata.dx11.sh_c1]
 PUBLISHED_SH_C1 = 0.488602512
-# printed in lpv-dx11-article.md; exact sqrt(pi)/2 (correct)  [errata.dx11.coslobe_c0]
+# printed in the DirectX 11 LPV implementation article; exact sqrt(pi)/2 (correct)
+#   [errata.dx11.coslobe_c0]
 PUBLISHED_SH_COSLOBE_C0 = 0.886226925
-# printed in lpv-dx11-article.md; exact sqrt(3)*sqrt(pi)/3 (rounded)  [errata.dx11.coslobe_c1]
+# printed in the DirectX 11 LPV implementation article; exact sqrt(3)*sqrt(pi)/3 (rounded)
+#   [errata.dx11.coslobe_c1]
 PUBLISHED_SH_COSLOBE_C1 = 1.02332671
-# printed in lpv-dx11-article.md; exact pi (truncated)  [errata.dx11.pi]
+# printed in the DirectX 11 LPV implementation article; exact pi (truncated)  [errata.dx11.pi]
 PUBLISHED_PI = 3.1415926
-# printed in lpv-dx11-article.md; exact 4*atan(sqrt(11)/33) (correct)
+# printed in the DirectX 11 LPV implementation article; exact 4*atan(sqrt(11)/33) (correct)
 #   [errata.dx11.front_solid_angle]
 PUBLISHED_FRONT_FACE_SOLID_ANGLE = 0.4006696846
-# printed in lpv-dx11-article.md; exact -pi/3 + 2*atan(3*sqrt(11)/11) (wrong)
+# printed in the DirectX 11 LPV implementation article; exact -pi/3 + 2*atan(3*sqrt(11)/11) (wrong)
 #   [errata.dx11.side_solid_angle]
 PUBLISHED_SIDE_FACE_SOLID_ANGLE = 0.4234413544
-# printed in lpv-dx11-article.md; exact sqrt(5)/5 (truncated)  [errata.dx11.side_eval_small]
+# printed in the DirectX 11 LPV implementation article; exact sqrt(5)/5 (truncated)
+#   [errata.dx11.side_eval_small]
 PUBLISHED_SIDE_EVAL_SMALL = 0.4472135
-# printed in lpv-dx11-article.md; exact 2*sqrt(5)/5 (correct)  [errata.dx11.side_eval_big]
+# printed in the DirectX 11 LPV implementation article; exact 2*sqrt(5)/5 (correct)
+#   [errata.dx11.side_eval_big]
 PUBLISHED_SIDE_EVAL_BIG = 0.894427
-# printed in lpv-dx11-article.md; exact none (not derivable)  [errata.dx11.surfel_weight]
+# printed in the DirectX 11 LPV implementation article; exact none (not derivable)
+#   [errata.dx11.surfel_weight]
 PUBLISHED_SURFEL_WEIGHT = 0.015
 
 # constant name -> the derivation it comes from (derivations.registry.get)

@@ -35,7 +35,7 @@ def exposed_image(direct: np.ndarray, indirect: np.ndarray, exposure: float,
         linear = fog.transmittance[..., None] * linear + fog.lpv
         if not indirect_only:
             linear = linear + fog.direct
-    return (np.float32(exposure) * linear).astype(np.float32)
+    return (np.float32(exposure) * linear).astype(np.float32, copy=False)
 
 
 def display_scale(unexposed: np.ndarray, mask: np.ndarray | None, auto_exposure: bool

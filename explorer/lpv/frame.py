@@ -110,6 +110,10 @@ class FrameResult:
     view_lights: tuple[int, ...] = ()
     """For each entry of :attr:`vpl_sets`: the index of its light in :attr:`light_names`
     (hand-made VPLs: one set, light 0)."""
+    received: np.ndarray | None = None
+    """``(H, W, 3)`` LPV flux [W] each pixel's surface receives: the indirect irradiance E
+    times the surface's area under the pixel (the gather's third target; E = received /
+    ``gbuffer_normal`` w)."""
     _final_image: np.ndarray | None = field(default=None, init=False, repr=False,
                                             compare=False)
 
@@ -175,6 +179,7 @@ def frame_result(settings: Settings, state: FrameState, scene: Scene, timer: Pas
     return FrameResult(
         settings=s, cascades=cascades,
         direct=gather.direct[..., :3], indirect=gather.indirect[..., :3],
+        received=gather.received[..., :3],
         albedo=gbuffer.albedo[..., :3], gbuffer_position=gbuffer.position,
         gbuffer_normal=gbuffer.normal,
         rsm_position=rsm.position, rsm_normal=rsm.normal, rsm_flux=rsm.flux,

@@ -88,6 +88,15 @@ NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
 """glossy.glsl's uniforms with the glossy term off."""
 
 
+def program_defines(sh_order: int, shader_filter: bool = False, cascades: bool = False,
+                    damping: bool = False) -> dict[str, object]:
+    """The defines ``shaders/gather.glsl`` is compiled with: the SH order, the grid
+    lookup's interpolation, whether several cascades are blended and whether the
+    derivative damping applies (code paths, chosen at compile time: the shader says why)."""
+    return {**sh_defines(sh_order), "SH_SHADER_FILTER": int(shader_filter),
+            "GATHER_CASCADES": int(cascades), "GATHER_DAMPING": int(damping)}
+
+
 def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[int, int]]:
     """Row ranges ``(first, end)`` covering an image of ``size`` (width, height) in bands
     of about ``band_pixels`` pixels each (at least one row)."""
@@ -178,8 +187,9 @@ class GatherPass:
         the G-buffer's); a smaller one gathers a reduced picture, each pixel at the
         G-buffer texel below it (:func:`reduced_size`; the window's quick previews)."""
         self._targets.allocate(size or gbuffer.size)
-        program = self.programs.get("gather.glsl", {
-            **sh_defines(sh_order), "SH_SHADER_FILTER": int(self.shader_filter)})
+        program = self.programs.get("gather.glsl", program_defines(
+            sh_order, self.shader_filter, cascades=cascades is not None and len(cascades) > 1,
+            damping=params.damping))
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)
@@ -199,7 +209,6 @@ class GatherPass:
             "u_light_count": light_count,
             "u_shadow_kernel": int(params.shadow_kernel),
             "u_has_grid": int(grid_textures[0] is not self._empty_grid),
-            "u_gather_damping": int(params.damping),
             "u_target_size": self._targets.size,
             **spec.uniforms(),
             **self._cascade_uniforms(cascades, grid_textures, spec),

@@ -99,6 +99,8 @@ class Job:
         self._key: tuple | None = None
         self._done = 0
         self._total = 0
+        self._unit = 0
+        """Units of the current stage run so far."""
         self.out_keys: dict[str, object] = {}
         """Output key of every stage evaluated so far (run or up to date)."""
         self._ran: list[str] = []
@@ -153,12 +155,18 @@ class Job:
                 continue
             if budget_ms is not None and worked:
                 spent = (time.perf_counter() - start) * 1e3
-                estimate = self.pipeline.unit_ms.get(self._stage or "", 0.0)
-                if spent + estimate > budget_ms:
+                if spent + self.next_unit_ms() > budget_ms:
                     break
             self._run_unit()
             worked = True
         return self.progress
+
+    def next_unit_ms(self) -> float:
+        """What the next unit of work should take, as measured: the same unit of the
+        stage's last run (``Pipeline.unit_ms_at``), else the stage's last unit, else 0."""
+        stage = self._stage or ""
+        unit_ms = self.pipeline.unit_ms.get(stage, 0.0)
+        return self.pipeline.unit_ms_at.get((stage, self._unit), unit_ms)
 
     def preview(self, scale: float = 1.0) -> bool:
         """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
@@ -201,7 +209,7 @@ class Job:
             self._complete(name, key, ran=False)
             return False
         pipeline.keys.pop(name, None)      # its outputs are about to be overwritten
-        self._stage, self._key, self._done = name, key, 0
+        self._stage, self._key, self._done, self._unit = name, key, 0, 0
         self._total = pipeline.stage_units(name, self)
         self._work = pipeline.stage_work(name, self)
         self._report()
@@ -216,7 +224,10 @@ class Job:
                 finished = False
             except StopIteration:
                 count, finished = self._total, True
-            self.pipeline.unit_ms[name] = (time.perf_counter() - started) * 1e3
+            elapsed = (time.perf_counter() - started) * 1e3
+            self.pipeline.unit_ms[name] = elapsed
+            self.pipeline.unit_ms_at[(name, self._unit)] = elapsed
+            self._unit += 1
             self._done = self._done + 1 if count is None else count
             if finished:
                 self.pipeline.keys[name] = self._key

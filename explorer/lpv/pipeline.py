@@ -121,6 +121,10 @@ class Pipeline:
         """By-value stage -> its last value (the grid specs)."""
         self.unit_ms: dict[str, float] = {}
         """Stage -> measured milliseconds of its last unit of work (a job's budget)."""
+        self.unit_ms_at: dict[tuple[str, int], float] = {}
+        """(stage, unit number within the stage) -> milliseconds it last took: a stage's
+        units differ (a propagation's slabs, then its audit and read-backs), so a job
+        sizes its next unit by the same unit of the last run (``Job.next_unit_ms``)."""
         self.job: Job | None = None
         """The job in progress, if any."""
         self.last_result: FrameResult | None = None

@@ -3,6 +3,7 @@ accumulation") with the energy audit measured on the GPU alongside every step.""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import moderngl
@@ -134,6 +135,31 @@ class PropagatePass:
         self.audit.release()
 
 
+COMPILED_SWITCHES = {"u_ping_pong": "PROPAGATE_PING_PONG"}
+"""Correction switches the propagation reads when its program is compiled (a define chosen
+from the switch) instead of as a uniform: they choose a code path, and llvmpipe runs both
+sides of a branch on a uniform (``shaders/propagate.glsl``)."""
+
+
+def uniforms_read_at_run_time() -> tuple[str, ...]:
+    """The propagation's correction uniforms (``uniforms_read_by``) less
+    :data:`COMPILED_SWITCHES`, which its program reads as defines."""
+    return tuple(name for name in uniforms_read_by(PropagatePass.STAGE)
+                 if name not in COMPILED_SWITCHES)
+
+
+def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bool = False,
+                    geometry: bool = False, reflect: bool = False) -> dict[str, object]:
+    """The defines ``shaders/propagate.glsl`` is compiled with: the grid format and SH order,
+    the full audit, the switches of :data:`COMPILED_SWITCHES`, whether a geometry volume
+    occludes and whether it reflects (bounces 2, which needs it)."""
+    switches = corrections.as_uniforms()
+    return {**image_format_defines(fmt), **sh_defines(sh_order),
+            "PROPAGATE_AUDIT": int(audit),
+            **{define: int(switches[uniform]) for uniform, define in COMPILED_SWITCHES.items()},
+            "PROPAGATE_GEOMETRY": int(geometry), "PROPAGATE_REFLECT": int(reflect and geometry)}
+
+
 SLAB_CELLS = 32 ** 3
 """Cells one unit of a propagation step covers at most (a slab of z layers, a multiple of
 the 4-layer workgroup): a 64³ step is 8 units, each a few frames' budget on llvmpipe."""
@@ -182,15 +208,16 @@ class PropagationRun:
         self.steps = [injected.read()] if keep_steps else None
         self._previous = self.steps[0] if keep_steps else None
         self._source = injected
-        self._program = owner.programs.get("propagate.glsl", {
-            **image_format_defines(fmt), **sh_defines(order),
-            "PROPAGATE_AUDIT": int(self._with_audit)})
+        self._program = owner.programs.get("propagate.glsl", program_defines(
+            fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
+            reflect=bounces == 2))
         set_uniforms(self._program, {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
-            "u_geometry": owner.GEOMETRY_UNIT, "u_use_geometry": geometry is not None,
-            "u_geometry_albedo": owner.ALBEDO_UNIT, "u_reflect": bounces == 2,
-        }, reads=uniforms_read_by(owner.STAGE))
+            "u_geometry": owner.GEOMETRY_UNIT, "u_geometry_albedo": owner.ALBEDO_UNIT,
+            "u_cell_offset": (0, 0, 0),
+        }, reads=uniforms_read_at_run_time())
+        self._program.extra["cell_offset"] = 0
         self._groups = dispatch_size(n)
         self._slabs = slabs(n)
         self._slab = 0
@@ -235,9 +262,14 @@ class PropagationRun:
             self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
         target.bind_images(0)
         self.accumulated.bind_images(3)
-        owner.audit.bind()
+        if self._with_audit:        # only the full audit's kernel writes the records
+            owner.audit.bind()
         first, end = self._slabs[self._slab]
-        set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+        # one slab a step up to 32³: set once. The offset last set is kept with the
+        # program, which the cascades' runs share (interleaved, each with its slabs).
+        if self._program.extra.get("cell_offset") != first:
+            set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+            self._program.extra["cell_offset"] = first
         self._program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
         owner.ctx.memory_barrier()
         self._slab += 1
@@ -274,6 +306,18 @@ class PropagationRun:
                                  cell_records=records)
 
 
+def read_in_units(grid: LpvGrid, progress: int) -> Iterator[int]:
+    """Read ``grid`` back one colour channel per unit of work (``yield from``; yields
+    ``progress`` between channels, returns the ``(3, N, N, N, C)`` array): a 64³ grid's
+    read-back took as long as several propagation units on llvmpipe."""
+    channels = []
+    for channel in range(3):
+        channels.append(grid.read_channel(channel))
+        if channel < 2:
+            yield progress
+    return np.stack(channels)
+
+
 def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
                ping_pong: bool = True) -> GridAudit:
     """The :class:`GridAudit` of the reduced slots ``sums`` (slot 0 the injected flux, the
@@ -308,9 +352,13 @@ def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
 
 class BaselinePropagatePass:
     """The least a propagation needs (``shaders/propagate_minimal.glsl``): the corrected
-    L1 ping-pong step with the geometry volume's occlusion, no switches, no audit. It is
-    the baseline ``lpv-explorer bench`` times :class:`PropagatePass` against in the same
-    run; with the corrected switches both give the same accumulation."""
+    L1 ping-pong step, each neighbour's five faces written out with the generated
+    constants (three ``texelFetch`` per neighbour, four more of the geometry volume when
+    there is one), the three target images written and the three accumulation images added
+    into, one memory barrier per step; no switches, no audit. It is the baseline
+    ``lpv-explorer bench`` times :class:`PropagatePass` against in the same run (one
+    ``finish`` around all steps); with the corrected switches both give the same
+    accumulation."""
 
     GEOMETRY_UNIT = PropagatePass.GEOMETRY_UNIT
 
@@ -335,10 +383,10 @@ class BaselinePropagatePass:
             grids[name] = grid
         accumulated = grids["accumulated"]
         copy_grid(self.programs, injected, accumulated)
-        program = self.programs.get("propagate_minimal.glsl", image_format_defines(fmt))
-        set_uniforms(program, {**spec.uniforms(), "u_source_r": 0, "u_source_g": 1,
-                               "u_source_b": 2, "u_geometry": self.GEOMETRY_UNIT,
-                               "u_use_geometry": geometry is not None})
+        program = self.programs.get("propagate_minimal.glsl", {
+            **image_format_defines(fmt), "PROPAGATE_GEOMETRY": int(geometry is not None)})
+        set_uniforms(program, {"u_grid_resolution": n, "u_source_r": 0, "u_source_g": 1,
+                               "u_source_b": 2, "u_geometry": self.GEOMETRY_UNIT})
         groups = dispatch_size(n)
         source = injected
         for step in range(1, int(iterations) + 1):

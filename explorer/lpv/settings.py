@@ -21,7 +21,7 @@ from explorer.lpv.schema import (
 )
 from explorer.lpv.stage_list import STAGES
 from explorer.lpv.tonemap import TONE_MAPS
-from explorer.scene.lights import MAX_CONE_DEGREES
+from explorer.scene.lights import LIGHT_KINDS, MAX_CONE_DEGREES
 from explorer.scene.model import MAX_LIGHTS
 
 
@@ -76,7 +76,8 @@ class Settings:
 
     scene: str = setting(
         "cornell", kind="str", flag="--scene", stages=("scene",),
-        doc="A built-in scene name or a path to a mesh file trimesh can read.")
+        doc="A built-in scene name, a scene file (.toml: meshes, lights, camera, grid box; "
+            "docs/SCENES.md) or a path to a mesh file trimesh can read.")
     corrections: Corrections = setting(
         kind="nested", nested=Corrections, default_factory=Corrections,
         # the stages whose programs read any switch (the registry says which per switch)
@@ -182,9 +183,17 @@ class Settings:
         None, kind="points", optional=True, stages=("rsm",),
         doc="(position, target) of the primary light (the first that shines; a point "
             "light ignores the target); None = where the scene puts it.")
+    camera_fov: float | None = setting(
+        None, kind="float", optional=True, low=1.0, high=170.0, stages=("grid", "gbuffer"),
+        unit="°", doc="Vertical field of view of the camera in degrees; None = the scene's.")
+    light_kind: str | None = setting(
+        None, kind="choice", optional=True, choices=LIGHT_KINDS, stages=("rsm",),
+        doc="Make the primary light a spot, point or directional light (at Settings.light, "
+            "else where the scene's is; its flux then gives about 2 W/m² at its target "
+            "unless light_flux says otherwise); None = the scene's kind.")
     light_flux: float | None = setting(
         None, kind="float", optional=True, low=0.0, low_open=True, high=1e12,
-        stages=("rsm",),
+        flag="--light-flux", stages=("rsm",),
         doc="Total flux of the primary light in watts per channel; None = the scene's "
             "default.")
     lights: tuple[str, ...] | None = setting(

@@ -139,13 +139,14 @@ class LpvGrid:
 
     def read(self) -> np.ndarray:
         """float32 ``(3, N, N, N, C)`` = (channel, x, y, z, coefficient), C = 4 (L1) or 9."""
+        return np.stack([self.read_channel(c) for c in range(3)])
+
+    def read_channel(self, channel: int) -> np.ndarray:
+        """float32 ``(N, N, N, C)``: colour channel ``channel`` (0 r, 1 g, 2 b)."""
         n = self.resolution
-        channels = []
-        for volume in self.volumes:
-            texels = volume.read()                               # (N, N, groups·N, 4)
-            groups = [texels[:, :, k * n:(k + 1) * n] for k in range(self.groups)]
-            channels.append(np.concatenate(groups, axis=-1)[..., :self.coefficients])
-        return np.stack(channels)
+        texels = self.volumes[channel].read()                    # (N, N, groups·N, 4)
+        groups = [texels[:, :, k * n:(k + 1) * n] for k in range(self.groups)]
+        return np.concatenate(groups, axis=-1)[..., :self.coefficients]
 
     def write(self, grid: np.ndarray) -> None:
         grid = check_volume_array(grid, self.resolution, "grid", channels=3,

@@ -65,9 +65,9 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     if name == "rsm-flux":
         return linear_to_srgb(normalise(result.rsm_flux[..., :3]))
     if name == "grid-slice":
-        return grid_slice(_cascade_item(result, "accumulated", cascade), z, coefficient)
+        return grid_slice(cascade_item(result, "accumulated", cascade), z, coefficient)
     if name == "geometry-volume":
-        volume = _cascade_item(result, "geometry", cascade)
+        volume = cascade_item(result, "geometry", cascade)
         if volume is None:   # geometry volume off: nothing blocks
             n = result.grid_spec.resolution + 1
             return np.zeros((n, n, 3), np.float32)
@@ -99,7 +99,7 @@ def cascade_weight_image(specs, positions: np.ndarray) -> np.ndarray:
     return np.clip(image, 0.0, 1.0).astype(np.float32)
 
 
-def _cascade_item(result, what: str, cascade: int | None):
+def cascade_item(result, what: str, cascade: int | None):
     """Cascade ``cascade``'s accumulated grid or geometry volume (None/0: cascade 0, the
     FrameResult's own field)."""
     single = result.accumulated if what == "accumulated" else result.geometry_volume
@@ -112,25 +112,48 @@ def _cascade_item(result, what: str, cascade: int | None):
     return items[int(cascade)]
 
 
-def grid_slice(grid: np.ndarray, z: int | None = None, coefficient: int | None = None
-               ) -> np.ndarray:
-    """One z slice of a ``(3, N, N, N, 4)`` grid as an ``(N, N, 3)`` image (x to the right,
-    y up)."""
+def grid_slice_values(grid: np.ndarray, z: int | None = None, coefficient: int | None = None
+                      ) -> np.ndarray:
+    """The numbers the grid-slice view shows, unscaled: one z slice of a ``(3, N, N, N, C)``
+    grid as ``(N, N, 3)`` float32 (rows = y from the top, columns = x), each cell's flux
+    2√π·c0 [W] per colour, or SH coefficient ``coefficient`` [W/sr] when given."""
     n = grid.shape[1]
     index = n // 2 if z is None else int(z)
     if not 0 <= index < n:
         raise ValueError(f"slice z={index} is outside the grid (0..{n - 1})")
-    cells = grid[:, :, :, index, :]                    # (3, x, y, 4)
+    cells = grid[:, :, :, index, :]                    # (3, x, y, C)
     if coefficient is None:
-        image = normalise(SH_FLUX_FACTOR * np.maximum(cells[..., 0], 0.0))
-        image = linear_to_srgb(image)
+        values = SH_FLUX_FACTOR * cells[..., 0]
     else:
         last = grid.shape[-1] - 1   # 3 for L1, 8 for L2
         if coefficient not in range(last + 1):
             raise ValueError(f"coefficient must be 0..{last} for a grid of {last + 1} SH "
                              f"coefficients, got {coefficient}")
-        signed = cells[..., coefficient]
-        peak = float(np.max(np.abs(signed))) or 1.0
-        image = np.clip(0.5 + 0.5 * signed / peak, 0.0, 1.0)
+        values = cells[..., coefficient]
     # (3, x, y) -> rows = y from the top, columns = x
-    return np.ascontiguousarray(np.transpose(image, (2, 1, 0))[::-1]).astype(np.float32)
+    return np.ascontiguousarray(np.transpose(values, (2, 1, 0))[::-1]).astype(np.float32)
+
+
+def grid_slice_scale(values: np.ndarray, coefficient: int | None = None) -> float:
+    """The value the grid-slice view shows at full brightness: the 99.5th percentile of
+    the positive fluxes (:func:`normalise`), or for a coefficient the largest magnitude
+    (shown as white; its negative as black, 0 as grey)."""
+    if coefficient is None:
+        positive = np.nan_to_num(np.maximum(values, 0.0))
+        nonzero = positive[positive != 0]
+        return float(np.percentile(nonzero, 99.5)) if nonzero.size else 0.0
+    return float(np.max(np.abs(values))) if values.size else 0.0
+
+
+def grid_slice(grid: np.ndarray, z: int | None = None, coefficient: int | None = None
+               ) -> np.ndarray:
+    """One z slice of a ``(3, N, N, N, 4)`` grid as an ``(N, N, 3)`` image (x to the right,
+    y up): :func:`grid_slice_values` divided by :func:`grid_slice_scale`."""
+    values = grid_slice_values(grid, z, coefficient)
+    scale = grid_slice_scale(values, coefficient)
+    if coefficient is None:
+        image = linear_to_srgb(np.maximum(values, 0.0) / scale if scale > 0
+                               else np.zeros_like(values))
+    else:
+        image = np.clip(0.5 + 0.5 * values / (scale or 1.0), 0.0, 1.0)
+    return np.asarray(image, np.float32)

@@ -1,6 +1,6 @@
-"""A scene: a triangle soup with per-corner normals and linear albedo, a camera, a rig of
-lights, the objects that can move, their animation paths, and the box the light grid must
-enclose."""
+"""A scene: a triangle soup with per-corner normals, linear albedo and texture coordinates,
+its base-colour textures and which triangles are one-sided, a camera, a rig of lights, the
+objects that can move, their animation paths, and the box the light grid must enclose."""
 
 from __future__ import annotations
 
@@ -71,6 +71,26 @@ class Scene:
     triangle_parts: np.ndarray | None = field(default=None, compare=False, repr=False)
     """(T,) index into :attr:`parts` of each triangle, −1 for a triangle in no part; None
     when the scene names no parts."""
+    uv: np.ndarray | None = field(default=None, compare=False, repr=False)
+    """(3T, 2) float32 texture coordinates per corner (v up: (0, 0) is the image's
+    bottom-left corner, trimesh's convention); None: no triangle is textured."""
+    textures: tuple[np.ndarray, ...] = field(default=(), compare=False, repr=False)
+    """Base-colour textures: (H, W, 3) float32 linear reflectance each, row 0 at the
+    image's top (decoded from sRGB when loaded). A textured triangle's albedo is its
+    corners' :attr:`albedo` (the material's factor) times the texture sampled per pixel
+    at the interpolated :attr:`uv` (explorer/scene/gpu.py, shaders/surface.glsl)."""
+    triangle_texture: np.ndarray | None = field(default=None, compare=False, repr=False)
+    """(T,) index into :attr:`textures` of each triangle, −1 for an untextured one; None:
+    none is textured."""
+    one_sided: np.ndarray | None = field(default=None, compare=False, repr=False)
+    """(T,) bool: True for a triangle seen only from its front (the side its winding's
+    normal points to, counter-clockwise seen from the front); a one-sided triangle seen
+    from behind is not there for that view: the RSM, the G-buffer and hence the geometry
+    volume skip it. None: every triangle is two-sided (the default, docs/MODEL.md
+    "Scene conventions")."""
+    notice: str = field(default="", compare=False)
+    """What the loader chose for the user and a command prints (e.g. where it put a light
+    for a mesh file without one); empty when nothing."""
 
     def __post_init__(self) -> None:
         count = len(self.positions)
@@ -86,6 +106,7 @@ class Scene:
             raise SceneError(f"scene {self.name!r} needs at least one light and unique light "
                              f"names, got {names}")
         _check_objects(self.name, self.objects, count)
+        _check_surfaces(self, count)
         _check_parts(self.name, self.parts, self.triangle_parts, count // 3)
         if self.lights_on is not None:
             self._check_light_names(self.lights_on, "lights_on")
@@ -125,11 +146,45 @@ class Scene:
         return self.lights[0]
 
     def vertex_bytes(self, first: int = 0, stop: int | None = None) -> bytes:
-        """Interleaved ``position, normal, albedo`` float32 rows for a vertex buffer
-        (format ``"3f 3f 3f"``), of corners ``first`` .. ``stop`` (default: all)."""
+        """Interleaved ``position, normal, albedo, uv`` float32 rows for a vertex buffer
+        (format ``"3f 3f 3f 2f"``), of corners ``first`` .. ``stop`` (default: all)."""
         part = slice(first, stop)
-        rows = np.hstack([self.positions[part], self.normals[part], self.albedo[part]])
+        uv = self.uv[part] if self.uv is not None else \
+            np.zeros((len(self.positions[part]), 2), np.float32)
+        rows = np.hstack([self.positions[part], self.normals[part], self.albedo[part], uv])
         return np.ascontiguousarray(rows, np.float32).tobytes()
+
+    def draw_runs(self) -> tuple[tuple[int, int, int, bool], ...]:
+        """``(first corner, corner count, texture index or −1, one-sided)`` of each run of
+        consecutive triangles sharing a texture and a sidedness: one draw call each
+        (explorer/scene/gpu.py)."""
+        triangles = self.triangle_count
+        texture = (self.triangle_texture if self.triangle_texture is not None
+                   else np.full(triangles, -1))
+        sided = self.one_sided if self.one_sided is not None else np.zeros(triangles, bool)
+        key = np.stack([np.asarray(texture, np.int64), np.asarray(sided, np.int64)], axis=1)
+        starts = np.flatnonzero(np.any(np.diff(key, axis=0, prepend=-2), axis=1))
+        stops = np.append(starts[1:], triangles)
+        return tuple((3 * int(a), 3 * int(b - a), int(texture[a]), bool(sided[a]))
+                     for a, b in zip(starts, stops))
+
+    def corner_albedo(self) -> np.ndarray:
+        """(3T, 3) albedo per corner with each texture sampled at the corners' uv (nearest
+        texel): the per-vertex approximation of the textured albedo for consumers that
+        cannot sample per pixel. Untextured corners: :attr:`albedo`."""
+        albedo = np.array(self.albedo, np.float32)
+        if self.triangle_texture is None or self.uv is None:
+            return albedo
+        corner_texture = np.repeat(self.triangle_texture, 3)
+        for index, image in enumerate(self.textures):
+            mine = corner_texture == index
+            height, width = image.shape[:2]
+            uv = np.asarray(self.uv[mine], np.float64)
+            u, v = np.where((uv >= 0.0) & (uv <= 1.0), uv, uv % 1.0).T   # repeat outside
+            column = np.clip((u * width).astype(int), 0, width - 1)
+            row = np.clip(((1.0 - v) * height).astype(int), 0, height - 1)
+            albedo[mine] *= image[row, column]
+        return albedo
 
     # -- lights --------------------------------------------------------------------------
     def _check_light_names(self, names: Iterable[str], field: str) -> tuple[str, ...]:
@@ -198,19 +253,28 @@ class Scene:
     def with_overrides(self, camera=None, light=None, light_flux: float | None = None,
                        spot_cone: bool = True,
                        spot_cone_degrees: tuple[float, float] | None = None,
-                       lights: Iterable[str] | None = None, transforms=None) -> "Scene":
+                       lights: Iterable[str] | None = None, transforms=None,
+                       camera_fov: float | None = None,
+                       light_kind: str | None = None) -> "Scene":
         """The scene with ``Settings.object_transforms`` (``transforms``), ``lights`` (the
-        names that shine), ``camera`` and the primary light's ``light`` / ``light_flux``
-        / ``spot_cone_degrees`` applied (``None`` keeps the scene's own); ``spot_cone``
-        False turns every spot light's cone off (the 90° square frustum). Other lights
-        ignore the spot arguments."""
+        names that shine), ``camera`` / ``camera_fov`` and the primary light's
+        ``light_kind`` / ``light`` / ``light_flux`` / ``spot_cone_degrees`` applied
+        (``None`` keeps the scene's own); ``spot_cone`` False turns every spot light's cone
+        off (the 90° square frustum). Other lights ignore the spot arguments."""
         scene = self.posed(transforms) if transforms is not None else self
         scene = scene.with_lights(lights)
         if camera is not None:
             eye, target = camera
             scene = replace(scene, camera=replace(scene.camera, eye=tuple(map(float, eye)),
                                                   target=tuple(map(float, target))))
-        if light is not None:
+        if camera_fov is not None:
+            scene = replace(scene, camera=replace(scene.camera, fov_y_degrees=float(camera_fov)))
+        if light_kind is not None and light_kind != scene.light.kind:
+            position, target = light if light is not None else \
+                (scene.light.position, scene.light.target)
+            scene = scene.with_primary(light_of_kind(light_kind, scene.light, position, target,
+                                                     self.bounds_min, self.bounds_max))
+        elif light is not None:
             position, target = light
             scene = scene.with_primary(scene.light.moved(position, target))
         if light_flux is not None:
@@ -228,7 +292,37 @@ class Scene:
         light's placement and flux, and the spot cones."""
         return self.with_overrides(settings.camera, settings.light, settings.light_flux,
                                    settings.spot_cone, settings.spot_cone_degrees,
-                                   settings.lights, settings.object_transforms)
+                                   settings.lights, settings.object_transforms,
+                                   getattr(settings, "camera_fov", None),
+                                   getattr(settings, "light_kind", None))
+
+
+def light_of_kind(kind: str, like: Light, position, target, bounds_min, bounds_max) -> Light:
+    """A ``kind`` light named and coloured as ``like``, at ``position`` aimed at ``target``
+    (a point light ignores it), with the flux that gives 2 W/m² at the target facing the
+    light (``flux_for_irradiance``; a point light: at the box's centre; a directional
+    light: on any plane facing it)."""
+    from explorer.scene.lights import (
+        DirectionalLight,
+        PointLight,
+        SpotLight,
+        flux_for_irradiance,
+    )
+
+    position, target = tuple(map(float, position)), tuple(map(float, target))
+    common = {"name": like.name, "colour": like.colour}
+    if kind == "directional":
+        side = 2.0 * DirectionalLight.half_width(bounds_min, bounds_max)
+        return DirectionalLight(position, target, 2.0 * side * side, **common)
+    if kind == "point":
+        # no target: 2 W/m² at the box's centre, or at a quarter of its radius when the
+        # light hangs nearer than that
+        centre = 0.5 * (np.asarray(bounds_min, np.float64) + np.asarray(bounds_max, np.float64))
+        radius = 0.5 * float(np.linalg.norm(np.subtract(bounds_max, bounds_min)))
+        distance = max(float(np.linalg.norm(centre - position)), 0.25 * radius, 1e-6)
+        return PointLight(position, flux_for_irradiance(distance), **common)
+    flux = flux_for_irradiance(max(float(np.linalg.norm(np.subtract(target, position))), 1e-6))
+    return SpotLight(position, target, flux, **common)
 
 
 def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> None:
@@ -240,6 +334,26 @@ def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> 
                 obj.stop > count:
             raise SceneError(f"scene {scene!r}: object {obj.name!r} must hold whole "
                              f"triangles within the scene's {count} corners")
+
+
+def _check_surfaces(scene: "Scene", count: int) -> None:
+    """The texture coordinates, textures and sidedness fit the triangles."""
+    triangles = count // 3
+    name = scene.name
+    if scene.uv is not None and np.shape(scene.uv) != (count, 2):
+        raise SceneError(f"scene {name!r}: uv must have shape ({count}, 2)")
+    for image in scene.textures:
+        if np.ndim(image) != 3 or np.shape(image)[2] != 3 or min(np.shape(image)[:2]) < 1:
+            raise SceneError(f"scene {name!r}: a texture must be an (H, W, 3) image, got "
+                             f"shape {np.shape(image)}")
+    index = scene.triangle_texture
+    if index is not None and (np.shape(index) != (triangles,) or scene.uv is None or np.any(
+            (index < -1) | (index >= len(scene.textures)))):
+        raise SceneError(f"scene {name!r}: triangle_texture must hold one index in [-1, "
+                         f"{len(scene.textures) - 1}] per triangle ({triangles}), with uv")
+    if scene.one_sided is not None and np.shape(scene.one_sided) != (triangles,):
+        raise SceneError(f"scene {name!r}: one_sided must hold one flag per triangle "
+                         f"({triangles})")
 
 
 def _check_parts(scene: str, parts: tuple[str, ...], triangle_parts, triangles: int) -> None:

@@ -56,17 +56,17 @@ class Animation:
 
 def animation_of(state) -> Animation:
     """The state's animation clock (made on first use; reset when the scene changes)."""
-    rt = state.runtime
-    animation = getattr(rt, "animation", None)
+    services = state.runtime.services
+    animation = services.animation
     if animation is None or animation.scene != state.settings.scene:
-        animation = rt.animation = Animation(scene=state.settings.scene)
+        animation = services.animation = Animation(scene=state.settings.scene)
     return animation
 
 
 def scene_of(state):
     """The scene the window shows as loaded (before the Settings' overrides), or None
     while the pipeline has not loaded it yet."""
-    loaded = getattr(state.runtime, "scene", None)
+    loaded = state.runtime.scene_facts.scene
     if loaded is None or loaded[0] != state.settings.scene:
         return None
     return loaded[1]

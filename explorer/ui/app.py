@@ -68,12 +68,16 @@ class App:
                  visible: bool = True, vsync: bool = True, persist_settings: bool = True,
                  pipeline_class: Callable | None | object = ...,
                  wait_when_idle: bool | None = None,
-                 idle_timeout_s: float = IDLE_TIMEOUT_S) -> None:
+                 idle_timeout_s: float = IDLE_TIMEOUT_S, test_engine: bool = False,
+                 headless: bool = False) -> None:
         """``pipeline_class``: the Pipeline class (default: explorer.lpv.pipeline's), or
         None for a window without a pipeline (panels only: the window tests).
         ``wait_when_idle``: wait for events instead of drawing when nothing changed
         (default: for a visible window; a hidden one is scripted and draws every
-        :meth:`frame`); ``idle_timeout_s``: the longest such wait."""
+        :meth:`frame`); ``idle_timeout_s``: the longest such wait. ``test_engine``: start
+        Dear ImGui Test Engine in the window (:attr:`test_engine` queues click tests,
+        explorer/ui/test_engine.py). ``headless``: no display needed (glfw's null
+        platform with EGL, :class:`~explorer.gl.window.Window`): exports and scripts."""
         self.state = state or AppState()
         self.persist_settings = persist_settings
         self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
@@ -93,9 +97,19 @@ class App:
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-        # The window opens at the given size, else at the size it had when it was closed.
+        # The window opens at the given size, else at the size it had when it was closed
+        # (the default the first time), shrunk to fit the monitor's work area and
+        # centred on it: a size saved on a larger screen, or the default on a small one,
+        # would cut off the tool column.
         saved_w, saved_h = self.state.window_size
-        self.window = Window(width or saved_w, height or saved_h, visible=visible, vsync=vsync)
+        size, position = (width or saved_w, height or saved_h), None
+        if (width is None or height is None) and not headless:
+            from explorer.gl.window import work_area
+            from explorer.ui.state import fit_work_area
+
+            size, position = fit_work_area(size, work_area() if visible else None)
+        self.window = Window(*size, visible=visible and not headless, vsync=vsync,
+                             position=position, headless=headless)
         self.ctx = self.window.ctx
         rt = self.state.runtime
         rt.gl_problem = self.window.gl_problem
@@ -124,15 +138,25 @@ class App:
         """The controller's status of the last frame (explorer.ui.controller)."""
         self.ui_ms = 30.0
         """The window's own time per drawn frame (smoothed), besides pipeline work."""
+        self.drew_change = False
+        """The last drawn frame's panels changed the state (a lesson step applied, a
+        button pressed): the pipelines have not seen it yet, whatever their status."""
         self.frames_skipped = 0
         self.last_wait_s = 0.0
         """How long the last frame() waited for events (an idle window)."""
         """frame() calls that found nothing to do and drew nothing."""
+        self._docked: dict[str, bool] = {}
+        """Panel title -> whether it was docked when last drawn (its background: _draw_ui)."""
+        self.draw_phases_ms: dict[str, float] = {}
+        """The last drawn frame's drawing by phase (:meth:`frame`), in milliseconds."""
         self.last_pixels: np.ndarray | None = None
-        self._init_imgui()
+        self.panel_errors: list[str] = []
+        """Every panel failure so far (an exception its gui function raised)."""
+        self._init_imgui(test_engine)
+        self.test_engine = self._imgui.test_engine
 
     # -- setup ---------------------------------------------------------------------------
-    def _init_imgui(self) -> None:
+    def _init_imgui(self, test_engine: bool = False) -> None:
         from imgui_bundle import imgui
 
         from explorer.ui.formulas import FormulaCache
@@ -140,7 +164,7 @@ class App:
         from explorer.ui.overlays.compositor import Compositor
         from explorer.ui.textures import UiTextures
 
-        self._imgui = ImguiHost(self.window)
+        self._imgui = ImguiHost(self.window, test_engine=test_engine)
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard
@@ -190,38 +214,59 @@ class App:
             rt.file_dialog_available = False
 
     # -- the loop ------------------------------------------------------------------------
-    def run(self, frames: int | None = None, screenshot: Path | None = None) -> int:
+    def run(self, frames: int | None = None, screenshot: Path | None = None,
+            converged: bool = True) -> int:
         """Run until the window closes (or for ``frames`` frames, then, with
-        ``screenshot``, until the picture has converged, and write the window to it).
-        Returns an exit status."""
+        ``screenshot``, until the picture has converged, and write the window to it;
+        ``converged`` False: write the frame after ``frames`` as it is, its view saying
+        "propagating k/N" if it is still converging). Returns an exit status."""
         count = 0
         while self.frame():
             count += 1
             if frames is not None and count >= frames:
                 break
         if screenshot is not None:
-            if count == 0 or not self.settle():
+            if count == 0:
                 print("lpv-explorer: no frame was drawn, no screenshot written",
                       file=sys.stderr)
                 return 1
+            began, waited = time.monotonic(), 0
+            if converged:
+                print("lpv-explorer: waiting for the converged frame (--no-wait writes "
+                      "the frame as it is)", flush=True)
+                waited = self.settle()
+                if waited is None:
+                    print("lpv-explorer: the window closed before the frame converged, "
+                          "no screenshot written", file=sys.stderr)
+                    return 1
             self.frame(capture=True)
             write_png(self.last_pixels, screenshot)
-            print(f"lpv-explorer: wrote {screenshot}")
+            progress = self.state.runtime.progress.get("A")
+            if converged:
+                print(f"lpv-explorer: wrote {screenshot} (converged after {count} + "
+                      f"{waited} frames, {time.monotonic() - began:.1f} s of waiting)")
+            else:
+                print(f"lpv-explorer: wrote {screenshot} after {count} frames ("
+                      + (f"not converged: {progress}" if progress else "converged") + ")")
         return 0
 
-    def settle(self, max_frames: int = SETTLE_FRAMES) -> bool:
-        """Draw frames until no job runs, no background task works and the camera is
-        still (scripts and tests: the picture has converged); False if the window
-        closed first. A playing animation never settles: pause it first."""
-        for _ in range(max_frames):
+    def settle(self, max_frames: int = SETTLE_FRAMES) -> int | None:
+        """Draw frames until no job runs, no background task works, the camera is still
+        and the last frame's panels changed nothing the pipelines have not seen yet
+        (scripts and tests: the picture has converged). Returns the frames drawn (at
+        least 1), or None if the window closed first. A playing animation never settles:
+        pause it first."""
+        for drawn in range(1, max_frames + 1):
             if not self.frame(force=True):
-                return False
+                return None
             status = self.status
+            if self.drew_change:
+                continue                 # a step or a button changed the settings
             if status is not None and not status.active and not self._interacted:
-                return True              # a frame that found nothing left to do
+                return drawn             # a frame that found nothing left to do
             if status is None and self.state.runtime.frame_index > _LAYOUT_FRAMES:
-                return True          # no pipeline (or no GL): nothing to wait for
-        return True
+                return drawn         # no pipeline (or no GL): nothing to wait for
+        return max_frames
 
     def frame(self, capture: bool = False, force: bool = False) -> bool:
         """Process events, advance the pipelines within the frame budget and draw one
@@ -275,15 +320,24 @@ class App:
             self.frames_skipped += 1
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
+        before_draw = self._fingerprint()
+        drawing = time.perf_counter()
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self._draw_ui()
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
+        built = time.perf_counter()
         self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
         self.window.swap_buffers()
+        self._imgui.post_swap()
+        # the window's own drawing, apart from the pipeline's work (bench --interactive):
+        # the panels built on the CPU, then imgui's draw lists rendered and swapped (a
+        # software renderer rasterises them by the swap)
+        self.draw_phases_ms = {"panels": (built - drawing) * 1e3,
+                               "render_and_swap": (time.perf_counter() - built) * 1e3}
         rt.frame_index += 1
         rt.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0
@@ -292,6 +346,7 @@ class App:
         self._draws_pending = FRAMES_AFTER_INPUT if (events or changed) else max(
             self._draws_pending - 1, 0)
         self._seen = self._fingerprint()
+        self.drew_change = self._seen != before_draw
         self._drawn_at = time.monotonic()
         self._quiet = not (worked or rt.redraw or self._draws_pending or self._interacting())
         return True
@@ -429,6 +484,9 @@ class App:
         if state.requests.open_scene:
             self._open_scene(state.requests.open_scene)
             state.requests.open_scene = None
+            if state.requests.scene_overrides:     # run --light / --camera, after the reset
+                state.update(**state.requests.scene_overrides)
+                state.requests.scene_overrides = None
         if not self._follow_view_size():
             return
         drag_budget = max(1000.0 / DRAG_FPS - self.ui_ms, MIN_DRAG_BUDGET_MS)
@@ -437,13 +495,21 @@ class App:
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
-            quiet_s=time.monotonic() - self._input_at, input_pending=self._input_pending)
+            quiet_s=self._quiet_s(), input_pending=self._input_pending)
         rt.progress = dict(self.status.labels)
         rt.displays = {side: self.controller.side_display(state, side)
                        for side in rt.pictures}
         if rt.result is not None and rt.result is not self._shown_result:
             self._shown_result = rt.result
             self._update_title()
+
+    def _quiet_s(self) -> float:
+        """Seconds since the last input, as the controller's quiet budget reads them; 0
+        when this frame will be drawn anyway for the progress label (a frame that draws
+        keeps to the frame budget: its work and its drawing stay one frame's worth)."""
+        if time.monotonic() - self._drawn_at >= PROGRESS_REDRAW_S:
+            return 0.0
+        return time.monotonic() - self._input_at
 
     def _input_pending(self) -> bool:
         """Whether input arrived since this frame began (the controller asks between
@@ -456,7 +522,8 @@ class App:
             return
         # A new scene starts from its own camera, lights and objects.
         self.state.update(scene=str(name_or_path), camera=None, light=None, light_flux=None,
-                          lights=None, object_transforms=())
+                          lights=None, object_transforms=(), camera_fov=None,
+                          light_kind=None)
         self.state.notify(f"opening {name_or_path}")
 
     # -- UI ------------------------------------------------------------------------------
@@ -483,10 +550,14 @@ class App:
         # keyboard focus when its tab bar updates (next frame), so of several panels
         # focused in one frame only the last would come forward (lesson 12's Inspect
         # lost to Error). The others wait for the following frames.
+        from explorer.ui.lesson_panel import hidden_panels
+
+        # the reader's mode: the panels the step does not use are hidden
+        hidden = hidden_panels(state, (panel.title for panel in PANELS))
         for panel in PANELS:
             if panel.title in focus and not self._needs_layout:
                 state.open_panels[panel.title] = True
-            if not state.open_panels.get(panel.title, True):
+            if not state.open_panels.get(panel.title, True) or panel.title in hidden:
                 continue
             if focus and panel.title == focus[0] and not self._needs_layout:
                 imgui.set_next_window_focus()
@@ -494,14 +565,28 @@ class App:
                 imgui.set_next_window_class(window_class(panel))
             if not panel.padding:
                 imgui.push_style_var(imgui.StyleVar_.window_padding, (2.0, 2.0))
+            # A docked panel draws no background of its own: the frame's clear paints the
+            # same colour (theme.CLEAR_COLOUR). On a software renderer each full-window
+            # layer of fill is a large part of a frame (the panels' backgrounds cover the
+            # whole window, about 1.5 Mpx at 1600×960); imgui skips transparent fills. A
+            # floating panel keeps its background (docked: as of the last frame).
+            docked = self._docked.get(panel.title, False)
+            if docked:
+                imgui.push_style_color(imgui.Col_.window_bg, theme.DOCKED_WINDOW_BG)
             expanded, still_open = imgui.begin(panel.title, True)
+            if docked:
+                imgui.pop_style_color()
+            self._docked[panel.title] = imgui.is_window_docked()
             if not panel.padding:
                 imgui.pop_style_var()
             if expanded:
+                stacks = imgui.internal.ErrorRecoveryState()
+                imgui.internal.error_recovery_store_state(stacks)
                 try:
                     panel.gui(state)
                 except Exception as exc:  # noqa: BLE001 - one broken panel, not the app
                     self._panel_failed(panel.title, exc)
+                    _recover_stacks(stacks)
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
         if focus and not self._needs_layout and state.requests.focus_panel is requested:
@@ -512,6 +597,7 @@ class App:
 
     def _panel_failed(self, title: str, exc: Exception) -> None:
         text = f"panel {title}: {type(exc).__name__}: {exc}"
+        self.panel_errors.append(text)
         if not self.state.messages or self.state.messages[-1].text != text:
             self.state.notify(text, "error")
             print(f"lpv-explorer: {text}", file=sys.stderr)
@@ -529,6 +615,8 @@ class App:
             if imgui.menu_item_simple("Open mesh…", enabled=bool(
                     state.runtime.file_dialog_available)):
                 state.requests.open_file_dialog = True
+            if imgui.menu_item_simple("Save scene as…"):
+                state.requests.save_scene_dialog = True
             if imgui.menu_item_simple("Screenshot", "F12"):
                 state.requests.screenshot = default_screenshot_path()
             imgui.separator()
@@ -542,6 +630,9 @@ class App:
                         state.apply_preset(name, compare=side == "B")
             imgui.end_menu()
         if imgui.begin_menu("Windows"):
+            if imgui.menu_item_simple("Reader's mode", selected=state.reader_mode):
+                state.reader_mode = not state.reader_mode
+            imgui.separator()
             for panel in PANELS:
                 shown = state.open_panels.get(panel.title, True)
                 if imgui.menu_item_simple(panel.title, selected=shown):
@@ -588,12 +679,29 @@ class App:
                 from imgui_bundle import portable_file_dialogs as pfd
 
                 rt.file_dialog = pfd.open_file(
-                    "Open a mesh", str(Path.home()),
-                    ["Meshes", "*.obj *.ply *.stl *.glb *.gltf *.off", "All files", "*"])
+                    "Open a mesh or a scene file", str(Path.home()),
+                    ["Meshes and scene files",
+                     "*.obj *.ply *.stl *.glb *.gltf *.off *.toml", "All files", "*"])
+        if state.requests.save_scene_dialog:
+            state.requests.save_scene_dialog = False
+            from explorer.ui.scene_save import SAVE_FILTERS, default_save_path, save_current_scene
+
+            if not rt.file_dialog_available:     # no dialog here: a new file beside us
+                save_current_scene(state, default_save_path(state, fresh=True))
+            elif rt.file_dialog is None:
+                from imgui_bundle import portable_file_dialogs as pfd
+
+                rt.file_dialog = pfd.save_file("Save the scene", str(default_save_path(state)),
+                                               SAVE_FILTERS)
         if rt.file_dialog is not None and rt.file_dialog.ready(0):
             chosen = rt.file_dialog.result()
+            saving = not isinstance(chosen, list)      # save_file gives one path (text)
             rt.file_dialog = None
-            if chosen:
+            if saving and chosen:
+                from explorer.ui.scene_save import save_current_scene
+
+                save_current_scene(state, chosen)
+            elif chosen:
                 state.mesh_path = chosen[0]
                 state.requests.open_scene = chosen[0]
 
@@ -621,3 +729,18 @@ class App:
         name = Path(s.scene).name if ("/" in s.scene or "." in s.scene) else s.scene
         self.window.set_title(f"lpv-explorer — {name} — {preset_name(s.corrections)}")
 
+
+
+def _recover_stacks(stacks) -> None:
+    """Close what a failed panel left open (children, groups, fonts, styles, ids) back to
+    ``stacks``, so that the frame still ends cleanly (imgui would assert in its end-of-
+    frame checks). The recovery's own reports are off meanwhile: the failure was shown."""
+    from imgui_bundle import imgui
+
+    io = imgui.get_io()
+    asserts = io.config_error_recovery_enable_assert
+    io.config_error_recovery_enable_assert = False
+    try:
+        imgui.internal.error_recovery_try_to_recover_state(stacks)
+    finally:
+        io.config_error_recovery_enable_assert = asserts

@@ -10,6 +10,7 @@ the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`
 
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -40,31 +41,9 @@ TITLE_SCALE = 1.35
 # --- labels ------------------------------------------------------------------------------
 
 def try_label(item: TryThis) -> tuple[str, str]:
-    """(button text, tooltip) of a try-this: the control's label from the settings
-    schema (or the correction's title) and the value, its documentation as tooltip."""
-    from explorer.lpv.corrections import CORRECTIONS
-    from explorer.lpv.schema import specs
-    from explorer.lpv.settings import Settings
-
-    value = live_values.format_value(item.value, "g")
-    if item.control == "corrections":
-        if not isinstance(item.value, str):
-            off = [name for name in item.value.names() if not getattr(item.value, name)]
-            value = "switches off: " + (", ".join(off) or "none")
-        label, doc = f"{value} preset", "every correction switch as the preset sets it"
-        if not isinstance(item.value, str):
-            label, doc = value, "the correction switches set as listed"
-    elif item.control.startswith("corrections."):
-        name = item.control.split(".", 1)[1]
-        entry = next(e for e in CORRECTIONS if e.name == name)
-        label, doc = f"{entry.title}: {value}", entry.why
-    else:
-        spec = specs(Settings)[item.control]
-        label = f"{spec.label or item.control.replace('_', ' ')}: {value}"
-        doc = spec.doc
-    if item.label:
-        label = item.label
-    tip = f"{item.control} = {value}\n{doc}"
+    """(button text, tooltip) of a try-this, in words (``TryThis.button``): the
+    control's label and the value, its documentation as tooltip."""
+    label, tip = item.button()
     if item.split:
         tip += "\nShown as before | after in the split view."
     return label, tip
@@ -74,9 +53,11 @@ def try_label(item: TryThis) -> tuple[str, str]:
 
 def live_context(state: AppState, step: Step) -> live_values.LiveContext:
     """What the step's placeholders read now (figures: those the step quotes)."""
-    from explorer.ui.panels.error import current_stats
+    from explorer.ui.panels.error import current_stats, want_truth
 
     rt = state.runtime
+    if uses_truth(step):
+        want_truth(state)
     figures = {}
     wanted = {name.split(".")[1] for text in _texts(step)
               for name, _ in lesson_text.placeholders(text) if name.startswith("figure.")}
@@ -92,7 +73,8 @@ def live_context(state: AppState, step: Step) -> live_values.LiveContext:
                 figures[spec.instance_id] = kind.readouts(spec.params, instance, context)
     return live_values.LiveContext(settings=state.settings, result=rt.result,
                                    error=current_stats(state), figures=figures,
-                                   renderer=rt.gl_renderer)
+                                   renderer=rt.gl_renderer,
+                                   marks={mark.id: mark for mark in step.marks})
 
 
 def _texts(step: Step) -> list[str]:
@@ -116,6 +98,13 @@ def uses_audit(step: Step) -> str:
           for name, _ in lesson_text.placeholders(text)])
 
 
+def uses_truth(step: Step) -> bool:
+    """The step quotes a number measured against Mitsuba (``error.mitsuba_*``,
+    ``error.reference_mitsuba_*``)."""
+    return any(name.startswith(("error.mitsuba_", "error.reference_mitsuba_"))
+               for text in _texts(step) for name, _ in lesson_text.placeholders(text))
+
+
 def uses_error(step: Step) -> bool:
     return any(name.startswith("error.") for text in _texts(step)
                for name, _ in lesson_text.placeholders(text))
@@ -123,7 +112,7 @@ def uses_error(step: Step) -> bool:
 
 def figure_context(state: AppState):
     """The figures' shared context (their interactive state), kept on the app state."""
-    context = getattr(state, "lesson_figures", None)
+    context = state.lesson_figures
     if context is None:
         from explorer.ui.figures import FigureContext
 
@@ -140,12 +129,21 @@ def gui_article(state: AppState) -> None:
     if session.lesson is None:
         _lesson_list(state, session)
         return
-    _header(state, session)
+    if not _header(state, session):
+        return                       # "< All lessons": the list shows from the next frame
     imgui.separator()
+    scroll = session.opening_scroll()       # a new step opens at its top
+    if scroll is not None:
+        imgui.set_next_window_scroll((-1.0, scroll))
     imgui.begin_child("article", (0, 0), imgui.ChildFlags_.none,
                       imgui.WindowFlags_.always_vertical_scrollbar)
     try:
         _article(state, session)
+        if session.resume_frames > 0:            # until the text's height is known
+            session.resume_frames -= 1
+            imgui.set_scroll_y(session.scroll)
+        else:
+            session.keep_scroll(imgui.get_scroll_y())
     finally:
         imgui.end_child()
 
@@ -153,10 +151,10 @@ def gui_article(state: AppState) -> None:
 def sync_requested(state: AppState, session: LessonSession) -> None:
     """Follow ``state.lesson_id`` / ``state.lesson_step`` (``run --lesson ID --step K``):
     open the lesson at that step and apply it."""
-    wanted = getattr(state, "lesson_id", None)
+    wanted = state.lesson_id
     if not wanted:
         return
-    step = getattr(state, "lesson_step", None)
+    step = state.lesson_step
     same = session.lesson is not None and wanted in (session.lesson.id,
                                                      session.lesson.path.stem)
     if same and step is None:
@@ -184,11 +182,13 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
     for lesson in session.lessons:
         imgui.push_id(lesson.id)
         if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
-            session.open(lesson.id)
+            session.open(lesson.id, resume=True)     # where the reader left it
             state.lesson_id = lesson.id
             show_screen(state, session.apply(current_screen(state)))
         imgui.indent(28.0)
-        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps)")
+        left_at = session.places.get(lesson.id, (1, 0.0))[0]
+        where = f"; you left it at step {left_at}" if left_at > 1 else ""
+        widgets.dim_text_wrapped(f"{lesson.summary} ({len(lesson.steps)} steps{where})")
         imgui.unindent(28.0)
         imgui.spacing()
         imgui.pop_id()
@@ -200,14 +200,16 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
         session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
-def _header(state: AppState, session: LessonSession) -> None:
+def _header(state: AppState, session: LessonSession) -> bool:
+    """The lesson's title, step list and arrows, and its status line; False when the
+    reader went back to the list (nothing of the lesson may be drawn after that)."""
     lesson, step = session.lesson, session.step
     if imgui.small_button("< All lessons"):
         restored = session.close()
         if restored is not None:
             show_screen(state, restored)
         state.lesson_id = None
-        return
+        return False
     imgui.same_line()
     imgui.push_text_wrap_pos(0.0)     # a long title wraps beside the button (1280 px)
     imgui.text_colored(widgets.ACCENT, f"{lesson.number:02d}  {lesson.title}")
@@ -233,6 +235,7 @@ def _header(state: AppState, session: LessonSession) -> None:
     if changed:
         _goto(state, session)
     _status(state, session)
+    return True
 
 
 def _goto(state: AppState, session: LessonSession) -> None:
@@ -341,7 +344,7 @@ def pending_note(prompt: str, context: live_values.LiveContext, active: bool,
     the prompt has a value): numbers of the configuration the button sets are read once
     it is pressed; once it is, an error waits for the Error panel's measurement and a
     frame quantity for the frame."""
-    pending = [live_values.lookup(name, figure_ids).source
+    pending = [live_values.lookup(name, figure_ids, tuple(context.marks)).source
                for name, fmt in lesson_text.placeholders(prompt)
                if live_values.render(name, fmt, context, figure_ids) == live_values.PENDING]
     if not pending:
@@ -363,6 +366,20 @@ def _pending_audit(name: str, context: live_values.LiveContext,
     return None if reason is None else reason + ")"
 
 
+PROVISIONAL = "≈"
+"""Marks a number read from a frame that is still converging (the view says
+"propagating k/N"): it changes until the frame has converged; its tooltip says so. (No
+line of text announces it: the article would move under the reader's mouse each time a
+try-this starts a new frame.)"""
+
+
+def provisional(quantity) -> bool:
+    """Whether ``quantity`` is read from the pipeline's frame (and so changes while it
+    converges): frame and audit numbers; not settings, constants, the Error panel's
+    measurement or a figure's own readout."""
+    return quantity.source in ("frame", "audit") and not quantity.constant
+
+
 def step_settings(step: Step, own):
     from explorer.ui.lesson_panel import step_screen
 
@@ -375,12 +392,19 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
     source = {"context": context, "where": "the frame on screen"}
 
+    converging = state.runtime.progress.get("A")
+
     def value(name: str, fmt: str) -> tuple[str, str]:
-        quantity = live_values.lookup(name, step.figure_ids)
+        quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
         text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         tip = f"{name}{unit}: {quantity.doc}"
-        if text == live_values.PENDING:
+        if (converging and text != live_values.PENDING
+                and source["where"] == "the frame on screen" and provisional(quantity)):
+            text = PROVISIONAL + text
+            tip += (f"\nprovisional: read from the frame while it converges "
+                    f"({converging}); it settles with the frame")
+        elif text == live_values.PENDING:
             tip += "\n(not available yet: " + (
                 "measure it in the Error panel)" if quantity.source == "error"
                 else _pending_audit(name, source["context"], step.figure_ids)
@@ -422,9 +446,26 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         return result.latex, result.statement
 
     env = PageEnv(fonts=state.runtime.fonts, formulas=state.runtime.formulas, value=value,
-                  button=button, on_button=on_button, figure=figure, formula=formula)
+                  button=button, on_button=on_button, figure=figure, formula=formula,
+                  glossary=_glossary(session))
     env.source = source
     return env
+
+
+def _glossary(session: LessonSession) -> tuple:
+    """The glossary of the session's lessons (explorer/glossary.py), read once; () when
+    it is missing or broken (the lessons command reports a broken one)."""
+    cached = getattr(session, "_glossary", None)
+    if cached is None:
+        from explorer.glossary import GlossaryError, load_glossary
+
+        try:
+            cached = load_glossary()
+        except GlossaryError as exc:
+            print(f"lpv-explorer: {exc}", file=sys.stderr)
+            cached = ()
+        session._glossary = cached
+    return cached
 
 
 def _try_section(state: AppState, session: LessonSession, page: Page, step: Step) -> None:
@@ -435,14 +476,51 @@ def _try_section(state: AppState, session: LessonSession, page: Page, step: Step
     base = source["context"]
     for index, item in enumerate(step.try_this, start=1):
         source["context"], source["where"] = try_context(state, session, index, base)
+        key = (session.lesson.id, step.number, index)
+        if session.applied and session.tried == index and item.predict is not None:
+            session.revealed.add(key)
+        if item.predict is not None and key not in session.revealed:
+            _prediction(session, page, item.predict, key)
+            continue
         runs = (lesson_text.TryButton(index), lesson_text.Text(" ")) + \
             lesson_text.parse(item.prompt)[0].runs
+        if item.predict is not None:
+            runs += (lesson_text.Text(" " + verdict(item.predict, session.guesses.get(key)),
+                                      "italic"),)
         note = pending_note(item.prompt, source["context"],
                             session.applied and session.tried == index, step.figure_ids)
         if note:       # in the same paragraph: it explains this prompt's "…"
             runs += (lesson_text.Text(f" ({note})", "italic"),)
         page.draw((lesson_text.Paragraph(runs),))
     source["context"], source["where"] = base, "the frame on screen"
+
+
+def verdict(prediction, guess: int | None) -> str:
+    """What the article says once a prediction's button was pressed."""
+    right = prediction.choices[prediction.answer - 1]
+    if guess is None:
+        return f"(The answer: {right}.)"
+    if guess == prediction.answer:
+        return f"(You predicted {right}: right.)"
+    return f"(You predicted {prediction.choices[guess - 1]}; the answer is {right}.)"
+
+
+def _prediction(session: LessonSession, page: Page, prediction, key) -> None:
+    """"Predict, then press": the question and its choices, then the button; the prompt
+    stays hidden until the button is pressed."""
+    index = key[2]
+    page.draw((lesson_text.Paragraph((lesson_text.Text("Predict: ", "bold"),
+                                      lesson_text.Text(prediction.question, "italic"))),))
+    guess = session.guesses.get(key)
+    for number, choice in enumerate(prediction.choices, start=1):
+        if number > 1:
+            imgui.same_line()
+        if imgui.radio_button(f"{choice}##predict{index}", guess == number):
+            session.guesses[key] = number
+    runs = (lesson_text.TryButton(index), lesson_text.Text(" "),
+            lesson_text.Text("then press to see what happens." if guess else
+                             "make your guess, then press to see.", "italic"))
+    page.draw((lesson_text.Paragraph(runs),))
 
 
 def _error_banner(state: AppState) -> None:

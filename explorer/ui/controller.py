@@ -49,6 +49,7 @@ from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.lpv.stages import downstream
 from explorer.ui.picture import Picture, SideDisplay, Stamp
+from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
 
 if TYPE_CHECKING:
     import moderngl
@@ -56,9 +57,9 @@ if TYPE_CHECKING:
     from explorer.gl.program import ProgramCache
     from explorer.lpv.frame import FrameResult
     from explorer.lpv.job import Job, Progress
+    from explorer.scene import Scene
     from explorer.ui.state import AppState
 
-SIDES = ("A", "B")
 PINNED_DISPLAY: dict[str, object] = {
     name: getattr(Settings(), name) for name in stages_reading(Settings, "display")}
 """The display stage's fields, fixed in what the pipelines run: the view composer applies
@@ -77,8 +78,6 @@ FIRST_PICTURE_SCALE = 0.25
 """The first picture after launch renders at this fraction of the size (quick to show),
 then the full size follows."""
 MIN_RENDER_EDGE = 16
-EXPOSURE_TOLERANCE = 0.05
-"""Relative change of a side's own exposure (exposed separately) worth applying."""
 SHADER_POLL_S = 0.5
 PREVIEW_INTERVAL_S = 0.25
 """Progressive pictures after the first of a job come at most this often ..."""
@@ -103,24 +102,38 @@ QUIET_BUDGET_MS = 100.0
 """... (or the frame budget if larger) instead of the frame budget, so that fewer frames
 share the work; the shell's ``input_pending`` is asked between units and input brings
 the budget back at once. A frame stays within this plus one unit and a drawing."""
+FINISHING_STAGES = frozenset(downstream("propagate")[1:])
+"""The stages after the propagation (gather, fog, display): a job in one of them is
+about to publish its finished frame, which is drawn, so its frame gets no quiet budget."""
 MIN_TASK_MS = 2.0
 """Background tasks run when at least this much of the budget is left."""
 
 
 class PipelineLike(Protocol):
-    """What the controller calls on a pipeline (explorer.lpv.pipeline.Pipeline)."""
+    """What the controller calls and reads on a pipeline (explorer.lpv.pipeline.Pipeline):
+    all of it, so that no call needs a fallback."""
 
     programs: "ProgramCache"
+    unit_ms: dict[str, float]
+    """Stage -> milliseconds of its last unit of work (what fits a budget)."""
+    unit_ms_at: dict[tuple[str, int], float]
+    """(stage, unit number) -> milliseconds it last took (``Job.next_unit_ms``)."""
+    preview_textures: tuple | None
+    """The last reduced preview's linear textures (``Job.preview`` with a scale < 1)."""
 
     def start(self, settings: Settings, keep_steps: bool = ..., need_audit: str | bool = ...,
               progress: Callable[[str, int, int], None] | None = ...) -> "Job": ...
     def reload_shaders(self) -> bool: ...
     def release(self) -> None: ...
+    def view(self, name: str, **options) -> np.ndarray: ...
+    @property
+    def timings_ms(self) -> dict[str, float]: ...
     @property
     def linear_textures(self) -> tuple: ...
     @property
     def fog_textures(self) -> tuple | None: ...
-    preview_textures: tuple | None
+    @property
+    def base_scene(self) -> "Scene | None": ...
 
 
 @dataclass(frozen=True)
@@ -336,7 +349,7 @@ class PipelineController:
                 status.busy = True
                 status.labels[name] = (side.progress.label if side.progress is not None
                                        else "starting")
-        if any(getattr(task, "running", False) for task in state.runtime.tasks):
+        if any(task.running for task in state.runtime.services.tasks):
             status.busy = True
         self._publish_runtime(state)
         status.work_ms = (time.perf_counter() - start) * 1e3
@@ -386,6 +399,10 @@ class PipelineController:
             side = order.pop(0)
             if side.job is None:
                 continue
+            if budget.ms > budget.base_ms and side.job.stage in FINISHING_STAGES:
+                # the job's finished frame is near, and it is drawn: the frame budget
+                budget.ms = budget.base_ms
+                left = budget.left()
             if side.name in previewed and not self._fits(side, left / (len(order) + 1)):
                 continue
             if side.name not in previewed:
@@ -406,8 +423,7 @@ class PipelineController:
     @staticmethod
     def _fits(side: SideState, left_ms: float) -> bool:
         """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms``."""
-        unit_ms = getattr(side.pipeline, "unit_ms", {}) or {}
-        return left_ms > 0.0 and unit_ms.get(side.job.stage or "", 0.0) <= left_ms
+        return left_ms > 0.0 and side.job.next_unit_ms() <= left_ms
 
     def _step(self, state: "AppState", side: SideState, budget_ms: float,
               status: ControllerStatus) -> None:
@@ -448,12 +464,12 @@ class PipelineController:
             shown = side.job.preview(self.preview_scale)
             if shown:
                 side.serial += 1
-                textures = getattr(side.pipeline, "preview_textures", None)
+                textures = side.pipeline.preview_textures
                 self._snapshot(side, Stamp(side.serial, False, progress.done, progress.total),
                                side.result, textures)
                 display = self.settings_for(state, side.name)
                 if side.auto_scale is None and display.auto_exposure:
-                    side.auto_scale = _picture_scale(side.picture, display.indirect_only)
+                    side.auto_scale = picture_scale(side.picture, display.indirect_only)
                 status.published = True
         except Exception as exc:  # noqa: BLE001 - the job's own run reports it next
             print(f"lpv-explorer: preview of {side.name} failed: {exc}", file=sys.stderr)
@@ -478,7 +494,7 @@ class PipelineController:
         if progress.done <= steps:
             return float("inf")
         per_step = (side.job_ms - side.previews_ms - ms) / (progress.done - steps)
-        timings = getattr(side.pipeline, "timings_ms", None) or {}
+        timings = side.pipeline.timings_ms
         rest = sum(timings.get(stage, 0.0) for stage in downstream("propagate")[1:])
         return (progress.total - progress.done) * max(per_step, 0.0) + rest
 
@@ -489,7 +505,7 @@ class PipelineController:
         it, as the pipeline's own preview does)."""
         if side.picture is None:
             side.picture = Picture(self.ctx, self.programs)
-        fog = getattr(side.pipeline, "fog_textures", None) if stamp.final else None
+        fog = side.pipeline.fog_textures if stamp.final else None
         side.picture.copy_from(*(textures or side.pipeline.linear_textures), stamp, result,
                                fog)
 
@@ -515,14 +531,14 @@ class PipelineController:
         self._post_warnings(state, side, result)
         rt = state.runtime
         if side.name == "A":
-            rt.pipeline_error = None
+            rt.frame.pipeline_error = None
             if not request.interactive:
                 self.ran_settings = state.settings
                 self.failed_settings = None
             s = request.settings
             self._good_scene = (s.scene, s.camera, s.light, s.light_flux)
             self._scene_defaults(state, side.pipeline, s.scene)
-        rt.pipeline_ms = side.job_ms
+        rt.frame.pipeline_ms = side.job_ms
 
     def _measure_camera(self, request: Request, elapsed_ms: float) -> None:
         """Choose the drag scale from the camera-only frames timed so far: the largest of
@@ -545,70 +561,22 @@ class PipelineController:
 
     # ------------------------------------------------------------------ display
     def side_display(self, state: "AppState", side: str) -> SideDisplay:
-        """How ``side`` is shown: its exposure, tone curve and indirect only (B's are A's
-        unless a lesson's before | after split overrides them, e.g. the indirect light
-        alone on the right), and its display scale (the auto exposure of its picture,
-        A's for B unless each side is exposed separately)."""
-        s = self.settings_for(state, side)
-        per_side = state.comparing and state.expose_sides_separately
-        exposure = s.exposure
-        if per_side and not state.settings.auto_exposure:
-            exposure = state.runtime.side_exposures[SIDES.index(side)]
-        own = side == "A" or per_side
-        scale = self._auto_scale(state, self.sides[side if own else "A"],
-                                 s if own else state.settings)
-        return SideDisplay(float(exposure), scale, s.tone_map, s.indirect_only)
-
-    def _auto_scale(self, state: "AppState", side: SideState, s: Settings) -> float:
-        """The auto exposure of ``side``'s picture shown with the display fields of
-        ``s``."""
-        if not s.auto_exposure:
-            return 1.0
-        result = side.result
-        if result is None or side.picture is None or not side.picture.stamp.final:
-            return side.auto_scale if side.auto_scale is not None else 1.0
-        if not s.indirect_only:     # what the pipeline measured (PINNED_DISPLAY)
-            return float(result.display_scale)
-        key = (id(result), True)
-        if key not in side.scale_cache:
-            side.scale_cache[key] = _result_scale(result, True)
-        return side.scale_cache[key]
-
-    def _update_side_exposures(self, state: "AppState") -> None:
-        """Each side's own exposure when the sides are exposed separately without the
-        display's auto exposure (once per new result)."""
-        from explorer.lpv.display import exposed_image
-        from explorer.ui.images import auto_exposure
-
-        rt = state.runtime
-        if not (state.comparing and state.expose_sides_separately) or \
-                state.settings.auto_exposure:
-            return
-        values = list(rt.side_exposures)
-        for i, name in enumerate(SIDES):
-            result = self.sides[name].result
-            indirect_only = self.settings_for(state, name).indirect_only
-            key = (id(result), indirect_only)
-            if result is None or rt.exposure_seen[i] == key:
-                continue
-            rt.exposure_seen[i] = key
-            linear = exposed_image(result.direct, result.indirect, 1.0, indirect_only,
-                                   result.fog)
-            value = auto_exposure(linear, 1.0)
-            if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
-                values[i] = float(f"{value:.3g}")
-        rt.side_exposures = (values[0], values[1])
+        """How ``side`` is shown (explorer/ui/side_display.py ``side_display``)."""
+        return side_display(state, self.sides, side, self.settings_for(state, side))
 
     # ------------------------------------------------------------------ runtime
     def _publish_runtime(self, state: "AppState") -> None:
         rt = state.runtime
         a, b = self.sides["A"], self.sides["B"]
-        rt.result = a.result
-        rt.compare_result = b.result if state.comparing else None
-        rt.frame_view = getattr(a.pipeline, "view", None) if a.result is not None else None
-        rt.pictures = {name: side.picture for name, side in self.sides.items()
-                       if side.picture is not None and side.picture.ready}
-        self._update_side_exposures(state)
+        rt.frame.result = a.result
+        rt.frame.compare_result = b.result if state.comparing else None
+        rt.frame.frame_view = a.pipeline.view if a.pipeline is not None and a.result is not None \
+            else None
+        rt.frame.pictures = {name: side.picture for name, side in self.sides.items()
+                             if side.picture is not None and side.picture.ready}
+        update_side_exposures(state, {name: side.result for name, side in self.sides.items()},
+                              {name: self.settings_for(state, name).indirect_only
+                               for name in self.sides})
 
     @property
     def busy(self) -> bool:
@@ -641,9 +609,9 @@ class PipelineController:
                 print(f"lpv-explorer: could not open {settings.scene}: {exc}",
                       file=sys.stderr)
             return
-        rt.pipeline_error = f"pipeline {side.name} failed: {text}"
-        state.notify(rt.pipeline_error, "error")
-        print(f"lpv-explorer: {rt.pipeline_error}", file=sys.stderr)
+        rt.frame.pipeline_error = f"pipeline {side.name} failed: {text}"
+        state.notify(rt.frame.pipeline_error, "error")
+        print(f"lpv-explorer: {rt.frame.pipeline_error}", file=sys.stderr)
         traceback.print_exception(exc, file=sys.stderr)
 
     def failed_request(self, side: str = "A") -> Request | None:
@@ -653,7 +621,7 @@ class PipelineController:
                        result: "FrameResult") -> None:
         """The numeric guards' warnings of a new result in the Messages panel: each one
         the side's previous result did not have, once."""
-        warnings = tuple(getattr(result, "warnings", ()) or ())
+        warnings = tuple(result.warnings)
         for text in warnings:
             if text not in side.warned:
                 state.notify(text if side.name == "A" else f"B: {text}", "warning")
@@ -668,7 +636,7 @@ class PipelineController:
         if self._defaults_for == scene_name:
             return
         self._defaults_for = scene_name
-        scene = getattr(pipeline, "base_scene", None)
+        scene = pipeline.base_scene
         if scene is None:
             try:
                 from explorer.scene import load_scene
@@ -676,16 +644,23 @@ class PipelineController:
                 scene = load_scene(scene_name)
             except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
-        rt.scene = None if scene is None else (scene_name, scene)
-        rt.camera_default = eye_target(getattr(scene, "camera", None))
-        try:     # the primary light of the lights that shine (Settings.lights)
-            light = scene.with_lights(state.settings.lights).light
-        except Exception:  # noqa: BLE001 - no scene, or lights it does not have
-            light = getattr(scene, "light", None)
-        rt.light_default = eye_target(light)
-        rt.light_flux_default = getattr(light, "flux", None)
-        rt.light_cone_default = getattr(light, "cone_degrees", None)
-        rt.light_is_spot = hasattr(light, "cone_degrees")
+        rt.scene_facts.scene = None if scene is None else (scene_name, scene)
+        if getattr(scene, "notice", ""):       # e.g. where a light was put in a closed mesh
+            state.notify(scene.notice)
+        from explorer.scene import SpotLight
+
+        rt.scene_facts.camera_default = eye_target(scene.camera if scene is not None else None)
+        light = None
+        if scene is not None:
+            try:     # the primary light of the lights that shine (Settings.lights)
+                light = scene.with_lights(state.settings.lights).light
+            except Exception:  # noqa: BLE001 - lights the scene does not have
+                light = scene.light
+        rt.scene_facts.light_default = eye_target(light)
+        rt.scene_facts.light_flux_default = light.flux if light is not None else None
+        facts = rt.scene_facts
+        facts.light_is_spot = isinstance(light, SpotLight)
+        facts.light_cone_default = light.cone_degrees if facts.light_is_spot else None
 
     # ------------------------------------------------------------------ shaders, tasks
     def _hot_reload(self, state: "AppState", now: float | None = None) -> None:
@@ -706,7 +681,7 @@ class PipelineController:
             errors.update(side.pipeline.programs.errors)
         self.programs.reload_if_changed()
         errors.update(self.programs.errors)
-        state.runtime.shader_errors = errors
+        state.runtime.services.shader_errors = errors
 
     def poll_shaders(self, state: "AppState") -> None:
         """Check the shader files now (the next update reloads what changed)."""
@@ -717,10 +692,10 @@ class PipelineController:
         """The panels' background GPU work (``runtime.tasks``) in what is left of the
         budget, shared by the tasks that have work (an idle one is still called: it may
         start some, e.g. the Error panel's measurement of a new configuration)."""
-        tasks = state.runtime.tasks
+        tasks = state.runtime.services.tasks
         if not tasks or left_ms < MIN_TASK_MS:
             return
-        share = left_ms / max(sum(bool(getattr(task, "running", True)) for task in tasks), 1)
+        share = left_ms / max(sum(bool(task.running) for task in tasks), 1)
         for task in list(tasks):
             began = time.perf_counter()
             try:
@@ -732,7 +707,7 @@ class PipelineController:
                 tasks.remove(task)
             finally:
                 _use_screen(self.ctx)
-            if getattr(task, "running", False):
+            if task.running:
                 status.work.append(WorkUnit("task", type(task).__name__,
                                             (time.perf_counter() - began) * 1e3))
 
@@ -786,25 +761,6 @@ class _StageCounter:
         if stage != self.last:
             self.last = stage
             self.counts.update([stage])
-
-
-def _result_scale(result: "FrameResult", indirect_only: bool) -> float:
-    """The auto exposure of a finished frame shown with ``indirect_only`` (the display
-    stage's measure, explorer/lpv/display.py)."""
-    from explorer.lpv.display import display_scale, exposed_image
-
-    unexposed = exposed_image(result.direct, result.indirect, 1.0, indirect_only,
-                              getattr(result, "fog", None))
-    mask = np.asarray(result.gbuffer_position)[..., 3] > 0.5
-    return display_scale(unexposed, mask, True)
-
-
-def _picture_scale(picture: Picture, indirect_only: bool) -> float:
-    """The auto exposure of a picture read back (a first preview)."""
-    from explorer.lpv.display import display_scale, exposed_image
-
-    direct, indirect, mask = picture.read()
-    return display_scale(exposed_image(direct, indirect, 1.0, indirect_only), mask, True)
 
 
 def eye_target(value) -> tuple | None:

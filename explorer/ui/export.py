@@ -1,5 +1,6 @@
 """Write a lesson step as the window shows it (article column, 3D view, panels) to a PNG,
-from a hidden window: ``lpv-explorer lessons --export ID --step K --out step.png``.
+from a window that needs no display (glfw's null platform with EGL, as the rest of the
+headless pipeline): ``lpv-explorer lessons --export ID --step K --out step.png``.
 
 The window draws frames until the step's frame has converged and its typeset text
 and figures are on screen; a step that quotes measured errors (``{{error.*}}``) also
@@ -27,19 +28,24 @@ class ExportedStep:
 
 def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height: int = 900,
                 wait_s: float = 600.0, try_this: int | None = None,
-                overlays: bool = True) -> ExportedStep:
+                overlays: bool = True, headless: bool | None = None) -> ExportedStep:
     """Open a hidden window at ``lesson_id`` step ``step`` (with its ``try_this``-th
     button pressed, 1-based, when given), draw until the step is ready, write the window
     to ``out``. ``overlays`` False: the step without the in-scene overlays its
     ``[steps.show]`` table sets (what the main view shows without them). Raises
     WindowError without a display, KeyError/IndexError for a lesson, step or try-this that
-    does not exist, TimeoutError when the frame never comes."""
+    does not exist, TimeoutError when the frame never comes. ``headless``: draw without
+    a display (glfw's null platform with EGL; default: whenever this glfw has it)."""
     from explorer.lessons import find_lesson, load_all
     from explorer.ui.app import App, write_png
-    from explorer.ui.article import uses_error
+    from explorer.ui.article import uses_error, uses_truth
     from explorer.ui.panels.error import error_service
     from explorer.ui.state import AppState, OverlayState
 
+    from explorer.gl.window import headless_available
+
+    if headless is None:
+        headless = headless_available()
     lessons, _ = load_all()
     lesson = find_lesson(lesson_id, lessons)
     wanted = lesson.step(step)
@@ -48,7 +54,7 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                          f", not {try_this}")
     state = AppState(lesson_id=lesson.id, lesson_step=step)
     app = App(state, width=width, height=height, visible=False, vsync=False,
-              persist_settings=False)
+              persist_settings=False, headless=headless)
     try:
         start = time.monotonic()
         ready_at = None
@@ -66,7 +72,9 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                 session = app.state.lesson_session
                 show_screen(app.state, session.toggle_try(try_this, current_screen(app.state)))
                 pressed = True
-            converged = app.status is not None and not app.status.active   # nothing left
+            # nothing left to do, and nothing the panels changed in the frame just drawn
+            converged = (app.status is not None and not app.status.active
+                         and not app.drew_change)
             ready = (rt.result is not None and frames > SETTLE_FRAMES and pressed
                      and converged
                      and (not app.state.comparing or rt.compare_result is not None))
@@ -74,6 +82,8 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                 service = error_service(app.state)
                 service.lesson_wants = True
                 ready = service.result_for() is not None or service.problem is not None
+                if ready and uses_truth(wanted) and service.against_mitsuba:
+                    ready = service.truth_for() is not None or bool(service.truth_problem)
             if ready:
                 ready_at = frames if ready_at is None else ready_at
                 if frames - ready_at >= SETTLE_FRAMES:

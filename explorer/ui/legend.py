@@ -1,7 +1,8 @@
 """Legend labels that say what differs between two configurations.
 
-A legend entry "A: custom" tells the reader nothing; "B: propagation_4pi off" tells them
-what they are comparing. :func:`side_labels` turns the Settings of A and B into such a
+A legend entry "A: custom" tells the reader nothing; "B: Propagation: no 1/(4π) per face
+off" tells them what they are comparing, in the words of the Corrections panel and the
+settings' labels (never a field name). :func:`side_labels` turns the Settings of A and B into such a
 pair; :func:`describe` names one configuration alone (its preset, or the switches it
 turns off relative to the corrected preset).
 """
@@ -27,6 +28,19 @@ def _value(value) -> str:
     return str(value).lower() if isinstance(value, bool) else str(value)
 
 
+def words(name: str) -> str:
+    """A switch's or a setting's name as the panels write it: the correction's title,
+    the setting's label, else the name with spaces."""
+    from explorer.lpv.corrections import CORRECTIONS
+    from explorer.lpv.schema import specs
+
+    for entry in CORRECTIONS:
+        if entry.name == name:
+            return entry.title
+    spec = specs(Settings).get(name)
+    return (getattr(spec, "label", "") or name.replace("_", " "))
+
+
 def differences(a: Settings, b: Settings) -> list[tuple[str, str, str]]:
     """(name, A's value, B's value) of every correction switch and setting that differs,
     switches first, in declaration order; fields in :data:`IGNORED_FIELDS` are skipped."""
@@ -48,7 +62,7 @@ def describe_corrections(corrections: Corrections) -> str:
     name = preset_name(corrections)
     if name != "custom":
         return f"{name} preset"
-    off = [f"{n} {_switch(getattr(corrections, n))}" for n in Corrections.names()
+    off = [f"{words(n)} {_switch(getattr(corrections, n))}" for n in Corrections.names()
            if getattr(corrections, n) != getattr(PRESETS["corrected"], n)]
     return _join(off)
 
@@ -67,8 +81,8 @@ def side_labels(a: Settings, b: Settings) -> tuple[str, str]:
     if not rows:
         return f"A: {describe(a)}", "B: same as A"
     if len(rows) <= MAX_NAMED:
-        return ("A: " + _join(f"{n} {va}" for n, va, _ in rows),
-                "B: " + _join(f"{n} {vb}" for n, _, vb in rows))
+        return ("A: " + _join(f"{words(n)} {va}" for n, va, _ in rows),
+                "B: " + _join(f"{words(n)} {vb}" for n, _, vb in rows))
     switches = set(Corrections.names())
     others = [row for row in rows if row[0] not in switches]
     labels = []
@@ -76,7 +90,7 @@ def side_labels(a: Settings, b: Settings) -> tuple[str, str]:
         parts = []
         if len(others) < len(rows):        # the corrections differ too
             parts.append(describe_corrections(settings.corrections))
-        parts += [f"{row[0]} {row[column]}" for row in others]
+        parts += [f"{words(row[0])} {row[column]}" for row in others]
         labels.append(f"{side}: " + _join(parts))
     return labels[0], labels[1]
 

@@ -19,6 +19,7 @@ what is drawn) until the step changes.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
@@ -63,6 +64,9 @@ class Screen:
     overlays: OverlayState | None = None
     """What the main view draws in the scene (a private copy; None: not part of this
     screen, the window's overlays stay as they are)."""
+    split_position: float | None = None
+    """Where the split view's divider stands (a fraction of the view's width) when the
+    step says; None: where the reader left it."""
 
 
 def step_screen(step: Step, own: Screen) -> Screen:
@@ -81,7 +85,8 @@ def step_screen(step: Step, own: Screen) -> Screen:
     return Screen(settings=settings, compare_settings=compare, view_mode=mode,
                   view_buffer=buffer,
                   inspect_source=step.view if step.view in INSPECT_VIEWS else None,
-                  plot=step.plot, overlays=step.overlays(own.overlays))
+                  plot=step.plot, overlays=step.overlays(own.overlays),
+                  split_position=step.split_at)
 
 
 def try_screen(step: Step, index: int, own: Screen) -> Screen:
@@ -114,6 +119,55 @@ def shows_step(settings: Settings, step: Step) -> bool:
             and all(getattr(settings, name) == value for name, value in step.overrides))
 
 
+READER_PANELS = ("View", "Lesson")
+"""Panels the reader's mode always shows: the article and the 3D view it talks about."""
+_LIGHT_CONTROLS = ("light", "lights", "light_flux", "object_transforms")
+
+
+def step_panels(step: Step) -> frozenset[str]:
+    """The panels ``step`` uses (the reader's mode shows these alone): the article and the
+    view, the plot it names, the Inspect panel for a buffer the scene cannot show, the
+    Show in scene panel when it draws in the scene, the Error panel when it quotes an
+    error, the Corrections panel when it typesets or switches a correction, the Lights &
+    objects or Scene panel when a try-this moves a light, an object or the scene."""
+    from explorer.lesson_text import placeholders
+
+    used = set(READER_PANELS)
+    texts = [step.text] + [item.prompt for item in step.try_this]
+    controls = step.controls()
+    if step.plot is not None:
+        used.add("Plots")
+    if step.view in INSPECT_VIEWS and not step.show or step.view in NOT_IN_SCENE_VIEWS:
+        used.add("Inspect")
+    if step.show:
+        used.add("Show in scene")
+    if step.plot == "error" or any(name.startswith("error.") for text in texts
+                                   for name, _ in placeholders(text)):
+        used.add("Error")
+    if any(c.startswith("corrections") for c in controls) or any(
+            f.startswith("corrections.") for f in step.formulas):
+        used.add("Corrections")
+    if any(c in _LIGHT_CONTROLS for c in controls):
+        used.add("Lights & objects")
+    if "scene" in controls:
+        used.add("Scene")
+    return frozenset(used)
+
+
+def hidden_panels(state, titles: Iterable[str]) -> frozenset[str]:
+    """Of the panels ``titles`` (the window's, explorer.ui.layout.PANELS), those the
+    reader's mode hides now: the ones the lesson step on screen does not use (none in the
+    explorer mode, or when no lesson step is applied)."""
+    if not state.reader_mode:
+        return frozenset()
+    session = state.lesson_session
+    step = None if session is None or not session.applied else session.step
+    if step is None:
+        return frozenset()
+    used = step_panels(step)
+    return frozenset(title for title in titles if title not in used)
+
+
 def step_caption(step: Step) -> str:
     """Where to look for this step, in words (shown above the step's text): the main
     view and what it draws in the scene when the step shows overlays, else the step's
@@ -137,7 +191,7 @@ def step_caption(step: Step) -> str:
     return " and ".join(parts) + "."
 
 
-_SLICE_WORDS = {"intensity": "the intensity of acc_N", "flux": "the flux per cell of acc_N",
+_SLICE_WORDS = {"intensity": "the accumulated intensity", "flux": "the accumulated flux per cell",
                 "in-flight": "the light in flight after step {t}"}
 _INJECTED_WORDS = "the injected light, before any step"
 
@@ -170,6 +224,10 @@ def overlay_words(overlays: OverlayState) -> str:
     return parts[0] if parts else ""
 
 
+RESUME_FRAMES = 4
+"""Frames over which a resumed lesson's article scrolls back to where it was left."""
+
+
 @dataclass
 class LessonSession:
     """Which lesson and step the reader is on, and the configuration to return to."""
@@ -186,6 +244,22 @@ class LessonSession:
     """The reader left the lesson's settings (and may go back to them)."""
     tried: int | None = None
     """The try-this (1-based) whose change is on screen, or None."""
+    places: dict[str, tuple[int, float]] = field(default_factory=dict)
+    """Lesson id -> (step, article scroll in pixels) where the reader left it for the
+    list: opening it from the list again comes back there."""
+    scroll: float = 0.0
+    """The article's scroll offset as last drawn (the panel keeps it up to date)."""
+    shown: tuple[str, int] | None = None
+    """(lesson id, step) the article showed last: another one opens at its top."""
+    _open_scroll: float = 0.0
+    """The scroll :meth:`open` chose for the lesson it opened (0: its top)."""
+    resume_frames: int = 0
+    """Frames the panel still scrolls the article to :attr:`scroll` (a resumed lesson:
+    its text's height is known only once it was drawn)."""
+    guesses: dict[tuple[str, int, int], int] = field(default_factory=dict)
+    """(lesson id, step, try-this) -> the reader's guess (1-based) of a prediction."""
+    revealed: set[tuple[str, int, int]] = field(default_factory=set)
+    """Predictions whose try-this the reader pressed: their answer is shown."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":
@@ -207,13 +281,38 @@ class LessonSession:
         """True while a lesson step's configuration is on screen."""
         return self.saved is not None
 
-    def open(self, key: str) -> Lesson:
-        """Open the lesson with this id, number or file stem at its first step
-        (KeyError lists the lessons)."""
+    def open(self, key: str, resume: bool = False) -> Lesson:
+        """Open the lesson with this id, number or file stem (KeyError lists the
+        lessons) at its first step, or with ``resume`` where the reader left it for the
+        list (its step; :meth:`opening_scroll` its scroll)."""
         lesson = find_lesson(key, self.lessons)
         if self.lesson is None or lesson.id != self.lesson.id:
-            self.lesson, self.step_number = lesson, 1
+            step, scroll = self.places.get(lesson.id, (1, 0.0)) if resume else (1, 0.0)
+            self.lesson, self.step_number = lesson, max(1, min(step, len(lesson.steps)))
+            self.scroll = self._open_scroll = scroll
+            self.shown = None
         return lesson
+
+    def opening_scroll(self) -> float | None:
+        """Where the article should scroll to as it is drawn now: its top for a step it
+        did not show last (a step or lesson change), the remembered offset for a lesson
+        resumed from the list; None when it stays as the reader scrolled it."""
+        if self.lesson is None:
+            return None
+        where = (self.lesson.id, self.step_number)
+        if self.shown == where:
+            return None
+        scroll = self._open_scroll if self.shown is None else 0.0
+        self._open_scroll = 0.0
+        self.shown, self.scroll = where, scroll
+        self.resume_frames = RESUME_FRAMES if scroll > 0 else 0
+        return scroll
+
+    def keep_scroll(self, scroll: float) -> None:
+        """The article's scroll as just drawn, kept for :meth:`close`: only while it
+        showed the step that is current (a click in it may have changed the step)."""
+        if self.lesson is not None and self.shown == (self.lesson.id, self.step_number):
+            self.scroll = scroll
 
     def go(self, number: int) -> bool:
         """Move to step ``number``, clamped to the lesson; True when the step changed."""
@@ -273,9 +372,14 @@ class LessonSession:
         return saved
 
     def close(self) -> Screen | None:
-        """Close the lesson, restoring the reader's configuration if a step was applied."""
+        """Close the lesson (remembering its step and scroll for :meth:`open` with
+        ``resume``), restoring the reader's configuration if a step was applied."""
+        if self.lesson is not None:
+            drawn = self.shown == (self.lesson.id, self.step_number)
+            self.places[self.lesson.id] = (self.step_number, self.scroll if drawn else 0.0)
         restored = self.leave()
         self.lesson, self.step_number, self.left = None, 1, False
+        self.shown, self.scroll = None, 0.0
         return restored
 
 
@@ -296,25 +400,18 @@ def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
 
 # --- imgui ---------------------------------------------------------------------------------
 
-_SESSION_ATTRIBUTE = "lesson_session"
-
-
 def session_of(state: AppState) -> LessonSession:
     """The LessonSession kept on the app state (created and loaded on first use)."""
-    session = getattr(state, _SESSION_ATTRIBUTE, None)
-    if session is None:
-        session = LessonSession.load()
-        setattr(state, _SESSION_ATTRIBUTE, session)
-    return session
+    if state.lesson_session is None:
+        state.lesson_session = LessonSession.load()
+    return state.lesson_session
 
 
 def current_screen(state: AppState) -> Screen:
-    overlays = getattr(state, "overlays", None)
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
-                  view_mode=state.view_mode,
-                  view_buffer=getattr(state, "view_buffer", "final"),
-                  compare_overrides=tuple(getattr(state, "compare_overrides", ())),
-                  overlays=None if overlays is None else replace(overlays))
+                  view_mode=state.view_mode, view_buffer=state.view_buffer,
+                  compare_overrides=tuple(state.compare_overrides),
+                  overlays=replace(state.overlays), split_position=state.split_position)
 
 
 def show_screen(state: AppState, screen: Screen) -> None:
@@ -324,32 +421,31 @@ def show_screen(state: AppState, screen: Screen) -> None:
     state.settings = screen.settings
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
-    if hasattr(state, "compare_overrides"):
-        state.compare_overrides = tuple(screen.compare_overrides)
-    if hasattr(state, "view_buffer"):
-        state.view_buffer = screen.view_buffer
+    state.compare_overrides = tuple(screen.compare_overrides)
+    state.view_buffer = screen.view_buffer
+    if screen.split_position is not None:
+        state.split_position = screen.split_position
     focus = []
     drawn = screen.overlays is not None and screen.overlays.any_shown
-    if screen.overlays is not None and hasattr(state, "overlays"):
+    if screen.overlays is not None:
         state.overlays = replace(screen.overlays)
-    if screen.inspect_source is not None and hasattr(state, "inspect"):
+    if screen.inspect_source is not None:
         state.inspect.source = screen.inspect_source
-    if screen.inspect_source in NOT_IN_SCENE_VIEWS and hasattr(state, "inspect"):
+    if screen.inspect_source in NOT_IN_SCENE_VIEWS:
         focus.append("Inspect")
     elif drawn:
         focus.append("Show in scene")
         if screen.overlays.picked_kind != "none" and screen.plot is None:
             focus.append("Picked")
-    elif screen.inspect_source is not None and hasattr(state, "inspect"):
+    elif screen.inspect_source is not None:
         focus.append("Inspect")
-    if hasattr(state, "runtime"):
-        from explorer.ui.panels.error import want_measurement
+    from explorer.ui.panels.error import want_measurement
 
-        want_measurement(state, screen.plot == "error")
+    want_measurement(state, screen.plot == "error")
     if screen.plot == "error":
         focus.append("Error")
-    elif screen.plot is not None and hasattr(state, "plot_tab"):
+    elif screen.plot is not None:
         state.plot_tab = screen.plot
         focus.append("Plots")
-    if focus and hasattr(state, "requests"):
+    if focus:
         state.requests.focus_panel = tuple(focus)

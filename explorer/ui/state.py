@@ -125,8 +125,10 @@ class Interaction:
 
 
 @dataclass
-class Runtime:
-    """What the app loop hands to the panels each frame. Not persisted."""
+class ShownFrame:
+    """The frame being shown: each side's last result and picture, how the view shows
+    them, the jobs' progress and the frame loop's own times (the controller publishes
+    them each frame)."""
 
     result: "FrameResult | None" = None           # configuration A's last finished frame
     compare_result: "FrameResult | None" = None   # B's (compare views)
@@ -135,46 +137,102 @@ class Runtime:
     view shows (explorer/ui/picture.py)."""
     displays: "dict[str, SideDisplay]" = field(default_factory=dict)
     """Side -> how the view shows it (exposure, display scale, tone curve)."""
-    composer: object | None = None
-    """explorer.ui.view_composer.ViewComposer: draws the view's images (view.glsl)."""
     progress: dict[str, str] = field(default_factory=dict)
     """Side -> its job's progress ("propagating 5/8"); empty when the picture is final."""
-    textures: "UiTextures | None" = None          # UI-owned textures (uploads)
-    formulas: "FormulaCache | None" = None
-    markdown_ready: bool = False      # imgui_bundle.rich_md can render (lesson text)
+    frame_view: "Callable[..., np.ndarray] | None" = None
+    """``Pipeline.view`` of configuration A's pipeline (a view the FrameResult alone
+    cannot make, e.g. cascade-weights, which needs the G-buffer); None before a run."""
     pipeline_error: str | None = None
-    gl_problem: str | None = None
-    shader_errors: dict[str, str] = field(default_factory=dict)
+    side_exposures: tuple[float, float] = (1.0, 1.0)  # A, B when exposed separately
+    exposure_seen: list = field(default_factory=lambda: [None, None])
+    """Per side, the (result, indirect only) its exposure was last measured on."""
+    frame_ms: float = 0.0
+    pipeline_ms: float = 0.0          # time of the last finished frame's job, all frames
+    frame_index: int = 0                  # frames drawn (an idle window draws none)
+
+
+@dataclass
+class SceneFacts:
+    """What the scene itself says, before the Settings' overrides (loaded once per
+    scene by the controller): the defaults the camera and light controls start from."""
+
+    scene: "tuple[str, Scene] | None" = None
+    """(scene name, the scene as loaded, before the Settings' overrides): its lights,
+    objects and paths (the Lights & objects panel)."""
     camera_default: tuple | None = None   # the scene's (eye, target) once known
     light_default: tuple | None = None    # the scene's (position, target) once known
     light_flux_default: float | None = None
     light_cone_default: tuple | None = None   # the scene spot's (inner, outer) cone, degrees
     light_is_spot: bool = True                # False for a directional light (no cone)
     scene_bounds: tuple | None = None
-    frame_ms: float = 0.0
-    pipeline_ms: float = 0.0          # time of the last finished frame's job, all frames
+
+
+@dataclass
+class ViewInput:
+    """The 3D view's input: where it is on screen and what the mouse does over it."""
+
     view_size: tuple[int, int] = (0, 0)   # pixels the 3D view panel offers
     view_rect: tuple | None = None        # (x0, y0, x1, y1) framebuffer pixels of the image
-    frame_index: int = 0                  # frames drawn (an idle window draws none)
-    file_dialog: object | None = None     # a pending portable_file_dialogs.open_file
-    file_dialog_available: bool | None = None
     split_dragging: bool = False          # the split view's divider is held
-    inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
-    side_exposures: tuple[float, float] = (1.0, 1.0)  # A, B when exposed separately
-    exposure_seen: list = field(default_factory=lambda: [None, None])
-    """Per side, the (result, indirect only) its exposure was last measured on."""
+    view_press: tuple | None = None       # where the left button went down on the view
+    pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
+    hover: object | None = None
+    """explorer.ui.overlays.in_view.Hover under the mouse in the view, or None."""
+    interaction: Interaction = field(default_factory=Interaction)
     play_clock: float = 0.0               # fractional iterations while playing
-    vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
+
+
+@dataclass
+class Services:
+    """What the window's parts draw and compute with: GL helpers, caches, fonts, the
+    file dialog, background tasks, and what the GL context could not do."""
+
+    composer: object | None = None
+    """explorer.ui.view_composer.ViewComposer: draws the view's images (view.glsl)."""
     compositor: object | None = None
     """explorer.ui.overlays.compositor.Compositor: the View panel's in-scene overlays
     (named, not imported: it reads this module's OverlayState)."""
-    hover: object | None = None
-    """explorer.ui.overlays.in_view.Hover under the mouse in the view, or None."""
-    view_press: tuple | None = None       # where the left button went down on the view
-    pointer_moved: bool = False           # the mouse has moved over the view (hover reads)
+    textures: "UiTextures | None" = None          # UI-owned textures (uploads)
+    formulas: "FormulaCache | None" = None
     fonts: "Fonts | None" = None          # prose styles
+    markdown_ready: bool = False      # imgui_bundle.rich_md can render (lesson text)
     gl_renderer: str = ""                 # GL_RENDERER of the window's context
-    interaction: Interaction = field(default_factory=Interaction)
+    gl_problem: str | None = None
+    shader_errors: dict[str, str] = field(default_factory=dict)
+    file_dialog: object | None = None     # a pending portable_file_dialogs.open_file
+    file_dialog_available: bool | None = None
+    inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
+    vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
+    tasks: "list[BackgroundTask]" = field(default_factory=list)
+    """Background work the controller advances within the frame budget with its GL
+    context (objects with ``advance(ctx, budget_s)``, ``release()`` and ``running``),
+    e.g. the Error panel's reference render."""
+    animation: "Animation | None" = None
+    """The paths and fly-through that play, the object the gizmo moves (made on first use
+    by explorer.ui.animation.animation_of)."""
+
+
+RUNTIME_PARTS = {"frame": ShownFrame, "scene_facts": SceneFacts, "view": ViewInput,
+                 "services": Services}
+"""Runtime's parts by attribute name."""
+
+
+@dataclass
+class Runtime:
+    """What the app loop hands to the panels each frame, in four parts (issue #19): the
+    frame being shown (:class:`ShownFrame`), the scene's facts (:class:`SceneFacts`), the
+    view's input (:class:`ViewInput`) and the services (:class:`Services`); besides them
+    only what the panels drawn this frame ask of the next (the audit, a redraw). Not
+    persisted.
+
+    Each part's fields can also be read and set by their own name on the runtime
+    (``runtime.result`` is ``runtime.frame.result``), so that the panels move to the parts
+    one at a time."""
+
+    frame: ShownFrame = field(default_factory=ShownFrame)
+    scene_facts: SceneFacts = field(default_factory=SceneFacts)
+    view: ViewInput = field(default_factory=ViewInput)
+    services: Services = field(default_factory=Services)
     audit_wanted: str = "off"
     """The most a panel drawn this frame needs of the energy audit (a plot, a lesson
     figure or a live number; explorer.lpv.audit.AUDIT_MODES): the pipelines measure that
@@ -182,19 +240,6 @@ class Runtime:
     redraw: bool = False
     """Something drawn this frame moves by itself (playback, fly keys held): draw the
     next frame too, even with no input."""
-    frame_view: "Callable[..., np.ndarray] | None" = None
-    """``Pipeline.view`` of configuration A's pipeline (a view the FrameResult alone
-    cannot make, e.g. cascade-weights, which needs the G-buffer); None before a run."""
-    tasks: "list[BackgroundTask]" = field(default_factory=list)
-    """Background work the controller advances within the frame budget with its GL
-    context (objects with ``advance(ctx, budget_s)``, ``release()`` and ``running``),
-    e.g. the Error panel's reference render."""
-    scene: "tuple[str, Scene] | None" = None
-    """(scene name, the scene as loaded, before the Settings' overrides): its lights,
-    objects and paths (the Lights & objects panel)."""
-    animation: "Animation | None" = None
-    """The paths and fly-through that play, the object the gizmo moves (made on first use
-    by explorer.ui.animation.animation_of)."""
 
     def want_audit(self, mode: str = "full") -> None:
         """Called by what shows the energy audit while it is drawn, with the audit mode
@@ -206,6 +251,27 @@ class Runtime:
     def request_redraw(self) -> None:
         """Called by what animates, every frame it animates."""
         self.redraw = True
+
+
+def _part_field(part: str, name: str) -> property:
+    return property(lambda self: getattr(getattr(self, part), name),
+                    lambda self, value: setattr(getattr(self, part), name, value),
+                    doc=f"``{part}.{name}``")
+
+
+def _forward_part_fields() -> None:
+    from dataclasses import fields
+
+    seen: set[str] = set()
+    for part, cls in RUNTIME_PARTS.items():
+        for entry in fields(cls):
+            if entry.name in seen or hasattr(Runtime, entry.name):
+                raise TypeError(f"Runtime part field {entry.name!r} is not unique")
+            seen.add(entry.name)
+            setattr(Runtime, entry.name, _part_field(part, entry.name))
+
+
+_forward_part_fields()
 
 
 class BackgroundTask(Protocol):
@@ -225,6 +291,8 @@ class Requests:
     open_scene: str | None = None
     reset_layout: bool = False
     open_file_dialog: bool = False
+    save_scene_dialog: bool = False           # File → Save scene as… (explorer/ui/scene_save.py)
+    scene_overrides: dict | None = None       # Settings changes applied once open_scene opened
     focus_panel: str | tuple | None = None   # bring this panel's (these panels') tab forward
     quit: bool = False
 
@@ -233,6 +301,29 @@ def fit_window_size(size: tuple[int, int]) -> tuple[int, int]:
     """A window size within [MIN_WINDOW_SIZE, MAX_WINDOW_SIZE] per edge: what the
     settings file may hold (a window dragged smaller is saved at the smallest size)."""
     return tuple(min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size)
+
+
+WINDOW_FRAME_PX = (16, 48)
+"""What a window manager adds around a window's content (borders, the title bar), at
+most, per axis: the content size that fits a work area is this much smaller."""
+
+
+def fit_work_area(size: tuple[int, int], area: tuple[int, int, int, int] | None
+                  ) -> tuple[tuple[int, int], tuple[int, int] | None]:
+    """(size, top-left position) of a window of ``size`` opened on a monitor whose work
+    area is ``area`` (x, y, width, height): shrunk to fit it, frame included (never
+    below :data:`MIN_WINDOW_SIZE`), and centred in it; ``size`` as it is and no position
+    without a work area."""
+    if area is None:
+        return tuple(size), None
+    x, y, width, height = area
+    frame_w, frame_h = WINDOW_FRAME_PX
+    w, h = (max(min(int(edge), room - frame), MIN_WINDOW_SIZE)
+            for edge, room, frame in zip(size, (width, height), WINDOW_FRAME_PX))
+    border = frame_w // 2                       # each side; the title bar is the rest
+    left = x + max((width - w - frame_w) // 2, 0) + border
+    top = y + max((height - h - frame_h) // 2, 0) + frame_h - border
+    return (w, h), (left, top)
 
 
 def default_screenshot_path() -> Path:
@@ -292,7 +383,8 @@ class AppState:
     mesh_path: str = setting("", kind="text", doc="The path typed in the Scene panel.")
     window_size: tuple[int, int] = setting(
         (1600, 960), kind="size", low=MIN_WINDOW_SIZE, high=MAX_WINDOW_SIZE,
-        doc="The window's size in pixels when it was closed.")
+        doc="The window's size in pixels when it was closed (it opens at this size, "
+            "shrunk to fit the monitor's work area).")
     inspect: InspectState = setting(kind="nested", nested=InspectState,
                                     default_factory=InspectState,
                                     doc="What the Inspect panel shows.")
@@ -302,11 +394,22 @@ class AppState:
                                          "picked point.")
     open_panels: dict[str, bool] = setting(kind="switches", default_factory=dict,
                                            doc="Panel title -> shown.")
+    reader_mode: bool = setting(True, kind="bool",
+                                doc="Reader's mode: while a lesson step is on screen, only "
+                                    "the panels the step uses are shown (the others come "
+                                    "back in the explorer mode).")
     compare_overrides: tuple = ()
     """(field, value) pairs in which B also differs from A (a lesson's before | after
     view of a try-this); not persisted."""
     lesson_id: str | None = None
     lesson_step: int | None = None     # the step `run --lesson ID --step K` opens
+    lesson_session: object | None = None
+    """explorer.ui.lesson_panel.LessonSession (named, not imported: it reads this module):
+    the course being read, the lesson open, its step, the reader's own screen to come back
+    to; made and loaded on first use by ``lesson_panel.session_of``; not persisted."""
+    lesson_figures: object | None = None
+    """explorer.ui.figures.FigureContext: the lesson figures' shared interactive state
+    (``article.figure_context``); not persisted."""
     layout_panels: list[str] = setting(
         kind="names", default_factory=list,
         doc="Panel titles the saved dock layout was built for; a new panel rebuilds it.")

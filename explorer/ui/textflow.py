@@ -149,6 +149,8 @@ class PageEnv:
     """derivation name -> (LaTeX with its left-hand side, statement)."""
     page: Any = None
     """The Page drawing with this environment (figures lay out their captions with it)."""
+    glossary: tuple = ()
+    """``explorer.glossary.Term`` entries: their words show the meaning on hover."""
 
 
 ACCENT = (0.45, 0.72, 1.0, 1.0)
@@ -288,13 +290,16 @@ class Page:
         space = self.text_width(" ", "regular")
         for run in runs:
             if isinstance(run, lt.Text):
-                for word, spaced in words(run.text):
+                pieces = words(run.text)
+                tips = self._glossary_tips([word for word, _ in pieces])
+                for index, (word, spaced) in enumerate(pieces):
                     if not word:
                         if out:
                             out[-1].space = space
                         continue
                     out.append(Box(self.text_width(word, run.style), ascent, descent, "text",
-                                   (word, run.style), space if spaced else 0.0))
+                                   (word, run.style, tips.get(index)),
+                                   space if spaced else 0.0))
             elif isinstance(run, lt.Value):
                 text, tooltip = self.env.value(run.name, run.format)
                 out.append(Box(self.text_width(text, run.style), ascent, descent, "value",
@@ -316,11 +321,23 @@ class Page:
                                "button", (run.index, label, tooltip, active)))
         return out
 
+    def _glossary_tips(self, pieces: list[str]) -> dict[int, str]:
+        """Word index -> the glossary's meaning, for the words of a glossary term."""
+        if not self.env.glossary:
+            return {}
+        from explorer.glossary import matches
+
+        tips = {}
+        for first, count, term in matches(pieces, self.env.glossary):
+            for index in range(first, first + count):
+                tips[index] = f"{term.term}: {term.meaning}"
+        return tips
+
     def draw_box(self, box: Box, x: float, y: float) -> None:
         imgui = self.imgui
         imgui.set_cursor_screen_pos((x, y))
         if box.kind == "text":
-            word, style = box.payload
+            word, style, tip = box.payload
             if style == "code":
                 draw = imgui.get_window_draw_list()
                 draw.add_rect_filled((x - 2, y), (x + box.width + 2, y + box.ascent + box.descent),
@@ -328,6 +345,19 @@ class Page:
             self.push(style)
             imgui.text_unformatted(word)
             self.pop()
+            if tip:
+                # a dotted underline says "hover me"; the tooltip holds the meaning
+                draw = imgui.get_window_draw_list()
+                colour = imgui.get_color_u32(imgui.ImVec4(*DIM))
+                base = y + box.ascent + box.descent - 1.0
+                for dot in range(int(box.width // 4) + 1):
+                    draw.add_line((x + 4 * dot, base), (x + 4 * dot + 2, base), colour, 1.0)
+                if imgui.is_item_hovered():
+                    imgui.begin_tooltip()
+                    imgui.push_text_wrap_pos(imgui.get_font_size() * 24.0)
+                    imgui.text_unformatted(tip)
+                    imgui.pop_text_wrap_pos()
+                    imgui.end_tooltip()
         elif box.kind == "value":
             text, style, tooltip = box.payload
             self.push(style)

@@ -6,8 +6,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-CLEAR_COLOUR = (0.09, 0.095, 0.11, 1.0)
-"""Background of the window behind the docked panels."""
+WINDOW_BG = (0.11, 0.115, 0.13, 1.0)
+"""A panel's background."""
+CLEAR_COLOUR = WINDOW_BG
+"""What each frame is cleared to: the docked panels' background (they draw none of their
+own, explorer/ui/app.py ``_draw_ui``)."""
+DOCKED_WINDOW_BG = WINDOW_BG[:3] + (0.0,)
+"""A docked panel's background colour: transparent, which imgui does not draw."""
 
 
 def apply_style(scale: float) -> None:
@@ -24,7 +29,7 @@ def apply_style(scale: float) -> None:
     style.item_spacing = (8.0, 6.0)
     style.scrollbar_size = 12.0
     colours = {
-        imgui.Col_.window_bg: (0.11, 0.115, 0.13, 1.0),
+        imgui.Col_.window_bg: WINDOW_BG,
         imgui.Col_.title_bg: (0.09, 0.095, 0.11, 1.0),
         imgui.Col_.title_bg_active: (0.13, 0.20, 0.32, 1.0),
         imgui.Col_.frame_bg: (0.17, 0.18, 0.21, 1.0),

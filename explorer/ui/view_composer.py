@@ -191,8 +191,7 @@ def _linear(result, buffer: str, indirect_only: bool) -> np.ndarray:
     """The unexposed linear image of ``buffer`` of a finished frame (with its fog for
     "final", as the display composes it)."""
     if buffer == "final":
-        return exposed_image(result.direct, result.indirect, 1.0, indirect_only,
-                             getattr(result, "fog", None))
+        return exposed_image(result.direct, result.indirect, 1.0, indirect_only, result.fog)
     return getattr(result, buffer)
 
 

@@ -4,6 +4,7 @@ RGBA8 image, the fog composed over the surfaces (explorer/lpv/display.py, docs/M
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -43,9 +44,15 @@ class Stage(StageBase):
     def extra_input(self, job: Job) -> object:
         return self.host.display_scale_override
 
-    def run(self, job: Job) -> None:
+    def units(self, job: Job) -> int:
+        return 2
+
+    def work(self, job: Job) -> Iterator[None]:
+        """Two units: the display scale (the auto exposure measures the read-back image on
+        the CPU), then the display pass."""
         p = Params.of(job.settings)
         self.state.display_scale = self.frame_scale(p)
+        yield
         self.show(p, self.state.display_scale)
 
     def show(self, p: Params, scale: float, fog: bool = True) -> None:

@@ -1,7 +1,8 @@
 """The ``gather`` stage: linear direct and LPV indirect radiance per pixel
 (explorer/lpv/gather.py) in bands of rows (one per unit), then the read-back of each
-target (one unit each). :meth:`Stage.gather_levels` also gathers a job's accumulation as
-it is (the progressive previews)."""
+target (one unit each) and their sums and checks (one more).
+:meth:`Stage.gather_levels` also gathers a job's accumulation as it is (the progressive
+previews)."""
 
 from __future__ import annotations
 
@@ -31,7 +32,7 @@ class Stage(StageBase):
         self.state.gather_pass = self.gather
 
     def units(self, job: Job) -> int:
-        return len(bands((job.settings.width, job.settings.height))) + len(TARGETS)
+        return len(bands((job.settings.width, job.settings.height))) + len(TARGETS) + 1
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
@@ -41,6 +42,7 @@ class Stage(StageBase):
             yield
         targets = self.gather.targets
         arrays = yield from read_back([targets[name] for name in TARGETS])
+        yield       # the sums and the checks of the arrays: a unit of their own
         self.state.gather = GatherImages(**dict(zip(TARGETS, arrays)))
         self.state.warnings["gather"] = guards.arrays_warnings("gather", arrays, s)
 

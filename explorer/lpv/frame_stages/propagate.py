@@ -13,7 +13,7 @@ from explorer.lpv.cascades import cascade_iterations, level_pass_name
 from explorer.lpv.corrections import Corrections
 from explorer.lpv.frame_stages.base import Stage as StageBase
 from explorer.lpv.limits import audit_fits, audit_skipped_warning
-from explorer.lpv.propagate import slabs
+from explorer.lpv.propagate import read_in_units, slabs
 from explorer.lpv.work_units import countdown
 
 if TYPE_CHECKING:
@@ -66,8 +66,8 @@ class Stage(StageBase):
         """Every level's propagation: a unit to start each level (grid_0 into the
         accumulation), one per slab of a step (``slabs``), the levels interleaved so that
         each is as far along as the others (a progressive picture shows all cascades
-        growing together), and two to finish each level (its audit, then its
-        read-back). Yields the steps done, all levels together."""
+        growing together), and four to finish each level (its audit, then its read-back,
+        one colour channel a unit). Yields the steps done, all levels together."""
         host, state = self.host, self.state
         levels, specs = state.cascades, state.specs
         p = Params.of(job.settings, len(levels))
@@ -96,7 +96,8 @@ class Stage(StageBase):
                 level.output = timed("propagate", level.running.finish, accumulate=True)
                 if more():
                     yield sum(p.steps)
-                level.accumulated = level.output.accumulated.read()
+                level.accumulated = yield from read_in_units(level.output.accumulated,
+                                                             sum(p.steps))
                 warnings += guards.found(guards.flux_warning(
                     level_pass_name("inject", k, len(levels)), level.output.audit.injected,
                     p.corrections))

@@ -12,7 +12,7 @@ the negative tail, and all three functions toward a probe direction you drag.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
@@ -33,6 +33,9 @@ _SLICE_RADIUS = 1.25
 class State:
     normal_deg: float
     probe_deg: float
+    handles: dict = field(default_factory=dict, compare=False)
+    """Handle name ("n", "ω") -> its screen position (pixels) as last drawn: where a
+    reader (or a click test) grabs it."""
 
     @classmethod
     def from_params(cls, params: Params) -> "State":
@@ -224,6 +227,8 @@ def _handles(state: State) -> None:
                      style.line_spec(style.with_alpha(style.TEXT, 0.5), 1.0))
     implot.plot_text("n", float(n[0]), float(n[1]), imgui.ImVec2(12.0 * n[0], -12.0 * n[1]))
     implot.plot_text("ω", float(p[0]), float(p[1]), imgui.ImVec2(12.0 * p[0], -12.0 * p[1]))
+    state.handles = {"n": implot.plot_to_pixels(float(n[0]), float(n[1])),
+                     "ω": implot.plot_to_pixels(float(p[0]), float(p[1]))}
     changed, x, y, *_ = implot.drag_point(0, float(n[0]), float(n[1]), style.HANDLE, 7.0)
     if changed and (x or y):
         state.normal_deg = math.degrees(math.atan2(x, y))

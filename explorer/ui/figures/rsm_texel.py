@@ -14,7 +14,7 @@ repeats that for every θ.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from imgui_bundle import imgui, implot
@@ -36,6 +36,8 @@ _CURVES = (("footprint", "footprint A/A0 = 1/cos θ", _FOOTPRINT),
 @dataclass
 class State:
     theta_deg: float
+    handles: dict = field(default_factory=dict, compare=False)
+    """Handle name ("tilt") -> its screen position (pixels) as last drawn."""
 
     @classmethod
     def from_params(cls, params: Params) -> "State":
@@ -147,6 +149,7 @@ def _side_view(state: State, width: float) -> None:
     implot.plot_text(label, float(corners[:2, 0].mean()), float(corners[:2, 1].mean()),
                      imgui.ImVec2(-sin_t * away, cos_t * away))
     handle = ends[1]
+    state.handles = {"tilt": implot.plot_to_pixels(float(handle[0]), float(handle[1]))}
     changed, x, y, *_ = implot.drag_point(0, float(handle[0]), float(handle[1]),
                                           style.HANDLE, 7.0)
     if changed and x > 0:

@@ -165,12 +165,14 @@ class Compositor:
         layers = self._sides.get(side)
         if layers is None:
             layers = self._sides[side] = _Side(self.ctx, self.programs)
+        shared = self._shared_top(side, overlays)
         key = (id(result), int(base_texture), base_version, bool(base_top_first),
-               astuple(overlays), (width, height))
+               astuple(overlays), (width, height), shared)
         if layers.key == key and layers.output is not None:
             return layers.output.colour.glo
         layers.allocate((width, height))
         layers.key, layers.result = key, result
+        layers.shared_top = shared
         o = overlays
         static_key = (id(result), int(base_texture), base_version, bool(base_top_first),
                       (width, height), o.vpls, o.vpl_density, o.vpl_size, o.blockers,
@@ -203,6 +205,16 @@ class Compositor:
         if self.programs.reload_if_changed():
             for layers in self._sides.values():
                 layers.key = layers.static_key = None
+
+    def _shared_top(self, side: str, overlays: OverlayState) -> float | None:
+        """The top of A's slice scale when ``side`` is another side of a comparison that
+        shares it (``overlays.shared_scale``), else None (its own scale)."""
+        if side == "A" or not overlays.slice or not overlays.shared_scale:
+            return None
+        field = self.slice_field("A")
+        if field is None or field.colour_map != Q.resolved_colour_map(overlays):
+            return None
+        return field.high
 
     def slice_field(self, side: str) -> Q.SliceField | None:
         """The slice's field of the last picture of ``side`` (for its colour bar)."""
@@ -340,10 +352,11 @@ class Compositor:
                notes: list[str]) -> None:
         o = overlays
         try:
+            shared = getattr(layers, "shared_top", None)
             if layers.stale("field", result, o.slice_quantity, o.slice_step, o.cascade,
                             o.direction_azimuth, o.direction_elevation, o.colour_map,
-                            o.slice_scale, o.slice_log):
-                layers.field_cache = Q.slice_field(result, o)
+                            o.slice_scale, o.slice_log, shared):
+                layers.field_cache = Q.slice_field(result, o, shared)
         except ValueError as exc:
             layers.forget("field")
             notes.append(f"slice: {exc}")

@@ -127,6 +127,16 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
                 _colour_bar(draw, field, origin, end, at_left)
                 if side == "A":
                     _caption(draw, field.label, origin, end)
+    marks = step_marks(state)
+    if marks and rt.result is not None:
+        from explorer.ui.overlays import marks as mark_overlay
+
+        def text_size(label: str) -> tuple[float, float]:
+            size = imgui.calc_text_size(label)
+            return size.x, size.y
+
+        mark_overlay.draw(draw, mark_overlay.placements(
+            rt.result, marks, (origin.x, origin.y), (end.x, end.y), text_size))
     delta = imgui.get_io().mouse_delta
     if hovered and (delta.x or delta.y):
         rt.pointer_moved = True
@@ -155,6 +165,18 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
             set_picked(state, rt.hover)
     if rt.hover is not None and not imgui.is_mouse_down(0):
         _tooltip(rt.hover)
+
+
+def step_marks(state: AppState) -> tuple:
+    """The marks of the lesson step on screen (explorer/lesson_marks.py): none when no
+    lesson step is applied or the reader changed what the step shows."""
+    from explorer.ui.lesson_panel import session_of, shows_step
+
+    session = session_of(state)
+    step = session.step if session.applied else None
+    if step is None or not step.marks or not shows_step(state.settings, step):
+        return ()
+    return step.marks
 
 
 def _slice_wheel(state: AppState) -> None:

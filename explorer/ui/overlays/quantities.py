@@ -114,16 +114,17 @@ def quantity_field(grid: np.ndarray, quantity: str, direction=None) -> np.ndarra
     raise ValueError(f"unknown slice quantity {quantity!r}")
 
 
-def slice_field(result, overlays: OverlayState) -> SliceField:
+def slice_field(result, overlays: OverlayState, top: float | None = None) -> SliceField:
     """The slice's scalar field with its colour scale (automatic: the robust maximum over
-    the whole grid, so moving the slice keeps the colours comparable)."""
+    the whole grid, so moving the slice keeps the colours comparable; ``top``: another
+    side's automatic top, for one scale across a comparison)."""
     grid, spec, cascade, name = slice_source(result, overlays)
     direction = direction_from_angles(overlays.direction_azimuth, overlays.direction_elevation)
     values = quantity_field(grid, overlays.slice_quantity, direction)
     colour_map = resolved_colour_map(overlays)
     if overlays.slice_scale > 0:
         top = overlays.slice_scale
-    else:
+    elif top is None:
         top = automatic_top(np.abs(values) if colour_map == "diverging" else values)
     log = overlays.slice_log and colour_map == "heat"
     low = -top if colour_map == "diverging" else (top * 10.0 ** -LOG_DECADES if log else 0.0)

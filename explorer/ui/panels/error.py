@@ -7,6 +7,12 @@ background of the app loop (an :class:`ErrorService` in ``runtime.tasks``), is c
 when the settings change before it finishes, and every finished measurement is cached per
 measured settings, so switching back and forth costs nothing the second time. Lessons
 read the numbers through ``{{error.*}}`` placeholders.
+
+With the truth set to *reference + Mitsuba* (Mitsuba 3 installed), each finished
+measurement is also rendered by Mitsuba in a child process (explorer/truth/mitsuba_job.py)
+at the same pixels, and the LPV and the reference are held against its one bounce and
+all bounces (``{{error.mitsuba_*}}``, ``{{error.reference_mitsuba_*}}``); a change of
+the settings ends that render like the reference's.
 """
 
 from __future__ import annotations
@@ -28,6 +34,10 @@ from explorer.truth.progressive import (
 )
 from explorer.ui import widgets
 
+TRUTHS = ("reference", "reference + Mitsuba")
+MITSUBA_SPP = 64
+"""Mitsuba's samples per pixel per seed in the panel (noise about 0.1 relative L2 at
+128² on the Cornell box, well below the LPV's error; flux noise below 1 %)."""
 DEBOUNCE_S = 0.4
 """A configuration must stay unchanged this long before an automatic measurement starts
 (orbiting the camera would otherwise start one per frame)."""
@@ -53,6 +63,15 @@ class ErrorService:
         self.pipeline = None
         self.problem: str | None = None
         self.last: ErrorResult | None = None
+        self.truth = TRUTHS[0]
+        self.lesson_truth = False
+        """The lesson step on screen quotes ``{{error.mitsuba_*}}``: measure against
+        Mitsuba (when installed) while it shows, whatever the combo says."""
+        self.truths: OrderedDict[Any, Any] = OrderedDict()
+        """key -> TruthStats (explorer/truth/mitsuba_job.py) of a finished measurement."""
+        self.truth_job = None
+        self.truth_key: Any = None
+        self.truth_problem: str | None = None
         self._seen: Any = None
         self._seen_at = 0.0
 
@@ -77,11 +96,62 @@ class ErrorService:
         self.requested = self.key()
         self.problem = None
 
+    def truth_for(self, settings=None):
+        """TruthStats of the configuration shown, when Mitsuba has measured it."""
+        return self.truths.get(self.key(settings))
+
     def cancel(self) -> None:
         if self.job is not None:
             self.job.release()
         self.job = self.job_key = None
         self.requested = None
+        self.cancel_truth()
+
+    def cancel_truth(self) -> None:
+        if self.truth_job is not None:
+            self.truth_job.release()
+        self.truth_job = self.truth_key = None
+
+    @property
+    def against_mitsuba(self) -> bool:
+        """Measurements are held against Mitsuba (the combo, or the lesson step asks and
+        Mitsuba is installed)."""
+        if self.truth != TRUTHS[0]:
+            return True
+        if not self.lesson_truth:
+            return False
+        from explorer.truth.mitsuba_render import mitsuba_available
+
+        return mitsuba_available() is None
+
+    def _advance_truth(self, key: Any) -> None:
+        """Start, poll or end Mitsuba's render of the measurement of ``key``."""
+        wanted = self.against_mitsuba
+        if self.truth_job is not None and (self.truth_key != key or not wanted):
+            self.cancel_truth()                   # the settings moved on: stop
+        result = self.cache.get(key)
+        if not wanted or result is None or key in self.truths or self.truth_problem:
+            return
+        from explorer.truth.mitsuba_job import MitsubaJob, TruthStats
+
+        if self.truth_job is None:
+            from explorer.truth.gbuffer import scene_for
+
+            s = result.settings
+            self.truth_job = MitsubaJob(scene_for(s, getattr(self.pipeline, "base_scene",
+                                                             None)),
+                                        s.width, s.height, MITSUBA_SPP)
+            self.truth_key = key
+        if not self.truth_job.poll():
+            return
+        if self.truth_job.problem:
+            self.truth_problem = f"Mitsuba: {self.truth_job.problem}"
+        else:
+            self.truths[key] = TruthStats(result.lpv, result.reference, result.valid,
+                                          self.truth_job.result)
+            while len(self.truths) > CACHE_SIZE:
+                self.truths.popitem(last=False)
+        self.truth_job = self.truth_key = None
 
     # -- the app loop's task interface -------------------------------------------------
     def advance(self, ctx, budget_s: float) -> None:
@@ -91,6 +161,11 @@ class ErrorService:
             self._seen, self._seen_at = key, now
         if self.job is not None and self.job_key != key:
             self.cancel()                         # the settings moved on: stop
+        try:
+            self._advance_truth(key)
+        except Exception as exc:  # noqa: BLE001 - shown in the panel, the app goes on
+            self.truth_problem = f"Mitsuba: {type(exc).__name__}: {exc}"
+            self.cancel_truth()
         if self.job is None:
             every = self.auto or self.lesson_wants
             wanted = key == self.requested or (every and now - self._seen_at >= DEBOUNCE_S)
@@ -139,14 +214,26 @@ def error_service(state) -> ErrorService:
 
 def want_measurement(state, wanted: bool = True) -> None:
     """A lesson step shows the error (or no longer does): measure every configuration
-    it shows while it is on screen."""
-    error_service(state).lesson_wants = wanted
+    it shows while it is on screen. A new step drops the previous one's wish for Mitsuba
+    (:func:`want_truth`)."""
+    service = error_service(state)
+    service.lesson_wants = wanted
+    service.lesson_truth = False
+
+
+def want_truth(state) -> None:
+    """The lesson step on screen quotes Mitsuba's numbers: measure against Mitsuba too."""
+    error_service(state).lesson_truth = True
 
 
 def current_stats(state):
-    """ErrorStats of configuration A when measured, else None (lesson placeholders)."""
-    result = error_service(state).result_for()
-    return None if result is None else result.stats
+    """An :class:`ErrorReadout` of configuration A when measured, else None (lesson
+    placeholders)."""
+    service = error_service(state)
+    from explorer.truth.mitsuba_job import ErrorReadout
+
+    result = service.result_for()
+    return None if result is None else ErrorReadout(result.stats, service.truth_for())
 
 
 # --- the panel ------------------------------------------------------------------------
@@ -167,6 +254,7 @@ def gui_error(state) -> None:
             "the same VPLs summed at every pixel without a grid (explorer/truth).")
         return
     _numbers(result)
+    _truth(service)
     _images(state, result)
 
 
@@ -212,6 +300,53 @@ def _controls(service: ErrorService) -> None:
     if imgui.is_item_hovered():
         imgui.set_tooltip("visible: a shadow ray for every VPL and pixel; unoccluded: no "
                           "visibility, what an LPV without a geometry volume approximates")
+    _truth_controls(service)
+
+
+def _truth_controls(service: ErrorService) -> None:
+    """The truth combo (Mitsuba only when installed) and the Mitsuba render's progress."""
+    from explorer.truth.mitsuba_render import mitsuba_available
+
+    missing = mitsuba_available()
+    imgui.set_next_item_width(170)
+    imgui.begin_disabled(missing is not None)
+    shown = TRUTHS[1] if service.against_mitsuba else service.truth
+    changed, truth = widgets.combo("truth", shown, TRUTHS)
+    imgui.end_disabled()
+    if changed:
+        service.truth, service.truth_problem = truth, None
+        service.lesson_truth = False
+    if imgui.is_item_hovered(imgui.HoveredFlags_.allow_when_disabled):
+        imgui.set_tooltip(missing or "also render the measured frame with Mitsuba 3 (a "
+                          f"physically based path tracer, {MITSUBA_SPP} spp × 2 seeds, in "
+                          "the background) and hold the LPV and the reference against its "
+                          "one bounce and all bounces")
+    job = service.truth_job
+    if job is not None:
+        imgui.same_line()
+        imgui.progress_bar(job.fraction, (-1, 0), f"Mitsuba {job.fraction:.0%}")
+    if service.truth_problem:
+        imgui.text_colored(widgets.ERROR, service.truth_problem)
+
+
+def _truth(service: ErrorService) -> None:
+    truth = service.truth_for()
+    if truth is None:
+        return
+    one, multi, ref = truth.one_bounce, truth.multi_bounce, truth.reference
+    imgui.text("Mitsuba 1 bounce: flux")
+    imgui.same_line()
+    imgui.text_colored(widgets.ACCENT, f"{one.flux_ratio:.3f}")
+    imgui.same_line()
+    imgui.text(f"rel. L2 {one.relative_l2:.3f}")
+    widgets.dim_text_wrapped("per channel (r, g, b): "
+                             + ", ".join(f"{v:.2f}" for v in one.flux_ratio_rgb)
+                             + f"; all bounces: flux ratio {multi.flux_ratio:.3f}")
+    widgets.dim_text_wrapped(
+        f"The reference itself against Mitsuba's one bounce: flux ratio "
+        f"{ref.flux_ratio:.3f}, relative L2 {ref.relative_l2:.3f} (Mitsuba's noise "
+        f"{truth.noise[0]:.3f}): what the RSM's sampling costs; the rest of the LPV's "
+        f"error is the grid's.")
 
 
 def _numbers(result: ErrorResult) -> None:

@@ -69,18 +69,19 @@ def _generic(state: AppState, owner: type, name: str) -> None:
 def _scene_choice(state: AppState) -> None:
     s = state.settings
     imgui.separator_text("Scene")
-    current = s.scene if s.scene in BUILTIN_SCENES else "(mesh file)"
+    current = s.scene if s.scene in BUILTIN_SCENES else (
+        "(scene file)" if s.scene.lower().endswith(".toml") else "(mesh file)")
     widgets.fit_next_item("Scene")
     if imgui.begin_combo("Scene", current):
         for name in BUILTIN_SCENES:
             if imgui.selectable(name, name == s.scene)[0]:
                 state.requests.open_scene = name
         imgui.end_combo()
-    if current == "(mesh file)":
+    if current not in BUILTIN_SCENES:
         widgets.dim_text_wrapped(s.scene)
     imgui.set_next_item_width(-90)
-    _, state.mesh_path = imgui.input_text_with_hint("##mesh", "path to a mesh (obj, ply, glb…)",
-                                                    state.mesh_path)
+    _, state.mesh_path = imgui.input_text_with_hint(
+        "##mesh", "mesh or scene file (glb, obj, toml…)", state.mesh_path)
     imgui.same_line()
     if imgui.button("Open") and state.mesh_path.strip():
         state.requests.open_scene = state.mesh_path.strip()
@@ -88,8 +89,9 @@ def _scene_choice(state: AppState) -> None:
         imgui.same_line()
         if imgui.button("…"):
             state.requests.open_file_dialog = True
-        _tooltip("browse for a mesh file")
-    widgets.dim_text_wrapped("or drop a mesh file onto the window")
+        _tooltip("browse for a mesh or scene file")
+    widgets.dim_text_wrapped("or drop a mesh or scene file (.toml, docs/SCENES.md) onto the "
+                             "window")
 
 
 def _camera_and_light(state: AppState) -> None:
@@ -99,8 +101,9 @@ def _camera_and_light(state: AppState) -> None:
         state.update(camera=None)
     imgui.same_line()
     if imgui.button("Reset light"):
-        state.update(light=None, light_flux=None)
+        state.update(light=None, light_flux=None, light_kind=None)
     _light_angles(state)
+    _light_placement(state)
     flux = s.light_flux if s.light_flux is not None else (state.runtime.light_flux_default
                                                           or 0.0)
     widgets.fit_next_item("Light flux [W]")
@@ -125,6 +128,35 @@ def _light_angles(state: AppState) -> None:
     if changed_a or changed_e:
         new_position = camera.from_angles(target, azimuth, elevation, distance)
         state.update(light=(new_position, target))
+
+
+def _light_placement(state: AppState) -> None:
+    """The primary light's kind and its position and target as numbers: the angles above
+    orbit the target, these put the light anywhere (inside a closed room, say)."""
+    from explorer.scene.lights import LIGHT_KINDS
+
+    light = state.settings.light or state.runtime.light_default
+    if light is None:
+        return
+    loaded = state.runtime.scene
+    try:
+        kind = state.settings.light_kind or loaded[1].with_lights(state.settings.lights).light.kind
+    except Exception:  # noqa: BLE001 - the scene is not loaded yet, or lights it lacks
+        kind = None
+    if kind in LIGHT_KINDS:
+        widgets.fit_next_item("Light kind")
+        changed, index = imgui.combo("Light kind", LIGHT_KINDS.index(kind), list(LIGHT_KINDS))
+        _tooltip(tooltip_of(specs(Settings)["light_kind"]))
+        if changed and LIGHT_KINDS[index] != kind:
+            state.update(light_kind=LIGHT_KINDS[index])
+    position, target = ([float(v) for v in point] for point in camera.as_pair(light))
+    widgets.fit_next_item("Light position [m]")
+    changed_p, position = imgui.drag_float3("Light position [m]", position, 0.01, 0.0, 0.0,
+                                            "%.3f")
+    widgets.fit_next_item("Light target [m]")
+    changed_t, target = imgui.drag_float3("Light target [m]", target, 0.01, 0.0, 0.0, "%.3f")
+    if (changed_p or changed_t) and list(position) != list(target):
+        state.update(light=(tuple(position), tuple(target)))
 
 
 def _spot_cone_angles(state: AppState) -> None:

@@ -1,0 +1,179 @@
+"""The porting sheet: the constants and conventions an engine needs to match this LPV,
+as GLSL, HLSL, C/C++ or JSON (``lpv-explorer constants --format ...``).
+
+Every number comes from the registry (:mod:`derivations.registry`): the constants with a
+GLSL name (the published decimals of ``errata`` left out: a port wants the exact values)
+and the per-face weights ``Δω/π`` of the corrected propagation step (docs/MODEL.md
+"Propagation": ``out += k_R·k_I·Φ_f·lobe(r_f)`` with ``Φ_f = Δω_f·I_f`` and
+``k_R·k_I = 1/π``, so a face adds ``(Δω_f/π)·I_f·lobe(r_f)``), computed here exactly from
+the two solid angles and π. The SH basis and the lobe are printed from their sympy
+expressions. :func:`conventions_markdown` is the text of docs/MODEL.md's "Porting sheet"
+section (a test keeps the two equal); the code formats carry the same lines as comments.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import sympy as sp
+
+from derivations.registry import all_results, get
+
+FORMATS = ("glsl", "hlsl", "cpp", "json")
+FLOAT_DIGITS = 12
+"""Significant digits of a ``float`` constant (GLSL, HLSL): more than a float holds."""
+DOUBLE_DIGITS = 17
+"""Significant digits of a ``double`` constant (C/C++): every double round-trips."""
+VALUE_DIGITS = 20
+"""Digits of the JSON values (strings, so that none is lost)."""
+
+
+@dataclass(frozen=True)
+class Constant:
+    """One constant of the sheet: its name, exact value, the derivation it comes from."""
+
+    name: str
+    expr: sp.Expr
+    derivation: str
+    statement: str
+
+
+def _face_weight(face: str) -> Constant:
+    solid_angle = get(f"solid_angles.{face}_face")
+    pi = get("solid_angles.projected_hemisphere").expr
+    return Constant(f"{face.upper()}_FACE_WEIGHT", sp.simplify(solid_angle.expr / pi),
+                    f"{solid_angle.name} / solid_angles.projected_hemisphere",
+                    f"Δω_{face}/π: what one {face} face adds per unit of intensity, "
+                    f"times lobe(r_f), in the corrected propagation step.")
+
+
+def constants() -> list[Constant]:
+    """The registry's GLSL constants (not the published decimals) and the face weights."""
+    found = [Constant(item.glsl_name, item.expr, item.name, item.statement)
+             for item in all_results()
+             if item.glsl_name is not None and item.module != "errata"]
+    return found + [_face_weight("front"), _face_weight("side")]
+
+
+def _terms(name: str, symbol: str) -> str:
+    """The entries of a registry vector as ``symbol_k = expr`` (k from 0)."""
+    vector = get(name).expr
+    return "; ".join(f"{symbol}{k} = {sp.sstr(vector[k])}" for k in range(vector.shape[0]))
+
+
+def conventions() -> list[tuple[str, str]]:
+    """``(title, text)`` of each convention, in the order the sheet prints them."""
+    side = get("propagation.side_eval_direction").expr
+    return [
+        ("What a cell stores",
+         "per colour channel (r, g, b) the real SH coefficients of the radiant intensity "
+         "I(ω) [W/sr] of the light in the cell, ω the direction the light travels; "
+         "I(ω) = Σ_k s_k·Y_k(ω). The flux a cell holds is Φ = SH_FLUX_FACTOR·s_0 = 2√π·s_0 "
+         "[W] (band 1 and 2 integrate to 0). A grid array is indexed [colour, x, y, z, k] "
+         "(x, y, z the cell index along world +x, +y, +z), shape (3, N, N, N, 4) for L1 and "
+         "(3, N, N, N, 9) for L2; on the GPU one rgba32f 3D texture per colour, texel "
+         "(x, y, z) holding s_0..s_3 (L2: three texel groups stacked along z, "
+         "s_4..s_7 and s_8)."),
+        ("SH basis, L1 (order and signs)", _terms("sh.basis_l1", "Y") + ", for a unit "
+         "direction (x, y, z) in world axes (Condon–Shortley phase: the -y and -x terms)."),
+        ("SH basis, L2 (after the four L1 terms)",
+         "; ".join(_terms("sh.basis_l2", "Y").split("; ")[4:]) + "."),
+        ("Lobe direction",
+         "a VPL with unit normal n and flux Φ adds k_I·Φ·lobe(n) with k_I = INV_PI "
+         "(corrected) to the cell holding p + δ·h·n (h the cell size, δ = 0.5 by default); "
+         "lobe(n) is the SH projection of max(0, ⟨n, ω⟩) around n, pointing where the "
+         "light goes: " + _terms("sh.lobe", "lobe_") + ". The final gather at a surface "
+         "with normal n reads the light arriving there, which travels against n: "
+         "E = max(0, Σ_k s_k·lobe(-n)_k) / h² [W/m²], and the indirect radiance is "
+         "albedo/π·E."),
+        ("Propagation faces",
+         "the target cell gathers from its 6 neighbours; for the neighbour in direction d "
+         "(target = source + d) the front face (the target's far face, normal d) is "
+         "evaluated and reprojected along d with weight FRONT_FACE_WEIGHT = Δω_front/π, "
+         "each of the 4 side faces (normal ±u or ±v, the frame's other two axes) is "
+         f"evaluated along ±u·({sp.sstr(side[0])}) + d·({sp.sstr(side[1])}) (SIDE_EVAL_SMALL, "
+         "SIDE_EVAL_BIG) and reprojected along ±u or ±v with weight SIDE_FACE_WEIGHT = "
+         "Δω_side/π: out += weight·I_f·lobe(r_f), I_f = Σ_k s_k·Y_k(e_f) (the front face "
+         "clamped at 0), times the geometry volume's visibility when it is on. "
+         "6·(Δω_front + 4·Δω_side) = 4π: a step keeps the flux."),
+        ("Grid and world",
+         "cell i spans origin + [i, i+1)·h; grid coordinate g = (p - origin)/h, cell "
+         "floor(g), centre origin + (i + 1/2)·h, texture coordinate g/N (texel centres at "
+         "(i + 1/2)/N); the geometry volume's cells are centred on the light grid's "
+         "corners (geometry cell g at origin + g·h, (N+1)³ of them)."),
+        ("Accumulation",
+         "grid_0 is the injected grid, grid_t = P(grid_{t-1}) (ping-pong), and the gather "
+         "reads acc_N = Σ_{t=0..N} grid_t."),
+    ]
+
+
+def conventions_markdown() -> str:
+    """The conventions as a markdown list (docs/MODEL.md's "Porting sheet" section)."""
+    return "\n".join(f"* **{title}**: {text}" for title, text in conventions()) + "\n"
+
+
+def _comment_lines(prefix: str, width: int = 96) -> list[str]:
+    """The conventions wrapped into comment lines starting with ``prefix``."""
+    import textwrap
+
+    lines = [prefix + "Conventions (docs/MODEL.md \"Porting sheet\"):"]
+    for title, text in conventions():
+        wrapped = textwrap.wrap(f"{title}: {text}", width - len(prefix) - 2)
+        lines += [prefix + ("- " if k == 0 else "  ") + line for k, line in enumerate(wrapped)]
+    return lines
+
+
+def _number(expr: sp.Expr, digits: int) -> str:
+    """``expr`` as a C-family floating literal with ``digits`` significant digits."""
+    value = float(sp.N(expr, 30))
+    literal = repr(value) if digits >= DOUBLE_DIGITS else f"{value:.{digits}g}"
+    if "e" not in literal and "." not in literal:
+        literal += ".0"
+    return literal
+
+
+HEADER = ("Generated by `lpv-explorer constants --format {fmt}` from the exact results in "
+          "derivations/; each value's closed form and derivation are beside it.")
+
+
+def code(fmt: str) -> str:
+    """The sheet as ``glsl``, ``hlsl`` or ``cpp`` source (``cpp``: a header valid as C and
+    C++: ``static const double`` constants)."""
+    declaration, digits = {"glsl": ("const float", FLOAT_DIGITS),
+                           "hlsl": ("static const float", FLOAT_DIGITS),
+                           "cpp": ("static const double", DOUBLE_DIGITS)}[fmt]
+    lines = ["// " + HEADER.format(fmt=fmt)]
+    if fmt == "cpp":
+        lines += ["#ifndef LPV_PORTING_SHEET_H", "#define LPV_PORTING_SHEET_H"]
+    else:
+        lines += ["#ifndef LPV_PORTING_SHEET", "#define LPV_PORTING_SHEET"]
+    lines.append("")
+    lines += _comment_lines("// ")
+    lines.append("")
+    for item in constants():
+        lines.append(f"{declaration} {item.name} = {_number(item.expr, digits)};  "
+                     f"// {sp.sstr(item.expr)}  [{item.derivation}]")
+    lines += ["", "#endif", ""]
+    return "\n".join(lines)
+
+
+def as_json() -> str:
+    """The sheet as JSON: the constants (values as strings of :data:`VALUE_DIGITS`
+    digits, and as floats) and the conventions."""
+    payload = {
+        "about": HEADER.format(fmt="json"),
+        "constants": [{"name": item.name, "value": str(sp.N(item.expr, VALUE_DIGITS)),
+                       "float": float(sp.N(item.expr, 30)), "closed_form": sp.sstr(item.expr),
+                       "derivation": item.derivation, "statement": item.statement}
+                      for item in constants()],
+        "conventions": [{"title": title, "text": text} for title, text in conventions()],
+    }
+    return json.dumps(payload, indent=2, ensure_ascii=False) + "\n"
+
+
+def sheet(fmt: str) -> str:
+    """The porting sheet in format ``fmt`` (:data:`FORMATS`)."""
+    if fmt not in FORMATS:
+        raise ValueError(f"unknown format {fmt!r}; choose one of {', '.join(FORMATS)}")
+    return as_json() if fmt == "json" else code(fmt)

@@ -1,0 +1,117 @@
+"""``lpv-explorer diff THEIRS.npz``: an engine's stages against this tool's, stage by
+stage (explorer/exchange/diff.py): for every array named as ``render --dump`` names them
+(grid_0 … grid_N, accumulated, irradiance, indirect, ...), the largest error and the
+largest relative error per cell / pixel / texel / VPL, where they are, and the relative
+L2 error of the stage.
+
+Ours are rendered for the settings of ``--settings DUMP.json`` (a dump's sidecar; by
+default THEIRS.json when it exists), with every settings option given applied over them;
+``--vpls`` and ``--grid0`` feed their VPLs or grid into our frame first, so each stage can
+be compared from the same input. ``--ours OURS.npz`` compares with a dump instead of
+rendering. ``--tolerance X`` exits 1 when a stage's largest relative error exceeds X.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from explorer.commands import options
+from explorer.lpv.schema import Spec
+
+TOLERANCE = Spec(kind="float", low=0.0, high=1e30, optional=True,
+                 doc="Exit with status 1 when a stage's largest relative error per element "
+                     "exceeds this (or a stage's shape differs).")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from explorer.commands.render import add_input_arguments
+
+    parser.add_argument("theirs", type=Path, metavar="THEIRS.npz",
+                        help="their arrays, named and laid out as `render --dump` writes them")
+    parser.add_argument("--ours", type=Path, default=None, metavar="OURS.npz",
+                        help="compare with this dump instead of rendering our frame")
+    parser.add_argument("--settings", type=Path, default=None, metavar="DUMP.json",
+                        help="render our frame with the settings of this sidecar (default: "
+                             "THEIRS.json when it exists); options given override them")
+    parser.add_argument("--json", action="store_true",
+                        help="print the comparison as JSON instead of a table")
+    parser.add_argument("--tolerance", type=options.value_type("tolerance", TOLERANCE),
+                        default=None, metavar="X", help=options.spec_help(TOLERANCE))
+    group = parser.add_argument_group("their input into our frame")
+    add_input_arguments(group)
+    options.add_setting_options(parser)
+
+
+def main(args: argparse.Namespace) -> int:
+    from explorer.exchange.diff import diff_arrays, format_table
+    from explorer.exchange.files import FileFormatError, read_npz
+
+    try:
+        theirs = read_npz(args.theirs, "THEIRS")
+        if args.ours is not None:
+            ours, settings, source = read_npz(args.ours, "--ours"), None, str(args.ours)
+        else:
+            settings, source = _settings(args), "rendered"
+    except FileFormatError as exc:
+        raise options.CommandError(exc) from None
+    if args.ours is None:
+        ours = _render(args, settings)
+    diffs, only_theirs, only_ours = diff_arrays(theirs, ours)
+    if not diffs:
+        raise options.CommandError(f"THEIRS {args.theirs} holds no array named as ours "
+                                   f"({', '.join(list(ours)[:6])}, ...); name them as "
+                                   f"`render --dump` does")
+    failed = args.tolerance is not None and any(
+        d.problem is not None or (d.max_relative or 0.0) > args.tolerance for d in diffs)
+    if args.json:
+        print(json.dumps({"theirs": str(args.theirs), "ours": source,
+                          "settings": None if settings is None else settings.to_dict(),
+                          "stages": [d.as_dict() for d in diffs], "only_theirs": only_theirs,
+                          "only_ours": only_ours, "tolerance": args.tolerance,
+                          "within_tolerance": None if args.tolerance is None else not failed},
+                         indent=2, allow_nan=False))
+    else:
+        print(format_table(diffs))
+        if only_theirs:
+            print(f"only in theirs (not compared): {', '.join(only_theirs)}")
+        if only_ours:
+            print(f"only in ours: {', '.join(only_ours)}")
+    return 1 if failed else 0
+
+
+def _settings(args: argparse.Namespace):
+    """Our frame's Settings: the sidecar's (``--settings``, or THEIRS.json), the options
+    given applied over them."""
+    from explorer.exchange.sidecar import read_settings, sidecar_path
+
+    path = args.settings
+    if path is None and sidecar_path(args.theirs).is_file():
+        path = sidecar_path(args.theirs)
+    base = None
+    if path is not None:
+        base = read_settings(path)
+        if not args.json:
+            print(f"our frame: the settings of {path}")
+    return options.settings_from_args(args, base=base)
+
+
+def _render(args: argparse.Namespace, settings) -> dict:
+    """Our frame's stages (steps kept), their VPLs or grid_0 fed in when given."""
+    from explorer.commands.render import frame_inputs, run_frame
+    from explorer.exchange.stages import frame_arrays
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.scene import SceneError
+
+    options.check_scene(settings.scene)
+    vpls, grid0 = frame_inputs(args, settings)
+    try:
+        with Pipeline(settings) as pipeline, options.Progress("diff") as progress:
+            result = run_frame(pipeline, settings, progress, args, vpls, grid0,
+                               keep_steps=True)
+            return frame_arrays(result)
+    except SceneError as exc:
+        raise options.CommandError(exc, 2) from None
+    except options.render_failures() as exc:
+        raise options.CommandError(exc, 1) from None

@@ -1,0 +1,120 @@
+"""The course's glossary: recurring terms (VPL, flux in flight, clamp gain, geometry
+volume, ...) and what they mean, shown when the reader hovers the term in a lesson.
+
+Data, like the lessons: ``lessons/glossary.toml`` holds one ``[[terms]]`` table per term::
+
+    [[terms]]
+    term = "flux in flight"          # lower case unless it is an acronym
+    also = ["light in flight"]       # other spellings and plurals that mean it (optional)
+    meaning = "The flux a propagation step moves: ..."   # one paragraph, plain words
+
+:func:`load_glossary` validates the file; :func:`matches` finds the terms in a run of
+words (longest spelling first, case-insensitive, punctuation around a word ignored).
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+GLOSSARY_FILE = "glossary.toml"
+"""The glossary's file in the lessons folder (not a lesson: ``load_all`` skips it)."""
+MAX_MEANING = 400
+_KEYS = ("term", "also", "meaning")
+_PUNCTUATION = ".,;:!?()[]\"'*_`"
+
+
+class GlossaryError(ValueError):
+    pass
+
+
+@dataclass(frozen=True)
+class Term:
+    term: str
+    meaning: str
+    also: tuple[str, ...] = ()
+
+    @property
+    def spellings(self) -> tuple[str, ...]:
+        return (self.term, *self.also)
+
+
+def load_glossary(directory: Path | str | None = None) -> tuple[Term, ...]:
+    """The glossary of the lessons in ``directory`` (default: the shipped lessons); ()
+    when there is none. GlossaryError names the file and the entry otherwise."""
+    from explorer.resources import lesson_dir
+
+    path = (lesson_dir() if directory is None else Path(directory)) / GLOSSARY_FILE
+    if not path.is_file():
+        return ()
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise GlossaryError(f"{path}: {exc}") from None
+    if set(data) != {"terms"} or not isinstance(data["terms"], list):
+        raise GlossaryError(f"{path}: expected only a list of [[terms]] tables")
+    terms: list[Term] = []
+    seen: dict[str, str] = {}
+    for index, table in enumerate(data["terms"]):
+        where = f"{path}: terms[{index}]"
+        if not isinstance(table, dict):
+            raise GlossaryError(f"{where}: must be a table")
+        unknown = set(table) - set(_KEYS)
+        if unknown:
+            raise GlossaryError(f"{where}: unknown field {sorted(unknown)[0]!r}; expected "
+                                f"{list(_KEYS)}")
+        term, meaning, also = table.get("term"), table.get("meaning"), table.get("also", [])
+        if not isinstance(term, str) or not term.strip():
+            raise GlossaryError(f"{where}.term: must be a word or a few words")
+        if not isinstance(meaning, str) or not meaning.strip() or len(meaning) > MAX_MEANING \
+                or "\n\n" in meaning.strip():
+            raise GlossaryError(f"{where}.meaning: must be one paragraph of at most "
+                                f"{MAX_MEANING} characters")
+        if "$" in meaning or "\\" in meaning:
+            raise GlossaryError(f"{where}.meaning: plain words, no math (a tooltip shows it)")
+        if not isinstance(also, list) or not all(isinstance(a, str) and a.strip()
+                                                 for a in also):
+            raise GlossaryError(f"{where}.also: must be a list of spellings")
+        entry = Term(term.strip(), " ".join(meaning.split()), tuple(a.strip() for a in also))
+        for spelling in entry.spellings:
+            key = spelling.lower()
+            if key in seen:
+                raise GlossaryError(f"{where}: {spelling!r} is already a spelling of "
+                                    f"{seen[key]!r}")
+            seen[key] = entry.term
+        terms.append(entry)
+    return tuple(terms)
+
+
+def _bare(word: str) -> str:
+    return word.strip(_PUNCTUATION).lower()
+
+
+def matches(words: list[str], terms: tuple[Term, ...]) -> list[tuple[int, int, Term]]:
+    """(first word, word count, term) for each glossary term in ``words`` (a run of text
+    split at spaces), left to right, the longest spelling winning where two overlap."""
+    spellings = sorted(((tuple(s.lower().split()), t) for t in terms for s in t.spellings),
+                       key=lambda item: -len(item[0]))
+    bare = [_bare(w) for w in words]
+    found, index = [], 0
+    while index < len(words):
+        for parts, term in spellings:
+            if tuple(bare[index:index + len(parts)]) == parts:
+                found.append((index, len(parts), term))
+                index += len(parts)
+                break
+        else:
+            index += 1
+    return found
+
+
+def defined_in(text: str, terms: tuple[Term, ...]) -> set[str]:
+    """The terms that occur in ``text`` (words split at white space)."""
+    return {term.term for _, _, term in matches(re.split(r"\s+", text), terms)}

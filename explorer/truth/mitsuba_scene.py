@@ -1,0 +1,306 @@
+"""An explorer scene as a Mitsuba 3 scene: the same triangles, diffuse albedo, lights and
+camera, written as files Mitsuba reads (no Mitsuba needed to write them).
+
+What is exported, and how each explorer quantity maps onto a stock Mitsuba plugin:
+
+* the triangles: one binary PLY (``scene.ply``) with per-corner normals and the linear
+  albedo as the float vertex colour, read by a ``twosided`` ``diffuse`` BSDF through a
+  ``mesh_attribute`` texture (every explorer surface reflects on both faces, the G-buffer
+  and the RSM turn the normal towards the viewer and the light). How the albedo reaches
+  the BSDF is :func:`surface_bsdf`'s one job (per-pixel textures plug in there);
+* a spot light (intensity ``Φ_L/(4π)·colour·f(θ)``, docs/MODEL.md "Spot cone"): a ``spot``
+  with ``cutoff_angle = beam_width`` (Mitsuba's own falloff, linear in the angle, is then
+  a step at the cutoff) and the explorer's ``f`` as a projected float texture
+  (``spot-<name>.pfm``, :func:`spot_falloff_texture`): the smoothstep in cos θ of a cone,
+  or 1 inside the 90° square frustum of a cone-less spot (cutoff: the frustum's corner);
+* a point light: a ``point`` of intensity ``Φ_L/(4π)·colour``;
+* a directional light: a ``directional`` of irradiance ``E·colour``, ``E = flux/(2R)²``;
+* the camera: a ``perspective`` sensor with the explorer camera's eye, forward, up and
+  vertical field of view at the frame's pixels, with a box pixel filter (each pixel the
+  mean over its area).
+
+:class:`MitsubaScene` holds that description as plain data; :meth:`MitsubaScene.write`
+writes the XML (``.xml``, what explorer/truth/mitsuba_render.py renders) or a Python
+script (``.py``, ``mi.load_dict``) next to the PLY and the textures."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from explorer.scene.lights import DirectionalLight, PointLight, SpotLight, spot_falloff
+
+MESH_FILE = "scene.ply"
+FALLOFF_TEXELS = 512
+"""Edge of a spot's falloff texture: the smoothstep varies over hundreds of texels, so
+bilinear lookup reproduces it to about 1e-5 (tests/test_mitsuba_export.py)."""
+SQUARE_FRUSTUM_CUTOFF_DEGREES = math.degrees(math.atan(math.sqrt(2.0))) + 0.5
+"""Cutoff of a cone-less spot: just past the corner of its 90° square frustum
+(atan √2 = 54.7° from the axis); the texture is 0 outside the square."""
+EXPORT_SUFFIXES = (".xml", ".py")
+
+
+class ExportError(ValueError):
+    """The scene cannot be exported as asked (the message says why)."""
+
+
+@dataclass
+class MitsubaScene:
+    """A Mitsuba scene as data: ``plugins`` maps each top-level name to a plugin
+    description (a dict with ``type`` and its parameters; a ``numpy`` (4, 4) array is a
+    ``to_world`` transform, a ``("rgb", values)`` tuple an RGB spectrum, ``Path`` a file
+    of ``files``); ``files`` maps a file name to the bytes to write beside the scene."""
+
+    plugins: dict[str, dict]
+    files: dict[str, bytes] = field(default_factory=dict)
+    width: int = 0
+    height: int = 0
+
+    def contents(self, path: Path) -> dict[Path, bytes]:
+        """Every file of the scene written as ``path`` (``.xml`` or ``.py``): the scene
+        itself first, then the PLY and the textures beside it."""
+        path = Path(path)
+        if path.suffix not in EXPORT_SUFFIXES:
+            raise ExportError(f"the Mitsuba scene must be written to a .xml or .py file, got "
+                              f"{path.name!r}")
+        text = to_xml(self) if path.suffix == ".xml" else to_python(self)
+        return {path: text.encode("utf-8"),
+                **{path.parent / name: data for name, data in self.files.items()}}
+
+    def write(self, path: Path) -> list[Path]:
+        """Write the scene to ``path`` (``.xml`` or ``.py``) and its files beside it;
+        returns every path written."""
+        contents = self.contents(path)
+        for target, data in contents.items():
+            target.write_bytes(data)
+        return list(contents)
+
+
+# --- the scene -------------------------------------------------------------------------
+
+def export_scene(scene, width: int, height: int) -> MitsubaScene:
+    """The Mitsuba description of ``scene`` (an ``explorer.scene.Scene`` with its overrides
+    applied, e.g. ``scene_for(settings)``) seen at ``width × height`` pixels."""
+    if width < 1 or height < 1:
+        raise ExportError(f"the image needs at least one pixel, got {width}×{height}")
+    files = {MESH_FILE: mesh_ply(scene)}
+    plugins: dict[str, dict] = {
+        "camera": camera_sensor(scene.camera, width, height),
+        "surfaces": {"type": "ply", "filename": Path(MESH_FILE),
+                     "bsdf": surface_bsdf(scene)},
+    }
+    for index, light in enumerate(scene.lights):
+        emitter, texture = light_emitter(light, scene.bounds_min, scene.bounds_max)
+        if texture is not None:
+            name = f"spot-{index}.pfm"
+            files[name] = texture
+            emitter["texture"] = {"type": "bitmap", "filename": Path(name), "raw": True,
+                                  "filter_type": "bilinear", "wrap_mode": "clamp"}
+        plugins[f"light-{index}"] = emitter
+    return MitsubaScene(plugins, files, width, height)
+
+
+def surface_bsdf(scene) -> dict:
+    """The BSDF of every surface: two-sided Lambertian whose reflectance is the scene's
+    linear albedo, per corner (the PLY's vertex colour). The one place that says where
+    the albedo comes from."""
+    reflectance = {"type": "mesh_attribute", "name": "vertex_color"}
+    return {"type": "twosided", "material": {"type": "diffuse", "reflectance": reflectance}}
+
+
+def mesh_ply(scene) -> bytes:
+    """Binary little-endian PLY of the triangle soup: per corner its position, normal and
+    linear albedo (``r g b`` floats, Mitsuba's ``vertex_color``), three corners a face."""
+    positions = np.asarray(scene.positions, np.float32)
+    normals = np.asarray(scene.normals, np.float32)
+    albedo = np.asarray(scene.albedo, np.float32)
+    count = len(positions)
+    header = "\n".join([
+        "ply", "format binary_little_endian 1.0", f"element vertex {count}",
+        *(f"property float {name}" for name in ("x", "y", "z", "nx", "ny", "nz",
+                                                "r", "g", "b")),
+        f"element face {count // 3}", "property list uchar int vertex_indices",
+        "end_header"]) + "\n"
+    vertices = np.ascontiguousarray(np.hstack([positions, normals, albedo]), "<f4")
+    faces = np.empty(count // 3, dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    faces["n"] = 3
+    faces["i"] = np.arange(count, dtype=np.int32).reshape(-1, 3)
+    return header.encode("ascii") + vertices.tobytes() + faces.tobytes()
+
+
+def _frame_to_world(eye, forward, up) -> np.ndarray:
+    """Mitsuba's ``look_at`` frame as a matrix: local +z along ``forward``, +y ``up``,
+    +x to the image's left (Mitsuba's sensors and spots use this frame)."""
+    forward = np.asarray(forward, np.float64)
+    forward = forward / np.linalg.norm(forward)
+    left = np.cross(np.asarray(up, np.float64), forward)
+    left /= np.linalg.norm(left)
+    true_up = np.cross(forward, left)
+    matrix = np.eye(4)
+    matrix[:3, 0], matrix[:3, 1], matrix[:3, 2], matrix[:3, 3] = left, true_up, forward, eye
+    return matrix
+
+
+def view_frame(view: np.ndarray) -> np.ndarray:
+    """The Mitsuba frame of an explorer view matrix (rows right, up, −forward; look_at in
+    explorer/scene/transforms.py): the same eye, forward and up, so the image and a
+    square frustum line up with the explorer's."""
+    rotation = view[:3, :3]
+    eye = -rotation.T @ view[:3, 3]
+    return _frame_to_world(eye, -rotation[2], rotation[1])
+
+
+def camera_sensor(camera, width: int, height: int) -> dict:
+    """A perspective sensor with the explorer camera's frame and vertical field of view;
+    a box filter makes each pixel the mean over its area, as a supersampled G-buffer."""
+    return {"type": "perspective", "fov": float(camera.fov_y_degrees), "fov_axis": "y",
+            "to_world": view_frame(camera.view_matrix()),
+            "film": {"type": "hdrfilm", "width": int(width), "height": int(height),
+                     "pixel_format": "rgb", "rfilter": {"type": "box"}}}
+
+
+def light_emitter(light, bounds_min, bounds_max) -> tuple[dict, bytes | None]:
+    """The emitter of one explorer light and, for a spot, its falloff texture (PFM)."""
+    colour = np.asarray(light.colour, np.float64)
+    if isinstance(light, PointLight):
+        return {"type": "point", "position": tuple(map(float, light.position)),
+                "intensity": ("rgb", tuple(light.intensity * colour))}, None
+    if isinstance(light, DirectionalLight):
+        irradiance = light.irradiance(bounds_min, bounds_max)
+        return {"type": "directional", "direction": tuple(map(float, light.direction)),
+                "irradiance": ("rgb", tuple(irradiance * colour))}, None
+    if isinstance(light, SpotLight):
+        cutoff = (light.cone_degrees[1] if light.has_cone
+                  else SQUARE_FRUSTUM_CUTOFF_DEGREES)
+        return {"type": "spot", "to_world": view_frame(light.view_matrix()),
+                "cutoff_angle": float(cutoff), "beam_width": float(cutoff),
+                "intensity": ("rgb", tuple(light.intensity * colour))}, \
+            pfm_bytes(spot_falloff_texture(light, cutoff))
+    raise ExportError(f"light {getattr(light, 'name', light)!r} of kind "
+                      f"{getattr(light, 'kind', type(light).__name__)!r} has no Mitsuba "
+                      f"counterpart")
+
+
+def spot_falloff_texture(light: SpotLight, cutoff_degrees: float,
+                         texels: int = FALLOFF_TEXELS) -> np.ndarray:
+    """(texels, texels) float32: the explorer's falloff ``f`` over the directions Mitsuba's
+    spot maps its texture onto. Mitsuba looks texel (u, v) up for the local direction
+    ``d`` at ``u = ½ + ½·(d_x/d_z)/tan(cutoff)`` (and v from d_y), so texel centre (u, v)
+    is the direction ``((2u − 1)·t, (2v − 1)·t, 1)``, t = tan(cutoff). A cone: the
+    smoothstep of cos θ (:func:`spot_falloff`); no cone: 1 inside the square frustum
+    ``|x|, |y| ≤ 1`` (texel centres decide, half a texel of 1/512 of the edge)."""
+    t = math.tan(math.radians(cutoff_degrees))
+    centres = (np.arange(texels) + 0.5) / texels
+    x, y = np.meshgrid((2.0 * centres - 1.0) * t, (2.0 * centres - 1.0) * t)
+    if light.has_cone:
+        cos_axis = 1.0 / np.sqrt(1.0 + x * x + y * y)
+        values = spot_falloff(cos_axis, *light.cone_cosines)
+    else:
+        values = ((np.abs(x) <= 1.0) & (np.abs(y) <= 1.0)).astype(np.float64)
+    return values.astype(np.float32)
+
+
+def pfm_bytes(image: np.ndarray) -> bytes:
+    """A grey float image as PFM (``Pf``; rows stored bottom first, little endian)."""
+    height, width = image.shape
+    header = f"Pf\n{width} {height}\n-1.0\n".encode("ascii")
+    return header + np.ascontiguousarray(image[::-1], "<f4").tobytes()
+
+
+# --- writers ---------------------------------------------------------------------------
+
+def _xml_value(name: str, value, indent: str) -> list[str]:
+    if isinstance(value, dict):
+        return _xml_plugin(value, indent, name)
+    if isinstance(value, np.ndarray):
+        numbers = " ".join(f"{v:.9g}" for v in value.reshape(-1))
+        return [f'{indent}<transform name="{name}"><matrix value="{numbers}"/></transform>']
+    if isinstance(value, tuple) and value and value[0] == "rgb":
+        numbers = ", ".join(f"{v:.9g}" for v in value[1])
+        return [f'{indent}<rgb name="{name}" value="{numbers}"/>']
+    if isinstance(value, bool):
+        return [f'{indent}<boolean name="{name}" value="{str(value).lower()}"/>']
+    if isinstance(value, int):
+        return [f'{indent}<integer name="{name}" value="{value}"/>']
+    if isinstance(value, float):
+        return [f'{indent}<float name="{name}" value="{value:.9g}"/>']
+    if isinstance(value, tuple):
+        numbers = ", ".join(f"{v:.9g}" for v in value)
+        return [f'{indent}<point name="{name}" value="{numbers}"/>'] if name == "position" \
+            else [f'{indent}<vector name="{name}" value="{numbers}"/>']
+    return [f'{indent}<string name="{name}" value="{value}"/>']
+
+
+_XML_TAGS = {"perspective": "sensor", "hdrfilm": "film", "box": "rfilter", "ply": "shape",
+             "twosided": "bsdf", "diffuse": "bsdf", "mesh_attribute": "texture",
+             "bitmap": "texture", "point": "emitter", "spot": "emitter",
+             "directional": "emitter", "path": "integrator", "independent": "sampler"}
+
+
+def _xml_plugin(plugin: dict, indent: str, name: str | None = None) -> list[str]:
+    tag = _XML_TAGS[plugin["type"]]
+    named = f' name="{name}"' if name is not None and tag in ("texture", "bsdf") else ""
+    lines = [f'{indent}<{tag} type="{plugin["type"]}"{named}>']
+    for key, value in plugin.items():
+        if key != "type":
+            lines += _xml_value(key, value, indent + "    ")
+    return lines + [f"{indent}</{tag}>"]
+
+
+def to_xml(scene: MitsubaScene) -> str:
+    """The scene as Mitsuba 3 XML (``mitsuba -m scalar_rgb scene.xml`` renders it with
+    the default path tracer, all bounces)."""
+    lines = ['<scene version="3.0.0">',
+             '    <integrator type="path"><integer name="max_depth" value="-1"/></integrator>']
+    for plugin in scene.plugins.values():
+        lines += _xml_plugin(plugin, "    ")
+    return "\n".join(lines + ["</scene>", ""])
+
+
+def _py_value(value, indent: str) -> str:
+    if isinstance(value, dict):
+        inner = indent + "    "
+        items = ",\n".join(f"{inner}{key!r}: {_py_value(item, inner)}"
+                           for key, item in value.items())
+        return "{\n" + items + f"\n{indent}}}"
+    if isinstance(value, np.ndarray):
+        rows = ", ".join("[" + ", ".join(f"{v:.9g}" for v in row) + "]" for row in value)
+        return f"mi.ScalarTransform4f([{rows}])"
+    if isinstance(value, tuple) and value and value[0] == "rgb":
+        return "{'type': 'rgb', 'value': [" + ", ".join(f"{v:.9g}" for v in value[1]) + "]}"
+    if isinstance(value, Path):
+        return f"str(HERE / {str(value)!r})"
+    if isinstance(value, tuple):
+        return "[" + ", ".join(f"{v:.9g}" for v in value) + "]"
+    return repr(value)
+
+
+def to_python(scene: MitsubaScene) -> str:
+    """The scene as a Python script: ``python scene.py [OUT.exr [SPP]]`` loads it with
+    ``mi.load_dict`` and renders all bounces."""
+    body = ",\n".join(f"    {name!r}: {_py_value(plugin, '    ')}"
+                      for name, plugin in scene.plugins.items())
+    return f'''"""A scene exported by lpv-explorer export-mitsuba (Mitsuba 3)."""
+import sys
+from pathlib import Path
+
+import mitsuba as mi
+
+mi.set_variant("scalar_rgb")
+HERE = Path(__file__).resolve().parent
+SCENE = {{
+    "type": "scene",
+    "integrator": {{"type": "path", "max_depth": -1}},
+{body},
+}}
+
+if __name__ == "__main__":
+    out = sys.argv[1] if len(sys.argv) > 1 else str(HERE / "render.exr")
+    spp = int(sys.argv[2]) if len(sys.argv) > 2 else 256
+    image = mi.render(mi.load_dict(SCENE), spp=spp)
+    mi.util.write_bitmap(out, image)
+    print("wrote", out)
+'''

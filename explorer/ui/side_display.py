@@ -1,0 +1,109 @@
+"""How each side of the view is exposed (docs/MODEL.md "Display"): the display scale
+(the auto exposure of its picture), its own exposure when the sides are exposed
+separately, and the :class:`~explorer.ui.picture.SideDisplay` the view composer draws it
+with. The controller (explorer/ui/controller.py) owns the sides and their jobs and asks
+here how to show them; nothing here runs a stage.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Protocol
+
+import numpy as np
+
+from explorer.lpv.settings import Settings
+from explorer.ui.picture import Picture, SideDisplay
+
+if TYPE_CHECKING:
+    from explorer.lpv.frame import FrameResult
+    from explorer.ui.state import AppState
+
+SIDES = ("A", "B")
+EXPOSURE_TOLERANCE = 0.05
+"""Relative change of a side's own exposure (exposed separately) worth applying."""
+
+
+class ShownSide(Protocol):
+    """What the exposure reads of a side (explorer/ui/controller.py ``SideState``)."""
+
+    result: "FrameResult | None"
+    picture: Picture | None
+    auto_scale: float | None
+    """The display scale of its first preview (None until measured)."""
+    scale_cache: dict
+    """(result id, indirect only) -> its display scale."""
+
+
+def side_display(state: "AppState", sides: "dict[str, ShownSide]", side: str,
+                 settings: Settings) -> SideDisplay:
+    """How ``side`` is shown, ``settings`` being its own (B's are A's unless a lesson's
+    before | after split overrides them, e.g. the indirect light alone on the right): its
+    exposure, tone curve and indirect only, and its display scale (the auto exposure of
+    its picture, A's for B unless each side is exposed separately)."""
+    per_side = state.comparing and state.expose_sides_separately
+    exposure = settings.exposure
+    if per_side and not state.settings.auto_exposure:
+        exposure = state.runtime.frame.side_exposures[SIDES.index(side)]
+    own = side == "A" or per_side
+    scale = auto_scale(sides[side if own else "A"], settings if own else state.settings)
+    return SideDisplay(float(exposure), scale, settings.tone_map, settings.indirect_only)
+
+
+def auto_scale(side: ShownSide, settings: Settings) -> float:
+    """The auto exposure of ``side``'s picture shown with the display fields of
+    ``settings`` (1 without auto exposure)."""
+    if not settings.auto_exposure:
+        return 1.0
+    result = side.result
+    if result is None or side.picture is None or not side.picture.stamp.final:
+        return side.auto_scale if side.auto_scale is not None else 1.0
+    if not settings.indirect_only:     # what the pipeline measured (PINNED_DISPLAY)
+        return float(result.display_scale)
+    key = (id(result), True)
+    if key not in side.scale_cache:
+        side.scale_cache[key] = result_scale(result, True)
+    return side.scale_cache[key]
+
+
+def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | None]",
+                          indirect_only: dict[str, bool]) -> None:
+    """Each side's own exposure (``runtime.side_exposures``) when the sides are exposed
+    separately without the display's auto exposure, measured once per new result."""
+    from explorer.lpv.display import exposed_image
+    from explorer.ui.images import auto_exposure
+
+    rt = state.runtime
+    if not (state.comparing and state.expose_sides_separately) or \
+            state.settings.auto_exposure:
+        return
+    values = list(rt.frame.side_exposures)
+    for i, name in enumerate(SIDES):
+        result = results[name]
+        key = (id(result), indirect_only[name])
+        if result is None or rt.frame.exposure_seen[i] == key:
+            continue
+        rt.frame.exposure_seen[i] = key
+        linear = exposed_image(result.direct, result.indirect, 1.0, indirect_only[name],
+                               result.fog)
+        value = auto_exposure(linear, 1.0)
+        if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
+            values[i] = float(f"{value:.3g}")
+    rt.frame.side_exposures = (values[0], values[1])
+
+
+def result_scale(result: "FrameResult", indirect_only: bool) -> float:
+    """The auto exposure of a finished frame shown with ``indirect_only`` (the display
+    stage's measure, explorer/lpv/display.py)."""
+    from explorer.lpv.display import display_scale, exposed_image
+
+    unexposed = exposed_image(result.direct, result.indirect, 1.0, indirect_only, result.fog)
+    mask = np.asarray(result.gbuffer_position)[..., 3] > 0.5
+    return display_scale(unexposed, mask, True)
+
+
+def picture_scale(picture: Picture, indirect_only: bool) -> float:
+    """The auto exposure of a picture read back (a first preview)."""
+    from explorer.lpv.display import display_scale, exposed_image
+
+    direct, indirect, mask = picture.read()
+    return display_scale(exposed_image(direct, indirect, 1.0, indirect_only), mask, True)

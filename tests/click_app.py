@@ -1,0 +1,338 @@
+"""Run click sessions in the real explorer window (a child process of the click tests,
+tests/test_click_window.py; or by hand: ``xvfb-run -a python tests/click_app.py
+navigation``).
+
+Each session is one window and one Dear ImGui Test Engine test (explorer/ui/
+test_engine.py) whose function clicks, drags and types through the window by label and
+checks what each action shows. A session fails on a failed check, on a Python exception
+in the test or in any panel (the window's panels report theirs and keep running), and on
+an imgui assert (the process aborts). The last line printed is a JSON report:
+``{"session": ..., "passed": ..., "clicks": N, "controls": [...], "problems": [...],
+"seconds": ...}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+WINDOW = (1280, 720)
+SESSION_TIMEOUT_S = 900.0
+
+
+class Clicks:
+    """What a session's test function uses: the engine's test context, the app, and
+    checks that collect failures instead of stopping at the first."""
+
+    def __init__(self, app, ctx, problems: list[str], shots: Path | None) -> None:
+        self.app = app
+        self.state = app.state
+        self.ctx = ctx
+        self.problems = problems
+        self.controls: list[str] = []
+        self.shots = shots
+        self._seen_errors = 0
+        self.expect_quit = False
+        """The next action asks the window to close (File/Quit): the runner notes it
+        (:attr:`quit_seen`) and keeps the window open for the rest of the session."""
+        self.quit_seen = False
+
+    # -- actions ----------------------------------------------------------------------
+    def click(self, ref: str, what: str | None = None) -> None:
+        """Click the item ``ref`` (a test engine reference: "//Window/**/label"), then
+        let a frame run; a panel failing on it is a problem named after the click."""
+        self.ctx.item_click(ref)
+        self.controls.append(what or ref)
+        self.settle_input()
+        self._panel_errors(what or ref)
+
+    def click_in(self, window_ref: str, label: str, what: str | None = None) -> bool:
+        """Click the item labelled ``label`` (escaped, :func:`label_ref`) in the window
+        or child window ``window_ref``, scrolling it into view first as a reader would
+        (the engine finds an item by its label only once it was drawn on screen)."""
+        ref = self.find(window_ref, label)
+        if ref is None:
+            self.check(False, f"no item {label!r} in {window_ref}")
+            return False
+        self._steady(ref)
+        self.click(ref, what)
+        return True
+
+    def click_until(self, window_ref: str, label: str, done, what: str,
+                    attempts: int = 3) -> bool:
+        """Click the item ``label`` in ``window_ref`` until ``done()`` holds: a lesson's
+        text reflows while its frame converges (a number arrives, a note goes), so an
+        item can move between the engine finding it and the mouse arriving; the click
+        waits for the item to stand still and is tried again if it missed."""
+        from imgui_bundle import imgui
+
+        flags = imgui.test_engine.TestOpFlags_.no_check_hovered_id
+        for _ in range(attempts):
+            ref = self.find(window_ref, label)
+            if ref is None:
+                self.check(False, f"no item {label!r} in {window_ref}")
+                return False
+            self._steady(ref)
+            self.ctx.item_click(ref, 0, flags)
+            self.controls.append(what)
+            self.settle_input()
+            self._panel_errors(what)
+            if done():
+                return True
+        return self.check(False, f"{what}: {attempts} clicks on {label!r} did nothing")
+
+    def _steady(self, ref: str, frames: int = 40) -> None:
+        """Wait until the item ``ref`` stays where it is for two frames."""
+        from imgui_bundle import imgui
+
+        last = None
+        for _ in range(frames):
+            info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+            rect = None if info is None else (info.rect_full.min.x, info.rect_full.min.y)
+            if rect is not None and rect == last:
+                return
+            last = rect
+            self.ctx.yield_()
+
+    def find(self, window_ref: str, label: str) -> str | None:
+        """The reference of the item labelled ``label`` in ``window_ref``, scrolled on
+        screen; None if the window has none."""
+        from imgui_bundle import imgui
+
+        te = imgui.test_engine
+        # a wildcard search runs from the top-level window (the engine does not take a
+        # child window as its start); the child is what scrolls
+        top = "//" + window_ref.removeprefix("//").split("/")[0]
+        ref = f"{top}/**/{label}"
+        if self.exists(ref):
+            return ref
+        window = self.window(window_ref)
+        if window is None:
+            return None
+        self.ctx.scroll_to_top(te.TestRef(window.id_))
+        # down with the wheel, as a reader does: the text may grow or shrink meanwhile
+        # (a number arrives, a banner goes), where a scroll to a set offset would fail
+        for _ in range(200):
+            if self.exists(ref):
+                return ref
+            window = self.window(window_ref)
+            if window is None or window.scroll.y >= window.scroll_max.y:
+                return None
+            self.wheel(window_ref, -2.0, record=False)
+        return None
+
+    def check_box(self, ref: str, on: bool, what: str | None = None) -> None:
+        (self.ctx.item_check if on else self.ctx.item_uncheck)(ref)
+        self.controls.append(what or ref)
+        self.settle_input()
+        self._panel_errors(what or ref)
+
+    def menu(self, path: str) -> None:
+        """A main-menu item, e.g. "Windows/Reset layout"."""
+        self.ctx.menu_click("//##MainMenuBar/" + path)
+        self.controls.append("menu " + path)
+        self.settle_input()
+        self._panel_errors("menu " + path)
+
+    def wheel(self, window_ref: str, notches: float, record: bool = True) -> None:
+        """Turn the mouse wheel over a window's right edge (its scroll bar: over a plot
+        in the text the wheel would zoom the plot instead), half-way down; negative
+        notches scroll down."""
+        from imgui_bundle import imgui
+
+        window = self.window(window_ref)
+        if window is None:
+            self.problems.append(f"no window {window_ref} to scroll")
+            return
+        self.ctx.mouse_move_to_pos(imgui.ImVec2(window.pos.x + window.size.x - 5.0,
+                                                window.pos.y + window.size.y * 0.5))
+        self.ctx.mouse_wheel_y(notches)
+        if record:
+            self.controls.append(f"wheel over {window_ref}")
+        self.settle_input()
+
+    def settle_input(self, frames: int = 2) -> None:
+        self.ctx.yield_(frames)
+
+    def until(self, predicate, what: str, frames: int = 600) -> bool:
+        """Draw frames until ``predicate()``; a problem when it never holds."""
+        for _ in range(frames):
+            if predicate():
+                return True
+            self.ctx.yield_()
+        self.problems.append(f"never happened within {frames} frames: {what}")
+        return False
+
+    def converged(self, frames: int = 3000) -> bool:
+        """Draw frames until the pipelines have nothing left to do."""
+        app = self.app
+        return self.until(lambda: app.status is not None and not app.status.active
+                          and app.state.runtime.result is not None,
+                          "the frame converged", frames)
+
+    # -- checks -----------------------------------------------------------------------
+    def check(self, condition: bool, what: str) -> bool:
+        if not condition:
+            first = not self.problems
+            self.problems.append(what)
+            print(f"click check failed: {what}", file=sys.stderr, flush=True)
+            if first:            # what the window looked like (with --shots) and held
+                hidden = [t for t, shown in self.state.open_panels.items() if not shown]
+                print(f"  hidden panels: {hidden or 'none'}; panel errors: "
+                      f"{self.app.panel_errors[-3:]}", file=sys.stderr, flush=True)
+                self.screenshot("first-failure")
+        return bool(condition)
+
+    def exists(self, ref: str) -> bool:
+        from imgui_bundle import imgui
+
+        info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+        return info is not None and info.id_ != 0
+
+    def window(self, window_ref: str):
+        """The imgui window (internal.Window) ``window_ref`` names, or None (no error)."""
+        from imgui_bundle import imgui
+
+        return self.ctx.window_info(window_ref, imgui.test_engine.TestOpFlags_.no_error).window
+
+    def scroll_y(self, window_ref: str) -> float:
+        """The vertical scroll of a window or child window (e.g. the article)."""
+        info = self.ctx.window_info(window_ref)
+        return float(info.window.scroll.y) if info.window is not None else float("nan")
+
+    def view_pixels(self):
+        """The 3D view's pixels as the window shows them now (H, W, 3 uint8), or None."""
+        import tempfile
+
+        shot = Path(tempfile.mkdtemp(prefix="click-")) / "view.png"
+        self.state.requests.screenshot = shot       # the window keeps the frame it writes
+        self.ctx.yield_(2)
+        rect, pixels = self.state.runtime.view_rect, self.app.last_pixels
+        shot.unlink(missing_ok=True)
+        shot.parent.rmdir()
+        if rect is None or pixels is None:
+            return None
+        x0, y0, x1, y1 = (int(round(v)) for v in rect)
+        return pixels[y0:y1, x0:x1].copy()
+
+    def picture_changes(self, action, what: str, min_change: float = 1.0) -> None:
+        """``action()`` changes the converged picture the view shows (mean absolute
+        difference over the view, 0..255, at least ``min_change``)."""
+        import numpy as np
+
+        self.converged()
+        before = _thumbnail(self.view_pixels())
+        action()
+        self.converged()
+        self.settle_input(3)
+        after = _thumbnail(self.view_pixels())
+        if before is None or after is None:
+            self.check(False, f"{what}: the view's picture could not be compared ("
+                       f"{None if before is None else before.shape}, "
+                       f"{None if after is None else after.shape})")
+            return
+        change = float(np.abs(before.astype(float) - after.astype(float)).mean())
+        self.check(change >= min_change,
+                   f"{what}: the picture changes (mean |difference| {change:.2f} of 255)")
+
+    def screenshot(self, name: str) -> None:
+        if self.shots is None:
+            return
+        # the window writes it after its next frame (a test runs on the engine's
+        # thread, where no GL context is current: it must not draw itself)
+        self.state.requests.screenshot = self.shots / f"{name}.png"
+        self.ctx.yield_(2)
+
+    def _panel_errors(self, after: str) -> None:
+        errors = self.app.panel_errors
+        for text in errors[self._seen_errors:]:
+            self.problems.append(f"after {after}: {text}")
+        self._seen_errors = len(errors)
+
+
+def _thumbnail(pixels, size: int = 64):
+    """``pixels`` sampled on a size x size grid (the view's image changes size with the
+    view mode: a legend row under a split or a difference)."""
+    import numpy as np
+
+    if pixels is None or pixels.size == 0:
+        return None
+    rows = np.linspace(0, pixels.shape[0] - 1, size).astype(int)
+    columns = np.linspace(0, pixels.shape[1] - 1, size).astype(int)
+    return pixels[rows][:, columns]
+
+
+def run_session(name: str, shots: Path | None = None) -> dict:
+    from click_sessions import SESSIONS
+
+    from explorer.ui.app import App
+
+    session = SESSIONS[name]
+    state = session.state()
+    app = App(state, width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
+              persist_settings=False, test_engine=True)
+    clicks: dict = {}
+    problems: list[str] = []
+    start = time.monotonic()
+    try:
+        engine = app.test_engine
+
+        def body(ctx) -> None:
+            c = Clicks(app, ctx, problems, shots)
+            clicks["c"] = c
+            session.run(c)
+
+        exceptions = engine.add("click", name, body)
+        while not engine.idle:
+            if not app.frame():
+                c = clicks.get("c")
+                if c is not None and c.expect_quit and app.state.requests.quit:
+                    c.quit_seen, c.expect_quit = True, False
+                    app.state.requests.quit = False
+                    continue
+                problems.append("the window closed")
+                break
+            if time.monotonic() - start > SESSION_TIMEOUT_S:
+                problems.append(f"the session ran past {SESSION_TIMEOUT_S:g} s")
+                break
+        outcome = engine.results()[0]
+        problems += exceptions
+    finally:
+        app.close()
+    c = clicks.get("c")
+    report = {"session": name, "passed": outcome.passed and not problems,
+              "status": outcome.status, "clicks": len(c.controls) if c else 0,
+              "controls": sorted(set(c.controls)) if c else [],
+              "problems": list(dict.fromkeys(problems)),
+              "seconds": round(time.monotonic() - start, 1)}
+    return report
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("session")
+    parser.add_argument("--shots", type=Path, default=None,
+                        help="write the screenshots the session takes to this folder")
+    args = parser.parse_args()
+    if args.shots is not None:
+        args.shots = args.shots.resolve()
+    # what the window writes where it was started (File/Screenshot) goes to a folder
+    # of its own
+    os.chdir(tempfile.mkdtemp(prefix="click-session-"))
+    if args.shots is not None:
+        args.shots.mkdir(parents=True, exist_ok=True)
+    report = run_session(args.session, args.shots)
+    print(json.dumps(report))
+    return 0 if report["passed"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
