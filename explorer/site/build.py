@@ -29,6 +29,7 @@ from explorer.site.frames import (
     to_bytes,
     try_screen,
     uses_error,
+    uses_truth,
 )
 from explorer.site.values import Baker, context_marks
 
@@ -141,6 +142,7 @@ def build_site(options: SiteOptions, log: Callable[[str], None] = print) -> Site
         for lesson in lessons:
             writer.lesson(lesson, lessons)
         writer.index(lessons)
+        writer.report.pending += writer.frames.problems
         writer.release()
         (work / MARKER).write_text(json.dumps({"lessons": [lesson.id for lesson in lessons],
                                                "size": list(options.size)}) + "\n")
@@ -330,7 +332,8 @@ class _Writer:
 
     def shot(self, screen: Screen, step: Step, texts: list[str], error: bool = False) -> Shot:
         return self.frames.shot(screen, step.view, step.overlays(),
-                                want_error=error or uses_error(texts))
+                                want_error=error or uses_error(texts),
+                                want_truth=uses_truth(texts))
 
     def context(self, shot: Shot, figures: dict[str, dict[str, float]], step: Step
                 ) -> live_values.LiveContext:
