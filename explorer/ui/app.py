@@ -536,8 +536,11 @@ class App:
         self._main_menu()
         viewport = imgui.get_main_viewport()
         dock_id = imgui.get_id("lpv-dockspace")
-        if self._needs_layout or state.requests.reset_layout:
-            build_default_layout(dock_id, viewport.work_size)
+        size = viewport.work_size
+        # a window not yet sized (some glfw and imgui-bundle versions report 0 for the first
+        # frame) builds its layout on the next frame: the dock builder asserts on size 0
+        if (self._needs_layout or state.requests.reset_layout) and size.x > 0 and size.y > 0:
+            build_default_layout(dock_id, size)
             self._needs_layout = False
             state.requests.reset_layout = False
         imgui.dock_space_over_viewport(dock_id, viewport)
