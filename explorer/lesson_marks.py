@@ -30,7 +30,13 @@ import numpy as np
 
 Vec3 = tuple[float, float, float]
 READOUTS = {"irradiance": ("indirect irradiance the LPV gathers at the mark (sum of the "
-                           "three channels)", "W/m²")}
+                           "three channels)", "W/m²"),
+            "red_share": ("red's share of the indirect irradiance at the mark (a third for "
+                          "white light)", ""),
+            "green_share": ("green's share of the indirect irradiance at the mark (a third "
+                            "for white light)", ""),
+            "blue_share": ("blue's share of the indirect irradiance at the mark (a third for "
+                           "white light)", "")}
 """What a mark with a normal measures: readout -> (doc, unit)."""
 _KEYS = ("id", "label", "at", "normal")
 _ID = re.compile(r"^[a-z][a-z0-9_]*$")
@@ -102,10 +108,26 @@ def parse_mark(table: Any, bounds: tuple[Vec3, Vec3] | None = None, prefix: str 
     return Mark(ident, label.strip(), at, normal)
 
 
+def readout(mark: Mark, result: Any, name: str) -> float:
+    """The :data:`READOUTS` entry ``name`` of ``mark`` on ``result``."""
+    if name == "irradiance":
+        return irradiance(mark, result)
+    channels = irradiance_rgb(mark, result)
+    total = float(channels.sum())
+    if total <= 0.0:
+        raise ValueError(f"no indirect light at mark {mark.id!r}")
+    return float(channels[("red_share", "green_share", "blue_share").index(name)] / total)
+
+
 def irradiance(mark: Mark, result: Any) -> float:
     """The indirect irradiance (W/m², channels summed) the final gather computes at the
-    mark on ``result`` (a FrameResult): the cascades' accumulated grids read by the numpy
-    twin of the gather, damped as the frame's settings say."""
+    mark on ``result`` (a FrameResult)."""
+    return float(irradiance_rgb(mark, result).sum())
+
+
+def irradiance_rgb(mark: Mark, result: Any) -> np.ndarray:
+    """(3,) indirect irradiance (W/m²) per channel at the mark: the cascades' accumulated
+    grids read by the numpy twin of the gather, damped as the frame's settings say."""
     from explorer.lpv.reference import gather_cascades
 
     if mark.normal is None:
@@ -115,4 +137,4 @@ def irradiance(mark: Mark, result: Any) -> float:
     point = np.asarray([mark.at], np.float64)
     normal = np.asarray([mark.normal], np.float64)
     damping = bool(getattr(result.settings, "gather_damping", False))
-    return float(gather_cascades(grids, specs, point, normal, damping).sum())
+    return gather_cascades(grids, specs, point, normal, damping)[0]

@@ -458,7 +458,7 @@ def table() -> dict[str, Quantity]:
 
 
 def _mark_quantity(name: str, mark_ids: tuple[str, ...]) -> Quantity:
-    from explorer.lesson_marks import READOUTS, irradiance
+    from explorer.lesson_marks import READOUTS, readout
 
     parts = name.split(".")
     if len(parts) != 3 or parts[2] not in READOUTS:
@@ -467,15 +467,18 @@ def _mark_quantity(name: str, mark_ids: tuple[str, ...]) -> Quantity:
     if parts[1] not in mark_ids:
         raise KeyError(f"{name!r}: the step has no mark with id {parts[1]!r} (its marks "
                        f"with a normal: {list(mark_ids) or 'none'})")
-    mark_id = parts[1]
+    mark_id, what = parts[1], parts[2]
 
     def read(context: LiveContext) -> float:
         mark = context.marks.get(mark_id)
         if mark is None:
             raise Unavailable(f"the mark {mark_id!r} is not in this context")
-        return irradiance(mark, _result(context))
+        try:
+            return readout(mark, _result(context), what)
+        except ValueError as exc:
+            raise Unavailable(str(exc)) from None
     doc, unit = READOUTS[parts[2]]
-    return Quantity(name, doc, unit, read, ".3g")
+    return Quantity(name, doc, unit, read, ".3g" if unit else ".0%")
 
 
 def lookup(name: str, figure_ids: tuple[str, ...] = (),

@@ -61,6 +61,28 @@ def test_window_opens_and_draws_the_panels(config_home):
         app.close()
 
 
+def test_docked_panels_draw_no_background_of_their_own(config_home):
+    """The frame's clear is the panels' colour, so a docked panel leaves its background
+    to it (a layer of fill less on a software renderer) and looks as before."""
+    from explorer.ui import theme
+
+    assert theme.CLEAR_COLOUR == theme.WINDOW_BG and theme.DOCKED_WINDOW_BG[3] == 0.0
+    app = _app(pipeline_class=None)
+    try:
+        for _ in range(3):
+            assert app.frame()
+        assert app.frame(capture=True)
+        docked = [title for title, is_docked in app._docked.items() if is_docked]
+        assert "View" in docked and len(docked) >= 5
+        # the View panel's empty space (no pipeline: no image, the middle column of the
+        # default layout) shows the panel colour
+        expected = np.round(np.array(theme.WINDOW_BG[:3]) * 255)
+        empty = app.last_pixels[200, 440].astype(float)
+        assert np.abs(empty - expected).max() <= 2, (empty, expected)
+    finally:
+        app.close()
+
+
 def test_screenshot_writes_a_png_of_the_whole_window(config_home, tmp_path):
     from PIL import Image
 

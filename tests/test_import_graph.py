@@ -28,7 +28,8 @@ LAYERS = (
 first (the generated derivation table, the corrections registry), which the derivations
 read and check; the derivations feed the constants (the code generator never imports the
 LPV); the scene is data the LPV passes read; truth (the reference) and lessons read both;
-the window and the commands sit on top."""
+the window, the web site (which renders what the window shows) and the commands sit on
+top."""
 
 
 def _modules() -> dict[str, Path]:

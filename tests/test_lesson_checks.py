@@ -216,6 +216,10 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
     albedo = result.albedo[y, x]
     gathered = float(np.sum(result.indirect[y, x] * np.pi / np.maximum(albedo, 1e-6)))
     assert irradiance(mark, result) == pytest.approx(gathered, rel=0.03)
+    from explorer.lesson_marks import readout
+
+    shares = [readout(mark, result, f"{c}_share") for c in ("red", "green", "blue")]
+    assert sum(shares) == pytest.approx(1.0) and all(0.0 <= v <= 1.0 for v in shares)
 
     origin, end = (100.0, 50.0), (100.0 + 2 * 96, 50.0 + 2 * 96)    # drawn at twice size
     [placed] = placements(result, [mark], origin, end, lambda text: (8.0 * len(text), 14.0))
@@ -352,3 +356,27 @@ def test_small_multiples_vary_one_thing_on_one_scale():
                 {"vary": "corrections", "values": "corrected, nonsense"}):
         with pytest.raises(FigureParamError, match="values"):
             make_figure("small-multiples", **bad)
+
+
+def test_every_labelled_mark_is_in_view_in_its_step(shipped, ctx):
+    """The step's own camera shows what its marks point at: each labelled mark projects
+    into the image and no surface hides it (tiny frames: only the camera matters)."""
+    from explorer.lessons import preview_settings
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.overlays.marks import placements
+
+    problems = []
+    with Pipeline(preview_settings(shipped[0].steps[0]), ctx=ctx) as pipeline:
+        for lesson in shipped:
+            for step in lesson.steps:
+                labelled = [m for m in step.marks if m.label]
+                if not labelled:
+                    continue
+                result = pipeline.run(preview_settings(step, size=96, max_iterations=1))
+                placed = {p.label: p for p in placements(result, labelled, (0.0, 0.0),
+                                                         (96.0, 96.0), lambda t: (5.0, 8.0))}
+                for mark in labelled:
+                    if mark.label not in placed or not placed[mark.label].visible:
+                        problems.append(f"{lesson.path.name} step {step.number}: "
+                                        f"{mark.label!r}")
+    assert not problems, problems

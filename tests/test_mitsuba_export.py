@@ -149,3 +149,31 @@ def test_compare_truth_without_mitsuba_is_one_line(tmp_path, capsys, monkeypatch
     assert code == 1 and len(error) == 1
     assert "Mitsuba 3 is not installed: pip install 'lpv-explorer[truth]'" in error[0]
     assert not (tmp_path / "cmp" / "table.md").exists()
+
+
+def test_textured_and_one_sided_triangles_get_their_own_shapes():
+    """A textured group: its texture times the albedo factor as a bitmap at the corners'
+    uv (v flipped for Mitsuba); a one-sided group: a plain diffuse (no twosided)."""
+    import dataclasses
+
+    base = scene_for(Settings(scene="cornell"))
+    count = base.triangle_count
+    uv = np.tile(np.array([[0, 0], [1, 0], [1, 1]], np.float32), (count, 1))
+    texture = np.full((4, 4, 3), 0.5, np.float32)
+    triangle_texture = np.full(count, -1)
+    triangle_texture[:2] = 0                                  # the floor
+    one_sided = np.zeros(count, bool)
+    one_sided[2:4] = True                                     # the ceiling
+    scene = dataclasses.replace(base, uv=uv, textures=(texture,),
+                                triangle_texture=triangle_texture, one_sided=one_sided)
+    exported = export_scene(scene, 16, 16)
+    shapes = {str(p["filename"]): p["bsdf"] for k, p in exported.plugins.items()
+              if k.startswith("surfaces")}
+    assert shapes["scene-t0.ply"]["material"]["reflectance"]["type"] == "bitmap"
+    assert shapes["scene-t-1-one-sided.ply"]["type"] == "diffuse"
+    assert shapes["scene.ply"]["type"] == "twosided"
+    header, body = exported.files["scene-t0.ply"].split(b"end_header\n", 1)
+    assert b"property float u" in header
+    vertices = np.frombuffer(body[:6 * 44], "<f4").reshape(6, 11)
+    assert np.allclose(vertices[:, 10], 1.0 - uv[:6, 1])     # v flipped
+    assert exported.files["texture-0.pfm"].startswith(b"PF\n4 4\n")

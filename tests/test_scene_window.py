@@ -110,3 +110,30 @@ def test_save_scene_without_a_file_dialog_writes_a_new_file_beside_it(tmp_path, 
         assert again.light_names == ("ceiling spot", "bulb") and len(again.textures) == 1
     finally:
         app.close()
+
+
+@pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
+def test_run_opens_a_scene_file_with_light_and_camera_overrides(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    from explorer.cli import main
+    from explorer.ui.app import App
+
+    seen = {}
+    close = App.close
+
+    def recording_close(self):
+        seen["settings"] = self.state.settings
+        close(self)
+
+    monkeypatch.setattr(App, "close", recording_close)
+    shot = tmp_path / "run.png"
+    assert main(["run", "--no-persist", "--hidden", "--size", "900x640", "--scene",
+                 str(EXAMPLE), "--light", "point:0.5,1.8,0.5", "--light-flux", "60",
+                 "--camera", "-1.5,1.7,1.8:0.5,0.6,-1:70", "--frames", "3",
+                 "--screenshot", str(shot)]) == 0
+    settings = seen["settings"]
+    assert settings.scene == str(EXAMPLE) and settings.light_kind == "point"
+    assert settings.light[0] == (0.5, 1.8, 0.5) and settings.light_flux == 60.0
+    assert settings.camera == ((-1.5, 1.7, 1.8), (0.5, 0.6, -1.0))
+    assert settings.camera_fov == 70.0 and shot.exists()

@@ -128,8 +128,11 @@ def _context(ctx, step, settings, texts):
         figures[spec.instance_id] = kind.readouts(spec.params, kind.make_state(spec.params),
                                                   FigureContext(results=(result,)))
     error = _error(ctx, settings) if uses_error(texts) else None
+    from explorer.site.values import context_marks
+
     return live_values.LiveContext(settings=settings, result=result, error=error,
-                                   figures=figures, renderer=ctx.info["GL_RENDERER"])
+                                   figures=figures, renderer=ctx.info["GL_RENDERER"],
+                                   **context_marks(step))
 
 
 def _check(numbers, context, step, where) -> int:
@@ -457,3 +460,32 @@ def test_a_plot_point_shows_its_value_on_a_tap(site, browser, lessons):
                                    point)
     point.click()
     assert browser.find_element("css selector", ".tip").text == title
+
+
+def test_marks_sit_where_the_window_puts_them():
+    """A mark's dot is at its pixel and its label in percent of the picture, so both
+    scale with the image; a hidden mark is faded."""
+    from explorer.site.pages import marks_overlay
+
+    markup = marks_overlay(640, 400, [("dark side", (320.0, 200.0), (160.0, 100.0),
+                                       (200.0, 110.0), True),
+                                      ("behind", (10.0, 20.0), (60.0, 40.0), (40.0, 30.0),
+                                       False)])
+    assert 'viewBox="0 0 640 400"' in markup
+    assert '<circle cx="320.0" cy="200.0"' in markup
+    assert 'style="left: 25.00%; top: 25.00%">dark side</span>' in markup
+    assert markup.count("hidden-mark") == 2 and marks_overlay(640, 400, []) == ""
+
+
+def test_a_prediction_hides_nothing_without_the_script():
+    from types import SimpleNamespace
+
+    from explorer.site.pages import try_card
+
+    card = try_card(2, "step-1-try-2", "Iterations: 4", "<div>pair</div>", "It darkens.",
+                    SimpleNamespace(question="Brighter or darker?",
+                                    choices=("brighter", "darker"), answer=2))
+    assert 'data-answer="2"' in card and card.count('class="choice secondary"') == 2
+    assert "<noscript>The answer: darker.</noscript>" in card
+    assert '<div class="reveal"><div>pair</div><p class="prompt">It darkens.</p>' in card
+    assert " hidden" not in card            # the script hides the reveal, the page does not

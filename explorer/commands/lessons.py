@@ -1,7 +1,9 @@
 """``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
 ``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
 shows it, headless (glfw's null platform with EGL: no display needed), once its frame has
-converged (it says it waits).
+converged (it says it waits); ``lpv-explorer lessons [ID] --check`` verifies the steps'
+``[[steps.checks]]`` on their converged frames, rendered headless
+(explorer/lesson_verify.py).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.

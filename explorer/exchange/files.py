@@ -33,7 +33,13 @@ def write_npz(path: Path, arrays: dict[str, np.ndarray]) -> None:
 def read_npz(path: Path | str, what: str = "file") -> dict[str, np.ndarray]:
     """Every array of the ``.npz`` at ``path`` by name; ``what`` names the file in the
     errors (``--vpls x.npz``)."""
+    from explorer.safe_files import UserFileError, check_regular_file
+
     path = Path(path)
+    try:        # a regular file within the cap: a FIFO would make np.load wait forever
+        check_regular_file(path, "array file")
+    except UserFileError as exc:
+        raise FileFormatError(f"{what} {exc}") from None
     try:
         with np.load(path, allow_pickle=False) as archive:
             if not isinstance(archive, np.lib.npyio.NpzFile):

@@ -138,12 +138,12 @@ def read_settings(path: Path | str):
     from explorer.lpv.schema import SettingError
     from explorer.lpv.settings import Settings
 
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FileFormatError(f"--settings {path}: no such file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise FileFormatError(f"--settings {path}: not a JSON file ({exc})") from None
+    from explorer.safe_files import UserFileError, parse_json, read_text
+
+    try:        # regular files only, within the cap, nesting bounded
+        data = parse_json(read_text(path, "settings file"), path)
+    except UserFileError as exc:
+        raise FileFormatError(f"--settings {exc}") from None
     if not isinstance(data, dict) or "settings" not in data:
         raise FileFormatError(f"--settings {path}: no \"settings\" entry (a dump's sidecar "
                               f"has one)")

@@ -165,9 +165,10 @@ class LpvGrid:
             texture.use(first_location + offset)
 
     def bind_images(self, first_unit: int, read: bool = True, write: bool = True) -> None:
-        """Bind r, g, b as image3D units ``first_unit`` .. ``first_unit + 2``."""
-        for offset, volume in enumerate(self.volumes):
-            volume.bind_image(first_unit + offset, read=read, write=write)
+        """Bind r, g, b as image3D units ``first_unit`` .. ``first_unit + 2`` (straight on
+        the textures: a propagation step binds six a step)."""
+        for offset, texture in enumerate(self.textures):
+            texture.bind_to_image(first_unit + offset, read=read, write=write)
 
     def release(self) -> None:
         for volume in self.volumes:

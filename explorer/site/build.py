@@ -29,8 +29,9 @@ from explorer.site.frames import (
     to_bytes,
     try_screen,
     uses_error,
+    uses_truth,
 )
-from explorer.site.values import Baker
+from explorer.site.values import Baker, context_marks
 
 MARKER = "lpv-site.json"
 """Written at the site's root: a folder holding it may be replaced by a new build."""
@@ -39,6 +40,8 @@ PLOT_KINDS = ("flux-per-step", "energy-audit")
 SEQUENCE_ITERATIONS = (0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64)
 """The iteration counts an "iterations" sequence shows (up to the largest the step uses)."""
 THUMB_WIDTH = 480
+MARK_GLYPH_WIDTH, MARK_TEXT_HEIGHT = 7.0, 14.0
+"""A mark label's size in picture pixels per character and its height (for placing it)."""
 PLOT_OF_PANEL = {"flux-per-step": "flux-per-step", "audit": "energy-audit"}
 """A step's ``plot`` (the Plots panel's tab) -> the figure kind that draws it."""
 SHOWN_OVERLAYS = ("slice", "glyphs", "vpls", "lattice", "cascade_boxes", "blockers")
@@ -139,6 +142,7 @@ def build_site(options: SiteOptions, log: Callable[[str], None] = print) -> Site
         for lesson in lessons:
             writer.lesson(lesson, lessons)
         writer.index(lessons)
+        writer.report.pending += writer.frames.problems
         writer.release()
         (work / MARKER).write_text(json.dumps({"lessons": [lesson.id for lesson in lessons],
                                                "size": list(options.size)}) + "\n")
@@ -328,13 +332,14 @@ class _Writer:
 
     def shot(self, screen: Screen, step: Step, texts: list[str], error: bool = False) -> Shot:
         return self.frames.shot(screen, step.view, step.overlays(),
-                                want_error=error or uses_error(texts))
+                                want_error=error or uses_error(texts),
+                                want_truth=uses_truth(texts))
 
-    def context(self, shot: Shot, figures: dict[str, dict[str, float]]
+    def context(self, shot: Shot, figures: dict[str, dict[str, float]], step: Step
                 ) -> live_values.LiveContext:
         return live_values.LiveContext(settings=shot.settings, result=shot.result,
                                        error=shot.error, figures=figures,
-                                       renderer=self.frames.renderer)
+                                       renderer=self.frames.renderer, **context_marks(step))
 
     def step(self, lesson: Lesson, step: Step) -> str:
         where = f"{lesson.id} step {step.number}: "
@@ -347,9 +352,9 @@ class _Writer:
         if step.number == 1:
             self.thumbs[lesson.id] = self.image(shot.image, f"{stem}-thumb", width=THUMB_WIDTH)
         figures = self.readouts(lesson, step, shot)
-        baker = Baker(self.context(shot, figures), step.figure_ids, where)
+        baker = Baker(self.context(shot, figures, step), step.figure_ids, where)
         parts = [pages.view_figure(view, f"{step.title}: the {step.view} view",
-                                   self.view_caption(step))]
+                                   self.view_caption(step), self.marks(step, shot))]
         if shot.inspect is not None:
             parts.append(pages.inspect_figure(self.image(shot.inspect, f"{stem}-inspect",
                                                          "png"), step.view))
@@ -381,6 +386,21 @@ class _Writer:
                   for index in range(1, len(step.try_this) + 1)]
         parts.append(pages.open_command(lesson.id, step.number))
         return pages.step_section(step.number, step.title, "\n".join(parts))
+
+    def marks(self, step: Step, shot: Shot) -> str:
+        """The step's marks over its picture, placed by the window's own geometry
+        (explorer/ui/overlays/marks.py ``placements``); "" for a step without marks."""
+        marks = getattr(step, "marks", ())
+        if not marks:
+            return ""
+        from explorer.ui.overlays.marks import placements
+
+        height, width = shot.image.shape[:2]
+        placed = placements(shot.result, marks, (0.0, 0.0), (float(width), float(height)),
+                            lambda label: (MARK_GLYPH_WIDTH * len(label), MARK_TEXT_HEIGHT))
+        return pages.marks_overlay(width, height, [
+            (p.label, p.point, ((p.box[0] + p.box[2]) / 2, (p.box[1] + p.box[3]) / 2),
+             p.anchor, p.visible) for p in placed])
 
     def view_caption(self, step: Step) -> str:
         words = {"final": "the final image (direct + indirect)", "direct": "the direct light",
@@ -506,13 +526,13 @@ class _Writer:
     def try_this(self, step: Step, index: int, before_shot: Shot, before: pages.Image,
                  figures: dict, stem: str, where: str) -> str:
         item = step.try_this[index - 1]
-        before_baker = Baker(self.context(before_shot, figures), step.figure_ids, where)
+        before_baker = Baker(self.context(before_shot, figures, step), step.figure_ids, where)
         after_shot = self.shot(try_screen(step, index), step, [item.prompt])
         after = self.image(after_shot.image, f"{stem}-try{index}")
-        after_baker = Baker(self.context(after_shot, figures), step.figure_ids,
+        after_baker = Baker(self.context(after_shot, figures, step), step.figure_ids,
                             f"{where}try {index}: ")
         prompt = prose.inline(item.prompt, _DualBaker(after_baker, before_baker))
-        self.report.pending += after_baker.pending
+        self.report.pending += after_baker.pending + before_baker.pending
         label = try_label(item)
         pair = pages.swipe(before, after, "this step", label, step.title)
         return pages.try_card(index, _anchor(step, index), label, pair, prompt,

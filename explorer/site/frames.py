@@ -12,6 +12,7 @@ numbers baked from its result are the ones the window shows once the frame has s
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,7 +52,8 @@ class Shot:
     inspect: np.ndarray | None = None
     """The Inspect panel's image for RSM and grid views (uint8), else None."""
     error: Any = None
-    """ErrorStats against the one-bounce reference, when measured."""
+    """What ``{{error.*}}`` reads (an ErrorReadout: the ErrorStats against the one-bounce
+    reference, and against Mitsuba when asked for), when measured."""
     compare_result: Any = None
     """Configuration B's FrameResult of a split or difference view."""
     error_result: Any = None
@@ -80,6 +82,12 @@ def uses_error(texts: list[str]) -> bool:
                for name, _ in lesson_text.placeholders(text))
 
 
+def uses_truth(texts: list[str]) -> bool:
+    """The texts quote numbers against Mitsuba (the Error panel's "reference + Mitsuba")."""
+    return any(name.startswith(("error.mitsuba_", "error.reference_mitsuba_"))
+               for text in texts for name, _ in lesson_text.placeholders(text))
+
+
 def to_bytes(image: np.ndarray) -> np.ndarray:
     return (np.clip(np.nan_to_num(image), 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
 
@@ -102,6 +110,8 @@ class FrameRenderer:
         self._pipeline = None
         self._error_pipeline = None
         self._compositor = None
+        self.problems: list[str] = []
+        """What could not be measured (Mitsuba missing), for the build's report."""
 
     def sized(self, settings: Settings) -> Settings:
         return settings.with_changes(width=self.width, height=self.height)
@@ -117,7 +127,8 @@ class FrameRenderer:
             self._pipeline = Pipeline(settings, ctx=self.ctx)
         return self._pipeline.run(settings, keep_steps=keep_steps, need_audit="full")
 
-    def shot(self, screen: Screen, view: str, overlays, want_error: bool = False) -> Shot:
+    def shot(self, screen: Screen, view: str, overlays, want_error: bool = False,
+             want_truth: bool = False) -> Shot:
         """The picture of ``screen`` with ``view`` (the step's view name) and
         ``overlays`` (an OverlayState)."""
         settings = self.sized(screen.settings)
@@ -148,9 +159,13 @@ class FrameRenderer:
                 scale = float(difference.max())
                 image = to_bytes(linear_to_srgb(difference / scale) if scale > 0
                                  else np.zeros_like(difference))
-        measured = self.error(screen.settings) if want_error else None
-        return Shot(image, result, settings, inspect,
-                    None if measured is None else measured.stats, other, measured)
+        measured = self.error(screen.settings) if want_error or want_truth else None
+        readout = None
+        if measured is not None:
+            from explorer.truth.mitsuba_job import ErrorReadout
+
+            readout = ErrorReadout(measured.stats, self.truth(measured) if want_truth else None)
+        return Shot(image, result, settings, inspect, readout, other, measured)
 
     def _composed(self, side: str, result, display: np.ndarray, overlays) -> np.ndarray:
         """``display`` with the overlays drawn in the scene (the View panel's
@@ -187,6 +202,32 @@ class FrameRenderer:
             while not job.advance(self.ctx, self._error_pipeline, ERROR_BUDGET_S):
                 pass
             return job.result
+        finally:
+            job.release()
+
+    def truth(self, measured):
+        """The Error panel's measurement held against Mitsuba (its TruthStats: the same
+        pixels rendered by Mitsuba 3, one bounce and all bounces), or None when Mitsuba
+        cannot render (not installed): the numbers then stay "…" and the build says
+        why."""
+        from explorer.truth.gbuffer import scene_for
+        from explorer.truth.mitsuba_job import MitsubaJob, TruthStats
+        from explorer.ui.panels.error import MITSUBA_SPP
+
+        s = measured.settings
+        try:
+            job = MitsubaJob(scene_for(s, getattr(self._error_pipeline, "base_scene", None)),
+                             s.width, s.height, MITSUBA_SPP)
+        except Exception as exc:  # noqa: BLE001 - Mitsuba missing or refusing the scene
+            self.problems.append(f"Mitsuba: {type(exc).__name__}: {exc}")
+            return None
+        try:
+            while not job.poll():
+                time.sleep(0.2)
+            if job.problem:
+                self.problems.append(f"Mitsuba: {job.problem}")
+                return None
+            return TruthStats(measured.lpv, measured.reference, measured.valid, job.result)
         finally:
             job.release()
 

@@ -61,9 +61,12 @@ run</code>).</div></footer>
 """
 
 
-def view_figure(image: Image, alt: str, caption: str) -> str:
-    return (f'<figure class="view">{image.tag(alt)}<figcaption>{caption}</figcaption>'
-            "</figure>")
+def view_figure(image: Image, alt: str, caption: str, overlay: str = "") -> str:
+    """The step's picture (with ``overlay``, its marks, drawn over it) and its caption."""
+    picture = f'<div class="view-wrap">{image.tag(alt)}{overlay}</div>' if overlay else \
+        image.tag(alt)
+    return f'<figure class="view">{picture}<figcaption>{caption}</figcaption></figure>'
+
 
 
 def inspect_figure(image: Image, view: str) -> str:
@@ -139,22 +142,23 @@ def lesson_nav(links: list[tuple[str, str]], current: str) -> str:
     return f'<nav class="lessons">{items}</nav>'
 
 
-def marks_overlay(width: int, height: int, marks: list[tuple[str, float, float]]) -> str:
-    """Labelled points over a view picture (``width`` × ``height`` pixels): each
-    (label, x, y) a dot at the pixel with a line to its label, placed above the point
-    (below it near the top edge) and kept inside the picture. Dots and lines are an SVG
-    stretched over the image; the labels are text placed in percent of it, so they stay
-    readable on a phone."""
+def marks_overlay(width: int, height: int,
+                  marks: list[tuple[str, tuple, tuple, tuple, bool]]) -> str:
+    """Labelled points over a view picture (``width`` × ``height`` pixels): each (label,
+    point, label centre, arrow start, visible) a dot at the point with a line from its
+    label, faded where a surface hides the point. Dots and lines are an SVG stretched
+    over the image; the labels are text placed in percent of it, so they stay readable
+    on a phone."""
     if not marks:
         return ""
     lines, labels = [], []
-    for label, x, y in marks:
-        above = y > 0.25 * height
-        ty = y - 0.16 * height if above else y + 0.16 * height
-        tx = min(max(x, 0.12 * width), 0.88 * width)
-        lines.append(f'<line x1="{x:.1f}" y1="{y:.1f}" x2="{tx:.1f}" y2="{ty:.1f}"/>'
-                     f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{max(width, height) / 160:.1f}"/>')
-        labels.append(f'<span class="mark-label" style="left: {100 * tx / width:.2f}%; '
-                      f'top: {100 * ty / height:.2f}%">{esc(label)}</span>')
+    radius = max(width, height) / 160
+    for label, (x, y), (cx, cy), (ax, ay), visible in marks:
+        faded = "" if visible else ' class="hidden-mark"'
+        lines.append(f'<g{faded}><line x1="{ax:.1f}" y1="{ay:.1f}" x2="{x:.1f}" y2="{y:.1f}"/>'
+                     f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{radius:.1f}"/></g>')
+        labels.append(f'<span class="mark-label{" hidden-mark" if not visible else ""}" '
+                      f'style="left: {100 * cx / width:.2f}%; top: {100 * cy / height:.2f}%">'
+                      f"{esc(label)}</span>")
     return (f'<svg class="marks" viewBox="0 0 {width} {height}" preserveAspectRatio="none" '
             f'aria-hidden="true">{"".join(lines)}</svg>{"".join(labels)}')

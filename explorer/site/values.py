@@ -34,7 +34,7 @@ class Baker:
         return shown
 
     def tooltip(self, name: str) -> str:
-        quantity = live_values.lookup(name, self.figure_ids)
+        quantity = live_values.lookup(name, self.figure_ids, *_mark_ids(self.context))
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         how = (" Measured on this step's converged frame." if quantity.measured else
                " An exact constant of the model." if quantity.source == "derived" else
@@ -57,3 +57,18 @@ class Baker:
         """The number as a MathML ``<mn>`` with its tooltip (a number inside math)."""
         shown = self.text(name, fmt)
         return f"<mn {self.attributes(name, fmt, shown)}>{html.escape(shown)}</mn>"
+
+
+def _mark_ids(context: live_values.LiveContext) -> tuple:
+    """``lookup``'s mark ids argument, where the lessons place marks (``mark.*``)."""
+    marks = getattr(context, "marks", None)
+    return () if marks is None else (tuple(marks),)
+
+
+def context_marks(step) -> dict:
+    """The LiveContext keyword for the step's marks (none where lessons have no marks)."""
+    from dataclasses import fields
+
+    if "marks" not in {f.name for f in fields(live_values.LiveContext)}:
+        return {}
+    return {"marks": {mark.id: mark for mark in getattr(step, "marks", ())}}

@@ -3,11 +3,13 @@ camera, written as files Mitsuba reads (no Mitsuba needed to write them).
 
 What is exported, and how each explorer quantity maps onto a stock Mitsuba plugin:
 
-* the triangles: one binary PLY (``scene.ply``) with per-corner normals and the linear
-  albedo as the float vertex colour, read by a ``twosided`` ``diffuse`` BSDF through a
-  ``mesh_attribute`` texture (every explorer surface reflects on both faces, the G-buffer
-  and the RSM turn the normal towards the viewer and the light). How the albedo reaches
-  the BSDF is :func:`surface_bsdf`'s one job (per-pixel textures plug in there);
+* the triangles: a binary PLY per (texture, sidedness) group (``scene.ply`` for the
+  untextured two-sided ones) with per-corner normals and the linear albedo as the float
+  vertex colour, read by a ``diffuse`` BSDF through a ``mesh_attribute`` texture; a
+  textured group's texture times its albedo factor is a ``bitmap`` at the corners' uv;
+  ``twosided`` unless the group is one-sided (the explorer's two-sided surfaces turn the
+  normal towards the viewer and the light). How the albedo reaches the BSDF is
+  :func:`surface_bsdf`'s one job;
 * a spot light (intensity ``Φ_L/(4π)·colour·f(θ)``, docs/MODEL.md "Spot cone"): a ``spot``
   with ``cutoff_angle = beam_width`` (Mitsuba's own falloff, linear in the angle, is then
   a step at the cutoff) and the explorer's ``f`` as a projected float texture
@@ -86,12 +88,18 @@ def export_scene(scene, width: int, height: int) -> MitsubaScene:
     applied, e.g. ``scene_for(settings)``) seen at ``width × height`` pixels."""
     if width < 1 or height < 1:
         raise ExportError(f"the image needs at least one pixel, got {width}×{height}")
-    files = {MESH_FILE: mesh_ply(scene)}
-    plugins: dict[str, dict] = {
-        "camera": camera_sensor(scene.camera, width, height),
-        "surfaces": {"type": "ply", "filename": Path(MESH_FILE),
-                     "bsdf": surface_bsdf(scene)},
-    }
+    files: dict[str, bytes] = {}
+    plugins: dict[str, dict] = {"camera": camera_sensor(scene.camera, width, height)}
+    for key, corners in surface_groups(scene).items():
+        texture, one_sided = key
+        name = MESH_FILE if key == (-1, False) else \
+            f"scene-t{texture}{'-one-sided' if one_sided else ''}.ply"
+        bsdf, texture_file = surface_bsdf(scene, texture, one_sided, corners)
+        files[name] = mesh_ply(scene, corners, uv=texture_file is not None)
+        if texture_file is not None:
+            files[texture_file[0]] = texture_file[1]
+        plugins[f"surfaces-{len(plugins)}"] = {"type": "ply", "filename": Path(name),
+                                               "bsdf": bsdf}
     for index, light in enumerate(scene.lights):
         emitter, texture = light_emitter(light, scene.bounds_min, scene.bounds_max)
         if texture is not None:
@@ -103,32 +111,80 @@ def export_scene(scene, width: int, height: int) -> MitsubaScene:
     return MitsubaScene(plugins, files, width, height)
 
 
-def surface_bsdf(scene) -> dict:
-    """The BSDF of every surface: two-sided Lambertian whose reflectance is the scene's
-    linear albedo, per corner (the PLY's vertex colour). The one place that says where
-    the albedo comes from."""
-    reflectance = {"type": "mesh_attribute", "name": "vertex_color"}
-    return {"type": "twosided", "material": {"type": "diffuse", "reflectance": reflectance}}
+def surface_groups(scene) -> dict[tuple[int, bool], np.ndarray]:
+    """The scene's corners grouped by (texture index or −1, one-sided): one Mitsuba shape
+    each (``Scene.draw_runs``, the runs the explorer draws)."""
+    groups: dict[tuple[int, bool], list[np.ndarray]] = {}
+    for first, count, texture, one_sided in scene.draw_runs():
+        groups.setdefault((int(texture), bool(one_sided)), []).append(
+            np.arange(first, first + count))
+    return {key: np.concatenate(parts) for key, parts in groups.items()}
 
 
-def mesh_ply(scene) -> bytes:
-    """Binary little-endian PLY of the triangle soup: per corner its position, normal and
-    linear albedo (``r g b`` floats, Mitsuba's ``vertex_color``), three corners a face."""
-    positions = np.asarray(scene.positions, np.float32)
-    normals = np.asarray(scene.normals, np.float32)
-    albedo = np.asarray(scene.albedo, np.float32)
+def surface_bsdf(scene, texture: int, one_sided: bool, corners: np.ndarray
+                 ) -> tuple[dict, tuple[str, bytes] | None]:
+    """The BSDF of one group of corners, and the texture file it reads (None: none): a
+    Lambertian whose reflectance is the linear albedo per corner (the PLY's vertex
+    colour), or, for a textured group whose corners share one albedo factor, the texture
+    times that factor as a bitmap at the corners' uv (per pixel, bilinear, repeating, as
+    the explorer samples it; a group with several factors gets the texture sampled at its
+    corners, ``Scene.corner_albedo``). Two-sided unless the group is one-sided; Mitsuba
+    then draws the back black and opaque where the explorer leaves it out (an
+    approximation for light that passes a one-sided surface from behind). The one place
+    that says where the albedo comes from."""
+    reflectance: dict = {"type": "mesh_attribute", "name": "vertex_color"}
+    texture_file = None
+    if texture >= 0:
+        factors = np.unique(np.asarray(scene.albedo)[corners], axis=0)
+        if len(factors) == 1:
+            image = np.asarray(scene.textures[texture], np.float32) * factors[0]
+            name = f"texture-{texture}.pfm"
+            texture_file = (name, pfm_bytes(image))
+            reflectance = {"type": "bitmap", "filename": Path(name), "raw": True,
+                           "filter_type": "bilinear", "wrap_mode": "repeat"}
+    diffuse = {"type": "diffuse", "reflectance": reflectance}
+    if one_sided:
+        return diffuse, texture_file
+    return {"type": "twosided", "material": diffuse}, texture_file
+
+
+def mesh_ply(scene, corners: np.ndarray | None = None, uv: bool = False) -> bytes:
+    """Binary little-endian PLY of the triangle soup (``corners``: which, default all):
+    per corner its position, normal and linear albedo (``r g b`` floats, Mitsuba's
+    ``vertex_color``; the texture sampled at the corner for a textured one) and, with
+    ``uv``, its texture coordinates (``u v``, v flipped: Mitsuba's (0, 0) is the image's
+    top-left, the scene's its bottom-left), three corners a face."""
+    corners = np.arange(len(scene.positions)) if corners is None else corners
+    positions = np.asarray(scene.positions, np.float32)[corners]
+    normals = np.asarray(scene.normals, np.float32)[corners]
+    albedo = np.asarray(scene.corner_albedo(), np.float32)[corners]
+    columns = [positions, normals, albedo]
+    names = ["x", "y", "z", "nx", "ny", "nz", "r", "g", "b"]
+    if uv:
+        coordinates = np.asarray(scene.uv, np.float32)[corners]
+        columns.append(np.stack([coordinates[:, 0], 1.0 - coordinates[:, 1]], axis=1))
+        names += ["u", "v"]
     count = len(positions)
     header = "\n".join([
         "ply", "format binary_little_endian 1.0", f"element vertex {count}",
-        *(f"property float {name}" for name in ("x", "y", "z", "nx", "ny", "nz",
-                                                "r", "g", "b")),
+        *(f"property float {name}" for name in names),
         f"element face {count // 3}", "property list uchar int vertex_indices",
         "end_header"]) + "\n"
-    vertices = np.ascontiguousarray(np.hstack([positions, normals, albedo]), "<f4")
+    vertices = np.ascontiguousarray(np.hstack(columns), "<f4")
     faces = np.empty(count // 3, dtype=[("n", "u1"), ("i", "<i4", (3,))])
     faces["n"] = 3
     faces["i"] = np.arange(count, dtype=np.int32).reshape(-1, 3)
     return header.encode("ascii") + vertices.tobytes() + faces.tobytes()
+
+
+def pfm_bytes(image: np.ndarray) -> bytes:
+    """A float image as PFM (``Pf`` grey (H, W), ``PF`` colour (H, W, 3); rows stored
+    bottom first, little endian)."""
+    image = np.asarray(image, np.float32)
+    height, width = image.shape[:2]
+    kind = "PF" if image.ndim == 3 else "Pf"
+    header = f"{kind}\n{width} {height}\n-1.0\n".encode("ascii")
+    return header + np.ascontiguousarray(image[::-1], "<f4").tobytes()
 
 
 def _frame_to_world(eye, forward, up) -> np.ndarray:
@@ -201,13 +257,6 @@ def spot_falloff_texture(light: SpotLight, cutoff_degrees: float,
     else:
         values = ((np.abs(x) <= 1.0) & (np.abs(y) <= 1.0)).astype(np.float64)
     return values.astype(np.float32)
-
-
-def pfm_bytes(image: np.ndarray) -> bytes:
-    """A grey float image as PFM (``Pf``; rows stored bottom first, little endian)."""
-    height, width = image.shape
-    header = f"Pf\n{width} {height}\n-1.0\n".encode("ascii")
-    return header + np.ascontiguousarray(image[::-1], "<f4").tobytes()
 
 
 # --- writers ---------------------------------------------------------------------------

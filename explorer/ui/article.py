@@ -263,6 +263,14 @@ def _status(state: AppState, session: LessonSession) -> None:
         imgui.same_line()
         if imgui.small_button("Leave lesson settings"):
             show_screen(state, session.leave())
+        if hasattr(state, "reader_mode"):
+            imgui.same_line()
+            # the reader's mode shows the panels the step uses; the explorer mode all
+            if imgui.small_button("All panels" if state.reader_mode else "Reader's mode"):
+                state.reader_mode = not state.reader_mode
+            if imgui.is_item_hovered():
+                imgui.set_tooltip("Reader's mode: only the panels this step uses. "
+                                  "All panels: the explorer's every tool (Windows menu too).")
     else:
         imgui.text_disabled("your own settings are on screen")
         imgui.same_line()

@@ -170,10 +170,10 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
 def step_marks(state: AppState) -> tuple:
     """The marks of the lesson step on screen (explorer/lesson_marks.py): none when no
     lesson step is applied or the reader changed what the step shows."""
-    from explorer.ui.lesson_panel import session_of, shows_step
+    from explorer.ui.lesson_panel import shows_step
 
-    session = session_of(state)
-    step = session.step if session.applied else None
+    session = getattr(state, "lesson_session", None)   # none made here: no lesson, no marks
+    step = session.step if session is not None and session.applied else None
     if step is None or not step.marks or not shows_step(state.settings, step):
         return ()
     return step.marks
