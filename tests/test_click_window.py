@@ -42,7 +42,9 @@ def _least_clicks(session: str) -> int:
 
 def _run_session(name: str, tmp_path: Path) -> dict:
     done = run_child(["tests/click_app.py", name], tmp_path, timeout=1500)
-    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
+    # the engine's own log shares stdout and may leave a colour escape before the report
+    lines = [line[line.index('{"session"'):] for line in done.stdout.splitlines()
+             if '{"session"' in line]
     assert lines, (f"the click session {name} ended without a report (exit {done.returncode})"
                    f":\n{done.stderr[-4000:]}")
     return json.loads(lines[-1])
