@@ -55,7 +55,11 @@ def installed(tmp_path_factory):
     this checkout installed into a fresh venv."""
     base = tmp_path_factory.mktemp("wheel")
     (base / "source").mkdir()
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
+    # PYGLFW_LIBRARY: explorer.gl.window points pyGLFW at this venv's imgui_bundle glfw
+    # once imported in this process; the fresh venv must load its own (two glfw libraries
+    # in one process: imgui's backend sees no window and draws nothing)
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("PYTHON", "VIRTUAL_ENV", "PYGLFW_"))}
     env["PIP_CACHE_DIR"] = str(base / "pip-cache")
     # build from a copy of what a source distribution holds: setuptools writes build/ and
     # *.egg-info next to the sources, which must not litter the checkout
@@ -121,10 +125,10 @@ def test_installed_window_opens_and_draws(installed):
         pytest.skip(problem)
     bin_folder, outside, env = installed
     shot = outside / "window.png"
-    _run([str(bin_folder / "lpv-explorer"), "run", "--no-persist", "--size", "800x600",
-          "--scene", "cornell",
-          "--screenshot", str(shot), "--frames", "4"], outside, env, 300)
+    proc = _run([str(bin_folder / "lpv-explorer"), "run", "--no-persist", "--size",
+                 "800x600", "--scene", "cornell",
+                 "--screenshot", str(shot), "--frames", "4"], outside, env, 300)
     image = np.asarray(Image.open(shot).convert("RGB"), np.float64)
     assert image.shape == (600, 800, 3)
-    assert image.std() > 10                                   # panels and a picture
+    assert image.std() > 10, proc.stdout + proc.stderr        # panels and a picture
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 200  # not a flat fill
