@@ -202,8 +202,8 @@ def test_settings_and_layout_files_that_are_fifos_or_nest_deeply_are_set_aside(
     assert "nests deeper" in message and not settings.exists()
     layout = tmp_path / "imgui.ini"
     os.mkfifo(layout)
-    assert "is a FIFO" in persist.check_layout_file(layout)
-    assert persist.read_layout(layout) is None
+    text, problem = persist.load_layout(layout)
+    assert text is None and "is a FIFO" in problem
 
 
 def test_a_config_folder_that_cannot_be_made_means_running_without_saving(tmp_path,

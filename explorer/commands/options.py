@@ -406,6 +406,16 @@ def check_scene(name: str, stream: TextIO | None = None) -> None:
 
 # --- output paths ------------------------------------------------------------------------
 
+def _existing_ancestor(folder: Path) -> tuple[Path, list[Path]]:
+    """The nearest of ``folder`` and its parents that exists, and the missing ones below
+    it (nearest to ``folder`` first)."""
+    missing = []
+    while not folder.exists() and folder != folder.parent:
+        missing.append(folder)
+        folder = folder.parent
+    return folder, missing
+
+
 class Outputs:
     """The files and folders one command writes.
 
@@ -473,11 +483,9 @@ class Outputs:
 
     @staticmethod
     def _name_fits(path: Path, option: str) -> None:
-        probe = path.parent
-        while not probe.exists() and probe != probe.parent:
-            probe = probe.parent      # the folder may not be made yet: ask its parent
+        existing, _ = _existing_ancestor(path.parent)   # the folder may not be made yet
         try:
-            longest = os.pathconf(probe, "PC_NAME_MAX")
+            longest = os.pathconf(existing, "PC_NAME_MAX")
         except (OSError, ValueError):
             longest = 255
         length = len(os.fsencode(path.name))
@@ -495,11 +503,7 @@ class Outputs:
         return path
 
     def _writable_folder(self, folder: Path, option: str) -> None:
-        missing = []
-        probe = folder
-        while not probe.exists() and probe != probe.parent:
-            missing.append(probe)
-            probe = probe.parent
+        probe, missing = _existing_ancestor(folder)
         if probe.exists() and not probe.is_dir():
             raise CommandError(f"{option}: cannot make the folder {folder}: {probe} is a file")
         try:

@@ -82,17 +82,15 @@ class App:
         self.persist_settings = persist_settings
         self.wait_when_idle = visible if wait_when_idle is None else bool(wait_when_idle)
         self.idle_timeout_s = float(idle_timeout_s)
+        # the settings there are read even when nothing can be saved
+        read_settings = persist_settings and state is None
         if persist_settings:
             unwritable = persist.writable_config_dir()
             if unwritable:      # run on, saving nothing: said once, never a failed start
                 print(f"lpv-explorer: {unwritable}", file=sys.stderr)
                 self.state.notify(unwritable, "warning")
-                self.persist_settings = persist_settings = False
-                if state is None:
-                    problem = persist.load_state(self.state)
-                    if problem:
-                        self.state.notify(problem, "warning")
-        if persist_settings and state is None:
+                self.persist_settings = False
+        if read_settings:
             problem = persist.load_state(self.state)
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
@@ -174,12 +172,11 @@ class App:
         io.set_ini_filename("")
         self._layout_loaded = False
         if self.persist_settings:
-            # imgui asserts on a layout it cannot use: check it first, set it aside if bad
-            problem = persist.check_layout_file(self._layout_file)
+            # imgui asserts on a layout it cannot use: checked first, set aside if bad
+            layout, problem = persist.load_layout(self._layout_file)
             if problem:
                 print(f"lpv-explorer: {problem}", file=sys.stderr)
                 self.state.notify(problem, "warning")
-            layout = persist.read_layout(self._layout_file)
             if layout:
                 imgui.load_ini_settings_from_memory(layout)
                 self._layout_loaded = True

@@ -100,15 +100,15 @@ class FormulaCache:
             self._cache[key] = self._cache.pop(key)      # most recently used last
             return self._cache[key]
         while len(self._cache) >= MAX_CACHED_FORMULAS:
-            (old_latex, old_size, old_inline), _ = next(iter(self._cache.items()))
-            del self._cache[(old_latex, old_size, old_inline)]
-            self.textures.discard(f"formula:{old_latex}:{old_size}:{old_inline}")
+            oldest = next(iter(self._cache))
+            del self._cache[oldest]
+            self.textures.discard(_texture_key(oldest))
         formula = Formula(0, 0, 0, latex)
         if self.available:
             try:
                 rendered, pixels = typeset(latex, size, inline)
                 if pixels.size:
-                    tex = self.textures.upload(f"formula:{latex}:{size}:{inline}", pixels,
+                    tex = self.textures.upload(_texture_key(key), pixels,
                                                version=key, nearest=False)
                     formula = Formula(tex, pixels.shape[1], pixels.shape[0], latex,
                                       int(rendered.baseline_y))
@@ -116,6 +116,12 @@ class FormulaCache:
                 self.error = f"could not typeset {latex!r}: {exc}"
         self._cache[key] = formula
         return formula
+
+
+def _texture_key(key: tuple[str, float, bool]) -> str:
+    """The UI texture name of a cached formula (latex, size, inline)."""
+    latex, size, inline = key
+    return f"formula:{latex}:{size}:{inline}"
 
 
 def typeset(latex: str, size: float, inline: bool = False):

@@ -126,30 +126,25 @@ def load_state(state: AppState, path: Path | None = None) -> str | None:
     return None
 
 
-def check_layout_file(path: Path | None = None) -> str | None:
-    """Check the dock layout file before imgui loads it (imgui asserts, and the process
-    ends, on a layout it cannot use). None when it is fine or absent; otherwise it is set
-    aside and the text says why and where (the default layout is then built)."""
+def load_layout(path: Path | None = None) -> tuple[str | None, str | None]:
+    """(the dock layout's text for imgui, the problem) from one read of the file, checked
+    before imgui loads it (imgui asserts, and the process ends, on a layout it cannot
+    use). (None, None) when there is no file; a file that fails is set aside and the
+    problem says why and where (the default layout is then built)."""
     path = path or layout_path()
     if not os.path.lexists(path):
-        return None
+        return None, None
     try:
-        check_layout(read_text(path, "layout file"))
+        text = read_text(path, "layout file")
+        check_layout(text)
     except (UserFileError, LayoutFileError) as exc:
-        return _setting_aside(path, str(exc), "layout")
-    return None
+        return None, _setting_aside(path, str(exc), "layout")
+    return text, None
 
 
-def read_layout(path: Path | None = None) -> str | None:
-    """The dock layout's text for imgui (None when there is none, or it cannot be read:
-    :func:`check_layout_file` has set a bad one aside)."""
-    path = path or layout_path()
-    if not os.path.lexists(path):
-        return None
-    try:
-        return read_text(path, "layout file")
-    except UserFileError:
-        return None
+def check_layout_file(path: Path | None = None) -> str | None:
+    """:func:`load_layout`'s problem alone: None when the layout file is fine or absent."""
+    return load_layout(path)[1]
 
 
 def save_layout(text: str, path: Path | None = None) -> None:
