@@ -1,7 +1,7 @@
 """What a lesson step may embed as a figure: each figure kind's parameters, checked.
 
 A figure kind's parameters are a frozen dataclass declared with
-:func:`explorer.lpv.schema.setting`, the same declarations the Settings use: each field
+:func:`explorer.schema.setting`, the same declarations the Settings use: each field
 states its kind, range or choices and documentation, and the dataclass validates itself
 when made. :func:`parse_figure` reads a lesson's ``[[steps.figures]]`` table (or
 command-line options) into a :class:`FigureSpec`, so a lesson author reads e.g.
@@ -17,7 +17,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from explorer.lpv.schema import SettingError, Spec, from_dict, setting, specs, validate
+from explorer.schema import SettingError, Spec, from_dict, setting, specs, validate
 from explorer.lpv.settings import PRESETS, Corrections
 
 SCALES = ("auto", "linear", "log")

@@ -79,7 +79,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-from explorer.lpv.schema import SettingError, Spec, check_fields, from_dict, specs
+from explorer.schema import SettingError, Spec, check_fields, from_dict, specs
 from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Corrections, Settings
 from explorer import safe_files
 from explorer.resources import lesson_dir
@@ -107,7 +107,7 @@ COMPARE_VIEWS = ("split", "difference")
 STEP_VIEWS = VIEWS + COMPARE_VIEWS
 
 # The lesson file's own keys, declared like the Settings fields and checked by the same
-# schema (explorer/lpv/schema.py). Tables with more structure (settings, corrections,
+# schema (explorer/schema.py). Tables with more structure (settings, corrections,
 # camera, light, formulas, try_this, steps) are read by the functions below.
 _SCENE = Spec(kind="choice", choices=tuple(BUILTIN_SCENES),
               doc="A built-in scene (explorer/scene/builtin.py).")
@@ -715,7 +715,7 @@ class _Reader:
     def try_values(self, step: Step) -> Step:
         """``step`` with each try-this value checked against the settings schema on top of
         the step's settings (and normalised: TOML lists become tuples)."""
-        from explorer.lpv.schema import SettingError
+        from explorer.schema import SettingError
 
         base = step.settings()
         checked = []

@@ -1,6 +1,6 @@
 """What the main view draws in the scene (``explorer/ui/overlays``): :class:`OverlayState`.
 
-The overlays' settings are declared with :func:`explorer.lpv.schema.setting`, like the
+The overlays' settings are declared with :func:`explorer.schema.setting`, like the
 Settings, and live below the window (no imgui, no GL) so that the lesson loader can check
 a step's ``[steps.show]`` table against them (``explorer/lessons.py``) and the window
 persists and draws the same declarations (``explorer/ui/state.py`` re-exports them).
@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from explorer.lpv.schema import setting, validate
+from explorer.schema import setting, validate
 from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS
 
 SLICE_AXES = ("x", "y", "z")
@@ -143,12 +143,12 @@ def step_overlays(show: Mapping[str, Any], base: OverlayState | None = None) -> 
 
 def check_show(show: Mapping[str, Any], settings) -> dict[str, Any]:
     """A lesson step's ``[steps.show]`` table checked field by field against the specs
-    (:func:`explorer.lpv.schema.check_fields`) and against the step's ``settings``: light
+    (:func:`explorer.schema.check_fields`) and against the step's ``settings``: light
     in flight at a step the propagation runs, coefficients the grid holds, a picked
     point for glyphs around it. Returns the normalised fields; a :class:`SettingError`
     names the field."""
     from explorer.lpv.cascades import cascade_iterations
-    from explorer.lpv.schema import SettingError, check_fields
+    from explorer.schema import SettingError, check_fields
 
     for name in READER_FIELDS:
         if name in show:

@@ -9,14 +9,14 @@
 // step is added to it, acc += P(acc). Invocations race: some neighbours are already updated
 // when read, so the result depends on the GPU's invocation order. Kept to show the hazard.
 // What it can produce (one value per schedule of neighbour reads) is
-// explorer/lpv/reference.py in_place_step_candidates.
+// explorer/lpv/twin.py in_place_step_candidates.
 //
 // The same dispatch measures the step's energy audit (GridAudit): every cell writes 18
 // numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,
 // the clamp gain and occluded flux of the faces it gathers through, as a border cell the
 // border loss, clamp gain and occluded flux of the faces it sends out of the grid, and the
 // flux reflected back into it and the blocked flux that could bounce (reflection.glsl);
-// explorer/lpv/reference.py propagation_step_cells books them alike. audit_reduce.glsl sums
+// explorer/lpv/twin.py propagation_step_cells books them alike. audit_reduce.glsl sums
 // them; a shared-memory reduction here would need barrier(), which costs llvmpipe more than
 // the whole step. Each cell also adds its record to its own running sum over the steps in
 // `cell_sums` (no other invocation touches it), which the window reads back for one picked

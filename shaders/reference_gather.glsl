@@ -101,7 +101,7 @@ bool segment_blocked(vec3 from, vec3 to) {
                 if (t > t_lo && t < t_hi) return true;
             }
         } else {
-            // The builder bounds the depth well below the stack size (reference.py).
+            // The builder bounds the depth well below the stack size (explorer/truth/bvh.py).
             stack[top++] = index + 1;
             stack[top++] = node.left_or_first;
         }

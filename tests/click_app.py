@@ -202,7 +202,7 @@ class Clicks:
         """Draw frames until the pipelines have nothing left to do."""
         app = self.app
         return self.until(lambda: app.status is not None and not app.status.active
-                          and app.state.runtime.result is not None,
+                          and app.state.runtime.frame.result is not None,
                           "the frame converged", frames)
 
     # -- checks -----------------------------------------------------------------------
@@ -252,7 +252,7 @@ class Clicks:
         shot = Path(tempfile.mkdtemp(prefix="click-")) / "view.png"
         self.state.requests.screenshot = shot       # the window keeps the frame it writes
         self.ctx.yield_(2)
-        rect, pixels = self.state.runtime.view_rect, self.app.last_pixels
+        rect, pixels = self.state.runtime.view.view_rect, self.app.last_pixels
         shot.unlink(missing_ok=True)
         shot.parent.rmdir()
         if rect is None or pixels is None:

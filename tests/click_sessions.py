@@ -190,7 +190,7 @@ def _provisional_while_converging(c, step, where: str) -> None:
     from explorer import lesson_text, live_values
     from explorer.ui import article
 
-    progress = c.state.runtime.progress.get("A")
+    progress = c.state.runtime.frame.progress.get("A")
     if not progress:
         return
     session = c.state.lesson_session
@@ -199,7 +199,7 @@ def _provisional_while_converging(c, step, where: str) -> None:
         if not article.provisional(live_values.lookup(name, step.figure_ids)):
             continue
         text, tip = env.value(name, fmt)
-        if text != live_values.PENDING and c.state.runtime.progress.get("A"):
+        if text != live_values.PENDING and c.state.runtime.frame.progress.get("A"):
             c.check(text.startswith(article.PROVISIONAL) and "provisional" in tip,
                     f"{where}: {name} reads {text!r} while the frame is {progress}")
 

@@ -1,4 +1,4 @@
-"""Data the figure tests share: FrameResult stand-ins built from the numpy reference."""
+"""Data the figure tests share: FrameResult stand-ins built from the numpy twin."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from explorer.ui.figures import make_figure, propagation_stepper
 
 
 def synthetic_result(corrections: str, iterations: int = 6):
-    """A FrameResult stand-in (settings and an EnergyAudit) from the numpy reference."""
+    """A FrameResult stand-in (settings and an EnergyAudit) from the numpy twin."""
     params = make_figure("propagation-stepper", iterations=iterations,
                          corrections=corrections).params
     audit = propagation_stepper.run(params).audit

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from explorer.lpv import reference
+from explorer.lpv import twin
 from explorer.lpv.settings import Settings
 from explorer.ui.overlays import picking
 from explorer.ui.state import AppState
@@ -44,7 +44,7 @@ def _settled_app(view_mode: str = "single"):
     # big enough that the view shows every frame pixel at least once (no pick rounding)
     app = _app(state, width=1600, height=900)
     app.settle()
-    assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+    assert app.state.runtime.frame.result is not None, app.state.runtime.frame.pipeline_error
     return app
 
 
@@ -57,7 +57,7 @@ def test_each_overlay_changes_the_view_and_runs_no_stage():
     app = _settled_app()
     try:
         runs = RunCounter(app.controller.sides["A"].pipeline)
-        result = app.state.runtime.result
+        result = app.state.runtime.frame.result
         app.frame(capture=True)
         plain = _view_pixels(app)
         for name, switches in OVERLAYS:
@@ -76,20 +76,20 @@ def test_each_overlay_changes_the_view_and_runs_no_stage():
         app.state.overlays.slice_axis = "x"
         app.frame(capture=True)
         assert np.abs(_view_pixels(app) - first).mean() > 0.5
-        assert runs.count == 0 and app.state.runtime.result is result
+        assert runs.count == 0 and app.state.runtime.frame.result is result
         # the light in flight needs the propagation steps: one run records them (with no
         # progressive pictures, which would gather the accumulation as it grows)
         app.state.progressive = False
         app.state.overlays.slice_quantity = "in-flight"
         app.settle()
-        assert runs.count == 1 and app.state.runtime.result.steps is not None
+        assert runs.count == 1 and app.state.runtime.frame.result.steps is not None
         # the same light again, with its steps: nothing downstream changed
-        assert app.state.runtime.result.stages_run == ("propagate",)
+        assert app.state.runtime.frame.result.stages_run == ("propagate",)
         for step in range(TINY.iterations + 1):
             app.state.overlays.slice_step = step
             app.frame()
         assert runs.count == 1
-        assert app.state.runtime.compositor.notes["A"] == []
+        assert app.state.runtime.services.compositor.notes["A"] == []
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
         assert app.ctx.error == "GL_NO_ERROR"
@@ -100,7 +100,7 @@ def test_each_overlay_changes_the_view_and_runs_no_stage():
 def test_overlays_are_drawn_on_both_sides_of_the_split_view():
     app = _settled_app("split")
     try:
-        assert app.state.runtime.compare_result is not None
+        assert app.state.runtime.frame.compare_result is not None
         runs_a, runs_b = (RunCounter(app.controller.sides[side].pipeline) for side in "AB")
         app.frame(capture=True)
         plain = _view_pixels(app)
@@ -119,7 +119,7 @@ def _screen_position(app, x: int, y: int) -> tuple[float, float]:
     """Where pixel (x, y) of the frame is drawn, in imgui's screen units."""
     from imgui_bundle import imgui
 
-    x0, y0, x1, y1 = app.state.runtime.view_rect
+    x0, y0, x1, y1 = app.state.runtime.view.view_rect
     width, height = app.state.settings.width, app.state.settings.height
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     return ((x0 + (x + 0.5) / width * (x1 - x0)) / scale,
@@ -131,18 +131,18 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
 
     app = _settled_app()
     try:
-        result = app.state.runtime.result
+        result = app.state.runtime.frame.result
         x, y = 80, 170                          # the floor, left of the short block
         assert result.gbuffer_normal[y, x, 1] > 0.99
         io = imgui.get_io()
         io.add_mouse_pos_event(*_screen_position(app, x, y))
         app.frame()
-        assert app.state.runtime.hover is None, "a pointer that did not move reads nothing"
+        assert app.state.runtime.view.hover is None, "a pointer that did not move reads nothing"
         io.add_mouse_pos_event(*_screen_position(app, x + 3, y))
         app.frame()
         io.add_mouse_pos_event(*_screen_position(app, x, y))
         app.frame()
-        hover = app.state.runtime.hover
+        hover = app.state.runtime.view.hover
         assert hover is not None and hover.pixel == (x, y)
         io.add_mouse_button_event(0, True)
         app.frame()
@@ -163,7 +163,7 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         np.testing.assert_allclose(pick.indirect_from_grid, pick.indirect, rtol=1e-4)
         # the picked point is drawn (its cell box and marker) and the Picked panel reads it
         app.frame(capture=True)
-        assert app.state.runtime.compositor.compositions > 0
+        assert app.state.runtime.services.compositor.compositions > 0
         app.state.open_panels["Picked"] = True
         app.state.requests.focus_panel = "Picked"
         for _ in range(2):
@@ -172,11 +172,11 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
         o.slice, o.slice_axis, o.slice_index = True, "z", 8
         io.add_mouse_pos_event(*_screen_position(app, 128, 60))
         app.frame()
-        hover = app.state.runtime.hover
+        hover = app.state.runtime.view.hover
         assert hover.cell is not None and hover.cell.index[2] == 8
         # the value under the mouse is the slice's quantity in that cell (acc_N's intensity
         # toward +y, mean of the channels), recomputed here from the arrays
-        up = reference.sh_basis(np.array([0.0, 1.0, 0.0]))
+        up = twin.sh_basis(np.array([0.0, 1.0, 0.0]))
         expected = np.dot(result.accumulated[(slice(None),) + hover.cell.index], up).mean()
         assert hover.slice_value[1] == pytest.approx(expected, rel=1e-5)
         io.add_mouse_button_event(0, True)
@@ -204,7 +204,7 @@ def test_the_picked_pixel_reads_its_reference_and_the_picked_cell_its_audit(tmp_
     app = _settled_app()
     try:
         rt, o = app.state.runtime, app.state.overlays
-        result = rt.result
+        result = rt.frame.result
         x, y = 80, 170                          # the floor, left of the short block
         o.pick("pixel", "A", 0, result.gbuffer_position[y, x, :3])
         app.state.open_panels["Picked"] = True
@@ -228,11 +228,12 @@ def test_the_picked_pixel_reads_its_reference_and_the_picked_cell_its_audit(tmp_
         # The default layout's flux plot asks only for the flux per step (no records);
         # the Picked panel, now shown, asks for the full audit: only propagate runs again
         for _ in range(40):
-            if rt.result.cascades[0].cell_records is not None:
+            if rt.frame.result.cascades[0].cell_records is not None:
                 break
             app.frame()
-        assert rt.result.cascades[0].cell_records is not None and rt.result is not result
-        result = rt.result
+        assert rt.frame.result.cascades[0].cell_records is not None
+        assert rt.frame.result is not result
+        result = rt.frame.result
         cell = picking.cell_at(result, o.picked_cascade, o.picked_point)
         info = picking.cell_audit(result, o.picked_cascade, cell)
         assert isinstance(info, picking.CellAuditInfo) and info.steps == TINY.iterations
@@ -249,10 +250,10 @@ def test_the_picked_pixel_reads_its_reference_and_the_picked_cell_its_audit(tmp_
         app.state.update(iterations=3)
         for _ in range(3):
             app.frame()
-        assert rt.result is not result
+        assert rt.frame.result is not result
         other = tuple((c + 1) % 16 for c in cell)
         assert isinstance(picking.cell_audit(result, 0, other), str)
-        assert isinstance(picking.cell_audit(rt.result, 0, other), picking.CellAuditInfo)
+        assert isinstance(picking.cell_audit(rt.frame.result, 0, other), picking.CellAuditInfo)
     finally:
         app.close()
 
@@ -262,17 +263,17 @@ def test_camera_controls_rerun_only_the_camera_stages():
 
     app = _settled_app()
     try:
-        before = app.state.runtime.result
+        before = app.state.runtime.frame.result
         assert camera_controls.frame_scene(app.state)
         app.settle()
-        after = app.state.runtime.result
+        after = app.state.runtime.frame.result
         assert after is not before and after.stages_run == ("gbuffer", "gather", "display")
         assert after.gbuffer_position[96, 128, 3] > 0.5
         point = after.gbuffer_position[96, 128, :3]
         app.state.overlays.pick("pixel", "A", 0, point)
         assert camera_controls.frame_picked(app.state)
         app.settle()
-        framed = app.state.runtime.result
+        framed = app.state.runtime.frame.result
         assert np.allclose(framed.camera.target, point)
         # the picked point stays anchored: the new frame shows it at the image centre
         x, y = picking.pixel_of(framed, point)

@@ -35,21 +35,21 @@ def test_an_idle_window_draws_nothing_until_something_changes():
         assert app.settle()
         for _ in range(4):            # the frames imgui draws after the last change
             app.frame()
-        drawn, stages = app.state.runtime.frame_index, _stages_begun(app)
+        drawn, stages = app.state.runtime.frame.frame_index, _stages_begun(app)
         skipped = app.frames_skipped
         for _ in range(20):
             assert app.frame()
-        assert app.state.runtime.frame_index == drawn, "an idle window drew"
+        assert app.state.runtime.frame.frame_index == drawn, "an idle window drew"
         assert app.frames_skipped - skipped == 20
         assert _stages_begun(app) == stages
         app.state.update(exposure=2.0)            # a change: drawn at once, no stage runs
         app.frame()
-        assert app.state.runtime.frame_index == drawn + 1
-        assert app.state.runtime.displays["A"].exposure == 2.0
+        assert app.state.runtime.frame.frame_index == drawn + 1
+        assert app.state.runtime.frame.displays["A"].exposure == 2.0
         assert _stages_begun(app) == stages
         app.window._on_event()                   # any input event draws too
         app.frame()
-        assert app.state.runtime.frame_index == drawn + 2
+        assert app.state.runtime.frame.frame_index == drawn + 2
     finally:
         app.close()
 
@@ -60,7 +60,7 @@ def _drag(app) -> list:
     waits for events wakes for it)."""
     from imgui_bundle import imgui
 
-    x0, y0, x1, y1 = app.state.runtime.view_rect
+    x0, y0, x1, y1 = app.state.runtime.view.view_rect
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
     io = imgui.get_io()
@@ -76,8 +76,8 @@ def _drag(app) -> list:
         io.add_mouse_pos_event(x + 6 * step, y)
         app.window._on_event()
         app.frame()
-        assert app.state.runtime.interaction.held
-        sizes.append(app.state.runtime.result.direct.shape[:2])
+        assert app.state.runtime.view.interaction.held
+        sizes.append(app.state.runtime.frame.result.direct.shape[:2])
     return sizes
 
 
@@ -89,7 +89,7 @@ def test_a_drag_on_the_view_renders_smaller_then_refines():
     app = _app(state, width=1200, height=800)
     try:
         assert app.settle()
-        full = app.state.runtime.result.direct.shape[:2]
+        full = app.state.runtime.frame.result.direct.shape[:2]
         io = imgui.get_io()
         sizes = _drag(app)
         camera = app.state.settings.camera
@@ -97,9 +97,9 @@ def test_a_drag_on_the_view_renders_smaller_then_refines():
         assert any(size[0] < full[0] and size[1] < full[1] for size in sizes), sizes
         io.add_mouse_button_event(0, False)
         assert app.settle()                   # the drag ended: the full size follows
-        assert not app.state.runtime.interaction.held
-        assert app.state.runtime.result.direct.shape[:2] == full
-        assert app.state.runtime.result.camera.eye == pytest.approx(camera[0])
+        assert not app.state.runtime.view.interaction.held
+        assert app.state.runtime.frame.result.direct.shape[:2] == full
+        assert app.state.runtime.frame.result.camera.eye == pytest.approx(camera[0])
         assert [m.text for m in app.state.messages if m.level == "error"] == []
     finally:
         app.close()
@@ -117,20 +117,20 @@ def test_a_released_drag_refines_without_waiting_for_the_idle_timeout():
     app = _app(state, width=1200, height=800, wait_when_idle=True, idle_timeout_s=30.0)
     try:
         assert app.settle()
-        full = app.state.runtime.result.direct.shape[:2]
+        full = app.state.runtime.frame.result.direct.shape[:2]
         _drag(app)
         imgui.get_io().add_mouse_button_event(0, False)
         app.window._on_event()
         app.frame()                            # the release: the camera settles now
-        assert not app.state.runtime.interaction.held
+        assert not app.state.runtime.view.interaction.held
         assert app._idle_timeout() <= INTERACTION_SETTLE_S + 0.02
         waits = []
         for _ in range(500):
             app.frame()
             waits.append(app.last_wait_s)
-            if app.state.runtime.result.direct.shape[:2] == full and not app.status.active:
+            if app.state.runtime.frame.result.direct.shape[:2] == full and not app.status.active:
                 break
-        assert app.state.runtime.result.direct.shape[:2] == full
+        assert app.state.runtime.frame.result.direct.shape[:2] == full
         assert max(waits) <= INTERACTION_SETTLE_S + 1.0, waits     # not the 30 s timeout
     finally:
         app.close()

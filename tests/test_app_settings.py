@@ -251,7 +251,7 @@ def test_what_the_window_saves_always_reads_back(tmp_path):
 def test_the_scene_panel_draws_every_declared_widget_from_its_spec():
     """Every field of Settings and AppState that declares a widget or a group is a control
     of exactly one section; generic widgets take label, range and tooltip from the spec."""
-    from explorer.lpv.schema import specs
+    from explorer.schema import specs
     from explorer.ui.panels.scene import GROUPS, OWNERS, controls
     from explorer.ui.setting_widgets import combo_options, label_of, slider_range, tooltip_of
 

@@ -53,8 +53,8 @@ def test_window_opens_and_draws_the_panels(config_home):
         assert pixels.shape == (600, 800, 3)
         assert pixels.std() > 10, "the frame is blank"
         assert app.ctx.error == "GL_NO_ERROR"
-        assert "no LPV pipeline" in app.state.runtime.pipeline_error
-        assert app.state.runtime.markdown_ready
+        assert "no LPV pipeline" in app.state.runtime.frame.pipeline_error
+        assert app.state.runtime.services.markdown_ready
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
     finally:
@@ -141,9 +141,9 @@ def test_a_gl_without_compute_shaders_gets_a_message_not_a_crash(config_home, mo
     app = _app()
     try:
         assert app.frame(capture=True)
-        assert "compute shaders" in app.state.runtime.gl_problem
+        assert "compute shaders" in app.state.runtime.services.gl_problem
         assert app.last_pixels.std() > 5
-        assert app.state.runtime.result is None
+        assert app.state.runtime.frame.result is None
     finally:
         app.close()
     assert "compute shaders" in capsys.readouterr().err
@@ -153,10 +153,10 @@ def test_a_minimised_window_skips_rendering(config_home, monkeypatch):
     app = _app(pipeline_class=None)
     try:
         app.frame()
-        drawn = app.state.runtime.frame_index
+        drawn = app.state.runtime.frame.frame_index
         monkeypatch.setattr(type(app.window), "minimised", property(lambda self: True))
         assert app.frame()
-        assert app.state.runtime.frame_index == drawn
+        assert app.state.runtime.frame.frame_index == drawn
         assert app.ctx.error == "GL_NO_ERROR"
     finally:
         app.close()
@@ -276,7 +276,7 @@ def test_pipeline_reruns_only_on_change_and_a_broken_mesh_keeps_the_scene(config
         app.state.set_corrections(propagation_4pi=False)
         app.frame()
         assert len(RecordingPipeline.runs) == ran + 1
-        assert app.state.runtime.result.settings.corrections.propagation_4pi is False
+        assert app.state.runtime.frame.result.settings.corrections.propagation_4pi is False
 
         app.window.dropped_paths.append(config_home / "broken.obj")   # drag and drop
         app.frame()
@@ -291,8 +291,8 @@ def test_pipeline_reruns_only_on_change_and_a_broken_mesh_keeps_the_scene(config
         app.state.view_mode = "split"
         app.frame()
         app.frame()
-        assert app.state.runtime.compare_result is not None
-        assert app.state.runtime.result.steps is not None
+        assert app.state.runtime.frame.compare_result is not None
+        assert app.state.runtime.frame.result.steps is not None
         errors = [m.text for m in app.state.messages if m.level == "error"
                   and "broken.obj" not in m.text]
         assert errors == []
@@ -315,7 +315,7 @@ needs_pipeline = pytest.mark.skipif(not _pipeline_available(),
 def _view_pixels(app) -> np.ndarray:
     # The size is rounded on its own, so that one picture moved by a toolbar row (the split
     # view's extra checkbox) keeps its pixel count whatever the rounding of its edges.
-    left, top, right, bottom = app.state.runtime.view_rect
+    left, top, right, bottom = app.state.runtime.view.view_rect
     x0, y0 = int(round(left)), int(round(top))
     x1, y1 = x0 + int(round(right - left)), y0 + int(round(bottom - top))
     return app.last_pixels[y0 + 2:y1 - 2, x0 + 2:x1 - 2].astype(np.float32)
@@ -329,7 +329,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
     try:
         app.settle()
         app.frame(capture=True)
-        assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+        assert app.state.runtime.frame.result is not None, app.state.runtime.frame.pipeline_error
         corrected = _view_pixels(app)
         assert corrected.std() > 5, "the 3D view is blank"
         assert app.ctx.error == "GL_NO_ERROR"
@@ -360,20 +360,21 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.state.view_buffer = "final"
 
         rt = app.state.runtime          # the display's auto exposure (on by default):
-        assert rt.compare_result.display_scale != rt.result.display_scale   # their own,
-        assert rt.displays["B"].scale == rt.displays["A"].scale   # but B is shown at A's
+        shown = rt.frame
+        assert shown.compare_result.display_scale != shown.result.display_scale   # their own,
+        assert shown.displays["B"].scale == shown.displays["A"].scale   # but B is shown at A's
         app.state.expose_sides_separately = True           # each side on its own
         app.frame()
-        assert rt.displays["B"].scale == rt.compare_result.display_scale
-        assert rt.displays["A"].scale == rt.result.display_scale
+        assert rt.frame.displays["B"].scale == rt.frame.compare_result.display_scale
+        assert rt.frame.displays["A"].scale == rt.frame.result.display_scale
         app.state.update(auto_exposure=False)              # a fixed display exposure: the
         for _ in range(3):                                 # sides get their exposures
             app.frame()
-        exposure_a, exposure_b = app.state.runtime.side_exposures
+        exposure_a, exposure_b = app.state.runtime.frame.side_exposures
         assert exposure_a != exposure_b and (exposure_a, exposure_b) != (1.0, 1.0)
-        assert rt.displays["A"].exposure == exposure_a
-        assert rt.displays["B"].exposure == exposure_b
-        assert rt.displays["A"].scale == rt.displays["B"].scale == 1.0
+        assert rt.frame.displays["A"].exposure == exposure_a
+        assert rt.frame.displays["B"].exposure == exposure_b
+        assert rt.frame.displays["A"].scale == rt.frame.displays["B"].scale == 1.0
         app.state.expose_sides_separately = False
         app.state.update(auto_exposure=True, exposure=1.0)
 
@@ -385,7 +386,7 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
         app.settle()
         app.frame(capture=True)
         assert _view_pixels(app).std() > 1.0
-        assert app.state.runtime.result.steps is not None
+        assert app.state.runtime.frame.result.steps is not None
         errors = [m.text for m in app.state.messages if m.level == "error"]
         assert errors == []
 
@@ -415,19 +416,19 @@ def test_real_pipeline_view_reacts_to_the_switches_and_splits(config_home, monke
             stamp[0] += bump
             app.controller.poll_shaders(app.state)
             app.frame()
-        shader_errors = app.state.runtime.shader_errors
+        shader_errors = app.state.runtime.services.shader_errors
         assert shader_errors and "syntax error" in next(iter(shader_errors.values()))
         app.state.set_corrections(propagation_4pi=False)   # still renders with the old ones
         app.settle()
         app.frame(capture=True)
         assert np.abs(_view_pixels(app) - flipped).mean() < 1.0
-        assert app.state.runtime.result.settings.corrections.propagation_4pi is False
+        assert app.state.runtime.frame.result.settings.corrections.propagation_4pi is False
 
         monkeypatch.setattr(program_module, "load_program", good_load)
         stamp[0] += 10.0
         app.controller.poll_shaders(app.state)
         app.frame()
-        assert app.state.runtime.shader_errors == {}
+        assert app.state.runtime.services.shader_errors == {}
         assert any(m.text.startswith("shaders reloaded") for m in app.state.messages)
     finally:
         app.close()
@@ -482,7 +483,7 @@ def test_a_saved_scene_that_no_longer_opens_falls_back_to_the_default(config_hom
     try:
         app.settle()
         assert app.state.settings.scene == Settings().scene
-        assert app.state.runtime.result is not None
+        assert app.state.runtime.frame.result is not None
         assert any("gone.obj" in m.text for m in app.state.messages if m.level == "error")
     finally:
         app.close()
@@ -500,7 +501,7 @@ def test_new_options_change_the_view_and_a_refused_combination_keeps_the_setting
         app.settle()
         app.frame(capture=True)
         base = _view_pixels(app)
-        assert app.state.runtime.result is not None, app.state.runtime.pipeline_error
+        assert app.state.runtime.frame.result is not None, app.state.runtime.frame.pipeline_error
 
         before = app.state.settings
         assert app.state.update(bounces=2) is False          # geometry volume is off
@@ -518,7 +519,7 @@ def test_new_options_change_the_view_and_a_refused_combination_keeps_the_setting
                                 bounces=2)
         app.settle()
         app.frame(capture=True)
-        assert app.state.runtime.result.settings.bounces == 2
+        assert app.state.runtime.frame.result.settings.bounces == 2
         assert np.abs(_view_pixels(app) - base).mean() > 0.2, "a second bounce changed nothing"
 
         assert app.state.update(bounces=1, geometry_volume="off", cascades=2)
@@ -526,7 +527,7 @@ def test_new_options_change_the_view_and_a_refused_combination_keeps_the_setting
         app.state.inspect.cascade = 1
         app.settle()
         app.frame(capture=True)
-        result = app.state.runtime.result
+        result = app.state.runtime.frame.result
         assert len(result.cascade_specs) == 2 and app.state.inspect.cascade == 1
         assert np.abs(_view_pixels(app) - base).mean() > 0.2, "two cascades changed nothing"
         assert app.ctx.error == "GL_NO_ERROR"
@@ -615,10 +616,10 @@ def test_settings_the_pipeline_refused_are_not_written_back(config_home):
     app = App(state, **SMALL, persist_settings=True, pipeline_class=RefusingPipeline)
     try:
         app.settle()
-        assert app.state.runtime.result is not None
+        assert app.state.runtime.frame.result is not None
         app.state.update(grid_size=32, iterations=5)
         app.frame()
-        assert "exceeds this driver's limit" in app.state.runtime.pipeline_error
+        assert "exceeds this driver's limit" in app.state.runtime.frame.pipeline_error
     finally:
         app.close()
     saved = json.loads((config_home / "settings.json").read_text())
@@ -634,17 +635,17 @@ def test_the_numeric_guards_warn_in_the_messages_once(config_home):
     app = _app(state)
     try:
         app.settle()
-        assert app.state.runtime.result.warnings == []
+        assert app.state.runtime.frame.result.warnings == []
         app.state.set_corrections(injection_pi=False)   # the published injection alone
         app.settle()
         grows = [m for m in app.state.messages
                  if m.level == "warning" and m.text.startswith("the flux grows")]
-        assert len(grows) == 1 and app.state.runtime.result.warnings
-        result = app.state.runtime.result
+        assert len(grows) == 1 and app.state.runtime.frame.result.warnings
+        result = app.state.runtime.frame.result
         app.state.update(exposure=0.5)
         app.frame()
-        assert app.state.runtime.displays["A"].exposure == 0.5
-        assert app.state.runtime.result is result, "a display change runs no pass"
+        assert app.state.runtime.frame.displays["A"].exposure == 0.5
+        assert app.state.runtime.frame.result is result, "a display change runs no pass"
         assert sum(m.text.startswith("the flux grows") for m in app.state.messages) == 1
     finally:
         app.close()

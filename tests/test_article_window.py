@@ -48,7 +48,7 @@ try:
     step = session.step
     assert session.lesson.id == "radiometry" and step.number == 4 and session.applied
     assert state.settings.grid_size == 16 and state.settings.exposure == 2.0
-    assert state.runtime.result is not None
+    assert state.runtime.frame.result is not None
     # the Lesson window is docked alone: no other window shares its dock node
     window = internal.find_window_by_name("Lesson")
     assert window is not None and window.dock_node is not None
@@ -63,8 +63,9 @@ try:
     assert window.size.x >= 400
     # the text was typeset: formulas cached without errors, fonts loaded
     rt = state.runtime
-    assert rt.formulas.error is None, rt.formulas.error
-    assert rt.fonts is not None and {"regular", "bold", "italic", "code"} <= set(rt.fonts.by_style)
+    assert rt.services.formulas.error is None, rt.services.formulas.error
+    assert rt.services.fonts is not None
+    assert {"regular", "bold", "italic", "code"} <= set(rt.services.fonts.by_style)
     before = app.last_pixels
     app.frame(capture=True)
     column = app.last_pixels[40:700, 10:int(window.size.x) - 10]
@@ -76,7 +77,8 @@ try:
     app.settle()
     assert state.view_mode == "split" and state.settings.grid_size == 16
     assert app.settings_for("B").grid_size == item.value
-    assert rt.compare_result is not None and rt.compare_result.settings.grid_size == item.value
+    assert rt.frame.compare_result is not None
+    assert rt.frame.compare_result.settings.grid_size == item.value
     show_screen(state, session.toggle_try(index, current_screen(state)))   # undo
     app.frame()
     assert state.view_mode == "single" and state.compare_overrides == ()

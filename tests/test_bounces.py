@@ -1,5 +1,5 @@
 """More bounces (docs/MODEL.md "More bounces"): the geometry volume reflects the light it
-blocks. GPU against the numpy reference, the energy bound and the audit balance."""
+blocks. GPU against the numpy twin, the energy bound and the audit balance."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from lpv_cases import in_place_schedules, random_grid, random_vpls, relative_error
 
-from explorer.lpv import reference as ref
+from explorer.lpv import twin
 from explorer.lpv.geometry import inject_geometry
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
@@ -31,7 +31,7 @@ def one_sided_geometry(rng: np.random.Generator, size: int) -> np.ndarray:
     """Blockers with a clear normal per cell: w·lobe(n), random n and w."""
     normals = rng.standard_normal((size,) * 3 + (3,))
     normals /= np.linalg.norm(normals, axis=-1, keepdims=True)
-    return 0.8 * rng.random((size,) * 3)[..., None] * ref.cosine_lobe(normals)
+    return 0.8 * rng.random((size,) * 3)[..., None] * twin.cosine_lobe(normals)
 
 
 @pytest.mark.parametrize("corrections", [
@@ -45,7 +45,7 @@ def test_reflection_matches_reference(ctx, corrections):
     albedo = random_albedo_sums(rng, 7)
     steps, acc, audit = propagate_with_audit(grid, corrections, 3, geometry, ctx=ctx,
                                              geometry_albedo=albedo, bounces=2)
-    expected, expected_acc, expected_audit = ref.propagate_audited(
+    expected, expected_acc, expected_audit = twin.propagate_audited(
         grid, corrections, 3, geometry, albedo, bounces=2)
     if corrections.ping_pong:
         for gpu, cpu in zip(steps, expected):
@@ -56,15 +56,15 @@ def test_reflection_matches_reference(ctx, corrections):
     else:
         # In place the GPU races by design: which neighbours an invocation reads before or
         # after their update depends on the invocation order. Every cell's step must still
-        # be the shader's formula for one of the 64 read schedules (reference.py,
+        # be the shader's formula for one of the 64 read schedules (twin.py,
         # in_place_step_candidates), given the GPU's own grid before and after the step.
         worst, _ = in_place_schedules(steps, corrections, geometry, albedo, bounces=2)
         assert worst < 1e-5
         assert relative_error(acc, sum(steps)) < 1e-5
-        assert np.allclose(audit.per_step, [ref.flux(step) for step in steps], rtol=1e-4)
+        assert np.allclose(audit.per_step, [twin.flux(step) for step in steps], rtol=1e-4)
     assert expected_audit.reflected.min() > 0
     # Without reflection the same volume gives less light in flight.
-    plain = ref.propagate_audited(grid, corrections, 3, geometry, albedo, bounces=1)[2]
+    plain = twin.propagate_audited(grid, corrections, 3, geometry, albedo, bounces=1)[2]
     assert np.all(plain.reflected == 0)
     assert np.all(expected_audit.per_step[1:] > plain.per_step[1:]) or not \
         corrections.ping_pong
@@ -104,10 +104,10 @@ def test_geometry_albedo_injection_matches_reference(ctx):
     vpls = random_vpls(53, spec, 80)
     vpls = replace(vpls, albedo=np.random.default_rng(53).random((vpls.count, 3)))
     volume, sums = inject_geometry(vpls, spec, ctx=ctx, with_albedo=True)
-    assert relative_error(volume, ref.inject_geometry(vpls, spec)) < 1e-5
-    assert relative_error(sums, ref.inject_geometry_albedo(vpls, spec)) < 1e-5
+    assert relative_error(volume, twin.inject_geometry(vpls, spec)) < 1e-5
+    assert relative_error(sums, twin.inject_geometry_albedo(vpls, spec)) < 1e-5
     # the area sums are the geometry volume's coefficient 0 over the lobe's c0
-    np.testing.assert_allclose(sums[..., 3] * ref.cosine_lobe(np.eye(3))[0, 0], volume[..., 0],
+    np.testing.assert_allclose(sums[..., 3] * twin.cosine_lobe(np.eye(3))[0, 0], volume[..., 0],
                                rtol=1e-5, atol=1e-6)
 
 
@@ -116,9 +116,9 @@ def test_bounces_need_a_geometry_volume(ctx):
     with pytest.raises(ValueError, match="geometry volume"):
         propagate_with_audit(grid, Corrections(), 1, ctx=ctx, bounces=2)
     with pytest.raises(ValueError, match="geometry volume"):
-        ref.propagate_audited(grid, Corrections(), 1, bounces=2)
+        twin.propagate_audited(grid, Corrections(), 1, bounces=2)
     with pytest.raises(ValueError, match="bounces"):
-        ref.propagate_audited(grid, Corrections(), 1, bounces=3)
+        twin.propagate_audited(grid, Corrections(), 1, bounces=3)
 
 
 def test_pipeline_second_bounce_adds_light_within_the_blocked_flux(ctx):
@@ -131,9 +131,9 @@ def test_pipeline_second_bounce_adds_light_within_the_blocked_flux(ctx):
         # The pipeline's reflection is the reference's, from the RSM's albedo.
         vpls = one.vpls
         assert vpls.albedo is not None and vpls.albedo.max() > 0
-        albedo = ref.inject_geometry_albedo(vpls, one.grid_spec)
-        grid = ref.inject(vpls, one.grid_spec, offset_cells=settings.injection_offset_cells)
-        _, acc, audit = ref.propagate_audited(grid, settings.corrections, 4,
+        albedo = twin.inject_geometry_albedo(vpls, one.grid_spec)
+        grid = twin.inject(vpls, one.grid_spec, offset_cells=settings.injection_offset_cells)
+        _, acc, audit = twin.propagate_audited(grid, settings.corrections, 4,
                                               two.geometry_volume, albedo, bounces=2)
         assert relative_error(two.accumulated, acc) < 1e-4
     # Reflected <= blocked (albedo <= 1). The net `occluded` can be smaller than `blocked`:

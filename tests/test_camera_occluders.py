@@ -1,5 +1,5 @@
 """Camera occluders (docs/MODEL.md "Camera occluders"): the G-buffer's pixels that no RSM
-view sees join the geometry volume, against the numpy reference (one light and several),
+view sees join the geometry volume, against the numpy twin (one light and several),
 each surface once, and only rebuilt when the camera is used."""
 
 from __future__ import annotations
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from lpv_cases import frame_view_lights, relative_error
 
-from explorer.lpv import reference
-from explorer.lpv import reference_media as media
+from explorer.lpv import twin
+from explorer.lpv import twin_media as media
 from explorer.lpv.geometry import merged_volume_reference
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
@@ -47,9 +47,9 @@ def reference_volume(pipeline, result, mode: str = "one-sided", spec=None):
     views, camera = reference_surfels(pipeline, result)
     spec = result.grid_spec if spec is None else spec
     corrections = result.settings.corrections
-    volume = (merged_volume_reference([reference.inject_geometry(vpls, spec, corrections, mode)
+    volume = (merged_volume_reference([twin.inject_geometry(vpls, spec, corrections, mode)
                                        for vpls in views])
-              + reference.inject_geometry(camera, spec, corrections, mode))
+              + twin.inject_geometry(camera, spec, corrections, mode))
     return volume, camera
 
 
@@ -123,7 +123,7 @@ def test_a_surface_only_the_camera_sees_blocks_with_its_pixel_area(gl_context):
         assert camera.count == seen > 100
         without = pipe.run(turned.with_changes(camera_occluders=False)).geometry_volume
         added = result.geometry_volume - without
-        expected = reference.inject_geometry(camera, result.grid_spec)
+        expected = twin.inject_geometry(camera, result.grid_spec)
         assert relative_error(added, expected) < 1e-5
         # band 0 of a one-sided surfel is √π/2·A/h²: the summed band 0 is the summed area
         eye = np.asarray(result.camera.eye)

@@ -18,11 +18,12 @@ from test_pass_gather import (
 )
 
 from explorer.cli import main as cli_main
-from explorer.lpv import reference as ref
+from explorer.lpv import twin
 from explorer.lpv.cascades import (
     CASCADE_BAND_CELLS,
     CASCADE_EDGE_CELLS,
     CascadeInput,
+    SampledGrid,
     blend_weights,
     cascade_specs,
     check_limits,
@@ -134,14 +135,14 @@ def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F8
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, ShadowMaps(shadow, view), None, specs[0], cascades=cascades)
+            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades))
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
     points, normals, albedo, valid = visible_points(gbuffer)
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))   # the band is on screen
-    expected = ref.indirect_radiance(albedo, ref.gather_cascades(values, specs, points,
+    expected = twin.indirect_radiance(albedo, twin.gather_cascades(values, specs, points,
                                                                  normals))
     assert relative_error(indirect[valid], expected) < TOLERANCE
 
@@ -158,8 +159,7 @@ def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ct
         grid = pipeline.state.levels[0].output.accumulated
         twice = [CascadeInput(one.grid_spec, grid.textures)] * 2
         lights = pipeline.light_views
-        gather.run(pipeline.state.gbuffer_pass, lights.shadow_maps, None, one.grid_spec,
-                   cascades=twice)
+        gather.run(pipeline.state.gbuffer_pass, lights.shadow_maps, SampledGrid(twice))
         blended = sum(read_texture(gather.targets[name])[..., :3]
                       for name in ("direct", "indirect"))
         assert np.allclose(SMALL.exposure * blended, image, rtol=1e-5, atol=1e-7)

@@ -2,7 +2,7 @@
 (shaders/propagate.glsl), keeps the last step's records and their sums over the steps on
 the GPU, and the window reads one picked cell's (explorer/lpv/audit.py CellAuditRecords).
 Summed over the cells they are the audit's totals; one cell's equals the numpy
-reference's per-cell terms (explorer/lpv/reference.py propagation_step_cells)."""
+reference's per-cell terms (explorer/lpv/twin.py propagation_step_cells)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 from lpv_cases import random_grid
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import reference as R
+from explorer.lpv import twin as R
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.geometry import GeometryVolume
 from explorer.lpv.grid import GridSpec

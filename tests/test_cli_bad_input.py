@@ -17,7 +17,7 @@ import pytest
 
 from explorer.cli import main
 from explorer.commands.options import Outputs, Progress, settings_from_args
-from explorer.lpv.schema import specs
+from explorer.schema import specs
 from explorer.lpv.settings import PRESETS, Corrections, Settings
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -92,9 +92,10 @@ def test_display_only_changes_run_no_stage_and_draw_once(controller, gl_context)
     try:
         def shown():
             for side in ("A", "B"):
-                composer.side_image(side, state.runtime.pictures[side],
+                composer.side_image(side, state.runtime.frame.pictures[side],
                                     controller.side_display(state, side), state.view_buffer)
-            composer.difference(state.runtime.pictures["A"], state.runtime.pictures["B"],
+            pictures = state.runtime.frame.pictures
+            composer.difference(pictures["A"], pictures["B"],
                                 controller.side_display(state, "A"),
                                 controller.side_display(state, "B"), state.view_buffer,
                                 state.difference_scale, state.difference_colour_map)
@@ -125,7 +126,7 @@ def test_display_only_changes_run_no_stage_and_draw_once(controller, gl_context)
         assert _ran_since(controller, before) == {"A": set(), "B": set()}
         assert composer.draws > 0
         # what the pipelines ran has the display stage's fields pinned
-        result = state.runtime.result
+        result = state.runtime.frame.result
         assert all(getattr(result.settings, name) == value
                    for name, value in PINNED_DISPLAY.items())
     finally:
@@ -150,7 +151,7 @@ def test_a_before_after_split_of_a_display_field_shows_it_on_side_b(controller, 
     try:
         images = {}
         for side, display in (("A", display_a), ("B", display_b)):
-            composer.side_image(side, state.runtime.pictures[side], display, "final")
+            composer.side_image(side, state.runtime.frame.pictures[side], display, "final")
             images[side] = composer.read(side)[..., :3].astype(int)
         # the same frame on both sides: only the display differs; the direct light is gone
         # on B, so B is darker everywhere and much darker where the spot shines
@@ -170,14 +171,14 @@ def test_a_before_after_split_of_a_display_field_shows_it_on_side_b(controller, 
 def test_a_camera_change_runs_only_the_camera_stages(controller):
     state = _state()
     _settle(controller, state)
-    camera = state.runtime.camera_default
+    camera = state.runtime.scene_facts.camera_default
     eye = tuple(c + 0.3 for c in camera[0])
     before = _counts(controller)
     state.update(camera=(eye, camera[1]))
     _settle(controller, state)
     ran = _ran_since(controller, before)["A"]
     assert ran and ran <= CAMERA_STAGES and "gather" in ran and "propagate" not in ran
-    assert set(state.runtime.result.stages_run) <= CAMERA_STAGES
+    assert set(state.runtime.frame.result.stages_run) <= CAMERA_STAGES
 
 
 def test_a_toggle_shows_growing_pictures_that_end_on_the_one_shot_frame(controller,
@@ -189,21 +190,21 @@ def test_a_toggle_shows_growing_pictures_that_end_on_the_one_shot_frame(controll
     steps, finals = [], 0
     for _ in range(500):
         status = controller.update(state, BUDGET_MS)
-        picture = state.runtime.pictures["A"]
+        picture = state.runtime.frame.pictures["A"]
         if status.published and not picture.stamp.final:
             steps.append(picture.stamp.done)
         finals += bool(status.published and picture.stamp.final)
         if not status.active:
             break
     assert len(steps) >= 2 and steps == sorted(set(steps)), steps   # strictly increasing
-    assert finals == 1 and state.runtime.pictures["A"].stamp.final
-    result = state.runtime.result
+    assert finals == 1 and state.runtime.frame.pictures["A"].stamp.final
+    result = state.runtime.frame.result
     with Pipeline(result.settings, ctx=gl_context) as once:
         expected = once.run(result.settings, need_audit=False)
     for name in ("direct", "indirect"):
         got, want = getattr(result, name), getattr(expected, name)
         assert np.abs(got - want).max() <= 1e-6 * max(np.abs(want).max(), 1e-30), name
-    direct, indirect, mask = state.runtime.pictures["A"].read()   # what the view shows
+    direct, indirect, mask = state.runtime.frame.pictures["A"].read()   # what the view shows
     np.testing.assert_allclose(indirect, expected.indirect, rtol=0, atol=1e-6 * max(
         float(np.abs(expected.indirect).max()), 1e-30))
     np.testing.assert_allclose(direct, expected.direct, rtol=0, atol=1e-6 * max(
@@ -232,7 +233,7 @@ def test_a_change_mid_propagation_cancels_and_restarts(controller, gl_context):
     _settle(controller, state)
     ran = _ran_since(controller, before)["A"]
     assert "propagate" in ran and not ran & {"rsm", "inject", "downsample"}
-    result = state.runtime.result
+    result = state.runtime.frame.result
     assert result.settings.corrections == state.settings.corrections
     with Pipeline(result.settings, ctx=gl_context) as once:
         expected = once.run(result.settings, need_audit=False)
@@ -251,39 +252,39 @@ def test_split_view_advances_both_sides_in_turn(controller):
     # while both have work, every frame advances both
     for status in busy[:4]:
         assert {unit.side for unit in status.work} >= {"A", "B"}, status.work
-    assert state.runtime.result.settings.iterations == 5
-    assert state.runtime.compare_result.settings.iterations == 5
+    assert state.runtime.frame.result.settings.iterations == 5
+    assert state.runtime.frame.compare_result.settings.iterations == 5
 
 
 def test_a_drag_renders_smaller_and_the_rest_refines(controller):
     state = _state()
     _settle(controller, state)
-    full = state.runtime.result.direct.shape[:2]
-    camera = state.runtime.camera_default
+    full = state.runtime.frame.result.direct.shape[:2]
+    camera = state.runtime.scene_facts.camera_default
     for step in (1, 2, 3):    # a drag whose frames cannot fit: the scale falls to the least
         state.update(camera=(tuple(c + 0.1 * step for c in camera[0]), camera[1]))
         _settle(controller, state, interacting=True, drag_budget_ms=1e-3)
-    dragged = state.runtime.result.direct.shape[:2]
+    dragged = state.runtime.frame.result.direct.shape[:2]
     assert controller.drag_scale == DRAG_SCALES[-1]
     assert dragged[0] < full[0] and dragged[1] < full[1]
     assert dragged[1] / dragged[0] == pytest.approx(full[1] / full[0], rel=0.1)
     before = _counts(controller)
     _settle(controller, state)          # the drag ended: full size, camera stages only
-    assert state.runtime.result.direct.shape[:2] == full
+    assert state.runtime.frame.result.direct.shape[:2] == full
     assert _ran_since(controller, before)["A"] <= CAMERA_STAGES
 
 
 def test_a_request_that_fails_keeps_the_last_good_picture(controller):
     state = _state()
     _settle(controller, state)
-    good = state.runtime.result
-    picture = state.runtime.pictures["A"].stamp
+    good = state.runtime.frame.result
+    picture = state.runtime.frame.pictures["A"].stamp
     controller.sides["A"].pipeline.memory_budget_bytes = 1    # refuses any frame
     state.update(grid_size=16)
     statuses = _settle(controller, state)
     assert sum(status.failures for status in statuses) == 1
-    assert state.runtime.result is good and state.runtime.pictures["A"].stamp == picture
-    assert "pipeline A failed" in state.runtime.pipeline_error
+    assert state.runtime.frame.result is good and state.runtime.frame.pictures["A"].stamp == picture
+    assert "pipeline A failed" in state.runtime.frame.pipeline_error
     assert [m.level for m in state.messages].count("error") == 1
     assert controller.failed_settings == state.settings
 
@@ -297,12 +298,12 @@ def test_the_view_shows_a_frame_with_fog_as_the_display_stage_does(controller, g
     fog."""
     state = _state(fog=True, fog_density=1.5, fog_steps=8, indirect_only=indirect_only)
     _settle(controller, state)
-    picture = state.runtime.pictures["A"]
+    picture = state.runtime.frame.pictures["A"]
     assert picture.stamp.final and picture.has_fog
     composer = ViewComposer(gl_context, controller.programs)
     try:
         def shown():
-            composer.side_image("A", state.runtime.pictures["A"],
+            composer.side_image("A", state.runtime.frame.pictures["A"],
                                 controller.side_display(state, "A"), "final")
             return composer.read("A")[..., :3].astype(int)
 
@@ -315,7 +316,7 @@ def test_the_view_shows_a_frame_with_fog_as_the_display_stage_does(controller, g
         assert np.abs(with_fog - display).max() <= 1
         state.update(fog=False)
         _settle(controller, state)
-        assert not state.runtime.pictures["A"].has_fog
+        assert not state.runtime.frame.pictures["A"].has_fog
         assert np.abs(shown() - with_fog).max() > 20      # the fog showed
     finally:
         composer.release()
@@ -328,7 +329,7 @@ def _toggle_pictures(controller, state, budget_ms=BUDGET_MS, **options) -> list:
     shown = []
     for _ in range(2000):
         status = controller.update(state, budget_ms, **options)
-        picture = state.runtime.pictures["A"]
+        picture = state.runtime.frame.pictures["A"]
         if status.published:
             shown.append((picture.stamp, picture.size))
         if not status.active:
@@ -346,10 +347,10 @@ def test_previews_come_reduced_and_the_finished_frame_at_full_size(controller, g
     assert len(previews) >= 2
     assert set(previews) == {reduced_size(full, PREVIEW_SCALE)}, previews
     assert shown[-1][0].final and shown[-1][1] == full
-    result = state.runtime.result
+    result = state.runtime.frame.result
     with Pipeline(result.settings, ctx=gl_context) as once:
         expected = once.run(result.settings, need_audit=False)
-    direct, indirect, mask = state.runtime.pictures["A"].read()
+    direct, indirect, mask = state.runtime.frame.pictures["A"].read()
     for got, want in ((direct, expected.direct), (indirect, expected.indirect)):
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-6 * max(
             float(np.abs(want).max()), 1e-30))
@@ -455,15 +456,15 @@ def test_the_shown_plot_chooses_the_audit_the_propagation_measures(controller):
         return _ran_since(controller, before)
 
     show(None)
-    audit = state.runtime.result.audit
+    audit = state.runtime.frame.result.audit
     assert audit.mode == "off" and np.isnan(audit.per_step[1:]).all()
     assert show("flux-per-step") == {"A": {"propagate"}}
-    audit = state.runtime.result.audit
+    audit = state.runtime.frame.result.audit
     assert audit.mode == "flux" and np.isfinite(audit.per_step).all()
-    assert audit.border_loss is None and state.runtime.result.cascades[0].cell_records is None
+    assert audit.border_loss is None and state.runtime.frame.result.cascades[0].cell_records is None
     flux = audit.per_step.copy()
     assert show("audit") == {"A": {"propagate"}}
-    audit = state.runtime.result.audit
+    audit = state.runtime.frame.result.audit
     assert audit.mode == "full" and audit.border_loss is not None
     assert np.allclose(audit.per_step, flux, rtol=1e-6)
     assert show("flux-per-step") == {"A": set()}           # the full audit covers it

@@ -1,5 +1,5 @@
 """The five implementation switches: exact published and corrected statements, and the
-numpy reference showing the same factors."""
+numpy twin showing the same factors."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from derivations import implementation_switches as sw
 from derivations.registry import get, latex
 from derivations.solid_angles import front_face, prove_equal, side_face
 from explorer import derived
-from explorer.lpv import reference as R
+from explorer.lpv import twin as R
 from explorer.lpv.settings import Corrections
 
 

@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 from explorer.lpv import constants as K
-from explorer.lpv.reference import cosine_lobe
+from explorer.lpv.twin import cosine_lobe
 from explorer.lpv.settings import PRESETS, Settings
 from explorer.ui import legend
 from explorer.ui.figures import (

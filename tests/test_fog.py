@@ -1,4 +1,4 @@
-"""Fog (docs/MODEL.md "Fog"): the GPU's march against the numpy reference, and the
+"""Fog (docs/MODEL.md "Fog"): the GPU's march against the numpy twin, and the
 invariants of a homogeneous medium: density 0 changes nothing, the transmittance is
 exp(−σ_t·ℓ), the phase functions integrate to 1 and a uniform radiance field scatters
 α·L·(1 − T) whatever the phase function."""
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from lpv_cases import frame_view_lights
 
-from explorer.lpv import reference_media as media
-from explorer.lpv.cascades import CascadeInput
+from explorer.lpv import twin_media as media
+from explorer.lpv.cascades import SampledGrid
 from explorer.lpv.fog import Medium, camera_rays
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import read_texture
@@ -171,7 +171,7 @@ def test_a_uniform_field_scatters_its_radiance_times_one_minus_t(pipeline, ctx, 
         lights = pipeline.light_views
         fog = pipeline.state.fog_pass
         fog.run(pipeline.state.gbuffer_pass, lights.shadow_maps, pipeline.scene_state.scene,
-                [CascadeInput(spec, tuple(textures))], Medium.of(settings))
+                SampledGrid.single(spec, tuple(textures)), Medium.of(settings))
         lpv = read_texture(fog.targets["fog_lpv"])[..., :3]
         transmittance = read_texture(fog.targets["fog_direct"])[..., 3]
     finally:

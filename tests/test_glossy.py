@@ -1,12 +1,12 @@
 """Glossy reflections (docs/MODEL.md "Glossy reflections"): the gather's march along the
-reflected view direction against the numpy reference, and what the lobe does."""
+reflected view direction against the numpy twin, and what the lobe does."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from explorer.lpv import reference_media as media
+from explorer.lpv import twin_media as media
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings

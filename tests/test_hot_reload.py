@@ -189,16 +189,16 @@ def test_the_window_survives_each_bad_save_and_recovers(shader_copy, tmp_path, m
         # compiles (the uses replaced by a constant) but no longer declares the uniform
         save(good.replace(b"uniform float u_exposure_a;", b"").replace(b"u_exposure_a",
                                                                        b"1.0"))
-        errors = app.state.runtime.shader_errors
+        errors = app.state.runtime.services.shader_errors
         assert any("u_exposure_a" in text for text in errors.values()), errors
         save(good.replace(b"#version 430 core\n", b"#version 430 core\n// \xe9\n", 1))
-        errors = app.state.runtime.shader_errors
+        errors = app.state.runtime.services.shader_errors
         assert any("not UTF-8" in text and "view.glsl:2" in text
                    for text in errors.values()), errors
         os.symlink("user@host.1:1", shader_copy / ".#gather.glsl")
         save(good)
         app.frame(capture=True)
-        assert app.state.runtime.shader_errors == {}
+        assert app.state.runtime.services.shader_errors == {}
         assert np.abs(app.last_pixels.astype(float) - before).mean() < 2.0
     finally:
         app.close()

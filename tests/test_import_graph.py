@@ -10,7 +10,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("explorer", "derivations")
 LAYERS = (
-    ("explorer.resources", "explorer.safe_files", "explorer.derived",
+    ("explorer.resources", "explorer.safe_files", "explorer.schema", "explorer.derived",
      "explorer.derived_table", "explorer.correction_registry"),
     ("derivations", "explorer.gl"),
     ("explorer.scene",),

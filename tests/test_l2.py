@@ -1,5 +1,5 @@
 """The L2 option (Settings.sh_order = 2, docs/MODEL.md "L2 option"): reference helpers,
-GPU injection + propagation against the numpy reference, invariants, storage, pipeline."""
+GPU injection + propagation against the numpy twin, invariants, storage, pipeline."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from lpv_cases import cube_symmetries, random_grid, random_vpls, relative_error
 from test_pass_gather import setup  # noqa: F401 (the fixture)
 
 from explorer.lpv import constants as K
-from explorer.lpv import inject, propagate, reference
+from explorer.lpv import inject, propagate, twin
 from explorer.lpv.geometry import inject_geometry
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.light_records import ShadowMaps
@@ -43,8 +43,8 @@ def sh_symmetry(matrix: np.ndarray) -> np.ndarray:
     by the orthogonal ``matrix`` M): least squares on sampled directions, D f = g with
     Y(ω)·g = Y(Mᵀω)·f for all ω (exact: each band is closed under rotations)."""
     directions = fibonacci_directions(200)
-    basis = reference.sh_basis(directions, 2)
-    turned = reference.sh_basis(directions @ np.asarray(matrix, np.float64), 2)  # Y(Mᵀω)
+    basis = twin.sh_basis(directions, 2)
+    turned = twin.sh_basis(directions @ np.asarray(matrix, np.float64), 2)  # Y(Mᵀω)
     solution, *_ = np.linalg.lstsq(basis, turned, rcond=None)
     return solution
 
@@ -67,30 +67,30 @@ def transform_l2_grid(grid: np.ndarray, matrix: np.ndarray) -> np.ndarray:
 def test_l2_basis_and_lobe_of_the_reference():
     directions = fibonacci_directions(20000)
     weight = 4.0 * np.pi / len(directions)
-    basis = reference.sh_basis(directions, 2)
+    basis = twin.sh_basis(directions, 2)
     assert np.allclose(basis.T @ basis * weight, np.eye(9), atol=2e-3)
-    assert np.array_equal(basis[:, :4], reference.sh_basis(directions))
+    assert np.array_equal(basis[:, :4], twin.sh_basis(directions))
     normal = np.array([0.48, -0.6, 0.64])
     projected = (np.maximum(directions @ normal, 0.0)[:, None] * basis).sum(0) * weight
-    lobe = reference.cosine_lobe(normal, 2)
+    lobe = twin.cosine_lobe(normal, 2)
     assert np.allclose(lobe, projected, atol=2e-3)
-    assert np.array_equal(lobe[:4], reference.cosine_lobe(normal))
+    assert np.array_equal(lobe[:4], twin.cosine_lobe(normal))
     # band 2 = π/4·Y2(n): the shaders' constants say the same
-    assert np.allclose(lobe[4:], np.pi / 4 * reference.sh_basis(normal, 2)[4:])
+    assert np.allclose(lobe[4:], np.pi / 4 * twin.sh_basis(normal, 2)[4:])
     assert np.isclose(K.SH_L2_LOBE_C2, np.pi / 4 * K.SH_L2_C2)
     # a corrected VPL still injects exactly its flux
     vpls = random_vpls(30, SPEC, 50)
-    assert np.allclose(reference.flux(reference.inject(vpls, SPEC, sh_order=2)),
+    assert np.allclose(twin.flux(twin.inject(vpls, SPEC, sh_order=2)),
                        vpls.flux.sum(axis=0))
     with pytest.raises(ValueError, match="sh_order"):
-        reference.cosine_lobe(normal, 3)
+        twin.cosine_lobe(normal, 3)
 
 
 def test_symmetry_matrices_rotate_a_lobe_like_its_normal():
     normal = np.array([0.6, 0.0, 0.8])
     for matrix in cube_symmetries()[::7]:
-        assert np.allclose(sh_symmetry(matrix) @ reference.cosine_lobe(normal, 2),
-                           reference.cosine_lobe(matrix @ normal, 2), atol=1e-9)
+        assert np.allclose(sh_symmetry(matrix) @ twin.cosine_lobe(normal, 2),
+                           twin.cosine_lobe(matrix @ normal, 2), atol=1e-9)
 
 
 # ------------------------------------------------------------------ GPU vs reference
@@ -113,11 +113,11 @@ def test_l2_inject_and_propagate_match_the_reference(ctx, case):
     vpls = random_vpls(40 + case, SPEC, 120, outside=5, texel_area=0.05)
     grid = inject(vpls, SPEC, corrections, injection_mode, ctx=ctx, sh_order=2)
     assert grid.shape == (3, 8, 8, 8, 9)
-    assert relative_error(grid, reference.inject(vpls, SPEC, corrections, sh_order=2)) < 1e-5
+    assert relative_error(grid, twin.inject(vpls, SPEC, corrections, sh_order=2)) < 1e-5
     geometry = None if geometry_mode is None else inject_geometry(
         vpls, SPEC, corrections, geometry_mode, ctx=ctx)
     steps, accumulated, audit = propagate_with_audit(grid, corrections, 3, geometry, ctx=ctx)
-    want_steps, want_accumulated, want_audit = reference.propagate_audited(
+    want_steps, want_accumulated, want_audit = twin.propagate_audited(
         grid, corrections, 3, geometry)
     for step, want in zip(steps, want_steps):
         assert relative_error(step, want) < 1e-4
@@ -133,19 +133,19 @@ def test_l2_with_injection_offset_and_second_bounce_matches_the_reference(ctx):
     """The leak-reduction options work with L2: injection offset (points and compute) and
     the geometry volume's reflection (bounces 2, reflected lobe of the grid's order)."""
     vpls = random_vpls(60, SPEC, 120, texel_area=0.05)
-    expected = reference.inject(vpls, SPEC, offset_cells=0.5, sh_order=2)
+    expected = twin.inject(vpls, SPEC, offset_cells=0.5, sh_order=2)
     for mode in ("points", "compute"):
         grid = inject(vpls, SPEC, mode=mode, ctx=ctx, offset_cells=0.5, sh_order=2)
         assert relative_error(grid, expected) < 1e-5
     rng = np.random.default_rng(61)
     normals = rng.standard_normal((9, 9, 9, 3))
     normals /= np.linalg.norm(normals, axis=-1, keepdims=True)
-    geometry = 0.8 * rng.random((9, 9, 9))[..., None] * reference.cosine_lobe(normals)
+    geometry = 0.8 * rng.random((9, 9, 9))[..., None] * twin.cosine_lobe(normals)
     albedo = np.concatenate([0.5 * rng.random((9, 9, 9, 3)), np.ones((9, 9, 9, 1))], -1)
     grid = random_l2_grid(62, 8, 0.3)
     steps, _, audit = propagate_with_audit(grid, Corrections(), 2, geometry, ctx=ctx,
                                            geometry_albedo=albedo, bounces=2)
-    want_steps, _, want_audit = reference.propagate_audited(grid, Corrections(), 2, geometry,
+    want_steps, _, want_audit = twin.propagate_audited(grid, Corrections(), 2, geometry,
                                                             albedo, bounces=2)
     for step, want in zip(steps, want_steps):
         assert relative_error(step, want) < 1e-4
@@ -241,7 +241,7 @@ def test_l2_half_float_grid_propagates(ctx):
     grid = random_l2_grid(56, 8, 0.3)
     half = propagate(grid, Corrections(), 2, ctx=ctx, fmt="rgba16f")
     assert half[0].shape == (3, 8, 8, 8, 9)
-    assert relative_error(half[-1], reference.propagate(grid, Corrections(), 2)[-1]) < 5e-3
+    assert relative_error(half[-1], twin.propagate(grid, Corrections(), 2)[-1]) < 5e-3
 
 
 def test_pipeline_with_l2(ctx):
@@ -260,7 +260,7 @@ def test_pipeline_with_l2(ctx):
         # GPU's own injected grid rather than a float64 injection.)
         assert np.allclose(second.steps[0][..., :4], first.steps[0], rtol=1e-6, atol=1e-9)
         assert np.allclose(second.audit.injected, first.audit.injected, rtol=1e-5)
-        accumulated = sum(reference.propagate(second.steps[0], Corrections(), 3))
+        accumulated = sum(twin.propagate(second.steps[0], Corrections(), 3))
         assert relative_error(second.accumulated, accumulated) < 1e-4
         lit = second.indirect.sum(axis=2) > 0
         assert lit.mean() > 0.3 and np.isfinite(second.indirect).all()
@@ -276,7 +276,7 @@ def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa
     """Two L2 cascades in the final gather: Σ_k W_k·clamp+(<s_k, lobe₂(−n)>)/c_k²."""
     from test_pass_gather import TOLERANCE, filtering, smooth_grid, visible_points
 
-    from explorer.lpv.cascades import CascadeInput, blend_weights, cascade_specs
+    from explorer.lpv.cascades import CascadeInput, SampledGrid, blend_weights, cascade_specs
     from explorer.lpv.rsm import read_texture
 
     _, scene, view, shadow, gbuffer, gather, _, spec = setup
@@ -292,8 +292,7 @@ def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa
             grid.write(value)
         cascades = [CascadeInput(s, g.textures) for s, g in zip(specs, grids)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, ShadowMaps(shadow, view), None, specs[0], cascades=cascades,
-                       sh_order=2)
+            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades, sh_order=2))
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         for grid in grids:
@@ -301,8 +300,8 @@ def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa
     points, normals, albedo, valid = visible_points(gbuffer)
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))
-    expected = reference.indirect_radiance(
-        albedo, reference.gather_cascades(values, specs, points, normals))
+    expected = twin.indirect_radiance(
+        albedo, twin.gather_cascades(values, specs, points, normals))
     assert relative_error(indirect[valid], expected) < TOLERANCE
 
 

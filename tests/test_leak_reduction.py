@@ -1,5 +1,5 @@
 """Leak reduction (docs/MODEL.md "Injection" offset, "Final gather" damping): GPU against
-the numpy reference, and the Settings checks of the new fields."""
+the numpy twin, and the Settings checks of the new fields."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 from lpv_cases import random_vpls, relative_error
 
 from explorer.lpv import inject
-from explorer.lpv import reference as ref
+from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
@@ -31,10 +31,10 @@ def test_injection_offset_matches_reference(ctx, mode):
     vpls = axis_aligned(random_vpls(41, spec, 120, outside=5), 41)
     for offset in (0.0, 0.5):
         gpu = inject(vpls, spec, mode=mode, ctx=ctx, offset_cells=offset)
-        expected = ref.inject(vpls, spec, offset_cells=offset)
+        expected = twin.inject(vpls, spec, offset_cells=offset)
         assert relative_error(gpu, expected) < 1e-5
-    moved = ref.inject(vpls, spec, offset_cells=0.5)
-    assert relative_error(moved, ref.inject(vpls, spec)) > 0.1  # it did move VPLs
+    moved = twin.inject(vpls, spec, offset_cells=0.5)
+    assert relative_error(moved, twin.inject(vpls, spec)) > 0.1  # it did move VPLs
 
 
 def test_offset_of_one_cell_moves_a_vpl_into_the_next_cell(ctx):
@@ -52,7 +52,7 @@ def test_bad_offsets_are_refused(ctx):
         with pytest.raises(ValueError, match="injection offset"):
             inject(vpls, spec, ctx=ctx, offset_cells=bad)
         with pytest.raises(ValueError, match="injection offset"):
-            ref.inject(vpls, spec, offset_cells=bad)
+            twin.inject(vpls, spec, offset_cells=bad)
 
 
 def _frame(ctx, **changes):
@@ -65,7 +65,7 @@ def test_cornell_walls_on_cell_faces_agree_with_the_reference_once_offset(ctx):
     """GridSpec.enclosing puts the Cornell walls on cell boundaries: with the half-cell
     offset every VPL is half a cell clear of them, so GPU and float64 agree."""
     frame = _frame(ctx, scene="cornell", iterations=0, injection_offset_cells=0.5)
-    expected = ref.inject(frame.vpls, frame.grid_spec, offset_cells=0.5)
+    expected = twin.inject(frame.vpls, frame.grid_spec, offset_cells=0.5)
     assert relative_error(frame.accumulated, expected) < 1e-5
     # Without the offset float32 and float64 put some VPLs on different sides of a wall
     # (llvmpipe: the largest cell differs by 100 % of the largest value); how many depends
@@ -77,13 +77,13 @@ def test_gather_damping_matches_the_numpy_gather(ctx, damping):
     frame = _frame(ctx, scene="room", iterations=2, gather_damping=damping)
     gbuffer = gbuffer_from_frame(frame, ctx=ctx)
     valid = gbuffer.valid
-    irradiance = ref.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
+    irradiance = twin.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
                             gbuffer.normal[valid], damping=damping)
-    expected = ref.indirect_radiance(gbuffer.albedo[valid], irradiance)
+    expected = twin.indirect_radiance(gbuffer.albedo[valid], irradiance)
     assert expected.max() > 0
     assert relative_error(frame.indirect[valid], expected) < 1e-5   # as tests/test_pass_gather
     if damping:
-        undamped = ref.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
+        undamped = twin.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
                               gbuffer.normal[valid])
         assert np.all(irradiance <= undamped + 1e-12)
         assert irradiance.sum() < 0.99 * undamped.sum()  # it does damp something

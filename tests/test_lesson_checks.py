@@ -256,7 +256,7 @@ prompt = "Coarser."
 def test_glyph_peaks_are_the_largest_value_over_the_mesh():
     import numpy as np
 
-    from explorer.lpv.reference import cosine_lobe
+    from explorer.lpv.twin import cosine_lobe
     from explorer.ui.overlays.glyphs import glyph_peaks
     from explorer.ui.overlays.quantities import glyph_directions
 

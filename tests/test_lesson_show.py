@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from explorer.lessons import LessonError, load_all, load_lesson
-from explorer.lpv.schema import specs
+from explorer.schema import specs
 from explorer.lpv.settings import Settings
 from explorer.overlay_params import READER_FIELDS, OverlayState, check_show
 

@@ -20,13 +20,13 @@ TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192)
 def loaded(state: AppState, name: str) -> AppState:
     """``state`` as the app leaves it once the pipeline loaded scene ``name``."""
     state.settings = state.settings.with_changes(scene=name)
-    state.runtime.scene = (name, load_scene(name))
+    state.runtime.scene_facts.scene = (name, load_scene(name))
     return state
 
 
 def test_the_clock_plays_the_paths_into_the_settings():
     state = loaded(AppState(settings=TINY), "cornell")
-    scene = state.runtime.scene[1]
+    scene = state.runtime.scene_facts.scene[1]
     animation = animation_of(state)
     assert not tick(state, 10.0)                     # nothing plays: nothing changes
     assert state.settings.light is None
@@ -55,7 +55,7 @@ def test_the_fly_through_moves_the_camera_along_the_path():
     tick(state, 0.0)
     tick(state, 0.2)
     assert animation.fly_parameter == pytest.approx(0.01)
-    eye, target = camera_at(state.runtime.scene[1], 0.01)
+    eye, target = camera_at(state.runtime.scene_facts.scene[1], 0.01)
     assert np.allclose(state.settings.camera[0], eye)
     assert np.allclose(state.settings.camera[1], target)
     # a scene without a camera path stops the fly-through and says why
@@ -79,7 +79,7 @@ def test_the_gizmo_matrix_becomes_the_objects_transform():
     from explorer.ui.gizmo import apply_matrix, object_transform
 
     state = loaded(AppState(settings=TINY), "cornell")
-    block = state.runtime.scene[1].object_named("short block")
+    block = state.runtime.scene_facts.scene[1].object_named("short block")
     wanted = ObjectTransform((0.05, 0.0, -0.1), (0.0, 30.0, 0.0), (1.0, 1.2, 1.0))
     assert apply_matrix(state, block, wanted.model_matrix(block.pivot))
     assert np.allclose(object_transform(state.settings, "short block").values(),
@@ -110,14 +110,14 @@ def test_the_panel_and_the_gizmo_draw_and_play(tmp_path, monkeypatch):
               persist_settings=False)
     try:
         assert app.settle()
-        assert app.state.runtime.scene[0] == "cornell"
+        assert app.state.runtime.scene_facts.scene[0] == "cornell"
         app.state.requests.focus_panel = "Lights & objects"
         animation = animation_of(app.state)
         animation.selected = "short block"
         for operation in ("move", "turn", "scale"):
             animation.operation = operation
             app.frame()
-        result = app.state.runtime.result
+        result = app.state.runtime.frame.result
         assert result.light_names == ("spot", "bulb") and len(result.vpl_sets) == 7
         animation.playing = True
         side = app.controller.sides["A"]
@@ -126,7 +126,7 @@ def test_the_panel_and_the_gizmo_draw_and_play(tmp_path, monkeypatch):
             asked = side.request or side.done
             assert asked.interactive and asked.settings.width < app.state.settings.width
             assert app._interacting()      # a playing animation is no reason to idle
-            shown = app.state.runtime.result
+            shown = app.state.runtime.frame.result
             if shown.settings.light is not None:
                 break
         assert app.state.settings.light is not None and app.state.settings.object_transforms

@@ -108,8 +108,8 @@ def test_dumped_vpls_fed_back_reproduce_grid_0_exactly(dumped, tmp_path):
 
 def test_grid0_fed_in_is_propagated_from(dumped, tmp_path):
     """A grid_0 with one cell changed is what the frame propagates: its grid_0 is the file's
-    and grid_1 is the numpy reference's step of it (the geometry volume's occlusion too)."""
-    from explorer.lpv import reference
+    and grid_1 is the numpy twin's step of it (the geometry volume's occlusion too)."""
+    from explorer.lpv import twin
 
     folder, arrays, _ = dumped
     grid0 = arrays["grid_0"].copy()
@@ -122,7 +122,7 @@ def test_grid0_fed_in_is_propagated_from(dumped, tmp_path):
                  "--out", str(tmp_path / "c.png")]) == 0
     fed = read_npz(out)
     assert np.array_equal(fed["grid_0"], grid0)
-    step, _ = reference.propagation_step(
+    step, _ = twin.propagation_step(
         grid0.astype(np.float64), SETTINGS.corrections,
         geometry=arrays["geometry_volume"].astype(np.float64))
     scale = float(np.abs(step).max())

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from explorer.lpv import constants as C
-from explorer.lpv import reference
+from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
@@ -173,7 +173,7 @@ def test_slice_quantities_are_the_grids_values(frame):
     grid = result.accumulated.astype(np.float64)
     up = np.array([0.0, 1.0, 0.0])
     intensity = Q.quantity_field(grid, "intensity", up)
-    expected = np.einsum("cxyzk,k->xyz", grid, reference.sh_basis(up)) / 3.0
+    expected = np.einsum("cxyzk,k->xyz", grid, twin.sh_basis(up)) / 3.0
     assert np.allclose(intensity, expected)
     assert np.allclose(Q.quantity_field(grid, "flux"), C.SH_FLUX_FACTOR * grid[..., 0].mean(0))
     assert np.allclose(Q.quantity_field(grid, "sh2"), grid[..., 2].mean(0))
@@ -230,7 +230,7 @@ def test_glyph_lobes_are_the_cells_intensity_and_fit_their_spacing(frame):
     assert glyphs.stride == Q.auto_glyph_stride(16) == 1
     directions, _ = Q.glyph_directions()
     lobes = np.abs(glyphs.coefficients.astype(np.float64) @
-                   reference.sh_basis(directions.astype(np.float64), 2).T)
+                   twin.sh_basis(directions.astype(np.float64), 2).T)
     reach = glyphs.scales[:, None] * lobes
     assert reach.max() == pytest.approx(0.5 * glyphs.spacing, rel=1e-5)
     # every glyph lies in layer 5 and shows the mean of its cell's channels
@@ -245,7 +245,7 @@ def test_glyph_lobes_are_the_cells_intensity_and_fit_their_spacing(frame):
     equal = Q.glyphs(result, OverlayState(glyph_sizing="equal", glyph_scale=2.0))
     peaks = (equal.scales[:, None] * np.abs(
         equal.coefficients.astype(np.float64) @
-        reference.sh_basis(directions.astype(np.float64), 2).T)).max(1)
+        twin.sh_basis(directions.astype(np.float64), 2).T)).max(1)
     assert np.allclose(peaks, equal.spacing, rtol=1e-5)
     spec = result.grid_spec
     overlays = OverlayState(glyph_cells="picked")
@@ -277,13 +277,13 @@ def test_blockers_are_the_surfels_the_geometry_volume_holds():
     normal = np.array([0.0, 0.6, 0.8])
     vpls = VplArrays(np.array([[1.0, 1.0, 1.0]]), normal[None], np.ones((1, 3)),
                      np.array([1.0]), 0.02, "orthographic")
-    volume = reference.inject_geometry(vpls, spec, mode="one-sided")
+    volume = twin.inject_geometry(vpls, spec, mode="one-sided")
     splats = Q.blocker_splats(volume, spec, "one-sided", (0.0, 0.0, -1.0))
     assert splats.count == 1
     assert np.allclose(splats.positions[0], [1.0, 1.0, 1.0])     # on the corner (2, 2, 2)
     assert np.allclose(splats.normals[0], normal, atol=1e-6)
     assert math.pi * splats.radii[0] ** 2 == pytest.approx(0.02, rel=1e-5)
-    double = reference.inject_geometry(vpls, spec, mode="double-sided")
+    double = twin.inject_geometry(vpls, spec, mode="double-sided")
     facing = Q.blocker_splats(double, spec, "double-sided", (0.0, 0.0, -1.0))
     assert np.allclose(facing.normals[0], [0.0, 0.0, 1.0])       # no orientation: faces us
     assert math.pi * facing.radii[0] ** 2 == pytest.approx(0.02, rel=1e-5)

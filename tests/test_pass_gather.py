@@ -11,7 +11,8 @@ import pytest
 from lpv_cases import relative_error
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import reference as ref
+from explorer.lpv import twin
+from explorer.lpv.cascades import SampledGrid
 from explorer.lpv.display import DisplayPass, exposed_image
 from explorer.lpv.gather import EXACT_FILTER, GatherParams, GatherPass, linear_filter_error
 from explorer.lpv.light_records import ShadowMaps
@@ -112,13 +113,13 @@ def test_indirect_matches_numpy(setup, damping, shader_filter):
         values = values[:, :, ::-1].copy()
     grid.write(values)
     with filtering(gather, shader_filter):
-        gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec,
+        gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid.single(spec, grid.textures),
                    GatherParams(damping=damping))
     points, normals, albedo, valid = visible_points(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert valid.mean() > 0.3
-    irradiance = ref.gather(values, spec, points, normals, damping)
-    assert relative_error(indirect[valid], ref.indirect_radiance(albedo, irradiance)) \
+    irradiance = twin.gather(values, spec, points, normals, damping)
+    assert relative_error(indirect[valid], twin.indirect_radiance(albedo, irradiance)) \
         < TOLERANCE
     assert np.all(indirect[~valid] == 0.0)
     # received = E · pixel area; summed, it is the flux the visible surfaces receive
@@ -126,7 +127,7 @@ def test_indirect_matches_numpy(setup, damping, shader_filter):
     area = read_texture(gbuffer.normal)[..., 3]
     assert relative_error(received[valid], irradiance * area[valid, None]) < TOLERANCE
     if damping:   # and damping takes some of it away
-        assert irradiance.sum() < 0.99 * ref.gather(values, spec, points, normals).sum()
+        assert irradiance.sum() < 0.99 * twin.gather(values, spec, points, normals).sum()
 
 
 @FILTERS
@@ -145,15 +146,16 @@ def test_l2_indirect_matches_numpy(setup, shader_filter):
     try:
         grid.write(values)
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec, sh_order=2)
+            gather.run(gbuffer, ShadowMaps(shadow, view),
+                       SampledGrid.single(spec, grid.textures, sh_order=2))
     finally:
         grid.release()
     points, normals, albedo, valid = visible_points(gbuffer)
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert (spec.grid_coords(points)[:, 2] < 0.5).sum() > 20
-    expected = ref.indirect_radiance(albedo, ref.gather(values, spec, points, normals))
+    expected = twin.indirect_radiance(albedo, twin.gather(values, spec, points, normals))
     assert relative_error(indirect[valid], expected) < TOLERANCE
-    l1_only = ref.indirect_radiance(albedo, ref.gather(values[..., :4], spec, points,
+    l1_only = twin.indirect_radiance(albedo, twin.gather(values[..., :4], spec, points,
                                                        normals))
     assert relative_error(indirect[valid], l1_only) > 100 * TOLERANCE
 
@@ -171,7 +173,7 @@ def test_pixel_areas_add_up_to_the_visible_surface(setup):
 def test_direct_light_is_the_shadowed_lambertian(setup):
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.clear()
-    gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec)
+    gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid.single(spec, grid.textures))
     position, normal, albedo, valid = read_gbuffer(gbuffer)
     direct = read_texture(gather.targets["direct"])[..., :3]
     offset = np.asarray(scene.light.position) - position[..., :3]
@@ -197,7 +199,7 @@ def test_display_pass_exposes_and_encodes_the_linear_buffers(setup):
     exposure·indirect, clipped and sRGB-encoded; the gather itself stays linear."""
     ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
     grid.write(smooth_grid(spec))
-    gather.run(gbuffer, ShadowMaps(shadow, view), grid.textures, spec)
+    gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid.single(spec, grid.textures))
     direct = read_texture(gather.targets["direct"])[..., :3]
     indirect = read_texture(gather.targets["indirect"])[..., :3]
     assert direct.max() > 0 and indirect.max() > 0

@@ -1,4 +1,4 @@
-"""Geometry-volume injection on the GPU against the numpy reference."""
+"""Geometry-volume injection on the GPU against the numpy twin."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from lpv_cases import random_vpls, relative_error
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import reference
+from explorer.lpv import twin
 from explorer.lpv.geometry import GeometryPass, GeometryVolume, inject_geometry
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import Corrections
@@ -24,7 +24,7 @@ SPEC = GridSpec(origin=(0.5, -1.0, 0.0), cell_size=0.5, resolution=8)
 def test_geometry_volume_matches_the_reference(ctx, mode, squared, projection):
     vpls = replace(random_vpls(7, SPEC, 300, outside=10), projection=projection)
     corrections = Corrections(surfel_area_squared=squared)
-    expected = reference.inject_geometry(vpls, SPEC, corrections, mode)
+    expected = twin.inject_geometry(vpls, SPEC, corrections, mode)
     actual = inject_geometry(vpls, SPEC, corrections, mode, ctx=ctx)
     assert actual.shape == (9, 9, 9, 4)
     assert relative_error(actual, expected) < 1e-5
@@ -37,7 +37,7 @@ def test_surfel_sits_on_the_nearest_corner_with_its_area():
     vpls = VplArrays(np.array([[1.1, 1.4, 2.05]]), np.array([[1.0, 0.0, 0.0]]),
                      np.ones((1, 3)), np.array([2.0]), 0.01)
     for squared, area in ((True, 0.04), (False, 0.02)):
-        volume = reference.inject_geometry(vpls, spec, Corrections(surfel_area_squared=squared))
+        volume = twin.inject_geometry(vpls, spec, Corrections(surfel_area_squared=squared))
         assert np.argwhere(np.abs(volume).sum(-1) > 0).tolist() == [[2, 3, 4]]
         lobe_x = np.array([np.sqrt(np.pi) / 2, 0.0, 0.0, -np.sqrt(np.pi / 3)])
         assert np.allclose(volume[2, 3, 4], area / 0.25 * lobe_x)
@@ -55,7 +55,7 @@ def test_bad_mode_and_size_are_named(ctx):
     with pytest.raises(ValueError, match="geometry mode"):
         inject_geometry(vpls, SPEC, mode="off", ctx=ctx)
     with pytest.raises(ValueError, match="geometry mode"):
-        reference.inject_geometry(vpls, SPEC, mode="both")
+        twin.inject_geometry(vpls, SPEC, mode="both")
     volume = GeometryVolume(ctx, 4)
     textures = VplTextures.from_arrays(ctx, vpls)
     geometry_pass = GeometryPass(ctx, ProgramCache(ctx))
@@ -78,17 +78,17 @@ def test_one_sided_blocker_stops_light_running_into_its_front_only(ctx, backend)
 
     n = 8
     geometry = np.zeros((n + 1, n + 1, n + 1, 4))
-    geometry[...] = reference.cosine_lobe(np.array([1.0, 0.0, 0.0]))  # blocker lobe(+x)
+    geometry[...] = twin.cosine_lobe(np.array([1.0, 0.0, 0.0]))  # blocker lobe(+x)
     corrections = Corrections(side_faces=False, clamp_front_face=True)
 
     def received(direction: int) -> float:
         grid = np.zeros((3, n, n, n, 4))
-        grid[:, 4, 4, 4] = reference.cosine_lobe(np.array([float(direction), 0.0, 0.0]))
+        grid[:, 4, 4, 4] = twin.cosine_lobe(np.array([float(direction), 0.0, 0.0]))
         if backend == "reference":
-            steps = reference.propagate(grid, corrections, 1, geometry=geometry)
+            steps = twin.propagate(grid, corrections, 1, geometry=geometry)
         else:
             steps = propagate(grid, corrections, 1, geometry=geometry, ctx=ctx)
-        return float(reference.flux(steps[1][:, 4 + direction, 4, 4])[0])
+        return float(twin.flux(steps[1][:, 4 + direction, 4, 4])[0])
 
     # The L1 lobe(+x) evaluates to 1/4 + 1/2·cos: B = 3/4 for light running along −x
     # (its reconstruction peak) and clamp(1/4 − 1/2) = 0 for light running along +x.
@@ -100,6 +100,6 @@ def test_one_sided_blocker_stops_light_running_into_its_front_only(ctx, backend)
 def received_unblocked(corrections: Corrections) -> float:
     n = 8
     grid = np.zeros((3, n, n, n, 4))
-    grid[:, 4, 4, 4] = reference.cosine_lobe(np.array([1.0, 0.0, 0.0]))
-    steps = reference.propagate(grid, corrections, 1)
-    return float(reference.flux(steps[1][:, 5, 4, 4])[0])
+    grid[:, 4, 4, 4] = twin.cosine_lobe(np.array([1.0, 0.0, 0.0]))
+    steps = twin.propagate(grid, corrections, 1)
+    return float(twin.flux(steps[1][:, 5, 4, 4])[0])

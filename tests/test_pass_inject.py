@@ -1,4 +1,4 @@
-"""Injection on the GPU: both modes against the numpy reference and each other."""
+"""Injection on the GPU: both modes against the numpy twin and each other."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from lpv_cases import random_vpls, relative_error
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import inject, reference
+from explorer.lpv import inject, twin
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.inject import InjectPass
 from explorer.lpv.settings import PRESETS, Corrections
@@ -22,7 +22,7 @@ SPEC = GridSpec(origin=(-1.0, 0.5, -2.0), cell_size=0.25, resolution=8)
 def test_injection_matches_the_reference(ctx, mode, preset):
     vpls = random_vpls(1, SPEC, 400, outside=20)
     corrections = PRESETS[preset]
-    expected = reference.inject(vpls, SPEC, corrections)
+    expected = twin.inject(vpls, SPEC, corrections)
     assert relative_error(inject(vpls, SPEC, corrections, mode, ctx=ctx), expected) < 1e-5
 
 
@@ -70,7 +70,7 @@ def test_empty_texels_are_skipped_and_the_grid_is_overwritten(ctx, mode):
     try:
         grid.write(np.full((3,) + (8,) * 3 + (4,), 7.0))   # stale data must disappear
         injector.run(textures, SPEC, Corrections(), mode, grid)
-        assert relative_error(grid.read(), reference.inject(vpls, SPEC)) < 1e-5
+        assert relative_error(grid.read(), twin.inject(vpls, SPEC)) < 1e-5
     finally:
         injector.release()
         grid.release()
@@ -79,7 +79,7 @@ def test_empty_texels_are_skipped_and_the_grid_is_overwritten(ctx, mode):
 
 def test_half_float_grid(ctx):
     vpls = random_vpls(4, SPEC, 200)
-    expected = reference.inject(vpls, SPEC)
+    expected = twin.inject(vpls, SPEC)
     for mode in ("points", "compute"):
         grid = inject(vpls, SPEC, mode=mode, ctx=ctx, fmt="rgba16f")
         assert grid.dtype == np.float32

@@ -1,4 +1,4 @@
-"""Propagation on the GPU against the numpy reference, every switch combination."""
+"""Propagation on the GPU against the numpy twin, every switch combination."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from lpv_cases import in_place_schedules, random_grid, random_vpls, relative_error
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import inject, propagate, reference
+from explorer.lpv import inject, propagate, twin
 from explorer.lpv.geometry import GeometryVolume, inject_geometry
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.propagate import PropagatePass, propagate_with_audit
@@ -44,14 +44,14 @@ def test_inject_and_propagate_match_the_reference(ctx, index):
 
     grid = inject(vpls, SPEC, corrections, injection_mode, ctx=ctx)
     geometry = inject_geometry(vpls, SPEC, corrections, geometry_mode, ctx=ctx)
-    expected_grid = reference.inject(vpls, SPEC, corrections)
-    expected_geometry = reference.inject_geometry(vpls, SPEC, corrections, geometry_mode)
+    expected_grid = twin.inject(vpls, SPEC, corrections)
+    expected_geometry = twin.inject_geometry(vpls, SPEC, corrections, geometry_mode)
     assert relative_error(grid, expected_grid) < 1e-5
     assert relative_error(geometry, expected_geometry) < 1e-5
 
     steps, accumulated, audit = propagate_with_audit(grid, corrections, ITERATIONS, geometry,
                                                      ctx=ctx)
-    want_steps, want_accumulated, want_audit = reference.propagate_audited(
+    want_steps, want_accumulated, want_audit = twin.propagate_audited(
         grid, corrections, ITERATIONS, geometry)
     assert len(steps) == ITERATIONS + 1
     for step, want in zip(steps, want_steps):
@@ -64,7 +64,7 @@ def test_inject_and_propagate_match_the_reference(ctx, index):
 def test_without_geometry_and_with_many_iterations(ctx):
     grid = random_grid(11, 10)
     steps, accumulated, audit = propagate_with_audit(grid, Corrections(), 12, ctx=ctx)
-    want_steps, want_accumulated, want_audit = reference.propagate_audited(grid, iterations=12)
+    want_steps, want_accumulated, want_audit = twin.propagate_audited(grid, iterations=12)
     assert relative_error(steps[-1], want_steps[-1]) < 1e-4
     assert relative_error(accumulated, want_accumulated) < 1e-4
     assert_audits_match(audit, want_audit)
@@ -81,13 +81,13 @@ def test_in_place_propagation_races_and_double_counts(ctx):
     ping_pong = Corrections(clamp_front_face=False)
     in_place = Corrections(ping_pong=False, clamp_front_face=False)
 
-    ping_pong_steps = reference.propagate(grid, ping_pong, 3)
-    in_place_steps = reference.propagate(grid, in_place, 3)
+    ping_pong_steps = twin.propagate(grid, ping_pong, 3)
+    in_place_steps = twin.propagate(grid, in_place, 3)
     # acc_2 = acc_1 + P(acc_1) = g0 + 2·P(g0) + P²(g0): step 1's light is counted twice.
     p1, p2 = ping_pong_steps[1], ping_pong_steps[2]
     assert np.allclose(sum(in_place_steps[:3]), grid + 2 * p1 + p2)
-    flux_ping_pong = reference.flux(sum(ping_pong_steps))
-    flux_in_place = reference.flux(sum(in_place_steps))
+    flux_ping_pong = twin.flux(sum(ping_pong_steps))
+    flux_in_place = twin.flux(sum(in_place_steps))
     assert np.all(flux_in_place > 1.5 * flux_ping_pong)
 
     gpu_steps, gpu_accumulated, gpu_audit = propagate_with_audit(grid, in_place, 3, ctx=ctx)
@@ -96,18 +96,18 @@ def test_in_place_propagation_races_and_double_counts(ctx):
     # each cell's step is the shader's formula for one schedule of neighbour reads
     assert in_place_schedules(gpu_steps, in_place)[0] < 1e-5
     # The audit measures what the racing dispatch really added.
-    assert np.allclose(gpu_audit.per_step, [reference.flux(step) for step in gpu_steps],
+    assert np.allclose(gpu_audit.per_step, [twin.flux(step) for step in gpu_steps],
                        rtol=1e-4)
     gpu_ping_pong = sum(propagate(grid, ping_pong, 3, ctx=ctx))
     assert relative_error(gpu_ping_pong, sum(ping_pong_steps)) < 1e-4
     assert relative_error(gpu_in_place, sum(ping_pong_steps)) > 1e-2
-    assert np.all(reference.flux(gpu_in_place) > 1.5 * flux_ping_pong)
+    assert np.all(twin.flux(gpu_in_place) > 1.5 * flux_ping_pong)
 
 
 def test_half_float_grids_propagate(ctx):
     grid = random_grid(13, 8)
     steps = propagate(grid, Corrections(), 4, ctx=ctx, fmt="rgba16f")
-    want = reference.propagate(grid, Corrections(), 4)
+    want = twin.propagate(grid, Corrections(), 4)
     for step, expected in zip(steps, want):
         assert relative_error(step, expected) < 5e-3
 
@@ -121,7 +121,7 @@ def test_pass_object_keeps_steps_only_when_asked_and_returns_the_accumulation(ct
         injected.write(grid)
         output = propagator.run(injected, spec, Corrections(), 2)
         assert output.steps is None
-        want = reference.propagate(grid, Corrections(), 2)
+        want = twin.propagate(grid, Corrections(), 2)
         assert relative_error(output.accumulated.read(), sum(want)) < 1e-4
         assert relative_error(injected.read(), grid) < 1e-7   # the input is left alone
         zero = propagator.run(injected, spec, Corrections(), 0, keep_steps=True)
@@ -140,9 +140,9 @@ def test_bad_input_is_named(ctx):
     with pytest.raises(ValueError, match="iterations"):
         propagate(np.zeros((3, 4, 4, 4, 4)), iterations=-1, ctx=ctx)
     with pytest.raises(ValueError, match=r"\(3, N, N, N, 4\)"):
-        reference.propagate(np.zeros((3, 4, 4, 5, 4)))
+        twin.propagate(np.zeros((3, 4, 4, 5, 4)))
     with pytest.raises(ValueError, match=r"\(5, 5, 5, 4\)"):
-        reference.propagate(np.zeros((3, 4, 4, 4, 4)), geometry=np.zeros((4, 4, 4, 4)))
+        twin.propagate(np.zeros((3, 4, 4, 4, 4)), geometry=np.zeros((4, 4, 4, 4)))
     volume = GeometryVolume(ctx, 4)
     injected = LpvGrid(ctx, 8)
     try:
@@ -184,7 +184,7 @@ def test_without_the_audit_the_accumulation_is_the_same(ctx, mode):
     """need_audit=False compiles the audit out (PROPAGATE_AUDIT 0): same grids, and only
     the injected and accumulated flux are measured."""
     grid, geometry = injected_case(ctx, 31, mode)
-    want_steps, want_accumulated, want_audit = reference.propagate_audited(
+    want_steps, want_accumulated, want_audit = twin.propagate_audited(
         grid, Corrections(), 5, geometry)
     propagator = PropagatePass(ctx, ProgramCache(ctx))
     try:
@@ -207,12 +207,12 @@ def test_without_the_audit_the_accumulation_is_the_same(ctx, mode):
 @pytest.mark.parametrize("mode", ["off", "one-sided", "double-sided"])
 def test_baseline_kernel_propagates_like_the_corrected_pass(ctx, mode):
     """shaders/propagate_minimal.glsl, the bench's baseline, computes the corrected
-    propagation: the same accumulation as propagate.glsl and the numpy reference."""
+    propagation: the same accumulation as propagate.glsl and the numpy twin."""
     from explorer.lpv.propagate import BaselinePropagatePass
 
     grid, geometry = injected_case(ctx, 32, mode)
     _, want = propagate_with_audit(grid, Corrections(), 6, geometry, ctx=ctx)[:2]
-    expected = reference.propagate_audited(grid, Corrections(), 6, geometry)[1]
+    expected = twin.propagate_audited(grid, Corrections(), 6, geometry)[1]
     baseline = BaselinePropagatePass(ctx, ProgramCache(ctx))
     try:
         with on_gpu(ctx, grid, geometry) as (injected, volume):
@@ -252,7 +252,7 @@ def test_the_flux_only_audit_measures_the_full_audits_flux_per_step(ctx, ping_po
         else:
             # in place races (its grids differ from run to run): the flux per step is
             # that of the run's own steps (acc_t − acc_{t−1}, kept), float64 numpy sums
-            want = np.array([reference.flux(step) for step in flux.steps])
+            want = np.array([twin.flux(step) for step in flux.steps])
             assert np.allclose(flux.audit.per_step, want, rtol=1e-4)
         assert flux.audit.mode == "flux" and flux.audit.steps_measured
         assert not flux.audit.terms_measured and flux.cell_records is None

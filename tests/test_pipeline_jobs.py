@@ -9,7 +9,8 @@ import types
 import numpy as np
 import pytest
 
-from explorer.lpv import schema, stage_list, stages
+from explorer import schema
+from explorer.lpv import stage_list, stages
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import read_texture
 from explorer.lpv.corrections import CORRECTIONS, preset

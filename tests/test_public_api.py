@@ -13,7 +13,7 @@ from lpv_cases import random_vpls, relative_error
 
 import explorer
 import explorer.lpv as lpv
-from explorer.lpv import reference
+from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
 
 SMALL = dict(scene="cornell", grid_size=8, iterations=4, rsm_size=32, width=40, height=32)
@@ -62,7 +62,7 @@ def test_one_pass_on_numpy_input_matches_its_twin(gl_context):
     vpls = random_vpls(1, spec, 300)
     switches = lpv.Corrections()
     grid = lpv.inject(vpls, spec, switches, ctx=gl_context)
-    assert relative_error(grid, reference.inject(vpls, spec, switches)) < 1e-5
+    assert relative_error(grid, twin.inject(vpls, spec, switches)) < 1e-5
     steps = lpv.propagate(grid, switches, iterations=2, ctx=gl_context)
-    twin = reference.propagate(grid.astype(np.float64), switches, iterations=2)
-    assert len(steps) == 3 and relative_error(steps[-1], twin[-1]) < 1e-4
+    twin_steps = twin.propagate(grid.astype(np.float64), switches, iterations=2)
+    assert len(steps) == 3 and relative_error(steps[-1], twin_steps[-1]) < 1e-4

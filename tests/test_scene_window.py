@@ -32,8 +32,8 @@ def test_the_window_opens_a_scene_file_and_saves_what_it_shows(tmp_path, monkeyp
               persist_settings=False)
     try:
         assert app.settle()
-        result = app.state.runtime.result
-        assert app.state.runtime.scene[0] == str(EXAMPLE)
+        result = app.state.runtime.frame.result
+        assert app.state.runtime.scene_facts.scene[0] == str(EXAMPLE)
         assert result.light_names == ("ceiling spot",)
         # the checker floor shows both its colours in the albedo of the frame
         albedo = result.albedo[..., :3]
@@ -45,7 +45,8 @@ def test_the_window_opens_a_scene_file_and_saves_what_it_shows(tmp_path, monkeyp
             app.frame()
         app.state.update(light_kind="point")
         assert app.settle()
-        assert app.state.runtime.result.vpl_sets and len(app.state.runtime.result.vpl_sets) == 6
+        vpl_sets = app.state.runtime.frame.result.vpl_sets
+        assert vpl_sets and len(vpl_sets) == 6
         app.screenshot(tmp_path / "scene-window.png")
         app.state.update(light_kind=None)
         # the light moved and the camera turned in the window, then saved
@@ -58,7 +59,7 @@ def test_the_window_opens_a_scene_file_and_saves_what_it_shows(tmp_path, monkeyp
         again = load_scene(str(saved))
         assert again.light.position == (0.5, 2.2, 0.5)
         assert again.camera.eye == (0.3, 1.4, 1.8) and again.camera.fov_y_degrees == 75.0
-        assert np.allclose(again.positions, app.state.runtime.scene[1].positions)
+        assert np.allclose(again.positions, app.state.runtime.scene_facts.scene[1].positions)
         assert [m.text for m in app.state.messages if m.level == "error"] == []
     finally:
         app.close()
@@ -78,7 +79,7 @@ def test_the_window_says_where_it_put_a_light(tmp_path, monkeypatch):
         texts = [m.text for m in app.state.messages]
         assert any("point light 'light' is at (" in text and "inside it" in text
                    for text in texts), texts
-        assert app.state.runtime.result.direct.mean() > 0.05      # lit inside
+        assert app.state.runtime.frame.result.direct.mean() > 0.05      # lit inside
     finally:
         app.close()
 
@@ -99,7 +100,7 @@ def test_save_scene_without_a_file_dialog_writes_a_new_file_beside_it(tmp_path, 
               width=900, height=640, visible=False, vsync=False, persist_settings=False)
     try:
         assert app.settle()
-        app.state.runtime.file_dialog_available = False
+        app.state.runtime.services.file_dialog_available = False
         app.state.requests.save_scene_dialog = True       # what the menu item asks
         app.frame()
         saved = tmp_path / "scene-2.toml"

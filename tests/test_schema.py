@@ -1,4 +1,4 @@
-"""The settings schema's kinds (explorer/lpv/schema.py): what each accepts, what it
+"""The settings schema's kinds (explorer/schema.py): what each accepts, what it
 refuses with a message naming the field, the value and the allowed range."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from explorer.lpv.schema import SettingError, Spec
+from explorer.schema import SettingError, Spec
 
 CONE = Spec(kind="range2", low=0.0, low_open=True, high=80.0, optional=True,
             doc="inner and outer half-angles")
@@ -46,3 +46,17 @@ def test_range2_needs_both_ends():
     closed = Spec(kind="range2", low=1.0, high=2.0, doc="x")
     assert closed.allowed() == "two numbers [first, second] with 1 <= first <= second <= 2"
     assert closed.check("pair", (1, 1)) == (1.0, 1.0)     # low not open: an empty pair
+
+
+def test_transforms_are_checked_by_the_function_their_declaration_gives():
+    """The schema imports nothing of the project (it sits below the scene and the LPV in
+    tests/test_import_graph.py): a transforms field brings its own check."""
+    from explorer.scene.objects import check_transforms
+
+    with pytest.raises(ValueError, match="needs parse"):
+        Spec(kind="transforms", doc="moved objects")
+    moved = Spec(kind="transforms", parse=check_transforms, doc="moved objects")
+    assert moved.check("objects", {"box": [1, 2, 3]}) == (
+        ("box", (1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0)),)
+    with pytest.raises(SettingError, match="objects must be a table of object names"):
+        moved.check("objects", {"box": [1, 2]})

@@ -18,7 +18,6 @@ from explorer.lpv.gather import GatherParams, GatherPass
 from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.geometry import merged_volume_reference
-from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import RsmPass, light_views, read_texture
 from explorer.lpv.settings import Settings
@@ -114,8 +113,7 @@ def test_the_direct_light_of_a_point_light_counts_each_point_once(box_rsms):
         shadow = atlas.build(sets)
         tiles = [atlas.layout.origin(k) for k in range(len(sets))]
         gbuffer.run(geometry, scene, (64, 64))
-        spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 4)
-        gather.run(gbuffer, ShadowMaps(shadow, views, tiles), None, spec,
+        gather.run(gbuffer, ShadowMaps(shadow, views, tiles), None,
                    GatherParams(shadow_kernel=1))
         position = read_texture(gbuffer.position)
         normal = read_texture(gbuffer.normal)[..., :3]

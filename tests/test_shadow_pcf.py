@@ -13,7 +13,6 @@ from explorer.gl.program import ProgramCache
 from explorer.lpv.gather import GatherParams, GatherPass
 from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.settings import MAX_SHADOW_KERNEL, Settings
 from explorer.scene import Camera, MeshBuilder, Scene, SpotLight
@@ -51,10 +50,9 @@ def visibility(gl_context):
         shadow = rsm.run(geometry, view)
         gbuffer.run(geometry, scene, IMAGE)
         position = read_texture(gbuffer.position)
-        spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 4)
         images = {}
         for kernel in (1, 3, 7):
-            gather.run(gbuffer, ShadowMaps(shadow, view), None, spec,
+            gather.run(gbuffer, ShadowMaps(shadow, view), None,
                        GatherParams(shadow_kernel=kernel))
             images[kernel] = read_texture(gather.targets["direct"])[..., 0].astype(np.float64)
     finally:

@@ -13,7 +13,6 @@ from derivations import rsm as rsm_derivation
 from explorer.lpv.gather import GatherParams, GatherPass
 from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.settings import Settings
@@ -193,8 +192,7 @@ def test_direct_light_and_rsm_share_the_falloff(ctx, programs):
         shadow = rsm.run(geometry, view)
         rsm_flux = np.frombuffer(shadow.flux.read(), np.float32).reshape(SIZE, SIZE, 4)
         gbuffer.run(geometry, scene, size)
-        spec = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, 4)
-        gather.run(gbuffer, ShadowMaps(shadow, view), None, spec, GatherParams(shadow_kernel=1))
+        gather.run(gbuffer, ShadowMaps(shadow, view), None, GatherParams(shadow_kernel=1))
         direct = read_texture(gather.targets["direct"])[..., :3].astype(np.float64)
         position = read_texture(gbuffer.position)
     finally:

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from explorer.lpv import corrections, frame_stages, job, schema, stage_list, stages
+from explorer import schema
+from explorer.lpv import corrections, frame_stages, job, stage_list, stages
 from explorer.lpv.frame_stages.base import Stage
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import STAGE_LIST, STAGES, StageDecl, execution_order

@@ -46,7 +46,7 @@ import statistics
 from pathlib import Path
 
 from explorer.commands import options
-from explorer.lpv.schema import Spec
+from explorer.schema import Spec
 from explorer.lpv.settings import Settings, preset_name
 
 FULL_GRIDS = (16, 32, 64, 128)

@@ -28,7 +28,7 @@ from explorer.commands.compare_report import (  # noqa: F401  (tables.py reads t
     save_error_png,
     save_png,
 )
-from explorer.lpv.schema import Spec, specs
+from explorer.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
 REFERENCE_CHOICES = ("visible", "unoccluded")

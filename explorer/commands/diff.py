@@ -18,7 +18,7 @@ import json
 from pathlib import Path
 
 from explorer.commands import options
-from explorer.lpv.schema import Spec
+from explorer.schema import Spec
 
 TOLERANCE = Spec(kind="float", low=0.0, high=1e30, optional=True,
                  doc="Exit with status 1 when a stage's largest relative error per element "

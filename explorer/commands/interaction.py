@@ -46,7 +46,7 @@ def picture_serial(app) -> object:
     pictures = getattr(app.state.runtime, "pictures", None)
     if pictures and "A" in pictures:
         return pictures["A"].stamp.serial
-    return id(app.state.runtime.result)
+    return id(app.state.runtime.frame.result)
 
 
 def poke(app) -> None:
@@ -79,11 +79,11 @@ def display_pass_ms(app) -> float | None:
 
     rt = app.state.runtime
     composer, pictures = getattr(rt, "composer", None), getattr(rt, "pictures", {})
-    if composer is None or "A" not in pictures or "A" not in rt.displays:
+    if composer is None or "A" not in pictures or "A" not in rt.frame.displays:
         return None
     times = []
     for value in EXPOSURES:
-        display = dataclasses.replace(rt.displays["A"], exposure=value * 1.01)
+        display = dataclasses.replace(rt.frame.displays["A"], exposure=value * 1.01)
         app.ctx.finish()
         start = time.perf_counter()
         composer.side_image("A", pictures["A"], display, "final")
@@ -95,7 +95,7 @@ def display_pass_ms(app) -> float | None:
 def lit(app) -> bool:
     import numpy as np
 
-    rect = app.state.runtime.view_rect
+    rect = app.state.runtime.view.view_rect
     pixels = app.last_pixels
     if rect is None or pixels is None:
         return False
@@ -215,13 +215,13 @@ def idle_phase(app) -> dict:
     """The loop as a user leaves it (CPU share, frames drawn), then the cost of a redraw
     with nothing new (``idle_frame_ms``, the baseline of the display changes)."""
     figures = {}
-    drawn = app.state.runtime.frame_index
+    drawn = app.state.runtime.frame.frame_index
     cpu, wall = time.process_time(), time.perf_counter()
     while time.perf_counter() - wall < IDLE_S:
         app.frame()
     wall = time.perf_counter() - wall
     figures["idle_cpu_percent"] = 100.0 * (time.process_time() - cpu) / wall
-    figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame_index - drawn) / wall
+    figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame.frame_index - drawn) / wall
     phases: dict[str, list[float]] = {}
     redraws = []
     for _ in range(10):
@@ -244,7 +244,7 @@ def orbit_phase(app, rec: Recorder, frames: int) -> dict:
 
     figures = {}
     rec.phase = "orbit"
-    x0, y0, x1, y1 = app.state.runtime.view_rect
+    x0, y0, x1, y1 = app.state.runtime.view.view_rect
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
     io = imgui.get_io()
@@ -266,7 +266,7 @@ def orbit_phase(app, rec: Recorder, frames: int) -> dict:
     orbit_s = time.perf_counter() - start
     figures["orbit_fps"] = pictures / orbit_s
     figures["orbit_window_fps"] = frames / orbit_s
-    result = app.state.runtime.result
+    result = app.state.runtime.frame.result
     figures["orbit_render_size"] = list(result.direct.shape[1::-1]) if result else None
     io.add_mouse_button_event(0, False)
     poke(app)
@@ -327,7 +327,7 @@ def session_summary(app, rec: Recorder) -> dict:
     figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = rec.longest
     figures["frames"] = rec.frames
     figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
-    figures["renderer"] = app.state.runtime.gl_renderer if hasattr(
+    figures["renderer"] = app.state.runtime.services.gl_renderer if hasattr(
         app.state.runtime, "gl_renderer") else ""
     return figures
 
@@ -393,7 +393,7 @@ def _click_view(app, rec: Recorder, fraction: float) -> None:
     """A click (press and release, no drag) at ``fraction`` across the view: a pick."""
     from imgui_bundle import imgui
 
-    rect = app.state.runtime.view_rect
+    rect = app.state.runtime.view.view_rect
     if rect is None:
         return
     x0, y0, x1, y1 = rect
@@ -449,7 +449,7 @@ def soak(minutes: float, grid: int) -> dict:
             name = names[step % len(names)]
             app.state.set_corrections(**{name: not getattr(corrections, name)})
             eye, target = (app.state.settings.camera
-                           or app.state.runtime.camera_default)
+                           or app.state.runtime.scene_facts.camera_default)
             app.state.update(camera=camera.orbit(eye, target, 7.0, 0.0))
             rec.converge()
             _click_view(app, rec, 0.3 + 0.1 * (step % 5))

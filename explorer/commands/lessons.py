@@ -47,7 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _export_size(width: int, height: int) -> tuple[int, int]:
     """An export window size: the persisted window size's range, and room for the article
     beside the view (640x400 at least)."""
-    from explorer.lpv.schema import SettingError, specs
+    from explorer.schema import SettingError, specs
     from explorer.ui.state import AppState
 
     if width < 640 or height < 400:
@@ -162,7 +162,7 @@ def _plain(text: str, mark_ids: tuple[str, ...] = (), settings=None) -> str:
 
 
 def _setting_label(name: str) -> str:
-    from explorer.lpv.schema import specs
+    from explorer.schema import specs
     from explorer.lpv.settings import Settings
 
     spec = specs(Settings).get(name)

@@ -2,7 +2,7 @@
 
 * options derived from the settings schema (:func:`add_setting_options`): each
   :class:`~explorer.lpv.settings.Settings` field that declares a ``flag`` becomes an option
-  whose type, choices, help and allowed range come from its :class:`~explorer.lpv.schema.Spec`
+  whose type, choices, help and allowed range come from its :class:`~explorer.schema.Spec`
   (``--size WxH`` sets width and height, ``--preset`` the corrections);
 * :func:`settings_from_args`: the parsed options as Settings, through the schema;
 * :class:`CommandError`: what a command raises for bad input or a request it cannot do;
@@ -26,7 +26,7 @@ from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
-from explorer.lpv.schema import SettingError, Spec, specs
+from explorer.schema import SettingError, Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")

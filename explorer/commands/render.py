@@ -18,7 +18,7 @@ import argparse
 from pathlib import Path
 
 from explorer.commands import options
-from explorer.lpv.schema import Spec
+from explorer.schema import Spec
 from explorer.lpv.settings import VIEWS
 
 MIN_PNG_SIZE = 256

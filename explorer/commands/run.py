@@ -26,7 +26,7 @@ from explorer.commands.options import (
     spec_help,
     value_type,
 )
-from explorer.lpv.schema import Spec, specs
+from explorer.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
 
 FRAMES = Spec(kind="int", low=1, high=10**9, optional=True,

@@ -40,7 +40,7 @@ def _keys(text: str) -> tuple[str, ...]:
 
 
 def _view_size(width: int, height: int) -> tuple[int, int]:
-    from explorer.lpv.schema import SettingError
+    from explorer.schema import SettingError
 
     if not (64 <= width <= 4096 and 64 <= height <= 4096):
         raise SettingError("size", f"size must be within 64x64 and 4096x4096, got "

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 
 from explorer.commands import options
-from explorer.lpv.schema import Spec
+from explorer.schema import Spec
 from explorer.lpv.stability import AXES, MOVES, Motion, StabilityRun, measure
 
 DEFAULTS = {"size": (128, 128), "rsm_size": 64, "grid_size": 16}

@@ -10,7 +10,7 @@
   :class:`Corrections` the switches between published and corrected formulas, and
   ``PRESETS`` the named sets of them;
 * :func:`inject` and :func:`propagate` run one GPU pass on numpy input (a headless
-  context is created on first use when ``ctx`` is None); ``explorer.lpv.reference`` holds
+  context is created on first use when ``ctx`` is None); ``explorer.lpv.twin`` holds
   the same functions in pure numpy, ``STAGE_LIST`` the frame's stages.
 
 Example::
@@ -24,9 +24,9 @@ import importlib
 
 # inject and propagate share their names with their modules: bound now, so that importing
 # the module later cannot shadow the function. The rest is imported on first use (PEP
-# 562), so that ``import explorer.lpv.reference`` (the numpy twin) loads neither the
+# 562), so that ``import explorer.lpv.twin`` (the numpy twin) loads neither the
 # pipeline nor the generated constants mirror: the twin takes its constants from the
-# derivations alone (tests/test_reference.py).
+# derivations alone (tests/test_twin.py).
 from explorer.lpv.inject import inject
 from explorer.lpv.propagate import propagate
 

@@ -19,7 +19,7 @@ import moderngl
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 
 

@@ -134,7 +134,7 @@ class EnergyAudit(GridAudit):
 class CellAudit:
     """One cell's audit record (``shaders/propagate.glsl``; each (3,) watts per channel),
     booked to the cell whose invocation computes it, as
-    :func:`explorer.lpv.reference.propagation_step_cells` books it."""
+    :func:`explorer.lpv.twin.propagation_step_cells` books it."""
 
     received: np.ndarray
     """Flux the step(s) delivered into the cell (reflections included)."""

@@ -189,6 +189,35 @@ class CascadeInput:
     """The accumulated grid's r, g, b 3D textures (sampled as in the single-grid gather)."""
 
 
+@dataclass(frozen=True)
+class SampledGrid:
+    """The grid the final gather and the fog sample: the accumulation of every cascade
+    (finest first; a single grid is one cascade) and their SH order, which fixes the
+    texel layout (explorer/lpv/textures.py). One typed value the frame hands to both
+    passes, in place of textures, spec, cascade list and order passed on one by one."""
+
+    cascades: tuple[CascadeInput, ...]
+    sh_order: int = 1
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "cascades", tuple(self.cascades))
+        if not 1 <= len(self.cascades) <= MAX_CASCADES:
+            raise ValueError(f"a sampled grid has 1..{MAX_CASCADES} cascades, "
+                             f"got {len(self.cascades)}")
+        if self.sh_order not in (1, 2):
+            raise ValueError(f"sh_order must be 1 or 2, got {self.sh_order}")
+
+    @classmethod
+    def single(cls, spec: GridSpec, textures: tuple, sh_order: int = 1) -> SampledGrid:
+        """One grid: its spec and its r, g, b accumulation textures."""
+        return cls((CascadeInput(spec, tuple(textures)),), sh_order)
+
+    @property
+    def finest(self) -> CascadeInput:
+        """Level 0: the grid a single-grid gather samples (its units 5..7)."""
+        return self.cascades[0]
+
+
 def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str, object]:
     """Uniforms of ``cascades.glsl`` for these cascades, their textures bound to units
     ``first_unit`` … (three per cascade: r, g, b)."""

@@ -20,7 +20,7 @@ import numpy as np
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.frame_state import FogImages, GatherImages
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.tonemap import auto_exposure_scale, tone_map_index
 
 

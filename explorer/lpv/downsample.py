@@ -16,7 +16,7 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.rsm import LightView
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 
 MODES = {"average": 1, "brightest": 2}

@@ -1,6 +1,6 @@
 """Fog: single scattering of the LPV's light and the direct light in a homogeneous medium
 that fills the scene's box, ray-marched per pixel (``shaders/fog.glsl``, docs/MODEL.md
-"Fog"). The numpy twin is :func:`explorer.lpv.reference_media.march_fog`.
+"Fog"). The numpy twin is :func:`explorer.lpv.twin_media.march_fog`.
 
 The pass writes two ``rgba32f`` targets the display stage composes over the surfaces:
 ``direct`` (the direct light's in-scattered radiance in rgb, the transmittance to the
@@ -18,10 +18,10 @@ import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.cascades import CascadeInput, cascade_uniforms
+from explorer.lpv.cascades import SampledGrid, cascade_uniforms
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.light_records import LightRecordBuffer, ShadowMaps
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.textures import sh_defines
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix
@@ -79,16 +79,14 @@ class FogPass:
         return dict(zip(TARGETS, self._targets.textures))
 
     def run(self, gbuffer: GBufferPass, shadow: ShadowMaps, scene: Scene,
-            cascades: list[CascadeInput], medium: Medium, sh_order: int = 1,
-            shader_filter: bool = False, rows: tuple[int, int] | None = None) -> None:
+            grid: SampledGrid, medium: Medium, shader_filter: bool = False,
+            rows: tuple[int, int] | None = None) -> None:
         """March every pixel's view ray (of the rows ``rows``, GL order, or all) through
-        the medium, lit by ``cascades`` (finest first; one for the single grid) and the
+        the medium, lit by ``grid`` (every cascade's accumulation, finest first) and the
         RSM views of ``shadow`` with their shadow maps. ``shader_filter``: interpolate
         the grid in the shader (the gather's probe, ``GatherPass.shader_filter``)."""
-        if not cascades:
-            raise ValueError("the fog needs the accumulated grid of at least one cascade")
         self._targets.allocate(gbuffer.size)
-        program = self.programs.get("fog.glsl", {**sh_defines(sh_order),
+        program = self.programs.get("fog.glsl", {**sh_defines(grid.sh_order),
                                                  "SH_SHADER_FILTER": int(shader_filter)})
         gbuffer.position.use(0)
         shadow.textures.position.use(1)
@@ -104,8 +102,8 @@ class FogPass:
             "u_medium_max": tuple(map(float, scene.bounds_max)),
             "u_fog_density": medium.density, "u_fog_albedo": medium.albedo,
             "u_fog_g": medium.g, "u_fog_steps": medium.steps,
-            **cascades[0].spec.uniforms(),
-            **cascade_uniforms(cascades, FIRST_GRID_UNIT),
+            **grid.finest.spec.uniforms(),
+            **cascade_uniforms(list(grid.cascades), FIRST_GRID_UNIT),
         })
         with self._targets.drawing(rows=rows):
             self._triangle.draw(program)

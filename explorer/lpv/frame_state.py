@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from explorer.lpv.cascades import CascadeInput, SampledGrid
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.vpl import VplArrays
 
@@ -123,6 +124,13 @@ class FrameState:
     def cascades(self) -> list[CascadeLevel]:
         """The levels of this frame's cascades (``len(specs)`` of them)."""
         return self.levels[: len(self.specs)]
+
+    def sampled_grid(self) -> SampledGrid:
+        """The accumulation of every cascade as the gather and the fog sample it now."""
+        levels = self.cascades
+        return SampledGrid(tuple(CascadeInput(spec, level.accumulation_textures)
+                                 for spec, level in zip(self.specs, levels)),
+                           levels[0].injected.sh_order)
 
     def levels_for_specs(self, make: Callable[[], CascadeLevel]) -> list[CascadeLevel]:
         """One level per spec: missing ones made by ``make``, extra ones released."""

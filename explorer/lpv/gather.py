@@ -20,13 +20,13 @@ import moderngl
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.cascades import CascadeInput, cascade_uniforms
+from explorer.lpv.cascades import CascadeInput, SampledGrid, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.gbuffer import GBufferPass
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.light_records import LightRecordBuffer, ShadowMaps
 from explorer.lpv.settings import DEFAULT_SHADOW_KERNEL
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.textures import per_context, sh_defines
 
 TARGETS = ("direct", "indirect", "received")
@@ -86,6 +86,10 @@ class GatherParams:
 NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
              "u_glossy_samples": 0, "u_camera_position": (0.0, 0.0, 0.0)}
 """glossy.glsl's uniforms with the glossy term off."""
+
+NO_GRID_SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=1.0, resolution=1)
+"""The grid uniforms of a gather without a grid (direct light only, ``u_has_grid`` 0): the
+program still declares them, and strict uniforms want every one set."""
 
 
 def program_defines(sh_order: int, shader_filter: bool = False, cascades: bool = False,
@@ -170,36 +174,31 @@ class GatherPass:
         """Target name -> texture (empty before the first run)."""
         return dict(zip(TARGETS, self._targets.textures))
 
-    def run(self, gbuffer: GBufferPass, shadow: ShadowMaps, grid_textures, spec: GridSpec,
+    def run(self, gbuffer: GBufferPass, shadow: ShadowMaps, grid: SampledGrid | None,
             params: GatherParams = GatherParams(), *,
-            cascades: list[CascadeInput] | None = None, sh_order: int = 1,
             rows: tuple[int, int] | None = None, size: tuple[int, int] | None = None
             ) -> None:
         """``shadow``: the RSM views that light the pixels, with their shadow maps.
-        ``grid_textures``: the accumulated grid's r, g, b 3D textures (interpolated
-        trilinearly, clamped to the edge), or None for direct light only. ``params``: what
-        the Settings ask of the gather (:class:`GatherParams`: damping, PCF kernel, glossy
-        term). ``cascades``: several nested grids (finest first, docs/MODEL.md "Cascades") sampled
-        instead of ``grid_textures``; None or one cascade = the single grid. ``sh_order``:
-        the SH order of the grid(s) (their texel layout, explorer/lpv/textures.py).
-        ``rows``: gather only these rows (``(first, end)``, GL order; see :func:`bands`),
-        the others keep what they hold. ``size``: the targets' size (default
-        the G-buffer's); a smaller one gathers a reduced picture, each pixel at the
-        G-buffer texel below it (:func:`reduced_size`; the window's quick previews)."""
+        ``grid``: the accumulated grid of every cascade (:class:`SampledGrid`, finest
+        first, docs/MODEL.md "Cascades"; its textures interpolated trilinearly, clamped
+        to the edge), or None for direct light only. ``params``: what the Settings ask of
+        the gather (:class:`GatherParams`: damping, PCF kernel, glossy term). ``rows``:
+        gather only these rows (``(first, end)``, GL order; see :func:`bands`), the others
+        keep what they hold. ``size``: the targets' size (default the G-buffer's); a
+        smaller one gathers a reduced picture, each pixel at the G-buffer texel below it
+        (:func:`reduced_size`; the window's quick previews)."""
         self._targets.allocate(size or gbuffer.size)
+        several = grid is not None and len(grid.cascades) > 1
         program = self.programs.get("gather.glsl", program_defines(
-            sh_order, self.shader_filter, cascades=cascades is not None and len(cascades) > 1,
+            grid.sh_order if grid else 1, self.shader_filter, cascades=several,
             damping=params.damping))
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)
         shadow.textures.position.use(3)
         shadow.textures.normal.use(4)
-        if grid_textures is None and cascades:
-            grid_textures = cascades[0].textures
-        if grid_textures is None:
-            grid_textures = (self._empty(),) * 3
-        for unit, texture in enumerate(grid_textures, start=5):
+        finest = grid.finest if grid else CascadeInput(NO_GRID_SPEC, (self._empty(),) * 3)
+        for unit, texture in enumerate(finest.textures, start=5):
             texture.use(unit)
         light_count = self._lights.bind(shadow.views, shadow.tiles)
         values = {
@@ -208,10 +207,10 @@ class GatherPass:
             "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
             "u_light_count": light_count,
             "u_shadow_kernel": int(params.shadow_kernel),
-            "u_has_grid": int(grid_textures[0] is not self._empty_grid),
+            "u_has_grid": int(grid is not None),
             "u_target_size": self._targets.size,
-            **spec.uniforms(),
-            **self._cascade_uniforms(cascades, grid_textures, spec),
+            **finest.spec.uniforms(),
+            **self._cascade_uniforms(grid, finest.spec),
             **(NO_GLOSSY if params.glossy is None else params.glossy.uniforms()),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
@@ -221,14 +220,14 @@ class GatherPass:
     CASCADE_FIRST_UNIT = 8
 
     @classmethod
-    def _cascade_uniforms(cls, cascades: list[CascadeInput] | None, grid_textures,
-                          spec: GridSpec) -> dict[str, object]:
-        """``cascades.glsl`` uniforms. With a single grid its sampler arrays point at the
-        single grid's units 5..7 (a sampler3D may not share a unit with the G-buffer's
-        2D samplers, even unused) and the count is 1, which selects the single-grid code."""
-        if cascades is None or len(cascades) <= 1:
+    def _cascade_uniforms(cls, grid: SampledGrid | None, spec: GridSpec) -> dict[str, object]:
+        """``cascades.glsl`` uniforms. With a single grid (or none) its sampler arrays point
+        at the single grid's units 5..7 (a sampler3D may not share a unit with the
+        G-buffer's 2D samplers, even unused) and the count is 1, which selects the
+        single-grid code."""
+        if grid is None or len(grid.cascades) <= 1:
             return cascade_uniforms([CascadeInput(spec, ())], 5)
-        return cascade_uniforms(cascades, cls.CASCADE_FIRST_UNIT)
+        return cascade_uniforms(list(grid.cascades), cls.CASCADE_FIRST_UNIT)
 
     def _empty(self) -> moderngl.Texture3D:
         if self._empty_grid is None:

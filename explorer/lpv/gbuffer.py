@@ -5,7 +5,7 @@ from __future__ import annotations
 import moderngl
 
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix

@@ -31,7 +31,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.lights import DirectionalLight, Light, PointLight

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from explorer.lpv.corrections import CORRECTIONS, PRESETS, Corrections, preset  # noqa: F401
-from explorer.lpv.schema import (
+from explorer.schema import (
     SettingError,
     check_stages,
     from_dict,
@@ -23,6 +23,7 @@ from explorer.lpv.stage_list import STAGES
 from explorer.lpv.tonemap import TONE_MAPS
 from explorer.scene.lights import LIGHT_KINDS, MAX_CONE_DEGREES
 from explorer.scene.model import MAX_LIGHTS
+from explorer.scene.objects import check_transforms
 
 
 def preset_name(corrections: Corrections) -> str:
@@ -69,7 +70,7 @@ class Settings:
     """Everything a frame depends on. Immutable: the app compares settings to know
     whether the pipeline must run again.
 
-    Every field is declared with :func:`explorer.lpv.schema.setting`: its type and range
+    Every field is declared with :func:`explorer.schema.setting`: its type and range
     are checked when a Settings is made, and the command line, persisted files, lessons,
     the Scene panel and the pipeline's cache keys are all derived from these declarations.
     """
@@ -204,7 +205,7 @@ class Settings:
             f'RSM and all inject into one grid (docs/MODEL.md "Several lights"). None = '
             f"the scene's own choice.")
     object_transforms: tuple[tuple[str, tuple[float, ...]], ...] = setting(
-        (), kind="transforms", flag="--object", stages=("scene",),
+        (), kind="transforms", parse=check_transforms, flag="--object", stages=("scene",),
         doc="Moved objects: object name -> [tx, ty, tz, rx, ry, rz, sx, sy, sz] "
             "(translation, rotation in degrees about x then y then z, scale; about the "
             "object's pivot, explorer/scene/objects.py); 3 or 6 numbers leave the rest "
@@ -346,7 +347,7 @@ class Settings:
         return replace(self, **changes)
 
     def to_dict(self) -> dict:
-        """Plain data (JSON/TOML) that :func:`explorer.lpv.schema.from_dict` reads back."""
+        """Plain data (JSON/TOML) that :func:`explorer.schema.from_dict` reads back."""
         return to_dict(self)
 
     @classmethod

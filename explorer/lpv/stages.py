@@ -2,8 +2,8 @@
 
 A stage declares only its *upstream* stages (:data:`explorer.lpv.stage_list.STAGE_LIST`,
 the one list of stages). The Settings fields it reads come from the settings schema
-(:attr:`explorer.lpv.schema.Spec.stages` of every field, read through
-:func:`explorer.lpv.schema.stages_reading`): the field declarations are the single
+(:attr:`explorer.schema.Spec.stages` of every field, read through
+:func:`explorer.schema.stages_reading`): the field declarations are the single
 source. From the two the pipeline derives
 
 * the *key* of a stage: the values of the fields it reads, the output keys of its
@@ -30,7 +30,7 @@ from __future__ import annotations
 from typing import Any
 
 from explorer.lpv.corrections import CORRECTIONS, Corrections
-from explorer.lpv.schema import stages_reading
+from explorer.schema import stages_reading
 from explorer.lpv.stage_list import (  # noqa: F401  (re-exported: the stage facts)
     DECLARATIONS,
     EXECUTION_ORDER,

@@ -176,7 +176,7 @@ def try_label(item: TryThis) -> str:
         return button()[0]
     from explorer.live_values import format_value
     from explorer.lpv.corrections import BY_NAME
-    from explorer.lpv.schema import specs
+    from explorer.schema import specs
     from explorer.lpv.settings import Settings
 
     value = format_value(item.value, "g")

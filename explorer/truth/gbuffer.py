@@ -21,7 +21,7 @@ def scene_triangles(scene) -> np.ndarray:
 def scene_for(settings, loaded=None):
     """The scene a Settings renders, with its overrides applied (camera, lights, object
     transforms). ``loaded``: the scene ``settings.scene`` names as already loaded, before
-    the overrides (``Pipeline.base_scene``, the window's ``runtime.scene``), which saves
+    the overrides (``Pipeline.base_scene``, the window's ``runtime.scene_facts.scene``), which saves
     loading it again (the atrium takes a tenth of a second); None: loaded here."""
     from explorer.scene import load_scene
 

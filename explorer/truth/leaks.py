@@ -1,6 +1,6 @@
 """Numpy prototype of two published leak reductions, measured against the reference.
 
-It re-runs injection and propagation with the numpy reference (``explorer.lpv.reference``,
+It re-runs injection and propagation with the numpy twin (``explorer.lpv.twin``,
 whose ``gather`` mirrors the GPU's final gather). The pipeline now has the first two as
 ``Settings.injection_offset_cells`` and ``Settings.gather_damping`` (measured with
 ``lpv-explorer compare`` in docs/ERRORS.md); this study also tries the gather offset.
@@ -27,9 +27,9 @@ import sys
 
 import numpy as np
 
-from explorer.lpv import reference as lpv_reference
+from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.reference import derivative_damping, gather_irradiance, sample_grid
+from explorer.lpv.twin import derivative_damping, gather_irradiance, sample_grid
 from explorer.lpv.tonemap import luminance
 from explorer.lpv.vpl import VplArrays
 
@@ -56,8 +56,8 @@ def variant_irradiance(variant: str, vpls: VplArrays, spec: GridSpec, correction
     half = 0.5 * spec.cell_size
     if variant.startswith("inject-offset"):
         vpls = offset_vpls(vpls, half)
-    injected = lpv_reference.inject(vpls, spec, corrections)
-    accumulated = sum(lpv_reference.propagate(injected, corrections, iterations))
+    injected = twin.inject(vpls, spec, corrections)
+    accumulated = sum(twin.propagate(injected, corrections, iterations))
     offset = half if variant == "gather-offset" else 0.0
     irradiance = gather_irradiance(accumulated, spec, positions, normals, offset)
     if variant.endswith("damping"):

@@ -38,7 +38,7 @@ def render_triangle_ids(ctx, scene, width: int, height: int) -> np.ndarray:
     from explorer.gl.program import ProgramCache, set_uniforms
     from explorer.lpv.gbuffer import camera_uniforms
     from explorer.lpv.rsm import read_texture
-    from explorer.lpv.targets import RenderTargets
+    from explorer.gl.targets import RenderTargets
     from explorer.scene.gpu import SceneBuffers
 
     if scene.triangle_count > MAX_TRIANGLES:

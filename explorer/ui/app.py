@@ -110,18 +110,18 @@ class App:
                              position=position, headless=headless)
         self.ctx = self.window.ctx
         rt = self.state.runtime
-        rt.gl_problem = self.window.gl_problem
-        rt.gl_renderer = str(self.ctx.info.get("GL_RENDERER", "")) if self.ctx else ""
-        if rt.gl_problem:
-            print(f"lpv-explorer: {rt.gl_problem}", file=sys.stderr)
+        rt.services.gl_problem = self.window.gl_problem
+        rt.services.gl_renderer = str(self.ctx.info.get("GL_RENDERER", "")) if self.ctx else ""
+        if rt.services.gl_problem:
+            print(f"lpv-explorer: {rt.services.gl_problem}", file=sys.stderr)
         if pipeline_class is ...:
             from explorer.lpv.pipeline import Pipeline as pipeline_class
         from explorer.ui.controller import PipelineController
 
         self.controller = PipelineController(
-            self.ctx, None if rt.gl_problem else pipeline_class)
-        if pipeline_class is None and not rt.gl_problem:
-            rt.pipeline_error = ("no LPV pipeline attached (App(pipeline_class=None)): the "
+            self.ctx, None if rt.services.gl_problem else pipeline_class)
+        if pipeline_class is None and not rt.services.gl_problem:
+            rt.frame.pipeline_error = ("no LPV pipeline attached (App(pipeline_class=None)): the "
                                  "panels work, the view stays empty")
         self._pending_size: tuple | None = None
         self._capture = False
@@ -191,24 +191,25 @@ class App:
         theme.apply_style(self.window.content_scale)
         from explorer.ui import fonts
 
-        self.state.runtime.fonts = fonts.load(io, 15.0)   # Roboto + math symbols
+        self.state.runtime.services.fonts = fonts.load(io, 15.0)   # Roboto + math symbols
         self._imgui.start_backends()
         rt = self.state.runtime
-        rt.textures = UiTextures(self.ctx)
-        rt.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
-        if not rt.gl_problem:
+        rt.services.textures = UiTextures(self.ctx)
+        rt.services.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
+        if not rt.services.gl_problem:
             from explorer.ui.view_composer import ViewComposer
 
-            rt.composer = ViewComposer(self.ctx, self.controller.programs)
-        rt.formulas = FormulaCache(rt.textures, font_size=17.0 * self.window.content_scale)
+            rt.services.composer = ViewComposer(self.ctx, self.controller.programs)
+        rt.services.formulas = FormulaCache(rt.services.textures,
+                                            font_size=17.0 * self.window.content_scale)
         self._markdown_ctx = theme.markdown_context()
-        rt.markdown_ready = self._markdown_ctx is not None
+        rt.services.markdown_ready = self._markdown_ctx is not None
         try:
             from imgui_bundle import portable_file_dialogs as pfd
 
-            rt.file_dialog_available = bool(pfd.settings.available())
+            rt.services.file_dialog_available = bool(pfd.settings.available())
         except Exception:  # noqa: BLE001 - no zenity/kdialog: hide the browse button
-            rt.file_dialog_available = False
+            rt.services.file_dialog_available = False
 
     # -- the loop ------------------------------------------------------------------------
     def run(self, frames: int | None = None, screenshot: Path | None = None,
@@ -238,7 +239,7 @@ class App:
                     return 1
             self.frame(capture=True)
             write_png(self.last_pixels, screenshot)
-            progress = self.state.runtime.progress.get("A")
+            progress = self.state.runtime.frame.progress.get("A")
             if converged:
                 print(f"lpv-explorer: wrote {screenshot} (converged after {count} + "
                       f"{waited} frames, {time.monotonic() - began:.1f} s of waiting)")
@@ -261,7 +262,7 @@ class App:
                 continue                 # a step or a button changed the settings
             if status is not None and not status.active and not self._interacted:
                 return drawn             # a frame that found nothing left to do
-            if status is None and self.state.runtime.frame_index > _LAYOUT_FRAMES:
+            if status is None and self.state.runtime.frame.frame_index > _LAYOUT_FRAMES:
                 return drawn         # no pipeline (or no GL): nothing to wait for
         return max_frames
 
@@ -295,10 +296,10 @@ class App:
         if events:
             self._input_at = time.monotonic()
         self.status = None
-        if not rt.gl_problem:
+        if not rt.services.gl_problem:
             animation.tick(self.state)       # playing paths and fly-through: new Settings
         changed = self._seen != self._fingerprint()
-        if not rt.gl_problem:
+        if not rt.services.gl_problem:
             self._update_pipelines()
         status = self.status
         worked = status is not None and status.active
@@ -335,11 +336,11 @@ class App:
         # software renderer rasterises them by the swap)
         self.draw_phases_ms = {"panels": (built - drawing) * 1e3,
                                "render_and_swap": (time.perf_counter() - built) * 1e3}
-        rt.frame_index += 1
-        rt.frame_ms = (time.perf_counter() - start) * 1000.0
+        rt.frame.frame_index += 1
+        rt.frame.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0
         # the window's own cost per frame (panels, drawing, swap), smoothed
-        self.ui_ms += 0.2 * (max(rt.frame_ms - work_ms, 0.0) - self.ui_ms)
+        self.ui_ms += 0.2 * (max(rt.frame.frame_ms - work_ms, 0.0) - self.ui_ms)
         self._draws_pending = FRAMES_AFTER_INPUT if (events or changed) else max(
             self._draws_pending - 1, 0)
         self._seen = self._fingerprint()
@@ -360,15 +361,15 @@ class App:
         the fly-through the camera): the pipelines render at the drag's reduced size, a
         frame in flight finishes before the next starts, and the loop does not idle."""
         rt = self.state.runtime
-        return (rt.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
-                or (rt.animation is not None and rt.animation.active))
+        return (rt.view.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
+                or (rt.services.animation is not None and rt.services.animation.active))
 
     def _idle_timeout(self) -> float:
         """How long an idle loop may wait: the idle timeout, or less when the status
         line's message is due to disappear sooner or a camera move settles sooner (its
         full-size frame starts then)."""
         timeout = self.idle_timeout_s
-        interaction = self.state.runtime.interaction
+        interaction = self.state.runtime.view.interaction
         if not interaction.held:      # a camera move settling: the full size follows then
             settles = interaction.moved_at + INTERACTION_SETTLE_S - time.monotonic()
             if settles > 0:
@@ -398,7 +399,7 @@ class App:
                 s.render_scale, s.frame_budget_ms, s.progressive, astuple(s.inspect),
                 astuple(s.overlays), tuple(s.open_panels.items()), s.lesson_id,
                 s.lesson_step, s.plot_tab, len(s.messages), astuple(s.requests),
-                s.runtime.side_exposures)
+                s.runtime.frame.side_exposures)
 
     def screenshot(self, path: str | Path) -> Path:
         """Draw a frame and write it, panels included, to ``path`` (PNG)."""
@@ -419,14 +420,14 @@ class App:
             except OSError as exc:
                 print(f"lpv-explorer: could not save settings: {exc}", file=sys.stderr)
         rt = self.state.runtime
-        for task in rt.tasks:
+        for task in rt.services.tasks:
             task.release()
-        rt.tasks.clear()
-        for owned in (rt.composer, rt.textures, rt.compositor):
+        rt.services.tasks.clear()
+        for owned in (rt.services.composer, rt.services.textures, rt.services.compositor):
             if owned is not None:
                 owned.release()
-        rt.composer = None
-        rt.pictures = {}
+        rt.services.composer = None
+        rt.frame.pictures = {}
         self.controller.release()
         if self.persist_settings:
             try:
@@ -458,8 +459,8 @@ class App:
         state, rt = self.state, self.state.runtime
         if not state.follow_view_size:
             return True
-        vw, vh = rt.view_size
-        if rt.frame_index < _LAYOUT_FRAMES:
+        vw, vh = rt.view.view_size
+        if rt.frame.frame_index < _LAYOUT_FRAMES:
             return False                # the dock layout settles in its first frames
         if vw < _MIN_RENDER_SIZE or vh < _MIN_RENDER_SIZE:
             return True                 # the view panel is hidden: keep the stored size
@@ -470,7 +471,7 @@ class App:
             self._pending_size = None
             return True
         now = time.monotonic()
-        if rt.result is None or (self._pending_size and self._pending_size[0] == size
+        if rt.frame.result is None or (self._pending_size and self._pending_size[0] == size
                                  and now - self._pending_size[1] >= _RESIZE_SETTLE_S):
             state.update(width=size[0], height=size[1])
             self._pending_size = None
@@ -499,11 +500,11 @@ class App:
             need_audit=rt.audit_wanted, interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
             quiet_s=self._quiet_s(), input_pending=self._input_pending)
-        rt.progress = dict(self.status.labels)
-        rt.displays = {side: self.controller.side_display(state, side)
-                       for side in rt.pictures}
-        if rt.result is not None and rt.result is not self._shown_result:
-            self._shown_result = rt.result
+        rt.frame.progress = dict(self.status.labels)
+        rt.frame.displays = {side: self.controller.side_display(state, side)
+                       for side in rt.frame.pictures}
+        if rt.frame.result is not None and rt.frame.result is not self._shown_result:
+            self._shown_result = rt.frame.result
             self._update_title()
 
     def _quiet_s(self) -> float:
@@ -547,7 +548,7 @@ class App:
             self._needs_layout = False
             state.requests.reset_layout = False
         imgui.dock_space_over_viewport(dock_id, viewport)
-        if state.runtime.gl_problem:
+        if state.runtime.services.gl_problem:
             self._gl_problem_window()
             return
         requested = state.requests.focus_panel
@@ -619,7 +620,7 @@ class App:
             return
         if imgui.begin_menu("File"):
             if imgui.menu_item_simple("Open mesh…", enabled=bool(
-                    state.runtime.file_dialog_available)):
+                    state.runtime.services.file_dialog_available)):
                 state.requests.open_file_dialog = True
             if imgui.menu_item_simple("Save scene as…"):
                 state.requests.save_scene_dialog = True
@@ -671,7 +672,7 @@ class App:
         imgui.begin("OpenGL 4.3 needed", None, imgui.WindowFlags_.no_collapse
                     | imgui.WindowFlags_.no_docking)
         imgui.text_colored(ERROR, "This GL driver cannot run the LPV pipeline.")
-        imgui.text_wrapped(self.state.runtime.gl_problem or "")
+        imgui.text_wrapped(self.state.runtime.services.gl_problem or "")
         imgui.text_wrapped("Run `lpv-explorer doctor` for details.")
         if imgui.button("Quit"):
             self.state.requests.quit = True
@@ -681,10 +682,10 @@ class App:
         state, rt = self.state, self.state.runtime
         if state.requests.open_file_dialog:
             state.requests.open_file_dialog = False
-            if rt.file_dialog_available and rt.file_dialog is None:
+            if rt.services.file_dialog_available and rt.services.file_dialog is None:
                 from imgui_bundle import portable_file_dialogs as pfd
 
-                rt.file_dialog = pfd.open_file(
+                rt.services.file_dialog = pfd.open_file(
                     "Open a mesh or a scene file", str(Path.home()),
                     ["Meshes and scene files",
                      "*.obj *.ply *.stl *.glb *.gltf *.off *.toml", "All files", "*"])
@@ -692,17 +693,17 @@ class App:
             state.requests.save_scene_dialog = False
             from explorer.ui.scene_save import SAVE_FILTERS, default_save_path, save_current_scene
 
-            if not rt.file_dialog_available:     # no dialog here: a new file beside us
+            if not rt.services.file_dialog_available:     # no dialog here: a new file beside us
                 save_current_scene(state, default_save_path(state, fresh=True))
-            elif rt.file_dialog is None:
+            elif rt.services.file_dialog is None:
                 from imgui_bundle import portable_file_dialogs as pfd
 
-                rt.file_dialog = pfd.save_file("Save the scene", str(default_save_path(state)),
-                                               SAVE_FILTERS)
-        if rt.file_dialog is not None and rt.file_dialog.ready(0):
-            chosen = rt.file_dialog.result()
+                rt.services.file_dialog = pfd.save_file(
+                    "Save the scene", str(default_save_path(state)), SAVE_FILTERS)
+        if rt.services.file_dialog is not None and rt.services.file_dialog.ready(0):
+            chosen = rt.services.file_dialog.result()
             saving = not isinstance(chosen, list)      # save_file gives one path (text)
-            rt.file_dialog = None
+            rt.services.file_dialog = None
             if saving and chosen:
                 from explorer.ui.scene_save import save_current_scene
 

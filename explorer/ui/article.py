@@ -71,9 +71,9 @@ def live_context(state: AppState, step: Step) -> live_values.LiveContext:
                 instance = context.state_for(spec.instance_id, spec.kind, spec.params,
                                              kind.make_state)
                 figures[spec.instance_id] = kind.readouts(spec.params, instance, context)
-    return live_values.LiveContext(settings=state.settings, result=rt.result,
+    return live_values.LiveContext(settings=state.settings, result=rt.frame.result,
                                    error=current_stats(state), figures=figures,
-                                   renderer=rt.gl_renderer,
+                                   renderer=rt.services.gl_renderer,
                                    marks={mark.id: mark for mark in step.marks})
 
 
@@ -339,7 +339,7 @@ def try_context(state: AppState, session: LessonSession, index: int,
     if active and not item.split:
         return replace(base, error=error), "the frame on screen"
     if active:
-        result = state.runtime.compare_result if state.comparing else None
+        result = state.runtime.frame.compare_result if state.comparing else None
         return (replace(base, settings=after, result=result, error=error),
                 "the right half of the split view")
     return (replace(base, settings=after, result=None, error=error),
@@ -400,7 +400,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
     source = {"context": context, "where": "the frame on screen"}
 
-    converging = state.runtime.progress.get("A")
+    converging = state.runtime.frame.progress.get("A")
 
     def value(name: str, fmt: str) -> tuple[str, str]:
         quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
@@ -453,7 +453,8 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         result = derived.get(name)
         return result.latex, result.statement
 
-    env = PageEnv(fonts=state.runtime.fonts, formulas=state.runtime.formulas, value=value,
+    services = state.runtime.services
+    env = PageEnv(fonts=services.fonts, formulas=services.formulas, value=value,
                   button=button, on_button=on_button, figure=figure, formula=formula,
                   glossary=_glossary(session))
     env.source = source

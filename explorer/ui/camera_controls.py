@@ -5,7 +5,7 @@ Fly mode: left drag looks around, W/A/S/D move, Q/E go down/up, shift is faster,
 moves forward. Either mode: F frames the scene, G frames the picked point.
 Every move replaces ``Settings.camera``; the pipeline then re-renders the G-buffer and the
 gather only (the light's passes do not depend on the camera). Moves are recorded in
-``runtime.interaction``: while a drag lasts (and a moment after a wheel step or a fly
+``runtime.view.interaction``: while a drag lasts (and a moment after a wheel step or a fly
 key) the window renders at a reduced size, and at full size once the camera rests.
 """
 
@@ -28,13 +28,13 @@ FLY_WHEEL_SCENES = 0.05           # one wheel step moves this many scene diagona
 
 
 def current_camera(state: AppState) -> tuple | None:
-    value = state.settings.camera or state.runtime.camera_default
+    value = state.settings.camera or state.runtime.scene_facts.camera_default
     return None if value is None else camera.as_pair(value)
 
 
 def _frame_geometry(state: AppState) -> tuple | None:
     """(fov_y, aspect, bounds_min, bounds_max) of the last frame, or None before one."""
-    result = state.runtime.result
+    result = state.runtime.frame.result
     if result is None or getattr(result, "camera", None) is None:
         return None
     height, width = result.final_image.shape[:2]
@@ -60,7 +60,7 @@ def frame_picked(state: AppState) -> bool:
     current, point = current_camera(state), picked_point(state)
     if current is None or point is None:
         return False
-    result = state.runtime.result
+    result = state.runtime.frame.result
     distance = min(float(np.linalg.norm(np.subtract(*current))),
                    12.0 * result.grid_spec.cell_size)
     return state.update(camera=camera.frame_point(*current, point, distance))
@@ -93,7 +93,7 @@ def hint(state: AppState) -> str:
 def handle_mouse(state: AppState, hovered: bool, active: bool, view_height: float) -> None:
     """Camera moves from the mouse and keys while the view image is hovered or dragged.
     ``view_height``: the image's height on screen (pan speed)."""
-    interaction = state.runtime.interaction
+    interaction = state.runtime.view.interaction
     interaction.held = False
     current = current_camera(state)
     if current is None:

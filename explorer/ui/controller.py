@@ -29,7 +29,7 @@ and a budget in milliseconds. The controller
 * keeps the last good result when a request fails (one message per failure; a scene
   that does not open restores the previous one), reloads changed shaders (a compile error
   keeps the last good program and shows the log), and advances the panels' background
-  tasks (``runtime.tasks``, the Error panel's reference) in what is left of the budget.
+  tasks (``runtime.services.tasks``, the Error panel's reference) in what is left of the budget.
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, Callable, Protocol
 import numpy as np
 
 from explorer.lpv.audit import audit_covers, audit_mode
-from explorer.lpv.schema import stages_reading
+from explorer.schema import stages_reading
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.lpv.stages import downstream
@@ -628,7 +628,7 @@ class PipelineController:
         side.warned = warnings
 
     def _scene_defaults(self, state: "AppState", pipeline, scene_name: str) -> None:
-        """The scene as loaded (``runtime.scene``: its lights, objects and paths for the
+        """The scene as loaded (``runtime.scene_facts.scene``: its lights, objects and paths for the
         Lights & objects panel) and its own camera and primary light (before any
         override), so orbiting and the light sliders start from what is shown. Loaded
         once per scene."""
@@ -666,7 +666,7 @@ class PipelineController:
     def _hot_reload(self, state: "AppState", now: float | None = None) -> None:
         """Recompile shaders whose files changed (polled every SHADER_POLL_S): a failed
         compile keeps the last good program and records its log in
-        ``runtime.shader_errors``; a side whose programs changed renders again."""
+        ``runtime.services.shader_errors``; a side whose programs changed renders again."""
         now = time.monotonic() if now is None else now
         if now - self._shader_poll < SHADER_POLL_S:
             return
@@ -689,7 +689,7 @@ class PipelineController:
         self._hot_reload(state)
 
     def _tasks(self, state: "AppState", left_ms: float, status: ControllerStatus) -> None:
-        """The panels' background GPU work (``runtime.tasks``) in what is left of the
+        """The panels' background GPU work (``runtime.services.tasks``) in what is left of the
         budget, shared by the tasks that have work (an idle one is still called: it may
         start some, e.g. the Error panel's measurement of a new configuration)."""
         tasks = state.runtime.services.tasks

@@ -75,9 +75,9 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
             # nothing left to do, and nothing the panels changed in the frame just drawn
             converged = (app.status is not None and not app.status.active
                          and not app.drew_change)
-            ready = (rt.result is not None and frames > SETTLE_FRAMES and pressed
+            ready = (rt.frame.result is not None and frames > SETTLE_FRAMES and pressed
                      and converged
-                     and (not app.state.comparing or rt.compare_result is not None))
+                     and (not app.state.comparing or rt.frame.compare_result is not None))
             if ready and uses_error(wanted):
                 service = error_service(app.state)
                 service.lesson_wants = True
@@ -93,7 +93,7 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
                                    f"{wait_s:g} s")
         app.frame(capture=True)
         write_png(app.last_pixels, out)
-        rect = app.state.runtime.view_rect
+        rect = app.state.runtime.view.view_rect
     finally:
         app.close()
     return ExportedStep(Path(out), None if rect is None else tuple(int(round(v))

@@ -6,7 +6,7 @@ object's frame ``T(pivot + t)·R·S`` (explorer/scene/objects.py), seen through 
 of the frame on screen. A drag gives a new matrix, which becomes the object's transform
 in ``Settings.object_transforms``: the scene stage poses the object and the stages after
 it run again, like any other change of settings. While a handle is dragged the window
-renders at the camera drag's reduced size (``runtime.interaction``).
+renders at the camera drag's reduced size (``runtime.view.interaction``).
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ def draw(state, origin, end) -> bool:
     """Draw the gizmo of the selected object into the current window over the image
     from ``origin`` to ``end`` (screen coordinates) and apply a drag to the settings.
     Returns True while the gizmo is hovered or dragged."""
-    animation, scene, result = animation_of(state), scene_of(state), state.runtime.result
+    animation, scene, result = animation_of(state), scene_of(state), state.runtime.frame.result
     if animation.selected is None or scene is None or \
             getattr(result, "camera", None) is None or \
             getattr(result, "scene_bounds", None) is None:
@@ -77,7 +77,7 @@ def draw(state, origin, end) -> bool:
         moved = np.asarray(matrix.values, np.float64).reshape(4, 4).T   # column-major
         if apply_matrix(state, obj, moved):
             # a move like the camera's: the window renders at the drag's size meanwhile
-            state.runtime.interaction.moved_at = time.monotonic()
+            state.runtime.view.interaction.moved_at = time.monotonic()
     return hovered()
 
 

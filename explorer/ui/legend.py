@@ -32,7 +32,7 @@ def words(name: str) -> str:
     """A switch's or a setting's name as the panels write it: the correction's title,
     the setting's label, else the name with spaces."""
     from explorer.lpv.corrections import CORRECTIONS
-    from explorer.lpv.schema import specs
+    from explorer.schema import specs
 
     for entry in CORRECTIONS:
         if entry.name == name:

@@ -2,7 +2,7 @@
 
 ``settings.json`` holds the fields of :class:`~explorer.ui.state.AppState` declared with
 the settings schema (the two configurations, the view choices, the Inspect panel's
-state...): JSON only, never pickle, read back through :func:`explorer.lpv.schema.from_dict`
+state...): JSON only, never pickle, read back through :func:`explorer.schema.from_dict`
 so every value is type- and range-checked. ``imgui.ini`` next to it holds the dock
 layout; :func:`check_layout` reads it before imgui does.
 
@@ -19,7 +19,7 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from explorer.lpv.schema import SettingError, from_dict, specs, to_dict
+from explorer.schema import SettingError, from_dict, specs, to_dict
 from explorer.safe_files import UserFileError, parse_json, read_text, write_atomically
 from explorer.ui.layout_file import LayoutFileError, check_layout
 from explorer.ui.state import AppState

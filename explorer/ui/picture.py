@@ -19,7 +19,7 @@ import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 
 if TYPE_CHECKING:
     from explorer.lpv.frame import FrameResult

@@ -33,7 +33,7 @@ def save_current_scene(state, path: str | Path) -> Path | None:
     from explorer.scene.scene_writer import write_scene_file
     from explorer.truth.gbuffer import scene_for
 
-    loaded = state.runtime.scene
+    loaded = state.runtime.scene_facts.scene
     if loaded is None or loaded[0] != state.settings.scene:
         state.notify("the scene is still loading: save it again in a moment", "warning")
         return None

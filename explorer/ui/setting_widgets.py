@@ -1,4 +1,4 @@
-"""imgui widgets drawn from settings specs (explorer/lpv/schema.py).
+"""imgui widgets drawn from settings specs (explorer/schema.py).
 
 A field that declares ``widget`` is edited here generically: its label, its range (a
 slider stops at ``widget_high``, Ctrl+click types any allowed value), its choices or
@@ -12,7 +12,7 @@ from typing import Any
 
 from imgui_bundle import imgui
 
-from explorer.lpv.schema import Spec
+from explorer.schema import Spec
 
 
 def label_of(spec: Spec, name: str) -> str:

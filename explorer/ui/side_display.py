@@ -67,7 +67,7 @@ def auto_scale(side: ShownSide, settings: Settings) -> float:
 
 def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | None]",
                           indirect_only: dict[str, bool]) -> None:
-    """Each side's own exposure (``runtime.side_exposures``) when the sides are exposed
+    """Each side's own exposure (``runtime.frame.side_exposures``) when the sides are exposed
     separately without the display's auto exposure, measured once per new result."""
     from explorer.lpv.display import exposed_image
     from explorer.ui.images import auto_exposure

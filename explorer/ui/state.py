@@ -15,7 +15,7 @@ from datetime import datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Protocol
 
-from explorer.lpv.schema import setting, validate
+from explorer.schema import setting, validate
 from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS, PRESETS, Settings
 from explorer.overlay_params import (  # noqa: F401 - the overlays' names, re-exported
     COLOUR_MAPS,
@@ -70,7 +70,7 @@ texture (GL_MAX_TEXTURE_SIZE is at least 8192 on a GL 4.3 driver)."""
 @dataclass
 class InspectState:
     """What the Inspect panel shows; persisted, so every field is declared and checked
-    by the settings schema (explorer/lpv/schema.py) when the file is read back."""
+    by the settings schema (explorer/schema.py) when the file is read back."""
 
     source: str = setting("rsm-flux", kind="choice", choices=INSPECT_SOURCES,
                           doc="The buffer the Inspect panel shows.")
@@ -225,9 +225,9 @@ class Runtime:
     only what the panels drawn this frame ask of the next (the audit, a redraw). Not
     persisted.
 
-    Each part's fields can also be read and set by their own name on the runtime
-    (``runtime.result`` is ``runtime.frame.result``), so that the panels move to the parts
-    one at a time."""
+    A panel reads the part it needs by name (``runtime.frame.result``,
+    ``runtime.services.textures``); no field of a part is reachable from the runtime
+    itself, so what a panel depends on shows in its code."""
 
     frame: ShownFrame = field(default_factory=ShownFrame)
     scene_facts: SceneFacts = field(default_factory=SceneFacts)
@@ -253,29 +253,8 @@ class Runtime:
         self.redraw = True
 
 
-def _part_field(part: str, name: str) -> property:
-    return property(lambda self: getattr(getattr(self, part), name),
-                    lambda self, value: setattr(getattr(self, part), name, value),
-                    doc=f"``{part}.{name}``")
-
-
-def _forward_part_fields() -> None:
-    from dataclasses import fields
-
-    seen: set[str] = set()
-    for part, cls in RUNTIME_PARTS.items():
-        for entry in fields(cls):
-            if entry.name in seen or hasattr(Runtime, entry.name):
-                raise TypeError(f"Runtime part field {entry.name!r} is not unique")
-            seen.add(entry.name)
-            setattr(Runtime, entry.name, _part_field(part, entry.name))
-
-
-_forward_part_fields()
-
-
 class BackgroundTask(Protocol):
-    """Work a panel hands to the frame loop (``runtime.tasks``)."""
+    """Work a panel hands to the frame loop (``runtime.services.tasks``)."""
 
     running: bool
 

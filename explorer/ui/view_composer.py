@@ -21,7 +21,7 @@ import numpy as np
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.display import exposed_image
-from explorer.lpv.targets import RenderTargets
+from explorer.gl.targets import RenderTargets
 from explorer.lpv.tonemap import luminance, tone_map_index
 from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS

@@ -8,7 +8,6 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
-from explorer.lpv.cascades import CascadeInput
 from explorer.lpv.fog import TARGETS, FogPass, Medium
 from explorer.lpv.frame_stages.base import Stage as StageBase
 from explorer.lpv.frame_stages.base import StageHost
@@ -41,15 +40,12 @@ class Stage(StageBase):
             state.fog = None
             state.warnings["fog"] = []
             return
-        levels = state.cascades
-        cascades = [CascadeInput(spec, level.accumulation_textures)
-                    for spec, level in zip(state.specs, levels)]
+        grid = state.sampled_grid()
         medium, shadow = Params.of(s), host.light_views.shadow_maps
         host.timer.reset("fog")
         for band in bands((s.width, s.height)):
             host.timer.timed("fog", lambda: self.fog.run(
-                state.gbuffer_pass, shadow, host.scene_state.scene, cascades, medium,
-                sh_order=levels[0].injected.sh_order,
+                state.gbuffer_pass, shadow, host.scene_state.scene, grid, medium,
                 shader_filter=state.gather_pass.shader_filter, rows=band), accumulate=True)
             yield
         direct, lpv = yield from read_back([self.fog.targets[name] for name in TARGETS])

@@ -10,7 +10,6 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
-from explorer.lpv.cascades import CascadeInput
 from explorer.lpv.frame_stages.base import Stage as StageBase
 from explorer.lpv.frame_stages.base import StageHost
 from explorer.lpv.frame_state import GatherImages
@@ -53,15 +52,9 @@ class Stage(StageBase):
         gather", "Cascades"), of the rows ``rows`` or the whole image; ``into``/``size``:
         another gather pass's targets, at that size (a reduced preview)."""
         host, state = self.host, self.state
-        levels, specs = state.cascades, state.specs
-        textures = [level.accumulation_textures for level in levels]
-        cascades = None
-        if len(levels) > 1:
-            cascades = [CascadeInput(spec, t) for spec, t in zip(specs, textures)]
         (into or self.gather).run(
-            state.gbuffer_pass, host.light_views.shadow_maps, textures[0], specs[0],
-            Params.of(s, host.scene_state.scene.camera.eye), cascades=cascades,
-            sh_order=levels[0].injected.sh_order, rows=rows, size=size)
+            state.gbuffer_pass, host.light_views.shadow_maps, state.sampled_grid(),
+            Params.of(s, host.scene_state.scene.camera.eye), rows=rows, size=size)
 
     def release(self) -> None:
         self.gather.release()

@@ -18,7 +18,7 @@ from functools import lru_cache
 import numpy as np
 from imgui_bundle import imgui, implot, implot3d
 
-from explorer.lpv.reference import sh_basis
+from explorer.lpv.twin import sh_basis
 from explorer.ui.figures import style
 from explorer.figure_params import ClampedCosineParams as Params
 

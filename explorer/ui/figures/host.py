@@ -51,7 +51,7 @@ class FigureContext:
     def update_from_app(self, state) -> None:
         """Take the results an AppState holds: A, and B while a compare view is on."""
         rt = state.runtime
-        results = [rt.result] if rt.result is not None else []
-        if results and state.comparing and rt.compare_result is not None:
-            results.append(rt.compare_result)
+        results = [rt.frame.result] if rt.frame.result is not None else []
+        if results and state.comparing and rt.frame.compare_result is not None:
+            results.append(rt.frame.compare_result)
         self.results = tuple(results)

@@ -1,6 +1,6 @@
 """Propagation, step by step: a point light in a small grid, one step t at a time.
 
-One VPL is injected at a cell of a small grid (numpy reference, explorer/lpv/reference.py,
+One VPL is injected at a cell of a small grid (numpy twin, explorer/lpv/twin.py,
 with the chosen corrections) and propagated; the figure shows the slice through the
 source at step t, each cell coloured by the flux it holds and marked with a glyph of
 where its light is heading (its intensity lobe, or an arrow along its band-1 vector), and
@@ -21,7 +21,7 @@ from imgui_bundle import imgui
 from explorer.lpv import constants as K
 from explorer.lpv.audit import GridAudit
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.reference import inject, propagate_audited
+from explorer.lpv.twin import inject, propagate_audited
 from explorer.lpv.settings import PRESETS, Corrections
 from explorer.lpv.vpl import VplArrays
 from explorer.ui import glyphs, legend, widgets

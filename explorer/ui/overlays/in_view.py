@@ -28,7 +28,7 @@ _BAR_ROOM = 84.0        # width of the colour bar with its labels
 
 def side_result(state: AppState, side: str):
     rt = state.runtime
-    return rt.result if side == "A" else rt.compare_result
+    return rt.frame.result if side == "A" else rt.frame.compare_result
 
 
 def shown_texture(state: AppState, side: str, texture: int, bottom_first: bool,
@@ -38,11 +38,11 @@ def shown_texture(state: AppState, side: str, texture: int, bottom_first: bool,
     ``texture`` itself."""
     rt, overlays = state.runtime, state.overlays
     result = side_result(state, side)
-    if (not overlays.any_shown or rt.compositor is None or result is None
+    if (not overlays.any_shown or rt.services.compositor is None or result is None
             or getattr(result, "gbuffer_position", None) is None):
         return texture, bottom_first
     try:
-        return rt.compositor.compose(side, result, texture, not bottom_first, overlays,
+        return rt.services.compositor.compose(side, result, texture, not bottom_first, overlays,
                                      version), True
     except Exception as exc:  # noqa: BLE001 - the view still shows the frame
         text = f"overlays could not be drawn: {type(exc).__name__}: {exc}"
@@ -80,7 +80,7 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
             layer = Q.slice_layer(o, spec.resolution)
             cell = slice_hit(result, spec, o.slice_axis, layer, *pixel, on_top=o.slice_on_top)
             if cell is not None:
-                compositor = state.runtime.compositor
+                compositor = state.runtime.services.compositor
                 field = None if compositor is None else compositor.slice_field(side)
                 value = None if field is None or field.spec != spec else (
                     field.label, float(field.values[cell]))
@@ -117,18 +117,18 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
     """Colour bar, tooltip, picking and slice wheel over the view image spanning
     ``origin``..``end`` (screen units); ``split_x``: the divider of the split view."""
     rt, o = state.runtime, state.overlays
-    if o.slice and rt.compositor is not None:
+    if o.slice and rt.services.compositor is not None:
         # one bar per side: each side's automatic scale is its own
         sides = ("A",) if split_x is None else ("A", "B")
         for side in sides:
-            field = rt.compositor.slice_field(side)
+            field = rt.services.compositor.slice_field(side)
             if field is not None:
                 at_left = side == "A" and split_x is not None
                 _colour_bar(draw, field, origin, end, at_left)
                 if side == "A":
                     _caption(draw, field.label, origin, end)
     marks = step_marks(state)
-    if marks and rt.result is not None:
+    if marks and rt.frame.result is not None:
         from explorer.ui.overlays import marks as mark_overlay
 
         def text_size(label: str) -> tuple[float, float]:
@@ -136,14 +136,14 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
             return size.x, size.y
 
         mark_overlay.draw(draw, mark_overlay.placements(
-            rt.result, marks, (origin.x, origin.y), (end.x, end.y), text_size))
+            rt.frame.result, marks, (origin.x, origin.y), (end.x, end.y), text_size))
     delta = imgui.get_io().mouse_delta
     if hovered and (delta.x or delta.y):
-        rt.pointer_moved = True
+        rt.view.pointer_moved = True
     # A pointer that never moved (a scripted run under Xvfb, where it rests mid-screen) is
     # nobody's: no tooltip in screenshots.
-    if not hovered or rt.view_rect is None or not rt.pointer_moved:
-        rt.hover = None
+    if not hovered or rt.view.view_rect is None or not rt.view.pointer_moved:
+        rt.view.hover = None
         return
     mouse = imgui.get_mouse_pos()
     side = "B" if split_x is not None and mouse.x >= split_x else "A"
@@ -152,19 +152,19 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
     pixel = None
     if result is not None:
         height, width = result.final_image.shape[:2]
-        pixel = view_pixel(rt.view_rect, (mouse.x * scale, mouse.y * scale), (width, height))
-    rt.hover = None if pixel is None else hover_at(state, side, pixel)
+        pixel = view_pixel(rt.view.view_rect, (mouse.x * scale, mouse.y * scale), (width, height))
+    rt.view.hover = None if pixel is None else hover_at(state, side, pixel)
     _slice_wheel(state)
     near_divider = split_x is not None and abs(mouse.x - split_x) < 8.0
     if imgui.is_mouse_clicked(0):
-        rt.view_press = (mouse.x, mouse.y)
-    if imgui.is_mouse_released(0) and rt.view_press is not None:
-        dx, dy = mouse.x - rt.view_press[0], mouse.y - rt.view_press[1]
-        rt.view_press = None
-        if dx * dx + dy * dy <= CLICK_SLOP ** 2 and rt.hover is not None and not near_divider:
-            set_picked(state, rt.hover)
-    if rt.hover is not None and not imgui.is_mouse_down(0):
-        _tooltip(rt.hover)
+        rt.view.view_press = (mouse.x, mouse.y)
+    if imgui.is_mouse_released(0) and rt.view.view_press is not None:
+        dx, dy = mouse.x - rt.view.view_press[0], mouse.y - rt.view.view_press[1]
+        rt.view.view_press = None
+        if dx * dx + dy * dy <= CLICK_SLOP ** 2 and rt.view.hover is not None and not near_divider:
+            set_picked(state, rt.view.hover)
+    if rt.view.hover is not None and not imgui.is_mouse_down(0):
+        _tooltip(rt.view.hover)
 
 
 def step_marks(state: AppState) -> tuple:
@@ -189,7 +189,7 @@ def _slice_wheel(state: AppState) -> None:
         step = 1
     elif imgui.is_key_pressed(imgui.Key.left_bracket):
         step = -1
-    result = state.runtime.result
+    result = state.runtime.frame.result
     if step and o.slice and result is not None:
         n = result.grid_spec.resolution
         o.slice_index = min(max(Q.slice_layer(o, n) + step, 0), n - 1)

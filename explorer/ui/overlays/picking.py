@@ -16,7 +16,7 @@ import numpy as np
 from explorer.lpv import constants as C
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.cascades import blend_weights
-from explorer.lpv.reference import gather
+from explorer.lpv.twin import gather
 from explorer.ui.overlays.quantities import plane_axes
 
 CellIndex = tuple[int, int, int]
@@ -216,7 +216,7 @@ def pixel_of(result, world) -> tuple[int, int] | None:
 def view_pixel(rect, mouse, image_size) -> tuple[int, int] | None:
     """The image pixel under ``mouse`` when the image of ``image_size`` (width, height) is
     drawn stretched over ``rect`` (x0, y0, x1, y1); both in the same units (the View panel
-    uses framebuffer pixels: Runtime.view_rect), so the render scale drops out. None
+    uses framebuffer pixels: Runtime.view.view_rect), so the render scale drops out. None
     outside the image."""
     x0, y0, x1, y1 = rect
     width, height = image_size

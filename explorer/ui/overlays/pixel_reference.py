@@ -3,7 +3,7 @@
 The Picked panel's button asks for the reference at the picked pixel
 (:func:`explorer.truth.progressive.pixel_reference`: a 1×1 tile of the frame's own image
 with the frame's own VPLs, shadow rays for "visible", none for "unoccluded"); the window's
-controller advances the work within its background-task budget (``runtime.tasks``), and
+controller advances the work within its background-task budget (``runtime.services.tasks``), and
 the values are cached per (settings, pixel, mode), so the tooltip and the panel show them
 next to the LPV's indirect radiance whenever that pixel of those settings is under the
 mouse or picked again. No imgui here: the cache and the queue are tested headlessly.
@@ -218,13 +218,13 @@ class PixelReferences:
 
 def pixel_references(state) -> PixelReferences:
     """The state's PixelReferences, made and handed to the app loop on first use."""
-    tasks = state.runtime.tasks
+    tasks = state.runtime.services.tasks
     for task in tasks:
         if isinstance(task, PixelReferences):
             return task
 
     def loaded_scene(name: str):
-        loaded = state.runtime.scene
+        loaded = state.runtime.scene_facts.scene
         return loaded[1] if loaded is not None and loaded[0] == name else None
 
     service = PixelReferences(loaded_scene)

@@ -34,7 +34,7 @@ def gui_compare(state: AppState) -> None:
                         "exposure puts its brightest 1% near white (otherwise both use A's "
                         "exposure).")
     if state.expose_sides_separately and not state.settings.auto_exposure:
-        ea, eb = state.runtime.side_exposures
+        ea, eb = state.runtime.frame.side_exposures
         imgui.text_disabled(f"exposure A {ea:.3g}   B {eb:.3g}")
 
     imgui.separator_text("Configuration B")

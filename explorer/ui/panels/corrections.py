@@ -23,7 +23,7 @@ def gui_corrections(state: AppState) -> None:
     if widgets.button_active("Corrected", corr == PRESETS["corrected"]):
         state.apply_preset("corrected")
     imgui.separator()
-    formulas = state.runtime.formulas
+    formulas = state.runtime.services.formulas
     for entry in CORRECTIONS:
         value = bool(getattr(corr, entry.name))
         imgui.push_id(entry.name)

@@ -3,7 +3,7 @@
 The measurement (``explorer/truth/progressive.py``) renders A's LPV frame at a small size
 (the reference costs pixels × VPLs), then the reference a few tiles per frame, then the
 relative L2 error, the flux ratio and a false-colour log2 error image. It runs in the
-background of the app loop (an :class:`ErrorService` in ``runtime.tasks``), is cancelled
+background of the app loop (an :class:`ErrorService` in ``runtime.services.tasks``), is cancelled
 when the settings change before it finishes, and every finished measurement is cached per
 measured settings, so switching back and forth costs nothing the second time. Lessons
 read the numbers through ``{{error.*}}`` placeholders.
@@ -204,11 +204,11 @@ class ErrorService:
 def error_service(state) -> ErrorService:
     """The state's ErrorService, made and handed to the app loop on first use."""
     rt = state.runtime
-    for task in rt.tasks:
+    for task in rt.services.tasks:
         if isinstance(task, ErrorService):
             return task
     service = ErrorService(state)
-    rt.tasks.append(service)
+    rt.services.tasks.append(service)
     return service
 
 
@@ -385,7 +385,7 @@ def _images(state, result: ErrorResult) -> None:
             imgui.same_line()
         imgui.begin_group()
         imgui.text_disabled(title)
-        tex = rt.textures.upload(f"error-{index}", image, version=version)
+        tex = rt.services.textures.upload(f"error-{index}", image, version=version)
         pos = imgui.get_cursor_screen_pos()
         imgui.image(imgui.ImTextureRef(tex), size)
         imgui.end_group()

@@ -32,7 +32,7 @@ def gui_inspect(state: AppState) -> None:
     changed, index = imgui.combo("Show", index, labels)
     if changed:
         ins.source = INSPECT_SOURCES[index]
-    result = state.runtime.result
+    result = state.runtime.frame.result
     if result is None:
         imgui.text_disabled("no frame yet")
         return
@@ -46,12 +46,12 @@ def gui_inspect(state: AppState) -> None:
     version = (ins.source, id(result), ins.slice_z, ins.component, ins.direction_azimuth,
                ins.direction_elevation, ins.iteration, ins.signed_scale, ins.cascade)
     rt = state.runtime
-    if rt.inspect_cache is None or rt.inspect_cache[0] != version:
+    if rt.services.inspect_cache is None or rt.services.inspect_cache[0] != version:
         # Only a new frame or a changed control recomputes and uploads the picture.
         image, top, caption = make()
-        tex = rt.textures.upload("inspect", image, version=version)
-        rt.inspect_cache = (version, tex, top, caption, image.shape[:2])
-    _, tex, top, caption, (height_px, width_px) = rt.inspect_cache
+        tex = rt.services.textures.upload("inspect", image, version=version)
+        rt.services.inspect_cache = (version, tex, top, caption, image.shape[:2])
+    _, tex, top, caption, (height_px, width_px) = rt.services.inspect_cache
     signed = ins.component != "intensity" and ins.source in ("grid-slice", "propagation")
     imgui.text_disabled(caption)
     avail = imgui.get_content_region_avail()
@@ -160,7 +160,7 @@ def _cascade_weights(state: AppState, result):
     pipeline's own view: it needs the G-buffer, which the FrameResult does not carry."""
     from explorer.lpv.views import CASCADE_COLOURS
 
-    view = state.runtime.frame_view
+    view = state.runtime.frame.frame_view
     if view is None:
         return None, "no frame yet"
     count = len(result.cascade_specs or [result.grid_spec])
@@ -196,18 +196,18 @@ def _cascade_pick(state: AppState, result, per_cascade: list, finest):
 
 def _playback(state: AppState, last: int) -> None:
     ins, rt = state.inspect, state.runtime
-    ins.playing, ins.iteration, rt.play_clock = widgets.playback(
-        ins.playing, ins.iteration, last, rt.play_clock, ins.play_rate)
+    ins.playing, ins.iteration, rt.view.play_clock = widgets.playback(
+        ins.playing, ins.iteration, last, rt.view.play_clock, ins.play_rate)
 
 
 def _vpl_plot(state: AppState, result) -> None:
     """The VPLs the grid received, as points coloured by their flux (drag to rotate)."""
     rt = state.runtime
-    if rt.vpl_cache is None or rt.vpl_cache[0] != id(result):
+    if rt.services.vpl_cache is None or rt.services.vpl_cache[0] != id(result):
         vpls = result.vpls
-        rt.vpl_cache = (id(result), images.vpl_groups(vpls.positions, vpls.flux),
+        rt.services.vpl_cache = (id(result), images.vpl_groups(vpls.positions, vpls.flux),
                         len(vpls.positions))
-    _, groups, count = rt.vpl_cache
+    _, groups, count = rt.services.vpl_cache
     shown = sum(len(points) for _, points in groups)
     imgui.text_disabled(f"{count} VPLs injected, {shown} lit ones shown; drag to rotate")
     if not implot3d.begin_plot("##vpls", (-1, -1)):

@@ -62,10 +62,10 @@ def set_lights(state: AppState, scene, names: list[str]) -> bool:
     if not state.update(**changes):
         return False
     rt = state.runtime
-    rt.light_default = (tuple(primary.position), tuple(primary.target))
-    rt.light_flux_default = primary.flux
-    rt.light_cone_default = getattr(primary, "cone_degrees", None)
-    rt.light_is_spot = primary.kind == "spot"
+    rt.scene_facts.light_default = (tuple(primary.position), tuple(primary.target))
+    rt.scene_facts.light_flux_default = primary.flux
+    rt.scene_facts.light_cone_default = getattr(primary, "cone_degrees", None)
+    rt.scene_facts.light_is_spot = primary.kind == "spot"
     return True
 
 
@@ -91,7 +91,7 @@ def _lights(state: AppState, scene) -> None:
             if imgui.selectable(name, name == on[0])[0] and name != on[0]:
                 set_lights(state, scene, [name] + [n for n in on if n != name])
         imgui.end_combo()
-    result = state.runtime.result
+    result = state.runtime.frame.result
     names = getattr(result, "light_names", ())
     if names:
         widgets.dim_text_wrapped(

@@ -14,11 +14,12 @@ def gui_messages(state: AppState) -> None:
         state.messages.clear()
     rt = state.runtime
     imgui.same_line()
-    imgui.text_disabled(f"frame {rt.frame_ms:.1f} ms   last pipeline run {rt.pipeline_ms:.1f} ms")
-    if rt.gl_problem:
-        imgui.text_colored(widgets.ERROR, rt.gl_problem)
-    if rt.pipeline_error:
-        imgui.text_colored(widgets.ERROR, rt.pipeline_error)
+    imgui.text_disabled(f"frame {rt.frame.frame_ms:.1f} ms   "
+                        f"last pipeline run {rt.frame.pipeline_ms:.1f} ms")
+    if rt.services.gl_problem:
+        imgui.text_colored(widgets.ERROR, rt.services.gl_problem)
+    if rt.frame.pipeline_error:
+        imgui.text_colored(widgets.ERROR, rt.frame.pipeline_error)
     for message in reversed(state.messages):
         imgui.push_style_color(imgui.Col_.text, widgets.LEVEL_COLOURS.get(message.level,
                                                                            widgets.DIM))
@@ -27,7 +28,7 @@ def gui_messages(state: AppState) -> None:
 
 
 def gui_shaders(state: AppState) -> None:
-    errors = state.runtime.shader_errors
+    errors = state.runtime.services.shader_errors
     widgets.dim_text_wrapped(
         "Shaders under shaders/ reload when a file changes. A compile error keeps the last "
         "good program running and shows the log here.")

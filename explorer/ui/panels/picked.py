@@ -25,7 +25,7 @@ def gui_picked(state: AppState) -> None:
         widgets.dim_text_wrapped("Click a pixel of the view (or a cell of the slice plane) "
                                  "to read its values here; hovering shows them in a tooltip.")
         return
-    result = rt.result if o.picked_side == "A" else rt.compare_result
+    result = rt.frame.result if o.picked_side == "A" else rt.frame.compare_result
     if result is None or getattr(result, "gbuffer_position", None) is None:
         imgui.text_disabled(f"no frame of side {o.picked_side}")
         return

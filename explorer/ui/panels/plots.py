@@ -30,12 +30,12 @@ the minimal propagation kernel; only the Energy audit tab needs the full audit."
 
 def gui_plots(state: AppState) -> None:
     rt = state.runtime
-    if rt.result is None:
+    if rt.frame.result is None:
         imgui.text_disabled("no frame yet")
         return
-    results = [rt.result]
-    if state.comparing and rt.compare_result is not None:
-        results.append(rt.compare_result)
+    results = [rt.frame.result]
+    if state.comparing and rt.frame.compare_result is not None:
+        results.append(rt.frame.compare_result)
     if not imgui.begin_tab_bar("plots"):
         return
     for name, title, plot in zip(TABS, ("Flux per step", "Energy audit", "GPU time"),

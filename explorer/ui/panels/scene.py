@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 from imgui_bundle import imgui
 
-from explorer.lpv.schema import SettingError, specs
+from explorer.schema import SettingError, specs
 from explorer.lpv.settings import Settings
 from explorer.scene.builtin import BUILTIN_SCENES
 from explorer.ui import camera, widgets
@@ -85,7 +85,7 @@ def _scene_choice(state: AppState) -> None:
     imgui.same_line()
     if imgui.button("Open") and state.mesh_path.strip():
         state.requests.open_scene = state.mesh_path.strip()
-    if state.runtime.file_dialog_available:
+    if state.runtime.services.file_dialog_available:
         imgui.same_line()
         if imgui.button("…"):
             state.requests.open_file_dialog = True
@@ -104,8 +104,8 @@ def _camera_and_light(state: AppState) -> None:
         state.update(light=None, light_flux=None, light_kind=None)
     _light_angles(state)
     _light_placement(state)
-    flux = s.light_flux if s.light_flux is not None else (state.runtime.light_flux_default
-                                                          or 0.0)
+    facts = state.runtime.scene_facts
+    flux = s.light_flux if s.light_flux is not None else (facts.light_flux_default or 0.0)
     widgets.fit_next_item("Light flux [W]")
     changed, flux = imgui.input_float("Light flux [W]", flux, 0.0, 0.0, "%.3g")
     _tooltip(tooltip_of(specs(Settings)["light_flux"]))
@@ -114,7 +114,7 @@ def _camera_and_light(state: AppState) -> None:
 
 
 def _light_angles(state: AppState) -> None:
-    light = state.settings.light or state.runtime.light_default
+    light = state.settings.light or state.runtime.scene_facts.light_default
     if light is None:
         imgui.text_disabled("light direction: available once the scene is loaded")
         return
@@ -135,10 +135,10 @@ def _light_placement(state: AppState) -> None:
     orbit the target, these put the light anywhere (inside a closed room, say)."""
     from explorer.scene.lights import LIGHT_KINDS
 
-    light = state.settings.light or state.runtime.light_default
+    light = state.settings.light or state.runtime.scene_facts.light_default
     if light is None:
         return
-    loaded = state.runtime.scene
+    loaded = state.runtime.scene_facts.scene
     try:
         kind = state.settings.light_kind or loaded[1].with_lights(state.settings.lights).light.kind
     except Exception:  # noqa: BLE001 - the scene is not loaded yet, or lights it lacks
@@ -163,7 +163,7 @@ def _spot_cone_angles(state: AppState) -> None:
     """The cone's inner and outer half-angles as one two-handled slider (the pair is one
     field; unset, it shows the scene light's own cone)."""
     s, spec = state.settings, specs(Settings)["spot_cone_degrees"]
-    cone = s.spot_cone_degrees or state.runtime.light_cone_default
+    cone = s.spot_cone_degrees or state.runtime.scene_facts.light_cone_default
     if cone is None:
         return
     widgets.fit_next_item(label_of(spec, "spot_cone_degrees"))
@@ -235,8 +235,9 @@ _CUSTOM: dict[str, Callable[[AppState], None]] = {
 """Declared fields whose control has logic of its own (drawn where the field is)."""
 _AFTER: dict[str, Callable[[AppState], None]] = {"Output": _resolution}
 _SHOWN_WHEN: dict[str, Callable[[AppState], bool]] = {
-    "spot_cone": lambda state: state.runtime.light_is_spot,
-    "spot_cone_degrees": lambda state: state.runtime.light_is_spot and state.settings.spot_cone,
+    "spot_cone": lambda state: state.runtime.scene_facts.light_is_spot,
+    "spot_cone_degrees": lambda state: (state.runtime.scene_facts.light_is_spot
+                                         and state.settings.spot_cone),
     "downsample_factor": lambda state: state.settings.downsample != "none",
     "cascade_extent": lambda state: state.settings.cascades > 1,
     "cascade_focus": lambda state: state.settings.cascades > 1,

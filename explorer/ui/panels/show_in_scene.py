@@ -27,7 +27,7 @@ QUANTITY_LABELS = {
 
 def gui_show_in_scene(state: AppState) -> None:
     o, rt = state.overlays, state.runtime
-    result = rt.result
+    result = rt.frame.result
     if result is None:
         imgui.text_disabled("no frame yet")
         return
@@ -137,7 +137,7 @@ def _vpl_controls(state: AppState, result) -> None:
 
 
 def _notes(state: AppState) -> None:
-    compositor = state.runtime.compositor
+    compositor = state.runtime.services.compositor
     if compositor is None:
         return
     for name, log in compositor.programs.errors.items():   # a failed hot reload

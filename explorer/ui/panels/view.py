@@ -25,11 +25,11 @@ def gui_view(state: AppState) -> None:
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     # The difference view keeps room for its scale bar beside the image.
     bar = widgets.SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
-    rt.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
+    rt.view.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
-    pictures = rt.pictures
-    if "A" not in pictures or rt.composer is None:
+    pictures = rt.frame.pictures
+    if "A" not in pictures or rt.services.composer is None:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
@@ -45,7 +45,7 @@ def gui_view(state: AppState) -> None:
     imgui.end_disabled()
     draw = imgui.get_window_draw_list()
     end = imgui.ImVec2(origin.x + size.x, origin.y + size.y)
-    rt.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
+    rt.view.view_rect = (origin.x * scale, origin.y * scale, end.x * scale, end.y * scale)
     divider_grabbed = False
     split_x = None
     if state.view_mode == "split" and "B" in pictures:
@@ -67,7 +67,7 @@ def gui_view(state: AppState) -> None:
     if not divider_grabbed:
         camera_controls.handle_mouse(state, hovered, active, end.y - origin.y)
     else:               # the divider or the gizmo has the mouse: only a gizmo drag moves
-        rt.interaction.held = gizmo.using()
+        rt.view.interaction.held = gizmo.using()
     if hovered and not active:
         hint = camera_controls.hint(state) + ("   divider: drag" if state.view_mode == "split"
                                               else "")
@@ -80,9 +80,9 @@ def side_texture(state: AppState, side: str) -> tuple[int, bool]:
     display shows it (the view composer's image of the side's picture), with the enabled
     overlays drawn in it."""
     rt = state.runtime
-    picture = rt.pictures[side]
-    display = rt.displays.get(side) or _display(state, side)
-    tex = rt.composer.side_image(side, picture, display, state.view_buffer)
+    picture = rt.frame.pictures[side]
+    display = rt.frame.displays.get(side) or _display(state, side)
+    tex = rt.services.composer.side_image(side, picture, display, state.view_buffer)
     return in_view.shown_texture(state, side, tex, True,
                                  (picture.stamp, display, state.view_buffer))
 
@@ -134,10 +134,10 @@ def _toolbar(state: AppState) -> None:
 
 def _centred_message(state: AppState, avail) -> None:
     rt = state.runtime
-    progress = rt.progress.get("A")
-    text = rt.gl_problem or rt.pipeline_error or (
+    progress = rt.frame.progress.get("A")
+    text = rt.services.gl_problem or rt.frame.pipeline_error or (
         f"rendering… {progress}" if progress else "rendering…")
-    colour = widgets.ERROR if (rt.gl_problem or rt.pipeline_error) else widgets.DIM
+    colour = widgets.ERROR if (rt.services.gl_problem or rt.frame.pipeline_error) else widgets.DIM
     imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + avail.x - 16)
     imgui.dummy((0, avail.y * 0.4))
     imgui.text_colored(colour, text)
@@ -148,11 +148,12 @@ def _progress(state: AppState, draw, origin, end) -> None:
     """Each side still converging says where it is, in the view's bottom right corner
     ("A: propagating 5/8")."""
     rt = state.runtime
-    sides = [side for side in ("A", "B") if side in rt.progress
+    sides = [side for side in ("A", "B") if side in rt.frame.progress
              and (side == "A" or state.comparing)]
     if not sides:
         return
-    text = "   ".join(f"{side}: {rt.progress[side]}" if state.comparing else rt.progress[side]
+    progress = rt.frame.progress
+    text = "   ".join(f"{side}: {progress[side]}" if state.comparing else progress[side]
                        for side in sides)
     width = imgui.calc_text_size(text).x
     line = imgui.get_text_line_height()
@@ -171,12 +172,12 @@ def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:
     draw.add_image(imgui.ImTextureRef(tex_b), (x, origin.y), end, *_uv(frac, 1.0, flip_b))
     mouse = imgui.get_mouse_pos()
     near = hovered and abs(mouse.x - x) < 6.0
-    grabbing = rt.split_dragging
+    grabbing = rt.view.split_dragging
     if near and imgui.is_mouse_clicked(0):
         grabbing = True
     if not imgui.is_mouse_down(0):
         grabbing = False
-    rt.split_dragging = grabbing
+    rt.view.split_dragging = grabbing
     if grabbing:
         state.split_position = min(max((mouse.x - origin.x) / max(width, 1.0), 0.02), 0.98)
     if near or grabbing:
@@ -215,9 +216,9 @@ def _overlay(draw, pos, text: str) -> None:
 
 def _difference(state: AppState, draw, origin, end) -> None:
     rt = state.runtime
-    a, b = rt.pictures["A"], rt.pictures["B"]
-    displays = [rt.displays.get(side) or _display(state, side) for side in ("A", "B")]
-    shown = rt.composer.difference(a, b, *displays, state.view_buffer,
+    a, b = rt.frame.pictures["A"], rt.frame.pictures["B"]
+    displays = [rt.frame.displays.get(side) or _display(state, side) for side in ("A", "B")]
+    shown = rt.services.composer.difference(a, b, *displays, state.view_buffer,
                                    state.difference_scale, state.difference_colour_map)
     bar = widgets.SCALE_BAR_WIDTH + 60.0
     image_end = imgui.ImVec2(end.x - bar, end.y)

@@ -1,4 +1,4 @@
-"""Numpy reference of injection, geometry-volume injection and propagation.
+"""Numpy twin of injection, geometry-volume injection and propagation.
 
 Written independently of the GPU passes: where the shaders gather (one target cell sums
 its six neighbours), this module scatters (every source cell sends to its six neighbours,
@@ -20,7 +20,7 @@ decimals) is the float64 value of its exact sympy derivation (:data:`K`), read f
 table of derivation results ``explorer/derived_table.py`` (the codegen writes it from
 ``derivations.registry``; the test suite fails when it is stale), not the generated
 mirror ``explorer/lpv/constants.py`` the shaders' constants come from: a wrong shader
-constant then makes the GPU disagree with this reference. Reading the table runs no
+constant then makes the GPU disagree with this twin. Reading the table runs no
 sympy, so the window's picking and glyphs never stall on the registry (issue #10).
 """
 
@@ -36,7 +36,7 @@ from explorer.lpv.vpl import VplArrays
 
 
 class DerivedConstants:
-    """The constants this reference uses, each the float64 value of the exact result of a
+    """The constants this twin uses, each the float64 value of the exact result of a
     derivation (``derivations.registry``), looked up on first access in the codegen's
     table of results (``explorer.derived``): deriving the registry takes seconds of
     sympy, which a window must never wait for."""

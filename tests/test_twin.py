@@ -1,4 +1,4 @@
-"""The numpy reference against hand-derived values of docs/MODEL.md."""
+"""The numpy twin against hand-derived values of docs/MODEL.md."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 from lpv_cases import random_grid, random_vpls
 
 from explorer.lpv import constants as K
-from explorer.lpv import reference as R
+from explorer.lpv import twin as R
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import PRESETS, Corrections
 
@@ -117,7 +117,7 @@ def test_constants_are_the_derivations_not_the_generated_mirror():
     """The reference evaluates its constants from the sympy derivations, so a constant the
     codegen wrote wrongly into both mirrors (explorer/lpv/constants.py and the GLSL) makes
     every GPU-against-reference test fail. It never imports the generated module."""
-    script = ("import sys; from explorer.lpv import reference as R; "
+    script = ("import sys; from explorer.lpv import twin as R; "
               "[getattr(R.K, name) for name in R.DerivedConstants.DERIVATIONS]; "
               "print('explorer.lpv.constants' in sys.modules)")
     loaded = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,

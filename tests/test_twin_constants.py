@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from explorer.lpv.reference import DerivedConstants
+from explorer.lpv.twin import DerivedConstants
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -23,7 +23,7 @@ def test_every_constant_equals_its_derivation():
 
 def test_reading_the_constants_runs_no_sympy():
     script = ("import sys\n"
-              "from explorer.lpv.reference import K, DerivedConstants\n"
+              "from explorer.lpv.twin import K, DerivedConstants\n"
               "values = [getattr(K, name) for name in DerivedConstants.DERIVATIONS]\n"
               "assert 'sympy' not in sys.modules, 'sympy was imported'\n"
               "print(len(values))\n")

@@ -25,7 +25,7 @@ import math
 import numbers
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
          "switches", "names", "name_set", "transforms", "nested")
@@ -81,6 +81,11 @@ class Spec:
     :func:`check_stages`; the LPV's are ``explorer.lpv.stage_list.STAGES``)."""
     nested: type | None = None
     """For ``nested``: the dataclass type held."""
+    parse: Callable[[Any], Any] | None = None
+    """For ``transforms``: the function that checks and normalises the value, returning
+    None when it is malformed (``explorer.scene.objects.check_transforms`` for the LPV's
+    settings). The declaring module passes it, so that the schema imports nothing of the
+    project and sits below every layer that declares settings."""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -89,6 +94,8 @@ class Spec:
             raise ValueError(f"widget must be one of {WIDGETS}, got {self.widget!r}")
         if self.kind == "range2" and (self.low is None or self.high is None):
             raise ValueError("a range2 field needs both low and high")
+        if self.kind == "transforms" and self.parse is None:
+            raise ValueError("a transforms field needs parse (the function that checks it)")
 
     # -- checking --------------------------------------------------------------------
     def allowed(self) -> str:
@@ -245,9 +252,7 @@ def _check_name_set(spec: Spec, value: Any):
 
 
 def _check_transforms(spec: Spec, value: Any):
-    from explorer.scene.objects import check_transforms
-
-    checked = check_transforms(value)
+    checked = spec.parse(value)
     return _REFUSED if checked is None else checked
 
 

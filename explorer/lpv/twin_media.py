@@ -1,7 +1,7 @@
-"""Numpy reference of what goes beyond diffuse one-bounce LPV: camera occluders, fog and
+"""Numpy twin of what goes beyond diffuse one-bounce LPV: camera occluders, fog and
 glossy reflections (docs/MODEL.md "Camera occluders", "Fog", "Glossy reflections").
 
-Written from docs/MODEL.md, in float64, beside :mod:`explorer.lpv.reference` (whose SH
+Written from docs/MODEL.md, in float64, beside :mod:`explorer.lpv.twin` (whose SH
 basis, trilinear lookup and constants it uses: every constant is the float64 value of its
 exact derivation). Images and maps are arrays with row 0 at the top, as
 :class:`~explorer.lpv.frame.FrameResult` holds them; a pixel ``(row, column)`` of an
@@ -28,7 +28,7 @@ import numpy as np
 
 from explorer.lpv.cascades import blend_weights
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.reference import K, grid_sh_order, sample_grid, sh_basis
+from explorer.lpv.twin import K, grid_sh_order, sample_grid, sh_basis
 from explorer.lpv.vpl import VplArrays
 from explorer.scene.lights import spot_falloff
 
@@ -42,7 +42,7 @@ FOG_BIAS_TEXELS = 1.0
 
 @dataclass(frozen=True)
 class LightMap:
-    """One RSM view's shadow map as the reference reads it: ``view`` and ``projection``
+    """One RSM view's shadow map as the twin reads it: ``view`` and ``projection``
     (4×4, world → clip), whether it is orthographic, a texel's edge at depth 1 (spot) or in
     world units (``LightView.texel_world_size``), and the RSM's position ``(H, W, 4)``
     (w = seen) and normal ``(H, W, 4)`` (w = view depth) arrays, row 0 at the top."""
@@ -176,7 +176,7 @@ def camera_surfels(position: np.ndarray, normal: np.ndarray, albedo: np.ndarray,
     texels, θ the angle between the normal and that view's light ray, tan θ ≤ 10). Each
     is a "VPL" without flux whose ``depth`` is its view depth from the camera and whose
     ``texel_area`` is the pixel's area at depth 1, so
-    :func:`explorer.lpv.reference.inject_geometry` gives it the area ``pixel_area·w²``."""
+    :func:`explorer.lpv.twin.inject_geometry` gives it the area ``pixel_area·w²``."""
     height = position.shape[0]
     seen = position[..., 3] > 0.5
     points = np.asarray(position[seen, :3], np.float64)
