@@ -1,5 +1,5 @@
 """Lesson checks: a step's claims about its own live numbers, written as data and verified
-on the converged frame of that step (tests/test_lesson_checks.py runs every one in CI).
+on the converged frame of that step (tests/lessons/test_lesson_checks.py runs every one in CI).
 
 A check is one ``[[steps.checks]]`` table::
 

@@ -1,6 +1,6 @@
 """Verifying a lesson step's checks (``explorer.lesson_checks``) on the converged frames of
 that step, rendered headless: what CI runs for every checked step
-(tests/test_lesson_checks.py) and ``lpv-explorer lessons --check``. Apart from
+(tests/lessons/test_lesson_checks.py) and ``lpv-explorer lessons --check``. Apart from
 lesson_checks, which the lesson loader uses to read the checks, since this needs the
 loader (its ``shrink_settings``)."""
 

@@ -1,7 +1,7 @@
 #version 430 core
 // Display encoding: exposure scale, tone curve, sRGB (docs/MODEL.md "Display"). Functions
 // only, no uniforms: include it in any pass that writes a display image. Numpy twin:
-// explorer/lpv/tonemap.py (tested against each other in tests/test_display.py).
+// explorer/lpv/tonemap.py (tested against each other in tests/lpv/test_display.py).
 #ifndef TONEMAP_GLSL
 #define TONEMAP_GLSL 1
 

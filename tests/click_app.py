@@ -1,5 +1,5 @@
 """Run click sessions in the real explorer window (a child process of the click tests,
-tests/test_click_window.py; or by hand: ``xvfb-run -a python tests/click_app.py
+tests/ui/test_click_window.py; or by hand: ``xvfb-run -a python tests/click_app.py
 navigation``).
 
 Each session is one window and one Dear ImGui Test Engine test (explorer/ui/

@@ -10,7 +10,7 @@ appears in docs/ERRORS.md between the markers
     <!-- end measured -->
 
 and is rendered from the data file, never typed in. Tables of ``size`` "small" run in a
-few seconds on llvmpipe; the test suite re-runs them (tests/test_accuracy.py) and fails
+few seconds on llvmpipe; the test suite re-runs them (tests/truth/test_accuracy.py) and fails
 when a metric leaves the band ``band.relative`` around the recorded value, so a change
 in any pass's output or in the reference shows up as an accuracy change. The "large" ones
 (256² px, 32³ grids, the reference over 2000–8000 VPLs) are re-measured by hand.

@@ -18,7 +18,7 @@ sampling, the 1/r² clamp and the shadow maps cost; the rest of an LPV row's err
 grid's. Mitsuba's noise (half the distance between two seeds' images) is in each
 caption. Mitsuba's ``scalar_rgb`` variant with fixed seeds and the LPV on Mesa llvmpipe
 give the same values on every run, so ``--check`` holds a fresh measurement of the
-``small`` tables to the digits the page prints (tests/test_truth_tables.py).
+``small`` tables to the digits the page prints (tests/truth/test_truth_tables.py).
 
 Usage (from the repository root; needs ``pip install 'lpv-explorer[truth]'``)::
 

@@ -26,7 +26,7 @@ import importlib
 # the module later cannot shadow the function. The rest is imported on first use (PEP
 # 562), so that ``import explorer.lpv.twin`` (the numpy twin) loads neither the
 # pipeline nor the generated constants mirror: the twin takes its constants from the
-# derivations alone (tests/test_twin.py).
+# derivations alone (tests/lpv/test_twin.py).
 from explorer.lpv.inject import inject
 from explorer.lpv.propagate import propagate
 

@@ -102,7 +102,7 @@ def _texture(ctx: moderngl.Context, image: np.ndarray) -> moderngl.Texture:
     edges (glTF's default sampler). No anisotropic filtering: it averages several taps,
     so a constant texture sampled at texel centres would no longer return its value bit
     for bit, and the RSM's flux with it would not be exactly the untextured one
-    (tests/test_textures.py)."""
+    (tests/scene/test_textures.py)."""
     height, width = image.shape[:2]
     level = np.asarray(image, np.float32)[::-1]                       # GL row 0: bottom
     texture = ctx.texture((width, height), 3, np.ascontiguousarray(level).tobytes(),

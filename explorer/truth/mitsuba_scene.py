@@ -38,7 +38,7 @@ from explorer.scene.lights import DirectionalLight, PointLight, SpotLight, spot_
 MESH_FILE = "scene.ply"
 FALLOFF_TEXELS = 512
 """Edge of a spot's falloff texture: the smoothstep varies over hundreds of texels, so
-bilinear lookup reproduces it to about 1e-5 (tests/test_mitsuba_export.py)."""
+bilinear lookup reproduces it to about 1e-5 (tests/truth/test_mitsuba_export.py)."""
 SQUARE_FRUSTUM_CUTOFF_DEGREES = math.degrees(math.atan(math.sqrt(2.0))) + 0.5
 """Cutoff of a cone-less spot: just past the corner of its 90° square frustum
 (atan √2 = 54.7° from the axis); the texture is 0 outside the square."""

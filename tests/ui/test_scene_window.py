@@ -14,7 +14,7 @@ from explorer.scene import load_scene
 from explorer.ui.state import AppState
 from window_cases import display_problem
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "textured-room" / "scene.toml"
 TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192)
 _PROBLEM = display_problem()

@@ -14,7 +14,7 @@ from explorer.ui.overlays import picking
 from explorer.ui.state import AppState
 
 pytest.importorskip("glfw")
-from tests.test_app_window import _PROBLEM, _app, _view_pixels, config_home  # noqa: E402,F401
+from test_app_window import _PROBLEM, _app, _view_pixels, config_home  # noqa: E402,F401
 
 pytestmark = [pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM)),
               pytest.mark.usefixtures("config_home")]   # settings go to a temporary folder

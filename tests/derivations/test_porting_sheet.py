@@ -18,7 +18,7 @@ from derivations.registry import get
 from derivations.solid_angles import tiling_proof
 from explorer.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DECLARATION = {
     "glsl": re.compile(r"^const float ([A-Z][A-Z0-9_]*) = (-?[0-9.]+(?:e-?[0-9]+)?);  // .+$"),
     "hlsl": re.compile(r"^static const float ([A-Z][A-Z0-9_]*) = (-?[0-9.]+(?:e-?[0-9]+)?);"

@@ -121,7 +121,7 @@ def test_constants_are_the_derivations_not_the_generated_mirror():
               "[getattr(R.K, name) for name in R.DerivedConstants.DERIVATIONS]; "
               "print('explorer.lpv.constants' in sys.modules)")
     loaded = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                            check=True, cwd=Path(__file__).resolve().parents[1])
+                            check=True, cwd=Path(__file__).resolve().parents[2])
     assert loaded.stdout.strip() == "False"
     for name in R.DerivedConstants.DERIVATIONS:   # today both agree to the last bit or two
         assert getattr(R.K, name) == pytest.approx(getattr(K, name), rel=1e-15, abs=0)

@@ -20,7 +20,7 @@ from explorer.commands.options import Outputs, Progress, settings_from_args
 from explorer.schema import specs
 from explorer.lpv.settings import PRESETS, Corrections, Settings
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 BAD = [
     # render: sizes and counts out of the schema's range, bad numbers, bad combinations

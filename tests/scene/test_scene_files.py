@@ -390,7 +390,7 @@ def test_saving_a_posed_scene_file_composes_the_poses(tmp_path):
 def test_the_example_scene_file_loads_as_its_script_made_it(tmp_path):
     import importlib.util
 
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     scene = load_scene(str(root / "examples" / "textured-room" / "scene.toml"))
     assert scene.name == "textured room" and scene.light_names == ("ceiling spot", "bulb")
     assert scene.lights_on == ("ceiling spot",) and scene.camera.fov_y_degrees == 75.0

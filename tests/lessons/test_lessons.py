@@ -401,7 +401,7 @@ def test_render_command_renders_a_lesson_step(tmp_path):
     import numpy as np
     from PIL import Image
 
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
 
     def render(*args: str) -> subprocess.CompletedProcess:
         return subprocess.run([sys.executable, "-m", "explorer", "render", *args], cwd=root,
@@ -516,7 +516,7 @@ def test_lesson_panel_in_the_window(tmp_path):
     glfw.terminate()
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path / "config"),
                XDG_CACHE_HOME=str(tmp_path / "cache"))
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     proc = subprocess.run([sys.executable, "-c", _WINDOW_SCRIPT], cwd=root, env=env,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0 and "window ok" in proc.stdout, proc.stdout + proc.stderr

@@ -19,7 +19,7 @@ from explorer.lpv.frame_stages.base import Stage
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import STAGE_LIST, STAGES, StageDecl, execution_order
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_every_other_stage_fact_is_derived_from_the_list():

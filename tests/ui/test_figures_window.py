@@ -17,7 +17,7 @@ from explorer.ui.figures import FIGURES, make_figure
 from window_cases import display_problem
 from figure_cases import synthetic_result
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 _PROBLEM = display_problem()

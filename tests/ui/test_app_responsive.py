@@ -11,7 +11,7 @@ import pytest
 from explorer.ui.state import AppState
 
 pytest.importorskip("glfw")
-from tests.test_app_window import (  # noqa: E402,F401
+from test_app_window import (  # noqa: E402,F401
     _PROBLEM,
     TINY,
     _app,

@@ -25,7 +25,7 @@ from explorer.site.build import PLOT_OF_PANEL
 
 LESSONS = ("overview", "solid-angles")
 SIZE = (320, 200)
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 CHROMEDRIVER = shutil.which("chromedriver")
 WIDTHS = (375, 1280)

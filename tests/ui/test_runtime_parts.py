@@ -11,7 +11,7 @@ from pathlib import Path
 
 from explorer.ui.state import RUNTIME_PARTS, Runtime
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 NAMES = ("runtime", "rt")
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from explorer.lpv.twin import DerivedConstants
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_every_constant_equals_its_derivation():
