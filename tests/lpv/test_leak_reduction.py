@@ -81,7 +81,7 @@ def test_gather_damping_matches_the_numpy_gather(ctx, damping):
                             gbuffer.normal[valid], damping=damping)
     expected = twin.indirect_radiance(gbuffer.albedo[valid], irradiance)
     assert expected.max() > 0
-    assert relative_error(frame.indirect[valid], expected) < 1e-5   # as tests/lpv/test_pass_gather.py
+    assert relative_error(frame.indirect[valid], expected) < 1e-5   # as test_pass_gather.py
     if damping:
         undamped = twin.gather(frame.accumulated, frame.grid_spec, gbuffer.position[valid],
                               gbuffer.normal[valid])
