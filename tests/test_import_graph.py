@@ -142,3 +142,16 @@ def test_the_code_generator_reads_no_lpv_module():
             reached.add(target)
             todo.append(target)
     assert sorted(m for m in reached if m.startswith("explorer.lpv")) == []
+
+
+def test_the_architecture_page_draws_these_layers():
+    """docs/ARCHITECTURE.md's layer table lists exactly LAYERS, row by row: the picture a
+    reader trusts is the one this test enforces."""
+    import re
+
+    text = (ROOT / "docs" / "ARCHITECTURE.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| (\d+) \| (.+?) \| .+ \|$", text, re.M)
+    drawn = [tuple(re.findall(r"`([\w.]+)`", modules)) for _, modules in rows]
+    assert [int(number) for number, _ in rows] == list(range(len(LAYERS)))
+    assert drawn == [tuple(layer) for layer in LAYERS], (
+        "docs/ARCHITECTURE.md's layer table differs from LAYERS")
