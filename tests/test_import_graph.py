@@ -155,3 +155,38 @@ def test_the_architecture_page_draws_these_layers():
     assert [int(number) for number, _ in rows] == list(range(len(LAYERS)))
     assert drawn == [tuple(layer) for layer in LAYERS], (
         "docs/ARCHITECTURE.md's layer table differs from LAYERS")
+
+
+BORROWED_PRIVATE = {
+    ("explorer/scene/meshes.py", "mesh._cache"):
+        "trimesh keeps a file's own vertex normals only in its cache; asking for them "
+        "would compute smoothed ones",
+    ("explorer/commands/overhead_bench.py", "Job._run_unit"):
+        "the overhead benchmark wraps a job's unit to time its Python side, and puts it back",
+}
+"""The only reads of another object's private attribute, each with its reason."""
+
+
+def _own(value: ast.expr) -> bool:
+    """``self``, ``cls`` or ``super()``: the object itself."""
+    if isinstance(value, ast.Name):
+        return value.id in ("self", "cls")
+    return isinstance(value, ast.Call) and isinstance(value.func, ast.Name) \
+        and value.func.id == "super"
+
+
+def test_no_module_reaches_into_another_objects_private_state():
+    """``x._name`` only on ``self``/``cls``: a window module (or any other) that needs
+    another object's state asks through a public member, so the state's owner can see
+    who depends on it (issue #19)."""
+    found = []
+    for name, path in _modules().items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Attribute) and node.attr.startswith("_") \
+                    and not node.attr.startswith("__") \
+                    and not _own(node.value):
+                found.append((path.relative_to(ROOT).as_posix(), ast.unparse(node), node.lineno))
+    wrong = [f"{where}:{line}: {what}" for where, what, line in found
+             if (where, what) not in BORROWED_PRIVATE]
+    assert not wrong, "private state read from outside its object:\n" + "\n".join(wrong)
+    assert {(where, what) for where, what, _ in found} == set(BORROWED_PRIVATE)

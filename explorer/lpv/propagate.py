@@ -83,7 +83,9 @@ class PropagatePass:
         self.audit = AuditReducer(ctx, programs)
         self._grids: dict[str, LpvGrid] = {}
 
-    def _scratch(self, name: str, resolution: int, fmt: str, sh_order: int) -> LpvGrid:
+    def scratch_grid(self, name: str, resolution: int, fmt: str, sh_order: int) -> LpvGrid:
+        """The pass's own grid ``name`` (accumulation, ping, pong) of this size, format
+        and order, kept between runs and made anew when any of them changes."""
         grid = self._grids.get(name)
         if grid is None or grid.resolution != resolution or grid.format != fmt or \
                 grid.sh_order != sh_order:
@@ -196,8 +198,8 @@ class PropagationRun:
         self._with_audit = audit == "full"
         self.iterations = iterations
         self.done = 0
-        self.accumulated = owner._scratch("accumulated", n, fmt, order)
-        self._scratch = {name: owner._scratch(name, n, fmt, order) if corrections.ping_pong
+        self.accumulated = owner.scratch_grid("accumulated", n, fmt, order)
+        self._scratch = {name: owner.scratch_grid(name, n, fmt, order) if corrections.ping_pong
                          else None for name in ("ping", "pong")}
         copy_grid(owner.programs, injected, self.accumulated)
         # slots: 0 the injected flux, 1..N the steps (full or flux audit), last the

@@ -184,7 +184,7 @@ class FrameRenderer:
             self._compositor.compose(side, result, texture.glo, True, overlays)
             return self._compositor.read(side)
         finally:
-            self._compositor._external.pop(texture.glo, None)
+            self._compositor.forget_base(texture.glo)
             texture.release()
 
     def error(self, settings: Settings):

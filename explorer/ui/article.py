@@ -464,7 +464,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 def _glossary(session: LessonSession) -> tuple:
     """The glossary of the session's lessons (explorer/glossary.py), read once; () when
     it is missing or broken (the lessons command reports a broken one)."""
-    cached = getattr(session, "_glossary", None)
+    cached = session.glossary
     if cached is None:
         from explorer.glossary import GlossaryError, load_glossary
 
@@ -473,7 +473,7 @@ def _glossary(session: LessonSession) -> tuple:
         except GlossaryError as exc:
             print(f"lpv-explorer: {exc}", file=sys.stderr)
             cached = ()
-        session._glossary = cached
+        session.glossary = cached
     return cached
 
 

@@ -260,6 +260,9 @@ class LessonSession:
     """(lesson id, step, try-this) -> the reader's guess (1-based) of a prediction."""
     revealed: set[tuple[str, int, int]] = field(default_factory=set)
     """Predictions whose try-this the reader pressed: their answer is shown."""
+    glossary: tuple | None = None
+    """The lessons' glossary terms as the article read them (once, on first use); () when
+    the glossary is missing or broken; None: not read yet."""
 
     @classmethod
     def load(cls, directory=None) -> "LessonSession":

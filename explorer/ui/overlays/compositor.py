@@ -237,6 +237,12 @@ class Compositor:
         if self._owns_programs:
             self.programs.release()
 
+    def forget_base(self, glo: int) -> None:
+        """Drop the wrapper of a base texture its owner is about to release (a texture
+        made for one composition, e.g. the web site's frames), so that a later texture
+        given the same GL name is wrapped anew."""
+        self._external.pop(glo, None)
+
     # ------------------------------------------------------------------ passes
     def _base(self, glo: int, size: tuple[int, int]) -> moderngl.Texture:
         texture = self._external.get(glo)
