@@ -10,8 +10,10 @@
   :class:`Corrections` the switches between published and corrected formulas, and
   ``PRESETS`` the named sets of them;
 * :func:`inject` and :func:`propagate` run one GPU pass on numpy input (a headless
-  context is created on first use when ``ctx`` is None); ``explorer.lpv.twin`` holds
-  the same functions in pure numpy, ``STAGE_LIST`` the frame's stages.
+  context is created on first use when ``ctx`` is None): your VPLs as
+  :class:`VplArrays`, placed in a :class:`GridSpec`; ``explorer.lpv.twin`` holds the
+  same functions in pure numpy, ``STAGE_LIST`` the frame's stages (each stage's passes
+  are in ``explorer.lpv.<pass>``: ``RsmPass``, ``GBufferPass``, ``GatherPass``...).
 
 Example::
 
@@ -33,7 +35,7 @@ from explorer.lpv.propagate import propagate
 _HOMES = {"Corrections": "corrections", "PRESETS": "corrections", "FrameResult": "frame",
           "LevelResult": "frame", "Job": "job", "Progress": "job",
           "Pipeline": "pipeline", "render": "pipeline", "Settings": "settings",
-          "STAGE_LIST": "stage_list"}
+          "STAGE_LIST": "stage_list", "GridSpec": "grid", "VplArrays": "vpl"}
 
 
 def __getattr__(name: str):
@@ -42,5 +44,6 @@ def __getattr__(name: str):
     raise AttributeError(f"module 'explorer.lpv' has no attribute {name!r}")
 
 
-__all__ = ["Corrections", "FrameResult", "Job", "LevelResult", "PRESETS", "Pipeline",
-           "Progress", "STAGE_LIST", "Settings", "inject", "propagate", "render"]
+__all__ = ["Corrections", "FrameResult", "GridSpec", "Job", "LevelResult", "PRESETS",
+           "Pipeline", "Progress", "STAGE_LIST", "Settings", "VplArrays", "inject",
+           "propagate", "render"]
