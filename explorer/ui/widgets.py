@@ -119,15 +119,20 @@ def animating() -> bool:
     return playing
 
 
-def playback(playing: bool, step: int, last: int, clock: float, rate: float
-             ) -> tuple[bool, int, float]:
+def playback(playing: bool, step: int, last: int, clock: float, rate: float,
+             width: float | None = None) -> tuple[bool, int, float]:
     """Play/Pause and a step slider 0..``last``; while playing, ``clock`` (fractional
     steps) advances by ``rate`` steps per second and the step wraps around. Returns the new
-    (playing, step, clock); moving the slider pauses."""
+    (playing, step, clock); moving the slider pauses. ``width``: the row's width (a
+    figure's column); None: to the panel's right edge."""
+    start = imgui.get_cursor_pos_x()
     if imgui.button("Pause" if playing else "Play"):
         playing = not playing
     imgui.same_line()
-    imgui.set_next_item_width(-1)
+    if width is None:
+        imgui.set_next_item_width(-1)
+    else:    # what is left of the row after the button, however wide the window is
+        imgui.set_next_item_width(max(start + width - imgui.get_cursor_pos_x(), 40.0))
     changed, value = imgui.slider_int("##t", min(step, last), 0, last, "t = %d")
     if changed:
         step, playing = value, False

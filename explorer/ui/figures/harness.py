@@ -45,6 +45,9 @@ class FigureWindow:
         self._imgui.start_backends()
         self.rect: tuple[tuple[float, float], tuple[float, float]] | None = None
         """Screen rectangle (pixels) of the figure drawn last."""
+        self.drawn_right: float | None = None
+        """Right edge (screen pixels) of everything the figure drawn last submitted: past
+        ``rect``'s left edge + the width asked for, the figure overflows its column."""
         self.last_pixels: np.ndarray | None = None
 
     def __enter__(self) -> "FigureWindow":
@@ -76,6 +79,7 @@ class FigureWindow:
         imgui.pop_style_var()
         width = figure_width or imgui.get_content_region_avail().x
         self.rect = draw_figure(spec, width, self.context)
+        self.drawn_right = imgui.get_item_rect_max().x     # the figure's group, unpadded
         imgui.end()
         self._imgui.render(self.ctx, CLEAR_COLOUR)
         if capture:

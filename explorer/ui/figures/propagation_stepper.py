@@ -122,7 +122,7 @@ def readouts(params: Params, state: State, context=None) -> dict[str, float]:
 def draw(params: Params, state: State, width: float, context) -> None:
     result = run(params)
     state.playing, state.step, state.clock = widgets.playback(
-        state.playing, state.step, params.iterations, state.clock, PLAY_RATE)
+        state.playing, state.step, params.iterations, state.clock, PLAY_RATE, width)
     imgui.set_next_item_width(140.0)
     _, state.glyph = widgets.combo("glyph", state.glyph, GLYPHS)
     imgui.same_line(0.0, 24.0)

@@ -76,11 +76,17 @@ def views(width: float, drawers: Sequence[Callable[[float], None]],
     other; each drawer gets the width it may use."""
     if len(drawers) == 2 and side_by_side(width, min_each):
         each = (width - GAP) / 2.0
+        left = imgui.get_cursor_pos_x()
         for index, drawer in enumerate(drawers):
-            if index:
-                imgui.same_line(0.0, GAP)
+            if index:     # at its own place, whatever the first view drew
+                imgui.same_line()
+                imgui.set_cursor_pos_x(left + index * (each + GAP))
             imgui.begin_group()
+            # a view's title wraps at the view's edge instead of pushing its neighbour out
+            # of the column (tests/ui/test_figures_fit.py)
+            imgui.push_text_wrap_pos(left + index * (each + GAP) + each)
             drawer(each)
+            imgui.pop_text_wrap_pos()
             imgui.end_group()
     else:
         for drawer in drawers:
