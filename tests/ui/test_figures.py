@@ -116,8 +116,8 @@ def test_two_instances_keep_their_own_state_and_a_new_step_resets_one():
 
 def test_the_context_takes_b_only_while_comparing():
     a, b = object(), object()
-    state = SimpleNamespace(runtime=SimpleNamespace(result=a, compare_result=b),
-                            comparing=False)
+    shown = SimpleNamespace(result=a, compare_result=b)
+    state = SimpleNamespace(runtime=SimpleNamespace(frame=shown), comparing=False)
     context = FigureContext()
     context.update_from_app(state)
     assert context.results == (a,)
