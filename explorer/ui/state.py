@@ -124,7 +124,7 @@ class Interaction:
         return self.held or now - self.moved_at < settle_s
 
 
-@dataclass
+@dataclass(slots=True)
 class ShownFrame:
     """The frame being shown: each side's last result and picture, how the view shows
     them, the jobs' progress and the frame loop's own times (the controller publishes
@@ -151,7 +151,7 @@ class ShownFrame:
     frame_index: int = 0                  # frames drawn (an idle window draws none)
 
 
-@dataclass
+@dataclass(slots=True)
 class SceneFacts:
     """What the scene itself says, before the Settings' overrides (loaded once per
     scene by the controller): the defaults the camera and light controls start from."""
@@ -167,7 +167,7 @@ class SceneFacts:
     scene_bounds: tuple | None = None
 
 
-@dataclass
+@dataclass(slots=True)
 class ViewInput:
     """The 3D view's input: where it is on screen and what the mouse does over it."""
 
@@ -182,7 +182,7 @@ class ViewInput:
     play_clock: float = 0.0               # fractional iterations while playing
 
 
-@dataclass
+@dataclass(slots=True)
 class Services:
     """What the window's parts draw and compute with: GL helpers, caches, fonts, the
     file dialog, background tasks, and what the GL context could not do."""
@@ -217,7 +217,7 @@ RUNTIME_PARTS = {"frame": ShownFrame, "scene_facts": SceneFacts, "view": ViewInp
 """Runtime's parts by attribute name."""
 
 
-@dataclass
+@dataclass(slots=True)
 class Runtime:
     """What the app loop hands to the panels each frame, in four parts (issue #19): the
     frame being shown (:class:`ShownFrame`), the scene's facts (:class:`SceneFacts`), the
