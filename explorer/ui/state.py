@@ -227,7 +227,8 @@ class Runtime:
 
     A panel reads the part it needs by name (``runtime.frame.result``,
     ``runtime.services.textures``); no field of a part is reachable from the runtime
-    itself, so what a panel depends on shows in its code."""
+    itself, so what a panel depends on shows in its code. The runtime and its parts have
+    slots: setting a name they do not declare raises."""
 
     frame: ShownFrame = field(default_factory=ShownFrame)
     scene_facts: SceneFacts = field(default_factory=SceneFacts)
