@@ -235,6 +235,17 @@ class Pipeline:
         for name in STAGES[first:]:
             self.keys.pop(name, None)
 
+    def reload_scene(self, scene: Scene) -> None:
+        """Show ``scene`` from the next run in place of the scene these Settings name, as
+        loaded before (its file was edited; the caller read and checked it, so a broken
+        edit never reaches the pipeline). The job in progress is cancelled and every stage
+        runs again."""
+        if self.job is not None:
+            self.job.cancel()
+            self.job = None
+        self.invalidate()
+        self.scene_state.adopt(self.settings.scene, scene)
+
     def reload_shaders(self) -> bool:
         """Recompile the programs whose ``.glsl`` files changed (a failed compile keeps the
         last good program; ``self.programs.errors`` holds the log). True if any changed:

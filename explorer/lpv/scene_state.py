@@ -48,18 +48,23 @@ class SceneState:
         the scene as loaded."""
         base = self._loaded.get(s.scene)
         if base is None:
-            base = load_scene(s.scene)
-            self._loaded = {s.scene: base}
-            self._posed = None
-            if self.buffers is not None:
-                self.buffers.release()
-            self.buffers = SceneBuffers(self.ctx, base)
+            base = self.adopt(s.scene, load_scene(s.scene))
         started = time.perf_counter()
         self._posed = base.posed(s.object_transforms)
         self.buffers.show(self._posed)
         self.ctx.finish()
         self.pose_ms = (time.perf_counter() - started) * 1e3
         return base
+
+    def adopt(self, name: str, scene: Scene) -> Scene:
+        """Hold ``scene`` as the scene ``name`` loaded (a scene file edited and read again
+        by the window) and put it on the GPU; the next :meth:`load_and_pose` poses it."""
+        self._loaded = {name: scene}
+        self._posed = None
+        if self.buffers is not None:
+            self.buffers.release()
+        self.buffers = SceneBuffers(self.ctx, scene)
+        return scene
 
     def for_settings(self, s: Settings) -> Scene:
         """The posed scene with the Settings' lights, camera, light, flux and spot cone

@@ -6,6 +6,7 @@ is a :class:`SceneError` naming the file and the problem, never a trimesh traceb
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from explorer.scene.builtin import BUILTIN_SCENES
@@ -25,7 +26,8 @@ def load_scene(name_or_path: str | Path) -> Scene:
     try:
         if is_scene_file(path):
             return read_scene_file(path)
-        return scene_from_mesh(read_mesh_parts(path), path.stem, str(path))
+        return replace(scene_from_mesh(read_mesh_parts(path), path.stem, str(path)),
+                       files=(str(path.resolve()),))
     except SceneError:
         raise
     except (ValueError, IndexError, TypeError) as exc:

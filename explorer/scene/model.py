@@ -91,6 +91,9 @@ class Scene:
     notice: str = field(default="", compare=False)
     """What the loader chose for the user and a command prints (e.g. where it put a light
     for a mesh file without one); empty when nothing."""
+    files: tuple[str, ...] = field(default=(), compare=False)
+    """The files the scene was read from (a scene file and its meshes, or a mesh file);
+    () for a built-in scene. The window watches them to load an edited scene again."""
 
     def __post_init__(self) -> None:
         count = len(self.positions)

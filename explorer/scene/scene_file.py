@@ -110,6 +110,7 @@ def scene_from_table(data: dict, path: Path) -> Scene:
         base = _builtin(data, where)
     else:
         base = _meshes(data, path)
+    base = replace(base, files=(str(path.resolve()), *base.files))
     bounds = _grid(data.get("grid"), where)
     grown = ""
     if bounds is not None:
@@ -178,7 +179,9 @@ def _meshes(data: dict, path: Path) -> Scene:
         for node, mesh, node_transform in nodes:
             parts.append(MeshPart(node, mesh, transform @ node_transform,
                                   None if albedo is None else tuple(albedo), two_sided))
-    return scene_from_parts(parts, path.stem, where)
+    files = tuple(dict.fromkeys(str(mesh_file(path, entry["path"]).resolve())
+                                for entry in entries))
+    return replace(scene_from_parts(parts, path.stem, where), files=files)
 
 
 def mesh_file(scene_path: Path, text: str) -> Path:

@@ -49,6 +49,7 @@ from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.lpv.stages import downstream
 from explorer.ui.picture import Picture, SideDisplay, Stamp
+from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
 
 if TYPE_CHECKING:
@@ -114,6 +115,8 @@ class PipelineLike(Protocol):
     all of it, so that no call needs a fallback."""
 
     programs: "ProgramCache"
+    settings: Settings
+    """The settings of the last job started."""
     unit_ms: dict[str, float]
     """Stage -> milliseconds of its last unit of work (what fits a budget)."""
     unit_ms_at: dict[tuple[str, int], float]
@@ -124,6 +127,7 @@ class PipelineLike(Protocol):
     def start(self, settings: Settings, keep_steps: bool = ..., need_audit: str | bool = ...,
               progress: Callable[[str, int, int], None] | None = ...) -> "Job": ...
     def reload_shaders(self) -> bool: ...
+    def reload_scene(self, scene: "Scene") -> None: ...
     def release(self) -> None: ...
     def view(self, name: str, **options) -> np.ndarray: ...
     @property
@@ -262,6 +266,8 @@ class PipelineController:
         """state.settings when A last failed (None once it finishes a frame again)."""
         self._good_scene: tuple | None = None
         self._defaults_for: str | None = None
+        self.scene_watch = SceneWatch()
+        """The files of the scene on screen (reloaded when edited)."""
         self._shader_poll = 0.0
         self._turn = 0
         self._first_done = False
@@ -682,6 +688,36 @@ class PipelineController:
         self.programs.reload_if_changed()
         errors.update(self.programs.errors)
         state.runtime.services.shader_errors = errors
+        self._reload_scene(state)
+
+    def _reload_scene(self, state: "AppState") -> None:
+        """The scene on screen edited on disk (explorer/ui/scene_watch.py): read it again
+        and show it; an edit that does not load keeps the scene as it was and says why."""
+        shown = state.runtime.scene_facts.scene
+        if shown is None:
+            return
+        name, scene = shown
+        if self.scene_watch.name != name:
+            self.scene_watch.watch(name, scene.files)
+            return
+        if not self.scene_watch.changed():
+            return
+        from explorer.scene import load_scene
+
+        try:
+            edited = load_scene(name)
+        except Exception as exc:  # noqa: BLE001 - the user's edit, said in the window
+            state.notify(f"{name} changed but does not load ({exc}); the scene shown is "
+                         f"the one read before", "error")
+            return
+        for side in self.sides.values():
+            if side.pipeline is not None and side.pipeline.settings.scene == name:
+                side.pipeline.reload_scene(edited)
+                side.job, side.request, side.done, side.failed = None, None, None, None
+        self._defaults_for = None          # its camera and light defaults anew
+        state.runtime.scene_facts.scene = (name, edited)
+        self.scene_watch.watch(name, edited.files)
+        state.notify(f"{name} changed on disk: reloaded")
 
     def poll_shaders(self, state: "AppState") -> None:
         """Check the shader files now (the next update reloads what changed)."""
