@@ -209,7 +209,8 @@ def write_dump(outputs, path: Path, result, reference=None, extra: dict | None =
     from explorer.truth.gbuffer import scene_for
 
     arrays = frame_arrays(result, reference)
-    data = sidecar(result, arrays, scene_for(result.settings), extra)
+    data = sidecar(result, arrays, scene_for(result.settings), extra,
+                   folder=sidecar_path(path).parent)
     outputs.write(path, lambda p: write_npz(p, arrays))
     outputs.write(sidecar_path(path), lambda p: write_sidecar(p, data))
     steps = len(result.steps or ())

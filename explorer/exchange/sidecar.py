@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import re
 from pathlib import Path
 
@@ -90,16 +91,47 @@ def array_entries(arrays: dict[str, np.ndarray]) -> dict[str, dict]:
     return entries
 
 
-def sidecar(result, arrays: dict[str, np.ndarray], scene=None, extra: dict | None = None
-            ) -> dict:
+def scene_entry(scene: str, folder: Path | None) -> str:
+    """``Settings.scene`` as a sidecar in ``folder`` holds it: a built-in scene's name as
+    it is; a scene or mesh file relative to the sidecar's folder (the dump, its sidecar and
+    the scene move together, and ``diff --settings`` finds it from any working folder), or
+    absolute where no relative path leads there (another drive)."""
+    from explorer.scene.builtin import BUILTIN_SCENES
+
+    if scene in BUILTIN_SCENES or folder is None:
+        return scene
+    path = Path(scene).expanduser().resolve()
+    try:
+        return Path(os.path.relpath(path, Path(folder).resolve())).as_posix()
+    except ValueError:
+        return str(path)
+
+
+def scene_from_entry(scene: str, folder: Path) -> str:
+    """The scene a sidecar in ``folder`` names: a relative path that names a file beside
+    the sidecar is that file (as :func:`scene_entry` wrote it); anything else as written
+    (a built-in name, an absolute path, a path relative to the working folder)."""
+    from explorer.scene.builtin import BUILTIN_SCENES
+
+    if scene in BUILTIN_SCENES or Path(scene).is_absolute():
+        return scene
+    beside = Path(folder) / scene
+    return str(beside) if beside.is_file() else scene
+
+
+def sidecar(result, arrays: dict[str, np.ndarray], scene=None, extra: dict | None = None,
+            folder: Path | None = None) -> dict:
     """The sidecar of a dump of ``result`` holding ``arrays``; ``scene``: the scene as
-    rendered (its lights), ``extra``: more entries (compare's reference options)."""
+    rendered (its lights), ``extra``: more entries (compare's reference options),
+    ``folder``: where the sidecar is written (a scene file is named relative to it)."""
     from derivations.porting import conventions
 
     s = result.settings
+    settings = s.to_dict()
+    settings["scene"] = scene_entry(s.scene, folder)
     data = {
         "format": FORMAT,
-        "settings": s.to_dict(),
+        "settings": settings,
         "grids": grid_entry(result),
         "camera": camera_entry(result),
         "scene_bounds": [list(result.scene_bounds[0]), list(result.scene_bounds[1])],
@@ -147,7 +179,10 @@ def read_settings(path: Path | str):
     if not isinstance(data, dict) or "settings" not in data:
         raise FileFormatError(f"--settings {path}: no \"settings\" entry (a dump's sidecar "
                               f"has one)")
+    table = data["settings"]
+    if isinstance(table, dict) and isinstance(table.get("scene"), str):
+        table = {**table, "scene": scene_from_entry(table["scene"], Path(path).parent)}
     try:
-        return Settings.from_dict(data["settings"], where=f"--settings {path}")
+        return Settings.from_dict(table, where=f"--settings {path}")
     except SettingError as exc:
         raise FileFormatError(str(exc)) from None

@@ -4,6 +4,8 @@ and the stages that cannot be compared (shapes, values that are not finite)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -59,3 +61,25 @@ def test_what_cannot_be_compared_says_why():
     table = format_table(diffs)
     assert "| grid_0 | – | – | not compared: shape" in table
     assert "| direct | 4 pixels | 0 | 0 | – | – |" in table
+
+
+def test_a_sidecar_names_its_scene_file_from_its_own_folder(tmp_path, monkeypatch):
+    """A dump of a scene file is read back from any working folder: the sidecar names the
+    scene relative to itself, and ``diff --settings`` resolves it there."""
+    from explorer.exchange.sidecar import read_settings, scene_entry, scene_from_entry
+
+    (tmp_path / "scenes").mkdir()
+    scene = tmp_path / "scenes" / "room.toml"
+    scene.write_text('builtin = "cornell"\n', encoding="utf-8")
+    dumps = tmp_path / "dumps"
+    dumps.mkdir()
+    monkeypatch.chdir(tmp_path)
+    assert scene_entry("scenes/room.toml", dumps) == "../scenes/room.toml"
+    assert scene_entry("cornell", dumps) == "cornell"
+    (dumps / "frame.json").write_text(
+        '{"settings": {"scene": "../scenes/room.toml", "grid_size": 8}}', encoding="utf-8")
+    monkeypatch.chdir(dumps.parent / "scenes")          # somewhere else entirely
+    settings = read_settings(dumps / "frame.json")
+    assert Path(settings.scene).resolve() == scene.resolve() and settings.grid_size == 8
+    assert scene_from_entry("cornell", dumps) == "cornell"
+    assert scene_from_entry("missing.toml", dumps) == "missing.toml"   # as written
