@@ -2,7 +2,7 @@
 
 The overlays' settings are declared with :func:`explorer.schema.setting`, like the
 Settings, and live below the window (no imgui, no GL) so that the lesson loader can check
-a step's ``[steps.show]`` table against them (``explorer/lessons.py``) and the window
+a step's ``[steps.show]`` table against them (``explorer/lessons/reader.py``) and the window
 persists and draws the same declarations (``explorer/ui/state.py`` re-exports them).
 """
 

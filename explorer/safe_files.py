@@ -45,7 +45,7 @@ CAPS: dict[str, int] = {
 }
 """Largest file of each kind the explorer reads. A lesson is prose: the longest shipped
 lesson is about 13 KB, so 256 KB leaves room for far more while a 10 MB lesson the window
-could not draw fluidly is refused (lessons.py also caps a step's text and formulas); a
+could not draw fluidly is refused (the lesson reader also caps a step's text and formulas); a
 settings or layout file is a few KB."""
 
 MAX_NESTING = 32

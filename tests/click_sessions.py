@@ -187,7 +187,8 @@ def _settings_difference(shown, wanted) -> str:
 def _provisional_while_converging(c, step, where: str) -> None:
     """While the frame converges (the view says "propagating k/N"), every number the
     step's text reads from the frame is drawn marked provisional (≈)."""
-    from explorer import lesson_text, live_values
+    from explorer.lessons import live_values
+    from explorer.lessons import text as lesson_text
     from explorer.ui import article
 
     progress = c.state.runtime.frame.progress.get("A")

@@ -248,7 +248,7 @@ def _with_wide_number(text: str) -> str:
 
 
 def test_format_values_never_print_a_gigantic_field():
-    from explorer.live_values import format_value
+    from explorer.lessons.live_values import format_value
 
     assert len(format_value(1.5, ">1000000000")) < 10
 

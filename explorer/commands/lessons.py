@@ -3,7 +3,7 @@
 shows it, headless (glfw's null platform with EGL: no display needed), once its frame has
 converged (it says it waits); ``lpv-explorer lessons [ID] --check`` verifies the steps'
 ``[[steps.checks]]`` on their converged frames, rendered headless
-(explorer/lesson_verify.py).
+(explorer/lessons/verify.py).
 
 Listing also validates every lesson; a broken one is reported with its error and makes
 the command exit 1, so CI and lesson authors see mistakes at once.
@@ -71,7 +71,7 @@ def main(args: argparse.Namespace) -> int:
     if given:
         raise CommandError(f"{', '.join(given)} need{'s' if len(given) == 1 else ''} "
                            "--export ID")
-    from explorer.glossary import GlossaryError, load_glossary
+    from explorer.lessons.glossary import GlossaryError, load_glossary
 
     lessons, errors = load_all(args.dir)
     try:
@@ -97,7 +97,7 @@ def _check(args: argparse.Namespace) -> int:
     """Verify the checks of lesson ``args.lesson`` (all lessons when None)."""
     from explorer.commands.options import CommandError
     from explorer.gl.context import create_headless_context, release_headless_context
-    from explorer.lesson_verify import verify_step
+    from explorer.lessons.verify import verify_step
     from explorer.lessons import find_lesson, load_all, preview_settings
     from explorer.lpv.pipeline import Pipeline
 
@@ -137,7 +137,8 @@ def _print_list(lessons) -> None:
 def _plain(text: str, mark_ids: tuple[str, ...] = (), settings=None) -> str:
     """Lesson text for a terminal: derived numbers filled in, live ones named in
     brackets (they are measured in the window), markers spelled out, math as text."""
-    from explorer import lesson_text, live_values
+    from explorer.lessons import live_values
+    from explorer.lessons import text as lesson_text
     from explorer.lessons import math_to_text
 
     def value(name: str, fmt: str) -> str:
@@ -171,7 +172,7 @@ def _setting_label(name: str) -> str:
 
 def _print_lesson(lesson) -> None:
     from explorer.lessons import CORRECTIONS_TITLES
-    from explorer.live_values import format_value
+    from explorer.lessons.live_values import format_value
 
     print(f"{lesson.title}  [{lesson.id}, {lesson.path.name}]")
     print(textwrap.fill(lesson.summary, width=88))

@@ -18,7 +18,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from explorer import lesson_text, live_values
+from explorer.lessons import live_values
+from explorer.lessons import text as lesson_text
 from explorer.lessons import Lesson, Step, TryThis
 from explorer.site import pages, prose
 from explorer.site.frames import (
@@ -174,7 +175,7 @@ def try_label(item: TryThis) -> str:
     button = getattr(item, "button", None)          # the window's own wording, if any
     if callable(button):
         return button()[0]
-    from explorer.live_values import format_value
+    from explorer.lessons.live_values import format_value
     from explorer.lpv.corrections import BY_NAME
     from explorer.schema import specs
     from explorer.lpv.settings import Settings

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from explorer import lesson_text
+from explorer.lessons import text as lesson_text
 from explorer.lessons import COMPARE_VIEWS, Step
 from explorer.lpv.settings import Settings
 

@@ -1,4 +1,4 @@
-"""Lesson prose (:mod:`explorer.lesson_text` blocks) as HTML: paragraphs, lists, tables,
+"""Lesson prose (:mod:`explorer.lessons.text` blocks) as HTML: paragraphs, lists, tables,
 inline and display math as MathML, live numbers baked with their tooltips, ``{{try:K}}``
 as a link to the step's K-th try-this, figures and formulas where their markers stand."""
 
@@ -8,7 +8,8 @@ import html
 import re
 from typing import Callable
 
-from explorer import derived, lesson_text
+from explorer import derived
+from explorer.lessons import text as lesson_text
 from explorer.site.mathml import to_mathml
 from explorer.site.values import Baker
 

@@ -1,6 +1,6 @@
 """Live numbers baked into the page: each ``{{name:format}}`` a step quotes, formatted
 from the step's converged frame exactly as the window's article formats it
-(:func:`explorer.live_values.render`), with the window's tooltip text (what it measures,
+(:func:`explorer.lessons.live_values.render`), with the window's tooltip text (what it measures,
 its unit, its name) on hover."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from __future__ import annotations
 import html
 from dataclasses import dataclass, field
 
-from explorer import live_values
+from explorer.lessons import live_values
 
 
 @dataclass

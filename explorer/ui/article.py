@@ -2,7 +2,7 @@
 
 The step's text is laid out by the text flow (``explorer/ui/textflow.py``): prose, inline
 and display math typeset by MicroTeX, live numbers filled from the frame on screen
-(``explorer/live_values.py``), inline figures (``explorer/ui/figures``) and try-this
+(``explorer/lessons/live_values.py``), inline figures (``explorer/ui/figures``) and try-this
 buttons. A try-this button applies exactly its change on top of the step (a second click
 undoes it; ``split`` ones show before | after in the split view); leaving the lesson gives
 the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`).
@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING
 
 from imgui_bundle import imgui
 
-from explorer import lesson_text, live_values
+from explorer.lessons import live_values
+from explorer.lessons import text as lesson_text
 from explorer.figure_params import FIGURE_KINDS
 from explorer.lessons import Lesson, Step, TryThis
 from explorer.ui import widgets
@@ -88,7 +89,7 @@ AUDIT_FIGURES = {kind.name: kind.audit for kind in FIGURE_KINDS if kind.audit !=
 
 def uses_audit(step: Step) -> str:
     """The audit mode the step needs (a figure of :data:`AUDIT_FIGURES` or an ``audit.*``
-    number, :func:`explorer.live_values.audit_needed`): the window asks the pipelines to
+    number, :func:`explorer.lessons.live_values.audit_needed`): the window asks the pipelines to
     measure that much while it shows; ``off`` when it quotes none."""
     from explorer.lpv.audit import strongest_audit
 
@@ -462,11 +463,11 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
 
 def _glossary(session: LessonSession) -> tuple:
-    """The glossary of the session's lessons (explorer/glossary.py), read once; () when
+    """The glossary of the session's lessons (explorer/lessons/glossary.py), read once; () when
     it is missing or broken (the lessons command reports a broken one)."""
     cached = session.glossary
     if cached is None:
-        from explorer.glossary import GlossaryError, load_glossary
+        from explorer.lessons.glossary import GlossaryError, load_glossary
 
         try:
             cached = load_glossary()

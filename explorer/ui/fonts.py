@@ -22,7 +22,7 @@ TEXT_FONTS = {
     "bold-italic": "Roboto/Roboto-BoldItalic.ttf",
     "code": "Inconsolata-Medium.ttf",
 }
-"""Style (explorer.lesson_text.STYLES) -> font file under imgui_bundle's assets/fonts."""
+"""Style (explorer.lessons.text.STYLES) -> font file under imgui_bundle's assets/fonts."""
 SYMBOL_FONT = "latex/latinmodern-math.otf"
 """Merged into every text font: imgui falls back to it for glyphs the first font lacks."""
 BODY_SIZE = 16.0

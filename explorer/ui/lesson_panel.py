@@ -130,7 +130,7 @@ def step_panels(step: Step) -> frozenset[str]:
     Show in scene panel when it draws in the scene, the Error panel when it quotes an
     error, the Corrections panel when it typesets or switches a correction, the Lights &
     objects or Scene panel when a try-this moves a light, an object or the scene."""
-    from explorer.lesson_text import placeholders
+    from explorer.lessons.text import placeholders
 
     used = set(READER_PANELS)
     texts = [step.text] + [item.prompt for item in step.try_this]

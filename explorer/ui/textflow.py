@@ -1,6 +1,6 @@
 """A text-flow widget: lesson prose laid out in lines like a page, drawn with imgui.
 
-Blocks come from :mod:`explorer.lesson_text`. Within a paragraph every run becomes boxes
+Blocks come from :mod:`explorer.lessons.text`. Within a paragraph every run becomes boxes
 (a word with its trailing space, an inline formula, a live number, a button) that
 :func:`layout` breaks into lines no wider than the column and aligns on a common baseline:
 a formula typeset by MicroTeX sits with its own baseline (``RenderedFormula.baseline_y``)
@@ -17,7 +17,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from explorer import lesson_text as lt
+from explorer.lessons import text as lt
 
 MIN_DISPLAY_SCALE = 0.55
 """A display formula wider than the column is typeset down to this scale, then squeezed."""
@@ -150,7 +150,7 @@ class PageEnv:
     page: Any = None
     """The Page drawing with this environment (figures lay out their captions with it)."""
     glossary: tuple = ()
-    """``explorer.glossary.Term`` entries: their words show the meaning on hover."""
+    """``explorer.lessons.glossary.Term`` entries: their words show the meaning on hover."""
 
 
 ACCENT = (0.45, 0.72, 1.0, 1.0)
@@ -325,7 +325,7 @@ class Page:
         """Word index -> the glossary's meaning, for the words of a glossary term."""
         if not self.env.glossary:
             return {}
-        from explorer.glossary import matches
+        from explorer.lessons.glossary import matches
 
         tips = {}
         for first, count, term in matches(pieces, self.env.glossary):

@@ -152,7 +152,7 @@ def test_a_broken_lesson_is_reported_with_its_own_error(tmp_path, capsys, monkey
     (tmp_path / "40-broken.toml").write_text('id = "broken"\ntitle = "t"\nsummary = "s"\n'
                                              '[[steps]]\ntitle = "a"\ntext = "b"\n'
                                              '[steps.settings]\ngrid_size = 100000\n')
-    monkeypatch.setattr("explorer.lessons.lesson_dir", lambda: tmp_path)
+    monkeypatch.setattr("explorer.lessons.reader.lesson_dir", lambda: tmp_path)
     for command in (["render", "--lesson", "broken"], ["run", "--lesson", "40"],
                     ["lessons", "40-broken"]):
         assert main(command) == 2

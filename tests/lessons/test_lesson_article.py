@@ -8,8 +8,8 @@ import re
 import numpy as np
 import pytest
 
-from explorer import lesson_text as lt
-from explorer import live_values as lv
+from explorer.lessons import text as lt
+from explorer.lessons import live_values as lv
 from explorer.lessons import COMPARE_VIEWS, load_all, preview_settings
 from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Settings
 from explorer.truth.mitsuba_render import mitsuba_available
@@ -28,7 +28,7 @@ def shipped():
 
 def texts_of(lesson):
     """(where, text, kind) for everything a lesson shows: kind "markdown" (parsed by
-    lesson_text) or "plain" (drawn as it is)."""
+    explorer.lessons.text) or "plain" (drawn as it is)."""
     yield "summary", lesson.summary, "plain"
     yield "title", lesson.title, "plain"
     for step in lesson.steps:

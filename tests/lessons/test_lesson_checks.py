@@ -1,6 +1,6 @@
-"""Lesson checks (explorer/lesson_checks.py) and marks (explorer/lesson_marks.py): the
+"""Lesson checks (explorer/lessons/checks.py) and marks (explorer/lessons/marks.py): the
 tables are validated as data, and every check of the shipped lessons holds on the
-converged frame of its step (rendered headless at lesson_verify.CHECK_SIZE)."""
+converged frame of its step (rendered headless at explorer.lessons.verify.CHECK_SIZE)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from dataclasses import replace
 
 import pytest
 
-from explorer.lesson_checks import CheckError, Outcome, evaluate, parse_check
-from explorer.lesson_marks import MarkError, parse_mark
+from explorer.lessons.checks import CheckError, Outcome, evaluate, parse_check
+from explorer.lessons.marks import MarkError, parse_mark
 from explorer.lessons import LessonError, load_all, load_lesson
 
 
@@ -146,7 +146,7 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
     """Each checked step rendered headless at CHECK_SIZE (and after its try-this, or on its
     compare side, where a check reads there) to convergence; every claim holds. The same
     frames with the operator reversed fail, so a check that could never fail is caught."""
-    from explorer.lesson_verify import verify_step
+    from explorer.lessons.verify import verify_step
     from explorer.lessons import preview_settings
     from explorer.lpv.pipeline import Pipeline
 
@@ -167,7 +167,7 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
 
 def test_a_false_claim_fails(shipped, ctx):
     """A check that contradicts the frame fails with its claim and measured value."""
-    from explorer.lesson_verify import verify_step
+    from explorer.lessons.verify import verify_step
     from explorer.lessons import find_lesson, preview_settings
     from explorer.lpv.pipeline import Pipeline
 
@@ -198,7 +198,7 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
     at that pixel with its label inside the image; a mark behind a wall is drawn faded."""
     import numpy as np
 
-    from explorer.lesson_marks import Mark, irradiance
+    from explorer.lessons.marks import Mark, irradiance
     from explorer.lessons import find_lesson, preview_settings
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.overlays.marks import placements
@@ -216,7 +216,7 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
     albedo = result.albedo[y, x]
     gathered = float(np.sum(result.indirect[y, x] * np.pi / np.maximum(albedo, 1e-6)))
     assert irradiance(mark, result) == pytest.approx(gathered, rel=0.03)
-    from explorer.lesson_marks import readout
+    from explorer.lessons.marks import readout
 
     shares = [readout(mark, result, f"{c}_share") for c in ("red", "green", "blue")]
     assert sum(shares) == pytest.approx(1.0) and all(0.0 <= v <= 1.0 for v in shares)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from explorer import lesson_text as lt
+from explorer.lessons import text as lt
 from explorer.ui.textflow import Box, column_widths, layout, words
 
 

@@ -121,7 +121,7 @@ def test_the_printed_lessons_use_words(capsys):
 def test_the_glossary_explains_terms_the_lessons_use(tmp_path):
     """Every glossary term occurs in the lessons (the four the course leans on among
     them), its meaning is plain words, and a broken glossary is reported."""
-    from explorer.glossary import GlossaryError, defined_in, load_glossary, matches
+    from explorer.lessons.glossary import GlossaryError, defined_in, load_glossary, matches
 
     terms = load_glossary()
     assert {"VPL", "flux in flight", "clamp gain", "geometry volume"} <= \

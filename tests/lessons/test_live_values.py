@@ -12,7 +12,7 @@ import pytest
 from lpv_cases import run_frame
 
 from explorer import derived
-from explorer import live_values as lv
+from explorer.lessons import live_values as lv
 from explorer.lpv.settings import PRESETS, Settings
 
 SMALL = Settings(width=48, height=40, grid_size=12, iterations=5, rsm_size=24)

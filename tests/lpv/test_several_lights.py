@@ -290,7 +290,7 @@ def test_a_light_colour_scales_its_flux_per_channel():
 
 def test_lessons_quote_the_lights_from_the_frame(cornell):
     """The live numbers the lessons quote about several lights are read from the frame."""
-    from explorer import live_values as lv
+    from explorer.lessons import live_values as lv
 
     frame = run_lights(cornell, CORNELL, "spot", "bulb")
     context = lv.LiveContext(result=frame)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from explorer import live_values
+from explorer.lessons import live_values
 from explorer.lessons import find_lesson, load_all
 from explorer.site.build import PLOT_OF_PANEL
 
@@ -387,7 +387,8 @@ def test_every_formula_of_the_course_typesets_as_mathml():
     """All the LaTeX the lessons hold (prose, display math, derivation results), with
     their live numbers in place, converts; nothing of the TeX is left outside the
     annotation."""
-    from explorer import derived, lesson_text
+    from explorer import derived
+    from explorer.lessons import text as lesson_text
     from explorer.site.mathml import strip_annotations, to_mathml
 
     found, errors = load_all()

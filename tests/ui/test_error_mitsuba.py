@@ -30,7 +30,7 @@ def _until(service, ctx, done, calls: int = 4000) -> None:
 
 
 def test_error_service_measures_against_mitsuba_and_cancels_on_change(ctx, monkeypatch):
-    from explorer import live_values
+    from explorer.lessons import live_values
     from explorer.truth.mitsuba_job import ErrorReadout
     from explorer.ui.panels import error as panel
 

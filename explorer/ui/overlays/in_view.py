@@ -168,7 +168,7 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
 
 
 def step_marks(state: AppState) -> tuple:
-    """The marks of the lesson step on screen (explorer/lesson_marks.py): none when no
+    """The marks of the lesson step on screen (explorer/lessons/marks.py): none when no
     lesson step is applied or the reader changed what the step shows."""
     from explorer.ui.lesson_panel import shows_step
 

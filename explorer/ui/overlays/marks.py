@@ -1,4 +1,4 @@
-"""A lesson step's marks (explorer/lesson_marks.py) drawn over the 3D view: a label in a
+"""A lesson step's marks (explorer/lessons/marks.py) drawn over the 3D view: a label in a
 box, an arrow from it to the mark's world point, a dot there. Drawn with the View panel's
 draw list, so window screenshots and ``lessons --export`` show them too.
 

@@ -9,7 +9,7 @@ check without a window:
 * ``**bold**``, ``*italic*``, ```code```;
 * ``$...$`` inline math and ``$$...$$`` display math (LaTeX, typeset by MicroTeX; a
   display formula states its left-hand side);
-* ``{{name}}`` or ``{{name:format}}``: a live number (:mod:`explorer.live_values`), also
+* ``{{name}}`` or ``{{name:format}}``: a live number (:mod:`explorer.lessons.live_values`), also
   inside math, e.g. ``$c_0 = {{derived.sh.c0:.6f}}$``;
 * markers: ``{{figure:ID}}`` (a figure of the step) and ``{{formula:NAME}}`` (a
   derivation result typeset as display math) stand between paragraphs (one inside a

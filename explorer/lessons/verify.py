@@ -1,30 +1,30 @@
-"""Verifying a lesson step's checks (``explorer.lesson_checks``) on the converged frames of
-that step, rendered headless: what CI runs for every checked step
+"""Verifying a lesson step's checks (:mod:`explorer.lessons.checks`) on the converged
+frames of that step, rendered headless: what CI runs for every checked step
 (tests/lessons/test_lesson_checks.py) and ``lpv-explorer lessons --check``. Apart from
-lesson_checks, which the lesson loader uses to read the checks, since this needs the
-loader (its ``shrink_settings``)."""
+the checks module, which the reader uses to read the checks, since this renders (at the
+sizes of :func:`explorer.lessons.render.shrink_settings`)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Any
 
-from explorer.lesson_checks import Check, Outcome, evaluate
-from explorer.lessons import shrink_settings
+from explorer.lessons.checks import Check, Outcome, evaluate
+from explorer.lessons.render import shrink_settings
 
 CHECK_SIZE = {"size": 64, "max_grid": 48, "rsm_size": 64, "max_iterations": 64}
-"""The sizes CI verifies the checks at (explorer.lessons.shrink_settings): small enough to
+"""The sizes CI verifies the checks at (``shrink_settings``): small enough to
 run every checked step in seconds on llvmpipe, large enough that every claim of the
 shipped lessons holds there as it does at the steps' own sizes."""
 
 
 def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None
                 ) -> list[Outcome]:
-    """Every check of ``step`` (an ``explorer.lessons.Step``) evaluated on converged frames
+    """Every check of ``step`` (an ``explorer.lessons.model.Step``) evaluated on converged frames
     that ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) renders: the step as it opens,
     after a try-this, or on its compare side, each at ``sizes`` (default
     :data:`CHECK_SIZE`; None values keep the step's own)."""
-    from explorer.live_values import LiveContext, Unavailable, lookup
+    from explorer.lessons.live_values import LiveContext, Unavailable, lookup
 
     sizes = CHECK_SIZE if sizes is None else sizes
     marks = {mark.id: mark for mark in step.marks}

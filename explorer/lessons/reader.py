@@ -1,4 +1,5 @@
-"""Lessons: ``lessons/NN-slug.toml`` files read, validated and turned into Settings.
+"""Reading lesson files: ``lessons/NN-slug.toml`` read, validated and turned into the
+:mod:`explorer.lessons.model` dataclasses.
 
 A lesson is data, never code: TOML parsed with :mod:`tomllib` (``tomli`` on Python 3.10).
 Every step says which scene, settings, corrections, view and plot it shows, which
@@ -44,22 +45,22 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     slice_quantity = "in-flight"
     slice_step = 2
     [[steps.marks]]                        # a labelled point in the scene
-    id = "dark"                            # (explorer/lesson_marks.py): drawn in the
+    id = "dark"                            # (explorer/lessons/marks.py): drawn in the
     label = "dark side"                    # view; with a normal it measures the LPV's
     at = [0.33, 0.4, -0.6]                 # irradiance there, {{mark.dark.irradiance}}
     normal = [1, 0, 0]
     [[steps.checks]]                       # a claim of the text, checked in CI on the
     claim = "the clamp adds light"         # step's converged frame
-    value = "audit.clamp_gain"             # (explorer/lesson_checks.py: fixed operators,
+    value = "audit.clamp_gain"             # (explorer/lessons/checks.py: fixed operators,
     op = ">"                               # quantity names, numbers; never code)
     than = 0
 
-The text is the markdown dialect of :mod:`explorer.lesson_text`: inline and display math,
-live numbers ``{{name:format}}`` (:mod:`explorer.live_values`), ``{{figure:ID}}``,
+The text is the markdown dialect of :mod:`explorer.lessons.text`: inline and display math,
+live numbers ``{{name:format}}`` (:mod:`explorer.lessons.live_values`), ``{{figure:ID}}``,
 ``{{formula:NAME}}`` and ``{{try:K}}`` markers; the validator checks every one of them.
 
 The folder's ``glossary.toml`` is not a lesson: it holds the recurring terms the article
-explains on hover (:mod:`explorer.glossary`).
+explains on hover (:mod:`explorer.lessons.glossary`).
 
 Errors are :class:`LessonError` naming the file, the step (number and title) and the
 field; :func:`load_all` collects them so one broken lesson never hides the others.
@@ -70,7 +71,7 @@ from __future__ import annotations
 import re
 import sys
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -79,32 +80,24 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-from explorer.schema import SettingError, Spec, check_fields, from_dict, specs
-from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Corrections, Settings
 from explorer import safe_files
+from explorer.lessons.model import (
+    COMPARE_VIEWS,
+    MAX_FORMULAS_PER_STEP,
+    MAX_STEP_TEXT,
+    MAX_STEPS,
+    STEP_VIEWS,
+    Lesson,
+    LessonError,
+    Prediction,
+    Step,
+    TryThis,
+    Vec3,
+)
+from explorer.lpv.settings import PLOTS, PRESETS, Corrections, Settings
 from explorer.resources import lesson_dir
 from explorer.scene.builtin import BUILTIN_SCENES
-
-MAX_FORMULAS_PER_STEP = 120
-"""Most formulas (inline and display math, derivation formulas) one step may typeset:
-the richest shipped step has 13; each is a texture the window draws every frame."""
-MAX_STEP_TEXT = 16_000
-"""Longest text of one step, in characters: the longest shipped step has about 1 700."""
-MAX_STEPS = 40
-"""Most steps in one lesson: the longest shipped lesson has 6."""
-
-LESSON_DEFAULTS: dict[str, Any] = {"spot_cone": False, "auto_exposure": False}
-"""Settings every step starts from unless its lesson or the step sets them: the spot's 90°
-square frustum (the lessons' texts and measured numbers are about it) and a fixed exposure
-(their prompts ask the reader to watch the image brighten with the flux, the bounces or
-the published formulas, which an auto exposure would undo)."""
-SCENE_STATE: dict[str, Any] = {"lights": None, "object_transforms": ()}
-"""What belongs to the scene on screen and starts afresh with every step (a step may set
-them in its [settings]): which lights shine and where the objects are; lights or objects
-of another scene would not even exist in the step's."""
-COMPARE_VIEWS = ("split", "difference")
-"""Views that show the step's corrections against the ``compare`` preset."""
-STEP_VIEWS = VIEWS + COMPARE_VIEWS
+from explorer.schema import SettingError, Spec, check_fields, from_dict, specs
 
 # The lesson file's own keys, declared like the Settings fields and checked by the same
 # schema (explorer/schema.py). Tables with more structure (settings, corrections,
@@ -142,199 +135,6 @@ _OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(
 accepted inside [settings], so there is one way to say each thing."""
 _ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
 _FILE_PATTERN = re.compile(r"^(\d+)-([a-z0-9-]+)\.toml$")
-
-Vec3 = tuple[float, float, float]
-
-
-class LessonError(ValueError):
-    """A lesson file that cannot be used; the message names file, step and field."""
-
-    def __init__(self, path: Path | str, message: str, step: "int | None" = None,
-                 step_title: str | None = None, field: str | None = None,
-                 line: int | None = None) -> None:
-        self.path = Path(path)
-        self.step = step
-        self.step_title = step_title
-        self.field = field
-        self.line = line
-        self.reason = message
-        where = [str(self.path)]
-        if line is not None:
-            where[0] += f":{line}"
-        if step is not None:
-            where.append(f"step {step}" + (f" ({step_title!r})" if step_title else ""))
-        if field is not None:
-            where.append(f"field {field!r}")
-        super().__init__(", ".join(where) + ": " + message)
-
-
-@dataclass(frozen=True)
-class Prediction:
-    """"Predict, then press": ``predict = {question, choices, answer}`` in a try-this. The
-    article asks ``question`` with the ``choices`` before the button is pressed; pressing
-    it shows the prompt and whether the guess was right. The loader requires a check of
-    the step after this try-this (``[[steps.checks]]`` with ``after_try``), so CI verifies
-    the answer on the frame."""
-
-    question: str
-    choices: tuple[str, ...]
-    answer: int
-    """1-based index of the right choice."""
-
-
-@dataclass(frozen=True)
-class TryThis:
-    """A prompt asking the reader to change one control and look for an effect; the
-    window's button sets ``control`` to ``value``, nothing else."""
-
-    control: str
-    """A Settings field name, ``corrections.<switch>`` or ``corrections`` (a preset name,
-    or a Corrections value given as a table like a step's ``corrections``)."""
-    prompt: str
-    value: Any = None
-    """The value the button sets (checked against the settings schema when loaded)."""
-    split: bool = False
-    """Show the change as before | after in the split view."""
-    label: str = ""
-    """The button's text (default: the control's label and the value)."""
-    camera: "tuple[Vec3, Vec3] | None" = None
-    """Where the camera goes with the change (``camera = {eye, target}``): the reframe a
-    change of the grid or the scene needs to keep its feature in view."""
-    predict: "Prediction | None" = None
-    """A question the article asks before the button reveals the answer."""
-
-    def change(self) -> dict[str, Any]:
-        """The change as ``Settings.with_changes`` keywords."""
-        if self.control.startswith("corrections."):
-            change = {"corrections": {self.control.split(".", 1)[1]: self.value}}
-        else:
-            change = {self.control: self.value}
-        if self.camera is not None:
-            change["camera"] = self.camera
-        return change
-
-    def apply(self, settings: Settings) -> Settings:
-        """``settings`` with this change made."""
-        return settings.with_changes(**self.change())
-
-    def button(self) -> tuple[str, str]:
-        """(button text, what the change does) in words: :attr:`label`, else the
-        control's label from the settings schema (or the correction's title) and the
-        value; the second part is the control's documentation."""
-        from explorer.live_values import format_value
-        from explorer.lpv.corrections import CORRECTIONS
-
-        value = format_value(self.value, "g")
-        if self.control == "corrections":
-            if isinstance(self.value, str):
-                label, doc = f"{value} preset", "every correction switch as the preset sets it"
-            else:
-                off = [CORRECTIONS_TITLES.get(name, name) for name in self.value.names()
-                       if not getattr(self.value, name)]
-                label = "published: " + (", ".join(off) or "none")
-                doc = "the correction switches set as listed"
-        elif self.control.startswith("corrections."):
-            name = self.control.split(".", 1)[1]
-            entry = next(e for e in CORRECTIONS if e.name == name)
-            label, doc = f"{entry.title}: {value}", entry.why
-        else:
-            spec = specs(Settings)[self.control]
-            label = f"{spec.label or self.control.replace('_', ' ')}: {value}"
-            doc = spec.doc
-        return (self.label or label), doc
-
-
-@dataclass(frozen=True)
-class Step:
-    """One step of a lesson: what to read, what to show, what to try."""
-
-    number: int
-    """1-based position in the lesson."""
-    title: str
-    text: str
-    formulas: tuple[str, ...]
-    scene: str
-    corrections: Corrections
-    overrides: tuple[tuple[str, Any], ...]
-    """Settings fields the step sets, in file order (lesson defaults merged in)."""
-    view: str
-    compare: Corrections | None
-    compare_preset: str | None
-    plot: str | None
-    try_this: tuple[TryThis, ...]
-    camera: tuple[Vec3, Vec3] | None = None
-    light: tuple[Vec3, Vec3] | None = None
-    figures: tuple[Any, ...] = ()
-    """Inline figures (``explorer.ui.figures.FigureSpec``), in file order."""
-    show: tuple[tuple[str, Any], ...] = ()
-    """OverlayState fields the step sets (its ``[steps.show]`` table, checked), in file
-    order: what the main view draws in the scene."""
-    marks: tuple[Any, ...] = ()
-    """Labelled points in the scene (``explorer.lesson_marks.Mark``), in file order."""
-    checks: tuple[Any, ...] = ()
-    """The text's claims about its live numbers (``explorer.lesson_checks.Check``)."""
-    split_at: float | None = None
-    """The split view's divider (a fraction of the width), or None: the middle."""
-
-    @property
-    def mark_ids(self) -> tuple[str, ...]:
-        """The ids of the marks that measure (have a normal): ``mark.<id>.*`` names."""
-        return tuple(mark.id for mark in self.marks if mark.normal is not None)
-
-    def overlays(self, base: Any = None) -> Any:
-        """The in-scene overlays this step shows (an ``OverlayState``): nothing drawn or
-        picked but what its ``show`` table sets; ``base`` (the reader's overlays) lends
-        only the reader's own controls (``overlay_params.READER_FIELDS``)."""
-        from explorer.overlay_params import step_overlays
-
-        return step_overlays(dict(self.show), base)
-
-    @property
-    def figure_ids(self) -> tuple[str, ...]:
-        return tuple(spec.instance_id for spec in self.figures)
-
-    def settings(self, base: Settings | None = None) -> Settings:
-        """The Settings this step shows: ``base`` (default: ``Settings()``) with the
-        step's scene, corrections, camera, light and overrides applied.
-
-        Scene, corrections, camera and light always come from the step (a step that
-        names no camera gets the scene's default one), so a step looks the same whatever
-        was on screen before; so do the :data:`LESSON_DEFAULTS` and the
-        :data:`SCENE_STATE` (the scene's own lights, its objects where it puts them).
-        Other fields the step does not mention (window size, exposure, ...) keep the value
-        of ``base``."""
-        base = Settings() if base is None else base
-        return base.with_changes(scene=self.scene, corrections=self.corrections,
-                                 camera=self.camera, light=self.light,
-                                 **{**LESSON_DEFAULTS, **SCENE_STATE, **dict(self.overrides)})
-
-    def compare_settings(self, base: Settings | None = None) -> Settings | None:
-        """The other side of a split/difference view (the step's settings with the
-        ``compare`` preset), or None when the step compares nothing."""
-        if self.compare is None:
-            return None
-        return self.settings(base).with_changes(corrections=self.compare)
-
-    def controls(self) -> tuple[str, ...]:
-        return tuple(item.control for item in self.try_this)
-
-
-@dataclass(frozen=True)
-class Lesson:
-    id: str
-    title: str
-    summary: str
-    steps: tuple[Step, ...]
-    path: Path
-    number: int
-    """The NN of the file name (orders the lessons)."""
-
-    def step(self, number: int) -> Step:
-        """Step ``number`` (1-based); IndexError names the valid range."""
-        if not 1 <= number <= len(self.steps):
-            raise IndexError(f"lesson {self.id!r} has steps 1..{len(self.steps)}, "
-                             f"not {number}")
-        return self.steps[number - 1]
 
 
 # --- formula names -----------------------------------------------------------------------
@@ -388,7 +188,7 @@ def load_all(directory: Path | str | None = None,
     lessons: list[Lesson] = []
     errors: list[LessonError] = []
     seen: dict[str, Path] = {}
-    from explorer.glossary import GLOSSARY_FILE
+    from explorer.lessons.glossary import GLOSSARY_FILE
 
     for path in sorted(directory.glob("*.toml")):
         if path.name == GLOSSARY_FILE:     # the course's glossary, not a lesson
@@ -556,9 +356,9 @@ class _Reader:
             raise self.error(f"show.{exc.field}", str(exc)) from None
 
     def marks(self, raw: Mapping, step: Step) -> tuple[Any, ...]:
-        """The ``[[steps.marks]]`` tables (explorer/lesson_marks.py), each point inside
+        """The ``[[steps.marks]]`` tables (explorer/lessons/marks.py), each point inside
         the step's scene; ids unique within the step."""
-        from explorer.lesson_marks import MarkError, parse_mark
+        from explorer.lessons.marks import MarkError, parse_mark
         from explorer.scene.builtin import BUILTIN_SCENES
 
         items = raw.get("marks", [])
@@ -579,10 +379,10 @@ class _Reader:
         return tuple(marks)
 
     def checks(self, raw: Mapping, step: Step) -> tuple[Any, ...]:
-        """The ``[[steps.checks]]`` tables (explorer/lesson_checks.py): quantity names the
+        """The ``[[steps.checks]]`` tables (explorer/lessons/checks.py): quantity names the
         step can read, a fixed operator, literal bounds."""
-        from explorer import live_values
-        from explorer.lesson_checks import CheckError, parse_check
+        from explorer.lessons.checks import CheckError, parse_check
+        from explorer.lessons.live_values import lookup
 
         items = raw.get("checks", [])
         if not isinstance(items, list):
@@ -591,7 +391,7 @@ class _Reader:
         for index, table in enumerate(items):
             try:
                 checks.append(parse_check(
-                    table, lambda name: live_values.lookup(name, (), step.mark_ids),
+                    table, lambda name: lookup(name, (), step.mark_ids),
                     len(step.try_this), step.compare is not None, f"checks[{index}]."))
             except CheckError as exc:
                 raise self.error(exc.field, str(exc)) from None
@@ -710,7 +510,7 @@ class _Reader:
         return Prediction(question.strip(), tuple(c.strip() for c in choices), answer)
 
     # --- the article: try-this values, figures, markers and live numbers ----------------
-    # (new keys of the explorable lessons; explorer/lesson_text.py, explorer/live_values.py)
+    # (new keys of the explorable lessons; explorer/lessons/text.py and live_values.py)
 
     def try_values(self, step: Step) -> Step:
         """``step`` with each try-this value checked against the settings schema on top of
@@ -777,7 +577,8 @@ class _Reader:
         """Every marker and live number of the step's text, prompts and figure captions
         resolves: figures and try-this entries exist, formulas are derivation results,
         quantities are known and their formats apply."""
-        from explorer import lesson_text, live_values
+        import explorer.lessons.live_values as live_values
+        import explorer.lessons.text as lesson_text
 
         try:
             blocks = lesson_text.parse(step.text)
@@ -834,132 +635,5 @@ class _Reader:
                     raise self.error(field, f"{{{{{name}:{fmt}}}}}: {exc}") from None
 
 
-def _correction_titles() -> dict[str, str]:
-    from explorer.lpv.corrections import CORRECTIONS
-
-    return {entry.name: entry.title for entry in CORRECTIONS}
-
-
-class _Titles(dict):
-    """The corrections' titles by switch name, read on first use."""
-
-    def get(self, key, default=None):  # type: ignore[override]
-        if not self:
-            self.update(_correction_titles())
-        return super().get(key, default)
-
-
-CORRECTIONS_TITLES = _Titles()
-
 _PRESET = {"preset": Spec(kind="choice", choices=tuple(PRESETS),
                           doc="The preset a corrections table starts from.")}
-
-
-def shrink_settings(settings: Settings, size: int | None = 64, max_grid: int | None = 16,
-                    rsm_size: int | None = 32, max_iterations: int | None = 8) -> Settings:
-    """``settings`` made smaller for a quick render: a ``size``² image, at most
-    ``max_grid``³ cells and ``max_iterations`` steps, at most a ``rsm_size``² RSM (None
-    keeps that setting). Everything a step compares (corrections, views) is kept."""
-    changes: dict[str, Any] = {}
-    if size is not None:
-        changes.update(width=size, height=size)
-    for name, limit in (("rsm_size", rsm_size), ("grid_size", max_grid),
-                        ("iterations", max_iterations)):
-        if limit is not None:
-            changes[name] = min(getattr(settings, name), limit)
-    return settings.with_changes(**changes)
-
-
-def preview_settings(step: Step, size: int = 64, max_grid: int = 16, rsm_size: int = 32,
-                     max_iterations: int = 8, base: Settings | None = None) -> Settings:
-    """The step's settings shrunk for a quick preview (tests, CI renders, thumbnails):
-    :func:`shrink_settings` of :meth:`Step.settings`."""
-    return shrink_settings(step.settings(base), size, max_grid, rsm_size, max_iterations)
-
-
-def render_step(pipeline: Any, step: Step, settings: Settings | None = None
-                ) -> tuple[Any, Any]:
-    """Run ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) for ``step`` and return
-    ``(image, result)``: the step's view as an (H, W, 3) display image in [0, 1], and the
-    FrameResult of the step's own configuration.
-
-    ``settings`` defaults to ``step.settings()``; pass e.g. :func:`preview_settings` to
-    render small. A "split" view puts the step's configuration on the left half and the
-    ``compare`` preset on the right; a "difference" view shows ``|A − B|`` of the linear
-    final images, scaled so that the largest difference is white."""
-    import numpy as np
-
-    from explorer.lpv.tonemap import linear_to_srgb
-
-    settings = step.settings() if settings is None else settings
-    result = pipeline.run(settings)
-    if step.view not in COMPARE_VIEWS:
-        return pipeline.view(step.view), result
-    mine_display = pipeline.view("final")
-    mine_linear = np.array(result.final_image, copy=True)
-    pipeline.run(settings.with_changes(corrections=step.compare))
-    # the other side at this side's display scale: an auto exposure must not hide the
-    # difference in brightness the step shows
-    other_display = pipeline.view("final", display_scale=result.display_scale)
-    other_linear = pipeline.last_result.final_image
-    if step.view == "split":
-        image = np.array(mine_display, copy=True)
-        half = int(round(image.shape[1] * (0.5 if step.split_at is None else step.split_at)))
-        image[:, half:] = other_display[:, half:]
-        image[:, half] = 1.0  # the divider
-        return image, result
-    difference = np.abs(mine_linear - other_linear)
-    scale = float(difference.max())
-    image = linear_to_srgb(difference / scale) if scale > 0 else np.zeros_like(difference)
-    return np.clip(image, 0.0, 1.0), result
-
-
-# --- inline math as plain text (CLI output and the panel's fallback) ----------------------
-
-_LATEX_SYMBOLS = {
-    r"\Phi": "Φ", r"\phi": "φ", r"\pi": "π", r"\omega": "ω", r"\Delta": "Δ", r"\theta": "θ",
-    r"\rho": "ρ", r"\langle": "<", r"\rangle": ">", r"\lfloor": "floor[", r"\rfloor": "]",
-    r"\cdot": "·", r"\times": "×", r"\approx": "≈", r"\int": "∫", r"\sum": "Σ",
-    r"\dots": "…", r"\infty": "∞", r"\le": "≤", r"\ge": "≥", r"\in": "in", r"\pm": "±",
-    r"\perp": "perp", r"\propto": "~", r"\max": "max", r"\arctan": "arctan",
-    r"\cos": "cos", r"\sin": "sin", r"\log": "log",
-    r"\alpha": "α", r"\delta": "δ", r"\sigma": "σ", r"\ell": "l",
-    r"\tilde": "", r"\mathrm": "", r"\text": "", r"\mathrel": "",
-    r"\left": "", r"\right": "", r"\Big": "",
-}
-_PUNCTUATION = {r"\,": " ", r"\;": " ", r"\ ": " ", r"\%": "%", r"\{": "⦃", r"\}": "⦄"}
-# Only glyphs the window's font (Roboto) has: digits 1-3 as superscripts, no subscripts.
-_SUPERSCRIPTS = {"1": "¹", "2": "²", "3": "³"}
-_ATOM = r"[A-Za-z]|[0-9.]+|π"
-MATH_COMMANDS = frozenset(_LATEX_SYMBOLS) | {r"\sqrt", r"\frac"}
-"""The LaTeX commands :func:`math_to_text` turns into text (any other loses only its
-backslash)."""
-
-
-def math_to_text(text: str) -> str:
-    """``text`` with its ``$...$`` inline math turned into readable text (Φ, π, <n, ω>,
-    √3, Δω/(4π), x², c_0, ...) using only glyphs the window's font has. Covers what the
-    lessons use; an unknown command just loses its backslash."""
-    def convert(match: re.Match) -> str:
-        math = match.group(1)
-        math = re.sub(r"\\langle\s*", "<", math)
-        math = re.sub(r"\s*\\rangle", ">", math)
-        for command, symbol in _PUNCTUATION.items():
-            math = math.replace(command, symbol)
-        while True:         # innermost first: \frac{\sqrt{\pi}}{2} -> (√(\pi))/(2)
-            before = math
-            math = re.sub(r"\\sqrt\{([^{}]*)\}", r"√(\1)", math)
-            math = re.sub(r"\\frac\{([^{}]*)\}\{([^{}]*)\}", r"(\1)/(\2)", math)
-            if math == before:
-                break
-        for command in sorted(_LATEX_SYMBOLS, key=len, reverse=True):
-            math = re.sub(re.escape(command) + r"(?![A-Za-z])", _LATEX_SYMBOLS[command], math)
-        math = re.sub(r"\^\{?([123])\}?(?![0-9])", lambda m: _SUPERSCRIPTS[m.group(1)], math)
-        math = re.sub(r"\^\{([^{}]*)\}", r"^(\1)", math)
-        math = re.sub(r"_\{([^{}]*)\}", r"_(\1)", math)
-        math = re.sub(r"\\([A-Za-z]+)", r"\1", math)
-        math = math.replace("{", "").replace("}", "").replace("⦃", "{").replace("⦄", "}")
-        math = re.sub(rf"\(({_ATOM})\)", r"\1", math)     # (x) -> x for a single atom
-        return re.sub(r"  +", " ", math).strip()
-
-    return re.sub(r"\$([^$]+)\$", convert, text)

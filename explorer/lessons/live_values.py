@@ -14,7 +14,7 @@ Sources (the first part of the name):
   (``explorer.derived``): an exact constant, the same on every machine;
 * ``figure.<id>.<readout>``: a number an inline figure of the step shows now;
 * ``mark.<id>.<readout>``: a number measured at a mark the step places in its scene
-  (:mod:`explorer.lesson_marks`: the LPV's indirect irradiance there).
+  (:mod:`explorer.lessons.marks`: the LPV's indirect irradiance there).
 
 So a number in a lesson is either derived (a constant of the model, exact) or measured
 (read from the frame or the error measurement at the settings on screen); nothing is
@@ -59,7 +59,7 @@ class LiveContext:
     renderer: str = ""
     """GL_RENDERER of the context the frame ran on."""
     marks: dict[str, Any] = field(default_factory=dict)
-    """The step's marks (id -> ``explorer.lesson_marks.Mark``) for ``mark.*`` numbers."""
+    """The step's marks (id -> ``explorer.lessons.marks.Mark``) for ``mark.*`` numbers."""
 
 
 class Unavailable(LookupError):
@@ -458,7 +458,7 @@ def table() -> dict[str, Quantity]:
 
 
 def _mark_quantity(name: str, mark_ids: tuple[str, ...]) -> Quantity:
-    from explorer.lesson_marks import READOUTS, readout
+    from explorer.lessons.marks import READOUTS, readout
 
     parts = name.split(".")
     if len(parts) != 3 or parts[2] not in READOUTS:

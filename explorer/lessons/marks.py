@@ -15,7 +15,7 @@ A mark with a ``normal`` measures :data:`READOUTS` at its point: the indirect ir
 the LPV's final gather computes there (docs/MODEL.md "Final gather", the numpy twin
 ``explorer.lpv.twin.gather_cascades`` on the frame's accumulated grids), so a claim
 such as "the dark side receives more than 1 % of the lit side's light" is a check of one
-mark's number over another's (explorer/lesson_checks.py).
+mark's number over another's (explorer/lessons/checks.py).
 """
 
 from __future__ import annotations

@@ -1,11 +1,12 @@
 """Lesson checks: a step's claims about its own live numbers, written as data and verified
-on the converged frame of that step (tests/lessons/test_lesson_checks.py runs every one in CI).
+on the converged frame of that step (tests/lessons/test_lesson_checks.py runs every one in
+CI, through :mod:`explorer.lessons.verify`).
 
 A check is one ``[[steps.checks]]`` table::
 
     [[steps.checks]]
     claim = "the front-face clamp adds light"    # the prose's claim, in plain words
-    value = "audit.clamp_gain"                   # a live quantity (explorer/live_values.py)
+    value = "audit.clamp_gain"                   # a live quantity (live_values.py)
     op = ">"                                     # one of OPERATORS
     than = 0                                     # a number; [low, high] for "between";
                                                  # a number, word or true/false for "=="
@@ -19,7 +20,7 @@ quantity names the live-value table resolves (``figure.*`` and ``error.*`` are r
 a figure's readout follows the reader's dragging and the error needs the reference
 render, neither is a property of the step's frame) and literal numbers.
 :func:`parse_check` validates a table, :func:`evaluate` reads the numbers from
-:class:`explorer.live_values.LiveContext` objects and says whether the claim holds.
+:class:`explorer.lessons.live_values.LiveContext` objects and says whether the claim holds.
 """
 
 from __future__ import annotations
