@@ -17,3 +17,13 @@ def synthetic_result(corrections: str, iterations: int = 6):
     full = EnergyAudit.from_grid_audit(audit, rsm=audit.injected,
                                        gathered=0.4 * audit.injected)
     return SimpleNamespace(settings=Settings(corrections=PRESETS[corrections]), audit=full)
+
+
+def figure_window(width: int, height: int):
+    """A hidden one-figure window (explorer/ui/figures/harness.py) whose audit figures
+    plot the corrected and the original preset's synthetic frames; the caller closes it."""
+    from explorer.ui.figures.harness import FigureWindow
+
+    window = FigureWindow(width, height, visible=False)
+    window.context.results = (synthetic_result("corrected"), synthetic_result("original"))
+    return window

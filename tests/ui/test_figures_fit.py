@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from figure_cases import synthetic_result
+from figure_cases import figure_window
 from window_cases import display_problem
 
 _PROBLEM = display_problem()
@@ -43,10 +43,7 @@ def column_width(window_width: int) -> float:
 
 @pytest.fixture(scope="module")
 def window():
-    from explorer.ui.figures.harness import FigureWindow
-
-    win = FigureWindow(900, 900, visible=False)
-    win.context.results = (synthetic_result("corrected"), synthetic_result("original"))
+    win = figure_window(900, 900)
     yield win
     win.close()
 

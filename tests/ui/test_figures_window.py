@@ -15,7 +15,7 @@ import pytest
 
 from explorer.ui.figures import FIGURES, make_figure
 from window_cases import display_problem
-from figure_cases import synthetic_result
+from figure_cases import figure_window
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -32,10 +32,7 @@ BACKGROUND = np.array([28, 29, 33])    # widgets.window_bg (0.11, 0.115, 0.13) i
 
 @pytest.fixture(scope="module")
 def window():
-    from explorer.ui.figures.harness import FigureWindow
-
-    win = FigureWindow(1000, 760, visible=False)
-    win.context.results = (synthetic_result("corrected"), synthetic_result("original"))
+    win = figure_window(1000, 760)
     yield win
     win.close()
 
