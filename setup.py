@@ -1,9 +1,10 @@
 """Which packages the distribution holds: every folder under explorer/ and derivations/
 found by setuptools (none listed by hand, so a new one such as explorer.ui.overlays
-cannot be left out; namespace packages too, so a data folder such as explorer/site/assets
-is a package setuptools knows rather than one it warns about), plus the resource folders that live at the top
-of the repository and ship inside the package (explorer/resources.py finds them there
-when installed). Everything else is declared in pyproject.toml."""
+cannot be left out; namespace packages too, so that a data folder such as
+explorer/site/assets is a package setuptools knows rather than one it warns about), plus
+the resource folders that live at the top of the repository and ship inside the package
+(explorer/resources.py finds them there when installed). Everything else is declared in
+pyproject.toml."""
 
 from setuptools import find_namespace_packages, setup
 
