@@ -100,6 +100,7 @@ def _check(args: argparse.Namespace) -> int:
     from explorer.lessons.verify import verify_step
     from explorer.lessons import find_lesson, load_all, preview_settings
     from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.figures import declared_readouts
 
     lessons, errors = load_all(args.dir)
     if args.lesson is not None:
@@ -115,7 +116,8 @@ def _check(args: argparse.Namespace) -> int:
             with Pipeline(preview_settings(steps[0][1]), ctx=ctx) as pipeline:
                 for lesson, step in steps:
                     print(f"{lesson.path.stem} step {step.number}: {step.title}")
-                    for outcome in verify_step(pipeline, step):
+                    for outcome in verify_step(pipeline, step,
+                                               figure_readouts=declared_readouts):
                         total += 1
                         failed += not outcome.holds
                         print(f"  {outcome}")

@@ -16,11 +16,22 @@ A check is one ``[[steps.checks]]`` table::
     side = "compare"               # optional: read on the compare preset's side
 
 Nothing is evaluated as code: the operator is one of a fixed set, the operands are
-quantity names the live-value table resolves (``figure.*`` and ``error.*`` are refused:
-a figure's readout follows the reader's dragging and the error needs the reference
-render, neither is a property of the step's frame) and literal numbers.
-:func:`parse_check` validates a table, :func:`evaluate` reads the numbers from
-:class:`explorer.lessons.live_values.LiveContext` objects and says whether the claim holds.
+quantity names the live-value table resolves and literal numbers. Every quantity a step
+can quote is a property of the step, so a check may read it:
+
+* ``figure.<id>.<readout>`` is read on the figure as the step declares it (its
+  parameters, nothing dragged; a figure that plots frames plots the check's frame), not
+  as a reader has dragged it; a figure shows both sides while its step compares, so a
+  figure check reads the step's side (``side = "compare"`` is refused);
+* ``error.*`` is the Error panel's measurement of the check's settings against the
+  one-bounce reference, made at a small size (``explorer.lessons.verify.ERROR_SIZE``)
+  and only for the frames whose checks name it; ``error.mitsuba_*`` and
+  ``error.reference_mitsuba_*`` are refused (:data:`REFUSED_PREFIXES`): Mitsuba is an
+  optional extra and its render takes minutes.
+
+:func:`parse_check` validates a table, :func:`evaluate` reads the numbers (a ``read``
+function :mod:`explorer.lessons.verify` makes from the step's frames) and says whether
+the claim holds.
 """
 
 from __future__ import annotations
@@ -37,8 +48,9 @@ OPERATORS: dict[str, Callable[[Any, Any], bool]] = {
     "between": lambda value, bounds: bounds[0] <= value <= bounds[1],
 }
 """The comparisons a check may make (``between`` includes both bounds)."""
-REFUSED_SOURCES = ("figure", "error")
-"""Live-value sources a check may not read (module docstring)."""
+REFUSED_PREFIXES = ("error.mitsuba_", "error.reference_mitsuba_")
+"""Quantities a check may not read: measured against Mitsuba, an optional extra whose
+render takes minutes (module docstring)."""
 SIDES = ("step", "compare")
 _KEYS = ("claim", "value", "op", "than", "over", "after_try", "over_before_try", "side")
 
@@ -122,9 +134,10 @@ def parse_check(table: Any, lookup: Callable[[str], Any], try_count: int,
     for key, name in names.items():
         if not isinstance(name, str):
             raise CheckError(prefix + key, f"must be a live quantity name, got {name!r}")
-        if name.split(".", 1)[0] in REFUSED_SOURCES:
-            raise CheckError(prefix + key, f"{name}: a check reads the step's frame, not "
-                                           f"{'/'.join(REFUSED_SOURCES)} numbers")
+        if name.startswith(REFUSED_PREFIXES):
+            raise CheckError(prefix + key, f"{name}: a check cannot read numbers measured "
+                                           f"against Mitsuba (an optional extra whose "
+                                           f"render takes minutes)")
         try:
             lookup(name)
         except KeyError as exc:
@@ -162,6 +175,9 @@ def parse_check(table: Any, lookup: Callable[[str], Any], try_count: int,
         raise CheckError(prefix + "side", f"{side!r} is not one of {list(SIDES)}")
     if side == "compare" and not has_compare:
         raise CheckError(prefix + "side", "the step has no compare preset")
+    if side == "compare" and any(n.startswith("figure.") for n in names.values()):
+        raise CheckError(prefix + "side", "a figure shows both sides of a comparison: read "
+                                          "its b_* readouts on the step's side")
     return Check(claim=claim.strip(), value=table["value"], op=op, than=than,
                  over=table.get("over"), after_try=after_try, over_before_try=before,
                  side=side)

@@ -352,6 +352,10 @@ def _fixed() -> dict[str, Quantity]:
         Quantity("frame.rsm_views", "RSM views of the lights that shine: one per spot or "
                  "directional light, six per point light", "",
                  lambda c: len(_result(c).vpl_sets), "d"),
+        Quantity("frame.rsm_texels", "texels of the RSM views (rsm_size² per view), before "
+                 "downsampling merges them into VPLs", "",
+                 lambda c: int(_result(c).settings.rsm_size) ** 2 * len(_result(c).vpl_sets),
+                 ",d"),
         Quantity("audit.rsm_primary", "flux the primary light's RSM reflects (sum of "
                  "channels; a point light's six faces together)", "W", _primary_rsm),
         Quantity("audit.rsm_primary_share", "the primary light's share of the RSM flux", "",
@@ -395,6 +399,10 @@ def _fixed() -> dict[str, Quantity]:
         Quantity("frame.grid_origin", "corner of the (finest) grid in world units: it moves "
                  "in whole cells when cascades follow the camera", "m",
                  lambda c: tuple(float(v) for v in _result(c).grid_spec.origin), ".3f"),
+        *[Quantity(f"frame.grid_origin_{axis}", f"{axis} of the (finest) grid's corner "
+                   "(frame.grid_origin)", "m",
+                   lambda c, i=i: float(_result(c).grid_spec.origin[i]), ".3f")
+          for i, axis in enumerate("xyz")],
         *[Quantity(f"frame.time.{name}", f"time of the {name} pass (timer query on a GPU, "
                    "wall clock around compute on llvmpipe)", "ms", _time(name), ".1f")
           for name in PASSES],

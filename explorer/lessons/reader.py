@@ -391,7 +391,7 @@ class _Reader:
         for index, table in enumerate(items):
             try:
                 checks.append(parse_check(
-                    table, lambda name: lookup(name, (), step.mark_ids),
+                    table, lambda name: lookup(name, step.figure_ids, step.mark_ids),
                     len(step.try_this), step.compare is not None, f"checks[{index}]."))
             except CheckError as exc:
                 raise self.error(exc.field, str(exc)) from None

@@ -37,8 +37,8 @@ def _parse(**table):
     ({"op": "~"}, "checks[0].op", "is not one of"),
     ({"op": "between", "than": [2, 1]}, "checks[0].than", "low < high"),
     ({"op": "<", "than": "zero"}, "checks[0].than", "finite number"),
-    ({"value": "error.rmse"}, "checks[0].value", "step's frame"),
-    ({"value": "figure.lobe.peak"}, "checks[0].value", "step's frame"),
+    ({"value": "error.mitsuba_flux_ratio"}, "checks[0].value", "against Mitsuba"),
+    ({"over": "error.reference_mitsuba_relative_l2"}, "checks[0].over", "against Mitsuba"),
     ({"over": "nothing.at_all"}, "checks[0].over", "no live quantity"),
     ({"after_try": 2}, "checks[0].after_try", "1..1"),
     ({"over_before_try": True}, "checks[0].over_before_try", "needs both"),
@@ -51,6 +51,20 @@ def test_bad_check_tables_are_refused_with_the_field(table, field, words):
     with pytest.raises(CheckError) as caught:
         _parse(**table)
     assert caught.value.field == field and words in str(caught.value)
+
+
+def test_a_figure_check_reads_the_steps_side():
+    """A figure shows both sides of a comparison (a_*, b_*): its check is read on the
+    step's side; the error and figure numbers are accepted otherwise."""
+    def parse(**table):
+        base = {"claim": "a claim", "value": "figure.audit.a_injected", "op": ">", "than": 0}
+        return parse_check({**base, **table}, _lookup, try_count=1, has_compare=True)
+
+    assert parse().value == "figure.audit.a_injected"
+    assert parse(value="error.flux_ratio", side="compare").side == "compare"
+    with pytest.raises(CheckError) as caught:
+        parse(side="compare")
+    assert caught.value.field == "side" and "both sides" in str(caught.value)
 
 
 def test_evaluate_compares_ratios_and_reads_before_the_press():
@@ -139,16 +153,19 @@ def test_every_lesson_checks_its_claims(shipped):
                if step.checks]
     for lesson in shipped:
         assert any(step.checks for step in lesson.steps), f"lesson {lesson.id} checks nothing"
-    assert len(checked) >= 30, len(checked)
+    assert len(checked) >= 60, len(checked)
 
 
 def test_every_check_holds_on_its_converged_frame(shipped, ctx):
     """Each checked step rendered headless at CHECK_SIZE (and after its try-this, or on its
-    compare side, where a check reads there) to convergence; every claim holds. The same
-    frames with the operator reversed fail, so a check that could never fail is caught."""
+    compare side, where a check reads there) to convergence, its figures read as it
+    declares them and the error against the reference measured where a check names it;
+    every claim holds (test_a_false_claim_fails: the same frames with the operator
+    reversed fail, so a check that could never fail is caught)."""
     from explorer.lessons.verify import verify_step
     from explorer.lessons import preview_settings
     from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.figures import declared_readouts
 
     failures: list[str] = []
     count = 0
@@ -157,12 +174,13 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
             for step in lesson.steps:
                 if not step.checks:
                     continue
-                for outcome in verify_step(pipeline, step):
+                for outcome in verify_step(pipeline, step,
+                                           figure_readouts=declared_readouts):
                     count += 1
                     if not outcome.holds:
                         failures.append(f"{lesson.path.name} step {step.number}: {outcome}")
     assert not failures, "\n".join(failures)
-    assert count >= 30
+    assert count >= 140
 
 
 def test_a_false_claim_fails(shipped, ctx):
@@ -181,6 +199,73 @@ def test_a_false_claim_fails(shipped, ctx):
         outcomes: list[Outcome] = verify_step(pipeline, replace(step, checks=reversed_checks))
     assert outcomes and not any(o.holds for o in outcomes)
     assert "FAILS" in str(outcomes[0]) and "measured" in str(outcomes[0])
+
+
+FIGURE_AND_ERROR = '''
+id = "probe"
+title = "t"
+summary = "s"
+scene = "single-source"
+[[steps]]
+title = "one"
+text = "L1 gives {{figure.lobe.l1_at_normal:.2f}} along the normal; error {{error.flux_ratio}}."
+[steps.settings]
+grid_size = 8
+iterations = 4
+[[steps.figures]]
+kind = "clamped-cosine"
+id = "lobe"
+normal_deg = 40
+[[steps.checks]]
+claim = "L1 reads 3/4 along the normal, wherever the figure's normal points"
+value = "figure.lobe.l1_at_normal"
+op = "between"
+than = [0.7499, 0.7501]
+[[steps.checks]]
+claim = "the figure opens at its declared normal"
+value = "figure.lobe.normal_deg"
+op = "=="
+than = 40
+[[steps.checks]]
+claim = "the LPV puts some light on screen, as the reference does"
+value = "error.flux_ratio"
+op = ">"
+than = 0
+'''
+
+
+def test_figure_and_error_checks_read_the_declared_figure_and_the_reference(tmp_path, ctx):
+    """A figure check reads the figure as the step declares it, through the readouts
+    handed in (without them it fails saying so, and renders nothing); an error check
+    measures the step against the one-bounce reference, and only then."""
+    from explorer.lessons.verify import verify_step
+    from explorer.lessons import preview_settings
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.figures import declared_readouts
+
+    path = tmp_path / "01-probe.toml"
+    path.write_text(FIGURE_AND_ERROR)
+    step = load_lesson(path).steps[0]
+    with Pipeline(preview_settings(step), ctx=ctx) as pipeline:
+        outcomes = verify_step(pipeline, step, figure_readouts=declared_readouts)
+        assert all(o.holds for o in outcomes), [str(o) for o in outcomes]
+        assert outcomes[2].measured > 0
+        runs = []
+        original = pipeline.run
+        pipeline.run = lambda *a, **k: runs.append(a) or original(*a, **k)
+        try:
+            figures_only = replace(step, checks=step.checks[:2])
+            assert all(o.holds for o in verify_step(pipeline, figures_only,
+                                                    figure_readouts=declared_readouts))
+            missing = verify_step(pipeline, figures_only)
+        finally:
+            del pipeline.run
+        assert runs == []                      # the math figure needs no frame
+        assert not missing[0].holds and "figure_readouts" in missing[0].reason
+        unknown = replace(step, checks=(replace(step.checks[0],
+                                                value="figure.lobe.nothing"),))
+        [outcome] = verify_step(pipeline, unknown, figure_readouts=declared_readouts)
+        assert not outcome.holds and "l1_at_normal" in outcome.reason
 
 
 def test_the_lessons_command_verifies_the_checks(capsys):

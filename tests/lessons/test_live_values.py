@@ -103,6 +103,10 @@ def test_frame_numbers(frame):
     assert value("frame.vpl_depth_max") == pytest.approx(float(frame.vpls.depth[lit].max()))
     assert value("frame.cell_size") == pytest.approx(frame.grid_spec.cell_size)
     assert value("frame.cells") == 12 ** 3
+    assert value("frame.rsm_texels") == 24 ** 2 * len(frame.vpl_sets)
+    assert value("frame.vpls") <= value("frame.rsm_texels")
+    assert tuple(value(f"frame.grid_origin_{axis}") for axis in "xyz") == \
+        pytest.approx(value("frame.grid_origin"))
     assert value("frame.face_evaluations") == 30 * 12 ** 3 * 5
     assert value("frame.lpv_memory_mib") == pytest.approx(
         texture_bytes(12, 1, "rgba32f", False) / 2 ** 20)

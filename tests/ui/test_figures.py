@@ -19,6 +19,7 @@ from explorer.ui.figures import (
     FIGURES,
     FigureContext,
     FigureParamError,
+    declared_readouts,
     make_figure,
     parse_figure,
 )
@@ -112,6 +113,23 @@ def test_two_instances_keep_their_own_state_and_a_new_step_resets_one():
     assert context.state_for("left", moved.kind, moved.params,
                              kind.make_state).normal_deg == -40.0
     assert context.state_for("right", left.kind, left.params, kind.make_state) is b
+
+
+def test_declared_readouts_read_the_figure_as_its_step_sets_it():
+    """What a lesson check of figure.<id>.<readout> reads: the state the parameters make,
+    whatever a reader dragged on screen; the audit figures plot the results handed in."""
+    spec = make_figure("clamped-cosine", normal_deg=30)
+    context = FigureContext()
+    kind = FIGURES["clamped-cosine"]
+    context.state_for(spec.instance_id, spec.kind, spec.params, kind.make_state).normal_deg = 75
+    declared = declared_readouts(spec)
+    assert declared["normal_deg"] == 30.0 and declared["l1_at_normal"] == pytest.approx(0.75)
+    a, b = synthetic_result("corrected"), synthetic_result("original")
+    audit = make_figure("energy-audit")
+    assert declared_readouts(audit) == {}                      # no frame: nothing to read
+    both = declared_readouts(audit, (a, b))
+    assert both["b_injected"] == pytest.approx(math.pi * both["a_injected"], rel=1e-6)
+    assert "b_injected" not in declared_readouts(make_figure("energy-audit", sides="a"), (a, b))
 
 
 def test_the_context_takes_b_only_while_comparing():

@@ -13,6 +13,7 @@ from explorer.ui.figures.registry import (
     FIGURES,
     FigureKind,
     FigureSpec,
+    declared_readouts,
     draw_figure,
     figure_kind,
     make_figure,
@@ -21,4 +22,5 @@ from explorer.ui.figures.registry import (
 from explorer.figure_params import FigureParamError, ParamInfo
 
 __all__ = ["FIGURES", "FigureContext", "FigureKind", "FigureParamError", "FigureSpec",
-           "ParamInfo", "draw_figure", "figure_kind", "make_figure", "parse_figure"]
+           "ParamInfo", "declared_readouts", "draw_figure", "figure_kind", "make_figure",
+           "parse_figure"]

@@ -78,6 +78,16 @@ def figure_kind(name: str, where: str = "") -> FigureKind:
     return FIGURES[name]
 
 
+def declared_readouts(spec: FigureSpec, results: tuple = ()) -> dict[str, float]:
+    """The numbers ``spec`` shows as its step declares it: the state its parameters make
+    (nothing dragged, no step played), the kinds of :data:`USES_RESULTS` plotting
+    ``results`` (configuration A first, B while comparing). What a lesson check of
+    ``figure.<id>.<readout>`` reads (:func:`explorer.lessons.verify.verify_step`)."""
+    kind = FIGURES[spec.kind]
+    state = kind.make_state(spec.params)
+    return dict(kind.readouts(spec.params, state, FigureContext(results=tuple(results))))
+
+
 def draw_figure(spec: FigureSpec, width: float, context: FigureContext
                 ) -> tuple[tuple[float, float], tuple[float, float]]:
     """Draw ``spec`` at the imgui cursor, ``width`` pixels wide, then its caption.
