@@ -26,6 +26,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 WINDOW = (1280, 720)
 SESSION_TIMEOUT_S = 900.0
+PAGE_FRACTION = 0.7
+"""A search scrolls this much of the window's height a step (the rest overlaps)."""
 
 
 class Clicks:
@@ -54,19 +56,31 @@ class Clicks:
         let a frame run; a panel failing on it is a problem named after the click. An
         item the engine cannot find is a failed check (the engine itself would stop the
         whole session at it)."""
+        target = ref
+        if "**" in ref:
+            found = self._item_id(ref)
+            if not found:
+                self.check(False, f"{what or ref}: no item {ref!r} on screen")
+                return
+            target = found
+        self._press(target, what or ref)
+
+    def _press(self, target, what: str) -> None:
+        """Click ``target`` (a reference, or the ID :meth:`_item_id` found: the engine
+        then looks for no label again, a frame sooner), let the frames after it run and
+        collect what the panels reported."""
         from imgui_bundle import imgui
 
-        if "**" in ref and not self.exists(ref):
-            self.check(False, f"{what or ref}: no item {ref!r} on screen")
-            return
+        te = imgui.test_engine
+        if isinstance(target, int):
+            target = te.TestRef(target)
         # no engine error either when it goes between finding and clicking (the text
         # reflowed): the session's own checks see what the click did or did not do
-        te = imgui.test_engine
-        self.ctx.item_click(ref, 0, te.TestOpFlags_.no_error
+        self.ctx.item_click(target, 0, te.TestOpFlags_.no_error
                             | te.TestOpFlags_.no_check_hovered_id)
-        self.controls.append(what or ref)
+        self.controls.append(what)
         self.settle_input()
-        self._panel_errors(what or ref)
+        self._panel_errors(what)
 
     def click_in(self, window_ref: str, label: str, what: str | None = None) -> bool:
         """Click the item labelled ``label`` (escaped, :func:`label_ref`) in the window
@@ -76,8 +90,7 @@ class Clicks:
         if ref is None:
             self.check(False, f"no item {label!r} in {window_ref}")
             return False
-        self._steady(ref)
-        self.click(ref, what)
+        self._press(self._steady(ref) or ref, what or ref)
         return True
 
     def click_until(self, window_ref: str, label: str, done, what: str,
@@ -86,37 +99,45 @@ class Clicks:
         text reflows while its frame converges (a number arrives, a note goes), so an
         item can move between the engine finding it and the mouse arriving; the click
         waits for the item to stand still and is tried again if it missed."""
-        from imgui_bundle import imgui
-
-        te = imgui.test_engine
-        # no engine error for an item gone meanwhile: it would stop the whole session
-        flags = te.TestOpFlags_.no_check_hovered_id | te.TestOpFlags_.no_error
         for _ in range(attempts):
             ref = self.find(window_ref, label)
             if ref is None:
                 self.check(False, f"no item {label!r} in {window_ref}")
                 return False
-            self._steady(ref)
-            self.ctx.item_click(ref, 0, flags)
-            self.controls.append(what)
-            self.settle_input()
-            self._panel_errors(what)
+            # no engine error for an item gone meanwhile (_press): it would stop the
+            # whole session
+            self._press(self._steady(ref) or ref, what)
             if done():
                 return True
         return self.check(False, f"{what}: {attempts} clicks on {label!r} did nothing")
 
-    def _steady(self, ref: str, frames: int = 40) -> None:
-        """Wait until the item ``ref`` stays where it is for two frames."""
+    def _steady(self, ref: str, frames: int = 40) -> int:
+        """Wait until the item ``ref`` stays where it is for two frames; its ID (0 when
+        it went meanwhile)."""
         from imgui_bundle import imgui
 
-        last = None
+        te = imgui.test_engine
+        last, target, item = None, ref, 0
         for _ in range(frames):
-            info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+            info = self.ctx.item_info(target, te.TestOpFlags_.no_error)
             rect = None if info is None else (info.rect_full.min.x, info.rect_full.min.y)
+            item = 0 if info is None else info.id_
             if rect is not None and rect == last:
-                return
+                return item
             last = rect
+            if item:
+                # by its ID from now on: the engine answers from the frame just drawn,
+                # where a label is searched for again over a frame each time
+                target = te.TestRef(item)
             self.ctx.yield_()
+        return item
+
+    def _item_id(self, ref: str) -> int:
+        """The ID of the item ``ref`` names, 0 if none is on screen (no engine error)."""
+        from imgui_bundle import imgui
+
+        info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+        return info.id_ if info is not None else 0
 
     def find(self, window_ref: str, label: str) -> str | None:
         """The reference of the item labelled ``label`` in ``window_ref``, scrolled on
@@ -137,7 +158,10 @@ class Clicks:
         # down with the wheel, as a reader does: the text may grow or shrink meanwhile
         # (a number arrives, a banner goes), where a scroll to a set offset would fail
         # (until the wheel moves it no more: a text just opened knows its height only
-        # once it was drawn, so its scroll limit is not trusted)
+        # once it was drawn, so its scroll limit is not trusted). A page at a time: an
+        # item drawn partly inside the window is found, so a step shorter than the
+        # window by more than a button's height passes over none (the search itself
+        # draws the frames the scroll needs, no settling in between)
         last, still = None, 0
         for _ in range(200):
             if self.exists(ref):
@@ -149,8 +173,16 @@ class Clicks:
             if still >= 2:
                 return None
             last = window.scroll.y
-            self.wheel(window_ref, -2.0, record=False)
+            self.wheel(window_ref, -self._page_notches(window), record=False, settle=False)
         return None
+
+    @staticmethod
+    def _page_notches(window) -> float:
+        """Wheel notches that scroll ``window`` by at most :data:`PAGE_FRACTION` of its
+        height (at least the two notches of a reader's flick)."""
+        from click_sessions import WHEEL_PX
+
+        return float(max(2, int(PAGE_FRACTION * window.size.y / WHEEL_PX)))
 
     def check_box(self, ref: str, on: bool, what: str | None = None) -> None:
         (self.ctx.item_check if on else self.ctx.item_uncheck)(ref)
@@ -165,22 +197,30 @@ class Clicks:
         self.settle_input()
         self._panel_errors("menu " + path)
 
-    def wheel(self, window_ref: str, notches: float, record: bool = True) -> None:
+    def wheel(self, window_ref: str, notches: float, record: bool = True,
+              settle: bool = True) -> None:
         """Turn the mouse wheel over a window's right edge (its scroll bar: over a plot
         in the text the wheel would zoom the plot instead), half-way down; negative
-        notches scroll down."""
+        notches scroll down. ``settle``: let the frames after it run (a caller that
+        looks for an item next draws them while it looks)."""
         from imgui_bundle import imgui
 
         window = self.window(window_ref)
         if window is None:
             self.problems.append(f"no window {window_ref} to scroll")
             return
-        self.ctx.mouse_move_to_pos(imgui.ImVec2(window.pos.x + window.size.x - 5.0,
-                                                window.pos.y + window.size.y * 0.5))
+        target = imgui.ImVec2(window.pos.x + window.size.x - 5.0,
+                              window.pos.y + window.size.y * 0.5)
+        mouse = imgui.get_io().mouse_pos
+        # the engine's move takes two frames even to where the mouse already is (a
+        # search scrolling down page after page turns the wheel there again and again)
+        if abs(mouse.x - target.x) > 0.5 or abs(mouse.y - target.y) > 0.5:
+            self.ctx.mouse_move_to_pos(target)
         self.ctx.mouse_wheel_y(notches)
         if record:
             self.controls.append(f"wheel over {window_ref}")
-        self.settle_input()
+        if settle:
+            self.settle_input()
 
     def settle_input(self, frames: int = 2) -> None:
         self.ctx.yield_(frames)
@@ -219,10 +259,7 @@ class Clicks:
         return bool(condition)
 
     def exists(self, ref: str) -> bool:
-        from imgui_bundle import imgui
-
-        info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
-        return info is not None and info.id_ != 0
+        return self._item_id(ref) != 0
 
     def window(self, window_ref: str):
         """The imgui window (internal.Window) ``window_ref`` names, or None (no error)."""

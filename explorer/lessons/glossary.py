@@ -97,15 +97,33 @@ def _bare(word: str) -> str:
     return word.strip(_PUNCTUATION).lower()
 
 
+_by_first_word: tuple[tuple[Term, ...], dict[str, list]] | None = None
+"""The last glossary :func:`matches` indexed, and its index (the article matches every
+paragraph of the text on screen each frame, always against the same glossary)."""
+
+
+def _spellings_by_first_word(terms: tuple[Term, ...]) -> dict[str, list]:
+    """First word -> [(a spelling's words, its term)], the longest spellings first (of
+    equal length, in the glossary's order)."""
+    global _by_first_word
+    if _by_first_word is None or _by_first_word[0] is not terms:
+        index: dict[str, list] = {}
+        for parts, term in sorted(((tuple(s.lower().split()), t) for t in terms
+                                   for s in t.spellings), key=lambda item: -len(item[0])):
+            if parts:
+                index.setdefault(parts[0], []).append((parts, term))
+        _by_first_word = (terms, index)
+    return _by_first_word[1]
+
+
 def matches(words: list[str], terms: tuple[Term, ...]) -> list[tuple[int, int, Term]]:
     """(first word, word count, term) for each glossary term in ``words`` (a run of text
     split at spaces), left to right, the longest spelling winning where two overlap."""
-    spellings = sorted(((tuple(s.lower().split()), t) for t in terms for s in t.spellings),
-                       key=lambda item: -len(item[0]))
+    spellings = _spellings_by_first_word(terms)
     bare = [_bare(w) for w in words]
     found, index = [], 0
     while index < len(words):
-        for parts, term in spellings:
+        for parts, term in spellings.get(bare[index], ()):
             if tuple(bare[index:index + len(parts)]) == parts:
                 found.append((index, len(parts), term))
                 index += len(parts)

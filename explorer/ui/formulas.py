@@ -45,8 +45,18 @@ def ensure_utf8_locale() -> str | None:
         if localedef is None:
             return f"the {LOCALE} locale is missing and localedef is not installed"
         target.mkdir(parents=True, exist_ok=True)
-        proc = subprocess.run([localedef, "-i", "en_US", "-f", "UTF-8", str(target / LOCALE)],
-                              capture_output=True, text=True, timeout=60)
+        # built beside its place and renamed into it: another process starting at the
+        # same moment (a second window, the test workers) sees the whole locale or none
+        import tempfile
+
+        with tempfile.TemporaryDirectory(dir=target, prefix=".build-") as building:
+            proc = subprocess.run([localedef, "-i", "en_US", "-f", "UTF-8",
+                                   str(Path(building) / LOCALE)],
+                                  capture_output=True, text=True, timeout=60)
+            try:
+                os.rename(Path(building) / LOCALE, target / LOCALE)
+            except OSError:
+                pass         # not built (said below), or another process was first
         if not (target / LOCALE).is_dir():
             return f"localedef could not build {LOCALE}: {proc.stderr.strip()[:200]}"
     os.environ["LOCPATH"] = str(target)
