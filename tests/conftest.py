@@ -3,10 +3,10 @@
 The whole suite (``python -m pytest`` with no paths: the README's test command) runs on
 the machine's cores with pytest-xdist when it is installed (the ``test`` extra), a
 module's tests together in one worker (its module fixtures, e.g. the site build or the
-wheel's venv, made once) and each click session of tests/test_click_window.py on its
-own (they are the longest tests: spread, they overlap the rest). Paths on the command
-line, ``-n``/``--dist``, ``--pdb`` or ``-p no:xdist`` keep it in one process (or to what
-was asked)."""
+wheel's venv, made once) and each click session of tests/ui/test_click_window.py on its
+own and first (they are the longest tests: started first and spread, they overlap the
+rest). Paths on the command line, ``-n``/``--dist``, ``--pdb`` or ``-p no:xdist`` keep
+it in one process (or to what was asked)."""
 
 from __future__ import annotations
 
@@ -18,8 +18,9 @@ from explorer.gl.program import ProgramCache
 MAX_WORKERS = 4
 """Workers at most: each starts its own Xvfb and imports the whole package, and llvmpipe
 renders on every core anyway, so more than a few pay no more."""
-SPLIT_MODULES = ("tests/test_click_window.py",)
-"""Modules whose tests go to the workers one by one rather than as one unit."""
+SPLIT_MODULES = ("tests/ui/test_click_window.py",)
+"""Modules whose tests go to the workers one by one rather than as one unit, and first:
+the longest tests, so that the rest of the suite fills the time they take."""
 _SPREAD = pytest.StashKey[bool]()
 
 
@@ -45,6 +46,18 @@ def pytest_cmdline_main(config: pytest.Config) -> None:
     # tests, which puts the one-test click sessions, the longest, last)
     option.loadscopereorder = False
     config.stash[_SPREAD] = True
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list) -> None:
+    """While the suite is spread, :data:`SPLIT_MODULES` go first: the folders collect
+    tests/ui/ last, and the longest tests handed out last would end the run alone. Every
+    worker collects and so reorders alike, as xdist requires."""
+    if not config.stash.get(_SPREAD, False) and not hasattr(config, "workerinput"):
+        return
+    first = [item for item in items if item.nodeid.split("::", 1)[0] in SPLIT_MODULES]
+    if first:
+        rest = [item for item in items if item.nodeid.split("::", 1)[0] not in SPLIT_MODULES]
+        items[:] = first + rest
 
 
 @pytest.hookimpl(optionalhook=True)
