@@ -61,7 +61,10 @@ class LessonError(ValueError):
             where.append(f"step {step}" + (f" ({step_title!r})" if step_title else ""))
         if field is not None:
             where.append(f"field {field!r}")
-        super().__init__(", ".join(where) + ": " + message)
+        # one line whatever the file quoted in it holds (a step title or a {{...}} of
+        # several lines): the reader sees line breaks as \n
+        text = ", ".join(where) + ": " + message
+        super().__init__(text.replace("\r", "\\r").replace("\n", "\\n"))
 
 
 @dataclass(frozen=True)

@@ -187,6 +187,16 @@ def test_syntax_error_names_the_line(tmp_path):
     assert f"50-broken.toml:{line}" in str(error) and "TOML syntax error" in str(error)
 
 
+def test_an_error_quoting_several_lines_of_the_file_is_one_line(tmp_path):
+    """A {{...}} whose format spans lines (found by tests/test_fuzz_readers.py) is named in
+    one line, its line breaks shown as \\n."""
+    quoted = "{{derived.propagation.step_flux_factor_original:.v 1\nv 2\n4f}}"
+    broken = GOOD.replace('text = "One."', f"text = '''{quoted} One.'''", 1)
+    assert broken != GOOD
+    error = _error(tmp_path, broken, check_formula=None)
+    assert "\n" not in str(error) and "\\n" in str(error) and "format" in str(error)
+
+
 def test_unknown_field_names_step_and_field(tmp_path):
     error = _error(tmp_path, GOOD.replace("grid_size = 8", "grid_sise = 8"), check_formula=None)
     assert error.step == 2 and error.field == "settings.grid_sise"
