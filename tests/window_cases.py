@@ -9,10 +9,25 @@ def display_problem() -> str | None:
         import glfw
     except ImportError as exc:  # pragma: no cover
         return f"glfw/imgui_bundle missing: {exc}"
-    if not glfw.init():
-        return "no X server could be started (install Xvfb, or pytest-xvfb's xvfb)"
-    glfw.terminate()
-    return None
+    import os
+    import time
+    import warnings
+
+    # a display that is busy for a moment (two workers' Xvfb starting) gets a few tries;
+    # no display at all gets one
+    tries = 3 if os.environ.get("DISPLAY") else 1
+    for attempt in range(tries):
+        if attempt:
+            time.sleep(0.5 * attempt)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            started = glfw.init()
+        if started:
+            glfw.terminate()
+            return None
+    said = "; ".join(str(w.message) for w in caught) or "no message"
+    return (f"no X server could be started (install Xvfb, or pytest-xvfb's xvfb): "
+            f"DISPLAY={os.environ.get('DISPLAY')!r}, glfw said: {said}")
 
 
 def run_child(args: list[str], tmp_path, timeout: float = 600, env: dict | None = None):
