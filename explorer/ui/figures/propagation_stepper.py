@@ -31,7 +31,6 @@ from explorer.ui.figures.plotting import Series
 from explorer.figure_params import STEPPER_CORRECTIONS as CORRECTIONS
 from explorer.figure_params import STEPPER_GLYPHS as GLYPHS
 from explorer.figure_params import PropagationStepperParams as Params
-from explorer.ui.textures import heat
 
 """A preset, or the corrected preset with one switch off."""
 PLAY_RATE = 3.0            # steps per second while playing
@@ -151,18 +150,9 @@ def _slice(params: Params, state: State, result: Run, side: float) -> None:
     hovered = imgui.is_item_hovered()
     draw = imgui.get_window_draw_list()
     cell = side / n
-    # Colour: the cell's flux relative to this step's brightest cell, square-rooted so the
-    # faint front of the light stays visible, and short of the map's white end so the
-    # white glyphs stay visible on the brightest cell.
-    colours = heat(0.8 * np.sqrt(np.clip(flux / top, 0.0, 1.0))) if top > 0 else \
-        np.zeros((n, n, 3))
-    for x in range(n):
-        for y in range(n):
-            p0 = imgui.ImVec2(pos.x + x * cell, pos.y + (n - 1 - y) * cell)
-            p1 = imgui.ImVec2(p0.x + cell, p0.y + cell)
-            r, g, b = (float(c) for c in colours[x, y])
-            draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(r, g, b, 1.0)))
-            draw.add_rect(p0, p1, style.u32(style.TEXT, 0.08))
+    # Colour: the cell's flux relative to this step's brightest cell, short of the map's
+    # white end so that the white glyphs stay visible on the brightest cell.
+    style.heat_cells(draw, pos, side, flux, top, 0.8, outline_alpha=0.08)
     sx, sy = result.source[:2]
     s0 = imgui.ImVec2(pos.x + sx * cell, pos.y + (n - 1 - sy) * cell)
     draw.add_rect(s0, imgui.ImVec2(s0.x + cell, s0.y + cell), style.u32(style.HANDLE), 0.0,

@@ -24,7 +24,6 @@ from explorer.lpv.settings import Corrections
 from explorer.lpv.vpl import VplArrays
 from explorer.ui.figures import style
 from explorer.ui.figures.propagation_stepper import corrections_named
-from explorer.ui.textures import heat
 
 SOURCE_FLUX = 1.0          # watts per colour channel of the one VPL
 
@@ -124,15 +123,7 @@ def _slice(panel: Panel, side: float, top: float, index: int) -> None:
     hovered = imgui.is_item_hovered()
     draw = imgui.get_window_draw_list()
     cell = side / n
-    # square-rooted like the stepper's slice, so the faint front of the light shows
-    colours = heat(0.9 * np.sqrt(np.clip(panel.slice / top, 0.0, 1.0))) if top > 0 else \
-        np.zeros((n, n, 3))
-    for x in range(n):
-        for y in range(n):
-            p0 = imgui.ImVec2(pos.x + x * cell, pos.y + (n - 1 - y) * cell)
-            p1 = imgui.ImVec2(p0.x + cell, p0.y + cell)
-            r, g, b = (float(c) for c in colours[x, y])
-            draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(r, g, b, 1.0)))
+    style.heat_cells(draw, pos, side, panel.slice, top, 0.9)    # as the stepper's slice
     draw.add_rect(pos, imgui.ImVec2(pos.x + side, pos.y + side), style.u32(style.TEXT, 0.2))
     draw.add_text(imgui.ImVec2(pos.x + 5, pos.y + 3), style.u32(style.TEXT, 0.9), panel.title)
     if hovered:

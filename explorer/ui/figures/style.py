@@ -12,6 +12,7 @@ from typing import Callable, Sequence
 import numpy as np
 from imgui_bundle import imgui, implot
 
+from explorer.ui.textures import heat
 from explorer.ui.widgets import ACCENT, DIM, ERROR, WARN
 
 EXACT = imgui.ImVec4(0.93, 0.93, 0.96, 1.0)
@@ -91,6 +92,28 @@ def views(width: float, drawers: Sequence[Callable[[float], None]],
     else:
         for drawer in drawers:
             drawer(width)
+
+
+def heat_cells(draw, pos, side: float, values: np.ndarray, top: float, reach: float,
+               outline_alpha: float | None = None) -> None:
+    """An n×n slice of ``values`` (index ``[x, y]``, y up) as heat-coloured cells filling
+    the square of ``side`` pixels at screen position ``pos``: each value relative to
+    ``top``, square-rooted so that the faint front of the light shows, up to ``reach`` of
+    the colour map (short of its white end where white glyphs go on top);
+    ``outline_alpha``: each cell's outline (None: none)."""
+    n = values.shape[0]
+    cell = side / n
+    colours = heat(reach * np.sqrt(np.clip(values / top, 0.0, 1.0))) if top > 0 else \
+        np.zeros((n, n, 3))
+    outline = None if outline_alpha is None else u32(TEXT, outline_alpha)
+    for x in range(n):
+        for y in range(n):
+            p0 = imgui.ImVec2(pos.x + x * cell, pos.y + (n - 1 - y) * cell)
+            p1 = imgui.ImVec2(p0.x + cell, p0.y + cell)
+            r, g, b = (float(c) for c in colours[x, y])
+            draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(r, g, b, 1.0)))
+            if outline is not None:
+                draw.add_rect(p0, p1, outline)
 
 
 def square(width: float, most: float = 440.0) -> imgui.ImVec2:
