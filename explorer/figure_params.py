@@ -131,6 +131,15 @@ STEPPER_MAX_GRID = 16
 STEPPER_MAX_ITERATIONS = 32
 
 
+def check_source_cell(params) -> None:
+    """The source cell (``source_x``, ``source_y``) of a figure's grid lies inside its
+    ``grid_size``: each field's own range allows the largest grid's cells."""
+    for name in ("source_x", "source_y"):
+        if getattr(params, name) >= params.grid_size:
+            raise SettingError(name, f"{name} must be a cell below grid_size "
+                                     f"({params.grid_size}), got {getattr(params, name)}")
+
+
 @dataclass(frozen=True)
 class PropagationStepperParams:
     grid_size: int = setting(9, kind="int", low=3, high=STEPPER_MAX_GRID,
@@ -160,10 +169,7 @@ class PropagationStepperParams:
 
     def __post_init__(self) -> None:
         validate(self)
-        for name in ("source_x", "source_y"):
-            if getattr(self, name) >= self.grid_size:
-                raise SettingError(name, f"{name} must be a cell below grid_size "
-                                         f"({self.grid_size}), got {getattr(self, name)}")
+        check_source_cell(self)
         if self.step > self.iterations:
             raise SettingError("step", f"step must be at most iterations ({self.iterations}), "
                                        f"got {self.step}")
@@ -210,10 +216,7 @@ class SmallMultiplesParams:
 
     def __post_init__(self) -> None:
         validate(self)
-        for name in ("source_x", "source_y"):
-            if getattr(self, name) >= self.grid_size:
-                raise SettingError(name, f"{name} must be a cell below grid_size "
-                                         f"({self.grid_size}), got {getattr(self, name)}")
+        check_source_cell(self)
         items = [v.strip() for v in self.values.split(",")]
         if not 2 <= len(items) <= MAX_MULTIPLES or len(set(items)) != len(items):
             raise SettingError("values", f"values must be 2 to {MAX_MULTIPLES} different "
