@@ -279,10 +279,16 @@ def _status(state: AppState, session: LessonSession) -> None:
             show_screen(state, session.apply(current_screen(state)))
 
 
+def column_width(avail: float) -> float:
+    """The text column's width in an article ``avail`` pixels wide: 6 px kept free, at
+    most :data:`MAX_COLUMN` (at the style's font scale)."""
+    return min(avail - 6.0, MAX_COLUMN * imgui.get_style().font_scale_dpi)
+
+
 def _article(state: AppState, session: LessonSession) -> None:
     step = session.step
     avail = imgui.get_content_region_avail().x
-    width = min(avail - 6.0, MAX_COLUMN * imgui.get_style().font_scale_dpi)
+    width = column_width(avail)
     left = imgui.get_cursor_pos_x() + max((avail - width) * 0.5, 0.0)
     imgui.set_cursor_pos_x(left)
     state.runtime.want_audit(uses_audit(step))

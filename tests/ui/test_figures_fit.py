@@ -27,18 +27,17 @@ def _lesson_figures() -> list:
 
 
 def column_width(window_width: int) -> float:
-    """The article's text column in a window this wide, as explorer/ui/article.py lays it
-    out: the article dock of the default layout, less the window's padding on both sides,
-    the scroll bar and the 6 px the article keeps free, at most MAX_COLUMN."""
+    """The article's text column in a window this wide: the article dock of the default
+    layout, less the window's padding on both sides and the scroll bar, laid out by
+    explorer/ui/article.py's column_width."""
     from imgui_bundle import imgui
 
-    from explorer.ui.article import MAX_COLUMN
+    from explorer.ui import article
     from explorer.ui.layout import column_widths
 
     style = imgui.get_style()
     dock = column_widths(float(window_width))[0]
-    avail = dock - 2.0 * style.window_padding.x - style.scrollbar_size
-    return min(avail - 6.0, MAX_COLUMN * style.font_scale_dpi)
+    return article.column_width(dock - 2.0 * style.window_padding.x - style.scrollbar_size)
 
 
 @pytest.fixture(scope="module")
