@@ -13,6 +13,7 @@ from explorer.lpv.settings import Settings
 from explorer.ui.controller import PipelineController
 from explorer.ui.state import AppState
 from explorer.ui.scene_watch import SceneWatch
+from test_controller import _settle
 
 SCENE = """builtin = "cornell"
 
@@ -28,13 +29,6 @@ def _write(path, text: str) -> None:
     path.write_text(text, encoding="utf-8")
     stamp = path.stat().st_mtime_ns + 10_000_000      # a later save, whatever the clock
     os.utime(path, ns=(stamp, stamp))
-
-
-def _settle(controller, state, limit=3000) -> None:
-    for _ in range(limit):
-        if not controller.update(state, 50.0).active:
-            return
-    raise AssertionError("the controller never settled")
 
 
 def test_an_edited_scene_file_is_shown_and_a_broken_edit_keeps_the_last(gl_context, ctx,
