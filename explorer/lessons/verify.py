@@ -1,8 +1,8 @@
 """Verifying a lesson step's checks (:mod:`explorer.lessons.checks`) on the converged
-frames of that step, rendered headless: what CI runs for every checked step
-(tests/lessons/test_lesson_checks.py) and ``lpv-explorer lessons --check``. Apart from
-the checks module, which the reader uses to read the checks, since this renders (at the
-sizes of :func:`explorer.lessons.render.shrink_settings`).
+frames of that step, rendered headless at the sizes of
+:func:`explorer.lessons.render.shrink_settings`: what CI runs for every checked step
+(tests/lessons/test_lesson_checks.py) and ``lpv-explorer lessons --check``. It lives apart
+from the checks module, which the reader imports to read the checks, because it renders.
 
 Three kinds of numbers besides the frame's own:
 
