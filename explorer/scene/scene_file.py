@@ -162,12 +162,14 @@ def _meshes(data: dict, path: Path) -> Scene:
             not all(isinstance(entry, dict) for entry in entries):
         raise SceneError(f"{where}: meshes must be one or more [[meshes]] tables")
     parts: list[MeshPart] = []
+    files: dict[str, None] = {}             # the mesh files read, in order, once each
     for k, entry in enumerate(entries, 1):
         table = f"[[meshes]] #{k}"
         _known(entry, MESH_KEYS, where, table)
         if "path" not in entry:
             raise SceneError(f"{where}: {table} needs path = \"mesh file\"")
         mesh_path = mesh_file(path, _text(entry, "path", where, table))
+        files[str(mesh_path.resolve())] = None
         transform = mesh_matrix(entry, where, table)
         albedo = _vector(entry, "albedo", where, table, low=0.0, high=1.0) \
             if "albedo" in entry else None
@@ -179,9 +181,7 @@ def _meshes(data: dict, path: Path) -> Scene:
         for node, mesh, node_transform in nodes:
             parts.append(MeshPart(node, mesh, transform @ node_transform,
                                   None if albedo is None else tuple(albedo), two_sided))
-    files = tuple(dict.fromkeys(str(mesh_file(path, entry["path"]).resolve())
-                                for entry in entries))
-    return replace(scene_from_parts(parts, path.stem, where), files=files)
+    return replace(scene_from_parts(parts, path.stem, where), files=tuple(files))
 
 
 def mesh_file(scene_path: Path, text: str) -> Path:
