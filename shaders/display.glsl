@@ -11,8 +11,8 @@
 //     exposed = exposure · (T·(direct + indirect) + fog_direct + fog_lpv)
 // (exposure · (T·indirect + fog_lpv) with u_indirect_only: the LPV's light alone;
 // fog_compose.glsl, which the window's view pass shares).
-// Numpy twin: FrameResult.final_image (the exposed colour, explorer.lpv.display
-// exposed_image) through explorer.lpv.tonemap.display_encode.
+// Numpy twin: FrameResult.final_image (the exposed colour, explorer.lpv.passes.display
+// exposed_image) through explorer.lpv.twin.tonemap.display_encode.
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"

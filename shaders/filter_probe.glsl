@@ -3,7 +3,7 @@
 // of 2×1×1 texels holding 0 and 1 (linear filter, clamped to the edge, as the light grids)
 // at fractions t between the two texel centres; a filter with exact weights returns t.
 // Mesa's llvmpipe computes the weights in float32 (error ~1e-7); texture units of GPUs
-// use 8 fractional bits (error up to 1/512). explorer/lpv/gather.py measures this once per
+// use 8 fractional bits (error up to 1/512). explorer/lpv/passes/gather.py measures this once per
 // context and lets the final gather interpolate in the shader when it is not exact
 // (sh_grid.glsl, SH_SHADER_FILTER).
 

@@ -16,7 +16,7 @@
 // Targets: 0 = (direct in-scattering rgb, T), 1 = (LPV in-scattering rgb, 0). The display
 // composes T·surface + in-scattering (display.glsl). Neither the light on its way to the
 // medium or the surfaces nor the propagation is attenuated by the medium.
-// Numpy twin: explorer/lpv/twin_media.py (march_fog).
+// Numpy twin: explorer/lpv/twin/media.py (march_fog).
 #define SH_ORDER 1
 #define SH_SHADER_FILTER 0
 

@@ -5,7 +5,7 @@
 // alpha, and the LPV's in-scattering. With indirect only the direct light's in-scattering
 // is left out, as the surfaces' direct light is. Functions only, no uniforms: the display
 // stage (display.glsl) and the window's view pass (view.glsl) include it. Numpy twin:
-// explorer/lpv/display.py exposed_image.
+// explorer/lpv/passes/display.py exposed_image.
 #ifndef FOG_COMPOSE_GLSL
 #define FOG_COMPOSE_GLSL 1
 

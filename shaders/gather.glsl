@@ -9,7 +9,7 @@
 // SH_ORDER 2 gathers an L2 grid (layout of sh_grid.glsl) with the L2 lobe. SH_SHADER_FILTER:
 // the grid lookup's interpolation (sh_grid.glsl).
 // GATHER_CASCADES (more than one cascade) and GATHER_DAMPING (the directional-derivative
-// damping) are chosen when the program is compiled (explorer/lpv/gather.py
+// damping) are chosen when the program is compiled (explorer/lpv/passes/gather.py
 // `program_defines`): llvmpipe runs both sides of a branch on a uniform under a lane mask,
 // so as uniforms the single grid paid for the cascade blend's lookups and the undamped
 // gather for the damping's two extra grid samples.
@@ -36,7 +36,7 @@ uniform sampler2D u_gbuffer_albedo;
 uniform sampler3D u_lpv_r;
 uniform sampler3D u_lpv_g;
 uniform sampler3D u_lpv_b;
-// The shadow maps of every RSM view, side by side (the RSM atlas, explorer/lpv/atlas.py;
+// The shadow maps of every RSM view, side by side (the RSM atlas, explorer/lpv/passes/atlas.py;
 // one view: its RSM), and one record per view: light_map.glsl, light_records.glsl.
 
 uniform int u_shadow_kernel;           // PCF box width in shadow-map texels; 1 = hard

@@ -8,7 +8,7 @@
 //     L_glossy = k_s · (1/M) Σ_j clamp+(<s(x_j) ⊙ (g^l), Y(−r)>)/c²
 // added to the diffuse indirect radiance. Nothing occludes the march (only the geometry
 // volume, during the propagation, did), and the lobe cannot be narrower than the grid's
-// SH order allows. Numpy twin: explorer/lpv/twin_media.py (glossy).
+// SH order allows. Numpy twin: explorer/lpv/twin/media.py (glossy).
 #ifndef GLOSSY_GLSL
 #define GLOSSY_GLSL 1
 

@@ -4,7 +4,7 @@
 // gather's PCF (gather.glsl shadow_visibility), the fog's shadow test of points in the
 // medium and the camera occluders' test "does a light view already hold this G-buffer
 // surfel?" (docs/MODEL.md "Final gather", "Fog", "Camera occluders"). The views are the
-// records of light_records.glsl. Numpy twin: explorer/lpv/twin_media.py (LightMap).
+// records of light_records.glsl. Numpy twin: explorer/lpv/twin/media.py (LightMap).
 #ifndef LIGHT_MAP_GLSL
 #define LIGHT_MAP_GLSL 1
 

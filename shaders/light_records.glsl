@@ -2,7 +2,7 @@
 // The RSM views as records in a storage buffer (docs/MODEL.md "Several lights"), and the
 // light each view brings to a point: read by the gather's direct light, the fog's direct
 // in-scattering and (with light_map.glsl) every shadow-map test. Python side:
-// explorer/lpv/light_records.py (light_records, LIGHT_BINDING). Include it once, in the
+// explorer/lpv/passes/light_records.py (light_records, LIGHT_BINDING). Include it once, in the
 // stage that reads it.
 #ifndef LIGHT_RECORDS_GLSL
 #define LIGHT_RECORDS_GLSL 1

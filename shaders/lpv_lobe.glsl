@@ -8,7 +8,7 @@
 // media.hg_band_factors): ∫ p_g(<ω', ω>) L(ω') dω' = <s ⊙ (g^l), Y(ω)> / c², clamped at 0
 // like the irradiance. g = 0 is the mean radiance over the sphere (isotropic), g = 1 the
 // plain SH evaluation. Cascades blend with the final gather's weights (cascades.glsl).
-// Numpy twin: explorer/lpv/twin_media.py (lobe_radiance).
+// Numpy twin: explorer/lpv/twin/media.py (lobe_radiance).
 #ifndef LPV_LOBE_GLSL
 #define LPV_LOBE_GLSL 1
 

@@ -9,14 +9,14 @@
 // step is added to it, acc += P(acc). Invocations race: some neighbours are already updated
 // when read, so the result depends on the GPU's invocation order. Kept to show the hazard.
 // What it can produce (one value per schedule of neighbour reads) is
-// explorer/lpv/twin.py in_place_step_candidates.
+// explorer/lpv/twin/light_grid.py in_place_step_candidates.
 //
 // The same dispatch measures the step's energy audit (GridAudit): every cell writes 18
 // numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,
 // the clamp gain and occluded flux of the faces it gathers through, as a border cell the
 // border loss, clamp gain and occluded flux of the faces it sends out of the grid, and the
 // flux reflected back into it and the blocked flux that could bounce (reflection.glsl);
-// explorer/lpv/twin.py propagation_step_cells books them alike. audit_reduce.glsl sums
+// explorer/lpv/twin/light_grid.py propagation_step_cells books them alike. audit_reduce.glsl sums
 // them; a shared-memory reduction here would need barrier(), which costs llvmpipe more than
 // the whole step. Each cell also adds its record to its own running sum over the steps in
 // `cell_sums` (no other invocation touches it), which the window reads back for one picked
@@ -27,7 +27,7 @@
 #define SH_ORDER 1
 #define PROPAGATE_AUDIT 1
 // The code paths are chosen when the program is compiled, from the switches and settings
-// (explorer/lpv/propagate.py `program_defines`): the ping-pong switch, whether there is a
+// (explorer/lpv/passes/propagate.py `program_defines`): the ping-pong switch, whether there is a
 // geometry volume and whether it reflects (Settings.bounces 2). llvmpipe runs both sides of
 // a branch on a uniform under a lane mask, so each untaken path cost its full work: with
 // all three as uniforms the audit-off kernel took 2.5x the minimal kernel at 32^3
@@ -147,7 +147,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
 }
 
 // First cell of this dispatch: a step is dispatched in slabs of z layers
-// (explorer/lpv/propagate.py `slabs`), each a unit of a time-sliced frame.
+// (explorer/lpv/passes/propagate.py `slabs`), each a unit of a time-sliced frame.
 uniform ivec3 u_cell_offset;
 
 void main() {

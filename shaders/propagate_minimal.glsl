@@ -10,7 +10,7 @@
 // the geometry volume compiled in only when there is one (PROPAGATE_GEOMETRY). Each neighbour is
 // written out with its constant direction and tangents, so Y(e_f) and lobe(r_f) of the
 // five faces fold into the generated constants at compile time. With the corrected
-// switches it computes what propagate.glsl computes (tests/lpv/test_pass_propagate.py).
+// switches it computes what propagate.glsl computes (tests/lpv/passes/test_pass_propagate.py).
 #define IMAGE_FORMAT rgba32f
 #define PROPAGATE_GEOMETRY 0
 

@@ -37,9 +37,9 @@ ivec3 sh_group_texel(ivec3 cell, int k) {
 // in float32 from 8 texelFetch per group. A GPU's texture unit computes the weights with 8
 // fractional bits (NVIDIA; D3D's SUBTEXEL_FRACTIONAL_BIT_COUNT), an error of up to 1/512 of
 // the difference between neighbouring texels, while llvmpipe's are float32 and 4-6 times
-// cheaper than the fetches here. explorer/lpv/gather.py measures the texture unit once per
+// cheaper than the fetches here. explorer/lpv/passes/gather.py measures the texture unit once per
 // context (filter_probe.glsl) and sets 1 where it is not exact, so the gather matches the
-// float64 numpy gather (explorer/lpv/twin.py) to float32 precision on every GPU.
+// float64 numpy gather (explorer/lpv/twin/light_grid.py) to float32 precision on every GPU.
 #ifndef SH_SHADER_FILTER
 #define SH_SHADER_FILTER 0
 #endif

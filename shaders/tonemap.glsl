@@ -1,11 +1,11 @@
 #version 430 core
 // Display encoding: exposure scale, tone curve, sRGB (docs/MODEL.md "Display"). Functions
 // only, no uniforms: include it in any pass that writes a display image. Numpy twin:
-// explorer/lpv/tonemap.py (tested against each other in tests/lpv/test_display.py).
+// explorer/lpv/twin/tonemap.py (tested against each other in tests/lpv/test_display.py).
 #ifndef TONEMAP_GLSL
 #define TONEMAP_GLSL 1
 
-const int TONE_MAP_LINEAR_CLIP = 0;   // explorer/lpv/tonemap.py TONE_MAPS[0]
+const int TONE_MAP_LINEAR_CLIP = 0;   // explorer/lpv/twin/tonemap.py TONE_MAPS[0]
 const int TONE_MAP_FILMIC = 1;        // TONE_MAPS[1]
 
 // Narkowicz's fit of the ACES filmic reference tone curve (2015):

@@ -29,7 +29,7 @@ const int BUFFER_FINAL = 0;        // explorer/ui/state.py VIEW_BUFFERS order
 const int BUFFER_DIRECT = 1;
 const int BUFFER_INDIRECT = 2;
 const int BUFFER_ALBEDO = 3;
-const vec3 REC709_LUMA = vec3(0.2126, 0.7152, 0.0722);   // explorer/lpv/tonemap.py
+const vec3 REC709_LUMA = vec3(0.2126, 0.7152, 0.0722);   // explorer/lpv/twin/tonemap.py
 
 #define VIEW_MODE 0                // 0 one side, 1 difference
 #define VIEW_BUFFER 0              // BUFFER_*

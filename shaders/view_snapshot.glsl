@@ -6,7 +6,7 @@
 // pipeline rewrites its own targets (a camera move re-renders the G-buffer before the
 // gather, the gather runs in bands). Full-screen pass at the first source's size: a source
 // of that size is copied texel for texel, a larger one (the G-buffer's albedo beside a
-// reduced preview's gather, explorer/lpv/gather.py) gives the texel below each pixel.
+// reduced preview's gather, explorer/lpv/passes/gather.py) gives the texel below each pixel.
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"

@@ -1,5 +1,5 @@
 #version 430 core
-// One VPL texture set copied into its tile of the VPL atlas (explorer/lpv/atlas.py), texel
+// One VPL texture set copied into its tile of the VPL atlas (explorer/lpv/passes/atlas.py), texel
 // for texel: the viewport is the tile, u_tile_origin its lower-left texel in the atlas.
 // Several lights' RSMs side by side in one texture set inject in one pass and serve the
 // final gather as one shadow-map atlas (docs/MODEL.md "Several lights").

@@ -81,10 +81,10 @@ def in_place_schedules(steps: list[np.ndarray], corrections, geometry=None,
                        geometry_albedo=None, bounces: int = 1) -> tuple[float, np.ndarray]:
     """For GPU in-place steps (grid_0 and the light each step added): the largest distance,
     relative to the largest accumulated value, between a step and the nearest value the
-    in-place pass can produce (:func:`explorer.lpv.twin.in_place_step_candidates`,
+    in-place pass can produce (:func:`explorer.lpv.twin.light_grid.in_place_step_candidates`,
     given the GPU's own accumulation before and after the step), and per step the number
     of (channel, cell) pairs whose nearest read schedule is not the race-free one."""
-    from explorer.lpv.twin import in_place_step_candidates
+    from explorer.lpv.twin.light_grid import in_place_step_candidates
 
     before = np.asarray(steps[0], np.float64)
     worst, raced = 0.0, []
@@ -114,8 +114,8 @@ def frame_view_lights(pipeline) -> list:
     """Every RSM view of ``pipeline``'s last frame with its own shadow map, as the media
     reference reads them (``twin_media.view_lights``): one per spot or directional
     light, six per point light."""
-    from explorer.lpv import twin_media
-    from explorer.lpv.rsm import read_texture
+    from explorer.lpv.passes.rsm import read_texture
+    from explorer.lpv.twin import media as twin_media
 
     sets = pipeline.light_views.rsm_sets
     return twin_media.view_lights(pipeline.light_views.views,

@@ -105,6 +105,38 @@ def test_every_import_points_down_the_layers():
     assert upward == []
 
 
+LPV_PARTS = {
+    "explorer.lpv.twin": ("explorer.lpv.twin",),
+    "explorer.lpv.passes": ("explorer.lpv.passes", "explorer.lpv.twin"),
+}
+"""Inside explorer/lpv/: what each part may import of the package besides the shared data
+at its top (settings, corrections, grid, cascades, vpl, audit, frame_state...). The numpy
+twin is written independently of the GPU passes, so it imports none; the passes import no
+frame machinery (the stage list, the stages, the cache keys, the job, the pipeline)."""
+
+FRAME_MACHINERY = ("explorer.lpv.stage_list", "explorer.lpv.stages", "explorer.lpv.cache_keys",
+                   "explorer.lpv.job", "explorer.lpv.pipeline", "explorer.lpv.frame")
+
+
+def _under(module: str, prefix: str) -> bool:
+    return module == prefix or module.startswith(prefix + ".")
+
+
+def test_the_lpv_parts_hold_their_order():
+    graph = _graph()
+    wrong = []
+    for part, allowed in LPV_PARTS.items():
+        for module in (m for m in sorted(graph) if _under(m, part)):
+            for target in sorted(graph[module]):
+                inside = [p for p in ("explorer.lpv.twin", "explorer.lpv.passes")
+                          if _under(target, p)]
+                if (inside and not any(_under(target, a) for a in allowed)) or any(
+                        _under(target, f) for f in FRAME_MACHINERY):
+                    wrong.append(f"{module} -> {target}")
+    assert wrong == []
+    assert "explorer.lpv.grid" in graph["explorer.lpv.twin.light_grid"]   # the reader sees it
+
+
 def test_no_private_name_is_imported_from_another_module():
     known = _modules()
     borrowed = [f"{path.relative_to(ROOT)}:{line} imports {name} from {module}"

@@ -46,8 +46,8 @@ import statistics
 from pathlib import Path
 
 from explorer.commands import options
-from explorer.schema import Spec
 from explorer.lpv.settings import Settings, preset_name
+from explorer.schema import Spec
 
 FULL_GRIDS = (16, 32, 64, 128)
 FULL_ITERATIONS = (4, 8, 16, 32, 64)
@@ -212,7 +212,7 @@ def run_bench(args: argparse.Namespace, pipeline, runs: list[tuple[str, Settings
     """Time each run: a warm-up frame, then ``--repeat`` frames from the RSM on (the
     median per pass), and after each grid's runs its baseline row (module docstring);
     ``progress``: an :class:`options.Progress` showing the run and its stage."""
-    from explorer.lpv.propagate import BaselinePropagatePass
+    from explorer.lpv.passes.propagate import BaselinePropagatePass
 
     repeat = args.repeat or (1 if args.quick else DEFAULT_REPEAT)
     rows: list[dict] = []
@@ -383,7 +383,11 @@ def main(args: argparse.Namespace) -> int:
 def _overhead(args: argparse.Namespace) -> int:
     """``bench --overhead`` (explorer/commands/overhead_bench.py)."""
     from explorer.commands.overhead_bench import (
-        DEFAULT_FRAMES, format_overhead, measure_overhead, tiny_settings)
+        DEFAULT_FRAMES,
+        format_overhead,
+        measure_overhead,
+        tiny_settings,
+    )
     from explorer.gl.context import probe
     from explorer.lpv.pipeline import Pipeline
 

@@ -34,7 +34,7 @@ def metric_cells(stats) -> list[str]:
 
 
 def _to_srgb8(linear):
-    from explorer.lpv.tonemap import linear_to_srgb
+    from explorer.lpv.twin.tonemap import linear_to_srgb
 
     return (linear_to_srgb(linear) * 255.0 + 0.5).astype("uint8")
 

@@ -18,8 +18,8 @@ import argparse
 from pathlib import Path
 
 from explorer.commands import options
-from explorer.schema import Spec
 from explorer.lpv.settings import VIEWS
+from explorer.schema import Spec
 
 MIN_PNG_SIZE = 256
 """Views not sized by --size (RSM and grid views) are enlarged by whole pixels to at least
@@ -339,7 +339,7 @@ def write_grid_slice_png(image, result, chosen: dict[str, int], path: Path) -> N
     import numpy as np
 
     from explorer.commands.scale_bar import save_with_scale_bar
-    from explorer.lpv.tonemap import linear_to_srgb
+    from explorer.lpv.twin.tonemap import linear_to_srgb
     from explorer.lpv.views import cascade_item, grid_slice_scale, grid_slice_values
 
     coefficient, cascade = chosen.get("coefficient"), chosen.get("cascade")

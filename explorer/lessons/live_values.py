@@ -212,7 +212,7 @@ def _fog(context: LiveContext):
 
 def _fog_lpv_share(context: LiveContext) -> float:
     """The LPV's share of the light the fog scatters towards the eye (luminance)."""
-    from explorer.lpv.tonemap import luminance
+    from explorer.lpv.twin.tonemap import luminance
 
     fog = _fog(context)
     lpv = float(np.sum(luminance(fog.lpv)))

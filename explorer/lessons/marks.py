@@ -13,7 +13,7 @@ A mark is one ``[[steps.marks]]`` table::
 
 A mark with a ``normal`` measures :data:`READOUTS` at its point: the indirect irradiance
 the LPV's final gather computes there (docs/MODEL.md "Final gather", the numpy twin
-``explorer.lpv.twin.gather_cascades`` on the frame's accumulated grids), so a claim
+``explorer.lpv.twin.light_grid.gather_cascades`` on the frame's accumulated grids), so a claim
 such as "the dark side receives more than 1 % of the lit side's light" is a check of one
 mark's number over another's (explorer/lessons/checks.py).
 """
@@ -128,7 +128,7 @@ def irradiance(mark: Mark, result: Any) -> float:
 def irradiance_rgb(mark: Mark, result: Any) -> np.ndarray:
     """(3,) indirect irradiance (W/m²) per channel at the mark: the cascades' accumulated
     grids read by the numpy twin of the gather, damped as the frame's settings say."""
-    from explorer.lpv.twin import gather_cascades
+    from explorer.lpv.twin.light_grid import gather_cascades
 
     if mark.normal is None:
         raise ValueError(f"mark {mark.id!r} has no normal: it measures nothing")

@@ -46,7 +46,7 @@ def render_step(pipeline: Any, step: Step, settings: Settings | None = None
     final images, scaled so that the largest difference is white."""
     import numpy as np
 
-    from explorer.lpv.tonemap import linear_to_srgb
+    from explorer.lpv.twin.tonemap import linear_to_srgb
 
     settings = step.settings() if settings is None else settings
     result = pipeline.run(settings)

@@ -11,9 +11,9 @@
   ``PRESETS`` the named sets of them;
 * :func:`inject` and :func:`propagate` run one GPU pass on numpy input (a headless
   context is created on first use when ``ctx`` is None): your VPLs as
-  :class:`VplArrays`, placed in a :class:`GridSpec`; ``explorer.lpv.twin`` holds the
-  same functions in pure numpy, ``STAGE_LIST`` the frame's stages (each stage's passes
-  are in ``explorer.lpv.<pass>``: ``RsmPass``, ``GBufferPass``, ``GatherPass``...).
+  :class:`VplArrays`, placed in a :class:`GridSpec`; ``explorer.lpv.twin.light_grid``
+  holds the same functions in pure numpy, ``STAGE_LIST`` the frame's stages (each stage's
+  passes are in ``explorer.lpv.passes.<pass>``: ``RsmPass``, ``GBufferPass``...).
 
 Example::
 
@@ -26,11 +26,11 @@ import importlib
 
 # inject and propagate share their names with their modules: bound now, so that importing
 # the module later cannot shadow the function. The rest is imported on first use (PEP
-# 562), so that ``import explorer.lpv.twin`` (the numpy twin) loads neither the
-# pipeline nor the generated constants mirror: the twin takes its constants from the
-# derivations alone (tests/lpv/test_twin.py).
-from explorer.lpv.inject import inject
-from explorer.lpv.propagate import propagate
+# 562), so that ``import explorer.lpv.twin.light_grid`` (the numpy twin) loads neither
+# the pipeline nor the generated constants mirror: the twin takes its constants from the
+# derivations alone (tests/lpv/twin/test_twin.py).
+from explorer.lpv.passes.inject import inject
+from explorer.lpv.passes.propagate import propagate
 
 _HOMES = {"Corrections": "corrections", "PRESETS": "corrections", "FrameResult": "frame",
           "LevelResult": "frame", "Job": "job", "Progress": "job",

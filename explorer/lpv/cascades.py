@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.settings import MAX_CASCADES   # = MAX_CASCADES in cascades.glsl
+from explorer.lpv.settings import MAX_CASCADES  # = MAX_CASCADES in cascades.glsl
+
 CASCADE_EDGE_CELLS = 0.5
 """Outer shell of a cascade (in its cells) where its weight is 0: within half a cell of
 the border a trilinear lookup has no outer neighbour to blend with."""
@@ -193,7 +194,7 @@ class CascadeInput:
 class SampledGrid:
     """The grid the final gather and the fog sample: the accumulation of every cascade
     (finest first; a single grid is one cascade) and their SH order, which fixes the
-    texel layout (explorer/lpv/textures.py). One typed value the frame hands to both
+    texel layout (explorer/lpv/passes/textures.py). One typed value the frame hands to both
     passes, in place of textures, spec, cascade list and order passed on one by one."""
 
     cascades: tuple[CascadeInput, ...]
@@ -241,64 +242,3 @@ def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str,
         "u_cascade_r": units["r"], "u_cascade_g": units["g"], "u_cascade_b": units["b"],
     }
 
-
-class CascadeLevel:
-    """GPU resources and results of one cascade level ``k`` in the pipeline (level 0 is
-    the finest cascade, or the single grid): its injected grid, geometry volume,
-    propagation (each level has its own :class:`~explorer.lpv.propagate.PropagatePass`,
-    because a pass owns the accumulated grid it returns) and the arrays read back."""
-
-    def __init__(self, ctx, programs) -> None:
-        from explorer.lpv.propagate import PropagatePass
-
-        self.ctx = ctx
-        self.injected = None            # LpvGrid
-        self.volume = None              # GeometryVolume | None
-        self.propagate = PropagatePass(ctx, programs)
-        self.running = None             # PropagationRun in progress
-        self.output = None              # PropagationOutput of the last completed run
-        self.accumulated: np.ndarray | None = None
-        self.geometry: np.ndarray | None = None
-
-    def grid(self, resolution: int, fmt: str, sh_order: int = 1):
-        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt`` with SH of
-        ``sh_order`` (1 = L1, 2 = L2)."""
-        from explorer.lpv.textures import LpvGrid
-
-        if self.injected is None or self.injected.resolution != resolution or \
-                self.injected.format != fmt or self.injected.sh_order != sh_order:
-            if self.injected is not None:
-                self.injected.release()
-            self.injected = LpvGrid(self.ctx, resolution, fmt, sh_order)
-        return self.injected
-
-    def geometry_volume(self, resolution: int, fmt: str):
-        from explorer.lpv.geometry import GeometryVolume
-
-        if self.volume is None or self.volume.resolution != resolution or \
-                self.volume.format != fmt:
-            self.release_volume()
-            self.volume = GeometryVolume(self.ctx, resolution, fmt)
-        return self.volume
-
-    @property
-    def accumulation_textures(self):
-        """The r, g, b textures of the accumulation so far (the one in progress, else the
-        last completed), or None before any propagation."""
-        if self.running is not None:
-            return self.running.accumulated.textures
-        return None if self.output is None else self.output.accumulated.textures
-
-    def release_volume(self) -> None:
-        if self.volume is not None:
-            self.volume.release()
-            self.volume = None
-        self.geometry = None
-
-    def release(self) -> None:
-        if self.injected is not None:
-            self.injected.release()
-            self.injected = None
-        self.release_volume()
-        self.propagate.release()
-        self.running = self.output = None

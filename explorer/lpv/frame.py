@@ -10,10 +10,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from explorer.lpv import guards
-from explorer.lpv.audit import CellAuditRecords, EnergyAudit, GridAudit
-from explorer.lpv.display import exposed_image
-from explorer.lpv.frame_state import FogImages
+from explorer.lpv.audit import EnergyAudit, GridAudit
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.audit_reduce import CellAuditRecords
+from explorer.lpv.passes.display import exposed_image
+from explorer.lpv.passes.fog import FogImages
 from explorer.lpv.settings import Settings
 from explorer.lpv.vpl import VplArrays
 from explorer.scene.camera import Camera

@@ -2,7 +2,7 @@
 thing a stage makes (its images read back, the cascade levels it fills, the passes whose
 textures hold its output on the GPU).
 
-The stages (explorer/lpv/frame_stages/) write their own fields and read their upstream
+The stages (explorer/lpv/stages/) write their own fields and read their upstream
 stages' fields; :func:`explorer.lpv.frame.frame_result` assembles the
 :class:`~explorer.lpv.frame.FrameResult` from it once every stage is complete. A field
 keeps what the stage's last completed run left (a stage whose key has not changed does
@@ -19,13 +19,15 @@ import numpy as np
 
 from explorer.lpv.cascades import CascadeInput, SampledGrid
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.fog import FogImages
+from explorer.lpv.passes.gather import GatherImages
 from explorer.lpv.vpl import VplArrays
 
 if TYPE_CHECKING:
-    from explorer.lpv.cascades import CascadeLevel
-    from explorer.lpv.fog import FogPass
-    from explorer.lpv.gather import GatherPass
-    from explorer.lpv.gbuffer import GBufferPass
+    from explorer.lpv.cascade_level import CascadeLevel
+    from explorer.lpv.passes.fog import FogPass
+    from explorer.lpv.passes.gather import GatherPass
+    from explorer.lpv.passes.gbuffer import GBufferPass
 
 
 @dataclass
@@ -63,35 +65,6 @@ class VplImages:
     """Per set: one per RSM view, or the one hand-made set."""
     view_lights: tuple[int, ...]
     """The light index of each set."""
-
-
-@dataclass
-class GatherImages:
-    """The gather's ``rgba32f`` targets read back, row 0 at the top."""
-
-    direct: np.ndarray
-    indirect: np.ndarray
-    received: np.ndarray
-    """The LPV flux each pixel's surface receives (rgb)."""
-
-    @property
-    def gathered(self) -> np.ndarray:
-        """(3,) float64: the flux the visible surfaces receive from the LPV, summed over
-        the pixels (``Pipeline.gathered_flux``)."""
-        return np.add.reduce(self.received[..., :3].reshape(-1, 3), axis=0,
-                             dtype=np.float64)
-
-
-@dataclass
-class FogImages:
-    """What the fog stage read back (docs/MODEL.md "Fog"), row 0 at the top."""
-
-    transmittance: np.ndarray
-    """``(H, W)``: exp(−σ_t·ℓ) along each pixel's view ray to its surface."""
-    direct: np.ndarray
-    """``(H, W, 3)``: the direct light's in-scattered radiance."""
-    lpv: np.ndarray
-    """``(H, W, 3)``: the LPV's in-scattered radiance."""
 
 
 @dataclass

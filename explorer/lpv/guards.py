@@ -27,7 +27,6 @@ from collections.abc import Iterable, Mapping, Sequence
 import numpy as np
 
 from explorer.lpv.audit import EnergyAudit, check_finite
-from explorer.lpv.corrections import CORRECTIONS
 from explorer.lpv.constants import (
     FRONT_FACE_SOLID_ANGLE,
     PI,
@@ -36,6 +35,7 @@ from explorer.lpv.constants import (
     PUBLISHED_SIDE_FACE_SOLID_ANGLE,
     SIDE_FACE_SOLID_ANGLE,
 )
+from explorer.lpv.corrections import CORRECTIONS
 from explorer.lpv.stage_list import STAGES
 
 FLOAT32_MAX = float(np.finfo(np.float32).max)

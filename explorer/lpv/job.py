@@ -22,8 +22,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from explorer.lpv.audit import audit_mode
+from explorer.lpv.cache_keys import stage_key
 from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, STAGES, VERBS
-from explorer.lpv.stages import stage_key
 
 if TYPE_CHECKING:
     from explorer.lpv.frame import FrameResult

@@ -1,6 +1,6 @@
 """The light's side of a frame: one RSM per view of every light that shines (a point light
 has six), their VPLs (downsampled or hand-made) and the atlases that copy several views
-side by side (explorer/lpv/atlas.py), so that the injection reads every view's VPLs at
+side by side (explorer/lpv/passes/atlas.py), so that the injection reads every view's VPLs at
 once and the gather and the fog every view's shadow map (docs/MODEL.md "Several lights").
 
 :class:`LightViews` is owned by the pipeline (``Pipeline.light_views``); its ``rsm`` and
@@ -19,13 +19,13 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv.atlas import PerView, VplAtlas
 from explorer.lpv.audit import flux_per_light
-from explorer.lpv.downsample import DownsamplePass
 from explorer.lpv.frame_state import RsmImages, VplImages
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.light_records import ShadowMaps
-from explorer.lpv.rsm import LightView, RsmPass, light_views, read_texture
+from explorer.lpv.passes.atlas import PerView, VplAtlas
+from explorer.lpv.passes.downsample import DownsamplePass
+from explorer.lpv.passes.light_records import ShadowMaps
+from explorer.lpv.passes.rsm import LightView, RsmPass, light_views, read_texture
 from explorer.lpv.settings import Settings
 from explorer.lpv.timing import PassTimer
 from explorer.lpv.vpl import VplArrays, VplTextures
@@ -65,7 +65,8 @@ class LightViews:
 
     @staticmethod
     def of(scene: Scene, rsm_size: int) -> list[LightView]:
-        """The RSM views of ``scene``'s lights that shine (:func:`explorer.lpv.rsm.light_views`)."""
+        """The RSM views of ``scene``'s lights that shine
+        (:func:`explorer.lpv.passes.rsm.light_views`)."""
         return light_views(scene, rsm_size)
 
     def render(self, views: list[LightView], geometry: SceneBuffers,

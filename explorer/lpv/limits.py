@@ -46,7 +46,7 @@ class Request:
 def memory_requests(settings, views: int = 1) -> list[Request]:
     """The memory a frame with ``settings`` holds, by request (module docstring), with
     ``views`` RSM views (several lights; a point light has six): each view's RSM textures
-    and read-back, and with several views their atlas (explorer/lpv/atlas.py)."""
+    and read-back, and with several views their atlas (explorer/lpv/passes/atlas.py)."""
     s = settings
     rsm_texels = s.rsm_size ** 2
     pixels = s.width * s.height
@@ -138,7 +138,7 @@ def check_grid_textures(settings, limits: DriverLimits) -> None:
     if largest and s.grid_size > largest:
         raise ValueError(f"grid_size {s.grid_size} exceeds this driver's "
                          f"GL_MAX_3D_TEXTURE_SIZE {largest}")
-    # L2 stacks its 3 texel groups along z (explorer/lpv/textures.py)
+    # L2 stacks its 3 texel groups along z (explorer/lpv/passes/textures.py)
     if s.sh_order == 2 and largest and 3 * s.grid_size > largest:
         raise ValueError(f"sh_order 2 stores 3·grid_size = {3 * s.grid_size} texels along z, "
                          f"more than this driver's GL_MAX_3D_TEXTURE_SIZE {largest}")

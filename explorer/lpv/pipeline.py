@@ -3,12 +3,12 @@ fog -> display.
 
 :class:`Pipeline` holds the services every stage uses (the GL context, its programs, the
 timer, the driver's limits, the scene and the light views), one object per stage
-(:attr:`Pipeline.stages`, explorer/lpv/frame_stages/, made from the declared list
+(:attr:`Pipeline.stages`, explorer/lpv/stages/, made from the declared list
 :data:`explorer.lpv.stage_list.STAGE_LIST`) and the :class:`FrameState` they hand on to
 each other. A frame is one loop over the declared stages in their execution order
 (:class:`~explorer.lpv.job.Job`): a stage runs only when its key changed (the Settings
 fields it reads, declared once in the settings schema, the output keys of its upstream
-stages and its extra inputs; explorer/lpv/stages.py, table: ``stages.describe()``), its
+stages and its extra inputs; explorer/lpv/cache_keys.py, table: ``stages.describe()``), its
 units of work one after another. Every stage is timed, its output is checked for NaN and
 infinity (warnings in ``FrameResult.warnings``, or a FloatingPointError with
 ``debug_nan``), and what ``FrameResult`` holds is read back when the stage runs.
@@ -51,10 +51,7 @@ import numpy as np
 from explorer.gl.program import ProgramCache
 from explorer.lpv.cascades import check_limits as check_cascade_limits
 from explorer.lpv.frame import FrameResult, LevelResult, frame_result
-from explorer.lpv.frame_stages import Stage, make_stages
-from explorer.lpv.frame_stages.display import Params as DisplayParams
 from explorer.lpv.frame_state import FrameState
-from explorer.lpv.gather import GatherPass, reduced_size
 from explorer.lpv.job import Job, ProgressCallback
 from explorer.lpv.light_views import LightViews
 from explorer.lpv.limits import (
@@ -64,9 +61,12 @@ from explorer.lpv.limits import (
     check_grid_textures,
     check_memory,
 )
+from explorer.lpv.passes.gather import GatherPass, reduced_size
 from explorer.lpv.scene_state import SceneState
 from explorer.lpv.settings import VIEWS, Settings
 from explorer.lpv.stage_list import STAGES
+from explorer.lpv.stages import Stage, make_stages
+from explorer.lpv.stages.display import Params as DisplayParams
 from explorer.lpv.timing import PassTimer
 from explorer.lpv.views import render_view
 from explorer.lpv.vpl import VplArrays
@@ -109,7 +109,7 @@ class Pipeline:
         self.state = FrameState()
         """What each stage left for the next (explorer/lpv/frame_state.py)."""
         self.stages: dict[str, Stage] = make_stages(self)
-        """Stage name -> its object (explorer/lpv/frame_stages/), in the declared order
+        """Stage name -> its object (explorer/lpv/stages/), in the declared order
         (:data:`explorer.lpv.stage_list.STAGE_LIST`)."""
         self._preview_gather: GatherPass | None = None
         """The reduced previews' own targets (made at the first one)."""
@@ -325,7 +325,7 @@ class Pipeline:
 
     # ------------------------------------------------------------------ what a Job calls
     # The Job runs the declared stages in order (explorer/lpv/job.py); each of these hands
-    # the call to the stage's object (explorer/lpv/frame_stages/).
+    # the call to the stage's object (explorer/lpv/stages/).
     def extra_input(self, stage: str, job: Job) -> object:
         """Inputs of ``stage`` besides Settings fields and upstream stages: hand-made VPLs
         (downsample), the display scale override (display)."""

@@ -11,6 +11,10 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from explorer.lpv.corrections import CORRECTIONS, PRESETS, Corrections, preset  # noqa: F401
+from explorer.lpv.stage_list import STAGES
+from explorer.scene.lights import LIGHT_KINDS, MAX_CONE_DEGREES
+from explorer.scene.model import MAX_LIGHTS
+from explorer.scene.objects import check_transforms
 from explorer.schema import (
     SettingError,
     check_stages,
@@ -19,11 +23,6 @@ from explorer.schema import (
     to_dict,
     validate,
 )
-from explorer.lpv.stage_list import STAGES
-from explorer.lpv.tonemap import TONE_MAPS
-from explorer.scene.lights import LIGHT_KINDS, MAX_CONE_DEGREES
-from explorer.scene.model import MAX_LIGHTS
-from explorer.scene.objects import check_transforms
 
 
 def preset_name(corrections: Corrections) -> str:
@@ -34,6 +33,8 @@ def preset_name(corrections: Corrections) -> str:
     return "custom"
 
 
+TONE_MAPS = ("linear-clip", "filmic")
+"""``Settings.tone_map`` choices; their index is the GLSL ``TONE_MAP_*`` constant."""
 DOWNSAMPLE_MODES = ("none", "average", "brightest")
 INJECTION_MODES = ("points", "compute")
 GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")

@@ -12,7 +12,7 @@ not the light), relative to the first frame's mean indirect luminance ``Ȳ_0``:
 * ``peak_change[t] = max_pixels |Y_t − Y_{t−1}| / Ȳ_0``.
 
 A moving camera changes the picture itself, so for ``move = "camera"`` every frame's LPV
-is gathered (numpy, :func:`explorer.lpv.twin.gather_cascades`) at the surface points
+is gathered (numpy, :func:`explorer.lpv.twin.light_grid.gather_cascades`) at the surface points
 the *first* frame sees: only the light moves, as it would on a fixed wall in the world.
 With cascades that follow the camera, snapping them to their cells
 (``Settings.cascade_snap``) keeps the light still between snaps; without it the VPLs move
@@ -26,9 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from explorer.lpv.twin import gather_cascades, indirect_radiance
 from explorer.lpv.settings import Settings
-from explorer.lpv.tonemap import luminance
+from explorer.lpv.twin.light_grid import gather_cascades, indirect_radiance
+from explorer.lpv.twin.tonemap import luminance
 from explorer.scene.model import Scene, SceneError
 
 MOVES = ("light", "object", "camera")

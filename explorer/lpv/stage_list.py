@@ -4,7 +4,7 @@ declared once, in :data:`STAGE_LIST`.
 Each :class:`StageDecl` names its upstream stages, the verb the window shows while it
 runs and how it runs (a timed GPU pass, a by-value stage, one that reads correction
 switches, one that runs as soon as it can); its work lives in the module of the same name
-under :mod:`explorer.lpv.frame_stages` (``frame_stages/gather.py`` for ``gather``). The
+under :mod:`explorer.lpv.stages` (``frame_stages/gather.py`` for ``gather``). The
 Settings fields a stage reads are declared on the fields (``setting(stages=...)``, the
 settings schema). Everything else is derived from this list:
 
@@ -17,7 +17,7 @@ settings schema). Everything else is derived from this list:
   :data:`CORRECTION_STAGES` (the stages whose programs may read a correction uniform,
   ``explorer.lpv.corrections.STAGES``) and :data:`PIXEL_STAGES` (the work per pixel a
   reduced size makes cheaper, the window's camera moves);
-* the cache keys and invalidation (:mod:`explorer.lpv.stages`) and the loop that runs
+* the cache keys and invalidation (:mod:`explorer.lpv.cache_keys`) and the loop that runs
   them (:class:`explorer.lpv.job.Job` over :class:`explorer.lpv.pipeline.Pipeline`).
 
 This module imports nothing of the project, so that the settings schema and the

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from explorer.lpv.constants import SH_FLUX_FACTOR
-from explorer.lpv.tonemap import display_encode, linear_to_srgb
+from explorer.lpv.twin.tonemap import display_encode, linear_to_srgb
 
 
 def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:

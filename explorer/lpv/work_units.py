@@ -12,7 +12,7 @@ from collections.abc import Callable, Iterator, Sequence
 import moderngl
 import numpy as np
 
-from explorer.lpv.rsm import read_texture
+from explorer.lpv.passes.rsm import read_texture
 
 
 def countdown(units: int) -> Callable[[], bool]:

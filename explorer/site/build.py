@@ -18,9 +18,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from explorer.lessons import live_values
+from explorer.lessons import Lesson, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
-from explorer.lessons import Lesson, Step, TryThis
 from explorer.site import pages, prose
 from explorer.site.frames import (
     FrameRenderer,
@@ -177,8 +176,8 @@ def try_label(item: TryThis) -> str:
         return button()[0]
     from explorer.lessons.live_values import format_value
     from explorer.lpv.corrections import BY_NAME
-    from explorer.schema import specs
     from explorer.lpv.settings import Settings
+    from explorer.schema import specs
 
     value = format_value(item.value, "g")
     if item.control.startswith("corrections."):
@@ -473,7 +472,7 @@ class _Writer:
     def error_figure(self, measured, baker: Baker, stem: str) -> str:
         """The Error panel: the LPV's and the reference's indirect light at one exposure
         and log2(LPV / reference) in false colour, with the two numbers it reports."""
-        from explorer.lpv.tonemap import linear_to_srgb
+        from explorer.lpv.twin.tonemap import linear_to_srgb
         from explorer.truth.progressive import LOG2_SCALE
         from explorer.ui.textures import robust_max
 

@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from explorer.lessons import text as lesson_text
 from explorer.lessons import COMPARE_VIEWS, Step
+from explorer.lessons import text as lesson_text
 from explorer.lpv.settings import Settings
 
 MAIN_VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
@@ -153,7 +153,7 @@ class FrameRenderer:
                 image[:, half:] = theirs[:, half:]
                 image[:, half] = 255                    # the divider
             else:
-                from explorer.lpv.tonemap import linear_to_srgb
+                from explorer.lpv.twin.tonemap import linear_to_srgb
 
                 difference = np.abs(mine_linear - other.final_image)
                 scale = float(difference.max())

@@ -33,8 +33,8 @@ def scene_for(settings, loaded=None):
 def render_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:
     """The Pipeline's G-buffer pass for ``scene`` at ``width × height``."""
     from explorer.gl.program import ProgramCache
-    from explorer.lpv.gbuffer import GBufferPass
-    from explorer.lpv.rsm import read_texture
+    from explorer.lpv.passes.gbuffer import GBufferPass
+    from explorer.lpv.passes.rsm import read_texture
     from explorer.scene.gpu import SceneBuffers
 
     programs = ProgramCache(ctx)

@@ -1,6 +1,6 @@
 """Numpy prototype of two published leak reductions, measured against the reference.
 
-It re-runs injection and propagation with the numpy twin (``explorer.lpv.twin``,
+It re-runs injection and propagation with the numpy twin (``explorer.lpv.twin.light_grid``,
 whose ``gather`` mirrors the GPU's final gather). The pipeline now has the first two as
 ``Settings.injection_offset_cells`` and ``Settings.gather_damping`` (measured with
 ``lpv-explorer compare`` in docs/ERRORS.md); this study also tries the gather offset.
@@ -27,10 +27,10 @@ import sys
 
 import numpy as np
 
-from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.twin import derivative_damping, gather_irradiance, sample_grid
-from explorer.lpv.tonemap import luminance
+from explorer.lpv.twin import light_grid as twin
+from explorer.lpv.twin.light_grid import derivative_damping, gather_irradiance, sample_grid
+from explorer.lpv.twin.tonemap import luminance
 from explorer.lpv.vpl import VplArrays
 
 __all__ = ["VARIANTS", "derivative_damping", "gather_irradiance", "offset_vpls",

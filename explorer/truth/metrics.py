@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from explorer.lpv.tonemap import luminance
+from explorer.lpv.twin.tonemap import luminance
 
 Rect = tuple[int, int, int, int]
 

@@ -36,9 +36,9 @@ def render_triangle_ids(ctx, scene, width: int, height: int) -> np.ndarray:
     """(H, W) index of the triangle each pixel sees (−1: no surface), row 0 at the top
     like the G-buffer (explorer/truth/gbuffer.py ``render_gbuffer``)."""
     from explorer.gl.program import ProgramCache, set_uniforms
-    from explorer.lpv.gbuffer import camera_uniforms
-    from explorer.lpv.rsm import read_texture
     from explorer.gl.targets import RenderTargets
+    from explorer.lpv.passes.gbuffer import camera_uniforms
+    from explorer.lpv.passes.rsm import read_texture
     from explorer.scene.gpu import SceneBuffers
 
     if scene.triangle_count > MAX_TRIANGLES:

@@ -44,10 +44,10 @@ from typing import TYPE_CHECKING, Callable, Protocol
 import numpy as np
 
 from explorer.lpv.audit import audit_covers, audit_mode
-from explorer.schema import stages_reading
+from explorer.lpv.cache_keys import downstream
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
-from explorer.lpv.stages import downstream
+from explorer.schema import stages_reading
 from explorer.ui.picture import Picture, SideDisplay, Stamp
 from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures

@@ -15,7 +15,7 @@ import numpy as np
 from imgui_bundle import imgui
 
 from explorer.lpv import constants as K
-from explorer.lpv.twin import grid_sh_order, sh_basis
+from explorer.lpv.twin.light_grid import grid_sh_order, sh_basis
 
 SAMPLES = 32
 _MIN_PIXELS = 0.6       # a glyph smaller than this is not drawn

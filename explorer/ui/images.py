@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from explorer.lpv import constants as C
-from explorer.lpv.tonemap import luminance
+from explorer.lpv.twin.tonemap import luminance
 from explorer.ui.textures import diverging, heat, robust_max, tonemap
 
 

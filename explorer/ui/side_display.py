@@ -69,7 +69,7 @@ def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | N
                           indirect_only: dict[str, bool]) -> None:
     """Each side's own exposure (``runtime.frame.side_exposures``) when the sides are exposed
     separately without the display's auto exposure, measured once per new result."""
-    from explorer.lpv.display import exposed_image
+    from explorer.lpv.passes.display import exposed_image
     from explorer.ui.images import auto_exposure
 
     rt = state.runtime
@@ -93,8 +93,8 @@ def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | N
 
 def result_scale(result: "FrameResult", indirect_only: bool) -> float:
     """The auto exposure of a finished frame shown with ``indirect_only`` (the display
-    stage's measure, explorer/lpv/display.py)."""
-    from explorer.lpv.display import display_scale, exposed_image
+    stage's measure, explorer/lpv/passes/display.py)."""
+    from explorer.lpv.passes.display import display_scale, exposed_image
 
     unexposed = exposed_image(result.direct, result.indirect, 1.0, indirect_only, result.fog)
     mask = np.asarray(result.gbuffer_position)[..., 3] > 0.5
@@ -103,7 +103,7 @@ def result_scale(result: "FrameResult", indirect_only: bool) -> float:
 
 def picture_scale(picture: Picture, indirect_only: bool) -> float:
     """The auto exposure of a picture read back (a first preview)."""
-    from explorer.lpv.display import display_scale, exposed_image
+    from explorer.lpv.passes.display import display_scale, exposed_image
 
     direct, indirect, mask = picture.read()
     return display_scale(exposed_image(direct, indirect, 1.0, indirect_only), mask, True)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from explorer.lpv.tonemap import linear_to_srgb
+from explorer.lpv.twin.tonemap import linear_to_srgb
 
 
 @dataclass

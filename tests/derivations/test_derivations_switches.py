@@ -13,8 +13,8 @@ from derivations import implementation_switches as sw
 from derivations.registry import get, latex
 from derivations.solid_angles import front_face, prove_equal, side_face
 from explorer import derived
-from explorer.lpv import twin as R
 from explorer.lpv.settings import Corrections
+from explorer.lpv.twin import light_grid as R
 
 
 def expr(name: str) -> sp.Basic:

@@ -9,13 +9,13 @@ import pytest
 
 from explorer.gl.program import ProgramCache, UniformError, declared_uniforms, set_uniforms
 from explorer.lpv.corrections import CORRECTIONS, STAGES, Corrections, uniforms_read_by
-from explorer.lpv.gather import GatherPass
-from explorer.lpv.gather import program_defines as gather_defines
-from explorer.lpv.geometry import GeometryPass
-from explorer.lpv.inject import InjectPass
-from explorer.lpv.propagate import COMPILED_SWITCHES, PropagatePass, program_defines
+from explorer.lpv.passes.gather import GatherPass
+from explorer.lpv.passes.gather import program_defines as gather_defines
+from explorer.lpv.passes.geometry import GeometryPass
+from explorer.lpv.passes.inject import InjectPass
+from explorer.lpv.passes.propagate import COMPILED_SWITCHES, PropagatePass, program_defines
+from explorer.lpv.passes.textures import image_format_defines, sh_defines
 from explorer.lpv.settings import GRID_FORMATS, SH_ORDERS
-from explorer.lpv.textures import image_format_defines, sh_defines
 
 VARIANTS = list(itertools.product(GRID_FORMATS, SH_ORDERS))
 

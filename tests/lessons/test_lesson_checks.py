@@ -8,9 +8,9 @@ from dataclasses import replace
 
 import pytest
 
+from explorer.lessons import LessonError, load_all, load_lesson
 from explorer.lessons.checks import CheckError, Outcome, evaluate, parse_check
 from explorer.lessons.marks import MarkError, parse_mark
-from explorer.lessons import LessonError, load_all, load_lesson
 
 
 @pytest.fixture(scope="module")
@@ -162,8 +162,8 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
     declares them and the error against the reference measured where a check names it;
     every claim holds (test_a_false_claim_fails: the same frames with the operator
     reversed fail, so a check that could never fail is caught)."""
-    from explorer.lessons.verify import verify_step
     from explorer.lessons import preview_settings
+    from explorer.lessons.verify import verify_step
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.figures import declared_readouts
 
@@ -185,8 +185,8 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
 
 def test_a_false_claim_fails(shipped, ctx):
     """A check that contradicts the frame fails with its claim and measured value."""
-    from explorer.lessons.verify import verify_step
     from explorer.lessons import find_lesson, preview_settings
+    from explorer.lessons.verify import verify_step
     from explorer.lpv.pipeline import Pipeline
 
     step = find_lesson("overview", shipped).steps[2]
@@ -238,8 +238,8 @@ def test_figure_and_error_checks_read_the_declared_figure_and_the_reference(tmp_
     """A figure check reads the figure as the step declares it, through the readouts
     handed in (without them it fails saying so, and renders nothing); an error check
     measures the step against the one-bounce reference, and only then."""
-    from explorer.lessons.verify import verify_step
     from explorer.lessons import preview_settings
+    from explorer.lessons.verify import verify_step
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.figures import declared_readouts
 
@@ -283,8 +283,8 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
     at that pixel with its label inside the image; a mark behind a wall is drawn faded."""
     import numpy as np
 
-    from explorer.lessons.marks import Mark, irradiance
     from explorer.lessons import find_lesson, preview_settings
+    from explorer.lessons.marks import Mark, irradiance
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.overlays.marks import placements
 
@@ -341,7 +341,7 @@ prompt = "Coarser."
 def test_glyph_peaks_are_the_largest_value_over_the_mesh():
     import numpy as np
 
-    from explorer.lpv.twin import cosine_lobe
+    from explorer.lpv.twin.light_grid import cosine_lobe
     from explorer.ui.overlays.glyphs import glyph_peaks
     from explorer.ui.overlays.quantities import glyph_directions
 

@@ -46,10 +46,9 @@ def test_names_are_checked_and_close_matches_offered():
 
 
 def test_every_fixed_name_reads_a_value_from_a_real_frame(frame):
-    from explorer.truth.metrics import ErrorStats
-
     from types import SimpleNamespace
 
+    from explorer.truth.metrics import ErrorStats
     from explorer.truth.mitsuba_job import ErrorReadout
 
     stats = ErrorStats(0.5, 0.01, 0.9, (0.8, 0.9, 1.0), 100)
@@ -155,7 +154,7 @@ def test_format_value():
 
 def test_fog_numbers(gl_context):
     from explorer.lpv.pipeline import Pipeline
-    from explorer.lpv.tonemap import luminance
+    from explorer.lpv.twin.tonemap import luminance
 
     foggy = SMALL.with_changes(fog=True, fog_density=0.8, fog_steps=6)
     gl_context.__enter__()

@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from lpv_cases import in_place_schedules, random_grid, random_vpls, relative_error
 
-from explorer.lpv import twin
-from explorer.lpv.geometry import inject_geometry
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.geometry import inject_geometry
+from explorer.lpv.passes.propagate import propagate_with_audit
 from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.propagate import propagate_with_audit
 from explorer.lpv.settings import PRESETS, Corrections, Settings
+from explorer.lpv.twin import light_grid as twin
 
 
 def random_albedo_sums(rng: np.random.Generator, size: int, top: float = 1.0,

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from lpv_cases import frame_view_lights, relative_error
 
-from explorer.lpv import twin
-from explorer.lpv import twin_media as media
-from explorer.lpv.geometry import merged_volume_reference
+from explorer.lpv.passes.geometry import merged_volume_reference
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
+from explorer.lpv.twin import light_grid as twin
+from explorer.lpv.twin import media
 
 ROOM = Settings(scene="room", grid_size=16, iterations=6, width=96, height=64, rsm_size=64,
                 geometry_volume="one-sided", camera_occluders=True,

@@ -7,18 +7,16 @@ import json
 
 import numpy as np
 import pytest
-from lpv_cases import relative_error
-from test_pass_gather import (
+from gather_cases import (
     FILTERS,
     TOLERANCE,
     filtering,
-    setup,  # noqa: F401 (the fixture)
     smooth_grid,
     visible_points,
 )
+from lpv_cases import relative_error
 
 from explorer.cli import main as cli_main
-from explorer.lpv import twin
 from explorer.lpv.cascades import (
     CASCADE_BAND_CELLS,
     CASCADE_EDGE_CELLS,
@@ -29,12 +27,13 @@ from explorer.lpv.cascades import (
     check_limits,
     own_weight,
 )
-from explorer.lpv.light_records import ShadowMaps
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.light_records import ShadowMaps
+from explorer.lpv.passes.rsm import read_texture
+from explorer.lpv.passes.textures import LpvGrid
 from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.rsm import read_texture
 from explorer.lpv.settings import Settings
-from explorer.lpv.textures import LpvGrid
+from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.views import CASCADE_COLOURS
 from explorer.lpv.vpl import VplArrays
 

@@ -2,7 +2,7 @@
 (shaders/propagate.glsl), keeps the last step's records and their sums over the steps on
 the GPU, and the window reads one picked cell's (explorer/lpv/audit.py CellAuditRecords).
 Summed over the cells they are the audit's totals; one cell's equals the numpy
-reference's per-cell terms (explorer/lpv/twin.py propagation_step_cells)."""
+reference's per-cell terms (explorer/lpv/twin/light_grid.py propagation_step_cells)."""
 
 from __future__ import annotations
 
@@ -13,13 +13,13 @@ import pytest
 from lpv_cases import random_grid
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import twin as R
 from explorer.lpv.audit import CellAudit
-from explorer.lpv.geometry import GeometryVolume
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.propagate import PropagatePass
+from explorer.lpv.passes.geometry import GeometryVolume
+from explorer.lpv.passes.propagate import PropagatePass
+from explorer.lpv.passes.textures import LpvGrid
 from explorer.lpv.settings import PRESETS, Corrections
-from explorer.lpv.textures import LpvGrid
+from explorer.lpv.twin import light_grid as R
 
 SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=0.5, resolution=6)
 ITERATIONS = 3

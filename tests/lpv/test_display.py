@@ -1,5 +1,5 @@
 """The display (docs/MODEL.md "Display"): the tone curves and sRGB of shaders/tonemap.glsl
-against their numpy twin explorer/lpv/tonemap.py, and the auto exposure's invariants."""
+against their numpy twin explorer/lpv/twin/tonemap.py, and the auto exposure's invariants."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ import pytest
 import sympy as sp
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv import tonemap
-from explorer.lpv.display import DisplayPass
+from explorer.lpv.passes.display import DisplayPass
 from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.settings import Settings
+from explorer.lpv.settings import TONE_MAPS, Settings
+from explorer.lpv.twin import tonemap
 
 SMALL = Settings(grid_size=8, iterations=2, rsm_size=32, width=48, height=40)
 
@@ -46,7 +46,7 @@ def gpu_display(ctx, image: np.ndarray, scale: float, tone_map: str,
         indirect.release()
 
 
-@pytest.mark.parametrize("tone_map", tonemap.TONE_MAPS)
+@pytest.mark.parametrize("tone_map", TONE_MAPS)
 @pytest.mark.parametrize("scale, exposure", [(1.0, 1.0), (0.37, 1.0), (0.37, 2.5)])
 def test_glsl_display_matches_numpy(ctx, tone_map, scale, exposure):
     """display.glsl = display_encode(exposure·linear, scale, curve): the auto exposure's

@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 from lpv_cases import frame_view_lights
 
-from explorer.lpv import twin_media as media
 from explorer.lpv.cascades import SampledGrid
-from explorer.lpv.fog import Medium, camera_rays
+from explorer.lpv.passes.fog import camera_rays
+from explorer.lpv.passes.rsm import read_texture
 from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.rsm import read_texture
 from explorer.lpv.settings import Settings
+from explorer.lpv.stages.fog import Params as FogParams
+from explorer.lpv.twin import media
 
 FOG = Settings(scene="cornell", grid_size=8, iterations=4, width=48, height=32, rsm_size=32,
                fog=True, fog_density=0.7, fog_steps=8)
@@ -38,7 +39,7 @@ def reference_fog(pipeline, result):
     scene = pipeline.scene_state.scene
     eye, inverse = camera_rays(scene, (s.width, s.height))
     directions, distances = media.pixel_rays(eye, inverse, result.gbuffer_position)
-    medium = Medium.of(s)
+    medium = FogParams.of(s).medium
     transmittance, direct, lpv = media.march_fog(
         eye, directions.reshape(-1, 3), distances.reshape(-1),
         (scene.bounds_min, scene.bounds_max), result.cascade_accumulated,
@@ -171,7 +172,7 @@ def test_a_uniform_field_scatters_its_radiance_times_one_minus_t(pipeline, ctx, 
         lights = pipeline.light_views
         fog = pipeline.state.fog_pass
         fog.run(pipeline.state.gbuffer_pass, lights.shadow_maps, pipeline.scene_state.scene,
-                SampledGrid.single(spec, tuple(textures)), Medium.of(settings))
+                SampledGrid.single(spec, tuple(textures)), FogParams.of(settings).medium)
         lpv = read_texture(fog.targets["fog_lpv"])[..., :3]
         transmittance = read_texture(fog.targets["fog_direct"])[..., 3]
     finally:

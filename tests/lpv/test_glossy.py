@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from explorer.lpv import twin_media as media
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
+from explorer.lpv.twin import media
 
 PLAIN = Settings(scene="cornell", grid_size=8, iterations=4, width=48, height=32,
                  rsm_size=32)

@@ -11,7 +11,7 @@ from lpv_cases import cube_symmetries, random_grid, random_vpls, relative_error,
 from explorer.lpv import inject, propagate
 from explorer.lpv.audit import check_finite
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.propagate import propagate_with_audit
+from explorer.lpv.passes.propagate import propagate_with_audit
 from explorer.lpv.settings import PRESETS, Corrections
 from explorer.lpv.vpl import VplArrays
 

@@ -8,16 +8,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from lpv_cases import cube_symmetries, random_grid, random_vpls, relative_error
-from test_pass_gather import setup  # noqa: F401 (the fixture)
 
 from explorer.lpv import constants as K
-from explorer.lpv import inject, propagate, twin
-from explorer.lpv.geometry import inject_geometry
+from explorer.lpv import inject, propagate
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.light_records import ShadowMaps
-from explorer.lpv.propagate import propagate_with_audit
+from explorer.lpv.passes.geometry import inject_geometry
+from explorer.lpv.passes.light_records import ShadowMaps
+from explorer.lpv.passes.propagate import propagate_with_audit
+from explorer.lpv.passes.textures import LpvGrid
 from explorer.lpv.settings import PRESETS, Corrections, Settings
-from explorer.lpv.textures import LpvGrid
+from explorer.lpv.twin import light_grid as twin
 
 SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=0.5, resolution=8)
 
@@ -272,12 +272,12 @@ def test_pipeline_with_l2(ctx):
 
 
 @pytest.mark.parametrize("shader_filter", [False, True], ids=["texture-unit", "shader-filter"])
-def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811
+def test_l2_cascade_gather_blends_like_numpy(setup, ctx, shader_filter):
     """Two L2 cascades in the final gather: Σ_k W_k·clamp+(<s_k, lobe₂(−n)>)/c_k²."""
-    from test_pass_gather import TOLERANCE, filtering, smooth_grid, visible_points
+    from gather_cases import TOLERANCE, filtering, smooth_grid, visible_points
 
     from explorer.lpv.cascades import CascadeInput, SampledGrid, blend_weights, cascade_specs
-    from explorer.lpv.rsm import read_texture
+    from explorer.lpv.passes.rsm import read_texture
 
     _, scene, view, shadow, gbuffer, gather, _, spec = setup
     n = spec.resolution

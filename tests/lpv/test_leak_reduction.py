@@ -8,10 +8,10 @@ import pytest
 from lpv_cases import random_vpls, relative_error
 
 from explorer.lpv import inject
-from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
+from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.vpl import VplArrays
 from explorer.truth.gbuffer import gbuffer_from_frame
 

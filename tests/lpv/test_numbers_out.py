@@ -109,7 +109,7 @@ def test_dumped_vpls_fed_back_reproduce_grid_0_exactly(dumped, tmp_path):
 def test_grid0_fed_in_is_propagated_from(dumped, tmp_path):
     """A grid_0 with one cell changed is what the frame propagates: its grid_0 is the file's
     and grid_1 is the numpy twin's step of it (the geometry volume's occlusion too)."""
-    from explorer.lpv import twin
+    from explorer.lpv.twin import light_grid as twin
 
     folder, arrays, _ = dumped
     grid0 = arrays["grid_0"].copy()

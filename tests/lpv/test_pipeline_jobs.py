@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from explorer import schema
-from explorer.lpv import stage_list, stages
-from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.rsm import read_texture
+from explorer.lpv import cache_keys, stage_list
 from explorer.lpv.corrections import CORRECTIONS, preset
+from explorer.lpv.passes.rsm import read_texture
+from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Corrections, Settings
 
 SMALL = Settings(scene="cornell", grid_size=8, iterations=6, rsm_size=32, width=40,
@@ -253,13 +253,13 @@ def test_cascades_are_a_list_of_levels(pipeline):
 
 
 def test_stage_keys_come_from_the_schema():
-    stages.check_declarations()
-    assert [name for name, _ in stages.stage_inputs(SMALL, "display")] == [
+    cache_keys.check_declarations()
+    assert [name for name, _ in cache_keys.stage_inputs(SMALL, "display")] == [
         "exposure", "indirect_only", "tone_map", "auto_exposure"]
     for stage in stage_list.STAGES:
-        names = [name for name, _ in stages.stage_inputs(SMALL, stage)]
+        names = [name for name, _ in cache_keys.stage_inputs(SMALL, stage)]
         assert names == list(schema.stages_reading(Settings, stage))
-    table = stages.describe()
+    table = cache_keys.describe()
     for stage in stage_list.STAGES:
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
     assert "display    (gather, fog) exposure, indirect_only, tone_map, auto_exposure" \
@@ -268,13 +268,13 @@ def test_stage_keys_come_from_the_schema():
         "spot_cone_degrees" in table
     assert "geometry   (downsample, grid, gbuffer if uses_camera_occluders)" in table
     # conditional upstream stages count only while their flag is on
-    assert stages.downstream("gbuffer", SMALL) == ("gbuffer", "gather", "display")
-    assert stages.downstream("gbuffer", SMALL.with_changes(fog=True, camera_occluders=True,
+    assert cache_keys.downstream("gbuffer", SMALL) == ("gbuffer", "gather", "display")
+    assert cache_keys.downstream("gbuffer", SMALL.with_changes(fog=True, camera_occluders=True,
                                                            geometry_volume="one-sided")) == (
         "geometry", "propagate", "gbuffer", "gather", "fog", "display")
     every_flag = types.SimpleNamespace(**{flag: True for decl in stage_list.STAGE_LIST
                                           for _, flag in decl.upstream_when})
-    assert stages.downstream("gbuffer") == stages.downstream("gbuffer", every_flag)
+    assert cache_keys.downstream("gbuffer") == cache_keys.downstream("gbuffer", every_flag)
 
 
 def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):
@@ -283,14 +283,14 @@ def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):
     stages that read it, and then everything downstream."""
     for stage in stage_list.STAGES:
         read = [entry.name for entry in CORRECTIONS if stage in entry.stages]
-        assert [name for name, _ in stages._nested_inputs(Corrections(), stage)] == read
+        assert [name for name, _ in cache_keys._nested_inputs(Corrections(), stage)] == read
     in_place = Corrections(ping_pong=False)           # read by the propagation only
-    assert stages._nested_inputs(in_place, "inject") == stages._nested_inputs(
+    assert cache_keys._nested_inputs(in_place, "inject") == cache_keys._nested_inputs(
         Corrections(), "inject")
-    assert stages._nested_inputs(in_place, "propagate") != stages._nested_inputs(
+    assert cache_keys._nested_inputs(in_place, "propagate") != cache_keys._nested_inputs(
         Corrections(), "propagate")
     # the "original" preset leaves the geometry volume's switch corrected
-    assert stages._nested_inputs(preset("original"), "geometry") == stages._nested_inputs(
+    assert cache_keys._nested_inputs(preset("original"), "geometry") == cache_keys._nested_inputs(
         Corrections(), "geometry")
     with_volume = SMALL.with_changes(geometry_volume="one-sided")
     pipeline.run(with_volume)
@@ -337,7 +337,7 @@ def test_gather_writes_linear_light_only(pipeline):
 
 
 def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
-    from explorer.lpv.gather import bands
+    from explorer.lpv.passes.gather import bands
 
     assert bands((960, 540)) == [(round(i * 540 / 8), round((i + 1) * 540 / 8))
                                  for i in range(8)]
@@ -367,7 +367,7 @@ def test_a_large_step_runs_in_slabs_with_the_same_result(gl_context, ctx, monkey
     frame): the result is the one-slab result, and the progress counts steps."""
     import sys
 
-    propagate = sys.modules["explorer.lpv.propagate"]   # the package exports a function
+    propagate = sys.modules["explorer.lpv.passes.propagate"]   # the package exports a function
     assert propagate.slabs(64) == [(z, z + 8) for z in range(0, 64, 8)]
     assert propagate.slabs(32) == [(0, 32)]
     assert propagate.slabs(128) == [(z, z + 4) for z in range(0, 128, 4)]

@@ -8,12 +8,11 @@ import inspect
 
 import numpy as np
 import pytest
-
 from lpv_cases import random_vpls, relative_error
 
 import explorer
 import explorer.lpv as lpv
-from explorer.lpv import twin
+from explorer.lpv.twin import light_grid as twin
 
 SMALL = dict(scene="cornell", grid_size=8, iterations=4, rsm_size=32, width=40, height=32)
 

@@ -1,5 +1,5 @@
 """How far and how fast light travels through the grid (numpy twin,
-explorer/lpv/twin.py): the reason distant surfaces of a large scene, such as the
+explorer/lpv/twin/light_grid.py): the reason distant surfaces of a large scene, such as the
 atrium's floor across the courtyard from the sunlit arcades, stay dark at a few
 iterations (README, "Where the atrium's indirect light is wrong, and why")."""
 
@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from explorer.lpv import twin as R
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import PRESETS
+from explorer.lpv.twin import light_grid as R
 from explorer.lpv.vpl import VplArrays
 
 CORRECTED = PRESETS["corrected"]

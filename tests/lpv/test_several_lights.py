@@ -13,13 +13,13 @@ import sympy as sp
 
 from derivations.registry import get
 from explorer.gl.program import ProgramCache
-from explorer.lpv.atlas import AtlasLayout, PerView, VplAtlas
-from explorer.lpv.gather import GatherParams, GatherPass
-from explorer.lpv.light_records import ShadowMaps
-from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.geometry import merged_volume_reference
+from explorer.lpv.passes.atlas import AtlasLayout, PerView, VplAtlas
+from explorer.lpv.passes.gather import GatherInputs, GatherPass
+from explorer.lpv.passes.gbuffer import GBufferPass
+from explorer.lpv.passes.geometry import merged_volume_reference
+from explorer.lpv.passes.light_records import ShadowMaps
+from explorer.lpv.passes.rsm import RsmPass, light_views, read_texture
 from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.rsm import RsmPass, light_views, read_texture
 from explorer.lpv.settings import Settings
 from explorer.lpv.vpl import VplArrays
 from explorer.scene import Camera, MeshBuilder, PointLight, Scene, SceneError, load_scene
@@ -114,7 +114,7 @@ def test_the_direct_light_of_a_point_light_counts_each_point_once(box_rsms):
         tiles = [atlas.layout.origin(k) for k in range(len(sets))]
         gbuffer.run(geometry, scene, (64, 64))
         gather.run(gbuffer, ShadowMaps(shadow, views, tiles), None,
-                   GatherParams(shadow_kernel=1))
+                   GatherInputs(shadow_kernel=1))
         position = read_texture(gbuffer.position)
         normal = read_texture(gbuffer.normal)[..., :3]
         direct = read_texture(gather.targets["direct"])[..., :3]

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from explorer.gl.program import ProgramCache
-from explorer.lpv.gather import GatherParams, GatherPass
-from explorer.lpv.light_records import ShadowMaps
-from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.rsm import RsmPass, light_view, read_texture
+from explorer.lpv.passes.gather import GatherInputs, GatherPass
+from explorer.lpv.passes.gbuffer import GBufferPass
+from explorer.lpv.passes.light_records import ShadowMaps
+from explorer.lpv.passes.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.settings import MAX_SHADOW_KERNEL, Settings
 from explorer.scene import Camera, MeshBuilder, Scene, SpotLight
 from explorer.scene.gpu import SceneBuffers
@@ -53,7 +53,7 @@ def visibility(gl_context):
         images = {}
         for kernel in (1, 3, 7):
             gather.run(gbuffer, ShadowMaps(shadow, view), None,
-                       GatherParams(shadow_kernel=kernel))
+                       GatherInputs(shadow_kernel=kernel))
             images[kernel] = read_texture(gather.targets["direct"])[..., 0].astype(np.float64)
     finally:
         for thing in (gather, gbuffer, rsm, geometry, programs):

@@ -10,11 +10,11 @@ import pytest
 import sympy as sp
 
 from derivations import rsm as rsm_derivation
-from explorer.lpv.gather import GatherParams, GatherPass
-from explorer.lpv.light_records import ShadowMaps
-from explorer.lpv.gbuffer import GBufferPass
+from explorer.lpv.passes.gather import GatherInputs, GatherPass
+from explorer.lpv.passes.gbuffer import GBufferPass
+from explorer.lpv.passes.light_records import ShadowMaps
+from explorer.lpv.passes.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.pipeline import Pipeline
-from explorer.lpv.rsm import RsmPass, light_view, read_texture
 from explorer.lpv.settings import Settings
 from explorer.scene import Camera, MeshBuilder, Scene, SpotLight, load_scene
 from explorer.scene.gpu import SceneBuffers
@@ -192,7 +192,7 @@ def test_direct_light_and_rsm_share_the_falloff(ctx, programs):
         shadow = rsm.run(geometry, view)
         rsm_flux = np.frombuffer(shadow.flux.read(), np.float32).reshape(SIZE, SIZE, 4)
         gbuffer.run(geometry, scene, size)
-        gather.run(gbuffer, ShadowMaps(shadow, view), None, GatherParams(shadow_kernel=1))
+        gather.run(gbuffer, ShadowMaps(shadow, view), None, GatherInputs(shadow_kernel=1))
         direct = read_texture(gather.targets["direct"])[..., :3].astype(np.float64)
         position = read_texture(gbuffer.position)
     finally:

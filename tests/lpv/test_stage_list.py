@@ -14,10 +14,10 @@ from pathlib import Path
 import pytest
 
 from explorer import schema
-from explorer.lpv import corrections, frame_stages, job, stage_list, stages
-from explorer.lpv.frame_stages.base import Stage
+from explorer.lpv import cache_keys, corrections, job, stage_list, stages
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import STAGE_LIST, STAGES, StageDecl, execution_order
+from explorer.lpv.stages.base import Stage
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -25,11 +25,11 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_every_other_stage_fact_is_derived_from_the_list():
     assert STAGES == tuple(decl.name for decl in STAGE_LIST)
     assert sorted(stage_list.EXECUTION_ORDER) == sorted(STAGES)
-    assert stages.EXECUTION_ORDER is stage_list.EXECUTION_ORDER
+    assert cache_keys.EXECUTION_ORDER is stage_list.EXECUTION_ORDER
     assert job.VERBS is stage_list.VERBS and set(job.VERBS) == set(STAGES)   # fog too
     assert job.Progress("fog", 1, 3, False, ()).label == "marching the fog 1/3"
     assert corrections.STAGES == tuple(d.name for d in STAGE_LIST if d.corrections)
-    assert stages.PASSES == tuple(d.name for d in STAGE_LIST if d.gpu)
+    assert cache_keys.PASSES == tuple(d.name for d in STAGE_LIST if d.gpu)
     assert not hasattr(schema, "STAGES")               # the schema knows no stage names
     every_field_stage = {s for spec in schema.specs(Settings).values() for s in spec.stages}
     assert every_field_stage <= set(STAGES)
@@ -48,12 +48,12 @@ def test_the_execution_order_runs_eager_stages_first_among_the_passes():
 
 
 def test_each_declared_stage_has_its_module_and_no_module_is_undeclared():
-    modules = {info.name for info in pkgutil.iter_modules(frame_stages.__path__)}
+    modules = {info.name for info in pkgutil.iter_modules(stages.__path__)}
     assert modules - {"base"} == set(STAGES)
     for name in STAGES:
-        cls = frame_stages.stage_class(name)
+        cls = stages.stage_class(name)
         assert issubclass(cls, Stage) and cls is not Stage
-        assert cls.__module__ == f"explorer.lpv.frame_stages.{name}"
+        assert cls.__module__ == f"explorer.lpv.stages.{name}"
 
 
 def test_a_settings_field_declares_only_listed_stages():
@@ -79,10 +79,12 @@ def test_each_stage_params_read_only_the_fields_its_key_holds():
     derived = {"uses_camera_occluders": ("camera_occluders", "geometry_volume")}
     checked = []
     for name in STAGES:
-        module = __import__(f"explorer.lpv.frame_stages.{name}", fromlist=["Params"])
+        module = __import__(f"explorer.lpv.stages.{name}", fromlist=["Params"])
         params = getattr(module, "Params", None)
         if params is None:
             continue
+        # one home and one shape: a dataclass of the stage's own module, made by ``of``
+        assert dataclasses.is_dataclass(params) and params.__module__ == module.__name__, name
         recorder = Recorder()
         extra = {"eye": (0.0, 0.0, 2.0), "cascades": 1}     # what a stage adds itself
         names = list(inspect.signature(params.of).parameters)[1:]
@@ -127,8 +129,9 @@ def test_no_other_module_lists_the_stages():
 def test_a_frame_leaves_each_stage_its_typed_field(gl_context):
     """What the stages hand on is typed and complete once a frame is done; the fog's
     field is None while the fog is off and its images once it is on."""
-    from explorer.lpv.frame_state import FogImages, GatherImages, GBufferImages, RsmImages
-    from explorer.lpv.frame_state import VplImages
+    from explorer.lpv.frame_state import GBufferImages, RsmImages, VplImages
+    from explorer.lpv.passes.fog import FogImages
+    from explorer.lpv.passes.gather import GatherImages
     from explorer.lpv.pipeline import Pipeline
 
     small = Settings(grid_size=8, iterations=3, rsm_size=32, width=40, height=32)

@@ -8,8 +8,8 @@ import pytest
 import trimesh
 from PIL import Image
 
-from explorer.lpv.gbuffer import GBufferPass
-from explorer.lpv.rsm import RsmPass, light_view
+from explorer.lpv.passes.gbuffer import GBufferPass
+from explorer.lpv.passes.rsm import RsmPass, light_view
 from explorer.scene import Camera, Scene, SpotLight, load_scene
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.meshes import srgb_to_linear

@@ -31,7 +31,7 @@ def test_numpy_gather_reproduces_the_pipeline_indirect(ctx):
                                    gbuffer.position[valid], gbuffer.normal[valid])
     expected = frame.indirect[valid]
     assert expected.max() > 0
-    # relative to the largest value, as tests/lpv/test_pass_gather.py
+    # relative to the largest value, as tests/lpv/passes/test_pass_gather.py
     assert relative_error(gbuffer.albedo[valid] / np.pi * irradiance, expected) < 1e-5
 
 

@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from explorer.lpv import twin
 from explorer.lpv.settings import Settings
+from explorer.lpv.twin import light_grid as twin
 from explorer.ui.overlays import picking
 from explorer.ui.state import AppState
 

@@ -12,7 +12,7 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from explorer.lpv.gather import reduced_size
+from explorer.lpv.passes.gather import reduced_size
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import VERBS

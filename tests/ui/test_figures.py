@@ -10,22 +10,27 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import sympy as sp
+from figure_cases import synthetic_result
 
 from explorer.lpv import constants as K
-from explorer.lpv.twin import cosine_lobe
 from explorer.lpv.settings import PRESETS, Settings
+from explorer.lpv.twin.light_grid import cosine_lobe
 from explorer.ui import legend
 from explorer.ui.figures import (
     FIGURES,
     FigureContext,
     FigureParamError,
+    cell_faces,
+    clamped_cosine,
     declared_readouts,
+    energy_audit,
+    flux_per_step,
     make_figure,
     parse_figure,
+    plotting,
+    propagation_stepper,
+    rsm_texel,
 )
-from explorer.ui.figures import cell_faces, clamped_cosine, plotting, propagation_stepper
-from explorer.ui.figures import energy_audit, flux_per_step, rsm_texel
-from figure_cases import synthetic_result
 
 # ----------------------------------------------------------------------------- parameters
 

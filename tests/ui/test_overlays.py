@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from explorer.lpv import constants as C
-from explorer.lpv import twin
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
+from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.vpl import VplArrays
 from explorer.ui import persist
 from explorer.ui.overlays import picking

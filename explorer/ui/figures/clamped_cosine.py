@@ -18,9 +18,9 @@ from functools import lru_cache
 import numpy as np
 from imgui_bundle import imgui, implot, implot3d
 
-from explorer.lpv.twin import sh_basis
-from explorer.ui.figures import style
 from explorer.figure_params import ClampedCosineParams as Params
+from explorer.lpv.twin.light_grid import sh_basis
+from explorer.ui.figures import style
 
 _MU_NODES = 64          # Gauss–Legendre nodes on each of μ ∈ [−1, 0] and [0, 1]
 _PHI_NODES = 96

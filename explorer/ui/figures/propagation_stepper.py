@@ -1,6 +1,6 @@
 """Propagation, step by step: a point light in a small grid, one step t at a time.
 
-One VPL is injected at a cell of a small grid (numpy twin, explorer/lpv/twin.py,
+One VPL is injected at a cell of a small grid (numpy twin, explorer/lpv/twin/light_grid.py,
 with the chosen corrections) and propagated; the figure shows the slice through the
 source at step t, each cell coloured by the flux it holds and marked with a glyph of
 where its light is heading (its intensity lobe, or an arrow along its band-1 vector), and
@@ -18,19 +18,19 @@ from functools import lru_cache
 import numpy as np
 from imgui_bundle import imgui
 
+from explorer.figure_params import STEPPER_CORRECTIONS as CORRECTIONS
+from explorer.figure_params import STEPPER_GLYPHS as GLYPHS
+from explorer.figure_params import PropagationStepperParams as Params
 from explorer.lpv import constants as K
 from explorer.lpv.audit import GridAudit
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.twin import inject, propagate_audited
 from explorer.lpv.settings import PRESETS, Corrections
+from explorer.lpv.twin.light_grid import inject, propagate_audited
 from explorer.lpv.vpl import VplArrays
 from explorer.ui import glyphs, legend, widgets
 from explorer.ui.figures import plotting, style
 from explorer.ui.figures.flux_per_step import draw_flux_plot
 from explorer.ui.figures.plotting import Series
-from explorer.figure_params import STEPPER_CORRECTIONS as CORRECTIONS
-from explorer.figure_params import STEPPER_GLYPHS as GLYPHS
-from explorer.figure_params import PropagationStepperParams as Params
 
 """A preset, or the corrected preset with one switch off."""
 PLAY_RATE = 3.0            # steps per second while playing

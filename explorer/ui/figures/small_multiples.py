@@ -2,7 +2,7 @@
 (the number of propagation steps, the formulas or the SH order), on one colour scale.
 
 Each panel injects one VPL into a small grid and propagates it with the numpy twin
-(explorer/lpv/twin.py), like the propagation stepper, and shows the slice through
+(explorer/lpv/twin/light_grid.py), like the propagation stepper, and shows the slice through
 the light: each cell coloured by the flux it holds, in the accumulated grid or in flight
 after the last step. With ``shared_scale`` (the default) the brightest cell of all panels
 is white, so the panels compare by brightness; under each panel its total flux.
@@ -19,8 +19,8 @@ from imgui_bundle import imgui
 from explorer.figure_params import SmallMultiplesParams as Params
 from explorer.lpv import constants as K
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.twin import inject, propagate_audited
 from explorer.lpv.settings import Corrections
+from explorer.lpv.twin.light_grid import inject, propagate_audited
 from explorer.lpv.vpl import VplArrays
 from explorer.ui.figures import style
 from explorer.ui.figures.propagation_stepper import corrections_named

@@ -18,7 +18,7 @@ def glyph_peaks(coefficients: np.ndarray, directions: np.ndarray) -> np.ndarray:
     """(G,) largest |f(ω)| of each glyph over the mesh's directions: the shader shades a
     glyph by |f(ω)| over it, so its strong direction reads bright and its weak side dark
     from any camera (a lobe seen head-on is otherwise a ball)."""
-    from explorer.lpv.twin import sh_basis
+    from explorer.lpv.twin.light_grid import sh_basis
 
     values = np.asarray(coefficients, np.float64) @ sh_basis(directions, 2).T
     return np.abs(values).max(axis=1) if len(values) else np.zeros(0)

@@ -16,7 +16,7 @@ import numpy as np
 from explorer.lpv import constants as C
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.cascades import blend_weights
-from explorer.lpv.twin import gather
+from explorer.lpv.twin.light_grid import gather
 from explorer.ui.overlays.quantities import plane_axes
 
 CellIndex = tuple[int, int, int]

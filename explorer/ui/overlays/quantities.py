@@ -14,7 +14,7 @@ import numpy as np
 
 from explorer.lpv import constants as C
 from explorer.lpv.grid import GridSpec
-from explorer.lpv.twin import sh_basis
+from explorer.lpv.twin.light_grid import sh_basis
 from explorer.ui.images import direction_from_angles
 from explorer.ui.state import SLICE_AXES, OverlayState
 from explorer.ui.textures import diverging, heat, robust_max

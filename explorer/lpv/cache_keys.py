@@ -1,0 +1,111 @@
+"""The stages' cache keys, derived from the declared stage list and the settings schema.
+
+A stage declares only its *upstream* stages (:data:`explorer.lpv.stage_list.STAGE_LIST`,
+the one list of stages). The Settings fields it reads come from the settings schema
+(:attr:`explorer.schema.Spec.stages` of every field, read through
+:func:`explorer.schema.stages_reading`): the field declarations are the single
+source. From the two the pipeline derives
+
+* the *key* of a stage: the values of the fields it reads, the output keys of its
+  upstream stages, and its extra inputs (hand-made VPLs for ``downsample``);
+  :func:`stage_key`. A stage may also have *conditional* upstream stages
+  (:attr:`StageDecl.upstream_when`): their output keys count only while a Settings flag
+  says the stage uses them, e.g. the geometry volume reads the G-buffer only with camera
+  occluders on, so that otherwise moving the camera does not rebuild it;
+* its *output key*, what the stages downstream see: the key itself, or, for a stage
+  declared ``by_value``, the value it computed (the cascade grid specs: moving the camera
+  with one cascade changes the ``grid`` stage's inputs but not its specs, so nothing
+  downstream runs again);
+* invalidation: a stage runs when its key differs from the key of its last completed
+  run, and invalidating a stage forgets its key (the stages downstream then see a new
+  output key as soon as it runs again);
+* timing, NaN checks and read-back, which each stage does
+  (:mod:`explorer.lpv.stages`).
+
+:func:`describe` prints the table.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from explorer.lpv.corrections import CORRECTIONS, Corrections
+from explorer.lpv.stage_list import (  # noqa: F401  (re-exported: the stage facts)
+    DECLARATIONS,
+    EXECUTION_ORDER,
+    PASSES,
+    STAGES,
+    StageDecl,
+)
+from explorer.schema import stages_reading
+
+
+def check_declarations() -> None:
+    """A ValueError unless the execution order runs every declared stage once, after its
+    upstream stages."""
+    if sorted(EXECUTION_ORDER) != sorted(STAGES):
+        raise ValueError(f"execution order {EXECUTION_ORDER} must run the declared "
+                         f"stages {STAGES}")
+    for index, name in enumerate(EXECUTION_ORDER):
+        late = [up for up in DECLARATIONS[name].all_upstream
+                if EXECUTION_ORDER.index(up) >= index]
+        if late:
+            raise ValueError(f"stage {name} runs before its upstream stage(s) {late}")
+
+
+def downstream(stage: str, settings: Any = None) -> tuple[str, ...]:
+    """``stage`` and every stage that depends on it, directly or not, in :data:`STAGES`
+    order: with ``settings``, through the conditional upstream stages those settings
+    use; without, through every one that may be used."""
+    found = {stage}
+    for name in EXECUTION_ORDER:
+        decl = DECLARATIONS[name]
+        ups = decl.all_upstream if settings is None else decl.upstream_for(settings)
+        if any(up in found for up in ups):
+            found.add(name)
+    return tuple(name for name in STAGES if name in found)
+
+
+def stage_inputs(settings: Any, stage: str) -> tuple:
+    """``(field, value)`` of every Settings field ``stage`` reads (from the schema)."""
+    if stage not in DECLARATIONS:
+        raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
+    return tuple((name, _nested_inputs(getattr(settings, name), stage))
+                 for name in stages_reading(type(settings), stage))
+
+
+def _nested_inputs(value: Any, stage: str) -> Any:
+    """The part of a field's value that ``stage`` reads. Of the corrections only the
+    switches the registry says the stage's programs read (:attr:`Correction.stages`,
+    explorer/correction_registry.py), so e.g. toggling a switch that only the propagation
+    reads re-runs no injection, and the "original" preset (which leaves the geometry
+    volume's switch corrected) re-runs no geometry volume."""
+    if isinstance(value, Corrections):
+        return tuple((entry.name, getattr(value, entry.name)) for entry in CORRECTIONS
+                     if stage in entry.stages)
+    return value
+
+
+def stage_key(settings: Any, stage: str, upstream_keys: dict[str, Any],
+              extra: Any = None) -> tuple:
+    """The key a completed run of ``stage`` is remembered by (module docstring)."""
+    decl = DECLARATIONS[stage]
+    return (stage_inputs(settings, stage),
+            tuple(upstream_keys[up] for up in decl.upstream_for(settings)), extra)
+
+
+def describe(settings_type: type | None = None) -> str:
+    """The stage table: each stage, its upstream stages and the fields it reads."""
+    if settings_type is None:
+        from explorer.lpv.settings import Settings as settings_type
+    lines = []
+    for name in EXECUTION_ORDER:
+        decl = DECLARATIONS[name]
+        ups = list(decl.upstream) + [f"{stage} if {flag}" for stage, flag in decl.upstream_when]
+        upstream = f"({', '.join(ups)}) " if ups else ""
+        fields = ", ".join(stages_reading(settings_type, name)) or "-"
+        lines.append(f"{name:<10} {upstream}{fields}: {decl.doc}")
+    return "\n".join(lines)
+
+
+check_declarations()

@@ -1,0 +1,187 @@
+"""The energy audit's GPU reduction (``shaders/audit_reduce.glsl``): the per-cell records
+the propagation writes, summed into the totals :class:`explorer.lpv.audit.GridAudit`
+holds, and :class:`CellAuditRecords`, one cell's records read on demand; the audit's
+data types are :mod:`explorer.lpv.audit`'s."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.audit import CellAudit
+from explorer.lpv.passes.textures import LpvGrid
+
+AUDIT_VALUES = 18
+"""Numbers per audit slot: flux, border loss, clamp gain, occluded, reflected, blocked
+(3 channels each)."""
+CELL_SUMS_BINDING = 5
+"""Storage binding of the per-cell sums over the steps (``shaders/propagate.glsl``)."""
+MAX_PARTIALS = 512
+"""Partial records per audit slot at most (``audit_reduce.glsl`` stages 0 and 1): each
+invocation of the first stage sums every P-th cell, P = min(⌈N³/64⌉, MAX_PARTIALS), so
+the partial records of 1026 slots (1024 iterations) take 37 MB, within one storage
+block."""
+
+
+class AuditReducer:
+    """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
+    18 floats (flux, border loss, clamp gain, occluded, reflected, blocked; 3 channels
+    each). Each measurement (:meth:`measure_flux`, :meth:`sum_cell_records`) reduces its
+    records to partial sums in its own slot's region; :meth:`read` folds every slot at
+    once (one dispatch, no barrier: llvmpipe pays dearly for ``barrier()``) and reads them
+    back, the only read-back.
+
+    Storage buffers while a pass runs (see :meth:`bind`): 2 partial records (all slots),
+    3 results, 4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats, the
+    current step's), 5 their per-cell sums over the steps (``18·N³`` floats, zeroed by
+    :meth:`begin`).
+    """
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._buffers: dict[str, moderngl.Buffer] = {}
+        self._slots = 0
+        self._resolution = 0
+        self.generation = 0
+        """Counts :meth:`begin` calls: the per-cell records of a propagation are current
+        while it has not changed (:class:`CellAuditRecords`)."""
+        self.has_records = False
+
+    def _buffer(self, name: str, size: int) -> moderngl.Buffer:
+        buffer = self._buffers.get(name)
+        if buffer is None or buffer.size < size:
+            if buffer is not None:
+                buffer.release()
+            buffer = self._buffers[name] = self.ctx.buffer(reserve=max(size, 4))
+        return buffer
+
+    @property
+    def partial_count(self) -> int:
+        """Partial records per slot."""
+        return min(-(-self._resolution ** 3 // 64), MAX_PARTIALS)
+
+    def begin(self, resolution: int, slots: int, cell_records: bool = True) -> None:
+        """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid, and the
+        per-cell records of a propagation step when ``cell_records``."""
+        self._resolution = int(resolution)
+        self._slots = int(slots)
+        self.generation += 1
+        self.has_records = bool(cell_records)
+        # every slot is measured once before read(): no clearing needed
+        self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
+        if cell_records:
+            size = self._resolution ** 3 * AUDIT_VALUES * 4
+            self._buffer("cells", size)
+            self._buffer("cell_sums", size).clear(size=size)
+        self._buffer("results", self._slots * AUDIT_VALUES * 4)
+
+    def bind(self) -> None:
+        """Bind the storage buffers: partials 2, results 3, per-cell records 4 and their
+        sums 5 (when allocated)."""
+        for name, binding in (("partials", 2), ("results", 3), ("cells", 4),
+                              ("cell_sums", CELL_SUMS_BINDING)):
+            if name in self._buffers:
+                self._buffers[name].bind_to_storage_buffer(binding)
+
+    def read_cell_sums(self, linear: int) -> np.ndarray:
+        """(18,) float64: cell ``linear``'s record summed over the steps so far (one read
+        of 72 bytes at its offset)."""
+        self.ctx.memory_barrier()
+        raw = self._buffers["cell_sums"].read(size=AUDIT_VALUES * 4,
+                                              offset=int(linear) * AUDIT_VALUES * 4)
+        return np.frombuffer(raw, np.float32).astype(np.float64)
+
+    def read_cell_terms(self, linear: int) -> np.ndarray:
+        """(18,) float64: cell ``linear``'s record of the last step (quantity-major: one
+        read of 4 bytes per number)."""
+        self.ctx.memory_barrier()
+        cells = self._resolution ** 3
+        buffer = self._buffers["cells"]
+        return np.array([np.frombuffer(buffer.read(size=4, offset=(i * cells + int(linear))
+                                                   * 4), np.float32)[0]
+                         for i in range(AUDIT_VALUES)], np.float64)
+
+    def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object]) -> None:
+        if not 0 <= slot < self._slots:
+            raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
+        self.bind()
+        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
+        set_uniforms(program, {**uniforms, "u_grid_resolution": self._resolution,
+                               "u_partial_count": self.partial_count,
+                               "u_result_slot": slot})
+        program.run(-(-self.partial_count // 64))
+        self.ctx.memory_barrier()
+
+    def measure_flux(self, slot: int, grid: LpvGrid) -> None:
+        """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs)."""
+        if grid.resolution != self._resolution:
+            raise ValueError(f"audit prepared for {self._resolution}^3 cells, the grid has "
+                             f"{grid.resolution}^3")
+        grid.use_as_textures(0)
+        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2})
+
+    def sum_cell_records(self, slot: int) -> None:
+        """Reduce the per-cell records a propagation step wrote into ``slot``."""
+        self._run_partials(1, slot, {})
+
+    def read(self) -> np.ndarray:
+        """(slots, 18) float64: flux, border loss, clamp gain, occluded, reflected, blocked
+        (3 channels each) of every slot, folded from their partial sums."""
+        self.bind()
+        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 2})
+        set_uniforms(program, {"u_partial_count": self.partial_count,
+                               "u_slot_count": self._slots})
+        program.run(-(-self._slots * AUDIT_VALUES // 64))
+        self.ctx.memory_barrier()
+        raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
+        return np.frombuffer(raw, np.float32).reshape(self._slots, AUDIT_VALUES).astype(
+            np.float64)
+
+    def release(self) -> None:
+        for buffer in self._buffers.values():
+            buffer.release()
+        self._buffers.clear()
+        self.has_records = False
+
+
+class CellAuditRecords:
+    """The per-cell audit records one propagation left on the GPU, read one cell at a
+    time: the sums over all steps (one read of 72 bytes at the cell's offset) and the last
+    step's record (18 reads of 4 bytes: that buffer is laid out per quantity for the
+    reduction). Reads are cached per cell. The buffers belong to the propagation pass: a
+    later propagation overwrites them, after which :meth:`read` returns None (the frame
+    that showed them is out of date)."""
+
+    def __init__(self, reducer: AuditReducer, resolution: int, steps: int) -> None:
+        self._reducer = reducer
+        self._generation = reducer.generation
+        self.resolution = int(resolution)
+        self.steps = int(steps)
+        self._cache: dict[tuple[int, int, int], tuple[CellAudit, CellAudit | None]] = {}
+
+    @property
+    def current(self) -> bool:
+        """Whether the records on the GPU are still this propagation's."""
+        return self._reducer.generation == self._generation and self._reducer.has_records
+
+    def read(self, cell) -> tuple[CellAudit, CellAudit | None] | None:
+        """(the sums over all steps, the last step's record or None without steps) of
+        cell (i, j, k); None when the records were overwritten or released. An IndexError
+        names a cell outside the grid."""
+        index = tuple(int(v) for v in cell)
+        n = self.resolution
+        if len(index) != 3 or not all(0 <= v < n for v in index):
+            raise IndexError(f"cell {index} is outside the {n}^3 grid")
+        if index in self._cache:
+            return self._cache[index]
+        if not self.current:
+            return None
+        linear = index[0] + n * (index[1] + n * index[2])
+        sums = self._reducer.read_cell_sums(linear)
+        last = self._reducer.read_cell_terms(linear) if self.steps else None
+        record = (CellAudit.from_record(sums),
+                  None if last is None else CellAudit.from_record(last))
+        self._cache[index] = record
+        return record

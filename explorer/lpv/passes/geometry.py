@@ -1,0 +1,306 @@
+"""Geometry volume (fuzzy occlusion): occluder surfels from the VPLs in a grid whose cell
+centres sit on the light grid's corners (docs/MODEL.md "Geometry volume"). With several
+RSM views (several lights, a point light's faces) each view's volume is built alone and
+merged per cell by :func:`merge_volumes` (docs/MODEL.md "Several lights"); with camera
+occluders the camera's G-buffer pixels that no RSM view sees add their surfels to the
+merged volume (docs/MODEL.md "Camera occluders")."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.corrections import uniforms_read_by
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.inject import bind_vpl_textures, vpl_count
+from explorer.lpv.passes.light_records import LightRecordBuffer
+from explorer.lpv.passes.rsm import LightView
+from explorer.lpv.passes.textures import (
+    LayeredTarget,
+    VolumeTexture,
+    copy_volume,
+    default_context,
+    dispatch_size,
+    draw_points_additively,
+    image_format_defines,
+    per_context,
+    programs_for,
+)
+from explorer.lpv.settings import Corrections
+from explorer.lpv.vpl import VplArrays, VplTextures
+from explorer.scene.transforms import gl_matrix
+
+GEOMETRY_MODES = ("one-sided", "double-sided")
+ALBEDO_UNIT = 3
+"""Sampler unit of the VPL albedo texture (units 0..2 hold position, normal, flux)."""
+CAMERA_UNITS = {"u_surfel_position": 0, "u_surfel_normal": 1, "u_surfel_albedo": 2,
+                "u_shadow_position": 3, "u_shadow_normal": 4}
+"""Sampler units of the camera-surfel program (G-buffer, then the RSM views' shadow
+maps)."""
+
+
+def camera_pixel_area(fov_y_degrees: float, height: int) -> float:
+    """Area of one camera pixel at view depth 1 on a plane facing the camera,
+    ``(2·tan(fov_y/2)/H)²`` (derivation occlusion.camera_surfel_area): a surfel at depth
+    ``w`` covers this times ``w²``, the RSM texel's rule."""
+    edge = 2.0 * math.tan(math.radians(fov_y_degrees) / 2.0) / int(height)
+    return edge * edge
+
+
+@dataclass(frozen=True)
+class CameraSurfels:
+    """The camera's G-buffer as occluder surfels, and the RSM views' shadow maps to leave
+    out the surfaces any view already holds (docs/MODEL.md "Camera occluders")."""
+
+    position: moderngl.Texture
+    """G-buffer world position, w = 1 where a surface was seen."""
+    normal: moderngl.Texture
+    """G-buffer normal facing the camera."""
+    albedo: moderngl.Texture
+    view: np.ndarray
+    """The camera's 4×4 view matrix (numpy, world → view)."""
+    pixel_area: float
+    """:func:`camera_pixel_area` of the camera and image height."""
+    shadow: VplTextures
+    """The RSM (one view) or the RSM atlas: position (w = seen) and normal (w = view depth
+    from the light)."""
+    views: Sequence[LightView]
+    """The RSM views whose shadow maps ``shadow`` holds."""
+    tiles: Sequence[tuple[int, int]] | None = None
+    """Lower-left texel of each view's map in ``shadow`` (None: one view at (0, 0))."""
+
+    @property
+    def count(self) -> int:
+        width, height = self.position.size
+        return width * height
+
+
+class GeometryVolume:
+    """One RGBA 3D texture of L1 SH blocking, ``(N+1)³`` texels for an ``N³`` light grid:
+    texel ``j`` is centred on the light grid's corner ``j``. A second texture of the same
+    size, ``albedo``, holds Σ (A/cell_size²)·(a_r, a_g, a_b, 1) of the cell's surfels
+    (docs/MODEL.md "More bounces"); it stays zero where no albedo was injected."""
+
+    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f") -> None:
+        if int(resolution) < 1:
+            raise ValueError(f"resolution must be at least 1, got {resolution}")
+        self.resolution = int(resolution)
+        self.volume = VolumeTexture(ctx, self.resolution + 1, fmt)
+        self.texture: moderngl.Texture3D = self.volume.texture
+        self.albedo = VolumeTexture(ctx, self.resolution + 1, fmt)
+        self.albedo.clear()
+
+    @property
+    def format(self) -> str:
+        return self.volume.format
+
+    def read(self) -> np.ndarray:
+        """float32 ``(N+1, N+1, N+1, 4)``."""
+        return self.volume.read()
+
+    def read_albedo(self) -> np.ndarray:
+        """float32 ``(N+1, N+1, N+1, 4)``: area-weighted albedo sums and areas."""
+        return self.albedo.read()
+
+    def write(self, volume: np.ndarray, albedo: np.ndarray | None = None) -> None:
+        """Upload the blocking SH and (optionally; else zero) the albedo sums."""
+        self.volume.write(volume)
+        if albedo is None:
+            self.albedo.clear()
+        else:
+            self.albedo.write(albedo)
+
+    def clear(self) -> None:
+        self.volume.clear()
+        self.albedo.clear()
+
+    def use_as_texture(self, location: int) -> None:
+        self.texture.use(location)
+
+    def release(self) -> None:
+        self.volume.release()
+        self.albedo.release()
+
+
+class GeometryPass:
+    """Injects occluder surfels from a VPL texture set (the volume is overwritten)."""
+
+    STAGE = "geometry"
+    """Its program reads this stage's correction switches."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._layers: LayeredTarget | None = None
+        self._lights = LightRecordBuffer(ctx)
+
+    def run(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
+            mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
+        """Inject the VPLs' surfels (None: none) and ``camera``'s, when given, into
+        ``out``."""
+        if mode not in GEOMETRY_MODES:
+            raise ValueError(f"geometry mode must be one of {GEOMETRY_MODES}, got {mode!r}")
+        if out.resolution != spec.resolution:
+            raise ValueError(f"the geometry volume belongs to a {out.resolution}^3 grid but "
+                             f"the grid spec has {spec.resolution}^3 cells")
+        if vpls is None and camera is None:
+            raise ValueError("the geometry pass needs VPLs, camera surfels or both")
+        size = spec.resolution + 1
+        layers = self._layers
+        if layers is None or layers.size != size or layers.format != out.format:
+            if layers is not None:
+                layers.release()
+            layers = self._layers = LayeredTarget(self.ctx, size, 2, out.format)
+        if vpls is not None:
+            self._draw_vpl_surfels(vpls, spec, corrections, mode, layers)
+        if camera is not None:
+            self._draw_camera_surfels(camera, spec, corrections, mode, layers,
+                                      clear=vpls is None)
+        copy_volume(self.programs, layers.layers[0], out.volume)
+        copy_volume(self.programs, layers.layers[1], out.albedo)
+
+    def _draw_vpl_surfels(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
+                          mode: str, layers: LayeredTarget) -> None:
+        """Clear ``layers`` and draw the VPLs' surfels into them."""
+        program = self.programs.get("geometry_inject.glsl")
+        if vpls.albedo is not None:
+            vpls.albedo.use(ALBEDO_UNIT)
+        set_uniforms(program, {
+            **spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
+            "u_vpl_albedo": ALBEDO_UNIT, "u_has_albedo": vpls.albedo is not None,
+            "u_vpl_texel_area": float(vpls.texel_area),
+            "u_vpl_orthographic": vpls.projection == "orthographic",
+            "u_double_sided": mode == "double-sided",
+        }, reads=uniforms_read_by(self.STAGE))
+        draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+
+    def _draw_camera_surfels(self, camera: CameraSurfels, spec: GridSpec,
+                             corrections: Corrections, mode: str, layers: LayeredTarget,
+                             clear: bool) -> None:
+        """Draw the camera's surfels into ``layers`` (added to what they hold unless
+        ``clear``)."""
+        program = self.programs.get("geometry_inject.glsl", {"CAMERA_SURFELS": 1})
+        textures = (camera.position, camera.normal, camera.albedo, camera.shadow.position,
+                    camera.shadow.normal)
+        for texture, unit in zip(textures, CAMERA_UNITS.values()):
+            texture.use(unit)
+        light_count = self._lights.bind(camera.views, camera.tiles)
+        set_uniforms(program, {
+            **spec.uniforms(), **corrections.as_uniforms(), **CAMERA_UNITS,
+            "u_light_count": light_count,
+            "u_camera_view": gl_matrix(camera.view),
+            "u_pixel_area": float(camera.pixel_area),
+            "u_double_sided": mode == "double-sided",
+        }, reads=uniforms_read_by(self.STAGE))
+        draw_points_additively(self.ctx, program, layers, camera.count, clear=clear)
+
+    def release(self) -> None:
+        if self._layers is not None:
+            self._layers.release()
+            self._layers = None
+        self._lights.release()
+
+
+def merge_volumes(programs: ProgramCache, merged: GeometryVolume,
+                  view: GeometryVolume, add: bool = False) -> None:
+    """Fold ``view`` into ``merged`` in place: per geometry cell the volume whose band-0
+    coefficient (the surfels' area there) is larger wins, with its albedo sums; with
+    ``add``, ``view`` is added instead (the camera occluders' surfels, which no view holds)
+    (``shaders/geometry_merge.glsl``). Units 0 and 1 hold ``view`` while it runs."""
+    if merged.resolution != view.resolution or merged.format != view.format:
+        raise ValueError("merged geometry volumes must have one resolution and format")
+    program = programs.get("geometry_merge.glsl", {**image_format_defines(merged.format),
+                                                   "MERGE_ADD": int(add)})
+    view.volume.texture.use(0)
+    view.albedo.texture.use(1)
+    merged.volume.bind_image(0, read=True, write=True)
+    merged.albedo.bind_image(1, read=True, write=True)
+    set_uniforms(program, {"u_view_blocker": 0, "u_view_albedo": 1})
+    program.run(*dispatch_size(merged.volume.shape))
+    programs.ctx.memory_barrier()
+
+
+class MergedGeometryPass:
+    """The geometry volume of every RSM view, merged per cell (docs/MODEL.md "Several
+    lights"), with the camera's surfels added (docs/MODEL.md "Camera occluders"): one
+    :class:`GeometryPass` and the scratch volume each further view is built in."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self.single = GeometryPass(ctx, programs)
+        self._scratch: GeometryVolume | None = None
+        """One view's geometry volume before it is merged (several views)."""
+
+    def run(self, occluders: Sequence[VplTextures], spec: GridSpec, corrections: Corrections,
+            mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
+        """Into ``out``: the first view's volume, then each further view's built in the
+        scratch volume and folded in by :func:`merge_volumes`; then ``camera``'s surfels,
+        added (they hold only surfaces no view holds). With one view they are drawn with
+        its surfels (the same sum, no scratch volume)."""
+        alone = len(occluders) == 1
+        self.single.run(occluders[0], spec, corrections, mode, out, camera if alone else None)
+        if alone:
+            return
+        scratch = self._scratch_like(out)
+        for vpls in occluders[1:]:
+            self.single.run(vpls, spec, corrections, mode, scratch)
+            merge_volumes(self.programs, out, scratch)
+        if camera is not None:
+            self.single.run(None, spec, corrections, mode, scratch, camera)
+            merge_volumes(self.programs, out, scratch, add=True)
+
+    def _scratch_like(self, volume: GeometryVolume) -> GeometryVolume:
+        scratch = self._scratch
+        if scratch is None or scratch.resolution != volume.resolution or \
+                scratch.format != volume.format:
+            if scratch is not None:
+                scratch.release()
+            scratch = self._scratch = GeometryVolume(self.ctx, volume.resolution,
+                                                     volume.format)
+        return scratch
+
+    def release(self) -> None:
+        self.single.release()
+        if self._scratch is not None:
+            self._scratch.release()
+            self._scratch = None
+
+
+def merged_volume_reference(volumes: list[np.ndarray]) -> np.ndarray:
+    """Numpy twin of :func:`merge_volumes` over ``volumes`` ((N+1)³×4 each, in order):
+    per cell the first volume with the largest coefficient 0."""
+    stack = np.stack([np.asarray(v, np.float64) for v in volumes])
+    merged = stack[0].copy()
+    for volume in stack[1:]:
+        wins = volume[..., 0] > merged[..., 0]
+        merged[wins] = volume[wins]
+    return merged
+
+
+def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
+                    mode: str = "one-sided", ctx: moderngl.Context | None = None,
+                    fmt: str = "rgba32f", with_albedo: bool = False):
+    """Geometry-volume injection on the GPU from VPL arrays: float32 ``(N+1, N+1, N+1, 4)``;
+    with ``with_albedo`` the pair (volume, albedo sums) (see :class:`GeometryVolume`)."""
+    if not isinstance(vpls, VplArrays):
+        raise TypeError(f"vpls must be a VplArrays, got {type(vpls).__name__}")
+    corrections = corrections or Corrections()
+    ctx = ctx or default_context()
+    if vpls.count == 0:
+        empty = np.zeros((spec.resolution + 1,) * 3 + (4,), np.float32)
+        return (empty, empty.copy()) if with_albedo else empty
+    volume = GeometryVolume(ctx, spec.resolution, fmt)
+    textures = VplTextures.from_arrays(ctx, vpls)
+    try:
+        injector = per_context(ctx, "geometry", lambda: GeometryPass(ctx, programs_for(ctx)))
+        injector.run(textures, spec, corrections, mode, volume)
+        return (volume.read(), volume.read_albedo()) if with_albedo else volume.read()
+    finally:
+        textures.release()
+        volume.release()

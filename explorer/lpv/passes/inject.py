@@ -1,0 +1,173 @@
+"""Light injection: VPLs -> intensity SH in the light grid (docs/MODEL.md "Injection").
+
+Two GPU paths give the same grid up to float summation order:
+
+* ``"points"``: one point per VPL, layered rendering with additive ONE,ONE blending
+  (``shaders/inject_points.glsl``), then a copy of the layers into the 3D textures;
+* ``"compute"``: the compute-shader gather the DX12 write-up proposes: bin the VPLs into
+  per-cell linked lists, then one invocation per cell sums its list
+  (``shaders/inject_compute.glsl``).
+
+The output grid's ``sh_order`` picks the lobe: L1 (4 coefficients) or L2 (9; the point
+path draws one point per texel group, docs/MODEL.md "L2 option").
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.corrections import uniforms_read_by
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.textures import (
+    LayeredTarget,
+    LpvGrid,
+    copy_volume,
+    default_context,
+    dispatch_size,
+    draw_points_additively,
+    image_format_defines,
+    per_context,
+    programs_for,
+    sh_defines,
+)
+from explorer.lpv.settings import INJECTION_MODES, Corrections
+from explorer.lpv.vpl import VplArrays, VplTextures
+
+_VPL_UNITS = {"u_vpl_position": 0, "u_vpl_normal": 1, "u_vpl_flux": 2}
+
+
+def bind_vpl_textures(vpls: VplTextures) -> dict[str, int]:
+    """Bind the VPL textures to units 0..2; returns the sampler uniforms for vpl.glsl."""
+    for texture, unit in zip((vpls.position, vpls.normal, vpls.flux), _VPL_UNITS.values()):
+        texture.use(unit)
+    return dict(_VPL_UNITS)
+
+
+def vpl_count(vpls: VplTextures) -> int:
+    width, height = vpls.size
+    return int(width) * int(height)
+
+
+class InjectPass:
+    """Injects a VPL texture set into an :class:`LpvGrid` (the grid is overwritten)."""
+
+    STAGE = "inject"
+    """Its programs that write the grid read this stage's correction switches."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._layers: LayeredTarget | None = None
+        self._heads: moderngl.Buffer | None = None
+        self._links: moderngl.Buffer | None = None
+
+    def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
+            mode: str, out: LpvGrid, offset_cells: float = 0.0) -> None:
+        """``offset_cells``: inject each VPL at p + offset_cells·cell_size·n
+        (docs/MODEL.md "Injection")."""
+        check_offset_cells(offset_cells)
+        if mode not in INJECTION_MODES:
+            raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
+        if out.resolution != spec.resolution:
+            raise ValueError(f"the output grid has {out.resolution}^3 cells but the grid "
+                             f"spec has {spec.resolution}^3")
+        uniforms = {**spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
+                    "u_injection_offset": float(offset_cells) * spec.cell_size}
+        if mode == "points":
+            self._inject_points(vpls, uniforms, out)
+        else:
+            self._inject_compute(vpls, uniforms, out)
+
+    def _inject_points(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:
+        n, depth = out.resolution, out.groups * out.resolution
+        layers = self._layers
+        if layers is None or layers.size != n or layers.depth != depth or \
+                layers.format != out.format:
+            if layers is not None:
+                layers.release()
+            layers = self._layers = LayeredTarget(self.ctx, n, 3, out.format, depth=depth)
+        program = self.programs.get("inject_points.glsl", sh_defines(out.sh_order))
+        set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
+        draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+        for stack, volume in zip(layers.layers, out.volumes):
+            copy_volume(self.programs, stack, volume)
+
+    def _inject_compute(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:
+        n, count = out.resolution, vpl_count(vpls)
+        self._heads = _sized_buffer(self.ctx, self._heads, 4 * n ** 3)
+        self._links = _sized_buffer(self.ctx, self._links, 4 * count)
+        self._heads.clear()  # 0 = empty list
+        self._heads.bind_to_storage_buffer(0)
+        self._links.bind_to_storage_buffer(1)
+
+        link = self.programs.get("inject_compute.glsl", {"INJECT_STAGE": 0})
+        set_uniforms(link, uniforms)  # bins VPLs into cells: no correction applies yet
+        link.run(-(-count // 64))
+        self.ctx.memory_barrier()
+
+        gather = self.programs.get("inject_compute.glsl",
+                                   {"INJECT_STAGE": 1, **image_format_defines(out.format),
+                                    **sh_defines(out.sh_order)})
+        out.bind_images(0, read=False, write=True)
+        # images: units 0..2 by binding
+        set_uniforms(gather, uniforms, reads=uniforms_read_by(self.STAGE))
+        gather.run(*dispatch_size(n))
+        self.ctx.memory_barrier()
+
+    def release(self) -> None:
+        for resource in (self._layers, self._heads, self._links):
+            if resource is not None:
+                resource.release()
+        self._layers = self._heads = self._links = None
+
+
+def check_offset_cells(offset_cells: float) -> float:
+    """``offset_cells`` as a float; a ValueError unless it is finite and >= 0."""
+    value = float(offset_cells)
+    if not (np.isfinite(value) and value >= 0.0):
+        raise ValueError(f"the injection offset must be a finite number of cells >= 0, got "
+                         f"{offset_cells!r}")
+    return value
+
+
+def _sized_buffer(ctx: moderngl.Context, buffer: moderngl.Buffer | None,
+                  size: int) -> moderngl.Buffer:
+    """``buffer`` if it holds at least ``size`` bytes, else a new one (the old is freed)."""
+    if buffer is not None and buffer.size >= size:
+        return buffer
+    if buffer is not None:
+        buffer.release()
+    return ctx.buffer(reserve=max(size, 4))
+
+
+def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
+           mode: str = "points", ctx: moderngl.Context | None = None,
+           fmt: str = "rgba32f", offset_cells: float = 0.0, sh_order: int = 1) -> np.ndarray:
+    """Inject VPL arrays on the GPU and return the grid as float32 ``(3, N, N, N, C)``,
+    C = 4 (``sh_order`` 1, L1) or 9 (``sh_order`` 2, L2).
+
+    ``ctx`` None uses a headless context created on first use. VPLs outside the grid are
+    dropped. ``fmt`` is the grid's texture format (``rgba32f`` or ``rgba16f``);
+    ``offset_cells`` moves each VPL that many cells along its normal first.
+    """
+    if not isinstance(vpls, VplArrays):
+        raise TypeError(f"vpls must be a VplArrays, got {type(vpls).__name__}")
+    if not isinstance(spec, GridSpec):
+        raise TypeError(f"spec must be a GridSpec, got {type(spec).__name__}")
+    corrections = corrections or Corrections()
+    ctx = ctx or default_context()
+    grid = LpvGrid(ctx, spec.resolution, fmt, sh_order)
+    try:
+        if vpls.count == 0:
+            return np.zeros((3,) + (spec.resolution,) * 3 + (grid.coefficients,), np.float32)
+        textures = VplTextures.from_arrays(ctx, vpls)
+        try:
+            injector = per_context(ctx, "inject", lambda: InjectPass(ctx, programs_for(ctx)))
+            injector.run(textures, spec, corrections, mode, grid, offset_cells)
+            return grid.read()
+        finally:
+            textures.release()
+    finally:
+        grid.release()

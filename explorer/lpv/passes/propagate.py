@@ -1,0 +1,459 @@
+"""Propagation of the light grid (docs/MODEL.md "Propagation", "Iterations and
+accumulation") with the energy audit measured on the GPU alongside every step."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.audit import GridAudit, audit_mode
+from explorer.lpv.corrections import uniforms_read_by
+from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
+from explorer.lpv.passes.geometry import GeometryVolume
+from explorer.lpv.passes.textures import (
+    LpvGrid,
+    check_volume_array,
+    copy_volume,
+    default_context,
+    dispatch_size,
+    image_format_defines,
+    per_context,
+    programs_for,
+    sh_defines,
+    sh_order_of,
+)
+from explorer.lpv.settings import Corrections
+
+
+@dataclass
+class PropagationOutput:
+    accumulated: LpvGrid
+    """acc_N = Σ grid_t. Owned by the pass: valid until its next run or release."""
+    steps: list[np.ndarray] | None
+    """grid_0..grid_N as (3, N, N, N, 4) arrays when keep_steps. In place, grid_t is the
+    light step t added (acc_t − acc_{t−1}), so Σ grid_t = acc_N in both modes."""
+    audit: GridAudit
+    cell_records: CellAuditRecords | None = None
+    """Each cell's audit record (its sum over the steps, the last step's), read one cell
+    at a time from the GPU; None without the audit."""
+
+
+def copy_grid(programs: ProgramCache, source: LpvGrid, target: LpvGrid) -> None:
+    for source_volume, target_volume in zip(source.volumes, target.volumes):
+        copy_volume(programs, source_volume.texture, target_volume)
+
+
+class PropagatePass:
+    """Propagates an injected grid ``iterations`` times (``shaders/propagate.glsl``).
+
+    Ping-pong (``corrections.ping_pong``): grid_t = P(grid_{t−1}) alternates between two
+    scratch grids and is added into the accumulation grid by the same dispatch. In place
+    (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
+    a data race kept on purpose.
+
+    Energy audit (``audit``, a mode of :data:`explorer.lpv.audit.AUDIT_MODES`; True is
+    ``full``, False ``off``): ``full``: the dispatch also sums the step's audit terms (for
+    in place: of what the racing invocations actually read and added), one reduction per
+    step. ``flux``: the kernel is compiled without the audit (``PROPAGATE_AUDIT 0``) and
+    each step's grid is reduced to its flux afterwards (for in place: the accumulation's,
+    the step's flux being the difference), one reduction per step, no per-cell records.
+    ``off``: no audit in the kernel and only the injected and the accumulated flux are
+    measured (two reductions per run), which is what the pipeline's numeric guards read.
+
+    :meth:`start` returns a :class:`PropagationRun` that advances one step at a time (the
+    pipeline spreads the steps over frames); :meth:`run` does all steps at once.
+
+    GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
+    format and, with the full audit, 144 bytes per cell of audit records (the last step's and
+    their sums over the steps: ≈300 MB at 128³).
+    """
+
+    GEOMETRY_UNIT = 6
+    ALBEDO_UNIT = 7
+    STAGE = "propagate"
+    """Its program reads this stage's correction switches."""
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self.audit = AuditReducer(ctx, programs)
+        self._grids: dict[str, LpvGrid] = {}
+
+    def scratch_grid(self, name: str, resolution: int, fmt: str, sh_order: int) -> LpvGrid:
+        """The pass's own grid ``name`` (accumulation, ping, pong) of this size, format
+        and order, kept between runs and made anew when any of them changes."""
+        grid = self._grids.get(name)
+        if grid is None or grid.resolution != resolution or grid.format != fmt or \
+                grid.sh_order != sh_order:
+            if grid is not None:
+                grid.release()
+            grid = self._grids[name] = LpvGrid(self.ctx, resolution, fmt, sh_order)
+        return grid
+
+    def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
+              iterations: int, geometry: GeometryVolume | None = None,
+              keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full"
+              ) -> "PropagationRun":
+        """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
+        propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
+        (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
+        The injected grid's ``sh_order`` selects L1 or L2 propagation."""
+        n = spec.resolution
+        if bounces not in (1, 2) or isinstance(bounces, bool):
+            raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
+        if bounces == 2 and geometry is None:
+            raise ValueError("bounces=2 reflects the light the geometry volume blocks: pass "
+                             "a geometry volume")
+        if injected.resolution != n:
+            raise ValueError(f"the injected grid has {injected.resolution}^3 cells but the "
+                             f"grid spec has {n}^3")
+        if geometry is not None and geometry.resolution != n:
+            raise ValueError(f"the geometry volume belongs to a {geometry.resolution}^3 grid, "
+                             f"the light grid has {n}^3 cells")
+        if int(iterations) != iterations or iterations < 0:
+            raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
+        return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
+                              keep_steps, bounces, audit_mode(audit))
+
+    def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
+            iterations: int, geometry: GeometryVolume | None = None,
+            keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full"
+            ) -> PropagationOutput:
+        """All ``iterations`` steps at once (see :meth:`start`)."""
+        progress = self.start(injected, spec, corrections, iterations, geometry, keep_steps,
+                              bounces, audit)
+        while not progress.finished:
+            progress.step()
+        return progress.finish()
+
+    def release(self) -> None:
+        for grid in self._grids.values():
+            grid.release()
+        self._grids.clear()
+        self.audit.release()
+
+
+COMPILED_SWITCHES = {"u_ping_pong": "PROPAGATE_PING_PONG"}
+"""Correction switches the propagation reads when its program is compiled (a define chosen
+from the switch) instead of as a uniform: they choose a code path, and llvmpipe runs both
+sides of a branch on a uniform (``shaders/propagate.glsl``)."""
+
+
+def uniforms_read_at_run_time() -> tuple[str, ...]:
+    """The propagation's correction uniforms (``uniforms_read_by``) less
+    :data:`COMPILED_SWITCHES`, which its program reads as defines."""
+    return tuple(name for name in uniforms_read_by(PropagatePass.STAGE)
+                 if name not in COMPILED_SWITCHES)
+
+
+def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bool = False,
+                    geometry: bool = False, reflect: bool = False) -> dict[str, object]:
+    """The defines ``shaders/propagate.glsl`` is compiled with: the grid format and SH order,
+    the full audit, the switches of :data:`COMPILED_SWITCHES`, whether a geometry volume
+    occludes and whether it reflects (bounces 2, which needs it)."""
+    switches = corrections.as_uniforms()
+    return {**image_format_defines(fmt), **sh_defines(sh_order),
+            "PROPAGATE_AUDIT": int(audit),
+            **{define: int(switches[uniform]) for uniform, define in COMPILED_SWITCHES.items()},
+            "PROPAGATE_GEOMETRY": int(geometry), "PROPAGATE_REFLECT": int(reflect and geometry)}
+
+
+SLAB_CELLS = 32 ** 3
+"""Cells one unit of a propagation step covers at most (a slab of z layers, a multiple of
+the 4-layer workgroup): a 64³ step is 8 units, each a few frames' budget on llvmpipe."""
+
+
+def slabs(resolution: int, slab_cells: int | None = None) -> list[tuple[int, int]]:
+    """z ranges ``(first, end)`` of the slabs one step of a ``resolution``³ grid is
+    dispatched in: ``slab_cells`` (default :data:`SLAB_CELLS`) / N² layers each, rounded
+    down to a multiple of 4 (the workgroup's depth, so no cell is in two slabs), at
+    least 4."""
+    n = int(resolution)
+    slab_cells = SLAB_CELLS if slab_cells is None else int(slab_cells)
+    depth = max(4, slab_cells // (n * n) // 4 * 4)
+    return [(z, min(z + depth, n)) for z in range(0, n, depth)]
+
+
+class PropagationRun:
+    """One propagation in progress (made by :meth:`PropagatePass.start`): :meth:`advance`
+    dispatches one slab of the current step (:func:`slabs`; a step's slabs are
+    independent in ping-pong, since they read grid t−1 and write their own cells),
+    :meth:`step` a whole step, :meth:`finish` measures the audit and returns the
+    :class:`PropagationOutput`. Between steps :attr:`accumulated` holds
+    acc_t = Σ_{t'≤t} grid_t' (the light gathered so far, for a progressive picture)."""
+
+    def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
+                 corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
+                 keep_steps: bool, bounces: int, audit: str) -> None:
+        n, fmt, order = spec.resolution, injected.format, injected.sh_order
+        self._owner = owner
+        self._corrections = corrections
+        self._geometry = geometry
+        self._keep_steps = keep_steps
+        self._mode = audit
+        self._with_audit = audit == "full"
+        self.iterations = iterations
+        self.done = 0
+        self.accumulated = owner.scratch_grid("accumulated", n, fmt, order)
+        self._scratch = {name: owner.scratch_grid(name, n, fmt, order) if corrections.ping_pong
+                         else None for name in ("ping", "pong")}
+        copy_grid(owner.programs, injected, self.accumulated)
+        # slots: 0 the injected flux, 1..N the steps (full or flux audit), last the
+        # accumulation
+        self._slots = iterations + 2 if audit != "off" else 2
+        owner.audit.begin(n, self._slots, cell_records=self._with_audit)
+        owner.audit.measure_flux(0, injected)
+        self.steps = [injected.read()] if keep_steps else None
+        self._previous = self.steps[0] if keep_steps else None
+        self._source = injected
+        self._program = owner.programs.get("propagate.glsl", program_defines(
+            fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
+            reflect=bounces == 2))
+        set_uniforms(self._program, {
+            **spec.uniforms(), **corrections.as_uniforms(),
+            "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
+            "u_geometry": owner.GEOMETRY_UNIT, "u_geometry_albedo": owner.ALBEDO_UNIT,
+            "u_cell_offset": (0, 0, 0),
+        }, reads=uniforms_read_at_run_time())
+        self._program.extra["cell_offset"] = 0
+        self._groups = dispatch_size(n)
+        self._slabs = slabs(n)
+        self._slab = 0
+
+    @property
+    def finished(self) -> bool:
+        """True when every step has run (:meth:`finish` may be called)."""
+        return self.done >= self.iterations
+
+    @property
+    def units_per_step(self) -> int:
+        """Slabs (calls of :meth:`advance`) per step."""
+        return len(self._slabs)
+
+    @property
+    def fraction(self) -> float:
+        """How far along the propagation is, 0..1 (slabs included)."""
+        if not self.iterations:
+            return 1.0
+        return (self.done + self._slab / len(self._slabs)) / self.iterations
+
+    def step(self) -> None:
+        """Propagate one more step (docs/MODEL.md "Iterations and accumulation")."""
+        target = self.done + 1
+        while self.done < target:
+            self.advance()
+
+    def advance(self) -> None:
+        """Dispatch the next slab of the current step; after the step's last slab, its
+        audit, its kept grid and the swap of the grids."""
+        if self.finished:
+            raise RuntimeError(f"all {self.iterations} propagation steps have run")
+        owner, step = self._owner, self.done + 1
+        if self._corrections.ping_pong:
+            target = self._scratch["ping" if step % 2 else "pong"]
+        else:
+            # The race: the dispatch reads its neighbours from the grid it writes.
+            target = self.accumulated
+        self._source.use_as_textures(0)
+        if self._geometry is not None:
+            self._geometry.use_as_texture(owner.GEOMETRY_UNIT)
+            self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
+        target.bind_images(0)
+        self.accumulated.bind_images(3)
+        if self._with_audit:        # only the full audit's kernel writes the records
+            owner.audit.bind()
+        first, end = self._slabs[self._slab]
+        # one slab a step up to 32³: set once. The offset last set is kept with the
+        # program, which the cascades' runs share (interleaved, each with its slabs).
+        if self._program.extra.get("cell_offset") != first:
+            set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
+            self._program.extra["cell_offset"] = first
+        self._program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
+        owner.ctx.memory_barrier()
+        self._slab += 1
+        if self._slab < len(self._slabs):
+            return
+        self._slab = 0
+        if self._with_audit:
+            owner.audit.sum_cell_records(step)
+        elif self._mode == "flux":
+            # in place the step's grid is not kept apart: the slot holds acc_t and
+            # grid_audit takes the differences (the flux is linear in the grid)
+            owner.audit.measure_flux(step, target)
+        if self._keep_steps:
+            current = target.read()
+            self.steps.append(current if self._corrections.ping_pong
+                              else current - self._previous)
+            self._previous = current
+        self._source = target
+        self.done = step
+
+    def finish(self) -> PropagationOutput:
+        """The accumulation, the kept steps and the audit (after the last step)."""
+        if not self.finished:
+            raise RuntimeError(f"propagation stopped after {self.done} of "
+                               f"{self.iterations} steps")
+        audit = self._owner.audit
+        audit.measure_flux(self._slots - 1, self.accumulated)
+        sums = audit.read()
+        records = (CellAuditRecords(audit, self.accumulated.resolution, self.iterations)
+                   if self._with_audit else None)
+        return PropagationOutput(accumulated=self.accumulated, steps=self.steps,
+                                 audit=grid_audit(sums, self.iterations, self._mode,
+                                                  self._corrections.ping_pong),
+                                 cell_records=records)
+
+
+def read_in_units(grid: LpvGrid, progress: int) -> Iterator[int]:
+    """Read ``grid`` back one colour channel per unit of work (``yield from``; yields
+    ``progress`` between channels, returns the ``(3, N, N, N, C)`` array): a 64³ grid's
+    read-back took as long as several propagation units on llvmpipe."""
+    channels = []
+    for channel in range(3):
+        channels.append(grid.read_channel(channel))
+        if channel < 2:
+            yield progress
+    return np.stack(channels)
+
+
+def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
+               ping_pong: bool = True) -> GridAudit:
+    """The :class:`GridAudit` of the reduced slots ``sums`` (slot 0 the injected flux, the
+    last the accumulation, the steps between in modes ``full`` and ``flux``; in mode
+    ``off`` the per-step flux after step 0 is NaN). Mode ``flux`` without ``ping_pong``:
+    the step slots hold acc_t, whose differences are the steps' flux. The terms a mode
+    does not measure are None."""
+    mode = audit_mode(mode)
+    if mode == "full":
+        return GridAudit(
+            injected=sums[0, 0:3],
+            per_step=sums[: iterations + 1, 0:3],
+            border_loss=sums[1: iterations + 1, 3:6],
+            clamp_gain=sums[1: iterations + 1, 6:9],
+            occluded=sums[1: iterations + 1, 9:12],
+            accumulated=sums[iterations + 1, 0:3],
+            reflected=sums[1: iterations + 1, 12:15],
+            blocked=sums[1: iterations + 1, 15:18],
+        )
+    if mode == "flux":
+        per_step = sums[: iterations + 1, 0:3].copy()
+        if not ping_pong:
+            per_step[1:] = np.diff(per_step, axis=0)
+        accumulated = sums[iterations + 1, 0:3]
+    else:
+        per_step = np.concatenate([sums[0:1, 0:3], np.full((iterations, 3), np.nan)])
+        accumulated = sums[1, 0:3]
+    return GridAudit(injected=sums[0, 0:3], per_step=per_step, border_loss=None,
+                     clamp_gain=None, occluded=None, accumulated=accumulated, reflected=None,
+                     blocked=None, mode=mode)
+
+
+class BaselinePropagatePass:
+    """The least a propagation needs (``shaders/propagate_minimal.glsl``): the corrected
+    L1 ping-pong step, each neighbour's five faces written out with the generated
+    constants (three ``texelFetch`` per neighbour, four more of the geometry volume when
+    there is one), the three target images written and the three accumulation images added
+    into, one memory barrier per step; no switches, no audit. It is the baseline
+    ``lpv-explorer bench`` times :class:`PropagatePass` against in the same run (one
+    ``finish`` around all steps); with the corrected switches both give the same
+    accumulation."""
+
+    GEOMETRY_UNIT = PropagatePass.GEOMETRY_UNIT
+
+    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
+        self.ctx = ctx
+        self.programs = programs
+        self._grids: dict[str, LpvGrid] = {}
+
+    def run(self, injected: LpvGrid, spec: GridSpec, iterations: int,
+            geometry: GeometryVolume | None = None) -> LpvGrid:
+        """acc_N of ``iterations`` steps (owned by the pass, valid until its next run)."""
+        n, fmt = spec.resolution, injected.format
+        if injected.sh_order != 1:
+            raise ValueError("the baseline propagation is L1 only (sh_order 1)")
+        grids = {}
+        for name in ("ping", "pong", "accumulated"):
+            grid = self._grids.get(name)
+            if grid is None or grid.resolution != n or grid.format != fmt:
+                if grid is not None:
+                    grid.release()
+                grid = self._grids[name] = LpvGrid(self.ctx, n, fmt)
+            grids[name] = grid
+        accumulated = grids["accumulated"]
+        copy_grid(self.programs, injected, accumulated)
+        program = self.programs.get("propagate_minimal.glsl", {
+            **image_format_defines(fmt), "PROPAGATE_GEOMETRY": int(geometry is not None)})
+        set_uniforms(program, {"u_grid_resolution": n, "u_source_r": 0, "u_source_g": 1,
+                               "u_source_b": 2, "u_geometry": self.GEOMETRY_UNIT})
+        groups = dispatch_size(n)
+        source = injected
+        for step in range(1, int(iterations) + 1):
+            target = grids["ping" if step % 2 else "pong"]
+            source.use_as_textures(0)
+            if geometry is not None:
+                geometry.use_as_texture(self.GEOMETRY_UNIT)
+            target.bind_images(0)
+            accumulated.bind_images(3)
+            program.run(*groups)
+            self.ctx.memory_barrier()
+            source = target
+        return accumulated
+
+    def release(self) -> None:
+        for grid in self._grids.values():
+            grid.release()
+        self._grids.clear()
+
+
+def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = None,
+                         iterations: int = 1, geometry: np.ndarray | None = None,
+                         ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
+                         geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                         audit: str | bool = "full",
+                         ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
+    """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
+    ``grid`` (4 or 9 coefficients) selects L1 or L2.
+    ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2).
+    ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`)."""
+    grid = np.asarray(grid)
+    if grid.ndim != 5 or grid.shape[0] != 3:
+        raise ValueError(f"grid must have shape (3, N, N, N, 4) or (3, N, N, N, 9), got "
+                         f"{grid.shape}")
+    n = grid.shape[1]
+    order = sh_order_of(grid.shape[4])
+    grid = check_volume_array(grid, n, "grid", channels=3, coefficients=grid.shape[4])
+    corrections = corrections or Corrections()
+    ctx = ctx or default_context()
+    spec = GridSpec((0.0, 0.0, 0.0), 1.0, n)
+    injected = LpvGrid(ctx, n, fmt, order)
+    volume = None
+    try:
+        injected.write(grid)
+        if geometry is not None:
+            volume = GeometryVolume(ctx, n, fmt)
+            volume.write(check_volume_array(geometry, n + 1, "geometry"),
+                         None if geometry_albedo is None else
+                         check_volume_array(geometry_albedo, n + 1, "geometry_albedo"))
+        propagator = per_context(ctx, "propagate",
+                                 lambda: PropagatePass(ctx, programs_for(ctx)))
+        output = propagator.run(injected, spec, corrections, iterations, volume,
+                                keep_steps=True, bounces=bounces, audit=audit)
+        return output.steps, output.accumulated.read(), output.audit
+    finally:
+        injected.release()
+        if volume is not None:
+            volume.release()
+
+
+def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
+              geometry: np.ndarray | None = None, ctx: moderngl.Context | None = None,
+              fmt: str = "rgba32f") -> list[np.ndarray]:
+    """GPU propagation of a ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (L2) grid:
+    grid_0..grid_N as float32 arrays (``geometry``: an optional ``(N+1, N+1, N+1, 4)`` L1
+    geometry volume)."""
+    return propagate_with_audit(grid, corrections, iterations, geometry, ctx, fmt)[0]

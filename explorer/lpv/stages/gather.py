@@ -1,0 +1,79 @@
+"""The ``gather`` stage: linear direct and LPV indirect radiance per pixel
+(explorer/lpv/passes/gather.py) in bands of rows (one per unit), then the read-back of each
+target (one unit each) and their sums and checks (one more).
+:meth:`Stage.gather_levels` also gathers a job's accumulation as it is (the progressive
+previews)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from explorer.lpv import guards
+from explorer.lpv.passes.gather import (
+    TARGETS,
+    GatherImages,
+    GatherInputs,
+    GatherPass,
+    Glossy,
+    bands,
+)
+from explorer.lpv.stage_list import StageDecl
+from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.stages.base import StageHost
+from explorer.lpv.work_units import read_back
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
+@dataclass(frozen=True)
+class Params:
+    """What the gather reads of the Settings (and the eye the glossy term reflects)."""
+
+    inputs: GatherInputs
+
+    @classmethod
+    def of(cls, settings, eye) -> Params:
+        """The Settings' gather, its glossy term (when on) seen from ``eye``."""
+        glossy = Glossy(float(settings.glossy_roughness), float(settings.glossy_strength),
+                        int(settings.glossy_samples), tuple(map(float, eye))
+                        ) if settings.glossy else None
+        return cls(GatherInputs(bool(settings.gather_damping), int(settings.shadow_kernel),
+                                glossy))
+
+
+class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.gather = GatherPass(host.ctx, host.programs)
+        self.state.gather_pass = self.gather
+
+    def units(self, job: Job) -> int:
+        return len(bands((job.settings.width, job.settings.height))) + len(TARGETS) + 1
+
+    def work(self, job: Job) -> Iterator[None]:
+        s, host = job.settings, self.host
+        host.timer.reset("gather")
+        for band in bands((s.width, s.height)):
+            host.timer.timed("gather", lambda: self.gather_levels(s, band), accumulate=True)
+            yield
+        targets = self.gather.targets
+        arrays = yield from read_back([targets[name] for name in TARGETS])
+        yield       # the sums and the checks of the arrays: a unit of their own
+        self.state.gather = GatherImages(**dict(zip(TARGETS, arrays)))
+        self.state.warnings["gather"] = guards.arrays_warnings("gather", arrays, s)
+
+    def gather_levels(self, s, rows: tuple[int, int] | None = None,
+                      into: GatherPass | None = None,
+                      size: tuple[int, int] | None = None) -> None:
+        """The gather of every level's accumulation as it is now (docs/MODEL.md "Final
+        gather", "Cascades"), of the rows ``rows`` or the whole image; ``into``/``size``:
+        another gather pass's targets, at that size (a reduced preview)."""
+        host, state = self.host, self.state
+        (into or self.gather).run(
+            state.gbuffer_pass, host.light_views.shadow_maps, state.sampled_grid(),
+            Params.of(s, host.scene_state.scene.camera.eye).inputs, rows=rows, size=size)
+
+    def release(self) -> None:
+        self.gather.release()

@@ -1,0 +1,41 @@
+"""The ``gbuffer`` stage: the camera's position, normal and albedo
+(explorer/lpv/passes/gbuffer.py), then the read-back of each texture (one unit each)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+from explorer.lpv import guards
+from explorer.lpv.frame_state import GBufferImages
+from explorer.lpv.passes.gbuffer import TARGETS, GBufferPass
+from explorer.lpv.stage_list import StageDecl
+from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.stages.base import StageHost
+from explorer.lpv.work_units import read_back
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
+
+class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.gbuffer = GBufferPass(host.ctx, host.programs)
+        self.state.gbuffer_pass = self.gbuffer
+
+    def units(self, job: Job) -> int:
+        return 1 + len(TARGETS)
+
+    def work(self, job: Job) -> Iterator[None]:
+        s, host = job.settings, self.host
+        scene = host.scene_state.for_settings(s)
+        host.timer.timed("gbuffer", lambda: self.gbuffer.run(
+            host.scene_state.buffers, scene, (s.width, s.height)))
+        yield
+        arrays = yield from read_back(self.gbuffer.textures)
+        self.state.gbuffer = GBufferImages(*arrays)
+        self.state.warnings["gbuffer"] = guards.arrays_warnings("gbuffer", arrays, s)
+
+    def release(self) -> None:
+        self.gbuffer.release()

@@ -1,0 +1,86 @@
+"""The ``geometry`` stage: the geometry volume of every cascade (one unit each;
+explorer/lpv/passes/geometry.py), built from the RSM texels or hand-made VPLs and, with camera
+occluders, the G-buffer's pixels no RSM view sees (docs/MODEL.md "Camera occluders")."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from explorer.lpv import guards
+from explorer.lpv.cascades import level_pass_name
+from explorer.lpv.corrections import Corrections
+from explorer.lpv.passes.geometry import CameraSurfels, MergedGeometryPass, camera_pixel_area
+from explorer.lpv.stage_list import StageDecl
+from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.stages.base import StageHost
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
+
+@dataclass(frozen=True)
+class Params:
+    """What the geometry volume reads of the Settings."""
+
+    corrections: Corrections
+    mode: str
+    """``geometry_volume``: off, one-sided or double-sided."""
+    grid_format: str
+    camera_occluders: bool
+    image_height: int
+    """The G-buffer's height: a camera surfel's pixel area."""
+
+    @classmethod
+    def of(cls, settings) -> "Params":
+        return cls(settings.corrections, settings.geometry_volume, settings.grid_format,
+                   bool(settings.uses_camera_occluders), int(settings.height))
+
+
+class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.geometry = MergedGeometryPass(host.ctx, host.programs)
+
+    def units(self, job: Job) -> int:
+        return len(self.state.specs)
+
+    def work(self, job: Job) -> Iterator[None]:
+        p, host, state = Params.of(job.settings), self.host, self.state
+        levels = self.levels()
+        if p.mode == "off":
+            host.timer.forget("geometry")
+            state.warnings["geometry"] = []
+            for level in levels:
+                level.release_volume()
+            return
+        occluders = host.light_views.occluders(hand_made=job.vpls is not None)
+        camera = self.camera_surfels(p) if p.camera_occluders else None
+        host.timer.reset("geometry")
+        warnings = []
+        for k, (level, spec) in enumerate(zip(levels, state.specs)):
+            volume = level.geometry_volume(spec.resolution, p.grid_format)
+            host.timer.timed("geometry", lambda: self.geometry.run(
+                occluders, spec, p.corrections, p.mode, volume, camera), accumulate=True)
+            level.geometry = volume.read()
+            warnings += guards.arrays_warnings(level_pass_name("geometry", k, len(levels)),
+                                               [level.geometry], job.settings)
+            if k < len(levels) - 1:
+                yield
+        state.warnings["geometry"] = warnings
+
+    def camera_surfels(self, p: Params) -> CameraSurfels:
+        """The G-buffer as occluder surfels, tested against every RSM view's shadow map
+        (docs/MODEL.md "Camera occluders")."""
+        host, gbuffer = self.host, self.state.gbuffer_pass
+        camera, lights = host.scene_state.scene.camera, host.light_views
+        return CameraSurfels(
+            position=gbuffer.position, normal=gbuffer.normal, albedo=gbuffer.albedo,
+            view=camera.view_matrix(),
+            pixel_area=camera_pixel_area(camera.fov_y_degrees, p.image_height),
+            shadow=lights.rsm_textures, views=tuple(lights.views),
+            tiles=tuple(lights.shadow_tiles))
+
+    def release(self) -> None:
+        self.geometry.release()

@@ -1,0 +1,63 @@
+"""The ``inject`` stage: the VPLs into the SH light grid of every cascade (one unit each;
+explorer/lpv/passes/inject.py)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from explorer.lpv.audit import check_finite
+from explorer.lpv.cascades import level_pass_name
+from explorer.lpv.corrections import Corrections
+from explorer.lpv.passes.inject import InjectPass
+from explorer.lpv.stage_list import StageDecl
+from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.stages.base import StageHost
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
+
+@dataclass(frozen=True)
+class Params:
+    """What the injection reads of the Settings."""
+
+    corrections: Corrections
+    mode: str
+    """``injection_mode``: points (rasterised) or compute."""
+    offset_cells: float
+    grid_format: str
+    sh_order: int
+
+    @classmethod
+    def of(cls, settings) -> "Params":
+        return cls(settings.corrections, settings.injection_mode,
+                   float(settings.injection_offset_cells), settings.grid_format,
+                   int(settings.sh_order))
+
+
+class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.inject = InjectPass(host.ctx, host.programs)
+
+    def units(self, job: Job) -> int:
+        return len(self.state.specs)
+
+    def work(self, job: Job) -> Iterator[None]:
+        p, host, specs = Params.of(job.settings), self.host, self.state.specs
+        levels = self.levels()
+        host.timer.reset("inject")
+        for k, (level, spec) in enumerate(zip(levels, specs)):
+            grid = level.grid(spec.resolution, p.grid_format, p.sh_order)
+            host.timer.timed("inject", lambda: self.inject.run(
+                host.light_views.vpl_textures, spec, p.corrections, p.mode, grid,
+                p.offset_cells), accumulate=True)
+            if job.settings.debug_nan:       # a check, not an input: no key holds it
+                check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
+            if k < len(levels) - 1:
+                yield
+
+    def release(self) -> None:
+        self.inject.release()

@@ -1,0 +1,115 @@
+"""The ``propagate`` stage: ``iterations`` steps in every cascade (explorer/lpv/passes/propagate.py)
+with the energy audit the job asks for, time-sliced in slabs of a step."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from explorer.lpv import guards
+from explorer.lpv.audit import audit_covers
+from explorer.lpv.cascades import cascade_iterations, level_pass_name
+from explorer.lpv.corrections import Corrections
+from explorer.lpv.limits import audit_fits, audit_skipped_warning
+from explorer.lpv.passes.propagate import read_in_units, slabs
+from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.work_units import countdown
+
+if TYPE_CHECKING:
+    from explorer.lpv.job import Job
+
+
+@dataclass(frozen=True)
+class Params:
+    """What the propagation reads of the Settings."""
+
+    corrections: Corrections
+    steps: tuple[int, ...]
+    """Each cascade's iterations (``cascade_iterations``), finest first."""
+    bounces: int
+
+    @classmethod
+    def of(cls, settings, cascades: int) -> "Params":
+        return cls(settings.corrections,
+                   tuple(cascade_iterations(settings, k) for k in range(cascades)),
+                   int(settings.bounces))
+
+
+class Stage(StageBase):
+    def units(self, job: Job) -> int:
+        """The steps of every level together (each step is one or more slabs)."""
+        return max(1, sum(Params.of(job.settings, len(self.state.specs)).steps))
+
+    def audit_mode(self, job: Job, resolution: int) -> str:
+        """The audit mode a ``resolution``³ level propagates with for ``job``: the one it
+        asks for, but ``flux`` for ``full`` when the per-cell records do not fit this
+        driver's storage blocks (:func:`audit_fits`; the flux needs no records)."""
+        if job.need_audit == "full" and not audit_fits(resolution, self.host.limits):
+            return "flux"
+        return job.need_audit
+
+    def satisfied(self, job: Job) -> bool:
+        """Whether the last propagation kept the steps and the audit ``job`` asks for."""
+        for level in self.state.cascades:
+            output = level.output
+            if output is None:
+                return False
+            if job.keep_steps and output.steps is None:
+                return False
+            if not audit_covers(output.audit.mode,
+                                self.audit_mode(job, level.injected.resolution)):
+                return False
+        return True
+
+    def work(self, job: Job) -> Iterator[int]:
+        """Every level's propagation: a unit to start each level (grid_0 into the
+        accumulation), one per slab of a step (``slabs``), the levels interleaved so that
+        each is as far along as the others (a progressive picture shows all cascades
+        growing together), and four to finish each level (its audit, then its read-back,
+        one colour channel a unit). Yields the steps done, all levels together."""
+        host, state = self.host, self.state
+        levels, specs = state.cascades, state.specs
+        p = Params.of(job.settings, len(levels))
+        timed = host.timer.timed
+        host.timer.reset("propagate")
+        audit = [self.audit_mode(job, spec.resolution) for spec in specs]
+        more = countdown(3 * len(levels) + sum(
+            count * len(slabs(spec.resolution)) for count, spec in zip(p.steps, specs)))
+        try:
+            for k, (level, spec) in enumerate(zip(levels, specs)):
+                level.output = None
+                level.running = timed("propagate", lambda: level.propagate.start(
+                    level.injected, spec, p.corrections, p.steps[k], level.volume,
+                    keep_steps=job.keep_steps, bounces=p.bounces, audit=audit[k]),
+                    accumulate=True)
+                if more():
+                    yield 0
+            while not all(level.running.finished for level in levels):
+                behind = min((lv for lv in levels if not lv.running.finished),
+                             key=lambda lv: lv.running.fraction)
+                timed("propagate", behind.running.advance, accumulate=True)
+                if more():
+                    yield sum(level.running.done for level in levels)
+            warnings = []
+            for k, level in enumerate(levels):
+                level.output = timed("propagate", level.running.finish, accumulate=True)
+                if more():
+                    yield sum(p.steps)
+                level.accumulated = yield from read_in_units(level.output.accumulated,
+                                                             sum(p.steps))
+                warnings += guards.found(guards.flux_warning(
+                    level_pass_name("inject", k, len(levels)), level.output.audit.injected,
+                    p.corrections))
+                warnings += guards.arrays_warnings(
+                    level_pass_name("propagate", k, len(levels)), [level.accumulated],
+                    job.settings)
+                if audit[k] != job.need_audit:
+                    warnings.append(audit_skipped_warning(specs[k].resolution,
+                                                          host.limits))
+                if more():
+                    yield sum(p.steps)
+            state.warnings["propagate"] = warnings
+        finally:
+            for level in levels:
+                level.running = None
