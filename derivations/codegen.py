@@ -8,7 +8,7 @@ Every registry result with a ``glsl_name`` becomes a constant in
   (``repr(float(sp.N(expr, 30)))``);
 * ``derivations/ERRATA.md``: the errata table (``derivations.errata.markdown``);
 * ``shaders/generated/corrections.glsl``: one ``uniform bool u_<name>;`` per entry of the
-  corrections registry (``explorer/correction_registry.py``), after checking that every
+  corrections registry (``derivations/correction_registry.py``), after checking that every
   derivation the entry names exists;
 * the corrections table of ``docs/MODEL.md`` (between its two marker lines; the rest of
   the page is hand-written), one row per registry entry with its two forms;
@@ -36,8 +36,8 @@ import sympy as sp
 from sympy.printing.glsl import glsl_code
 
 from derivations import errata
+from derivations.correction_registry import CORRECTIONS
 from derivations.registry import Result, all_results, latex, names
-from explorer.correction_registry import CORRECTIONS
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 GLSL_PATH = Path("shaders") / "generated" / "constants.glsl"
@@ -136,7 +136,8 @@ def corrections_glsl_source() -> str:
     lines = [
         "#version 430 core",
         "// GENERATED FILE, do not edit. Written by `" + REGENERATE + "` from the",
-        "// corrections registry (explorer/correction_registry.py); `" + REGENERATE + " --check`",
+        "// corrections registry (derivations/correction_registry.py); `" + REGENERATE
+        + " --check`",
         "// and the test suite fail when it is stale. One switch per uniform: true = corrected,",
         "// false = as published (Corrections.as_uniforms()). lpv_corrections.glsl includes it.",
         "",

@@ -43,8 +43,14 @@ from derivations.propagation import side_evaluation_direction
 from derivations.registry import Result, result
 from derivations.rsm import pixel_solid_angle_errors, surfel_area
 from derivations.solid_angles import (
-    FRONT_FACE_CORNERS, SIDE_FACE_CORNERS, front_face, prove_equal, side_face,
-    spherical_angle, unit)
+    FRONT_FACE_CORNERS,
+    SIDE_FACE_CORNERS,
+    front_face,
+    prove_equal,
+    side_face,
+    spherical_angle,
+    unit,
+)
 
 MODULE = "errata"
 # The sources as a reader can find them (full references, not the names of the plain-text

@@ -1,7 +1,7 @@
 r"""The five implementation switches, each as exact published and corrected statements.
 
 The three published formulas the annotations correct live in ``derivations/corrections``;
-the other five switches of ``Corrections`` (``explorer/correction_registry.py``) change how
+the other five switches of ``Corrections`` (``derivations/correction_registry.py``) change how
 the DX11 article implements the model. For each ``<key>`` this module derives
 ``corrections.<key>.original`` and ``.corrected`` (``Eq``s) and what the switch changes,
 exactly (docs/MODEL.md "Corrections", "Propagation", "Geometry volume"). The registry

@@ -24,7 +24,7 @@ from functools import lru_cache
 import sympy
 from sympy.printing.latex import LatexPrinter
 
-from explorer.derived import unknown_name
+from derivations.names import unknown_name
 
 # Modules in the order they are listed; each defines ``results()``.
 MODULES: tuple[str, ...] = (

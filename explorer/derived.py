@@ -14,15 +14,15 @@ Examples
 
 from __future__ import annotations
 
-import difflib
 import re
 from dataclasses import dataclass
 
+from derivations.names import unknown_name
 
 
 def _results() -> dict[str, tuple[str, str, float | None]]:
-    # Imported on first use, not with this module: derivations.registry imports
-    # unknown_name from here, and the codegen must run even when the table is missing.
+    # Imported on first use, not with this module: the codegen must run even when the
+    # table is missing.
     from explorer.derived_table import RESULTS
 
     return RESULTS
@@ -56,18 +56,6 @@ def get(name: str) -> Derived:
     except KeyError:
         raise unknown_name(name, list(results)) from None
     return Derived(name, latex, statement, value)
-
-
-def unknown_name(name: str, known: list[str]) -> KeyError:
-    """The error for a result name not in ``known``, naming the closest matches (shared
-    with ``derivations.registry.get``)."""
-    close = difflib.get_close_matches(name, known, n=6, cutoff=0.5)
-    if not close:
-        prefix = name.split(".", 1)[0]
-        close = [n for n in known if n.startswith(prefix + ".")][:12]
-    hint = f"; did you mean {', '.join(close)}?" if close else ""
-    return KeyError(f"no derivation result named {name!r}{hint} "
-                    f"(`lpv-explorer constants` lists all {len(known)} names)")
 
 
 _FIELD = re.compile(r"\{([\w.]+)(?::([^}]*))?\}")

@@ -2,7 +2,7 @@
 // The factors the Corrections switches select (docs/MODEL.md "Corrections": k_I, k_P, k_R
 // and the published versus exact constants). The switches themselves (one uniform bool
 // u_<name> each, Corrections.as_uniforms()) are declared by the generated file, from the
-// corrections registry explorer/correction_registry.py.
+// corrections registry derivations/correction_registry.py.
 #ifndef LPV_CORRECTIONS_GLSL
 #define LPV_CORRECTIONS_GLSL 1
 

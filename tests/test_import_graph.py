@@ -10,9 +10,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("explorer", "derivations")
 LAYERS = (
+    ("derivations",),
     ("explorer.resources", "explorer.safe_files", "explorer.schema", "explorer.derived",
-     "explorer.derived_table", "explorer.correction_registry"),
-    ("derivations", "explorer.gl"),
+     "explorer.derived_table"),
+    ("explorer.gl",),
     ("explorer.scene",),
     ("explorer.lpv",),
     ("explorer.truth", "explorer.lessons", "explorer.figure_params", "explorer.overlay_params",
@@ -156,8 +157,8 @@ def test_the_checks_see_the_arrows_they_judge():
     assert "explorer.scene" in graph["explorer.lpv.pipeline"]
     assert _layer("explorer.scene.lights") < _layer("explorer.lpv.constants")
     assert _layer("explorer.ui.app") < _layer("explorer.commands.run")
-    assert "explorer.correction_registry" in graph["derivations.codegen"]
-    assert "explorer.derived" in graph["derivations.registry"]
+    assert "derivations.correction_registry" in graph["derivations.codegen"]
+    assert "derivations.names" in graph["explorer.derived"]
     assert _layer("derivations.codegen") < _layer("explorer.lpv.corrections")
 
 
@@ -220,3 +221,12 @@ def test_no_module_reaches_into_another_objects_private_state():
              if (where, what) not in BORROWED_PRIVATE]
     assert not wrong, "private state read from outside its object:\n" + "\n".join(wrong)
     assert {(where, what) for where, what, _ in found} == set(BORROWED_PRIVATE)
+
+
+def test_the_derivations_import_nothing_of_the_explorer():
+    """The bottom layer: what the code generator needs about the corrections is its own
+    (derivations/correction_registry.py), so the derivations run with no explorer code."""
+    graph = _graph()
+    upward = sorted(f"{a} -> {b}" for a, targets in graph.items() if a.startswith("derivations")
+                    for b in targets if b.startswith("explorer"))
+    assert upward == []

@@ -77,7 +77,7 @@ def stage_inputs(settings: Any, stage: str) -> tuple:
 def _nested_inputs(value: Any, stage: str) -> Any:
     """The part of a field's value that ``stage`` reads. Of the corrections only the
     switches the registry says the stage's programs read (:attr:`Correction.stages`,
-    explorer/correction_registry.py), so e.g. toggling a switch that only the propagation
+    derivations/correction_registry.py), so e.g. toggling a switch that only the propagation
     reads re-runs no injection, and the "original" preset (which leaves the geometry
     volume's switch corrected) re-runs no geometry volume."""
     if isinstance(value, Corrections):

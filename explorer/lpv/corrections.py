@@ -1,5 +1,5 @@
 """The correction switches as the LPV reads them: the :class:`Corrections` dataclass (its
-fields come from the registry, :mod:`explorer.correction_registry`), the presets, and
+fields come from the registry, :mod:`derivations.correction_registry`), the presets, and
 which uniforms each stage's programs must read (:func:`uniforms_read_by`).
 
 :data:`STAGES`, the stages whose programs may read a switch, comes from the declared
@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import fields
 
-from explorer.correction_registry import BY_NAME, CORRECTIONS, Correction
+from derivations.correction_registry import BY_NAME, CORRECTIONS, Correction
 from explorer.lpv.stage_list import CORRECTION_STAGES as STAGES
 
 __all__ = ["BY_NAME", "CORRECTIONS", "Correction", "Corrections", "PRESETS", "STAGES",

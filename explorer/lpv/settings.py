@@ -1,7 +1,7 @@
 """Settings of one LPV frame.
 
 The switches between published and corrected formulas (:class:`Corrections`, the
-presets) come from the corrections registry (``explorer/correction_registry.py``, made
+presets) come from the corrections registry (``derivations/correction_registry.py``, made
 into the dataclass by ``explorer/lpv/corrections.py``); they are imported here because
 much code reads them from this module.
 """

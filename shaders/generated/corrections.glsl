@@ -1,6 +1,6 @@
 #version 430 core
 // GENERATED FILE, do not edit. Written by `python -m derivations.codegen` from the
-// corrections registry (explorer/correction_registry.py); `python -m derivations.codegen --check`
+// corrections registry (derivations/correction_registry.py); `python -m derivations.codegen --check`
 // and the test suite fail when it is stale. One switch per uniform: true = corrected,
 // false = as published (Corrections.as_uniforms()). lpv_corrections.glsl includes it.
 

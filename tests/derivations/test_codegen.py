@@ -84,7 +84,7 @@ def test_generated_glsl_compiles(ctx):
 def test_the_model_page_shows_the_registry_as_its_corrections_table():
     """docs/MODEL.md's corrections table is generated: a row per registry entry, its
     two forms (the hand-written page around it stays as it is)."""
-    from explorer.correction_registry import CORRECTIONS
+    from derivations.correction_registry import CORRECTIONS
 
     table = codegen.corrections_table()
     assert [line.split("`")[1] for line in table.splitlines()[2:]] == [

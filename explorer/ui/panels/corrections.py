@@ -1,5 +1,5 @@
 """Corrections panel: one switch per entry of the corrections registry
-(``explorer/correction_registry.py``), its published and corrected formulas side by side (the
+(``derivations/correction_registry.py``), its published and corrected formulas side by side (the
 derivations ``corrections.<name>.original`` / ``.corrected``, typeset from the LaTeX
 generated into ``explorer/derived_table.py``), why it matters and what it changes."""
 

@@ -12,7 +12,7 @@ Everything else about a switch comes from its entry here (docs/MODEL.md "Correct
   derivations ``corrections.<name>.original`` and ``.corrected`` (``derivations/``), as
   LaTeX generated into ``explorer/derived_table.py``.
 
-Plain data at the bottom of the layers (it imports nothing of the project): the code
+Plain data in the bottom layer, the derivations (it imports nothing of the project): the code
 generator reads it without importing the LPV package, and the window reads it at start.
 The stage names an entry gives are checked against the declared stage list by
 :mod:`explorer.lpv.corrections`.
