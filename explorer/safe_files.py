@@ -41,12 +41,15 @@ CAPS: dict[str, int] = {
     "scene file": 1 * MiB,
     "shader": 1 * MiB,
     "mesh": 512 * MiB,
+    "mesh asset": 512 * MiB,
+    "texture": 256 * MiB,
     "array file": 2048 * MiB,
 }
 """Largest file of each kind the explorer reads. A lesson is prose: the longest shipped
 lesson is about 13 KB, so 256 KB leaves room for far more while a 10 MB lesson the window
 could not draw fluidly is refused (the lesson reader also caps a step's text and formulas); a
-settings or layout file is a few KB."""
+settings or layout file is a few KB. A mesh asset is a file a mesh names (an OBJ's
+material library, a glTF's buffer), a texture an image it names."""
 
 MAX_NESTING = 32
 """Deepest nesting of tables and arrays in a JSON or TOML file the explorer accepts: its
@@ -102,6 +105,13 @@ def check_regular_file(path: Path | str, kind: str, cap: int | None = None) -> i
         return os.fstat(fd).st_size
     finally:
         os.close(fd)
+
+
+def open_regular(path: Path | str, kind: str, cap: int | None = None):
+    """A binary file object of the regular file ``path`` within the kind's cap (for
+    readers that seek, such as an archive's); :class:`UserFileError` as :func:`read_bytes`
+    gives."""
+    return os.fdopen(_open_regular(Path(path), kind, _kind_cap(kind, cap)), "rb")
 
 
 def read_bytes(path: Path | str, kind: str, cap: int | None = None) -> bytes:

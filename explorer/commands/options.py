@@ -395,11 +395,11 @@ def check_scene(name: str, stream: TextIO | None = None) -> None:
     try:
         path = check_scene_name(name)
         if path is not None:
-            notice = load_scene(name).notice
-            if notice:
-                out = sys.stderr if stream is None else stream
-                out.write(f"lpv-explorer: {notice}\n")
-                out.flush()
+            scene = load_scene(name)
+            out = sys.stderr if stream is None else stream
+            for line in filter(None, (scene.notice, *(f"warning: {w}" for w in scene.warnings))):
+                out.write(f"lpv-explorer: {line}\n")
+            out.flush()
     except SceneError as exc:
         raise CommandError(exc) from None
 

@@ -40,13 +40,42 @@ MAX_TEXTURE_EDGE = 4096
 MIN_TRIANGLE_AREA_FRACTION = 1e-12
 """Triangles smaller than this fraction of the squared scene size have no usable normal."""
 
-def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
+@dataclass(frozen=True)
+class MeshFile:
+    """The triangle meshes of one mesh file and what could not be read of the files it
+    names (each warning one line naming the file: a missing or damaged texture)."""
+
+    parts: list[tuple[str, object, np.ndarray]]
+    """``(name, trimesh.Trimesh, 4×4 world transform)`` per scene-graph node."""
+    warnings: tuple[str, ...] = ()
+
+
+def read_mesh_parts(path: Path) -> MeshFile:
     """The file's triangle meshes with their names (scene-graph node) and world
-    transforms."""
+    transforms. The file and every file it names are read through the safe reader
+    (explorer/scene/mesh_assets.py), a glTF's layout checked before trimesh allocates."""
+    import io
+
     import trimesh
 
+    from explorer.safe_files import read_bytes
+    from explorer.scene.mesh_assets import (
+        AssetResolver,
+        check_gltf_bytes,
+        check_stl_bytes,
+        check_textures,
+    )
+
+    resolver = AssetResolver(path)
+    suffix = "".join(path.suffixes[-2:]).lower() if path.name.lower().endswith(
+        (".tar.gz", ".tar.bz2")) else path.suffix.lower()
     try:
         check_mesh_file(path)         # a regular file within the size caps, unpacked too
+        data = read_bytes(path, "mesh")
+        if suffix in (".glb", ".gltf"):
+            check_gltf_bytes(data, suffix, resolver, path)
+        elif suffix == ".stl":
+            check_stl_bytes(data, path)
     except UserFileError as exc:
         raise SceneError(str(exc)) from None
     # trimesh logs (and sometimes prints tracebacks for) recoverable problems; the user
@@ -56,8 +85,10 @@ def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
     logger.setLevel(logging.CRITICAL)
     try:
         # no force="mesh": flattening a scene copies visuals through scipy, which is
-        # not a dependency; the scene graph is walked below instead.
-        loaded = trimesh.load(str(path), process=False)
+        # not a dependency; the scene graph is walked below instead. The bytes read
+        # above and the resolver: trimesh opens no file itself.
+        loaded = trimesh.load(io.BytesIO(data), file_type=suffix.lstrip("."),
+                              resolver=resolver, process=False)
         if isinstance(loaded, trimesh.Scene):
             parts = []
             for node in loaded.graph.nodes_geometry:
@@ -75,15 +106,19 @@ def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
                                  f"triangles)")
     except SceneError:
         raise
+    except UserFileError as exc:      # a buffer the mesh needs
+        raise SceneError(str(exc)) from None
     except Exception as exc:  # trimesh raises many types for broken files
         reason = str(exc) or type(exc).__name__
+        named = f"; {resolver.warnings[-1]}" if resolver.warnings else ""   # say which
         raise SceneError(f"{path}: not a mesh trimesh can read ({type(exc).__name__}: "
-                         f"{reason})") from None
+                         f"{reason}){named}") from None
     finally:
         logger.setLevel(level)
     if not parts:
         raise SceneError(f"{path}: the file holds no triangle mesh")
-    return parts
+    warnings = [*resolver.warnings, *check_textures(parts, path)]
+    return MeshFile(parts, tuple(dict.fromkeys(warnings)))
 
 
 @dataclass(frozen=True)
