@@ -213,6 +213,18 @@ def temporary_beside(path: Path) -> Path:
     return Path(name)
 
 
+def output_mode(path: Path | str) -> int:
+    """The permission bits a file written to ``path`` gets: those of the file it replaces,
+    else what a new file gets under the process's umask (``mkstemp``'s temporaries are
+    private, 0600, which a renamed output must not keep)."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        mask = os.umask(0)
+        os.umask(mask)
+        return 0o666 & ~mask
+
+
 def write_atomically(path: Path | str, save: Callable[[Path], None] | bytes | str) -> Path:
     """Write ``path`` whole: ``save(temporary)`` (or the given bytes/text) into a unique
     temporary beside it, then rename it into place. On any failure (a full disk, an
@@ -226,6 +238,7 @@ def write_atomically(path: Path | str, save: Callable[[Path], None] | bytes | st
             partial.write_bytes(save)
         else:
             partial.write_text(save, encoding="utf-8")
+        os.chmod(partial, output_mode(path))
         os.replace(partial, path)
     except BaseException:
         partial.unlink(missing_ok=True)

@@ -421,44 +421,80 @@ class Outputs:
 
     Paths are checked when the command starts (:meth:`file`, :meth:`folder`), before any
     work: a folder, a missing suffix, a name longer than the file system allows, a folder
-    that cannot be made or written. Each file is written whole by :meth:`write` (a unique
-    temporary name beside it, ``explorer.safe_files.temporary_beside``, then renamed), so
-    no file of the user's that happens to have the temporary's name is ever touched. If
-    the command then fails or is interrupted (the ``with`` block ends with an exception),
-    everything it wrote is undone: a new file is removed, a file it replaced gets its old
-    content back (a hard link to the old file is kept until the command ends), and the
-    folders made for them are removed; a partial result is never mistaken for a finished
-    one and nothing of the user's is lost."""
+    that cannot be made or written. :meth:`write` writes each file to a unique temporary
+    name beside it (``explorer.safe_files.temporary_beside``: never a name a user file
+    has); nothing the user sees changes until the command succeeds, when every file is
+    renamed into place in one tight sequence with the stop signals held
+    (explorer/stop_signals.py ``held``), a replaced file keeping its mode. A failure in
+    that sequence puts back what it had replaced. If the command fails or is stopped
+    (Ctrl-C, SIGTERM, SIGHUP: the ``with`` block ends with an exception) its temporaries
+    and the folders made for them are removed: the old set of outputs stays whole, or
+    the new set is whole, never a mix, and nothing hidden is left behind."""
 
     def __init__(self, option: str = "--out") -> None:
         self.option = option
         self.written: list[Path] = []
         self.made: list[Path] = []
-        self._previous: dict[Path, Path | None] = {}   # written path -> its old content
+        self._staged: dict[Path, Path] = {}             # output path -> its temporary
+        self._removed: list[Path] = []
 
     def __enter__(self) -> "Outputs":
         return self
 
     def __exit__(self, exc_type, exc, traceback) -> None:
         if exc_type is None:
-            for backup in self._previous.values():
-                if backup is not None:
-                    backup.unlink(missing_ok=True)
+            self._commit()
             return
-        for path in reversed(self.written):
-            backup = self._previous.get(path)
-            try:
-                if backup is not None:
-                    os.replace(backup, path)
-                else:
-                    path.unlink(missing_ok=True)
-            except OSError:
-                pass                    # the folder went away: nothing left to restore
+        for partial in self._staged.values():
+            partial.unlink(missing_ok=True)
+        self._staged.clear()
+        self._remove_made_folders()
+
+    def _remove_made_folders(self) -> None:
         for folder in reversed(self.made):
             try:
                 folder.rmdir()
             except OSError:
                 pass                    # not empty: something else is in it now
+
+    def _commit(self) -> None:
+        """Rename every staged file into place (old contents kept as hard links until all
+        are in), remove the files :meth:`remove` named; on a failure undo it all."""
+        from explorer.safe_files import os_error_text
+        from explorer.stop_signals import held
+
+        done: list[tuple[Path, Path | None]] = []        # path -> its old content
+        with held():
+            try:
+                for path, partial in self._staged.items():
+                    backup = self._keep_old(path)
+                    done.append((path, backup))
+                    os.replace(partial, path)
+                    self.written.append(path)
+                for path in self._removed:
+                    if path.exists():
+                        backup = self._keep_old(path)
+                        done.append((path, backup))
+                        path.unlink()
+            except OSError as exc:
+                for path, backup in reversed(done):
+                    try:
+                        if backup is not None:
+                            os.replace(backup, path)
+                        elif path in self._staged:
+                            path.unlink(missing_ok=True)
+                    except OSError:
+                        pass            # the folder went away: nothing left to restore
+                for partial in self._staged.values():
+                    partial.unlink(missing_ok=True)
+                self.written.clear()
+                self._remove_made_folders()
+                raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
+            finally:
+                self._staged.clear()
+            for _, backup in done:
+                if backup is not None:
+                    backup.unlink(missing_ok=True)
 
     def file(self, path: Path | str, suffixes: tuple[str, ...] = IMAGE_SUFFIXES,
              option: str | None = None) -> Path:
@@ -520,37 +556,39 @@ class Outputs:
                                ) from None
 
     def write(self, path: Path, save: Callable[[Path], None]) -> Path:
-        """Write ``path`` whole: ``save(temporary path)`` (same suffix), then rename. A
-        write that fails (a full disk, a folder that went away) is a
-        :class:`CommandError` naming the file, with nothing left behind."""
-        from explorer.safe_files import os_error_text, temporary_beside
+        """Stage ``path``: ``save(temporary path)`` (same suffix) now, the rename when the
+        command succeeds (class docstring). A write that fails (a full disk, a folder
+        that went away) is a :class:`CommandError` naming the file, with nothing left
+        behind."""
+        from explorer.safe_files import os_error_text, output_mode, temporary_beside
 
         try:
             partial = temporary_beside(path)
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
-        backup = None
         try:
             save(partial)
-            if path not in self._previous:
-                backup = self._keep_old(path)
-            os.replace(partial, path)
+            os.chmod(partial, output_mode(path))
         except BaseException as exc:
             partial.unlink(missing_ok=True)
-            if backup is not None:
-                backup.unlink(missing_ok=True)
             if isinstance(exc, OSError):
                 raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
             raise
-        if path not in self._previous:
-            self._previous[path] = backup
-            self.written.append(path)
+        earlier = self._staged.pop(path, None)
+        if earlier is not None:
+            earlier.unlink(missing_ok=True)
+        self._staged[path] = partial
         return path
+
+    def remove(self, path: Path) -> None:
+        """Remove ``path`` when the command succeeds (a file an earlier run of the same
+        command wrote and this one no longer does), with the renames."""
+        self._removed.append(path)
 
     @staticmethod
     def _keep_old(path: Path) -> Path | None:
         """A hard link to ``path``'s current content (None when there is no file yet), so
-        that an interrupted command can put it back."""
+        that a failed commit can put it back."""
         from explorer.safe_files import temporary_beside
 
         if not path.is_file():
