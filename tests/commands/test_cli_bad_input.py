@@ -9,11 +9,11 @@ import signal
 import subprocess
 import sys
 import time
-import types
 from pathlib import Path
 
-import numpy as np
 import pytest
+
+from command_cases import StandInPipeline
 
 from explorer.cli import main
 from explorer.commands.options import Outputs, Progress, settings_from_args
@@ -195,30 +195,12 @@ def test_ctrl_c_ends_with_130_one_line_and_no_partial_output(tmp_path):
     assert not out.exists()
 
 
-class _InterruptedPipeline:
-    """Stands in for Pipeline: the second view is interrupted (Ctrl-C while writing)."""
-
-    def __init__(self, settings, ctx=None):
-        self.views = 0
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
-
-    def run(self, settings=None, **options):
-        return types.SimpleNamespace(settings=settings, warnings=[])
-
-    def view(self, name, **options):
-        self.views += 1
-        if self.views == 2:
-            raise KeyboardInterrupt
-        return np.full((8, 8, 3), 0.5)
-
-
 def test_an_interrupted_render_removes_the_views_it_wrote(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", _InterruptedPipeline)
+    def interrupt():
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(StandInPipeline, "on_second_view", staticmethod(interrupt))
+    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", StandInPipeline)
     out = tmp_path / "new" / "frame.png"
     assert main(["render", "--out", str(out), "--view", "final", "--view", "direct"]) == 130
     captured = capsys.readouterr()
@@ -358,7 +340,7 @@ def test_gl_refusing_a_framebuffer_is_one_line_and_exit_1(tmp_path, capsys, monk
     error (e.g. an incomplete framebuffer) ends the command in one line, exit 1."""
     import moderngl
 
-    class Refusing(_InterruptedPipeline):
+    class Refusing(StandInPipeline):
         def run(self, settings=None, **options):
             raise moderngl.Error("framebuffer is not complete")
 

@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import os
 import signal
-import types
 from pathlib import Path
 
-import numpy as np
 import pytest
+
+from command_cases import StandInPipeline
 
 from explorer.cli import main
 
@@ -83,37 +83,13 @@ def test_two_screenshots_in_one_second_get_two_files(tmp_path):
     assert len({first, second, third}) == 3 and not third.exists()
 
 
-class _SignalledPipeline:
-    """Stands in for Pipeline: the second view is stopped by ``SIGNAL`` sent to this
-    process (as ``kill`` would send it), after the first view was written."""
-
-    SIGNAL = signal.SIGTERM
-
-    def __init__(self, settings, ctx=None):
-        self.views = 0
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
-
-    def run(self, settings=None, **options):
-        return types.SimpleNamespace(settings=settings, warnings=[])
-
-    def view(self, name, **options):
-        self.views += 1
-        if self.views == 2:
-            os.kill(os.getpid(), self.SIGNAL)
-        return np.full((8, 8, 3), 0.5)
-
-
 @pytest.mark.parametrize("signum, code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129),
                                           (signal.SIGINT, 130)])
 def test_a_signal_mid_command_leaves_the_old_outputs_whole(tmp_path, monkeypatch, capsys,
                                                           signum, code):
-    monkeypatch.setattr(_SignalledPipeline, "SIGNAL", signum)
-    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", _SignalledPipeline)
+    monkeypatch.setattr(StandInPipeline, "on_second_view",
+                        staticmethod(lambda: os.kill(os.getpid(), signum)))
+    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", StandInPipeline)
     out = tmp_path / "frame.png"
     olds = {tmp_path / "frame-final.png": b"old final", tmp_path / "frame-direct.png":
             b"old direct"}
@@ -142,7 +118,7 @@ def test_a_signal_during_the_renames_waits_until_the_new_set_is_whole(tmp_path, 
                 os.kill(os.getpid(), signal.SIGTERM)
 
     monkeypatch.setattr(options.os, "replace", replace_then_signal)
-    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", _InertPipeline)
+    monkeypatch.setattr("explorer.lpv.pipeline.Pipeline", StandInPipeline)
     out = tmp_path / "frame.png"
     for view in ("final", "direct"):
         (tmp_path / f"frame-{view}.png").write_bytes(b"old")
@@ -154,7 +130,3 @@ def test_a_signal_during_the_renames_waits_until_the_new_set_is_whole(tmp_path, 
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frame-direct.png",
                                                           "frame-final.png"]
 
-
-class _InertPipeline(_SignalledPipeline):
-    def view(self, name, **options):
-        return np.full((8, 8, 3), 0.5)
