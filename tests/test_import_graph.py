@@ -10,8 +10,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("explorer", "derivations")
 LAYERS = (
-    ("explorer.resources", "explorer.safe_files", "explorer.schema", "explorer.derived",
-     "explorer.derived_table", "explorer.correction_registry"),
+    ("explorer.resources", "explorer.safe_files", "explorer.stop_signals", "explorer.schema",
+     "explorer.derived", "explorer.derived_table", "explorer.correction_registry"),
     ("derivations", "explorer.gl"),
     ("explorer.scene",),
     ("explorer.lpv",),
