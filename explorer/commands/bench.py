@@ -336,7 +336,15 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.interactive or args.soak is not None:
+    options.one_of(args, {"interactive": "--interactive", "overhead": "--overhead",
+                          "soak": "--soak"})
+    window = args.interactive or args.soak is not None
+    options.only_with(args, window, "--interactive or --soak", {"root": "--root"})
+    # the window bench drives the window with its own session: these would be unused
+    options.only_with(args, not window, "the timing bench (not --interactive or --soak)",
+                      {"repeat": "--repeat", "quick": "--quick", "peak_gbs": "--peak-gbs",
+                       **options.setting_flags(args)})
+    if window:
         from explorer.commands.interactive_bench import run_window_bench
 
         return run_window_bench(args)

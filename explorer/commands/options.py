@@ -58,6 +58,59 @@ class ArgumentParser(argparse.ArgumentParser):
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
 
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        """argparse's, after refusing an option given twice with different values (argparse
+        would silently keep the last): ``--grid 8 --grid 16``, ``--fog --no-fog``, two
+        ``--preset``. Repeatable options (``--view``, ``--object``) are not checked."""
+        given = list(sys.argv[1:] if args is None else args)
+        self._refuse_repeated(given)
+        return super().parse_known_args(given, namespace)
+
+    def _refuse_repeated(self, given: list[str]) -> None:
+        seen: dict[str, tuple[str, str]] = {}     # dest -> (option, value) as first given
+        index = 0
+        while index < len(given):
+            token = given[index]
+            index += 1
+            if token == "--":
+                return
+            if token in self._subparser_names():
+                return                  # the rest is the subcommand's, checked by its parser
+            found = self._parse_optional(token) if token.startswith("-") else None
+            if isinstance(found, list):          # Python 3.12+: the candidates
+                found = found[0] if len(found) == 1 else None
+            if not found or found[0] is None:
+                continue
+            action, option, explicit = found[0], found[1], found[-1]
+            if isinstance(action, (argparse._AppendAction, argparse._CountAction,
+                                   argparse._HelpAction, argparse._VersionAction,
+                                   argparse._SubParsersAction)):
+                continue
+            if action.nargs is None and explicit is None and index < len(given):
+                value = given[index]
+                index += 1
+            else:
+                value = "" if explicit is None else explicit
+            if action.nargs not in (None, 0):
+                continue                # a variable number of values: not compared
+            said = f"{option} {value}".strip()
+            first = seen.setdefault(action.dest, (option, said))
+            if first[1] != said:
+                self.error(f"{first[1]} and {said} both given; give {_flag_of(action)} once")
+
+    def _subparser_names(self) -> set[str]:
+        names: set[str] = set()
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                names.update(action.choices)
+        return names
+
+
+def _flag_of(action: argparse.Action) -> str:
+    """The option's name as its help shows it (``--fog/--no-fog``, ``--grid``)."""
+    longs = [option for option in action.option_strings if option.startswith("--")]
+    return "/".join(longs or action.option_strings)
+
 
 # --- options from the schema -----------------------------------------------------------
 
@@ -337,9 +390,106 @@ def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -
     if "preset" in own and args.preset is not None:
         changes["corrections"] = args.preset
     try:
-        return (base or Settings()).with_changes(**changes)
+        settings = (base or Settings()).with_changes(**changes)
     except SettingError as exc:
         raise CommandError(exc) from None
+    check_dependent_options(args, settings)
+    return settings
+
+
+DEPENDENT_OPTIONS: dict[str, tuple[object, tuple[str, ...]]] = {
+    "spot_cone": (False, ("spot_cone_degrees",)),
+    "fog": (False, ("fog_density", "fog_albedo", "fog_phase", "fog_g", "fog_steps")),
+    "fog_phase": ("isotropic", ("fog_g",)),
+    "glossy": (False, ("glossy_roughness", "glossy_strength", "glossy_samples")),
+    "downsample": ("none", ("downsample_factor",)),
+    "cascades": (1, ("cascade_extent", "cascade_focus", "cascade_snap",
+                     "cascade_iterations")),
+}
+"""Settings that only matter while another is not at a value that switches them off: the
+switch field, that value, the fields it makes unused (the spot cone's angles without the
+cone, fog's parameters without fog, Henyey-Greenstein's g for isotropic fog, the glossy
+lobe's without it, the downsample factor without downsampling, the cascades' parameters
+with one grid)."""
+
+
+def _off_text(name: str, value: object) -> str:
+    spec = specs(Settings)[name]
+    if spec.kind == "bool":
+        return f"--no-{spec.flag[2:]}" if value is False else spec.flag
+    return f"{spec.flag} {value}"
+
+
+def check_dependent_options(args: argparse.Namespace, settings: Settings,
+                            stream: TextIO | None = None) -> None:
+    """Options that contradict each other: a setting given on the command line together
+    with the option that switches it off (``--no-spot-cone --cone-angles 20,30``) is a
+    :class:`CommandError` naming both; given while its switch is off only by default (or
+    by the lesson step), a warning on ``stream`` (stderr) says it has no effect and what
+    would give it one."""
+    fields = specs(Settings)
+    out = sys.stderr if stream is None else stream
+    for switch, (off, dependents) in DEPENDENT_OPTIONS.items():
+        given = [name for name in dependents if getattr(args, name, None) is not None]
+        if not given or getattr(settings, switch) != off:
+            continue
+        flags = ", ".join(fields[name].flag for name in given)
+        if getattr(args, switch, None) is not None:
+            raise CommandError(f"{_off_text(switch, off)} and {flags} contradict each other: "
+                               f"{flags} would have no effect; give one of them")
+        out.write(f"lpv-explorer: warning: {flags} has no effect: the settings have "
+                  f"{_off_text(switch, off)}; {_on_hint(switch, off)}\n")
+
+
+def _on_hint(name: str, off: object) -> str:
+    spec = specs(Settings)[name]
+    if spec.kind == "bool":
+        return f"add {spec.flag} to use it"
+    if spec.kind == "choice":
+        others = [str(c) for c in spec.choices if c != off]
+        return f"add {spec.flag} {'|'.join(others)} to use it"
+    return f"add {spec.flag} N with N other than {off} to use it"
+
+
+def given_options(args: argparse.Namespace, flags: Mapping[str, str]) -> list[str]:
+    """The flags of ``flags`` (dest -> flag) the command line gave: a value other than
+    None or False (the defaults every such option here has)."""
+    def given(value: object) -> bool:       # 0 is a value given (0 == False in Python)
+        return not (value is None or value is False or (isinstance(value, (list, tuple))
+                                                        and not value))
+
+    return [flag for dest, flag in flags.items() if given(getattr(args, dest, None))]
+
+
+def one_of(args: argparse.Namespace, flags: Mapping[str, str]) -> None:
+    """Refuse two of ``flags`` (dest -> flag: options that each choose what the command
+    does) given together, naming both."""
+    given = given_options(args, flags)
+    if len(given) > 1:
+        raise CommandError(f"{' and '.join(given)} each choose a different run; give one")
+
+
+def only_with(args: argparse.Namespace, present: bool, needs: str,
+              flags: Mapping[str, str]) -> None:
+    """Refuse options (dest -> flag) that only act with ``needs`` when it is not
+    ``present``: silently unused, they would look as if they had been applied."""
+    given = given_options(args, flags)
+    if given and not present:
+        named = ", ".join(given)
+        raise CommandError(f"{named} only {'acts' if len(given) == 1 else 'act'} with "
+                           f"{needs}; add that or leave {named} out")
+
+
+def setting_flags(args: argparse.Namespace) -> dict[str, str]:
+    """dest -> flag of every Settings option this command has, with ``--size``,
+    ``--preset``, ``--light`` and ``--camera``."""
+    flags = {name: spec.flag for name, spec in specs(Settings).items()
+             if spec.flag is not None and hasattr(args, name)}
+    for dest, flag in (("size", "--size"), ("preset", "--preset"),
+                       ("_light_option", "--light"), ("_camera_option", "--camera")):
+        if hasattr(args, dest):
+            flags[dest] = flag
+    return flags
 
 
 def _merged_transforms(name: str, given: list) -> tuple:

@@ -282,7 +282,13 @@ def _lesson_step(args: argparse.Namespace):
 
 
 def _view_options(args: argparse.Namespace, settings, views: list[str]) -> dict[str, int]:
-    """--slice, --coefficient and --cascade, checked against the grid they index."""
+    """--slice, --coefficient and --cascade, checked against the grid they index (and
+    refused when no view asked shows a grid: they would be silently unused)."""
+    options.only_with(args, any(view in SLICED_VIEWS for view in views),
+                      "a grid view (--view grid-slice or geometry-volume)",
+                      {"z": "--slice", "cascade": "--cascade"})
+    options.only_with(args, "grid-slice" in views, "--view grid-slice",
+                      {"coefficient": "--coefficient"})
     chosen = {}
     if args.z is not None:
         slices = settings.grid_size + (1 if "geometry-volume" in views else 0)

@@ -80,6 +80,9 @@ def window_size(width: int, height: int) -> tuple[int, int]:
 def main(args: argparse.Namespace) -> int:
     if args.step is not None and not args.lesson:
         raise CommandError("--step needs --lesson")
+    if not args.wait and args.screenshot is None:
+        raise CommandError("--no-wait only acts with --screenshot; add that or leave "
+                           "--no-wait out")
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
         check_scene(args.scene)    # a broken mesh or scene file: refused before the window
