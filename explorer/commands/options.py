@@ -202,8 +202,15 @@ def image_size(width: int, height: int) -> tuple[int, int]:
 
 
 def spec_help(spec: Spec, default: object = None) -> str:
-    """Help text of an option: the field's doc, what it allows and its default."""
-    text = f"{spec.doc} Allowed: {spec.allowed()}"
+    """Help text of an option: the field's doc, what it allows and its default. An
+    optional field's None is the option left out (nobody types None on a command line)."""
+    doc, allowed = spec.doc, spec.allowed()
+    if spec.optional:
+        doc = doc.replace("None = ", "left out: ")
+        allowed = allowed.removesuffix(" or None")
+        if default == "automatic" and "left out" in doc:
+            default = None                  # the doc says what leaving it out does
+    text = f"{doc} Allowed: {allowed}"
     if default is not None:
         text += f"; default {default}"
     return (text + ".").replace("%", "%%")     # argparse %-formats help texts
@@ -244,7 +251,8 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
                                help=help_text[:-1] + "; a comma list runs each value.")
         else:
             group.add_argument(*flags, dest=name, type=setting_type(name), default=None,
-                               metavar=_metavar(spec), help=help_text)
+                               metavar="NAME|PATH" if name == "scene" else _metavar(spec),
+                               help=help_text)
     add_placement_options(group)
     if "width" not in exclude:
         size = defaults.get("size", (base.width, base.height))
@@ -273,7 +281,7 @@ def add_placement_options(group) -> None:
                        help=f"the primary light: its kind ({', '.join(LIGHT_KINDS)}), "
                             f"position and target (a spot and a directional light need "
                             f"one; a point light ignores it); a new kind gets the flux "
-                            f"that gives 2 W/m²%% at the target unless --light-flux says")
+                            f"that gives 2 W/m² at the target unless --light-flux says")
     group.add_argument("--camera", dest="_camera_option", type=camera_option, default=None,
                        metavar="EX,EY,EZ:TX,TY,TZ[:FOV]",
                        help="the camera: eye, target and optionally the vertical field of "
@@ -385,6 +393,9 @@ def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -
             changes[name] = value
     changes.update(placement_changes(args))
     own = getattr(args, "_setting_options", ())   # --size and --preset, when they are ours
+    sizes = given_options(args, {"width": "--width", "height": "--height"})
+    if "size" in own and args.size is not None and sizes:
+        raise CommandError(f"--size and {'/'.join(sizes)} both set the image size; give one")
     if "size" in own and args.size is not None:
         changes["width"], changes["height"] = args.size
     if "preset" in own and args.preset is not None:

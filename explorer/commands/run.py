@@ -49,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--light-flux", metavar="W", type=setting_type("light_flux"),
                         default=None, help=spec_help(specs(Settings)["light_flux"]))
     parser.add_argument("--step", metavar="K", type=value_type("step", STEP), default=None,
-                        help="with --lesson: " + spec_help(STEP))
+                        help="with --lesson: " + spec_help(STEP)[0].lower() + spec_help(STEP)[1:])
     parser.add_argument("--compare", choices=VIEW_MODES,
                         help="view mode: one configuration, split A|B, or their difference")
     parser.add_argument("--size", metavar="WxH", default=None, type=size_type(window_size),

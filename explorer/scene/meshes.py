@@ -37,6 +37,11 @@ FALLBACK_ALBEDO = 0.6
 """Linear grey for meshes that carry no colour."""
 MAX_TEXTURE_EDGE = 4096
 """Largest texture edge in texels kept (larger images are reduced when loaded)."""
+MAX_MESH_COORDINATE = 1e18
+"""Largest coordinate magnitude a mesh may have, in the file and in the world: squared
+lengths of 1.8e19 overflow float32, so past this every area, distance and normal the
+passes compute is infinite or NaN (smaller but still extreme scales only warn,
+explorer/lpv/guards.py ``scale_warning``)."""
 MIN_TRIANGLE_AREA_FRACTION = 1e-12
 """Triangles smaller than this fraction of the squared scene size have no usable normal."""
 
@@ -117,6 +122,8 @@ def read_mesh_parts(path: Path) -> MeshFile:
         logger.setLevel(level)
     if not parts:
         raise SceneError(f"{path}: the file holds no triangle mesh")
+    for name, mesh, _ in parts:
+        check_coordinates(np.asarray(mesh.vertices, np.float64), f"{path}: mesh {name!r}")
     warnings = [*resolver.warnings, *check_textures(parts, path)]
     return MeshFile(parts, tuple(dict.fromkeys(warnings)))
 
@@ -313,11 +320,12 @@ def _triangle_soup(part: MeshPart, source: str) -> _Surface | None:
     vertices = np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
     if len(faces) == 0:
         return None
-    if not np.all(np.isfinite(vertices)):
-        raise SceneError(f"{source}: vertex positions contain NaN or infinity")
+    check_coordinates(vertices, f"{source}: mesh {part.name!r}")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise SceneError(f"{source}: faces index vertices that do not exist")
-    world = vertices @ transform[:3, :3].T + transform[:3, 3]
+    with np.errstate(over="ignore", invalid="ignore"):
+        world = vertices @ transform[:3, :3].T + transform[:3, 3]
+    check_coordinates(world, f"{source}: mesh {part.name!r} placed in the world")
     if np.linalg.det(transform[:3, :3]) < 0.0:
         # a mirroring transform reverses the winding: swap two corners to keep the front
         faces = faces[:, [0, 2, 1]]
@@ -337,6 +345,21 @@ def _triangle_soup(part: MeshPart, source: str) -> _Surface | None:
         (double_sided if double_sided is not None else True)
     return _Surface(world[faces], corner_normals, np.array(albedo, np.float64), uv, texture,
                     bool(two_sided))
+
+
+def check_coordinates(points: np.ndarray, where: str) -> None:
+    """A :class:`SceneError` naming ``where`` when a coordinate is NaN, infinite or beyond
+    :data:`MAX_MESH_COORDINATE`."""
+    if points.size == 0:
+        return
+    if not np.all(np.isfinite(points)):
+        bad = int(np.count_nonzero(~np.all(np.isfinite(points), axis=-1)))
+        raise SceneError(f"{where}: {bad} vertex position(s) are NaN or infinite")
+    largest = float(np.max(np.abs(points)))
+    if largest > MAX_MESH_COORDINATE:
+        raise SceneError(f"{where}: a vertex coordinate is {largest:.3g}, beyond the "
+                         f"{MAX_MESH_COORDINATE:.0e} a mesh may have (float32 squares "
+                         f"overflow); rescale the mesh")
 
 
 def _face_normals(corners: np.ndarray) -> np.ndarray:

@@ -391,7 +391,7 @@ def _text(table: dict, key: str, where: str, name: str, default: str | None = No
         return default
     value = table[key]
     if not isinstance(value, str) or not value.strip():
-        raise SceneError(f"{where}: {name}: {key} must be a non-empty text, got {value!r}")
+        raise SceneError(f"{where}: {name}: {key} must be non-empty text, got {value!r}")
     return value
 
 

@@ -61,3 +61,25 @@ def test_a_setting_whose_switch_is_off_by_default_is_a_warning_naming_both(tmp_p
     err = capsys.readouterr().err
     assert "warning: --fog-density has no effect: the settings have --no-fog; add --fog to " \
            "use it" in err
+
+
+def test_help_texts_say_nothing_a_command_line_cannot_take():
+    """No help text offers None (leaving the option out is how) or shows a stray %, and
+    every option taking a value names it with a placeholder of its own (N, X, FILE.json),
+    not argparse's upper-cased option name (``--peak-gbs PEAK_GBS``)."""
+    from explorer.cli import build_parser
+
+    parser = build_parser()
+    for name, command in parser.command_parsers.items():
+        text = command.format_help()
+        assert "None" not in text, f"{name}: a help text offers None"
+        assert "%" not in text, f"{name}: a stray % in a help text"
+        unnamed = [action.option_strings[0] for action in command._actions
+                   if action.option_strings and action.nargs != 0 and action.metavar is None
+                   and action.choices is None and action.help != "==SUPPRESS=="]
+        assert unnamed == [], f"{name}: options without a placeholder: {unnamed}"
+
+
+def test_compare_size_and_width_together_are_refused(capsys):
+    assert main(["compare", "--size", "64x64", "--width", "32"]) == 2
+    assert "--size and --width both set the image size" in capsys.readouterr().err
