@@ -28,7 +28,8 @@ COMMANDS: dict[str, str] = {
     "stability": "frame-to-frame change of the indirect light while a light, an object or "
                  "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
-    "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python, its PLY meshes and textures in OUT-files/)",
+    "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python; its PLY meshes and "
+                      "textures in OUT-files/)",
     "site": "build the course as a static web site (pages, pictures, baked numbers)",
 }
 
