@@ -61,18 +61,21 @@ class AssetResolver:
         """The file ``name`` refers to: as written, without a leading slash, or the bare
         file name beside the mesh (trimesh's candidates, in its order)."""
         clean = name.strip()
-        for candidate in (clean, clean.lstrip("/"), Path(clean).name):
-            try:
-                path = self._paths.absolute(candidate)
-            except ValueError:
-                continue
-            if path.exists() or path.is_symlink():
-                return path
         try:
+            for candidate in (clean, clean.lstrip("/"), Path(clean).name):
+                try:
+                    path = self._paths.absolute(candidate)
+                except ValueError:
+                    continue
+                if path.exists() or path.is_symlink():
+                    return path
             return self._paths.absolute(clean)
         except ValueError:
-            raise UserFileError(f"{self.mesh_path}: names {name!r}, which is outside the "
-                                f"mesh's folder") from None
+            raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, which is outside "
+                                f"the mesh's folder") from None
+        except OSError as exc:          # a name too long, a loop of symbolic links
+            raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, which cannot be "
+                                f"opened ({exc.strerror or exc})") from None
 
     def get(self, name: str) -> bytes:
         if name in self._read:
@@ -202,7 +205,10 @@ def check_gltf_layout(header: dict, buffer_lengths: list[int], where: Path | str
             raise bad(f"buffer {k} is not an object")
         claimed = count_of(buffer, "byteLength")
         if k < len(buffer_lengths) and claimed > buffer_lengths[k]:
-            raise bad(f"buffer {k} claims {claimed} bytes but holds {buffer_lengths[k]}")
+            uri = buffer.get("uri")
+            named = f" ({uri[:80]})" if isinstance(uri, str) and "base64," not in uri else ""
+            raise bad(f"buffer {k}{named} claims {claimed} bytes but holds "
+                      f"{buffer_lengths[k]}")
     for k, view in enumerate(views):
         if not isinstance(view, dict):
             raise bad(f"bufferView {k} is not an object")
