@@ -28,7 +28,8 @@ COMMANDS: dict[str, str] = {
     "stability": "frame-to-frame change of the indirect light while a light, an object or "
                  "the camera moves",
     "doctor": "report what the GL driver offers and what is missing",
-    "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python, with its PLY mesh)",
+    "export-mitsuba": "write a scene as a Mitsuba 3 scene (XML or Python; its PLY meshes and "
+                      "textures in OUT-files/)",
     "site": "build the course as a static web site (pages, pictures, baked numbers)",
 }
 
@@ -120,8 +121,9 @@ def _silence_stdout() -> None:
 def main(argv: list[str] | None = None) -> int:
     """Run one command; returns its exit status. Bad input and failed requests end as one
     line on stderr (``lpv-explorer <cmd>: error: ...``), never a traceback: 2 for bad
-    input, 1 for a request that failed, 130 for Ctrl-C (after the command removed what it
-    had half written)."""
+    input, 1 for a request that failed, 130 for Ctrl-C, 143 for SIGTERM and 129 for
+    SIGHUP (after the command removed what it had half written)."""
+    from explorer import stop_signals
     from explorer.commands.options import CommandError
 
     if sys.stderr is None:            # stderr closed: messages have nowhere to go
@@ -138,8 +140,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 2
-        code = int(_load(args.command).main(args) or 0)
-        sys.stdout.flush()
+        with stop_signals.raising():        # SIGTERM, SIGHUP unwind as Ctrl-C does
+            code = int(_load(args.command).main(args) or 0)
+            sys.stdout.flush()
     except SystemExit as exc:       # argparse: --help (0) or a bad option (2)
         return exc.code if isinstance(exc.code, int) else 2
     except CommandError as exc:
@@ -148,6 +151,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except stop_signals.Stopped as exc:
+        print(f"{prog}: {exc}", file=sys.stderr)
+        return exc.exit_code
     except StdoutError as exc:
         print(f"{prog}: error: cannot write to standard output: {exc}", file=sys.stderr)
         _silence_stdout()

@@ -41,12 +41,15 @@ CAPS: dict[str, int] = {
     "scene file": 1 * MiB,
     "shader": 1 * MiB,
     "mesh": 512 * MiB,
+    "mesh asset": 512 * MiB,
+    "texture": 256 * MiB,
     "array file": 2048 * MiB,
 }
 """Largest file of each kind the explorer reads. A lesson is prose: the longest shipped
 lesson is about 13 KB, so 256 KB leaves room for far more while a 10 MB lesson the window
 could not draw fluidly is refused (the lesson reader also caps a step's text and formulas); a
-settings or layout file is a few KB."""
+settings or layout file is a few KB. A mesh asset is a file a mesh names (an OBJ's
+material library, a glTF's buffer), a texture an image it names."""
 
 MAX_NESTING = 32
 """Deepest nesting of tables and arrays in a JSON or TOML file the explorer accepts: its
@@ -102,6 +105,13 @@ def check_regular_file(path: Path | str, kind: str, cap: int | None = None) -> i
         return os.fstat(fd).st_size
     finally:
         os.close(fd)
+
+
+def open_regular(path: Path | str, kind: str, cap: int | None = None):
+    """A binary file object of the regular file ``path`` within the kind's cap (for
+    readers that seek, such as an archive's); :class:`UserFileError` as :func:`read_bytes`
+    gives."""
+    return os.fdopen(_open_regular(Path(path), kind, _kind_cap(kind, cap)), "rb")
 
 
 def read_bytes(path: Path | str, kind: str, cap: int | None = None) -> bytes:
@@ -203,6 +213,18 @@ def temporary_beside(path: Path) -> Path:
     return Path(name)
 
 
+def output_mode(path: Path | str) -> int:
+    """The permission bits a file written to ``path`` gets: those of the file it replaces,
+    else what a new file gets under the process's umask (``mkstemp``'s temporaries are
+    private, 0600, which a renamed output must not keep)."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        mask = os.umask(0)
+        os.umask(mask)
+        return 0o666 & ~mask
+
+
 def write_atomically(path: Path | str, save: Callable[[Path], None] | bytes | str) -> Path:
     """Write ``path`` whole: ``save(temporary)`` (or the given bytes/text) into a unique
     temporary beside it, then rename it into place. On any failure (a full disk, an
@@ -216,6 +238,7 @@ def write_atomically(path: Path | str, save: Callable[[Path], None] | bytes | st
             partial.write_bytes(save)
         else:
             partial.write_text(save, encoding="utf-8")
+        os.chmod(partial, output_mode(path))
         os.replace(partial, path)
     except BaseException:
         partial.unlink(missing_ok=True)

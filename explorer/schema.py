@@ -144,7 +144,7 @@ class Spec:
 _REFUSED = object()
 _ALLOWED_TEXT = {
     "bool": "true or false",
-    "str": "a non-empty text",
+    "str": "non-empty text",
     "text": "a text",
     "switches": "a table of names to true/false",
     "names": "a list of texts",

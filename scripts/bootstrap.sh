@@ -17,7 +17,7 @@ esac
 
 # System libraries: EGL + Mesa (software GL 4.5 through llvmpipe), Xvfb for window tests,
 # a UTF-8 locale for the formula renderer, the X client libraries glfw loads.
-apt_packages=(libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libglx-mesa0 xvfb xauth
+apt_packages=(libegl1 libegl-mesa0 libgl1 libgl1-mesa-dri libglx-mesa0 xvfb xauth x11-utils
               libxrandr2 libxinerama1 libxcursor1 libxi6 libxxf86vm1 locales python3-venv)
 # The test suite also opens the static site in a real browser (Debian's chromium, driven by
 # chromium-driver): Playwright's own browser download is not used.

@@ -10,6 +10,8 @@ it in one process (or to what was asked)."""
 
 from __future__ import annotations
 
+import signal
+
 import pytest
 
 from explorer.gl.context import create_headless_context, release_headless_context
@@ -100,3 +102,17 @@ def programs(gl_context):
     cache = ProgramCache(gl_context)
     yield cache
     cache.release()
+
+
+@pytest.fixture
+def no_hang():
+    """Fail (rather than wait forever) when the code under test blocks for 20 s (a reader
+    waiting on a FIFO, a handler that never returns)."""
+    def alarm(signum, frame):
+        raise TimeoutError("blocked: the code waited on a file or a signal that never came")
+
+    previous = signal.signal(signal.SIGALRM, alarm)
+    signal.alarm(20)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, previous)

@@ -18,6 +18,10 @@ import pytest
 from explorer.resources import lesson_dir
 
 BUDGET_S = 4.0
+SHORT_BUDGET_S, SHORT_CASES = 1.0, 15
+"""The budget of the fuzzing of each file a mesh names and of the npz reader, and the
+cases each runs however long they take (many small targets; the bad files named inside
+files are also tried one by one, below)."""
 MAX_CASES = 300
 
 _TOKENS = [b"[", b"]", b"{", b"}", b"=", b"\"", b"'", b"\n", b"#", b"\\", b"\0", b"\xff",
@@ -52,13 +56,17 @@ def _alarm(signum, frame):
 
 
 def fuzz(seed_bytes: bytes, path: Path, read: Callable[[Path], object],
-         clear_errors: tuple[type[BaseException], ...]) -> int:
-    """Run mutated copies of ``seed_bytes`` through ``read(path)``; returns the cases run.
-    A clear error is one of ``clear_errors`` with a one-line, non-empty message."""
+         clear_errors: tuple[type[BaseException], ...], budget_s: float = BUDGET_S,
+         min_cases: int = 0) -> int:
+    """Run mutated copies of ``seed_bytes`` through ``read(path)`` for ``budget_s``
+    seconds (but at least ``min_cases`` cases, however busy the machine); returns the
+    cases run. A clear error is one of ``clear_errors`` with a one-line, non-empty
+    message."""
     started, cases = time.monotonic(), 0
     previous = signal.signal(signal.SIGALRM, _alarm)
     try:
-        while cases < MAX_CASES and time.monotonic() - started < BUDGET_S:
+        while cases < min_cases or (cases < MAX_CASES
+                                    and time.monotonic() - started < budget_s):
             rng = random.Random(cases)
             path.write_bytes(mutate(seed_bytes, rng))
             signal.alarm(10)
@@ -148,3 +156,139 @@ def test_fuzz_a_scene_file(tmp_path):
     shutil.copy(example / "room.glb", tmp_path / "room.glb")
     path = tmp_path / "scene.toml"
     assert fuzz((example / "scene.toml").read_bytes(), path, load_scene, (SceneError,)) > 10
+
+
+# --- binary loaders and the files named inside files -------------------------------------
+
+def test_fuzz_an_npz(tmp_path):
+    """``--vpls``, ``--grid0``, ``diff``: mutated archives, headers and zip directories
+    included, end in a clear error or a load, never in a big allocation or a hang."""
+    import numpy as np
+
+    from explorer.exchange.files import FileFormatError, read_npz
+
+    seed = tmp_path / "seed.npz"
+    np.savez(seed, vpl_position=np.zeros((16, 3), np.float32),
+             vpl_flux=np.ones((16, 3), np.float32), grid_0=np.zeros((3, 2, 2, 2, 4)))
+    path = tmp_path / "mutated.npz"
+    assert fuzz(seed.read_bytes(), path, read_npz, (FileFormatError,), SHORT_BUDGET_S,
+                SHORT_CASES) >= SHORT_CASES
+
+
+def _textured_obj(folder: Path) -> dict[str, Path]:
+    """An OBJ naming a material library naming a PNG texture; the three paths."""
+    import numpy as np
+    from PIL import Image
+
+    Image.fromarray(np.full((8, 8, 3), 180, np.uint8)).save(folder / "tex.png")
+    (folder / "m.mtl").write_text("newmtl a\nKd 1 1 1\nmap_Kd tex.png\n")
+    (folder / "m.obj").write_text("mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                  "vt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n")
+    return {"obj": folder / "m.obj", "mtl": folder / "m.mtl", "png": folder / "tex.png"}
+
+
+def _gltf(folder: Path) -> dict[str, Path]:
+    """A glTF triangle whose positions are in an external buffer and which names a PNG."""
+    import json
+
+    import numpy as np
+    from PIL import Image
+
+    np.float32([0, 0, 0, 1, 0, 0, 0, 1, 0]).tofile(folder / "data.bin")
+    Image.fromarray(np.full((8, 8, 3), 180, np.uint8)).save(folder / "img.png")
+    header = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+              "nodes": [{"mesh": 0}],
+              "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+              "buffers": [{"uri": "data.bin", "byteLength": 36}],
+              "bufferViews": [{"buffer": 0, "byteLength": 36}],
+              "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3,
+                             "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+              "images": [{"uri": "img.png"}]}
+    (folder / "m.gltf").write_text(json.dumps(header))
+    return {"gltf": folder / "m.gltf", "bin": folder / "data.bin", "png": folder / "img.png"}
+
+
+def _load_or_clear(main: Path) -> None:
+    """``load_scene(main)`` loads (its warnings one line each) or is a clear SceneError."""
+    from explorer.scene import SceneError, load_scene
+
+    try:
+        scene = load_scene(main)
+    except SceneError:
+        raise
+    for warning in scene.warnings:
+        assert warning and "\n" not in warning, warning
+
+
+NAMED = [(_textured_obj, "obj", "mtl"), (_textured_obj, "obj", "png"),
+         (_gltf, "gltf", "gltf"), (_gltf, "gltf", "bin"), (_gltf, "gltf", "png")]
+"""(how the files are made, the file loaded, the file damaged)."""
+
+@pytest.mark.parametrize("make, main, named", NAMED)
+def test_fuzz_the_files_a_mesh_names(tmp_path, make, main, named):
+    """Each file an OBJ or a glTF names (material library, texture, buffer, image), and
+    the glTF itself, mutated in place beside the others."""
+    from explorer.scene import SceneError
+
+    paths = make(tmp_path)
+    seed = paths[named].read_bytes()
+    cases = fuzz(seed, paths[named], lambda _: _load_or_clear(paths[main]), (SceneError,),
+                 SHORT_BUDGET_S, SHORT_CASES)
+    assert cases >= SHORT_CASES
+
+
+def _bad_file(path: Path, kind: str) -> None:
+    """Replace ``path`` with a bad file of ``kind``."""
+    import os
+    import struct
+    import zlib
+
+    data = path.read_bytes()
+    path.unlink()
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "device":
+        os.symlink("/dev/zero", path)
+    elif kind == "truncated":
+        path.write_bytes(data[:len(data) // 3])
+    elif kind == "header lie":
+        if data.startswith(b"\x89PNG"):
+            lie = bytearray(data)
+            lie[16:24] = struct.pack(">II", 200_000, 200_000)
+            lie[29:33] = struct.pack(">I", zlib.crc32(bytes(lie[12:29])))
+            path.write_bytes(bytes(lie))
+        else:
+            path.write_bytes(data.replace(b'"byteLength": 36', b'"byteLength": 3600000000')
+                             .replace(b'"count": 3', b'"count": 300000000000'))
+    else:                       # a huge claim: a sparse file far over every cap
+        with open(path, "wb") as handle:
+            handle.truncate(600 * 1024 * 1024)
+
+
+BAD_KINDS = ("fifo", "device", "truncated", "header lie", "huge")
+
+
+@pytest.mark.parametrize("make, main, named, kind", [
+    (*case, kind) for case in NAMED for kind in BAD_KINDS
+    # a material library and a raw buffer have no header to lie in
+    if not (kind == "header lie" and case[2] in ("mtl", "bin"))])
+def test_a_bad_file_named_inside_a_file_is_one_line_naming_it(tmp_path, no_hang, make, main,
+                                                              named, kind):
+    """A FIFO, a device, a truncated file, a header that lies or a file far over its cap,
+    wherever a mesh names it: a one-line error naming it, or the mesh loaded and a
+    warning naming it (a texture), within seconds."""
+    from explorer.scene import SceneError, load_scene
+
+    paths = make(tmp_path)
+    _bad_file(paths[named], kind)
+    try:
+        scene = load_scene(paths[main])
+    except SceneError as exc:
+        said = [str(exc)]
+    else:
+        said = list(scene.warnings)
+        if kind == "truncated" and named == "mtl":
+            return              # a shorter material library is still a material library
+        assert said, f"{named} as {kind}: loaded without a word"
+    assert all("\n" not in line for line in said)
+    assert any(paths[named].name in line for line in said), said

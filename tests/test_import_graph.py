@@ -11,8 +11,8 @@ ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("explorer", "derivations")
 LAYERS = (
     ("derivations",),
-    ("explorer.resources", "explorer.safe_files", "explorer.schema", "explorer.derived",
-     "explorer.derived_table"),
+    ("explorer.resources", "explorer.safe_files", "explorer.stop_signals", "explorer.schema",
+     "explorer.derived", "explorer.derived_table"),
     ("explorer.gl",),
     ("explorer.scene",),
     ("explorer.lpv",),

@@ -132,25 +132,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "uniform uploads and bindings, for a full, a light, a camera "
                              "and a display frame (--repeat frames each, default 20)")
     parser.add_argument("--frames", type=options.value_type("frames", INTERACTIVE_FRAMES),
-                        default=60, help=options.spec_help(INTERACTIVE_FRAMES) + " (60)")
+                        default=60, metavar="N",
+                        help=options.spec_help(INTERACTIVE_FRAMES, 60))
     parser.add_argument("--soak", metavar="MINUTES",
                         type=options.value_type("soak", SOAK_MINUTES), default=None,
                         help=options.spec_help(SOAK_MINUTES) + " Prints resident memory "
                              "and GL objects at the start and the end.")
-    parser.add_argument("--root", type=Path, default=None,
+    parser.add_argument("--root", type=Path, default=None, metavar="PATH",
                         help="with --interactive/--soak: the source tree whose window is "
                              "driven (default: this one), e.g. an older checkout")
     parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
+                        metavar="NAME[,NAME...]",
                         help=f"extra rows at each grid's largest iteration count: "
                              f"{', '.join(VARIANTS)} (comma list) or none (default: all)")
     parser.add_argument("--repeat", type=options.value_type("repeat", REPEAT), default=None,
+                        metavar="N",
                         help=options.spec_help(REPEAT, f"{DEFAULT_REPEAT}, 1 with --quick"))
     parser.add_argument("--quick", action="store_true",
                         help="CI-sized run: grids 8,16, iterations 2,4, 64x64 image, 64² RSM, "
                              "one timed frame (options given still win)")
     parser.add_argument("--peak-gbs", type=options.value_type("peak_gbs", PEAK_GBS), default=None,
+                        metavar="X",
                         help=options.spec_help(PEAK_GBS))
-    parser.add_argument("--json", type=Path, help="also write the results as JSON here")
+    parser.add_argument("--json", type=Path, metavar="FILE.json",
+                        help="also write the results as JSON here")
     options.add_setting_options(parser, exclude=("exposure", "indirect_only"),
                         sweep=("grid_size", "iterations", "cascades", "sh_order"),
                         aliases={"grid_size": ("--grids",), "grid_format": ("--format",)})
@@ -336,7 +341,15 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.interactive or args.soak is not None:
+    options.one_of(args, {"interactive": "--interactive", "overhead": "--overhead",
+                          "soak": "--soak"})
+    window = args.interactive or args.soak is not None
+    options.only_with(args, window, "--interactive or --soak", {"root": "--root"})
+    # the window bench drives the window with its own session: these would be unused
+    options.only_with(args, not window, "the timing bench (not --interactive or --soak)",
+                      {"repeat": "--repeat", "quick": "--quick", "peak_gbs": "--peak-gbs",
+                       **options.setting_flags(args)})
+    if window:
         from explorer.commands.interactive_bench import run_window_bench
 
         return run_window_bench(args)

@@ -55,17 +55,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="visible: shadow rays between VPLs and pixels; unoccluded: no "
                              "visibility, what LPV without a geometry volume approximates "
                              "(default: visible)")
-    parser.add_argument("--out", type=Path, default=None,
+    parser.add_argument("--out", type=Path, default=None, metavar="FOLDER",
                         help="folder for the PNGs and table (default: ./compare-<scene>); "
                              "made before the rendering starts")
-    parser.add_argument("--min-distance", type=options.value_type("min_distance", MIN_DISTANCE),
+    parser.add_argument("--min-distance", metavar="X",
+                        type=options.value_type("min_distance", MIN_DISTANCE),
                         default=None, help=options.spec_help(MIN_DISTANCE))
     parser.add_argument("--error-mode", default="log2-ratio",
                         choices=("log2-ratio", "difference"),
                         help="what the error image shows (default: log2-ratio)")
-    parser.add_argument("--error-scale", type=options.value_type("error_scale", ERROR_SCALE),
+    parser.add_argument("--error-scale", metavar="X",
+                        type=options.value_type("error_scale", ERROR_SCALE),
                         default=None, help=options.spec_help(ERROR_SCALE))
-    parser.add_argument("--exposure", type=options.setting_type("exposure"), default=None,
+    parser.add_argument("--exposure", metavar="X", type=options.setting_type("exposure"),
+                        default=None,
                         help="exposure of the LPV/reference PNGs (default: the reference's "
                              "99th percentile maps to white)")
     parser.add_argument("--region", action="append", default=[], metavar="X0,Y0,X1,Y1",
@@ -91,8 +94,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         sweep=("iterations", "cascades", "sh_order"), defaults=DEFAULTS,
                         aliases={"grid_size": ("--grid-size",)})
     for name in ("width", "height"):     # compare's own spelling of --size, kept
+        spec = specs(Settings)[name]
         parser.add_argument(f"--{name}", dest=name, type=options.setting_type(name), default=None,
-                            help=options.spec_help(specs(Settings)[name], DEFAULTS["size"][0]))
+                            metavar="N", help=f"image {name} in pixels (or --size WxH); "
+                            f"{spec.allowed()}; default {DEFAULTS['size'][0]}")
 
 
 def parse_region(text: str) -> tuple[int, int, int, int]:

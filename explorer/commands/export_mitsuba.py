@@ -1,9 +1,12 @@
 """``lpv-explorer export-mitsuba SCENE OUT.xml|OUT.py``: the scene as Mitsuba 3 renders it.
 
 Writes the scene (``.xml`` for ``mitsuba OUT.xml``, ``.py`` for ``python OUT.py``, which
-loads it with ``mi.load_dict``) and beside it ``scene.ply`` (the triangles with their
-linear albedo) and one falloff texture per spot light (explorer/truth/mitsuba_scene.py
-says how every light, the camera and the surfaces map onto Mitsuba's plugins). Mitsuba is
+loads it with ``mi.load_dict``) and, in the folder ``OUT-files/`` beside it (its name
+derived from OUT's, so nothing else beside OUT is touched), ``scene.ply`` (the triangles
+with their linear albedo), the textures and one falloff texture per spot light
+(explorer/truth/mitsuba_scene.py says how every light, the camera and the surfaces map
+onto Mitsuba's plugins). A folder of that name that an export did not make is never
+written into; files an earlier export put there and this one does not are removed. Mitsuba is
 not needed to export. The scene's overrides (``--lights``, ``--camera``, ``--object``,
 the spot cone, ``--size``) apply as in ``render``.
 """
@@ -26,8 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scene", metavar="SCENE",
                         help=options.scene_help("a built-in scene name or a mesh file."))
     parser.add_argument("out", metavar="OUT", type=Path,
-                        help="the Mitsuba scene to write: .xml or .py (its PLY mesh and "
-                             "spot textures go beside it)")
+                        help="the Mitsuba scene to write: .xml or .py (its PLY meshes and "
+                             "textures go into the folder OUT-files/ beside it)")
     keep = set(SCENE_FIELDS)
     options.add_setting_options(
         parser, exclude=[f.name for f in fields(Settings) if f.name not in keep])
@@ -35,12 +38,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def main(args: argparse.Namespace) -> int:
     from explorer.commands.compare import load_scene
-    from explorer.truth.mitsuba_scene import EXPORT_SUFFIXES, ExportError, export_scene
+    from explorer.truth.mitsuba_scene import (
+        EXPORT_SUFFIXES,
+        ExportError,
+        companion_folder,
+        export_scene,
+    )
 
     base = options.settings_from_args(args, Settings(scene=args.scene))
     options.check_scene(base.scene)
     with options.Outputs("OUT") as outputs:
         out = outputs.file(args.out, EXPORT_SUFFIXES)
+        earlier = earlier_export(companion_folder(out))
+        folder = outputs.folder(companion_folder(out), option="OUT")
         scene = load_scene(base)
         try:
             exported = export_scene(scene, base.width, base.height)
@@ -49,8 +59,29 @@ def main(args: argparse.Namespace) -> int:
             raise options.CommandError(exc) from None
         for path, data in contents.items():
             outputs.write(path, lambda p, data=data: p.write_bytes(data))
-    names = ", ".join(path.name for path in contents)
-    print(f"wrote {names} to {out.parent}/ ({base.width}×{base.height} px, "
-          f"{scene.triangle_count} triangles, {len(scene.lights)} light(s))")
+        for name in earlier - set(exported.files):
+            outputs.remove(folder / name)
+    print(f"wrote {out} and {len(exported.files)} file(s) in {folder}/ "
+          f"({base.width}×{base.height} px, {scene.triangle_count} triangles, "
+          f"{len(scene.lights)} light(s))")
     return 0
+
+
+def earlier_export(folder: Path) -> set[str]:
+    """The files an earlier export put in ``folder`` (its listing); refuses a folder of
+    that name the export did not make (a :class:`options.CommandError` naming it)."""
+    from explorer.safe_files import UserFileError, read_text
+    from explorer.truth.mitsuba_scene import OWNER_FILE
+
+    if not folder.is_dir() or not any(folder.iterdir()):
+        return set()
+    try:
+        listing = read_text(folder / OWNER_FILE, "export listing", 64 * 1024)
+    except UserFileError:
+        raise options.CommandError(
+            f"OUT: {folder}/ exists and was not made by export-mitsuba (no {OWNER_FILE} "
+            f"in it), so its files are not replaced; move it or give another OUT") from None
+    # only plain names: a listing never reaches outside its folder
+    return {name for name in listing.splitlines() if name and Path(name).name == name
+            and not name.startswith(".")}
 

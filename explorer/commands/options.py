@@ -58,6 +58,59 @@ class ArgumentParser(argparse.ArgumentParser):
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
 
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        """argparse's, after refusing an option given twice with different values (argparse
+        would silently keep the last): ``--grid 8 --grid 16``, ``--fog --no-fog``, two
+        ``--preset``. Repeatable options (``--view``, ``--object``) are not checked."""
+        given = list(sys.argv[1:] if args is None else args)
+        self._refuse_repeated(given)
+        return super().parse_known_args(given, namespace)
+
+    def _refuse_repeated(self, given: list[str]) -> None:
+        seen: dict[str, tuple[str, str]] = {}     # dest -> (option, value) as first given
+        index = 0
+        while index < len(given):
+            token = given[index]
+            index += 1
+            if token == "--":
+                return
+            if token in self._subparser_names():
+                return                  # the rest is the subcommand's, checked by its parser
+            found = self._parse_optional(token) if token.startswith("-") else None
+            if isinstance(found, list):          # Python 3.12+: the candidates
+                found = found[0] if len(found) == 1 else None
+            if not found or found[0] is None:
+                continue
+            action, option, explicit = found[0], found[1], found[-1]
+            if isinstance(action, (argparse._AppendAction, argparse._CountAction,
+                                   argparse._HelpAction, argparse._VersionAction,
+                                   argparse._SubParsersAction)):
+                continue
+            if action.nargs is None and explicit is None and index < len(given):
+                value = given[index]
+                index += 1
+            else:
+                value = "" if explicit is None else explicit
+            if action.nargs not in (None, 0):
+                continue                # a variable number of values: not compared
+            said = f"{option} {value}".strip()
+            first = seen.setdefault(action.dest, (option, said))
+            if first[1] != said:
+                self.error(f"{first[1]} and {said} both given; give {_flag_of(action)} once")
+
+    def _subparser_names(self) -> set[str]:
+        names: set[str] = set()
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                names.update(action.choices)
+        return names
+
+
+def _flag_of(action: argparse.Action) -> str:
+    """The option's name as its help shows it (``--fog/--no-fog``, ``--grid``)."""
+    longs = [option for option in action.option_strings if option.startswith("--")]
+    return "/".join(longs or action.option_strings)
+
 
 # --- options from the schema -----------------------------------------------------------
 
@@ -149,8 +202,15 @@ def image_size(width: int, height: int) -> tuple[int, int]:
 
 
 def spec_help(spec: Spec, default: object = None) -> str:
-    """Help text of an option: the field's doc, what it allows and its default."""
-    text = f"{spec.doc} Allowed: {spec.allowed()}"
+    """Help text of an option: the field's doc, what it allows and its default. An
+    optional field's None is the option left out (nobody types None on a command line)."""
+    doc, allowed = spec.doc, spec.allowed()
+    if spec.optional:
+        doc = doc.replace("None = ", "left out: ")
+        allowed = allowed.removesuffix(" or None")
+        if default == "automatic" and "left out" in doc:
+            default = None                  # the doc says what leaving it out does
+    text = f"{doc} Allowed: {allowed}"
     if default is not None:
         text += f"; default {default}"
     return (text + ".").replace("%", "%%")     # argparse %-formats help texts
@@ -191,7 +251,8 @@ def add_setting_options(parser: argparse.ArgumentParser, *, exclude: Iterable[st
                                help=help_text[:-1] + "; a comma list runs each value.")
         else:
             group.add_argument(*flags, dest=name, type=setting_type(name), default=None,
-                               metavar=_metavar(spec), help=help_text)
+                               metavar="NAME|PATH" if name == "scene" else _metavar(spec),
+                               help=help_text)
     add_placement_options(group)
     if "width" not in exclude:
         size = defaults.get("size", (base.width, base.height))
@@ -220,7 +281,7 @@ def add_placement_options(group) -> None:
                        help=f"the primary light: its kind ({', '.join(LIGHT_KINDS)}), "
                             f"position and target (a spot and a directional light need "
                             f"one; a point light ignores it); a new kind gets the flux "
-                            f"that gives 2 W/m²%% at the target unless --light-flux says")
+                            f"that gives 2 W/m² at the target unless --light-flux says")
     group.add_argument("--camera", dest="_camera_option", type=camera_option, default=None,
                        metavar="EX,EY,EZ:TX,TY,TZ[:FOV]",
                        help="the camera: eye, target and optionally the vertical field of "
@@ -332,14 +393,114 @@ def settings_from_args(args: argparse.Namespace, base: Settings | None = None) -
             changes[name] = value
     changes.update(placement_changes(args))
     own = getattr(args, "_setting_options", ())   # --size and --preset, when they are ours
+    sizes = given_options(args, {"width": "--width", "height": "--height"})
+    if "size" in own and args.size is not None and sizes:
+        raise CommandError(f"--size and {'/'.join(sizes)} both set the image size; give one")
     if "size" in own and args.size is not None:
         changes["width"], changes["height"] = args.size
     if "preset" in own and args.preset is not None:
         changes["corrections"] = args.preset
     try:
-        return (base or Settings()).with_changes(**changes)
+        settings = (base or Settings()).with_changes(**changes)
     except SettingError as exc:
         raise CommandError(exc) from None
+    check_dependent_options(args, settings)
+    return settings
+
+
+DEPENDENT_OPTIONS: dict[str, tuple[object, tuple[str, ...]]] = {
+    "spot_cone": (False, ("spot_cone_degrees",)),
+    "fog": (False, ("fog_density", "fog_albedo", "fog_phase", "fog_g", "fog_steps")),
+    "fog_phase": ("isotropic", ("fog_g",)),
+    "glossy": (False, ("glossy_roughness", "glossy_strength", "glossy_samples")),
+    "downsample": ("none", ("downsample_factor",)),
+    "cascades": (1, ("cascade_extent", "cascade_focus", "cascade_snap",
+                     "cascade_iterations")),
+}
+"""Settings that only matter while another is not at a value that switches them off: the
+switch field, that value, the fields it makes unused (the spot cone's angles without the
+cone, fog's parameters without fog, Henyey-Greenstein's g for isotropic fog, the glossy
+lobe's without it, the downsample factor without downsampling, the cascades' parameters
+with one grid)."""
+
+
+def _off_text(name: str, value: object) -> str:
+    spec = specs(Settings)[name]
+    if spec.kind == "bool":
+        return f"--no-{spec.flag[2:]}" if value is False else spec.flag
+    return f"{spec.flag} {value}"
+
+
+def check_dependent_options(args: argparse.Namespace, settings: Settings,
+                            stream: TextIO | None = None) -> None:
+    """Options that contradict each other: a setting given on the command line together
+    with the option that switches it off (``--no-spot-cone --cone-angles 20,30``) is a
+    :class:`CommandError` naming both; given while its switch is off only by default (or
+    by the lesson step), a warning on ``stream`` (stderr) says it has no effect and what
+    would give it one."""
+    fields = specs(Settings)
+    out = sys.stderr if stream is None else stream
+    for switch, (off, dependents) in DEPENDENT_OPTIONS.items():
+        given = [name for name in dependents if getattr(args, name, None) is not None]
+        if not given or getattr(settings, switch) != off:
+            continue
+        flags = ", ".join(fields[name].flag for name in given)
+        if getattr(args, switch, None) is not None:
+            raise CommandError(f"{_off_text(switch, off)} and {flags} contradict each other: "
+                               f"{flags} would have no effect; give one of them")
+        out.write(f"lpv-explorer: warning: {flags} has no effect: the settings have "
+                  f"{_off_text(switch, off)}; {_on_hint(switch, off)}\n")
+
+
+def _on_hint(name: str, off: object) -> str:
+    spec = specs(Settings)[name]
+    if spec.kind == "bool":
+        return f"add {spec.flag} to use it"
+    if spec.kind == "choice":
+        others = [str(c) for c in spec.choices if c != off]
+        return f"add {spec.flag} {'|'.join(others)} to use it"
+    return f"add {spec.flag} N with N other than {off} to use it"
+
+
+def given_options(args: argparse.Namespace, flags: Mapping[str, str]) -> list[str]:
+    """The flags of ``flags`` (dest -> flag) the command line gave: a value other than
+    None or False (the defaults every such option here has)."""
+    def given(value: object) -> bool:       # 0 is a value given (0 == False in Python)
+        return not (value is None or value is False or (isinstance(value, (list, tuple))
+                                                        and not value))
+
+    return [flag for dest, flag in flags.items() if given(getattr(args, dest, None))]
+
+
+def one_of(args: argparse.Namespace, flags: Mapping[str, str]) -> None:
+    """Refuse two of ``flags`` (dest -> flag: options that each choose what the command
+    does) given together, naming both."""
+    given = given_options(args, flags)
+    if len(given) > 1:
+        raise CommandError(f"{' and '.join(given)} each choose a different run; give one")
+
+
+def only_with(args: argparse.Namespace, present: bool, needs: str,
+              flags: Mapping[str, str]) -> None:
+    """Refuse options (dest -> flag) that only act with ``needs`` when it is not
+    ``present``: silently unused, they would look as if they had been applied."""
+    given = given_options(args, flags)
+    if given and not present:
+        named = ", ".join(given)
+        raise CommandError(f"{named} only {'acts' if len(given) == 1 else 'act'} with "
+                           f"{needs}; add that or leave {named} out")
+
+
+def setting_flags(args: argparse.Namespace) -> dict[str, str]:
+    """dest -> flag of every Settings option this command has, with ``--size``,
+    ``--preset``, ``--light`` and ``--camera``."""
+    flags = {name: spec.flag for name, spec in specs(Settings).items()
+             if spec.flag is not None and hasattr(args, name)}
+    for dest, flag in (("size", "--size"), ("preset", "--preset"),
+                       ("_light_option", "--light"), ("_camera_option", "--camera")):
+        if hasattr(args, dest):
+            flags[dest] = flag
+    return flags
 
 
 def _merged_transforms(name: str, given: list) -> tuple:
@@ -395,11 +556,11 @@ def check_scene(name: str, stream: TextIO | None = None) -> None:
     try:
         path = check_scene_name(name)
         if path is not None:
-            notice = load_scene(name).notice
-            if notice:
-                out = sys.stderr if stream is None else stream
-                out.write(f"lpv-explorer: {notice}\n")
-                out.flush()
+            scene = load_scene(name)
+            out = sys.stderr if stream is None else stream
+            for line in filter(None, (scene.notice, *(f"warning: {w}" for w in scene.warnings))):
+                out.write(f"lpv-explorer: {line}\n")
+            out.flush()
     except SceneError as exc:
         raise CommandError(exc) from None
 
@@ -421,44 +582,80 @@ class Outputs:
 
     Paths are checked when the command starts (:meth:`file`, :meth:`folder`), before any
     work: a folder, a missing suffix, a name longer than the file system allows, a folder
-    that cannot be made or written. Each file is written whole by :meth:`write` (a unique
-    temporary name beside it, ``explorer.safe_files.temporary_beside``, then renamed), so
-    no file of the user's that happens to have the temporary's name is ever touched. If
-    the command then fails or is interrupted (the ``with`` block ends with an exception),
-    everything it wrote is undone: a new file is removed, a file it replaced gets its old
-    content back (a hard link to the old file is kept until the command ends), and the
-    folders made for them are removed; a partial result is never mistaken for a finished
-    one and nothing of the user's is lost."""
+    that cannot be made or written. :meth:`write` writes each file to a unique temporary
+    name beside it (``explorer.safe_files.temporary_beside``: never a name a user file
+    has); nothing the user sees changes until the command succeeds, when every file is
+    renamed into place in one tight sequence with the stop signals held
+    (explorer/stop_signals.py ``held``), a replaced file keeping its mode. A failure in
+    that sequence puts back what it had replaced. If the command fails or is stopped
+    (Ctrl-C, SIGTERM, SIGHUP: the ``with`` block ends with an exception) its temporaries
+    and the folders made for them are removed: the old set of outputs stays whole, or
+    the new set is whole, never a mix, and nothing hidden is left behind."""
 
     def __init__(self, option: str = "--out") -> None:
         self.option = option
         self.written: list[Path] = []
         self.made: list[Path] = []
-        self._previous: dict[Path, Path | None] = {}   # written path -> its old content
+        self._staged: dict[Path, Path] = {}             # output path -> its temporary
+        self._removed: list[Path] = []
 
     def __enter__(self) -> "Outputs":
         return self
 
     def __exit__(self, exc_type, exc, traceback) -> None:
         if exc_type is None:
-            for backup in self._previous.values():
-                if backup is not None:
-                    backup.unlink(missing_ok=True)
+            self._commit()
             return
-        for path in reversed(self.written):
-            backup = self._previous.get(path)
-            try:
-                if backup is not None:
-                    os.replace(backup, path)
-                else:
-                    path.unlink(missing_ok=True)
-            except OSError:
-                pass                    # the folder went away: nothing left to restore
+        for partial in self._staged.values():
+            partial.unlink(missing_ok=True)
+        self._staged.clear()
+        self._remove_made_folders()
+
+    def _remove_made_folders(self) -> None:
         for folder in reversed(self.made):
             try:
                 folder.rmdir()
             except OSError:
                 pass                    # not empty: something else is in it now
+
+    def _commit(self) -> None:
+        """Rename every staged file into place (old contents kept as hard links until all
+        are in), remove the files :meth:`remove` named; on a failure undo it all."""
+        from explorer.safe_files import os_error_text
+        from explorer.stop_signals import held
+
+        done: list[tuple[Path, Path | None]] = []        # path -> its old content
+        with held():
+            try:
+                for path, partial in self._staged.items():
+                    backup = self._keep_old(path)
+                    done.append((path, backup))
+                    os.replace(partial, path)
+                    self.written.append(path)
+                for path in self._removed:
+                    if path.exists():
+                        backup = self._keep_old(path)
+                        done.append((path, backup))
+                        path.unlink()
+            except OSError as exc:
+                for path, backup in reversed(done):
+                    try:
+                        if backup is not None:
+                            os.replace(backup, path)
+                        elif path in self._staged:
+                            path.unlink(missing_ok=True)
+                    except OSError:
+                        pass            # the folder went away: nothing left to restore
+                for partial in self._staged.values():
+                    partial.unlink(missing_ok=True)
+                self.written.clear()
+                self._remove_made_folders()
+                raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
+            finally:
+                self._staged.clear()
+            for _, backup in done:
+                if backup is not None:
+                    backup.unlink(missing_ok=True)
 
     def file(self, path: Path | str, suffixes: tuple[str, ...] = IMAGE_SUFFIXES,
              option: str | None = None) -> Path:
@@ -520,37 +717,39 @@ class Outputs:
                                ) from None
 
     def write(self, path: Path, save: Callable[[Path], None]) -> Path:
-        """Write ``path`` whole: ``save(temporary path)`` (same suffix), then rename. A
-        write that fails (a full disk, a folder that went away) is a
-        :class:`CommandError` naming the file, with nothing left behind."""
-        from explorer.safe_files import os_error_text, temporary_beside
+        """Stage ``path``: ``save(temporary path)`` (same suffix) now, the rename when the
+        command succeeds (class docstring). A write that fails (a full disk, a folder
+        that went away) is a :class:`CommandError` naming the file, with nothing left
+        behind."""
+        from explorer.safe_files import os_error_text, output_mode, temporary_beside
 
         try:
             partial = temporary_beside(path)
         except OSError as exc:
             raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
-        backup = None
         try:
             save(partial)
-            if path not in self._previous:
-                backup = self._keep_old(path)
-            os.replace(partial, path)
+            os.chmod(partial, output_mode(path))
         except BaseException as exc:
             partial.unlink(missing_ok=True)
-            if backup is not None:
-                backup.unlink(missing_ok=True)
             if isinstance(exc, OSError):
                 raise CommandError(f"cannot write {path}: {os_error_text(exc)}", 1) from None
             raise
-        if path not in self._previous:
-            self._previous[path] = backup
-            self.written.append(path)
+        earlier = self._staged.pop(path, None)
+        if earlier is not None:
+            earlier.unlink(missing_ok=True)
+        self._staged[path] = partial
         return path
+
+    def remove(self, path: Path) -> None:
+        """Remove ``path`` when the command succeeds (a file an earlier run of the same
+        command wrote and this one no longer does), with the renames."""
+        self._removed.append(path)
 
     @staticmethod
     def _keep_old(path: Path) -> Path | None:
         """A hard link to ``path``'s current content (None when there is no file yet), so
-        that an interrupted command can put it back."""
+        that a failed commit can put it back."""
         from explorer.safe_files import temporary_beside
 
         if not path.is_file():

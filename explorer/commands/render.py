@@ -36,7 +36,7 @@ SLICED_VIEWS = ("grid-slice", "geometry-volume")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--out", default="frame.png", type=Path,
+    parser.add_argument("--out", default="frame.png", type=Path, metavar="FILE",
                         help="image to write: .png (the picture), .exr or .npy (the view's "
                              "float data: radiance without tone curve, raw grid values; .exr "
                              "needs the OpenEXR package); with several --view, one file per "
@@ -44,12 +44,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--view", action="append", choices=VIEWS, metavar="VIEW",
                         help=f"what to write (repeatable): {', '.join(VIEWS)}; default: final "
                              f"(with --lesson: the step's view)")
-    parser.add_argument("--slice", type=int, dest="z",
+    parser.add_argument("--slice", type=int, dest="z", metavar="Z",
                         help="z slice of the grid views (default: the middle)")
     parser.add_argument("--coefficient", type=int, choices=range(9), metavar="K",
                         help="grid-slice: show SH coefficient K (0..3, or 0..8 with "
                              "--sh-order 2) instead of the flux")
-    parser.add_argument("--cascade", type=int, default=None,
+    parser.add_argument("--cascade", type=int, default=None, metavar="K",
                         help="grid views (grid-slice, geometry-volume): show this cascade "
                              "(0 = finest, the default)")
     parser.add_argument("--audit", action="store_true", help="print the energy audit")
@@ -282,7 +282,13 @@ def _lesson_step(args: argparse.Namespace):
 
 
 def _view_options(args: argparse.Namespace, settings, views: list[str]) -> dict[str, int]:
-    """--slice, --coefficient and --cascade, checked against the grid they index."""
+    """--slice, --coefficient and --cascade, checked against the grid they index (and
+    refused when no view asked shows a grid: they would be silently unused)."""
+    options.only_with(args, any(view in SLICED_VIEWS for view in views),
+                      "a grid view (--view grid-slice or geometry-volume)",
+                      {"z": "--slice", "cascade": "--cascade"})
+    options.only_with(args, "grid-slice" in views, "--view grid-slice",
+                      {"coefficient": "--coefficient"})
     chosen = {}
     if args.z is not None:
         slices = settings.grid_size + (1 if "geometry-volume" in views else 0)

@@ -49,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--light-flux", metavar="W", type=setting_type("light_flux"),
                         default=None, help=spec_help(specs(Settings)["light_flux"]))
     parser.add_argument("--step", metavar="K", type=value_type("step", STEP), default=None,
-                        help="with --lesson: " + spec_help(STEP))
+                        help="with --lesson: " + spec_help(STEP)[0].lower() + spec_help(STEP)[1:])
     parser.add_argument("--compare", choices=VIEW_MODES,
                         help="view mode: one configuration, split A|B, or their difference")
     parser.add_argument("--size", metavar="WxH", default=None, type=size_type(window_size),
@@ -80,6 +80,9 @@ def window_size(width: int, height: int) -> tuple[int, int]:
 def main(args: argparse.Namespace) -> int:
     if args.step is not None and not args.lesson:
         raise CommandError("--step needs --lesson")
+    if not args.wait and args.screenshot is None:
+        raise CommandError("--no-wait only acts with --screenshot; add that or leave "
+                           "--no-wait out")
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
         check_scene(args.scene)    # a broken mesh or scene file: refused before the window

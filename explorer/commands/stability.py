@@ -33,8 +33,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the object that moves with --move object (default: the "
                              "scene's second object, e.g. cornell's short block)")
     parser.add_argument("--frames", type=options.value_type("frames", FRAMES), default=8,
+                        metavar="N",
                         help=options.spec_help(FRAMES, 8))
     parser.add_argument("--step", type=options.value_type("step", STEP), default=None,
+                        metavar="X",
                         help=options.spec_help(STEP, "a tenth of a cell of the finest "
                                                      "grid"))
     parser.add_argument("--axis", choices=tuple(AXES), default="x",

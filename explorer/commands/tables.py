@@ -59,8 +59,9 @@ def marker(name: str) -> str:
 
 
 def load(path: Path = DATA) -> dict:
-    with open(path, encoding="utf-8") as handle:
-        data = json.load(handle)
+    from explorer.safe_files import parse_json, read_text
+
+    data = parse_json(read_text(path, "data file"), path)
     for name, table in data["tables"].items():
         if table.get("size") not in SIZES:
             raise ValueError(f"{path}: table {name!r}: size must be one of {SIZES}, got "
@@ -292,8 +293,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="tables --check runs (default: small)")
     args = parser.parse_args(argv)
     try:
+        from explorer.safe_files import read_text
+
         data = load(args.data)
-        text = args.document.read_text(encoding="utf-8")
+        text = read_text(args.document, "document")
         if args.measure:
             names = []
             for item in args.measure:

@@ -32,29 +32,87 @@ def write_npz(path: Path, arrays: dict[str, np.ndarray]) -> None:
 
 def read_npz(path: Path | str, what: str = "file") -> dict[str, np.ndarray]:
     """Every array of the ``.npz`` at ``path`` by name; ``what`` names the file in the
-    errors (``--vpls x.npz``)."""
-    from explorer.safe_files import UserFileError, check_regular_file
+    errors (``--vpls x.npz``). Each member's ``.npy`` header is read and checked against
+    the member's real size before numpy allocates the array it claims."""
+    from explorer.safe_files import UserFileError, open_regular
 
     path = Path(path)
     try:        # a regular file within the cap: a FIFO would make np.load wait forever
-        check_regular_file(path, "array file")
+        handle = open_regular(path, "array file")
     except UserFileError as exc:
         raise FileFormatError(f"{what} {exc}") from None
     try:
-        with np.load(path, allow_pickle=False) as archive:
-            if not isinstance(archive, np.lib.npyio.NpzFile):
-                raise FileFormatError(f"{what} {path}: a single .npy array, not an .npz "
-                                      f"archive of named arrays")
-            return {name: archive[name] for name in archive.files}
-    except FileNotFoundError:
-        raise FileFormatError(f"{what} {path}: no such file") from None
-    except IsADirectoryError:
-        raise FileFormatError(f"{what} {path} is a folder, not an .npz file") from None
+        with handle:
+            if not zipfile.is_zipfile(handle):
+                raise FileFormatError(f"{what} {path}: not an .npz archive of named arrays "
+                                      f"(a single .npy array, or not numpy data)")
+            handle.seek(0)
+            check_npz_headers(handle, f"{what} {path}")
+            handle.seek(0)
+            with np.load(handle, allow_pickle=False) as archive:
+                return {name: archive[name] for name in archive.files}
+    except FileFormatError:
+        raise
     except (zipfile.BadZipFile, EOFError, OSError) as exc:
         raise FileFormatError(f"{what} {path}: not a readable .npz archive ({exc})") from None
     except ValueError as exc:       # an object array: numpy refuses to unpickle it
         raise FileFormatError(f"{what} {path}: holds Python objects, which are never "
                               f"unpickled; store plain numeric arrays ({exc})") from None
+
+
+def npy_header(stream, where: str) -> tuple[tuple[int, ...], np.dtype, int]:
+    """``(shape, dtype, header bytes)`` of the ``.npy`` data at ``stream``'s position,
+    parsed without reading the data (numpy's own bounded header parser)."""
+    fmt = np.lib.format
+    try:
+        start = stream.tell()
+        version = fmt.read_magic(stream)
+        if version == (1, 0):
+            shape, _, dtype = fmt.read_array_header_1_0(stream)
+        elif version == (2, 0):
+            shape, _, dtype = fmt.read_array_header_2_0(stream)
+        else:
+            raise ValueError(f"format version {version}")
+        return tuple(shape), np.dtype(dtype), stream.tell() - start
+    except (ValueError, TypeError, SyntaxError, EOFError) as exc:
+        raise FileFormatError(f"{where}: not a readable .npy header ({exc})") from None
+
+
+def check_npz_headers(handle, where: str) -> None:
+    """Refuse an ``.npz`` whose members' headers claim arrays other than their real sizes
+    (a header claiming a (10¹¹, 3) array would otherwise allocate terabytes), or hold
+    Python objects."""
+    import os
+
+    from explorer.safe_files import CAPS
+
+    real_size = os.fstat(handle.fileno()).st_size
+    total = 0
+    with zipfile.ZipFile(handle) as archive:
+        for member in archive.infolist():
+            if not member.filename.endswith(".npy"):
+                continue
+            name = member.filename[:-4]
+            # the sizes the zip directory claims, against the file's: stored data is as
+            # long as it says and inside the file; deflate expands at most ~1032 times
+            total += member.file_size
+            expands = member.file_size > (member.compress_size if member.compress_type
+                                          == zipfile.ZIP_STORED else
+                                          1032 * member.compress_size + 1024)
+            if expands or member.header_offset + member.compress_size > real_size \
+                    or total > CAPS["array file"]:
+                raise FileFormatError(f"{where}: array {name!r} claims {member.file_size:,} "
+                                      f"bytes, more than the file can hold")
+            with archive.open(member) as stream:
+                shape, dtype, header = npy_header(stream, f"{where}: array {name!r}")
+            if dtype.hasobject:
+                raise FileFormatError(f"{where}: array {name!r} holds Python objects, which "
+                                      f"are never unpickled; store plain numeric arrays")
+            claimed = header + int(np.prod(shape, dtype=object)) * dtype.itemsize
+            if claimed != member.file_size:
+                raise FileFormatError(
+                    f"{where}: array {name!r} claims shape {shape} of {dtype} "
+                    f"({claimed:,} bytes) but its member holds {member.file_size:,}")
 
 
 def write_npy(path: Path, array: np.ndarray) -> None:

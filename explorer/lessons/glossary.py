@@ -51,12 +51,16 @@ def load_glossary(directory: Path | str | None = None) -> tuple[Term, ...]:
     when there is none. GlossaryError names the file and the entry otherwise."""
     from explorer.resources import lesson_dir
 
+    from explorer.safe_files import UserFileError, parse_toml, read_text
+
     path = (lesson_dir() if directory is None else Path(directory)) / GLOSSARY_FILE
-    if not path.is_file():
+    if not path.exists():
         return ()
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+    try:        # a FIFO or a huge file is refused, never waited on or read whole
+        data = parse_toml(read_text(path, "lesson"), path)
+    except UserFileError as exc:
+        raise GlossaryError(str(exc)) from None
+    except tomllib.TOMLDecodeError as exc:
         raise GlossaryError(f"{path}: {exc}") from None
     if set(data) != {"terms"} or not isinstance(data["terms"], list):
         raise GlossaryError(f"{path}: expected only a list of [[terms]] tables")

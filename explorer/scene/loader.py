@@ -26,8 +26,9 @@ def load_scene(name_or_path: str | Path) -> Scene:
     try:
         if is_scene_file(path):
             return read_scene_file(path)
-        return replace(scene_from_mesh(read_mesh_parts(path), path.stem, str(path)),
-                       files=(str(path.resolve()),))
+        mesh_file = read_mesh_parts(path)
+        return replace(scene_from_mesh(mesh_file.parts, path.stem, str(path)),
+                       files=(str(path.resolve()),), warnings=mesh_file.warnings)
     except SceneError:
         raise
     except (ValueError, IndexError, TypeError) as exc:

@@ -37,16 +37,50 @@ FALLBACK_ALBEDO = 0.6
 """Linear grey for meshes that carry no colour."""
 MAX_TEXTURE_EDGE = 4096
 """Largest texture edge in texels kept (larger images are reduced when loaded)."""
+MAX_MESH_COORDINATE = 1e18
+"""Largest coordinate magnitude a mesh may have, in the file and in the world: squared
+lengths of 1.8e19 overflow float32, so past this every area, distance and normal the
+passes compute is infinite or NaN (smaller but still extreme scales only warn,
+explorer/lpv/guards.py ``scale_warning``)."""
 MIN_TRIANGLE_AREA_FRACTION = 1e-12
 """Triangles smaller than this fraction of the squared scene size have no usable normal."""
 
-def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
+@dataclass(frozen=True)
+class MeshFile:
+    """The triangle meshes of one mesh file and what could not be read of the files it
+    names (each warning one line naming the file: a missing or damaged texture)."""
+
+    parts: list[tuple[str, object, np.ndarray]]
+    """``(name, trimesh.Trimesh, 4×4 world transform)`` per scene-graph node."""
+    warnings: tuple[str, ...] = ()
+
+
+def read_mesh_parts(path: Path) -> MeshFile:
     """The file's triangle meshes with their names (scene-graph node) and world
-    transforms."""
+    transforms. The file and every file it names are read through the safe reader
+    (explorer/scene/mesh_assets.py), a glTF's layout checked before trimesh allocates."""
+    import io
+
     import trimesh
 
+    from explorer.safe_files import read_bytes
+    from explorer.scene.mesh_assets import (
+        AssetResolver,
+        check_gltf_bytes,
+        check_stl_bytes,
+        check_textures,
+    )
+
+    resolver = AssetResolver(path)
+    suffix = "".join(path.suffixes[-2:]).lower() if path.name.lower().endswith(
+        (".tar.gz", ".tar.bz2")) else path.suffix.lower()
     try:
         check_mesh_file(path)         # a regular file within the size caps, unpacked too
+        data = read_bytes(path, "mesh")
+        if suffix in (".glb", ".gltf"):
+            check_gltf_bytes(data, suffix, resolver, path)
+        elif suffix == ".stl":
+            check_stl_bytes(data, path)
     except UserFileError as exc:
         raise SceneError(str(exc)) from None
     # trimesh logs (and sometimes prints tracebacks for) recoverable problems; the user
@@ -56,8 +90,10 @@ def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
     logger.setLevel(logging.CRITICAL)
     try:
         # no force="mesh": flattening a scene copies visuals through scipy, which is
-        # not a dependency; the scene graph is walked below instead.
-        loaded = trimesh.load(str(path), process=False)
+        # not a dependency; the scene graph is walked below instead. The bytes read
+        # above and the resolver: trimesh opens no file itself.
+        loaded = trimesh.load(io.BytesIO(data), file_type=suffix.lstrip("."),
+                              resolver=resolver, process=False)
         if isinstance(loaded, trimesh.Scene):
             parts = []
             for node in loaded.graph.nodes_geometry:
@@ -75,15 +111,21 @@ def read_mesh_parts(path: Path) -> list[tuple[str, object, np.ndarray]]:
                                  f"triangles)")
     except SceneError:
         raise
+    except UserFileError as exc:      # a buffer the mesh needs
+        raise SceneError(str(exc)) from None
     except Exception as exc:  # trimesh raises many types for broken files
         reason = str(exc) or type(exc).__name__
+        named = f"; {resolver.warnings[-1]}" if resolver.warnings else ""   # say which
         raise SceneError(f"{path}: not a mesh trimesh can read ({type(exc).__name__}: "
-                         f"{reason})") from None
+                         f"{reason}){named}") from None
     finally:
         logger.setLevel(level)
     if not parts:
         raise SceneError(f"{path}: the file holds no triangle mesh")
-    return parts
+    for name, mesh, _ in parts:
+        check_coordinates(np.asarray(mesh.vertices, np.float64), f"{path}: mesh {name!r}")
+    warnings = [*resolver.warnings, *check_textures(parts, path)]
+    return MeshFile(parts, tuple(dict.fromkeys(warnings)))
 
 
 @dataclass(frozen=True)
@@ -278,11 +320,12 @@ def _triangle_soup(part: MeshPart, source: str) -> _Surface | None:
     vertices = np.asarray(mesh.vertices, dtype=np.float64).reshape(-1, 3)
     if len(faces) == 0:
         return None
-    if not np.all(np.isfinite(vertices)):
-        raise SceneError(f"{source}: vertex positions contain NaN or infinity")
+    check_coordinates(vertices, f"{source}: mesh {part.name!r}")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise SceneError(f"{source}: faces index vertices that do not exist")
-    world = vertices @ transform[:3, :3].T + transform[:3, 3]
+    with np.errstate(over="ignore", invalid="ignore"):
+        world = vertices @ transform[:3, :3].T + transform[:3, 3]
+    check_coordinates(world, f"{source}: mesh {part.name!r} placed in the world")
     if np.linalg.det(transform[:3, :3]) < 0.0:
         # a mirroring transform reverses the winding: swap two corners to keep the front
         faces = faces[:, [0, 2, 1]]
@@ -302,6 +345,21 @@ def _triangle_soup(part: MeshPart, source: str) -> _Surface | None:
         (double_sided if double_sided is not None else True)
     return _Surface(world[faces], corner_normals, np.array(albedo, np.float64), uv, texture,
                     bool(two_sided))
+
+
+def check_coordinates(points: np.ndarray, where: str) -> None:
+    """A :class:`SceneError` naming ``where`` when a coordinate is NaN, infinite or beyond
+    :data:`MAX_MESH_COORDINATE`."""
+    if points.size == 0:
+        return
+    if not np.all(np.isfinite(points)):
+        bad = int(np.count_nonzero(~np.all(np.isfinite(points), axis=-1)))
+        raise SceneError(f"{where}: {bad} vertex position(s) are NaN or infinite")
+    largest = float(np.max(np.abs(points)))
+    if largest > MAX_MESH_COORDINATE:
+        raise SceneError(f"{where}: a vertex coordinate is {largest:.3g}, beyond the "
+                         f"{MAX_MESH_COORDINATE:.0e} a mesh may have (float32 squares "
+                         f"overflow); rescale the mesh")
 
 
 def _face_normals(corners: np.ndarray) -> np.ndarray:

@@ -91,6 +91,10 @@ class Scene:
     notice: str = field(default="", compare=False)
     """What the loader chose for the user and a command prints (e.g. where it put a light
     for a mesh file without one); empty when nothing."""
+    warnings: tuple[str, ...] = field(default=(), compare=False)
+    """What of the files a mesh names could not be used (a missing or damaged texture,
+    skipped), one line each naming the file; a command prints them, the window shows
+    them."""
     files: tuple[str, ...] = field(default=(), compare=False)
     """The files the scene was read from (a scene file and its meshes, or a mesh file);
     () for a built-in scene. The window watches them to load an edited scene again."""

@@ -163,6 +163,7 @@ def _meshes(data: dict, path: Path) -> Scene:
         raise SceneError(f"{where}: meshes must be one or more [[meshes]] tables")
     parts: list[MeshPart] = []
     files: dict[str, None] = {}             # the mesh files read, in order, once each
+    warnings: dict[str, None] = {}
     for k, entry in enumerate(entries, 1):
         table = f"[[meshes]] #{k}"
         _known(entry, MESH_KEYS, where, table)
@@ -175,13 +176,15 @@ def _meshes(data: dict, path: Path) -> Scene:
             if "albedo" in entry else None
         two_sided = _flag(entry, "two_sided", where, table) if "two_sided" in entry else None
         try:
-            nodes = read_mesh_parts(mesh_path)
+            mesh_read = read_mesh_parts(mesh_path)
         except SceneError as exc:
             raise SceneError(f"{where}: {table}: {exc}") from None
-        for node, mesh, node_transform in nodes:
+        warnings.update(dict.fromkeys(mesh_read.warnings))
+        for node, mesh, node_transform in mesh_read.parts:
             parts.append(MeshPart(node, mesh, transform @ node_transform,
                                   None if albedo is None else tuple(albedo), two_sided))
-    return replace(scene_from_parts(parts, path.stem, where), files=tuple(files))
+    return replace(scene_from_parts(parts, path.stem, where), files=tuple(files),
+                   warnings=tuple(warnings))
 
 
 def mesh_file(scene_path: Path, text: str) -> Path:
@@ -388,7 +391,7 @@ def _text(table: dict, key: str, where: str, name: str, default: str | None = No
         return default
     value = table[key]
     if not isinstance(value, str) or not value.strip():
-        raise SceneError(f"{where}: {name}: {key} must be a non-empty text, got {value!r}")
+        raise SceneError(f"{where}: {name}: {key} must be non-empty text, got {value!r}")
     return value
 
 

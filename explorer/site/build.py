@@ -123,6 +123,27 @@ def prepare_out(out: Path) -> Path:
     return work
 
 
+def _swap_in(work: Path, out: Path) -> None:
+    """Put the built folder ``work`` in place of ``out`` in two renames with the stop
+    signals held (explorer/stop_signals.py): the old site or the new one is there whole,
+    never neither; the old one is removed after."""
+    from explorer.stop_signals import held
+
+    old = out.with_name(f".{out.name}.old")
+    with held():
+        if old.exists():
+            shutil.rmtree(old)
+        if out.exists():
+            out.rename(old)
+        try:
+            work.rename(out)
+        except BaseException:
+            if old.exists() and not out.exists():
+                old.rename(out)
+            raise
+    shutil.rmtree(old, ignore_errors=True)
+
+
 def build_site(options: SiteOptions, log: Callable[[str], None] = print) -> SiteReport:
     """Build the site into ``options.out``; returns what was written."""
     from explorer.site.figure_shots import run_jobs
@@ -146,9 +167,7 @@ def build_site(options: SiteOptions, log: Callable[[str], None] = print) -> Site
         writer.release()
         (work / MARKER).write_text(json.dumps({"lessons": [lesson.id for lesson in lessons],
                                                "size": list(options.size)}) + "\n")
-        if out.exists():
-            shutil.rmtree(out)
-        work.rename(out)
+        _swap_in(work, out)
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
         raise

@@ -13,7 +13,7 @@ What is exported, and how each explorer quantity maps onto a stock Mitsuba plugi
 * a spot light (intensity ``Φ_L/(4π)·colour·f(θ)``, docs/MODEL.md "Spot cone"): a ``spot``
   with ``cutoff_angle = beam_width`` (Mitsuba's own falloff, linear in the angle, is then
   a step at the cutoff) and the explorer's ``f`` as a projected float texture
-  (``spot-<name>.pfm``, :func:`spot_falloff_texture`): the smoothstep in cos θ of a cone,
+  (``spot-<index>.pfm``, :func:`spot_falloff_texture`): the smoothstep in cos θ of a cone,
   or 1 inside the 90° square frustum of a cone-less spot (cutoff: the frustum's corner);
 * a point light: a ``point`` of intensity ``Φ_L/(4π)·colour``;
 * a directional light: a ``directional`` of irradiance ``E·colour``, ``E = flux/(2R)²``;
@@ -23,12 +23,13 @@ What is exported, and how each explorer quantity maps onto a stock Mitsuba plugi
 
 :class:`MitsubaScene` holds that description as plain data; :meth:`MitsubaScene.write`
 writes the XML (``.xml``, what explorer/truth/mitsuba_render.py renders) or a Python
-script (``.py``, ``mi.load_dict``) next to the PLY and the textures."""
+script (``.py``, ``mi.load_dict``), and the PLYs and textures into the scene's own
+:func:`companion_folder` (``NAME-files/``)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +44,18 @@ SQUARE_FRUSTUM_CUTOFF_DEGREES = math.degrees(math.atan(math.sqrt(2.0))) + 0.5
 """Cutoff of a cone-less spot: just past the corner of its 90° square frustum
 (atan √2 = 54.7° from the axis); the texture is 0 outside the square."""
 EXPORT_SUFFIXES = (".xml", ".py")
+OWNER_FILE = ".lpv-explorer-export"
+"""The file in a companion folder (:func:`companion_folder`) listing what the export put
+there: it says the folder is the export's, and which of its files a new export replaces
+or removes (never a file of the user's)."""
+
+
+def companion_folder(path: Path) -> Path:
+    """The folder of the meshes and textures of the scene written as ``path``:
+    ``NAME-files/`` beside ``NAME.xml`` (a name derived from the user's, so two exports
+    in one folder never share a file and no file beside the scene is touched)."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}-files")
 
 
 class ExportError(ValueError):
@@ -63,22 +76,38 @@ class MitsubaScene:
 
     def contents(self, path: Path) -> dict[Path, bytes]:
         """Every file of the scene written as ``path`` (``.xml`` or ``.py``): the scene
-        itself first, then the PLY and the textures beside it."""
+        itself first, then the PLYs and the textures in its :func:`companion_folder`
+        (the scene names them relative to its own folder), the folder's
+        :data:`OWNER_FILE` last."""
         path = Path(path)
         if path.suffix not in EXPORT_SUFFIXES:
             raise ExportError(f"the Mitsuba scene must be written to a .xml or .py file, got "
                               f"{path.name!r}")
-        text = to_xml(self) if path.suffix == ".xml" else to_python(self)
+        folder = companion_folder(path)
+        placed = replace(self, plugins=_placed(self.plugins, folder.name))
+        text = to_xml(placed) if path.suffix == ".xml" else to_python(placed)
+        listing = "".join(f"{name}\n" for name in self.files)
         return {path: text.encode("utf-8"),
-                **{path.parent / name: data for name, data in self.files.items()}}
+                **{folder / name: data for name, data in self.files.items()},
+                folder / OWNER_FILE: listing.encode("utf-8")}
 
     def write(self, path: Path) -> list[Path]:
-        """Write the scene to ``path`` (``.xml`` or ``.py``) and its files beside it;
-        returns every path written."""
+        """Write the scene to ``path`` (``.xml`` or ``.py``) and its files into its
+        companion folder; returns every path written."""
         contents = self.contents(path)
+        companion_folder(path).mkdir(exist_ok=True)
         for target, data in contents.items():
             target.write_bytes(data)
         return list(contents)
+
+
+def _placed(value, folder: str):
+    """``value`` (a plugin tree) with each file name (a ``Path``) inside ``folder``."""
+    if isinstance(value, dict):
+        return {key: _placed(item, folder) for key, item in value.items()}
+    if isinstance(value, Path):
+        return Path(folder) / value
+    return value
 
 
 # --- the scene -------------------------------------------------------------------------

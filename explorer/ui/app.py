@@ -33,6 +33,7 @@ import numpy as np
 
 from explorer.gl.window import Window
 from explorer.lpv.settings import PRESETS, Settings, preset_name
+from explorer import stop_signals
 from explorer.ui import animation, persist, theme
 from explorer.ui.images import write_png
 from explorer.ui.state import AppState, default_screenshot_path, fit_window_size
@@ -152,6 +153,11 @@ class App:
         """Every panel failure so far (an exception its gui function raised)."""
         self._init_imgui(test_engine)
         self.test_engine = self._imgui.test_engine
+        # SIGTERM / SIGHUP: quit as the Quit item does (close() saves); a second: at once
+        self._restore_signals = stop_signals.calling(self._quit_on_signal)
+
+    def _quit_on_signal(self, signum: int) -> None:
+        self.state.requests.quit = True
 
     # -- setup ---------------------------------------------------------------------------
     def _init_imgui(self, test_engine: bool = False) -> None:
@@ -441,6 +447,7 @@ class App:
             self._markdown_ctx = None
         self._imgui.shutdown()
         self.window.close()
+        self._restore_signals()
 
     def _keep_settings_that_ran(self) -> None:
         """Before saving: settings the pipeline refused are not written back; the last

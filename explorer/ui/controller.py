@@ -651,8 +651,9 @@ class PipelineController:
             except Exception:  # noqa: BLE001 - defaults are a convenience
                 scene = None
         rt.scene_facts.scene = None if scene is None else (scene_name, scene)
-        if getattr(scene, "notice", ""):       # e.g. where a light was put in a closed mesh
-            state.notify(scene.notice)
+        for line in (getattr(scene, "notice", ""), *getattr(scene, "warnings", ())):
+            if line:        # e.g. where a light was put in a closed mesh, a lost texture
+                state.notify(line)
         from explorer.scene import SpotLight
 
         rt.scene_facts.camera_default = eye_target(scene.camera if scene is not None else None)

@@ -100,14 +100,15 @@ def set_aside(path: Path) -> Path:
     return target
 
 
-def _setting_aside(path: Path, problem: str, what: str) -> str:
+def _setting_aside(path: Path, problem: str, what: str, failed: str = "could not read"
+                   ) -> str:
     """The message for a file that failed: where it went, and that defaults are used."""
     try:
         moved = set_aside(path)
     except OSError as exc:
-        return f"could not read {path}: {problem}; could not move it aside ({exc}); " \
+        return f"{failed} {path}: {problem}; could not move it aside ({exc}); " \
                f"using the default {what}"
-    return f"could not read {path}: {problem}; moved it to {moved.name}; using the " \
+    return f"{failed} {path}: {problem}; moved it to {moved.name}; using the " \
            f"default {what}"
 
 
@@ -123,6 +124,28 @@ def load_state(state: AppState, path: Path | None = None) -> str | None:
         apply_dict(state, data)
     except (UserFileError, SettingsFileError) as exc:
         return _setting_aside(path, str(exc), "settings")
+    problem = over_budget(state)
+    if problem:
+        apply_dict(state, state_to_dict(AppState()))
+        return _setting_aside(path, problem, "settings", "cannot use")
+    return None
+
+
+def over_budget(state: AppState) -> str | None:
+    """Why the configurations of ``state`` cannot run, each field valid but together more
+    than the memory budget (explorer/lpv/limits.py) or the cascades allow; None when
+    they fit. Checked when the file is read, so a saved combination that cannot run is
+    one line at start and the defaults, not a failed first frame."""
+    from explorer.lpv.cascades import check_limits
+    from explorer.lpv.limits import DEFAULT_MEMORY_BUDGET, check_memory
+
+    for side, settings in (("A", state.settings), ("B", state.compare_settings)):
+        try:
+            check_limits(settings.grid_size, settings.cascades, settings.grid_format,
+                         settings.geometry_volume != "off", 0, 0)
+            check_memory(settings, DEFAULT_MEMORY_BUDGET)
+        except ValueError as exc:
+            return f"configuration {side}: {exc}"
     return None
 
 

@@ -10,6 +10,7 @@ is never persisted.
 from __future__ import annotations
 
 import time
+import os
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
@@ -306,10 +307,24 @@ def fit_work_area(size: tuple[int, int], area: tuple[int, int, int, int] | None
     return (w, h), (left, top)
 
 
-def default_screenshot_path() -> Path:
-    """Where F12 and the View panel's button write: a time-stamped PNG in the folder the
-    explorer was started from."""
-    return Path.cwd() / f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}.png"
+_SCREENSHOTS_NAMED: set[Path] = set()
+"""The screenshot paths this process has handed out (a second press within the same
+second is given the next free name, even before the first is written)."""
+
+
+def default_screenshot_path(folder: Path | None = None) -> Path:
+    """Where F12 and the View panel's button write: a time-stamped PNG in ``folder`` (the
+    folder the explorer was started from), ``-2``, ``-3``, ... added when that name is
+    taken, on disk or by an earlier press: every screenshot gets a file of its own."""
+    folder = Path.cwd() if folder is None else Path(folder)
+    stem = f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}"
+    number = 1
+    while True:
+        path = folder / (f"{stem}.png" if number == 1 else f"{stem}-{number}.png")
+        if path not in _SCREENSHOTS_NAMED and not os.path.lexists(path):
+            _SCREENSHOTS_NAMED.add(path)
+            return path
+        number += 1
 
 
 @dataclass

@@ -147,7 +147,7 @@ BAD_FILES = [
     ("[[meshes]]\npath = 'MESH'\ntwo_sided = 'yes'\n", "two_sided must be true or false"),
     ("[[meshes]]\npath = 'MESH'\nalbedo = [1.5, 0, 0]\n", "albedo must be 3 numbers in [0, 1]"),
     ("builtin = 'nowhere'\n", "builtin = 'nowhere' is not a built-in scene"),
-    ("builtin = [1, 2]\n", "builtin must be a non-empty text, got [1, 2]"),
+    ("builtin = [1, 2]\n", "builtin must be non-empty text, got [1, 2]"),
     ("builtin = 'cornell'\n[[meshes]]\npath = 'MESH'\n", "not both"),
     ("name = 'x'\n", "give either builtin = NAME or [[meshes]]"),
     ("builtin = 'cornell'\n[camera]\nfov = 200.0\n", "[camera]: fov must be a number in [1, 170]"),

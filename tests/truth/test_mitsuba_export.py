@@ -126,7 +126,8 @@ def test_export_mitsuba_command_writes_xml_and_python(tmp_path, capsys):
     source = (tmp_path / "room.py").read_text()
     compile(source, "room.py", "exec")               # a valid script, not run here
     assert "mi.load_dict(SCENE)" in source
-    assert (tmp_path / "scene.ply").stat().st_size > 0
+    assert 'value="room-files/scene.ply"' in xml
+    assert (tmp_path / "room-files" / "scene.ply").stat().st_size > 0
 
 
 def test_export_mitsuba_bad_input_is_one_line(tmp_path, capsys):
