@@ -268,8 +268,8 @@ class PipelineController:
             if budget.quiet:
                 share = min(share, budget.base_ms)
             self._step(state, side, share, status)
-            if side.job is not None:
-                order.append(side)
+            if side.job is not None and not side.job.gpu_pending:
+                order.append(side)      # (a job waiting for its copies goes on next frame)
 
     @staticmethod
     def _fits(side: SideState, left_ms: float) -> bool:
