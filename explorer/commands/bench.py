@@ -131,6 +131,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "calls, dispatches, draws, barriers, finishes, read-backs, "
                              "uniform uploads and bindings, for a full, a light, a camera "
                              "and a display frame (--repeat frames each, default 20)")
+    parser.add_argument("--gpu-report", type=Path, default=None, metavar="OUT.json",
+                        help="every figure of BENCHMARKS.md in one go (pass times and "
+                             "GB/s, the variant rows, --overhead, --interactive; within "
+                             "about five minutes on a GPU): one JSON and a table")
     parser.add_argument("--frames", type=options.value_type("frames", INTERACTIVE_FRAMES),
                         default=60, help=options.spec_help(INTERACTIVE_FRAMES) + " (60)")
     parser.add_argument("--soak", metavar="MINUTES",
@@ -336,6 +340,10 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.gpu_report is not None:
+        from explorer.commands.gpu_report import main as gpu_report
+
+        return gpu_report(args)
     if args.interactive or args.soak is not None:
         from explorer.commands.interactive_bench import run_window_bench
 

@@ -171,13 +171,17 @@ def open_app(grid: int, window: tuple[int, int] = WINDOW_SIZE,
              render: tuple[int, int] = RENDER_SIZE):
     from explorer.lpv.settings import Settings
     from explorer.ui.app import App
-    from explorer.ui.window_options import WindowOptions
     from explorer.ui.state import AppState
 
     state = AppState(settings=Settings(grid_size=grid, width=render[0], height=render[1]))
     state.follow_view_size = False
-    return App(state, WindowOptions(width=window[0], height=window[1], visible=True, vsync=False,
-                                    persist_settings=False))
+    options = dict(width=window[0], height=window[1], visible=True, vsync=False,
+                   persist_settings=False)
+    try:
+        from explorer.ui.window_options import WindowOptions
+    except ImportError:     # a checkout (--root) from before the window's options object
+        return App(state, **options)
+    return App(state, WindowOptions(**options))
 
 
 def session(spawned: float, frames: int, grid: int) -> dict:
