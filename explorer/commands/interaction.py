@@ -134,6 +134,10 @@ class Recorder:
                 if phases:      # a window that times its own drawing by phase
                     work += " (" + ", ".join(f"{name.replace('_', ' ')} {value:.0f} ms"
                                              for name, value in phases.items()) + ")"
+                panels = getattr(getattr(self.app, "panels", None), "panel_ms", None)
+                if panels:      # a window that times each panel it drew
+                    title, slowest = max(panels.items(), key=lambda item: item[1])
+                    work += f"; slowest panel {title} {slowest:.0f} ms"
             self.longest = (ms, f"{self.phase}: {work}")
         if len(self.slow) < 5 or ms > self.slow[-1][0]:
             status = getattr(self.app, "status", None)

@@ -96,7 +96,6 @@ class PassTimer:
     def _queued(self, name: str, work: Callable[[], T], accumulate: bool) -> T:
         if self._timer_queries is None:
             self._timer_queries = TimerQueries()
-        self.collect()
         query = self._timer_queries.begin()
         try:
             return work()
@@ -105,7 +104,8 @@ class PassTimer:
 
     def collect(self, wait: bool = False) -> None:
         """Record the results of the timer queries the GPU has finished (``wait``: all
-        of them, waiting for the GPU: a benchmark that needs this frame's times)."""
+        of them, waiting for the GPU: a benchmark that needs this frame's times). Asked
+        once a stage starts (:meth:`reset`): each ask is a driver call."""
         if self._timer_queries is None:
             return
         for (name, generation, accumulate), ms in self._timer_queries.collect(wait):

@@ -28,6 +28,9 @@ class WindowPanels:
         """Panel title -> whether it was docked when last drawn (its background: draw)."""
         self.panel_errors: list[str] = []
         """Every panel failure so far (an exception its gui function raised)."""
+        self.panel_ms: dict[str, float] = {}
+        """Panel title -> milliseconds its gui function took when last drawn (the
+        window bench names the slowest panel of a slow frame)."""
 
     def load_layout(self, persist_settings: bool) -> None:
         """Read the saved layout (imgui never opens the layout file itself: it would block
@@ -66,6 +69,7 @@ class WindowPanels:
         from explorer.ui.layout import PANELS, build_default_layout, window_class
 
         state = self.state
+        self.panel_ms = {}
         self._main_menu()
         viewport = imgui.get_main_viewport()
         dock_id = imgui.get_id("lpv-dockspace")
@@ -118,11 +122,13 @@ class WindowPanels:
             if expanded:
                 stacks = imgui.internal.ErrorRecoveryState()
                 imgui.internal.error_recovery_store_state(stacks)
+                began = time.perf_counter()
                 try:
                     panel.gui(state)
                 except Exception as exc:  # noqa: BLE001 - one broken panel, not the app
                     self._panel_failed(panel.title, exc)
                     _recover_stacks(stacks)
+                self.panel_ms[panel.title] = (time.perf_counter() - began) * 1e3
             imgui.end()
             state.open_panels[panel.title] = bool(still_open)
         if focus and not self.needs_layout and state.requests.focus_panel is requested:
