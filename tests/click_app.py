@@ -254,7 +254,7 @@ class Clicks:
             if first:            # what the window looked like (with --shots) and held
                 hidden = [t for t, shown in self.state.open_panels.items() if not shown]
                 print(f"  hidden panels: {hidden or 'none'}; panel errors: "
-                      f"{self.app.panel_errors[-3:]}", file=sys.stderr, flush=True)
+                      f"{self.app.panels.panel_errors[-3:]}", file=sys.stderr, flush=True)
                 self.screenshot("first-failure")
         return bool(condition)
 
@@ -326,7 +326,7 @@ class Clicks:
         self.ctx.yield_(2)
 
     def _panel_errors(self, after: str) -> None:
-        errors = self.app.panel_errors
+        errors = self.app.panels.panel_errors
         for text in errors[self._seen_errors:]:
             self.problems.append(f"after {after}: {text}")
         self._seen_errors = len(errors)
@@ -349,10 +349,12 @@ def run_session(name: str, shots: Path | None = None) -> dict:
 
     from explorer.ui.app import App
 
+    from explorer.ui.window_options import WindowOptions
+
     session = SESSIONS[name]
     state = session.state()
-    app = App(state, width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
-              persist_settings=False, test_engine=True)
+    app = App(state, WindowOptions(width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
+                                   persist_settings=False, test_engine=True))
     clicks: dict = {}
     problems: list[str] = []
     start = time.monotonic()

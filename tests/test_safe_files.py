@@ -316,6 +316,8 @@ def test_a_window_screenshot_onto_a_full_disk_is_a_message_not_a_crash(tmp_path,
     from PIL import Image
 
     from explorer.ui.app import App
+
+    from explorer.ui.window_options import WindowOptions
     from explorer.ui.state import AppState
 
     def full(self, fp, format=None, **params):
@@ -323,8 +325,8 @@ def test_a_window_screenshot_onto_a_full_disk_is_a_message_not_a_crash(tmp_path,
         raise OSError(28, "No space left on device")
 
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
-    app = App(AppState(), width=640, height=480, visible=False, vsync=False,
-              persist_settings=False, pipeline_class=None)
+    app = App(AppState(), WindowOptions(width=640, height=480, visible=False, vsync=False,
+                                        persist_settings=False, pipeline_class=None))
     try:
         app.frame()
         monkeypatch.setattr(Image.Image, "save", full)
@@ -361,13 +363,15 @@ def test_the_window_starts_with_fifos_for_its_settings_and_layout(tmp_path, monk
     if problem is not None:
         pytest.skip(str(problem))
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     config = tmp_path / "config" / "lpv-explorer"
     config.mkdir(parents=True)
     os.mkfifo(config / "settings.json")
     os.mkfifo(config / "imgui.ini")
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
-    app = App(width=640, height=480, visible=False, vsync=False, pipeline_class=None)
+    app = App(None, WindowOptions(width=640, height=480, visible=False, vsync=False,
+                                  pipeline_class=None))
     try:
         app.frame()
         warnings = [m.text for m in app.state.messages if m.level == "warning"]
@@ -384,11 +388,13 @@ def test_the_window_starts_when_its_config_folder_cannot_be_made(tmp_path, monke
     if problem is not None:
         pytest.skip(str(problem))
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     blocker = tmp_path / "not-a-folder"
     blocker.write_text("")
     monkeypatch.setenv("XDG_CONFIG_HOME", str(blocker))
-    app = App(width=640, height=480, visible=False, vsync=False, pipeline_class=None)
+    app = App(None, WindowOptions(width=640, height=480, visible=False, vsync=False,
+                                  pipeline_class=None))
     try:
         app.frame()
         warnings = [m.text for m in app.state.messages if m.level == "warning"]

@@ -134,6 +134,10 @@ class Recorder:
                 if phases:      # a window that times its own drawing by phase
                     work += " (" + ", ".join(f"{name.replace('_', ' ')} {value:.0f} ms"
                                              for name, value in phases.items()) + ")"
+                panels = getattr(getattr(self.app, "panels", None), "panel_ms", None)
+                if panels:      # a window that times each panel it drew
+                    title, slowest = max(panels.items(), key=lambda item: item[1])
+                    work += f"; slowest panel {title} {slowest:.0f} ms"
             self.longest = (ms, f"{self.phase}: {work}")
         if len(self.slow) < 5 or ms > self.slow[-1][0]:
             status = getattr(self.app, "status", None)
@@ -175,8 +179,13 @@ def open_app(grid: int, window: tuple[int, int] = WINDOW_SIZE,
 
     state = AppState(settings=Settings(grid_size=grid, width=render[0], height=render[1]))
     state.follow_view_size = False
-    return App(state, width=window[0], height=window[1], visible=True, vsync=False,
-               persist_settings=False)
+    options = dict(width=window[0], height=window[1], visible=True, vsync=False,
+                   persist_settings=False)
+    try:
+        from explorer.ui.window_options import WindowOptions
+    except ImportError:     # a checkout (--root) from before the window's options object
+        return App(state, **options)
+    return App(state, WindowOptions(**options))
 
 
 def session(spawned: float, frames: int, grid: int) -> dict:

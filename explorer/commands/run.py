@@ -93,12 +93,14 @@ def main(args: argparse.Namespace) -> int:
 
     from explorer.gl.window import WindowError
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
     from explorer.ui.state import AppState
 
     width, height = args.size or (None, None)
     try:
-        app = App(AppState() if args.no_persist else None, width=width, height=height,
-                  visible=not args.hidden, persist_settings=not args.no_persist)
+        app = App(AppState() if args.no_persist else None,
+                  WindowOptions(width=width, height=height, visible=not args.hidden,
+                                persist_settings=not args.no_persist))
     except WindowError as exc:
         raise CommandError(exc, 1) from None
     try:

@@ -11,6 +11,12 @@ upload). The time outside the calls is the Python side of the work: what a GPU, 
 runs the calls' work in parallel with the CPU, would not hide. On a software renderer the
 time inside a dispatch or a draw holds the rendering itself (llvmpipe renders there or at
 the next finish), so only the outside time is a CPU figure.
+
+Read-backs are told apart: a ``read``/``read_into`` that returns bytes is a synchronous
+read-back (the CPU waits for the GPU); ``read_into`` a :class:`moderngl.Buffer` is a
+queued copy (a pixel-buffer read, explorer/gl/gpu_sync.py ``DeferredRead``), and reading
+such a buffer back is a deferred read. :class:`~explorer.gl.gpu_sync.Fence` waits count as
+finishes (a wait for the GPU), its polls as polls.
 """
 
 from __future__ import annotations
@@ -45,6 +51,8 @@ KINDS = {
     ("Sampler", "use"): "bindings",
     ("Framebuffer", "use"): "bindings",
     ("Texture", "read"): "read-backs",
+    ("Fence", "wait"): "finishes",
+    ("Fence", "signaled"): "fence polls",
     ("Texture3D", "read"): "read-backs",
     ("TextureArray", "read"): "read-backs",
     ("Texture", "read_into"): "read-backs",
@@ -57,6 +65,8 @@ KINDS = {
 }
 """(class, method) -> the kind a call is counted as besides "GL calls" (all of them)."""
 
+SYNC_CLASSES = ("Fence",)
+"""explorer.gl.gpu_sync's classes whose waits and polls are counted."""
 CLASSES = ("Context", "Buffer", "Texture", "Texture3D", "TextureArray", "TextureCube",
            "Framebuffer", "Renderbuffer", "VertexArray", "Program", "ComputeShader",
            "Sampler", "Query", "Scope", "Uniform")
@@ -90,6 +100,13 @@ class GlCallCounter:
         self._depth = 0
 
     def __enter__(self) -> "GlCallCounter":
+        from explorer.gl import gpu_sync
+
+        for cls in (getattr(gpu_sync, name) for name in SYNC_CLASSES):
+            for name in ("wait", "signaled"):
+                member = vars(cls)[name]
+                self._saved.append((cls, name, member))
+                setattr(cls, name, self._wrap(member, KINDS[(cls.__name__, name)]))
         for class_name in CLASSES:
             cls = getattr(moderngl, class_name, None)
             if cls is None:
@@ -125,8 +142,9 @@ class GlCallCounter:
             if self._depth:
                 return function(*args, **kwargs)
             tally.calls["GL calls"] += 1
-            if kind is not None:
-                tally.calls[kind] += 1
+            counted_as = _read_kind(args) if kind == "read-backs" else kind
+            if counted_as is not None:
+                tally.calls[counted_as] += 1
             self._depth += 1
             start = time.perf_counter()
             try:
@@ -136,3 +154,15 @@ class GlCallCounter:
                 self._depth -= 1
 
         return counted
+
+
+def _read_kind(args: tuple) -> str:
+    """What a read call is (module docstring): ``args`` are the call's, ``self`` first."""
+    from explorer.gl.gpu_sync import DEFERRED_BUFFERS
+
+    source = args[0]
+    if isinstance(source, moderngl.Buffer) and source in DEFERRED_BUFFERS:
+        return "deferred reads"
+    if len(args) > 1 and isinstance(args[1], moderngl.Buffer):
+        return "queued copies"
+    return "read-backs"

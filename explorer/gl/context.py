@@ -133,3 +133,10 @@ def check_capabilities(ctx: moderngl.Context) -> Capabilities:
             + "; ".join(caps.missing) + f". {_APT_HINT}"
         )
     return caps
+
+
+def use_screen(ctx: moderngl.Context) -> None:
+    """Bind the window's framebuffer again after offscreen work (a headless context has
+    none)."""
+    if ctx.screen is not None:
+        ctx.screen.use()

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import moderngl
+import numpy as np
 
 from explorer.resources import shader_dir
 from explorer.safe_files import UserFileError, read_text
@@ -164,15 +165,35 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
         if name not in program:
             raise UniformError(f"{label} must read the uniform {name} but the compiled program "
                                f"does not use it (declared: {name in declared})")
+    uploaded = info.setdefault("values", {})
     for key, value in values.items():
         if key in program:
-            program[key] = value
+            # a uniform keeps its value in the program: one the last call set is not
+            # uploaded again (a frame sets most of them to what they were)
+            stamp = _value_key(value)
+            if uploaded.get(key, _UNSET) != stamp:
+                program[key] = value
+                uploaded[key] = stamp
         elif key not in declared:
             close = difflib.get_close_matches(key, sorted(declared), n=3)
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise UniformError(f"{label} declares no uniform {key!r}{hint}")
     info.setdefault("set", set()).update(values)
     info.setdefault("read", set()).update(reads)
+
+
+_UNSET = object()
+
+
+def _value_key(value: object) -> object:
+    """A uniform value as something ``==`` compares exactly (arrays by their bytes)."""
+    if isinstance(value, np.ndarray):
+        return (value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, (list, tuple)):
+        return tuple(_value_key(item) for item in value)
+    if isinstance(value, np.generic):
+        return (value.dtype.str, value.item())
+    return (type(value), value)
 
 
 @dataclass

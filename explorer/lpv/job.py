@@ -12,6 +12,11 @@ Starting another job cancels this one: the stage it was in the middle of is disc
 (its key was forgotten when it started, so it runs again), the completed ones are kept.
 An exception (a KeyboardInterrupt too) leaves the pipeline in the same consistent state
 and propagates.
+
+A unit that issues read-backs yields a :class:`~explorer.gl.gpu_sync.GpuWait`: within a
+budget the job does the next unit (which takes the arrays) only once the copies are done
+(:attr:`Job.gpu_pending`; the window then does it in a later frame, with no wait), while
+a job run to its end at once (``advance(None)``) waits for exactly those copies.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
+from explorer.gl.gpu_sync import GpuWait
 from explorer.lpv.audit import audit_mode
 from explorer.lpv.cache_keys import stage_key
 from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, STAGES, VERBS
@@ -100,6 +106,8 @@ class Job:
         self._done = 0
         self._total = 0
         self._unit = 0
+        self._gpu_wait: GpuWait | None = None
+        """What the last unit yielded when its next unit reads back GPU work."""
         """Units of the current stage run so far."""
         self.out_keys: dict[str, object] = {}
         """Output key of every stage evaluated so far (run or up to date)."""
@@ -153,6 +161,8 @@ class Job:
         while self._result is None:
             if self._work is None and not self._begin_next():
                 continue
+            if budget_ms is not None and self.gpu_pending:
+                break               # the next unit reads back what the GPU still copies
             if budget_ms is not None and worked:
                 spent = (time.perf_counter() - start) * 1e3
                 if spent + self.next_unit_ms() > budget_ms:
@@ -160,6 +170,11 @@ class Job:
             self._run_unit()
             worked = True
         return self.progress
+
+    @property
+    def gpu_pending(self) -> bool:
+        """The next unit reads back GPU work that is not done yet (module docstring)."""
+        return self._gpu_wait is not None and not self._gpu_wait.ready()
 
     def next_unit_ms(self) -> float:
         """What the next unit of work should take, as measured: the same unit of the
@@ -219,11 +234,14 @@ class Job:
         name = self._stage
         started = time.perf_counter()
         try:
+            self._gpu_wait = None
             try:
                 count = next(self._work)
                 finished = False
             except StopIteration:
                 count, finished = self._total, True
+            if isinstance(count, GpuWait):
+                self._gpu_wait, count = count, count.progress
             elapsed = (time.perf_counter() - started) * 1e3
             self.pipeline.unit_ms[name] = elapsed
             self.pipeline.unit_ms_at[(name, self._unit)] = elapsed

@@ -4,7 +4,7 @@ side by side (explorer/lpv/passes/atlas.py), so that the injection reads every v
 once and the gather and the fog every view's shadow map (docs/MODEL.md "Several lights").
 
 :class:`LightViews` is owned by the pipeline (``Pipeline.light_views``); its ``rsm`` and
-``downsample`` stages call :meth:`LightViews.render` and :meth:`LightViews.choose_vpls`,
+``downsample`` stages call :meth:`LightViews.render` and :meth:`LightViews.choose_vpls_later`,
 and every later stage reads what they leave: the views, each view's RSM set, the shadow
 maps as one set (:attr:`LightViews.rsm_textures`, the atlas of several views, with
 :attr:`LightViews.shadow_tiles`) and the VPLs the injection reads
@@ -18,6 +18,7 @@ from collections.abc import Iterator
 import moderngl
 import numpy as np
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache
 from explorer.lpv.audit import flux_per_light
 from explorer.lpv.frame_state import RsmImages, VplImages
@@ -61,7 +62,7 @@ class LightViews:
         self.vpl_textures: VplTextures | None = None
         """:attr:`vpl_sets` as one set (the atlas, or the one set)."""
         self._override_textures: VplTextures | None = None
-        """Hand-made VPLs uploaded by :meth:`choose_vpls` (released at the next call)."""
+        """Hand-made VPLs uploaded by :meth:`choose_vpls_later` (released at the next call)."""
 
     @staticmethod
     def of(scene: Scene, rsm_size: int) -> list[LightView]:
@@ -84,23 +85,33 @@ class LightViews:
         self.rsm_textures, self.shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm",
                                                            largest)
 
-    def rsm_read_back(self) -> tuple[RsmImages, list[np.ndarray]]:
+    def rsm_textures_read(self) -> list[moderngl.Texture]:
+        """What :meth:`rsm_read_back` reads: the primary view's position and normal, then
+        every view's flux (float32 RGBA each)."""
+        first = self.rsm_sets[0]
+        return [first.position, first.normal] + [rsm.flux for rsm in self.rsm_sets]
+
+    def rsm_read_back(self, arrays: list[np.ndarray] | None = None
+                      ) -> tuple[RsmImages, list[np.ndarray]]:
         """The last RSMs read back: the primary view's position, normal and flux, each
         light's flux summed over its views (docs/MODEL.md "Several lights") and their
-        sum; and every array read, for the finiteness check."""
-        flux = [read_texture(rsm.flux) for rsm in self.rsm_sets]
-        first = self.rsm_sets[0]
-        primary = (read_texture(first.position), read_texture(first.normal), flux[0])
+        sum; and every array read, for the finiteness check. ``arrays``: those of
+        :meth:`rsm_textures_read` as read already (a deferred read-back)."""
+        if arrays is None:
+            arrays = [read_texture(texture) for texture in self.rsm_textures_read()]
+        flux = arrays[2:]
+        primary = (arrays[0], arrays[1], flux[0])
         per_light = flux_per_light(flux, [view.light_index for view in self.views])
         return RsmImages(*primary, total_flux=per_light.sum(axis=0),
                          flux_per_light=per_light), [*primary, *flux]
 
-    def choose_vpls(self, s: Settings, vpls: VplArrays | None, spec: GridSpec,
-                    largest: int) -> VplImages:
+    def choose_vpls_later(self, s: Settings, vpls: VplArrays | None, spec: GridSpec,
+                          largest: int) -> None:
         """The ``downsample`` stage's GPU work: the VPLs the injection reads are the
         hand-made ``vpls``, the RSMs as they are, or each view's RSM downsampled onto the
-        finest grid ``spec`` (then their atlas within ``largest`` texels per side).
-        Returns them read back (per set, all of them, each set's light index)."""
+        finest grid ``spec`` (then their atlas within ``largest`` texels per side). Each
+        of :attr:`vpl_sets` then copies its read-back (``VplTextures.read_later``, into
+        :meth:`reads_for`'s lists) and :meth:`vpls_taken` takes them."""
         if self._override_textures is not None:
             self._override_textures.release()
             self._override_textures = None
@@ -119,10 +130,24 @@ class LightViews:
                 for k, (rsm, view) in enumerate(zip(self.rsm_sets, self.views))]
             self.vpl_textures, _ = self._atlas(self._vpl_atlas, self.vpl_sets, "downsample",
                                                largest)
-        sets = [vpl_set.to_arrays() for vpl_set in self.vpl_sets]
+
+    def reads_for(self, reads: list[list[DeferredRead]]) -> list[list[DeferredRead]]:
+        """``reads`` grown to one list of four per VPL set (the caller keeps them)."""
+        while len(reads) < len(self.vpl_sets) or len(reads) < len(self.rsm_sets):
+            reads.append([DeferredRead(self.ctx) for _ in range(4)])
+        return reads
+
+    def vpls_taken(self, reads: list[list[DeferredRead]], hand_made: bool) -> VplImages:
+        """The VPLs read back (per set, all of them, each set's light index) from the
+        copies of :meth:`choose_vpls_later`'s sets."""
+        return self._vpl_images([vpl_set.arrays_taken(set_reads)
+                                 for vpl_set, set_reads in zip(self.vpl_sets, reads)],
+                                hand_made)
+
+    def _vpl_images(self, sets: list[VplArrays], hand_made: bool) -> VplImages:
         return VplImages(
             vpls=sets[0] if len(sets) == 1 else VplArrays.concatenate(sets), sets=sets,
-            view_lights=(0,) if vpls is not None else tuple(
+            view_lights=(0,) if hand_made else tuple(
                 view.light_index for view in self.views))
 
     @property

@@ -218,9 +218,14 @@ class Pipeline:
         """Render a frame at once; only the stages whose inputs changed run again.
         ``progress(stage, done, total)`` is called as it goes (see :meth:`start` for the
         other options). An exception, KeyboardInterrupt included, leaves the unfinished
-        stage to run again next time and propagates."""
+        stage to run again next time and propagates. Its passes are timed one by one
+        (a caller of ``run`` waits for the frame anyway: its timings are this frame's)."""
         job = self.start(settings, keep_steps, vpls, need_audit, progress)
-        job.advance(None)
+        queued, self.timer.queued = self.timer.queued, False
+        try:
+            job.advance(None)
+        finally:
+            self.timer.queued = queued
         return job.result
 
     def invalidate(self, stage: str | None = None) -> None:

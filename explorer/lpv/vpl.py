@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from explorer.gl.gpu_sync import DeferredRead
+
 PROJECTIONS = ("perspective", "orthographic")
 UPLOAD_ROW = 4096
 """Texels per row when VPL arrays are uploaded (GL guarantees 2D textures this wide)."""
@@ -147,12 +149,30 @@ class VplTextures:
 
     def to_arrays(self) -> VplArrays:
         """Read the valid texels back as arrays (row-major over the texture)."""
-        def read(texture: moderngl.Texture) -> np.ndarray:
-            return np.frombuffer(texture.read(), dtype=np.float32).reshape(-1, 4)
+        return self._arrays([np.frombuffer(texture.read(), dtype=np.float32)
+                             for texture in self.all_textures])
 
-        position, normal, flux = read(self.position), read(self.normal), read(self.flux)
+    @property
+    def all_textures(self) -> list[moderngl.Texture]:
+        """Position, normal, flux and (when there is one) albedo."""
+        return [self.position, self.normal, self.flux] + (
+            [] if self.albedo is None else [self.albedo])
+
+    def read_later(self, reads: list[DeferredRead]) -> None:
+        """:meth:`to_arrays` without waiting: each texture copied into its read (one per
+        texture of :attr:`all_textures`); :meth:`arrays_taken` of them gives the arrays."""
+        for read, texture in zip(reads, self.all_textures):
+            width, height = texture.size
+            read.issue(texture, (height * width, 4), "f4")
+
+    def arrays_taken(self, reads: list[DeferredRead]) -> VplArrays:
+        return self._arrays([read.wait() for read in reads[:len(self.all_textures)]])
+
+    def _arrays(self, texels: list[np.ndarray]) -> VplArrays:
+        position, normal, flux = (np.asarray(t).reshape(-1, 4) for t in texels[:3])
         valid = position[:, 3] > 0.5
-        albedo = None if self.albedo is None else read(self.albedo)[valid, :3].copy()
+        albedo = None if self.albedo is None else \
+            np.asarray(texels[3]).reshape(-1, 4)[valid, :3].copy()
         return VplArrays(position[valid, :3].copy(), normal[valid, :3].copy(),
                          flux[valid, :3].copy(), normal[valid, 3].copy(),
                          self.texel_area, self.projection, albedo)

@@ -10,9 +10,9 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Sequence
 
 import moderngl
-import numpy as np
 
 from explorer.lpv.passes.rsm import read_texture
+from explorer.gl.gpu_sync import DeferredRead, GpuWait
 
 
 def countdown(units: int) -> Callable[[], bool]:
@@ -27,15 +27,17 @@ def countdown(units: int) -> Callable[[], bool]:
     return more
 
 
-def read_back(textures: Sequence[moderngl.Texture]) -> Iterator[None]:
-    """Read each texture back (:func:`read_texture`), one unit each; returns the arrays
-    (``yield from``). At 960×540 a read-back takes as long as a band of the gather."""
-    arrays: list[np.ndarray] = []
-    for index, texture in enumerate(textures):
-        arrays.append(read_texture(texture))
-        if index < len(textures) - 1:
-            yield
-    return arrays
+def read_back_later(reads: Sequence[DeferredRead],
+                    textures: Sequence[moderngl.Texture]) -> Iterator[GpuWait]:
+    """Copy each float32 RGBA texture into its deferred read (one unit, no wait), then take
+    them, row 0 at the top as ``rsm.read_texture`` gives them, in the next unit (``yield
+    from`` returns the arrays), which a job within a budget does once the copies are done
+    (explorer/lpv/job.py). ``reads``: one per texture, owned by the stage (reused)."""
+    for read, texture in zip(reads, textures):
+        width, height = texture.size
+        read.issue(texture, (height, width, 4), "f4")
+    yield GpuWait(list(reads[:len(textures)]))
+    return [read.wait()[::-1].copy() for read in reads[:len(textures)]]
 
 
 def single_unit(work: Callable[[], None]) -> Iterator[None]:

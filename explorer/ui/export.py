@@ -38,6 +38,7 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
     a display (glfw's null platform with EGL; default: whenever this glfw has it)."""
     from explorer.lessons import find_lesson, load_all
     from explorer.ui.app import App, write_png
+    from explorer.ui.window_options import WindowOptions
     from explorer.ui.article import uses_error, uses_truth
     from explorer.ui.panels.error import error_service
     from explorer.ui.state import AppState, OverlayState
@@ -53,8 +54,8 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
         raise IndexError(f"step {step} of {lesson.id} has try-this 1..{len(wanted.try_this)}"
                          f", not {try_this}")
     state = AppState(lesson_id=lesson.id, lesson_step=step)
-    app = App(state, width=width, height=height, visible=False, vsync=False,
-              persist_settings=False, headless=headless)
+    app = App(state, WindowOptions(width=width, height=height, visible=False, vsync=False,
+                                   persist_settings=False, headless=headless))
     try:
         start = time.monotonic()
         ready_at = None

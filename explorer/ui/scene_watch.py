@@ -2,7 +2,7 @@
 edited while the window shows it is read again and shown; an edit that does not load
 keeps the scene as it was, with the one-line error in Messages.
 
-The controller polls :meth:`SceneWatch.changed` every ``SHADER_POLL_S``; a stamp is a
+The controller polls :meth:`SceneWatch.changed` every ``scene_reload.SHADER_POLL_S``; a stamp is a
 file's modification time and size, so an editor's save (in place or by rename) counts and
 reading the file is left to the one load that follows."""
 

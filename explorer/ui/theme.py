@@ -10,7 +10,7 @@ WINDOW_BG = (0.11, 0.115, 0.13, 1.0)
 """A panel's background."""
 CLEAR_COLOUR = WINDOW_BG
 """What each frame is cleared to: the docked panels' background (they draw none of their
-own, explorer/ui/app.py ``_draw_ui``)."""
+own, explorer/ui/window_panels.py ``WindowPanels.draw``)."""
 DOCKED_WINDOW_BG = WINDOW_BG[:3] + (0.0,)
 """A docked panel's background colour: transparent, which imgui does not draw."""
 

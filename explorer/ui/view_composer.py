@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from explorer.gl.context import use_screen
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
@@ -155,7 +156,7 @@ class ViewComposer:
                                "u_fog_direct_b": 9, "u_fog_lpv_b": 10, **uniforms})
         with output.targets.drawing():
             self._triangle.draw(program)
-        _use_screen(self.ctx)
+        use_screen(self.ctx)
         self.draws += 1
 
     def _colour_map(self, name: str) -> moderngl.Texture:
@@ -193,10 +194,3 @@ def _linear(result, buffer: str, indirect_only: bool) -> np.ndarray:
     if buffer == "final":
         return exposed_image(result.direct, result.indirect, 1.0, indirect_only, result.fog)
     return getattr(result, buffer)
-
-
-def _use_screen(ctx) -> None:
-    """Bind the window's framebuffer again after offscreen work (a headless context has
-    none)."""
-    if ctx.screen is not None:
-        ctx.screen.use()

@@ -121,12 +121,16 @@ def test_a_short_soak_drives_the_window_and_counts_what_it_holds(tmp_path, capsy
 
 def test_overhead_rows_count_the_gl_work_of_each_kind_of_frame(tmp_path, capsys):
     out = tmp_path / "overhead.json"
-    assert main(["bench", "--overhead", "--repeat", "1", "--iterations", "3",
-                 "--json", str(out)]) == 0
+    status = main(["bench", "--overhead", "--repeat", "1", "--iterations", "3",
+                   "--json", str(out)])
     printed = capsys.readouterr().out
     assert "python ms" in printed and "uniform uploads" in printed
     rows = {row["frame"]: row for row in json.loads(out.read_text())["overhead"]}
-    assert list(rows) == ["full", "light", "camera", "display"]
+    assert list(rows) == ["full", "light", "camera", "display", "window"]
+    window = rows.pop("window")
+    # the exit status says whether a default window frame kept to its target
+    assert status == (0 if window["target_met"] else 1)
+    assert window["frames"] >= 2 and set(window["max"]) == set(window["counts"])
     full, camera, display = rows["full"]["counts"], rows["camera"]["counts"], \
         rows["display"]["counts"]
     # the propagation: one dispatch and one barrier per step at least; none for a camera move

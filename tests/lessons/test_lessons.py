@@ -477,12 +477,14 @@ def test_inline_math_reads_as_plain_text(shipped):
 _WINDOW_SCRIPT = """
 from explorer.lpv.settings import Settings
 from explorer.ui.app import App
+from explorer.ui.window_options import WindowOptions
 from explorer.ui.lesson_panel import current_screen, show_screen
 from explorer.ui.state import AppState
 
 own = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192, exposure=2.0)
-app = App(AppState(settings=own, lesson_id="reprojection"), width=900, height=640,
-          visible=False, vsync=False, persist_settings=False, pipeline_class=None)
+app = App(AppState(settings=own, lesson_id="reprojection"),
+          WindowOptions(width=900, height=640, visible=False, vsync=False,
+                        persist_settings=False, pipeline_class=None))
 try:
     for _ in range(2):
         assert app.frame()

@@ -70,7 +70,7 @@ def _drag(app) -> list:
     io.add_mouse_button_event(0, True)
     app.window._on_event()
     app.frame()
-    app.controller.drag_scale = 0.5        # as if a camera frame had been timed
+    app.controller.drag.scale = 0.5        # as if a camera frame had been timed
     sizes = []
     for step in range(1, 8):              # the drag: the camera orbits each frame
         io.add_mouse_pos_event(x + 6 * step, y)
@@ -110,7 +110,7 @@ def test_a_released_drag_refines_without_waiting_for_the_idle_timeout():
     full-size frame starts then), and never while a job runs."""
     from imgui_bundle import imgui
 
-    from explorer.ui.app import INTERACTION_SETTLE_S
+    from explorer.ui.frame_pacing import INTERACTION_SETTLE_S
 
     state = AppState(settings=TINY)
     state.follow_view_size = False
@@ -123,7 +123,7 @@ def test_a_released_drag_refines_without_waiting_for_the_idle_timeout():
         app.window._on_event()
         app.frame()                            # the release: the camera settles now
         assert not app.state.runtime.view.interaction.held
-        assert app._idle_timeout() <= INTERACTION_SETTLE_S + 0.02
+        assert app.idle_timeout() <= INTERACTION_SETTLE_S + 0.02
         waits = []
         for _ in range(500):
             app.frame()

@@ -37,10 +37,11 @@ def config_home(tmp_path, monkeypatch):
 
 def _app(state=None, **kwargs):
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     options = dict(SMALL, persist_settings=False)
     options.update(kwargs)
-    return App(state or AppState(settings=TINY), **options)
+    return App(state or AppState(settings=TINY), WindowOptions(**options))
 
 
 def test_window_opens_and_draws_the_panels(config_home):
@@ -72,7 +73,7 @@ def test_docked_panels_draw_no_background_of_their_own(config_home):
         for _ in range(3):
             assert app.frame()
         assert app.frame(capture=True)
-        docked = [title for title, is_docked in app._docked.items() if is_docked]
+        docked = [title for title, is_docked in app.panels.docked.items() if is_docked]
         assert "View" in docked and len(docked) >= 5
         # the View panel's empty space (no pipeline: no image, the middle column of the
         # default layout) shows the panel colour
@@ -102,10 +103,11 @@ def test_screenshot_writes_a_png_of_the_whole_window(config_home, tmp_path):
 
 def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     config_home.mkdir(parents=True)
     (config_home / "settings.json").write_text("{ this is not json")
-    app = App(None, **SMALL, pipeline_class=None)
+    app = App(None, WindowOptions(**SMALL, pipeline_class=None))
     try:
         assert app.state.settings == Settings()
         warnings = [m.text for m in app.state.messages if m.level == "warning"]
@@ -121,10 +123,11 @@ def test_corrupt_settings_file_falls_back_and_is_rewritten(config_home, capsys):
 
     from explorer.ui.layout import PANELS
 
-    app = App(None, **SMALL, pipeline_class=None)        # the next run reads it all back
+    # the next run reads it all back
+    app = App(None, WindowOptions(**SMALL, pipeline_class=None))
     try:
         assert app.state.settings.corrections == PRESETS["original"]
-        assert not app._needs_layout, "a saved layout for the same panels is kept"
+        assert not app.panels.needs_layout, "a saved layout for the same panels is kept"
         assert app.state.layout_panels == [p.title for p in PANELS]
         assert app.state.window_size == (800, 600)
         assert not [m for m in app.state.messages if m.level != "info"]
@@ -571,12 +574,13 @@ def test_a_bad_file_stops_the_window_never_and_is_set_aside_once(config_home, ca
     assertion): the window opens, the file is set aside once with a one-line message in
     the window and on stderr, and the next launch is clean."""
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     config_home.mkdir(parents=True)
     (config_home / "settings.json").write_text(json.dumps(_GOOD_SETTINGS))
     bad = config_home / name
     bad.write_text(_bad_layout(content) if name == "imgui.ini" else json.dumps(content))
-    app = App(None, **SMALL, pipeline_class=None)
+    app = App(None, WindowOptions(**SMALL, pipeline_class=None))
     try:
         assert app.frame()          # imgui reads the layout file in its first frame
         warnings = [m.text for m in app.state.messages if m.level == "warning"]
@@ -588,11 +592,11 @@ def test_a_bad_file_stops_the_window_never_and_is_set_aside_once(config_home, ca
     err = capsys.readouterr().err
     assert complaint in err and "Traceback" not in err
     assert len(list(config_home.glob(f"{name}.bad-*"))) == 1
-    app = App(None, **SMALL, pipeline_class=None)      # the second launch is clean
+    app = App(None, WindowOptions(**SMALL, pipeline_class=None))      # the second launch is clean
     try:
         assert app.frame()
         assert [m for m in app.state.messages if m.level != "info"] == []
-        assert not app._needs_layout, "the layout saved by the first launch is used"
+        assert not app.panels.needs_layout, "the layout saved by the first launch is used"
     finally:
         app.close()
     assert len(list(config_home.glob("*.bad-*"))) == 1
@@ -610,10 +614,11 @@ class RefusingPipeline(RecordingPipeline):
 
 def test_settings_the_pipeline_refused_are_not_written_back(config_home):
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     state = AppState(settings=TINY)
     state.follow_view_size = False
-    app = App(state, **SMALL, persist_settings=True, pipeline_class=RefusingPipeline)
+    app = App(state, WindowOptions(**SMALL, persist_settings=True, pipeline_class=RefusingPipeline))
     try:
         app.settle()
         assert app.state.runtime.frame.result is not None

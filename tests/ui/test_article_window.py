@@ -34,12 +34,14 @@ from imgui_bundle import imgui
 from imgui_bundle.imgui import internal
 from explorer.lpv.settings import Settings
 from explorer.ui.app import App
+from explorer.ui.window_options import WindowOptions
 from explorer.ui.lesson_panel import current_screen, show_screen
 from explorer.ui.state import AppState
 
 own = Settings(grid_size=12, iterations=3, rsm_size=32, exposure=2.0)
 state = AppState(settings=own, lesson_id="radiometry", lesson_step=4)
-app = App(state, width=1280, height=720, visible=False, vsync=False, persist_settings=False)
+app = App(state, WindowOptions(width=1280, height=720, visible=False, vsync=False,
+                               persist_settings=False))
 try:
     for _ in range(3):
         assert app.frame()

@@ -16,16 +16,11 @@ from explorer.lpv.passes.gather import reduced_size
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import VERBS
-from explorer.ui import controller as controller_module
-from explorer.ui.controller import (
-    CAMERA_STAGES,
-    DRAG_SCALES,
-    PINNED_DISPLAY,
-    PREVIEW_SCALE,
-    QUIET_AFTER_S,
-    QUIET_BUDGET_MS,
-    PipelineController,
-)
+from explorer.ui import frame_budget
+from explorer.ui import previews as preview_pacing
+from explorer.ui.controller import CAMERA_STAGES, PINNED_DISPLAY, PipelineController
+from explorer.ui.frame_budget import DRAG_SCALES, QUIET_AFTER_S, QUIET_BUDGET_MS
+from explorer.ui.previews import PREVIEW_SCALE
 from explorer.ui.state import AppState
 from explorer.ui.view_composer import ViewComposer
 
@@ -397,11 +392,11 @@ def test_a_short_job_shows_one_preview_and_then_the_finished_frame(controller, m
     state = _state(iterations=40)
     _settle(controller, state)
     controller.preview_interval_s = 1e-9     # due after every step ...
-    monkeypatch.setattr(controller_module, "PREVIEW_SHARE", 1e9)   # ... whatever it costs
-    monkeypatch.setattr(controller_module, "FINISH_SOON_S", 1e9)
+    monkeypatch.setattr(preview_pacing, "PREVIEW_SHARE", 1e9)   # ... whatever it costs
+    monkeypatch.setattr(preview_pacing, "FINISH_SOON_S", 1e9)
     shown = _toggle_pictures(controller, state)
     assert [stamp.final for stamp, _ in shown] == [False, True]
-    monkeypatch.setattr(controller_module, "FINISH_SOON_S", 0.0)
+    monkeypatch.setattr(preview_pacing, "FINISH_SOON_S", 0.0)
     shown = _toggle_pictures(controller, state)
     steps = [stamp.done for stamp, _ in shown if not stamp.final]
     assert len(steps) >= 3 and shown[-1][0].final, steps
@@ -424,7 +419,7 @@ def test_a_quiet_frame_gets_the_longer_budget_and_input_cuts_it_back(controller)
     # near and is drawn, so that frame keeps to the frame budget
     last = status.work[-1].what
     finishing = last == "done" or last.startswith(
-        tuple(VERBS[stage] for stage in controller_module.FINISHING_STAGES))
+        tuple(VERBS[stage] for stage in frame_budget.FINISHING_STAGES))
     assert controller.budget_used_ms == (BUDGET_MS if finishing else QUIET_BUDGET_MS)
     state.set_corrections(propagation_4pi=True)          # a job that starts afresh
     asked = []

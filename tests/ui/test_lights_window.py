@@ -104,10 +104,11 @@ def test_the_panel_and_the_gizmo_draw_and_play(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     state = AppState(settings=TINY.with_changes(lights=("spot", "bulb")))
-    app = App(state, width=900, height=640, visible=False, vsync=False,
-              persist_settings=False)
+    app = App(state, WindowOptions(width=900, height=640, visible=False, vsync=False,
+                                   persist_settings=False))
     try:
         assert app.settle()
         assert app.state.runtime.scene_facts.scene[0] == "cornell"
@@ -125,7 +126,7 @@ def test_the_panel_and_the_gizmo_draw_and_play(tmp_path, monkeypatch):
             app.frame()
             asked = side.request or side.done
             assert asked.interactive and asked.settings.width < app.state.settings.width
-            assert app._interacting()      # a playing animation is no reason to idle
+            assert app.interacting()      # a playing animation is no reason to idle
             shown = app.state.runtime.frame.result
             if shown.settings.light is not None:
                 break

@@ -13,6 +13,7 @@ _SCRIPT = r"""
 from imgui_bundle import imgui
 from explorer.ui import layout
 from explorer.ui.app import App
+from explorer.ui.window_options import WindowOptions
 from explorer.ui.state import AppState
 
 def broken(state):
@@ -22,11 +23,11 @@ def broken(state):
     raise ValueError("broken on purpose")
 
 layout.register(layout.Panel("Broken", broken, "right"))
-app = App(AppState(), width=800, height=600, visible=False, persist_settings=False,
-          pipeline_class=None)
+app = App(AppState(), WindowOptions(width=800, height=600, visible=False, persist_settings=False,
+                                    pipeline_class=None))
 for _ in range(4):
     assert app.frame()
-errors = list(app.panel_errors)
+errors = list(app.panels.panel_errors)
 shown = [m.text for m in app.state.messages if m.level == "error"]
 app.close()
 print(len(errors), errors[0], "|", shown[-1])

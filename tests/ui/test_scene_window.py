@@ -25,11 +25,12 @@ def test_the_window_opens_a_scene_file_and_saves_what_it_shows(tmp_path, monkeyp
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
     from explorer.ui.scene_save import save_current_scene
 
     state = AppState(settings=TINY.with_changes(scene=str(EXAMPLE)))
-    app = App(state, width=900, height=640, visible=False, vsync=False,
-              persist_settings=False)
+    app = App(state, WindowOptions(width=900, height=640, visible=False, vsync=False,
+                                   persist_settings=False))
     try:
         assert app.settle()
         result = app.state.runtime.frame.result
@@ -70,10 +71,12 @@ def test_the_window_says_where_it_put_a_light(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     mesh = ROOT / "examples" / "textured-room" / "room.glb"
-    app = App(AppState(settings=TINY.with_changes(scene=str(mesh))), width=900, height=640,
-              visible=False, vsync=False, persist_settings=False)
+    app = App(AppState(settings=TINY.with_changes(scene=str(mesh))),
+              WindowOptions(width=900, height=640, visible=False, vsync=False,
+                            persist_settings=False))
     try:
         assert app.settle()
         texts = [m.text for m in app.state.messages]
@@ -93,11 +96,13 @@ def test_save_scene_without_a_file_dialog_writes_a_new_file_beside_it(tmp_path, 
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
 
     for name in ("scene.toml", "room.glb"):
         shutil.copy(EXAMPLE.parent / name, tmp_path / name)
     app = App(AppState(settings=TINY.with_changes(scene=str(tmp_path / "scene.toml"))),
-              width=900, height=640, visible=False, vsync=False, persist_settings=False)
+              WindowOptions(width=900, height=640, visible=False, vsync=False,
+                            persist_settings=False))
     try:
         assert app.settle()
         app.state.runtime.services.file_dialog_available = False

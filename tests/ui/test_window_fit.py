@@ -37,22 +37,23 @@ _SCRIPT = r"""
 import json, sys
 from explorer.gl.window import work_area
 from explorer.ui.app import App
+from explorer.ui.window_options import WindowOptions
 from explorer.ui.state import AppState, fit_work_area
 
 area = work_area()
 x, y, width, height = area
 # a size saved on a larger screen: the window opens fitting this one
 state = AppState(window_size=(width + 400, height + 300))
-app = App(state, persist_settings=False, pipeline_class=None)
+app = App(state, WindowOptions(persist_settings=False, pipeline_class=None))
 opened = app.window.size
 app.close()
 # the user's own size, smaller than the screen, is what the window reopens at (saved)
-app = App(persist_settings=True, pipeline_class=None)
+app = App(None, WindowOptions(persist_settings=True, pipeline_class=None))
 app.window.set_size(width // 2, height // 2)
 for _ in range(3):
     app.frame()
 app.close()
-app = App(persist_settings=True, pipeline_class=None)
+app = App(None, WindowOptions(persist_settings=True, pipeline_class=None))
 again = app.window.size
 app.close()
 print(json.dumps({"area": area, "opened": opened, "again": again,

@@ -8,6 +8,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.passes.textures import LpvGrid
@@ -129,15 +130,30 @@ class AuditReducer:
     def read(self) -> np.ndarray:
         """(slots, 18) float64: flux, border loss, clamp gain, occluded, reflected, blocked
         (3 channels each) of every slot, folded from their partial sums."""
+        self.fold()
+        raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
+        return self.sums(np.frombuffer(raw, np.float32))
+
+    def read_later(self, read: DeferredRead) -> None:
+        """:meth:`read` without waiting: the sums folded and copied into ``read``
+        (explorer/gl/gpu_sync.py); :meth:`sums` of its array gives what :meth:`read`
+        does."""
+        self.fold()
+        read.issue(self._buffers["results"], (self._slots * AUDIT_VALUES,), "f4")
+
+    def fold(self) -> None:
+        """Fold the partial sums into one row per slot (on the GPU)."""
         self.bind()
         program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 2})
         set_uniforms(program, {"u_partial_count": self.partial_count,
                                "u_slot_count": self._slots})
         program.run(-(-self._slots * AUDIT_VALUES // 64))
         self.ctx.memory_barrier()
-        raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
-        return np.frombuffer(raw, np.float32).reshape(self._slots, AUDIT_VALUES).astype(
-            np.float64)
+
+    def sums(self, raw: np.ndarray) -> np.ndarray:
+        """The ``(slots, 18)`` float64 of :meth:`read` from the folded float32 values."""
+        return np.asarray(raw, np.float32)[:self._slots * AUDIT_VALUES].reshape(
+            self._slots, AUDIT_VALUES).astype(np.float64)
 
     def release(self) -> None:
         for buffer in self._buffers.values():

@@ -3,12 +3,12 @@ accumulation") with the energy audit measured on the GPU alongside every step.""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
@@ -295,12 +295,30 @@ class PropagationRun:
 
     def finish(self) -> PropagationOutput:
         """The accumulation, the kept steps and the audit (after the last step)."""
+        audit = self._measure_last()
+        return self._output(audit.read())
+
+    def finish_later(self, read: DeferredRead) -> None:
+        """:meth:`finish` without waiting: the audit's sums are copied into ``read``
+        (explorer/gl/gpu_sync.py), and :meth:`output` of it then gives what :meth:`finish`
+        does."""
+        self._measure_last().read_later(read)
+
+    def output(self, read: DeferredRead) -> PropagationOutput:
+        """:meth:`finish`'s output from :meth:`finish_later`'s copy (waiting only if the
+        copy is not done yet)."""
+        return self._output(self._owner.audit.sums(read.wait()))
+
+    def _measure_last(self):
         if not self.finished:
             raise RuntimeError(f"propagation stopped after {self.done} of "
                                f"{self.iterations} steps")
         audit = self._owner.audit
         audit.measure_flux(self._slots - 1, self.accumulated)
-        sums = audit.read()
+        return audit
+
+    def _output(self, sums: np.ndarray) -> PropagationOutput:
+        audit = self._owner.audit
         records = (CellAuditRecords(audit, self.accumulated.resolution, self.iterations)
                    if self._with_audit else None)
         return PropagationOutput(accumulated=self.accumulated, steps=self.steps,
@@ -308,17 +326,6 @@ class PropagationRun:
                                                   self._corrections.ping_pong),
                                  cell_records=records)
 
-
-def read_in_units(grid: LpvGrid, progress: int) -> Iterator[int]:
-    """Read ``grid`` back one colour channel per unit of work (``yield from``; yields
-    ``progress`` between channels, returns the ``(3, N, N, N, C)`` array): a 64³ grid's
-    read-back took as long as several propagation units on llvmpipe."""
-    channels = []
-    for channel in range(3):
-        channels.append(grid.read_channel(channel))
-        if channel < 2:
-            yield progress
-    return np.stack(channels)
 
 
 def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",

@@ -11,9 +11,12 @@ Also the lazily created default context and program cache of the numpy-facing AP
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import moderngl
 import numpy as np
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.settings import GRID_FORMATS
 
@@ -87,8 +90,17 @@ class VolumeTexture:
         return self.size, self.size, self.depth
 
     def read(self) -> np.ndarray:
-        data = np.frombuffer(self.texture.read(), dtype=_NUMPY_DTYPES[self.format])
-        return data.reshape((self.depth, self.size, self.size, 4)).transpose(
+        return self.texels(np.frombuffer(self.texture.read(), dtype=_NUMPY_DTYPES[self.format]))
+
+    def read_later(self, read: DeferredRead) -> None:
+        """Copy the texels into ``read`` without waiting (explorer/gl/gpu_sync.py);
+        :meth:`texels` of its array gives what :meth:`read` does."""
+        read.issue(self.texture, (self.depth, self.size, self.size, 4),
+                   _NUMPY_DTYPES[self.format])
+
+    def texels(self, data: np.ndarray) -> np.ndarray:
+        """float32 ``(x, y, z, 4)`` from the texture's bytes as GL lays them out."""
+        return np.asarray(data).reshape((self.depth, self.size, self.size, 4)).transpose(
             2, 1, 0, 3).astype(np.float32)
 
     def write(self, volume: np.ndarray) -> None:
@@ -143,8 +155,23 @@ class LpvGrid:
 
     def read_channel(self, channel: int) -> np.ndarray:
         """float32 ``(N, N, N, C)``: colour channel ``channel`` (0 r, 1 g, 2 b)."""
+        return self._coefficients(self.volumes[channel].read())
+
+    def read_later(self, reads: Sequence[DeferredRead]) -> None:
+        """Copy each colour channel into its deferred read without waiting; :meth:`taken`
+        of the same reads gives what :meth:`read` does."""
+        for volume, read in zip(self.volumes, reads):
+            volume.read_later(read)
+
+    def taken(self, reads: Sequence[DeferredRead]) -> np.ndarray:
+        """The ``(3, N, N, N, C)`` array of :meth:`read_later`'s copies (waiting only for
+        those not done yet)."""
+        return np.stack([self._coefficients(volume.texels(read.wait()))
+                         for volume, read in zip(self.volumes, reads)])
+
+    def _coefficients(self, texels: np.ndarray) -> np.ndarray:
+        """``(N, N, N, C)`` from one channel's ``(N, N, groups·N, 4)`` texels."""
         n = self.resolution
-        texels = self.volumes[channel].read()                    # (N, N, groups·N, 4)
         groups = [texels[:, :, k * n:(k + 1) * n] for k in range(self.groups)]
         return np.concatenate(groups, axis=-1)[..., :self.coefficients]
 

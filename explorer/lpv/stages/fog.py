@@ -15,6 +15,8 @@ from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
 from explorer.lpv.work_units import read_back
+from explorer.gl.gpu_sync import DeferredRead
+from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
@@ -38,10 +40,11 @@ class Stage(StageBase):
         super().__init__(host, decl)
         self.fog = FogPass(host.ctx, host.programs)
         self.state.fog_pass = self.fog
+        self.reads = [DeferredRead(host.ctx) for _ in TARGETS]
 
     def units(self, job: Job) -> int:
         s = job.settings
-        return len(bands((s.width, s.height))) + len(TARGETS) if s.fog else 1
+        return len(bands((s.width, s.height))) + 2 if s.fog else 1
 
     def work(self, job: Job) -> Iterator[None]:
         s, host, state = job.settings, self.host, self.state
@@ -58,9 +61,12 @@ class Stage(StageBase):
                 state.gbuffer_pass, shadow, host.scene_state.scene, grid, medium,
                 shader_filter=state.gather_pass.shader_filter, rows=band), accumulate=True)
             yield
-        direct, lpv = yield from read_back([self.fog.targets[name] for name in TARGETS])
+        direct, lpv = yield from read_back_later(
+            self.reads, [self.fog.targets[name] for name in TARGETS])
         state.fog = FogImages(direct[..., 3].copy(), direct[..., :3], lpv[..., :3])
         state.warnings["fog"] = guards.arrays_warnings("fog", [direct, lpv], s)
 
     def release(self) -> None:
         self.fog.release()
+        for read in self.reads:
+            read.release()

@@ -1,6 +1,7 @@
 """The ``gather`` stage: linear direct and LPV indirect radiance per pixel
-(explorer/lpv/passes/gather.py) in bands of rows (one per unit), then the read-back of each
-target (one unit each) and their sums and checks (one more).
+(explorer/lpv/passes/gather.py) in bands of rows (one per unit), then the read-back of the
+targets (copied in one unit, taken in the next once the copies are done:
+explorer/lpv/work_units.py ``read_back_later``) and their sums and checks (one more).
 :meth:`Stage.gather_levels` also gathers a job's accumulation as it is (the progressive
 previews)."""
 
@@ -23,6 +24,8 @@ from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
 from explorer.lpv.work_units import read_back
+from explorer.gl.gpu_sync import DeferredRead
+from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
@@ -48,9 +51,10 @@ class Stage(StageBase):
         super().__init__(host, decl)
         self.gather = GatherPass(host.ctx, host.programs)
         self.state.gather_pass = self.gather
+        self.reads = [DeferredRead(host.ctx) for _ in TARGETS]
 
     def units(self, job: Job) -> int:
-        return len(bands((job.settings.width, job.settings.height))) + len(TARGETS) + 1
+        return len(bands((job.settings.width, job.settings.height))) + 3
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
@@ -59,7 +63,7 @@ class Stage(StageBase):
             host.timer.timed("gather", lambda: self.gather_levels(s, band), accumulate=True)
             yield
         targets = self.gather.targets
-        arrays = yield from read_back([targets[name] for name in TARGETS])
+        arrays = yield from read_back_later(self.reads, [targets[name] for name in TARGETS])
         yield       # the sums and the checks of the arrays: a unit of their own
         self.state.gather = GatherImages(**dict(zip(TARGETS, arrays)))
         self.state.warnings["gather"] = guards.arrays_warnings("gather", arrays, s)
@@ -77,3 +81,5 @@ class Stage(StageBase):
 
     def release(self) -> None:
         self.gather.release()
+        for read in self.reads:
+            read.release()

@@ -1,5 +1,6 @@
 """The ``gbuffer`` stage: the camera's position, normal and albedo
-(explorer/lpv/passes/gbuffer.py), then the read-back of each texture (one unit each)."""
+(explorer/lpv/passes/gbuffer.py), then the read-back of its textures (copied in one unit, taken
+in the next once the copies are done: explorer/lpv/work_units.py ``read_back_later``)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,8 @@ from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
 from explorer.lpv.work_units import read_back
+from explorer.gl.gpu_sync import DeferredRead
+from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
@@ -23,9 +26,10 @@ class Stage(StageBase):
         super().__init__(host, decl)
         self.gbuffer = GBufferPass(host.ctx, host.programs)
         self.state.gbuffer_pass = self.gbuffer
+        self.reads = [DeferredRead(host.ctx) for _ in TARGETS]
 
     def units(self, job: Job) -> int:
-        return 1 + len(TARGETS)
+        return 3
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
@@ -33,9 +37,11 @@ class Stage(StageBase):
         host.timer.timed("gbuffer", lambda: self.gbuffer.run(
             host.scene_state.buffers, scene, (s.width, s.height)))
         yield
-        arrays = yield from read_back(self.gbuffer.textures)
+        arrays = yield from read_back_later(self.reads, self.gbuffer.textures)
         self.state.gbuffer = GBufferImages(*arrays)
         self.state.warnings["gbuffer"] = guards.arrays_warnings("gbuffer", arrays, s)
 
     def release(self) -> None:
         self.gbuffer.release()
+        for read in self.reads:
+            read.release()

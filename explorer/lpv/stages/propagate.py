@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from explorer.gl.gpu_sync import DeferredRead, GpuWait
 from explorer.lpv import guards
 from explorer.lpv.audit import audit_covers
 from explorer.lpv.cascades import cascade_iterations, level_pass_name
@@ -14,6 +15,9 @@ from explorer.lpv.corrections import Corrections
 from explorer.lpv.limits import audit_fits, audit_skipped_warning
 from explorer.lpv.passes.propagate import read_in_units, slabs
 from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.stages.base import StageHost
+from explorer.lpv.passes.propagate import slabs
+from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.work_units import countdown
 
 if TYPE_CHECKING:
@@ -37,6 +41,16 @@ class Params:
 
 
 class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.reads: list[list[DeferredRead]] = []
+        """Per level: the audit's sums and the accumulation's three colour channels."""
+
+    def level_reads(self, level: int) -> list[DeferredRead]:
+        while len(self.reads) <= level:
+            self.reads.append([DeferredRead(self.host.ctx) for _ in range(4)])
+        return self.reads[level]
+
     def units(self, job: Job) -> int:
         """The steps of every level together (each step is one or more slabs)."""
         return max(1, sum(Params.of(job.settings, len(self.state.specs)).steps))
@@ -66,8 +80,9 @@ class Stage(StageBase):
         """Every level's propagation: a unit to start each level (grid_0 into the
         accumulation), one per slab of a step (``slabs``), the levels interleaved so that
         each is as far along as the others (a progressive picture shows all cascades
-        growing together), and four to finish each level (its audit, then its read-back,
-        one colour channel a unit). Yields the steps done, all levels together."""
+        growing together), and two to finish each level (its audit's sums and its
+        accumulation copied for reading back, then taken once the copies are done:
+        explorer/lpv/job.py ``GpuWait``). Yields the steps done, all levels together."""
         host, state = self.host, self.state
         levels, specs = state.cascades, state.specs
         p = Params.of(job.settings, len(levels))
@@ -93,11 +108,15 @@ class Stage(StageBase):
                     yield sum(level.running.done for level in levels)
             warnings = []
             for k, level in enumerate(levels):
-                level.output = timed("propagate", level.running.finish, accumulate=True)
-                if more():
-                    yield sum(p.steps)
-                level.accumulated = yield from read_in_units(level.output.accumulated,
-                                                             sum(p.steps))
+                reads = self.level_reads(k)
+                running = level.running
+                timed("propagate", lambda: (running.finish_later(reads[0]),
+                                            running.accumulated.read_later(reads[1:])),
+                      accumulate=True)
+                more()                 # never the last unit: the read-back follows
+                yield GpuWait(reads, sum(p.steps))
+                level.output = running.output(reads[0])
+                level.accumulated = running.accumulated.taken(reads[1:])
                 warnings += guards.found(guards.flux_warning(
                     level_pass_name("inject", k, len(levels)), level.output.audit.injected,
                     p.corrections))
@@ -113,3 +132,9 @@ class Stage(StageBase):
         finally:
             for level in levels:
                 level.running = None
+
+    def release(self) -> None:
+        for reads in self.reads:
+            for read in reads:
+                read.release()
+        self.reads = []

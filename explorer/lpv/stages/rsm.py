@@ -1,5 +1,6 @@
 """The ``rsm`` stage: one RSM per view of every light that shines (a unit each), then the
-atlas of their shadow maps and VPLs (several views) and the read-back (one unit); the
+atlas of their shadow maps and VPLs (several views) with the read-back's copies (one
+unit), and the read-back taken (one more, once the copies are done); the
 light views' passes are :class:`explorer.lpv.light_views.LightViews`'."""
 
 from __future__ import annotations
@@ -7,19 +8,33 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv import guards
 from explorer.lpv.light_views import LightViews
 from explorer.lpv.limits import check_memory
 from explorer.lpv.stages.base import Stage as StageBase
+from explorer.lpv.stages.base import StageHost
+from explorer.lpv.stage_list import StageDecl
+from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
 
 
 class Stage(StageBase):
+    def __init__(self, host: StageHost, decl: StageDecl) -> None:
+        super().__init__(host, decl)
+        self.reads: list[DeferredRead] = []
+        """The read-back's copies (grown to the views' count, reused)."""
+
+    def release(self) -> None:
+        for read in self.reads:
+            read.release()
+        self.reads = []
+
     def units(self, job: Job) -> int:
         scene = self.host.scene_state.for_settings(job.settings)
-        return len(LightViews.of(scene, job.settings.rsm_size)) + 1
+        return len(LightViews.of(scene, job.settings.rsm_size)) + 2
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
@@ -27,5 +42,10 @@ class Stage(StageBase):
         check_memory(s, host.memory_budget_bytes, views=len(views))
         yield from host.light_views.render(views, host.scene_state.buffers,
                                            host.limits.max_framebuffer_size)
-        self.state.rsm, checked = host.light_views.rsm_read_back()
+        # the read-back is copied now and taken in the next unit (work_units.py)
+        textures = host.light_views.rsm_textures_read()
+        while len(self.reads) < len(textures):
+            self.reads.append(DeferredRead(host.ctx))
+        arrays = yield from read_back_later(self.reads, textures)
+        self.state.rsm, checked = host.light_views.rsm_read_back(arrays)
         self.state.warnings["rsm"] = guards.arrays_warnings("rsm", checked, s)

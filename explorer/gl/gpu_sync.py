@@ -1,0 +1,273 @@
+"""GPU work the CPU does not wait for: fences, read-backs that complete a frame later,
+and timer queries read once their result is there.
+
+moderngl 5 has no sync objects and no way to ask whether a query's result is available,
+so these few entry points are called through ``ctypes`` from the GL library the context
+already uses (GLVND's ``libOpenGL``, else ``libGL``); they act on the current context,
+as moderngl's own calls do, and touch no state moderngl caches.
+
+* :class:`Fence`: ``glFenceSync`` after some commands; :meth:`Fence.signaled` asks
+  without waiting, :meth:`Fence.wait` waits for exactly those commands (a caller that
+  needs the number now).
+* :class:`DeferredRead`: a texture or buffer copied into a buffer of its own on the GPU
+  (a pixel-buffer read: ``read_into`` a :class:`moderngl.Buffer`), fenced; its bytes are
+  taken once the fence has signaled, a frame or more later, with no wait
+  (:meth:`DeferredRead.result`, or :meth:`DeferredRead.wait` for a caller that needs it).
+* :class:`TimerQueries`: ``GL_TIME_ELAPSED`` queries whose results are collected when
+  available (a frame later on a GPU) instead of bracketing each pass with ``finish``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import time
+import weakref
+from typing import Callable
+
+import moderngl
+import numpy as np
+
+GL_SYNC_GPU_COMMANDS_COMPLETE = 0x9117
+GL_SYNC_FLUSH_COMMANDS_BIT = 0x1
+GL_ALREADY_SIGNALED = 0x911A
+GL_TIMEOUT_EXPIRED = 0x911B
+GL_CONDITION_SATISFIED = 0x911C
+GL_WAIT_FAILED = 0x911D
+GL_TIME_ELAPSED = 0x88BF
+GL_QUERY_RESULT = 0x8866
+GL_QUERY_RESULT_AVAILABLE = 0x8867
+_SIGNALED = (GL_ALREADY_SIGNALED, GL_CONDITION_SATISFIED)
+WAIT_SLICE_NS = 1_000_000
+"""A waiting :meth:`Fence.wait` asks the driver in slices of this many nanoseconds."""
+
+_LIBRARIES = ("libOpenGL.so.0", "libGL.so.1", "OpenGL", "GL")
+
+
+class _Gl:
+    """The few GL entry points of this module, resolved once."""
+
+    def __init__(self) -> None:
+        library = None
+        for name in _LIBRARIES:
+            path = ctypes.util.find_library(name) if "." not in name else name
+            if path is None:
+                continue
+            try:
+                library = ctypes.CDLL(path)
+                break
+            except OSError:
+                continue
+        if library is None:
+            raise OSError("no GL library (libOpenGL.so.0 or libGL.so.1) to call fences from")
+        self.fence_sync = _function(library, "glFenceSync", ctypes.c_void_p,
+                                    ctypes.c_uint, ctypes.c_uint)
+        self.client_wait_sync = _function(library, "glClientWaitSync", ctypes.c_uint,
+                                          ctypes.c_void_p, ctypes.c_uint, ctypes.c_uint64)
+        self.delete_sync = _function(library, "glDeleteSync", None, ctypes.c_void_p)
+        self.gen_queries = _function(library, "glGenQueries", None, ctypes.c_int,
+                                     ctypes.POINTER(ctypes.c_uint))
+        self.delete_queries = _function(library, "glDeleteQueries", None, ctypes.c_int,
+                                        ctypes.POINTER(ctypes.c_uint))
+        self.begin_query = _function(library, "glBeginQuery", None, ctypes.c_uint,
+                                     ctypes.c_uint)
+        self.end_query = _function(library, "glEndQuery", None, ctypes.c_uint)
+        self.query_object_iv = _function(library, "glGetQueryObjectiv", None, ctypes.c_uint,
+                                         ctypes.c_uint, ctypes.POINTER(ctypes.c_int))
+        self.query_object_ui64v = _function(library, "glGetQueryObjectui64v", None,
+                                            ctypes.c_uint, ctypes.c_uint,
+                                            ctypes.POINTER(ctypes.c_uint64))
+
+
+def _function(library, name: str, restype, *argtypes) -> Callable:
+    function = getattr(library, name)
+    function.restype, function.argtypes = restype, list(argtypes)
+    return function
+
+
+_gl: _Gl | None = None
+
+
+def gl() -> _Gl:
+    """The entry points (resolved on first use)."""
+    global _gl
+    if _gl is None:
+        _gl = _Gl()
+    return _gl
+
+
+class Fence:
+    """A fence after every command issued so far to the current context."""
+
+    def __init__(self) -> None:
+        self._sync = gl().fence_sync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0)
+        self._done = False
+
+    def signaled(self) -> bool:
+        """Whether the GPU has finished those commands (asks without waiting; the first
+        ask flushes them, so that they start)."""
+        if not self._done:
+            status = gl().client_wait_sync(self._sync, GL_SYNC_FLUSH_COMMANDS_BIT, 0)
+            self._done = status in _SIGNALED
+            if status == GL_WAIT_FAILED:
+                raise RuntimeError("glClientWaitSync failed (no current GL context?)")
+        return self._done
+
+    def wait(self, timeout_s: float | None = None) -> bool:
+        """Wait until the commands are done (or ``timeout_s`` passed); True if done."""
+        deadline = None if timeout_s is None else time.perf_counter() + timeout_s
+        while not self._done:
+            status = gl().client_wait_sync(self._sync, GL_SYNC_FLUSH_COMMANDS_BIT,
+                                           WAIT_SLICE_NS)
+            if status == GL_WAIT_FAILED:
+                raise RuntimeError("glClientWaitSync failed (no current GL context?)")
+            self._done = status in _SIGNALED
+            if deadline is not None and time.perf_counter() >= deadline:
+                break
+        return self._done
+
+    def release(self) -> None:
+        if self._sync:
+            gl().delete_sync(self._sync)
+            self._sync = None
+
+
+DEFERRED_BUFFERS: weakref.WeakSet = weakref.WeakSet()
+"""The buffers deferred reads copy into: reading one back after its fence signaled is no
+round trip (explorer/gl/call_counter.py counts it apart from synchronous read-backs)."""
+
+
+class DeferredRead:
+    """A read-back issued now and taken later: the source is copied on the GPU into a
+    buffer of this object's own, behind a fence (module docstring)."""
+
+    def __init__(self, ctx: moderngl.Context) -> None:
+        self.ctx = ctx
+        self._buffer: moderngl.Buffer | None = None
+        self._fence: Fence | None = None
+        self.shape: tuple[int, ...] = ()
+        self.dtype = np.dtype("f4")
+        self.serial = 0
+        """Increases with every read issued (what a consumer compares)."""
+
+    def issue(self, source, shape: tuple[int, ...], dtype: str | np.dtype = "f4",
+              **read_options) -> None:
+        """Copy ``source`` (a texture, framebuffer or buffer: anything with
+        ``read_into``) into the buffer and fence it; ``shape`` and ``dtype`` say how its
+        bytes are read. A read still in flight is replaced."""
+        self.dtype, self.shape = np.dtype(dtype), tuple(shape)
+        size = int(np.prod(self.shape)) * self.dtype.itemsize
+        if self._buffer is None or self._buffer.size != size:
+            if self._buffer is not None:
+                self._buffer.release()
+            self._buffer = self.ctx.buffer(reserve=size, dynamic=True)
+            DEFERRED_BUFFERS.add(self._buffer)
+        if isinstance(source, moderngl.Buffer):
+            self.ctx.copy_buffer(self._buffer, source, size)
+        else:
+            source.read_into(self._buffer, **read_options)
+        if self._fence is not None:
+            self._fence.release()
+        self._fence = Fence()
+        self.serial += 1
+
+    @property
+    def issued(self) -> bool:
+        return self._fence is not None
+
+    def ready(self) -> bool:
+        """The copy is done: :meth:`result` returns without waiting."""
+        return self._fence is not None and self._fence.signaled()
+
+    def result(self) -> np.ndarray | None:
+        """The bytes as an array if the copy is done, else None (nothing waits)."""
+        if not self.ready():
+            return None
+        return self._array()
+
+    def wait(self) -> np.ndarray:
+        """The bytes, waiting for exactly this copy if it is not done yet."""
+        if self._fence is None:
+            raise RuntimeError("no read was issued")
+        if not self._fence.signaled():
+            self._fence.wait()
+        return self._array()
+
+    def _array(self) -> np.ndarray:
+        data = self._buffer.read()
+        return np.frombuffer(data, self.dtype).reshape(self.shape)
+
+    def release(self) -> None:
+        if self._fence is not None:
+            self._fence.release()
+            self._fence = None
+        if self._buffer is not None:
+            self._buffer.release()
+            self._buffer = None
+
+
+class TimerQueries:
+    """``GL_TIME_ELAPSED`` queries around passes, read when the GPU has the result: a
+    pass is measured without the CPU waiting for it (module docstring)."""
+
+    def __init__(self) -> None:
+        self._free: list[int] = []
+        self._pending: list[tuple[int, object]] = []
+        """(query id, what the caller tagged it with) in the order issued."""
+
+    def begin(self) -> int:
+        if not self._free:
+            ids = (ctypes.c_uint * 8)()
+            gl().gen_queries(8, ids)
+            self._free.extend(ids)
+        query = self._free.pop()
+        gl().begin_query(GL_TIME_ELAPSED, query)
+        return query
+
+    def end(self, query: int, tag: object) -> None:
+        gl().end_query(GL_TIME_ELAPSED)
+        self._pending.append((query, tag))
+
+    @property
+    def pending(self) -> int:
+        return len(self._pending)
+
+    def collect(self, wait: bool = False) -> list[tuple[object, float]]:
+        """``(tag, milliseconds)`` of the queries whose results are available, oldest
+        first (results come in order: the first one not available ends the list);
+        ``wait``: all of them, waiting for the GPU."""
+        done: list[tuple[object, float]] = []
+        available = ctypes.c_int(0)
+        elapsed = ctypes.c_uint64(0)
+        while self._pending:
+            query, tag = self._pending[0]
+            if not wait:
+                gl().query_object_iv(query, GL_QUERY_RESULT_AVAILABLE, ctypes.byref(available))
+                if not available.value:
+                    break
+            gl().query_object_ui64v(query, GL_QUERY_RESULT, ctypes.byref(elapsed))
+            self._pending.pop(0)
+            self._free.append(query)
+            done.append((tag, elapsed.value / 1e6))
+        return done
+
+    def release(self) -> None:
+        ids = [query for query, _ in self._pending] + self._free
+        if ids:
+            array = (ctypes.c_uint * len(ids))(*ids)
+            gl().delete_queries(len(ids), array)
+        self._pending, self._free = [], []
+
+
+class GpuWait:
+    """What a stage's unit of work yields when its next unit reads back GPU work it has
+    just issued (explorer/lpv/job.py): a job run within a frame budget does that unit in
+    a later frame, once the reads are :meth:`ready`; ``progress`` is the unit's progress
+    count (None: one more unit)."""
+
+    def __init__(self, reads: list[DeferredRead], progress: int | None = None) -> None:
+        self.reads = reads
+        self.progress = progress
+
+    def ready(self) -> bool:
+        return all(read.ready() for read in self.reads)

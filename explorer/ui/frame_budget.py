@@ -1,0 +1,102 @@
+"""The time a frame of the window gives the pipelines: the frame budget, the longer quiet
+budget once the user leaves the window alone (cut back as soon as input arrives), and the
+render size a camera drag can afford (the largest of :data:`DRAG_SCALES` whose measured
+camera frame fits the drag's budget)."""
+
+from __future__ import annotations
+
+import time
+from typing import Callable
+
+from explorer.lpv.cache_keys import downstream
+
+QUIET_AFTER_S = 0.15
+"""No input for this long: the user is watching, the pipelines get :data:`QUIET_BUDGET_MS`
+a frame ..."""
+QUIET_BUDGET_MS = 100.0
+"""... (or the frame budget if larger) instead of the frame budget, so that fewer frames
+share the work; the shell's ``input_pending`` is asked between units and input brings
+the budget back at once. A frame stays within this plus one unit and a drawing."""
+FINISHING_STAGES = frozenset(downstream("propagate")[1:])
+"""The stages after the propagation (gather, fog, display): a job in one of them is
+about to publish its finished frame, which is drawn, so its frame gets no quiet budget."""
+DRAG_SCALES = (1.0, 0.5, 0.25)
+"""Render-size factors tried while the camera is dragged, largest first."""
+FIRST_DRAG_SCALE = 0.5
+"""Used until a camera-only frame has been timed."""
+
+
+class FrameBudget:
+    """One update's time: ``ms`` from ``start``, back to ``base_ms`` once
+    ``input_pending()`` says input arrived (asked only while more than the base is left
+    to spend)."""
+
+    def __init__(self, start: float, ms: float, base_ms: float,
+                 input_pending: Callable[[], bool] | None) -> None:
+        self.start, self.ms, self.base_ms = start, ms, base_ms
+        self.input_pending = input_pending
+
+    @classmethod
+    def for_frame(cls, budget_ms: float, *, interacting: bool, drag_budget_ms: float,
+                  quiet_s: float, quiet_budget_ms: float,
+                  input_pending: Callable[[], bool] | None) -> FrameBudget:
+        """The budget of a frame starting now: a drag's frame gets at least the drag
+        budget; a quiet one (no input for :data:`QUIET_AFTER_S`) ``quiet_budget_ms``."""
+        if interacting:
+            budget_ms = max(budget_ms, drag_budget_ms)
+        base_ms = budget_ms
+        if not interacting and quiet_s >= QUIET_AFTER_S:
+            budget_ms = max(budget_ms, quiet_budget_ms)
+        return cls(time.perf_counter(), budget_ms, base_ms, input_pending)
+
+    @property
+    def quiet(self) -> bool:
+        """More than the frame budget is on offer (a quiet frame)."""
+        return self.ms > self.base_ms
+
+    def to_base(self) -> None:
+        """Keep to the frame budget from now on (the frame is drawn anyway)."""
+        self.ms = min(self.ms, self.base_ms)
+
+    def left(self) -> float:
+        """Milliseconds left (negative once overspent)."""
+        if self.ms > self.base_ms and self.input_pending is not None and self.input_pending():
+            self.ms = self.base_ms
+        return self.ms - (time.perf_counter() - self.start) * 1e3
+
+    def base_left(self) -> float:
+        """Milliseconds left of the frame budget alone."""
+        return self.base_ms - (time.perf_counter() - self.start) * 1e3
+
+
+class DragSizer:
+    """The render-size factor of a camera drag, chosen from the camera-only frames timed
+    so far: the largest of :data:`DRAG_SCALES` whose frame fits the drag budget (shared
+    by the sides on screen). A scale not timed yet is predicted from the nearest one
+    timed, by its pixels."""
+
+    def __init__(self) -> None:
+        self.scale = FIRST_DRAG_SCALE
+        self.camera_ms: dict[float, float] = {}
+        """Drag scale -> milliseconds of the last camera-only frame at about that scale."""
+        self.camera_ms_per_pixel: float | None = None
+        """Measured cost of the last camera-only frame per pixel."""
+
+    def measure(self, pixels: int, full_pixels: int, elapsed_ms: float,
+                side_budget_ms: float) -> float:
+        """Record a camera-only frame of ``pixels`` that took ``elapsed_ms``; returns the
+        scale chosen for the next drag."""
+        full = max(full_pixels, 1)
+        scale = min(DRAG_SCALES, key=lambda k: abs(k * k * full - pixels))
+        self.camera_ms[scale] = elapsed_ms
+        self.camera_ms_per_pixel = elapsed_ms / max(pixels, 1)
+
+        def predicted(k: float) -> float:
+            if k in self.camera_ms:
+                return self.camera_ms[k]
+            nearest = min(self.camera_ms, key=lambda m: abs(m - k))
+            return self.camera_ms[nearest] * (k / nearest) ** 2
+
+        fits = [k for k in DRAG_SCALES if predicted(k) <= side_budget_ms]
+        self.scale = fits[0] if fits else DRAG_SCALES[-1]
+        return self.scale

@@ -1,0 +1,89 @@
+"""When the window draws, waits or hurries: input and changes draw at once, an idle window
+waits for events (up to a timeout that ends early when a camera move settles or a message
+is due to disappear), a camera move or a playing animation counts as interaction (the
+pipelines render at the drag's reduced size), and a running job with nothing new to show
+redraws its progress label only every :data:`PROGRESS_REDRAW_S`."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import astuple
+
+from explorer.ui.state import AppState
+
+INTERACTION_SETTLE_S = 0.2
+"""After the last wheel step or key move the camera counts as moving this much longer."""
+FRAMES_AFTER_INPUT = 2
+"""Frames drawn after input or a change before the loop may wait (imgui settles hover
+and click states over a frame or two)."""
+IDLE_TIMEOUT_S = 0.5
+"""An idle loop wakes this often without input (shader files, the Error panel's delay);
+it draws only if something changed."""
+MESSAGE_SHOWN_S = 20.0
+"""The status line shows the last message this long."""
+DRAG_FPS = 15.0
+"""Frame rate aimed at while the camera is dragged: the pipelines get what a frame at this
+rate leaves after the window's own drawing, and render at the size that fits
+(explorer/ui/frame_budget.py DRAG_SCALES)."""
+MIN_DRAG_BUDGET_MS = 4.0
+PROGRESS_REDRAW_S = 1.0
+"""While a job runs and no new picture or input arrives, the window draws this often
+(the progress label; each drawing costs the job about as much as a propagation step on
+llvmpipe)."""
+
+
+def drag_budget_ms(ui_ms: float) -> float:
+    """What a drag's frame may spend on the pipelines: a :data:`DRAG_FPS` frame less the
+    window's own drawing (``ui_ms``)."""
+    return max(1000.0 / DRAG_FPS - ui_ms, MIN_DRAG_BUDGET_MS)
+
+
+def interacting(state: AppState) -> bool:
+    """The camera or an object is being moved (a drag, the gizmo, a wheel step or a fly
+    key a moment ago) or the animation plays (its paths move the light and objects, the
+    fly-through the camera): the pipelines render at the drag's reduced size, a frame in
+    flight finishes before the next starts, and the loop does not idle."""
+    rt = state.runtime
+    return (rt.view.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
+            or (rt.services.animation is not None and rt.services.animation.active))
+
+
+def idle_timeout(state: AppState, timeout_s: float) -> float:
+    """How long an idle loop may wait: ``timeout_s``, or less when the status line's
+    message is due to disappear sooner or a camera move settles sooner (its full-size
+    frame starts then)."""
+    timeout = timeout_s
+    interaction = state.runtime.view.interaction
+    if not interaction.held:      # a camera move settling: the full size follows then
+        settles = interaction.moved_at + INTERACTION_SETTLE_S - time.monotonic()
+        if settles > 0:
+            timeout = min(timeout, settles + 0.01)
+    messages = state.messages
+    if messages and messages[-1].level != "error":
+        left = messages[-1].created + MESSAGE_SHOWN_S - time.monotonic()
+        if left > 0:
+            timeout = min(timeout, left + 0.05)
+    return max(timeout, 0.0)
+
+
+def message_expired(state: AppState, drawn_at: float) -> bool:
+    """The status line shows a message whose time is up (it was still due when the frame
+    of ``drawn_at`` was drawn): draw it away."""
+    messages = state.messages
+    if not messages or messages[-1].level == "error":
+        return False
+    created = messages[-1].created
+    return drawn_at - created < MESSAGE_SHOWN_S <= time.monotonic() - created
+
+
+def fingerprint(state: AppState) -> tuple:
+    """What the window shows depends on besides input and the pipelines' work, so that a
+    script or test that changes the state between frames gets it drawn."""
+    s = state
+    return (s.settings, s.compare_settings, s.compare_overrides, s.view_mode,
+            s.view_buffer, s.split_position, s.expose_sides_separately,
+            s.difference_scale, s.difference_colour_map, s.follow_view_size,
+            s.render_scale, s.frame_budget_ms, s.progressive, astuple(s.inspect),
+            astuple(s.overlays), tuple(s.open_panels.items()), s.lesson_id,
+            s.lesson_step, s.plot_tab, len(s.messages), astuple(s.requests),
+            s.runtime.frame.side_exposures)

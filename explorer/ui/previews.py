@@ -1,0 +1,65 @@
+"""When a side shows a progressive picture of its propagation: after the first preview of
+a job, at most every :data:`PREVIEW_INTERVAL_S` and at most :data:`PREVIEW_SHARE` of the
+time, and none once the finished frame is due within :data:`FINISH_SOON_S`."""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+from explorer.lpv.cache_keys import downstream
+
+if TYPE_CHECKING:
+    from explorer.ui.controller_state import SideState
+
+PREVIEW_INTERVAL_S = 0.25
+"""Progressive pictures after the first of a job come at most this often ..."""
+PREVIEW_SHARE = 0.1
+"""... and take at most this share of the time: a preview gathers the image and the
+window draws it, so the interval grows with what the last preview and a drawn frame
+cost (at 64³ on llvmpipe about every 0.6 s; a quarter of the time made the converged
+picture come later than a window without previews)."""
+PREVIEW_SCALE = 0.5
+"""Progressive previews gather at this fraction of each edge (a quarter of the pixels;
+the finished frame comes at the full size): a full-size preview cost as much as four
+propagation steps at 32³ on llvmpipe."""
+FINISH_SOON_S = 0.5
+"""After a job's first preview no other comes once the finished frame is due within this
+(the propagation's pace so far, then the gather and display as last timed): it would be
+on screen too briefly to be worth its gather and its drawing. A short job (32³ on
+llvmpipe) thus shows one growing picture, a long one (64³) several."""
+
+
+def propagated_since_preview(side: SideState) -> bool:
+    """The side's job is propagating and has steps its last preview did not show."""
+    progress = side.progress
+    return (progress is not None and progress.stage == "propagate"
+            and progress.done > side.previewed)
+
+
+def preview_due(side: SideState, interval_s: float, draw_ms: float) -> bool:
+    """Whether a preview of ``side`` is worth it now (the module docstring's pacing);
+    ``interval_s`` 0 previews after every step, ``draw_ms`` is what the window spends
+    drawing a frame."""
+    if side.previewed == 0 or interval_s <= 0.0:
+        return True
+    cost_s = (side.preview_ms + draw_ms) / 1e3 / PREVIEW_SHARE
+    if time.monotonic() - side.previewed_at < max(interval_s, cost_s):
+        return False
+    return finish_due_ms(side) >= FINISH_SOON_S * 1e3
+
+
+def finish_due_ms(side: SideState) -> float:
+    """When ``side``'s job should finish, in milliseconds of work from now: its
+    propagation steps left at the pace since its first preview, then the gather and
+    display as the pipeline last timed them (infinite before a pace is known)."""
+    progress = side.progress
+    if side.propagate_from is None or progress is None or progress.stage != "propagate":
+        return float("inf")
+    ms, steps = side.propagate_from
+    if progress.done <= steps:
+        return float("inf")
+    per_step = (side.job_ms - side.previews_ms - ms) / (progress.done - steps)
+    timings = side.pipeline.timings_ms
+    rest = sum(timings.get(stage, 0.0) for stage in downstream("propagate")[1:])
+    return (progress.total - progress.done) * max(per_step, 0.0) + rest
