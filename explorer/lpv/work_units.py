@@ -11,7 +11,6 @@ from collections.abc import Callable, Iterator, Sequence
 
 import moderngl
 
-from explorer.lpv.passes.rsm import read_texture
 from explorer.gl.gpu_sync import DeferredRead, GpuWait
 
 

@@ -39,14 +39,11 @@ import traceback
 from collections import Counter
 from typing import TYPE_CHECKING, Callable
 
-import numpy as np
-from explorer.lpv.audit import audit_covers, audit_mode
-from explorer.lpv.cache_keys import downstream
+from explorer.lpv.audit import audit_mode
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.schema import stages_reading
 from explorer.gl.context import use_screen
-from explorer.lpv.audit import audit_mode
 from explorer.ui import previews
 from explorer.ui.controller_state import (
     ControllerStatus,

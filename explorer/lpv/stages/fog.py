@@ -14,7 +14,6 @@ from explorer.lpv.passes.gather import bands
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.work_units import read_back
 from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv.work_units import read_back_later
 

@@ -13,10 +13,9 @@ from explorer.lpv.audit import audit_covers
 from explorer.lpv.cascades import cascade_iterations, level_pass_name
 from explorer.lpv.corrections import Corrections
 from explorer.lpv.limits import audit_fits, audit_skipped_warning
-from explorer.lpv.passes.propagate import read_in_units, slabs
+from explorer.lpv.passes.propagate import slabs
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.passes.propagate import slabs
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.work_units import countdown
 
