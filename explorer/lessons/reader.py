@@ -94,6 +94,7 @@ from explorer.lessons.model import (
     TryThis,
     Vec3,
 )
+from explorer.lessons.where import located
 from explorer.lpv.settings import PLOTS, PRESETS, Corrections, Settings
 from explorer.resources import lesson_dir
 from explorer.scene.builtin import BUILTIN_SCENES
@@ -102,8 +103,8 @@ from explorer.schema import SettingError, Spec, check_fields, from_dict, specs
 # The lesson file's own keys, declared like the Settings fields and checked by the same
 # schema (explorer/schema.py). Tables with more structure (settings, corrections,
 # camera, light, formulas, try_this, steps) are read by the functions below.
-_SCENE = Spec(kind="choice", choices=tuple(BUILTIN_SCENES),
-              doc="A built-in scene (explorer/scene/builtin.py).")
+_SCENE = Spec(kind="str", doc="A built-in scene (explorer/scene/builtin.py), or a scene file "
+                                   "(.toml) or mesh file, its path relative to the lesson.")
 _LESSON_FIELDS = {
     "id": Spec(kind="str", doc="What `lpv-explorer lessons ID` accepts."),
     "title": Spec(kind="str", doc="The lesson's title."),
@@ -133,7 +134,7 @@ _LIGHT_KEYS = ("position", "target")
 _OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
 """Settings fields with their own lesson keys (scene, corrections, camera, light): not
 accepted inside [settings], so there is one way to say each thing."""
-_ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
+ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
 _FILE_PATTERN = re.compile(r"^(\d+)-([a-z0-9-]+)\.toml$")
 
 
@@ -176,7 +177,10 @@ def load_lesson(path: Path | str,
         match = re.search(r"line (\d+)", str(exc))
         raise LessonError(path, f"TOML syntax error: {exc}",
                           line=int(match.group(1)) if match else None) from None
-    return _Reader(path, check_formula).lesson(data)
+    try:
+        return _Reader(path, check_formula).lesson(data)
+    except LessonError as exc:
+        raise located(exc, raw) from None
 
 
 def load_all(directory: Path | str | None = None,
@@ -242,6 +246,7 @@ class _Reader:
         self.check_formula = check_formula
         self.step_number: int | None = None
         self.step_title: str | None = None
+        self._scenes: dict[str, Any] = {}
 
     def error(self, field: str | None, message: str) -> LessonError:
         return LessonError(self.path, message, step=self.step_number,
@@ -268,15 +273,42 @@ class _Reader:
                     raise self.error(prefix + key, str(exc)) from None
         return values
 
+    def scene(self, value: str) -> str:
+        """A built-in scene's name as it is, or a scene file or mesh named relative to the
+        lesson file, as its absolute path (what ``Settings.scene`` holds); the file must
+        exist (it is read when a step shows it, or here when the step has marks)."""
+        if value in BUILTIN_SCENES:
+            return value
+        path = Path(value).expanduser()
+        if not path.is_absolute():
+            path = self.path.parent / path
+        if not path.is_file():
+            raise self.error("scene", f"{value!r} is neither a built-in scene "
+                             f"({', '.join(BUILTIN_SCENES)}) nor a file ({path} is "
+                             f"{'not a file' if path.exists() else 'missing'}); a path is "
+                             "read relative to the lesson's folder")
+        return str(path.resolve())
+
+    def loaded_scene(self, name: str) -> Any:
+        """The scene ``name`` read (once per lesson file): its box bounds the marks."""
+        from explorer.scene import SceneError, load_scene
+
+        if name not in self._scenes:
+            try:
+                self._scenes[name] = load_scene(name)
+            except SceneError as exc:
+                raise self.error("scene", str(exc)) from None
+        return self._scenes[name]
+
     # the lesson
     def lesson(self, data: Mapping) -> Lesson:
         own = self.fields(data, _LESSON_FIELDS, _LESSON_TABLES, _REQUIRED)
-        if not _ID_PATTERN.match(own["id"]):
+        if not ID_PATTERN.match(own["id"]):
             raise self.error("id", f"{own['id']!r} must be lower-case letters, digits and '-'")
         match = _FILE_PATTERN.match(self.path.name)
         if match is None:
             raise self.error(None, "the file name must look like NN-slug.toml")
-        default_scene = own.get("scene", Settings().scene)
+        default_scene = self.scene(own["scene"]) if "scene" in own else Settings().scene
         default_settings = self.setting_overrides(data)
         default_corrections = self.corrections(data) if "corrections" in data else None
         raw_steps = data.get("steps")
@@ -313,7 +345,8 @@ class _Reader:
                                         f"not {view!r}")
         step = Step(
             number=number, title=own["title"], text=own["text"], formulas=self.formulas(raw),
-            scene=own.get("scene", default_scene), corrections=corrections,
+            scene=self.scene(own["scene"]) if "scene" in own else default_scene,
+            corrections=corrections,
             overrides=tuple(overrides.items()), view=view,
             compare=PRESETS[compare_preset] if compare_preset else None,
             compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
@@ -359,12 +392,11 @@ class _Reader:
         """The ``[[steps.marks]]`` tables (explorer/lessons/marks.py), each point inside
         the step's scene; ids unique within the step."""
         from explorer.lessons.marks import MarkError, parse_mark
-        from explorer.scene.builtin import BUILTIN_SCENES
 
         items = raw.get("marks", [])
         if not isinstance(items, list):
             raise self.error("marks", "must be a list of [[steps.marks]] tables")
-        scene = BUILTIN_SCENES[step.scene]() if items else None
+        scene = self.loaded_scene(step.scene) if items else None
         bounds = None if scene is None else (tuple(scene.bounds_min), tuple(scene.bounds_max))
         marks = []
         for index, table in enumerate(items):

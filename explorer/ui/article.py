@@ -180,8 +180,35 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
                              "button. Your own settings come back when you leave.")
     imgui.spacing()
     imgui.begin_child("contents", (0, -imgui.get_frame_height_with_spacing()))
-    for lesson in session.lessons:
-        imgui.push_id(lesson.id)
+    course = session.course()
+    for title, lessons in list_sections(course):
+        if title:
+            imgui.separator_text(title)
+        _list_entries(state, session, lessons)
+        if not lessons:
+            widgets.dim_text_wrapped("none yet: lpv-explorer lessons new NAME --dir "
+                                     f"{course.folder} writes one to start from")
+    imgui.end_child()
+    for error in session.errors:
+        imgui.text_colored(widgets.ERROR, f"broken: {error}")
+    if imgui.small_button("Reload lessons"):
+        session.reload_all()
+
+
+def list_sections(course) -> list[tuple[str, list]]:
+    """The lesson list's sections: (heading, lessons); one without a heading when only
+    one source is read, else the shipped course and then the reader's folder."""
+    own = [lesson for lesson in course.lessons if course.own(lesson)]
+    shipped = [lesson for lesson in course.lessons if not course.own(lesson)]
+    if course.folder is None:
+        return [("", course.lessons)]
+    mine = (f"Your lessons ({course.folder.name})", own)
+    return [("The course", shipped), mine] if shipped else [mine]
+
+
+def _list_entries(state: AppState, session: LessonSession, lessons: list) -> None:
+    for lesson in lessons:
+        imgui.push_id(str(lesson.path))
         if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
             session.open(lesson.id, resume=True)     # where the reader left it
             state.lesson_id = lesson.id
@@ -193,12 +220,6 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
         imgui.unindent(28.0)
         imgui.spacing()
         imgui.pop_id()
-    imgui.end_child()
-    for error in session.errors:
-        imgui.text_colored(widgets.ERROR, f"broken: {error}")
-    if imgui.small_button("Reload lessons"):
-        fresh = LessonSession.load()
-        session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
 def _header(state: AppState, session: LessonSession) -> bool:
