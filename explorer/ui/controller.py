@@ -49,6 +49,7 @@ from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.lpv.stages import downstream
 from explorer.ui.picture import Picture, SideDisplay, Stamp
+from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
 
@@ -268,6 +269,8 @@ class PipelineController:
         self._defaults_for: str | None = None
         self.scene_watch = SceneWatch()
         """The files of the scene on screen (reloaded when edited)."""
+        self.lesson_watch = LessonWatch()
+        """The file of the lesson being read (reloaded when edited)."""
         self._shader_poll = 0.0
         self._turn = 0
         self._first_done = False
@@ -689,6 +692,7 @@ class PipelineController:
         errors.update(self.programs.errors)
         state.runtime.services.shader_errors = errors
         self._reload_scene(state)
+        self.lesson_watch.poll(state)
 
     def _reload_scene(self, state: "AppState") -> None:
         """The scene on screen edited on disk (explorer/ui/scene_watch.py): read it again
