@@ -131,7 +131,7 @@ _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
 _LIGHT_KEYS = ("position", "target")
-_OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
+OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
 """Settings fields with their own lesson keys (scene, corrections, camera, light): not
 accepted inside [settings], so there is one way to say each thing."""
 ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
@@ -226,6 +226,24 @@ def find_lesson(key: str, lessons: list[Lesson],
             raise KeyError(f"lesson {key!r} is broken: {error}")
     known = ", ".join(lesson.id for lesson in lessons)
     raise KeyError(f"no lesson {key!r}; the lessons are: {known}")
+
+
+TRY_KEYS = ("control", "prompt", "value", "split", "label", "camera", "predict")
+"""The keys of a ``[[steps.try_this]]`` table."""
+PREDICT_KEYS = ("question", "choices", "answer")
+
+
+def format_keys() -> dict[str, tuple[str, ...]]:
+    """Every key the reader accepts, by table: what docs/AUTHORING.md describes."""
+    from explorer.figure_params import RESERVED_KEYS
+    from explorer.lessons import checks, glossary, marks
+
+    return {"lesson": (*_LESSON_FIELDS, *_LESSON_TABLES),
+            "steps": (*_STEP_FIELDS, *_STEP_TABLES),
+            "camera": _CAMERA_KEYS, "light": _LIGHT_KEYS,
+            "steps.try_this": TRY_KEYS, "steps.try_this.predict": PREDICT_KEYS,
+            "steps.figures": RESERVED_KEYS, "steps.marks": marks.KEYS,
+            "steps.checks": checks.KEYS, "glossary terms": glossary.KEYS}
 
 
 def valid_controls() -> tuple[str, ...]:
@@ -468,7 +486,7 @@ class _Reader:
         raw = table.get("settings", {})
         if not isinstance(raw, Mapping):
             raise self.error("settings", f"must be a table, got {type(raw).__name__}")
-        for key in _OWN_KEYS:
+        for key in OWN_KEYS:
             if key in raw:
                 raise self.error(f"settings.{key}", f"set {key!r} as a key of the step or "
                                                     "lesson, not inside [settings]")
@@ -507,7 +525,7 @@ class _Reader:
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            own = self.fields(item, declared, ("value", "camera", "predict"),
+            own = self.fields(item, declared, tuple(k for k in TRY_KEYS if k not in declared),
                               ("control", "prompt", "value"), prefix=f"try_this[{index}].")
             camera = self.pair(item, "camera", _CAMERA_KEYS, f"try_this[{index}].camera")
             if camera is not None and own.get("split", False):
@@ -526,7 +544,7 @@ class _Reader:
         table = item.get("predict")
         if table is None:
             return None
-        if not isinstance(table, Mapping) or set(table) != {"question", "choices", "answer"}:
+        if not isinstance(table, Mapping) or set(table) != set(PREDICT_KEYS):
             raise self.error(field, "must be a table {question, choices, answer}")
         question, choices, answer = table["question"], table["choices"], table["answer"]
         if not isinstance(question, str) or not question.strip():

@@ -490,18 +490,22 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
 
 def _glossary(session: LessonSession) -> tuple:
-    """The glossary of the session's lessons (explorer/lessons/glossary.py), read once; () when
-    it is missing or broken (the lessons command reports a broken one)."""
+    """The glossary of the session's lessons (explorer/lessons/glossary.py), read once: the
+    course's terms and those of the reader's folder (its spelling of a term wins); none
+    from a file that is missing or broken (the lessons command reports a broken one)."""
     cached = session.glossary
     if cached is None:
         from explorer.lessons.glossary import GlossaryError, load_glossary
 
-        try:
-            cached = load_glossary()
-        except GlossaryError as exc:
-            print(f"lpv-explorer: {exc}", file=sys.stderr)
-            cached = ()
-        session.glossary = cached
+        terms: dict[str, object] = {}
+        for folder in (None, session.folder) if session.folder else (None,):
+            try:
+                found = load_glossary(folder)
+            except GlossaryError as exc:
+                print(f"lpv-explorer: {exc}", file=sys.stderr)
+                found = ()
+            terms.update({term.term.lower(): term for term in found})
+        cached = session.glossary = tuple(terms.values())
     return cached
 
 
