@@ -81,8 +81,9 @@ def figure_kinds() -> str:
             if kind.results else ""
         parts += [f"#### `{kind.name}`: {kind.title}", "", f"Parameters:{plots}", "",
                   "| key | allowed | default | what it sets |", "|---|---|---|---|"]
-        parts += [f"| `{info.name}` | {_cell(_allowed(info.spec))} | `{_cell(_toml(info.default))}` | "
-                  f"{_cell(info.doc)} |" for info in schema(kind.params)]
+        parts += [f"| `{info.name}` | {_cell(_allowed(info.spec))} | "
+                  f"`{_cell(_toml(info.default))}` | {_cell(info.doc)} |"
+                  for info in schema(kind.params)]
         parts.append("")
     return "\n".join(parts).rstrip()
 
