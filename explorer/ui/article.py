@@ -197,13 +197,14 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
 
 def list_sections(course) -> list[tuple[str, list]]:
     """The lesson list's sections: (heading, lessons); one without a heading when only
-    one source is read, else the shipped course and then the reader's folder."""
+    the shipped course is read, else the reader's folder (what they asked for, on top)
+    and then the course."""
     own = [lesson for lesson in course.lessons if course.own(lesson)]
     shipped = [lesson for lesson in course.lessons if not course.own(lesson)]
     if course.folder is None:
         return [("", course.lessons)]
     mine = (f"Your lessons ({course.folder.name})", own)
-    return [("The course", shipped), mine] if shipped else [mine]
+    return [mine, ("The course", shipped)] if shipped else [mine]
 
 
 def _list_entries(state: AppState, session: LessonSession, lessons: list) -> None:

@@ -216,6 +216,7 @@ def test_a_lesson_names_a_scene_file_beside_itself(folder):
                     encoding="utf-8")
     lesson = load_lesson(path)
     assert {step.scene for step in lesson.steps} == {str(folder / "scenes" / "box.toml")}
+    assert lesson.steps[0].scene_name == "box"
     path.write_text(guide_example().replace('scene = "cornell" ', 'scene = "scenes/no.toml"'),
                     encoding="utf-8")
     with pytest.raises(LessonError, match=r"field 'scene': 'scenes/no.toml' is neither a "
@@ -228,9 +229,9 @@ def test_the_window_lists_the_course_and_the_folder_side_by_side(folder):
 
     both = load_course(folder)
     sections = list_sections(both)
-    assert [title for title, _ in sections] == ["The course", "Your lessons (my-lessons)"]
-    assert [lesson.id for lesson in sections[1][1]] == ["first-light"]
-    assert len(sections[0][1]) >= 10 and both.find("1").id == "first-light"
+    assert [title for title, _ in sections] == ["Your lessons (my-lessons)", "The course"]
+    assert [lesson.id for lesson in sections[0][1]] == ["first-light"]
+    assert len(sections[1][1]) >= 10 and both.find("1").id == "first-light"
     assert both.find("overview").id == "overview"
     alone = load_course(folder, shipped=False)
     assert [title for title, _ in list_sections(alone)] == ["Your lessons (my-lessons)"]

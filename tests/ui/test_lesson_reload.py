@@ -44,7 +44,7 @@ try:
         assert app.frame()
     session = state.lesson_session
     titles = [title for title, _ in list_sections(session.course())]
-    assert titles == ["The course", "Your lessons (" + folder.name + ")"], titles
+    assert titles == ["Your lessons (" + folder.name + ")", "The course"], titles
     assert len(session.lessons) > 1 and session.course().own(session.lesson)
     assert session.lesson.id == "mine" and session.step_number == 2 and session.applied
     assert state.view_buffer == "indirect" and state.settings.iterations == 16
