@@ -297,15 +297,24 @@ class _Reader:
         exist (it is read when a step shows it, or here when the step has marks)."""
         if value in BUILTIN_SCENES:
             return value
-        path = Path(value).expanduser()
-        if not path.is_absolute():
-            path = self.path.parent / path
-        if not path.is_file():
-            raise self.error("scene", f"{value!r} is neither a built-in scene "
-                             f"({', '.join(BUILTIN_SCENES)}) nor a file ({path} is "
-                             f"{'not a file' if path.exists() else 'missing'}); a path is "
-                             "read relative to the lesson's folder")
-        return str(path.resolve())
+        shown = repr(value) if len(value) <= 80 else repr(value[:77] + "...")
+        try:
+            path = Path(value).expanduser()
+            if not path.is_absolute():
+                path = self.path.parent / path
+            found, exists = path.is_file(), path.exists()
+            resolved = str(path.resolve())
+        except (OSError, ValueError, RuntimeError) as exc:   # too long, a NUL, a loop
+            reason = getattr(exc, "strerror", None) or str(exc)
+            raise self.error("scene", f"{shown} is neither a built-in scene nor a usable "
+                                      f"path ({reason})") from None
+        if not found:
+            where = str(path) if len(str(path)) <= 160 else "it"
+            raise self.error("scene", f"{shown} is neither a built-in scene "
+                             f"({', '.join(BUILTIN_SCENES)}) nor a file ({where} is "
+                             f"{'not a file' if exists else 'missing'}); a path is read "
+                             "relative to the lesson's folder")
+        return resolved
 
     def loaded_scene(self, name: str) -> Any:
         """The scene ``name`` read (once per lesson file): its box bounds the marks."""

@@ -2,7 +2,9 @@
 (explorer/ui/scene_watch.py): a lesson saved while the window shows it is read again and
 shown at the same step (the last one if the edit removed steps), its settings applied
 again when the step's were on screen; an edit that does not load keeps the lesson as it
-was, with the one-line error (file:line, step, key) in Messages.
+was, with the one-line error (file:line, step, key) in Messages. While the lesson list
+shows, the reader's folder is watched: a lesson saved, added or removed there is listed
+anew.
 
 The controller calls :meth:`LessonWatch.poll` every ``SHADER_POLL_S``, with the shaders
 and the scene; the lesson's stamps are its file's modification time and size, so an
@@ -29,17 +31,38 @@ class LessonWatch:
         """Read the open lesson again if its file changed; True when the window shows
         the edit."""
         session = state.lesson_session
-        lesson = getattr(session, "lesson", None)
-        if lesson is None:
-            self.files = SceneWatch()
+        if session is None:
             return False
-        path = str(lesson.path)
+        if session.lesson is None:
+            return self._poll_folder(state, session)
+        path = str(session.lesson.path)
         if self.files.name != path:
             self.files.watch(path, (path,))
             return False
         if not self.files.changed():
             return False
         return reload_lesson(state, session)
+
+    def _poll_folder(self, state: "AppState", session) -> bool:
+        """While the list shows, the reader's folder: a lesson saved, added or removed
+        there reads the lessons again (the list then shows it, or its error)."""
+        if session.folder is None:
+            return False
+        key = f"folder {session.folder}"
+        try:
+            files = tuple(sorted(str(path) for path in session.folder.glob("*.toml")))
+        except OSError:
+            return False
+        if self.files.name != key or self.files.files != files:
+            first = self.files.name != key
+            self.files.watch(key, files)
+            if first:
+                return False
+        elif not self.files.changed():
+            return False
+        session.reload_all()
+        state.notify(f"{session.folder.name}: lessons read again")
+        return True
 
 
 def reload_lesson(state: "AppState", session) -> bool:

@@ -81,6 +81,16 @@ try:
     save(edited.replace('title = "Cell by cell"', 'title = "Cells"'))
     poll()
     assert session.step.title == "Cells" and session.step_number == 2
+
+    # back at the list, a lesson added to the folder is listed
+    from explorer.ui.lesson_panel import show_screen
+    show_screen(state, session.close())
+    state.lesson_id = None
+    poll()
+    assert main(["lessons", "new", "Second", "--dir", str(folder)]) == 0
+    poll()
+    assert "second" in [lesson.id for lesson in session.lessons]
+    assert any(m.text.endswith(": lessons read again") for m in state.messages)
 finally:
     app.close()
 print("reload ok")
@@ -90,3 +100,19 @@ print("reload ok")
 def test_a_saved_lesson_reloads_at_its_step_and_a_broken_one_keeps_the_last(tmp_path):
     proc = run_child(["-c", _SCRIPT, str(tmp_path / "mine")], tmp_path)
     assert proc.returncode == 0 and "reload ok" in proc.stdout, proc.stdout + proc.stderr
+
+
+def test_run_opens_a_lesson_of_the_folder(tmp_path):
+    """``run --lessons DIR --lesson ID --step K``: the folder's lesson, in the window."""
+    from explorer.cli import main
+
+    folder = tmp_path / "mine"
+    assert main(["lessons", "new", "Mine", "--dir", str(folder)]) == 0
+    shot = tmp_path / "run.png"
+    proc = run_child(["-m", "explorer", "run", "--lessons", str(folder), "--lesson", "mine",
+                      "--step", "2", "--hidden", "--no-persist", "--size", "1280x720",
+                      "--screenshot", str(shot), "--frames", "4"], tmp_path)
+    assert proc.returncode == 0 and shot.is_file(), proc.stdout + proc.stderr
+    proc = run_child(["-m", "explorer", "run", "--lessons", str(folder), "--no-shipped",
+                      "--lesson", "overview", "--hidden"], tmp_path)
+    assert proc.returncode == 2 and "no lesson 'overview'" in proc.stderr, proc.stderr
