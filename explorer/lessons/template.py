@@ -38,7 +38,7 @@ view = "final"
 kind = "clamped-cosine"
 id = "lobe"
 normal_deg = 30
-caption = "The clamped cosine (grey) and its projections on the first two SH bands."
+caption = "The clamped cosine (white) and its SH projections: 4 coefficients, blue; 9, orange."
 [[steps.marks]]
 id = "ceiling"
 label = "ceiling: lit by the bounce"
