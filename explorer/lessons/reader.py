@@ -10,7 +10,8 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     id = "injection"                 # what `lpv-explorer lessons ID` accepts
     title = "..."
     summary = "..."
-    scene = "cornell"                # default for every step
+    scene = "cornell"                # default for every step; or a scene file or mesh,
+                                     # its path relative to this file
     [settings]                       # defaults for every step (Settings fields)
     grid_size = 16
     [[steps]]
@@ -62,8 +63,10 @@ live numbers ``{{name:format}}`` (:mod:`explorer.lessons.live_values`), ``{{figu
 The folder's ``glossary.toml`` is not a lesson: it holds the recurring terms the article
 explains on hover (:mod:`explorer.lessons.glossary`).
 
-Errors are :class:`LessonError` naming the file, the step (number and title) and the
-field; :func:`load_all` collects them so one broken lesson never hides the others.
+Errors are :class:`LessonError` naming the file and the line of the key
+(:mod:`explorer.lessons.where`), the step (number and title) and the field;
+:func:`load_all` collects them so one broken lesson never hides the others. The authors'
+guide, docs/AUTHORING.md, describes every key (:func:`format_keys` lists them).
 """
 
 from __future__ import annotations
