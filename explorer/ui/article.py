@@ -258,6 +258,10 @@ def _header(state: AppState, session: LessonSession) -> bool:
     if changed:
         _goto(state, session)
     _status(state, session)
+    if session.reload_error:          # the last save of the lesson's file did not load
+        imgui.push_text_wrap_pos(0.0)
+        imgui.text_colored(widgets.ERROR, f"Your last save is not shown: {session.reload_error}")
+        imgui.pop_text_wrap_pos()
     return True
 
 

@@ -266,6 +266,9 @@ class LessonSession:
 
     folder: Path | None = None
     """The reader's own lesson folder (``run --lessons DIR``), or None."""
+    reload_error: str | None = None
+    """Why the last save of the open lesson's file does not load (the lesson shown is the
+    one read before), until a save loads or another lesson opens."""
     shipped: bool = True
     """Whether the shipped course is listed (besides the folder)."""
 
@@ -289,6 +292,7 @@ class LessonSession:
     def replace_lesson(self, edited: Lesson) -> None:
         """``edited`` (the open lesson read again from its file) in place of the lesson of
         that file; the reader stays at the same step (the last one if it has fewer)."""
+        self.reload_error = None
         self.lessons = [edited if lesson.path == edited.path else lesson
                         for lesson in self.lessons]
         self.errors = [error for error in self.errors if error.path != edited.path]
@@ -319,6 +323,7 @@ class LessonSession:
         list (its step; :meth:`opening_scroll` its scroll)."""
         lesson = self.course().find(key)
         if self.lesson is None or lesson.id != self.lesson.id:
+            self.reload_error = None
             step, scroll = self.places.get(lesson.id, (1, 0.0)) if resume else (1, 0.0)
             self.lesson, self.step_number = lesson, max(1, min(step, len(lesson.steps)))
             self.scroll = self._open_scroll = scroll

@@ -75,14 +75,12 @@ def reload_lesson(state: "AppState", session) -> bool:
     try:
         edited = load_lesson(path)
     except LessonError as exc:
-        state.notify(f"{exc} (the lesson on screen is the one read before)", "error")
-        return False
+        return _refused(state, session, str(exc))
     other = next((lesson for lesson in session.lessons
                   if lesson.id == edited.id and lesson.path != path), None)
     if other is not None:
-        state.notify(f"{path}: id {edited.id!r} is {other.path.name}'s already (the lesson "
-                     "on screen is the one read before)", "error")
-        return False
+        return _refused(state, session, f"{path}, field 'id': {edited.id!r} is "
+                                        f"{other.path.name}'s already")
     tried = session.tried
     session.replace_lesson(edited)
     if state.lesson_id is not None:
@@ -96,3 +94,10 @@ def reload_lesson(state: "AppState", session) -> bool:
             show_screen(state, session.apply(current))
     state.notify(f"{path.name} changed on disk: reloaded at step {session.step_number}")
     return True
+
+
+def _refused(state: "AppState", session, reason: str) -> bool:
+    """A save that does not load: said in Messages and above the article, in one line."""
+    session.reload_error = reason
+    state.notify(f"{reason} (the lesson on screen is the one read before)", "error")
+    return False

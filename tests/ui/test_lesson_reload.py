@@ -74,6 +74,7 @@ try:
     assert f"01-mine.toml:{line}, step 2" in errors[0], errors[0]
     assert "field 'try_this[0].value'" in errors[0], errors[0]
     assert session.step.title == "Cell by cell" and state.settings.grid_size == 12
+    assert session.reload_error and session.reload_error in errors[0]   # above the article
     for _ in range(3):
         assert app.frame()                   # the article still draws the good lesson
 
@@ -81,6 +82,7 @@ try:
     save(edited.replace('title = "Cell by cell"', 'title = "Cells"'))
     poll()
     assert session.step.title == "Cells" and session.step_number == 2
+    assert session.reload_error is None
 
     # back at the list, a lesson added to the folder is listed
     from explorer.ui.lesson_panel import show_screen
