@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import re
+import unicodedata
 
 from explorer.lessons.reader import ID_PATTERN
 
@@ -84,8 +85,9 @@ than = 1
 
 
 def slug(name: str) -> str:
-    """``name`` as a lesson id: lower case, words joined by '-'."""
-    return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")
+    """``name`` as a lesson id: lower case, accents dropped, words joined by '-'."""
+    plain = unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode()
+    return re.sub(r"[^a-z0-9]+", "-", plain.lower()).strip("-")
 
 
 def new_lesson(name: str) -> tuple[str, str]:

@@ -105,6 +105,10 @@ def test_lessons_new_starts_a_lesson_and_never_replaces_one(tmp_path, capsys):
     assert "run --lessons" in capsys.readouterr().out
     assert main(["lessons", "new", "Second", "--dir", str(mine)]) == 0
     assert load_lesson(mine / "02-second.toml").title == "Second"
+    assert main(["lessons", "new", 'Über "it" \\', "--dir", str(mine)]) == 0
+    odd = load_lesson(mine / "03-uber-it.toml")
+    assert (odd.id, odd.title) == ("uber-it", 'Über "it" \\')
+    (mine / "03-uber-it.toml").unlink()
     path.write_text("keep me")
     assert main(["lessons", "new", "First light", "--dir", str(mine)]) == 2
     assert "already" in capsys.readouterr().err and path.read_text() == "keep me"
