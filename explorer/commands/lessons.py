@@ -1,12 +1,17 @@
 """``lpv-explorer lessons [ID]``: list the lessons, or print one lesson's steps;
-``lpv-explorer lessons --export ID --step K --out step.png`` writes a step as the window
-shows it, headless (glfw's null platform with EGL: no display needed), once its frame has
-converged (it says it waits); ``lpv-explorer lessons [ID] --check`` verifies the steps'
-``[[steps.checks]]`` on their converged frames, rendered headless
-(explorer/lessons/verify.py).
+``lpv-explorer lessons new NAME [--dir DIR]`` writes a small working lesson to start from
+(explorer/lessons/template.py); ``lpv-explorer lessons --export ID --step K --out
+step.png`` writes a step as the window shows it, headless (glfw's null platform with EGL:
+no display needed), once its frame has converged (it says it waits); ``lpv-explorer
+lessons [ID] --check [DIR]`` verifies the steps' ``[[steps.checks]]`` on their converged
+frames, rendered headless (explorer/lessons/verify.py), and prints each claim with the
+numbers it read; ``lpv-explorer lessons [ID] --lint [DIR]`` holds a folder's lessons to
+what the shipped course is held to (explorer/lessons/words.py, explorer/ui/lesson_lint.py).
 
-Listing also validates every lesson; a broken one is reported with its error and makes
-the command exit 1, so CI and lesson authors see mistakes at once.
+Every verb reads the folder ``--dir DIR`` (or ``--lessons DIR``, or the DIR given to
+``--check``/``--lint``) instead of the shipped lessons. Listing also validates every
+lesson; a broken one is reported with its error and makes the command exit 1, so CI and
+lesson authors see mistakes at once.
 """
 
 from __future__ import annotations
@@ -16,18 +21,27 @@ import sys
 import textwrap
 from pathlib import Path
 
-from explorer.commands.options import size_type
+from explorer.commands.lesson_folder import add_folder_option, folder_of
+from explorer.commands.options import CommandError, size_type
+
+NEW = "new"
+"""The verb of ``lessons new NAME``."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("lesson", nargs="?", metavar="ID",
-                        help="a lesson id, number or file stem: print its steps")
-    parser.add_argument("--dir", type=Path, default=None, metavar="PATH",
-                        help="read lessons from this folder instead of the shipped ones")
-    parser.add_argument("--check", action="store_true",
+    parser.add_argument("words", nargs="*", metavar="ID | new NAME",
+                        help="a lesson id, number or file stem: print its steps; "
+                             "new NAME: write a lesson called NAME to start from")
+    add_folder_option(parser, ("--dir", "--lessons"))
+    parser.add_argument("--check", nargs="?", const=True, default=False, metavar="DIR",
                         help="verify the claims the steps check ([[steps.checks]]) on "
-                             "their converged frames, rendered headless at a small size; "
-                             "exit 1 if one fails")
+                             "their converged frames, rendered headless at a small size, "
+                             "and print each with its numbers; exit 1 if one fails")
+    parser.add_argument("--lint", nargs="?", const=True, default=False, metavar="DIR",
+                        help="hold the lessons to what the shipped course is held to: "
+                             "words and typeset math only (no settings or quantity names, "
+                             "no raw TeX outside math), every figure fits the article "
+                             "column, every labelled mark in view; exit 1 on a finding")
     group = parser.add_argument_group("export a step as the window shows it")
     group.add_argument("--export", metavar="ID", help="lesson id, number or file stem")
     group.add_argument("--step", type=int, default=None, metavar="K",
@@ -55,59 +69,143 @@ def _export_size(width: int, height: int) -> tuple[int, int]:
     return specs(AppState)["window_size"].check("size", (width, height))
 
 
-def main(args: argparse.Namespace) -> int:
-    from explorer.commands.options import CommandError
-    from explorer.lessons import find_lesson, load_all
+def _verb_folder(args: argparse.Namespace) -> None:
+    """``--check DIR`` / ``--lint DIR``: that folder, as ``--dir`` names it (both given
+    with different folders: refused)."""
+    for flag in ("check", "lint"):
+        value = getattr(args, flag)
+        if not isinstance(value, str):
+            continue
+        folder = Path(value)
+        if args.lessons_dir is not None and args.lessons_dir != folder:
+            raise CommandError(f"--{flag} {value} and {args.lessons_flag} "
+                               f"{args.lessons_dir}: one lesson folder at a time")
+        if not folder.is_dir():
+            raise CommandError(f"--{flag} {value}: no such folder (to {flag} one lesson: "
+                               f"lpv-explorer lessons ID --{flag})")
+        args.lessons_dir, args.lessons_flag = folder, f"--{flag}"
+        setattr(args, flag, True)
 
-    if args.dir is not None and not args.dir.is_dir():
-        raise CommandError(f"--dir {args.dir}: no such folder")
+
+def main(args: argparse.Namespace) -> int:
+    from explorer.lessons.glossary import GlossaryError, load_glossary
+
+    _verb_folder(args)
+    words = list(args.words)
+    if words[:1] == [NEW]:
+        return _new(args, words[1:])
+    if len(words) > 1:
+        raise CommandError(f"one lesson at a time, got {' '.join(words)} (to start a "
+                           "lesson: lpv-explorer lessons new NAME)")
+    args.lesson = words[0] if words else None
+    folder = folder_of(args)
+    verbs = [flag for flag, on in (("--check", args.check), ("--lint", args.lint),
+                                   ("--export", args.export)) if on]
+    if len(verbs) > 1:
+        raise CommandError(f"{' and '.join(verbs)}: one at a time")
     if args.export:
-        return _export(args)
+        if args.lesson is not None:
+            raise CommandError(f"--export {args.export} names the lesson; drop {args.lesson}")
+        return _export(args, folder)
     given = [flag for flag, value in (("--step", args.step), ("--out", args.out),
                                       ("--try", args.try_this)) if value is not None]
     given += [] if args.overlays else ["--no-overlays"]
-    if args.check and not given:
-        return _check(args)
     if given:
         raise CommandError(f"{', '.join(given)} need{'s' if len(given) == 1 else ''} "
                            "--export ID")
-    from explorer.lessons.glossary import GlossaryError, load_glossary
-
-    lessons, errors = load_all(args.dir)
+    course = _course(args, folder)
+    if args.check:
+        return _check(args, course)
+    if args.lint:
+        return _lint(args, course)
+    errors = list(course.errors)
     try:
-        load_glossary(args.dir)
+        load_glossary(folder)
     except GlossaryError as exc:
         errors.append(exc)
-    if not lessons and not errors:
-        raise CommandError(f"no lessons (*.toml files) in {args.dir or 'the shipped lessons'}",
-                           1)
     if args.lesson is None:
-        _print_list(lessons)
+        _print_list(course.lessons)
     else:
-        try:
-            lesson = find_lesson(args.lesson, lessons, errors)
-        except KeyError as exc:
-            raise CommandError(exc.args[0]) from None
-        _print_lesson(lesson)
+        _print_lesson(_chosen(args, course)[0])
     _print_errors(errors)
     return 1 if errors else 0
 
 
-def _check(args: argparse.Namespace) -> int:
-    """Verify the checks of lesson ``args.lesson`` (all lessons when None)."""
-    from explorer.commands.options import CommandError
+def _course(args: argparse.Namespace, folder: Path | None):
+    from explorer.lessons.folder import load_course
+
+    course = load_course(folder, shipped=False)
+    if not course.lessons and not course.errors:
+        raise CommandError(f"no lessons (*.toml files) in {folder or 'the shipped lessons'}"
+                           + (f"; start one: lpv-explorer lessons new NAME --dir {folder}"
+                              if folder else ""), 1)
+    return course
+
+
+def _chosen(args: argparse.Namespace, course) -> list:
+    """The lesson ``args.lesson`` names (its own error when broken), or every lesson."""
+    if args.lesson is None:
+        return list(course.lessons)
+    try:
+        return [course.find(args.lesson)]
+    except KeyError as exc:
+        raise CommandError(exc.args[0]) from None
+
+
+def _new(args: argparse.Namespace, names: list[str]) -> int:
+    """Write ``NN-<id>.toml`` (NN: the folder's next number) from the template."""
+    from explorer.commands.options import Outputs
+    from explorer.lessons import load_lesson
+    from explorer.lessons.template import new_lesson
+
+    if len(names) != 1:
+        raise CommandError("lessons new NAME: give the new lesson's name (one word, or "
+                           "quoted words)" if not names else
+                           f"lessons new NAME: one name, got {' '.join(names)} (quote a "
+                           "name of several words)")
+    for flag, on in (("--check", args.check), ("--lint", args.lint),
+                     ("--export", args.export)):
+        if on:
+            raise CommandError(f"lessons new writes a lesson; {flag} is another verb")
+    folder = args.lessons_dir or Path.cwd()
+    if folder.exists() and not folder.is_dir():
+        raise CommandError(f"{args.lessons_flag} {folder}: not a folder")
+    try:
+        lesson_id, text = new_lesson(names[0])
+    except ValueError as exc:
+        raise CommandError(exc) from None
+    taken = sorted(folder.glob("[0-9]*-*.toml")) if folder.is_dir() else []
+    for path in taken:
+        if path.stem.split("-", 1)[1] == lesson_id:
+            raise CommandError(f"{path} is a lesson called {lesson_id!r} already")
+    numbers = [int(path.name.split("-", 1)[0]) for path in taken
+               if path.name.split("-", 1)[0].isdigit()]
+    path = folder / f"{max(numbers, default=0) + 1:02d}-{lesson_id}.toml"
+    with Outputs() as outputs:
+        out = outputs.file(path, suffixes=(".toml",))
+        if out.exists():
+            raise CommandError(f"{out} exists; it is kept")
+        outputs.write(out, lambda target: Path(target).write_text(text, encoding="utf-8"))
+    lesson = load_lesson(out)      # what it wrote is a lesson (or this is a bug)
+    shown = f" --dir {folder}" if args.lessons_dir is not None else ""
+    print(f"wrote {out}: {lesson.title!r}, {len(lesson.steps)} steps")
+    print(f"open it while you edit it (each save shows): lpv-explorer run --lessons {folder} "
+          f"--lesson {lesson.id}")
+    print(f"check its claims: lpv-explorer lessons{shown} --check; the guide: "
+          "docs/AUTHORING.md")
+    return 0
+
+
+def _check(args: argparse.Namespace, course) -> int:
+    """Verify the checks of the chosen lessons on their converged frames; each claim is
+    printed with the numbers it read, a failing one marked FAILS."""
     from explorer.gl.context import create_headless_context, release_headless_context
+    from explorer.lessons import preview_settings
     from explorer.lessons.verify import verify_step
-    from explorer.lessons import find_lesson, load_all, preview_settings
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.figures import declared_readouts
 
-    lessons, errors = load_all(args.dir)
-    if args.lesson is not None:
-        try:
-            lessons = [find_lesson(args.lesson, lessons, errors)]
-        except KeyError as exc:
-            raise CommandError(exc.args[0]) from None
+    lessons = _chosen(args, course)
     steps = [(lesson, step) for lesson in lessons for step in lesson.steps if step.checks]
     failed = total = 0
     if steps:
@@ -124,8 +222,58 @@ def _check(args: argparse.Namespace) -> int:
         finally:
             release_headless_context(ctx)
     print(f"{total - failed} of {total} checks hold on {len(steps)} steps")
-    _print_errors(errors)
-    return 1 if failed or errors else 0
+    _print_errors(course.errors)
+    return 1 if failed or course.errors else 0
+
+
+def _lint(args: argparse.Namespace, course) -> int:
+    """The shipped course's rules on the chosen lessons: their words (no GL), their
+    figures drawn at the article's column width (a hidden window) and their labelled
+    marks placed in a tiny frame of each step (headless)."""
+    from explorer.gl.context import create_headless_context, release_headless_context
+    from explorer.gl.window import WindowError, headless_available
+    from explorer.lessons import preview_settings
+    from explorer.lessons.words import lesson_word_problems
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.lesson_lint import (
+        figure_overflows,
+        figure_window,
+        hidden_marks,
+        lesson_figures,
+    )
+
+    lessons = _chosen(args, course)
+    found = [("words", line) for line in lesson_word_problems(lessons)]
+    figures = lesson_figures(lessons)
+    if figures:
+        try:
+            window = figure_window(900, 900, headless=headless_available())
+        except WindowError as exc:
+            raise CommandError(f"cannot draw the figures: {exc}", 1) from None
+        try:
+            found += [("figure", line) for line in figure_overflows(window, figures)]
+        finally:
+            window.close()
+    marked = [lesson for lesson in lessons
+              if any(mark.label for step in lesson.steps for mark in step.marks)]
+    if marked:
+        ctx = create_headless_context()
+        try:
+            with Pipeline(preview_settings(marked[0].steps[0]), ctx=ctx) as pipeline:
+                found += [("mark", line) for line in hidden_marks(pipeline, marked)]
+        finally:
+            release_headless_context(ctx)
+    for kind, line in found:
+        print(f"{kind}: {line}")
+    steps = sum(len(lesson.steps) for lesson in lessons)
+    print(f"{_count(len(found), 'finding')} in {_count(len(lessons), 'lesson')} "
+          f"({_count(steps, 'step')}, {_count(len(figures), 'figure')})")
+    _print_errors(course.errors)
+    return 1 if found or course.errors else 0
+
+
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}{'s' if number != 1 else ''}"
 
 
 def _print_list(lessons) -> None:
@@ -221,9 +369,10 @@ def _print_errors(errors) -> None:
         print(f"broken lesson: {error}", file=sys.stderr)
 
 
-def _export(args: argparse.Namespace) -> int:
-    """Write step ``args.step`` of lesson ``args.export`` as the window shows it."""
-    from explorer.commands.options import CommandError, Outputs
+def _export(args: argparse.Namespace, folder: Path | None) -> int:
+    """Write step ``args.step`` of lesson ``args.export`` (of ``folder``, else the
+    shipped course) as the window shows it."""
+    from explorer.commands.options import Outputs
     from explorer.gl.window import WindowError
     from explorer.ui.export import export_step
 
@@ -236,7 +385,8 @@ def _export(args: argparse.Namespace) -> int:
         try:
             outputs.write(out, lambda path: export_step(args.export, step, path, width,
                                                         height, try_this=args.try_this,
-                                                        overlays=args.overlays))
+                                                        overlays=args.overlays,
+                                                        lessons_dir=folder))
         except (KeyError, IndexError) as exc:
             raise CommandError(exc.args[0]) from None
         except (WindowError, TimeoutError) as exc:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from explorer.commands.lesson_folder import add_folder_option
 from explorer.commands import options
 from explorer.lpv.settings import VIEWS
 from explorer.schema import Spec
@@ -75,6 +76,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--lesson", metavar="ID", help="lesson id, number or file stem")
     group.add_argument("--step", type=int, default=None, metavar="K",
                        help="step number within the lesson (default: 1)")
+    add_folder_option(group)
     options.add_setting_options(parser)
 
 
@@ -268,12 +270,15 @@ def _lesson_step(args: argparse.Namespace):
     if args.lesson is None:
         if args.step is not None:
             raise options.CommandError("--step needs --lesson (the lesson whose step to render)")
+        if args.lessons_dir is not None:
+            raise options.CommandError(f"{args.lessons_flag} needs --lesson (the lesson of "
+                                       "that folder to render)")
         return None
-    from explorer.lessons import find_lesson, load_all
+    from explorer.commands.lesson_folder import load_folder
 
-    lessons, errors = load_all(check_formula=None)
+    course = load_folder(args, check_formula=None)
     try:
-        lesson = find_lesson(args.lesson, lessons, errors)
+        lesson = course.find(args.lesson)
         step = lesson.step(1 if args.step is None else args.step)
     except (KeyError, IndexError) as exc:
         raise options.CommandError(exc.args[0]) from None

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from explorer.commands.lesson_folder import add_folder_option, folder_of
 from explorer.commands.options import (
     CommandError,
     Outputs,
@@ -41,6 +42,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     window = specs(AppState)["window_size"]
     parser.add_argument("--lesson", metavar="ID", help="open a lesson (e.g. 01 or its slug)")
+    add_folder_option(parser, alone=True)
     parser.add_argument("--scene", metavar="NAME|PATH", type=setting_type("scene"),
                         help=scene_help(spec_help(specs(Settings)["scene"])))
     parser.add_argument("--preset", choices=list(PRESETS),
@@ -86,8 +88,9 @@ def main(args: argparse.Namespace) -> int:
     frames = args.frames if args.frames is not None else (30 if args.screenshot else None)
     if args.scene:
         check_scene(args.scene)    # a broken mesh or scene file: refused before the window
+    folder = folder_of(args)
     if args.lesson:
-        _check_lesson(args.lesson, args.step)
+        _check_lesson(args.lesson, args.step, folder, args.shipped)
     if args.screenshot is not None:
         Outputs("--screenshot").file(args.screenshot)
 
@@ -115,6 +118,9 @@ def main(args: argparse.Namespace) -> int:
             app.state.apply_preset(args.preset)
         if args.compare:
             app.state.view_mode = args.compare
+        if folder is not None:
+            app.state.lesson_folder = str(folder)
+            app.state.lesson_folder_alone = not args.shipped
         if args.lesson:
             app.state.lesson_id, app.state.lesson_step = args.lesson, args.step or 1
         return app.run(frames=frames, screenshot=args.screenshot, converged=args.wait)
@@ -122,14 +128,14 @@ def main(args: argparse.Namespace) -> int:
         app.close()
 
 
-def _check_lesson(key: str, step: int | None) -> None:
+def _check_lesson(key: str, step: int | None, folder: Path | None, shipped: bool) -> None:
     """The lesson exists and loads (its own error otherwise) and has step ``step``, before
     the window opens."""
-    from explorer.lessons import find_lesson, load_all
+    from explorer.lessons.folder import load_course
 
-    lessons, errors = load_all(check_formula=None)
+    course = load_course(folder, shipped, check_formula=None)
     try:
-        lesson = find_lesson(key, lessons, errors)
+        lesson = course.find(key)
         if step is not None:
             lesson.step(step)
     except (KeyError, IndexError) as exc:

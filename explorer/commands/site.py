@@ -1,6 +1,7 @@
 """``lpv-explorer site OUT/``: build the course as a static web site.
 
-Every lesson (or those ``--lessons`` names) becomes a page; each step's pictures are
+Every lesson (or those ``--only`` names) of the shipped course (or of the folder
+``--lessons DIR`` names, a teacher's) becomes a page; each step's pictures are
 rendered headlessly at ``--size`` and its numbers baked from those frames. The figures
 are drawn in a hidden window (under ``xvfb-run`` when it is installed). The site needs no
 server: open ``OUT/index.html``, or copy the folder to any static host.
@@ -11,6 +12,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from explorer.commands.lesson_folder import add_folder_option, folder_of
 from explorer.commands.options import size_type
 
 
@@ -18,7 +20,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("out", type=Path, metavar="OUT",
                         help="folder to write the site into (new, empty, or a site built "
                              "before, which is replaced)")
-    parser.add_argument("--lessons", type=_keys, default=(), metavar="ID[,ID...]",
+    add_folder_option(parser)
+    parser.add_argument("--only", type=_keys, default=(), metavar="ID[,ID...]",
                         help="only these lessons (ids, numbers or file stems; default: all)")
     parser.add_argument("--size", type=size_type(_view_size), default=(960, 600),
                         metavar="WxH", help="pixels of each step's 3D view (default 960x600)")
@@ -27,8 +30,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default 640, at least 240)")
     parser.add_argument("--png", action="store_true",
                         help="write the 3D views as PNG rather than JPEG (larger)")
-    parser.add_argument("--dir", type=Path, default=None, metavar="PATH",
-                        help="read lessons from this folder instead of the shipped ones")
 
 
 def _keys(text: str) -> tuple[str, ...]:
@@ -53,12 +54,11 @@ def main(args: argparse.Namespace) -> int:
     from explorer.site.build import SiteError, SiteOptions, build_site
     from explorer.site.figure_shots import FigureShotError
 
-    if args.dir is not None and not args.dir.is_dir():
-        raise CommandError(f"--dir {args.dir}: no such folder")
+    folder = folder_of(args)
     if not 240 <= args.figure_width <= 2000:
         raise CommandError(f"--figure-width must be in [240, 2000], got {args.figure_width}")
-    options = SiteOptions(out=args.out, lessons=args.lessons, size=args.size,
-                          figure_width=args.figure_width, lessons_dir=args.dir,
+    options = SiteOptions(out=args.out, lessons=args.only, size=args.size,
+                          figure_width=args.figure_width, lessons_dir=folder,
                           image_format="png" if args.png else "jpg")
     try:
         report = build_site(options)

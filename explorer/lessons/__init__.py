@@ -19,7 +19,13 @@ One job per module:
   they measure;
 * :mod:`~explorer.lessons.checks`: a step's claims about its numbers, as data;
 * :mod:`~explorer.lessons.verify`: those claims evaluated on the step's converged frames;
-* :mod:`~explorer.lessons.glossary`: the recurring terms the article explains on hover.
+* :mod:`~explorer.lessons.glossary`: the recurring terms the article explains on hover;
+* :mod:`~explorer.lessons.folder`: the course read, the shipped lessons and a folder of
+  one's own (:class:`~explorer.lessons.folder.Course`);
+* :mod:`~explorer.lessons.where`: the line of the key a :class:`LessonError` names;
+* :mod:`~explorer.lessons.words`: what a learner reads is words and typeset math;
+* :mod:`~explorer.lessons.template`: the lesson ``lessons new`` writes;
+* :mod:`~explorer.lessons.guide`: the generated parts of docs/AUTHORING.md.
 
 The names below are re-exported here (``from explorer.lessons import load_all, Step``);
 the other modules are imported as submodules (``from explorer.lessons import

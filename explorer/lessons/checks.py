@@ -52,7 +52,7 @@ REFUSED_PREFIXES = ("error.mitsuba_", "error.reference_mitsuba_")
 """Quantities a check may not read: measured against Mitsuba, an optional extra whose
 render takes minutes (module docstring)."""
 SIDES = ("step", "compare")
-_KEYS = ("claim", "value", "op", "than", "over", "after_try", "over_before_try", "side")
+KEYS = ("claim", "value", "op", "than", "over", "after_try", "over_before_try", "side")
 
 
 class CheckError(ValueError):
@@ -120,8 +120,8 @@ def parse_check(table: Any, lookup: Callable[[str], Any], try_count: int,
     if not isinstance(table, Mapping):
         raise CheckError(prefix.rstrip("."), "must be a table {claim, value, op, than}")
     for key in table:
-        if key not in _KEYS:
-            raise CheckError(prefix + str(key), f"unknown field; expected one of {list(_KEYS)}")
+        if key not in KEYS:
+            raise CheckError(prefix + str(key), f"unknown field; expected one of {list(KEYS)}")
     for key in ("claim", "value", "op", "than"):
         if key not in table:
             raise CheckError(prefix + key, "missing (required)")

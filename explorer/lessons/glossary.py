@@ -27,7 +27,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 GLOSSARY_FILE = "glossary.toml"
 """The glossary's file in the lessons folder (not a lesson: ``load_all`` skips it)."""
 MAX_MEANING = 400
-_KEYS = ("term", "also", "meaning")
+KEYS = ("term", "also", "meaning")
 _PUNCTUATION = ".,;:!?()[]\"'*_`"
 
 
@@ -70,10 +70,10 @@ def load_glossary(directory: Path | str | None = None) -> tuple[Term, ...]:
         where = f"{path}: terms[{index}]"
         if not isinstance(table, dict):
             raise GlossaryError(f"{where}: must be a table")
-        unknown = set(table) - set(_KEYS)
+        unknown = set(table) - set(KEYS)
         if unknown:
             raise GlossaryError(f"{where}: unknown field {sorted(unknown)[0]!r}; expected "
-                                f"{list(_KEYS)}")
+                                f"{list(KEYS)}")
         term, meaning, also = table.get("term"), table.get("meaning"), table.get("also", [])
         if not isinstance(term, str) or not term.strip():
             raise GlossaryError(f"{where}.term: must be a word or a few words")

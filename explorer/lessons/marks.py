@@ -38,7 +38,7 @@ READOUTS = {"irradiance": ("indirect irradiance the LPV gathers at the mark (sum
             "blue_share": ("blue's share of the indirect irradiance at the mark (a third for "
                            "white light)", "")}
 """What a mark with a normal measures: readout -> (doc, unit)."""
-_KEYS = ("id", "label", "at", "normal")
+KEYS = ("id", "label", "at", "normal")
 _ID = re.compile(r"^[a-z][a-z0-9_]*$")
 MAX_LABEL = 40
 """Labels are drawn in the view: a few words."""
@@ -80,8 +80,8 @@ def parse_mark(table: Any, bounds: tuple[Vec3, Vec3] | None = None, prefix: str 
     if not isinstance(table, Mapping):
         raise MarkError(prefix.rstrip("."), "must be a table {id, label, at}")
     for key in table:
-        if key not in _KEYS:
-            raise MarkError(prefix + str(key), f"unknown field; expected one of {list(_KEYS)}")
+        if key not in KEYS:
+            raise MarkError(prefix + str(key), f"unknown field; expected one of {list(KEYS)}")
     for key in ("id", "at"):
         if key not in table:
             raise MarkError(prefix + key, "missing (required)")

@@ -176,6 +176,13 @@ class Step:
     """The split view's divider (a fraction of the width), or None: the middle."""
 
     @property
+    def scene_name(self) -> str:
+        """The scene in a word: a built-in scene's name, or a scene file's or mesh's stem
+        (``scene`` holds its absolute path)."""
+        return Path(self.scene).stem if "/" in self.scene or "\\" in self.scene \
+            else self.scene
+
+    @property
     def mark_ids(self) -> tuple[str, ...]:
         """The ids of the marks that measure (have a normal): ``mark.<id>.*`` names."""
         return tuple(mark.id for mark in self.marks if mark.normal is not None)

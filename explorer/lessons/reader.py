@@ -10,7 +10,8 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     id = "injection"                 # what `lpv-explorer lessons ID` accepts
     title = "..."
     summary = "..."
-    scene = "cornell"                # default for every step
+    scene = "cornell"                # default for every step; or a scene file or mesh,
+                                     # its path relative to this file
     [settings]                       # defaults for every step (Settings fields)
     grid_size = 16
     [[steps]]
@@ -62,8 +63,10 @@ live numbers ``{{name:format}}`` (:mod:`explorer.lessons.live_values`), ``{{figu
 The folder's ``glossary.toml`` is not a lesson: it holds the recurring terms the article
 explains on hover (:mod:`explorer.lessons.glossary`).
 
-Errors are :class:`LessonError` naming the file, the step (number and title) and the
-field; :func:`load_all` collects them so one broken lesson never hides the others.
+Errors are :class:`LessonError` naming the file and the line of the key
+(:mod:`explorer.lessons.where`), the step (number and title) and the field;
+:func:`load_all` collects them so one broken lesson never hides the others. The authors'
+guide, docs/AUTHORING.md, describes every key (:func:`format_keys` lists them).
 """
 
 from __future__ import annotations
@@ -94,6 +97,7 @@ from explorer.lessons.model import (
     TryThis,
     Vec3,
 )
+from explorer.lessons.where import located
 from explorer.lpv.settings import PLOTS, PRESETS, Corrections, Settings
 from explorer.resources import lesson_dir
 from explorer.scene.builtin import BUILTIN_SCENES
@@ -102,8 +106,8 @@ from explorer.schema import SettingError, Spec, check_fields, from_dict, specs
 # The lesson file's own keys, declared like the Settings fields and checked by the same
 # schema (explorer/schema.py). Tables with more structure (settings, corrections,
 # camera, light, formulas, try_this, steps) are read by the functions below.
-_SCENE = Spec(kind="choice", choices=tuple(BUILTIN_SCENES),
-              doc="A built-in scene (explorer/scene/builtin.py).")
+_SCENE = Spec(kind="str", doc="A built-in scene (explorer/scene/builtin.py), or a scene file "
+                                   "(.toml) or mesh file, its path relative to the lesson.")
 _LESSON_FIELDS = {
     "id": Spec(kind="str", doc="What `lpv-explorer lessons ID` accepts."),
     "title": Spec(kind="str", doc="The lesson's title."),
@@ -130,10 +134,10 @@ _REQUIRED = ("id", "title", "summary")
 _STEP_REQUIRED = ("title", "text")
 _CAMERA_KEYS = ("eye", "target")
 _LIGHT_KEYS = ("position", "target")
-_OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
+OWN_KEYS = tuple(key for key in (*_STEP_FIELDS, *_STEP_TABLES) if key in specs(Settings))
 """Settings fields with their own lesson keys (scene, corrections, camera, light): not
 accepted inside [settings], so there is one way to say each thing."""
-_ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
+ID_PATTERN = re.compile(r"^[a-z0-9][a-z0-9-]*$")
 _FILE_PATTERN = re.compile(r"^(\d+)-([a-z0-9-]+)\.toml$")
 
 
@@ -176,7 +180,10 @@ def load_lesson(path: Path | str,
         match = re.search(r"line (\d+)", str(exc))
         raise LessonError(path, f"TOML syntax error: {exc}",
                           line=int(match.group(1)) if match else None) from None
-    return _Reader(path, check_formula).lesson(data)
+    try:
+        return _Reader(path, check_formula).lesson(data)
+    except LessonError as exc:
+        raise located(exc, raw) from None
 
 
 def load_all(directory: Path | str | None = None,
@@ -224,6 +231,24 @@ def find_lesson(key: str, lessons: list[Lesson],
     raise KeyError(f"no lesson {key!r}; the lessons are: {known}")
 
 
+TRY_KEYS = ("control", "prompt", "value", "split", "label", "camera", "predict")
+"""The keys of a ``[[steps.try_this]]`` table."""
+PREDICT_KEYS = ("question", "choices", "answer")
+
+
+def format_keys() -> dict[str, tuple[str, ...]]:
+    """Every key the reader accepts, by table: what docs/AUTHORING.md describes."""
+    from explorer.figure_params import RESERVED_KEYS
+    from explorer.lessons import checks, glossary, marks
+
+    return {"lesson": (*_LESSON_FIELDS, *_LESSON_TABLES),
+            "steps": (*_STEP_FIELDS, *_STEP_TABLES),
+            "camera": _CAMERA_KEYS, "light": _LIGHT_KEYS,
+            "steps.try_this": TRY_KEYS, "steps.try_this.predict": PREDICT_KEYS,
+            "steps.figures": RESERVED_KEYS, "steps.marks": marks.KEYS,
+            "steps.checks": checks.KEYS, "glossary terms": glossary.KEYS}
+
+
 def valid_controls() -> tuple[str, ...]:
     """Every name a try-this prompt may point at."""
     settings_fields = tuple(f.name for f in fields(Settings) if f.name != "corrections")
@@ -242,6 +267,7 @@ class _Reader:
         self.check_formula = check_formula
         self.step_number: int | None = None
         self.step_title: str | None = None
+        self._scenes: dict[str, Any] = {}
 
     def error(self, field: str | None, message: str) -> LessonError:
         return LessonError(self.path, message, step=self.step_number,
@@ -268,15 +294,51 @@ class _Reader:
                     raise self.error(prefix + key, str(exc)) from None
         return values
 
+    def scene(self, value: str) -> str:
+        """A built-in scene's name as it is, or a scene file or mesh named relative to the
+        lesson file, as its absolute path (what ``Settings.scene`` holds); the file must
+        exist (it is read when a step shows it, or here when the step has marks)."""
+        if value in BUILTIN_SCENES:
+            return value
+        shown = repr(value) if len(value) <= 80 else repr(value[:77] + "...")
+        try:
+            path = Path(value).expanduser()
+            if not path.is_absolute():
+                path = self.path.parent / path
+            found, exists = path.is_file(), path.exists()
+            resolved = str(path.resolve())
+        except (OSError, ValueError, RuntimeError) as exc:   # too long, a NUL, a loop
+            reason = getattr(exc, "strerror", None) or str(exc)
+            raise self.error("scene", f"{shown} is neither a built-in scene nor a usable "
+                                      f"path ({reason})") from None
+        if not found:
+            where = str(path) if len(str(path)) <= 160 else "it"
+            raise self.error("scene", f"{shown} is neither a built-in scene "
+                             f"({', '.join(BUILTIN_SCENES)}) nor a file ({where} is "
+                             f"{'not a file' if exists else 'missing'}); a path is read "
+                             "relative to the lesson's folder")
+        return resolved
+
+    def loaded_scene(self, name: str) -> Any:
+        """The scene ``name`` read (once per lesson file): its box bounds the marks."""
+        from explorer.scene import SceneError, load_scene
+
+        if name not in self._scenes:
+            try:
+                self._scenes[name] = load_scene(name)
+            except SceneError as exc:
+                raise self.error("scene", str(exc)) from None
+        return self._scenes[name]
+
     # the lesson
     def lesson(self, data: Mapping) -> Lesson:
         own = self.fields(data, _LESSON_FIELDS, _LESSON_TABLES, _REQUIRED)
-        if not _ID_PATTERN.match(own["id"]):
+        if not ID_PATTERN.match(own["id"]):
             raise self.error("id", f"{own['id']!r} must be lower-case letters, digits and '-'")
         match = _FILE_PATTERN.match(self.path.name)
         if match is None:
             raise self.error(None, "the file name must look like NN-slug.toml")
-        default_scene = own.get("scene", Settings().scene)
+        default_scene = self.scene(own["scene"]) if "scene" in own else Settings().scene
         default_settings = self.setting_overrides(data)
         default_corrections = self.corrections(data) if "corrections" in data else None
         raw_steps = data.get("steps")
@@ -313,7 +375,8 @@ class _Reader:
                                         f"not {view!r}")
         step = Step(
             number=number, title=own["title"], text=own["text"], formulas=self.formulas(raw),
-            scene=own.get("scene", default_scene), corrections=corrections,
+            scene=self.scene(own["scene"]) if "scene" in own else default_scene,
+            corrections=corrections,
             overrides=tuple(overrides.items()), view=view,
             compare=PRESETS[compare_preset] if compare_preset else None,
             compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
@@ -359,12 +422,11 @@ class _Reader:
         """The ``[[steps.marks]]`` tables (explorer/lessons/marks.py), each point inside
         the step's scene; ids unique within the step."""
         from explorer.lessons.marks import MarkError, parse_mark
-        from explorer.scene.builtin import BUILTIN_SCENES
 
         items = raw.get("marks", [])
         if not isinstance(items, list):
             raise self.error("marks", "must be a list of [[steps.marks]] tables")
-        scene = BUILTIN_SCENES[step.scene]() if items else None
+        scene = self.loaded_scene(step.scene) if items else None
         bounds = None if scene is None else (tuple(scene.bounds_min), tuple(scene.bounds_max))
         marks = []
         for index, table in enumerate(items):
@@ -436,7 +498,7 @@ class _Reader:
         raw = table.get("settings", {})
         if not isinstance(raw, Mapping):
             raise self.error("settings", f"must be a table, got {type(raw).__name__}")
-        for key in _OWN_KEYS:
+        for key in OWN_KEYS:
             if key in raw:
                 raise self.error(f"settings.{key}", f"set {key!r} as a key of the step or "
                                                     "lesson, not inside [settings]")
@@ -475,7 +537,7 @@ class _Reader:
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
-            own = self.fields(item, declared, ("value", "camera", "predict"),
+            own = self.fields(item, declared, tuple(k for k in TRY_KEYS if k not in declared),
                               ("control", "prompt", "value"), prefix=f"try_this[{index}].")
             camera = self.pair(item, "camera", _CAMERA_KEYS, f"try_this[{index}].camera")
             if camera is not None and own.get("split", False):
@@ -494,7 +556,7 @@ class _Reader:
         table = item.get("predict")
         if table is None:
             return None
-        if not isinstance(table, Mapping) or set(table) != {"question", "choices", "answer"}:
+        if not isinstance(table, Mapping) or set(table) != set(PREDICT_KEYS):
             raise self.error(field, "must be a table {question, choices, answer}")
         question, choices, answer = table["question"], table["choices"], table["answer"]
         if not isinstance(question, str) or not question.strip():

@@ -431,7 +431,7 @@ class _Writer:
                                      f"{step.view}")
         overlays = shown_in_scene(step)
         extra = f"; in the scene: {'; '.join(overlays)}" if overlays else ""
-        return (f"The {pages.esc(step.scene)} scene: {pages.esc(shows)}{pages.esc(extra)}. "
+        return (f"The {pages.esc(step.scene_name)} scene: {pages.esc(shows)}{pages.esc(extra)}. "
                 f"Rendered at {self.options.size[0]}×{self.options.size[1]} by the LPV, "
                 "converged.")
 

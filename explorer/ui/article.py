@@ -180,8 +180,36 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
                              "button. Your own settings come back when you leave.")
     imgui.spacing()
     imgui.begin_child("contents", (0, -imgui.get_frame_height_with_spacing()))
-    for lesson in session.lessons:
-        imgui.push_id(lesson.id)
+    course = session.course()
+    for title, lessons in list_sections(course):
+        if title:
+            imgui.separator_text(title)
+        _list_entries(state, session, lessons)
+        if not lessons:
+            widgets.dim_text_wrapped("none yet: lpv-explorer lessons new NAME --dir "
+                                     f"{course.folder} writes one to start from")
+    imgui.end_child()
+    for error in session.errors:
+        imgui.text_colored(widgets.ERROR, f"broken: {error}")
+    if imgui.small_button("Reload lessons"):
+        session.reload_all()
+
+
+def list_sections(course) -> list[tuple[str, list]]:
+    """The lesson list's sections: (heading, lessons); one without a heading when only
+    the shipped course is read, else the reader's folder (what they asked for, on top)
+    and then the course."""
+    own = [lesson for lesson in course.lessons if course.own(lesson)]
+    shipped = [lesson for lesson in course.lessons if not course.own(lesson)]
+    if course.folder is None:
+        return [("", course.lessons)]
+    mine = (f"Your lessons ({course.folder.name})", own)
+    return [mine, ("The course", shipped)] if shipped else [mine]
+
+
+def _list_entries(state: AppState, session: LessonSession, lessons: list) -> None:
+    for lesson in lessons:
+        imgui.push_id(str(lesson.path))
         if imgui.selectable(f"{lesson.number:02d}   {lesson.title}", False)[0]:
             session.open(lesson.id, resume=True)     # where the reader left it
             state.lesson_id = lesson.id
@@ -193,12 +221,6 @@ def _lesson_list(state: AppState, session: LessonSession) -> None:
         imgui.unindent(28.0)
         imgui.spacing()
         imgui.pop_id()
-    imgui.end_child()
-    for error in session.errors:
-        imgui.text_colored(widgets.ERROR, f"broken: {error}")
-    if imgui.small_button("Reload lessons"):
-        fresh = LessonSession.load()
-        session.lessons, session.errors = fresh.lessons, fresh.errors
 
 
 def _header(state: AppState, session: LessonSession) -> bool:
@@ -236,6 +258,10 @@ def _header(state: AppState, session: LessonSession) -> bool:
     if changed:
         _goto(state, session)
     _status(state, session)
+    if session.reload_error:          # the last save of the lesson's file did not load
+        imgui.push_text_wrap_pos(0.0)
+        imgui.text_colored(widgets.ERROR, f"Your last save is not shown: {session.reload_error}")
+        imgui.pop_text_wrap_pos()
     return True
 
 
@@ -469,18 +495,22 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
 
 def _glossary(session: LessonSession) -> tuple:
-    """The glossary of the session's lessons (explorer/lessons/glossary.py), read once; () when
-    it is missing or broken (the lessons command reports a broken one)."""
+    """The glossary of the session's lessons (explorer/lessons/glossary.py), read once: the
+    course's terms and those of the reader's folder (its spelling of a term wins); none
+    from a file that is missing or broken (the lessons command reports a broken one)."""
     cached = session.glossary
     if cached is None:
         from explorer.lessons.glossary import GlossaryError, load_glossary
 
-        try:
-            cached = load_glossary()
-        except GlossaryError as exc:
-            print(f"lpv-explorer: {exc}", file=sys.stderr)
-            cached = ()
-        session.glossary = cached
+        terms: dict[str, object] = {}
+        for folder in (None, session.folder) if session.folder else (None,):
+            try:
+                found = load_glossary(folder)
+            except GlossaryError as exc:
+                print(f"lpv-explorer: {exc}", file=sys.stderr)
+                found = ()
+            terms.update({term.term.lower(): term for term in found})
+        cached = session.glossary = tuple(terms.values())
     return cached
 
 

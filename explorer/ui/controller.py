@@ -58,6 +58,8 @@ from explorer.ui.panel_tasks import run_tasks
 from explorer.ui.picture import Picture, SideDisplay, Stamp
 from explorer.ui.previews import PREVIEW_INTERVAL_S, PREVIEW_SCALE
 from explorer.ui.scene_reload import Reloads
+from explorer.ui.lesson_watch import LessonWatch
+from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
 
 if TYPE_CHECKING:
@@ -456,6 +458,11 @@ class PipelineController:
     def scene_watch(self) -> SceneWatch:
         """The files of the scene on screen (explorer/ui/scene_reload.py)."""
         return self.reloads.scene_watch
+
+    @property
+    def lesson_watch(self) -> LessonWatch:
+        """The file of the lesson being read (explorer/ui/lesson_watch.py)."""
+        return self.reloads.lesson_watch
 
     def poll_shaders(self, state: AppState) -> None:
         """Check the shader and scene files now."""

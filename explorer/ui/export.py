@@ -28,15 +28,17 @@ class ExportedStep:
 
 def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height: int = 900,
                 wait_s: float = 600.0, try_this: int | None = None,
-                overlays: bool = True, headless: bool | None = None) -> ExportedStep:
+                overlays: bool = True, headless: bool | None = None,
+                lessons_dir: Path | None = None) -> ExportedStep:
     """Open a hidden window at ``lesson_id`` step ``step`` (with its ``try_this``-th
     button pressed, 1-based, when given), draw until the step is ready, write the window
     to ``out``. ``overlays`` False: the step without the in-scene overlays its
     ``[steps.show]`` table sets (what the main view shows without them). Raises
     WindowError without a display, KeyError/IndexError for a lesson, step or try-this that
     does not exist, TimeoutError when the frame never comes. ``headless``: draw without
-    a display (glfw's null platform with EGL; default: whenever this glfw has it)."""
-    from explorer.lessons import find_lesson, load_all
+    a display (glfw's null platform with EGL; default: whenever this glfw has it);
+    ``lessons_dir``: a folder of lessons read instead of the shipped ones."""
+    from explorer.lessons.folder import load_course
     from explorer.ui.app import App, write_png
     from explorer.ui.window_options import WindowOptions
     from explorer.ui.article import uses_error, uses_truth
@@ -47,13 +49,14 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
 
     if headless is None:
         headless = headless_available()
-    lessons, _ = load_all()
-    lesson = find_lesson(lesson_id, lessons)
+    lesson = load_course(lessons_dir, shipped=False).find(lesson_id)
     wanted = lesson.step(step)
     if try_this is not None and not 1 <= try_this <= len(wanted.try_this):
         raise IndexError(f"step {step} of {lesson.id} has try-this 1..{len(wanted.try_this)}"
                          f", not {try_this}")
-    state = AppState(lesson_id=lesson.id, lesson_step=step)
+    state = AppState(lesson_id=lesson.id, lesson_step=step,
+                     lesson_folder=None if lessons_dir is None else str(lessons_dir),
+                     lesson_folder_alone=True)
     app = App(state, WindowOptions(width=width, height=height, visible=False, vsync=False,
                                    persist_settings=False, headless=headless))
     try:

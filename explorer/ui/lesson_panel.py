@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from explorer.lessons import (
@@ -28,9 +29,8 @@ from explorer.lessons import (
     Lesson,
     LessonError,
     Step,
-    find_lesson,
-    load_all,
 )
+from explorer.lessons.folder import Course, load_course
 from explorer.overlay_params import OverlayState
 from explorer.lpv.settings import Settings
 
@@ -264,12 +264,45 @@ class LessonSession:
     """The lessons' glossary terms as the article read them (once, on first use); () when
     the glossary is missing or broken; None: not read yet."""
 
+    folder: Path | None = None
+    """The reader's own lesson folder (``run --lessons DIR``), or None."""
+    reload_error: str | None = None
+    """Why the last save of the open lesson's file does not load (the lesson shown is the
+    one read before), until a save loads or another lesson opens."""
+    shipped: bool = True
+    """Whether the shipped course is listed (besides the folder)."""
+
     @classmethod
-    def load(cls, directory=None) -> "LessonSession":
-        """All lessons, their formula names checked against the derivation results
-        generated from the registry (``explorer.derived``: a table, no sympy)."""
-        lessons, errors = load_all(directory)
-        return cls(lessons=lessons, errors=errors)
+    def load(cls, folder: Path | str | None = None, shipped: bool = True) -> "LessonSession":
+        """The shipped lessons and those of ``folder`` (or the folder's alone, ``shipped``
+        False), their formula names checked against the derivation results generated from
+        the registry (``explorer.derived``: a table, no sympy)."""
+        course = load_course(folder, shipped)
+        return cls(lessons=course.lessons, errors=course.errors, folder=course.folder,
+                   shipped=shipped)
+
+    def reload_all(self) -> None:
+        """Read every lesson again (the list's "Reload lessons")."""
+        fresh = LessonSession.load(self.folder, self.shipped)
+        self.lessons, self.errors = fresh.lessons, fresh.errors
+
+    def course(self) -> Course:
+        return Course(self.lessons, self.errors, self.folder)
+
+    def replace_lesson(self, edited: Lesson) -> None:
+        """``edited`` (the open lesson read again from its file) in place of the lesson of
+        that file; the reader stays at the same step (the last one if it has fewer)."""
+        self.reload_error = None
+        self.lessons = [edited if lesson.path == edited.path else lesson
+                        for lesson in self.lessons]
+        self.errors = [error for error in self.errors if error.path != edited.path]
+        if self.lesson is not None and self.lesson.path == edited.path:
+            self.lesson = edited
+            self.step_number = max(1, min(self.step_number, len(edited.steps)))
+            if self.applied_step is not None:
+                self.applied_step = (edited.id, self.step_number)
+            if self.shown is not None:
+                self.shown = (edited.id, self.step_number)
 
     @property
     def step(self) -> Step | None:
@@ -288,8 +321,9 @@ class LessonSession:
         """Open the lesson with this id, number or file stem (KeyError lists the
         lessons) at its first step, or with ``resume`` where the reader left it for the
         list (its step; :meth:`opening_scroll` its scroll)."""
-        lesson = find_lesson(key, self.lessons)
+        lesson = self.course().find(key)
         if self.lesson is None or lesson.id != self.lesson.id:
+            self.reload_error = None
             step, scroll = self.places.get(lesson.id, (1, 0.0)) if resume else (1, 0.0)
             self.lesson, self.step_number = lesson, max(1, min(step, len(lesson.steps)))
             self.scroll = self._open_scroll = scroll
@@ -406,7 +440,8 @@ def _keep_overlays(screen: Screen, current: Screen, same_step: bool) -> Screen:
 def session_of(state: AppState) -> LessonSession:
     """The LessonSession kept on the app state (created and loaded on first use)."""
     if state.lesson_session is None:
-        state.lesson_session = LessonSession.load()
+        state.lesson_session = LessonSession.load(state.lesson_folder,
+                                                  not state.lesson_folder_alone)
     return state.lesson_session
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING
 
+from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.scene_watch import SceneWatch
 
 if TYPE_CHECKING:
@@ -21,11 +22,14 @@ SHADER_POLL_S = 0.5
 
 
 class Reloads:
-    """The controller's file watching: shaders of every side and the scene shown."""
+    """The controller's file watching: shaders of every side, the scene shown and the
+    lesson being read."""
 
     def __init__(self) -> None:
         self.scene_watch = SceneWatch()
         """The files of the scene on screen (reloaded when edited)."""
+        self.lesson_watch = LessonWatch()
+        """The file of the lesson being read (reloaded when edited)."""
         self.polled_at = 0.0
         self.defaults_for: str | None = None
         """The scene whose defaults ``runtime.scene_facts`` holds."""
@@ -34,7 +38,7 @@ class Reloads:
              now: float | None = None) -> None:
         """Recompile shaders whose files changed (every :data:`SHADER_POLL_S`), recording
         compile logs in ``runtime.services.shader_errors``; a side whose programs changed
-        renders again. Then the scene's files."""
+        renders again. Then the scene's files and the lesson's."""
         now = time.monotonic() if now is None else now
         if now - self.polled_at < SHADER_POLL_S:
             return
@@ -51,6 +55,7 @@ class Reloads:
         errors.update(programs.errors)
         state.runtime.services.shader_errors = errors
         self.reload_scene(state, sides)
+        self.lesson_watch.poll(state)
 
     def poll_now(self, state: AppState, sides: dict[str, SideState],
                  programs: ProgramCache) -> None:

@@ -398,6 +398,11 @@ class AppState:
     view of a try-this); not persisted."""
     lesson_id: str | None = None
     lesson_step: int | None = None     # the step `run --lesson ID --step K` opens
+    lesson_folder: str | None = None
+    """The reader's own lesson folder (``run --lessons DIR``), listed beside the shipped
+    course; not persisted."""
+    lesson_folder_alone: bool = False
+    """List the folder's lessons alone (``run --lessons DIR --no-shipped``)."""
     lesson_session: object | None = None
     """explorer.ui.lesson_panel.LessonSession (named, not imported: it reads this module):
     the course being read, the lesson open, its step, the reader's own screen to come back

@@ -448,20 +448,7 @@ def test_every_labelled_mark_is_in_view_in_its_step(shipped, ctx):
     into the image and no surface hides it (tiny frames: only the camera matters)."""
     from explorer.lessons import preview_settings
     from explorer.lpv.pipeline import Pipeline
-    from explorer.ui.overlays.marks import placements
+    from explorer.ui.lesson_lint import hidden_marks
 
-    problems = []
     with Pipeline(preview_settings(shipped[0].steps[0]), ctx=ctx) as pipeline:
-        for lesson in shipped:
-            for step in lesson.steps:
-                labelled = [m for m in step.marks if m.label]
-                if not labelled:
-                    continue
-                result = pipeline.run(preview_settings(step, size=96, max_iterations=1))
-                placed = {p.label: p for p in placements(result, labelled, (0.0, 0.0),
-                                                         (96.0, 96.0), lambda t: (5.0, 8.0))}
-                for mark in labelled:
-                    if mark.label not in placed or not placed[mark.label].visible:
-                        problems.append(f"{lesson.path.name} step {step.number}: "
-                                        f"{mark.label!r}")
-    assert not problems, problems
+        assert not hidden_marks(pipeline, shipped)

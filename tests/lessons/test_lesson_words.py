@@ -9,53 +9,14 @@ import re
 import pytest
 
 from explorer.lessons import load_all
-from explorer.lpv.settings import Corrections, Settings
-
-_PLACEHOLDER = re.compile(r"\{\{[^}]*\}\}")
-_MATH = re.compile(r"\$\$.*?\$\$|\$[^$]*\$", re.S)
-_RAW_TEX = re.compile(r"\\[A-Za-z]+|[_^]\{")
-_SOURCE_FILES = re.compile(r"lpv-[a-z0-9-]+\.md|seeds/")
-_QUANTITY = re.compile(r"\b(?:audit|frame|settings|corrections|error|derived|mark)\.[a-z_]+")
-_COMMAND = re.compile(r"`lpv-explorer [^`]*`"
-                      r"|lpv-explorer [a-z]+(?: --?[a-z0-9-]+(?: [^ ,.;:)]+)?)*")
-
-
-def _field_names() -> set[str]:
-    """Names a learner should never have to read: the settings fields and switches
-    spelled with an underscore (single words like "fog" are also plain English)."""
-    names = {f for f in Settings.__dataclass_fields__ if "_" in f}
-    return names | {name for name in Corrections.names() if "_" in name}
-
-
-FIELDS = _field_names()
+from explorer.lessons import words
+from explorer.lessons.words import FIELDS, learner_texts, word_problems
 
 
 def _learner_texts():
     lessons, errors = load_all()
     assert not errors
-    for lesson in lessons:
-        yield lesson.path.name, "summary", lesson.summary
-        for step in lesson.steps:
-            where = f"step {step.number}"
-            yield lesson.path.name, f"{where} title", step.title
-            yield lesson.path.name, f"{where} text", step.text
-            for index, item in enumerate(step.try_this, start=1):
-                yield lesson.path.name, f"{where} try-this {index}", item.prompt
-                yield lesson.path.name, f"{where} try-this {index} label", item.label
-                if item.predict is not None:
-                    yield lesson.path.name, f"{where} try-this {index} predict", \
-                        " ".join((item.predict.question, *item.predict.choices))
-            for spec in step.figures:
-                yield lesson.path.name, f"{where} figure {spec.instance_id}", spec.caption
-            for mark in step.marks:
-                yield lesson.path.name, f"{where} mark {mark.id}", mark.label
-
-
-def _prose(text: str) -> str:
-    """``text`` without its live numbers, its math and its command lines."""
-    text = _PLACEHOLDER.sub(" ", text)
-    text = _MATH.sub(" ", text)
-    return _COMMAND.sub(" ", text)
+    yield from learner_texts(lessons)
 
 
 TEXTS = list(_learner_texts())
@@ -64,26 +25,24 @@ TEXTS = list(_learner_texts())
 @pytest.mark.parametrize("name, where, text", TEXTS,
                          ids=[f"{n}:{w}" for n, w, _ in TEXTS])
 def test_learner_text_is_words(name, where, text):
-    prose = _prose(text)
-    assert not _RAW_TEX.search(prose), f"raw TeX outside math: {_RAW_TEX.search(prose)[0]!r}"
-    assert not _SOURCE_FILES.search(text), "a source cited by its file name"
-    quantity = _QUANTITY.search(prose)
-    assert quantity is None, f"a live-quantity name shown as text: {quantity[0]!r}"
-    words = set(re.findall(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+", prose))
-    assert not words & FIELDS, f"settings field names shown to the learner: {words & FIELDS}"
+    assert not word_problems(text)
 
 
 def test_the_rules_catch_what_they_are_for():
     """Each rule finds the slip it is written against (so the test above asserts
     something)."""
-    assert _RAW_TEX.search(_prose("the integral ∫_{S²} dω"))
-    assert not _RAW_TEX.search(_prose(r"the integral $\int_{S^2} d\omega$"))
-    assert _QUANTITY.search(_prose("it keeps audit.last_over_first of it"))
-    assert not _QUANTITY.search(_prose("it keeps {{audit.last_over_first:.2f}} of it"))
+    assert words.RAW_TEX.search(words.prose("the integral ∫_{S²} dω"))
+    assert not words.RAW_TEX.search(words.prose(r"the integral $\int_{S^2} d\omega$"))
+    assert words.QUANTITY.search(words.prose("it keeps audit.last_over_first of it"))
+    assert not words.QUANTITY.search(words.prose("it keeps {{audit.last_over_first:.2f}} of it"))
     assert "indirect_only" in FIELDS and "injection_pi" in FIELDS
-    assert _SOURCE_FILES.search("as printed in lpv-annotations.md")
-    assert "injection_offset" not in _prose(
+    assert words.SOURCE_FILES.search("as printed in lpv-annotations.md")
+    assert "injection_offset" not in words.prose(
         "run `lpv-explorer compare --scene room --injection-offset 0` to see it")
+    found = word_problems(r"the \omega of grid_size, audit.injected, in lpv-notes.md")
+    assert [problem.split(":")[0] for problem in found] == [
+        "raw TeX outside math", "a source cited by its file name",
+        "a live-quantity name shown as text", "settings field names shown to the learner"]
 
 
 def test_formula_captions_have_no_raw_tex():
@@ -96,7 +55,7 @@ def test_formula_captions_have_no_raw_tex():
     shown |= {m.group(1) for lesson in lessons for step in lesson.steps
               for m in re.finditer(r"\{\{formula:([^}]+)\}\}", step.text)}
     bad = {name: RESULTS[name][1] for name in RESULTS
-           if _RAW_TEX.search(RESULTS[name][1]) or _SOURCE_FILES.search(RESULTS[name][1])}
+           if words.RAW_TEX.search(RESULTS[name][1]) or words.SOURCE_FILES.search(RESULTS[name][1])}
     assert not bad, bad
     assert shown <= set(RESULTS)
 
@@ -112,10 +71,10 @@ def test_the_printed_lessons_use_words(capsys):
         out = capsys.readouterr().out
         prose = "\n".join(line for line in out.splitlines()
                           if not line.startswith("render a step:"))
-        prose = _COMMAND.sub(" ", prose)
-        words = set(re.findall(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+", prose))
-        assert not words & FIELDS, (lesson.id, words & FIELDS)
-        assert not _QUANTITY.search(prose), (lesson.id, _QUANTITY.search(prose)[0])
+        prose = words.COMMAND.sub(" ", prose)
+        names = set(re.findall(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+", prose))
+        assert not names & FIELDS, (lesson.id, names & FIELDS)
+        assert not words.QUANTITY.search(prose), (lesson.id, words.QUANTITY.search(prose)[0])
 
 
 def test_the_glossary_explains_terms_the_lessons_use(tmp_path):
@@ -130,12 +89,12 @@ def test_the_glossary_explains_terms_the_lessons_use(tmp_path):
     used: set[str] = set()
     for lesson in lessons:
         for step in lesson.steps:
-            used |= defined_in(_prose(step.text), terms)
+            used |= defined_in(words.prose(step.text), terms)
             for item in step.try_this:
-                used |= defined_in(_prose(item.prompt), terms)
+                used |= defined_in(words.prose(item.prompt), terms)
     assert used == {t.term for t in terms}, {t.term for t in terms} - used
     for term in terms:
-        assert not _RAW_TEX.search(term.meaning) and not _QUANTITY.search(term.meaning)
+        assert not words.RAW_TEX.search(term.meaning) and not words.QUANTITY.search(term.meaning)
     found = matches("Its VPLs, and the flux in flight: clamp gain.".split(), terms)
     assert [(first, count, term.term) for first, count, term in found] == [
         (1, 1, "VPL"), (4, 3, "flux in flight"), (7, 2, "clamp gain")]

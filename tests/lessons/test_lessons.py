@@ -239,8 +239,8 @@ def test_wrong_type_and_bad_values(tmp_path):
 def test_unknown_scene_view_plot_control(tmp_path):
     error = _error(tmp_path, GOOD.replace('"single-source"', '"sponza"'), check_formula=None)
     assert (error.step, error.field) == (1, "scene")
-    assert "scene must be one of 'cornell', 'single-source', 'room', 'two-rooms', 'atrium', " \
-        "got 'sponza'" in str(error)
+    assert "'sponza' is neither a built-in scene (cornell, single-source, room, two-rooms, " \
+        "atrium) nor a file" in str(error)
     error = _error(tmp_path, GOOD.replace('view = "split"', 'view = "sideways"'),
                    check_formula=None)
     assert error.field == "view" and "view must be one of 'final'" in str(error)

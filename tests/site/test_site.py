@@ -45,7 +45,7 @@ def site(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("site") / "course"
     start = time.monotonic()
     done = subprocess.run(
-        [sys.executable, "-m", "explorer", "site", str(out), "--lessons", ",".join(LESSONS),
+        [sys.executable, "-m", "explorer", "site", str(out), "--only", ",".join(LESSONS),
          "--size", f"{SIZE[0]}x{SIZE[1]}", "--figure-width", "480"],
         cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr + done.stdout
@@ -420,7 +420,7 @@ def test_a_folder_that_is_not_a_site_is_refused_and_kept(tmp_path):
     out = tmp_path / "mine"
     out.mkdir()
     (out / "notes.txt").write_text("keep me")
-    done = subprocess.run([sys.executable, "-m", "explorer", "site", str(out), "--lessons",
+    done = subprocess.run([sys.executable, "-m", "explorer", "site", str(out), "--only",
                            "1"], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
     assert done.stderr.count("\n") == 1 and "not empty" in done.stderr
@@ -430,7 +430,7 @@ def test_a_folder_that_is_not_a_site_is_refused_and_kept(tmp_path):
 
 def test_an_unknown_lesson_is_one_line(tmp_path):
     done = subprocess.run([sys.executable, "-m", "explorer", "site", str(tmp_path / "s"),
-                           "--lessons", "1,nope"], cwd=ROOT, capture_output=True, text=True,
+                           "--only", "1,nope"], cwd=ROOT, capture_output=True, text=True,
                           timeout=120)
     assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
     assert "nope" in done.stderr and not (tmp_path / "s").exists()

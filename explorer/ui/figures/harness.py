@@ -25,16 +25,17 @@ _PADDING = 16.0
 
 class FigureWindow:
     def __init__(self, width: int = 900, height: int = 700, visible: bool = True,
-                 context: FigureContext | None = None, scale: float = 1.0) -> None:
+                 context: FigureContext | None = None, scale: float = 1.0,
+                 headless: bool = False) -> None:
         """``scale``: draw the figure's sizes and fonts this many times larger (2 for the
-        web site's 2× images)."""
+        web site's 2× images); ``headless``: no display (glfw's null platform, EGL)."""
         from imgui_bundle import imgui
 
         from explorer.ui import fonts, theme
         from explorer.ui.imgui_host import ImguiHost
 
         self.window = Window(width, height, title="lpv-explorer figure", visible=visible,
-                             vsync=False)
+                             vsync=False, headless=headless)
         self.ctx = self.window.ctx
         self.context = context or FigureContext()
         self.scale = float(scale)

@@ -1,0 +1,89 @@
+"""What a learner reads is words and typeset math: no raw TeX outside math, no settings
+field names or live-quantity names, no file names of the plain-text sources. The rules
+the shipped course is held to (tests/lessons/test_lesson_words.py) and ``lpv-explorer
+lessons --lint`` applies to a folder's lessons."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Iterator
+
+from explorer.lessons.model import Lesson
+from explorer.lpv.settings import Corrections, Settings
+
+PLACEHOLDER = re.compile(r"\{\{[^}]*\}\}")
+MATH = re.compile(r"\$\$.*?\$\$|\$[^$]*\$", re.S)
+RAW_TEX = re.compile(r"\\[A-Za-z]+|[_^]\{")
+"""A TeX command or a sub/superscript group: math written outside ``$...$``."""
+SOURCE_FILES = re.compile(r"lpv-[a-z0-9-]+\.md|seeds/")
+"""The plain-text sources' file names: a source is cited by its title, not its file."""
+QUANTITY = re.compile(r"\b(?:audit|frame|settings|corrections|error|derived|mark)\.[a-z_]+")
+"""A live-quantity name shown as text (outside ``{{...}}``)."""
+COMMAND = re.compile(r"`lpv-explorer [^`]*`"
+                     r"|lpv-explorer [a-z]+(?: --?[a-z0-9-]+(?: [^ ,.;:)]+)?)*")
+"""A command line quoted for the reader (its option names are no prose)."""
+_SNAKE = re.compile(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+")
+
+
+def field_names() -> set[str]:
+    """Names a learner should never have to read: the settings fields and switches
+    spelled with an underscore (single words like "fog" are also plain English)."""
+    names = {f for f in Settings.__dataclass_fields__ if "_" in f}
+    return names | {name for name in Corrections.names() if "_" in name}
+
+
+FIELDS = field_names()
+
+
+def learner_texts(lessons: Iterable[Lesson]) -> Iterator[tuple[str, str, str]]:
+    """(file name, where, text) of everything a learner reads: summaries, step titles
+    and texts, try-this prompts, labels and predictions, figure captions, mark labels."""
+    for lesson in lessons:
+        yield lesson.path.name, "summary", lesson.summary
+        for step in lesson.steps:
+            where = f"step {step.number}"
+            yield lesson.path.name, f"{where} title", step.title
+            yield lesson.path.name, f"{where} text", step.text
+            for index, item in enumerate(step.try_this, start=1):
+                yield lesson.path.name, f"{where} try-this {index}", item.prompt
+                yield lesson.path.name, f"{where} try-this {index} label", item.label
+                if item.predict is not None:
+                    yield lesson.path.name, f"{where} try-this {index} predict", \
+                        " ".join((item.predict.question, *item.predict.choices))
+            for spec in step.figures:
+                yield lesson.path.name, f"{where} figure {spec.instance_id}", spec.caption
+            for mark in step.marks:
+                yield lesson.path.name, f"{where} mark {mark.id}", mark.label
+
+
+def prose(text: str) -> str:
+    """``text`` without its live numbers, its math and its command lines."""
+    text = PLACEHOLDER.sub(" ", text)
+    text = MATH.sub(" ", text)
+    return COMMAND.sub(" ", text)
+
+
+def word_problems(text: str) -> list[str]:
+    """What in ``text`` is not words for a learner, one phrase each (empty: none)."""
+    plain = prose(text)
+    problems = []
+    tex = RAW_TEX.search(plain)
+    if tex:
+        problems.append(f"raw TeX outside math: {tex[0]!r} (write it inside $...$)")
+    if SOURCE_FILES.search(text):
+        problems.append(f"a source cited by its file name: {SOURCE_FILES.search(text)[0]!r}")
+    quantity = QUANTITY.search(plain)
+    if quantity:
+        problems.append(f"a live-quantity name shown as text: {quantity[0]!r} (quote its "
+                        f"value as {{{{{quantity[0]}}}}})")
+    names = sorted(set(_SNAKE.findall(plain)) & FIELDS)
+    if names:
+        problems.append(f"settings field names shown to the learner: {', '.join(names)} "
+                        "(say what they are in words)")
+    return problems
+
+
+def lesson_word_problems(lessons: Iterable[Lesson]) -> list[str]:
+    """Every :func:`word_problems` finding of ``lessons``: ``file where: problem``."""
+    return [f"{name} {where}: {problem}" for name, where, text in learner_texts(lessons)
+            for problem in word_problems(text)]

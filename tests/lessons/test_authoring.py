@@ -1,0 +1,246 @@
+"""Writing a lesson of one's own (docs/AUTHORING.md): the guide is what its registries
+make and describes every key the loader reads; the lesson written from its example
+alone loads, renders, checks and builds into a small site; ``lessons new`` starts one
+and never replaces a file; every command reads the folder ``--lessons``/``--dir`` names;
+``--check`` prints a failing claim with its numbers and ``--lint`` finds what the shipped
+course is held to; errors name the line of their key; a lesson names a scene file beside
+itself."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from explorer.cli import main
+from explorer.lessons import LessonError, load_lesson
+from explorer.lessons import guide
+from explorer.lessons.folder import load_course
+from explorer.lessons.reader import format_keys
+from explorer.lessons.where import line_of
+
+ROOT = Path(__file__).resolve().parents[2]
+GUIDE_TEXT = (ROOT / "docs" / "AUTHORING.md").read_text(encoding="utf-8")
+
+
+def guide_example() -> str:
+    """The guide's example lesson, as a reader copies it from the page."""
+    match = re.search(r"<!-- generated: example -->\n```toml\n(.*?)```", GUIDE_TEXT, re.S)
+    assert match, "docs/AUTHORING.md has no example lesson"
+    return match.group(1)
+
+
+@pytest.fixture
+def folder(tmp_path) -> Path:
+    """A teacher's folder holding the guide's example lesson."""
+    mine = tmp_path / "my-lessons"
+    mine.mkdir()
+    (mine / "01-first-light.toml").write_text(guide_example(), encoding="utf-8")
+    return mine
+
+
+def test_the_guide_is_what_the_registries_make():
+    assert not guide.stale(), f"docs/AUTHORING.md is stale: run {guide.REGENERATE}"
+    stale = guide.render(GUIDE_TEXT.replace("| `audit.injected` |", "| `audit.nope` |"))
+    assert stale != GUIDE_TEXT.replace("| `audit.injected` |", "| `audit.nope` |")
+    with pytest.raises(ValueError, match="no place for"):
+        guide.render(GUIDE_TEXT.replace("<!-- end: figure-kinds -->", ""))
+
+
+def test_the_guide_describes_every_key_and_name():
+    from explorer.figure_params import FIGURE_KINDS, schema
+    from explorer.lessons import live_values
+
+    missing = [f"{table}: {key}" for table, keys in format_keys().items() for key in keys
+               if f"`{key}`" not in GUIDE_TEXT]
+    assert not missing, missing
+    names = [name for name in live_values.table() if f"`{name}`" not in GUIDE_TEXT]
+    assert not names, names
+    for kind in FIGURE_KINDS:
+        assert f"#### `{kind.name}`" in GUIDE_TEXT
+        assert all(f"| `{info.name}` |" in GUIDE_TEXT for info in schema(kind.params))
+
+
+def test_the_guides_example_loads_renders_checks_and_builds_a_site(folder, ctx, tmp_path):
+    import numpy as np
+
+    from explorer.lessons import preview_settings, render_step
+    from explorer.lessons.verify import verify_step
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.ui.figures import declared_readouts
+
+    lesson = load_lesson(folder / "01-first-light.toml")
+    assert lesson.id == "first-light" and len(lesson.steps) == 2
+    first, second = lesson.steps
+    assert first.figures and first.marks and first.checks
+    assert second.try_this and second.try_this[0].predict is not None
+    outcomes = []
+    with Pipeline(preview_settings(first), ctx=ctx) as pipeline:
+        for step in lesson.steps:
+            image, result = render_step(pipeline, step, preview_settings(step, size=48))
+            assert image.shape[2] == 3 and np.isfinite(image).all() and image.max() > 0.05
+            assert result.settings.grid_size == 16
+            outcomes += verify_step(pipeline, step, figure_readouts=declared_readouts)
+    assert len(outcomes) == 2 and all(o.holds for o in outcomes), [str(o) for o in outcomes]
+
+    out = tmp_path / "class-site"
+    done = subprocess.run([sys.executable, "-m", "explorer", "site", str(out), "--lessons",
+                           str(folder), "--size", "96x64", "--figure-width", "240"],
+                          cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    page = (out / "01-first-light.html").read_text(encoding="utf-8")
+    assert "One cell per step" in page and "The bounce of light" in page
+    index = (out / "index.html").read_text(encoding="utf-8")
+    assert "First light" in index and "overview" not in index   # the folder alone
+
+
+def test_lessons_new_starts_a_lesson_and_never_replaces_one(tmp_path, capsys):
+    mine = tmp_path / "mine"
+    assert main(["lessons", "new", "First light", "--dir", str(mine)]) == 0
+    path = mine / "01-first-light.toml"
+    assert path.read_text(encoding="utf-8") == guide_example()   # the guide's example
+    assert "run --lessons" in capsys.readouterr().out
+    assert main(["lessons", "new", "Second", "--dir", str(mine)]) == 0
+    assert load_lesson(mine / "02-second.toml").title == "Second"
+    assert main(["lessons", "new", 'Über "it" \\', "--dir", str(mine)]) == 0
+    odd = load_lesson(mine / "03-uber-it.toml")
+    assert (odd.id, odd.title) == ("uber-it", 'Über "it" \\')
+    (mine / "03-uber-it.toml").unlink()
+    path.write_text("keep me")
+    assert main(["lessons", "new", "First light", "--dir", str(mine)]) == 2
+    assert "already" in capsys.readouterr().err and path.read_text() == "keep me"
+    assert main(["lessons", "new", "!!!", "--dir", str(mine)]) == 2
+    assert main(["lessons", "new", "--dir", str(mine)]) == 2
+    assert sorted(p.name for p in mine.iterdir()) == ["01-first-light.toml", "02-second.toml"]
+
+
+def test_every_lessons_verb_reads_the_folder(folder, tmp_path, capsys):
+    assert main(["lessons", "--lessons", str(folder)]) == 0
+    listed = capsys.readouterr().out
+    assert "first-light" in listed and "overview" not in listed
+    assert main(["lessons", "--dir", str(folder), "1"]) == 0
+    assert "One cell per step" in capsys.readouterr().out
+    assert main(["lessons", "--check", str(folder)]) == 0
+    assert "2 of 2 checks hold on 2 steps" in capsys.readouterr().out
+    assert main(["lessons", "first-light", "--dir", str(folder), "--check"]) == 0
+    assert "2 of 2 checks hold" in capsys.readouterr().out
+    png = tmp_path / "step.png"
+    assert main(["lessons", "--dir", str(folder), "--export", "first-light", "--step", "2",
+                 "--size", "640x400", "--out", str(png)]) == 0
+    assert png.is_file() and "wrote" in capsys.readouterr().out
+    # the folder and the shipped course do not mix
+    assert main(["lessons", "--dir", str(folder), "--export", "overview"]) == 2
+    assert "no lesson 'overview'" in capsys.readouterr().err
+    for argv in (["lessons", "--dir", str(folder), "--lessons", str(tmp_path)],
+                 ["lessons", "--check", str(folder), "--dir", str(tmp_path)],
+                 ["lessons", "--check", str(tmp_path / "nowhere")],
+                 ["run", "--lessons", str(tmp_path / "nowhere")],
+                 ["run", "--no-shipped"],
+                 ["run", "--lessons", str(folder), "--lesson", "nope"],
+                 ["render", "--lessons", str(folder)]):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1, (argv, err)
+
+
+def test_render_draws_a_step_of_the_folder(folder, tmp_path, capsys):
+    out = tmp_path / "step.png"
+    assert main(["render", "--lesson", "first-light", "--step", "2", "--lessons", str(folder),
+                 "--size", "64x48", "--rsm-size", "32", "--out", str(out)]) == 0
+    assert "lesson first-light, step 2/2" in capsys.readouterr().out and out.is_file()
+
+
+def test_check_prints_a_failing_claim_with_its_numbers(folder, capsys):
+    path = folder / "01-first-light.toml"
+    path.write_text(guide_example().replace("than = 0.1\n", "than = 1000\n"), encoding="utf-8")
+    assert main(["lessons", "--check", str(folder)]) == 1
+    out = capsys.readouterr().out
+    failed = [line for line in out.splitlines() if "FAILS" in line]
+    assert len(failed) == 1 and "mark.ceiling.irradiance > 1000" in failed[0], out
+    assert re.search(r"measured \d+\.\d+", failed[0]), failed[0]
+    assert "1 of 2 checks hold" in out
+
+
+def test_lint_finds_what_the_course_is_held_to(folder, capsys):
+    assert main(["lessons", "--lint", str(folder)]) == 0
+    assert "0 findings in 1 lesson (2 steps, 1 figure)" in capsys.readouterr().out
+    slips = guide_example().replace(
+        "The view shows the indirect light alone.",
+        r"The grid_size sets it, and \omega and audit.injected are words here.").replace(
+        "at = [0.0, 0.99, -0.3]\nnormal = [0, -1, 0]\n[[steps.try_this]]",
+        "at = [-0.34, -0.4, -0.32]\nnormal = [0, -1, 0]\n[[steps.try_this]]")
+    (folder / "01-first-light.toml").write_text(slips, encoding="utf-8")
+    assert main(["lessons", "--lint", str(folder)]) == 1
+    found = capsys.readouterr().out.splitlines()
+    words = [line for line in found if line.startswith("words: ")]
+    assert any("raw TeX outside math: '\\\\omega'" in line for line in words), found
+    assert any("live-quantity name shown as text: 'audit.injected'" in line for line in words)
+    assert any("settings field names shown to the learner: grid_size" in line
+               for line in words)
+    marks = [line for line in found if line.startswith("mark: ")]
+    assert marks == ["mark: 01-first-light.toml step 2: mark 'ceiling' is not in view of the "
+                     "step's camera"], found
+
+
+def test_an_error_names_the_line_of_its_key(folder):
+    text = guide_example()
+    lines = text.splitlines()
+    assert line_of(text, None, "settings.grid_size") == lines.index("grid_size = 16") + 1
+    assert line_of(text, 2, "try_this[0].value") == lines.index("value = 2") + 1
+    assert line_of(text, 1, "figures[0].normal_deg") == lines.index("normal_deg = 30") + 1
+    assert line_of(text, 2, "view") == lines.index('view = "indirect"') + 1
+    assert line_of(text, 2, "checks[0].than") == lines.index("than = 1") + 1
+    assert line_of(text, 1, "nothing") == lines.index("[[steps]]") + 1
+    path = folder / "01-first-light.toml"
+    path.write_text(text.replace('kind = "clamped-cosine"', 'kind = "nope"'), encoding="utf-8")
+    with pytest.raises(LessonError) as caught:
+        load_lesson(path)
+    assert caught.value.line == lines.index('kind = "clamped-cosine"') + 1
+    assert str(caught.value).startswith(f"{path}:{caught.value.line}, step 1")
+
+
+SCENE = """builtin = "cornell"
+
+[[lights]]
+kind = "spot"
+position = [0.0, 1.9, 0.0]
+target = [0.0, 0.0, 0.0]
+flux = 20.0
+"""
+
+
+def test_a_lesson_names_a_scene_file_beside_itself(folder):
+    (folder / "scenes").mkdir()
+    (folder / "scenes" / "box.toml").write_text(SCENE, encoding="utf-8")
+    path = folder / "01-first-light.toml"
+    path.write_text(guide_example().replace('scene = "cornell" ', 'scene = "scenes/box.toml"'),
+                    encoding="utf-8")
+    lesson = load_lesson(path)
+    assert {step.scene for step in lesson.steps} == {str(folder / "scenes" / "box.toml")}
+    assert lesson.steps[0].scene_name == "box"
+    path.write_text(guide_example().replace('scene = "cornell" ', 'scene = "scenes/no.toml"'),
+                    encoding="utf-8")
+    with pytest.raises(LessonError, match=r"field 'scene': 'scenes/no.toml' is neither a "
+                                          r"built-in scene .* missing"):
+        load_lesson(path)
+
+
+def test_the_window_lists_the_course_and_the_folder_side_by_side(folder):
+    from explorer.ui.article import list_sections
+
+    both = load_course(folder)
+    sections = list_sections(both)
+    assert [title for title, _ in sections] == ["Your lessons (my-lessons)", "The course"]
+    assert [lesson.id for lesson in sections[0][1]] == ["first-light"]
+    assert len(sections[1][1]) >= 10 and both.find("1").id == "first-light"
+    assert both.find("overview").id == "overview"
+    alone = load_course(folder, shipped=False)
+    assert [title for title, _ in list_sections(alone)] == ["Your lessons (my-lessons)"]
+    (folder / "02-copy.toml").write_text(guide_example().replace('id = "first-light"',
+                                                                 'id = "overview"'))
+    clash = load_course(folder)
+    assert [error.field for error in clash.errors] == ["id"]
+    assert "shipped lesson 01-overview.toml" in str(clash.errors[0])
