@@ -19,6 +19,7 @@ from test_pass_gather import (
 
 from explorer.cli import main as cli_main
 from explorer.lpv import twin
+from explorer.lpv.gather import GatherParams
 from explorer.lpv.cascades import (
     CASCADE_BAND_CELLS,
     CASCADE_EDGE_CELLS,
@@ -123,7 +124,9 @@ def test_blend_weights_are_a_continuous_partition_of_unity():
 
 
 @FILTERS
-def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811 (fixture)
+@pytest.mark.parametrize("model", [True, False], ids=["irradiance", "dx11-gather"])
+def test_gather_shader_blends_like_numpy(setup, ctx, model,  # noqa: F811 (fixture)
+                                         shader_filter):
     _, scene, view, shadow, gbuffer, gather, grid, spec = setup
     n = spec.resolution
     specs = cascade_specs(spec, 2, (0.1, -0.3, 0.05))
@@ -135,15 +138,16 @@ def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F8
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades))
+            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades),
+                       GatherParams(switches=(("u_irradiance_gather", int(model)),)))
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
     points, normals, albedo, valid = visible_points(gbuffer)
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))   # the band is on screen
-    expected = twin.indirect_radiance(albedo, twin.gather_cascades(values, specs, points,
-                                                                 normals))
+    expected = twin.indirect_radiance(albedo, twin.gather_cascades(
+        values, specs, points, normals, irradiance=model))
     assert relative_error(indirect[valid], expected) < TOLERANCE
 
 
