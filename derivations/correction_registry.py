@@ -145,6 +145,30 @@ CORRECTIONS: tuple[Correction, ...] = (
         effects=(("clamp gain:", "clamp_gain"), ("L1 lobe behind itself:", "lobe_behind")),
         forms=("front-face term unclamped",
                "`clamp+` on the front-face intensity, as the DX11 shader does")),
+    Correction(
+        "model_face_weights", "Face weights of the model",
+        "A face passes its solid angle times the intensity toward it, the same factor "
+        "k_R·k_I·k_P = 1/π for every face; the DX11 shader divides front faces by 2π and "
+        "side faces by 3π instead.",
+        "off: one step keeps ×{corrections.model_face_weights.step_flux_original:.4f} of "
+        "the flux",
+        published=False, stages=("propagate",),
+        effects=(("DX11 weights, one step:", "step_flux_original"), (_RATIO, "flux_factor")),
+        forms=("DX11 shader: `Δω_front/(2π)` front, `Δω_side/(3π)` side",
+               "`k_R·k_I·k_P·Δω_f` for every face")),
+    Correction(
+        "irradiance_gather", "Gather the irradiance",
+        "A pixel needs the irradiance of the cell's light: its intensity weighted by the "
+        "clamped cosine, per unit area of the cell; the DX11 shader reads the intensity "
+        "toward −n instead, with no cosine lobe and no cell area.",
+        "off: isotropic light reads ×h²/π of its irradiance (h the cell size), band 1 "
+        "×3/(2π)",
+        published=False, stages=("gather",),
+        effects=(("band 0, corrected ÷ DX11:", "band0_factor"),
+                 ("band 1, corrected ÷ DX11:", "band1_factor"),
+                 ("isotropic light, corrected ÷ DX11:", "flux_factor")),
+        forms=("DX11 shader: `E = max(⟨s, Y(−n)⟩, 0)`",
+               "`E = max(⟨s, lobe(−n)⟩, 0)/h²`")),
 )
 
 BY_NAME: dict[str, Correction] = {entry.name: entry for entry in CORRECTIONS}

@@ -48,17 +48,26 @@ import sympy as sp
 
 from derivations import errata, rsm, sh
 from derivations.corrections import Phi_p, emitted_flux
-from derivations.propagation import omega_front, omega_side, step_flux_factor, step_flux_ratio
+from derivations.propagation import (
+    DX11_WEIGHTS,
+    dx11_step_flux_factor,
+    omega_front,
+    omega_side,
+    step_flux_factor,
+    step_flux_ratio,
+)
 from derivations.registry import Result, result
 from derivations.solid_angles import front_face, side_face
 
 MODULE = "corrections"
 KEYS = ("exact_constants", "side_faces", "surfel_area_squared", "ping_pong",
-        "clamp_front_face")
+        "clamp_front_face", "model_face_weights", "irradiance_gather")
 
 Phi_t, Phi_next = sp.symbols("Phi_t Phi_t+1", positive=True)
 step_ratio = Phi_next / Phi_t
 pi_f = sp.Symbol("pi_formula", positive=True)
+face_weights = sp.ImmutableMatrix(sp.symbols("w_front w_side", positive=True))
+"""The whole factor of a front and of a side face (what multiplies ⟨s, Y(e_f)⟩)."""
 """π as the formulas use it (π, or the article's 3.1415926)."""
 
 
@@ -150,6 +159,24 @@ def l1_lobe_along_axis(cos_angle: sp.Expr) -> sp.Expr:
     ``⟨n, ω⟩ = cos_angle`` in the x–z plane: ``1/4 + cos_angle/2``."""
     sin_angle = sp.sqrt(1 - cos_angle**2)
     return sp.simplify(sh.evaluate(list(sh.lobe((0, 0, 1))), (sin_angle, 0, cos_angle)))
+
+
+# --- irradiance_gather -------------------------------------------------------------------
+
+s_coefficients = sp.ImmutableMatrix(sp.symbols("s_0:4", real=True))
+"""One colour's L1 SH vector at the surface point (the trilinear sample of the grid)."""
+h = sp.Symbol("h", positive=True)
+"""The cell size."""
+E = sp.Symbol("E", nonnegative=True)
+
+
+def gather_kernels() -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]:
+    """(Y(−n), lobe(−n)) for a unit normal n: what the DX11 gather and the model dot
+    with the stored SH vector."""
+    minus_n = (-sh.n_x, -sh.n_y, -sh.n_z)
+    basis = sp.ImmutableMatrix([b.subs(dict(zip((sh.x, sh.y, sh.z), minus_n)),
+                                       simultaneous=True) for b in sh.L1_BASIS])
+    return basis, sh.lobe(minus_n)
 
 
 # --- the registry results ----------------------------------------------------------------
@@ -246,4 +273,40 @@ def results() -> list[Result]:
                sp.Eq(sp.Function("I_L1")(-sp.Symbol("n")), behind),
                "The L1 lobe of max(0, ⟨n, ω⟩) (1/4 + ⟨n, ω⟩/2) behind itself, ω = −n: −1/4 "
                "where the lobe it approximates is 0."),
+        # irradiance_gather
+        result(MODULE, "irradiance_gather.original",
+               sp.Eq(E, sp.Max(0, (s_coefficients.T * gather_kernels()[0])[0])),
+               "The DX11 gather: ⟨s, Y(−n)⟩, the intensity toward −n (W/sr), clamped, read "
+               "as the irradiance: no cosine lobe and no 1/h²."),
+        result(MODULE, "irradiance_gather.corrected",
+               sp.Eq(E, sp.Max(0, (s_coefficients.T * gather_kernels()[1])[0]) / h**2),
+               "The irradiance of the light the cell holds: ⟨s, lobe(−n)⟩/h², clamped "
+               "(docs/MODEL.md \"Final gather\")."),
+        result(MODULE, "irradiance_gather.band0_factor",
+               sp.simplify(gather_kernels()[1][0] / gather_kernels()[0][0]),
+               "Band 0 of lobe(−n) ÷ band 0 of Y(−n): π (√π/2 against 1/(2√π))."),
+        result(MODULE, "irradiance_gather.band1_factor",
+               sp.simplify(gather_kernels()[1][2] / gather_kernels()[0][2]),
+               "Band 1 of lobe(−n) ÷ band 1 of Y(−n): 2π/3 (√(π/3) against √3/(2√π))."),
+        result(MODULE, "irradiance_gather.flux_factor",
+               sp.simplify(gather_kernels()[1][0] / gather_kernels()[0][0] / h**2),
+               "Corrected ÷ DX11 for light of the same intensity in every direction (band 0 "
+               "only): π/h², so the DX11 gather is too bright in cells smaller than √π."),
+        # model_face_weights
+        result(MODULE, "model_face_weights.original",
+               sp.Eq(face_weights, sp.ImmutableMatrix(DX11_WEIGHTS)),
+               "The DX11 shader's whole factor of a face, in place of k_R·k_I·k_P·Δω_f: "
+               "Δω_front/(2π) for a front face, Δω_side/(3π) for a side face."),
+        result(MODULE, "model_face_weights.corrected",
+               sp.Eq(face_weights, sp.ImmutableMatrix([omega_front / sp.pi,
+                                                       omega_side / sp.pi])),
+               "The model's k_R·k_I·k_P·Δω_f with the corrected factors (k_R·k_I·k_P = 1/π) "
+               "for every face."),
+        result(MODULE, "model_face_weights.step_flux_original",
+               sp.Eq(step_ratio, dx11_step_flux_factor()),
+               "One step with the DX11 face weights keeps (3Δω_front + 8Δω_side)/(4π) "
+               "= 5/6 − 2·atan(3√11/11)/π ≈ 0.365 of the flux."),
+        result(MODULE, "model_face_weights.flux_factor",
+               sp.simplify(exact_step / dx11_step_flux_factor()),
+               "Corrected ÷ DX11 flux after one step: 1/(5/6 − 2·atan(3√11/11)/π) ≈ 2.74."),
     ]

@@ -206,4 +206,10 @@ def results() -> list[Result]:
         result(MODULE, "side_weight_dx11", sp.simplify(dx11_side / omega_side),
                "DX11 side-face factor ÷ Δω_side, the whole factor of the face: 1/(3π) "
                "(corrected model: k_P·k_R·k_I = 1/π; published: 1/(4π²))."),
+        result(MODULE, "front_share_dx11", sp.simplify(dx11_front / omega_front * sp.pi),
+               "DX11 front-face factor ÷ the corrected model's 1/π: 1/2 (the shader's "
+               "Δω_front/PI/2).", glsl_name="DX11_FRONT_SHARE"),
+        result(MODULE, "side_share_dx11", sp.simplify(dx11_side / omega_side * sp.pi),
+               "DX11 side-face factor ÷ the corrected model's 1/π: 1/3 (the shader's "
+               "Δω_side/PI/3).", glsl_name="DX11_SIDE_SHARE"),
     ]

@@ -91,6 +91,11 @@ SYMBOLS: dict[str, str] = {
     "corrections.propagation_4pi.flux_factor": _RATIO,
     "corrections.reprojection_pi.flux_factor": _RATIO,
     "corrections.exact_constants.flux_factor": _RATIO,
+    "corrections.model_face_weights.flux_factor": _RATIO,
+    "corrections.irradiance_gather.band0_factor": r"\mathrm{lobe}_0 / Y_0",
+    "corrections.irradiance_gather.band1_factor": r"\mathrm{lobe}_2 / Y_2",
+    "corrections.irradiance_gather.flux_factor": r"E_{\mathrm{corrected}} / "
+                                                 r"E_{\mathrm{DX11}}",
     "corrections.side_faces.flux_factor": r"\frac{\Phi_{\mathrm{5\ faces}}}"
                                           r"{\Phi_{\mathrm{front\ only}}}",
     "corrections.surfel_area_squared.flux_factor": r"A_{w^{2}} / A_{w}",
@@ -109,6 +114,8 @@ SYMBOLS: dict[str, str] = {
     "propagation.step_flux_factor_dx11": _STEP + r"\Big|_{\mathrm{DX11}}",
     "propagation.front_weight_dx11": r"w_{\mathrm{front}}^{\mathrm{DX11}} / " + _FRONT,
     "propagation.side_weight_dx11": r"w_{\mathrm{side}}^{\mathrm{DX11}} / " + _SIDE,
+    "propagation.front_share_dx11": r"\pi\, w_{\mathrm{front}}^{\mathrm{DX11}} / " + _FRONT,
+    "propagation.side_share_dx11": r"\pi\, w_{\mathrm{side}}^{\mathrm{DX11}} / " + _SIDE,
     # occlusion
     "occlusion.one_sided": r"B(n)",
     "occlusion.double_sided_lobe": r"\mathrm{lobe}(n) + \mathrm{lobe}(-n)",

@@ -537,6 +537,67 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'lobe it approximates is 0.',
         -0.25,
     ),
+    'corrections.irradiance_gather.original': (
+        'E = \\max\\left(0, \\frac{\\sqrt{3} n_{x} s_{3}}{2 \\sqrt{\\pi}} + \\frac{\\sqrt{3} '
+        'n_{y} s_{1}}{2 \\sqrt{\\pi}} - \\frac{\\sqrt{3} n_{z} s_{2}}{2 \\sqrt{\\pi}} + '
+        '\\frac{s_{0}}{2 \\sqrt{\\pi}}\\right)',
+        'The DX11 gather: ⟨s, Y(−n)⟩, the intensity toward −n (W/sr), clamped, read as the '
+        'irradiance: no cosine lobe and no 1/h².',
+        None,
+    ),
+    'corrections.irradiance_gather.corrected': (
+        'E = \\frac{\\max\\left(0, \\frac{\\sqrt{3} \\sqrt{\\pi} n_{x} s_{3}}{3} + '
+        '\\frac{\\sqrt{3} \\sqrt{\\pi} n_{y} s_{1}}{3} - \\frac{\\sqrt{3} \\sqrt{\\pi} n_{z} '
+        's_{2}}{3} + \\frac{\\sqrt{\\pi} s_{0}}{2}\\right)}{h^{2}}',
+        'The irradiance of the light the cell holds: ⟨s, lobe(−n)⟩/h², clamped (docs/MODEL.md '
+        '"Final gather").',
+        None,
+    ),
+    'corrections.irradiance_gather.band0_factor': (
+        '\\mathrm{lobe}_0 / Y_0 = \\pi',
+        'Band 0 of lobe(−n) ÷ band 0 of Y(−n): π (√π/2 against 1/(2√π)).',
+        3.141592653589793,
+    ),
+    'corrections.irradiance_gather.band1_factor': (
+        '\\mathrm{lobe}_2 / Y_2 = \\frac{2 \\pi}{3}',
+        'Band 1 of lobe(−n) ÷ band 1 of Y(−n): 2π/3 (√(π/3) against √3/(2√π)).',
+        2.0943951023931957,
+    ),
+    'corrections.irradiance_gather.flux_factor': (
+        'E_{\\mathrm{corrected}} / E_{\\mathrm{DX11}} = \\frac{\\pi}{h^{2}}',
+        'Corrected ÷ DX11 for light of the same intensity in every direction (band 0 only): '
+        'π/h², so the DX11 gather is too bright in cells smaller than √π.',
+        None,
+    ),
+    'corrections.model_face_weights.original': (
+        '\\left[\\begin{matrix}w_{front}\\\\w_{side}\\end{matrix}\\right] = '
+        '\\left[\\begin{matrix}\\frac{\\Delta\\omega_{\\mathrm{front}}}{2 '
+        '\\pi}\\\\\\frac{\\Delta\\omega_{\\mathrm{side}}}{3 \\pi}\\end{matrix}\\right]',
+        "The DX11 shader's whole factor of a face, in place of k_R·k_I·k_P·Δω_f: Δω_front/(2π) "
+        'for a front face, Δω_side/(3π) for a side face.',
+        None,
+    ),
+    'corrections.model_face_weights.corrected': (
+        '\\left[\\begin{matrix}w_{front}\\\\w_{side}\\end{matrix}\\right] = '
+        '\\left[\\begin{matrix}\\frac{\\Delta\\omega_{\\mathrm{front}}}{\\pi}\\\\\\frac{\\Delta\\'
+        'omega_{\\mathrm{side}}}{\\pi}\\end{matrix}\\right]',
+        "The model's k_R·k_I·k_P·Δω_f with the corrected factors (k_R·k_I·k_P = 1/π) for every "
+        'face.',
+        None,
+    ),
+    'corrections.model_face_weights.step_flux_original': (
+        '\\frac{\\Phi_{t+1}}{\\Phi_{t}} = - \\frac{2 \\operatorname{atan}{\\left(\\frac{3 '
+        '\\sqrt{11}}{11} \\right)}}{\\pi} + \\frac{5}{6}',
+        'One step with the DX11 face weights keeps (3Δω_front + 8Δω_side)/(4π) = 5/6 − '
+        '2·atan(3√11/11)/π ≈ 0.365 of the flux.',
+        0.36521761376259326,
+    ),
+    'corrections.model_face_weights.flux_factor': (
+        '\\frac{\\Phi_{\\mathrm{corrected}}}{\\Phi_{\\mathrm{published}}} = \\frac{6 \\pi}{- 12 '
+        '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} \\right)} + 5 \\pi}',
+        'Corrected ÷ DX11 flux after one step: 1/(5/6 − 2·atan(3√11/11)/π) ≈ 2.74.',
+        2.738093570289964,
+    ),
     'propagation.side_eval_direction': (
         'e_{\\mathrm{side}} = \\left[\\begin{matrix}\\frac{\\sqrt{5}}{5}\\\\\\frac{2 '
         '\\sqrt{5}}{5}\\\\0\\end{matrix}\\right]',
@@ -609,6 +670,18 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'DX11 side-face factor ÷ Δω_side, the whole factor of the face: 1/(3π) (corrected model: '
         'k_P·k_R·k_I = 1/π; published: 1/(4π²)).',
         0.1061032953945969,
+    ),
+    'propagation.front_share_dx11': (
+        '\\pi\\, w_{\\mathrm{front}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{front}} = '
+        '\\frac{1}{2}',
+        "DX11 front-face factor ÷ the corrected model's 1/π: 1/2 (the shader's Δω_front/PI/2).",
+        0.5,
+    ),
+    'propagation.side_share_dx11': (
+        '\\pi\\, w_{\\mathrm{side}}^{\\mathrm{DX11}} / \\Delta\\omega_{\\mathrm{side}} = '
+        '\\frac{1}{3}',
+        "DX11 side-face factor ÷ the corrected model's 1/π: 1/3 (the shader's Δω_side/PI/3).",
+        0.3333333333333333,
     ),
     'occlusion.one_sided': (
         'B(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi} A}{2 s^{2}}\\\\- \\frac{\\sqrt{3} '

@@ -32,14 +32,15 @@ float cascade_own_weight(int k, vec3 world) {
 }
 
 // Irradiance <s_k, lobe(-n)>/c_k² (clamped at 0) of cascade k at `world` (MODEL.md
-// "Final gather", with cascade k's cell size).
-vec3 cascade_irradiance_of(int k, vec3 world, ShVec lobe) {
+// "Final gather", with cascade k's cell size); `per_area` false leaves out the 1/c_k² (the
+// DX11 gather, which reads an intensity: irradiance_gather off).
+vec3 cascade_irradiance_of(int k, vec3 world, ShVec lobe, bool per_area) {
     vec3 g = (world - u_cascade_origin[k]) / u_cascade_cell_size[k];
     vec3 intensity = vec3(sh_dot(sh_sample_cells(u_cascade_r[k], g), lobe),
                           sh_dot(sh_sample_cells(u_cascade_g[k], g), lobe),
                           sh_dot(sh_sample_cells(u_cascade_b[k], g), lobe));
     float cell = u_cascade_cell_size[k];
-    return max(intensity, vec3(0.0)) / (cell * cell);
+    return max(intensity, vec3(0.0)) / (per_area ? cell * cell : 1.0);
 }
 
 // Directional-derivative damping factor (docs/MODEL.md "Final gather") from the irradiance
@@ -56,14 +57,16 @@ vec3 damping_ratio(vec3 front, vec3 back) {
 }
 
 // One cascade's irradiance, damped over half of that cascade's cell when asked.
-vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, ShVec lobe, bool damping) {
-    vec3 irradiance = cascade_irradiance_of(k, world, lobe);
+vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, ShVec lobe, bool damping,
+                                  bool per_area) {
+    vec3 irradiance = cascade_irradiance_of(k, world, lobe, per_area);
     if (!damping) {
         return irradiance;
     }
     vec3 half_cell = 0.5 * u_cascade_cell_size[k] * n;
-    return irradiance * damping_ratio(cascade_irradiance_of(k, world + half_cell, lobe),
-                                      cascade_irradiance_of(k, world - half_cell, lobe));
+    return irradiance * damping_ratio(
+        cascade_irradiance_of(k, world + half_cell, lobe, per_area),
+        cascade_irradiance_of(k, world - half_cell, lobe, per_area));
 }
 
 // Blended lookup Σ_k W_k·clamp+(<s_k, kernel>)/c_k² (damped along n when asked): finest
@@ -72,14 +75,15 @@ vec3 cascade_damped_irradiance_of(int k, vec3 world, vec3 n, ShVec lobe, bool da
 // Cascades with W_k = 0 are not sampled. With the cosine lobe around −n as the kernel it is
 // the irradiance; with Y(ω) filtered by a lobe's SH factors, the radiance arriving from a
 // lobe around −ω (docs/MODEL.md "Fog", "Glossy reflections").
-vec3 cascade_blend(vec3 world, ShVec lobe, vec3 n, bool damping) {
+vec3 cascade_blend(vec3 world, ShVec lobe, vec3 n, bool damping, bool per_area) {
     vec3 irradiance = vec3(0.0);
     float remaining = 1.0;
     for (int k = 0; k < u_cascade_count && k < MAX_CASCADES; ++k) {
         float w = k == u_cascade_count - 1 ? 1.0 : cascade_own_weight(k, world);
         float weight = w * remaining;
         if (weight > 0.0) {
-            irradiance += weight * cascade_damped_irradiance_of(k, world, n, lobe, damping);
+            irradiance += weight * cascade_damped_irradiance_of(k, world, n, lobe, damping,
+                                                                per_area);
         }
         remaining *= 1.0 - w;
         if (remaining <= 0.0) break;
@@ -87,12 +91,14 @@ vec3 cascade_blend(vec3 world, ShVec lobe, vec3 n, bool damping) {
     return irradiance;
 }
 
-vec3 cascade_irradiance(vec3 world, vec3 n, bool damping) {
-    return cascade_blend(world, shv_cosine_lobe(-n), n, damping);
+// The gather's blended irradiance; `model` false: the DX11 gather, <s_k, Y(-n)> with no
+// 1/c_k² (irradiance_gather off, docs/MODEL.md "Final gather").
+vec3 cascade_irradiance(vec3 world, vec3 n, bool damping, bool model) {
+    return cascade_blend(world, model ? shv_cosine_lobe(-n) : shv_eval(-n), n, damping, model);
 }
 
 vec3 cascade_radiance(vec3 world, ShVec kernel) {
-    return cascade_blend(world, kernel, vec3(0.0), false);
+    return cascade_blend(world, kernel, vec3(0.0), false, true);
 }
 
 #endif

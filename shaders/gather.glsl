@@ -27,6 +27,7 @@
 #include "grid.glsl"
 #include "sh_grid.glsl"
 #include "cascades.glsl"
+#include "generated/corrections.glsl"
 #include "light_map.glsl"
 #include "glossy.glsl"
 
@@ -110,13 +111,15 @@ vec3 direct_irradiance(vec3 p, vec3 n) {
 }
 
 // LPV irradiance for normal n at world point x: E = clamp+(<s(x), lobe(-n)>) / cell²
-// (trilinear sample of the accumulated grid).
+// (trilinear sample of the accumulated grid); with irradiance_gather off the DX11 shader's
+// clamp+(<s(x), Y(-n)>), the intensity toward -n, with no cell area.
 vec3 lpv_irradiance(vec3 x, vec3 n) {
-    ShVec lobe = shv_cosine_lobe(-n);   // L1 or L2 after SH_ORDER
+    ShVec lobe = u_irradiance_gather ? shv_cosine_lobe(-n) : shv_eval(-n);  // L1 or L2
     vec3 intensity = vec3(sh_dot(sh_sample_grid(u_lpv_r, x), lobe),
                           sh_dot(sh_sample_grid(u_lpv_g, x), lobe),
                           sh_dot(sh_sample_grid(u_lpv_b, x), lobe));
-    return max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+    float area = u_irradiance_gather ? u_grid_cell_size * u_grid_cell_size : 1.0;
+    return max(intensity, vec3(0.0)) / area;
 }
 
 // Directional-derivative damping (docs/MODEL.md "Final gather"): light that grows towards
@@ -149,7 +152,8 @@ void main() {
     vec3 indirect_irradiance = vec3(0.0);
     if (u_has_grid == 1) {
 #if GATHER_CASCADES
-        indirect_irradiance = cascade_irradiance(position.xyz, n, GATHER_DAMPING == 1);
+        indirect_irradiance = cascade_irradiance(position.xyz, n, GATHER_DAMPING == 1,
+                                                 u_irradiance_gather);
 #elif GATHER_DAMPING
         indirect_irradiance = lpv_irradiance(position.xyz, n)
                             * lpv_derivative_damping(position.xyz, n);

@@ -27,16 +27,23 @@ const ivec3 LPV_TANGENT_V[6] = ivec3[6](
     ivec3(1, 0, 0), ivec3(1, 0, 0),
     ivec3(0, 1, 0), ivec3(0, 1, 0));
 
-// Intensity -> reprojected SH scale of a face, without visibility: k_R * k_I * k_P * dw_f.
+// Intensity -> reprojected SH scale of a face, without visibility: k_R * k_I * k_P * dw_f,
+// or with model_face_weights off the DX11 shader's dw_front/(2 pi) (DX11_FRONT_SHARE / pi).
 float lpv_front_face_weight() {
+    if (!u_model_face_weights) {
+        return DX11_FRONT_SHARE / lpv_pi() * lpv_front_solid_angle();
+    }
     return lpv_reprojection_factor() * lpv_injection_factor() * lpv_propagation_factor()
         * lpv_front_solid_angle();
 }
 
-// The same for a side face; 0 when side faces are switched off.
+// The same for a side face (DX11: dw_side/(3 pi)); 0 when side faces are switched off.
 float lpv_side_face_weight() {
     if (!u_side_faces) {
         return 0.0;
+    }
+    if (!u_model_face_weights) {
+        return DX11_SIDE_SHARE / lpv_pi() * lpv_side_solid_angle();
     }
     return lpv_reprojection_factor() * lpv_injection_factor() * lpv_propagation_factor()
         * lpv_side_solid_angle();

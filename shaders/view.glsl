@@ -7,7 +7,7 @@
 //     "Display"): final = display_encode(exposure·(direct + indirect)) (exposure·indirect
 //     with indirect only), with fog (FOG_A) the surfaces seen through it plus its
 //     in-scattering (fog_compose.glsl); direct and indirect (the surfaces' own) encoded
-//     alike; albedo clamped and sRGB-encoded. The same as display.glsl for "final".
+//     alike; albedo (its geometry edges darkened) clamped and sRGB-encoded. The same as display.glsl for "final".
 //   VIEW_MODE 1, difference: the luminance of the chosen linear buffer of A minus B (final:
 //     with each side's exposure, as FrameResult.final_image), |A − B| on the heat map or
 //     A − B on the diverging map, over u_top (the scale bar's top).
@@ -53,6 +53,8 @@ uniform float u_exposure_b;
 uniform int u_signed;              // difference: 1 = A − B on the diverging map
 uniform float u_top;               // difference: the value at the top of the scale
 uniform sampler2D u_colour_map;    // difference: colour table, bottom of the bar first
+uniform float u_edge_flag;         // albedo: an edge pixel's w, and what scales its colour
+uniform float u_edge_shade;        // (explorer/lpv/surface_edges.py)
 
 layout(location = 0) out vec4 out_colour;
 
@@ -62,7 +64,10 @@ vec3 linear_buffer(sampler2D direct, sampler2D indirect, sampler2D albedo,
                    sampler2D fog_direct, sampler2D fog_lpv, bool fog, ivec2 at,
                    float exposure) {
     if (VIEW_BUFFER == BUFFER_ALBEDO) {
-        return texelFetch(albedo, at, 0).rgb;
+        vec4 a = texelFetch(albedo, at, 0);
+        // the geometry's edges the picture's copy marked (view_snapshot.glsl): a flat
+        // albedo alone hides a white block before a white wall
+        return abs(a.w - u_edge_flag) < 0.01 ? u_edge_shade * a.rgb : a.rgb;
     }
     vec3 d = texelFetch(direct, at, 0).rgb;
     vec3 i = texelFetch(indirect, at, 0).rgb;

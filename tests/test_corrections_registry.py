@@ -70,8 +70,9 @@ def test_stages_name_the_passes_that_read_each_switch():
     assert C.uniforms_read_by("inject") == ("u_injection_pi", "u_exact_constants")
     assert C.uniforms_read_by("geometry") == ("u_surfel_area_squared",)
     assert set(C.uniforms_read_by("propagate")) == {
-        entry.uniform for entry in C.CORRECTIONS} - {"u_surfel_area_squared"}
-    assert C.uniforms_read_by("gather") == ()
+        entry.uniform for entry in C.CORRECTIONS} - {"u_surfel_area_squared",
+                                                    "u_irradiance_gather"}
+    assert C.uniforms_read_by("gather") == ("u_irradiance_gather",)
     with pytest.raises(ValueError, match="unknown stage"):
         C.uniforms_read_by("gahter")
 

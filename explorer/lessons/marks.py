@@ -136,5 +136,7 @@ def irradiance_rgb(mark: Mark, result: Any) -> np.ndarray:
     specs = [level.spec for level in result.cascades]
     point = np.asarray([mark.at], np.float64)
     normal = np.asarray([mark.normal], np.float64)
-    damping = bool(getattr(result.settings, "gather_damping", False))
-    return gather_cascades(grids, specs, point, normal, damping)[0]
+    settings = result.settings
+    damping = bool(getattr(settings, "gather_damping", False))
+    return gather_cascades(grids, specs, point, normal, damping,
+                           irradiance=settings.corrections.irradiance_gather)[0]

@@ -126,7 +126,8 @@ _STEP_FIELDS = {
     "split_at": Spec(kind="float", low=0.02, high=0.98,
                      doc="Where the split view's divider stands, a fraction of the view's "
                          "width (the step's split view and its split try-this): chosen so "
-                         "that the feature compared shows on both sides."),
+                         "that the feature compared shows on both sides and the divider "
+                         "stays clear of every mark (tests/lessons/test_split_divider.py)."),
 }
 _STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
                 "figures", "show", "marks", "checks")

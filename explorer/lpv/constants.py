@@ -54,6 +54,10 @@ INV_PI = 0.3183098861837907
 SIDE_EVAL_SMALL = 0.4472135954999579
 # 2*sqrt(5)/5  [propagation.side_eval_big]
 SIDE_EVAL_BIG = 0.8944271909999159
+# 1/2  [propagation.front_share_dx11]
+DX11_FRONT_SHARE = 0.5
+# 1/3  [propagation.side_share_dx11]
+DX11_SIDE_SHARE = 0.3333333333333333
 # 1/(4*pi)  [media.isotropic_phase]
 INV_FOUR_PI = 0.07957747154594767
 # printed in the DirectX 11 LPV implementation article; exact 1/(2*sqrt(pi)) (rounded)
@@ -112,6 +116,8 @@ DERIVATION: dict[str, str] = {
     "INV_PI": "corrections.injection_pi.flux_factor",
     "SIDE_EVAL_SMALL": "propagation.side_eval_small",
     "SIDE_EVAL_BIG": "propagation.side_eval_big",
+    "DX11_FRONT_SHARE": "propagation.front_share_dx11",
+    "DX11_SIDE_SHARE": "propagation.side_share_dx11",
     "INV_FOUR_PI": "media.isotropic_phase",
     "PUBLISHED_SH_C0": "errata.dx11.sh_c0",
     "PUBLISHED_SH_C1": "errata.dx11.sh_c1",

@@ -28,6 +28,8 @@ import numpy as np
 
 from explorer.lpv.audit import EnergyAudit, check_finite
 from explorer.lpv.constants import (
+    DX11_FRONT_SHARE,
+    DX11_SIDE_SHARE,
     FRONT_FACE_SOLID_ANGLE,
     PI,
     PUBLISHED_FRONT_FACE_SOLID_ANGLE,
@@ -121,6 +123,10 @@ def step_flux_factor(corrections) -> float:
     k_r = 1.0 if c.reprojection_pi else 1.0 / pi
     front = FRONT_FACE_SOLID_ANGLE if c.exact_constants else PUBLISHED_FRONT_FACE_SOLID_ANGLE
     side = SIDE_FACE_SOLID_ANGLE if c.exact_constants else PUBLISHED_SIDE_FACE_SOLID_ANGLE
+    if not c.model_face_weights:   # the DX11 weights replace k_R·k_I·k_P per face
+        covered = 6.0 * (DX11_FRONT_SHARE * front
+                         + (4.0 * DX11_SIDE_SHARE * side if c.side_faces else 0.0))
+        return covered / (4.0 * PI)
     covered = 6.0 * (front + (4.0 * side if c.side_faces else 0.0))
     return pi * k_r * k_i * k_p * covered / (4.0 * PI)
 

@@ -172,6 +172,15 @@ class Pipeline:
         return targets["direct"], targets["indirect"], gbuffer.albedo
 
     @property
+    def surface_textures(self) -> tuple[moderngl.Texture, moderngl.Texture] | None:
+        """``(position, normal)``: the G-buffer's, which mark the geometry's edges in the
+        albedo view (explorer/lpv/surface_edges.py); None before the first G-buffer."""
+        gbuffer = self.state.gbuffer_pass
+        if gbuffer is None or not gbuffer.textures:
+            return None
+        return gbuffer.position, gbuffer.normal
+
+    @property
     def fog_textures(self) -> tuple[moderngl.Texture, moderngl.Texture] | None:
         """``(fog_direct, fog_lpv)``: the fog pass's ``rgba32f`` targets of the last frame
         (the direct light's in-scattered radiance with the transmittance in w, the LPV's

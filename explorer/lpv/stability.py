@@ -170,7 +170,8 @@ def _regathered(result, first) -> np.ndarray:
     positions = first.gbuffer_position[..., :3][mask]
     normals = first.gbuffer_normal[..., :3][mask]
     irradiance = gather_cascades(result.cascade_accumulated, result.cascade_specs, positions,
-                                 normals, result.settings.gather_damping)
+                                 normals, result.settings.gather_damping,
+                                 irradiance=result.settings.corrections.irradiance_gather)
     image = np.zeros(mask.shape + (3,))
     image[mask] = indirect_radiance(first.albedo[mask], irradiance)
     return image

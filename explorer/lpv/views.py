@@ -2,9 +2,10 @@
 ``settings.VIEWS``: ``(H, W, 3)`` float32 in [0, 1].
 
 Radiometric views are sRGB-encoded: final, direct and indirect as the display shows them
-(the frame's display scale and tone curve, docs/MODEL.md "Display"), albedo and rsm-flux
-directly; data views (positions, normals, grid slices) are mapped linearly to [0, 1] and
-not encoded, so their values stay proportional to what they show.
+(the frame's display scale and tone curve, docs/MODEL.md "Display"), albedo (with the
+geometry's edges darkened, explorer/lpv/surface_edges.py) and rsm-flux directly; data
+views (positions, normals, grid slices) are mapped linearly to [0, 1] and not encoded,
+so their values stay proportional to what they show.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 
 from explorer.lpv.constants import SH_FLUX_FACTOR
 from explorer.lpv.twin.tonemap import display_encode, linear_to_srgb
+from explorer.lpv.surface_edges import outlined_albedo
 
 
 def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:
@@ -51,7 +53,8 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     if name in ("direct", "indirect"):
         return display_encode(exposure * getattr(result, name), scale, tone_map)
     if name == "albedo":
-        return linear_to_srgb(result.albedo)
+        return linear_to_srgb(outlined_albedo(result.albedo, result.gbuffer_position,
+                                              result.gbuffer_normal))
     if name == "rsm-position":
         position, valid = result.rsm_position[..., :3], result.rsm_position[..., 3:] > 0.5
         lo = np.asarray(bounds[0] if bounds else position.min(axis=(0, 1)), np.float32)

@@ -30,6 +30,7 @@ from explorer.ui.lesson_panel import (
     step_caption,
 )
 from explorer.ui.textflow import Page, PageEnv
+from explorer.ui.try_numbers import same_frame
 
 if TYPE_CHECKING:
     from explorer.ui.state import AppState
@@ -520,9 +521,19 @@ def _try_section(state: AppState, session: LessonSession, page: Page, step: Step
     imgui.separator_text("Try this")
     source = page.env.source
     base = source["context"]
+    frames, step_key = session.try_frames, (session.lesson.id, step.number)
+    if session.applied and session.tried is None:
+        frames.keep_step(step_key, base.result)
     for index, item in enumerate(step.try_this, start=1):
-        source["context"], source["where"] = try_context(state, session, index, base)
+        context, where = try_context(state, session, index, base)
         key = (session.lesson.id, step.number, index)
+        pressed = session.applied and session.tried == index
+        if pressed and context.result is not None and \
+                same_frame(context.result.settings, context.settings):
+            frames.keep_after(key, context.result)
+        elif not pressed:
+            context = frames.after_context(key, context)
+        source["context"], source["where"] = context, where
         if session.applied and session.tried == index and item.predict is not None:
             session.revealed.add(key)
         if item.predict is not None and key not in session.revealed:
@@ -537,6 +548,10 @@ def _try_section(state: AppState, session: LessonSession, page: Page, step: Step
                             session.applied and session.tried == index, step.figure_ids)
         if note:       # in the same paragraph: it explains this prompt's "…"
             runs += (lesson_text.Text(f" ({note})", "italic"),)
+        before = frames.before_note(step_key, item.prompt, base, step.figure_ids) \
+            if key in frames.after else ""
+        if before:     # the step's own numbers beside the press's, also after Undo
+            runs += (lesson_text.Text(f" ({before})", "italic"),)
         page.draw((lesson_text.Paragraph(runs),))
     source["context"], source["where"] = base, "the frame on screen"
 

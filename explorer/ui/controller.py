@@ -341,7 +341,7 @@ class PipelineController:
             side.picture = Picture(self.ctx, self.programs)
         fog = side.pipeline.fog_textures if stamp.final else None
         side.picture.copy_from(*(textures or side.pipeline.linear_textures), stamp, result,
-                               fog)
+                               fog, getattr(side.pipeline, "surface_textures", None))
 
     def _finished(self, state: AppState, side: SideState, status: ControllerStatus) -> None:
         job, request = side.job, side.request

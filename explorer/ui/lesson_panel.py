@@ -33,6 +33,7 @@ from explorer.lessons import (
 from explorer.lessons.folder import Course, load_course
 from explorer.overlay_params import OverlayState
 from explorer.lpv.settings import Settings
+from explorer.ui.try_numbers import TryFrames
 
 if TYPE_CHECKING:
     from explorer.ui.state import AppState
@@ -263,6 +264,9 @@ class LessonSession:
     glossary: tuple | None = None
     """The lessons' glossary terms as the article read them (once, on first use); () when
     the glossary is missing or broken; None: not read yet."""
+    try_frames: TryFrames = field(default_factory=TryFrames)
+    """The frames each try-this's prompt quotes, before and after its press
+    (explorer/ui/try_numbers.py): its numbers stay after Undo."""
 
     folder: Path | None = None
     """The reader's own lesson folder (``run --lessons DIR``), or None."""

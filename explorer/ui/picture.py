@@ -20,6 +20,7 @@ import numpy as np
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
+from explorer.lpv.surface_edges import edge_uniforms
 
 if TYPE_CHECKING:
     from explorer.lpv.frame import FrameResult
@@ -104,21 +105,32 @@ class Picture:
     def copy_from(self, direct: moderngl.Texture, indirect: moderngl.Texture,
                   albedo: moderngl.Texture, stamp: Stamp,
                   result: "FrameResult | None",
-                  fog: "tuple[moderngl.Texture, moderngl.Texture] | None" = None) -> None:
+                  fog: "tuple[moderngl.Texture, moderngl.Texture] | None" = None,
+                  surfaces: "tuple[moderngl.Texture, moderngl.Texture] | None" = None
+                  ) -> None:
         """Copy the pipeline's textures (all the same size) in one draw, and ``fog`` (the
-        fog pass's direct and LPV targets of a frame with fog) in a second."""
-        self._copy(self._targets, (direct, indirect, albedo))
+        fog pass's direct and LPV targets of a frame with fog) in a second; ``surfaces``
+        (the G-buffer's position and normal, the albedo's size) mark the albedo copy's
+        geometry edges (explorer/lpv/surface_edges.py)."""
+        self._copy(self._targets, (direct, indirect, albedo), surfaces)
         self.has_fog = fog is not None
         if fog is not None:
             self._copy(self._fog_targets, fog)
         self.stamp, self.result = stamp, result
 
-    def _copy(self, targets: RenderTargets, sources) -> None:
+    def _copy(self, targets: RenderTargets, sources, surfaces=None) -> None:
         targets.allocate(sources[0].size)
-        program = self.programs.get(SNAPSHOT, {"SOURCES": len(sources)})
+        program = self.programs.get(SNAPSHOT, {"SOURCES": len(sources),
+                                               "EDGES": int(surfaces is not None)})
         for unit, texture in enumerate(sources):
             texture.use(unit)
-        set_uniforms(program, {f"u_source{unit}": unit for unit in range(len(sources))})
+        uniforms = {f"u_source{unit}": unit for unit in range(len(sources))}
+        if surfaces is not None:
+            for unit, texture in enumerate(surfaces, len(sources)):
+                texture.use(unit)
+            uniforms.update(u_position=len(sources), u_normal=len(sources) + 1,
+                            **edge_uniforms())
+        set_uniforms(program, uniforms)
         with targets.drawing():
             self._triangle.draw(program)
 

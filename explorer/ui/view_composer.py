@@ -24,6 +24,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.passes.display import exposed_image
 from explorer.lpv.twin.tonemap import luminance, tone_map_index
+from explorer.lpv.surface_edges import EDGE_FLAG, EDGE_SHADE
 from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS
 from explorer.ui.textures import robust_max
@@ -153,7 +154,9 @@ class ViewComposer:
         set_uniforms(program, {"u_direct_a": 0, "u_indirect_a": 1, "u_albedo_a": 2,
                                "u_direct_b": 3, "u_indirect_b": 4, "u_albedo_b": 5,
                                "u_fog_direct_a": 7, "u_fog_lpv_a": 8,
-                               "u_fog_direct_b": 9, "u_fog_lpv_b": 10, **uniforms})
+                               "u_fog_direct_b": 9, "u_fog_lpv_b": 10,
+                               "u_edge_flag": EDGE_FLAG, "u_edge_shade": EDGE_SHADE,
+                               **uniforms})
         with output.targets.drawing():
             self._triangle.draw(program)
         use_screen(self.ctx)

@@ -15,5 +15,7 @@ uniform bool u_side_faces;  // Side faces  [read by: propagate]
 uniform bool u_surfel_area_squared;  // Occluder area grows with depth squared  [read by: geometry]
 uniform bool u_ping_pong;  // Ping-pong propagation  [read by: propagate]
 uniform bool u_clamp_front_face;  // Clamp the front face  [read by: propagate]
+uniform bool u_model_face_weights;  // Face weights of the model  [read by: propagate]
+uniform bool u_irradiance_gather;  // Gather the irradiance  [read by: gather]
 
 #endif  // LPV_GENERATED_CORRECTIONS

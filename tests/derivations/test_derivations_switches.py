@@ -103,6 +103,7 @@ def _lone_source(size: int = 11) -> np.ndarray:
 @pytest.mark.parametrize("switch, item", [
     ("exact_constants", "corrections.exact_constants.step_flux_original"),
     ("side_faces", "corrections.side_faces.step_flux_original"),
+    ("model_face_weights", "corrections.model_face_weights.step_flux_original"),
 ])
 def test_the_reference_step_keeps_the_derived_fraction(switch, item):
     grid = _lone_source()

@@ -450,13 +450,13 @@ def test_inline_math_reads_as_plain_text(shipped):
 
     assert math_to_text(r"$\Phi = \int_{S^2} I(\omega)\,d\omega$") == "Φ = ∫_S² I(ω) dω"
     assert math_to_text(r"$\frac{\Delta\omega_f}{4\pi}$ and $c_1 = \sqrt{3}/(2\sqrt{\pi})$") \
-        == "(Δω_f)/(4π) and c_1 = √3/(2√π)"
+        == "Δω_f/(4π) and c_1 = √3/(2√π)"
     assert math_to_text(r"$\langle n, \omega\rangle$") == "<n, ω>"
     assert math_to_text(r"$(x^2 + 9)^{-3/2}$, $87.5\%$, $\{\pm x\}$") \
         == "(x² + 9)^(-3/2), 87.5%, {± x}"
     # nested braces and sizing commands (lesson 06's injection formula)
     assert math_to_text(r"$f \mathrel{+}= k\,\left(\frac{\sqrt{\pi}}{2},\; "
-                        r"-\sqrt{\pi/3}\,n_y\right)$") == "f += k ((√π)/2, -√(π/3) n_y)"
+                        r"-\sqrt{\pi/3}\,n_y\right)$") == "f += k (√π/2, -√(π/3) n_y)"
     assert math_to_text(r"$\frac{1}{2\sqrt{\pi}}$, $\alpha\,\sigma_t$") == "1/(2√π), α σ_t"
     assert _plain(r"$c_0 = {{derived.sh.c0:.4f}}$ and {{audit.injected:.3g}} W {{try:1}}") \
         == "c_0 = 0.2821 and [flux injected into the grid (before any step)] W [try 1]"

@@ -17,6 +17,8 @@ from gather_cases import (
 from lpv_cases import relative_error
 
 from explorer.cli import main as cli_main
+from explorer.lpv.twin import light_grid as twin
+from explorer.lpv.passes.gather import GatherInputs
 from explorer.lpv.cascades import (
     CASCADE_BAND_CELLS,
     CASCADE_EDGE_CELLS,
@@ -33,7 +35,6 @@ from explorer.lpv.passes.rsm import read_texture
 from explorer.lpv.passes.textures import LpvGrid
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
-from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.views import CASCADE_COLOURS
 from explorer.lpv.vpl import VplArrays
 
@@ -122,7 +123,9 @@ def test_blend_weights_are_a_continuous_partition_of_unity():
 
 
 @FILTERS
-def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F811 (fixture)
+@pytest.mark.parametrize("model", [True, False], ids=["irradiance", "dx11-gather"])
+def test_gather_shader_blends_like_numpy(setup, ctx, model,  # noqa: F811 (fixture)
+                                         shader_filter):
     _, scene, view, shadow, gbuffer, gather, grid, spec = setup
     n = spec.resolution
     specs = cascade_specs(spec, 2, (0.1, -0.3, 0.05))
@@ -134,15 +137,16 @@ def test_gather_shader_blends_like_numpy(setup, ctx, shader_filter):  # noqa: F8
         cascades = [CascadeInput(specs[0], grid.textures), CascadeInput(specs[1],
                                                                          coarse.textures)]
         with filtering(gather, shader_filter):
-            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades))
+            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades),
+                       GatherInputs(switches=(("u_irradiance_gather", int(model)),)))
         indirect = read_texture(gather.targets["indirect"])[..., :3]
     finally:
         coarse.release()
     points, normals, albedo, valid = visible_points(gbuffer)
     weights = blend_weights(specs, points)
     assert np.any((weights[:, 0] > 0.05) & (weights[:, 1] > 0.05))   # the band is on screen
-    expected = twin.indirect_radiance(albedo, twin.gather_cascades(values, specs, points,
-                                                                 normals))
+    expected = twin.indirect_radiance(albedo, twin.gather_cascades(
+        values, specs, points, normals, irradiance=model))
     assert relative_error(indirect[valid], expected) < TOLERANCE
 
 

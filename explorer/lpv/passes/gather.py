@@ -86,6 +86,10 @@ class GatherInputs:
     """Width of the PCF box in shadow-map texels (1 = one hard test)."""
     glossy: Glossy | None = None
     """The glossy reflection of the grid added to the indirect radiance (None: off)."""
+    switches: tuple[tuple[str, int], ...] = tuple(
+        (name, 1) for name in uniforms_read_by("gather"))
+    """The correction switches the gather reads (uniform, 0 or 1), all corrected by
+    default."""
 
 
 NO_GLOSSY = {"u_glossy": 0, "u_glossy_g": 0.0, "u_glossy_strength": 0.0,
@@ -156,8 +160,7 @@ class GatherPass:
     direct and indirect radiance and the LPV flux each pixel's surface receives."""
 
     STAGE = "gather"
-    """Its program reads this stage's correction switches (none today: a switch that
-    gets this stage must also hand its value to :meth:`run`)."""
+    """Its program reads this stage's correction switches (``GatherInputs.switches``)."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
@@ -217,6 +220,7 @@ class GatherPass:
             **finest.spec.uniforms(),
             **self._cascade_uniforms(grid, finest.spec),
             **(NO_GLOSSY if params.glossy is None else params.glossy.uniforms()),
+            **dict(params.switches),
         }
         set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from explorer.lpv import guards
+from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.passes.gather import (
     TARGETS,
     GatherImages,
@@ -41,8 +42,10 @@ class Params:
         glossy = Glossy(float(settings.glossy_roughness), float(settings.glossy_strength),
                         int(settings.glossy_samples), tuple(map(float, eye))
                         ) if settings.glossy else None
+        switches = settings.corrections.as_uniforms()
         return cls(GatherInputs(bool(settings.gather_damping), int(settings.shadow_kernel),
-                                glossy))
+                                glossy, tuple((name, switches[name])
+                                              for name in uniforms_read_by("gather"))))
 
 
 class Stage(StageBase):

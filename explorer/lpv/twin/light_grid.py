@@ -58,6 +58,8 @@ class DerivedConstants:
         "PUBLISHED_FRONT_FACE_SOLID_ANGLE": "errata.dx11.front_solid_angle",
         "PUBLISHED_SIDE_FACE_SOLID_ANGLE": "errata.dx11.side_solid_angle",
         "INV_FOUR_PI": "media.isotropic_phase",
+        "DX11_FRONT_SHARE": "propagation.front_share_dx11",
+        "DX11_SIDE_SHARE": "propagation.side_share_dx11",
     }
     """Constant name -> derivation result name."""
 
@@ -146,6 +148,19 @@ def face_solid_angles(corrections: Corrections) -> tuple[float, float]:
     if corrections.exact_constants:
         return K.FRONT_FACE_SOLID_ANGLE, K.SIDE_FACE_SOLID_ANGLE
     return K.PUBLISHED_FRONT_FACE_SOLID_ANGLE, K.PUBLISHED_SIDE_FACE_SOLID_ANGLE
+
+
+def face_weights(corrections: Corrections) -> tuple[float, float]:
+    """(front, side): the whole factor of a face, k_R·k_I·k_P·Δω_f, or with
+    ``model_face_weights`` off the DX11 shader's Δω_front/(2π) and Δω_side/(3π)
+    (``propagation.front_share_dx11``, ``side_share_dx11`` of 1/π)."""
+    front_angle, side_angle = face_solid_angles(corrections)
+    if not corrections.model_face_weights:
+        pi = formula_pi(corrections)
+        return K.DX11_FRONT_SHARE / pi * front_angle, K.DX11_SIDE_SHARE / pi * side_angle
+    scale = (reprojection_factor(corrections) * injection_factor(corrections)
+             * propagation_factor(corrections))
+    return scale * front_angle, scale * side_angle
 
 
 def _check_grid(grid: np.ndarray) -> np.ndarray:
@@ -330,9 +345,7 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
     the source cell."""
     order = grid_sh_order(grid)
     n = grid.shape[1]
-    front_angle, side_angle = face_solid_angles(corrections)
-    scale = (reprojection_factor(corrections) * injection_factor(corrections)
-             * propagation_factor(corrections))
+    front_weight, side_weight = face_weights(corrections)
     delivered = np.zeros_like(grid)
     reflected_back = np.zeros_like(grid)
     cells = {name: np.zeros((3, n, n, n)) for name in AUDIT_TERMS if name != "propagated"}
@@ -356,7 +369,7 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
         cells[name][border] += per_source[border]
 
     for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
-        weight = scale * (front_angle if is_front else side_angle)
+        weight = front_weight if is_front else side_weight
         lobe = cosine_lobe(reprojection, order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
@@ -554,49 +567,58 @@ def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndar
 
 
 def gather_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
-                      normals: np.ndarray, offset: float = 0.0) -> np.ndarray:
+                      normals: np.ndarray, offset: float = 0.0, *,
+                      irradiance: bool = True) -> np.ndarray:
     """(P, 3) irradiance ``clamp+(⟨s(x), lobe(−n)⟩)/h²`` at ``x = p + offset·n`` (world
-    units; docs/MODEL.md "Final gather"), with the L1 or L2 lobe after the grid's order."""
+    units; docs/MODEL.md "Final gather"), with the L1 or L2 lobe after the grid's order;
+    ``irradiance`` False (the ``irradiance_gather`` switch off): the DX11 shader's
+    ``clamp+(⟨s(x), Y(−n)⟩)``, the intensity toward −n, with no cell area."""
     normals = np.asarray(normals, np.float64)
     samples = sample_grid(grid, spec, np.asarray(positions, np.float64) + offset * normals)
-    lobes = cosine_lobe(-normals, grid_sh_order(grid))
-    irradiance = np.einsum("cpk,pk->pc", samples, lobes)
-    return np.maximum(irradiance, 0.0) / spec.cell_size ** 2
+    order = grid_sh_order(grid)
+    kernel = cosine_lobe(-normals, order) if irradiance else sh_basis(-normals, order)
+    values = np.maximum(np.einsum("cpk,pk->pc", samples, kernel), 0.0)
+    return values / spec.cell_size ** 2 if irradiance else values
 
 
 def derivative_damping(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
-                       normals: np.ndarray) -> np.ndarray:
+                       normals: np.ndarray, *, irradiance: bool = True) -> np.ndarray:
     """(P, 3) factors ``clamp(E(p + ½h·n)/E(p − ½h·n), 0, 1)`` per channel, 1 where
     ``E(p − ½h·n) = 0`` (docs/MODEL.md "Final gather", derivative damping)."""
     half = 0.5 * spec.cell_size
-    front = gather_irradiance(grid, spec, positions, normals, half)
-    back = gather_irradiance(grid, spec, positions, normals, -half)
+    front = gather_irradiance(grid, spec, positions, normals, half, irradiance=irradiance)
+    back = gather_irradiance(grid, spec, positions, normals, -half, irradiance=irradiance)
     ratio = np.divide(front, back, out=np.ones_like(front), where=back > 0)
     return np.clip(ratio, 0.0, 1.0)
 
 
 def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.ndarray,
-           damping: bool = False) -> np.ndarray:
+           damping: bool = False, *, irradiance: bool = True) -> np.ndarray:
     """(P, 3) indirect irradiance the final gather computes at surface points: E(p), times
-    the derivative damping factor when ``damping``."""
-    irradiance = gather_irradiance(grid, spec, positions, normals)
+    the derivative damping factor when ``damping`` (``irradiance``: as in
+    :func:`gather_irradiance`)."""
+    values = gather_irradiance(grid, spec, positions, normals, irradiance=irradiance)
     if damping:
-        irradiance = irradiance * derivative_damping(grid, spec, positions, normals)
-    return irradiance
+        values = values * derivative_damping(grid, spec, positions, normals,
+                                             irradiance=irradiance)
+    return values
 
 
 def gather_cascades(grids: list[np.ndarray], specs: list[GridSpec], positions: np.ndarray,
-                    normals: np.ndarray, damping: bool = False) -> np.ndarray:
+                    normals: np.ndarray, damping: bool = False, *,
+                    irradiance: bool = True) -> np.ndarray:
     """(P, 3) irradiance of nested cascades, finest first: ``Σ_k W_k·E_k`` with the blend
     weights ``W_k`` of docs/MODEL.md "Cascades" and ``E_k`` cascade k's :func:`gather`
-    (damped over half of its own cell when ``damping``). One cascade is :func:`gather`."""
+    (damped over half of its own cell when ``damping``; ``irradiance`` as there). One
+    cascade is :func:`gather`."""
     if len(grids) != len(specs) or not grids:
         raise ValueError(f"need one grid per cascade spec, got {len(grids)} grids and "
                          f"{len(specs)} specs")
     weights = blend_weights(list(specs), positions)
     total = np.zeros((len(weights), 3))
     for k, (grid, spec) in enumerate(zip(grids, specs)):
-        total += weights[:, k:k + 1] * gather(grid, spec, positions, normals, damping)
+        total += weights[:, k:k + 1] * gather(grid, spec, positions, normals, damping,
+                                              irradiance=irradiance)
     return total
 
 

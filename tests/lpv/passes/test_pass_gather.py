@@ -56,6 +56,24 @@ def test_indirect_matches_numpy(setup, damping, shader_filter):
         assert irradiance.sum() < 0.99 * twin.gather(values, spec, points, normals).sum()
 
 
+@pytest.mark.parametrize("damping", [False, True], ids=["plain", "damping"])
+def test_the_dx11_gather_matches_numpy(setup, damping):
+    """irradiance_gather off: the DX11 shader's clamp+(⟨s, Y(−n)⟩), no 1/h², on the GPU
+    as in the twin; and not what the model gathers."""
+    ctx, scene, view, shadow, gbuffer, gather, grid, spec = setup
+    values = smooth_grid(spec)
+    grid.write(values)
+    switches = (("u_irradiance_gather", 0),)
+    gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid.single(spec, grid.textures),
+               GatherInputs(damping=damping, switches=switches))
+    points, normals, albedo, valid = visible_points(gbuffer)
+    indirect = read_texture(gather.targets["indirect"])[..., :3]
+    dx11 = twin.gather(values, spec, points, normals, damping, irradiance=False)
+    assert relative_error(indirect[valid], twin.indirect_radiance(albedo, dx11)) < TOLERANCE
+    model = twin.gather(values, spec, points, normals, damping)
+    assert relative_error(dx11, model) > 0.5
+
+
 @FILTERS
 def test_l2_indirect_matches_numpy(setup, shader_filter):
     """sh_order 2: E = <s, lobe_L2(−n)>/cell², with s sampled trilinearly from the 3 texel

@@ -20,7 +20,9 @@ from explorer.lpv.twin import light_grid as twin
 
 SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=0.5, resolution=8)
 ITERATIONS = 3
-SWITCHES = [name for name in Corrections.names() if name != "ping_pong"]
+SWITCHES = [name for name in Corrections.names() if name not in ("ping_pong",
+                                                                  "model_face_weights")]
+"""The switches of the full product (model_face_weights: its own test, below)."""
 COMBINATIONS = list(itertools.product((True, False), repeat=len(SWITCHES)))
 AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated")
 
@@ -60,6 +62,29 @@ def test_inject_and_propagate_match_the_reference(ctx, index):
     assert relative_error(accumulated, want_accumulated) < 1e-4
     assert_audits_match(audit, want_audit)
     assert audit.occluded.min() > 0   # the geometry volume really blocks something
+
+
+@pytest.mark.parametrize("exact_constants, side_faces", [(True, True), (False, True),
+                                                         (True, False), (False, False)])
+def test_the_dx11_face_weights_match_the_reference(ctx, exact_constants, side_faces):
+    """model_face_weights off: the DX11 shader's Δω_front/(2π), Δω_side/(3π) on the GPU as
+    in the twin, with the geometry volume and the audit."""
+    corrections = Corrections(model_face_weights=False, exact_constants=exact_constants,
+                              side_faces=side_faces)
+    vpls = random_vpls(7, SPEC, 120, outside=5, texel_area=0.05)
+    grid = inject(vpls, SPEC, corrections, "points", ctx=ctx)
+    geometry = inject_geometry(vpls, SPEC, corrections, "one-sided", ctx=ctx)
+    steps, accumulated, audit = propagate_with_audit(grid, corrections, ITERATIONS, geometry,
+                                                     ctx=ctx)
+    want_steps, want_accumulated, want_audit = twin.propagate_audited(
+        grid, corrections, ITERATIONS, geometry)
+    for step, want in zip(steps, want_steps):
+        assert relative_error(step, want) < 1e-4
+    assert relative_error(accumulated, want_accumulated) < 1e-4
+    assert_audits_match(audit, want_audit)
+    model, _, _ = twin.propagate_audited(grid, Corrections(
+        exact_constants=exact_constants, side_faces=side_faces), ITERATIONS, geometry)
+    assert relative_error(steps[1], model[1]) > 0.1      # the switch changes the step
 
 
 def test_without_geometry_and_with_many_iterations(ctx):

@@ -1,0 +1,84 @@
+"""The numbers a try-this prompt quotes, before and after its press, kept.
+
+A prompt's live numbers describe the configuration its button sets. Once that frame was
+on screen its result is kept here, so the prompt keeps its numbers after Undo; and the
+step's own frame as it was before the press is kept too, so the prompt can say what each
+number was before ("before the press: 35.9 W"). Both are finished FrameResults of one
+lesson step; a change of the step's settings (another scene size, the reader's exposure)
+makes the kept frame stale, and it is not used.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from explorer.lessons import live_values
+from explorer.lessons import text as lesson_text
+
+FRAME_PREFIXES = ("audit.", "frame.", "mark.")
+"""Quantities read from a frame (the others, settings and derivations, do not change
+with the frame and need no "before")."""
+
+
+def same_frame(a: Any, b: Any) -> bool:
+    """Whether Settings ``a`` and ``b`` render the same frame: equal in every field a
+    stage before the display reads (exposure, tone curve and the like only change how
+    the window shows it, which it applies itself)."""
+    from explorer.lpv.settings import Settings
+    from explorer.schema import specs
+
+    return all(getattr(a, name) == getattr(b, name) for name, spec in specs(Settings).items()
+               if set(getattr(spec, "stages", ()) or ("?",)) - {"display"})
+
+
+@dataclass
+class TryFrames:
+    """Per (lesson id, step, try-this): the frame the press showed; per (lesson id,
+    step): the step's own frame."""
+
+    after: dict[tuple[str, int, int], Any] = field(default_factory=dict)
+    before: dict[tuple[str, int], Any] = field(default_factory=dict)
+
+    def keep_step(self, key: tuple[str, int], result: Any) -> None:
+        """The step's own finished frame, on screen with no try-this pressed."""
+        if result is not None:
+            self.before[key] = result
+
+    def keep_after(self, key: tuple[str, int, int], result: Any) -> None:
+        """The try-this's finished frame, on screen while it is pressed."""
+        if result is not None:
+            self.after[key] = result
+
+    def after_context(self, key: tuple[str, int, int], context: live_values.LiveContext
+                      ) -> live_values.LiveContext:
+        """``context`` (the configuration the button sets, no frame) with the frame kept
+        from its last press, when that frame shows those settings."""
+        kept = self.after.get(key)
+        if kept is None or context.result is not None or \
+                not same_frame(kept.settings, context.settings):
+            return context
+        return replace(context, result=kept)
+
+    def before_note(self, key: tuple[str, int], prompt: str,
+                    context: live_values.LiveContext, figure_ids: tuple[str, ...] = ()
+                    ) -> str:
+        """"before the press: 35.9 W, 0.79" for the frame numbers of ``prompt`` read on
+        the step's kept frame (``context``: the step's own, its result replaced), or ""
+        when no frame is kept or the prompt quotes none."""
+        kept = self.before.get(key)
+        if kept is None:
+            return ""
+        before = replace(context, settings=kept.settings, result=kept)
+        values = []
+        for name, fmt in lesson_text.placeholders(prompt):
+            if not name.startswith(FRAME_PREFIXES):
+                continue
+            try:
+                shown = live_values.render(name, fmt, before, figure_ids)
+            except KeyError:
+                continue
+            if shown != live_values.PENDING:
+                quantity = live_values.lookup(name, figure_ids, tuple(before.marks))
+                values.append(f"{shown} {quantity.unit}".strip())
+        return f"before the press: {', '.join(values)}" if values else ""

@@ -1,0 +1,38 @@
+"""A try-this prompt keeps the numbers of its press after Undo and names the step's own
+numbers before the press (explorer/ui/try_numbers.py), read on real frames."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from explorer.lessons import find_lesson, live_values, load_all, preview_settings
+from explorer.lpv.pipeline import Pipeline
+from explorer.ui.try_numbers import TryFrames
+
+
+def test_the_prompt_keeps_both_frames_numbers(ctx):
+    lessons, _ = load_all(check_formula=None)
+    step = find_lesson("spherical-harmonics", lessons).step(5)     # the front-face clamp
+    item = step.try_this[0]
+    settings = preview_settings(step, max_iterations=4)
+    after = item.apply(settings)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        before_frame = pipeline.run(settings)
+        after_frame = pipeline.run(after)
+    frames = TryFrames()
+    key, step_key = ("spherical-harmonics", 5, 1), ("spherical-harmonics", 5)
+    frames.keep_step(step_key, before_frame)
+    frames.keep_after(key, after_frame)
+    base = live_values.LiveContext(settings=settings, result=before_frame)
+    pending = replace(base, settings=after, result=None)
+    kept = frames.after_context(key, pending)                       # after Undo
+    assert kept.result is after_frame
+    shown_after = live_values.render("audit.clamp_gain", ".3g", kept)
+    shown_before = live_values.render("audit.clamp_gain", ".3g", base)
+    assert shown_after != shown_before and live_values.PENDING not in shown_after
+    note = frames.before_note(step_key, item.prompt, base)
+    assert note.startswith("before the press: ") and f"{shown_before} W" in note
+    # a frame of other settings (the reader changed the window size) is not used
+    other = replace(pending, settings=after.with_changes(width=after.width + 2))
+    assert frames.after_context(key, other).result is None
+    assert TryFrames().before_note(step_key, item.prompt, base) == ""
