@@ -273,3 +273,23 @@ def test_the_stepper_propagates_as_the_twin_does(site, browser):
             checked += _agree(shown, expected, f"stepper {name} t={step}")
     assert checked == 4 * 3 * 8
     assert slider.get_attribute("aria-valuetext") == "step t = 6 of 6"
+
+
+def test_numbers_read_as_the_window_prints_them(site, browser):
+    """The page's number formats (assets/figures/common.js) print what the window's
+    (explorer/ui/figures/style.py) print, over magnitudes from 1e-7 to 1e5 and both
+    signs."""
+    from explorer.ui.figures import style
+
+    _load(browser, site)
+    values = [0.0, 1.0, -1.0, 3.0, 0.999999, 1e-7, -2.5e-5, 0.00099951, 0.001, 0.0123456,
+              0.5, 12.3456, 999.5, 9999.4, 1e4, -123456.7, 0.875, 127 / 128, 1 / 3]
+    printed = browser.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "import('lpv/figures/common.js').then(m => done(arguments[0].map(v => ["
+        "m.watts(v), m.percent(v, 1), m.percent(v, 2), m.fixed(v, 3), m.general(v, 3),"
+        " m.shareOf(v, 0.5)])));", values)
+    for value, page in zip(values, printed):
+        window = [style.watts(value), style.percent(value, 1), style.percent(value, 2),
+                  style.num(value, ".3f"), style.num(value, ".3g"), style.share_of(value, 0.5)]
+        assert page == window, value

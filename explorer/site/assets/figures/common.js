@@ -91,6 +91,16 @@ export function show(node, value, text) {
   node.textContent = text;
 }
 
+// ``parent``'s content replaced by ``parts``: strings, and [name, value, text] readouts.
+export function sentence(parent, parts) {
+  parent.replaceChildren();
+  for (const part of parts) {
+    if (typeof part === "string") { parent.append(part); continue; }
+    const [name, value, text] = part;
+    show(readout(parent, name), value, text);
+  }
+}
+
 // --- controls ---------------------------------------------------------------------------
 
 // A labelled range input; ``speak(value)`` is its aria-valuetext, ``change(value)`` runs

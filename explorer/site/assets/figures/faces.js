@@ -6,7 +6,7 @@ import {
   CUBE_FACE_SOLID_ANGLE, FOUR_PI, FRONT_FACE_SOLID_ANGLE, PUBLISHED_SIDE_FACE_SOLID_ANGLE,
   SIDE_FACE_SOLID_ANGLE,
 } from "lpv/generated/constants.js";
-import { el, fixed, gaussLegendre, percent, radians, readout, show, svg } from "lpv/figures/common.js";
+import { el, fixed, gaussLegendre, percent, radians, readout, sentence, show, svg } from "lpv/figures/common.js";
 
 export const DIRECTIONS = ["+x", "-x", "+y", "-y", "+z", "-z"];
 const AXES = "xyz";
@@ -209,26 +209,18 @@ export function mount(root, params) {
       tr.classList.toggle("selected", index === state.highlighted);
       button.setAttribute("aria-pressed", String(index === state.highlighted));
     });
-    note.replaceChildren();
-    note.append("The five faces of one neighbour cover what a face of the source cell covers seen from its centre (");
-    show(readout(note, "cube_face"), values.cube_face, fixed(values.cube_face, 6));
-    note.append(" sr), so the 30 faces cover the whole sphere, 4π = ");
-    show(readout(note, "sphere"), values.sphere, fixed(values.sphere, 6));
-    note.append(" sr, exactly once. The DX11 article prints the side face as ");
-    show(readout(note, "published_side"), values.published_side, fixed(values.published_side, 10));
-    note.append(" sr; the derivation gives ");
-    show(readout(note, "side"), values.side, fixed(values.side, 10));
-    note.append(" sr.");
-    highlightedNote.replaceChildren();
+    const sr = (name, digits) => [name, values[name], fixed(values[name], digits)];
+    sentence(note, [
+      "The five faces of one neighbour cover what a face of the source cell covers seen from "
+      + "its centre (", sr("cube_face", 6), " sr), so the 30 faces cover the whole sphere, 4π = ",
+      sr("sphere", 6), " sr, exactly once. The DX11 article prints the side face as ",
+      sr("published_side", 10), " sr; the derivation gives ", sr("side", 10), " sr."]);
     if ("highlighted" in values) {
-      highlightedNote.append(`Highlighted: the ${faces[state.highlighted].name} face, `);
-      show(readout(highlightedNote, "highlighted"), values.highlighted, `${fixed(values.highlighted, 6)} sr`);
-      highlightedNote.append(" (quadrature ");
-      show(readout(highlightedNote, "highlighted_numeric"), values.highlighted_numeric,
-           `${fixed(values.highlighted_numeric, 6)} sr`);
-      highlightedNote.append(").");
+      sentence(highlightedNote, [
+        `Highlighted: the ${faces[state.highlighted].name} face, `, sr("highlighted", 6),
+        " sr (quadrature ", sr("highlighted_numeric", 6), " sr)."]);
     } else {
-      highlightedNote.append("Hover, tap or focus a face to highlight it.");
+      sentence(highlightedNote, ["Hover, tap or focus a face to highlight it."]);
     }
     if (cellsSvg) { drawCells(faces); }
     if (sphereSvg) { drawSphere(faces); }

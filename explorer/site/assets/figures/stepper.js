@@ -8,7 +8,7 @@ import {
   PUBLISHED_SIDE_FACE_SOLID_ANGLE, SH_C1, SH_FLUX_FACTOR, SIDE_EVAL_BIG, SIDE_EVAL_SMALL,
   SIDE_FACE_SOLID_ANGLE,
 } from "lpv/generated/constants.js";
-import { cosineLobe, el, percent, shBasis, show, slider, svg, watts, general } from "lpv/figures/common.js";
+import { cosineLobe, el, general, percent, sentence, shBasis, slider, svg, watts } from "lpv/figures/common.js";
 
 const CHANNELS = 3;
 const K = 4;                              // L1: four SH coefficients per cell
@@ -330,28 +330,16 @@ export function mount(root, params) {
     scrub.set(values.step);
     sliceNow = drawSlice(r, values.step);
     drawPlot(r, values.step);
-    balance.replaceChildren();
-    const put = (name, text) => { const node = el("span", { class: "readout", "data-readout": name }, balance); show(node, values[name], text); };
-    balance.append("Step t = ");
-    put("step", String(values.step));
-    balance.append(": ");
-    put("in_flight", watts(values.in_flight));
-    balance.append(" in flight (");
-    put("in_flight_share", percent(values.in_flight_share));
-    balance.append(" of the injected ");
-    put("injected", watts(values.injected));
-    balance.append("). In flight + left through the border ");
-    put("border_loss", watts(values.border_loss));
-    balance.append(" − added by the front-face clamp ");
-    put("clamp_gain", watts(values.clamp_gain));
-    balance.append(" = ");
-    put("balance", watts(values.balance));
     const kept = Math.abs(values.balance - values.injected) <= 1e-9 * values.injected;
-    balance.append(kept ? ", the injected flux: these formulas conserve it."
-      : `, not the injected ${watts(values.injected)}: these formulas change the flux at every step.`);
-    balance.append(" Summed over steps 0..t (what the gather reads): ");
-    put("accumulated", watts(values.accumulated));
-    balance.append(".");
+    const w = (name) => [name, values[name], watts(values[name])];
+    sentence(balance, [
+      "Step t = ", ["step", values.step, String(values.step)], ": ", w("in_flight"),
+      " in flight (", ["in_flight_share", values.in_flight_share, percent(values.in_flight_share)],
+      " of the injected ", w("injected"), "). In flight + left through the border ",
+      w("border_loss"), " − added by the front-face clamp ", w("clamp_gain"), " = ", w("balance"),
+      kept ? ", the injected flux: these formulas conserve it."
+        : `, not the injected ${watts(values.injected)}: these formulas change the flux at every step.`,
+      " Summed over steps 0..t (what the gather reads): ", w("accumulated"), "."]);
     legend.textContent = `${params.labels[state.corrections]}. Colour: flux per cell relative to this step's `
       + `brightest cell (square root, so the faint front shows); ${general(params.source_flux, 3)} W per colour channel injected.`;
   }
