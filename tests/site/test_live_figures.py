@@ -50,12 +50,12 @@ def site(tmp_path_factory) -> Path:
     return out
 
 
-def _load(driver, site: Path, width: int = 1280) -> None:
+def _load(driver, site: Path, width: int = 1280, url: str | None = None) -> None:
     driver.set_window_size(width, 900)
     driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
         "width": width, "height": 900, "deviceScaleFactor": 1, "mobile": width < 600})
     driver.get_log("browser")
-    driver.get((site / PAGE).as_uri())
+    driver.get(url or (site / PAGE).as_uri())
     for _ in range(100):
         if driver.execute_script("return document.querySelectorAll('figure.is-live').length"
                                  " === document.querySelectorAll('[data-live-kind]').length"):
@@ -293,3 +293,61 @@ def test_numbers_read_as_the_window_prints_them(site, browser):
         window = [style.watts(value), style.percent(value, 1), style.percent(value, 2),
                   style.num(value, ".3f"), style.num(value, ".3g"), style.share_of(value, 0.5)]
         assert page == window, value
+
+
+def test_from_a_web_server_the_module_files_themselves_load(site, browser):
+    """Served over HTTP the import map points at assets/ and the browser fetches the
+    module files (from file:// it imports the packed copies)."""
+    import functools
+    import http.server
+    import threading
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args) -> None:
+            pass
+
+    handler = functools.partial(Quiet, directory=str(site))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        _load(browser, site, url=f"http://127.0.0.1:{server.server_port}/{PAGE}")
+        fetched = browser.execute_script(
+            "return performance.getEntriesByType('resource').map(e => e.name)")
+        for name in ("assets/figures/live.js", "assets/figures/stepper.js",
+                     "assets/generated/constants.js"):
+            assert any(url.endswith(name) for url in fetched), (name, fetched)
+        errors = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"
+                  and "favicon.ico" not in e["message"]]    # the browser's own request
+        assert errors == []
+    finally:
+        server.shutdown()
+        server.server_close()
+        thread.join(5)
+
+
+def test_a_touch_drag_turns_the_normal(site, browser):
+    """A finger on the handle (touch events, as a phone sends them) drags n as a mouse
+    does: pointer events serve both."""
+    from explorer.ui.figures import clamped_cosine
+
+    _load(browser, site, 375)
+    figure = _figure(browser, "cosine")
+    handle = figure.find_element("css selector", '[data-handle="n"]')
+    box = browser.execute_script("arguments[0].scrollIntoView({block: 'center'});"
+                                 "const r = arguments[0].getBoundingClientRect();"
+                                 "return [r.x + r.width / 2, r.y + r.height / 2]", handle)
+    browser.execute_cdp_cmd("Emulation.setTouchEmulationEnabled", {"enabled": True,
+                                                                   "maxTouchPoints": 1})
+    path = [box, [box[0] - 40, box[1] + 30], [box[0] - 80, box[1] + 70]]
+    for kind, (x, y) in zip(("touchStart", "touchMove", "touchMove"), path):
+        browser.execute_cdp_cmd("Input.dispatchTouchEvent", {
+            "type": kind, "touchPoints": [{"x": x, "y": y}]})
+        time.sleep(0.05)                                # one frame per move
+    browser.execute_cdp_cmd("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
+    browser.execute_cdp_cmd("Emulation.setTouchEmulationEnabled", {"enabled": False})
+    shown = _readouts(browser, figure)
+    assert shown["normal_deg"] < 0.0                   # turned past up, toward −x
+    expected = clamped_cosine.readouts(ClampedCosineParams(normal_deg=30.0), clamped_cosine.State(
+        shown["normal_deg"], shown["probe_deg"]))
+    assert _agree(shown, expected, "cosine by touch") >= 20

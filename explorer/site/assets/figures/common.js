@@ -129,6 +129,9 @@ export function slider(parent, { label, min, max, step, value, speak, change }) 
 export function drag(svgNode, handle, move) {
   const target = handle || svgNode;
   target.style.touchAction = "none";
+  // Chrome ignores touch-action inside an SVG: a touch that starts on the handle must not
+  // scroll the page (which would cancel the drag); elsewhere the page still scrolls.
+  target.addEventListener("touchstart", (event) => event.preventDefault(), { passive: false });
   let active = null;
   const point = (event) => {
     const matrix = svgNode.getScreenCTM().inverse();

@@ -115,8 +115,11 @@ export function mount(root, params) {
   layers.exact = svg("polyline", { class: "curve exact" }, picture);
   const normalLine = svg("line", { x1: 0, y1: 0, class: "handle-line" }, picture);
   const probeLine = svg("line", { x1: 0, y1: 0, class: "probe-line" }, picture);
-  const normalTip = svg("circle", { r: 0.07, class: "handle", "data-handle": "n" }, picture);
-  const probeTip = svg("circle", { r: 0.06, class: "handle probe", "data-handle": "ω" }, picture);
+  const normalTip = svg("circle", { r: 0.07, class: "handle" }, picture);
+  const probeTip = svg("circle", { r: 0.06, class: "handle probe" }, picture);
+  // what a finger or the pointer grabs: a circle about 44 px across around each tip
+  const normalGrab = svg("circle", { r: 0.2, class: "grab", "data-handle": "n" }, picture);
+  const probeGrab = svg("circle", { r: 0.2, class: "grab", "data-handle": "ω" }, picture);
   const normalText = svg("text", { class: "handle-label" }, picture);
   normalText.textContent = "n";
   const probeText = svg("text", { class: "handle-label" }, picture);
@@ -188,12 +191,14 @@ export function mount(root, params) {
     layers.exact.setAttribute("points", points(curves.exact, curves.dirs));
     const n = sliceDirection(state.normal);
     const p = sliceDirection(state.probe).map((v) => 1.1 * v);
-    for (const [line, tip, text, d] of [[normalLine, normalTip, normalText, n],
-                                        [probeLine, probeTip, probeText, p]]) {
+    for (const [line, tip, grab, text, d] of [[normalLine, normalTip, normalGrab, normalText, n],
+                                              [probeLine, probeTip, probeGrab, probeText, p]]) {
       line.setAttribute("x2", d[0]);
       line.setAttribute("y2", -d[1]);
-      tip.setAttribute("cx", d[0]);
-      tip.setAttribute("cy", -d[1]);
+      for (const circle of [tip, grab]) {
+        circle.setAttribute("cx", d[0]);
+        circle.setAttribute("cy", -d[1]);
+      }
       text.setAttribute("x", d[0] * 1.12);
       text.setAttribute("y", -d[1] * 1.12);
     }
@@ -222,7 +227,7 @@ export function mount(root, params) {
     slide.set(Math.round(deg));
     update();
   };
-  drag(picture, normalTip, aim((v) => { state.normal = v; }, normalSlider));
-  drag(picture, probeTip, aim((v) => { state.probe = v; }, probeSlider));
+  drag(picture, normalGrab, aim((v) => { state.normal = v; }, normalSlider));
+  drag(picture, probeGrab, aim((v) => { state.probe = v; }, probeSlider));
   update();
 }

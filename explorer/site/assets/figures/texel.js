@@ -87,7 +87,8 @@ export function mount(root, params) {
   svg("line", { x1: 0, y1: 0, x2: 0, y2: -0.45, class: "toward-light" }, side);
   const arc = svg("polyline", { class: "arc" }, side);
   const angleLabel = svg("text", { class: "svg-label" }, side);
-  const handle = svg("circle", { r: 0.09, class: "handle", "data-handle": "tilt" }, side);
+  const handle = svg("circle", { r: 0.09, class: "handle" }, side);
+  const grab = svg("circle", { r: 0.24, class: "grab", "data-handle": "tilt" }, side);   // ~44 px
   let plotMarks = null;
   if (plot) { plotMarks = drawPlot(plot, maxTilt); }
 
@@ -116,7 +117,10 @@ export function mount(root, params) {
     angleLabel.setAttribute("x", 0.6 * Math.sin(t / 2) + 0.12);
     angleLabel.setAttribute("y", -0.6 * Math.cos(t / 2));
     angleLabel.textContent = `θ = ${fixed(state.theta, 0)}°`;
-    handle.setAttribute("cx", tangent[0]); handle.setAttribute("cy", -tangent[1]);
+    for (const circle of [handle, grab]) {
+      circle.setAttribute("cx", tangent[0]);
+      circle.setAttribute("cy", -tangent[1]);
+    }
     side.setAttribute("aria-label", `Side view: the light through one texel onto a surface tilted by ${fixed(state.theta, 0)}°; `
       + `the footprint is ${fixed(values.footprint, 3)} texel areas`);
     show(thetaCell, values.theta_deg, fixed(values.theta_deg, 1));
@@ -126,7 +130,7 @@ export function mount(root, params) {
     if (plotMarks) { plotMarks(values); }
   }
   // rsm_texel's handle: the surface's end; θ from its position, within [0, MAX_TILT].
-  drag(side, handle, (x, y) => {
+  drag(side, grab, (x, y) => {
     if (x <= 0) { return; }
     state.theta = Math.min(Math.max(degrees(Math.atan2(y, x)), 0), maxTilt);
     tilt.set(Math.round(state.theta));
