@@ -351,3 +351,29 @@ def test_a_touch_drag_turns_the_normal(site, browser):
     expected = clamped_cosine.readouts(ClampedCosineParams(normal_deg=30.0), clamped_cosine.State(
         shown["normal_deg"], shown["probe_deg"]))
     assert _agree(shown, expected, "cosine by touch") >= 20
+
+
+def test_every_live_control_is_reached_by_tab_and_shows_its_focus(site, browser):
+    """Tab walks through each figure's controls (sliders, buttons, selects); the one that
+    has the focus draws a visible outline."""
+    from selenium.webdriver.common.keys import Keys
+
+    _load(browser, site)
+    query = ".live-figure input, .live-figure button, .live-figure select"
+    controls = browser.execute_script(f"return document.querySelectorAll('{query}').length")
+    first = browser.find_element("css selector", query)
+    browser.execute_script("arguments[0].focus()", first)
+    seen = {0}
+    for _ in range(3 * controls):
+        browser.switch_to.active_element.send_keys(Keys.TAB)
+        index, style, width = browser.execute_script(
+            f"const e = document.activeElement, s = getComputedStyle(e);"
+            f" return [Array.from(document.querySelectorAll('{query}')).indexOf(e),"
+            " s.outlineStyle, parseFloat(s.outlineWidth)]")
+        if index < 0:
+            continue                            # a link of the page between the figures
+        assert style != "none" and width >= 2, index
+        seen.add(index)
+        if index == controls - 1:
+            break
+    assert seen == set(range(controls))         # every control, by Tab alone
