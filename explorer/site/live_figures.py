@@ -52,6 +52,7 @@ def _extras(kind: str, readouts: Mapping[str, float]) -> dict[str, Any]:
             SOURCE_FLUX,
             corrections_named,
         )
+        from explorer.ui.glyphs import SAMPLES
         from explorer.ui.legend import describe_corrections
         from explorer.ui.textures import heat
 
@@ -62,7 +63,7 @@ def _extras(kind: str, readouts: Mapping[str, float]) -> dict[str, Any]:
                            for name in STEPPER_CORRECTIONS},
                 "heat": [[round(float(v), 4) for v in colour] for colour in heat(
                     np.linspace(0.0, 1.0, HEAT_SAMPLES))],
-                "rate": PLAY_RATE, "source_flux": SOURCE_FLUX}
+                "rate": PLAY_RATE, "source_flux": SOURCE_FLUX, "glyph_samples": SAMPLES}
     return {}
 
 

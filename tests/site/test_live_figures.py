@@ -272,6 +272,9 @@ def test_the_stepper_propagates_as_the_twin_does(site, browser):
             expected = propagation_stepper.readouts(params, state)
             checked += _agree(shown, expected, f"stepper {name} t={step}")
     assert checked == 4 * 3 * 8
+    arrows = canvas.screenshot_as_png
+    Select(figure.find_elements("css selector", "select")[1]).select_by_value("lobe")
+    assert canvas.screenshot_as_png != arrows                # each cell's lobe instead
     assert slider.get_attribute("aria-valuetext") == "step t = 6 of 6"
 
 

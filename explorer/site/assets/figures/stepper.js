@@ -171,7 +171,7 @@ export function mount(root, params) {
   };
   choose("formulas", params.choices.map((name) => [name, name]), state.corrections,
          (v) => { state.corrections = v; draw(); });
-  choose("glyph", [["arrow", "arrows"], ["none", "none"]], state.glyph === "none" ? "none" : "arrow",
+  choose("glyph", [["arrow", "arrows"], ["lobe", "lobes"], ["none", "none"]], state.glyph,
          (v) => { state.glyph = v; draw(); });
   choose("axis", [["auto", "auto"], ["linear", "linear"], ["log", "log"]], state.scale,
          (v) => { state.scale = v; draw(); });
@@ -235,7 +235,8 @@ export function mount(root, params) {
       g.strokeStyle = "rgba(255,255,255,0.08)";
       g.strokeRect(c.x * cell, (n - 1 - c.y) * cell, cell, cell);
     }
-    if (state.glyph !== "none" && longest > 0) {
+    if (state.glyph === "lobe") { drawLobes(g, r.steps[t], n, r.source[2], cell); }
+    if (state.glyph === "arrow" && longest > 0) {
       g.strokeStyle = g.fillStyle = "rgba(240,240,240,0.9)";
       g.lineWidth = 1.5;
       for (const c of cells) {
@@ -264,6 +265,45 @@ export function mount(root, params) {
     canvas.setAttribute("aria-label", `The slice z = ${r.source[2]} at step ${t}: each cell coloured by `
       + "the flux it holds, with an arrow where its light is heading");
     return { cells, cell, n };
+  }
+
+  // glyphs.draw_lobe_glyphs: each cell's intensity toward the slice's directions as a
+  // polar curve, relative to the slice's largest |value|; negative parts in red.
+  const around = [...Array(params.glyph_samples).keys()].map((i) => {
+    const a = 2 * PI * i / params.glyph_samples;
+    return shBasis([Math.cos(a), Math.sin(a), 0], 1).concat([Math.cos(a), Math.sin(a)]);
+  });
+  function drawLobes(g, grid, n, z, cell) {
+    const lobes = [];
+    let top = 0;
+    for (let x = 0; x < n; x++) {
+      for (let y = 0; y < n; y++) {
+        const i = ((x * n + y) * n + z) * K;
+        const values = around.map((b) => grid[i] * b[0] + grid[i + 1] * b[1] + grid[i + 2] * b[2]
+          + grid[i + 3] * b[3]);
+        values.forEach((v) => { top = Math.max(top, Math.abs(v)); });
+        lobes.push([x, y, values]);
+      }
+    }
+    if (top <= 0) { return; }
+    g.lineWidth = 1;
+    for (const [sign, colour] of [[1, "rgba(240,240,240,0.9)"], [-1, "rgba(230,80,80,0.95)"]]) {
+      g.strokeStyle = colour;
+      for (const [x, y, values] of lobes) {
+        const radius = values.map((v) => Math.max(sign * v, 0) / top * cell / 2);
+        if (Math.max(...radius) < 0.6) { continue; }
+        const cx = (x + 0.5) * cell;
+        const cy = (n - 1 - y + 0.5) * cell;
+        g.beginPath();
+        radius.forEach((rad, k) => {
+          const px = cx + rad * around[k][4];
+          const py = cy - rad * around[k][5];
+          if (k === 0) { g.moveTo(px, py); } else { g.lineTo(px, py); }
+        });
+        g.closePath();
+        g.stroke();
+      }
+    }
   }
 
   let sliceNow = null;
