@@ -159,6 +159,10 @@ def test_dragging_the_cosine_lobe_gives_the_windows_numbers(site, browser):
     keyed = _readouts(browser, figure)
     assert keyed["normal_deg"] == round(after["normal_deg"]) + 3
     assert "n at" in sliders[0].get_attribute("aria-valuetext")
+    solid = figure.find_element("css selector", "svg.solid")        # the 3D view turns
+    before = browser.execute_script("return arguments[0].innerHTML", solid)
+    _press(browser, solid, Keys.ARROW_LEFT, 2)
+    assert browser.execute_script("return arguments[0].innerHTML", solid) != before
     for shown in (after, keyed):
         state = clamped_cosine.State(shown["normal_deg"], shown["probe_deg"])
         expected = clamped_cosine.readouts(params, state)

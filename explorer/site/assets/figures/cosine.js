@@ -104,8 +104,11 @@ export function mount(root, params) {
   const orders = params.orders === "both" ? [1, 2] : [Number(params.orders[1])];
   const state = { normal: params.normal_deg, probe: params.probe_deg };
   const body = el("div", { class: "live-body cosine" }, root);
+  const views = el("div", { class: "live-views" }, body);
   const picture = svg("svg", { class: "live-svg", viewBox: `${-RADIUS} ${-RADIUS} ${2 * RADIUS} ${2 * RADIUS}`,
-                               role: "img" }, body);
+                               role: "img" }, views);
+  if (params.view === "3d") { picture.style.display = "none"; }
+  const solid = params.view === "polar" ? null : threeD(views, orders[0]);
   svg("circle", { cx: 0, cy: 0, r: 1, class: "unit" }, picture);
   const layers = {};
   for (const order of orders) {
@@ -181,7 +184,7 @@ export function mount(root, params) {
   const stateCells = { normal_deg: readout(legend, "normal_deg"), probe_deg: readout(legend, "probe_deg") };
   Object.values(stateCells).forEach((node) => { node.hidden = true; });
 
-  function update() {
+  let update = () => {
     const { values, curves } = numbers(state.normal, state.probe);
     for (const order of orders) {
       const along = curves[`l${order}`];
@@ -219,7 +222,7 @@ export function mount(root, params) {
     BANDS.forEach((share, band) => { show(bandCells[band], share, percent(share, 1)); });
     const rest = 1 - BANDS.reduce((sum, share) => sum + share, 0);
     show(bandCells[3], rest, percent(rest, 2));
-  }
+  };
   const aim = (set, slide) => (x, y) => {
     if (x === 0 && y === 0) { return; }
     const deg = degrees(Math.atan2(x, -y));
@@ -229,5 +232,85 @@ export function mount(root, params) {
   };
   drag(picture, normalGrab, aim((v) => { state.normal = v; }, normalSlider));
   drag(picture, probeGrab, aim((v) => { state.probe = v; }, probeSlider));
+  if (solid) {
+    const draw3d = update;
+    update = () => { draw3d(); solid.draw(state.normal); };
+    solid.onTurn(() => solid.draw(state.normal));
+  }
   update();
+}
+
+// The first order's lobe in 3D (clamped_cosine._three_d): the surface r(ω)·ω with
+// r = max(±value, 0) as a wireframe of 19 elevations × 37 azimuths, the slice plane
+// faint; drag it (or focus it and press the arrow keys) to turn it.
+const ELEVATIONS = 19;
+const AZIMUTHS = 37;
+
+function threeD(parent, order) {
+  const node = svg("svg", { class: "live-svg solid", viewBox: "-1.3 -1.3 2.6 2.6", role: "img",
+                            tabindex: "0" }, parent);
+  node.setAttribute("aria-label", `The L${order} projection in 3D; drag or use the arrow keys to turn it`);
+  const view = { yaw: radians(-20), pitch: radians(15) };
+  const project = ([x, y, z]) => {
+    const x1 = Math.cos(view.yaw) * x + Math.sin(view.yaw) * z;
+    const z1 = -Math.sin(view.yaw) * x + Math.cos(view.yaw) * z;
+    return [x1, -(Math.cos(view.pitch) * y - Math.sin(view.pitch) * z1)];
+  };
+  const grid = [];
+  for (let i = 0; i < ELEVATIONS; i++) {
+    const row = [];
+    for (let j = 0; j < AZIMUTHS; j++) {
+      const elevation = PI * i / (ELEVATIONS - 1);
+      const az = 2 * PI * j / (AZIMUTHS - 1);
+      row.push([Math.sin(elevation) * Math.cos(az), Math.cos(elevation), Math.sin(elevation) * Math.sin(az)]);
+    }
+    grid.push(row);
+  }
+  let turned = () => {};
+  let last = null;
+  node.style.touchAction = "none";
+  node.addEventListener("pointerdown", (event) => {
+    last = [event.clientX, event.clientY];
+    node.setPointerCapture(event.pointerId);
+  });
+  node.addEventListener("pointermove", (event) => {
+    if (!last) { return; }
+    view.yaw += radians(event.clientX - last[0]) * 0.8;
+    view.pitch = Math.max(Math.min(view.pitch + radians(event.clientY - last[1]) * 0.8, PI / 2), -PI / 2);
+    last = [event.clientX, event.clientY];
+    turned();
+  });
+  node.addEventListener("pointerup", () => { last = null; });
+  node.addEventListener("keydown", (event) => {
+    const turn = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] }[event.key];
+    if (!turn) { return; }
+    event.preventDefault();
+    view.yaw += radians(10 * turn[0]);
+    view.pitch = Math.max(Math.min(view.pitch + radians(10 * turn[1]), PI / 2), -PI / 2);
+    turned();
+  });
+  return {
+    onTurn(callback) { turned = callback; },
+    draw(normalDeg) {
+      const n = sliceDirection(normalDeg);
+      const lobe = { normal: n, coefficients: cosineLobe(n, 2) };
+      node.replaceChildren();
+      const plane = [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]].map(project);
+      svg("polygon", { points: plane.map((p) => p.join(",")).join(" "), class: "slice-plane" }, node);
+      for (const [key, sign, css] of [[order, 1, `l${order}`], [order, -1, "negative"], [0, 1, "exact"]]) {
+        const radius = grid.map((row) => row.map((d) => Math.max(sign * evaluate(lobe, d, key), 0)));
+        const lines = [];
+        grid.forEach((row, i) => lines.push(row.map((d, j) => [d, radius[i][j]])));
+        for (let j = 0; j < AZIMUTHS; j += 3) { lines.push(grid.map((row, i) => [row[j], radius[i][j]])); }
+        for (const line of lines) {
+          if (line.every(([, r]) => r <= 0)) { continue; }
+          const points = line.map(([d, r]) => project(d.map((v) => v * r)));
+          svg("polyline", { points: points.map((p) => `${p[0].toFixed(4)},${p[1].toFixed(4)}`).join(" "),
+                            class: `wire ${css}` }, node);
+        }
+      }
+      const tip = project(n);
+      svg("line", { x1: 0, y1: 0, x2: tip[0], y2: tip[1], class: "handle-line" }, node);
+    },
+  };
 }
