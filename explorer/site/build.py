@@ -20,7 +20,7 @@ import numpy as np
 
 from explorer.lessons import Lesson, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
-from explorer.site import pages, prose
+from explorer.site import live_figures, pages, prose
 from explorer.site.frames import (
     FrameRenderer,
     Screen,
@@ -268,6 +268,7 @@ class _Writer:
         shipped = files("explorer.site") / "assets"
         for name in ("site.css", "site.js"):
             (folder / name).write_bytes((shipped / name).read_bytes())
+        live_figures.copy_assets(folder)
         font = fonts_dir() / SYMBOL_FONT           # Latin Modern Math (GUST font licence)
         shutil.copyfile(font, folder / "latinmodern-math.otf")
         licence = font.with_name("GUST-FONT-LICENSE.txt")
@@ -343,6 +344,7 @@ class _Writer:
                 f'<p class="summary">{pages.esc(lesson.summary)}</p>'
                 f'<ol class="toc">{toc}</ol>' + "\n".join(sections) + "</article>"
                 + "".join(pager))
+        body += live_figures.loader_tag(body)
         name = page_name(lesson)
         nav = pages.lesson_nav([(page_name(one), f"{one.number}") for one in lessons], name)
         (self.root / name).write_text(pages.frame(f"{lesson.title} · LPV lessons", body,
@@ -465,12 +467,14 @@ class _Writer:
         answer = self.figure_answers[f"{lesson.id}/{step.number}/{spec.instance_id}"]
         images = [self._figure_image(path) for path in answer["files"]]
         if len(images) == 1:
-            return (f'<figure class="figure" {data}>{images[0].tag(spec.kind)}{caption_html}'
+            html = (f'<figure class="figure" {data}>{images[0].tag(spec.kind)}{caption_html}'
                     "</figure>")
-        start = min(int(getattr(spec.params, "step", 0)), len(images) - 1)
-        return (f'<figure class="figure stepper" {data}>' + pages.sequence(
-            [(image, f"step t = {t}") for t, image in enumerate(images)], start,
-            "Propagation, step by step", caption or "", css="figure-sequence") + "</figure>")
+        else:
+            start = min(int(getattr(spec.params, "step", 0)), len(images) - 1)
+            html = (f'<figure class="figure stepper" {data}>' + pages.sequence(
+                [(image, f"step t = {t}") for t, image in enumerate(images)], start,
+                "Propagation, step by step", caption or "", css="figure-sequence") + "</figure>")
+        return live_figures.with_live(spec, answer["readouts"], caption_html, html)
 
     def step_plot(self, step: Step, shot: Shot) -> str:
         """The plot the step brings forward in the window's Plots panel (its ``plot``),
