@@ -21,7 +21,7 @@ import numpy as np
 from explorer.lessons import live_values
 from explorer.lessons import text as lesson_text
 from explorer.lessons import Lesson, Step, TryThis
-from explorer.site import pages, prose
+from explorer.site import live_lpv, pages, prose
 from explorer.site.frames import (
     FrameRenderer,
     Screen,
@@ -255,6 +255,7 @@ class _Writer:
         licence = font.with_name("GUST-FONT-LICENSE.txt")
         if licence.is_file():
             shutil.copyfile(licence, folder / "GUST-FONT-LICENSE.txt")
+        live_lpv.copy_assets(folder)
 
     def image(self, pixels: np.ndarray, name: str, fmt: str | None = None,
               width: int | None = None) -> pages.Image:
@@ -324,7 +325,8 @@ class _Writer:
                 f"<h1>{pages.esc(lesson.title)}</h1>"
                 f'<p class="summary">{pages.esc(lesson.summary)}</p>'
                 f'<ol class="toc">{toc}</ol>' + "\n".join(sections) + "</article>"
-                + "".join(pager))
+                + "".join(pager)
+                + (live_lpv.module_script() if any(s.live_lpv for s in lesson.steps) else ""))
         name = page_name(lesson)
         nav = pages.lesson_nav([(page_name(one), f"{one.number}") for one in lessons], name)
         (self.root / name).write_text(pages.frame(f"{lesson.title} · LPV lessons", body,
@@ -370,6 +372,13 @@ class _Writer:
 
         text = prose.blocks(step.text, baker, figure_html.get, try_link)
         parts.append(f'<div class="prose">{text}</div>')
+        if step.live_lpv:
+            try:
+                parts.append(live_lpv.step_figure(
+                    self.frames.ctx, step.settings(), self.root, f"{lesson.id}-step{step.number}",
+                    self.options.size, view.src, f"{step.title}: the baked picture"))
+            except ValueError as exc:
+                raise SiteError(f"{where}{exc}") from None
         parts += [html for fid, html in figure_html.items() if fid not in placed]
         parts += [prose.formula(name, baker) for name in step.formulas]
         parts.append(self.step_plot(step, shot))
