@@ -6,6 +6,10 @@ Every registry result with a ``glsl_name`` becomes a constant in
   ``glsl_code`` from ``sp.N(expr, 12)`` (12 significant digits, more than a float holds);
 * ``explorer/lpv/constants.py``: ``NAME = value`` with the full double precision
   (``repr(float(sp.N(expr, 30)))``);
+* ``explorer/site/assets/generated/constants.js``: an ES module for the site's live
+  figures, ``export const NAME = value;`` with the full double precision, the same names
+  and values as ``explorer/lpv/constants.py`` plus the results only the figures need
+  (:data:`JS_EXTRAS`), and ``DERIVATION`` (name -> derivation);
 * ``derivations/ERRATA.md``: the errata table (``derivations.errata.markdown``);
 * ``shaders/generated/corrections.glsl``: one ``uniform bool u_<name>;`` per entry of the
   corrections registry (``explorer/correction_registry.py``), after checking that every
@@ -36,12 +40,13 @@ import sympy as sp
 from sympy.printing.glsl import glsl_code
 
 from derivations import errata
-from derivations.registry import Result, all_results, latex, names
+from derivations.registry import Result, all_results, get, latex, names
 from explorer.correction_registry import CORRECTIONS
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 GLSL_PATH = Path("shaders") / "generated" / "constants.glsl"
 PYTHON_PATH = Path("explorer") / "lpv" / "constants.py"
+JS_PATH = Path("explorer") / "site" / "assets" / "generated" / "constants.js"
 ERRATA_PATH = Path("derivations") / "ERRATA.md"
 CORRECTIONS_GLSL_PATH = Path("shaders") / "generated" / "corrections.glsl"
 DERIVED_PATH = Path("explorer") / "derived_table.py"
@@ -51,6 +56,16 @@ TABLE_END = "<!-- end of the generated corrections table -->"
 LINE_LIMIT = 99
 GLSL_DIGITS = 12
 REGENERATE = "python -m derivations.codegen"
+JS_EXTRAS: tuple[tuple[str, str], ...] = (
+    ("CLAMPED_COSINE_ENERGY", "sh.clamped_cosine_energy"),
+    ("L1_ENERGY_FRACTION", "sh.l1_energy_fraction"),
+    ("L2_ENERGY_FRACTION", "sh.l2_energy_fraction"),
+    ("BAND0_ENERGY_FRACTION", "sh.band0_energy_fraction"),
+    ("BAND1_ENERGY_FRACTION", "sh.band1_energy_fraction"),
+    ("BAND2_ENERGY_FRACTION", "sh.band2_energy_fraction"),
+)
+"""(JavaScript name, derivation) of the numbers the site's live figures read beyond the
+shaders' constants: the cosine-lobe figure's energy table."""
 
 
 def constants() -> list[Result]:
@@ -110,6 +125,39 @@ def python_source() -> str:
               "DERIVATION: dict[str, str] = {"]
     lines += [f'    "{item.glsl_name}": "{item.name}",' for item in constants()]
     lines += ["}", ""]
+    return "\n".join(lines)
+
+
+def js_constants() -> list[tuple[str, Result]]:
+    """(name, result) of every JavaScript constant: the shaders' constants, then
+    :data:`JS_EXTRAS` (a name given twice is an error)."""
+    found = [(item.glsl_name, item) for item in constants()]
+    found += [(name, get(derivation)) for name, derivation in JS_EXTRAS]
+    seen = [name for name, _ in found]
+    twice = sorted({name for name in seen if seen.count(name) > 1})
+    if twice:
+        raise ValueError(f"JavaScript constants named twice: {', '.join(twice)}")
+    return found
+
+
+def js_source() -> str:
+    lines = [
+        "// Derived constants (GENERATED FILE, do not edit).",
+        "//",
+        f"// Written by `{REGENERATE}` from the exact results in derivations/;",
+        f"// `{REGENERATE} --check` and the test suite fail when it is stale. The same",
+        "// names and values as explorer/lpv/constants.py (full double precision), plus the",
+        "// results the site's live figures read (derivations.codegen.JS_EXTRAS). Each line:",
+        "// value  // closed form  [derivation]",
+        "",
+    ]
+    for name, item in js_constants():
+        lines.append(f"export const {name} = {float(sp.N(item.expr, 30))!r};  "
+                     f"// {closed_form(item)}  [{item.name}]")
+    lines += ["", "// constant name -> the derivation it comes from (derivations.registry.get)",
+              "export const DERIVATION = Object.freeze({"]
+    lines += [f'  {name}: "{item.name}",' for name, item in js_constants()]
+    lines += ["});", ""]
     return "\n".join(lines)
 
 
@@ -226,7 +274,7 @@ def derived_source() -> str:
 
 def outputs(root: Path = REPO_ROOT) -> dict[Path, str]:
     """Relative path -> the text it must hold."""
-    return {GLSL_PATH: glsl_source(), PYTHON_PATH: python_source(),
+    return {GLSL_PATH: glsl_source(), PYTHON_PATH: python_source(), JS_PATH: js_source(),
             ERRATA_PATH: errata_source(), CORRECTIONS_GLSL_PATH: corrections_glsl_source(),
             DERIVED_PATH: derived_source(), MODEL_PATH: model_source(root)}
 

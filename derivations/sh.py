@@ -199,6 +199,15 @@ def captured_energy_fraction(basis: Sequence[sp.Expr]) -> sp.Expr:
                                     / clamped_cosine_energy()))
 
 
+def band_energy_fraction(band: int) -> sp.Expr:
+    """Share of the clamped cosine's energy in SH band ``band`` (0, 1 or 2) alone
+    (Parseval: the band's ``Σ s_k²`` over ``2π/3``); the bands up to l sum to the L1 and
+    L2 shares."""
+    coefficients = clamped_cosine_coefficients(L2_BASIS)[band ** 2:(band + 1) ** 2]
+    return sp.nsimplify(sp.simplify(sum(s**2 for s in coefficients)
+                                    / clamped_cosine_energy()))
+
+
 def results() -> list[Result]:
     cos_l1 = clamped_cosine_coefficients(L1_BASIS)
     cos_l2 = clamped_cosine_coefficients(L2_BASIS)
@@ -231,6 +240,9 @@ def results() -> list[Result]:
         result(MODULE, "l2_energy_fraction", captured_energy_fraction(L2_BASIS),
                "Share of the clamped cosine's energy kept by its L2 (9-coefficient) "
                "projection."),
+        *(result(MODULE, f"band{band}_energy_fraction", band_energy_fraction(band),
+                 f"Share of the clamped cosine's energy in SH band {band} alone.")
+          for band in range(3)),
         result(MODULE, "basis_l2", sp.ImmutableMatrix(L2_BASIS),
                "L2 (9-coefficient) real SH basis, same convention."),
         result(MODULE, "l2_c0", C0, "L2 basis: Y00 constant.", glsl_name="SH_L2_C0"),

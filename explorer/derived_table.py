@@ -114,6 +114,21 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         "Share of the clamped cosine's energy kept by its L2 (9-coefficient) projection.",
         0.9921875,
     ),
+    'sh.band0_energy_fraction': (
+        'E_{0} / E = \\frac{3}{8}',
+        "Share of the clamped cosine's energy in SH band 0 alone.",
+        0.375,
+    ),
+    'sh.band1_energy_fraction': (
+        'E_{1} / E = \\frac{1}{2}',
+        "Share of the clamped cosine's energy in SH band 1 alone.",
+        0.5,
+    ),
+    'sh.band2_energy_fraction': (
+        'E_{2} / E = \\frac{15}{128}',
+        "Share of the clamped cosine's energy in SH band 2 alone.",
+        0.1171875,
+    ),
     'sh.basis_l2': (
         'Y_{L2}(x, y, z) = \\left[\\begin{matrix}\\frac{1}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} '
         'y}{2 \\sqrt{\\pi}}\\\\\\frac{\\sqrt{3} z}{2 \\sqrt{\\pi}}\\\\- \\frac{\\sqrt{3} x}{2 '

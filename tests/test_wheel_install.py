@@ -107,6 +107,14 @@ def test_the_wheel_holds_every_package_and_resource(installed):
     assert int(packages) >= len(ours) - 1        # every package of explorer/ but itself
     _run([str(bin_folder / "python"), "-c", "import explorer.ui.overlays, derivations.porting"],
          outside, env, 120)
+    # the site's assets, the generated ES module of constants included
+    proc = _run([str(bin_folder / "python"), "-c",
+                 "from importlib.resources import files; a = files('explorer.site') / 'assets';"
+                 "print(*sorted(p.relative_to(a).as_posix() for p in __import__('pathlib')"
+                 ".Path(str(a)).rglob('*.js')))"], outside, env, 120)
+    shipped = sorted(p.relative_to(ROOT / "explorer" / "site" / "assets").as_posix()
+                     for p in (ROOT / "explorer" / "site" / "assets").rglob("*.js"))
+    assert "generated/constants.js" in shipped and proc.stdout.split() == shipped
 
 
 def test_installed_render_is_lit(installed):

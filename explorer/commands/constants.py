@@ -5,7 +5,7 @@ LaTeX), the value to 20 significant digits (``sp.N(expr, 20)``; formulas and vec
 none), the GLSL constant it feeds, and a one-line statement. ``--name`` selects one entry
 by registry name or by GLSL constant name; ``--json`` prints machine-readable output (a
 list, or one object with ``--name``). ``--errata`` prints the check of every number the
-seed documents print, as a markdown table. ``--format glsl|hlsl|cpp|json`` prints the
+seed documents print, as a markdown table. ``--format glsl|hlsl|cpp|js|json`` prints the
 porting sheet (derivations/porting.py): the exact constants, the per-face weights Δω/π and
 the SH and grid conventions, ready to paste into an engine.
 """
@@ -26,11 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "solid_angles.front_face, or a GLSL name such as SH_C1")
     parser.add_argument("--errata", action="store_true",
                         help="print the table of published numbers vs exact values (markdown)")
-    parser.add_argument("--format", choices=("glsl", "hlsl", "cpp", "json"), default=None,
+    parser.add_argument("--format", choices=("glsl", "hlsl", "cpp", "js", "json"), default=None,
                         dest="sheet_format",
                         help="print the porting sheet in this language: the exact constants, "
                              "the per-face weights and the SH conventions (cpp: a header "
-                             "valid as C and C++)")
+                             "valid as C and C++; js: an ES module)")
 
 
 def entry(item) -> dict[str, object]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import struct
 
 import pytest
@@ -91,3 +92,32 @@ def test_the_model_page_shows_the_registry_as_its_corrections_table():
         entry.name for entry in CORRECTIONS]
     page = (codegen.REPO_ROOT / codegen.MODEL_PATH).read_text(encoding="utf-8")
     assert f"{codegen.TABLE_BEGIN}\n{table}\n{codegen.TABLE_END}" in page
+
+
+JS_DECLARATION = re.compile(r"^export const ([A-Z][A-Z0-9_]*) = (-?[0-9.]+(?:e-?[0-9]+)?);"
+                            r"  // (.+)  \[([a-z0-9_.]+)\]$")
+
+
+def test_javascript_module_holds_the_python_constants_and_the_figures_extras():
+    """explorer/site/assets/generated/constants.js: every constant of
+    explorer/lpv/constants.py with the same double, then codegen.JS_EXTRAS, each with its
+    closed form and derivation; ``DERIVATION`` maps every name to its derivation."""
+    from explorer.lpv import constants
+
+    text = (codegen.REPO_ROOT / codegen.JS_PATH).read_text(encoding="utf-8")
+    assert text == codegen.js_source()
+    found = {}
+    for line in text.splitlines():
+        match = JS_DECLARATION.match(line)
+        if match:
+            name, value, closed, derivation = match.groups()
+            found[name] = float(value)
+            assert float(value) == float(get(derivation).expr.evalf(30)), name
+            assert closed == codegen.closed_form(get(derivation)), name
+            assert f'  {name}: "{derivation}",' in text, name
+    python_names = list(constants.DERIVATION)
+    assert list(found) == python_names + [name for name, _ in codegen.JS_EXTRAS]
+    for name in python_names:
+        assert found[name] == getattr(constants, name), name        # the same double
+    assert found["BAND0_ENERGY_FRACTION"] + found["BAND1_ENERGY_FRACTION"] == \
+        found["L1_ENERGY_FRACTION"]

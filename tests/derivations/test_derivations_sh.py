@@ -89,3 +89,12 @@ def test_bands_one_and_two_cancel_over_the_faces_of_a_step():
     assert sums[:, 0] == sp.ImmutableMatrix([6 * sh.C0] + [0] * 8)
     assert sums[:, 1] == sp.ImmutableMatrix([24 * sh.C0] + [0] * 8)
     assert propagation.face_basis_sums(sh.L1_BASIS)["side"][1:, :] == sp.zeros(3, 1)
+
+
+def test_band_energy_shares_sum_to_the_order_shares():
+    """The clamped cosine's energy by band (the cosine-lobe figure's band table): 3/8,
+    1/2 and 15/128, summing to the L1 and L2 shares."""
+    shares = [get(f"sh.band{band}_energy_fraction").expr for band in range(3)]
+    assert shares == [sp.Rational(3, 8), sp.Rational(1, 2), sp.Rational(15, 128)]
+    assert shares[0] + shares[1] == get("sh.l1_energy_fraction").expr
+    assert sum(shares) == get("sh.l2_energy_fraction").expr

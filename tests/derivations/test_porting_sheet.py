@@ -25,6 +25,7 @@ DECLARATION = {
                        r"  // .+$"),
     "cpp": re.compile(r"^static const double ([A-Z][A-Z0-9_]*) = (-?[0-9.]+(?:e-?[0-9]+)?);"
                       r"  // .+$"),
+    "js": re.compile(r"^export const ([A-Z][A-Z0-9_]*) = (-?[0-9.]+(?:e-?[0-9]+)?);  // .+$"),
 }
 
 
@@ -48,7 +49,7 @@ def test_face_weights_are_the_solid_angles_over_pi_and_tile_the_sphere():
     assert not any(name.startswith("PUBLISHED_") for name in weights)
 
 
-@pytest.mark.parametrize("fmt", ["glsl", "hlsl", "cpp"])
+@pytest.mark.parametrize("fmt", ["glsl", "hlsl", "cpp", "js"])
 def test_code_formats_declare_every_constant_with_its_value(fmt, capsys):
     text = sheet(fmt, capsys)
     expected = {c.name: float(sp.N(c.expr, 30)) for c in porting.constants()}
@@ -60,10 +61,11 @@ def test_code_formats_declare_every_constant_with_its_value(fmt, capsys):
         assert match, f"{fmt}: not a declaration or comment: {line!r}"
         found[match[1]] = float(match[2])
     assert found.keys() == expected.keys()
-    tolerance = 1e-16 if fmt == "cpp" else 1e-11      # 17 vs 12 significant digits
+    tolerance = 0.0 if fmt in ("cpp", "js") else 1e-11     # the nearest double vs 12 digits
     for name, value in expected.items():
         assert found[name] == pytest.approx(value, rel=tolerance, abs=0), name
-    assert text.count("#ifndef") == text.count("#endif") == 1
+    guards = 0 if fmt == "js" else 1                        # an ES module has no guard
+    assert text.count("#ifndef") == text.count("#endif") == guards
     for title, _ in porting.conventions():            # the conventions ride along as comments
         assert f"// - {title}:" in text
 
