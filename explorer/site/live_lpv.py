@@ -259,6 +259,16 @@ def figure(bake_result: LiveBake, baked_picture: str, alt: str) -> str:
 
 
 def module_script() -> str:
-    """The tags that style and start every live LPV of a page."""
+    """The tags that style and start every live LPV of a page. Module scripts and
+    ``fetch`` refuse ``file://`` pages, so there a classic script says so under each live
+    figure (the baked picture stays) instead of failing with a console error."""
     return (f'<link rel="stylesheet" href="assets/{ASSET_FOLDER}/live.css">'
-            f'<script type="module" src="assets/{ASSET_FOLDER}/live.js"></script>')
+            "<script>(function () {"
+            'if (location.protocol !== "file:") {'
+            'var s = document.createElement("script"); s.type = "module";'
+            f's.src = "assets/{ASSET_FOLDER}/live.js"; document.body.appendChild(s); return; }}'
+            'document.querySelectorAll("[data-live-lpv] .live-status").forEach(function (e) {'
+            'e.textContent = " The live LPV needs the site served over HTTP (for instance '
+            "python3 -m http.server in the site's folder): opened as a file, the page shows "
+            'the baked picture."; });'
+            "})();</script>")
