@@ -374,9 +374,9 @@ class _Writer:
         parts.append(f'<div class="prose">{text}</div>')
         if step.live_lpv:
             try:
-                parts.append(live_lpv.step_figure(
-                    self.frames.ctx, step.settings(), self.root, f"{lesson.id}-step{step.number}",
-                    self.options.size, view.src, f"{step.title}: the baked picture"))
+                parts.append(live_lpv.step_figure(self.frames.ctx, step, self.root,
+                                                  self.options.size, view.src,
+                                                  f"{step.title}: the baked picture"))
             except ValueError as exc:
                 raise SiteError(f"{where}{exc}") from None
         parts += [html for fid, html in figure_html.items() if fid not in placed]

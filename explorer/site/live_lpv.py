@@ -4,7 +4,8 @@ The build writes what the browser cannot make cheaply, for the step's settings: 
 G-buffer of the step's camera (position, normal with the pixel's area, albedo) and, for the
 step's light and a few others the reader can pick (:data:`LIGHT_AIMS`), the direct light
 and the RSM's VPLs of every light view, as little-endian Float32 arrays in one ``.bin``
-file each, fetched on first use; the grid specs of the sizes the page offers; the
+file each (named by its content, so steps that share them share the file), fetched on
+first use; the grid specs of the sizes the page offers; the
 corrections registry, the presets and the display's tone-map constants. The page
 (``assets/lpv/``) runs injection and propagation in float64 in a Worker (``twin.js``, a
 port of explorer/lpv/twin.py), gathers on the G-buffer with WebGL2 and tone-maps as the
@@ -17,9 +18,9 @@ with it.
 
 from __future__ import annotations
 
+import hashlib
 import html
 import json
-from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
@@ -28,7 +29,7 @@ import numpy as np
 GRID_SIZES = (8, 16, 24, 32)
 """The grid sizes the page offers (with the step's own): propagation in float64
 JavaScript of 32³ cells still answers a toggle in about a second on a phone-class core."""
-MAX_WIDTH = 480
+MAX_WIDTH = 400
 """Pixels of the live G-buffer's width at most (its height keeps the view's aspect)."""
 LIGHT_AIMS = (("the step's light", 0.0), ("aimed further left", -0.3),
               ("aimed further right", 0.3))
@@ -37,7 +38,8 @@ along x by ``shift`` times the scene's width."""
 ASSET_FOLDER = "lpv"
 """Under the site's ``assets/``: the page's modules (``explorer/site/assets/lpv``)."""
 DATA_FOLDER = "live"
-"""Under the site root: one folder of baked arrays per live step."""
+"""Under the site root: the baked arrays, one file per content (``<sha1>.bin``), so live
+steps with the same scene, camera and light share their files."""
 
 
 def unsupported(settings) -> str | None:
@@ -87,19 +89,14 @@ class _Arrays:
         self.offset += len(data)
         return place
 
-    def write(self, path: Path) -> int:
-        path.write_bytes(b"".join(self.parts))
-        return self.offset
-
-
-@dataclass(frozen=True)
-class LiveBake:
-    """What the build wrote for one live step: its folder (relative to the site root) and
-    the description the page reads."""
-
-    folder: str
-    description: dict
-    bytes: int
+    def write(self, folder: Path) -> str:
+        """Write the arrays as ``folder/<sha1 of the bytes>.bin`` (once) and return its
+        name."""
+        data = b"".join(self.parts)
+        name = f"{hashlib.sha1(data).hexdigest()[:20]}.bin"
+        if not (folder / name).is_file():
+            (folder / name).write_bytes(data)
+        return name
 
 
 def light_choices(settings) -> list[tuple[str, tuple]]:
@@ -177,30 +174,30 @@ def display_constants() -> dict:
             "floor": tonemap.LOG_AVERAGE_FLOOR, "luma": tonemap.REC709_LUMA.tolist()}
 
 
-def bake(ctx, settings, root: Path, name: str, size: tuple[int, int]) -> LiveBake:
-    """Render ``settings`` at the live size of ``size`` for every light choice and write
-    the arrays into ``root/live/<name>/``; SiteError-free: the caller checks
-    :func:`unsupported` first."""
+def bake(ctx, settings, root: Path, size: tuple[int, int]) -> dict:
+    """Render ``settings`` at the live size of ``size`` for every light choice, write the
+    arrays into ``root/live/`` and return the description the page reads; the caller
+    checks :func:`unsupported` first."""
     from explorer.lpv.pipeline import Pipeline
 
     width, height = live_size(size)
     settings = settings.with_changes(width=width, height=height)
-    folder = root / DATA_FOLDER / name
+    folder = root / DATA_FOLDER
     folder.mkdir(parents=True, exist_ok=True)
     relative = folder.relative_to(root).as_posix()
-    lights, total, gbuffer, specs = [], 0, None, None
+    lights, gbuffer, specs = [], None, None
     pipeline = Pipeline(settings, ctx=ctx)
     try:
-        for index, (label, light) in enumerate(light_choices(settings)):
+        for label, light in light_choices(settings):
             frame = pipeline.run(settings.with_changes(light=light))
             if gbuffer is None:
                 arrays = _Arrays()
-                gbuffer = {"url": f"{relative}/gbuffer.bin", "arrays": {
+                gbuffer = {"arrays": {
                     "position": arrays.add(frame.gbuffer_position[..., :4]),
                     "normal": arrays.add(frame.gbuffer_normal[..., :4]),
                     "albedo": arrays.add(frame.albedo[..., :3])}}
-                gbuffer["bytes"] = arrays.write(folder / "gbuffer.bin")
-                total += gbuffer["bytes"]
+                gbuffer["url"] = f"{relative}/{arrays.write(folder)}"
+                gbuffer["bytes"] = arrays.offset
                 specs = grid_specs(settings, frame.scene_bounds)
             arrays = _Arrays()
             views = [{"count": vpls.count, "texelArea": float(vpls.texel_area),
@@ -209,10 +206,9 @@ def bake(ctx, settings, root: Path, name: str, size: tuple[int, int]) -> LiveBak
                       "normals": arrays.add(vpls.normals), "flux": arrays.add(vpls.flux),
                       "depth": arrays.add(vpls.depth)} for vpls in frame.vpl_sets]
             entry = {"label": label, "light": [list(light[0]), list(light[1])],
-                     "url": f"{relative}/light{index}.bin",
                      "direct": arrays.add(frame.direct[..., :3]), "views": views}
-            entry["bytes"] = arrays.write(folder / f"light{index}.bin")
-            total += entry["bytes"]
+            entry["url"] = f"{relative}/{arrays.write(folder)}"
+            entry["bytes"] = arrays.offset
             lights.append(entry)
     finally:
         pipeline.release()
@@ -220,27 +216,30 @@ def bake(ctx, settings, root: Path, name: str, size: tuple[int, int]) -> LiveBak
                    "grids": specs, "step": _step_settings(settings),
                    "display": display_constants(), "max_iterations": max_iterations(),
                    **registry()}
-    return LiveBake(relative, description, total)
+    return description
 
 
-def step_figure(ctx, settings, root: Path, name: str, size: tuple[int, int],
-                baked_picture: str, alt: str) -> str:
-    """Bake a live step (``name``: its folder under ``live/``) and return its figure;
-    ValueError naming the setting when the page's LPV cannot run ``settings``."""
+def step_figure(ctx, step, root: Path, size: tuple[int, int], baked_picture: str,
+                alt: str) -> str:
+    """Bake a live step (a lesson Step) and return its figure; ValueError naming the
+    setting when the page's LPV cannot run the step."""
+    settings = step.settings()
     reason = unsupported(settings)
     if reason is not None:
         raise ValueError(f"live_lpv: the page's LPV cannot run {reason}")
-    return figure(bake(ctx, settings, root, name, size), baked_picture, alt)
+    description = bake(ctx, settings, root, size)
+    # the picture the step shows: its indirect light alone, or the final image
+    description["view"] = "indirect" if step.view == "indirect" else "final"
+    return figure(description, baked_picture, alt)
 
 
-def figure(bake_result: LiveBake, baked_picture: str, alt: str) -> str:
+def figure(description: dict, baked_picture: str, alt: str) -> str:
     """The live LPV's HTML: the baked picture (shown until the live one is drawn, and
     kept without WebGL2 or module scripts), the controls the script fills in, and the
     description as JSON."""
+    first = (description["gbuffer"]["bytes"] + description["lights"][0]["bytes"]) / 2 ** 20
     # "<" escaped: the JSON sits inside a script element
-    description = json.dumps(bake_result.description, separators=(",", ":")).replace(
-        "<", "\\u003c")
-    megabytes = bake_result.bytes / 2 ** 20
+    data = json.dumps(description, separators=(",", ":")).replace("<", "\\u003c")
     return (f'<figure class="live-lpv" data-live-lpv>'
             f'<div class="live-view"><img src="{html.escape(baked_picture)}" '
             f'alt="{html.escape(alt)}" class="live-baked" decoding="async" loading="lazy">'
@@ -250,11 +249,11 @@ def figure(bake_result: LiveBake, baked_picture: str, alt: str) -> str:
             f"the iterations, the grid size or the light, and the page runs injection and "
             f"propagation again in float64 (a port of the explorer's numpy twin) and "
             f"gathers the picture with WebGL2. The first change loads "
-            f"{megabytes:.1f} MB of baked G-buffer and VPLs.<span class=\"live-status\" "
+            f"{first:.1f} MB of baked G-buffer and VPLs.<span class=\"live-status\" "
             'role="status"></span></figcaption>'
             '<noscript><p>The live LPV needs JavaScript; the picture above is the baked '
             "one.</p></noscript>"
-            f'<script type="application/json" class="live-description">{description}'
+            f'<script type="application/json" class="live-description">{data}'
             "</script></figure>")
 
 

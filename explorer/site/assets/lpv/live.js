@@ -72,7 +72,8 @@ export class LiveLpv {
     const step = this.d.step;
     this.state = {corrections: {...step.corrections}, iterations: step.iterations,
                   grid: String(step.grid_size), light: 0, geometry: step.geometry_volume,
-                  damping: step.gather_damping, view: step.indirect_only ? "indirect" : "final",
+                  damping: step.gather_damping,
+                  view: step.indirect_only ? "indirect" : this.d.view || "final",
                   sliceAxis: 1, sliceLayer: null};
     this.status = root.querySelector(".live-status");
     this.canvas = root.querySelector("canvas.live-canvas");
