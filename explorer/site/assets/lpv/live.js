@@ -159,6 +159,7 @@ export class LiveLpv {
                                                     ["indirect", "indirect light only"]]));
 
     this.numbers = element("dl", {class: "live-numbers"});
+    this.timing = element("p", {class: "live-timing"});
     this.plot = element("figure", {class: "live-plot"});
     this.sliceCanvas = element("canvas", {class: "live-slice", width: "16", height: "16",
                                           role: "img"});
@@ -178,7 +179,8 @@ export class LiveLpv {
                                    "cell in one layer, log scale over three decades (white: " +
                                    "the brightest cell)."})]);
     const readouts = element("div", {class: "live-readouts"},
-                             [this.numbers, element("div", {class: "live-figures"},
+                             [element("div", {}, [this.numbers, this.timing]),
+                              element("div", {class: "live-figures"},
                                                     [this.plot, sliceFigure])]);
     controls.append(switches, settings, readouts);
     controls.hidden = false;
@@ -407,11 +409,12 @@ export class LiveLpv {
       ["made by the front-face clamp", watts(total(a.clamp_gain))],
       ["stopped by the geometry volume", watts(total(a.occluded))],
       ["gathered by the visible surfaces", watts(r.gathered)],
-      ["time in this browser", `${r.ms.total.toFixed(0)} ms propagation` +
-        (r.continued ? " (continued)" : "") + `, ${r.ms.gather.toFixed(0)} ms gather`],
     ];
     this.numbers.replaceChildren(...rows.flatMap(([name, value]) => [
       element("dt", {text: name}), element("dd", {text: value, "data-q": name})]));
+    this.timing.textContent = `Measured in this browser: injection and propagation ` +
+      `${r.ms.total.toFixed(0)} ms` + (r.continued ? " (continued from the last run)" : "") +
+      `, gather ${r.ms.gather.toFixed(0)} ms.`;
     this.say(`${steps.length - 1} steps on ${this.state.grid}³ cells: ` +
              `${watts(sum3(a.accumulated))} accumulated.`);
   }
@@ -420,7 +423,7 @@ export class LiveLpv {
     const steps = this.result.audit.per_step.map(sum3);
     const width = 320;
     const height = 150;
-    const pad = {left: 46, right: 8, top: 8, bottom: 24};
+    const pad = {left: 60, right: 8, top: 8, bottom: 24};
     const positive = steps.filter((v) => v > 0);
     const top = Math.max(...steps, 0);
     const low = positive.length ? Math.min(...positive) : 0;

@@ -265,69 +265,61 @@ function linearSideStep(grid, n, c) {
       const [front, ...sides] = faces(axis, sign, c.side_faces);
       const wF = scale * frontAngle;
       const lobeF = cosineLobe(front.reprojection);
-      const basisF = sparse(shBasis(front.evaluation));
-      const lobeFs = sparse(lobeF);
+      const [b0, b1, b2, b3] = shBasis(front.evaluation);
       const fpiF = wF * K.SH_FLUX_FACTOR * lobeF[0];
-      const matrix = new Float64Array(16);   // M[k·4 + j]
+      const m = new Float64Array(16);   // M[k·4 + j]: the side faces' map
       for (const side of sides) {
         const lobe = cosineLobe(side.reprojection);
         const basis = shBasis(side.evaluation);
         for (let k = 0; k < 4; k++) {
           for (let j = 0; j < 4; j++) {
-            matrix[k * 4 + j] += scale * sideAngle * lobe[k] * basis[j];
+            m[k * 4 + j] += scale * sideAngle * lobe[k] * basis[j];
           }
         }
       }
-      const mk = [];
-      const mj = [];
-      const mv = [];
-      matrix.forEach((v, at) => {
-        if (v !== 0) {
-          mk.push(at >> 2);
-          mj.push(at & 3);
-          mv.push(v);
-        }
-      });
+      const [l0, l1, l2, l3] = lobeF.map((v) => wF * v);
       const step = [0, 0, 0];
       step[axis] = sign;
       const offset = ((step[0] * n + step[1]) * n + step[2]) * COEFFS;
-      const sent = new Float64Array(4);
-      for (let x = 0; x < n; x++) {
-        for (let y = 0; y < n; y++) {
-          for (let z = 0; z < n; z++) {
-            const target = (axis === 0 ? x : axis === 1 ? y : z) + sign;
-            const inside = target >= 0 && target < n;
-            const cell = ((x * n + y) * n + z) * COEFFS;
-            for (let ch = 0; ch < 3; ch++) {
-              const at = ch * stride + cell;
-              let r = 0.0;
-              for (let j = 0; j < basisF.index.length; j++) {
-                r += grid[at + basisF.index[j]] * basisF.value[j];
-              }
-              const used = clamp ? Math.max(r, 0.0) : r;
-              const sentF = wF * used;
-              sent[0] = sent[1] = sent[2] = sent[3] = 0.0;
-              for (let j = 0; j < lobeFs.index.length; j++) {
-                sent[lobeFs.index[j]] = sentF * lobeFs.value[j];
-              }
-              for (let e = 0; e < mv.length; e++) {
-                sent[mk[e]] += mv[e] * grid[at + mj[e]];
-              }
+      // the cells whose neighbour along the direction lies outside: the first or last
+      // layer along the axis
+      const lastLayer = sign > 0 ? n - 1 : 0;
+      for (let ch = 0; ch < 3; ch++) {
+        let border = 0.0;
+        let gain = 0.0;
+        for (let x = 0; x < n; x++) {
+          for (let y = 0; y < n; y++) {
+            const row = axis === 0 ? x : y;
+            for (let z = 0; z < n; z++) {
+              const inside = (axis === 2 ? z : row) !== lastLayer;
+              const at = ch * stride + ((x * n + y) * n + z) * COEFFS;
+              const s0 = grid[at];
+              const s1 = grid[at + 1];
+              const s2 = grid[at + 2];
+              const s3 = grid[at + 3];
+              // zero basis entries add exact zeros: the twin's sums, term for term
+              const r = s0 * b0 + s1 * b1 + s2 * b2 + s3 * b3;
+              const used = clamp && r < 0.0 ? 0.0 : r;
+              const d0 = used * l0 + (m[0] * s0 + m[1] * s1 + m[2] * s2 + m[3] * s3);
+              const d1 = used * l1 + (m[4] * s0 + m[5] * s1 + m[6] * s2 + m[7] * s3);
+              const d2 = used * l2 + (m[8] * s0 + m[9] * s1 + m[10] * s2 + m[11] * s3);
+              const d3 = used * l3 + (m[12] * s0 + m[13] * s1 + m[14] * s2 + m[15] * s3);
               if (inside) {
                 const to = at + offset;
-                out[to] += sent[0];
-                out[to + 1] += sent[1];
-                out[to + 2] += sent[2];
-                out[to + 3] += sent[3];
+                out[to] += d0;
+                out[to + 1] += d1;
+                out[to + 2] += d2;
+                out[to + 3] += d3;
               } else {
-                // the flux of what left: 2√π times its coefficient 0
-                terms.border_loss[ch] += K.SH_FLUX_FACTOR * sent[0];
+                border += K.SH_FLUX_FACTOR * d0;   // the flux of what left: 2√π times c0
               }
-              if (clamp) {
-                terms.clamp_gain[ch] += fpiF * (used - r);
-              }
+              gain += fpiF * (used - r);
             }
           }
+        }
+        terms.border_loss[ch] += border;
+        if (clamp) {
+          terms.clamp_gain[ch] += gain;
         }
       }
     }
