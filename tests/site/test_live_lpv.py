@@ -27,7 +27,6 @@ import functools
 import http.server
 import json
 import re
-import shutil
 import subprocess
 import sys
 import threading
@@ -36,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from browser_cases import start_chromium
 from lpv_cases import random_vpls
 
 from explorer.lpv import twin
@@ -45,8 +45,6 @@ from explorer.lpv.vpl import VplArrays
 
 ROOT = Path(__file__).resolve().parents[2]
 SIZE = (96, 64)
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-CHROMEDRIVER = "/usr/bin/chromedriver"
 LESSON = '''id = "live"
 title = "A live LPV"
 summary = "One step whose LPV runs in the page."
@@ -188,21 +186,7 @@ def served(site):
 
 @pytest.fixture(scope="module")
 def page(served):
-    if CHROMIUM is None or not Path(CHROMEDRIVER).is_file():
-        reason = ("Debian's chromium and chromium-driver are not installed "
-                  "(apt-get install chromium chromium-driver)")
-        print(f"\nskipped: {reason}")
-        pytest.skip(reason)
-    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
-    from selenium.webdriver.chrome.service import Service
-
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    for argument in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage",
-                     "--enable-unsafe-swiftshader", "--use-angle=swiftshader"):
-        options.add_argument(argument)
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    driver = start_chromium(("--enable-unsafe-swiftshader", "--use-angle=swiftshader"))
     driver.set_script_timeout(120)
     driver.set_window_size(1280, 900)
     driver.get(f"{served}/01-live.html")
