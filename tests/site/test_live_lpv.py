@@ -458,3 +458,36 @@ def test_screenshots_at_desktop_and_phone_width(page, tmp_path):
         assert not overflow, (width, overflow)
         if keep:
             page.save_screenshot(str(Path(keep) / f"live-lpv-{width}.png"))
+
+
+def test_opened_as_a_file_the_page_keeps_the_baked_picture_and_says_why(page, site):
+    page.get((site / "01-live.html").as_uri())
+    state = page.execute_script(
+        "const r = document.querySelector('[data-live-lpv]');"
+        "return [r.lpvLive === undefined, r.querySelector('img.live-baked').hidden,"
+        " r.querySelector('.live-status').textContent];")
+    assert state[0] and not state[1]
+    assert "served over HTTP" in state[2]
+    errors = [e for e in page.get_log("browser") if e["level"] in ("SEVERE", "WARNING")
+              and "favicon" not in e["message"]]
+    assert errors == [], errors
+
+
+def test_without_webgl_the_page_keeps_the_baked_picture_and_says_why(served):
+    driver = start_chromium(("--disable-webgl", "--disable-3d-apis"))
+    try:
+        driver.get(f"{served}/01-live.html")
+        state = driver.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "const wait = () => { const r = document.querySelector('[data-live-lpv]');"
+            "  if (!r.lpvLive) { setTimeout(wait, 50); return; }"
+            "  done([r.lpvLive.unsupported, r.querySelector('img.live-baked').hidden,"
+            "        r.querySelector('canvas.live-canvas').hidden,"
+            "        Array.from(r.querySelectorAll('.live-controls input')).every("
+            "          (e) => e.disabled), r.querySelector('.live-status').textContent]); };"
+            "wait();")
+    finally:
+        driver.quit()
+    reason, baked_hidden, canvas_hidden, disabled, status = state
+    assert "WebGL2" in reason and not baked_hidden and canvas_hidden and disabled
+    assert "baked" in status
