@@ -264,8 +264,11 @@ def module_script() -> str:
     return (f'<link rel="stylesheet" href="assets/{ASSET_FOLDER}/live.css">'
             "<script>(function () {"
             'if (location.protocol !== "file:") {'
+            # after the page is parsed: an import map the page adds comes before it
+            'document.addEventListener("DOMContentLoaded", function () {'
             'var s = document.createElement("script"); s.type = "module";'
-            f's.src = "assets/{ASSET_FOLDER}/live.js"; document.body.appendChild(s); return; }}'
+            f's.src = "assets/{ASSET_FOLDER}/live.js"; document.body.appendChild(s); }});'
+            "return; }"
             'document.querySelectorAll("[data-live-lpv] .live-status").forEach(function (e) {'
             'e.textContent = " The live LPV needs the site served over HTTP (for instance '
             "python3 -m http.server in the site's folder): opened as a file, the page shows "
