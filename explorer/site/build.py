@@ -325,8 +325,8 @@ class _Writer:
                 f"<h1>{pages.esc(lesson.title)}</h1>"
                 f'<p class="summary">{pages.esc(lesson.summary)}</p>'
                 f'<ol class="toc">{toc}</ol>' + "\n".join(sections) + "</article>"
-                + "".join(pager)
-                + (live_lpv.module_script() if any(s.live_lpv for s in lesson.steps) else ""))
+                + "".join(pager))
+        body += live_lpv.module_script() if any(s.live_lpv for s in lesson.steps) else ""
         name = page_name(lesson)
         nav = pages.lesson_nav([(page_name(one), f"{one.number}") for one in lessons], name)
         (self.root / name).write_text(pages.frame(f"{lesson.title} · LPV lessons", body,

@@ -10,6 +10,7 @@ from __future__ import annotations
 import html
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -17,7 +18,6 @@ from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
-from browser_cases import start_chromium
 
 from explorer.lessons import live_values
 from explorer.lessons import find_lesson, load_all
@@ -26,6 +26,8 @@ from explorer.site.build import PLOT_OF_PANEL
 LESSONS = ("overview", "solid-angles")
 SIZE = (320, 200)
 ROOT = Path(__file__).resolve().parents[2]
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
 WIDTHS = (375, 1280)
 SCREENSHOTS = Path(os.environ.get("LPV_SITE_SCREENSHOTS", "")) if os.environ.get(
     "LPV_SITE_SCREENSHOTS") else None
@@ -249,7 +251,22 @@ def test_the_site_needs_no_network(site):
 
 @pytest.fixture(scope="module")
 def browser():
-    driver = start_chromium(("--disable-gpu", "--hide-scrollbars"))
+    if CHROMIUM is None or CHROMEDRIVER is None:
+        reason = ("Debian's chromium and chromium-driver are not installed "
+                  "(apt-get install chromium chromium-driver)")
+        print(f"\nskipped: {reason}")
+        pytest.skip(reason)
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
+                     "--disable-dev-shm-usage", "--hide-scrollbars"):
+        options.add_argument(argument)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    driver.set_page_load_timeout(60)
     yield driver
     driver.quit()
 
