@@ -195,34 +195,61 @@ function faces(axis, sign, sideFaces) {
 
 /**
  * (N³×4) the mean geometry SH of the face each source cell s shares with s + sign·e_axis
- * (corners s_axis + 1 for sign > 0, s_axis for sign < 0), summed in the twin's order.
+ * (corners s_axis + 1 for sign > 0, s_axis for sign < 0), summed in the twin's order:
+ * corners (u, v), (u + 1, v), (u, v + 1), (u + 1, v + 1) of the two other axes.
  */
 function faceBlockers(geometry, n, axis, sign) {
   const size = n + 1;
   const out = new Float64Array(n * n * n * 4);
   const [u, v] = [0, 1, 2].filter((a) => a !== axis);   // the other two, in axis order
-  const corner = [0, 0, 0];
-  const at = (q) => ((q[0] * size + q[1]) * size + q[2]) * 4;
+  const strides = [size * size * 4, size * 4, 4];
+  const du = strides[u];
+  const dv = strides[v];
+  const lift = sign > 0 ? strides[axis] : 0;
   for (let x = 0; x < n; x++) {
     for (let y = 0; y < n; y++) {
       for (let z = 0; z < n; z++) {
-        const s = [x, y, z];
-        corner[axis] = sign > 0 ? s[axis] + 1 : s[axis];
-        const offsets = [[0, 0], [1, 0], [0, 1], [1, 1]];
-        const idx = offsets.map(([du, dv]) => {
-          corner[u] = s[u] + du;
-          corner[v] = s[v] + dv;
-          return at(corner);
-        });
+        const a = ((x * size + y) * size + z) * 4 + lift;
         const o = ((x * n + y) * n + z) * 4;
         for (let k = 0; k < 4; k++) {
-          out[o + k] = 0.25 * (geometry[idx[0] + k] + geometry[idx[1] + k]
-                               + geometry[idx[2] + k] + geometry[idx[3] + k]);
+          out[o + k] = 0.25 * (geometry[a + k] + geometry[a + du + k]
+                               + geometry[a + dv + k] + geometry[a + du + dv + k]);
         }
       }
     }
   }
   return out;
+}
+
+const visibilityCache = new WeakMap();
+
+/**
+ * For one geometry volume, per direction (DIRECTIONS order) and face (all five), the
+ * visibility 1 − clip(<blockers, Y(−e_f)>, 0, 1) of every source cell: the volume does
+ * not change while the light propagates, so it is computed once per volume.
+ */
+function visibilities(geometry, n) {
+  let found = visibilityCache.get(geometry);
+  if (found === undefined) {
+    found = [];
+    for (let axis = 0; axis < 3; axis++) {
+      for (const sign of [1, -1]) {
+        const blockers = faceBlockers(geometry, n, axis, sign);
+        found.push(faces(axis, sign, true).map((face) => {
+          const o = shBasis(face.evaluation.map((value) => -value));
+          const seen = new Float64Array(n * n * n);
+          for (let i = 0; i < seen.length; i++) {
+            const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
+              + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
+            seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
+          }
+          return seen;
+        }));
+      }
+    }
+    visibilityCache.set(geometry, found);
+  }
+  return found;
 }
 
 /** Indices and values of the non-zero entries of an SH vector: skipping a zero term
@@ -335,70 +362,60 @@ function faceStep(grid, n, c, geometry) {
   const scale = reprojectionFactor(c) * injectionFactor(c) * propagationFactor(c);
   const cells = n * n * n;
   const stride = cells * COEFFS;
-  const delivered = new Float64Array(grid.length);
+  const seen = visibilities(geometry, n);
+  let direction = 0;
   for (let axis = 0; axis < 3; axis++) {
     for (const sign of [1, -1]) {
-      const blockers = geometry === null ? null : faceBlockers(geometry, n, axis, sign);
-      delivered.fill(0.0);
       const step = [0, 0, 0];
       step[axis] = sign;
       const offset = ((step[0] * n + step[1]) * n + step[2]) * COEFFS;
-      const list = faces(axis, sign, c.side_faces).map((face) => {
+      const lastLayer = sign > 0 ? n - 1 : 0;
+      const list = faces(axis, sign, c.side_faces).map((face, f) => {
         const weight = scale * (face.front ? frontAngle : sideAngle);
         const lobe = cosineLobe(face.reprojection);
-        return {weight, lobe: sparse(lobe), lobe0: lobe[0],
+        const {index, value} = sparse(lobe);   // coefficient 0 and one of band 1
+        return {weight, basis: shBasis(face.evaluation), lobe0: lobe[0],
+                li: index[0], lv: value[0], lj: index[1], lw: value[1],
                 fluxPerIntensity: weight * K.SH_FLUX_FACTOR * lobe[0],
-                basis: sparse(shBasis(face.evaluation)),
-                occluder: shBasis(face.evaluation.map((v) => -v)),
-                clamp: face.front && c.clamp_front_face};
+                clamp: face.front && c.clamp_front_face, visibility: seen[direction][f]};
       });
-      for (let x = 0; x < n; x++) {
-        for (let y = 0; y < n; y++) {
-          for (let z = 0; z < n; z++) {
-            const target = (axis === 0 ? x : axis === 1 ? y : z) + sign;
-            const inside = target >= 0 && target < n;
-            const cell = ((x * n + y) * n + z) * COEFFS;
-            for (const face of list) {
-              let visibility = 1.0;
-              if (blockers !== null) {
-                const o = face.occluder;
-                const b = blockers[cell] * o[0] + blockers[cell + 1] * o[1]
-                  + blockers[cell + 2] * o[2] + blockers[cell + 3] * o[3];
-                visibility = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
-              }
-              const bi = face.basis.index;
-              const bv = face.basis.value;
-              const li = face.lobe.index;
-              const lv = face.lobe.value;
-              for (let ch = 0; ch < 3; ch++) {
-                const at = ch * stride + cell;
-                let r = 0.0;
-                for (let j = 0; j < bi.length; j++) {
-                  r += grid[at + bi[j]] * bv[j];
-                }
-                const used = face.clamp ? Math.max(r, 0.0) : r;
+      direction += 1;
+      for (let ch = 0; ch < 3; ch++) {
+        let border = 0.0;
+        let gain = 0.0;
+        let occluded = 0.0;
+        for (let x = 0; x < n; x++) {
+          for (let y = 0; y < n; y++) {
+            const row = axis === 0 ? x : y;
+            for (let z = 0; z < n; z++) {
+              const inside = (axis === 2 ? z : row) !== lastLayer;
+              const cell = (x * n + y) * n + z;
+              const at = ch * stride + cell * COEFFS;
+              const s0 = grid[at];
+              const s1 = grid[at + 1];
+              const s2 = grid[at + 2];
+              const s3 = grid[at + 3];
+              for (const face of list) {
+                const b = face.basis;
+                const r = s0 * b[0] + s1 * b[1] + s2 * b[2] + s3 * b[3];
+                const used = face.clamp && r < 0.0 ? 0.0 : r;
+                const visibility = face.visibility[cell];
                 const sent = face.weight * used * visibility;
                 if (inside) {
-                  const to = at + offset;
-                  for (let j = 0; j < li.length; j++) {
-                    delivered[to + li[j]] += sent * lv[j];
-                  }
+                  out[at + offset + face.li] += sent * face.lv;
+                  out[at + offset + face.lj] += sent * face.lw;
                 } else {
-                  terms.border_loss[ch] += K.SH_FLUX_FACTOR * face.lobe0 * sent;
+                  border += K.SH_FLUX_FACTOR * face.lobe0 * sent;
                 }
-                if (face.clamp) {
-                  terms.clamp_gain[ch] += face.fluxPerIntensity * (used - r);
-                }
-                if (blockers !== null) {
-                  terms.occluded[ch] += face.fluxPerIntensity * used * (1.0 - visibility);
-                }
+                gain += face.fluxPerIntensity * (used - r);
+                occluded += face.fluxPerIntensity * used * (1.0 - visibility);
               }
             }
           }
         }
-      }
-      for (let i = 0; i < out.length; i++) {
-        out[i] += delivered[i];
+        terms.border_loss[ch] += border;
+        terms.clamp_gain[ch] += gain;
+        terms.occluded[ch] += occluded;
       }
     }
   }
