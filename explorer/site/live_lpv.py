@@ -12,7 +12,7 @@ port of explorer/lpv/twin.py), gathers on the G-buffer with WebGL2 and tone-maps
 window does; without WebGL2 or module scripts it keeps the baked picture.
 
 What the page's LPV cannot do (several cascades, L2, fog, glossy reflections, a second
-bounce, camera occluders) makes :func:`unsupported` name the setting, and the build stops
+bounce, camera occluders, downsampled VPLs) makes :func:`unsupported` name the setting, and the build stops
 with it.
 """
 
@@ -47,6 +47,8 @@ def unsupported(settings) -> str | None:
     None when it can."""
     checks = (("cascades", settings.cascades != 1), ("sh_order", settings.sh_order != 1),
               ("fog", settings.fog), ("glossy", settings.glossy),
+              # the geometry volume is built from the RSM's texels, not the merged VPLs
+              ("downsample", settings.downsample != "none"),
               ("bounces", settings.bounces != 1),
               ("camera_occluders", bool(settings.uses_camera_occluders)))
     for name, refused in checks:
