@@ -187,11 +187,11 @@ def bake(ctx, settings, root: Path, size: tuple[int, int]) -> dict:
     folder = root / DATA_FOLDER
     folder.mkdir(parents=True, exist_ok=True)
     relative = folder.relative_to(root).as_posix()
-    lights, gbuffer, specs = [], None, None
+    lights, gbuffer, specs, opening = [], None, None, None
     pipeline = Pipeline(settings, ctx=ctx)
     try:
         for label, light in light_choices(settings):
-            frame = pipeline.run(settings.with_changes(light=light))
+            frame = pipeline.run(settings.with_changes(light=light), need_audit="flux")
             if gbuffer is None:
                 arrays = _Arrays()
                 gbuffer = {"arrays": {
@@ -201,6 +201,8 @@ def bake(ctx, settings, root: Path, size: tuple[int, int]) -> dict:
                 gbuffer["url"] = f"{relative}/{arrays.write(folder)}"
                 gbuffer["bytes"] = arrays.offset
                 specs = grid_specs(settings, frame.scene_bounds)
+                # the window's flux in flight per step of the step as it opens (W)
+                opening = np.asarray(frame.audit.per_step).sum(axis=1).tolist()
             arrays = _Arrays()
             views = [{"count": vpls.count, "texelArea": float(vpls.texel_area),
                       "projection": vpls.projection,
@@ -216,6 +218,7 @@ def bake(ctx, settings, root: Path, size: tuple[int, int]) -> dict:
         pipeline.release()
     description = {"width": width, "height": height, "gbuffer": gbuffer, "lights": lights,
                    "grids": specs, "step": _step_settings(settings),
+                   "window_per_step": opening,
                    "display": display_constants(), "max_iterations": max_iterations(),
                    **registry()}
     return description

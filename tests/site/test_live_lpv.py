@@ -348,6 +348,8 @@ def test_the_page_picture_matches_the_window_frame(page, frames, site):
     assert "error" not in answer, answer
     result = frames()
     assert_like_the_window(answer, result, "the step")
+    assert relative(description(site)["window_per_step"],
+                    np.asarray(result.audit.per_step).sum(axis=1)) < 1e-6   # the plot's line
     indirect = np.asarray(answer["indirect"], np.float64).reshape(SIZE[1], SIZE[0], 4)[..., :3]
     expected = np.asarray(result.indirect, np.float64)[..., :3]
     lit = expected > 1e-3 * expected.max()

@@ -421,19 +421,25 @@ export class LiveLpv {
 
   drawPlot() {
     const steps = this.result.audit.per_step.map(sum3);
+    // the window's GPU frame of the step as it opens (the build's), under every run
+    const opening = this.d.window_per_step;
+    const series = [["opening", opening], ["series", steps]];
+    const every = series.flatMap(([, values]) => values);
+    const last = Math.max(...series.map(([, values]) => values.length)) - 1;
     const width = 320;
     const height = 150;
     const pad = {left: 60, right: 8, top: 8, bottom: 24};
-    const positive = steps.filter((v) => v > 0);
-    const top = Math.max(...steps, 0);
+    const positive = every.filter((v) => v > 0);
+    const top = Math.max(...every, 0);
     const low = positive.length ? Math.min(...positive) : 0;
-    const log = positive.length === steps.length && low > 0 && top / low > 100;
+    const log = positive.length === every.length && low > 0 && top / low > 100;
     const yOf = (v) => {
-      const f = log ? Math.log10(v / low) / Math.log10(top / low) : v / (top || 1);
-      return pad.top + (1 - f) * (height - pad.top - pad.bottom);
+      const f = log ? Math.log10(Math.max(v, low) / low) / Math.log10(top / low)
+        : v / (top || 1);
+      return (pad.top + (1 - f) * (height - pad.top - pad.bottom)).toFixed(1);
     };
-    const xOf = (t) => pad.left + (steps.length > 1 ? t / (steps.length - 1) : 0)
-      * (width - pad.left - pad.right);
+    const xOf = (t) => (pad.left + (last > 0 ? t / last : 0)
+      * (width - pad.left - pad.right)).toFixed(1);
     const svg = svgElement("svg", {viewBox: `0 0 ${width} ${height}`, role: "img",
                                    "aria-label": "Flux in flight after each step: " +
                                      steps.map((v, t) => `step ${t}: ${watts(v)}`).join(", ")});
@@ -441,11 +447,12 @@ export class LiveLpv {
                                    y2: height - pad.bottom, class: "axis"}));
     svg.append(svgElement("line", {x1: pad.left, y1: pad.top, x2: pad.left,
                                    y2: height - pad.bottom, class: "axis"}));
-    const points = steps.map((v, t) => `${xOf(t).toFixed(1)},${yOf(Math.max(v, low)).toFixed(1)}`);
-    svg.append(svgElement("polyline", {points: points.join(" "), class: "series"}));
+    for (const [css, values] of series) {
+      svg.append(svgElement("polyline", {class: css, points: values.map(
+        (v, t) => `${xOf(t)},${yOf(v)}`).join(" ")}));
+    }
     steps.forEach((v, t) => {
-      const dot = svgElement("circle", {cx: xOf(t).toFixed(1), cy: yOf(Math.max(v, low)).toFixed(1),
-                                        r: "2.5", class: "point"});
+      const dot = svgElement("circle", {cx: xOf(t), cy: yOf(v), r: "2.5", class: "point"});
       const title = svgElement("title");
       title.textContent = `step ${t}: ${watts(v)}`;
       dot.append(title);
@@ -459,9 +466,10 @@ export class LiveLpv {
     label(pad.left - 4, pad.top + 8, watts(top), "end");
     label(pad.left - 4, height - pad.bottom, log ? watts(low) : "0 W", "end");
     label(pad.left, height - 6, "step 0", "start");
-    label(width - pad.right, height - 6, `step ${steps.length - 1}`, "end");
+    label(width - pad.right, height - 6, `step ${last}`, "end");
     this.plot.replaceChildren(svg, element("figcaption", {
-      text: `Flux in flight after each step (${log ? "log" : "linear"} scale).`}));
+      text: `Flux in flight after each step (${log ? "log" : "linear"} scale); dashed: ` +
+        "the step as it opens, rendered by the explorer's GPU pipeline."}));
   }
 
   drawSlice() {
