@@ -12,8 +12,8 @@ port of explorer/lpv/twin.py), gathers on the G-buffer with WebGL2 and tone-maps
 window does; without WebGL2 or module scripts it keeps the baked picture.
 
 What the page's LPV cannot do (several cascades, L2, fog, glossy reflections, a second
-bounce, camera occluders, downsampled VPLs) makes :func:`unsupported` name the setting, and the build stops
-with it.
+bounce, camera occluders, downsampled VPLs) makes :func:`unsupported` name the setting,
+and the build stops with it.
 """
 
 from __future__ import annotations
