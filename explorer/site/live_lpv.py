@@ -5,8 +5,8 @@ G-buffer of the step's camera (position, normal with the pixel's area, albedo) a
 step's light and a few others the reader can pick (:data:`LIGHT_AIMS`), the direct light
 and the RSM's VPLs of every light view, as little-endian Float32 arrays in one ``.bin``
 file each (named by its content, so steps that share them share the file), fetched on
-first use; the grid specs of the sizes the page offers; the
-corrections registry, the presets and the display's tone-map constants. The page
+first use; the grid specs of the sizes the page offers; the corrections registry, the
+presets and the display's tone-map constants. The page
 (``assets/lpv/``) runs injection and propagation in float64 in a Worker (``twin.js``, a
 port of explorer/lpv/twin.py), gathers on the G-buffer with WebGL2 and tone-maps as the
 window does; without WebGL2 or module scripts it keeps the baked picture.
@@ -27,8 +27,9 @@ from pathlib import Path
 import numpy as np
 
 GRID_SIZES = (8, 16, 24, 32)
-"""The grid sizes the page offers (with the step's own): propagation in float64
-JavaScript of 32³ cells still answers a toggle in about a second on a phone-class core."""
+"""The grid sizes the page offers (with the step's own). A toggle at 32³ and 16
+iterations took 0.6 to 1.1 s in Chromium on the 2-core VM under load (2026-12-02), 64³
+would take about eight times that."""
 MAX_WIDTH = 400
 """Pixels of the live G-buffer's width at most (its height keeps the view's aspect)."""
 LIGHT_AIMS = (("the step's light", 0.0), ("aimed further left", -0.3),
