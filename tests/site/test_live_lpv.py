@@ -443,6 +443,31 @@ def test_presets_lights_sizes_and_iterations_follow_the_twin(page, frames, site)
     assert back["bytes"] == start["bytes"]
 
 
+def test_the_controls_work_from_the_keyboard(page, frames):
+    """Space on a switch, an arrow on the iterations slider, Enter on a preset: each a
+    new run, with the focus drawn."""
+    from selenium.webdriver.common.keys import Keys
+
+    start = changed(page)
+    steps = len(start["per_step"])
+    for selector, key, check in (
+            ("[data-correction=injection_pi]", Keys.SPACE,
+             lambda a: a["per_step"][0] != start["per_step"][0]),
+            ("[data-preset=corrected]", Keys.ENTER,
+             lambda a: a["per_step"] == start["per_step"]),
+            ("[data-control=iterations]", Keys.ARROW_RIGHT,
+             lambda a: len(a["per_step"]) == steps + 1),
+            ("[data-control=iterations]", Keys.ARROW_LEFT,
+             lambda a: a["bytes"] == start["bytes"])):
+        control = page.find_element("css selector", f"[data-live-lpv] {selector}")
+        control.send_keys(key)
+        outline = page.execute_script(
+            "return getComputedStyle(document.activeElement).outlineStyle")
+        answer = changed(page)
+        assert check(answer), selector
+        assert outline != "none", selector
+
+
 def test_screenshots_at_desktop_and_phone_width(page, tmp_path):
     """The live figure laid out at 1280 and 375 px: every control inside the column."""
     import os

@@ -166,11 +166,17 @@ export class LiveLpv {
     const sliceControls = element("div", {class: "live-slice-controls"});
     sliceControls.append(this.select("Slice across", "sliceAxis",
                                      AXES.map((axis, i) => [String(i), axis])));
-    this.layer = element("input", {type: "range", min: "0", max: "0", step: "1", value: "0",
+    const cells = d.step.grid_size;
+    this.layer = element("input", {type: "range", min: "0", max: String(cells - 1), step: "1",
+                                   value: String(Math.floor(cells / 2)),
                                    id: `${this.id}-layer`, "data-control": "layer"});
     this.layer.addEventListener("input", () => {
       this.state.sliceLayer = parseInt(this.layer.value, 10);
-      this.drawSlice();
+      if (this.result === null) {
+        this.changed();
+      } else {
+        this.drawSlice();
+      }
     });
     sliceControls.append(element("label", {for: this.layer.id, text: "Layer "}), this.layer);
     const sliceFigure = element("figure", {class: "live-slice-figure"},
@@ -203,12 +209,12 @@ export class LiveLpv {
     node.addEventListener("change", () => {
       const numeric = key === "light" || key === "sliceAxis";
       this.state[key] = numeric ? parseInt(node.value, 10) : node.value;
-      if (key === "sliceAxis") {
+      if (this.result !== null && key === "sliceAxis") {
         this.drawSlice();
-      } else if (key === "view") {
+      } else if (this.result !== null && key === "view") {
         this.show();
       } else {
-        this.changed();
+        this.changed();   // the first change of any control starts the live LPV
       }
     });
     return element("label", {for: id, class: "live-select"}, [text + " ", node]);
