@@ -230,15 +230,43 @@ export class LiveLpv {
   }
 
   // --- data -----------------------------------------------------------------------------
-  post(message, transfer = []) {
-    const id = ++this.nextMessage;
-    return new Promise((resolve, reject) => {
-      this.messages.set(id, {resolve, reject});
-      this.worker.postMessage({id, ...message}, transfer);
-    });
+  /** Send a message to every worker; a promise of their answers, in worker order. */
+  post(message) {
+    return Promise.all(this.workers.map(({worker, channels}) => {
+      const id = ++this.nextMessage;
+      return new Promise((resolve, reject) => {
+        this.messages.set(id, {resolve, reject});
+        const body = message.type === "run"
+          ? {...message, request: {...message.request, channels}} : message;
+        worker.postMessage({id, ...body});
+      });
+    }));
   }
 
-  /** Load the G-buffer, start the worker and the gather (once). */
+  /** A run spread over the workers, as one: the channels never mix, so the grids and
+   * the audit terms of disjoint channels add up exactly; a time is the slowest worker's. */
+  async run(request) {
+    const answers = await this.post({type: "run", request});
+    const [first, ...rest] = answers;
+    const audit = first.audit;
+    for (const other of rest) {
+      for (let i = 0; i < first.accumulated.length; i++) {
+        first.accumulated[i] += other.accumulated[i];
+      }
+      for (const [name, value] of Object.entries(other.audit)) {
+        const rows = name === "injected" || name === "accumulated" ? [[audit[name], value]]
+          : audit[name].map((row, t) => [row, value[t]]);
+        rows.forEach(([mine, theirs]) => mine.forEach((_, c) => { mine[c] += theirs[c]; }));
+      }
+      for (const [name, ms] of Object.entries(other.ms)) {
+        first.ms[name] = Math.max(first.ms[name], ms);
+      }
+      first.continued = first.continued && other.continued;
+    }
+    return first;
+  }
+
+  /** Load the G-buffer, start the workers and the gather (once). */
   start() {
     if (this.loading === null) {
       this.loading = (async () => {
@@ -246,16 +274,22 @@ export class LiveLpv {
           throw new Error(this.unsupported);
         }
         this.say("loading the G-buffer and the VPLs…");
-        this.worker = new Worker(new URL("./worker.js", import.meta.url), {type: "module"});
-        this.worker.onmessage = (event) => {
-          const waiter = this.messages.get(event.data.id);
-          this.messages.delete(event.data.id);
-          if (event.data.error) {
-            waiter.reject(new Error(event.data.error));
-          } else {
-            waiter.resolve(event.data);
-          }
-        };
+        // up to one worker per colour channel, as many as the machine has cores
+        const count = Math.max(1, Math.min(3, navigator.hardwareConcurrency || 1));
+        this.workers = Array.from({length: count}, (_, i) => ({
+          worker: new Worker(new URL("./worker.js", import.meta.url), {type: "module"}),
+          channels: [0, 1, 2].filter((c) => c % count === i)}));
+        for (const {worker} of this.workers) {
+          worker.onmessage = (event) => {
+            const waiter = this.messages.get(event.data.id);
+            this.messages.delete(event.data.id);
+            if (event.data.error) {
+              waiter.reject(new Error(event.data.error));
+            } else {
+              waiter.resolve(event.data);
+            }
+          };
+        }
         const g = this.d.gbuffer;
         const floats = await fetchFloats(new URL(g.url, document.baseURI));
         this.gbuffer = {position: slice(floats, g.arrays.position),
@@ -330,7 +364,7 @@ export class LiveLpv {
   /** Run the twin in the worker on a request of the test's (views instead of a light). */
   async twin(request) {
     await this.start();
-    return this.post({type: "run", request});
+    return this.run(request);
   }
 
   async compute() {
@@ -338,7 +372,7 @@ export class LiveLpv {
     const request = this.request();
     const light = await this.light(request.light);
     this.say("propagating…");
-    const answer = await this.post({type: "run", request});
+    const answer = await this.run(request);
     const spec = request.spec;
     const began = performance.now();
     this.gatherer.uploadGrid(answer.accumulated, spec.resolution);

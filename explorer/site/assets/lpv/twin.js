@@ -9,6 +9,10 @@
 import * as K from "../generated/constants.js";
 
 const COEFFS = 4;   // L1: the page's LPV is the twin's L1 path
+/** Every colour channel. The channels never mix (the grid's r, g and b propagate apart),
+ * so a run over some of them leaves the others zero and runs over disjoint channels add
+ * up, exactly, to the run over all: what lets the page spread a run over Workers. */
+export const ALL_CHANNELS = [0, 1, 2];
 
 /** π as the formulas use it: the DX11 article's decimals unless exact constants. */
 export function formulaPi(c) {
@@ -76,7 +80,7 @@ function checkOffset(offsetCells) {
  * order (numpy's add.at). vpls: {count, positions, normals, flux} (flat, 3 per VPL);
  * spec: {origin: [x, y, z], cellSize, resolution}.
  */
-export function inject(vpls, spec, c, offsetCells = 0.0) {
+export function inject(vpls, spec, c, offsetCells = 0.0, channels = ALL_CHANNELS) {
   checkOffset(offsetCells);
   const n = spec.resolution;
   const h = spec.cellSize;
@@ -101,7 +105,7 @@ export function inject(vpls, spec, c, offsetCells = 0.0) {
     const lobe = [kI * K.SH_COSLOBE_C0, kI * (-K.SH_COSLOBE_C1 * ny),
                   kI * (K.SH_COSLOBE_C1 * nz), kI * (-K.SH_COSLOBE_C1 * nx)];
     const cell = ((ix * n + iy) * n + iz) * COEFFS;
-    for (let ch = 0; ch < 3; ch++) {
+    for (const ch of channels) {
       const w = f[3 * i + ch];
       const at = ch * channelStride + cell;
       for (let k = 0; k < COEFFS; k++) {
@@ -270,8 +274,9 @@ function sparse(vector) {
  * One step P(grid) in scatter form and its audit terms ([r, g, b] watts each):
  * clamp_gain, occluded, border_loss. geometry: the merged (N+1)³×4 volume or null.
  */
-export function propagationStep(grid, n, c, geometry = null) {
-  return geometry === null ? linearSideStep(grid, n, c) : faceStep(grid, n, c, geometry);
+export function propagationStep(grid, n, c, geometry = null, channels = ALL_CHANNELS) {
+  return geometry === null ? linearSideStep(grid, n, c, channels)
+    : faceStep(grid, n, c, geometry, channels);
 }
 
 /**
@@ -280,7 +285,7 @@ export function propagationStep(grid, n, c, geometry = null) {
  * the source's coefficients (the twin adds the faces one by one: the same sum, rounded
  * in another order, a few ulp). The front face stays a face of its own (its clamp).
  */
-function linearSideStep(grid, n, c) {
+function linearSideStep(grid, n, c, channels) {
   const out = new Float64Array(grid.length);
   const terms = {clamp_gain: [0, 0, 0], occluded: [0, 0, 0], border_loss: [0, 0, 0]};
   const [frontAngle, sideAngle] = faceSolidAngles(c);
@@ -311,7 +316,7 @@ function linearSideStep(grid, n, c) {
       // the cells whose neighbour along the direction lies outside: the first or last
       // layer along the axis
       const lastLayer = sign > 0 ? n - 1 : 0;
-      for (let ch = 0; ch < 3; ch++) {
+      for (const ch of channels) {
         let border = 0.0;
         let gain = 0.0;
         for (let x = 0; x < n; x++) {
@@ -355,7 +360,7 @@ function linearSideStep(grid, n, c) {
 }
 
 /** propagationStep face by face, each face's visibility through the geometry volume. */
-function faceStep(grid, n, c, geometry) {
+function faceStep(grid, n, c, geometry, channels) {
   const out = new Float64Array(grid.length);
   const terms = {clamp_gain: [0, 0, 0], occluded: [0, 0, 0], border_loss: [0, 0, 0]};
   const [frontAngle, sideAngle] = faceSolidAngles(c);
@@ -380,7 +385,7 @@ function faceStep(grid, n, c, geometry) {
                 clamp: face.front && c.clamp_front_face, visibility: seen[direction][f]};
       });
       direction += 1;
-      for (let ch = 0; ch < 3; ch++) {
+      for (const ch of channels) {
         let border = 0.0;
         let gain = 0.0;
         let occluded = 0.0;
@@ -428,18 +433,20 @@ function faceStep(grid, n, c, geometry) {
  * Returns {accumulated, last, audit: {injected, per_step, border_loss, clamp_gain,
  * occluded, accumulated}} (per-step terms one [r, g, b] per step).
  */
-export function propagateAudited(grid, n, c, iterations, geometry = null) {
+export function propagateAudited(grid, n, c, iterations, geometry = null,
+                                 channels = ALL_CHANNELS) {
   const state = {last: grid, accumulated: Float64Array.from(grid),
                  audit: {injected: flux(grid, n), per_step: [flux(grid, n)], border_loss: [],
                          clamp_gain: [], occluded: [], accumulated: flux(grid, n)}};
-  return continuePropagation(state, n, c, iterations, geometry);
+  return continuePropagation(state, n, c, iterations, geometry, channels);
 }
 
 /**
  * ``more`` further steps of a state propagateAudited returned (its accumulated grid is
  * updated in place): the same operations in the same order as one longer run.
  */
-export function continuePropagation(state, n, c, more, geometry = null) {
+export function continuePropagation(state, n, c, more, geometry = null,
+                                    channels = ALL_CHANNELS) {
   if (!(Number.isInteger(more) && more >= 0)) {
     throw new Error("iterations must be an integer >= 0, got " + more);
   }
@@ -447,7 +454,7 @@ export function continuePropagation(state, n, c, more, geometry = null) {
   let last = state.last;
   for (let t = 0; t < more; t++) {
     const source = c.ping_pong ? last : accumulated;
-    const {grid: step, terms} = propagationStep(source, n, c, geometry);
+    const {grid: step, terms} = propagationStep(source, n, c, geometry, channels);
     for (const name of ["border_loss", "clamp_gain", "occluded"]) {
       audit[name].push(terms[name]);
     }

@@ -1,5 +1,6 @@
 // The page's LPV off the main thread: injection, the geometry volume and propagation of
-// twin.js (float64), so a 32³ grid propagating never blocks scrolling or the controls.
+// twin.js (float64), so a 32³ grid propagating never blocks scrolling or the controls;
+// a request's ``channels`` (default all) are the colour channels this worker runs.
 // Messages: {id, type: "light", index, views} keeps the VPL sets of a light choice;
 // {id, type: "run", ...request} answers {id, accumulated, audit, ms}. A run whose request
 // differs from the last one only by more iterations continues from the last grid (the
@@ -27,7 +28,8 @@ function run(request) {
     const views = setsOf(request);
     let grid = null;
     for (const vpls of views) {
-      const one = twin.inject(vpls, request.spec, request.corrections, request.offset);
+      const one = twin.inject(vpls, request.spec, request.corrections, request.offset,
+                              request.channels);
       if (grid === null) {
         grid = one;
       } else {
@@ -45,14 +47,15 @@ function run(request) {
                                       request.geometry)));
       ms.geometry = performance.now() - begin;
     }
-    const first = twin.propagateAudited(grid, n, request.corrections, 0, geometry);
+    const first = twin.propagateAudited(grid, n, request.corrections, 0, geometry,
+                                        request.channels);
     cache = {key, t: 0, geometry, ...first};
   }
   const begin = performance.now();
   const more = request.iterations - cache.t;
   if (more > 0) {
     const next = twin.continuePropagation(cache, n, request.corrections, more,
-                                          cache.geometry);
+                                          cache.geometry, request.channels);
     Object.assign(cache, next);
     cache.t = request.iterations;
   }
