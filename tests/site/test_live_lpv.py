@@ -3,7 +3,8 @@ explorer/site/assets/lpv/): one small site of one live step, built once for the 
 a user builds it, served over HTTP and driven in headless Chromium (WebGL2 through
 SwiftShader).
 
-* the page's JavaScript twin on VPLs made here equals explorer/lpv/twin.py: the flux per
+* the page's JavaScript twin on VPLs made here, run by the page's Workers (the colour
+  channels split among them and added up), equals explorer/lpv/twin.py: the flux per
   step, the audit terms and the accumulated grid to a relative 1e-9, for every correction
   switch, both presets, both geometry volumes and a propagation continued from fewer
   iterations;
