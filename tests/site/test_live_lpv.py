@@ -349,6 +349,8 @@ def test_the_page_picture_matches_the_window_frame(page, frames, site):
     assert "error" not in answer, answer
     result = frames()
     assert_like_the_window(answer, result, "the step")
+    gathered = float(np.sum(result.audit.gathered))
+    assert abs(answer["gathered"] - gathered) < 1e-4 * gathered, (answer["gathered"], gathered)
     assert relative(description(site)["window_per_step"],
                     np.asarray(result.audit.per_step).sum(axis=1)) < 1e-6   # the plot's line
     indirect = np.asarray(answer["indirect"], np.float64).reshape(SIZE[1], SIZE[0], 4)[..., :3]
