@@ -28,8 +28,8 @@ import numpy as np
 
 GRID_SIZES = (8, 16, 24, 32)
 """The grid sizes the page offers (with the step's own). A toggle at 32³ and 16
-iterations took 0.6 to 1.1 s in Chromium on the 2-core VM under load (2026-12-02), 64³
-would take about eight times that."""
+iterations took 0.3 to 0.4 s from click to picture in headless Chromium on the 2-core VM
+(2026-12-02, idle); 64³ would take about eight times that."""
 MAX_WIDTH = 400
 """Pixels of the live G-buffer's width at most (its height keeps the view's aspect)."""
 LIGHT_AIMS = (("the step's light", 0.0), ("aimed further left", -0.3),
