@@ -174,6 +174,8 @@ class Step:
     """The text's claims about its live numbers (``explorer.lessons.checks.Check``)."""
     split_at: float | None = None
     """The split view's divider (a fraction of the width), or None: the middle."""
+    live_lpv: bool = False
+    """The web page runs this step's LPV live beside its picture (explorer/site/live_lpv.py)."""
 
     @property
     def scene_name(self) -> str:

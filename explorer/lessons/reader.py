@@ -128,6 +128,9 @@ _STEP_FIELDS = {
                          "width (the step's split view and its split try-this): chosen so "
                          "that the feature compared shows on both sides and the divider "
                          "stays clear of every mark (tests/lessons/test_split_divider.py)."),
+    "live_lpv": Spec(kind="bool", doc="On the course's web page: the step's LPV runs live "
+                                      "in the page beside its picture (explorer/site/"
+                                      "live_lpv.py); the window ignores it."),
 }
 _STEP_TABLES = ("formulas", "camera", "light", "settings", "corrections", "try_this",
                 "figures", "show", "marks", "checks")
@@ -383,7 +386,7 @@ class _Reader:
             compare_preset=compare_preset, plot=own.get("plot"), try_this=self.try_this(raw),
             camera=self.pair(raw, "camera", _CAMERA_KEYS),
             light=self.pair(raw, "light", _LIGHT_KEYS), figures=self.figures(raw),
-            split_at=own.get("split_at"))
+            split_at=own.get("split_at"), live_lpv=own.get("live_lpv", False))
         if step.split_at is not None and step.view != "split" and not any(
                 item.split for item in step.try_this):
             raise self.error("split_at", "the step shows no split view (view = \"split\" "

@@ -21,6 +21,7 @@ import numpy as np
 from explorer.lessons import Lesson, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
 from explorer.site import live_figures, pages, prose
+from explorer.site import live_lpv
 from explorer.site.frames import (
     FrameRenderer,
     Screen,
@@ -274,6 +275,7 @@ class _Writer:
         licence = font.with_name("GUST-FONT-LICENSE.txt")
         if licence.is_file():
             shutil.copyfile(licence, folder / "GUST-FONT-LICENSE.txt")
+        live_lpv.copy_assets(folder)
 
     def image(self, pixels: np.ndarray, name: str, fmt: str | None = None,
               width: int | None = None) -> pages.Image:
@@ -345,6 +347,7 @@ class _Writer:
                 f'<ol class="toc">{toc}</ol>' + "\n".join(sections) + "</article>"
                 + "".join(pager))
         body += live_figures.loader_tag(body)
+        body += live_lpv.module_script() if any(s.live_lpv for s in lesson.steps) else ""
         name = page_name(lesson)
         nav = pages.lesson_nav([(page_name(one), f"{one.number}") for one in lessons], name)
         (self.root / name).write_text(pages.frame(f"{lesson.title} · LPV lessons", body,
@@ -390,6 +393,13 @@ class _Writer:
 
         text = prose.blocks(step.text, baker, figure_html.get, try_link)
         parts.append(f'<div class="prose">{text}</div>')
+        if step.live_lpv:
+            try:
+                parts.append(live_lpv.step_figure(self.frames.ctx, step, self.root,
+                                                  self.options.size, view.src,
+                                                  f"{step.title}: the baked picture"))
+            except ValueError as exc:
+                raise SiteError(f"{where}{exc}") from None
         parts += [html for fid, html in figure_html.items() if fid not in placed]
         parts += [prose.formula(name, baker) for name in step.formulas]
         parts.append(self.step_plot(step, shot))
