@@ -300,7 +300,8 @@ def _plain(text: str, mark_ids: tuple[str, ...] = (), settings=None) -> str:
             doc = name
         return f"[{doc}]"
 
-    text = lesson_text.substitute(text, value)
+    text = lesson_text.substitute(lesson_text.for_medium(text, "window"), value)
+
     def marker(match) -> str:
         if match.group(1) == "formula":
             from explorer import derived

@@ -28,7 +28,8 @@ GLOSSARY_FILE = "glossary.toml"
 """The glossary's file in the lessons folder (not a lesson: ``load_all`` skips it)."""
 MAX_MEANING = 400
 KEYS = ("term", "also", "meaning")
-_PUNCTUATION = ".,;:!?()[]\"'*_`"
+PUNCTUATION = ".,;:!?()[]\"'*_`"
+"""What may stand around a term's words (a term matches without it)."""
 
 
 class GlossaryError(ValueError):
@@ -98,7 +99,7 @@ def load_glossary(directory: Path | str | None = None) -> tuple[Term, ...]:
 
 
 def _bare(word: str) -> str:
-    return word.strip(_PUNCTUATION).lower()
+    return word.strip(PUNCTUATION).lower()
 
 
 _by_first_word: tuple[tuple[Term, ...], dict[str, list]] | None = None

@@ -417,7 +417,7 @@ def _fixed() -> dict[str, Quantity]:
                    _error("flux_ratio_rgb", i), ".2f")
           for i, colour in enumerate(("red", "green", "blue"))],
         Quantity("error.mitsuba_flux_ratio", "light on screen, LPV / Mitsuba's one bounce "
-                 "(physics; the Error panel's truth \"reference + Mitsuba\")", "",
+                 "(physics; measured with the truth \"reference + Mitsuba\")", "",
                  _error("mitsuba_flux_ratio"), ".2f"),
         Quantity("error.mitsuba_relative_l2", "‖LPV − Mitsuba's one bounce‖ / ‖Mitsuba's "
                  "one bounce‖", "", _error("mitsuba_relative_l2"), ".2f"),

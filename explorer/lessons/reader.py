@@ -660,6 +660,8 @@ class _Reader:
         if formulas > MAX_FORMULAS_PER_STEP:
             raise self.error("text", f"{formulas} formulas in one step, over the "
                              f"{MAX_FORMULAS_PER_STEP} a step may typeset (split the step)")
+        # the site's side of every variant holds markers too: check both sides
+        blocks = blocks + lesson_text.parse(step.text, "web")
         for block in blocks:
             if isinstance(block, lesson_text.FigureRef) and block.id not in step.figure_ids:
                 raise self.error("text", f"{{{{figure:{block.id}}}}}: the step has no figure "
@@ -672,6 +674,10 @@ class _Reader:
                     raise self.error("text", f"{{{{formula:{block.name}}}}}: {reason}"
                                      ) from None
         for run in lesson_text.all_runs(blocks):
+            if isinstance(run, lesson_text.FigureNumber) and run.id not in (
+                    "view", *step.figure_ids):
+                raise self.error("text", f"{{{{fig:{run.id}}}}}: the step has no figure "
+                                 f"with that id (its figures: {['view', *step.figure_ids]})")
             if isinstance(run, lesson_text.TryButton) and not (
                     1 <= run.index <= len(step.try_this)):
                 raise self.error("text", f"{{{{try:{run.index}}}}}: the step has "
@@ -679,14 +685,15 @@ class _Reader:
         for index, item in enumerate(step.try_this):
             for field, text in ((f"try_this[{index}].prompt", item.prompt),
                                 (f"try_this[{index}].label", item.label)):
-                try:
-                    blocks = lesson_text.parse(text)
-                except lesson_text.TextError as exc:
-                    raise self.error(field, str(exc)) from None
-                if len(blocks) > 1 or any(not isinstance(b, lesson_text.Paragraph)
-                                          for b in blocks):
-                    raise self.error(field, "must be one paragraph of text (no lists, "
-                                            "display math, tables or markers)")
+                for medium in lesson_text.MEDIA:
+                    try:
+                        blocks = lesson_text.parse(text, medium)
+                    except lesson_text.TextError as exc:
+                        raise self.error(field, str(exc)) from None
+                    if len(blocks) > 1 or any(not isinstance(b, lesson_text.Paragraph)
+                                              for b in blocks):
+                        raise self.error(field, "must be one paragraph of text (no lists, "
+                                                "display math, tables or markers)")
         texts = [("text", step.text)] + [
             (f"try_this[{i}].prompt", item.prompt) for i, item in enumerate(step.try_this)
         ] + [(f"figures[{i}].caption", spec.caption) for i, spec in enumerate(step.figures)]

@@ -15,6 +15,15 @@ check without a window:
   derivation result typeset as display math) stand between paragraphs (one inside a
   paragraph splits it there); ``{{try:K}}`` is the step's K-th try-this as a button in
   the line.
+* variants: ``{{window}}A{{web}}B{{end}}`` reads A in the explorer window and B on the
+  course site (``{{web}}B{{end}}``: on the site only, ``{{window}}A{{end}}``: in the window
+  only). Either side may hold anything a step's text holds, paragraphs included; variants
+  do not nest. A sentence that tells the reader to press, drag or open a panel of the
+  window says on the site what to look at instead (``explorer/site/controls.py`` lists
+  the controls a page has).
+* ``{{fig:ID}}``: the step's figure ID (``view``: the step's picture) by its number on
+  the site ("Figure 3", a link), "the figure" ("the main view") in the window; mostly
+  used on the site's side of a variant.
 
 Examples
 --------
@@ -23,6 +32,8 @@ Examples
 ['Text', 'Math', 'Text', 'Value', 'Text']
 >>> blocks[0].runs[3]
 Value(name='audit.injected', format='.3f', style='bold')
+>>> for_medium("Open {{window}}the Inspect panel{{web}}the picture below{{end}}.", "web")
+'Open the picture below.'
 """
 
 from __future__ import annotations
@@ -31,8 +42,12 @@ import re
 from dataclasses import dataclass
 
 STYLES = ("regular", "bold", "italic", "bold-italic", "code")
-MARKERS = ("figure", "formula", "try")
+VARIANT_MARKERS = ("window", "web", "end")
+"""``{{window}}``, ``{{web}}`` and ``{{end}}``: the two sides of a variant."""
+MARKERS = ("figure", "formula", "try", "fig", *VARIANT_MARKERS)
 """Names that make ``{{name:argument}}`` a marker rather than a live number."""
+MEDIA = ("window", "web")
+"""Where a text is read: the explorer window or the course site."""
 BLOCK_MARKERS = ("figure", "formula")
 
 
@@ -63,7 +78,15 @@ class TryButton:
     """1-based index into the step's try-this list."""
 
 
-Run = Text | Math | Value | TryButton
+@dataclass(frozen=True)
+class FigureNumber:
+    """A reference to one of the step's figures by its number on the page."""
+
+    id: str
+    """A figure id of the step, or ``view`` (the step's picture)."""
+
+
+Run = Text | Math | Value | TryButton | FigureNumber
 
 
 @dataclass(frozen=True)
@@ -107,7 +130,8 @@ Block = Paragraph | Item | DisplayMath | Table | FigureRef | FormulaRef
 _FIELD = re.compile(r"\{\{\s*([^{}:\s]+)\s*(?::([^{}]*))?\}\}")
 _ITEM = re.compile(r"^(?:([*-])|(\d+)\.)\s+(.*)$")
 _DISPLAY = re.compile(r"\$\$(.+?)\$\$", re.S)
-MARKER_FIELD = re.compile(r"\{\{\s*(figure|formula|try)\s*:\s*([^{}\s]+)\s*\}\}")
+MARKER_FIELD = re.compile(r"\{\{\s*(figure|formula|try|fig)\s*:\s*([^{}\s]+)\s*\}\}")
+_FIG = re.compile(r"\{\{\s*fig\s*:\s*([^{}\s]+)\s*\}\}")
 _BLOCK_MARKER = re.compile(r"\{\{\s*(figure|formula)\s*:\s*([^{}\s]+)\s*\}\}")
 
 
@@ -126,11 +150,44 @@ def placeholders(text: str) -> list[tuple[str, str]]:
     return [(name, fmt) for name, fmt in fields(text) if name not in MARKERS]
 
 
-def parse(text: str) -> tuple[Block, ...]:
-    """The blocks of ``text`` (see the module docstring); :class:`TextError` for
-    unbalanced delimiters."""
+_VARIANT = re.compile(r"\{\{\s*(window|web)\s*\}\}(.*?)(?:\{\{\s*web\s*\}\}(.*?))?"
+                      r"\{\{\s*end\s*\}\}", re.S)
+_VARIANT_LEFT = re.compile(r"\{\{\s*(window|web|end)\s*\}\}")
+
+
+def for_medium(text: str, medium: str = "window") -> str:
+    """``text`` as read in ``medium`` ("window" or "web"): each variant replaced by its
+    side for that medium. :class:`TextError` for a variant that is not closed, nested, or
+    has two ``{{web}}`` sides."""
+    if medium not in MEDIA:
+        raise ValueError(f"medium must be one of {MEDIA}, got {medium!r}")
+
+    def side(match: re.Match) -> str:
+        first, body, web = match.group(1), match.group(2), match.group(3)
+        if (first == "web" and web is not None) or _VARIANT_LEFT.search(body + (web or "")):
+            raise TextError(f"a variant has two {{{{web}}}} sides or a variant inside: "
+                            f"{match.group(0)[:60]!r}")
+        if first == "web":
+            return body if medium == "web" else ""
+        return (web or "") if medium == "web" else body
+
+    chosen = _VARIANT.sub(side, text)
+    if medium == "window":      # the window numbers no figures: it says which one in words
+        chosen = _FIG.sub(lambda m: "the main view" if m.group(1) == "view" else "the figure",
+                          chosen)
+    left = _VARIANT_LEFT.search(chosen)
+    if left is not None:
+        near = chosen[max(left.start() - 30, 0):][:60]
+        raise TextError(f"{left.group(0)} without its variant: write {{{{window}}}}A"
+                        f"{{{{web}}}}B{{{{end}}}} (near {near!r})")
+    return chosen
+
+
+def parse(text: str, medium: str = "window") -> tuple[Block, ...]:
+    """The blocks of ``text`` as read in ``medium`` (see the module docstring);
+    :class:`TextError` for unbalanced delimiters."""
     blocks: list[Block] = []
-    for chunk in _chunks(text):
+    for chunk in _chunks(for_medium(text, medium)):
         if chunk[0] == "table":
             blocks.append(_table(chunk[1]))
             continue
@@ -297,7 +354,11 @@ def _runs(body: str) -> tuple[Run, ...]:
             if found is None:
                 raise TextError(f"cannot read the field {token!r}")
             name, argument = found.group(1), (found.group(2) or "").strip()
-            if name == "try":
+            if name == "fig":
+                if not argument:
+                    raise TextError("{{fig:ID}} needs a figure id of the step (or view)")
+                runs.append(FigureNumber(argument))
+            elif name == "try":
                 if not argument.isdigit():
                     raise TextError(f"{{{{try:K}}}} needs a step's try-this number, got "
                                     f"{argument!r}")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import shutil
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -32,6 +32,7 @@ from explorer.site.frames import (
     uses_error,
     uses_truth,
 )
+from explorer.site.controls import attribute
 from explorer.site.values import Baker, context_marks
 
 MARKER = "lpv-site.json"
@@ -48,6 +49,81 @@ PLOT_OF_PANEL = {"flux-per-step": "flux-per-step", "audit": "energy-audit"}
 SHOWN_OVERLAYS = ("slice", "glyphs", "vpls", "lattice", "cascade_boxes", "blockers")
 """The overlays a view's caption names (the others say how these are drawn)."""
 JPEG_QUALITY = 88
+PHONE_FIGURE_WIDTH = 343
+"""CSS pixels of a figure drawn for a phone: a 375 px screen less the page's margins."""
+PHONE_KEY = "@phone"
+PHONE_MEDIA = "(max-width: 40rem)"
+
+
+INSPECT_WORDS = {"rsm-position": "the reflective shadow map's positions",
+                 "rsm-normal": "the reflective shadow map's normals",
+                 "rsm-flux": "the reflective shadow map's flux",
+                 "grid-slice": "a slice through the grid",
+                 "geometry-volume": "a slice through the geometry volume",
+                 "cascade-weights": "the cascade each pixel reads"}
+"""A buffer the window's Inspect panel shows, in words (the page shows it as a figure)."""
+FIGURE_WORDS = {"clamped-cosine": "The clamped cosine lobe and its spherical-harmonics "
+                                  "projection",
+                "cell-faces": "A cell's neighbour, its five faces and their solid angles",
+                "propagation-stepper": "A small grid propagating step by step",
+                "small-multiples": "The same view at several settings side by side",
+                "rsm-texel": "One shadow-map texel's beam on a tilted surface",
+                "energy-audit": "Where the frame gains and loses flux",
+                "flux-per-step": "The flux in flight after each propagation step",
+                "pipeline": "The pipeline's stages and the flux that reaches each"}
+"""What a figure kind draws, in words (its alt text, and its caption when it has none)."""
+ERROR_ALT = ("The LPV's indirect light at the reference's exposure",
+             "The one-bounce reference's indirect light",
+             "Per pixel, how many stops the LPV is above (red) or below (blue) the reference")
+VIEW_WORDS = {"final": "the final image, direct and indirect light",
+              "direct": "the direct light alone", "indirect": "the indirect light alone",
+              "albedo": "the surfaces' albedo"}
+
+
+def view_words(step: Step) -> str:
+    """What the step's picture shows, in words."""
+    if step.view == "split":
+        return f"left half this step's formulas, right half the {step.compare_preset} preset"
+    if step.view == "difference":
+        return (f"the difference between this step and the {step.compare_preset} preset, "
+                "the brightest difference white")
+    return VIEW_WORDS.get(step.view, "the final image")
+
+
+def view_alt(step: Step) -> str:
+    """The step's picture described for a reader who cannot see it."""
+    drawn = shown_in_scene(step)
+    extra = f", with {'; '.join(drawn)}" if drawn else ""
+    words = view_words(step)
+    return f"{words[:1].upper()}{words[1:]} of the {step.scene} scene{extra}"
+
+
+def look_hint(step: Step, numbers: dict[str, int]) -> str:
+    """The window's "Look at …" line for the page: which figures to look at, by number."""
+    from explorer.ui.lesson_panel import overlay_words
+
+    from explorer.site.prose import figure_link
+
+    drawn = overlay_words(step.overlays())
+    parts = [f"{figure_link(numbers['view'])} ({pages.esc(drawn or view_words(step))})"]
+    if "inspect" in numbers:
+        parts.append(f"{figure_link(numbers['inspect'])} "
+                     f"({pages.esc(INSPECT_WORDS.get(step.view, step.view))})")
+    for key, words in (("plot", f"the {step.plot} plot"), ("error", "the error images")):
+        if key in numbers:
+            parts.append(f"{figure_link(numbers[key])} ({pages.esc(words)})")
+    return "Look at " + ", ".join(parts[:-1]) + (" and " if len(parts) > 1 else "") + \
+        parts[-1] + "."
+
+
+def values_table(title: str, header: list[str], rows: list[list[str]]) -> str:
+    """A plot's values as an HTML table behind a disclosure (read without the picture)."""
+    head = "".join(f'<th scope="col">{pages.esc(cell)}</th>' for cell in header)
+    body = "".join("<tr>" + "".join(f"<td>{pages.esc(cell)}</td>" for cell in row) + "</tr>"
+                   for row in rows)
+    return (f'<details class="values"><summary>{pages.esc(title)}</summary>'
+            f'<div class="table-wrap"><table><thead><tr>{head}</tr></thead>'
+            f"<tbody>{body}</tbody></table></div></details>")
 
 
 class SiteError(ValueError):
@@ -78,6 +154,14 @@ class SiteReport:
     """Numbers that had no value in their frame (``where name: reason``)."""
     baked: dict[str, list[tuple[str, str, str]]] = field(default_factory=dict)
     """Page section (``lesson/step``) -> (quantity, format, text) of the step's text."""
+    timings: list[str] = field(default_factory=list)
+    """Build-machine timings a page quotes (``where name``; the lessons' site text should
+    quote none)."""
+    desktop: list[str] = field(default_factory=list)
+    """Interface phrases a page uses without the control that makes them true
+    (``page: phrase``, :func:`explorer.site.controls.desktop_phrases`)."""
+    weights: dict[str, dict[str, int]] = field(default_factory=dict)
+    """Page -> its bytes (:func:`explorer.site.weight.page_weight`)."""
 
     def summary(self) -> str:
         return (f"site: {len(self.pages)} pages, {self.images} images, "
@@ -166,8 +250,11 @@ def build_site(options: SiteOptions, log: Callable[[str], None] = print) -> Site
         writer.index(lessons)
         writer.report.pending += writer.frames.problems
         writer.release()
+        writer.finish()
         (work / MARKER).write_text(json.dumps({"lessons": [lesson.id for lesson in lessons],
-                                               "size": list(options.size)}) + "\n")
+                                               "size": list(options.size),
+                                               "weights": writer.report.weights},
+                                              indent=1) + "\n")
         _swap_in(work, out)
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
@@ -271,15 +358,23 @@ class _Writer:
             (folder / name).write_bytes((shipped / name).read_bytes())
         live_figures.copy_assets(folder)
         font = fonts_dir() / SYMBOL_FONT           # Latin Modern Math (GUST font licence)
-        shutil.copyfile(font, folder / "latinmodern-math.otf")
         licence = font.with_name("GUST-FONT-LICENSE.txt")
         if licence.is_file():
             shutil.copyfile(licence, folder / "GUST-FONT-LICENSE.txt")
         live_lpv.copy_assets(folder)
 
     def image(self, pixels: np.ndarray, name: str, fmt: str | None = None,
-              width: int | None = None) -> pages.Image:
-        """Write ``pixels`` (uint8) as ``img/<name>.<fmt>``."""
+              width: int | None = None, small: bool = False) -> pages.Image:
+        """Write ``pixels`` (uint8) as ``img/<name>.<fmt>``; ``small``: and a phone-size
+        copy ``img/<name>-small.<fmt>`` when the picture is wider than that."""
+        image = self._write(pixels, name, fmt, width)
+        if small and image.width > pages.PHONE_WIDTH:
+            copy = self._write(pixels, f"{name}-small", fmt, pages.PHONE_WIDTH)
+            image = replace(image, small=(copy.src, copy.width))
+        return image
+
+    def _write(self, pixels: np.ndarray, name: str, fmt: str | None,
+               width: int | None) -> pages.Image:
         from PIL import Image as PilImage
 
         fmt = fmt or self.options.image_format
@@ -308,13 +403,18 @@ class _Writer:
                     out = (self.root / "img" / lesson.id
                            / f"step{step.number}-{spec.instance_id}.png")
                     out.parent.mkdir(parents=True, exist_ok=True)
-                    jobs.append({"key": key, "lesson": lesson.id, "step": step.number,
-                                 "figure": spec.instance_id, "out": str(out),
-                                 "width": self.options.figure_width,
-                                 "sequence": spec.kind == "propagation-stepper",
-                                 "size": list(self.options.size),
-                                 "lessons_dir": (str(self.options.lessons_dir)
-                                                 if self.options.lessons_dir else None)})
+                    job = {"key": key, "lesson": lesson.id, "step": step.number,
+                           "figure": spec.instance_id, "out": str(out),
+                           "width": self.options.figure_width,
+                           "sequence": spec.kind == "propagation-stepper",
+                           "size": list(self.options.size),
+                           "lessons_dir": (str(self.options.lessons_dir)
+                                           if self.options.lessons_dir else None)}
+                    jobs.append(job)
+                    if not job["sequence"] and self.options.figure_width > PHONE_FIGURE_WIDTH:
+                        # drawn again at a phone's column, so its words stay legible there
+                        jobs.append(dict(job, key=key + PHONE_KEY, width=PHONE_FIGURE_WIDTH,
+                                         out=str(out.with_name(f"{out.stem}-phone.png"))))
         return jobs
 
     def _figure_image(self, path: str) -> pages.Image:
@@ -327,12 +427,18 @@ class _Writer:
 
     # --- a lesson ------------------------------------------------------------------------
     def lesson(self, lesson: Lesson, lessons: list[Lesson]) -> None:
+        from explorer.lessons.glossary import load_glossary
+        from explorer.site.controls import reader_text
+        from explorer.site.references import cited
+
         self.log(f"site: lesson {lesson.number:02d} {lesson.id} ({len(lesson.steps)} steps)")
+        self.terms = prose.Terms(load_glossary(self.options.lessons_dir))
+        self.figure_count = 0
         sections = [self.step(lesson, step) for step in lesson.steps]
         toc = "".join(f'<li><a href="#step-{s.number}">{pages.esc(s.title)}</a></li>'
                       for s in lesson.steps)
         index = lessons.index(lesson)
-        pager = ['<nav class="pager">']
+        pager = ['<nav class="pager" aria-label="Next and previous lessons">']
         if index > 0:
             before = lessons[index - 1]
             pager.append(f'<a href="{page_name(before)}">← {pages.esc(before.title)}</a>')
@@ -341,15 +447,23 @@ class _Writer:
             after = lessons[index + 1]
             pager.append(f'<a href="{page_name(after)}">{pages.esc(after.title)} →</a>')
         pager.append("</nav>")
-        body = (f"<article><p class=\"kicker\">Lesson {lesson.number}</p>"
-                f"<h1>{pages.esc(lesson.title)}</h1>"
-                f'<p class="summary">{pages.esc(lesson.summary)}</p>'
-                f'<ol class="toc">{toc}</ol>' + "\n".join(sections) + "</article>"
-                + "".join(pager))
+        width, height = self.options.size
+        article = (f"<article><p class=\"kicker\">Lesson {lesson.number}</p>"
+                   f"<h1>{pages.esc(lesson.title)}</h1>"
+                   f'<p class="summary">{pages.esc(lesson.summary)}</p>'
+                   '<p class="rendered">Every still picture on this page was rendered by the '
+                   f"LPV at {width}×{height} pixels, converged, when the site was built; every "
+                   "number was measured on the frame its step shows.</p>"
+                   f'<nav aria-label="Steps of this lesson"><ol class="toc">{toc}</ol></nav>'
+                   + "\n".join(sections))
+        article += pages.glossary_section(self.terms.used())
+        article += pages.references_section(cited(reader_text(article)))
+        body = article + "</article>" + "".join(pager)
         body += live_figures.loader_tag(body)
         body += live_lpv.module_script() if any(s.live_lpv for s in lesson.steps) else ""
         name = page_name(lesson)
-        nav = pages.lesson_nav([(page_name(one), f"{one.number}") for one in lessons], name)
+        nav = pages.lesson_nav([(page_name(one), f"{one.number}. {one.title}")
+                                for one in lessons], name)
         (self.root / name).write_text(pages.frame(f"{lesson.title} · LPV lessons", body,
                                                   nav, lesson.summary), encoding="utf-8")
         self.page_names.append(name)
@@ -365,6 +479,23 @@ class _Writer:
                                        error=shot.error, figures=figures,
                                        renderer=self.frames.renderer, **context_marks(step))
 
+    def numbers(self, step: Step, has_inspect: bool) -> dict[str, int]:
+        """The step's figures (``view``, ``inspect``, its figure ids, ``plot``, ``error``,
+        ``iterations``) -> their numbers on the page, in the order the page shows them."""
+        placed = [block.id for block in lesson_text.parse(step.text, prose.MEDIUM)
+                  if isinstance(block, lesson_text.FigureRef)]
+        order = ["view"] + (["inspect"] if has_inspect else [])
+        order += placed + [fid for fid in step.figure_ids if fid not in placed]
+        if self.panel_plot(step):
+            order.append("plot")
+        if step.plot == "error":
+            order.append("error")
+        if any(item.control == "iterations" for item in step.try_this):
+            order.append("iterations")
+        numbers = {key: self.figure_count + i for i, key in enumerate(order, 1)}
+        self.figure_count += len(order)
+        return numbers
+
     def step(self, lesson: Lesson, step: Step) -> str:
         where = f"{lesson.id} step {step.number}: "
         stem = f"{lesson.id}/step{step.number}"
@@ -372,26 +503,35 @@ class _Writer:
         # the prompts' numbers before the change are this frame's too
         shot = self.shot(step_screen(step), step, texts + [t.prompt for t in step.try_this],
                          error=step.plot == "error")
-        view = self.image(shot.image, stem)
-        if step.number == 1:
+        first = step.number == 1
+        view = self.image(shot.image, stem, small=True)
+        if first:
             self.thumbs[lesson.id] = self.image(shot.image, f"{stem}-thumb", width=THUMB_WIDTH)
         figures = self.readouts(lesson, step, shot)
         baker = Baker(self.context(shot, figures, step), step.figure_ids, where)
-        parts = [pages.view_figure(view, f"{step.title}: the {step.view} view",
-                                   self.view_caption(step), self.marks(step, shot))]
+        numbers = self.numbers(step, shot.inspect is not None)
+        self.terms.new_step()
+        parts = [f'<p class="look">{look_hint(step, numbers)}</p>',
+                 pages.view_figure(view, view_alt(step), self.view_caption(step),
+                                   numbers["view"], self.marks(step, shot), lazy=not first)]
         if shot.inspect is not None:
-            parts.append(pages.inspect_figure(self.image(shot.inspect, f"{stem}-inspect",
-                                                         "png"), step.view))
-        figure_html = {spec.instance_id: self.figure(lesson, step, spec, shot, baker)
+            words = INSPECT_WORDS.get(step.view, f"the {step.view.replace('-', ' ')} buffer")
+            parts.append(pages.inspect_figure(
+                self.image(shot.inspect, f"{stem}-inspect", "png"),
+                f"{words[:1].upper()}{words[1:]} of this step's frame",
+                f"{pages.esc(words[:1].upper() + words[1:])} for “{pages.esc(step.title)}”, "
+                "one pixel per texel or cell.", numbers["inspect"]))
+        figure_html = {spec.instance_id: self.figure(lesson, step, spec, shot, baker,
+                                                     numbers)
                        for spec in step.figures}
-        placed = {block.id for block in lesson_text.parse(step.text)
+        placed = {block.id for block in lesson_text.parse(step.text, prose.MEDIUM)
                   if isinstance(block, lesson_text.FigureRef)}
 
         def try_link(index: int) -> str:
             return (f'<a class="try-link" href="#{_anchor(step, index)}">'
                     f"{pages.esc(try_label(step.try_this[index - 1]))}</a>")
 
-        text = prose.blocks(step.text, baker, figure_html.get, try_link)
+        text = prose.blocks(step.text, baker, figure_html.get, try_link, numbers, self.terms)
         parts.append(f'<div class="prose">{text}</div>')
         if step.live_lpv:
             try:
@@ -402,18 +542,20 @@ class _Writer:
                 raise SiteError(f"{where}{exc}") from None
         parts += [html for fid, html in figure_html.items() if fid not in placed]
         parts += [prose.formula(name, baker) for name in step.formulas]
-        parts.append(self.step_plot(step, shot))
+        if "plot" in numbers:
+            parts.append(self.step_plot(step, shot, numbers["plot"]))
         if step.plot == "error" and shot.error_result is not None:
-            parts.append(self.error_figure(shot.error_result, baker, stem))
+            parts.append(self.error_figure(shot.error_result, baker, stem, numbers["error"],
+                                           step.title))
         self.report.baked[f"{lesson.id}/{step.number}"] = list(baker.baked)
         self.report.pending += baker.pending
-        sequence = self.iterations(step, stem)
-        if sequence:
-            parts.append(sequence)
+        self.report.timings += baker.timings
+        if "iterations" in numbers:
+            parts.append(self.iterations(step, stem, numbers["iterations"]))
         if step.try_this and step_screen(step).mode != "single":
             alone = self.shot(Screen(step.settings()), step, [])     # A without B beside
-            view = self.image(alone.image, f"{stem}-a")
-        parts += [self.try_this(step, index, shot, view, figures, stem, where)
+            view = self.image(alone.image, f"{stem}-a", small=True)
+        parts += [self.try_this(step, index, shot, view, figures, stem, where, numbers)
                   for index in range(1, len(step.try_this) + 1)]
         parts.append(pages.open_command(lesson.id, step.number))
         return pages.step_section(step.number, step.title, "\n".join(parts))
@@ -434,18 +576,12 @@ class _Writer:
              p.anchor, p.visible) for p in placed])
 
     def view_caption(self, step: Step) -> str:
-        words = {"final": "the final image (direct + indirect)", "direct": "the direct light",
-                 "indirect": "the indirect light alone", "albedo": "the surfaces' albedo",
-                 "split": f"left: this step's formulas, right: the {step.compare_preset} preset",
-                 "difference": f"|this step − the {step.compare_preset} preset|, brightest "
-                               "difference white"}
-        shows = words.get(step.view, "the final image; the Inspect panel shows "
-                                     f"{step.view}")
+        """What the step's picture shows, for this step: its title, the view and what the
+        overlays draw in the scene."""
         overlays = shown_in_scene(step)
-        extra = f"; in the scene: {'; '.join(overlays)}" if overlays else ""
-        return (f"The {pages.esc(step.scene_name)} scene: {pages.esc(shows)}{pages.esc(extra)}. "
-                f"Rendered at {self.options.size[0]}×{self.options.size[1]} by the LPV, "
-                "converged.")
+        extra = f"; drawn in the scene: {'; '.join(overlays)}" if overlays else ""
+        return (f"“{pages.esc(step.title)}”: {pages.esc(view_words(step))} of the "
+                f"{pages.esc(step.scene)} scene{pages.esc(extra)}.")
 
     # --- inline figures ------------------------------------------------------------------
     def readouts(self, lesson: Lesson, step: Step, shot: Shot) -> dict[str, dict[str, float]]:
@@ -467,42 +603,68 @@ class _Writer:
                 values[spec.instance_id] = dict(answer["readouts"]) if answer else {}
         return values
 
-    def figure(self, lesson: Lesson, step: Step, spec, shot: Shot, baker: Baker) -> str:
-        caption = prose.inline(spec.caption, baker) if spec.caption else ""
-        caption_html = f"<figcaption>{caption}</figcaption>" if caption else ""
-        data = f'data-figure="{pages.esc(spec.instance_id)}" data-kind="{pages.esc(spec.kind)}"'
+    def figure(self, lesson: Lesson, step: Step, spec, shot: Shot, baker: Baker,
+               numbers: dict[str, int]) -> str:
+        number = numbers[spec.instance_id]
+        caption = prose.inline(spec.caption, baker, numbers) if spec.caption else ""
+        words = caption or pages.esc(FIGURE_WORDS.get(spec.kind, spec.kind.replace("-", " ")))
+        caption_html = pages.caption(number, words)
+        data = (f'id="{pages.figure_id(number)}" data-figure="{pages.esc(spec.instance_id)}" '
+                f'data-kind="{pages.esc(spec.kind)}"')
         if spec.kind in PLOT_KINDS:
-            return (f'<figure class="plot" {data}>{self.plot(spec, shot)}{caption_html}'
-                    "</figure>")
+            svg, table = self.plot(spec, shot)
+            return (f'<figure class="plot" {data} {attribute("plot-points")}>{svg}'
+                    f"{caption_html}{table}</figure>")
         answer = self.figure_answers[f"{lesson.id}/{step.number}/{spec.instance_id}"]
         images = [self._figure_image(path) for path in answer["files"]]
+        alt = FIGURE_WORDS.get(spec.kind, spec.kind.replace("-", " "))
         if len(images) == 1:
-            html = (f'<figure class="figure" {data}>{images[0].tag(spec.kind)}{caption_html}'
-                    "</figure>")
+            picture = images[0].tag(alt)
+            phone = self.figure_answers.get(
+                f"{lesson.id}/{step.number}/{spec.instance_id}{PHONE_KEY}")
+            if phone:
+                small = self._figure_image(phone["files"][0])
+                picture = (f'<picture><source media="{PHONE_MEDIA}" '
+                           f'srcset="{pages.esc(small.src)}" width="{small.width // 2}" '
+                           f'height="{small.height // 2}">{picture}</picture>')
+            html = (f'<figure class="figure" {data}>'
+                    f"{pages.enlarge(images[0], picture)}{caption_html}</figure>")
         else:
+            # The sequence is the <figure> (with the number's id and caption); the wrapper
+            # carries the figure's data without the id, which must stay unique.
             start = min(int(getattr(spec.params, "step", 0)), len(images) - 1)
-            html = (f'<figure class="figure stepper" {data}>' + pages.sequence(
+            wrapper = data.replace(f'id="{pages.figure_id(number)}" ', "")
+            html = (f'<div class="figure stepper" {wrapper}>' + pages.sequence(
                 [(image, f"step t = {t}") for t, image in enumerate(images)], start,
-                "Propagation, step by step", caption or "", css="figure-sequence") + "</figure>")
+                "Propagation, step by step", words, number, css="figure-sequence",
+                alt=alt) + "</div>")
         return live_figures.with_live(spec, answer["readouts"], caption_html, html)
 
-    def step_plot(self, step: Step, shot: Shot) -> str:
-        """The plot the step brings forward in the window's Plots panel (its ``plot``),
-        unless one of its figures already draws it: the flux per step or the energy
-        audit of this step's frames."""
-        from explorer.figure_params import make_figure
-
+    def panel_plot(self, step: Step) -> str | None:
+        """The plot the step brings forward in the window's Plots panel, when none of its
+        figures draws it already (None: no plot)."""
         kind = PLOT_OF_PANEL.get(step.plot or "")
         if kind is None or any(spec.kind == kind for spec in step.figures):
-            return ""
-        svg = self.plot(make_figure(kind), shot)
-        what = ("flux in flight after each propagation step" if kind == "flux-per-step"
-                else "where the frame gains and loses flux")
-        return (f'<figure class="plot panel-plot" data-plot="{kind}">{svg}<figcaption>The '
-                f"Plots panel for this frame: {what}. Hover or tap a point for its value."
-                "</figcaption></figure>")
+            return None
+        return kind
 
-    def error_figure(self, measured, baker: Baker, stem: str) -> str:
+    def step_plot(self, step: Step, shot: Shot, number: int) -> str:
+        """The plot the step brings forward in the window's Plots panel: the flux per
+        step or the energy audit of this step's frames, its values also as a table."""
+        from explorer.figure_params import make_figure
+
+        kind = self.panel_plot(step)
+        svg, table = self.plot(make_figure(kind), shot)
+        what = ("the flux in flight after each propagation step" if kind == "flux-per-step"
+                else "where the frame gains and loses flux")
+        return (f'<figure class="plot panel-plot" id="{pages.figure_id(number)}" '
+                f'data-plot="{kind}" {attribute("plot-points")}>{svg}'
+                + pages.caption(number, f"“{pages.esc(step.title)}”: {what}, measured on "
+                                "this step's frame. Hover or tap a point for its value.")
+                + f"{table}</figure>")
+
+    def error_figure(self, measured, baker: Baker, stem: str, number: int,
+                     title: str) -> str:
         """The Error panel: the LPV's and the reference's indirect light at one exposure
         and log2(LPV / reference) in false colour, with the two numbers it reports."""
         from explorer.lpv.twin.tonemap import linear_to_srgb
@@ -517,19 +679,24 @@ class _Writer:
         for index, (title, image) in enumerate(pictures):
             pixels = np.kron(to_bytes(image), np.ones((2, 2, 1), np.uint8))   # 2×, sharp
             picture = self.image(pixels, f"{stem}-error{index}", "png")
-            cells.append(f"<div>{picture.tag(title)}<p class=\"caption\">{pages.esc(title)}"
-                         "</p></div>")
+            cells.append(f"<div>{pages.enlarge(picture, picture.tag(ERROR_ALT[index]))}"
+                         f'<p class="caption">{pages.esc(title)}</p></div>')
         s, m = measured.settings, measured.measurement
         numbers = (f"relative L2 {baker.span('error.relative_l2', '.3f')}, flux ratio "
                    f"LPV / reference {baker.span('error.flux_ratio', '.3f')}")
-        return (f'<figure class="error-panel" data-plot="error"><div class="triptych">'
-                f"{''.join(cells)}</div><figcaption>The Error panel for this frame: "
-                f"{numbers}. Blue: the LPV is darker than the one-bounce reference, red: "
-                f"brighter; saturates at ±{LOG2_SCALE:g} stops; grey: background. "
-                f"{s.width}×{s.height} px, RSM {s.rsm_size}², {pages.esc(m.reference)} "
-                "reference, indirect light only.</figcaption></figure>")
+        return (f'<figure class="error-panel" id="{pages.figure_id(number)}" '
+                f'data-plot="error"><div class="triptych">{"".join(cells)}</div>'
+                + pages.caption(number, f"“{pages.esc(title)}”: the indirect light against "
+                                f"a one-bounce reference: {numbers}. Blue: the LPV is darker "
+                                "than the "
+                                f"reference, red: brighter; saturates at ±{LOG2_SCALE:g} "
+                                f"stops; grey: background. {s.width}×{s.height} pixels, RSM "
+                                f"{s.rsm_size}², {pages.esc(m.reference)} reference.")
+                + "</figure>")
 
-    def plot(self, spec, shot: Shot) -> str:
+    def plot(self, spec, shot: Shot) -> tuple[str, str]:
+        """The figure's SVG and its values as an HTML table (keyboard and screen readers
+        read the table; the SVG's points show the same values on hover or tap)."""
         from explorer.site import plots
         from explorer.ui.figures import energy_audit, plotting
         from explorer.ui.figures.flux_per_step import flux_per_step
@@ -543,7 +710,11 @@ class _Writer:
             series = [(label, flux_per_step(r.audit)) for label, r in zip(labels, results)]
             values = np.concatenate([v for _, v in series])
             scale = plotting.choose_scale(values, spec.params.scale)
-            return plots.flux_per_step_svg(series, scale, spec.params.relative)
+            rows = [[f"{t}"] + [f"{values[t]:.4g}" if t < len(values) else "" for _, values
+                                in series] for t in range(max(len(v) for _, v in series))]
+            return (plots.flux_per_step_svg(series, scale, spec.params.relative),
+                    values_table("The plotted values", ["step t"] + [
+                        f"{label}: flux in flight [W]" for label, _ in series], rows))
         rows = [label for label, _ in energy_audit.AUDIT_ROWS]
         sides = [(label, energy_audit.audit_values(r.audit), float(np.sum(r.audit.injected)))
                  for label, r in zip(labels, results)]
@@ -553,29 +724,34 @@ class _Writer:
         sides = [(label, v[keep], injected) for label, v, injected in sides]
         every = np.concatenate([np.abs(v) for _, v, _ in sides])
         scale = plotting.choose_scale(every, spec.params.scale)
-        return plots.audit_svg([rows[i] for i in keep], sides, scale, spec.params.relative)
+        table = values_table("The plotted values", ["stage"] + [f"{label} [W]" for label, _, _
+                                                                in sides],
+                             [[rows[i]] + [f"{v[k]:.4g}" for _, v, _ in sides]
+                              for k, i in enumerate(keep)])
+        return plots.audit_svg([rows[i] for i in keep], sides, scale,
+                               spec.params.relative), table
 
     # --- exploring: try-this, iterations -------------------------------------------------
     def try_this(self, step: Step, index: int, before_shot: Shot, before: pages.Image,
-                 figures: dict, stem: str, where: str) -> str:
+                 figures: dict, stem: str, where: str, numbers: dict[str, int]) -> str:
         item = step.try_this[index - 1]
         before_baker = Baker(self.context(before_shot, figures, step), step.figure_ids, where)
         after_shot = self.shot(try_screen(step, index), step, [item.prompt])
-        after = self.image(after_shot.image, f"{stem}-try{index}")
+        after = self.image(after_shot.image, f"{stem}-try{index}", small=True)
         after_baker = Baker(self.context(after_shot, figures, step), step.figure_ids,
                             f"{where}try {index}: ")
-        prompt = prose.inline(item.prompt, _DualBaker(after_baker, before_baker))
+        prompt = prose.inline(item.prompt, _DualBaker(after_baker, before_baker), numbers)
         self.report.pending += after_baker.pending + before_baker.pending
+        self.report.timings += after_baker.timings + before_baker.timings
         label = try_label(item)
-        pair = pages.swipe(before, after, "this step", label, step.title)
+        pair = pages.swipe(before, after, "this step", label, view_alt(step),
+                           f"{view_alt(step)}, with {label[:1].lower()}{label[1:]}")
         return pages.try_card(index, _anchor(step, index), label, pair, prompt,
                               getattr(item, "predict", None))
 
-    def iterations(self, step: Step, stem: str) -> str:
+    def iterations(self, step: Step, stem: str, number: int) -> str:
         """The step's view at growing iteration counts, when a try-this changes them."""
         counts = [item.value for item in step.try_this if item.control == "iterations"]
-        if not counts:
-            return ""
         screen = step_screen(step)
         own = int(screen.settings.iterations)
         largest = max([own, *counts])
@@ -586,20 +762,24 @@ class _Writer:
                              None if screen.compare is None
                              else screen.compare.with_changes(iterations=t))
             shot = self.frames.shot(changed, step.view, step.overlays())
-            image = self.image(shot.image, f"{stem}-iterations{t}")
-            frames.append((image, f"iterations = {t}"))
+            image = self.image(shot.image, f"{stem}-iterations{t}", small=True)
+            frames.append((image, f"{t} iteration{'' if t == 1 else 's'}"))
         start = wanted.index(own)
-        return pages.sequence(frames, start, "Iterations, one picture each",
-                              "The same step with more and more propagation steps: light "
-                              "moves one cell per step. Drag the slider or press Play.",
-                              rate=2.0)
+        tried = ", ".join(str(c) for c in sorted(set(counts)))
+        text = (f"“{pages.esc(step.title)}” from 0 to {largest} propagation steps (the step "
+                f"itself uses {own}, its try-this {tried}): light moves one cell per step."
+                '<span class="js-only"> Drag the slider or press Play.</span>')
+        return pages.sequence(frames, start, "Iterations, one picture each", text, number,
+                              rate=2.0, alt=view_alt(step))
 
     # --- the index -----------------------------------------------------------------------
     def index(self, lessons: list[Lesson]) -> None:
         cards = []
-        for lesson in lessons:
+        for position, lesson in enumerate(lessons):
             thumb = self.thumbs.get(lesson.id)
-            picture = thumb.tag(f"Lesson {lesson.number}: {lesson.title}") if thumb else ""
+            picture = thumb.tag(f"The first picture of lesson {lesson.number}: "
+                                f"{view_alt(lesson.steps[0])}", lazy=position >= 4) \
+                if thumb else ""
             outline = "".join(f'<li><a href="{page_name(lesson)}#step-{step.number}">'
                               f"{pages.esc(step.title)}</a></li>" for step in lesson.steps)
             cards.append(f'<li><a href="{page_name(lesson)}">{picture}<div class="text">'
@@ -612,13 +792,37 @@ class _Writer:
                 "page, each step with the picture the LPV renders, the numbers measured on "
                 "it, and the changes to try.</p>"
                 f'<ul class="cards">{"".join(cards)}</ul>')
+        nav = pages.lesson_nav([(page_name(one), f"{one.number}. {one.title}")
+                                for one in lessons], "index.html")
         (self.root / "index.html").write_text(pages.frame("Light Propagation Volumes, "
-                                                          "explained", body),
+                                                          "explained", body, nav),
                                               encoding="utf-8")
         self.page_names.insert(0, "index.html")
 
     def release(self) -> None:
         self.frames.release()
+
+    def finish(self) -> None:
+        """After every page: the math font cut to the pages' glyphs, each page checked
+        for interface phrases without their control, and weighed."""
+        from explorer.site import weight
+        from explorer.site.controls import desktop_phrases
+        from explorer.ui.fonts import SYMBOL_FONT, fonts_dir
+
+        written = [self.root / name for name in self.page_names]
+        chars, size = weight.subset_math_font(fonts_dir() / SYMBOL_FONT, written,
+                                              self.root / "assets" / weight.FONT)
+        self.log(f"site: math font: {chars} characters, {size / 1000:.0f} kB as WOFF2")
+        for page in written:
+            self.report.desktop += [f"{page.name}: {phrase}" for phrase in
+                                    desktop_phrases(page.read_text(encoding="utf-8"))]
+            self.report.weights[page.name] = weight.page_weight(self.root, page.name)
+        for line in weight.report_lines(self.report.weights):
+            self.log(line)
+        for problem in self.report.timings:
+            self.log(f"site: a build-machine timing on a page: {problem}")
+        for problem in self.report.desktop:
+            self.log(f"site: an interface phrase without its control: {problem}")
 
 
 def page_name(lesson: Lesson) -> str:

@@ -1,14 +1,29 @@
 """Live numbers baked into the page: each ``{{name:format}}`` a step quotes, formatted
 from the step's converged frame exactly as the window's article formats it
-(:func:`explorer.lessons.live_values.render`), with the window's tooltip text (what it measures,
-its unit, its name) on hover."""
+(:func:`explorer.lessons.live_values.render`), with what it measures and its unit in
+words on hover or tap. Timings are the build machine's, not the reader's: the page
+prints none (:data:`TIMINGS`; the build reports any a lesson's site text still quotes)."""
 
 from __future__ import annotations
 
 import html
+import re
 from dataclasses import dataclass, field
 
 from explorer.lessons import live_values
+from explorer.site.controls import attribute
+
+TIMINGS = ("frame.time.", "frame.timer", "frame.renderer")
+"""Quantities that describe the machine that built the site (how long a pass took, on
+which renderer): a page that quoted them would state the build machine's speed as fact."""
+_CODE_NAME = re.compile(r"\s*\((?:[A-Za-z_]\w*\.)+[A-Za-z_]\w*(?:\(\))?\)"
+                        r"|\s*\((?:settings|audit|frame|derived|sh|corrections|error)\.[\w.]+\)")
+
+
+def plain_words(text: str) -> str:
+    """``text`` without the code names in parentheses that the window's tooltips carry
+    for programmers ("(Settings.lights)", "(explorer.lpv.stage_list.STAGES)")."""
+    return _CODE_NAME.sub("", text)
 
 
 @dataclass
@@ -23,10 +38,14 @@ class Baker:
     """Quantities that had no value (``name: reason``), for the build's report."""
     baked: list[tuple[str, str, str]] = field(default_factory=list)
     """(name, format, text) of every number written, in order (tests compare them)."""
+    timings: list[str] = field(default_factory=list)
+    """Build-machine timings the text quoted (``where name``): the build reports them."""
 
     def text(self, name: str, fmt: str) -> str:
         """The number as the window writes it (``…`` when it has no value)."""
         shown = live_values.render(name, fmt, self.context, self.figure_ids)
+        if name.startswith(TIMINGS):
+            self.timings.append(f"{self.where}{name}")
         if shown == live_values.PENDING:
             reason = live_values.pending_reason(name, self.context, self.figure_ids)
             self.pending.append(f"{self.where}{name}: {reason}")
@@ -39,11 +58,12 @@ class Baker:
         how = (" Measured on this step's converged frame." if quantity.measured else
                " An exact constant of the model." if quantity.source == "derived" else
                " A setting of this step.")
-        return f"{quantity.doc}{unit} ({name}).{how}"
+        doc = plain_words(quantity.doc)
+        return f"{doc[:1].upper()}{doc[1:]}{unit}.{how}"
 
     def attributes(self, name: str, fmt: str, shown: str) -> str:
         return (f'class="live" data-q="{html.escape(name)}" data-fmt="{html.escape(fmt)}" '
-                f'title="{html.escape(self.tooltip(name))}" tabindex="0"')
+                f'title="{html.escape(self.tooltip(name))}" {attribute("live-number")}')
 
     def span(self, name: str, fmt: str, css: str = "") -> str:
         """The number as an HTML span with its tooltip."""

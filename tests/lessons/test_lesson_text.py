@@ -133,3 +133,33 @@ def test_table_columns_are_at_least_as_wide_as_their_widest_word():
     assert all(w >= m for w, m in zip(column_widths([5.0, 70.0, 5.0, 70.0],
                                                    [0.7, 1.0, 1.0, 1.0], 160.0),
                                       [5.0, 70.0, 5.0, 70.0]))
+
+
+def test_a_variant_reads_one_way_in_the_window_and_another_on_the_site():
+    text = ("Open {{window}}the **Inspect** panel{{web}}the picture below, "
+            "{{audit.injected:.3f}} W{{end}}.\n\n{{web}}On the site only.{{end}}"
+            "{{window}}In the window only.{{end}}")
+    window, web = lt.parse(text), lt.parse(text, "web")
+    assert lt.runs_text(window[0].runs) == "Open the Inspect panel."
+    assert [lt.runs_text(b.runs) for b in window[1:]] == ["In the window only."]
+    assert web[0].runs == (lt.Text("Open the picture below, "), lt.Value("audit.injected", ".3f"),
+                           lt.Text(" W."))
+    assert [lt.runs_text(b.runs) for b in web[1:]] == ["On the site only."]
+    # the live numbers of both sides are the text's numbers (the reader checks them all)
+    assert lt.placeholders(text) == [("audit.injected", ".3f")]
+
+
+@pytest.mark.parametrize("text", ["a {{web}} b", "a {{end}}", "{{window}}a{{web}}b{{web}}c{{end}}",
+                                  "{{web}}a {{window}}b{{end}}"])
+def test_a_broken_variant_is_refused(text):
+    for medium in lt.MEDIA:
+        with pytest.raises(lt.TextError, match="variant"):
+            lt.parse(text, medium)
+
+
+def test_a_figure_reference_is_a_number_on_the_site_and_words_in_the_window():
+    text = "As {{fig:view}} and {{fig:lobe}} show."
+    assert lt.runs_text(lt.parse(text)[0].runs) == "As the main view and the figure show."
+    assert lt.parse(text, "web")[0].runs == (
+        lt.Text("As "), lt.FigureNumber("view"), lt.Text(" and "), lt.FigureNumber("lobe"),
+        lt.Text(" show."))

@@ -1,33 +1,47 @@
-"""The site tests' browser: Debian's chromium, headless, driven by selenium through
-chromedriver (one per test module). It skips, printing why, when either is missing."""
+"""The site's tests share one CI-sized build of two lessons (small pictures) and one
+headless Chromium (Debian's chromium, driven by selenium and chromedriver through
+tests/browser_cases.py), both made once per test session: building is the slow part.
+The browser skips, printing why, when chromium, chromedriver or selenium is missing."""
 
 from __future__ import annotations
 
-import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import pytest
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-CHROMEDRIVER = shutil.which("chromedriver")
+from explorer.lessons import find_lesson, load_all
+
+from browser_cases import start_chromium
+from sitebuild import BUILT, LESSONS, ROOT, SIZE
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
+def site(tmp_path_factory) -> Path:
+    if BUILT:
+        return Path(BUILT)
+    out = tmp_path_factory.mktemp("site") / "course"
+    start = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-m", "explorer", "site", str(out), "--only", ",".join(LESSONS),
+         "--size", f"{SIZE[0]}x{SIZE[1]}", "--figure-width", "480"],
+        cwd=ROOT, capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr + done.stdout
+    print(f"\n{done.stdout.strip()}\n(build {time.monotonic() - start:.0f} s)")
+    assert "site: " in done.stdout and " MB in " in done.stdout
+    return out
+
+
+@pytest.fixture(scope="session")
+def lessons():
+    found, _ = load_all()
+    return [find_lesson(key, found) for key in LESSONS]
+
+
+@pytest.fixture(scope="session")
 def browser():
-    if CHROMIUM is None or CHROMEDRIVER is None:
-        reason = ("Debian's chromium and chromium-driver are not installed "
-                  "(apt-get install chromium chromium-driver)")
-        print(f"\nskipped: {reason}")
-        pytest.skip(reason)
-    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
-    from selenium.webdriver.chrome.service import Service
-
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
-                     "--disable-dev-shm-usage", "--hide-scrollbars"):
-        options.add_argument(argument)
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
-    driver.set_page_load_timeout(60)
+    driver = start_chromium(("--disable-gpu", "--hide-scrollbars"))
     yield driver
     driver.quit()

@@ -1,8 +1,9 @@
 """``lpv-explorer site``: a CI-sized build of two lessons (small pictures), read as files
 and in a real browser (Debian's chromium headless, driven by selenium and chromedriver).
 
-The build runs once per module as a user runs it (``python -m explorer site``). The
-browser checks skip with the reason printed when chromium or chromedriver is missing.
+The build runs once per session as a user runs it (``python -m explorer site``;
+tests/site/conftest.py). The browser checks skip with the reason printed when chromium
+or chromedriver is missing.
 """
 
 from __future__ import annotations
@@ -13,48 +14,21 @@ import re
 import subprocess
 import sys
 import time
-from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
 
 from explorer.lessons import live_values
-from explorer.lessons import find_lesson, load_all
+from explorer.lessons import load_all
 from explorer.site.build import PLOT_OF_PANEL
+from explorer.site.controls import reader_text
 
-LESSONS = ("overview", "solid-angles")
-SIZE = (320, 200)
-ROOT = Path(__file__).resolve().parents[2]
+from sitebuild import LESSONS, ROOT, SIZE
+
 WIDTHS = (375, 1280)
 SCREENSHOTS = Path(os.environ.get("LPV_SITE_SCREENSHOTS", "")) if os.environ.get(
     "LPV_SITE_SCREENSHOTS") else None
 """Set to a folder to keep the browser's screenshots of every page at both widths."""
-
-
-BUILT = os.environ.get("LPV_SITE_DIR")
-"""Set to a site built before (e.g. the whole course) to check it instead of building."""
-
-
-@pytest.fixture(scope="module")
-def site(tmp_path_factory) -> Path:
-    if BUILT:
-        return Path(BUILT)
-    out = tmp_path_factory.mktemp("site") / "course"
-    start = time.monotonic()
-    done = subprocess.run(
-        [sys.executable, "-m", "explorer", "site", str(out), "--only", ",".join(LESSONS),
-         "--size", f"{SIZE[0]}x{SIZE[1]}", "--figure-width", "480"],
-        cwd=ROOT, capture_output=True, text=True, timeout=900)
-    assert done.returncode == 0, done.stderr + done.stdout
-    print(f"\n{done.stdout.strip()}\n(build {time.monotonic() - start:.0f} s)")
-    assert "site: " in done.stdout and " MB in " in done.stdout
-    return out
-
-
-@pytest.fixture(scope="module")
-def lessons():
-    found, _ = load_all()
-    return [find_lesson(key, found) for key in LESSONS]
 
 
 def page_of(site: Path, lesson) -> Path:
@@ -79,7 +53,7 @@ def test_every_step_is_on_its_page_with_all_its_figures(site, lessons):
         for step in lesson.steps:
             body = found[step.number]
             assert html.escape(step.title) in body
-            assert body.count('<figure class="view">') == 1
+            assert body.count('<figure class="view" ') == 1
             figures = re.findall(r'data-figure="([^"]+)"', body)
             assert sorted(figures) == sorted(step.figure_ids), (lesson.id, step.number)
             panel = PLOT_OF_PANEL.get(step.plot or "")
@@ -197,39 +171,11 @@ def _error(ctx, settings):
         pipeline.release()
 
 
-class _Text(HTMLParser):
-    """The text a reader sees, and the attributes shown as tooltips, outside code, the
-    script and MathML's TeX annotations."""
-
-    SKIP = ("code", "script", "style", "annotation")
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.depth = 0
-        self.parts: list[str] = []
-
-    def handle_starttag(self, tag, attrs):
-        if tag in self.SKIP:
-            self.depth += 1
-        elif not self.depth:
-            self.parts += [value or "" for name, value in attrs if name in ("title", "alt")]
-
-    def handle_endtag(self, tag):
-        if tag in self.SKIP:
-            self.depth -= 1
-
-    def handle_data(self, data):
-        if not self.depth:
-            self.parts.append(data)
-
-
 def test_no_raw_tex_in_the_output(site):
     pages = sorted(site.glob("*.html"))
     assert len(pages) >= 1 + len(LESSONS)
     for page in pages:
-        reader = _Text()
-        reader.feed(page.read_text())
-        text = "\n".join(reader.parts)
+        text = reader_text(page.read_text())
         for mark in ("\\", "$", "{{", "}}"):
             assert mark not in text, (page.name, mark, text[max(text.find(mark) - 80, 0):
                                                               text.find(mark) + 80])
@@ -244,13 +190,19 @@ def test_the_site_needs_no_network(site):
             assert "url(http" not in text and "@import" not in text, path.name
 
 
-# --- in the browser (the ``browser`` fixture: tests/site/conftest.py) -----------------
+# --- in the browser ---------------------------------------------------------------------
 
 def _open(driver, page: Path, width: int) -> None:
     driver.set_window_size(width, 900)
     driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
         "width": width, "height": 900, "deviceScaleFactor": 1, "mobile": width < 600})
     driver.get(page.as_uri())
+    # every picture now: the lazy ones and a sequence's frames (fetched on first use)
+    driver.execute_script(
+        "document.querySelectorAll('img[loading=lazy]').forEach(i => i.loading = 'eager');"
+        "document.querySelectorAll('img[data-src]').forEach(i => {"
+        " if (i.dataset.srcset) { i.srcset = i.dataset.srcset; }"
+        " i.src = i.dataset.src; i.removeAttribute('data-src'); });")
     driver.execute_async_script(
         "const done = arguments[arguments.length - 1];"
         "Promise.all([document.fonts.ready, ...Array.from(document.images, i => i.decode()"

@@ -1,13 +1,36 @@
 // lpv-explorer course site: swipe comparisons, image sequences with Play, predict-then-
-// press and tap-to-show tooltips. No framework; the pages read without it.
+// press, tap-to-show tooltips and glossary popovers. No framework; the pages read without
+// it (the stylesheet lays a swipe's pictures side by side under .no-js).
 (function () {
   "use strict";
+  document.documentElement.classList.remove("no-js");
+  document.documentElement.classList.add("js");
 
   function swipe(root) {
     var range = root.querySelector("input[type=range]");
-    function show() { root.style.setProperty("--pos", range.value + "%"); }
+    var labels = root.querySelectorAll(".tag");
+    var before = labels[0].textContent, after = labels[1].textContent;
+    function show() {
+      root.style.setProperty("--pos", range.value + "%");
+      var v = parseInt(range.value, 10);
+      range.setAttribute("aria-valuetext", v <= 0 ? "all " + after : v >= 100 ? "all " + before
+        : v + " % " + before + " on the left, the rest " + after);
+    }
     range.addEventListener("input", show);
     show();
+  }
+
+  // A sequence's frames are fetched when the reader first uses it (data-src -> src).
+  function fetchFrames(frames) {
+    frames.forEach(function (img) {
+      var src = img.getAttribute("data-src");
+      if (src) {
+        if (img.getAttribute("data-srcset")) { img.srcset = img.getAttribute("data-srcset"); }
+        img.src = src;
+        img.removeAttribute("data-src");
+        img.removeAttribute("data-srcset");
+      }
+    });
   }
 
   function sequence(root) {
@@ -17,17 +40,27 @@
     var play = root.querySelector("button.play");
     var rate = parseFloat(root.getAttribute("data-rate") || "3");
     var timer = null;
+    var all = Array.prototype.slice.call(frames);
+    play.hidden = false;
     function show(index) {
+      fetchFrames([frames[index]]);
       for (var i = 0; i < frames.length; i++) { frames[i].hidden = i !== index; }
       range.value = String(index);
-      output.textContent = frames[index].getAttribute("data-label");
+      var label = frames[index].getAttribute("data-label");
+      output.textContent = label;
+      range.setAttribute("aria-valuetext", label);
     }
+    function warm() { fetchFrames(all); }
+    range.addEventListener("focus", warm);
+    range.addEventListener("pointerdown", warm);
+    play.addEventListener("pointerenter", warm);
     function stop() {
       if (timer !== null) { clearInterval(timer); timer = null; }
       play.textContent = "Play";
     }
     range.addEventListener("input", function () { stop(); show(parseInt(range.value, 10)); });
     play.addEventListener("click", function () {
+      warm();
       if (timer !== null) { stop(); return; }
       var index = parseInt(range.value, 10);
       if (index >= frames.length - 1) { index = 0; show(0); }
@@ -61,12 +94,16 @@
     });
   }
 
-  // A tooltip that also works by touch and keyboard: the live numbers' title text.
+  // A tooltip that also works by touch and keyboard: the live numbers' title text, a
+  // glossary term's definition (the <dd> its aria-describedby names).
   var tip = null;
   function hideTip() { if (tip) { tip.remove(); tip = null; } }
   function showTip(target) {
     hideTip();
-    var text = target.getAttribute("data-tip") || target.getAttribute("title");
+    var described = target.getAttribute("aria-describedby");
+    var definition = described ? document.getElementById(described) : null;
+    var text = target.getAttribute("data-tip") || target.getAttribute("title") ||
+      (definition ? target.textContent.trim() + ": " + definition.textContent : "");
     if (!text) { return; }
     target.setAttribute("data-tip", text);
     target.removeAttribute("title");
@@ -94,14 +131,39 @@
     var target = event.target;
     var live = target.closest ? target.closest(".live") : null;
     if (live) { showTip(live); return; }
+    var term = target.closest ? target.closest("a.term") : null;
+    if (term) { event.preventDefault(); showTip(term); return; }
     if (target.closest && target.closest("svg.plot") && showTitle(target)) { return; }
     hideTip();
   });
   document.addEventListener("focusin", function (event) {
-    if (event.target.classList && event.target.classList.contains("live")) {
+    var classes = event.target.classList;
+    if (classes && (classes.contains("live") || classes.contains("term"))) {
       showTip(event.target);
-    }
+    } else if (tip) { hideTip(); }
   });
+  document.addEventListener("mouseover", function (event) {
+    var term = event.target.closest ? event.target.closest("a.term") : null;
+    if (term) { showTip(term); }
+  });
+  // Display math and tables wider than the column scroll: make those reachable from the
+  // keyboard (arrow keys scroll a focused region).
+  function scrollable() {
+    document.querySelectorAll(".display-math, .long-math, .table-wrap").forEach(function (box) {
+      if (box.scrollWidth > box.clientWidth + 1) {
+        box.setAttribute("tabindex", "0");
+        box.setAttribute("role", "region");
+        box.setAttribute("aria-label", box.classList.contains("table-wrap")
+          ? "Table, scrolls sideways" : "Formula, scrolls sideways");
+      } else if (box.getAttribute("role") === "region") {
+        box.removeAttribute("tabindex");
+        box.removeAttribute("role");
+        box.removeAttribute("aria-label");
+      }
+    });
+  }
+  window.addEventListener("resize", scrollable);
+  window.addEventListener("load", scrollable);
   document.addEventListener("keydown", function (event) {
     if (event.key === "Escape") { hideTip(); }
   });
