@@ -31,6 +31,8 @@ from explorer.lpv.settings import PRESETS, Settings
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 """File types the image writers (Pillow) produce from an RGB image."""
+REPEATABLE_ACTIONS = ("append", "append_const", "extend", "count", "help", "version", "parsers")
+"""argparse's names of the actions given more than once by design: not refused as repeats."""
 
 
 class CommandError(Exception):
@@ -68,6 +70,9 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def _refuse_repeated(self, given: list[str]) -> None:
         seen: dict[str, tuple[str, str]] = {}     # dest -> (option, value) as first given
+        # argparse's own classes for the actions that repeat by design, by their public
+        # names (the classes themselves are private to argparse)
+        repeatable = tuple(self._registry_get("action", name) for name in REPEATABLE_ACTIONS)
         index = 0
         while index < len(given):
             token = given[index]
@@ -82,9 +87,7 @@ class ArgumentParser(argparse.ArgumentParser):
             if not found or found[0] is None:
                 continue
             action, option, explicit = found[0], found[1], found[-1]
-            if isinstance(action, (argparse._AppendAction, argparse._CountAction,
-                                   argparse._HelpAction, argparse._VersionAction,
-                                   argparse._SubParsersAction)):
+            if isinstance(action, repeatable):
                 continue
             if action.nargs is None and explicit is None and index < len(given):
                 value = given[index]
@@ -100,8 +103,9 @@ class ArgumentParser(argparse.ArgumentParser):
 
     def _subparser_names(self) -> set[str]:
         names: set[str] = set()
+        subparsers = self._registry_get("action", "parsers")
         for action in self._actions:
-            if isinstance(action, argparse._SubParsersAction):
+            if isinstance(action, subparsers):
                 names.update(action.choices)
         return names
 

@@ -1,5 +1,6 @@
 // The final gather on the G-buffer with WebGL2 (shaders/gather.glsl's indirect half):
-// E = clamp+(<s(x), lobe(−n)>)/h² from a trilinear lookup of the accumulated grid
+// E = clamp+(<s(x), lobe(−n)>)/h² (irradiance_gather; off: the DX11 shader's clamp+(<s, Y(−n)>),
+// no lobe and no cell area) from a trilinear lookup of the accumulated grid
 // (three RGBA32F 3D textures, r, g and b, one texel per cell; the weights computed in
 // float32 from eight texelFetch, as sh_grid.glsl's SH_SHADER_FILTER 1 does), times the
 // directional-derivative damping when asked; radiance albedo/π·E and the flux the pixel's
@@ -26,6 +27,8 @@ precision highp sampler3D;
 const float SH_COSLOBE_C0 = ${glslFloat(K.SH_COSLOBE_C0)};
 const float SH_COSLOBE_C1 = ${glslFloat(K.SH_COSLOBE_C1)};
 const float INV_PI = ${glslFloat(K.INV_PI)};
+const float SH_C0 = ${glslFloat(K.SH_C0)};
+const float SH_C1 = ${glslFloat(K.SH_C1)};
 uniform sampler2D u_position;   // xyz, w = 1 where a surface is seen
 uniform sampler2D u_normal;     // xyz, w = the surface's area under the pixel
 uniform sampler2D u_albedo;
@@ -36,11 +39,16 @@ uniform vec3 u_grid_origin;
 uniform float u_grid_cell_size;
 uniform int u_grid_resolution;
 uniform int u_damping;
+uniform int u_irradiance_gather;
 layout(location = 0) out vec4 out_indirect;
 layout(location = 1) out vec4 out_received;
 
 vec4 lobe(vec3 n) {
   return vec4(SH_COSLOBE_C0, -SH_COSLOBE_C1 * n.y, SH_COSLOBE_C1 * n.z, -SH_COSLOBE_C1 * n.x);
+}
+
+vec4 basis(vec3 d) {
+  return vec4(SH_C0, -SH_C1 * d.y, SH_C1 * d.z, -SH_C1 * d.x);
 }
 
 // The grid is uploaded in the twin's order (z fastest), so texel (i, j, k) holds cell
@@ -67,11 +75,12 @@ vec3 irradiance(vec3 x, vec3 n) {
   ivec3 lo = ivec3(floor(t));
   ivec3 hi = min(lo + 1, ivec3(size - 1));
   vec3 f = t - vec3(lo);
-  vec4 kernel = lobe(-n);
+  vec4 kernel = u_irradiance_gather == 1 ? lobe(-n) : basis(-n);
   vec3 intensity = vec3(dot(trilinear(u_lpv_r, lo, hi, f), kernel),
                         dot(trilinear(u_lpv_g, lo, hi, f), kernel),
                         dot(trilinear(u_lpv_b, lo, hi, f), kernel));
-  return max(intensity, vec3(0.0)) / (u_grid_cell_size * u_grid_cell_size);
+  float area = u_irradiance_gather == 1 ? u_grid_cell_size * u_grid_cell_size : 1.0;
+  return max(intensity, vec3(0.0)) / area;
 }
 
 // clamp(E(p + h/2·n) / E(p − h/2·n), 0, 1) per channel, 1 where nothing comes from behind.
@@ -205,7 +214,7 @@ export class Gatherer {
    * Gather the uploaded grid of spec {origin, cellSize, resolution}: {indirect, received}
    * Float32Arrays (RGBA per pixel, row 0 the top row as the G-buffer's).
    */
-  gather(spec, damping) {
+  gather(spec, damping, irradianceGather = true) {
     const gl = this.gl;
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.framebuffer);
     gl.viewport(0, 0, this.width, this.height);
@@ -225,6 +234,8 @@ export class Gatherer {
     gl.uniform1f(gl.getUniformLocation(this.program, "u_grid_cell_size"), spec.cellSize);
     gl.uniform1i(gl.getUniformLocation(this.program, "u_grid_resolution"), spec.resolution);
     gl.uniform1i(gl.getUniformLocation(this.program, "u_damping"), damping ? 1 : 0);
+    gl.uniform1i(gl.getUniformLocation(this.program, "u_irradiance_gather"),
+                 irradianceGather ? 1 : 0);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     const read = (i) => {

@@ -376,7 +376,8 @@ export class LiveLpv {
     const spec = request.spec;
     const began = performance.now();
     this.gatherer.uploadGrid(answer.accumulated, spec.resolution);
-    const gathered = this.gatherer.gather(spec, this.state.damping);
+    const gathered = this.gatherer.gather(spec, this.state.damping,
+                                          request.corrections.irradiance_gather !== false);
     const gatherMs = performance.now() - began;
     let received = 0.0;
     for (let i = 0; i < gathered.received.length; i += 4) {

@@ -42,6 +42,20 @@ export function faceSolidAngles(c) {
   return [K.PUBLISHED_FRONT_FACE_SOLID_ANGLE, K.PUBLISHED_SIDE_FACE_SOLID_ANGLE];
 }
 
+/**
+ * [front, side]: a face's whole factor k_R·k_I·k_P·Δω_f, or with model_face_weights off
+ * the DX11 shader's Δω_front/(2π) and Δω_side/(3π) (twin.face_weights).
+ */
+export function faceWeights(c) {
+  const [frontAngle, sideAngle] = faceSolidAngles(c);
+  if (!c.model_face_weights) {
+    const pi = formulaPi(c);
+    return [K.DX11_FRONT_SHARE / pi * frontAngle, K.DX11_SIDE_SHARE / pi * sideAngle];
+  }
+  const scale = reprojectionFactor(c) * injectionFactor(c) * propagationFactor(c);
+  return [scale * frontAngle, scale * sideAngle];
+}
+
 /** Y(ω) = (c0, −c1·ω.y, c1·ω.z, −c1·ω.x). */
 export function shBasis(d) {
   return [K.SH_C0, -K.SH_C1 * d[1], K.SH_C1 * d[2], -K.SH_C1 * d[0]];
@@ -288,14 +302,13 @@ export function propagationStep(grid, n, c, geometry = null, channels = ALL_CHAN
 function linearSideStep(grid, n, c, channels) {
   const out = new Float64Array(grid.length);
   const terms = {clamp_gain: [0, 0, 0], occluded: [0, 0, 0], border_loss: [0, 0, 0]};
-  const [frontAngle, sideAngle] = faceSolidAngles(c);
-  const scale = reprojectionFactor(c) * injectionFactor(c) * propagationFactor(c);
+  const [frontWeight, sideWeight] = faceWeights(c);
   const stride = n * n * n * COEFFS;
   const clamp = c.clamp_front_face;
   for (let axis = 0; axis < 3; axis++) {
     for (const sign of [1, -1]) {
       const [front, ...sides] = faces(axis, sign, c.side_faces);
-      const wF = scale * frontAngle;
+      const wF = frontWeight;
       const lobeF = cosineLobe(front.reprojection);
       const [b0, b1, b2, b3] = shBasis(front.evaluation);
       const fpiF = wF * K.SH_FLUX_FACTOR * lobeF[0];
@@ -305,7 +318,7 @@ function linearSideStep(grid, n, c, channels) {
         const basis = shBasis(side.evaluation);
         for (let k = 0; k < 4; k++) {
           for (let j = 0; j < 4; j++) {
-            m[k * 4 + j] += scale * sideAngle * lobe[k] * basis[j];
+            m[k * 4 + j] += sideWeight * lobe[k] * basis[j];
           }
         }
       }
@@ -363,8 +376,7 @@ function linearSideStep(grid, n, c, channels) {
 function faceStep(grid, n, c, geometry, channels) {
   const out = new Float64Array(grid.length);
   const terms = {clamp_gain: [0, 0, 0], occluded: [0, 0, 0], border_loss: [0, 0, 0]};
-  const [frontAngle, sideAngle] = faceSolidAngles(c);
-  const scale = reprojectionFactor(c) * injectionFactor(c) * propagationFactor(c);
+  const [frontWeight, sideWeight] = faceWeights(c);
   const cells = n * n * n;
   const stride = cells * COEFFS;
   const seen = visibilities(geometry, n);
@@ -376,7 +388,7 @@ function faceStep(grid, n, c, geometry, channels) {
       const offset = ((step[0] * n + step[1]) * n + step[2]) * COEFFS;
       const lastLayer = sign > 0 ? n - 1 : 0;
       const list = faces(axis, sign, c.side_faces).map((face, f) => {
-        const weight = scale * (face.front ? frontAngle : sideAngle);
+        const weight = face.front ? frontWeight : sideWeight;
         const lobe = cosineLobe(face.reprojection);
         const {index, value} = sparse(lobe);   // coefficient 0 and one of band 1
         return {weight, basis: shBasis(face.evaluation), lobe0: lobe[0],
