@@ -661,7 +661,10 @@ class _Reader:
             raise self.error("text", f"{formulas} formulas in one step, over the "
                              f"{MAX_FORMULAS_PER_STEP} a step may typeset (split the step)")
         # the site's side of every variant holds markers too: check both sides
-        blocks = blocks + lesson_text.parse(step.text, "web")
+        try:
+            blocks = blocks + lesson_text.parse(step.text, "web")
+        except lesson_text.TextError as exc:
+            raise self.error("text", f"on the web page's side: {exc}") from None
         for block in blocks:
             if isinstance(block, lesson_text.FigureRef) and block.id not in step.figure_ids:
                 raise self.error("text", f"{{{{figure:{block.id}}}}}: the step has no figure "

@@ -206,6 +206,13 @@ def test_unknown_field_names_step_and_field(tmp_path):
     assert (error.step, error.field) == (1, "colour")
 
 
+def test_a_text_broken_only_on_the_web_side_is_a_lesson_error(tmp_path):
+    """The page's side of a variant is read too, and its error is the lesson's one line."""
+    text = GOOD.replace('text = "One."', 'text = "One {{window}}fine{{web}}tr{{{{uth{{end}}."')
+    error = _error(tmp_path, text, check_formula=None)
+    assert (error.step, error.field) == (1, "text") and "web page" in str(error)
+
+
 def test_wrong_type_and_bad_values(tmp_path):
     error = _error(tmp_path, GOOD.replace("grid_size = 8", 'grid_size = "8"'),
                    check_formula=None)
