@@ -76,3 +76,13 @@ def test_switches_without_a_26_neighbour_form_say_so():
             twin.propagation_step(grid, Corrections(**{name: False}), neighbours=26)
     with pytest.raises(ValueError, match="6 or 26"):
         twin.propagation_step(grid, neighbours=18)
+
+
+def test_settings_reject_26_neighbours_without_their_switches():
+    from explorer.lpv.settings import SettingError, Settings
+
+    assert Settings(neighbours=26).neighbours == 26
+    with pytest.raises(SettingError, match="ping_pong"):
+        Settings(neighbours=26, corrections=Corrections(ping_pong=False))
+    with pytest.raises(SettingError, match="bounces 2"):
+        Settings(neighbours=26, bounces=2, geometry_volume="one-sided")
