@@ -89,6 +89,13 @@ void load_source(ivec3 cell, out ShVec source[3]) {
                        audit); \
     }
 
+// The light the source cell - o sends into `cell` through its outer faces (26 neighbours).
+#define LPV_GATHER26(o) if (grid_inside(cell - (o))) { \
+        ShVec source[3]; \
+        load_source(cell - (o), source); \
+        lpv_send_offset(source, cell, o, false, received, audit); \
+    }
+
 void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     float front_weight = lpv_front_face_weight();
     float side_weight = lpv_side_face_weight();
@@ -98,15 +105,34 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     // LPV_DIRECTIONS; nothing enters from outside the grid.
     int last = u_grid_resolution - 1;
 #if PROPAGATE_NEIGHBOURS == 26
-    for (int k = 0; k < 27; ++k) {
-        ivec3 o = ivec3(k % 3, (k / 3) % 3, k / 9) - ivec3(1);
-        if (k == 13 || !grid_inside(cell - o)) {
-            continue;
-        }
-        ShVec source[3];
-        load_source(cell - o, source);
-        lpv_send_offset(source, cell, o, false, received, audit);
-    }
+    // One call per offset with a constant o, as LPV_GATHER does for the six frames, so
+    // that the compiler folds each face's directions, lobe and weight into constants.
+    LPV_GATHER26(ivec3(-1, -1, -1));
+    LPV_GATHER26(ivec3(0, -1, -1));
+    LPV_GATHER26(ivec3(1, -1, -1));
+    LPV_GATHER26(ivec3(-1, 0, -1));
+    LPV_GATHER26(ivec3(0, 0, -1));
+    LPV_GATHER26(ivec3(1, 0, -1));
+    LPV_GATHER26(ivec3(-1, 1, -1));
+    LPV_GATHER26(ivec3(0, 1, -1));
+    LPV_GATHER26(ivec3(1, 1, -1));
+    LPV_GATHER26(ivec3(-1, -1, 0));
+    LPV_GATHER26(ivec3(0, -1, 0));
+    LPV_GATHER26(ivec3(1, -1, 0));
+    LPV_GATHER26(ivec3(-1, 0, 0));
+    LPV_GATHER26(ivec3(1, 0, 0));
+    LPV_GATHER26(ivec3(-1, 1, 0));
+    LPV_GATHER26(ivec3(0, 1, 0));
+    LPV_GATHER26(ivec3(1, 1, 0));
+    LPV_GATHER26(ivec3(-1, -1, 1));
+    LPV_GATHER26(ivec3(0, -1, 1));
+    LPV_GATHER26(ivec3(1, -1, 1));
+    LPV_GATHER26(ivec3(-1, 0, 1));
+    LPV_GATHER26(ivec3(0, 0, 1));
+    LPV_GATHER26(ivec3(1, 0, 1));
+    LPV_GATHER26(ivec3(-1, 1, 1));
+    LPV_GATHER26(ivec3(0, 1, 1));
+    LPV_GATHER26(ivec3(1, 1, 1));
 #else
     LPV_GATHER(cell.x > 0, ivec3(1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
     LPV_GATHER(cell.x < last, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
