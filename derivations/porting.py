@@ -97,6 +97,17 @@ def conventions() -> list[tuple[str, str]]:
          "Δω_side/π: out += weight·I_f·lobe(r_f), I_f = Σ_k s_k·Y_k(e_f) (the front face "
          "clamped at 0), times the geometry volume's visibility when it is on. "
          "6·(Δω_front + 4·Δω_side) = 4π: a step keeps the flux."),
+        ("Propagation faces, 26 neighbours (Settings.neighbours = 26)",
+         "the target gathers from all 26 neighbours, source = target - o, o ∈ {-1, 0, 1}³ "
+         "minus 0; for every non-zero component i of o one face, the target's face in the "
+         "plane 3·o_i half-cells from the source centre along i (on the surface of the "
+         "source's 3×3×3 block), evaluated towards its centre, the unit vector of 2·o with "
+         "component i replaced by 3·o_i (EDGE_EVAL_BIG, EDGE_EVAL_SMALL, CORNER_EVAL_BIG, "
+         "CORNER_EVAL_SMALL), reprojected along o_i·e_i, with weight Δω/π: "
+         "FRONT_FACE_SOLID_ANGLE (one non-zero component; the front face is clamped), "
+         "EDGE_FACE_SOLID_ANGLE (two), CORNER_FACE_SOLID_ANGLE (three); the geometry "
+         "volume's blocker is the mean over the corners source and target share (4, 2 or "
+         "1). 6·Δω_front + 24·Δω_edge + 24·Δω_corner = 4π: a step keeps the flux."),
         ("Grid and world",
          "cell i spans origin + [i, i+1)·h; grid coordinate g = (p - origin)/h, cell "
          "floor(g), centre origin + (i + 1/2)·h, texture coordinate g/N (texel centres at "

@@ -34,6 +34,7 @@ MODULES: tuple[str, ...] = (
     "corrections",
     "implementation_switches",
     "propagation",
+    "neighbours26",
     "occlusion",
     "media",
     "errata",

@@ -105,6 +105,13 @@ SYMBOLS: dict[str, str] = {
     "corrections.ping_pong.flux_factor": r"\frac{\Phi_{\mathrm{ping\ pong}}}"
                                          r"{\Phi_{\mathrm{in\ place}}}",
     # propagation
+    "neighbours26.edge_face": r"\Delta\omega_{\mathrm{edge}}",
+    "neighbours26.corner_face": r"\Delta\omega_{\mathrm{corner}}",
+    "neighbours26.edge_eval_big": r"e_{\mathrm{edge},x}",
+    "neighbours26.edge_eval_small": r"e_{\mathrm{edge},z}",
+    "neighbours26.corner_eval_big": r"e_{\mathrm{corner},x}",
+    "neighbours26.corner_eval_small": r"e_{\mathrm{corner},y}",
+    "neighbours26.step_flux_factor": r"\Phi_{t}/\Phi_{t-1}\big|_{26}",
     "propagation.side_eval_direction": r"e_{\mathrm{side}}",
     "propagation.side_eval_small": r"e_{\mathrm{side},x}",
     "propagation.side_eval_big": r"e_{\mathrm{side},y}",

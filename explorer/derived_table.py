@@ -698,6 +698,58 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         "DX11 side-face factor ÷ the corrected model's 1/π: 1/3 (the shader's Δω_side/PI/3).",
         0.3333333333333333,
     ),
+    'neighbours26.edge_face': (
+        '\\Delta\\omega_{\\mathrm{edge}} = - 2 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)} + 2 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{19}}{19} \\right)}',
+        "Solid angle of one of an edge neighbour's two outer faces (on the surface of the 3×3×3 "
+        'block) seen from the source cell centre.',
+        0.2506919694731428,
+    ),
+    'neighbours26.corner_face': (
+        '\\Delta\\omega_{\\mathrm{corner}} = - 2 '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{19}}{19} \\right)} + '
+        '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)} + \\frac{\\pi}{6}',
+        "Solid angle of one of a corner neighbour's three outer faces seen from the source cell "
+        'centre.',
+        0.17273938496359623,
+    ),
+    'neighbours26.edge_eval_big': (
+        'e_{\\mathrm{edge},x} = \\frac{3 \\sqrt{13}}{13}',
+        'Edge-face evaluation direction: component along the face normal, 3/√13.',
+        0.8320502943378437,
+    ),
+    'neighbours26.edge_eval_small': (
+        'e_{\\mathrm{edge},z} = \\frac{2 \\sqrt{13}}{13}',
+        'Edge-face evaluation direction: component along the other offset axis, 2/√13.',
+        0.5547001962252291,
+    ),
+    'neighbours26.corner_eval_big': (
+        'e_{\\mathrm{corner},x} = \\frac{3 \\sqrt{17}}{17}',
+        'Corner-face evaluation direction: component along the face normal, 3/√17.',
+        0.7276068751089989,
+    ),
+    'neighbours26.corner_eval_small': (
+        'e_{\\mathrm{corner},y} = \\frac{2 \\sqrt{17}}{17}',
+        'Corner-face evaluation direction: component along each other axis, 2/√17.',
+        0.48507125007266594,
+    ),
+    'neighbours26.tiling': (
+        '4 \\pi = 4 \\pi',
+        'The 54 outer faces of the 26 neighbours cover the sphere exactly once.',
+        12.566370614359172,
+    ),
+    'neighbours26.block_face_tiling': (
+        '\\frac{2 \\pi}{3} = \\frac{2 \\pi}{3}',
+        'One face of the 3×3×3 block: a front, four edge and four corner faces, 2π/3.',
+        2.0943951023931957,
+    ),
+    'neighbours26.step_flux_factor': (
+        '\\Phi_{t}/\\Phi_{t-1}\\big|_{26} = 1',
+        'Flux after ÷ before one corrected 26-neighbour step (L1 or L2), without clamping, '
+        'occlusion or border.',
+        1.0,
+    ),
     'occlusion.one_sided': (
         'B(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi} A}{2 s^{2}}\\\\- \\frac{\\sqrt{3} '
         '\\sqrt{\\pi} A n_{y}}{3 s^{2}}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} A n_{z}}{3 s^{2}}\\\\- '

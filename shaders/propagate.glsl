@@ -1,6 +1,7 @@
 #version 430 core
 // One propagation step as a gather (docs/MODEL.md "Propagation"): every target cell x sums,
-// over the 6 directions d and the faces of x seen from the source x - d,
+// over the 6 directions d and the faces of x seen from the source x - d (or, with
+// PROPAGATE_NEIGHBOURS 26, over the 26 offsets o and x's outer faces on the source's 3x3x3 block),
 //     k_R * k_I * k_P * dw_f * I_f * V_f * lobe(r_f),   I_f = <s, Y(e_f)> (front: clamp+).
 // Ping-pong (the ping_pong switch, compiled in as PROPAGATE_PING_PONG 1): read grid t-1
 // through samplers, write grid t, and add it to the accumulation acc (each invocation
@@ -28,13 +29,15 @@
 #define PROPAGATE_AUDIT 1
 // The code paths are chosen when the program is compiled, from the switches and settings
 // (explorer/lpv/passes/propagate.py `program_defines`): the ping-pong switch, whether there is a
-// geometry volume and whether it reflects (Settings.bounces 2). llvmpipe runs both sides of
+// geometry volume, whether it reflects (Settings.bounces 2) and the neighbourhood (6 or 26,
+// Settings.neighbours). llvmpipe runs both sides of
 // a branch on a uniform under a lane mask, so each untaken path cost its full work: with
 // all three as uniforms the audit-off kernel took 2.5x the minimal kernel at 32^3
 // (BENCHMARKS.md). The other switches only select factors and stay uniforms.
 #define PROPAGATE_PING_PONG 1
 #define PROPAGATE_GEOMETRY 0
 #define PROPAGATE_REFLECT 0
+#define PROPAGATE_NEIGHBOURS 6
 
 #if defined COMPUTE_SHADER
 
@@ -86,6 +89,13 @@ void load_source(ivec3 cell, out ShVec source[3]) {
                        audit); \
     }
 
+// The light the source cell - o sends into `cell` through its outer faces (26 neighbours).
+#define LPV_GATHER26(o) if (grid_inside(cell - (o))) { \
+        ShVec source[3]; \
+        load_source(cell - (o), source); \
+        lpv_send_offset(source, cell, o, false, received, audit); \
+    }
+
 void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     float front_weight = lpv_front_face_weight();
     float side_weight = lpv_side_face_weight();
@@ -94,24 +104,64 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     // One call per neighbour with its constant frame (d, u, v), in the order of
     // LPV_DIRECTIONS; nothing enters from outside the grid.
     int last = u_grid_resolution - 1;
+#if PROPAGATE_NEIGHBOURS == 26
+    // One call per offset with a constant o, as LPV_GATHER does for the six frames, so
+    // that the compiler folds each face's directions, lobe and weight into constants.
+    LPV_GATHER26(ivec3(-1, -1, -1));
+    LPV_GATHER26(ivec3(0, -1, -1));
+    LPV_GATHER26(ivec3(1, -1, -1));
+    LPV_GATHER26(ivec3(-1, 0, -1));
+    LPV_GATHER26(ivec3(0, 0, -1));
+    LPV_GATHER26(ivec3(1, 0, -1));
+    LPV_GATHER26(ivec3(-1, 1, -1));
+    LPV_GATHER26(ivec3(0, 1, -1));
+    LPV_GATHER26(ivec3(1, 1, -1));
+    LPV_GATHER26(ivec3(-1, -1, 0));
+    LPV_GATHER26(ivec3(0, -1, 0));
+    LPV_GATHER26(ivec3(1, -1, 0));
+    LPV_GATHER26(ivec3(-1, 0, 0));
+    LPV_GATHER26(ivec3(1, 0, 0));
+    LPV_GATHER26(ivec3(-1, 1, 0));
+    LPV_GATHER26(ivec3(0, 1, 0));
+    LPV_GATHER26(ivec3(1, 1, 0));
+    LPV_GATHER26(ivec3(-1, -1, 1));
+    LPV_GATHER26(ivec3(0, -1, 1));
+    LPV_GATHER26(ivec3(1, -1, 1));
+    LPV_GATHER26(ivec3(-1, 0, 1));
+    LPV_GATHER26(ivec3(0, 0, 1));
+    LPV_GATHER26(ivec3(1, 0, 1));
+    LPV_GATHER26(ivec3(-1, 1, 1));
+    LPV_GATHER26(ivec3(0, 1, 1));
+    LPV_GATHER26(ivec3(1, 1, 1));
+#else
     LPV_GATHER(cell.x > 0, ivec3(1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
     LPV_GATHER(cell.x < last, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
     LPV_GATHER(cell.y > 0, ivec3(0, 1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
     LPV_GATHER(cell.y < last, ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
     LPV_GATHER(cell.z > 0, ivec3(0, 0, 1), ivec3(1, 0, 0), ivec3(0, 1, 0));
     LPV_GATHER(cell.z < last, ivec3(0, 0, -1), ivec3(1, 0, 0), ivec3(0, 1, 0));
+#endif
 #if PROPAGATE_AUDIT
     // A border cell is also the source of the faces that leave the grid (audit only).
     if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
         ShVec own[3];
         load_source(cell, own);
         ShVec unused[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
+#if PROPAGATE_NEIGHBOURS == 26
+        for (int k = 0; k < 27; ++k) {
+            ivec3 o = ivec3(k % 3, (k / 3) % 3, k / 9) - ivec3(1);
+            if (k != 13 && !grid_inside(cell + o)) {
+                lpv_send_offset(own, cell + o, o, true, unused, audit);
+            }
+        }
+#else
         for (int dir = 0; dir < 6; ++dir) {
             ivec3 outside = cell + LPV_DIRECTIONS[dir];
             if (!grid_inside(outside)) {
                 lpv_send(own, outside, dir, true, front_weight, side_weight, unused, audit);
             }
         }
+#endif
     }
 #endif
     vec3 reflected = vec3(0.0);

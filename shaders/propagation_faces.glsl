@@ -143,6 +143,57 @@ void lpv_send_frame(ShVec source[3], ivec3 target, ivec3 d_cells, ivec3 u_cells,
                   blocker, leaving, received, audit);
 }
 
+// 26 neighbours (docs/MODEL.md "26 neighbours", derivations/neighbours26.py): the source
+// target - o sends through the faces of its neighbour `target` that lie on the surface of the
+// 3x3x3 block around the source, one per non-zero component i of the offset o: normal o_i e_i,
+// evaluated towards the face centre (3 o_i along i, 2 o_j along the other non-zero j),
+// solid angle front, edge or corner after how many components are non-zero. The blocker is
+// the mean geometry over the corners source and target share (4, 2 or 1).
+#ifndef PROPAGATE_NEIGHBOURS
+#define PROPAGATE_NEIGHBOURS 6
+#endif
+
+vec4 lpv_shared_corner_blocker(ivec3 target, ivec3 o) {
+#if !PROPAGATE_GEOMETRY
+    return vec4(0.0);
+#endif
+    ivec3 base = target + max(-o, ivec3(0));
+    ivec3 free_axes = ivec3(equal(o, ivec3(0)));
+    vec4 total = vec4(0.0);
+    float count = 0.0;
+    for (int k = 0; k < 8; ++k) {
+        ivec3 step = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        if (any(greaterThan(step, free_axes))) {
+            continue;
+        }
+        total += texelFetch(u_geometry, base + step, 0);
+        count += 1.0;
+    }
+    return total / count;
+}
+
+void lpv_send_offset(ShVec source[3], ivec3 target, ivec3 o, bool leaving,
+                     inout ShVec received[3], inout LpvAudit audit) {
+    int nonzero = int(o.x != 0) + int(o.y != 0) + int(o.z != 0);
+    float angle = nonzero == 1 ? FRONT_FACE_SOLID_ANGLE
+                : (nonzero == 2 ? EDGE_FACE_SOLID_ANGLE : CORNER_FACE_SOLID_ANGLE);
+    float weight = lpv_reprojection_factor() * lpv_injection_factor()
+        * lpv_propagation_factor() * angle;
+    vec4 blocker = lpv_shared_corner_blocker(target, o);
+    vec3 offset = vec3(o);
+    for (int axis = 0; axis < 3; ++axis) {
+        if (o[axis] == 0) {
+            continue;
+        }
+        vec3 centre = 2.0 * offset;
+        centre[axis] = 3.0 * offset[axis];
+        vec3 normal = vec3(0.0);
+        normal[axis] = offset[axis];
+        lpv_send_face(source, normalize(centre), normal, weight,
+                      nonzero == 1 && u_clamp_front_face, blocker, leaving, received, audit);
+    }
+}
+
 // The same for direction index `dir` (the audit's border faces, the reflection).
 void lpv_send(ShVec source[3], ivec3 target, int dir, bool leaving, float front_weight,
               float side_weight, inout ShVec received[3], inout LpvAudit audit) {

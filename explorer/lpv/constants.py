@@ -58,6 +58,18 @@ SIDE_EVAL_BIG = 0.8944271909999159
 DX11_FRONT_SHARE = 0.5
 # 1/3  [propagation.side_share_dx11]
 DX11_SIDE_SHARE = 0.3333333333333333
+# -2*atan(sqrt(11)/33) + 2*atan(sqrt(19)/19)  [neighbours26.edge_face]
+EDGE_FACE_SOLID_ANGLE = 0.2506919694731428
+# -2*atan(sqrt(19)/19) + atan(sqrt(11)/33) + pi/6  [neighbours26.corner_face]
+CORNER_FACE_SOLID_ANGLE = 0.17273938496359623
+# 3*sqrt(13)/13  [neighbours26.edge_eval_big]
+EDGE_EVAL_BIG = 0.8320502943378437
+# 2*sqrt(13)/13  [neighbours26.edge_eval_small]
+EDGE_EVAL_SMALL = 0.5547001962252291
+# 3*sqrt(17)/17  [neighbours26.corner_eval_big]
+CORNER_EVAL_BIG = 0.7276068751089989
+# 2*sqrt(17)/17  [neighbours26.corner_eval_small]
+CORNER_EVAL_SMALL = 0.48507125007266594
 # 1/(4*pi)  [media.isotropic_phase]
 INV_FOUR_PI = 0.07957747154594767
 # printed in the DirectX 11 LPV implementation article; exact 1/(2*sqrt(pi)) (rounded)
@@ -118,6 +130,12 @@ DERIVATION: dict[str, str] = {
     "SIDE_EVAL_BIG": "propagation.side_eval_big",
     "DX11_FRONT_SHARE": "propagation.front_share_dx11",
     "DX11_SIDE_SHARE": "propagation.side_share_dx11",
+    "EDGE_FACE_SOLID_ANGLE": "neighbours26.edge_face",
+    "CORNER_FACE_SOLID_ANGLE": "neighbours26.corner_face",
+    "EDGE_EVAL_BIG": "neighbours26.edge_eval_big",
+    "EDGE_EVAL_SMALL": "neighbours26.edge_eval_small",
+    "CORNER_EVAL_BIG": "neighbours26.corner_eval_big",
+    "CORNER_EVAL_SMALL": "neighbours26.corner_eval_small",
     "INV_FOUR_PI": "media.isotropic_phase",
     "PUBLISHED_SH_C0": "errata.dx11.sh_c0",
     "PUBLISHED_SH_C1": "errata.dx11.sh_c1",

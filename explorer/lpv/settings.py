@@ -42,6 +42,7 @@ GRID_FORMATS = ("rgba32f", "rgba16f")
 SH_ORDERS = (1, 2)
 """1 = L1 spherical harmonics (4 coefficients per colour), 2 = L2 (9)."""
 BOUNCES = (1, 2)
+NEIGHBOURHOODS = (6, 26)
 FOG_PHASES = ("isotropic", "henyey-greenstein")
 MAX_FOG_G = 0.95
 """|g| of the Henyey–Greenstein phase function: at |g| = 1 it is a delta (no longer a
@@ -232,6 +233,13 @@ class Settings:
         group="Leak reduction and bounces", stages=("propagate",),
         doc="1: the single indirect bounce; 2: the geometry volume also reflects the light "
             'it blocks (docs/MODEL.md "More bounces"); needs a geometry volume.')
+    neighbours: int = setting(
+        6, kind="choice", choices=NEIGHBOURHOODS, flag="--neighbours", widget="combo",
+        label="Neighbours", group="Light propagation volume", stages=("propagate",),
+        doc="6: light moves to the face neighbours through five faces each (as published); "
+            "26: to all 26 neighbours through their outer faces on the source's 3×3×3 "
+            'block, exact solid angles (docs/MODEL.md "26 neighbours"); needs ping-pong, '
+            "side faces, the model's face weights and bounces 1.")
     camera_occluders: bool = setting(
         False, kind="bool", flag="--camera-occluders", widget="checkbox",
         label="Camera occluders", group="Leak reduction and bounces", stages=("geometry",),
@@ -327,6 +335,17 @@ class Settings:
 
     def __post_init__(self) -> None:
         validate(self)
+        if self.neighbours == 26:
+            c = self.corrections
+            missing = [name for name, on in (("ping_pong", c.ping_pong),
+                                             ("side_faces", c.side_faces),
+                                             ("model_face_weights", c.model_face_weights))
+                       if not on]
+            if missing or self.bounces != 1:
+                raise SettingError("neighbours", "26-neighbour propagation needs "
+                                   "ping_pong, side_faces and model_face_weights on and "
+                                   f"bounces 1 (off: {', '.join(missing) or 'none'}; "
+                                   f"bounces {self.bounces})")
         if self.bounces > 1 and self.geometry_volume == "off":
             raise SettingError("bounces", "bounces=2 reflects the light the geometry volume "
                                "blocks, so it needs geometry_volume 'one-sided' or "

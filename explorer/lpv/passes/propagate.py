@@ -13,6 +13,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.neighbours import check_neighbours
 from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
 from explorer.lpv.passes.geometry import GeometryVolume
 from explorer.lpv.passes.textures import (
@@ -97,13 +98,15 @@ class PropagatePass:
 
     def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
               iterations: int, geometry: GeometryVolume | None = None,
-              keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full"
-              ) -> "PropagationRun":
+              keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
+              neighbours: int = 6) -> "PropagationRun":
         """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
         propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
         (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
-        The injected grid's ``sh_order`` selects L1 or L2 propagation."""
+        The injected grid's ``sh_order`` selects L1 or L2 propagation; ``neighbours`` 26
+        propagates to all 26 neighbours (docs/MODEL.md "26 neighbours")."""
         n = spec.resolution
+        check_neighbours(neighbours, corrections, bounces)
         if bounces not in (1, 2) or isinstance(bounces, bool):
             raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
         if bounces == 2 and geometry is None:
@@ -118,15 +121,15 @@ class PropagatePass:
         if int(iterations) != iterations or iterations < 0:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
         return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
-                              keep_steps, bounces, audit_mode(audit))
+                              keep_steps, bounces, audit_mode(audit), int(neighbours))
 
     def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
             iterations: int, geometry: GeometryVolume | None = None,
-            keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full"
-            ) -> PropagationOutput:
+            keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
+            neighbours: int = 6) -> PropagationOutput:
         """All ``iterations`` steps at once (see :meth:`start`)."""
         progress = self.start(injected, spec, corrections, iterations, geometry, keep_steps,
-                              bounces, audit)
+                              bounces, audit, neighbours)
         while not progress.finished:
             progress.step()
         return progress.finish()
@@ -144,23 +147,33 @@ from the switch) instead of as a uniform: they choose a code path, and llvmpipe 
 sides of a branch on a uniform (``shaders/propagate.glsl``)."""
 
 
-def uniforms_read_at_run_time() -> tuple[str, ...]:
+NOT_READ_OVER_26 = ("u_side_faces", "u_model_face_weights")
+"""Switches the 26-neighbour step has no form for: they must be on
+(:func:`explorer.lpv.neighbours.check_neighbours`), and its program does not read them."""
+
+
+def uniforms_read_at_run_time(neighbours: int = 6) -> tuple[str, ...]:
     """The propagation's correction uniforms (``uniforms_read_by``) less
-    :data:`COMPILED_SWITCHES`, which its program reads as defines."""
+    :data:`COMPILED_SWITCHES`, which its program reads as defines, and with ``neighbours``
+    26 less :data:`NOT_READ_OVER_26`."""
+    skipped = set(COMPILED_SWITCHES) | (set(NOT_READ_OVER_26) if neighbours == 26 else set())
     return tuple(name for name in uniforms_read_by(PropagatePass.STAGE)
-                 if name not in COMPILED_SWITCHES)
+                 if name not in skipped)
 
 
 def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bool = False,
-                    geometry: bool = False, reflect: bool = False) -> dict[str, object]:
+                    geometry: bool = False, reflect: bool = False, neighbours: int = 6
+                    ) -> dict[str, object]:
     """The defines ``shaders/propagate.glsl`` is compiled with: the grid format and SH order,
     the full audit, the switches of :data:`COMPILED_SWITCHES`, whether a geometry volume
-    occludes and whether it reflects (bounces 2, which needs it)."""
+    occludes, whether it reflects (bounces 2, which needs it) and over how many neighbours
+    light moves (6 or 26)."""
     switches = corrections.as_uniforms()
     return {**image_format_defines(fmt), **sh_defines(sh_order),
             "PROPAGATE_AUDIT": int(audit),
             **{define: int(switches[uniform]) for uniform, define in COMPILED_SWITCHES.items()},
-            "PROPAGATE_GEOMETRY": int(geometry), "PROPAGATE_REFLECT": int(reflect and geometry)}
+            "PROPAGATE_GEOMETRY": int(geometry), "PROPAGATE_REFLECT": int(reflect and geometry),
+            "PROPAGATE_NEIGHBOURS": int(neighbours)}
 
 
 SLAB_CELLS = 32 ** 3
@@ -189,7 +202,7 @@ class PropagationRun:
 
     def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
                  corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
-                 keep_steps: bool, bounces: int, audit: str) -> None:
+                 keep_steps: bool, bounces: int, audit: str, neighbours: int = 6) -> None:
         n, fmt, order = spec.resolution, injected.format, injected.sh_order
         self._owner = owner
         self._corrections = corrections
@@ -213,13 +226,13 @@ class PropagationRun:
         self._source = injected
         self._program = owner.programs.get("propagate.glsl", program_defines(
             fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
-            reflect=bounces == 2))
+            reflect=bounces == 2, neighbours=neighbours))
         set_uniforms(self._program, {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
             "u_geometry": owner.GEOMETRY_UNIT, "u_geometry_albedo": owner.ALBEDO_UNIT,
             "u_cell_offset": (0, 0, 0),
-        }, reads=uniforms_read_at_run_time())
+        }, reads=uniforms_read_at_run_time(neighbours))
         self._program.extra["cell_offset"] = 0
         self._groups = dispatch_size(n)
         self._slabs = slabs(n)
@@ -421,12 +434,13 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                          iterations: int = 1, geometry: np.ndarray | None = None,
                          ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
                          geometry_albedo: np.ndarray | None = None, bounces: int = 1,
-                         audit: str | bool = "full",
+                         audit: str | bool = "full", neighbours: int = 6,
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
     ``grid`` (4 or 9 coefficients) selects L1 or L2.
     ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2).
-    ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`)."""
+    ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`);
+    ``neighbours``: 6 or 26 (docs/MODEL.md "26 neighbours")."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
         raise ValueError(f"grid must have shape (3, N, N, N, 4) or (3, N, N, N, 9), got "
@@ -449,7 +463,8 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
         propagator = per_context(ctx, "propagate",
                                  lambda: PropagatePass(ctx, programs_for(ctx)))
         output = propagator.run(injected, spec, corrections, iterations, volume,
-                                keep_steps=True, bounces=bounces, audit=audit)
+                                keep_steps=True, bounces=bounces, audit=audit,
+                                neighbours=neighbours)
         return output.steps, output.accumulated.read(), output.audit
     finally:
         injected.release()

@@ -31,12 +31,13 @@ class Params:
     steps: tuple[int, ...]
     """Each cascade's iterations (``cascade_iterations``), finest first."""
     bounces: int
+    neighbours: int
 
     @classmethod
     def of(cls, settings, cascades: int) -> "Params":
         return cls(settings.corrections,
                    tuple(cascade_iterations(settings, k) for k in range(cascades)),
-                   int(settings.bounces))
+                   int(settings.bounces), int(settings.neighbours))
 
 
 class Stage(StageBase):
@@ -95,7 +96,8 @@ class Stage(StageBase):
                 level.output = None
                 level.running = timed("propagate", lambda: level.propagate.start(
                     level.injected, spec, p.corrections, p.steps[k], level.volume,
-                    keep_steps=job.keep_steps, bounces=p.bounces, audit=audit[k]),
+                    keep_steps=job.keep_steps, bounces=p.bounces, audit=audit[k],
+                    neighbours=p.neighbours),
                     accumulate=True)
                 if more():
                     yield 0

@@ -31,6 +31,7 @@ import numpy as np
 from explorer.lpv.audit import GridAudit
 from explorer.lpv.cascades import blend_weights
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.neighbours import check_neighbours
 from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, INJECTION_MODES, Corrections
 from explorer.lpv.vpl import VplArrays
 
@@ -54,6 +55,8 @@ class DerivedConstants:
         "SH_FLUX_FACTOR": "sh.flux_factor",
         "FRONT_FACE_SOLID_ANGLE": "solid_angles.front_face",
         "SIDE_FACE_SOLID_ANGLE": "solid_angles.side_face",
+        "EDGE_FACE_SOLID_ANGLE": "neighbours26.edge_face",
+        "CORNER_FACE_SOLID_ANGLE": "neighbours26.corner_face",
         "PUBLISHED_PI": "errata.dx11.pi",
         "PUBLISHED_FRONT_FACE_SOLID_ANGLE": "errata.dx11.front_solid_angle",
         "PUBLISHED_SIDE_FACE_SOLID_ANGLE": "errata.dx11.side_solid_angle",
@@ -401,10 +404,87 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
     return delivered, reflected_back, cells, propagated
 
 
+OFFSETS_26 = tuple((a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)
+                   if (a, b, c) != (0, 0, 0))
+
+
+def outer_faces_26(offset: tuple[int, int, int]) -> list[tuple[np.ndarray, np.ndarray, float,
+                                                                bool]]:
+    """(evaluation direction, reprojection direction, solid angle, is front) of the faces
+    of neighbour ``offset`` on the surface of the 3×3×3 block around the source (one per
+    non-zero component; docs/MODEL.md "26 neighbours")."""
+    kind = sum(1 for c in offset if c)
+    angle = (K.FRONT_FACE_SOLID_ANGLE, K.EDGE_FACE_SOLID_ANGLE,
+             K.CORNER_FACE_SOLID_ANGLE)[kind - 1]
+    faces = []
+    for axis in range(3):
+        if offset[axis] == 0:
+            continue
+        centre = 2.0 * np.asarray(offset, np.float64)
+        centre[axis] = 3.0 * offset[axis]
+        normal = np.zeros(3)
+        normal[axis] = offset[axis]
+        faces.append((centre / np.linalg.norm(centre), normal, angle, kind == 1))
+    return faces
+
+
+def _shared_corner_blockers(geometry: np.ndarray, offset: tuple[int, int, int]) -> np.ndarray:
+    """(N, N, N, 4): for every source cell s, the mean geometry SH over the corners s shares
+    with s + offset (4 for a face neighbour: :func:`_face_blockers`; 2 for an edge, 1 for a
+    corner neighbour)."""
+    n = geometry.shape[0] - 1
+    parts = [geometry]
+    for axis, o in enumerate(offset):
+        picks = [slice(1, n + 1)] if o > 0 else [slice(0, n)] if o < 0 else [
+            slice(0, n), slice(1, n + 1)]
+        parts = [part[(slice(None),) * axis + (pick,)] for part in parts for pick in picks]
+    return sum(parts) / len(parts)
+
+
+def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Corrections,
+                 geometry: np.ndarray | None
+                 ) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]:
+    """What every source cell sends to its neighbour ``offset`` through that neighbour's
+    outer faces (the 26-neighbour step): delivered light, audit terms per cell (booked as
+    :func:`_direction_step` books them) and the ``propagated`` flux (3,)."""
+    order = grid_sh_order(grid)
+    n = grid.shape[1]
+    scale = (reprojection_factor(corrections) * injection_factor(corrections)
+             * propagation_factor(corrections))
+    delivered = np.zeros_like(grid)
+    cells = {name: np.zeros((3, n, n, n)) for name in AUDIT_TERMS if name != "propagated"}
+    propagated = np.zeros(3)
+    blockers = None if geometry is None else _shared_corner_blockers(geometry, offset)
+    source = tuple(slice(0, n - 1) if o > 0 else slice(1, n) if o < 0 else slice(None)
+                   for o in offset)
+    target = tuple(slice(1, n) if o > 0 else slice(0, n - 1) if o < 0 else slice(None)
+                   for o in offset)
+    stays = np.zeros((n, n, n), bool)
+    stays[source] = True
+    every, to_target = (slice(None), *source), (slice(None), *target)
+    for evaluation, reprojection, angle, is_front in outer_faces_26(offset):
+        weight = scale * angle
+        lobe = cosine_lobe(reprojection, order)
+        flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
+        raw = grid @ sh_basis(evaluation, order)
+        used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) else raw
+        visibility = np.ones((n, n, n)) if blockers is None else (
+            1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0))
+        sent = weight * used * visibility
+        delivered[to_target] += sent[every][..., None] * lobe
+        for name, term in (("clamp_gain", flux_per_intensity * (used - raw)),
+                           ("occluded", flux_per_intensity * used * (1.0 - visibility))):
+            cells[name][to_target] += term[every]
+            cells[name] += np.where(stays, 0.0, term)
+        cells["border_loss"] += np.where(stays, 0.0, K.SH_FLUX_FACTOR * lobe[0] * sent)
+        propagated += flux_per_intensity * raw.reshape(3, -1).sum(1)
+    return delivered, cells, propagated
+
+
 def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                      geometry: np.ndarray | None = None,
-                     geometry_albedo: np.ndarray | None = None, bounces: int = 1
-                     ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+                     geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                     neighbours: int = 6) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
     ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
     ``occluded``, ``border_loss``, ``reflected`` and ``blocked`` (the blocked flux that can
@@ -416,7 +496,7 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
     area-weighted mean albedo (``geometry_albedo`` sums), goes back into the source cell as
     a cosine lobe (of the grid's order) around the blockers' normal."""
     out, cells, propagated = _step_with_cells(grid, corrections, geometry, geometry_albedo,
-                                              bounces)
+                                              bounces, neighbours)
     terms = {name: value.reshape(3, -1).sum(1) for name, value in cells.items()
              if name != "received"}
     return out, {"propagated": propagated, **terms}
@@ -424,8 +504,8 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
 
 def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = None,
                            geometry: np.ndarray | None = None,
-                           geometry_albedo: np.ndarray | None = None, bounces: int = 1
-                           ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+                           geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                           neighbours: int = 6) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) and its audit record per cell (:data:`CELL_TERMS`, each
     (3, N, N, N) watts), as ``shaders/propagate.glsl`` writes it for the cell whose
     invocation computes it: ``received`` the flux of the cell's new value (everything the
@@ -435,20 +515,29 @@ def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = N
     ``reflected`` and ``blocked`` (``bounces`` 2) those of the light the cell sent. Summed
     over the cells they are :func:`propagation_step`'s terms, and ``received`` sums to
     the flux of the new grid."""
-    out, cells, _ = _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces)
+    out, cells, _ = _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces,
+                                     neighbours)
     return out, cells
 
 
-def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces):
-    """(P(grid), the per-cell terms, the propagated total (3,))."""
+def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neighbours=6):
+    """(P(grid), the per-cell terms, the propagated total (3,)); ``neighbours`` 6 or 26."""
     corrections = corrections or Corrections()
+    neighbours = check_neighbours(neighbours, corrections, bounces)
     grid, geometry, geometry_albedo = _check_step_inputs(grid, geometry, geometry_albedo,
                                                          bounces)
     out = np.zeros_like(grid)
     n = grid.shape[1]
     cells = {name: np.zeros((3, n, n, n)) for name in CELL_TERMS}
     propagated = np.zeros(3)
-    for axis, sign in DIRECTIONS:
+    for offset in (OFFSETS_26 if neighbours == 26 else ()):
+        delivered, direction_cells, direction_propagated = _offset_step(
+            grid, offset, corrections, geometry)
+        out += delivered
+        propagated += direction_propagated
+        for name, value in direction_cells.items():
+            cells[name] += value
+    for axis, sign in (DIRECTIONS if neighbours == 6 else ()):
         delivered, reflected, direction_cells, direction_propagated = _direction_step(
             grid, axis, sign, corrections, geometry, geometry_albedo, bounces == 2)
         out += delivered + reflected
@@ -503,12 +592,14 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
 
 def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
                       iterations: int = 1, geometry: np.ndarray | None = None,
-                      geometry_albedo: np.ndarray | None = None, bounces: int = 1
+                      geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                      neighbours: int = 6
                       ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """grid_0..grid_N, acc_N and the audit. Ping-pong: grid_t = P(grid_{t−1}); in place:
     grid_t = P(acc_{t−1}) (the light step t adds). Either way acc_N = Σ grid_t.
-    ``geometry_albedo``, ``bounces``: see :func:`propagation_step`."""
+    ``geometry_albedo``, ``bounces``, ``neighbours``: see :func:`propagation_step`."""
     corrections = corrections or Corrections()
+    check_neighbours(neighbours, corrections, bounces)
     grid = _check_grid(grid)
     if int(iterations) < 0:
         raise ValueError(f"iterations must be >= 0, got {iterations}")
@@ -518,7 +609,7 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
     for _ in range(int(iterations)):
         source = steps[-1] if corrections.ping_pong else accumulated
         step, step_terms = propagation_step(source, corrections, geometry, geometry_albedo,
-                                            bounces)
+                                            bounces, neighbours)
         for name in terms:
             terms[name].append(step_terms[name])
         steps.append(step)
@@ -539,10 +630,10 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
 
 def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
               geometry: np.ndarray | None = None, geometry_albedo: np.ndarray | None = None,
-              bounces: int = 1) -> list[np.ndarray]:
+              bounces: int = 1, neighbours: int = 6) -> list[np.ndarray]:
     """grid_0..grid_N (see :func:`propagate_audited`)."""
     return propagate_audited(grid, corrections, iterations, geometry, geometry_albedo,
-                             bounces)[0]
+                             bounces, neighbours)[0]
 
 
 # --------------------------------------------------------------------------- final gather

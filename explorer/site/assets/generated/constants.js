@@ -32,6 +32,12 @@ export const SIDE_EVAL_SMALL = 0.4472135954999579;  // sqrt(5)/5  [propagation.s
 export const SIDE_EVAL_BIG = 0.8944271909999159;  // 2*sqrt(5)/5  [propagation.side_eval_big]
 export const DX11_FRONT_SHARE = 0.5;  // 1/2  [propagation.front_share_dx11]
 export const DX11_SIDE_SHARE = 0.3333333333333333;  // 1/3  [propagation.side_share_dx11]
+export const EDGE_FACE_SOLID_ANGLE = 0.2506919694731428;  // -2*atan(sqrt(11)/33) + 2*atan(sqrt(19)/19)  [neighbours26.edge_face]
+export const CORNER_FACE_SOLID_ANGLE = 0.17273938496359623;  // -2*atan(sqrt(19)/19) + atan(sqrt(11)/33) + pi/6  [neighbours26.corner_face]
+export const EDGE_EVAL_BIG = 0.8320502943378437;  // 3*sqrt(13)/13  [neighbours26.edge_eval_big]
+export const EDGE_EVAL_SMALL = 0.5547001962252291;  // 2*sqrt(13)/13  [neighbours26.edge_eval_small]
+export const CORNER_EVAL_BIG = 0.7276068751089989;  // 3*sqrt(17)/17  [neighbours26.corner_eval_big]
+export const CORNER_EVAL_SMALL = 0.48507125007266594;  // 2*sqrt(17)/17  [neighbours26.corner_eval_small]
 export const INV_FOUR_PI = 0.07957747154594767;  // 1/(4*pi)  [media.isotropic_phase]
 export const PUBLISHED_SH_C0 = 0.282094792;  // printed in the DirectX 11 LPV implementation article; exact 1/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c0]
 export const PUBLISHED_SH_C1 = 0.488602512;  // printed in the DirectX 11 LPV implementation article; exact sqrt(3)/(2*sqrt(pi)) (rounded)  [errata.dx11.sh_c1]
@@ -78,6 +84,12 @@ export const DERIVATION = Object.freeze({
   SIDE_EVAL_BIG: "propagation.side_eval_big",
   DX11_FRONT_SHARE: "propagation.front_share_dx11",
   DX11_SIDE_SHARE: "propagation.side_share_dx11",
+  EDGE_FACE_SOLID_ANGLE: "neighbours26.edge_face",
+  CORNER_FACE_SOLID_ANGLE: "neighbours26.corner_face",
+  EDGE_EVAL_BIG: "neighbours26.edge_eval_big",
+  EDGE_EVAL_SMALL: "neighbours26.edge_eval_small",
+  CORNER_EVAL_BIG: "neighbours26.corner_eval_big",
+  CORNER_EVAL_SMALL: "neighbours26.corner_eval_small",
   INV_FOUR_PI: "media.isotropic_phase",
   PUBLISHED_SH_C0: "errata.dx11.sh_c0",
   PUBLISHED_SH_C1: "errata.dx11.sh_c1",

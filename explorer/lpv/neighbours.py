@@ -1,0 +1,27 @@
+"""Over how many neighbours a propagation step moves light (6 or 26), and which switches
+the 26-neighbour step has no form for (docs/MODEL.md "26 neighbours")."""
+
+from __future__ import annotations
+
+from explorer.lpv.settings import Corrections
+
+NEIGHBOURS = (6, 26)
+"""The propagation's neighbourhoods: the six face neighbours (five faces each) or all 26
+neighbours (their outer faces on the 3×3×3 block, ``derivations/neighbours26.py``)."""
+
+
+def check_neighbours(neighbours: int, corrections: Corrections, bounces: int = 1) -> int:
+    """``neighbours`` as an int, or a one-line error for the switches that have no
+    26-neighbour form (docs/MODEL.md "26 neighbours")."""
+    if isinstance(neighbours, bool) or neighbours not in NEIGHBOURS:
+        raise ValueError(f"neighbours must be 6 or 26, got {neighbours!r}")
+    if neighbours == 26:
+        needed = {"ping_pong": corrections.ping_pong, "side_faces": corrections.side_faces,
+                  "model_face_weights": corrections.model_face_weights}
+        missing = [name for name, on in needed.items() if not on]
+        if missing:
+            raise ValueError("26-neighbour propagation needs the corrections "
+                             f"{', '.join(missing)} on (no published form of it exists)")
+        if bounces != 1:
+            raise ValueError("26-neighbour propagation has no second bounce (bounces=1)")
+    return int(neighbours)
