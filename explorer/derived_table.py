@@ -372,13 +372,13 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         12.566370614359172,
     ),
     'corrections.reprojection_pi.original': (
-        '\\Phi_{l} = \\frac{\\Phi_{f}}{\\pi}',
-        'Reprojected flux as published: Φ_l = Φ_f/π (loses 1 − 1/π).',
+        '\\Phi_{\\mathrm{lobe}} = \\frac{\\Phi_{f}}{\\pi}',
+        'Reprojected flux as published: Φ_lobe = Φ_f/π (loses 1 − 1/π).',
         None,
     ),
     'corrections.reprojection_pi.corrected': (
-        '\\Phi_{l} = \\Phi_{f}',
-        'Reprojected flux: Φ_l = Φ_f (the lobe re-emits all of it).',
+        '\\Phi_{\\mathrm{lobe}} = \\Phi_{f}',
+        'Reprojected flux: Φ_lobe = Φ_f (the lobe re-emits all of it).',
         None,
     ),
     'corrections.reprojection_pi.flux_factor': (
