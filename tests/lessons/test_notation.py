@@ -40,6 +40,18 @@ def test_typeset_formulas_keep_the_notation():
     assert not {name: found for name, found in bad.items() if found}
 
 
+def test_every_derived_result_keeps_the_notation():
+    """Every result the Formulas and Corrections panels typeset, and its statement, except
+    a value quoted as a source printed it (its symbol marked "printed")."""
+    from explorer.derived_table import RESULTS
+
+    bad = {name: notation_problems(f"${tex}$") + notation_problems(statement)
+           for name, (tex, statement, *_rest) in RESULTS.items()
+           if r"\mathrm{printed}" not in tex}
+    assert len(bad) > 100
+    assert not {name: found for name, found in bad.items() if found}
+
+
 def test_each_notation_belongs_to_one_quantity():
     written = [normal(q.notation) for q in QUANTITIES if q.notation]
     assert len(written) == len(set(written))
