@@ -98,7 +98,7 @@ CORRECTIONS: tuple[Correction, ...] = (
         "off alone: ×1/π per step; off together with injection: cancels",
         published=True, stages=("propagate",),
         effects=((_RATIO, "flux_factor"),),
-        forms=("`Φ_l = Φ_f/π`", "`Φ_l = Φ_f`")),
+        forms=("`Φ_lobe = Φ_f/π`", "`Φ_lobe = Φ_f`")),
     Correction(
         "exact_constants", "Exact solid angles",
         "The DX11 article prints rounded solid angles and π = 3.1415926.",

@@ -19,9 +19,9 @@ Propagation (``propagation_4pi``, §6.2). The flux through a face of solid angle
 ``Δω_f/(4π)·I(ω_c)`` is ``1/(4π)`` of it.
 
 Reprojection (``reprojection_pi``, §6.3). A face that receives ``Φ_f`` re-emits it as a
-cosine lobe whose flux is ``Φ_l``; with the corrected intensity
-``(1/π)·Φ_l·clamp⁺⟨n_l, ω⟩`` that lobe carries exactly ``Φ_l``, so ``Φ_l = Φ_f``
-conserves the flux and the published ``Φ_l = Φ_f/π`` keeps only ``1/π`` of it.
+cosine lobe whose flux is ``Φ_lobe``; with the corrected intensity
+``(1/π)·Φ_lobe·clamp⁺⟨n_l, ω⟩`` that lobe carries exactly ``Φ_lobe``, so ``Φ_lobe = Φ_f``
+conserves the flux and the published ``Φ_lobe = Φ_f/π`` keeps only ``1/π`` of it.
 Together with the injection correction the net factor ``k_R·k_I = 1/π`` is unchanged
 (docs/MODEL.md, "Propagation").
 
@@ -50,7 +50,7 @@ MODULE = "corrections"
 KEYS = ("injection_pi", "propagation_4pi", "reprojection_pi")
 
 theta, phi = sp.symbols("theta phi", real=True)
-Phi_p, Phi_f, Phi_l, I_p, I_c = sp.symbols("Phi_p Phi_f Phi_l I_p I_c", positive=True)
+Phi_p, Phi_f, Phi_l, I_p, I_c = sp.symbols("Phi_p Phi_f Phi_lobe I_p I_c", positive=True)
 delta_omega = sp.Symbol(r"Delta_omega_f", positive=True)
 clamped_cos = sp.Max(0, sp.cos(theta))
 """``clamp⁺⟨n, ω⟩`` with θ the angle between n and ω."""
@@ -80,7 +80,7 @@ def formulas() -> dict[str, tuple[sp.Eq, sp.Eq]]:
 
 
 def flux_factors() -> dict[str, sp.Expr]:
-    """Corrected ÷ original of the quantity each formula defines (I_p, Φ_f, Φ_l)."""
+    """Corrected ÷ original of the quantity each formula defines (I_p, Φ_f, Φ_lobe)."""
     return {key: sp.simplify(corrected.rhs / original.rhs)
             for key, (original, corrected) in formulas().items()}
 
@@ -89,7 +89,7 @@ def flux_identities() -> dict[str, dict[str, sp.Expr]]:
     """For each key: the flux each version delivers, and the flux it should deliver."""
     eqs = formulas()
     injection_o, injection_c = (e.rhs / clamped_cos for e in eqs["injection_pi"])
-    # Reprojected lobe: intensity Φ_l/π·clamp⁺ (corrected injection normalisation).
+    # Reprojected lobe: intensity Φ_lobe/π·clamp⁺ (corrected injection normalisation).
     reproject_o, reproject_c = (e.rhs for e in eqs["reprojection_pi"])
     return {
         "injection_pi": {"emitted_original": emitted_flux(injection_o),
@@ -111,8 +111,8 @@ _STATEMENTS = {
     "propagation_4pi": ("Flux onto a face as published: Δω_f/(4π)·I(ω_c).",
                         "Flux onto a face: Δω_f·I(ω_c) = ∫_face I dω for constant I.",
                         "Corrected ÷ published face flux: 4π."),
-    "reprojection_pi": ("Reprojected flux as published: Φ_l = Φ_f/π (loses 1 − 1/π).",
-                        "Reprojected flux: Φ_l = Φ_f (the lobe re-emits all of it).",
+    "reprojection_pi": ("Reprojected flux as published: Φ_lobe = Φ_f/π (loses 1 − 1/π).",
+                        "Reprojected flux: Φ_lobe = Φ_f (the lobe re-emits all of it).",
                         "Corrected ÷ published reprojected flux: π."),
 }
 

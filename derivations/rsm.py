@@ -8,15 +8,15 @@ reflectance ``c_diff`` at incidence ``θ_i``:
    E = \frac{1}{r^2}\frac{\Phi_L}{4\pi},\quad
    L_o = \frac{c_{diff}}{\pi} E\,\overline{\cos\theta_i},\quad
    M = \int_{H^2} L_o\cos\theta_o\,d\omega_o = \pi L_o,\quad
-   \Phi_o = A M = c_{diff}\,\frac{\rho}{4\pi}\,\Phi_L\,\overline{\cos\theta_i}
+   \Phi_o = A M = c_{diff}\,\frac{\Delta\omega_\text{texel}}{4\pi}\,\Phi_L\,\overline{\cos\theta_i}
 
-with ``ρ = A/r²`` the surfel's solid angle seen from the light.
+with ``Δω_texel = A/r²`` the surfel's solid angle seen from the light.
 
-Erratum (texel flux). In an RSM, ``ρ`` is the solid angle of the *texel*, fixed by the
+Erratum (texel flux). In an RSM, ``Δω_texel`` is the solid angle of the *texel*, fixed by the
 frustum; the surfel that texel sees is tilted by ``θ_i``, so its area is
-``A = ρ·r²/cos θ_i`` (a tilted surfel subtends ``A·cos θ_i/r²``). Substituting that area
-cancels the cosine: ``Φ_o = c_diff·ρ/(4π)·Φ_L`` for any surface facing the light. The
-published form keeps ``cos⁺θ_i`` *and* uses ``ρ = A/r²``, which counts the cosine twice;
+``A = Δω_texel·r²/cos θ_i`` (a tilted surfel subtends ``A·cos θ_i/r²``). Substituting that area
+cancels the cosine: ``Φ_o = c_diff·Δω_texel/(4π)·Φ_L`` for any surface facing the light. The
+published form keeps ``cos⁺θ_i`` *and* uses ``Δω_texel = A/r²``, which counts the cosine twice;
 it is right only for surfels facing the light. See :func:`texel_flux_steps`.
 
 Per-pixel solid angle. A 90° square frustum of ``W×H`` texels looks at one cube face,
@@ -40,21 +40,21 @@ in ``cos θ`` and ``dω = −d(cos θ)·dφ``, the solid angle it weights is exa
 the cone ``Φ_L/(4π)·∫f dω`` and, on a surface that catches the whole cone, the reflected
 flux ``c_diff·Φ_L·(1 − (cos θ_i + cos θ_o)/2)/2``. Its RSM frustum is the square one
 around the outer cone (``t = tan θ_o`` at depth 1), so a texel covers
-``4t²w²/(W·H)`` at depth ``w`` and reflects ``c_diff·ρ·f(θ_c)·Φ_L/(4π)`` with ``θ_c`` the
+``4t²w²/(W·H)`` at depth ``w`` and reflects ``c_diff·Δω_texel·f(θ_c)·Φ_L/(4π)`` with ``θ_c`` the
 angle of its centre direction: the midpoint rule of ``∫_texel f dω``, whose error over the
 whole map falls as ``1/W²``.
 
 Point light (docs/MODEL.md "Several lights"). An isotropic point light renders six RSM
 faces, the 90° frusta along ±x, ±y, ±z, each one cube face of ``4π/6``
 (``solid_angles.cube_face``): they tile the sphere, every texel reflects
-``c_diff·ρ·Φ_L/(4π)``, and in a closed room of reflectance ``c_diff`` the six faces'
+``c_diff·Δω_texel·Φ_L/(4π)``, and in a closed room of reflectance ``c_diff`` the six faces'
 texels sum to ``6·(4π/6)·c_diff·Φ_L/(4π) = c_diff·Φ_L`` (:func:`point_light_room_flux`).
 
 Examples
 --------
 >>> from derivations.rsm import outgoing_flux_steps
 >>> outgoing_flux_steps()[-1].rhs
-Phi_L*c_diff*rho*Max(0, cos(theta_i))/(4*pi)
+Delta_omega_texel*Phi_L*c_diff*Max(0, cos(theta_i))/(4*pi)
 
 References
 ----------
@@ -75,8 +75,8 @@ from derivations.solid_angles import rectangle_corner_term, rectangle_solid_angl
 
 MODULE = "rsm"
 
-E, M, L_o, Phi_o, Phi_L, A, r, c_diff, rho = sp.symbols(
-    "E M L_o Phi_o Phi_L A r c_diff rho", positive=True)
+E, M, L_o, Phi_o, Phi_L, A, r, c_diff, texel_omega = sp.symbols(
+    "E M L_o Phi_o Phi_L A r c_diff Delta_omega_texel", positive=True)
 theta_i, theta_o, phi_o = sp.symbols("theta_i theta_o phi_o", real=True)
 W, H, w = sp.symbols("W H w", positive=True)
 i, j = sp.symbols("i j", integer=True, nonnegative=True)
@@ -92,28 +92,29 @@ def outgoing_flux_steps() -> list[sp.Eq]:
                                         (theta_o, 0, sp.pi / 2), (phi_o, 0, 2 * sp.pi))
     exitance = radiance * projected_hemisphere
     flux = A * exitance
-    in_rho = sp.simplify(flux.subs(A, rho * r**2))
+    in_texel_omega = sp.simplify(flux.subs(A, texel_omega * r**2))
     return [sp.Eq(E, irradiance), sp.Eq(L_o, radiance), sp.Eq(M, exitance),
-            sp.Eq(Phi_o, flux), sp.Eq(Phi_o, in_rho)]
+            sp.Eq(Phi_o, flux), sp.Eq(Phi_o, in_texel_omega)]
 
 
 def texel_flux_steps() -> list[sp.Eq]:
-    """Flux reflected by the surfel one RSM texel of solid angle ``ρ`` sees at incidence
-    ``θ_i`` (``0 ≤ θ_i < π/2``): the surfel area is ``ρ r²/cos θ_i``, and the cosine cancels.
+    """Flux reflected by the surfel one RSM texel of solid angle ``Δω_texel`` sees at
+    incidence ``θ_i`` (``0 ≤ θ_i < π/2``): the surfel area is ``Δω_texel·r²/cos θ_i``, and
+    the cosine cancels.
 
     The last equation is the flux the renderer stores per texel (docs/MODEL.md, RSM).
     """
     theta = sp.Symbol("theta_i", nonnegative=True)
     published = outgoing_flux_steps()[3].rhs            # Φ_o = A·M with cos⁺θ_i in L_o
     facing = published.subs(clamped_cos_i, sp.cos(theta))   # lit side: cos⁺ = cos
-    tilted_area = rho * r**2 / sp.cos(theta)
+    tilted_area = texel_omega * r**2 / sp.cos(theta)
     per_texel = sp.simplify(facing.subs(A, tilted_area))
     return [sp.Eq(A, tilted_area), sp.Eq(Phi_o, facing.subs(A, tilted_area)),
             sp.Eq(Phi_o, per_texel)]
 
 
 def texel_flux_published_over_correct() -> sp.Expr:
-    """Published texel flux (``ρ = A/r²`` with ``cos⁺θ_i`` kept) over the correct one on
+    """Published texel flux (``Δω_texel = A/r²`` with ``cos⁺θ_i`` kept) over the correct one on
     the lit side: ``cos θ_i``, the cosine counted a second time."""
     theta = sp.Symbol("theta_i", nonnegative=True)
     published = outgoing_flux_steps()[-1].rhs.subs(clamped_cos_i, sp.cos(theta))
@@ -199,7 +200,7 @@ def cone_solid_angle() -> sp.Expr:
 
 def cone_total_flux() -> sp.Expr:
     """Flux reflected by a diffuse surface of reflectance ``c_diff`` that catches the whole
-    cone: the texel fluxes ``c_diff·ρ·f·Φ_L/(4π)`` summed into an integral."""
+    cone: the texel fluxes ``c_diff·Δω_texel·f·Φ_L/(4π)`` summed into an integral."""
     return sp.simplify(c_diff * Phi_L / (4 * sp.pi) * cone_solid_angle())
 
 
@@ -266,14 +267,15 @@ def results() -> list[Result]:
         "Radiance leaving a diffuse surfel (Lambert) lit at incidence θ_i.",
         "Radiant exitance: the integral of L_o cos θ_o dω over the hemisphere, π·L_o.",
         "Flux reflected by a surfel of area A: Φ_o = A·M.",
-        "Flux reflected by an RSM texel of solid angle ρ = A/r²: "
-        "c_diff·ρ/(4π)·Φ_L·max(0, cos θ_i).",
+        "Flux reflected by an RSM texel of solid angle Δω_texel = A/r²: "
+        "c_diff·Δω_texel/(4π)·Φ_L·max(0, cos θ_i).",
     )
     out = [result(MODULE, n, eq, s) for n, eq, s in zip(names, steps, statements)]
     out += [
         result(MODULE, "texel_flux", texel_flux_steps()[-1],
-               "Erratum: flux an RSM texel of solid angle ρ reflects, any incidence on the lit "
-               "side: c_diff·ρ/(4π)·Φ_L (the surfel area ρr²/cos θ_i cancels the cosine)."),
+               "Erratum: flux an RSM texel of solid angle Δω_texel reflects, any incidence on "
+               "the lit side: c_diff·Δω_texel/(4π)·Φ_L (the surfel area Δω_texel·r²/cos θ_i "
+               "cancels the cosine)."),
         result(MODULE, "texel_flux_published_over_correct",
                texel_flux_published_over_correct(),
                "The published texel flux over the correct one: cos θ_i, counted twice."),

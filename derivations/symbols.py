@@ -32,6 +32,8 @@ SYMBOL_LATEX: dict[str, str] = {
     "cos_theta_i": r"\cos\theta_{i}",
     "cos_theta_o": r"\cos\theta_{o}",
     "c_diff": r"c_{\mathrm{diff}}",
+    "Phi_lobe": r"\Phi_{\mathrm{lobe}}",
+    "Delta_omega_texel": r"\Delta\omega_{\mathrm{texel}}",
     "pi_formula": r"\pi_{\mathrm{formula}}",
     "p_{HG}": r"p_{\mathrm{HG}}",
 }

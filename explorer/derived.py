@@ -9,7 +9,7 @@ Examples
 --------
 >>> from explorer.derived import get
 >>> get("corrections.reprojection_pi.corrected").latex
-'\\Phi_{l} = \\Phi_{f}'
+'\\Phi_{\\mathrm{lobe}} = \\Phi_{f}'
 """
 
 from __future__ import annotations

@@ -237,16 +237,17 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         None,
     ),
     'rsm.outgoing_flux': (
-        '\\Phi_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\rho \\max\\left(0, '
-        '\\cos{\\left(\\theta_{i} \\right)}\\right)}{4 \\pi}',
-        'Flux reflected by an RSM texel of solid angle ρ = A/r²: c_diff·ρ/(4π)·Φ_L·max(0, cos '
-        'θ_i).',
+        '\\Phi_{o} = \\frac{\\Delta\\omega_{\\mathrm{texel}} \\Phi_{L} c_{\\mathrm{diff}} '
+        '\\max\\left(0, \\cos{\\left(\\theta_{i} \\right)}\\right)}{4 \\pi}',
+        'Flux reflected by an RSM texel of solid angle Δω_texel = A/r²: '
+        'c_diff·Δω_texel/(4π)·Φ_L·max(0, cos θ_i).',
         None,
     ),
     'rsm.texel_flux': (
-        '\\Phi_{o} = \\frac{\\Phi_{L} c_{\\mathrm{diff}} \\rho}{4 \\pi}',
-        'Erratum: flux an RSM texel of solid angle ρ reflects, any incidence on the lit side: '
-        'c_diff·ρ/(4π)·Φ_L (the surfel area ρr²/cos θ_i cancels the cosine).',
+        '\\Phi_{o} = \\frac{\\Delta\\omega_{\\mathrm{texel}} \\Phi_{L} c_{\\mathrm{diff}}}{4 '
+        '\\pi}',
+        'Erratum: flux an RSM texel of solid angle Δω_texel reflects, any incidence on the lit '
+        'side: c_diff·Δω_texel/(4π)·Φ_L (the surfel area Δω_texel·r²/cos θ_i cancels the cosine).',
         None,
     ),
     'rsm.texel_flux_published_over_correct': (
@@ -372,13 +373,13 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         12.566370614359172,
     ),
     'corrections.reprojection_pi.original': (
-        '\\Phi_{l} = \\frac{\\Phi_{f}}{\\pi}',
-        'Reprojected flux as published: Φ_l = Φ_f/π (loses 1 − 1/π).',
+        '\\Phi_{\\mathrm{lobe}} = \\frac{\\Phi_{f}}{\\pi}',
+        'Reprojected flux as published: Φ_lobe = Φ_f/π (loses 1 − 1/π).',
         None,
     ),
     'corrections.reprojection_pi.corrected': (
-        '\\Phi_{l} = \\Phi_{f}',
-        'Reprojected flux: Φ_l = Φ_f (the lobe re-emits all of it).',
+        '\\Phi_{\\mathrm{lobe}} = \\Phi_{f}',
+        'Reprojected flux: Φ_lobe = Φ_f (the lobe re-emits all of it).',
         None,
     ),
     'corrections.reprojection_pi.flux_factor': (

@@ -24,7 +24,7 @@ float lpv_propagation_factor() {
     return u_propagation_4pi ? 1.0 : 1.0 / (4.0 * lpv_pi());
 }
 
-// k_R: 1 (corrected) or 1/pi (as published) in Phi_l = k_R * Phi_f.
+// k_R: 1 (corrected) or 1/pi (as published) in Phi_lobe = k_R * Phi_f.
 float lpv_reprojection_factor() {
     return u_reprojection_pi ? 1.0 : 1.0 / lpv_pi();
 }

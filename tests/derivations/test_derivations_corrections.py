@@ -65,14 +65,14 @@ def test_rsm_texel_flux_erratum_cancels_the_cosine():
     and the published form is off by exactly cos θ_i (docs/MODEL.md, RSM erratum)."""
     theta = sp.Symbol("theta_i", nonnegative=True)
     per_texel = rsm.texel_flux_steps()[-1].rhs
-    assert sp.simplify(per_texel - rsm.c_diff * rsm.rho * rsm.Phi_L / (4 * sp.pi)) == 0
+    assert sp.simplify(per_texel - rsm.c_diff * rsm.texel_omega * rsm.Phi_L / (4 * sp.pi)) == 0
     assert sp.simplify(get("rsm.texel_flux_published_over_correct").expr - sp.cos(theta)) == 0
 
 
 def test_rsm_outgoing_flux_chain():
     steps = rsm.outgoing_flux_steps()
     assert steps[2].rhs == sp.pi * steps[1].rhs  # M = π L_o
-    expected = rsm.c_diff * rsm.rho / (4 * sp.pi) * rsm.Phi_L * rsm.clamped_cos_i
+    expected = rsm.c_diff * rsm.texel_omega / (4 * sp.pi) * rsm.Phi_L * rsm.clamped_cos_i
     assert sp.simplify(steps[-1].rhs - expected) == 0
     assert get("rsm.surfel_area").expr == 4 * rsm.w**2 / (rsm.W * rsm.H)
 

@@ -4,7 +4,8 @@
   read from the LaTeX and read from the plain text ``lpv-explorer lessons ID`` prints
   (``5/6 − 2/π·arctan(3√11/11)``, never ``2/πarctan(3√11)/11``);
 * every chain ``a = b = c`` whose sides are numbers agrees with itself: a printed sum,
-  product or ratio equals what its own operands give, to the digits printed.
+  product or ratio equals what its own operands give, to the digits printed;
+* a fraction in words beside its number ("3^(-3/2), about a fifth") fits it.
 
 Both forms are read by small grammars (tests/lessons/formula_values.py)."""
 
@@ -17,6 +18,7 @@ import sympy
 
 from explorer.lessons import live_values, load_all, math_to_text
 from explorer.lessons import text as lesson_text
+from explorer.lessons.words import learner_texts
 from tests.lessons.formula_values import (
     latex_python,
     latex_value,
@@ -38,17 +40,15 @@ def _derived(name: str, fmt: str) -> str:
 
 
 def _formulas():
-    """(where, LaTeX) of every math span a learner reads: step texts, try-this prompts."""
+    """(where, LaTeX) of every math span a learner reads: summaries, step texts, try-this
+    prompts, labels and predictions, figure captions, mark labels."""
     lessons, errors = load_all(check_formula=None)
     assert not errors
-    for lesson in lessons:
-        for step in lesson.steps:
-            texts = [step.text] + [item.prompt for item in step.try_this]
-            for text in texts:
-                filled = lesson_text.substitute(text, _derived)
-                for match in _MATH.finditer(filled):
-                    math = (match.group(1) or match.group(2)).strip()
-                    yield f"{lesson.number:02d}/{step.number}", math
+    for name, where, text in learner_texts(lessons):
+        filled = lesson_text.substitute(text or "", _derived)
+        for match in _MATH.finditer(filled):
+            math = (match.group(1) or match.group(2)).strip()
+            yield f"{name[:2]} {where}", math
 
 
 FORMULAS = list(_formulas())
@@ -75,7 +75,7 @@ def test_every_numeric_side_prints_with_its_meaning():
             compared.append((where, plain))
     assert len(compared) > 40
     # the DX11 step factor of lesson 11, the formula the printer once broke
-    assert any("arctan(3√11/11)" in plain and where.startswith("11/")
+    assert any("arctan(3√11/11)" in plain and where.startswith("11 ")
                for where, plain in compared)
 
 
@@ -190,3 +190,60 @@ def _common_prefix(a: str, b: str) -> str:
     while size < min(len(a), len(b)) and a[size] == b[size]:
         size += 1
     return a[:size]
+
+
+_FRACTION_WORDS = {"half": sympy.Rational(1, 2), "third": sympy.Rational(1, 3),
+                   "quarter": sympy.Rational(1, 4), "fifth": sympy.Rational(1, 5),
+                   "sixth": sympy.Rational(1, 6), "eighth": sympy.Rational(1, 8),
+                   "tenth": sympy.Rational(1, 10)}
+_ABOUT = re.compile(r"(\S+), (?:about|roughly|nearly) (?:a|an|one) (" +
+                    "|".join(_FRACTION_WORDS) + r")\b")
+_PER_AXIS = re.compile(r"\b(Half|A third|A quarter) as many cells per axis\b.*?\b(?:a|an) (" +
+                       "|".join(_FRACTION_WORDS) + r") of the cells", re.I)
+
+
+def _plain_texts():
+    """(where, plain text) of everything a learner reads, as `lessons ID` prints it."""
+    from explorer.commands.lessons import _plain
+
+    lessons, _ = load_all(check_formula=None)
+    for name, where, text in learner_texts(lessons):
+        yield f"{name[:2]} {where}", " ".join(_plain(text or "").split())
+
+
+def verbal_ratio_problems(text: str) -> list[str]:
+    """Where ``text`` puts a fraction in words next to a number it does not approximate:
+    "covers 3^(-3/2), about a fifth" (within 10 %), "half as many cells per axis ... an
+    eighth of the cells" (the cube of the per-axis fraction, exactly)."""
+    problems = []
+    for operand, word in _ABOUT.findall(text):
+        value = plain_value(operand.rstrip(",;:"))
+        if value is None:
+            continue
+        claimed = _FRACTION_WORDS[word]
+        if abs(float(value / claimed) - 1) > 0.1:
+            problems.append(f"{operand} = {float(value):.4g} is not about a {word}")
+    for per_axis, word in _PER_AXIS.findall(text):
+        axis = _FRACTION_WORDS[per_axis.split()[-1].lower()]
+        if axis ** 3 != _FRACTION_WORDS[word]:
+            problems.append(f"{per_axis.lower()} per axis is {axis ** 3} of the cells, "
+                            f"not a {word}")
+    return problems
+
+
+def test_every_fraction_in_words_fits_its_number():
+    found = [(where, verbal_ratio_problems(text)) for where, text in _plain_texts()]
+    assert not [item for item in found if item[1]]
+    checked = sum(len(_ABOUT.findall(text)) + len(_PER_AXIS.findall(text))
+                  for _, text in _plain_texts())
+    assert checked >= 2
+
+
+@pytest.mark.parametrize("text, bad", [
+    ("and covers 3^(-3/2), about a fifth, of it", False),
+    ("and covers 3^(-3/2), about a third, of it", True),
+    ("Half as many cells per axis: the grid has an eighth of the cells", False),
+    ("Half as many cells per axis: the grid has a quarter of the cells", True),
+])
+def test_the_fraction_rule_catches_a_wrong_fraction(text, bad):
+    assert bool(verbal_ratio_problems(text)) == bad
