@@ -10,6 +10,8 @@ lazy pictures near the screen at once); and, apart, every picture it fetches lat
 
 from __future__ import annotations
 
+import posixpath
+import re
 import statistics
 from html.parser import HTMLParser
 from pathlib import Path
@@ -20,6 +22,15 @@ FIRST_STEPS = 2
 """Steps whose pictures count as fetched with the page: a browser loads lazy pictures
 that come within about a screen or two of the view (Chromium, 1280 and 375 px wide)."""
 FONT = "latinmodern-math.woff2"
+LIVE_FIGURES_LOADER = "assets/lpv-modules.js"
+"""The live figures' loader (explorer/site/live_figures.py): it adds their stylesheet and
+imports assets/figures/live.js, which imports each live kind's module of the page."""
+LIVE_LPV_ENTRY = "assets/lpv/live.js"
+"""The live LPV's module (explorer/site/live_lpv.py), started once the page is parsed."""
+_IMPORTED = re.compile(r"""(?:\bimport\s*(?:[\w*{}\s,$]+?\s*from\s*)?|\bimport\s*\(\s*|"""
+                       r"""new\s+URL\(\s*)["'`]([^"'`$]+)["'`]""")
+"""A module's static imports, literal dynamic imports and workers (``new URL(...)``)."""
+_KIND_MODULES = re.compile(r'"([a-z-]+)":\s*"([a-z]+)"')
 
 
 class _Resources(HTMLParser):
@@ -33,6 +44,8 @@ class _Resources(HTMLParser):
         self.later: list[str] = []
         self.assets: list[str] = []
         self.math = False
+        self.live_kinds: list[str] = []
+        self.live_lpv = False
         self.steps_ended = 0
         self.past_first_steps = False
 
@@ -51,6 +64,10 @@ class _Resources(HTMLParser):
             self.assets.append(values["src"])
         elif tag == "math":
             self.math = True
+        if values.get("data-live-kind"):
+            self.live_kinds.append(values["data-live-kind"])
+        if "data-live-lpv" in values:
+            self.live_lpv = True
 
     def handle_endtag(self, tag):
         if tag == "section":              # steps are the only sections before the terms
@@ -66,7 +83,7 @@ def page_weight(root: Path, page: str) -> dict[str, int]:
     path = root / page
     parser = _Resources()
     parser.feed(path.read_text(encoding="utf-8"))
-    assets = list(parser.assets) + ([f"assets/{FONT}"] if parser.math else [])
+    assets = _assets(root, parser)
 
     def size(names: list[str]) -> int:
         return sum((root / name).stat().st_size for name in dict.fromkeys(names)
@@ -82,8 +99,43 @@ def first_files(root: Path, page: str) -> set[str]:
     """The files :func:`page_weight` counts before interaction (paths under ``root``)."""
     parser = _Resources()
     parser.feed((root / page).read_text(encoding="utf-8"))
-    return {page, *parser.assets, *parser.first} | ({f"assets/{FONT}"} if parser.math
-                                                    else set())
+    return {page, *_assets(root, parser), *parser.first}
+
+
+def _assets(root: Path, parser: _Resources) -> list[str]:
+    """Stylesheets and scripts the page names, the math font where it typesets math, and
+    the ES modules its live parts import as they start (with what those import)."""
+    assets = list(parser.assets) + ([f"assets/{FONT}"] if parser.math else [])
+    entries = []
+    if LIVE_FIGURES_LOADER in parser.assets and parser.live_kinds:
+        assets.append("assets/live-figures.css")
+        entry = "assets/figures/live.js"
+        modules = dict(_KIND_MODULES.findall(_read(root, entry)))
+        entries += [entry, *(f"assets/figures/{modules[kind]}.js"
+                             for kind in parser.live_kinds if kind in modules)]
+    if parser.live_lpv and LIVE_LPV_ENTRY.replace("live.js", "live.css") in parser.assets:
+        entries.append(LIVE_LPV_ENTRY)
+    return assets + _module_closure(root, entries)
+
+
+def _module_closure(root: Path, entries: list[str]) -> list[str]:
+    """``entries`` and every module they import, transitively (paths under ``root``;
+    ``lpv/<path>`` is the import map's name for ``assets/<path>``)."""
+    seen: list[str] = []
+    todo = list(entries)
+    while todo:
+        module = todo.pop()
+        if module in seen or not (root / module).is_file():
+            continue
+        seen.append(module)
+        for name in _IMPORTED.findall(_read(root, module)):
+            todo.append("assets/" + name[len("lpv/"):] if name.startswith("lpv/") else
+                        posixpath.normpath(posixpath.join(posixpath.dirname(module), name)))
+    return seen
+
+
+def _read(root: Path, name: str) -> str:
+    return (root / name).read_text(encoding="utf-8") if (root / name).is_file() else ""
 
 
 def median_first(weights: dict[str, dict[str, int]]) -> float:

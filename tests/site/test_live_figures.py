@@ -65,7 +65,7 @@ def _load(driver, site: Path, width: int = 1280, url: str | None = None) -> None
 
 
 def _figure(driver, figure_id: str):
-    figure = driver.find_element("css selector", f'figure[data-figure="{figure_id}"]')
+    figure = driver.find_element("css selector", f'[data-figure="{figure_id}"]')
     driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", figure)
     return figure
 
@@ -110,7 +110,10 @@ def test_without_javascript_each_live_figure_keeps_its_baked_picture(site):
     for chunk in text.split('class="live-figure"')[1:]:
         assert chunk.split(">", 1)[0].rstrip().endswith("hidden")     # shown by the script
         baked = chunk.split('class="baked">', 1)[1]
-        assert baked.lstrip().startswith(("<img", '<div class="sequence')), baked[:80]
+        # a picture (as a link to its full size) or, inside the stepper's sequence, its
+        # title, frames and controls
+        assert baked.lstrip().startswith(('<a class="enlarge"', "<h3>")), baked[:80]
+        assert "<img" in baked.split("</figure>", 1)[0], baked[:80]
     assert 'src="assets/lpv-modules.js"' in text
     for name in ("generated/constants.js", "figures/live.js", "figures/common.js",
                  "live-figures.css", "lpv-modules.js"):
