@@ -248,7 +248,7 @@ def figure(description: dict, baked_picture: str, alt: str) -> str:
     data = json.dumps(description, separators=(",", ":")).replace("<", "\\u003c")
     return (f'<figure class="live-lpv" data-live-lpv>'
             f'<div class="live-view"><img src="{html.escape(baked_picture)}" '
-            f'alt="{html.escape(alt)}" class="live-baked" decoding="async">'
+            f'alt="{html.escape(alt)}" class="live-baked" loading="lazy" decoding="async">'
             '<canvas class="live-canvas" hidden></canvas></div>'
             '<div class="live-controls" hidden></div>'
             f'<figcaption>The LPV of this step, live: switch each correction, a preset, '
