@@ -334,10 +334,10 @@ def band1_direction(coefficients: np.ndarray) -> np.ndarray:
 def glyph_axes(glyphs: Glyphs) -> tuple[np.ndarray, np.ndarray]:
     """(segments (K, 2, 3), colours (K, 4)) of an arrow per glyph that holds light (c0 > 0)
     along its band-1 vector b: from the cell centre through the lobe's surface at
-    ``scale·f(b̂)`` and :data:`AXIS_REACH` ``·scale·|b|`` beyond it, so that the part outside the lobe, and the
-    head on it, grow with how much the lobe leans (a round lobe gets none). Drawn over the
-    glyphs, it tells the lobe's axis from any camera, also head-on (the head's four
-    strokes then form a cross)."""
+    ``scale·f(b̂)`` and :data:`AXIS_REACH` ``·scale·|b|`` beyond it, so that the part
+    outside the lobe, and the head on it, grow with how much the lobe leans (a round lobe
+    gets none). Drawn over the glyphs, it tells the lobe's axis from any camera, also
+    head-on (the head's four strokes then form a cross)."""
     b = band1_direction(glyphs.coefficients)
     length = np.linalg.norm(b, axis=1)
     keep = (np.asarray(glyphs.coefficients[:, 0], np.float64) > 0) & (length > 0)
