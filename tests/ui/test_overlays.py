@@ -324,6 +324,41 @@ def test_overlay_state_persists_and_refuses_bad_values(tmp_path):
         assert fresh.overlays == OverlayState()
 
 
+def _lobe_glyphs(coefficients) -> Q.Glyphs:
+    rows = np.zeros((len(coefficients), 9), np.float32)
+    rows[:, :4] = coefficients
+    return Q.Glyphs(np.zeros((len(rows), 3), np.float32), rows,
+                    np.ones(len(rows), np.float32), 1.0, 1)
+
+
+def test_each_glyph_that_leans_gets_an_arrow_along_its_axis():
+    """The arrow follows the band-1 vector in world axes (a cosine lobe around n has
+    coefficients (C_L0, −C_L1·n_y, C_L1·n_z, −C_L1·n_x)); it reaches past the lobe's
+    surface by AXIS_REACH·scale·|b|; a round lobe and a negative one get none."""
+    glyphs = []
+    normals = [(1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.6, 0.8)]
+    for n in normals:
+        glyphs.append((C.SH_COSLOBE_C0, -C.SH_COSLOBE_C1 * n[1], C.SH_COSLOBE_C1 * n[2],
+                       -C.SH_COSLOBE_C1 * n[0]))
+    glyphs.append((C.SH_COSLOBE_C0, 0.0, 0.0, 0.0))                  # round: no axis
+    glyphs.append((-C.SH_COSLOBE_C0, 0.0, 0.0, -C.SH_COSLOBE_C1))    # negative: none
+    segments, colours = Q.glyph_axes(_lobe_glyphs(glyphs))
+    assert segments.shape == (5 * 3, 2, 3) and colours.shape == (15, 4)
+    shafts = segments[:3]
+    for shaft, n in zip(shafts, normals):
+        axis = shaft[1] - shaft[0]
+        assert np.allclose(axis / np.linalg.norm(axis), n, atol=1e-6)
+        lean = C.SH_C1 * C.SH_COSLOBE_C1           # |b| of a unit cosine lobe
+        lobe = C.SH_C0 * C.SH_COSLOBE_C0 + lean    # f(n)
+        assert np.linalg.norm(axis) == pytest.approx(lobe + Q.AXIS_REACH * lean, rel=1e-5)
+    # every head stroke starts at its shaft's tip and points back towards the centre
+    for k in range(4):
+        strokes = segments[3 * (k + 1):3 * (k + 2)]
+        assert np.allclose(strokes[:, 0], shafts[:, 1])
+        back = np.einsum("gi,gi->g", strokes[:, 1] - strokes[:, 0], shafts[:, 1] - shafts[:, 0])
+        assert (back < 0).all()
+
+
 # ------------------------------------------------------------------------- compositor
 @pytest.fixture
 def compositor(ctx):
@@ -363,6 +398,18 @@ def test_each_overlay_changes_the_picture_and_runs_no_pass(frame, compositor, ov
     assert np.abs(after - before).sum(axis=2).astype(bool).sum() >= 10, overlay
     assert pipeline.keys == keys and pipeline.last_result is result
     assert compositor.notes["A"] == []
+
+
+def test_the_glyphs_are_drawn_with_their_axes(frame, compositor):
+    """Light arrows over the orange and blue lobes: pixels no glyph colour reaches (the
+    lobes' blue channel stays under 40 % where their red is high, and the reverse)."""
+    pipeline, result = frame
+    before = _picture(compositor, pipeline, result)
+    after = _picture(compositor, pipeline, result, glyphs=True, slice_axis="z",
+                     slice_index=8)
+    changed = np.abs(after - before).sum(axis=2) > 0
+    light = after.min(axis=2) > 150
+    assert (changed & light).sum() >= 5
 
 
 def test_the_slice_is_hidden_behind_nearer_surfaces(frame, compositor):

@@ -340,19 +340,24 @@ class Compositor:
 
     def _glyphs(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                 notes: list[str]) -> None:
+        """The SH glyphs and an arrow along each lobe's axis (quantities.glyph_axes)."""
         o = overlays
         picked = (o.picked_cascade, o.picked_point)
         try:
             if layers.stale("glyphs", result, o.glyph_cells, o.slice_quantity, o.slice_step,
                             o.cascade, o.slice_axis, o.slice_index, o.glyph_scale,
                             o.glyph_stride, o.glyph_sizing, picked):
-                layers.glyphs.upload(Q.glyphs(result, o))
+                glyphs = Q.glyphs(result, o)
+                layers.glyphs.upload(glyphs)
+                layers.lines.upload("glyph-axes", *Q.glyph_axes(glyphs))
         except ValueError as exc:
             layers.forget("glyphs")
             notes.append(f"glyphs: {exc}")
             return
         _, _, forward = view_axes(result.camera.eye, result.camera.target)
         layers.glyphs.draw(layers.output.framebuffer, vp, -forward)
+        # each lobe's axis, depth-tested: the part inside its own lobe stays hidden
+        layers.lines.draw(layers.output.framebuffer, vp, "glyph-axes")
 
     def _slice(self, layers: _Side, result, overlays: OverlayState, vp: np.ndarray,
                notes: list[str]) -> None:

@@ -313,6 +313,58 @@ def glyphs(result, overlays: OverlayState) -> Glyphs:
                   scales[keep].astype(np.float32), spacing, stride)
 
 
+GLYPH_AXIS_COLOUR = (1.0, 1.0, 1.0, 1.0)
+AXIS_MIN_SPACING = 0.04
+"""An axis whose part outside its lobe is shorter than this fraction of the glyph spacing
+is not drawn: the lobe is too round to have a direction worth an arrow."""
+AXIS_REACH = 1.6
+"""How far an axis reaches past its lobe, in units of the lobe's lean ``scale·|b|``."""
+AXIS_HEAD = 0.5
+"""The arrow head's length over the length of the axis outside the lobe."""
+
+
+def band1_direction(coefficients: np.ndarray) -> np.ndarray:
+    """(G, 3) band-1 vector b of each glyph's SH in world axes: with the basis of
+    docs/MODEL.md, f(ω) = c0·Y0 + C1·(−f1·ω_y + f2·ω_z − f3·ω_x) = c0·Y0 + b·ω with
+    b = C1·(−f3, −f1, f2), so f is largest along b and |b| is how much it leans."""
+    c = np.asarray(coefficients, np.float64)
+    return C.SH_C1 * np.stack([-c[:, 3], -c[:, 1], c[:, 2]], axis=1)
+
+
+def glyph_axes(glyphs: Glyphs) -> tuple[np.ndarray, np.ndarray]:
+    """(segments (K, 2, 3), colours (K, 4)) of an arrow per glyph that holds light (c0 > 0)
+    along its band-1 vector b: from the cell centre through the lobe's surface at
+    ``scale·f(b̂)`` and :data:`AXIS_REACH` ``·scale·|b|`` beyond it, so that the part
+    outside the lobe, and the head on it, grow with how much the lobe leans (a round lobe
+    gets none). Drawn over the glyphs, it tells the lobe's axis from any camera, also
+    head-on (the head's four strokes then form a cross)."""
+    b = band1_direction(glyphs.coefficients)
+    length = np.linalg.norm(b, axis=1)
+    keep = (np.asarray(glyphs.coefficients[:, 0], np.float64) > 0) & (length > 0)
+    scales = np.asarray(glyphs.scales, np.float64)
+    poke = AXIS_REACH * scales * length
+    keep &= poke >= AXIS_MIN_SPACING * glyphs.spacing
+    if not keep.any():
+        return np.zeros((0, 2, 3)), np.zeros((0, 4))
+    axis = b[keep] / length[keep, None]
+    at_axis = np.einsum("gk,gk->g", np.asarray(glyphs.coefficients, np.float64)[keep],
+                        sh_basis(axis, 2))
+    centre = np.asarray(glyphs.centres, np.float64)[keep]
+    tip = centre + axis * (scales[keep] * np.abs(at_axis) + poke[keep])[:, None]
+    head = AXIS_HEAD * poke[keep]
+    # two unit vectors across the axis for the head's strokes
+    helper = np.where(np.abs(axis[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]])
+    across = np.cross(axis, helper)
+    across /= np.linalg.norm(across, axis=1, keepdims=True)
+    other = np.cross(axis, across)
+    base = tip - axis * head[:, None]
+    segments = [np.stack([centre, tip], axis=1)]
+    for side in (across, -across, other, -other):
+        segments.append(np.stack([tip, base + 0.5 * head[:, None] * side], axis=1))
+    segments = np.concatenate(segments)
+    return segments, np.tile(GLYPH_AXIS_COLOUR, (len(segments), 1))
+
+
 # ------------------------------------------------------------------------- splats
 @dataclass(frozen=True)
 class Splats:
