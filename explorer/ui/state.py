@@ -282,7 +282,8 @@ class Requests:
 def fit_window_size(size: tuple[int, int]) -> tuple[int, int]:
     """A window size within [MIN_WINDOW_SIZE, MAX_WINDOW_SIZE] per edge: what the
     settings file may hold (a window dragged smaller is saved at the smallest size)."""
-    return tuple(min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size)
+    width, height = (min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size[:2])
+    return width, height
 
 
 WINDOW_FRAME_PX = (16, 48)
@@ -297,7 +298,7 @@ def fit_work_area(size: tuple[int, int], area: tuple[int, int, int, int] | None
     below :data:`MIN_WINDOW_SIZE`), and centred in it; ``size`` as it is and no position
     without a work area."""
     if area is None:
-        return tuple(size), None
+        return (size[0], size[1]), None
     x, y, width, height = area
     frame_w, frame_h = WINDOW_FRAME_PX
     w, h = (max(min(int(edge), room - frame), MIN_WINDOW_SIZE)
