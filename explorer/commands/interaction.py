@@ -43,8 +43,8 @@ WINDOW_SIZE = (1600, 960)
 def picture_serial(app) -> object:
     """What changes whenever the view gets a new picture: the responsive window's picture
     stamp, else the identity of the frame result (a synchronous window)."""
-    pictures = getattr(app.state.runtime, "pictures", None)
-    if pictures and "A" in pictures:
+    pictures = app.state.runtime.frame.pictures
+    if "A" in pictures:
         return pictures["A"].stamp.serial
     return id(app.state.runtime.frame.result)
 
@@ -78,7 +78,7 @@ def display_pass_ms(app) -> float | None:
     import dataclasses
 
     rt = app.state.runtime
-    composer, pictures = getattr(rt, "composer", None), getattr(rt, "pictures", {})
+    composer, pictures = rt.services.composer, rt.frame.pictures
     if composer is None or "A" not in pictures or "A" not in rt.frame.displays:
         return None
     times = []
@@ -336,8 +336,7 @@ def session_summary(app, rec: Recorder) -> dict:
     figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = rec.longest
     figures["frames"] = rec.frames
     figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
-    figures["renderer"] = app.state.runtime.services.gl_renderer if hasattr(
-        app.state.runtime, "gl_renderer") else ""
+    figures["renderer"] = app.state.runtime.services.gl_renderer
     return figures
 
 

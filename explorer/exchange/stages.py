@@ -136,7 +136,7 @@ def frame_arrays(result, reference: np.ndarray | None = None) -> dict[str, np.nd
             arrays[prefix + "geometry_volume"] = level.geometry_volume
     arrays.update(gbuffer_position=result.gbuffer_position,
                   gbuffer_normal=result.gbuffer_normal, albedo=result.albedo)
-    if getattr(result, "received", None) is not None:
+    if result.received is not None:
         arrays["received"] = result.received
         arrays["irradiance"] = irradiance(result.received, result.gbuffer_normal)
     arrays.update(direct=result.direct, indirect=result.indirect, final=result.final_image)

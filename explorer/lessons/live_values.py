@@ -180,7 +180,7 @@ def _ran(stage: str) -> Callable[[LiveContext], str]:
 
 def _time(name: str) -> Callable[[LiveContext], float]:
     def read(context: LiveContext) -> float:
-        timings = getattr(_result(context), "timings_ms", {}) or {}
+        timings = _result(context).timings_ms
         if name == "total":
             return float(sum(timings.values()))
         if name not in timings:
@@ -190,7 +190,7 @@ def _time(name: str) -> Callable[[LiveContext], float]:
 
 
 def _timer(context: LiveContext) -> str:
-    methods = getattr(_result(context), "timing_methods", {}) or {}
+    methods = _result(context).timing_methods
     method = methods.get("propagate")
     if method is None:
         raise Unavailable("the propagation pass was not timed")
@@ -205,7 +205,7 @@ def _renderer(context: LiveContext) -> str:
 
 
 def _fog(context: LiveContext):
-    fog = getattr(_result(context), "fog", None)
+    fog = _result(context).fog
     if fog is None:
         raise Unavailable("the frame has no fog (settings.fog is off)")
     return fog

@@ -46,7 +46,7 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     """
     settings = result.settings
     exposure = settings.exposure if exposure is None else float(exposure)
-    scale = getattr(result, "display_scale", 1.0) if display_scale is None else display_scale
+    scale = result.display_scale if display_scale is None else display_scale
     tone_map = getattr(settings, "tone_map", "linear-clip")
     if name == "final":
         return display_encode(result.final_image, scale, tone_map)

@@ -171,7 +171,7 @@ class FrameRenderer:
         """``display`` with the overlays drawn in the scene (the View panel's
         compositor), as uint8."""
         pixels = to_bytes(display)
-        if not overlays.any_shown or getattr(result, "gbuffer_position", None) is None:
+        if not overlays.any_shown or result.gbuffer_position is None:
             return pixels
         from explorer.ui.overlays.compositor import Compositor
 

@@ -170,7 +170,7 @@ def try_card(number: int, anchor: str, label: str, pair: str, prompt: str,
                       for i, choice in enumerate(prediction.choices, 1))
     return (f'<div class="try" id="{esc(anchor)}" data-predict {attribute("predict")} '
             f'data-answer="{prediction.answer}">{head}<div class="predict">'
-            f"<p><strong>Predict, then press:</strong> {esc(prediction.question)}</p>"
+            f"<p><strong>Predict, then pick:</strong> {esc(prediction.question)}</p>"
             f'<div class="choices">{choices}</div><p class="verdict" aria-live="polite">'
             f"<noscript>The answer: {esc(right)}.</noscript></p></div>"
             f'<div class="reveal">{body}</div></div>')

@@ -53,8 +53,8 @@ def render_gbuffer(ctx, scene, width: int, height: int) -> GBuffer:
 def gbuffer_from_frame(frame, scene=None, ctx=None) -> GBuffer:
     """The G-buffer of ``frame`` (a FrameResult): its own arrays when it has them,
     otherwise rendered again from ``scene`` (loaded from ``frame.settings`` when None)."""
-    position = getattr(frame, "gbuffer_position", None)
-    normal = getattr(frame, "gbuffer_normal", None)
+    position = frame.gbuffer_position
+    normal = frame.gbuffer_normal
     albedo = np.asarray(frame.albedo)[..., :3]
     if position is not None and normal is not None:
         position = np.asarray(position)

@@ -112,8 +112,7 @@ class ProgressiveReference:
         self.visibility = bool(visibility)
         self.min_distance = (0.5 * frame.grid_spec.cell_size if min_distance is None
                              else float(min_distance))
-        needs_scene = (visibility and bvh is None) or getattr(frame, "gbuffer_position",
-                                                             None) is None
+        needs_scene = (visibility and bvh is None) or frame.gbuffer_position is None
         if scene is None and needs_scene:
             scene = scene_for(frame.settings)
         self.gbuffer = gbuffer_from_frame(frame, scene, ctx)

@@ -52,7 +52,7 @@ def reference_for_frame(frame, visibility: bool, min_distance: float | None = No
     from explorer.gl.context import given_or_headless
 
     with given_or_headless(ctx) as ctx:
-        if scene is None and (visibility or getattr(frame, "gbuffer_position", None) is None):
+        if scene is None and (visibility or frame.gbuffer_position is None):
             scene = scene_for(frame.settings)
         gbuffer = gbuffer_from_frame(frame, scene, ctx)
         triangles = scene_triangles(scene) if visibility else None

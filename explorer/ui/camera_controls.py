@@ -35,7 +35,7 @@ def current_camera(state: AppState) -> tuple | None:
 def _frame_geometry(state: AppState) -> tuple | None:
     """(fov_y, aspect, bounds_min, bounds_max) of the last frame, or None before one."""
     result = state.runtime.frame.result
-    if result is None or getattr(result, "camera", None) is None:
+    if result is None or result.camera is None:
         return None
     height, width = result.final_image.shape[:2]
     lo, hi = result.scene_bounds

@@ -52,8 +52,7 @@ def draw(state, origin, end) -> bool:
     Returns True while the gizmo is hovered or dragged."""
     animation, scene, result = animation_of(state), scene_of(state), state.runtime.frame.result
     if animation.selected is None or scene is None or \
-            getattr(result, "camera", None) is None or \
-            getattr(result, "scene_bounds", None) is None:
+            result is None or result.camera is None or result.scene_bounds is None:
         return False
     try:
         obj = scene.object_named(animation.selected)

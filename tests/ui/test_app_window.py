@@ -251,7 +251,9 @@ class RecordingPipeline:
             albedo=data * 0 + 1, rsm_position=rsm, rsm_normal=rsm, rsm_flux=rsm,
             accumulated=grid, steps=[grid] * steps if keep_steps else None,
             geometry_volume=None, audit=audit, timings_ms={"rsm": 1.0, "propagate": 2.0},
-            stages_run=("rsm", "propagate"), warnings=[], display_scale=1.0, fog=None))
+            stages_run=("rsm", "propagate"), warnings=[], display_scale=1.0, fog=None,
+            timing_methods={}, gbuffer_position=None, gbuffer_normal=None, camera=None,
+            scene_bounds=None, light_names=(), vpl_sets=[], vpls=None, received=None))
 
     def reload_shaders(self):
         return False

@@ -39,7 +39,7 @@ def shown_texture(state: AppState, side: str, texture: int, bottom_first: bool,
     rt, overlays = state.runtime, state.overlays
     result = side_result(state, side)
     if (not overlays.any_shown or rt.services.compositor is None or result is None
-            or getattr(result, "gbuffer_position", None) is None):
+            or result.gbuffer_position is None):
         return texture, bottom_first
     try:
         return rt.services.compositor.compose(side, result, texture, not bottom_first, overlays,
@@ -68,7 +68,7 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
     """The slice cell seen at ``pixel`` when the slice is shown and in front of the
     surface there, else the pixel's surface."""
     result = side_result(state, side)
-    if result is None or getattr(result, "gbuffer_position", None) is None:
+    if result is None or result.gbuffer_position is None:
         return None
     o = state.overlays
     if o.slice:

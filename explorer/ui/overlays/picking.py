@@ -173,7 +173,7 @@ def cell_audit(result, cascade: int, index: CellIndex) -> CellAuditInfo | str:
     """The audit of cell ``index`` of ``cascade`` read from the GPU records of the frame
     (a small read, cached), or why there is none, in words."""
     level = result.cascades[cascade] if 0 <= cascade < len(result.cascades) else None
-    records = None if level is None else getattr(level, "cell_records", None)
+    records = None if level is None else level.cell_records
     if records is None:
         return ("this frame ran without the per-step energy audit, so its cells have no "
                 "records (a frame measures it when a plot, a lesson, the Picked panel or a "

@@ -92,10 +92,10 @@ def _lights(state: AppState, scene) -> None:
                 set_lights(state, scene, [name] + [n for n in on if n != name])
         imgui.end_combo()
     result = state.runtime.frame.result
-    names = getattr(result, "light_names", ())
+    names = () if result is None else result.light_names
     if names:
         widgets.dim_text_wrapped(
-            f"{len(names)} light(s), {len(getattr(result, 'vpl_sets', ()))} RSM view(s) in "
+            f"{len(names)} light(s), {len(result.vpl_sets)} RSM view(s) in "
             f"one grid; the light controls of the Scene panel move the primary light")
 
 

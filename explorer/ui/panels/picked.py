@@ -26,7 +26,7 @@ def gui_picked(state: AppState) -> None:
                                  "to read its values here; hovering shows them in a tooltip.")
         return
     result = rt.frame.result if o.picked_side == "A" else rt.frame.compare_result
-    if result is None or getattr(result, "gbuffer_position", None) is None:
+    if result is None or result.gbuffer_position is None:
         imgui.text_disabled(f"no frame of side {o.picked_side}")
         return
     if imgui.button("Frame it (G)"):

@@ -79,8 +79,8 @@ def _audit_plot(state: AppState, results: list) -> None:
 
 def _timings_plot(state: AppState, results: list) -> None:
     result = results[0]
-    timings = dict(getattr(result, "timings_ms", {}) or {})
-    methods = dict(getattr(result, "timing_methods", {}) or {})
+    timings = dict(result.timings_ms)
+    methods = dict(result.timing_methods)
     total = sum(timings.values())
     height = imgui.get_content_region_avail().y - 4
     if not implot.begin_plot(f"Time per pass, A (total {total:.1f} ms)", (-1, height)):

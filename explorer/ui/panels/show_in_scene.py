@@ -31,7 +31,7 @@ def gui_show_in_scene(state: AppState) -> None:
     if result is None:
         imgui.text_disabled("no frame yet")
         return
-    if getattr(result, "gbuffer_position", None) is None:
+    if result.gbuffer_position is None:
         imgui.text_disabled("this frame holds no G-buffer to draw in")
         return
     specs = result.cascade_specs or [result.grid_spec]
