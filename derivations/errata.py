@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import decimal
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import sympy as sp
 
@@ -351,7 +351,7 @@ def _check(item: Printed) -> Check:
     return _check_expression(item)
 
 
-@lru_cache(maxsize=None)
+@cache
 def table() -> tuple[Check, ...]:
     """The verdict on every printed value, in seed order."""
     return tuple(_check(item) for item in _printed())

@@ -50,7 +50,7 @@ A. Kaplanyan, C. Dachsbacher, "Cascaded Light Propagation Volumes", I3D 2010, §
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import sympy as sp
 
@@ -78,7 +78,7 @@ def hg_phase(cosine: sp.Expr = t) -> sp.Expr:
     return (1 - g**2) / (4 * sp.pi * (1 + g**2 - 2 * g * cosine) ** sp.Rational(3, 2))
 
 
-@lru_cache(maxsize=None)
+@cache
 def hg_band_factor(band: int) -> sp.Expr:
     """``a_l = 2π ∫ p_HG(t) P_l(t) dt``, integrated exactly after ``u = √(1 + g² − 2gt)``
     (module docstring); equals ``g^l``."""

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import sympy as sp
 
@@ -97,7 +97,7 @@ def outer_faces(offset: tuple[int, int, int]) -> list[OuterFace]:
     return faces
 
 
-@lru_cache(maxsize=None)
+@cache
 def all_faces() -> tuple[OuterFace, ...]:
     """The 54 outer faces of the 26 neighbours, neighbour by neighbour."""
     return tuple(face for o in neighbour_offsets() for face in outer_faces(o))
@@ -113,19 +113,19 @@ def corner_face() -> sp.Expr:
     return sp.simplify(axis_aligned_rectangle_solid_angle((0, 0, 0), 0, 3, (1, 1), (3, 3)))
 
 
-@lru_cache(maxsize=None)
+@cache
 def tiling() -> sp.Expr:
     """``Σ_f Δω_f`` over the 54 faces minus 4π, simplified: exactly 0."""
     return sp.simplify(sum((face.solid_angle for face in all_faces()), sp.S.Zero) - 4 * sp.pi)
 
 
-@lru_cache(maxsize=None)
+@cache
 def block_face_tiling() -> sp.Expr:
     """``Δω_front + 4·Δω_edge + 4·Δω_corner − 2π/3`` (one face of the block): exactly 0."""
     return sp.simplify(front_face() + 4 * edge_face() + 4 * corner_face() - 2 * sp.pi / 3)
 
 
-@lru_cache(maxsize=None)
+@cache
 def basis_sums() -> sp.Matrix:
     """``Σ_f Δω_f·Y_k(e_f)`` of the L2 basis over the 54 faces: ``(4π·c0, 0, …, 0)``: only
     band 0 survives, so a step conserves flux with L1 and L2 (the argument of
@@ -139,7 +139,7 @@ def basis_sums() -> sp.Matrix:
     return total.applyfunc(sp.simplify)
 
 
-@lru_cache(maxsize=None)
+@cache
 def step_flux_factor() -> sp.Expr:
     """Flux out ÷ flux in of one corrected 26-neighbour step (weights ``Δω_f/π``, no clamp,
     occlusion or border): 1."""

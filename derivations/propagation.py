@@ -36,9 +36,9 @@ A. Kaplanyan, C. Dachsbacher, "Cascaded Light Propagation Volumes", I3D 2010, §
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
-from typing import Sequence
+from functools import cache
 
 import sympy as sp
 
@@ -85,7 +85,7 @@ def faces(direction: Sequence[int], front: sp.Expr = omega_front,
     return out
 
 
-@lru_cache(maxsize=None)
+@cache
 def step_output(front_weight: sp.Expr | None = None,
                 side_weight: sp.Expr | None = None) -> sp.Matrix:
     """SH vector one source cell ``s = (s0..s3)`` sends out over all 30 faces.

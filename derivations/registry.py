@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import sympy
 from sympy.printing.latex import LatexPrinter
@@ -72,7 +72,7 @@ def result(module: str, item: str, expr: sympy.Basic, statement: str,
     return Result(f"{module}.{item}", expr, statement, module, glsl_name, printed_decimals)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _index() -> dict[str, Result]:
     index: dict[str, Result] = {}
     glsl_names: dict[str, str] = {}

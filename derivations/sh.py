@@ -43,8 +43,8 @@ G. B. Folland, "How to integrate a polynomial over a sphere", Amer. Math. Monthl
 
 from __future__ import annotations
 
-from functools import lru_cache
-from typing import Sequence
+from collections.abc import Sequence
+from functools import cache
 
 import sympy as sp
 
@@ -127,7 +127,7 @@ def clamped_cosine_coefficients(basis: Sequence[sp.Expr]) -> tuple[sp.Expr, ...]
     return tuple(integrate_over_sphere(z * b, hemisphere=True) for b in basis)
 
 
-@lru_cache(maxsize=None)
+@cache
 def lobe_around_normal_spherical(basis: tuple[sp.Expr, ...] = L1_BASIS) -> tuple[sp.Expr, ...]:
     """Projection of ``clamp⁺⟨n, ω⟩`` onto ``basis`` (default L1) for
     ``n = (sinθ cosφ, sinθ sinφ, cosθ)`` (all unit n).

@@ -59,9 +59,9 @@ geometry).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
-from typing import Sequence
+from functools import cache
 
 import sympy as sp
 
@@ -116,7 +116,7 @@ def axis_aligned_rectangle_solid_angle(eye: Sequence[sp.Expr], axis: int, plane:
                                  b0 - eye[others[1]], b1 - eye[others[1]], distance)
 
 
-@lru_cache(maxsize=None)
+@cache
 def corner_term_is_antiderivative() -> bool:
     """Exact check ``∂²F/∂u∂v = d/(u²+v²+d²)^{3/2}`` (the cos/r² density)."""
     u, v, d = sp.symbols("u v d", positive=True)
@@ -198,7 +198,7 @@ def outer_antiderivative(var: sp.Symbol, a: sp.Expr, c: sp.Expr) -> sp.Expr:
         a * (c - a))
 
 
-@lru_cache(maxsize=None)
+@cache
 def outer_antiderivative_is_valid() -> bool:
     """Exact check of :func:`outer_antiderivative` by differentiation (symbolic a < c)."""
     t = sp.Symbol("t", real=True)
@@ -230,7 +230,7 @@ def face_solid_angle_by_integration(density: sp.Expr, inner: tuple, outer: tuple
     return sp.simplify(_integrate_outer(inner_integral, *outer))
 
 
-@lru_cache(maxsize=None)
+@cache
 def front_face_by_integration() -> sp.Expr:
     """``∫∫ ⟨(0,0,1), p⟩/|p| · 1/|p|² dx dy`` over the front face, ``p = (x, y, 3)``."""
     p = sp.Matrix([x, y, 3])
@@ -238,7 +238,7 @@ def front_face_by_integration() -> sp.Expr:
     return face_solid_angle_by_integration(cosine_over_r2, (x, -1, 1), (y, -1, 1))
 
 
-@lru_cache(maxsize=None)
+@cache
 def side_face_by_integration() -> sp.Expr:
     """``∫∫ ⟨(1,0,0), p⟩/|p|³ dy dz`` over the side face, ``p = (1, y, z)``."""
     p = sp.Matrix([1, y, z])
@@ -299,7 +299,7 @@ class TilingProof:
                 and self.two_b_in_0_half_pi and self.front_plus_four_sides == 2 * sp.pi / 3)
 
 
-@lru_cache(maxsize=None)
+@cache
 def tiling_proof() -> TilingProof:
     """Exact proof of ``front + 4·side = 2π/3`` (only rational arithmetic on radicals).
 

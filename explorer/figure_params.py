@@ -14,11 +14,12 @@ window's figure kinds (``explorer/ui/figures/``, one module per kind) draw them.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any
 
-from explorer.schema import SettingError, Spec, from_dict, setting, specs, validate
 from explorer.lpv.settings import PRESETS, Corrections
+from explorer.schema import SettingError, Spec, from_dict, setting, specs, validate
 
 SCALES = ("auto", "linear", "log")
 """Value axis of a plot: log when the values span over two decades (auto), or as chosen."""

@@ -8,11 +8,12 @@ persists and draws the same declarations (``explorer/ui/state.py`` re-exports th
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
-from explorer.schema import setting, validate
 from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS
+from explorer.schema import setting, validate
 
 SLICE_AXES = ("x", "y", "z")
 SLICE_QUANTITIES = ("intensity", "flux", "in-flight", "sh0", "sh1", "sh2", "sh3", "sh4", "sh5",

@@ -23,9 +23,10 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from functools import lru_cache
-from typing import Any, Callable, Mapping
+from functools import cache
+from typing import Any
 
 KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
          "switches", "names", "name_set", "transforms", "nested")
@@ -306,7 +307,7 @@ def setting(default: Any = dataclasses.MISSING, *, doc: str, kind: str,
     return dataclasses.field(default=default, metadata=metadata)
 
 
-@lru_cache(maxsize=None)
+@cache
 def specs(cls: type) -> dict[str, Spec]:
     """Field name -> :class:`Spec` of a dataclass declared with :func:`setting`."""
     found = {f.name: f.metadata["spec"] for f in dataclasses.fields(cls)

@@ -56,5 +56,6 @@ fi
 
 .venv/bin/python -m pip install -q -e ".[test,exr,truth]"
 .venv/bin/ruff check .
+.venv/bin/python -m mypy        # the modules [tool.mypy] in pyproject.toml names
 # pytest exits 5 when it collected no test: that is a failure here, like any non-zero code.
 exec .venv/bin/python -m pytest "$@"

@@ -348,7 +348,6 @@ def run_session(name: str, shots: Path | None = None) -> dict:
     from click_sessions import SESSIONS
 
     from explorer.ui.app import App
-
     from explorer.ui.window_options import WindowOptions
 
     session = SESSIONS[name]

@@ -211,7 +211,7 @@ def test_no_module_reaches_into_another_objects_private_state():
     another object's state asks through a public member, so the state's owner can see
     who depends on it (issue #19)."""
     found = []
-    for name, path in _modules().items():
+    for _name, path in _modules().items():
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Attribute) and node.attr.startswith("_") \
                     and not node.attr.startswith("__") \

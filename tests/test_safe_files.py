@@ -240,8 +240,7 @@ def test_format_values_never_print_a_gigantic_field():
 
 
 def test_a_compressed_mesh_that_unpacks_past_the_cap_is_refused(tmp_path, monkeypatch):
-    from explorer.scene import SceneError, load_scene
-    from explorer.scene import mesh_limits
+    from explorer.scene import SceneError, load_scene, mesh_limits
 
     monkeypatch.setattr(mesh_limits, "MAX_UNPACKED_BYTES", 1024 * 1024)
     bomb = tmp_path / "bomb.stl.bz2"
@@ -316,9 +315,8 @@ def test_a_window_screenshot_onto_a_full_disk_is_a_message_not_a_crash(tmp_path,
     from PIL import Image
 
     from explorer.ui.app import App
-
-    from explorer.ui.window_options import WindowOptions
     from explorer.ui.state import AppState
+    from explorer.ui.window_options import WindowOptions
 
     def full(self, fp, format=None, **params):
         Path(fp).write_bytes(b"half a png")

@@ -21,7 +21,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-
 from window_cases import display_problem
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 def display_problem() -> str | None:
     try:
-        import imgui_bundle  # noqa: F401
         import glfw
+        import imgui_bundle  # noqa: F401
     except ImportError as exc:  # pragma: no cover
         return f"glfw/imgui_bundle missing: {exc}"
     import os

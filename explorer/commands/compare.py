@@ -28,8 +28,8 @@ from explorer.commands.compare_report import (  # noqa: F401  (tables.py reads t
     save_error_png,
     save_png,
 )
-from explorer.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
+from explorer.schema import Spec, specs
 
 REFERENCE_CHOICES = ("visible", "unoccluded")
 LOG2_DEFAULT_SCALE = 3.0  # error images saturate at 8× too bright / too dark

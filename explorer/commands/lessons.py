@@ -287,9 +287,8 @@ def _print_list(lessons) -> None:
 def _plain(text: str, mark_ids: tuple[str, ...] = (), settings=None) -> str:
     """Lesson text for a terminal: derived numbers filled in, live ones named in
     brackets (they are measured in the window), markers spelled out, math as text."""
-    from explorer.lessons import live_values
+    from explorer.lessons import live_values, math_to_text
     from explorer.lessons import text as lesson_text
-    from explorer.lessons import math_to_text
 
     def value(name: str, fmt: str) -> str:
         if name.startswith(("derived.", "settings.", "corrections.")):
@@ -314,8 +313,8 @@ def _plain(text: str, mark_ids: tuple[str, ...] = (), settings=None) -> str:
 
 
 def _setting_label(name: str) -> str:
-    from explorer.schema import specs
     from explorer.lpv.settings import Settings
+    from explorer.schema import specs
 
     spec = specs(Settings).get(name)
     return (getattr(spec, "label", "") or name.replace("_", " ")).lower()

@@ -26,8 +26,8 @@ from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
-from explorer.schema import SettingError, Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
+from explorer.schema import SettingError, Spec, specs
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 """File types the image writers (Pillow) produce from an RGB image."""
@@ -603,7 +603,7 @@ class Outputs:
         self._staged: dict[Path, Path] = {}             # output path -> its temporary
         self._removed: list[Path] = []
 
-    def __enter__(self) -> "Outputs":
+    def __enter__(self) -> Outputs:
         return self
 
     def __exit__(self, exc_type, exc, traceback) -> None:
@@ -839,7 +839,7 @@ class Progress:
             self.stream.flush()
             self._shown = 0
 
-    def __enter__(self) -> "Progress":
+    def __enter__(self) -> Progress:
         return self
 
     def __exit__(self, *exc_info) -> None:

@@ -144,7 +144,7 @@ class _UnitTimes:
         self.counter = counter
         self.python_ms: dict[str, float] = {}
 
-    def __enter__(self) -> "_UnitTimes":
+    def __enter__(self) -> _UnitTimes:
         from explorer.lpv.job import Job
 
         self._original = original = Job._run_unit

@@ -17,8 +17,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from explorer.commands.lesson_folder import add_folder_option
 from explorer.commands import options
+from explorer.commands.lesson_folder import add_folder_option
 from explorer.lpv.settings import VIEWS
 from explorer.schema import Spec
 

@@ -27,8 +27,8 @@ from explorer.commands.options import (
     spec_help,
     value_type,
 )
-from explorer.schema import Spec, specs
 from explorer.lpv.settings import PRESETS, Settings
+from explorer.schema import Spec, specs
 
 FRAMES = Spec(kind="int", low=1, high=10**9, optional=True,
               doc="Draw this many frames, then exit (default with --screenshot: 30; the "
@@ -96,8 +96,8 @@ def main(args: argparse.Namespace) -> int:
 
     from explorer.gl.window import WindowError
     from explorer.ui.app import App
-    from explorer.ui.window_options import WindowOptions
     from explorer.ui.state import AppState
+    from explorer.ui.window_options import WindowOptions
 
     width, height = args.size or (None, None)
     try:

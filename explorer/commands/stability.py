@@ -14,8 +14,8 @@ from __future__ import annotations
 import argparse
 
 from explorer.commands import options
-from explorer.schema import Spec
 from explorer.lpv.stability import AXES, MOVES, Motion, StabilityRun, measure
+from explorer.schema import Spec
 
 DEFAULTS = {"size": (128, 128), "rsm_size": 64, "grid_size": 16}
 """Sizes that keep a sequence to seconds on llvmpipe."""

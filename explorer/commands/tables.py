@@ -121,8 +121,7 @@ def measure_table(table: dict, ctx, references=None) -> Measured:
     """Run every compare command line of ``table``; rows in run order, each with the run's
     labels. ``references``: a compare.ReferenceCache shared between tables."""
     from explorer.commands import options
-    from explorer.commands.compare import (ReferenceCache, plan_runs, run_comparison,
-                                           settings_line)
+    from explorer.commands.compare import ReferenceCache, plan_runs, run_comparison, settings_line
     from explorer.truth.gbuffer import scene_for
 
     references = references if references is not None else ReferenceCache()

@@ -167,10 +167,9 @@ def write_sidecar(path: Path, data: dict) -> None:
 def read_settings(path: Path | str):
     """The Settings of a sidecar (``diff --settings``); one-line errors."""
     from explorer.exchange.files import FileFormatError
-    from explorer.schema import SettingError
     from explorer.lpv.settings import Settings
-
     from explorer.safe_files import UserFileError, parse_json, read_text
+    from explorer.schema import SettingError
 
     try:        # regular files only, within the cap, nesting bounded
         data = parse_json(read_text(path, "settings file"), path)

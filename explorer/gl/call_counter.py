@@ -99,7 +99,7 @@ class GlCallCounter:
         self._saved: list[tuple[type, str, object]] = []
         self._depth = 0
 
-    def __enter__(self) -> "GlCallCounter":
+    def __enter__(self) -> GlCallCounter:
         from explorer.gl import gpu_sync
 
         for cls in (getattr(gpu_sync, name) for name in SYNC_CLASSES):

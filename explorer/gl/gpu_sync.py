@@ -23,7 +23,7 @@ import ctypes
 import ctypes.util
 import time
 import weakref
-from typing import Callable
+from collections.abc import Callable
 
 import moderngl
 import numpy as np

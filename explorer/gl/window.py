@@ -17,8 +17,8 @@ import time
 from collections import deque
 from pathlib import Path
 
-import imgui_bundle  # noqa: F401  (must precede `import glfw`, see the module docstring)
 import glfw
+import imgui_bundle  # noqa: F401  (must precede `import glfw`, see the module docstring)
 import moderngl
 
 from explorer.gl.context import GLUnavailableError, wrap_current_context
@@ -178,7 +178,7 @@ class Window:
         glfw.set_window_title(self.handle, title)
 
     # -- pixels -------------------------------------------------------------------------
-    def read_pixels(self) -> "numpy.ndarray":  # noqa: F821 (numpy imported lazily)
+    def read_pixels(self) -> numpy.ndarray:  # noqa: F821 (numpy imported lazily)
         """The back buffer as (H, W, 3) uint8, top row first.
 
         Reading the default framebuffer through moderngl's ``screen.read`` raises

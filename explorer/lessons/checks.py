@@ -112,7 +112,8 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def parse_check(table: Any, lookup: Callable[[str], Any], try_count: int,
+# complexity: one branch per check kind and key, each its own one-line error
+def parse_check(table: Any, lookup: Callable[[str], Any], try_count: int,  # noqa: C901
                 has_compare: bool, prefix: str = "") -> Check:
     """The check ``table`` (a parsed TOML table) validated: ``lookup(name)`` resolves a
     quantity name (KeyError otherwise), ``try_count`` is the step's number of try-this

@@ -51,7 +51,6 @@ def load_glossary(directory: Path | str | None = None) -> tuple[Term, ...]:
     """The glossary of the lessons in ``directory`` (default: the shipped lessons); ()
     when there is none. GlossaryError names the file and the entry otherwise."""
     from explorer.resources import lesson_dir
-
     from explorer.safe_files import UserFileError, parse_toml, read_text
 
     path = (lesson_dir() if directory is None else Path(directory)) / GLOSSARY_FILE

@@ -45,7 +45,7 @@ Vec3 = tuple[float, float, float]
 class LessonError(ValueError):
     """A lesson file that cannot be used; the message names file, step and field."""
 
-    def __init__(self, path: Path | str, message: str, step: "int | None" = None,
+    def __init__(self, path: Path | str, message: str, step: int | None = None,
                  step_title: str | None = None, field: str | None = None,
                  line: int | None = None) -> None:
         self.path = Path(path)
@@ -96,10 +96,10 @@ class TryThis:
     """Show the change as before | after in the split view."""
     label: str = ""
     """The button's text (default: the control's label and the value)."""
-    camera: "tuple[Vec3, Vec3] | None" = None
+    camera: tuple[Vec3, Vec3] | None = None
     """Where the camera goes with the change (``camera = {eye, target}``): the reframe a
     change of the grid or the scene needs to keep its feature in view."""
-    predict: "Prediction | None" = None
+    predict: Prediction | None = None
     """A question the article asks before the button reveals the answer."""
 
     def change(self) -> dict[str, Any]:

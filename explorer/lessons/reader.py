@@ -639,7 +639,8 @@ class _Reader:
                                  f"called {name!r}; give each its own id")
         return tuple(specs)
 
-    def article(self, step: Step) -> None:
+    # complexity: one check per marker kind of a step's text, in reading order
+    def article(self, step: Step) -> None:  # noqa: C901
         """Every marker and live number of the step's text, prompts and figure captions
         resolves: figures and try-this entries exist, formulas are derivation results,
         quantities are known and their formats apply."""

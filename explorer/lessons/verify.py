@@ -65,7 +65,8 @@ def measure_error(pipeline: Any, settings: Any) -> Any:
         job.release()
 
 
-def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None,
+# complexity: one branch per check kind, all measured on the one frame
+def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None,  # noqa: C901
                 figure_readouts: FigureReadouts | None = None) -> list[Outcome]:
     """Every check of ``step`` (an ``explorer.lessons.model.Step``) evaluated on converged frames
     that ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) renders: the step as it opens,

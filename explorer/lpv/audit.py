@@ -34,7 +34,7 @@ TERMS_OF_FULL_AUDIT = ("border_loss", "clamp_gain", "occluded", "reflected", "bl
 """:class:`GridAudit` terms only the full audit measures (None in the other modes)."""
 
 
-def audit_mode(value: "str | bool") -> str:
+def audit_mode(value: str | bool) -> str:
     """The audit mode ``value`` names (:data:`AUDIT_MODES`); a bool is the older API:
     True the full audit, False none."""
     if isinstance(value, bool):
@@ -45,12 +45,12 @@ def audit_mode(value: "str | bool") -> str:
     return value
 
 
-def audit_covers(done: "str | bool", asked: "str | bool") -> bool:
+def audit_covers(done: str | bool, asked: str | bool) -> bool:
     """Whether a propagation measured in mode ``done`` has what mode ``asked`` needs."""
     return AUDIT_MODES.index(audit_mode(done)) >= AUDIT_MODES.index(audit_mode(asked))
 
 
-def strongest_audit(*modes: "str | bool") -> str:
+def strongest_audit(*modes: str | bool) -> str:
     """The mode that covers all of ``modes`` (``off`` for none)."""
     return max((audit_mode(m) for m in modes), key=AUDIT_MODES.index, default="off")
 
@@ -113,7 +113,7 @@ class EnergyAudit(GridAudit):
 
     @classmethod
     def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray, gathered: np.ndarray,
-                        rsm_per_light: np.ndarray | None = None) -> "EnergyAudit":
+                        rsm_per_light: np.ndarray | None = None) -> EnergyAudit:
         rsm = np.asarray(rsm, np.float64)
         per_light = rsm[None] if rsm_per_light is None else rsm_per_light
         return cls(**vars(audit), rsm=rsm, gathered=np.asarray(gathered, np.float64),
@@ -141,7 +141,7 @@ class CellAudit:
     """Flux the cell sent that the volume blocked and that can bounce (``bounces`` 2)."""
 
     @classmethod
-    def from_record(cls, values) -> "CellAudit":
+    def from_record(cls, values) -> CellAudit:
         """From the 18 numbers of a record (the order of ``shaders/audit_reduce.glsl``)."""
         values = np.asarray(values, np.float64).reshape(6, 3)
         return cls(*values)

@@ -101,6 +101,7 @@ class FrameState:
     def sampled_grid(self) -> SampledGrid:
         """The accumulation of every cascade as the gather and the fog sample it now."""
         levels = self.cascades
+        assert levels[0].injected is not None, "sampled before the first injection"
         return SampledGrid(tuple(CascadeInput(spec, level.accumulation_textures)
                                  for spec, level in zip(self.specs, levels)),
                            levels[0].injected.sh_order)

@@ -26,7 +26,7 @@ class GridSpec:
 
     @classmethod
     def enclosing(cls, bounds_min, bounds_max, resolution: int, margin_cells: float = 1.0
-                  ) -> "GridSpec":
+                  ) -> GridSpec:
         """The smallest cubic grid holding the box with ``margin_cells`` of room on each
         side, centred on the box."""
         lo = np.asarray(bounds_min, dtype=np.float64)

@@ -49,15 +49,15 @@ class Pipeline(Protocol):
     keys: dict[str, object]
     out_keys: dict[str, object]
     unit_ms: dict[str, float]
-    job: "Job | None"
+    job: Job | None
 
-    def extra_input(self, stage: str, job: "Job") -> object: ...
-    def satisfied(self, stage: str, job: "Job") -> bool: ...
-    def evaluate(self, stage: str, job: "Job") -> object: ...
-    def stage_units(self, stage: str, job: "Job") -> int: ...
-    def stage_work(self, stage: str, job: "Job") -> Iterator[int | None]: ...
-    def finish_job(self, job: "Job") -> "FrameResult": ...
-    def show_preview(self, job: "Job", scale: float = ...) -> bool: ...
+    def extra_input(self, stage: str, job: Job) -> object: ...
+    def satisfied(self, stage: str, job: Job) -> bool: ...
+    def evaluate(self, stage: str, job: Job) -> object: ...
+    def stage_units(self, stage: str, job: Job) -> int: ...
+    def stage_work(self, stage: str, job: Job) -> Iterator[int | None]: ...
+    def finish_job(self, job: Job) -> FrameResult: ...
+    def show_preview(self, job: Job, scale: float = ...) -> bool: ...
 
 @dataclass(frozen=True)
 class Progress:
@@ -88,8 +88,8 @@ class Progress:
 class Job:
     """The work of one frame (module docstring). Made by :meth:`Pipeline.start`."""
 
-    def __init__(self, pipeline: Pipeline, settings: "Settings", keep_steps: bool,
-                 need_audit: "str | bool", vpls: "VplArrays | None",
+    def __init__(self, pipeline: Pipeline, settings: Settings, keep_steps: bool,
+                 need_audit: str | bool, vpls: VplArrays | None,
                  progress: ProgressCallback | None) -> None:
         self.pipeline = pipeline
         self.settings = settings
@@ -116,8 +116,8 @@ class Job:
         self.cancelled = False
 
     # ------------------------------------------------------------------ state
-    def asks_for(self, settings: "Settings", keep_steps: bool, need_audit: "str | bool",
-                 vpls: "VplArrays | None") -> bool:
+    def asks_for(self, settings: Settings, keep_steps: bool, need_audit: str | bool,
+                 vpls: VplArrays | None) -> bool:
         """Whether this unfinished job computes the frame these arguments ask for."""
         if self.done or self.cancelled or settings != self.settings:
             return False
@@ -130,7 +130,7 @@ class Job:
         return self._result is not None
 
     @property
-    def result(self) -> "FrameResult":
+    def result(self) -> FrameResult:
         if self._result is None:
             raise RuntimeError("the job has not finished: advance() until job.done")
         return self._result

@@ -101,7 +101,7 @@ class DriverLimits:
     max_storage_block_bytes: int = 0
 
     @classmethod
-    def of(cls, info: dict) -> "DriverLimits":
+    def of(cls, info: dict) -> DriverLimits:
         def value(name: str) -> int:
             raw = info.get(name, 0) or 0
             return int(min(raw)) if isinstance(raw, (tuple, list)) else int(raw)

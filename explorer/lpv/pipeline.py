@@ -315,7 +315,7 @@ class Pipeline:
                              sh_groups=3 if s.sh_order == 2 else 1)
         check_memory(s, self.memory_budget_bytes)
 
-    def __enter__(self) -> "Pipeline":
+    def __enter__(self) -> Pipeline:
         return self
 
     def __exit__(self, *exc_info) -> None:

@@ -356,7 +356,7 @@ class Settings:
         """Whether the geometry volume holds camera surfels (and so reads the G-buffer)."""
         return self.camera_occluders and self.geometry_volume != "off"
 
-    def with_changes(self, **changes) -> "Settings":
+    def with_changes(self, **changes) -> Settings:
         """A copy with some fields changed; ``corrections`` may be given as a dict of
         switches or as a preset name."""
         corr = changes.get("corrections")
@@ -371,7 +371,7 @@ class Settings:
         return to_dict(self)
 
     @classmethod
-    def from_dict(cls, data, base: "Settings | None" = None, where: str = "") -> "Settings":
+    def from_dict(cls, data, base: Settings | None = None, where: str = "") -> Settings:
         """Settings from plain data (a settings file, a lesson table): ``base`` with the
         given fields replaced; a :class:`SettingError` names the bad field."""
         return from_dict(cls, data, base, where)

@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from explorer.lpv.constants import SH_FLUX_FACTOR
-from explorer.lpv.twin.tonemap import display_encode, linear_to_srgb
 from explorer.lpv.surface_edges import outlined_albedo
+from explorer.lpv.twin.tonemap import display_encode, linear_to_srgb
 
 
 def normalise(values: np.ndarray, percentile: float = 99.5) -> np.ndarray:

@@ -71,7 +71,7 @@ class VplArrays:
         return digest.hexdigest()
 
     @classmethod
-    def concatenate(cls, sets: list["VplArrays"]) -> "VplArrays":
+    def concatenate(cls, sets: list[VplArrays]) -> VplArrays:
         """Every VPL of ``sets`` in one set (several lights' VPLs: docs/MODEL.md "Several
         lights"). ``texel_area`` and ``projection`` are the first set's, so
         :meth:`surfel_area` is right for its VPLs only; the albedo is kept when every set
@@ -119,7 +119,7 @@ class VplTextures:
         return self.position.size
 
     @classmethod
-    def from_arrays(cls, ctx: moderngl.Context, vpls: VplArrays) -> "VplTextures":
+    def from_arrays(cls, ctx: moderngl.Context, vpls: VplArrays) -> VplTextures:
         """Upload VPL arrays as a texture set of rows of at most ``UPLOAD_ROW`` texels
         (row-major); texels past the last VPL are empty (``position.w = 0``)."""
         count = vpls.count

@@ -171,7 +171,7 @@ class SpotLight(_AimedLight):
             return np.ones_like(np.asarray(cos_axis, np.float64))
         return spot_falloff(cos_axis, *self.cone_cosines)
 
-    def with_cone(self, cone_degrees: tuple[float, float] | None) -> "SpotLight":
+    def with_cone(self, cone_degrees: tuple[float, float] | None) -> SpotLight:
         """This light with another cone (None: the 90° square frustum)."""
         return replace(self, cone_degrees=cone_degrees)
 
@@ -261,7 +261,7 @@ class PointLight(_LightBase):
         x, y, z = self.position
         return (x, y - 1.0, z)
 
-    def moved(self, position, target=None) -> "PointLight":
+    def moved(self, position, target=None) -> PointLight:
         """The light at ``position`` (``target`` is ignored: it shines everywhere)."""
         return replace(self, position=tuple(map(float, position)))
 

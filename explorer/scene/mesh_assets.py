@@ -182,7 +182,8 @@ def _decoded(image, where: Path | str) -> str:
     return ""
 
 
-def check_gltf_layout(header: dict, buffer_lengths: list[int], where: Path | str) -> None:
+# complexity: one branch per glTF rule, all checked before any allocation
+def check_gltf_layout(header: dict, buffer_lengths: list[int], where: Path | str) -> None:  # noqa: C901
     """Raise :class:`UserFileError` unless every buffer view lies inside its buffer and
     every accessor inside its buffer view (glTF 2.0 §3.6), and all accessors together
     stay under :data:`MAX_ACCESSOR_BYTES`."""

@@ -33,6 +33,7 @@ from explorer.scene.lights import (
 from explorer.scene.mesh_limits import check_mesh_file
 from explorer.scene.model import Scene, SceneError
 from explorer.scene.objects import SceneObject
+
 FALLBACK_ALBEDO = 0.6
 """Linear grey for meshes that carry no colour."""
 MAX_TEXTURE_EDGE = 4096

@@ -5,9 +5,9 @@ objects that can move, their animation paths, and the box the light grid must en
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from typing import Iterable, Iterator
 
 import numpy as np
 
@@ -61,7 +61,7 @@ class Scene:
     atrium's fly-through."""
     pose: tuple[tuple[str, tuple[float, ...]], ...] = ()
     """The object transforms :meth:`posed` applied to this scene's arrays."""
-    built: "Scene | None" = field(default=None, compare=False, repr=False)
+    built: Scene | None = field(default=None, compare=False, repr=False)
     """The scene as built, before :meth:`posed` moved its objects (None: this one)."""
     parts: tuple[str, ...] = ()
     """Names of the scene's surfaces as built (the Cornell box's ``floor``, ``left wall``,
@@ -203,7 +203,7 @@ class Scene:
                              f"{list(names)}")
         return names
 
-    def with_lights(self, names: Iterable[str] | None) -> "Scene":
+    def with_lights(self, names: Iterable[str] | None) -> Scene:
         """The scene with the lights ``names`` shining (the first is the primary); None
         keeps the scene's own choice. A :class:`SceneError` names the rig's lights when a
         name is not one of them."""
@@ -211,7 +211,7 @@ class Scene:
             return self
         return replace(self, lights_on=self._check_light_names(names, "lights"))
 
-    def with_primary(self, light: Light) -> "Scene":
+    def with_primary(self, light: Light) -> Scene:
         """The scene with its primary light replaced by ``light`` (in the rig, by name)."""
         primary = self.light.name
         rig = tuple(light if entry.name == primary else entry for entry in self.rig)
@@ -225,7 +225,7 @@ class Scene:
         raise SceneError(f"scene {self.name!r} has no object {name!r}; its objects are "
                          f"{', '.join(self.object_names) or 'none'}")
 
-    def posed(self, transforms) -> "Scene":
+    def posed(self, transforms) -> Scene:
         """The scene with its objects moved: ``transforms`` is ``((name, nine numbers),
         ...)`` or a table (``Settings.object_transforms``; 3, 6 or 9 numbers each),
         applied to the corners as built (:attr:`built`: a scene already posed is posed
@@ -262,7 +262,7 @@ class Scene:
                        spot_cone_degrees: tuple[float, float] | None = None,
                        lights: Iterable[str] | None = None, transforms=None,
                        camera_fov: float | None = None,
-                       light_kind: str | None = None) -> "Scene":
+                       light_kind: str | None = None) -> Scene:
         """The scene with ``Settings.object_transforms`` (``transforms``), ``lights`` (the
         names that shine), ``camera`` / ``camera_fov`` and the primary light's
         ``light_kind`` / ``light`` / ``light_flux`` / ``spot_cone_degrees`` applied
@@ -293,7 +293,7 @@ class Scene:
             scene = scene.with_primary(scene.light.with_cone(spot_cone_degrees))
         return scene
 
-    def for_settings(self, settings) -> "Scene":
+    def for_settings(self, settings) -> Scene:
         """The scene with every override of ``settings`` (an ``explorer.lpv.settings.
         Settings``) applied: object transforms, the lights that shine, camera, the primary
         light's placement and flux, and the spot cones."""
@@ -343,7 +343,7 @@ def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> 
                              f"triangles within the scene's {count} corners")
 
 
-def _check_surfaces(scene: "Scene", count: int) -> None:
+def _check_surfaces(scene: Scene, count: int) -> None:
     """The texture coordinates, textures and sidedness fit the triangles."""
     triangles = count // 3
     name = scene.name

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -56,7 +57,7 @@ class ObjectTransform:
     scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
 
     @classmethod
-    def from_values(cls, values) -> "ObjectTransform":
+    def from_values(cls, values) -> ObjectTransform:
         """From nine numbers ``[tx, ty, tz, rx, ry, rz, sx, sy, sz]``."""
         v = tuple(float(x) for x in values)
         return cls(v[0:3], v[3:6], v[6:9])
@@ -97,7 +98,7 @@ class ObjectTransform:
         return self.model_matrix(pivot) @ shift
 
     @classmethod
-    def from_model_matrix(cls, matrix, pivot) -> "ObjectTransform":
+    def from_model_matrix(cls, matrix, pivot) -> ObjectTransform:
         """The transform whose :meth:`model_matrix` is ``matrix`` (rotation and positive
         scale; a shear, which no transform holds, is dropped): the inverse of
         :meth:`model_matrix`, for a gizmo's result."""

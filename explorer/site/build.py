@@ -12,16 +12,17 @@ from __future__ import annotations
 import json
 import shutil
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from explorer.lessons import Lesson, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
-from explorer.site import live_figures, pages, prose
-from explorer.site import live_lpv
+from explorer.site import live_figures, live_lpv, pages, prose
+from explorer.site.controls import attribute
 from explorer.site.frames import (
     FrameRenderer,
     Screen,
@@ -32,7 +33,6 @@ from explorer.site.frames import (
     uses_error,
     uses_truth,
 )
-from explorer.site.controls import attribute
 from explorer.site.values import Baker, context_marks
 
 MARKER = "lpv-site.json"
@@ -100,9 +100,8 @@ def view_alt(step: Step) -> str:
 
 def look_hint(step: Step, numbers: dict[str, int]) -> str:
     """The window's "Look at …" line for the page: which figures to look at, by number."""
-    from explorer.ui.lesson_panel import overlay_words
-
     from explorer.site.prose import figure_link
+    from explorer.ui.lesson_panel import overlay_words
 
     drawn = overlay_words(step.overlays())
     parts = [f"{figure_link(numbers['view'])} ({pages.esc(drawn or view_words(step))})"]

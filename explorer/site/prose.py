@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import html
 import re
-from typing import Callable
+from collections.abc import Callable
 
 from explorer import derived
 from explorer.lessons import glossary as lesson_glossary

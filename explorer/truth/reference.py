@@ -58,7 +58,7 @@ class IncompleteRender(RuntimeError):
     """The GL driver ended the gather loop early (see :data:`LOOP_BUDGET`)."""
 
 
-def safe_vpl_chunk(vpl_chunk: int, bvh: "Bvh | None") -> int:
+def safe_vpl_chunk(vpl_chunk: int, bvh: Bvh | None) -> int:
     """``vpl_chunk`` reduced so that one dispatch stays within :data:`LOOP_BUDGET`.
 
     Worst case per VPL: one check of the VPL loop, and for a shadow ray up to one check
@@ -164,7 +164,7 @@ class ReferencePass:
     def start(self, gbuffer: GBuffer, vpls: VplArrays | VplTextures, min_distance: float,
               triangles: np.ndarray | Bvh | None = None, visibility: bool = False,
               ray_offset: float | None = None, tile_size: int = 64,
-              vpl_chunk: int = 4096) -> "ReferenceGather":
+              vpl_chunk: int = 4096) -> ReferenceGather:
         """:meth:`run` as a :class:`ReferenceGather` whose dispatches the caller runs, a
         few at a time (a window between its frames)."""
         return ReferenceGather(self, gbuffer, vpls, min_distance, triangles, visibility,

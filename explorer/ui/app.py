@@ -28,11 +28,10 @@ from pathlib import Path
 
 import numpy as np
 
+from explorer import stop_signals
 from explorer.gl.window import Window
 from explorer.lpv.settings import Settings, preset_name
-from explorer import stop_signals
-from explorer.ui import animation, persist, theme
-from explorer.ui import frame_pacing
+from explorer.ui import animation, frame_pacing, persist, theme
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.images import write_png
 from explorer.ui.state import AppState, fit_window_size

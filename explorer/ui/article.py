@@ -16,10 +16,9 @@ from typing import TYPE_CHECKING
 
 from imgui_bundle import imgui
 
-from explorer.lessons import live_values
-from explorer.lessons import text as lesson_text
 from explorer.figure_params import FIGURE_KINDS
-from explorer.lessons import Lesson, Step, TryThis
+from explorer.lessons import Lesson, Step, TryThis, live_values
+from explorer.lessons import text as lesson_text
 from explorer.ui import widgets
 from explorer.ui.lesson_panel import (
     LessonSession,

@@ -37,13 +37,14 @@ import sys
 import time
 import traceback
 from collections import Counter
-from typing import TYPE_CHECKING, Callable
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
+from explorer.gl.context import use_screen
 from explorer.lpv.audit import audit_mode
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.schema import stages_reading
-from explorer.gl.context import use_screen
 from explorer.ui import previews
 from explorer.ui.controller_state import (
     ControllerStatus,
@@ -54,11 +55,11 @@ from explorer.ui.controller_state import (
     keeps_steps,
 )
 from explorer.ui.frame_budget import FINISHING_STAGES, QUIET_BUDGET_MS, DragSizer, FrameBudget
+from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.panel_tasks import run_tasks
 from explorer.ui.picture import Picture, SideDisplay, Stamp
 from explorer.ui.previews import PREVIEW_INTERVAL_S, PREVIEW_SCALE
 from explorer.ui.scene_reload import Reloads
-from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
 

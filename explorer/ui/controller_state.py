@@ -5,8 +5,9 @@ pipeline interface it calls (explorer/ui/controller.py)."""
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -26,7 +27,7 @@ class PipelineLike(Protocol):
     """What the controller calls and reads on a pipeline (explorer.lpv.pipeline.Pipeline):
     all of it, so that no call needs a fallback."""
 
-    programs: "ProgramCache"
+    programs: ProgramCache
     settings: Settings
     """The settings of the last job started."""
     unit_ms: dict[str, float]
@@ -37,9 +38,9 @@ class PipelineLike(Protocol):
     """The last reduced preview's linear textures (``Job.preview`` with a scale < 1)."""
 
     def start(self, settings: Settings, keep_steps: bool = ..., need_audit: str | bool = ...,
-              progress: Callable[[str, int, int], None] | None = ...) -> "Job": ...
+              progress: Callable[[str, int, int], None] | None = ...) -> Job: ...
     def reload_shaders(self) -> bool: ...
-    def reload_scene(self, scene: "Scene") -> None: ...
+    def reload_scene(self, scene: Scene) -> None: ...
     def release(self) -> None: ...
     def view(self, name: str, **options) -> np.ndarray: ...
     @property
@@ -49,7 +50,7 @@ class PipelineLike(Protocol):
     @property
     def fog_textures(self) -> tuple | None: ...
     @property
-    def base_scene(self) -> "Scene | None": ...
+    def base_scene(self) -> Scene | None: ...
 
 
 @dataclass(frozen=True)
@@ -65,7 +66,7 @@ class Request:
     interactive: bool = False
     """Made while the camera is dragged (reduced size)."""
 
-    def covered_by(self, done: "Request | None") -> bool:
+    def covered_by(self, done: Request | None) -> bool:
         """Whether the frame ``done`` computed already has all this request asks for
         (the same settings, and its steps and audit when asked)."""
         return (done is not None and done.settings == self.settings
@@ -113,14 +114,14 @@ class SideState:
     name: str
     pipeline: PipelineLike | None = None
     picture: Picture | None = None
-    job: "Job | None" = None
+    job: Job | None = None
     request: Request | None = None
     """The request of the job in flight."""
     done: Request | None = None
     """The request of the last finished frame (what :attr:`result` shows)."""
     failed: Request | None = None
-    result: "FrameResult | None" = None
-    progress: "Progress | None" = None
+    result: FrameResult | None = None
+    progress: Progress | None = None
     previewed: int = 0
     """Propagation steps of the job's last preview."""
     previewed_at: float = 0.0
@@ -144,7 +145,7 @@ class SideState:
 
 
 
-def keeps_steps(state: "AppState", side: str) -> bool:
+def keeps_steps(state: AppState, side: str) -> bool:
     """Whether ``side``'s frame keeps grid_0..grid_N of every cascade: the in-scene
     overlays show the light in flight (drawn over both sides of a split view; a lesson's
     ``[steps.show]`` sets them), or the Inspect panel steps through A's propagation."""

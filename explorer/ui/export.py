@@ -38,14 +38,13 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
     does not exist, TimeoutError when the frame never comes. ``headless``: draw without
     a display (glfw's null platform with EGL; default: whenever this glfw has it);
     ``lessons_dir``: a folder of lessons read instead of the shipped ones."""
+    from explorer.gl.window import headless_available
     from explorer.lessons.folder import load_course
     from explorer.ui.app import App, write_png
-    from explorer.ui.window_options import WindowOptions
     from explorer.ui.article import uses_error, uses_truth
     from explorer.ui.panels.error import error_service
     from explorer.ui.state import AppState, OverlayState
-
-    from explorer.gl.window import headless_available
+    from explorer.ui.window_options import WindowOptions
 
     if headless is None:
         headless = headless_available()

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +35,7 @@ def fonts_dir() -> Path:
     return Path(imgui_bundle.__file__).parent / "assets" / "fonts"
 
 
-@lru_cache(maxsize=None)
+@cache
 def codepoints(path: str | Path) -> frozenset[int]:
     """Every code point the font at ``path`` maps to a glyph (cmap formats 4 and 12)."""
     data = Path(path).read_bytes()

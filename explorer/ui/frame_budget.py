@@ -6,7 +6,7 @@ camera frame fits the drag's budget)."""
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from explorer.lpv.cache_keys import downstream
 

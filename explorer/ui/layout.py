@@ -14,14 +14,16 @@ window's width (:func:`column_widths`), from 1280×720 up.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from imgui_bundle import imgui
 from imgui_bundle.imgui import internal
 
+from explorer.ui.article import gui_article
 from explorer.ui.panels.compare import gui_compare
 from explorer.ui.panels.corrections import gui_corrections
+from explorer.ui.panels.error import gui_error
 from explorer.ui.panels.inspect import gui_inspect
 from explorer.ui.panels.lights import gui_lights
 from explorer.ui.panels.messages import gui_messages, gui_shaders
@@ -30,8 +32,6 @@ from explorer.ui.panels.plots import gui_plots
 from explorer.ui.panels.scene import gui_scene
 from explorer.ui.panels.show_in_scene import gui_show_in_scene
 from explorer.ui.panels.view import gui_view
-from explorer.ui.article import gui_article
-from explorer.ui.panels.error import gui_error
 from explorer.ui.state import AppState
 
 AREAS = ("centre", "article", "left", "left-bottom", "right", "right-bottom", "bottom")

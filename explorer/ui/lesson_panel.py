@@ -31,8 +31,8 @@ from explorer.lessons import (
     Step,
 )
 from explorer.lessons.folder import Course, load_course
-from explorer.overlay_params import OverlayState
 from explorer.lpv.settings import Settings
+from explorer.overlay_params import OverlayState
 from explorer.ui.try_numbers import TryFrames
 
 if TYPE_CHECKING:
@@ -277,7 +277,7 @@ class LessonSession:
     """Whether the shipped course is listed (besides the folder)."""
 
     @classmethod
-    def load(cls, folder: Path | str | None = None, shipped: bool = True) -> "LessonSession":
+    def load(cls, folder: Path | str | None = None, shipped: bool = True) -> LessonSession:
         """The shipped lessons and those of ``folder`` (or the folder's alone, ``shipped``
         False), their formula names checked against the derivation results generated from
         the registry (``explorer.derived``: a table, no sympy)."""

@@ -27,7 +27,7 @@ class LessonWatch:
 
     files: SceneWatch = field(default_factory=SceneWatch)
 
-    def poll(self, state: "AppState") -> bool:
+    def poll(self, state: AppState) -> bool:
         """Read the open lesson again if its file changed; True when the window shows
         the edit."""
         session = state.lesson_session
@@ -43,7 +43,7 @@ class LessonWatch:
             return False
         return reload_lesson(state, session)
 
-    def _poll_folder(self, state: "AppState", session) -> bool:
+    def _poll_folder(self, state: AppState, session) -> bool:
         """While the list shows, the reader's folder: a lesson saved, added or removed
         there reads the lessons again (the list then shows it, or its error)."""
         if session.folder is None:
@@ -65,7 +65,7 @@ class LessonWatch:
         return True
 
 
-def reload_lesson(state: "AppState", session) -> bool:
+def reload_lesson(state: AppState, session) -> bool:
     """Read ``session``'s open lesson from its file and show it at the same step; False
     (and the reason in one line) when the file no longer makes a lesson."""
     from explorer.lessons import LessonError, load_lesson
@@ -96,7 +96,7 @@ def reload_lesson(state: "AppState", session) -> bool:
     return True
 
 
-def _refused(state: "AppState", session, reason: str) -> bool:
+def _refused(state: AppState, session, reason: str) -> bool:
     """A save that does not load: said in Messages and above the article, in one line."""
     session.reload_error = reason
     state.notify(f"{reason} (the lesson on screen is the one read before)", "error")

@@ -19,8 +19,8 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
-from explorer.schema import SettingError, from_dict, specs, to_dict
 from explorer.safe_files import UserFileError, parse_json, read_text, write_atomically
+from explorer.schema import SettingError, from_dict, specs, to_dict
 from explorer.ui.layout_file import LayoutFileError, check_layout
 from explorer.ui.state import AppState
 

@@ -104,9 +104,9 @@ class Picture:
 
     def copy_from(self, direct: moderngl.Texture, indirect: moderngl.Texture,
                   albedo: moderngl.Texture, stamp: Stamp,
-                  result: "FrameResult | None",
-                  fog: "tuple[moderngl.Texture, moderngl.Texture] | None" = None,
-                  surfaces: "tuple[moderngl.Texture, moderngl.Texture] | None" = None
+                  result: FrameResult | None,
+                  fog: tuple[moderngl.Texture, moderngl.Texture] | None = None,
+                  surfaces: tuple[moderngl.Texture, moderngl.Texture] | None = None
                   ) -> None:
         """Copy the pipeline's textures (all the same size) in one draw, and ``fog`` (the
         fog pass's direct and LPV targets of a frame with fog) in a second; ``surfaces``

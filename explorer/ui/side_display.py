@@ -26,7 +26,7 @@ EXPOSURE_TOLERANCE = 0.05
 class ShownSide(Protocol):
     """What the exposure reads of a side (explorer/ui/controller.py ``SideState``)."""
 
-    result: "FrameResult | None"
+    result: FrameResult | None
     picture: Picture | None
     auto_scale: float | None
     """The display scale of its first preview (None until measured)."""
@@ -34,7 +34,7 @@ class ShownSide(Protocol):
     """(result id, indirect only) -> its display scale."""
 
 
-def side_display(state: "AppState", sides: "dict[str, ShownSide]", side: str,
+def side_display(state: AppState, sides: dict[str, ShownSide], side: str,
                  settings: Settings) -> SideDisplay:
     """How ``side`` is shown, ``settings`` being its own (B's are A's unless a lesson's
     before | after split overrides them, e.g. the indirect light alone on the right): its
@@ -65,7 +65,7 @@ def auto_scale(side: ShownSide, settings: Settings) -> float:
     return side.scale_cache[key]
 
 
-def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | None]",
+def update_side_exposures(state: AppState, results: dict[str, FrameResult | None],
                           indirect_only: dict[str, bool]) -> None:
     """Each side's own exposure (``runtime.frame.side_exposures``) when the sides are exposed
     separately without the display's auto exposure, measured once per new result."""
@@ -91,7 +91,7 @@ def update_side_exposures(state: "AppState", results: "dict[str, FrameResult | N
     rt.frame.side_exposures = (values[0], values[1])
 
 
-def result_scale(result: "FrameResult", indirect_only: bool) -> float:
+def result_scale(result: FrameResult, indirect_only: bool) -> float:
     """The auto exposure of a finished frame shown with ``indirect_only`` (the display
     stage's measure, explorer/lpv/passes/display.py)."""
     from explorer.lpv.passes.display import display_scale, exposed_image

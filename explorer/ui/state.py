@@ -9,14 +9,14 @@ is never persisted.
 
 from __future__ import annotations
 
-import time
 import os
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Protocol
+from typing import TYPE_CHECKING, Protocol
 
-from explorer.schema import setting, validate
 from explorer.lpv.settings import MAX_CASCADES, MAX_GRID_SIZE, MAX_ITERATIONS, PRESETS, Settings
 from explorer.overlay_params import (  # noqa: F401 - the overlays' names, re-exported
     COLOUR_MAPS,
@@ -27,6 +27,7 @@ from explorer.overlay_params import (  # noqa: F401 - the overlays' names, re-ex
     SLICE_QUANTITIES,
     OverlayState,
 )
+from explorer.schema import setting, validate
 
 if TYPE_CHECKING:
     import numpy as np
@@ -131,16 +132,16 @@ class ShownFrame:
     them, the jobs' progress and the frame loop's own times (the controller publishes
     them each frame)."""
 
-    result: "FrameResult | None" = None           # configuration A's last finished frame
-    compare_result: "FrameResult | None" = None   # B's (compare views)
-    pictures: "dict[str, Picture]" = field(default_factory=dict)
+    result: FrameResult | None = None           # configuration A's last finished frame
+    compare_result: FrameResult | None = None   # B's (compare views)
+    pictures: dict[str, Picture] = field(default_factory=dict)
     """Side -> its last picture (a finished frame or a progressive preview), which the
     view shows (explorer/ui/picture.py)."""
-    displays: "dict[str, SideDisplay]" = field(default_factory=dict)
+    displays: dict[str, SideDisplay] = field(default_factory=dict)
     """Side -> how the view shows it (exposure, display scale, tone curve)."""
     progress: dict[str, str] = field(default_factory=dict)
     """Side -> its job's progress ("propagating 5/8"); empty when the picture is final."""
-    frame_view: "Callable[..., np.ndarray] | None" = None
+    frame_view: Callable[..., np.ndarray] | None = None
     """``Pipeline.view`` of configuration A's pipeline (a view the FrameResult alone
     cannot make, e.g. cascade-weights, which needs the G-buffer); None before a run."""
     pipeline_error: str | None = None
@@ -157,7 +158,7 @@ class SceneFacts:
     """What the scene itself says, before the Settings' overrides (loaded once per
     scene by the controller): the defaults the camera and light controls start from."""
 
-    scene: "tuple[str, Scene] | None" = None
+    scene: tuple[str, Scene] | None = None
     """(scene name, the scene as loaded, before the Settings' overrides): its lights,
     objects and paths (the Lights & objects panel)."""
     camera_default: tuple | None = None   # the scene's (eye, target) once known
@@ -193,9 +194,9 @@ class Services:
     compositor: object | None = None
     """explorer.ui.overlays.compositor.Compositor: the View panel's in-scene overlays
     (named, not imported: it reads this module's OverlayState)."""
-    textures: "UiTextures | None" = None          # UI-owned textures (uploads)
-    formulas: "FormulaCache | None" = None
-    fonts: "Fonts | None" = None          # prose styles
+    textures: UiTextures | None = None          # UI-owned textures (uploads)
+    formulas: FormulaCache | None = None
+    fonts: Fonts | None = None          # prose styles
     markdown_ready: bool = False      # imgui_bundle.rich_md can render (lesson text)
     gl_renderer: str = ""                 # GL_RENDERER of the window's context
     gl_problem: str | None = None
@@ -204,11 +205,11 @@ class Services:
     file_dialog_available: bool | None = None
     inspect_cache: tuple | None = None     # (version, texture id, scale top, caption)
     vpl_cache: tuple | None = None        # (result id, point groups) for the VPL plot
-    tasks: "list[BackgroundTask]" = field(default_factory=list)
+    tasks: list[BackgroundTask] = field(default_factory=list)
     """Background work the controller advances within the frame budget with its GL
     context (objects with ``advance(ctx, budget_s)``, ``release()`` and ``running``),
     e.g. the Error panel's reference render."""
-    animation: "Animation | None" = None
+    animation: Animation | None = None
     """The paths and fly-through that play, the object the gizmo moves (made on first use
     by explorer.ui.animation.animation_of)."""
 
@@ -281,7 +282,8 @@ class Requests:
 def fit_window_size(size: tuple[int, int]) -> tuple[int, int]:
     """A window size within [MIN_WINDOW_SIZE, MAX_WINDOW_SIZE] per edge: what the
     settings file may hold (a window dragged smaller is saved at the smallest size)."""
-    return tuple(min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size)
+    width, height = (min(max(int(edge), MIN_WINDOW_SIZE), MAX_WINDOW_SIZE) for edge in size[:2])
+    return width, height
 
 
 WINDOW_FRAME_PX = (16, 48)
@@ -296,7 +298,7 @@ def fit_work_area(size: tuple[int, int], area: tuple[int, int, int, int] | None
     below :data:`MIN_WINDOW_SIZE`), and centred in it; ``size`` as it is and no position
     without a work area."""
     if area is None:
-        return tuple(size), None
+        return (size[0], size[1]), None
     x, y, width, height = area
     frame_w, frame_h = WINDOW_FRAME_PX
     w, h = (max(min(int(edge), room - frame), MIN_WINDOW_SIZE)

@@ -14,8 +14,9 @@ window; :class:`Page` measures and draws with imgui.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from explorer.lessons import text as lt
 

@@ -23,8 +23,8 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.passes.display import exposed_image
-from explorer.lpv.twin.tonemap import luminance, tone_map_index
 from explorer.lpv.surface_edges import EDGE_FLAG, EDGE_SHADE
+from explorer.lpv.twin.tonemap import luminance, tone_map_index
 from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS
 from explorer.ui.textures import robust_max

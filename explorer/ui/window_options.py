@@ -3,8 +3,8 @@ is shown, persisted, paced by events, and which pipeline it runs."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from explorer.ui.frame_pacing import IDLE_TIMEOUT_S
 

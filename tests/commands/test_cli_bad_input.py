@@ -12,13 +12,12 @@ import time
 from pathlib import Path
 
 import pytest
-
 from command_cases import StandInPipeline
 
 from explorer.cli import main
 from explorer.commands.options import Outputs, Progress, settings_from_args
-from explorer.schema import specs
 from explorer.lpv.settings import PRESETS, Corrections, Settings
+from explorer.schema import specs
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -10,7 +10,6 @@ import signal
 from pathlib import Path
 
 import pytest
-
 from command_cases import StandInPipeline
 
 from explorer.cli import main

@@ -7,7 +7,6 @@ from __future__ import annotations
 import re
 
 import pytest
-
 from window_cases import display_problem, run_child
 
 

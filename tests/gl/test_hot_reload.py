@@ -161,8 +161,8 @@ def test_the_window_survives_each_bad_save_and_recovers(shader_copy, tmp_path, m
         pytest.skip(str(problem))
     from explorer.lpv.settings import Settings
     from explorer.ui.app import App
-    from explorer.ui.window_options import WindowOptions
     from explorer.ui.state import AppState
+    from explorer.ui.window_options import WindowOptions
 
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
     tiny = Settings(grid_size=8, iterations=2, rsm_size=32, width=160, height=120)

@@ -16,8 +16,7 @@ from pathlib import Path
 import pytest
 
 from explorer.cli import main
-from explorer.lessons import LessonError, load_lesson
-from explorer.lessons import guide
+from explorer.lessons import LessonError, guide, load_lesson
 from explorer.lessons.folder import load_course
 from explorer.lessons.reader import format_keys
 from explorer.lessons.where import line_of

@@ -5,12 +5,13 @@ names exists, and no step shows raw LaTeX, a stray ``$`` or a glyph the fonts la
 from __future__ import annotations
 
 import re
+
 import numpy as np
 import pytest
 
-from explorer.lessons import text as lt
-from explorer.lessons import live_values as lv
 from explorer.lessons import COMPARE_VIEWS, load_all, preview_settings
+from explorer.lessons import live_values as lv
+from explorer.lessons import text as lt
 from explorer.lpv.settings import PLOTS, PRESETS, VIEWS, Settings
 from explorer.truth.mitsuba_render import mitsuba_available
 
@@ -339,7 +340,6 @@ def test_every_derivation_result_has_a_left_hand_side():
 
     registry = pytest.importorskip("derivations.registry")
     from derivations.symbols import SYMBOLS
-
     from explorer.ui import fonts
 
     assert set(SYMBOLS) <= set(registry.names())

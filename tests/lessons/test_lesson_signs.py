@@ -12,9 +12,9 @@ import pytest
 
 from explorer.lessons import load_all
 from explorer.lpv import constants as K
-from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.settings import Corrections
+from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.vpl import VplArrays
 
 UP = np.array([0.0, 1.0, 0.0])

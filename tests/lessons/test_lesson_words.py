@@ -8,8 +8,7 @@ import re
 
 import pytest
 
-from explorer.lessons import load_all
-from explorer.lessons import words
+from explorer.lessons import load_all, words
 from explorer.lessons.words import FIELDS, learner_texts, word_problems
 
 

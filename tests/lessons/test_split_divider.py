@@ -4,7 +4,6 @@ draws it, stays clear of the divider at two aspect ratios of the view."""
 
 from __future__ import annotations
 
-
 from explorer.lessons import load_all, preview_settings
 
 CLEARANCE = 0.04

@@ -17,8 +17,6 @@ from gather_cases import (
 from lpv_cases import relative_error
 
 from explorer.cli import main as cli_main
-from explorer.lpv.twin import light_grid as twin
-from explorer.lpv.passes.gather import GatherInputs
 from explorer.lpv.cascades import (
     CASCADE_BAND_CELLS,
     CASCADE_EDGE_CELLS,
@@ -30,11 +28,13 @@ from explorer.lpv.cascades import (
     own_weight,
 )
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes.gather import GatherInputs
 from explorer.lpv.passes.light_records import ShadowMaps
 from explorer.lpv.passes.rsm import read_texture
 from explorer.lpv.passes.textures import LpvGrid
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
+from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.views import CASCADE_COLOURS
 from explorer.lpv.vpl import VplArrays
 

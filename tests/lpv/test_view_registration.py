@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.passes.rsm import read_texture
+from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
 from explorer.lpv.surface_edges import EDGE_FLAG, EDGE_SHADE, surface_edges
 from explorer.truth.gbuffer import scene_for

@@ -19,7 +19,7 @@ def scene():
     return load_scene("atrium")
 
 
-def solid(part) -> "object":
+def solid(part) -> object:
     """A trimesh of a ``(tris, normals)`` part with its coincident corners merged."""
     trimesh = pytest.importorskip("trimesh")
     tris = np.asarray(part[0], np.float64)

@@ -174,8 +174,9 @@ def test_render_fly_through_renders_the_frame_at_the_path_parameter(tmp_path, ca
                  "--rsm-size", "32", "--grid", "8", "--iterations", "2", "--out",
                  str(out)]) == 0
     assert out.is_file()
-    from explorer.commands.render import add_arguments, animated
     import argparse
+
+    from explorer.commands.render import add_arguments, animated
 
     parser = argparse.ArgumentParser()
     add_arguments(parser)

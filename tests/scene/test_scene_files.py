@@ -8,12 +8,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from lpv_cases import run_frame
 
 from explorer.cli import main
 from explorer.lpv.settings import Settings
 from explorer.scene import PointLight, SceneError, SpotLight, load_scene
 from explorer.scene.placement import light_inside
-from lpv_cases import run_frame
 
 ROOM = (4.0, 2.0, 3.0)
 SMALL = {"width": 48, "height": 36, "grid_size": 8, "rsm_size": 64, "iterations": 4}

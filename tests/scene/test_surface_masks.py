@@ -15,8 +15,7 @@ from explorer.cli import build_parser
 from explorer.scene import BUILTIN_SCENES, load_scene
 from explorer.scene.parts import surface_names
 from explorer.truth.gbuffer import render_gbuffer
-from explorer.truth.surface_masks import (check_surface_names, render_triangle_ids,
-                                          surface_masks)
+from explorer.truth.surface_masks import check_surface_names, render_triangle_ids, surface_masks
 
 CORNELL_SURFACES = ("floor", "ceiling", "back wall", "left wall", "right wall",
                     "short block", "tall block")

@@ -11,11 +11,10 @@ import time
 from pathlib import Path
 
 import pytest
-
-from explorer.lessons import find_lesson, load_all
-
 from browser_cases import start_chromium
 from sitebuild import BUILT, LESSONS, ROOT, SIZE
+
+from explorer.lessons import find_lesson, load_all
 
 
 @pytest.fixture(scope="session")

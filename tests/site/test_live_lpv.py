@@ -39,9 +39,9 @@ import pytest
 from browser_cases import start_chromium
 from lpv_cases import random_vpls
 
-from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.corrections import CORRECTIONS, PRESETS, Corrections
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.twin import light_grid as twin
 from explorer.lpv.vpl import VplArrays
 
 ROOT = Path(__file__).resolve().parents[2]

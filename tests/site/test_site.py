@@ -17,13 +17,11 @@ import time
 from pathlib import Path
 
 import pytest
+from sitebuild import LESSONS, ROOT, SIZE
 
-from explorer.lessons import live_values
-from explorer.lessons import load_all
+from explorer.lessons import live_values, load_all
 from explorer.site.build import PLOT_OF_PANEL
 from explorer.site.controls import reader_text
-
-from sitebuild import LESSONS, ROOT, SIZE
 
 WIDTHS = (375, 1280)
 SCREENSHOTS = Path(os.environ.get("LPV_SITE_SCREENSHOTS", "")) if os.environ.get(

@@ -14,10 +14,10 @@ from explorer.scene.lights import PointLight, SpotLight, spot_falloff
 from explorer.truth.gbuffer import scene_for
 from explorer.truth.mitsuba_scene import (
     ExportError,
-    view_frame,
     export_scene,
     mesh_ply,
     spot_falloff_texture,
+    view_frame,
 )
 
 

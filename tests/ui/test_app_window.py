@@ -13,12 +13,12 @@ import types
 
 import numpy as np
 import pytest
+from window_cases import display_problem
 
 import explorer.gl.window as window_module
 from explorer.gl.context import GLUnavailableError
 from explorer.lpv.settings import PRESETS, Settings
 from explorer.ui.state import AppState
-from window_cases import display_problem
 
 SMALL = dict(width=800, height=600, visible=False, vsync=False)
 TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192)

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from window_cases import display_problem
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -10,8 +10,8 @@ import json
 from pathlib import Path
 
 import pytest
-
 from window_cases import display_problem, run_child
+
 _PROBLEM = display_problem()
 pytestmark = pytest.mark.skipif(_PROBLEM is not None, reason=str(_PROBLEM))
 

@@ -5,7 +5,6 @@ real window under Xvfb, nothing it submits reaches past the column's right edge.
 from __future__ import annotations
 
 import pytest
-
 from figure_cases import figure_window
 from window_cases import display_problem
 

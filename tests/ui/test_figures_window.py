@@ -12,10 +12,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from figure_cases import figure_window
+from window_cases import display_problem
 
 from explorer.ui.figures import FIGURES, make_figure
-from window_cases import display_problem
-from figure_cases import figure_window
 
 ROOT = Path(__file__).resolve().parents[2]
 

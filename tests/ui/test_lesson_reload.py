@@ -7,7 +7,6 @@ writes, in a folder listed beside the shipped course."""
 from __future__ import annotations
 
 import pytest
-
 from window_cases import display_problem, run_child
 
 _PROBLEM = display_problem()

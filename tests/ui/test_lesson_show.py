@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from explorer.lessons import LessonError, load_all, load_lesson
-from explorer.schema import specs
 from explorer.lpv.settings import Settings
 from explorer.overlay_params import READER_FIELDS, OverlayState, check_show
+from explorer.schema import specs
 
 
 @pytest.fixture(scope="module")
@@ -127,7 +127,6 @@ def test_a_picked_cell_with_glyphs_around_it_is_allowed(tmp_path):
 
 def test_applying_a_step_sets_its_overlays_and_leaving_restores_them(shipped):
     from explorer.ui.lesson_panel import LessonSession, Screen, current_screen, show_screen
-
     from explorer.ui.state import AppState
 
     state = AppState(settings=Settings(width=320, height=240),

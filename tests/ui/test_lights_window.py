@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from window_cases import display_problem
 
 from explorer.lpv.settings import Settings
 from explorer.scene import ObjectTransform, load_scene
 from explorer.scene.animation import camera_at, pose_changes
 from explorer.ui.animation import MAX_STEP_S, animation_of, tick
 from explorer.ui.state import AppState
-from window_cases import display_problem
 
 TINY = Settings(grid_size=16, iterations=4, rsm_size=64, width=256, height=192)
 

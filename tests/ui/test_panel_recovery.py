@@ -6,7 +6,6 @@ article's child, then imgui asserted and the window died)."""
 from __future__ import annotations
 
 import pytest
-
 from window_cases import display_problem, run_child
 
 _SCRIPT = r"""

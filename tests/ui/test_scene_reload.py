@@ -7,13 +7,13 @@ from __future__ import annotations
 import os
 
 import numpy as np
+from test_controller import _settle
 
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
 from explorer.ui.controller import PipelineController
-from explorer.ui.state import AppState
 from explorer.ui.scene_watch import SceneWatch
-from test_controller import _settle
+from explorer.ui.state import AppState
 
 SCENE = """builtin = "cornell"
 

@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from window_cases import display_problem
 
 from explorer.lpv.settings import Settings
 from explorer.scene import load_scene
 from explorer.ui.state import AppState
-from window_cases import display_problem
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "textured-room" / "scene.toml"
@@ -25,8 +25,8 @@ def test_the_window_opens_a_scene_file_and_saves_what_it_shows(tmp_path, monkeyp
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "config"))
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     from explorer.ui.app import App
-    from explorer.ui.window_options import WindowOptions
     from explorer.ui.scene_save import save_current_scene
+    from explorer.ui.window_options import WindowOptions
 
     state = AppState(settings=TINY.with_changes(scene=str(EXAMPLE)))
     app = App(state, WindowOptions(width=900, height=640, visible=False, vsync=False,

@@ -4,9 +4,9 @@ the user gave it (issue #25 item 6)."""
 from __future__ import annotations
 
 import pytest
+from window_cases import display_problem, run_child
 
 from explorer.ui.state import MIN_WINDOW_SIZE, WINDOW_FRAME_PX, fit_work_area
-from window_cases import display_problem, run_child
 
 
 def test_a_window_larger_than_the_work_area_shrinks_to_fit_it_centred():

@@ -14,7 +14,6 @@ import time
 from pathlib import Path
 
 import pytest
-
 from window_cases import display_problem
 
 ROOT = Path(__file__).resolve().parents[2]

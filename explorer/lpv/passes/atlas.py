@@ -53,7 +53,7 @@ class AtlasLayout:
     """Tiles per column."""
 
     @classmethod
-    def fit(cls, count: int, tile: tuple[int, int], largest: int = 0) -> "AtlasLayout":
+    def fit(cls, count: int, tile: tuple[int, int], largest: int = 0) -> AtlasLayout:
         """The layout of ``count`` tiles within ``largest`` texels per side (0: no limit,
         one column); a ValueError when they do not fit."""
         width, height = (int(v) for v in tile)

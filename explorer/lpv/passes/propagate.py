@@ -99,7 +99,7 @@ class PropagatePass:
     def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
               iterations: int, geometry: GeometryVolume | None = None,
               keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
-              neighbours: int = 6) -> "PropagationRun":
+              neighbours: int = 6) -> PropagationRun:
         """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
         propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
         (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.

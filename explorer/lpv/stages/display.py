@@ -30,7 +30,7 @@ class Params:
     """Compose the fog (the ``fog`` stage's targets) over the surfaces."""
 
     @classmethod
-    def of(cls, settings) -> "Params":
+    def of(cls, settings) -> Params:
         return cls(float(settings.exposure), bool(settings.indirect_only), settings.tone_map,
                    bool(settings.auto_exposure), bool(settings.fog))
 

@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING
 
 from explorer.gl.gpu_sync import DeferredRead, GpuWait
 from explorer.lpv import guards
+from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.stage_list import StageDecl
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job

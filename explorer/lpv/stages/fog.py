@@ -8,13 +8,13 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv import guards
 from explorer.lpv.passes.fog import TARGETS, FogImages, FogPass, Medium
 from explorer.lpv.passes.gather import bands
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:

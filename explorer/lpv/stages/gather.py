@@ -11,6 +11,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv import guards
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.passes.gather import (
@@ -24,7 +25,6 @@ from explorer.lpv.passes.gather import (
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:

@@ -7,13 +7,13 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv import guards
 from explorer.lpv.frame_state import GBufferImages
 from explorer.lpv.passes.gbuffer import TARGETS, GBufferPass
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:

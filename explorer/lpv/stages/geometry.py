@@ -33,7 +33,7 @@ class Params:
     """The G-buffer's height: a camera surfel's pixel area."""
 
     @classmethod
-    def of(cls, settings) -> "Params":
+    def of(cls, settings) -> Params:
         return cls(settings.corrections, settings.geometry_volume, settings.grid_format,
                    bool(settings.uses_camera_occluders), int(settings.height))
 

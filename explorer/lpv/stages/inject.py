@@ -31,7 +31,7 @@ class Params:
     sh_order: int
 
     @classmethod
-    def of(cls, settings) -> "Params":
+    def of(cls, settings) -> Params:
         return cls(settings.corrections, settings.injection_mode,
                    float(settings.injection_offset_cells), settings.grid_format,
                    int(settings.sh_order))

@@ -14,9 +14,9 @@ from explorer.lpv.cascades import cascade_iterations, level_pass_name
 from explorer.lpv.corrections import Corrections
 from explorer.lpv.limits import audit_fits, audit_skipped_warning
 from explorer.lpv.passes.propagate import slabs
+from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.work_units import countdown
 
 if TYPE_CHECKING:
@@ -34,7 +34,7 @@ class Params:
     neighbours: int
 
     @classmethod
-    def of(cls, settings, cascades: int) -> "Params":
+    def of(cls, settings, cascades: int) -> Params:
         return cls(settings.corrections,
                    tuple(cascade_iterations(settings, k) for k in range(cascades)),
                    int(settings.bounces), int(settings.neighbours))

@@ -12,9 +12,9 @@ from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv import guards
 from explorer.lpv.light_views import LightViews
 from explorer.lpv.limits import check_memory
+from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.work_units import read_back_later
 
 if TYPE_CHECKING:

@@ -55,7 +55,7 @@ class LightMap:
     normal: np.ndarray
 
     @classmethod
-    def of(cls, light, position: np.ndarray, normal: np.ndarray) -> "LightMap":
+    def of(cls, light, position: np.ndarray, normal: np.ndarray) -> LightMap:
         """From a :class:`~explorer.lpv.passes.rsm.LightView` and the frame's RSM arrays."""
         return cls(np.asarray(light.view, np.float64), np.asarray(light.projection, np.float64),
                    bool(light.orthographic), float(light.texel_world_size),
@@ -80,7 +80,7 @@ class ViewLight:
     colour: np.ndarray
 
     @classmethod
-    def of(cls, view) -> "ViewLight":
+    def of(cls, view) -> ViewLight:
         """From a :class:`~explorer.lpv.passes.rsm.LightView`."""
         return cls(str(view.kind), np.asarray(view.position, np.float64),
                    np.asarray(view.direction, np.float64), float(view.intensity),
@@ -170,7 +170,7 @@ def camera_pixel_area(fov_y_degrees: float, height: int) -> float:
 
 
 def camera_surfels(position: np.ndarray, normal: np.ndarray, albedo: np.ndarray, camera,
-                   views: Sequence[tuple["ViewLight", LightMap]]) -> VplArrays:
+                   views: Sequence[tuple[ViewLight, LightMap]]) -> VplArrays:
     """The G-buffer pixels that become occluder surfels: every pixel that shows a surface
     no RSM view of ``views`` reaches (each view's shadow test with the bias (√2/2)·tan θ
     texels, θ the angle between the normal and that view's light ray, tan θ ≤ 10). Each

@@ -8,6 +8,7 @@ tables; ``python -m explorer.ui.figures KIND --param value --screenshot out.png`
 one alone (:mod:`explorer.ui.figures.harness`).
 """
 
+from explorer.figure_params import FigureParamError, ParamInfo
 from explorer.ui.figures.host import FigureContext
 from explorer.ui.figures.registry import (
     FIGURES,
@@ -19,7 +20,6 @@ from explorer.ui.figures.registry import (
     make_figure,
     parse_figure,
 )
-from explorer.figure_params import FigureParamError, ParamInfo
 
 __all__ = ["FIGURES", "FigureContext", "FigureKind", "FigureParamError", "FigureSpec",
            "ParamInfo", "declared_readouts", "draw_figure", "figure_kind", "make_figure",

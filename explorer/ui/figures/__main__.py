@@ -13,8 +13,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from explorer.ui.figures.registry import FIGURES, USES_RESULTS, FigureKind, parse_figure
 from explorer.figure_params import FigureParamError, ParamInfo
+from explorer.ui.figures.registry import FIGURES, USES_RESULTS, FigureKind, parse_figure
 
 PROG = "python -m explorer.ui.figures"
 

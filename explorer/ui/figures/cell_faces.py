@@ -14,15 +14,15 @@ Cells have side 2 with the source centred at the origin, as in the derivation.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 from imgui_bundle import imgui, implot3d
 
-from explorer.lpv import constants as K
-from explorer.ui.figures import style
 from explorer.figure_params import DIRECTIONS
 from explorer.figure_params import CellFacesParams as Params
+from explorer.lpv import constants as K
+from explorer.ui.figures import style
 
 _AXIS_NAMES = "xyz"
 _QUADRATURE_NODES = 24
@@ -40,7 +40,7 @@ class State:
     highlighted: int          # index into neighbour_faces(), −1 for none
 
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls({"none": -1, "front": 0, "side": 1}[params.highlight])
 
 
@@ -97,7 +97,7 @@ def neighbour_faces(direction: str) -> list[Face]:
     return faces
 
 
-@lru_cache(maxsize=None)
+@cache
 def face_solid_angle_numeric(face: Face) -> float:
     """∫ cos θ / r² dA over the face seen from the origin (Gauss–Legendre; the integrand
     |plane| / r³ is smooth on the face, so 24² nodes reach double precision). Kept per

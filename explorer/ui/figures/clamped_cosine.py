@@ -38,7 +38,7 @@ class State:
     reader (or a click test) grabs it."""
 
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls(params.normal_deg, params.probe_deg)
 
 

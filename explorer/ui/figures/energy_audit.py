@@ -12,7 +12,7 @@ injected flux instead of watts. The Plots panel draws the same plot
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from imgui_bundle import imgui, implot

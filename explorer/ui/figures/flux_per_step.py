@@ -9,7 +9,7 @@ propagation stepper draw the same plot (:func:`draw_flux_plot`).
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from imgui_bundle import imgui, implot
@@ -74,7 +74,7 @@ def draw_flux_plot(plot_id: str, series: Sequence[Series], size: imgui.ImVec2, s
     if mark is not None:
         implot.plot_inf_lines("##t", np.array([float(mark)]),
                               style.line_spec(style.HANDLE, 1.5))
-        for s, values in zip(series, shown):
+        for _series, values in zip(series, shown):
             if 0 <= mark < len(values):
                 implot.plot_scatter("##mark", np.array([float(mark)]),
                                     np.array([values[mark]]),
@@ -110,7 +110,7 @@ def summary(results: Sequence) -> list[str]:
 def readouts(params: Params, state: State, context) -> dict[str, float]:
     values: dict[str, float] = {}
     results = chosen_results(params, context)
-    for s, result in zip(flux_series(results), results):
+    for s, _result in zip(flux_series(results), results):
         side = s.label[0].lower()
         values[f"{side}_injected"] = s.reference
         values[f"{side}_last"] = float(s.values[-1])

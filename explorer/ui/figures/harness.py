@@ -51,7 +51,7 @@ class FigureWindow:
         ``rect``'s left edge + the width asked for, the figure overflows its column."""
         self.last_pixels: np.ndarray | None = None
 
-    def __enter__(self) -> "FigureWindow":
+    def __enter__(self) -> FigureWindow:
         return self
 
     def __exit__(self, *exc) -> None:

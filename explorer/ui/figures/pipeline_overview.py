@@ -24,7 +24,7 @@ class State:
     highlight: str
 
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls(params.highlight)
 
 

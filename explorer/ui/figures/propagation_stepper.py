@@ -46,7 +46,7 @@ class State:
     clock: float = 0.0
 
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls(params.step, params.play, params.scale, params.glyph)
 
 

@@ -15,10 +15,10 @@ at a given width, keeping its interactive state in a :class:`FigureContext`.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping
+from typing import Any
 
-from explorer.ui.figures.host import FigureContext
 from explorer.figure_params import (  # noqa: F401  (re-exported for the window)
     FIGURE_KINDS,
     FIGURE_PARAMS,
@@ -31,6 +31,8 @@ from explorer.figure_params import (  # noqa: F401  (re-exported for the window)
     parse_figure,
     schema,
 )
+from explorer.ui.figures.host import FigureContext
+
 
 @dataclass(frozen=True)
 class FigureKind:

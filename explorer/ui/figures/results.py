@@ -3,16 +3,16 @@ state, which FrameResults they plot, and the legend labels of those results."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 from imgui_bundle import imgui
 
-from explorer.ui import legend
-from explorer.ui.figures import plotting, style
 from explorer.figure_params import SIDES  # noqa: F401  (re-export)
 from explorer.figure_params import ResultsParams as Params
+from explorer.ui import legend
+from explorer.ui.figures import plotting, style
 
 
 @dataclass
@@ -21,7 +21,7 @@ class State:
     relative: bool
 
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls(params.scale, params.relative)
 
 

@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from imgui_bundle import imgui, implot
 
-from explorer.ui.figures import plotting, style
 from explorer.figure_params import MAX_TILT
 from explorer.figure_params import RsmTexelParams as Params
+from explorer.ui.figures import plotting, style
 
 TEXEL = 0.5                  # texel edge in the side view (world units)
 _LIGHT_HEIGHT = 1.5
@@ -40,7 +40,7 @@ class State:
     """Handle name ("tilt") -> its screen position (pixels) as last drawn."""
 
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls(params.theta_deg)
 
 

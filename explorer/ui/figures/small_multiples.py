@@ -31,7 +31,7 @@ SOURCE_FLUX = 1.0          # watts per colour channel of the one VPL
 @dataclass
 class State:
     @classmethod
-    def from_params(cls, params: Params) -> "State":
+    def from_params(cls, params: Params) -> State:
         return cls()
 
 

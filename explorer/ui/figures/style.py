@@ -7,7 +7,7 @@ L2 amber, anything negative red, what the reader drags yellow.
 from __future__ import annotations
 
 import math
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from imgui_bundle import imgui, implot

@@ -4,7 +4,7 @@ buffers, each with its vertex array, remade after a shader reload) and
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import moderngl
 import numpy as np

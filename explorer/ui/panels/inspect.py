@@ -6,12 +6,11 @@ uploaded to textures the UI owns."""
 from __future__ import annotations
 
 import numpy as np
-
 from imgui_bundle import imgui, implot3d
 
 from explorer.ui import glyphs, images, widgets
-from explorer.ui.widgets import scale_bar
 from explorer.ui.state import GRID_COMPONENTS, INSPECT_SOURCES, AppState
+from explorer.ui.widgets import scale_bar
 
 SOURCE_LABELS = {
     "rsm-position": "RSM: world position",

@@ -19,7 +19,6 @@ from explorer.ui.figures.energy_audit import audit_series, draw_audit_plot
 from explorer.ui.figures.flux_per_step import draw_flux_plot, flux_series
 from explorer.ui.state import AppState
 
-
 TABS = ("flux-per-step", "audit", "timings")
 """The plots (settings.PLOTS) this panel shows as tabs; "error" is the Error panel."""
 AUDIT_OF_TAB = {"flux-per-step": "flux", "audit": "full", "timings": "off"}

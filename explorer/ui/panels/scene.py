@@ -13,9 +13,9 @@ from collections.abc import Callable
 
 from imgui_bundle import imgui
 
-from explorer.schema import SettingError, specs
 from explorer.lpv.settings import Settings
 from explorer.scene.builtin import BUILTIN_SCENES
+from explorer.schema import SettingError, specs
 from explorer.ui import camera, widgets
 from explorer.ui.setting_widgets import draw_setting, label_of, tooltip_of
 from explorer.ui.state import AppState
