@@ -5,8 +5,10 @@ from __future__ import annotations
 
 def display_problem() -> str | None:
     try:
-        import glfw
+        # isort: off
         import imgui_bundle  # noqa: F401
+        import glfw
+        # isort: on
     except ImportError as exc:  # pragma: no cover
         return f"glfw/imgui_bundle missing: {exc}"
     import os

@@ -128,8 +128,10 @@ def check_window(report: Report) -> None:
         report.advice.append(_DISPLAY_HELP)
         return
     try:
-        import glfw
+        # isort: off
         import imgui_bundle  # noqa: F401  (points pyglfw at the GLFW it bundles)
+        import glfw
+        # isort: on
     except ImportError as exc:
         report.glfw_error = f"glfw cannot be imported: {exc}"
         report.advice.append("pip install glfw imgui-bundle (or reinstall lpv-explorer)")

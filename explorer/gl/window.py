@@ -17,8 +17,10 @@ import time
 from collections import deque
 from pathlib import Path
 
-import glfw
+# isort: off
 import imgui_bundle  # noqa: F401  (must precede `import glfw`, see the module docstring)
+import glfw
+# isort: on
 import moderngl
 
 from explorer.gl.context import GLUnavailableError, wrap_current_context
