@@ -41,6 +41,20 @@ def random_grid(seed: int, resolution: int, band1: float = 0.5) -> np.ndarray:
     grid[..., 1:] = band1 * rng.standard_normal(grid.shape[:4] + (3,))
     return grid
 
+AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated")
+"""The propagation audit's terms a GPU run and the twin must agree on."""
+
+
+def assert_audits_match(actual, expected, tolerance: float = 1e-4) -> None:
+    """Every :data:`AUDIT_FIELDS` term of ``actual`` within ``tolerance`` of the injected
+    flux's largest channel from ``expected``'s."""
+    scale = float(np.abs(expected.injected).max())
+    for name in AUDIT_FIELDS:
+        got, want = getattr(actual, name), getattr(expected, name)
+        assert got.shape == want.shape, name
+        assert np.abs(got - want).max() <= tolerance * scale, name
+
+
 
 def relative_error(actual: np.ndarray, expected: np.ndarray) -> float:
     """max |actual − expected| relative to max |expected| (the grid's largest value)."""

@@ -7,7 +7,13 @@ from contextlib import contextmanager
 
 import numpy as np
 import pytest
-from lpv_cases import in_place_schedules, random_grid, random_vpls, relative_error
+from lpv_cases import (
+    assert_audits_match,
+    in_place_schedules,
+    random_grid,
+    random_vpls,
+    relative_error,
+)
 
 from explorer.gl.program import ProgramCache
 from explorer.lpv import inject, propagate
@@ -24,15 +30,6 @@ SWITCHES = [name for name in Corrections.names() if name not in ("ping_pong",
                                                                   "model_face_weights")]
 """The switches of the full product (model_face_weights: its own test, below)."""
 COMBINATIONS = list(itertools.product((True, False), repeat=len(SWITCHES)))
-AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated")
-
-
-def assert_audits_match(actual, expected, tolerance: float = 1e-4) -> None:
-    scale = float(np.abs(expected.injected).max())
-    for name in AUDIT_FIELDS:
-        got, want = getattr(actual, name), getattr(expected, name)
-        assert got.shape == want.shape, name
-        assert np.abs(got - want).max() <= tolerance * scale, name
 
 
 @pytest.mark.parametrize("index", range(len(COMBINATIONS)))

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from lpv_cases import random_grid, random_vpls, relative_error
+from lpv_cases import assert_audits_match, random_grid, random_vpls, relative_error
 
 from explorer.lpv import inject
 from explorer.lpv.grid import GridSpec
@@ -16,15 +16,6 @@ from explorer.lpv.twin import light_grid as twin
 
 SPEC = GridSpec(origin=(0.0, 0.0, 0.0), cell_size=0.5, resolution=7)
 ITERATIONS = 3
-AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated")
-
-
-def assert_audits_match(actual, expected, tolerance: float = 1e-4) -> None:
-    scale = float(np.abs(expected.injected).max())
-    for name in AUDIT_FIELDS:
-        got, want = getattr(actual, name), getattr(expected, name)
-        assert got.shape == want.shape, name
-        assert np.abs(got - want).max() <= tolerance * scale, name
 
 
 @pytest.mark.parametrize("sh_order, geometry_mode, clamp",
