@@ -14,6 +14,7 @@ the spot cone, ``--size``) apply as in ``render``.
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import fields
 from pathlib import Path
 
@@ -61,9 +62,16 @@ def main(args: argparse.Namespace) -> int:
             outputs.write(path, lambda p, data=data: p.write_bytes(data))
         for name in earlier - set(exported.files):
             outputs.remove(folder / name)
+    for warning in exported.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
     print(f"wrote {out} and {len(exported.files)} file(s) in {folder}/ "
           f"({base.width}×{base.height} px, {scene.triangle_count} triangles, "
           f"{len(scene.lights)} light(s))")
+    if exported.integrator != "path":
+        print(f"one-sided surfaces: render with python {folder}/lpv_one_sided.py {out} "
+              f"(it registers their plugin; stock mitsuba does not know it)"
+              if out.suffix == ".xml" else "one-sided surfaces: the script registers "
+              "their plugin from its folder")
     return 0
 
 

@@ -1,7 +1,8 @@
 """Mitsuba 3 as the independent ground truth: the exported scene (mitsuba_scene.py) rendered
 at the frame's pixels, split into the light an LPV frame is compared with.
 
-With Mitsuba's ``path`` integrator, ``max_depth`` d keeps paths of at most d − 1 bounces
+With Mitsuba's ``path`` integrator (``volpath`` for a scene with one-sided surfaces, the
+same without media), ``max_depth`` d keeps paths of at most d − 1 bounces
 off surfaces (point-like and directional lights are never seen directly), so
 
 * direct light                 = render(max_depth 2),
@@ -32,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from explorer.truth import mitsuba_one_sided
 from explorer.truth.metrics import relative_l2
 from explorer.truth.mitsuba_scene import export_scene
 
@@ -158,16 +160,28 @@ def depths_for(parts: tuple[str, ...]) -> list[int]:
         [MULTI_BOUNCE_DEPTH] if "multi-bounce" in parts else [])
 
 
+def scene_integrator(path: Path) -> str:
+    """The integrator an exported XML scene names (``path``, or ``volpath`` for one with
+    one-sided surfaces: explorer/truth/mitsuba_one_sided.py)."""
+    import xml.etree.ElementTree as ElementTree
+
+    node = ElementTree.parse(path).getroot().find("integrator")
+    return "path" if node is None else node.get("type", "path")
+
+
 def render_file(mi, path: Path, spp: int, depths: list[int], progress=None
                 ) -> dict[tuple[int, int], np.ndarray]:
-    """Render the exported scene file ``path`` once per depth and seed: ``(depth, seed)``
-    -> (H, W, 3) float64. ``progress(done, total)`` after each render."""
+    """Render the exported scene file ``path`` once per depth and seed, with the
+    integrator it names: ``(depth, seed)`` -> (H, W, 3) float64. ``progress(done,
+    total)`` after each render."""
+    mitsuba_one_sided.register(mi)
+    kind = scene_integrator(path)
     scene = mi.load_file(str(path))
     renders = {}
     total = len(depths) * len(SEEDS)
     for seed in SEEDS:
         for depth in depths:
-            integrator = mi.load_dict({"type": "path", "max_depth": int(depth)})
+            integrator = mi.load_dict({"type": kind, "max_depth": int(depth)})
             image = mi.render(scene, integrator=integrator, spp=int(spp), seed=int(seed))
             renders[depth, seed] = np.asarray(image, np.float64)[..., :3]
             if progress is not None:

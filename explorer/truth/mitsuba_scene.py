@@ -8,8 +8,11 @@ What is exported, and how each explorer quantity maps onto a stock Mitsuba plugi
   vertex colour, read by a ``diffuse`` BSDF through a ``mesh_attribute`` texture; a
   textured group's texture times its albedo factor is a ``bitmap`` at the corners' uv;
   ``twosided`` unless the group is one-sided (the explorer's two-sided surfaces turn the
-  normal towards the viewer and the light). How the albedo reaches the BSDF is
-  :func:`surface_bsdf`'s one job;
+  normal towards the viewer and the light); a one-sided group's diffuse is the ``front``
+  of ``lpv_one_sided`` (explorer/truth/mitsuba_one_sided.py, copied beside the scene),
+  absent for a view from behind as in the explorer, and the scene then renders with
+  ``volpath``, the integrator that lets shadow rays through it. How the albedo reaches
+  the BSDF is :func:`surface_bsdf`'s one job;
 * a spot light (intensity ``Φ_L/(4π)·colour·f(θ)``, docs/MODEL.md "Spot cone"): a ``spot``
   with ``cutoff_angle = beam_width`` (Mitsuba's own falloff, linear in the angle, is then
   a step at the cutoff) and the explorer's ``f`` as a projected float texture
@@ -35,8 +38,12 @@ from pathlib import Path
 import numpy as np
 
 from explorer.scene.lights import DirectionalLight, PointLight, SpotLight, spot_falloff
+from explorer.truth import mitsuba_one_sided
 
 MESH_FILE = "scene.ply"
+ONE_SIDED_PLUGIN_FILE = "lpv_one_sided.py"
+"""The one-sided BSDF's plugin (explorer/truth/mitsuba_one_sided.py) as copied into the
+companion folder of a scene that needs it."""
 FALLOFF_TEXELS = 512
 """Edge of a spot's falloff texture: the smoothstep varies over hundreds of texels, so
 bilinear lookup reproduces it to about 1e-5 (tests/truth/test_mitsuba_export.py)."""
@@ -73,6 +80,12 @@ class MitsubaScene:
     files: dict[str, bytes] = field(default_factory=dict)
     width: int = 0
     height: int = 0
+    integrator: str = "path"
+    """Mitsuba's integrator for the scene: ``path``, or ``volpath`` when a one-sided
+    surface must let shadow rays through (:mod:`explorer.truth.mitsuba_one_sided`)."""
+    warnings: tuple[str, ...] = ()
+    """What of the scene Mitsuba renders differently from the explorer (one line each,
+    naming the mesh); the export command prints them."""
 
     def contents(self, path: Path) -> dict[Path, bytes]:
         """Every file of the scene written as ``path`` (``.xml`` or ``.py``): the scene
@@ -85,7 +98,8 @@ class MitsubaScene:
                               f"{path.name!r}")
         folder = companion_folder(path)
         placed = replace(self, plugins=_placed(self.plugins, folder.name))
-        text = to_xml(placed) if path.suffix == ".xml" else to_python(placed)
+        text = to_xml(placed, folder.name, path.name) if path.suffix == ".xml" else \
+            to_python(placed, folder.name)
         listing = "".join(f"{name}\n" for name in self.files)
         return {path: text.encode("utf-8"),
                 **{folder / name: data for name, data in self.files.items()},
@@ -119,7 +133,9 @@ def export_scene(scene, width: int, height: int) -> MitsubaScene:
         raise ExportError(f"the image needs at least one pixel, got {width}×{height}")
     files: dict[str, bytes] = {}
     plugins: dict[str, dict] = {"camera": camera_sensor(scene.camera, width, height)}
-    for key, corners in surface_groups(scene).items():
+    warnings: tuple[str, ...] = ()
+    groups = surface_groups(scene)
+    for key, corners in groups.items():
         texture, one_sided = key
         name = MESH_FILE if key == (-1, False) else \
             f"scene-t{texture}{'-one-sided' if one_sided else ''}.ply"
@@ -129,6 +145,11 @@ def export_scene(scene, width: int, height: int) -> MitsubaScene:
             files[texture_file[0]] = texture_file[1]
         plugins[f"surfaces-{len(plugins)}"] = {"type": "ply", "filename": Path(name),
                                                "bsdf": bsdf}
+        warnings += _approximations(scene, texture, corners, name)
+    integrator = "path"
+    if any(one_sided for _, one_sided in groups):
+        files[ONE_SIDED_PLUGIN_FILE] = Path(mitsuba_one_sided.__file__).read_bytes()
+        integrator = mitsuba_one_sided.INTEGRATOR
     for index, light in enumerate(scene.lights):
         emitter, texture = light_emitter(light, scene.bounds_min, scene.bounds_max)
         if texture is not None:
@@ -137,7 +158,17 @@ def export_scene(scene, width: int, height: int) -> MitsubaScene:
             emitter["texture"] = {"type": "bitmap", "filename": Path(name), "raw": True,
                                   "filter_type": "bilinear", "wrap_mode": "clamp"}
         plugins[f"light-{index}"] = emitter
-    return MitsubaScene(plugins, files, width, height)
+    return MitsubaScene(plugins, files, width, height, integrator, warnings)
+
+
+def _approximations(scene, texture: int, corners: np.ndarray, mesh: str) -> tuple[str, ...]:
+    """The warning of a group the export cannot render as the explorer does: a textured
+    group whose corners carry several albedo factors gets the texture sampled at its
+    corners (Mitsuba reads one factor per bitmap), not per pixel."""
+    if texture < 0 or len(np.unique(np.asarray(scene.albedo)[corners], axis=0)) == 1:
+        return ()
+    return (f"{mesh}: texture {texture} under several material colours is exported "
+            f"sampled at the triangles' corners, not per pixel as the explorer draws it",)
 
 
 def surface_groups(scene) -> dict[tuple[int, bool], np.ndarray]:
@@ -157,10 +188,9 @@ def surface_bsdf(scene, texture: int, one_sided: bool, corners: np.ndarray
     colour), or, for a textured group whose corners share one albedo factor, the texture
     times that factor as a bitmap at the corners' uv (per pixel, bilinear, repeating, as
     the explorer samples it; a group with several factors gets the texture sampled at its
-    corners, ``Scene.corner_albedo``). Two-sided unless the group is one-sided; Mitsuba
-    then draws the back black and opaque where the explorer leaves it out (an
-    approximation for light that passes a one-sided surface from behind). The one place
-    that says where the albedo comes from."""
+    corners, ``Scene.corner_albedo``). Two-sided unless the group is one-sided: then the
+    diffuse is the front of ``lpv_one_sided``, absent from behind for the camera and the
+    lights as in the explorer. The one place that says where the albedo comes from."""
     reflectance: dict = {"type": "mesh_attribute", "name": "vertex_color"}
     texture_file = None
     if texture >= 0:
@@ -173,7 +203,7 @@ def surface_bsdf(scene, texture: int, one_sided: bool, corners: np.ndarray
                            "filter_type": "bilinear", "wrap_mode": "repeat"}
     diffuse = {"type": "diffuse", "reflectance": reflectance}
     if one_sided:
-        return diffuse, texture_file
+        return {"type": mitsuba_one_sided.PLUGIN, "front": diffuse}, texture_file
     return {"type": "twosided", "material": diffuse}, texture_file
 
 
@@ -315,7 +345,8 @@ def _xml_value(name: str, value, indent: str) -> list[str]:
 _XML_TAGS = {"perspective": "sensor", "hdrfilm": "film", "box": "rfilter", "ply": "shape",
              "twosided": "bsdf", "diffuse": "bsdf", "mesh_attribute": "texture",
              "bitmap": "texture", "point": "emitter", "spot": "emitter",
-             "directional": "emitter", "path": "integrator", "independent": "sampler"}
+             "directional": "emitter", "path": "integrator", "volpath": "integrator",
+             "independent": "sampler", mitsuba_one_sided.PLUGIN: "bsdf"}
 
 
 def _xml_plugin(plugin: dict, indent: str, name: str | None = None) -> list[str]:
@@ -328,11 +359,16 @@ def _xml_plugin(plugin: dict, indent: str, name: str | None = None) -> list[str]
     return lines + [f"{indent}</{tag}>"]
 
 
-def to_xml(scene: MitsubaScene) -> str:
-    """The scene as Mitsuba 3 XML (``mitsuba -m scalar_rgb scene.xml`` renders it with
-    the default path tracer, all bounces)."""
-    lines = ['<scene version="3.0.0">',
-             '    <integrator type="path"><integer name="max_depth" value="-1"/></integrator>']
+def to_xml(scene: MitsubaScene, folder: str = ".", name: str = "scene.xml") -> str:
+    """The scene as Mitsuba 3 XML (``mitsuba -m scalar_rgb scene.xml`` renders it, all
+    bounces; a scene with one-sided surfaces names a plugin that ``python
+    folder/lpv_one_sided.py name`` registers before it renders)."""
+    lines = ['<scene version="3.0.0">']
+    if scene.integrator != "path":
+        lines.append(f"    <!-- one-sided surfaces: render with python "
+                     f"{folder}/{ONE_SIDED_PLUGIN_FILE} {name} [OUT.exr [SPP]] -->")
+    lines.append(f'    <integrator type="{scene.integrator}"><integer name="max_depth" '
+                 f'value="-1"/></integrator>')
     for plugin in scene.plugins.values():
         lines += _xml_plugin(plugin, "    ")
     return "\n".join(lines + ["</scene>", ""])
@@ -356,11 +392,15 @@ def _py_value(value, indent: str) -> str:
     return repr(value)
 
 
-def to_python(scene: MitsubaScene) -> str:
+def to_python(scene: MitsubaScene, folder: str = "") -> str:
     """The scene as a Python script: ``python scene.py [OUT.exr [SPP]]`` loads it with
-    ``mi.load_dict`` and renders all bounces."""
+    ``mi.load_dict`` and renders all bounces (registering the one-sided plugin from the
+    companion ``folder`` when the scene needs it)."""
     body = ",\n".join(f"    {name!r}: {_py_value(plugin, '    ')}"
                       for name, plugin in scene.plugins.items())
+    plugin = "" if scene.integrator == "path" else (
+        f"sys.path.insert(0, str(HERE / {folder!r}))\n"
+        f"import lpv_one_sided  # noqa: E402\n\nlpv_one_sided.register(mi)\n")
     return f'''"""A scene exported by lpv-explorer export-mitsuba (Mitsuba 3)."""
 import sys
 from pathlib import Path
@@ -369,9 +409,9 @@ import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
 HERE = Path(__file__).resolve().parent
-SCENE = {{
+{plugin}SCENE = {{
     "type": "scene",
-    "integrator": {{"type": "path", "max_depth": -1}},
+    "integrator": {{"type": {scene.integrator!r}, "max_depth": -1}},
 {body},
 }}
 

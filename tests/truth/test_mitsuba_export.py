@@ -4,6 +4,7 @@ camera frame, the XML and Python writers and the export-mitsuba command."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -154,7 +155,8 @@ def test_compare_truth_without_mitsuba_is_one_line(tmp_path, capsys, monkeypatch
 
 def test_textured_and_one_sided_triangles_get_their_own_shapes():
     """A textured group: its texture times the albedo factor as a bitmap at the corners'
-    uv (v flipped for Mitsuba); a one-sided group: a plain diffuse (no twosided)."""
+    uv (v flipped for Mitsuba); a one-sided group: its diffuse the front of
+    ``lpv_one_sided``, rendered with ``volpath``, the plugin file beside the scene."""
     import dataclasses
 
     base = scene_for(Settings(scene="cornell"))
@@ -171,10 +173,62 @@ def test_textured_and_one_sided_triangles_get_their_own_shapes():
     shapes = {str(p["filename"]): p["bsdf"] for k, p in exported.plugins.items()
               if k.startswith("surfaces")}
     assert shapes["scene-t0.ply"]["material"]["reflectance"]["type"] == "bitmap"
-    assert shapes["scene-t-1-one-sided.ply"]["type"] == "diffuse"
+    one_sided_bsdf = shapes["scene-t-1-one-sided.ply"]
+    assert one_sided_bsdf["type"] == "lpv_one_sided"
+    assert one_sided_bsdf["front"]["type"] == "diffuse"
+    assert exported.integrator == "volpath" and "lpv_one_sided.py" in exported.files
     assert shapes["scene.ply"]["type"] == "twosided"
     header, body = exported.files["scene-t0.ply"].split(b"end_header\n", 1)
     assert b"property float u" in header
     vertices = np.frombuffer(body[:6 * 44], "<f4").reshape(6, 11)
     assert np.allclose(vertices[:, 10], 1.0 - uv[:6, 1])     # v flipped
     assert exported.files["texture-0.pfm"].startswith(b"PF\n4 4\n")
+
+
+EXAMPLE_ROOM = Path(__file__).resolve().parents[2] / "examples" / "textured-room" / "scene.toml"
+
+
+def test_a_one_sided_export_carries_its_plugin_and_says_how_to_render(tmp_path, capsys):
+    """The textured room (one-sided walls): the XML names ``volpath`` and the plugin,
+    the companion folder holds the plugin file, the command says how to render it, and
+    a scene without one-sided surfaces keeps ``path`` and no plugin."""
+    assert cli_main(["export-mitsuba", str(EXAMPLE_ROOM), str(tmp_path / "r.xml"),
+                     "--size", "16x12"]) == 0
+    out = capsys.readouterr().out
+    assert "python" in out and "r-files/lpv_one_sided.py" in out
+    xml = (tmp_path / "r.xml").read_text()
+    assert '<integrator type="volpath">' in xml and '<bsdf type="lpv_one_sided"' in xml
+    assert "python r-files/lpv_one_sided.py r.xml" in xml
+    plugin = (tmp_path / "r-files" / "lpv_one_sided.py").read_text()
+    compile(plugin, "lpv_one_sided.py", "exec")
+    assert "lpv_one_sided.py" in (tmp_path / "r-files" / ".lpv-explorer-export").read_text()
+    assert cli_main(["export-mitsuba", str(EXAMPLE_ROOM), str(tmp_path / "r.py"),
+                     "--size", "16x12"]) == 0
+    source = (tmp_path / "r.py").read_text()
+    compile(source, "r.py", "exec")
+    assert "lpv_one_sided.register(mi)" in source and "'volpath'" in source
+    assert cli_main(["export-mitsuba", "cornell", str(tmp_path / "c.xml")]) == 0
+    assert '<integrator type="path">' in (tmp_path / "c.xml").read_text()
+    assert not (tmp_path / "c-files" / "lpv_one_sided.py").exists()
+
+
+def test_several_colours_under_one_texture_is_a_warning_naming_the_mesh():
+    """A textured group whose corners carry two albedo factors is exported sampled at its
+    corners; the export says so, naming the group's file."""
+    import dataclasses
+
+    base = scene_for(Settings(scene="cornell"))
+    count = base.triangle_count
+    uv = np.tile(np.array([[0, 0], [1, 0], [1, 1]], np.float32), (count, 1))
+    triangle_texture = np.full(count, -1)
+    triangle_texture[:4] = 0                           # the floor and the ceiling
+    scene = dataclasses.replace(base, uv=uv, textures=(np.full((4, 4, 3), 0.5, np.float32),),
+                                triangle_texture=triangle_texture)
+    albedo = np.asarray(scene.albedo)
+    if len(np.unique(albedo[:12], axis=0)) < 2:
+        albedo = albedo.copy()
+        albedo[6:12] = 0.25
+        scene = dataclasses.replace(scene, albedo=albedo)
+    warnings = export_scene(scene, 8, 8).warnings
+    assert len(warnings) == 1 and warnings[0].startswith("scene-t0.ply: texture 0")
+    assert not export_scene(base, 8, 8).warnings
