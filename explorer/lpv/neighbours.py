@@ -8,6 +8,10 @@ from explorer.lpv.settings import Corrections
 NEIGHBOURS = (6, 26)
 """The propagation's neighbourhoods: the six face neighbours (five faces each) or all 26
 neighbours (their outer faces on the 3×3×3 block, ``derivations/neighbours26.py``)."""
+FACES_PER_STEP = {6: 6 * 5, 26: 6 * 9}
+"""Faces a cell's light is evaluated on per step and colour: six neighbours × five faces,
+or the 54 outer squares of the 3×3×3 block (nine on each of its six sides), each owned
+by one of the 26 neighbours (``derivations/neighbours26.py`` lists them)."""
 
 
 def check_neighbours(neighbours: int, corrections: Corrections, bounces: int = 1) -> int:

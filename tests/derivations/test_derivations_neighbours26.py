@@ -50,3 +50,13 @@ def test_evaluation_directions_point_at_the_face_centres():
     face = n26.outer_faces((-1, 1, 1))[1]
     assert face.evaluation == sp.Matrix([-2, 3, 2]) / sp.sqrt(17)
     assert face.reprojection == sp.Matrix([0, 1, 0])
+
+
+def test_the_face_count_per_step_is_the_derivations():
+    """The face evaluations the course quotes per cell and step (explorer.lpv.neighbours)
+    are the derivation's faces: 54 outer faces for 26 neighbours, 6 × 5 for six."""
+    from derivations.neighbours26 import all_faces
+    from explorer.lpv.neighbours import FACES_PER_STEP
+
+    assert FACES_PER_STEP[26] == len(all_faces()) == 54
+    assert FACES_PER_STEP[6] == 6 * 5

@@ -52,7 +52,7 @@ def _wall(n: int, x_corner: int, normal: np.ndarray) -> np.ndarray:
 def test_09_3_the_blocker_is_evaluated_against_the_evaluation_direction():
     _says("09", 3, "evaluated *against* the face's evaluation direction $e_f$, at $-e_f$",
           "a lit wall does not block the bounce it sends out along its normal")
-    _says("15", 2, "a surfel facing the camera stops light running into the face you see")
+    _says("16", 2, "a surfel facing the camera stops light running into the face you see")
     plus_x = np.array([1.0, 0.0, 0.0])
     n = 3
     source, target = (0, 1, 1), (1, 1, 1)          # the face between them: corners x = 1

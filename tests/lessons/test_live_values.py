@@ -38,7 +38,7 @@ def test_names_are_checked_and_close_matches_offered():
         lv.lookup("figure.lobe.l1_energy", figure_ids=("faces",))
     assert lv.lookup("figure.lobe.l1_energy", figure_ids=("lobe",)).measured
     # the pipeline's stage count is read with the frame but no setting changes it: its
-    # tooltip must not call it measured (lesson 14 step 4 quotes it next to stages_ran)
+    # tooltip must not call it measured (lesson 15 step 4 quotes it next to stages_ran)
     assert lv.lookup("frame.stages").constant and not lv.lookup("frame.stages").measured
     assert lv.lookup("frame.stages_ran").measured
     with pytest.raises(ValueError, match="does not apply"):
