@@ -189,26 +189,26 @@ def _provisional_while_converging(c, step, where: str) -> None:
     step's text reads from the frame is drawn marked provisional (≈)."""
     from explorer.lessons import live_values
     from explorer.lessons import text as lesson_text
-    from explorer.ui import article
+    from explorer.ui import article, article_numbers
 
     progress = c.state.runtime.frame.progress.get("A")
     if not progress:
         return
     session = c.state.lesson_session
-    env = article._page_env(c.state, session, step, article.live_context(c.state, step))
+    env = article._page_env(c.state, session, step, article_numbers.live_context(c.state, step))
     for name, fmt in lesson_text.placeholders(step.text):
-        if not article.provisional(live_values.lookup(name, step.figure_ids)):
+        if not article_numbers.provisional(live_values.lookup(name, step.figure_ids)):
             continue
         text, tip = env.value(name, fmt)
         if text != live_values.PENDING and c.state.runtime.frame.progress.get("A"):
-            c.check(text.startswith(article.PROVISIONAL) and "provisional" in tip,
+            c.check(text.startswith(article_numbers.PROVISIONAL) and "provisional" in tip,
                     f"{where}: {name} reads {text!r} while the frame is {progress}")
 
 
 # --- every try-this and its Undo ---------------------------------------------------------
 
 def run_try_this(c, lessons=None) -> None:
-    from explorer.ui.article import try_label
+    from explorer.ui.article_try import try_label
     from explorer.ui.lesson_panel import try_screen
 
     session = c.state.lesson_session
@@ -257,7 +257,7 @@ def run_try_this(c, lessons=None) -> None:
 # --- every inline figure's controls -------------------------------------------------------
 
 def _figure_state(c, spec):
-    from explorer.ui.article import figure_context
+    from explorer.ui.article_numbers import figure_context
     from explorer.ui.figures import FIGURES
 
     return figure_context(c.state).state_for(spec.instance_id, spec.kind, spec.params,

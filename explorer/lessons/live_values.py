@@ -20,6 +20,10 @@ So a number in a lesson is either derived (a constant of the model, exact) or me
 (read from the frame or the error measurement at the settings on screen); nothing is
 typed in. :func:`lookup` refuses unknown names with the closest matches.
 
+Index: :class:`Quantity` and :func:`table` (every name), :func:`lookup`, :func:`audit_needed`
+(the audit mode a name needs), :func:`check_format`, :func:`render` and
+:func:`pending_reason` (a number as the text shows it, or why it waits).
+
 Examples
 --------
 >>> lookup("audit.injected").unit

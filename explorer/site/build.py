@@ -5,6 +5,10 @@ figures first (a child process, :mod:`explorer.site.figure_shots`), then each st
 pictures with the numbers its text quotes baked right away from the frame they belong
 to, then the index. The site is written into a fresh folder beside ``out`` and moved
 into place at the end, so a failed build leaves a previous site as it was.
+
+Index: :class:`SiteOptions` and :func:`choose_lessons` (what is built), :func:`prepare_out`,
+:func:`build_site`, the step's words (:func:`view_words`, :func:`look_hint`,
+:func:`try_label`), and ``_Writer``, which writes the pages.
 """
 
 from __future__ import annotations

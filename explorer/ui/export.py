@@ -41,7 +41,7 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
     from explorer.gl.window import headless_available
     from explorer.lessons.folder import load_course
     from explorer.ui.app import App, write_png
-    from explorer.ui.article import uses_error, uses_truth
+    from explorer.ui.article_numbers import uses_error, uses_truth
     from explorer.ui.panels.error import error_service
     from explorer.ui.state import AppState, OverlayState
     from explorer.ui.window_options import WindowOptions

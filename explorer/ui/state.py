@@ -411,7 +411,7 @@ class AppState:
     to; made and loaded on first use by ``lesson_panel.session_of``; not persisted."""
     lesson_figures: object | None = None
     """explorer.ui.figures.FigureContext: the lesson figures' shared interactive state
-    (``article.figure_context``); not persisted."""
+    (``article_numbers.figure_context``); not persisted."""
     layout_panels: list[str] = setting(
         kind="names", default_factory=list,
         doc="Panel titles the saved dock layout was built for; a new panel rebuilds it.")

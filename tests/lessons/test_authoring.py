@@ -228,7 +228,7 @@ def test_a_lesson_names_a_scene_file_beside_itself(folder):
 
 
 def test_the_window_lists_the_course_and_the_folder_side_by_side(folder):
-    from explorer.ui.article import list_sections
+    from explorer.ui.lesson_list import list_sections
 
     both = load_course(folder)
     sections = list_sections(both)

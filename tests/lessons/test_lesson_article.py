@@ -411,7 +411,7 @@ def test_a_try_this_says_what_its_pending_numbers_wait_for():
     """A "…" in a prompt is explained under it: before the press, the number is read once
     the button is pressed; after it, an error number waits for the Error panel and a frame
     number for the frame; a prompt whose numbers all have values gets no note."""
-    from explorer.ui.article import pending_note
+    from explorer.ui.article_try import pending_note
 
     empty = lv.LiveContext(settings=Settings())
     frame_prompt = "One step keeps {{audit.step_ratio:.4f}} of the flux."

@@ -388,7 +388,7 @@ def test_the_readers_mode_shows_the_panels_a_step_uses(shipped):
 def test_predict_then_press_is_validated_and_needs_a_check(tmp_path):
     """A prediction names its question, two to four choices and the right one, and the
     step must check its answer after that try-this (so CI verifies it)."""
-    from explorer.ui.article import verdict
+    from explorer.ui.article_try import verdict
 
     try_this = '''[[steps.try_this]]
 control = "iterations"

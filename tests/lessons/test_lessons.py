@@ -1,5 +1,11 @@
 """Lessons: every shipped lesson validates, names real formulas and controls, renders;
-broken files give errors that name the file, the step and the field."""
+broken files give errors that name the file, the step and the field.
+
+Index: the shipped lessons (``test_every_shipped_lesson_validates`` to
+``test_find_lesson_by_id_number_and_stem``), broken input (``_error``), the command line
+(``test_cli_lists_and_prints``), every step rendered (``test_every_step_renders_headlessly``),
+the panel's session (``test_panel_session_navigates_applies_and_restores``) and the
+steps' words (``test_panel_step_caption_says_where_to_look``)."""
 
 from __future__ import annotations
 

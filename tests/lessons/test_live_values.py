@@ -175,7 +175,7 @@ def test_terms_the_audit_mode_did_not_measure_wait_with_a_reason(gl_context, fra
     """A frame propagated with the flux-only audit (or none) has no border loss, clamp
     gain, occlusion or reflection: those numbers (and ratios of them) show "…" and say
     why, while what the mode measures reads as on the full audit's frame."""
-    from explorer.ui.article import uses_audit
+    from explorer.ui.article_numbers import uses_audit
 
     cheap = run_frame(gl_context, SMALL, need_audit=mode)
     context = lv.LiveContext(settings=SMALL, result=cheap)

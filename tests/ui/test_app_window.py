@@ -1,7 +1,13 @@
 """The explorer in a real glfw window under Xvfb (pytest-xvfb starts it).
 
 Panels are driven through the app state (``app.state`` changes + ``app.frame()``), never
-by clicking pixels. Windows are small (800×600) and the LPV tiny (16³, RSM 64²)."""
+by clicking pixels. Windows are small (800×600) and the LPV tiny (16³, RSM 64²).
+
+Index: opening and drawing (``test_window_opens_and_draws_the_panels``), bad files and GL
+(``test_corrupt_settings_file_falls_back_and_is_rewritten``), what re-runs, with a recording
+pipeline (``RecordingPipeline``, ``RefusingPipeline``), the real pipeline's view
+(``test_real_pipeline_view_reacts_to_the_switches_and_splits``), the run command, and the
+panels fitting their column at 1280 px (``_content_fits_at_1280``)."""
 
 from __future__ import annotations
 

@@ -18,7 +18,7 @@ from pathlib import Path
 from explorer.cli import main
 from explorer.lpv.settings import Settings
 from explorer.ui.app import App
-from explorer.ui.article import list_sections
+from explorer.ui.lesson_list import list_sections
 from explorer.ui.state import AppState
 from explorer.ui.window_options import WindowOptions
 
