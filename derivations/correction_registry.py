@@ -3,7 +3,9 @@
 Everything else about a switch comes from its entry here (docs/MODEL.md "Corrections"):
 
 * the :class:`explorer.lpv.corrections.Corrections` dataclass (one ``bool`` field per
-  entry, in registry order, ``True`` = corrected) and the presets;
+  entry, in registry order, ``True`` = corrected; the fields written out into
+  ``explorer/lpv/correction_switches.py`` by ``python -m derivations.codegen``) and the
+  presets;
 * the shaders' uniform declarations, ``shaders/generated/corrections.glsl``
   (``python -m derivations.codegen``), one ``uniform bool u_<name>`` per entry;
 * which passes must read the uniform (:attr:`Correction.stages`; the passes hand these to

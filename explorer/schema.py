@@ -97,6 +97,8 @@ class Spec:
             raise ValueError("a range2 field needs both low and high")
         if self.kind == "transforms" and self.parse is None:
             raise ValueError("a transforms field needs parse (the function that checks it)")
+        if self.kind == "nested" and self.nested is None:
+            raise ValueError("a nested field needs nested (the dataclass it holds)")
 
     # -- checking --------------------------------------------------------------------
     def allowed(self) -> str:
@@ -109,13 +111,14 @@ class Spec:
         elif self.kind == "size":
             text = "[width, height], whole numbers" + _range_text(self.low, self.high, False)
         elif self.kind == "range2":
-            text = (f"two numbers [first, second] with {_num(self.low)} <= first <= second "
-                    f"<= {_num(self.high)}" + (f", second > {_num(self.low)}"
-                                               if self.low_open else ""))
+            low, high = _range2_bounds(self)
+            text = (f"two numbers [first, second] with {_num(low)} <= first <= second "
+                    f"<= {_num(high)}" + (f", second > {_num(low)}" if self.low_open else ""))
         elif self.kind == "nested":
             text = f"a {getattr(self.nested, '__name__', 'table')}"
         elif self.kind == "name_set":
-            text = f"a list of 1 to {_num(self.high)} different names"
+            most = "" if self.high is None else f"1 to {_num(self.high)} "
+            text = f"a list of {most}different names"
         else:
             text = _ALLOWED_TEXT[self.kind]
         return text + (" or None" if self.optional else "")
@@ -164,6 +167,14 @@ def _range_text(low, high, low_open: bool) -> str:
     if low is None:
         return f" <= {_num(high)}"
     return f" in {'(' if low_open else '['}{_num(low)}, {_num(high)}]"
+
+
+def _range2_bounds(spec: Spec) -> tuple[float, float]:
+    """A ``range2`` field's (low, high): both are set (``Spec.__post_init__`` refuses one
+    without)."""
+    if spec.low is None or spec.high is None:
+        raise ValueError("a range2 field needs both low and high")
+    return spec.low, spec.high
 
 
 def _num(value: float) -> str:
@@ -224,7 +235,8 @@ def _check_range2(spec: Spec, value: Any):
     first, second = float(first), float(second)
     if not (math.isfinite(first) and math.isfinite(second)) or first > second:
         return _REFUSED
-    if first < spec.low or second > spec.high or (spec.low_open and second <= spec.low):
+    low, high = _range2_bounds(spec)
+    if first < low or second > high or (spec.low_open and second <= low):
         return _REFUSED
     return first, second
 
@@ -253,6 +265,8 @@ def _check_name_set(spec: Spec, value: Any):
 
 
 def _check_transforms(spec: Spec, value: Any):
+    if spec.parse is None:              # Spec.__post_init__ refuses a transforms field without
+        raise ValueError("a transforms field needs parse")
     checked = spec.parse(value)
     return _REFUSED if checked is None else checked
 
@@ -286,7 +300,7 @@ def _check_points(spec: Spec, value: Any):
 
 
 def _check_nested(spec: Spec, value: Any):
-    return value if isinstance(value, spec.nested) else _REFUSED
+    return value if spec.nested is not None and isinstance(value, spec.nested) else _REFUSED
 
 
 _CHECKERS = {"int": _check_int, "float": _check_float, "bool": _check_bool,
@@ -307,12 +321,16 @@ def setting(default: Any = dataclasses.MISSING, *, doc: str, kind: str,
     return dataclasses.field(default=default, metadata=metadata)
 
 
-@cache
 def specs(cls: type) -> dict[str, Spec]:
     """Field name -> :class:`Spec` of a dataclass declared with :func:`setting`."""
-    found = {f.name: f.metadata["spec"] for f in dataclasses.fields(cls)
-             if "spec" in f.metadata}
-    return found
+    return _specs_of(cls)
+
+
+@cache
+def _specs_of(cls: type) -> dict[str, Spec]:
+    # behind specs(): mypy reads a cached function's argument as Hashable, which type[Any]
+    # (what type(obj) gives) is not to it
+    return {f.name: f.metadata["spec"] for f in dataclasses.fields(cls) if "spec" in f.metadata}
 
 
 def validate(obj: Any) -> None:
@@ -358,7 +376,8 @@ def from_dict(cls: type, data: Any, base: Any = None, where: str = "",
     values = {}
     for name, value in data.items():
         spec = field_specs.get(name)
-        if spec is not None and spec.kind == "nested" and isinstance(value, Mapping):
+        if spec is not None and spec.kind == "nested" and spec.nested is not None and \
+                isinstance(value, Mapping):
             value = from_dict(spec.nested, value, getattr(base, name), f"{where}{name}.",
                               declared_only and bool(specs(spec.nested)))
         elif spec is None and dataclasses.is_dataclass(getattr(base, name)) and \

@@ -209,7 +209,7 @@ def _own(value: ast.expr) -> bool:
 def test_no_module_reaches_into_another_objects_private_state():
     """``x._name`` only on ``self``/``cls``: a window module (or any other) that needs
     another object's state asks through a public member, so the state's owner can see
-    who depends on it (issue #19)."""
+    who depends on it."""
     found = []
     for _name, path in _modules().items():
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):

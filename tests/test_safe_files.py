@@ -89,7 +89,7 @@ def test_writes_use_a_unique_temporary_and_leave_a_user_file_of_that_name_alone(
     from explorer.commands.options import Outputs
 
     target = tmp_path / "shot.png"
-    users_own = tmp_path / ".shot.partial.png"       # the name the old code used
+    users_own = tmp_path / ".shot.partial.png"       # a predictable temporary name
     users_own.write_text("mine")
     with Outputs() as outputs:
         outputs.write(outputs.file(target), lambda p: p.write_bytes(b"png"))

@@ -6,7 +6,7 @@ result and view rectangle, imgui mouse events), so the same driver measures an o
 checkout too (``--root``); what only the responsive window offers (its pictures, its
 per-frame work log) is read when present.
 
-The session (issue #10): launch, converge, idle, orbit N frames by dragging the mouse
+The session: launch, converge, idle, orbit N frames by dragging the mouse
 over the view, an exposure sweep, each correction toggled, the grid at 64³. Times are
 wall-clock on this machine, to be compared only with another run on the same machine.
 

@@ -1,7 +1,7 @@
 """``lpv-explorer bench --interactive`` and ``--soak MINUTES``: the real window driven
 by :mod:`explorer.commands.interaction` in a child process (so that launch is measured
 from a fresh interpreter, and ``--root`` can point at another checkout), its figures
-printed and, with ``--json``, written under the keys of issue #10."""
+printed and, with ``--json``, written under the keys of :data:`KEYS`."""
 
 from __future__ import annotations
 

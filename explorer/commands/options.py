@@ -582,19 +582,12 @@ def _existing_ancestor(folder: Path) -> tuple[Path, list[Path]]:
 
 
 class Outputs:
-    """The files and folders one command writes.
-
-    Paths are checked when the command starts (:meth:`file`, :meth:`folder`), before any
-    work: a folder, a missing suffix, a name longer than the file system allows, a folder
-    that cannot be made or written. :meth:`write` writes each file to a unique temporary
-    name beside it (``explorer.safe_files.temporary_beside``: never a name a user file
-    has); nothing the user sees changes until the command succeeds, when every file is
-    renamed into place in one tight sequence with the stop signals held
-    (explorer/stop_signals.py ``held``), a replaced file keeping its mode. A failure in
-    that sequence puts back what it had replaced. If the command fails or is stopped
-    (Ctrl-C, SIGTERM, SIGHUP: the ``with`` block ends with an exception) its temporaries
-    and the folders made for them are removed: the old set of outputs stays whole, or
-    the new set is whole, never a mix, and nothing hidden is left behind."""
+    """The files and folders one command writes, all or none: paths are checked before any
+    work (:meth:`file`, :meth:`folder`), each file is written to a unique temporary beside
+    it (:meth:`write`), and all are renamed into place, with the stop signals held, only
+    when the command succeeds (a failed rename puts back what it replaced). A failed or
+    stopped command removes its temporaries and the folders made for them, so the old set
+    of outputs stays whole or the new one is, never a mix."""
 
     def __init__(self, option: str = "--out") -> None:
         self.option = option

@@ -104,6 +104,7 @@ class TryThis:
 
     def change(self) -> dict[str, Any]:
         """The change as ``Settings.with_changes`` keywords."""
+        change: dict[str, Any]
         if self.control.startswith("corrections."):
             change = {"corrections": {self.control.split(".", 1)[1]: self.value}}
         else:

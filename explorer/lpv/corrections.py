@@ -1,6 +1,7 @@
 """The correction switches as the LPV reads them: the :class:`Corrections` dataclass (its
-fields come from the registry, :mod:`derivations.correction_registry`), the presets, and
-which uniforms each stage's programs must read (:func:`uniforms_read_by`).
+fields come from the registry, :mod:`derivations.correction_registry`, written out by the
+code generator into :mod:`explorer.lpv.correction_switches`), the presets, and which
+uniforms each stage's programs must read (:func:`uniforms_read_by`).
 
 :data:`STAGES`, the stages whose programs may read a switch, comes from the declared
 stage list (:data:`explorer.lpv.stage_list.CORRECTION_STAGES`); every registry entry's
@@ -10,10 +11,10 @@ it at start.
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import fields
+from dataclasses import dataclass, fields
 
 from derivations.correction_registry import BY_NAME, CORRECTIONS, Correction
+from explorer.lpv.correction_switches import CorrectionSwitches
 from explorer.lpv.stage_list import CORRECTION_STAGES as STAGES
 
 __all__ = ["BY_NAME", "CORRECTIONS", "Correction", "Corrections", "PRESETS", "STAGES",
@@ -25,6 +26,10 @@ def _check_registry() -> None:
         if not entry.stages or not set(entry.stages) <= set(STAGES):
             raise ValueError(f"correction {entry.name}: stages {entry.stages} must be a "
                              f"non-empty subset of {STAGES}")
+    written = tuple(f.name for f in fields(CorrectionSwitches))
+    if written != tuple(entry.name for entry in CORRECTIONS):
+        raise ValueError(f"explorer/lpv/correction_switches.py holds {written}, not the "
+                         "registry's switches: run `python -m derivations.codegen`")
 
 
 _check_registry()
@@ -37,8 +42,10 @@ def uniforms_read_by(stage: str) -> tuple[str, ...]:
     return tuple(entry.uniform for entry in CORRECTIONS if stage in entry.stages)
 
 
-class _CorrectionsMethods:
-    """Methods of :class:`Corrections` (its fields come from :data:`CORRECTIONS`)."""
+@dataclass(frozen=True)
+class Corrections(CorrectionSwitches):
+    """Named switches, one per published formula or implementation detail (fields: the
+    entries of CORRECTIONS, in order; each True = corrected, the default)."""
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
@@ -47,15 +54,6 @@ class _CorrectionsMethods:
     def as_uniforms(self) -> dict[str, int]:
         """Uniform values for the shaders: ``u_<field>`` = 0 or 1."""
         return {BY_NAME[name].uniform: int(getattr(self, name)) for name in self.names()}
-
-
-Corrections = dataclasses.make_dataclass(
-    "Corrections", [(entry.name, bool, True) for entry in CORRECTIONS],
-    bases=(_CorrectionsMethods,), frozen=True)
-Corrections.__module__ = __name__  # make_dataclass takes module= only from Python 3.12 on
-Corrections.__doc__ = (
-    "Named switches, one per published formula or implementation detail (fields: the "
-    "entries of CORRECTIONS, in order; each True = corrected, the default).")
 
 
 PRESETS: dict[str, Corrections] = {

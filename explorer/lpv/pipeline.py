@@ -195,20 +195,14 @@ class Pipeline:
               vpls: VplArrays | None = None, need_audit: str | bool = True,
               progress: ProgressCallback | None = None) -> Job:
         """A :class:`~explorer.lpv.job.Job` for a frame with ``settings`` (default: the
-        last ones); the job in progress, if any, is cancelled first. Limits are checked
-        here: a request that does not fit raises a one-line ValueError before anything is
-        allocated.
+        last ones), cancelling the job in progress; a request past the limits raises a
+        one-line ValueError before anything is allocated, and asking again for the frame in
+        progress returns that job (a caller may start every frame).
 
-        ``keep_steps``: keep grid_0..grid_N of every cascade. ``need_audit``: what the
-        energy audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`; True ``full``,
-        False ``off``): ``full`` every term (the Energy audit plot, a picked cell, a
-        lesson or command quoting them), ``flux`` only the flux in flight per step (the
-        flux-per-step plot; the minimal kernel), ``off`` only the injected and
-        accumulated flux. A later job that needs more propagates again. ``vpls``:
-        inject these VPLs instead of the RSM's (the RSM still renders for the direct
-        light and its shadow); lessons and tests use it for hand-made light. Asking again
-        for the frame the job in progress makes returns that job, so a caller may start
-        every frame."""
+        ``keep_steps`` keeps grid_0..grid_N of every cascade; ``need_audit`` is what the
+        energy audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`; True ``full``, False
+        ``off``; a later job that needs more propagates again); ``vpls`` are injected
+        instead of the RSM's (which still renders the direct light and its shadow)."""
         settings = self.settings if settings is None else settings
         current = self.job
         if current is not None and current.asks_for(settings, keep_steps, need_audit, vpls):

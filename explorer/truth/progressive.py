@@ -272,17 +272,11 @@ class ErrorResult:
 
 
 class ErrorJob:
-    """Measures ``settings`` with ``measurement``: LPV frame, the scene's BVH (for the
-    visible reference), reference, metrics.
-
-    ``pipeline``: a Pipeline on the same context to render the LPV frame with (kept by
-    the caller between jobs, so its programs are compiled once). Call :meth:`advance`
-    until :attr:`result` is set; :meth:`release` frees the GL objects at any time. Each
-    call does small units of work within its budget, at least one: a unit of the
-    pipeline's job (explorer/lpv/job.py), a node of the BVH
-    (:class:`~explorer.truth.bvh.BvhBuilder`: a large scene's BVH takes seconds in all),
-    a dispatch of the reference (a tile × a chunk of VPLs); :attr:`units` says how many
-    the last call did."""
+    """Measures ``settings`` with ``measurement`` (LPV frame, the scene's BVH for the
+    visible reference, the reference, the metrics) in small units, so that the window stays
+    responsive: call :meth:`advance` until :attr:`result` is set (each call does at least
+    one unit: a pipeline job's unit, a BVH node, a tile × a chunk of VPLs of the reference;
+    :attr:`units` says how many); :meth:`release` frees the GL objects at any time."""
 
     def __init__(self, settings, measurement: Measurement, aspect: float = 1.0) -> None:
         self.measurement = measurement
@@ -322,7 +316,9 @@ class ErrorJob:
         return "reference"
 
     def advance(self, ctx, pipeline, budget_s: float) -> bool:
-        """Work for about ``budget_s`` seconds (at least one unit); True when done."""
+        """Work for about ``budget_s`` seconds (at least one unit); True when done.
+        ``pipeline`` renders the LPV frame on ``ctx`` (the caller keeps it between jobs, so
+        its programs are compiled once)."""
         from explorer.truth.bvh import BvhBuilder
         from explorer.truth.gbuffer import scene_for, scene_triangles
 

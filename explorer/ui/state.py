@@ -221,7 +221,7 @@ RUNTIME_PARTS = {"frame": ShownFrame, "scene_facts": SceneFacts, "view": ViewInp
 
 @dataclass(slots=True)
 class Runtime:
-    """What the app loop hands to the panels each frame, in four parts (issue #19): the
+    """What the app loop hands to the panels each frame, in four parts: the
     frame being shown (:class:`ShownFrame`), the scene's facts (:class:`SceneFacts`), the
     view's input (:class:`ViewInput`) and the services (:class:`Services`); besides them
     only what the panels drawn this frame ask of the next (the audit, a redraw). Not

@@ -1,5 +1,5 @@
 """``lpv-explorer lessons --export`` needs no display: glfw's null platform with an EGL
-context (issue #25 item 6), and it waits for the converged frame and says so."""
+context, and it waits for the converged frame and says so."""
 
 from __future__ import annotations
 

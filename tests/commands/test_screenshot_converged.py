@@ -1,6 +1,6 @@
 """``run --screenshot`` waits for the converged frame by default and says so; with
 ``--no-wait`` it writes the frame after ``--frames`` as it is and says whether that one
-had converged (issue #25 item 3)."""
+had converged."""
 
 from __future__ import annotations
 

@@ -150,7 +150,7 @@ def shader_copy(tmp_path, monkeypatch):
 
 
 def test_the_window_survives_each_bad_save_and_recovers(shader_copy, tmp_path, monkeypatch):
-    """The three failures of the issue in a real window: view.glsl saved without a
+    """Three bad saves in a real window: view.glsl saved without a
     uniform the view composer sets, then with a stray byte, an Emacs lock file beside
     it; the window keeps drawing with the last good programs, the Shaders panel's errors
     name the file, and restoring the file clears them."""

@@ -192,7 +192,7 @@ def test_clicking_a_pixel_of_the_cornell_box_picks_the_frames_values():
 
 
 def test_the_picked_pixel_reads_its_reference_and_the_picked_cell_its_audit(tmp_path):
-    """Issue #15: the Picked panel's reference radiance (computed in the app loop's
+    """The Picked panel's reference radiance (computed in the app loop's
     background, equal to the full reference image's pixel) and the picked cell's own audit
     records, read back from the GPU."""
     from explorer.truth.progressive import pixel_reference

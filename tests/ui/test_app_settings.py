@@ -49,7 +49,7 @@ def _file(**fields) -> str:
 
 
 BAD_FILES = [
-    # the cases: each used to stop the window (traceback) or was accepted
+    # each would stop the window (a traceback) or be accepted without its check
     (_file(split_position="abc"), "split_position must be a finite number in [0.02, 0.98], "
                                   "got 'abc'"),
     (_file(render_scale="big"), "render_scale must be a finite number in [0.25, 2]"),

@@ -578,8 +578,8 @@ def _bad_layout(change: str) -> str:
                          ids=[f"{case[0]}:{case[2]}" for case in _BAD_STARTS])
 def test_a_bad_file_stops_the_window_never_and_is_set_aside_once(config_home, capsys, name,
                                                                  content, complaint):
-    """Each file of the issue (they used to end every launch with a traceback or an imgui
-    assertion): the window opens, the file is set aside once with a one-line message in
+    """Each bad file (without its check it would end every launch with a traceback or an
+    imgui assertion): the window opens, the file is set aside once with a one-line message in
     the window and on stderr, and the next launch is clean."""
     from explorer.ui.app import App
     from explorer.ui.window_options import WindowOptions

@@ -164,7 +164,7 @@ print(f"overlays ok {differ:.3f} {lit_a:.3f} {lit_b:.3f}")
 
 
 def test_a_single_source_step_draws_in_the_void(tmp_path):
-    """Issue #11: the exported step shows the grid's light in the main view; without its
+    """The exported step shows the grid's light in the main view; without its
     overlays the same step is a lit patch in a black void."""
     proc = _run(["-c", _OVERLAY_SCRIPT, str(tmp_path)], tmp_path)
     assert proc.returncode == 0 and "overlays ok" in proc.stdout, proc.stdout + proc.stderr

@@ -1,5 +1,5 @@
 """Every figure a lesson embeds fits the article column it is drawn in, in a window of
-1280×720 and of 1600×900 (issue #25: no clipped figure): drawn at that column's width in a
+1280×720 and of 1600×900 (no figure clipped): drawn at that column's width in a
 real window under Xvfb, nothing it submits reaches past the column's right edge."""
 
 from __future__ import annotations

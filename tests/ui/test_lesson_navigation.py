@@ -1,4 +1,4 @@
-"""Where the article opens (issue #25 item 2), on the LessonSession alone: every step or
+"""Where the article opens, on the LessonSession alone: every step or
 lesson change at the top, a lesson left for the list comes back at its step and scroll,
 Next lesson starts the next lesson at its top."""
 

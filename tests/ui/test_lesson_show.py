@@ -38,7 +38,7 @@ def test_every_show_table_validates(shipped):
 
 def test_no_single_source_step_leaves_the_patch_alone_in_the_void(shipped):
     """The single-source scene is one lit patch in an empty box: a step of it must draw
-    the grid's light in the scene (issue #11), and say so in its caption."""
+    the grid's light in the scene, and say so in its caption."""
     from explorer.ui.lesson_panel import step_caption
 
     steps = [(lesson.id, step) for lesson in shipped for step in lesson.steps

@@ -1,7 +1,7 @@
 """A panel that raises half-way through its widgets (an open child window, group and
 style colour) is reported and its imgui stacks are closed, so the frame ends without an
-imgui assert and the window goes on (issue #25: "< All lessons" raised inside the
-article's child, then imgui asserted and the window died)."""
+imgui assert and the window goes on (otherwise a panel that raises inside a child
+window, as "< All lessons" can, leaves imgui asserting and the window dies)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The window's panels read the per-frame runtime by its parts (issue #19): every
+"""The window's panels read the per-frame runtime by its parts: every
 ``runtime.X`` / ``rt.X`` in explorer/ names a part of :class:`explorer.ui.state.Runtime`
 or one of its own members, so a panel that reads a field the runtime no longer forwards
 fails here, not only in the click suite that happens to draw it."""

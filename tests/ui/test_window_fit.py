@@ -1,5 +1,5 @@
 """The window opens at a size that fits the monitor's work area and remembers the size
-the user gave it (issue #25 item 6)."""
+the user gave it."""
 
 from __future__ import annotations
 

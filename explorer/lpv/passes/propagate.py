@@ -50,28 +50,15 @@ def copy_grid(programs: ProgramCache, source: LpvGrid, target: LpvGrid) -> None:
 
 
 class PropagatePass:
-    """Propagates an injected grid ``iterations`` times (``shaders/propagate.glsl``).
+    """Propagates an injected grid ``iterations`` times (``shaders/propagate.glsl``),
+    ping-pong or in place (``corrections.ping_pong``; in place is the DX11 shader's data race,
+    kept on purpose), measuring what the audit mode asks (:data:`explorer.lpv.audit.AUDIT_MODES`;
+    True ``full``, False ``off``; :func:`grid_audit` reads each mode back).
 
-    Ping-pong (``corrections.ping_pong``): grid_t = P(grid_{t−1}) alternates between two
-    scratch grids and is added into the accumulation grid by the same dispatch. In place
-    (the DX11 shader): the accumulation grid is read and written by one dispatch per step,
-    a data race kept on purpose.
-
-    Energy audit (``audit``, a mode of :data:`explorer.lpv.audit.AUDIT_MODES`; True is
-    ``full``, False ``off``): ``full``: the dispatch also sums the step's audit terms (for
-    in place: of what the racing invocations actually read and added), one reduction per
-    step. ``flux``: the kernel is compiled without the audit (``PROPAGATE_AUDIT 0``) and
-    each step's grid is reduced to its flux afterwards (for in place: the accumulation's,
-    the step's flux being the difference), one reduction per step, no per-cell records.
-    ``off``: no audit in the kernel and only the injected and the accumulated flux are
-    measured (two reductions per run), which is what the pipeline's numeric guards read.
-
-    :meth:`start` returns a :class:`PropagationRun` that advances one step at a time (the
-    pipeline spreads the steps over frames); :meth:`run` does all steps at once.
-
-    GPU memory besides the input: three grids (ping, pong, accumulation) in the input's
-    format and, with the full audit, 144 bytes per cell of audit records (the last step's and
-    their sums over the steps: ≈300 MB at 128³).
+    :meth:`start` returns a :class:`PropagationRun` that advances one step at a time;
+    :meth:`run` does all steps at once. GPU memory besides the input: three grids (ping,
+    pong, accumulation) in its format and, with the full audit, 144 bytes per cell of audit
+    records (≈300 MB at 128³).
     """
 
     GEOMETRY_UNIT = 6

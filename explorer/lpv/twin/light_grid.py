@@ -21,7 +21,7 @@ table of derivation results ``explorer/derived_table.py`` (the codegen writes it
 ``derivations.registry``; the test suite fails when it is stale), not the generated
 mirror ``explorer/lpv/constants.py`` the shaders' constants come from: a wrong shader
 constant then makes the GPU disagree with this twin. Reading the table runs no
-sympy, so the window's picking and glyphs never stall on the registry (issue #10).
+sympy, so the window's picking and glyphs never stall on the registry.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The reference's constants come from the table of derivation results without sympy (the
 window's picking and glyphs read them: deriving the registry would stall a frame for
-seconds, issue #10), and equal the registry's exact results evaluated in float64."""
+seconds), and equal the registry's exact results evaluated in float64."""
 
 from __future__ import annotations
 
