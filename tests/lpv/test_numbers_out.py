@@ -49,6 +49,8 @@ def api_arrays(r) -> dict[str, np.ndarray]:
               "vpl_normal": r.vpls.normals, "vpl_flux": r.vpls.flux, "vpl_depth": r.vpls.depth,
               "vpl_albedo": r.vpls.albedo, "vpl_texel_area": np.float64(r.vpls.texel_area),
               "vpl_orthographic": np.bool_(r.vpls.projection == "orthographic"),
+              "vpl_view": np.repeat(np.arange(len(r.vpl_sets), dtype=np.int32),
+                                    [v.count for v in r.vpl_sets]),
               "grid_origin": np.asarray(r.grid_spec.origin),
               "grid_cell_size": np.float64(r.grid_spec.cell_size),
               "accumulated": r.accumulated, "geometry_volume": r.geometry_volume,
