@@ -57,7 +57,8 @@ class RsmImages:
     """The views rendered (``explorer.lpv.passes.rsm.LightView``: matrices, light, face)."""
     views: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...] | None = None
     """Every view's (position, normal, flux), in ``LightViews.views`` order, when the frame
-    keeps its steps (``keep_steps``: a dump writes every view); None otherwise."""
+    keeps its steps (``keep_steps``: a dump writes every view) or has one view; None
+    otherwise."""
 
 
 @dataclass

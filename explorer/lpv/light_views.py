@@ -100,7 +100,7 @@ class LightViews:
                       ) -> tuple[RsmImages, list[np.ndarray]]:
         """The last RSMs read back: the primary view's position, normal and flux, each
         light's flux summed over its views (docs/MODEL.md "Several lights") and their
-        sum, with ``every_view`` every view's position, normal and flux
+        sum, with ``every_view`` (or a single view) every view's position, normal and flux
         (``RsmImages.views``); and every array read, for the finiteness check. ``arrays``:
         those of :meth:`rsm_textures_read` as read already (a deferred read-back)."""
         if arrays is None:
@@ -110,8 +110,8 @@ class LightViews:
         flux = arrays[2:2 + count]
         primary = (arrays[0], arrays[1], flux[0])
         per_light = flux_per_light(flux, [view.light_index for view in self.views])
-        views = None
-        if every_view:
+        views = (primary,) if count == 1 else None      # one view: read back already
+        if every_view and count > 1:
             others = arrays[2 + count:]
             views = (primary,) + tuple((others[2 * k], others[2 * k + 1], flux[k + 1])
                                        for k in range(count - 1))

@@ -37,7 +37,8 @@ class Stage(StageBase):
         return len(LightViews.of(scene, job.settings.rsm_size)) + 2
 
     def satisfied(self, job: Job) -> bool:
-        """A frame that keeps its steps needs every view's RSM read back."""
+        """A frame that keeps its steps needs every view's RSM read back (one view always
+        is)."""
         rsm = self.state.rsm
         return not job.keep_steps or (rsm is not None and rsm.views is not None)
 
