@@ -116,7 +116,8 @@ class FrameResult:
     """Every RSM view's ``(position, normal, flux)`` ``(Hr, Wr, 4)`` arrays, primary light
     first, a point light's six faces in ``CUBE_FACE_AXES`` order (the first is
     ``rsm_position``, ``rsm_normal``, ``rsm_flux``), when the frame kept its steps
-    (``keep_steps``) or has one view; empty otherwise. The RSM's VPLs are :attr:`vpl_sets`, view by view."""
+    (``keep_steps``) or has one view; empty otherwise. The RSM's VPLs are
+    :attr:`vpl_sets`, view by view."""
     light_views: tuple[LightView, ...] = ()
     """The RSM views rendered (primary light first, a point light's six faces in
     ``CUBE_FACE_AXES`` order; :attr:`rsm_views` and :attr:`vpl_sets` follow it): each one's
