@@ -89,7 +89,8 @@ def add_input_arguments(group) -> None:
                        help="inject these VPLs instead of the RSM's: vpl_position, vpl_normal, "
                             "vpl_flux (M, 3) floats; vpl_depth (M,) and vpl_texel_area () "
                             "for the geometry volume; vpl_albedo (M, 3) optional (a dump's "
-                            "own arrays)")
+                            "own arrays); a bad file's problems are listed together, each "
+                            "bad row by number")
     group.add_argument("--grid0", type=Path, default=None, metavar="FILE.npz",
                        help="propagate this injected grid instead of the frame's: grid_0 "
                             "(3, N, N, N, 4|9) float, W/sr SH, index [colour, x, y, z, k] on "

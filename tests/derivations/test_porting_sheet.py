@@ -323,3 +323,16 @@ def test_cell_rounding_example_is_what_the_gpu_and_the_reference_compute(ctx):
     offset_gpu = _injected_cell(inject(vpls, spec, ctx=ctx, offset_cells=delta))
     offset_cpu = _injected_cell(reference_inject(vpls, spec, offset_cells=delta))
     assert offset_gpu == offset_cpu == (2, 2, 2) and "cell 2 in both" in text
+
+
+@pytest.mark.skipif(shutil.which("glslangValidator") is None,
+                    reason="glslangValidator not installed (the driver compiles the GLSL "
+                           "sheet above)")
+def test_glsl_sheet_validates_with_glslang_beside_an_engines_pi(tmp_path, capsys):
+    source = ("#version 430\nconst float PI = 3.14159265;\n" + sheet("glsl", capsys) +
+              "layout(local_size_x = 1) in;\nlayout(std430, binding = 0) buffer Out "
+              "{ float v[]; };\nvoid main() { v[0] = LPV_PI + LPV_SH_C0; }\n")
+    path = tmp_path / "sheet.comp"
+    path.write_text(source)
+    done = subprocess.run(["glslangValidator", str(path)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
