@@ -14,6 +14,8 @@ section (a test keeps the two equal); the code formats carry the same lines as c
 from __future__ import annotations
 
 import json
+import re
+import struct
 from dataclasses import dataclass
 
 import sympy as sp
@@ -113,6 +115,23 @@ def conventions() -> list[tuple[str, str]]:
          "floor(g), centre origin + (i + 1/2)·h, texture coordinate g/N (texel centres at "
          "(i + 1/2)/N); the geometry volume's cells are centred on the light grid's "
          "corners (geometry cell g at origin + g·h, (N+1)³ of them)."),
+        ("Cell index (rounding)",
+         "a VPL at p with unit normal n goes into the cell floor(g) of g = (q - origin)/h, "
+         "q = p + δ·h·n, each axis on its own, in float32 as the shaders compute it "
+         "(shaders/vpl.glsl, then grid.glsl's grid_cell: q, subtract, divide, floor; floor, "
+         "not a cast to int, so a point just below the origin gets cell -1 and is dropped). "
+         "Cells are half-open, so a point exactly on the face between cells i-1 and i belongs "
+         "to cell i, but only when g comes out exactly i: float32 rounding of p, origin and h, "
+         "of the subtraction and of the division (GLSL allows 2.5 ULP) can move it one cell, "
+         "and the float64 reference (GridSpec.cell_index) can round the other way. Example: "
+         "origin_x = 0.1, h = 0.1, p_x = 0.3 (in decimals the face between cells 1 and 2), "
+         "δ = 0: float32 p - origin = 0.20000002, g = 2.0000002, cell 2 (the GPU, llvmpipe "
+         "here); float64 g = 1.9999999999999998, cell 1. With the default δ = 0.5 and "
+         "n = +x, q_x = 0.35000002 (float32), g = 2.5000002 (float64 2.4999999999999996), "
+         "cell 2 in both: the half-cell offset moves a wall's VPLs off the faces to the "
+         "cell centres, so the boundary case needs δ = 0 or VPLs that lie on a face "
+         "anyway; an engine matching those cells too computes q and g in float32 in this "
+         "order."),
         ("Accumulation",
          "grid_0 is the injected grid, grid_t = P(grid_{t-1}) (ping-pong), and the gather "
          "reads acc_N = Σ_{t=0..N} grid_t."),
@@ -144,31 +163,132 @@ def _number(expr: sp.Expr, digits: int) -> str:
     return literal
 
 
+def _to_float32(value: float) -> float:
+    """The IEEE single nearest ``value`` (a double), as a Python float."""
+    return struct.unpack("<f", struct.pack("<f", value))[0]
+
+
+def _float32_neighbours(single: float) -> list[float]:
+    """``single`` and the two singles beside it (one unit in the last place either way)."""
+    bits = struct.unpack("<i", struct.pack("<f", single))[0]
+    return [struct.unpack("<f", struct.pack("<i", b))[0] for b in (bits - 1, bits, bits + 1)]
+
+
+def nearest_float32(expr: sp.Expr) -> float:
+    """The IEEE single nearest the exact value of ``expr`` (rounding the nearest double to
+    a single can round twice; the three candidates are compared with the exact value)."""
+    exact = sp.N(expr, 40)
+    candidates = _float32_neighbours(_to_float32(float(exact)))
+    return min(candidates, key=lambda c: abs(sp.Rational(c) - exact))
+
+
+def _float_literal(expr: sp.Expr) -> str:
+    """The shortest C literal (``…f``) that a correctly rounding compiler reads as the single
+    nearest ``expr``; 9 significant digits always suffice."""
+    single = nearest_float32(expr)
+    for digits in range(6, 10):
+        literal = f"{single:.{digits}g}"
+        if _to_float32(float(literal)) == single:
+            break
+    if "e" not in literal and "." not in literal:
+        literal += ".0"
+    return literal + "f"
+
+
+DEFAULT_PREFIX = "LPV_"
+"""What every name of the GLSL, HLSL and C/C++ sheets starts with (an engine has its own
+``PI``); ``--prefix ''`` gives the bare names."""
+DEFAULT_NAMESPACE = "lpv"
+"""The C++ namespace of the C/C++ header (C sees the same names at file scope)."""
+FLOAT_SUFFIX = "_F"
+"""The C/C++ header's ``float`` twin of each ``double`` constant: ``LPV_PI_F``."""
+_IDENTIFIER = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+
+def check_prefix(prefix: str) -> None:
+    """Refuse a prefix that would not start an identifier, or that makes names C, C++ or
+    GLSL reserve (a leading underscore, ``__`` anywhere, ``gl_``)."""
+    if prefix == "":
+        return
+    if not _IDENTIFIER.match(prefix) or "__" in prefix or prefix.lower().startswith("gl_"):
+        raise ValueError(f"prefix {prefix!r} does not begin an identifier every language "
+                         "allows: a letter, then letters, digits and single underscores, "
+                         "not gl_")
+
+
+def check_namespace(namespace: str) -> None:
+    """Refuse a C++ namespace that is not one plain identifier (C++11 has no ``a::b {``)."""
+    if namespace != "" and (not _IDENTIFIER.match(namespace) or "__" in namespace):
+        raise ValueError(f"namespace {namespace!r} is not one C++ identifier (a letter, then "
+                         "letters, digits and single underscores)")
+
+
+def _c_comment(text: str) -> str:
+    """``text`` safe inside ``/* */``: no ``*/`` ends it early, no ``/*`` nests."""
+    return text.replace("*/", "* /").replace("/*", "/ *")
+
+
 HEADER = ("Generated by `lpv-explorer constants --format {fmt}` from the exact results in "
           "derivations/; each value's closed form and derivation are beside it.")
 
 
-def code(fmt: str) -> str:
-    """The sheet as ``glsl``, ``hlsl``, ``cpp`` or ``js`` source (``cpp``: a header valid as
-    C and C++: ``static const double`` constants; ``js``: an ES module of
-    ``export const`` numbers, each the nearest double)."""
+def _shader_code(fmt: str, prefix: str) -> str:
+    """The GLSL, HLSL or JavaScript sheet: one ``float`` (JS: the nearest double) a name."""
     declaration, digits = {"glsl": ("const float", FLOAT_DIGITS),
                            "hlsl": ("static const float", FLOAT_DIGITS),
-                           "cpp": ("static const double", DOUBLE_DIGITS),
                            "js": ("export const", DOUBLE_DIGITS)}[fmt]
+    guard = f"{prefix}PORTING_SHEET"
     lines = ["// " + HEADER.format(fmt=fmt)]
-    if fmt == "cpp":
-        lines += ["#ifndef LPV_PORTING_SHEET_H", "#define LPV_PORTING_SHEET_H"]
-    elif fmt != "js":              # an ES module needs no include guard
-        lines += ["#ifndef LPV_PORTING_SHEET", "#define LPV_PORTING_SHEET"]
+    if fmt != "js":              # an ES module needs no include guard
+        lines += [f"#ifndef {guard}", f"#define {guard}"]
     lines.append("")
     lines += _comment_lines("// ")
     lines.append("")
     for item in constants():
-        lines.append(f"{declaration} {item.name} = {_number(item.expr, digits)};  "
+        lines.append(f"{declaration} {prefix}{item.name} = {_number(item.expr, digits)};  "
                      f"// {sp.sstr(item.expr)}  [{item.derivation}]")
     lines += [""] if fmt == "js" else ["", "#endif", ""]
     return "\n".join(lines)
+
+
+def _c_header(prefix: str, namespace: str) -> str:
+    """The C/C++ header: each constant as ``double`` (the nearest double, 17 digits) and as
+    ``float`` (``…_F``, the nearest single), ``/* */`` comments only (C89), in ``namespace``
+    under C++; ``constexpr`` from C++11 on, ``static const`` in C."""
+    guard, qualifier = f"{prefix}PORTING_SHEET_H", f"{prefix}PORTING_CONST"
+    lines = ["/* " + _c_comment(HEADER.format(fmt="cpp")) + " */",
+             f"#ifndef {guard}", f"#define {guard}", ""]
+    lines += ["/*"] + [_c_comment(line.rstrip()) for line in _comment_lines(" * ")] + [" */"]
+    lines += ["", "#if defined(__cplusplus) && __cplusplus >= 201103L",
+              f"#define {qualifier} constexpr", "#else", f"#define {qualifier} static const",
+              "#endif"]
+    if namespace:
+        lines += ["#ifdef __cplusplus", f"namespace {namespace} {{", "#endif"]
+    lines.append("")
+    for item in constants():
+        about = _c_comment(f"{sp.sstr(item.expr)}  [{item.derivation}]")
+        name = prefix + item.name
+        lines.append(f"{qualifier} double {name} = {_number(item.expr, DOUBLE_DIGITS)};  "
+                     f"/* {about} */")
+        lines.append(f"{qualifier} float {name}{FLOAT_SUFFIX} = {_float_literal(item.expr)};  "
+                     f"/* the float nearest {name} */")
+    lines.append("")
+    if namespace:
+        lines += ["#ifdef __cplusplus", f"}}  /* namespace {namespace} */", "#endif"]
+    lines += [f"#undef {qualifier}", "", f"#endif  /* {guard} */", ""]
+    return "\n".join(lines)
+
+
+def code(fmt: str, prefix: str = DEFAULT_PREFIX, namespace: str = DEFAULT_NAMESPACE) -> str:
+    """The sheet as ``glsl``, ``hlsl``, ``cpp`` or ``js`` source, each name after ``prefix``
+    (``js``: an ES module of ``export const`` numbers, the nearest doubles, never prefixed:
+    a module is its own namespace). ``cpp`` is one header valid as C89/C99/C11 and C++11 on,
+    the constants in ``namespace`` under C++ (see :func:`_c_header`)."""
+    check_prefix(prefix)
+    check_namespace(namespace)
+    if fmt == "cpp":
+        return _c_header(prefix, namespace)
+    return _shader_code(fmt, "" if fmt == "js" else prefix)
 
 
 def as_json() -> str:
@@ -185,8 +305,9 @@ def as_json() -> str:
     return json.dumps(payload, indent=2, ensure_ascii=False) + "\n"
 
 
-def sheet(fmt: str) -> str:
-    """The porting sheet in format ``fmt`` (:data:`FORMATS`)."""
+def sheet(fmt: str, prefix: str = DEFAULT_PREFIX, namespace: str = DEFAULT_NAMESPACE) -> str:
+    """The porting sheet in format ``fmt`` (:data:`FORMATS`); ``prefix`` and ``namespace`` as
+    :func:`code` takes them (JSON names stay bare)."""
     if fmt not in FORMATS:
         raise ValueError(f"unknown format {fmt!r}; choose one of {', '.join(FORMATS)}")
-    return as_json() if fmt == "json" else code(fmt)
+    return as_json() if fmt == "json" else code(fmt, prefix, namespace)

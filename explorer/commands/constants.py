@@ -7,7 +7,9 @@ by registry name or by GLSL constant name; ``--json`` prints machine-readable ou
 list, or one object with ``--name``). ``--errata`` prints the check of every number the
 seed documents print, as a markdown table. ``--format glsl|hlsl|cpp|js|json`` prints the
 porting sheet (derivations/porting.py): the exact constants, the per-face weights Δω/π and
-the SH and grid conventions, ready to paste into an engine.
+the SH and grid conventions, ready to paste into an engine; ``--prefix`` (default ``LPV_``)
+starts every GLSL, HLSL and C/C++ name and ``--namespace`` (default ``lpv``) holds the C++
+ones.
 """
 
 from __future__ import annotations
@@ -29,8 +31,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=("glsl", "hlsl", "cpp", "js", "json"), default=None,
                         dest="sheet_format",
                         help="print the porting sheet in this language: the exact constants, "
-                             "the per-face weights and the SH conventions (cpp: a header "
-                             "valid as C and C++; js: an ES module)")
+                             "the per-face weights and the SH conventions (cpp: one header "
+                             "valid as C89/C99/C11 and C++11 on, each constant as double "
+                             "LPV_NAME and float LPV_NAME_F; js: an ES module)")
+    parser.add_argument("--prefix", metavar="TEXT", default=None,
+                        help="with --format glsl, hlsl or cpp: what every name starts with, "
+                             "so that none meets an engine's own PI or SH_C0 (default LPV_; "
+                             "'' for the bare names)")
+    parser.add_argument("--namespace", metavar="NAME", default=None,
+                        help="with --format cpp: the C++ namespace of the constants (default "
+                             "lpv: lpv::LPV_PI; '' for none); C sees the same names at file "
+                             "scope")
 
 
 def entry(item) -> dict[str, object]:
@@ -71,13 +82,30 @@ def _print_text(entries: list[dict[str, object]]) -> None:
         print(f"    {data['statement']}")
 
 
+def _sheet(args: argparse.Namespace) -> str:
+    """The porting sheet ``--format`` asks for, after checking ``--prefix``/``--namespace``."""
+    from derivations import porting
+    from explorer.commands.options import CommandError
+
+    fmt = args.sheet_format
+    if args.prefix is not None and fmt not in ("glsl", "hlsl", "cpp"):
+        raise CommandError("--prefix only acts with --format glsl, hlsl or cpp (a JS module "
+                           "and JSON keep the bare names)")
+    if args.namespace is not None and fmt != "cpp":
+        raise CommandError("--namespace only acts with --format cpp")
+    prefix = porting.DEFAULT_PREFIX if args.prefix is None else args.prefix
+    namespace = porting.DEFAULT_NAMESPACE if args.namespace is None else args.namespace
+    try:
+        return porting.sheet(fmt, prefix, namespace)
+    except ValueError as exc:
+        raise CommandError(f"--prefix/--namespace: {exc}") from None
+
+
 def main(args: argparse.Namespace) -> int:
     from derivations.registry import all_results
 
-    if args.sheet_format is not None:
-        from derivations.porting import sheet
-
-        print(sheet(args.sheet_format), end="")
+    if args.sheet_format is not None or args.prefix is not None or args.namespace is not None:
+        print(_sheet(args), end="")
         return 0
     if args.errata:
         from derivations import errata

@@ -65,10 +65,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "numbers in and out", "float arrays of every stage, an engine's own VPLs or grid "
         "(the layout: `render --dump`'s arrays and its JSON sidecar)")
     numbers.add_argument("--dump", type=Path, default=None, metavar="FILE.npz",
-                         help="also write every stage as float arrays (RSM, VPLs, grid_0 … "
+                         help="also write every stage as float arrays (every light view's "
+                              "RSM, view<k>_rsm_* past the first, a point light's six faces "
+                              "included; the VPLs with vpl_view, each one's view; grid_0 … "
                               "grid_N, accumulated, geometry volume, irradiance, direct, "
-                              "indirect, final) and FILE.json: grid, camera, lights, settings "
-                              "and what each array holds in which units")
+                              "indirect, final) and FILE.json: grid, camera, lights, each RSM "
+                              "view's light, face and matrices, settings and what each array "
+                              "holds in which units")
     add_input_arguments(numbers)
     group = parser.add_argument_group(
         "lesson steps", "render what a lesson step shows: its scene, settings, corrections "
@@ -86,7 +89,8 @@ def add_input_arguments(group) -> None:
                        help="inject these VPLs instead of the RSM's: vpl_position, vpl_normal, "
                             "vpl_flux (M, 3) floats; vpl_depth (M,) and vpl_texel_area () "
                             "for the geometry volume; vpl_albedo (M, 3) optional (a dump's "
-                            "own arrays)")
+                            "own arrays); a bad file's problems are listed together, each "
+                            "bad row by number")
     group.add_argument("--grid0", type=Path, default=None, metavar="FILE.npz",
                        help="propagate this injected grid instead of the frame's: grid_0 "
                             "(3, N, N, N, 4|9) float, W/sr SH, index [colour, x, y, z, k] on "

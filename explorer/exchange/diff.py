@@ -20,7 +20,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from explorer.exchange.stages import GRID_STEP
+from explorer.exchange.stages import GRID_STEP, VIEW_PREFIX
 from explorer.exchange.tolerances import Tolerances, closeness, outside, stage_failures
 
 RELATIVE_FLOOR = 1e-6
@@ -80,14 +80,14 @@ class StageDiff:
 
 def element_kind(name: str, array: np.ndarray) -> str:
     """What one element of array ``name`` is (see :class:`StageDiff`)."""
-    base = name.partition("_")[2] if name.startswith("cascade") and "_" in name else name
+    base = VIEW_PREFIX.sub("", name)         # cascade<k>_ and view<k>_ name the same kinds
     if GRID_STEP.match(name) or base == "accumulated" or GRID_STEP.match(base):
         return "cell"
     if base == "geometry_volume":
         return "geometry cell"
     if name.startswith("vpl_") and array.ndim >= 1:
         return "VPL"
-    if name.startswith("rsm_"):
+    if base.startswith("rsm_"):
         return "texel"
     if array.ndim >= 2 and not base.startswith("grid_"):
         return "pixel"

@@ -12,8 +12,9 @@ coefficients, index [colour, x, y, z, k], C = 4 for ``--sh-order 1``, 9 for 2), 
 optionally ``grid_origin`` ``(3,)`` / ``grid_cell_size`` ``()``, which must then be the
 frame's grid (the grid is placed by the scene's box; the dump's sidecar says where).
 
-Every problem is one line naming the file and the array: a missing array, a wrong shape,
-a dtype that is not floating point, a value that is not finite, a normal that is not unit.
+Every problem names the file and the array: a missing array, a wrong shape, a dtype that
+is not floating point, a value that is not finite, a normal that is not unit (each bad row
+by number). A VPL file's problems come together in one line, not only the first.
 """
 
 from __future__ import annotations
@@ -29,66 +30,127 @@ UNIT_TOLERANCE = 1e-3
 """Largest |‖n‖ − 1| accepted for a VPL normal (float32 normals from an engine)."""
 
 
-def _float_array(arrays: dict, name: str, shape: tuple, where: str) -> np.ndarray:
+ROWS_NAMED = 20
+"""Rows a problem names one by one; it counts the rest (a file of a million bad normals
+gives a message of a line, not of a million rows)."""
+
+
+class Problems:
+    """The problems found in one file, reported together: one line naming the file, then
+    each problem (``FileFormatError``)."""
+
+    def __init__(self, where: str) -> None:
+        self.where = where
+        self.found: list[str] = []
+
+    def add(self, problem: str) -> None:
+        self.found.append(problem)
+
+    def raise_if_any(self) -> None:
+        if len(self.found) == 1:
+            raise FileFormatError(f"{self.where}: {self.found[0]}")
+        if self.found:
+            listed = "; ".join(f"({k}) {problem}" for k, problem in enumerate(self.found, 1))
+            raise FileFormatError(f"{self.where}: {len(self.found)} problems: {listed}")
+
+
+def _rows(rows: np.ndarray, describe) -> str:
+    """``row i (describe(i))`` for the first :data:`ROWS_NAMED` rows, then how many more."""
+    named = ", ".join(f"row {int(i)} ({describe(int(i))})" for i in rows[:ROWS_NAMED])
+    rest = rows.size - ROWS_NAMED
+    return named + (f" and {rest} more row{'s' if rest > 1 else ''}" if rest > 0 else "")
+
+
+def _count(n: int) -> str:
+    return f"{n} row{'s' if n != 1 else ''}"
+
+
+def _checked_array(arrays: dict, name: str, shape: tuple, problems: Problems
+                   ) -> np.ndarray | None:
     """``arrays[name]`` checked: present, floating point, ``shape`` (None: any length),
-    finite; returned as float32."""
+    finite; float32, or None after adding what is wrong to ``problems``. The non-finite
+    values of an ``(M, k)`` array are named by row."""
     if name not in arrays:
-        raise FileFormatError(f"{where}: no array {name!r} (it holds "
-                              f"{', '.join(sorted(arrays)) or 'nothing'})")
+        problems.add(f"no array {name!r} (it holds {', '.join(sorted(arrays)) or 'nothing'})")
+        return None
     array = arrays[name]
     if not np.issubdtype(array.dtype, np.floating):
-        raise FileFormatError(f"{where}: {name} must be float32 or float64, got {array.dtype}")
+        problems.add(f"{name} must be float32 or float64, got {array.dtype}")
+        return None
     if len(array.shape) != len(shape) or any(
             want is not None and got != want for got, want in zip(array.shape, shape)):
         wanted = "(" + ", ".join("M" if w is None else str(w) for w in shape) + \
             ("," if len(shape) == 1 else "") + ")"
-        raise FileFormatError(f"{where}: {name} must have shape {wanted}, got {array.shape}")
-    if not np.all(np.isfinite(array)):
-        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(array))[0])
-        raise FileFormatError(f"{where}: {name} is not finite at index {bad}")
+        problems.add(f"{name} must have shape {wanted}, got {array.shape}")
+        return None
+    bad = ~np.isfinite(array)
+    if np.any(bad):
+        if array.ndim in (1, 2):
+            flat = bad.reshape(array.shape[0], -1)
+            rows = np.flatnonzero(flat.any(axis=1))
+            where_in = (lambda i: "value " + str(array[i])) if array.ndim == 1 else \
+                (lambda i: "column " + ", ".join(map(str, np.flatnonzero(flat[i]))))
+            problems.add(f"{name} is not finite in {_count(rows.size)}: "
+                         f"{_rows(rows, where_in)}")
+        else:
+            first = tuple(int(i) for i in np.argwhere(bad)[0])
+            problems.add(f"{name} is not finite at index {first}"
+                         + (f" ({int(bad.sum())} values)" if bad.sum() > 1 else ""))
+        return None
     return np.asarray(array, np.float32)
+
+
+def _float_array(arrays: dict, name: str, shape: tuple, where: str) -> np.ndarray:
+    """:func:`_checked_array` raising its problem (one array alone)."""
+    problems = Problems(where)
+    array = _checked_array(arrays, name, shape, problems)
+    problems.raise_if_any()
+    return array
 
 
 def load_vpls(path: Path | str, geometry_volume: bool = False,
               what: str = "--vpls") -> VplArrays:
     """The VPLs of the file at ``path`` (module docstring); ``geometry_volume``: the frame
-    builds one, so ``vpl_depth`` and ``vpl_texel_area`` are required."""
-    where = f"{what} {path}"
+    builds one, so ``vpl_depth`` and ``vpl_texel_area`` are required. Every problem of the
+    file is reported in one :class:`FileFormatError`, each bad row named."""
+    problems = Problems(f"{what} {path}")
     arrays = read_npz(path, what)
-    positions = _float_array(arrays, "vpl_position", (None, 3), where)
-    count = positions.shape[0]
+    positions = _checked_array(arrays, "vpl_position", (None, 3), problems)
+    count = None if positions is None else positions.shape[0]
     if count == 0:
-        raise FileFormatError(f"{where}: vpl_position holds no VPL")
-    normals = _float_array(arrays, "vpl_normal", (count, 3), where)
-    flux = _float_array(arrays, "vpl_flux", (count, 3), where)
-    lengths = np.linalg.norm(normals.astype(np.float64), axis=1)
-    off = np.flatnonzero(np.abs(lengths - 1.0) > UNIT_TOLERANCE)
-    if off.size:
-        raise FileFormatError(f"{where}: vpl_normal {off[0]} has length {lengths[off[0]]:.6g}, "
-                              f"not 1 ({off.size} normals are not unit)")
+        problems.add("vpl_position holds no VPL")
+    normals = _checked_array(arrays, "vpl_normal", (count, 3), problems)
+    flux = _checked_array(arrays, "vpl_flux", (count, 3), problems)
+    if normals is not None:
+        lengths = np.linalg.norm(normals.astype(np.float64), axis=1)
+        off = np.flatnonzero(np.abs(lengths - 1.0) > UNIT_TOLERANCE)
+        if off.size:
+            problems.add(f"vpl_normal is not unit in {_count(off.size)}: "
+                         f"{_rows(off, lambda i: f'length {lengths[i]:.6g}')}")
     has_area = "vpl_depth" in arrays and "vpl_texel_area" in arrays
     if geometry_volume and not has_area:
-        raise FileFormatError(f"{where}: the geometry volume needs vpl_depth (M,) and "
-                              f"vpl_texel_area () for each VPL's surfel area; add them or "
-                              f"use --geometry-volume off")
-    if has_area:
-        depth = _float_array(arrays, "vpl_depth", (count,), where)
-        _float_array(arrays, "vpl_texel_area", (), where)
-        texel_area = float(arrays["vpl_texel_area"])      # kept in double precision
-        if not texel_area > 0:
-            raise FileFormatError(f"{where}: vpl_texel_area must be positive, got {texel_area}")
-    else:   # unused without a geometry volume (only its surfels have an area)
-        depth, texel_area = np.ones(count, np.float32), 1.0
+        problems.add("the geometry volume needs vpl_depth (M,) and vpl_texel_area () for "
+                     "each VPL's surfel area; add them or use --geometry-volume off")
+    depth, texel_area = np.ones(count or 0, np.float32), 1.0
+    if has_area:    # unused without a geometry volume (only its surfels have an area)
+        depth = _checked_array(arrays, "vpl_depth", (count,), problems)
+        area = _checked_array(arrays, "vpl_texel_area", (), problems)
+        if area is not None:
+            texel_area = float(arrays["vpl_texel_area"])      # kept in double precision
+            if not texel_area > 0:
+                problems.add(f"vpl_texel_area must be positive, got {texel_area}")
     projection = "perspective"
     if "vpl_orthographic" in arrays:
         flag = arrays["vpl_orthographic"]
         if flag.shape != () or flag.dtype.kind not in "biu" or int(flag) not in (0, 1):
-            raise FileFormatError(f"{where}: vpl_orthographic must be one bool (or 0/1), got "
-                                  f"{flag.dtype} of shape {flag.shape}")
-        projection = "orthographic" if int(flag) else "perspective"
+            problems.add(f"vpl_orthographic must be one bool (or 0/1), got {flag.dtype} of "
+                         f"shape {flag.shape}")
+        else:
+            projection = "orthographic" if int(flag) else "perspective"
     albedo = None
     if "vpl_albedo" in arrays:
-        albedo = _float_array(arrays, "vpl_albedo", (count, 3), where)
+        albedo = _checked_array(arrays, "vpl_albedo", (count, 3), problems)
+    problems.raise_if_any()
     return VplArrays(positions, normals, flux, depth, texel_area, projection, albedo)
 
 

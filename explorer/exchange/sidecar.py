@@ -3,8 +3,9 @@ and what they hold, so that an engine can read them without this code.
 
 It holds the settings (``Settings.to_dict()``, which ``Settings.from_dict`` reads back:
 ``lpv-explorer diff --settings out.json`` renders the same frame), every cascade's grid
-with its axis and texel conventions, the camera's matrices, the lights that shone, each
-RSM view's VPL count and texel area, the porting sheet's conventions and, per array, its
+with its axis and texel conventions, the camera's matrices, the lights that shone, every
+RSM view (each face of a point light) with its light, matrices, texel area, RSM arrays
+and the rows of its VPLs, the porting sheet's conventions and, per array, its
 shape, dtype, units and meaning (:data:`explorer.exchange.stages.ARRAYS`).
 """
 
@@ -54,6 +55,40 @@ def light_entry(light, bounds) -> dict:
         entry["rsm_view_matrix"] = np.asarray(light.view_matrix(*bounds)).tolist()
         entry["rsm_projection_matrix"] = np.asarray(light.projection_matrix(*bounds)).tolist()
     return entry
+
+
+FACE_NAMES = ("+x", "-x", "+y", "-y", "+z", "-z")
+"""A point light's faces by ``LightView.face`` (``explorer.scene.lights.CUBE_FACE_AXES``)."""
+
+
+def _view_arrays(k: int) -> list[str]:
+    prefix = f"view{k}_" if k else ""
+    return [f"{prefix}rsm_{part}" for part in ("position", "normal", "flux")]
+
+
+def rsm_view_entries(result) -> list[dict]:
+    """Every RSM view of the frame: its light, kind, face, matrices
+    (:data:`MATRIX_CONVENTION`), size and texel area, the names of its RSM arrays and
+    which rows of the ``vpl_*`` arrays are its VPLs (``vpl_first``, ``vpls`` and their
+    texel area after downsampling; None when the VPLs were handed in)."""
+    first = 0
+    entries = []
+    sets = None if result.vpls_hand_made else result.vpl_sets
+    for k, view in enumerate(result.light_views):
+        count = sets[k].count if sets is not None and k < len(sets) else None
+        entries.append({
+            "view": k, "light": view.light_name, "light_index": view.light_index,
+            "kind": view.kind, "face": FACE_NAMES[view.face] if view.face >= 0 else None,
+            "view_matrix": np.asarray(view.view).tolist(),
+            "projection_matrix": np.asarray(view.projection).tolist(),
+            "matrix_convention": MATRIX_CONVENTION,
+            "projection": "orthographic" if view.orthographic else "perspective",
+            "size": [view.size, view.size], "texel_area": view.texel_area,
+            "arrays": _view_arrays(k) if result.rsm_views else [],
+            "vpl_first": first if count is not None else None, "vpls": count,
+            "vpl_texel_area": sets[k].texel_area if count is not None else None})
+        first += count or 0
+    return entries
 
 
 def camera_entry(result) -> dict:
@@ -138,11 +173,8 @@ def sidecar(result, arrays: dict[str, np.ndarray], scene=None, extra: dict | Non
         "lights": [light_entry(light, result.scene_bounds) for light in scene.lights]
         if scene is not None else [],
         "light_names": list(result.light_names),
-        "rsm_views": [{"light": result.light_names[light] if result.light_names else None,
-                       "vpls": vpls.count, "texel_area": vpls.texel_area,
-                       "projection": vpls.projection}
-                      for vpls, light in zip(result.vpl_sets, result.view_lights
-                                             or [0] * len(result.vpl_sets))],
+        "rsm_views": rsm_view_entries(result),
+        "vpls_hand_made": result.vpls_hand_made,
         "display_scale": result.display_scale,
         "image_convention": IMAGE_CONVENTION,
         "conventions": [{"title": title, "text": text} for title, text in conventions()],

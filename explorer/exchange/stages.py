@@ -12,6 +12,9 @@ import numpy as np
 
 GRID_STEP = re.compile(r"^(?:cascade(?P<cascade>[1-9]\d*)_)?grid_(?P<step>\d+)$")
 """``grid_t`` of cascade 0, ``cascade<k>_grid_t`` of cascade k ≥ 1."""
+VIEW_PREFIX = re.compile(r"^(?:cascade|view)[1-9]\d*_")
+"""``cascade<k>_`` (cascade k ≥ 1) and ``view<k>_`` (RSM view k ≥ 1) before an array's
+name."""
 
 
 @dataclass(frozen=True)
@@ -25,9 +28,10 @@ class ArrayDoc:
 
 ARRAYS: dict[str, ArrayDoc] = {
     "rsm_position": ArrayDoc("(Hr, Wr, 4)", "world units",
-                             "RSM (first light view): world position of the surface each "
-                             "texel sees; w = 1 where it sees one, 0 elsewhere; row 0 at the "
-                             "top"),
+                             "RSM (the first light view; view<k>_rsm_* view k's, the "
+                             "sidecar's rsm_views says whose): world position of the surface "
+                             "each texel sees; w = 1 where it sees one, 0 elsewhere; row 0 at "
+                             "the top"),
     "rsm_normal": ArrayDoc("(Hr, Wr, 4)", "unitless; w in world units",
                            "RSM: unit surface normal (xyz, towards the light for a two-sided "
                            "surface); w = view depth of the texel from the light"),
@@ -38,6 +42,10 @@ ARRAYS: dict[str, ArrayDoc] = {
     "vpl_normal": ArrayDoc("(M, 3)", "unitless", "VPLs: unit normal (the Lambertian lobe's "
                            "axis)"),
     "vpl_flux": ArrayDoc("(M, 3)", "W", "VPLs: flux per colour channel"),
+    "vpl_view": ArrayDoc("(M,)", "index", "VPLs: the RSM view each comes from (the "
+                         "sidecar's rsm_views[k]: its light, face, matrices and its VPLs' "
+                         "rows vpl_first … vpl_first + vpls − 1); absent for VPLs handed in "
+                         "with --vpls"),
     "vpl_depth": ArrayDoc("(M,)", "world units", "VPLs: view depth from the light (the "
                           "geometry volume's surfel area texel_area·depth²)"),
     "vpl_albedo": ArrayDoc("(M, 3)", "unitless", "VPLs: diffuse reflectance of the VPL's "
@@ -87,7 +95,8 @@ ARRAYS: dict[str, ArrayDoc] = {
 }
 """Every array name a dump may hold. ``grid_t`` stands for grid_0 … grid_N; cascades
 k ≥ 1 add ``cascade<k>_`` before ``grid_t``, ``accumulated``, ``geometry_volume``,
-``grid_origin`` and ``grid_cell_size``."""
+``grid_origin`` and ``grid_cell_size``; RSM views k ≥ 1 (several lights, a point light's
+six faces) add ``view<k>_`` before ``rsm_position``, ``rsm_normal`` and ``rsm_flux``."""
 
 CASCADE_ARRAYS = ("grid_origin", "grid_cell_size", "accumulated", "geometry_volume")
 
@@ -98,9 +107,7 @@ def doc_of(name: str) -> ArrayDoc | None:
     match = GRID_STEP.match(name)
     if match:
         return ARRAYS["grid_t"]
-    if name.startswith("cascade"):
-        _, _, name = name.partition("_")
-    return ARRAYS.get(name)
+    return ARRAYS.get(VIEW_PREFIX.sub("", name))
 
 
 def irradiance(received: np.ndarray, normal_area: np.ndarray) -> np.ndarray:
@@ -118,6 +125,9 @@ def frame_arrays(result, reference: np.ndarray | None = None) -> dict[str, np.nd
         "rsm_position": result.rsm_position, "rsm_normal": result.rsm_normal,
         "rsm_flux": result.rsm_flux,
     }
+    for k, (position, normal, flux) in enumerate(result.rsm_views[1:], 1):
+        arrays.update({f"view{k}_rsm_position": position, f"view{k}_rsm_normal": normal,
+                       f"view{k}_rsm_flux": flux})
     vpls = result.vpls
     arrays.update(vpl_position=np.asarray(vpls.positions), vpl_normal=np.asarray(vpls.normals),
                   vpl_flux=np.asarray(vpls.flux), vpl_depth=np.asarray(vpls.depth),
@@ -125,6 +135,9 @@ def frame_arrays(result, reference: np.ndarray | None = None) -> dict[str, np.nd
                   vpl_orthographic=np.asarray(vpls.projection == "orthographic"))
     if vpls.albedo is not None:
         arrays["vpl_albedo"] = np.asarray(vpls.albedo)
+    if not result.vpls_hand_made and result.vpl_sets:
+        arrays["vpl_view"] = np.repeat(np.arange(len(result.vpl_sets), dtype=np.int32),
+                                       [vpl_set.count for vpl_set in result.vpl_sets])
     for k, level in enumerate(result.cascades):
         prefix = f"cascade{k}_" if k else ""
         arrays[prefix + "grid_origin"] = np.asarray(level.spec.origin, np.float64)
@@ -146,3 +159,26 @@ def frame_arrays(result, reference: np.ndarray | None = None) -> dict[str, np.nd
     if reference is not None:
         arrays["reference"] = np.asarray(reference)
     return {name: np.asarray(value) for name, value in arrays.items()}
+
+
+def view_arrays(arrays: dict[str, np.ndarray]) -> list[dict[str, np.ndarray]]:
+    """A dump's arrays view by view (the sidecar's ``rsm_views`` order): each RSM view's
+    ``rsm_position``, ``rsm_normal``, ``rsm_flux`` (those the dump holds) and its own rows
+    of every ``vpl_*`` array of one row per VPL (by ``vpl_view``; none without it)."""
+    count = 1 + max([int(m.group(1)) for m in map(re.compile(r"^view(\d+)_rsm_").match,
+                                                    arrays) if m] or [0])
+    if "vpl_view" in arrays and arrays["vpl_view"].size:
+        count = max(count, int(arrays["vpl_view"].max()) + 1)
+    rows = len(arrays["vpl_view"]) if "vpl_view" in arrays else None
+    views = []
+    for k in range(count):
+        prefix = f"view{k}_" if k else ""
+        view = {f"rsm_{part}": arrays[prefix + f"rsm_{part}"]
+                for part in ("position", "normal", "flux") if prefix + f"rsm_{part}" in arrays}
+        if rows is not None:
+            mine = arrays["vpl_view"] == k
+            view.update({name: array[mine] for name, array in arrays.items()
+                         if name.startswith("vpl_") and name != "vpl_view"
+                         and array.ndim >= 1 and len(array) == rows})
+        views.append(view)
+    return views

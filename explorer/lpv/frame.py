@@ -15,6 +15,7 @@ from explorer.lpv.grid import GridSpec
 from explorer.lpv.passes.audit_reduce import CellAuditRecords
 from explorer.lpv.passes.display import exposed_image
 from explorer.lpv.passes.fog import FogImages
+from explorer.lpv.passes.rsm import LightView
 from explorer.lpv.settings import Settings
 from explorer.lpv.vpl import VplArrays
 from explorer.scene.camera import Camera
@@ -111,6 +112,19 @@ class FrameResult:
     view_lights: tuple[int, ...] = ()
     """For each entry of :attr:`vpl_sets`: the index of its light in :attr:`light_names`
     (hand-made VPLs: one set, light 0)."""
+    rsm_views: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=list)
+    """Every RSM view's ``(position, normal, flux)`` ``(Hr, Wr, 4)`` arrays, primary light
+    first, a point light's six faces in ``CUBE_FACE_AXES`` order (the first is
+    ``rsm_position``, ``rsm_normal``, ``rsm_flux``), when the frame kept its steps
+    (``keep_steps``) or has one view; empty otherwise. The RSM's VPLs are
+    :attr:`vpl_sets`, view by view."""
+    light_views: tuple[LightView, ...] = ()
+    """The RSM views rendered (primary light first, a point light's six faces in
+    ``CUBE_FACE_AXES`` order; :attr:`rsm_views` and :attr:`vpl_sets` follow it): each one's
+    light, kind, face and matrices (what a dump's sidecar lists as ``rsm_views``)."""
+    vpls_hand_made: bool = False
+    """The VPLs were handed to the pipeline (``--vpls``): :attr:`vpl_sets` is their one set,
+    not the views'."""
     received: np.ndarray | None = None
     """``(H, W, 3)`` LPV flux [W] each pixel's surface receives: the indirect irradiance E
     times the surface's area under the pixel (the gather's third target; E = received /
@@ -186,7 +200,8 @@ def frame_result(settings: Settings, state: FrameState, scene: Scene, timer: Pas
         rsm_position=rsm.position, rsm_normal=rsm.normal, rsm_flux=rsm.flux,
         vpls=vpls.vpls, vpl_sets=list(vpls.sets),
         light_names=tuple(light.name for light in scene.lights),
-        view_lights=vpls.view_lights, audit=audit,
+        view_lights=vpls.view_lights, audit=audit, rsm_views=list(rsm.views or ()),
+        vpls_hand_made=vpls.hand_made, light_views=rsm.light_views,
         timings_ms=dict(timer.timings_ms), timing_methods=dict(timer.methods),
         stages_run=stages_run, warnings=guards.frame_warnings(state.warnings, s, audit),
         display_scale=state.display_scale, camera=scene.camera,

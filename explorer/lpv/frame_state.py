@@ -53,6 +53,12 @@ class RsmImages:
     """(3,) every light's flux together."""
     flux_per_light: np.ndarray
     """(lights, 3): each light's flux summed over its views."""
+    light_views: tuple = ()
+    """The views rendered (``explorer.lpv.passes.rsm.LightView``: matrices, light, face)."""
+    views: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...] | None = None
+    """Every view's (position, normal, flux), in ``LightViews.views`` order, when the frame
+    keeps its steps (``keep_steps``: a dump writes every view) or has one view; None
+    otherwise."""
 
 
 @dataclass
@@ -65,6 +71,8 @@ class VplImages:
     """Per set: one per RSM view, or the one hand-made set."""
     view_lights: tuple[int, ...]
     """The light index of each set."""
+    hand_made: bool = False
+    """The VPLs were handed to the pipeline (one set, no RSM view of their own)."""
 
 
 @dataclass

@@ -85,25 +85,39 @@ class LightViews:
         self.rsm_textures, self.shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm",
                                                            largest)
 
-    def rsm_textures_read(self) -> list[moderngl.Texture]:
+    def rsm_textures_read(self, every_view: bool = False) -> list[moderngl.Texture]:
         """What :meth:`rsm_read_back` reads: the primary view's position and normal, then
-        every view's flux (float32 RGBA each)."""
+        every view's flux (float32 RGBA each); ``every_view``: then the other views'
+        positions and normals too (a dump's every RSM)."""
         first = self.rsm_sets[0]
-        return [first.position, first.normal] + [rsm.flux for rsm in self.rsm_sets]
+        textures = [first.position, first.normal] + [rsm.flux for rsm in self.rsm_sets]
+        if every_view:
+            textures += [texture for rsm in self.rsm_sets[1:]
+                         for texture in (rsm.position, rsm.normal)]
+        return textures
 
-    def rsm_read_back(self, arrays: list[np.ndarray] | None = None
+    def rsm_read_back(self, arrays: list[np.ndarray] | None = None, every_view: bool = False
                       ) -> tuple[RsmImages, list[np.ndarray]]:
         """The last RSMs read back: the primary view's position, normal and flux, each
         light's flux summed over its views (docs/MODEL.md "Several lights") and their
-        sum; and every array read, for the finiteness check. ``arrays``: those of
-        :meth:`rsm_textures_read` as read already (a deferred read-back)."""
+        sum, with ``every_view`` (or a single view) every view's position, normal and flux
+        (``RsmImages.views``); and every array read, for the finiteness check. ``arrays``:
+        those of :meth:`rsm_textures_read` as read already (a deferred read-back)."""
         if arrays is None:
-            arrays = [read_texture(texture) for texture in self.rsm_textures_read()]
-        flux = arrays[2:]
+            arrays = [read_texture(texture)
+                      for texture in self.rsm_textures_read(every_view)]
+        count = len(self.rsm_sets)
+        flux = arrays[2:2 + count]
         primary = (arrays[0], arrays[1], flux[0])
         per_light = flux_per_light(flux, [view.light_index for view in self.views])
+        views = (primary,) if count == 1 else None      # one view: read back already
+        if every_view and count > 1:
+            others = arrays[2 + count:]
+            views = (primary,) + tuple((others[2 * k], others[2 * k + 1], flux[k + 1])
+                                       for k in range(count - 1))
         return RsmImages(*primary, total_flux=per_light.sum(axis=0),
-                         flux_per_light=per_light), [*primary, *flux]
+                         flux_per_light=per_light, light_views=tuple(self.views),
+                         views=views), arrays
 
     def choose_vpls_later(self, s: Settings, vpls: VplArrays | None, spec: GridSpec,
                           largest: int) -> None:
@@ -148,7 +162,7 @@ class LightViews:
         return VplImages(
             vpls=sets[0] if len(sets) == 1 else VplArrays.concatenate(sets), sets=sets,
             view_lights=(0,) if hand_made else tuple(
-                view.light_index for view in self.views))
+                view.light_index for view in self.views), hand_made=hand_made)
 
     @property
     def shadow_maps(self) -> ShadowMaps:

@@ -279,7 +279,55 @@ class PointLight(_LightBase):
 Light = SpotLight | DirectionalLight | PointLight
 
 
-def flux_for_irradiance(distance: float, irradiance: float = 2.0) -> float:
+DEFAULT_IRRADIANCE = 2.0
+"""W/m² a light gets where it is meant when neither its flux nor its irradiance is given:
+a ``[[lights]]`` table of a scene file and ``--light`` of another kind alike
+(:func:`default_flux`)."""
+POINT_LIGHT_NEAREST = 0.25
+"""A point light's default flux is meant at the box's centre, but at least this share of
+the box's half-diagonal from the light (one hung at the centre would get almost none)."""
+
+
+def default_flux(kind: str, position, target, bounds_min, bounds_max,
+                 irradiance: float = DEFAULT_IRRADIANCE) -> float:
+    """The flux of a new ``kind`` light that gives ``irradiance`` W/m² on a surface facing it
+    (the one declaration of the default, for scene files and ``--light``): a spot at its
+    ``target``; a directional light on any plane facing it (``E·(2R)²``, R the half width of
+    its box); a point light at the centre of the box ``bounds_min``–``bounds_max`` (it has
+    no direction: ``target`` is ignored), at least :data:`POINT_LIGHT_NEAREST` of the box's
+    half-diagonal away."""
+    if kind == "directional":
+        side = 2.0 * DirectionalLight.half_width(bounds_min, bounds_max)
+        return irradiance * side * side
+    if kind == "point":
+        lo, hi = np.asarray(bounds_min, np.float64), np.asarray(bounds_max, np.float64)
+        radius = 0.5 * float(np.linalg.norm(hi - lo))
+        distance = float(np.linalg.norm(0.5 * (lo + hi) - np.asarray(position, np.float64)))
+        return flux_for_irradiance(max(distance, POINT_LIGHT_NEAREST * radius, 1e-6),
+                                   irradiance)
+    if kind != "spot":
+        raise ValueError(f"light kind must be one of {', '.join(LIGHT_KINDS)}, got {kind!r}")
+    distance = float(np.linalg.norm(np.subtract(target, position)))
+    return flux_for_irradiance(max(distance, 1e-6), irradiance)
+
+
+def new_light(kind: str, position, target, flux: float, name: str = "light",
+              colour=WHITE_LIGHT, cone_degrees: tuple[float, float] | None = None):
+    """A ``kind`` light (:data:`LIGHT_KINDS`) at ``position`` aimed at ``target`` (a point
+    light ignores it) with ``flux``; ``cone_degrees`` only for a spot (None: no cone)."""
+    position, colour = tuple(map(float, position)), tuple(map(float, colour))
+    if kind == "point":
+        return PointLight(position, float(flux), name=name, colour=colour)
+    target = tuple(map(float, target))
+    if kind == "directional":
+        return DirectionalLight(position, target, float(flux), name=name, colour=colour)
+    if kind != "spot":
+        raise ValueError(f"light kind must be one of {', '.join(LIGHT_KINDS)}, got {kind!r}")
+    return SpotLight(position, target, float(flux), name=name, colour=colour,
+                     cone_degrees=None if cone_degrees is None else tuple(cone_degrees))
+
+
+def flux_for_irradiance(distance: float, irradiance: float = DEFAULT_IRRADIANCE) -> float:
     """Spot flux ``Φ_L = 4π·r²·E`` that gives irradiance ``E`` at normal incidence at
     distance ``r``: how built-in and loaded scenes pick a flux that is well exposed at any
     scale (``E = 2`` lights a white surface to a radiance near 0.5, leaving room for the

@@ -306,30 +306,13 @@ class Scene:
 
 def light_of_kind(kind: str, like: Light, position, target, bounds_min, bounds_max) -> Light:
     """A ``kind`` light named and coloured as ``like``, at ``position`` aimed at ``target``
-    (a point light ignores it), with the flux that gives 2 W/m² at the target facing the
-    light (``flux_for_irradiance``; a point light: at the box's centre; a directional
-    light: on any plane facing it)."""
-    from explorer.scene.lights import (
-        DirectionalLight,
-        PointLight,
-        SpotLight,
-        flux_for_irradiance,
-    )
+    (a point light ignores it), with the default flux a scene file's ``[[lights]]`` table
+    gives it too (:func:`explorer.scene.lights.default_flux`: 2 W/m² at the target; a
+    point light at the box's centre; a directional light on any plane facing it)."""
+    from explorer.scene.lights import default_flux, new_light
 
-    position, target = tuple(map(float, position)), tuple(map(float, target))
-    common = {"name": like.name, "colour": like.colour}
-    if kind == "directional":
-        side = 2.0 * DirectionalLight.half_width(bounds_min, bounds_max)
-        return DirectionalLight(position, target, 2.0 * side * side, **common)
-    if kind == "point":
-        # no target: 2 W/m² at the box's centre, or at a quarter of its radius when the
-        # light hangs nearer than that
-        centre = 0.5 * (np.asarray(bounds_min, np.float64) + np.asarray(bounds_max, np.float64))
-        radius = 0.5 * float(np.linalg.norm(np.subtract(bounds_max, bounds_min)))
-        distance = max(float(np.linalg.norm(centre - position)), 0.25 * radius, 1e-6)
-        return PointLight(position, flux_for_irradiance(distance), **common)
-    flux = flux_for_irradiance(max(float(np.linalg.norm(np.subtract(target, position))), 1e-6))
-    return SpotLight(position, target, flux, **common)
+    flux = default_flux(kind, position, target, bounds_min, bounds_max)
+    return new_light(kind, position, target, flux, name=like.name, colour=like.colour)
 
 
 def _check_objects(scene: str, objects: tuple[SceneObject, ...], count: int) -> None:

@@ -56,11 +56,10 @@ from explorer.scene.camera import Camera
 from explorer.scene.lights import (
     LIGHT_KINDS,
     MAX_CONE_DEGREES,
-    DirectionalLight,
     Light,
-    PointLight,
-    SpotLight,
+    default_flux,
     flux_for_irradiance,
+    new_light,
 )
 from explorer.scene.model import MAX_LIGHTS, Scene, SceneError
 from explorer.scene.objects import MAX_SCALE, MIN_SCALE, ObjectTransform, check_transforms
@@ -294,35 +293,32 @@ def light_from_table(entry: dict, where: str, table: str, scene: Scene, number: 
             raise SceneError(f"{where}: {table}: cone = [inner, outer] needs inner <= outer "
                              f"and outer > 0, got {list(cone)}")
     flux = _light_flux(entry, where, table, kind, position, target, scene)
-    position, colour = tuple(position), tuple(colour)
-    if kind == "point":
-        return PointLight(position, flux, name=name, colour=colour)
-    if kind == "directional":
-        return DirectionalLight(position, tuple(target), flux, name=name, colour=colour)
-    return SpotLight(position, tuple(target), flux, name=name, colour=colour,
+    return new_light(kind, position, target, flux, name=name, colour=colour,
                      cone_degrees=None if cone is None else tuple(cone))
 
 
 def _light_flux(entry: dict, where: str, table: str, kind: str, position, target,
                 scene: Scene) -> float:
     """``flux`` as given, or the flux that gives ``irradiance`` (W/m²) at the target
-    facing the light (a directional light: on any plane facing it); neither: 2 W/m²."""
+    facing the light (a directional light: on any plane facing it; a point light: at its
+    ``target``, which it then needs); neither: :func:`default_flux`, as ``--light`` gives
+    it."""
     if "flux" in entry and "irradiance" in entry:
         raise SceneError(f"{where}: {table}: give flux or irradiance, not both")
     if "flux" in entry:
         return _number(entry, "flux", where, table, low=0.0, high=MAX_FLUX, low_open=True)
+    lo, hi = scene.bounds_min, scene.bounds_max
+    if "irradiance" not in entry:
+        return default_flux(kind, position, target, lo, hi)
     irradiance = _number(entry, "irradiance", where, table, low=0.0, high=MAX_FLUX,
-                         low_open=True, default=2.0)
-    if kind == "directional":
-        side = 2.0 * DirectionalLight.half_width(scene.bounds_min, scene.bounds_max)
-        return irradiance * side * side
-    if target is None:
-        if "irradiance" in entry:
+                         low_open=True)
+    if kind == "point":         # meant at a point of its choosing, not the default one
+        if target is None:
             raise SceneError(f"{where}: {table}: a point light's irradiance needs target = "
                              f"[x, y, z], the point where it is meant")
-        target = 0.5 * (np.asarray(scene.bounds_min) + np.asarray(scene.bounds_max))
-    distance = float(np.linalg.norm(np.subtract(target, position)))
-    return flux_for_irradiance(max(distance, 1e-6), irradiance)
+        distance = float(np.linalg.norm(np.subtract(target, position)))
+        return flux_for_irradiance(max(distance, 1e-6), irradiance)
+    return default_flux(kind, position, target, lo, hi, irradiance)
 
 
 def _posed(scene: Scene, table: Any, where: str) -> Scene:

@@ -49,6 +49,8 @@ def api_arrays(r) -> dict[str, np.ndarray]:
               "vpl_normal": r.vpls.normals, "vpl_flux": r.vpls.flux, "vpl_depth": r.vpls.depth,
               "vpl_albedo": r.vpls.albedo, "vpl_texel_area": np.float64(r.vpls.texel_area),
               "vpl_orthographic": np.bool_(r.vpls.projection == "orthographic"),
+              "vpl_view": np.repeat(np.arange(len(r.vpl_sets), dtype=np.int32),
+                                    [v.count for v in r.vpl_sets]),
               "grid_origin": np.asarray(r.grid_spec.origin),
               "grid_cell_size": np.float64(r.grid_spec.cell_size),
               "accumulated": r.accumulated, "geometry_volume": r.geometry_volume,
@@ -183,9 +185,11 @@ def test_grid_slice_png_has_its_scale_bar(tmp_path):
     ({"vpl_position": np.zeros((2, 3), np.int64), "vpl_normal": np.zeros((2, 3)),
       "vpl_flux": np.zeros((2, 3))}, "vpl_position must be float32 or float64, got int64"),
     ({"vpl_position": np.zeros((2, 3)), "vpl_normal": np.tile([0.0, 2.0, 0.0], (2, 1)),
-      "vpl_flux": np.zeros((2, 3))}, "vpl_normal 0 has length 2, not 1"),
+      "vpl_flux": np.zeros((2, 3))}, "vpl_normal is not unit in 2 rows: row 0 (length 2), row 1 "
+                                       "(length 2)"),
     ({"vpl_position": np.zeros((1, 3)), "vpl_normal": np.array([[0.0, 1.0, 0.0]]),
-      "vpl_flux": np.array([[np.nan, 0.0, 0.0]])}, "vpl_flux is not finite at index (0, 0)"),
+      "vpl_flux": np.array([[np.nan, 0.0, 0.0]])}, "vpl_flux is not finite in 1 row: row 0 "
+                                                   "(column 0)"),
     ({"vpl_position": np.zeros((1, 3)), "vpl_normal": np.array([[0.0, 1.0, 0.0]]),
       "vpl_flux": np.ones((1, 3))}, "the geometry volume needs vpl_depth"),
     ({"vpl_position": np.array([None, None], dtype=object)}, "never unpickled"),

@@ -36,6 +36,12 @@ class Stage(StageBase):
         scene = self.host.scene_state.for_settings(job.settings)
         return len(LightViews.of(scene, job.settings.rsm_size)) + 2
 
+    def satisfied(self, job: Job) -> bool:
+        """A frame that keeps its steps needs every view's RSM read back (one view always
+        is)."""
+        rsm = self.state.rsm
+        return not job.keep_steps or (rsm is not None and rsm.views is not None)
+
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
         views = LightViews.of(host.scene_state.for_settings(s), s.rsm_size)
@@ -43,9 +49,10 @@ class Stage(StageBase):
         yield from host.light_views.render(views, host.scene_state.buffers,
                                            host.limits.max_framebuffer_size)
         # the read-back is copied now and taken in the next unit (work_units.py)
-        textures = host.light_views.rsm_textures_read()
+        every_view = job.keep_steps       # a dump writes every view's RSM
+        textures = host.light_views.rsm_textures_read(every_view)
         while len(self.reads) < len(textures):
             self.reads.append(DeferredRead(host.ctx))
         arrays = yield from read_back_later(self.reads, textures)
-        self.state.rsm, checked = host.light_views.rsm_read_back(arrays)
+        self.state.rsm, checked = host.light_views.rsm_read_back(arrays, every_view)
         self.state.warnings["rsm"] = guards.arrays_warnings("rsm", checked, s)
