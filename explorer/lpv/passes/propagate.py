@@ -261,9 +261,11 @@ class PropagationRun:
         while self.done < target:
             self.advance()
 
-    def advance(self) -> None:
+    def advance(self, bound: bool = False) -> None:
         """Dispatch the next slab of the current step; after the step's last slab, its
-        audit, its kept grid and the swap of the grids."""
+        audit, its kept grid and the swap of the grids. ``bound``: the last GL work was
+        this run's previous :meth:`advance` (a unit of several slabs), so the accumulation
+        images, the geometry volume and the audit's buffers are still bound."""
         if self.finished:
             raise RuntimeError(f"all {self.iterations} propagation steps have run")
         owner, step = self._owner, self.done + 1
@@ -273,13 +275,14 @@ class PropagationRun:
             # The race: the dispatch reads its neighbours from the grid it writes.
             target = self.accumulated
         self._source.use_as_textures(0)
-        if self._geometry is not None:
-            self._geometry.use_as_texture(owner.GEOMETRY_UNIT)
-            self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
         target.bind_images(0)
-        self.accumulated.bind_images(3)
-        if self._with_audit:        # only the full audit's kernel writes the records
-            owner.audit.bind()
+        if not bound:
+            if self._geometry is not None:
+                self._geometry.use_as_texture(owner.GEOMETRY_UNIT)
+                self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
+            self.accumulated.bind_images(3)
+            if self._with_audit:        # only the full audit's kernel writes the records
+                owner.audit.bind()
         first, end = self._slabs[self._slab]
         # one slab a step up to 32³: set once. The offset last set is kept with the
         # program, which the cascades' runs share (interleaved, each with its slabs).
@@ -293,7 +296,7 @@ class PropagationRun:
             return
         self._slab = 0
         if self._with_audit:
-            owner.audit.sum_cell_records(step)
+            owner.audit.sum_cell_records(step, bound=True)   # the kernel's buffers
         elif self._mode == "flux":
             # in place the step's grid is not kept apart: the slot holds acc_t and
             # grid_audit takes the differences (the flux is linear in the grid)
