@@ -117,13 +117,14 @@ class AuditReducer:
         program.run(-(-self.partial_count // 64))
         self.ctx.memory_barrier()
 
-    def measure_flux(self, slot: int, grid: LpvGrid) -> None:
-        """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs)."""
+    def measure_flux(self, slot: int, grid: LpvGrid, bound: bool = False) -> None:
+        """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs);
+        ``bound``: :meth:`bind`'s buffers are still bound."""
         if grid.resolution != self._resolution:
             raise ValueError(f"audit prepared for {self._resolution}^3 cells, the grid has "
                              f"{grid.resolution}^3")
         grid.use_as_textures(0)
-        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2})
+        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}, bound)
 
     def sum_cell_records(self, slot: int, bound: bool = False) -> None:
         """Reduce the per-cell records a propagation step wrote into ``slot``; ``bound``:
