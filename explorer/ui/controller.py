@@ -130,6 +130,8 @@ class PipelineController:
         self._budget = FrameBudget(0.0, 0.0, 0.0, None)
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
+        self._requests: dict[str, tuple] = {}
+        """Side -> (state.settings, the rest of the inputs, the Request made of them)."""
 
     # ------------------------------------------------------------------ requests
     def settings_for(self, state: AppState, side: str) -> Settings:
@@ -143,6 +145,21 @@ class PipelineController:
 
     def request_for(self, state: AppState, side: str, need_audit: str | bool,
                     interacting: bool) -> Request:
+        # the same request as last frame when nothing it is made of changed: the same
+        # Settings object (compared by identity: a new one is a change) and the same rest;
+        # making it anew validates every field and compares the Settings by value
+        rest = (need_audit, interacting, interacting and self.drag_scale, self._first_done,
+                keeps_steps(state, side), side == "B" and (
+                    state.compare_settings.corrections, tuple(state.compare_overrides)))
+        cached = self._requests.get(side)
+        if cached is not None and cached[0] is state.settings and cached[1] == rest:
+            return cached[2]
+        request = self._make_request(state, side, need_audit, interacting)
+        self._requests[side] = (state.settings, rest, request)
+        return request
+
+    def _make_request(self, state: AppState, side: str, need_audit: str | bool,
+                      interacting: bool) -> Request:
         settings = self.settings_for(state, side).with_changes(**PINNED_DISPLAY)
         scale = 1.0
         if interacting:
@@ -488,4 +505,5 @@ class PipelineController:
             if side.pipeline is not None:
                 side.pipeline.release()
         self.sides = {name: SideState(name) for name in SIDES}
+        self._requests.clear()
         self.programs.release()

@@ -499,3 +499,25 @@ def test_a_change_shows_a_labelled_coarse_picture_before_the_converged_one(contr
     width, height = first_size
     assert first_label.startswith(f"preview {width}×{height} · ")
     assert shown[-1][:2] == (True, full) and shown[-1][2] == ""
+
+
+def test_an_unchanged_frame_reuses_its_request_and_any_change_makes_a_new_one():
+    """The request of a side is made once per change of what it is made of (making it
+    validates every Settings field and a new one compares the Settings by value)."""
+    control = PipelineController(None, None)
+    state = _state()
+    first = control.request_for(state, "A", "flux", False)
+    assert control.request_for(state, "A", "flux", False) is first
+    state.set_corrections(side_faces=False)
+    toggled = control.request_for(state, "A", "flux", False)
+    assert toggled is not first and not toggled.settings.corrections.side_faces
+    assert control.request_for(state, "A", "full", False).need_audit == "full"
+    assert control.request_for(state, "A", "flux", True).interactive
+    b = control.request_for(state, "B", "flux", False)
+    ping_pong = state.compare_settings.corrections.ping_pong
+    state.compare_settings = state.compare_settings.with_changes(
+        corrections={"ping_pong": not ping_pong})
+    changed = control.request_for(state, "B", "flux", False)
+    assert changed != b and changed.settings.corrections.ping_pong != ping_pong
+    again = control.request_for(state, "A", "flux", False)     # one request kept a side
+    assert again == toggled and control.request_for(state, "A", "flux", False) is again
