@@ -431,8 +431,7 @@ class PipelineController:
         rt.frame.pictures = {name: side.picture for name, side in self.sides.items()
                              if side.picture is not None and side.picture.ready}
         update_side_exposures(state, {name: side.result for name, side in self.sides.items()},
-                              {name: self.settings_for(state, name).indirect_only
-                               for name in self.sides})
+                              lambda name: self.settings_for(state, name).indirect_only)
 
     @property
     def busy(self) -> bool:

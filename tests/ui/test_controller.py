@@ -521,3 +521,21 @@ def test_an_unchanged_frame_reuses_its_request_and_any_change_makes_a_new_one():
     assert changed != b and changed.settings.corrections.ping_pong != ping_pong
     again = control.request_for(state, "A", "flux", False)     # one request kept a side
     assert again == toggled and control.request_for(state, "A", "flux", False) is again
+
+
+def test_a_frame_without_the_comparison_makes_no_settings_for_side_b(controller):
+    """Side B's Settings (a validated copy of A's) are made only when B is shown: the
+    sides' own exposures ask for them only when the sides are exposed separately."""
+    state = _state()
+    _settle(controller, state)
+    made = Counter()
+    settings_for = controller.settings_for
+
+    def counted(state, side):
+        made[side] += 1
+        return settings_for(state, side)
+
+    controller.settings_for = counted
+    for _ in range(5):
+        controller.update(state, BUDGET_MS)
+    assert made["B"] == 0
