@@ -343,8 +343,10 @@ def validate(obj: Any) -> None:
             object.__setattr__(obj, name, normal)
 
 
+@cache
 def stages_reading(cls: type, stage: str) -> tuple[str, ...]:
-    """The fields of ``cls`` that ``stage`` reads directly."""
+    """The fields of ``cls`` that ``stage`` reads directly (cached: every stage key of a
+    frame asks)."""
     return tuple(name for name, spec in specs(cls).items() if stage in spec.stages)
 
 

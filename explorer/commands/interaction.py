@@ -32,6 +32,9 @@ LIT_LEVEL = 100
 """A view pixel with a channel above this is lit (the dark background is about 25)."""
 LIT_SHARE = 0.05
 SETTLE_LIMIT_S = 120.0
+INTERACTING_S = 0.15
+"""A frame that starts within this of an input counts as one while the user interacts
+(the window's quiet budget begins after as long without input)."""
 IDLE_S = 3.0
 DRAG_PIXELS = 6.0
 EXPOSURES = (0.5, 1.0, 2.0, 4.0, 1.0)
@@ -114,6 +117,18 @@ class Recorder:
         self.phase = "launch"
         self.slow: list[tuple[float, str]] = []
         """The five longest frames with their phase and what ran in them."""
+        self.input_at = 0.0
+        """perf_counter() of the last input the session gave (:meth:`input`)."""
+        self.interacting = (0.0, "")
+        """The longest frame within :data:`INTERACTING_S` of an input (a drag's frames, a
+        click's and those right after it), with its phase."""
+        self.panels = (0.0, "")
+        """The longest building of the panels in a frame, with the slowest panel."""
+
+    def input(self) -> None:
+        """The session gives input now (a mouse event, a click that changes a setting)."""
+        poke(self.app)
+        self.input_at = time.perf_counter()
 
     def frame(self) -> float:
         """One frame() call; milliseconds it blocked (without an idle wait for events,
@@ -122,6 +137,13 @@ class Recorder:
         self.app.frame()
         ms = (time.perf_counter() - start - getattr(self.app, "last_wait_s", 0.0)) * 1e3
         self.frames += 1
+        if start - self.input_at < INTERACTING_S and ms > self.interacting[0]:
+            self.interacting = (ms, self.phase)
+        phases = getattr(self.app, "draw_phases_ms", None) or {}
+        panels = getattr(getattr(self.app, "panels", None), "panel_ms", None) or {}
+        if phases.get("panels", 0.0) > self.panels[0]:
+            slowest = max(panels.items(), key=lambda item: item[1], default=("-", 0.0))
+            self.panels = (phases["panels"], f"{self.phase}: {slowest[0]} {slowest[1]:.0f} ms")
         if ms > self.longest[0]:
             status = getattr(self.app, "status", None)
             if status is None:
@@ -258,16 +280,16 @@ def orbit_phase(app, rec: Recorder, frames: int) -> dict:
     x, y = (x0 + x1) / 2 / scale, (y0 + y1) / 2 / scale
     io = imgui.get_io()
     io.add_mouse_pos_event(x, y)
-    poke(app)
+    rec.input()
     rec.frame()
     io.add_mouse_button_event(0, True)
-    poke(app)
+    rec.input()
     rec.frame()
     pictures, last = 0, picture_serial(app)
     start = time.perf_counter()
     for step in range(1, frames + 1):
         io.add_mouse_pos_event(x + DRAG_PIXELS * (step % 60) - 180.0, y)
-        poke(app)
+        rec.input()
         rec.frame()
         serial = picture_serial(app)
         pictures += serial != last
@@ -278,7 +300,7 @@ def orbit_phase(app, rec: Recorder, frames: int) -> dict:
     result = app.state.runtime.frame.result
     figures["orbit_render_size"] = list(result.direct.shape[1::-1]) if result else None
     io.add_mouse_button_event(0, False)
-    poke(app)
+    rec.input()
     figures["orbit_refine_ms"] = rec.converge()
     return figures
 
@@ -290,6 +312,7 @@ def display_phase(app, rec: Recorder, redraw_ms: float) -> dict:
     rec.phase = "display"
     changed = []
     for value in EXPOSURES:
+        rec.input()                 # the slider's drag
         app.state.update(exposure=value)
         changed.append(rec.frame())
     figures["display_change_frame_ms"] = statistics.median(changed)
@@ -315,13 +338,13 @@ def grid64_phase(app, rec: Recorder, correction: str) -> dict:
     figures = {}
     rec.phase = "grid 64"
     before = picture_serial(app)
-    poke(app)                       # the click that makes the change
+    rec.input()                     # the click that makes the change
     app.state.update(grid_size=64)
     first, final = rec.until_new_picture(before)
     figures["grid64_first_update_ms"], figures["grid64_converged_ms"] = first, final
     before = picture_serial(app)
     corrections = app.state.settings.corrections
-    poke(app)
+    rec.input()
     app.state.set_corrections(**{correction: not getattr(corrections, correction)})
     first, final = rec.until_new_picture(before)
     figures["grid64_toggle_first_update_ms"] = first
@@ -334,6 +357,9 @@ def session_summary(app, rec: Recorder) -> dict:
     frames and the renderer."""
     figures = {}
     figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = rec.longest
+    figures["longest_interacting_frame_ms"], figures["longest_interacting_frame_phase"] = \
+        rec.interacting
+    figures["longest_panels_ms"], figures["longest_panels_what"] = rec.panels
     figures["frames"] = rec.frames
     figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
     figures["renderer"] = app.state.runtime.services.gl_renderer
@@ -348,11 +374,11 @@ def toggles(app, rec: Recorder) -> dict:
         name = entry.name
         value = getattr(app.state.settings.corrections, name)
         before = picture_serial(app)
-        poke(app)       # the click on the checkbox (a window that counts input sees it)
+        rec.input()     # the click on the checkbox (a window that counts input sees it)
         app.state.set_corrections(**{name: not value})
         first, final = rec.until_new_picture(before)
         times[name] = {"first_update_ms": first, "converged_ms": final}
-        poke(app)
+        rec.input()
         app.state.set_corrections(**{name: value})
         rec.converge()
     return times

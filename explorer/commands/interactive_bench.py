@@ -39,7 +39,10 @@ KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".
         ("grid64_converged_ms", "grid 64³: converged", "ms", ".0f"),
         ("grid64_toggle_first_update_ms", "64³ toggle: first updated picture", "ms", ".0f"),
         ("grid64_toggle_converged_ms", "64³ toggle: converged", "ms", ".0f"),
-        ("longest_blocked_frame_ms", "longest frame", "ms", ".0f"))
+        ("longest_blocked_frame_ms", "longest frame", "ms", ".0f"),
+        ("longest_interacting_frame_ms", "longest frame within 0.15 s of an input", "ms",
+         ".0f"),
+        ("longest_panels_ms", "longest building of the panels", "ms", ".1f"))
 
 
 def run_window_bench(args: argparse.Namespace) -> int:
@@ -96,6 +99,11 @@ def _print_session(figures: dict) -> None:
     if size:
         print(f"  {'orbit: render size while dragging':<48} {size[0]:>5}×{size[1]}")
     print(f"  longest frame ran: {figures.get('longest_blocked_frame_work', '')}")
+    if figures.get("longest_interacting_frame_phase"):
+        print(f"  longest frame within 0.15 s of an input: in "
+              f"{figures['longest_interacting_frame_phase']}")
+    if figures.get("longest_panels_what"):
+        print(f"  longest building of the panels: {figures['longest_panels_what']}")
     for line in figures.get("slowest_frames", []):
         print(f"    slow frame: {line}")
     for name, times in figures.get("toggles", {}).items():

@@ -16,7 +16,10 @@ Read-backs are told apart: a ``read``/``read_into`` that returns bytes is a sync
 read-back (the CPU waits for the GPU); ``read_into`` a :class:`moderngl.Buffer` is a
 queued copy (a pixel-buffer read, explorer/gl/gpu_sync.py ``DeferredRead``), and reading
 such a buffer back is a deferred read. :class:`~explorer.gl.gpu_sync.Fence` waits count as
-finishes (a wait for the GPU), its polls as polls.
+finishes (a wait for the GPU), its polls as polls. The GL entry points
+explorer/gl/gpu_sync.py calls through ``ctypes`` (timer queries begun, ended and asked
+for their results, fences made and deleted) are GL calls too: a driver may flush its
+queue in them (llvmpipe does when a query's result is asked for).
 """
 
 from __future__ import annotations
@@ -67,6 +70,11 @@ KINDS = {
 
 SYNC_CLASSES = ("Fence",)
 """explorer.gl.gpu_sync's classes whose waits and polls are counted."""
+CTYPES_ENTRY_POINTS = {"begin_query": "queries", "end_query": None, "query_object_iv": None,
+                       "query_object_ui64v": None, "gen_queries": None,
+                       "delete_queries": None, "fence_sync": None, "delete_sync": None,
+                       "client_wait_sync": None}
+"""explorer.gl.gpu_sync's ``ctypes`` GL functions (``gl()``'s attributes) -> their kind."""
 CLASSES = ("Context", "Buffer", "Texture", "Texture3D", "TextureArray", "TextureCube",
            "Framebuffer", "Renderbuffer", "VertexArray", "Program", "ComputeShader",
            "Sampler", "Query", "Scope", "Uniform")
@@ -96,12 +104,20 @@ class GlCallCounter:
 
     def __init__(self) -> None:
         self.tally = CallTally()
-        self._saved: list[tuple[type, str, object]] = []
+        self._saved: list[tuple[object, str, object]] = []
         self._depth = 0
 
     def __enter__(self) -> GlCallCounter:
         from explorer.gl import gpu_sync
 
+        try:
+            entry_points = gpu_sync.gl()
+        except OSError:                 # no GL library: nothing calls these
+            entry_points = None
+        if entry_points is not None:
+            for name, kind in CTYPES_ENTRY_POINTS.items():
+                self._saved.append((entry_points, name, vars(entry_points)[name]))
+                setattr(entry_points, name, self._wrap(vars(entry_points)[name], kind))
         for cls in (getattr(gpu_sync, name) for name in SYNC_CLASSES):
             for name in ("wait", "signaled"):
                 member = vars(cls)[name]
@@ -137,8 +153,13 @@ class GlCallCounter:
     def _wrap(self, function, kind: str | None):
         tally = self.tally
 
+        clock = time.perf_counter
+
         @functools.wraps(function)
         def counted(*args, **kwargs):
+            # the clock starts first and stops last: the counter's own bookkeeping is not
+            # the Python time outside GL that it measures
+            start = clock()
             if self._depth:
                 return function(*args, **kwargs)
             tally.calls["GL calls"] += 1
@@ -146,12 +167,11 @@ class GlCallCounter:
             if counted_as is not None:
                 tally.calls[counted_as] += 1
             self._depth += 1
-            start = time.perf_counter()
             try:
                 return function(*args, **kwargs)
             finally:
-                tally.inside_s += time.perf_counter() - start
                 self._depth -= 1
+                tally.inside_s += clock() - start
 
         return counted
 

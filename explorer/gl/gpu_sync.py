@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import math
 import time
 import weakref
 from collections.abc import Callable
@@ -156,7 +157,7 @@ class DeferredRead:
         ``read_into``) into the buffer and fence it; ``shape`` and ``dtype`` say how its
         bytes are read. A read still in flight is replaced."""
         self.dtype, self.shape = np.dtype(dtype), tuple(shape)
-        size = int(np.prod(self.shape)) * self.dtype.itemsize
+        size = math.prod(self.shape) * self.dtype.itemsize
         if self._buffer is None or self._buffer.size != size:
             if self._buffer is not None:
                 self._buffer.release()

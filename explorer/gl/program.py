@@ -159,15 +159,16 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     if declared is None:
         raise TypeError("set_uniforms needs a program made by load_program (ProgramCache), "
                         "which records the uniforms its source declares")
+    # program.get, not ``in``: moderngl's programs have no __contains__ (``in`` iterates)
     for name in reads:
         if name not in values:
             raise UniformError(f"{label}: no value given for {name}, which it must read")
-        if name not in program:
+        if program.get(name, None) is None:
             raise UniformError(f"{label} must read the uniform {name} but the compiled program "
                                f"does not use it (declared: {name in declared})")
     uploaded = info.setdefault("values", {})
     for key, value in values.items():
-        if key in program:
+        if program.get(key, None) is not None:
             # a uniform keeps its value in the program: one the last call set is not
             # uploaded again (a frame sets most of them to what they were)
             stamp = _value_key(value)
@@ -187,6 +188,9 @@ _UNSET = object()
 
 def _value_key(value: object) -> object:
     """A uniform value as something ``==`` compares exactly (arrays by their bytes)."""
+    kind = type(value)
+    if kind is float or kind is int or kind is bool:
+        return (kind, value)
     if isinstance(value, np.ndarray):
         return (value.dtype.str, value.shape, value.tobytes())
     if isinstance(value, (list, tuple)):

@@ -27,6 +27,7 @@ source. From the two the pipeline derives
 
 from __future__ import annotations
 
+from functools import cache
 from typing import Any
 
 from explorer.lpv.corrections import CORRECTIONS, Corrections
@@ -81,9 +82,14 @@ def _nested_inputs(value: Any, stage: str) -> Any:
     reads re-runs no injection, and the "original" preset (which leaves the geometry
     volume's switch corrected) re-runs no geometry volume."""
     if isinstance(value, Corrections):
-        return tuple((entry.name, getattr(value, entry.name)) for entry in CORRECTIONS
-                     if stage in entry.stages)
+        return tuple((name, getattr(value, name)) for name in _corrections_read_by(stage))
     return value
+
+
+@cache
+def _corrections_read_by(stage: str) -> tuple[str, ...]:
+    """The correction switches ``stage``'s programs read (the registry's order)."""
+    return tuple(entry.name for entry in CORRECTIONS if stage in entry.stages)
 
 
 def stage_key(settings: Any, stage: str, upstream_keys: dict[str, Any],

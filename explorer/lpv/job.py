@@ -114,6 +114,10 @@ class Job:
         self._ran: list[str] = []
         self._result: FrameResult | None = None
         self.cancelled = False
+        self.unit_budget_ms: float | None = None
+        """What is left of the budget of the :meth:`advance` call running the unit in
+        progress (None: no budget), for a stage that sizes its units itself (the
+        propagation groups small steps)."""
 
     # ------------------------------------------------------------------ state
     def asks_for(self, settings: Settings, keep_steps: bool, need_audit: str | bool,
@@ -163,10 +167,10 @@ class Job:
                 continue
             if budget_ms is not None and self.gpu_pending:
                 break               # the next unit reads back what the GPU still copies
-            if budget_ms is not None and worked:
-                spent = (time.perf_counter() - start) * 1e3
-                if spent + self.next_unit_ms() > budget_ms:
-                    break
+            spent = (time.perf_counter() - start) * 1e3
+            if budget_ms is not None and worked and spent + self.next_unit_ms() > budget_ms:
+                break
+            self.unit_budget_ms = None if budget_ms is None else max(budget_ms - spent, 0.0)
             self._run_unit()
             worked = True
         return self.progress

@@ -26,13 +26,22 @@ def up_hint(forward: np.ndarray) -> np.ndarray:
     return np.array([0.0, 0.0, -1.0]) if abs(forward[1]) > 0.999 else np.array([0.0, 1.0, 0.0])
 
 
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross`` of two 3-vectors, the same products and differences (so the same
+    float64 bits) without its general-shape set-up, which costs ten times the arithmetic
+    (a camera frame computes its view matrix every time)."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 def look_at(eye, target, up=None) -> np.ndarray:
     """World -> view matrix of a camera at ``eye`` looking at ``target``."""
     eye = np.asarray(eye, dtype=np.float64)
     forward = normalized(np.asarray(target, dtype=np.float64) - eye)
     up = up_hint(forward) if up is None else np.asarray(up, dtype=np.float64)
-    right = normalized(np.cross(forward, up))
-    true_up = np.cross(right, forward)
+    right = normalized(cross3(forward, up))
+    true_up = cross3(right, forward)
     view = np.eye(4)
     view[0, :3], view[1, :3], view[2, :3] = right, true_up, -forward
     view[:3, 3] = -view[:3, :3] @ eye
@@ -67,4 +76,4 @@ def orthographic(half_width: float, half_height: float, near: float, far: float)
 
 def gl_matrix(matrix: np.ndarray) -> tuple[float, ...]:
     """Column-major flattening for a GLSL ``mat4`` uniform."""
-    return tuple(float(v) for v in np.asarray(matrix, dtype=np.float64).T.ravel())
+    return tuple(np.asarray(matrix, dtype=np.float64).T.ravel().tolist())

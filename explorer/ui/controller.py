@@ -12,7 +12,8 @@ and a budget in milliseconds. The controller
 * publishes pictures: when a job finishes (at the full size), and
   (``AppState.progressive``) while the propagation runs, a preview of the accumulation so
   far after each few steps, gathered at :data:`PREVIEW_SCALE` of each edge (a quarter of
-  the pixels: quick to gather and to copy), copied into the side's
+  the pixels: quick to gather and to copy; a job's first at ``FIRST_PREVIEW_SCALE``, also
+  while a change that only the gather sees is gathered), copied into the side's
   :class:`~explorer.ui.picture.Picture`, paced by explorer/ui/previews.py;
 * gives the pipelines more of each frame while the user leaves the window alone (the
   quiet budget of explorer/ui/frame_budget.py; the shell's ``input_pending`` is asked
@@ -58,7 +59,7 @@ from explorer.ui.frame_budget import FINISHING_STAGES, QUIET_BUDGET_MS, DragSize
 from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.panel_tasks import run_tasks
 from explorer.ui.picture import Picture, SideDisplay, Stamp
-from explorer.ui.previews import PREVIEW_INTERVAL_S, PREVIEW_SCALE
+from explorer.ui.previews import FIRST_PREVIEW_SCALE, PREVIEW_INTERVAL_S, PREVIEW_SCALE
 from explorer.ui.scene_reload import Reloads
 from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
@@ -105,6 +106,9 @@ class PipelineController:
         to the end)."""
         self.preview_scale = PREVIEW_SCALE
         """Fraction of each edge a progressive preview gathers (1: the full size)."""
+        self.first_preview_scale = FIRST_PREVIEW_SCALE
+        """Fraction of each edge a job's first preview gathers (at most
+        :attr:`preview_scale`)."""
         self.quiet_budget_ms = QUIET_BUDGET_MS
         """A frame's budget once no input came for ``frame_budget.QUIET_AFTER_S`` (at
         least the frame budget; 0: never more than the frame budget)."""
@@ -126,6 +130,8 @@ class PipelineController:
         self._budget = FrameBudget(0.0, 0.0, 0.0, None)
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
+        self._requests: dict[str, tuple] = {}
+        """Side -> (state.settings, the rest of the inputs, the Request made of them)."""
 
     # ------------------------------------------------------------------ requests
     def settings_for(self, state: AppState, side: str) -> Settings:
@@ -139,6 +145,21 @@ class PipelineController:
 
     def request_for(self, state: AppState, side: str, need_audit: str | bool,
                     interacting: bool) -> Request:
+        # the same request as last frame when nothing it is made of changed: the same
+        # Settings object (compared by identity: a new one is a change) and the same rest;
+        # making it anew validates every field and compares the Settings by value
+        rest = (need_audit, interacting, interacting and self.drag_scale, self._first_done,
+                keeps_steps(state, side), side == "B" and (
+                    state.compare_settings.corrections, tuple(state.compare_overrides)))
+        cached = self._requests.get(side)
+        if cached is not None and cached[0] is state.settings and cached[1] == rest:
+            return cached[2]
+        request = self._make_request(state, side, need_audit, interacting)
+        self._requests[side] = (state.settings, rest, request)
+        return request
+
+    def _make_request(self, state: AppState, side: str, need_audit: str | bool,
+                      interacting: bool) -> Request:
         settings = self.settings_for(state, side).with_changes(**PINNED_DISPLAY)
         scale = 1.0
         if interacting:
@@ -229,7 +250,7 @@ class PipelineController:
             return
         finally:
             use_screen(self.ctx)
-        side.request, side.previewed, side.job_ms = request, 0, 0.0
+        side.request, side.previewed, side.previews, side.job_ms = request, 0, 0, 0.0
         side.previews_ms, side.propagate_from = 0.0, None
         side.progress = side.job.progress
 
@@ -301,19 +322,26 @@ class PipelineController:
                         status: ControllerStatus) -> None:
         """A progressive picture when the propagation advanced since the last one and
         one is due (explorer/ui/previews.py)."""
-        if not state.progressive or not previews.propagated_since_preview(side):
+        if not state.progressive:
             return
-        if not previews.preview_due(side, self.preview_interval_s, self.draw_ms):
+        gathering = previews.gathering_unpreviewed(side)
+        if not (gathering or previews.propagated_since_preview(side)):
+            return
+        if not gathering and not previews.preview_due(side, self.preview_interval_s,
+                                                      self.draw_ms):
             return
         progress = side.progress
+        scale = self.preview_scale if side.previews else min(self.first_preview_scale,
+                                                             self.preview_scale)
         began = time.perf_counter()
         side.previewed_at = time.monotonic()
         if side.previewed == 0:
             side.propagate_from = (side.job_ms, progress.done)
         try:
-            shown = side.job.preview(self.preview_scale)
+            shown = side.job.preview(scale)
             if shown:
                 side.serial += 1
+                side.previews += 1
                 textures = side.pipeline.preview_textures
                 self._snapshot(side, Stamp(side.serial, False, progress.done, progress.total),
                                side.result, textures)
@@ -325,7 +353,8 @@ class PipelineController:
             print(f"lpv-explorer: preview of {side.name} failed: {exc}", file=sys.stderr)
         finally:
             use_screen(self.ctx)
-        side.previewed = progress.done
+        if progress.stage == "propagate":
+            side.previewed = progress.done
         elapsed = (time.perf_counter() - began) * 1e3
         side.job_ms += elapsed
         side.previews_ms += elapsed
@@ -402,8 +431,7 @@ class PipelineController:
         rt.frame.pictures = {name: side.picture for name, side in self.sides.items()
                              if side.picture is not None and side.picture.ready}
         update_side_exposures(state, {name: side.result for name, side in self.sides.items()},
-                              {name: self.settings_for(state, name).indirect_only
-                               for name in self.sides})
+                              lambda name: self.settings_for(state, name).indirect_only)
 
     @property
     def busy(self) -> bool:
@@ -476,4 +504,5 @@ class PipelineController:
             if side.pipeline is not None:
                 side.pipeline.release()
         self.sides = {name: SideState(name) for name in SIDES}
+        self._requests.clear()
         self.programs.release()

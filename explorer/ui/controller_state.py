@@ -124,6 +124,8 @@ class SideState:
     progress: Progress | None = None
     previewed: int = 0
     """Propagation steps of the job's last preview."""
+    previews: int = 0
+    """Previews of the job in flight so far (its first is coarse: ``FIRST_PREVIEW_SCALE``)."""
     previewed_at: float = 0.0
     propagate_from: tuple[float, int] | None = None
     """(:attr:`job_ms`, steps) at the job's first preview: the propagation's pace since."""

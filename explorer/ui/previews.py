@@ -1,6 +1,8 @@
 """When a side shows a progressive picture of its propagation: after the first preview of
 a job, at most every :data:`PREVIEW_INTERVAL_S` and at most :data:`PREVIEW_SHARE` of the
-time, and none once the finished frame is due within :data:`FINISH_SOON_S`."""
+time, and none once the finished frame is due within :data:`FINISH_SOON_S`. The first
+preview of a job is coarse (:data:`FIRST_PREVIEW_SCALE`), and a job that changes only
+the gather (no propagation to show) gets that one too while its full-size gather runs."""
 
 from __future__ import annotations
 
@@ -23,6 +25,11 @@ PREVIEW_SCALE = 0.5
 """Progressive previews gather at this fraction of each edge (a quarter of the pixels;
 the finished frame comes at the full size): a full-size preview cost as much as four
 propagation steps at 32³ on llvmpipe."""
+FIRST_PREVIEW_SCALE = 0.25
+"""A job's first preview gathers at this fraction of each edge (a sixteenth of the
+pixels, about a tenth of a half-size preview's time): the first changed picture after a
+change comes as soon as the first propagation step (or the job's first gather band) is
+done; the view labels it as a coarse preview."""
 FINISH_SOON_S = 0.5
 """After a job's first preview no other comes once the finished frame is due within this
 (the propagation's pace so far, then the gather and display as last timed): it would be
@@ -35,6 +42,13 @@ def propagated_since_preview(side: SideState) -> bool:
     progress = side.progress
     return (progress is not None and progress.stage == "propagate"
             and progress.done > side.previewed)
+
+
+def gathering_unpreviewed(side: SideState) -> bool:
+    """The side's job is gathering (a change the propagation does not see, or one whose
+    propagation has just finished) and has shown no preview yet."""
+    progress = side.progress
+    return progress is not None and progress.stage == "gather" and side.previews == 0
 
 
 def preview_due(side: SideState, interval_s: float, draw_ms: float) -> bool:

@@ -15,6 +15,8 @@ from explorer.lpv.settings import Settings
 from explorer.ui.picture import Picture, SideDisplay
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from explorer.lpv.frame import FrameResult
     from explorer.ui.state import AppState
 
@@ -66,9 +68,11 @@ def auto_scale(side: ShownSide, settings: Settings) -> float:
 
 
 def update_side_exposures(state: AppState, results: dict[str, FrameResult | None],
-                          indirect_only: dict[str, bool]) -> None:
+                          indirect_only: Callable[[str], bool]) -> None:
     """Each side's own exposure (``runtime.frame.side_exposures``) when the sides are exposed
-    separately without the display's auto exposure, measured once per new result."""
+    separately without the display's auto exposure, measured once per new result;
+    ``indirect_only(side)``: whether that side shows the indirect light only (asked only
+    then: it makes the side's Settings)."""
     from explorer.lpv.passes.display import exposed_image
     from explorer.ui.images import auto_exposure
 
@@ -79,12 +83,13 @@ def update_side_exposures(state: AppState, results: dict[str, FrameResult | None
     values = list(rt.frame.side_exposures)
     for i, name in enumerate(SIDES):
         result = results[name]
-        key = (id(result), indirect_only[name])
-        if result is None or rt.frame.exposure_seen[i] == key:
+        if result is None:
+            continue
+        key = (id(result), indirect_only(name))
+        if rt.frame.exposure_seen[i] == key:
             continue
         rt.frame.exposure_seen[i] = key
-        linear = exposed_image(result.direct, result.indirect, 1.0, indirect_only[name],
-                               result.fog)
+        linear = exposed_image(result.direct, result.indirect, 1.0, key[1], result.fog)
         value = auto_exposure(linear, 1.0)
         if abs(value - values[i]) > EXPOSURE_TOLERANCE * max(values[i], 1e-12):
             values[i] = float(f"{value:.3g}")

@@ -20,7 +20,7 @@ from explorer.ui import frame_budget
 from explorer.ui import previews as preview_pacing
 from explorer.ui.controller import CAMERA_STAGES, PINNED_DISPLAY, PipelineController
 from explorer.ui.frame_budget import DRAG_SCALES, QUIET_AFTER_S, QUIET_BUDGET_MS
-from explorer.ui.previews import PREVIEW_SCALE
+from explorer.ui.previews import FIRST_PREVIEW_SCALE, PREVIEW_SCALE
 from explorer.ui.state import AppState
 from explorer.ui.view_composer import ViewComposer
 
@@ -340,7 +340,9 @@ def test_previews_come_reduced_and_the_finished_frame_at_full_size(controller, g
     shown = _toggle_pictures(controller, state)
     previews = [size for stamp, size in shown if not stamp.final]
     assert len(previews) >= 2
-    assert set(previews) == {reduced_size(full, PREVIEW_SCALE)}, previews
+    # the job's first preview is coarse (the quickest changed picture), the others half size
+    assert previews[0] == reduced_size(full, FIRST_PREVIEW_SCALE), previews
+    assert set(previews[1:]) == {reduced_size(full, PREVIEW_SCALE)}, previews
     assert shown[-1][0].final and shown[-1][1] == full
     result = state.runtime.frame.result
     with Pipeline(result.settings, ctx=gl_context) as once:
@@ -467,3 +469,73 @@ def test_the_shown_plot_chooses_the_audit_the_propagation_measures(controller):
     state.runtime.want_audit("full")
     state.runtime.want_audit("flux")           # a picked cell and the flux plot at once
     assert state.runtime.audit_wanted == "full", "want_audit keeps the most asked for"
+
+
+@pytest.mark.parametrize("change", [{"corrections": "propagation_4pi"},
+                                    {"corrections": "irradiance_gather"}])
+def test_a_change_shows_a_labelled_coarse_picture_before_the_converged_one(controller,
+                                                                          change):
+    """After a change the first new picture is a coarse preview (a job's first, at
+    FIRST_PREVIEW_SCALE), which the view labels, then the converged frame at full size;
+    a change only the gather sees (no propagation to watch) gets one too."""
+    from explorer.ui.panels.view import progress_label
+
+    state = _state()
+    _settle(controller, state)
+    name = change["corrections"]
+    state.set_corrections(**{name: not getattr(state.settings.corrections, name)})
+    full = (SMALL.width, SMALL.height)
+    shown = []
+    for _ in range(2000):
+        status = controller.update(state, BUDGET_MS)
+        picture = state.runtime.frame.pictures["A"]
+        if status.published:
+            shown.append((picture.stamp.final, picture.size,
+                          progress_label(status.labels.get("A"), picture)))
+        if not status.active:
+            break
+    first_final, first_size, first_label = shown[0]
+    assert not first_final and first_size == reduced_size(full, FIRST_PREVIEW_SCALE)
+    width, height = first_size
+    assert first_label.startswith(f"preview {width}×{height} · ")
+    assert shown[-1][:2] == (True, full) and shown[-1][2] == ""
+
+
+def test_an_unchanged_frame_reuses_its_request_and_any_change_makes_a_new_one():
+    """The request of a side is made once per change of what it is made of (making it
+    validates every Settings field and a new one compares the Settings by value)."""
+    control = PipelineController(None, None)
+    state = _state()
+    first = control.request_for(state, "A", "flux", False)
+    assert control.request_for(state, "A", "flux", False) is first
+    state.set_corrections(side_faces=False)
+    toggled = control.request_for(state, "A", "flux", False)
+    assert toggled is not first and not toggled.settings.corrections.side_faces
+    assert control.request_for(state, "A", "full", False).need_audit == "full"
+    assert control.request_for(state, "A", "flux", True).interactive
+    b = control.request_for(state, "B", "flux", False)
+    ping_pong = state.compare_settings.corrections.ping_pong
+    state.compare_settings = state.compare_settings.with_changes(
+        corrections={"ping_pong": not ping_pong})
+    changed = control.request_for(state, "B", "flux", False)
+    assert changed != b and changed.settings.corrections.ping_pong != ping_pong
+    again = control.request_for(state, "A", "flux", False)     # one request kept a side
+    assert again == toggled and control.request_for(state, "A", "flux", False) is again
+
+
+def test_a_frame_without_the_comparison_makes_no_settings_for_side_b(controller):
+    """Side B's Settings (a validated copy of A's) are made only when B is shown: the
+    sides' own exposures ask for them only when the sides are exposed separately."""
+    state = _state()
+    _settle(controller, state)
+    made = Counter()
+    settings_for = controller.settings_for
+
+    def counted(state, side):
+        made[side] += 1
+        return settings_for(state, side)
+
+    controller.settings_for = counted
+    for _ in range(5):
+        controller.update(state, BUDGET_MS)
+    assert made["B"] == 0

@@ -104,10 +104,12 @@ class AuditReducer:
                                                    * 4), np.float32)[0]
                          for i in range(AUDIT_VALUES)], np.float64)
 
-    def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object]) -> None:
+    def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object],
+                      bound: bool = False) -> None:
         if not 0 <= slot < self._slots:
             raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
-        self.bind()
+        if not bound:
+            self.bind()
         program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
         set_uniforms(program, {**uniforms, "u_grid_resolution": self._resolution,
                                "u_partial_count": self.partial_count,
@@ -115,17 +117,19 @@ class AuditReducer:
         program.run(-(-self.partial_count // 64))
         self.ctx.memory_barrier()
 
-    def measure_flux(self, slot: int, grid: LpvGrid) -> None:
-        """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs)."""
+    def measure_flux(self, slot: int, grid: LpvGrid, bound: bool = False) -> None:
+        """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs);
+        ``bound``: :meth:`bind`'s buffers are still bound."""
         if grid.resolution != self._resolution:
             raise ValueError(f"audit prepared for {self._resolution}^3 cells, the grid has "
                              f"{grid.resolution}^3")
         grid.use_as_textures(0)
-        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2})
+        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}, bound)
 
-    def sum_cell_records(self, slot: int) -> None:
-        """Reduce the per-cell records a propagation step wrote into ``slot``."""
-        self._run_partials(1, slot, {})
+    def sum_cell_records(self, slot: int, bound: bool = False) -> None:
+        """Reduce the per-cell records a propagation step wrote into ``slot``; ``bound``:
+        :meth:`bind`'s buffers are still bound (the step's own dispatch bound them)."""
+        self._run_partials(1, slot, {}, bound)
 
     def read(self) -> np.ndarray:
         """(slots, 18) float64: flux, border loss, clamp gain, occluded, reflected, blocked

@@ -224,6 +224,10 @@ class PropagationRun:
         self._groups = dispatch_size(n)
         self._slabs = slabs(n)
         self._slab = 0
+        self._bound: set[str] = set()
+        """What the last :meth:`advance` left bound that the next may keep (``bound``):
+        ``run`` the accumulation images and the geometry volume, ``audit`` the audit's
+        buffers, ``source`` the next step's source on sampler units 0..2."""
 
     @property
     def finished(self) -> bool:
@@ -248,9 +252,11 @@ class PropagationRun:
         while self.done < target:
             self.advance()
 
-    def advance(self) -> None:
+    def advance(self, bound: bool = False) -> None:
         """Dispatch the next slab of the current step; after the step's last slab, its
-        audit, its kept grid and the swap of the grids."""
+        audit, its kept grid and the swap of the grids. ``bound``: the last GL work was
+        this run's previous :meth:`advance` (a unit of several slabs), so the accumulation
+        images, the geometry volume and the audit's buffers are still bound."""
         if self.finished:
             raise RuntimeError(f"all {self.iterations} propagation steps have run")
         owner, step = self._owner, self.done + 1
@@ -259,14 +265,18 @@ class PropagationRun:
         else:
             # The race: the dispatch reads its neighbours from the grid it writes.
             target = self.accumulated
-        self._source.use_as_textures(0)
-        if self._geometry is not None:
-            self._geometry.use_as_texture(owner.GEOMETRY_UNIT)
-            self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
+        kept = self._bound if bound else set()
+        if "source" not in kept:
+            self._source.use_as_textures(0)
         target.bind_images(0)
-        self.accumulated.bind_images(3)
-        if self._with_audit:        # only the full audit's kernel writes the records
-            owner.audit.bind()
+        if "run" not in kept:
+            if self._geometry is not None:
+                self._geometry.use_as_texture(owner.GEOMETRY_UNIT)
+                self._geometry.albedo.texture.use(owner.ALBEDO_UNIT)
+            self.accumulated.bind_images(3)
+        if self._with_audit and "audit" not in kept:
+            owner.audit.bind()          # only the full audit's kernel writes the records
+        self._bound = {"run"} | ({"audit"} if self._with_audit else kept & {"audit"})
         first, end = self._slabs[self._slab]
         # one slab a step up to 32³: set once. The offset last set is kept with the
         # program, which the cascades' runs share (interleaved, each with its slabs).
@@ -277,14 +287,18 @@ class PropagationRun:
         owner.ctx.memory_barrier()
         self._slab += 1
         if self._slab < len(self._slabs):
+            self._bound.add("source")       # the step's next slab reads the same grid
             return
         self._slab = 0
         if self._with_audit:
-            owner.audit.sum_cell_records(step)
+            owner.audit.sum_cell_records(step, bound=True)   # the kernel's buffers
         elif self._mode == "flux":
             # in place the step's grid is not kept apart: the slot holds acc_t and
-            # grid_audit takes the differences (the flux is linear in the grid)
-            owner.audit.measure_flux(step, target)
+            # grid_audit takes the differences (the flux is linear in the grid); the
+            # reduction leaves the audit's buffers bound and the target, the next step's
+            # source, on sampler units 0..2
+            owner.audit.measure_flux(step, target, bound="audit" in self._bound)
+            self._bound |= {"audit", "source"}
         if self._keep_steps:
             current = target.read()
             self.steps.append(current if self._corrections.ping_pong

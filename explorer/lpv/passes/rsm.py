@@ -34,7 +34,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
-from explorer.scene.lights import DirectionalLight, Light, PointLight
+from explorer.scene.lights import CUBE_FACE_AXES, DirectionalLight, Light, PointLight
 from explorer.scene.model import Scene
 from explorer.scene.transforms import gl_matrix
 
@@ -113,6 +113,13 @@ def light_views(scene: Scene, size: int) -> list[LightView]:
     spot or directional light, six per point light (docs/MODEL.md "Several lights")."""
     return [view for index, light in enumerate(scene.lights)
             for view in _views_of(light, index, scene, size)]
+
+
+def view_count(scene: Scene) -> int:
+    """``len(light_views(scene, size))`` without the views' matrices: six per point light,
+    one per other light that shines."""
+    return sum(len(CUBE_FACE_AXES) if isinstance(light, PointLight) else 1
+               for light in scene.lights)
 
 
 def _views_of(light: Light, index: int, scene: Scene, size: int) -> list[LightView]:

@@ -3,6 +3,7 @@ with the energy audit the job asks for, time-sliced in slabs of a step."""
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -13,14 +14,37 @@ from explorer.lpv.audit import audit_covers
 from explorer.lpv.cascades import cascade_iterations, level_pass_name
 from explorer.lpv.corrections import Corrections
 from explorer.lpv.limits import audit_fits, audit_skipped_warning
-from explorer.lpv.passes.propagate import slabs
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.work_units import countdown
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
+
+GROUP_MS = 2.0
+"""A unit of the propagation dispatches slabs until it has spent this many milliseconds:
+the small grids' steps (or a GPU's, whose dispatches only queue work) are grouped, so
+that their per-unit Python (the job's bookkeeping, a timer query, the bindings a step
+shares with the next) is paid once for several steps; a slab that takes longer is a unit
+of its own, as before."""
+
+
+def advance_group(levels: list, limit_ms: float = GROUP_MS) -> None:
+    """Slabs of the level that is least far along, then of the next least far along...,
+    in the order one slab per unit would run them, until ``limit_ms`` is spent (at least
+    one slab) or every level is finished; slabs of one level in a row keep its
+    bindings."""
+    start = time.perf_counter()
+    last = None
+    while True:
+        running = [level.running for level in levels if not level.running.finished]
+        if not running:
+            return
+        behind = min(running, key=lambda run: run.fraction)
+        behind.advance(bound=behind is last)
+        last = behind
+        if (time.perf_counter() - start) * 1e3 >= limit_ms:
+            return
 
 
 @dataclass(frozen=True)
@@ -78,7 +102,8 @@ class Stage(StageBase):
 
     def work(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
-        accumulation), one per slab of a step (``slabs``), the levels interleaved so that
+        accumulation), the slabs of the steps (``slabs``) grouped into units of about
+        :data:`GROUP_MS` (:func:`advance_group`), the levels interleaved so that
         each is as far along as the others (a progressive picture shows all cascades
         growing together), and two to finish each level (its audit's sums and its
         accumulation copied for reading back, then taken once the copies are done:
@@ -89,8 +114,7 @@ class Stage(StageBase):
         timed = host.timer.timed
         host.timer.reset("propagate")
         audit = [self.audit_mode(job, spec.resolution) for spec in specs]
-        more = countdown(3 * len(levels) + sum(
-            count * len(slabs(spec.resolution)) for count, spec in zip(p.steps, specs)))
+        # every unit but the last level's read-back is followed by another
         try:
             for k, (level, spec) in enumerate(zip(levels, specs)):
                 level.output = None
@@ -99,14 +123,13 @@ class Stage(StageBase):
                     keep_steps=job.keep_steps, bounces=p.bounces, audit=audit[k],
                     neighbours=p.neighbours),
                     accumulate=True)
-                if more():
-                    yield 0
+                yield 0
             while not all(level.running.finished for level in levels):
-                behind = min((lv for lv in levels if not lv.running.finished),
-                             key=lambda lv: lv.running.fraction)
-                timed("propagate", behind.running.advance, accumulate=True)
-                if more():
-                    yield sum(level.running.done for level in levels)
+                # within a frame budget no further than the budget left allows
+                left = job.unit_budget_ms
+                limit = GROUP_MS if left is None else min(GROUP_MS, left)
+                timed("propagate", lambda: advance_group(levels, limit), accumulate=True)
+                yield sum(level.running.done for level in levels)
             warnings = []
             for k, level in enumerate(levels):
                 reads = self.level_reads(k)
@@ -114,8 +137,7 @@ class Stage(StageBase):
                 timed("propagate", lambda: (running.finish_later(reads[0]),
                                             running.accumulated.read_later(reads[1:])),
                       accumulate=True)
-                more()                 # never the last unit: the read-back follows
-                yield GpuWait(reads, sum(p.steps))
+                yield GpuWait(reads, sum(p.steps))     # the read-back follows
                 level.output = running.output(reads[0])
                 level.accumulated = running.accumulated.taken(reads[1:])
                 warnings += guards.found(guards.flux_warning(
@@ -127,7 +149,7 @@ class Stage(StageBase):
                 if audit[k] != job.need_audit:
                     warnings.append(audit_skipped_warning(specs[k].resolution,
                                                           host.limits))
-                if more():
+                if k < len(levels) - 1:
                     yield sum(p.steps)
             state.warnings["propagate"] = warnings
         finally:

@@ -12,6 +12,7 @@ from explorer.gl.gpu_sync import DeferredRead
 from explorer.lpv import guards
 from explorer.lpv.light_views import LightViews
 from explorer.lpv.limits import check_memory
+from explorer.lpv.passes.rsm import view_count
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
@@ -33,8 +34,7 @@ class Stage(StageBase):
         self.reads = []
 
     def units(self, job: Job) -> int:
-        scene = self.host.scene_state.for_settings(job.settings)
-        return len(LightViews.of(scene, job.settings.rsm_size)) + 2
+        return view_count(self.host.scene_state.for_settings(job.settings)) + 2
 
     def satisfied(self, job: Job) -> bool:
         """A frame that keeps its steps needs every view's RSM read back (one view always

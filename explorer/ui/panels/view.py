@@ -146,18 +146,34 @@ def _centred_message(state: AppState, avail) -> None:
 
 def _progress(state: AppState, draw, origin, end) -> None:
     """Each side still converging says where it is, in the view's bottom right corner
-    ("A: propagating 5/8")."""
+    ("A: propagating 5/8"), and a side showing a progressive preview says so with the
+    size it was gathered at ("preview 240×135 · propagating 5/8")."""
     rt = state.runtime
-    sides = [side for side in ("A", "B") if side in rt.frame.progress
-             and (side == "A" or state.comparing)]
-    if not sides:
+    labels = {side: text for side in ("A", "B")
+              if (side == "A" or state.comparing)
+              and (text := progress_label(rt.frame.progress.get(side),
+                                          rt.frame.pictures.get(side)))}
+    if not labels:
         return
-    progress = rt.frame.progress
-    text = "   ".join(f"{side}: {progress[side]}" if state.comparing else progress[side]
-                       for side in sides)
+    text = "   ".join(f"{side}: {label}" if state.comparing else label
+                       for side, label in labels.items())
     width = imgui.calc_text_size(text).x
     line = imgui.get_text_line_height()
     _overlay(draw, imgui.ImVec2(end.x - width - 20, end.y - line - 2 * 6 - 8), text)
+
+
+def progress_label(progress: str | None, picture) -> str:
+    """What the view's corner says of one side: its job's progress, after "preview WxH"
+    while the picture shown is a progressive preview (a coarse, reduced picture of the
+    light so far); empty when the side has converged."""
+    parts = []
+    stamp = None if picture is None else picture.stamp
+    if stamp is not None and not stamp.final:
+        width, height = picture.size
+        parts.append(f"preview {width}×{height}")
+    if progress:
+        parts.append(progress)
+    return " · ".join(parts)
 
 
 def _split(state: AppState, draw, origin, end, hovered: bool) -> bool:

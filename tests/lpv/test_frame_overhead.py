@@ -1,0 +1,82 @@
+"""What a frame costs besides the GPU's work: the propagation's small steps grouped into
+units with the bindings a level's steps share kept, the GL calls the overhead counter
+sees, the same numbers whatever the units (explorer/lpv/stages/propagate.py
+``advance_group``, explorer/gl/call_counter.py)."""
+
+import numpy as np
+import pytest
+
+from explorer.gl.call_counter import GlCallCounter
+from explorer.lpv.pipeline import Pipeline
+from explorer.lpv.settings import Settings
+
+TINY = Settings(scene="cornell", grid_size=8, iterations=16, rsm_size=32, width=48,
+                height=32)
+
+
+@pytest.fixture
+def pipeline(gl_context, ctx):   # ctx: checks for GL errors
+    pipe = Pipeline(TINY, ctx=gl_context)
+    pipe.run(TINY)
+    pipe.timer.queued = True          # the passes queued, as on a GPU (bench --overhead)
+    yield pipe
+    pipe.release()
+
+
+def counted_frame(pipeline, first_stage: str, budget_ms: float | None, audit="full"):
+    """One frame re-run from ``first_stage``: its result and what the counter saw.
+    ``budget_ms`` 0.0: one unit of work a call (no budget left to group in)."""
+    pipeline.invalidate(first_stage)
+    with GlCallCounter() as counter:
+        job = pipeline.start(TINY, need_audit=audit)
+        units = 0
+        while not job.done:
+            job.advance(budget_ms)
+            units += 1
+    return job.result, counter.tally.calls, units
+
+
+@pytest.mark.parametrize("audit", ["full", "flux"])
+def test_small_steps_grouped_keep_their_bindings_and_their_numbers(pipeline, audit,
+                                                                   monkeypatch):
+    import sys
+
+    one_by_one, single, _ = counted_frame(pipeline, "propagate", 0.0, audit)
+    # every step in one unit (on this loaded machine 2 ms may hold only a few)
+    monkeypatch.setattr(sys.modules["explorer.lpv.stages.propagate"], "GROUP_MS", 1e9)
+    grouped, calls, units = counted_frame(pipeline, "propagate", None, audit)
+    assert units == 1
+    # each step rebinds its source textures and target images (they swap every step);
+    # the accumulation images, the audit's buffers and the geometry volume stay bound
+    # between a level's steps in one unit: fewer bindings, as many dispatches
+    assert calls["dispatches"] == single["dispatches"]
+    assert calls["bindings"] < single["bindings"]
+    # full: the source textures and the target images; flux: the target images and the
+    # reduction's textures (which are the next step's source)
+    assert calls["bindings"] <= 6 * TINY.iterations + 50     # + the other stages
+    # the same work in the same order: the same numbers, exactly
+    assert np.array_equal(grouped.accumulated, one_by_one.accumulated)
+    assert np.array_equal(grouped.final_image, one_by_one.final_image)
+    assert np.array_equal(grouped.audit.per_step, one_by_one.audit.per_step)
+
+
+def test_a_budget_of_no_time_runs_one_slab_a_unit(pipeline):
+    """Within a frame budget a unit groups no more than the budget left allows: with
+    none left, every step is a unit of its own (a progressive picture per step)."""
+    pipeline.invalidate("propagate")
+    job = pipeline.start(TINY, need_audit="flux")
+    done = []
+    while not job.done:
+        progress = job.advance(0.0)
+        if progress.stage == "propagate":
+            done.append(progress.done)
+    assert [d for d in done if 0 < d < TINY.iterations] == list(range(1, TINY.iterations))
+
+
+def test_the_counter_counts_the_timer_queries_of_a_camera_frame(pipeline):
+    """The timer queries (explorer/gl/gpu_sync.py calls them through ctypes) are GL calls
+    of the frame: a camera frame times its three passes with one query each."""
+    _, calls, _ = counted_frame(pipeline, "gbuffer", None)
+    assert calls["queries"] == 3                     # G-buffer, gather, display
+    assert calls["uniform uploads"] <= 2             # the camera's two matrices
+    assert calls["GL calls"] > calls["queries"] + calls["bindings"]
