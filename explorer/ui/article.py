@@ -4,7 +4,7 @@ The step's text is laid out by the text flow (``explorer/ui/textflow.py``): pros
 and display math typeset by MicroTeX, live numbers filled from the frame on screen
 (``explorer/lessons/live_values.py``), inline figures (``explorer/ui/figures``) and try-this
 buttons. A try-this button applies exactly its change on top of the step (a second click
-undoes it; ``split`` ones show before | after in the split view); leaving the lesson gives
+undoes it; comparing ones show before | after as their ``compare`` says); leaving the lesson gives
 the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`).
 """
 
@@ -41,12 +41,23 @@ TITLE_SCALE = 1.35
 
 # --- labels ------------------------------------------------------------------------------
 
+COMPARE_WORDS = {"split": "the step left of the divider, the change right of it",
+                 "difference": "their difference in false colour",
+                 "side-by-side": "the step's whole view beside the changed one",
+                 "small-multiples": "the step beside a view of each value"}
+"""How a comparing try-this shows its change (``TryThis.compare``), in words."""
+AFTER_SIDE = {"split": "the right half of the split view",
+              "difference": "configuration B of the difference view",
+              "side-by-side": "the right-hand view",
+              "small-multiples": "view B, the first value"}
+"""Where a comparing try-this's numbers are read while it is pressed."""
+
 def try_label(item: TryThis) -> tuple[str, str]:
     """(button text, tooltip) of a try-this, in words (``TryThis.button``): the
     control's label and the value, its documentation as tooltip."""
     label, tip = item.button()
-    if item.split:
-        tip += "\nShown as before | after in the split view."
+    if item.compares:
+        tip += f"\nShown as before | after: {COMPARE_WORDS[item.compare]}."
     return label, tip
 
 
@@ -369,12 +380,12 @@ def try_context(state: AppState, session: LessonSession, index: int,
     active = session.applied and session.tried == index
     cached = error_service(state).result_for(after)
     error = cached.stats if cached is not None else None
-    if active and not item.split:
+    if active and not item.compares:
         return replace(base, error=error), "the frame on screen"
     if active:
         result = state.runtime.frame.compare_result if state.comparing else None
         return (replace(base, settings=after, result=result, error=error),
-                "the right half of the split view")
+                AFTER_SIDE[item.compare])
     return (replace(base, settings=after, result=None, error=error),
             "the configuration this button sets: press it to read the frame")
 

@@ -19,8 +19,27 @@ if TYPE_CHECKING:
     from explorer.ui.state import AppState
 
 SIDES = ("A", "B")
+VARIANT_SIDES = ("C", "D")
+"""Small multiples' further views (``AppState.compare_variants``): always at A's exposure
+and display scale, so that every view of the grid shares one colour scale."""
+ALL_SIDES = SIDES + VARIANT_SIDES
 EXPOSURE_TOLERANCE = 0.05
 """Relative change of a side's own exposure (exposed separately) worth applying."""
+
+
+def side_settings(state: AppState, side: str) -> Settings:
+    """The Settings ``side`` shows: A's; B: A's with the compare corrections and overrides
+    (display fields as the user set them); C and D: A's with the small multiples' further
+    variants (A's own when there is none)."""
+    a = state.settings
+    if side == "A":
+        return a
+    if side in VARIANT_SIDES:
+        variants = state.compare_variants
+        index = VARIANT_SIDES.index(side)
+        return a.with_changes(**dict(variants[index])) if index < len(variants) else a
+    return a.with_changes(corrections=state.compare_settings.corrections,
+                          **dict(state.compare_overrides))
 
 
 class ShownSide(Protocol):
@@ -40,7 +59,7 @@ def side_display(state: AppState, sides: dict[str, ShownSide], side: str,
     before | after split overrides them, e.g. the indirect light alone on the right): its
     exposure, tone curve and indirect only, and its display scale (the auto exposure of
     its picture, A's for B unless each side is exposed separately)."""
-    per_side = state.comparing and state.expose_sides_separately
+    per_side = state.comparing and state.expose_sides_separately and side in SIDES
     exposure = settings.exposure
     if per_side and not state.settings.auto_exposure:
         exposure = state.runtime.frame.side_exposures[SIDES.index(side)]

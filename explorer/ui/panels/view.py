@@ -2,7 +2,9 @@
 draggable divider, or their difference in false colour with a scale bar. The images come
 from the view composer (explorer/ui/view_composer.py, one pass of ``shaders/view.glsl``
 over the sides' pictures), so exposure, buffer, indirect only, the divider and the
-difference's scale and colour map run no pipeline stage; while a side is still
+difference's scale and colour map run no pipeline stage. Side by side and small multiples
+(:data:`GRID_MODES`) draw each side's whole picture in a cell of a grid, every cell
+rendered at the cell's size and shown at A's exposure; while a side is still
 converging its progress ("propagating 5/8") shows in the corner. The camera (shared by
 both sides) moves with the mouse and keys of explorer.ui.camera_controls; the overlays of
 the "Show in scene" panel are drawn into the single and split views
@@ -17,6 +19,11 @@ from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
 from explorer.ui.view_composer import DIFFERENCE_MAPS
 
+GRID_MODES = ("side-by-side", "small-multiples")
+"""View modes that show whole pictures in a grid of cells, one side each."""
+GRID_GAP = 4.0
+"""Screen units between two cells of the grid."""
+
 
 def gui_view(state: AppState) -> None:
     _toolbar(state)
@@ -25,7 +32,12 @@ def gui_view(state: AppState) -> None:
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     # The difference view keeps room for its scale bar beside the image.
     bar = widgets.SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
-    rt.view.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
+    cells = grid_sides(state)
+    cols, rows = grid_shape(len(cells), avail.x, avail.y) if cells else (1, 1)
+    # each cell of a grid renders at the cell's size (the aspect kept, the work shared)
+    cell_w, cell_h = (avail.x - bar - GRID_GAP * (cols - 1)) / cols, \
+        (avail.y - GRID_GAP * (rows - 1)) / rows
+    rt.view.view_size = (max(int(cell_w * scale), 0), max(int(cell_h * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
     pictures = rt.frame.pictures
@@ -33,8 +45,9 @@ def gui_view(state: AppState) -> None:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
-    fit = min((avail.x - bar) / width, avail.y / height)
-    size = imgui.ImVec2(width * fit + bar, height * fit)
+    fit = min(cell_w / width, cell_h / height)
+    size = imgui.ImVec2((width * fit + GRID_GAP) * cols - GRID_GAP + bar,
+                        (height * fit + GRID_GAP) * rows - GRID_GAP)
     origin = imgui.get_cursor_screen_pos()
     origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5, origin.y)
     imgui.set_cursor_screen_pos(origin)
@@ -53,6 +66,8 @@ def gui_view(state: AppState) -> None:
         split_x = origin.x + (end.x - origin.x) * state.split_position
     elif state.view_mode == "difference" and "B" in pictures:
         _difference(state, draw, origin, end)
+    elif cells:
+        _grid(state, draw, origin, cells, cols, imgui.ImVec2(width * fit, height * fit))
     else:
         tex, flipped = side_texture(state, "A")
         draw.add_image(imgui.ImTextureRef(tex), origin, end, *_uv(0.0, 1.0, flipped))
@@ -61,7 +76,7 @@ def gui_view(state: AppState) -> None:
     if state.comparing and state.view_mode == "split":
         _label(draw, origin, end, state)
     _progress(state, draw, origin, end)
-    if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
+    if state.view_mode != "difference" and not cells:   # overlays: bar, tooltip, picking
         in_view.over_image(state, draw, origin, end, hovered, split_x)
         divider_grabbed |= gizmo.draw(state, origin, end)   # the selected object's gizmo
     if not divider_grabbed:
@@ -212,6 +227,78 @@ def _overlay(draw, pos, text: str) -> None:
     draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(0, 0, 0, 0.6)), 4.0)
     draw.add_text((p0.x + pad, p0.y + pad), imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 1)),
                   text)
+
+
+def grid_sides(state: AppState) -> tuple[str, ...]:
+    """The sides a grid mode shows, in reading order (A first), or () for the other
+    views: A and B side by side; for small multiples C and D too, one per further
+    variant (``AppState.compare_variants``)."""
+    if state.view_mode == "side-by-side":
+        return ("A", "B")
+    if state.view_mode == "small-multiples":
+        return ("A", "B", "C", "D")[:2 + min(len(state.compare_variants), 2)]
+    return ()
+
+
+def grid_shape(count: int, width: float, height: float, aspect: float = 4 / 3
+               ) -> tuple[int, int]:
+    """(columns, rows) for ``count`` cells in a ``width`` × ``height`` area: the grid
+    whose cells are largest, a cell's size measured by the largest ``aspect`` picture
+    it holds (wide views put the cells in a row, tall ones in a column)."""
+    best, best_size = (count, 1), -1.0
+    for cols in range(1, count + 1):
+        rows = -(-count // cols)
+        size = min(width / cols, height / rows * aspect)
+        if size > best_size + 1e-9:
+            best, best_size = (cols, rows), size
+    return best
+
+
+def cell_labels(state: AppState, sides: tuple[str, ...]) -> list[str]:
+    """Each grid cell's label naming what differs from A ("B: grid 32")."""
+    from explorer.ui.side_display import side_settings
+
+    a = state.settings
+    labels = [legend.side_labels(a, side_settings(state, "B"))[0]]
+    for side in sides[1:]:
+        other = legend.side_labels(a, side_settings(state, side))[1]
+        labels.append(side + other[1:])
+    return labels
+
+
+def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell) -> None:
+    """Each side's whole picture in its cell, with its label and the step's marks; a side
+    not rendered yet says so in its cell."""
+    from explorer.ui.overlays import marks as mark_overlay
+
+    rt = state.runtime
+    pictures = rt.frame.pictures
+    marks = in_view.step_marks(state)
+    labels = cell_labels(state, sides)
+    for index, side in enumerate(sides):
+        row, col = divmod(index, cols)
+        p0 = imgui.ImVec2(origin.x + col * (cell.x + GRID_GAP),
+                          origin.y + row * (cell.y + GRID_GAP))
+        p1 = imgui.ImVec2(p0.x + cell.x, p0.y + cell.y)
+        if side not in pictures:
+            draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(0.06, 0.06, 0.07, 1)))
+            _overlay(draw, p0, f"{labels[index]} (rendering…)")
+            continue
+        if side in ("A", "B"):          # the sides the overlays are composited for
+            tex, flipped = side_texture(state, side)
+        else:
+            display = rt.frame.displays.get(side) or _display(state, side)
+            tex, flipped = rt.services.composer.side_image(
+                side, pictures[side], display, state.view_buffer), True
+        draw.add_image(imgui.ImTextureRef(tex), p0, p1, *_uv(0.0, 1.0, flipped))
+        if marks and rt.frame.result is not None:
+            def text_size(label: str) -> tuple[float, float]:
+                size = imgui.calc_text_size(label)
+                return size.x, size.y
+
+            mark_overlay.draw(draw, mark_overlay.placements(
+                rt.frame.result, marks, (p0.x, p0.y), (p1.x, p1.y), text_size))
+        _overlay(draw, p0, labels[index])
 
 
 def _difference(state: AppState, draw, origin, end) -> None:
