@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from imgui_bundle import imgui
 
+from explorer.lessons.compare_views import exposure_note, grid_shape, white_share
 from explorer.ui import camera_controls, gizmo, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
@@ -23,6 +24,10 @@ GRID_MODES = ("side-by-side", "small-multiples")
 """View modes that show whole pictures in a grid of cells, one side each."""
 GRID_GAP = 4.0
 """Screen units between two cells of the grid."""
+_WHITE_CACHE: dict[str, tuple] = {}
+"""Side -> (its finished result, exposure, display scale, tone map, share shown white):
+measured once per result and display (the result is held, never an id that could be
+reused)."""
 
 
 def gui_view(state: AppState) -> None:
@@ -213,6 +218,8 @@ def _label(draw, origin, end, state: AppState) -> None:
     # differs.
     a, b = legend.side_labels(state.settings, state.settings.with_changes(
         corrections=state.compare_settings.corrections, **dict(state.compare_overrides)))
+    note = washed_out(state, "B")
+    b = f"{b} — {note}" if note else b
     pad = 6.0
     _overlay(draw, origin, a)
     width = imgui.calc_text_size(b).x
@@ -240,20 +247,6 @@ def grid_sides(state: AppState) -> tuple[str, ...]:
     return ()
 
 
-def grid_shape(count: int, width: float, height: float, aspect: float = 4 / 3
-               ) -> tuple[int, int]:
-    """(columns, rows) for ``count`` cells in a ``width`` × ``height`` area: the grid
-    whose cells are largest, a cell's size measured by the largest ``aspect`` picture
-    it holds (wide views put the cells in a row, tall ones in a column)."""
-    best, best_size = (count, 1), -1.0
-    for cols in range(1, count + 1):
-        rows = -(-count // cols)
-        size = min(width / cols, height / rows * aspect)
-        if size > best_size + 1e-9:
-            best, best_size = (cols, rows), size
-    return best
-
-
 def cell_labels(state: AppState, sides: tuple[str, ...]) -> list[str]:
     """Each grid cell's label naming what differs from A ("B: grid 32")."""
     from explorer.ui.side_display import side_settings
@@ -263,7 +256,28 @@ def cell_labels(state: AppState, sides: tuple[str, ...]) -> list[str]:
     for side in sides[1:]:
         other = legend.side_labels(a, side_settings(state, side))[1]
         labels.append(side + other[1:])
-    return labels
+    notes = [washed_out(state, side) if index else "" for index, side in enumerate(sides)]
+    return [f"{label} — {note}" if note else label for label, note in zip(labels, notes)]
+
+
+def washed_out(state: AppState, side: str) -> str:
+    """What the caption says when the one shared exposure shows much of ``side`` white
+    (``compare_views.exposure_note``), else ""; sides exposed separately have their own
+    scale and need no note."""
+    rt = state.runtime
+    picture = rt.frame.pictures.get(side)
+    display = rt.frame.displays.get(side)
+    if picture is None or picture.result is None or display is None or \
+            (state.expose_sides_separately and side == "B"):
+        return ""
+    result = picture.result
+    wanted = (display.exposure, display.scale, display.tone_map)
+    cached = _WHITE_CACHE.get(side)
+    if cached is None or cached[0] is not result or cached[1:4] != wanted:
+        linear = result.indirect if display.indirect_only else result.final_image
+        cached = _WHITE_CACHE[side] = (result, *wanted, white_share(
+            linear, display.exposure * display.scale, display.tone_map))
+    return exposure_note(side, cached[4])
 
 
 def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell) -> None:
