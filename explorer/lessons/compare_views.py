@@ -22,11 +22,12 @@ MOST_WHITE = 0.02
 """Largest share of a side's pixels that may read white before its caption says so."""
 
 
-def grid_shape(count: int, width: float, height: float, aspect: float = 4 / 3
+def grid_shape(count: int, width: float, height: float, aspect: float = 1.0
                ) -> tuple[int, int]:
     """(columns, rows) for ``count`` cells in a ``width`` × ``height`` area: the grid
     whose cells are largest, a cell's size measured by the largest ``aspect`` picture it
-    holds (wide areas put the cells in a row, tall ones in a column)."""
+    holds (a scene framed by the camera's vertical field of view reads about square;
+    wide areas put the cells in a row, tall ones in a column)."""
     best, best_size = (count, 1), -1.0
     for cols in range(1, count + 1):
         rows = -(-count // cols)

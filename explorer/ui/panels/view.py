@@ -298,12 +298,7 @@ def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell
             draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(0.06, 0.06, 0.07, 1)))
             _overlay(draw, p0, f"{labels[index]} (rendering…)")
             continue
-        if side in ("A", "B"):          # the sides the overlays are composited for
-            tex, flipped = side_texture(state, side)
-        else:
-            display = rt.frame.displays.get(side) or _display(state, side)
-            tex, flipped = rt.services.composer.side_image(
-                side, pictures[side], display, state.view_buffer), True
+        tex, flipped = side_texture(state, side)
         draw.add_image(imgui.ImTextureRef(tex), p0, p1, *_uv(0.0, 1.0, flipped))
         if marks and rt.frame.result is not None:
             def text_size(label: str) -> tuple[float, float]:
