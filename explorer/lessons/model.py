@@ -42,6 +42,8 @@ TRY_COMPARES = ("apply", "split", "difference", "side-by-side", "small-multiples
 """How a try-this shows its change: applied on top of the step (no comparison), the step
 and the change left | right of a divider, their difference in false colour, the two whole
 views side by side, or the step beside each of several values in a grid."""
+TRY_GRIDS = ("side-by-side", "small-multiples")
+"""The modes that show whole views in a grid, each rendered at its cell's size."""
 MAX_VARIANTS = 3
 """Most values a small-multiples try-this shows beside the step (a 2 × 2 grid): each is a
 pipeline of its own in the window."""

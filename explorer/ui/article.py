@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 from imgui_bundle import imgui
 
 from explorer.figure_params import FIGURE_KINDS
-from explorer.lessons import Lesson, Step, TryThis, live_values
+from explorer.lessons import TRY_GRIDS, Lesson, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
 from explorer.ui import widgets
 from explorer.ui.lesson_panel import (
@@ -538,9 +538,10 @@ def _try_section(state: AppState, session: LessonSession, page: Page, step: Step
         context, where = try_context(state, session, index, base)
         key = (session.lesson.id, step.number, index)
         pressed = session.applied and session.tried == index
+        grid = item.compare in TRY_GRIDS        # the views render at their cells' size
         if pressed and context.result is not None and \
-                same_frame(context.result.settings, context.settings):
-            frames.keep_after(key, context.result)
+                same_frame(context.result.settings, context.settings, not grid):
+            frames.keep_after(key, context.result, grid)
         elif not pressed:
             context = frames.after_context(key, context)
         source["context"], source["where"] = context, where

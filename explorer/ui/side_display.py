@@ -21,7 +21,8 @@ if TYPE_CHECKING:
 SIDES = ("A", "B")
 VARIANT_SIDES = ("C", "D")
 """Small multiples' further views (``AppState.compare_variants``): always at A's exposure
-and display scale, so that every view of the grid shares one colour scale."""
+and display scale, and so is B in small multiples, so that every view of the grid shares
+one colour scale."""
 ALL_SIDES = SIDES + VARIANT_SIDES
 EXPOSURE_TOLERANCE = 0.05
 """Relative change of a side's own exposure (exposed separately) worth applying."""
@@ -59,7 +60,12 @@ def side_display(state: AppState, sides: dict[str, ShownSide], side: str,
     before | after split overrides them, e.g. the indirect light alone on the right): its
     exposure, tone curve and indirect only, and its display scale (the auto exposure of
     its picture, A's for B unless each side is exposed separately)."""
-    per_side = state.comparing and state.expose_sides_separately and side in SIDES
+    if side in VARIANT_SIDES:       # A's exposure and display scale, whatever A's are
+        a = side_display(state, sides, "A", state.settings)
+        return SideDisplay(a.exposure, a.scale, settings.tone_map, settings.indirect_only)
+    # small multiples share one scale: a grid of views is read by comparing its cells
+    per_side = state.comparing and state.expose_sides_separately and \
+        state.view_mode != "small-multiples"
     exposure = settings.exposure
     if per_side and not state.settings.auto_exposure:
         exposure = state.runtime.frame.side_exposures[SIDES.index(side)]
@@ -93,7 +99,7 @@ def update_side_exposures(state: AppState, results: dict[str, FrameResult | None
 
     rt = state.runtime
     if not (state.comparing and state.expose_sides_separately) or \
-            state.settings.auto_exposure:
+            state.settings.auto_exposure or state.view_mode == "small-multiples":
         return
     values = list(rt.frame.side_exposures)
     for i, name in enumerate(SIDES):

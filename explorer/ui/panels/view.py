@@ -24,6 +24,9 @@ GRID_MODES = ("side-by-side", "small-multiples")
 """View modes that show whole pictures in a grid of cells, one side each."""
 GRID_GAP = 4.0
 """Screen units between two cells of the grid."""
+MIN_CELL_ASPECT = 1.0
+"""Narrowest a grid cell's picture gets (width / height): the camera's field of view is
+vertical, so a narrower picture would crop the scene's sides away."""
 _WHITE_CACHE: dict[str, tuple] = {}
 """Side -> (its finished result, exposure, display scale, tone map, share shown white):
 measured once per result and display (the result is held, never an id that could be
@@ -38,10 +41,14 @@ def gui_view(state: AppState) -> None:
     # The difference view keeps room for its scale bar beside the image.
     bar = widgets.SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
     cells = grid_sides(state)
-    cols, rows = grid_shape(len(cells), avail.x, avail.y) if cells else (1, 1)
+    # side by side is one row whatever the panel's shape (lessons say "left" and "right")
+    cols, rows = (len(cells), 1) if state.view_mode == "side-by-side" else \
+        grid_shape(len(cells), avail.x, avail.y) if cells else (1, 1)
     # each cell of a grid renders at the cell's size (the aspect kept, the work shared)
     cell_w, cell_h = (avail.x - bar - GRID_GAP * (cols - 1)) / cols, \
         (avail.y - GRID_GAP * (rows - 1)) / rows
+    if cells:      # a cell's picture no narrower than square: the camera's view stays whole
+        cell_h = min(cell_h, cell_w / MIN_CELL_ASPECT)
     rt.view.view_size = (max(int(cell_w * scale), 0), max(int(cell_h * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
@@ -54,7 +61,8 @@ def gui_view(state: AppState) -> None:
     size = imgui.ImVec2((width * fit + GRID_GAP) * cols - GRID_GAP + bar,
                         (height * fit + GRID_GAP) * rows - GRID_GAP)
     origin = imgui.get_cursor_screen_pos()
-    origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5, origin.y)
+    origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5,
+                          origin.y + ((avail.y - size.y) * 0.5 if cells else 0.0))
     imgui.set_cursor_screen_pos(origin)
     over_gizmo = gizmo.hovered()        # the gizmo's handles take the click, not the camera
     imgui.begin_disabled(over_gizmo)
@@ -268,7 +276,8 @@ def washed_out(state: AppState, side: str) -> str:
     picture = rt.frame.pictures.get(side)
     display = rt.frame.displays.get(side)
     if picture is None or picture.result is None or display is None or \
-            (state.expose_sides_separately and side == "B"):
+            (state.expose_sides_separately and side == "B"
+             and state.view_mode != "small-multiples"):
         return ""
     result = picture.result
     wanted = (display.exposure, display.scale, display.tone_map)
