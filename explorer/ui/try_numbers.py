@@ -5,7 +5,8 @@ on screen its result is kept here, so the prompt keeps its numbers after Undo; a
 step's own frame as it was before the press is kept too, so the prompt can say what each
 number was before ("before the press: 35.9 W"). Both are finished FrameResults of one
 lesson step; a change of the step's settings (another scene size, the reader's exposure)
-makes the kept frame stale, and it is not used.
+makes the kept frame stale, and it is not used, except the render size of a press shown
+in a grid of views (side by side, small multiples: each view renders at its cell's size).
 """
 
 from __future__ import annotations
