@@ -211,3 +211,29 @@ def test_the_shared_scale_leaves_every_named_feature_readable(ctx):
                         marks_white.append(f"{where} side {n}")
     assert set(white) == set(KNOWN_WHITE), white
     assert not marks_white, marks_white
+
+
+def test_the_windows_caption_says_when_the_shared_scale_whitens_a_side():
+    """The View panel's label of a side (``panels.view.washed_out``): a side shown white
+    at A's exposure says so; exposed on its own (split, Expose sides separately) it
+    needs no note, but in small multiples every view shares A's scale."""
+    from types import SimpleNamespace
+
+    from explorer.ui.panels.view import washed_out
+    from explorer.ui.picture import SideDisplay
+    from explorer.ui.state import AppState
+
+    state = AppState(view_mode="split")
+    bright = np.full((8, 8, 3), 50.0, np.float32)
+    rt = state.runtime
+    rt.frame.pictures = {"B": SimpleNamespace(result=SimpleNamespace(
+        final_image=bright, indirect=bright * 0.0))}
+    rt.frame.displays = {"B": SideDisplay(1.0, 1.0, "filmic", False)}
+    assert washed_out(state, "B").startswith("B: 100% white at A's exposure")
+    rt.frame.displays = {"B": SideDisplay(1.0, 1.0, "filmic", True)}    # indirect only
+    assert washed_out(state, "B") == ""
+    rt.frame.displays = {"B": SideDisplay(1.0, 1.0, "filmic", False)}
+    state.expose_sides_separately = True
+    assert washed_out(state, "B") == ""
+    state.view_mode = "small-multiples"
+    assert washed_out(state, "B") != ""

@@ -28,9 +28,9 @@ MIN_CELL_ASPECT = 1.0
 """Narrowest a grid cell's picture gets (width / height): the camera's field of view is
 vertical, so a narrower picture would crop the scene's sides away."""
 _WHITE_CACHE: dict[str, tuple] = {}
-"""Side -> (its finished result, exposure, display scale, tone map, share shown white):
-measured once per result and display (the result is held, never an id that could be
-reused)."""
+"""Side -> (its finished result, exposure, display scale, tone map, indirect only, share
+shown white): measured once per result and display (the result is held, never an id
+that could be reused)."""
 
 
 def gui_view(state: AppState) -> None:
@@ -280,13 +280,13 @@ def washed_out(state: AppState, side: str) -> str:
              and state.view_mode != "small-multiples"):
         return ""
     result = picture.result
-    wanted = (display.exposure, display.scale, display.tone_map)
+    wanted = (display.exposure, display.scale, display.tone_map, display.indirect_only)
     cached = _WHITE_CACHE.get(side)
-    if cached is None or cached[0] is not result or cached[1:4] != wanted:
+    if cached is None or cached[0] is not result or cached[1:5] != wanted:
         linear = result.indirect if display.indirect_only else result.final_image
         cached = _WHITE_CACHE[side] = (result, *wanted, white_share(
             linear, display.exposure * display.scale, display.tone_map))
-    return exposure_note(side, cached[4])
+    return exposure_note(side, cached[5])
 
 
 def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell) -> None:
