@@ -226,12 +226,27 @@ def _label(draw, origin, end, state: AppState) -> None:
     # differs.
     a, b = legend.side_labels(state.settings, state.settings.with_changes(
         corrections=state.compare_settings.corrections, **dict(state.compare_overrides)))
-    note = washed_out(state, "B")
-    b = f"{b} — {note}" if note else b
     pad = 6.0
     _overlay(draw, origin, a)
     width = imgui.calc_text_size(b).x
     _overlay(draw, imgui.ImVec2(end.x - width - 2 * pad - 4, origin.y), b)
+    note = washed_out(state, "B")
+    if note:    # under B's label, within B's side of the divider
+        x = origin.x + (end.x - origin.x) * state.split_position
+        _note(draw, imgui.ImVec2(x + 4, origin.y), end.x - x - 8, note)
+
+
+def _note(draw, pos, width: float, text: str) -> None:
+    """``text`` word-wrapped to ``width`` in a box below a label's line at ``pos``."""
+    words, lines = text.split(), [""]
+    for word in words:
+        line = f"{lines[-1]} {word}".strip()
+        if lines[-1] and imgui.calc_text_size(line).x + 12 > width:
+            lines.append(word)
+        else:
+            lines[-1] = line
+    _overlay(draw, imgui.ImVec2(pos.x, pos.y + imgui.get_text_line_height() + 16),
+             "\n".join(lines))
 
 
 def _overlay(draw, pos, text: str) -> None:
@@ -264,8 +279,7 @@ def cell_labels(state: AppState, sides: tuple[str, ...]) -> list[str]:
     for side in sides[1:]:
         other = legend.side_labels(a, side_settings(state, side))[1]
         labels.append(side + other[1:])
-    notes = [washed_out(state, side) if index else "" for index, side in enumerate(sides)]
-    return [f"{label} — {note}" if note else label for label, note in zip(labels, notes)]
+    return labels
 
 
 def washed_out(state: AppState, side: str) -> str:
@@ -317,6 +331,9 @@ def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell
             mark_overlay.draw(draw, mark_overlay.placements(
                 rt.frame.result, marks, (p0.x, p0.y), (p1.x, p1.y), text_size))
         _overlay(draw, p0, labels[index])
+        note = washed_out(state, side) if index else ""
+        if note:
+            _note(draw, p0, cell.x - 8, note)
 
 
 def _difference(state: AppState, draw, origin, end) -> None:
