@@ -43,6 +43,8 @@ from explorer.lessons.model import (
     MAX_STEPS,
     SCENE_STATE,
     STEP_VIEWS,
+    TRY_COMPARES,
+    TRY_GRIDS,
     Lesson,
     LessonError,
     Prediction,
@@ -56,6 +58,7 @@ from explorer.lessons.render import preview_settings, render_step, shrink_settin
 __all__ = [
     "COMPARE_VIEWS", "CORRECTIONS_TITLES", "LESSON_DEFAULTS", "MATH_COMMANDS",
     "MAX_FORMULAS_PER_STEP", "MAX_STEPS", "MAX_STEP_TEXT", "SCENE_STATE", "STEP_VIEWS",
+    "TRY_COMPARES", "TRY_GRIDS",
     "FormulaCheck", "Lesson", "LessonError", "Prediction", "Step", "TryThis", "Vec3",
     "find_lesson", "load_all", "load_lesson", "math_to_text", "preview_settings",
     "render_step", "shrink_settings", "valid_controls",

@@ -38,6 +38,15 @@ COMPARE_VIEWS = ("split", "difference")
 """Views that show the step's corrections against the ``compare`` preset."""
 STEP_VIEWS = VIEWS + COMPARE_VIEWS
 """What a step's ``view`` may be: a view of the settings, or one of :data:`COMPARE_VIEWS`."""
+TRY_COMPARES = ("apply", "split", "difference", "side-by-side", "small-multiples")
+"""How a try-this shows its change: applied on top of the step (no comparison), the step
+and the change left | right of a divider, their difference in false colour, the two whole
+views side by side, or the step beside each of several values in a grid."""
+TRY_GRIDS = ("side-by-side", "small-multiples")
+"""The modes that show whole views in a grid, each rendered at its cell's size."""
+MAX_VARIANTS = 3
+"""Most values a small-multiples try-this shows beside the step (a 2 × 2 grid): each is a
+pipeline of its own in the window."""
 
 Vec3 = tuple[float, float, float]
 
@@ -92,8 +101,12 @@ class TryThis:
     prompt: str
     value: Any = None
     """The value the button sets (checked against the settings schema when loaded)."""
-    split: bool = False
-    """Show the change as before | after in the split view."""
+    compare: str = "apply"
+    """How the change is shown (one of :data:`TRY_COMPARES`): the step is the first side
+    (before), the change the second (after)."""
+    values: tuple[Any, ...] = ()
+    """A small-multiples try-this's values, one view each beside the step's (``value`` is
+    the first)."""
     label: str = ""
     """The button's text (default: the control's label and the value)."""
     camera: tuple[Vec3, Vec3] | None = None
@@ -102,20 +115,37 @@ class TryThis:
     predict: Prediction | None = None
     """A question the article asks before the button reveals the answer."""
 
-    def change(self) -> dict[str, Any]:
-        """The change as ``Settings.with_changes`` keywords."""
+    @property
+    def split(self) -> bool:
+        """Shown as before | after in the split view."""
+        return self.compare == "split"
+
+    @property
+    def compares(self) -> bool:
+        """Shown beside the step (any mode but ``apply``): the change is configuration B."""
+        return self.compare != "apply"
+
+    @property
+    def variants(self) -> tuple[Any, ...]:
+        """The values the try-this shows: ``values`` for small multiples, else ``value``."""
+        return self.values or (self.value,)
+
+    def change(self, value: Any = None) -> dict[str, Any]:
+        """The change as ``Settings.with_changes`` keywords (``value``: one of
+        :attr:`variants`; default :attr:`value`)."""
+        value = self.value if value is None else value
         change: dict[str, Any]
         if self.control.startswith("corrections."):
-            change = {"corrections": {self.control.split(".", 1)[1]: self.value}}
+            change = {"corrections": {self.control.split(".", 1)[1]: value}}
         else:
-            change = {self.control: self.value}
+            change = {self.control: value}
         if self.camera is not None:
             change["camera"] = self.camera
         return change
 
-    def apply(self, settings: Settings) -> Settings:
-        """``settings`` with this change made."""
-        return settings.with_changes(**self.change())
+    def apply(self, settings: Settings, value: Any = None) -> Settings:
+        """``settings`` with this change made (``value``: one of :attr:`variants`)."""
+        return settings.with_changes(**self.change(value))
 
     def button(self) -> tuple[str, str]:
         """(button text, what the change does) in words: :attr:`label`, else the

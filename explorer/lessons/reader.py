@@ -33,7 +33,9 @@ File layout (all keys except ``id``, ``title``, ``summary`` and ``steps`` are op
     control = "corrections.injection_pi"   # a Settings field, corrections.<switch> or
     value = false                          # "corrections" (a preset); the value to set
     prompt = "..."                         # may quote live numbers, {{audit.injected}}
-    split = true                           # optional: show before | after side by side
+    compare = "split"                      # optional: how the change is shown, before
+                                           # against after (model.TRY_COMPARES; split =
+                                           # true is compare = "split")
     camera = { eye = [0, 2, 4], target = [0, 0, 0] }  # optional: reframe with the change
     predict = { question = "Brighter or darker?", choices = ["brighter", "darker"], answer = 2 }
                                            # optional: asked before the button reveals it
@@ -89,7 +91,9 @@ from explorer.lessons.model import (
     MAX_FORMULAS_PER_STEP,
     MAX_STEP_TEXT,
     MAX_STEPS,
+    MAX_VARIANTS,
     STEP_VIEWS,
+    TRY_COMPARES,
     Lesson,
     LessonError,
     Prediction,
@@ -235,7 +239,8 @@ def find_lesson(key: str, lessons: list[Lesson],
     raise KeyError(f"no lesson {key!r}; the lessons are: {known}")
 
 
-TRY_KEYS = ("control", "prompt", "value", "split", "label", "camera", "predict")
+TRY_KEYS = ("control", "prompt", "value", "values", "compare", "split", "label", "camera",
+            "predict")
 """The keys of a ``[[steps.try_this]]`` table."""
 PREDICT_KEYS = ("question", "choices", "answer")
 
@@ -390,7 +395,7 @@ class _Reader:
         if step.split_at is not None and step.view != "split" and not any(
                 item.split for item in step.try_this):
             raise self.error("split_at", "the step shows no split view (view = \"split\" "
-                                         "or a try-this with split = true)")
+                                         "or a try-this with compare = \"split\")")
         try:  # the rules between fields (e.g. bounces 2 needs a geometry volume)
             settings = step.settings()
         except SettingError as exc:
@@ -535,26 +540,66 @@ class _Reader:
         declared = {"control": Spec(kind="choice", choices=valid_controls(),
                                     doc="A Settings field or corrections.<switch>."),
                     "prompt": Spec(kind="str", doc="What to change and look for."),
+                    "compare": Spec(kind="choice", choices=TRY_COMPARES,
+                                    doc="How the change is shown beside the step."),
                     "split": Spec(kind="bool", doc="Show the step | the change side by side."),
                     "label": Spec(kind="text", doc="The button's text (default: the change).")}
         result = []
         for index, item in enumerate(items):
             if not isinstance(item, Mapping):
                 raise self.error(f"try_this[{index}]", "must be a {control, prompt} table")
+            prefix = f"try_this[{index}]."
+            required = ("control", "prompt") + (() if "values" in item else ("value",))
             own = self.fields(item, declared, tuple(k for k in TRY_KEYS if k not in declared),
-                              ("control", "prompt", "value"), prefix=f"try_this[{index}].")
+                              required, prefix=prefix)
+            compare = self.try_compare(own, prefix)
+            values = self.try_variants(item, compare, prefix)
             camera = self.pair(item, "camera", _CAMERA_KEYS, f"try_this[{index}].camera")
-            if camera is not None and own.get("split", False):
-                raise self.error(f"try_this[{index}].camera", "a split try-this shows both "
-                                 "sides from the step's camera; drop the camera or the split")
+            if camera is not None and compare != "apply":
+                raise self.error(f"try_this[{index}].camera", f"a {compare} try-this shows "
+                                 "every side from the step's camera; drop the camera or the "
+                                 "comparison")
             if camera is not None and own["control"] == "camera":
                 raise self.error(f"try_this[{index}].camera", "the control is the camera "
                                  "already: give the new camera as its value")
             result.append(TryThis(control=own["control"], prompt=own["prompt"],
-                                  value=item["value"], split=own.get("split", False),
+                                  value=values[0] if values else item["value"],
+                                  compare=compare, values=values,
                                   label=own.get("label", ""), camera=camera,
                                   predict=self.prediction(item, f"try_this[{index}].predict")))
         return tuple(result)
+
+    def try_compare(self, own: Mapping, prefix: str) -> str:
+        """A try-this's comparison mode: ``compare``, or ``split = true`` (the older
+        spelling of ``compare = "split"``), else ``apply``."""
+        if "split" in own and "compare" in own:
+            raise self.error(prefix + "split", 'split = true is compare = "split": give '
+                                               "compare alone")
+        if own.get("split", False):
+            return "split"
+        return own.get("compare", "apply")
+
+    def try_variants(self, item: Mapping, compare: str, prefix: str) -> tuple[Any, ...]:
+        """A small-multiples try-this's ``values`` (2 to MAX_VARIANTS of them, in place of
+        ``value``); () for the other modes, which show one value."""
+        if "values" not in item:
+            if compare == "small-multiples":
+                raise self.error(prefix + "values", "small multiples show several values: "
+                                 f"give values = [...] (2 to {MAX_VARIANTS}) in place of "
+                                 "value")
+            return ()
+        values = item["values"]
+        if compare != "small-multiples":
+            raise self.error(prefix + "values", 'several values need compare = '
+                             f'"small-multiples" (this try-this is {compare!r}); give one '
+                             "value")
+        if "value" in item:
+            raise self.error(prefix + "value", "give values alone (the first is the "
+                                               "button's)")
+        if not isinstance(values, list) or not 2 <= len(values) <= MAX_VARIANTS:
+            raise self.error(prefix + "values", f"must be a list of 2 to {MAX_VARIANTS} "
+                                                f"values; got {values!r}")
+        return tuple(values)
 
     def prediction(self, item: Mapping, field: str) -> Prediction | None:
         table = item.get("predict")
@@ -579,43 +624,58 @@ class _Reader:
     # (new keys of the explorable lessons; explorer/lessons/text.py and live_values.py)
 
     def try_values(self, step: Step) -> Step:
-        """``step`` with each try-this value checked against the settings schema on top of
-        the step's settings (and normalised: TOML lists become tuples)."""
-        from explorer.schema import SettingError
-
+        """``step`` with each try-this value (each of a small multiples' values) checked
+        against the settings schema on top of the step's settings (and normalised: TOML
+        lists become tuples)."""
         base = step.settings()
         checked = []
         for index, item in enumerate(step.try_this):
-            field = f"try_this[{index}].value"
-            if item.control == "corrections":
-                if isinstance(item.value, Mapping):     # a preset with switches changed
-                    value = self.corrections({"corrections": item.value})
-                elif isinstance(item.value, str) and item.value in PRESETS:
-                    value = item.value
-                else:
-                    raise self.error(field, f"a corrections preset, one of {list(PRESETS)}, "
-                                            f"or a table of switches; got {item.value!r}")
-            elif item.control.startswith("corrections."):
-                if not isinstance(item.value, bool):
-                    raise self.error(field, f"{item.control} is a switch: true or false, got "
-                                            f"{item.value!r}")
-                value = item.value
-            else:
-                try:
-                    value = getattr(Settings.from_dict({item.control: item.value}, base),
-                                    item.control)
-                except (SettingError, ValueError, TypeError) as exc:
-                    raise self.error(field, str(exc)) from None
-            changed = replace(item, value=value)
-            try:
-                after = changed.apply(base)
-            except (ValueError, TypeError) as exc:
-                raise self.error(field, str(exc)) from None
-            if after == base:
-                raise self.error(field, f"{item.control} is already {value!r} in this step: "
-                                        "the button would change nothing")
-            checked.append(changed)
+            many = bool(item.values)
+            values = []
+            for number, raw_value in enumerate(item.variants):
+                field = f"try_this[{index}].values[{number}]" if many \
+                    else f"try_this[{index}].value"
+                value = self.try_value(item, raw_value, base, field)
+                if value in values:
+                    raise self.error(field, f"{value!r} is shown twice: give each view its "
+                                            "own value")
+                values.append(value)
+            checked.append(replace(item, value=values[0],
+                                   values=tuple(values) if many else ()))
         return replace(step, try_this=tuple(checked))
+
+    def try_value(self, item: TryThis, raw_value: Any, base: Settings, field: str) -> Any:
+        """One value of ``item`` checked against the settings schema on top of ``base``;
+        it must change something."""
+        from explorer.schema import SettingError
+
+        if item.control == "corrections":
+            if isinstance(raw_value, Mapping):     # a preset with switches changed
+                value = self.corrections({"corrections": raw_value})
+            elif isinstance(raw_value, str) and raw_value in PRESETS:
+                value = raw_value
+            else:
+                raise self.error(field, f"a corrections preset, one of {list(PRESETS)}, "
+                                        f"or a table of switches; got {raw_value!r}")
+        elif item.control.startswith("corrections."):
+            if not isinstance(raw_value, bool):
+                raise self.error(field, f"{item.control} is a switch: true or false, got "
+                                        f"{raw_value!r}")
+            value = raw_value
+        else:
+            try:
+                value = getattr(Settings.from_dict({item.control: raw_value}, base),
+                                item.control)
+            except (SettingError, ValueError, TypeError) as exc:
+                raise self.error(field, str(exc)) from None
+        try:
+            after = item.apply(base, value)
+        except (ValueError, TypeError) as exc:
+            raise self.error(field, str(exc)) from None
+        if after == base:
+            raise self.error(field, f"{item.control} is already {value!r} in this step: "
+                                    "the button would change nothing")
+        return value
 
     def figures(self, raw: Mapping) -> tuple[Any, ...]:
         items = raw.get("figures", [])

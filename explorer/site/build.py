@@ -754,7 +754,8 @@ class _Writer:
 
     def iterations(self, step: Step, stem: str, number: int) -> str:
         """The step's view at growing iteration counts, when a try-this changes them."""
-        counts = [item.value for item in step.try_this if item.control == "iterations"]
+        counts = [value for item in step.try_this if item.control == "iterations"
+                  for value in item.variants]
         screen = step_screen(step)
         own = int(screen.settings.iterations)
         largest = max([own, *counts])

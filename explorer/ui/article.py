@@ -4,7 +4,7 @@ The step's text is laid out by the text flow (``explorer/ui/textflow.py``): pros
 and display math typeset by MicroTeX, live numbers filled from the frame on screen
 (``explorer/lessons/live_values.py``), inline figures (``explorer/ui/figures``) and try-this
 buttons. A try-this button applies exactly its change on top of the step (a second click
-undoes it; ``split`` ones show before | after in the split view); leaving the lesson gives
+undoes it; comparing ones show before | after as their ``compare`` says); leaving the lesson gives
 the reader's own settings back (:class:`~explorer.ui.lesson_panel.LessonSession`).
 """
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 from imgui_bundle import imgui
 
-from explorer.lessons import Step, TryThis, live_values
+from explorer.lessons import TRY_GRIDS, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
 from explorer.ui.lesson_panel import LessonSession, current_screen
 from explorer.ui.textflow import Page
@@ -18,12 +18,24 @@ if TYPE_CHECKING:
     from explorer.ui.state import AppState
 
 
+COMPARE_WORDS = {"split": "the step left of the divider, the change right of it",
+                 "difference": "their difference in false colour",
+                 "side-by-side": "the step's whole view beside the changed one",
+                 "small-multiples": "the step beside a view of each value"}
+"""How a comparing try-this shows its change (``TryThis.compare``), in words."""
+AFTER_SIDE = {"split": "the right half of the split view",
+              "difference": "configuration B of the difference view",
+              "side-by-side": "the right-hand view",
+              "small-multiples": "view B, the first value"}
+"""Where a comparing try-this's numbers are read while it is pressed."""
+
+
 def try_label(item: TryThis) -> tuple[str, str]:
     """(button text, tooltip) of a try-this, in words (``TryThis.button``): the
     control's label and the value, its documentation as tooltip."""
     label, tip = item.button()
-    if item.split:
-        tip += "\nShown as before | after in the split view."
+    if item.compares:
+        tip += f"\nShown as before | after: {COMPARE_WORDS[item.compare]}."
     return label, tip
 
 
@@ -43,12 +55,12 @@ def try_context(state: AppState, session: LessonSession, index: int,
     active = session.applied and session.tried == index
     cached = error_service(state).result_for(after)
     error = cached.stats if cached is not None else None
-    if active and not item.split:
+    if active and not item.compares:
         return replace(base, error=error), "the frame on screen"
     if active:
         result = state.runtime.frame.compare_result if state.comparing else None
         return (replace(base, settings=after, result=result, error=error),
-                "the right half of the split view")
+                AFTER_SIDE[item.compare])
     return (replace(base, settings=after, result=None, error=error),
             "the configuration this button sets: press it to read the frame")
 
@@ -90,9 +102,10 @@ def try_section(state: AppState, session: LessonSession, page: Page, step: Step)
         context, where = try_context(state, session, index, base)
         key = (session.lesson.id, step.number, index)
         pressed = session.applied and session.tried == index
+        grid = item.compare in TRY_GRIDS        # the views render at their cells' size
         if pressed and context.result is not None and \
-                same_frame(context.result.settings, context.settings):
-            frames.keep_after(key, context.result)
+                same_frame(context.result.settings, context.settings, not grid):
+            frames.keep_after(key, context.result, grid)
         elif not pressed:
             context = frames.after_context(key, context)
         source["context"], source["where"] = context, where

@@ -62,7 +62,15 @@ from explorer.ui.picture import Picture, SideDisplay, Stamp
 from explorer.ui.previews import FIRST_PREVIEW_SCALE, PREVIEW_INTERVAL_S, PREVIEW_SCALE
 from explorer.ui.scene_reload import Reloads
 from explorer.ui.scene_watch import SceneWatch
-from explorer.ui.side_display import SIDES, picture_scale, side_display, update_side_exposures
+from explorer.ui.side_display import (
+    ALL_SIDES,
+    SIDES,
+    VARIANT_SIDES,
+    picture_scale,
+    side_display,
+    side_settings,
+    update_side_exposures,
+)
 
 if TYPE_CHECKING:
     import moderngl
@@ -98,7 +106,7 @@ class PipelineController:
         self.pipeline_class = pipeline_class
         self.programs = ProgramCache(ctx)
         """The pictures' copy program (the pipelines have their own caches)."""
-        self.sides: dict[str, SideState] = {name: SideState(name) for name in SIDES}
+        self.sides: dict[str, SideState] = {name: SideState(name) for name in ALL_SIDES}
         self.drag = DragSizer()
         """The render size of a camera drag, from the camera frames measured."""
         self.preview_interval_s = PREVIEW_INTERVAL_S
@@ -135,13 +143,8 @@ class PipelineController:
 
     # ------------------------------------------------------------------ requests
     def settings_for(self, state: AppState, side: str) -> Settings:
-        """The Settings ``side`` shows: A's, and for B A's with the compare corrections
-        and overrides (display fields as the user set them)."""
-        a = state.settings
-        if side == "A":
-            return a
-        return a.with_changes(corrections=state.compare_settings.corrections,
-                              **dict(state.compare_overrides))
+        """The Settings ``side`` shows (explorer/ui/side_display.py ``side_settings``)."""
+        return side_settings(state, side)
 
     def request_for(self, state: AppState, side: str, need_audit: str | bool,
                     interacting: bool) -> Request:
@@ -150,7 +153,8 @@ class PipelineController:
         # making it anew validates every field and compares the Settings by value
         rest = (need_audit, interacting, interacting and self.drag_scale, self._first_done,
                 keeps_steps(state, side), side == "B" and (
-                    state.compare_settings.corrections, tuple(state.compare_overrides)))
+                    state.compare_settings.corrections, tuple(state.compare_overrides)),
+                side in VARIANT_SIDES and tuple(state.compare_variants))
         cached = self._requests.get(side)
         if cached is not None and cached[0] is state.settings and cached[1] == rest:
             return cached[2]
@@ -176,7 +180,13 @@ class PipelineController:
                        interactive=scale < 1.0)
 
     def active_sides(self, state: AppState) -> tuple[str, ...]:
-        return SIDES if state.comparing else ("A",)
+        """The sides the view shows: A; B too while comparing; small multiples' further
+        variants as C and D."""
+        if not state.comparing:
+            return ("A",)
+        if state.view_mode != "small-multiples":
+            return SIDES
+        return SIDES + VARIANT_SIDES[:len(state.compare_variants)]
 
     # ------------------------------------------------------------------ the frame
     def update(self, state: AppState, budget_ms: float, *,
@@ -503,6 +513,6 @@ class PipelineController:
                 side.picture.release()
             if side.pipeline is not None:
                 side.pipeline.release()
-        self.sides = {name: SideState(name) for name in SIDES}
+        self.sides = {name: SideState(name) for name in ALL_SIDES}
         self._requests.clear()
         self.programs.release()

@@ -80,7 +80,8 @@ def fingerprint(state: AppState) -> tuple:
     """What the window shows depends on besides input and the pipelines' work, so that a
     script or test that changes the state between frames gets it drawn."""
     s = state
-    return (s.settings, s.compare_settings, s.compare_overrides, s.view_mode,
+    return (s.settings, s.compare_settings, s.compare_overrides, s.compare_variants,
+            s.view_mode,
             s.view_buffer, s.split_position, s.expose_sides_separately,
             s.difference_scale, s.difference_colour_map, s.follow_view_size,
             s.render_scale, s.frame_budget_ms, s.progressive, astuple(s.inspect),

@@ -55,13 +55,16 @@ class Screen:
 
     settings: Settings
     compare_settings: Settings
-    view_mode: str                 # "single" | "split" | "difference"
+    view_mode: str                 # "single" or one of state.COMPARE_MODES
     view_buffer: str = "final"     # what the main view shows: final | direct | indirect | albedo
     inspect_source: str | None = None
     plot: str | None = None
     compare_overrides: tuple = ()
     """Fields (other than the corrections) in which configuration B differs from A: a
     try-this shown as before | after."""
+    compare_variants: tuple = ()
+    """The third and later views of small multiples: per view, the (field, value) pairs
+    in which it differs from A (corrections included)."""
     overlays: OverlayState | None = None
     """What the main view draws in the scene (a private copy; None: not part of this
     screen, the window's overlays stay as they are)."""
@@ -92,19 +95,27 @@ def step_screen(step: Step, own: Screen) -> Screen:
 
 def try_screen(step: Step, index: int, own: Screen) -> Screen:
     """What the step shows with its ``index``-th (1-based) try-this applied: the change
-    on top of the step, or with ``split`` the step (A, left) against the step with the
-    change (B, right)."""
+    on top of the step, or, when the try-this compares (``TryThis.compare``), the step
+    (A, before) against the step with the change (B, after; for small multiples B and
+    the further views each show one of its values) in the view mode it names."""
     item = step.try_this[index - 1]
     screen = step_screen(step, own)
-    after = item.apply(screen.settings)
-    if not item.split:
-        return replace(screen, settings=after)
-    changed = {name: getattr(after, name) for name in _settings_fields()
-               if name != "corrections" and getattr(after, name) != getattr(screen.settings,
-                                                                            name)}
+    if not item.compares:
+        return replace(screen, settings=item.apply(screen.settings))
+    before = screen.settings
+    after, *more = (item.apply(before, value) for value in item.variants)
     compare = screen.compare_settings.with_changes(corrections=after.corrections)
-    return replace(screen, compare_settings=compare, view_mode="split",
-                   compare_overrides=tuple(changed.items()))
+    return replace(screen, compare_settings=compare, view_mode=item.compare,
+                   compare_overrides=_differences(before, after, with_corrections=False),
+                   compare_variants=tuple(_differences(before, other) for other in more))
+
+
+def _differences(before: Settings, after: Settings, with_corrections: bool = True
+                 ) -> tuple[tuple[str, object], ...]:
+    """The (field, value) pairs of ``after`` that differ from ``before``."""
+    return tuple((name, getattr(after, name)) for name in _settings_fields()
+                 if (with_corrections or name != "corrections")
+                 and getattr(after, name) != getattr(before, name))
 
 
 def _settings_fields() -> tuple[str, ...]:
@@ -453,6 +464,7 @@ def current_screen(state: AppState) -> Screen:
     return Screen(settings=state.settings, compare_settings=state.compare_settings,
                   view_mode=state.view_mode, view_buffer=state.view_buffer,
                   compare_overrides=tuple(state.compare_overrides),
+                  compare_variants=tuple(state.compare_variants),
                   overlays=replace(state.overlays), split_position=state.split_position)
 
 
@@ -464,6 +476,7 @@ def show_screen(state: AppState, screen: Screen) -> None:
     state.compare_settings = screen.compare_settings
     state.view_mode = screen.view_mode
     state.compare_overrides = tuple(screen.compare_overrides)
+    state.compare_variants = tuple(screen.compare_variants)
     state.view_buffer = screen.view_buffer
     if screen.split_position is not None:
         state.split_position = screen.split_position

@@ -21,8 +21,28 @@ if TYPE_CHECKING:
     from explorer.ui.state import AppState
 
 SIDES = ("A", "B")
+VARIANT_SIDES = ("C", "D")
+"""Small multiples' further views (``AppState.compare_variants``): always at A's exposure
+and display scale, and so is B in small multiples, so that every view of the grid shares
+one colour scale."""
+ALL_SIDES = SIDES + VARIANT_SIDES
 EXPOSURE_TOLERANCE = 0.05
 """Relative change of a side's own exposure (exposed separately) worth applying."""
+
+
+def side_settings(state: AppState, side: str) -> Settings:
+    """The Settings ``side`` shows: A's; B: A's with the compare corrections and overrides
+    (display fields as the user set them); C and D: A's with the small multiples' further
+    variants (A's own when there is none)."""
+    a = state.settings
+    if side == "A":
+        return a
+    if side in VARIANT_SIDES:
+        variants = state.compare_variants
+        index = VARIANT_SIDES.index(side)
+        return a.with_changes(**dict(variants[index])) if index < len(variants) else a
+    return a.with_changes(corrections=state.compare_settings.corrections,
+                          **dict(state.compare_overrides))
 
 
 class ShownSide(Protocol):
@@ -42,7 +62,12 @@ def side_display(state: AppState, sides: dict[str, ShownSide], side: str,
     before | after split overrides them, e.g. the indirect light alone on the right): its
     exposure, tone curve and indirect only, and its display scale (the auto exposure of
     its picture, A's for B unless each side is exposed separately)."""
-    per_side = state.comparing and state.expose_sides_separately
+    if side in VARIANT_SIDES:       # A's exposure and display scale, whatever A's are
+        a = side_display(state, sides, "A", state.settings)
+        return SideDisplay(a.exposure, a.scale, settings.tone_map, settings.indirect_only)
+    # small multiples share one scale: a grid of views is read by comparing its cells
+    per_side = state.comparing and state.expose_sides_separately and \
+        state.view_mode != "small-multiples"
     exposure = settings.exposure
     if per_side and not state.settings.auto_exposure:
         exposure = state.runtime.frame.side_exposures[SIDES.index(side)]
@@ -78,7 +103,7 @@ def update_side_exposures(state: AppState, results: dict[str, FrameResult | None
 
     rt = state.runtime
     if not (state.comparing and state.expose_sides_separately) or \
-            state.settings.auto_exposure:
+            state.settings.auto_exposure or state.view_mode == "small-multiples":
         return
     values = list(rt.frame.side_exposures)
     for i, name in enumerate(SIDES):

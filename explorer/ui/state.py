@@ -40,9 +40,14 @@ if TYPE_CHECKING:
     from explorer.ui.picture import Picture, SideDisplay
     from explorer.ui.textures import UiTextures
 
-VIEW_MODES = ("single", "split", "difference")
+VIEW_MODES = ("single", "split", "difference", "side-by-side")
 """single: configuration A; split: A left | B right with a draggable divider;
-difference: false-colour |A − B| with a scale bar."""
+difference: false-colour |A − B| with a scale bar; side-by-side: the whole A beside the
+whole B."""
+COMPARE_MODES = VIEW_MODES[1:] + ("small-multiples",)
+"""The views that show A against other configurations; small multiples (a lesson
+try-this's several values, ``AppState.compare_variants``) put A, B and each further
+variant in a grid."""
 
 VIEW_BUFFERS = ("final", "direct", "indirect", "albedo")
 """What the 3D view shows (the first names of settings.VIEWS): the final image, or one
@@ -341,8 +346,9 @@ class AppState:
         kind="nested", nested=Settings,
         default_factory=lambda: Settings(corrections=PRESETS["original"]),
         doc="Configuration B of the compare views (only its corrections are used).")
-    view_mode: str = setting("single", kind="choice", choices=VIEW_MODES,
-                             doc="One configuration, split A|B, or their difference.")
+    view_mode: str = setting("single", kind="choice", choices=("single", *COMPARE_MODES),
+                             doc="One configuration, split A|B, their difference, both "
+                                 "side by side, or small multiples.")
     view_buffer: str = setting("final", kind="choice", choices=VIEW_BUFFERS,
                                doc="What the 3D view shows.")
     split_position: float = setting(0.5, kind="float", low=0.02, high=0.98,
@@ -398,6 +404,9 @@ class AppState:
     compare_overrides: tuple = ()
     """(field, value) pairs in which B also differs from A (a lesson's before | after
     view of a try-this); not persisted."""
+    compare_variants: tuple = ()
+    """Small multiples' further views after B: per view, the (field, value) pairs in
+    which it differs from A (corrections included); not persisted."""
     lesson_id: str | None = None
     lesson_step: int | None = None     # the step `run --lesson ID --step K` opens
     lesson_folder: str | None = None
@@ -458,5 +467,5 @@ class AppState:
 
     @property
     def comparing(self) -> bool:
-        return self.view_mode in ("split", "difference")
+        return self.view_mode in COMPARE_MODES
 

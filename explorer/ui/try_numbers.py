@@ -5,7 +5,8 @@ on screen its result is kept here, so the prompt keeps its numbers after Undo; a
 step's own frame as it was before the press is kept too, so the prompt can say what each
 number was before ("before the press: 35.9 W"). Both are finished FrameResults of one
 lesson step; a change of the step's settings (another scene size, the reader's exposure)
-makes the kept frame stale, and it is not used.
+makes the kept frame stale, and it is not used, except the render size of a press shown
+in a grid of views (side by side, small multiples: each view renders at its cell's size).
 """
 
 from __future__ import annotations
@@ -21,15 +22,22 @@ FRAME_PREFIXES = ("audit.", "frame.", "mark.")
 with the frame and need no "before")."""
 
 
-def same_frame(a: Any, b: Any) -> bool:
+SIZE_FIELDS = ("width", "height")
+"""The render size: a grid comparison's views render at their cell's size, not at the
+view's."""
+
+
+def same_frame(a: Any, b: Any, sized: bool = True) -> bool:
     """Whether Settings ``a`` and ``b`` render the same frame: equal in every field a
     stage before the display reads (exposure, tone curve and the like only change how
-    the window shows it, which it applies itself)."""
+    the window shows it, which it applies itself); ``sized`` False: the same
+    configuration at any render size."""
     from explorer.lpv.settings import Settings
     from explorer.schema import specs
 
     return all(getattr(a, name) == getattr(b, name) for name, spec in specs(Settings).items()
-               if set(getattr(spec, "stages", ()) or ("?",)) - {"display"})
+               if set(getattr(spec, "stages", ()) or ("?",)) - {"display"}
+               and (sized or name not in SIZE_FIELDS))
 
 
 @dataclass
@@ -39,16 +47,23 @@ class TryFrames:
 
     after: dict[tuple[str, int, int], Any] = field(default_factory=dict)
     before: dict[tuple[str, int], Any] = field(default_factory=dict)
+    any_size: set[tuple[str, int, int]] = field(default_factory=set)
+    """Try-this whose press was shown in a grid of views (side by side, small multiples):
+    the kept frame rendered at its cell's size, which the view after Undo does not
+    share, and still describes the press."""
 
     def keep_step(self, key: tuple[str, int], result: Any) -> None:
         """The step's own finished frame, on screen with no try-this pressed."""
         if result is not None:
             self.before[key] = result
 
-    def keep_after(self, key: tuple[str, int, int], result: Any) -> None:
-        """The try-this's finished frame, on screen while it is pressed."""
+    def keep_after(self, key: tuple[str, int, int], result: Any, any_size: bool = False
+                   ) -> None:
+        """The try-this's finished frame, on screen while it is pressed (``any_size``:
+        in a grid of views, at its cell's size)."""
         if result is not None:
             self.after[key] = result
+            (self.any_size.add if any_size else self.any_size.discard)(key)
 
     def after_context(self, key: tuple[str, int, int], context: live_values.LiveContext
                       ) -> live_values.LiveContext:
@@ -56,7 +71,7 @@ class TryFrames:
         from its last press, when that frame shows those settings."""
         kept = self.after.get(key)
         if kept is None or context.result is not None or \
-                not same_frame(kept.settings, context.settings):
+                not same_frame(kept.settings, context.settings, key not in self.any_size):
             return context
         return replace(context, result=kept)
 

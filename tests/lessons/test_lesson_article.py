@@ -211,12 +211,17 @@ def test_every_try_this_applies_and_is_undone_on_leaving(shipped):
                 wanted = item.apply(shown.settings)
                 where = (lesson.id, step.number, index)
                 assert wanted != shown.settings, where
-                if item.split:   # A: the step (before), B: the change (after)
-                    assert tried.view_mode == "split" and tried.settings == shown.settings
+                if item.compares:   # A: the step (before), B: the change (after)
+                    assert tried.view_mode == item.compare, where
+                    assert tried.settings == shown.settings, where
                     b = tried.settings.with_changes(
                         corrections=tried.compare_settings.corrections,
                         **dict(tried.compare_overrides))
                     assert b == wanted, where
+                    further = [tried.settings.with_changes(**dict(v))
+                               for v in tried.compare_variants]   # small multiples' C, D
+                    assert further == [item.apply(shown.settings, value)
+                                       for value in item.variants[1:]], where
                 else:
                     assert tried.settings == wanted, where
                 assert session.tried == index

@@ -1,6 +1,7 @@
-"""A split view's divider never passes through a mark or its label: for every step that
-splits (its view, or a try-this), each labelled mark of the step, drawn where the window
-draws it, stays clear of the divider at two aspect ratios of the view."""
+"""A split view's divider never passes through a mark, its label or the arrow between
+them: for every step that splits (its view, or a try-this with ``compare = "split"``),
+each labelled mark of the step, drawn where the window draws it, stays clear of the
+divider at two aspect ratios of the view."""
 
 from __future__ import annotations
 
@@ -8,8 +9,9 @@ from explorer.lessons import load_all, preview_settings
 
 CLEARANCE = 0.04
 """Least distance of a mark's point from the divider, a fraction of the view's width."""
-VIEWS = ((96, 96, 480.0, 480.0), (128, 96, 640.0, 480.0))
-"""(image width, height, drawn width, height): a square and a 4:3 view."""
+VIEWS = ((96, 96, 480.0, 480.0), (128, 96, 640.0, 480.0), (96, 112, 480.0, 560.0))
+"""(image width, height, drawn width, height): a square and a 4:3 view, and the taller
+one of the reader's mode (the article column beside the view)."""
 
 
 def _text_size(label: str) -> tuple[float, float]:
@@ -58,11 +60,15 @@ def test_no_divider_crosses_a_mark(ctx):
                     x0, _, x1, _ = placed.box
                     near = abs(placed.point[0] - divider) < CLEARANCE * drawn_w
                     crossed = x0 < divider < x1
-                    if near or crossed:
+                    # the arrow from the label's side to the point
+                    arrow = min(placed.anchor[0], placed.point[0]) < divider < max(
+                        placed.anchor[0], placed.point[0])
+                    if near or crossed or arrow:
                         where = f"{lesson.number:02d}/{step.number}" + (
                             f" try {number}" if number else "")
                         problems.append(f"{where} {width}x{height}: {placed.label!r} at "
                                         f"x = {placed.point[0] / drawn_w:.2f}, label "
-                                        f"{x0 / drawn_w:.2f}..{x1 / drawn_w:.2f}, divider "
+                                        f"{x0 / drawn_w:.2f}..{x1 / drawn_w:.2f}, arrow from "
+                                        f"{placed.anchor[0] / drawn_w:.2f}, divider "
                                         f"{split_at:.2f}")
     assert not problems, "\n".join(problems)

@@ -35,4 +35,10 @@ def test_the_prompt_keeps_both_frames_numbers(ctx):
     # a frame of other settings (the reader changed the window size) is not used
     other = replace(pending, settings=after.with_changes(width=after.width + 2))
     assert frames.after_context(key, other).result is None
+    # pressed in a grid of views (side by side), the frame rendered at its cell's size:
+    # the full view after Undo still gets the press's numbers
+    frames.keep_after(key, after_frame, any_size=True)
+    assert frames.after_context(key, other).result is after_frame
+    other_config = replace(pending, settings=after.with_changes(iterations=after.iterations + 1))
+    assert frames.after_context(key, other_config).result is None
     assert TryFrames().before_note(step_key, item.prompt, base) == ""

@@ -27,8 +27,13 @@ _BAR_ROOM = 84.0        # width of the colour bar with its labels
 
 
 def side_result(state: AppState, side: str):
+    """The finished frame ``side`` shows: A's, B's, or a small multiples' further view's
+    (its picture's)."""
     rt = state.runtime
-    return rt.frame.result if side == "A" else rt.frame.compare_result
+    if side in ("A", "B"):
+        return rt.frame.result if side == "A" else rt.frame.compare_result
+    picture = rt.frame.pictures.get(side)
+    return None if picture is None else picture.result
 
 
 def shown_texture(state: AppState, side: str, texture: int, bottom_first: bool,

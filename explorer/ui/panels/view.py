@@ -2,7 +2,9 @@
 draggable divider, or their difference in false colour with a scale bar. The images come
 from the view composer (explorer/ui/view_composer.py, one pass of ``shaders/view.glsl``
 over the sides' pictures), so exposure, buffer, indirect only, the divider and the
-difference's scale and colour map run no pipeline stage; while a side is still
+difference's scale and colour map run no pipeline stage. Side by side and small multiples
+(:data:`GRID_MODES`) draw each side's whole picture in a cell of a grid, every cell
+rendered at the cell's size and shown at A's exposure; while a side is still
 converging its progress ("propagating 5/8") shows in the corner. The camera (shared by
 both sides) moves with the mouse and keys of explorer.ui.camera_controls; the overlays of
 the "Show in scene" panel are drawn into the single and split views
@@ -12,10 +14,23 @@ from __future__ import annotations
 
 from imgui_bundle import imgui
 
+from explorer.lessons.compare_views import exposure_note, grid_shape, white_share
 from explorer.ui import camera_controls, gizmo, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
 from explorer.ui.view_composer import DIFFERENCE_MAPS
+
+GRID_MODES = ("side-by-side", "small-multiples")
+"""View modes that show whole pictures in a grid of cells, one side each."""
+GRID_GAP = 4.0
+"""Screen units between two cells of the grid."""
+MIN_CELL_ASPECT = 1.0
+"""Narrowest a grid cell's picture gets (width / height): the camera's field of view is
+vertical, so a narrower picture would crop the scene's sides away."""
+_WHITE_CACHE: dict[str, tuple] = {}
+"""Side -> (its finished result, exposure, display scale, tone map, indirect only, share
+shown white): measured once per result and display (the result is held, never an id
+that could be reused)."""
 
 
 def gui_view(state: AppState) -> None:
@@ -25,7 +40,16 @@ def gui_view(state: AppState) -> None:
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     # The difference view keeps room for its scale bar beside the image.
     bar = widgets.SCALE_BAR_WIDTH + 60.0 if state.view_mode == "difference" else 0.0
-    rt.view.view_size = (max(int((avail.x - bar) * scale), 0), max(int(avail.y * scale), 0))
+    cells = grid_sides(state)
+    # side by side is one row whatever the panel's shape (lessons say "left" and "right")
+    cols, rows = (len(cells), 1) if state.view_mode == "side-by-side" else \
+        grid_shape(len(cells), avail.x, avail.y) if cells else (1, 1)
+    # each cell of a grid renders at the cell's size (the aspect kept, the work shared)
+    cell_w, cell_h = (avail.x - bar - GRID_GAP * (cols - 1)) / cols, \
+        (avail.y - GRID_GAP * (rows - 1)) / rows
+    if cells:      # a cell's picture no narrower than square: the camera's view stays whole
+        cell_h = min(cell_h, cell_w / MIN_CELL_ASPECT)
+    rt.view.view_size = (max(int(cell_w * scale), 0), max(int(cell_h * scale), 0))
     if avail.x < 8 or avail.y < 8:
         return
     pictures = rt.frame.pictures
@@ -33,10 +57,12 @@ def gui_view(state: AppState) -> None:
         _centred_message(state, avail)
         return
     width, height = state.settings.width, state.settings.height
-    fit = min((avail.x - bar) / width, avail.y / height)
-    size = imgui.ImVec2(width * fit + bar, height * fit)
+    fit = min(cell_w / width, cell_h / height)
+    size = imgui.ImVec2((width * fit + GRID_GAP) * cols - GRID_GAP + bar,
+                        (height * fit + GRID_GAP) * rows - GRID_GAP)
     origin = imgui.get_cursor_screen_pos()
-    origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5, origin.y)
+    origin = imgui.ImVec2(origin.x + (avail.x - size.x) * 0.5,
+                          origin.y + ((avail.y - size.y) * 0.5 if cells else 0.0))
     imgui.set_cursor_screen_pos(origin)
     over_gizmo = gizmo.hovered()        # the gizmo's handles take the click, not the camera
     imgui.begin_disabled(over_gizmo)
@@ -53,6 +79,8 @@ def gui_view(state: AppState) -> None:
         split_x = origin.x + (end.x - origin.x) * state.split_position
     elif state.view_mode == "difference" and "B" in pictures:
         _difference(state, draw, origin, end)
+    elif cells:
+        _grid(state, draw, origin, cells, cols, imgui.ImVec2(width * fit, height * fit))
     else:
         tex, flipped = side_texture(state, "A")
         draw.add_image(imgui.ImTextureRef(tex), origin, end, *_uv(0.0, 1.0, flipped))
@@ -61,7 +89,7 @@ def gui_view(state: AppState) -> None:
     if state.comparing and state.view_mode == "split":
         _label(draw, origin, end, state)
     _progress(state, draw, origin, end)
-    if state.view_mode != "difference":     # overlays: colour bar, tooltip, picking
+    if state.view_mode != "difference" and not cells:   # overlays: bar, tooltip, picking
         in_view.over_image(state, draw, origin, end, hovered, split_x)
         divider_grabbed |= gizmo.draw(state, origin, end)   # the selected object's gizmo
     if not divider_grabbed:
@@ -218,6 +246,23 @@ def _label(draw, origin, end, state: AppState) -> None:
     _overlay(draw, origin, a)
     width = imgui.calc_text_size(b).x
     _overlay(draw, imgui.ImVec2(end.x - width - 2 * pad - 4, origin.y), b)
+    note = washed_out(state, "B")
+    if note:    # under B's label, within B's side of the divider
+        x = origin.x + (end.x - origin.x) * state.split_position
+        _note(draw, imgui.ImVec2(x + 4, origin.y), end.x - x - 8, note)
+
+
+def _note(draw, pos, width: float, text: str) -> None:
+    """``text`` word-wrapped to ``width`` in a box below a label's line at ``pos``."""
+    words, lines = text.split(), [""]
+    for word in words:
+        line = f"{lines[-1]} {word}".strip()
+        if lines[-1] and imgui.calc_text_size(line).x + 12 > width:
+            lines.append(word)
+        else:
+            lines[-1] = line
+    _overlay(draw, imgui.ImVec2(pos.x, pos.y + imgui.get_text_line_height() + 16),
+             "\n".join(lines))
 
 
 def _overlay(draw, pos, text: str) -> None:
@@ -228,6 +273,83 @@ def _overlay(draw, pos, text: str) -> None:
     draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(0, 0, 0, 0.6)), 4.0)
     draw.add_text((p0.x + pad, p0.y + pad), imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 1)),
                   text)
+
+
+def grid_sides(state: AppState) -> tuple[str, ...]:
+    """The sides a grid mode shows, in reading order (A first), or () for the other
+    views: A and B side by side; for small multiples C and D too, one per further
+    variant (``AppState.compare_variants``)."""
+    if state.view_mode == "side-by-side":
+        return ("A", "B")
+    if state.view_mode == "small-multiples":
+        return ("A", "B", "C", "D")[:2 + min(len(state.compare_variants), 2)]
+    return ()
+
+
+def cell_labels(state: AppState, sides: tuple[str, ...]) -> list[str]:
+    """Each grid cell's label naming what differs from A ("B: grid 32")."""
+    from explorer.ui.side_display import side_settings
+
+    a = state.settings
+    labels = [legend.side_labels(a, side_settings(state, "B"))[0]]
+    for side in sides[1:]:
+        other = legend.side_labels(a, side_settings(state, side))[1]
+        labels.append(side + other[1:])
+    return labels
+
+
+def washed_out(state: AppState, side: str) -> str:
+    """What the caption says when the one shared exposure shows much of ``side`` white
+    (``compare_views.exposure_note``), else ""; sides exposed separately have their own
+    scale and need no note."""
+    rt = state.runtime
+    picture = rt.frame.pictures.get(side)
+    display = rt.frame.displays.get(side)
+    if picture is None or picture.result is None or display is None or \
+            (state.expose_sides_separately and side == "B"
+             and state.view_mode != "small-multiples"):
+        return ""
+    result = picture.result
+    wanted = (display.exposure, display.scale, display.tone_map, display.indirect_only)
+    cached = _WHITE_CACHE.get(side)
+    if cached is None or cached[0] is not result or cached[1:5] != wanted:
+        linear = result.indirect if display.indirect_only else result.final_image
+        cached = _WHITE_CACHE[side] = (result, *wanted, white_share(
+            linear, display.exposure * display.scale, display.tone_map))
+    return exposure_note(side, cached[5])
+
+
+def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell) -> None:
+    """Each side's whole picture in its cell, with its label and the step's marks; a side
+    not rendered yet says so in its cell."""
+    from explorer.ui.overlays import marks as mark_overlay
+
+    rt = state.runtime
+    pictures = rt.frame.pictures
+    marks = in_view.step_marks(state)
+    labels = cell_labels(state, sides)
+    for index, side in enumerate(sides):
+        row, col = divmod(index, cols)
+        p0 = imgui.ImVec2(origin.x + col * (cell.x + GRID_GAP),
+                          origin.y + row * (cell.y + GRID_GAP))
+        p1 = imgui.ImVec2(p0.x + cell.x, p0.y + cell.y)
+        if side not in pictures:
+            draw.add_rect_filled(p0, p1, imgui.get_color_u32(imgui.ImVec4(0.06, 0.06, 0.07, 1)))
+            _overlay(draw, p0, f"{labels[index]} (rendering…)")
+            continue
+        tex, flipped = side_texture(state, side)
+        draw.add_image(imgui.ImTextureRef(tex), p0, p1, *_uv(0.0, 1.0, flipped))
+        if marks and rt.frame.result is not None:
+            def text_size(label: str) -> tuple[float, float]:
+                size = imgui.calc_text_size(label)
+                return size.x, size.y
+
+            mark_overlay.draw(draw, mark_overlay.placements(
+                rt.frame.result, marks, (p0.x, p0.y), (p1.x, p1.y), text_size))
+        _overlay(draw, p0, labels[index])
+        note = washed_out(state, side) if index else ""
+        if note:
+            _note(draw, p0, cell.x - 8, note)
 
 
 def _difference(state: AppState, draw, origin, end) -> None:
