@@ -378,6 +378,39 @@ def test_figures_of_the_lessons_parse_and_each_is_placed(shipped):
     assert kinds == set(FIGURES)
 
 
+def _introduction(text: str, figure_id: str) -> str:
+    """The paragraph that places figure ``figure_id`` in ``text``, up to the figure, or the
+    block just before it when the figure stands between blocks."""
+    before = text.split("{{figure:" + figure_id + "}}", 1)[0]
+    blocks = [b for b in re.split(r"\n\s*\n", before) if b.strip()]
+    return blocks[-1] if blocks else ""
+
+
+def test_every_figure_is_introduced_before_it_appears(shipped):
+    """A figure is named in the words just before it, in the window and on the site. A
+    figure that draws a toy of its own (a diagram or a small synthetic grid, not the frame
+    on screen) is also set against the main view there, so the reader knows it is not
+    the scene beside the text."""
+    from explorer.figure_params import FIGURE_KINDS
+
+    plots_frames = {decl.name for decl in FIGURE_KINDS if decl.results}
+    view = re.compile(r"\{\{fig:view\}\}|\bmain view\b|\b3D view\b", re.I)
+    missing = []
+    for lesson in shipped:
+        for step in lesson.steps:
+            for spec in step.figures:
+                ident = re.escape(spec.instance_id)
+                named = re.compile(r"\{\{fig:" + ident + r"\}\}|\bfigures?\b", re.I)
+                for medium in lt.MEDIA:
+                    words = _introduction(lt.for_medium(step.text, medium), spec.instance_id)
+                    where = f"{lesson.id} step {step.number} figure {spec.instance_id} ({medium})"
+                    if not named.search(words):
+                        missing.append(f"{where}: not named before it appears")
+                    elif spec.kind not in plots_frames and not view.search(words):
+                        missing.append(f"{where}: a toy figure not set against the main view")
+    assert missing == [], "\n".join(missing)
+
+
 def test_a_step_with_an_unknown_placeholder_is_refused(tmp_path):
     from explorer.lessons import LessonError, load_lesson
 
