@@ -138,8 +138,8 @@ class Settings:
     cascades: int = setting(
         1, kind="int", low=1, high=MAX_CASCADES, flag="--cascades", widget="slider",
         label="Cascades", group="Cascades", stages=("grid",),
-        doc="Nested grids of grid_size³ cells, each with twice the cell size of the last; "
-            "1 = the single grid enclosing the scene.")
+        doc="Nested grids of N³ cells (N the grid size), each with twice the cell size of "
+            "the last; 1 = the single grid enclosing the scene.")
     cascade_extent: float | None = setting(
         None, kind="float", optional=True, low=1e-6, high=1e6, flag="--cascade-extent",
         widget="input", label="Finest extent", unit="m", group="Cascades",
@@ -220,7 +220,7 @@ class Settings:
         0.5, kind="float", low=0.0, high=MAX_INJECTION_OFFSET_CELLS,
         flag="--injection-offset", widget="slider", label="VPL offset", unit="cells",
         group="Leak reduction and bounces", stages=("inject",),
-        doc='Inject each VPL at p + δ·cell_size·n, δ in cells (docs/MODEL.md "Injection"): '
+        doc='Inject each VPL at p + δ·h·n, h the cell size, δ in cells (docs/MODEL.md "Injection"): '
             "half a cell, the LPV paper's practice, keeps a surface from gathering its own "
             "VPLs.")
     gather_damping: bool = setting(

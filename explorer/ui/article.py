@@ -19,6 +19,7 @@ from imgui_bundle import imgui
 from explorer.figure_params import FIGURE_KINDS
 from explorer.lessons import Lesson, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
+from explorer.lessons.words import for_reader
 from explorer.ui import widgets
 from explorer.ui.lesson_panel import (
     LessonSession,
@@ -45,6 +46,7 @@ def try_label(item: TryThis) -> tuple[str, str]:
     """(button text, tooltip) of a try-this, in words (``TryThis.button``): the
     control's label and the value, its documentation as tooltip."""
     label, tip = item.button()
+    tip = for_reader(tip)
     if item.split:
         tip += "\nShown as before | after in the split view."
     return label, tip
@@ -439,7 +441,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
         text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
-        tip = f"{name}{unit}: {quantity.doc}"
+        tip = f"{for_reader(quantity.doc)}{unit}"
         if (converging and text != live_values.PENDING
                 and source["where"] == "the frame on screen" and provisional(quantity)):
             text = PROVISIONAL + text

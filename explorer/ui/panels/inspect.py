@@ -9,6 +9,7 @@ import numpy as np
 from imgui_bundle import imgui, implot3d
 
 from explorer.ui import glyphs, images, widgets
+from explorer.ui.overlays import quantities as Q
 from explorer.ui.state import GRID_COMPONENTS, INSPECT_SOURCES, AppState
 from explorer.ui.widgets import scale_bar
 
@@ -133,14 +134,16 @@ def _image_for(state: AppState, result):
         return make_volume, None
     if ins.source == "grid-slice":
         grid = _cascade_pick(state, result, result.cascade_accumulated, result.accumulated)
-        what = "acc_N" if ins.cascade == 0 else f"acc_N of cascade {ins.cascade}"
+        cascades = len(result.cascade_accumulated or [result.accumulated])
+        what = Q.grid_words(cascade=ins.cascade, cascades=cascades)
     else:
         steps = result.steps
         if not steps:
             return None, "steps are being recorded; next frame"
         last = len(steps) - 1
         _playback(state, last)
-        grid, what = steps[min(ins.iteration, last)], f"grid_{min(ins.iteration, last)}"
+        grid, what = steps[min(ins.iteration, last)], Q.grid_words(step=min(ins.iteration,
+                                                                              last))
     _grid_controls(state, grid.shape[3])
 
     def make_slice():

@@ -20,7 +20,7 @@ from explorer.ui.state import (
 
 QUANTITY_LABELS = {
     "intensity": "intensity toward a direction",
-    "flux": "flux per cell (acc_N)",
+    "flux": "accumulated flux per cell",
     "in-flight": "light in flight at step t",
 }
 
