@@ -305,6 +305,21 @@ def _status(state: AppState, session: LessonSession) -> None:
         imgui.same_line()
         if imgui.small_button("Back to the lesson" if session.left else "Show this step"):
             show_screen(state, session.apply(current_screen(state)))
+        imgui.push_text_wrap_pos(0.0)
+        imgui.text_colored(widgets.WARN, OWN_NUMBERS)
+        imgui.pop_text_wrap_pos()
+
+
+ON_SCREEN = "the frame on screen"
+OWN_FRAME = "your own frame (your settings, not this step's)"
+OWN_NUMBERS = "The numbers in the text are your own frame's, not this step's."
+"""Said under the status line while the reader's own settings are on screen: the step's
+live numbers are read from the reader's frame."""
+
+
+def frame_words(session: LessonSession) -> str:
+    """Where the step's live numbers are read: the step's frame, or the reader's own."""
+    return ON_SCREEN if session.applied else OWN_FRAME
 
 
 def column_width(avail: float) -> float:
@@ -433,7 +448,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
               context: live_values.LiveContext) -> PageEnv:
     from explorer import derived
 
-    source = {"context": context, "where": "the frame on screen"}
+    source = {"context": context, "where": frame_words(session)}
 
     converging = state.runtime.frame.progress.get("A")
 
@@ -443,7 +458,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         unit = f" [{quantity.unit}]" if quantity.unit else ""
         tip = f"{for_reader(quantity.doc)}{unit}"
         if (converging and text != live_values.PENDING
-                and source["where"] == "the frame on screen" and provisional(quantity)):
+                and source["where"] in (ON_SCREEN, OWN_FRAME) and provisional(quantity)):
             text = PROVISIONAL + text
             tip += (f"\nprovisional: read from the frame while it converges "
                     f"({converging}); it settles with the frame")
@@ -554,7 +569,7 @@ def _try_section(state: AppState, session: LessonSession, page: Page, step: Step
         if before:     # the step's own numbers beside the press's, also after Undo
             runs += (lesson_text.Text(f" ({before})", "italic"),)
         page.draw((lesson_text.Paragraph(runs),))
-    source["context"], source["where"] = base, "the frame on screen"
+    source["context"], source["where"] = base, frame_words(session)
 
 
 def verdict(prediction, guess: int | None) -> str:

@@ -55,9 +55,9 @@ PANELS: list[Panel] = [
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Lights & objects", gui_lights, "left-bottom"),
-    Panel("Compare", gui_compare, "left-bottom"),
     Panel("Show in scene", gui_show_in_scene, "right"),   # first: the tab shown at start
     Panel("Inspect", gui_inspect, "right"),
+    Panel("Compare", gui_compare, "right"),   # not a fourth tab beside Corrections: cut
     Panel("Plots", gui_plots, "right-bottom"),
     Panel("Picked", gui_picked, "right-bottom"),
     Panel("Error", gui_error, "right-bottom"),

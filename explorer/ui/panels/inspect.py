@@ -21,7 +21,7 @@ SOURCE_LABELS = {
     "propagation": "LPV: propagation step t (slice)",
     "geometry-volume": "Geometry volume (slice)",
     "vpls": "VPLs as 3D points",
-    "cascade-weights": "Cascade weights (which grid each pixel reads)",
+    "cascade-weights": "Cascade weights per pixel",
 }
 
 
@@ -29,6 +29,7 @@ def gui_inspect(state: AppState) -> None:
     ins = state.inspect
     labels = [SOURCE_LABELS[s] for s in INSPECT_SOURCES]
     index = INSPECT_SOURCES.index(ins.source) if ins.source in INSPECT_SOURCES else 0
+    widgets.fit_next_item("Show")
     changed, index = imgui.combo("Show", index, labels)
     if changed:
         ins.source = INSPECT_SOURCES[index]
@@ -53,7 +54,7 @@ def gui_inspect(state: AppState) -> None:
         rt.services.inspect_cache = (version, tex, top, caption, image.shape[:2])
     _, tex, top, caption, (height_px, width_px) = rt.services.inspect_cache
     signed = ins.component != "intensity" and ins.source in ("grid-slice", "propagation")
-    imgui.text_disabled(caption)
+    widgets.dim_text_wrapped(caption)
     avail = imgui.get_content_region_avail()
     bar = 80.0 if top is not None else 0.0
     side = max(min(avail.x - bar, avail.y - 8), 32.0)
@@ -167,17 +168,19 @@ def _cascade_weights(state: AppState, result):
         return None, "no frame yet"
     count = len(result.cascade_specs or [result.grid_spec])
     for k in range(count):
-        if k:
-            imgui.same_line()
+        name = f"cascade {k}" + (" (finest)" if k == 0 and count > 1 else "")
+        if k:       # the legend wraps in the narrow tool column (1280 px window)
+            widgets.same_line_if_fits(name, field=12.0 + imgui.get_style().item_spacing.x)
         imgui.color_button(f"##cascade{k}", imgui.ImVec4(*map(float, CASCADE_COLOURS[k]), 1.0),
                            0, (12, 12))
         imgui.same_line()
-        imgui.text(f"cascade {k}" + (" (finest)" if k == 0 and count > 1 else ""))
+        imgui.text(name)
 
     def make():
         image = view("cascade-weights")
-        return image, None, (f"{count} cascade(s); mixed colours: the gather blends two "
-                             "cascades there; black: background")
+        return image, None, (f"which cascade the final gather reads at each pixel, of "
+                             f"{count}; mixed colours: it blends two cascades there; "
+                             "black: background")
 
     return make, None
 
