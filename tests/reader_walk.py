@@ -30,6 +30,10 @@ WINDOW = (1280, 720)
 FRAMES_PER_PANEL = 2
 RESULT_WAIT_S = 60.0
 SLACK_PX = 1.0
+ENLARGED = "Error images##enlarged"
+RENDER_SCALE = 0.25
+"""The pipelines render at this share of the view's pixels (the walk reads words and
+layout, not the picture)."""
 
 
 class Recorder:
@@ -89,58 +93,62 @@ class Recorder:
                                            f"{width:.0f}")
 
     def install(self) -> None:
-        rec = self
-
-        def labelled(name: str, label_at: int = 0, combo: bool = False):
-            original = getattr(imgui, name)
-
-            def call(*args, **kwargs):
-                label = args[label_at] if len(args) > label_at else kwargs.get("label", "")
-                right = rec._right_edge() if rec.on else 0.0
-                result = original(*args, **kwargs)
-                if isinstance(label, str):
-                    rec.text(label)
-                    if label.split("##")[0]:
-                        rec._check_fits(label.split("##")[0], right, name)
-                if combo:
-                    preview = _combo_preview(name, args)
-                    rec.text(preview)
-                    rec._check_combo(label, preview)
-                return result
-            self._wrap(imgui, name, call, original)
-
-        def text_at(name: str, index: int, check: bool = True):
-            original = getattr(imgui, name)
-
-            def call(*args, **kwargs):
-                right = rec._right_edge() if rec.on else 0.0
-                result = original(*args, **kwargs)
-                text = args[index] if len(args) > index else ""
-                rec.text(text)
-                if check and isinstance(text, str) and "\n" not in text:
-                    rec._check_fits(text, right, name)
-                return result
-            self._wrap(imgui, name, call, original)
-
-        for name in ("text", "text_disabled", "text_unformatted", "bullet_text"):
-            text_at(name, 0)
-        text_at("text_colored", 1)
-        text_at("text_wrapped", 0, check=False)
-        text_at("separator_text", 0)
-        text_at("set_tooltip", 0, check=False)
+        """Wrap the calls (for the rest of the process: the walk is a child of its own)."""
+        for name in ("text", "text_disabled", "text_unformatted", "bullet_text",
+                     "separator_text"):
+            self._text_at(name, 0)
+        self._text_at("text_colored", 1)
+        self._text_at("text_wrapped", 0, check=False)
+        self._text_at("set_tooltip", 0, check=False)
         for name in ("button", "small_button", "checkbox", "radio_button", "selectable",
                      "slider_float", "slider_int", "input_float", "input_int", "input_text",
                      "drag_float", "drag_int", "collapsing_header", "menu_item",
                      "menu_item_simple", "begin_menu", "begin_tab_item", "tree_node"):
             if hasattr(imgui, name):
-                labelled(name)
-        labelled("combo", combo=True)
-        labelled("begin_combo", combo=True)
+                self._labelled(name)
+        self._labelled("combo", combo=True)
+        self._labelled("begin_combo", combo=True)
+        self._others()
+
+    def _labelled(self, name: str, combo: bool = False) -> None:
+        rec, original = self, getattr(imgui, name)
+
+        def call(*args, **kwargs):
+            label = args[0] if args else kwargs.get("label", "")
+            right = rec._right_edge() if rec.on else 0.0
+            result = original(*args, **kwargs)
+            if isinstance(label, str):
+                rec.text(label)
+                if label.split("##")[0]:
+                    rec._check_fits(label.split("##")[0], right, name)
+            if combo:
+                preview = _combo_preview(name, args)
+                rec.text(preview)
+                rec._check_combo(label, preview)
+            return result
+        self._wrap(imgui, name, call, original)
+
+    def _text_at(self, name: str, index: int, check: bool = True) -> None:
+        rec, original = self, getattr(imgui, name)
+
+        def call(*args, **kwargs):
+            right = rec._right_edge() if rec.on else 0.0
+            result = original(*args, **kwargs)
+            text = args[index] if len(args) > index else ""
+            rec.text(text)
+            if check and isinstance(text, str) and "\n" not in text:
+                rec._check_fits(text, right, name)
+            return result
+        self._wrap(imgui, name, call, original)
+
+    def _others(self) -> None:
+        """The draw list's text, the images, hovering (all at once in the hover frame)
+        and the windows begun (their dock node's tab bar)."""
+        rec = self
         original_add_text = imgui.ImDrawList.add_text
 
         def add_text(draw, *args, **kwargs):
-            text = next((a for a in args if isinstance(a, str)), kwargs.get("text_begin"))
-            rec.text(text)
+            rec.text(next((a for a in args if isinstance(a, str)), kwargs.get("text_begin")))
             return original_add_text(draw, *args, **kwargs)
         self._wrap(imgui.ImDrawList, "add_text", add_text, original_add_text)
         original_image = imgui.image
@@ -227,9 +235,9 @@ def walk(wanted: list[str]) -> dict:
 
     rec = Recorder()
     rec.install()
-    app = App(AppState(), WindowOptions(width=WINDOW[0], height=WINDOW[1], visible=False,
-                                        vsync=False, persist_settings=False,
-                                        headless=headless_available()))
+    options = WindowOptions(width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
+                            persist_settings=False, headless=headless_available())
+    app = App(AppState(render_scale=RENDER_SCALE), options)
     state = app.state
     steps = 0
     enlarged: dict = {}
@@ -280,7 +288,7 @@ def _enlarge(app, rec: Recorder) -> dict:
     while time.monotonic() - start < RESULT_WAIT_S * 4:
         rec.images.clear()
         _frames(app, rec, 1)
-        thumbs = [image for image in rec.images if image["window"].startswith("Error")]
+        thumbs = [image for image in rec.images if image["window"] == "Error"]
         if len(thumbs) >= 3:
             break
     else:
@@ -294,15 +302,16 @@ def _enlarge(app, rec: Recorder) -> dict:
     io.add_mouse_button_event(0, False)
     rec.images.clear()
     _frames(app, rec, 3)
-    shown = [image for image in rec.images if not image["window"].startswith("Error")
-             or "##" in image["window"]]
+    shown = [image["rect"] for image in rec.images if image["window"] == ENLARGED]
     result = {"thumbs": [t["rect"] for t in thumbs[-3:]], "clicked": [x0, y0, x1, y1],
-              "after": rec.images[-6:], "enlarged": shown}
+              "enlarged": shown[-3:]}
     io.add_mouse_pos_event(5, 5)      # away again, then close the enlarged view
-    imgui.get_io().add_key_event(imgui.Key.escape, True)
+    io.add_key_event(imgui.Key.escape, True)
     _frames(app, rec, 1)
-    imgui.get_io().add_key_event(imgui.Key.escape, False)
+    io.add_key_event(imgui.Key.escape, False)
+    rec.images.clear()
     _frames(app, rec, 2)
+    result["closed"] = not any(image["window"] == ENLARGED for image in rec.images)
     return result
 
 

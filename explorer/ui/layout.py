@@ -146,6 +146,13 @@ def build_default_layout(dockspace_id: int, size) -> None:
     if node is not None:
         node.set_local_flags(node.local_flags | internal.DockNodeFlagsPrivate_.no_docking_over_me
                              | internal.DockNodeFlagsPrivate_.no_window_menu_button)
+    # the tool column's tab bars keep the room of the window menu button for their titles
+    # (three tabs fit whole at 1280 px); the Windows menu opens and closes panels
+    for tool in (tools_top, tools_middle, tools_bottom):
+        node = internal.dock_builder_get_node(tool)
+        if node is not None:
+            node.set_local_flags(node.local_flags
+                                 | internal.DockNodeFlagsPrivate_.no_window_menu_button)
     internal.dock_builder_finish(dockspace_id)
 
 

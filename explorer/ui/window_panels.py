@@ -14,6 +14,9 @@ from explorer.lpv.settings import PRESETS
 from explorer.ui import persist, theme
 from explorer.ui.state import AppState, default_screenshot_path
 
+TAB_PADDING_X = 3.0
+"""Horizontal padding of a dock tab's title (the style's frame padding is 6)."""
+
 
 class WindowPanels:
     """The panels of one window over one AppState, with its layout."""
@@ -81,7 +84,12 @@ class WindowPanels:
             build_default_layout(dock_id, size)
             self.needs_layout = False
             state.requests.reset_layout = False
+        # the dock nodes' tabs are laid out here: narrower padding keeps three titles
+        # whole in the tool column at 1280 px (imgui cuts tabs that do not fit)
+        imgui.push_style_var(imgui.StyleVar_.frame_padding,
+                             (TAB_PADDING_X, imgui.get_style().frame_padding.y))
         imgui.dock_space_over_viewport(dock_id, viewport)
+        imgui.pop_style_var()
         if state.runtime.services.gl_problem:
             self._gl_problem_window()
             return

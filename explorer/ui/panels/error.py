@@ -392,13 +392,14 @@ def image_layout(avail: float, width_px: int, height_px: int) -> tuple[int, floa
     return 1, max(avail - BAR_PX, 24.0)
 
 
-def enlarged_layout(window_w: float, window_h: float, width_px: int,
-                    height_px: int) -> float:
+def enlarged_layout(window_w: float, window_h: float, width_px: int, height_px: int,
+                    line_px: float = 24.0) -> float:
     """The width of each image of the enlarged view in a window ``window_w`` × ``window_h``:
-    the three side by side, as large as :data:`ENLARGED_SHARE` of the window holds (a
-    line of titles above, the colour scale right)."""
+    the three side by side, as large as :data:`ENLARGED_SHARE` of the window holds (the
+    title bar, a line of titles above and two of text under them, ``line_px`` each; the
+    colour scale right)."""
     room_w = ENLARGED_SHARE * window_w - BAR_PX - 4 * IMAGE_GAP_PX
-    room_h = ENLARGED_SHARE * window_h - 5 * imgui.get_frame_height()
+    room_h = ENLARGED_SHARE * window_h - 5 * line_px
     return max(min(room_w / 3.0, room_h * width_px / height_px), 24.0)
 
 
@@ -447,7 +448,7 @@ def _enlarged(state, service: ErrorService, result: ErrorResult) -> None:
     viewport = imgui.get_main_viewport()
     width, height = viewport.work_size.x, viewport.work_size.y
     height_px, width_px = result.lpv.shape[:2]
-    side = enlarged_layout(width, height, width_px, height_px)
+    side = enlarged_layout(width, height, width_px, height_px, imgui.get_frame_height())
     size = imgui.ImVec2(side, side * height_px / width_px)
     imgui.set_next_window_pos((viewport.work_pos.x + width / 2, viewport.work_pos.y
                                + height / 2), imgui.Cond_.always, (0.5, 0.5))

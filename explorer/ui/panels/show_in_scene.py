@@ -157,7 +157,7 @@ def _glyph_controls(state: AppState, result) -> None:
         widgets.fit_next_item("Every k-th cell")
         _, o.glyph_stride = imgui.slider_int("Every k-th cell", o.glyph_stride, 0, 8,
                                              f"k = %d (0: auto = {automatic})")
-    widgets.fit_next_item("Size follows")
+    widgets.fit_next_item("Size follows (?)")     # its help on the line
     _, o.glyph_sizing = widgets.combo("Size follows", o.glyph_sizing, GLYPH_SIZINGS)
     _help("a glyph's size against its peak intensity: linear, square root "
                         "(dim cells stay visible) or equal (shape only)")
