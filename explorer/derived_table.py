@@ -60,7 +60,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.c0': (
         'c_{0} = \\frac{1}{2 \\sqrt{\\pi}}',
-        'Band-0 SH constant Y00 = 1/(2√π).',
+        'Band-0 SH constant: the band-0 basis function is 1/(2√π) everywhere.',
         0.28209479177387814,
     ),
     'sh.c1': (
@@ -77,8 +77,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.coslobe_c0': (
         '\\mathrm{lobe}_{0}(+z) = \\frac{\\sqrt{\\pi}}{2}',
-        'Band-0 coefficient of the clamped cosine lobe: the integral of cos θ · Y00 dω over the '
-        'hemisphere.',
+        'Band-0 coefficient of the clamped cosine lobe: the integral of cos θ times the band-0 '
+        'basis function dω over the hemisphere.',
         0.886226925452758,
     ),
     'sh.coslobe_c1': (

@@ -25,11 +25,14 @@ COMMAND = re.compile(r"`lpv-explorer [^`]*`"
 _SNAKE = re.compile(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+")
 INTERNAL = re.compile(r"\bacc_N\b|\bgrid_(?:\d+|t)\b|\bc0\b|\bY_?00\b|\bSettings\.|"
                       r"\bexplorer\.[a-z]|\bdocs/|\b[a-z]+\.[a-z_]+\.[a-z_]+\b|"
-                      r"\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b")
+                      r"\b[a-z][a-z0-9]+(?:_[a-z0-9]+)+\b")
 """What the window must not draw for a learner: the model's array names (acc_N, grid_t,
 c0, Y00), module, class and file paths, dotted derivation names and any snake_case
-identifier (a settings field, a quantity, a function)."""
-_CITATION = re.compile(r"\s*\((?:see )?docs/[A-Z_]+\.md[^)]*\)|\s*\([a-z_]+\.[a-z_]+\)")
+identifier (a settings field, a quantity, a function; a one-letter symbol with a subscript,
+k_s, is math)."""
+_CITATION = re.compile(r"\s*\((?:see )?docs/[A-Z_]+\.md[^)]*\)"
+                       r"|[;,]\s*docs/[A-Z_]+\.md(?: \"[^\"]*\")?"
+                       r"|\s*\((?:[A-Za-z_]+\.)+[A-Za-z_]+\)")
 
 
 def field_names() -> set[str]:
