@@ -616,11 +616,36 @@ def _error_banner(state: AppState) -> None:
         state.requests.focus_panel = ("Error",)
 
 
+NEXT_MIN_SCALE = 0.8
+"""The next button's title shrinks to this share of the font at the least."""
+
+
+def _next_button(what: str, title: str, width: float) -> bool:
+    """The button to the next step or lesson with its title on it, in a smaller font when
+    it is wider than the column (a cut label reads as a broken one); a title too long even
+    so goes under a short button."""
+    label = f"{what}: {title}  >"
+    text, padding = imgui.calc_text_size(label).x, 2 * imgui.get_style().frame_padding.x
+    if text + padding <= width:
+        return imgui.button(label)
+    scale = (width - padding - 1.0) / text
+    if scale >= NEXT_MIN_SCALE:
+        imgui.push_font(None, imgui.get_font_size() * scale)
+        pressed = imgui.button(label)
+        imgui.pop_font()
+        return pressed
+    pressed = imgui.button(f"{what}  >")
+    imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
+    imgui.text_colored(widgets.DIM, title)
+    imgui.pop_text_wrap_pos()
+    return pressed
+
+
 def _next_step(state: AppState, session: LessonSession, width: float) -> None:
     imgui.spacing()
     if session.step_number < session.step_count:
         following = session.lesson.step(session.step_number + 1)
-        if imgui.button(f"Next: {following.title}  >"):
+        if _next_button("Next", following.title, width):
             session.next()
             _goto(state, session)
     else:
@@ -628,7 +653,7 @@ def _next_step(state: AppState, session: LessonSession, width: float) -> None:
             else -1
         if 0 <= index < len(session.lessons) - 1:
             following: Lesson = session.lessons[index + 1]
-            if imgui.button(f"Next lesson: {following.title}  >"):
+            if _next_button("Next lesson", following.title, width):
                 session.open(following.id)
                 state.lesson_id = following.id
                 _goto(state, session)

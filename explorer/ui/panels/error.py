@@ -452,9 +452,14 @@ def _enlarged(state, service: ErrorService, result: ErrorResult) -> None:
     size = imgui.ImVec2(side, side * height_px / width_px)
     imgui.set_next_window_pos((viewport.work_pos.x + width / 2, viewport.work_pos.y
                                + height / 2), imgui.Cond_.always, (0.5, 0.5))
+    style, line = imgui.get_style(), imgui.get_frame_height()
+    # sized from the first frame (an auto-sized window measures itself one frame late)
+    imgui.set_next_window_size((3 * side + 2 * IMAGE_GAP_PX + BAR_PX + 2 * style.window_padding.x,
+                                size.y + 4 * line + 2 * style.window_padding.y),
+                               imgui.Cond_.always)
     imgui.set_next_window_focus()
     flags = (imgui.WindowFlags_.no_docking | imgui.WindowFlags_.no_collapse
-             | imgui.WindowFlags_.always_auto_resize | imgui.WindowFlags_.no_saved_settings)
+             | imgui.WindowFlags_.no_resize | imgui.WindowFlags_.no_saved_settings)
     expanded, still_open = imgui.begin("Error images##enlarged", True, flags)
     if expanded:
         for index, (title, tex) in enumerate(_pictures(state, result)):

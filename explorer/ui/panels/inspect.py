@@ -42,7 +42,7 @@ def gui_inspect(state: AppState) -> None:
         return
     make, problem = _image_for(state, result)
     if make is None:
-        imgui.text_disabled(problem)
+        widgets.dim_text_wrapped(problem)
         return
     version = (ins.source, id(result), ins.slice_z, ins.component, ins.direction_azimuth,
                ins.direction_elevation, ins.iteration, ins.signed_scale, ins.cascade)
@@ -99,14 +99,18 @@ def _draw_glyphs(grid: np.ndarray, z: int, pos, size) -> None:
 def _grid_controls(state: AppState, resolution: int, components: bool = True) -> None:
     ins = state.inspect
     z = ins.slice_z if 0 <= ins.slice_z < resolution else resolution // 2
+    widgets.fit_next_item("Slice z")
     _, ins.slice_z = imgui.slider_int("Slice z", z, 0, resolution - 1)
     if not components:
         return
+    widgets.fit_next_item("Show##component")
     changed, ins.component = widgets.combo("Show##component", ins.component, GRID_COMPONENTS)
     if ins.component == "intensity":
+        widgets.fit_next_item("Direction azimuth")
         _, ins.direction_azimuth = imgui.slider_float("Direction azimuth",
                                                       ins.direction_azimuth, -180, 180,
                                                       "%.0f°")
+        widgets.fit_next_item("Direction elevation")
         _, ins.direction_elevation = imgui.slider_float("Direction elevation",
                                                         ins.direction_elevation, -90, 90,
                                                         "%.0f°")
@@ -192,6 +196,7 @@ def _cascade_pick(state: AppState, result, per_cascade: list, finest):
         ins.cascade = 0
         return finest
     ins.cascade = min(ins.cascade, len(per_cascade) - 1)
+    widgets.fit_next_item("Cascade")
     _, ins.cascade = imgui.slider_int("Cascade", ins.cascade, 0, len(per_cascade) - 1)
     spec = result.cascade_specs[ins.cascade]
     imgui.same_line()
