@@ -625,15 +625,20 @@ def _next_button(what: str, title: str, width: float) -> bool:
     it is wider than the column (a cut label reads as a broken one); a title too long even
     so goes under a short button."""
     label = f"{what}: {title}  >"
-    text, padding = imgui.calc_text_size(label).x, 2 * imgui.get_style().frame_padding.x
-    if text + padding <= width:
+    width = min(width, imgui.get_content_region_avail().x)
+    padding = 2 * imgui.get_style().frame_padding.x
+    if imgui.calc_text_size(label).x + padding <= width:
         return imgui.button(label)
-    scale = (width - padding - 1.0) / text
-    if scale >= NEXT_MIN_SCALE:
-        imgui.push_font(None, imgui.get_font_size() * scale)
-        pressed = imgui.button(label)
+    full = imgui.get_font_size()
+    size = full * (width - padding) / imgui.calc_text_size(label).x
+    while size >= NEXT_MIN_SCALE * full:        # glyph widths round at a size: measure
+        imgui.push_font(None, size)
+        if imgui.calc_text_size(label).x + padding <= width:
+            pressed = imgui.button(label)
+            imgui.pop_font()
+            return pressed
         imgui.pop_font()
-        return pressed
+        size -= 0.5
     pressed = imgui.button(f"{what}  >")
     imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
     imgui.text_colored(widgets.DIM, title)

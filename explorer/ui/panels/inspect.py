@@ -17,8 +17,8 @@ SOURCE_LABELS = {
     "rsm-position": "RSM: world position",
     "rsm-normal": "RSM: normal",
     "rsm-flux": "RSM: reflected flux",
-    "grid-slice": "LPV: accumulated grid (slice)",
-    "propagation": "LPV: propagation step t (slice)",
+    "grid-slice": "LPV: accumulated grid",
+    "propagation": "LPV: light in flight, step t",
     "geometry-volume": "Geometry volume (slice)",
     "vpls": "VPLs as 3D points",
     "cascade-weights": "Cascade weights per pixel",
@@ -199,8 +199,9 @@ def _cascade_pick(state: AppState, result, per_cascade: list, finest):
     widgets.fit_next_item("Cascade")
     _, ins.cascade = imgui.slider_int("Cascade", ins.cascade, 0, len(per_cascade) - 1)
     spec = result.cascade_specs[ins.cascade]
-    imgui.same_line()
-    imgui.text_disabled(f"cell {spec.cell_size:.3g} m")
+    size = f"cell {spec.cell_size:.3g} m"
+    widgets.same_line_if_fits(size)
+    imgui.text_disabled(size)
     return per_cascade[ins.cascade]
 
 
