@@ -196,14 +196,18 @@ class WindowPanels:
                     state.open_panels[panel.title] = True
             imgui.end_menu()
         if state.messages:
+            from explorer.lessons.words import for_reader
             from explorer.ui.widgets import LEVEL_COLOURS
 
             last = state.messages[-1]
             if time.monotonic() - last.created < 20.0 or last.level == "error":
-                text = last.text if len(last.text) < 110 else last.text[:107] + "…"
+                said = for_reader(last.text)      # no file or function cited at the reader
+                text = said if len(said) < 110 else said[:107] + "…"
                 imgui.same_line(max(imgui.get_window_width() - imgui.calc_text_size(text).x
                                     - 16, 300))
                 imgui.text_colored(LEVEL_COLOURS.get(last.level), text)
+                if text != said and imgui.is_item_hovered():
+                    imgui.set_tooltip(said)       # the whole message
         imgui.end_main_menu_bar()
 
     def _gl_problem_window(self) -> None:
