@@ -245,7 +245,8 @@ def results() -> list[Result]:
                "propagated again (the GPU version also races)."),
         result(MODULE, "ping_pong.corrected",
                sp.Eq(acc_t, acc_prev + sp.Function("P")(grid_prev)),
-               "Ping-pong: only the light in flight moves on, the last step's light propagated once."),
+               "Ping-pong: only the light in flight moves on, the last step's light "
+               "propagated once."),
         result(MODULE, "ping_pong.accumulated_original", sp.Eq(acc_N, in_place),
                "In place after N steps: the injected light propagated k times is counted "
                "C(N, k) times."),
