@@ -203,7 +203,7 @@ def results() -> list[Result]:
                printed_decimals=True),
         result(MODULE, "exact_constants.corrected",
                sp.Eq(constants, sp.ImmutableMatrix([front_face(), side_face(), sp.pi])),
-               "The exact solid angles of the front and side faces (solid_angles) and π."),
+               "The exact solid angles of the front and side faces and π."),
         result(MODULE, "exact_constants.step_flux_original",
                sp.Eq(step_ratio, published_step),
                "One step with the printed constants (other corrections on): "
@@ -234,7 +234,7 @@ def results() -> list[Result]:
         result(MODULE, "surfel_area_squared.original", sp.Eq(A_s, linear),
                "Surfel area growing linearly with view depth w (the bug of annotations §5)."),
         result(MODULE, "surfel_area_squared.corrected", sp.Eq(A_s, squared),
-               "Surfel area of a 90° W×H texel at view depth w: 4w²/(W·H) (rsm.surfel_area)."),
+               "Surfel area of a 90° W×H texel at view depth w: 4w²/(W·H)."),
         result(MODULE, "surfel_area_squared.flux_factor", sp.simplify(squared / linear),
                "Squared ÷ linear surfel area (and occluder weight): w, so the linear area is "
                "too small beyond w = 1 and too large nearer."),
@@ -245,9 +245,10 @@ def results() -> list[Result]:
                "propagated again (the GPU version also races)."),
         result(MODULE, "ping_pong.corrected",
                sp.Eq(acc_t, acc_prev + sp.Function("P")(grid_prev)),
-               "Ping-pong: only the light in flight, grid_t = P(grid_t−1), moves on."),
+               "Ping-pong: only the light in flight moves on, the last step's light "
+               "propagated once."),
         result(MODULE, "ping_pong.accumulated_original", sp.Eq(acc_N, in_place),
-               "In place after N steps: (1 + P)^N grid_0, light propagated k times counted "
+               "In place after N steps: the injected light propagated k times is counted "
                "C(N, k) times."),
         result(MODULE, "ping_pong.accumulated_corrected", sp.Eq(acc_N, ping_pong),
                "Ping-pong after N steps: each power of P once."),
@@ -280,8 +281,7 @@ def results() -> list[Result]:
                "as the irradiance: no cosine lobe and no 1/h²."),
         result(MODULE, "irradiance_gather.corrected",
                sp.Eq(E, sp.Max(0, (s_coefficients.T * gather_kernels()[1])[0]) / h**2),
-               "The irradiance of the light the cell holds: ⟨s, lobe(−n)⟩/h², clamped "
-               "(docs/MODEL.md \"Final gather\")."),
+               "The irradiance of the light the cell holds: ⟨s, lobe(−n)⟩/h², clamped."),
         result(MODULE, "irradiance_gather.band0_factor",
                sp.simplify(gather_kernels()[1][0] / gather_kernels()[0][0]),
                "Band 0 of lobe(−n) ÷ band 0 of Y(−n): π (√π/2 against 1/(2√π))."),

@@ -214,14 +214,16 @@ def results() -> list[Result]:
     f0, f1, f2, f3 = sp.symbols("f_0 f_1 f_2 f_3")
     flux_factor = sp.simplify(flux_of((f0, f1, f2, f3)) / f0)
     r = [
-        result(MODULE, "c0", C0, "Band-0 SH constant Y00 = 1/(2√π).", glsl_name="SH_C0"),
+        result(MODULE, "c0", C0,
+               "Band-0 SH constant: the band-0 basis function is 1/(2√π) everywhere.",
+               glsl_name="SH_C0"),
         result(MODULE, "c1", C1, "Band-1 SH constant: Y1m = ±√3/(2√π)·(y, z, x).",
                glsl_name="SH_C1"),
         result(MODULE, "basis_l1", sp.ImmutableMatrix(L1_BASIS),
                "L1 real SH basis in the annotations' order and signs."),
         result(MODULE, "coslobe_c0", cos_l1[0],
-               "Band-0 coefficient of the clamped cosine lobe: the integral of cos θ · Y00 dω over "
-               "the hemisphere.",
+               "Band-0 coefficient of the clamped cosine lobe: the integral of cos θ times "
+               "the band-0 basis function dω over the hemisphere.",
                glsl_name="SH_COSLOBE_C0"),
         result(MODULE, "coslobe_c1", cos_l1[2],
                "Band-1 coefficient of the clamped cosine lobe around z: the integral of "

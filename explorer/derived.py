@@ -40,7 +40,9 @@ class Derived:
 
     @property
     def tooltip(self) -> str:
-        return f"{self.name}: {self.statement}"
+        """What the window shows on hover: the statement, in words (the result's dotted
+        name is the code's)."""
+        return self.statement
 
 
 def names() -> list[str]:

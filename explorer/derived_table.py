@@ -60,7 +60,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.c0': (
         'c_{0} = \\frac{1}{2 \\sqrt{\\pi}}',
-        'Band-0 SH constant Y00 = 1/(2√π).',
+        'Band-0 SH constant: the band-0 basis function is 1/(2√π) everywhere.',
         0.28209479177387814,
     ),
     'sh.c1': (
@@ -77,8 +77,8 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'sh.coslobe_c0': (
         '\\mathrm{lobe}_{0}(+z) = \\frac{\\sqrt{\\pi}}{2}',
-        'Band-0 coefficient of the clamped cosine lobe: the integral of cos θ · Y00 dω over the '
-        'hemisphere.',
+        'Band-0 coefficient of the clamped cosine lobe: the integral of cos θ times the band-0 '
+        'basis function dω over the hemisphere.',
         0.886226925452758,
     ),
     'sh.coslobe_c1': (
@@ -425,7 +425,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         '\\operatorname{atan}{\\left(\\frac{\\sqrt{11}}{33} \\right)}\\\\- \\frac{\\pi}{3} + 2 '
         '\\operatorname{atan}{\\left(\\frac{3 \\sqrt{11}}{11} '
         '\\right)}\\\\\\pi\\end{matrix}\\right]',
-        'The exact solid angles of the front and side faces (solid_angles) and π.',
+        'The exact solid angles of the front and side faces and π.',
         None,
     ),
     'corrections.exact_constants.step_flux_original': (
@@ -485,7 +485,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'corrections.surfel_area_squared.corrected': (
         'A_{s} = \\frac{4 w^{2}}{H W}',
-        'Surfel area of a 90° W×H texel at view depth w: 4w²/(W·H) (rsm.surfel_area).',
+        'Surfel area of a 90° W×H texel at view depth w: 4w²/(W·H).',
         None,
     ),
     'corrections.surfel_area_squared.flux_factor': (
@@ -502,13 +502,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
     ),
     'corrections.ping_pong.corrected': (
         'acc_{t} = acc_{t-1} + P{\\left(grid_{t-1} \\right)}',
-        'Ping-pong: only the light in flight, grid_t = P(grid_t−1), moves on.',
+        "Ping-pong: only the light in flight moves on, the last step's light propagated once.",
         None,
     ),
     'corrections.ping_pong.accumulated_original': (
         'acc_{N} = grid_{0} \\left(P + 1\\right)^{N}',
-        'In place after N steps: (1 + P)^N grid_0, light propagated k times counted C(N, k) '
-        'times.',
+        'In place after N steps: the injected light propagated k times is counted C(N, k) times.',
         None,
     ),
     'corrections.ping_pong.accumulated_corrected': (
@@ -565,8 +564,7 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'E = \\frac{\\max\\left(0, \\frac{\\sqrt{3} \\sqrt{\\pi} n_{x} s_{3}}{3} + '
         '\\frac{\\sqrt{3} \\sqrt{\\pi} n_{y} s_{1}}{3} - \\frac{\\sqrt{3} \\sqrt{\\pi} n_{z} '
         's_{2}}{3} + \\frac{\\sqrt{\\pi} s_{0}}{2}\\right)}{h^{2}}',
-        'The irradiance of the light the cell holds: ⟨s, lobe(−n)⟩/h², clamped (docs/MODEL.md '
-        '"Final gather").',
+        'The irradiance of the light the cell holds: ⟨s, lobe(−n)⟩/h², clamped.',
         None,
     ),
     'corrections.irradiance_gather.band0_factor': (

@@ -531,7 +531,9 @@ def lookup(name: str, figure_ids: tuple[str, ...] = (),
             if values is None or readout not in values:
                 raise Unavailable(f"figure {figure_id!r} shows no {readout!r} yet")
             return float(values[readout])
-        return Quantity(name, f"the {readout} the figure {figure_id} shows", "", read, ".3g")
+        # in words for the article's hover: "l1_min" reads "l1 min"
+        return Quantity(name, f"the {readout.replace('_', ' ')} the figure {figure_id} shows",
+                        "", read, ".3g")
     items = table()
     if name in items:
         return items[name]

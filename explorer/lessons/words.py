@@ -23,6 +23,16 @@ COMMAND = re.compile(r"`lpv-explorer [^`]*`"
                      r"|lpv-explorer [a-z]+(?: --?[a-z0-9-]+(?: [^ ,.;:)]+)?)*")
 """A command line quoted for the reader (its option names are no prose)."""
 _SNAKE = re.compile(r"[a-z][a-z0-9]*(?:_[a-z0-9]+)+")
+INTERNAL = re.compile(r"\bacc_N\b|\bgrid_(?:\d+|t)\b|\bc0\b|\bY_?00\b|\bSettings\.|"
+                      r"\bexplorer\.[a-z]|\bdocs/|\b[a-z]+\.[a-z_]+\.[a-z_]+\b|"
+                      r"\b[a-z][a-z0-9]+(?:_[a-z0-9]+)+\b")
+"""What the window must not draw for a learner: the model's array names (acc_N, grid_t,
+c0, Y00), module, class and file paths, dotted derivation names and any snake_case
+identifier (a settings field, a quantity, a function; a one-letter symbol with a subscript,
+k_s, is math)."""
+_CITATION = re.compile(r"\s*\((?:see )?docs/[A-Z_]+\.md[^)]*\)"
+                       r"|[;,]\s*docs/[A-Z_]+\.md(?: \"[^\"]*\")?"
+                       r"|\s*\((?:[A-Za-z_]+\.)+[A-Za-z_]+\)")
 
 
 def field_names() -> set[str]:
@@ -81,6 +91,24 @@ def word_problems(text: str) -> list[str]:
         problems.append(f"settings field names shown to the learner: {', '.join(names)} "
                         "(say what they are in words)")
     return problems
+
+
+def window_word_problems(text: str) -> list[str]:
+    """What in ``text``, a string the window draws for a lesson (a label, a caption, a
+    tooltip, a hover), is an internal identifier: :func:`word_problems` and
+    :data:`INTERNAL`."""
+    problems = word_problems(text)
+    found = sorted(set(m[0] for m in INTERNAL.finditer(prose(text))))
+    if found:
+        problems.append(f"internal identifiers shown to the learner: {', '.join(found)}")
+    return problems
+
+
+def for_reader(text: str) -> str:
+    """``text`` (a setting's or a quantity's documentation) without the citations that
+    point a developer at a file or a function (``(docs/MODEL.md "Injection")``,
+    ``(rsm.surfel_area)``): the window's tooltips show the rest."""
+    return _CITATION.sub("", text)
 
 
 def lesson_word_problems(lessons: Iterable[Lesson]) -> list[str]:

@@ -147,14 +147,15 @@ def growth_explanation(corrections) -> str | None:
     reasons = []
     if factor > 1.0 + 1e-6:
         # the switches that are off and change this factor when turned on
-        off = [entry.name for entry in CORRECTIONS if not getattr(corrections, entry.name)
+        off = [entry.title for entry in CORRECTIONS if not getattr(corrections, entry.name)
                and not math.isclose(step_flux_factor(dataclasses.replace(
                    corrections, **{entry.name: True})), factor)]
         reasons.append(f"π·k_R·k_I·k_P = {factor:.4g} instead of 1 (off: {', '.join(off)}): "
                        f"the published injection keeps the 1/π that only the corrected "
                        f"propagation and reprojection compensate")
     if not corrections.ping_pong:
-        reasons.append(f"in place (ping_pong off) every step adds P(acc) to acc, "
+        reasons.append(f"updated in place (ping-pong off) every step adds the propagated "
+                       f"accumulated light to itself, "
                        f"×(1 + {factor:.4g})")
     return (f"the flux grows ×{growth:.4g} per step: {'; '.join(reasons)} (docs/MODEL.md "
             f"\"Propagation\", flux per step)")

@@ -138,8 +138,8 @@ class Settings:
     cascades: int = setting(
         1, kind="int", low=1, high=MAX_CASCADES, flag="--cascades", widget="slider",
         label="Cascades", group="Cascades", stages=("grid",),
-        doc="Nested grids of grid_size³ cells, each with twice the cell size of the last; "
-            "1 = the single grid enclosing the scene.")
+        doc="Nested grids of N³ cells (N the grid size), each with twice the cell size of "
+            "the last; 1 = the single grid enclosing the scene.")
     cascade_extent: float | None = setting(
         None, kind="float", optional=True, low=1e-6, high=1e6, flag="--cascade-extent",
         widget="input", label="Finest extent", unit="m", group="Cascades",
@@ -191,9 +191,10 @@ class Settings:
         unit="°", doc="Vertical field of view of the camera in degrees; None = the scene's.")
     light_kind: str | None = setting(
         None, kind="choice", optional=True, choices=LIGHT_KINDS, stages=("rsm",),
-        doc="Make the primary light a spot, point or directional light (at Settings.light, "
-            "else where the scene's is; its flux then gives about 2 W/m² at its target "
-            "unless light_flux says otherwise); None = the scene's kind.")
+        doc="Make the primary light a spot, point or directional light (at the light's "
+            "position setting, else where the scene's is; its flux then gives about 2 W/m² "
+            "at its target unless the light flux setting says otherwise); None = the "
+            "scene's kind.")
     light_flux: float | None = setting(
         None, kind="float", optional=True, low=0.0, low_open=True, high=1e12,
         flag="--light-flux", stages=("rsm",),
@@ -220,9 +221,9 @@ class Settings:
         0.5, kind="float", low=0.0, high=MAX_INJECTION_OFFSET_CELLS,
         flag="--injection-offset", widget="slider", label="VPL offset", unit="cells",
         group="Leak reduction and bounces", stages=("inject",),
-        doc='Inject each VPL at p + δ·cell_size·n, δ in cells (docs/MODEL.md "Injection"): '
-            "half a cell, the LPV paper's practice, keeps a surface from gathering its own "
-            "VPLs.")
+        doc='Inject each VPL at p + δ·h·n, h the cell size, δ in cells (docs/MODEL.md '
+            '"Injection"): half a cell, the LPV paper\'s practice, keeps a surface from '
+            "gathering its own VPLs.")
     gather_damping: bool = setting(
         False, kind="bool", flag="--gather-damping", widget="checkbox",
         label="Gather damping", group="Leak reduction and bounces", stages=("gather",),

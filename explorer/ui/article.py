@@ -18,6 +18,7 @@ from imgui_bundle import imgui
 
 from explorer.lessons import Lesson, Step, live_values
 from explorer.lessons import text as lesson_text
+from explorer.lessons.words import for_reader
 from explorer.ui import widgets
 from explorer.ui.article_header import goto_step, header
 from explorer.ui.article_numbers import (
@@ -29,7 +30,7 @@ from explorer.ui.article_numbers import (
     uses_audit,
     uses_error,
 )
-from explorer.ui.article_try import try_label, try_section
+from explorer.ui.article_try import ON_SCREEN, OWN_FRAME, frame_words, try_label, try_section
 from explorer.ui.lesson_list import lesson_list
 from explorer.ui.lesson_panel import (
     LessonSession,
@@ -149,7 +150,7 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
               context: live_values.LiveContext) -> PageEnv:
     from explorer import derived
 
-    source = {"context": context, "where": "the frame on screen"}
+    source = {"context": context, "where": frame_words(session)}
 
     converging = state.runtime.frame.progress.get("A")
 
@@ -157,9 +158,9 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         quantity = live_values.lookup(name, step.figure_ids, step.mark_ids)
         text = live_values.render(name, fmt, source["context"], step.figure_ids)
         unit = f" [{quantity.unit}]" if quantity.unit else ""
-        tip = f"{name}{unit}: {quantity.doc}"
+        tip = f"{for_reader(quantity.doc)}{unit}"
         if (converging and text != live_values.PENDING
-                and source["where"] == "the frame on screen" and provisional(quantity)):
+                and source["where"] in (ON_SCREEN, OWN_FRAME) and provisional(quantity)):
             text = PROVISIONAL + text
             tip += (f"\nprovisional: read from the frame while it converges "
                     f"({converging}); it settles with the frame")
@@ -248,11 +249,41 @@ def _error_banner(state: AppState) -> None:
         state.requests.focus_panel = ("Error",)
 
 
+NEXT_MIN_SCALE = 0.8
+"""The next button's title shrinks to this share of the font at the least."""
+
+
+def _next_button(what: str, title: str, width: float) -> bool:
+    """The button to the next step or lesson with its title on it, in a smaller font when
+    it is wider than the column (a cut label reads as a broken one); a title too long even
+    so goes under a short button."""
+    label = f"{what}: {title}  >"
+    width = min(width, imgui.get_content_region_avail().x)
+    padding = 2 * imgui.get_style().frame_padding.x
+    if imgui.calc_text_size(label).x + padding <= width:
+        return imgui.button(label)
+    full = imgui.get_font_size()
+    size = full * (width - padding) / imgui.calc_text_size(label).x
+    while size >= NEXT_MIN_SCALE * full:        # glyph widths round at a size: measure
+        imgui.push_font(None, size)
+        if imgui.calc_text_size(label).x + padding <= width:
+            pressed = imgui.button(label)
+            imgui.pop_font()
+            return pressed
+        imgui.pop_font()
+        size -= 0.5
+    pressed = imgui.button(f"{what}  >")
+    imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + width)
+    imgui.text_colored(widgets.DIM, title)
+    imgui.pop_text_wrap_pos()
+    return pressed
+
+
 def _next_step(state: AppState, session: LessonSession, width: float) -> None:
     imgui.spacing()
     if session.step_number < session.step_count:
         following = session.lesson.step(session.step_number + 1)
-        if imgui.button(f"Next: {following.title}  >"):
+        if _next_button("Next", following.title, width):
             session.next()
             goto_step(state, session)
     else:
@@ -260,7 +291,7 @@ def _next_step(state: AppState, session: LessonSession, width: float) -> None:
             else -1
         if 0 <= index < len(session.lessons) - 1:
             following: Lesson = session.lessons[index + 1]
-            if imgui.button(f"Next lesson: {following.title}  >"):
+            if _next_button("Next lesson", following.title, width):
                 session.open(following.id)
                 state.lesson_id = following.id
                 goto_step(state, session)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 from imgui_bundle import imgui
 
 from explorer.ui import widgets
-from explorer.ui.article_try import try_label
+from explorer.ui.article_try import OWN_NUMBERS, try_label
 from explorer.ui.lesson_panel import LessonSession, current_screen, show_screen, shows_step
 
 if TYPE_CHECKING:
@@ -82,16 +82,18 @@ def _status(state: AppState, session: LessonSession) -> None:
         imgui.same_line()
         if imgui.small_button("Leave lesson settings"):
             show_screen(state, session.leave())
-        if hasattr(state, "reader_mode"):
-            imgui.same_line()
-            # the reader's mode shows the panels the step uses; the explorer mode all
-            if imgui.small_button("All panels" if state.reader_mode else "Reader's mode"):
-                state.reader_mode = not state.reader_mode
-            if imgui.is_item_hovered():
-                imgui.set_tooltip("Reader's mode: only the panels this step uses. "
-                                  "All panels: the explorer's every tool (Windows menu too).")
+        imgui.same_line()
+        # the reader's mode shows the panels the step uses; the explorer mode all
+        if imgui.small_button("All panels" if state.reader_mode else "Reader's mode"):
+            state.reader_mode = not state.reader_mode
+        if imgui.is_item_hovered():
+            imgui.set_tooltip("Reader's mode: only the panels this step uses. "
+                              "All panels: the explorer's every tool (Windows menu too).")
     else:
         imgui.text_disabled("your own settings are on screen")
         imgui.same_line()
         if imgui.small_button("Back to the lesson" if session.left else "Show this step"):
             show_screen(state, session.apply(current_screen(state)))
+        imgui.push_text_wrap_pos(0.0)
+        imgui.text_colored(widgets.WARN, OWN_NUMBERS)
+        imgui.pop_text_wrap_pos()

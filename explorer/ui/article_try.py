@@ -10,12 +10,25 @@ from imgui_bundle import imgui
 
 from explorer.lessons import TRY_GRIDS, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
+from explorer.lessons.words import for_reader
 from explorer.ui.lesson_panel import LessonSession, current_screen
 from explorer.ui.textflow import Page
 from explorer.ui.try_numbers import same_frame
 
 if TYPE_CHECKING:
     from explorer.ui.state import AppState
+
+
+ON_SCREEN = "the frame on screen"
+OWN_FRAME = "your own frame (your settings, not this step's)"
+OWN_NUMBERS = "The numbers in the text are your own frame's, not this step's."
+"""Said under the status line while the reader's own settings are on screen: the step's
+live numbers are read from the reader's frame."""
+
+
+def frame_words(session: LessonSession) -> str:
+    """Where the step's live numbers are read: the step's frame, or the reader's own."""
+    return ON_SCREEN if session.applied else OWN_FRAME
 
 
 COMPARE_WORDS = {"split": "the step left of the divider, the change right of it",
@@ -34,6 +47,7 @@ def try_label(item: TryThis) -> tuple[str, str]:
     """(button text, tooltip) of a try-this, in words (``TryThis.button``): the
     control's label and the value, its documentation as tooltip."""
     label, tip = item.button()
+    tip = for_reader(tip)
     if item.compares:
         tip += f"\nShown as before | after: {COMPARE_WORDS[item.compare]}."
     return label, tip
@@ -128,7 +142,7 @@ def try_section(state: AppState, session: LessonSession, page: Page, step: Step)
         if before:     # the step's own numbers beside the press's, also after Undo
             runs += (lesson_text.Text(f" ({before})", "italic"),)
         page.draw((lesson_text.Paragraph(runs),))
-    source["context"], source["where"] = base, "the frame on screen"
+    source["context"], source["where"] = base, frame_words(session)
 
 
 def verdict(prediction, guess: int | None) -> str:

@@ -16,7 +16,7 @@ import time
 import numpy as np
 from imgui_bundle import imgui
 
-from explorer.ui import camera
+from explorer.ui import camera, widgets
 from explorer.ui.state import AppState
 
 ORBIT_DEGREES_PER_PIXEL = 0.35
@@ -66,22 +66,26 @@ def frame_picked(state: AppState) -> bool:
     return state.update(camera=camera.frame_point(*current, point, distance))
 
 
-def toolbar(state: AppState) -> None:
-    """Frame buttons and the fly switch, on the View panel's toolbar line."""
-    if imgui.button("Frame (F)"):
-        frame_scene(state)
-    if imgui.is_item_hovered():
-        imgui.set_tooltip("look at the whole scene from the current direction")
-    imgui.same_line()
-    imgui.begin_disabled(state.overlays.picked_kind == "none")
-    if imgui.button("Frame picked (G)"):
-        frame_picked(state)
-    imgui.end_disabled()
-    imgui.same_line()
-    _, state.overlays.fly = imgui.checkbox("Fly", state.overlays.fly)
-    if imgui.is_item_hovered():
-        imgui.set_tooltip("fly mode: drag to look around, W/A/S/D to move, Q/E down/up, "
-                          "shift faster")
+def toolbar(state: AppState, shown=("frame", "frame-picked", "fly")) -> None:
+    """Frame buttons and the fly switch, on the View panel's toolbar line (those named in
+    ``shown``); each wraps to the next line when the line is full."""
+    if "frame" in shown:
+        if imgui.button("Frame (F)"):
+            frame_scene(state)
+        if imgui.is_item_hovered():
+            imgui.set_tooltip("look at the whole scene from the current direction")
+    if "frame-picked" in shown:
+        widgets.same_line_if_fits("Frame picked (G)")
+        imgui.begin_disabled(state.overlays.picked_kind == "none")
+        if imgui.button("Frame picked (G)"):
+            frame_picked(state)
+        imgui.end_disabled()
+    if "fly" in shown:
+        widgets.same_line_if_fits("Fly", checkbox=True)
+        _, state.overlays.fly = imgui.checkbox("Fly", state.overlays.fly)
+        if imgui.is_item_hovered():
+            imgui.set_tooltip("fly mode: drag to look around, W/A/S/D to move, Q/E down/up, "
+                              "shift faster")
 
 
 def hint(state: AppState) -> str:

@@ -55,9 +55,9 @@ PANELS: list[Panel] = [
     Panel("Corrections", gui_corrections, "left"),
     Panel("Scene", gui_scene, "left-bottom"),
     Panel("Lights & objects", gui_lights, "left-bottom"),
-    Panel("Compare", gui_compare, "left-bottom"),
     Panel("Show in scene", gui_show_in_scene, "right"),   # first: the tab shown at start
     Panel("Inspect", gui_inspect, "right"),
+    Panel("Compare", gui_compare, "right"),   # not a fourth tab beside Corrections: cut
     Panel("Plots", gui_plots, "right-bottom"),
     Panel("Picked", gui_picked, "right-bottom"),
     Panel("Error", gui_error, "right-bottom"),
@@ -146,6 +146,13 @@ def build_default_layout(dockspace_id: int, size) -> None:
     if node is not None:
         node.set_local_flags(node.local_flags | internal.DockNodeFlagsPrivate_.no_docking_over_me
                              | internal.DockNodeFlagsPrivate_.no_window_menu_button)
+    # the tool column's tab bars keep the room of the window menu button for their titles
+    # (three tabs fit whole at 1280 px); the Windows menu opens and closes panels
+    for tool in (tools_top, tools_middle, tools_bottom):
+        node = internal.dock_builder_get_node(tool)
+        if node is not None:
+            node.set_local_flags(node.local_flags
+                                 | internal.DockNodeFlagsPrivate_.no_window_menu_button)
     internal.dock_builder_finish(dockspace_id)
 
 

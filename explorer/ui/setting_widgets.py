@@ -12,6 +12,7 @@ from typing import Any
 
 from imgui_bundle import imgui
 
+from explorer.lessons.words import for_reader
 from explorer.schema import Spec
 
 
@@ -23,7 +24,7 @@ def label_of(spec: Spec, name: str) -> str:
 
 def tooltip_of(spec: Spec) -> str:
     """The documentation and the allowed values (``None`` shown as 0 by an input)."""
-    text = f"{spec.doc}\nAllowed: {spec.allowed()}."
+    text = f"{for_reader(spec.doc)}\nAllowed: {spec.allowed()}."
     if spec.optional and spec.widget == "input":
         text += " 0 = automatic (None)."
     return text

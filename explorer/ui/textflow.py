@@ -411,7 +411,8 @@ class Page:
             cursor = imgui.get_cursor_screen_pos()
             imgui.set_cursor_screen_pos((origin.x, cursor.y))
             self.push("italic")
-            imgui.push_text_wrap_pos(origin.x + self.width)
+            # the wrap position is in the window's coordinates, not the screen's
+            imgui.push_text_wrap_pos(imgui.get_cursor_pos_x() + self.width)
             imgui.text_colored(imgui.ImVec4(*DIM), statement)
             imgui.pop_text_wrap_pos()
             self.pop()

@@ -14,6 +14,9 @@ from explorer.lpv.settings import PRESETS
 from explorer.ui import persist, theme
 from explorer.ui.state import AppState, default_screenshot_path
 
+TAB_PADDING_X = 3.0
+"""Horizontal padding of a dock tab's title (the style's frame padding is 6)."""
+
 
 class WindowPanels:
     """The panels of one window over one AppState, with its layout."""
@@ -81,7 +84,12 @@ class WindowPanels:
             build_default_layout(dock_id, size)
             self.needs_layout = False
             state.requests.reset_layout = False
+        # the dock nodes' tabs are laid out here: narrower padding keeps three titles
+        # whole in the tool column at 1280 px (imgui cuts tabs that do not fit)
+        imgui.push_style_var(imgui.StyleVar_.frame_padding,
+                             (TAB_PADDING_X, imgui.get_style().frame_padding.y))
         imgui.dock_space_over_viewport(dock_id, viewport)
+        imgui.pop_style_var()
         if state.runtime.services.gl_problem:
             self._gl_problem_window()
             return
@@ -188,14 +196,18 @@ class WindowPanels:
                     state.open_panels[panel.title] = True
             imgui.end_menu()
         if state.messages:
+            from explorer.lessons.words import for_reader
             from explorer.ui.widgets import LEVEL_COLOURS
 
             last = state.messages[-1]
             if time.monotonic() - last.created < 20.0 or last.level == "error":
-                text = last.text if len(last.text) < 110 else last.text[:107] + "…"
+                said = for_reader(last.text)      # no file or function cited at the reader
+                text = said if len(said) < 110 else said[:107] + "…"
                 imgui.same_line(max(imgui.get_window_width() - imgui.calc_text_size(text).x
                                     - 16, 300))
                 imgui.text_colored(LEVEL_COLOURS.get(last.level), text)
+                if text != said and imgui.is_item_hovered():
+                    imgui.set_tooltip(said)       # the whole message
         imgui.end_main_menu_bar()
 
     def _gl_problem_window(self) -> None:

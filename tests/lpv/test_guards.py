@@ -36,7 +36,7 @@ def test_flux_per_step_of_the_presets():
     assert guards.growth_explanation(Corrections()) is None
     assert guards.growth_explanation(PRESETS["original"]) is None     # it loses light
     text = guards.growth_explanation(published_injection)
-    assert "×3.142 per step" in text and "injection_pi" in text
+    assert "×3.142 per step" in text and "Injection: intensity = flux / π" in text
     in_place = guards.growth_explanation(replace(Corrections(), ping_pong=False))
     assert "×2 per step" in in_place and "in place" in in_place
 

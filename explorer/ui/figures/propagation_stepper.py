@@ -163,7 +163,7 @@ def _slice(params: Params, state: State, result: Run, side: float) -> None:
     elif state.glyph == "arrow":
         glyphs.draw_arrow_glyphs(draw, grid, z, pos, size, style.u32(style.TEXT, 0.9))
     draw.add_text(imgui.ImVec2(pos.x + 6, pos.y + 4), style.u32(style.TEXT, 0.9),
-                  f"grid_{t}, slice z = {z}")
+                  f"after step {t}, layer z = {z}")
     if hovered:
         mouse = imgui.get_mouse_pos()
         cx = int(np.clip((mouse.x - pos.x) // cell, 0, n - 1))

@@ -44,7 +44,7 @@ def pixel_rows(pick: PickInfo, digits: int = 4) -> list[tuple[str, str]]:
 def cell_audit_rows(info: CellAuditInfo, digits: int = 4) -> list[tuple[str, str]]:
     """(label, value) rows of a cell's audit records [W]: over all steps, and the last
     step's; the reflection terms only where a step reflected anything."""
-    rows = [("injected (acc_N − received)", vector(info.injected, digits))]
+    rows = [("injected (accumulated − received)", vector(info.injected, digits))]
     parts = [(f"all {info.steps} steps", info.total)]
     if info.last is not None:
         parts.append((f"step {info.steps}", info.last))
@@ -68,11 +68,11 @@ def cell_rows(cell: CellInfo, digits: int = 4) -> list[tuple[str, str]]:
     ]
     for channel, name in enumerate("rgb"):
         rows.append((f"SH {name} [W/sr]", vector(cell.coefficients[channel], digits)))
-    rows.append(("flux of acc_N [W]", vector(cell.flux, digits)))
-    rows.append(("share of acc_N", vector(cell.share, 3)))
+    rows.append(("accumulated flux [W]", vector(cell.flux, digits)))
+    rows.append(("share of the accumulated flux", vector(cell.share, 3)))
     if cell.in_flight is not None:
-        rows.append(("injected (grid_0) [W]", vector(cell.injected, digits)))
-        rows.append(("Σ_t grid_t [W]", vector(cell.accumulated_from_steps, digits)))
+        rows.append(("injected, before any step [W]", vector(cell.injected, digits)))
+        rows.append(("sum over the steps [W]", vector(cell.accumulated_from_steps, digits)))
     if cell.blocker_area is not None:
         rows.append(("blocker area [cell faces]", f"{cell.blocker_area:.{digits}g}"))
     return rows

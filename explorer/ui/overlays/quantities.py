@@ -75,18 +75,27 @@ def resolved_colour_map(overlays: OverlayState) -> str:
 
 
 def slice_source(result, overlays: OverlayState) -> tuple[np.ndarray, GridSpec, int, str]:
-    """(grid (3, N, N, N, C), its GridSpec, its cascade, its name) the slice reads.
+    """(grid (3, N, N, N, C), its GridSpec, its cascade, its name in words) the slice reads.
     "in-flight" reads grid_t of the finest cascade (the only one whose steps are kept);
     a ValueError when the steps are not recorded yet or the coefficient does not exist."""
     if overlays.slice_quantity == "in-flight":
         if not result.steps:
             raise ValueError("the propagation steps are not recorded yet")
         t = int(np.clip(overlays.slice_step, 0, len(result.steps) - 1))
-        return result.steps[t], result.grid_spec, 0, f"grid_{t}"
+        return result.steps[t], result.grid_spec, 0, grid_words(step=t)
     grids = result.cascade_accumulated or [result.accumulated]
     specs = result.cascade_specs or [result.grid_spec]
     k = int(np.clip(overlays.cascade, 0, len(grids) - 1))
-    return grids[k], specs[k], k, "acc_N" if len(grids) == 1 else f"acc_N of cascade {k}"
+    return grids[k], specs[k], k, grid_words(cascade=k, cascades=len(grids))
+
+
+def grid_words(step: int | None = None, cascade: int = 0, cascades: int = 1) -> str:
+    """A grid named in words for the learner (captions, hovers, the Inspect panel): the
+    light in flight after ``step`` (grid_t of docs/MODEL.md), else the accumulated light
+    (acc_N) of ``cascade`` when there are several."""
+    if step is not None:
+        return "injected light (step 0)" if step == 0 else f"light in flight after step {step}"
+    return "accumulated light" if cascades <= 1 else f"accumulated light, cascade {cascade}"
 
 
 def quantity_field(grid: np.ndarray, quantity: str, direction=None) -> np.ndarray:
@@ -154,7 +163,7 @@ def _label(overlays: OverlayState, name: str, direction: np.ndarray) -> str:
         d = ", ".join(f"{v:+.2f}" for v in direction)
         return f"{name}: intensity toward ({d}) [W/sr]"
     if quantity in ("flux", "in-flight"):
-        return f"{name}: flux 2√π·c0 per cell [W]"
+        return f"{name}: flux per cell [W]"
     return f"{name}: SH coefficient {quantity[2:]} [W/sr]"
 
 

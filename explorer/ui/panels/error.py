@@ -55,6 +55,8 @@ class ErrorService:
         self.auto = False
         """The reader asked to measure every configuration shown."""
         self.lesson_wants = False
+        self.enlarged = False
+        """The reader clicked an image: the three are drawn large in a window of their own."""
         """The lesson step on screen shows the error (its plot is "error")."""
         self.requested: Any = None
         self.cache: OrderedDict[Any, ErrorResult] = OrderedDict()
@@ -251,7 +253,7 @@ def gui_error(state) -> None:
     if result is None:
         widgets.dim_text_wrapped(
             "Press Measure to compare configuration A with the one-bounce reference: "
-            "the same VPLs summed at every pixel without a grid (explorer/truth).")
+            "the same VPLs summed at every pixel without a grid.")
         return
     _numbers(result)
     _truth(service)
@@ -291,7 +293,8 @@ def _controls(service: ErrorService) -> None:
     imgui.same_line()
     imgui.set_next_item_width(60)
     changed_rsm, rsm = widgets.combo("RSM", str(m.rsm_size), [str(v) for v in RSM_SIZES])
-    imgui.same_line()
+    # the third combo wraps in the narrow tool column (1280 px window)
+    widgets.same_line_if_fits("reference", field=100 + imgui.get_style().item_inner_spacing.x)
     imgui.set_next_item_width(100)
     changed_ref, reference = widgets.combo("reference", m.reference, REFERENCE_MODES)
     if changed_size or changed_rsm or changed_ref:
@@ -366,33 +369,117 @@ def _numbers(result: ErrorResult) -> None:
         f"{stats.pixels} pixels see a surface; indirect light only (no exposure).")
 
 
-def _images(state, result: ErrorResult) -> None:
+IMAGE_MIN_PX = 128.0
+"""The Error panel's images are at least this wide where the panel allows: three in a row,
+else the LPV and the reference side by side with the error image under them."""
+BAR_PX = 40.0
+"""Room right of the error image for its colour scale and its labels."""
+IMAGE_GAP_PX = 8.0
+ENLARGED_SHARE = 0.9
+"""The enlarged view covers this share of the window."""
+
+
+def image_layout(avail: float, width_px: int, height_px: int) -> tuple[int, float]:
+    """(images per row, width of each) of the Error panel's three images in a panel
+    ``avail`` pixels wide: a row of three when each is :data:`IMAGE_MIN_PX` wide or more,
+    else two rows (LPV | reference, then the error image), else one a row."""
+    three = (avail - BAR_PX - 2 * IMAGE_GAP_PX) / 3.0
+    if three >= IMAGE_MIN_PX:
+        return 3, three
+    two = (avail - IMAGE_GAP_PX) / 2.0
+    if two >= IMAGE_MIN_PX and two + BAR_PX <= avail:
+        return 2, two
+    return 1, max(avail - BAR_PX, 24.0)
+
+
+def enlarged_layout(window_w: float, window_h: float, width_px: int, height_px: int,
+                    line_px: float = 24.0) -> float:
+    """The width of each image of the enlarged view in a window ``window_w`` × ``window_h``:
+    the three side by side, as large as :data:`ENLARGED_SHARE` of the window holds (the
+    title bar, a line of titles above and two of text under them, ``line_px`` each; the
+    colour scale right)."""
+    room_w = ENLARGED_SHARE * window_w - BAR_PX - 4 * IMAGE_GAP_PX
+    room_h = ENLARGED_SHARE * window_h - 5 * line_px
+    return max(min(room_w / 3.0, room_h * width_px / height_px), 24.0)
+
+
+def _pictures(state, result: ErrorResult):
     from explorer.ui.textures import robust_max, tonemap
 
-    rt = state.runtime
+    textures = state.runtime.services.textures
     exposure = 1.0 / robust_max(result.reference[result.valid], 99.0)
     version = id(result)
     pictures = (("LPV", tonemap(result.lpv, exposure)),
                 ("reference", tonemap(result.reference, exposure)),
                 ("log2(LPV / reference)", np.asarray(result.error.rgb, np.float32)))
-    avail = imgui.get_content_region_avail()
-    bar = 70.0
+    return [(title, textures.upload(f"error-{index}", image, version=version))
+            for index, (title, image) in enumerate(pictures)]
+
+
+def _images(state, result: ErrorResult) -> None:
+    service = error_service(state)
     height_px, width_px = result.lpv.shape[:2]
-    side = max(min((avail.x - bar - 16) / 3.0, (avail.y - 40) * width_px / height_px), 24.0)
+    per_row, side = image_layout(imgui.get_content_region_avail().x, width_px, height_px)
     size = imgui.ImVec2(side, side * height_px / width_px)
-    for index, (title, image) in enumerate(pictures):
-        if index:
-            imgui.same_line()
+    for index, (title, tex) in enumerate(_pictures(state, result)):
+        if index % per_row:
+            imgui.same_line(0.0, IMAGE_GAP_PX)
         imgui.begin_group()
         imgui.text_disabled(title)
-        tex = rt.services.textures.upload(f"error-{index}", image, version=version)
         pos = imgui.get_cursor_screen_pos()
         imgui.image(imgui.ImTextureRef(tex), size)
         imgui.end_group()
+        if imgui.is_item_hovered():
+            imgui.set_mouse_cursor(imgui.MouseCursor_.hand)
+            imgui.set_tooltip("click to enlarge")
+            if imgui.is_mouse_clicked(0):
+                service.enlarged = True
     _stops_bar(imgui.ImVec2(pos.x + size.x + 6, pos.y), size.y)
-    imgui.dummy((bar, 1))
     widgets.dim_text_wrapped("Blue: the LPV is darker than the reference, red: brighter; "
-                             f"saturates at ±{LOG2_SCALE:g} stops. Grey: background.")
+                             f"saturates at ±{LOG2_SCALE:g} stops. Grey: background. "
+                             "Click an image to enlarge it.")
+    if service.enlarged:
+        _enlarged(state, service, result)
+
+
+def _enlarged(state, service: ErrorService, result: ErrorResult) -> None:
+    """The three images side by side in a window of their own, as large as the window
+    allows; closed by its button, Escape or a click on an image."""
+    viewport = imgui.get_main_viewport()
+    width, height = viewport.work_size.x, viewport.work_size.y
+    height_px, width_px = result.lpv.shape[:2]
+    side = enlarged_layout(width, height, width_px, height_px, imgui.get_frame_height())
+    size = imgui.ImVec2(side, side * height_px / width_px)
+    imgui.set_next_window_pos((viewport.work_pos.x + width / 2, viewport.work_pos.y
+                               + height / 2), imgui.Cond_.always, (0.5, 0.5))
+    style, line = imgui.get_style(), imgui.get_frame_height()
+    # sized from the first frame (an auto-sized window measures itself one frame late)
+    imgui.set_next_window_size((3 * side + 2 * IMAGE_GAP_PX + BAR_PX + 2 * style.window_padding.x,
+                                size.y + 4 * line + 2 * style.window_padding.y),
+                               imgui.Cond_.always)
+    imgui.set_next_window_focus()
+    flags = (imgui.WindowFlags_.no_docking | imgui.WindowFlags_.no_collapse
+             | imgui.WindowFlags_.no_resize | imgui.WindowFlags_.no_saved_settings)
+    expanded, still_open = imgui.begin("Error images##enlarged", True, flags)
+    if expanded:
+        for index, (title, tex) in enumerate(_pictures(state, result)):
+            if index:
+                imgui.same_line(0.0, IMAGE_GAP_PX)
+            imgui.begin_group()
+            imgui.text_disabled(title)
+            pos = imgui.get_cursor_screen_pos()
+            imgui.image(imgui.ImTextureRef(tex), size)
+            imgui.end_group()
+            if imgui.is_item_hovered() and imgui.is_mouse_clicked(0):
+                still_open = False
+        _stops_bar(imgui.ImVec2(pos.x + size.x + 6, pos.y), size.y)
+        imgui.dummy((BAR_PX, 1))
+        widgets.dim_text_wrapped("Blue: the LPV is darker than the reference, red: "
+                                 f"brighter; saturates at ±{LOG2_SCALE:g} stops. Close: "
+                                 "Escape, or click an image.")
+    imgui.end()
+    if not still_open or imgui.is_key_pressed(imgui.Key.escape, False):
+        service.enlarged = False
 
 
 def _stops_bar(pos, height: float, width: float = 14.0) -> None:

@@ -9,6 +9,7 @@ import numpy as np
 from imgui_bundle import imgui, implot3d
 
 from explorer.ui import glyphs, images, widgets
+from explorer.ui.overlays import quantities as Q
 from explorer.ui.state import GRID_COMPONENTS, INSPECT_SOURCES, AppState
 from explorer.ui.widgets import scale_bar
 
@@ -16,11 +17,11 @@ SOURCE_LABELS = {
     "rsm-position": "RSM: world position",
     "rsm-normal": "RSM: normal",
     "rsm-flux": "RSM: reflected flux",
-    "grid-slice": "LPV: accumulated grid (slice)",
-    "propagation": "LPV: propagation step t (slice)",
+    "grid-slice": "LPV: accumulated grid",
+    "propagation": "LPV: light in flight, step t",
     "geometry-volume": "Geometry volume (slice)",
     "vpls": "VPLs as 3D points",
-    "cascade-weights": "Cascade weights (which grid each pixel reads)",
+    "cascade-weights": "Cascade weights per pixel",
 }
 
 
@@ -28,6 +29,7 @@ def gui_inspect(state: AppState) -> None:
     ins = state.inspect
     labels = [SOURCE_LABELS[s] for s in INSPECT_SOURCES]
     index = INSPECT_SOURCES.index(ins.source) if ins.source in INSPECT_SOURCES else 0
+    widgets.fit_next_item("Show")
     changed, index = imgui.combo("Show", index, labels)
     if changed:
         ins.source = INSPECT_SOURCES[index]
@@ -40,7 +42,7 @@ def gui_inspect(state: AppState) -> None:
         return
     make, problem = _image_for(state, result)
     if make is None:
-        imgui.text_disabled(problem)
+        widgets.dim_text_wrapped(problem)
         return
     version = (ins.source, id(result), ins.slice_z, ins.component, ins.direction_azimuth,
                ins.direction_elevation, ins.iteration, ins.signed_scale, ins.cascade)
@@ -52,7 +54,7 @@ def gui_inspect(state: AppState) -> None:
         rt.services.inspect_cache = (version, tex, top, caption, image.shape[:2])
     _, tex, top, caption, (height_px, width_px) = rt.services.inspect_cache
     signed = ins.component != "intensity" and ins.source in ("grid-slice", "propagation")
-    imgui.text_disabled(caption)
+    widgets.dim_text_wrapped(caption)
     avail = imgui.get_content_region_avail()
     bar = 80.0 if top is not None else 0.0
     side = max(min(avail.x - bar, avail.y - 8), 32.0)
@@ -97,14 +99,18 @@ def _draw_glyphs(grid: np.ndarray, z: int, pos, size) -> None:
 def _grid_controls(state: AppState, resolution: int, components: bool = True) -> None:
     ins = state.inspect
     z = ins.slice_z if 0 <= ins.slice_z < resolution else resolution // 2
+    widgets.fit_next_item("Slice z")
     _, ins.slice_z = imgui.slider_int("Slice z", z, 0, resolution - 1)
     if not components:
         return
+    widgets.fit_next_item("Show##component")
     changed, ins.component = widgets.combo("Show##component", ins.component, GRID_COMPONENTS)
     if ins.component == "intensity":
+        widgets.fit_next_item("Direction azimuth")
         _, ins.direction_azimuth = imgui.slider_float("Direction azimuth",
                                                       ins.direction_azimuth, -180, 180,
                                                       "%.0f°")
+        widgets.fit_next_item("Direction elevation")
         _, ins.direction_elevation = imgui.slider_float("Direction elevation",
                                                         ins.direction_elevation, -90, 90,
                                                         "%.0f°")
@@ -133,14 +139,16 @@ def _image_for(state: AppState, result):
         return make_volume, None
     if ins.source == "grid-slice":
         grid = _cascade_pick(state, result, result.cascade_accumulated, result.accumulated)
-        what = "acc_N" if ins.cascade == 0 else f"acc_N of cascade {ins.cascade}"
+        cascades = len(result.cascade_accumulated or [result.accumulated])
+        what = Q.grid_words(cascade=ins.cascade, cascades=cascades)
     else:
         steps = result.steps
         if not steps:
             return None, "steps are being recorded; next frame"
         last = len(steps) - 1
         _playback(state, last)
-        grid, what = steps[min(ins.iteration, last)], f"grid_{min(ins.iteration, last)}"
+        grid, what = steps[min(ins.iteration, last)], Q.grid_words(step=min(ins.iteration,
+                                                                              last))
     _grid_controls(state, grid.shape[3])
 
     def make_slice():
@@ -164,17 +172,19 @@ def _cascade_weights(state: AppState, result):
         return None, "no frame yet"
     count = len(result.cascade_specs or [result.grid_spec])
     for k in range(count):
-        if k:
-            imgui.same_line()
+        name = f"cascade {k}" + (" (finest)" if k == 0 and count > 1 else "")
+        if k:       # the legend wraps in the narrow tool column (1280 px window)
+            widgets.same_line_if_fits(name, field=12.0 + imgui.get_style().item_spacing.x)
         imgui.color_button(f"##cascade{k}", imgui.ImVec4(*map(float, CASCADE_COLOURS[k]), 1.0),
                            0, (12, 12))
         imgui.same_line()
-        imgui.text(f"cascade {k}" + (" (finest)" if k == 0 and count > 1 else ""))
+        imgui.text(name)
 
     def make():
         image = view("cascade-weights")
-        return image, None, (f"{count} cascade(s); mixed colours: the gather blends two "
-                             "cascades there; black: background")
+        return image, None, (f"which cascade the final gather reads at each pixel, of "
+                             f"{count}; mixed colours: it blends two cascades there; "
+                             "black: background")
 
     return make, None
 
@@ -186,10 +196,12 @@ def _cascade_pick(state: AppState, result, per_cascade: list, finest):
         ins.cascade = 0
         return finest
     ins.cascade = min(ins.cascade, len(per_cascade) - 1)
+    widgets.fit_next_item("Cascade")
     _, ins.cascade = imgui.slider_int("Cascade", ins.cascade, 0, len(per_cascade) - 1)
     spec = result.cascade_specs[ins.cascade]
-    imgui.same_line()
-    imgui.text_disabled(f"cell {spec.cell_size:.3g} m")
+    size = f"cell {spec.cell_size:.3g} m"
+    widgets.same_line_if_fits(size)
+    imgui.text_disabled(size)
     return per_cascade[ins.cascade]
 
 

@@ -90,8 +90,7 @@ def _scene_choice(state: AppState) -> None:
         if imgui.button("…"):
             state.requests.open_file_dialog = True
         _tooltip("browse for a mesh or scene file")
-    widgets.dim_text_wrapped("or drop a mesh or scene file (.toml, docs/SCENES.md) onto the "
-                             "window")
+    widgets.dim_text_wrapped("or drop a mesh or a scene file (.toml) onto the window")
 
 
 def _camera_and_light(state: AppState) -> None:

@@ -128,16 +128,23 @@ def _uv(u0: float, u1: float, flipped: bool):
 
 
 def _toolbar(state: AppState) -> None:
-    for mode in VIEW_MODES:
-        if imgui.radio_button(mode.capitalize(), state.view_mode == mode):
-            state.view_mode = mode
+    """The view's controls; in the reader's mode only those the step on screen uses
+    (explorer/ui/reader_controls.py)."""
+    from explorer.ui.reader_controls import reader_step, view_controls
+
+    shown = view_controls(reader_step(state))
+    if "modes" in shown:
+        for mode in VIEW_MODES:
+            if imgui.radio_button(mode.capitalize(), state.view_mode == mode):
+                state.view_mode = mode
+            imgui.same_line()
+    if "buffer" in shown:
+        imgui.set_next_item_width(90)
+        _, state.view_buffer = widgets.combo("##buffer", state.view_buffer, VIEW_BUFFERS)
+        if imgui.is_item_hovered():
+            imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
         imgui.same_line()
-    imgui.set_next_item_width(90)
-    _, state.view_buffer = widgets.combo("##buffer", state.view_buffer, VIEW_BUFFERS)
-    if imgui.is_item_hovered():
-        imgui.set_tooltip("what the view shows: final = exposure·(direct + indirect)")
-    imgui.same_line()
-    camera_controls.toolbar(state)
+    camera_controls.toolbar(state, shown)
     widgets.same_line_if_fits("Exposure", field=120 + imgui.get_style().item_inner_spacing.x)
     imgui.set_next_item_width(120)
     changed, value = imgui.slider_float("Exposure", state.settings.exposure, 0.01, 64.0,
@@ -151,13 +158,15 @@ def _toolbar(state: AppState) -> None:
         widgets.same_line_if_fits("Expose sides separately", checkbox=True)
         _, state.expose_sides_separately = imgui.checkbox("Expose sides separately",
                                                           state.expose_sides_separately)
-    widgets.same_line_if_fits("Indirect only", checkbox=True)
-    changed, value = imgui.checkbox("Indirect only", state.settings.indirect_only)
-    if changed:
-        state.update(indirect_only=value)
-    widgets.same_line_if_fits("Screenshot (F12)")
-    if imgui.button("Screenshot (F12)"):
-        state.requests.screenshot = default_screenshot_path()
+    if "indirect-only" in shown:
+        widgets.same_line_if_fits("Indirect only", checkbox=True)
+        changed, value = imgui.checkbox("Indirect only", state.settings.indirect_only)
+        if changed:
+            state.update(indirect_only=value)
+    if "screenshot" in shown:
+        widgets.same_line_if_fits("Screenshot (F12)")
+        if imgui.button("Screenshot (F12)"):
+            state.requests.screenshot = default_screenshot_path()
 
 
 def _centred_message(state: AppState, avail) -> None:
