@@ -146,7 +146,7 @@ def test_the_readers_mode_keeps_the_controls_a_step_uses():
     assert view_controls(stepper) == {"frame", "exposure"}
     split = next(step for step in steps.values() if step.view == "split")
     assert "modes" in view_controls(split)
-    assert "buffer" in view_controls(steps[("limits", 2)])          # the indirect light
+    assert "buffer" in view_controls(steps[("limits", 1)])          # the indirect light
     assert "fly" in view_controls(None) and "screenshot" in view_controls(None)
 
 

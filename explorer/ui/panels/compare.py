@@ -15,11 +15,11 @@ def gui_compare(state: AppState) -> None:
         "B shares scene, camera, light and LPV settings with A; only the corrections "
         "differ. Split: A left, B right. Difference: |A - B| (or A - B) in false "
         "colour.")
-    for mode in VIEW_MODES:
+    for index, mode in enumerate(VIEW_MODES):
+        if index:       # the row wraps where the panel is narrow (a radio is a checkbox wide)
+            widgets.same_line_if_fits(mode.capitalize(), checkbox=True)
         if imgui.radio_button(mode.capitalize() + "##cmp", state.view_mode == mode):
             state.view_mode = mode
-        imgui.same_line()
-    imgui.new_line()
     if state.view_mode == "split":
         _, state.split_position = imgui.slider_float("Divider", state.split_position, 0.02,
                                                      0.98, "%.2f")

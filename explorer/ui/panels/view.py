@@ -134,7 +134,9 @@ def _toolbar(state: AppState) -> None:
 
     shown = view_controls(reader_step(state))
     if "modes" in shown:
-        for mode in VIEW_MODES:
+        for index, mode in enumerate(VIEW_MODES):
+            if index:
+                widgets.same_line_if_fits(mode.capitalize(), checkbox=True)
             if imgui.radio_button(mode.capitalize(), state.view_mode == mode):
                 state.view_mode = mode
             imgui.same_line()
