@@ -726,14 +726,21 @@ def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.
 
 def gather_cascades(grids: list[np.ndarray], specs: list[GridSpec], positions: np.ndarray,
                     normals: np.ndarray, damping: bool = False, *,
-                    irradiance: bool = True) -> np.ndarray:
+                    irradiance: bool = True, exitance: np.ndarray | None = None
+                    ) -> np.ndarray:
     """(P, 3) irradiance of nested cascades, finest first: ``Σ_k W_k·E_k`` with the blend
     weights ``W_k`` of docs/MODEL.md "Cascades" and ``E_k`` cascade k's :func:`gather`
     (damped over half of its own cell when ``damping``; ``irradiance`` as there). One
-    cascade is :func:`gather`."""
+    cascade is :func:`gather`, which alone takes ``exitance`` (the net-flux gather)."""
     if len(grids) != len(specs) or not grids:
         raise ValueError(f"need one grid per cascade spec, got {len(grids)} grids and "
                          f"{len(specs)} specs")
+    if exitance is not None:
+        if len(grids) != 1:
+            raise ValueError("the net-flux gather takes one cascade, got "
+                             f"{len(grids)}")
+        return gather(grids[0], specs[0], positions, normals, damping,
+                      irradiance=irradiance, exitance=exitance)
     weights = blend_weights(list(specs), positions)
     total = np.zeros((len(weights), 3))
     for k, (grid, spec) in enumerate(zip(grids, specs)):
