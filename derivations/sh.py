@@ -208,7 +208,16 @@ def band_energy_fraction(band: int) -> sp.Expr:
                                     / clamped_cosine_energy()))
 
 
+def net_flux_coefficients(basis: Sequence[sp.Expr]) -> list[sp.Expr]:
+    """Projection of ``⟨e_z, ω⟩ = z`` (the whole cosine, both signs) onto ``basis``:
+    ``∫ z·Y_k dω`` over the sphere. Its dot product with a radiance vector is Gershun's
+    light vector along z, the net flux through a plane facing z (docs/MODEL.md
+    "Net-flux gather")."""
+    return [sp.simplify(integrate_over_sphere(sp.expand(z * b))) for b in basis]
+
+
 def results() -> list[Result]:
+    net_l2 = net_flux_coefficients(L2_BASIS)
     cos_l1 = clamped_cosine_coefficients(L1_BASIS)
     cos_l2 = clamped_cosine_coefficients(L2_BASIS)
     f0, f1, f2, f3 = sp.symbols("f_0 f_1 f_2 f_3")
@@ -229,6 +238,11 @@ def results() -> list[Result]:
                "Band-1 coefficient of the clamped cosine lobe around z: the integral of "
                "cos θ · Y10 dω over the hemisphere.",
                glsl_name="SH_COSLOBE_C1"),
+        result(MODULE, "net_flux_c1", net_l2[2],
+               "Band-1 coefficient of ⟨e_z, ω⟩ (the light vector's kernel): the integral of "
+               "z · Y10 dω over the sphere, √(4π/3) = 2·SH_COSLOBE_C1; every other L2 "
+               "coefficient is 0.",
+               glsl_name="SH_NET_FLUX_C1"),
         result(MODULE, "lobe", lobe(),
                "SH projection of max(0, ⟨n, ω⟩) around a unit normal n: linear in n."),
         result(MODULE, "flux_factor", flux_factor,

@@ -55,6 +55,7 @@ SYMBOLS: dict[str, str] = {
     "sh.basis_l1": r"Y(x, y, z)",
     "sh.coslobe_c0": r"\mathrm{lobe}_{0}(+z)",
     "sh.coslobe_c1": r"\mathrm{lobe}_{2}(+z)",
+    "sh.net_flux_c1": r"\mathrm{flux}_{2}(+z)",
     "sh.lobe": r"\mathrm{lobe}(n)",
     "sh.flux_factor": r"\Phi / f_{0}",
     "sh.clamped_cosine_energy": r"\int \max(\cos\theta, 0)^{2} \, d\omega",

@@ -87,6 +87,12 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         'over the hemisphere.',
         1.0233267079464885,
     ),
+    'sh.net_flux_c1': (
+        '\\mathrm{flux}_{2}(+z) = \\frac{2 \\sqrt{3} \\sqrt{\\pi}}{3}',
+        "Band-1 coefficient of ⟨e_z, ω⟩ (the light vector's kernel): the integral of z · Y10 dω "
+        'over the sphere, √(4π/3) = 2·SH_COSLOBE_C1; every other L2 coefficient is 0.',
+        2.046653415892977,
+    ),
     'sh.lobe': (
         '\\mathrm{lobe}(n) = \\left[\\begin{matrix}\\frac{\\sqrt{\\pi}}{2}\\\\- \\frac{\\sqrt{3} '
         '\\sqrt{\\pi} n_{y}}{3}\\\\\\frac{\\sqrt{3} \\sqrt{\\pi} n_{z}}{3}\\\\- \\frac{\\sqrt{3} '

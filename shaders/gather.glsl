@@ -12,11 +12,13 @@
 // damping) are chosen when the program is compiled (explorer/lpv/passes/gather.py
 // `program_defines`): llvmpipe runs both sides of a branch on a uniform under a lane mask,
 // so as uniforms the single grid paid for the cascade blend's lookups and the undamped
-// gather for the damping's two extra grid samples.
+// gather for the damping's two extra grid samples. GATHER_NET_FLUX (the net-flux gather,
+// single grid only: Settings refuses it with cascades) likewise.
 #define SH_ORDER 1
 #define SH_SHADER_FILTER 0
 #define GATHER_CASCADES 0
 #define GATHER_DAMPING 0
+#define GATHER_NET_FLUX 0
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"
@@ -133,6 +135,31 @@ vec3 lpv_derivative_damping(vec3 p, vec3 n) {
     return damping_ratio(front, back);   // cascades.glsl
 }
 
+// Net-flux gather (docs/MODEL.md "Net-flux gather"): at a surface the irradiance is
+// E_in = −<n, F> + M_out (Gershun's light vector F = ∫ L ω dω, exact in band 1 of an L1 or
+// L2 grid; M_out the light leaving the surface, here its own exitance a·E_direct), so light
+// running along the surface counts 0 and the surface's own outgoing light, which the grid
+// holds as a flux away from it, is replaced by its true value instead of being gathered.
+vec3 lpv_net_flux_irradiance(vec3 x, vec3 n, vec3 exitance) {
+    vec3 d = -n;   // <n, F> = -<d, F>: the kernel of <d, ω> is band 1 only
+    ShVec kernel = SHV_ZERO;
+#if SH_ORDER == 1
+    kernel = vec4(0.0, -SH_NET_FLUX_C1 * d.y, SH_NET_FLUX_C1 * d.z, -SH_NET_FLUX_C1 * d.x);
+#else
+    kernel.g0 = vec4(0.0, -SH_NET_FLUX_C1 * d.y, SH_NET_FLUX_C1 * d.z,
+                     -SH_NET_FLUX_C1 * d.x);
+#endif
+    ShVec r = sh_sample_grid(u_lpv_r, x);
+    ShVec g = sh_sample_grid(u_lpv_g, x);
+    ShVec b = sh_sample_grid(u_lpv_b, x);
+    if (!u_irradiance_gather) {   // the DX11 intensity gather, which has no light vector
+        ShVec dx11 = shv_eval(-n);  // (Settings refuses the pair; the pass can be driven)
+        return max(vec3(sh_dot(r, dx11), sh_dot(g, dx11), sh_dot(b, dx11)), vec3(0.0));
+    }
+    vec3 net = vec3(sh_dot(r, kernel), sh_dot(g, kernel), sh_dot(b, kernel));
+    return max(net / (u_grid_cell_size * u_grid_cell_size) + exitance, vec3(0.0));
+}
+
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy) * textureSize(u_gbuffer_position, 0) / u_target_size;
     vec4 position = texelFetch(u_gbuffer_position, pixel, 0);
@@ -145,7 +172,8 @@ void main() {
     vec3 albedo = texelFetch(u_gbuffer_albedo, pixel, 0).rgb;
 
     // Direct light: the shadowed Lambertian of every light (direct_irradiance above).
-    vec3 direct = albedo * INV_PI * direct_irradiance(position.xyz, n);
+    vec3 direct_e = direct_irradiance(position.xyz, n);
+    vec3 direct = albedo * INV_PI * direct_e;
 
     // Indirect light: trilinear sample of the accumulated grid at the surface; light
     // arriving at the surface travels against n, so E = <s, lobe(-n)> / cell², clamped.
@@ -154,6 +182,11 @@ void main() {
 #if GATHER_CASCADES
         indirect_irradiance = cascade_irradiance(position.xyz, n, GATHER_DAMPING == 1,
                                                  u_irradiance_gather);
+#elif GATHER_NET_FLUX
+        indirect_irradiance = lpv_net_flux_irradiance(position.xyz, n, albedo * direct_e);
+#if GATHER_DAMPING
+        indirect_irradiance *= lpv_derivative_damping(position.xyz, n);
+#endif
 #elif GATHER_DAMPING
         indirect_irradiance = lpv_irradiance(position.xyz, n)
                             * lpv_derivative_damping(position.xyz, n);

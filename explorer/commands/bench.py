@@ -62,6 +62,7 @@ PASS_COLUMNS = ("pose", "rsm", "downsample", "inject", "geometry", "propagate", 
 VARIANTS: dict[str, dict[str, object]] = {
     "offset-0": {"injection_offset_cells": 0.0},
     "damping": {"gather_damping": True},
+    "net-flux": {"gather_net_flux": True},
     "bounces-2": {"bounces": 2},
     "audit": {"need_audit": "full"},
     "audit-flux": {"need_audit": "flux"},

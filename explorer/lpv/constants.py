@@ -24,6 +24,8 @@ SH_C1 = 0.4886025119029199
 SH_COSLOBE_C0 = 0.886226925452758
 # sqrt(3)*sqrt(pi)/3  [sh.coslobe_c1]
 SH_COSLOBE_C1 = 1.0233267079464885
+# 2*sqrt(3)*sqrt(pi)/3  [sh.net_flux_c1]
+SH_NET_FLUX_C1 = 2.046653415892977
 # 2*sqrt(pi)  [sh.flux_factor]
 SH_FLUX_FACTOR = 3.544907701811032
 # 1/(2*sqrt(pi))  [sh.l2_c0]
@@ -113,6 +115,7 @@ DERIVATION: dict[str, str] = {
     "SH_C1": "sh.c1",
     "SH_COSLOBE_C0": "sh.coslobe_c0",
     "SH_COSLOBE_C1": "sh.coslobe_c1",
+    "SH_NET_FLUX_C1": "sh.net_flux_c1",
     "SH_FLUX_FACTOR": "sh.flux_factor",
     "SH_L2_C0": "sh.l2_c0",
     "SH_L2_C1": "sh.l2_c1",

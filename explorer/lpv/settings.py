@@ -229,6 +229,13 @@ class Settings:
         label="Gather damping", group="Leak reduction and bounces", stages=("gather",),
         doc="Damp the gathered irradiance by the directional derivative along the normal "
             '(docs/MODEL.md "Final gather").')
+    gather_net_flux: bool = setting(
+        False, kind="bool", flag="--gather-net-flux", widget="checkbox",
+        label="Net-flux gather", group="Leak reduction and bounces", stages=("gather",),
+        doc="Gather E = −⟨n, F⟩ + a·E_direct: the grid's net flux into the surface (light "
+            "along the surface counts 0) plus the surface's own exitance, so its own light "
+            'is not taken back (docs/MODEL.md "Net-flux gather"); needs cascades 1 and '
+            "the irradiance gather.")
     bounces: int = setting(
         1, kind="choice", choices=BOUNCES, flag="--bounces", label="Bounces",
         group="Leak reduction and bounces", stages=("propagate",),
@@ -347,6 +354,12 @@ class Settings:
                                    "ping_pong, side_faces and model_face_weights on and "
                                    f"bounces 1 (off: {', '.join(missing) or 'none'}; "
                                    f"bounces {self.bounces})")
+        if self.gather_net_flux and (self.cascades > 1
+                                     or not self.corrections.irradiance_gather):
+            raise SettingError("gather_net_flux", "gather_net_flux needs cascades 1 and "
+                               "the irradiance_gather correction on (cascades "
+                               f"{self.cascades}, irradiance_gather "
+                               f"{'on' if self.corrections.irradiance_gather else 'off'})")
         if self.bounces > 1 and self.geometry_volume == "off":
             raise SettingError("bounces", "bounces=2 reflects the light the geometry volume "
                                "blocks, so it needs geometry_volume 'one-sided' or "

@@ -169,9 +169,13 @@ def _regathered(result, first) -> np.ndarray:
     mask = first.gbuffer_position[..., 3] > 0.5
     positions = first.gbuffer_position[..., :3][mask]
     normals = first.gbuffer_normal[..., :3][mask]
+    # the net-flux gather's own exitance a·E_direct = π·direct, a property of the surface
+    exitance = (np.pi * np.asarray(first.direct, np.float64)[..., :3][mask]
+                if result.settings.gather_net_flux else None)
     irradiance = gather_cascades(result.cascade_accumulated, result.cascade_specs, positions,
                                  normals, result.settings.gather_damping,
-                                 irradiance=result.settings.corrections.irradiance_gather)
+                                 irradiance=result.settings.corrections.irradiance_gather,
+                                 exitance=exitance)
     image = np.zeros(mask.shape + (3,))
     image[mask] = indirect_radiance(first.albedo[mask], irradiance)
     return image

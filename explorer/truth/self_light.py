@@ -11,7 +11,8 @@ convex block in the reference (no point of a plane sees another of the same plan
 in the LPV the light the grid smears along the surface it was injected from.
 
 ``python -m explorer.truth.self_light --scene cornell`` prints the table (docs/ERRORS.md
-"Why blue is too bright").
+"Why blue is too bright"); ``--net-flux`` with the net-flux gather, whose own-exitance term
+counts as each surface's light onto itself.
 """
 
 from __future__ import annotations
@@ -92,6 +93,25 @@ class SelfLight:
                 "reference": self.reference.sum(axis=(0, 1))}
 
 
+def net_flux_image(grid: np.ndarray, spec, gbuffer, exitance: np.ndarray,
+                   own: np.ndarray) -> np.ndarray:
+    """(H, W, 3) the net-flux gather's indirect radiance ``a/π·(−⟨n, F⟩/h² + M)`` of one
+    source's grid (docs/MODEL.md "Net-flux gather"), unclamped so that the sources add up;
+    the exitance ``M`` (H, W, 3) counts only on the source's own pixels ``own`` (H, W): it
+    is the light the source's VPLs stand for where they lie."""
+    from explorer.lpv.twin import light_grid as twin
+
+    image = np.zeros(gbuffer.valid.shape + (3,))
+    valid = gbuffer.valid
+    samples = twin.sample_grid(grid, spec, gbuffer.position[valid])
+    kernel = twin.net_flux_kernel(-np.asarray(gbuffer.normal[valid], np.float64),
+                                  twin.grid_sh_order(grid))
+    irradiance = np.einsum("cpk,pk->pc", samples, kernel) / spec.cell_size ** 2
+    irradiance += np.where(own[valid][:, None], exitance[valid], 0.0)
+    image[valid] = twin.indirect_radiance(gbuffer.albedo[valid], irradiance)
+    return image
+
+
 def measure(settings, ctx, scene=None) -> SelfLight:
     """:class:`SelfLight` of the frame ``settings`` renders (the reference with shadow
     rays, r_min half a cell)."""
@@ -110,6 +130,11 @@ def measure(settings, ctx, scene=None) -> SelfLight:
         masks = surface_masks(scene, render_triangle_ids(ctx, scene, settings.width,
                                                          settings.height), names)
         whole = np.asarray(frame.indirect, np.float64)[..., :3]
+        if settings.gather_net_flux:   # the gather adds a·E_direct, split by surface below
+            from explorer.truth.gbuffer import gbuffer_from_frame
+
+            gbuffer = gbuffer_from_frame(frame, ctx=ctx)
+            exitance = np.pi * np.asarray(frame.direct, np.float64)[..., :3]
         min_distance = 0.5 * frame.grid_spec.cell_size
         lpv = np.zeros((len(names), len(names), 3))
         reference = np.zeros_like(lpv)
@@ -119,7 +144,9 @@ def measure(settings, ctx, scene=None) -> SelfLight:
             if not keep.any():
                 continue
             part = pipeline.run(settings, vpls=subset(vpls, keep))
-            image = np.asarray(part.indirect, np.float64)[..., :3]
+            image = (net_flux_image(part.accumulated, part.grid_spec, gbuffer, exitance,
+                                    masks[names[source]]) if settings.gather_net_flux
+                     else np.asarray(part.indirect, np.float64)[..., :3])
             truth, _ = reference_for_frame(part, True, min_distance, ctx=ctx, scene=scene)
             summed += image
             for receiver, name in enumerate(names):
@@ -171,13 +198,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--injection-offset", type=float, default=0.5)
     parser.add_argument("--preset", default="corrected")
     parser.add_argument("--sh-order", type=int, default=1)
+    parser.add_argument("--neighbours", type=int, default=6)
+    parser.add_argument("--net-flux", action="store_true",
+                        help='the net-flux gather (docs/MODEL.md "Net-flux gather")')
     args = parser.parse_args(argv)
     try:
         settings = Settings(scene=args.scene, width=args.size, height=args.size,
                             rsm_size=args.rsm_size, grid_size=args.grid_size,
                             iterations=args.iterations, geometry_volume=args.geometry_volume,
                             injection_offset_cells=args.injection_offset, sh_order=args.sh_order
-                            ).with_changes(corrections=args.preset)
+                            ).with_changes(corrections=args.preset, neighbours=args.neighbours,
+                                           gather_net_flux=args.net_flux)
     except (ValueError, KeyError) as exc:
         print(f"{parser.prog}: error: {exc}", file=sys.stderr)
         return 2

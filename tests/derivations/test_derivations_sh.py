@@ -33,6 +33,22 @@ def test_clamped_cosine_coefficients():
     assert get("sh.l2_coslobe_c2").expr == sp.sqrt(5 * sp.pi) / 8
 
 
+def test_net_flux_kernel_is_band_one_of_the_whole_cosine():
+    """∫ z·Y_k dω: only Y10, twice the clamped cosine's band 1 (max(z, 0) − max(−z, 0) = z,
+    and the mirrored half flips band 1's sign), and with it Gershun's identity
+    E_in = −⟨n, F⟩ + M_out holds for any L1 radiance."""
+    coefficients = sh.net_flux_coefficients(sh.L2_BASIS)
+    assert coefficients == [0, 0, 2 * sp.sqrt(sp.pi / 3), 0, 0, 0, 0, 0, 0]
+    assert sp.simplify(get("sh.net_flux_c1").expr - 2 * get("sh.coslobe_c1").expr) == 0
+    s = sp.symbols("s0:4", real=True)
+    radiance = sum(si * b for si, b in zip(s, sh.L1_BASIS))
+    arriving = sh.integrate_over_sphere(sp.expand(radiance * -sh.z).subs(sh.z, -sh.z),
+                                        hemisphere=True)   # travelling towards −z, n = +z
+    leaving = sh.integrate_over_sphere(sp.expand(radiance * sh.z), hemisphere=True)
+    net = sum(si * c for si, c in zip(s, coefficients[:4]))
+    assert sp.simplify(arriving - (-net + leaving)) == 0
+
+
 def test_lobe_around_any_normal_is_linear_in_n():
     by_rotation = sh.lobe_around_normal_spherical()
     n = (sp.sin(sh.theta) * sp.cos(sh.phi), sp.sin(sh.theta) * sp.sin(sh.phi),

@@ -32,7 +32,9 @@ STAGE_PROGRAMS = {
         for audit, geometry in ((False, False), (True, True))],
     GatherPass.STAGE: [("gather.glsl", gather_defines(order, cascades=cascades, damping=damping))
                        for order in SH_ORDERS for cascades in (False, True)
-                       for damping in (False, True)],
+                       for damping in (False, True)]
+    + [("gather.glsl", gather_defines(order, net_flux=True, damping=damping))
+       for order in SH_ORDERS for damping in (False, True)],
 }
 SWITCHES = {entry.uniform for entry in CORRECTIONS}
 

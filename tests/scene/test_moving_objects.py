@@ -227,6 +227,21 @@ def test_snapping_keeps_the_light_still_for_a_camera_moving_a_tenth_of_a_cell(pi
     assert runs[True].frames_changed <= 1
 
 
+def test_a_still_camera_regathers_the_net_flux_frame_as_the_gpu_did(pipeline):
+    """The camera move's numpy regather follows Settings.gather_net_flux (docs/MODEL.md
+    "Net-flux gather"): with a step of 0 the first frame's Ȳ_0 is the GPU image's."""
+    from explorer.lpv.twin.tonemap import luminance
+
+    base = SMALL.with_changes(gather_net_flux=True, width=32, height=32)
+    run = measure(pipeline.run, lambda s: load_scene(s.scene).for_settings(s), base,
+                  Motion("camera", 0.0), 1, True)
+    first = pipeline.run(base)
+    valid = first.gbuffer_position[..., 3] > 0.5
+    gpu = float(np.mean(luminance(np.asarray(first.indirect, np.float64))[valid]))
+    assert run.reference == pytest.approx(gpu, rel=1e-4)
+    assert run.mean == 0.0
+
+
 def test_stability_command_prints_both_rows(capsys):
     assert main(["stability", "--move", "object", "--frames", "2", "--step", "0.05",
                  "--size", "32x32", "--rsm-size", "16", "--grid", "8"]) == 0

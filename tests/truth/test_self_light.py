@@ -40,3 +40,14 @@ def test_self_light_of_a_small_cornell_box(gl_context):
     own = result.lpv[white, white]                            # white light on white albedo
     assert np.allclose(own[:, 0], own[:, 2]) and np.allclose(own[:, 1], own[:, 2])
     assert shares["lpv self"][2] > 0 and "| floor |" in format_report(result)
+
+
+def test_the_net_flux_split_adds_up_to_the_frame(gl_context):
+    """With the net-flux gather each surface's own exitance counts as its light onto itself
+    once, so the sources still add up to the frame (up to the gather's clamp)."""
+    settings = Settings(scene="cornell", width=32, height=32, rsm_size=16, grid_size=8,
+                        iterations=4, gather_net_flux=True)
+    result = measure(settings, gl_context)
+    assert np.allclose(result.closure, 1.0, atol=0.1)
+    index = np.arange(len(result.names))
+    assert np.all(result.lpv[index, index].sum(axis=1) > 0)   # the exitance is the self term

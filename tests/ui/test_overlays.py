@@ -79,6 +79,19 @@ def test_the_indirect_light_recomputed_from_the_grid_matches_the_gather(frame):
     assert np.abs(gpu - numpy).max() <= 1e-4 * gpu.max()
 
 
+def test_the_picked_indirect_light_follows_the_net_flux_gather(gl_context):
+    """With Settings.gather_net_flux the recomputed light adds the pixel's own exitance
+    (docs/MODEL.md "Net-flux gather") and still matches the shader."""
+    settings = CORNELL.with_changes(gather_net_flux=True)
+    with Pipeline(settings, ctx=gl_context) as pipeline:   # not the module's frame
+        result = pipeline.run(settings)
+    pixels = _surface_pixels(result)[::7]
+    gpu = np.array([picking.pick_pixel(result, x, y).indirect for x, y in pixels])
+    numpy = np.array([picking.pick_pixel(result, x, y).indirect_from_grid for x, y in pixels])
+    assert gpu.max() > 0
+    assert np.abs(gpu - numpy).max() <= 1e-4 * gpu.max()
+
+
 def test_the_frames_camera_projects_each_surface_point_into_its_pixel(frame):
     _, result = frame
     pixels = _surface_pixels(result)

@@ -82,6 +82,9 @@ class GatherInputs:
     damping: bool = False
     """The directional-derivative damping of the indirect irradiance (docs/MODEL.md
     "Final gather"); with cascades, per cascade."""
+    net_flux: bool = False
+    """The net-flux gather (docs/MODEL.md "Net-flux gather"): −⟨n, F⟩ + a·E_direct instead
+    of the cosine lobe; a single grid only."""
     shadow_kernel: int = DEFAULT_SHADOW_KERNEL
     """Width of the PCF box in shadow-map texels (1 = one hard test)."""
     glossy: Glossy | None = None
@@ -102,12 +105,14 @@ program still declares them, and strict uniforms want every one set."""
 
 
 def program_defines(sh_order: int, shader_filter: bool = False, cascades: bool = False,
-                    damping: bool = False) -> dict[str, object]:
+                    damping: bool = False, net_flux: bool = False) -> dict[str, object]:
     """The defines ``shaders/gather.glsl`` is compiled with: the SH order, the grid
     lookup's interpolation, whether several cascades are blended and whether the
-    derivative damping applies (code paths, chosen at compile time: the shader says why)."""
+    derivative damping and the net-flux gather apply (code paths, chosen at compile time:
+    the shader says why)."""
     return {**sh_defines(sh_order), "SH_SHADER_FILTER": int(shader_filter),
-            "GATHER_CASCADES": int(cascades), "GATHER_DAMPING": int(damping)}
+            "GATHER_CASCADES": int(cascades), "GATHER_DAMPING": int(damping),
+            "GATHER_NET_FLUX": int(net_flux)}
 
 
 def bands(size: tuple[int, int], band_pixels: int = BAND_PIXELS) -> list[tuple[int, int]]:
@@ -199,7 +204,7 @@ class GatherPass:
         several = grid is not None and len(grid.cascades) > 1
         program = self.programs.get("gather.glsl", program_defines(
             grid.sh_order if grid else 1, self.shader_filter, cascades=several,
-            damping=params.damping))
+            damping=params.damping, net_flux=params.net_flux and not several))
         gbuffer.position.use(0)
         gbuffer.normal.use(1)
         gbuffer.albedo.use(2)

@@ -43,7 +43,8 @@ class Params:
                         int(settings.glossy_samples), tuple(map(float, eye))
                         ) if settings.glossy else None
         switches = settings.corrections.as_uniforms()
-        return cls(GatherInputs(bool(settings.gather_damping), int(settings.shadow_kernel),
+        return cls(GatherInputs(bool(settings.gather_damping),
+                                bool(settings.gather_net_flux), int(settings.shadow_kernel),
                                 glossy, tuple((name, switches[name])
                                               for name in uniforms_read_by("gather"))))
 

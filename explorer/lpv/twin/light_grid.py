@@ -51,6 +51,7 @@ class DerivedConstants:
         "SH_L2_C4": "sh.l2_c4",
         "SH_COSLOBE_C0": "sh.coslobe_c0",
         "SH_COSLOBE_C1": "sh.coslobe_c1",
+        "SH_NET_FLUX_C1": "sh.net_flux_c1",
         "SH_L2_COSLOBE_C2": "sh.l2_coslobe_c2",
         "SH_FLUX_FACTOR": "sh.flux_factor",
         "FRONT_FACE_SOLID_ANGLE": "solid_angles.front_face",
@@ -683,12 +684,40 @@ def derivative_damping(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
     return np.clip(ratio, 0.0, 1.0)
 
 
+def net_flux_kernel(direction: np.ndarray, sh_order: int = 1) -> np.ndarray:
+    """(P, K) SH projection of ``⟨d, ω⟩`` for unit directions ``d`` (P, 3): band 1 only,
+    ``SH_NET_FLUX_C1·(−d_y, d_z, −d_x)`` (docs/MODEL.md "Net-flux gather")."""
+    d = np.atleast_2d(np.asarray(direction, np.float64))
+    kernel = np.zeros((len(d), (_order(sh_order) + 1) ** 2))
+    kernel[:, 1:4] = K.SH_NET_FLUX_C1 * np.stack([-d[:, 1], d[:, 2], -d[:, 0]], axis=1)
+    return kernel
+
+
+def net_flux_irradiance(grid: np.ndarray, spec: GridSpec, positions: np.ndarray,
+                        normals: np.ndarray, exitance: np.ndarray) -> np.ndarray:
+    """(P, 3) ``clamp+(−⟨n, F(p)⟩/h² + M)``: the light vector ``F`` of the grid at ``p``
+    (band 1, exact for L1 and L2) taken against ``n`` plus the surface's own exitance ``M``
+    (P, 3) (docs/MODEL.md "Net-flux gather")."""
+    normals = np.asarray(normals, np.float64)
+    samples = sample_grid(grid, spec, np.asarray(positions, np.float64))
+    kernel = net_flux_kernel(-normals, grid_sh_order(grid))
+    net = np.einsum("cpk,pk->pc", samples, kernel) / spec.cell_size ** 2
+    return np.maximum(net + np.asarray(exitance, np.float64), 0.0)
+
+
 def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.ndarray,
-           damping: bool = False, *, irradiance: bool = True) -> np.ndarray:
+           damping: bool = False, *, irradiance: bool = True,
+           exitance: np.ndarray | None = None) -> np.ndarray:
     """(P, 3) indirect irradiance the final gather computes at surface points: E(p), times
     the derivative damping factor when ``damping`` (``irradiance``: as in
-    :func:`gather_irradiance`)."""
-    values = gather_irradiance(grid, spec, positions, normals, irradiance=irradiance)
+    :func:`gather_irradiance`); with ``exitance`` (P, 3), the surfaces' own exitance
+    ``a·E_direct``, E(p) is the net-flux gather's (:func:`net_flux_irradiance`)."""
+    if exitance is not None:
+        if not irradiance:
+            raise ValueError("the net-flux gather needs the irradiance gather")
+        values = net_flux_irradiance(grid, spec, positions, normals, exitance)
+    else:
+        values = gather_irradiance(grid, spec, positions, normals, irradiance=irradiance)
     if damping:
         values = values * derivative_damping(grid, spec, positions, normals,
                                              irradiance=irradiance)
@@ -697,14 +726,21 @@ def gather(grid: np.ndarray, spec: GridSpec, positions: np.ndarray, normals: np.
 
 def gather_cascades(grids: list[np.ndarray], specs: list[GridSpec], positions: np.ndarray,
                     normals: np.ndarray, damping: bool = False, *,
-                    irradiance: bool = True) -> np.ndarray:
+                    irradiance: bool = True, exitance: np.ndarray | None = None
+                    ) -> np.ndarray:
     """(P, 3) irradiance of nested cascades, finest first: ``Σ_k W_k·E_k`` with the blend
     weights ``W_k`` of docs/MODEL.md "Cascades" and ``E_k`` cascade k's :func:`gather`
     (damped over half of its own cell when ``damping``; ``irradiance`` as there). One
-    cascade is :func:`gather`."""
+    cascade is :func:`gather`, which alone takes ``exitance`` (the net-flux gather)."""
     if len(grids) != len(specs) or not grids:
         raise ValueError(f"need one grid per cascade spec, got {len(grids)} grids and "
                          f"{len(specs)} specs")
+    if exitance is not None:
+        if len(grids) != 1:
+            raise ValueError("the net-flux gather takes one cascade, got "
+                             f"{len(grids)}")
+        return gather(grids[0], specs[0], positions, normals, damping,
+                      irradiance=irradiance, exitance=exitance)
     weights = blend_weights(list(specs), positions)
     total = np.zeros((len(weights), 3))
     for k, (grid, spec) in enumerate(zip(grids, specs)):

@@ -145,7 +145,10 @@ def pick_pixel(result, x: int, y: int, reference: np.ndarray | None = None
                 cells.append(pick_cell(result, cascade, *index))
         weights = blend_weights(specs, p[None])[0]
         damping = bool(result.settings.gather_damping)
-        irradiance = sum(w * gather(g, s, p[None], n[None], damping)[0]
+        # the net-flux gather adds the surface's own exitance a·E_direct = π·direct
+        exitance = (math.pi * np.asarray(result.direct[y, x], np.float64)[None, :3]
+                    if result.settings.gather_net_flux else None)
+        irradiance = sum(w * gather(g, s, p[None], n[None], damping, exitance=exitance)[0]
                          for w, g, s in zip(weights, grids, specs) if w > 0)
         from_grid = albedo / math.pi * irradiance
     ref = None if reference is None else np.asarray(reference[y, x, :3], np.float64)

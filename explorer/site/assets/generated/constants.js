@@ -15,6 +15,7 @@ export const SH_C0 = 0.28209479177387814;  // 1/(2*sqrt(pi))  [sh.c0]
 export const SH_C1 = 0.4886025119029199;  // sqrt(3)/(2*sqrt(pi))  [sh.c1]
 export const SH_COSLOBE_C0 = 0.886226925452758;  // sqrt(pi)/2  [sh.coslobe_c0]
 export const SH_COSLOBE_C1 = 1.0233267079464885;  // sqrt(3)*sqrt(pi)/3  [sh.coslobe_c1]
+export const SH_NET_FLUX_C1 = 2.046653415892977;  // 2*sqrt(3)*sqrt(pi)/3  [sh.net_flux_c1]
 export const SH_FLUX_FACTOR = 3.544907701811032;  // 2*sqrt(pi)  [sh.flux_factor]
 export const SH_L2_C0 = 0.28209479177387814;  // 1/(2*sqrt(pi))  [sh.l2_c0]
 export const SH_L2_C1 = 0.4886025119029199;  // sqrt(3)/(2*sqrt(pi))  [sh.l2_c1]
@@ -67,6 +68,7 @@ export const DERIVATION = Object.freeze({
   SH_C1: "sh.c1",
   SH_COSLOBE_C0: "sh.coslobe_c0",
   SH_COSLOBE_C1: "sh.coslobe_c1",
+  SH_NET_FLUX_C1: "sh.net_flux_c1",
   SH_FLUX_FACTOR: "sh.flux_factor",
   SH_L2_C0: "sh.l2_c0",
   SH_L2_C1: "sh.l2_c1",
