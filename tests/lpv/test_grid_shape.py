@@ -31,7 +31,7 @@ def test_a_grid_spec_holds_its_cells_per_axis():
         == [False] * 4
     assert ODD.uniforms()["u_grid_cells"] == (7, 12, 5)
     with pytest.raises(ValueError, match="cubic grid.*7x12x5"):
-        ODD.resolution
+        int(ODD.resolution)
     with pytest.raises(ValueError, match="at least 1 cell"):
         GridSpec((0, 0, 0), 1.0, (4, 0, 4))
     # the cube: the old constructor and the new one are the same grid
