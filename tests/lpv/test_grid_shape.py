@@ -134,3 +134,45 @@ def test_propagation_matches_the_twin_on_an_odd_grid(ctx, sh_order, geometry_mod
 def test_the_twin_refuses_a_geometry_volume_of_another_shape():
     with pytest.raises(ValueError, match=r"\(8, 13, 6, 4\) for a 7x12x5 grid"):
         twin.propagate(np.zeros((3, 7, 12, 5, 4)), geometry=np.zeros((8, 8, 8, 4)))
+
+
+EXACT = ["--grid-cells", "7,12,5", "--grid-origin", "-1.2,-1.3,-0.8",
+         "--grid-cell-size", "0.25"]
+TINY = ["--scene", "cornell", "--iterations", "2", "--size", "24x20", "--rsm-size", "16",
+        "--geometry-volume", "one-sided"]
+
+
+def test_the_dump_records_the_shape_and_grid0_and_diff_read_it_back(tmp_path, capsys):
+    import json
+
+    from explorer.cli import main
+    from explorer.exchange.files import read_npz
+
+    dump = tmp_path / "a.npz"
+    assert main(["render", *TINY, *EXACT, "--dump", str(dump),
+                 "--out", str(tmp_path / "a.png")]) == 0
+    grid, = json.loads(dump.with_suffix(".json").read_text(encoding="utf-8"))["grids"]
+    assert grid["cells"] == [7, 12, 5] and grid["resolution"] is None
+    assert grid["geometry_volume_cells"] == [8, 13, 6]
+    assert (grid["origin"], grid["cell_size"]) == ([-1.2, -1.3, -0.8], 0.25)
+    arrays = read_npz(dump)
+    assert arrays["grid_0"].shape == (3, 7, 12, 5, 4)
+    assert arrays["geometry_volume"].shape == (8, 13, 6, 4)
+    # the dump's grid_0 fed back propagates to the same accumulation
+    again = tmp_path / "b.npz"
+    assert main(["render", *TINY, *EXACT, "--grid0", str(dump), "--dump", str(again),
+                 "--out", str(tmp_path / "b.png")]) == 0
+    np.testing.assert_allclose(read_npz(again)["accumulated"], arrays["accumulated"],
+                               rtol=0, atol=1e-6 * np.abs(arrays["accumulated"]).max())
+    capsys.readouterr()
+    assert main(["render", *TINY, "--grid", "8", "--grid0", str(dump)]) == 2
+    err = capsys.readouterr().err
+    assert "grid_0 is a 7x12x5 grid, the frame's is 8³ (set --grid-cells 7,12,5" in err
+    assert err.count("\n") == 1
+    # diff renders our frame with the sidecar's settings: the exact grid again
+    assert main(["diff", str(dump), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["settings"]["grid_cells"] == [7, 12, 5]
+    stages = {stage["stage"]: stage for stage in report["stages"]}
+    assert stages["accumulated"]["shape"] == [3, 7, 12, 5, 4]
+    assert stages["accumulated"]["differing"] == 0 and not report["only_theirs"]
