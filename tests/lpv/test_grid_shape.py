@@ -176,3 +176,61 @@ def test_the_dump_records_the_shape_and_grid0_and_diff_read_it_back(tmp_path, ca
     stages = {stage["stage"]: stage for stage in report["stages"]}
     assert stages["accumulated"]["shape"] == [3, 7, 12, 5, 4]
     assert stages["accumulated"]["differing"] == 0 and not report["only_theirs"]
+
+
+def test_per_cell_audit_records_and_the_baseline_on_an_odd_grid(ctx):
+    """Every cell's audit record of a 7 × 12 × 5 propagation (cells indexed x fastest, as
+    the shader lays them out) is the twin's, and the baseline kernel gives the same
+    accumulation."""
+    import itertools
+
+    from explorer.gl.program import ProgramCache
+    from explorer.lpv.passes.geometry import GeometryVolume
+    from explorer.lpv.passes.propagate import BaselinePropagatePass, PropagatePass
+    from explorer.lpv.passes.textures import LpvGrid
+
+    corrections = Corrections()
+    vpls = random_vpls(14, ODD, 200, texel_area=0.05)
+    grid = gpu_inject(vpls, ODD, ctx=ctx).astype(np.float64)
+    geometry = inject_geometry(vpls, ODD, corrections, "one-sided", ctx=ctx)
+    programs = ProgramCache(ctx)
+    propagator, baseline = PropagatePass(ctx, programs), BaselinePropagatePass(ctx, programs)
+    injected, volume = LpvGrid(ctx, ODD.cells), GeometryVolume(ctx, ODD.cells)
+    try:
+        injected.write(grid)
+        volume.write(geometry)
+        output = propagator.run(injected, ODD, corrections, 2, volume, keep_steps=True)
+        _, want = twin.propagation_step_cells(output.steps[1], corrections, geometry)
+        scale = float(np.abs(want["received"]).max())
+        assert scale > 0
+        for cell in itertools.product(*(range(n) for n in ODD.cells)):
+            _, last = output.cell_records.read(cell)
+            for name in twin.CELL_TERMS:
+                assert np.abs(getattr(last, name) - want[name][(slice(None),) + cell]).max() \
+                    <= 1e-5 * scale, (cell, name)
+        with pytest.raises(IndexError, match="outside the 7x12x5 grid"):
+            output.cell_records.read((0, 12, 0))
+        accumulated = output.accumulated.read()
+        got = baseline.run(injected, ODD, 2, volume).read()
+        assert relative_error(got, accumulated) < 1e-5
+    finally:
+        for item in (injected, volume, propagator, baseline, programs):
+            item.release()
+
+
+@pytest.mark.parametrize("extra", [
+    {"sh_order": 2, "bounces": 2, "geometry_volume": "one-sided", "camera_occluders": True},
+    {"fog": True, "glossy": True, "injection_mode": "compute", "neighbours": 26},
+], ids=["l2-bounces-camera-occluders", "fog-glossy-compute-26"])
+def test_every_stage_of_a_frame_runs_on_an_exact_grid(gl_context, extra):
+    from lpv_cases import run_frame
+
+    settings = Settings(width=40, height=30, rsm_size=32, iterations=3, grid_cells=(9, 7, 11),
+                        grid_origin=(-1.1, -1.05, -1.2), grid_cell_size=0.23, **extra)
+    frame = run_frame(gl_context, settings)
+    assert frame.grid_spec == GridSpec((-1.1, -1.05, -1.2), 0.23, (9, 7, 11))
+    assert frame.accumulated.shape[1:4] == (9, 7, 11)
+    assert np.isfinite(frame.final_image).all() and frame.indirect.max() > 0
+    if frame.geometry_volume is not None:
+        assert frame.geometry_volume.shape == (10, 8, 12, 4)
+    assert not frame.warnings, frame.warnings
