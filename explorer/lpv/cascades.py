@@ -1,10 +1,11 @@
 """Cascaded LPV: nested grids around the viewer (docs/MODEL.md "Cascades").
 
-Cascade ``k`` has ``grid_size``³ cells of edge ``c_k = c_0·2^k``. All cascades are
+Cascade ``k`` has the single grid's cells (``grid_size``³, or an exact grid's
+``nx × ny × nz``) of edge ``c_k = c_0·2^k``. All cascades are
 centred on one *focus point* on the camera's line of sight (``Settings.cascade_focus``:
 0 = the eye, 1 = the camera's target), each snapped to the lattice of its own cell size
 so that moving the camera moves a cascade only by whole cells (no swimming). The lattice
-is anchored at the single grid's origin (:meth:`GridSpec.enclosing` of the scene).
+is anchored at the single grid's origin (:func:`single_spec`).
 
 Every VPL is injected into every cascade that contains it (injection drops VPLs outside
 a grid), so each cascade holds and propagates all the light inside it; the final gather
@@ -91,7 +92,7 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
 
 
 def single_spec(settings, scene) -> GridSpec:
-    """The one grid of a frame (docs/MODEL.md "Grid"): the settings' exact grid
+    """The one grid of a frame (docs/MODEL.md "Notation and storage"): the settings' exact grid
     (``grid_cells``, ``grid_origin``, ``grid_cell_size``), else the scene file's
     (``Scene.exact_grid``), else the ``grid_size``³ cube fitted around the scene's box."""
     if settings.grid_cells is not None:

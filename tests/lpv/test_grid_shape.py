@@ -1,6 +1,6 @@
-"""Grids of any shape (docs/MODEL.md "Grid"): a GridSpec of nx × ny × nz cells, the exact
-grid a scene file or the settings ask for, and every GPU pass against the numpy twin on
-an odd 7 × 12 × 5 grid."""
+"""Grids of any shape (docs/MODEL.md "Notation and storage"): a GridSpec of nx × ny × nz
+cells, the exact grid a scene file or the settings ask for, and every GPU pass against
+the numpy twin on an odd 7 × 12 × 5 grid."""
 
 from __future__ import annotations
 
