@@ -29,9 +29,11 @@ from functools import cache
 from typing import Any
 
 KINDS = ("int", "float", "bool", "str", "text", "choice", "points", "size", "range2",
-         "switches", "names", "name_set", "transforms", "nested")
-"""``str``: a non-empty text; ``text``: any text (may be empty); ``size``: [width, height]
-whole numbers in [low, high]; ``range2``: a pair (first, second) of finite numbers with
+         "switches", "names", "name_set", "transforms", "nested", "int3", "point")
+"""``int3``: three whole numbers [a, b, c] each in [low, high] (e.g. a grid's cells per
+axis); ``point``: one point [x, y, z] of finite numbers; ``str``: a non-empty text;
+``text``: any text (may be empty); ``size``: [width, height] whole numbers in [low, high];
+``range2``: a pair (first, second) of finite numbers with
 low <= first <= second <= high (``low_open``: second > low, the pair is not empty at the
 low end), e.g. a spot cone's inner and outer angle; ``switches``: a table of names to
 true/false; ``names``: a list of texts; ``name_set``: 1 to ``high`` different non-empty
@@ -110,6 +112,8 @@ class Spec:
             text = noun + _range_text(self.low, self.high, self.low_open)
         elif self.kind == "size":
             text = "[width, height], whole numbers" + _range_text(self.low, self.high, False)
+        elif self.kind == "int3":
+            text = "three whole numbers" + _range_text(self.low, self.high, False)
         elif self.kind == "range2":
             low, high = _range2_bounds(self)
             text = (f"two numbers [first, second] with {_num(low)} <= first <= second "
@@ -155,6 +159,7 @@ _ALLOWED_TEXT = {
     "transforms": "a table of object names to [tx, ty, tz(, rx, ry, rz(, sx, sy, sz))] "
                   "with finite offsets and each scale in [0.01, 100]",
     "points": "two different points [[x, y, z], [x, y, z]] of finite numbers",
+    "point": "a point [x, y, z] of finite numbers",
 }
 """What a kind allows when that does not depend on the spec (:meth:`Spec.allowed`)."""
 
@@ -224,6 +229,27 @@ def _check_size(spec: Spec, value: Any):
     width, height = value
     checked = (_check_int(spec, width), _check_int(spec, height))
     return _REFUSED if _REFUSED in checked else checked
+
+
+def _check_int3(spec: Spec, value: Any):
+    if isinstance(value, (str, bytes, Mapping)):
+        return _REFUSED
+    values = tuple(value)
+    if len(values) != 3:
+        return _REFUSED
+    checked = tuple(_check_int(spec, v) for v in values)
+    return _REFUSED if _REFUSED in checked else checked
+
+
+def _check_point(spec: Spec, value: Any):
+    if isinstance(value, (str, bytes, Mapping)):
+        return _REFUSED
+    coords = tuple(value)
+    if len(coords) != 3 or any(isinstance(c, bool) or not isinstance(c, numbers.Real)
+                               for c in coords):
+        return _REFUSED
+    coords = tuple(float(c) for c in coords)
+    return coords if all(math.isfinite(c) for c in coords) else _REFUSED
 
 
 def _check_range2(spec: Spec, value: Any):
@@ -308,7 +334,8 @@ _CHECKERS = {"int": _check_int, "float": _check_float, "bool": _check_bool,
              "points": _check_points, "size": _check_size, "range2": _check_range2,
              "switches": _check_switches,
              "names": _check_names, "name_set": _check_name_set,
-             "transforms": _check_transforms, "nested": _check_nested}
+             "transforms": _check_transforms, "nested": _check_nested,
+             "int3": _check_int3, "point": _check_point}
 
 
 # -- declaring ---------------------------------------------------------------------------

@@ -47,15 +47,15 @@ void main() {
     if (partial >= u_partial_count) {
         return;
     }
-    int n = u_grid_resolution;
-    int cells = n * n * n;
+    ivec3 n = u_grid_cells;
+    int cells = n.x * n.y * n.z;
     float sums[AUDIT_VALUES];
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         sums[i] = 0.0;
     }
     for (int linear = partial; linear < cells; linear += u_partial_count) {
 #if AUDIT_STAGE == 0
-        ivec3 cell = ivec3(linear % n, (linear / n) % n, linear / (n * n));
+        ivec3 cell = ivec3(linear % n.x, (linear / n.x) % n.y, linear / (n.x * n.y));
         sums[0] += sh_flux(texelFetch(u_grid_r, cell, 0));
         sums[1] += sh_flux(texelFetch(u_grid_g, cell, 0));
         sums[2] += sh_flux(texelFetch(u_grid_b, cell, 0));

@@ -1,7 +1,7 @@
 #version 430 core
 // Cascaded LPV in the final gather (docs/MODEL.md "Cascades"); explorer/lpv/cascades.py
 // holds the same weights in numpy (blend_weights) and sets these uniforms
-// (cascade_uniforms). Every cascade has u_grid_resolution cells per axis. Light vectors
+// (cascade_uniforms). Every cascade has u_grid_cells cells along x, y, z. Light vectors
 // are ShVec: L1, or L2 with the texel layout of sh_grid.glsl (SH_ORDER of the includer).
 #ifndef CASCADES_GLSL
 #define CASCADES_GLSL 1
@@ -25,7 +25,7 @@ uniform sampler3D u_cascade_b[MAX_CASCADES];
 // over the next u_cascade_band cells, 1 further inside; d = distance to the nearest face.
 float cascade_own_weight(int k, vec3 world) {
     vec3 g = (world - u_cascade_origin[k]) / u_cascade_cell_size[k];
-    vec3 to_face = min(g, vec3(float(u_grid_resolution)) - g);
+    vec3 to_face = min(g, vec3(u_grid_cells) - g);
     float depth = min(min(to_face.x, to_face.y), to_face.z);
     float t = clamp((depth - u_cascade_edge) / u_cascade_band, 0.0, 1.0);
     return t * t * (3.0 - 2.0 * t);

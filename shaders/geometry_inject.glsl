@@ -71,7 +71,7 @@ void main() {
     v_normal = texelFetch(u_surfel_normal, pixel, 0).xyz;
     float depth = -(u_camera_view * vec4(position.xyz, 1.0)).z;
     v_cell = ivec3(floor(grid_coords(position.xyz) + 0.5));
-    v_keep = int(position.w > 0.5 && grid_inside(v_cell, u_grid_resolution + 1)
+    v_keep = int(position.w > 0.5 && grid_inside(v_cell, u_grid_cells + 1)
                  && !seen_by_lights(position.xyz, v_normal));
     v_area = u_pixel_area * (u_surfel_area_squared ? depth * depth : depth)
            / (u_grid_cell_size * u_grid_cell_size);
@@ -99,7 +99,7 @@ float surfel_area(Vpl vpl) {
 void main() {
     Vpl vpl = vpl_fetch(gl_VertexID);
     v_cell = ivec3(floor(grid_coords(vpl.position) + 0.5));
-    v_keep = int(vpl.valid && grid_inside(v_cell, u_grid_resolution + 1));
+    v_keep = int(vpl.valid && grid_inside(v_cell, u_grid_cells + 1));
     v_normal = vpl.normal;
     v_area = surfel_area(vpl) / (u_grid_cell_size * u_grid_cell_size);
     v_albedo = vec3(0.0);
@@ -136,7 +136,7 @@ void main() {
     if (v_keep[0] == 0) {
         return;
     }
-    vec2 ndc = (vec2(v_cell[0].xy) + 0.5) / float(u_grid_resolution + 1) * 2.0 - 1.0;
+    vec2 ndc = (vec2(v_cell[0].xy) + 0.5) / vec2(u_grid_cells.xy + 1) * 2.0 - 1.0;
     gl_Position = vec4(ndc, 0.0, 1.0);
     gl_Layer = v_cell[0].z;
     g_normal = v_normal[0];

@@ -6,7 +6,7 @@
 
 uniform vec3 u_grid_origin;
 uniform float u_grid_cell_size;
-uniform int u_grid_resolution;
+uniform ivec3 u_grid_cells;  // (nx, ny, nz)
 
 vec3 grid_coords(vec3 world) {
     return (world - u_grid_origin) / u_grid_cell_size;
@@ -16,13 +16,13 @@ ivec3 grid_cell(vec3 world) {
     return ivec3(floor(grid_coords(world)));
 }
 
-// Whether an integer cell lies in a cube of `resolution` cells per axis.
-bool grid_inside(ivec3 cell, int resolution) {
-    return all(greaterThanEqual(cell, ivec3(0))) && all(lessThan(cell, ivec3(resolution)));
+// Whether an integer cell lies in a box of `cells` cells along x, y, z.
+bool grid_inside(ivec3 cell, ivec3 cells) {
+    return all(greaterThanEqual(cell, ivec3(0))) && all(lessThan(cell, cells));
 }
 
 bool grid_inside(ivec3 cell) {
-    return grid_inside(cell, u_grid_resolution);
+    return grid_inside(cell, u_grid_cells);
 }
 
 #endif

@@ -23,8 +23,8 @@ layout(std430, binding = 0) buffer CellHeads { uint cell_heads[]; };
 layout(std430, binding = 1) buffer NextVpl { uint next_vpl[]; };
 
 int cell_slot(ivec3 cell) {
-    int n = u_grid_resolution;
-    return cell.x + n * (cell.y + n * cell.z);
+    ivec3 n = u_grid_cells;
+    return cell.x + n.x * (cell.y + n.y * cell.z);
 }
 
 #if INJECT_STAGE == 0

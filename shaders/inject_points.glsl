@@ -51,11 +51,11 @@ void main() {
     if (v_keep[0] == 0) {
         return;  // an empty RSM texel or a VPL outside the grid adds nothing
     }
-    // The pixel centre of column x, row y of an N x N viewport, in clip space.
-    vec2 ndc = (vec2(v_cell[0].xy) + 0.5) / float(u_grid_resolution) * 2.0 - 1.0;
+    // The pixel centre of column x, row y of an nx x ny viewport, in clip space.
+    vec2 ndc = (vec2(v_cell[0].xy) + 0.5) / vec2(u_grid_cells.xy) * 2.0 - 1.0;
     for (int group = 0; group < SH_GROUPS; ++group) {
         gl_Position = vec4(ndc, 0.0, 1.0);
-        gl_Layer = v_cell[0].z + group * u_grid_resolution;
+        gl_Layer = v_cell[0].z + group * u_grid_cells.z;
         g_normal = v_normal[0];
         g_flux = v_flux[0];
         g_group = group;

@@ -103,7 +103,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     LpvAudit audit = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
     // One call per neighbour with its constant frame (d, u, v), in the order of
     // LPV_DIRECTIONS; nothing enters from outside the grid.
-    int last = u_grid_resolution - 1;
+    ivec3 last = u_grid_cells - 1;
 #if PROPAGATE_NEIGHBOURS == 26
     // One call per offset with a constant o, as LPV_GATHER does for the six frames, so
     // that the compiler folds each face's directions, lobe and weight into constants.
@@ -135,15 +135,15 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     LPV_GATHER26(ivec3(1, 1, 1));
 #else
     LPV_GATHER(cell.x > 0, ivec3(1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
-    LPV_GATHER(cell.x < last, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
+    LPV_GATHER(cell.x < last.x, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1));
     LPV_GATHER(cell.y > 0, ivec3(0, 1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
-    LPV_GATHER(cell.y < last, ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
+    LPV_GATHER(cell.y < last.y, ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0));
     LPV_GATHER(cell.z > 0, ivec3(0, 0, 1), ivec3(1, 0, 0), ivec3(0, 1, 0));
-    LPV_GATHER(cell.z < last, ivec3(0, 0, -1), ivec3(1, 0, 0), ivec3(0, 1, 0));
+    LPV_GATHER(cell.z < last.z, ivec3(0, 0, -1), ivec3(1, 0, 0), ivec3(0, 1, 0));
 #endif
 #if PROPAGATE_AUDIT
     // A border cell is also the source of the faces that leave the grid (audit only).
-    if (any(equal(cell, ivec3(0))) || any(equal(cell, ivec3(u_grid_resolution - 1)))) {
+    if (any(equal(cell, ivec3(0))) || any(equal(cell, u_grid_cells - 1))) {
         ShVec own[3];
         load_source(cell, own);
         ShVec unused[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
@@ -202,15 +202,15 @@ uniform ivec3 u_cell_offset;
 
 void main() {
     ivec3 cell = ivec3(gl_GlobalInvocationID) + u_cell_offset;
-    if (any(greaterThanEqual(cell, ivec3(u_grid_resolution)))) {
+    if (any(greaterThanEqual(cell, u_grid_cells))) {
         return;
     }
     float audit[AUDIT_VALUES];
     propagate_cell(cell, audit);
 #if PROPAGATE_AUDIT
-    int n = u_grid_resolution;
-    int cells = n * n * n;
-    int linear = cell.x + n * (cell.y + n * cell.z);
+    ivec3 n = u_grid_cells;
+    int cells = n.x * n.y * n.z;
+    int linear = cell.x + n.x * (cell.y + n.y * cell.z);
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         cell_terms[i * cells + linear] = audit[i];
         cell_sums[linear * AUDIT_VALUES + i] += audit[i];

@@ -20,11 +20,11 @@
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
-uniform int u_grid_resolution;
+uniform ivec3 u_grid_cells;       // (nx, ny, nz)
 uniform sampler3D u_source_r;
 uniform sampler3D u_source_g;
 uniform sampler3D u_source_b;
-uniform sampler3D u_geometry;      // (N+1)^3 texels centred on the light grid's corners
+uniform sampler3D u_geometry;      // (nx+1)(ny+1)(nz+1) texels centred on the light grid's corners
 
 layout(IMAGE_FORMAT, binding = 0) uniform writeonly image3D u_target_r;
 layout(IMAGE_FORMAT, binding = 1) uniform writeonly image3D u_target_g;
@@ -80,8 +80,8 @@ void neighbour(ivec3 cell, ivec3 d, ivec3 u, ivec3 v, inout vec4 r, inout vec4 g
 
 void main() {
     ivec3 cell = ivec3(gl_GlobalInvocationID);
-    int last = u_grid_resolution - 1;
-    if (any(greaterThan(cell, ivec3(last)))) {
+    ivec3 last = u_grid_cells - 1;
+    if (any(greaterThan(cell, last))) {
         return;
     }
     vec4 r = vec4(0.0);
@@ -89,11 +89,11 @@ void main() {
     vec4 b = vec4(0.0);
     // nothing enters from outside the grid: only the neighbours inside are read
     if (cell.x > 0) neighbour(cell, ivec3(1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1), r, g, b);
-    if (cell.x < last) neighbour(cell, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1), r, g, b);
+    if (cell.x < last.x) neighbour(cell, ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, 0, 1), r, g, b);
     if (cell.y > 0) neighbour(cell, ivec3(0, 1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0), r, g, b);
-    if (cell.y < last) neighbour(cell, ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0), r, g, b);
+    if (cell.y < last.y) neighbour(cell, ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(1, 0, 0), r, g, b);
     if (cell.z > 0) neighbour(cell, ivec3(0, 0, 1), ivec3(1, 0, 0), ivec3(0, 1, 0), r, g, b);
-    if (cell.z < last) neighbour(cell, ivec3(0, 0, -1), ivec3(1, 0, 0), ivec3(0, 1, 0), r, g, b);
+    if (cell.z < last.z) neighbour(cell, ivec3(0, 0, -1), ivec3(1, 0, 0), ivec3(0, 1, 0), r, g, b);
     imageStore(u_target_r, cell, r);
     imageStore(u_target_g, cell, g);
     imageStore(u_target_b, cell, b);

@@ -1,7 +1,7 @@
 #version 430 core
 // Texel layout of a light grid of SH_ORDER vectors (docs/MODEL.md "L2 option"): one RGBA
-// 3D texture per colour channel, N x N x (SH_GROUPS·N) texels; group k of cell (x, y, z)
-// (coefficients 4k..4k+3) is texel (x, y, z + k·N). L1 (one group) is the plain N³ grid.
+// 3D texture per colour channel, nx x ny x (SH_GROUPS·nz) texels; group k of cell (x, y, z)
+// (coefficients 4k..4k+3) is texel (x, y, z + k·nz). L1 (one group) is the plain grid.
 // Stacking the groups along z keeps three textures (and image units) per grid for either
 // order: GL guarantees only 8 image units per compute shader and 8 draw buffers.
 #ifndef SH_GRID_GLSL
@@ -11,7 +11,7 @@
 #include "grid.glsl"
 
 ivec3 sh_group_texel(ivec3 cell, int k) {
-    return cell + ivec3(0, 0, k * u_grid_resolution);
+    return cell + ivec3(0, 0, k * u_grid_cells.z);
 }
 
 #if SH_ORDER == 1
@@ -56,33 +56,33 @@ vec4 sh_trilinear_block(sampler3D tex, ivec3 lo, ivec3 hi, vec3 f, int dz) {
 }
 
 // Trilinear sample of the grid's light vector at grid coordinates g [cells] of a grid with
-// u_grid_resolution cells per axis (its own origin and cell size: the single grid or a
+// u_grid_cells cells along x, y, z (its own origin and cell size: the single grid or a
 // cascade, cascades.glsl).
 ShVec sh_sample_cells(sampler3D tex, vec3 g) {
-    int n = u_grid_resolution;
+    ivec3 n = u_grid_cells;
 #if SH_SHADER_FILTER
-    vec3 t = clamp(g - 0.5, vec3(0.0), vec3(float(n - 1)));
+    vec3 t = clamp(g - 0.5, vec3(0.0), vec3(n - 1));
     ivec3 lo = ivec3(floor(t));
-    ivec3 hi = min(lo + 1, ivec3(n - 1));
+    ivec3 hi = min(lo + 1, n - 1);
     vec3 f = t - vec3(lo);
 #if SH_ORDER == 1
     return sh_trilinear_block(tex, lo, hi, f, 0);
 #else
     return ShL2(sh_trilinear_block(tex, lo, hi, f, 0),
-                sh_trilinear_block(tex, lo, hi, f, n),
-                sh_trilinear_block(tex, lo, hi, f, 2 * n));
+                sh_trilinear_block(tex, lo, hi, f, n.z),
+                sh_trilinear_block(tex, lo, hi, f, 2 * n.z));
 #endif
 #else
 #if SH_ORDER == 1
-    return textureLod(tex, g / float(n), 0.0);
+    return textureLod(tex, g / vec3(n), 0.0);
 #else
     // per group the z coordinate is clamped to the group's texel centres
-    vec2 xy = g.xy / float(n);
-    float z = clamp(g.z, 0.5, float(n) - 0.5);
-    float depth = 3.0 * float(n);
+    vec2 xy = g.xy / vec2(n.xy);
+    float z = clamp(g.z, 0.5, float(n.z) - 0.5);
+    float depth = 3.0 * float(n.z);
     return ShL2(textureLod(tex, vec3(xy, z / depth), 0.0),
-                textureLod(tex, vec3(xy, (z + float(n)) / depth), 0.0),
-                textureLod(tex, vec3(xy, (z + 2.0 * float(n)) / depth), 0.0));
+                textureLod(tex, vec3(xy, (z + float(n.z)) / depth), 0.0),
+                textureLod(tex, vec3(xy, (z + 2.0 * float(n.z)) / depth), 0.0));
 #endif
 #endif
 }

@@ -79,8 +79,8 @@ def read_gbuffer(gbuffer: GBufferPass) -> tuple[np.ndarray, np.ndarray, np.ndarr
 
 def smooth_grid(spec: GridSpec) -> np.ndarray:
     """A grid whose coefficients vary smoothly over the cells (positive band 0)."""
-    idx = np.indices((N, N, N)).transpose(1, 2, 3, 0) / N            # (N, N, N, 3)
-    grid = np.zeros((3, N, N, N, 4), np.float32)
+    idx = np.indices(spec.cells).transpose(1, 2, 3, 0) / max(spec.cells)  # (nx, ny, nz, 3)
+    grid = np.zeros((3, *spec.cells, 4), np.float32)
     for c in range(3):
         grid[c, ..., 0] = 0.02 * (1.0 + c + idx[..., 0] + 2 * idx[..., 1])
         grid[c, ..., 1] = -0.01 * (1.0 + idx[..., 2])

@@ -16,13 +16,15 @@ def random_vpls(seed: int, spec: GridSpec, count: int, outside: int = 0,
     geometry-cell faces, so float32 and float64 pick the same cells) plus ``outside`` VPLs
     beyond its border."""
     rng = np.random.default_rng(seed)
-    n = spec.resolution
+    # a cube draws with one bound (the numbers every cubic test was written against)
+    n = spec.cells[0] if spec.is_cube else np.asarray(spec.cells)
     cells = rng.integers(0, n, (count, 3))
     # Fractions in [0.1, 0.4] or [0.6, 0.9]: clear of 0/1 (light cells) and 0.5 (geometry).
     fractions = rng.uniform(0.1, 0.4, (count, 3)) + 0.5 * rng.integers(0, 2, (count, 3))
     grid_coords = cells + fractions
     if outside:
-        far = rng.uniform(n + 0.5, n + 3.0, (outside, 3)) * rng.choice([-1, 1], (outside, 3))
+        edge = max(spec.cells)
+        far = rng.uniform(edge + 0.5, edge + 3.0, (outside, 3)) * rng.choice([-1, 1], (outside, 3))
         grid_coords = np.vstack([grid_coords, far])
     positions = np.asarray(spec.origin) + grid_coords * spec.cell_size
     normals = rng.standard_normal((len(positions), 3))

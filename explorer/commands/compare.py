@@ -319,11 +319,9 @@ def reference_distance(args: argparse.Namespace, runs: list[Run], scene) -> floa
     cascade count (cascade 0's cells shrink with more cascades, the reference must not)."""
     if args.min_distance is not None or max(r.settings.cascades for r in runs) == 1:
         return args.min_distance
-    from explorer.lpv.grid import GridSpec
+    from explorer.lpv.cascades import single_spec
 
-    single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max,
-                                runs[0].settings.grid_size)
-    return 0.5 * single.cell_size
+    return 0.5 * single_spec(runs[0].settings, scene).cell_size
 
 
 def run_comparison(args: argparse.Namespace, runs: list[Run], ctx, scene,
@@ -423,6 +421,10 @@ def mean_cells(row: CompareRow) -> list[str]:
     return [str(row.stats.pixels), *(f"{value:.4g}" for value in row.means)]
 
 
+def _cells_text(cells: tuple[int, int, int]) -> str:
+    return f"{cells[0]}³" if len(set(cells)) == 1 else "×".join(map(str, cells))
+
+
 def settings_line(args: argparse.Namespace, frame) -> str:
     """The line above the table: what was compared."""
     settings = frame.settings
@@ -432,9 +434,9 @@ def settings_line(args: argparse.Namespace, frame) -> str:
         scene += f" (lights {', '.join(frame.light_names)}: {len(frame.vpl_sets)} RSM views)"
         rsm = f"RSM {settings.rsm_size}² per view ({frame.vpls.count} VPLs)"
     return (f"{scene}, reference `{args.reference}`, {settings.width}×{settings.height} px, "
-            f"{rsm}, grid "
-            f"{settings.grid_size}³, geometry volume `{settings.geometry_volume}`, injection "
-            f"offset {settings.injection_offset_cells:g} cells, gather damping "
+            f"{rsm}, grid {_cells_text(frame.grid_spec.cells)}, geometry volume "
+            f"`{settings.geometry_volume}`, injection offset "
+            f"{settings.injection_offset_cells:g} cells, gather damping "
             f"{'on' if settings.gather_damping else 'off'}, bounces {settings.bounces}")
 
 

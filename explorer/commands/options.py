@@ -155,6 +155,10 @@ def _from_text(spec: Spec, text: str) -> Any:
     if kind == "range2":                          # "30,60"
         first, second = text.split(",")
         return float(first), float(second)
+    if kind == "int3":                            # "7,12,5"
+        return [int(part) for part in text.split(",")]
+    if kind == "point":                           # "-1.6,0,-2.6"
+        return [float(part) for part in text.split(",")]
     if kind in ("names", "name_set"):              # "spot,bulb"
         return [part.strip() for part in text.split(",")]
     if kind == "transforms":                      # "short block=0.1,0,0,0,30,0"
@@ -368,6 +372,7 @@ def _metavar(spec: Spec) -> str:
     if spec.kind == "choice":
         return "{" + ",".join(str(choice) for choice in spec.choices) + "}"
     return {"int": "N", "float": "X", "str": "TEXT", "range2": "LOW,HIGH",
+            "int3": "NX,NY,NZ", "point": "X,Y,Z",
             "names": "NAME[,NAME...]", "name_set": "NAME[,NAME...]"}.get(spec.kind,
                                                                          "VALUE")
 

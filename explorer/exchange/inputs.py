@@ -7,7 +7,7 @@ units, unit normals, watts per colour channel); optional ``vpl_depth`` ``(M,)`` 
 ``vpl_texel_area`` ``()`` (the geometry volume's surfel area ``texel_area·depth²``, so
 required when the geometry volume is on; without it they are unused) and ``vpl_albedo``
 ``(M, 3)`` (bounces 2) and ``vpl_orthographic`` ``()`` bool (a directional light's
-texel area is a world area). Grid file: ``grid_0`` ``(3, N, N, N, C)`` float (W/sr SH
+texel area is a world area). Grid file: ``grid_0`` ``(3, nx, ny, nz, C)`` float (W/sr SH
 coefficients, index [colour, x, y, z, k], C = 4 for ``--sh-order 1``, 9 for 2), and
 optionally ``grid_origin`` ``(3,)`` / ``grid_cell_size`` ``()``, which must then be the
 frame's grid (the grid is placed by the scene's box; the dump's sidecar says where).
@@ -24,7 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from explorer.exchange.files import FileFormatError, read_npz
+from explorer.lpv.grid import shape_text
 from explorer.lpv.vpl import VplArrays
+from explorer.scene.scene_file import is_scene_file
 
 UNIT_TOLERANCE = 1e-3
 """Largest |‖n‖ − 1| accepted for a VPL normal (float32 normals from an engine)."""
@@ -155,28 +157,49 @@ def load_vpls(path: Path | str, geometry_volume: bool = False,
 
 
 def load_grid0(path: Path | str, settings, what: str = "--grid0") -> np.ndarray:
-    """The ``grid_0`` of the file at ``path`` for a frame with ``settings`` (its grid size
-    and SH order), float32."""
+    """The ``grid_0`` of the file at ``path`` for a frame with ``settings`` (its grid's
+    cells and SH order), float32. A scene file may give its own exact grid, so with one
+    (and no ``grid_cells`` setting) the cells are checked against the frame's grid in
+    :func:`check_grid_placement`."""
     where = f"{what} {path}"
     arrays = read_npz(path, what)
-    n = settings.grid_size
+    known = settings.grid_cells is not None or not is_scene_file(settings.scene)
+    n = settings.grid_shape
     coefficients = 4 if settings.sh_order == 1 else 9
     if "grid_0" in arrays and arrays["grid_0"].ndim == 5:
         got = arrays["grid_0"].shape
-        if got[0] == 3 and got[1:4] != (n, n, n) and got[1] == got[2] == got[3]:
-            raise FileFormatError(f"{where}: grid_0 is a {got[1]}³ grid, the frame's is {n}³ "
-                                  f"(set --grid-size {got[1]})")
+        if known and got[0] == 3 and got[1:4] != n:
+            raise FileFormatError(grid_shape_error(where, got[1:4], n))
         if got[0] == 3 and got[4] != coefficients and got[4] in (4, 9):
             raise FileFormatError(f"{where}: grid_0 has {got[4]} SH coefficients, the frame "
                                   f"{coefficients} (set --sh-order {1 if got[4] == 4 else 2})")
-    return _float_array(arrays, "grid_0", (3, n, n, n, coefficients), where)
+    shape = (3, *n, coefficients) if known else (3, None, None, None, coefficients)
+    return _float_array(arrays, "grid_0", shape, where)
+
+
+def grid_shape_error(where: str, theirs: tuple, ours: tuple) -> str:
+    """The one-line error of a ``grid_0`` whose cells are not the frame's."""
+    if len(set(theirs)) == 1:
+        fix = f"set --grid-size {theirs[0]}"
+    else:
+        fix = f"set --grid-cells {','.join(map(str, theirs))} with --grid-origin and " \
+              f"--grid-cell-size"
+    return f"{where}: grid_0 is a {_cells(theirs)} grid, the frame's is {_cells(ours)} ({fix})"
+
+
+def _cells(shape: tuple) -> str:
+    return f"{shape[0]}³" if len(set(shape)) == 1 else shape_text(shape)
 
 
 def check_grid_placement(path: Path | str, spec, what: str = "--grid0") -> None:
-    """The file's ``grid_origin`` and ``grid_cell_size``, when it has them, equal to the
-    frame's GridSpec ``spec`` (to float32 rounding)."""
+    """The file's ``grid_0`` of the frame's cells, and its ``grid_origin`` and
+    ``grid_cell_size``, when it has them, equal to the frame's GridSpec ``spec`` (to
+    float32 rounding)."""
     where = f"{what} {path}"
     arrays = read_npz(path, what)
+    cells = tuple(arrays["grid_0"].shape[1:4])
+    if cells != spec.cells:
+        raise FileFormatError(grid_shape_error(where, cells, spec.cells))
     for name, ours in (("grid_origin", np.asarray(spec.origin)),
                        ("grid_cell_size", np.asarray(spec.cell_size))):
         if name in arrays:

@@ -28,7 +28,8 @@ MATRIX_CONVENTION = ("4×4 nested lists, row-major (matrix[row][column]), column
 GRID_CONVENTION = ("array index [colour, x, y, z, k]: x, y, z the cell index along world +x, "
                    "+y, +z (y up); cell (i, j, k) spans origin + [i, i+1)·cell_size (likewise "
                    "j, k), its centre at origin + (index + 1/2)·cell_size; texture coordinate "
-                   "(p - origin)/(cell_size·N), texel centres at (index + 1/2)/N")
+                   "(p - origin)/(cell_size·cells) per axis, texel centres at "
+                   "(index + 1/2)/cells (cells = [nx, ny, nz])")
 IMAGE_CONVENTION = "images (H, W, ...) and RSM arrays: row 0 at the top, column 0 at the left"
 
 
@@ -107,9 +108,12 @@ def camera_entry(result) -> dict:
 def grid_entry(result) -> list[dict]:
     s = result.settings
     return [{"cascade": k, "origin": list(spec.origin), "cell_size": spec.cell_size,
-             "resolution": spec.resolution, "sh_order": s.sh_order,
+             "cells": list(spec.cells),
+             "resolution": spec.cells[0] if spec.is_cube else None,
+             "sh_order": s.sh_order,
              "coefficients": 4 if s.sh_order == 1 else 9, "format": s.grid_format,
-             "geometry_volume_resolution": spec.resolution + 1,
+             "geometry_volume_cells": [n + 1 for n in spec.cells],
+             "geometry_volume_resolution": spec.cells[0] + 1 if spec.is_cube else None,
              "geometry_volume_origin": list(spec.origin),
              "geometry_volume_convention": "geometry cell g centred at origin + g·cell_size "
                                            "(the light grid's corners)",

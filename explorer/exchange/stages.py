@@ -61,12 +61,12 @@ ARRAYS: dict[str, ArrayDoc] = {
     "grid_origin": ArrayDoc("(3,)", "world units", "world position of the grid's minimum "
                             "corner (cascade 0)"),
     "grid_cell_size": ArrayDoc("()", "world units", "edge of one cell (cascade 0)"),
-    "grid_t": ArrayDoc("(3, N, N, N, C)", "W/sr (SH coefficients of radiant intensity)",
+    "grid_t": ArrayDoc("(3, nx, ny, nz, C)", "W/sr (SH coefficients of radiant intensity)",
                        "light in flight after t propagation steps (grid_0: injected); "
                        "index [colour, x, y, z, k], C = 4 (L1) or 9 (L2)"),
-    "accumulated": ArrayDoc("(3, N, N, N, C)", "W/sr", "acc_N = Σ_t grid_t: the grid the "
+    "accumulated": ArrayDoc("(3, nx, ny, nz, C)", "W/sr", "acc_N = Σ_t grid_t: the grid the "
                             "final gather samples"),
-    "geometry_volume": ArrayDoc("(N+1, N+1, N+1, 4)", "unitless (blocking probability SH)",
+    "geometry_volume": ArrayDoc("(nx+1, ny+1, nz+1, 4)", "unitless (blocking probability SH)",
                                 "L1 SH of the occluders' blocking, cell centres on the "
                                 "light grid's corners: geometry cell g centred at origin + "
                                 "g·cell_size; absent when the geometry volume is off"),

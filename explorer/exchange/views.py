@@ -40,8 +40,8 @@ def float_view(result, view: str, z: int | None = None, coefficient: int | None 
     if view == "geometry-volume":
         volume = cascade_item(result, "geometry", cascade)
         if volume is None:
-            n = result.grid_spec.resolution + 1
-            return np.zeros((n, n), np.float32)
+            nx, ny, _ = (n + 1 for n in result.grid_spec.cells)
+            return np.zeros((ny, nx), np.float32)
         index = volume.shape[2] // 2 if z is None else int(z)
         return np.ascontiguousarray(volume[:, :, index, 0].T[::-1], np.float32)
     if view == "cascade-weights":

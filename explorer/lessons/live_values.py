@@ -238,7 +238,7 @@ def _face_evaluations(context: LiveContext) -> int:
     from explorer.lpv.neighbours import FACES_PER_STEP
 
     settings = _settings(context)
-    return (FACES_PER_STEP[int(settings.neighbours)] * int(settings.grid_size) ** 3
+    return (FACES_PER_STEP[int(settings.neighbours)] * int(np.prod(settings.grid_shape))
             * int(settings.iterations) * int(settings.cascades))
 
 
@@ -247,7 +247,7 @@ def _memory_mib(context: LiveContext) -> float:
 
     s = _settings(context)
     groups = 1 if s.sh_order == 1 else 3
-    return texture_bytes(s.grid_size, s.cascades, s.grid_format, s.geometry_volume != "off",
+    return texture_bytes(s.grid_shape, s.cascades, s.grid_format, s.geometry_volume != "off",
                          groups) / 2 ** 20
 
 
@@ -387,10 +387,10 @@ def _fixed() -> dict[str, Quantity]:
                  "m", _vpl_depth(np.max), ".2f"),
         Quantity("frame.cell_size", "edge of a cell of the (finest) grid", "m",
                  lambda c: float(_result(c).grid_spec.cell_size)),
-        Quantity("frame.grid_extent", "edge of the (finest) grid", "m",
-                 lambda c: float(_result(c).grid_spec.extent)),
-        Quantity("frame.cells", "cells of one grid, N³", "",
-                 lambda c: int(_settings(c).grid_size) ** 3, "d"),
+        Quantity("frame.grid_extent", "edge of the (finest) grid (its longest)", "m",
+                 lambda c: float(np.max(_result(c).grid_spec.extents))),
+        Quantity("frame.cells", "cells of one grid, N³ (nx·ny·nz)", "",
+                 lambda c: int(np.prod(_settings(c).grid_shape)), "d"),
         Quantity("frame.face_evaluations", "face evaluations per colour and frame: 30 per "
                  "cell and step (6 neighbours × 5 faces), 54 with 26 neighbours (the outer "
                  "faces of the 3×3×3 block)", "", _face_evaluations, ",d"),

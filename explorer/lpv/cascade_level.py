@@ -27,21 +27,21 @@ class CascadeLevel:
         self.accumulated: np.ndarray | None = None
         self.geometry: np.ndarray | None = None
 
-    def grid(self, resolution: int, fmt: str, sh_order: int = 1):
-        """The injected grid, (re)allocated for ``resolution``³ cells in ``fmt`` with SH of
+    def grid(self, cells: tuple[int, int, int], fmt: str, sh_order: int = 1):
+        """The injected grid, (re)allocated for ``cells`` (nx, ny, nz) in ``fmt`` with SH of
         ``sh_order`` (1 = L1, 2 = L2)."""
-        if self.injected is None or self.injected.resolution != resolution or \
+        if self.injected is None or self.injected.cells != tuple(cells) or \
                 self.injected.format != fmt or self.injected.sh_order != sh_order:
             if self.injected is not None:
                 self.injected.release()
-            self.injected = LpvGrid(self.ctx, resolution, fmt, sh_order)
+            self.injected = LpvGrid(self.ctx, cells, fmt, sh_order)
         return self.injected
 
-    def geometry_volume(self, resolution: int, fmt: str):
-        if self.volume is None or self.volume.resolution != resolution or \
+    def geometry_volume(self, cells: tuple[int, int, int], fmt: str):
+        if self.volume is None or self.volume.cells != tuple(cells) or \
                 self.volume.format != fmt:
             self.release_volume()
-            self.volume = GeometryVolume(self.ctx, resolution, fmt)
+            self.volume = GeometryVolume(self.ctx, cells, fmt)
         return self.volume
 
     @property

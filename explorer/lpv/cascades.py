@@ -1,10 +1,11 @@
 """Cascaded LPV: nested grids around the viewer (docs/MODEL.md "Cascades").
 
-Cascade ``k`` has ``grid_size``³ cells of edge ``c_k = c_0·2^k``. All cascades are
+Cascade ``k`` has the single grid's cells (``grid_size``³, or an exact grid's
+``nx × ny × nz``) of edge ``c_k = c_0·2^k``. All cascades are
 centred on one *focus point* on the camera's line of sight (``Settings.cascade_focus``:
 0 = the eye, 1 = the camera's target), each snapped to the lattice of its own cell size
 so that moving the camera moves a cascade only by whole cells (no swimming). The lattice
-is anchored at the single grid's origin (:meth:`GridSpec.enclosing` of the scene).
+is anchored at the single grid's origin (:func:`single_spec`).
 
 Every VPL is injected into every cascade that contains it (injection drops VPLs outside
 a grid), so each cascade holds and propagates all the light inside it; the final gather
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from explorer.lpv.grid import GridSpec
+from explorer.lpv.grid import GridSpec, grid_cells, shape_text
 from explorer.lpv.settings import MAX_CASCADES  # = MAX_CASCADES in cascades.glsl
 
 CASCADE_EDGE_CELLS = 0.5
@@ -70,13 +71,13 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
         raise ValueError(f"cascades must be 1..{MAX_CASCADES}, got {count}")
     if count == 1:
         return [single]
-    n = single.resolution
+    cells = np.asarray(single.cells)
     if finest_extent is None:
         finest = single.cell_size / 2 ** (count - 1)
     else:
         if not finest_extent > 0:
             raise ValueError(f"cascade_extent must be positive, got {finest_extent!r}")
-        finest = float(finest_extent) / n
+        finest = float(finest_extent) / int(cells.max())
     anchor = np.asarray(single.origin, np.float64)
     centre = np.asarray(centre, np.float64)
     specs = []
@@ -85,15 +86,28 @@ def cascade_specs(single: GridSpec, count: int, centre, finest_extent: float | N
         nearest = (centre - anchor) / cell
         if snap:
             nearest = np.round(nearest)
-        origin = anchor + (nearest - n // 2) * cell
-        specs.append(GridSpec(tuple(float(v) for v in origin), cell, n))
+        origin = anchor + (nearest - cells // 2) * cell
+        specs.append(GridSpec(tuple(float(v) for v in origin), cell, single.cells))
     return specs
 
 
+def single_spec(settings, scene) -> GridSpec:
+    """The one grid of a frame (docs/MODEL.md "Notation and storage"): the settings' exact grid
+    (``grid_cells``, ``grid_origin``, ``grid_cell_size``), else the scene file's
+    (``Scene.exact_grid``), else the ``grid_size``³ cube fitted around the scene's box."""
+    if settings.grid_cells is not None:
+        return GridSpec(settings.grid_origin, settings.grid_cell_size, settings.grid_cells)
+    exact = scene.exact_grid
+    if exact is not None:
+        cells, origin, cell_size = exact
+        return GridSpec(origin, cell_size, cells)
+    return GridSpec.enclosing(scene.bounds_min, scene.bounds_max, settings.grid_size)
+
+
 def frame_specs(settings, scene) -> list[GridSpec]:
-    """The grids of a frame: the ``grid_size``³ grid enclosing ``scene``, or with
-    ``settings.cascades`` > 1 the cascades around the camera's focus point."""
-    single = GridSpec.enclosing(scene.bounds_min, scene.bounds_max, settings.grid_size)
+    """The grids of a frame: :func:`single_spec`, or with ``settings.cascades`` > 1 the
+    cascades around the camera's focus point (each with the single grid's cells)."""
+    single = single_spec(settings, scene)
     if settings.cascades == 1:
         return [single]
     centre = focus_point(scene.camera.eye, scene.camera.target, settings.cascade_focus)
@@ -121,7 +135,7 @@ def own_weight(spec: GridSpec, points) -> np.ndarray:
     :data:`CASCADE_BAND_CELLS`, 1 further inside. ``d`` is the distance (in cells) from the
     point to the nearest face of the grid."""
     g = spec.grid_coords(points)
-    depth = np.min(np.minimum(g, spec.resolution - g), axis=-1)
+    depth = np.min(np.minimum(g, np.asarray(spec.cells) - g), axis=-1)
     t = np.clip((depth - CASCADE_EDGE_CELLS) / CASCADE_BAND_CELLS, 0.0, 1.0)
     return t * t * (3.0 - 2.0 * t)
 
@@ -143,32 +157,36 @@ def blend_weights(specs: list[GridSpec], points) -> np.ndarray:
     return weights
 
 
-def texture_bytes(grid_size: int, cascades: int, grid_format: str, geometry: bool,
-                  sh_groups: int = 1) -> int:
-    """GPU memory the LPV stages hold for ``cascades`` grids of ``grid_size``³ cells:
-    per cascade four light grids of three textures (``sh_groups`` texels per cell: 1 for
-    L1, 3 for L2), the audit records, and the geometry volume of ``(N+1)³`` texels when it
-    is on."""
-    n = int(grid_size)
+def texture_bytes(grid_size: int | tuple[int, int, int], cascades: int, grid_format: str,
+                  geometry: bool, sh_groups: int = 1) -> int:
+    """GPU memory the LPV stages hold for ``cascades`` grids of ``grid_size`` cells (one
+    number: a cube; or (nx, ny, nz)): per cascade four light grids of three textures
+    (``sh_groups`` texels per cell: 1 for L1, 3 for L2), the audit records, and the
+    geometry volume of ``(nx+1)(ny+1)(nz+1)`` texels when it is on."""
+    nx, ny, nz = grid_cells(grid_size)
+    cells = nx * ny * nz
     texel = TEXEL_BYTES[grid_format]
-    per_cascade = (GRIDS_PER_CASCADE * 3 * int(sh_groups) * texel * n ** 3
-                   + AUDIT_BYTES_PER_CELL * n ** 3)
+    per_cascade = (GRIDS_PER_CASCADE * 3 * int(sh_groups) * texel * cells
+                   + AUDIT_BYTES_PER_CELL * cells)
     if geometry:
-        per_cascade += texel * (n + 1) ** 3
+        per_cascade += texel * (nx + 1) * (ny + 1) * (nz + 1)
     return int(cascades) * per_cascade
 
 
-def check_limits(grid_size: int, cascades: int, grid_format: str, geometry: bool,
-                 budget_bytes: int, max_texture_units: int, sh_groups: int = 1) -> None:
+def check_limits(grid_size: int | tuple[int, int, int], cascades: int, grid_format: str,
+                 geometry: bool, budget_bytes: int, max_texture_units: int,
+                 sh_groups: int = 1) -> None:
     """A ValueError naming the limit when the cascades do not fit: the texture memory
-    budget, or the fragment shader's texture units (5 + 3 per cascade)."""
-    if cascades > 1 and grid_size < MIN_CASCADE_GRID:
+    budget, or the fragment shader's texture units (5 + 3 per cascade). ``grid_size``:
+    cells, one number (a cube) or (nx, ny, nz)."""
+    shape = grid_cells(grid_size)
+    if cascades > 1 and min(shape) < MIN_CASCADE_GRID:
         raise ValueError(f"cascades need grid_size >= {MIN_CASCADE_GRID} (each cascade must "
-                         f"hold the next finer one), got {grid_size}")
+                         f"hold the next finer one), got {_size_text(grid_size)}")
     needed = texture_bytes(grid_size, cascades, grid_format, geometry, sh_groups)
     if budget_bytes and needed > budget_bytes:
         raise ValueError(
-            f"{cascades} cascade(s) of {grid_size}^3 cells in {grid_format} need "
+            f"{cascades} cascade(s) of {shape_text(shape)} cells in {grid_format} need "
             f"{needed / 2**20:.0f} MiB of LPV textures (4 grids x 3 channels"
             f"{' x 3 texels (L2)' if sh_groups > 1 else ''} + audit"
             f"{' + geometry volume' if geometry else ''} per cascade), more than the "
@@ -242,3 +260,7 @@ def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str,
         "u_cascade_r": units["r"], "u_cascade_g": units["g"], "u_cascade_b": units["b"],
     }
 
+
+
+def _size_text(grid_size: int | tuple[int, int, int]) -> str:
+    return str(grid_size) if np.ndim(grid_size) == 0 else shape_text(grid_size)

@@ -14,7 +14,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from explorer.lpv.cascades import AUDIT_RECORD_BYTES, texture_bytes
+from explorer.lpv.grid import grid_cells, shape_text
 
 DEFAULT_MEMORY_BUDGET = 4 << 30
 """Default limit of one pipeline's memory (GPU textures + host read-back), bytes."""
@@ -58,16 +61,17 @@ def memory_requests(settings, views: int = 1) -> list[Request]:
     images = pixels * ((sum(IMAGE_TEXTURES) + fog) * TEXEL + 4 + 4
                        + (IMAGE_READ_BACK + fog) * TEXEL * 2)
     groups = 3 if s.sh_order == 2 else 1
-    grids = texture_bytes(s.grid_size, s.cascades, s.grid_format, s.geometry_volume != "off",
+    grids = texture_bytes(s.grid_shape, s.cascades, s.grid_format, s.geometry_volume != "off",
                           groups)
     # the accumulation of every cascade is read back too (float32, 4 or 9 coefficients)
-    grids += s.cascades * 3 * s.grid_size ** 3 * 4 * (9 if s.sh_order == 2 else 4) * 2
+    grids += s.cascades * 3 * _count(s.grid_shape) * 4 * (9 if s.sh_order == 2 else 4) * 2
     what = ("RSM textures and their read-back" if views == 1 else
             f"{views} RSM views of several lights: their textures, atlas and read-back")
     return [Request("rsm_size", f"rsm_size {s.rsm_size} ({what})", rsm),
             Request("width", f"{s.width}x{s.height} pixels (G-buffer, gather, fog and "
                              f"display targets and their read-back)", images),
-            Request("grid_size", f"{s.cascades} cascade(s) of {s.grid_size}^3 cells in "
+            Request("grid_cells" if s.grid_cells is not None else "grid_size",
+                    f"{s.cascades} cascade(s) of {shape_text(s.grid_shape)} cells in "
                                  f"{s.grid_format} (light grids, audit records, geometry "
                                  f"volume, read-back)", grids)]
 
@@ -135,25 +139,33 @@ def check_framebuffers(settings, limits: DriverLimits) -> None:
 def check_grid_textures(settings, limits: DriverLimits) -> None:
     """A ValueError when the light grid does not fit the driver's 3D textures."""
     s, largest = settings, limits.max_3d_texture_size
-    if largest and s.grid_size > largest:
-        raise ValueError(f"grid_size {s.grid_size} exceeds this driver's "
+    name = "grid_cells" if s.grid_cells is not None else "grid_size"
+    nx, ny, nz = s.grid_shape
+    if largest and max(nx, ny, nz) > largest:
+        shown = s.grid_size if s.grid_cells is None else shape_text(s.grid_cells)
+        raise ValueError(f"{name} {shown} exceeds this driver's "
                          f"GL_MAX_3D_TEXTURE_SIZE {largest}")
     # L2 stacks its 3 texel groups along z (explorer/lpv/passes/textures.py)
-    if s.sh_order == 2 and largest and 3 * s.grid_size > largest:
-        raise ValueError(f"sh_order 2 stores 3·grid_size = {3 * s.grid_size} texels along z, "
+    if s.sh_order == 2 and largest and 3 * nz > largest:
+        what = "grid_size" if s.grid_cells is None else "nz"
+        raise ValueError(f"sh_order 2 stores 3·{what} = {3 * nz} texels along z, "
                          f"more than this driver's GL_MAX_3D_TEXTURE_SIZE {largest}")
 
 
-def audit_fits(grid_size: int, limits: DriverLimits) -> bool:
-    """Whether the per-cell audit records of a ``grid_size``³ grid fit one shader storage
-    block each (128 MiB on llvmpipe: up to 122³ cells)."""
+def audit_fits(cells: int | tuple[int, int, int], limits: DriverLimits) -> bool:
+    """Whether the per-cell audit records of a grid of ``cells`` (one number: a cube) fit
+    one shader storage block each (128 MiB on llvmpipe: up to 122³ cells)."""
     largest = limits.max_storage_block_bytes
-    return not largest or AUDIT_RECORD_BYTES * int(grid_size) ** 3 <= largest
+    return not largest or AUDIT_RECORD_BYTES * _count(cells) <= largest
 
 
-def audit_skipped_warning(grid_size: int, limits: DriverLimits) -> str:
-    return (f"the per-step energy audit of a {grid_size}^3 grid needs "
-            f"storage blocks of {_mib(AUDIT_RECORD_BYTES * grid_size ** 3)} for its per-cell "
+def _count(cells: int | tuple[int, int, int]) -> int:
+    return int(np.prod(grid_cells(cells)))
+
+
+def audit_skipped_warning(cells: int | tuple[int, int, int], limits: DriverLimits) -> str:
+    return (f"the per-step energy audit of a {shape_text(grid_cells(cells))} grid needs "
+            f"storage blocks of {_mib(AUDIT_RECORD_BYTES * _count(cells))} for its per-cell "
             f"records, more than "
             f"this driver's GL_MAX_SHADER_STORAGE_BLOCK_SIZE "
             f"({_mib(limits.max_storage_block_bytes)}): only the injected and accumulated "

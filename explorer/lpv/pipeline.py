@@ -304,7 +304,7 @@ class Pipeline:
         budget allows (explorer/lpv/limits.py)."""
         check_grid_textures(s, self.limits)
         check_framebuffers(s, self.limits)
-        check_cascade_limits(s.grid_size, s.cascades, s.grid_format,
+        check_cascade_limits(s.grid_shape, s.cascades, s.grid_format,
                              s.geometry_volume != "off", 0, self.limits.max_texture_units,
                              sh_groups=3 if s.sh_order == 2 else 1)
         check_memory(s, self.memory_budget_bytes)

@@ -91,7 +91,22 @@ class Settings:
         32, kind="int", low=1, high=MAX_GRID_SIZE, flag="--grid", widget="combo",
         suggested=(8, 16, 24, 32, 48, 64), label="Grid size (cells³)",
         group="Light propagation volume", stages=("grid",),
-        doc="Cells along each edge of the (each cascade's) grid: N³ cells.")
+        doc="Cells along each edge of the (each cascade's) grid: N³ cells, fitted around "
+            "the scene's box (unless grid_cells, grid_origin and grid_cell_size give an "
+            "exact grid).")
+    grid_cells: tuple[int, int, int] | None = setting(
+        None, kind="int3", optional=True, low=1, high=MAX_GRID_SIZE, flag="--grid-cells",
+        stages=("grid",),
+        doc="An exact grid's cells along x, y, z (with grid_origin and grid_cell_size, all "
+            "three or none): it replaces the fitted grid_size³ cube and the scene file's "
+            "[grid] cells; None = the scene's, else the fitted cube.")
+    grid_origin: tuple[float, float, float] | None = setting(
+        None, kind="point", optional=True, flag="--grid-origin", stages=("grid",),
+        unit="m", doc="An exact grid's minimum corner in world units (with grid_cells).")
+    grid_cell_size: float | None = setting(
+        None, kind="float", optional=True, low=0.0, low_open=True, high=1e6,
+        flag="--grid-cell-size", stages=("grid",), unit="m",
+        doc="An exact grid's cell edge in world units (with grid_cells).")
     iterations: int = setting(
         16, kind="int", low=0, high=MAX_ITERATIONS, flag="--iterations", widget="slider",
         widget_high=64, label="Iterations", group="Light propagation volume",
@@ -343,6 +358,12 @@ class Settings:
 
     def __post_init__(self) -> None:
         validate(self)
+        exact = {"grid_cells": self.grid_cells, "grid_origin": self.grid_origin,
+                 "grid_cell_size": self.grid_cell_size}
+        missing = [name for name, value in exact.items() if value is None]
+        if missing and len(missing) < len(exact):
+            raise SettingError(missing[0], "an exact grid needs grid_cells, grid_origin and "
+                               f"grid_cell_size together (missing: {', '.join(missing)})")
         if self.neighbours == 26:
             c = self.corrections
             missing = [name for name, on in (("ping_pong", c.ping_pong),
@@ -364,6 +385,12 @@ class Settings:
             raise SettingError("bounces", "bounces=2 reflects the light the geometry volume "
                                "blocks, so it needs geometry_volume 'one-sided' or "
                                "'double-sided' (it is 'off')")
+
+    @property
+    def grid_shape(self) -> tuple[int, int, int]:
+        """Cells along x, y, z that the settings ask for: ``grid_cells``, else the fitted
+        ``grid_size``³ cube (a scene file's own exact grid is the scene's)."""
+        return self.grid_cells if self.grid_cells is not None else (self.grid_size,) * 3
 
     @property
     def uses_camera_occluders(self) -> bool:

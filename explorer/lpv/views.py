@@ -72,8 +72,8 @@ def render_view(result, name: str, bounds=None, z: int | None = None,
     if name == "geometry-volume":
         volume = cascade_item(result, "geometry", cascade)
         if volume is None:   # geometry volume off: nothing blocks
-            n = result.grid_spec.resolution + 1
-            return np.zeros((n, n, 3), np.float32)
+            nx, ny, _ = (n + 1 for n in result.grid_spec.cells)
+            return np.zeros((ny, nx, 3), np.float32)
         index = volume.shape[2] // 2 if z is None else int(z)
         blocking = normalise(volume[:, :, index, 0]).T[::-1]
         return np.repeat(np.clip(blocking, 0.0, 1.0)[..., None], 3, axis=2).astype(np.float32)
@@ -117,10 +117,11 @@ def cascade_item(result, what: str, cascade: int | None):
 
 def grid_slice_values(grid: np.ndarray, z: int | None = None, coefficient: int | None = None
                       ) -> np.ndarray:
-    """The numbers the grid-slice view shows, unscaled: one z slice of a ``(3, N, N, N, C)``
-    grid as ``(N, N, 3)`` float32 (rows = y from the top, columns = x), each cell's flux
-    2√π·c0 [W] per colour, or SH coefficient ``coefficient`` [W/sr] when given."""
-    n = grid.shape[1]
+    """The numbers the grid-slice view shows, unscaled: one z slice of a
+    ``(3, nx, ny, nz, C)`` grid as ``(ny, nx, 3)`` float32 (rows = y from the top, columns
+    = x), each cell's flux 2√π·c0 [W] per colour, or SH coefficient ``coefficient`` [W/sr]
+    when given."""
+    n = grid.shape[3]
     index = n // 2 if z is None else int(z)
     if not 0 <= index < n:
         raise ValueError(f"slice z={index} is outside the grid (0..{n - 1})")

@@ -59,6 +59,9 @@ class Scene:
     camera_path: KeyframePath | None = None
     """A camera path (keys ``(eye, target)``, one loop per unit of its parameter): the
     atrium's fly-through."""
+    exact_grid: tuple[tuple[int, int, int], tuple[float, float, float], float] | None = None
+    """``(cells, origin, cell_size)`` of the light grid a scene file gives exactly
+    ([grid] cells, origin, cell_size); None: the grid is fitted around the bounds."""
     pose: tuple[tuple[str, tuple[float, ...]], ...] = ()
     """The object transforms :meth:`posed` applied to this scene's arrays."""
     built: Scene | None = field(default=None, compare=False, repr=False)

@@ -13,6 +13,9 @@ The format (every key but a mesh's ``path`` is optional; docs/SCENES.md shows it
     [grid]                       # the box the light grid encloses (grown to hold
     min = [-2.0, 0.0, -2.0]      # every mesh as placed; the poses move objects, not
     max = [2.0, 2.5, 2.0]        # the box, as the window does; the notice says so)
+    cells = [16, 12, 26]         # or (also) an exact grid, all three together:
+    origin = [-1.6, 0.0, -2.6]   # cells along x, y, z, the minimum corner and the
+    cell_size = 0.2              # cells' edge (world units)
 
     [[meshes]]
     path = "room.glb"            # relative to this file
@@ -67,7 +70,12 @@ from explorer.scene.objects import MAX_SCALE, MIN_SCALE, ObjectTransform, check_
 SCENE_FILE_SUFFIX = ".toml"
 TOP_KEYS = ("name", "builtin", "camera", "grid", "meshes", "lights", "poses")
 CAMERA_KEYS = ("eye", "target", "fov")
-GRID_KEYS = ("min", "max")
+GRID_KEYS = ("min", "max", "cells", "origin", "cell_size")
+GRID_BOX_KEYS = ("min", "max")
+EXACT_GRID_KEYS = ("cells", "origin", "cell_size")
+MAX_GRID_CELLS = 256
+"""Cells along one axis at most (``explorer.lpv.settings.MAX_GRID_SIZE``, which this layer
+does not import)."""
 MESH_KEYS = ("path", "translate", "rotate", "scale", "albedo", "two_sided")
 LIGHT_KEYS = ("kind", "name", "position", "target", "cone", "flux", "irradiance", "colour",
               "on")
@@ -111,6 +119,9 @@ def scene_from_table(data: dict, path: Path) -> Scene:
         base = _meshes(data, path)
     base = replace(base, files=(str(path.resolve()), *base.files))
     bounds = _grid(data.get("grid"), where)
+    exact = _exact_grid(data.get("grid"), where)
+    if exact is not None:
+        base = replace(base, exact_grid=exact)
     grown = ""
     if bounds is not None:
         lo = np.minimum(base.bounds_min, bounds[0])
@@ -218,9 +229,13 @@ def _grid(table: Any, where: str) -> tuple[np.ndarray, np.ndarray] | None:
     if table is None:
         return None
     if not isinstance(table, dict):
-        raise SceneError(f"{where}: grid must be a table [grid] with min and max")
+        raise SceneError(f"{where}: grid must be a table [grid] with min and max (or cells, "
+                         f"origin and cell_size)")
     _known(table, GRID_KEYS, where, "[grid]")
-    if set(table) != set(GRID_KEYS):
+    box = [key for key in GRID_BOX_KEYS if key in table]
+    if not box and any(key in table for key in EXACT_GRID_KEYS):
+        return None                     # an exact grid alone (_exact_grid)
+    if len(box) != len(GRID_BOX_KEYS):
         raise SceneError(f"{where}: [grid] needs both min and max")
     lo = np.asarray(_vector(table, "min", where, "[grid]"))
     hi = np.asarray(_vector(table, "max", where, "[grid]"))
@@ -228,6 +243,30 @@ def _grid(table: Any, where: str) -> tuple[np.ndarray, np.ndarray] | None:
         raise SceneError(f"{where}: [grid] min must be below max on every axis, got min "
                          f"{lo.tolist()} and max {hi.tolist()}")
     return lo, hi
+
+
+def _exact_grid(table: Any, where: str
+                ) -> tuple[tuple[int, int, int], tuple[float, float, float], float] | None:
+    """``(cells, origin, cell_size)`` of [grid] when it gives an exact grid, else None
+    (``_grid`` has checked that it is a table)."""
+    if table is None:
+        return None
+    given = [key for key in EXACT_GRID_KEYS if key in table]
+    if not given:
+        return None
+    missing = [key for key in EXACT_GRID_KEYS if key not in table]
+    if missing:
+        raise SceneError(f"{where}: [grid] gives an exact grid with cells, origin and "
+                         f"cell_size together; missing {', '.join(missing)}")
+    cells = table["cells"]
+    if not isinstance(cells, list) or len(cells) != 3 or not all(
+            isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= MAX_GRID_CELLS
+            for n in cells):
+        raise SceneError(f"{where}: [grid]: cells must be 3 whole numbers in [1, "
+                         f"{MAX_GRID_CELLS}] (cells along x, y, z), got {cells!r}")
+    origin = _vector(table, "origin", where, "[grid]")
+    cell_size = _number(table, "cell_size", where, "[grid]", low=0.0, low_open=True)
+    return (tuple(int(n) for n in cells), tuple(origin), cell_size)
 
 
 def _camera(table: Any, where: str, default: Camera) -> Camera:

@@ -123,8 +123,9 @@ def grid_specs(settings, scene_bounds) -> dict[str, dict]:
     ``frame_specs`` at that size)."""
     from explorer.lpv.cascades import frame_specs
 
-    class _Bounds:
+    class _Bounds:                  # the built-in scenes the page offers: a fitted cube
         bounds_min, bounds_max = scene_bounds
+        exact_grid = None
 
     sizes = sorted(set(GRID_SIZES) | {int(settings.grid_size)})
     specs = {}

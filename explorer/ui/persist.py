@@ -141,7 +141,7 @@ def over_budget(state: AppState) -> str | None:
 
     for side, settings in (("A", state.settings), ("B", state.compare_settings)):
         try:
-            check_limits(settings.grid_size, settings.cascades, settings.grid_format,
+            check_limits(settings.grid_shape, settings.cascades, settings.grid_format,
                          settings.geometry_volume != "off", 0, 0)
             check_memory(settings, DEFAULT_MEMORY_BUDGET)
         except ValueError as exc:

@@ -150,6 +150,36 @@ def test_gather_shader_blends_like_numpy(setup, ctx, model,  # noqa: F811 (fixtu
     assert relative_error(indirect[valid], expected) < TOLERANCE
 
 
+@FILTERS
+@pytest.mark.parametrize("count", [1, 2])
+def test_gather_reads_a_grid_of_any_shape_like_numpy(setup, ctx,  # noqa: F811 (fixture)
+                                                     count, shader_filter):
+    """A 14 × 19 × 11 grid (and two cascades of it) around the gather scene: the GPU's
+    trilinear lookups and blend weights per axis equal the twin's."""
+    _, scene, view, shadow, gbuffer, gather, _, cube = setup
+    single = GridSpec(np.asarray(cube.origin) + (0.1, -0.3, 0.2), 0.9 * cube.cell_size,
+                      (14, 19, 11))
+    specs = cascade_specs(single, count, (0.1, -0.3, 0.05))
+    values = [smooth_grid(single), 0.5 * smooth_grid(single)[:, ::-1].copy()][:count]
+    grids = [LpvGrid(ctx, single.cells) for _ in specs]
+    try:
+        for grid, value in zip(grids, values):
+            grid.write(value)
+        cascades = [CascadeInput(spec, grid.textures) for spec, grid in zip(specs, grids)]
+        with filtering(gather, shader_filter):
+            gather.run(gbuffer, ShadowMaps(shadow, view), SampledGrid(cascades),
+                       GatherInputs())
+        indirect = read_texture(gather.targets["indirect"])[..., :3]
+    finally:
+        for grid in grids:
+            grid.release()
+    points, normals, albedo, valid = visible_points(gbuffer)
+    expected = twin.indirect_radiance(albedo, twin.gather_cascades(
+        values, specs, points, normals))
+    assert np.abs(expected).max() > 0
+    assert relative_error(indirect[valid], expected) < TOLERANCE
+
+
 def test_one_cascade_reproduces_the_single_grid_exactly(gl_context, ctx):   # ctx: no GL errors
     with Pipeline(SMALL, ctx=gl_context) as pipeline:
         one = pipeline.run(SMALL.with_changes(cascades=1))

@@ -157,6 +157,17 @@ BAD_FILES = [
     ("builtin = 'cornell'\n[grid]\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n",
      "min must be below max"),
     ("builtin = 'cornell'\n[grid]\nmin = [0, 0, 0]\n", "[grid] needs both min and max"),
+    ("builtin = 'cornell'\n[grid]\ncells = [7, 12, 5]\norigin = [0, 0, 0]\n",
+     "[grid] gives an exact grid with cells, origin and cell_size together; missing "
+     "cell_size"),
+    ("builtin = 'cornell'\n[grid]\ncells = [7, 12]\norigin = [0, 0, 0]\ncell_size = 0.1\n",
+     "[grid]: cells must be 3 whole numbers in [1, 256]"),
+    ("builtin = 'cornell'\n[grid]\ncells = [7, 1.5, 5]\norigin = [0, 0, 0]\ncell_size = 1\n",
+     "[grid]: cells must be 3 whole numbers"),
+    ("builtin = 'cornell'\n[grid]\ncells = [7, 12, 5]\norigin = [0, 0]\ncell_size = 0.1\n",
+     "[grid]: origin must be 3 numbers"),
+    ("builtin = 'cornell'\n[grid]\ncells = [7, 12, 5]\norigin = [0, 0, 0]\ncell_size = 0\n",
+     "[grid]: cell_size must be a number in (0, 1e+06]"),
     ("builtin = 'cornell'\n[[lights]]\nkind = 'laser'\nposition = [0, 0, 0]\n",
      "kind must be one of spot, point, directional, got 'laser'"),
     ("builtin = 'cornell'\n[[lights]]\nkind = 'spot'\nposition = [0, 0, 0]\n",
@@ -196,6 +207,47 @@ def test_scene_file_mistakes_are_one_line_scene_errors(tmp_path, text, message):
         load_scene(str(path))
     assert message in str(info.value)
     assert "\n" not in str(info.value) and str(path) in str(info.value)
+
+
+EXACT_GRID = """
+builtin = "cornell"
+[grid]
+cells = [7, 12, 5]
+origin = [-1.6, -0.2, -1.3]
+cell_size = 0.25
+"""
+
+
+def test_a_scene_file_gives_an_exact_grid_the_command_line_overrides(gl_context, tmp_path):
+    path = tmp_path / "exact.toml"
+    path.write_text(EXACT_GRID)
+    scene = load_scene(str(path))
+    assert scene.exact_grid == ((7, 12, 5), (-1.6, -0.2, -1.3), 0.25)
+    small = {**SMALL, "scene": str(path), "iterations": 2}
+    frame = run_frame(gl_context, Settings(**small))
+    assert frame.grid_spec.cells == (7, 12, 5) and frame.grid_spec.cell_size == 0.25
+    assert frame.grid_spec.origin == (-1.6, -0.2, -1.3)
+    assert frame.accumulated.shape[1:4] == (7, 12, 5)
+    assert np.isfinite(frame.final_image).all() and frame.accumulated[..., 0].max() > 0
+    given = Settings(**small, grid_cells=(5, 6, 7), grid_origin=(-1.0, 0.0, -1.0),
+                     grid_cell_size=0.3)
+    frame = run_frame(gl_context, given)
+    assert frame.grid_spec.cells == (5, 6, 7) and frame.grid_spec.origin == (-1.0, 0.0, -1.0)
+
+
+def test_the_command_takes_an_exact_grid(tmp_path, capsys):
+    out = tmp_path / "exact.png"
+    args = ["render", "--size", "32x24", "--grid", "8", "--iterations", "2", "--rsm-size", "64",
+            "--out", str(out)]
+    assert main(args + ["--grid-cells", "7,12,5", "--grid-origin", "-1.6,-0.2,-1.3",
+                        "--grid-cell-size", "0.25"]) == 0
+    assert out.exists()
+    assert main(args + ["--grid-cells", "7,12,5"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "grid_cells, grid_origin and grid_cell_size together" \
+        in err
+    assert main(args + ["--grid-cells", "7,12"]) == 2
+    assert "grid_cells must be three whole numbers" in capsys.readouterr().err
 
 
 def test_the_command_refuses_a_bad_scene_file_in_one_line(tmp_path, capsys):

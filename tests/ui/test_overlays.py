@@ -534,3 +534,21 @@ def test_an_edited_overlay_shader_is_reloaded_and_redrawn(frame, compositor, mon
     compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
     assert compositor.compositions == drawn + 1
     assert compositor.programs.errors == {}
+
+
+@pytest.mark.parametrize("axis", ["x", "y", "z"])
+def test_overlays_follow_each_axis_of_a_grid_of_any_shape(axis):
+    """On a 3 × 5 × 2 grid the slice quad, lattice, glyph cells and box span each axis's
+    own cells."""
+    spec = GridSpec((0.0, 0.0, 0.0), 0.5, (3, 5, 2))
+    a, u, v = Q.plane_axes(axis)
+    corner, edge_u, edge_v = Q.plane_corners(spec, axis, 0)
+    assert edge_u[u] == 0.5 * spec.cells[u] and edge_v[v] == 0.5 * spec.cells[v]
+    lattice = Q.lattice_segments(spec, axis, 0)
+    assert len(lattice) == spec.cells[u] + spec.cells[v] + 2
+    cells, stride = Q.glyph_cells(OverlayState(slice_axis=axis, glyph_stride=1), spec)
+    assert stride == 1 and len(cells) == spec.cells[u] * spec.cells[v]
+    assert np.all(cells[:, a] == Q.slice_layer(OverlayState(), spec.cells[a]))
+    assert np.all(spec.inside(cells))
+    assert Q.layers_along(spec, axis) == spec.cells[a]
+    assert np.allclose(Q.grid_box(spec).reshape(-1, 3).max(0), [1.5, 2.5, 1.0])

@@ -11,6 +11,7 @@ import numpy as np
 from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import CellAudit
+from explorer.lpv.grid import grid_cells, shape_text
 from explorer.lpv.passes.textures import LpvGrid
 
 AUDIT_VALUES = 18
@@ -44,7 +45,7 @@ class AuditReducer:
         self.programs = programs
         self._buffers: dict[str, moderngl.Buffer] = {}
         self._slots = 0
-        self._resolution = 0
+        self._cells = (1, 1, 1)
         self.generation = 0
         """Counts :meth:`begin` calls: the per-cell records of a propagation are current
         while it has not changed (:class:`CellAuditRecords`)."""
@@ -61,19 +62,24 @@ class AuditReducer:
     @property
     def partial_count(self) -> int:
         """Partial records per slot."""
-        return min(-(-self._resolution ** 3 // 64), MAX_PARTIALS)
+        return min(-(-self._cell_count // 64), MAX_PARTIALS)
 
-    def begin(self, resolution: int, slots: int, cell_records: bool = True) -> None:
-        """Prepare ``slots`` zeroed result slots for a ``resolution``³ grid, and the
-        per-cell records of a propagation step when ``cell_records``."""
-        self._resolution = int(resolution)
+    @property
+    def _cell_count(self) -> int:
+        return self._cells[0] * self._cells[1] * self._cells[2]
+
+    def begin(self, cells: int | tuple[int, int, int], slots: int,
+              cell_records: bool = True) -> None:
+        """Prepare ``slots`` zeroed result slots for a grid of ``cells`` (one number: a
+        cube), and the per-cell records of a propagation step when ``cell_records``."""
+        self._cells = grid_cells(cells)
         self._slots = int(slots)
         self.generation += 1
         self.has_records = bool(cell_records)
         # every slot is measured once before read(): no clearing needed
         self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
         if cell_records:
-            size = self._resolution ** 3 * AUDIT_VALUES * 4
+            size = self._cell_count * AUDIT_VALUES * 4
             self._buffer("cells", size)
             self._buffer("cell_sums", size).clear(size=size)
         self._buffer("results", self._slots * AUDIT_VALUES * 4)
@@ -98,7 +104,7 @@ class AuditReducer:
         """(18,) float64: cell ``linear``'s record of the last step (quantity-major: one
         read of 4 bytes per number)."""
         self.ctx.memory_barrier()
-        cells = self._resolution ** 3
+        cells = self._cell_count
         buffer = self._buffers["cells"]
         return np.array([np.frombuffer(buffer.read(size=4, offset=(i * cells + int(linear))
                                                    * 4), np.float32)[0]
@@ -111,7 +117,7 @@ class AuditReducer:
         if not bound:
             self.bind()
         program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
-        set_uniforms(program, {**uniforms, "u_grid_resolution": self._resolution,
+        set_uniforms(program, {**uniforms, "u_grid_cells": self._cells,
                                "u_partial_count": self.partial_count,
                                "u_result_slot": slot})
         program.run(-(-self.partial_count // 64))
@@ -120,9 +126,9 @@ class AuditReducer:
     def measure_flux(self, slot: int, grid: LpvGrid, bound: bool = False) -> None:
         """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs);
         ``bound``: :meth:`bind`'s buffers are still bound."""
-        if grid.resolution != self._resolution:
-            raise ValueError(f"audit prepared for {self._resolution}^3 cells, the grid has "
-                             f"{grid.resolution}^3")
+        if grid.cells != self._cells:
+            raise ValueError(f"audit prepared for {shape_text(self._cells)} cells, the grid "
+                             f"has {shape_text(grid.cells)}")
         grid.use_as_textures(0)
         self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}, bound)
 
@@ -174,10 +180,11 @@ class CellAuditRecords:
     later propagation overwrites them, after which :meth:`read` returns None (the frame
     that showed them is out of date)."""
 
-    def __init__(self, reducer: AuditReducer, resolution: int, steps: int) -> None:
+    def __init__(self, reducer: AuditReducer, cells: int | tuple[int, int, int],
+                 steps: int) -> None:
         self._reducer = reducer
         self._generation = reducer.generation
-        self.resolution = int(resolution)
+        self.cells = grid_cells(cells)
         self.steps = int(steps)
         self._cache: dict[tuple[int, int, int], tuple[CellAudit, CellAudit | None]] = {}
 
@@ -191,14 +198,14 @@ class CellAuditRecords:
         cell (i, j, k); None when the records were overwritten or released. An IndexError
         names a cell outside the grid."""
         index = tuple(int(v) for v in cell)
-        n = self.resolution
-        if len(index) != 3 or not all(0 <= v < n for v in index):
-            raise IndexError(f"cell {index} is outside the {n}^3 grid")
+        n = self.cells
+        if len(index) != 3 or not all(0 <= v < m for v, m in zip(index, n)):
+            raise IndexError(f"cell {index} is outside the {shape_text(n)} grid")
         if index in self._cache:
             return self._cache[index]
         if not self.current:
             return None
-        linear = index[0] + n * (index[1] + n * index[2])
+        linear = index[0] + n[0] * (index[1] + n[1] * index[2])
         sums = self._reducer.read_cell_sums(linear)
         last = self._reducer.read_cell_terms(linear) if self.steps else None
         record = (CellAudit.from_record(sums),

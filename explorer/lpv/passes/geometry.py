@@ -16,7 +16,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.corrections import uniforms_read_by
-from explorer.lpv.grid import GridSpec
+from explorer.lpv.grid import GridSpec, grid_cells, shape_text
 from explorer.lpv.passes.inject import bind_vpl_textures, vpl_count
 from explorer.lpv.passes.light_records import LightRecordBuffer
 from explorer.lpv.passes.rsm import LightView
@@ -81,30 +81,39 @@ class CameraSurfels:
 
 
 class GeometryVolume:
-    """One RGBA 3D texture of L1 SH blocking, ``(N+1)³`` texels for an ``N³`` light grid:
-    texel ``j`` is centred on the light grid's corner ``j``. A second texture of the same
+    """One RGBA 3D texture of L1 SH blocking, ``(nx+1)×(ny+1)×(nz+1)`` texels for an
+    ``nx×ny×nz`` light grid (``cells``; one number: a cube): texel ``j`` is centred on the
+    light grid's corner ``j``. A second texture of the same
     size, ``albedo``, holds Σ (A/cell_size²)·(a_r, a_g, a_b, 1) of the cell's surfels
     (docs/MODEL.md "More bounces"); it stays zero where no albedo was injected."""
 
-    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f") -> None:
-        if int(resolution) < 1:
-            raise ValueError(f"resolution must be at least 1, got {resolution}")
-        self.resolution = int(resolution)
-        self.volume = VolumeTexture(ctx, self.resolution + 1, fmt)
+    def __init__(self, ctx: moderngl.Context, cells: int | Sequence[int],
+                 fmt: str = "rgba32f") -> None:
+        self.cells = grid_cells(cells)
+        corners = tuple(n + 1 for n in self.cells)
+        self.volume = VolumeTexture(ctx, corners, fmt)
         self.texture: moderngl.Texture3D = self.volume.texture
-        self.albedo = VolumeTexture(ctx, self.resolution + 1, fmt)
+        self.albedo = VolumeTexture(ctx, corners, fmt)
         self.albedo.clear()
+
+    @property
+    def resolution(self) -> int:
+        """Cells per axis of the light grid when it is a cube; a ValueError otherwise."""
+        if len(set(self.cells)) != 1:
+            raise ValueError(f"this needs a cubic grid (N x N x N cells), the grid has "
+                             f"{shape_text(self.cells)}")
+        return self.cells[0]
 
     @property
     def format(self) -> str:
         return self.volume.format
 
     def read(self) -> np.ndarray:
-        """float32 ``(N+1, N+1, N+1, 4)``."""
+        """float32 ``(nx+1, ny+1, nz+1, 4)``."""
         return self.volume.read()
 
     def read_albedo(self) -> np.ndarray:
-        """float32 ``(N+1, N+1, N+1, 4)``: area-weighted albedo sums and areas."""
+        """float32 ``(nx+1, ny+1, nz+1, 4)``: area-weighted albedo sums and areas."""
         return self.albedo.read()
 
     def write(self, volume: np.ndarray, albedo: np.ndarray | None = None) -> None:
@@ -145,14 +154,14 @@ class GeometryPass:
         ``out``."""
         if mode not in GEOMETRY_MODES:
             raise ValueError(f"geometry mode must be one of {GEOMETRY_MODES}, got {mode!r}")
-        if out.resolution != spec.resolution:
-            raise ValueError(f"the geometry volume belongs to a {out.resolution}^3 grid but "
-                             f"the grid spec has {spec.resolution}^3 cells")
+        if out.cells != spec.cells:
+            raise ValueError(f"the geometry volume belongs to a {shape_text(out.cells)} grid "
+                             f"but the grid spec has {shape_text(spec.cells)} cells")
         if vpls is None and camera is None:
             raise ValueError("the geometry pass needs VPLs, camera surfels or both")
-        size = spec.resolution + 1
+        size = tuple(n + 1 for n in spec.cells)
         layers = self._layers
-        if layers is None or layers.size != size or layers.format != out.format:
+        if layers is None or layers.shape != size or layers.format != out.format:
             if layers is not None:
                 layers.release()
             layers = self._layers = LayeredTarget(self.ctx, size, 2, out.format)
@@ -212,8 +221,8 @@ def merge_volumes(programs: ProgramCache, merged: GeometryVolume,
     coefficient (the surfels' area there) is larger wins, with its albedo sums; with
     ``add``, ``view`` is added instead (the camera occluders' surfels, which no view holds)
     (``shaders/geometry_merge.glsl``). Units 0 and 1 hold ``view`` while it runs."""
-    if merged.resolution != view.resolution or merged.format != view.format:
-        raise ValueError("merged geometry volumes must have one resolution and format")
+    if merged.cells != view.cells or merged.format != view.format:
+        raise ValueError("merged geometry volumes must have one shape and format")
     program = programs.get("geometry_merge.glsl", {**image_format_defines(merged.format),
                                                    "MERGE_ADD": int(add)})
     view.volume.texture.use(0)
@@ -257,11 +266,11 @@ class MergedGeometryPass:
 
     def _scratch_like(self, volume: GeometryVolume) -> GeometryVolume:
         scratch = self._scratch
-        if scratch is None or scratch.resolution != volume.resolution or \
+        if scratch is None or scratch.cells != volume.cells or \
                 scratch.format != volume.format:
             if scratch is not None:
                 scratch.release()
-            scratch = self._scratch = GeometryVolume(self.ctx, volume.resolution,
+            scratch = self._scratch = GeometryVolume(self.ctx, volume.cells,
                                                      volume.format)
         return scratch
 
@@ -286,16 +295,17 @@ def merged_volume_reference(volumes: list[np.ndarray]) -> np.ndarray:
 def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
                     mode: str = "one-sided", ctx: moderngl.Context | None = None,
                     fmt: str = "rgba32f", with_albedo: bool = False):
-    """Geometry-volume injection on the GPU from VPL arrays: float32 ``(N+1, N+1, N+1, 4)``;
+    """Geometry-volume injection on the GPU from VPL arrays: float32
+    ``(nx+1, ny+1, nz+1, 4)``;
     with ``with_albedo`` the pair (volume, albedo sums) (see :class:`GeometryVolume`)."""
     if not isinstance(vpls, VplArrays):
         raise TypeError(f"vpls must be a VplArrays, got {type(vpls).__name__}")
     corrections = corrections or Corrections()
     ctx = ctx or default_context()
     if vpls.count == 0:
-        empty = np.zeros((spec.resolution + 1,) * 3 + (4,), np.float32)
+        empty = np.zeros(tuple(n + 1 for n in spec.cells) + (4,), np.float32)
         return (empty, empty.copy()) if with_albedo else empty
-    volume = GeometryVolume(ctx, spec.resolution, fmt)
+    volume = GeometryVolume(ctx, spec.cells, fmt)
     textures = VplTextures.from_arrays(ctx, vpls)
     try:
         injector = per_context(ctx, "geometry", lambda: GeometryPass(ctx, programs_for(ctx)))

@@ -19,7 +19,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.corrections import uniforms_read_by
-from explorer.lpv.grid import GridSpec
+from explorer.lpv.grid import GridSpec, shape_text
 from explorer.lpv.passes.textures import (
     LayeredTarget,
     LpvGrid,
@@ -70,9 +70,9 @@ class InjectPass:
         check_offset_cells(offset_cells)
         if mode not in INJECTION_MODES:
             raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
-        if out.resolution != spec.resolution:
-            raise ValueError(f"the output grid has {out.resolution}^3 cells but the grid "
-                             f"spec has {spec.resolution}^3")
+        if out.cells != spec.cells:
+            raise ValueError(f"the output grid has {shape_text(out.cells)} cells but the "
+                             f"grid spec has {shape_text(spec.cells)}")
         uniforms = {**spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
                     "u_injection_offset": float(offset_cells) * spec.cell_size}
         if mode == "points":
@@ -81,9 +81,9 @@ class InjectPass:
             self._inject_compute(vpls, uniforms, out)
 
     def _inject_points(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:
-        n, depth = out.resolution, out.groups * out.resolution
+        n, depth = out.cells, out.groups * out.cells[2]
         layers = self._layers
-        if layers is None or layers.size != n or layers.depth != depth or \
+        if layers is None or layers.shape != n[:2] + (depth,) or \
                 layers.format != out.format:
             if layers is not None:
                 layers.release()
@@ -95,8 +95,8 @@ class InjectPass:
             copy_volume(self.programs, stack, volume)
 
     def _inject_compute(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:
-        n, count = out.resolution, vpl_count(vpls)
-        self._heads = _sized_buffer(self.ctx, self._heads, 4 * n ** 3)
+        n, count = out.cells, vpl_count(vpls)
+        self._heads = _sized_buffer(self.ctx, self._heads, 4 * n[0] * n[1] * n[2])
         self._links = _sized_buffer(self.ctx, self._links, 4 * count)
         self._heads.clear()  # 0 = empty list
         self._heads.bind_to_storage_buffer(0)
@@ -145,7 +145,7 @@ def _sized_buffer(ctx: moderngl.Context, buffer: moderngl.Buffer | None,
 def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
            mode: str = "points", ctx: moderngl.Context | None = None,
            fmt: str = "rgba32f", offset_cells: float = 0.0, sh_order: int = 1) -> np.ndarray:
-    """Inject VPL arrays on the GPU and return the grid as float32 ``(3, N, N, N, C)``,
+    """Inject VPL arrays on the GPU and return the grid as float32 ``(3, nx, ny, nz, C)``,
     C = 4 (``sh_order`` 1, L1) or 9 (``sh_order`` 2, L2).
 
     ``ctx`` None uses a headless context created on first use. VPLs outside the grid are
@@ -158,10 +158,10 @@ def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = No
         raise TypeError(f"spec must be a GridSpec, got {type(spec).__name__}")
     corrections = corrections or Corrections()
     ctx = ctx or default_context()
-    grid = LpvGrid(ctx, spec.resolution, fmt, sh_order)
+    grid = LpvGrid(ctx, spec.cells, fmt, sh_order)
     try:
         if vpls.count == 0:
-            return np.zeros((3,) + (spec.resolution,) * 3 + (grid.coefficients,), np.float32)
+            return np.zeros((3,) + spec.cells + (grid.coefficients,), np.float32)
         textures = VplTextures.from_arrays(ctx, vpls)
         try:
             injector = per_context(ctx, "inject", lambda: InjectPass(ctx, programs_for(ctx)))

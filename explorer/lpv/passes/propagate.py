@@ -12,7 +12,7 @@ from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
-from explorer.lpv.grid import GridSpec
+from explorer.lpv.grid import GridSpec, grid_cells, shape_text
 from explorer.lpv.neighbours import check_neighbours
 from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
 from explorer.lpv.passes.geometry import GeometryVolume
@@ -72,15 +72,17 @@ class PropagatePass:
         self.audit = AuditReducer(ctx, programs)
         self._grids: dict[str, LpvGrid] = {}
 
-    def scratch_grid(self, name: str, resolution: int, fmt: str, sh_order: int) -> LpvGrid:
-        """The pass's own grid ``name`` (accumulation, ping, pong) of this size, format
+    def scratch_grid(self, name: str, cells: int | tuple[int, int, int], fmt: str,
+                     sh_order: int) -> LpvGrid:
+        """The pass's own grid ``name`` (accumulation, ping, pong) of these cells, format
         and order, kept between runs and made anew when any of them changes."""
+        cells = grid_cells(cells)
         grid = self._grids.get(name)
-        if grid is None or grid.resolution != resolution or grid.format != fmt or \
+        if grid is None or grid.cells != cells or grid.format != fmt or \
                 grid.sh_order != sh_order:
             if grid is not None:
                 grid.release()
-            grid = self._grids[name] = LpvGrid(self.ctx, resolution, fmt, sh_order)
+            grid = self._grids[name] = LpvGrid(self.ctx, cells, fmt, sh_order)
         return grid
 
     def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
@@ -92,19 +94,19 @@ class PropagatePass:
         (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
         The injected grid's ``sh_order`` selects L1 or L2 propagation; ``neighbours`` 26
         propagates to all 26 neighbours (docs/MODEL.md "26 neighbours")."""
-        n = spec.resolution
+        n = spec.cells
         check_neighbours(neighbours, corrections, bounces)
         if bounces not in (1, 2) or isinstance(bounces, bool):
             raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
         if bounces == 2 and geometry is None:
             raise ValueError("bounces=2 reflects the light the geometry volume blocks: pass "
                              "a geometry volume")
-        if injected.resolution != n:
-            raise ValueError(f"the injected grid has {injected.resolution}^3 cells but the "
-                             f"grid spec has {n}^3")
-        if geometry is not None and geometry.resolution != n:
-            raise ValueError(f"the geometry volume belongs to a {geometry.resolution}^3 grid, "
-                             f"the light grid has {n}^3 cells")
+        if injected.cells != n:
+            raise ValueError(f"the injected grid has {shape_text(injected.cells)} cells but "
+                             f"the grid spec has {shape_text(n)}")
+        if geometry is not None and geometry.cells != n:
+            raise ValueError(f"the geometry volume belongs to a {shape_text(geometry.cells)} "
+                             f"grid, the light grid has {shape_text(n)} cells")
         if int(iterations) != iterations or iterations < 0:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
         return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
@@ -168,15 +170,16 @@ SLAB_CELLS = 32 ** 3
 the 4-layer workgroup): a 64³ step is 8 units, each a few frames' budget on llvmpipe."""
 
 
-def slabs(resolution: int, slab_cells: int | None = None) -> list[tuple[int, int]]:
-    """z ranges ``(first, end)`` of the slabs one step of a ``resolution``³ grid is
-    dispatched in: ``slab_cells`` (default :data:`SLAB_CELLS`) / N² layers each, rounded
-    down to a multiple of 4 (the workgroup's depth, so no cell is in two slabs), at
-    least 4."""
-    n = int(resolution)
+def slabs(cells: int | tuple[int, int, int], slab_cells: int | None = None
+          ) -> list[tuple[int, int]]:
+    """z ranges ``(first, end)`` of the slabs one step of a grid of ``cells`` (one number:
+    a cube) is dispatched in: ``slab_cells`` (default :data:`SLAB_CELLS`) / (nx·ny) layers
+    each, rounded down to a multiple of 4 (the workgroup's depth, so no cell is in two
+    slabs), at least 4."""
+    nx, ny, nz = grid_cells(cells)
     slab_cells = SLAB_CELLS if slab_cells is None else int(slab_cells)
-    depth = max(4, slab_cells // (n * n) // 4 * 4)
-    return [(z, min(z + depth, n)) for z in range(0, n, depth)]
+    depth = max(4, slab_cells // (nx * ny) // 4 * 4)
+    return [(z, min(z + depth, nz)) for z in range(0, nz, depth)]
 
 
 class PropagationRun:
@@ -190,7 +193,7 @@ class PropagationRun:
     def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
                  corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
                  keep_steps: bool, bounces: int, audit: str, neighbours: int = 6) -> None:
-        n, fmt, order = spec.resolution, injected.format, injected.sh_order
+        n, fmt, order = spec.cells, injected.format, injected.sh_order
         self._owner = owner
         self._corrections = corrections
         self._geometry = geometry
@@ -333,7 +336,7 @@ class PropagationRun:
 
     def _output(self, sums: np.ndarray) -> PropagationOutput:
         audit = self._owner.audit
-        records = (CellAuditRecords(audit, self.accumulated.resolution, self.iterations)
+        records = (CellAuditRecords(audit, self.accumulated.cells, self.iterations)
                    if self._with_audit else None)
         return PropagationOutput(accumulated=self.accumulated, steps=self.steps,
                                  audit=grid_audit(sums, self.iterations, self._mode,
@@ -394,13 +397,13 @@ class BaselinePropagatePass:
     def run(self, injected: LpvGrid, spec: GridSpec, iterations: int,
             geometry: GeometryVolume | None = None) -> LpvGrid:
         """acc_N of ``iterations`` steps (owned by the pass, valid until its next run)."""
-        n, fmt = spec.resolution, injected.format
+        n, fmt = spec.cells, injected.format
         if injected.sh_order != 1:
             raise ValueError("the baseline propagation is L1 only (sh_order 1)")
         grids = {}
         for name in ("ping", "pong", "accumulated"):
             grid = self._grids.get(name)
-            if grid is None or grid.resolution != n or grid.format != fmt:
+            if grid is None or grid.cells != n or grid.format != fmt:
                 if grid is not None:
                     grid.release()
                 grid = self._grids[name] = LpvGrid(self.ctx, n, fmt)
@@ -409,7 +412,7 @@ class BaselinePropagatePass:
         copy_grid(self.programs, injected, accumulated)
         program = self.programs.get("propagate_minimal.glsl", {
             **image_format_defines(fmt), "PROPAGATE_GEOMETRY": int(geometry is not None)})
-        set_uniforms(program, {"u_grid_resolution": n, "u_source_r": 0, "u_source_g": 1,
+        set_uniforms(program, {"u_grid_cells": n, "u_source_r": 0, "u_source_g": 1,
                                "u_source_b": 2, "u_geometry": self.GEOMETRY_UNIT})
         groups = dispatch_size(n)
         source = injected
@@ -439,14 +442,16 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
     ``grid`` (4 or 9 coefficients) selects L1 or L2.
-    ``geometry_albedo``: the geometry volume's ``(N+1)³×4`` albedo sums (``bounces`` 2).
+    ``grid``: ``(3, nx, ny, nz, C)``, any shape (the grid's cells are of size 1 at the
+    origin). ``geometry``, ``geometry_albedo``: the geometry volume's
+    ``(nx+1, ny+1, nz+1, 4)`` blocking and albedo sums (``bounces`` 2).
     ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`);
     ``neighbours``: 6 or 26 (docs/MODEL.md "26 neighbours")."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
-        raise ValueError(f"grid must have shape (3, N, N, N, 4) or (3, N, N, N, 9), got "
-                         f"{grid.shape}")
-    n = grid.shape[1]
+        raise ValueError(f"grid must have shape (3, nx, ny, nz, 4) or (3, nx, ny, nz, 9), "
+                         f"got {grid.shape}")
+    n = tuple(int(v) for v in grid.shape[1:4])
     order = sh_order_of(grid.shape[4])
     grid = check_volume_array(grid, n, "grid", channels=3, coefficients=grid.shape[4])
     corrections = corrections or Corrections()
@@ -458,9 +463,10 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
         injected.write(grid)
         if geometry is not None:
             volume = GeometryVolume(ctx, n, fmt)
-            volume.write(check_volume_array(geometry, n + 1, "geometry"),
+            corners = tuple(v + 1 for v in n)
+            volume.write(check_volume_array(geometry, corners, "geometry"),
                          None if geometry_albedo is None else
-                         check_volume_array(geometry_albedo, n + 1, "geometry_albedo"))
+                         check_volume_array(geometry_albedo, corners, "geometry_albedo"))
         propagator = per_context(ctx, "propagate",
                                  lambda: PropagatePass(ctx, programs_for(ctx)))
         output = propagator.run(injected, spec, corrections, iterations, volume,

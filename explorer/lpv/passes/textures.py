@@ -2,10 +2,10 @@
 
 Numpy layout everywhere is ``(channel, x, y, z, coefficient)``; a 3D texture stores texel
 ``(x, y, z)`` with x running fastest, so uploads transpose to ``(z, y, x, coefficient)``.
-L1 (``sh_order`` 1): 4 coefficients, one ``N³`` texture per channel. L2 (``sh_order`` 2):
-9 coefficients in 3 groups of 4 (the last holds coefficient 8 and three zeros), stacked
-along z in one ``N×N×3N`` texture per channel: group k of cell (x, y, z) is texel
-(x, y, z + k·N) (``shaders/sh_grid.glsl``; docs/MODEL.md "L2 option").
+L1 (``sh_order`` 1): 4 coefficients, one ``nx×ny×nz`` texture per channel. L2
+(``sh_order`` 2): 9 coefficients in 3 groups of 4 (the last holds coefficient 8 and three
+zeros), stacked along z in one ``nx×ny×3nz`` texture per channel: group k of cell
+(x, y, z) is texel (x, y, z + k·nz) (``shaders/sh_grid.glsl``; docs/MODEL.md "L2 option").
 Also the lazily created default context and program cache of the numpy-facing API.
 """
 
@@ -18,6 +18,7 @@ import numpy as np
 
 from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.lpv.grid import grid_cells, shape_text
 from explorer.lpv.settings import GRID_FORMATS
 
 _TEXTURE_DTYPES = {"rgba32f": "f4", "rgba16f": "f2"}
@@ -52,13 +53,13 @@ def check_format(fmt: str) -> str:
     return fmt
 
 
-def check_volume_array(array: np.ndarray, resolution: int, name: str,
+def check_volume_array(array: np.ndarray, cells: int | Sequence[int], name: str,
                        channels: int | None = None, coefficients: int = 4) -> np.ndarray:
-    """``array`` as float32 if it is shaped ``(channels, n, n, n, coefficients)`` (or
-    ``(n, n, n, coefficients)`` when ``channels`` is None) with ``n == resolution``; a
-    ValueError stating the expected shape otherwise."""
+    """``array`` as float32 if it is shaped ``(channels, nx, ny, nz, coefficients)`` (or
+    ``(nx, ny, nz, coefficients)`` when ``channels`` is None) with ``(nx, ny, nz) == cells``
+    (one number: a cube); a ValueError stating the expected shape otherwise."""
     array = np.asarray(array)
-    expected = (resolution,) * 3 + (coefficients,)
+    expected = grid_cells(cells) + (coefficients,)
     if channels is not None:
         expected = (channels,) + expected
     if array.shape != expected:
@@ -67,17 +68,18 @@ def check_volume_array(array: np.ndarray, resolution: int, name: str,
 
 
 class VolumeTexture:
-    """One RGBA float 3D texture of ``size × size × depth`` texels (``depth`` defaults to
-    ``size``) with numpy ``(x, y, z, 4)`` access."""
+    """One RGBA float 3D texture of ``sx × sy × depth`` texels (``size``: one number, a
+    cube, or ``(sx, sy, sz)``; ``depth`` replaces ``sz``) with numpy ``(x, y, z, 4)``
+    access."""
 
-    def __init__(self, ctx: moderngl.Context, size: int, fmt: str = "rgba32f",
+    def __init__(self, ctx: moderngl.Context, size: int | Sequence[int], fmt: str = "rgba32f",
                  depth: int | None = None) -> None:
         self.ctx = ctx
-        self.size = int(size)
-        self.depth = self.size if depth is None else int(depth)
+        sx, sy, sz = grid_cells(size)
+        self.cells = (sx, sy, sz)
+        self.depth = sz if depth is None else int(depth)
         self.format = check_format(fmt)
-        self.texture = ctx.texture3d((self.size, self.size, self.depth), 4,
-                                     dtype=_TEXTURE_DTYPES[fmt])
+        self.texture = ctx.texture3d((sx, sy, self.depth), 4, dtype=_TEXTURE_DTYPES[fmt])
         # Linear filtering for the final gather's trilinear lookups (where the texture
         # unit's weights are exact, see sh_grid.glsl); clamp to the edge so the border
         # cells do not blend with the opposite side.
@@ -87,7 +89,7 @@ class VolumeTexture:
     @property
     def shape(self) -> tuple[int, int, int]:
         """Texels along x, y, z."""
-        return self.size, self.size, self.depth
+        return self.cells[0], self.cells[1], self.depth
 
     def read(self) -> np.ndarray:
         return self.texels(np.frombuffer(self.texture.read(), dtype=_NUMPY_DTYPES[self.format]))
@@ -95,18 +97,18 @@ class VolumeTexture:
     def read_later(self, read: DeferredRead) -> None:
         """Copy the texels into ``read`` without waiting (explorer/gl/gpu_sync.py);
         :meth:`texels` of its array gives what :meth:`read` does."""
-        read.issue(self.texture, (self.depth, self.size, self.size, 4),
+        read.issue(self.texture, self.shape[::-1] + (4,),
                    _NUMPY_DTYPES[self.format])
 
     def texels(self, data: np.ndarray) -> np.ndarray:
         """float32 ``(x, y, z, 4)`` from the texture's bytes as GL lays them out."""
-        return np.asarray(data).reshape((self.depth, self.size, self.size, 4)).transpose(
+        return np.asarray(data).reshape(self.shape[::-1] + (4,)).transpose(
             2, 1, 0, 3).astype(np.float32)
 
     def write(self, volume: np.ndarray) -> None:
         volume = np.asarray(volume)
-        if self.depth == self.size:
-            volume = check_volume_array(volume, self.size, "volume")
+        if self.depth == self.cells[2]:
+            volume = check_volume_array(volume, self.cells, "volume")
         elif volume.shape != self.shape + (4,):
             raise ValueError(f"volume must have shape {self.shape + (4,)}, got {volume.shape}")
         texels = np.ascontiguousarray(volume.transpose(2, 1, 0, 3), _NUMPY_DTYPES[self.format])
@@ -127,34 +129,40 @@ class LpvGrid:
     """Three 3D textures (r, g, b channel) of SH radiant intensity [W/sr] (docs/MODEL.md
     "Notation and storage"): L1 (``sh_order`` 1), each texel = 4 coefficients; L2
     (``sh_order`` 2), 9 coefficients per cell in 3 texel groups stacked along z (module
-    docstring)."""
+    docstring). ``cells``: ``(nx, ny, nz)``, or one number for a cube."""
 
-    def __init__(self, ctx: moderngl.Context, resolution: int, fmt: str = "rgba32f",
+    def __init__(self, ctx: moderngl.Context, cells: int | Sequence[int], fmt: str = "rgba32f",
                  sh_order: int = 1) -> None:
-        if int(resolution) < 1:
-            raise ValueError(f"resolution must be at least 1, got {resolution}")
         self.ctx = ctx
-        self.resolution = int(resolution)
+        self.cells = grid_cells(cells)
         self.format = check_format(fmt)
         self.sh_order = check_sh_order(sh_order)
         self.coefficients = SH_COEFFICIENTS[self.sh_order]
         self.groups = SH_GROUPS[self.sh_order]
-        self.volumes = tuple(VolumeTexture(ctx, self.resolution, fmt,
-                                           depth=self.groups * self.resolution)
+        self.volumes = tuple(VolumeTexture(ctx, self.cells, fmt,
+                                           depth=self.groups * self.cells[2])
                              for _ in range(3))
         self.textures: tuple[moderngl.Texture3D, moderngl.Texture3D, moderngl.Texture3D] = (
             tuple(volume.texture for volume in self.volumes))
+
+    @property
+    def resolution(self) -> int:
+        """Cells per axis of a cubic grid; a ValueError for another shape."""
+        if len(set(self.cells)) != 1:
+            raise ValueError(f"this needs a cubic grid (N x N x N cells), the grid has "
+                             f"{shape_text(self.cells)}")
+        return self.cells[0]
 
     def clear(self) -> None:
         for volume in self.volumes:
             volume.clear()
 
     def read(self) -> np.ndarray:
-        """float32 ``(3, N, N, N, C)`` = (channel, x, y, z, coefficient), C = 4 (L1) or 9."""
+        """float32 ``(3, nx, ny, nz, C)`` = (channel, x, y, z, coefficient), C = 4 (L1) or 9."""
         return np.stack([self.read_channel(c) for c in range(3)])
 
     def read_channel(self, channel: int) -> np.ndarray:
-        """float32 ``(N, N, N, C)``: colour channel ``channel`` (0 r, 1 g, 2 b)."""
+        """float32 ``(nx, ny, nz, C)``: colour channel ``channel`` (0 r, 1 g, 2 b)."""
         return self._coefficients(self.volumes[channel].read())
 
     def read_later(self, reads: Sequence[DeferredRead]) -> None:
@@ -170,13 +178,13 @@ class LpvGrid:
                          for volume, read in zip(self.volumes, reads)])
 
     def _coefficients(self, texels: np.ndarray) -> np.ndarray:
-        """``(N, N, N, C)`` from one channel's ``(N, N, groups·N, 4)`` texels."""
-        n = self.resolution
+        """``(nx, ny, nz, C)`` from one channel's ``(nx, ny, groups·nz, 4)`` texels."""
+        n = self.cells[2]
         groups = [texels[:, :, k * n:(k + 1) * n] for k in range(self.groups)]
         return np.concatenate(groups, axis=-1)[..., :self.coefficients]
 
     def write(self, grid: np.ndarray) -> None:
-        grid = check_volume_array(grid, self.resolution, "grid", channels=3,
+        grid = check_volume_array(grid, self.cells, "grid", channels=3,
                                   coefficients=self.coefficients)
         padding = 4 * self.groups - self.coefficients
         for volume, channel in zip(self.volumes, grid):
@@ -221,18 +229,19 @@ def sh_defines(sh_order: int) -> dict[str, int]:
 
 
 class LayeredTarget:
-    """``count`` layered 2D-array render targets of ``size``³ texels: points drawn with
-    ``gl_Layer = z`` land in texel ``(x, y, z)``. moderngl refuses a 3D texture as a
-    framebuffer attachment, so the point passes render here and :func:`copy_volume` moves
-    each layer stack into its 3D texture. ``depth`` layers
-    (default ``size``)."""
+    """``count`` layered 2D-array render targets of ``sx × sy × sz`` texels (``size``: one
+    number, a cube, or three): points drawn with ``gl_Layer = z`` land in texel
+    ``(x, y, z)``. moderngl refuses a 3D texture as a framebuffer attachment, so the point
+    passes render here and :func:`copy_volume` moves each layer stack into its 3D texture.
+    ``depth`` layers replace ``sz``."""
 
-    def __init__(self, ctx: moderngl.Context, size: int, count: int, fmt: str,
+    def __init__(self, ctx: moderngl.Context, size: int | Sequence[int], count: int, fmt: str,
                  depth: int | None = None) -> None:
-        self.size = int(size)
-        self.depth = self.size if depth is None else int(depth)
+        sx, sy, sz = grid_cells(size)
+        self.shape = (sx, sy, sz if depth is None else int(depth))
+        self.depth = self.shape[2]
         self.format = check_format(fmt)
-        self.layers = [ctx.texture_array((self.size, self.size, self.depth), 4,
+        self.layers = [ctx.texture_array(self.shape, 4,
                                          dtype=_TEXTURE_DTYPES[fmt])
                        for _ in range(count)]
         for layers in self.layers:

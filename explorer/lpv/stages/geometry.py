@@ -60,7 +60,7 @@ class Stage(StageBase):
         host.timer.reset("geometry")
         warnings = []
         for k, (level, spec) in enumerate(zip(levels, state.specs)):
-            volume = level.geometry_volume(spec.resolution, p.grid_format)
+            volume = level.geometry_volume(spec.cells, p.grid_format)
             host.timer.timed("geometry", lambda: self.geometry.run(
                 occluders, spec, p.corrections, p.mode, volume, camera), accumulate=True)
             level.geometry = volume.read()

@@ -50,7 +50,7 @@ class Stage(StageBase):
         levels = self.levels()
         host.timer.reset("inject")
         for k, (level, spec) in enumerate(zip(levels, specs)):
-            grid = level.grid(spec.resolution, p.grid_format, p.sh_order)
+            grid = level.grid(spec.cells, p.grid_format, p.sh_order)
             host.timer.timed("inject", lambda: self.inject.run(
                 host.light_views.vpl_textures, spec, p.corrections, p.mode, grid,
                 p.offset_cells), accumulate=True)

@@ -79,11 +79,11 @@ class Stage(StageBase):
         """The steps of every level together (each step is one or more slabs)."""
         return max(1, sum(Params.of(job.settings, len(self.state.specs)).steps))
 
-    def audit_mode(self, job: Job, resolution: int) -> str:
-        """The audit mode a ``resolution``³ level propagates with for ``job``: the one it
+    def audit_mode(self, job: Job, cells: tuple[int, int, int]) -> str:
+        """The audit mode a level of ``cells`` propagates with for ``job``: the one it
         asks for, but ``flux`` for ``full`` when the per-cell records do not fit this
         driver's storage blocks (:func:`audit_fits`; the flux needs no records)."""
-        if job.need_audit == "full" and not audit_fits(resolution, self.host.limits):
+        if job.need_audit == "full" and not audit_fits(cells, self.host.limits):
             return "flux"
         return job.need_audit
 
@@ -96,7 +96,7 @@ class Stage(StageBase):
             if job.keep_steps and output.steps is None:
                 return False
             if not audit_covers(output.audit.mode,
-                                self.audit_mode(job, level.injected.resolution)):
+                                self.audit_mode(job, level.injected.cells)):
                 return False
         return True
 
@@ -113,7 +113,7 @@ class Stage(StageBase):
         p = Params.of(job.settings, len(levels))
         timed = host.timer.timed
         host.timer.reset("propagate")
-        audit = [self.audit_mode(job, spec.resolution) for spec in specs]
+        audit = [self.audit_mode(job, spec.cells) for spec in specs]
         # every unit but the last level's read-back is followed by another
         try:
             for k, (level, spec) in enumerate(zip(levels, specs)):
@@ -147,7 +147,7 @@ class Stage(StageBase):
                     level_pass_name("propagate", k, len(levels)), [level.accumulated],
                     job.settings)
                 if audit[k] != job.need_audit:
-                    warnings.append(audit_skipped_warning(specs[k].resolution,
+                    warnings.append(audit_skipped_warning(specs[k].cells,
                                                           host.limits))
                 if k < len(levels) - 1:
                     yield sum(p.steps)

@@ -30,7 +30,7 @@ import numpy as np
 
 from explorer.lpv.audit import GridAudit
 from explorer.lpv.cascades import blend_weights
-from explorer.lpv.grid import GridSpec
+from explorer.lpv.grid import GridSpec, shape_text
 from explorer.lpv.neighbours import check_neighbours
 from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, INJECTION_MODES, Corrections
 from explorer.lpv.vpl import VplArrays
@@ -169,10 +169,10 @@ def face_weights(corrections: Corrections) -> tuple[float, float]:
 
 def _check_grid(grid: np.ndarray) -> np.ndarray:
     grid = np.asarray(grid, np.float64)
-    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] not in (4, 9) or not (
-            grid.shape[1] == grid.shape[2] == grid.shape[3]):
-        raise ValueError(f"grid must have shape (3, N, N, N, 4) (L1) or (3, N, N, N, 9) "
-                         f"(L2), got {grid.shape}")
+    if grid.ndim != 5 or grid.shape[0] != 3 or grid.shape[4] not in (4, 9) or \
+            min(grid.shape[1:4]) < 1:
+        raise ValueError(f"grid must have shape (3, nx, ny, nz, 4) (L1) or "
+                         f"(3, nx, ny, nz, 9) (L2), got {grid.shape}")
     return grid
 
 
@@ -181,14 +181,15 @@ def grid_sh_order(grid: np.ndarray) -> int:
     return 1 if np.shape(grid)[-1] == 4 else 2
 
 
-def _check_geometry(geometry: np.ndarray | None, resolution: int) -> np.ndarray | None:
+def _check_geometry(geometry: np.ndarray | None, cells: tuple[int, int, int]
+                    ) -> np.ndarray | None:
     if geometry is None:
         return None
     geometry = np.asarray(geometry, np.float64)
-    expected = (resolution + 1,) * 3 + (4,)
+    expected = tuple(int(n) + 1 for n in cells) + (4,)
     if geometry.shape != expected:
-        raise ValueError(f"geometry must have shape {expected} for a {resolution}^3 grid, "
-                         f"got {geometry.shape}")
+        raise ValueError(f"geometry must have shape {expected} for a {shape_text(cells)} "
+                         f"grid, got {geometry.shape}")
     return geometry
 
 
@@ -216,8 +217,7 @@ def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = No
     if mode not in INJECTION_MODES:
         raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
     corrections = corrections or Corrections()
-    n = spec.resolution
-    grid = np.zeros((3, n, n, n, SH_COEFFICIENTS[_order(sh_order)]))
+    grid = np.zeros((3, *spec.cells, SH_COEFFICIENTS[_order(sh_order)]))
     cells = spec.cell_index(injection_positions(vpls, spec, offset_cells))
     keep = spec.inside(cells)
     ix, iy, iz = cells[keep].T
@@ -231,14 +231,14 @@ def inject(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = No
 
 def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | None = None,
                     mode: str = "one-sided") -> np.ndarray:
-    """Geometry volume (N+1)³×4: each surfel adds A/cell_size²·lobe(n) (one-sided) or
+    """Geometry volume (nx+1)×(ny+1)×(nz+1)×4: each surfel adds A/cell_size²·lobe(n) (one-sided) or
     A/cell_size²·(lobe(n)+lobe(−n)) to the geometry cell centred on the light-grid corner
     nearest to it, i.e. cell round(g)."""
     if mode not in GEOMETRY_VOLUME_MODES or mode == "off":
         raise ValueError(f"geometry mode must be 'one-sided' or 'double-sided', got {mode!r}")
     corrections = corrections or Corrections()
-    size = spec.resolution + 1
-    volume = np.zeros((size, size, size, 4))
+    size = np.asarray(spec.cells) + 1
+    volume = np.zeros((*size, 4))
     cells = np.floor(spec.grid_coords(vpls.positions) + 0.5).astype(np.int64)
     keep = np.all((cells >= 0) & (cells < size), axis=1)
     normals = np.asarray(vpls.normals, np.float64)[keep]
@@ -252,12 +252,12 @@ def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | 
 
 def inject_geometry_albedo(vpls: VplArrays, spec: GridSpec,
                            corrections: Corrections | None = None) -> np.ndarray:
-    """(N+1)³×4 albedo sums of the geometry volume: each surfel adds
+    """(nx+1)×(ny+1)×(nz+1)×4 albedo sums of the geometry volume: each surfel adds
     A/cell_size²·(a_r, a_g, a_b, 1) to the same geometry cell as in
     :func:`inject_geometry` (zeros when the VPLs carry no albedo)."""
     corrections = corrections or Corrections()
-    size = spec.resolution + 1
-    sums = np.zeros((size, size, size, 4))
+    size = np.asarray(spec.cells) + 1
+    sums = np.zeros((*size, 4))
     if vpls.albedo is None:
         return sums
     cells = np.floor(spec.grid_coords(vpls.positions) + 0.5).astype(np.int64)
@@ -289,12 +289,12 @@ def _faces(axis: int, sign: int, side_faces: bool) -> list[tuple[np.ndarray, np.
 
 
 def _face_blockers(geometry: np.ndarray, axis: int, sign: int) -> np.ndarray:
-    """(N, N, N, 4): for every source cell s, the mean geometry SH of the face it shares
+    """(nx, ny, nz, 4): for every source cell s, the mean geometry SH of the face it shares
     with s + sign·e_axis (corners s_axis + 1 for sign > 0, s_axis for sign < 0)."""
-    n = geometry.shape[0] - 1
     moved = np.moveaxis(geometry, axis, 0)
-    layer = moved[1:] if sign > 0 else moved[:n]
-    mean = 0.25 * (layer[:, :n, :n] + layer[:, 1:, :n] + layer[:, :n, 1:] + layer[:, 1:, 1:])
+    layer = moved[1:] if sign > 0 else moved[:-1]
+    mean = 0.25 * (layer[:, :-1, :-1] + layer[:, 1:, :-1] + layer[:, :-1, 1:]
+                   + layer[:, 1:, 1:])
     return np.moveaxis(mean, 0, axis)
 
 
@@ -322,7 +322,7 @@ computes it (:func:`propagation_step_cells`)."""
 
 def _check_step_inputs(grid, geometry, geometry_albedo, bounces):
     grid = _check_grid(grid)
-    n = grid.shape[1]
+    n = grid.shape[1:4]
     geometry = _check_geometry(geometry, n)
     if bounces not in (1, 2):
         raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
@@ -348,14 +348,15 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
     face leaving the grid, its border loss, and the light reflected back and blocked, to
     the source cell."""
     order = grid_sh_order(grid)
-    n = grid.shape[1]
+    shape = grid.shape[1:4]
+    n = shape[axis]
     front_weight, side_weight = face_weights(corrections)
     delivered = np.zeros_like(grid)
     reflected_back = np.zeros_like(grid)
-    cells = {name: np.zeros((3, n, n, n)) for name in AUDIT_TERMS if name != "propagated"}
+    cells = {name: np.zeros((3, *shape)) for name in AUDIT_TERMS if name != "propagated"}
     propagated = np.zeros(3)
     blockers = None if geometry is None else _face_blockers(geometry, axis, sign)
-    blocked = np.zeros((3, n, n, n))   # flux the volume takes, per source cell
+    blocked = np.zeros((3, *shape))   # flux the volume takes, per source cell
     # Sources whose neighbour along the direction is inside, and those neighbours.
     inside = [slice(None)] * 3
     shifted = [slice(None)] * 3
@@ -379,7 +380,7 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
         raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
         used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) else raw
         if blockers is None:
-            visibility = np.ones((n, n, n))
+            visibility = np.ones(shape)
         else:
             # blocking of light travelling along e_f hits surfels facing -e_f
             visibility = 1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0)
@@ -430,14 +431,13 @@ def outer_faces_26(offset: tuple[int, int, int]) -> list[tuple[np.ndarray, np.nd
 
 
 def _shared_corner_blockers(geometry: np.ndarray, offset: tuple[int, int, int]) -> np.ndarray:
-    """(N, N, N, 4): for every source cell s, the mean geometry SH over the corners s shares
-    with s + offset (4 for a face neighbour: :func:`_face_blockers`; 2 for an edge, 1 for a
-    corner neighbour)."""
-    n = geometry.shape[0] - 1
+    """(nx, ny, nz, 4): for every source cell s, the mean geometry SH over the corners s
+    shares with s + offset (4 for a face neighbour: :func:`_face_blockers`; 2 for an edge,
+    1 for a corner neighbour)."""
     parts = [geometry]
     for axis, o in enumerate(offset):
-        picks = [slice(1, n + 1)] if o > 0 else [slice(0, n)] if o < 0 else [
-            slice(0, n), slice(1, n + 1)]
+        picks = [slice(1, None)] if o > 0 else [slice(0, -1)] if o < 0 else [
+            slice(0, -1), slice(1, None)]
         parts = [part[(slice(None),) * axis + (pick,)] for part in parts for pick in picks]
     return sum(parts) / len(parts)
 
@@ -449,18 +449,18 @@ def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Co
     outer faces (the 26-neighbour step): delivered light, audit terms per cell (booked as
     :func:`_direction_step` books them) and the ``propagated`` flux (3,)."""
     order = grid_sh_order(grid)
-    n = grid.shape[1]
+    shape = grid.shape[1:4]
     scale = (reprojection_factor(corrections) * injection_factor(corrections)
              * propagation_factor(corrections))
     delivered = np.zeros_like(grid)
-    cells = {name: np.zeros((3, n, n, n)) for name in AUDIT_TERMS if name != "propagated"}
+    cells = {name: np.zeros((3, *shape)) for name in AUDIT_TERMS if name != "propagated"}
     propagated = np.zeros(3)
     blockers = None if geometry is None else _shared_corner_blockers(geometry, offset)
     source = tuple(slice(0, n - 1) if o > 0 else slice(1, n) if o < 0 else slice(None)
-                   for o in offset)
+                   for o, n in zip(offset, shape))
     target = tuple(slice(1, n) if o > 0 else slice(0, n - 1) if o < 0 else slice(None)
-                   for o in offset)
-    stays = np.zeros((n, n, n), bool)
+                   for o, n in zip(offset, shape))
+    stays = np.zeros(shape, bool)
     stays[source] = True
     every, to_target = (slice(None), *source), (slice(None), *target)
     for evaluation, reprojection, angle, is_front in outer_faces_26(offset):
@@ -469,7 +469,7 @@ def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Co
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)
         used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) else raw
-        visibility = np.ones((n, n, n)) if blockers is None else (
+        visibility = np.ones(shape) if blockers is None else (
             1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0))
         sent = weight * used * visibility
         delivered[to_target] += sent[every][..., None] * lobe
@@ -528,8 +528,7 @@ def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neig
     grid, geometry, geometry_albedo = _check_step_inputs(grid, geometry, geometry_albedo,
                                                          bounces)
     out = np.zeros_like(grid)
-    n = grid.shape[1]
-    cells = {name: np.zeros((3, n, n, n)) for name in CELL_TERMS}
+    cells = {name: np.zeros((3, *grid.shape[1:4])) for name in CELL_TERMS}
     propagated = np.zeros(3)
     for offset in (OFFSETS_26 if neighbours == 26 else ()):
         delivered, direction_cells, direction_propagated = _offset_step(
@@ -641,11 +640,11 @@ def propagate(grid: np.ndarray, corrections: Corrections | None = None, iteratio
 
 
 def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndarray:
-    """Trilinear lookup of a (3, N, N, N, K) grid (K = 4 or 9) at world points (P, 3) ->
+    """Trilinear lookup of a (3, nx, ny, nz, K) grid (K = 4 or 9) at world points (P, 3) ->
     (3, P, K): texel centres at ``i + ½``, clamped to the edge (docs/MODEL.md "Final
     gather"; every coefficient group of an L2 grid clamps to the grid's own edge)."""
     grid = np.asarray(grid, np.float64)
-    n = spec.resolution
+    last = np.asarray(spec.cells) - 1
     u = spec.grid_coords(np.asarray(points, np.float64)) - 0.5
     base = np.floor(u).astype(np.int64)
     frac = u - base
@@ -653,7 +652,7 @@ def sample_grid(grid: np.ndarray, spec: GridSpec, points: np.ndarray) -> np.ndar
     for corner in np.ndindex(2, 2, 2):
         offset = np.array(corner)
         weight = np.prod(np.where(offset == 1, frac, 1.0 - frac), axis=1)
-        ix, iy, iz = np.clip(base + offset, 0, n - 1).T
+        ix, iy, iz = np.clip(base + offset, 0, last).T
         out += weight[None, :, None] * grid[:, ix, iy, iz, :]
     return out
 

@@ -315,7 +315,7 @@ class Compositor:
         specs = result.cascade_specs or [result.grid_spec]
         cascade = int(np.clip(overlays.cascade, 0, len(specs) - 1))
         spec = specs[cascade]
-        layer = Q.slice_layer(overlays, spec.resolution)
+        layer = Q.slice_layer(overlays, Q.layers_along(spec, overlays.slice_axis))
         if overlays.glyphs:
             self._glyphs(layers, result, overlays, vp, notes)
         self._wireframes(layers, specs, overlays, spec, layer, vp)
@@ -373,7 +373,7 @@ class Compositor:
             notes.append(f"slice: {exc}")
             return
         field = layers.field = layers.field_cache
-        layer = Q.slice_layer(o, field.spec.resolution)
+        layer = Q.slice_layer(o, Q.layers_along(field.spec, o.slice_axis))
         if layers.stale("slice", field, o.slice_axis, layer):
             layers.slice.upload(Q.slice_values(field.values, o.slice_axis, layer))
         corner, edge_u, edge_v = Q.plane_corners(field.spec, o.slice_axis, layer)

@@ -82,7 +82,7 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
         except ValueError:
             spec = None
         if spec is not None:
-            layer = Q.slice_layer(o, spec.resolution)
+            layer = Q.slice_layer(o, Q.layers_along(spec, o.slice_axis))
             cell = slice_hit(result, spec, o.slice_axis, layer, *pixel, on_top=o.slice_on_top)
             if cell is not None:
                 compositor = state.runtime.services.compositor
@@ -196,7 +196,7 @@ def _slice_wheel(state: AppState) -> None:
         step = -1
     result = state.runtime.frame.result
     if step and o.slice and result is not None:
-        n = result.grid_spec.resolution
+        n = Q.layers_along(result.grid_spec, o.slice_axis)
         o.slice_index = min(max(Q.slice_layer(o, n) + step, 0), n - 1)
 
 

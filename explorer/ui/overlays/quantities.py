@@ -167,6 +167,11 @@ def _label(overlays: OverlayState, name: str, direction: np.ndarray) -> str:
     return f"{name}: SH coefficient {quantity[2:]} [W/sr]"
 
 
+def layers_along(spec: GridSpec, axis: str) -> int:
+    """Cell layers of ``spec`` along the slice axis ``axis`` (x, y or z)."""
+    return int(spec.cells[SLICE_AXES.index(axis)])
+
+
 def slice_layer(overlays: OverlayState, resolution: int) -> int:
     """The cell layer the slice cuts (slice_index −1: the middle one), clamped."""
     index = overlays.slice_index if overlays.slice_index >= 0 else resolution // 2
@@ -194,7 +199,7 @@ def plane_corners(spec: GridSpec, axis: str, layer: int) -> tuple[np.ndarray, np
     corner = np.asarray(spec.origin, np.float64).copy()
     corner[a] += (layer + 0.5) * spec.cell_size
     edge_u, edge_v = np.zeros(3), np.zeros(3)
-    edge_u[u] = edge_v[v] = spec.extent
+    edge_u[u], edge_v[v] = spec.extents[u], spec.extents[v]
     return corner, edge_u, edge_v
 
 
@@ -259,7 +264,7 @@ def glyph_cells(overlays: OverlayState, spec: GridSpec) -> tuple[np.ndarray, int
     """(cell indices (G, 3), stride) of the glyphs: every ``stride``-th cell of the slice
     layer (the middle cell of each stride block), or the cell holding the picked point and
     its neighbours."""
-    resolution = spec.resolution
+    cells_per_axis = np.asarray(spec.cells)
     if overlays.glyph_cells == "picked":
         point = overlays.picked_point
         if point is None:
@@ -269,13 +274,13 @@ def glyph_cells(overlays: OverlayState, spec: GridSpec) -> tuple[np.ndarray, int
         offsets = np.stack(np.meshgrid(*[np.arange(-r, r + 1)] * 3, indexing="ij"),
                            -1).reshape(-1, 3)
         cells = centre + offsets
-        return cells[np.all((cells >= 0) & (cells < resolution), axis=1)], 1
-    stride = glyph_stride(overlays, resolution)
+        return cells[np.all((cells >= 0) & (cells < cells_per_axis), axis=1)], 1
+    stride = glyph_stride(overlays, int(cells_per_axis.max()))
     a, u, v = plane_axes(overlays.slice_axis)
-    steps = np.arange(stride // 2, resolution, stride)
-    iu, iv = np.meshgrid(steps, steps, indexing="ij")
+    iu, iv = np.meshgrid(np.arange(stride // 2, cells_per_axis[u], stride),
+                         np.arange(stride // 2, cells_per_axis[v], stride), indexing="ij")
     cells = np.zeros((iu.size, 3), np.int64)
-    cells[:, a] = slice_layer(overlays, resolution)
+    cells[:, a] = slice_layer(overlays, int(cells_per_axis[a]))
     cells[:, u], cells[:, v] = iu.ravel(), iv.ravel()
     return cells, stride
 
@@ -465,7 +470,7 @@ def box_segments(lo, hi) -> np.ndarray:
 
 def grid_box(spec: GridSpec) -> np.ndarray:
     lo = np.asarray(spec.origin, np.float64)
-    return box_segments(lo, lo + spec.extent)
+    return box_segments(lo, lo + spec.extents)
 
 
 def cell_box(spec: GridSpec, cell) -> np.ndarray:
@@ -474,10 +479,13 @@ def cell_box(spec: GridSpec, cell) -> np.ndarray:
 
 
 def lattice_segments(spec: GridSpec, axis: str, layer: int) -> np.ndarray:
-    """(2(N+1), 2, 3) cell borders on the slice plane (through the layer's centres)."""
+    """(n_u + 1 + n_v + 1, 2, 3) cell borders on the slice plane (through the layer's
+    centres)."""
     corner, edge_u, edge_v = plane_corners(spec, axis, layer)
-    n = spec.resolution
-    steps = np.arange(n + 1) / n
-    along_v = [(corner + s * edge_u, corner + s * edge_u + edge_v) for s in steps]
-    along_u = [(corner + s * edge_v, corner + s * edge_v + edge_u) for s in steps]
+    _, u, v = plane_axes(axis)
+    n_u, n_v = spec.cells[u], spec.cells[v]
+    along_v = [(corner + s * edge_u, corner + s * edge_u + edge_v)
+               for s in np.arange(n_u + 1) / n_u]
+    along_u = [(corner + s * edge_v, corner + s * edge_v + edge_u)
+               for s in np.arange(n_v + 1) / n_v]
     return np.asarray(along_v + along_u, np.float64)

@@ -111,7 +111,7 @@ def _cell_picker(state: AppState, result) -> None:
         return
     changed, ijk = imgui.input_int3("Cell i, j, k", list(index))
     if changed:
-        new = np.clip(ijk, 0, spec.resolution - 1)
+        new = np.clip(ijk, 0, np.asarray(spec.cells) - 1)
         o.pick("cell", o.picked_side, o.picked_cascade, spec.cell_centre(new))
 
 

@@ -102,7 +102,7 @@ def _slice_controls(state: AppState, result, specs) -> None:
             o.slice_axis = axis
         imgui.same_line()
     imgui.text("axis")
-    n = specs[min(o.cascade, len(specs) - 1)].resolution
+    n = Q.layers_along(specs[min(o.cascade, len(specs) - 1)], o.slice_axis)
     widgets.fit_next_item("Layer")
     changed, layer = imgui.slider_int("Layer", Q.slice_layer(o, n), 0, n - 1)
     if changed:
@@ -152,7 +152,7 @@ def _glyph_controls(state: AppState, result) -> None:
     _, o.glyph_scale = imgui.slider_float("Glyph size", o.glyph_scale, 0.1, 4.0, "%.2f",
                                           imgui.SliderFlags_.logarithmic)
     if o.glyph_cells == "slice":
-        n = result.grid_spec.resolution
+        n = max(result.grid_spec.cells)
         automatic = Q.auto_glyph_stride(n)
         widgets.fit_next_item("Every k-th cell")
         _, o.glyph_stride = imgui.slider_int("Every k-th cell", o.glyph_stride, 0, 8,

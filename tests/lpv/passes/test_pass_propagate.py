@@ -156,14 +156,14 @@ def test_pass_object_keeps_steps_only_when_asked_and_returns_the_accumulation(ct
 
 
 def test_bad_input_is_named(ctx):
-    with pytest.raises(ValueError, match=r"\(3, N, N, N, 4\)"):
+    with pytest.raises(ValueError, match=r"\(3, nx, ny, nz, 4\)"):
         propagate(np.zeros((8, 8, 8, 4)), ctx=ctx)
     with pytest.raises(ValueError, match=r"\(9, 9, 9, 4\)"):
         propagate(np.zeros((3, 8, 8, 8, 4)), geometry=np.zeros((8, 8, 8, 4)), ctx=ctx)
     with pytest.raises(ValueError, match="iterations"):
         propagate(np.zeros((3, 4, 4, 4, 4)), iterations=-1, ctx=ctx)
-    with pytest.raises(ValueError, match=r"\(3, N, N, N, 4\)"):
-        twin.propagate(np.zeros((3, 4, 4, 5, 4)))
+    with pytest.raises(ValueError, match=r"\(3, nx, ny, nz, 4\)"):
+        twin.propagate(np.zeros((3, 4, 4, 5, 5)))        # 5 coefficients: neither L1 nor L2
     with pytest.raises(ValueError, match=r"\(5, 5, 5, 4\)"):
         twin.propagate(np.zeros((3, 4, 4, 4, 4)), geometry=np.zeros((4, 4, 4, 4)))
     volume = GeometryVolume(ctx, 4)
