@@ -418,10 +418,56 @@ def _click_view(app, rec: Recorder, fraction: float) -> None:
     rec.frame()
 
 
-def soak(minutes: float, grid: int) -> dict:
+SOAK_RSS_SLACK = 0.10
+"""How far resident memory may rise after the warm-up above the warm-up pass's peak
+(malloc's arenas and llvmpipe's JIT move it by tens of MiB from step to step)."""
+
+
+def _selected_steps(wanted: str | None) -> list[tuple[str, int]]:
+    """The course's steps in order, or those of ``wanted`` (``LESSON:STEP,...``, e.g.
+    ``01:1,03:2``; a lesson id, number or file stem, as the lesson panel opens it)."""
+    steps = _lesson_steps()
+    if not wanted:
+        return steps
+    chosen = []
+    for item in wanted.split(","):
+        lesson, _, number = item.strip().partition(":")
+        chosen.append((lesson, int(number or 1)))
+    return chosen
+
+
+def growth(warm: list[dict], later: list[dict]) -> list[str]:
+    """What grew after the warm-up (the soak's rule, module docstring): at the end of a
+    later pass a GL object count above the warm-up pass's end (the same step, after the
+    same course), after any later step a count above the warm-up pass's highest, or
+    resident memory above the warm-up pass's peak by more than :data:`SOAK_RSS_SLACK`.
+    ``warm``: one record per step of the warm-up pass; ``later``: the records after it."""
+    problems = []
+    peak = max(record["rss_mib"] for record in warm)
+    highest = {kind: max(record["gl"][kind] for record in warm) for kind in warm[0]["gl"]}
+    last = len(warm) - 1
+    for record in later:
+        where = f"pass {record['pass']} step {record['step']}"
+        for kind, count in record["gl"].items():
+            if record["position"] == last and count > warm[last]["gl"][kind]:
+                problems.append(f"{where} (the pass's end): {kind} {count}, "
+                                f"{warm[last]['gl'][kind]} at the warm-up's end")
+            elif count > highest[kind]:
+                problems.append(f"{where}: {kind} {count}, at most {highest[kind]} "
+                                f"in the warm-up")
+        if record["rss_mib"] > peak * (1.0 + SOAK_RSS_SLACK):
+            problems.append(f"{where}: resident memory {record['rss_mib']:.0f} MiB, over "
+                            f"the warm-up's peak {peak:.0f} MiB by more than "
+                            f"{SOAK_RSS_SLACK:.0%}")
+    return problems
+
+
+def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
     """The soak (module docstring): one round per lesson step, each round also changing
-    the grid, cascades, view, buffer and one correction, picking a pixel and (every
-    fifth round) measuring the error."""
+    the grid, cascades, view, buffer and one correction by the step's place in the
+    course (so every pass repeats the first), picking a pixel and (every fifth step)
+    measuring the error. The first pass is the warm-up; passes follow until ``minutes``
+    have gone by after it, at least one whole pass."""
     from dataclasses import fields
 
     from explorer.ui import camera
@@ -435,11 +481,11 @@ def soak(minutes: float, grid: int) -> dict:
         modes = ("single", "split", "difference")
         buffers = ("final", "direct", "indirect", "albedo")
         names = [entry.name for entry in fields(app.state.settings.corrections)]
-        steps = _lesson_steps()
+        steps = _selected_steps(wanted)
         session = session_of(app.state)
 
         def cycle(step: int) -> None:
-            lesson_id, number = steps[step % len(steps)]
+            lesson_id, number = steps[step]
             session.open(lesson_id)
             session.go(number)
             show_screen(app.state, session.apply(current_screen(app.state)))
@@ -470,26 +516,48 @@ def soak(minutes: float, grid: int) -> dict:
                         break
                 service.lesson_wants = False
 
-        for step in range(len(modes) * len(buffers)):      # warm-up
-            cycle(step)
-        start = {"rss_mib": resident_mib(), "gl": gl_objects()}
         began = time.monotonic()
-        samples = [{"minute": 0.0, "rss_mib": start["rss_mib"], "gl": start["gl"]}]
-        step = 0
-        while time.monotonic() - began < minutes * 60.0:
-            step += 1
-            cycle(step)
-            if time.monotonic() - began >= 60.0 * len(samples):
-                sample = {"minute": round((time.monotonic() - began) / 60.0, 2),
-                          "rss_mib": resident_mib(), "gl": gl_objects()}
-                samples.append(sample)
-                print(f"soak {sample['minute']:5.1f} min  {sample['rss_mib']:6.0f} MiB  "
-                      + "  ".join(f"{kind} {count}" for kind, count in sample["gl"].items()),
-                      file=sys.stderr, flush=True)
-        end = {"rss_mib": resident_mib(), "gl": gl_objects()}
-        return {"minutes": minutes, "cycles": step, "frames": rec.frames, "start": start,
-                "end": end, "rss_mib_by_minute": [(s["minute"], s["rss_mib"]) for s in samples],
-                "samples": samples}
+        samples: list[dict] = []
+        records: list[dict] = []
+
+        def sample(phase: str) -> None:
+            entry = {"minute": round((time.monotonic() - began) / 60.0, 2), "phase": phase,
+                     "rss_mib": resident_mib(), "gl": gl_objects()}
+            samples.append(entry)
+            print(f"soak {entry['minute']:5.1f} min {phase:<8} {entry['rss_mib']:6.0f} MiB  "
+                  + "  ".join(f"{kind} {count}" for kind, count in entry["gl"].items()),
+                  file=sys.stderr, flush=True)
+
+        sample("start")
+        passes, warm_end = 0, None
+        while passes < 2 or time.monotonic() - warm_end < minutes * 60.0:
+            passes += 1
+            for position in range(len(steps)):
+                cycle(position)
+                lesson_id, number = steps[position]
+                records.append({"pass": passes, "position": position,
+                                "step": f"{lesson_id}:{number}",
+                                "rss_mib": resident_mib(), "gl": gl_objects()})
+                phase = "warm-up" if passes == 1 else "soak"
+                if time.monotonic() - began >= 60.0 * len(samples):
+                    sample(phase)
+                if passes > 1 and time.monotonic() - warm_end >= minutes * 60.0:
+                    break
+            if passes == 1:
+                warm_end = time.monotonic()
+                sample("warmed")
+        sample("end")
+        warm = [r for r in records if r["pass"] == 1]
+        later = [r for r in records if r["pass"] > 1]
+        start = next(s for s in samples if s["phase"] == "warmed")
+        return {"minutes": minutes, "cycles": len(records), "passes": passes,
+                "steps": len(steps), "frames": rec.frames,
+                "warm_up_minutes": round((warm_end - began) / 60.0, 2),
+                "start": {"rss_mib": start["rss_mib"], "gl": start["gl"]},
+                "end": {"rss_mib": samples[-1]["rss_mib"], "gl": samples[-1]["gl"]},
+                "warm_up_peak_rss_mib": max(r["rss_mib"] for r in warm),
+                "peak_rss_mib": max(r["rss_mib"] for r in records),
+                "growth": growth(warm, later), "samples": samples, "records": records}
     finally:
         app.close()
 
@@ -501,9 +569,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--frames", type=int, default=60)
     parser.add_argument("--grid", type=int, default=32)
     parser.add_argument("--soak", type=float, default=None, metavar="MINUTES")
+    parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...")
     parser.add_argument("--json", required=True)
     args = parser.parse_args(argv)
-    figures = soak(args.soak, args.grid) if args.soak else session(args.spawned,
+    figures = soak(args.soak, args.grid, args.soak_steps) if args.soak else session(args.spawned,
                                                                     args.frames, args.grid)
     figures["root"] = os.path.dirname(os.path.dirname(sys.modules["explorer"].__file__))
     with open(args.json, "w", encoding="utf-8") as out:
