@@ -140,8 +140,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=options.spec_help(INTERACTIVE_FRAMES, 60))
     parser.add_argument("--soak", metavar="MINUTES",
                         type=options.value_type("soak", SOAK_MINUTES), default=None,
-                        help=options.spec_help(SOAK_MINUTES) + " Prints resident memory "
-                             "and GL objects at the start and the end.")
+                        help=options.spec_help(SOAK_MINUTES) + " A warm-up pass through "
+                             "the course (every step once, each with its grid, cascades, "
+                             "view, buffer, a correction, a pick), then passes repeating it "
+                             "for MINUTES (at least one). Prints resident memory and the GL "
+                             "objects of each kind per minute; exits 1 on growth after the "
+                             "warm-up: a count above the warm-up pass's highest, or at a "
+                             "pass's end above the warm-up's end, or resident memory over "
+                             "the warm-up's peak by more than 10%%.")
+    parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...",
+                        help="with --soak: the steps one pass takes (default every step of "
+                             "every lesson), e.g. overview:2,errata:1")
     parser.add_argument("--root", type=Path, default=None, metavar="PATH",
                         help="with --interactive/--soak: the source tree whose window is "
                              "driven (default: this one), e.g. an older checkout")
@@ -349,6 +358,7 @@ def main(args: argparse.Namespace) -> int:
                           "soak": "--soak", "gpu_report": "--gpu-report"})
     window = args.interactive or args.soak is not None
     options.only_with(args, window, "--interactive or --soak", {"root": "--root"})
+    options.only_with(args, args.soak is not None, "--soak", {"soak_steps": "--soak-steps"})
     # the window bench drives the window with its own session: these would be unused
     options.only_with(args, not window, "the timing bench (not --interactive or --soak)",
                       {"repeat": "--repeat", "quick": "--quick", "peak_gbs": "--peak-gbs",

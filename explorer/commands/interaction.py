@@ -10,12 +10,20 @@ The session (issue #10): launch, converge, idle, orbit N frames by dragging the 
 over the view, an exposure sweep, each correction toggled, the grid at 64³. Times are
 wall-clock on this machine, to be compared only with another run on the same machine.
 
-Soak (``--soak MINUTES``): what a user does, for that long, round after round: every
-lesson's every step opened in turn (and its first try-this pressed and undone), each
-correction toggled, the grid size cycling 8, 16, 32, 48, 64, one and two cascades, the
-single, split and difference views and the four buffers, a click in the view (a picked
-pixel), the Error panel measuring, camera moves. Resident memory and the GL objects
-alive are sampled every minute; the first sample is taken after one warm-up round.
+Soak (``--soak MINUTES``): what a user does, pass after pass through the course: every
+lesson's every step opened in turn (and its first try-this pressed and undone), then by
+the step's place in the course a correction toggled, the grid size one of 8, 16, 32, 48,
+64, one or two cascades, the single, split or difference view and one of the four
+buffers, a click in the view (a picked pixel), the Error panel measuring (every fifth
+step), a camera move. Every pass repeats the first one exactly. The first pass is the
+warm-up (it typesets the course's formulas and compiles the programs its settings need);
+passes follow for MINUTES after it, at least one whole pass. Resident memory and the GL
+objects alive of each kind are sampled every minute and after every step.
+
+The growth rule (:func:`growth`), after the warm-up: no kind of GL object above the
+warm-up pass's highest count, at the end of each pass none above the warm-up pass's end
+(the same step after the same course: what the caches keep is made by then), and
+resident memory never above the warm-up's peak by more than :data:`SOAK_RSS_SLACK`.
 """
 
 from __future__ import annotations
@@ -372,15 +380,39 @@ GL_KINDS = ("Texture", "Buffer", "Framebuffer", "Renderbuffer", "Program", "Vert
 
 
 def gl_objects(limit: int = 8192) -> dict[str, int]:
-    """How many names of each kind of GL object are alive in the current context: the
-    ``glIs*`` test of every name below ``limit`` (objects are named from 1 up)."""
+    """How many names of each kind of GL object are alive in the current context (the
+    ``glIs*`` test of every name below ``limit``: objects are named from 1 up), and the
+    moderngl scopes made and not released (``Scope``: a scope holds no GL name, but one
+    dropped unreleased keeps its native object and its framebuffers' for good)."""
     gl = ctypes.CDLL("libGL.so.1")
     counts = {}
     for kind in GL_KINDS:
         test = getattr(gl, f"glIs{kind}")
         test.restype, test.argtypes = ctypes.c_ubyte, [ctypes.c_uint]
         counts[kind] = sum(1 for name in range(1, limit) if test(name))
+    counts["Scope"] = _SCOPES["made"] - _SCOPES["released"]
     return counts
+
+
+_SCOPES = {"made": 0, "released": 0}
+
+
+def count_scopes() -> None:
+    """Count the moderngl scopes made and released from now on (:func:`gl_objects`)."""
+    import moderngl
+
+    make, release = moderngl.Context.scope, moderngl.Scope.release
+
+    def counted_scope(self, *args, **kwargs):
+        _SCOPES["made"] += 1
+        return make(self, *args, **kwargs)
+
+    def counted_release(self) -> None:
+        if not isinstance(self.mglo, moderngl.InvalidObject):
+            _SCOPES["released"] += 1
+        release(self)
+
+    moderngl.Context.scope, moderngl.Scope.release = counted_scope, counted_release
 
 
 GRID_CYCLE = (8, 16, 32, 48, 64)
@@ -423,16 +455,21 @@ SOAK_RSS_SLACK = 0.10
 (malloc's arenas and llvmpipe's JIT move it by tens of MiB from step to step)."""
 
 
-def _selected_steps(wanted: str | None) -> list[tuple[str, int]]:
+def selected_steps(wanted: str | None) -> list[tuple[str, int]]:
     """The course's steps in order, or those of ``wanted`` (``LESSON:STEP,...``, e.g.
-    ``01:1,03:2``; a lesson id, number or file stem, as the lesson panel opens it)."""
+    ``overview:2,errata:1``: a lesson id and a step number); ValueError naming an item
+    that is not a step of the course."""
     steps = _lesson_steps()
     if not wanted:
         return steps
     chosen = []
     for item in wanted.split(","):
         lesson, _, number = item.strip().partition(":")
-        chosen.append((lesson, int(number or 1)))
+        step = (lesson, int(number)) if number.isdigit() else None
+        if step not in steps:
+            raise ValueError(f"--soak-steps: {item.strip()!r} is not LESSON:STEP of the "
+                             f"course (e.g. {steps[0][0]}:{steps[0][1]})")
+        chosen.append(step)
     return chosen
 
 
@@ -474,6 +511,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
     from explorer.ui.lesson_panel import current_screen, session_of, show_screen
     from explorer.ui.panels.error import error_service
 
+    count_scopes()
     app = open_app(grid, window=SOAK_WINDOW, render=SOAK_RENDER)
     try:
         rec = Recorder(app)
@@ -481,7 +519,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
         modes = ("single", "split", "difference")
         buffers = ("final", "direct", "indirect", "albedo")
         names = [entry.name for entry in fields(app.state.settings.corrections)]
-        steps = _selected_steps(wanted)
+        steps = selected_steps(wanted)
         session = session_of(app.state)
 
         def cycle(step: int) -> None:
@@ -535,13 +573,18 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
             for position in range(len(steps)):
                 cycle(position)
                 lesson_id, number = steps[position]
-                records.append({"pass": passes, "position": position,
-                                "step": f"{lesson_id}:{number}",
-                                "rss_mib": resident_mib(), "gl": gl_objects()})
+                record = {"pass": passes, "position": position,
+                          "step": f"{lesson_id}:{number}", "rss_mib": resident_mib(),
+                          "gl": gl_objects()}
+                records.append(record)
+                print(f"  pass {passes} step {position + 1}/{len(steps)} {record['step']:<26}"
+                      f" {record['rss_mib']:6.0f} MiB  " + "  ".join(
+                          f"{kind} {count}" for kind, count in record["gl"].items()),
+                      file=sys.stderr, flush=True)
                 phase = "warm-up" if passes == 1 else "soak"
                 if time.monotonic() - began >= 60.0 * len(samples):
                     sample(phase)
-                if passes > 1 and time.monotonic() - warm_end >= minutes * 60.0:
+                if passes > 2 and time.monotonic() - warm_end >= minutes * 60.0:
                     break
             if passes == 1:
                 warm_end = time.monotonic()
@@ -550,7 +593,8 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
         warm = [r for r in records if r["pass"] == 1]
         later = [r for r in records if r["pass"] > 1]
         start = next(s for s in samples if s["phase"] == "warmed")
-        return {"minutes": minutes, "cycles": len(records), "passes": passes,
+        return {"renderer": app.state.runtime.services.gl_renderer,
+                "minutes": minutes, "cycles": len(records), "passes": passes,
                 "steps": len(steps), "frames": rec.frames,
                 "warm_up_minutes": round((warm_end - began) / 60.0, 2),
                 "start": {"rss_mib": start["rss_mib"], "gl": start["gl"]},
