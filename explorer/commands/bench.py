@@ -117,7 +117,7 @@ def parse_variants(text: str) -> tuple[str, ...]:
 INTERACTIVE_FRAMES = Spec(kind="int", low=1, high=100000,
                           doc="Frames of the camera orbit in --interactive.")
 SOAK_MINUTES = Spec(kind="float", low=0.0, low_open=True, high=1440.0,
-                    doc="Minutes of view switches, toggles and camera moves in the window.")
+                    doc="Minutes of passes through the course after the warm-up pass.")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
