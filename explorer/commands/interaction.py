@@ -15,9 +15,10 @@ lesson's every step opened in turn (and its first try-this pressed and undone), 
 the step's place in the course a correction toggled, the grid size one of 8, 16, 32, 48,
 64, one or two cascades, the single, split or difference view and one of the four
 buffers, a click in the view (a picked pixel), the Error panel measuring (every fifth
-step), a camera move. Every pass repeats the first one exactly. The first pass is the
-warm-up (it typesets the course's formulas and compiles the programs its settings need);
-passes follow for MINUTES after it, at least one whole pass. Resident memory and the GL
+step), a camera move. Every pass repeats the first one exactly, and the first one starts
+after the course's last step as the later ones do. The first pass is the warm-up (it
+typesets the course's formulas and compiles the programs its settings need); passes
+follow for MINUTES after it, at least one whole pass. Resident memory and the GL
 objects alive of each kind are sampled every minute and after every step.
 
 The growth rule (:func:`growth`), after the warm-up: no kind of GL object above the
@@ -566,6 +567,9 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
                   + "  ".join(f"{kind} {count}" for kind, count in entry["gl"].items()),
                   file=sys.stderr, flush=True)
 
+        # the course's last step first, so that the warm-up pass starts where every later
+        # pass starts (what a step holds on screen depends on the step before it)
+        cycle(len(steps) - 1)
         sample("start")
         passes, warm_end = 0, None
         while passes < 2 or time.monotonic() - warm_end < minutes * 60.0:
