@@ -130,6 +130,7 @@ def _print_soak(figures: dict) -> None:
         for line in figures["growth"][:20]:
             print(f"    {line}")
     else:
-        print("  no growth after the warm-up: every GL object count within the warm-up "
-              "pass's, equal at each pass's end or fewer; resident memory within "
+        print("  no growth after the warm-up: at each pass's end every GL object count "
+              "at most the warm-up's end, from the third pass on at most the second's after "
+              "each step; resident memory within "
               f"{interaction.SOAK_RSS_SLACK:.0%} of the warm-up's peak")
