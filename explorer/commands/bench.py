@@ -118,7 +118,7 @@ def parse_variants(text: str) -> tuple[str, ...]:
 INTERACTIVE_FRAMES = Spec(kind="int", low=1, high=100000,
                           doc="Frames of the camera orbit in --interactive.")
 SOAK_MINUTES = Spec(kind="float", low=0.0, low_open=True, high=1440.0,
-                    doc="Minutes of view switches, toggles and camera moves in the window.")
+                    doc="Minutes of passes through the course after the warm-up pass.")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -141,8 +141,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=options.spec_help(INTERACTIVE_FRAMES, 60))
     parser.add_argument("--soak", metavar="MINUTES",
                         type=options.value_type("soak", SOAK_MINUTES), default=None,
-                        help=options.spec_help(SOAK_MINUTES) + " Prints resident memory "
-                             "and GL objects at the start and the end.")
+                        help=options.spec_help(SOAK_MINUTES) + " A warm-up pass through "
+                             "the course (every step once, each with its grid, cascades, "
+                             "view, buffer, a correction, a pick), then passes repeating it "
+                             "for MINUTES (at least one). Prints resident memory and the GL "
+                             "objects of each kind per minute; exits 1 on growth after the "
+                             "warm-up: a count at a pass's end above the warm-up's end, "
+                             "one after a step of the third pass on above the second "
+                             "pass's after it, or resident memory over the warm-up's peak "
+                             "by more than 10%%.")
+    parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...",
+                        help="with --soak: the steps one pass takes (default every step of "
+                             "every lesson), e.g. overview:2,errata:1")
     parser.add_argument("--root", type=Path, default=None, metavar="PATH",
                         help="with --interactive/--soak: the source tree whose window is "
                              "driven (default: this one), e.g. an older checkout")
@@ -350,6 +360,7 @@ def main(args: argparse.Namespace) -> int:
                           "soak": "--soak", "gpu_report": "--gpu-report"})
     window = args.interactive or args.soak is not None
     options.only_with(args, window, "--interactive or --soak", {"root": "--root"})
+    options.only_with(args, args.soak is not None, "--soak", {"soak_steps": "--soak-steps"})
     # the window bench drives the window with its own session: these would be unused
     options.only_with(args, not window, "the timing bench (not --interactive or --soak)",
                       {"repeat": "--repeat", "quick": "--quick", "peak_gbs": "--peak-gbs",

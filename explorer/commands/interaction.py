@@ -10,12 +10,22 @@ The session: launch, converge, idle, orbit N frames by dragging the mouse
 over the view, an exposure sweep, each correction toggled, the grid at 64³. Times are
 wall-clock on this machine, to be compared only with another run on the same machine.
 
-Soak (``--soak MINUTES``): what a user does, for that long, round after round: every
-lesson's every step opened in turn (and its first try-this pressed and undone), each
-correction toggled, the grid size cycling 8, 16, 32, 48, 64, one and two cascades, the
-single, split and difference views and the four buffers, a click in the view (a picked
-pixel), the Error panel measuring, camera moves. Resident memory and the GL objects
-alive are sampled every minute; the first sample is taken after one warm-up round.
+Soak (``--soak MINUTES``): what a user does, pass after pass through the course: every
+lesson's every step opened in turn (and its first try-this pressed and undone), then by
+the step's place in the course a correction toggled, the grid size one of 8, 16, 32, 48,
+64, one or two cascades, the single, split or difference view and one of the four
+buffers, a click in the view (a picked pixel), the Error panel measuring (every fifth
+step), a camera move. Every pass repeats the first one exactly, and the first one starts
+after the course's last step as the later ones do. The first pass is the warm-up (it
+typesets the course's formulas and compiles the programs its settings need); passes
+follow for MINUTES after it, at least one whole pass. Resident memory and the GL
+objects alive of each kind are sampled every minute and after every step.
+
+The growth rule (:func:`growth`), after the warm-up: at the end of each pass no kind of
+GL object above the warm-up pass's end (the same step after the same course: what the
+caches keep is made by then), from the third pass on none above the second pass's count
+after the same step, and resident memory never above the warm-up's peak by more than
+:data:`SOAK_RSS_SLACK`.
 """
 
 from __future__ import annotations
@@ -398,15 +408,39 @@ GL_KINDS = ("Texture", "Buffer", "Framebuffer", "Renderbuffer", "Program", "Vert
 
 
 def gl_objects(limit: int = 8192) -> dict[str, int]:
-    """How many names of each kind of GL object are alive in the current context: the
-    ``glIs*`` test of every name below ``limit`` (objects are named from 1 up)."""
+    """How many names of each kind of GL object are alive in the current context (the
+    ``glIs*`` test of every name below ``limit``: objects are named from 1 up), and the
+    moderngl scopes made and not released (``Scope``: a scope holds no GL name, but one
+    dropped unreleased keeps its native object and its framebuffers' for good)."""
     gl = ctypes.CDLL("libGL.so.1")
     counts = {}
     for kind in GL_KINDS:
         test = getattr(gl, f"glIs{kind}")
         test.restype, test.argtypes = ctypes.c_ubyte, [ctypes.c_uint]
         counts[kind] = sum(1 for name in range(1, limit) if test(name))
+    counts["Scope"] = _SCOPES["made"] - _SCOPES["released"]
     return counts
+
+
+_SCOPES = {"made": 0, "released": 0}
+
+
+def count_scopes() -> None:
+    """Count the moderngl scopes made and released from now on (:func:`gl_objects`)."""
+    import moderngl
+
+    make, release = moderngl.Context.scope, moderngl.Scope.release
+
+    def counted_scope(self, *args, **kwargs):
+        _SCOPES["made"] += 1
+        return make(self, *args, **kwargs)
+
+    def counted_release(self) -> None:
+        if not isinstance(self.mglo, moderngl.InvalidObject):
+            _SCOPES["released"] += 1
+        release(self)
+
+    moderngl.Context.scope, moderngl.Scope.release = counted_scope, counted_release
 
 
 GRID_CYCLE = (8, 16, 32, 48, 64)
@@ -444,16 +478,69 @@ def _click_view(app, rec: Recorder, fraction: float) -> None:
     rec.frame()
 
 
-def soak(minutes: float, grid: int) -> dict:
+SOAK_RSS_SLACK = 0.10
+"""How far resident memory may rise after the warm-up above the warm-up pass's peak
+(malloc's arenas and llvmpipe's JIT move it by tens of MiB from step to step)."""
+
+
+def selected_steps(wanted: str | None) -> list[tuple[str, int]]:
+    """The course's steps in order, or those of ``wanted`` (``LESSON:STEP,...``, e.g.
+    ``overview:2,errata:1``: a lesson id and a step number); ValueError naming an item
+    that is not a step of the course."""
+    steps = _lesson_steps()
+    if not wanted:
+        return steps
+    chosen = []
+    for item in wanted.split(","):
+        lesson, _, number = item.strip().partition(":")
+        step = (lesson, int(number)) if number.isdigit() else None
+        if step not in steps:
+            raise ValueError(f"--soak-steps: {item.strip()!r} is not LESSON:STEP of the "
+                             f"course (e.g. {steps[0][0]}:{steps[0][1]})")
+        chosen.append(step)
+    return chosen
+
+
+def growth(warm: list[dict], later: list[dict]) -> list[str]:
+    """What grew after the warm-up (the soak's rule, module docstring): at the end of a
+    later pass a GL object count above the warm-up pass's end (the same step after the
+    same course), after a step of the third pass on a count above the second pass's after
+    the same step (both start with what the course fills its caches with), or resident
+    memory above the warm-up pass's peak by more than :data:`SOAK_RSS_SLACK`. ``warm``:
+    one record per step of the warm-up pass; ``later``: the records after it."""
+    problems = []
+    peak = max(record["rss_mib"] for record in warm)
+    last = len(warm) - 1
+    second = {record["position"]: record for record in later if record["pass"] == 2}
+    for record in later:
+        where = f"pass {record['pass']} step {record['step']}"
+        for kind, count in record["gl"].items():
+            if record["position"] == last and count > warm[last]["gl"][kind]:
+                problems.append(f"{where} (the pass's end): {kind} {count}, "
+                                f"{warm[last]['gl'][kind]} at the warm-up's end")
+            elif record["pass"] > 2 and count > second[record["position"]]["gl"][kind]:
+                problems.append(f"{where}: {kind} {count}, "
+                                f"{second[record['position']]['gl'][kind]} in pass 2")
+        if record["rss_mib"] > peak * (1.0 + SOAK_RSS_SLACK):
+            problems.append(f"{where}: resident memory {record['rss_mib']:.0f} MiB, over "
+                            f"the warm-up's peak {peak:.0f} MiB by more than "
+                            f"{SOAK_RSS_SLACK:.0%}")
+    return problems
+
+
+def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
     """The soak (module docstring): one round per lesson step, each round also changing
-    the grid, cascades, view, buffer and one correction, picking a pixel and (every
-    fifth round) measuring the error."""
+    the grid, cascades, view, buffer and one correction by the step's place in the
+    course (so every pass repeats the first), picking a pixel and (every fifth step)
+    measuring the error. The first pass is the warm-up; passes follow until ``minutes``
+    have gone by after it, at least one whole pass."""
     from dataclasses import fields
 
     from explorer.ui import camera
     from explorer.ui.lesson_panel import current_screen, session_of, show_screen
     from explorer.ui.panels.error import error_service
 
+    count_scopes()
     app = open_app(grid, window=SOAK_WINDOW, render=SOAK_RENDER)
     try:
         rec = Recorder(app)
@@ -461,11 +548,11 @@ def soak(minutes: float, grid: int) -> dict:
         modes = ("single", "split", "difference")
         buffers = ("final", "direct", "indirect", "albedo")
         names = [entry.name for entry in fields(app.state.settings.corrections)]
-        steps = _lesson_steps()
+        steps = selected_steps(wanted)
         session = session_of(app.state)
 
         def cycle(step: int) -> None:
-            lesson_id, number = steps[step % len(steps)]
+            lesson_id, number = steps[step]
             session.open(lesson_id)
             session.go(number)
             show_screen(app.state, session.apply(current_screen(app.state)))
@@ -496,26 +583,57 @@ def soak(minutes: float, grid: int) -> dict:
                         break
                 service.lesson_wants = False
 
-        for step in range(len(modes) * len(buffers)):      # warm-up
-            cycle(step)
-        start = {"rss_mib": resident_mib(), "gl": gl_objects()}
         began = time.monotonic()
-        samples = [{"minute": 0.0, "rss_mib": start["rss_mib"], "gl": start["gl"]}]
-        step = 0
-        while time.monotonic() - began < minutes * 60.0:
-            step += 1
-            cycle(step)
-            if time.monotonic() - began >= 60.0 * len(samples):
-                sample = {"minute": round((time.monotonic() - began) / 60.0, 2),
-                          "rss_mib": resident_mib(), "gl": gl_objects()}
-                samples.append(sample)
-                print(f"soak {sample['minute']:5.1f} min  {sample['rss_mib']:6.0f} MiB  "
-                      + "  ".join(f"{kind} {count}" for kind, count in sample["gl"].items()),
+        samples: list[dict] = []
+        records: list[dict] = []
+
+        def sample(phase: str) -> None:
+            entry = {"minute": round((time.monotonic() - began) / 60.0, 2), "phase": phase,
+                     "rss_mib": resident_mib(), "gl": gl_objects()}
+            samples.append(entry)
+            print(f"soak {entry['minute']:5.1f} min {phase:<8} {entry['rss_mib']:6.0f} MiB  "
+                  + "  ".join(f"{kind} {count}" for kind, count in entry["gl"].items()),
+                  file=sys.stderr, flush=True)
+
+        # the course's last step first, so that the warm-up pass starts where every later
+        # pass starts (what a step holds on screen depends on the step before it)
+        cycle(len(steps) - 1)
+        sample("start")
+        passes, warm_end = 0, None
+        while passes < 2 or time.monotonic() - warm_end < minutes * 60.0:
+            passes += 1
+            for position in range(len(steps)):
+                cycle(position)
+                lesson_id, number = steps[position]
+                record = {"pass": passes, "position": position,
+                          "step": f"{lesson_id}:{number}", "rss_mib": resident_mib(),
+                          "gl": gl_objects()}
+                records.append(record)
+                print(f"  pass {passes} step {position + 1}/{len(steps)} {record['step']:<26}"
+                      f" {record['rss_mib']:6.0f} MiB  " + "  ".join(
+                          f"{kind} {count}" for kind, count in record["gl"].items()),
                       file=sys.stderr, flush=True)
-        end = {"rss_mib": resident_mib(), "gl": gl_objects()}
-        return {"minutes": minutes, "cycles": step, "frames": rec.frames, "start": start,
-                "end": end, "rss_mib_by_minute": [(s["minute"], s["rss_mib"]) for s in samples],
-                "samples": samples}
+                phase = "warm-up" if passes == 1 else "soak"
+                if time.monotonic() - began >= 60.0 * len(samples):
+                    sample(phase)
+                if passes > 2 and time.monotonic() - warm_end >= minutes * 60.0:
+                    break
+            if passes == 1:
+                warm_end = time.monotonic()
+                sample("warmed")
+        sample("end")
+        warm = [r for r in records if r["pass"] == 1]
+        later = [r for r in records if r["pass"] > 1]
+        start = next(s for s in samples if s["phase"] == "warmed")
+        return {"renderer": app.state.runtime.services.gl_renderer,
+                "minutes": minutes, "cycles": len(records), "passes": passes,
+                "steps": len(steps), "frames": rec.frames,
+                "warm_up_minutes": round((warm_end - began) / 60.0, 2),
+                "start": {"rss_mib": start["rss_mib"], "gl": start["gl"]},
+                "end": {"rss_mib": samples[-1]["rss_mib"], "gl": samples[-1]["gl"]},
+                "warm_up_peak_rss_mib": max(r["rss_mib"] for r in warm),
+                "peak_rss_mib": max(r["rss_mib"] for r in records),
+                "growth": growth(warm, later), "samples": samples, "records": records}
     finally:
         app.close()
 
@@ -527,9 +645,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--frames", type=int, default=60)
     parser.add_argument("--grid", type=int, default=32)
     parser.add_argument("--soak", type=float, default=None, metavar="MINUTES")
+    parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...")
     parser.add_argument("--json", required=True)
     args = parser.parse_args(argv)
-    figures = soak(args.soak, args.grid) if args.soak else session(args.spawned,
+    figures = soak(args.soak, args.grid, args.soak_steps) if args.soak else session(args.spawned,
                                                                     args.frames, args.grid)
     figures["root"] = os.path.dirname(os.path.dirname(sys.modules["explorer"].__file__))
     with open(args.json, "w", encoding="utf-8") as out:

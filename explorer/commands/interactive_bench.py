@@ -52,6 +52,11 @@ def run_window_bench(args: argparse.Namespace) -> int:
     root = (args.root or Path(__file__).resolve().parents[2]).resolve()
     if not (root / "explorer" / "ui" / "app.py").is_file():
         raise options.CommandError(f"--root {root}: no explorer/ui/app.py there")
+    if args.soak_steps is not None:
+        try:
+            interaction.selected_steps(args.soak_steps)
+        except ValueError as exc:
+            raise options.CommandError(str(exc)) from None
     with options.Outputs("--json") as outputs:
         json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
         figures = _child(root, args)
@@ -66,7 +71,7 @@ def run_window_bench(args: argparse.Namespace) -> int:
             payload = json.dumps(figures, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
             print(f"wrote {json_path}")
-    return 0
+    return 1 if args.soak is not None and figures["growth"] else 0
 
 
 def _child(root: Path, args: argparse.Namespace) -> dict:
@@ -80,6 +85,8 @@ def _child(root: Path, args: argparse.Namespace) -> dict:
                    "--json", str(out), "--frames", str(args.frames)]
         if args.soak is not None:
             command += ["--soak", str(args.soak)]
+        if args.soak_steps is not None:
+            command += ["--soak-steps", args.soak_steps]
         env = dict(os.environ, PYTHONPATH=str(root),
                    XDG_CONFIG_HOME=str(Path(folder) / "config"))
         command += ["--spawned", repr(time.time())]
@@ -112,25 +119,26 @@ def _print_session(figures: dict) -> None:
 
 
 def _print_soak(figures: dict) -> None:
+    """The soak's samples by minute (the warm-up's among them), each kind of GL object and
+    resident memory, then what grew after the warm-up (:func:`interaction.growth`)."""
     start, end = figures["start"], figures["end"]
-    print(f"  soak {figures['minutes']:g} min: {figures['cycles']} cycles, "
-          f"{figures['frames']} frames")
-    print(f"  resident memory  start {start['rss_mib']:.0f} MiB   end {end['rss_mib']:.0f} MiB"
-          " (start: after one warm-up round of every view mode and buffer)")
-    for kind in start["gl"]:
-        print(f"  GL {kind:<13} start {start['gl'][kind]:5d}   end {end['gl'][kind]:5d}")
-    samples = figures.get("samples")
-    if samples:
-        print("  minute  resident MiB  GL objects alive")
-        for sample in samples:
-            print(f"  {sample['minute']:6.1f}  {sample['rss_mib']:12.0f}  " + "  ".join(
-                f"{kind} {count}" for kind, count in sample["gl"].items()))
-        after5 = [s["rss_mib"] for s in samples if s["minute"] >= 5.0]
-        if len(after5) >= 2:
-            print(f"  growth after the first 5 minutes: {after5[-1] - after5[0]:+.0f} MiB "
-                  f"over {samples[-1]['minute'] - 5.0:.0f} min")
+    print(f"  soak {figures['minutes']:g} min after a warm-up pass of "
+          f"{figures['warm_up_minutes']:.1f} min: {figures['passes']} passes over "
+          f"{figures['steps']} steps, {figures['cycles']} cycles, {figures['frames']} frames")
+    kinds = list(start["gl"])
+    print("  minute  phase     resident MiB  " + "  ".join(f"{kind:>12}" for kind in kinds))
+    for sample in figures["samples"]:
+        print(f"  {sample['minute']:6.1f}  {sample['phase']:<8}  {sample['rss_mib']:12.0f}  "
+              + "  ".join(f"{sample['gl'][kind]:>12d}" for kind in kinds))
+    print(f"  resident memory: warm-up peak {figures['warm_up_peak_rss_mib']:.0f} MiB, "
+          f"peak {figures['peak_rss_mib']:.0f} MiB; after the warm-up "
+          f"{start['rss_mib']:.0f} MiB, at the end {end['rss_mib']:.0f} MiB")
+    if figures["growth"]:
+        print(f"  GROWTH after the warm-up ({len(figures['growth'])}):")
+        for line in figures["growth"][:20]:
+            print(f"    {line}")
     else:
-        old = figures.get("rss_mib_by_minute", [])
-        if old:
-            print("  resident memory by minute: " + ", ".join(f"{minute:g}: {mib:.0f}"
-                                                              for minute, mib in old))
+        print("  no growth after the warm-up: at each pass's end every GL object count "
+              "at most the warm-up's end, from the third pass on at most the second's after "
+              "each step; resident memory within "
+              f"{interaction.SOAK_RSS_SLACK:.0%} of the warm-up's peak")

@@ -200,24 +200,47 @@ def _value_key(value: object) -> object:
     return (type(value), value)
 
 
+PROGRAM_CAPACITY = 48
+"""Programs one cache keeps compiled at once; the least recently used beyond it are
+released. The variants are finite (defines chosen from settings), but they multiply: the
+propagation alone has over a hundred, and llvmpipe keeps megabytes of machine code per
+program. One pipeline's frame uses about fifteen."""
+
+
 @dataclass
 class ProgramCache:
     """Programs keyed by file and defines, reloaded when a file under shaders/ changes.
 
     A reload that fails keeps the last good program and records the log in ``errors``
-    (the app shows it in a panel) instead of raising.
+    (the app shows it in a panel) instead of raising. At most ``capacity`` programs stay
+    compiled, the least recently used go first: a caller gets its program again for each
+    use (a pass that runs one over several frames gets it each frame).
     """
 
     ctx: moderngl.Context
+    capacity: int = PROGRAM_CAPACITY
     _programs: dict = field(default_factory=dict)
     _stamp: float = 0.0
     errors: dict[str, str] = field(default_factory=dict)
 
     def get(self, name: str, defines: dict[str, object] | None = None):
+        """The program of ``shaders/<name>`` with ``defines``, compiled on first use; valid
+        until ``capacity`` other programs have been got since (then it may be released)."""
         key = (name, tuple(sorted((defines or {}).items())))
-        if key not in self._programs:
-            self._programs[key] = load_program(self.ctx, name, defines)
-        return self._programs[key]
+        program = self._programs.pop(key, None)
+        if program is None:
+            program = load_program(self.ctx, name, defines)
+        self._programs[key] = program           # most recently used last
+        self._evict()
+        return program
+
+    def __len__(self) -> int:
+        return len(self._programs)
+
+    def _evict(self) -> None:
+        """Release the least recently used programs beyond ``capacity``."""
+        while len(self._programs) > self.capacity:
+            self._programs.pop(next(iter(self._programs))).release()
 
     @staticmethod
     def newest_change() -> float:

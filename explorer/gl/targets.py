@@ -5,6 +5,8 @@ the scope that binds it, made together and released together.
 The scope is made once per allocation and reused for every draw: a moderngl ``Scope``
 that is dropped without ``release()`` leaks its native object (the context's default
 ``gc_mode`` frees nothing), so a ``with ctx.scope(...)`` per draw leaked one per frame.
+A draw into a framebuffer that has no :class:`RenderTargets` (an overlay's target) goes
+through :func:`scoped`, which releases its scope when the draw ends.
 """
 
 from __future__ import annotations
@@ -13,6 +15,19 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 import moderngl
+
+
+@contextmanager
+def scoped(ctx: moderngl.Context, framebuffer: moderngl.Framebuffer,
+           enable_only: int = moderngl.NOTHING) -> Iterator[moderngl.Framebuffer]:
+    """Draw into ``framebuffer`` with only ``enable_only`` enabled; the previous
+    framebuffer and flags come back afterwards and the scope is released then."""
+    scope = ctx.scope(framebuffer, enable_only=enable_only)
+    try:
+        with scope:
+            yield framebuffer
+    finally:
+        scope.release()
 
 
 class RenderTargets:

@@ -75,6 +75,7 @@ class SceneBuffers:
         key = id(program)
         vertex_array = self._arrays.get(key)
         if vertex_array is None or vertex_array.program is not program:
+            self._drop_released()
             # attributes a program does not use are optimised away: skip them with "x"
             layout_of, *names = VERTEX_FORMAT
             sizes = [int(part[:-1]) for part in layout_of.split()]
@@ -85,6 +86,13 @@ class SceneBuffers:
                 program, [(self.buffer, layout, *[n for n in kept if n])])
             self._arrays[key] = vertex_array
         return vertex_array
+
+    def _drop_released(self) -> None:
+        """Release the vertex arrays of programs released since (a program cache let go
+        of them, ``explorer.gl.program.PROGRAM_CAPACITY``): they would never be drawn."""
+        for key, vertex_array in list(self._arrays.items()):
+            if isinstance(vertex_array.program.mglo, moderngl.InvalidObject):
+                self._arrays.pop(key).release()
 
     def release(self) -> None:
         for vertex_array in self._arrays.values():

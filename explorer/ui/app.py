@@ -31,7 +31,7 @@ import numpy as np
 from explorer import stop_signals
 from explorer.gl.window import Window
 from explorer.lpv.settings import Settings, preset_name
-from explorer.ui import animation, frame_pacing, persist, theme
+from explorer.ui import animation, frame_pacing, memory, persist, theme
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.images import write_png
 from explorer.ui.state import AppState, fit_window_size
@@ -51,6 +51,7 @@ class App:
         when ``options.persist_settings``), opened as ``options`` says."""
         options = options or WindowOptions()
         self.options = options
+        memory.return_large_blocks()      # resident memory that comes down again
         width, height, visible, headless = (options.width, options.height, options.visible,
                                             options.headless)
         persist_settings, pipeline_class = options.persist_settings, options.pipeline_class

@@ -100,24 +100,72 @@ def test_the_window_bench_needs_a_display(monkeypatch, capsys):
     assert "--soak" in capsys.readouterr().err
 
 
+SOAK_STEPS = "solid-angles:1,overview:3"
+"""Two steps that between them draw the in-scene overlays (slice, glyphs), the split view
+with a second pipeline, two cascades and the Error panel's measurement."""
+
+
 def test_a_short_soak_drives_the_window_and_counts_what_it_holds(tmp_path, capsys):
-    """The driver end to end (a child process with a real window): resident memory and
-    the GL objects alive, before and after."""
+    """The driver end to end (a child process with a real window) over two steps, twice:
+    the second pass makes no GL object and no moderngl scope that outlives it (a scope per
+    overlay draw left unreleased grew by 32 in it), and the report has them by minute."""
     import os
 
     if not os.environ.get("DISPLAY"):
         pytest.skip("no X display for the window")
     out = tmp_path / "soak.json"
-    assert main(["bench", "--soak", "0.02", "--json", str(out)]) == 0
+    status = main(["bench", "--soak", "0.01", "--soak-steps", SOAK_STEPS, "--json", str(out)])
     printed = capsys.readouterr().out
-    assert "resident memory" in printed and "GL Texture" in printed
     data = json.loads(out.read_text())
-    assert data["cycles"] >= 1 and data["start"]["rss_mib"] > 0
-    for moment in ("start", "end"):
-        counts = data[moment]["gl"]
-        assert counts["Texture"] > 0 and counts["Program"] > 0
-    # the warm-up made every view's objects: the soak itself makes none
-    assert data["end"]["gl"] == data["start"]["gl"]
+    assert data["growth"] == [] and status == 0, printed
+    assert "no growth after the warm-up" in printed
+    assert "resident MiB" in printed and "Texture" in printed and "Scope" in printed
+    assert data["passes"] == 2 and data["steps"] == 2 and data["cycles"] == 4
+    assert [sample["phase"] for sample in data["samples"]][::len(data["samples"]) - 1] == \
+        ["start", "end"]
+    warm, later = data["records"][:2], data["records"][2:]
+    assert warm[-1]["gl"]["Texture"] > 0 and warm[-1]["gl"]["Program"] > 0
+    # the same course again: after its last step every count is as the warm-up left it
+    assert later[-1]["gl"] == warm[-1]["gl"]
+
+
+def test_the_soak_rule_names_what_grew_after_the_warm_up(monkeypatch, capsys):
+    from explorer.commands import interaction, interactive_bench
+
+    def record(pass_, position, rss, **counts):
+        gl = {"Texture": 10, "Program": 5, "Scope": 3}
+        return {"pass": pass_, "position": position, "step": f"s:{position + 1}",
+                "rss_mib": rss, "gl": {**gl, **counts}}
+
+    warm = [record(1, 0, 400.0, Texture=12), record(1, 1, 500.0)]
+    # pass 2 holds more while a step is on screen (the caches are full by then) and comes
+    # back to the warm-up's end: no growth; pass 3 as pass 2: none either
+    flat = [record(2, 0, 540.0, Texture=15), record(2, 1, 450.0),
+            record(3, 0, 540.0, Texture=15), record(3, 1, 450.0)]
+    assert interaction.growth(warm, flat) == []
+    grown = interaction.growth(warm, [record(2, 0, 400.0), record(2, 1, 400.0, Scope=4),
+                                      record(3, 0, 560.0, Program=6)])
+    assert grown == ["pass 2 step s:2 (the pass's end): Scope 4, 3 at the warm-up's end",
+                     "pass 3 step s:1: Program 6, 5 in pass 2",
+                     "pass 3 step s:1: resident memory 560 MiB, over the warm-up's peak "
+                     "500 MiB by more than 10%"]
+    # the command exits 1 on growth (the child's figures stood in for)
+    figures = {"minutes": 1.0, "warm_up_minutes": 0.5, "passes": 3, "steps": 2, "cycles": 5,
+               "frames": 9, "start": warm[-1], "end": warm[-1], "samples": warm,
+               "warm_up_peak_rss_mib": 500.0, "peak_rss_mib": 560.0, "growth": grown}
+    for phase, sample in zip(("start", "warmed"), warm):
+        sample["phase"], sample["minute"] = phase, 0.0
+    monkeypatch.setenv("DISPLAY", ":99")
+    monkeypatch.setattr(interactive_bench, "_child", lambda root, args: dict(figures))
+    assert main(["bench", "--soak", "1"]) == 1
+    printed = capsys.readouterr().out
+    assert "GROWTH after the warm-up (3)" in printed and "Program 6" in printed
+    figures["growth"] = []
+    assert main(["bench", "--soak", "1"]) == 0
+    assert main(["bench", "--soak", "1", "--soak-steps", "overview:99"]) == 2
+    assert "'overview:99' is not LESSON:STEP" in capsys.readouterr().err
+    assert main(["bench", "--interactive", "--soak-steps", "overview:1"]) == 2
+    assert "--soak-steps only acts with --soak" in capsys.readouterr().err
 
 
 def test_overhead_rows_count_the_gl_work_of_each_kind_of_frame(tmp_path, capsys):

@@ -489,6 +489,37 @@ def test_an_unchanged_request_draws_nothing_and_a_moved_slice_redraws(frame, com
     assert compositor.slice_field("A").spec == result.grid_spec
 
 
+def test_every_overlay_draw_releases_the_scope_it_binds_its_target_with(frame, compositor,
+                                                                        monkeypatch):
+    """A moderngl scope dropped without ``release()`` stays alive (the context frees
+    nothing itself): each draw of an overlay releases its own; only the render targets'
+    scopes, made once per size, live on."""
+    import moderngl
+
+    pipeline, result = frame
+    overlays = OverlayState(slice=True, glyphs=True, vpls=True, lattice=True,
+                            cascade_boxes=True, blockers=True, picked_kind="pixel",
+                            picked_wx=float(result.gbuffer_position[62, 30, 0]),
+                            picked_wy=float(result.gbuffer_position[62, 30, 1]),
+                            picked_wz=float(result.gbuffer_position[62, 30, 2]))
+    compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    made = []
+    scope = moderngl.Context.scope
+
+    def recorded(self, *args, **kwargs):
+        made.append(scope(self, *args, **kwargs))
+        return made[-1]
+
+    monkeypatch.setattr(moderngl.Context, "scope", recorded)
+    overlays.vpl_density, overlays.slice_index = 0.5, 3     # static and top layers redrawn
+    static = compositor.static_draws
+    compositor.compose("A", result, pipeline.final_texture.glo, False, overlays)
+    assert compositor.static_draws == static + 1 and compositor.notes["A"] == []
+    assert len(made) >= 5               # background, copy, slice, glyphs, lines, splats
+    alive = [s for s in made if not isinstance(s.mglo, moderngl.InvalidObject)]
+    assert alive == []
+
+
 def test_moving_the_slice_reuses_the_layer_of_vpls(frame, compositor):
     pipeline, result = frame
     overlays = OverlayState(slice=True, vpls=True, vpl_density=1.0)

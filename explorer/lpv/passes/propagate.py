@@ -214,16 +214,17 @@ class PropagationRun:
         self.steps = [injected.read()] if keep_steps else None
         self._previous = self.steps[0] if keep_steps else None
         self._source = injected
-        self._program = owner.programs.get("propagate.glsl", program_defines(
+        self._defines = program_defines(
             fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
-            reflect=bounces == 2, neighbours=neighbours))
-        set_uniforms(self._program, {
+            reflect=bounces == 2, neighbours=neighbours)
+        self._uniforms = {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
             "u_geometry": owner.GEOMETRY_UNIT, "u_geometry_albedo": owner.ALBEDO_UNIT,
-            "u_cell_offset": (0, 0, 0),
-        }, reads=uniforms_read_at_run_time(neighbours))
-        self._program.extra["cell_offset"] = 0
+            "u_cell_offset": (0, 0, 0)}
+        self._neighbours = neighbours
+        self._program = None
+        self._program_now()
         self._groups = dispatch_size(n)
         self._slabs = slabs(n)
         self._slab = 0
@@ -231,6 +232,18 @@ class PropagationRun:
         """What the last :meth:`advance` left bound that the next may keep (``bound``):
         ``run`` the accumulation images and the geometry volume, ``audit`` the audit's
         buffers, ``source`` the next step's source on sampler units 0..2."""
+
+    def _program_now(self):
+        """The run's program, got from the cache for each slab: a run spans frames, and
+        the cache may have released the program it had (``ProgramCache.capacity``), or a
+        hot reload replaced it; a new one gets the run's uniforms first."""
+        program = self._owner.programs.get("propagate.glsl", self._defines)
+        if program is not self._program:
+            set_uniforms(program, self._uniforms,
+                         reads=uniforms_read_at_run_time(self._neighbours))
+            program.extra["cell_offset"] = 0
+            self._program = program
+        return program
 
     @property
     def finished(self) -> bool:
@@ -283,10 +296,11 @@ class PropagationRun:
         first, end = self._slabs[self._slab]
         # one slab a step up to 32³: set once. The offset last set is kept with the
         # program, which the cascades' runs share (interleaved, each with its slabs).
-        if self._program.extra.get("cell_offset") != first:
-            set_uniforms(self._program, {"u_cell_offset": (0, 0, first)})
-            self._program.extra["cell_offset"] = first
-        self._program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
+        program = self._program_now()
+        if program.extra.get("cell_offset") != first:
+            set_uniforms(program, {"u_cell_offset": (0, 0, first)})
+            program.extra["cell_offset"] = first
+        program.run(self._groups[0], self._groups[1], -(-(end - first) // 4))
         owner.ctx.memory_barrier()
         self._slab += 1
         if self._slab < len(self._slabs):

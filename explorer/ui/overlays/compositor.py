@@ -21,6 +21,7 @@ import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.gl.targets import scoped
 from explorer.lpv.grid import GridSpec
 from explorer.scene.transforms import gl_matrix
 from explorer.ui.camera import view_axes
@@ -285,7 +286,7 @@ class Compositor:
             "u_depth_is_position": int(projected),
             "u_view_projection": gl_matrix(view_projection if projected else np.eye(4))})
         framebuffer = target.framebuffer
-        with self.ctx.scope(framebuffer, enable_only=moderngl.DEPTH_TEST):
+        with scoped(self.ctx, framebuffer, moderngl.DEPTH_TEST):
             framebuffer.viewport = (0, 0, *target.size)
             self.ctx.depth_func = "1"      # write every pixel's colour and depth
             self._triangle.draw(program)

@@ -7,6 +7,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.gl.targets import scoped
 from explorer.scene.transforms import gl_matrix
 from explorer.ui.overlays.instanced import InstancedMesh
 from explorer.ui.overlays.quantities import Glyphs, glyph_directions
@@ -51,7 +52,7 @@ class GlyphRenderer:
         program = self._mesh.program()
         set_uniforms(program, {"u_view_projection": gl_matrix(view_projection),
                                "u_light_direction": tuple(map(float, light_direction))})
-        with self.ctx.scope(target, enable_only=moderngl.DEPTH_TEST):
+        with scoped(self.ctx, target, moderngl.DEPTH_TEST):
             self._mesh.render("glyphs")
 
     def release(self) -> None:

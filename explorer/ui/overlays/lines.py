@@ -7,6 +7,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.gl.targets import scoped
 from explorer.scene.transforms import gl_matrix
 from explorer.ui.overlays.instanced import BufferSets
 
@@ -34,7 +35,7 @@ class LineRenderer:
             return
         set_uniforms(program, {"u_view_projection": gl_matrix(view_projection)})
         flags = moderngl.BLEND | (moderngl.NOTHING if on_top else moderngl.DEPTH_TEST)
-        with self.ctx.scope(target, enable_only=flags):
+        with scoped(self.ctx, target, flags):
             self.ctx.blend_func = moderngl.DEFAULT_BLENDING
             array.render(moderngl.LINES, vertices=self._sets.count(name))
 

@@ -7,6 +7,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.gl.targets import scoped
 from explorer.scene.transforms import gl_matrix
 from explorer.ui.overlays.quantities import LOG_DECADES, colour_table
 from explorer.ui.textures import to_rgba8
@@ -74,7 +75,7 @@ class SliceRenderer:
             "u_low": float(low), "u_high": float(high), "u_opacity": float(opacity),
             "u_log": int(log), "u_decades": LOG_DECADES})
         flags = moderngl.BLEND | (moderngl.NOTHING if on_top else moderngl.DEPTH_TEST)
-        with self.ctx.scope(target, enable_only=flags):
+        with scoped(self.ctx, target, flags):
             self.ctx.blend_func = moderngl.DEFAULT_BLENDING
             target.depth_mask = False
             try:

@@ -9,6 +9,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.gl.targets import scoped
 from explorer.scene.transforms import gl_matrix
 from explorer.ui.overlays.instanced import InstancedMesh
 from explorer.ui.overlays.quantities import Splats
@@ -49,7 +50,7 @@ class SplatRenderer:
         set_uniforms(program, {"u_view_projection": gl_matrix(view_projection),
                                "u_lift": float(lift), "u_radius_scale": float(radius_scale)})
         flags = moderngl.NOTHING if on_top else moderngl.DEPTH_TEST
-        with self.ctx.scope(target, enable_only=flags):
+        with scoped(self.ctx, target, flags):
             self._mesh.render(name, instances)
 
     def release(self) -> None:
