@@ -1,6 +1,6 @@
 """The unit tests of what changed: the test modules that import (or name) a module, shader
 or test helper changed since ``--base`` (default ``main``), in the working tree too, run
-in one process. The developer's quick target beside ``lpv-explorer check`` (lint, types,
+in one process. The developer's quick target beside ``bash scripts/check.sh`` (lint, types,
 structure, codegen); the whole suite stays the README's test command.
 
     python scripts/test_changed.py              # changed since main, then run them

@@ -4,9 +4,9 @@ The whole suite (``python -m pytest`` with no paths: the README's test command) 
 the machine's cores with pytest-xdist when it is installed (the ``test`` extra), a
 module's tests together in one worker (its module fixtures, e.g. the site build or the
 wheel's venv, made once) and each click session of tests/ui/test_click_window.py on its
-own and first (they are the longest tests: started first and spread, they overlap the
-rest). Paths on the command line, ``-n``/``--dist``, ``--pdb`` or ``-p no:xdist`` keep
-it in one process (or to what was asked)."""
+own; the longest units (:data:`LONGEST`) go out first, longest first, so that the rest
+of the suite fills the time they take. Paths on the command line, ``-n``/``--dist``,
+``--pdb`` or ``-p no:xdist`` keep it in one process (or to what was asked)."""
 
 from __future__ import annotations
 
@@ -21,8 +21,23 @@ MAX_WORKERS = 4
 """Workers at most: each starts its own Xvfb and imports the whole package, and llvmpipe
 renders on every core anyway, so more than a few pay no more."""
 SPLIT_MODULES = ("tests/ui/test_click_window.py",)
-"""Modules whose tests go to the workers one by one rather than as one unit, and first:
-the longest tests, so that the rest of the suite fills the time they take."""
+"""Modules whose tests go to the workers one by one rather than as one unit."""
+LONGEST = (
+    "tests/ui/test_click_window.py::test_click_session[try-this]",
+    "tests/ui/test_click_window.py::test_click_session[lessons]",
+    "tests/lessons/test_lesson_checks.py",
+    "tests/ui/test_click_window.py::test_click_session[figures]",
+    "tests/commands/test_bench.py",
+    "tests/ui/test_click_window.py::test_click_session[window]",
+    "tests/test_wheel_install.py",
+    "tests/site/test_site.py",
+    "tests/ui/test_click_window.py::test_click_session[return]",
+)
+"""The units of work (a module, or a test of :data:`SPLIT_MODULES`) that take longest,
+longest first (BENCHMARKS.md "The suite in minutes"): handed out first, in this order.
+A worker is given its next unit while it runs the last test of the one before (xdist's
+workers look one test ahead), so the first four pair up (1 and 3, 2 and 4) and the
+longest two never share a worker; handed out last, a long one would end the run alone."""
 _SPREAD = pytest.StashKey[bool]()
 
 
@@ -50,16 +65,21 @@ def pytest_cmdline_main(config: pytest.Config) -> None:
     config.stash[_SPREAD] = True
 
 
+def _unit(nodeid: str) -> str:
+    """The unit of work a test belongs to: its module, or itself in :data:`SPLIT_MODULES`."""
+    module = nodeid.split("::", 1)[0]
+    return nodeid if module in SPLIT_MODULES else module
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list) -> None:
-    """While the suite is spread, :data:`SPLIT_MODULES` go first: the folders collect
-    tests/ui/ last, and the longest tests handed out last would end the run alone. Every
-    worker collects and so reorders alike, as xdist requires."""
+    """While the suite is spread, the :data:`LONGEST` units go first, in its order (the
+    folders collect tests/ui/ last); the rest keep the collection's order. Every worker
+    collects and so reorders alike, as xdist requires."""
     if not config.stash.get(_SPREAD, False) and not hasattr(config, "workerinput"):
         return
-    first = [item for item in items if item.nodeid.split("::", 1)[0] in SPLIT_MODULES]
-    if first:
-        rest = [item for item in items if item.nodeid.split("::", 1)[0] not in SPLIT_MODULES]
-        items[:] = first + rest
+    rank = {unit: index for index, unit in enumerate(LONGEST)}
+    # sorted() is stable: a unit's tests keep their order, as do the units not ranked
+    items[:] = sorted(items, key=lambda item: rank.get(_unit(item.nodeid), len(rank)))
 
 
 @pytest.hookimpl(optionalhook=True)
@@ -71,8 +91,7 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log):
 
     class ModuleScheduling(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
-            module = nodeid.split("::", 1)[0]
-            return nodeid if module in SPLIT_MODULES else module
+            return _unit(nodeid)
 
     return ModuleScheduling(config, log)
 

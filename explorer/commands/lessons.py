@@ -201,7 +201,7 @@ def _check(args: argparse.Namespace, course) -> int:
     printed with the numbers it read, a failing one marked FAILS."""
     from explorer.gl.context import create_headless_context, release_headless_context
     from explorer.lessons import preview_settings
-    from explorer.lessons.verify import verify_step
+    from explorer.lessons.verify import FrameCache, verify_step
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.figures import declared_readouts
 
@@ -210,12 +210,13 @@ def _check(args: argparse.Namespace, course) -> int:
     failed = total = 0
     if steps:
         ctx = create_headless_context()
+        cache = FrameCache()
         try:
             with Pipeline(preview_settings(steps[0][1]), ctx=ctx) as pipeline:
                 for lesson, step in steps:
                     print(f"{lesson.path.stem} step {step.number}: {step.title}")
-                    for outcome in verify_step(pipeline, step,
-                                               figure_readouts=declared_readouts):
+                    for outcome in verify_step(pipeline, step, figure_readouts=declared_readouts,
+                                               cache=cache):
                         total += 1
                         failed += not outcome.holds
                         print(f"  {outcome}")

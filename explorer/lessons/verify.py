@@ -21,6 +21,7 @@ Three kinds of numbers besides the frame's own:
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 from explorer.lessons.checks import Check, Outcome, evaluate
@@ -40,6 +41,18 @@ claim of the shipped lessons needs."""
 
 FigureReadouts = Callable[[Any, tuple], Mapping[str, float]]
 """(figure spec, FrameResults: A first, B while comparing) -> the figure's readouts."""
+
+
+@dataclass
+class FrameCache:
+    """Converged frames and error measurements shared by the steps of one verification
+    (consecutive steps often render the same settings): a frame by the settings it
+    converged at, and for a try-this by the settings on screen before the press too
+    (the press runs again only what its change invalidates); a measurement by its
+    settings. A frame's arrays are its own: a later run leaves them as they were."""
+
+    frames: dict[tuple[Any, Any], Any] = field(default_factory=dict)
+    errors: dict[Any, Any] = field(default_factory=dict)
 
 
 def _error_measurement():
@@ -67,13 +80,15 @@ def measure_error(pipeline: Any, settings: Any) -> Any:
 
 # complexity: one branch per check kind, all measured on the one frame
 def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None,  # noqa: C901
-                figure_readouts: FigureReadouts | None = None) -> list[Outcome]:
+                figure_readouts: FigureReadouts | None = None,
+                cache: FrameCache | None = None) -> list[Outcome]:
     """Every check of ``step`` (an ``explorer.lessons.model.Step``) evaluated on converged frames
     that ``pipeline`` (an ``explorer.lpv.pipeline.Pipeline``) renders: the step as it opens,
     after a try-this, or on its compare side, each at ``sizes`` (default
     :data:`CHECK_SIZE`; None values keep the step's own). ``figure_readouts`` reads the
     step's figures (module docstring); without it a ``figure.*`` check fails saying so.
-    Frames and error measurements are made only for what the checks read."""
+    Frames and error measurements are made only for what the checks read, and taken
+    from ``cache`` when an earlier step made them (its own when None)."""
     from explorer.figure_params import FIGURE_KINDS
     from explorer.lessons.live_values import LiveContext, Unavailable, lookup
     from explorer.lessons.model import COMPARE_VIEWS
@@ -82,8 +97,8 @@ def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None
     marks = {mark.id: mark for mark in step.marks}
     plots_frames = {decl.name for decl in FIGURE_KINDS if decl.results}
     specs = {spec.instance_id: spec for spec in step.figures}
+    cache = FrameCache() if cache is None else cache
     frames: dict[tuple[int | None, str], tuple[Any, Any]] = {}
-    errors: dict[tuple[int | None, str], Any] = {}
     figures: dict[tuple[int | None, str], Mapping[str, float]] = {}
 
     def settings_of(after_try: int | None, side: str) -> Any:
@@ -102,21 +117,27 @@ def verify_step(pipeline: Any, step: Any, sizes: Mapping[str, int] | None = None
         key = (after_try, side)
         if key not in frames:
             settings = settings_of(after_try, side)
+            before = None
             if after_try is not None:
                 # as the reader does: the step on screen, then the press (the stages the
                 # press runs again are those its change invalidates)
                 before = step.settings()
                 if side == "compare":
                     before = before.with_changes(corrections=step.compare)
-                pipeline.run(shrink_settings(before, **sizes))
-            frames[key] = (settings, pipeline.run(settings))   # converged, full audit
+                before = shrink_settings(before, **sizes)
+            made = (before, settings)
+            if made not in cache.frames:
+                if before is not None:
+                    pipeline.run(before)
+                cache.frames[made] = pipeline.run(settings)   # converged, full audit
+            frames[key] = (settings, cache.frames[made])
         return frames[key]
 
     def error(after_try: int | None, side: str) -> Any:
-        key = (after_try, side)
-        if key not in errors:
-            errors[key] = measure_error(pipeline, settings_of(after_try, side))
-        return errors[key]
+        settings = settings_of(after_try, side)
+        if settings not in cache.errors:
+            cache.errors[settings] = measure_error(pipeline, settings)
+        return cache.errors[settings]
 
     def figure(after_try: int | None, figure_id: str) -> Mapping[str, float]:
         key = (after_try, figure_id)

@@ -163,19 +163,20 @@ def test_every_check_holds_on_its_converged_frame(shipped, ctx):
     every claim holds (test_a_false_claim_fails: the same frames with the operator
     reversed fail, so a check that could never fail is caught)."""
     from explorer.lessons import preview_settings
-    from explorer.lessons.verify import verify_step
+    from explorer.lessons.verify import FrameCache, verify_step
     from explorer.lpv.pipeline import Pipeline
     from explorer.ui.figures import declared_readouts
 
     failures: list[str] = []
     count = 0
+    cache = FrameCache()           # steps that render the same settings share the frame
     with Pipeline(preview_settings(shipped[0].steps[0]), ctx=ctx) as pipeline:
         for lesson in shipped:
             for step in lesson.steps:
                 if not step.checks:
                     continue
-                for outcome in verify_step(pipeline, step,
-                                           figure_readouts=declared_readouts):
+                for outcome in verify_step(pipeline, step, figure_readouts=declared_readouts,
+                                           cache=cache):
                     count += 1
                     if not outcome.holds:
                         failures.append(f"{lesson.path.name} step {step.number}: {outcome}")
