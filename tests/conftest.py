@@ -27,6 +27,7 @@ LONGEST = (
     "tests/ui/test_click_window.py::test_click_session[lessons]",
     "tests/lessons/test_lesson_checks.py",
     "tests/ui/test_click_window.py::test_click_session[figures]",
+    "tests/lessons/test_window_words.py",
     "tests/commands/test_bench.py",
     "tests/ui/test_click_window.py::test_click_session[window]",
     "tests/test_wheel_install.py",
