@@ -197,7 +197,8 @@ def _provisional_while_converging(c, step, where: str) -> None:
     session = c.state.lesson_session
     env = article._page_env(c.state, session, step, article_numbers.live_context(c.state, step))
     for name, fmt in lesson_text.placeholders(step.text):
-        if not article_numbers.provisional(live_values.lookup(name, step.figure_ids)):
+        if not article_numbers.provisional(live_values.lookup(name, step.figure_ids,
+                                                              step.mark_ids)):
             continue
         text, tip = env.value(name, fmt)
         if text != live_values.PENDING and c.state.runtime.frame.progress.get("A"):

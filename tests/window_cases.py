@@ -45,4 +45,5 @@ def run_child(args: list[str], tmp_path, timeout: float = 600, env: dict | None 
     base.update(XDG_CONFIG_HOME=str(tmp_path / "config"),
                 XDG_CACHE_HOME=str(tmp_path / "cache"))
     return subprocess.run([sys.executable, *args], cwd=Path(__file__).resolve().parent.parent,
-                          env=base, capture_output=True, text=True, timeout=timeout)
+                          env=base, capture_output=True, text=True, errors="replace",
+                          timeout=timeout)

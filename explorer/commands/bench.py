@@ -149,7 +149,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "warm-up: a count at a pass's end above the warm-up's end, "
                              "one after a step of the third pass on above the second "
                              "pass's after it, or resident memory over the warm-up's peak "
-                             "by more than 10%%.")
+                             "by more than a tenth.")
     parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...",
                         help="with --soak: the steps one pass takes (default every step of "
                              "every lesson), e.g. overview:2,errata:1")

@@ -92,8 +92,8 @@ class Settings:
         suggested=(8, 16, 24, 32, 48, 64), label="Grid size (cells³)",
         group="Light propagation volume", stages=("grid",),
         doc="Cells along each edge of the (each cascade's) grid: N³ cells, fitted around "
-            "the scene's box (unless grid_cells, grid_origin and grid_cell_size give an "
-            "exact grid).")
+            "the scene's box (unless an exact grid's cells, origin and cell size are "
+            "given).")
     grid_cells: tuple[int, int, int] | None = setting(
         None, kind="int3", optional=True, low=1, high=MAX_GRID_SIZE, flag="--grid-cells",
         stages=("grid",),
