@@ -25,6 +25,15 @@ def grid_cells(cells: int | Sequence[int]) -> tuple[int, int, int]:
     return shape
 
 
+def cube_edge(cells: Sequence[int]) -> int:
+    """Cells per axis of a cubic grid; a ValueError naming the shape for another (what
+    needs a cube says so through this)."""
+    if len({int(n) for n in cells}) != 1:
+        raise ValueError(f"this needs a cubic grid (N x N x N cells), the grid has "
+                         f"{shape_text(cells)}")
+    return int(cells[0])
+
+
 def shape_text(cells: Sequence[int]) -> str:
     """How messages name a grid's cells: ``"8^3"`` for a cube, ``"7x12x5"`` otherwise."""
     shape = [int(n) for n in cells]
@@ -79,12 +88,8 @@ class GridSpec:
 
     @property
     def resolution(self) -> int:
-        """Cells per axis of a cubic grid; a ValueError for another shape (what needs a cube
-        says so through this)."""
-        if not self.is_cube:
-            raise ValueError(f"this needs a cubic grid (N x N x N cells), the grid has "
-                             f"{shape_text(self.cells)}")
-        return self.cells[0]
+        """Cells per axis of a cubic grid (:func:`cube_edge`)."""
+        return cube_edge(self.cells)
 
     @property
     def cell_count(self) -> int:

@@ -117,8 +117,14 @@ def test_a_short_soak_drives_the_window_and_counts_what_it_holds(tmp_path, capsy
     status = main(["bench", "--soak", "0.01", "--soak-steps", SOAK_STEPS, "--json", str(out)])
     printed = capsys.readouterr().out
     data = json.loads(out.read_text())
-    assert data["growth"] == [] and status == 0, printed
-    assert "no growth after the warm-up" in printed
+    # GL objects and scopes must not grow even here; resident memory over two steps of a
+    # run this short moves with the allocator and the machine's load (measured: +10 % in
+    # one CI run, flat in others), so only the long soak judges it (BENCHMARKS.md)
+    gl_growth = [line for line in data["growth"] if "resident memory" not in line]
+    assert gl_growth == [], printed
+    assert status == (1 if data["growth"] else 0), printed
+    if not data["growth"]:
+        assert "no growth after the warm-up" in printed
     assert "resident MiB" in printed and "Texture" in printed and "Scope" in printed
     assert data["passes"] == 2 and data["steps"] == 2 and data["cycles"] == 4
     assert [sample["phase"] for sample in data["samples"]][::len(data["samples"]) - 1] == \

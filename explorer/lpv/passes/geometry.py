@@ -16,7 +16,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.corrections import uniforms_read_by
-from explorer.lpv.grid import GridSpec, grid_cells, shape_text
+from explorer.lpv.grid import GridSpec, cube_edge, grid_cells, shape_text
 from explorer.lpv.passes.inject import bind_vpl_textures, vpl_count
 from explorer.lpv.passes.light_records import LightRecordBuffer
 from explorer.lpv.passes.rsm import LightView
@@ -98,11 +98,8 @@ class GeometryVolume:
 
     @property
     def resolution(self) -> int:
-        """Cells per axis of the light grid when it is a cube; a ValueError otherwise."""
-        if len(set(self.cells)) != 1:
-            raise ValueError(f"this needs a cubic grid (N x N x N cells), the grid has "
-                             f"{shape_text(self.cells)}")
-        return self.cells[0]
+        """Cells per axis of the light grid when it is a cube (:func:`cube_edge`)."""
+        return cube_edge(self.cells)
 
     @property
     def format(self) -> str:

@@ -18,7 +18,7 @@ import numpy as np
 
 from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache, set_uniforms
-from explorer.lpv.grid import grid_cells, shape_text
+from explorer.lpv.grid import cube_edge, grid_cells
 from explorer.lpv.settings import GRID_FORMATS
 
 _TEXTURE_DTYPES = {"rgba32f": "f4", "rgba16f": "f2"}
@@ -147,11 +147,8 @@ class LpvGrid:
 
     @property
     def resolution(self) -> int:
-        """Cells per axis of a cubic grid; a ValueError for another shape."""
-        if len(set(self.cells)) != 1:
-            raise ValueError(f"this needs a cubic grid (N x N x N cells), the grid has "
-                             f"{shape_text(self.cells)}")
-        return self.cells[0]
+        """Cells per axis of the light grid when it is a cube (:func:`cube_edge`)."""
+        return cube_edge(self.cells)
 
     def clear(self) -> None:
         for volume in self.volumes:
