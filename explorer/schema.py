@@ -310,14 +310,8 @@ def _check_points(spec: Spec, value: Any):
     first, second = value
     pair = []
     for point in (first, second):
-        if isinstance(point, (str, bytes)):
-            return _REFUSED
-        coords = tuple(point)
-        if len(coords) != 3 or any(isinstance(c, bool) or not isinstance(c, numbers.Real)
-                                   for c in coords):
-            return _REFUSED
-        coords = tuple(float(c) for c in coords)
-        if not all(math.isfinite(c) for c in coords):
+        coords = _check_point(spec, point)
+        if coords is _REFUSED:
             return _REFUSED
         pair.append(coords)
     if pair[0] == pair[1]:

@@ -137,3 +137,17 @@ def frame_view_lights(pipeline) -> list:
     return twin_media.view_lights(pipeline.light_views.views,
                                        [read_texture(rsm.position) for rsm in sets],
                                        [read_texture(rsm.normal) for rsm in sets])
+
+
+def dump_small(folder, args: list[str]) -> tuple:
+    """``render ARGS --dump`` of a small frame into ``folder``, read back: (folder, the
+    arrays, the sidecar)."""
+    import json
+
+    from explorer.cli import main
+    from explorer.exchange.files import read_npz
+
+    assert main(["render", *args, "--dump", str(folder / "a.npz"),
+                 "--out", str(folder / "a.png")]) == 0
+    sidecar = json.loads((folder / "a.json").read_text(encoding="utf-8"))
+    return folder, read_npz(folder / "a.npz"), sidecar

@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 import pytest
+from lpv_cases import dump_small
 
 from explorer.cli import main
 from explorer.exchange.files import read_npz
@@ -25,11 +26,7 @@ VIEWS = 7                                     # the spot's one view and the bulb
 
 @pytest.fixture(scope="module")
 def dumped(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("views")
-    assert main(["render", *SMALL, "--dump", str(folder / "a.npz"),
-                 "--out", str(folder / "a.png")]) == 0
-    sidecar = json.loads((folder / "a.json").read_text(encoding="utf-8"))
-    return folder, read_npz(folder / "a.npz"), sidecar
+    return dump_small(tmp_path_factory.mktemp("views"), SMALL)
 
 
 @pytest.fixture(scope="module")

@@ -9,6 +9,7 @@ import json
 
 import numpy as np
 import pytest
+from lpv_cases import dump_small
 from PIL import Image
 
 from explorer.cli import main
@@ -25,11 +26,7 @@ SETTINGS = Settings(scene="cornell", grid_size=8, iterations=3, width=32, height
 @pytest.fixture(scope="module")
 def dumped(tmp_path_factory):
     """One dump of the small frame (CLI), read back: (folder, arrays, sidecar)."""
-    folder = tmp_path_factory.mktemp("dump")
-    assert main(["render", *SMALL, "--dump", str(folder / "a.npz"),
-                 "--out", str(folder / "a.png")]) == 0
-    sidecar = json.loads((folder / "a.json").read_text(encoding="utf-8"))
-    return folder, read_npz(folder / "a.npz"), sidecar
+    return dump_small(tmp_path_factory.mktemp("dump"), SMALL)
 
 
 @pytest.fixture(scope="module")

@@ -132,16 +132,7 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
                 _colour_bar(draw, field, origin, end, at_left)
                 if side == "A":
                     _caption(draw, field.label, origin, end)
-    marks = step_marks(state)
-    if marks and rt.frame.result is not None:
-        from explorer.ui.overlays import marks as mark_overlay
-
-        def text_size(label: str) -> tuple[float, float]:
-            size = imgui.calc_text_size(label)
-            return size.x, size.y
-
-        mark_overlay.draw(draw, mark_overlay.placements(
-            rt.frame.result, marks, (origin.x, origin.y), (end.x, end.y), text_size))
+    draw_marks(draw, rt.frame.result, step_marks(state), origin, end)
     delta = imgui.get_io().mouse_delta
     if hovered and (delta.x or delta.y):
         rt.view.pointer_moved = True
@@ -252,3 +243,18 @@ def _caption(draw, text: str, origin, end) -> None:
     draw.add_rect_filled((pos.x - 2, pos.y - 3), (pos.x + size.x + 8, pos.y + size.y + 3),
                          imgui.get_color_u32(imgui.ImVec4(0.0, 0.0, 0.0, 0.6)), 3.0)
     draw.add_text((pos.x + 3, pos.y), imgui.get_color_u32(imgui.ImVec4(1, 1, 1, 0.95)), text)
+
+
+def draw_marks(draw, result, marks, origin, end) -> None:
+    """The step's marks and their labels, placed on ``result``'s picture drawn between
+    ``origin`` and ``end`` (screen corners); nothing without marks or a frame."""
+    if not marks or result is None:
+        return
+    from explorer.ui.overlays import marks as mark_overlay
+
+    def text_size(label: str) -> tuple[float, float]:
+        size = imgui.calc_text_size(label)
+        return size.x, size.y
+
+    mark_overlay.draw(draw, mark_overlay.placements(
+        result, marks, (origin.x, origin.y), (end.x, end.y), text_size))

@@ -424,11 +424,7 @@ def _images(state, result: ErrorResult) -> None:
     for index, (title, tex) in enumerate(_pictures(state, result)):
         if index % per_row:
             imgui.same_line(0.0, IMAGE_GAP_PX)
-        imgui.begin_group()
-        imgui.text_disabled(title)
-        pos = imgui.get_cursor_screen_pos()
-        imgui.image(imgui.ImTextureRef(tex), size)
-        imgui.end_group()
+        pos = _titled_image(title, tex, size)
         if imgui.is_item_hovered():
             imgui.set_mouse_cursor(imgui.MouseCursor_.hand)
             imgui.set_tooltip("click to enlarge")
@@ -440,6 +436,17 @@ def _images(state, result: ErrorResult) -> None:
                              "Click an image to enlarge it.")
     if service.enlarged:
         _enlarged(state, service, result)
+
+
+def _titled_image(title: str, tex, size) -> imgui.ImVec2:
+    """One error image under its title, as one item (hover and click test the pair); the
+    image's top-left corner, where the stops bar lines up."""
+    imgui.begin_group()
+    imgui.text_disabled(title)
+    pos = imgui.get_cursor_screen_pos()
+    imgui.image(imgui.ImTextureRef(tex), size)
+    imgui.end_group()
+    return pos
 
 
 def _enlarged(state, service: ErrorService, result: ErrorResult) -> None:
@@ -465,11 +472,7 @@ def _enlarged(state, service: ErrorService, result: ErrorResult) -> None:
         for index, (title, tex) in enumerate(_pictures(state, result)):
             if index:
                 imgui.same_line(0.0, IMAGE_GAP_PX)
-            imgui.begin_group()
-            imgui.text_disabled(title)
-            pos = imgui.get_cursor_screen_pos()
-            imgui.image(imgui.ImTextureRef(tex), size)
-            imgui.end_group()
+            pos = _titled_image(title, tex, size)
             if imgui.is_item_hovered() and imgui.is_mouse_clicked(0):
                 still_open = False
         _stops_bar(imgui.ImVec2(pos.x + size.x + 6, pos.y), size.y)

@@ -333,8 +333,6 @@ def washed_out(state: AppState, side: str) -> str:
 def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell) -> None:
     """Each side's whole picture in its cell, with its label and the step's marks; a side
     not rendered yet says so in its cell."""
-    from explorer.ui.overlays import marks as mark_overlay
-
     rt = state.runtime
     pictures = rt.frame.pictures
     marks = in_view.step_marks(state)
@@ -350,13 +348,7 @@ def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell
             continue
         tex, flipped = side_texture(state, side)
         draw.add_image(imgui.ImTextureRef(tex), p0, p1, *_uv(0.0, 1.0, flipped))
-        if marks and rt.frame.result is not None:
-            def text_size(label: str) -> tuple[float, float]:
-                size = imgui.calc_text_size(label)
-                return size.x, size.y
-
-            mark_overlay.draw(draw, mark_overlay.placements(
-                rt.frame.result, marks, (p0.x, p0.y), (p1.x, p1.y), text_size))
+        in_view.draw_marks(draw, rt.frame.result, marks, p0, p1)
         _overlay(draw, p0, labels[index])
         note = washed_out(state, side) if index else ""
         if note:
