@@ -5,7 +5,9 @@ of the key it names, found in the file's text, so that an author's editor can ju
 The reader checks parsed TOML, which keeps no line numbers; this module finds the key
 again by the TOML layout the lessons use: ``[[steps]]`` headers, ``[[steps.try_this]]``
 and ``[steps.settings]`` tables below them, ``key = value`` lines. A key written some
-other way (an inline table) falls back to the line of its table or of its step.
+other way (an inline table) falls back to the line of its table or of its step. An error
+about a ``{{...}}`` in a text (a live value's name, a marker) points at the line of the
+text that holds it.
 """
 
 from __future__ import annotations
@@ -83,6 +85,23 @@ def line_of(text: str, step: int | None, field: str | None) -> int | None:
     return found + 1
 
 
+def _marker_line(lines: list[str], key_line: int, reason: str) -> int | None:
+    """The 1-based line, from the key's line on, of the ``{{...}}`` a reason starts with
+    (``{{frame.cellsize}}: no live quantity ...``), before the next table; None when the
+    reason quotes none or the text spells it otherwise."""
+    match = re.match(r"\{\{([^{}]+)\}\}", reason)
+    if match is None:
+        return None
+    # the reason quotes the name (and format) as the text wrote it, without spaces
+    pattern = re.compile(r"\{\{\s*" + re.escape(match.group(1).strip()))
+    for index in range(key_line - 1, len(lines)):
+        if index >= key_line and _HEADER.match(lines[index]):
+            return None
+        if pattern.search(lines[index]):
+            return index + 1
+    return None
+
+
 def located(error: LessonError, text: str) -> LessonError:
     """``error`` with the line of its key in ``text`` (the same error when it has a line
     already or the key cannot be found)."""
@@ -91,5 +110,6 @@ def located(error: LessonError, text: str) -> LessonError:
     line = line_of(text, error.step, error.field)
     if line is None:
         return error
+    line = _marker_line(text.splitlines(), line, error.reason) or line
     return LessonError(error.path, error.reason, step=error.step, step_title=error.step_title,
                        field=error.field, line=line)

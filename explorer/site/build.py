@@ -99,7 +99,7 @@ def view_alt(step: Step) -> str:
     drawn = shown_in_scene(step)
     extra = f", with {'; '.join(drawn)}" if drawn else ""
     words = view_words(step)
-    return f"{words[:1].upper()}{words[1:]} of the {step.scene} scene{extra}"
+    return f"{words[:1].upper()}{words[1:]} of the {step.scene_name} scene{extra}"
 
 
 def look_hint(step: Step, numbers: dict[str, int]) -> str:
@@ -584,7 +584,7 @@ class _Writer:
         overlays = shown_in_scene(step)
         extra = f"; drawn in the scene: {'; '.join(overlays)}" if overlays else ""
         return (f"“{pages.esc(step.title)}”: {pages.esc(view_words(step))} of the "
-                f"{pages.esc(step.scene)} scene{pages.esc(extra)}.")
+                f"{pages.esc(step.scene_name)} scene{pages.esc(extra)}.")
 
     # --- inline figures ------------------------------------------------------------------
     def readouts(self, lesson: Lesson, step: Step, shot: Shot) -> dict[str, dict[str, float]]:

@@ -199,6 +199,16 @@ def test_an_error_names_the_line_of_its_key(folder):
         load_lesson(path)
     assert caught.value.line == lines.index('kind = "clamped-cosine"') + 1
     assert str(caught.value).startswith(f"{path}:{caught.value.line}, step 1")
+    # a {{...}} the text gets wrong: the line of the text that holds it, not the key's
+    for wrong, right in (("{{frame.cell_size:.3f}}", "{{frame.cellsize:.3f}}"),
+                         ("{{try:1}}", "{{try:3}}"),
+                         ("gets {{mark.ceiling", "gets {{mark.floor")):
+        slip = text.replace(wrong, right)
+        path.write_text(slip, encoding="utf-8")
+        with pytest.raises(LessonError) as caught:
+            load_lesson(path)
+        assert caught.value.line == next(number for number, line in
+                                         enumerate(slip.splitlines(), 1) if right in line)
 
 
 SCENE = """builtin = "cornell"
@@ -243,3 +253,54 @@ def test_the_window_lists_the_course_and_the_folder_side_by_side(folder):
     clash = load_course(folder)
     assert [error.field for error in clash.errors] == ["id"]
     assert "shipped lesson 01-overview.toml" in str(clash.errors[0])
+
+
+def _open_box_obj() -> str:
+    """An open-fronted box room, 2 m each way, its five walls facing in, as OBJ text."""
+    quads = [[(-1, 0, 1), (1, 0, 1), (1, 0, -1), (-1, 0, -1)],       # floor, up
+             [(-1, 2, -1), (1, 2, -1), (1, 2, 1), (-1, 2, 1)],       # ceiling, down
+             [(-1, 0, -1), (1, 0, -1), (1, 2, -1), (-1, 2, -1)],     # back, +z
+             [(-1, 0, 1), (-1, 0, -1), (-1, 2, -1), (-1, 2, 1)],     # left, +x
+             [(1, 0, -1), (1, 0, 1), (1, 2, 1), (1, 2, -1)]]         # right, -x
+    lines = [f"v {x} {y} {z}" for quad in quads for x, y, z in quad]
+    for k in range(len(quads)):
+        a = 4 * k + 1
+        lines += [f"f {a} {a + 1} {a + 2}", f"f {a} {a + 2} {a + 3}"]
+    return "\n".join(lines) + "\n"
+
+
+def test_a_folder_elsewhere_names_a_scene_file_and_a_mesh_beside_itself(tmp_path, capsys):
+    """A teacher's project with lessons/, scenes/ and meshes/ side by side: each command
+    reads the scene file and the mesh relative to the lesson (and the scene file's mesh
+    relative to the scene file), and the site names the scene in a word, never by the
+    teacher's own paths."""
+    project = tmp_path / "project"
+    for name in ("lessons", "scenes", "meshes"):
+        (project / name).mkdir(parents=True)
+    (project / "meshes" / "box.obj").write_text(_open_box_obj(), encoding="utf-8")
+    (project / "scenes" / "room.toml").write_text(
+        'name = "teacher room"\n[[meshes]]\npath = "../meshes/box.obj"\n', encoding="utf-8")
+    lessons = project / "lessons"
+    ceiling = ("at = [0.0, 0.99, -0.3]", "at = [0.0, 1.99, -0.3]")
+    for number, scene in ((1, "../scenes/room.toml"), (2, "../meshes/box.obj")):
+        (lessons / f"0{number}-room-{number}.toml").write_text(
+            guide_example().replace('id = "first-light"', f'id = "room-{number}"')
+            .replace('scene = "cornell" ', f'scene = "{scene}"').replace(*ceiling),
+            encoding="utf-8")
+    assert main(["lessons", "--check", str(lessons)]) == 0
+    assert "4 of 4 checks hold on 4 steps" in capsys.readouterr().out
+    png = tmp_path / "step.png"
+    assert main(["render", "--lesson", "room-1", "--step", "2", "--lessons", str(lessons),
+                 "--size", "64x48", "--rsm-size", "32", "--out", str(png)]) == 0
+    assert png.is_file()
+    out = tmp_path / "site"
+    done = subprocess.run([sys.executable, "-m", "explorer", "site", str(out), "--lessons",
+                           str(lessons), "--size", "96x64", "--figure-width", "240"],
+                          cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    pages = {path.name: path.read_text(encoding="utf-8") for path in out.glob("*.html")}
+    assert sorted(pages) == ["01-room-1.html", "02-room-2.html", "index.html"]
+    assert "of the room scene" in pages["01-room-1.html"]
+    assert "of the box scene" in pages["02-room-2.html"]
+    leaked = [name for name, page in pages.items() if str(tmp_path) in page]
+    assert not leaked, leaked

@@ -79,6 +79,31 @@ try:
     for _ in range(3):
         assert app.frame()                   # the article still draws the good lesson
 
+    # every other kind of slip: TOML syntax, a key the format lacks, a live value's name
+    slips = [(edited.replace('view = "direct"', 'view = "direct'), 'view = "direct',
+              "TOML syntax error"),
+             (edited.replace('view = "direct"', 'view = "direct"\ncolour = "red"'),
+              'colour = "red"', "step 2 ('Cell by cell'), field 'colour': unknown field"),
+             (edited.replace("{{frame.cell_size:.3f}}", "{{frame.cellsize:.3f}}"),
+              "{{frame.cellsize:.3f}} m cells here. The view shows the indirect light alone.",
+              "field 'text': {{frame.cellsize}}: no live quantity 'frame.cellsize'; did you "
+              "mean frame.cell_size")]
+    for slip, where, says in slips:
+        before = len(errors)
+        save(slip)
+        poll()
+        errors = [m.text for m in state.messages if m.level == "error"]
+        assert len(errors) == before + 1 and "\n" not in errors[-1], errors
+        line = slip.splitlines().index(where) + 1
+        assert f"01-mine.toml:{line}" in errors[-1] and says in errors[-1], errors[-1]
+        assert session.step_number == 2 and session.step.title == "Cell by cell"
+        assert state.view_buffer == "direct" and state.settings.grid_size == 12
+        assert session.reload_error in errors[-1]
+        for _ in range(2):
+            assert app.frame()
+    if len(sys.argv) > 2:                    # a look at the window with the last slip
+        app.screenshot(sys.argv[2])
+
     # the next good save is shown again
     save(edited.replace('title = "Cell by cell"', 'title = "Cells"'))
     poll()
