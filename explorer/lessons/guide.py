@@ -114,9 +114,9 @@ def settings_fields() -> str:
 
 
 def choices() -> str:
-    """Scenes, views, plots, presets, check operators, try-this controls."""
+    """Scenes, views, plots, presets, try-this modes, check operators."""
     from explorer.lessons.checks import OPERATORS
-    from explorer.lessons.model import STEP_VIEWS
+    from explorer.lessons.model import STEP_VIEWS, TRY_COMPARES
     from explorer.lpv.corrections import CORRECTIONS
     from explorer.lpv.settings import PLOTS, PRESETS
     from explorer.scene.builtin import BUILTIN_SCENES
@@ -130,6 +130,7 @@ def choices() -> str:
              f"* `corrections` and `compare` presets: {names(PRESETS)};",
              "* correction switches (`corrections = {preset = ..., <switch> = false}`, a "
              f"try-this's `corrections.<switch>`): {names(e.name for e in CORRECTIONS)};",
+             f"* a try-this's `compare`: {names(TRY_COMPARES)};",
              f"* a check's `op`: {names(OPERATORS)}."]
     return "\n".join(lines)
 

@@ -49,13 +49,38 @@ def test_the_guide_is_what_the_registries_make():
         guide.render(GUIDE_TEXT.replace("<!-- end: figure-kinds -->", ""))
 
 
+GUIDE_SECTIONS = {"lesson": "## The lesson's keys", "steps": "## A step's keys",
+                  "camera": "## A step's keys", "light": "## A step's keys",
+                  "steps.try_this": "## Try this", "steps.try_this.predict": "### Predictions",
+                  "steps.figures": "## Figures", "steps.marks": "## Marks",
+                  "steps.checks": "## Checks", "glossary terms": "## The glossary"}
+"""Where the guide describes each table of :func:`format_keys`."""
+
+
+def guide_section(heading: str) -> str:
+    """The guide's text under ``heading``, up to the next heading of any level."""
+    parts = re.split(r"^(#{2,4} .*)$", GUIDE_TEXT, flags=re.M)
+    return dict(zip(parts[1::2], parts[2::2]))[heading]
+
+
 def test_the_guide_describes_every_key_and_name():
     from explorer.figure_params import FIGURE_KINDS, schema
     from explorer.lessons import live_values
+    from explorer.lessons.model import TRY_COMPARES
+    from explorer.lessons.text import MARKERS
 
+    # each key in its own table's section: a row of its table, or (a camera's eye, a
+    # light's position) named in the row of the key that holds it
     missing = [f"{table}: {key}" for table, keys in format_keys().items() for key in keys
-               if f"`{key}`" not in GUIDE_TEXT]
+               if f"`{key}`" not in guide_section(GUIDE_SECTIONS[table])]
     assert not missing, missing
+    rows = [f"{table}: {key}" for table, keys in format_keys().items() for key in keys
+            if table not in ("camera", "light")
+            and f"| `{key}` |" not in guide_section(GUIDE_SECTIONS[table])]
+    assert not rows, rows
+    dialect = guide_section("## The prose dialect")
+    assert not [name for name in MARKERS if "{{" + name not in dialect]
+    assert all(f"`{mode}`" in guide_section("## Try this") for mode in TRY_COMPARES)
     names = [name for name in live_values.table() if f"`{name}`" not in GUIDE_TEXT]
     assert not names, names
     for kind in FIGURE_KINDS:
@@ -304,3 +329,24 @@ def test_a_folder_elsewhere_names_a_scene_file_and_a_mesh_beside_itself(tmp_path
     assert "of the box scene" in pages["02-room-2.html"]
     leaked = [name for name, page in pages.items() if str(tmp_path) in page]
     assert not leaked, leaked
+
+
+def test_the_guides_window_and_web_variant_loads_with_both_sides(folder):
+    from explorer.lessons.text import for_medium
+
+    snippet = re.search(r"```toml\ntext = '''\n(.*?)'''\n```", guide_section("## Window and web"),
+                        re.S)
+    assert snippet, "the guide shows no variant"
+    path = folder / "01-first-light.toml"
+    path.write_text(guide_example().replace("{{figure:lobe}}\n'''",
+                                            "{{figure:lobe}}\n\n" + snippet.group(1) + "'''"),
+                    encoding="utf-8")
+    text = load_lesson(path).steps[0].text
+    window, web = for_medium(text, "window"), for_medium(text, "web")
+    assert "Drag the normal in the figure" in window and "Move the slider" not in window
+    assert "Move the slider under" in web and "Drag the normal" not in web
+    path.write_text(guide_example().replace("{{figure:lobe}}\n'''", "{{figure:lobe}}\n\n"
+                    + snippet.group(1).replace("{{fig:lobe}}", "{{fig:lob}}") + "'''"),
+                    encoding="utf-8")
+    with pytest.raises(LessonError, match=r"\{\{fig:lob\}\}: the step has no figure"):
+        load_lesson(path)
