@@ -20,8 +20,9 @@ COMMANDS: dict[str, str] = {
               "as float arrays with --dump",
     "constants": "list the exact constants the renderer uses; --format glsl|hlsl|cpp|json: "
                  "the porting sheet",
-    "lessons": "list, print, check or lint the lessons, or start one (lessons new NAME); "
-               "--dir DIR: a folder of your own",
+    "lessons": "list, print, check, lint or export the lessons (lessons list | print ID | "
+               "check | lint | export ID), or start one (lessons new NAME); --dir DIR: a "
+               "folder of your own",
     "compare": "compare LPV against the one-bounce reference (error tables and images)",
     "diff": "their stages (an .npz named as render --dump names them) against ours: the "
             "largest and relative error per cell and pixel, and where",

@@ -8,6 +8,12 @@ frames, rendered headless (explorer/lessons/verify.py), and prints each claim wi
 numbers it read; ``lpv-explorer lessons [ID] --lint [DIR]`` holds a folder's lessons to
 what the shipped course is held to (explorer/lessons/words.py, explorer/ui/lesson_lint.py).
 
+The verbs may also be written as words: ``lessons list``, ``lessons print ID``,
+``lessons check [ID | DIR]``, ``lessons lint [ID | DIR]`` and ``lessons export ID`` are
+``lessons``, ``lessons ID``, ``--check``, ``--lint`` and ``--export ID`` (a word that is
+a folder is the folder, as ``--check DIR`` takes it; a lesson whose id is a verb is
+named by its number or file stem).
+
 Every verb reads the folder ``--dir DIR`` (or ``--lessons DIR``, or the DIR given to
 ``--check``/``--lint``) instead of the shipped lessons. Listing also validates every
 lesson; a broken one is reported with its error and makes the command exit 1, so CI and
@@ -26,12 +32,16 @@ from explorer.commands.options import CommandError, size_type
 
 NEW = "new"
 """The verb of ``lessons new NAME``."""
+VERBS = (NEW, "list", "print", "check", "lint", "export")
+"""The words ``lessons`` takes as a verb before its arguments (the rest are flags too)."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("words", nargs="*", metavar="ID | new NAME",
-                        help="a lesson id, number or file stem: print its steps; "
-                             "new NAME: write a lesson called NAME to start from")
+    parser.add_argument("words", nargs="*", metavar="ID | VERB ...",
+                        help="a lesson id, number or file stem: print its steps; or a "
+                             "verb: list, print ID, check [ID|DIR], lint [ID|DIR], "
+                             "export ID (as --check, --lint, --export), new NAME: write a "
+                             "lesson called NAME to start from")
     add_folder_option(parser, ("--dir", "--lessons"))
     parser.add_argument("--check", nargs="?", const=True, default=False, metavar="DIR",
                         help="verify the claims the steps check ([[steps.checks]]) on "
@@ -87,13 +97,48 @@ def _verb_folder(args: argparse.Namespace) -> None:
         setattr(args, flag, True)
 
 
+def _verb_words(args: argparse.Namespace) -> list[str]:
+    """The words after a verb written as a word (``lessons check my-lessons``), the verb
+    turned into its flag; the words as given when the first is no verb."""
+    words = list(args.words)
+    verb = words[0] if words else None
+    if verb not in VERBS or verb == NEW:
+        return words
+    rest = words[1:]
+    flags = [flag for flag, on in (("--check", args.check), ("--lint", args.lint),
+                                   ("--export", args.export)) if on]
+    if flags and flags != [f"--{verb}"]:
+        raise CommandError(f"lessons {verb} and {flags[0]}: one verb at a time")
+    if len(rest) > 1 or (verb == "list" and rest):
+        raise CommandError(f"lessons {verb}: {'no' if verb == 'list' else 'one'} "
+                           f"{'lesson' if verb != 'list' else 'argument'}"
+                           f"{'' if verb == 'list' else ' at a time'}, got {' '.join(rest)}"
+                           + (" (a lesson's steps: lpv-explorer lessons print ID)"
+                              if verb == "list" else ""))
+    if verb in ("print", "export") and not rest:
+        raise CommandError(f"lessons {verb} ID: name the lesson (its id, number or file "
+                           "stem; lpv-explorer lessons list lists them)")
+    if verb == "export":
+        args.export = rest[0]
+        return []
+    if verb in ("check", "lint"):
+        # a folder there is the folder, as --check DIR takes it; else a lesson of the course
+        if rest and Path(rest[0]).is_dir():
+            setattr(args, verb, rest[0])
+            rest = []
+        elif not isinstance(getattr(args, verb), str):
+            setattr(args, verb, True)
+    return rest
+
+
 def main(args: argparse.Namespace) -> int:
     from explorer.lessons.glossary import GlossaryError, load_glossary
 
+    if args.words[:1] == [NEW]:
+        _verb_folder(args)
+        return _new(args, list(args.words[1:]))
+    words = _verb_words(args)
     _verb_folder(args)
-    words = list(args.words)
-    if words[:1] == [NEW]:
-        return _new(args, words[1:])
     if len(words) > 1:
         raise CommandError(f"one lesson at a time, got {' '.join(words)} (to start a "
                            "lesson: lpv-explorer lessons new NAME)")
@@ -174,6 +219,9 @@ def _new(args: argparse.Namespace, names: list[str]) -> int:
         lesson_id, text = new_lesson(names[0])
     except ValueError as exc:
         raise CommandError(exc) from None
+    if lesson_id in VERBS:
+        raise CommandError(f"lessons new {names[0]!r}: {lesson_id!r} is a verb of lessons "
+                           f"(lessons {lesson_id} ...); give the lesson another name")
     taken = sorted(folder.glob("[0-9]*-*.toml")) if folder.is_dir() else []
     for path in taken:
         if path.stem.split("-", 1)[1] == lesson_id:

@@ -350,3 +350,34 @@ def test_the_guides_window_and_web_variant_loads_with_both_sides(folder):
                     encoding="utf-8")
     with pytest.raises(LessonError, match=r"\{\{fig:lob\}\}: the step has no figure"):
         load_lesson(path)
+
+
+def test_the_verbs_read_as_words_too(folder, tmp_path, capsys, monkeypatch):
+    """What a teacher types, ``lessons list``, ``lessons check my-lessons``, is what the
+    flags do."""
+    assert main(["lessons", "list", "--dir", str(folder)]) == 0
+    listed = capsys.readouterr().out
+    assert "first-light" in listed and "overview" not in listed
+    assert main(["lessons", "print", "1", "--lessons", str(folder)]) == 0
+    assert "One cell per step" in capsys.readouterr().out
+    assert main(["lessons", "check", str(folder)]) == 0
+    assert "2 of 2 checks hold on 2 steps" in capsys.readouterr().out
+    assert main(["lessons", "check", "first-light", "--dir", str(folder)]) == 0
+    assert "2 of 2 checks hold" in capsys.readouterr().out
+    monkeypatch.chdir(folder.parent)           # a folder named as the teacher sees it
+    assert main(["lessons", "lint", folder.name]) == 0
+    assert "0 findings in 1 lesson" in capsys.readouterr().out
+    png = tmp_path / "step.png"
+    assert main(["lessons", "export", "first-light", "--dir", str(folder), "--step", "2",
+                 "--size", "640x400", "--out", str(png)]) == 0
+    assert png.is_file()
+    capsys.readouterr()
+    for argv, says in ((["lessons", "list", "first-light"], "lessons print ID"),
+                       (["lessons", "print"], "name the lesson"),
+                       (["lessons", "export"], "name the lesson"),
+                       (["lessons", "check", str(folder), "--lint"], "one verb at a time"),
+                       (["lessons", "print", "a", "b"], "one lesson at a time"),
+                       (["lessons", "new", "List", "--dir", str(folder)], "is a verb")):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and says in err, (argv, err)
