@@ -111,7 +111,35 @@ def for_reader(text: str) -> str:
     return _CITATION.sub("", text)
 
 
+_WORD = re.compile(r"[\w./]+")
+
+
+def _word_at(text: str, index: int) -> str:
+    """The whole word (path, dotted or snake_case name) of ``text`` around ``index``,
+    without the sentence's punctuation after it: ``explorer.lpv.rsm``, not ``explorer.l``."""
+    start = index
+    while start > 0 and _WORD.fullmatch(text[start - 1]):
+        start -= 1
+    return _WORD.match(text, start)[0].rstrip("./")
+
+
+def learner_word_problems(text: str) -> list[str]:
+    """What the window's rule (:func:`window_word_problems`) finds in ``text``, a lesson's
+    prose, each name once: a settings field or a quantity :func:`word_problems` names is
+    not named again as an internal identifier."""
+    problems = word_problems(text)
+    plain = prose(text)
+    quantities = QUANTITY.findall(plain)
+    found = sorted({_word_at(plain, m.start()) for m in INTERNAL.finditer(plain)} - FIELDS)
+    found = [name for name in found if not any(name in quantity for quantity in quantities)]
+    if found:
+        problems.append(f"internal identifiers shown to the learner: {', '.join(found)} "
+                        "(say what they are in words)")
+    return problems
+
+
 def lesson_word_problems(lessons: Iterable[Lesson]) -> list[str]:
-    """Every :func:`word_problems` finding of ``lessons``: ``file where: problem``."""
+    """Every :func:`learner_word_problems` finding of ``lessons`` (what the window walk
+    holds the shipped course to): ``file where: problem``."""
     return [f"{name} {where}: {problem}" for name, where, text in learner_texts(lessons)
-            for problem in word_problems(text)]
+            for problem in learner_word_problems(text)]

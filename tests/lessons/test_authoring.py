@@ -381,3 +381,38 @@ def test_the_verbs_read_as_words_too(folder, tmp_path, capsys, monkeypatch):
         assert main(argv) == 2, argv
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and says in err, (argv, err)
+
+
+def test_lint_reports_each_rule_from_a_lesson_that_breaks_it(tmp_path, capsys, monkeypatch):
+    """One lesson per rule of ``--lint``, each finding naming its own lesson: an internal
+    name (a module path, an array's name) in the prose, raw TeX outside math, a mark out
+    of view, and a figure past the column (the column narrowed to 60 px: no figure's
+    parameters make one wider than the real column, the figures adapt)."""
+    import explorer.ui.lesson_lint as lesson_lint
+
+    mine = tmp_path / "rules"
+    mine.mkdir()
+    prose = "The view shows the indirect light alone."
+    slips = {"internal": ("The acc_N array of explorer.lpv.rsm holds it.", None),
+             "tex": (r"It falls as \cos\theta with the angle.", None),
+             "mark": (prose, ("at = [0.0, 0.99, -0.3]\nnormal = [0, -1, 0]\n[[steps.try_this]]",
+                              "at = [-0.34, -0.4, -0.32]\nnormal = [0, -1, 0]\n"
+                              "[[steps.try_this]]"))}
+    for number, (name, (sentence, swap)) in enumerate(slips.items(), 1):
+        text = guide_example().replace('id = "first-light"', f'id = "{name}"')
+        text = text.replace(prose, sentence).replace(*(swap or ("", "")))
+        (mine / f"0{number}-{name}.toml").write_text(text, encoding="utf-8")
+    assert main(["lessons", "lint", str(mine)]) == 1
+    found = capsys.readouterr().out.splitlines()
+    assert found[-1] == "3 findings in 3 lessons (6 steps, 3 figures)", found
+    assert ("words: 01-internal.toml step 2 text: internal identifiers shown to the learner: "
+            "acc_N, explorer.lpv.rsm (say what they are in words)") in found, found
+    assert any(line.startswith("words: 02-tex.toml step 2 text: raw TeX outside math: "
+                               "'\\\\cos'") for line in found), found
+    assert ("mark: 03-mark.toml step 2: mark 'ceiling' is not in view of the step's camera"
+            in found), found
+    monkeypatch.setattr(lesson_lint, "column_width", lambda window_width: 60.0)
+    assert main(["lessons", "lint", "tex", "--dir", str(mine)]) == 1
+    found = capsys.readouterr().out.splitlines()
+    wide = [line for line in found if line.startswith("figure: tex/1/lobe (clamped-cosine) ")]
+    assert len(wide) == 2 and all(" px past a 60 px column" in line for line in wide), found
