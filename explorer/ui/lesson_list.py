@@ -22,16 +22,19 @@ def lesson_list(state: AppState, session: LessonSession) -> None:
     imgui.spacing()
     imgui.begin_child("contents", (0, -imgui.get_frame_height_with_spacing()))
     course = session.course()
-    for title, lessons in list_sections(course):
+    for title, lessons, broken in list_sections_with_errors(course):
         if title:
             imgui.separator_text(title)
         _list_entries(state, session, lessons)
-        if not lessons:
+        if not lessons and not broken:
             widgets.dim_text_wrapped("none yet: lpv-explorer lessons new NAME --dir "
                                      f"{course.folder} writes one to start from")
+        # each broken file under its own section, wrapped: the whole line can be read
+        imgui.push_text_wrap_pos(0.0)
+        for error in broken:
+            imgui.text_colored(widgets.ERROR, f"broken: {error}")
+        imgui.pop_text_wrap_pos()
     imgui.end_child()
-    for error in session.errors:
-        imgui.text_colored(widgets.ERROR, f"broken: {error}")
     if imgui.small_button("Reload lessons"):
         session.reload_all()
 
@@ -46,6 +49,19 @@ def list_sections(course) -> list[tuple[str, list]]:
         return [("", course.lessons)]
     mine = (f"Your lessons ({course.folder.name})", own)
     return [mine, ("The course", shipped)] if shipped else [mine]
+
+
+def list_sections_with_errors(course) -> list[tuple[str, list, list]]:
+    """:func:`list_sections` with each section's broken files: (heading, lessons,
+    errors), the folder's errors under the folder, the course's under the course."""
+    sections = list_sections(course)
+    mine = [e for e in course.errors
+            if course.folder is not None and e.path.parent == course.folder]
+    others = [e for e in course.errors if e not in mine]
+    if course.folder is None:
+        return [(title, lessons, others) for title, lessons in sections]
+    return [(title, lessons, mine if index == 0 else others)
+            for index, (title, lessons) in enumerate(sections)]
 
 
 def _list_entries(state: AppState, session: LessonSession, lessons: list) -> None:

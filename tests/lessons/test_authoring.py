@@ -278,6 +278,16 @@ def test_the_window_lists_the_course_and_the_folder_side_by_side(folder):
     clash = load_course(folder)
     assert [error.field for error in clash.errors] == ["id"]
     assert "shipped lesson 01-overview.toml" in str(clash.errors[0])
+    # a folder's broken lesson is listed under the folder (not below the whole course),
+    # and the folder is not called empty while it holds one
+    from explorer.ui.lesson_list import list_sections_with_errors
+
+    (folder / "01-first-light.toml").write_text(guide_example().replace(
+        'view = "indirect"', 'view = "indirec"'), encoding="utf-8")
+    broken = load_course(folder)
+    sections = list_sections_with_errors(broken)
+    assert [(title, len(lessons), len(errors)) for title, lessons, errors in sections] == [
+        ("Your lessons (my-lessons)", 0, 2), ("The course", len(sections[1][1]), 0)]
 
 
 def _open_box_obj() -> str:
