@@ -534,8 +534,10 @@ def test_lesson_panel_in_the_window(tmp_path):
     import subprocess
     import sys
 
-    glfw = pytest.importorskip("glfw")
+    # imgui_bundle first: it points pyglfw at the GLFW it bundles; a pyglfw imported
+    # before it loads another GLFW, and this process's later windows fail (EGL surface)
     pytest.importorskip("imgui_bundle")
+    glfw = pytest.importorskip("glfw")
     if not os.environ.get("DISPLAY") or not glfw.init():
         pytest.skip("no X server for a window")
     glfw.terminate()
