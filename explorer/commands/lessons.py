@@ -126,6 +126,8 @@ def _verb_words(args: argparse.Namespace) -> list[str]:
         if rest and Path(rest[0]).is_dir():
             setattr(args, verb, rest[0])
             rest = []
+        elif rest and ("/" in rest[0] or "\\" in rest[0]):
+            raise CommandError(f"lessons {verb} {rest[0]}: no such folder")
         elif not isinstance(getattr(args, verb), str):
             setattr(args, verb, True)
     return rest

@@ -387,6 +387,7 @@ def test_the_verbs_read_as_words_too(folder, tmp_path, capsys, monkeypatch):
                        (["lessons", "export"], "name the lesson"),
                        (["lessons", "check", str(folder), "--lint"], "one verb at a time"),
                        (["lessons", "print", "a", "b"], "one lesson at a time"),
+                       (["lessons", "lint", str(tmp_path / "nowhere")], "no such folder"),
                        (["lessons", "new", "List", "--dir", str(folder)], "is a verb")):
         assert main(argv) == 2, argv
         err = capsys.readouterr().err
