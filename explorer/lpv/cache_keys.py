@@ -27,6 +27,7 @@ source. From the two the pipeline derives
 
 from __future__ import annotations
 
+import operator
 from functools import cache
 from typing import Any
 
@@ -98,6 +99,23 @@ def stage_key(settings: Any, stage: str, upstream_keys: dict[str, Any],
     decl = DECLARATIONS[stage]
     return (stage_inputs(settings, stage),
             tuple(upstream_keys[up] for up in decl.upstream_for(settings)), extra)
+
+
+def remembered_stage_key(memo: dict[str, tuple], settings: Any, stage: str,
+                         upstream_keys: dict[str, Any], extra: Any = None) -> tuple:
+    """:func:`stage_key`, the key made last for ``stage`` when it was made of the same
+    Settings object (frozen: the same values), the same upstream output keys and the same
+    ``extra`` (all by identity): a frame re-run with unchanged settings reads no field
+    again. ``memo`` (stage -> what the last key was made of, and the key) belongs to the
+    caller."""
+    upstream = tuple(upstream_keys[up] for up in DECLARATIONS[stage].upstream_for(settings))
+    last = memo.get(stage)
+    if last is not None and last[0] is settings and last[2] is extra and \
+            len(last[1]) == len(upstream) and all(map(operator.is_, last[1], upstream)):
+        return last[3]
+    key = (stage_inputs(settings, stage), upstream, extra)
+    memo[stage] = (settings, upstream, extra, key)
+    return key
 
 
 def describe(settings_type: type | None = None) -> str:

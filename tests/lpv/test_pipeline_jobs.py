@@ -277,6 +277,25 @@ def test_stage_keys_come_from_the_schema():
     assert cache_keys.downstream("gbuffer") == cache_keys.downstream("gbuffer", every_flag)
 
 
+def test_a_remembered_stage_key_is_the_stage_key_of_the_same_inputs():
+    """The job reuses a stage's key made of the same Settings object and upstream keys,
+    and makes it anew (equal, or not) from any other."""
+    memo: dict = {}
+    upstream = {"gather": ("g",), "fog": ("f",)}
+    first = cache_keys.remembered_stage_key(memo, SMALL, "display", upstream, None)
+    assert first == cache_keys.stage_key(SMALL, "display", upstream, None)
+    assert cache_keys.remembered_stage_key(memo, SMALL, "display", upstream, None) is first
+    equal = dataclasses.replace(SMALL)
+    again = cache_keys.remembered_stage_key(memo, equal, "display", upstream, None)
+    assert again == first and again is not first
+    brighter = SMALL.with_changes(exposure=2.0)
+    assert cache_keys.remembered_stage_key(memo, brighter, "display", upstream, None) != first
+    moved = {**upstream, "gather": ("g", 1)}
+    assert cache_keys.remembered_stage_key(memo, brighter, "display", moved, None) == \
+        cache_keys.stage_key(brighter, "display", moved, None)
+    assert cache_keys.remembered_stage_key(memo, brighter, "display", moved, 0.5)[2] == 0.5
+
+
 def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):
     """Of the corrections a stage's key holds the switches the registry says its programs
     read (Correction.stages, explorer/lpv/corrections.py), so a switch re-runs only the
