@@ -163,3 +163,26 @@ def test_the_geometry_volume_read_a_frame_late_is_the_synchronous_one(queued_pip
     for level, kept in zip(queued_pipeline.state.cascades, result.cascades):
         assert np.array_equal(kept.geometry_volume, level.volume.read())   # synchronous
         assert kept.geometry_volume.any()
+
+
+def test_the_light_records_are_written_once_per_light_change(queued_pipeline):
+    """A camera frame binds the gather's light records without writing them again; views
+    made anew (the light views of another RSM size) are written."""
+    from explorer.lpv.passes.light_records import LightRecordBuffer
+    from explorer.lpv.passes.rsm import light_views
+
+    scene = queued_pipeline.scene_state.scene
+    views = light_views(scene, 32)
+    buffer = LightRecordBuffer(queued_pipeline.ctx)
+
+    def calls(bound) -> int:
+        with GlCallCounter() as counter:
+            buffer.bind(bound)
+        return counter.tally.calls["GL calls"]
+
+    try:
+        made = calls(views)                       # made, written, bound
+        assert calls(list(views)) == made - 2     # bound only
+        assert calls(light_views(scene, 16)) == made - 1     # written and bound
+    finally:
+        buffer.release()
