@@ -241,10 +241,19 @@ class ProgramCache:
     _stamp: float = 0.0
     errors: dict[str, str] = field(default_factory=dict)
 
-    def get(self, name: str, defines: dict[str, object] | None = None):
+    @staticmethod
+    def key(name: str, defines: dict[str, object] | None = None) -> tuple:
+        """What the cache knows the program of ``name`` with ``defines`` by (a caller that
+        gets one program many times may make it once and pass it to :meth:`get`)."""
+        return (name, tuple(sorted(defines.items())) if defines else ())
+
+    def get(self, name: str, defines: dict[str, object] | None = None,
+            key: tuple | None = None):
         """The program of ``shaders/<name>`` with ``defines``, compiled on first use; valid
-        until ``capacity`` other programs have been got since (then it may be released)."""
-        key = (name, tuple(sorted(defines.items())) if defines else ())
+        until ``capacity`` other programs have been got since (then it may be released).
+        ``key``: :meth:`key` of the same name and defines, made already."""
+        if key is None:
+            key = self.key(name, defines)
         programs = self._programs
         program = programs.pop(key, None)
         if program is None:

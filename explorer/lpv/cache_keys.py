@@ -72,8 +72,19 @@ def stage_inputs(settings: Any, stage: str) -> tuple:
     """``(field, value)`` of every Settings field ``stage`` reads (from the schema)."""
     if stage not in DECLARATIONS:
         raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
-    return tuple((name, _nested_inputs(getattr(settings, name), stage))
-                 for name in stages_reading(type(settings), stage))
+    names, read = _reader(type(settings), stage)
+    return tuple((name, _nested_inputs(value, stage) if isinstance(value, Corrections) else value)
+                 for name, value in zip(names, read(settings)))
+
+
+@cache
+def _reader(settings_type: type, stage: str) -> tuple[tuple[str, ...], Any]:
+    """The fields ``stage`` reads of ``settings_type`` and a function that reads them
+    all at once (a tuple of their values)."""
+    names = stages_reading(settings_type, stage)
+    if len(names) == 1:
+        return names, lambda settings: (getattr(settings, names[0]),)
+    return names, (operator.attrgetter(*names) if names else lambda settings: ())
 
 
 def _nested_inputs(value: Any, stage: str) -> Any:
