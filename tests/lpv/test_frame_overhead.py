@@ -186,3 +186,23 @@ def test_the_light_records_are_written_once_per_light_change(queued_pipeline):
         assert calls(light_views(scene, 16)) == made - 1     # written and bound
     finally:
         buffer.release()
+
+
+def test_the_rgb_sums_add_in_row_order_as_before():
+    """The gathered and the RSM flux: the rgb channels' float64 sums taken without copying
+    the rgb slice give the bits of the sums of the slice, on values over 40 decades (where
+    another order of the additions gives other bits)."""
+    from explorer.lpv.audit import rgb_sums
+
+    rng = np.random.default_rng(32)
+    for trial in range(40):
+        h, w = rng.integers(1, 90, 2)
+        image = (rng.random((h, w, 4)) * 10.0 ** rng.uniform(-20, 20, (h, w, 4))
+                 ).astype(np.float32)
+        if trial % 2:
+            image = image[::-1]                                  # a flipped view
+        rows = np.add.reduce(image[..., :3].reshape(-1, 3), axis=0, dtype=np.float64)
+        assert rgb_sums(image).tobytes() == rows.tobytes()
+    pairwise = np.add.reduce(np.ascontiguousarray(image[..., :3].reshape(-1, 3).T), axis=1,
+                             dtype=np.float64)
+    assert pairwise.tobytes() != rows.tobytes()       # the order matters on such values
