@@ -159,28 +159,46 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     if declared is None:
         raise TypeError("set_uniforms needs a program made by load_program (ProgramCache), "
                         "which records the uniforms its source declares")
-    # program.get, not ``in``: moderngl's programs have no __contains__ (``in`` iterates)
-    for name in reads:
-        if name not in values:
-            raise UniformError(f"{label}: no value given for {name}, which it must read")
-        if program.get(name, None) is None:
-            raise UniformError(f"{label} must read the uniform {name} but the compiled program "
-                               f"does not use it (declared: {name in declared})")
+    if reads:
+        _check_reads(program, info, label, values, reads, declared)
     uploaded = info.setdefault("values", {})
     for key, value in values.items():
-        if program.get(key, None) is not None:
-            # a uniform keeps its value in the program: one the last call set is not
-            # uploaded again (a frame sets most of them to what they were)
-            stamp = _value_key(value)
-            if uploaded.get(key, _UNSET) != stamp:
+        # a uniform keeps its value in the program: one the last call set is not
+        # uploaded again (a frame sets most of them to what they were)
+        stamp = _value_key(value)
+        last = uploaded.get(key, _UNSET)
+        if last is not _UNSET:          # active: it was uploaded before
+            if last != stamp:
                 program[key] = value
                 uploaded[key] = stamp
+        # program.get, not ``in``: moderngl's programs have no __contains__ (``in`` iterates)
+        elif program.get(key, None) is not None:
+            program[key] = value
+            uploaded[key] = stamp
         elif key not in declared:
             close = difflib.get_close_matches(key, sorted(declared), n=3)
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise UniformError(f"{label} declares no uniform {key!r}{hint}")
     info.setdefault("set", set()).update(values)
-    info.setdefault("read", set()).update(reads)
+
+
+def _check_reads(program, info: dict, label: str, values: dict[str, object],
+                 reads: Iterable[str], declared: frozenset) -> None:
+    """:func:`set_uniforms`' check of ``reads``: each in ``values`` and active in the
+    program (a tuple found active once is not asked about again: a compiled program's
+    active uniforms do not change)."""
+    checked = info.setdefault("reads checked", set())
+    known = type(reads) is tuple and reads in checked
+    for name in reads:
+        if name not in values:
+            raise UniformError(f"{label}: no value given for {name}, which it must read")
+        if not known and program.get(name, None) is None:
+            raise UniformError(f"{label} must read the uniform {name} but the compiled program "
+                               f"does not use it (declared: {name in declared})")
+    if not known:
+        info.setdefault("read", set()).update(reads)
+        if type(reads) is tuple:
+            checked.add(reads)
 
 
 _UNSET = object()
@@ -193,8 +211,8 @@ def _value_key(value: object) -> object:
         return (kind, value)
     if isinstance(value, np.ndarray):
         return (value.dtype.str, value.shape, value.tobytes())
-    if isinstance(value, (list, tuple)):
-        return tuple(_value_key(item) for item in value)
+    if kind is tuple or kind is list or isinstance(value, (list, tuple)):
+        return tuple(map(_value_key, value))
     if isinstance(value, np.generic):
         return (value.dtype.str, value.item())
     return (type(value), value)
@@ -223,15 +241,27 @@ class ProgramCache:
     _stamp: float = 0.0
     errors: dict[str, str] = field(default_factory=dict)
 
-    def get(self, name: str, defines: dict[str, object] | None = None):
+    @staticmethod
+    def key(name: str, defines: dict[str, object] | None = None) -> tuple:
+        """What the cache knows the program of ``name`` with ``defines`` by (a caller that
+        gets one program many times may make it once and pass it to :meth:`get`)."""
+        return (name, tuple(sorted(defines.items())) if defines else ())
+
+    def get(self, name: str, defines: dict[str, object] | None = None,
+            key: tuple | None = None):
         """The program of ``shaders/<name>`` with ``defines``, compiled on first use; valid
-        until ``capacity`` other programs have been got since (then it may be released)."""
-        key = (name, tuple(sorted((defines or {}).items())))
-        program = self._programs.pop(key, None)
+        until ``capacity`` other programs have been got since (then it may be released).
+        ``key``: :meth:`key` of the same name and defines, made already."""
+        if key is None:
+            key = self.key(name, defines)
+        programs = self._programs
+        program = programs.pop(key, None)
         if program is None:
             program = load_program(self.ctx, name, defines)
-        self._programs[key] = program           # most recently used last
-        self._evict()
+            programs[key] = program
+            self._evict()
+        else:
+            programs[key] = program             # most recently used last
         return program
 
     def __len__(self) -> int:

@@ -147,11 +147,19 @@ class CellAudit:
         return cls(*values)
 
 
+def rgb_sums(image: np.ndarray) -> np.ndarray:
+    """(3,) float64: the sums of an ``(..., C)`` image's first three channels (C >= 3),
+    each added pixel after pixel in row order. The channels are summed as they lie (no
+    copy of the rgb slice); each channel's sum is the same whatever the others."""
+    channels = image.shape[-1]
+    pixels = np.ascontiguousarray(image).reshape(-1, channels)
+    return np.add.reduce(pixels, axis=0, dtype=np.float64)[:3]
+
+
 def flux_per_light(flux: Sequence[np.ndarray], light_of_view: Sequence[int]) -> np.ndarray:
     """``(lights, 3)`` float64: the flux of every RSM view's flux image (``(H, W, 4)``),
     summed into its light's row (a point light's six views make one light)."""
-    per_view = np.array([np.add.reduce(f[..., :3].reshape(-1, 3), axis=0, dtype=np.float64)
-                         for f in flux])
+    per_view = np.array([rgb_sums(f) for f in flux])
     per_light = np.zeros((max(light_of_view) + 1, 3))
     np.add.at(per_light, list(light_of_view), per_view)
     return per_light

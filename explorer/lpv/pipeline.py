@@ -125,6 +125,11 @@ class Pipeline:
         """(stage, unit number within the stage) -> milliseconds it last took: a stage's
         units differ (a propagation's slabs, then its audit and read-backs), so a job
         sizes its next unit by the same unit of the last run (``Job.next_unit_ms``)."""
+        self.key_memo: dict[str, tuple] = {}
+        """Stage -> what its last key was made of, and the key
+        (:func:`explorer.lpv.cache_keys.remembered_stage_key`)."""
+        self._limits_checked: tuple[Settings, int] | None = None
+        """The Settings object and memory budget :meth:`start` last checked."""
         self.job: Job | None = None
         """The job in progress, if any."""
         self.last_result: FrameResult | None = None
@@ -211,7 +216,11 @@ class Pipeline:
         if current is not None:
             current.cancel()
         self.settings = settings
-        self.check_limits(self.settings)
+        checked = self._limits_checked
+        if checked is None or checked[0] is not settings or \
+                checked[1] != self.memory_budget_bytes:
+            self.check_limits(settings)        # Settings are frozen: once per object
+            self._limits_checked = (settings, self.memory_budget_bytes)
         self.job = Job(self, self.settings, keep_steps, need_audit, vpls, progress)
         return self.job
 
@@ -326,6 +335,7 @@ class Pipeline:
         self.scene_state.release()
         self.programs.release()
         self.keys.clear()
+        self.key_memo.clear()
         if self._owns_context:
             from explorer.gl.context import release_headless_context
 

@@ -42,17 +42,19 @@ class SceneState:
         """The scene ``name`` as loaded, before any Settings (None when not loaded)."""
         return self._loaded.get(name)
 
-    def load_and_pose(self, s: Settings) -> Scene:
+    def load_and_pose(self, s: Settings, wait: bool = True) -> Scene:
         """Load the mesh (once per scene name) and pose its objects: only the corners of
         objects whose transform changed are written to the vertex buffer again. Returns
-        the scene as loaded."""
+        the scene as loaded. ``wait``: :attr:`pose_ms` includes the upload's GPU work
+        (a ``finish``); queued passes (``PassTimer.queued``) do not wait."""
         base = self._loaded.get(s.scene)
         if base is None:
             base = self.adopt(s.scene, load_scene(s.scene))
         started = time.perf_counter()
         self._posed = base.posed(s.object_transforms)
         self.buffers.show(self._posed)
-        self.ctx.finish()
+        if wait:
+            self.ctx.finish()
         self.pose_ms = (time.perf_counter() - started) * 1e3
         return base
 

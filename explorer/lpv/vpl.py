@@ -170,12 +170,14 @@ class VplTextures:
 
     def _arrays(self, texels: list[np.ndarray]) -> VplArrays:
         position, normal, flux = (np.asarray(t).reshape(-1, 4) for t in texels[:3])
+        # whole valid rows first (one contiguous pass each), then their columns
         valid = position[:, 3] > 0.5
+        position, normal, flux = (rows.compress(valid, axis=0)
+                                  for rows in (position, normal, flux))
         albedo = None if self.albedo is None else \
-            np.asarray(texels[3]).reshape(-1, 4)[valid, :3].copy()
-        return VplArrays(position[valid, :3].copy(), normal[valid, :3].copy(),
-                         flux[valid, :3].copy(), normal[valid, 3].copy(),
-                         self.texel_area, self.projection, albedo)
+            np.asarray(texels[3]).reshape(-1, 4).compress(valid, axis=0)[:, :3].copy()
+        return VplArrays(position[:, :3].copy(), normal[:, :3].copy(), flux[:, :3].copy(),
+                         normal[:, 3].copy(), self.texel_area, self.projection, albedo)
 
     def release(self) -> None:
         for texture in (self.position, self.normal, self.flux, self.albedo):

@@ -80,6 +80,22 @@ def test_a_required_switch_without_a_value_fails(programs):
     program = programs.get("geometry_inject.glsl")
     with pytest.raises(UniformError, match="no value given for u_surfel_area_squared"):
         set_uniforms(program, {}, reads=uniforms_read_by("geometry"))
+    # once its reads were found active, a later call still needs every value
+    values = Corrections().as_uniforms()
+    set_uniforms(program, values, reads=uniforms_read_by("geometry"))
+    values.pop("u_surfel_area_squared")
+    with pytest.raises(UniformError, match="no value given for u_surfel_area_squared"):
+        set_uniforms(program, values, reads=uniforms_read_by("geometry"))
+
+
+def test_a_value_set_again_is_uploaded_only_when_it_changed(programs):
+    program = programs.get("propagate.glsl")
+    set_uniforms(program, {"u_cell_offset": (0, 0, 4)})
+    program["u_cell_offset"].value = (0, 0, 2)        # behind set_uniforms' back
+    set_uniforms(program, {"u_cell_offset": (0, 0, 4)})
+    assert program["u_cell_offset"].value == (0, 0, 2)   # the same value: not uploaded
+    set_uniforms(program, {"u_cell_offset": (0, 0, 8)})
+    assert program["u_cell_offset"].value == (0, 0, 8)
 
 
 def test_a_misspelt_uniform_raises_and_names_the_right_one(programs):

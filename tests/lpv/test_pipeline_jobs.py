@@ -170,7 +170,7 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     # the geometry volume is new, the injection is not: it restarts at the first stage
     # that changed, and propagates all ten steps again
     assert second.result.stages_run == ("geometry", "propagate", "gather", "display")
-    assert calls[0] == ("geometry", 0, 1)
+    assert calls[0] == ("geometry", 0, 2)        # the volume, then its read-back taken
     assert [c for c in calls if c[0] == "propagate"][:3] == [("propagate", 0, 10),
                                                              ("propagate", 0, 10),
                                                              ("propagate", 1, 10)]
@@ -275,6 +275,25 @@ def test_stage_keys_come_from_the_schema():
     every_flag = types.SimpleNamespace(**{flag: True for decl in stage_list.STAGE_LIST
                                           for _, flag in decl.upstream_when})
     assert cache_keys.downstream("gbuffer") == cache_keys.downstream("gbuffer", every_flag)
+
+
+def test_a_remembered_stage_key_is_the_stage_key_of_the_same_inputs():
+    """The job reuses a stage's key made of the same Settings object and upstream keys,
+    and makes it anew (equal, or not) from any other."""
+    memo: dict = {}
+    upstream = {"gather": ("g",), "fog": ("f",)}
+    first = cache_keys.remembered_stage_key(memo, SMALL, "display", upstream, None)
+    assert first == cache_keys.stage_key(SMALL, "display", upstream, None)
+    assert cache_keys.remembered_stage_key(memo, SMALL, "display", upstream, None) is first
+    equal = dataclasses.replace(SMALL)
+    again = cache_keys.remembered_stage_key(memo, equal, "display", upstream, None)
+    assert again == first and again is not first
+    brighter = SMALL.with_changes(exposure=2.0)
+    assert cache_keys.remembered_stage_key(memo, brighter, "display", upstream, None) != first
+    moved = {**upstream, "gather": ("g", 1)}
+    assert cache_keys.remembered_stage_key(memo, brighter, "display", moved, None) == \
+        cache_keys.stage_key(brighter, "display", moved, None)
+    assert cache_keys.remembered_stage_key(memo, brighter, "display", moved, 0.5)[2] == 0.5
 
 
 def test_a_stage_key_holds_only_the_switches_its_programs_read(pipeline):

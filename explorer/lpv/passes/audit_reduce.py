@@ -26,6 +26,10 @@ the partial records of 1026 slots (1024 iterations) take 37 MB, within one stora
 block."""
 
 
+GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
+"""The sampler units of the grid whose flux :meth:`AuditReducer.measure_flux` reduces."""
+
+
 class AuditReducer:
     """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
     18 floats (flux, border loss, clamp gain, occluded, reflected, blocked; 3 channels
@@ -117,9 +121,14 @@ class AuditReducer:
         if not bound:
             self.bind()
         program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
-        set_uniforms(program, {**uniforms, "u_grid_cells": self._cells,
-                               "u_partial_count": self.partial_count,
-                               "u_result_slot": slot})
+        # the grid's uniforms change with the grid (the levels' reducers share the
+        # program, which keeps what was set last), the slot with every measurement
+        grid = (self._cells, self.partial_count, uniforms)
+        if program.extra.get("audit grid") != grid:
+            set_uniforms(program, {**uniforms, "u_grid_cells": self._cells,
+                                   "u_partial_count": self.partial_count})
+            program.extra["audit grid"] = grid
+        set_uniforms(program, {"u_result_slot": slot})
         program.run(-(-self.partial_count // 64))
         self.ctx.memory_barrier()
 
@@ -130,7 +139,7 @@ class AuditReducer:
             raise ValueError(f"audit prepared for {shape_text(self._cells)} cells, the grid "
                              f"has {shape_text(grid.cells)}")
         grid.use_as_textures(0)
-        self._run_partials(0, slot, {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}, bound)
+        self._run_partials(0, slot, GRID_SAMPLERS, bound)
 
     def sum_cell_records(self, slot: int, bound: bool = False) -> None:
         """Reduce the per-cell records a propagation step wrote into ``slot``; ``bound``:

@@ -36,6 +36,9 @@ def exposed_image(direct: np.ndarray, indirect: np.ndarray, exposure: float,
         linear = fog.transmittance[..., None] * linear + fog.lpv
         if not indirect_only:
             linear = linear + fog.direct
+    if exposure == 1.0 and linear is not indirect:
+        # x·1 is x, bit for bit: the auto exposure's unexposed image skips a pass over it
+        return linear.astype(np.float32, copy=False)
     return (np.float32(exposure) * linear).astype(np.float32, copy=False)
 
 

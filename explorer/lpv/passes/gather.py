@@ -22,6 +22,7 @@ import numpy as np
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
+from explorer.lpv.audit import rgb_sums
 from explorer.lpv.cascades import CascadeInput, SampledGrid, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec
@@ -53,8 +54,7 @@ class GatherImages:
     def gathered(self) -> np.ndarray:
         """(3,) float64: the flux the visible surfaces receive from the LPV, summed over
         the pixels (``Pipeline.gathered_flux``)."""
-        return np.add.reduce(self.received[..., :3].reshape(-1, 3), axis=0,
-                             dtype=np.float64)
+        return rgb_sums(self.received)
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ docs/MODEL.md "Several lights"): one record per RSM view, in a storage buffer at
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -80,18 +81,29 @@ class LightRecordBuffer:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self._buffer: moderngl.Buffer | None = None
+        self._written: tuple[tuple[LightView, ...], tuple | None] | None = None
+        """The views (the objects) and tiles the buffer holds the records of."""
 
     def bind(self, views: Sequence[LightView],
              tiles: Sequence[tuple[int, int]] | None = None) -> int:
         """Upload the records of ``views`` (shadow maps at ``tiles``, as
         :func:`light_records`), bind them to :data:`LIGHT_BINDING`, return their count
-        (``u_light_count``)."""
-        data = light_records(views, tiles).tobytes()
-        if self._buffer is None or self._buffer.size < len(data):
-            if self._buffer is not None:
-                self._buffer.release()
-            self._buffer = self.ctx.buffer(reserve=max(len(data), LIGHT_RECORD.itemsize))
-        self._buffer.write(data)
+        (``u_light_count``). The same view objects (frozen; made when the RSM stage
+        runs) at the same tiles are not written again: once per light change, not per
+        frame."""
+        views = tuple(views)
+        tiles = None if tiles is None else tuple(map(tuple, tiles))
+        written = self._written
+        if written is None or written[1] != tiles or len(written[0]) != len(views) or \
+                not all(map(operator.is_, written[0], views)):
+            data = light_records(views, tiles).tobytes()
+            if self._buffer is None or self._buffer.size < len(data):
+                if self._buffer is not None:
+                    self._buffer.release()
+                self._buffer = self.ctx.buffer(reserve=max(len(data),
+                                                           LIGHT_RECORD.itemsize))
+            self._buffer.write(data)
+            self._written = (views, tiles)
         self._buffer.bind_to_storage_buffer(LIGHT_BINDING)
         return len(views)
 
@@ -99,3 +111,4 @@ class LightRecordBuffer:
         if self._buffer is not None:
             self._buffer.release()
             self._buffer = None
+        self._written = None

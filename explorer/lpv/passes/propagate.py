@@ -217,6 +217,7 @@ class PropagationRun:
         self._defines = program_defines(
             fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
             reflect=bounces == 2, neighbours=neighbours)
+        self._key = owner.programs.key("propagate.glsl", self._defines)
         self._uniforms = {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
@@ -237,7 +238,7 @@ class PropagationRun:
         """The run's program, got from the cache for each slab: a run spans frames, and
         the cache may have released the program it had (``ProgramCache.capacity``), or a
         hot reload replaced it; a new one gets the run's uniforms first."""
-        program = self._owner.programs.get("propagate.glsl", self._defines)
+        program = self._owner.programs.get("propagate.glsl", self._defines, self._key)
         if program is not self._program:
             set_uniforms(program, self._uniforms,
                          reads=uniforms_read_at_run_time(self._neighbours))

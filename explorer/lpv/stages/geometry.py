@@ -1,6 +1,8 @@
 """The ``geometry`` stage: the geometry volume of every cascade (one unit each;
 explorer/lpv/passes/geometry.py), built from the RSM texels or hand-made VPLs and, with camera
-occluders, the G-buffer's pixels no RSM view sees (docs/MODEL.md "Camera occluders")."""
+occluders, the G-buffer's pixels no RSM view sees (docs/MODEL.md "Camera occluders"); each
+level's volume is copied as it is built and every level's taken in one more unit, once the
+copies are done (explorer/gl/gpu_sync.py ``DeferredRead``)."""
 
 from __future__ import annotations
 
@@ -8,6 +10,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from explorer.gl.gpu_sync import DeferredRead, GpuWait
 from explorer.lpv import guards
 from explorer.lpv.cascades import level_pass_name
 from explorer.lpv.corrections import Corrections
@@ -42,11 +45,14 @@ class Stage(StageBase):
     def __init__(self, host: StageHost, decl: StageDecl) -> None:
         super().__init__(host, decl)
         self.geometry = MergedGeometryPass(host.ctx, host.programs)
+        self.reads: list[DeferredRead] = []
+        """One deferred read per cascade level (made as levels appear, reused)."""
 
     def units(self, job: Job) -> int:
-        return len(self.state.specs)
+        # a unit per level, then one that takes their copies (none when off)
+        return len(self.state.specs) + (job.settings.geometry_volume != "off")
 
-    def work(self, job: Job) -> Iterator[None]:
+    def work(self, job: Job) -> Iterator[GpuWait | None]:
         p, host, state = Params.of(job.settings), self.host, self.state
         levels = self.levels()
         if p.mode == "off":
@@ -58,16 +64,21 @@ class Stage(StageBase):
         occluders = host.light_views.occluders(hand_made=job.vpls is not None)
         camera = self.camera_surfels(p) if p.camera_occluders else None
         host.timer.reset("geometry")
-        warnings = []
+        while len(self.reads) < len(levels):
+            self.reads.append(DeferredRead(host.ctx))
+        volumes = []
         for k, (level, spec) in enumerate(zip(levels, state.specs)):
             volume = level.geometry_volume(spec.cells, p.grid_format)
             host.timer.timed("geometry", lambda: self.geometry.run(
                 occluders, spec, p.corrections, p.mode, volume, camera), accumulate=True)
-            level.geometry = volume.read()
+            volume.volume.read_later(self.reads[k])
+            volumes.append(volume.volume)
+            yield None if k < len(levels) - 1 else GpuWait(self.reads[:len(levels)])
+        warnings = []
+        for k, (level, volume, read) in enumerate(zip(levels, volumes, self.reads)):
+            level.geometry = volume.texels(read.wait())
             warnings += guards.arrays_warnings(level_pass_name("geometry", k, len(levels)),
                                                [level.geometry], job.settings)
-            if k < len(levels) - 1:
-                yield
         state.warnings["geometry"] = warnings
 
     def camera_surfels(self, p: Params) -> CameraSurfels:
@@ -84,3 +95,6 @@ class Stage(StageBase):
 
     def release(self) -> None:
         self.geometry.release()
+        for read in self.reads:
+            read.release()
+        self.reads.clear()

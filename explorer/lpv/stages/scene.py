@@ -14,6 +14,7 @@ if TYPE_CHECKING:
 
 class Stage(StageBase):
     def run(self, job: Job) -> None:
-        base = self.host.scene_state.load_and_pose(job.settings)
+        base = self.host.scene_state.load_and_pose(job.settings,
+                                                    wait=not self.host.timer.queued)
         self.state.warnings["scene"] = guards.found(
             guards.scale_warning(base.bounds_min, base.bounds_max))
