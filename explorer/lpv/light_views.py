@@ -65,10 +65,10 @@ class LightViews:
         """Hand-made VPLs uploaded by :meth:`choose_vpls_later` (released at the next call)."""
 
     @staticmethod
-    def of(scene: Scene, rsm_size: int) -> list[LightView]:
+    def of(scene: Scene, rsm_size: int, snap: bool = False) -> list[LightView]:
         """The RSM views of ``scene``'s lights that shine
-        (:func:`explorer.lpv.passes.rsm.light_views`)."""
-        return light_views(scene, rsm_size)
+        (:func:`explorer.lpv.passes.rsm.light_views`; ``snap``: ``Settings.rsm_snap``)."""
+        return light_views(scene, rsm_size, snap)
 
     def render(self, views: list[LightView], geometry: SceneBuffers,
                largest: int) -> Iterator[None]:

@@ -32,6 +32,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
+from explorer.lpv.rsm_snap import snapped_directional_eye, snapped_light
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.lights import CUBE_FACE_AXES, DirectionalLight, Light, PointLight
@@ -102,17 +103,19 @@ class LightView:
                 "u_frustum_half_width": float(self.frustum_half_width)}
 
 
-def light_view(scene: Scene, size: int) -> LightView:
+def light_view(scene: Scene, size: int, snap: bool = False) -> LightView:
     """The primary light's (first) view for an RSM of ``size``² texels: the light's
     only view, or face +x of a point light (:func:`light_views` gives every view)."""
-    return _views_of(scene.light, 0, scene, size)[0]
+    return _views_of(scene.light, 0, scene, size, snap)[0]
 
 
-def light_views(scene: Scene, size: int) -> list[LightView]:
+def light_views(scene: Scene, size: int, snap: bool = False) -> list[LightView]:
     """Every RSM view of the lights that shine (``Scene.lights``, primary first): one per
-    spot or directional light, six per point light (docs/MODEL.md "Several lights")."""
+    spot or directional light, six per point light (docs/MODEL.md "Several lights");
+    ``snap`` (``Settings.rsm_snap``): each moved by whole texels only
+    (explorer/lpv/rsm_snap.py)."""
     return [view for index, light in enumerate(scene.lights)
-            for view in _views_of(light, index, scene, size)]
+            for view in _views_of(light, index, scene, size, snap)]
 
 
 def view_count(scene: Scene) -> int:
@@ -122,18 +125,23 @@ def view_count(scene: Scene) -> int:
                for light in scene.lights)
 
 
-def _views_of(light: Light, index: int, scene: Scene, size: int) -> list[LightView]:
-    """The views of one light: its matrices and radiometry for RSMs of ``size``² texels."""
+def _views_of(light: Light, index: int, scene: Scene, size: int,
+              snap: bool = False) -> list[LightView]:
+    """The views of one light: its matrices and radiometry for RSMs of ``size``² texels
+    (``snap``: on its texel lattice)."""
     lo, hi = scene.bounds_min, scene.bounds_max
+    if snap:
+        light = snapped_light(light, lo, hi, size)
     common = {"size": int(size), "colour": tuple(map(float, light.colour)),
               "light_index": index, "light_name": light.name}
     if isinstance(light, PointLight):
         return [replace(_views_of(face, index, scene, size)[0], kind="point", face=k)
                 for k, face in enumerate(light.faces())]
     if isinstance(light, DirectionalLight):
+        eye = snapped_directional_eye(light, lo, hi, size) if snap else light.eye(lo, hi)
         return [LightView(
-            view=light.view_matrix(lo, hi), projection=light.projection_matrix(lo, hi),
-            orthographic=True, position=light.eye(lo, hi), direction=light.direction,
+            view=light.view_matrix(lo, hi, eye), projection=light.projection_matrix(lo, hi),
+            orthographic=True, position=eye, direction=light.direction,
             intensity=0.0, irradiance=light.irradiance(lo, hi),
             texel_area=light.texel_area(size, size, lo, hi), kind="directional", **common)]
     return [LightView(
