@@ -144,6 +144,7 @@ def _step_settings(settings) -> dict:
             "injection_offset_cells": float(settings.injection_offset_cells),
             "geometry_volume": settings.geometry_volume,
             "gather_damping": bool(settings.gather_damping),
+            "neighbours": int(settings.neighbours),
             "exposure": float(settings.exposure), "auto_exposure": bool(settings.auto_exposure),
             "tone_map": settings.tone_map, "indirect_only": bool(settings.indirect_only)}
 
