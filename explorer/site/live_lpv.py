@@ -254,7 +254,8 @@ def figure(description: dict, baked_picture: str, alt: str) -> str:
             '<canvas class="live-canvas" hidden></canvas></div>'
             '<div class="live-controls" hidden></div>'
             f'<figcaption>The LPV of this step, live: switch each correction, a preset, '
-            f"the iterations, the grid size or the light, and the page runs injection and "
+            f"the iterations, the grid size, 6 or 26 neighbours or the light, and the page "
+            f"runs injection and "
             f"propagation again in float64 (a port of the explorer's numpy twin) and "
             f"gathers the picture with WebGL2. The first change loads "
             f"{first:.1f} MB of baked G-buffer and VPLs.<span class=\"live-status\" "

@@ -149,8 +149,8 @@ export class LiveLpv {
     settings.append(this.select("Geometry volume", "geometry",
                                 GEOMETRY_MODES.map((mode) => [mode, mode])));
     settings.append(this.select("Neighbours", "neighbours",
-                                [["6", "6: the faces (as published)"],
-                                 ["26", "26: faces, edges and corners"]]));
+                                [["6", "6: faces"],
+                                 ["26", "26: also edges, corners"]]));
     const damping = element("input", {type: "checkbox", id: `${this.id}-damping`,
                                       "data-control": "damping"});
     damping.checked = this.state.damping;
