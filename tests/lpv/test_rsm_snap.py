@@ -54,6 +54,35 @@ def test_a_snapped_view_sits_on_its_lattice_within_half_a_texel_of_the_light(sce
         assert np.linalg.norm(moved) < pitch
 
 
+@pytest.mark.parametrize("scene_name, lights", [("cornell", None), ("room", ("sun",)),
+                                                ("room", ("lamp",))])
+def test_the_lattice_runs_through_the_light_as_the_scene_placed_it(scene_name, lights):
+    """With the scene's own light as the anchor: a light that has not moved keeps its
+    exact view (a still frame is the unsnapped one), and a moved one lands on the lattice
+    through the anchor, within half a texel of where it was moved to."""
+    placed = load_scene(scene_name).with_lights(lights)
+    anchors = {light.name: light for light in placed.rig}
+    exact = light_views(placed, SIZE)
+    still = light_views(placed, SIZE, snap=True, anchors=anchors)
+    assert len(still) == len(exact)
+    for a, b in zip(exact, still):
+        assert np.array_equal(a.view, b.view) and np.array_equal(a.position, b.position)
+    light = placed.light
+    origin = np.asarray(light.eye(placed.bounds_min, placed.bounds_max)
+                        if exact[0].kind == "directional" else light.position)
+    shift = np.array([0.37, -0.21, 0.55])
+    moved = placed.with_primary(light.moved(np.add(light.position, shift),
+                                            np.add(light.target, shift)))
+    unsnapped = light_views(moved, SIZE)[0]
+    snapped = light_views(moved, SIZE, snap=True, anchors=anchors)[0]
+    pitch = _pitch(unsnapped, moved)
+    for axis in unsnapped.view[:2, :3]:
+        along = float((np.asarray(snapped.position) - origin) @ axis) / pitch
+        assert along == pytest.approx(round(along), abs=1e-9)
+        offset = float((np.asarray(snapped.position) - unsnapped.position) @ axis)
+        assert abs(offset) <= 0.5 * pitch + 1e-12
+
+
 def test_plane_snap_is_idempotent_and_rejects_a_bad_pitch():
     view = np.eye(4)
     eye = np.array([0.26, -0.74, 3.0])
@@ -74,10 +103,17 @@ SMALL = Settings(scene="cornell", grid_size=8, iterations=2, rsm_size=SIZE, widt
                  height=32)
 
 
+def test_a_still_frame_is_the_same_with_and_without_snapping(pipeline):
+    """The scene's own light is its lattice's anchor: snapping a still frame changes
+    nothing (its accuracy against physics neither)."""
+    on, off = (pipeline.run(SMALL.with_changes(rsm_snap=snap)) for snap in (True, False))
+    assert np.array_equal(on.rsm_position, off.rsm_position)
+    assert np.array_equal(on.indirect, off.indirect)
+
+
 def test_a_sub_texel_light_move_keeps_the_snapped_vpls_and_moves_the_exact_ones(pipeline):
-    """Cornell's spot (on its lattice along x as built: x = 0) moved by 0.3 of a texel
-    along x: snapped, every VPL (RSM texel position and flux) is the one before; exact,
-    they move."""
+    """Cornell's spot (its own anchor as built) moved by 0.3 of a texel along x: snapped,
+    every VPL (RSM texel position and flux) is the one before; exact, they move."""
     scene = load_scene("cornell")
     pitch = spot_pitch(scene.light, SIZE)
     light = scene.light

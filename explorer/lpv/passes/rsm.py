@@ -25,6 +25,7 @@ scales its flux per channel (``u_light_colour``).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import moderngl
@@ -103,19 +104,22 @@ class LightView:
                 "u_frustum_half_width": float(self.frustum_half_width)}
 
 
-def light_view(scene: Scene, size: int, snap: bool = False) -> LightView:
+def light_view(scene: Scene, size: int) -> LightView:
     """The primary light's (first) view for an RSM of ``size``² texels: the light's
     only view, or face +x of a point light (:func:`light_views` gives every view)."""
-    return _views_of(scene.light, 0, scene, size, snap)[0]
+    return _views_of(scene.light, 0, scene, size)[0]
 
 
-def light_views(scene: Scene, size: int, snap: bool = False) -> list[LightView]:
+def light_views(scene: Scene, size: int, snap: bool = False,
+                anchors: Mapping[str, Light] | None = None) -> list[LightView]:
     """Every RSM view of the lights that shine (``Scene.lights``, primary first): one per
     spot or directional light, six per point light (docs/MODEL.md "Several lights");
-    ``snap`` (``Settings.rsm_snap``): each moved by whole texels only
-    (explorer/lpv/rsm_snap.py)."""
+    ``snap`` (``Settings.rsm_snap``): each moved by whole texels only, on the lattice
+    through its anchor (``anchors``: light name -> the light as the scene placed it;
+    explorer/lpv/rsm_snap.py)."""
+    anchors = anchors or {}
     return [view for index, light in enumerate(scene.lights)
-            for view in _views_of(light, index, scene, size, snap)]
+            for view in _views_of(light, index, scene, size, snap, anchors.get(light.name))]
 
 
 def view_count(scene: Scene) -> int:
@@ -125,20 +129,21 @@ def view_count(scene: Scene) -> int:
                for light in scene.lights)
 
 
-def _views_of(light: Light, index: int, scene: Scene, size: int,
-              snap: bool = False) -> list[LightView]:
+def _views_of(light: Light, index: int, scene: Scene, size: int, snap: bool = False,
+              anchor: Light | None = None) -> list[LightView]:
     """The views of one light: its matrices and radiometry for RSMs of ``size``² texels
-    (``snap``: on its texel lattice)."""
+    (``snap``: on its texel lattice through ``anchor``)."""
     lo, hi = scene.bounds_min, scene.bounds_max
     if snap:
-        light = snapped_light(light, lo, hi, size)
+        light = snapped_light(light, lo, hi, size, anchor)
     common = {"size": int(size), "colour": tuple(map(float, light.colour)),
               "light_index": index, "light_name": light.name}
     if isinstance(light, PointLight):
         return [replace(_views_of(face, index, scene, size)[0], kind="point", face=k)
                 for k, face in enumerate(light.faces())]
     if isinstance(light, DirectionalLight):
-        eye = snapped_directional_eye(light, lo, hi, size) if snap else light.eye(lo, hi)
+        eye = snapped_directional_eye(light, lo, hi, size, anchor) if snap else \
+            light.eye(lo, hi)
         return [LightView(
             view=light.view_matrix(lo, hi, eye), projection=light.projection_matrix(lo, hi),
             orthographic=True, position=eye, direction=light.direction,
