@@ -1,12 +1,14 @@
 """``lpv-explorer stability``: the frame-to-frame change of the indirect image while the
-light, an object or the camera moves slowly, with and without cascade snapping
-(explorer/lpv/stability.py, docs/MODEL.md "Moving objects and temporal stability").
+light, an object or the camera moves slowly, with and without a snapping switch
+(``--snap``: cascades or RSM; explorer/lpv/stability.py, docs/MODEL.md "Moving objects and
+temporal stability").
 
 Each row renders ``--frames + 1`` frames, frame ``t`` moved by ``t·--step`` world units
 along ``--axis``, and prints the mean and the largest per-pixel change of the indirect
-luminance between consecutive frames, relative to the first frame's mean. Snapping only
-acts on cascades that follow the camera (``--move camera`` with ``--cascades`` 2 or
-more); the command says so when the two rows cannot differ.
+luminance between consecutive frames, relative to the first frame's mean. Cascade
+snapping only acts on cascades that follow the camera (``--move camera`` with
+``--cascades`` 2 or more), RSM snapping on a moving light's RSM (``--move light``); the
+command says so when the two rows cannot differ.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from __future__ import annotations
 import argparse
 
 from explorer.commands import options
-from explorer.lpv.stability import AXES, MOVES, Motion, StabilityRun, measure
+from explorer.lpv.stability import AXES, MOVES, SNAPS, Motion, StabilityRun, measure
 from explorer.schema import Spec
 
 DEFAULTS = {"size": (128, 128), "rsm_size": 64, "grid_size": 16}
@@ -41,8 +43,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                                      "grid"))
     parser.add_argument("--axis", choices=tuple(AXES), default="x",
                         help="the direction of the motion (default: x)")
+    parser.add_argument("--snap", choices=tuple(SNAPS), default="cascades",
+                        help="the snapping switch the two rows turn on and off: cascades "
+                             "(Settings.cascade_snap) or rsm (Settings.rsm_snap; the other "
+                             "keeps its default) (default: cascades)")
     options.add_setting_options(parser, exclude=("exposure", "indirect_only", "cascade_snap",
-                                                 "object_transforms"),
+                                                 "rsm_snap", "object_transforms"),
                                 defaults=DEFAULTS)
 
 
@@ -61,9 +67,9 @@ def main(args: argparse.Namespace) -> int:
                 motion.object_name(pipeline.base_scene)      # a clear error first
             runs = [measure(lambda s: options.run_pipeline(pipeline, s),
                             lambda s: pipeline.base_scene.for_settings(s), base, motion,
-                            args.frames, snap) for snap in (True, False)]
+                            args.frames, snap, args.snap) for snap in (True, False)]
             print(format_report(base, motion, first.grid_spec.cell_size, args.frames, runs,
-                                pipeline.base_scene))
+                                pipeline.base_scene, args.snap))
     except SceneError as exc:
         raise options.CommandError(exc) from None
     except options.render_failures() as exc:
@@ -72,8 +78,8 @@ def main(args: argparse.Namespace) -> int:
 
 
 def format_report(settings, motion: Motion, finest_cell: float, frames: int,
-                  runs: list[StabilityRun], scene) -> str:
-    """The header line and one row per snapping setting."""
+                  runs: list[StabilityRun], scene, switch: str = "cascades") -> str:
+    """The header line and one row per snapping setting of ``switch`` (:data:`SNAPS`)."""
     what = {"light": f"the light {scene.for_settings(settings).light.name!r}",
             "camera": "the camera",
             "object": f"object {motion.object_name(scene)!r}"}[motion.move]
@@ -83,12 +89,17 @@ def format_report(settings, motion: Motion, finest_cell: float, frames: int,
              f"{settings.grid_size}³ cells; change of the indirect luminance between "
              f"frames on the surface points both show, relative to the first frame's mean",
              "",
-             "| cascade snapping | mean change | largest pixel change | frames changed |",
+             f"| {'cascade' if switch == 'cascades' else 'RSM'} snapping | mean change | "
+             "largest pixel change | frames changed |",
              "|---|---:|---:|---:|"]
     for run in runs:
         lines.append(f"| {'on' if run.snap else 'off'} | {100 * run.mean:.3f} % | "
                      f"{100 * run.peak:.2f} % | {run.frames_changed}/{frames} |")
-    if settings.cascades == 1 or motion.move != "camera":
+    if switch == "rsm":
+        if motion.move != "light":
+            lines += ["", "(RSM snapping acts on a moving light: with a still one neither "
+                      "row's RSM moves)"]
+    elif settings.cascades == 1 or motion.move != "camera":
         lines.append("")
         lines.append("(snapping moves only cascades that follow the camera: with "
                      f"{'one grid' if settings.cascades == 1 else 'a still camera'} the "

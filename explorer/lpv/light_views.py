@@ -65,10 +65,13 @@ class LightViews:
         """Hand-made VPLs uploaded by :meth:`choose_vpls_later` (released at the next call)."""
 
     @staticmethod
-    def of(scene: Scene, rsm_size: int) -> list[LightView]:
+    def of(scene: Scene, rsm_size: int, snap: bool = False,
+           placed: Scene | None = None) -> list[LightView]:
         """The RSM views of ``scene``'s lights that shine
-        (:func:`explorer.lpv.passes.rsm.light_views`)."""
-        return light_views(scene, rsm_size)
+        (:func:`explorer.lpv.passes.rsm.light_views`; ``snap``: ``Settings.rsm_snap``, on
+        the lattices through the lights as ``placed`` (the scene as loaded) has them)."""
+        anchors = {} if placed is None else {light.name: light for light in placed.rig}
+        return light_views(scene, rsm_size, snap, anchors)
 
     def render(self, views: list[LightView], geometry: SceneBuffers,
                largest: int) -> Iterator[None]:

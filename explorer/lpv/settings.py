@@ -117,6 +117,13 @@ class Settings:
         suggested=(64, 128, 256, 512, 1024), label="RSM size (texels²)",
         group="Light propagation volume", stages=("rsm",),
         doc="Resolution of the (square) reflective shadow map.")
+    rsm_snap: bool = setting(
+        False, kind="bool", flag="--rsm-snap", widget="checkbox", label="Snap RSM to texels",
+        group="Light propagation volume", stages=("rsm",),
+        doc="Move each light's RSM view by whole texels of its image plane only, so that a "
+            "light moving by less than a texel keeps its VPLs in place (docs/MODEL.md "
+            "\"Moving objects and temporal stability\"); off: the view follows the light "
+            "exactly (its VPLs swim; `lpv-explorer stability --snap rsm` measures it).")
     downsample: str = setting(
         "none", kind="choice", choices=DOWNSAMPLE_MODES, flag="--downsample",
         widget="combo", label="Downsample", group="Light propagation volume",

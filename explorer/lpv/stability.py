@@ -16,7 +16,8 @@ is gathered (numpy, :func:`explorer.lpv.twin.light_grid.gather_cascades`) at the
 the *first* frame sees: only the light moves, as it would on a fixed wall in the world.
 With cascades that follow the camera, snapping them to their cells
 (``Settings.cascade_snap``) keeps the light still between snaps; without it the VPLs move
-to other cells every frame (the light *swims*).
+to other cells every frame (the light *swims*). A moving light's RSM snapped to its texels
+(``Settings.rsm_snap``, explorer/lpv/rsm_snap.py) keeps its VPLs in place between snaps.
 """
 
 from __future__ import annotations
@@ -32,6 +33,8 @@ from explorer.lpv.twin.tonemap import luminance
 from explorer.scene.model import Scene, SceneError
 
 MOVES = ("light", "object", "camera")
+SNAPS = {"cascades": "cascade_snap", "rsm": "rsm_snap"}
+"""What a stability run's two rows flip: the Settings field of each snapping switch."""
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
 
@@ -140,14 +143,17 @@ def frame_changes(images: list[np.ndarray], positions: list[np.ndarray]
 
 
 def measure(run_frame: Callable[[Settings], object], scene_for: Callable[[Settings], Scene],
-            base: Settings, motion: Motion, frames: int, snap: bool) -> StabilityRun:
-    """Render ``frames + 1`` frames of ``motion`` from ``base`` (with
-    ``cascade_snap = snap``) through ``run_frame`` (a pipeline's ``run``) and measure the
-    changes between consecutive ones. ``scene_for(settings)`` gives the scene a Settings
-    renders (for the positions the motion starts from)."""
+            base: Settings, motion: Motion, frames: int, snap: bool,
+            switch: str = "cascades") -> StabilityRun:
+    """Render ``frames + 1`` frames of ``motion`` from ``base`` (with the ``switch``'s
+    field of :data:`SNAPS` set to ``snap``) through ``run_frame`` (a pipeline's ``run``)
+    and measure the changes between consecutive ones. ``scene_for(settings)`` gives the
+    scene a Settings renders (for the positions the motion starts from)."""
     if frames < 1:
         raise ValueError(f"frames must be at least 1, got {frames}")
-    base = base.with_changes(cascade_snap=bool(snap))
+    if switch not in SNAPS:
+        raise ValueError(f"switch must be one of {tuple(SNAPS)}, got {switch!r}")
+    base = base.with_changes(**{SNAPS[switch]: bool(snap)})
     scene = scene_for(base)
     images, positions, first = [], [], None
     for t in range(frames + 1):

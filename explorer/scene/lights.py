@@ -214,8 +214,9 @@ class DirectionalLight(_AimedLight):
         centre = 0.5 * (np.asarray(bounds_min, np.float64) + np.asarray(bounds_max, np.float64))
         return centre - self.direction * 2.0 * self.half_width(bounds_min, bounds_max)
 
-    def view_matrix(self, bounds_min, bounds_max) -> np.ndarray:
-        eye = self.eye(bounds_min, bounds_max)
+    def view_matrix(self, bounds_min, bounds_max, eye=None) -> np.ndarray:
+        """World -> light view from :meth:`eye` (or another ``eye``, e.g. snapped)."""
+        eye = self.eye(bounds_min, bounds_max) if eye is None else np.asarray(eye, np.float64)
         return look_at(eye, eye + self.direction)
 
     def projection_matrix(self, bounds_min, bounds_max) -> np.ndarray:

@@ -144,6 +144,7 @@ def _step_settings(settings) -> dict:
             "injection_offset_cells": float(settings.injection_offset_cells),
             "geometry_volume": settings.geometry_volume,
             "gather_damping": bool(settings.gather_damping),
+            "neighbours": int(settings.neighbours),
             "exposure": float(settings.exposure), "auto_exposure": bool(settings.auto_exposure),
             "tone_map": settings.tone_map, "indirect_only": bool(settings.indirect_only)}
 
@@ -253,7 +254,8 @@ def figure(description: dict, baked_picture: str, alt: str) -> str:
             '<canvas class="live-canvas" hidden></canvas></div>'
             '<div class="live-controls" hidden></div>'
             f'<figcaption>The LPV of this step, live: switch each correction, a preset, '
-            f"the iterations, the grid size or the light, and the page runs injection and "
+            f"the iterations, the grid size, 6 or 26 neighbours or the light, and the page "
+            f"runs injection and "
             f"propagation again in float64 (a port of the explorer's numpy twin) and "
             f"gathers the picture with WebGL2. The first change loads "
             f"{first:.1f} MB of baked G-buffer and VPLs.<span class=\"live-status\" "

@@ -264,8 +264,8 @@ def test_stage_keys_come_from_the_schema():
         assert table.count(f"\n{stage} ") + table.startswith(f"{stage} ") == 1
     assert "display    (gather, fog) exposure, indirect_only, tone_map, auto_exposure" \
         in table
-    assert "rsm        (scene) rsm_size, light, light_kind, light_flux, lights, spot_cone, " \
-        "spot_cone_degrees" in table
+    assert "rsm        (scene) rsm_size, rsm_snap, light, light_kind, light_flux, lights, " \
+        "spot_cone, spot_cone_degrees" in table
     assert "geometry   (downsample, grid, gbuffer if uses_camera_occluders)" in table
     # conditional upstream stages count only while their flag is on
     assert cache_keys.downstream("gbuffer", SMALL) == ("gbuffer", "gather", "display")

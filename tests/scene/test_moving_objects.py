@@ -254,6 +254,24 @@ def test_stability_command_prints_both_rows(capsys):
     assert "has no object 'vase'" in capsys.readouterr().err
 
 
+def test_stability_command_flips_the_rsm_snap_and_refuses_an_unknown_switch(capsys):
+    """``--snap rsm``: the rows turn Settings.rsm_snap on and off; a light moving 0.01 m
+    a frame (under a seventieth of the spot's texel at RSM 16²) changes no snapped
+    frame and every unsnapped one."""
+    assert main(["stability", "--snap", "rsm", "--frames", "2", "--step", "0.01",
+                 "--size", "32x32", "--rsm-size", "16", "--grid", "8"]) == 0
+    printed = capsys.readouterr().out
+    assert "| RSM snapping |" in printed
+    assert "| on | 0.000 % | 0.00 % | 0/2 |" in printed
+    assert "| off |" in printed and "| 2/2 |" in printed
+    assert main(["stability", "--move", "camera", "--snap", "rsm", "--frames", "1",
+                 "--size", "16x16", "--rsm-size", "8", "--grid", "8"]) == 0
+    assert "with a still one neither row's RSM moves" in capsys.readouterr().out
+    assert main(["stability", "--snap", "grid"]) == 2
+    error = capsys.readouterr().err
+    assert "--snap: invalid choice: 'grid'" in error and len(error.splitlines()) == 1
+
+
 def test_a_lesson_step_starts_with_the_scenes_own_lights_and_objects():
     """Lights and objects of the scene on screen would not exist in a step's scene: every
     step starts from its scene's own (unless it sets them)."""

@@ -25,6 +25,7 @@ scales its flux per channel (``u_light_colour``).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import moderngl
@@ -32,6 +33,7 @@ import numpy as np
 
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
+from explorer.lpv.rsm_snap import snapped_directional_eye, snapped_light
 from explorer.lpv.vpl import VplTextures
 from explorer.scene.gpu import SceneBuffers
 from explorer.scene.lights import CUBE_FACE_AXES, DirectionalLight, Light, PointLight
@@ -108,11 +110,16 @@ def light_view(scene: Scene, size: int) -> LightView:
     return _views_of(scene.light, 0, scene, size)[0]
 
 
-def light_views(scene: Scene, size: int) -> list[LightView]:
+def light_views(scene: Scene, size: int, snap: bool = False,
+                anchors: Mapping[str, Light] | None = None) -> list[LightView]:
     """Every RSM view of the lights that shine (``Scene.lights``, primary first): one per
-    spot or directional light, six per point light (docs/MODEL.md "Several lights")."""
+    spot or directional light, six per point light (docs/MODEL.md "Several lights");
+    ``snap`` (``Settings.rsm_snap``): each moved by whole texels only, on the lattice
+    through its anchor (``anchors``: light name -> the light as the scene placed it;
+    explorer/lpv/rsm_snap.py)."""
+    anchors = anchors or {}
     return [view for index, light in enumerate(scene.lights)
-            for view in _views_of(light, index, scene, size)]
+            for view in _views_of(light, index, scene, size, snap, anchors.get(light.name))]
 
 
 def view_count(scene: Scene) -> int:
@@ -122,18 +129,24 @@ def view_count(scene: Scene) -> int:
                for light in scene.lights)
 
 
-def _views_of(light: Light, index: int, scene: Scene, size: int) -> list[LightView]:
-    """The views of one light: its matrices and radiometry for RSMs of ``size``² texels."""
+def _views_of(light: Light, index: int, scene: Scene, size: int, snap: bool = False,
+              anchor: Light | None = None) -> list[LightView]:
+    """The views of one light: its matrices and radiometry for RSMs of ``size``² texels
+    (``snap``: on its texel lattice through ``anchor``)."""
     lo, hi = scene.bounds_min, scene.bounds_max
+    if snap:
+        light = snapped_light(light, lo, hi, size, anchor)
     common = {"size": int(size), "colour": tuple(map(float, light.colour)),
               "light_index": index, "light_name": light.name}
     if isinstance(light, PointLight):
         return [replace(_views_of(face, index, scene, size)[0], kind="point", face=k)
                 for k, face in enumerate(light.faces())]
     if isinstance(light, DirectionalLight):
+        eye = snapped_directional_eye(light, lo, hi, size, anchor) if snap else \
+            light.eye(lo, hi)
         return [LightView(
-            view=light.view_matrix(lo, hi), projection=light.projection_matrix(lo, hi),
-            orthographic=True, position=light.eye(lo, hi), direction=light.direction,
+            view=light.view_matrix(lo, hi, eye), projection=light.projection_matrix(lo, hi),
+            orthographic=True, position=eye, direction=light.direction,
             intensity=0.0, irradiance=light.irradiance(lo, hi),
             texel_area=light.texel_area(size, size, lo, hi), kind="directional", **common)]
     return [LightView(

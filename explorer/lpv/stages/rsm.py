@@ -44,7 +44,8 @@ class Stage(StageBase):
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
-        views = LightViews.of(host.scene_state.for_settings(s), s.rsm_size)
+        views = LightViews.of(host.scene_state.for_settings(s), s.rsm_size, s.rsm_snap,
+                             host.scene_state.base(s.scene))
         check_memory(s, host.memory_budget_bytes, views=len(views))
         yield from host.light_views.render(views, host.scene_state.buffers,
                                            host.limits.max_framebuffer_size)

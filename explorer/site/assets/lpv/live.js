@@ -1,6 +1,7 @@
 // The live LPV of a lesson step (explorer/site/live_lpv.py writes its figure and data):
 // controls for every correction switch, both presets, iterations, the grid sizes and
-// lights the build baked, the geometry volume and the gather damping; the page runs
+// lights the build baked, the geometry volume, 6 or 26 neighbours and the gather
+// damping; the page runs
 // injection and propagation in a Worker (twin.js, float64), gathers with WebGL2
 // (gather.js) and shows the picture with the window's tone map (display.js), the
 // step's numbers, the flux in flight per step and a slice of the grid. Without WebGL2 or
@@ -72,7 +73,7 @@ export class LiveLpv {
     const step = this.d.step;
     this.state = {corrections: {...step.corrections}, iterations: step.iterations,
                   grid: String(step.grid_size), light: 0, geometry: step.geometry_volume,
-                  damping: step.gather_damping,
+                  damping: step.gather_damping, neighbours: step.neighbours || 6,
                   view: step.indirect_only ? "indirect" : this.d.view || "final",
                   sliceAxis: 1, sliceLayer: null};
     this.status = root.querySelector(".live-status");
@@ -147,6 +148,9 @@ export class LiveLpv {
                                                                                light.label])));
     settings.append(this.select("Geometry volume", "geometry",
                                 GEOMETRY_MODES.map((mode) => [mode, mode])));
+    settings.append(this.select("Neighbours", "neighbours",
+                                [["6", "6: faces"],
+                                 ["26", "26: also edges, corners"]]));
     const damping = element("input", {type: "checkbox", id: `${this.id}-damping`,
                                       "data-control": "damping"});
     damping.checked = this.state.damping;
@@ -207,7 +211,7 @@ export class LiveLpv {
     }
     node.value = String(this.state[key]);
     node.addEventListener("change", () => {
-      const numeric = key === "light" || key === "sliceAxis";
+      const numeric = key === "light" || key === "sliceAxis" || key === "neighbours";
       this.state[key] = numeric ? parseInt(node.value, 10) : node.value;
       if (this.result !== null && key === "sliceAxis") {
         this.drawSlice();
@@ -326,7 +330,7 @@ export class LiveLpv {
     const s = this.state;
     return {light: s.light, spec: this.d.grids[s.grid], corrections: {...s.corrections},
             iterations: s.iterations, offset: this.d.step.injection_offset_cells,
-            geometry: s.geometry};
+            geometry: s.geometry, neighbours: s.neighbours};
   }
 
   /** Any control changed: compute again (coalescing changes that come while it runs). */
@@ -431,7 +435,7 @@ export class LiveLpv {
       .map((e) => e.title);
     const view = this.state.view === "indirect" ? "The indirect light" : "The final image";
     return `${view} of the live LPV, ${this.state.iterations} propagation steps on a ` +
-      `${this.state.grid}³ grid, ` + (off.length ? `switched off: ${off.join("; ")}.`
+      `${this.state.grid}³ grid over ${this.state.neighbours} neighbours, ` + (off.length ? `switched off: ${off.join("; ")}.`
         : "every correction on.");
   }
 

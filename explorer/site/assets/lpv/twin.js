@@ -1,7 +1,8 @@
 // The float64 twin of injection, geometry-volume injection and propagation, ported from
 // explorer/lpv/twin/light_grid.py line by line so that the page's LPV is the desktop's twin: the
 // same scatter form (every source cell sends through the five faces of each of its six
-// neighbours), the same order of the directions and faces, the same correction switches
+// neighbours, or with 26 neighbours through the outer faces of each neighbour on its 3×3×3
+// block), the same order of the directions and faces, the same correction switches
 // (derivations/correction_registry.py), in float64 (JavaScript numbers). Grids are flat
 // Float64Arrays in the twin's (3, N, N, N, 4) order: ((c·N + x)·N + y)·N + z, then the
 // four L1 coefficients. Every constant comes from the derivations through the code
@@ -286,11 +287,198 @@ function sparse(vector) {
 
 /**
  * One step P(grid) in scatter form and its audit terms ([r, g, b] watts each):
- * clamp_gain, occluded, border_loss. geometry: the merged (N+1)³×4 volume or null.
+ * clamp_gain, occluded, border_loss. geometry: the merged (N+1)³×4 volume or null;
+ * neighbours: 6 (five faces of each face neighbour) or 26 (neighbours26Step).
  */
-export function propagationStep(grid, n, c, geometry = null, channels = ALL_CHANNELS) {
+export function propagationStep(grid, n, c, geometry = null, channels = ALL_CHANNELS,
+                                neighbours = 6) {
+  if (checkNeighbours(neighbours, c) === 26) {
+    return neighbours26Step(grid, n, c, geometry, channels);
+  }
   return geometry === null ? linearSideStep(grid, n, c, channels)
     : faceStep(grid, n, c, geometry, channels);
+}
+
+/** The switches the 26-neighbour step has no form without (explorer/lpv/neighbours.py). */
+const NEEDED_BY_26 = ["ping_pong", "side_faces", "model_face_weights"];
+
+/** neighbours (6 or 26), or the twin's one-line error for a switch 26 cannot do without. */
+export function checkNeighbours(neighbours, c) {
+  if (neighbours !== 6 && neighbours !== 26) {
+    throw new Error("neighbours must be 6 or 26, got " + neighbours);
+  }
+  const missing = neighbours === 26 ? NEEDED_BY_26.filter((name) => !c[name]) : [];
+  if (missing.length) {
+    throw new Error("26-neighbour propagation needs the corrections " + missing.join(", ")
+                    + " on (no published form of it exists)");
+  }
+  return neighbours;
+}
+
+/** The 26 neighbour offsets in the twin's order (OFFSETS_26: x outermost, −1, 0, 1). */
+const OFFSETS_26 = [];
+for (const a of [-1, 0, 1]) {
+  for (const b of [-1, 0, 1]) {
+    for (const d of [-1, 0, 1]) {
+      if (a !== 0 || b !== 0 || d !== 0) {
+        OFFSETS_26.push([a, b, d]);
+      }
+    }
+  }
+}
+
+/**
+ * The faces of neighbour ``offset`` on the surface of the source's 3×3×3 block, one per
+ * non-zero component (twin.outer_faces_26): {evaluation, reprojection, angle, front}. The
+ * evaluation direction points at the face's centre, 2·offset with 3·offset on the face's
+ * axis, normalised: the generated (big, small) components of derivations/neighbours26.py.
+ */
+function outerFaces26(offset) {
+  const kind = offset.filter((v) => v !== 0).length;   // 1 face, 2 edge, 3 corner
+  const angle = [K.FRONT_FACE_SOLID_ANGLE, K.EDGE_FACE_SOLID_ANGLE,
+                 K.CORNER_FACE_SOLID_ANGLE][kind - 1];
+  const [big, small] = [[1.0, 0.0], [K.EDGE_EVAL_BIG, K.EDGE_EVAL_SMALL],
+                        [K.CORNER_EVAL_BIG, K.CORNER_EVAL_SMALL]][kind - 1];
+  const list = [];
+  for (let axis = 0; axis < 3; axis++) {
+    if (offset[axis] === 0) {
+      continue;
+    }
+    const evaluation = offset.map((o, k) => (k === axis ? big : small) * o);
+    const reprojection = [0, 0, 0];
+    reprojection[axis] = offset[axis];
+    list.push({evaluation, reprojection, angle, front: kind === 1});
+  }
+  return list;
+}
+
+/**
+ * (N³×4) for every source cell s the mean geometry SH over the corners s shares with
+ * s + offset (twin._shared_corner_blockers: 4 for a face, 2 for an edge, 1 for a corner
+ * neighbour), summed in the twin's order (x's corners outermost).
+ */
+function sharedCornerBlockers(geometry, n, offset) {
+  const size = n + 1;
+  const picks = offset.map((o) => (o > 0 ? [1] : o < 0 ? [0] : [0, 1]));
+  const corners = [];
+  for (const a of picks[0]) {
+    for (const b of picks[1]) {
+      for (const d of picks[2]) {
+        corners.push(((a * size + b) * size + d) * 4);
+      }
+    }
+  }
+  const out = new Float64Array(n * n * n * 4);
+  for (let x = 0; x < n; x++) {
+    for (let y = 0; y < n; y++) {
+      for (let z = 0; z < n; z++) {
+        const base = ((x * size + y) * size + z) * 4;
+        const o = ((x * n + y) * n + z) * 4;
+        for (let k = 0; k < 4; k++) {
+          let sum = 0.0;
+          for (const corner of corners) {
+            sum += geometry[base + corner + k];
+          }
+          out[o + k] = sum / corners.length;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+const visibility26Cache = new WeakMap();
+
+/** Per offset (OFFSETS_26 order) and outer face, every source cell's visibility
+ * 1 − clip(<blockers, Y(−evaluation)>, 0, 1), once per geometry volume. */
+function visibilities26(geometry, n) {
+  let found = visibility26Cache.get(geometry);
+  if (found === undefined) {
+    found = OFFSETS_26.map((offset) => {
+      const blockers = sharedCornerBlockers(geometry, n, offset);
+      return outerFaces26(offset).map((face) => {
+        const o = shBasis(face.evaluation.map((value) => -value));
+        const seen = new Float64Array(n * n * n);
+        for (let i = 0; i < seen.length; i++) {
+          const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
+            + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
+          seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
+        }
+        return seen;
+      });
+    });
+    visibility26Cache.set(geometry, found);
+  }
+  return found;
+}
+
+/**
+ * The 26-neighbour step (twin._offset_step per offset, docs/MODEL.md "26 neighbours"):
+ * every source cell sends to each neighbour through that neighbour's outer faces, each
+ * face weighted k_R·k_I·k_P·Δω (the exact face, edge or corner solid angle), the front
+ * faces of the six face neighbours clamped when clamp_front_face is on, each face seen
+ * through the geometry volume's corners the two cells share.
+ */
+function neighbours26Step(grid, n, c, geometry, channels) {
+  const out = new Float64Array(grid.length);
+  const terms = {clamp_gain: [0, 0, 0], occluded: [0, 0, 0], border_loss: [0, 0, 0]};
+  const scale = reprojectionFactor(c) * injectionFactor(c) * propagationFactor(c);
+  const stride = n * n * n * COEFFS;
+  const seen = geometry === null ? null : visibilities26(geometry, n);
+  OFFSETS_26.forEach((offset, index) => {
+    const shift = ((offset[0] * n + offset[1]) * n + offset[2]) * COEFFS;
+    const list = outerFaces26(offset).map((face, f) => {
+      const weight = scale * face.angle;
+      const lobe = cosineLobe(face.reprojection);
+      const sparseLobe = sparse(lobe);   // coefficient 0 and one of band 1
+      return {weight, basis: shBasis(face.evaluation), lobe0: lobe[0],
+              li: sparseLobe.index[0], lv: sparseLobe.value[0],
+              lj: sparseLobe.index[1], lw: sparseLobe.value[1],
+              fluxPerIntensity: weight * K.SH_FLUX_FACTOR * lobe[0],
+              clamp: face.front && c.clamp_front_face,
+              visibility: seen === null ? null : seen[index][f]};
+    });
+    const [ox, oy, oz] = offset;
+    for (const ch of channels) {
+      let border = 0.0;
+      let gain = 0.0;
+      let occluded = 0.0;
+      for (let x = 0; x < n; x++) {
+        const insideX = x + ox >= 0 && x + ox < n;
+        for (let y = 0; y < n; y++) {
+          const insideXY = insideX && y + oy >= 0 && y + oy < n;
+          for (let z = 0; z < n; z++) {
+            const inside = insideXY && z + oz >= 0 && z + oz < n;
+            const cell = (x * n + y) * n + z;
+            const at = ch * stride + cell * COEFFS;
+            const s0 = grid[at];
+            const s1 = grid[at + 1];
+            const s2 = grid[at + 2];
+            const s3 = grid[at + 3];
+            for (const face of list) {
+              const b = face.basis;
+              const r = s0 * b[0] + s1 * b[1] + s2 * b[2] + s3 * b[3];
+              const used = face.clamp && r < 0.0 ? 0.0 : r;
+              const visibility = face.visibility === null ? 1.0 : face.visibility[cell];
+              const sent = face.weight * used * visibility;
+              if (inside) {
+                out[at + shift + face.li] += sent * face.lv;
+                out[at + shift + face.lj] += sent * face.lw;
+              } else {
+                border += K.SH_FLUX_FACTOR * face.lobe0 * sent;
+              }
+              gain += face.fluxPerIntensity * (used - r);
+              occluded += face.fluxPerIntensity * used * (1.0 - visibility);
+            }
+          }
+        }
+      }
+      terms.border_loss[ch] += border;
+      terms.clamp_gain[ch] += gain;
+      terms.occluded[ch] += occluded;
+    }
+  });
+  return {grid: out, terms};
 }
 
 /**
@@ -446,11 +634,12 @@ function faceStep(grid, n, c, geometry, channels) {
  * occluded, accumulated}} (per-step terms one [r, g, b] per step).
  */
 export function propagateAudited(grid, n, c, iterations, geometry = null,
-                                 channels = ALL_CHANNELS) {
+                                 channels = ALL_CHANNELS, neighbours = 6) {
+  checkNeighbours(neighbours, c);   // as the twin: refused before any step
   const state = {last: grid, accumulated: Float64Array.from(grid),
                  audit: {injected: flux(grid, n), per_step: [flux(grid, n)], border_loss: [],
                          clamp_gain: [], occluded: [], accumulated: flux(grid, n)}};
-  return continuePropagation(state, n, c, iterations, geometry, channels);
+  return continuePropagation(state, n, c, iterations, geometry, channels, neighbours);
 }
 
 /**
@@ -458,7 +647,7 @@ export function propagateAudited(grid, n, c, iterations, geometry = null,
  * updated in place): the same operations in the same order as one longer run.
  */
 export function continuePropagation(state, n, c, more, geometry = null,
-                                    channels = ALL_CHANNELS) {
+                                    channels = ALL_CHANNELS, neighbours = 6) {
   if (!(Number.isInteger(more) && more >= 0)) {
     throw new Error("iterations must be an integer >= 0, got " + more);
   }
@@ -466,7 +655,8 @@ export function continuePropagation(state, n, c, more, geometry = null,
   let last = state.last;
   for (let t = 0; t < more; t++) {
     const source = c.ping_pong ? last : accumulated;
-    const {grid: step, terms} = propagationStep(source, n, c, geometry, channels);
+    const {grid: step, terms} = propagationStep(source, n, c, geometry, channels,
+                                                neighbours);
     for (const name of ["border_loss", "clamp_gain", "occluded"]) {
       audit[name].push(terms[name]);
     }

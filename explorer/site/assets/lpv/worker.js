@@ -15,6 +15,11 @@ function keyOf(request) {
   return JSON.stringify(rest);
 }
 
+/** The request's neighbourhood: 6 (as published) unless it asks for 26. */
+function neighboursOf(request) {
+  return request.neighbours === undefined ? 6 : request.neighbours;
+}
+
 function setsOf(request) {
   return request.views !== undefined ? request.views : lights[request.light].views;
 }
@@ -48,14 +53,15 @@ function run(request) {
       ms.geometry = performance.now() - begin;
     }
     const first = twin.propagateAudited(grid, n, request.corrections, 0, geometry,
-                                        request.channels);
+                                        request.channels, neighboursOf(request));
     cache = {key, t: 0, geometry, ...first};
   }
   const begin = performance.now();
   const more = request.iterations - cache.t;
   if (more > 0) {
     const next = twin.continuePropagation(cache, n, request.corrections, more,
-                                          cache.geometry, request.channels);
+                                          cache.geometry, request.channels,
+                                          neighboursOf(request));
     Object.assign(cache, next);
     cache.t = request.iterations;
   }
