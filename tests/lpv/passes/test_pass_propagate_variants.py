@@ -113,11 +113,18 @@ def test_no_step_creates_flux_under_the_budget(neighbours, coefficients):
     for t in range(1, len(steps)):
         left = audit.per_step[t] + audit.border_loss[t - 1] + audit.occluded[t - 1]
         assert np.all(left <= audit.per_step[t - 1] * (1 + 1e-12))
-        assert np.all(audit.clamp_gain[t - 1] <= 1e-12)
+        assert np.all(audit.clamp_gain[t - 1] <= 1e-12 * audit.per_step[t - 1])
+        # corrected weights: the faces sum to the cell's flux, so the budget keeps it all
+        np.testing.assert_allclose(left, audit.per_step[t - 1], rtol=1e-10)
         cell_flux = twin.K.SH_FLUX_FACTOR * steps[t][..., 0]
         assert cell_flux.min() >= -1e-12
     free = twin.propagate_audited(grid, Corrections(), 1, neighbours=neighbours)[2]
     assert np.all(free.per_step[1] + free.border_loss[0] > free.per_step[0])
+    # published weights: the faces sum to less than the cell holds; still nothing grows
+    original = Corrections(propagation_4pi=False, exact_constants=False)
+    steps, _, audit = twin.propagate_audited(grid, original, 2, neighbours=neighbours,
+                                             flux_budget=True)
+    assert np.all(audit.per_step[1:] + audit.border_loss <= audit.per_step[:-1])
     scale = twin.flux_budget_scale(grid, Corrections(), neighbours)
     assert scale.max() <= 1.0 and scale.min() < 1.0
 
@@ -131,3 +138,19 @@ def test_flux_budget_needs_ping_pong_and_one_bounce():
     with pytest.raises(SettingError, match="bounces 2"):
         Settings(flux_budget=True, bounces=2, geometry_volume="one-sided")
     assert Settings(flux_budget=True).flux_budget
+
+
+def test_the_budget_pass_covers_every_slab_of_a_step(ctx, monkeypatch):
+    """A step dispatched in two slabs reads the factors the budget pass wrote for the
+    whole grid before its first slab."""
+    from explorer.lpv.passes import propagate as propagate_pass
+
+    monkeypatch.setattr(propagate_pass, "SLAB_CELLS", 9 * 5 * 4)
+    assert len(propagate_pass.slabs(SPEC.cells)) == 2
+    corrections = Corrections()
+    grid, _ = _frame(ctx, 1, None, corrections)
+    steps, _, _ = propagate_with_audit(grid, corrections, ITERATIONS, ctx=ctx,
+                                       flux_budget=True)
+    want = twin.propagate(grid, corrections, ITERATIONS, flux_budget=True)
+    for step, expected in zip(steps, want):
+        assert relative_error(step, expected) < 1e-4
