@@ -154,3 +154,17 @@ def test_the_budget_pass_covers_every_slab_of_a_step(ctx, monkeypatch):
     want = twin.propagate(grid, corrections, ITERATIONS, flux_budget=True)
     for step, expected in zip(steps, want):
         assert relative_error(step, expected) < 1e-4
+
+
+def test_the_web_pages_lpv_refuses_what_it_has_no_form_for():
+    """The web course's live LPV (explorer/site/live_lpv.py) has neither switch, so it
+    shows the baked frame instead of a different propagation."""
+    from explorer.lpv.settings import Settings
+    from explorer.site.live_lpv import unsupported
+
+    assert unsupported(Settings()) is None
+    assert unsupported(Settings(flux_budget=True)) == "flux_budget = True"
+    assert unsupported(Settings(geometry_visibility="statistical")) is None   # no volume
+    assert unsupported(Settings(geometry_visibility="statistical",
+                                geometry_volume="one-sided")) == \
+        "geometry_visibility = 'statistical'"
