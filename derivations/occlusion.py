@@ -10,6 +10,15 @@ sides adds ``lobe(n) + lobe(−n)``; band 1 of the lobe is linear in ``n``
 an isotropic blocker that has lost the surface's orientation (annotations §5.1).
 Evaluated in any direction it blocks ``√π·c0 = 1/2`` per unit of ``A/s²``.
 
+Statistical visibility (``Settings.geometry_visibility = "statistical"``): the blocking
+``τ`` a face reads from the volume is the summed cross-section of its surfels over the
+face's area. Split it among ``m`` surfels of ``τ/m`` each, placed independently and
+uniformly over the face: a ray passes each with chance ``1 − τ/m``, all of them with
+``(1 − τ/m)^m``, which tends to ``exp(−τ)`` as the surfels become many and small (a
+Boolean, Poisson model of occluders; the transmittance of a participating medium of
+optical depth ``τ``). Its first-order term is the LPV paper's linear ``1 − τ``; two
+independent layers multiply, ``V(τ₁)·V(τ₂) = V(τ₁ + τ₂)``.
+
 Examples
 --------
 >>> from derivations.occlusion import double_sided_lobe
@@ -20,6 +29,9 @@ References
 ----------
 A. Kirsch, "Light Propagation Volumes — Annotations" (2010), §5.1.
 A. Kaplanyan, C. Dachsbacher, "Cascaded Light Propagation Volumes", I3D 2010, §5.
+F. Sillion, "A Unified Hierarchical Algorithm for Global Illumination with Scattering
+Volumes and Object Clusters", IEEE TVCG 1(3), 1995 (clusters of surfaces as a medium of
+extinction ``Σ A cos θ / volume``).
 """
 
 from __future__ import annotations
@@ -74,6 +86,21 @@ def reprojection_depth_bound() -> sp.Expr:
     return sp.sqrt(2) / 2 * texel * sp.tan(tilt)
 
 
+coverage = sp.Symbol("tau", nonnegative=True)
+surfels = sp.Symbol("m", positive=True, integer=True)
+
+
+def statistical_visibility() -> sp.Expr:
+    """``lim_{m→∞} (1 − τ/m)^m``: the chance that a ray crosses a face whose blocking ``τ``
+    is shared by ``m`` independent, uniformly placed surfels, as they become many."""
+    return sp.limit((1 - coverage / surfels) ** surfels, surfels, sp.oo)
+
+
+def statistical_first_order() -> sp.Expr:
+    """``exp(−τ)`` to first order in ``τ``: the linear blocker ``1 − τ``."""
+    return sp.series(statistical_visibility(), coverage, 0, 2).removeO()
+
+
 def results() -> list[Result]:
     return [
         result(MODULE, "one_sided", sp.ImmutableMatrix(area / cell**2 * one_sided()),
@@ -87,6 +114,11 @@ def results() -> list[Result]:
         result(MODULE, "camera_surfel_area", camera_surfel_area(),
                "World area of a camera pixel at view depth w on a plane facing the camera "
                "(vertical field of view θ_y, H pixels high): the RSM texel's rule."),
+        result(MODULE, "statistical_visibility", statistical_visibility(),
+               "Visibility of a face of blocking τ shared by many small surfels placed "
+               "independently at random: lim (1 − τ/m)^m = exp(−τ)."),
+        result(MODULE, "statistical_first_order", statistical_first_order(),
+               "exp(−τ) to first order in τ: the LPV paper's linear blocker 1 − τ."),
         result(MODULE, "reprojection_depth_bound", reprojection_depth_bound(),
                "How far the shadow map's stored depth can differ from a point's own depth on "
                "the same plane: half a texel diagonal times tan θ."),

@@ -135,6 +135,8 @@ SYMBOLS: dict[str, str] = {
     "occlusion.double_sided_blocking": r"B_{\mathrm{double}} \, s^{2} / A",
     "occlusion.camera_surfel_area": r"A_{\mathrm{pixel}}",
     "occlusion.reprojection_depth_bound": r"\max |\Delta d|",
+    "occlusion.statistical_visibility": r"V_{\mathrm{stat}}(\tau)",
+    "occlusion.statistical_first_order": r"V_{\mathrm{stat}}(\tau) + O(\tau^{2})",
     # participating media and the glossy lobe
     "media.isotropic_phase": r"p_{\mathrm{iso}}",
     "media.isotropic_normalisation": r"\int_{S^2} p_{\mathrm{iso}} \, d\omega",

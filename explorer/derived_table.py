@@ -780,6 +780,17 @@ RESULTS: dict[str, tuple[str, str, float | None]] = {
         "field of view θ_y, H pixels high): the RSM texel's rule.",
         None,
     ),
+    'occlusion.statistical_visibility': (
+        'V_{\\mathrm{stat}}(\\tau) = e^{- \\tau}',
+        'Visibility of a face of blocking τ shared by many small surfels placed independently at '
+        'random: lim (1 − τ/m)^m = exp(−τ).',
+        None,
+    ),
+    'occlusion.statistical_first_order': (
+        'V_{\\mathrm{stat}}(\\tau) + O(\\tau^{2}) = 1 - \\tau',
+        "exp(−τ) to first order in τ: the LPV paper's linear blocker 1 − τ.",
+        None,
+    ),
     'occlusion.reprojection_depth_bound': (
         '\\max |\\Delta d| = \\frac{\\sqrt{2} \\delta \\tan{\\left(\\theta \\right)}}{2}',
         "How far the shadow map's stored depth can differ from a point's own depth on the same "

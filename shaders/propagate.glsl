@@ -38,6 +38,12 @@
 #define PROPAGATE_GEOMETRY 0
 #define PROPAGATE_REFLECT 0
 #define PROPAGATE_NEIGHBOURS 6
+#define PROPAGATE_VISIBILITY 0
+#define PROPAGATE_FLUX_BUDGET 0
+// PROPAGATE_BUDGET_PASS 1 compiles the flux budget's pass instead of the step: every cell of
+// grid t-1 writes its factor min(1, Phi / S) (lpv_positive_outflux) to `budget_scale`, which
+// the step, dispatched after it, reads for each source it gathers from.
+#define PROPAGATE_BUDGET_PASS 0
 
 #if defined COMPUTE_SHADER
 
@@ -69,7 +75,18 @@ layout(std430, binding = 4) buffer CellTerms { float cell_terms[]; };
 // small read): cell_sums[linear cell index * 18 + quantity]. Zeroed before the first step.
 layout(std430, binding = 5) buffer CellSums { float cell_sums[]; };
 
+// The flux budget's factors, one per cell (rgb; linear cell index).
+layout(std430, binding = 6) buffer BudgetScale { vec4 budget_scale[]; };
+
+int linear_cell(ivec3 cell) {
+    return cell.x + u_grid_cells.x * (cell.y + u_grid_cells.y * cell.z);
+}
+
+// Also sets the flux budget's factor of the cell (lpv_budget) for the faces it sends next.
 void load_source(ivec3 cell, out ShVec source[3]) {
+#if PROPAGATE_FLUX_BUDGET && !PROPAGATE_BUDGET_PASS
+    lpv_budget = budget_scale[linear_cell(cell)].rgb;
+#endif
 #if PROPAGATE_PING_PONG
     source[0] = SH_FETCH(u_source_r, cell);
     source[1] = SH_FETCH(u_source_g, cell);
@@ -205,6 +222,15 @@ void main() {
     if (any(greaterThanEqual(cell, u_grid_cells))) {
         return;
     }
+#if PROPAGATE_BUDGET_PASS
+    ShVec held[3];
+    load_source(cell, held);
+    vec3 flux = max(vec3(sh_flux(held[0]), sh_flux(held[1]), sh_flux(held[2])), vec3(0.0));
+    vec3 positive = lpv_positive_outflux(held);
+    budget_scale[linear_cell(cell)] = vec4(mix(vec3(1.0), flux / max(positive, vec3(1e-30)),
+                                               greaterThan(positive, flux)), 0.0);
+    return;
+#endif
     float audit[AUDIT_VALUES];
     propagate_cell(cell, audit);
 #if PROPAGATE_AUDIT

@@ -75,6 +75,31 @@ vec4 lpv_shared_face_blocker(ivec3 target, int dir) {
     return lpv_face_blocker(target, LPV_DIRECTIONS[dir], LPV_TANGENT_U[dir], LPV_TANGENT_V[dir]);
 }
 
+// How a face's blocking tau = <blocker, Y(-e_f)> becomes its visibility (compiled in from
+// Settings.geometry_visibility): 0 linear V = 1 - clamp(tau, 0, 1) (the LPV paper's), 1
+// statistical V = exp(-max(tau, 0)), the chance that a ray passes surfels placed
+// independently at random (derivation occlusion.statistical_visibility).
+#ifndef PROPAGATE_VISIBILITY
+#define PROPAGATE_VISIBILITY 0
+#endif
+
+float lpv_visibility(float tau) {
+#if PROPAGATE_VISIBILITY == 1
+    return exp(-max(tau, 0.0));
+#else
+    return 1.0 - clamp(tau, 0.0, 1.0);
+#endif
+}
+
+// Flux budget (Settings.flux_budget, docs/MODEL.md "Flux budget"): every face of a source
+// cell sends lpv_budget * clamp+(I_f), lpv_budget the source's factor min(1, Phi / S) with
+// S the flux of all its faces clamp+ (written per cell by the budget pass of propagate.glsl,
+// read by load_source), so no cell sends more than it holds and no face negative light.
+#ifndef PROPAGATE_FLUX_BUDGET
+#define PROPAGATE_FLUX_BUDGET 0
+#endif
+vec3 lpv_budget = vec3(1.0);
+
 // Audit terms of a step, per channel, in watts.
 struct LpvAudit {
     vec3 clamp_gain;   // flux added by clamp+ on the front faces (used - raw intensity)
@@ -93,12 +118,16 @@ void lpv_send_face(ShVec source[3], vec3 eval_direction, vec3 reprojection, floa
     ShVec lobe = shv_cosine_lobe(reprojection);
     vec3 raw = vec3(sh_dot(source[0], basis), sh_dot(source[1], basis),
                     sh_dot(source[2], basis));
+#if PROPAGATE_FLUX_BUDGET
+    vec3 used = lpv_budget * max(raw, vec3(0.0));
+#else
     vec3 used = clamped ? max(raw, vec3(0.0)) : raw;
+#endif
     // A surfel blocks light that runs into its front side, i.e. travels against its normal:
     // the blocker lobe is evaluated at -e_f, so a lit wall does not shadow its own bounce.
 #if PROPAGATE_GEOMETRY
     vec4 against = sh_eval(-eval_direction);
-    float visibility = 1.0 - clamp(dot(blocker, against), 0.0, 1.0);
+    float visibility = lpv_visibility(dot(blocker, against));
 #else
     float visibility = 1.0;
 #endif
@@ -192,6 +221,56 @@ void lpv_send_offset(ShVec source[3], ivec3 target, ivec3 o, bool leaving,
         lpv_send_face(source, normalize(centre), normal, weight,
                       nonzero == 1 && u_clamp_front_face, blocker, leaving, received, audit);
     }
+}
+
+// S of the flux budget: the flux the source sends through all its faces, each clamp+,
+// before visibility (the faces of lpv_send_frame or lpv_send_offset for every neighbour).
+vec3 lpv_positive_outflux(ShVec source[3]) {
+    float lobe_flux = sh_flux(shv_cosine_lobe(vec3(0.0, 0.0, 1.0)));
+    vec3 total = vec3(0.0);
+#if PROPAGATE_NEIGHBOURS == 26
+    float scale = lpv_reprojection_factor() * lpv_injection_factor()
+        * lpv_propagation_factor();
+    for (int k = 0; k < 27; ++k) {
+        ivec3 o = ivec3(k % 3, (k / 3) % 3, k / 9) - ivec3(1);
+        int nonzero = int(o.x != 0) + int(o.y != 0) + int(o.z != 0);
+        if (nonzero == 0) {
+            continue;
+        }
+        float angle = nonzero == 1 ? FRONT_FACE_SOLID_ANGLE
+                    : (nonzero == 2 ? EDGE_FACE_SOLID_ANGLE : CORNER_FACE_SOLID_ANGLE);
+        vec3 offset = vec3(o);
+        for (int axis = 0; axis < 3; ++axis) {
+            if (o[axis] == 0) {
+                continue;
+            }
+            vec3 centre = 2.0 * offset;
+            centre[axis] = 3.0 * offset[axis];
+            ShVec basis = shv_eval(normalize(centre));
+            total += scale * angle * lobe_flux * max(vec3(sh_dot(source[0], basis),
+                sh_dot(source[1], basis), sh_dot(source[2], basis)), vec3(0.0));
+        }
+    }
+#else
+    float front_weight = lpv_front_face_weight();
+    float side_weight = lpv_side_face_weight();
+    for (int dir = 0; dir < 6; ++dir) {
+        vec3 d = vec3(LPV_DIRECTIONS[dir]);
+        vec3 u = vec3(LPV_TANGENT_U[dir]);
+        vec3 v = vec3(LPV_TANGENT_V[dir]);
+        vec3 directions[5] = vec3[5](d, SIDE_EVAL_BIG * d + SIDE_EVAL_SMALL * u,
+                                     SIDE_EVAL_BIG * d - SIDE_EVAL_SMALL * u,
+                                     SIDE_EVAL_BIG * d + SIDE_EVAL_SMALL * v,
+                                     SIDE_EVAL_BIG * d - SIDE_EVAL_SMALL * v);
+        for (int f = 0; f < 5; ++f) {
+            ShVec basis = shv_eval(directions[f]);
+            float weight = f == 0 ? front_weight : side_weight;
+            total += weight * lobe_flux * max(vec3(sh_dot(source[0], basis),
+                sh_dot(source[1], basis), sh_dot(source[2], basis)), vec3(0.0));
+        }
+    }
+#endif
+    return total;
 }
 
 // The same for direction index `dir` (the audit's border faces, the reflection).

@@ -68,6 +68,8 @@ VARIANTS: dict[str, dict[str, object]] = {
     "audit-flux": {"need_audit": "flux"},
     "geometry": {},
     "camera-occluders": {"camera_occluders": True},
+    "statistical": {"geometry_visibility": "statistical"},
+    "flux-budget": {"flux_budget": True},
     "fog-16": {"fog": True, "fog_steps": 16},
     "fog-32": {"fog": True, "fog_steps": 32},
     "fog-64": {"fog": True, "fog_steps": 64},
@@ -83,15 +85,17 @@ and one flux reduction per step; the Plots panel's flux tab) (``need_audit`` is 
 option, not a Settings field: :data:`RUN_OPTIONS`), what each
 feature beyond diffuse costs (docs/MODEL.md "Camera occluders", "Fog", "Glossy
 reflections"): ``geometry`` (the RSM's occluders alone) against ``camera-occluders`` in
-the geometry column, the fog column at 16, 32 and 64 march steps, and ``glossy`` against
+the geometry column, ``statistical`` (the volume's exp(−τ) visibility) against
+``geometry`` and ``flux-budget`` (the budget's pass and clamp per step) against ``default``
+in the propagate column, the fog column at 16, 32 and 64 march steps, and ``glossy`` against
 ``default`` in the gather column; several lights (the first ``light_count`` of the
 scene's rig; a scene with fewer has no such row) and a moving object (module docstring).
 The variants in :data:`NEEDS_GEOMETRY` turn a one-sided geometry volume on if
 --geometry-volume is off (they need one)."""
-NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders")
-COMPARED = ("default", "audit", "audit-flux", "geometry")
+NEEDS_GEOMETRY = ("bounces-2", "geometry", "camera-occluders", "statistical")
+COMPARED = ("default", "audit", "audit-flux", "geometry", "statistical", "flux-budget")
 """Rows whose propagation is timed against the minimal kernel (with the geometry volume's
-occlusion for ``geometry``): one bounce, L1, one cascade."""
+occlusion for ``geometry`` and ``statistical``): one bounce, L1, one cascade."""
 RUN_OPTIONS = ("need_audit", "light_count", "move_object")
 MOVE_STEP = 1e-3
 """World units the moving-object row moves its object before each frame."""

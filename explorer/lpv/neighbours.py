@@ -1,7 +1,10 @@
-"""Over how many neighbours a propagation step moves light (6 or 26), and which switches
-the 26-neighbour step has no form for (docs/MODEL.md "26 neighbours")."""
+"""Over how many neighbours a propagation step moves light (6 or 26), which switches the
+26-neighbour step has no form for (docs/MODEL.md "26 neighbours"), and what the flux
+budget needs (docs/MODEL.md "Flux budget")."""
 
 from __future__ import annotations
+
+import numpy as np
 
 from explorer.lpv.settings import Corrections
 
@@ -29,3 +32,16 @@ def check_neighbours(neighbours: int, corrections: Corrections, bounces: int = 1
         if bounces != 1:
             raise ValueError("26-neighbour propagation has no second bounce (bounces=1)")
     return int(neighbours)
+
+
+def check_flux_budget(flux_budget: bool, corrections: Corrections, bounces: int = 1) -> bool:
+    """``flux_budget`` as a bool, or a one-line error where it has no form: the budget
+    limits what each cell of grid t−1 sends, so it needs ping-pong (in place there is no
+    grid t−1), and bounces 1 (the reflection sends light the budget does not count)."""
+    if not isinstance(flux_budget, (bool, np.bool_)):
+        raise ValueError(f"flux_budget must be True or False, got {flux_budget!r}")
+    if flux_budget and (not corrections.ping_pong or bounces != 1):
+        raise ValueError("the flux budget needs the ping_pong correction on and bounces 1 "
+                         f"(ping_pong {'on' if corrections.ping_pong else 'off'}, bounces "
+                         f"{bounces})")
+    return bool(flux_budget)

@@ -38,6 +38,9 @@ TONE_MAPS = ("linear-clip", "filmic")
 DOWNSAMPLE_MODES = ("none", "average", "brightest")
 INJECTION_MODES = ("points", "compute")
 GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")
+GEOMETRY_VISIBILITY_MODES = ("linear", "statistical")
+"""``Settings.geometry_visibility``: V = 1 − clamp(τ, 0, 1) (the LPV paper's blocker) or
+V = exp(−τ) (surfels placed independently at random; docs/MODEL.md "Geometry volume")."""
 GRID_FORMATS = ("rgba32f", "rgba16f")
 SH_ORDERS = (1, 2)
 """1 = L1 spherical harmonics (4 coefficients per colour), 2 = L2 (9)."""
@@ -145,6 +148,15 @@ class Settings:
         "off", kind="choice", choices=GEOMETRY_VOLUME_MODES, flag="--geometry-volume",
         label="Geometry volume", group="Light propagation volume", stages=("geometry",),
         doc="Fuzzy occlusion from the RSM's surfels: off, one-sided or double-sided.")
+    geometry_visibility: str = setting(
+        "linear", kind="choice", choices=GEOMETRY_VISIBILITY_MODES,
+        flag="--geometry-visibility", widget="combo", label="GV visibility",
+        group="Light propagation volume", stages=("propagate",),
+        doc="How a face's blocking τ (the geometry volume's surfels, one- or double-sided) "
+            "becomes its visibility: linear V = 1 − clamp(τ, 0, 1), as published; "
+            "statistical V = exp(−τ), the chance that a ray passes surfels placed "
+            'independently at random (docs/MODEL.md "Geometry volume"); does nothing '
+            "while the volume is off.")
     grid_format: str = setting(
         "rgba32f", kind="choice", choices=GRID_FORMATS, flag="--grid-format",
         widget="combo", label="Grid format", group="Light propagation volume",
@@ -270,6 +282,13 @@ class Settings:
             "26: to all 26 neighbours through their outer faces on the source's 3×3×3 "
             'block, exact solid angles (docs/MODEL.md "26 neighbours"); needs ping-pong, '
             "side faces, the model's face weights and bounces 1.")
+    flux_budget: bool = setting(
+        False, kind="bool", flag="--flux-budget", widget="checkbox", label="Flux budget",
+        group="Leak reduction and bounces", stages=("propagate",),
+        doc="Each propagation step sends from a cell at most the flux it holds, and no "
+            "negative light: every face clamp+, all scaled down where their sum exceeds "
+            'the cell\'s flux (docs/MODEL.md "Flux budget"); the audit books the cut as '
+            "clamp gain. Needs ping-pong and bounces 1.")
     camera_occluders: bool = setting(
         False, kind="bool", flag="--camera-occluders", widget="checkbox",
         label="Camera occluders", group="Leak reduction and bounces", stages=("geometry",),
@@ -382,6 +401,11 @@ class Settings:
                                    "ping_pong, side_faces and model_face_weights on and "
                                    f"bounces 1 (off: {', '.join(missing) or 'none'}; "
                                    f"bounces {self.bounces})")
+        if self.flux_budget and (not self.corrections.ping_pong or self.bounces != 1):
+            raise SettingError("flux_budget", "the flux budget needs the ping_pong "
+                               "correction on and bounces 1 (ping_pong "
+                               f"{'on' if self.corrections.ping_pong else 'off'}, bounces "
+                               f"{self.bounces})")
         if self.gather_net_flux and (self.cascades > 1
                                      or not self.corrections.irradiance_gather):
             raise SettingError("gather_net_flux", "gather_net_flux needs cascades 1 and "

@@ -51,7 +51,11 @@ def unsupported(settings) -> str | None:
               # the geometry volume is built from the RSM's texels, not the merged VPLs
               ("downsample", settings.downsample != "none"),
               ("bounces", settings.bounces != 1),
-              ("camera_occluders", bool(settings.uses_camera_occluders)))
+              ("camera_occluders", bool(settings.uses_camera_occluders)),
+              # the page's propagation has neither the budget pass nor exp(−τ) visibility
+              ("flux_budget", settings.flux_budget),
+              ("geometry_visibility", settings.geometry_visibility != "linear"
+               and settings.geometry_volume != "off"))
     for name, refused in checks:
         if refused:
             return f"{name} = {getattr(settings, name)!r}"

@@ -22,11 +22,12 @@ def test_quick_bench_prints_a_table_and_writes_json(tmp_path, capsys):
         ("default", 8, 0), ("default", 8, 2), ("offset-0", 8, 2), ("damping", 8, 2),
         ("net-flux", 8, 2),
         ("bounces-2", 8, 2), ("audit", 8, 2), ("audit-flux", 8, 2), ("geometry", 8, 2),
-        ("camera-occluders", 8, 2), ("fog-16", 8, 2), ("fog-32", 8, 2), ("fog-64", 8, 2),
+        ("camera-occluders", 8, 2), ("statistical", 8, 2), ("flux-budget", 8, 2),
+        ("fog-16", 8, 2), ("fog-32", 8, 2), ("fog-64", 8, 2),
         ("glossy", 8, 2), ("lights-2", 8, 2), ("lights-4", 8, 2), ("moving-object", 8, 2),
         ("baseline", 8, 2)]
     named = {row["variant"]: row for row in rows}
-    for name in ("bounces-2", "geometry", "camera-occluders"):   # they need the volume
+    for name in ("bounces-2", "geometry", "camera-occluders", "statistical"):  # need the volume
         assert "geometry" in named[name]["passes_ms"]
     for name in ("fog-16", "fog-32", "fog-64"):
         assert named[name]["passes_ms"]["fog"] > 0

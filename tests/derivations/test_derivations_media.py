@@ -57,3 +57,18 @@ def test_camera_pixel_area_follows_the_rsm_texel_rule():
     bound = get("occlusion.reprojection_depth_bound").expr
     assert sp.simplify(bound.subs(occlusion.tilt, sp.pi / 4)
                        - sp.sqrt(2) / 2 * occlusion.texel) == 0
+
+
+def test_statistical_visibility_is_the_limit_of_independent_surfels():
+    """exp(−τ) exactly; first order the linear blocker 1 − τ; independent layers multiply;
+    never below 1 − τ (their difference is convex with its minimum 0 at τ = 0)."""
+    tau = occlusion.coverage
+    visibility = get("occlusion.statistical_visibility").expr
+    assert sp.simplify(visibility - sp.exp(-tau)) == 0
+    assert sp.simplify(get("occlusion.statistical_first_order").expr - (1 - tau)) == 0
+    other = sp.Symbol("tau_2", nonnegative=True)
+    assert sp.simplify(visibility * visibility.subs(tau, other)
+                       - visibility.subs(tau, tau + other)) == 0
+    excess = visibility - (1 - tau)
+    assert excess.subs(tau, 0) == 0 and sp.diff(excess, tau).subs(tau, 0) == 0
+    assert sp.simplify(sp.diff(excess, tau, 2) - sp.exp(-tau)) == 0

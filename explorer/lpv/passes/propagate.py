@@ -13,7 +13,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec, grid_cells, shape_text
-from explorer.lpv.neighbours import check_neighbours
+from explorer.lpv.neighbours import check_flux_budget, check_neighbours
 from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
 from explorer.lpv.passes.geometry import GeometryVolume
 from explorer.lpv.passes.textures import (
@@ -28,7 +28,7 @@ from explorer.lpv.passes.textures import (
     sh_defines,
     sh_order_of,
 )
-from explorer.lpv.settings import Corrections
+from explorer.lpv.settings import GEOMETRY_VISIBILITY_MODES, Corrections
 
 
 @dataclass
@@ -63,6 +63,8 @@ class PropagatePass:
 
     GEOMETRY_UNIT = 6
     ALBEDO_UNIT = 7
+    BUDGET_BINDING = 6
+    """Storage block of the flux budget's factors (``shaders/propagate.glsl``)."""
     STAGE = "propagate"
     """Its program reads this stage's correction switches."""
 
@@ -71,6 +73,16 @@ class PropagatePass:
         self.programs = programs
         self.audit = AuditReducer(ctx, programs)
         self._grids: dict[str, LpvGrid] = {}
+        self._budget: moderngl.Buffer | None = None
+
+    def budget_buffer(self, cells: tuple[int, int, int]) -> moderngl.Buffer:
+        """The flux budget's factors (one vec4 per cell), kept between runs."""
+        size = 16 * int(np.prod(cells))
+        if self._budget is None or self._budget.size != size:
+            if self._budget is not None:
+                self._budget.release()
+            self._budget = self.ctx.buffer(reserve=size)
+        return self._budget
 
     def scratch_grid(self, name: str, cells: int | tuple[int, int, int], fmt: str,
                      sh_order: int) -> LpvGrid:
@@ -88,14 +100,21 @@ class PropagatePass:
     def start(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
               iterations: int, geometry: GeometryVolume | None = None,
               keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
-              neighbours: int = 6) -> PropagationRun:
+              neighbours: int = 6, visibility: str = "linear",
+              flux_budget: bool = False) -> PropagationRun:
         """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
         propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
         (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
         The injected grid's ``sh_order`` selects L1 or L2 propagation; ``neighbours`` 26
-        propagates to all 26 neighbours (docs/MODEL.md "26 neighbours")."""
+        propagates to all 26 neighbours (docs/MODEL.md "26 neighbours"); ``visibility``
+        how the geometry volume's blocking becomes visibility, ``flux_budget`` whether no
+        cell sends more than it holds (docs/MODEL.md "Geometry volume", "Flux budget")."""
         n = spec.cells
         check_neighbours(neighbours, corrections, bounces)
+        check_flux_budget(flux_budget, corrections, bounces)
+        if visibility not in GEOMETRY_VISIBILITY_MODES:
+            raise ValueError(f"visibility must be one of "
+                             f"{', '.join(GEOMETRY_VISIBILITY_MODES)}, got {visibility!r}")
         if bounces not in (1, 2) or isinstance(bounces, bool):
             raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
         if bounces == 2 and geometry is None:
@@ -110,15 +129,17 @@ class PropagatePass:
         if int(iterations) != iterations or iterations < 0:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
         return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
-                              keep_steps, bounces, audit_mode(audit), int(neighbours))
+                              keep_steps, bounces, audit_mode(audit), int(neighbours),
+                              visibility, bool(flux_budget))
 
     def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
             iterations: int, geometry: GeometryVolume | None = None,
             keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
-            neighbours: int = 6) -> PropagationOutput:
+            neighbours: int = 6, visibility: str = "linear",
+            flux_budget: bool = False) -> PropagationOutput:
         """All ``iterations`` steps at once (see :meth:`start`)."""
         progress = self.start(injected, spec, corrections, iterations, geometry, keep_steps,
-                              bounces, audit, neighbours)
+                              bounces, audit, neighbours, visibility, flux_budget)
         while not progress.finished:
             progress.step()
         return progress.finish()
@@ -128,6 +149,9 @@ class PropagatePass:
             grid.release()
         self._grids.clear()
         self.audit.release()
+        if self._budget is not None:
+            self._budget.release()
+            self._budget = None
 
 
 COMPILED_SWITCHES = {"u_ping_pong": "PROPAGATE_PING_PONG"}
@@ -141,28 +165,39 @@ NOT_READ_OVER_26 = ("u_side_faces", "u_model_face_weights")
 (:func:`explorer.lpv.neighbours.check_neighbours`), and its program does not read them."""
 
 
-def uniforms_read_at_run_time(neighbours: int = 6) -> tuple[str, ...]:
+NOT_READ_UNDER_BUDGET = ("u_clamp_front_face",)
+"""Under the flux budget every face is clamp+ (docs/MODEL.md "Flux budget")."""
+
+
+def uniforms_read_at_run_time(neighbours: int = 6, flux_budget: bool = False
+                              ) -> tuple[str, ...]:
     """The propagation's correction uniforms (``uniforms_read_by``) less
-    :data:`COMPILED_SWITCHES`, which its program reads as defines, and with ``neighbours``
-    26 less :data:`NOT_READ_OVER_26`."""
-    skipped = set(COMPILED_SWITCHES) | (set(NOT_READ_OVER_26) if neighbours == 26 else set())
+    :data:`COMPILED_SWITCHES`, which its program reads as defines, with ``neighbours``
+    26 less :data:`NOT_READ_OVER_26` and with ``flux_budget`` less
+    :data:`NOT_READ_UNDER_BUDGET`."""
+    skipped = (set(COMPILED_SWITCHES) | (set(NOT_READ_OVER_26) if neighbours == 26 else set())
+               | (set(NOT_READ_UNDER_BUDGET) if flux_budget else set()))
     return tuple(name for name in uniforms_read_by(PropagatePass.STAGE)
                  if name not in skipped)
 
 
 def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bool = False,
-                    geometry: bool = False, reflect: bool = False, neighbours: int = 6
+                    geometry: bool = False, reflect: bool = False, neighbours: int = 6,
+                    visibility: str = "linear", flux_budget: bool = False
                     ) -> dict[str, object]:
     """The defines ``shaders/propagate.glsl`` is compiled with: the grid format and SH order,
     the full audit, the switches of :data:`COMPILED_SWITCHES`, whether a geometry volume
-    occludes, whether it reflects (bounces 2, which needs it) and over how many neighbours
-    light moves (6 or 26)."""
+    occludes, whether it reflects (bounces 2, which needs it), over how many neighbours
+    light moves (6 or 26), the volume's visibility (index in
+    :data:`GEOMETRY_VISIBILITY_MODES`) and whether the flux budget limits each cell."""
     switches = corrections.as_uniforms()
     return {**image_format_defines(fmt), **sh_defines(sh_order),
             "PROPAGATE_AUDIT": int(audit),
             **{define: int(switches[uniform]) for uniform, define in COMPILED_SWITCHES.items()},
             "PROPAGATE_GEOMETRY": int(geometry), "PROPAGATE_REFLECT": int(reflect and geometry),
-            "PROPAGATE_NEIGHBOURS": int(neighbours)}
+            "PROPAGATE_NEIGHBOURS": int(neighbours),
+            "PROPAGATE_VISIBILITY": GEOMETRY_VISIBILITY_MODES.index(visibility),
+            "PROPAGATE_FLUX_BUDGET": int(flux_budget)}
 
 
 SLAB_CELLS = 32 ** 3
@@ -192,7 +227,8 @@ class PropagationRun:
 
     def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
                  corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
-                 keep_steps: bool, bounces: int, audit: str, neighbours: int = 6) -> None:
+                 keep_steps: bool, bounces: int, audit: str, neighbours: int = 6,
+                 visibility: str = "linear", flux_budget: bool = False) -> None:
         n, fmt, order = spec.cells, injected.format, injected.sh_order
         self._owner = owner
         self._corrections = corrections
@@ -216,8 +252,10 @@ class PropagationRun:
         self._source = injected
         self._defines = program_defines(
             fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
-            reflect=bounces == 2, neighbours=neighbours)
+            reflect=bounces == 2, neighbours=neighbours, visibility=visibility,
+            flux_budget=flux_budget)
         self._key = owner.programs.key("propagate.glsl", self._defines)
+        self._budget = owner.budget_buffer(n) if flux_budget else None
         self._uniforms = {
             **spec.uniforms(), **corrections.as_uniforms(),
             "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
@@ -241,10 +279,21 @@ class PropagationRun:
         program = self._owner.programs.get("propagate.glsl", self._defines, self._key)
         if program is not self._program:
             set_uniforms(program, self._uniforms,
-                         reads=uniforms_read_at_run_time(self._neighbours))
+                         reads=uniforms_read_at_run_time(self._neighbours,
+                                                         self._budget is not None))
             program.extra["cell_offset"] = 0
             self._program = program
         return program
+
+    def _run_budget_pass(self) -> None:
+        """The flux budget's factors of the step's source grid (bound on units 0..2), for
+        every cell, before the step's first slab reads them."""
+        defines = {**self._defines, "PROPAGATE_BUDGET_PASS": 1, "PROPAGATE_AUDIT": 0}
+        program = self._owner.programs.get("propagate.glsl", defines)
+        set_uniforms(program, {**self._uniforms, "u_cell_offset": (0, 0, 0)})
+        program.extra["cell_offset"] = 0
+        program.run(*self._groups)
+        self._owner.ctx.memory_barrier()
 
     @property
     def finished(self) -> bool:
@@ -285,6 +334,10 @@ class PropagationRun:
         kept = self._bound if bound else set()
         if "source" not in kept:
             self._source.use_as_textures(0)
+        if self._budget is not None:
+            self._budget.bind_to_storage_buffer(owner.BUDGET_BINDING)
+            if self._slab == 0:
+                self._run_budget_pass()
         target.bind_images(0)
         if "run" not in kept:
             if self._geometry is not None:
@@ -454,6 +507,7 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                          ctx: moderngl.Context | None = None, fmt: str = "rgba32f",
                          geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                          audit: str | bool = "full", neighbours: int = 6,
+                         visibility: str = "linear", flux_budget: bool = False,
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
     ``grid`` (4 or 9 coefficients) selects L1 or L2.
@@ -461,7 +515,8 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
     origin). ``geometry``, ``geometry_albedo``: the geometry volume's
     ``(nx+1, ny+1, nz+1, 4)`` blocking and albedo sums (``bounces`` 2).
     ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`);
-    ``neighbours``: 6 or 26 (docs/MODEL.md "26 neighbours")."""
+    ``neighbours``: 6 or 26 (docs/MODEL.md "26 neighbours"); ``visibility``,
+    ``flux_budget``: see :meth:`PropagatePass.start`."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
         raise ValueError(f"grid must have shape (3, nx, ny, nz, 4) or (3, nx, ny, nz, 9), "
@@ -486,7 +541,8 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                                  lambda: PropagatePass(ctx, programs_for(ctx)))
         output = propagator.run(injected, spec, corrections, iterations, volume,
                                 keep_steps=True, bounces=bounces, audit=audit,
-                                neighbours=neighbours)
+                                neighbours=neighbours, visibility=visibility,
+                                flux_budget=flux_budget)
         return output.steps, output.accumulated.read(), output.audit
     finally:
         injected.release()

@@ -56,12 +56,15 @@ class Params:
     """Each cascade's iterations (``cascade_iterations``), finest first."""
     bounces: int
     neighbours: int
+    visibility: str = "linear"
+    flux_budget: bool = False
 
     @classmethod
     def of(cls, settings, cascades: int) -> Params:
         return cls(settings.corrections,
                    tuple(cascade_iterations(settings, k) for k in range(cascades)),
-                   int(settings.bounces), int(settings.neighbours))
+                   int(settings.bounces), int(settings.neighbours),
+                   settings.geometry_visibility, bool(settings.flux_budget))
 
 
 class Stage(StageBase):
@@ -121,7 +124,8 @@ class Stage(StageBase):
                 level.running = timed("propagate", lambda: level.propagate.start(
                     level.injected, spec, p.corrections, p.steps[k], level.volume,
                     keep_steps=job.keep_steps, bounces=p.bounces, audit=audit[k],
-                    neighbours=p.neighbours),
+                    neighbours=p.neighbours, visibility=p.visibility,
+                    flux_budget=p.flux_budget),
                     accumulate=True)
                 yield 0
             while not all(level.running.finished for level in levels):

@@ -31,8 +31,13 @@ import numpy as np
 from explorer.lpv.audit import GridAudit
 from explorer.lpv.cascades import blend_weights
 from explorer.lpv.grid import GridSpec, shape_text
-from explorer.lpv.neighbours import check_neighbours
-from explorer.lpv.settings import GEOMETRY_VOLUME_MODES, INJECTION_MODES, Corrections
+from explorer.lpv.neighbours import check_flux_budget, check_neighbours
+from explorer.lpv.settings import (
+    GEOMETRY_VISIBILITY_MODES,
+    GEOMETRY_VOLUME_MODES,
+    INJECTION_MODES,
+    Corrections,
+)
 from explorer.lpv.vpl import VplArrays
 
 
@@ -311,6 +316,63 @@ def _reflection_normals(blockers: np.ndarray, axis: int, sign: int) -> np.ndarra
     return np.where(facing[..., None], unit, back)
 
 
+def face_visibility(blockers: np.ndarray, evaluation: np.ndarray,
+                    mode: str = "linear") -> np.ndarray:
+    """V_f of every source cell's face evaluated along ``evaluation`` (docs/MODEL.md
+    "Geometry volume"): the blocking τ = ⟨blockers, Y(−e_f)⟩ of surfels facing −e_f,
+    ``linear`` V = 1 − clamp(τ, 0, 1) (the LPV paper's), ``statistical`` V = exp(−max(τ, 0))
+    (surfels placed independently at random: the product of their passing
+    probabilities, derivation ``occlusion.statistical_visibility``)."""
+    if mode not in GEOMETRY_VISIBILITY_MODES:
+        raise ValueError(f"visibility must be one of {', '.join(GEOMETRY_VISIBILITY_MODES)}, "
+                         f"got {mode!r}")
+    tau = blockers @ sh_basis(-evaluation)
+    if mode == "statistical":
+        return np.exp(-np.maximum(tau, 0.0))
+    return 1.0 - np.clip(tau, 0.0, 1.0)
+
+
+def _used(raw: np.ndarray, clamped: bool, budget: np.ndarray | None) -> np.ndarray:
+    """The intensity a face sends: ``raw``, clamp+ on a clamped face; under the flux
+    budget clamp+ on every face times the source's factor."""
+    if budget is not None:
+        return budget * np.maximum(raw, 0.0)
+    return np.maximum(raw, 0.0) if clamped else raw
+
+
+def _every_face(corrections: Corrections, neighbours: int):
+    """(evaluation direction, weight) of every face a cell sends through in one step."""
+    if neighbours == 26:
+        scale = (reprojection_factor(corrections) * injection_factor(corrections)
+                 * propagation_factor(corrections))
+        for offset in OFFSETS_26:
+            for evaluation, _, angle, _ in outer_faces_26(offset):
+                yield evaluation, scale * angle
+        return
+    front_weight, side_weight = face_weights(corrections)
+    for axis, sign in DIRECTIONS:
+        for evaluation, _, is_front in _faces(axis, sign, corrections.side_faces):
+            yield evaluation, front_weight if is_front else side_weight
+
+
+def flux_budget_scale(grid: np.ndarray, corrections: Corrections | None = None,
+                      neighbours: int = 6) -> np.ndarray:
+    """(3, nx, ny, nz) factor of every source cell's faces under the flux budget
+    (docs/MODEL.md "Flux budget"): with S = Σ_f π·w_f·clamp+(I_f) over all its faces and Φ
+    = clamp+(flux of the cell), Φ/S where S > Φ, else 1; each face then sends
+    factor·clamp+(I_f), so no cell sends more than it holds and no face sends negative
+    light."""
+    corrections = corrections or Corrections()
+    grid = _check_grid(grid)
+    order = grid_sh_order(grid)
+    lobe_flux = K.SH_FLUX_FACTOR * cosine_lobe(np.array([0.0, 0.0, 1.0]), order)[0]
+    positive = np.zeros(grid.shape[:4])
+    for evaluation, weight in _every_face(corrections, neighbours):
+        positive += weight * lobe_flux * np.maximum(grid @ sh_basis(evaluation, order), 0.0)
+    held = np.maximum(K.SH_FLUX_FACTOR * grid[..., 0], 0.0)
+    return np.where(positive > held, held / np.where(positive > held, positive, 1.0), 1.0)
+
+
 AUDIT_TERMS = ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked")
 DIRECTIONS = tuple((axis, sign) for axis in range(3) for sign in (1, -1))
 """The six propagation directions sign·e_axis."""
@@ -337,7 +399,8 @@ def _check_step_inputs(grid, geometry, geometry_albedo, bounces):
 
 def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Corrections,
                     geometry: np.ndarray | None, geometry_albedo: np.ndarray | None,
-                    reflect: bool
+                    reflect: bool, visibility_mode: str = "linear",
+                    budget: np.ndarray | None = None
                     ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray], np.ndarray]:
     """What every source cell sends along ``sign``·e_axis in one step: the light delivered
     into the neighbour cells (3, N, N, N, K) (zero in the first layer, which has no source
@@ -346,7 +409,8 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
     but ``propagated``) and its ``propagated`` flux (3,). A term is booked as the GPU
     books it: a face that stays inside the grid to its target cell, which gathers it; a
     face leaving the grid, its border loss, and the light reflected back and blocked, to
-    the source cell."""
+    the source cell. ``visibility_mode``: :func:`face_visibility`; ``budget``: the flux
+    budget's factors (:func:`flux_budget_scale`), None without it."""
     order = grid_sh_order(grid)
     shape = grid.shape[1:4]
     n = shape[axis]
@@ -378,12 +442,10 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
         lobe = cosine_lobe(reprojection, order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
-        used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) else raw
-        if blockers is None:
-            visibility = np.ones(shape)
-        else:
-            # blocking of light travelling along e_f hits surfels facing -e_f
-            visibility = 1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0)
+        used = _used(raw, is_front and corrections.clamp_front_face, budget)
+        # blocking of light travelling along e_f hits surfels facing -e_f
+        visibility = np.ones(shape) if blockers is None else face_visibility(
+            blockers, evaluation, visibility_mode)
         sent = weight * used * visibility                         # (3, N, N, N)
         delivered[to_target] += sent[every][..., None] * lobe
         book("clamp_gain", flux_per_intensity * (used - raw))
@@ -443,7 +505,8 @@ def _shared_corner_blockers(geometry: np.ndarray, offset: tuple[int, int, int]) 
 
 
 def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Corrections,
-                 geometry: np.ndarray | None
+                 geometry: np.ndarray | None, visibility_mode: str = "linear",
+                 budget: np.ndarray | None = None
                  ) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]:
     """What every source cell sends to its neighbour ``offset`` through that neighbour's
     outer faces (the 26-neighbour step): delivered light, audit terms per cell (booked as
@@ -468,9 +531,9 @@ def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Co
         lobe = cosine_lobe(reprojection, order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)
-        used = np.maximum(raw, 0.0) if (is_front and corrections.clamp_front_face) else raw
-        visibility = np.ones(shape) if blockers is None else (
-            1.0 - np.clip(blockers @ sh_basis(-evaluation), 0.0, 1.0))
+        used = _used(raw, is_front and corrections.clamp_front_face, budget)
+        visibility = np.ones(shape) if blockers is None else face_visibility(
+            blockers, evaluation, visibility_mode)
         sent = weight * used * visibility
         delivered[to_target] += sent[every][..., None] * lobe
         for name, term in (("clamp_gain", flux_per_intensity * (used - raw)),
@@ -485,7 +548,8 @@ def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Co
 def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                      geometry: np.ndarray | None = None,
                      geometry_albedo: np.ndarray | None = None, bounces: int = 1,
-                     neighbours: int = 6) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+                     neighbours: int = 6, visibility: str = "linear",
+                     flux_budget: bool = False) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
     ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
     ``occluded``, ``border_loss``, ``reflected`` and ``blocked`` (the blocked flux that can
@@ -495,9 +559,13 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
     ``bounces`` 2 (docs/MODEL.md "More bounces"): for every source cell and direction,
     the flux the geometry volume blocks on the five faces, clamp+, times the shared face's
     area-weighted mean albedo (``geometry_albedo`` sums), goes back into the source cell as
-    a cosine lobe (of the grid's order) around the blockers' normal."""
+    a cosine lobe (of the grid's order) around the blockers' normal.
+
+    ``visibility``: the geometry volume's :func:`face_visibility`; ``flux_budget``: each
+    source cell sends at most its own flux (:func:`flux_budget_scale`; needs ping-pong
+    and bounces 1)."""
     out, cells, propagated = _step_with_cells(grid, corrections, geometry, geometry_albedo,
-                                              bounces, neighbours)
+                                              bounces, neighbours, visibility, flux_budget)
     terms = {name: value.reshape(3, -1).sum(1) for name, value in cells.items()
              if name != "received"}
     return out, {"propagated": propagated, **terms}
@@ -506,7 +574,9 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
 def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = None,
                            geometry: np.ndarray | None = None,
                            geometry_albedo: np.ndarray | None = None, bounces: int = 1,
-                           neighbours: int = 6) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+                           neighbours: int = 6, visibility: str = "linear",
+                           flux_budget: bool = False
+                           ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) and its audit record per cell (:data:`CELL_TERMS`, each
     (3, N, N, N) watts), as ``shaders/propagate.glsl`` writes it for the cell whose
     invocation computes it: ``received`` the flux of the cell's new value (everything the
@@ -517,29 +587,33 @@ def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = N
     over the cells they are :func:`propagation_step`'s terms, and ``received`` sums to
     the flux of the new grid."""
     out, cells, _ = _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces,
-                                     neighbours)
+                                     neighbours, visibility, flux_budget)
     return out, cells
 
 
-def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neighbours=6):
+def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neighbours=6,
+                     visibility="linear", flux_budget=False):
     """(P(grid), the per-cell terms, the propagated total (3,)); ``neighbours`` 6 or 26."""
     corrections = corrections or Corrections()
     neighbours = check_neighbours(neighbours, corrections, bounces)
+    check_flux_budget(flux_budget, corrections, bounces)
     grid, geometry, geometry_albedo = _check_step_inputs(grid, geometry, geometry_albedo,
                                                          bounces)
+    budget = flux_budget_scale(grid, corrections, neighbours) if flux_budget else None
     out = np.zeros_like(grid)
     cells = {name: np.zeros((3, *grid.shape[1:4])) for name in CELL_TERMS}
     propagated = np.zeros(3)
     for offset in (OFFSETS_26 if neighbours == 26 else ()):
         delivered, direction_cells, direction_propagated = _offset_step(
-            grid, offset, corrections, geometry)
+            grid, offset, corrections, geometry, visibility, budget)
         out += delivered
         propagated += direction_propagated
         for name, value in direction_cells.items():
             cells[name] += value
     for axis, sign in (DIRECTIONS if neighbours == 6 else ()):
         delivered, reflected, direction_cells, direction_propagated = _direction_step(
-            grid, axis, sign, corrections, geometry, geometry_albedo, bounces == 2)
+            grid, axis, sign, corrections, geometry, geometry_albedo, bounces == 2,
+            visibility, budget)
         out += delivered + reflected
         propagated += direction_propagated
         for name, value in direction_cells.items():
@@ -593,13 +667,16 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
 def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
                       iterations: int = 1, geometry: np.ndarray | None = None,
                       geometry_albedo: np.ndarray | None = None, bounces: int = 1,
-                      neighbours: int = 6
+                      neighbours: int = 6, visibility: str = "linear",
+                      flux_budget: bool = False
                       ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """grid_0..grid_N, acc_N and the audit. Ping-pong: grid_t = P(grid_{t−1}); in place:
     grid_t = P(acc_{t−1}) (the light step t adds). Either way acc_N = Σ grid_t.
-    ``geometry_albedo``, ``bounces``, ``neighbours``: see :func:`propagation_step`."""
+    ``geometry_albedo``, ``bounces``, ``neighbours``, ``visibility``, ``flux_budget``: see
+    :func:`propagation_step`."""
     corrections = corrections or Corrections()
     check_neighbours(neighbours, corrections, bounces)
+    check_flux_budget(flux_budget, corrections, bounces)
     grid = _check_grid(grid)
     if int(iterations) < 0:
         raise ValueError(f"iterations must be >= 0, got {iterations}")
@@ -609,7 +686,7 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
     for _ in range(int(iterations)):
         source = steps[-1] if corrections.ping_pong else accumulated
         step, step_terms = propagation_step(source, corrections, geometry, geometry_albedo,
-                                            bounces, neighbours)
+                                            bounces, neighbours, visibility, flux_budget)
         for name in terms:
             terms[name].append(step_terms[name])
         steps.append(step)
@@ -630,10 +707,11 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
 
 def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
               geometry: np.ndarray | None = None, geometry_albedo: np.ndarray | None = None,
-              bounces: int = 1, neighbours: int = 6) -> list[np.ndarray]:
+              bounces: int = 1, neighbours: int = 6, visibility: str = "linear",
+              flux_budget: bool = False) -> list[np.ndarray]:
     """grid_0..grid_N (see :func:`propagate_audited`)."""
     return propagate_audited(grid, corrections, iterations, geometry, geometry_albedo,
-                             bounces, neighbours)[0]
+                             bounces, neighbours, visibility, flux_budget)[0]
 
 
 # --------------------------------------------------------------------------- final gather
