@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import base64
 import binascii
+import os
 import struct
 from pathlib import Path
 
@@ -71,11 +72,18 @@ class AssetResolver:
                     return path
             return self._paths.absolute(clean)
         except ValueError:
-            raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, which is outside "
+            link = Path(self._paths.parent) / clean
+            where = (f"a symbolic link to {os.readlink(link)[:80]!r}" if link.is_symlink()
+                     else "a path")
+            raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, {where} outside "
                                 f"the mesh's folder") from None
-        except OSError as exc:          # a name too long, a loop of symbolic links
+        except (OSError, RuntimeError) as exc:
+            # a name too long; a loop of symbolic links (Path.resolve raises RuntimeError
+            # for one before Python 3.13, OSError after)
+            reason = (exc.strerror if isinstance(exc, OSError) and exc.strerror else
+                      "a loop of symbolic links" if isinstance(exc, RuntimeError) else exc)
             raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, which cannot be "
-                                f"opened ({exc.strerror or exc})") from None
+                                f"opened ({reason})") from None
 
     def get(self, name: str) -> bytes:
         if name in self._read:
