@@ -45,6 +45,18 @@ def test_only_regular_files_are_read(tmp_path, fifo, no_hang):
         safe_files.read_bytes(dangling, "lesson")
 
 
+def test_the_refusals_name_the_kind_of_file_in_good_english(tmp_path, fifo, no_hang):
+    """"an array file", never "a array file file"; "an export listing file"."""
+    with pytest.raises(UserFileError, match=r"is a FIFO, not an array file$"):
+        safe_files.read_bytes(fifo, "array file")
+    with pytest.raises(UserFileError, match=r"is a device, not an export listing file$"):
+        safe_files.read_bytes("/dev/zero", "export listing")
+    big = tmp_path / "big.npz"
+    big.write_bytes(b"0" * 2048)
+    with pytest.raises(UserFileError, match=r"over the 1 KB an array file may have$"):
+        safe_files.read_bytes(big, "array file", cap=1024)
+
+
 def test_sizes_are_capped_with_the_cap_in_the_message(tmp_path):
     big = tmp_path / "big.toml"
     big.write_bytes(b"#" * (300 * 1024))
