@@ -58,6 +58,27 @@ def test_a_second_export_replaces_its_own_files_and_removes_stale_ones(tmp_path,
     assert (tmp_path / "escape.txt").read_text() == "the user's"
 
 
+def test_an_xml_and_a_py_export_of_one_name_never_share_their_files(tmp_path, capsys):
+    """``room.xml`` and ``room.py`` both use ``room-files/``: the same scene twice shares
+    it, another scene is refused while the first's scene file is there, and takes the
+    folder over once it is gone."""
+    xml, py = tmp_path / "room.xml", tmp_path / "room.py"
+    assert main(["export-mitsuba", "cornell", str(xml), "--size", "8x8"]) == 0
+    assert main(["export-mitsuba", "cornell", str(py), "--size", "8x8"]) == 0
+    py.unlink()
+    before = {p.name: p.read_bytes() for p in (tmp_path / "room-files").iterdir()}
+    capsys.readouterr()
+    assert main(["export-mitsuba", "single-source", str(py), "--size", "8x8"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "holds the files of" in err and "room.xml" in err, \
+        err
+    assert {p.name: p.read_bytes() for p in (tmp_path / "room-files").iterdir()} == before
+    assert not py.exists()
+    xml.unlink()
+    assert main(["export-mitsuba", "single-source", str(py), "--size", "8x8"]) == 0, \
+        capsys.readouterr().err
+
+
 def test_a_replaced_output_keeps_its_mode_and_a_new_one_follows_the_umask(tmp_path):
     old_mask = os.umask(0o022)
     try:
