@@ -35,6 +35,8 @@ REFUSED = [
     ("bench --soak 1 --grid 8", "--grid only acts with the timing bench"),
     ("bench --root .", "--root only acts with --interactive or --soak"),
     ("run --no-wait", "--no-wait only acts with --screenshot"),
+    ("lessons --check a --check b", "--check a and --check b both given"),
+    ("lessons --lint --lint b", "--lint and --lint b both given"),
 ]
 
 
