@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import errno
 import json
+import math
 import os
 import stat
 import sys
@@ -75,7 +76,12 @@ def _file_noun(kind: str) -> str:
 
 
 def _size_text(size: int) -> str:
-    return f"{size / MiB:.0f} MB" if size >= MiB else f"{size / 1024:.0f} KB"
+    """``size`` in MB or KB, rounded up to a tenth below ten units (so a file just over a
+    cap never reads as the cap itself: 1.5 MB, not "1 MB, over the 1 MB")."""
+    unit, name = (MiB, "MB") if size >= MiB else (1024, "KB")
+    if size % unit == 0 or size >= 10 * unit:
+        return f"{size / unit:.0f} {name}"
+    return f"{math.ceil(size * 10 / unit) / 10:.1f} {name}"
 
 
 def _open_regular(path: Path, kind: str, limit: int) -> int:
