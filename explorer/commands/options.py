@@ -218,7 +218,7 @@ def spec_help(spec: Spec, default: object = None) -> str:
     optional field's None is the option left out (nobody types None on a command line)."""
     doc, allowed = spec.doc, spec.allowed()
     if spec.optional:
-        doc = doc.replace("None = ", "left out: ")
+        doc = doc.replace(". None = ", ". Left out: ").replace("None = ", "left out: ")
         allowed = allowed.removesuffix(" or None")
         if default == "automatic" and "left out" in doc:
             default = None                  # the doc says what leaving it out does
