@@ -270,6 +270,16 @@ def _bad_file(path: Path, kind: str) -> None:
         path.mkdir()
     elif kind == "truncated":
         path.write_bytes(data[:len(data) // 3])
+    elif kind == "cut pixels":  # the header whole, the pixel data cut in half
+        import io
+
+        import numpy as np
+        from PIL import Image
+
+        noise = np.random.default_rng(0).integers(0, 256, (64, 64, 3), dtype=np.uint8)
+        encoded = io.BytesIO()
+        Image.fromarray(noise).save(encoded, "PNG")
+        path.write_bytes(encoded.getvalue()[:len(encoded.getvalue()) // 2])
     elif kind == "header lie":
         if data.startswith(b"\x89PNG"):
             lie = bytearray(data)
@@ -284,13 +294,15 @@ def _bad_file(path: Path, kind: str) -> None:
             handle.truncate(600 * 1024 * 1024)
 
 
-BAD_KINDS = ("fifo", "device", "loop", "folder", "truncated", "header lie", "huge")
+BAD_KINDS = ("fifo", "device", "loop", "folder", "truncated", "cut pixels", "header lie",
+             "huge")
 
 
 @pytest.mark.parametrize("make, main, named, kind", [
     (*case, kind) for case in NAMED for kind in BAD_KINDS
-    # a material library and a raw buffer have no header to lie in
-    if not (kind == "header lie" and case[2] in ("mtl", "bin"))])
+    # a material library and a raw buffer have no header to lie in; only images have pixels
+    if not (kind == "header lie" and case[2] in ("mtl", "bin"))
+    and not (kind == "cut pixels" and case[2] != "png")])
 def test_a_bad_file_named_inside_a_file_is_one_line_naming_it(tmp_path, no_hang, make, main,
                                                               named, kind):
     """A FIFO, a device, a loop of symbolic links, a folder, a truncated file, a header

@@ -125,8 +125,8 @@ class AssetResolver:
 
 def check_image_header(data: bytes, where: Path | str) -> tuple[int, int]:
     """The (width, height) an image's header claims; :class:`UserFileError` when it is not
-    an image Pillow reads or claims more than :data:`MAX_TEXTURE_PIXELS` (nothing is
-    decoded: Pillow reads the header only)."""
+    an image Pillow reads, claims more than :data:`MAX_TEXTURE_PIXELS` (checked from the
+    header, before anything is decoded) or does not decode whole (truncated, damaged)."""
     import io
     import warnings
 
@@ -137,13 +137,17 @@ def check_image_header(data: bytes, where: Path | str) -> tuple[int, int]:
         try:
             with Image.open(io.BytesIO(data)) as image:
                 width, height = image.size
+                if width * height <= MAX_TEXTURE_PIXELS:
+                    # decoded here, where the file's name is known: trimesh drops an
+                    # image it cannot decode, and a glTF's or PLY's has no name later
+                    image.load()
         except Image.DecompressionBombError:
             raise UserFileError(f"{where}: the image claims more pixels than "
                                 f"{MAX_TEXTURE_PIXELS:,} (the most a texture may have)") \
                 from None
         except Exception as exc:  # noqa: BLE001 - Pillow raises many types for bad data
             raise UserFileError(f"{where}: not an image Pillow can read "
-                                f"({type(exc).__name__})") from None
+                                f"({type(exc).__name__}: {str(exc)[:80]})") from None
     if width * height > MAX_TEXTURE_PIXELS:
         raise UserFileError(f"{where}: the image claims {width}×{height} pixels, over the "
                             f"{MAX_TEXTURE_PIXELS:,} a texture may have")
