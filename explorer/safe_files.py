@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import errno
 import json
+import math
 import os
 import stat
 import sys
@@ -64,8 +65,23 @@ def _kind_cap(kind: str, cap: int | None) -> int:
     return CAPS.get(kind, 64 * MiB) if cap is None else cap
 
 
+def _a(kind: str) -> str:
+    """``kind`` with its indefinite article ("a mesh", "an array file")."""
+    return f"{'an' if kind[:1] in 'aeiou' else 'a'} {kind}"
+
+
+def _file_noun(kind: str) -> str:
+    """``kind`` as a kind of file ("a texture file", "an array file", never "file file")."""
+    return _a(kind if kind.endswith("file") else f"{kind} file")
+
+
 def _size_text(size: int) -> str:
-    return f"{size / MiB:.0f} MB" if size >= MiB else f"{size / 1024:.0f} KB"
+    """``size`` in MB or KB, rounded up to a tenth below ten units (so a file just over a
+    cap never reads as the cap itself: 1.5 MB, not "1 MB, over the 1 MB")."""
+    unit, name = (MiB, "MB") if size >= MiB else (1024, "KB")
+    if size % unit == 0 or size >= 10 * unit:
+        return f"{size / unit:.0f} {name}"
+    return f"{math.ceil(size * 10 / unit) / 10:.1f} {name}"
 
 
 def _open_regular(path: Path, kind: str, limit: int) -> int:
@@ -75,8 +91,8 @@ def _open_regular(path: Path, kind: str, limit: int) -> int:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
     except OSError as exc:
         if exc.errno == errno.ENXIO:     # a socket, or a FIFO opened for writing only
-            raise UserFileError(f"{path}: not a regular file (the {kind} must be a "
-                                f"file)") from None
+            raise UserFileError(f"{path}: not a regular file (the {kind} must be "
+                                f"{_file_noun(kind)})") from None
         raise UserFileError(f"{path}: cannot read the {kind} "
                             f"({exc.strerror or exc})") from None
     try:
@@ -85,11 +101,11 @@ def _open_regular(path: Path, kind: str, limit: int) -> int:
             what = ("a folder" if stat.S_ISDIR(info.st_mode) else
                     "a FIFO" if stat.S_ISFIFO(info.st_mode) else
                     "a device" if stat.S_ISCHR(info.st_mode) or stat.S_ISBLK(info.st_mode)
-                    else "not a regular file")
-            raise UserFileError(f"{path}: is {what}, not a {kind} file")
+                    else "a socket or another special file")
+            raise UserFileError(f"{path}: is {what}, not {_file_noun(kind)}")
         if info.st_size > limit:
             raise UserFileError(f"{path}: the {kind} is {_size_text(info.st_size)}, over "
-                                f"the {_size_text(limit)} a {kind} may have")
+                                f"the {_size_text(limit)} {_a(kind)} may have")
     except BaseException:
         os.close(fd)
         raise
@@ -130,7 +146,7 @@ def read_bytes(path: Path | str, kind: str, cap: int | None = None) -> bytes:
             total += len(chunk)
             if total > limit:            # the file grew while it was read
                 raise UserFileError(f"{path}: the {kind} is over the {_size_text(limit)} "
-                                    f"a {kind} may have")
+                                    f"{_a(kind)} may have")
         return b"".join(chunks)
     except OSError as exc:
         raise UserFileError(f"{path}: cannot read the {kind} "

@@ -74,23 +74,52 @@ def raising() -> Iterator[None]:
 def calling(quit_now: Callable[[int], None]) -> Callable[[], None]:
     """Route SIGTERM and SIGHUP to ``quit_now(signum)`` (the window's quit: it sets a flag
     the frame loop reads; a handler must not draw or save itself); a second one ends the
-    process at once. Returns a function that puts the previous handlers back."""
+    process at once. Returns a function that puts the previous handlers back.
+
+    Python runs a handler only when the main thread is back in the interpreter: two
+    ``kill`` sent while it draws a frame are one call of the handler. Each signal also
+    writes its number to a wakeup pipe from C (``signal.set_wakeup_fd``), so the handler
+    counts what really arrived; and once quitting, both signals are back to their default
+    action, so a second one ends the process even while the main thread is stuck in C."""
     if not _installable():
         return lambda: None
     received = []
+    stops = (signal.SIGTERM, signal.SIGHUP)
+    read_end, write_end = os.pipe()
+    for end in (read_end, write_end):
+        os.set_blocking(end, False)
+    try:
+        previous_wakeup = signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
+    except ValueError:                   # not the main thread of the main interpreter
+        os.close(read_end)
+        os.close(write_end)
+        previous_wakeup = None
+
+    def arrived() -> int:
+        """How many SIGTERM and SIGHUP reached the process since the last call."""
+        count = 0
+        with contextlib.suppress(OSError):
+            while chunk := os.read(read_end, 512):
+                count += sum(1 for number in chunk if number in stops)
+        return count
 
     def handler(signum, frame):
-        if received:
+        if received or (previous_wakeup is not None and arrived() > 1):
             _at_once(signum)
         received.append(signum)
+        for number in stops:             # a further one acts by itself, at once
+            signal.signal(number, signal.SIG_DFL)
         quit_now(signum)
 
-    previous = {signum: signal.signal(signum, handler)
-                for signum in (signal.SIGTERM, signal.SIGHUP)}
+    previous = {signum: signal.signal(signum, handler) for signum in stops}
 
     def restore() -> None:
         for signum, old in previous.items():
             signal.signal(signum, old)
+        if previous_wakeup is not None:
+            signal.set_wakeup_fd(previous_wakeup)
+            os.close(read_end)
+            os.close(write_end)
 
     return restore
 

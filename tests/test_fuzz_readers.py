@@ -220,8 +220,23 @@ def _load_or_clear(main: Path) -> None:
         assert warning and "\n" not in warning, warning
 
 
+def _textured_ply(folder: Path) -> dict[str, Path]:
+    """An ASCII PLY triangle with texture coordinates naming a PNG (``TextureFile``)."""
+    import numpy as np
+    from PIL import Image
+
+    Image.fromarray(np.full((8, 8, 3), 180, np.uint8)).save(folder / "tex.png")
+    (folder / "m.ply").write_text(
+        "ply\nformat ascii 1.0\ncomment TextureFile tex.png\nelement vertex 3\n"
+        "property float x\nproperty float y\nproperty float z\nproperty float s\n"
+        "property float t\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "end_header\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n")
+    return {"ply": folder / "m.ply", "png": folder / "tex.png"}
+
+
 NAMED = [(_textured_obj, "obj", "mtl"), (_textured_obj, "obj", "png"),
-         (_gltf, "gltf", "gltf"), (_gltf, "gltf", "bin"), (_gltf, "gltf", "png")]
+         (_gltf, "gltf", "gltf"), (_gltf, "gltf", "bin"), (_gltf, "gltf", "png"),
+         (_textured_ply, "ply", "png")]
 """(how the files are made, the file loaded, the file damaged)."""
 
 @pytest.mark.parametrize("make, main, named", NAMED)
@@ -249,8 +264,22 @@ def _bad_file(path: Path, kind: str) -> None:
         os.mkfifo(path)
     elif kind == "device":
         os.symlink("/dev/zero", path)
+    elif kind == "loop":        # a symbolic link to itself
+        os.symlink(path.name, path)
+    elif kind == "folder":
+        path.mkdir()
     elif kind == "truncated":
         path.write_bytes(data[:len(data) // 3])
+    elif kind == "cut pixels":  # the header whole, the pixel data cut in half
+        import io
+
+        import numpy as np
+        from PIL import Image
+
+        noise = np.random.default_rng(0).integers(0, 256, (64, 64, 3), dtype=np.uint8)
+        encoded = io.BytesIO()
+        Image.fromarray(noise).save(encoded, "PNG")
+        path.write_bytes(encoded.getvalue()[:len(encoded.getvalue()) // 2])
     elif kind == "header lie":
         if data.startswith(b"\x89PNG"):
             lie = bytearray(data)
@@ -265,17 +294,20 @@ def _bad_file(path: Path, kind: str) -> None:
             handle.truncate(600 * 1024 * 1024)
 
 
-BAD_KINDS = ("fifo", "device", "truncated", "header lie", "huge")
+BAD_KINDS = ("fifo", "device", "loop", "folder", "truncated", "cut pixels", "header lie",
+             "huge")
 
 
 @pytest.mark.parametrize("make, main, named, kind", [
     (*case, kind) for case in NAMED for kind in BAD_KINDS
-    # a material library and a raw buffer have no header to lie in
-    if not (kind == "header lie" and case[2] in ("mtl", "bin"))])
+    # a material library and a raw buffer have no header to lie in; only images have pixels
+    if not (kind == "header lie" and case[2] in ("mtl", "bin"))
+    and not (kind == "cut pixels" and case[2] != "png")])
 def test_a_bad_file_named_inside_a_file_is_one_line_naming_it(tmp_path, no_hang, make, main,
                                                               named, kind):
-    """A FIFO, a device, a truncated file, a header that lies or a file far over its cap,
-    wherever a mesh names it: a one-line error naming it, or the mesh loaded and a
+    """A FIFO, a device, a loop of symbolic links, a folder, a truncated file, a header
+    that lies or a file far over its cap, wherever a mesh names it: a one-line error
+    naming it, or the mesh loaded and a
     warning naming it (a texture), within seconds."""
     from explorer.scene import SceneError, load_scene
 

@@ -45,6 +45,26 @@ def test_only_regular_files_are_read(tmp_path, fifo, no_hang):
         safe_files.read_bytes(dangling, "lesson")
 
 
+def test_the_refusals_name_the_kind_of_file_in_good_english(tmp_path, fifo, no_hang):
+    """"an array file", never "a array file file"; "an export listing file"."""
+    with pytest.raises(UserFileError, match=r"is a FIFO, not an array file$"):
+        safe_files.read_bytes(fifo, "array file")
+    with pytest.raises(UserFileError, match=r"is a device, not an export listing file$"):
+        safe_files.read_bytes("/dev/zero", "export listing")
+    big = tmp_path / "big.npz"
+    big.write_bytes(b"0" * 2048)
+    with pytest.raises(UserFileError, match=r"over the 1 KB an array file may have$"):
+        safe_files.read_bytes(big, "array file", cap=1024)
+
+
+def test_a_file_just_over_its_cap_never_reads_as_the_cap(tmp_path):
+    """1.4 MB over a 1 MB cap is "1.5 MB, over the 1 MB", not "1 MB, over the 1 MB"."""
+    big = tmp_path / "imgui.ini"
+    big.write_bytes(b"#" * int(1.44 * 1024 * 1024))
+    with pytest.raises(UserFileError, match=r"is 1.5 MB, over the 1 MB a layout file may"):
+        safe_files.read_text(big, "layout file")
+
+
 def test_sizes_are_capped_with_the_cap_in_the_message(tmp_path):
     big = tmp_path / "big.toml"
     big.write_bytes(b"#" * (300 * 1024))
@@ -183,6 +203,7 @@ def test_settings_and_layout_files_that_are_fifos_or_nest_deeply_are_set_aside(
     os.mkfifo(settings)
     message = persist.load_state(AppState(), settings)
     assert "is a FIFO" in message and "moved it to settings.json.bad-" in message
+    assert message.count(str(settings)) == 1, f"the file named twice: {message}"
     settings.write_text('{"format": 1, "x": ' + "[" * 3000 + "]" * 3000 + "}")
     message = persist.load_state(AppState(), settings)
     assert "nests deeper" in message and not settings.exists()

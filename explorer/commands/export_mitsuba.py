@@ -50,14 +50,16 @@ def main(args: argparse.Namespace) -> int:
     options.check_scene(base.scene)
     with options.Outputs("OUT") as outputs:
         out = outputs.file(args.out, EXPORT_SUFFIXES)
-        earlier = earlier_export(companion_folder(out))
+        earlier, sharers = earlier_export(companion_folder(out), out)
         folder = outputs.folder(companion_folder(out), option="OUT")
         scene = load_scene(base)
         try:
             exported = export_scene(scene, base.width, base.height)
-            contents = exported.contents(out)
+            contents = exported.contents(out, sharers)
         except ExportError as exc:
             raise options.CommandError(exc) from None
+        if sharers:
+            check_shared(folder, sharers, earlier, contents)
         for path, data in contents.items():
             outputs.write(path, lambda p, data=data: p.write_bytes(data))
         for name in earlier - set(exported.files):
@@ -75,21 +77,43 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
-def earlier_export(folder: Path) -> set[str]:
-    """The files an earlier export put in ``folder`` (its listing); refuses a folder of
-    that name the export did not make (a :class:`options.CommandError` naming it)."""
+def earlier_export(folder: Path, out: Path) -> tuple[set[str], tuple[str, ...]]:
+    """The files an earlier export put in ``folder`` (its listing) and the other scene
+    files beside ``out`` that still use them; refuses a folder of that name the export
+    did not make (a :class:`options.CommandError` naming it)."""
     from explorer.safe_files import UserFileError, read_text
-    from explorer.truth.mitsuba_scene import OWNER_FILE
+    from explorer.truth.mitsuba_scene import LISTING_SCENE, OWNER_FILE
 
     if not folder.is_dir() or not any(folder.iterdir()):
-        return set()
+        return set(), ()
     try:
         listing = read_text(folder / OWNER_FILE, "export listing", 64 * 1024)
     except UserFileError:
         raise options.CommandError(
             f"OUT: {folder}/ exists and was not made by export-mitsuba (no {OWNER_FILE} "
             f"in it), so its files are not replaced; move it or give another OUT") from None
+    lines = listing.splitlines()
+    owners = [line[len(LISTING_SCENE):] for line in lines if line.startswith(LISTING_SCENE)]
+    sharers = tuple(name for name in owners if name != out.name and Path(name).name == name
+                    and (out.parent / name).exists())
     # only plain names: a listing never reaches outside its folder
-    return {name for name in listing.splitlines() if name and Path(name).name == name
-            and not name.startswith(".")}
+    return {name for name in lines if name and Path(name).name == name
+            and not name.startswith((".", "#"))}, sharers
 
+
+def check_shared(folder: Path, sharers: tuple[str, ...], earlier: set[str],
+                 contents: dict[Path, bytes]) -> None:
+    """Refuse (one line) an export that would change or remove a file of ``folder`` that
+    the scene files ``sharers`` (``NAME.py`` beside ``NAME.xml``) still use."""
+    from explorer.truth.mitsuba_scene import OWNER_FILE
+
+    ours = {path.name: data for path, data in contents.items()
+            if path.parent == folder and path.name != OWNER_FILE}
+    changed = sorted(name for name in earlier | set(ours) if name not in ours
+                     or not (folder / name).is_file()
+                     or (folder / name).read_bytes() != ours[name])
+    if changed:
+        raise options.CommandError(
+            f"OUT: {folder}/ holds the files of {folder.parent / sharers[0]} (exported "
+            f"before) and this export would change {changed[0]}; give OUT another name or "
+            f"remove {sharers[0]} first")

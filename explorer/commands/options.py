@@ -63,7 +63,8 @@ class ArgumentParser(argparse.ArgumentParser):
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
         """argparse's, after refusing an option given twice with different values (argparse
         would silently keep the last): ``--grid 8 --grid 16``, ``--fog --no-fog``, two
-        ``--preset``. Repeatable options (``--view``, ``--object``) are not checked."""
+        ``--preset``, ``--check A --check B`` (an optional value). Repeatable options
+        (``--view``, ``--object``) are not checked."""
         given = list(sys.argv[1:] if args is None else args)
         self._refuse_repeated(given)
         return super().parse_known_args(given, namespace)
@@ -89,12 +90,15 @@ class ArgumentParser(argparse.ArgumentParser):
             action, option, explicit = found[0], found[1], found[-1]
             if isinstance(action, repeatable):
                 continue
-            if action.nargs is None and explicit is None and index < len(given):
+            takes_next = index < len(given) and (
+                action.nargs is None or action.nargs == "?" and not
+                given[index].startswith("-") and given[index] not in self._subparser_names())
+            if explicit is None and takes_next:
                 value = given[index]
                 index += 1
             else:
                 value = "" if explicit is None else explicit
-            if action.nargs not in (None, 0):
+            if action.nargs not in (None, 0, "?"):
                 continue                # a variable number of values: not compared
             said = f"{option} {value}".strip()
             first = seen.setdefault(action.dest, (option, said))
@@ -214,7 +218,7 @@ def spec_help(spec: Spec, default: object = None) -> str:
     optional field's None is the option left out (nobody types None on a command line)."""
     doc, allowed = spec.doc, spec.allowed()
     if spec.optional:
-        doc = doc.replace("None = ", "left out: ")
+        doc = doc.replace(". None = ", ". Left out: ").replace("None = ", "left out: ")
         allowed = allowed.removesuffix(" or None")
         if default == "automatic" and "left out" in doc:
             default = None                  # the doc says what leaving it out does

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import base64
 import binascii
+import os
 import struct
 from pathlib import Path
 
@@ -71,11 +72,18 @@ class AssetResolver:
                     return path
             return self._paths.absolute(clean)
         except ValueError:
-            raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, which is outside "
+            link = Path(self._paths.parent) / clean
+            where = (f"a symbolic link to {os.readlink(link)[:80]!r}" if link.is_symlink()
+                     else "a path")
+            raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, {where} outside "
                                 f"the mesh's folder") from None
-        except OSError as exc:          # a name too long, a loop of symbolic links
+        except (OSError, RuntimeError) as exc:
+            # a name too long; a loop of symbolic links (Path.resolve raises RuntimeError
+            # for one before Python 3.13, OSError after)
+            reason = (exc.strerror if isinstance(exc, OSError) and exc.strerror else
+                      "a loop of symbolic links" if isinstance(exc, RuntimeError) else exc)
             raise UserFileError(f"{self.mesh_path}: names {name[:80]!r}, which cannot be "
-                                f"opened ({exc.strerror or exc})") from None
+                                f"opened ({reason})") from None
 
     def get(self, name: str) -> bytes:
         if name in self._read:
@@ -117,8 +125,8 @@ class AssetResolver:
 
 def check_image_header(data: bytes, where: Path | str) -> tuple[int, int]:
     """The (width, height) an image's header claims; :class:`UserFileError` when it is not
-    an image Pillow reads or claims more than :data:`MAX_TEXTURE_PIXELS` (nothing is
-    decoded: Pillow reads the header only)."""
+    an image Pillow reads, claims more than :data:`MAX_TEXTURE_PIXELS` (checked from the
+    header, before anything is decoded) or does not decode whole (truncated, damaged)."""
     import io
     import warnings
 
@@ -129,13 +137,17 @@ def check_image_header(data: bytes, where: Path | str) -> tuple[int, int]:
         try:
             with Image.open(io.BytesIO(data)) as image:
                 width, height = image.size
+                if width * height <= MAX_TEXTURE_PIXELS:
+                    # decoded here, where the file's name is known: trimesh drops an
+                    # image it cannot decode, and a glTF's or PLY's has no name later
+                    image.load()
         except Image.DecompressionBombError:
             raise UserFileError(f"{where}: the image claims more pixels than "
                                 f"{MAX_TEXTURE_PIXELS:,} (the most a texture may have)") \
                 from None
         except Exception as exc:  # noqa: BLE001 - Pillow raises many types for bad data
             raise UserFileError(f"{where}: not an image Pillow can read "
-                                f"({type(exc).__name__})") from None
+                                f"({type(exc).__name__}: {str(exc)[:80]})") from None
     if width * height > MAX_TEXTURE_PIXELS:
         raise UserFileError(f"{where}: the image claims {width}×{height} pixels, over the "
                             f"{MAX_TEXTURE_PIXELS:,} a texture may have")

@@ -207,6 +207,9 @@ def mesh_file(scene_path: Path, text: str) -> Path:
                          f"({text})")
     if mesh_path.exists() and not mesh_path.is_file():
         raise SceneError(f"{scene_path}: mesh path {text!r} is not a file ({mesh_path})")
+    if mesh_path.is_symlink() and not mesh_path.exists():
+        raise SceneError(f"{scene_path}: mesh path {text!r} is a symbolic link that leads "
+                         f"nowhere (a loop, or its target is missing: {mesh_path})")
     if not mesh_path.is_file():
         raise SceneError(f"{scene_path}: mesh file {text!r} not found (looked for "
                          f"{mesh_path})")

@@ -55,12 +55,17 @@ OWNER_FILE = ".lpv-explorer-export"
 """The file in a companion folder (:func:`companion_folder`) listing what the export put
 there: it says the folder is the export's, and which of its files a new export replaces
 or removes (never a file of the user's)."""
+LISTING_SCENE = "# for "
+"""The listing's first lines: the scene files the folder belongs to (``s.xml`` and
+``s.py`` share ``s-files/``: an export that would change a file the other still uses is
+refused while the other's scene file is there)."""
 
 
 def companion_folder(path: Path) -> Path:
     """The folder of the meshes and textures of the scene written as ``path``:
-    ``NAME-files/`` beside ``NAME.xml`` (a name derived from the user's, so two exports
-    in one folder never share a file and no file beside the scene is touched)."""
+    ``NAME-files/`` beside ``NAME.xml`` (a name derived from the user's, so no file beside
+    the scene is touched; ``NAME.xml`` and ``NAME.py`` would share it, which the listing's
+    :data:`LISTING_SCENE` line prevents)."""
     path = Path(path)
     return path.with_name(f"{path.stem}-files")
 
@@ -87,11 +92,12 @@ class MitsubaScene:
     """What of the scene Mitsuba renders differently from the explorer (one line each,
     naming the mesh); the export command prints them."""
 
-    def contents(self, path: Path) -> dict[Path, bytes]:
+    def contents(self, path: Path, sharers: tuple[str, ...] = ()) -> dict[Path, bytes]:
         """Every file of the scene written as ``path`` (``.xml`` or ``.py``): the scene
         itself first, then the PLYs and the textures in its :func:`companion_folder`
         (the scene names them relative to its own folder), the folder's
-        :data:`OWNER_FILE` last."""
+        :data:`OWNER_FILE` last (naming ``path`` and the ``sharers``, other scene files
+        using the same folder's identical files)."""
         path = Path(path)
         if path.suffix not in EXPORT_SUFFIXES:
             raise ExportError(f"the Mitsuba scene must be written to a .xml or .py file, got "
@@ -100,7 +106,8 @@ class MitsubaScene:
         placed = replace(self, plugins=_placed(self.plugins, folder.name))
         text = to_xml(placed, folder.name, path.name) if path.suffix == ".xml" else \
             to_python(placed, folder.name)
-        listing = "".join(f"{name}\n" for name in self.files)
+        listing = "".join(f"{LISTING_SCENE}{name}\n" for name in (path.name, *sharers)) + \
+            "".join(f"{name}\n" for name in self.files)
         return {path: text.encode("utf-8"),
                 **{folder / name: data for name, data in self.files.items()},
                 folder / OWNER_FILE: listing.encode("utf-8")}

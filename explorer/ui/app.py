@@ -34,7 +34,7 @@ from explorer.lpv.settings import Settings, preset_name
 from explorer.ui import animation, frame_pacing, memory, persist, theme
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.images import write_png
-from explorer.ui.state import AppState, fit_window_size
+from explorer.ui.state import AppState, fit_window_size, release_screenshot_path
 from explorer.ui.view_size import LAYOUT_FRAMES, ViewSizeFollower
 from explorer.ui.window_options import WindowOptions
 from explorer.ui.window_panels import WindowPanels
@@ -447,6 +447,7 @@ class App:
                 self.state.notify(f"screenshot written to {request}")
             except OSError as exc:
                 self.state.notify(f"could not write {request}: {exc}", "error")
+                release_screenshot_path(request)
 
     def _update_title(self) -> None:
         s = self.state.settings

@@ -103,13 +103,14 @@ def set_aside(path: Path) -> Path:
 def _setting_aside(path: Path, problem: str, what: str, failed: str = "could not read"
                    ) -> str:
     """The message for a file that failed: where it went, and that defaults are used."""
+    # a UserFileError names the file already ("PATH: ..." or "PATH:LINE:COL: ...")
+    said = f"{failed} {problem}" if problem.startswith(f"{path}:") else \
+        f"{failed} {path}: {problem}"
     try:
         moved = set_aside(path)
     except OSError as exc:
-        return f"{failed} {path}: {problem}; could not move it aside ({exc}); " \
-               f"using the default {what}"
-    return f"{failed} {path}: {problem}; moved it to {moved.name}; using the " \
-           f"default {what}"
+        return f"{said}; could not move it aside ({exc}); using the default {what}"
+    return f"{said}; moved it to {moved.name}; using the default {what}"
 
 
 def load_state(state: AppState, path: Path | None = None) -> str | None:

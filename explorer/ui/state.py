@@ -9,6 +9,7 @@ is never persisted.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import time
 from collections.abc import Callable
@@ -322,16 +323,36 @@ second is given the next free name, even before the first is written)."""
 def default_screenshot_path(folder: Path | None = None) -> Path:
     """Where F12 and the View panel's button write: a time-stamped PNG in ``folder`` (the
     folder the explorer was started from), ``-2``, ``-3``, ... added when that name is
-    taken, on disk or by an earlier press: every screenshot gets a file of its own."""
+    taken, on disk, by an earlier press or by another window: every screenshot gets a file
+    of its own."""
     folder = Path.cwd() if folder is None else Path(folder)
     stem = f"lpv-explorer-{datetime.now():%Y%m%d-%H%M%S}"
     number = 1
     while True:
         path = folder / (f"{stem}.png" if number == 1 else f"{stem}-{number}.png")
         if path not in _SCREENSHOTS_NAMED and not os.path.lexists(path):
+            try:
+                # reserved on disk too (an empty file, replaced whole by the PNG): two
+                # windows started from one folder never pick the same name
+                os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            except FileExistsError:
+                number += 1
+                continue
+            except OSError:
+                pass                    # a folder it cannot write: the write says so
             _SCREENSHOTS_NAMED.add(path)
             return path
         number += 1
+
+
+def release_screenshot_path(path: Path) -> None:
+    """Remove the empty file :func:`default_screenshot_path` reserved as ``path`` when the
+    screenshot could not be written (never a file it did not reserve)."""
+    path = Path(path)
+    if path in _SCREENSHOTS_NAMED:
+        with contextlib.suppress(OSError):
+            if path.stat().st_size == 0:
+                path.unlink()
 
 
 @dataclass

@@ -4,6 +4,8 @@ given while the settings switch it off by default is a warning saying so."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from explorer.cli import main
@@ -35,6 +37,8 @@ REFUSED = [
     ("bench --soak 1 --grid 8", "--grid only acts with the timing bench"),
     ("bench --root .", "--root only acts with --interactive or --soak"),
     ("run --no-wait", "--no-wait only acts with --screenshot"),
+    ("lessons --check a --check b", "--check a and --check b both given"),
+    ("lessons --lint --lint b", "--lint and --lint b both given"),
 ]
 
 
@@ -74,6 +78,11 @@ def test_help_texts_say_nothing_a_command_line_cannot_take():
         text = command.format_help()
         assert "None" not in text, f"{name}: a help text offers None"
         assert "%" not in text, f"{name}: a stray % in a help text"
+        lower = [m.group(0) for action in command._actions
+                 if action.help and action.help != "==SUPPRESS=="
+                 for m in re.finditer(r"\S+[.!?][\"”)]? [a-z]\w*", " ".join(action.help.split()))
+                 if not m.group(0).startswith(("e.g.", "i.e.", "(e.g.", "(i.e."))]
+        assert lower == [], f"{name}: a sentence starting in lower case: {lower}"
         unnamed = [action.option_strings[0] for action in command._actions
                    if action.option_strings and action.nargs != 0 and action.metavar is None
                    and action.choices is None and action.help != "==SUPPRESS=="]

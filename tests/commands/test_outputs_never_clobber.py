@@ -58,6 +58,27 @@ def test_a_second_export_replaces_its_own_files_and_removes_stale_ones(tmp_path,
     assert (tmp_path / "escape.txt").read_text() == "the user's"
 
 
+def test_an_xml_and_a_py_export_of_one_name_never_share_their_files(tmp_path, capsys):
+    """``room.xml`` and ``room.py`` both use ``room-files/``: the same scene twice shares
+    it, another scene is refused while the first's scene file is there, and takes the
+    folder over once it is gone."""
+    xml, py = tmp_path / "room.xml", tmp_path / "room.py"
+    assert main(["export-mitsuba", "cornell", str(xml), "--size", "8x8"]) == 0
+    assert main(["export-mitsuba", "cornell", str(py), "--size", "8x8"]) == 0
+    py.unlink()
+    before = {p.name: p.read_bytes() for p in (tmp_path / "room-files").iterdir()}
+    capsys.readouterr()
+    assert main(["export-mitsuba", "single-source", str(py), "--size", "8x8"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "holds the files of" in err and "room.xml" in err, \
+        err
+    assert {p.name: p.read_bytes() for p in (tmp_path / "room-files").iterdir()} == before
+    assert not py.exists()
+    xml.unlink()
+    assert main(["export-mitsuba", "single-source", str(py), "--size", "8x8"]) == 0, \
+        capsys.readouterr().err
+
+
 def test_a_replaced_output_keeps_its_mode_and_a_new_one_follows_the_umask(tmp_path):
     old_mask = os.umask(0o022)
     try:
@@ -79,7 +100,38 @@ def test_two_screenshots_in_one_second_get_two_files(tmp_path):
     assert first != second
     second.write_bytes(b"png")
     third = default_screenshot_path(tmp_path)
-    assert len({first, second, third}) == 3 and not third.exists()
+    assert len({first, second, third}) == 3 and second.read_bytes() == b"png"
+
+
+def test_two_windows_started_in_one_folder_never_name_one_screenshot(tmp_path):
+    """Each process's presses are remembered in that process only: the name is also
+    reserved on disk, so a second window (another process) pressing F12 in the same second
+    gets a name of its own."""
+    import subprocess
+    import sys
+
+    # both windows' clocks read the same second
+    code = ("import sys, datetime; from explorer.ui import state; "
+            "state.datetime = type('Clock', (), {'now': staticmethod("
+            "lambda: datetime.datetime(2026, 1, 2, 3, 4, 5))}); "
+            "print(state.default_screenshot_path(sys.argv[1]))")
+    names = [subprocess.run([sys.executable, "-c", code, str(tmp_path)], check=True,
+                            capture_output=True, text=True, cwd=ROOT).stdout.strip()
+             for _ in range(2)]
+    assert names == [str(tmp_path / "lpv-explorer-20260102-030405.png"),
+                     str(tmp_path / "lpv-explorer-20260102-030405-2.png")]
+
+
+def test_a_screenshot_that_cannot_be_written_leaves_no_empty_file(tmp_path):
+    from explorer.ui.state import default_screenshot_path, release_screenshot_path
+
+    path = default_screenshot_path(tmp_path)
+    release_screenshot_path(path)
+    assert not path.exists()
+    mine = tmp_path / "mine.png"
+    mine.write_bytes(b"")
+    release_screenshot_path(mine)           # never a file it did not reserve
+    assert mine.exists()
 
 
 @pytest.mark.parametrize("signum, code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129),

@@ -140,6 +140,8 @@ BAD_FILES = [
     ("[[meshes]]\npath = 'MESH'\ncolour = [1, 1, 1]\n", "[[meshes]] #1: unknown key 'colour'"),
     ("[[meshes]]\npath = 'missing.obj'\n", "mesh file 'missing.obj' not found"),
     ("[[meshes]]\npath = '.'\n", "mesh path '.' is not a file"),
+    ("[[meshes]]\npath = 'loop.obj'\n", "mesh path 'loop.obj' is a symbolic link that leads "
+     "nowhere (a loop"),
     ("[[meshes]]\npath = 'bad.toml.obj'\n", "[[meshes]] #1: "),
     ("[[meshes]]\npath = 'other.toml'\n", "must name a mesh file, not a scene file"),
     ("[[meshes]]\nscale = 2.0\n", "[[meshes]] #1 needs path"),
@@ -201,6 +203,7 @@ BAD_FILES = [
 def test_scene_file_mistakes_are_one_line_scene_errors(tmp_path, text, message):
     room_mesh().export(tmp_path / "room.obj")
     (tmp_path / "bad.toml.obj").write_text("v 0 0 0\n")       # a mesh without faces
+    (tmp_path / "loop.obj").symlink_to("loop.obj")
     path = tmp_path / "bad.toml"
     path.write_text(text.replace("MESH", "room.obj"))
     with pytest.raises(SceneError) as info:
