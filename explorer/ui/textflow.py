@@ -166,18 +166,18 @@ class _FormulaShown:
     """A typeset formula in a layout key: equal while the same image at the same size
     (the formula cache's object, held so that its id is not reused)."""
 
-    __slots__ = ("formula", "_key")
+    __slots__ = ("formula", "key")
 
     def __init__(self, formula: Any) -> None:
         self.formula = formula
-        self._key = (id(formula), formula.texture_id, formula.width, formula.height,
-                     formula.baseline)
+        self.key = (id(formula), formula.texture_id, formula.width, formula.height,
+                    formula.baseline)
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, _FormulaShown) and self._key == other._key
+        return isinstance(other, _FormulaShown) and self.key == other.key
 
     def __hash__(self) -> int:
-        return hash(self._key)
+        return hash(self.key)
 
 
 def _kept(cache: dict, key: tuple, value: list) -> list:
