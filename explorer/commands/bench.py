@@ -157,6 +157,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...",
                         help="with --soak: the steps one pass takes (default every step of "
                              "every lesson), e.g. overview:2,errata:1")
+    parser.add_argument("--finish-phases", action="store_true",
+                        help="with --interactive: end each phase of a window frame (update, "
+                             "panels, render, swap) with glFinish, so that the frame "
+                             "profiles printed hold each phase's own GPU work (a diagnosis: "
+                             "the figures are then not the window's own)")
     parser.add_argument("--root", type=Path, default=None, metavar="PATH",
                         help="with --interactive/--soak: the source tree whose window is "
                              "driven (default: this one), e.g. an older checkout")
@@ -364,6 +369,8 @@ def main(args: argparse.Namespace) -> int:
                           "soak": "--soak", "gpu_report": "--gpu-report"})
     window = args.interactive or args.soak is not None
     options.only_with(args, window, "--interactive or --soak", {"root": "--root"})
+    options.only_with(args, args.interactive, "--interactive",
+                      {"finish_phases": "--finish-phases"})
     options.only_with(args, args.soak is not None, "--soak", {"soak_steps": "--soak-steps"})
     # the window bench drives the window with its own session: these would be unused
     options.only_with(args, not window, "the timing bench (not --interactive or --soak)",

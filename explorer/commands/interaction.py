@@ -105,6 +105,30 @@ def display_pass_ms(app) -> float | None:
     return statistics.median(times)
 
 
+def frame_profile(app) -> str:
+    """The last drawn frame by phase, wall and CPU ms (a window with a frame profile)."""
+    profile = getattr(app, "profile", None)
+    return profile.summary() if profile is not None and profile.wall_ms else ""
+
+
+def frame_detail(app) -> str:
+    """The pipeline's units of the last frame and its profile by phase, as far as the
+    window offers them."""
+    status = getattr(app, "status", None)
+    parts = []
+    if status is not None:
+        parts.append(", ".join(f"{unit.side} {unit.what} {unit.ms:.0f} ms"
+                               for unit in status.work) or "no pipeline work")
+    panels = getattr(getattr(app, "panels", None), "panel_ms", None)
+    if panels:
+        title, slowest = max(panels.items(), key=lambda item: item[1])
+        parts.append(f"slowest panel {title} {slowest:.0f} ms")
+    profile = frame_profile(app)
+    if profile:
+        parts.append(profile)
+    return "; ".join(parts)
+
+
 def lit(app) -> bool:
     import numpy as np
 
@@ -129,9 +153,9 @@ class Recorder:
         """The five longest frames with their phase and what ran in them."""
         self.input_at = 0.0
         """perf_counter() of the last input the session gave (:meth:`input`)."""
-        self.interacting = (0.0, "")
+        self.interacting = (0.0, "", "")
         """The longest frame within :data:`INTERACTING_S` of an input (a drag's frames, a
-        click's and those right after it), with its phase."""
+        click's and those right after it), with its phase and :func:`frame_detail`."""
         self.panels = (0.0, "")
         """The longest building of the panels in a frame, with the slowest panel."""
 
@@ -148,7 +172,7 @@ class Recorder:
         ms = (time.perf_counter() - start - getattr(self.app, "last_wait_s", 0.0)) * 1e3
         self.frames += 1
         if start - self.input_at < INTERACTING_S and ms > self.interacting[0]:
-            self.interacting = (ms, self.phase)
+            self.interacting = (ms, self.phase, frame_detail(self.app))
         phases = getattr(self.app, "draw_phases_ms", None) or {}
         panels = getattr(getattr(self.app, "panels", None), "panel_ms", None) or {}
         if phases.get("panels", 0.0) > self.panels[0]:
@@ -170,10 +194,14 @@ class Recorder:
                 if panels:      # a window that times each panel it drew
                     title, slowest = max(panels.items(), key=lambda item: item[1])
                     work += f"; slowest panel {title} {slowest:.0f} ms"
+            profile = frame_profile(self.app)
+            work += f"; {profile}" if profile else ""
             self.longest = (ms, f"{self.phase}: {work}")
         if len(self.slow) < 5 or ms > self.slow[-1][0]:
             status = getattr(self.app, "status", None)
             rest = "" if status is None else f" (pipeline {status.work_ms:.0f} ms)"
+            profile = frame_profile(self.app)
+            rest += f" [{profile}]" if profile else ""
             self.slow = sorted(self.slow + [(ms, f"{self.phase}{rest}")], reverse=True)[:5]
         return ms
 
@@ -220,9 +248,13 @@ def open_app(grid: int, window: tuple[int, int] = WINDOW_SIZE,
     return App(state, WindowOptions(**options))
 
 
-def session(spawned: float, frames: int, grid: int) -> dict:
-    """The session (module docstring): its phases in order, their figures in one dict."""
+def session(spawned: float, frames: int, grid: int, finish_phases: bool = False) -> dict:
+    """The session (module docstring): its phases in order, their figures in one dict.
+    ``finish_phases``: each phase of a frame ends with ``glFinish`` (a window with a
+    frame profile: explorer/ui/frame_profile.py), so that its GPU work lands in it."""
     app = open_app(grid)
+    if finish_phases and getattr(app, "profile", None) is not None:
+        app.profile.finish = app.ctx.finish
     try:
         rec = Recorder(app)
         figures = launch_phase(app, rec, spawned)
@@ -230,6 +262,7 @@ def session(spawned: float, frames: int, grid: int) -> dict:
         figures.update(orbit_phase(app, rec, frames))
         figures.update(display_phase(app, rec, figures["idle_frame_ms"]))
         figures.update(toggle_phase(app, rec))
+        figures.update(iterations8_phase(app, rec))
         figures.update(grid64_phase(app, rec, next(iter(figures["toggles"]))))
         figures.update(session_summary(app, rec))
     finally:
@@ -320,12 +353,17 @@ def display_phase(app, rec: Recorder, redraw_ms: float) -> dict:
     over a plain redraw (``redraw_ms``), and the view composer's pass alone."""
     figures = {}
     rec.phase = "display"
-    changed = []
+    changed, phases = [], {}
     for value in EXPOSURES:
         rec.input()                 # the slider's drag
         app.state.update(exposure=value)
         changed.append(rec.frame())
+        profile = getattr(app, "profile", None)
+        for phase, ms in (profile.wall_ms.items() if profile is not None else ()):
+            phases.setdefault(phase, []).append(ms)
     figures["display_change_frame_ms"] = statistics.median(changed)
+    for phase, values in phases.items():      # a window with a frame profile
+        figures[f"display_change_{phase}_ms"] = statistics.median(values)
     figures["display_change_ms"] = max(statistics.median(changed) - redraw_ms, 0.0)
     figures["display_pass_ms"] = display_pass_ms(app)
     rec.converge()
@@ -340,6 +378,27 @@ def toggle_phase(app, rec: Recorder) -> dict:
             "toggle_first_update_ms": statistics.median(
                 t["first_update_ms"] for t in times.values()),
             "toggle_converged_ms": statistics.median(t["converged_ms"] for t in times.values())}
+
+
+def iterations8_phase(app, rec: Recorder) -> dict:
+    """The issue's 32³ × 8: the iterations set to 8 (converged first), then each
+    correction toggled and back (:func:`toggles`), the medians to the first new picture
+    and to the converged one; the iterations put back after."""
+    rec.phase = "32³×8"
+    iterations = app.state.settings.iterations
+    rec.input()
+    app.state.update(iterations=8)
+    rec.converge()
+    times = toggles(app, rec)
+    rec.input()
+    app.state.update(iterations=iterations)
+    rec.converge()
+    return {"iterations8_toggle_first_update_ms": statistics.median(
+                t["first_update_ms"] for t in times.values()),
+            "iterations8_toggle_converged_ms": statistics.median(
+                t["converged_ms"] for t in times.values()),
+            "iterations8_slowest_first_update_ms": max(
+                t["first_update_ms"] for t in times.values())}
 
 
 def grid64_phase(app, rec: Recorder, correction: str) -> dict:
@@ -367,8 +426,8 @@ def session_summary(app, rec: Recorder) -> dict:
     frames and the renderer."""
     figures = {}
     figures["longest_blocked_frame_ms"], figures["longest_blocked_frame_work"] = rec.longest
-    figures["longest_interacting_frame_ms"], figures["longest_interacting_frame_phase"] = \
-        rec.interacting
+    (figures["longest_interacting_frame_ms"], figures["longest_interacting_frame_phase"],
+     figures["longest_interacting_frame_detail"]) = rec.interacting
     figures["longest_panels_ms"], figures["longest_panels_what"] = rec.panels
     figures["frames"] = rec.frames
     figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
@@ -646,10 +705,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--grid", type=int, default=32)
     parser.add_argument("--soak", type=float, default=None, metavar="MINUTES")
     parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...")
+    parser.add_argument("--finish-phases", action="store_true")
     parser.add_argument("--json", required=True)
     args = parser.parse_args(argv)
-    figures = soak(args.soak, args.grid, args.soak_steps) if args.soak else session(args.spawned,
-                                                                    args.frames, args.grid)
+    figures = soak(args.soak, args.grid, args.soak_steps) if args.soak else session(
+        args.spawned, args.frames, args.grid, args.finish_phases)
     figures["root"] = os.path.dirname(os.path.dirname(sys.modules["explorer"].__file__))
     with open(args.json, "w", encoding="utf-8") as out:
         json.dump(figures, out, indent=2)

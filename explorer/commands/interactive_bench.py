@@ -24,6 +24,8 @@ KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".
         ("window_drawing_ms", "the window's own drawing (a redraw)", "ms", ".1f"),
         ("window_drawing_panels_ms", "  of which the panels built", "ms", ".1f"),
         ("window_drawing_render_and_swap_ms", "  of which rendered and swapped", "ms", ".1f"),
+        ("window_drawing_render_ms", "  of which imgui's lists rendered", "ms", ".1f"),
+        ("window_drawing_swap_ms", "  of which swapped", "ms", ".1f"),
         ("idle_cpu_percent", "CPU while idle", "%", ".1f"),
         ("idle_frames_drawn_per_s", "frames drawn per second while idle", "/s", ".1f"),
         ("orbit_fps", "orbit: new pictures per second", "fps", ".1f"),
@@ -31,10 +33,19 @@ KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".
         ("orbit_refine_ms", "orbit released to the full-size frame", "ms", ".0f"),
         ("display_change_ms", "display-only change, over a redraw", "ms", ".1f"),
         ("display_change_frame_ms", "display-only change, its whole frame", "ms", ".1f"),
+        ("display_change_update_ms", "  of which the update (events, pipelines)", "ms", ".1f"),
+        ("display_change_panels_ms", "  of which the panels built", "ms", ".1f"),
+        ("display_change_render_ms", "  of which imgui's lists rendered", "ms", ".1f"),
+        ("display_change_swap_ms", "  of which swapped", "ms", ".1f"),
         ("display_pass_ms", "display-only change, the view pass alone", "ms", ".2f"),
         ("toggle_first_update_ms", "toggle to the first updated picture (median)", "ms",
          ".0f"),
         ("toggle_converged_ms", "toggle to the converged picture (median)", "ms", ".0f"),
+        ("iterations8_toggle_first_update_ms", "32³×8 toggle: first updated picture (median)",
+         "ms", ".0f"),
+        ("iterations8_slowest_first_update_ms", "32³×8 toggle: slowest first picture", "ms",
+         ".0f"),
+        ("iterations8_toggle_converged_ms", "32³×8 toggle: converged (median)", "ms", ".0f"),
         ("grid64_first_update_ms", "grid 64³: first updated picture", "ms", ".0f"),
         ("grid64_converged_ms", "grid 64³: converged", "ms", ".0f"),
         ("grid64_toggle_first_update_ms", "64³ toggle: first updated picture", "ms", ".0f"),
@@ -87,6 +98,8 @@ def _child(root: Path, args: argparse.Namespace) -> dict:
             command += ["--soak", str(args.soak)]
         if args.soak_steps is not None:
             command += ["--soak-steps", args.soak_steps]
+        if getattr(args, "finish_phases", False):
+            command += ["--finish-phases"]
         env = dict(os.environ, PYTHONPATH=str(root),
                    XDG_CONFIG_HOME=str(Path(folder) / "config"))
         command += ["--spawned", repr(time.time())]
@@ -109,6 +122,8 @@ def _print_session(figures: dict) -> None:
     if figures.get("longest_interacting_frame_phase"):
         print(f"  longest frame within 0.15 s of an input: in "
               f"{figures['longest_interacting_frame_phase']}")
+        if figures.get("longest_interacting_frame_detail"):
+            print(f"    it ran: {figures['longest_interacting_frame_detail']}")
     if figures.get("longest_panels_what"):
         print(f"  longest building of the panels: {figures['longest_panels_what']}")
     for line in figures.get("slowest_frames", []):

@@ -33,6 +33,7 @@ from explorer.gl.window import Window
 from explorer.lpv.settings import Settings, preset_name
 from explorer.ui import animation, frame_pacing, memory, persist, theme
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
+from explorer.ui.frame_profile import FrameProfile
 from explorer.ui.images import write_png
 from explorer.ui.state import AppState, fit_window_size, release_screenshot_path
 from explorer.ui.view_size import LAYOUT_FRAMES, ViewSizeFollower
@@ -123,6 +124,9 @@ class App:
         """How long the last frame() waited for events (an idle window)."""
         self.draw_phases_ms: dict[str, float] = {}
         """The last drawn frame's drawing by phase (:meth:`frame`), in milliseconds."""
+        self.profile = FrameProfile()
+        """The last drawn frame by phase, the pipelines' update included
+        (explorer/ui/frame_profile.py; ``profile.finish = ctx.finish`` to diagnose)."""
         self.last_pixels: np.ndarray | None = None
         self.panels = WindowPanels(self.state)
         """The menu bar, the dock layout and the panels (explorer/ui/window_panels.py)."""
@@ -243,6 +247,7 @@ class App:
             self.window.poll_events(timeout=self.idle_timeout())
             self.last_wait_s = time.perf_counter() - waited
         start = time.perf_counter()         # the frame's time, without the idle wait
+        self.profile.start()
         self.window.poll_events()
         if self.window.should_close() or self.state.requests.quit:
             return False
@@ -280,23 +285,25 @@ class App:
             return True
         rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
         before_draw = self._fingerprint()
-        drawing = time.perf_counter()
+        self.profile.mark("update")
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
         self.panels.draw()
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
-        built = time.perf_counter()
+        self.profile.mark("panels")
         self._imgui.render(self.ctx, theme.CLEAR_COLOUR)
         self._after_render(capture)
+        self.profile.mark("render")
         self.window.swap_buffers()
         self._imgui.post_swap()
+        self.profile.mark("swap")
         # the window's own drawing, apart from the pipeline's work (bench --interactive):
-        # the panels built on the CPU, then imgui's draw lists rendered and swapped (a
-        # software renderer rasterises them by the swap)
-        self.draw_phases_ms = {"panels": (built - drawing) * 1e3,
-                               "render_and_swap": (time.perf_counter() - built) * 1e3}
+        # the panels built on the CPU, imgui's draw lists rendered (a software renderer
+        # rasterises them by the swap, or when a phase finishes: frame_profile.py), the swap
+        self.draw_phases_ms = {phase: self.profile.wall_ms[phase]
+                               for phase in ("panels", "render", "swap")}
         rt.frame.frame_index += 1
         rt.frame.frame_ms = (time.perf_counter() - start) * 1000.0
         work_ms = status.work_ms if status is not None else 0.0

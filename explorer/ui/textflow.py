@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from copy import copy
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -24,6 +25,13 @@ MIN_DISPLAY_SCALE = 0.55
 """A display formula wider than the column is typeset down to this scale, then squeezed."""
 PARAGRAPH_GAP = 0.6
 """Space after a block, in lines of body text."""
+LAYOUT_ENTRIES = 1024
+"""Paragraphs whose measured boxes and lines :class:`Page` keeps (a step's text is laid
+out once, not every frame; the whole cache is dropped when it is full)."""
+_BOXES: dict[tuple, list] = {}
+"""(the runs as drawn, fonts, metrics) -> the paragraph's boxes (:meth:`Page.boxes`)."""
+_LINES: dict[tuple, list] = {}
+"""(the boxes' key, width, leading) -> the paragraph's lines (:meth:`Page.paragraph`)."""
 
 
 @dataclass
@@ -154,6 +162,32 @@ class PageEnv:
     """``explorer.lessons.glossary.Term`` entries: their words show the meaning on hover."""
 
 
+class _FormulaShown:
+    """A typeset formula in a layout key: equal while the same image at the same size
+    (the formula cache's object, held so that its id is not reused)."""
+
+    __slots__ = ("formula", "key")
+
+    def __init__(self, formula: Any) -> None:
+        self.formula = formula
+        self.key = (id(formula), formula.texture_id, formula.width, formula.height,
+                    formula.baseline)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, _FormulaShown) and self.key == other.key
+
+    def __hash__(self) -> int:
+        return hash(self.key)
+
+
+def _kept(cache: dict, key: tuple, value: list) -> list:
+    """``value`` stored under ``key`` (the cache dropped first when full)."""
+    if len(cache) >= LAYOUT_ENTRIES:
+        cache.clear()
+    cache[key] = value
+    return value
+
+
 ACCENT = (0.45, 0.72, 1.0, 1.0)
 BUTTON_TEXT = (1.0, 0.80, 0.40, 1.0)
 CODE_BG = (1.0, 1.0, 1.0, 0.07)
@@ -170,6 +204,11 @@ class Page:
         self.env = env
         self.width = max(float(width), 40.0)
         self.size = env.fonts.body_size if env.fonts is not None else imgui.get_font_size()
+        style = imgui.get_style()
+        self._fonts_key = (id(env.fonts), self.size, style.font_scale_main,
+                           style.font_scale_dpi, env.glossary)
+        """What a word's measured width depends on besides its text and style (the
+        fonts object lives as long as the window's fonts)."""
 
     # -- fonts -----------------------------------------------------------------------
     def push(self, style: str) -> None:
@@ -220,9 +259,7 @@ class Page:
     def paragraph(self, runs, indent: float, ascent: float, descent: float,
                   marker: str | None = None) -> None:
         imgui = self.imgui
-        boxes = self.boxes(runs, ascent, descent)
-        leading = (ascent + descent) * 0.22
-        lines = layout(boxes, self.width - indent, ascent, descent, leading)
+        lines = self.lines(runs, indent, ascent, descent)
         origin = imgui.get_cursor_screen_pos()
         if marker:
             self.push("regular")
@@ -241,6 +278,18 @@ class Page:
         height = (lines[-1].y + lines[-1].height) if lines else 0.0
         imgui.set_cursor_screen_pos(origin)
         imgui.dummy((self.width, height))
+
+    def lines(self, runs, indent: float, ascent: float, descent: float) -> list[Line]:
+        """The paragraph's lines at the column's width less ``indent``, laid out once
+        while its boxes and the width stay the same."""
+        key, boxes = self._measured(runs, ascent, descent)
+        leading = (ascent + descent) * 0.22
+        where = (key, self.width - indent, leading)
+        lines = _LINES.get(where)
+        if lines is None:       # (layout sets each box's x: copies, as boxes are shared)
+            lines = _kept(_LINES, where, layout([copy(box) for box in boxes],
+                                                self.width - indent, ascent, descent, leading))
+        return lines
 
     def table(self, block: lt.Table, ascent: float, descent: float) -> None:
         """A table as wide as the column, each cell laid out like a paragraph; a column
@@ -280,16 +329,44 @@ class Page:
         imgui.end_table()
 
     def boxes(self, runs, ascent: float, descent: float) -> list[Box]:
-        out = self._boxes(runs, ascent, descent)
-        for before, box in zip(out, out[1:]):
-            box.glue = before.space == 0.0
-        return out
+        """The paragraph's boxes, measured (kept while what they show is the same)."""
+        return self._measured(runs, ascent, descent)[1]
 
-    def _boxes(self, runs, ascent: float, descent: float) -> list[Box]:
+    def _measured(self, runs, ascent: float, descent: float) -> tuple[tuple, list[Box]]:
+        """(key, boxes) of ``runs``: the key holds what the boxes show this frame (each
+        live number's text and tooltip, each formula's typeset image, each button's
+        label and state), so that a paragraph is measured again only when that changes."""
+        resolved = tuple(self._resolve(run) for run in runs)
+        key = (resolved, ascent, descent, self._fonts_key)
+        boxes = _BOXES.get(key)
+        if boxes is None:
+            boxes = self._boxes(resolved, ascent, descent)
+            for before, box in zip(boxes, boxes[1:]):
+                box.glue = before.space == 0.0
+            _kept(_BOXES, key, boxes)
+        return key, boxes
+
+    def _resolve(self, run) -> object:
+        """A run as this frame draws it: text as it is; a live number, a formula and a
+        try button with what they show now (the formula as its typeset image)."""
+        if isinstance(run, lt.Value):
+            return ("value", run.style, *self.env.value(run.name, run.format))
+        if isinstance(run, lt.Math):
+            latex = lt.substitute(run.latex, lambda n, f: self.env.value(n, f)[0])
+            formula = (self.env.formulas.get(latex, 1.0, inline=True)
+                       if self.env.formulas is not None else None)
+            shown = None if formula is None or not formula.texture_id else (
+                _FormulaShown(formula))
+            return ("math", latex, shown)
+        if isinstance(run, lt.TryButton):
+            return ("button", run.index, *self.env.button(run.index))
+        return run
+
+    def _boxes(self, resolved: tuple, ascent: float, descent: float) -> list[Box]:
         imgui = self.imgui
         out: list[Box] = []
         space = self.text_width(" ", "regular")
-        for run in runs:
+        for run in resolved:
             if isinstance(run, lt.Text):
                 pieces = words(run.text)
                 tips = self._glossary_tips([word for word, _ in pieces])
@@ -301,25 +378,24 @@ class Page:
                     out.append(Box(self.text_width(word, run.style), ascent, descent, "text",
                                    (word, run.style, tips.get(index)),
                                    space if spaced else 0.0))
-            elif isinstance(run, lt.Value):
-                text, tooltip = self.env.value(run.name, run.format)
-                out.append(Box(self.text_width(text, run.style), ascent, descent, "value",
-                               (text, run.style, tooltip)))
-            elif isinstance(run, lt.Math):
-                latex = lt.substitute(run.latex, lambda n, f: self.env.value(n, f)[0])
-                formula = (self.env.formulas.get(latex, 1.0, inline=True)
-                           if self.env.formulas is not None else None)
-                if formula is None or not formula.texture_id:
+            elif run[0] == "value":
+                _, style, text, tooltip = run
+                out.append(Box(self.text_width(text, style), ascent, descent, "value",
+                               (text, style, tooltip)))
+            elif run[0] == "math":
+                _, latex, shown = run
+                if shown is None:
                     out.append(Box(self.text_width(latex, "code"), ascent, descent, "text",
                                    (latex, "code")))
                 else:
+                    formula = shown.formula
                     out.append(Box(float(formula.width), float(formula.baseline),
                                    float(formula.height - formula.baseline), "math", formula))
-            elif isinstance(run, lt.TryButton):
-                label, tooltip, active = self.env.button(run.index)
+            elif run[0] == "button":
+                _, index, label, tooltip, active = run
                 pad = imgui.get_style().frame_padding.x
                 out.append(Box(self.text_width(label, "regular") + 2 * pad, ascent, descent,
-                               "button", (run.index, label, tooltip, active)))
+                               "button", (index, label, tooltip, active)))
         return out
 
     def _glossary_tips(self, pieces: list[str]) -> dict[int, str]:

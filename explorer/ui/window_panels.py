@@ -88,7 +88,13 @@ class WindowPanels:
         # whole in the tool column at 1280 px (imgui cuts tabs that do not fit)
         imgui.push_style_var(imgui.StyleVar_.frame_padding,
                              (TAB_PADDING_X, imgui.get_style().frame_padding.y))
+        # the dock space's host window covers the whole window: its background, the
+        # clear's colour again, would be one more full-window layer of fill (1.5 Mpx at
+        # 1600×960, two thirds of a redraw's rasterising on llvmpipe); transparent, imgui
+        # draws none
+        imgui.push_style_color(imgui.Col_.window_bg, theme.DOCKED_WINDOW_BG)
         imgui.dock_space_over_viewport(dock_id, viewport)
+        imgui.pop_style_color()
         imgui.pop_style_var()
         if state.runtime.services.gl_problem:
             self._gl_problem_window()
