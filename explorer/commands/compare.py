@@ -19,7 +19,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from explorer.commands import compare_truth, options
+from explorer.commands import compare_folder, compare_truth, options
 from explorer.commands.compare_report import (  # noqa: F401  (tables.py reads them here)
     METRIC_ALIGN,
     METRIC_HEADERS,
@@ -57,7 +57,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default: visible)")
     parser.add_argument("--out", type=Path, default=None, metavar="FOLDER",
                         help="folder for the PNGs and table (default: ./compare-<scene>); "
-                             "made before the rendering starts")
+                             "made before the rendering starts. compare replaces only files "
+                             "it wrote there itself (listed in its .lpv-explorer-compare): "
+                             "a file of a name it writes that it did not write, such as your "
+                             "own table.md or one of an older compare's, is refused, "
+                             "never overwritten")
     parser.add_argument("--min-distance", metavar="X",
                         type=options.value_type("min_distance", MIN_DISTANCE),
                         default=None, help=options.spec_help(MIN_DISTANCE))
@@ -235,6 +239,9 @@ def main(args: argparse.Namespace) -> int:
     out = args.out if args.out is not None else Path(f"compare-{Path(base.scene).stem}")
     with options.Outputs() as outputs:
         outputs.folder(out)
+        earlier = compare_folder.earlier_names(out)
+        compare_folder.check_names(out, compare_folder.planned_names(
+            [run.label for run in runs]), earlier)
         if args.dump is not None:
             args.dump = outputs.file(args.dump, (".npz",), option="--dump")
             outputs.file(args.dump.with_suffix(".json"), (".json",), option="--dump")
@@ -259,6 +266,10 @@ def main(args: argparse.Namespace) -> int:
             print("\n" + truth_table)
             table += "\n\n" + truth_table
             written += truth_files
+        names = [*written, "table.md", "table.json"]
+        compare_folder.check_names(out, names, earlier)     # the Mitsuba images' names too
+        listing = compare_folder.listing_text(names, earlier, out)
+        outputs.write(out / compare_folder.LISTING_FILE, lambda p: p.write_text(listing))
         outputs.write(out / "table.md", lambda p: p.write_text(table + "\n"))
         outputs.write(out / "table.json", lambda p: p.write_text(report + "\n"))
         if args.dump is not None:

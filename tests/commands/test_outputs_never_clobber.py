@@ -181,3 +181,36 @@ def test_a_signal_during_the_renames_waits_until_the_new_set_is_whole(tmp_path, 
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frame-direct.png",
                                                           "frame-final.png"]
 
+
+
+COMPARE_TINY = ["--width", "16", "--height", "12", "--rsm-size", "8", "--grid-size", "8",
+                "--iterations", "2", "--quiet", "--preset", "corrected"]
+
+
+@pytest.mark.parametrize("name", ["table.md", "reference.png", "lpv-corrected.png"])
+def test_compare_never_replaces_a_file_of_the_users_in_its_folder(tmp_path, capsys, name):
+    folder = tmp_path / "cmp"
+    folder.mkdir()
+    (folder / name).write_text("the user's")
+    (folder / "notes.txt").write_text("also the user's")
+    assert main(["compare", "--out", str(folder), *COMPARE_TINY]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"holds {name}" in err and "not replaced" in err, err
+    assert (folder / name).read_text() == "the user's"
+    assert sorted(p.name for p in folder.iterdir()) == sorted([name, "notes.txt"])
+
+
+def test_a_second_compare_replaces_the_files_it_wrote(tmp_path, capsys):
+    folder = tmp_path / "cmp"
+    (folder).mkdir()
+    (folder / "notes.txt").write_text("the user's")
+    assert main(["compare", "--out", str(folder), *COMPARE_TINY]) == 0, \
+        capsys.readouterr().err
+    listing = (folder / ".lpv-explorer-compare").read_text().split()
+    assert "table.md" in listing and "lpv-corrected.png" in listing
+    assert "notes.txt" not in listing
+    (folder / "table.md").write_text("stale")
+    assert main(["compare", "--out", str(folder), *COMPARE_TINY]) == 0, \
+        capsys.readouterr().err
+    assert (folder / "table.md").read_text().startswith("scene `cornell`")
+    assert (folder / "notes.txt").read_text() == "the user's"
