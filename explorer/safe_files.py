@@ -93,6 +93,9 @@ def _open_regular(path: Path, kind: str, limit: int) -> int:
         if exc.errno == errno.ENXIO:     # a socket, or a FIFO opened for writing only
             raise UserFileError(f"{path}: not a regular file (the {kind} must be "
                                 f"{_file_noun(kind)})") from None
+        if exc.errno == errno.ELOOP:     # a symbolic link that names itself, or a longer cycle
+            raise UserFileError(f"{path}: is a symbolic link that leads nowhere (a loop), "
+                                f"not {_file_noun(kind)}") from None
         raise UserFileError(f"{path}: cannot read the {kind} "
                             f"({exc.strerror or exc})") from None
     try:

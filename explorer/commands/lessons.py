@@ -272,7 +272,8 @@ def _check(args: argparse.Namespace, course) -> int:
                         print(f"  {outcome}")
         finally:
             release_headless_context(ctx)
-    print(f"{total - failed} of {total} checks hold on {len(steps)} steps")
+    print(f"{total - failed} of {total} checks hold on {len(steps)} steps"
+          + _broken_note(course.errors, "checked"))
     _print_errors(course.errors)
     return 1 if failed or course.errors else 0
 
@@ -318,9 +319,18 @@ def _lint(args: argparse.Namespace, course) -> int:
         print(f"{kind}: {line}")
     steps = sum(len(lesson.steps) for lesson in lessons)
     print(f"{_count(len(found), 'finding')} in {_count(len(lessons), 'lesson')} "
-          f"({_count(steps, 'step')}, {_count(len(figures), 'figure')})")
+          f"({_count(steps, 'step')}, {_count(len(figures), 'figure')})"
+          + _broken_note(course.errors, "linted"))
     _print_errors(course.errors)
     return 1 if found or course.errors else 0
+
+
+def _broken_note(errors, verb: str) -> str:
+    """The summary's note on the lessons that did not load (named one a line below it),
+    so that "0 of 0 checks hold" never reads as a folder that passed."""
+    if not errors:
+        return ""
+    return f"; {_count(len(errors), 'broken lesson')} not {verb} (each below, exit 1)"
 
 
 def _count(number: int, noun: str) -> str:
@@ -425,9 +435,13 @@ def _export(args: argparse.Namespace, folder: Path | None) -> int:
     shipped course) as the window shows it."""
     from explorer.commands.options import Outputs
     from explorer.gl.window import WindowError
-    from explorer.ui.export import export_step
+    from explorer.ui.export import export_step, exported_lesson
 
     step = 1 if args.step is None else args.step
+    try:     # a lesson, step or try-this that does not exist: one line, nothing before it
+        exported_lesson(args.export, step, args.try_this, folder)
+    except (KeyError, IndexError) as exc:
+        raise CommandError(exc.args[0]) from None
     print(f"exporting {args.export} step {step}: waiting for the converged frame", flush=True)
     with Outputs() as outputs:
         out = outputs.file(args.out or Path.cwd() / f"{args.export}-step{step}.png",

@@ -73,6 +73,7 @@ guide, docs/AUTHORING.md, describes every key (:func:`format_keys` lists them).
 
 from __future__ import annotations
 
+import errno
 import re
 import sys
 from collections.abc import Callable, Mapping
@@ -317,6 +318,11 @@ class _Reader:
             found, exists = path.is_file(), path.exists()
             resolved = str(path.resolve())
         except (OSError, ValueError, RuntimeError) as exc:   # too long, a NUL, a loop
+            if isinstance(exc, RuntimeError) or getattr(exc, "errno", None) == errno.ELOOP:
+                # Path.resolve raises RuntimeError for a loop before Python 3.13, OSError after
+                where = str(path) if len(str(path)) <= 160 else "it"
+                raise self.error("scene", f"{shown} is a symbolic link that leads nowhere "
+                                          f"(a loop: {where})") from None
             reason = getattr(exc, "strerror", None) or str(exc)
             raise self.error("scene", f"{shown} is neither a built-in scene nor a usable "
                                       f"path ({reason})") from None

@@ -26,6 +26,21 @@ class ExportedStep:
     """(x0, y0, x1, y1) pixels of the PNG (row 0 at the top) the view's image covers."""
 
 
+def exported_lesson(lesson_id: str, step: int, try_this: int | None = None,
+                    lessons_dir: Path | None = None):
+    """The lesson :func:`export_step` would export (explorer.lessons.model.Lesson), read
+    without opening a window; KeyError/IndexError for a lesson, step or try-this that does
+    not exist."""
+    from explorer.lessons.folder import load_course
+
+    lesson = load_course(lessons_dir, shipped=False).find(lesson_id)
+    wanted = lesson.step(step)
+    if try_this is not None and not 1 <= try_this <= len(wanted.try_this):
+        raise IndexError(f"step {step} of {lesson.id} has try-this 1..{len(wanted.try_this)}"
+                         f", not {try_this}")
+    return lesson
+
+
 def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height: int = 900,
                 wait_s: float = 600.0, try_this: int | None = None,
                 overlays: bool = True, headless: bool | None = None,
@@ -39,7 +54,6 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
     a display (glfw's null platform with EGL; default: whenever this glfw has it);
     ``lessons_dir``: a folder of lessons read instead of the shipped ones."""
     from explorer.gl.window import headless_available
-    from explorer.lessons.folder import load_course
     from explorer.ui.app import App, write_png
     from explorer.ui.article_numbers import uses_error, uses_truth
     from explorer.ui.panels.error import error_service
@@ -48,11 +62,8 @@ def export_step(lesson_id: str, step: int, out: Path, width: int = 1600, height:
 
     if headless is None:
         headless = headless_available()
-    lesson = load_course(lessons_dir, shipped=False).find(lesson_id)
+    lesson = exported_lesson(lesson_id, step, try_this, lessons_dir)
     wanted = lesson.step(step)
-    if try_this is not None and not 1 <= try_this <= len(wanted.try_this):
-        raise IndexError(f"step {step} of {lesson.id} has try-this 1..{len(wanted.try_this)}"
-                         f", not {try_this}")
     state = AppState(lesson_id=lesson.id, lesson_step=step,
                      lesson_folder=None if lessons_dir is None else str(lessons_dir),
                      lesson_folder_alone=True)

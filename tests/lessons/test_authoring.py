@@ -427,3 +427,47 @@ def test_lint_reports_each_rule_from_a_lesson_that_breaks_it(tmp_path, capsys, m
     found = capsys.readouterr().out.splitlines()
     wide = [line for line in found if line.startswith("figure: tex/1/lobe (clamped-cosine) ")]
     assert len(wide) == 2 and all(" px past a 60 px column" in line for line in wide), found
+
+
+def test_export_of_a_lesson_not_in_the_folder_says_so_before_anything(folder, capsys):
+    for argv, said in ((["--export", "overview"], "no lesson 'overview'"),
+                       (["--export", "first-light", "--step", "9"], "has steps 1..2, not 9"),
+                       (["--export", "first-light", "--try", "7"], "not 7")):
+        assert main(["lessons", "--dir", str(folder), *argv]) == 2, argv
+        captured = capsys.readouterr()
+        assert captured.out == "", (argv, captured.out)
+        assert captured.err.count("\n") == 1 and said in captured.err, (argv, captured.err)
+
+
+def test_check_and_lint_of_a_folder_of_broken_lessons_name_each_and_fail(tmp_path, capsys):
+    (tmp_path / "01-a.toml").write_text(guide_example().replace('title = "', 'titel = "', 1),
+                                        encoding="utf-8")
+    (tmp_path / "02-b.toml").write_text('id = "b"\n[[steps]\n', encoding="utf-8")
+    for verb in ("--check", "--lint"):
+        assert main(["lessons", "--dir", str(tmp_path), verb]) == 1, verb
+        captured = capsys.readouterr()
+        assert "2 broken lessons not" in captured.out, captured.out
+        broken = [line for line in captured.err.splitlines() if line.startswith("broken")]
+        assert len(broken) == 2, captured.err
+        assert "01-a.toml" in broken[0] and "'title'" in broken[0]
+        assert "02-b.toml:2:" in broken[1]
+
+
+def test_a_scene_path_that_is_a_symlink_loop_is_one_plain_line(folder, capsys):
+    (folder / "loop.obj").symlink_to("loop.obj")
+    path = folder / "01-first-light.toml"
+    text = guide_example()
+    assert 'scene = "cornell"' in text
+    path.write_text(text.replace('scene = "cornell"', 'scene = "loop.obj"', 1),
+                    encoding="utf-8")
+    with pytest.raises(LessonError) as info:
+        load_lesson(path)
+    said = str(info.value)
+    assert "\n" not in said and "Symlink loop" not in said, said
+    assert "'loop.obj' is a symbolic link that leads nowhere (a loop" in said, said
+    assert str(folder / "loop.obj") in said and f"{path}:" in said, said
+    (folder / "02-loop.toml").symlink_to("02-loop.toml")
+    assert main(["lessons", "--dir", str(folder)]) == 1
+    err = capsys.readouterr().err
+    assert "02-loop.toml: is a symbolic link that leads nowhere (a loop)" in err, err
+    assert "Too many levels" not in err, err
