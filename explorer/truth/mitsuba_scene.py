@@ -4,9 +4,10 @@ camera, written as files Mitsuba reads (no Mitsuba needed to write them).
 What is exported, and how each explorer quantity maps onto a stock Mitsuba plugin:
 
 * the triangles: a binary PLY per (texture, sidedness) group (``scene.ply`` for the
-  untextured two-sided ones) with per-corner normals and the linear albedo as the float
-  vertex colour, read by a ``diffuse`` BSDF through a ``mesh_attribute`` texture; a
-  textured group's texture times its albedo factor is a ``bitmap`` at the corners' uv;
+  untextured two-sided ones, :func:`mesh_file_name`) with per-corner normals and the
+  linear albedo as the float vertex colour, read by a ``diffuse`` BSDF through a
+  ``mesh_attribute`` texture; a textured group's texture times its albedo factor is a
+  ``bitmap`` at the corners' uv;
   ``twosided`` unless the group is one-sided (the explorer's two-sided surfaces turn the
   normal towards the viewer and the light); a one-sided group's diffuse is the ``front``
   of ``lpv_one_sided`` (explorer/truth/mitsuba_one_sided.py, copied beside the scene),
@@ -133,6 +134,15 @@ def _placed(value, folder: str):
 
 # --- the scene -------------------------------------------------------------------------
 
+def mesh_file_name(texture: int, one_sided: bool) -> str:
+    """The PLY of one (texture index or −1, one-sided) group: ``scene.ply`` for the
+    untextured two-sided surfaces, ``scene-one-sided.ply`` for the untextured one-sided
+    ones, ``scene-tK.ply`` and ``scene-tK-one-sided.ply`` for texture K (one name per
+    group)."""
+    textured = f"-t{texture}" if texture >= 0 else ""
+    return f"{Path(MESH_FILE).stem}{textured}{'-one-sided' if one_sided else ''}.ply"
+
+
 def export_scene(scene, width: int, height: int) -> MitsubaScene:
     """The Mitsuba description of ``scene`` (an ``explorer.scene.Scene`` with its overrides
     applied, e.g. ``scene_for(settings)``) seen at ``width × height`` pixels."""
@@ -144,8 +154,7 @@ def export_scene(scene, width: int, height: int) -> MitsubaScene:
     groups = surface_groups(scene)
     for key, corners in groups.items():
         texture, one_sided = key
-        name = MESH_FILE if key == (-1, False) else \
-            f"scene-t{texture}{'-one-sided' if one_sided else ''}.ply"
+        name = mesh_file_name(texture, one_sided)
         bsdf, texture_file = surface_bsdf(scene, texture, one_sided, corners)
         files[name] = mesh_ply(scene, corners, uv=texture_file is not None)
         if texture_file is not None:

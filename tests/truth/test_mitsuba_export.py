@@ -16,6 +16,7 @@ from explorer.truth.gbuffer import scene_for
 from explorer.truth.mitsuba_scene import (
     ExportError,
     export_scene,
+    mesh_file_name,
     mesh_ply,
     spot_falloff_texture,
     view_frame,
@@ -173,7 +174,8 @@ def test_textured_and_one_sided_triangles_get_their_own_shapes():
     shapes = {str(p["filename"]): p["bsdf"] for k, p in exported.plugins.items()
               if k.startswith("surfaces")}
     assert shapes["scene-t0.ply"]["material"]["reflectance"]["type"] == "bitmap"
-    one_sided_bsdf = shapes["scene-t-1-one-sided.ply"]
+    assert sorted(shapes) == ["scene-one-sided.ply", "scene-t0.ply", "scene.ply"]
+    one_sided_bsdf = shapes["scene-one-sided.ply"]
     assert one_sided_bsdf["type"] == "lpv_one_sided"
     assert one_sided_bsdf["front"]["type"] == "diffuse"
     assert exported.integrator == "volpath" and "lpv_one_sided.py" in exported.files
@@ -232,3 +234,11 @@ def test_several_colours_under_one_texture_is_a_warning_naming_the_mesh():
     warnings = export_scene(scene, 8, 8).warnings
     assert len(warnings) == 1 and warnings[0].startswith("scene-t0.ply: texture 0")
     assert not export_scene(base, 8, 8).warnings
+
+
+def test_every_surface_group_has_a_plain_name_of_its_own():
+    groups = [(texture, sided) for texture in (-1, 0, 1, 11) for sided in (False, True)]
+    names = [mesh_file_name(*group) for group in groups]
+    assert len(set(names)) == len(groups), names
+    assert all("-1" not in name and name.endswith(".ply") for name in names), names
+    assert names[:2] == ["scene.ply", "scene-one-sided.ply"]
