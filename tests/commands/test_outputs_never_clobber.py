@@ -1,5 +1,6 @@
 """A command writes only the files it names: export-mitsuba's meshes and textures go into
-a folder named after its output, which it owns; a replaced file keeps its mode; every
+a folder named after its output, which it owns; compare replaces in its --out folder only
+the files it wrote there; a replaced file keeps its mode; every
 screenshot gets a file of its own; a command stopped by INT, TERM or HUP leaves the old
 set of outputs whole or the new set whole, never a mix, and nothing hidden behind."""
 
