@@ -502,6 +502,77 @@ def count_scopes() -> None:
     moderngl.Context.scope, moderngl.Scope.release = counted_scope, counted_release
 
 
+_GL_BYTES: dict[int, tuple[object, str]] = {}
+"""id → (the object, its owner) of every texture, renderbuffer and buffer made since
+:func:`count_gl_bytes` and not yet released (held: without ``gc_mode`` a dropped object's
+GL storage stays alive, so it stays in the tally)."""
+_MAKERS = ("texture", "texture3d", "texture_array", "texture_cube", "depth_texture",
+           "renderbuffer", "depth_renderbuffer", "buffer")
+
+
+def _gl_object_bytes(obj) -> int:
+    """What a texture, renderbuffer or buffer holds (llvmpipe keeps it in host memory):
+    its texels times components times the size of its dtype (mip levels not counted)."""
+    import moderngl
+
+    if isinstance(obj, moderngl.Buffer):
+        return int(obj.size)
+    dtype = getattr(obj, "dtype", "f1") or "f1"
+    item = int(dtype[1:]) if dtype[1:].isdigit() else 4
+    texels = obj.width * obj.height * max(getattr(obj, "samples", 0) or 1, 1)
+    if isinstance(obj, moderngl.Texture3D):
+        texels *= obj.depth
+    elif isinstance(obj, moderngl.TextureArray):
+        texels *= obj.layers
+    elif isinstance(obj, moderngl.TextureCube):
+        texels *= 6
+    return texels * obj.components * item
+
+
+def _owner() -> str:
+    """The module and function of the explorer code that made an object (the first frame
+    outside explorer/gl and this module)."""
+    frame = sys._getframe(2)
+    while frame is not None:
+        name = frame.f_globals.get("__name__", "")
+        if name.startswith("explorer.") and not name.startswith(("explorer.gl.",
+                                                                  "explorer.commands.")):
+            return f"{name.removeprefix('explorer.')}.{frame.f_code.co_name}"
+        frame = frame.f_back
+    return "other"
+
+
+def count_gl_bytes() -> None:
+    """Tally the bytes of every texture, renderbuffer and buffer made from now on by the
+    code that made it (:func:`gl_bytes`)."""
+    import moderngl
+
+    def counted(make):
+        def making(self, *args, **kwargs):
+            obj = make(self, *args, **kwargs)
+            _GL_BYTES[id(obj)] = (obj, _owner())
+            return obj
+        return making
+
+    for name in _MAKERS:
+        setattr(moderngl.Context, name, counted(getattr(moderngl.Context, name)))
+
+
+def gl_bytes() -> dict[str, float]:
+    """MiB of the textures, renderbuffers and buffers alive now by their owner (those
+    released are dropped from the tally), largest first."""
+    import moderngl
+
+    owners: dict[str, int] = {}
+    for key, (obj, owner) in list(_GL_BYTES.items()):
+        if isinstance(obj.mglo, moderngl.InvalidObject):
+            del _GL_BYTES[key]
+            continue
+        owners[owner] = owners.get(owner, 0) + _gl_object_bytes(obj)
+    return {owner: round(size / 2**20, 1)
+            for owner, size in sorted(owners.items(), key=lambda item: -item[1])}
+
+
 GRID_CYCLE = (8, 16, 32, 48, 64)
 SOAK_WINDOW = (960, 600)
 SOAK_RENDER = (320, 200)
@@ -600,6 +671,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
     from explorer.ui.panels.error import error_service
 
     count_scopes()
+    count_gl_bytes()
     app = open_app(grid, window=SOAK_WINDOW, render=SOAK_RENDER)
     try:
         rec = Recorder(app)
@@ -666,11 +738,14 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
                 lesson_id, number = steps[position]
                 record = {"pass": passes, "position": position,
                           "step": f"{lesson_id}:{number}", "rss_mib": resident_mib(),
-                          "gl": gl_objects()}
+                          "gl": gl_objects(), "gl_mib": gl_bytes()}
                 records.append(record)
                 print(f"  pass {passes} step {position + 1}/{len(steps)} {record['step']:<26}"
                       f" {record['rss_mib']:6.0f} MiB  " + "  ".join(
-                          f"{kind} {count}" for kind, count in record["gl"].items()),
+                          f"{kind} {count}" for kind, count in record["gl"].items())
+                      + f"  GL {sum(record['gl_mib'].values()):.0f} MiB (" + ", ".join(
+                          f"{owner} {mib:.0f}" for owner, mib in
+                          list(record["gl_mib"].items())[:4]) + ")",
                       file=sys.stderr, flush=True)
                 phase = "warm-up" if passes == 1 else "soak"
                 if time.monotonic() - began >= 60.0 * len(samples):
