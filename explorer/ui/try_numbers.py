@@ -7,10 +7,15 @@ number was before ("before the press: 35.9 W"). Both are finished FrameResults o
 lesson step; a change of the step's settings (another scene size, the reader's exposure)
 makes the kept frame stale, and it is not used, except the render size of a press shown
 in a grid of views (side by side, small multiples: each view renders at its cell's size).
+A kept frame holds only what a prompt's numbers read: its propagation steps (grid_0..N,
+about 200 MiB a cascade at 64³) and its per-cell audit records are dropped, and at most
+:data:`KEPT_FRAMES` of each kind are kept, the least recently kept first to go.
 """
 
 from __future__ import annotations
 
+import weakref
+from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -20,6 +25,37 @@ from explorer.lessons import text as lesson_text
 FRAME_PREFIXES = ("audit.", "frame.", "mark.")
 """Quantities read from a frame (the others, settings and derivations, do not change
 with the frame and need no "before")."""
+
+
+KEPT_FRAMES = 12
+"""Frames kept per kind (steps' own, presses): a reader who comes back after a dozen
+other steps sees the prompt's numbers again once the step's frame is on screen."""
+
+
+def lean_frame(result: Any) -> Any:
+    """``result`` without what no prompt number reads (each level's propagation steps
+    and per-cell audit records): the kept frame must not hold a frame's largest arrays
+    after the reader has moved on (the window's memory over a course, issue #31)."""
+    levels = getattr(result, "cascades", None)
+    if not levels or all(level.steps is None and level.cell_records is None
+                         for level in levels):
+        return result
+    return replace(result, cascades=[replace(level, steps=None, cell_records=None)
+                                     for level in levels])
+
+
+def _keep(kept: OrderedDict, sources: dict, key: Any, result: Any) -> None:
+    """``kept[key] = result``, lean, the newest last, the oldest beyond
+    :data:`KEPT_FRAMES` dropped; ``sources`` remembers (weakly) which frame each entry was
+    made from, so the frame on screen is made lean once, not at every draw."""
+    source = sources.get(key)
+    if key in kept and source is not None and source() is result:
+        return
+    kept[key] = lean_frame(result)
+    sources[key] = weakref.ref(result)
+    kept.move_to_end(key)
+    while len(kept) > KEPT_FRAMES:
+        sources.pop(kept.popitem(last=False)[0], None)
 
 
 SIZE_FIELDS = ("width", "height")
@@ -45,8 +81,10 @@ class TryFrames:
     """Per (lesson id, step, try-this): the frame the press showed; per (lesson id,
     step): the step's own frame."""
 
-    after: dict[tuple[str, int, int], Any] = field(default_factory=dict)
-    before: dict[tuple[str, int], Any] = field(default_factory=dict)
+    after: OrderedDict[tuple[str, int, int], Any] = field(default_factory=OrderedDict)
+    before: OrderedDict[tuple[str, int], Any] = field(default_factory=OrderedDict)
+    sources: dict[Any, weakref.ref] = field(default_factory=dict)
+    """Per key of :attr:`after` and :attr:`before`: the frame its entry was made from."""
     any_size: set[tuple[str, int, int]] = field(default_factory=set)
     """Try-this whose press was shown in a grid of views (side by side, small multiples):
     the kept frame rendered at its cell's size, which the view after Undo does not
@@ -55,14 +93,14 @@ class TryFrames:
     def keep_step(self, key: tuple[str, int], result: Any) -> None:
         """The step's own finished frame, on screen with no try-this pressed."""
         if result is not None:
-            self.before[key] = result
+            _keep(self.before, self.sources, key, result)
 
     def keep_after(self, key: tuple[str, int, int], result: Any, any_size: bool = False
                    ) -> None:
         """The try-this's finished frame, on screen while it is pressed (``any_size``:
         in a grid of views, at its cell's size)."""
         if result is not None:
-            self.after[key] = result
+            _keep(self.after, self.sources, key, result)
             (self.any_size.add if any_size else self.any_size.discard)(key)
 
     def after_context(self, key: tuple[str, int, int], context: live_values.LiveContext

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 from explorer.lessons import find_lesson, live_values, load_all, preview_settings
 from explorer.lpv.pipeline import Pipeline
-from explorer.ui.try_numbers import TryFrames
+from explorer.ui.try_numbers import KEPT_FRAMES, TryFrames
 
 
 def test_the_prompt_keeps_both_frames_numbers(ctx):
@@ -26,7 +26,7 @@ def test_the_prompt_keeps_both_frames_numbers(ctx):
     base = live_values.LiveContext(settings=settings, result=before_frame)
     pending = replace(base, settings=after, result=None)
     kept = frames.after_context(key, pending)                       # after Undo
-    assert kept.result is after_frame
+    assert kept.result is frames.after[key] and kept.result.settings == after_frame.settings
     shown_after = live_values.render("audit.clamp_gain", ".3g", kept)
     shown_before = live_values.render("audit.clamp_gain", ".3g", base)
     assert shown_after != shown_before and live_values.PENDING not in shown_after
@@ -38,7 +38,34 @@ def test_the_prompt_keeps_both_frames_numbers(ctx):
     # pressed in a grid of views (side by side), the frame rendered at its cell's size:
     # the full view after Undo still gets the press's numbers
     frames.keep_after(key, after_frame, any_size=True)
-    assert frames.after_context(key, other).result is after_frame
+    assert frames.after_context(key, other).result is frames.after[key]
     other_config = replace(pending, settings=after.with_changes(iterations=after.iterations + 1))
     assert frames.after_context(key, other_config).result is None
     assert TryFrames().before_note(step_key, item.prompt, base) == ""
+
+
+def test_kept_frames_hold_no_steps_and_are_bounded(ctx):
+    """The window keeps a frame per step visited: without this bound each held its
+    propagation steps (about 200 MiB a cascade at 64³) for the rest of the session."""
+    lessons, _ = load_all(check_formula=None)
+    step = find_lesson("propagation", lessons).step(1)
+    settings = preview_settings(step, max_iterations=4)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        frame = pipeline.run(settings, keep_steps=True)
+    assert frame.steps is not None
+    frames = TryFrames()
+    for number in range(KEPT_FRAMES + 5):
+        frames.keep_step(("propagation", number), frame)
+        frames.keep_after(("propagation", number, 1), frame)
+    assert len(frames.before) == len(frames.after) == KEPT_FRAMES
+    assert ("propagation", 0) not in frames.before                 # the oldest went first
+    kept = frames.before[("propagation", KEPT_FRAMES + 4)]
+    assert all(level.steps is None and level.cell_records is None for level in kept.cascades)
+    assert frame.steps is not None                                  # the shown frame keeps its own
+    base = live_values.LiveContext(settings=settings, result=frame)
+    lean = replace(base, result=kept)
+    for name in ("audit.clamp_gain", "audit.accumulated", "frame.rsm_views"):
+        assert live_values.render(name, ".6g", lean) == live_values.render(name, ".6g", base)
+    again = frames.before[("propagation", KEPT_FRAMES + 4)]
+    frames.keep_step(("propagation", KEPT_FRAMES + 4), frame)      # the same frame redrawn
+    assert frames.before[("propagation", KEPT_FRAMES + 4)] is again
