@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from imgui_bundle import imgui
 
@@ -151,17 +153,13 @@ def scale_bar(draw, pos, height: float, top: float, signed: bool = False,
     """A vertical colour-scale bar with ticks: heat from 0 (bottom) to ``top``, or with
     ``signed`` the diverging map from −top (bottom) to +top. ``value_at(fraction)``: the
     value at a height fraction for the labels, when the scale is not linear."""
-    steps = 32
+    steps = _SCALE_BAR_STEPS
     low = -top if signed else 0.0
-
-    def colour(frac: float):
-        if signed:
-            return diverging(np.array(2.0 * frac - 1.0), 1.0)
-        return heat(frac)
+    colours = [_u32(rgb) for rgb in _scale_bar_colours(signed)]
 
     for i in range(steps):
         t0, t1 = i / steps, (i + 1) / steps
-        c0, c1 = _u32(colour(1.0 - t0)), _u32(colour(1.0 - t1))
+        c0, c1 = colours[i], colours[i + 1]
         y0, y1 = pos.y + t0 * height, pos.y + t1 * height
         draw.add_rect_filled_multi_color((pos.x, y0), (pos.x + SCALE_BAR_WIDTH, y1),
                                          c0, c0, c1, c1)
@@ -173,6 +171,22 @@ def scale_bar(draw, pos, height: float, top: float, signed: bool = False,
         label = f"{value:.2g}"
         draw.add_text((pos.x + SCALE_BAR_WIDTH + 6, min(y, pos.y + height - 14) - 6), white,
                       label)
+
+
+_SCALE_BAR_STEPS = 32
+
+
+@lru_cache(maxsize=2)
+def _scale_bar_colours(signed: bool) -> tuple[tuple[float, float, float], ...]:
+    """The bar's colours from its top down, at each of its step edges: they depend only
+    on the map (the range changes the labels), so they are computed once per map."""
+    def colour(frac: float):
+        if signed:
+            return diverging(np.array(2.0 * frac - 1.0), 1.0)
+        return heat(frac)
+
+    fractions = (1.0 - i / _SCALE_BAR_STEPS for i in range(_SCALE_BAR_STEPS + 1))
+    return tuple(tuple(float(v) for v in colour(f)[:3]) for f in fractions)
 
 
 def _u32(rgb) -> int:
