@@ -344,7 +344,7 @@ def _thumbnail(pixels, size: int = 64):
 
 
 def run_session(name: str, shots: Path | None = None) -> dict:
-    from click_sessions import SESSIONS
+    from click_sessions import SESSIONS, small_error_measurement
 
     from explorer.gl.window import headless_available
     from explorer.ui.app import App
@@ -359,6 +359,7 @@ def run_session(name: str, shots: Path | None = None) -> dict:
     app = App(state, WindowOptions(width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
                                    persist_settings=False, test_engine=True,
                                    headless=headless_available()))
+    small_error_measurement(app.state)
     clicks: dict = {}
     problems: list[str] = []
     start = time.monotonic()

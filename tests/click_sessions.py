@@ -41,6 +41,23 @@ def small_state():
                     render_scale=0.25, frame_budget_ms=CLICK_BUDGET_MS)
 
 
+ERROR_RSM_SIZE = 16
+"""The Error panel's measurement in the sessions and the reader walk: its RSM at the
+panel's smallest choice (the reference costs pixels × VPLs: 256 VPLs instead of 4 096),
+its pixels as shipped (the images, their layout and the size combo's text as a reader
+sees them)."""
+
+
+def small_error_measurement(state) -> None:
+    """Measure the Error panel's configurations at :data:`ERROR_RSM_SIZE`, as a reader who
+    picked that RSM in its combo."""
+    from dataclasses import replace
+
+    from explorer.ui.panels.error import error_service
+
+    service = error_service(state)
+    service.measurement = replace(service.measurement, rsm_size=ERROR_RSM_SIZE)
+
 
 def label_ref(label: str) -> str:
     """An item label as a test engine reference segment ("/" separates windows and ids
