@@ -1,6 +1,5 @@
 """Run click sessions in the real explorer window (a child process of the click tests,
-tests/ui/test_click_window.py; or by hand: ``xvfb-run -a python tests/click_app.py
-navigation``).
+tests/ui/test_click_window.py; or by hand: ``python tests/click_app.py navigation``).
 
 Each session is one window and one Dear ImGui Test Engine test (explorer/ui/
 test_engine.py) whose function clicks, drags and types through the window by label and
@@ -345,15 +344,22 @@ def _thumbnail(pixels, size: int = 64):
 
 
 def run_session(name: str, shots: Path | None = None) -> dict:
-    from click_sessions import SESSIONS
+    from click_sessions import SESSIONS, small_error_measurement
 
+    from explorer.gl.window import headless_available
     from explorer.ui.app import App
     from explorer.ui.window_options import WindowOptions
 
     session = SESSIONS[name]
     state = session.state()
+    # glfw's null platform where it has one (no X server: presenting 1280×720 frames
+    # through Xvfb was a fifth of a session's CPU time, BENCHMARKS.md "The suite in
+    # minutes"); the engine drives imgui's input itself, so the clicks are the same, and
+    # the window tests of tests/ui/ still open their windows under Xvfb
     app = App(state, WindowOptions(width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
-                                   persist_settings=False, test_engine=True))
+                                   persist_settings=False, test_engine=True,
+                                   headless=headless_available()))
+    small_error_measurement(app.state)
     clicks: dict = {}
     problems: list[str] = []
     start = time.monotonic()

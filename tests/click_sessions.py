@@ -25,10 +25,11 @@ class Session:
     doc: str
 
 
-CLICK_BUDGET_MS = 8.0
+CLICK_BUDGET_MS = 2.0
 """Pipeline work per frame while the session clicks (a reader's input keeps the window to
-the frame budget): frames stay short, so the clicks are quick; a session that waits for
-the converged picture gets the quiet budget meanwhile."""
+the frame budget): the least the setting allows, so frames stay short (no check but the
+window session's waits needs a converged frame; those get the quiet budget meanwhile) and
+more of them see the frame converging (the provisional numbers of a try-this)."""
 
 
 def small_state():
@@ -39,6 +40,23 @@ def small_state():
     return AppState(settings=Settings(grid_size=8, iterations=3, rsm_size=32),
                     render_scale=0.25, frame_budget_ms=CLICK_BUDGET_MS)
 
+
+ERROR_RSM_SIZE = 16
+"""The Error panel's measurement in the sessions and the reader walk: its RSM at the
+panel's smallest choice (the reference costs pixels × VPLs: 256 VPLs instead of 4 096),
+its pixels as shipped (the images, their layout and the size combo's text as a reader
+sees them)."""
+
+
+def small_error_measurement(state) -> None:
+    """Measure the Error panel's configurations at :data:`ERROR_RSM_SIZE`, as a reader who
+    picked that RSM in its combo."""
+    from dataclasses import replace
+
+    from explorer.ui.panels.error import error_service
+
+    service = error_service(state)
+    service.measurement = replace(service.measurement, rsm_size=ERROR_RSM_SIZE)
 
 
 def label_ref(label: str) -> str:

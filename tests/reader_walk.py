@@ -222,6 +222,8 @@ def _until_result(app, rec: Recorder) -> None:
 
 
 def walk(wanted: list[str]) -> dict:
+    from click_sessions import small_error_measurement
+
     from explorer.gl.window import headless_available
     from explorer.ui.app import App
     from explorer.ui.lesson_panel import (
@@ -239,6 +241,7 @@ def walk(wanted: list[str]) -> dict:
                             persist_settings=False, headless=headless_available())
     app = App(AppState(render_scale=RENDER_SCALE), options)
     state = app.state
+    small_error_measurement(state)
     steps = 0
     enlarged: dict = {}
     try:

@@ -1,8 +1,9 @@
-"""The whole window clicked through its controls under Xvfb, with Dear ImGui Test Engine
-(explorer/ui/test_engine.py): each session of tests/click_sessions.py runs in a child
-process (a GLX window cannot become current in a process that made the tests' EGL
-context current; an imgui assert aborts the child, not pytest) and reports every control
-it clicked and every check that failed."""
+"""The whole window clicked through its controls with Dear ImGui Test Engine
+(explorer/ui/test_engine.py), on glfw's null platform (Xvfb where glfw has none): each
+session of tests/click_sessions.py runs in a child process (a window's context cannot
+become current in a process that made the tests' EGL context current; an imgui assert
+aborts the child, not pytest) and reports every control it clicked and every check that
+failed."""
 
 from __future__ import annotations
 
