@@ -139,12 +139,19 @@ class PipelineController:
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
         self._requests: dict[str, tuple] = {}
+        self._refusals: dict[str, str] = {}
+        """Side -> the last reason its Settings were refused (said once)."""
         """Side -> (state.settings, the rest of the inputs, the Request made of them)."""
 
     # ------------------------------------------------------------------ requests
     def settings_for(self, state: AppState, side: str) -> Settings:
-        """The Settings ``side`` shows (explorer/ui/side_display.py ``side_settings``)."""
-        return side_settings(state, side)
+        """The Settings ``side`` shows (explorer/ui/side_display.py ``side_settings``), for
+        how it is shown; A's when the side's own are refused with A's rest (it then runs
+        nothing new: :meth:`_make_request` raises and :meth:`update` says why)."""
+        try:
+            return side_settings(state, side)
+        except ValueError:
+            return state.settings
 
     def request_for(self, state: AppState, side: str, need_audit: str | bool,
                     interacting: bool) -> Request:
@@ -164,7 +171,7 @@ class PipelineController:
 
     def _make_request(self, state: AppState, side: str, need_audit: str | bool,
                       interacting: bool) -> Request:
-        settings = self.settings_for(state, side).with_changes(**PINNED_DISPLAY)
+        settings = side_settings(state, side).with_changes(**PINNED_DISPLAY)
         scale = 1.0
         if interacting:
             scale = self.drag_scale
@@ -221,8 +228,12 @@ class PipelineController:
         self._side_budget_ms = drag_budget_ms / len(active)
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
-            self._ask(state, self.sides[name],
-                      self.request_for(state, name, need_audit, interacting))
+            try:
+                request = self.request_for(state, name, need_audit, interacting)
+            except ValueError as exc:    # B's corrections or a variant refused with A's rest
+                self._refused(state, name, exc)
+                continue
+            self._ask(state, self.sides[name], request)
         running = [self.sides[name] for name in active if self.sides[name].job is not None]
         self._advance(state, running, status)
         # the panels' tasks keep to the frame budget: nobody asks for input inside them
@@ -478,6 +489,15 @@ class PipelineController:
         state.notify(rt.frame.pipeline_error, "error")
         print(f"lpv-explorer: {rt.frame.pipeline_error}", file=sys.stderr)
         traceback.print_exception(exc, file=sys.stderr)
+
+    def _refused(self, state: AppState, side: str, exc: ValueError) -> None:
+        """Side ``side``'s Settings cannot be made from A's (A switched to 26 neighbours
+        while B keeps in-place propagation, say): the side shows nothing new and the
+        window says why, once per reason."""
+        text = f"configuration {side} cannot run with A's settings: {exc}"
+        if self._refusals.get(side) != text:
+            self._refusals[side] = text
+            state.notify(text, "error")
 
     def failed_request(self, side: str = "A") -> Request | None:
         return self.sides[side].failed

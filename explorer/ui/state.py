@@ -464,14 +464,23 @@ class AppState:
         self.messages.append(Message(text, level))
         del self.messages[:-50]
 
-    def set_corrections(self, **switches: bool) -> None:
-        self.settings = self.settings.with_changes(corrections=switches)
+    def set_corrections(self, **switches: bool) -> bool:
+        """Switch corrections of A; a combination Settings refuses (in-place propagation
+        with 26 neighbours, say) is not applied, as in :meth:`update`."""
+        return self.update(corrections=switches)
 
-    def apply_preset(self, name: str, compare: bool = False) -> None:
-        if compare:
+    def apply_preset(self, name: str, compare: bool = False) -> bool:
+        """A correction preset for A, or for B (``compare``); refused as in :meth:`update`
+        when A's other settings cannot run with it."""
+        if not compare:
+            return self.update(corrections=name)
+        try:
+            self.settings.with_changes(corrections=PRESETS[name])      # B runs on A's rest
             self.compare_settings = self.compare_settings.with_changes(corrections=name)
-        else:
-            self.settings = self.settings.with_changes(corrections=name)
+        except ValueError as exc:
+            self.notify(f"not applied to B: {exc}", "error")
+            return False
+        return True
 
     def update(self, **changes) -> bool:
         """Change configuration A. B is built from A each frame (see

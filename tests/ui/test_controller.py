@@ -539,3 +539,31 @@ def test_a_frame_without_the_comparison_makes_no_settings_for_side_b(controller)
     for _ in range(5):
         controller.update(state, BUDGET_MS)
     assert made["B"] == 0
+
+
+def test_a_side_that_cannot_run_with_a_is_refused_in_one_message(controller):
+    """A at 26 neighbours beside B propagating in place (which 26 neighbours refuse):
+    the frame goes on, A converges, B runs nothing and the window says why once; a
+    correction switch that would make such an A is not applied (the soak found A's
+    toggle raising out of the frame)."""
+    state = _state(neighbours=26)
+    state.view_mode = "split"
+    state.compare_settings = state.compare_settings.with_changes(
+        corrections={"ping_pong": False})
+    _settle(controller, state)
+    _settle(controller, state)
+    assert controller.sides["A"].result is not None
+    assert controller.sides["B"].result is None
+    refused = [m.text for m in state.messages if "cannot run with A's settings" in m.text]
+    assert len(refused) == 1 and "ping_pong" in refused[0]
+    assert controller.settings_for(state, "B") is state.settings     # shown as A's
+    before = state.settings
+    assert not state.set_corrections(ping_pong=False)
+    assert state.settings is before
+    assert sum("not applied" in m.text for m in state.messages) == 1
+    state.update(neighbours=6)                  # now B can run beside A
+    assert state.apply_preset("original", compare=True)
+    state.compare_settings = state.compare_settings.with_changes(
+        corrections={"ping_pong": False})
+    _settle(controller, state)
+    assert controller.sides["B"].result is not None

@@ -3,6 +3,8 @@ split/difference view options."""
 
 from __future__ import annotations
 
+import dataclasses
+
 from imgui_bundle import imgui
 
 from explorer.lpv.corrections import CORRECTIONS, PRESETS
@@ -45,10 +47,16 @@ def gui_compare(state: AppState) -> None:
         imgui.same_line()
     if imgui.button("Swap A/B"):
         a, b = state.settings.corrections, corr
-        state.settings = state.settings.with_changes(corrections=b)
-        state.compare_settings = state.compare_settings.with_changes(corrections=a)
+        if state.update(corrections=b):
+            state.compare_settings = state.compare_settings.with_changes(corrections=a)
     for entry in CORRECTIONS:
         changed, value = imgui.checkbox(entry.title + "##B", bool(getattr(corr, entry.name)))
         if changed:
+            try:   # B runs on A's other settings: refused when they cannot run together
+                state.settings.with_changes(
+                    corrections=dataclasses.replace(corr, **{entry.name: value}))
+            except ValueError as exc:
+                state.notify(f"not applied to B: {exc}", "error")
+                continue
             state.compare_settings = state.compare_settings.with_changes(
                 corrections={entry.name: value})

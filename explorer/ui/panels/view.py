@@ -301,10 +301,21 @@ def cell_labels(state: AppState, sides: tuple[str, ...]) -> list[str]:
     """Each grid cell's label naming what differs from A ("B: grid 32")."""
     from explorer.ui.side_display import side_settings
 
+    def settings_of(side: str):
+        try:
+            return side_settings(state, side)
+        except ValueError:           # refused with A's rest: the controller says why
+            return None
+
     a = state.settings
-    labels = [legend.side_labels(a, side_settings(state, "B"))[0]]
+    b = settings_of("B")
+    labels = [legend.side_labels(a, b if b is not None else a)[0]]
     for side in sides[1:]:
-        other = legend.side_labels(a, side_settings(state, side))[1]
+        settings = settings_of(side)
+        if settings is None:
+            labels.append(f"{side}: cannot run with A's settings")
+            continue
+        other = legend.side_labels(a, settings)[1]
         labels.append(side + other[1:])
     return labels
 
