@@ -1,26 +1,28 @@
 #version 430 core
-// The window's copy of one side's picture (explorer/ui/picture.py): the gather's linear
-// direct and indirect radiance and the G-buffer's albedo (SOURCES 3), or the fog pass's two
-// targets of a frame with fog (SOURCES 2, docs/MODEL.md "Fog"), copied texel for texel into
-// textures the window owns, so that the view keeps showing a whole picture while the
-// pipeline rewrites its own targets (a camera move re-renders the G-buffer before the
-// gather, the gather runs in bands). Full-screen pass at the first source's size: a source
-// of that size is copied texel for texel, a larger one (the G-buffer's albedo beside a
-// reduced preview's gather, explorer/lpv/passes/gather.py) gives the texel below each pixel.
-// EDGES 1 (with SOURCES 3): the G-buffer's position and normal mark the albedo copy's
-// geometry edges, w = u_edge_flag instead of 1 (explorer/lpv/surface_edges.py, whose
-// surface_edges() is this test in numpy), which the albedo view darkens (view.glsl).
+// The window's copy of one side's picture (explorer/ui/picture.py), the passes an image
+// copy (glCopyImageSubData) cannot do. SOURCES 2: the gather's linear direct and indirect
+// radiance, or the fog pass's two targets (docs/MODEL.md "Fog"), when the second is not the
+// first's size: full-screen pass at the first source's size, the second's texel below each
+// pixel. SOURCES 1: the albedo the view shows, from the picture's own copy of the G-buffer's
+// albedo at the picture's size u_size (the texel below each pixel: the G-buffer is larger
+// than a reduced preview's gather, explorer/lpv/passes/gather.py); with EDGES 1 the copies
+// of the G-buffer's position and normal mark its geometry edges, w = u_edge_flag instead of
+// 1 (explorer/lpv/surface_edges.py, whose surface_edges() is this test in numpy), which the
+// albedo view darkens (view.glsl).
 
 #if defined VERTEX_SHADER
 #include "fullscreen.glsl"
 #endif
 
 #if defined FRAGMENT_SHADER
-#define SOURCES 3
+#define SOURCES 2
 
-uniform sampler2D u_source0;       // direct radiance, or the fog's direct in-scattering
+uniform sampler2D u_source0;       // direct radiance or the fog's direct in-scattering; albedo
+#if SOURCES == 2
 uniform sampler2D u_source1;       // indirect radiance, or the fog's LPV in-scattering
-uniform sampler2D u_source2;       // albedo, w = 1 where a surface is seen
+#else
+uniform ivec2 u_size;              // the picture's
+#endif
 #define EDGES 0
 #if EDGES == 1
 uniform sampler2D u_position;      // the G-buffer's (w = 1 on a surface) ...
@@ -54,22 +56,22 @@ bool is_edge(ivec2 at) {
 #endif
 
 layout(location = 0) out vec4 out_copy0;
+#if SOURCES == 2
 layout(location = 1) out vec4 out_copy1;
-#if SOURCES == 3
-layout(location = 2) out vec4 out_copy2;
 #endif
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
+#if SOURCES == 2
     ivec2 size = textureSize(u_source0, 0);
     out_copy0 = texelFetch(u_source0, pixel, 0);
     out_copy1 = texelFetch(u_source1, pixel * textureSize(u_source1, 0) / size, 0);
-#if SOURCES == 3
-    ivec2 at = pixel * textureSize(u_source2, 0) / size;
-    out_copy2 = texelFetch(u_source2, at, 0);
+#else
+    ivec2 at = pixel * textureSize(u_source0, 0) / u_size;
+    out_copy0 = texelFetch(u_source0, at, 0);
 #if EDGES == 1
-    if (out_copy2.w > 0.5 && is_edge(at)) {
-        out_copy2.w = u_edge_flag;
+    if (out_copy0.w > 0.5 && is_edge(at)) {
+        out_copy0.w = u_edge_flag;
     }
 #endif
 #endif

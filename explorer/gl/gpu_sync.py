@@ -73,6 +73,11 @@ class _Gl:
         self.begin_query = _function(library, "glBeginQuery", None, ctypes.c_uint,
                                      ctypes.c_uint)
         self.end_query = _function(library, "glEndQuery", None, ctypes.c_uint)
+        # one texture's texels into another's (explorer/gl/image_copy.py): no draw
+        self.copy_image_sub_data = _function(library, "glCopyImageSubData", None,
+                                             *([ctypes.c_uint, ctypes.c_uint, ctypes.c_int]
+                                               + [ctypes.c_int] * 3) * 2,
+                                             ctypes.c_int, ctypes.c_int, ctypes.c_int)
         self.query_object_iv = _function(library, "glGetQueryObjectiv", None, ctypes.c_uint,
                                          ctypes.c_uint, ctypes.POINTER(ctypes.c_int))
         self.query_object_ui64v = _function(library, "glGetQueryObjectui64v", None,

@@ -4,9 +4,12 @@ linear buffers (``shaders/view_snapshot.glsl``).
 The pipeline rewrites its targets while a job runs (a camera move re-renders the
 G-buffer before the gather, the gather runs in bands of rows, a preview gathers the
 accumulation so far), so the view never reads them directly: when a frame finishes or a
-progressive preview is made, the controller copies them here in one draw, and the view
-composes what it shows from these copies (explorer/ui/view_composer.py) for as long as
-it likes.
+progressive preview is made, the controller copies them here, and the view composes
+what it shows from these copies (explorer/ui/view_composer.py) for as long as it likes.
+The copies are image copies (explorer/gl/image_copy.py), no draw; the albedo the view
+shows, with its geometry edges marked, is a pass of its own (``view_snapshot.glsl``
+SOURCES 1) drawn from the copies when it is first read, so the frame that publishes a
+picture does not pay for an edge test the final, direct and indirect views never show.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.fullscreen import FullscreenTriangle
+from explorer.gl.image_copy import can_copy, copy_texture
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.surface_edges import edge_uniforms
@@ -56,15 +60,23 @@ class Stamp:
 
 class Picture:
     """Linear direct and indirect radiance (``rgba32f``) and albedo (``rgba16f``, w = 1
-    on a surface) of one side, row 0 at the bottom, with what they show (:attr:`stamp`)
-    and the finished frame they belong to (:attr:`result`, the last finished one for a
-    preview); for a frame with fog also the fog pass's two targets (:attr:`has_fog`),
-    which the view composes over the surfaces as the display stage does."""
+    on a surface, :data:`~explorer.lpv.surface_edges.EDGE_FLAG` on its geometry edges) of
+    one side, row 0 at the bottom, with what they show (:attr:`stamp`) and the finished
+    frame they belong to (:attr:`result`, the last finished one for a preview); for a
+    frame with fog also the fog pass's two targets (:attr:`has_fog`), which the view
+    composes over the surfaces as the display stage does."""
 
     def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
         self.ctx = ctx
         self.programs = programs
-        self._targets = RenderTargets(ctx, ("f4", "f4", "f2"))
+        self._radiance = RenderTargets(ctx, ("f4", "f4"))
+        self._gbuffer = RenderTargets(ctx, ("f4", "f4", "f4"))
+        """The G-buffer's albedo, position and normal as the last copy found them."""
+        self._albedo = RenderTargets(ctx, ("f2",))
+        self._albedo_due = False
+        """The albedo is to be drawn from :attr:`_gbuffer` on its next read."""
+        self._edges = False
+        """:attr:`_gbuffer` holds the position and normal (the edges are marked)."""
         self._fog_targets = RenderTargets(ctx, ("f4", "f4"))
         self.has_fog = False
         """The picture holds fog (:attr:`fog_direct`, :attr:`fog_lpv`)."""
@@ -74,19 +86,23 @@ class Picture:
 
     @property
     def size(self) -> tuple[int, int]:
-        return self._targets.size
+        return self._radiance.size
 
     @property
     def direct(self) -> moderngl.Texture:
-        return self._targets.textures[0]
+        return self._radiance.textures[0]
 
     @property
     def indirect(self) -> moderngl.Texture:
-        return self._targets.textures[1]
+        return self._radiance.textures[1]
 
     @property
     def albedo(self) -> moderngl.Texture:
-        return self._targets.textures[2]
+        """The albedo at :attr:`size`, its geometry edges marked (drawn on the first read
+        after a copy, explorer/lpv/surface_edges.py)."""
+        if self._albedo_due:
+            self._draw_albedo()
+        return self._albedo.textures[0]
 
     @property
     def fog_direct(self) -> moderngl.Texture:
@@ -108,31 +124,55 @@ class Picture:
                   fog: tuple[moderngl.Texture, moderngl.Texture] | None = None,
                   surfaces: tuple[moderngl.Texture, moderngl.Texture] | None = None
                   ) -> None:
-        """Copy the pipeline's textures (all the same size) in one draw, and ``fog`` (the
-        fog pass's direct and LPV targets of a frame with fog) in a second; ``surfaces``
-        (the G-buffer's position and normal, the albedo's size) mark the albedo copy's
-        geometry edges (explorer/lpv/surface_edges.py)."""
-        self._copy(self._targets, (direct, indirect, albedo), surfaces)
+        """Copy the pipeline's radiance (``direct`` and ``indirect``, one size), its
+        ``albedo`` (that size or the G-buffer's larger one) with ``surfaces`` (the
+        G-buffer's position and normal, the albedo's size, which mark the albedo's geometry
+        edges) and ``fog`` (the fog pass's direct and LPV targets of a frame with fog)."""
+        self._copy_pair(self._radiance, direct, indirect)
+        self._gbuffer.allocate(albedo.size)
+        copy_texture(albedo, self._gbuffer.textures[0])
+        self._edges = surfaces is not None
+        if surfaces is not None:
+            for source, copy in zip(surfaces, self._gbuffer.textures[1:]):
+                copy_texture(source, copy)
+        self._albedo_due = True
         self.has_fog = fog is not None
         if fog is not None:
-            self._copy(self._fog_targets, fog)
+            self._copy_pair(self._fog_targets, *fog)
         self.stamp, self.result = stamp, result
 
-    def _copy(self, targets: RenderTargets, sources, surfaces=None) -> None:
-        targets.allocate(sources[0].size)
-        program = self.programs.get(SNAPSHOT, {"SOURCES": len(sources),
-                                               "EDGES": int(surfaces is not None)})
-        for unit, texture in enumerate(sources):
-            texture.use(unit)
-        uniforms = {f"u_source{unit}": unit for unit in range(len(sources))}
-        if surfaces is not None:
-            for unit, texture in enumerate(surfaces, len(sources)):
-                texture.use(unit)
-            uniforms.update(u_position=len(sources), u_normal=len(sources) + 1,
-                            **edge_uniforms())
-        set_uniforms(program, uniforms)
+    def _copy_pair(self, targets: RenderTargets, first: moderngl.Texture,
+                   second: moderngl.Texture) -> None:
+        """``first`` and ``second`` into ``targets`` at ``first``'s size: image copies, or
+        one draw that takes the texel below each pixel of a ``second`` of another size."""
+        targets.allocate(first.size)
+        copies = tuple(zip((first, second), targets.textures))
+        if all(can_copy(source, copy) for source, copy in copies):
+            for source, copy in copies:
+                copy_texture(source, copy)
+            return
+        program = self.programs.get(SNAPSHOT, {"SOURCES": 2, "EDGES": 0})
+        first.use(0)
+        second.use(1)
+        set_uniforms(program, {"u_source0": 0, "u_source1": 1})
         with targets.drawing():
             self._triangle.draw(program)
+
+    def _draw_albedo(self) -> None:
+        """The albedo at :attr:`size` from the G-buffer's copies (view_snapshot.glsl
+        SOURCES 1), its edges marked when the copy had the surfaces."""
+        self._albedo.allocate(self.size)
+        program = self.programs.get(SNAPSHOT, {"SOURCES": 1, "EDGES": int(self._edges)})
+        uniforms: dict[str, object] = {"u_source0": 0, "u_size": self.size}
+        self._gbuffer.textures[0].use(0)
+        if self._edges:
+            self._gbuffer.textures[1].use(1)
+            self._gbuffer.textures[2].use(2)
+            uniforms.update(u_position=1, u_normal=2, **edge_uniforms())
+        set_uniforms(program, uniforms)
+        with self._albedo.drawing():
+            self._triangle.draw(program)
+        self._albedo_due = False
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(direct, indirect, surface mask)`` as numpy, top row first: ``(H, W, 3)``
@@ -148,8 +188,9 @@ class Picture:
         return direct[..., :3].copy(), indirect[..., :3].copy(), albedo[..., 3] > 0.5
 
     def release(self) -> None:
-        self._targets.release()
-        self._fog_targets.release()
+        for targets in (self._radiance, self._gbuffer, self._albedo, self._fog_targets):
+            targets.release()
+        self._albedo_due = self._edges = False
         self.has_fog = False
         self._triangle.release()
         self.stamp, self.result = None, None

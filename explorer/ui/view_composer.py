@@ -146,7 +146,10 @@ class ViewComposer:
         program = self.programs.get(VIEW, {"VIEW_MODE": mode,
                                            "VIEW_BUFFER": VIEW_BUFFERS.index(buffer),
                                            "FOG_A": int(fog_a), "FOG_B": int(fog_b)})
-        textures = (a.direct, a.indirect, a.albedo, b.direct, b.indirect, b.albedo,
+        # the albedo is drawn from the picture's copies when first read: only for its view
+        albedo = buffer == "albedo"
+        textures = (a.direct, a.indirect, a.albedo if albedo else a.direct,
+                    b.direct, b.indirect, b.albedo if albedo else b.direct,
                     a.fog_direct if fog_a else a.direct, a.fog_lpv if fog_a else a.direct,
                     b.fog_direct if fog_b else b.direct, b.fog_lpv if fog_b else b.direct)
         for unit, texture in zip((0, 1, 2, 3, 4, 5, 7, 8, 9, 10), textures):

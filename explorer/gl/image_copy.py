@@ -1,0 +1,37 @@
+"""Texel-for-texel copies of one texture into another on the GPU (``glCopyImageSubData``,
+GL 4.3), with no draw: no program, no framebuffer and no rasterisation, so on a software
+renderer a copy costs about a memory copy where a full-screen pass costs a shader run per
+pixel. moderngl 5 has no such call, so it goes through explorer/gl/gpu_sync.py's entry
+points; it touches no state moderngl caches.
+"""
+
+from __future__ import annotations
+
+import moderngl
+
+from explorer.gl import gpu_sync
+
+GL_TEXTURE_2D = 0x0DE1
+
+_COPYABLE = {("f4", 4), ("f2", 4), ("f1", 4)}
+"""(dtype, components) of textures this module copies (rgba32f, rgba16f, rgba8)."""
+
+
+def can_copy(source: moderngl.Texture, destination: moderngl.Texture) -> bool:
+    """Whether :func:`copy_texture` takes these two: one size, one format, one that
+    this module knows."""
+    return (source.size == destination.size and source.dtype == destination.dtype
+            and source.components == destination.components
+            and (source.dtype, source.components) in _COPYABLE)
+
+
+def copy_texture(source: moderngl.Texture, destination: moderngl.Texture) -> None:
+    """Copy level 0 of ``source`` into ``destination`` (queued, as a draw is)."""
+    if not can_copy(source, destination):
+        raise ValueError(f"cannot copy a {source.size} {source.dtype}x{source.components} "
+                         f"texture into a {destination.size} {destination.dtype}x"
+                         f"{destination.components} one")
+    width, height = source.size
+    gpu_sync.gl().copy_image_sub_data(source.glo, GL_TEXTURE_2D, 0, 0, 0, 0,
+                                      destination.glo, GL_TEXTURE_2D, 0, 0, 0, 0,
+                                      width, height, 1)
