@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import inspect
 import json
 import os
 import statistics
@@ -532,7 +533,8 @@ def _gl_object_bytes(obj) -> int:
 def _owner() -> str:
     """The module and function of the explorer code that made an object (the first frame
     outside explorer/gl and this module)."""
-    frame = sys._getframe(2)
+    here = inspect.currentframe()
+    frame = here.f_back.f_back if here is not None and here.f_back is not None else None
     while frame is not None:
         name = frame.f_globals.get("__name__", "")
         if name.startswith("explorer.") and not name.startswith(("explorer.gl.",
