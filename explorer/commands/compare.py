@@ -57,7 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default: visible)")
     parser.add_argument("--out", type=Path, default=None, metavar="FOLDER",
                         help="folder for the PNGs and table (default: ./compare-<scene>); "
-                             "made before the rendering starts. compare replaces only files "
+                             "made before the rendering starts. It replaces only files "
                              "it wrote there itself (listed in its .lpv-explorer-compare): "
                              "a file of a name it writes that it did not write, such as your "
                              "own table.md or one of an older compare's, is refused, "

@@ -36,7 +36,7 @@ def lean_frame(result: Any) -> Any:
     """``result`` without what no prompt number reads (each level's propagation steps
     and per-cell audit records): the kept frame must not hold a frame's largest arrays
     after the reader has moved on (the window's memory over a course, issue #31)."""
-    levels = getattr(result, "cascades", None)
+    levels = result.cascades
     if not levels or all(level.steps is None and level.cell_records is None
                          for level in levels):
         return result

@@ -12,14 +12,17 @@ def test_each_phase_holds_the_time_since_the_last_mark_and_finishes_first():
     finished: list[str] = []
     profile = FrameProfile(finish=lambda: finished.append("finish"))
     profile.start()
-    time.sleep(0.02)
+    time.sleep(0.1)
     profile.mark("update")
     deadline = time.process_time() + 0.02
     while time.process_time() < deadline:     # CPU spent in this phase alone
         pass
     profile.mark("panels")
     assert list(profile.wall_ms) == ["update", "panels"] == list(PHASES[:2])
-    assert profile.wall_ms["update"] >= 19.0 and profile.cpu_ms["update"] < 15.0
+    # a sleep spends wall time, hardly any CPU (the process's other threads may run a
+    # little on a loaded machine: half the wall time is the bound)
+    assert profile.wall_ms["update"] >= 99.0
+    assert profile.cpu_ms["update"] < 0.5 * profile.wall_ms["update"]
     assert profile.cpu_ms["panels"] >= 19.0
     assert finished == ["finish", "finish"]
     assert profile.summary().startswith("update ") and " · panels " in profile.summary()
