@@ -567,3 +567,38 @@ def test_a_side_that_cannot_run_with_a_is_refused_in_one_message(controller):
         corrections={"ping_pong": False})
     _settle(controller, state)
     assert controller.sides["B"].result is not None
+
+
+def test_a_side_no_longer_shown_gives_back_what_it_made(controller, gl_context):
+    """Split view, then the single view for longer than ``idle_release_s``: B's pipeline,
+    picture and frame are released (GL objects back to A's alone) and B, shown again,
+    converges anew; a side shown again within the time keeps what it made."""
+    state = _state()
+    _settle(controller, state)
+    alone = _live_textures(gl_context)
+    state.view_mode = "split"
+    _settle(controller, state)
+    b = controller.sides["B"]
+    assert b.pipeline is not None and b.result is not None
+    assert _live_textures(gl_context) > alone
+    state.view_mode = "single"
+    _settle(controller, state)
+    assert controller.sides["B"] is b, "within the time B keeps its pipeline"
+    controller.idle_release_s = 0.0
+    _settle(controller, state)
+    fresh = controller.sides["B"]
+    assert fresh.pipeline is None and fresh.picture is None and fresh.result is None
+    assert _live_textures(gl_context) == alone
+    state.view_mode = "split"
+    _settle(controller, state)
+    assert controller.sides["B"].result is not None
+
+
+
+def _live_textures(gl_context) -> int:
+    """Textures and framebuffers alive in the context now (the soak's own count)."""
+    from explorer.commands.interaction import gl_objects
+
+    gl_context.gc()
+    counts = gl_objects(limit=4096)
+    return counts["Texture"] + counts["Framebuffer"]
