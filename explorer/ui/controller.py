@@ -29,7 +29,9 @@ and a budget in milliseconds. The controller
 * keeps the last good result when a request fails (one message per failure; a scene
   that does not open restores the previous one), reloads changed shaders and the edited
   scene (explorer/ui/scene_reload.py), and advances the panels' background
-  tasks (``runtime.services.tasks``, the Error panel's reference) in what is left of the budget.
+  tasks (``runtime.services.tasks``, the Error panel's reference) in what is left of the budget;
+* refuses in one message a side whose Settings A's rest cannot run with, and releases
+  what sides B, C and D made once the view has not shown them for :data:`IDLE_RELEASE_S`.
 """
 
 from __future__ import annotations
