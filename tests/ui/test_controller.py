@@ -4,9 +4,10 @@ progressive pictures (reduced, and fewer for a short job) that end on the one-sh
 at full size, cancellation mid-propagation, both sides of the split view advancing, the
 quiet frame's longer budget that input cuts back, the view composer's single draw
 per display change (explorer/ui/view_composer.py), a side refused with A's settings
-(test_a_side_that_cannot_run_with_a_is_refused_in_one_message) and a side no longer
-shown releasing what it made (test_a_side_no_longer_shown_gives_back_what_it_made).
-Helpers: _state (a small AppState), _settle (update until idle), _live_textures."""
+(``test_a_side_that_cannot_run_with_a_is_refused_in_one_message``) and a side no longer
+shown releasing what it made (``test_a_side_no_longer_shown_gives_back_what_it_made``).
+Helpers: ``_state`` (a small AppState), ``_settle`` (update until idle),
+``_live_textures``."""
 
 from __future__ import annotations
 
