@@ -242,6 +242,19 @@ function faceBlockers(geometry, n, axis, sign) {
 
 const visibilityCache = new WeakMap();
 
+/** Every source cell's visibility through `face`: 1 − clip(<blockers, Y(−evaluation)>, 0, 1)
+ * (docs/MODEL.md "Geometry volume"), the blockers four SH coefficients a cell. */
+function faceVisibility(blockers, face, n) {
+  const o = shBasis(face.evaluation.map((value) => -value));
+  const seen = new Float64Array(n * n * n);
+  for (let i = 0; i < seen.length; i++) {
+    const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
+      + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
+    seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
+  }
+  return seen;
+}
+
 /**
  * For one geometry volume, per direction (DIRECTIONS order) and face (all five), the
  * visibility 1 − clip(<blockers, Y(−e_f)>, 0, 1) of every source cell: the volume does
@@ -254,16 +267,7 @@ function visibilities(geometry, n) {
     for (let axis = 0; axis < 3; axis++) {
       for (const sign of [1, -1]) {
         const blockers = faceBlockers(geometry, n, axis, sign);
-        found.push(faces(axis, sign, true).map((face) => {
-          const o = shBasis(face.evaluation.map((value) => -value));
-          const seen = new Float64Array(n * n * n);
-          for (let i = 0; i < seen.length; i++) {
-            const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
-              + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
-            seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
-          }
-          return seen;
-        }));
+        found.push(faces(axis, sign, true).map((face) => faceVisibility(blockers, face, n)));
       }
     }
     visibilityCache.set(geometry, found);
@@ -396,16 +400,7 @@ function visibilities26(geometry, n) {
   if (found === undefined) {
     found = OFFSETS_26.map((offset) => {
       const blockers = sharedCornerBlockers(geometry, n, offset);
-      return outerFaces26(offset).map((face) => {
-        const o = shBasis(face.evaluation.map((value) => -value));
-        const seen = new Float64Array(n * n * n);
-        for (let i = 0; i < seen.length; i++) {
-          const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
-            + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
-          seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
-        }
-        return seen;
-      });
+      return outerFaces26(offset).map((face) => faceVisibility(blockers, face, n));
     });
     visibility26Cache.set(geometry, found);
   }
