@@ -201,21 +201,34 @@ vec4 lpv_shared_corner_blocker(ivec3 target, ivec3 o) {
     return total / count;
 }
 
+// The solid angle of an outer face of the 3x3x3 block: front, edge or corner after how
+// many components of the offset o are non-zero (derivations/neighbours26.py).
+float lpv_offset_solid_angle(ivec3 o) {
+    int nonzero = int(o.x != 0) + int(o.y != 0) + int(o.z != 0);
+    return nonzero == 1 ? FRONT_FACE_SOLID_ANGLE
+         : (nonzero == 2 ? EDGE_FACE_SOLID_ANGLE : CORNER_FACE_SOLID_ANGLE);
+}
+
+// The centre of the outer face along `axis` of the neighbour at offset o: 3 o_i along the
+// face's axis, 2 o_j along the other non-zero components.
+vec3 lpv_offset_face_centre(vec3 offset, int axis) {
+    vec3 centre = 2.0 * offset;
+    centre[axis] = 3.0 * offset[axis];
+    return centre;
+}
+
 void lpv_send_offset(ShVec source[3], ivec3 target, ivec3 o, bool leaving,
                      inout ShVec received[3], inout LpvAudit audit) {
     int nonzero = int(o.x != 0) + int(o.y != 0) + int(o.z != 0);
-    float angle = nonzero == 1 ? FRONT_FACE_SOLID_ANGLE
-                : (nonzero == 2 ? EDGE_FACE_SOLID_ANGLE : CORNER_FACE_SOLID_ANGLE);
     float weight = lpv_reprojection_factor() * lpv_injection_factor()
-        * lpv_propagation_factor() * angle;
+        * lpv_propagation_factor() * lpv_offset_solid_angle(o);
     vec4 blocker = lpv_shared_corner_blocker(target, o);
     vec3 offset = vec3(o);
     for (int axis = 0; axis < 3; ++axis) {
         if (o[axis] == 0) {
             continue;
         }
-        vec3 centre = 2.0 * offset;
-        centre[axis] = 3.0 * offset[axis];
+        vec3 centre = lpv_offset_face_centre(offset, axis);
         vec3 normal = vec3(0.0);
         normal[axis] = offset[axis];
         lpv_send_face(source, normalize(centre), normal, weight,
@@ -233,20 +246,16 @@ vec3 lpv_positive_outflux(ShVec source[3]) {
         * lpv_propagation_factor();
     for (int k = 0; k < 27; ++k) {
         ivec3 o = ivec3(k % 3, (k / 3) % 3, k / 9) - ivec3(1);
-        int nonzero = int(o.x != 0) + int(o.y != 0) + int(o.z != 0);
-        if (nonzero == 0) {
+        if (o == ivec3(0)) {
             continue;
         }
-        float angle = nonzero == 1 ? FRONT_FACE_SOLID_ANGLE
-                    : (nonzero == 2 ? EDGE_FACE_SOLID_ANGLE : CORNER_FACE_SOLID_ANGLE);
+        float angle = lpv_offset_solid_angle(o);
         vec3 offset = vec3(o);
         for (int axis = 0; axis < 3; ++axis) {
             if (o[axis] == 0) {
                 continue;
             }
-            vec3 centre = 2.0 * offset;
-            centre[axis] = 3.0 * offset[axis];
-            ShVec basis = shv_eval(normalize(centre));
+            ShVec basis = shv_eval(normalize(lpv_offset_face_centre(offset, axis)));
             total += scale * angle * lobe_flux * max(vec3(sh_dot(source[0], basis),
                 sh_dot(source[1], basis), sh_dot(source[2], basis)), vec3(0.0));
         }

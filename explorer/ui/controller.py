@@ -29,7 +29,9 @@ and a budget in milliseconds. The controller
 * keeps the last good result when a request fails (one message per failure; a scene
   that does not open restores the previous one), reloads changed shaders and the edited
   scene (explorer/ui/scene_reload.py), and advances the panels' background
-  tasks (``runtime.services.tasks``, the Error panel's reference) in what is left of the budget.
+  tasks (``runtime.services.tasks``, the Error panel's reference) in what is left of the budget;
+* refuses in one message a side whose Settings A's rest cannot run with, and releases
+  what sides B, C and D made once the view has not shown them for :data:`IDLE_RELEASE_S`.
 """
 
 from __future__ import annotations
@@ -96,6 +98,11 @@ then the full size follows."""
 MIN_RENDER_EDGE = 16
 
 
+IDLE_RELEASE_S = 20.0
+"""Seconds a side the view stopped showing keeps what it made: a quick look back at the
+split view costs nothing, a comparison left for good gives its memory back."""
+
+
 class PipelineController:
     """Owns the pipelines of sides A and B (module docstring)."""
 
@@ -138,6 +145,9 @@ class PipelineController:
         self._budget = FrameBudget(0.0, 0.0, 0.0, None)
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
+        self.idle_release_s = IDLE_RELEASE_S
+        """How long a side the view no longer shows keeps its pipeline, picture and frame."""
+        self._idle_since: dict[str, float] = {}
         self._requests: dict[str, tuple] = {}
         self._refusals: dict[str, str] = {}
         """Side -> the last reason its Settings were refused (said once)."""
@@ -234,6 +244,7 @@ class PipelineController:
                 self._refused(state, name, exc)
                 continue
             self._ask(state, self.sides[name], request)
+        self._release_idle(active)
         running = [self.sides[name] for name in active if self.sides[name].job is not None]
         self._advance(state, running, status)
         # the panels' tasks keep to the frame budget: nobody asks for input inside them
@@ -526,6 +537,32 @@ class PipelineController:
     def poll_shaders(self, state: AppState) -> None:
         """Check the shader and scene files now."""
         self.reloads.poll_now(state, self.sides, self.programs)
+
+    def _release_idle(self, active: tuple[str, ...]) -> None:
+        """Sides B, C and D the view has not shown for :attr:`idle_release_s`: their
+        pipeline's targets, picture and last frame released (at 64³ with two cascades a
+        side holds hundreds of MiB; on llvmpipe GL memory is the process's); shown again,
+        a side starts from nothing."""
+        now = time.monotonic()
+        for name, side in self.sides.items():
+            if name in active or name == "A":
+                self._idle_since.pop(name, None)
+                continue
+            if side.pipeline is None and side.picture is None and side.result is None:
+                continue
+            since = self._idle_since.setdefault(name, now)
+            if now - since < self.idle_release_s:
+                continue
+            if side.job is not None:
+                side.job.cancel()
+            if side.picture is not None:
+                side.picture.release()
+            if side.pipeline is not None:
+                side.pipeline.release()
+            self.sides[name] = SideState(name)
+            self._requests.pop(name, None)
+            self._refusals.pop(name, None)
+            self._idle_since.pop(name, None)
 
     def release(self) -> None:
         for side in self.sides.values():

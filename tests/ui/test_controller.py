@@ -2,8 +2,12 @@
 headless context: which stages a change runs (counted where the pipeline starts them),
 progressive pictures (reduced, and fewer for a short job) that end on the one-shot frame
 at full size, cancellation mid-propagation, both sides of the split view advancing, the
-quiet frame's longer budget that input cuts back, and the view composer's single draw
-per display change (explorer/ui/view_composer.py)."""
+quiet frame's longer budget that input cuts back, the view composer's single draw
+per display change (explorer/ui/view_composer.py), a side refused with A's settings
+(``test_a_side_that_cannot_run_with_a_is_refused_in_one_message``) and a side no longer
+shown releasing what it made (``test_a_side_no_longer_shown_gives_back_what_it_made``).
+Helpers: ``_state`` (a small AppState), ``_settle`` (update until idle),
+``_live_textures``."""
 
 from __future__ import annotations
 
@@ -567,3 +571,38 @@ def test_a_side_that_cannot_run_with_a_is_refused_in_one_message(controller):
         corrections={"ping_pong": False})
     _settle(controller, state)
     assert controller.sides["B"].result is not None
+
+
+def test_a_side_no_longer_shown_gives_back_what_it_made(controller, gl_context):
+    """Split view, then the single view for longer than ``idle_release_s``: B's pipeline,
+    picture and frame are released (GL objects back to A's alone) and B, shown again,
+    converges anew; a side shown again within the time keeps what it made."""
+    state = _state()
+    _settle(controller, state)
+    alone = _live_textures(gl_context)
+    state.view_mode = "split"
+    _settle(controller, state)
+    b = controller.sides["B"]
+    assert b.pipeline is not None and b.result is not None
+    assert _live_textures(gl_context) > alone
+    state.view_mode = "single"
+    _settle(controller, state)
+    assert controller.sides["B"] is b, "within the time B keeps its pipeline"
+    controller.idle_release_s = 0.0
+    _settle(controller, state)
+    fresh = controller.sides["B"]
+    assert fresh.pipeline is None and fresh.picture is None and fresh.result is None
+    assert _live_textures(gl_context) == alone
+    state.view_mode = "split"
+    _settle(controller, state)
+    assert controller.sides["B"].result is not None
+
+
+
+def _live_textures(gl_context) -> int:
+    """Textures and framebuffers alive in the context now (the soak's own count)."""
+    from explorer.commands.interaction import gl_objects
+
+    gl_context.gc()
+    counts = gl_objects(limit=4096)
+    return counts["Texture"] + counts["Framebuffer"]

@@ -242,6 +242,19 @@ function faceBlockers(geometry, n, axis, sign) {
 
 const visibilityCache = new WeakMap();
 
+/** Every source cell's visibility through `face`: 1 − clip(<blockers, Y(−evaluation)>, 0, 1)
+ * (docs/MODEL.md "Geometry volume"), the blockers four SH coefficients a cell. */
+function faceVisibility(blockers, face, n) {
+  const o = shBasis(face.evaluation.map((value) => -value));
+  const seen = new Float64Array(n * n * n);
+  for (let i = 0; i < seen.length; i++) {
+    const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
+      + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
+    seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
+  }
+  return seen;
+}
+
 /**
  * For one geometry volume, per direction (DIRECTIONS order) and face (all five), the
  * visibility 1 − clip(<blockers, Y(−e_f)>, 0, 1) of every source cell: the volume does
@@ -254,16 +267,7 @@ function visibilities(geometry, n) {
     for (let axis = 0; axis < 3; axis++) {
       for (const sign of [1, -1]) {
         const blockers = faceBlockers(geometry, n, axis, sign);
-        found.push(faces(axis, sign, true).map((face) => {
-          const o = shBasis(face.evaluation.map((value) => -value));
-          const seen = new Float64Array(n * n * n);
-          for (let i = 0; i < seen.length; i++) {
-            const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
-              + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
-            seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
-          }
-          return seen;
-        }));
+        found.push(faces(axis, sign, true).map((face) => faceVisibility(blockers, face, n)));
       }
     }
     visibilityCache.set(geometry, found);
@@ -396,16 +400,7 @@ function visibilities26(geometry, n) {
   if (found === undefined) {
     found = OFFSETS_26.map((offset) => {
       const blockers = sharedCornerBlockers(geometry, n, offset);
-      return outerFaces26(offset).map((face) => {
-        const o = shBasis(face.evaluation.map((value) => -value));
-        const seen = new Float64Array(n * n * n);
-        for (let i = 0; i < seen.length; i++) {
-          const b = blockers[4 * i] * o[0] + blockers[4 * i + 1] * o[1]
-            + blockers[4 * i + 2] * o[2] + blockers[4 * i + 3] * o[3];
-          seen[i] = 1.0 - Math.min(Math.max(b, 0.0), 1.0);
-        }
-        return seen;
-      });
+      return outerFaces26(offset).map((face) => faceVisibility(blockers, face, n));
     });
     visibility26Cache.set(geometry, found);
   }
@@ -440,9 +435,7 @@ function neighbours26Step(grid, n, c, geometry, channels) {
     });
     const [ox, oy, oz] = offset;
     for (const ch of channels) {
-      let border = 0.0;
-      let gain = 0.0;
-      let occluded = 0.0;
+      const sums = [0.0, 0.0, 0.0];    // border, gain, occluded
       for (let x = 0; x < n; x++) {
         const insideX = x + ox >= 0 && x + ox < n;
         for (let y = 0; y < n; y++) {
@@ -450,32 +443,13 @@ function neighbours26Step(grid, n, c, geometry, channels) {
           for (let z = 0; z < n; z++) {
             const inside = insideXY && z + oz >= 0 && z + oz < n;
             const cell = (x * n + y) * n + z;
-            const at = ch * stride + cell * COEFFS;
-            const s0 = grid[at];
-            const s1 = grid[at + 1];
-            const s2 = grid[at + 2];
-            const s3 = grid[at + 3];
-            for (const face of list) {
-              const b = face.basis;
-              const r = s0 * b[0] + s1 * b[1] + s2 * b[2] + s3 * b[3];
-              const used = face.clamp && r < 0.0 ? 0.0 : r;
-              const visibility = face.visibility === null ? 1.0 : face.visibility[cell];
-              const sent = face.weight * used * visibility;
-              if (inside) {
-                out[at + shift + face.li] += sent * face.lv;
-                out[at + shift + face.lj] += sent * face.lw;
-              } else {
-                border += K.SH_FLUX_FACTOR * face.lobe0 * sent;
-              }
-              gain += face.fluxPerIntensity * (used - r);
-              occluded += face.fluxPerIntensity * used * (1.0 - visibility);
-            }
+            sendFaces(list, grid, out, ch * stride + cell * COEFFS, shift, cell, inside, sums);
           }
         }
       }
-      terms.border_loss[ch] += border;
-      terms.clamp_gain[ch] += gain;
-      terms.occluded[ch] += occluded;
+      terms.border_loss[ch] += sums[0];
+      terms.clamp_gain[ch] += sums[1];
+      terms.occluded[ch] += sums[2];
     }
   });
   return {grid: out, terms};
@@ -560,6 +534,34 @@ function linearSideStep(grid, n, c, channels) {
   return {grid: out, terms};
 }
 
+/**
+ * One source cell's SH (grid[at..at+3]) sent through the faces of `list` to the cell
+ * `shift` coefficients away, or out of the grid when not `inside`; adds to `sums` the flux
+ * that left through the border, the flux the front-face clamp created and the flux the
+ * geometry volume removed (docs/MODEL.md "Propagation", "Propagation audit").
+ */
+function sendFaces(list, grid, out, at, shift, cell, inside, sums) {
+  const s0 = grid[at];
+  const s1 = grid[at + 1];
+  const s2 = grid[at + 2];
+  const s3 = grid[at + 3];
+  for (const face of list) {
+    const b = face.basis;
+    const r = s0 * b[0] + s1 * b[1] + s2 * b[2] + s3 * b[3];
+    const used = face.clamp && r < 0.0 ? 0.0 : r;
+    const visibility = face.visibility === null ? 1.0 : face.visibility[cell];
+    const sent = face.weight * used * visibility;
+    if (inside) {
+      out[at + shift + face.li] += sent * face.lv;
+      out[at + shift + face.lj] += sent * face.lw;
+    } else {
+      sums[0] += K.SH_FLUX_FACTOR * face.lobe0 * sent;
+    }
+    sums[1] += face.fluxPerIntensity * (used - r);
+    sums[2] += face.fluxPerIntensity * used * (1.0 - visibility);
+  }
+}
+
 /** propagationStep face by face, each face's visibility through the geometry volume. */
 function faceStep(grid, n, c, geometry, channels) {
   const out = new Float64Array(grid.length);
@@ -586,41 +588,21 @@ function faceStep(grid, n, c, geometry, channels) {
       });
       direction += 1;
       for (const ch of channels) {
-        let border = 0.0;
-        let gain = 0.0;
-        let occluded = 0.0;
+        const sums = [0.0, 0.0, 0.0];    // border, gain, occluded
         for (let x = 0; x < n; x++) {
           for (let y = 0; y < n; y++) {
             const row = axis === 0 ? x : y;
             for (let z = 0; z < n; z++) {
               const inside = (axis === 2 ? z : row) !== lastLayer;
               const cell = (x * n + y) * n + z;
-              const at = ch * stride + cell * COEFFS;
-              const s0 = grid[at];
-              const s1 = grid[at + 1];
-              const s2 = grid[at + 2];
-              const s3 = grid[at + 3];
-              for (const face of list) {
-                const b = face.basis;
-                const r = s0 * b[0] + s1 * b[1] + s2 * b[2] + s3 * b[3];
-                const used = face.clamp && r < 0.0 ? 0.0 : r;
-                const visibility = face.visibility[cell];
-                const sent = face.weight * used * visibility;
-                if (inside) {
-                  out[at + offset + face.li] += sent * face.lv;
-                  out[at + offset + face.lj] += sent * face.lw;
-                } else {
-                  border += K.SH_FLUX_FACTOR * face.lobe0 * sent;
-                }
-                gain += face.fluxPerIntensity * (used - r);
-                occluded += face.fluxPerIntensity * used * (1.0 - visibility);
-              }
+              sendFaces(list, grid, out, ch * stride + cell * COEFFS, offset, cell, inside,
+                        sums);
             }
           }
         }
-        terms.border_loss[ch] += border;
-        terms.clamp_gain[ch] += gain;
-        terms.occluded[ch] += occluded;
+        terms.border_loss[ch] += sums[0];
+        terms.clamp_gain[ch] += sums[1];
+        terms.occluded[ch] += sums[2];
       }
     }
   }
