@@ -33,6 +33,7 @@ from explorer.schema import setting, validate
 if TYPE_CHECKING:
     import numpy as np
 
+    from explorer.lpv.corrections import Corrections
     from explorer.lpv.frame import FrameResult
     from explorer.scene import Scene
     from explorer.ui.animation import Animation
@@ -472,11 +473,15 @@ class AppState:
     def apply_preset(self, name: str, compare: bool = False) -> bool:
         """A correction preset for A, or for B (``compare``); refused as in :meth:`update`
         when A's other settings cannot run with it."""
-        if not compare:
-            return self.update(corrections=name)
+        return self.set_compare_corrections(name) if compare else \
+            self.update(corrections=name)
+
+    def set_compare_corrections(self, corrections: str | Corrections) -> bool:
+        """B's corrections (a preset name or a Corrections); refused, with a message, when
+        A's other settings cannot run with them (B runs on A's rest)."""
         try:
-            self.settings.with_changes(corrections=PRESETS[name])      # B runs on A's rest
-            self.compare_settings = self.compare_settings.with_changes(corrections=name)
+            self.settings.with_changes(corrections=corrections)
+            self.compare_settings = self.compare_settings.with_changes(corrections=corrections)
         except ValueError as exc:
             self.notify(f"not applied to B: {exc}", "error")
             return False

@@ -11,6 +11,7 @@ Helpers: ``_state`` (a small AppState), ``_settle`` (update until idle),
 
 from __future__ import annotations
 
+import dataclasses
 from collections import Counter
 
 import numpy as np
@@ -564,7 +565,11 @@ def test_a_side_that_cannot_run_with_a_is_refused_in_one_message(controller):
     before = state.settings
     assert not state.set_corrections(ping_pong=False)
     assert state.settings is before
-    assert sum("not applied" in m.text for m in state.messages) == 1
+    b_before = state.compare_settings
+    in_place = dataclasses.replace(b_before.corrections, ping_pong=False)
+    assert not state.set_compare_corrections(in_place)    # the Compare panel's switch
+    assert state.compare_settings is b_before
+    assert sum("not applied" in m.text for m in state.messages) == 2
     state.update(neighbours=6)                  # now B can run beside A
     assert state.apply_preset("original", compare=True)
     state.compare_settings = state.compare_settings.with_changes(

@@ -52,11 +52,4 @@ def gui_compare(state: AppState) -> None:
     for entry in CORRECTIONS:
         changed, value = imgui.checkbox(entry.title + "##B", bool(getattr(corr, entry.name)))
         if changed:
-            try:   # B runs on A's other settings: refused when they cannot run together
-                state.settings.with_changes(
-                    corrections=dataclasses.replace(corr, **{entry.name: value}))
-            except ValueError as exc:
-                state.notify(f"not applied to B: {exc}", "error")
-                continue
-            state.compare_settings = state.compare_settings.with_changes(
-                corrections={entry.name: value})
+            state.set_compare_corrections(dataclasses.replace(corr, **{entry.name: value}))
