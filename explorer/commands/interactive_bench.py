@@ -82,7 +82,8 @@ def run_window_bench(args: argparse.Namespace) -> int:
             payload = json.dumps(figures, indent=2)
             outputs.write(json_path, lambda p: p.write_text(payload))
             print(f"wrote {json_path}")
-    return 1 if args.soak is not None and figures["growth"] else 0
+    return 1 if args.soak is not None and (figures["growth"]
+                                            or figures.get("over_budget")) else 0
 
 
 def _child(root: Path, args: argparse.Namespace) -> dict:
@@ -148,6 +149,15 @@ def _print_soak(figures: dict) -> None:
     print(f"  resident memory: warm-up peak {figures['warm_up_peak_rss_mib']:.0f} MiB, "
           f"peak {figures['peak_rss_mib']:.0f} MiB; after the warm-up "
           f"{start['rss_mib']:.0f} MiB, at the end {end['rss_mib']:.0f} MiB")
+    budget = figures.get("over_budget")
+    if budget:
+        print(f"  OVER THE BUDGET of {figures['rss_budget_mib']:.0f} MiB resident after "
+              f"{len(budget)} of {figures['cycles']} steps:")
+        for line in budget[:20]:
+            print(f"    {line}")
+    elif budget is not None:
+        print(f"  resident memory within the budget of {figures['rss_budget_mib']:.0f} MiB "
+              f"after every step")
     if figures["growth"]:
         print(f"  GROWTH after the warm-up ({len(figures['growth'])}):")
         for line in figures["growth"][:20]:

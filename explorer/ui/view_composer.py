@@ -28,6 +28,7 @@ from explorer.lpv.twin.tonemap import luminance, tone_map_index
 from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS
 from explorer.ui.textures import robust_max
+from explorer.ui.weak_version import WeakVersion
 
 VIEW = "view.glsl"
 DIFFERENCE_MAPS = ("heat", "diverging")
@@ -62,9 +63,10 @@ class ViewComposer:
         self._triangle = FullscreenTriangle(ctx)
         self._outputs: dict[str, _Output] = {}
         self._maps: dict[str, moderngl.Texture] = {}
-        self._auto_top_cache: tuple | None = None
-        """(result A, result B, buffer, indirect only, exposure ratio, top): one entry,
-        holding the results it was measured on (never an id that could be reused)."""
+        self._auto_top_cache: tuple[WeakVersion, float] | None = None
+        """(the results A and B, buffer, indirect only, exposure ratio) → top: one entry,
+        its results held weakly (a freed one's id names no entry; the cache keeps no
+        frame alive)."""
         self.draws = 0
         """Passes drawn so far (an unchanged request draws nothing)."""
 
@@ -184,14 +186,14 @@ class ViewComposer:
         final = buffer == "final"
         ratio = display_b.exposure / display_a.exposure if final else 1.0
         wanted = (buffer, display_a.indirect_only, ratio)
+        parts = (ra, rb, *wanted)
         cached = self._auto_top_cache
-        if cached is None or cached[0] is not ra or cached[1] is not rb or \
-                cached[2:5] != wanted:
+        if cached is None or not cached[0].matches(parts):
             la = luminance(_linear(ra, buffer, display_a.indirect_only))
             lb = luminance(_linear(rb, buffer, display_a.indirect_only))
-            cached = self._auto_top_cache = (ra, rb, *wanted,
+            cached = self._auto_top_cache = (WeakVersion(parts, (str, bool, int, float)),
                                              robust_max(np.abs(la - ratio * lb)))
-        return cached[5] * (display_a.exposure if final else 1.0)
+        return cached[1] * (display_a.exposure if final else 1.0)
 
 
 def _linear(result, buffer: str, indirect_only: bool) -> np.ndarray:

@@ -32,6 +32,7 @@ from explorer.ui.overlays.picking import cell_at, pixel_of, view_projection
 from explorer.ui.overlays.slice import SliceRenderer
 from explorer.ui.overlays.splats import SplatRenderer
 from explorer.ui.state import OverlayState
+from explorer.ui.weak_version import WeakVersion
 
 BACKGROUND = "overlay_background.glsl"
 LATTICE_COLOUR = (1.0, 1.0, 1.0, 0.35)
@@ -90,28 +91,27 @@ class _Side:
         self.static: _Target | None = None     # the frame + overlays tied to the frame
         self.output: _Target | None = None     # the static layer + the slice's overlays
         self.position: moderngl.Texture | None = None
-        self.key: object = None
-        self.static_key: object = None
+        self.key: WeakVersion | None = None
+        """The picture in :attr:`output` (its frame held weakly: the compositor keeps no
+        frame alive, the frame on screen is the controller's)."""
+        self.static_key: WeakVersion | None = None
         self.static_notes: list[str] = []
-        self.result = None                   # the result of the last picture
         self.field: Q.SliceField | None = None   # the slice of the last picture, if shown
         self.field_cache: Q.SliceField | None = None
-        self._versions: dict[str, tuple] = {}
-        self._kept: dict[str, tuple] = {}
+        self._versions: dict[str, WeakVersion] = {}
 
     def stale(self, name: str, *parts) -> bool:
-        """Whether the upload ``name`` is out of date for ``parts`` (objects are compared
-        by identity and kept alive, so an id is never reused while it names a version).
-        Records ``parts`` as the new version."""
-        key = tuple(p if isinstance(p, _VALUES) else id(p) for p in parts)
-        if self._versions.get(name) == key:
+        """Whether the upload ``name`` is out of date for ``parts`` (objects compared by
+        identity through weak references: an upload never keeps its frame alive, and a
+        freed one's id names no version). Records ``parts`` as the new version."""
+        version = self._versions.get(name)
+        if version is not None and version.matches(parts):
             return False
-        self._versions[name], self._kept[name] = key, parts
+        self._versions[name] = WeakVersion(parts, _VALUES)
         return True
 
     def forget(self, name: str) -> None:
         self._versions.pop(name, None)
-        self._kept.pop(name, None)
 
     def allocate(self, size: tuple[int, int]) -> None:
         if self.output is not None and self.output.size == size:
@@ -134,7 +134,6 @@ class _Side:
         for renderer in (self.slice, self.glyphs, self.splats, self.lines):
             renderer.release()
         self._versions.clear()
-        self._kept.clear()
 
 
 class Compositor:
@@ -167,24 +166,24 @@ class Compositor:
         if layers is None:
             layers = self._sides[side] = _Side(self.ctx, self.programs)
         shared = self._shared_top(side, overlays)
-        key = (id(result), int(base_texture), base_version, bool(base_top_first),
+        key = (result, int(base_texture), base_version, bool(base_top_first),
                astuple(overlays), (width, height), shared)
-        if layers.key == key and layers.output is not None:
+        if layers.key is not None and layers.key.matches(key) and layers.output is not None:
             return layers.output.colour.glo
         layers.allocate((width, height))
-        layers.key, layers.result = key, result
+        layers.key = WeakVersion(key, _VALUES)
         layers.shared_top = shared
         o = overlays
-        static_key = (id(result), int(base_texture), base_version, bool(base_top_first),
+        static_key = (result, int(base_texture), base_version, bool(base_top_first),
                       (width, height), o.vpls, o.vpl_density, o.vpl_size, o.blockers,
                       o.cascade)
         vp = view_projection(result)
         notes: list[str] = []
         try:
-            if layers.static_key != static_key:
+            if layers.static_key is None or not layers.static_key.matches(static_key):
                 self._background(layers, result, base_texture, base_top_first, vp)
                 self._static_overlays(layers, result, overlays, vp, layers.static_notes)
-                layers.static_key = static_key
+                layers.static_key = WeakVersion(static_key, _VALUES)
                 self.static_draws += 1
             notes += layers.static_notes
             self._copy(layers.static, layers.output)
