@@ -12,7 +12,7 @@ not run, and its field stays valid).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -113,6 +113,13 @@ class FrameState:
         return SampledGrid(tuple(CascadeInput(spec, level.accumulation_textures)
                                  for spec, level in zip(self.specs, levels)),
                            levels[0].injected.sh_order)
+
+    def drop_steps(self) -> None:
+        """Forget every level's kept propagation steps (grid_0..grid_N): a frame that did
+        not ask for them gets none, and they stay alive only in the frames that did."""
+        for level in self.levels:
+            if level.output is not None and level.output.steps is not None:
+                level.output = replace(level.output, steps=None)
 
     def levels_for_specs(self, make: Callable[[], CascadeLevel]) -> list[CascadeLevel]:
         """One level per spec: missing ones made by ``make``, extra ones released."""

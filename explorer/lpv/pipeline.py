@@ -370,7 +370,10 @@ class Pipeline:
         return self.stages[stage].work(job)
 
     def finish_job(self, job: Job) -> FrameResult:
-        """The FrameResult of a job whose stages are all complete."""
+        """The FrameResult of a job whose stages are all complete (with the steps only
+        when the job asked for them: the pipeline keeps none past such a job)."""
+        if not job.keep_steps:
+            self.state.drop_steps()
         self.last_result = frame_result(job.settings, self.state, self.scene_state.scene,
                                         self.timer, job.progress.stages_run)
         return self.last_result

@@ -188,9 +188,8 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
 
         page = env.page
         spec = next(s for s in step.figures if s.instance_id == figure_id)
-        context_figures = figure_context(state)
-        context_figures.update_from_app(state)
-        draw_figure(replace(spec, caption=""), width, context_figures)
+        with figure_context(state).showing(state) as context_figures:
+            draw_figure(replace(spec, caption=""), width, context_figures)
         if spec.caption:      # through the text flow: it may quote live numbers
             caption = lesson_text.parse(spec.caption)
             runs = tuple(lesson_text.Text(r.text, "italic") if isinstance(r, lesson_text.Text)

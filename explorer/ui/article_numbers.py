@@ -26,13 +26,13 @@ def live_context(state: AppState, step: Step) -> live_values.LiveContext:
     if wanted:
         from explorer.ui.figures import FIGURES
 
-        context = figure_context(state)
-        for spec in step.figures:
-            if spec.instance_id in wanted:
-                kind = FIGURES[spec.kind]
-                instance = context.state_for(spec.instance_id, spec.kind, spec.params,
-                                             kind.make_state)
-                figures[spec.instance_id] = kind.readouts(spec.params, instance, context)
+        with figure_context(state).showing(state) as context:
+            for spec in step.figures:
+                if spec.instance_id in wanted:
+                    kind = FIGURES[spec.kind]
+                    instance = context.state_for(spec.instance_id, spec.kind, spec.params,
+                                                 kind.make_state)
+                    figures[spec.instance_id] = kind.readouts(spec.params, instance, context)
     return live_values.LiveContext(settings=state.settings, result=rt.frame.result,
                                    error=current_stats(state), figures=figures,
                                    renderer=rt.services.gl_renderer,

@@ -10,7 +10,8 @@ step), so a step always opens on what its author set.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -56,3 +57,14 @@ class FigureContext:
         if results and state.comparing and rt.frame.compare_result is not None:
             results.append(rt.frame.compare_result)
         self.results = tuple(results)
+
+    @contextmanager
+    def showing(self, state) -> Iterator[FigureContext]:
+        """The results an AppState holds (:meth:`update_from_app`) for the figures drawn
+        or read inside, none kept after: the context outlives the step, and a frame
+        kept past it holds its propagation steps (hundreds of MiB at 64³)."""
+        self.update_from_app(state)
+        try:
+            yield self
+        finally:
+            self.results = ()
