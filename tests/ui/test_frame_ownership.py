@@ -1,0 +1,115 @@
+"""Who keeps a frame alive in the window: only what shows it. The compositor, the view
+composer's difference scale and the lesson figures hold no frame past the picture they
+made (a frame kept with its propagation steps is hundreds of MiB at 64³)."""
+
+from __future__ import annotations
+
+import gc
+import weakref
+from dataclasses import replace
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from explorer.gl.program import ProgramCache
+from explorer.lpv.pipeline import Pipeline
+from explorer.lpv.settings import Settings
+from explorer.ui.figures import FigureContext
+from explorer.ui.overlays.compositor import Compositor
+from explorer.ui.state import OverlayState
+from explorer.ui.view_composer import ViewComposer
+from explorer.ui.weak_version import WeakVersion
+
+CORNELL = Settings(scene="cornell", grid_size=8, iterations=3, rsm_size=32, width=48,
+                   height=36)
+
+
+def _freed(ref: weakref.ref) -> bool:
+    gc.collect()
+    return ref() is None
+
+
+def test_a_weak_version_matches_its_parts_and_nothing_once_one_is_freed():
+    class Frame:
+        pass
+
+    frame, other = Frame(), Frame()
+    version = WeakVersion((frame, 3, "slice", (1, 2)), (int, str, tuple))
+    assert version.matches((frame, 3, "slice", (1, 2)))
+    assert not version.matches((other, 3, "slice", (1, 2)))
+    assert not version.matches((frame, 4, "slice", (1, 2)))
+    assert not version.matches((frame, 3, "slice"))
+    held = [1, 2]                       # no weak reference can name a list: held
+    assert WeakVersion((held,), ()).matches((held,))
+    assert not WeakVersion((held,), ()).matches(([1, 2],))
+    ref = weakref.ref(frame)
+    del frame
+    assert _freed(ref), "the version kept its frame alive"
+    assert not version.matches((Frame(), 3, "slice", (1, 2)))
+
+
+def test_the_compositor_keeps_no_frame_the_view_has_left(ctx):
+    """A frame drawn with the light in flight and the VPLs, then another frame: the
+    first is freed (its slice field and VPL upload versions held it, with its steps)."""
+    with Pipeline(CORNELL, ctx=ctx) as pipeline:
+        result = pipeline.run(CORNELL, keep_steps=True)
+        compositor = Compositor(ctx)
+        try:
+            shown = replace(result)            # a frame of its own, the same arrays
+            overlays = OverlayState(slice=True, slice_quantity="in-flight", vpls=True)
+            texture = pipeline.final_texture.glo
+            compositor.compose("A", shown, texture, False, overlays)
+            assert compositor.notes["A"] == []
+            drawn = compositor.compositions
+            compositor.compose("A", shown, texture, False, overlays)
+            assert compositor.compositions == drawn, "an unchanged request redrew"
+            ref = weakref.ref(shown)
+            del shown
+            compositor.compose("A", result, texture, False, OverlayState())
+            assert _freed(ref), "the compositor kept a frame the view no longer shows"
+            compositor.compose("A", replace(result), texture, False, overlays)
+            assert compositor.compositions == drawn + 2 and compositor.notes["A"] == []
+        finally:
+            compositor.release()
+
+
+def test_the_difference_scale_keeps_no_frame(ctx):
+    class Frame:
+        def __init__(self, value: float) -> None:
+            self.direct = np.full((4, 4, 3), value, np.float32)
+
+    a, b = Frame(2.0), Frame(1.0)
+    display = SimpleNamespace(exposure=1.0, indirect_only=False)
+    programs = ProgramCache(ctx)
+    composer = ViewComposer(ctx, programs)
+    try:
+        top = composer._auto_top(SimpleNamespace(result=a), SimpleNamespace(result=b),
+                                 display, display, "direct")
+        assert top == pytest.approx(1.0, rel=1e-5)
+        ref = weakref.ref(b)
+        del b
+        assert _freed(ref), "the difference scale's cache kept side B's frame"
+        again = composer._auto_top(SimpleNamespace(result=a),
+                                   SimpleNamespace(result=Frame(1.5)), display, display,
+                                   "direct")
+        assert again == pytest.approx(0.5, rel=1e-5)
+    finally:
+        composer.release()
+        programs.release()
+
+
+def test_the_lesson_figures_read_the_apps_frames_only_while_shown():
+    class Frame:
+        pass
+
+    a = Frame()
+    state = SimpleNamespace(runtime=SimpleNamespace(
+        frame=SimpleNamespace(result=a, compare_result=None)), comparing=False)
+    context = FigureContext()
+    with context.showing(state) as shown:
+        assert shown.results == (a,)
+    assert context.results == ()
+    ref = weakref.ref(a)
+    del a, state
+    assert _freed(ref), "the figure context kept the frame past the step"
