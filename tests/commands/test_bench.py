@@ -123,7 +123,9 @@ def test_a_short_soak_drives_the_window_and_counts_what_it_holds(tmp_path, capsy
     # one CI run, flat in others), so only the long soak judges it (BENCHMARKS.md)
     gl_growth = [line for line in data["growth"] if "resident memory" not in line]
     assert gl_growth == [], printed
-    assert status == (1 if data["growth"] else 0), printed
+    assert status == (1 if data["growth"] or data["over_budget"] else 0), printed
+    assert "budget of 1229 MiB" in printed
+    assert all(record["programs"] for record in data["records"])
     if not data["growth"]:
         assert "no growth after the warm-up" in printed
     assert "resident MiB" in printed and "Texture" in printed and "Scope" in printed
@@ -152,6 +154,16 @@ def test_the_soak_rule_names_what_grew_after_the_warm_up(monkeypatch, capsys):
     assert interaction.growth(warm, flat) == []
     grown = interaction.growth(warm, [record(2, 0, 400.0), record(2, 1, 400.0, Scope=4),
                                       record(3, 0, 560.0, Program=6)])
+    # a program count that grew names whose programs grew
+    owners = {"lpv.passes.gather.run": 3, "ui.view_composer._draw": 2}
+    warm_owned = [dict(record(1, 0, 400.0), programs=owners),
+                  dict(record(1, 1, 500.0), programs=owners)]
+    assert interaction.growth(warm_owned, [
+        dict(record(2, 0, 400.0), programs=owners),
+        dict(record(2, 1, 400.0, Program=6),
+             programs={**owners, "ui.view_composer._draw": 3})]) == [
+        "pass 2 step s:2 (the pass's end): Program 6, 5 at the warm-up's end "
+        "(ui.view_composer._draw +1)"]
     assert grown == ["pass 2 step s:2 (the pass's end): Scope 4, 3 at the warm-up's end",
                      "pass 3 step s:1: Program 6, 5 in pass 2",
                      "pass 3 step s:1: resident memory 560 MiB, over the warm-up's peak "
@@ -169,6 +181,19 @@ def test_the_soak_rule_names_what_grew_after_the_warm_up(monkeypatch, capsys):
     assert "GROWTH after the warm-up (3)" in printed and "Program 6" in printed
     figures["growth"] = []
     assert main(["bench", "--soak", "1"]) == 0
+    # resident memory over the budget, the warm-up's too, fails the soak and is named
+    assert interaction.over_budget(warm + flat) == []
+    heavy = [record(1, 0, 1300.0), record(2, 0, 1100.0)]
+    assert interaction.over_budget(heavy) == [
+        "pass 1 step s:1: resident memory 1300 MiB, over the budget of 1229 MiB"]
+    figures.update(over_budget=interaction.over_budget(heavy), rss_budget_mib=1228.8)
+    assert main(["bench", "--soak", "1"]) == 1
+    printed = capsys.readouterr().out
+    assert "OVER THE BUDGET of 1229 MiB resident after 1 of 5 steps" in printed
+    assert "pass 1 step s:1: resident memory 1300 MiB" in printed
+    figures["over_budget"] = []
+    assert main(["bench", "--soak", "1"]) == 0
+    assert "within the budget of 1229 MiB" in capsys.readouterr().out
     assert main(["bench", "--soak", "1", "--soak-steps", "overview:99"]) == 2
     assert "'overview:99' is not LESSON:STEP" in capsys.readouterr().err
     assert main(["bench", "--interactive", "--soak-steps", "overview:1"]) == 2
