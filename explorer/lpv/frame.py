@@ -35,7 +35,9 @@ class LevelResult:
     accumulated: np.ndarray
     """acc_N, ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (``sh_order`` 2)."""
     steps: list[np.ndarray] | None
-    """grid_0..grid_N when the frame kept its steps (``keep_steps``), else None."""
+    """grid_0..grid_N when the frame kept its steps (``keep_steps``) and the level is one
+    of the pipeline's ``steps_levels``, else None (the list the propagation recorded:
+    the pipeline keeps it only until a job that does not ask for steps)."""
     geometry_volume: np.ndarray | None
     """``(N+1, N+1, N+1, 4)`` blocking SH, None when the geometry volume is off."""
     audit: GridAudit

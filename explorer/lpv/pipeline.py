@@ -93,6 +93,10 @@ class Pipeline:
         self.limits = DriverLimits.of(ctx.info)
         """The GL limits every request is checked against (explorer/lpv/limits.py)."""
         self.memory_budget_bytes = DEFAULT_MEMORY_BUDGET
+        self.steps_levels: int | None = None
+        """How many cascade levels, finest first, keep their propagation steps for a job
+        with ``keep_steps`` (None: every level, as a dump writes them; the window shows
+        only the finest's and sets 1: at 64³ a level's steps are about 200 MiB)."""
         """Refuse settings whose textures and read-back arrays would need more bytes."""
         self.timer = PassTimer(ctx)
         """Times every pass (``timings_ms``, ``timing_methods``; explorer/lpv/timing.py)."""
@@ -204,7 +208,8 @@ class Pipeline:
         one-line ValueError before anything is allocated, and asking again for the frame in
         progress returns that job (a caller may start every frame).
 
-        ``keep_steps`` keeps grid_0..grid_N of every cascade; ``need_audit`` is what the
+        ``keep_steps`` keeps grid_0..grid_N of every cascade (the first
+        :attr:`steps_levels`); ``need_audit`` is what the
         energy audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`; True ``full``, False
         ``off``; a later job that needs more propagates again); ``vpls`` are injected
         instead of the RSM's (which still renders the direct light and its shadow)."""

@@ -98,6 +98,10 @@ then the full size follows."""
 MIN_RENDER_EDGE = 16
 
 
+SHOWN_STEP_LEVELS = 1
+"""Cascade levels whose propagation steps a side's frame keeps when shown: the finest
+only (the in-flight overlays, the Inspect panel, the picked cell's steps and the lesson
+figures read level 0's; the other levels' would double the steps at two cascades)."""
 IDLE_RELEASE_S = 20.0
 """Seconds a side the view stopped showing keeps what it made: a quick look back at the
 split view costs nothing, a comparison left for good gives its memory back."""
@@ -274,6 +278,7 @@ class PipelineController:
         try:
             if side.pipeline is None:
                 side.pipeline = self.pipeline_class(request.settings, ctx=self.ctx)
+                side.pipeline.steps_levels = SHOWN_STEP_LEVELS
             side.job = side.pipeline.start(
                 request.settings, keep_steps=request.keep_steps, need_audit=request.need_audit,
                 progress=StageCounter(side.stage_runs))

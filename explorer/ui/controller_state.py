@@ -36,6 +36,8 @@ class PipelineLike(Protocol):
     """(stage, unit number) -> milliseconds it last took (``Job.next_unit_ms``)."""
     preview_textures: tuple | None
     """The last reduced preview's linear textures (``Job.preview`` with a scale < 1)."""
+    steps_levels: int | None
+    """How many cascade levels, finest first, keep their steps (``keep_steps``)."""
 
     def start(self, settings: Settings, keep_steps: bool = ..., need_audit: str | bool = ...,
               progress: Callable[[str, int, int], None] | None = ...) -> Job: ...

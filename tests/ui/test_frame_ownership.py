@@ -113,3 +113,25 @@ def test_the_lesson_figures_read_the_apps_frames_only_while_shown():
     ref = weakref.ref(a)
     del a, state
     assert _freed(ref), "the figure context kept the frame past the step"
+
+
+def test_a_window_frame_keeps_the_steps_of_the_finest_level_only(gl_context, ctx):
+    """The in-flight overlays read level 0's steps; with two cascades the second level's
+    would double what the frame on screen holds."""
+    from explorer.ui.controller import PipelineController
+    from explorer.ui.state import AppState
+
+    controller = PipelineController(gl_context, Pipeline)
+    try:
+        state = AppState(settings=CORNELL.with_changes(cascades=2))
+        state.follow_view_size = False
+        state.overlays.slice, state.overlays.slice_quantity = True, "in-flight"
+        for _ in range(2000):
+            if not controller.update(state, 50.0).active:
+                break
+        result = state.runtime.frame.result
+        assert len(result.cascades) == 2
+        assert len(result.steps) == CORNELL.iterations + 1
+        assert result.cascades[1].steps is None
+    finally:
+        controller.release()

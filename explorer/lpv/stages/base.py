@@ -37,6 +37,9 @@ class StageHost(Protocol):
     scene_state: SceneState
     state: FrameState
     display_scale_override: float | None
+    steps_levels: int | None
+    """How many cascade levels, finest first, keep their propagation steps for a job that
+    asks for them (None: every level)."""
 
 
 class Stage:

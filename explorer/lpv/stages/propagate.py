@@ -92,16 +92,22 @@ class Stage(StageBase):
 
     def satisfied(self, job: Job) -> bool:
         """Whether the last propagation kept the steps and the audit ``job`` asks for."""
-        for level in self.state.cascades:
+        for k, level in enumerate(self.state.cascades):
             output = level.output
             if output is None:
                 return False
-            if job.keep_steps and output.steps is None:
+            if self.keeps_steps(job, k) and output.steps is None:
                 return False
             if not audit_covers(output.audit.mode,
                                 self.audit_mode(job, level.injected.cells)):
                 return False
         return True
+
+    def keeps_steps(self, job: Job, level: int) -> bool:
+        """Whether cascade ``level`` records its steps for ``job`` (the host's
+        ``steps_levels`` finest levels, when the job asks for steps)."""
+        limit = self.host.steps_levels
+        return job.keep_steps and (limit is None or level < limit)
 
     def work(self, job: Job) -> Iterator[int]:
         """Every level's propagation: a unit to start each level (grid_0 into the
@@ -123,7 +129,7 @@ class Stage(StageBase):
                 level.output = None
                 level.running = timed("propagate", lambda: level.propagate.start(
                     level.injected, spec, p.corrections, p.steps[k], level.volume,
-                    keep_steps=job.keep_steps, bounces=p.bounces, audit=audit[k],
+                    keep_steps=self.keeps_steps(job, k), bounces=p.bounces, audit=audit[k],
                     neighbours=p.neighbours, visibility=p.visibility,
                     flux_budget=p.flux_budget),
                     accumulate=True)
