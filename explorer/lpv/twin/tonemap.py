@@ -80,7 +80,9 @@ def log_average_luminance(image: np.ndarray, mask: np.ndarray | None = None,
     luminance ranks between the two ``percentiles`` of theirs (``(0, 100)``: all of them;
     at least one pixel), ``δ`` = :data:`LOG_AVERAGE_FLOOR` × the brightest; 0 when none
     is lit."""
-    lum = np.nan_to_num(luminance(image))
+    lum = luminance(image)
+    if not np.isfinite(lum).all():      # nan_to_num copies even when nothing is to change
+        lum = np.nan_to_num(lum)
     if mask is not None:
         lum = lum[np.asarray(mask, bool)]
     lum = np.maximum(lum.ravel(), 0.0)
