@@ -70,10 +70,10 @@ class AutoExposure:
                 measured[2] != indirect_only:
             if fog is None:
                 # exposed_image's values without its strided passes: direct + indirect
-                # added as whole pixels (the same float32 sums), the rgb taken after; x·1
-                # is x, and the metering reads luminance in float64 of the rgb anyway
-                unexposed = (gather.indirect if indirect_only
-                             else gather.direct + gather.indirect)[..., :3]
+                # added as whole pixels (the same float32 sums; x·1 is x), whose rgb
+                # the luminance reads in float64 (twin/tonemap.py: the same bits)
+                unexposed = gather.indirect if indirect_only \
+                    else gather.direct + gather.indirect
             else:
                 unexposed = exposed_image(gather.direct[..., :3], gather.indirect[..., :3],
                                           1.0, indirect_only, fog)
