@@ -165,7 +165,8 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     for key, value in values.items():
         # a uniform keeps its value in the program: one the last call set is not
         # uploaded again (a frame sets most of them to what they were)
-        stamp = _value_key(value)
+        kind = type(value)
+        stamp = (kind, value) if kind is int or kind is float else _value_key(value)
         last = uploaded.get(key, _UNSET)
         if last is not _UNSET:          # active: it was uploaded before
             if last != stamp:
@@ -202,6 +203,7 @@ def _check_reads(program, info: dict, label: str, values: dict[str, object],
 
 
 _UNSET = object()
+_PLAIN_NUMBERS = frozenset((int, float, bool))
 
 
 def _value_key(value: object) -> object:
@@ -212,6 +214,11 @@ def _value_key(value: object) -> object:
     if isinstance(value, np.ndarray):
         return (value.dtype.str, value.shape, value.tobytes())
     if kind is tuple or kind is list or isinstance(value, (list, tuple)):
+        types = tuple(map(type, value))
+        if _PLAIN_NUMBERS.issuperset(types):
+            # a vector or matrix of plain numbers: what the element-wise keys would
+            # compare, in one tuple (a 4×4 matrix: 1 call, not 17)
+            return (types, tuple(value))
         return tuple(map(_value_key, value))
     if isinstance(value, np.generic):
         return (value.dtype.str, value.item())
