@@ -152,7 +152,8 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     because the program does not use it is skipped. ``reads``: uniforms the program must
     use (the passes give the correction switches of their stage,
     ``explorer.lpv.corrections.uniforms_read_by``); each must be in ``values`` and active
-    in the compiled program, else :class:`UniformError`.
+    in the compiled program, else :class:`UniformError`. The same ``values`` object as the
+    last call's is taken as unchanged (a caller must not change a dict it passed).
     """
     info = program.extra if isinstance(getattr(program, "extra", None), dict) else {}
     declared, label = info.get("declared"), info.get("name", "program")
@@ -161,6 +162,10 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
                         "which records the uniforms its source declares")
     if reads:
         _check_reads(program, info, label, values, reads, declared)
+    if values is info.get("last values"):
+        # the dict of the last call again: a pass that keeps its uniforms while their
+        # inputs do not change hands the same (unchanged) dict, so nothing is uploaded
+        return
     uploaded = info.setdefault("values", {})
     for key, value in values.items():
         # a uniform keeps its value in the program: one the last call set is not
@@ -181,6 +186,7 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise UniformError(f"{label} declares no uniform {key!r}{hint}")
     info.setdefault("set", set()).update(values)
+    info["last values"] = values
 
 
 def _check_reads(program, info: dict, label: str, values: dict[str, object],

@@ -137,3 +137,25 @@ def test_the_auto_exposure_meters_the_bits_of_the_exposed_image():
                                      True)
                 got = AutoExposure().scale(images, None, indirect_only, position)
             assert np.float64(got).tobytes() == np.float64(want).tobytes(), trial
+
+
+def test_a_moved_camera_sets_the_gathers_kept_uniforms(pipeline, monkeypatch):
+    """Nothing the gather's uniforms are made of changes when the camera moves: the
+    gather hands set_uniforms the dict it made, which uploads nothing and stamps nothing."""
+    from explorer.gl.call_counter import GlCallCounter
+
+    made = Calls(monkeypatch, "explorer.lpv.passes.gather", "cascade_uniforms")
+    stamped = Calls(monkeypatch, "explorer.gl.program", "_value_key")
+    camera = pipeline.scene_state.scene.camera
+    frames = [TINY.with_changes(camera=((camera.eye[0] + 0.05 * k, *camera.eye[1:]),
+                                        camera.target)) for k in (1, 2)]
+    pipeline.run(frames[0])
+    first, stamps = made.count, stamped.count
+    with GlCallCounter() as counter:
+        result = pipeline.run(frames[1])
+    assert result.stages_run == ("gbuffer", "gather", "display")
+    assert made.count == first          # the dict was not made again
+    # stamped: the G-buffer's view and projection matrices, nothing of the gather's
+    assert stamped.count - stamps == 2
+    # uploaded: those two, the display's scale and the scene draw's own two
+    assert counter.tally.calls["uniform uploads"] == 5
