@@ -56,6 +56,7 @@ class AuditReducer:
         self._buffers: dict[str, moderngl.Buffer] = {}
         self._slots = 0
         self._cells = (1, 1, 1)
+        self._partials = 1
         self.generation = 0
         """Counts :meth:`begin` calls: the per-cell records of a propagation are current
         while it has not changed (:class:`CellAuditRecords`)."""
@@ -71,8 +72,8 @@ class AuditReducer:
 
     @property
     def partial_count(self) -> int:
-        """Partial records per slot."""
-        return min(-(-self._cell_count // 64), MAX_PARTIALS)
+        """Partial records per slot (of the grid :meth:`begin` prepared)."""
+        return self._partials
 
     @property
     def _cell_count(self) -> int:
@@ -83,6 +84,7 @@ class AuditReducer:
         """Prepare ``slots`` zeroed result slots for a grid of ``cells`` (one number: a
         cube), and the per-cell records of a propagation step when ``cell_records``."""
         self._cells = grid_cells(cells)
+        self._partials = min(-(-self._cell_count // 64), MAX_PARTIALS)
         self._slots = int(slots)
         self.generation += 1
         self.has_records = bool(cell_records)

@@ -35,6 +35,14 @@ def advance_group(levels: list, limit_ms: float = GROUP_MS) -> None:
     one slab) or every level is finished; slabs of one level in a row keep its
     bindings."""
     start = time.perf_counter()
+    if len(levels) == 1:            # one level: its slabs in a row, all keeping its bindings
+        run, bound = levels[0].running, False
+        while not run.finished:
+            run.advance(bound=bound)
+            bound = True
+            if (time.perf_counter() - start) * 1e3 >= limit_ms:
+                return
+        return
     last = None
     while True:
         running = [level.running for level in levels if not level.running.finished]
