@@ -152,7 +152,8 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     because the program does not use it is skipped. ``reads``: uniforms the program must
     use (the passes give the correction switches of their stage,
     ``explorer.lpv.corrections.uniforms_read_by``); each must be in ``values`` and active
-    in the compiled program, else :class:`UniformError`.
+    in the compiled program, else :class:`UniformError`. The same ``values`` object as the
+    last call's is taken as unchanged (a caller must not change a dict it passed).
     """
     info = program.extra if isinstance(getattr(program, "extra", None), dict) else {}
     declared, label = info.get("declared"), info.get("name", "program")
@@ -161,11 +162,16 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
                         "which records the uniforms its source declares")
     if reads:
         _check_reads(program, info, label, values, reads, declared)
+    if values is info.get("last values"):
+        # the dict of the last call again: a pass that keeps its uniforms while their
+        # inputs do not change hands the same (unchanged) dict, so nothing is uploaded
+        return
     uploaded = info.setdefault("values", {})
     for key, value in values.items():
         # a uniform keeps its value in the program: one the last call set is not
         # uploaded again (a frame sets most of them to what they were)
-        stamp = _value_key(value)
+        kind = type(value)
+        stamp = (kind, value) if kind is int or kind is float else _value_key(value)
         last = uploaded.get(key, _UNSET)
         if last is not _UNSET:          # active: it was uploaded before
             if last != stamp:
@@ -180,6 +186,7 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise UniformError(f"{label} declares no uniform {key!r}{hint}")
     info.setdefault("set", set()).update(values)
+    info["last values"] = values
 
 
 def _check_reads(program, info: dict, label: str, values: dict[str, object],
@@ -202,6 +209,7 @@ def _check_reads(program, info: dict, label: str, values: dict[str, object],
 
 
 _UNSET = object()
+_PLAIN_NUMBERS = frozenset((int, float, bool))
 
 
 def _value_key(value: object) -> object:
@@ -212,6 +220,11 @@ def _value_key(value: object) -> object:
     if isinstance(value, np.ndarray):
         return (value.dtype.str, value.shape, value.tobytes())
     if kind is tuple or kind is list or isinstance(value, (list, tuple)):
+        types = tuple(map(type, value))
+        if _PLAIN_NUMBERS.issuperset(types):
+            # a vector or matrix of plain numbers: what the element-wise keys would
+            # compare, in one tuple (a 4×4 matrix: 1 call, not 17)
+            return (types, tuple(value))
         return tuple(map(_value_key, value))
     if isinstance(value, np.generic):
         return (value.dtype.str, value.item())

@@ -18,10 +18,12 @@ corrected formulas with side faces and exact constants: the 30 faces cover 4π).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from explorer.lpv.deferred import Deferred, DeferredField
 
 AUDIT_MODES = ("off", "flux", "full")
 """What a propagation measures, least first (each covers the ones before it):
@@ -103,21 +105,34 @@ class GridAudit:
 class EnergyAudit(GridAudit):
     """The grid audit plus the pipeline's own measurements."""
 
-    rsm: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    # the pipeline's sums over read-back images, summed when first read (deferred.py)
+    rsm: np.ndarray = DeferredField(lambda: np.zeros(3))  # type: ignore[assignment]
     """(3,) sum of the RSM texels' flux."""
-    gathered: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    gathered: np.ndarray = DeferredField(lambda: np.zeros(3))  # type: ignore[assignment]
     """(3,) flux received by the visible surfaces in the final gather."""
-    rsm_per_light: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    rsm_per_light: np.ndarray = DeferredField(  # type: ignore[assignment]
+        lambda: np.zeros((0, 3)))
     """(L, 3) the RSM flux of each light that shines (``FrameResult.light_names`` order;
     a point light's six faces together); ``rsm`` is their sum."""
 
     @classmethod
-    def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray, gathered: np.ndarray,
-                        rsm_per_light: np.ndarray | None = None) -> EnergyAudit:
-        rsm = np.asarray(rsm, np.float64)
-        per_light = rsm[None] if rsm_per_light is None else rsm_per_light
-        return cls(**vars(audit), rsm=rsm, gathered=np.asarray(gathered, np.float64),
-                   rsm_per_light=np.asarray(per_light, np.float64))
+    def from_grid_audit(cls, audit: GridAudit, rsm: np.ndarray | Callable[[], np.ndarray],
+                        gathered: np.ndarray | Callable[[], np.ndarray],
+                        rsm_per_light: np.ndarray | Callable[[], np.ndarray] | None = None
+                        ) -> EnergyAudit:
+        """``audit`` with the pipeline's measurements; each may be a function of no
+        arguments, called when the field is first read."""
+        def as_flux(value) -> np.ndarray:
+            return np.asarray(value() if callable(value) else value, np.float64)
+
+        def per_light() -> np.ndarray:
+            if rsm_per_light is None:
+                return as_flux(rsm)[None]
+            return as_flux(rsm_per_light)
+
+        return cls(**vars(audit), rsm=Deferred(lambda: as_flux(rsm)),
+                   gathered=Deferred(lambda: as_flux(gathered)),
+                   rsm_per_light=Deferred(per_light))
 
 
 @dataclass(frozen=True)

@@ -73,8 +73,11 @@ def stage_inputs(settings: Any, stage: str) -> tuple:
     if stage not in DECLARATIONS:
         raise ValueError(f"unknown stage {stage!r}; stages are {STAGES}")
     names, read = _reader(type(settings), stage)
-    return tuple((name, _nested_inputs(value, stage) if isinstance(value, Corrections) else value)
-                 for name, value in zip(names, read(settings)))
+    values = read(settings)
+    if Corrections in map(type, values):      # the switches: only those the stage reads
+        values = tuple(_nested_inputs(value, stage) if isinstance(value, Corrections)
+                       else value for value in values)
+    return tuple(zip(names, values))
 
 
 @cache

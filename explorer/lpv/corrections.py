@@ -12,6 +12,7 @@ it at start.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from functools import cache
 
 from derivations.correction_registry import BY_NAME, CORRECTIONS, Correction
 from explorer.lpv.correction_switches import CorrectionSwitches
@@ -49,11 +50,25 @@ class Corrections(CorrectionSwitches):
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls))
+        return _field_names(cls)
 
     def as_uniforms(self) -> dict[str, int]:
-        """Uniform values for the shaders: ``u_<field>`` = 0 or 1."""
-        return {BY_NAME[name].uniform: int(getattr(self, name)) for name in self.names()}
+        """Uniform values for the shaders: ``u_<field>`` = 0 or 1 (a dict of the caller's
+        own; made once per switches, which are frozen)."""
+        made = _UNIFORMS.get(self)
+        if made is None:
+            made = _UNIFORMS[self] = {BY_NAME[name].uniform: int(getattr(self, name))
+                                      for name in self.names()}
+        return dict(made)
+
+
+@cache
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in fields(cls))
+
+
+_UNIFORMS: dict[Corrections, dict[str, int]] = {}
+"""Each set of switches' uniforms (at most 2¹⁰ sets: one bool per registry entry)."""
 
 
 PRESETS: dict[str, Corrections] = {

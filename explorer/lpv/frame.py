@@ -11,6 +11,7 @@ import numpy as np
 
 from explorer.lpv import guards
 from explorer.lpv.audit import EnergyAudit, GridAudit
+from explorer.lpv.deferred import Deferred, DeferredField
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.passes.audit_reduce import CellAuditRecords
 from explorer.lpv.passes.display import exposed_image
@@ -86,10 +87,11 @@ class FrameResult:
     stages_run: tuple[str, ...] = ()
     """The stages that ran for this result (the others were up to date), in
     :data:`explorer.lpv.stage_list.STAGES` order."""
-    warnings: list[str] = field(default_factory=list)
+    warnings: list[str] = DeferredField(list)  # type: ignore[assignment]
     """Plain-text warnings of the numeric guards (explorer/lpv/guards.py): a pass whose
     output is not finite (with the switches that are off), flux that grows every step,
-    a mesh whose scale makes the light vanish or overflow."""
+    a mesh whose scale makes the light vanish or overflow (checked when first read:
+    explorer/lpv/deferred.py)."""
     display_scale: float = 1.0
     """What the display multiplies ``final_image`` by before the tone curve
     (docs/MODEL.md "Display"): the auto exposure key/L̄, 1 without it, or
@@ -190,9 +192,11 @@ def frame_result(settings: Settings, state: FrameState, scene: Scene, timer: Pas
     cascades = [LevelResult(spec, level.accumulated, level.output.steps, level.geometry,
                             level.output.audit, level.output.cell_records)
                 for spec, level in zip(state.specs, state.levels)]
-    audit = EnergyAudit.from_grid_audit(cascades[0].audit, rsm=rsm.total_flux,
-                                        gathered=gather.gathered,
-                                        rsm_per_light=rsm.flux_per_light)
+    by_stage = dict(state.warnings)     # the stages' checks as this frame left them
+    # the sums over the read-back images are taken when somebody reads them
+    audit = EnergyAudit.from_grid_audit(cascades[0].audit, rsm=lambda: rsm.total_flux,
+                                        gathered=lambda: gather.gathered,
+                                        rsm_per_light=lambda: rsm.flux_per_light)
     return FrameResult(
         settings=s, cascades=cascades,
         direct=gather.direct[..., :3], indirect=gather.indirect[..., :3],
@@ -205,7 +209,8 @@ def frame_result(settings: Settings, state: FrameState, scene: Scene, timer: Pas
         view_lights=vpls.view_lights, audit=audit, rsm_views=list(rsm.views or ()),
         vpls_hand_made=vpls.hand_made, light_views=rsm.light_views,
         timings_ms=dict(timer.timings_ms), timing_methods=dict(timer.methods),
-        stages_run=stages_run, warnings=guards.frame_warnings(state.warnings, s, audit),
+        stages_run=stages_run,
+        warnings=Deferred(lambda: guards.frame_warnings(by_stage, s, audit)),
         display_scale=state.display_scale, camera=scene.camera,
         scene_bounds=(tuple(map(float, scene.bounds_min)),
                       tuple(map(float, scene.bounds_max))),

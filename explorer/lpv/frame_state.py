@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from explorer.lpv.cascades import CascadeInput, SampledGrid
+from explorer.lpv.deferred import DeferredField
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.passes.fog import FogImages
 from explorer.lpv.passes.gather import GatherImages
@@ -25,6 +26,7 @@ from explorer.lpv.vpl import VplArrays
 
 if TYPE_CHECKING:
     from explorer.lpv.cascade_level import CascadeLevel
+    from explorer.lpv.guards import StageWarnings
     from explorer.lpv.passes.fog import FogPass
     from explorer.lpv.passes.gather import GatherPass
     from explorer.lpv.passes.gbuffer import GBufferPass
@@ -49,9 +51,10 @@ class RsmImages:
     normal: np.ndarray
     flux: np.ndarray
     """The primary view's position, normal and flux, ``(Hr, Wr, 4)``."""
-    total_flux: np.ndarray
+    # summed when first read (explorer/lpv/deferred.py): only the audit reads them
+    total_flux: np.ndarray = DeferredField()  # type: ignore[assignment]
     """(3,) every light's flux together."""
-    flux_per_light: np.ndarray
+    flux_per_light: np.ndarray = DeferredField()  # type: ignore[assignment]
     """(lights, 3): each light's flux summed over its views."""
     light_views: tuple = ()
     """The views rendered (``explorer.lpv.passes.rsm.LightView``: matrices, light, face)."""
@@ -93,8 +96,9 @@ class FrameState:
     """None while the fog is off."""
     display_scale: float = 1.0
     """``display``: what it multiplied the exposed image by (docs/MODEL.md "Display")."""
-    warnings: dict[str, list[str]] = field(default_factory=dict)
-    """Stage -> the warnings of its last run (explorer/lpv/guards.py)."""
+    warnings: dict[str, StageWarnings] = field(default_factory=dict)
+    """Stage -> the warnings of its last run (explorer/lpv/guards.py): a list, or the
+    Deferred check that makes it when the frame's warnings are read."""
     # the passes whose textures hold a stage's output on the GPU (set when the stages
     # are made; the textures are (re)allocated when they run)
     gbuffer_pass: GBufferPass | None = None

@@ -11,6 +11,9 @@ import numpy as np
 
 def grid_cells(cells: int | Sequence[int]) -> tuple[int, int, int]:
     """``(nx, ny, nz)`` from one whole number (a cube) or three; a ValueError otherwise."""
+    if type(cells) is tuple and len(cells) == 3 and type(cells[0]) is int and \
+            type(cells[1]) is int and type(cells[2]) is int and min(cells) >= 1:
+        return cells        # already one (the common case: no abstract-class checks)
     if isinstance(cells, numbers.Integral) and not isinstance(cells, bool):
         shape = (int(cells),) * 3
     else:

@@ -38,6 +38,7 @@ from explorer.lpv.constants import (
     SIDE_FACE_SOLID_ANGLE,
 )
 from explorer.lpv.corrections import CORRECTIONS
+from explorer.lpv.deferred import Deferred
 from explorer.lpv.stage_list import STAGES
 
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -100,6 +101,35 @@ def arrays_warnings(pass_name: str, arrays: Iterable[np.ndarray], settings) -> l
         if warning is not None:
             return [warning]
     return []
+
+
+StageWarnings = list[str] | Deferred
+"""A stage's warnings (``FrameState.warnings``): a list, or a :class:`Deferred` that makes
+it when the frame's warnings are read (:func:`arrays_warnings_later`)."""
+
+
+def arrays_warnings_later(pass_name: str, arrays: Iterable[np.ndarray], settings
+                          ) -> StageWarnings:
+    """:func:`arrays_warnings`, checked when the frame's warnings are first read (most
+    frames' never are); at once with ``settings.debug_nan``, whose error must stop the
+    pass."""
+    if settings.debug_nan:
+        return arrays_warnings(pass_name, arrays, settings)
+    arrays = list(arrays)
+    return Deferred(lambda: arrays_warnings(pass_name, arrays, settings))
+
+
+def joined(parts: Sequence[StageWarnings]) -> StageWarnings:
+    """The warnings of ``parts`` in their order: a list, or a Deferred when one is."""
+    if not any(type(part) is Deferred for part in parts):
+        return [warning for part in parts for warning in part]  # type: ignore[union-attr]
+    kept = list(parts)
+    return Deferred(lambda: [warning for part in kept for warning in resolved(part)])
+
+
+def resolved(warnings: StageWarnings) -> list[str]:
+    """A stage's warnings as a list (a Deferred's computed now, once)."""
+    return warnings.value() if type(warnings) is Deferred else warnings  # type: ignore
 
 
 def flux_warning(pass_name: str, flux: np.ndarray, corrections) -> str | None:
@@ -177,11 +207,11 @@ def growth_warning(corrections, iterations: int, measured: float | None = None
     return text
 
 
-def frame_warnings(by_stage: Mapping[str, Sequence[str]], settings,
+def frame_warnings(by_stage: Mapping[str, StageWarnings], settings,
                    audit: EnergyAudit) -> list[str]:
     """A frame's warnings: every stage's (``by_stage``), in :data:`STAGES` order, then
     the growth warning with the accumulated/injected flux ``audit`` measured."""
-    warnings = [w for stage in STAGES for w in by_stage.get(stage, [])]
+    warnings = [w for stage in STAGES for w in resolved(by_stage.get(stage, []))]
     if settings.iterations > 0:
         injected = float(np.sum(audit.injected))
         ratio = float(np.sum(audit.accumulated)) / injected if injected else None

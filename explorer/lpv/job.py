@@ -36,6 +36,9 @@ if TYPE_CHECKING:
     from explorer.lpv.settings import Settings
     from explorer.lpv.vpl import VplArrays
 
+_STAGE_ORDER = {name: i for i, name in enumerate(STAGES)}
+"""Each stage's place in the declared order (what ``Progress.stages_run`` is sorted by)."""
+
 ProgressCallback = Callable[[str, int, int], None]
 """``progress(stage, done, total)``: called when a stage starts (done 0) and after each of
 its units."""
@@ -151,9 +154,8 @@ class Job:
 
     @property
     def progress(self) -> Progress:
-        order = {name: i for i, name in enumerate(STAGES)}
         return Progress(self._stage, self._done, self._total, self.done,
-                        tuple(sorted(self._ran, key=order.__getitem__)))
+                        tuple(sorted(self._ran, key=_STAGE_ORDER.__getitem__)))
 
     # ------------------------------------------------------------------ work
     def advance(self, budget_ms: float | None = None) -> Progress:

@@ -21,6 +21,7 @@ import numpy as np
 from explorer.gl.gpu_sync import DeferredRead
 from explorer.gl.program import ProgramCache
 from explorer.lpv.audit import flux_per_light
+from explorer.lpv.deferred import Deferred
 from explorer.lpv.frame_state import RsmImages, VplImages
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.passes.atlas import PerView, VplAtlas
@@ -112,13 +113,15 @@ class LightViews:
         count = len(self.rsm_sets)
         flux = arrays[2:2 + count]
         primary = (arrays[0], arrays[1], flux[0])
-        per_light = flux_per_light(flux, [view.light_index for view in self.views])
+        lights = [view.light_index for view in self.views]
         views = (primary,) if count == 1 else None      # one view: read back already
         if every_view and count > 1:
             others = arrays[2 + count:]
             views = (primary,) + tuple((others[2 * k], others[2 * k + 1], flux[k + 1])
                                        for k in range(count - 1))
-        return RsmImages(*primary, total_flux=per_light.sum(axis=0),
+        # the flux sums are taken when the audit reads them
+        per_light = Deferred(lambda: flux_per_light(flux, lights))
+        return RsmImages(*primary, total_flux=Deferred(lambda: per_light.value().sum(axis=0)),
                          flux_per_light=per_light, light_views=tuple(self.views),
                          views=views), arrays
 

@@ -33,6 +33,8 @@ class SceneState:
         it (the frame's camera and lights)."""
         self.buffers: SceneBuffers | None = None
         """The posed scene's vertex buffer on the GPU."""
+        self._made: tuple[Settings, Scene, Scene] | None = None
+        """(Settings, posed scene, the scene made of them) of the last :meth:`for_settings`."""
         self.pose_ms = 0.0
         """Wall-clock milliseconds :meth:`load_and_pose` last spent posing objects and
         writing their corners to the vertex buffer (``lpv-explorer bench``'s moving
@@ -72,7 +74,11 @@ class SceneState:
         """The posed scene with the Settings' lights, camera, light, flux and spot cone
         applied (kept as :attr:`scene`)."""
         posed = self._posed if self._posed is not None else self._loaded[s.scene]
+        made = self._made
+        if made is not None and made[0] is s and made[1] is posed:
+            return made[2]      # Settings are frozen: several stages of a frame ask
         self.scene = posed.for_settings(s)
+        self._made = (s, posed, self.scene)
         return self.scene
 
     def forget(self) -> None:

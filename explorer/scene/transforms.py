@@ -14,7 +14,8 @@ import numpy as np
 
 def normalized(vector) -> np.ndarray:
     v = np.asarray(vector, dtype=np.float64)
-    length = float(np.linalg.norm(v))
+    # np.linalg.norm's own sqrt(v·v) for a vector, without its general set-up
+    length = math.sqrt(v.ravel().dot(v.ravel()))
     if not length > 0.0:
         raise ValueError(f"cannot normalise the zero vector {tuple(v)}")
     return v / length

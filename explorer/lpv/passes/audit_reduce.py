@@ -26,6 +26,12 @@ the partial records of 1026 slots (1024 iterations) take 37 MB, within one stora
 block."""
 
 
+_STAGE_DEFINES = {stage: {"AUDIT_STAGE": stage} for stage in (0, 1, 2)}
+"""The defines of ``audit_reduce.glsl``'s three stages (partials of a grid's flux, of the
+cell records; the fold), and their program keys, made once."""
+_STAGE_KEYS = {stage: ProgramCache.key("audit_reduce.glsl", defines)
+               for stage, defines in _STAGE_DEFINES.items()}
+
 GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
 """The sampler units of the grid whose flux :meth:`AuditReducer.measure_flux` reduces."""
 
@@ -50,6 +56,7 @@ class AuditReducer:
         self._buffers: dict[str, moderngl.Buffer] = {}
         self._slots = 0
         self._cells = (1, 1, 1)
+        self._partials = 1
         self.generation = 0
         """Counts :meth:`begin` calls: the per-cell records of a propagation are current
         while it has not changed (:class:`CellAuditRecords`)."""
@@ -65,8 +72,8 @@ class AuditReducer:
 
     @property
     def partial_count(self) -> int:
-        """Partial records per slot."""
-        return min(-(-self._cell_count // 64), MAX_PARTIALS)
+        """Partial records per slot (of the grid :meth:`begin` prepared)."""
+        return self._partials
 
     @property
     def _cell_count(self) -> int:
@@ -77,6 +84,7 @@ class AuditReducer:
         """Prepare ``slots`` zeroed result slots for a grid of ``cells`` (one number: a
         cube), and the per-cell records of a propagation step when ``cell_records``."""
         self._cells = grid_cells(cells)
+        self._partials = min(-(-self._cell_count // 64), MAX_PARTIALS)
         self._slots = int(slots)
         self.generation += 1
         self.has_records = bool(cell_records)
@@ -120,16 +128,18 @@ class AuditReducer:
             raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
         if not bound:
             self.bind()
-        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
+        program = self.programs.get("audit_reduce.glsl", _STAGE_DEFINES[stage],
+                                   _STAGE_KEYS[stage])
         # the grid's uniforms change with the grid (the levels' reducers share the
         # program, which keeps what was set last), the slot with every measurement
-        grid = (self._cells, self.partial_count, uniforms)
+        partials = self.partial_count
+        grid = (self._cells, partials, uniforms)
         if program.extra.get("audit grid") != grid:
             set_uniforms(program, {**uniforms, "u_grid_cells": self._cells,
-                                   "u_partial_count": self.partial_count})
+                                   "u_partial_count": partials})
             program.extra["audit grid"] = grid
         set_uniforms(program, {"u_result_slot": slot})
-        program.run(-(-self.partial_count // 64))
+        program.run(-(-partials // 64))
         self.ctx.memory_barrier()
 
     def measure_flux(self, slot: int, grid: LpvGrid, bound: bool = False) -> None:
@@ -163,7 +173,7 @@ class AuditReducer:
     def fold(self) -> None:
         """Fold the partial sums into one row per slot (on the GPU)."""
         self.bind()
-        program = self.programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 2})
+        program = self.programs.get("audit_reduce.glsl", _STAGE_DEFINES[2], _STAGE_KEYS[2])
         set_uniforms(program, {"u_partial_count": self.partial_count,
                                "u_slot_count": self._slots})
         program.run(-(-self._slots * AUDIT_VALUES // 64))

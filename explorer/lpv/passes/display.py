@@ -68,8 +68,15 @@ class AutoExposure:
         measured = self._measured
         if measured is None or measured[0] is not gather or measured[1] is not fog or \
                 measured[2] != indirect_only:
-            unexposed = exposed_image(gather.direct[..., :3], gather.indirect[..., :3],
-                                      1.0, indirect_only, fog)
+            if fog is None:
+                # exposed_image's values without its strided passes: direct + indirect
+                # added as whole pixels (the same float32 sums; x·1 is x), whose rgb
+                # the luminance reads in float64 (twin/tonemap.py: the same bits)
+                unexposed = gather.indirect if indirect_only \
+                    else gather.direct + gather.indirect
+            else:
+                unexposed = exposed_image(gather.direct[..., :3], gather.indirect[..., :3],
+                                          1.0, indirect_only, fog)
             measured = self._measured = (gather, fog, indirect_only,
                                          display_scale(unexposed, position[..., 3] > 0.5,
                                                        True))

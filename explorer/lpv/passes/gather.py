@@ -174,6 +174,9 @@ class GatherPass:
         self._triangle = FullscreenTriangle(ctx)
         self._empty_grid: moderngl.Texture3D | None = None
         self._lights = LightRecordBuffer(ctx)
+        self._uniforms: dict[int, tuple[tuple, dict[str, object]]] = {}
+        """Per program (by id: a program the cache recompiles has another): what its
+        uniforms were made of and the dict made (never changed once made)."""
         self.shader_filter = linear_filter_error(ctx) > EXACT_FILTER
         """Interpolate the grid in the shader (``SH_SHADER_FILTER``, sh_grid.glsl) because
         the texture unit's weights are not exact on this GPU."""
@@ -214,20 +217,27 @@ class GatherPass:
         for unit, texture in enumerate(finest.textures, start=5):
             texture.use(unit)
         light_count = self._lights.bind(shadow.views, shadow.tiles)
-        values = {
-            "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
-            "u_shadow_position": 3, "u_shadow_normal": 4,
-            "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
-            "u_light_count": light_count,
-            "u_shadow_kernel": int(params.shadow_kernel),
-            "u_has_grid": int(grid is not None),
-            "u_target_size": self._targets.size,
-            **finest.spec.uniforms(),
-            **self._cascade_uniforms(grid, finest.spec),
-            **(NO_GLOSSY if params.glossy is None else params.glossy.uniforms()),
-            **dict(params.switches),
-        }
-        set_uniforms(program, values, reads=uniforms_read_by(self.STAGE))
+        # the uniforms are made again only when what they are made of changes (a moved
+        # camera changes none of it): set_uniforms then finds the same dict and skips it
+        key = (light_count, params, grid is None, self._targets.size, finest.spec,
+               None if grid is None else tuple(level.spec for level in grid.cascades))
+        made = self._uniforms.get(id(program))
+        if made is None or made[0] != key:
+            values = {
+                "u_gbuffer_position": 0, "u_gbuffer_normal": 1, "u_gbuffer_albedo": 2,
+                "u_shadow_position": 3, "u_shadow_normal": 4,
+                "u_lpv_r": 5, "u_lpv_g": 6, "u_lpv_b": 7,
+                "u_light_count": light_count,
+                "u_shadow_kernel": int(params.shadow_kernel),
+                "u_has_grid": int(grid is not None),
+                "u_target_size": self._targets.size,
+                **finest.spec.uniforms(),
+                **self._cascade_uniforms(grid, finest.spec),
+                **(NO_GLOSSY if params.glossy is None else params.glossy.uniforms()),
+                **dict(params.switches),
+            }
+            made = self._uniforms[id(program)] = (key, values)
+        set_uniforms(program, made[1], reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):
             self._triangle.draw(program)
 

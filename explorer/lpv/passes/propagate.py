@@ -200,6 +200,8 @@ def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bo
             "PROPAGATE_FLUX_BUDGET": int(flux_budget)}
 
 
+_NOTHING_BOUND: frozenset[str] = frozenset()
+
 SLAB_CELLS = 32 ** 3
 """Cells one unit of a propagation step covers at most (a slab of z layers, a multiple of
 the 4-layer workgroup): a 64³ step is 8 units, each a few frames' budget on llvmpipe."""
@@ -331,7 +333,7 @@ class PropagationRun:
         else:
             # The race: the dispatch reads its neighbours from the grid it writes.
             target = self.accumulated
-        kept = self._bound if bound else set()
+        kept = self._bound if bound else _NOTHING_BOUND
         if "source" not in kept:
             self._source.use_as_textures(0)
         if self._budget is not None:
@@ -346,7 +348,7 @@ class PropagationRun:
             self.accumulated.bind_images(3)
         if self._with_audit and "audit" not in kept:
             owner.audit.bind()          # only the full audit's kernel writes the records
-        self._bound = {"run"} | ({"audit"} if self._with_audit else kept & {"audit"})
+        self._bound = {"run", "audit"} if self._with_audit or "audit" in kept else {"run"}
         first, end = self._slabs[self._slab]
         # one slab a step up to 32³: set once. The offset last set is kept with the
         # program, which the cascades' runs share (interleaved, each with its slabs).

@@ -216,7 +216,8 @@ def dispatch_size(resolution: int | tuple[int, int, int], local_size: int = 4
                   ) -> tuple[int, int, int]:
     """Workgroups covering ``resolution``³ (or ``(x, y, z)``) invocations with cubic groups
     of ``local_size``."""
-    shape = (resolution,) * 3 if np.ndim(resolution) == 0 else resolution
+    shape = resolution if type(resolution) is tuple else \
+        (resolution,) * 3 if np.ndim(resolution) == 0 else resolution
     return tuple(-(-int(extent) // local_size) for extent in shape)
 
 
@@ -277,14 +278,21 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
     """Copy a 3D texture or a layered 2D array (layer = z) into ``target``, texel for texel,
     with a compute shader (unit 0 holds the source while it runs)."""
     layered = isinstance(source, moderngl.TextureArray)
-    program = programs.get("volume_copy.glsl", {"SOURCE_LAYERED": int(layered),
-                                                **image_format_defines(target.format)})
+    made = _COPY_PROGRAMS.get((layered, target.format))
+    if made is None:
+        defines = {"SOURCE_LAYERED": int(layered), **image_format_defines(target.format)}
+        made = _COPY_PROGRAMS[(layered, target.format)] = (
+            defines, programs.key("volume_copy.glsl", defines))
+    program = programs.get("volume_copy.glsl", *made)
     source.use(0)
     target.bind_image(0, read=False, write=True)
     set_uniforms(program, {"u_source": 0})
     program.run(*dispatch_size(target.shape))
     programs.ctx.memory_barrier()
 
+
+_COPY_PROGRAMS: dict[tuple[bool, str], tuple[dict, tuple]] = {}
+""":func:`copy_volume`'s program defines and keys by (layered source, format)."""
 
 _PER_CONTEXT: dict[tuple[int, str], tuple[moderngl.Context, object]] = {}
 _DEFAULT_CONTEXT: list[moderngl.Context] = []

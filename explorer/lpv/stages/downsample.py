@@ -43,7 +43,7 @@ class Stage(StageBase):
         self.state.vpls = views.vpls_taken(reads, job.vpls is not None)
         # hand-made VPLs are the caller's: a NaN in them shows up at the injection
         self.state.warnings["downsample"] = [] if job.vpls is not None else \
-            guards.arrays_warnings("downsample", [self.state.vpls.vpls.flux], s)
+            guards.arrays_warnings_later("downsample", [self.state.vpls.vpls.flux], s)
 
     def release(self) -> None:
         for set_reads in self.reads:

@@ -63,7 +63,7 @@ class Stage(StageBase):
         direct, lpv = yield from read_back_later(
             self.reads, [self.fog.targets[name] for name in TARGETS])
         state.fog = FogImages(direct[..., 3].copy(), direct[..., :3], lpv[..., :3])
-        state.warnings["fog"] = guards.arrays_warnings("fog", [direct, lpv], s)
+        state.warnings["fog"] = guards.arrays_warnings_later("fog", [direct, lpv], s)
 
     def release(self) -> None:
         self.fog.release()

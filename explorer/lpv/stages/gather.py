@@ -69,7 +69,7 @@ class Stage(StageBase):
         arrays = yield from read_back_later(self.reads, [targets[name] for name in TARGETS])
         yield       # the sums and the checks of the arrays: a unit of their own
         self.state.gather = GatherImages(**dict(zip(TARGETS, arrays)))
-        self.state.warnings["gather"] = guards.arrays_warnings("gather", arrays, s)
+        self.state.warnings["gather"] = guards.arrays_warnings_later("gather", arrays, s)
 
     def gather_levels(self, s, rows: tuple[int, int] | None = None,
                       into: GatherPass | None = None,

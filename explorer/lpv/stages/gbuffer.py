@@ -38,7 +38,7 @@ class Stage(StageBase):
         yield
         arrays = yield from read_back_later(self.reads, self.gbuffer.textures)
         self.state.gbuffer = GBufferImages(*arrays)
-        self.state.warnings["gbuffer"] = guards.arrays_warnings("gbuffer", arrays, s)
+        self.state.warnings["gbuffer"] = guards.arrays_warnings_later("gbuffer", arrays, s)
 
     def release(self) -> None:
         self.gbuffer.release()

@@ -77,9 +77,9 @@ class Stage(StageBase):
         warnings = []
         for k, (level, volume, read) in enumerate(zip(levels, volumes, self.reads)):
             level.geometry = volume.texels(read.wait())
-            warnings += guards.arrays_warnings(level_pass_name("geometry", k, len(levels)),
-                                               [level.geometry], job.settings)
-        state.warnings["geometry"] = warnings
+            warnings.append(guards.arrays_warnings_later(
+                level_pass_name("geometry", k, len(levels)), [level.geometry], job.settings))
+        state.warnings["geometry"] = guards.joined(warnings)
 
     def camera_surfels(self, p: Params) -> CameraSurfels:
         """The G-buffer as occluder surfels, tested against every RSM view's shadow map

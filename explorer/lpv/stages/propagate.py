@@ -35,6 +35,14 @@ def advance_group(levels: list, limit_ms: float = GROUP_MS) -> None:
     one slab) or every level is finished; slabs of one level in a row keep its
     bindings."""
     start = time.perf_counter()
+    if len(levels) == 1:            # one level: its slabs in a row, all keeping its bindings
+        run, bound = levels[0].running, False
+        while not run.finished:
+            run.advance(bound=bound)
+            bound = True
+            if (time.perf_counter() - start) * 1e3 >= limit_ms:
+                return
+        return
     last = None
     while True:
         running = [level.running for level in levels if not level.running.finished]
@@ -150,18 +158,17 @@ class Stage(StageBase):
                 yield GpuWait(reads, sum(p.steps))     # the read-back follows
                 level.output = running.output(reads[0])
                 level.accumulated = running.accumulated.taken(reads[1:])
-                warnings += guards.found(guards.flux_warning(
+                warnings.append(guards.found(guards.flux_warning(
                     level_pass_name("inject", k, len(levels)), level.output.audit.injected,
-                    p.corrections))
-                warnings += guards.arrays_warnings(
+                    p.corrections)))
+                warnings.append(guards.arrays_warnings_later(
                     level_pass_name("propagate", k, len(levels)), [level.accumulated],
-                    job.settings)
+                    job.settings))
                 if audit[k] != job.need_audit:
-                    warnings.append(audit_skipped_warning(specs[k].cells,
-                                                          host.limits))
+                    warnings.append([audit_skipped_warning(specs[k].cells, host.limits)])
                 if k < len(levels) - 1:
                     yield sum(p.steps)
-            state.warnings["propagate"] = warnings
+            state.warnings["propagate"] = guards.joined(warnings)
         finally:
             for level in levels:
                 level.running = None

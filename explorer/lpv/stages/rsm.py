@@ -56,4 +56,4 @@ class Stage(StageBase):
             self.reads.append(DeferredRead(host.ctx))
         arrays = yield from read_back_later(self.reads, textures)
         self.state.rsm, checked = host.light_views.rsm_read_back(arrays, every_view)
-        self.state.warnings["rsm"] = guards.arrays_warnings("rsm", checked, s)
+        self.state.warnings["rsm"] = guards.arrays_warnings_later("rsm", checked, s)

@@ -21,6 +21,8 @@ inversely proportional to the light's flux (auto exposure undoes any change of f
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from explorer.lpv.settings import TONE_MAPS
@@ -80,7 +82,9 @@ def log_average_luminance(image: np.ndarray, mask: np.ndarray | None = None,
     luminance ranks between the two ``percentiles`` of theirs (``(0, 100)``: all of them;
     at least one pixel), ``δ`` = :data:`LOG_AVERAGE_FLOOR` × the brightest; 0 when none
     is lit."""
-    lum = np.nan_to_num(luminance(image))
+    lum = luminance(image)
+    if not np.isfinite(lum).all():      # nan_to_num copies even when nothing is to change
+        lum = np.nan_to_num(lum)
     if mask is not None:
         lum = lum[np.asarray(mask, bool)]
     lum = np.maximum(lum.ravel(), 0.0)
@@ -92,12 +96,14 @@ def log_average_luminance(image: np.ndarray, mask: np.ndarray | None = None,
     # window's values between them (in some order: the mean does not need one) in linear
     # time; a sort of a 960×540 frame took as long as a band of the gather.
     count = len(lum)
-    first = min(int(np.floor(count * percentiles[0] / 100.0)), count - 1)
-    stop = max(int(np.ceil(count * percentiles[1] / 100.0)), first + 1)
+    first = min(math.floor(count * percentiles[0] / 100.0), count - 1)
+    stop = max(math.ceil(count * percentiles[1] / 100.0), first + 1)
     ranked = np.partition(lum, sorted({first, stop - 1}))
     window = ranked[first:stop]
     delta = LOG_AVERAGE_FLOOR * peak
-    return float(np.exp(np.mean(np.log(delta + window))))
+    logs = np.log(delta + window)
+    # np.mean's own sum and division, without its Python wrapper (the same bits)
+    return float(np.exp(np.add.reduce(logs) / logs.size))
 
 
 def auto_exposure_scale(image: np.ndarray, mask: np.ndarray | None = None,
