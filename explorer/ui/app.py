@@ -400,7 +400,11 @@ class App:
         if not self._view_size.follow(state):
             return
         drag_budget = frame_pacing.drag_budget_ms(self.ui_ms)
-        self._interacted = self.interacting()
+        interacted, self._interacted = self._interacted, self.interacting()
+        if interacted and not self._interacted:
+            # a drag or a camera move has just settled: its full-size frame starts now, and
+            # it counts as input (the quiet budget waits as long after it as after a key)
+            self._input_at = time.monotonic()
         self.status = self.controller.update(
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
@@ -414,9 +418,10 @@ class App:
             self._update_title()
 
     def _quiet_s(self) -> float:
-        """Seconds since the last input, as the controller's quiet budget reads them; 0
-        when this frame will be drawn anyway for the progress label (a frame that draws
-        keeps to the frame budget: its work and its drawing stay one frame's worth)."""
+        """Seconds since the last input (or the end of a camera move), as the controller's
+        quiet budget reads them; 0 when this frame will be drawn anyway for the progress
+        label (a frame that draws keeps to the frame budget: its work and its drawing stay
+        one frame's worth)."""
         if time.monotonic() - self._drawn_at >= PROGRESS_REDRAW_S:
             return 0.0
         return time.monotonic() - self._input_at

@@ -142,6 +142,8 @@ class PipelineController:
         self._first_done = False
         self._status = ControllerStatus()
         self._side_budget_ms = 30.0
+        self._interacting = False
+        """The frame being updated is a drag's (no progressive previews)."""
         self._budget = FrameBudget(0.0, 0.0, 0.0, None)
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
@@ -236,6 +238,7 @@ class PipelineController:
             quiet_s=quiet_s, quiet_budget_ms=self.quiet_budget_ms,
             input_pending=input_pending)
         self._side_budget_ms = drag_budget_ms / len(active)
+        self._interacting = interacting
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
             try:
@@ -354,7 +357,7 @@ class PipelineController:
                         status: ControllerStatus) -> None:
         """A progressive picture when the propagation advanced since the last one and
         one is due (explorer/ui/previews.py)."""
-        if not state.progressive:
+        if not state.progressive or previews.shows_nothing_new(side, self._interacting):
             return
         gathering = previews.gathering_unpreviewed(side)
         if not (gathering or previews.propagated_since_preview(side)):
