@@ -32,6 +32,7 @@ from explorer import stop_signals
 from explorer.gl.window import Window
 from explorer.lpv.settings import Settings, preset_name
 from explorer.ui import animation, frame_pacing, memory, persist, theme
+from explorer.ui.figure_cache import FigureCache
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.frame_profile import FrameProfile
 from explorer.ui.images import write_png
@@ -160,6 +161,9 @@ class App:
         rt = self.state.runtime
         rt.services.textures = UiTextures(self.ctx)
         rt.services.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
+        # the lesson figures' pictures; with the test engine every figure draws live (the
+        # engine finds a figure's widgets only in the frames that draw them)
+        rt.services.figure_cache = FigureCache(self.ctx, enabled=not test_engine)
         if not rt.services.gl_problem:
             from explorer.ui.view_composer import ViewComposer
 
@@ -354,7 +358,8 @@ class App:
         for task in rt.services.tasks:
             task.release()
         rt.services.tasks.clear()
-        for owned in (rt.services.composer, rt.services.textures, rt.services.compositor):
+        for owned in (rt.services.composer, rt.services.textures, rt.services.compositor,
+                      rt.services.figure_cache):
             if owned is not None:
                 owned.release()
         rt.services.composer = None
@@ -449,6 +454,9 @@ class App:
             self.state.requests.open_scene = str(path)
 
     def _after_render(self, capture: bool) -> None:
+        figures = self.state.runtime.services.figure_cache
+        if figures is not None:
+            figures.capture(self.window.framebuffer_size)
         request = self.state.requests.screenshot
         if capture or request is not None:
             self.last_pixels = self.window.read_pixels()
