@@ -142,8 +142,6 @@ class PipelineController:
         self._first_done = False
         self._status = ControllerStatus()
         self._side_budget_ms = 30.0
-        self._interacting = False
-        """The frame being updated is a drag's (no progressive previews)."""
         self._budget = FrameBudget(0.0, 0.0, 0.0, None)
         self.full_pixels = 0
         """Pixels of the full render size (the state's, each update)."""
@@ -238,7 +236,6 @@ class PipelineController:
             quiet_s=quiet_s, quiet_budget_ms=self.quiet_budget_ms,
             input_pending=input_pending)
         self._side_budget_ms = drag_budget_ms / len(active)
-        self._interacting = interacting
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
             try:
@@ -357,7 +354,7 @@ class PipelineController:
                         status: ControllerStatus) -> None:
         """A progressive picture when the propagation advanced since the last one and
         one is due (explorer/ui/previews.py)."""
-        if not state.progressive or previews.shows_nothing_new(side, self._interacting):
+        if not state.progressive or previews.shows_nothing_new(side):
             return
         gathering = previews.gathering_unpreviewed(side)
         if not (gathering or previews.propagated_since_preview(side)):
