@@ -265,8 +265,10 @@ def session(spawned: float, frames: int, grid: int, finish_phases: bool = False)
         figures.update(display_phase(app, rec, figures["idle_frame_ms"]))
         figures.update(toggle_phase(app, rec))
         figures.update(iterations8_phase(app, rec))
-        figures.update(drag_phase(app, rec, "slider", "light_flux", _flux_values(app)))
-        figures.update(drag_phase(app, rec, "object", "object_transforms", _object_moves()))
+        figures.update(drag_phase(app, rec, "slider", "light_flux", _flux_values(app),
+                                  held=_window_marks_setting_drags()))
+        figures.update(drag_phase(app, rec, "object", "object_transforms", _object_moves(),
+                                  held=True))
         figures.update(grid64_phase(app, rec, next(iter(figures["toggles"]))))
         figures.update(session_summary(app, rec))
     finally:
@@ -428,11 +430,22 @@ def _object_moves() -> list:
             ] + [()]
 
 
-def drag_phase(app, rec: Recorder, name: str, field: str, values: list) -> dict:
+def _window_marks_setting_drags() -> bool:
+    """Whether the window counts a held slider's changes as a move (a checkout that does:
+    explorer/ui/frame_pacing.py ``note_setting_drag``)."""
+    from explorer.ui import frame_pacing
+
+    return hasattr(frame_pacing, "note_setting_drag")
+
+
+def drag_phase(app, rec: Recorder, name: str, field: str, values: list,
+               held: bool) -> dict:
     """A drag that sets ``field`` to each of ``values`` but the last in one frame each
     (input in every frame): the first changed picture after the first value, the
     converged picture after the last, the longest frame of the drag; then the last value
-    (the field put back) and converged."""
+    (the field put back) and converged. ``held``: each change also counts as a move, as
+    the window counts the gizmo's (and, where it does, a held slider's): the driver sets
+    the view's interaction time as they do, since it changes the state directly."""
     rec.phase = name
     before = picture_serial(app)
     start = time.perf_counter()
@@ -441,6 +454,8 @@ def drag_phase(app, rec: Recorder, name: str, field: str, values: list) -> dict:
     for value in values[:-1]:
         rec.input()
         app.state.update(**{field: value})
+        if held:
+            app.state.runtime.view.interaction.moved_at = time.monotonic()
         longest = max(longest, rec.frame())
         if first is None and picture_serial(app) != before:
             first = (time.perf_counter() - start) * 1e3

@@ -292,7 +292,9 @@ class App:
         self.profile.mark("update")
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
+        settings = self.state.settings
         self.panels.draw()
+        frame_pacing.note_setting_drag(self.state, settings)
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
