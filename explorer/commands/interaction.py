@@ -7,7 +7,8 @@ checkout too (``--root``); what only the responsive window offers (its pictures,
 per-frame work log) is read when present.
 
 The session: launch, converge, idle, orbit N frames by dragging the mouse
-over the view, an exposure sweep, each correction toggled, the grid at 64³. Times are
+over the view, an exposure sweep, each correction toggled, a slider dragged (the light's
+flux) and an object moved over a few frames, the grid at 64³. Times are
 wall-clock on this machine, to be compared only with another run on the same machine.
 
 Soak (``--soak MINUTES``): what a user does, pass after pass through the course: every
@@ -265,6 +266,10 @@ def session(spawned: float, frames: int, grid: int, finish_phases: bool = False)
         figures.update(display_phase(app, rec, figures["idle_frame_ms"]))
         figures.update(toggle_phase(app, rec))
         figures.update(iterations8_phase(app, rec))
+        figures.update(drag_phase(app, rec, "slider", "light_flux", _flux_values(app),
+                                  held=_window_marks_setting_drags()))
+        figures.update(drag_phase(app, rec, "object", "object_transforms", _object_moves(),
+                                  held=True))
         figures.update(grid64_phase(app, rec, next(iter(figures["toggles"]))))
         figures.update(session_summary(app, rec))
     finally:
@@ -332,13 +337,17 @@ def orbit_phase(app, rec: Recorder, frames: int) -> dict:
     rec.frame()
     pictures, last = 0, picture_serial(app)
     start = time.perf_counter()
+    first = None
     for step in range(1, frames + 1):
         io.add_mouse_pos_event(x + DRAG_PIXELS * (step % 60) - 180.0, y)
         rec.input()
         rec.frame()
         serial = picture_serial(app)
         pictures += serial != last
+        if first is None and serial != last:
+            first = (time.perf_counter() - start) * 1e3
         last = serial
+    figures["orbit_first_update_ms"] = first if first is not None else float("nan")
     orbit_s = time.perf_counter() - start
     figures["orbit_fps"] = pictures / orbit_s
     figures["orbit_window_fps"] = frames / orbit_s
@@ -401,6 +410,68 @@ def iterations8_phase(app, rec: Recorder) -> dict:
                 t["converged_ms"] for t in times.values()),
             "iterations8_slowest_first_update_ms": max(
                 t["first_update_ms"] for t in times.values())}
+
+
+DRAG_FRAMES = 8
+"""Frames of a slider drag or an object move (one new value each, as a mouse drag gives)."""
+MOVED_OBJECT = "short block"
+"""The Cornell box's object the object phase moves."""
+
+
+def _flux_values(app) -> list:
+    """The light's flux dragged up by 5 % a frame from the scene's own (then put back)."""
+    flux = app.state.settings.light_flux
+    base = flux or getattr(app.state.runtime.scene_facts, "light_flux_default", None) or 1.0
+    return [float(base) * (1.0 + 0.05 * step) for step in range(1, DRAG_FRAMES + 1)] + [flux]
+
+
+def _object_moves() -> list:
+    """The moved object 2 cm further along x a frame (then put back)."""
+    return [((MOVED_OBJECT, (0.02 * step, 0.0, 0.0)),) for step in range(1, DRAG_FRAMES + 1)
+            ] + [()]
+
+
+def _window_marks_setting_drags() -> bool:
+    """Whether the window counts a held slider's changes as a move (a checkout that does:
+    explorer/ui/frame_pacing.py ``note_setting_drag``)."""
+    from explorer.ui import frame_pacing
+
+    return hasattr(frame_pacing, "note_setting_drag")
+
+
+def drag_phase(app, rec: Recorder, name: str, field: str, values: list,
+               held: bool) -> dict:
+    """A drag that sets ``field`` to each of ``values`` but the last in one frame each
+    (input in every frame): the first changed picture after the first value, the
+    converged picture after the last, the longest frame of the drag; then the last value
+    (the field put back) and converged. ``held``: each change also counts as a move, as
+    the window counts the gizmo's (and, where it does, a held slider's): the driver sets
+    the view's interaction time as they do, since it changes the state directly."""
+    rec.phase = name
+    before = picture_serial(app)
+    start = time.perf_counter()
+    first = None
+    longest = 0.0
+    for value in values[:-1]:
+        rec.input()
+        app.state.update(**{field: value})
+        if held:
+            app.state.runtime.view.interaction.moved_at = time.monotonic()
+        longest = max(longest, rec.frame())
+        if first is None and picture_serial(app) != before:
+            first = (time.perf_counter() - start) * 1e3
+    released = time.perf_counter()
+    while busy(app) and time.perf_counter() - released < SETTLE_LIMIT_S:
+        rec.frame()
+        if first is None and picture_serial(app) != before:
+            first = (time.perf_counter() - start) * 1e3
+    figures = {f"{name}_first_update_ms": first if first is not None else float("nan"),
+               f"{name}_converged_ms": (time.perf_counter() - released) * 1e3,
+               f"{name}_longest_frame_ms": longest}
+    rec.input()
+    app.state.update(**{field: values[-1]})
+    rec.converge()
+    return figures
 
 
 def grid64_phase(app, rec: Recorder, correction: str) -> dict:

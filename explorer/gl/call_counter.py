@@ -73,7 +73,8 @@ SYNC_CLASSES = ("Fence",)
 CTYPES_ENTRY_POINTS = {"begin_query": "queries", "end_query": None, "query_object_iv": None,
                        "query_object_ui64v": None, "gen_queries": None,
                        "delete_queries": None, "fence_sync": None, "delete_sync": None,
-                       "client_wait_sync": None, "copy_image_sub_data": "copies"}
+                       "client_wait_sync": None, "copy_image_sub_data": "copies",
+                       "copy_tex_sub_image_2d": "copies"}
 """explorer.gl.gpu_sync's ``ctypes`` GL functions (``gl()``'s attributes) -> their kind."""
 CLASSES = ("Context", "Buffer", "Texture", "Texture3D", "TextureArray", "TextureCube",
            "Framebuffer", "Renderbuffer", "VertexArray", "Program", "ComputeShader",

@@ -78,6 +78,10 @@ class _Gl:
                                              *([ctypes.c_uint, ctypes.c_uint, ctypes.c_int]
                                                + [ctypes.c_int] * 3) * 2,
                                              ctypes.c_int, ctypes.c_int, ctypes.c_int)
+        # a rectangle of the bound read framebuffer into the bound 2D texture (the
+        # window's figure pictures, explorer/ui/figure_cache.py): queued, no read-back
+        self.copy_tex_sub_image_2d = _function(library, "glCopyTexSubImage2D", None,
+                                               ctypes.c_uint, *[ctypes.c_int] * 7)
         self.query_object_iv = _function(library, "glGetQueryObjectiv", None, ctypes.c_uint,
                                          ctypes.c_uint, ctypes.POINTER(ctypes.c_int))
         self.query_object_ui64v = _function(library, "glGetQueryObjectui64v", None,

@@ -7,6 +7,11 @@ that is dropped without ``release()`` leaks its native object (the context's def
 ``gc_mode`` frees nothing), so a ``with ctx.scope(...)`` per draw leaked one per frame.
 A draw into a framebuffer that has no :class:`RenderTargets` (an overlay's target) goes
 through :func:`scoped`, which releases its scope when the draw ends.
+
+A change of size keeps the targets of the size left (up to :data:`KEPT_SIZES` of them):
+the window alternates between a drag's reduced size, its previews' and the full one, and
+making and zero-filling full-size float targets anew cost a software renderer tens of
+milliseconds each time (a third of the frame after a drag).
 """
 
 from __future__ import annotations
@@ -15,6 +20,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 import moderngl
+
+KEPT_SIZES = 2
+"""Sets of targets at other sizes a :class:`RenderTargets` keeps for a change back."""
 
 
 @contextmanager
@@ -48,24 +56,42 @@ class RenderTargets:
         self._depth: moderngl.Renderbuffer | None = None
         self.framebuffer: moderngl.Framebuffer | None = None
         self._scope: moderngl.Scope | None = None
+        self.keep_sizes = KEPT_SIZES
+        """How many sets at other sizes are kept (0: a change of size releases the old)."""
+        self._kept: dict[tuple[int, int], tuple] = {}
+        """Size -> (textures, depth, framebuffer, scope) kept, the oldest first."""
 
     def allocate(self, size: tuple[int, int]) -> None:
-        """Make the targets ``size`` (width, height) big; nothing happens at the same size."""
+        """Make the targets ``size`` (width, height) big; nothing happens at the same size.
+        The set of the size left is kept (module docstring), and one kept at ``size`` is
+        taken back as it was left (its texels are not cleared)."""
         size = (int(size[0]), int(size[1]))
         if size == self.size:
             return
-        self.release()
+        if self._scope is not None:
+            self._kept[self.size] = (self.textures, self._depth, self.framebuffer,
+                                     self._scope)
+        kept = self._kept.pop(size, None)
+        if kept is not None:
+            self.textures, self._depth, self.framebuffer, self._scope = kept
+        else:
+            self.textures, self._depth, self.framebuffer, self._scope = self._make(size)
+        self.size = size
+        while len(self._kept) > self.keep_sizes:
+            self._release_set(self._kept.pop(next(iter(self._kept))))
+
+    def _make(self, size: tuple[int, int]) -> tuple:
+        textures = []
         for index, dtype in enumerate(self.dtypes):
             texture = self.ctx.texture(size, 4, dtype=dtype)
             smooth = moderngl.LINEAR if index in self.linear else moderngl.NEAREST
             texture.filter = (smooth, smooth)
             texture.repeat_x = texture.repeat_y = False
-            self.textures.append(texture)
-        if self.depth:
-            self._depth = self.ctx.depth_renderbuffer(size)
-        self.framebuffer = self.ctx.framebuffer(self.textures, self._depth)
-        self._scope = self.ctx.scope(self.framebuffer, enable_only=self.enable)
-        self.size = size
+            textures.append(texture)
+        depth = self.ctx.depth_renderbuffer(size) if self.depth else None
+        framebuffer = self.ctx.framebuffer(textures, depth)
+        return textures, depth, framebuffer, self.ctx.scope(framebuffer,
+                                                            enable_only=self.enable)
 
     @contextmanager
     def drawing(self, clear: bool = False, rows: tuple[int, int] | None = None
@@ -88,9 +114,18 @@ class RenderTargets:
             finally:
                 self.framebuffer.scissor = None
 
-    def release(self) -> None:
-        for resource in (self._scope, self.framebuffer, self._depth, *self.textures):
+    @staticmethod
+    def _release_set(kept: tuple) -> None:
+        textures, depth, framebuffer, scope = kept
+        for resource in (scope, framebuffer, depth, *textures):
             if resource is not None:
                 resource.release()
+
+    def release(self) -> None:
+        """Release the targets and every set kept at another size."""
+        self._release_set((self.textures, self._depth, self.framebuffer, self._scope))
+        for kept in self._kept.values():
+            self._release_set(kept)
+        self._kept.clear()
         self._scope = self.framebuffer = self._depth = None
         self.textures, self.size = [], (0, 0)

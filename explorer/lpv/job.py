@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Protocol
 from explorer.gl.gpu_sync import GpuWait
 from explorer.lpv.audit import audit_mode
 from explorer.lpv.cache_keys import remembered_stage_key
-from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, STAGES, VERBS
+from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, PIXEL_STAGES, STAGES, VERBS
 
 if TYPE_CHECKING:
     from explorer.lpv.frame import FrameResult
@@ -52,6 +52,9 @@ class Pipeline(Protocol):
     keys: dict[str, object]
     out_keys: dict[str, object]
     unit_ms: dict[str, float]
+    unit_ms_at: dict[tuple[str, int], float]
+    unit_ms_sized: dict[tuple[str, int, int], float]
+    unit_pixels: dict[str, int]
     key_memo: dict[str, tuple]
     job: Job | None
 
@@ -185,10 +188,31 @@ class Job:
 
     def next_unit_ms(self) -> float:
         """What the next unit of work should take, as measured: the same unit of the
-        stage's last run (``Pipeline.unit_ms_at``), else the stage's last unit, else 0."""
+        stage's last run (``Pipeline.unit_ms_at``), else the stage's last unit, else 0. A
+        stage whose work grows with the pixels (``PIXEL_STAGES``) takes the same unit at
+        this image size (``Pipeline.unit_ms_sized``); at a size not measured yet, one
+        measured at a smaller size is scaled up by the pixels (never down: a band of rows
+        holds as many pixels at any size), so that the full-size frame after a drag's
+        reduced ones is not sized by the reduced units."""
+        pipeline = self.pipeline
         stage = self._stage or ""
-        unit_ms = self.pipeline.unit_ms.get(stage, 0.0)
-        return self.pipeline.unit_ms_at.get((stage, self._unit), unit_ms)
+        unit_ms = pipeline.unit_ms.get(stage, 0.0)
+        estimate = pipeline.unit_ms_at.get((stage, self._unit), unit_ms)
+        if stage not in PIXEL_STAGES:
+            return estimate
+        pixels = self.pixels
+        exact = pipeline.unit_ms_sized.get((stage, self._unit, pixels))
+        if exact is not None:
+            return exact
+        measured_at = pipeline.unit_pixels.get(stage)
+        if not measured_at:
+            return estimate
+        return estimate * max(pixels / measured_at, 1.0)
+
+    @property
+    def pixels(self) -> int:
+        """The image's pixels (what a per-pixel stage's units grow with)."""
+        return int(self.settings.width) * int(self.settings.height)
 
     def preview(self, scale: float = 1.0) -> bool:
         """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
@@ -254,8 +278,12 @@ class Job:
             if isinstance(count, GpuWait):
                 self._gpu_wait, count = count, count.progress
             elapsed = (time.perf_counter() - started) * 1e3
-            self.pipeline.unit_ms[name] = elapsed
-            self.pipeline.unit_ms_at[(name, self._unit)] = elapsed
+            pipeline = self.pipeline
+            pipeline.unit_ms[name] = elapsed
+            pipeline.unit_ms_at[(name, self._unit)] = elapsed
+            if name in PIXEL_STAGES:
+                pipeline.unit_ms_sized[(name, self._unit, self.pixels)] = elapsed
+                pipeline.unit_pixels[name] = self.pixels
             self._unit += 1
             self._done = self._done + 1 if count is None else count
             if finished:

@@ -32,6 +32,7 @@ from explorer import stop_signals
 from explorer.gl.window import Window
 from explorer.lpv.settings import Settings, preset_name
 from explorer.ui import animation, frame_pacing, memory, persist, theme
+from explorer.ui.figure_cache import FigureCache
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.frame_profile import FrameProfile
 from explorer.ui.images import write_png
@@ -160,6 +161,9 @@ class App:
         rt = self.state.runtime
         rt.services.textures = UiTextures(self.ctx)
         rt.services.compositor = Compositor(self.ctx)     # the View panel's in-scene overlays
+        # the lesson figures' pictures; with the test engine every figure draws live (the
+        # engine finds a figure's widgets only in the frames that draw them)
+        rt.services.figure_cache = FigureCache(self.ctx, enabled=not test_engine)
         if not rt.services.gl_problem:
             from explorer.ui.view_composer import ViewComposer
 
@@ -288,7 +292,9 @@ class App:
         self.profile.mark("update")
         self._imgui.new_frame()
         imguizmo.im_guizmo.begin_frame()
+        settings = self.state.settings
         self.panels.draw()
+        frame_pacing.note_setting_drag(self.state, settings)
         from explorer.ui import widgets
 
         rt.redraw = rt.redraw or widgets.animating()
@@ -354,7 +360,8 @@ class App:
         for task in rt.services.tasks:
             task.release()
         rt.services.tasks.clear()
-        for owned in (rt.services.composer, rt.services.textures, rt.services.compositor):
+        for owned in (rt.services.composer, rt.services.textures, rt.services.compositor,
+                      rt.services.figure_cache):
             if owned is not None:
                 owned.release()
         rt.services.composer = None
@@ -400,7 +407,11 @@ class App:
         if not self._view_size.follow(state):
             return
         drag_budget = frame_pacing.drag_budget_ms(self.ui_ms)
-        self._interacted = self.interacting()
+        interacted, self._interacted = self._interacted, self.interacting()
+        if interacted and not self._interacted:
+            # a drag or a camera move has just settled: its full-size frame starts now, and
+            # it counts as input (the quiet budget waits as long after it as after a key)
+            self._input_at = time.monotonic()
         self.status = self.controller.update(
             state, state.frame_budget_ms,
             need_audit=rt.audit_wanted, interacting=self._interacted,
@@ -414,9 +425,10 @@ class App:
             self._update_title()
 
     def _quiet_s(self) -> float:
-        """Seconds since the last input, as the controller's quiet budget reads them; 0
-        when this frame will be drawn anyway for the progress label (a frame that draws
-        keeps to the frame budget: its work and its drawing stay one frame's worth)."""
+        """Seconds since the last input (or the end of a camera move), as the controller's
+        quiet budget reads them; 0 when this frame will be drawn anyway for the progress
+        label (a frame that draws keeps to the frame budget: its work and its drawing stay
+        one frame's worth)."""
         if time.monotonic() - self._drawn_at >= PROGRESS_REDRAW_S:
             return 0.0
         return time.monotonic() - self._input_at
@@ -444,6 +456,9 @@ class App:
             self.state.requests.open_scene = str(path)
 
     def _after_render(self, capture: bool) -> None:
+        figures = self.state.runtime.services.figure_cache
+        if figures is not None:
+            figures.capture(self.window.framebuffer_size)
         request = self.state.requests.screenshot
         if capture or request is not None:
             self.last_pixels = self.window.read_pixels()

@@ -189,7 +189,11 @@ def _page_env(state: AppState, session: LessonSession, step: Step,
         page = env.page
         spec = next(s for s in step.figures if s.instance_id == figure_id)
         with figure_context(state).showing(state) as context_figures:
-            draw_figure(replace(spec, caption=""), width, context_figures)
+            cache = state.runtime.services.figure_cache
+            if cache is None:
+                draw_figure(replace(spec, caption=""), width, context_figures)
+            else:       # drawn once while nothing it shows changes (explorer/ui/figure_cache.py)
+                cache.draw(replace(spec, caption=""), width, context_figures, step)
         if spec.caption:      # through the text flow: it may quote live numbers
             caption = lesson_text.parse(spec.caption)
             runs = tuple(lesson_text.Text(r.text, "italic") if isinstance(r, lesson_text.Text)

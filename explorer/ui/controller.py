@@ -359,7 +359,7 @@ class PipelineController:
                         status: ControllerStatus) -> None:
         """A progressive picture when the propagation advanced since the last one and
         one is due (explorer/ui/previews.py)."""
-        if not state.progressive:
+        if not state.progressive or previews.shows_nothing_new(side):
             return
         gathering = previews.gathering_unpreviewed(side)
         if not (gathering or previews.propagated_since_preview(side)):

@@ -121,6 +121,9 @@ class SideState:
     """The request of the job in flight."""
     done: Request | None = None
     """The request of the last finished frame (what :attr:`result` shows)."""
+    refines: tuple[Request, bool] | None = None
+    """(the request in flight, whether it only resizes ``done``'s frame): remembered so
+    that the previews' pacing compares the settings once per request."""
     failed: Request | None = None
     result: FrameResult | None = None
     progress: Progress | None = None

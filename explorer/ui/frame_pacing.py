@@ -8,8 +8,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import astuple
+from typing import TYPE_CHECKING
 
 from explorer.ui.state import AppState
+
+if TYPE_CHECKING:
+    from explorer.lpv.settings import Settings
 
 INTERACTION_SETTLE_S = 0.2
 """After the last wheel step or key move the camera counts as moving this much longer."""
@@ -46,6 +50,24 @@ def interacting(state: AppState) -> bool:
     rt = state.runtime
     return (rt.view.interaction.active(time.monotonic(), INTERACTION_SETTLE_S)
             or (rt.services.animation is not None and rt.services.animation.active))
+
+
+def note_setting_drag(state: AppState, before: Settings) -> None:
+    """A widget held down (a slider being dragged) changed what the pipelines run this
+    frame (``before``: the settings when the panels began): it counts as a move, as a
+    camera drag does, so that each job of the drag renders at the drag's size and finishes
+    before the next starts (else every frame of the drag cancels the job in flight and no
+    picture comes until the drag ends). A display field's slider (exposure) runs no stage
+    and is not counted."""
+    from imgui_bundle import imgui
+
+    settings = state.settings
+    if settings is before or not imgui.is_any_item_active():
+        return
+    from explorer.ui.controller import PINNED_DISPLAY
+
+    if settings.with_changes(**PINNED_DISPLAY) != before.with_changes(**PINNED_DISPLAY):
+        state.runtime.view.interaction.moved_at = time.monotonic()
 
 
 def idle_timeout(state: AppState, timeout_s: float) -> float:

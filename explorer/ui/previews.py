@@ -2,7 +2,9 @@
 a job, at most every :data:`PREVIEW_INTERVAL_S` and at most :data:`PREVIEW_SHARE` of the
 time, and none once the finished frame is due within :data:`FINISH_SOON_S`. The first
 preview of a job is coarse (:data:`FIRST_PREVIEW_SCALE`), and a job that changes only
-the gather (no propagation to show) gets that one too while its full-size gather runs."""
+the gather (no propagation to show) gets that one too while its full-size gather runs.
+A job that only refines the picture on screen to a larger size (a drag's release) shows
+no preview: the picture it would preview is the one already shown."""
 
 from __future__ import annotations
 
@@ -49,6 +51,23 @@ def gathering_unpreviewed(side: SideState) -> bool:
     propagation has just finished) and has shown no preview yet."""
     progress = side.progress
     return progress is not None and progress.stage == "gather" and side.previews == 0
+
+
+def shows_nothing_new(side: SideState) -> bool:
+    """The side's job renders the frame it last finished at another size only (the full
+    size after a drag, after the first small picture): a preview would cost its gather
+    and a drawn frame for a picture no larger than the one on screen."""
+    request, done = side.request, side.done
+    if request is None or request.interactive:
+        return False
+    if done is None or done.settings is request.settings:
+        return False
+    if side.refines is not None and side.refines[0] is request:
+        return side.refines[1]
+    s = request.settings
+    refines = done.settings.with_changes(width=s.width, height=s.height) == s
+    side.refines = (request, refines)
+    return refines
 
 
 def preview_due(side: SideState, interval_s: float, draw_ms: float) -> bool:

@@ -216,6 +216,9 @@ class Services:
     """Background work the controller advances within the frame budget with its GL
     context (objects with ``advance(ctx, budget_s)``, ``release()`` and ``running``),
     e.g. the Error panel's reference render."""
+    figure_cache: object | None = None
+    """explorer.ui.figure_cache.FigureCache: the lesson figures' pictures, made by the
+    window (named, not imported: the figures' context reads this module)."""
     animation: Animation | None = None
     """The paths and fly-through that play, the object the gizmo moves (made on first use
     by explorer.ui.animation.animation_of)."""

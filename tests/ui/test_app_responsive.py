@@ -1,6 +1,7 @@
 """The window's frame loop under Xvfb: an idle window draws nothing and runs no stage
 until input or a change arrives; a camera drag (imgui mouse events on the view) renders
-at a reduced size and the full size follows when it ends."""
+at a reduced size and the full size follows when it ends; a held slider over a pipeline
+setting counts as such a move."""
 
 from __future__ import annotations
 
@@ -134,3 +135,32 @@ def test_a_released_drag_refines_without_waiting_for_the_idle_timeout():
         assert max(waits) <= INTERACTION_SETTLE_S + 1.0, waits     # not the 30 s timeout
     finally:
         app.close()
+
+
+def test_a_held_slider_that_changes_the_pipelines_counts_as_a_move(monkeypatch):
+    """A slider dragged over a setting the pipelines run (the light's flux) counts as a
+    move while it is held, so that its jobs render at the drag's size and finish before
+    the next starts; a display field's (the exposure) does not, nor a change made with no
+    widget held."""
+    from imgui_bundle import imgui
+
+    from explorer.ui import frame_pacing
+
+    state = AppState(settings=TINY)
+    interaction = state.runtime.view.interaction
+    held = [True]
+    monkeypatch.setattr(imgui, "is_any_item_active", lambda: held[0])
+    before = state.settings
+    state.update(exposure=2.0)
+    frame_pacing.note_setting_drag(state, before)
+    assert interaction.moved_at < 0 and not frame_pacing.interacting(state)
+    before = state.settings
+    state.update(light_flux=(before.light_flux or 1.0) * 1.1)
+    frame_pacing.note_setting_drag(state, before)
+    assert frame_pacing.interacting(state)
+    interaction.moved_at = -1e9
+    held[0] = False
+    before = state.settings
+    state.update(light_flux=before.light_flux * 1.1)
+    frame_pacing.note_setting_drag(state, before)
+    assert not frame_pacing.interacting(state)

@@ -611,3 +611,101 @@ def _live_textures(gl_context) -> int:
     gl_context.gc()
     counts = gl_objects(limit=4096)
     return counts["Texture"] + counts["Framebuffer"]
+
+
+class _UnitClock:
+    """A clock that stands still except while a unit of work runs: a unit of a per-pixel
+    stage takes ``ms_per_pixel`` times the image's pixels, any other unit 0.01 ms, so
+    that what a frame fits is decided by the units' sizes and not by the machine."""
+
+    def __init__(self, ms_per_pixel: float) -> None:
+        self.now_s, self.ms_per_pixel = 1000.0, ms_per_pixel
+        self.units: list[tuple[int, str, int]] = []
+        """(frame, stage, pixels) of every unit run."""
+        self.frame = 0
+
+    def __call__(self) -> float:
+        return self.now_s
+
+    def timed(self, stage: str, job, work):
+        from explorer.lpv.stage_list import PIXEL_STAGES
+
+        pixels = job.settings.width * job.settings.height
+        cost_ms = self.ms_per_pixel * pixels if stage in PIXEL_STAGES else 0.01
+        try:
+            while True:
+                self.now_s += cost_ms / 1e3
+                self.units.append((self.frame, stage, pixels))
+                try:
+                    value = next(work)
+                except StopIteration as stop:
+                    return stop.value
+                yield value
+        finally:
+            work.close()
+
+
+def test_the_full_size_frame_after_a_drag_is_sized_by_full_size_units(gl_context, ctx,
+                                                                         monkeypatch):
+    """A drag's reduced frames measure small units; the full-size frame after the release
+    must not be sized by them (it ran the full-size G-buffer and a gather band in one frame
+    of a 30 ms budget): each frame of the release runs only what fits, as measured at the
+    full size, and the G-buffer's units come in frames of their own."""
+    import time as time_module
+
+    full_unit_ms = 20.0
+    clock = _UnitClock(full_unit_ms / (SMALL.width * SMALL.height))
+
+    class TimedPipeline(CountingPipeline):
+        def stage_work(self, stage, job):
+            return clock.timed(stage, job, super().stage_work(stage, job))
+
+    control = PipelineController(gl_context, TimedPipeline)
+    monkeypatch.setattr(time_module, "perf_counter", clock)
+    try:
+        state = _state()
+        _settle(control, state)                 # the first small picture, then full size
+        camera = state.runtime.scene_facts.camera_default
+        for step in (1, 2):                     # a drag: reduced frames
+            state.update(camera=(tuple(c + 0.1 * step for c in camera[0]), camera[1]))
+            _settle(control, state, interacting=True, drag_budget_ms=30.0)
+        assert state.runtime.frame.result.direct.shape[1] < SMALL.width
+        released = len(clock.units)
+        budget_ms = 30.0
+        for frame in range(1, 200):             # released: the full size follows
+            clock.frame = frame
+            status = control.update(state, budget_ms)
+            if not status.active:
+                break
+        units = [(frame, stage) for frame, stage, pixels in clock.units[released:]
+                 if pixels == SMALL.width * SMALL.height]
+        pixel_units = Counter(frame for frame, stage in units
+                              if stage in ("gbuffer", "gather", "display"))
+        assert pixel_units, "the release ran no full-size work"
+        # two 20 ms units never share a 30 ms frame (the first unit of a frame always runs)
+        assert max(pixel_units.values()) == 1, pixel_units
+        assert len({frame for frame, stage in units if stage == "gbuffer"}) >= 2
+    finally:
+        control.release()
+
+
+def test_the_full_size_frame_after_a_drag_shows_no_preview(controller):
+    """The full-size frame after a drag's reduced ones shows no progressive preview: it
+    would show the camera's picture already on screen, at no larger a size."""
+    state = _state()
+    _settle(controller, state)
+    camera = state.runtime.scene_facts.camera_default
+    for step in (1, 2):
+        state.update(camera=(tuple(c + 0.1 * step for c in camera[0]), camera[1]))
+        _settle(controller, state, BUDGET_MS, interacting=True, drag_budget_ms=1e-3)
+    assert state.runtime.frame.result.direct.shape[1] < SMALL.width
+    statuses = _settle(controller, state, BUDGET_MS)
+    assert state.runtime.frame.result.direct.shape[1] == SMALL.width
+    previews = [unit.what for status in statuses for unit in status.work
+                if unit.what.startswith("preview")]
+    assert previews == []
+    # a change the gather sees on the same size still gets its coarse first picture
+    state.set_corrections(irradiance_gather=not state.settings.corrections.irradiance_gather)
+    statuses = _settle(controller, state, BUDGET_MS)
+    assert any(unit.what.startswith("preview") for status in statuses
+               for unit in status.work)

@@ -8,6 +8,10 @@ figure at the given width::
         spec = make_figure("clamped-cosine", normal_deg=45)
         pixels = win.render(spec, frames=3)      # (H, W, 3) of the figure's rectangle
         win.screenshot("cosine.png")             # the whole window
+
+With ``cached`` the figure goes through the window's figure cache
+(explorer/ui/figure_cache.py), as a lesson page's figures do: :attr:`cache` counts its
+live drawings and the frames shown from its picture.
 """
 
 from __future__ import annotations
@@ -26,9 +30,10 @@ _PADDING = 16.0
 class FigureWindow:
     def __init__(self, width: int = 900, height: int = 700, visible: bool = True,
                  context: FigureContext | None = None, scale: float = 1.0,
-                 headless: bool = False) -> None:
+                 headless: bool = False, cached: bool = False) -> None:
         """``scale``: draw the figure's sizes and fonts this many times larger (2 for the
-        web site's 2× images); ``headless``: no display (glfw's null platform, EGL)."""
+        web site's 2× images); ``headless``: no display (glfw's null platform, EGL);
+        ``cached``: draw through a :class:`~explorer.ui.figure_cache.FigureCache`."""
         from imgui_bundle import imgui
 
         from explorer.ui import fonts, theme
@@ -50,6 +55,14 @@ class FigureWindow:
         """Right edge (screen pixels) of everything the figure drawn last submitted: past
         ``rect``'s left edge + the width asked for, the figure overflows its column."""
         self.last_pixels: np.ndarray | None = None
+        self.cache = None
+        """The figure cache (``cached``), else None."""
+        if cached:
+            from explorer.ui.figure_cache import FigureCache
+
+            self.cache = FigureCache(self.ctx)
+        self.page: object = self
+        """What the cache takes as the page shown (another object releases its pictures)."""
 
     def __enter__(self) -> FigureWindow:
         return self
@@ -79,10 +92,15 @@ class FigureWindow:
         imgui.begin("figure", None, flags)
         imgui.pop_style_var()
         width = figure_width or imgui.get_content_region_avail().x
-        self.rect = draw_figure(spec, width, self.context)
+        if self.cache is None:
+            self.rect = draw_figure(spec, width, self.context)
+        else:
+            self.rect = self.cache.draw(spec, width, self.context, self.page)
         self.drawn_right = imgui.get_item_rect_max().x     # the figure's group, unpadded
         imgui.end()
         self._imgui.render(self.ctx, CLEAR_COLOUR)
+        if self.cache is not None:
+            self.cache.capture(self.window.framebuffer_size)
         if capture:
             self.last_pixels = self.window.read_pixels()
         self.window.swap_buffers()
@@ -120,6 +138,8 @@ class FigureWindow:
     def close(self) -> None:
         if self.window.handle is None:
             return
+        if self.cache is not None:
+            self.cache.release()
         self._imgui.shutdown()
         self.window.close()
 
