@@ -1,12 +1,13 @@
 #version 430 core
 // Energy audit on the GPU (GridAudit, explorer/lpv/audit.py), read back as small sums.
-// An audit record is 18 numbers:
+// An audit record is 21 numbers:
 //     [0..2]  flux (of a grid, or delivered into the grid by a propagation step)
 //     [3..5]  border loss:  flux sent to targets outside the grid
-//     [6..8]  clamp gain:   flux the front faces gain by the clamp+ (used - raw intensity)
+//     [6..8]  clamp gain:   flux the faces gain by the clamp+ (clamped - raw intensity)
 //     [9..11] occluded:     flux the faces lose to the geometry volume (1 - V_f)
 //     [12..14] reflected:   flux the geometry volume reflects back (reflection.glsl)
 //     [15..17] blocked:     blocked flux that can bounce (clamp+ per direction)
+//     [18..20] withheld:    flux the flux budget kept back ((1 - beta) * clamp+ faces)
 // Stages (select with AUDIT_STAGE):
 //   0: partial records of the flux of one grid (the injected grid, the accumulation);
 //   1: partial records of the per-cell records propagate.glsl wrote (cell_terms);
@@ -23,7 +24,7 @@
 #include "sh.glsl"
 #include "grid.glsl"
 
-const int AUDIT_VALUES = 18;
+const int AUDIT_VALUES = 21;
 const int CELLS_PER_PARTIAL = 64;
 
 layout(std430, binding = 2) buffer Partials { float partials[]; };

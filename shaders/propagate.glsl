@@ -12,11 +12,12 @@
 // What it can produce (one value per schedule of neighbour reads) is
 // explorer/lpv/twin/light_grid.py in_place_step_candidates.
 //
-// The same dispatch measures the step's energy audit (GridAudit): every cell writes 18
+// The same dispatch measures the step's energy audit (GridAudit): every cell writes 21
 // numbers to `cell_terms` (layout of audit_reduce.glsl): the flux the step delivers into it,
-// the clamp gain and occluded flux of the faces it gathers through, as a border cell the
-// border loss, clamp gain and occluded flux of the faces it sends out of the grid, and the
-// flux reflected back into it and the blocked flux that could bounce (reflection.glsl);
+// the clamp gain, occluded flux and flux withheld by the budget of the faces it gathers
+// through, as a border cell the border loss and those terms of the faces it sends out of
+// the grid, and the flux reflected back into it and the blocked flux that could bounce
+// (reflection.glsl);
 // explorer/lpv/twin/light_grid.py propagation_step_cells books them alike. audit_reduce.glsl sums
 // them; a shared-memory reduction here would need barrier(), which costs llvmpipe more than
 // the whole step. Each cell also adds its record to its own running sum over the steps in
@@ -54,7 +55,7 @@
 
 // 64 invocations: a 4x4x4 brick shares most neighbour reads in cache on real GPUs.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-const int AUDIT_VALUES = 18;
+const int AUDIT_VALUES = 21;
 
 uniform sampler3D u_source_r;
 uniform sampler3D u_source_g;
@@ -117,7 +118,7 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     float front_weight = lpv_front_face_weight();
     float side_weight = lpv_side_face_weight();
     ShVec received[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
-    LpvAudit audit = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
+    LpvAudit audit = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     // One call per neighbour with its constant frame (d, u, v), in the order of
     // LPV_DIRECTIONS; nothing enters from outside the grid.
     ivec3 last = u_grid_cells - 1;
@@ -206,8 +207,8 @@ void propagate_cell(ivec3 cell, out float audit_record[AUDIT_VALUES]) {
     SH_IMAGE_STORE(u_target_b, cell, sh_add(SH_IMAGE_LOAD(u_target_b, cell), received[2]));
 #endif
     vec3 delivered = vec3(sh_flux(received[0]), sh_flux(received[1]), sh_flux(received[2]));
-    vec3 terms[6] = vec3[6](delivered, audit.border, audit.clamp_gain, audit.occluded,
-                            reflected, blocked);
+    vec3 terms[7] = vec3[7](delivered, audit.border, audit.clamp_gain, audit.occluded,
+                            reflected, blocked, audit.withheld);
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         audit_record[i] = terms[i / 3][i % 3];
     }

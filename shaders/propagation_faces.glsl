@@ -102,9 +102,10 @@ vec3 lpv_budget = vec3(1.0);
 
 // Audit terms of a step, per channel, in watts.
 struct LpvAudit {
-    vec3 clamp_gain;   // flux added by clamp+ on the front faces (used - raw intensity)
+    vec3 clamp_gain;   // flux added by clamp+ (front faces; every face under the budget)
     vec3 occluded;     // flux removed by the geometry volume (1 - V_f)
     vec3 border;       // flux sent to targets outside the grid
+    vec3 withheld;     // flux the flux budget kept back: (1 - lpv_budget) * clamp+(I_f)
 };
 
 // One face (docs/MODEL.md "Propagation"):
@@ -119,9 +120,11 @@ void lpv_send_face(ShVec source[3], vec3 eval_direction, vec3 reprojection, floa
     vec3 raw = vec3(sh_dot(source[0], basis), sh_dot(source[1], basis),
                     sh_dot(source[2], basis));
 #if PROPAGATE_FLUX_BUDGET
-    vec3 used = lpv_budget * max(raw, vec3(0.0));
+    vec3 unbudgeted = max(raw, vec3(0.0));
+    vec3 used = lpv_budget * unbudgeted;
 #else
     vec3 used = clamped ? max(raw, vec3(0.0)) : raw;
+    vec3 unbudgeted = used;
 #endif
     // A surfel blocks light that runs into its front side, i.e. travels against its normal:
     // the blocker lobe is evaluated at -e_f, so a lit wall does not shadow its own bounce.
@@ -132,7 +135,8 @@ void lpv_send_face(ShVec source[3], vec3 eval_direction, vec3 reprojection, floa
     float visibility = 1.0;
 #endif
     float flux_per_intensity = weight * sh_flux(lobe);
-    audit.clamp_gain += flux_per_intensity * (used - raw);
+    audit.clamp_gain += flux_per_intensity * (unbudgeted - raw);
+    audit.withheld += flux_per_intensity * (unbudgeted - used);
     audit.occluded += flux_per_intensity * (1.0 - visibility) * used;
     if (leaving) {
         audit.border += flux_per_intensity * visibility * used;

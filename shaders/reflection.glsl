@@ -44,7 +44,7 @@ void lpv_reflect(ShVec own[3], ivec3 cell, float front_weight, float side_weight
         ivec3 target = cell + LPV_DIRECTIONS[dir];
         // The five faces towards `target`, sent as if leaving: only the audit is wanted,
         // whose `occluded` is exactly the flux the geometry volume takes from them.
-        LpvAudit pair = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0));
+        LpvAudit pair = LpvAudit(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
         ShVec unused[3] = ShVec[3](SHV_ZERO, SHV_ZERO, SHV_ZERO);
         lpv_send(own, target, dir, true, front_weight, side_weight, unused, pair);
         vec3 bounced = max(pair.occluded, vec3(0.0));

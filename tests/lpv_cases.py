@@ -43,7 +43,8 @@ def random_grid(seed: int, resolution: int, band1: float = 0.5) -> np.ndarray:
     grid[..., 1:] = band1 * rng.standard_normal(grid.shape[:4] + (3,))
     return grid
 
-AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated")
+AUDIT_FIELDS = ("injected", "per_step", "border_loss", "clamp_gain", "occluded", "accumulated",
+                "budget_withheld")
 """The propagation audit's terms a GPU run and the twin must agree on."""
 
 

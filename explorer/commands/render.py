@@ -403,6 +403,7 @@ def format_audit(audit) -> str:
             ("border loss (all steps)", _all_steps(audit.border_loss)),
             ("clamp gain (all steps)", _all_steps(audit.clamp_gain)),
             ("occluded (all steps)", _all_steps(audit.occluded)),
+            ("withheld by the budget", _all_steps(audit.budget_withheld)),
             ("blocked, bounces 2", _all_steps(audit.blocked)),
             ("reflected, bounces 2", _all_steps(audit.reflected))]
     lines = ["energy audit [W]            red        green       blue"]

@@ -300,6 +300,7 @@ AUDIT_SUMS = (
     ("clamp_gain", "flux created by the front-face clamp, all steps"),
     ("occluded", "flux the geometry volume removed, all steps"),
     ("reflected", "flux the geometry volume reflected back (bounces 2), all steps"),
+    ("budget_withheld", "flux the flux budget kept back (0 without it), all steps"),
 )
 """EnergyAudit fields quoted as ``audit.<field>``: watts summed over the colour channels
 (and over the steps for the per-step terms)."""
@@ -313,6 +314,10 @@ AUDIT_RATIOS = (
      "flux the geometry volume removed over all steps / injected flux"),
     ("border_loss_share", "border_loss", "injected",
      "flux that left through the grid border over all steps / injected flux"),
+    ("budget_withheld_share", "budget_withheld", "injected",
+     "flux the flux budget kept back over all steps / injected flux"),
+    ("budget_withheld_over_clamp_gain", "budget_withheld", "clamp_gain",
+     "flux the flux budget kept back / flux the clamp created, all steps"),
 )
 """``audit.<name>``: one audit sum over another."""
 

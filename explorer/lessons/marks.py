@@ -15,7 +15,10 @@ A mark with a ``normal`` measures :data:`READOUTS` at its point: the indirect ir
 the LPV's final gather computes there (docs/MODEL.md "Final gather", the numpy twin
 ``explorer.lpv.twin.light_grid.gather_cascades`` on the frame's accumulated grids), so a claim
 such as "the dark side receives more than 1 % of the lit side's light" is a check of one
-mark's number over another's (explorer/lessons/checks.py).
+mark's number over another's (explorer/lessons/checks.py). The ``*over_reference``
+readouts hold that irradiance against the project's one-bounce reference at the same
+point (the frame's VPLs summed directly, with shadow rays: explorer/truth/reference.py
+``point_reference_irradiance``), the error of the surface the mark is on.
 """
 
 from __future__ import annotations
@@ -36,7 +39,16 @@ READOUTS = {"irradiance": ("indirect irradiance the LPV gathers at the mark (sum
             "green_share": ("green's share of the indirect irradiance at the mark (a third "
                             "for white light)", ""),
             "blue_share": ("blue's share of the indirect irradiance at the mark (a third for "
-                           "white light)", "")}
+                           "white light)", ""),
+            "over_reference": ("indirect irradiance at the mark over the one-bounce "
+                               "reference's there (the frame's VPLs summed with shadow rays; "
+                               "channels summed; 1 is exact)", ""),
+            "red_over_reference": ("the red channel's irradiance at the mark over the "
+                                   "reference's red there", ""),
+            "green_over_reference": ("the green channel's irradiance at the mark over the "
+                                     "reference's green there", ""),
+            "blue_over_reference": ("the blue channel's irradiance at the mark over the "
+                                    "reference's blue there", "")}
 """What a mark with a normal measures: readout -> (doc, unit)."""
 KEYS = ("id", "label", "at", "normal")
 _ID = re.compile(r"^[a-z][a-z0-9_]*$")
@@ -113,10 +125,50 @@ def readout(mark: Mark, result: Any, name: str) -> float:
     if name == "irradiance":
         return irradiance(mark, result)
     channels = irradiance_rgb(mark, result)
+    if name.endswith("over_reference"):
+        truth = reference_irradiance_rgb(mark, result)
+        channel = CHANNELS.get(name.split("_")[0])
+        lpv, want = ((channels.sum(), truth.sum()) if channel is None
+                     else (channels[channel], truth[channel]))
+        if not want > 0.0:
+            raise ValueError(f"the reference has no light at mark {mark.id!r}")
+        return float(lpv / want)
     total = float(channels.sum())
     if total <= 0.0:
         raise ValueError(f"no indirect light at mark {mark.id!r}")
-    return float(channels[("red_share", "green_share", "blue_share").index(name)] / total)
+    return float(channels[CHANNELS[name.split("_")[0]]] / total)
+
+
+CHANNELS = {"red": 0, "green": 1, "blue": 2}
+
+
+def reference_irradiance_rgb(mark: Mark, result: Any) -> np.ndarray:
+    """(3,) the project's one-bounce reference irradiance (W/m²) at the mark: the frame's
+    lit VPLs summed at the point with shadow rays against the scene's triangles, the 1/r²
+    clamped at half a cell of the finest grid as the Error panel's reference is. Kept per
+    frame (the window reads it every frame the step shows)."""
+    key = (id(result), mark.at, mark.normal)
+    kept = _REFERENCE_KEPT.get(key)
+    if kept is not None and kept[0] is result:
+        return kept[1]
+    from explorer.truth.gbuffer import scene_for, scene_triangles
+    from explorer.truth.reference import point_reference_irradiance
+    from explorer.truth.render import lit_vpls
+
+    if mark.normal is None:
+        raise ValueError(f"mark {mark.id!r} has no normal: it measures nothing")
+    triangles = scene_triangles(scene_for(result.settings))
+    value = point_reference_irradiance(mark.at, mark.normal, lit_vpls(result.vpls),
+                                       0.5 * result.grid_spec.cell_size, triangles,
+                                       visibility=True)
+    if len(_REFERENCE_KEPT) >= 16:
+        _REFERENCE_KEPT.pop(next(iter(_REFERENCE_KEPT)))
+    _REFERENCE_KEPT[key] = (result, value)
+    return value
+
+
+_REFERENCE_KEPT: dict[tuple, tuple[Any, np.ndarray]] = {}
+"""The last few marks' reference irradiance, with the frame each belongs to."""
 
 
 def irradiance(mark: Mark, result: Any) -> float:

@@ -10,10 +10,11 @@ on the GPU (the last step's, and their sums over the steps): :class:`CellAuditRe
 cell), a small read at its offset.
 
 Balance of one step ``t`` (exact up to rounding, any switches):
-``per_step[t] = propagated[t] + clamp_gain[t] − occluded[t] − border_loss[t] +
-reflected[t]``, where
+``per_step[t] = propagated[t] + clamp_gain[t] − budget_withheld[t] − occluded[t] −
+border_loss[t] + reflected[t]``, where
 ``propagated`` is the flux the unclamped, unoccluded faces carry (``per_step[t−1]`` for the
-corrected formulas with side faces and exact constants: the 30 faces cover 4π).
+corrected formulas with side faces and exact constants: the 30 faces cover 4π) and
+``budget_withheld`` what the flux budget keeps back (0 without it).
 """
 
 from __future__ import annotations
@@ -32,7 +33,8 @@ AUDIT_MODES = ("off", "flux", "full")
 (:meth:`AuditReducer.measure_flux`, still the minimal kernel); ``full`` also every other
 term of the balance and the per-cell records (``PROPAGATE_AUDIT 1``, ~2.5× a step's cost
 on llvmpipe)."""
-TERMS_OF_FULL_AUDIT = ("border_loss", "clamp_gain", "occluded", "reflected", "blocked")
+TERMS_OF_FULL_AUDIT = ("border_loss", "clamp_gain", "occluded", "reflected", "blocked",
+                       "budget_withheld")
 """:class:`GridAudit` terms only the full audit measures (None in the other modes)."""
 
 
@@ -70,7 +72,8 @@ class GridAudit:
     border_loss: np.ndarray | None
     """(iterations, 3) flux sent out of the grid by step t+1 (full audit only)."""
     clamp_gain: np.ndarray | None
-    """(iterations, 3) flux created by the front-face clamp in step t+1 (full audit only)."""
+    """(iterations, 3) flux created by the clamp+ in step t+1: of the front faces, or
+    under the flux budget of every face (full audit only)."""
     occluded: np.ndarray | None
     """(iterations, 3) flux removed by the geometry volume in step t+1 (full audit only)."""
     accumulated: np.ndarray
@@ -82,6 +85,10 @@ class GridAudit:
     """(iterations, 3) flux the geometry volume blocked in step t+1 that can bounce: per
     source cell and direction clamped at 0 (``bounces`` 2 only; zeros otherwise; full
     audit only). ``reflected <= blocked`` whenever every albedo is <= 1."""
+    budget_withheld: np.ndarray | None = field(default_factory=lambda: np.zeros((0, 3)))
+    """(iterations, 3) flux the flux budget kept back in step t+1: ``(1 − β)·S`` per
+    source cell, what its clamped faces would send beyond the cell's own flux
+    (docs/MODEL.md "Flux budget"); zeros without the budget (full audit only)."""
     mode: str = "full"
     """The audit mode that measured it (:data:`AUDIT_MODES`)."""
 
@@ -154,11 +161,14 @@ class CellAudit:
     """Flux the geometry volume reflected back into the cell (``bounces`` 2)."""
     blocked: np.ndarray
     """Flux the cell sent that the volume blocked and that can bounce (``bounces`` 2)."""
+    budget_withheld: np.ndarray
+    """Flux the flux budget kept back on the faces the cell gathered through (and, for a
+    border cell, on those it sent out of the grid)."""
 
     @classmethod
     def from_record(cls, values) -> CellAudit:
-        """From the 18 numbers of a record (the order of ``shaders/audit_reduce.glsl``)."""
-        values = np.asarray(values, np.float64).reshape(6, 3)
+        """From the 21 numbers of a record (the order of ``shaders/audit_reduce.glsl``)."""
+        values = np.asarray(values, np.float64).reshape(7, 3)
         return cls(*values)
 
 

@@ -36,8 +36,8 @@ MIN_CASCADE_GRID = 8
 TEXEL_BYTES = {"rgba32f": 16, "rgba16f": 8}
 GRIDS_PER_CASCADE = 4
 """Light grids one cascade keeps on the GPU: injected, ping, pong, accumulated."""
-AUDIT_RECORD_BYTES = 72
-"""One per-cell audit record (18 floats); one storage block holds one record per cell."""
+AUDIT_RECORD_BYTES = 84
+"""One per-cell audit record (21 floats); one storage block holds one record per cell."""
 AUDIT_BYTES_PER_CELL = 2 * AUDIT_RECORD_BYTES
 """Per-cell audit records the propagation keeps (only with the audit): the last step's
 and the sum over the steps."""

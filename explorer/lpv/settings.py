@@ -287,8 +287,9 @@ class Settings:
         group="Leak reduction and bounces", stages=("propagate",),
         doc="Each propagation step sends from a cell at most the flux it holds, and no "
             "negative light: every face clamp+, all scaled down where their sum exceeds "
-            'the cell\'s flux (docs/MODEL.md "Flux budget"); the audit books the cut as '
-            "clamp gain. Needs ping-pong and bounces 1.")
+            'the cell\'s flux (docs/MODEL.md "Flux budget"); the audit books the clamp as '
+            "clamp gain and the cut as its own term, withheld by the budget. Needs "
+            "ping-pong and bounces 1.")
     camera_occluders: bool = setting(
         False, kind="bool", flag="--camera-occluders", widget="checkbox",
         label="Camera occluders", group="Leak reduction and bounces", stages=("geometry",),

@@ -2,7 +2,9 @@
 light, an object or the camera moves slowly (docs/MODEL.md "Moving objects and temporal
 stability").
 
-Frame ``t`` moves the thing by ``t·step`` world units along an axis. The change between
+Frame ``t`` moves the thing by ``t·step`` world units along an axis; ``move =
+"light-turn"`` turns the primary light instead, its target by ``t·step`` degrees about the
+axis through the light's position (the light stays where it is). The change between
 frames ``t−1`` and ``t`` is measured on the luminance ``Y`` (Rec. 709) of the linear
 indirect image, over the pixels that show the same surface point in both frames (a
 moving object's own pixels show other points each frame: their change is the motion,
@@ -18,6 +20,8 @@ With cascades that follow the camera, snapping them to their cells
 (``Settings.cascade_snap``) keeps the light still between snaps; without it the VPLs move
 to other cells every frame (the light *swims*). A moving light's RSM snapped to its texels
 (``Settings.rsm_snap``, explorer/lpv/rsm_snap.py) keeps its VPLs in place between snaps.
+The snap is a translation of the light's eye in its image plane: it leaves a turn as it
+is (a turning spot's eye does not move, so its VPLs move every frame either way).
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from explorer.lpv.twin.light_grid import gather_cascades, indirect_radiance
 from explorer.lpv.twin.tonemap import luminance
 from explorer.scene.model import Scene, SceneError
 
-MOVES = ("light", "object", "camera")
+MOVES = ("light", "object", "camera", "light-turn")
 SNAPS = {"cascades": "cascade_snap", "rsm": "rsm_snap"}
 """What a stability run's two rows flip: the Settings field of each snapping switch."""
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -44,6 +48,7 @@ class Motion:
 
     move: str
     step: float
+    """World units per frame (``light-turn``: degrees per frame)."""
     axis: str = "x"
     object: str | None = None
     """The object that moves (``move == "object"``; None: the scene's second object, or
@@ -60,6 +65,16 @@ class Motion:
     def offset(self, frame: int) -> np.ndarray:
         return frame * self.step * np.asarray(AXES[self.axis])
 
+    def turned(self, position, target, frame: int) -> np.ndarray:
+        """``target`` turned by ``frame·step`` degrees about the axis through
+        ``position`` (Rodrigues' rotation)."""
+        angle = np.radians(frame * self.step)
+        k = np.asarray(AXES[self.axis])
+        v = np.asarray(target, np.float64) - np.asarray(position, np.float64)
+        turned = (v * np.cos(angle) + np.cross(k, v) * np.sin(angle)
+                  + k * (k @ v) * (1.0 - np.cos(angle)))
+        return np.asarray(position, np.float64) + turned
+
     def object_name(self, scene: Scene) -> str:
         if self.object is not None:
             return scene.object_named(self.object).name
@@ -75,6 +90,11 @@ class Motion:
             eye, target = (np.asarray(p, np.float64) + shift
                            for p in (scene.camera.eye, scene.camera.target))
             return base.with_changes(camera=(tuple(eye), tuple(target)))
+        if self.move == "light-turn":
+            light = scene.light
+            target = self.turned(light.position, light.target, frame)
+            return base.with_changes(light=(tuple(float(v) for v in light.position),
+                                            tuple(float(v) for v in target)))
         if self.move == "light":
             light = scene.light
             position = np.asarray(light.position, np.float64) + shift

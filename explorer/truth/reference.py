@@ -400,6 +400,48 @@ def segments_blocked(starts: np.ndarray, ends: np.ndarray, triangles: np.ndarray
     return blocked
 
 
+MAX_BRUTE_FORCE_TRIANGLES = 4096
+"""Triangles :func:`point_reference_irradiance` tests every shadow ray against at most
+(brute force: VPLs × triangles segment tests)."""
+
+
+def point_reference_irradiance(point, normal, vpls: VplArrays, min_distance: float,
+                               triangles: np.ndarray | None = None, visibility: bool = False,
+                               ray_offset: float | None = None) -> np.ndarray:
+    """(3,) the reference's irradiance at one surface point with unit ``normal``: the sum
+    of :func:`numpy_reference_irradiance` for one pixel, over all VPLs at once (shadow
+    rays by brute force, so ``visibility`` takes a scene of at most
+    :data:`MAX_BRUTE_FORCE_TRIANGLES` triangles)."""
+    min_distance = _check_min_distance(min_distance)
+    if visibility and triangles is None:
+        raise ValueError("visibility=True needs the scene triangles")
+    if visibility and len(triangles) > MAX_BRUTE_FORCE_TRIANGLES:
+        raise ValueError(f"the reference at one point tests shadow rays against every "
+                         f"triangle: {len(triangles)} are more than "
+                         f"{MAX_BRUTE_FORCE_TRIANGLES}")
+    p = np.asarray(point, np.float64)
+    n = np.asarray(normal, np.float64)
+    n = n / np.linalg.norm(n)
+    sources = np.asarray(vpls.positions, np.float64).reshape(-1, 3)
+    source_normals = np.asarray(vpls.normals, np.float64).reshape(-1, 3)
+    offset = p - sources
+    dist_sq = np.einsum("ij,ij->i", offset, offset)
+    w = offset / np.sqrt(np.where(dist_sq > 0, dist_sq, 1.0))[:, None]
+    cos_source = np.clip(np.einsum("ij,ij->i", w, source_normals), 0.0, None)
+    cos_receiver = np.clip(-(w @ n), 0.0, None)
+    geometry = np.where(dist_sq > 0, cos_source * cos_receiver
+                        / np.maximum(dist_sq, min_distance ** 2), 0.0)
+    if visibility:
+        if ray_offset is None:
+            ray_offset = default_ray_offset(triangles, None) if len(triangles) else 0.0
+        lit = np.flatnonzero(geometry > 0)
+        blocked = segments_blocked(sources[lit] + ray_offset * source_normals[lit],
+                                   np.broadcast_to(p + ray_offset * n, (len(lit), 3)),
+                                   triangles)
+        geometry[lit[blocked]] = 0.0
+    return geometry @ np.asarray(vpls.flux, np.float64).reshape(-1, 3) / np.pi
+
+
 def numpy_reference_irradiance(gbuffer: GBuffer, vpls: VplArrays, min_distance: float,
                                triangles: np.ndarray | None = None, visibility: bool = False,
                                ray_offset: float | None = None) -> np.ndarray:

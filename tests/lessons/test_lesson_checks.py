@@ -320,6 +320,46 @@ def test_a_mark_measures_what_the_gather_computes_and_lands_on_its_pixel(shipped
                       lambda text: (1.0, 1.0)) == []          # a measuring mark is not drawn
 
 
+def test_a_marks_reference_is_the_error_panels_reference_at_its_pixel(shipped, ctx):
+    """``over_reference``: the LPV's irradiance at a mark over the one-bounce reference's
+    there; the reference at the point is the GPU reference image's at the pixel that sees
+    it (irradiance = radiance·π/albedo, shadow rays, the 1/r² clamp at half a cell), and
+    the numpy sum of one pixel (``numpy_reference_irradiance``) to rounding."""
+    import numpy as np
+
+    from explorer.lessons import find_lesson, preview_settings
+    from explorer.lessons.marks import Mark, irradiance_rgb, readout, reference_irradiance_rgb
+    from explorer.lpv.pipeline import Pipeline
+    from explorer.truth.gbuffer import scene_for, scene_triangles
+    from explorer.truth.reference import GBuffer, numpy_reference_irradiance
+    from explorer.truth.render import lit_vpls, reference_for_frame
+
+    step = find_lesson("how-far", shipped).steps[0]
+    settings = preview_settings(step, size=64, max_grid=16, rsm_size=16)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        result = pipeline.run(settings)
+    x, y = 40, 30
+    position, normal = result.gbuffer_position[y, x], result.gbuffer_normal[y, x, :3]
+    assert position[3] > 0.5
+    mark = Mark("probe", "", tuple(map(float, position[:3])),
+                tuple(map(float, normal / np.linalg.norm(normal))))
+    truth = reference_irradiance_rgb(mark, result)
+    image, gbuffer = reference_for_frame(result, True, ctx=ctx)
+    gpu = image[y, x] * np.pi / np.asarray(gbuffer.albedo)[y, x]
+    np.testing.assert_allclose(truth, gpu, rtol=2e-3)
+    one = GBuffer(np.array([[mark.at]]), np.array([[mark.normal]]), np.ones((1, 1, 3)),
+                  np.ones((1, 1), bool))
+    triangles = scene_triangles(scene_for(result.settings))
+    numpy_sum = numpy_reference_irradiance(one, lit_vpls(result.vpls),
+                                           0.5 * result.grid_spec.cell_size, triangles,
+                                           True, ray_offset=None)[0, 0]
+    np.testing.assert_allclose(truth, numpy_sum, rtol=1e-10)
+    lpv = irradiance_rgb(mark, result)
+    assert readout(mark, result, "over_reference") == pytest.approx(lpv.sum() / truth.sum())
+    assert readout(mark, result, "green_over_reference") == pytest.approx(lpv[1] / truth[1])
+    assert truth.min() > 0 and lpv.min() > 0
+
+
 def test_a_try_this_may_reframe_the_camera(tmp_path):
     """``camera`` in a try-this moves the camera with the change (the reframe a new grid
     needs); with ``split`` it is refused (both sides share the step's camera)."""

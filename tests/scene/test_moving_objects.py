@@ -272,6 +272,44 @@ def test_stability_command_flips_the_rsm_snap_and_refuses_an_unknown_switch(caps
     assert "--snap: invalid choice: 'grid'" in error and len(error.splitlines()) == 1
 
 
+def test_a_turning_light_keeps_its_place_and_turns_its_target_by_the_step():
+    """``light-turn``: frame t's target is the first's turned by t·step degrees about the
+    axis through the light, at the same distance; the light stays where it is."""
+    scene = load_scene("cornell").for_settings(SMALL)
+    motion = Motion("light-turn", 2.5, "x")
+    position = np.asarray(scene.light.position)
+    first = np.asarray(scene.light.target) - position
+    for frame in (1, 3):
+        settings = motion.settings(SMALL, scene, frame)
+        moved_position, target = (np.asarray(p) for p in settings.light)
+        np.testing.assert_allclose(moved_position, position, atol=1e-12)
+        turned = target - position
+        assert np.linalg.norm(turned) == pytest.approx(np.linalg.norm(first), rel=1e-12)
+        cosine = turned @ first / (np.linalg.norm(turned) * np.linalg.norm(first))
+        assert math.degrees(math.acos(min(cosine, 1.0))) == pytest.approx(2.5 * frame)
+        assert turned[0] == pytest.approx(first[0], abs=1e-12)     # about x: x stays
+
+
+def test_rsm_snapping_leaves_a_turning_light_as_it_is(capsys):
+    """The RSM snap is a translation of the light's eye: a spot turning about its own
+    position has nothing to snap, so both rows change every frame alike, and the command
+    says why; a turn of a point light needs a --step (no texel angle to default to)."""
+    assert main(["stability", "--move", "light-turn", "--snap", "rsm", "--frames", "2",
+                 "--size", "32x32", "--rsm-size", "16", "--grid", "8"]) == 0
+    printed = capsys.readouterr().out
+    spot = load_scene("cornell").light
+    step = 0.1 * math.degrees(math.atan(2.0 * spot.frustum_half_width / 16))
+    assert f"the light 'spot' turns {step:.4g}° per frame about x" in printed
+    rows = [line for line in printed.splitlines() if line.startswith(("| on |", "| off |"))]
+    assert len(rows) == 2 and rows[0][len("| on "):] == rows[1][len("| off "):]
+    assert rows[0].endswith("| 2/2 |")
+    assert "has no move to snap, so the two rows are the same frames" in printed
+    assert main(["stability", "--move", "light-turn", "--scene", "room", "--lights", "lamp",
+                 "--frames", "1", "--size", "16x16", "--rsm-size", "8", "--grid", "8"]) == 2
+    error = capsys.readouterr().err
+    assert "is a point light: give --step in degrees per frame" in error
+
+
 def test_a_lesson_step_starts_with_the_scenes_own_lights_and_objects():
     """Lights and objects of the scene on screen would not exist in a step's scene: every
     step starts from its scene's own (unless it sets them)."""

@@ -3,6 +3,8 @@ axis choices, and every number a figure shows against its exact value."""
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import importlib
 import math
 from types import SimpleNamespace
@@ -318,6 +320,13 @@ def test_audit_bars_carry_values_and_shares_of_the_injected_flux():
     assert series[0].values[injected_row] == pytest.approx(series[0].reference)
     assert [energy_audit.AUDIT_ROWS[i][1] for i in energy_audit.shown_rows(series)] == [
         "rsm", "injected", "accumulated", "gathered", "border_loss", "clamp_gain", "occluded"]
+    # the flux budget's own term is a row of its own where a side withheld flux
+    budget = copy.copy(b)
+    budget.audit = dataclasses.replace(b.audit, budget_withheld=np.full((3, 3), 0.01))
+    with_budget = energy_audit.audit_series([a, budget])
+    rows = [energy_audit.AUDIT_ROWS[i] for i in energy_audit.shown_rows(with_budget)]
+    assert rows[-1] == ("withheld by the budget (Σ)", "budget_withheld")
+    assert with_budget[1].values[-1] == pytest.approx(0.09)
     assert energy_audit.bar_label(0.912, 1.0, False) == "0.912 W · 91.2 %"
     assert energy_audit.bar_label(12.3, 1.0, True) == "12.3× · 12.3 W"
     assert energy_audit.bar_label(-0.002, 1.0, False) == "−0.002 W · −0.2 %"

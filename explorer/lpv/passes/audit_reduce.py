@@ -14,9 +14,9 @@ from explorer.lpv.audit import CellAudit
 from explorer.lpv.grid import grid_cells, shape_text
 from explorer.lpv.passes.textures import LpvGrid
 
-AUDIT_VALUES = 18
-"""Numbers per audit slot: flux, border loss, clamp gain, occluded, reflected, blocked
-(3 channels each)."""
+AUDIT_VALUES = 21
+"""Numbers per audit slot: flux, border loss, clamp gain, occluded, reflected, blocked,
+withheld by the flux budget (3 channels each)."""
 CELL_SUMS_BINDING = 5
 """Storage binding of the per-cell sums over the steps (``shaders/propagate.glsl``)."""
 MAX_PARTIALS = 512
@@ -38,15 +38,15 @@ GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
 
 class AuditReducer:
     """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
-    18 floats (flux, border loss, clamp gain, occluded, reflected, blocked; 3 channels
-    each). Each measurement (:meth:`measure_flux`, :meth:`sum_cell_records`) reduces its
-    records to partial sums in its own slot's region; :meth:`read` folds every slot at
-    once (one dispatch, no barrier: llvmpipe pays dearly for ``barrier()``) and reads them
-    back, the only read-back.
+    21 floats (flux, border loss, clamp gain, occluded, reflected, blocked, withheld by
+    the flux budget; 3 channels each). Each measurement (:meth:`measure_flux`,
+    :meth:`sum_cell_records`) reduces its records to partial sums in its own slot's
+    region; :meth:`read` folds every slot at once (one dispatch, no barrier: llvmpipe pays
+    dearly for ``barrier()``) and reads them back, the only read-back.
 
     Storage buffers while a pass runs (see :meth:`bind`): 2 partial records (all slots),
-    3 results, 4 per-cell records (written by ``propagate.glsl``, ``18·N³`` floats, the
-    current step's), 5 their per-cell sums over the steps (``18·N³`` floats, zeroed by
+    3 results, 4 per-cell records (written by ``propagate.glsl``, ``21·N³`` floats, the
+    current step's), 5 their per-cell sums over the steps (``21·N³`` floats, zeroed by
     :meth:`begin`).
     """
 
@@ -105,15 +105,15 @@ class AuditReducer:
                 self._buffers[name].bind_to_storage_buffer(binding)
 
     def read_cell_sums(self, linear: int) -> np.ndarray:
-        """(18,) float64: cell ``linear``'s record summed over the steps so far (one read
-        of 72 bytes at its offset)."""
+        """(21,) float64: cell ``linear``'s record summed over the steps so far (one read
+        of 84 bytes at its offset)."""
         self.ctx.memory_barrier()
         raw = self._buffers["cell_sums"].read(size=AUDIT_VALUES * 4,
                                               offset=int(linear) * AUDIT_VALUES * 4)
         return np.frombuffer(raw, np.float32).astype(np.float64)
 
     def read_cell_terms(self, linear: int) -> np.ndarray:
-        """(18,) float64: cell ``linear``'s record of the last step (quantity-major: one
+        """(21,) float64: cell ``linear``'s record of the last step (quantity-major: one
         read of 4 bytes per number)."""
         self.ctx.memory_barrier()
         cells = self._cell_count
@@ -157,8 +157,8 @@ class AuditReducer:
         self._run_partials(1, slot, {}, bound)
 
     def read(self) -> np.ndarray:
-        """(slots, 18) float64: flux, border loss, clamp gain, occluded, reflected, blocked
-        (3 channels each) of every slot, folded from their partial sums."""
+        """(slots, 21) float64: flux, border loss, clamp gain, occluded, reflected, blocked,
+        withheld by the budget (3 channels each) of every slot, folded from their partial sums."""
         self.fold()
         raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
         return self.sums(np.frombuffer(raw, np.float32))
@@ -180,7 +180,7 @@ class AuditReducer:
         self.ctx.memory_barrier()
 
     def sums(self, raw: np.ndarray) -> np.ndarray:
-        """The ``(slots, 18)`` float64 of :meth:`read` from the folded float32 values."""
+        """The ``(slots, 21)`` float64 of :meth:`read` from the folded float32 values."""
         return np.asarray(raw, np.float32)[:self._slots * AUDIT_VALUES].reshape(
             self._slots, AUDIT_VALUES).astype(np.float64)
 
@@ -193,8 +193,8 @@ class AuditReducer:
 
 class CellAuditRecords:
     """The per-cell audit records one propagation left on the GPU, read one cell at a
-    time: the sums over all steps (one read of 72 bytes at the cell's offset) and the last
-    step's record (18 reads of 4 bytes: that buffer is laid out per quantity for the
+    time: the sums over all steps (one read of 84 bytes at the cell's offset) and the last
+    step's record (21 reads of 4 bytes: that buffer is laid out per quantity for the
     reduction). Reads are cached per cell. The buffers belong to the propagation pass: a
     later propagation overwrites them, after which :meth:`read` returns None (the frame
     that showed them is out of date)."""

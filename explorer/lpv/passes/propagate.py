@@ -57,8 +57,8 @@ class PropagatePass:
 
     :meth:`start` returns a :class:`PropagationRun` that advances one step at a time;
     :meth:`run` does all steps at once. GPU memory besides the input: three grids (ping,
-    pong, accumulation) in its format and, with the full audit, 144 bytes per cell of audit
-    records (≈300 MB at 128³).
+    pong, accumulation) in its format and, with the full audit, 168 bytes per cell of audit
+    records (≈350 MB at 128³).
     """
 
     GEOMETRY_UNIT = 6
@@ -433,6 +433,7 @@ def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
             accumulated=sums[iterations + 1, 0:3],
             reflected=sums[1: iterations + 1, 12:15],
             blocked=sums[1: iterations + 1, 15:18],
+            budget_withheld=sums[1: iterations + 1, 18:21],
         )
     if mode == "flux":
         per_step = sums[: iterations + 1, 0:3].copy()
@@ -444,7 +445,7 @@ def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
         accumulated = sums[1, 0:3]
     return GridAudit(injected=sums[0, 0:3], per_step=per_step, border_loss=None,
                      clamp_gain=None, occluded=None, accumulated=accumulated, reflected=None,
-                     blocked=None, mode=mode)
+                     blocked=None, budget_withheld=None, mode=mode)
 
 
 class BaselinePropagatePass:

@@ -332,12 +332,16 @@ def face_visibility(blockers: np.ndarray, evaluation: np.ndarray,
     return 1.0 - np.clip(tau, 0.0, 1.0)
 
 
-def _used(raw: np.ndarray, clamped: bool, budget: np.ndarray | None) -> np.ndarray:
-    """The intensity a face sends: ``raw``, clamp+ on a clamped face; under the flux
-    budget clamp+ on every face times the source's factor."""
+def _used(raw: np.ndarray, clamped: bool, budget: np.ndarray | None
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """(the intensity a face sends, the intensity the clamp left it before the budget):
+    ``raw``, clamp+ on a clamped face; under the flux budget clamp+ on every face, and it
+    sends that times the source's factor (docs/MODEL.md "Flux budget")."""
     if budget is not None:
-        return budget * np.maximum(raw, 0.0)
-    return np.maximum(raw, 0.0) if clamped else raw
+        positive = np.maximum(raw, 0.0)
+        return budget * positive, positive
+    used = np.maximum(raw, 0.0) if clamped else raw
+    return used, used
 
 
 def _every_face(corrections: Corrections, neighbours: int):
@@ -373,10 +377,12 @@ def flux_budget_scale(grid: np.ndarray, corrections: Corrections | None = None,
     return np.where(positive > held, held / np.where(positive > held, positive, 1.0), 1.0)
 
 
-AUDIT_TERMS = ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked")
+AUDIT_TERMS = ("propagated", "clamp_gain", "occluded", "border_loss", "reflected", "blocked",
+               "budget_withheld")
 DIRECTIONS = tuple((axis, sign) for axis in range(3) for sign in (1, -1))
 """The six propagation directions sign·e_axis."""
-CELL_TERMS = ("received", "border_loss", "clamp_gain", "occluded", "reflected", "blocked")
+CELL_TERMS = ("received", "border_loss", "clamp_gain", "occluded", "reflected", "blocked",
+              "budget_withheld")
 """The per-cell audit record of a step, in the order of ``shaders/audit_reduce.glsl``:
 each (3, N, N, N) watts, booked to the cell whose invocation of ``shaders/propagate.glsl``
 computes it (:func:`propagation_step_cells`)."""
@@ -442,13 +448,14 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
         lobe = cosine_lobe(reprojection, order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
-        used = _used(raw, is_front and corrections.clamp_front_face, budget)
+        used, clamped = _used(raw, is_front and corrections.clamp_front_face, budget)
         # blocking of light travelling along e_f hits surfels facing -e_f
         visibility = np.ones(shape) if blockers is None else face_visibility(
             blockers, evaluation, visibility_mode)
         sent = weight * used * visibility                         # (3, N, N, N)
         delivered[to_target] += sent[every][..., None] * lobe
-        book("clamp_gain", flux_per_intensity * (used - raw))
+        book("clamp_gain", flux_per_intensity * (clamped - raw))
+        book("budget_withheld", flux_per_intensity * (clamped - used))
         book("occluded", flux_per_intensity * used * (1.0 - visibility))
         cells["border_loss"][border] += K.SH_FLUX_FACTOR * lobe[0] * sent[border]
         propagated += flux_per_intensity * raw.reshape(3, -1).sum(1)
@@ -531,12 +538,13 @@ def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Co
         lobe = cosine_lobe(reprojection, order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)
-        used = _used(raw, is_front and corrections.clamp_front_face, budget)
+        used, clamped = _used(raw, is_front and corrections.clamp_front_face, budget)
         visibility = np.ones(shape) if blockers is None else face_visibility(
             blockers, evaluation, visibility_mode)
         sent = weight * used * visibility
         delivered[to_target] += sent[every][..., None] * lobe
-        for name, term in (("clamp_gain", flux_per_intensity * (used - raw)),
+        for name, term in (("clamp_gain", flux_per_intensity * (clamped - raw)),
+                           ("budget_withheld", flux_per_intensity * (clamped - used)),
                            ("occluded", flux_per_intensity * used * (1.0 - visibility))):
             cells[name][to_target] += term[every]
             cells[name] += np.where(stays, 0.0, term)
@@ -552,9 +560,12 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                      flux_budget: bool = False) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
     ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
-    ``occluded``, ``border_loss``, ``reflected`` and ``blocked`` (the blocked flux that can
-    bounce: per source cell and direction, clamp+; only with ``bounces`` 2). L1 or L2
-    after the grid's last axis; the geometry volume is L1 either way.
+    ``occluded``, ``border_loss``, ``reflected``, ``blocked`` (the blocked flux that can
+    bounce: per source cell and direction, clamp+; only with ``bounces`` 2) and
+    ``budget_withheld`` (what the flux budget's factor took from the clamped faces; 0
+    without the budget). L1 or L2 after the grid's last axis; the geometry volume is L1
+    either way. The step's balance: flux(P(grid)) = propagated + clamp_gain −
+    budget_withheld − occluded − border_loss + reflected.
 
     ``bounces`` 2 (docs/MODEL.md "More bounces"): for every source cell and direction,
     the flux the geometry volume blocks on the five faces, clamp+, times the shared face's
@@ -581,8 +592,9 @@ def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = N
     (3, N, N, N) watts), as ``shaders/propagate.glsl`` writes it for the cell whose
     invocation computes it: ``received`` the flux of the cell's new value (everything the
     step delivered into it, reflections included); ``border_loss`` the flux the cell sent
-    out of the grid (border cells only); ``clamp_gain`` and ``occluded`` those of the
-    faces the cell gathered through, and of the faces it sent out of the grid;
+    out of the grid (border cells only); ``clamp_gain``, ``budget_withheld`` and
+    ``occluded`` those of the faces the cell gathered through, and of the faces it sent
+    out of the grid;
     ``reflected`` and ``blocked`` (``bounces`` 2) those of the light the cell sent. Summed
     over the cells they are :func:`propagation_step`'s terms, and ``received`` sums to
     the flux of the new grid."""
@@ -701,6 +713,8 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
         accumulated=flux(accumulated),
         reflected=np.array(terms["reflected"]).reshape(-1, 3) if iterations else empty,
         blocked=np.array(terms["blocked"]).reshape(-1, 3) if iterations else empty,
+        budget_withheld=(np.array(terms["budget_withheld"]).reshape(-1, 3) if iterations
+                         else empty),
     )
     return steps, accumulated, audit
 

@@ -38,12 +38,13 @@ AUDIT_ROWS = (
     ("clamp gain (Σ)", "clamp_gain"),
     ("occluded (Σ)", "occluded"),
     ("reflected (Σ)", "reflected"),
+    ("withheld by the budget (Σ)", "budget_withheld"),
 )
 """(label, EnergyAudit field); (Σ) rows add up every propagation step."""
 NOT_MEASURED = "… not measured yet"
 """Label of a term the frame's audit mode did not measure (the full audit follows)."""
-OPTIONAL_ROWS = ("reflected",)
-"""Rows shown only when some side has them (a second bounce)."""
+OPTIONAL_ROWS = ("reflected", "budget_withheld")
+"""Rows shown only when some side has them (a second bounce, the flux budget)."""
 _ROW_HEIGHT = 21.0
 
 

@@ -43,15 +43,19 @@ def pixel_rows(pick: PickInfo, digits: int = 4) -> list[tuple[str, str]]:
 
 def cell_audit_rows(info: CellAuditInfo, digits: int = 4) -> list[tuple[str, str]]:
     """(label, value) rows of a cell's audit records [W]: over all steps, and the last
-    step's; the reflection terms only where a step reflected anything."""
+    step's; the reflection terms only where a step reflected anything, the budget's
+    only where it withheld any."""
     rows = [("injected (accumulated − received)", vector(info.injected, digits))]
     parts = [(f"all {info.steps} steps", info.total)]
     if info.last is not None:
         parts.append((f"step {info.steps}", info.last))
     bounced = any(np.any(audit.reflected) or np.any(audit.blocked) for _, audit in parts)
+    budgeted = any(np.any(audit.budget_withheld) for _, audit in parts)
     for when, audit in parts:
         terms = [("received", audit.received), ("sent out of the grid", audit.border_loss),
                  ("clamp gain", audit.clamp_gain), ("occluded", audit.occluded)]
+        if budgeted:
+            terms.append(("withheld by the budget", audit.budget_withheld))
         if bounced:
             terms += [("reflected back", audit.reflected), ("blocked, can bounce",
                                                            audit.blocked)]

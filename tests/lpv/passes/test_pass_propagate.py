@@ -280,7 +280,8 @@ def test_the_flux_only_audit_measures_the_full_audits_flux_per_step(ctx, ping_po
         assert flux.audit.mode == "flux" and flux.audit.steps_measured
         assert not flux.audit.terms_measured and flux.cell_records is None
         assert all(getattr(flux.audit, name) is None for name in
-                   ("border_loss", "clamp_gain", "occluded", "reflected", "blocked"))
+                   ("border_loss", "clamp_gain", "occluded", "reflected", "blocked",
+                    "budget_withheld"))
     finally:
         propagator.release()
 
