@@ -642,8 +642,8 @@ def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neig
 def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
                              corrections: Corrections | None = None,
                              geometry: np.ndarray | None = None,
-                             geometry_albedo: np.ndarray | None = None, bounces: int = 1
-                             ) -> np.ndarray:
+                             geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                             reprojection: str = "face-normal") -> np.ndarray:
     """(64, 3, N, N, N, K): every value the in-place propagation step (``ping_pong``
     False, ``shaders/propagate.glsl``) can add to a cell, one per read schedule.
 
@@ -658,7 +658,7 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
     race-free reading of :func:`propagate_audited`). Which candidate a GPU produces depends
     on its invocation order; the statement that holds on every GPU is that each cell's
     step is one of these, per colour channel (r, g and b are separate images, each read
-    whole: one texel per cell with L1)."""
+    whole: one texel per cell with L1). ``reprojection``: :func:`reprojection_axis`."""
     corrections = corrections or Corrections()
     before, geometry, geometry_albedo = _check_step_inputs(before, geometry,
                                                            geometry_albedo, bounces)
@@ -670,9 +670,10 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
     reads = []
     for axis, sign in DIRECTIONS:
         old, reflected, _, _ = _direction_step(before, axis, sign, corrections, geometry,
-                                               geometry_albedo, bounces == 2)
+                                               geometry_albedo, bounces == 2,
+                                               reprojection=reprojection)
         new, _, _, _ = _direction_step(after, axis, sign, corrections, geometry,
-                                       geometry_albedo, False)
+                                       geometry_albedo, False, reprojection=reprojection)
         own += reflected
         reads.append((old, new))
     candidates = np.empty((2 ** len(DIRECTIONS),) + before.shape)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from lpv_cases import assert_audits_match, random_vpls, relative_error
+from lpv_cases import assert_audits_match, in_place_schedules, random_vpls, relative_error
 
 from explorer.lpv import inject
 from explorer.lpv.grid import GridSpec
@@ -45,6 +45,18 @@ def test_gpu_matches_the_twin_with_face_centre_reprojection(ctx, sh_order, geome
     assert relative_error(steps[1], normal[1]) > 1e-3       # the switch changes the step
     # a cosine lobe's flux does not depend on its axis: the step's flux is the same
     np.testing.assert_allclose(twin.flux(want_steps[1]), twin.flux(normal[1]), rtol=1e-10)
+
+
+def test_in_place_steps_are_face_centre_schedules(ctx):
+    """In place (the DX11 race) every cell's step is the face-centre formula for one of the
+    64 read schedules, and not the face-normal one's."""
+    corrections = Corrections(ping_pong=False)
+    vpls = random_vpls(7, SPEC, 140, outside=5, texel_area=0.05)
+    grid = inject(vpls, SPEC, corrections, "points", ctx=ctx)
+    steps, _, _ = propagate_with_audit(grid, corrections, 2, ctx=ctx,
+                                       reprojection="face-centre")
+    assert in_place_schedules(steps, corrections, reprojection="face-centre")[0] < 1e-5
+    assert in_place_schedules(steps, corrections)[0] > 1e-3
 
 
 @pytest.mark.parametrize("neighbours, sh_order", [(6, 1), (26, 1), (26, 2)])
