@@ -41,6 +41,7 @@
 #define PROPAGATE_NEIGHBOURS 6
 #define PROPAGATE_VISIBILITY 0
 #define PROPAGATE_FLUX_BUDGET 0
+#define PROPAGATE_REPROJECTION 0
 // PROPAGATE_BUDGET_PASS 1 compiles the flux budget's pass instead of the step: every cell of
 // grid t-1 writes its factor min(1, Phi / S) (lpv_positive_outflux) to `budget_scale`, which
 // the step, dispatched after it, reads for each source it gathers from.

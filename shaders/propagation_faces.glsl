@@ -108,6 +108,22 @@ struct LpvAudit {
     vec3 withheld;     // flux the flux budget kept back: (1 - lpv_budget) * clamp+(I_f)
 };
 
+// The axis of a face's reprojected cosine lobe (Settings.reprojection, docs/MODEL.md
+// "Propagation"): PROPAGATE_REPROJECTION 0 the face's normal (the LPV paper's), 1 the unit
+// direction from the source cell's centre to the face's centre, which is the face's
+// evaluation direction e_f: the light keeps the way it crossed the face. A cosine lobe's
+// flux does not depend on its axis, so the step's flux and its audit are the same.
+#ifndef PROPAGATE_REPROJECTION
+#define PROPAGATE_REPROJECTION 0
+#endif
+vec3 lpv_reprojection_axis(vec3 normal, vec3 towards_centre) {
+#if PROPAGATE_REPROJECTION == 1
+    return towards_centre;
+#else
+    return normal;
+#endif
+}
+
 // One face (docs/MODEL.md "Propagation"):
 //     I_f = <s, Y(e_f)> (clamp+ when `clamped`),  V_f = 1 - clamp(<blocker, Y(-e_f)>, 0, 1),
 //     received += weight * I_f * V_f * lobe(r_f)   (when the target is inside the grid).
@@ -166,14 +182,18 @@ void lpv_send_frame(ShVec source[3], ivec3 target, ivec3 d_cells, ivec3 u_cells,
     vec3 u = vec3(u_cells);
     vec3 v = vec3(v_cells);
     vec3 towards_front = SIDE_EVAL_BIG * d;
-    lpv_send_face(source, towards_front + SIDE_EVAL_SMALL * u, u, side_weight, false,
+    vec3 side_u = towards_front + SIDE_EVAL_SMALL * u;
+    vec3 side_minus_u = towards_front - SIDE_EVAL_SMALL * u;
+    vec3 side_v = towards_front + SIDE_EVAL_SMALL * v;
+    vec3 side_minus_v = towards_front - SIDE_EVAL_SMALL * v;
+    lpv_send_face(source, side_u, lpv_reprojection_axis(u, side_u), side_weight, false,
                   blocker, leaving, received, audit);
-    lpv_send_face(source, towards_front - SIDE_EVAL_SMALL * u, -u, side_weight, false,
+    lpv_send_face(source, side_minus_u, lpv_reprojection_axis(-u, side_minus_u), side_weight,
+                  false, blocker, leaving, received, audit);
+    lpv_send_face(source, side_v, lpv_reprojection_axis(v, side_v), side_weight, false,
                   blocker, leaving, received, audit);
-    lpv_send_face(source, towards_front + SIDE_EVAL_SMALL * v, v, side_weight, false,
-                  blocker, leaving, received, audit);
-    lpv_send_face(source, towards_front - SIDE_EVAL_SMALL * v, -v, side_weight, false,
-                  blocker, leaving, received, audit);
+    lpv_send_face(source, side_minus_v, lpv_reprojection_axis(-v, side_minus_v), side_weight,
+                  false, blocker, leaving, received, audit);
 }
 
 // 26 neighbours (docs/MODEL.md "26 neighbours", derivations/neighbours26.py): the source
@@ -235,8 +255,10 @@ void lpv_send_offset(ShVec source[3], ivec3 target, ivec3 o, bool leaving,
         vec3 centre = lpv_offset_face_centre(offset, axis);
         vec3 normal = vec3(0.0);
         normal[axis] = offset[axis];
-        lpv_send_face(source, normalize(centre), normal, weight,
-                      nonzero == 1 && u_clamp_front_face, blocker, leaving, received, audit);
+        vec3 towards_centre = normalize(centre);
+        lpv_send_face(source, towards_centre, lpv_reprojection_axis(normal, towards_centre),
+                      weight, nonzero == 1 && u_clamp_front_face, blocker, leaving, received,
+                      audit);
     }
 }
 

@@ -95,7 +95,8 @@ def transform_grid(grid: np.ndarray, matrix: np.ndarray) -> np.ndarray:
 
 
 def in_place_schedules(steps: list[np.ndarray], corrections, geometry=None,
-                       geometry_albedo=None, bounces: int = 1) -> tuple[float, np.ndarray]:
+                       geometry_albedo=None, bounces: int = 1,
+                       reprojection: str = "face-normal") -> tuple[float, np.ndarray]:
     """For GPU in-place steps (grid_0 and the light each step added): the largest distance,
     relative to the largest accumulated value, between a step and the nearest value the
     in-place pass can produce (:func:`explorer.lpv.twin.light_grid.in_place_step_candidates`,
@@ -109,7 +110,7 @@ def in_place_schedules(steps: list[np.ndarray], corrections, geometry=None,
         step = np.asarray(step, np.float64)
         after = before + step
         candidates = in_place_step_candidates(before, after, corrections, geometry,
-                                              geometry_albedo, bounces)
+                                              geometry_albedo, bounces, reprojection)
         distance = np.abs(candidates - step[None]).max(axis=-1)     # (64, 3, N, N, N)
         worst = max(worst, float(distance.min(axis=0).max()) / float(np.abs(after).max()))
         raced.append(int((distance.argmin(axis=0) != 0).sum()))

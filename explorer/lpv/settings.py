@@ -41,6 +41,11 @@ GEOMETRY_VOLUME_MODES = ("off", "one-sided", "double-sided")
 GEOMETRY_VISIBILITY_MODES = ("linear", "statistical")
 """``Settings.geometry_visibility``: V = 1 − clamp(τ, 0, 1) (the LPV paper's blocker) or
 V = exp(−τ) (surfels placed independently at random; docs/MODEL.md "Geometry volume")."""
+REPROJECTION_MODES = ("face-normal", "face-centre")
+"""``Settings.reprojection``: the axis of the cosine lobe a face's light becomes in the
+target cell, the face's normal (the LPV paper's) or the direction from the source cell's
+centre to the face's centre (docs/MODEL.md "Propagation"); the index is the GLSL
+``PROPAGATE_REPROJECTION``."""
 GRID_FORMATS = ("rgba32f", "rgba16f")
 SH_ORDERS = (1, 2)
 """1 = L1 spherical harmonics (4 coefficients per colour), 2 = L2 (9)."""
@@ -282,6 +287,14 @@ class Settings:
             "26: to all 26 neighbours through their outer faces on the source's 3×3×3 "
             'block, exact solid angles (docs/MODEL.md "26 neighbours"); needs ping-pong, '
             "side faces, the model's face weights and bounces 1.")
+    reprojection: str = setting(
+        "face-normal", kind="choice", choices=REPROJECTION_MODES, flag="--reprojection",
+        widget="combo", label="Reprojection", group="Light propagation volume",
+        stages=("propagate",),
+        doc="The axis of the cosine lobe each face's light is reprojected as in the target "
+            "cell: face-normal, the face's normal, as published; face-centre, the direction "
+            "from the source cell's centre to the face's centre, the way the light that "
+            'crosses the face travels (docs/MODEL.md "Propagation"). Same flux either way.')
     flux_budget: bool = setting(
         False, kind="bool", flag="--flux-budget", widget="checkbox", label="Flux budget",
         group="Leak reduction and bounces", stages=("propagate",),

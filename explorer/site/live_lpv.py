@@ -52,8 +52,10 @@ def unsupported(settings) -> str | None:
               ("downsample", settings.downsample != "none"),
               ("bounces", settings.bounces != 1),
               ("camera_occluders", bool(settings.uses_camera_occluders)),
-              # the page's propagation has neither the budget pass nor exp(−τ) visibility
+              # the page's propagation has neither the budget pass nor exp(−τ) visibility,
+              # and reprojects along the face normals only
               ("flux_budget", settings.flux_budget),
+              ("reprojection", settings.reprojection != "face-normal"),
               ("geometry_visibility", settings.geometry_visibility != "linear"
                and settings.geometry_volume != "off"))
     for name, refused in checks:

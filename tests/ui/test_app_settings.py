@@ -281,6 +281,7 @@ def test_the_scene_panel_draws_every_declared_widget_from_its_spec():
     # visibility beside the volume
     assert "flux_budget" in [name for _, name in controls("Leak reduction and bounces")]
     assert "geometry_visibility" in [name for _, name in controls("Light propagation volume")]
+    assert "reprojection" in [name for _, name in controls("Light propagation volume")]
     assert label_of(specs(Settings)["fog_density"], "fog_density") == "Fog density σt [1/m]"
     assert label_of(specs(Settings)["shadow_kernel"], "shadow_kernel") == "Shadow PCF [texels]"
 

@@ -28,7 +28,7 @@ from explorer.lpv.passes.textures import (
     sh_defines,
     sh_order_of,
 )
-from explorer.lpv.settings import GEOMETRY_VISIBILITY_MODES, Corrections
+from explorer.lpv.settings import GEOMETRY_VISIBILITY_MODES, REPROJECTION_MODES, Corrections
 
 
 @dataclass
@@ -101,20 +101,26 @@ class PropagatePass:
               iterations: int, geometry: GeometryVolume | None = None,
               keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
               neighbours: int = 6, visibility: str = "linear",
-              flux_budget: bool = False) -> PropagationRun:
+              flux_budget: bool = False, reprojection: str = "face-normal"
+              ) -> PropagationRun:
         """Copy grid_0 into the accumulation and prepare ``iterations`` steps; nothing is
         propagated yet. ``bounces`` 2: the geometry volume reflects the light it blocks
         (``shaders/reflection.glsl``, docs/MODEL.md "More bounces"); needs ``geometry``.
         The injected grid's ``sh_order`` selects L1 or L2 propagation; ``neighbours`` 26
         propagates to all 26 neighbours (docs/MODEL.md "26 neighbours"); ``visibility``
         how the geometry volume's blocking becomes visibility, ``flux_budget`` whether no
-        cell sends more than it holds (docs/MODEL.md "Geometry volume", "Flux budget")."""
+        cell sends more than it holds (docs/MODEL.md "Geometry volume", "Flux budget"),
+        ``reprojection`` the axis of each face's reprojected lobe (docs/MODEL.md
+        "Propagation")."""
         n = spec.cells
         check_neighbours(neighbours, corrections, bounces)
         check_flux_budget(flux_budget, corrections, bounces)
         if visibility not in GEOMETRY_VISIBILITY_MODES:
             raise ValueError(f"visibility must be one of "
                              f"{', '.join(GEOMETRY_VISIBILITY_MODES)}, got {visibility!r}")
+        if reprojection not in REPROJECTION_MODES:
+            raise ValueError(f"reprojection must be one of {', '.join(REPROJECTION_MODES)}, "
+                             f"got {reprojection!r}")
         if bounces not in (1, 2) or isinstance(bounces, bool):
             raise ValueError(f"bounces must be 1 or 2, got {bounces!r}")
         if bounces == 2 and geometry is None:
@@ -130,16 +136,18 @@ class PropagatePass:
             raise ValueError(f"iterations must be a whole number >= 0, got {iterations!r}")
         return PropagationRun(self, injected, spec, corrections, int(iterations), geometry,
                               keep_steps, bounces, audit_mode(audit), int(neighbours),
-                              visibility, bool(flux_budget))
+                              visibility, bool(flux_budget), reprojection)
 
     def run(self, injected: LpvGrid, spec: GridSpec, corrections: Corrections,
             iterations: int, geometry: GeometryVolume | None = None,
             keep_steps: bool = False, bounces: int = 1, audit: str | bool = "full",
             neighbours: int = 6, visibility: str = "linear",
-            flux_budget: bool = False) -> PropagationOutput:
+            flux_budget: bool = False, reprojection: str = "face-normal"
+            ) -> PropagationOutput:
         """All ``iterations`` steps at once (see :meth:`start`)."""
         progress = self.start(injected, spec, corrections, iterations, geometry, keep_steps,
-                              bounces, audit, neighbours, visibility, flux_budget)
+                              bounces, audit, neighbours, visibility, flux_budget,
+                              reprojection)
         while not progress.finished:
             progress.step()
         return progress.finish()
@@ -183,13 +191,14 @@ def uniforms_read_at_run_time(neighbours: int = 6, flux_budget: bool = False
 
 def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bool = False,
                     geometry: bool = False, reflect: bool = False, neighbours: int = 6,
-                    visibility: str = "linear", flux_budget: bool = False
-                    ) -> dict[str, object]:
+                    visibility: str = "linear", flux_budget: bool = False,
+                    reprojection: str = "face-normal") -> dict[str, object]:
     """The defines ``shaders/propagate.glsl`` is compiled with: the grid format and SH order,
     the full audit, the switches of :data:`COMPILED_SWITCHES`, whether a geometry volume
     occludes, whether it reflects (bounces 2, which needs it), over how many neighbours
     light moves (6 or 26), the volume's visibility (index in
-    :data:`GEOMETRY_VISIBILITY_MODES`) and whether the flux budget limits each cell."""
+    :data:`GEOMETRY_VISIBILITY_MODES`), whether the flux budget limits each cell and the
+    reprojection's axis (index in :data:`REPROJECTION_MODES`)."""
     switches = corrections.as_uniforms()
     return {**image_format_defines(fmt), **sh_defines(sh_order),
             "PROPAGATE_AUDIT": int(audit),
@@ -197,7 +206,8 @@ def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bo
             "PROPAGATE_GEOMETRY": int(geometry), "PROPAGATE_REFLECT": int(reflect and geometry),
             "PROPAGATE_NEIGHBOURS": int(neighbours),
             "PROPAGATE_VISIBILITY": GEOMETRY_VISIBILITY_MODES.index(visibility),
-            "PROPAGATE_FLUX_BUDGET": int(flux_budget)}
+            "PROPAGATE_FLUX_BUDGET": int(flux_budget),
+            "PROPAGATE_REPROJECTION": REPROJECTION_MODES.index(reprojection)}
 
 
 _NOTHING_BOUND: frozenset[str] = frozenset()
@@ -230,7 +240,8 @@ class PropagationRun:
     def __init__(self, owner: PropagatePass, injected: LpvGrid, spec: GridSpec,
                  corrections: Corrections, iterations: int, geometry: GeometryVolume | None,
                  keep_steps: bool, bounces: int, audit: str, neighbours: int = 6,
-                 visibility: str = "linear", flux_budget: bool = False) -> None:
+                 visibility: str = "linear", flux_budget: bool = False,
+                 reprojection: str = "face-normal") -> None:
         n, fmt, order = spec.cells, injected.format, injected.sh_order
         self._owner = owner
         self._corrections = corrections
@@ -255,7 +266,7 @@ class PropagationRun:
         self._defines = program_defines(
             fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
             reflect=bounces == 2, neighbours=neighbours, visibility=visibility,
-            flux_budget=flux_budget)
+            flux_budget=flux_budget, reprojection=reprojection)
         self._key = owner.programs.key("propagate.glsl", self._defines)
         self._budget = owner.budget_buffer(n) if flux_budget else None
         self._uniforms = {
@@ -511,6 +522,7 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
                          geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                          audit: str | bool = "full", neighbours: int = 6,
                          visibility: str = "linear", flux_budget: bool = False,
+                         reprojection: str = "face-normal",
                          ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """GPU propagation of a numpy grid: (grid_0..grid_N, acc_N, audit). The last axis of
     ``grid`` (4 or 9 coefficients) selects L1 or L2.
@@ -519,7 +531,7 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
     ``(nx+1, ny+1, nz+1, 4)`` blocking and albedo sums (``bounces`` 2).
     ``audit``: what the audit measures (:data:`explorer.lpv.audit.AUDIT_MODES`);
     ``neighbours``: 6 or 26 (docs/MODEL.md "26 neighbours"); ``visibility``,
-    ``flux_budget``: see :meth:`PropagatePass.start`."""
+    ``flux_budget``, ``reprojection``: see :meth:`PropagatePass.start`."""
     grid = np.asarray(grid)
     if grid.ndim != 5 or grid.shape[0] != 3:
         raise ValueError(f"grid must have shape (3, nx, ny, nz, 4) or (3, nx, ny, nz, 9), "
@@ -545,7 +557,7 @@ def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = Non
         output = propagator.run(injected, spec, corrections, iterations, volume,
                                 keep_steps=True, bounces=bounces, audit=audit,
                                 neighbours=neighbours, visibility=visibility,
-                                flux_budget=flux_budget)
+                                flux_budget=flux_budget, reprojection=reprojection)
         return output.steps, output.accumulated.read(), output.audit
     finally:
         injected.release()

@@ -66,13 +66,15 @@ class Params:
     neighbours: int
     visibility: str = "linear"
     flux_budget: bool = False
+    reprojection: str = "face-normal"
 
     @classmethod
     def of(cls, settings, cascades: int) -> Params:
         return cls(settings.corrections,
                    tuple(cascade_iterations(settings, k) for k in range(cascades)),
                    int(settings.bounces), int(settings.neighbours),
-                   settings.geometry_visibility, bool(settings.flux_budget))
+                   settings.geometry_visibility, bool(settings.flux_budget),
+                   settings.reprojection)
 
 
 class Stage(StageBase):
@@ -139,7 +141,7 @@ class Stage(StageBase):
                     level.injected, spec, p.corrections, p.steps[k], level.volume,
                     keep_steps=self.keeps_steps(job, k), bounces=p.bounces, audit=audit[k],
                     neighbours=p.neighbours, visibility=p.visibility,
-                    flux_budget=p.flux_budget),
+                    flux_budget=p.flux_budget, reprojection=p.reprojection),
                     accumulate=True)
                 yield 0
             while not all(level.running.finished for level in levels):

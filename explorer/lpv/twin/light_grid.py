@@ -36,6 +36,7 @@ from explorer.lpv.settings import (
     GEOMETRY_VISIBILITY_MODES,
     GEOMETRY_VOLUME_MODES,
     INJECTION_MODES,
+    REPROJECTION_MODES,
     Corrections,
 )
 from explorer.lpv.vpl import VplArrays
@@ -293,6 +294,18 @@ def _faces(axis: int, sign: int, side_faces: bool) -> list[tuple[np.ndarray, np.
     return faces
 
 
+def reprojection_axis(normal: np.ndarray, evaluation: np.ndarray,
+                      reprojection: str = "face-normal") -> np.ndarray:
+    """The axis of a face's reprojected cosine lobe (``Settings.reprojection``,
+    docs/MODEL.md "Propagation"): the face's ``normal``, or with ``face-centre`` its
+    ``evaluation`` direction, the unit direction from the source cell's centre to the
+    face's centre."""
+    if reprojection not in REPROJECTION_MODES:
+        raise ValueError(f"reprojection must be one of {', '.join(REPROJECTION_MODES)}, "
+                         f"got {reprojection!r}")
+    return evaluation if reprojection == "face-centre" else normal
+
+
 def _face_blockers(geometry: np.ndarray, axis: int, sign: int) -> np.ndarray:
     """(nx, ny, nz, 4): for every source cell s, the mean geometry SH of the face it shares
     with s + sign·e_axis (corners s_axis + 1 for sign > 0, s_axis for sign < 0)."""
@@ -406,7 +419,7 @@ def _check_step_inputs(grid, geometry, geometry_albedo, bounces):
 def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Corrections,
                     geometry: np.ndarray | None, geometry_albedo: np.ndarray | None,
                     reflect: bool, visibility_mode: str = "linear",
-                    budget: np.ndarray | None = None
+                    budget: np.ndarray | None = None, reprojection: str = "face-normal"
                     ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray], np.ndarray]:
     """What every source cell sends along ``sign``·e_axis in one step: the light delivered
     into the neighbour cells (3, N, N, N, K) (zero in the first layer, which has no source
@@ -416,7 +429,8 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
     books it: a face that stays inside the grid to its target cell, which gathers it; a
     face leaving the grid, its border loss, and the light reflected back and blocked, to
     the source cell. ``visibility_mode``: :func:`face_visibility`; ``budget``: the flux
-    budget's factors (:func:`flux_budget_scale`), None without it."""
+    budget's factors (:func:`flux_budget_scale`), None without it; ``reprojection``:
+    :func:`reprojection_axis`."""
     order = grid_sh_order(grid)
     shape = grid.shape[1:4]
     n = shape[axis]
@@ -443,9 +457,9 @@ def _direction_step(grid: np.ndarray, axis: int, sign: int, corrections: Correct
         cells[name][to_target] += per_source[every]
         cells[name][border] += per_source[border]
 
-    for evaluation, reprojection, is_front in _faces(axis, sign, corrections.side_faces):
+    for evaluation, normal, is_front in _faces(axis, sign, corrections.side_faces):
         weight = front_weight if is_front else side_weight
-        lobe = cosine_lobe(reprojection, order)
+        lobe = cosine_lobe(reprojection_axis(normal, evaluation, reprojection), order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)                 # (3, N, N, N)
         used, clamped = _used(raw, is_front and corrections.clamp_front_face, budget)
@@ -513,7 +527,7 @@ def _shared_corner_blockers(geometry: np.ndarray, offset: tuple[int, int, int]) 
 
 def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Corrections,
                  geometry: np.ndarray | None, visibility_mode: str = "linear",
-                 budget: np.ndarray | None = None
+                 budget: np.ndarray | None = None, reprojection: str = "face-normal"
                  ) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]:
     """What every source cell sends to its neighbour ``offset`` through that neighbour's
     outer faces (the 26-neighbour step): delivered light, audit terms per cell (booked as
@@ -533,9 +547,9 @@ def _offset_step(grid: np.ndarray, offset: tuple[int, int, int], corrections: Co
     stays = np.zeros(shape, bool)
     stays[source] = True
     every, to_target = (slice(None), *source), (slice(None), *target)
-    for evaluation, reprojection, angle, is_front in outer_faces_26(offset):
+    for evaluation, normal, angle, is_front in outer_faces_26(offset):
         weight = scale * angle
-        lobe = cosine_lobe(reprojection, order)
+        lobe = cosine_lobe(reprojection_axis(normal, evaluation, reprojection), order)
         flux_per_intensity = weight * K.SH_FLUX_FACTOR * lobe[0]
         raw = grid @ sh_basis(evaluation, order)
         used, clamped = _used(raw, is_front and corrections.clamp_front_face, budget)
@@ -557,7 +571,8 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
                      geometry: np.ndarray | None = None,
                      geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                      neighbours: int = 6, visibility: str = "linear",
-                     flux_budget: bool = False) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+                     flux_budget: bool = False, reprojection: str = "face-normal"
+                     ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) in scatter form, and its audit terms (each (3,) watts):
     ``propagated`` (flux of all faces, unclamped and unoccluded), ``clamp_gain``,
     ``occluded``, ``border_loss``, ``reflected``, ``blocked`` (the blocked flux that can
@@ -574,9 +589,11 @@ def propagation_step(grid: np.ndarray, corrections: Corrections | None = None,
 
     ``visibility``: the geometry volume's :func:`face_visibility`; ``flux_budget``: each
     source cell sends at most its own flux (:func:`flux_budget_scale`; needs ping-pong
-    and bounces 1)."""
+    and bounces 1); ``reprojection``: the axis of each face's lobe
+    (:func:`reprojection_axis`)."""
     out, cells, propagated = _step_with_cells(grid, corrections, geometry, geometry_albedo,
-                                              bounces, neighbours, visibility, flux_budget)
+                                              bounces, neighbours, visibility, flux_budget,
+                                              reprojection)
     terms = {name: value.reshape(3, -1).sum(1) for name, value in cells.items()
              if name != "received"}
     return out, {"propagated": propagated, **terms}
@@ -586,7 +603,7 @@ def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = N
                            geometry: np.ndarray | None = None,
                            geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                            neighbours: int = 6, visibility: str = "linear",
-                           flux_budget: bool = False
+                           flux_budget: bool = False, reprojection: str = "face-normal"
                            ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One step P(grid) and its audit record per cell (:data:`CELL_TERMS`, each
     (3, N, N, N) watts), as ``shaders/propagate.glsl`` writes it for the cell whose
@@ -599,12 +616,12 @@ def propagation_step_cells(grid: np.ndarray, corrections: Corrections | None = N
     over the cells they are :func:`propagation_step`'s terms, and ``received`` sums to
     the flux of the new grid."""
     out, cells, _ = _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces,
-                                     neighbours, visibility, flux_budget)
+                                     neighbours, visibility, flux_budget, reprojection)
     return out, cells
 
 
 def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neighbours=6,
-                     visibility="linear", flux_budget=False):
+                     visibility="linear", flux_budget=False, reprojection="face-normal"):
     """(P(grid), the per-cell terms, the propagated total (3,)); ``neighbours`` 6 or 26."""
     corrections = corrections or Corrections()
     neighbours = check_neighbours(neighbours, corrections, bounces)
@@ -617,7 +634,7 @@ def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neig
     propagated = np.zeros(3)
     for offset in (OFFSETS_26 if neighbours == 26 else ()):
         delivered, direction_cells, direction_propagated = _offset_step(
-            grid, offset, corrections, geometry, visibility, budget)
+            grid, offset, corrections, geometry, visibility, budget, reprojection)
         out += delivered
         propagated += direction_propagated
         for name, value in direction_cells.items():
@@ -625,7 +642,7 @@ def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neig
     for axis, sign in (DIRECTIONS if neighbours == 6 else ()):
         delivered, reflected, direction_cells, direction_propagated = _direction_step(
             grid, axis, sign, corrections, geometry, geometry_albedo, bounces == 2,
-            visibility, budget)
+            visibility, budget, reprojection)
         out += delivered + reflected
         propagated += direction_propagated
         for name, value in direction_cells.items():
@@ -637,8 +654,8 @@ def _step_with_cells(grid, corrections, geometry, geometry_albedo, bounces, neig
 def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
                              corrections: Corrections | None = None,
                              geometry: np.ndarray | None = None,
-                             geometry_albedo: np.ndarray | None = None, bounces: int = 1
-                             ) -> np.ndarray:
+                             geometry_albedo: np.ndarray | None = None, bounces: int = 1,
+                             reprojection: str = "face-normal") -> np.ndarray:
     """(64, 3, N, N, N, K): every value the in-place propagation step (``ping_pong``
     False, ``shaders/propagate.glsl``) can add to a cell, one per read schedule.
 
@@ -653,7 +670,7 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
     race-free reading of :func:`propagate_audited`). Which candidate a GPU produces depends
     on its invocation order; the statement that holds on every GPU is that each cell's
     step is one of these, per colour channel (r, g and b are separate images, each read
-    whole: one texel per cell with L1)."""
+    whole: one texel per cell with L1). ``reprojection``: :func:`reprojection_axis`."""
     corrections = corrections or Corrections()
     before, geometry, geometry_albedo = _check_step_inputs(before, geometry,
                                                            geometry_albedo, bounces)
@@ -665,9 +682,10 @@ def in_place_step_candidates(before: np.ndarray, after: np.ndarray,
     reads = []
     for axis, sign in DIRECTIONS:
         old, reflected, _, _ = _direction_step(before, axis, sign, corrections, geometry,
-                                               geometry_albedo, bounces == 2)
+                                               geometry_albedo, bounces == 2,
+                                               reprojection=reprojection)
         new, _, _, _ = _direction_step(after, axis, sign, corrections, geometry,
-                                       geometry_albedo, False)
+                                       geometry_albedo, False, reprojection=reprojection)
         own += reflected
         reads.append((old, new))
     candidates = np.empty((2 ** len(DIRECTIONS),) + before.shape)
@@ -680,12 +698,12 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
                       iterations: int = 1, geometry: np.ndarray | None = None,
                       geometry_albedo: np.ndarray | None = None, bounces: int = 1,
                       neighbours: int = 6, visibility: str = "linear",
-                      flux_budget: bool = False
+                      flux_budget: bool = False, reprojection: str = "face-normal"
                       ) -> tuple[list[np.ndarray], np.ndarray, GridAudit]:
     """grid_0..grid_N, acc_N and the audit. Ping-pong: grid_t = P(grid_{t−1}); in place:
     grid_t = P(acc_{t−1}) (the light step t adds). Either way acc_N = Σ grid_t.
-    ``geometry_albedo``, ``bounces``, ``neighbours``, ``visibility``, ``flux_budget``: see
-    :func:`propagation_step`."""
+    ``geometry_albedo``, ``bounces``, ``neighbours``, ``visibility``, ``flux_budget``,
+    ``reprojection``: see :func:`propagation_step`."""
     corrections = corrections or Corrections()
     check_neighbours(neighbours, corrections, bounces)
     check_flux_budget(flux_budget, corrections, bounces)
@@ -698,7 +716,8 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
     for _ in range(int(iterations)):
         source = steps[-1] if corrections.ping_pong else accumulated
         step, step_terms = propagation_step(source, corrections, geometry, geometry_albedo,
-                                            bounces, neighbours, visibility, flux_budget)
+                                            bounces, neighbours, visibility, flux_budget,
+                                            reprojection)
         for name in terms:
             terms[name].append(step_terms[name])
         steps.append(step)
@@ -722,10 +741,11 @@ def propagate_audited(grid: np.ndarray, corrections: Corrections | None = None,
 def propagate(grid: np.ndarray, corrections: Corrections | None = None, iterations: int = 1,
               geometry: np.ndarray | None = None, geometry_albedo: np.ndarray | None = None,
               bounces: int = 1, neighbours: int = 6, visibility: str = "linear",
-              flux_budget: bool = False) -> list[np.ndarray]:
+              flux_budget: bool = False, reprojection: str = "face-normal"
+              ) -> list[np.ndarray]:
     """grid_0..grid_N (see :func:`propagate_audited`)."""
     return propagate_audited(grid, corrections, iterations, geometry, geometry_albedo,
-                             bounces, neighbours, visibility, flux_budget)[0]
+                             bounces, neighbours, visibility, flux_budget, reprojection)[0]
 
 
 # --------------------------------------------------------------------------- final gather
