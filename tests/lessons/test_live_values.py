@@ -86,6 +86,28 @@ def test_audit_numbers_are_the_frames_own_sums(frame):
         np.sum(audit.injected) / np.sum(audit.rsm))
     # corrected formulas: the grid receives what the RSM reflects (docs/MODEL.md)
     assert value("audit.injected_over_rsm") == pytest.approx(1.0, rel=1e-4)
+    assert value("audit.budget_withheld") == 0.0              # no flux budget here
+
+
+def test_the_flux_budgets_term_is_quoted_from_the_frame(ctx):
+    """Under the flux budget ``audit.budget_withheld`` is the audit's own term, and with
+    the corrected formulas it equals the clamp gain (the budget keeps the step's flux)."""
+    from explorer.lpv.pipeline import Pipeline
+
+    settings = SMALL.with_changes(flux_budget=True)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        result = pipeline.run(settings)
+    context = lv.LiveContext(settings=settings, result=result)
+
+    def value(name):
+        return lv.lookup(name).value(context)
+
+    withheld = float(np.sum(result.audit.budget_withheld))
+    assert withheld > 0 and value("audit.budget_withheld") == pytest.approx(withheld)
+    assert value("audit.budget_withheld_share") == pytest.approx(
+        withheld / float(np.sum(result.audit.injected)))
+    assert value("audit.budget_withheld_over_clamp_gain") == pytest.approx(1.0, rel=1e-4)
+    assert lv.audit_needed("audit.budget_withheld_share") == "full"
 
 
 def test_frame_numbers(frame):
