@@ -122,13 +122,15 @@ def remembered_stage_key(memo: dict[str, tuple], settings: Any, stage: str,
     ``extra`` (all by identity): a frame re-run with unchanged settings reads no field
     again. ``memo`` (stage -> what the last key was made of, and the key) belongs to the
     caller."""
-    upstream = tuple(upstream_keys[up] for up in DECLARATIONS[stage].upstream_for(settings))
     last = memo.get(stage)
-    if last is not None and last[0] is settings and last[2] is extra and \
-            len(last[1]) == len(upstream) and all(map(operator.is_, last[1], upstream)):
+    same_settings = last is not None and last[0] is settings
+    # the upstream stages a Settings object selects are the same for it every time
+    names = last[4] if same_settings else tuple(DECLARATIONS[stage].upstream_for(settings))
+    upstream = tuple(map(upstream_keys.__getitem__, names))
+    if same_settings and last[2] is extra and all(map(operator.is_, last[1], upstream)):
         return last[3]
     key = (stage_inputs(settings, stage), upstream, extra)
-    memo[stage] = (settings, upstream, extra, key)
+    memo[stage] = (settings, upstream, extra, key, names)
     return key
 
 

@@ -119,8 +119,12 @@ class LightViews:
             others = arrays[2 + count:]
             views = (primary,) + tuple((others[2 * k], others[2 * k + 1], flux[k + 1])
                                        for k in range(count - 1))
-        # the flux sums are taken when the audit reads them
+        # the flux sums are taken when the audit reads them, while the frame keeps every
+        # view's arrays anyway (one view, or all kept): else now, so that a kept frame
+        # does not hold the other views' flux for its sums
         per_light = Deferred(lambda: flux_per_light(flux, lights))
+        if views is None:
+            per_light.value()
         return RsmImages(*primary, total_flux=Deferred(lambda: per_light.value().sum(axis=0)),
                          flux_per_light=per_light, light_views=tuple(self.views),
                          views=views), arrays

@@ -62,6 +62,7 @@ class InjectPass:
         self._layers: LayeredTarget | None = None
         self._heads: moderngl.Buffer | None = None
         self._links: moderngl.Buffer | None = None
+        self._uniforms: dict[tuple, dict[str, object]] = {}
 
     def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
             mode: str, out: LpvGrid, offset_cells: float = 0.0) -> None:
@@ -73,8 +74,17 @@ class InjectPass:
         if out.cells != spec.cells:
             raise ValueError(f"the output grid has {shape_text(out.cells)} cells but the "
                              f"grid spec has {shape_text(spec.cells)}")
-        uniforms = {**spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
-                    "u_injection_offset": float(offset_cells) * spec.cell_size}
+        samplers = bind_vpl_textures(vpls)
+        # one dict per grid, switches and offset (never changed once made): a frame's
+        # injection sets it again without stamping it (set_uniforms skips its last dict)
+        key = (spec, corrections, float(offset_cells))
+        uniforms = self._uniforms.get(key)
+        if uniforms is None:
+            if len(self._uniforms) >= 16:
+                self._uniforms.clear()
+            uniforms = self._uniforms[key] = {
+                **spec.uniforms(), **corrections.as_uniforms(), **samplers,
+                "u_injection_offset": float(offset_cells) * spec.cell_size}
         if mode == "points":
             self._inject_points(vpls, uniforms, out)
         else:

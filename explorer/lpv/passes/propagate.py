@@ -73,6 +73,7 @@ class PropagatePass:
         self.programs = programs
         self.audit = AuditReducer(ctx, programs)
         self._grids: dict[str, LpvGrid] = {}
+        self._run_uniforms: dict[tuple[GridSpec, Corrections], dict[str, object]] = {}
         self._budget: moderngl.Buffer | None = None
 
     def budget_buffer(self, cells: tuple[int, int, int]) -> moderngl.Buffer:
@@ -83,6 +84,22 @@ class PropagatePass:
                 self._budget.release()
             self._budget = self.ctx.buffer(reserve=size)
         return self._budget
+
+    def run_uniforms(self, spec: GridSpec, corrections: Corrections) -> dict[str, object]:
+        """A run's uniforms (the grid, the switches, the units), the same dict for the same
+        grid and switches (never changed once made): a frame's run then sets them again
+        without stamping them (``set_uniforms`` skips the dict of its last call)."""
+        key = (spec, corrections)
+        made = self._run_uniforms.get(key)
+        if made is None:
+            if len(self._run_uniforms) >= 16:
+                self._run_uniforms.clear()
+            made = self._run_uniforms[key] = {
+                **spec.uniforms(), **corrections.as_uniforms(),
+                "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
+                "u_geometry": self.GEOMETRY_UNIT, "u_geometry_albedo": self.ALBEDO_UNIT,
+                "u_cell_offset": (0, 0, 0)}
+        return made
 
     def scratch_grid(self, name: str, cells: int | tuple[int, int, int], fmt: str,
                      sh_order: int) -> LpvGrid:
@@ -269,11 +286,7 @@ class PropagationRun:
             flux_budget=flux_budget, reprojection=reprojection)
         self._key = owner.programs.key("propagate.glsl", self._defines)
         self._budget = owner.budget_buffer(n) if flux_budget else None
-        self._uniforms = {
-            **spec.uniforms(), **corrections.as_uniforms(),
-            "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
-            "u_geometry": owner.GEOMETRY_UNIT, "u_geometry_albedo": owner.ALBEDO_UNIT,
-            "u_cell_offset": (0, 0, 0)}
+        self._uniforms = owner.run_uniforms(spec, corrections)
         self._neighbours = neighbours
         self._program = None
         self._program_now()

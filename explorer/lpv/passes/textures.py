@@ -286,12 +286,13 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
     program = programs.get("volume_copy.glsl", *made)
     source.use(0)
     target.bind_image(0, read=False, write=True)
-    set_uniforms(program, {"u_source": 0})
+    set_uniforms(program, _COPY_UNIFORMS)    # one dict: the copies in a row set it once
     program.run(*dispatch_size(target.shape))
     programs.ctx.memory_barrier()
 
 
 _COPY_PROGRAMS: dict[tuple[bool, str], tuple[dict, tuple]] = {}
+_COPY_UNIFORMS: dict[str, object] = {"u_source": 0}
 """:func:`copy_volume`'s program defines and keys by (layered source, format)."""
 
 _PER_CONTEXT: dict[tuple[int, str], tuple[moderngl.Context, object]] = {}

@@ -56,4 +56,7 @@ class Stage(StageBase):
             self.reads.append(DeferredRead(host.ctx))
         arrays = yield from read_back_later(self.reads, textures)
         self.state.rsm, checked = host.light_views.rsm_read_back(arrays, every_view)
-        self.state.warnings["rsm"] = guards.arrays_warnings_later("rsm", checked, s)
+        # checked when read while the frame keeps every array it checks (one view, or all
+        # kept), else now: a kept frame must not hold the other views' arrays for it
+        self.state.warnings["rsm"] = guards.arrays_warnings_later("rsm", checked, s) \
+            if self.state.rsm.views is not None else guards.arrays_warnings("rsm", checked, s)
