@@ -20,7 +20,8 @@ step), a camera move. Every pass repeats the first one exactly, and the first on
 after the course's last step as the later ones do. The first pass is the warm-up (it
 typesets the course's formulas and compiles the programs its settings need); passes
 follow for MINUTES after it, at least one whole pass. Resident memory and the GL
-objects alive of each kind are sampled every minute and after every step.
+objects alive of each kind are sampled every minute and after every step (the GL objects
+once the sides not on screen are given back, :func:`release_unshown_sides`).
 
 The growth rule (:func:`growth`), after the warm-up: at the end of each pass no kind of
 GL object above the warm-up pass's end (the same step after the same course: what the
@@ -708,6 +709,22 @@ def _click_view(app, rec: Recorder, fraction: float) -> None:
     rec.frame()
 
 
+def release_unshown_sides(app, rec: Recorder) -> None:
+    """Give back now what the sides the view does not show made (the controller's idle
+    release, without its wait), in one frame: after a step, which sides are still alive
+    would otherwise depend on how long the step took on this machine, and so would the
+    GL counts compared after it (resident memory is read before, as the user has it)."""
+    controller = getattr(app, "controller", None)
+    if controller is None or not hasattr(controller, "idle_release_s"):
+        return                           # an older window: no idle release
+    wait, controller.idle_release_s = controller.idle_release_s, 0.0
+    try:
+        poke(app)
+        rec.frame()
+    finally:
+        controller.idle_release_s = wait
+
+
 SOAK_RSS_SLACK = 0.10
 """How far resident memory may rise after the warm-up above the warm-up pass's peak
 (malloc's arenas and llvmpipe's JIT move it by tens of MiB from step to step)."""
@@ -860,8 +877,10 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
             for position in range(len(steps)):
                 cycle(position)
                 lesson_id, number = steps[position]
+                rss = resident_mib()
+                release_unshown_sides(app, rec)
                 record = {"pass": passes, "position": position,
-                          "step": f"{lesson_id}:{number}", "rss_mib": resident_mib(),
+                          "step": f"{lesson_id}:{number}", "rss_mib": rss,
                           "gl": gl_objects(), "gl_mib": gl_bytes(),
                           "programs": gl_programs()}
                 records.append(record)

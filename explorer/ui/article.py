@@ -115,6 +115,18 @@ def _article(state: AppState, session: LessonSession) -> None:
     env = _page_env(state, session, step, context)
     page = Page(env, width)
     env.page = page
+    try:
+        _draw_article(state, session, step, page, context, width)
+    finally:
+        # the page and its callbacks form cycles the cyclic collector frees late (a
+        # frame kept steps past its step that way): drop the page and the live numbers'
+        # frame now
+        env.page = None
+        env.source.clear()
+
+
+def _draw_article(state: AppState, session: LessonSession, step: Step, page: Page,
+                  context: live_values.LiveContext, width: float) -> None:
     imgui.begin_group()
     page.push("bold")
     imgui.push_font(None, page.size * TITLE_SCALE)

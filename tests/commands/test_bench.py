@@ -256,3 +256,21 @@ def test_the_call_counter_counts_one_upload_per_uniform_set_and_restores_moderng
     finally:
         shader.release()
         buffer.release()
+
+
+def test_the_soak_counts_gl_objects_once_the_sides_not_shown_are_given_back():
+    """Which sides are alive after a step would depend on the machine's speed (the idle
+    release waits 20 s): the count is taken after a frame with no wait, the wait put
+    back after it."""
+    from types import SimpleNamespace
+
+    from explorer.commands import interaction
+
+    controller = SimpleNamespace(idle_release_s=20.0)
+    seen = []
+    app = SimpleNamespace(controller=controller, window=SimpleNamespace())
+    rec = SimpleNamespace(frame=lambda: seen.append(controller.idle_release_s))
+    interaction.release_unshown_sides(app, rec)
+    assert seen == [0.0] and controller.idle_release_s == 20.0
+    interaction.release_unshown_sides(SimpleNamespace(window=SimpleNamespace()), rec)
+    assert seen == [0.0]                 # an older window without the release: no frame

@@ -135,3 +135,69 @@ def test_a_window_frame_keeps_the_steps_of_the_finest_level_only(gl_context, ctx
         assert result.cascades[1].steps is None
     finally:
         controller.release()
+
+
+def test_the_views_white_share_note_keeps_no_frame():
+    """The note "much of B shows white" is measured once per frame and display; the
+    measurement's cache held a 64³ frame with its steps after the view had moved on."""
+    from explorer.ui.panels.view import washed_out
+    from explorer.ui.picture import SideDisplay
+
+    class Frame:
+        def __init__(self, level: float) -> None:
+            self.final_image = np.full((4, 4, 3), level, np.float32)
+            self.indirect = self.final_image
+
+    def state_showing(frame) -> SimpleNamespace:
+        display = SideDisplay(exposure=1.0, scale=1.0, tone_map="linear-clip",
+                              indirect_only=False)
+        frames = SimpleNamespace(pictures={"B": SimpleNamespace(result=frame)},
+                                 displays={"B": display})
+        return SimpleNamespace(runtime=SimpleNamespace(frame=frames),
+                               expose_sides_separately=False, view_mode="split")
+
+    white = Frame(5.0)
+    assert washed_out(state_showing(white), "B") != ""
+    ref = weakref.ref(white)
+    del white
+    assert _freed(ref), "the white-share cache kept the frame"
+    assert washed_out(state_showing(Frame(0.1)), "B") == ""
+
+
+def test_the_error_panels_pipeline_is_given_back_once_idle(ctx, monkeypatch):
+    """The measuring pipeline holds a frame's grids at the grid shown; it goes once no
+    measurement has run for PIPELINE_IDLE_S, and the next measurement makes a new one."""
+    from explorer.truth.progressive import Measurement
+    from explorer.ui.panels import error
+
+    clock = [1000.0]
+    monkeypatch.setattr(error.time, "monotonic", lambda: clock[0])
+    state = SimpleNamespace(settings=CORNELL)
+    service = error.ErrorService(state)
+    service.measurement = Measurement(size=24, rsm_size=16, reference="unoccluded")
+    try:
+        service.measure()
+        for _ in range(2000):
+            service.advance(ctx, 0.0)
+            if not service.running:
+                break
+        assert service.result_for() is not None and service.pipeline is not None
+        service.advance(ctx, 0.0)                     # idle from now
+        clock[0] += error.PIPELINE_IDLE_S - 1.0
+        service.advance(ctx, 0.0)
+        assert service.pipeline is not None           # not yet
+        clock[0] += 2.0
+        service.advance(ctx, 0.0)
+        assert service.pipeline is None and service.result_for() is not None
+        state.settings = CORNELL.with_changes(iterations=2)
+        service.measure()
+        for _ in range(2000):
+            service.advance(ctx, 0.0)
+            if not service.running:
+                break
+        assert service.result_for().settings.iterations == 2
+        clock[0] += error.PIPELINE_IDLE_S - 1.0       # idle again, counted afresh
+        service.advance(ctx, 0.0)
+        assert service.pipeline is not None
+    finally:
+        service.release()

@@ -42,6 +42,10 @@ DEBOUNCE_S = 0.4
 """A configuration must stay unchanged this long before an automatic measurement starts
 (orbiting the camera would otherwise start one per frame)."""
 CACHE_SIZE = 32
+PIPELINE_IDLE_S = 20.0
+"""Seconds the measuring pipeline stays made after its last measurement (as the
+controller's idle sides): at the grid shown it holds a frame's GPU grids and arrays,
+hundreds of MiB at 64³ with two cascades, which a reader who moved on does not need."""
 SIZES = (48, 64, 96, 128, 192, 256)
 RSM_SIZES = (16, 32, 64, 128)
 
@@ -76,6 +80,8 @@ class ErrorService:
         self.truth_problem: str | None = None
         self._seen: Any = None
         self._seen_at = 0.0
+        self._idle_since: float | None = None
+        """When the pipeline last finished or stopped a measurement (None: none made)."""
 
     # -- what is measured ----------------------------------------------------------------
     def key(self, settings=None) -> Any:
@@ -172,11 +178,13 @@ class ErrorService:
             every = self.auto or self.lesson_wants
             wanted = key == self.requested or (every and now - self._seen_at >= DEBOUNCE_S)
             if not wanted or key in self.cache or self.problem:
+                self._release_idle_pipeline(now)
                 return
             settings = self.state.settings
             self.job = ErrorJob(settings.with_changes(exposure=1.0, indirect_only=False),
                                 self.measurement, settings.width / max(settings.height, 1))
             self.job_key = key
+            self._idle_since = None
         try:
             if self.pipeline is None:
                 from explorer.lpv.pipeline import Pipeline
@@ -195,6 +203,18 @@ class ErrorService:
             self.job.release()
             self.job = self.job_key = None
             self.requested = None
+
+    def _release_idle_pipeline(self, now: float) -> None:
+        """Release the measuring pipeline :data:`PIPELINE_IDLE_S` after its last
+        measurement (the next one makes a new one)."""
+        if self.pipeline is None or self.truth_job is not None:
+            self._idle_since = None
+            return
+        if self._idle_since is None:
+            self._idle_since = now
+        elif now - self._idle_since >= PIPELINE_IDLE_S:
+            self.pipeline.release()
+            self.pipeline, self._idle_since = None, None
 
     def release(self) -> None:
         self.cancel()

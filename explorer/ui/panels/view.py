@@ -19,6 +19,7 @@ from explorer.ui import camera_controls, gizmo, legend, widgets
 from explorer.ui.overlays import in_view
 from explorer.ui.state import VIEW_BUFFERS, VIEW_MODES, AppState, default_screenshot_path
 from explorer.ui.view_composer import DIFFERENCE_MAPS
+from explorer.ui.weak_version import WeakVersion
 
 GRID_MODES = ("side-by-side", "small-multiples")
 """View modes that show whole pictures in a grid of cells, one side each."""
@@ -27,10 +28,10 @@ GRID_GAP = 4.0
 MIN_CELL_ASPECT = 1.0
 """Narrowest a grid cell's picture gets (width / height): the camera's field of view is
 vertical, so a narrower picture would crop the scene's sides away."""
-_WHITE_CACHE: dict[str, tuple] = {}
-"""Side -> (its finished result, exposure, display scale, tone map, indirect only, share
-shown white): measured once per result and display (the result is held, never an id
-that could be reused)."""
+_WHITE_CACHE: dict[str, tuple[WeakVersion, float]] = {}
+"""Side -> ((its finished result, exposure, display scale, tone map, indirect only), share
+shown white): measured once per result and display (the result held weakly: a freed
+one's id names no entry, and the cache keeps no frame alive)."""
 
 
 def gui_view(state: AppState) -> None:
@@ -333,12 +334,14 @@ def washed_out(state: AppState, side: str) -> str:
         return ""
     result = picture.result
     wanted = (display.exposure, display.scale, display.tone_map, display.indirect_only)
+    parts = (result, *wanted)
     cached = _WHITE_CACHE.get(side)
-    if cached is None or cached[0] is not result or cached[1:5] != wanted:
+    if cached is None or not cached[0].matches(parts):
         linear = result.indirect if display.indirect_only else result.final_image
-        cached = _WHITE_CACHE[side] = (result, *wanted, white_share(
-            linear, display.exposure * display.scale, display.tone_map))
-    return exposure_note(side, cached[5])
+        cached = _WHITE_CACHE[side] = (WeakVersion(parts, (int, float, str, bool)),
+                                       white_share(linear, display.exposure * display.scale,
+                                                   display.tone_map))
+    return exposure_note(side, cached[1])
 
 
 def _grid(state: AppState, draw, origin, sides: tuple[str, ...], cols: int, cell) -> None:
