@@ -320,7 +320,8 @@ class App:
         self._seen = self._fingerprint()
         self.drew_change = self._seen != before_draw
         self._drawn_at = time.monotonic()
-        self._quiet = not (worked or rt.redraw or self._draws_pending or self.interacting())
+        self._quiet = frame_pacing.may_wait(worked or rt.redraw or self._draws_pending > 0,
+                                            self._interacted, self.interacting())
         return True
 
     def note_input(self) -> None:

@@ -44,6 +44,9 @@ class _Picture:
     """Screen units (imgui's): the figure's rectangle, which the picture keeps free."""
     shown: Rect
     """Screen rectangle of the part copied (what was inside the window)."""
+    results: tuple = ()
+    """The frame results it plots, held so that no later result takes their ids (the key
+    names them by identity)."""
 
 
 class FigureCache:
@@ -61,9 +64,9 @@ class FigureCache:
         """Instance id -> times its picture was shown instead."""
         self._last_keys: dict[str, tuple] = {}
         """Instance id -> the inputs it was drawn live with last frame."""
-        self._pending: list[tuple[str, tuple, Rect, Rect]] = []
+        self._pending: list[tuple[str, tuple, Rect, Rect, tuple]] = []
         """Figures to copy after this frame's rendering: (id, inputs, the figure's screen
-        rectangle, the part of it to copy)."""
+        rectangle, the part of it to copy, the results it plotted)."""
         self._page: object = None
 
     # ------------------------------------------------------------------ drawing
@@ -99,7 +102,7 @@ class FigureCache:
         self._last_keys[name] = after
         visible = _copyable_part(rect) if self.enabled and settled else None
         if visible is not None:
-            self._pending.append((name, key, rect, visible))
+            self._pending.append((name, key, rect, visible, tuple(context.results)))
         return rect
 
     def _show(self, spec: FigureSpec, picture: _Picture, at: tuple[float, float]) -> Rect:
@@ -148,7 +151,7 @@ class FigureCache:
         fb_width, fb_height = framebuffer_size
         self.ctx.screen.use()
         copied = 0
-        for name, key, ((x0, y0), (x1, y1)), ((v0, w0), (v1, w1)) in pending:
+        for name, key, ((x0, y0), (x1, y1)), ((v0, w0), (v1, w1)), results in pending:
             left, top = math.ceil(v0 * scale.x), math.ceil(w0 * scale.y)
             right = min(math.floor(v1 * scale.x), fb_width)
             bottom = min(math.floor(w1 * scale.y), fb_height)
@@ -162,7 +165,7 @@ class FigureCache:
                                                 fb_height - bottom, width, height)
             self._forget(name)
             shown = ((left / scale.x, top / scale.y), (right / scale.x, bottom / scale.y))
-            self.pictures[name] = _Picture(key, texture, (x1 - x0, y1 - y0), shown)
+            self.pictures[name] = _Picture(key, texture, (x1 - x0, y1 - y0), shown, results)
             copied += 1
         return copied
 

@@ -52,6 +52,14 @@ def interacting(state: AppState) -> bool:
             or (rt.services.animation is not None and rt.services.animation.active))
 
 
+def may_wait(busy: bool, updated_moving: bool, moving: bool) -> bool:
+    """Whether the next frame may wait for events: nothing to draw or work on (``busy``
+    false), the camera not moving now, and not moving either when this frame's update ran
+    (``updated_moving``): a move that settled during the frame has its full-size frame
+    due, which waiting would hold back by the whole idle timeout."""
+    return not (busy or updated_moving or moving)
+
+
 def note_setting_drag(state: AppState, before: Settings) -> None:
     """A widget held down (a slider being dragged) changed what the pipelines run this
     frame (``before``: the settings when the panels began): it counts as a move, as a

@@ -164,3 +164,16 @@ def test_a_held_slider_that_changes_the_pipelines_counts_as_a_move(monkeypatch):
     state.update(light_flux=before.light_flux * 1.1)
     frame_pacing.note_setting_drag(state, before)
     assert not frame_pacing.interacting(state)
+
+
+
+def test_a_move_that_settled_during_a_frame_lets_no_wait_follow():
+    """The loop may wait for events only when nothing is due: a frame whose update ran
+    while the camera moved, the move settled since, has the full-size frame due (it used
+    to wait the whole idle timeout, half a second after a drag)."""
+    from explorer.ui.frame_pacing import may_wait
+
+    assert may_wait(False, False, False)
+    assert not may_wait(False, True, False)      # settled during this frame
+    assert not may_wait(False, False, True)
+    assert not may_wait(True, False, False)

@@ -1,6 +1,7 @@
 """A lesson figure drawn once (explorer/ui/figure_cache.py), in the one-figure window under
 Xvfb: an unchanged figure is drawn live until it settles and then shown from its picture
-(the same pixels), drawn again when its inputs change, live while hovered or playing,
+(the same pixels), drawn again when its inputs or the frames it plots change, live while
+hovered or playing,
 and its picture released when the page changes. Draws are counted, not timed."""
 
 from __future__ import annotations
@@ -117,3 +118,17 @@ def test_a_new_page_releases_the_pictures(window):
     _frames(window, spec, 1)
     assert isinstance(texture.mglo, moderngl.InvalidObject)
     assert cache.draws[spec.instance_id] == drawn + 1
+
+
+def test_a_figure_of_the_frames_is_drawn_again_for_new_results(window):
+    from figure_cases import synthetic_result
+
+    spec = make_figure("flux-per-step")
+    cache = window.cache
+    window.context.results = (synthetic_result("corrected"),)
+    _frames(window, spec)
+    drawn = cache.draws[spec.instance_id]
+    assert spec.instance_id in cache.pictures
+    window.context.results = (synthetic_result("original"),)      # a new frame
+    _frames(window, spec)
+    assert cache.draws[spec.instance_id] == drawn + 2
