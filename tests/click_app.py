@@ -25,6 +25,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 WINDOW = (1280, 720)
 SESSION_TIMEOUT_S = 900.0
+ON_TOP = ("//Lesson/", "//$FOCUSED/")
+"""Windows always in front when a session clicks in them (the Lesson column, an open
+popup): an item drawn whole there is clicked where it is (:meth:`Clicks._press`), with
+no engine step to bring its window forward."""
 PAGE_FRACTION = 0.7
 """A search scrolls this much of the window's height a step (the rest overlaps)."""
 
@@ -48,6 +52,8 @@ class Clicks:
         """The next action asks the window to close (File/Quit): the runner notes it
         (:attr:`quit_seen`) and keeps the window open for the rest of the session."""
         self.quit_seen = False
+        self._found: tuple[str, int] = ("", 0)
+        """The reference :meth:`_item_id` looked up last and the ID it found (0: none)."""
 
     # -- actions ----------------------------------------------------------------------
     def click(self, ref: str, what: str | None = None) -> None:
@@ -55,28 +61,41 @@ class Clicks:
         let a frame run; a panel failing on it is a problem named after the click. An
         item the engine cannot find is a failed check (the engine itself would stop the
         whole session at it)."""
-        target = ref
-        if "**" in ref:
-            found = self._item_id(ref)
-            if not found:
+        from imgui_bundle import imgui
+
+        target, at = ref, None
+        if "**" in ref or ref.startswith(ON_TOP):
+            info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
+            found = info.id_ if info is not None else 0
+            if not found and "**" in ref:
                 self.check(False, f"{what or ref}: no item {ref!r} on screen")
                 return
-            target = found
-        self._press(target, what or ref)
+            if found:
+                target = found
+                at = _inside(info) if ref.startswith(ON_TOP) else None
+        self._press(target, what or ref, at)
 
-    def _press(self, target, what: str) -> None:
+    def _press(self, target, what: str, at=None) -> None:
         """Click ``target`` (a reference, or the ID :meth:`_item_id` found: the engine
         then looks for no label again, a frame sooner), let the frames after it run and
-        collect what the panels reported."""
+        collect what the panels reported. ``at``: the screen point of an item standing
+        still on screen (:meth:`_steady`): the mouse goes there and clicks, 4 frames
+        where the engine's item click takes 9 (it looks the item up, brings its window
+        forward, scrolls it into view and checks the hover first)."""
         from imgui_bundle import imgui
 
         te = imgui.test_engine
-        if isinstance(target, int):
-            target = te.TestRef(target)
-        # no engine error either when it goes between finding and clicking (the text
-        # reflowed): the session's own checks see what the click did or did not do
-        self.ctx.item_click(target, 0, te.TestOpFlags_.no_error
-                            | te.TestOpFlags_.no_check_hovered_id)
+        if at is not None:
+            self.ctx.mouse_move_to_pos(at)
+            self.ctx.mouse_down(0)
+            self.ctx.mouse_up(0)
+        else:
+            if isinstance(target, int):
+                target = te.TestRef(target)
+            # no engine error either when it goes between finding and clicking (the text
+            # reflowed): the session's own checks see what the click did or did not do
+            self.ctx.item_click(target, 0, te.TestOpFlags_.no_error
+                                | te.TestOpFlags_.no_check_hovered_id)
         self.controls.append(what)
         self.settle_input()
         self._panel_errors(what)
@@ -89,7 +108,8 @@ class Clicks:
         if ref is None:
             self.check(False, f"no item {label!r} in {window_ref}")
             return False
-        self._press(self._steady(ref) or ref, what or ref)
+        item, at = self._steady(ref)
+        self._press(item or ref, what or ref, at)
         return True
 
     def click_until(self, window_ref: str, label: str, done, what: str,
@@ -105,38 +125,43 @@ class Clicks:
                 return False
             # no engine error for an item gone meanwhile (_press): it would stop the
             # whole session
-            self._press(self._steady(ref) or ref, what)
+            item, at = self._steady(ref)
+            self._press(item or ref, what, at)
             if done():
                 return True
         return self.check(False, f"{what}: {attempts} clicks on {label!r} did nothing")
 
-    def _steady(self, ref: str, frames: int = 40) -> int:
+    def _steady(self, ref: str, frames: int = 40) -> tuple[int, object]:
         """Wait until the item ``ref`` stays where it is for two frames; its ID (0 when
-        it went meanwhile)."""
+        it went meanwhile) and, when it is wholly visible, the centre of its rectangle
+        (None otherwise: the engine's click then scrolls it into view)."""
         from imgui_bundle import imgui
 
         te = imgui.test_engine
         last, target, item = None, ref, 0
+        if self._found[0] == ref and self._found[1]:
+            # the ID :meth:`find` just saw: by it the engine answers from the frame just
+            # drawn, where a label is searched for again over a frame or two
+            target = te.TestRef(self._found[1])
         for _ in range(frames):
             info = self.ctx.item_info(target, te.TestOpFlags_.no_error)
             rect = None if info is None else (info.rect_full.min.x, info.rect_full.min.y)
             item = 0 if info is None else info.id_
             if rect is not None and rect == last:
-                return item
+                return item, _inside(info)
             last = rect
             if item:
-                # by its ID from now on: the engine answers from the frame just drawn,
-                # where a label is searched for again over a frame each time
                 target = te.TestRef(item)
             self.ctx.yield_()
-        return item
+        return item, None
 
     def _item_id(self, ref: str) -> int:
         """The ID of the item ``ref`` names, 0 if none is on screen (no engine error)."""
         from imgui_bundle import imgui
 
         info = self.ctx.item_info(ref, imgui.test_engine.TestOpFlags_.no_error)
-        return info.id_ if info is not None else 0
+        self._found = (ref, info.id_ if info is not None else 0)
+        return self._found[1]
 
     def find(self, window_ref: str, label: str) -> str | None:
         """The reference of the item labelled ``label`` in ``window_ref``, scrolled on
@@ -329,6 +354,19 @@ class Clicks:
         for text in errors[self._seen_errors:]:
             self.problems.append(f"after {after}: {text}")
         self._seen_errors = len(errors)
+
+
+def _inside(info):
+    """The centre of the item ``info`` (an engine item info) when the item is drawn whole
+    inside its window (its clipped rectangle is its full one), else None."""
+    from imgui_bundle import imgui
+
+    full, clipped = info.rect_full, info.rect_clipped
+    if (full.min.x, full.min.y, full.max.x, full.max.y) != \
+            (clipped.min.x, clipped.min.y, clipped.max.x, clipped.max.y) \
+            or full.max.x - full.min.x < 2.0 or full.max.y - full.min.y < 2.0:
+        return None
+    return imgui.ImVec2(0.5 * (full.min.x + full.max.x), 0.5 * (full.min.y + full.max.y))
 
 
 def _thumbnail(pixels, size: int = 64):

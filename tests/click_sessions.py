@@ -32,13 +32,20 @@ window session's waits needs a converged frame; those get the quiet budget meanw
 more of them see the frame converging (the provisional numbers of a try-this)."""
 
 
+def small_settings():
+    """The reader's own settings at the start of every session and of the reader walk
+    (tests/reader_walk.py): a step that sets no grid, iterations or RSM runs at these."""
+    from explorer.lpv.settings import Settings
+
+    return Settings(grid_size=8, iterations=3, rsm_size=32)
+
+
 def small_state():
     """The reader's own configuration at the start of every session."""
-    from explorer.lpv.settings import Settings
     from explorer.ui.state import AppState
 
-    return AppState(settings=Settings(grid_size=8, iterations=3, rsm_size=32),
-                    render_scale=0.25, frame_budget_ms=CLICK_BUDGET_MS)
+    return AppState(settings=small_settings(), render_scale=0.25,
+                    frame_budget_ms=CLICK_BUDGET_MS)
 
 
 ERROR_RSM_SIZE = 16

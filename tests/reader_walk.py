@@ -222,7 +222,7 @@ def _until_result(app, rec: Recorder) -> None:
 
 
 def walk(wanted: list[str]) -> dict:
-    from click_sessions import small_error_measurement
+    from click_sessions import small_error_measurement, small_settings
 
     from explorer.gl.window import headless_available
     from explorer.ui.app import App
@@ -239,7 +239,10 @@ def walk(wanted: list[str]) -> dict:
     rec.install()
     options = WindowOptions(width=WINDOW[0], height=WINDOW[1], visible=False, vsync=False,
                             persist_settings=False, headless=headless_available())
-    app = App(AppState(render_scale=RENDER_SCALE), options)
+    # the reader's own settings small, as in the click sessions: the steps that set no
+    # grid converge at 8³ (the strings and their places are the same; about a third of
+    # the walk's CPU time at 32³ × 16, BENCHMARKS.md "The suite in minutes")
+    app = App(AppState(settings=small_settings(), render_scale=RENDER_SCALE), options)
     state = app.state
     small_error_measurement(state)
     steps = 0

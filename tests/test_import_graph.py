@@ -5,6 +5,7 @@ arrows only downwards, no private names borrowed across modules. Read from the s
 from __future__ import annotations
 
 import ast
+from functools import cache
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -31,6 +32,12 @@ the window, the web site (which renders what the window shows) and the commands 
 top."""
 
 
+@cache
+def _tree(path: Path) -> ast.Module:
+    """The parsed source of ``path``, once per run (every check reads every module)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
+
+
 def _modules() -> dict[str, Path]:
     found = {}
     for path in (path for package in PACKAGES for path in (ROOT / package).rglob("*.py")):
@@ -43,7 +50,7 @@ def _modules() -> dict[str, Path]:
 def _imports(path: Path, known: dict[str, Path]) -> list[tuple[str, list[str], int]]:
     """(module imported, names taken from it, line) for every import of ``path``."""
     result = []
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    for node in ast.walk(_tree(path)):
         if isinstance(node, ast.Import):
             result += [(alias.name, [], node.lineno) for alias in node.names]
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
@@ -56,7 +63,9 @@ def _imports(path: Path, known: dict[str, Path]) -> list[tuple[str, list[str], i
     return result
 
 
+@cache
 def _graph() -> dict[str, set[str]]:
+    """Module -> the modules it imports (built once: the checks only read it)."""
     known = _modules()
     return {name: {target for target, _, _ in _imports(path, known)
                    if target in known and target != name}
@@ -212,7 +221,7 @@ def test_no_module_reaches_into_another_objects_private_state():
     who depends on it."""
     found = []
     for _name, path in _modules().items():
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(_tree(path)):
             if isinstance(node, ast.Attribute) and node.attr.startswith("_") \
                     and not node.attr.startswith("__") \
                     and not _own(node.value):
