@@ -24,6 +24,8 @@ from collections import Counter
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from explorer.ui.weak_version import WeakVersion
+
 if TYPE_CHECKING:
     import moderngl
 
@@ -44,9 +46,10 @@ class _Picture:
     """Screen units (imgui's): the figure's rectangle, which the picture keeps free."""
     shown: Rect
     """Screen rectangle of the part copied (what was inside the window)."""
-    results: tuple = ()
-    """The frame results it plots, held so that no later result takes their ids (the key
-    names them by identity)."""
+    results: WeakVersion | None = None
+    """The frame results it plots, by weak reference: the key names them by identity, and
+    a freed result (whose id a later one may take) matches nothing; holding them would
+    keep a step's frame (hundreds of MiB at 64³) after the view moved on."""
 
 
 class FigureCache:
@@ -64,7 +67,7 @@ class FigureCache:
         """Instance id -> times its picture was shown instead."""
         self._last_keys: dict[str, tuple] = {}
         """Instance id -> the inputs it was drawn live with last frame."""
-        self._pending: list[tuple[str, tuple, Rect, Rect, tuple]] = []
+        self._pending: list[tuple[str, tuple, Rect, Rect, WeakVersion]] = []
         """Figures to copy after this frame's rendering: (id, inputs, the figure's screen
         rectangle, the part of it to copy, the results it plotted)."""
         self._page: object = None
@@ -91,7 +94,8 @@ class FigureCache:
             if _mouse_in(((start.x, start.y), (start.x + picture.size[0],
                                                 start.y + picture.size[1]))):
                 self._forget(name)           # hovered: live (a 3-D view may turn)
-            elif picture.key == key:
+            elif picture.key == key and (picture.results is None
+                                         or picture.results.matches(context.results)):
                 return self._show(spec, picture, (start.x, start.y))
             else:
                 self._forget(name)
@@ -102,7 +106,8 @@ class FigureCache:
         self._last_keys[name] = after
         visible = _copyable_part(rect) if self.enabled and settled else None
         if visible is not None:
-            self._pending.append((name, key, rect, visible, tuple(context.results)))
+            self._pending.append((name, key, rect, visible,
+                                  WeakVersion(tuple(context.results), ())))
         return rect
 
     def _show(self, spec: FigureSpec, picture: _Picture, at: tuple[float, float]) -> Rect:

@@ -132,3 +132,24 @@ def test_a_figure_of_the_frames_is_drawn_again_for_new_results(window):
     window.context.results = (synthetic_result("original"),)      # a new frame
     _frames(window, spec)
     assert cache.draws[spec.instance_id] == drawn + 2
+
+
+def test_a_cached_figure_keeps_no_frame_result_alive(window):
+    import gc
+    import types
+    import weakref
+
+    from figure_cases import synthetic_result
+
+    class Result(types.SimpleNamespace):       # weakly referable, as FrameResult is
+        pass
+
+    spec = make_figure("flux-per-step")
+    cache = window.cache
+    window.context.results = (Result(**vars(synthetic_result("corrected"))),)
+    _frames(window, spec)
+    assert spec.instance_id in cache.pictures
+    gone = weakref.ref(window.context.results[0])
+    window.context.results = ()       # the view moved on: only the cache could hold it
+    gc.collect()
+    assert gone() is None
