@@ -128,8 +128,9 @@ SOAK_MINUTES = Spec(kind="float", low=0.0, low_open=True, high=1440.0,
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--interactive", action="store_true",
                         help="drive the real window through a scripted session (launch, "
-                             "idle, orbit, exposure sweep, every correction toggled, grid "
-                             "64³) and print its responsiveness (needs a display: xvfb-run)")
+                             "idle, orbit, exposure sweep, every correction toggled, a "
+                             "slider drag, an object move, grid 64³) and print its "
+                             "responsiveness (needs a display: xvfb-run)")
     parser.add_argument("--overhead", action="store_true",
                         help="per-frame CPU overhead on tiny sizes (8³, 64² image and RSM "
                              "unless given): wall and Python milliseconds outside GL, GL "

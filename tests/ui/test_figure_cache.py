@@ -1,8 +1,8 @@
 """A lesson figure drawn once (explorer/ui/figure_cache.py), in the one-figure window under
 Xvfb: an unchanged figure is drawn live until it settles and then shown from its picture
 (the same pixels), drawn again when its inputs or the frames it plots change, live while
-hovered or playing,
-and its picture released when the page changes. Draws are counted, not timed."""
+hovered or playing, and its picture released when the page changes. Draws are counted,
+not timed."""
 
 from __future__ import annotations
 
