@@ -12,7 +12,6 @@ it at start.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from functools import cache
 
 from derivations.correction_registry import BY_NAME, CORRECTIONS, Correction
 from explorer.lpv.correction_switches import CorrectionSwitches
@@ -50,7 +49,12 @@ class Corrections(CorrectionSwitches):
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
-        return _field_names(cls)
+        # Made once per class: the frame asks for them many times (fields() walks the
+        # dataclass each call).
+        names = _FIELD_NAMES.get(cls)
+        if names is None:
+            names = _FIELD_NAMES[cls] = tuple(f.name for f in fields(cls))
+        return names
 
     def as_uniforms(self) -> dict[str, int]:
         """Uniform values for the shaders: ``u_<field>`` = 0 or 1 (a dict of the caller's
@@ -62,11 +66,7 @@ class Corrections(CorrectionSwitches):
         return dict(made)
 
 
-@cache
-def _field_names(cls: type) -> tuple[str, ...]:
-    return tuple(f.name for f in fields(cls))
-
-
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
 _UNIFORMS: dict[Corrections, dict[str, int]] = {}
 """Each set of switches' uniforms (at most 2¹⁰ sets: one bool per registry entry)."""
 
