@@ -115,6 +115,21 @@ def get(name: str) -> Result:
         raise unknown_name(name, list(index)) from None
 
 
+def get_one(name: str) -> Result:
+    """The result called ``name``, deriving only the modules its prefix names (what
+    ``lpv-explorer constants --name`` needs: the whole registry takes seconds of sympy);
+    an unknown name falls back to :func:`get`, which names the closest matches."""
+    if _index.cache_info().currsize:
+        return get(name)
+    for module_name in MODULES:
+        module = importlib.import_module(f"derivations.{module_name}")
+        if name.startswith(f"{getattr(module, 'MODULE', module_name)}."):
+            for item in module.results():
+                if item.name == name:
+                    return item
+    return get(name)
+
+
 class _DecimalLatexPrinter(LatexPrinter):
     """Typesets a rational with a finite decimal expansion (denominator 2^a·5^b) as that
     decimal, exactly: for results that hold numbers printed in a source as decimals."""

@@ -61,12 +61,15 @@ def entry(item) -> dict[str, object]:
 
 
 def _find(name: str):
-    from derivations.registry import all_results, get
+    """The result named by registry or GLSL name. The generated tables know every name, so
+    an unknown one is refused at once and a known one derives only its own module."""
+    from derivations.registry import get_one
+    from explorer import derived
+    from explorer.lpv.constants import DERIVATION
 
-    for item in all_results():
-        if item.glsl_name == name:
-            return item
-    return get(name)
+    name = DERIVATION.get(name, name)
+    derived.get(name)  # KeyError naming the closest matches, without sympy
+    return get_one(name)
 
 
 def _print_text(entries: list[dict[str, object]]) -> None:

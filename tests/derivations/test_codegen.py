@@ -121,3 +121,22 @@ def test_javascript_module_holds_the_python_constants_and_the_figures_extras():
         assert found[name] == getattr(constants, name), name        # the same double
     assert found["BAND0_ENERGY_FRACTION"] + found["BAND1_ENERGY_FRACTION"] == \
         found["L1_ENERGY_FRACTION"]
+
+
+def test_one_result_is_derived_alone_as_the_registry_derives_it():
+    """``constants --name`` derives only the modules a name's prefix names
+    (registry.get_one): the same result as the whole registry's, for one name of every
+    prefix (two modules share ``corrections.``)."""
+    from derivations import registry
+
+    names = registry.names()
+    one_per_prefix = {name.split(".", 1)[0]: name for name in reversed(names)}
+    one_per_prefix["implementation_switches"] = "corrections.exact_constants.corrected"
+    registry._index.cache_clear()
+    try:
+        alone = {name: registry.get_one(name) for name in one_per_prefix.values()}
+        assert registry._index.cache_info().currsize == 0, "no whole-registry derivation"
+    finally:
+        registry._index.cache_clear()
+    for name, item in alone.items():
+        assert item == get(name)
