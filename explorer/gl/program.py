@@ -189,6 +189,25 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     info["last values"] = values
 
 
+def set_uniform(program, name: str, value: int | float) -> None:
+    """Set one uniform of a plain number, as ``set_uniforms(program, {name: value})`` does
+    (uploaded only when it changed), in fewer steps for a value that changes every call
+    (the audit's result slot, once a propagation step): a name not uploaded before goes
+    through :func:`set_uniforms` (its checks), later ones compare the kept stamp."""
+    info = program.extra
+    uploaded = info.get("values")
+    if uploaded is None or name not in uploaded:
+        set_uniforms(program, {name: value})
+        return
+    stamp = (type(value), value)
+    if uploaded[name] != stamp:
+        program[name] = value
+        uploaded[name] = stamp
+        # set_uniforms skips the dict of its last call as unchanged: no longer true of one
+        # that holds this name
+        info["last values"] = None
+
+
 def _check_reads(program, info: dict, label: str, values: dict[str, object],
                  reads: Iterable[str], declared: frozenset) -> None:
     """:func:`set_uniforms`' check of ``reads``: each in ``values`` and active in the
@@ -253,6 +272,10 @@ class ProgramCache:
     _programs: dict = field(default_factory=dict)
     _stamp: float = 0.0
     errors: dict[str, str] = field(default_factory=dict)
+    releases: int = 0
+    """Counts the programs that left the cache (evicted, replaced by a reload, released):
+    while it is unchanged a program got before is still the cache's, so a caller that
+    gets one many times in a row (a propagation's steps) may keep it and compare this."""
 
     @staticmethod
     def key(name: str, defines: dict[str, object] | None = None) -> tuple:
@@ -284,6 +307,7 @@ class ProgramCache:
         """Release the least recently used programs beyond ``capacity``."""
         while len(self._programs) > self.capacity:
             self._programs.pop(next(iter(self._programs))).release()
+            self.releases += 1
 
     @staticmethod
     def newest_change() -> float:
@@ -327,12 +351,14 @@ class ProgramCache:
             fresh.extra["read"].update(old.extra.get("read", ()))
             old.release()
             self._programs[key] = fresh
+            self.releases += 1
             changed = True
         return changed
 
     def release(self) -> None:
         for program in self._programs.values():
             program.release()
+        self.releases += len(self._programs)
         self._programs.clear()
 
 

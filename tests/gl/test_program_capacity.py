@@ -37,6 +37,52 @@ def test_the_least_recently_used_program_beyond_the_capacity_is_released(ctx):
         cache.release()
 
 
+def test_the_cache_counts_the_programs_it_releases(ctx):
+    """``releases`` changes whenever a program got before may no longer be the cache's
+    (what the callers that keep a program compare)."""
+    cache = ProgramCache(ctx, capacity=2)
+    try:
+        _variant(cache, 0), _variant(cache, 1), _variant(cache, 0)
+        assert cache.releases == 0                  # got again: nothing left
+        _variant(cache, 2)
+        assert cache.releases == 1                  # stage 1 evicted
+        cache.release()
+        assert cache.releases == 3
+    finally:
+        cache.release()
+
+
+def test_slabs_of_one_unit_get_the_programs_anew_after_the_cache_released_them(ctx):
+    """Within a unit (``advance(bound=True)``) a run keeps its program and the audit its
+    reduction's; a release in the cache in between (here: a compile pushing both out of
+    a cache of two) makes them get theirs anew, and the result is the twin's."""
+    grid = random_grid(6, 8)
+    spec = GridSpec((0.0, 0.0, 0.0), 1.0, 8)
+    cache = ProgramCache(ctx, capacity=2)
+    injected = LpvGrid(ctx, 8)
+    propagator = PropagatePass(ctx, cache)
+    try:
+        injected.write(grid)
+        run = propagator.start(injected, spec, Corrections(), 3)
+        run.advance()
+        kept = run._program
+        for stage in (0, 2):                      # not the per-step reduction's stage 1
+            _variant(cache, stage)
+        assert _released(kept)
+        while not run.finished:
+            run.advance(bound=True)
+        assert run._program is not kept
+        output = run.finish()
+        want = sum(twin.propagate(grid, Corrections(), 3))
+        assert relative_error(output.accumulated.read(), want) < 1e-4
+        full = propagator.run(injected, spec, Corrections(), 3)      # the same, fresh
+        assert np.array_equal(output.audit.per_step, full.audit.per_step)
+    finally:
+        propagator.release()
+        injected.release()
+        cache.release()
+
+
 def test_a_propagation_keeps_running_when_the_cache_released_its_program(ctx):
     """Other programs got between two slabs (a window's frames) push the run's program
     out of a cache of two; the run gets it anew, with its uniforms, and the result is

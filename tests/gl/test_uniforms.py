@@ -7,7 +7,13 @@ import itertools
 
 import pytest
 
-from explorer.gl.program import ProgramCache, UniformError, declared_uniforms, set_uniforms
+from explorer.gl.program import (
+    ProgramCache,
+    UniformError,
+    declared_uniforms,
+    set_uniform,
+    set_uniforms,
+)
 from explorer.lpv.corrections import CORRECTIONS, STAGES, Corrections, uniforms_read_by
 from explorer.lpv.passes.gather import GatherPass
 from explorer.lpv.passes.gather import program_defines as gather_defines
@@ -96,6 +102,24 @@ def test_a_value_set_again_is_uploaded_only_when_it_changed(programs):
     assert program["u_cell_offset"].value == (0, 0, 2)   # the same value: not uploaded
     set_uniforms(program, {"u_cell_offset": (0, 0, 8)})
     assert program["u_cell_offset"].value == (0, 0, 8)
+
+
+def test_set_uniform_uploads_a_changed_number_and_keeps_set_uniforms_right(programs):
+    """The one-number path checks a name it has not uploaded as set_uniforms does, uploads
+    only a changed value, and a dict set_uniforms would skip as its last one is uploaded
+    again once set_uniform changed a value it holds."""
+    program = programs.get("audit_reduce.glsl", {"AUDIT_STAGE": 1})
+    with pytest.raises(UniformError, match="no uniform 'u_result_slt'"):
+        set_uniform(program, "u_result_slt", 1)
+    values = {"u_result_slot": 3}
+    set_uniforms(program, values)
+    program["u_result_slot"].value = 5                # behind their back
+    set_uniform(program, "u_result_slot", 3)
+    assert program["u_result_slot"].value == 5        # the same value: not uploaded
+    set_uniform(program, "u_result_slot", 4)
+    assert program["u_result_slot"].value == 4
+    set_uniforms(program, values)                     # the last dict, no longer what is set
+    assert program["u_result_slot"].value == 3
 
 
 def test_a_misspelt_uniform_raises_and_names_the_right_one(programs):

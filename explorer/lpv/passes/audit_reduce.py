@@ -9,7 +9,7 @@ import moderngl
 import numpy as np
 
 from explorer.gl.gpu_sync import DeferredRead
-from explorer.gl.program import ProgramCache, set_uniforms
+from explorer.gl.program import ProgramCache, set_uniform, set_uniforms
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.grid import grid_cells, shape_text
 from explorer.lpv.passes.textures import LpvGrid
@@ -61,6 +61,9 @@ class AuditReducer:
         """Counts :meth:`begin` calls: the per-cell records of a propagation are current
         while it has not changed (:class:`CellAuditRecords`)."""
         self.has_records = False
+        self._kept: dict[int, object] = {}
+        """The stages' programs got since :meth:`begin` (see :meth:`_stage_program`)."""
+        self._kept_releases = -1
 
     def _buffer(self, name: str, size: int) -> moderngl.Buffer:
         buffer = self._buffers.get(name)
@@ -88,6 +91,7 @@ class AuditReducer:
         self._slots = int(slots)
         self.generation += 1
         self.has_records = bool(cell_records)
+        self._kept.clear()      # got again once a run: the cache's use order stays fresh
         # every slot is measured once before read(): no clearing needed
         self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
         if cell_records:
@@ -122,14 +126,27 @@ class AuditReducer:
                                                    * 4), np.float32)[0]
                          for i in range(AUDIT_VALUES)], np.float64)
 
+    def _stage_program(self, stage: int):
+        """Stage ``stage``'s program: got from the cache once per :meth:`begin` and kept
+        while the cache releases none (``ProgramCache.releases``), so that a propagation's
+        steps, each reducing its records, do not look it up every step."""
+        programs = self.programs
+        if self._kept_releases != programs.releases:
+            self._kept.clear()
+            self._kept_releases = programs.releases
+        program = self._kept.get(stage)
+        if program is None:
+            program = self._kept[stage] = programs.get(
+                "audit_reduce.glsl", _STAGE_DEFINES[stage], _STAGE_KEYS[stage])
+        return program
+
     def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object],
                       bound: bool = False) -> None:
         if not 0 <= slot < self._slots:
             raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
         if not bound:
             self.bind()
-        program = self.programs.get("audit_reduce.glsl", _STAGE_DEFINES[stage],
-                                   _STAGE_KEYS[stage])
+        program = self._stage_program(stage)
         # the grid's uniforms change with the grid (the levels' reducers share the
         # program, which keeps what was set last), the slot with every measurement
         partials = self.partial_count
@@ -138,7 +155,7 @@ class AuditReducer:
             set_uniforms(program, {**uniforms, "u_grid_cells": self._cells,
                                    "u_partial_count": partials})
             program.extra["audit grid"] = grid
-        set_uniforms(program, {"u_result_slot": slot})
+        set_uniform(program, "u_result_slot", slot)
         program.run(-(-partials // 64))
         self.ctx.memory_barrier()
 
@@ -173,7 +190,7 @@ class AuditReducer:
     def fold(self) -> None:
         """Fold the partial sums into one row per slot (on the GPU)."""
         self.bind()
-        program = self.programs.get("audit_reduce.glsl", _STAGE_DEFINES[2], _STAGE_KEYS[2])
+        program = self._stage_program(2)
         set_uniforms(program, {"u_partial_count": self.partial_count,
                                "u_slot_count": self._slots})
         program.run(-(-self._slots * AUDIT_VALUES // 64))
@@ -189,6 +206,7 @@ class AuditReducer:
             buffer.release()
         self._buffers.clear()
         self.has_records = False
+        self._kept.clear()
 
 
 class CellAuditRecords:

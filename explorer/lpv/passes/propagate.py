@@ -228,6 +228,9 @@ def program_defines(fmt: str, sh_order: int, corrections: Corrections, audit: bo
 
 
 _NOTHING_BOUND: frozenset[str] = frozenset()
+_RUN, _RUN_AUDIT = frozenset({"run"}), frozenset({"run", "audit"})
+_SOURCE, _AUDIT_SOURCE = frozenset({"source"}), frozenset({"audit", "source"})
+"""What :attr:`PropagationRun._bound` holds, made once (a step makes no set)."""
 
 SLAB_CELLS = 32 ** 3
 """Cells one unit of a propagation step covers at most (a slab of z layers, a multiple of
@@ -289,11 +292,15 @@ class PropagationRun:
         self._uniforms = owner.run_uniforms(spec, corrections)
         self._neighbours = neighbours
         self._program = None
+        self._program_releases = -1
         self._program_now()
+        # step t writes ping (t odd) or pong (t even); in place, the accumulation
+        self._targets = ((self._scratch["pong"], self._scratch["ping"]) if corrections.ping_pong
+                         else (self.accumulated, self.accumulated))
         self._groups = dispatch_size(n)
         self._slabs = slabs(n)
         self._slab = 0
-        self._bound: set[str] = set()
+        self._bound: frozenset[str] = _NOTHING_BOUND
         """What the last :meth:`advance` left bound that the next may keep (``bound``):
         ``run`` the accumulation images and the geometry volume, ``audit`` the audit's
         buffers, ``source`` the next step's source on sampler units 0..2."""
@@ -302,7 +309,9 @@ class PropagationRun:
         """The run's program, got from the cache for each slab: a run spans frames, and
         the cache may have released the program it had (``ProgramCache.capacity``), or a
         hot reload replaced it; a new one gets the run's uniforms first."""
-        program = self._owner.programs.get("propagate.glsl", self._defines, self._key)
+        programs = self._owner.programs
+        program = programs.get("propagate.glsl", self._defines, self._key)
+        self._program_releases = programs.releases
         if program is not self._program:
             set_uniforms(program, self._uniforms,
                          reads=uniforms_read_at_run_time(self._neighbours,
@@ -352,11 +361,8 @@ class PropagationRun:
         if self.finished:
             raise RuntimeError(f"all {self.iterations} propagation steps have run")
         owner, step = self._owner, self.done + 1
-        if self._corrections.ping_pong:
-            target = self._scratch["ping" if step % 2 else "pong"]
-        else:
-            # The race: the dispatch reads its neighbours from the grid it writes.
-            target = self.accumulated
+        # in place, the race: the dispatch reads its neighbours from the grid it writes
+        target = self._targets[step % 2]
         kept = self._bound if bound else _NOTHING_BOUND
         if "source" not in kept:
             self._source.use_as_textures(0)
@@ -372,11 +378,16 @@ class PropagationRun:
             self.accumulated.bind_images(3)
         if self._with_audit and "audit" not in kept:
             owner.audit.bind()          # only the full audit's kernel writes the records
-        self._bound = {"run", "audit"} if self._with_audit or "audit" in kept else {"run"}
+        self._bound = _RUN_AUDIT if self._with_audit or "audit" in kept else _RUN
         first, end = self._slabs[self._slab]
         # one slab a step up to 32³: set once. The offset last set is kept with the
         # program, which the cascades' runs share (interleaved, each with its slabs).
-        program = self._program_now()
+        # Within a unit (``bound``) the program the last slab got is still the cache's
+        # while the cache has released none: got again at each unit's start only.
+        if bound and self._program_releases == owner.programs.releases:
+            program = self._program
+        else:
+            program = self._program_now()
         if program.extra.get("cell_offset") != first:
             set_uniforms(program, {"u_cell_offset": (0, 0, first)})
             program.extra["cell_offset"] = first
@@ -384,7 +395,7 @@ class PropagationRun:
         owner.ctx.memory_barrier()
         self._slab += 1
         if self._slab < len(self._slabs):
-            self._bound.add("source")       # the step's next slab reads the same grid
+            self._bound |= _SOURCE          # the step's next slab reads the same grid
             return
         self._slab = 0
         if self._with_audit:
@@ -395,7 +406,7 @@ class PropagationRun:
             # reduction leaves the audit's buffers bound and the target, the next step's
             # source, on sampler units 0..2
             owner.audit.measure_flux(step, target, bound="audit" in self._bound)
-            self._bound |= {"audit", "source"}
+            self._bound |= _AUDIT_SOURCE
         if self._keep_steps:
             current = target.read()
             self.steps.append(current if self._corrections.ping_pong
