@@ -242,7 +242,7 @@ def run_bench(args: argparse.Namespace, pipeline, runs: list[tuple[str, Settings
     """Time each run: a warm-up frame, then ``--repeat`` frames from the RSM on (the
     median per pass), and after each grid's runs its baseline row (module docstring);
     ``progress``: an :class:`options.Progress` showing the run and its stage."""
-    from explorer.lpv.passes.propagate import BaselinePropagatePass
+    from explorer.lpv.passes.propagate_baseline import BaselinePropagatePass
 
     repeat = args.repeat or (1 if args.quick else DEFAULT_REPEAT)
     rows: list[dict] = []

@@ -186,7 +186,8 @@ def test_per_cell_audit_records_and_the_baseline_on_an_odd_grid(ctx):
 
     from explorer.gl.program import ProgramCache
     from explorer.lpv.passes.geometry import GeometryVolume
-    from explorer.lpv.passes.propagate import BaselinePropagatePass, PropagatePass
+    from explorer.lpv.passes.propagate import PropagatePass
+    from explorer.lpv.passes.propagate_baseline import BaselinePropagatePass
     from explorer.lpv.passes.textures import LpvGrid
 
     corrections = Corrections()

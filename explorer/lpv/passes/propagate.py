@@ -74,6 +74,7 @@ class PropagatePass:
         self.audit = AuditReducer(ctx, programs)
         self._grids: dict[str, LpvGrid] = {}
         self._run_uniforms: dict[tuple[GridSpec, Corrections], dict[str, object]] = {}
+        self._programs_of: dict[tuple, tuple[dict[str, object], tuple, tuple[str, ...]]] = {}
         self._budget: moderngl.Buffer | None = None
 
     def budget_buffer(self, cells: tuple[int, int, int]) -> moderngl.Buffer:
@@ -99,6 +100,29 @@ class PropagatePass:
                 "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
                 "u_geometry": self.GEOMETRY_UNIT, "u_geometry_albedo": self.ALBEDO_UNIT,
                 "u_cell_offset": (0, 0, 0)}
+        return made
+
+    def program_of(self, fmt: str, sh_order: int, corrections: Corrections, audit: bool,
+                   geometry: bool, reflect: bool, neighbours: int, visibility: str,
+                   flux_budget: bool, reprojection: str
+                   ) -> tuple[dict[str, object], tuple, tuple[str, ...]]:
+        """A run's program: its defines (:func:`program_defines`), its cache key and the
+        uniforms it must read (:func:`uniforms_read_at_run_time`), made once per variant
+        (a frame's run would otherwise build and sort them anew); never changed once
+        made."""
+        variant = (fmt, sh_order, corrections, audit, geometry, reflect, neighbours,
+                   visibility, flux_budget, reprojection)
+        made = self._programs_of.get(variant)
+        if made is None:
+            if len(self._programs_of) >= 16:
+                self._programs_of.clear()
+            defines = program_defines(
+                fmt, sh_order, corrections, audit=audit, geometry=geometry, reflect=reflect,
+                neighbours=neighbours, visibility=visibility, flux_budget=flux_budget,
+                reprojection=reprojection)
+            made = self._programs_of[variant] = (
+                defines, self.programs.key("propagate.glsl", defines),
+                uniforms_read_at_run_time(neighbours, flux_budget))
         return made
 
     def scratch_grid(self, name: str, cells: int | tuple[int, int, int], fmt: str,
@@ -283,16 +307,14 @@ class PropagationRun:
         self.steps = [injected.read()] if keep_steps else None
         self._previous = self.steps[0] if keep_steps else None
         self._source = injected
-        self._defines = program_defines(
-            fmt, order, corrections, audit=self._with_audit, geometry=geometry is not None,
-            reflect=bounces == 2, neighbours=neighbours, visibility=visibility,
-            flux_budget=flux_budget, reprojection=reprojection)
-        self._key = owner.programs.key("propagate.glsl", self._defines)
+        self._defines, self._key, self._reads = owner.program_of(
+            fmt, order, corrections, self._with_audit, geometry is not None, bounces == 2,
+            neighbours, visibility, flux_budget, reprojection)
         self._budget = owner.budget_buffer(n) if flux_budget else None
         self._uniforms = owner.run_uniforms(spec, corrections)
-        self._neighbours = neighbours
         self._program = None
         self._program_releases = -1
+        self._budget_program: tuple[dict[str, object], tuple] | None = None
         self._program_now()
         # step t writes ping (t odd) or pong (t even); in place, the accumulation
         self._targets = ((self._scratch["pong"], self._scratch["ping"]) if corrections.ping_pong
@@ -313,9 +335,7 @@ class PropagationRun:
         program = programs.get("propagate.glsl", self._defines, self._key)
         self._program_releases = programs.releases
         if program is not self._program:
-            set_uniforms(program, self._uniforms,
-                         reads=uniforms_read_at_run_time(self._neighbours,
-                                                         self._budget is not None))
+            set_uniforms(program, self._uniforms, reads=self._reads)
             program.extra["cell_offset"] = 0
             self._program = program
         return program
@@ -323,9 +343,12 @@ class PropagationRun:
     def _run_budget_pass(self) -> None:
         """The flux budget's factors of the step's source grid (bound on units 0..2), for
         every cell, before the step's first slab reads them."""
-        defines = {**self._defines, "PROPAGATE_BUDGET_PASS": 1, "PROPAGATE_AUDIT": 0}
-        program = self._owner.programs.get("propagate.glsl", defines)
-        set_uniforms(program, {**self._uniforms, "u_cell_offset": (0, 0, 0)})
+        if self._budget_program is None:
+            defines = {**self._defines, "PROPAGATE_BUDGET_PASS": 1, "PROPAGATE_AUDIT": 0}
+            self._budget_program = (defines, ProgramCache.key("propagate.glsl", defines))
+        program = self._owner.programs.get("propagate.glsl", *self._budget_program)
+        # the run's uniforms hold u_cell_offset (0, 0, 0): the budget pass covers the grid
+        set_uniforms(program, self._uniforms)
         program.extra["cell_offset"] = 0
         program.run(*self._groups)
         self._owner.ctx.memory_barrier()
@@ -481,63 +504,6 @@ def grid_audit(sums: np.ndarray, iterations: int, mode: str = "full",
     return GridAudit(injected=sums[0, 0:3], per_step=per_step, border_loss=None,
                      clamp_gain=None, occluded=None, accumulated=accumulated, reflected=None,
                      blocked=None, budget_withheld=None, mode=mode)
-
-
-class BaselinePropagatePass:
-    """The least a propagation needs (``shaders/propagate_minimal.glsl``): the corrected
-    L1 ping-pong step, each neighbour's five faces written out with the generated
-    constants (three ``texelFetch`` per neighbour, four more of the geometry volume when
-    there is one), the three target images written and the three accumulation images added
-    into, one memory barrier per step; no switches, no audit. It is the baseline
-    ``lpv-explorer bench`` times :class:`PropagatePass` against in the same run (one
-    ``finish`` around all steps); with the corrected switches both give the same
-    accumulation."""
-
-    GEOMETRY_UNIT = PropagatePass.GEOMETRY_UNIT
-
-    def __init__(self, ctx: moderngl.Context, programs: ProgramCache) -> None:
-        self.ctx = ctx
-        self.programs = programs
-        self._grids: dict[str, LpvGrid] = {}
-
-    def run(self, injected: LpvGrid, spec: GridSpec, iterations: int,
-            geometry: GeometryVolume | None = None) -> LpvGrid:
-        """acc_N of ``iterations`` steps (owned by the pass, valid until its next run)."""
-        n, fmt = spec.cells, injected.format
-        if injected.sh_order != 1:
-            raise ValueError("the baseline propagation is L1 only (sh_order 1)")
-        grids = {}
-        for name in ("ping", "pong", "accumulated"):
-            grid = self._grids.get(name)
-            if grid is None or grid.cells != n or grid.format != fmt:
-                if grid is not None:
-                    grid.release()
-                grid = self._grids[name] = LpvGrid(self.ctx, n, fmt)
-            grids[name] = grid
-        accumulated = grids["accumulated"]
-        copy_grid(self.programs, injected, accumulated)
-        program = self.programs.get("propagate_minimal.glsl", {
-            **image_format_defines(fmt), "PROPAGATE_GEOMETRY": int(geometry is not None)})
-        set_uniforms(program, {"u_grid_cells": n, "u_source_r": 0, "u_source_g": 1,
-                               "u_source_b": 2, "u_geometry": self.GEOMETRY_UNIT})
-        groups = dispatch_size(n)
-        source = injected
-        for step in range(1, int(iterations) + 1):
-            target = grids["ping" if step % 2 else "pong"]
-            source.use_as_textures(0)
-            if geometry is not None:
-                geometry.use_as_texture(self.GEOMETRY_UNIT)
-            target.bind_images(0)
-            accumulated.bind_images(3)
-            program.run(*groups)
-            self.ctx.memory_barrier()
-            source = target
-        return accumulated
-
-    def release(self) -> None:
-        for grid in self._grids.values():
-            grid.release()
-        self._grids.clear()
 
 
 def propagate_with_audit(grid: np.ndarray, corrections: Corrections | None = None,

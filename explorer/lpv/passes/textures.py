@@ -218,6 +218,9 @@ def dispatch_size(resolution: int | tuple[int, int, int], local_size: int = 4
     of ``local_size``."""
     shape = resolution if type(resolution) is tuple else \
         (resolution,) * 3 if np.ndim(resolution) == 0 else resolution
+    if len(shape) == 3:             # the common case, without a generator (a frame's copies)
+        x, y, z = shape
+        return (-(-int(x) // local_size), -(-int(y) // local_size), -(-int(z) // local_size))
     return tuple(-(-int(extent) // local_size) for extent in shape)
 
 

@@ -231,7 +231,7 @@ def test_without_the_audit_the_accumulation_is_the_same(ctx, mode):
 def test_baseline_kernel_propagates_like_the_corrected_pass(ctx, mode):
     """shaders/propagate_minimal.glsl, the bench's baseline, computes the corrected
     propagation: the same accumulation as propagate.glsl and the numpy twin."""
-    from explorer.lpv.passes.propagate import BaselinePropagatePass
+    from explorer.lpv.passes.propagate_baseline import BaselinePropagatePass
 
     grid, geometry = injected_case(ctx, 32, mode)
     _, want = propagate_with_audit(grid, Corrections(), 6, geometry, ctx=ctx)[:2]
