@@ -8,7 +8,7 @@ merged volume (docs/MODEL.md "Camera occluders")."""
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -145,10 +145,22 @@ class GeometryPass:
         self._layers: LayeredTarget | None = None
         self._lights = LightRecordBuffer(ctx)
 
+    UNITS = 3
+    """Units of :meth:`run_units`: the surfels' draws, then each target's copy."""
+
     def run(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
         """Inject the VPLs' surfels (None: none) and ``camera``'s, when given, into
         ``out``."""
+        for _ in self.run_units(vpls, spec, corrections, mode, out, camera):
+            pass
+
+    def run_units(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
+                  mode: str, out: GeometryVolume, camera: CameraSurfels | None = None
+                  ) -> Iterator[None]:
+        """:meth:`run`'s work as a generator of :data:`UNITS` units (the draws into the
+        layers, which keep the sums, then the volume's copy and the albedo's), yielding
+        after every unit but its last: the same GL work in the same order."""
         if mode not in GEOMETRY_MODES:
             raise ValueError(f"geometry mode must be one of {GEOMETRY_MODES}, got {mode!r}")
         if out.cells != spec.cells:
@@ -167,7 +179,9 @@ class GeometryPass:
         if camera is not None:
             self._draw_camera_surfels(camera, spec, corrections, mode, layers,
                                       clear=vpls is None)
+        yield
         copy_volume(self.programs, layers.layers[0], out.volume)
+        yield
         copy_volume(self.programs, layers.layers[1], out.albedo)
 
     def _draw_vpl_surfels(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
@@ -243,22 +257,44 @@ class MergedGeometryPass:
         self._scratch: GeometryVolume | None = None
         """One view's geometry volume before it is merged (several views)."""
 
+    @staticmethod
+    def unit_count(views: int, camera: bool) -> int:
+        """Units of :meth:`run_units` for ``views`` RSM views, with camera surfels or not:
+        the first view's :data:`GeometryPass.UNITS`, then as many and one merge for each
+        further view and (several views) for the camera's surfels."""
+        further = views - 1 + (camera and views > 1)
+        return GeometryPass.UNITS + further * (GeometryPass.UNITS + 1)
+
     def run(self, occluders: Sequence[VplTextures], spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
         """Into ``out``: the first view's volume, then each further view's built in the
         scratch volume and folded in by :func:`merge_volumes`; then ``camera``'s surfels,
         added (they hold only surfaces no view holds). With one view they are drawn with
         its surfels (the same sum, no scratch volume)."""
+        for _ in self.run_units(occluders, spec, corrections, mode, out, camera):
+            pass
+
+    def run_units(self, occluders: Sequence[VplTextures], spec: GridSpec,
+                  corrections: Corrections, mode: str, out: GeometryVolume,
+                  camera: CameraSurfels | None = None) -> Iterator[None]:
+        """:meth:`run`'s work as a generator of :meth:`unit_count` units (each view's
+        :meth:`GeometryPass.run_units`, each merge), yielding after every unit but its
+        last."""
         alone = len(occluders) == 1
-        self.single.run(occluders[0], spec, corrections, mode, out, camera if alone else None)
+        yield from self.single.run_units(occluders[0], spec, corrections, mode, out,
+                                         camera if alone else None)
         if alone:
             return
         scratch = self._scratch_like(out)
         for vpls in occluders[1:]:
-            self.single.run(vpls, spec, corrections, mode, scratch)
+            yield
+            yield from self.single.run_units(vpls, spec, corrections, mode, scratch)
+            yield
             merge_volumes(self.programs, out, scratch)
         if camera is not None:
-            self.single.run(None, spec, corrections, mode, scratch, camera)
+            yield
+            yield from self.single.run_units(None, spec, corrections, mode, scratch, camera)
+            yield
             merge_volumes(self.programs, out, scratch, add=True)
 
     def _scratch_like(self, volume: GeometryVolume) -> GeometryVolume:

@@ -14,6 +14,8 @@ path draws one point per texel group, docs/MODEL.md "L2 option").
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import moderngl
 import numpy as np
 
@@ -36,6 +38,8 @@ from explorer.lpv.settings import INJECTION_MODES, Corrections
 from explorer.lpv.vpl import VplArrays, VplTextures
 
 _VPL_UNITS = {"u_vpl_position": 0, "u_vpl_normal": 1, "u_vpl_flux": 2}
+CHANNELS = 3
+"""Volumes of an :class:`LpvGrid` (one per colour channel): the point path copies each."""
 
 
 def bind_vpl_textures(vpls: VplTextures) -> dict[str, int]:
@@ -64,10 +68,23 @@ class InjectPass:
         self._links: moderngl.Buffer | None = None
         self._uniforms: dict[tuple, dict[str, object]] = {}
 
+    @staticmethod
+    def unit_count(mode: str) -> int:
+        """Units of :meth:`run_units`: the point path's draw, then one copy per channel's
+        volume (each a 64³ frame's share on llvmpipe); the compute path's one."""
+        return 1 + CHANNELS if mode == "points" else 1
+
     def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
             mode: str, out: LpvGrid, offset_cells: float = 0.0) -> None:
         """``offset_cells``: inject each VPL at p + offset_cells·cell_size·n
         (docs/MODEL.md "Injection")."""
+        for _ in self.run_units(vpls, spec, corrections, mode, out, offset_cells):
+            pass
+
+    def run_units(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
+                  mode: str, out: LpvGrid, offset_cells: float = 0.0) -> Iterator[None]:
+        """:meth:`run`'s work as a generator of :meth:`unit_count` units, yielding after
+        every unit but its last (the same GL work in the same order: the same grid)."""
         check_offset_cells(offset_cells)
         if mode not in INJECTION_MODES:
             raise ValueError(f"injection mode must be one of {INJECTION_MODES}, got {mode!r}")
@@ -86,11 +103,13 @@ class InjectPass:
                 **spec.uniforms(), **corrections.as_uniforms(), **samplers,
                 "u_injection_offset": float(offset_cells) * spec.cell_size}
         if mode == "points":
-            self._inject_points(vpls, uniforms, out)
+            yield from self._inject_points(vpls, uniforms, out)
         else:
             self._inject_compute(vpls, uniforms, out)
 
-    def _inject_points(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:
+    def _inject_points(self, vpls: VplTextures, uniforms: dict, out: LpvGrid
+                       ) -> Iterator[None]:
+        """The draw into the layers, then each layer stack's copy: a unit each."""
         n, depth = out.cells, out.groups * out.cells[2]
         layers = self._layers
         if layers is None or layers.shape != n[:2] + (depth,) or \
@@ -102,6 +121,7 @@ class InjectPass:
         set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
         for stack, volume in zip(layers.layers, out.volumes):
+            yield       # the layers keep the sums: each copy may run in a later frame
             copy_volume(self.programs, stack, volume)
 
     def _inject_compute(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:

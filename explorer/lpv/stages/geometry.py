@@ -1,8 +1,10 @@
-"""The ``geometry`` stage: the geometry volume of every cascade (one unit each;
-explorer/lpv/passes/geometry.py), built from the RSM texels or hand-made VPLs and, with camera
-occluders, the G-buffer's pixels no RSM view sees (docs/MODEL.md "Camera occluders"); each
-level's volume is copied as it is built and every level's taken in one more unit, once the
-copies are done (explorer/gl/gpu_sync.py ``DeferredRead``)."""
+"""The ``geometry`` stage: the geometry volume of every cascade
+(explorer/lpv/passes/geometry.py; per cascade each view's draws, each copy and each merge
+a unit of its own, ``MergedGeometryPass.unit_count``), built from the RSM texels or
+hand-made VPLs and, with camera occluders, the G-buffer's pixels no RSM view sees
+(docs/MODEL.md "Camera occluders"); each level's volume is copied for reading as it is
+built and every level's taken in one more unit, once the copies are done
+(explorer/gl/gpu_sync.py ``DeferredRead``)."""
 
 from __future__ import annotations
 
@@ -49,8 +51,12 @@ class Stage(StageBase):
         """One deferred read per cascade level (made as levels appear, reused)."""
 
     def units(self, job: Job) -> int:
-        # a unit per level, then one that takes their copies (none when off)
-        return len(self.state.specs) + (job.settings.geometry_volume != "off")
+        # the units of each level's volume, then one that takes their copies (none when off)
+        if job.settings.geometry_volume == "off":
+            return len(self.state.specs)
+        views = len(self.host.light_views.occluders(hand_made=job.vpls is not None))
+        per_level = MergedGeometryPass.unit_count(views, bool(job.settings.uses_camera_occluders))
+        return len(self.state.specs) * per_level + 1
 
     def work(self, job: Job) -> Iterator[GpuWait | None]:
         p, host, state = Params.of(job.settings), self.host, self.state
@@ -69,8 +75,11 @@ class Stage(StageBase):
         volumes = []
         for k, (level, spec) in enumerate(zip(levels, state.specs)):
             volume = level.geometry_volume(spec.cells, p.grid_format)
-            host.timer.timed("geometry", lambda: self.geometry.run(
-                occluders, spec, p.corrections, p.mode, volume, camera), accumulate=True)
+            units = self.geometry.run_units(occluders, spec, p.corrections, p.mode, volume,
+                                            camera)
+            while host.timer.timed("geometry", lambda: next(units, False),
+                                   accumulate=True) is None:
+                yield None                   # the level's next unit follows
             volume.volume.read_later(self.reads[k])
             volumes.append(volume.volume)
             yield None if k < len(levels) - 1 else GpuWait(self.reads[:len(levels)])

@@ -1,5 +1,6 @@
-"""The ``inject`` stage: the VPLs into the SH light grid of every cascade (one unit each;
-explorer/lpv/passes/inject.py)."""
+"""The ``inject`` stage: the VPLs into the SH light grid of every cascade
+(explorer/lpv/passes/inject.py): per cascade the point path's draw and each channel's copy
+are units of their own (``InjectPass.unit_count``), the compute path one unit."""
 
 from __future__ import annotations
 
@@ -43,7 +44,7 @@ class Stage(StageBase):
         self.inject = InjectPass(host.ctx, host.programs)
 
     def units(self, job: Job) -> int:
-        return len(self.state.specs)
+        return len(self.state.specs) * InjectPass.unit_count(job.settings.injection_mode)
 
     def work(self, job: Job) -> Iterator[None]:
         p, host, specs = Params.of(job.settings), self.host, self.state.specs
@@ -51,9 +52,11 @@ class Stage(StageBase):
         host.timer.reset("inject")
         for k, (level, spec) in enumerate(zip(levels, specs)):
             grid = level.grid(spec.cells, p.grid_format, p.sh_order)
-            host.timer.timed("inject", lambda: self.inject.run(
-                host.light_views.vpl_textures, spec, p.corrections, p.mode, grid,
-                p.offset_cells), accumulate=True)
+            units = self.inject.run_units(host.light_views.vpl_textures, spec, p.corrections,
+                                          p.mode, grid, p.offset_cells)
+            while host.timer.timed("inject", lambda: next(units, False), accumulate=True) \
+                    is None:
+                yield                        # the level's next unit follows
             if job.settings.debug_nan:       # a check, not an input: no key holds it
                 check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
             if k < len(levels) - 1:
