@@ -606,15 +606,18 @@ def _gl_object_bytes(obj) -> int:
     return texels * obj.components * item
 
 
+_NOT_OWNERS = ("explorer.gl.", "explorer.commands.", "explorer.lpv.passes.textures")
+
+
 def _owner() -> str:
     """The module and function of the explorer code that made an object (the first frame
-    outside explorer/gl and this module)."""
+    outside explorer/gl, this module and the grid and texture classes that every pass's
+    grids are made by: the pass that asked for them)."""
     here = inspect.currentframe()
     frame = here.f_back.f_back if here is not None and here.f_back is not None else None
     while frame is not None:
         name = frame.f_globals.get("__name__", "")
-        if name.startswith("explorer.") and not name.startswith(("explorer.gl.",
-                                                                  "explorer.commands.")):
+        if name.startswith("explorer.") and not name.startswith(_NOT_OWNERS):
             return f"{name.removeprefix('explorer.')}.{frame.f_code.co_name}"
         frame = frame.f_back
     return "other"
@@ -656,6 +659,17 @@ def gl_programs() -> dict[str, int]:
             del _PROGRAMS[key]
             continue
         owners[owner] = owners.get(owner, 0) + 1
+    return dict(sorted(owners.items()))
+
+
+def gl_buffers() -> dict[str, int]:
+    """How many buffers made since :func:`count_gl_bytes` are alive, by their owner."""
+    import moderngl
+
+    owners: dict[str, int] = {}
+    for obj, owner in list(_GL_BYTES.values()):
+        if isinstance(obj, moderngl.Buffer) and not isinstance(obj.mglo, moderngl.InvalidObject):
+            owners[owner] = owners.get(owner, 0) + 1
     return dict(sorted(owners.items()))
 
 
@@ -781,13 +795,19 @@ def growth(warm: list[dict], later: list[dict]) -> list[str]:
     return problems
 
 
+_COUNTED_BY_OWNER = {"Program": "programs", "Buffer": "buffers"}
+"""The GL kinds whose counts the soak's records also hold by owner, and under which key."""
+
+
 def _grown_programs(kind: str, record: dict, before: dict) -> str:
-    """`` (owner +n, ...)``: whose programs ``record`` holds more of than ``before``."""
-    if kind != "Program" or "programs" not in record or "programs" not in before:
+    """`` (owner +n, ...)``: whose programs (or buffers) ``record`` holds more of than
+    ``before``."""
+    key = _COUNTED_BY_OWNER.get(kind)
+    if key is None or key not in record or key not in before:
         return ""
-    grown = [f"{owner} +{count - before['programs'].get(owner, 0)}"
-             for owner, count in record["programs"].items()
-             if count > before["programs"].get(owner, 0)]
+    grown = [f"{owner} +{count - before[key].get(owner, 0)}"
+             for owner, count in record[key].items()
+             if count > before[key].get(owner, 0)]
     return f" ({', '.join(grown)})" if grown else ""
 
 
@@ -882,7 +902,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
                 record = {"pass": passes, "position": position,
                           "step": f"{lesson_id}:{number}", "rss_mib": rss,
                           "gl": gl_objects(), "gl_mib": gl_bytes(),
-                          "programs": gl_programs()}
+                          "programs": gl_programs(), "buffers": gl_buffers()}
                 records.append(record)
                 print(f"  pass {passes} step {position + 1}/{len(steps)} {record['step']:<26}"
                       f" {record['rss_mib']:6.0f} MiB  " + "  ".join(

@@ -4,6 +4,7 @@ stages left (:class:`~explorer.lpv.frame_state.FrameState`) becomes one
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -35,10 +36,11 @@ class LevelResult:
     spec: GridSpec
     accumulated: np.ndarray
     """acc_N, ``(3, N, N, N, 4)`` (L1) or ``(3, N, N, N, 9)`` (``sh_order`` 2)."""
-    steps: list[np.ndarray] | None
+    steps: Sequence[np.ndarray] | None
     """grid_0..grid_N when the frame kept its steps (``keep_steps``) and the level is one
-    of the pipeline's ``steps_levels``, else None (the list the propagation recorded:
-    the pipeline keeps it only until a job that does not ask for steps)."""
+    of the pipeline's ``steps_levels``, else None (the sequence the propagation recorded,
+    explorer/lpv/kept_steps.py: the pipeline keeps it only until a job that does not ask
+    for steps)."""
     geometry_volume: np.ndarray | None
     """``(N+1, N+1, N+1, 4)`` blocking SH, None when the geometry volume is off."""
     audit: GridAudit
@@ -157,7 +159,7 @@ class FrameResult:
         return self.cascades[0].accumulated
 
     @property
-    def steps(self) -> list[np.ndarray] | None:
+    def steps(self) -> Sequence[np.ndarray] | None:
         return self.cascades[0].steps
 
     @property

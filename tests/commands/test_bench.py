@@ -164,6 +164,15 @@ def test_the_soak_rule_names_what_grew_after_the_warm_up(monkeypatch, capsys):
              programs={**owners, "ui.view_composer._draw": 3})]) == [
         "pass 2 step s:2 (the pass's end): Program 6, 5 at the warm-up's end "
         "(ui.view_composer._draw +1)"]
+    # and a buffer count that grew, whose buffers grew
+    buffers = {"lpv.vpl.read_later": 4}
+    assert interaction.growth([dict(record(1, 0, 400.0, Buffer=4), buffers=buffers),
+                               dict(record(1, 1, 500.0, Buffer=4), buffers=buffers)], [
+        dict(record(2, 0, 400.0, Buffer=4), buffers=buffers),
+        dict(record(2, 1, 400.0, Buffer=8),
+             buffers={"lpv.vpl.read_later": 8})]) == [
+        "pass 2 step s:2 (the pass's end): Buffer 8, 4 at the warm-up's end "
+        "(lpv.vpl.read_later +4)"]
     assert grown == ["pass 2 step s:2 (the pass's end): Scope 4, 3 at the warm-up's end",
                      "pass 3 step s:1: Program 6, 5 in pass 2",
                      "pass 3 step s:1: resident memory 560 MiB, over the warm-up's peak "

@@ -13,6 +13,7 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec, grid_cells, shape_text
+from explorer.lpv.kept_steps import KeptSteps
 from explorer.lpv.neighbours import check_flux_budget, check_neighbours
 from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
 from explorer.lpv.passes.geometry import GeometryVolume
@@ -35,9 +36,10 @@ from explorer.lpv.settings import GEOMETRY_VISIBILITY_MODES, REPROJECTION_MODES,
 class PropagationOutput:
     accumulated: LpvGrid
     """acc_N = Σ grid_t. Owned by the pass: valid until its next run or release."""
-    steps: list[np.ndarray] | None
-    """grid_0..grid_N as (3, N, N, N, 4) arrays when keep_steps. In place, grid_t is the
-    light step t added (acc_t − acc_{t−1}), so Σ grid_t = acc_N in both modes."""
+    steps: KeptSteps | None
+    """grid_0..grid_N as (3, N, N, N, 4) arrays when keep_steps (each kept as its box of
+    cells that hold light: explorer/lpv/kept_steps.py). In place, grid_t is the light step
+    t added (acc_t − acc_{t−1}), so Σ grid_t = acc_N in both modes."""
     audit: GridAudit
     cell_records: CellAuditRecords | None = None
     """Each cell's audit record (its sum over the steps, the last step's), read one cell
@@ -304,8 +306,8 @@ class PropagationRun:
         self._slots = iterations + 2 if audit != "off" else 2
         owner.audit.begin(n, self._slots, cell_records=self._with_audit)
         owner.audit.measure_flux(0, injected)
-        self.steps = [injected.read()] if keep_steps else None
-        self._previous = self.steps[0] if keep_steps else None
+        self._previous = injected.read() if keep_steps else None
+        self.steps = KeptSteps([self._previous]) if keep_steps else None
         self._source = injected
         self._defines, self._key, self._reads = owner.program_of(
             fmt, order, corrections, self._with_audit, geometry is not None, bounces == 2,

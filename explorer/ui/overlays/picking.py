@@ -91,6 +91,16 @@ def _cascades(result) -> tuple[list, list]:
     return grids, specs
 
 
+def _cell_in_steps(steps, index: tuple[int, int, int]) -> np.ndarray:
+    """``(steps, 3)`` float64: band 0 of cell ``index`` in every kept step (read from the
+    steps' boxes without building whole steps when they are explorer.lpv.kept_steps')."""
+    cell = getattr(steps, "cell", None)
+    if cell is not None:
+        return np.asarray(cell(index)[..., 0], np.float64)
+    return np.array([np.asarray(step[(slice(None),) + index + (0,)], np.float64)
+                     for step in steps])
+
+
 def pick_cell(result, cascade: int, i: int, j: int, k: int) -> CellInfo | None:
     """The values of cell (i, j, k) of ``cascade``; None outside the grid."""
     grids, specs = _cascades(result)
@@ -106,9 +116,7 @@ def pick_cell(result, cascade: int, i: int, j: int, k: int) -> CellInfo | None:
     share = np.divide(flux, total, out=np.zeros(3), where=total != 0)
     in_flight = summed = None
     if cascade == 0 and result.steps:
-        in_flight = np.array([C.SH_FLUX_FACTOR * np.asarray(step[(slice(None),) + index + (0,)],
-                                                            np.float64)
-                              for step in result.steps])
+        in_flight = C.SH_FLUX_FACTOR * _cell_in_steps(result.steps, index)
         summed = in_flight.sum(axis=0)
     blocker = None
     volumes = getattr(result, "cascade_geometry", None) or [result.geometry_volume]
