@@ -23,6 +23,7 @@ from explorer.lpv.passes.rsm import LightView
 from explorer.lpv.passes.textures import (
     LayeredTarget,
     VolumeTexture,
+    copied_apart,
     copy_volume,
     default_context,
     dispatch_size,
@@ -145,8 +146,12 @@ class GeometryPass:
         self._layers: LayeredTarget | None = None
         self._lights = LightRecordBuffer(ctx)
 
-    UNITS = 3
-    """Units of :meth:`run_units`: the surfels' draws, then each target's copy."""
+    @staticmethod
+    def unit_count(cells: tuple[int, int, int]) -> int:
+        """Units of :meth:`run_units` for a light grid of ``cells``: the surfels' draws,
+        then each target's copy, when its volumes are copied apart (:func:`copied_apart`);
+        else one."""
+        return 3 if copied_apart(tuple(n + 1 for n in cells)) else 1
 
     def run(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
@@ -158,7 +163,7 @@ class GeometryPass:
     def run_units(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
                   mode: str, out: GeometryVolume, camera: CameraSurfels | None = None
                   ) -> Iterator[None]:
-        """:meth:`run`'s work as a generator of :data:`UNITS` units (the draws into the
+        """:meth:`run`'s work as a generator of :meth:`unit_count` units (the draws into the
         layers, which keep the sums, then the volume's copy and the albedo's), yielding
         after every unit but its last: the same GL work in the same order."""
         if mode not in GEOMETRY_MODES:
@@ -179,10 +184,11 @@ class GeometryPass:
         if camera is not None:
             self._draw_camera_surfels(camera, spec, corrections, mode, layers,
                                       clear=vpls is None)
-        yield
-        copy_volume(self.programs, layers.layers[0], out.volume)
-        yield
-        copy_volume(self.programs, layers.layers[1], out.albedo)
+        apart = copied_apart(size)
+        for layer, volume in zip(layers.layers, (out.volume, out.albedo)):
+            if apart:
+                yield
+            copy_volume(self.programs, layer, volume)
 
     def _draw_vpl_surfels(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
                           mode: str, layers: LayeredTarget) -> None:
@@ -258,12 +264,16 @@ class MergedGeometryPass:
         """One view's geometry volume before it is merged (several views)."""
 
     @staticmethod
-    def unit_count(views: int, camera: bool) -> int:
-        """Units of :meth:`run_units` for ``views`` RSM views, with camera surfels or not:
-        the first view's :data:`GeometryPass.UNITS`, then as many and one merge for each
-        further view and (several views) for the camera's surfels."""
+    def unit_count(views: int, camera: bool, cells: tuple[int, int, int]) -> int:
+        """Units of :meth:`run_units` for ``views`` RSM views, with camera surfels or not,
+        for a light grid of ``cells``: the first view's :meth:`GeometryPass.unit_count`,
+        then as many and one merge for each further view and (several views) for the
+        camera's surfels; one in all when the volumes are not copied apart."""
+        single = GeometryPass.unit_count(cells)
+        if single == 1:
+            return 1
         further = views - 1 + (camera and views > 1)
-        return GeometryPass.UNITS + further * (GeometryPass.UNITS + 1)
+        return single + further * (single + 1)
 
     def run(self, occluders: Sequence[VplTextures], spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
@@ -281,21 +291,23 @@ class MergedGeometryPass:
         :meth:`GeometryPass.run_units`, each merge), yielding after every unit but its
         last."""
         alone = len(occluders) == 1
+        apart = GeometryPass.unit_count(spec.cells) > 1
         yield from self.single.run_units(occluders[0], spec, corrections, mode, out,
                                          camera if alone else None)
         if alone:
             return
         scratch = self._scratch_like(out)
-        for vpls in occluders[1:]:
-            yield
-            yield from self.single.run_units(vpls, spec, corrections, mode, scratch)
-            yield
-            merge_volumes(self.programs, out, scratch)
+        further: list[tuple[VplTextures | None, CameraSurfels | None]] = [
+            (vpls, None) for vpls in occluders[1:]]
         if camera is not None:
-            yield
-            yield from self.single.run_units(None, spec, corrections, mode, scratch, camera)
-            yield
-            merge_volumes(self.programs, out, scratch, add=True)
+            further.append((None, camera))
+        for vpls, surfels in further:
+            if apart:
+                yield
+            yield from self.single.run_units(vpls, spec, corrections, mode, scratch, surfels)
+            if apart:
+                yield
+            merge_volumes(self.programs, out, scratch, add=surfels is not None)
 
     def _scratch_like(self, volume: GeometryVolume) -> GeometryVolume:
         scratch = self._scratch

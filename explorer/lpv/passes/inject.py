@@ -23,8 +23,10 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec, shape_text
 from explorer.lpv.passes.textures import (
+    SH_GROUPS,
     LayeredTarget,
     LpvGrid,
+    copied_apart,
     copy_volume,
     default_context,
     dispatch_size,
@@ -69,10 +71,12 @@ class InjectPass:
         self._uniforms: dict[tuple, dict[str, object]] = {}
 
     @staticmethod
-    def unit_count(mode: str) -> int:
-        """Units of :meth:`run_units`: the point path's draw, then one copy per channel's
-        volume (each a 64³ frame's share on llvmpipe); the compute path's one."""
-        return 1 + CHANNELS if mode == "points" else 1
+    def unit_count(mode: str, cells: tuple[int, int, int], sh_order: int) -> int:
+        """Units of :meth:`run_units` into a grid of ``cells`` and ``sh_order``: the point
+        path's draw, then one copy per channel's volume, when its volumes are copied apart
+        (:func:`copied_apart`: a 64³ copy is a frame's share on llvmpipe); else one."""
+        shape = (cells[0], cells[1], cells[2] * SH_GROUPS[sh_order])
+        return 1 + CHANNELS if mode == "points" and copied_apart(shape) else 1
 
     def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
             mode: str, out: LpvGrid, offset_cells: float = 0.0) -> None:
@@ -120,8 +124,10 @@ class InjectPass:
         program = self.programs.get("inject_points.glsl", sh_defines(out.sh_order))
         set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
         draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+        apart = copied_apart(layers.shape)
         for stack, volume in zip(layers.layers, out.volumes):
-            yield       # the layers keep the sums: each copy may run in a later frame
+            if apart:
+                yield   # the layers keep the sums: each copy may run in a later frame
             copy_volume(self.programs, stack, volume)
 
     def _inject_compute(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:

@@ -20,6 +20,7 @@ from explorer.lpv.passes.geometry import GeometryVolume
 from explorer.lpv.passes.textures import (
     LpvGrid,
     check_volume_array,
+    copied_apart,
     copy_volume,
     default_context,
     dispatch_size,
@@ -297,10 +298,14 @@ class PropagationRun:
         self._with_audit = audit == "full"
         self.iterations = iterations
         self.done = 0
-        self.accumulated = owner.scratch_grid("accumulated", n, fmt, order)
+        self._accumulated = owner.scratch_grid("accumulated", n, fmt, order)
         self._scratch = {name: owner.scratch_grid(name, n, fmt, order) if corrections.ping_pong
                          else None for name in ("ping", "pong")}
-        copy_grid(owner.programs, injected, self.accumulated)
+        self._copies = list(zip(injected.volumes, self._accumulated.volumes))
+        """grid_0's channels still to copy into the accumulation (:meth:`copy_next`): all
+        of them copied here unless they are copied apart (:func:`copied_apart`)."""
+        if not copied_apart(self._accumulated.volumes[0].shape):
+            self._copy_rest()
         # slots: 0 the injected flux, 1..N the steps (full or flux audit), last the
         # accumulation
         self._slots = iterations + 2 if audit != "off" else 2
@@ -328,6 +333,32 @@ class PropagationRun:
         """What the last :meth:`advance` left bound that the next may keep (``bound``):
         ``run`` the accumulation images and the geometry volume, ``audit`` the audit's
         buffers, ``source`` the next step's source on sampler units 0..2."""
+
+    @property
+    def copies_left(self) -> int:
+        """Channels of grid_0 not yet copied into the accumulation (a large grid's:
+        :func:`copied_apart`): :meth:`copy_next` does one (a unit of its own in a
+        time-sliced frame: 8 ms at 64³ on llvmpipe); whatever reads or writes the
+        accumulation first does the rest."""
+        return len(self._copies)
+
+    def copy_next(self) -> None:
+        """Copy the next channel of grid_0 into the accumulation."""
+        source, target = self._copies.pop(0)
+        copy_volume(self._owner.programs, source.texture, target)
+
+    def _copy_rest(self) -> bool:
+        """Copy the channels left (:meth:`copy_next`); False when there were some."""
+        done = not self._copies
+        while self._copies:
+            self.copy_next()
+        return done
+
+    @property
+    def accumulated(self) -> LpvGrid:
+        """acc_t, the light gathered so far (grid_0's copies done first)."""
+        self._copy_rest()
+        return self._accumulated
 
     def _program_now(self):
         """The run's program, got from the cache for each slab: a run spans frames, and
@@ -385,6 +416,8 @@ class PropagationRun:
         images, the geometry volume and the audit's buffers are still bound."""
         if self.finished:
             raise RuntimeError(f"all {self.iterations} propagation steps have run")
+        # grid_0's copies left before any binding (they use units 0): then nothing is bound
+        bound = self._copy_rest() and bound
         owner, step = self._owner, self.done + 1
         # in place, the race: the dispatch reads its neighbours from the grid it writes
         target = self._targets[step % 2]

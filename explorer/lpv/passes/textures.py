@@ -294,6 +294,19 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
     programs.ctx.memory_barrier()
 
 
+APART_TEXELS = 40 ** 3
+"""A volume of more texels than this is copied (and its draws and merges done) in a unit of
+its own in a time-sliced frame: a 64³ volume's copy takes 8 ms on llvmpipe, a 32³ one's
+1 ms (those stay in one unit with the work around them: fewer units, less per-unit
+Python)."""
+
+
+def copied_apart(shape: Sequence[int]) -> bool:
+    """Whether a volume of ``shape`` texels is copied in a unit of its own
+    (:data:`APART_TEXELS`)."""
+    return int(np.prod([int(n) for n in shape])) > APART_TEXELS
+
+
 _COPY_PROGRAMS: dict[tuple[bool, str], tuple[dict, tuple]] = {}
 _COPY_UNIFORMS: dict[str, object] = {"u_source": 0}
 """:func:`copy_volume`'s program defines and keys by (layered source, format)."""

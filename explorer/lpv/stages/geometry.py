@@ -1,6 +1,6 @@
 """The ``geometry`` stage: the geometry volume of every cascade
-(explorer/lpv/passes/geometry.py; per cascade each view's draws, each copy and each merge
-a unit of its own, ``MergedGeometryPass.unit_count``), built from the RSM texels or
+(explorer/lpv/passes/geometry.py; per cascade one unit, or for a large grid each view's
+draws, each copy and each merge, ``MergedGeometryPass.unit_count``), built from the RSM texels or
 hand-made VPLs and, with camera occluders, the G-buffer's pixels no RSM view sees
 (docs/MODEL.md "Camera occluders"); each level's volume is copied for reading as it is
 built and every level's taken in one more unit, once the copies are done
@@ -55,8 +55,9 @@ class Stage(StageBase):
         if job.settings.geometry_volume == "off":
             return len(self.state.specs)
         views = len(self.host.light_views.occluders(hand_made=job.vpls is not None))
-        per_level = MergedGeometryPass.unit_count(views, bool(job.settings.uses_camera_occluders))
-        return len(self.state.specs) * per_level + 1
+        camera = bool(job.settings.uses_camera_occluders)
+        return sum(MergedGeometryPass.unit_count(views, camera, spec.cells)
+                   for spec in self.state.specs) + 1
 
     def work(self, job: Job) -> Iterator[GpuWait | None]:
         p, host, state = Params.of(job.settings), self.host, self.state

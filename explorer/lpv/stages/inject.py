@@ -1,6 +1,6 @@
 """The ``inject`` stage: the VPLs into the SH light grid of every cascade
-(explorer/lpv/passes/inject.py): per cascade the point path's draw and each channel's copy
-are units of their own (``InjectPass.unit_count``), the compute path one unit."""
+(explorer/lpv/passes/inject.py): per cascade one unit, or for a large grid the point path's
+draw and each channel's copy (``InjectPass.unit_count``)."""
 
 from __future__ import annotations
 
@@ -44,7 +44,8 @@ class Stage(StageBase):
         self.inject = InjectPass(host.ctx, host.programs)
 
     def units(self, job: Job) -> int:
-        return len(self.state.specs) * InjectPass.unit_count(job.settings.injection_mode)
+        mode, order = job.settings.injection_mode, int(job.settings.sh_order)
+        return sum(InjectPass.unit_count(mode, spec.cells, order) for spec in self.state.specs)
 
     def work(self, job: Job) -> Iterator[None]:
         p, host, specs = Params.of(job.settings), self.host, self.state.specs

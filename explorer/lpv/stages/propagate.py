@@ -120,13 +120,13 @@ class Stage(StageBase):
         return job.keep_steps and (limit is None or level < limit)
 
     def work(self, job: Job) -> Iterator[int]:
-        """Every level's propagation: a unit to start each level (grid_0 into the
-        accumulation), the slabs of the steps (``slabs``) grouped into units of about
-        :data:`GROUP_MS` (:func:`advance_group`), the levels interleaved so that
-        each is as far along as the others (a progressive picture shows all cascades
-        growing together), and two to finish each level (its audit's sums and its
-        accumulation copied for reading back, then taken once the copies are done:
-        explorer/lpv/job.py ``GpuWait``). Yields the steps done, all levels together."""
+        """Every level's propagation: a unit to start each level and one for each channel
+        of grid_0 copied into its accumulation, the slabs of the steps (``slabs``) grouped
+        into units of about :data:`GROUP_MS` (:func:`advance_group`), the levels
+        interleaved so that each is as far along as the others (a progressive picture
+        shows all cascades growing together), and two to finish each level (its audit's
+        sums and its accumulation copied for reading back, then taken once the copies are
+        done: explorer/lpv/job.py ``GpuWait``). Yields the steps done, all levels together."""
         host, state = self.host, self.state
         levels, specs = state.cascades, state.specs
         p = Params.of(job.settings, len(levels))
@@ -144,6 +144,10 @@ class Stage(StageBase):
                     flux_budget=p.flux_budget, reprojection=p.reprojection),
                     accumulate=True)
                 yield 0
+                running = level.running
+                while running.copies_left:      # grid_0 into the accumulation, a channel a unit
+                    timed("propagate", running.copy_next, accumulate=True)
+                    yield 0
             while not all(level.running.finished for level in levels):
                 # within a frame budget no further than the budget left allows
                 left = job.unit_budget_ms
