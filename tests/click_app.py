@@ -23,6 +23,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
+from click_labels import DrawnLabels  # noqa: E402  (tests/ on the path first)
+
 WINDOW = (1280, 720)
 SESSION_TIMEOUT_S = 900.0
 ON_TOP = ("//Lesson/", "//$FOCUSED/")
@@ -54,6 +56,9 @@ class Clicks:
         self.quit_seen = False
         self._found: tuple[str, int] = ("", 0)
         """The reference :meth:`_item_id` looked up last and the ID it found (0: none)."""
+        self.labels: DrawnLabels | None = None
+        """What the window drew (:mod:`click_labels`): :meth:`find` asks the engine for a
+        label only where it was drawn."""
 
     # -- actions ----------------------------------------------------------------------
     def click(self, ref: str, what: str | None = None) -> None:
@@ -168,13 +173,34 @@ class Clicks:
         screen; None if the window has none."""
         from imgui_bundle import imgui
 
-        te = imgui.test_engine
         # a wildcard search runs from the top-level window (the engine does not take a
         # child window as its start); the child is what scrolls
-        top = "//" + window_ref.removeprefix("//").split("/")[0]
-        ref = f"{top}/**/{label}"
-        if self.exists(ref):
+        name = window_ref.removeprefix("//").split("/")[0]
+        ref = f"//{name}/**/{label}"
+        if self._found[0] == ref and self._found[1] and self.ctx.item_info(
+                imgui.test_engine.TestRef(self._found[1]),
+                imgui.test_engine.TestOpFlags_.no_error).id_:
+            return ref                 # the item just found is still there, by its ID
+        if self._drawn(name, label) and self.exists(ref):
             return ref
+        found = self._search(window_ref, ref, name, label, hinted=True)
+        if found is None and self.labels is not None:
+            # by the engine on every page: an item of a kind DrawnLabels does not see
+            found = self._search(window_ref, ref, name, label, hinted=False)
+        return found
+
+    def _drawn(self, name: str, label: str) -> bool:
+        """Whether the last frame drew ``label`` visible in the window ``name`` (True
+        when nobody records what is drawn: the engine is asked every time)."""
+        return self.labels is None or self.labels.seen(name.replace("\\/", "/"), label)
+
+    def _search(self, window_ref: str, ref: str, name: str, label: str,
+                hinted: bool) -> str | None:
+        """:meth:`find`'s scroll from the top, a page at a time; ``hinted``: ask the engine
+        only on a page where :attr:`labels` saw the label drawn."""
+        from imgui_bundle import imgui
+
+        te = imgui.test_engine
         window = self._window_soon(window_ref)
         if window is None:
             return None
@@ -188,7 +214,7 @@ class Clicks:
         # draws the frames the scroll needs, no settling in between)
         last, still = None, 0
         for _ in range(200):
-            if self.exists(ref):
+            if (not hinted or self._drawn(name, label)) and self.exists(ref):
                 return ref
             window = self._window_soon(window_ref)
             if window is None:
@@ -198,6 +224,8 @@ class Clicks:
                 return None
             last = window.scroll.y
             self.wheel(window_ref, -self._page_notches(window), record=False, settle=False)
+            if hinted:
+                self.ctx.yield_()      # the page drawn at its new scroll
         return None
 
     @staticmethod
@@ -398,6 +426,8 @@ def run_session(name: str, shots: Path | None = None) -> dict:
                                    persist_settings=False, test_engine=True,
                                    headless=headless_available()))
     small_error_measurement(app.state)
+    labels = DrawnLabels()
+    labels.install()
     clicks: dict = {}
     problems: list[str] = []
     start = time.monotonic()
@@ -406,6 +436,7 @@ def run_session(name: str, shots: Path | None = None) -> dict:
 
         def body(ctx) -> None:
             c = Clicks(app, ctx, problems, shots)
+            c.labels = labels
             clicks["c"] = c
             session.run(c)
 

@@ -11,7 +11,7 @@ from imgui_bundle import imgui
 from explorer.lessons import TRY_GRIDS, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
 from explorer.lessons.words import for_reader
-from explorer.ui.lesson_panel import LessonSession, current_screen
+from explorer.ui.lesson_panel import LessonSession
 from explorer.ui.textflow import Page
 from explorer.ui.try_numbers import same_frame
 
@@ -63,9 +63,8 @@ def try_context(state: AppState, session: LessonSession, index: int,
 
     step = session.step
     item = step.try_this[index - 1]
-    own = session.saved if session.saved is not None else current_screen(state)
-    after = item.apply(step_settings(step, own)).with_changes(
-        width=state.settings.width, height=state.settings.height)
+    own = session.saved.settings if session.saved is not None else state.settings
+    after = _after_settings(step, index, own, state.settings.width, state.settings.height)
     active = session.applied and session.tried == index
     cached = error_service(state).result_for(after)
     error = cached.stats if cached is not None else None
@@ -77,6 +76,28 @@ def try_context(state: AppState, session: LessonSession, index: int,
                 AFTER_SIDE[item.compare])
     return (replace(base, settings=after, result=None, error=error),
             "the configuration this button sets: press it to read the frame")
+
+
+_AFTER: dict[tuple[int, int], tuple] = {}
+"""(id(step), index) -> (step, own settings, width, height, the settings the button sets):
+the article draws every try-this's prompt every frame, from the same few settings."""
+AFTER_KEPT = 256
+
+
+def _after_settings(step: Step, index: int, own, width: int, height: int):
+    """The settings the ``index``-th try-this of ``step`` sets on the reader's own
+    settings ``own`` at the view's size, made once while those stay the same objects
+    (settings are frozen)."""
+    kept = _AFTER.get((id(step), index))
+    if kept is not None and kept[0] is step and kept[1] is own and kept[2:4] == (width,
+                                                                               height):
+        return kept[4]
+    after = step.try_this[index - 1].apply(step.settings(own)).with_changes(
+        width=width, height=height)
+    if len(_AFTER) >= AFTER_KEPT:
+        _AFTER.clear()
+    _AFTER[(id(step), index)] = (step, own, width, height, after)
+    return after
 
 
 def pending_note(prompt: str, context: live_values.LiveContext, active: bool,
@@ -95,12 +116,6 @@ def pending_note(prompt: str, context: live_values.LiveContext, active: bool,
     if "error" in pending:
         return "…: the Error panel measures it against the reference, in the background"
     return "…: read from the next frame"
-
-
-def step_settings(step: Step, own):
-    from explorer.ui.lesson_panel import step_screen
-
-    return step_screen(step, own).settings
 
 
 def try_section(state: AppState, session: LessonSession, page: Page, step: Step) -> None:

@@ -48,6 +48,8 @@ controller's idle sides): at the grid shown it holds a frame's GPU grids and arr
 hundreds of MiB at 64³ with two cascades, which a reader who moved on does not need."""
 SIZES = (48, 64, 96, 128, 192, 256)
 RSM_SIZES = (16, 32, 64, 128)
+KEYS_KEPT = 64
+"""Configurations whose measurement key :meth:`ErrorService.key` keeps."""
 
 
 class ErrorService:
@@ -78,6 +80,8 @@ class ErrorService:
         self.truth_job = None
         self.truth_key: Any = None
         self.truth_problem: str | None = None
+        self._keys: dict[int, tuple[Any, Measurement, Any]] = {}
+        """id(settings) -> (settings, measurement, key): :meth:`key`'s recent answers."""
         self._seen: Any = None
         self._seen_at = 0.0
         self._idle_since: float | None = None
@@ -85,12 +89,24 @@ class ErrorService:
 
     # -- what is measured ----------------------------------------------------------------
     def key(self, settings=None) -> Any:
+        """What a measurement of ``settings`` (default: A's) is cached by: the settings as
+        measured and the measurement. The window asks every frame for the same few
+        configurations (A, each try-this's): the key of each is kept while the settings
+        object and the measurement are the same ones (both frozen), not copied again."""
         settings = self.state.settings if settings is None else settings
+        kept = self._keys.get(id(settings))
+        if kept is not None and kept[0] is settings and kept[1] is self.measurement:
+            return kept[2]
         aspect = settings.width / max(settings.height, 1)
         measured = measured_settings(settings.with_changes(exposure=1.0,
                                                            indirect_only=False),
                                      self.measurement, aspect)
-        return (measured, self.measurement)
+        key = (measured, self.measurement)
+        if len(self._keys) >= KEYS_KEPT:
+            self._keys.clear()
+        # the settings held with their key: their id names no other object meanwhile
+        self._keys[id(settings)] = (settings, self.measurement, key)
+        return key
 
     def result_for(self, settings=None) -> ErrorResult | None:
         return self.cache.get(self.key(settings))
