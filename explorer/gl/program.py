@@ -201,7 +201,11 @@ def set_uniform(program, name: str, value: int | float) -> None:
         return
     stamp = (type(value), value)
     if uploaded[name] != stamp:
-        program[name] = value
+        # the Uniform object kept (the program's own: a reloaded program is a new one)
+        uniform = info.setdefault("uniforms", {}).get(name)
+        if uniform is None:
+            uniform = info["uniforms"][name] = program[name]
+        uniform.value = value
         uploaded[name] = stamp
         # set_uniforms skips the dict of its last call as unchanged: no longer true of one
         # that holds this name

@@ -36,10 +36,18 @@ _check_registry()
 
 
 def uniforms_read_by(stage: str) -> tuple[str, ...]:
-    """Uniforms of the switches a ``stage`` program must read (registry order)."""
-    if stage not in STAGES:
-        raise ValueError(f"unknown stage {stage!r}; choose one of {STAGES}")
-    return tuple(entry.uniform for entry in CORRECTIONS if stage in entry.stages)
+    """Uniforms of the switches a ``stage`` program must read (registry order); made once
+    per stage (the registry is fixed at import; the passes ask every frame)."""
+    made = _READ_BY.get(stage)
+    if made is None:
+        if stage not in STAGES:
+            raise ValueError(f"unknown stage {stage!r}; choose one of {STAGES}")
+        made = _READ_BY[stage] = tuple(entry.uniform for entry in CORRECTIONS
+                                       if stage in entry.stages)
+    return made
+
+
+_READ_BY: dict[str, tuple[str, ...]] = {}
 
 
 @dataclass(frozen=True)

@@ -7,12 +7,13 @@ lessons and notebooks build the same thing from numpy arrays. See docs/MODEL.md.
 from __future__ import annotations
 
 import hashlib
+import math
 from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import DeferredRead, issue_together
 
 PROJECTIONS = ("perspective", "orthographic")
 UPLOAD_ROW = 4096
@@ -161,9 +162,9 @@ class VplTextures:
     def read_later(self, reads: list[DeferredRead]) -> None:
         """:meth:`to_arrays` without waiting: each texture copied into its read (one per
         texture of :attr:`all_textures`); :meth:`arrays_taken` of them gives the arrays."""
-        for read, texture in zip(reads, self.all_textures):
-            width, height = texture.size
-            read.issue(texture, (height * width, 4), "f4")
+        textures = self.all_textures
+        issue_together(reads[:len(textures)], textures,
+                       [(math.prod(texture.size), 4) for texture in textures])
 
     def arrays_taken(self, reads: list[DeferredRead]) -> VplArrays:
         return self._arrays([read.wait() for read in reads[:len(self.all_textures)]])

@@ -11,7 +11,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 import moderngl
 
-from explorer.gl.gpu_sync import DeferredRead, GpuWait
+from explorer.gl.gpu_sync import DeferredRead, GpuWait, issue_together
 
 
 def countdown(units: int) -> Callable[[], bool]:
@@ -32,9 +32,8 @@ def read_back_later(reads: Sequence[DeferredRead],
     them, row 0 at the top as ``rsm.read_texture`` gives them, in the next unit (``yield
     from`` returns the arrays), which a job within a budget does once the copies are done
     (explorer/lpv/job.py). ``reads``: one per texture, owned by the stage (reused)."""
-    for read, texture in zip(reads, textures):
-        width, height = texture.size
-        read.issue(texture, (height, width, 4), "f4")
+    issue_together(reads[:len(textures)], textures,
+                   [texture.size[::-1] + (4,) for texture in textures])
     yield GpuWait(list(reads[:len(textures)]))
     return [read.wait()[::-1].copy() for read in reads[:len(textures)]]
 

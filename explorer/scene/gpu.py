@@ -15,6 +15,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from explorer.gl.program import set_uniform
 from explorer.scene.model import Scene
 
 VERTEX_FORMAT = ("3f 3f 3f 2f", "in_position", "in_normal", "in_albedo", "in_uv")
@@ -34,6 +35,8 @@ class SceneBuffers:
         self.vertex_count = len(scene.positions)
         self.buffer = ctx.buffer(scene.vertex_bytes())
         self._arrays: dict[int, moderngl.VertexArray] = {}
+        self._uniforms: dict[int, tuple[str, ...]] = {}
+        """Per program (as ``_arrays``): which of the draw's uniforms it uses."""
         self._pose = dict(scene.pose)
         self.runs = scene.draw_runs()
         self.white = _texture(ctx, np.ones((1, 1, 3), np.float32))
@@ -61,14 +64,19 @@ class SceneBuffers:
         """Draw every triangle with ``program``: one call per run of triangles sharing a
         texture and a sidedness, each with its texture bound and ``u_one_sided`` set."""
         vertex_array = self._vertex_array(program)
+        used = self._uniforms[id(program)]
+        # a program from the loader (explorer/gl/program.py) keeps what was uploaded: a
+        # value it holds already is not uploaded again (the same every frame)
+        upload = set_uniform if isinstance(getattr(program, "extra", None), dict) and \
+            "declared" in program.extra else _upload
         for first, count, texture, one_sided in self.runs:
-            if "u_base_colour" in program:
+            if "u_base_colour" in used:
                 (self.textures[texture] if texture >= 0 else self.white).use(BASE_COLOUR_UNIT)
-                program["u_base_colour"].value = BASE_COLOUR_UNIT
-            if "u_one_sided" in program:
-                program["u_one_sided"].value = int(one_sided)
-            if "u_first_triangle" in program:
-                program["u_first_triangle"].value = first // 3
+                upload(program, "u_base_colour", BASE_COLOUR_UNIT)
+            if "u_one_sided" in used:
+                upload(program, "u_one_sided", int(one_sided))
+            if "u_first_triangle" in used:
+                upload(program, "u_first_triangle", first // 3)
             vertex_array.render(moderngl.TRIANGLES, vertices=count, first=first)
 
     def _vertex_array(self, program: moderngl.Program) -> moderngl.VertexArray:
@@ -85,6 +93,8 @@ class SceneBuffers:
             vertex_array = self.ctx.vertex_array(
                 program, [(self.buffer, layout, *[n for n in kept if n])])
             self._arrays[key] = vertex_array
+            # ``in`` walks a moderngl program's members: asked once per program
+            self._uniforms[key] = tuple(name for name in DRAW_UNIFORMS if name in program)
         return vertex_array
 
     def _drop_released(self) -> None:
@@ -93,15 +103,26 @@ class SceneBuffers:
         for key, vertex_array in list(self._arrays.items()):
             if isinstance(vertex_array.program.mglo, moderngl.InvalidObject):
                 self._arrays.pop(key).release()
+                self._uniforms.pop(key, None)
 
     def release(self) -> None:
         for vertex_array in self._arrays.values():
             vertex_array.release()
         self._arrays.clear()
+        self._uniforms.clear()
         self.buffer.release()
         for texture in (self.white, *self.textures):
             texture.release()
         self.textures = []
+
+
+DRAW_UNIFORMS = ("u_base_colour", "u_one_sided", "u_first_triangle")
+"""The uniforms :meth:`SceneBuffers.draw` sets, on the programs that use them."""
+
+
+def _upload(program, name: str, value: int) -> None:
+    """A program not from the loader: uploaded every draw (nothing kept to compare)."""
+    program[name].value = value
 
 
 def _texture(ctx: moderngl.Context, image: np.ndarray) -> moderngl.Texture:

@@ -9,7 +9,7 @@ import pytest
 
 from explorer.commands.overhead_bench import WINDOW_TARGET, measure_window_frames
 from explorer.gl import gpu_sync
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import DeferredRead, issue_together
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
 from explorer.ui.controller import PipelineController
@@ -49,16 +49,44 @@ def test_a_deferred_read_gives_the_synchronous_bytes_and_waits_only_when_asked(g
         texture.release()
 
 
+def test_reads_issued_together_share_one_fence_held_until_the_last_lets_go(gl_context):
+    """issue_together: each read gets its texture's bytes, behind one fence after the last
+    copy; a read issued anew or released lets go of it, and the last one deletes it."""
+    arrays = [np.arange(5 * 3 * 4, dtype=np.float32).reshape(3, 5, 4) + k for k in range(3)]
+    textures = [gl_context.texture((5, 3), 4, a.tobytes(), dtype="f4") for a in arrays]
+    reads = [DeferredRead(gl_context) for _ in textures]
+    try:
+        issue_together(reads, textures, [(3, 5, 4)] * 3)
+        fence = reads[0]._fence
+        assert fence is not None and all(read._fence is fence for read in reads)
+        assert all(read.serial == 1 for read in reads)
+        reads[1].issue(textures[1], (3, 5, 4))            # its own fence now
+        assert reads[1]._fence is not fence and fence._sync is not None
+        reads[0].release()
+        assert fence._sync is not None                    # reads[2] still holds it
+        assert np.array_equal(reads[2].wait(), arrays[2])
+        assert np.array_equal(reads[1].wait(), arrays[1])
+        reads[2].release()
+        assert fence._sync is None
+    finally:
+        for read, texture in zip(reads, textures):
+            read.release()
+            texture.release()
+
+
 @pytest.fixture
 def late_fences(monkeypatch):
-    """Every fence reads unsignaled the first time it is asked (a GPU still copying), so
-    that a window job takes its read-backs a frame after it issued them."""
+    """Every fence reads unsignaled the first two times it is asked (a GPU still
+    copying), so that a window job takes its read-backs a frame after it issued them:
+    the job's own check of its unit's reads asks once, the test's look at
+    ``gpu_pending`` after the frame a second time (a stage's reads share one fence,
+    ``issue_together``)."""
     signaled = gpu_sync.Fence.signaled
-    asked: set[int] = set()
+    asked: dict[int, int] = {}
 
     def late(fence) -> bool:
-        if id(fence) not in asked:
-            asked.add(id(fence))
+        asked[id(fence)] = asked.get(id(fence), 0) + 1
+        if asked[id(fence)] <= 2:
             return False
         return signaled(fence)
 

@@ -149,7 +149,7 @@ class AuditReducer:
         program = self._stage_program(stage)
         # the grid's uniforms change with the grid (the levels' reducers share the
         # program, which keeps what was set last), the slot with every measurement
-        partials = self.partial_count
+        partials = self._partials
         grid = (self._cells, partials, uniforms)
         if program.extra.get("audit grid") != grid:
             set_uniforms(program, {**uniforms, "u_grid_cells": self._cells,
@@ -180,16 +180,19 @@ class AuditReducer:
         raw = self._buffers["results"].read(size=self._slots * AUDIT_VALUES * 4)
         return self.sums(np.frombuffer(raw, np.float32))
 
-    def read_later(self, read: DeferredRead) -> None:
+    def read_later(self, read: DeferredRead, bound: bool = False) -> None:
         """:meth:`read` without waiting: the sums folded and copied into ``read``
         (explorer/gl/gpu_sync.py); :meth:`sums` of its array gives what :meth:`read`
-        does."""
-        self.fold()
+        does. ``bound``: :meth:`bind`'s buffers are still bound (a measurement just
+        ran)."""
+        self.fold(bound)
         read.issue(self._buffers["results"], (self._slots * AUDIT_VALUES,), "f4")
 
-    def fold(self) -> None:
-        """Fold the partial sums into one row per slot (on the GPU)."""
-        self.bind()
+    def fold(self, bound: bool = False) -> None:
+        """Fold the partial sums into one row per slot (on the GPU); ``bound``: as
+        :meth:`read_later`'s."""
+        if not bound:
+            self.bind()
         program = self._stage_program(2)
         set_uniforms(program, {"u_partial_count": self.partial_count,
                                "u_slot_count": self._slots})

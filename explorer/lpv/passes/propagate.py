@@ -482,7 +482,8 @@ class PropagationRun:
         """:meth:`finish` without waiting: the audit's sums are copied into ``read``
         (explorer/gl/gpu_sync.py), and :meth:`output` of it then gives what :meth:`finish`
         does."""
-        self._measure_last().read_later(read)
+        # the last measurement bound the audit's buffers just before
+        self._measure_last().read_later(read, bound=True)
 
     def output(self, read: DeferredRead) -> PropagationOutput:
         """:meth:`finish`'s output from :meth:`finish_later`'s copy (waiting only if the

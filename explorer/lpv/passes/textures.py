@@ -16,7 +16,7 @@ from collections.abc import Sequence
 import moderngl
 import numpy as np
 
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import DeferredRead, issue_together
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.grid import cube_edge, grid_cells
 from explorer.lpv.settings import GRID_FORMATS
@@ -97,8 +97,12 @@ class VolumeTexture:
     def read_later(self, read: DeferredRead) -> None:
         """Copy the texels into ``read`` without waiting (explorer/gl/gpu_sync.py);
         :meth:`texels` of its array gives what :meth:`read` does."""
-        read.issue(self.texture, self.shape[::-1] + (4,),
-                   _NUMPY_DTYPES[self.format])
+        read.issue(self.texture, self.texels_shape, _NUMPY_DTYPES[self.format])
+
+    @property
+    def texels_shape(self) -> tuple[int, int, int, int]:
+        """The shape of the texels' bytes as GL lays them out (z, y, x, 4)."""
+        return self.shape[::-1] + (4,)
 
     def texels(self, data: np.ndarray) -> np.ndarray:
         """float32 ``(x, y, z, 4)`` from the texture's bytes as GL lays them out."""
@@ -165,8 +169,10 @@ class LpvGrid:
     def read_later(self, reads: Sequence[DeferredRead]) -> None:
         """Copy each colour channel into its deferred read without waiting; :meth:`taken`
         of the same reads gives what :meth:`read` does."""
-        for volume, read in zip(self.volumes, reads):
-            volume.read_later(read)
+        volumes = self.volumes
+        issue_together(reads[:len(volumes)], [volume.texture for volume in volumes],
+                       [volume.texels_shape for volume in volumes],
+                       _NUMPY_DTYPES[self.format])
 
     def taken(self, reads: Sequence[DeferredRead]) -> np.ndarray:
         """The ``(3, N, N, N, C)`` array of :meth:`read_later`'s copies (waiting only for
