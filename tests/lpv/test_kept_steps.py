@@ -1,6 +1,8 @@
-"""The kept propagation steps (explorer/lpv/kept_steps.py): each step held as its box of
-cells with light, read back bit for bit, and a frame of light in flight from a small
-source at a big grid holding a small part of its steps' whole grids."""
+"""What a frame at a big grid leaves behind: the kept propagation steps
+(explorer/lpv/kept_steps.py), each held as its box of cells with light and read back bit
+for bit, a frame of light in flight from a small source holding a small part of its
+steps' whole grids; and the audit's buffers, not kept at a big grid's size for a small
+one."""
 
 from __future__ import annotations
 
@@ -50,3 +52,25 @@ def test_light_in_flight_from_a_small_source_keeps_its_boxes_only(gl_context):
         # a patch's light reaches 6 cells a side after 6 steps: each box is a small part
         # of the 32³ grid
         assert steps.nbytes < whole / 4
+
+
+def test_the_audit_does_not_keep_a_big_grids_buffers_for_a_small_one(ctx):
+    """A 64³ grid's per-cell audit records (42 MiB) are given back when an 8³ grid
+    follows, and a grid of about the same size reuses the buffers it has."""
+    from explorer.gl.program import ProgramCache
+    from explorer.lpv.passes.audit_reduce import SHRINK_OVER, AuditReducer
+
+    audit = AuditReducer(ctx, ProgramCache(ctx))
+    try:
+        audit.begin(64, 18)
+        big = {name: buffer.size for name, buffer in audit._buffers.items()}
+        audit.begin(8, 18)
+        small = {name: buffer.size for name, buffer in audit._buffers.items()}
+        assert small.keys() == big.keys()
+        assert sum(small.values()) * 64 < sum(big.values())
+        kept = dict(audit._buffers)
+        audit.begin(7, 18)                    # within SHRINK_OVER of 8³: nothing made anew
+        assert SHRINK_OVER * 7 ** 3 > 8 ** 3
+        assert all(audit._buffers[name] is kept[name] for name in kept)
+    finally:
+        audit.release()

@@ -36,6 +36,10 @@ GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
 """The sampler units of the grid whose flux :meth:`AuditReducer.measure_flux` reduces."""
 
 
+SHRINK_OVER = 4
+"""An audit buffer over this many times what a grid needs is made anew at its size."""
+
+
 class AuditReducer:
     """Sums audit records on the GPU (``shaders/audit_reduce.glsl``) into result slots of
     21 floats (flux, border loss, clamp gain, occluded, reflected, blocked, withheld by
@@ -66,8 +70,11 @@ class AuditReducer:
         self._kept_releases = -1
 
     def _buffer(self, name: str, size: int) -> moderngl.Buffer:
+        """Buffer ``name`` of at least ``size`` bytes: kept while it fits, made anew when it
+        is too small or over :data:`SHRINK_OVER` times the size (a 64³ grid's per-cell
+        records, 42 MiB, are not kept for the 8³ grid that follows)."""
         buffer = self._buffers.get(name)
-        if buffer is None or buffer.size < size:
+        if buffer is None or buffer.size < size or buffer.size > SHRINK_OVER * max(size, 4):
             if buffer is not None:
                 buffer.release()
             buffer = self._buffers[name] = self.ctx.buffer(reserve=max(size, 4))
