@@ -1,5 +1,11 @@
 """Propagation of the light grid (docs/MODEL.md "Propagation", "Iterations and
-accumulation") with the energy audit measured on the GPU alongside every step."""
+accumulation") with the energy audit measured on the GPU alongside every step.
+
+:class:`PropagatePass` starts a :class:`PropagationRun` (a step in :func:`slabs`, grid_0's
+copy into the accumulation a channel at a time for a large grid) or runs all steps at
+once into a :class:`PropagationOutput`; :func:`grid_audit` reads the audit back;
+:class:`BaselinePropagatePass` is the minimal kernel; :func:`propagate` and
+:func:`propagate_with_audit` run numpy grids through the GPU."""
 
 from __future__ import annotations
 
