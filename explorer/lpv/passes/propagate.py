@@ -253,6 +253,17 @@ def slabs(cells: int | tuple[int, int, int], slab_cells: int | None = None
     return [(z, min(z + depth, nz)) for z in range(0, nz, depth)]
 
 
+def kernel_slab_cells(ping_pong: bool, bounces: int, neighbours: int, sh_order: int) -> int:
+    """Cells a slab of this kernel covers at most: :data:`SLAB_CELLS`, halved for a kernel
+    that costs 2–4× the one-bounce, 6-neighbour L1 one (64³ on llvmpipe, a slab's CPU ms:
+    6 that one, 23 with two bounces, 18 with 26 neighbours, 26 at L2), so its slabs fit a
+    frame's share too. In place (no ping-pong) the slabs stay as they are: there a slab
+    reads what the step wrote before it, and another split would change the race's
+    outcome; with ping-pong the slabs are independent and any split gives the same grid."""
+    heavy = bounces == 2 or neighbours == 26 or sh_order == 2
+    return SLAB_CELLS // 2 if ping_pong and heavy else SLAB_CELLS
+
+
 class PropagationRun:
     """One propagation in progress (made by :meth:`PropagatePass.start`): :meth:`advance`
     dispatches one slab of the current step (:func:`slabs`; a step's slabs are
@@ -302,7 +313,8 @@ class PropagationRun:
         self._program = None
         self._program_now()
         self._groups = dispatch_size(n)
-        self._slabs = slabs(n)
+        self._slabs = slabs(n, kernel_slab_cells(corrections.ping_pong, bounces, neighbours,
+                                                 order))
         self._slab = 0
         self._bound: set[str] = set()
         """What the last :meth:`advance` left bound that the next may keep (``bound``):
