@@ -160,3 +160,36 @@ def test_a_heavy_kernels_steps_run_in_half_slabs_with_the_same_grid(gl_context, 
         settings.iterations] * 3
     assert np.array_equal(halves.accumulated, whole.accumulated)
     assert np.array_equal(halves.indirect, whole.indirect)
+
+
+@pytest.mark.parametrize("order, fmt", [(1, "rgba32f"), (2, "rgba32f"), (2, "rgba16f")])
+def test_a_grid_taken_from_its_deferred_reads_is_the_grid_read(gl_context, ctx, monkeypatch,
+                                                               order, fmt):
+    """``LpvGrid.taken`` puts each channel's texels straight into the ``(3, x, y, z, C)``
+    array, with no channel array made on the way (``VolumeTexture.texels``, the
+    coefficients' concatenation: three copies of a 64³ channel): the same values, bit for
+    bit, as the synchronous ``read``."""
+    from explorer.gl.gpu_sync import DeferredRead
+    from explorer.lpv.passes import textures
+    from explorer.lpv.passes.textures import LpvGrid
+
+    cells = (5, 4, 3)
+    grid = LpvGrid(gl_context, cells, fmt, order)
+    reads = [DeferredRead(gl_context) for _ in range(3)]
+    try:
+        values = np.random.default_rng(7).normal(size=(3,) + cells + (grid.coefficients,))
+        grid.write(values.astype(np.float32))
+        grid.read_later(reads)
+        with monkeypatch.context() as patched:
+            for owner, name in ((textures.VolumeTexture, "texels"), (LpvGrid, "_coefficients")):
+                patched.setattr(owner, name,
+                                lambda *args, _name=name: pytest.fail(f"{_name} called"))
+            taken = grid.taken(reads)
+        read = grid.read()
+        assert taken.shape == read.shape == (3,) + cells + ((4, 9)[order - 1],)
+        assert taken.dtype == np.float32 and taken.flags["C_CONTIGUOUS"]
+        assert np.array_equal(taken, read) and np.abs(taken).max() > 0
+    finally:
+        for read_back in reads:
+            read_back.release()
+        grid.release()
