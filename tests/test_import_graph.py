@@ -203,6 +203,8 @@ BORROWED_PRIVATE = {
         "would compute smoothed ones",
     ("explorer/commands/overhead_bench.py", "Job._run_unit"):
         "the overhead benchmark wraps a job's unit to time its Python side, and puts it back",
+    ("explorer/commands/units_driver.py", "Job._run_unit"):
+        "the unit benchmark wraps one job's units to time each with its GL work finished",
 }
 """The only reads of another object's private attribute, each with its reason."""
 

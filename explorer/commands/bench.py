@@ -137,6 +137,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "calls, dispatches, draws, barriers, finishes, read-backs, "
                              "uniform uploads and bindings, for a full, a light, a camera "
                              "and a display frame (--repeat frames each, default 20)")
+    parser.add_argument("--units", action="store_true",
+                        help="the window's settings (960×540, 64³) through a grid change, "
+                             "a correction toggled, the geometry volume and two lights, "
+                             "each job one unit a call as the window runs it, every unit "
+                             "finished on the GPU: per stage the units and the longest "
+                             "unit's wall and CPU milliseconds (median of --repeat runs, "
+                             "default 2; --root: another checkout)")
     parser.add_argument("--gpu-report", type=Path, default=None, metavar="OUT.json",
                         help="every figure of BENCHMARKS.md in one go (pass times and "
                              "GB/s, the variant rows, --overhead, --interactive; within "
@@ -164,8 +171,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "profiles printed hold each phase's own GPU work (a diagnosis: "
                              "the figures are then not the window's own)")
     parser.add_argument("--root", type=Path, default=None, metavar="PATH",
-                        help="with --interactive/--soak: the source tree whose window is "
-                             "driven (default: this one), e.g. an older checkout")
+                        help="with --interactive/--soak/--units: the source tree whose "
+                             "window or pipeline is driven (default: this one), e.g. an "
+                             "older checkout")
     parser.add_argument("--variants", type=parse_variants, default=tuple(VARIANTS),
                         metavar="NAME[,NAME...]",
                         help=f"extra rows at each grid's largest iteration count: "
@@ -367,9 +375,14 @@ def format_table(rows: list[dict], peak_gbs: float | None) -> str:
 
 def main(args: argparse.Namespace) -> int:
     options.one_of(args, {"interactive": "--interactive", "overhead": "--overhead",
-                          "soak": "--soak", "gpu_report": "--gpu-report"})
+                          "soak": "--soak", "gpu_report": "--gpu-report", "units": "--units"})
     window = args.interactive or args.soak is not None
-    options.only_with(args, window, "--interactive or --soak", {"root": "--root"})
+    options.only_with(args, window or args.units, "--interactive, --soak or --units",
+                      {"root": "--root"})
+    # the unit bench runs the window's own settings
+    options.only_with(args, not args.units, "the timing bench (not --units)",
+                      {"quick": "--quick", "peak_gbs": "--peak-gbs",
+                       **options.setting_flags(args)})
     options.only_with(args, args.interactive, "--interactive",
                       {"finish_phases": "--finish-phases"})
     options.only_with(args, args.soak is not None, "--soak", {"soak_steps": "--soak-steps"})
@@ -385,6 +398,10 @@ def main(args: argparse.Namespace) -> int:
         from explorer.commands.interactive_bench import run_window_bench
 
         return run_window_bench(args)
+    if args.units:
+        from explorer.commands.interactive_bench import run_units_bench
+
+        return run_units_bench(args)
     from explorer.gl.context import probe
     from explorer.lpv.pipeline import Pipeline
     from explorer.scene import SceneError, load_scene

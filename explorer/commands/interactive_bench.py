@@ -16,7 +16,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from explorer.commands import interaction, options
+from explorer.commands import interaction, options, units_driver
 
 KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".2f"),
         ("launch_to_converged_s", "launch to the converged frame", "s", ".2f"),
@@ -91,6 +91,39 @@ def run_window_bench(args: argparse.Namespace) -> int:
             print(f"wrote {json_path}")
     return 1 if args.soak is not None and (figures["growth"]
                                             or figures.get("over_budget")) else 0
+
+
+def run_units_bench(args: argparse.Namespace) -> int:
+    """``bench --units`` (explorer/commands/units_driver.py), in a child process driving
+    ``--root``'s pipeline."""
+    root = (args.root or Path(__file__).resolve().parents[2]).resolve()
+    if not (root / "explorer" / "lpv" / "pipeline.py").is_file():
+        raise options.CommandError(f"--root {root}: no explorer/lpv/pipeline.py there")
+    with options.Outputs("--json") as outputs:
+        json_path = outputs.file(args.json, (".json",)) if args.json is not None else None
+        with tempfile.TemporaryDirectory(prefix="lpv-bench-") as folder:
+            out = Path(folder) / "units.json"
+            driver = Path(folder) / "lpv_units_driver.py"
+            shutil.copyfile(units_driver.__file__, driver)
+            command = [sys.executable, str(driver), "--json", str(out),
+                       "--repeat", str(args.repeat or 2)]
+            proc = subprocess.run(command, cwd=root, env=dict(os.environ, PYTHONPATH=str(root)),
+                                  capture_output=True, text=True)
+            if proc.returncode != 0 or not out.is_file():
+                tail = proc.stderr.strip().splitlines()[-5:]
+                raise options.CommandError("the unit bench failed: " + " | ".join(tail), 1)
+            figures = json.loads(out.read_text())
+        when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+        figures.update(date=when, root=str(root), load_average=load)
+        print(f"pipeline of {root} on {figures.get('renderer') or 'this GL'}; {when}; load "
+              f"average {load:.1f}; ms, median of {figures['repeat']} runs")
+        print(units_driver.format_units(figures))
+        if json_path is not None:
+            payload = json.dumps(figures, indent=2)
+            outputs.write(json_path, lambda p: p.write_text(payload))
+            print(f"wrote {json_path}")
+    return 0
 
 
 def _child(root: Path, args: argparse.Namespace) -> dict:

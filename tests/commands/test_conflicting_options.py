@@ -35,7 +35,7 @@ REFUSED = [
     ("bench --soak 1 --interactive", "--interactive and --soak each choose a different run"),
     ("bench --overhead --soak 1", "--overhead and --soak each choose a different run"),
     ("bench --soak 1 --grid 8", "--grid only acts with the timing bench"),
-    ("bench --root .", "--root only acts with --interactive or --soak"),
+    ("bench --root .", "--root only acts with --interactive, --soak or --units"),
     ("run --no-wait", "--no-wait only acts with --screenshot"),
     ("lessons --check a --check b", "--check a and --check b both given"),
     ("lessons --lint --lint b", "--lint and --lint b both given"),

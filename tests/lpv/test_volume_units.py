@@ -128,3 +128,68 @@ def test_a_small_grids_volumes_are_one_unit_each(gl_context, ctx, monkeypatch):
         ["draw_points_additively"] + ["copy_volume"] * 3,                 # the injection
         draws_and_copies + draws_and_copies + ["merge_volumes"], []]      # two views, the read
     assert next(unit for unit in units if unit[0] == "propagate")[1] == ["copy_volume"] * 3
+
+
+def test_a_heavy_kernels_steps_run_in_half_slabs_with_the_same_grid(gl_context, ctx,
+                                                                   monkeypatch):
+    """Two bounces, 26 neighbours or L2 (2–4× the slab's time) halve the slab, with
+    ping-pong only (in place another split would change the race): a 64³ step is 16
+    units, and a split step gives the one-slab grid bit for bit."""
+    propagate = sys.modules["explorer.lpv.passes.propagate"]
+    full = propagate.SLAB_CELLS
+    assert propagate.kernel_slab_cells(True, 1, 6, 1) == full
+    for heavy in ((True, 2, 6, 1), (True, 1, 26, 1), (True, 1, 6, 2)):
+        assert propagate.kernel_slab_cells(*heavy) == full // 2
+    assert propagate.kernel_slab_cells(False, 2, 26, 2) == full              # in place
+    assert len(propagate.slabs(64, propagate.kernel_slab_cells(True, 2, 6, 1))) == 16
+    assert len(propagate.slabs(64, propagate.kernel_slab_cells(True, 1, 6, 1))) == 8
+    settings = BASE                                          # two bounces, ping-pong
+    with Pipeline(settings, ctx=gl_context) as pipe:
+        whole = pipe.run(settings)                           # 8³: one slab a step
+        monkeypatch.setattr(propagate, "SLAB_CELLS", 8 * 8 * 8)  # a step, or two halves
+        pipe.invalidate("propagate")
+        calls = []
+        job = pipe.start(settings, progress=lambda *call: calls.append(call))
+        while not job.done:
+            job.advance(0.0)                                 # one unit a call
+        halves = job.result
+    steps = [done for stage, done, _ in calls if stage == "propagate"]
+    # the stage's start, the level's start, after each half of every step the steps done,
+    # and the level's audit and read-back
+    assert steps == [0, 0, 0] + sorted(2 * list(range(1, settings.iterations))) + [
+        settings.iterations] * 3
+    assert np.array_equal(halves.accumulated, whole.accumulated)
+    assert np.array_equal(halves.indirect, whole.indirect)
+
+
+@pytest.mark.parametrize("order, fmt", [(1, "rgba32f"), (2, "rgba32f"), (2, "rgba16f")])
+def test_a_grid_taken_from_its_deferred_reads_is_the_grid_read(gl_context, ctx, monkeypatch,
+                                                               order, fmt):
+    """``LpvGrid.taken`` puts each channel's texels straight into the ``(3, x, y, z, C)``
+    array, with no channel array made on the way (``VolumeTexture.texels``, the
+    coefficients' concatenation: three copies of a 64³ channel): the same values, bit for
+    bit, as the synchronous ``read``."""
+    from explorer.gl.gpu_sync import DeferredRead
+    from explorer.lpv.passes import textures
+    from explorer.lpv.passes.textures import LpvGrid
+
+    cells = (5, 4, 3)
+    grid = LpvGrid(gl_context, cells, fmt, order)
+    reads = [DeferredRead(gl_context) for _ in range(3)]
+    try:
+        values = np.random.default_rng(7).normal(size=(3,) + cells + (grid.coefficients,))
+        grid.write(values.astype(np.float32))
+        grid.read_later(reads)
+        with monkeypatch.context() as patched:
+            for owner, name in ((textures.VolumeTexture, "texels"), (LpvGrid, "_coefficients")):
+                patched.setattr(owner, name,
+                                lambda *args, _name=name: pytest.fail(f"{_name} called"))
+            taken = grid.taken(reads)
+        read = grid.read()
+        assert taken.shape == read.shape == (3,) + cells + ((4, 9)[order - 1],)
+        assert taken.dtype == np.float32 and taken.flags["C_CONTIGUOUS"]
+        assert np.array_equal(taken, read) and np.abs(taken).max() > 0
+    finally:
+        for read_back in reads:
+            read_back.release()
+        grid.release()

@@ -1,5 +1,11 @@
 """Propagation of the light grid (docs/MODEL.md "Propagation", "Iterations and
-accumulation") with the energy audit measured on the GPU alongside every step."""
+accumulation") with the energy audit measured on the GPU alongside every step.
+
+:class:`PropagatePass` starts a :class:`PropagationRun` (a step in :func:`slabs`, grid_0's
+copy into the accumulation a channel at a time for a large grid) or runs all steps at
+once into a :class:`PropagationOutput`; :func:`grid_audit` reads the audit back;
+:class:`BaselinePropagatePass` is the minimal kernel; :func:`propagate` and
+:func:`propagate_with_audit` run numpy grids through the GPU."""
 
 from __future__ import annotations
 
@@ -276,6 +282,17 @@ def slabs(cells: int | tuple[int, int, int], slab_cells: int | None = None
     return [(z, min(z + depth, nz)) for z in range(0, nz, depth)]
 
 
+def kernel_slab_cells(ping_pong: bool, bounces: int, neighbours: int, sh_order: int) -> int:
+    """Cells a slab of this kernel covers at most: :data:`SLAB_CELLS`, halved for a kernel
+    that costs 2–4× the one-bounce, 6-neighbour L1 one (64³ on llvmpipe, a slab's CPU ms:
+    6 that one, 23 with two bounces, 18 with 26 neighbours, 26 at L2), so its slabs fit a
+    frame's share too. In place (no ping-pong) the slabs stay as they are: there a slab
+    reads what the step wrote before it, and another split would change the race's
+    outcome; with ping-pong the slabs are independent and any split gives the same grid."""
+    heavy = bounces == 2 or neighbours == 26 or sh_order == 2
+    return SLAB_CELLS // 2 if ping_pong and heavy else SLAB_CELLS
+
+
 class PropagationRun:
     """One propagation in progress (made by :meth:`PropagatePass.start`): :meth:`advance`
     dispatches one slab of the current step (:func:`slabs`; a step's slabs are
@@ -327,7 +344,8 @@ class PropagationRun:
         self._targets = ((self._scratch["pong"], self._scratch["ping"]) if corrections.ping_pong
                          else (self.accumulated, self.accumulated))
         self._groups = dispatch_size(n)
-        self._slabs = slabs(n)
+        self._slabs = slabs(n, kernel_slab_cells(corrections.ping_pong, bounces, neighbours,
+                                                 order))
         self._slab = 0
         self._bound: frozenset[str] = _NOTHING_BOUND
         """What the last :meth:`advance` left bound that the next may keep (``bound``):

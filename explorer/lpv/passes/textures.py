@@ -176,9 +176,18 @@ class LpvGrid:
 
     def taken(self, reads: Sequence[DeferredRead]) -> np.ndarray:
         """The ``(3, N, N, N, C)`` array of :meth:`read_later`'s copies (waiting only for
-        those not done yet)."""
-        return np.stack([self._coefficients(volume.texels(read.wait()))
-                         for volume, read in zip(self.volumes, reads)])
+        those not done yet): each channel's texels go straight into their place, one
+        copy each (the values of :meth:`_coefficients` of ``VolumeTexture.texels``: a
+        64³ L2 grid's take was 99 ms on llvmpipe with the three copies between)."""
+        out = np.empty((3,) + self.cells + (self.coefficients,), np.float32)
+        n = self.cells[2]
+        for channel, (volume, read) in enumerate(zip(self.volumes, reads)):
+            raw = np.asarray(read.wait()).reshape(volume.shape[::-1] + (4,))  # z, y, x
+            for k in range(self.groups):
+                width = min(4, self.coefficients - 4 * k)
+                out[channel, ..., 4 * k:4 * k + width] = \
+                    raw[k * n:(k + 1) * n].transpose(2, 1, 0, 3)[..., :width]
+        return out
 
     def _coefficients(self, texels: np.ndarray) -> np.ndarray:
         """``(nx, ny, nz, C)`` from one channel's ``(nx, ny, groups·nz, 4)`` texels."""
