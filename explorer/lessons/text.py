@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import lru_cache
 
 STYLES = ("regular", "bold", "italic", "bold-italic", "code")
 VARIANT_MARKERS = ("window", "web", "end")
@@ -126,6 +127,8 @@ class FormulaRef:
 
 
 Block = Paragraph | Item | DisplayMath | Table | FigureRef | FormulaRef
+PARSED_KEPT = 1024
+"""Texts whose blocks :func:`parse` keeps (a course's steps and prompts: a few hundred)."""
 
 _FIELD = re.compile(r"\{\{\s*([^{}:\s]+)\s*(?::([^{}]*))?\}\}")
 _ITEM = re.compile(r"^(?:([*-])|(\d+)\.)\s+(.*)$")
@@ -183,9 +186,11 @@ def for_medium(text: str, medium: str = "window") -> str:
     return chosen
 
 
+@lru_cache(maxsize=PARSED_KEPT)
 def parse(text: str, medium: str = "window") -> tuple[Block, ...]:
     """The blocks of ``text`` as read in ``medium`` (see the module docstring);
-    :class:`TextError` for unbalanced delimiters."""
+    :class:`TextError` for unbalanced delimiters. Kept by text and medium (the blocks
+    are frozen): the window parses a step's text and its try-this prompts every frame."""
     blocks: list[Block] = []
     for chunk in _chunks(for_medium(text, medium)):
         if chunk[0] == "table":

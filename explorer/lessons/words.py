@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator
+from functools import lru_cache
 
 from explorer.lessons.model import Lesson
 from explorer.lpv.settings import Corrections, Settings
@@ -104,10 +105,12 @@ def window_word_problems(text: str) -> list[str]:
     return problems
 
 
+@lru_cache(maxsize=4096)
 def for_reader(text: str) -> str:
     """``text`` (a setting's or a quantity's documentation) without the citations that
     point a developer at a file or a function (``(docs/MODEL.md "Injection")``,
-    ``(rsm.surfel_area)``): the window's tooltips show the rest."""
+    ``(rsm.surfel_area)``): the window's tooltips show the rest (kept by text: the
+    window asks for each live number's every frame)."""
     return _CITATION.sub("", text)
 
 

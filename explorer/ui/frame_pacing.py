@@ -7,7 +7,9 @@ redraws its progress label only every :data:`PROGRESS_REDRAW_S`."""
 from __future__ import annotations
 
 import time
-from dataclasses import astuple
+from copy import deepcopy
+from dataclasses import fields, is_dataclass
+from pathlib import PurePath
 from typing import TYPE_CHECKING
 
 from explorer.ui.state import AppState
@@ -114,7 +116,31 @@ def fingerprint(state: AppState) -> tuple:
             s.view_mode,
             s.view_buffer, s.split_position, s.expose_sides_separately,
             s.difference_scale, s.difference_colour_map, s.follow_view_size,
-            s.render_scale, s.frame_budget_ms, s.progressive, astuple(s.inspect),
-            astuple(s.overlays), tuple(s.open_panels.items()), s.lesson_id,
-            s.lesson_step, s.plot_tab, len(s.messages), astuple(s.requests),
+            s.render_scale, s.frame_budget_ms, s.progressive, values_of(s.inspect),
+            values_of(s.overlays), tuple(s.open_panels.items()), s.lesson_id,
+            s.lesson_step, s.plot_tab, len(s.messages), values_of(s.requests),
             s.runtime.frame.side_exposures)
+
+
+_PLAIN = (str, int, float, bool, type(None), PurePath)
+"""Values a fingerprint holds as they are (immutable)."""
+_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def values_of(obj) -> tuple:
+    """The field values of the dataclass ``obj`` as a tuple, as ``dataclasses.astuple``
+    gives them (a nested dataclass as its values, any other value not immutable copied
+    deeply), without astuple's deep copy of every plain value: the window takes three of
+    these fingerprints a frame."""
+    cls = type(obj)
+    names = _FIELDS.get(cls)
+    if names is None:
+        names = _FIELDS[cls] = tuple(f.name for f in fields(obj))
+    out = []
+    for name in names:
+        value = getattr(obj, name)
+        if not isinstance(value, _PLAIN):
+            value = (values_of(value) if is_dataclass(value) and not isinstance(value, type)
+                     else deepcopy(value))
+        out.append(value)
+    return tuple(out)
