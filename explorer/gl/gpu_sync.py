@@ -170,13 +170,13 @@ class DeferredRead:
         """Copy ``source`` (a texture, framebuffer or buffer: anything with
         ``read_into``) into the buffer and fence it; ``shape`` and ``dtype`` say how its
         bytes are read. A read still in flight is replaced."""
-        self.copy_unfenced(source, shape, dtype, read_options)
-        self.fenced_by(Fence())
+        self.copy_unfenced(source, shape, dtype, **read_options)
+        self.fenced(Fence())
 
-    def copy_unfenced(self, source, shape: tuple[int, ...], dtype: str | np.dtype,
-                      read_options: dict) -> None:
-        """:meth:`issue`'s copy, without its fence (:func:`issue_together` fences a batch
-        of them with one fence, given by :meth:`fenced_by`)."""
+    def copy_unfenced(self, source, shape: tuple[int, ...], dtype: str | np.dtype = "f4",
+                      **read_options) -> None:
+        """:meth:`issue`'s copy without its fence: the read is not issued until
+        :meth:`fenced` gives it one made after this copy (:func:`issue_together`)."""
         self.dtype, self.shape = np.dtype(dtype), tuple(shape)
         size = math.prod(self.shape) * self.dtype.itemsize
         if self._buffer is None or self._buffer.size != size:
@@ -189,8 +189,10 @@ class DeferredRead:
         else:
             source.read_into(self._buffer, **read_options)
 
-    def fenced_by(self, fence: Fence) -> None:
-        """The copy just made is done when ``fence`` has signaled."""
+    def fenced(self, fence: Fence) -> None:
+        """The copy just made (:meth:`copy_unfenced`) is done when ``fence``, made after
+        it, has signaled; the read holds the fence until it is issued again or
+        released."""
         if self._fence is not None:
             self._fence.release()
         self._fence = fence
@@ -239,10 +241,10 @@ def issue_together(reads: Sequence[DeferredRead], sources: Sequence,
     if not reads:
         return
     for read, source, shape in zip(reads, sources, shapes, strict=True):
-        read.copy_unfenced(source, shape, dtype, {})
+        read.copy_unfenced(source, shape, dtype)
     fence = Fence(holders=len(reads))
     for read in reads:
-        read.fenced_by(fence)
+        read.fenced(fence)
 
 
 class TimerQueries:

@@ -282,13 +282,15 @@ class Job:
             pipeline.unit_ms[name] = elapsed
             pipeline.unit_ms_at[(name, self._unit)] = elapsed
             if name in PIXEL_STAGES:
-                pipeline.unit_ms_sized[(name, self._unit, self.pixels)] = elapsed
-                pipeline.unit_pixels[name] = self.pixels
+                pixels = self.pixels
+                pipeline.unit_ms_sized[(name, self._unit, pixels)] = elapsed
+                pipeline.unit_pixels[name] = pixels
             self._unit += 1
             self._done = self._done + 1 if count is None else count
             if finished:
                 self.pipeline.keys[name] = self._key
-            self._report()
+            if self.progress_callback is not None:
+                self._report()
         except BaseException:
             # an unfinished stage keeps its key forgotten: it runs again next time
             self._abandon()

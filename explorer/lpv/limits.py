@@ -12,9 +12,8 @@ maximum.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-
-import numpy as np
 
 from explorer.lpv.cascades import AUDIT_RECORD_BYTES, texture_bytes
 from explorer.lpv.grid import grid_cells, shape_text
@@ -160,7 +159,8 @@ def audit_fits(cells: int | tuple[int, int, int], limits: DriverLimits) -> bool:
 
 
 def _count(cells: int | tuple[int, int, int]) -> int:
-    return int(np.prod(grid_cells(cells)))
+    # exact Python integers, without numpy's reduction machinery (asked every frame)
+    return math.prod(grid_cells(cells))
 
 
 def audit_skipped_warning(cells: int | tuple[int, int, int], limits: DriverLimits) -> str:
