@@ -106,6 +106,7 @@ class App:
         self._view_size = ViewSizeFollower()
         self._capture = False
         self._quiet = False           # the last frame found nothing to do: wait next time
+        self._heaps_trimmed = False   # the heaps' free pages went back since the last work
         self._draws_pending = 0       # frames still to draw after input or a change
         self._seen: tuple | None = None   # the state as the last drawn frame left it
         self._drawn_at = 0.0              # time.monotonic() of the last drawn frame
@@ -277,9 +278,13 @@ class App:
                      or expired or (status is not None and (
                          status.published or status.failures > 0)))
         if not must_draw and not worked:
+            if not self._heaps_trimmed:     # fallen idle: the heaps' free pages go back
+                memory.give_back_free()
+                self._heaps_trimmed = True
             self._quiet = True              # nothing to do: wait for events next time
             self.frames_skipped += 1
             return True
+        self._heaps_trimmed = False
         if not must_draw and time.monotonic() - self._drawn_at < PROGRESS_REDRAW_S:
             # a job runs with nothing new to show: its time goes to the job (input is
             # still read between budgets); the progress label is redrawn this often.

@@ -7,6 +7,12 @@ first freed grid read-back (12 MiB at 64³) every later one comes from the heap,
 keeps its high-water mark: a soak's resident memory climbed by each visit to a 64³ grid
 with two cascades and never came down (BENCHMARKS.md, issue #31). A fixed threshold stops
 that adjustment.
+
+Smaller blocks (below the threshold) come from glibc's heaps, one per thread that
+allocates (llvmpipe's too), and a freed block in the middle of a heap stays resident: after
+a 64³ step a window falling idle held 170 MiB of such free pages (BENCHMARKS.md, issue
+#31). :func:`give_back_free` hands them back (``malloc_trim``); the window calls it once
+each time it falls idle, when no one waits on a frame.
 """
 
 from __future__ import annotations
@@ -31,3 +37,24 @@ def return_large_blocks() -> bool:
         return False
     mallopt.argtypes, mallopt.restype = [ctypes.c_int, ctypes.c_int], ctypes.c_int
     return mallopt(_M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES) == 1
+
+
+def _libc():
+    name = ctypes.util.find_library("c")
+    try:
+        return ctypes.CDLL(name)
+    except (OSError, TypeError):
+        return None
+
+
+def give_back_free() -> bool:
+    """Hand the free pages of every malloc heap back to the system (glibc's
+    ``malloc_trim(0)``); what is allocated stays as it is. False where the C library has no
+    ``malloc_trim`` (nothing changes there)."""
+    libc = _libc()
+    trim = getattr(libc, "malloc_trim", None)
+    if trim is None:
+        return False
+    trim.argtypes, trim.restype = [ctypes.c_size_t], ctypes.c_int
+    trim(0)
+    return True

@@ -1,4 +1,5 @@
-"""The window fixes glibc's mmap threshold, so a large block freed goes back to the system."""
+"""The window fixes glibc's mmap threshold, so a large block freed goes back to the system,
+and hands the heaps' free pages back each time it falls idle."""
 
 from __future__ import annotations
 
@@ -29,3 +30,44 @@ def test_a_freed_grid_sized_block_leaves_resident_memory():
         block.sum()
         del block
     assert _resident_kib() - before < 4 << 10    # under 4 MiB stays resident
+
+
+def test_the_heaps_free_pages_go_back_when_asked():
+    """Blocks below the mmap threshold freed in the middle of the heap (a kept block
+    after each few) stay resident until :func:`memory.give_back_free` hands them back."""
+    if ctypes.util.find_library("c") is None or not memory.return_large_blocks():
+        pytest.skip("not glibc")
+    blocks = [bytes(100 << 10) for _ in range(600)]     # 60 MiB in 100 KiB blocks
+    kept = blocks[::20]                                  # one in 20 pins the heap
+    del blocks
+    before = _resident_kib()
+    assert memory.give_back_free()
+    assert before - _resident_kib() > 30 << 10           # over 30 of the 57 MiB freed
+    assert len(kept) == 30
+
+
+def test_the_window_gives_the_free_pages_back_once_each_time_it_falls_idle(monkeypatch):
+    """A frame with nothing to do after work trims the heaps; the idle frames after it
+    do not, until work comes again."""
+    from window_cases import display_problem
+
+    from explorer.ui.app import App
+    from explorer.ui.window_options import WindowOptions
+
+    if display_problem() is not None:
+        pytest.skip(str(display_problem()))
+    calls = []
+    monkeypatch.setattr(memory, "give_back_free", lambda: calls.append(1) or True)
+    app = App(options=WindowOptions(width=320, height=200, visible=False, vsync=False,
+                                    persist_settings=False, pipeline_class=None,
+                                    wait_when_idle=True, idle_timeout_s=0.01))
+    try:
+        for _ in range(8):
+            app.frame()
+        assert len(calls) == 1
+        app.state.update(exposure=app.state.settings.exposure + 0.5)   # work, then idle
+        for _ in range(8):
+            app.frame()
+        assert len(calls) == 2
+    finally:
+        app.close()
