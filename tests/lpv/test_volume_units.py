@@ -193,3 +193,32 @@ def test_a_grid_taken_from_its_deferred_reads_is_the_grid_read(gl_context, ctx, 
         for read_back in reads:
             read_back.release()
         grid.release()
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_a_large_rsms_injection_draws_in_batches_with_the_same_grid(gl_context, ctx,
+                                                                    monkeypatch, order):
+    """More VPLs than ``POINT_BATCH`` are drawn in batches, a unit each, with another
+    pipeline's units between them: the sums are the one-draw sums bit for bit (GL blends
+    in the points' order, across draws too)."""
+    settings = BASE.with_changes(sh_order=order)              # a 32² RSM: 1024 VPLs
+    other_settings = BASE.with_changes(grid_size=12, rsm_size=16)
+    with Pipeline(settings, ctx=gl_context) as pipe:
+        whole = pipe.run(settings, keep_steps=True)
+    textures = sys.modules["explorer.lpv.passes.textures"]
+    monkeypatch.setattr(textures, "POINT_BATCH", 300)
+    assert textures.point_batches(1024) == [(0, 300), (300, 300), (600, 300), (900, 124)]
+    assert textures.point_batches(0) == [(0, 0)]
+    ops: list[str] = []
+    record_ops(monkeypatch, ops)
+    with Pipeline(settings, ctx=gl_context) as pipe, \
+            Pipeline(other_settings, ctx=gl_context) as other:
+        split, units, reports = units_of(pipe, settings, other, other_settings, ops)
+    draw = "draw_points_additively"
+    assert [unit[1] for unit in units if unit[0] == "inject"] == [[draw]] * 3 + [
+        [draw] + ["copy_volume"] * 3]
+    assert [call[1:] for call in reports if call[0] == "inject"] == [(k, 4) for k in range(1, 5)]
+    assert np.abs(split.cascades[0].steps[0]).max() > 0
+    assert np.array_equal(split.cascades[0].steps[0], whole.cascades[0].steps[0])
+    assert np.array_equal(split.cascades[0].accumulated, whole.cascades[0].accumulated)
+    assert np.array_equal(split.indirect, whole.indirect)
