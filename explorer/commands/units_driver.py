@@ -24,7 +24,8 @@ STAGES = ("gbuffer", "inject", "geometry", "propagate", "gather", "display")
 
 def changes(settings, grid: int = 64) -> list[tuple[str, object]]:
     """The changes timed, in order (each from the one before): the grid to ``grid``³, a
-    correction toggled there (the injection's π), the geometry volume on, two lights."""
+    correction toggled there (the injection's π), the geometry volume on, two lights (and
+    two bounces), then from the toggle L2 and 26 neighbours (the heavier kernels)."""
     big = settings.with_changes(grid_size=grid)
     corrections = dataclasses.replace(settings.corrections,
                                       injection_pi=not settings.corrections.injection_pi)
@@ -33,7 +34,9 @@ def changes(settings, grid: int = 64) -> list[tuple[str, object]]:
     return [(f"{grid}³ grid", big), (f"{grid}³ toggle", toggled),
             (f"{grid}³ geometry volume", volume),
             (f"{grid}³ volume, two lights", volume.with_changes(lights=("spot", "lamp"),
-                                                                bounces=2))]
+                                                                bounces=2)),
+            (f"{grid}³ L2", toggled.with_changes(sh_order=2)),
+            (f"{grid}³ 26 neighbours", toggled.with_changes(neighbours=26))]
 
 
 def timed_job(pipeline, settings, finish) -> list[tuple[str, float, float]]:

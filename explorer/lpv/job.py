@@ -2,7 +2,8 @@
 
 :meth:`explorer.lpv.pipeline.Pipeline.start` makes a :class:`Job`; each
 :meth:`Job.advance` does whole units of work (a stage, one cascade of the injection or
-the geometry volume, a slab of a propagation step, a band of the gather) until its time
+the geometry volume or, for a large grid, each of its draws and copies, a slab of a
+propagation step, a band of the gather) until its time
 budget is spent, choosing the next unit only when its measured time still fits (at least
 one unit per call), and returns a :class:`Progress`. The stages run in
 :data:`explorer.lpv.stage_list.EXECUTION_ORDER`; a stage whose key has not changed since its

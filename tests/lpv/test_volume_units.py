@@ -193,3 +193,67 @@ def test_a_grid_taken_from_its_deferred_reads_is_the_grid_read(gl_context, ctx, 
         for read_back in reads:
             read_back.release()
         grid.release()
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_a_large_rsms_points_are_drawn_in_batches_with_the_same_grids(gl_context, ctx,
+                                                                      monkeypatch, order):
+    """More VPLs than ``POINT_BATCH`` are drawn in batches, a unit each (the injection's and
+    the geometry volume's), with another pipeline's units between them: the sums are the
+    one-draw sums bit for bit (GL blends in the points' order, across draws too)."""
+    settings = BASE.with_changes(sh_order=order)              # a 32² RSM: 1024 VPLs
+    other_settings = BASE.with_changes(grid_size=12, rsm_size=16)
+    with Pipeline(settings, ctx=gl_context) as pipe:
+        whole = pipe.run(settings, keep_steps=True)
+    textures = sys.modules["explorer.lpv.passes.textures"]
+    monkeypatch.setattr(textures, "POINT_BATCH", 300)
+    assert textures.point_batches(1024) == [(0, 300), (300, 300), (600, 300), (900, 124)]
+    assert textures.point_batches(0) == [(0, 0)]
+    ops: list[str] = []
+    record_ops(monkeypatch, ops)
+    with Pipeline(settings, ctx=gl_context) as pipe, \
+            Pipeline(other_settings, ctx=gl_context) as other:
+        split, units, reports = units_of(pipe, settings, other, other_settings, ops)
+    draw = "draw_points_additively"
+    assert [unit[1] for unit in units if unit[0] == "inject"] == [[draw]] * 3 + [
+        [draw] + ["copy_volume"] * 3]
+    assert [call[1:] for call in reports if call[0] == "inject"] == [(k, 4) for k in range(1, 5)]
+    # the geometry volume's surfels too (a small grid: the copies with the last batch)
+    assert [unit[1] for unit in units if unit[0] == "geometry"] == [[draw]] * 3 + [
+        [draw] + ["copy_volume"] * 2, []]
+    assert [call[1:] for call in reports if call[0] == "geometry"] == [
+        (k, 5) for k in range(1, 6)]
+    assert np.array_equal(split.cascades[0].geometry_volume, whole.cascades[0].geometry_volume)
+    assert np.abs(split.cascades[0].steps[0]).max() > 0
+    assert np.array_equal(split.cascades[0].steps[0], whole.cascades[0].steps[0])
+    assert np.array_equal(split.cascades[0].accumulated, whole.cascades[0].accumulated)
+    assert np.array_equal(split.indirect, whole.indirect)
+
+
+@pytest.mark.parametrize("apart", [0, 10 ** 9])
+def test_batches_copies_and_merges_are_counted_as_they_run(gl_context, ctx, monkeypatch,
+                                                           apart):
+    """Two lights and camera occluders, in batches, with the volumes copied apart or not:
+    the geometry stage's progress total is its units, and the grids are the one-shot
+    ones."""
+    settings = BASE.with_changes(lights=("spot", "lamp"), camera_occluders=True)
+    with Pipeline(settings, ctx=gl_context) as pipe:
+        whole = pipe.run(settings, keep_steps=True)
+    textures = sys.modules["explorer.lpv.passes.textures"]
+    monkeypatch.setattr(textures, "POINT_BATCH", 300)     # 1024 VPLs a view, 1280 pixels
+    monkeypatch.setattr(textures, "APART_TEXELS", apart)
+    ops: list[str] = []
+    record_ops(monkeypatch, ops)
+    with Pipeline(settings, ctx=gl_context) as pipe, \
+            Pipeline(BASE, ctx=gl_context) as other:
+        split, units, reports = units_of(pipe, settings, other, BASE, ops)
+    geometry = [unit[1] for unit in units if unit[0] == "geometry"]
+    totals = {call[2] for call in reports if call[0] == "geometry"}
+    assert totals == {len(geometry)}
+    # two views of 4 batches, the camera's 5, two copies each and two merges
+    flat = [op for unit in geometry for op in unit]
+    assert flat.count("draw_points_additively") == 13 and flat.count("merge_volumes") == 2
+    assert all(len(unit) <= 1 for unit in geometry) == (apart == 0)
+    level, level_whole = split.cascades[0], whole.cascades[0]
+    assert np.array_equal(level.geometry_volume, level_whole.geometry_volume)
+    assert np.array_equal(level.accumulated, level_whole.accumulated)

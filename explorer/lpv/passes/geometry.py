@@ -30,6 +30,7 @@ from explorer.lpv.passes.textures import (
     draw_points_additively,
     image_format_defines,
     per_context,
+    point_batches,
     programs_for,
 )
 from explorer.lpv.settings import Corrections
@@ -147,11 +148,14 @@ class GeometryPass:
         self._lights = LightRecordBuffer(ctx)
 
     @staticmethod
-    def unit_count(cells: tuple[int, int, int]) -> int:
-        """Units of :meth:`run_units` for a light grid of ``cells``: the surfels' draws,
-        then each target's copy, when its volumes are copied apart (:func:`copied_apart`);
-        else one."""
-        return 3 if copied_apart(tuple(n + 1 for n in cells)) else 1
+    def unit_count(cells: tuple[int, int, int], vpls: int | None,
+                   camera: int | None = None) -> int:
+        """Units of :meth:`run_units` for a light grid of ``cells``, ``vpls`` VPLs and
+        ``camera`` camera surfels (None: not drawn): the surfels' draws, a batch a unit
+        (:func:`point_batches`), then each target's copy when its volumes are copied apart
+        (:func:`copied_apart`; else with the last draw)."""
+        draws = sum(len(point_batches(count)) for count in (vpls, camera) if count is not None)
+        return max(draws, 1) + (2 if copied_apart(tuple(n + 1 for n in cells)) else 0)
 
     def run(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
@@ -180,10 +184,12 @@ class GeometryPass:
                 layers.release()
             layers = self._layers = LayeredTarget(self.ctx, size, 2, out.format)
         if vpls is not None:
-            self._draw_vpl_surfels(vpls, spec, corrections, mode, layers)
+            yield from self._draw_vpl_surfels(vpls, spec, corrections, mode, layers)
         if camera is not None:
-            self._draw_camera_surfels(camera, spec, corrections, mode, layers,
-                                      clear=vpls is None)
+            if vpls is not None:
+                yield
+            yield from self._draw_camera_surfels(camera, spec, corrections, mode, layers,
+                                                 clear=vpls is None)
         apart = copied_apart(size)
         for layer, volume in zip(layers.layers, (out.volume, out.albedo)):
             if apart:
@@ -191,39 +197,48 @@ class GeometryPass:
             copy_volume(self.programs, layer, volume)
 
     def _draw_vpl_surfels(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
-                          mode: str, layers: LayeredTarget) -> None:
-        """Clear ``layers`` and draw the VPLs' surfels into them."""
-        program = self.programs.get("geometry_inject.glsl")
-        if vpls.albedo is not None:
-            vpls.albedo.use(ALBEDO_UNIT)
-        set_uniforms(program, {
-            **spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
-            "u_vpl_albedo": ALBEDO_UNIT, "u_has_albedo": vpls.albedo is not None,
-            "u_vpl_texel_area": float(vpls.texel_area),
-            "u_vpl_orthographic": vpls.projection == "orthographic",
-            "u_double_sided": mode == "double-sided",
-        }, reads=uniforms_read_by(self.STAGE))
-        draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+                          mode: str, layers: LayeredTarget) -> Iterator[None]:
+        """Clear ``layers`` and draw the VPLs' surfels into them, a batch a unit
+        (:func:`point_batches`; each binds all it reads)."""
+        for first, count in point_batches(vpl_count(vpls)):
+            if first:
+                yield
+            program = self.programs.get("geometry_inject.glsl")
+            if vpls.albedo is not None:
+                vpls.albedo.use(ALBEDO_UNIT)
+            set_uniforms(program, {
+                **spec.uniforms(), **corrections.as_uniforms(), **bind_vpl_textures(vpls),
+                "u_vpl_albedo": ALBEDO_UNIT, "u_has_albedo": vpls.albedo is not None,
+                "u_vpl_texel_area": float(vpls.texel_area),
+                "u_vpl_orthographic": vpls.projection == "orthographic",
+                "u_double_sided": mode == "double-sided",
+            }, reads=uniforms_read_by(self.STAGE))
+            draw_points_additively(self.ctx, program, layers, count, clear=not first,
+                                   first=first)
 
     def _draw_camera_surfels(self, camera: CameraSurfels, spec: GridSpec,
                              corrections: Corrections, mode: str, layers: LayeredTarget,
-                             clear: bool) -> None:
+                             clear: bool) -> Iterator[None]:
         """Draw the camera's surfels into ``layers`` (added to what they hold unless
-        ``clear``)."""
-        program = self.programs.get("geometry_inject.glsl", {"CAMERA_SURFELS": 1})
+        ``clear``), a batch a unit (:func:`point_batches`; each binds all it reads)."""
         textures = (camera.position, camera.normal, camera.albedo, camera.shadow.position,
                     camera.shadow.normal)
-        for texture, unit in zip(textures, CAMERA_UNITS.values()):
-            texture.use(unit)
-        light_count = self._lights.bind(camera.views, camera.tiles)
-        set_uniforms(program, {
-            **spec.uniforms(), **corrections.as_uniforms(), **CAMERA_UNITS,
-            "u_light_count": light_count,
-            "u_camera_view": gl_matrix(camera.view),
-            "u_pixel_area": float(camera.pixel_area),
-            "u_double_sided": mode == "double-sided",
-        }, reads=uniforms_read_by(self.STAGE))
-        draw_points_additively(self.ctx, program, layers, camera.count, clear=clear)
+        for first, count in point_batches(camera.count):
+            if first:
+                yield
+            program = self.programs.get("geometry_inject.glsl", {"CAMERA_SURFELS": 1})
+            for texture, unit in zip(textures, CAMERA_UNITS.values()):
+                texture.use(unit)
+            light_count = self._lights.bind(camera.views, camera.tiles)
+            set_uniforms(program, {
+                **spec.uniforms(), **corrections.as_uniforms(), **CAMERA_UNITS,
+                "u_light_count": light_count,
+                "u_camera_view": gl_matrix(camera.view),
+                "u_pixel_area": float(camera.pixel_area),
+                "u_double_sided": mode == "double-sided",
+            }, reads=uniforms_read_by(self.STAGE))
+            draw_points_additively(self.ctx, program, layers, count,
+                                   clear=clear and not first, first=first)
 
     def release(self) -> None:
         if self._layers is not None:
@@ -264,16 +279,20 @@ class MergedGeometryPass:
         """One view's geometry volume before it is merged (several views)."""
 
     @staticmethod
-    def unit_count(views: int, camera: bool, cells: tuple[int, int, int]) -> int:
-        """Units of :meth:`run_units` for ``views`` RSM views, with camera surfels or not,
-        for a light grid of ``cells``: the first view's :meth:`GeometryPass.unit_count`,
-        then as many and one merge for each further view and (several views) for the
-        camera's surfels; one in all when the volumes are not copied apart."""
-        single = GeometryPass.unit_count(cells)
-        if single == 1:
-            return 1
-        further = views - 1 + (camera and views > 1)
-        return single + further * (single + 1)
+    def unit_count(views: Sequence[int], camera: int | None,
+                   cells: tuple[int, int, int]) -> int:
+        """Units of :meth:`run_units` for RSM views of ``views`` VPLs each and ``camera``
+        camera surfels (None: none) in a light grid of ``cells``: the first view's
+        :meth:`GeometryPass.unit_count`, then each further view's and (several views) the
+        camera's with one more for its merge; when the volumes are not copied apart each
+        further run's first draw and its merge join the unit before."""
+        alone = len(views) == 1
+        count = GeometryPass.unit_count(cells, views[0], camera if alone else None)
+        further = [GeometryPass.unit_count(cells, vpls) for vpls in views[1:]]
+        if camera is not None and not alone:
+            further.append(GeometryPass.unit_count(cells, None, camera))
+        apart = copied_apart(tuple(n + 1 for n in cells))
+        return count + sum(units + 1 if apart else units - 1 for units in further)
 
     def run(self, occluders: Sequence[VplTextures], spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
@@ -291,7 +310,7 @@ class MergedGeometryPass:
         :meth:`GeometryPass.run_units`, each merge), yielding after every unit but its
         last."""
         alone = len(occluders) == 1
-        apart = GeometryPass.unit_count(spec.cells) > 1
+        apart = copied_apart(tuple(n + 1 for n in spec.cells))
         yield from self.single.run_units(occluders[0], spec, corrections, mode, out,
                                          camera if alone else None)
         if alone:

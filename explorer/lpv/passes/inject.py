@@ -33,6 +33,7 @@ from explorer.lpv.passes.textures import (
     draw_points_additively,
     image_format_defines,
     per_context,
+    point_batches,
     programs_for,
     sh_defines,
 )
@@ -71,12 +72,16 @@ class InjectPass:
         self._uniforms: dict[tuple, dict[str, object]] = {}
 
     @staticmethod
-    def unit_count(mode: str, cells: tuple[int, int, int], sh_order: int) -> int:
-        """Units of :meth:`run_units` into a grid of ``cells`` and ``sh_order``: the point
-        path's draw, then one copy per channel's volume, when its volumes are copied apart
+    def unit_count(mode: str, cells: tuple[int, int, int], sh_order: int,
+                   vpls: int = 0) -> int:
+        """Units of :meth:`run_units` of ``vpls`` VPLs into a grid of ``cells`` and
+        ``sh_order``: the point path's draws (:func:`point_batches`: a larger RSM's in
+        several), then one copy per channel's volume when its volumes are copied apart
         (:func:`copied_apart`: a 64³ copy is a frame's share on llvmpipe); else one."""
+        if mode != "points":
+            return 1
         shape = (cells[0], cells[1], cells[2] * SH_GROUPS[sh_order])
-        return 1 + CHANNELS if mode == "points" and copied_apart(shape) else 1
+        return len(point_batches(vpls)) + (CHANNELS if copied_apart(shape) else 0)
 
     def run(self, vpls: VplTextures, spec: GridSpec, corrections: Corrections,
             mode: str, out: LpvGrid, offset_cells: float = 0.0) -> None:
@@ -113,7 +118,8 @@ class InjectPass:
 
     def _inject_points(self, vpls: VplTextures, uniforms: dict, out: LpvGrid
                        ) -> Iterator[None]:
-        """The draw into the layers, then each layer stack's copy: a unit each."""
+        """The draws into the layers (a batch each), then each layer stack's copy: a unit
+        each (the copies apart only for a large grid)."""
         n, depth = out.cells, out.groups * out.cells[2]
         layers = self._layers
         if layers is None or layers.shape != n[:2] + (depth,) or \
@@ -121,9 +127,14 @@ class InjectPass:
             if layers is not None:
                 layers.release()
             layers = self._layers = LayeredTarget(self.ctx, n, 3, out.format, depth=depth)
-        program = self.programs.get("inject_points.glsl", sh_defines(out.sh_order))
-        set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
-        draw_points_additively(self.ctx, program, layers, vpl_count(vpls))
+        for first, count in point_batches(vpl_count(vpls)):
+            if first:
+                yield   # the layers keep the sums; the next batch binds all it reads again
+                bind_vpl_textures(vpls)
+            program = self.programs.get("inject_points.glsl", sh_defines(out.sh_order))
+            set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
+            draw_points_additively(self.ctx, program, layers, count, clear=not first,
+                                   first=first)
         apart = copied_apart(layers.shape)
         for stack, volume in zip(layers.layers, out.volumes):
             if apart:

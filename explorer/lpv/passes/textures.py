@@ -271,11 +271,14 @@ class LayeredTarget:
 
 
 def draw_points_additively(ctx: moderngl.Context, program: moderngl.Program,
-                           target: LayeredTarget, count: int, clear: bool = True) -> None:
+                           target: LayeredTarget, count: int, clear: bool = True,
+                           first: int = 0) -> None:
     """Clear ``target`` (unless ``clear`` is False: add to what it holds) and draw ``count``
     attribute-less points into it with ONE,ONE float blending (sums, negative values
-    kept). The previous framebuffer and enable flags come back afterwards; the blend
-    function is left at moderngl's default."""
+    kept), their ``gl_VertexID`` from ``first`` on (a batch of a larger draw: GL blends in
+    the order of the points, across draws too, so batches in a row give the same sums).
+    The previous framebuffer and enable flags come back afterwards; the blend function is
+    left at moderngl's default."""
     vertex_array = ctx.vertex_array(program, [])
     scope = ctx.scope(target.framebuffer, enable_only=moderngl.BLEND)
     try:
@@ -284,7 +287,7 @@ def draw_points_additively(ctx: moderngl.Context, program: moderngl.Program,
                 target.framebuffer.clear(0.0, 0.0, 0.0, 0.0)
             ctx.blend_equation = moderngl.FUNC_ADD
             ctx.blend_func = moderngl.ONE, moderngl.ONE
-            vertex_array.render(mode=moderngl.POINTS, vertices=count)
+            vertex_array.render(mode=moderngl.POINTS, vertices=count, first=first)
             ctx.blend_func = moderngl.DEFAULT_BLENDING
     finally:
         scope.release()
@@ -320,6 +323,17 @@ def copied_apart(shape: Sequence[int]) -> bool:
     """Whether a volume of ``shape`` texels is copied in a unit of its own
     (:data:`APART_TEXELS`)."""
     return int(np.prod([int(n) for n in shape])) > APART_TEXELS
+
+
+POINT_BATCH = 1 << 16
+"""Points a unit of a point pass draws at most (a 256² RSM's VPLs: 12 ms of the 64³
+injection on llvmpipe); a larger RSM's draw is several units, :func:`point_batches`."""
+
+
+def point_batches(count: int) -> list[tuple[int, int]]:
+    """``(first, count)`` of the batches ``count`` points are drawn in (at least one)."""
+    size = POINT_BATCH
+    return [(first, min(size, count - first)) for first in range(0, count, size)] or [(0, 0)]
 
 
 _COPY_PROGRAMS: dict[tuple[bool, str], tuple[dict, tuple]] = {}

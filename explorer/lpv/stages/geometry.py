@@ -1,7 +1,8 @@
 """The ``geometry`` stage: the geometry volume of every cascade
-(explorer/lpv/passes/geometry.py; per cascade one unit, or for a large grid each view's
-draws, each copy and each merge, ``MergedGeometryPass.unit_count``), built from the RSM texels or
-hand-made VPLs and, with camera occluders, the G-buffer's pixels no RSM view sees
+(explorer/lpv/passes/geometry.py; per cascade one unit, or its draws in batches of points
+and, for a large grid, each view's draws, copies and merge:
+``MergedGeometryPass.unit_count``), built from the RSM texels or hand-made VPLs and, with
+camera occluders, the G-buffer's pixels no RSM view sees
 (docs/MODEL.md "Camera occluders"); each level's volume is copied for reading as it is
 built and every level's taken in one more unit, once the copies are done
 (explorer/gl/gpu_sync.py ``DeferredRead``)."""
@@ -17,6 +18,7 @@ from explorer.lpv import guards
 from explorer.lpv.cascades import level_pass_name
 from explorer.lpv.corrections import Corrections
 from explorer.lpv.passes.geometry import CameraSurfels, MergedGeometryPass, camera_pixel_area
+from explorer.lpv.passes.inject import vpl_count
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
@@ -54,8 +56,12 @@ class Stage(StageBase):
         # the units of each level's volume, then one that takes their copies (none when off)
         if job.settings.geometry_volume == "off":
             return len(self.state.specs)
-        views = len(self.host.light_views.occluders(hand_made=job.vpls is not None))
-        camera = bool(job.settings.uses_camera_occluders)
+        occluders = self.host.light_views.occluders(hand_made=job.vpls is not None)
+        views = [vpl_count(vpls) for vpls in occluders]
+        camera = None
+        if job.settings.uses_camera_occluders:
+            width, height = self.state.gbuffer_pass.position.size
+            camera = width * height
         return sum(MergedGeometryPass.unit_count(views, camera, spec.cells)
                    for spec in self.state.specs) + 1
 

@@ -1,6 +1,6 @@
 """The ``inject`` stage: the VPLs into the SH light grid of every cascade
-(explorer/lpv/passes/inject.py): per cascade one unit, or for a large grid the point path's
-draw and each channel's copy (``InjectPass.unit_count``)."""
+(explorer/lpv/passes/inject.py): per cascade one unit, or the point path's draws in batches
+of VPLs (a large RSM's) and a large grid's copy of each channel (``InjectPass.unit_count``)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from explorer.lpv.audit import check_finite
 from explorer.lpv.cascades import level_pass_name
 from explorer.lpv.corrections import Corrections
-from explorer.lpv.passes.inject import InjectPass
+from explorer.lpv.passes.inject import InjectPass, vpl_count
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
@@ -45,7 +45,9 @@ class Stage(StageBase):
 
     def units(self, job: Job) -> int:
         mode, order = job.settings.injection_mode, int(job.settings.sh_order)
-        return sum(InjectPass.unit_count(mode, spec.cells, order) for spec in self.state.specs)
+        vpls = vpl_count(self.host.light_views.vpl_textures)
+        return sum(InjectPass.unit_count(mode, spec.cells, order, vpls)
+                   for spec in self.state.specs)
 
     def work(self, job: Job) -> Iterator[None]:
         p, host, specs = Params.of(job.settings), self.host, self.state.specs
