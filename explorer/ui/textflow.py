@@ -209,6 +209,8 @@ class Page:
                            style.font_scale_dpi, env.glossary)
         """What a word's measured width depends on besides its text and style (the
         fonts object lives as long as the window's fonts)."""
+        self._words_font: str | None = None
+        """The style whose font :meth:`draw_box` left pushed for the next word."""
 
     # -- fonts -----------------------------------------------------------------------
     def push(self, style: str) -> None:
@@ -267,14 +269,20 @@ class Page:
                 lines[0].ascent - ascent if lines else 0.0)))
             imgui.text_colored(imgui.ImVec4(*DIM), marker)
             self.pop()
-        for number, line in enumerate(lines):
-            top = origin.y + line.y
-            for box_number, box in enumerate(line.boxes):
-                x = origin.x + indent + box.x
-                y = top + line.ascent - box.ascent
-                imgui.push_id(number * 1000 + box_number)
-                self.draw_box(box, x, y)
-                imgui.pop_id()
+        try:
+            for number, line in enumerate(lines):
+                top = origin.y + line.y
+                for box_number, box in enumerate(line.boxes):
+                    x = origin.x + indent + box.x
+                    y = top + line.ascent - box.ascent
+                    if box.kind == "button":         # the only box with an ID of its own
+                        imgui.push_id(number * 1000 + box_number)
+                        self.draw_box(box, x, y)
+                        imgui.pop_id()
+                    else:
+                        self.draw_box(box, x, y)
+        finally:
+            self._release_font()
         height = (lines[-1].y + lines[-1].height) if lines else 0.0
         imgui.set_cursor_screen_pos(origin)
         imgui.dummy((self.width, height))
@@ -410,6 +418,19 @@ class Page:
                 tips[index] = f"{term.term}: {term.meaning}"
         return tips
 
+    def _font_for_words(self, style: str) -> None:
+        """Draw the next words in ``style``: the font stays pushed from word to word of one
+        style (:meth:`_release_font` pops it), not pushed and popped for each word."""
+        if self._words_font != style:
+            self._release_font()
+            self.push(style)
+            self._words_font = style
+
+    def _release_font(self) -> None:
+        if self._words_font is not None:
+            self.pop()
+            self._words_font = None
+
     def draw_box(self, box: Box, x: float, y: float) -> None:
         imgui = self.imgui
         imgui.set_cursor_screen_pos((x, y))
@@ -419,10 +440,10 @@ class Page:
                 draw = imgui.get_window_draw_list()
                 draw.add_rect_filled((x - 2, y), (x + box.width + 2, y + box.ascent + box.descent),
                                      imgui.get_color_u32(imgui.ImVec4(*CODE_BG)), 3.0)
-            self.push(style)
+            self._font_for_words(style)
             imgui.text_unformatted(word)
-            self.pop()
             if tip:
+                self._release_font()     # the tooltip in the window's own font
                 # a dotted underline says "hover me"; the tooltip holds the meaning
                 draw = imgui.get_window_draw_list()
                 colour = imgui.get_color_u32(imgui.ImVec4(*DIM))
@@ -437,16 +458,18 @@ class Page:
                     imgui.end_tooltip()
         elif box.kind == "value":
             text, style, tooltip = box.payload
-            self.push(style)
+            self._font_for_words(style)
             imgui.text_colored(imgui.ImVec4(*ACCENT), text)
-            self.pop()
+            self._release_font()
             if tooltip and imgui.is_item_hovered():
                 imgui.set_tooltip(tooltip)
         elif box.kind == "math":
+            self._release_font()
             formula = box.payload
             imgui.image(imgui.ImTextureRef(formula.texture_id),
                         (float(formula.width), float(formula.height)))
         elif box.kind == "button":
+            self._release_font()
             index, label, tooltip, active = box.payload
             self.push("regular")
             colour = (0.20, 0.42, 0.75, 1.0) if active else (0.30, 0.24, 0.10, 1.0)
