@@ -18,9 +18,6 @@ import statistics
 import sys
 import time
 
-STAGES = ("gbuffer", "inject", "geometry", "propagate", "gather", "display")
-"""The stages reported (the others are at most a few milliseconds)."""
-
 
 def changes(settings, grid: int = 64, rsm: int = 1024) -> list[tuple[str, object]]:
     """The changes timed, in order (each from the one before): the grid to ``grid``³, a
@@ -73,11 +70,12 @@ def timed_job(pipeline, settings, finish) -> list[tuple[str, float, float]]:
 def measure(grid: int = 32, size: tuple[int, int] = (960, 540), repeat: int = 2,
             to_grid: int = 64, rsm: int = 1024) -> dict:
     """Per change (:func:`changes` of the window's settings at ``grid`` and ``size`` to
-    ``to_grid``, the large RSM ``rsm``²) and stage: units, the longest unit's wall and CPU
-    ms (the median over ``repeat`` runs, each from the change before it and the first from
-    the start)."""
+    ``to_grid``, the large RSM ``rsm``²) and stage that ran (in ``STAGES`` order): units,
+    the longest unit's wall and CPU ms (the median over ``repeat`` runs, each from the
+    change before it and the first from the start)."""
     from explorer.lpv.pipeline import Pipeline
     from explorer.lpv.settings import Settings
+    from explorer.lpv.stage_list import STAGES
     from explorer.ui.state import AppState
 
     start = AppState(settings=Settings(grid_size=grid, width=size[0],
@@ -96,7 +94,7 @@ def measure(grid: int = 32, size: tuple[int, int] = (960, 540), repeat: int = 2,
     for name, _ in plan:
         for stage in STAGES:
             per_run = [[unit for unit in units if unit[0] == stage] for units in runs[name]]
-            if not any(per_run):
+            if not all(per_run):
                 continue
             rows.append({"change": name, "stage": stage,
                          "units": max(len(units) for units in per_run),
