@@ -139,8 +139,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "and a display frame (--repeat frames each, default 20)")
     parser.add_argument("--units", action="store_true",
                         help="the window's settings (960×540, 64³) through a grid change, "
-                             "a correction toggled, the geometry volume, two lights, L2 and "
-                             "26 neighbours, "
+                             "a correction toggled, the geometry volume, two lights, L2, "
+                             "26 neighbours and a 1024² RSM with camera occluders, "
                              "each job one unit a call as the window runs it, every unit "
                              "finished on the GPU: per stage the units and the longest "
                              "unit's wall and CPU milliseconds (median of --repeat runs, "

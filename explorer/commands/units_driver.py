@@ -18,14 +18,12 @@ import statistics
 import sys
 import time
 
-STAGES = ("gbuffer", "inject", "geometry", "propagate", "gather", "display")
-"""The stages reported (the others are at most a few milliseconds)."""
 
-
-def changes(settings, grid: int = 64) -> list[tuple[str, object]]:
+def changes(settings, grid: int = 64, rsm: int = 1024) -> list[tuple[str, object]]:
     """The changes timed, in order (each from the one before): the grid to ``grid``³, a
     correction toggled there (the injection's π), the geometry volume on, two lights (and
-    two bounces), then from the toggle L2 and 26 neighbours (the heavier kernels)."""
+    two bounces), then from the toggle L2 and 26 neighbours (the heavier kernels), and the
+    geometry volume with an RSM of ``rsm``² and camera occluders (the most points)."""
     big = settings.with_changes(grid_size=grid)
     corrections = dataclasses.replace(settings.corrections,
                                       injection_pi=not settings.corrections.injection_pi)
@@ -36,7 +34,9 @@ def changes(settings, grid: int = 64) -> list[tuple[str, object]]:
             (f"{grid}³ volume, two lights", volume.with_changes(lights=("spot", "lamp"),
                                                                 bounces=2)),
             (f"{grid}³ L2", toggled.with_changes(sh_order=2)),
-            (f"{grid}³ 26 neighbours", toggled.with_changes(neighbours=26))]
+            (f"{grid}³ 26 neighbours", toggled.with_changes(neighbours=26)),
+            (f"{grid}³ RSM {rsm}², occluders", volume.with_changes(rsm_size=rsm,
+                                                                  camera_occluders=True))]
 
 
 def timed_job(pipeline, settings, finish) -> list[tuple[str, float, float]]:
@@ -68,17 +68,19 @@ def timed_job(pipeline, settings, finish) -> list[tuple[str, float, float]]:
 
 
 def measure(grid: int = 32, size: tuple[int, int] = (960, 540), repeat: int = 2,
-            to_grid: int = 64) -> dict:
+            to_grid: int = 64, rsm: int = 1024) -> dict:
     """Per change (:func:`changes` of the window's settings at ``grid`` and ``size`` to
-    ``to_grid``) and stage: units, the longest unit's wall and CPU ms (the median over
-    ``repeat`` runs, each from the change before it and the first from the start)."""
+    ``to_grid``, the large RSM ``rsm``²) and stage that ran (in ``STAGES`` order): units,
+    the longest unit's wall and CPU ms (the median over ``repeat`` runs, each from the
+    change before it and the first from the start)."""
     from explorer.lpv.pipeline import Pipeline
     from explorer.lpv.settings import Settings
+    from explorer.lpv.stage_list import STAGES
     from explorer.ui.state import AppState
 
     start = AppState(settings=Settings(grid_size=grid, width=size[0],
                                        height=size[1])).settings
-    plan = changes(start, to_grid)
+    plan = changes(start, to_grid, rsm)
     rows: list[dict] = []
     with Pipeline(start) as pipeline:
         pipeline.run(start)
@@ -92,7 +94,7 @@ def measure(grid: int = 32, size: tuple[int, int] = (960, 540), repeat: int = 2,
     for name, _ in plan:
         for stage in STAGES:
             per_run = [[unit for unit in units if unit[0] == stage] for units in runs[name]]
-            if not any(per_run):
+            if not all(per_run):
                 continue
             rows.append({"change": name, "stage": stage,
                          "units": max(len(units) for units in per_run),

@@ -7,11 +7,12 @@ from explorer.commands import units_driver
 
 
 def test_the_unit_driver_reports_each_stage_of_each_change(gl_context, ctx):
-    figures = units_driver.measure(grid=8, size=(40, 32), repeat=1, to_grid=12)
+    figures = units_driver.measure(grid=8, size=(40, 32), repeat=1, to_grid=12, rsm=64)
     rows = {(row["change"], row["stage"]): row for row in figures["rows"]}
-    changes = [name for name, _ in units_driver.changes(units_driver_settings(), 12)]
+    changes = [name for name, _ in units_driver.changes(units_driver_settings(), 12, 64)]
     assert changes == ["12³ grid", "12³ toggle", "12³ geometry volume",
-                       "12³ volume, two lights", "12³ L2", "12³ 26 neighbours"]
+                       "12³ volume, two lights", "12³ L2", "12³ 26 neighbours",
+                       "12³ RSM 64², occluders"]
     assert ("12³ L2", "inject") in rows and ("12³ 26 neighbours", "propagate") in rows
     # what each change runs: the toggle no geometry volume, the volume no injection
     assert ("12³ grid", "inject") in rows and ("12³ toggle", "geometry") not in rows
