@@ -724,19 +724,27 @@ def _click_view(app, rec: Recorder, fraction: float) -> None:
 
 
 def release_unshown_sides(app, rec: Recorder) -> None:
-    """Give back now what the sides the view does not show made (the controller's idle
-    release, without its wait), in one frame: after a step, which sides are still alive
-    would otherwise depend on how long the step took on this machine, and so would the
-    GL counts compared after it (resident memory is read before, as the user has it)."""
+    """Give back now what the sides the view does not show made and the Error panel's
+    idle measuring pipeline (their idle release, without its wait), in one frame: after a
+    step, which are still alive would otherwise depend on how long the step took on this
+    machine, and so would the GL counts compared after it (resident memory is read
+    before, as the user has it)."""
     controller = getattr(app, "controller", None)
     if controller is None or not hasattr(controller, "idle_release_s"):
         return                           # an older window: no idle release
-    wait, controller.idle_release_s = controller.idle_release_s, 0.0
+    # the Error panel's measuring pipeline too (explorer/ui/panels/error.py): released
+    # 20 s after its last measurement, alive or not after a step by the machine's speed
+    idle = [controller] + [task for task in app.state.runtime.services.tasks
+                           if hasattr(task, "idle_release_s")]
+    waits = [holder.idle_release_s for holder in idle]
+    for holder in idle:
+        holder.idle_release_s = 0.0
     try:
         poke(app)
         rec.frame()
     finally:
-        controller.idle_release_s = wait
+        for holder, wait in zip(idle, waits, strict=True):
+            holder.idle_release_s = wait
 
 
 SOAK_RSS_SLACK = 0.10

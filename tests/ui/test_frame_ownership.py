@@ -201,3 +201,27 @@ def test_the_error_panels_pipeline_is_given_back_once_idle(ctx, monkeypatch):
         assert service.pipeline is not None
     finally:
         service.release()
+
+
+def test_the_soak_gives_the_idle_error_pipeline_back_in_the_frame_it_asks(ctx, monkeypatch):
+    """``idle_release_s`` 0 (what the soak sets for one frame, as for the controller's idle
+    sides): the pipeline of a finished measurement goes in that same advance, so the GL
+    counts after a step do not depend on how long the step took."""
+    from explorer.truth.progressive import Measurement
+    from explorer.ui.panels import error
+
+    monkeypatch.setattr(error.time, "monotonic", lambda: 1000.0)
+    service = error.ErrorService(SimpleNamespace(settings=CORNELL))
+    service.measurement = Measurement(size=24, rsm_size=16, reference="unoccluded")
+    try:
+        service.measure()
+        for _ in range(2000):
+            service.advance(ctx, 0.0)
+            if not service.running:
+                break
+        assert service.pipeline is not None
+        service.idle_release_s = 0.0
+        service.advance(ctx, 0.0)
+        assert service.pipeline is None and service.result_for() is not None
+    finally:
+        service.release()

@@ -86,6 +86,10 @@ class ErrorService:
         self._seen_at = 0.0
         self._idle_since: float | None = None
         """When the pipeline last finished or stopped a measurement (None: none made)."""
+        self.idle_release_s = PIPELINE_IDLE_S
+        """How long the idle pipeline stays made (the soak sets 0 for a frame, as it does
+        the controller's ``idle_release_s``, so that its GL counts do not depend on how
+        long a step took)."""
 
     # -- what is measured ----------------------------------------------------------------
     def key(self, settings=None) -> Any:
@@ -221,14 +225,14 @@ class ErrorService:
             self.requested = None
 
     def _release_idle_pipeline(self, now: float) -> None:
-        """Release the measuring pipeline :data:`PIPELINE_IDLE_S` after its last
-        measurement (the next one makes a new one)."""
+        """Release the measuring pipeline ``idle_release_s`` (:data:`PIPELINE_IDLE_S`)
+        after its last measurement (the next one makes a new one)."""
         if self.pipeline is None or self.truth_job is not None:
             self._idle_since = None
             return
         if self._idle_since is None:
             self._idle_since = now
-        elif now - self._idle_since >= PIPELINE_IDLE_S:
+        if now - self._idle_since >= self.idle_release_s:
             self.pipeline.release()
             self.pipeline, self._idle_since = None, None
 
