@@ -276,10 +276,15 @@ def test_the_soak_counts_gl_objects_once_the_sides_not_shown_are_given_back():
     from explorer.commands import interaction
 
     controller = SimpleNamespace(idle_release_s=20.0)
+    error_panel = SimpleNamespace(idle_release_s=20.0)   # the Error panel's service
     seen = []
-    app = SimpleNamespace(controller=controller, window=SimpleNamespace())
-    rec = SimpleNamespace(frame=lambda: seen.append(controller.idle_release_s))
+    state = SimpleNamespace(runtime=SimpleNamespace(
+        services=SimpleNamespace(tasks=[object(), error_panel])))
+    app = SimpleNamespace(controller=controller, window=SimpleNamespace(), state=state)
+    rec = SimpleNamespace(frame=lambda: seen.append((controller.idle_release_s,
+                                                     error_panel.idle_release_s)))
     interaction.release_unshown_sides(app, rec)
-    assert seen == [0.0] and controller.idle_release_s == 20.0
+    assert seen == [(0.0, 0.0)]
+    assert controller.idle_release_s == 20.0 and error_panel.idle_release_s == 20.0
     interaction.release_unshown_sides(SimpleNamespace(window=SimpleNamespace()), rec)
-    assert seen == [0.0]                 # an older window without the release: no frame
+    assert seen == [(0.0, 0.0)]          # an older window without the release: no frame
