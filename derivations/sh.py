@@ -107,8 +107,11 @@ def sphere_monomial_integral(a: int, b: int, c: int, hemisphere: bool = False) -
     return sp.simplify(value if hemisphere else 2 * value)
 
 
+@cache
 def integrate_over_sphere(polynomial: sp.Expr, hemisphere: bool = False) -> sp.Expr:
-    """Exact ``∫ p(ω) dω`` of a polynomial in ``x, y, z`` (coefficients may be symbolic)."""
+    """Exact ``∫ p(ω) dω`` of a polynomial in ``x, y, z`` (coefficients may be symbolic);
+    kept by its polynomial (expressions are immutable): the derivations integrate the
+    same lobes again and again (``constants --json`` spent 9 of its 31 s here)."""
     poly = sp.Poly(sp.expand(polynomial), x, y, z)
     total = sp.S.Zero
     for (a, b, c), coefficient in poly.terms():
@@ -124,6 +127,11 @@ def gram_matrix(basis: Sequence[sp.Expr]) -> sp.Matrix:
 
 def clamped_cosine_coefficients(basis: Sequence[sp.Expr]) -> tuple[sp.Expr, ...]:
     """SH projection of ``clamp⁺(z)``: ``∫_{z>0} z·Y_k dω`` for each basis function."""
+    return _clamped_cosine(tuple(basis))
+
+
+@cache
+def _clamped_cosine(basis: tuple[sp.Expr, ...]) -> tuple[sp.Expr, ...]:
     return tuple(integrate_over_sphere(z * b, hemisphere=True) for b in basis)
 
 
@@ -159,6 +167,11 @@ def zonal_rotation_factors(basis: Sequence[sp.Expr] = L2_BASIS) -> tuple[sp.Expr
     coefficient of band ``l`` around ``+z`` divided by ``Y_l0(+z)`` (rotating a function
     symmetric about its axis multiplies band ``l`` by ``√(4π/(2l+1))·Y_lm(n)``, and
     ``Y_l0(+z) = √((2l+1)/(4π))``). For the clamped cosine: ``(π, 2π/3, π/4)``."""
+    return _zonal_rotation_factors(tuple(basis))
+
+
+@cache
+def _zonal_rotation_factors(basis: tuple[sp.Expr, ...]) -> tuple[sp.Expr, ...]:
     bands = [0] + [1] * 3 + [2] * 5
     zonal = clamped_cosine_coefficients(basis)
     at_pole = {x: 0, y: 0, z: 1}

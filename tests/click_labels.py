@@ -6,9 +6,10 @@ search that finds nothing costs it about six frames (it waits two, then pans the
 it was given and waits again); a session that scrolls an article page by page to its
 Next button paid that on every page. :class:`DrawnLabels` wraps imgui's labelled
 widgets (as tests/reader_walk.py does) and notes, per top-level window, the labels of
-the items drawn visible and the frame: a search asks the engine only on a page where the
-label was drawn (:meth:`Clicks.find`), and asks it on every page again when that finds
-nothing, so a widget this does not wrap is still found, only later."""
+the items drawn visible and the frame: a search in a child window (the article, the
+lesson list) asks the engine only on a page where the label was drawn
+(:meth:`Clicks.find`), and asks it on every page again when that finds nothing, so a
+widget this does not wrap is still found, only later."""
 
 from __future__ import annotations
 

@@ -24,13 +24,13 @@ SPLIT_MODULES = ("tests/ui/test_click_window.py",)
 """Modules whose tests go to the workers one by one rather than as one unit."""
 LONGEST = (
     "tests/ui/test_click_window.py::test_click_session[try-this]",
-    "tests/ui/test_click_window.py::test_click_session[lessons]",
     "tests/lessons/test_lesson_checks.py",
+    "tests/ui/test_click_window.py::test_click_session[lessons]",
     "tests/ui/test_click_window.py::test_click_session[figures]",
     "tests/lessons/test_window_words.py",
-    "tests/commands/test_bench.py",
-    "tests/ui/test_click_window.py::test_click_session[window]",
     "tests/test_wheel_install.py",
+    "tests/ui/test_click_window.py::test_click_session[window]",
+    "tests/commands/test_bench.py",
     "tests/site/test_site.py",
     "tests/ui/test_click_window.py::test_click_session[return]",
 )

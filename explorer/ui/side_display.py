@@ -40,9 +40,25 @@ def side_settings(state: AppState, side: str) -> Settings:
     if side in VARIANT_SIDES:
         variants = state.compare_variants
         index = VARIANT_SIDES.index(side)
-        return a.with_changes(**dict(variants[index])) if index < len(variants) else a
-    return a.with_changes(corrections=state.compare_settings.corrections,
-                          **dict(state.compare_overrides))
+        if index >= len(variants):
+            return a
+        changes, corrections = tuple(variants[index]), None
+    else:
+        changes = tuple(state.compare_overrides)
+        corrections = state.compare_settings.corrections
+    kept = _SIDE_SETTINGS.get(side)
+    if kept is not None and kept[0] is a and kept[1] is corrections and kept[2] == changes:
+        return kept[3]
+    shown = a.with_changes(**dict(changes)) if corrections is None else a.with_changes(
+        corrections=corrections, **dict(changes))
+    _SIDE_SETTINGS[side] = (a, corrections, changes, shown)
+    return shown
+
+
+_SIDE_SETTINGS: dict[str, tuple] = {}
+"""side -> (A's settings, B's corrections, the changes, the settings shown): the window
+asks for each side's settings every frame; they are made again only when A's settings or
+what the side changes in them are others (settings are frozen)."""
 
 
 class ShownSide(Protocol):
