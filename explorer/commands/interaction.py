@@ -422,7 +422,7 @@ MOVED_OBJECT = "short block"
 def _flux_values(app) -> list:
     """The light's flux dragged up by 5 % a frame from the scene's own (then put back)."""
     flux = app.state.settings.light_flux
-    base = flux or getattr(app.state.runtime.scene_facts, "light_flux_default", None) or 1.0
+    base = flux or app.state.runtime.scene_facts.light_flux_default or 1.0
     return [float(base) * (1.0 + 0.05 * step) for step in range(1, DRAG_FRAMES + 1)] + [flux]
 
 
