@@ -3,6 +3,8 @@ used; a propagation that spans frames survives its program being released meanwh
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import moderngl
 import numpy as np
 from lpv_cases import random_grid, relative_error
@@ -21,6 +23,23 @@ def _released(program) -> bool:
 
 def _variant(cache: ProgramCache, stage: int):
     return cache.get("audit_reduce.glsl", {"AUDIT_STAGE": stage})
+
+
+@contextmanager
+def _propagation_in_a_cache_of_two(ctx, seed: int):
+    """A propagator over a program cache of capacity 2 and an 8³ random injected grid:
+    (grid, spec, cache, injected, propagator), all released after."""
+    grid = random_grid(seed, 8)
+    cache = ProgramCache(ctx, capacity=2)
+    injected = LpvGrid(ctx, 8)
+    propagator = PropagatePass(ctx, cache)
+    try:
+        injected.write(grid)
+        yield grid, GridSpec((0.0, 0.0, 0.0), 1.0, 8), cache, injected, propagator
+    finally:
+        propagator.release()
+        injected.release()
+        cache.release()
 
 
 def test_the_least_recently_used_program_beyond_the_capacity_is_released(ctx):
@@ -56,13 +75,7 @@ def test_slabs_of_one_unit_get_the_programs_anew_after_the_cache_released_them(c
     """Within a unit (``advance(bound=True)``) a run keeps its program and the audit its
     reduction's; a release in the cache in between (here: a compile pushing both out of
     a cache of two) makes them get theirs anew, and the result is the twin's."""
-    grid = random_grid(6, 8)
-    spec = GridSpec((0.0, 0.0, 0.0), 1.0, 8)
-    cache = ProgramCache(ctx, capacity=2)
-    injected = LpvGrid(ctx, 8)
-    propagator = PropagatePass(ctx, cache)
-    try:
-        injected.write(grid)
+    with _propagation_in_a_cache_of_two(ctx, 6) as (grid, spec, cache, injected, propagator):
         run = propagator.start(injected, spec, Corrections(), 3)
         run.advance()
         kept = run._program
@@ -77,23 +90,13 @@ def test_slabs_of_one_unit_get_the_programs_anew_after_the_cache_released_them(c
         assert relative_error(output.accumulated.read(), want) < 1e-4
         full = propagator.run(injected, spec, Corrections(), 3)      # the same, fresh
         assert np.array_equal(output.audit.per_step, full.audit.per_step)
-    finally:
-        propagator.release()
-        injected.release()
-        cache.release()
 
 
 def test_a_propagation_keeps_running_when_the_cache_released_its_program(ctx):
     """Other programs got between two slabs (a window's frames) push the run's program
     out of a cache of two; the run gets it anew, with its uniforms, and the result is
     the twin's."""
-    grid = random_grid(5, 8)
-    spec = GridSpec((0.0, 0.0, 0.0), 1.0, 8)
-    cache = ProgramCache(ctx, capacity=2)
-    injected = LpvGrid(ctx, 8)
-    propagator = PropagatePass(ctx, cache)
-    try:
-        injected.write(grid)
+    with _propagation_in_a_cache_of_two(ctx, 5) as (grid, spec, cache, injected, propagator):
         run = propagator.start(injected, spec, Corrections(), 3)
         # the program the run started with (audit "full": the audit kernel)
         started = cache.get("propagate.glsl", program_defines("rgba32f", 1, Corrections(),
@@ -107,7 +110,3 @@ def test_a_propagation_keeps_running_when_the_cache_released_its_program(ctx):
         want = sum(twin.propagate(grid, Corrections(), 3))
         assert relative_error(output.accumulated.read(), want) < 1e-4
         assert np.isfinite(output.accumulated.read()).all()
-    finally:
-        propagator.release()
-        injected.release()
-        cache.release()

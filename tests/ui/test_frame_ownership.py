@@ -164,6 +164,16 @@ def test_the_views_white_share_note_keeps_no_frame():
     assert washed_out(state_showing(Frame(0.1)), "B") == ""
 
 
+def _measure_to_the_end(service, ctx) -> None:
+    """Ask the Error panel's service for a measurement and advance it until it is done."""
+    service.measure()
+    for _ in range(2000):
+        service.advance(ctx, 0.0)
+        if not service.running:
+            return
+    raise AssertionError("the measurement did not finish in 2000 advances")
+
+
 def test_the_error_panels_pipeline_is_given_back_once_idle(ctx, monkeypatch):
     """The measuring pipeline holds a frame's grids at the grid shown; it goes once no
     measurement has run for PIPELINE_IDLE_S, and the next measurement makes a new one."""
@@ -176,11 +186,7 @@ def test_the_error_panels_pipeline_is_given_back_once_idle(ctx, monkeypatch):
     service = error.ErrorService(state)
     service.measurement = Measurement(size=24, rsm_size=16, reference="unoccluded")
     try:
-        service.measure()
-        for _ in range(2000):
-            service.advance(ctx, 0.0)
-            if not service.running:
-                break
+        _measure_to_the_end(service, ctx)
         assert service.result_for() is not None and service.pipeline is not None
         service.advance(ctx, 0.0)                     # idle from now
         clock[0] += error.PIPELINE_IDLE_S - 1.0
@@ -190,11 +196,7 @@ def test_the_error_panels_pipeline_is_given_back_once_idle(ctx, monkeypatch):
         service.advance(ctx, 0.0)
         assert service.pipeline is None and service.result_for() is not None
         state.settings = CORNELL.with_changes(iterations=2)
-        service.measure()
-        for _ in range(2000):
-            service.advance(ctx, 0.0)
-            if not service.running:
-                break
+        _measure_to_the_end(service, ctx)
         assert service.result_for().settings.iterations == 2
         clock[0] += error.PIPELINE_IDLE_S - 1.0       # idle again, counted afresh
         service.advance(ctx, 0.0)
@@ -214,11 +216,7 @@ def test_the_soak_gives_the_idle_error_pipeline_back_in_the_frame_it_asks(ctx, m
     service = error.ErrorService(SimpleNamespace(settings=CORNELL))
     service.measurement = Measurement(size=24, rsm_size=16, reference="unoccluded")
     try:
-        service.measure()
-        for _ in range(2000):
-            service.advance(ctx, 0.0)
-            if not service.running:
-                break
+        _measure_to_the_end(service, ctx)
         assert service.pipeline is not None
         service.idle_release_s = 0.0
         service.advance(ctx, 0.0)
