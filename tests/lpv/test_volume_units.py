@@ -166,9 +166,9 @@ def test_a_heavy_kernels_steps_run_in_half_slabs_with_the_same_grid(gl_context, 
 def test_a_grid_taken_from_its_deferred_reads_is_the_grid_read(gl_context, ctx, monkeypatch,
                                                                order, fmt):
     """``LpvGrid.taken`` puts each channel's texels straight into the ``(3, x, y, z, C)``
-    array, with no channel array made on the way (``VolumeTexture.texels``, the
-    coefficients' concatenation: three copies of a 64³ channel): the same values, bit for
-    bit, as the synchronous ``read``."""
+    array, with no channel array made on the way (``VolumeTexture.texels``: a copy of a
+    64³ channel): the same values, bit for bit, as the synchronous ``read`` and as the
+    grid written (rounded to the format)."""
     from explorer.gl.gpu_sync import DeferredRead
     from explorer.lpv.passes import textures
     from explorer.lpv.passes.textures import LpvGrid
@@ -181,14 +181,17 @@ def test_a_grid_taken_from_its_deferred_reads_is_the_grid_read(gl_context, ctx, 
         grid.write(values.astype(np.float32))
         grid.read_later(reads)
         with monkeypatch.context() as patched:
-            for owner, name in ((textures.VolumeTexture, "texels"), (LpvGrid, "_coefficients")):
-                patched.setattr(owner, name,
-                                lambda *args, _name=name: pytest.fail(f"{_name} called"))
+            patched.setattr(textures.VolumeTexture, "texels",
+                            lambda *args: pytest.fail("texels called"))
             taken = grid.taken(reads)
         read = grid.read()
         assert taken.shape == read.shape == (3,) + cells + ((4, 9)[order - 1],)
         assert taken.dtype == np.float32 and taken.flags["C_CONTIGUOUS"]
         assert np.array_equal(taken, read) and np.abs(taken).max() > 0
+        # read and taken share their layout code: the grid written is the independent side
+        stored = np.float16 if fmt == "rgba16f" else np.float32
+        written = values.astype(np.float32)                      # what write() uploads
+        assert np.array_equal(taken, written.astype(stored).astype(np.float32))
     finally:
         for read_back in reads:
             read_back.release()

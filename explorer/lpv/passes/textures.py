@@ -106,7 +106,7 @@ class VolumeTexture:
 
     def texels(self, data: np.ndarray) -> np.ndarray:
         """float32 ``(x, y, z, 4)`` from the texture's bytes as GL lays them out."""
-        return np.asarray(data).reshape(self.shape[::-1] + (4,)).transpose(
+        return np.asarray(data).reshape(self.texels_shape).transpose(
             2, 1, 0, 3).astype(np.float32)
 
     def write(self, volume: np.ndarray) -> None:
@@ -160,11 +160,16 @@ class LpvGrid:
 
     def read(self) -> np.ndarray:
         """float32 ``(3, nx, ny, nz, C)`` = (channel, x, y, z, coefficient), C = 4 (L1) or 9."""
-        return np.stack([self.read_channel(c) for c in range(3)])
+        out = np.empty((3,) + self.cells + (self.coefficients,), np.float32)
+        for channel, volume in enumerate(self.volumes):
+            self._coefficients_into(out[channel], volume.texture.read())
+        return out
 
     def read_channel(self, channel: int) -> np.ndarray:
         """float32 ``(nx, ny, nz, C)``: colour channel ``channel`` (0 r, 1 g, 2 b)."""
-        return self._coefficients(self.volumes[channel].read())
+        out = np.empty(self.cells + (self.coefficients,), np.float32)
+        self._coefficients_into(out, self.volumes[channel].texture.read())
+        return out
 
     def read_later(self, reads: Sequence[DeferredRead]) -> None:
         """Copy each colour channel into its deferred read without waiting; :meth:`taken`
@@ -176,24 +181,25 @@ class LpvGrid:
 
     def taken(self, reads: Sequence[DeferredRead]) -> np.ndarray:
         """The ``(3, N, N, N, C)`` array of :meth:`read_later`'s copies (waiting only for
-        those not done yet): each channel's texels go straight into their place, one
-        copy each (the values of :meth:`_coefficients` of ``VolumeTexture.texels``: a
-        64³ L2 grid's take was 99 ms on llvmpipe with the three copies between)."""
+        those not done yet)."""
         out = np.empty((3,) + self.cells + (self.coefficients,), np.float32)
-        n = self.cells[2]
-        for channel, (volume, read) in enumerate(zip(self.volumes, reads)):
-            raw = np.asarray(read.wait()).reshape(volume.shape[::-1] + (4,))  # z, y, x
-            for k in range(self.groups):
-                width = min(4, self.coefficients - 4 * k)
-                out[channel, ..., 4 * k:4 * k + width] = \
-                    raw[k * n:(k + 1) * n].transpose(2, 1, 0, 3)[..., :width]
+        for channel, read in enumerate(reads[:len(self.volumes)]):
+            self._coefficients_into(out[channel], read.wait())
         return out
 
-    def _coefficients(self, texels: np.ndarray) -> np.ndarray:
-        """``(nx, ny, nz, C)`` from one channel's ``(nx, ny, groups·nz, 4)`` texels."""
+    def _coefficients_into(self, out: np.ndarray, data) -> None:
+        """Fill ``out`` ``(nx, ny, nz, C)`` from one channel's texture bytes (as GL lays
+        them out: z over the coefficient groups, then y, x, 4), each group's texels
+        copied once straight into their place (a 64³ L2 grid's read took 99 ms on
+        llvmpipe with the transposed, concatenated and sliced copies between)."""
+        dtype = _NUMPY_DTYPES[self.format]
+        raw = np.frombuffer(data, dtype) if isinstance(data, bytes) else np.asarray(data)
+        raw = raw.reshape(self.volumes[0].texels_shape)
         n = self.cells[2]
-        groups = [texels[:, :, k * n:(k + 1) * n] for k in range(self.groups)]
-        return np.concatenate(groups, axis=-1)[..., :self.coefficients]
+        for k in range(self.groups):
+            width = min(4, self.coefficients - 4 * k)
+            out[..., 4 * k:4 * k + width] = \
+                raw[k * n:(k + 1) * n].transpose(2, 1, 0, 3)[..., :width]
 
     def write(self, grid: np.ndarray) -> None:
         grid = check_volume_array(grid, self.cells, "grid", channels=3,
