@@ -46,6 +46,12 @@ CAMERA_UNITS = {"u_surfel_position": 0, "u_surfel_normal": 1, "u_surfel_albedo":
 maps)."""
 
 
+def volume_size(cells: tuple[int, int, int]) -> tuple[int, int, int]:
+    """Texels of the geometry volume of a light grid of ``cells``: one more a side (texel
+    ``j`` sits on the light grid's corner ``j``)."""
+    return (cells[0] + 1, cells[1] + 1, cells[2] + 1)
+
+
 def camera_pixel_area(fov_y_degrees: float, height: int) -> float:
     """Area of one camera pixel at view depth 1 on a plane facing the camera,
     ``(2·tan(fov_y/2)/H)²`` (derivation occlusion.camera_surfel_area): a surfel at depth
@@ -92,7 +98,7 @@ class GeometryVolume:
     def __init__(self, ctx: moderngl.Context, cells: int | Sequence[int],
                  fmt: str = "rgba32f") -> None:
         self.cells = grid_cells(cells)
-        corners = tuple(n + 1 for n in self.cells)
+        corners = volume_size(self.cells)
         self.volume = VolumeTexture(ctx, corners, fmt)
         self.texture: moderngl.Texture3D = self.volume.texture
         self.albedo = VolumeTexture(ctx, corners, fmt)
@@ -155,7 +161,7 @@ class GeometryPass:
         (:func:`point_batches`), then each target's copy when its volumes are copied apart
         (:func:`copied_apart`; else with the last draw)."""
         draws = sum(len(point_batches(count)) for count in (vpls, camera) if count is not None)
-        return max(draws, 1) + (2 if copied_apart(tuple(n + 1 for n in cells)) else 0)
+        return max(draws, 1) + (2 if copied_apart(volume_size(cells)) else 0)
 
     def run(self, vpls: VplTextures | None, spec: GridSpec, corrections: Corrections,
             mode: str, out: GeometryVolume, camera: CameraSurfels | None = None) -> None:
@@ -177,7 +183,7 @@ class GeometryPass:
                              f"but the grid spec has {shape_text(spec.cells)} cells")
         if vpls is None and camera is None:
             raise ValueError("the geometry pass needs VPLs, camera surfels or both")
-        size = tuple(n + 1 for n in spec.cells)
+        size = volume_size(spec.cells)
         layers = self._layers
         if layers is None or layers.shape != size or layers.format != out.format:
             if layers is not None:
@@ -291,7 +297,7 @@ class MergedGeometryPass:
         further = [GeometryPass.unit_count(cells, vpls) for vpls in views[1:]]
         if camera is not None and not alone:
             further.append(GeometryPass.unit_count(cells, None, camera))
-        apart = copied_apart(tuple(n + 1 for n in cells))
+        apart = copied_apart(volume_size(cells))
         return count + sum(units + 1 if apart else units - 1 for units in further)
 
     def run(self, occluders: Sequence[VplTextures], spec: GridSpec, corrections: Corrections,
@@ -310,7 +316,7 @@ class MergedGeometryPass:
         :meth:`GeometryPass.run_units`, each merge), yielding after every unit but its
         last."""
         alone = len(occluders) == 1
-        apart = copied_apart(tuple(n + 1 for n in spec.cells))
+        apart = copied_apart(volume_size(spec.cells))
         yield from self.single.run_units(occluders[0], spec, corrections, mode, out,
                                          camera if alone else None)
         if alone:
@@ -367,7 +373,7 @@ def inject_geometry(vpls: VplArrays, spec: GridSpec, corrections: Corrections | 
     corrections = corrections or Corrections()
     ctx = ctx or default_context()
     if vpls.count == 0:
-        empty = np.zeros(tuple(n + 1 for n in spec.cells) + (4,), np.float32)
+        empty = np.zeros(volume_size(spec.cells) + (4,), np.float32)
         return (empty, empty.copy()) if with_albedo else empty
     volume = GeometryVolume(ctx, spec.cells, fmt)
     textures = VplTextures.from_arrays(ctx, vpls)
