@@ -11,6 +11,7 @@ from imgui_bundle import imgui
 from explorer.lessons import TRY_GRIDS, Step, TryThis, live_values
 from explorer.lessons import text as lesson_text
 from explorer.lessons.words import for_reader
+from explorer.ui.kept_answers import KeptAnswers
 from explorer.ui.lesson_panel import LessonSession
 from explorer.ui.textflow import Page
 from explorer.ui.try_numbers import same_frame
@@ -78,26 +79,20 @@ def try_context(state: AppState, session: LessonSession, index: int,
             "the configuration this button sets: press it to read the frame")
 
 
-_AFTER: dict[tuple[int, int], tuple] = {}
-"""(id(step), index) -> (step, own settings, width, height, the settings the button sets):
-the article draws every try-this's prompt every frame, from the same few settings."""
 AFTER_KEPT = 256
+_AFTER = KeptAnswers(most=AFTER_KEPT)
+"""The settings each try-this sets: the article draws every try-this's prompt every
+frame, from the same few settings."""
 
 
 def _after_settings(step: Step, index: int, own, width: int, height: int):
     """The settings the ``index``-th try-this of ``step`` sets on the reader's own
     settings ``own`` at the view's size, made once while those stay the same objects
     (settings are frozen)."""
-    kept = _AFTER.get((id(step), index))
-    if kept is not None and kept[0] is step and kept[1] is own and kept[2:4] == (width,
-                                                                               height):
-        return kept[4]
-    after = step.try_this[index - 1].apply(step.settings(own)).with_changes(
-        width=width, height=height)
-    if len(_AFTER) >= AFTER_KEPT:
-        _AFTER.clear()
-    _AFTER[(id(step), index)] = (step, own, width, height, after)
-    return after
+    return _AFTER.answer(
+        (id(step), index), (step, own, width, height),
+        lambda: step.try_this[index - 1].apply(step.settings(own)).with_changes(
+            width=width, height=height))
 
 
 def pending_note(prompt: str, context: live_values.LiveContext, active: bool,

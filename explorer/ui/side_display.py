@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from explorer.lpv.settings import Settings
+from explorer.ui.kept_answers import KeptAnswers
 from explorer.ui.picture import Picture, SideDisplay
 
 if TYPE_CHECKING:
@@ -46,19 +47,15 @@ def side_settings(state: AppState, side: str) -> Settings:
     else:
         changes = tuple(state.compare_overrides)
         corrections = state.compare_settings.corrections
-    kept = _SIDE_SETTINGS.get(side)
-    if kept is not None and kept[0] is a and kept[1] is corrections and kept[2] == changes:
-        return kept[3]
-    shown = a.with_changes(**dict(changes)) if corrections is None else a.with_changes(
-        corrections=corrections, **dict(changes))
-    _SIDE_SETTINGS[side] = (a, corrections, changes, shown)
-    return shown
+    return _SIDE_SETTINGS.answer(
+        side, (a, corrections, changes),
+        lambda: a.with_changes(**dict(changes)) if corrections is None
+        else a.with_changes(corrections=corrections, **dict(changes)))
 
 
-_SIDE_SETTINGS: dict[str, tuple] = {}
-"""side -> (A's settings, B's corrections, the changes, the settings shown): the window
-asks for each side's settings every frame; they are made again only when A's settings or
-what the side changes in them are others (settings are frozen)."""
+_SIDE_SETTINGS = KeptAnswers(most=len(VARIANT_SIDES) + 2)
+"""Each side's settings: the window asks for them every frame; they are made again only
+when A's settings or what the side changes in them are others (settings are frozen)."""
 
 
 class ShownSide(Protocol):

@@ -33,6 +33,7 @@ from explorer.truth.progressive import (
     measured_settings,
 )
 from explorer.ui import widgets
+from explorer.ui.kept_answers import KeptAnswers
 
 TRUTHS = ("reference", "reference + Mitsuba")
 MITSUBA_SPP = 64
@@ -80,8 +81,8 @@ class ErrorService:
         self.truth_job = None
         self.truth_key: Any = None
         self.truth_problem: str | None = None
-        self._keys: dict[int, tuple[Any, Measurement, Any]] = {}
-        """id(settings) -> (settings, measurement, key): :meth:`key`'s recent answers."""
+        self._keys = KeptAnswers(most=KEYS_KEPT)
+        """:meth:`key`'s recent answers, by the settings they were made of."""
         self._seen: Any = None
         self._seen_at = 0.0
         self._idle_since: float | None = None
@@ -98,19 +99,17 @@ class ErrorService:
         configurations (A, each try-this's): the key of each is kept while the settings
         object and the measurement are the same ones (both frozen), not copied again."""
         settings = self.state.settings if settings is None else settings
-        kept = self._keys.get(id(settings))
-        if kept is not None and kept[0] is settings and kept[1] is self.measurement:
-            return kept[2]
+        measurement = self.measurement
+        return self._keys.answer(id(settings), (settings, measurement),
+                                 lambda: self._measured_key(settings, measurement))
+
+    @staticmethod
+    def _measured_key(settings, measurement: Measurement) -> Any:
         aspect = settings.width / max(settings.height, 1)
         measured = measured_settings(settings.with_changes(exposure=1.0,
                                                            indirect_only=False),
-                                     self.measurement, aspect)
-        key = (measured, self.measurement)
-        if len(self._keys) >= KEYS_KEPT:
-            self._keys.clear()
-        # the settings held with their key: their id names no other object meanwhile
-        self._keys[id(settings)] = (settings, self.measurement, key)
-        return key
+                                     measurement, aspect)
+        return (measured, measurement)
 
     def result_for(self, settings=None) -> ErrorResult | None:
         return self.cache.get(self.key(settings))
