@@ -69,3 +69,28 @@ def test_kept_frames_hold_no_steps_and_are_bounded(ctx):
     again = frames.before[("propagation", KEPT_FRAMES + 4)]
     frames.keep_step(("propagation", KEPT_FRAMES + 4), frame)      # the same frame redrawn
     assert frames.before[("propagation", KEPT_FRAMES + 4)] is again
+
+
+def test_kept_frames_are_bounded_in_bytes(ctx, monkeypatch):
+    """Twelve 64³ two-cascade frames of each kind held over a gigabyte of accumulated grids
+    and images (issue #31): the kept frames of one kind hold at most KEPT_BYTES of arrays,
+    the newest whatever its size, the oldest going first."""
+    import explorer.ui.try_numbers as try_numbers
+
+    lessons, _ = load_all(check_formula=None)
+    step = find_lesson("propagation", lessons).step(1)
+    settings = preview_settings(step, max_iterations=2)
+    with Pipeline(settings, ctx=ctx) as pipeline:
+        frames_made = [pipeline.run(settings.with_changes(iterations=2 + number))
+                       for number in range(4)]
+    one = try_numbers.held_bytes(try_numbers.lean_frame(frames_made[0]))
+    assert one >= frames_made[0].accumulated.nbytes + frames_made[0].direct.nbytes
+    monkeypatch.setattr(try_numbers, "KEPT_BYTES", 2 * one + one // 2)   # room for two
+    kept = TryFrames()
+    for number, frame in enumerate(frames_made):
+        kept.keep_step(("propagation", number), frame)
+    assert list(kept.before) == [("propagation", 2), ("propagation", 3)]
+    assert set(kept.sizes) == set(kept.before)
+    monkeypatch.setattr(try_numbers, "KEPT_BYTES", 1)                  # smaller than any
+    kept.keep_step(("propagation", 9), frames_made[0])
+    assert list(kept.before) == [("propagation", 9)]                   # the newest stays
