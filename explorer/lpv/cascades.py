@@ -237,9 +237,20 @@ class SampledGrid:
         return self.cascades[0]
 
 
+def bind_cascade_textures(cascades: list[CascadeInput], first_unit: int) -> None:
+    """Bind the cascades' textures to units ``first_unit`` … (three per cascade: r, g,
+    b), as :func:`cascade_uniforms` points the samplers. Every draw binds them: a unit
+    keeps what was bound last, which may be another pipeline's grid (side B's, the Error
+    panel's) when the uniforms are kept from the last draw."""
+    for k, cascade in enumerate(cascades):
+        for i, texture in enumerate(cascade.textures):
+            texture.use(first_unit + 3 * k + i)
+
+
 def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str, object]:
-    """Uniforms of ``cascades.glsl`` for these cascades, their textures bound to units
-    ``first_unit`` … (three per cascade: r, g, b)."""
+    """Uniforms of ``cascades.glsl`` for these cascades, their textures on units
+    ``first_unit`` … (three per cascade: r, g, b; :func:`bind_cascade_textures` binds
+    them)."""
     count = len(cascades)
     if not 1 <= count <= MAX_CASCADES:
         raise ValueError(f"the gather samples 1..{MAX_CASCADES} cascades, got {count}")
@@ -248,9 +259,6 @@ def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str,
     cells = [float(c.spec.cell_size) for c in cascades] + [1.0] * pad
     units = {channel: [first_unit + 3 * k + i for k in range(count)] +
              [first_unit + i] * pad for i, channel in enumerate("rgb")}
-    for k, cascade in enumerate(cascades):
-        for i, texture in enumerate(cascade.textures):
-            texture.use(first_unit + 3 * k + i)
     return {
         "u_cascade_count": count,
         "u_cascade_origin": origins,

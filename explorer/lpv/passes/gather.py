@@ -23,7 +23,7 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.audit import rgb_sums
-from explorer.lpv.cascades import CascadeInput, SampledGrid, cascade_uniforms
+from explorer.lpv.cascades import CascadeInput, SampledGrid, bind_cascade_textures, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.passes.gbuffer import GBufferPass
@@ -216,6 +216,8 @@ class GatherPass:
         finest = grid.finest if grid else CascadeInput(NO_GRID_SPEC, (self._empty(),) * 3)
         for unit, texture in enumerate(finest.textures, start=5):
             texture.use(unit)
+        if several:     # every draw: the kept uniforms below do not bind them
+            bind_cascade_textures(list(grid.cascades), self.CASCADE_FIRST_UNIT)
         light_count = self._lights.bind(shadow.views, shadow.tiles)
         # the uniforms are made again only when what they are made of changes (a moved
         # camera changes none of it): set_uniforms then finds the same dict and skips it
