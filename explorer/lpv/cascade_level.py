@@ -52,6 +52,11 @@ class CascadeLevel:
             return self.running.accumulated.textures
         return None if self.output is None else self.output.accumulated.textures
 
+    def release_between_runs(self) -> int:
+        """Release what only a propagation in progress uses (its ping and pong grids,
+        :meth:`PropagatePass.release_between_runs`) when none is; the bytes released."""
+        return 0 if self.running is not None else self.propagate.release_between_runs()
+
     def release_volume(self) -> None:
         if self.volume is not None:
             self.volume.release()

@@ -335,6 +335,15 @@ class Pipeline:
     def __exit__(self, *exc_info) -> None:
         self.release()
 
+    def release_between_runs(self) -> int:
+        """Release the GPU memory only a job in progress uses (the levels' ping and pong
+        grids, :meth:`CascadeLevel.release_between_runs`), when no job is in progress
+        (the window calls it once it falls idle); the next job makes them anew. Returns
+        the bytes released."""
+        if self.job is not None and not self.job.done:
+            return 0
+        return sum(level.release_between_runs() for level in self.state.levels)
+
     def release(self) -> None:
         if self.job is not None:
             self.job.cancel()

@@ -278,7 +278,10 @@ class App:
                      or expired or (status is not None and (
                          status.published or status.failures > 0)))
         if not must_draw and not worked:
-            if not self._heaps_trimmed:     # fallen idle: the heaps' free pages go back
+            if not self._heaps_trimmed:     # fallen idle: what only a job in progress
+                # uses, then the heaps' free pages, go back
+                if self.controller.pipeline_class is not None:
+                    self.controller.release_between_runs()
                 memory.give_back_free()
                 self._heaps_trimmed = True
             self._quiet = True              # nothing to do: wait for events next time

@@ -569,6 +569,13 @@ class PipelineController:
             self._refusals.pop(name, None)
             self._idle_since.pop(name, None)
 
+    def release_between_runs(self) -> int:
+        """Every side's GPU memory that only a job in progress uses
+        (:meth:`Pipeline.release_between_runs`): the window calls it when it falls idle.
+        Returns the bytes released."""
+        return sum(side.pipeline.release_between_runs() for side in self.sides.values()
+                   if side.pipeline is not None)
+
     def release(self) -> None:
         for side in self.sides.values():
             if side.picture is not None:

@@ -150,6 +150,12 @@ class LpvGrid:
             tuple(volume.texture for volume in self.volumes))
 
     @property
+    def nbytes(self) -> int:
+        """The bytes its three textures hold."""
+        texel_bytes = np.dtype(_NUMPY_DTYPES[self.format]).itemsize
+        return sum(int(np.prod(volume.texels_shape)) * texel_bytes for volume in self.volumes)
+
+    @property
     def resolution(self) -> int:
         """Cells per axis of the light grid when it is a cube (:func:`cube_edge`)."""
         return cube_edge(self.cells)
