@@ -152,6 +152,11 @@ def test_the_soak_rule_names_what_grew_after_the_warm_up(monkeypatch, capsys):
     flat = [record(2, 0, 540.0, Texture=15), record(2, 1, 450.0),
             record(3, 0, 540.0, Texture=15), record(3, 1, 450.0)]
     assert interaction.growth(warm, flat) == []
+    # the caches keep other programs after a step in pass 3 than in pass 2, none beyond
+    # pass 2's highest: no growth
+    reshuffled = [record(2, 0, 540.0, Program=7), record(2, 1, 450.0, Program=5),
+                  record(3, 0, 540.0, Program=6), record(3, 1, 450.0, Program=5)]
+    assert interaction.growth(warm, reshuffled) == []
     grown = interaction.growth(warm, [record(2, 0, 400.0), record(2, 1, 400.0, Scope=4),
                                       record(3, 0, 560.0, Program=6)])
     # a program count that grew names whose programs grew
@@ -174,7 +179,7 @@ def test_the_soak_rule_names_what_grew_after_the_warm_up(monkeypatch, capsys):
         "pass 2 step s:2 (the pass's end): Buffer 8, 4 at the warm-up's end "
         "(lpv.vpl.read_later +4)"]
     assert grown == ["pass 2 step s:2 (the pass's end): Scope 4, 3 at the warm-up's end",
-                     "pass 3 step s:1: Program 6, 5 in pass 2",
+                     "pass 3 step s:1: Program 6, at most 5 in pass 2",
                      "pass 3 step s:1: resident memory 560 MiB, over the warm-up's peak "
                      "500 MiB by more than 10%"]
     # the command exits 1 on growth (the child's figures stood in for)
