@@ -36,6 +36,7 @@ from explorer.ui.figure_cache import FigureCache
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.frame_profile import FrameProfile
 from explorer.ui.images import write_png
+from explorer.ui.side_display import ALL_SIDES
 from explorer.ui.state import AppState, fit_window_size, release_screenshot_path
 from explorer.ui.view_size import LAYOUT_FRAMES, ViewSizeFollower
 from explorer.ui.window_options import WindowOptions
@@ -295,7 +296,7 @@ class App:
             self._quiet = False
             self.frames_skipped += 1
             return True
-        rt.redraw, rt.audit_wanted = False, "off"   # what is drawn now asks again
+        rt.ask_again()                      # what is drawn now asks again
         before_draw = self._fingerprint()
         self.profile.mark("update")
         self._imgui.new_frame()
@@ -423,7 +424,7 @@ class App:
             self._input_at = time.monotonic()
         self.status = self.controller.update(
             state, state.frame_budget_ms,
-            need_audit=rt.audit_wanted, interacting=self._interacted,
+            need_audit=rt.audit_of_sides(ALL_SIDES), interacting=self._interacted,
             drag_budget_ms=drag_budget, draw_ms=self.ui_ms,
             quiet_s=self._quiet_s(), input_pending=self._input_pending)
         rt.frame.progress = dict(self.status.labels)

@@ -40,7 +40,7 @@ import sys
 import time
 import traceback
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
 from explorer.gl.context import use_screen
@@ -211,16 +211,18 @@ class PipelineController:
 
     # ------------------------------------------------------------------ the frame
     def update(self, state: AppState, budget_ms: float, *,
-               need_audit: str | bool = "off", interacting: bool = False,
+               need_audit: str | bool | Mapping[str, str] = "off",
+               interacting: bool = False,
                drag_budget_ms: float | None = None,
                draw_ms: float | None = None, quiet_s: float = 0.0,
                input_pending: Callable[[], bool] | None = None) -> ControllerStatus:
         """Start, advance and publish within ``budget_ms`` milliseconds (module
         docstring); fills ``state.runtime``. ``need_audit``: the audit mode what is
-        drawn needs (explorer.lpv.audit.AUDIT_MODES; the window's
-        ``runtime.audit_wanted``). ``drag_budget_ms``: what a frame may spend
-        on the pipelines while the camera is dragged (the window's frame time for the
-        drag's frame rate, less its own drawing; default ``budget_ms``): the drag scale
+        drawn needs (explorer.lpv.audit.AUDIT_MODES), of every side or per side (a
+        mapping: the window's ``runtime.audit_of_sides``; a side it lacks measures none).
+        ``drag_budget_ms``: what a frame may spend on the pipelines while the camera is
+        dragged (the window's frame time for the drag's frame rate, less its own
+        drawing; default ``budget_ms``): the drag scale
         is chosen so that a camera frame fits it, and a drag's frame gets that much.
         ``draw_ms``: what the window spends drawing a frame (paces the previews).
         ``quiet_s``: seconds since the last input; from ``QUIET_AFTER_S`` on, the
@@ -243,7 +245,9 @@ class PipelineController:
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
             try:
-                request = self.request_for(state, name, need_audit, interacting)
+                audit = (need_audit.get(name, "off") if isinstance(need_audit, Mapping)
+                         else need_audit)
+                request = self.request_for(state, name, audit, interacting)
             except ValueError as exc:    # B's corrections or a variant refused with A's rest
                 self._refused(state, name, exc)
                 continue

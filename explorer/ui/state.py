@@ -12,7 +12,7 @@ from __future__ import annotations
 import contextlib
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
@@ -250,16 +250,37 @@ class Runtime:
     """The most a panel drawn this frame needs of the energy audit (a plot, a lesson
     figure or a live number; explorer.lpv.audit.AUDIT_MODES): the pipelines measure that
     much (``need_audit``) while this is so."""
+    audit_wanted_on: dict[str, str] = field(default_factory=dict)
+    """What a panel drawn this frame needs of one side's audit only (side name -> mode):
+    the picked cell's records are read on the picked side, and at 64³ with two cascades
+    a side's per-cell records are 84 MiB (issue #31)."""
     redraw: bool = False
     """Something drawn this frame moves by itself (playback, fly keys held): draw the
     next frame too, even with no input."""
 
-    def want_audit(self, mode: str = "full") -> None:
+    def want_audit(self, mode: str = "full", side: str | None = None) -> None:
         """Called by what shows the energy audit while it is drawn, with the audit mode
-        it needs (``flux``: only the flux per step; ``full``: every term)."""
+        it needs (``flux``: only the flux per step; ``full``: every term), of every side
+        or of ``side`` only."""
         from explorer.lpv.audit import strongest_audit
 
-        self.audit_wanted = strongest_audit(self.audit_wanted, mode)
+        if side is None:
+            self.audit_wanted = strongest_audit(self.audit_wanted, mode)
+        else:
+            self.audit_wanted_on[side] = strongest_audit(
+                self.audit_wanted_on.get(side, "off"), mode)
+
+    def audit_of_sides(self, sides: Iterable[str]) -> dict[str, str]:
+        """Per side: the audit mode what is drawn this frame needs of it."""
+        from explorer.lpv.audit import strongest_audit
+
+        return {side: strongest_audit(self.audit_wanted, self.audit_wanted_on.get(side, "off"))
+                for side in sides}
+
+    def ask_again(self) -> None:
+        """At a frame's start: what is drawn now asks for the audit and the redraw again."""
+        self.redraw, self.audit_wanted = False, "off"
+        self.audit_wanted_on.clear()
 
     def request_redraw(self) -> None:
         """Called by what animates, every frame it animates."""

@@ -476,6 +476,35 @@ def test_the_shown_plot_chooses_the_audit_the_propagation_measures(controller):
     assert state.runtime.audit_wanted == "full", "want_audit keeps the most asked for"
 
 
+def test_the_picked_sides_audit_only(controller):
+    """The picked cell's records are read on the picked side only (explorer/ui/panels/
+    picked.py asks runtime.want_audit("full", side=...)): that side measures every term
+    and keeps its per-cell records, the other measures what the rest asks (84 MiB of
+    records a side at 64³ with two cascades, issue #31); picked on the other side, that
+    one reruns its propagation (the first keeps its full audit: it covers the flux)."""
+    state = _state()
+    state.view_mode = "split"
+
+    def frame_wants(picked_side: str) -> None:
+        state.runtime.ask_again()                     # as the window's frame starts
+        state.runtime.want_audit("flux")              # a plot of every side
+        state.runtime.want_audit("full", side=picked_side)
+        _settle(controller, state, need_audit=state.runtime.audit_of_sides(("A", "B")))
+
+    frame_wants("B")
+    shown, compared = state.runtime.frame.result, state.runtime.frame.compare_result
+    assert compared.audit.mode == "full" and compared.cascades[0].cell_records is not None
+    assert shown.audit.mode == "flux" and shown.cascades[0].cell_records is None
+    before = _counts(controller)
+    frame_wants("A")
+    assert _ran_since(controller, before) == {"A": {"propagate"}, "B": set()}
+    shown = state.runtime.frame.result
+    assert shown.audit.mode == "full" and shown.cascades[0].cell_records is not None
+    assert state.runtime.audit_of_sides(("A", "C")) == {"A": "full", "C": "flux"}
+    state.runtime.ask_again()
+    assert state.runtime.audit_of_sides(("A",)) == {"A": "off"}
+
+
 @pytest.mark.parametrize("change", [{"corrections": "propagation_4pi"},
                                     {"corrections": "irradiance_gather"}])
 def test_a_change_shows_a_labelled_coarse_picture_before_the_converged_one(controller,

@@ -60,7 +60,8 @@ def gui_picked(state: AppState) -> None:
     else:
         imgui.text_disabled("flux per step: record the steps (Inspect → propagation, or the "
                             "slice's light in flight)")
-    state.runtime.want_audit("full")   # the cell's audit records: the frames measure them
+    # the cell's audit records: the picked side's frames measure them
+    state.runtime.want_audit("full", side=o.picked_side)
     _cell_audit(result, cell)
 
 
