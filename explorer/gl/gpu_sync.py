@@ -202,6 +202,11 @@ class DeferredRead:
     def issued(self) -> bool:
         return self._fence is not None
 
+    @property
+    def nbytes(self) -> int:
+        """The bytes of its buffer (0 before a read or after :meth:`release`)."""
+        return 0 if self._buffer is None else self._buffer.size
+
     def ready(self) -> bool:
         """The copy is done: :meth:`result` returns without waiting."""
         return self._fence is not None and self._fence.signaled()

@@ -337,12 +337,14 @@ class Pipeline:
 
     def release_between_runs(self) -> int:
         """Release the GPU memory only a job in progress uses (the levels' ping and pong
-        grids, :meth:`CascadeLevel.release_between_runs`), when no job is in progress
+        grids, :meth:`CascadeLevel.release_between_runs`, and the stages' read-backs
+        already taken, :meth:`Stage.release_between_runs`), when no job is in progress
         (the window calls it once it falls idle); the next job makes them anew. Returns
         the bytes released."""
         if self.job is not None and not self.job.done:
             return 0
-        return sum(level.release_between_runs() for level in self.state.levels)
+        return (sum(level.release_between_runs() for level in self.state.levels)
+                + sum(stage.release_between_runs() for stage in self.stages.values()))
 
     def release(self) -> None:
         if self.job is not None:

@@ -87,5 +87,10 @@ class Stage:
         """The value of a by-value stage (``StageDecl.by_value``)."""
         raise ValueError(f"{self.name} is not a by-value stage")
 
+    def release_between_runs(self) -> int:
+        """Release what only a run of the stage in progress uses (called with no job in
+        progress); the bytes released."""
+        return 0
+
     def release(self) -> None:
         """Release the stage's GPU resources."""

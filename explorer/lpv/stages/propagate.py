@@ -8,6 +8,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import explorer.lpv.passes.propagate as propagate_pass
 from explorer.gl.gpu_sync import DeferredRead, GpuWait
 from explorer.lpv import guards
 from explorer.lpv.audit import audit_covers
@@ -178,6 +179,18 @@ class Stage(StageBase):
         finally:
             for level in levels:
                 level.running = None
+
+    def release_between_runs(self) -> int:
+        """Release the levels' read-backs of their accumulation (taken into the levels'
+        arrays at the run's end) of ``SPARE_GRID_BYTES`` or more (a 64³ L1 grid's are
+        12 MiB a level); the audit's stays (its sums are read when first asked for)."""
+        released = 0
+        for reads in self.reads:
+            for read in reads[1:]:
+                if read.nbytes >= propagate_pass.SPARE_GRID_BYTES:
+                    released += read.nbytes
+                    read.release()
+        return released
 
     def release(self) -> None:
         for reads in self.reads:
