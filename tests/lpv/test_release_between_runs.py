@@ -32,8 +32,8 @@ def test_idle_release_keeps_the_frames_bit_for_bit(ctx, monkeypatch):
         _same(first_kept, first_released)
         freed = released.release_between_runs()
         # two levels, each its ping and pong (three 8³ RGBA float textures a grid) and
-        # the read-back of its accumulation (three more)
-        assert freed == 2 * 3 * 3 * 8 ** 3 * 16
+        # the read-back of its accumulation (three more), and the injection's layers
+        assert freed == (2 * 3 + 1) * 3 * 8 ** 3 * 16
         assert released.release_between_runs() == 0                  # nothing left to free
         _same(kept.run(toggled), released.run(toggled))
         _same(kept.run(BASE), released.run(BASE))

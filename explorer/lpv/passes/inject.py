@@ -163,6 +163,17 @@ class InjectPass:
         gather.run(*dispatch_size(n))
         self.ctx.memory_barrier()
 
+    def release_between_runs(self, min_bytes: int) -> int:
+        """Release the point draws' layers (they hold the sums only while an injection is
+        in progress) when they are ``min_bytes`` or more; the next injection makes them
+        anew. Returns the bytes released."""
+        layers = self._layers
+        if layers is None or layers.nbytes < min_bytes:
+            return 0
+        self._layers = None
+        layers.release()
+        return layers.nbytes
+
     def release(self) -> None:
         for resource in (self._layers, self._heads, self._links):
             if resource is not None:

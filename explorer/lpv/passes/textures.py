@@ -276,6 +276,12 @@ class LayeredTarget:
             layers.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self.framebuffer = ctx.framebuffer(color_attachments=self.layers)
 
+    @property
+    def nbytes(self) -> int:
+        """The bytes its texture arrays hold."""
+        texel_bytes = 4 * np.dtype(_NUMPY_DTYPES[self.format]).itemsize
+        return int(np.prod(self.shape)) * texel_bytes * len(self.layers)
+
     def release(self) -> None:
         self.framebuffer.release()
         for layers in self.layers:

@@ -8,6 +8,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import explorer.lpv.passes.propagate as propagate_pass
 from explorer.lpv.audit import check_finite
 from explorer.lpv.cascades import level_pass_name
 from explorer.lpv.corrections import Corrections
@@ -64,6 +65,11 @@ class Stage(StageBase):
                 check_finite(grid.read(), level_pass_name("inject", k, len(levels)))
             if k < len(levels) - 1:
                 yield
+
+    def release_between_runs(self) -> int:
+        """The point draws' layers of a large grid (12 MiB at 64³ L1): only an injection
+        in progress uses them."""
+        return self.inject.release_between_runs(propagate_pass.SPARE_GRID_BYTES)
 
     def release(self) -> None:
         self.inject.release()
