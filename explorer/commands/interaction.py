@@ -149,6 +149,10 @@ def lit(app) -> bool:
     return view.size > 0 and float(np.mean(view.max(axis=2) > LIT_LEVEL)) > LIT_SHARE
 
 
+IDLE_FRAMES = 200
+"""Frames the soak waits at most for the window to fall idle after a step."""
+
+
 class Recorder:
     """Times frames and keeps the longest one with what ran in it."""
 
@@ -212,6 +216,18 @@ class Recorder:
             rest += f" [{profile}]" if profile else ""
             self.slow = sorted(self.slow + [(ms, f"{self.phase}{rest}")], reverse=True)[:5]
         return ms
+
+    def until_idle(self, limit: int = IDLE_FRAMES) -> None:
+        """Frames until the window falls idle (nothing to draw, no work: it releases what
+        only a job uses and trims its heaps), as a reader's window is while the step is
+        read; at most ``limit``. A window that does not count its idle falls: none."""
+        falls = getattr(self.app, "idle_falls", None)
+        if falls is None:
+            return
+        for _ in range(limit):
+            if self.app.idle_falls > falls:
+                return
+            self.frame()
 
     def converge(self) -> float:
         """Frames until the picture has converged; milliseconds to the end of the frame
@@ -913,6 +929,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
             for position in range(len(steps)):
                 cycle(position)
                 lesson_id, number = steps[position]
+                rec.until_idle()            # the step as a reader has it on screen
                 rss = resident_mib()
                 release_unshown_sides(app, rec)
                 record = {"pass": passes, "position": position,

@@ -108,6 +108,8 @@ class App:
         self._capture = False
         self._quiet = False           # the last frame found nothing to do: wait next time
         self._heaps_trimmed = False   # the heaps' free pages went back since the last work
+        self.idle_falls = 0
+        """Times the window fell idle (and released what only a job in progress uses)."""
         self._draws_pending = 0       # frames still to draw after input or a change
         self._seen: tuple | None = None   # the state as the last drawn frame left it
         self._drawn_at = 0.0              # time.monotonic() of the last drawn frame
@@ -285,6 +287,7 @@ class App:
                     self.controller.release_between_runs()
                 memory.give_back_free()
                 self._heaps_trimmed = True
+                self.idle_falls += 1
             self._quiet = True              # nothing to do: wait for events next time
             self.frames_skipped += 1
             return True

@@ -71,3 +71,53 @@ def test_the_window_gives_the_free_pages_back_once_each_time_it_falls_idle(monke
         assert len(calls) == 2
     finally:
         app.close()
+
+
+def test_a_window_falling_idle_releases_what_only_a_job_uses(monkeypatch):
+    """Once the frame converged and the window falls idle it releases its pipelines'
+    ping and pong grids, injection layers and taken read-backs (Pipeline.
+    release_between_runs) before trimming the heaps, once per fall; the next change makes
+    them anew and its frame is the same as a window that kept them."""
+    from window_cases import display_problem
+
+    import explorer.lpv.passes.propagate as propagate_pass
+    from explorer.lpv.settings import Settings
+    from explorer.ui.app import App
+    from explorer.ui.controller import PipelineController
+    from explorer.ui.state import AppState
+    from explorer.ui.window_options import WindowOptions
+
+    if display_problem() is not None:
+        pytest.skip(str(display_problem()))
+    monkeypatch.setattr(propagate_pass, "SPARE_GRID_BYTES", 0)      # every grid is large
+    released = []
+    original = PipelineController.release_between_runs
+
+    def counted(self) -> int:
+        released.append(original(self))
+        return released[-1]
+
+    monkeypatch.setattr(PipelineController, "release_between_runs", counted)
+    settings = Settings(grid_size=8, iterations=4, rsm_size=32, width=96, height=64)
+    app = App(AppState(settings=settings),
+              WindowOptions(width=640, height=480, visible=False, vsync=False,
+                            persist_settings=False, wait_when_idle=True,
+                            idle_timeout_s=0.01))
+    try:
+        for _ in range(400):
+            app.frame()
+            if app.idle_falls:
+                break
+        assert app.idle_falls == 1 and len(released) == 1 and released[0] > 0
+        first = app.state.runtime.frame.result
+        app.state.update(iterations=5)
+        for _ in range(400):
+            app.frame()
+            if app.idle_falls == 2:
+                break
+        # the propagation ran again, not the injection: its ping, pong and read-back
+        assert app.idle_falls == 2 and 0 < released[1] < released[0]
+        again = app.state.runtime.frame.result
+        assert again is not first and again.settings.iterations == 5
+    finally:
+        app.close()
