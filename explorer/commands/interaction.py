@@ -221,11 +221,10 @@ class Recorder:
         """Frames until the window falls idle (nothing to draw, no work: it releases what
         only a job uses and trims its heaps), as a reader's window is while the step is
         read; at most ``limit``. A window that does not count its idle falls: none."""
-        falls = getattr(self.app, "idle_falls", None)
-        if falls is None:
+        if not hasattr(self.app, "fallen_idle"):
             return
         for _ in range(limit):
-            if self.app.idle_falls > falls:
+            if self.app.fallen_idle:
                 return
             self.frame()
 

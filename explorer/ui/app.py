@@ -238,6 +238,12 @@ class App:
                 return drawn         # no pipeline (or no GL): nothing to wait for
         return max_frames
 
+    @property
+    def fallen_idle(self) -> bool:
+        """The window fell idle and had nothing to do since (it released what only a job
+        in progress uses and trimmed its heaps)."""
+        return self._heaps_trimmed
+
     def frame(self, capture: bool = False, force: bool = False) -> bool:
         """Process events, advance the pipelines within the frame budget and draw one
         frame; with nothing to do (no input, no change, no work, no animation) an idle
