@@ -37,6 +37,10 @@ if TYPE_CHECKING:
     from explorer.lpv.settings import Settings
     from explorer.lpv.vpl import VplArrays
 
+FINAL_STAGE = EXECUTION_ORDER[-1]
+"""The stage whose last unit finishes a job (the display): the frame that runs it shows the
+finished frame, which costs its drawing more (``advance``'s ``finishing_ms``)."""
+
 _STAGE_ORDER = {name: i for i, name in enumerate(STAGES)}
 """Each stage's place in the declared order (what ``Progress.stages_run`` is sorted by)."""
 
@@ -162,9 +166,13 @@ class Job:
                         tuple(sorted(self._ran, key=_STAGE_ORDER.__getitem__)))
 
     # ------------------------------------------------------------------ work
-    def advance(self, budget_ms: float | None = None) -> Progress:
+    def advance(self, budget_ms: float | None = None,
+                finishing_ms: float | None = None) -> Progress:
         """Do whole units of work until ``budget_ms`` milliseconds are spent (None: until
-        the frame is finished); at least one unit per call."""
+        the frame is finished); at least one unit per call. ``finishing_ms``: the units of
+        :data:`FINAL_STAGE` keep to this much of the call instead (when less), so that the
+        frame showing the finished frame leaves its extra drawing room: a unit of it that
+        does not fit waits for the next call, as any unit over the budget does."""
         if self.cancelled:
             raise RuntimeError("the job was cancelled (another job started)")
         start = time.perf_counter()
@@ -175,9 +183,12 @@ class Job:
             if budget_ms is not None and self.gpu_pending:
                 break               # the next unit reads back what the GPU still copies
             spent = (time.perf_counter() - start) * 1e3
-            if budget_ms is not None and worked and spent + self.next_unit_ms() > budget_ms:
+            limit = budget_ms
+            if limit is not None and finishing_ms is not None and self._stage == FINAL_STAGE:
+                limit = min(limit, finishing_ms)
+            if limit is not None and worked and spent + self.next_unit_ms() > limit:
                 break
-            self.unit_budget_ms = None if budget_ms is None else max(budget_ms - spent, 0.0)
+            self.unit_budget_ms = None if limit is None else max(limit - spent, 0.0)
             self._run_unit()
             worked = True
         return self.progress

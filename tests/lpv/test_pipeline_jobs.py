@@ -181,7 +181,7 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     assert [c for c in calls if c[0] == "propagate"][:3] == [("propagate", 0, 10),
                                                              ("propagate", 0, 10),
                                                              ("propagate", 1, 10)]
-    assert calls[-1] == ("display", 2, 2)          # the auto exposure, then the pass
+    assert calls[-1] == ("display", 3, 3)   # the auto exposure (metered, averaged), the pass
     with Pipeline(other, ctx=gl_context) as fresh:
         assert np.allclose(second.result.accumulated, fresh.run().accumulated, rtol=1e-6,
                            atol=1e-9)
@@ -374,8 +374,8 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
     with Pipeline(settings, ctx=gl_context) as pipe:
         banded = pipe.run(progress=lambda *call: calls.append(call))
         # two bands, the read-backs of direct, indirect and received (copied in one unit,
-        # taken in the next), then their sums and checks: a unit each
-        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 5) for k in range(6)]
+        # then taken a unit each), then their sums and checks: a unit each
+        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 7) for k in range(8)]
         gather = pipe.stages["gather"]
         gather.gather_levels(settings)                                 # all rows at once
         whole = read_texture(gather.gather.targets["indirect"])[..., :3]
