@@ -306,7 +306,8 @@ class PipelineController:
         """Advance the jobs until the budget is spent: the sides take turns (who goes
         first alternates between frames), each given an equal share of what is left; a
         side whose job has more work goes round again while its next unit still fits. At
-        most one progressive preview per side and frame, before its first turn. With a
+        most one progressive preview per side and frame, before its first turn (none that
+        frame when the preview left too little for its next unit). With a
         quiet budget a turn is at most the frame budget long, so that input is looked for
         between turns, and a frame that publishes a preview (it is drawn) keeps to the
         frame budget."""
@@ -329,12 +330,16 @@ class PipelineController:
                 continue
             if side.name not in previewed:
                 previewed.add(side.name)
+                shown = side.previews
                 self._preview_if_due(state, side, status)
                 if status.published:    # this frame is drawn: no quiet budget on top
                     budget.to_base()
                 if side.job is None:
                     continue
                 left = budget.left()
+                if side.previews != shown and not self._fits(side, left / (len(order) + 1)):
+                    continue    # the preview took the frame: the next unit waits for the next
+
             share = max(left, 0.0) / (len(order) + 1)
             if budget.quiet:
                 share = min(share, budget.base_ms)
