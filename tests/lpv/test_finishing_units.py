@@ -92,3 +92,38 @@ def test_the_last_stage_keeps_to_the_finishing_budget_and_ends_on_the_same_frame
         # without a finishing budget the same budget finishes the job in one call
         job = pipe.start(toggled)
         assert job.advance(1e9).finished
+
+
+@pytest.mark.parametrize("albedo", [False, True])
+def test_a_large_vpl_set_taken_in_units_gives_the_arrays_taken_at_once(gl_context, ctx,
+                                                                       albedo):
+    from explorer.lpv.vpl import TAKEN_APART_TEXELS, VplArrays, VplTextures
+
+    rng = np.random.default_rng(7)
+    count = TAKEN_APART_TEXELS + 1000
+    arrays = VplArrays(rng.random((count, 3), dtype=np.float32),
+                       rng.random((count, 3), dtype=np.float32),
+                       rng.random((count, 3), dtype=np.float32),
+                       rng.random(count, dtype=np.float32), 1e-3,
+                       albedo=rng.random((count, 3), dtype=np.float32) if albedo else None)
+    textures = VplTextures.from_arrays(gl_context, arrays)
+    reads = [DeferredRead(gl_context) for _ in textures.all_textures]
+    try:
+        textures.read_later(reads)
+        once = textures.arrays_taken(reads)
+        textures.read_later(reads)
+        yielded, apart = _units(textures.arrays_taken_units(reads))
+        assert len(yielded) == 5 + albedo     # each compress and copy a unit (6 or 7 units)
+        for name in ("positions", "normals", "flux", "depth") + ("albedo",) * albedo:
+            assert np.array_equal(getattr(apart, name), getattr(once, name)), name
+            assert np.array_equal(getattr(apart, name), getattr(arrays, name)), name
+        small = VplTextures.from_arrays(gl_context, VplArrays(
+            arrays.positions[:10], arrays.normals[:10], arrays.flux[:10], arrays.depth[:10],
+            1e-3))
+        small.read_later(reads)
+        assert _units(small.arrays_taken_units(reads))[0] == []     # a small set: one unit
+        small.release()
+    finally:
+        for read in reads:
+            read.release()
+        textures.release()
