@@ -440,3 +440,37 @@ def test_a_job_sizes_each_unit_by_the_same_unit_of_the_last_run(pipeline):
     assert len(estimates) > SMALL.iterations
     assert estimates == [last[("propagate", unit)] for unit in range(len(estimates))]
     assert len(set(estimates)) > 1          # the units are not all alike
+
+
+def test_a_grid_stage_is_sized_at_the_grid_it_runs_at(pipeline, monkeypatch):
+    """The propagation's first unit at a larger grid is estimated by the same unit at the
+    smaller grid scaled up by the cells, and by itself once measured at that grid (the
+    first 64³ job after 32³ ones is not sized by the 32³ units)."""
+    from explorer.lpv.job import GRID_STAGES, Job
+
+    assert "propagate" in GRID_STAGES and "inject" in GRID_STAGES
+    assert not set(GRID_STAGES) & set(stage_list.PIXEL_STAGES)
+    estimates: dict[tuple, float] = {}
+    run_unit = Job._run_unit
+
+    def recorded(job):
+        estimates.setdefault((job.stage, job.settings.grid_size, len(estimates)),
+                             job.next_unit_ms())
+        run_unit(job)
+
+    pipeline.run(SMALL)
+    small_start = pipeline.unit_ms_at[("propagate", 0)]
+    monkeypatch.setattr(Job, "_run_unit", recorded)
+
+    def first_propagate_estimate(settings) -> float:
+        estimates.clear()
+        job = pipeline.start(settings)
+        while not job.done:
+            job.advance(0.0)
+        return next(ms for (stage, _, _), ms in estimates.items() if stage == "propagate")
+
+    big = SMALL.with_changes(grid_size=16)
+    assert first_propagate_estimate(big) == small_start * 8       # 16³ / 8³ cells
+    big_start = pipeline.unit_ms_sized[("propagate", 0, 16 ** 3)]
+    pipeline.invalidate("propagate")
+    assert first_propagate_estimate(big) == big_start              # measured there now
