@@ -339,7 +339,6 @@ class PipelineController:
                 left = budget.left()
                 if side.previews != shown and not self._fits(side, left / (len(order) + 1)):
                     continue    # the preview took the frame: the next unit waits for the next
-
             share = max(left, 0.0) / (len(order) + 1)
             if budget.quiet:
                 share = min(share, budget.base_ms)
