@@ -170,6 +170,10 @@ class Recorder:
         click's and those right after it), with its phase and :func:`frame_detail`."""
         self.panels = (0.0, "")
         """The longest building of the panels in a frame, with the slowest panel."""
+        self.cpu = {"interacting": 0.0, "any": 0.0}
+        """The most CPU milliseconds (the process's, the software renderer's threads
+        included) a frame took, within :data:`INTERACTING_S` of an input and of all: what
+        a quiet machine's wall time would be near, on a machine shared with other work."""
 
     def input(self) -> None:
         """The session gives input now (a mouse event, a click that changes a setting)."""
@@ -179,10 +183,14 @@ class Recorder:
     def frame(self) -> float:
         """One frame() call; milliseconds it blocked (without an idle wait for events,
         which input ends at once)."""
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         self.app.frame()
         ms = (time.perf_counter() - start - getattr(self.app, "last_wait_s", 0.0)) * 1e3
+        cpu_ms = (time.process_time() - cpu) * 1e3
         self.frames += 1
+        self.cpu["any"] = max(self.cpu["any"], cpu_ms)
+        if start - self.input_at < INTERACTING_S:
+            self.cpu["interacting"] = max(self.cpu["interacting"], cpu_ms)
         if start - self.input_at < INTERACTING_S and ms > self.interacting[0]:
             self.interacting = (ms, self.phase, frame_detail(self.app))
         phases = getattr(self.app, "draw_phases_ms", None) or {}
@@ -384,15 +392,18 @@ def display_phase(app, rec: Recorder, redraw_ms: float) -> dict:
     over a plain redraw (``redraw_ms``), and the view composer's pass alone."""
     figures = {}
     rec.phase = "display"
-    changed, phases = [], {}
+    changed, phases, cpu = [], {}, []
     for value in EXPOSURES:
         rec.input()                 # the slider's drag
         app.state.update(exposure=value)
+        began = time.process_time()
         changed.append(rec.frame())
+        cpu.append((time.process_time() - began) * 1e3)
         profile = getattr(app, "profile", None)
         for phase, ms in (profile.wall_ms.items() if profile is not None else ()):
             phases.setdefault(phase, []).append(ms)
     figures["display_change_frame_ms"] = statistics.median(changed)
+    figures["display_change_frame_cpu_ms"] = statistics.median(cpu)
     for phase, values in phases.items():      # a window with a frame profile
         figures[f"display_change_{phase}_ms"] = statistics.median(values)
     figures["display_change_ms"] = max(statistics.median(changed) - redraw_ms, 0.0)
@@ -522,6 +533,8 @@ def session_summary(app, rec: Recorder) -> dict:
     (figures["longest_interacting_frame_ms"], figures["longest_interacting_frame_phase"],
      figures["longest_interacting_frame_detail"]) = rec.interacting
     figures["longest_panels_ms"], figures["longest_panels_what"] = rec.panels
+    figures["longest_frame_cpu_ms"] = rec.cpu["any"]
+    figures["longest_interacting_frame_cpu_ms"] = rec.cpu["interacting"]
     figures["frames"] = rec.frames
     figures["slowest_frames"] = [f"{ms:.0f} ms {what}" for ms, what in rec.slow]
     figures["renderer"] = app.state.runtime.services.gl_renderer

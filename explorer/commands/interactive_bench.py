@@ -34,6 +34,7 @@ KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".
         ("orbit_refine_ms", "orbit released to the full-size frame", "ms", ".0f"),
         ("display_change_ms", "display-only change, over a redraw", "ms", ".1f"),
         ("display_change_frame_ms", "display-only change, its whole frame", "ms", ".1f"),
+        ("display_change_frame_cpu_ms", "  its CPU (all threads)", "ms", ".1f"),
         ("display_change_update_ms", "  of which the update (events, pipelines)", "ms", ".1f"),
         ("display_change_panels_ms", "  of which the panels built", "ms", ".1f"),
         ("display_change_render_ms", "  of which imgui's lists rendered", "ms", ".1f"),
@@ -60,6 +61,8 @@ KEYS = (("launch_to_first_lit_frame_s", "launch to the first lit frame", "s", ".
         ("longest_blocked_frame_ms", "longest frame", "ms", ".0f"),
         ("longest_interacting_frame_ms", "longest frame within 0.15 s of an input", "ms",
          ".0f"),
+        ("longest_frame_cpu_ms", "most CPU a frame took (all threads)", "ms", ".0f"),
+        ("longest_interacting_frame_cpu_ms", "  within 0.15 s of an input", "ms", ".0f"),
         ("longest_panels_ms", "longest building of the panels", "ms", ".1f"))
 
 

@@ -22,6 +22,7 @@ a job run to its end at once (``advance(None)``) waits for exactly those copies.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -29,13 +30,24 @@ from typing import TYPE_CHECKING, Protocol
 
 from explorer.gl.gpu_sync import GpuWait
 from explorer.lpv.audit import audit_mode
-from explorer.lpv.cache_keys import remembered_stage_key
+from explorer.lpv.cache_keys import downstream, remembered_stage_key
 from explorer.lpv.stage_list import DECLARATIONS, EXECUTION_ORDER, PIXEL_STAGES, STAGES, VERBS
 
 if TYPE_CHECKING:
     from explorer.lpv.frame import FrameResult
     from explorer.lpv.settings import Settings
     from explorer.lpv.vpl import VplArrays
+
+FINAL_STAGE = EXECUTION_ORDER[-1]
+"""The stage whose last unit finishes a job (the display): the frame that runs it shows the
+finished frame, which costs its drawing more (``advance``'s ``finishing_ms``)."""
+
+GRID_STAGES = tuple(name for name in downstream("grid")
+                    if name not in PIXEL_STAGES and not DECLARATIONS[name].by_value)
+"""The stages whose work grows with the grid's cells (all cascades' together): their next
+unit is estimated at the grid's size as a per-pixel stage's is at the image's
+(:meth:`Job.next_unit_ms`), so that the first 64³ job after 32³ ones is not sized by the
+32³ units."""
 
 _STAGE_ORDER = {name: i for i, name in enumerate(STAGES)}
 """Each stage's place in the declared order (what ``Progress.stages_run`` is sorted by)."""
@@ -162,9 +174,13 @@ class Job:
                         tuple(sorted(self._ran, key=_STAGE_ORDER.__getitem__)))
 
     # ------------------------------------------------------------------ work
-    def advance(self, budget_ms: float | None = None) -> Progress:
+    def advance(self, budget_ms: float | None = None,
+                finishing_ms: float | None = None) -> Progress:
         """Do whole units of work until ``budget_ms`` milliseconds are spent (None: until
-        the frame is finished); at least one unit per call."""
+        the frame is finished); at least one unit per call. ``finishing_ms``: the units of
+        :data:`FINAL_STAGE` keep to this much of the call instead (when less), so that the
+        frame showing the finished frame leaves its extra drawing room: a unit of it that
+        does not fit waits for the next call, as any unit over the budget does."""
         if self.cancelled:
             raise RuntimeError("the job was cancelled (another job started)")
         start = time.perf_counter()
@@ -175,9 +191,12 @@ class Job:
             if budget_ms is not None and self.gpu_pending:
                 break               # the next unit reads back what the GPU still copies
             spent = (time.perf_counter() - start) * 1e3
-            if budget_ms is not None and worked and spent + self.next_unit_ms() > budget_ms:
+            limit = budget_ms
+            if limit is not None and finishing_ms is not None and self._stage == FINAL_STAGE:
+                limit = min(limit, finishing_ms)
+            if limit is not None and worked and spent + self.next_unit_ms() > limit:
                 break
-            self.unit_budget_ms = None if budget_ms is None else max(budget_ms - spent, 0.0)
+            self.unit_budget_ms = None if limit is None else max(limit - spent, 0.0)
             self._run_unit()
             worked = True
         return self.progress
@@ -190,30 +209,43 @@ class Job:
     def next_unit_ms(self) -> float:
         """What the next unit of work should take, as measured: the same unit of the
         stage's last run (``Pipeline.unit_ms_at``), else the stage's last unit, else 0. A
-        stage whose work grows with the pixels (``PIXEL_STAGES``) takes the same unit at
-        this image size (``Pipeline.unit_ms_sized``); at a size not measured yet, one
-        measured at a smaller size is scaled up by the pixels (never down: a band of rows
-        holds as many pixels at any size), so that the full-size frame after a drag's
-        reduced ones is not sized by the reduced units."""
+        stage whose work grows with the pixels (``PIXEL_STAGES``) or the grid's cells
+        (:data:`GRID_STAGES`) takes the same unit at this size (``Pipeline.unit_ms_sized``);
+        at a size not measured yet, one measured at a smaller size is scaled up by the
+        pixels or the cells (never down: a band of rows holds as many pixels at any size),
+        so that the full-size frame after a drag's reduced ones is not sized by the
+        reduced units, nor a 64³ grid's start by a 32³ one's."""
         pipeline = self.pipeline
         stage = self._stage or ""
         unit_ms = pipeline.unit_ms.get(stage, 0.0)
         estimate = pipeline.unit_ms_at.get((stage, self._unit), unit_ms)
-        if stage not in PIXEL_STAGES:
+        size = self.size_of(stage)
+        if size is None:
             return estimate
-        pixels = self.pixels
-        exact = pipeline.unit_ms_sized.get((stage, self._unit, pixels))
+        exact = pipeline.unit_ms_sized.get((stage, self._unit, size))
         if exact is not None:
             return exact
         measured_at = pipeline.unit_pixels.get(stage)
         if not measured_at:
             return estimate
-        return estimate * max(pixels / measured_at, 1.0)
+        return estimate * max(size / measured_at, 1.0)
 
     @property
     def pixels(self) -> int:
         """The image's pixels (what a per-pixel stage's units grow with)."""
         return int(self.settings.width) * int(self.settings.height)
+
+    def size_of(self, stage: str) -> int | None:
+        """What ``stage``'s units grow with: the image's pixels for a per-pixel stage, the
+        cells of every cascade for one of :data:`GRID_STAGES` (once the grid is evaluated),
+        else None."""
+        if stage in PIXEL_STAGES:
+            return self.pixels
+        if stage in GRID_STAGES:
+            specs = self.out_keys.get("grid")
+            if isinstance(specs, tuple) and specs:
+                return sum(math.prod(spec.cells) for spec in specs)
+        return None
 
     def preview(self, scale: float = 1.0) -> bool:
         """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
@@ -282,10 +314,10 @@ class Job:
             pipeline = self.pipeline
             pipeline.unit_ms[name] = elapsed
             pipeline.unit_ms_at[(name, self._unit)] = elapsed
-            if name in PIXEL_STAGES:
-                pixels = self.pixels
-                pipeline.unit_ms_sized[(name, self._unit, pixels)] = elapsed
-                pipeline.unit_pixels[name] = pixels
+            size = self.size_of(name)
+            if size is not None:
+                pipeline.unit_ms_sized[(name, self._unit, size)] = elapsed
+                pipeline.unit_pixels[name] = size
             self._unit += 1
             self._done = self._done + 1 if count is None else count
             if finished:

@@ -13,7 +13,7 @@ maps as one set (:attr:`LightViews.rsm_textures`, the atlas of several views, wi
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Generator, Iterator
 
 import moderngl
 import numpy as np
@@ -167,6 +167,15 @@ class LightViews:
         return self._vpl_images([vpl_set.arrays_taken(set_reads)
                                  for vpl_set, set_reads in zip(self.vpl_sets, reads)],
                                 hand_made)
+
+    def vpls_taken_units(self, reads: list[list[DeferredRead]], hand_made: bool
+                         ) -> Generator[None, None, VplImages]:
+        """:meth:`vpls_taken` in units (``VplTextures.arrays_taken_units``; ``yield from``
+        returns the VPLs), the same VPLs."""
+        sets = []
+        for vpl_set, set_reads in zip(self.vpl_sets, reads):
+            sets.append((yield from vpl_set.arrays_taken_units(set_reads)))
+        return self._vpl_images(sets, hand_made)
 
     def _vpl_images(self, sets: list[VplArrays], hand_made: bool) -> VplImages:
         return VplImages(

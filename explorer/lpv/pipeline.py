@@ -130,11 +130,12 @@ class Pipeline:
         units differ (a propagation's slabs, then its audit and read-backs), so a job
         sizes its next unit by the same unit of the last run (``Job.next_unit_ms``)."""
         self.unit_ms_sized: dict[tuple[str, int, int], float] = {}
-        """(stage, unit number, image pixels) -> milliseconds it last took at that size,
-        for the stages whose work grows with the pixels (a drag's reduced frames and the
-        full-size one after it keep their own)."""
+        """(stage, unit number, size) -> milliseconds it last took at that size, for the
+        stages whose work grows with the pixels or the grid's cells (``Job.size_of``: a
+        drag's reduced frames and the full-size one after it keep their own, a 32³ grid's
+        units and a 64³ one's)."""
         self.unit_pixels: dict[str, int] = {}
-        """Per-pixel stage -> the image pixels of its last unit measured."""
+        """Such a stage -> the size (pixels or cells) of its last unit measured."""
         self.key_memo: dict[str, tuple] = {}
         """Stage -> what its last key was made of, and the key
         (:func:`explorer.lpv.cache_keys.remembered_stage_key`)."""

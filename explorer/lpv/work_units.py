@@ -26,16 +26,28 @@ def countdown(units: int) -> Callable[[], bool]:
     return more
 
 
-def read_back_later(reads: Sequence[DeferredRead],
-                    textures: Sequence[moderngl.Texture]) -> Iterator[GpuWait]:
+def read_back_later(reads: Sequence[DeferredRead], textures: Sequence[moderngl.Texture],
+                    apart: bool = False) -> Iterator[GpuWait | None]:
     """Copy each float32 RGBA texture into its deferred read (one unit, no wait), then take
     them, row 0 at the top as ``rsm.read_texture`` gives them, in the next unit (``yield
     from`` returns the arrays), which a job within a budget does once the copies are done
-    (explorer/lpv/job.py). ``reads``: one per texture, owned by the stage (reused)."""
+    (explorer/lpv/job.py). ``reads``: one per texture, owned by the stage (reused).
+    ``apart``: each texture taken in a unit of its own (a 960×540 image's three took
+    40–60 ms together on llvmpipe), the same arrays: :func:`read_back_units` units in all."""
     issue_together(reads[:len(textures)], textures,
                    [texture.size[::-1] + (4,) for texture in textures])
     yield GpuWait(list(reads[:len(textures)]))
-    return [read.wait()[::-1].copy() for read in reads[:len(textures)]]
+    arrays = []
+    for read in reads[:len(textures)]:
+        if apart and arrays:
+            yield None
+        arrays.append(read.wait()[::-1].copy())
+    return arrays
+
+
+def read_back_units(textures: int, apart: bool = False) -> int:
+    """The units of :func:`read_back_later` of ``textures`` textures."""
+    return 1 + (textures if apart else 1)
 
 
 def single_unit(work: Callable[[], None]) -> Iterator[None]:

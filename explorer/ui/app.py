@@ -333,6 +333,9 @@ class App:
         work_ms = status.work_ms if status is not None else 0.0
         # the window's own cost per frame (panels, drawing, swap), smoothed
         self.ui_ms += 0.2 * (max(rt.frame.frame_ms - work_ms, 0.0) - self.ui_ms)
+        if status is not None:       # what showing a finished frame draws more (kept free)
+            self.controller.result_drawing.note(rt.frame.frame_ms - work_ms + status.snapshot_ms,
+                                                status.finished)
         self._draws_pending = FRAMES_AFTER_INPUT if (events or changed) else max(
             self._draws_pending - 1, 0)
         self._seen = self._fingerprint()

@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING
 
 from explorer.gl.context import use_screen
 from explorer.lpv.audit import audit_mode
+from explorer.lpv.job import FINAL_STAGE
 from explorer.lpv.settings import Settings
 from explorer.lpv.stage_list import PIXEL_STAGES
 from explorer.schema import stages_reading
@@ -57,7 +58,13 @@ from explorer.ui.controller_state import (
     WorkUnit,
     keeps_steps,
 )
-from explorer.ui.frame_budget import FINISHING_STAGES, QUIET_BUDGET_MS, DragSizer, FrameBudget
+from explorer.ui.frame_budget import (
+    FINISHING_STAGES,
+    QUIET_BUDGET_MS,
+    DragSizer,
+    FrameBudget,
+    ResultDrawing,
+)
 from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.panel_tasks import run_tasks
 from explorer.ui.picture import Picture, SideDisplay, Stamp
@@ -135,6 +142,9 @@ class PipelineController:
         """The budget the last update worked to (the frame budget or the quiet one)."""
         self.draw_ms = 0.0
         """What the window spends drawing a frame (the shell's measure)."""
+        self.result_drawing = ResultDrawing()
+        """What a frame showing a finished frame draws more (the shell notes it): the units
+        finishing a job leave it free of the frame budget."""
         self.ran_settings: Settings | None = None
         """state.settings when A last finished a frame."""
         self.failed_settings: Settings | None = None
@@ -300,7 +310,8 @@ class PipelineController:
         """Advance the jobs until the budget is spent: the sides take turns (who goes
         first alternates between frames), each given an equal share of what is left; a
         side whose job has more work goes round again while its next unit still fits. At
-        most one progressive preview per side and frame, before its first turn. With a
+        most one progressive preview per side and frame, before its first turn (none that
+        frame when the preview left too little for its next unit). With a
         quiet budget a turn is at most the frame budget long, so that input is looked for
         between turns, and a frame that publishes a preview (it is drawn) keeps to the
         frame budget."""
@@ -323,12 +334,15 @@ class PipelineController:
                 continue
             if side.name not in previewed:
                 previewed.add(side.name)
+                shown = side.previews
                 self._preview_if_due(state, side, status)
                 if status.published:    # this frame is drawn: no quiet budget on top
                     budget.to_base()
                 if side.job is None:
                     continue
                 left = budget.left()
+                if side.previews != shown and not self._fits(side, left / (len(order) + 1)):
+                    continue    # the preview took the frame: the next unit waits for the next
             share = max(left, 0.0) / (len(order) + 1)
             if budget.quiet:
                 share = min(share, budget.base_ms)
@@ -336,16 +350,19 @@ class PipelineController:
             if side.job is not None and not side.job.gpu_pending:
                 order.append(side)      # (a job waiting for its copies goes on next frame)
 
-    @staticmethod
-    def _fits(side: SideState, left_ms: float) -> bool:
-        """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms``."""
+    def _fits(self, side: SideState, left_ms: float) -> bool:
+        """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms`` (and,
+        in the job's last stage, what finishing it may take: ``Job.advance``)."""
+        if side.job.stage == FINAL_STAGE:
+            left_ms = min(left_ms, self._budget.finishing_left(self.result_drawing.extra_ms))
         return left_ms > 0.0 and side.job.next_unit_ms() <= left_ms
 
     def _step(self, state: AppState, side: SideState, budget_ms: float,
               status: ControllerStatus) -> None:
         began = time.perf_counter()
         try:
-            side.progress = side.job.advance(budget_ms)
+            side.progress = side.job.advance(budget_ms, finishing_ms=self._budget.finishing_left(
+                self.result_drawing.extra_ms))
         except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
             request = side.request
             side.job, side.request = None, None
@@ -423,9 +440,10 @@ class PipelineController:
         began = time.perf_counter()
         self._snapshot(side, Stamp(side.serial, True), result)
         use_screen(self.ctx)
-        status.work.append(WorkUnit(side.name, "snapshot",
-                                    (time.perf_counter() - began) * 1e3))
-        status.published = True
+        snapshot_ms = (time.perf_counter() - began) * 1e3
+        status.work.append(WorkUnit(side.name, "snapshot", snapshot_ms))
+        status.published = status.finished = True
+        status.snapshot_ms += snapshot_ms
         side.auto_scale = float(result.display_scale)
         side.scale_cache.clear()
         ran = set(result.stages_run)

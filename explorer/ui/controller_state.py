@@ -95,6 +95,11 @@ class ControllerStatus:
     """A job or a background task still has work: the window must keep drawing."""
     published: bool = False
     """A side has a new picture this frame."""
+    finished: bool = False
+    """A side's job finished this frame: its frame is drawn with what a new result costs
+    the panels and the drawing (``frame_budget.ResultDrawing``)."""
+    snapshot_ms: float = 0.0
+    """Milliseconds of the finished frames' snapshots this frame (part of ``work_ms``)."""
     labels: dict[str, str] = field(default_factory=dict)
     """Side -> its job's progress ("propagating 5/8"); absent when the side is idle."""
     work: list[WorkUnit] = field(default_factory=list)

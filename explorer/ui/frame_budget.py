@@ -10,13 +10,19 @@ from collections.abc import Callable
 
 from explorer.lpv.cache_keys import downstream
 
+FRAME_TARGET_MS = 50.0
+"""The longest a frame should take while the user interacts (issue #32): a drag's frames
+aim at it (explorer/ui/frame_pacing.py ``DRAG_FPS``), and a quiet frame's longer budget
+stays under it."""
 QUIET_AFTER_S = 0.15
 """No input for this long: the user is watching, the pipelines get :data:`QUIET_BUDGET_MS`
 a frame ..."""
-QUIET_BUDGET_MS = 100.0
+QUIET_BUDGET_MS = 45.0
 """... (or the frame budget if larger) instead of the frame budget, so that fewer frames
 share the work; the shell's ``input_pending`` is asked between units and input brings
-the budget back at once. A frame stays within this plus one unit and a drawing."""
+the budget back at once. A quiet frame mostly draws nothing (a job with nothing new to
+show), so this keeps it under :data:`FRAME_TARGET_MS` with room for a unit's
+misestimate: input that arrives in the middle of one waits no longer than that."""
 FINISHING_STAGES = frozenset(downstream("propagate")[1:])
 """The stages after the propagation (gather, fog, display): a job in one of them is
 about to publish its finished frame, which is drawn, so its frame gets no quiet budget."""
@@ -67,6 +73,42 @@ class FrameBudget:
     def base_left(self) -> float:
         """Milliseconds left of the frame budget alone."""
         return self.base_ms - (time.perf_counter() - self.start) * 1e3
+
+    def finishing_left(self, extra_ms: float) -> float:
+        """What the units that finish a job may take now: the frame budget left less
+        ``extra_ms``, what the frame showing the finished frame draws more
+        (:class:`ResultDrawing`); at least 0."""
+        return max(self.base_left() - extra_ms, 0.0)
+
+
+RESULT_SMOOTHING = 0.3
+"""Weight of the latest frame in :class:`ResultDrawing`'s running measure."""
+
+
+class ResultDrawing:
+    """What a frame that shows a job's finished frame costs over a plain drawn frame: its
+    snapshot, the panels built anew for the new result (the View panel's picture, the
+    plots) and the drawing of the new picture. The controller keeps that much of the frame
+    budget free for the units that finish a job (``Job.advance``'s ``finishing_ms``), so
+    that such a frame stays within the budget and its drawing."""
+
+    def __init__(self) -> None:
+        self.extra_ms = 0.0
+        """The running measure (0 until a finished frame has been drawn)."""
+        self._plain_ms: float | None = None
+        self._result_ms: float | None = None
+
+    def note(self, drawing_ms: float, finished: bool) -> None:
+        """A drawn frame took ``drawing_ms`` besides the pipelines' units (its snapshots
+        included); ``finished``: it showed a finished frame."""
+        last = self._result_ms if finished else self._plain_ms
+        value = drawing_ms if last is None else last + RESULT_SMOOTHING * (drawing_ms - last)
+        if finished:
+            self._result_ms = value
+        else:
+            self._plain_ms = value
+        if self._result_ms is not None and self._plain_ms is not None:
+            self.extra_ms = max(self._result_ms - self._plain_ms, 0.0)
 
 
 class DragSizer:

@@ -27,8 +27,9 @@ IDLE_TIMEOUT_S = 0.5
 it draws only if something changed."""
 MESSAGE_SHOWN_S = 20.0
 """The status line shows the last message this long."""
-DRAG_FPS = 15.0
-"""Frame rate aimed at while the camera is dragged: the pipelines get what a frame at this
+DRAG_FPS = 20.0
+"""Frame rate aimed at while the camera is dragged (a frame of
+explorer/ui/frame_budget.py ``FRAME_TARGET_MS``): the pipelines get what a frame at this
 rate leaves after the window's own drawing, and render at the size that fits
 (explorer/ui/frame_budget.py DRAG_SCALES)."""
 MIN_DRAG_BUDGET_MS = 4.0

@@ -414,7 +414,7 @@ class AppState:
                                      group="Output",
                                      doc="Pipeline work per drawn frame: a change renders "
                                          "over several frames and the window keeps "
-                                         "responding (100 ms, or this if more, while no "
+                                         "responding (45 ms, or this if more, while no "
                                          "input comes; input brings it back at once).")
     progressive: bool = setting(True, kind="bool", widget="checkbox",
                                 label="Show the light converging", group="Output",

@@ -181,7 +181,7 @@ def test_a_settings_change_mid_propagation_cancels_and_restarts(pipeline, gl_con
     assert [c for c in calls if c[0] == "propagate"][:3] == [("propagate", 0, 10),
                                                              ("propagate", 0, 10),
                                                              ("propagate", 1, 10)]
-    assert calls[-1] == ("display", 2, 2)          # the auto exposure, then the pass
+    assert calls[-1] == ("display", 3, 3)   # the auto exposure (metered, averaged), the pass
     with Pipeline(other, ctx=gl_context) as fresh:
         assert np.allclose(second.result.accumulated, fresh.run().accumulated, rtol=1e-6,
                            atol=1e-9)
@@ -374,8 +374,8 @@ def test_the_gather_runs_in_bands_that_make_the_whole_image(gl_context, ctx):
     with Pipeline(settings, ctx=gl_context) as pipe:
         banded = pipe.run(progress=lambda *call: calls.append(call))
         # two bands, the read-backs of direct, indirect and received (copied in one unit,
-        # taken in the next), then their sums and checks: a unit each
-        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 5) for k in range(6)]
+        # then taken a unit each), then their sums and checks: a unit each
+        assert [c for c in calls if c[0] == "gather"] == [("gather", k, 7) for k in range(8)]
         gather = pipe.stages["gather"]
         gather.gather_levels(settings)                                 # all rows at once
         whole = read_texture(gather.gather.targets["indirect"])[..., :3]
@@ -440,3 +440,37 @@ def test_a_job_sizes_each_unit_by_the_same_unit_of_the_last_run(pipeline):
     assert len(estimates) > SMALL.iterations
     assert estimates == [last[("propagate", unit)] for unit in range(len(estimates))]
     assert len(set(estimates)) > 1          # the units are not all alike
+
+
+def test_a_grid_stage_is_sized_at_the_grid_it_runs_at(pipeline, monkeypatch):
+    """The propagation's first unit at a larger grid is estimated by the same unit at the
+    smaller grid scaled up by the cells, and by itself once measured at that grid (the
+    first 64³ job after 32³ ones is not sized by the 32³ units)."""
+    from explorer.lpv.job import GRID_STAGES, Job
+
+    assert "propagate" in GRID_STAGES and "inject" in GRID_STAGES
+    assert not set(GRID_STAGES) & set(stage_list.PIXEL_STAGES)
+    estimates: dict[tuple, float] = {}
+    run_unit = Job._run_unit
+
+    def recorded(job):
+        estimates.setdefault((job.stage, job.settings.grid_size, len(estimates)),
+                             job.next_unit_ms())
+        run_unit(job)
+
+    pipeline.run(SMALL)
+    small_start = pipeline.unit_ms_at[("propagate", 0)]
+    monkeypatch.setattr(Job, "_run_unit", recorded)
+
+    def first_propagate_estimate(settings) -> float:
+        estimates.clear()
+        job = pipeline.start(settings)
+        while not job.done:
+            job.advance(0.0)
+        return next(ms for (stage, _, _), ms in estimates.items() if stage == "propagate")
+
+    big = SMALL.with_changes(grid_size=16)
+    assert first_propagate_estimate(big) == small_start * 8       # 16³ / 8³ cells
+    big_start = pipeline.unit_ms_sized[("propagate", 0, 16 ** 3)]
+    pipeline.invalidate("propagate")
+    assert first_propagate_estimate(big) == big_start              # measured there now

@@ -181,7 +181,7 @@ class _FinishedJob:
         self._result, self.done, self.cancelled = result, False, False
         self.progress = Progress("scene", 0, 1, False, ())
 
-    def advance(self, budget_ms=None):
+    def advance(self, budget_ms=None, finishing_ms=None):
         from explorer.lpv.job import Progress
 
         self.done = True

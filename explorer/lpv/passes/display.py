@@ -14,6 +14,8 @@ The numpy twin: :func:`exposed_image` followed by
 
 from __future__ import annotations
 
+from collections.abc import Generator
+
 import moderngl
 import numpy as np
 
@@ -22,7 +24,13 @@ from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.passes.fog import FogImages
 from explorer.lpv.passes.gather import GatherImages
-from explorer.lpv.twin.tonemap import auto_exposure_scale, tone_map_index
+from explorer.lpv.twin.tonemap import (
+    auto_exposure_scale,
+    exposure_for,
+    log_average_of,
+    metered_luminance,
+    tone_map_index,
+)
 
 
 def exposed_image(direct: np.ndarray, indirect: np.ndarray, exposure: float,
@@ -65,6 +73,18 @@ class AutoExposure:
         """:func:`display_scale` of the unexposed image of ``gather``'s ``direct`` and
         ``indirect`` (and ``fog``) over the pixels whose G-buffer ``position`` shows a
         surface (w = 1)."""
+        measuring = self.measure(gather, fog, indirect_only, position)
+        while True:
+            try:
+                next(measuring)
+            except StopIteration as done:
+                return done.value
+
+    def measure(self, gather: GatherImages, fog: FogImages | None, indirect_only: bool,
+                position: np.ndarray) -> Generator[None, None, float]:
+        """:meth:`scale` in two units (``yield from`` returns it): the metered luminances,
+        then their log average (each about as long at 960×540); one unit when measured
+        already."""
         measured = self._measured
         if measured is None or measured[0] is not gather or measured[1] is not fog or \
                 measured[2] != indirect_only:
@@ -77,9 +97,11 @@ class AutoExposure:
             else:
                 unexposed = exposed_image(gather.direct[..., :3], gather.indirect[..., :3],
                                           1.0, indirect_only, fog)
+            metered = metered_luminance(unexposed, position[..., 3] > 0.5)
+            del unexposed
+            yield
             measured = self._measured = (gather, fog, indirect_only,
-                                         display_scale(unexposed, position[..., 3] > 0.5,
-                                                       True))
+                                         exposure_for(log_average_of(metered)))
         return measured[3]
 
 

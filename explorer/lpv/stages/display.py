@@ -45,13 +45,20 @@ class Stage(StageBase):
         return self.host.display_scale_override
 
     def units(self, job: Job) -> int:
-        return 2
+        return 3
 
     def work(self, job: Job) -> Iterator[None]:
-        """Two units: the display scale (the auto exposure measures the read-back image on
-        the CPU), then the display pass."""
+        """Three units: the display scale in two (the auto exposure meters the read-back
+        image on the CPU, then averages it: ``AutoExposure.measure``; the second does
+        nothing when there is nothing to measure), then the display pass."""
         p = Params.of(job.settings)
-        self.state.display_scale = self.frame_scale(p)
+        measuring = self.frame_scale(p)
+        given = [next(measuring)]
+        yield
+        given.extend(measuring)
+        scale = given[-1]
+        assert scale is not None, "frame_scale ends with the scale"
+        self.state.display_scale = scale
         yield
         self.show(p, self.state.display_scale)
 
@@ -67,18 +74,22 @@ class Stage(StageBase):
             targets["direct"], targets["indirect"], p.exposure, p.indirect_only, p.tone_map,
             scale, fog_targets))
 
-    def frame_scale(self, p: Params) -> float:
+    def frame_scale(self, p: Params) -> Iterator[float | None]:
         """The display scale of the frame just gathered: the override, or the auto
         exposure of its unexposed image over the pixels that show a surface (measured
-        once per gathered frame and ``indirect_only``; an exposure change reuses it)."""
+        once per gathered frame and ``indirect_only``; an exposure change reuses it), in
+        the units of ``AutoExposure.measure``: None after each but the last, which gives
+        the scale."""
         override = self.host.display_scale_override
         if override is not None:
-            return float(override)
-        if not p.auto_exposure:
-            return 1.0
-        state = self.state
-        return self.auto_exposure.scale(state.gather, state.fog if p.fog else None,
-                                        p.indirect_only, state.gbuffer.position)
+            yield float(override)
+        elif not p.auto_exposure:
+            yield 1.0
+        else:
+            state = self.state
+            yield (yield from self.auto_exposure.measure(
+                state.gather, state.fog if p.fog else None, p.indirect_only,
+                state.gbuffer.position))
 
     def release(self) -> None:
         self.display.release()

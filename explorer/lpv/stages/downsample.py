@@ -1,7 +1,7 @@
 """The ``downsample`` stage: the VPLs the injection reads (the RSM texels, merged blocks
 of them, or hand-made VPLs: :meth:`explorer.lpv.light_views.LightViews.choose_vpls_later`) and
 their read-back (copied in the stage's first unit, taken in the second once the copies
-are done)."""
+are done; a large set's arrays a unit each: explorer/lpv/vpl.py ``TAKEN_APART_TEXELS``)."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ class Stage(StageBase):
     def units(self, job: Job) -> int:
         return 2
 
-    def work(self, job: Job) -> Iterator[GpuWait]:
+    def work(self, job: Job) -> Iterator[GpuWait | int]:
         s, host = job.settings, self.host
         views = host.light_views
         views.choose_vpls_later(s, job.vpls, self.state.specs[0],
@@ -40,7 +40,14 @@ class Stage(StageBase):
             vpl_set.read_later(set_reads)
         yield GpuWait([read for vpl_set, set_reads in zip(views.vpl_sets, reads)
                        for read in set_reads[:len(vpl_set.all_textures)]])
-        self.state.vpls = views.vpls_taken(reads, job.vpls is not None)
+        taking = views.vpls_taken_units(reads, job.vpls is not None)
+        while True:         # a large set's arrays a unit each (the progress stays at 1)
+            try:
+                next(taking)
+            except StopIteration as taken:
+                self.state.vpls = taken.value
+                break
+            yield 1
         # hand-made VPLs are the caller's: a NaN in them shows up at the injection
         self.state.warnings["downsample"] = [] if job.vpls is not None else \
             guards.arrays_warnings_later("downsample", [self.state.vpls.vpls.flux], s)

@@ -1,6 +1,6 @@
 """The ``gather`` stage: linear direct and LPV indirect radiance per pixel
 (explorer/lpv/passes/gather.py) in bands of rows (one per unit), then the read-back of the
-targets (copied in one unit, taken in the next once the copies are done:
+targets (copied in one unit, taken once the copies are done, a unit a target:
 explorer/lpv/work_units.py ``read_back_later``) and their sums and checks (one more).
 :meth:`Stage.gather_levels` also gathers a job's accumulation as it is (the progressive
 previews)."""
@@ -25,7 +25,7 @@ from explorer.lpv.passes.gather import (
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.work_units import read_back_later
+from explorer.lpv.work_units import read_back_later, read_back_units
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
@@ -57,7 +57,8 @@ class Stage(StageBase):
         self.reads = [DeferredRead(host.ctx) for _ in TARGETS]
 
     def units(self, job: Job) -> int:
-        return len(bands((job.settings.width, job.settings.height))) + 3
+        return len(bands((job.settings.width, job.settings.height))) + read_back_units(
+            len(TARGETS), apart=True) + 1
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
@@ -66,7 +67,8 @@ class Stage(StageBase):
             host.timer.timed("gather", lambda: self.gather_levels(s, band), accumulate=True)
             yield
         targets = self.gather.targets
-        arrays = yield from read_back_later(self.reads, [targets[name] for name in TARGETS])
+        arrays = yield from read_back_later(self.reads, [targets[name] for name in TARGETS],
+                                            apart=True)
         yield       # the sums and the checks of the arrays: a unit of their own
         self.state.gather = GatherImages(**dict(zip(TARGETS, arrays)))
         self.state.warnings["gather"] = guards.arrays_warnings_later("gather", arrays, s)

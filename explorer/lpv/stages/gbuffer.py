@@ -1,6 +1,6 @@
 """The ``gbuffer`` stage: the camera's position, normal and albedo
 (explorer/lpv/passes/gbuffer.py), then the read-back of its textures (copied in one unit, taken
-in the next once the copies are done: explorer/lpv/work_units.py ``read_back_later``)."""
+a texture a unit once the copies are done: explorer/lpv/work_units.py ``read_back_later``)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from explorer.lpv.passes.gbuffer import TARGETS, GBufferPass
 from explorer.lpv.stage_list import StageDecl
 from explorer.lpv.stages.base import Stage as StageBase
 from explorer.lpv.stages.base import StageHost
-from explorer.lpv.work_units import read_back_later
+from explorer.lpv.work_units import read_back_later, read_back_units
 
 if TYPE_CHECKING:
     from explorer.lpv.job import Job
@@ -28,7 +28,7 @@ class Stage(StageBase):
         self.reads = [DeferredRead(host.ctx) for _ in TARGETS]
 
     def units(self, job: Job) -> int:
-        return 3
+        return 1 + read_back_units(len(TARGETS), apart=True)
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
@@ -36,7 +36,7 @@ class Stage(StageBase):
         host.timer.timed("gbuffer", lambda: self.gbuffer.run(
             host.scene_state.buffers, scene, (s.width, s.height)))
         yield
-        arrays = yield from read_back_later(self.reads, self.gbuffer.textures)
+        arrays = yield from read_back_later(self.reads, self.gbuffer.textures, apart=True)
         self.state.gbuffer = GBufferImages(*arrays)
         self.state.warnings["gbuffer"] = guards.arrays_warnings_later("gbuffer", arrays, s)
 

@@ -82,12 +82,24 @@ def log_average_luminance(image: np.ndarray, mask: np.ndarray | None = None,
     luminance ranks between the two ``percentiles`` of theirs (``(0, 100)``: all of them;
     at least one pixel), ``δ`` = :data:`LOG_AVERAGE_FLOOR` × the brightest; 0 when none
     is lit."""
+    return log_average_of(metered_luminance(image, mask), percentiles)
+
+
+def metered_luminance(image: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
+    """The luminances :func:`log_average_luminance` averages: of the pixels of ``mask``
+    (all when None), non-finite ones as 0, negative ones as 0, flat (the first half of it;
+    the window's display stage takes the halves in units of their own)."""
     lum = luminance(image)
     if not np.isfinite(lum).all():      # nan_to_num copies even when nothing is to change
         lum = np.nan_to_num(lum)
     if mask is not None:
         lum = lum[np.asarray(mask, bool)]
-    lum = np.maximum(lum.ravel(), 0.0)
+    return np.maximum(lum.ravel(), 0.0)
+
+
+def log_average_of(lum: np.ndarray,
+                   percentiles: tuple[float, float] = METERED_PERCENTILES) -> float:
+    """:func:`log_average_luminance` of the luminances :func:`metered_luminance` gives."""
     peak = float(lum.max()) if lum.size else 0.0
     if not peak > 0.0:
         return 0.0
@@ -110,7 +122,11 @@ def auto_exposure_scale(image: np.ndarray, mask: np.ndarray | None = None,
                         key: float = AUTO_EXPOSURE_KEY) -> float:
     """``key / L̄`` of ``image`` (1 when nothing is lit): the scale that exposes the image's
     log-average luminance at ``key``."""
-    average = log_average_luminance(image, mask)
+    return exposure_for(log_average_luminance(image, mask), key)
+
+
+def exposure_for(average: float, key: float = AUTO_EXPOSURE_KEY) -> float:
+    """``key / average``, 1 when nothing is lit (``average`` 0)."""
     return float(key / average) if average > 0.0 else 1.0
 
 
