@@ -289,8 +289,7 @@ class App:
         if not must_draw and not worked:
             if not self._heaps_trimmed:     # fallen idle: what only a job in progress
                 # uses, then the heaps' free pages, go back
-                if self.controller.pipeline_class is not None:
-                    self.controller.release_between_runs()
+                memory.release_between_runs(self.controller.sides.values())
                 memory.give_back_free()
                 self._heaps_trimmed = True
                 self.idle_falls += 1

@@ -221,18 +221,16 @@ class PipelineController:
 
     # ------------------------------------------------------------------ the frame
     def update(self, state: AppState, budget_ms: float, *,
-               need_audit: str | bool | Mapping[str, str] = "off",
-               interacting: bool = False,
+               need_audit: str | bool | Mapping[str, str] = "off", interacting: bool = False,
                drag_budget_ms: float | None = None,
                draw_ms: float | None = None, quiet_s: float = 0.0,
                input_pending: Callable[[], bool] | None = None) -> ControllerStatus:
         """Start, advance and publish within ``budget_ms`` milliseconds (module
         docstring); fills ``state.runtime``. ``need_audit``: the audit mode what is
-        drawn needs (explorer.lpv.audit.AUDIT_MODES), of every side or per side (a
-        mapping: the window's ``runtime.audit_of_sides``; a side it lacks measures none).
-        ``drag_budget_ms``: what a frame may spend on the pipelines while the camera is
-        dragged (the window's frame time for the drag's frame rate, less its own
-        drawing; default ``budget_ms``): the drag scale
+        drawn needs (explorer.lpv.audit.AUDIT_MODES), or per side (``runtime.
+        audit_of_sides``). ``drag_budget_ms``: what a frame may spend on the pipelines
+        while the camera is dragged (the window's frame time for the drag's frame rate,
+        less its own drawing; default ``budget_ms``): the drag scale
         is chosen so that a camera frame fits it, and a drag's frame gets that much.
         ``draw_ms``: what the window spends drawing a frame (paces the previews).
         ``quiet_s``: seconds since the last input; from ``QUIET_AFTER_S`` on, the
@@ -590,13 +588,6 @@ class PipelineController:
             self._requests.pop(name, None)
             self._refusals.pop(name, None)
             self._idle_since.pop(name, None)
-
-    def release_between_runs(self) -> int:
-        """Every side's GPU memory that only a job in progress uses
-        (:meth:`Pipeline.release_between_runs`): the window calls it when it falls idle.
-        Returns the bytes released."""
-        return sum(side.pipeline.release_between_runs() for side in self.sides.values()
-                   if side.pipeline is not None)
 
     def release(self) -> None:
         for side in self.sides.values():

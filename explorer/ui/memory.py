@@ -12,13 +12,16 @@ Smaller blocks (below the threshold) come from glibc's heaps, one per thread tha
 allocates (llvmpipe's too), and a freed block in the middle of a heap stays resident: after
 a 64³ step a window falling idle held 170 MiB of such free pages (BENCHMARKS.md, issue
 #31). :func:`give_back_free` hands them back (``malloc_trim``); the window calls it once
-each time it falls idle, when no one waits on a frame.
+each time it falls idle, when no one waits on a frame, after :func:`release_between_runs`
+has released what only a job in progress uses.
 """
 
 from __future__ import annotations
 
 import ctypes
 import ctypes.util
+from collections.abc import Iterable
+from typing import Any
 
 MMAP_THRESHOLD_BYTES = 1 << 20
 """Blocks from 1 MiB up are mapped on their own (numpy's images and grids)."""
@@ -58,3 +61,12 @@ def give_back_free() -> bool:
     trim.argtypes, trim.restype = [ctypes.c_size_t], ctypes.c_int
     trim(0)
     return True
+
+
+def release_between_runs(sides: Iterable[Any]) -> int:
+    """Release the GPU memory only a job in progress uses of every side that has a
+    pipeline (``SideState``: :meth:`explorer.lpv.pipeline.Pipeline.release_between_runs`,
+    a large grid's ping and pong, the injection's layers, the read-backs taken); the
+    window calls it when it falls idle. Returns the bytes released."""
+    return sum(side.pipeline.release_between_runs() for side in sides
+               if side.pipeline is not None)

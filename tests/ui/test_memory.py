@@ -83,7 +83,6 @@ def test_a_window_falling_idle_releases_what_only_a_job_uses(monkeypatch):
     import explorer.lpv.passes.propagate as propagate_pass
     from explorer.lpv.settings import Settings
     from explorer.ui.app import App
-    from explorer.ui.controller import PipelineController
     from explorer.ui.state import AppState
     from explorer.ui.window_options import WindowOptions
 
@@ -91,13 +90,13 @@ def test_a_window_falling_idle_releases_what_only_a_job_uses(monkeypatch):
         pytest.skip(str(display_problem()))
     monkeypatch.setattr(propagate_pass, "SPARE_GRID_BYTES", 0)      # every grid is large
     released = []
-    original = PipelineController.release_between_runs
+    original = memory.release_between_runs
 
-    def counted(self) -> int:
-        released.append(original(self))
+    def counted(sides) -> int:
+        released.append(original(sides))
         return released[-1]
 
-    monkeypatch.setattr(PipelineController, "release_between_runs", counted)
+    monkeypatch.setattr(memory, "release_between_runs", counted)
     settings = Settings(grid_size=8, iterations=4, rsm_size=32, width=96, height=64)
     app = App(AppState(settings=settings),
               WindowOptions(width=640, height=480, visible=False, vsync=False,
