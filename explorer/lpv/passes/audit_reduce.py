@@ -5,6 +5,9 @@ data types are :mod:`explorer.lpv.audit`'s."""
 
 from __future__ import annotations
 
+import struct
+from collections.abc import Callable
+
 import moderngl
 import numpy as np
 
@@ -166,6 +169,41 @@ class AuditReducer:
         program.run(-(-partials // 64))
         self.ctx.memory_barrier()
 
+    def slot_measurer(self, stage: int) -> Callable[[int], None]:
+        """A function of a slot that does what :meth:`measure_flux` (``stage`` 0, with the
+        grid already on sampler units 0..2) or :meth:`sum_cell_records` (``stage`` 1) does
+        with ``bound``, once one of them has run on this grid since the cache last released
+        a program: the slot's upload (when it changed), the dispatch and its barrier, for a
+        propagation's steps in a row (explorer/lpv/passes/propagate.py)."""
+        uniforms = GRID_SAMPLERS if stage == 0 else {}
+        program = self._stage_program(stage)
+        info = program.extra
+        uploaded = info.get("values", {})
+        if info.get("audit grid") != (self._cells, self._partials, uniforms) or \
+                "u_result_slot" not in uploaded:
+            return lambda slot: self._run_partials(stage, slot, uniforms, bound=True)
+        # set_uniform's bookkeeping, kept as it keeps it
+        kept = info.setdefault("uniforms", {})
+        uniform = kept.get("u_result_slot")
+        if uniform is None:
+            uniform = kept["u_result_slot"] = program["u_result_slot"]
+        info["last values"] = None
+        write, run, barrier = uniform.write, program.run, self.ctx.memory_barrier
+        groups, slots = -(-self._partials // 64), self._slots
+        packed = _packed_ints(uniform.fmt, slots)
+
+        def measure(slot: int) -> None:
+            if not 0 <= slot < slots:
+                raise IndexError(f"audit slot {slot} outside 0..{slots - 1}")
+            stamp = (int, slot)
+            if uploaded["u_result_slot"] != stamp:
+                write(packed[slot])
+                uploaded["u_result_slot"] = stamp
+            run(groups)
+            barrier()
+
+        return measure
+
     def measure_flux(self, slot: int, grid: LpvGrid, bound: bool = False) -> None:
         """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs);
         ``bound``: :meth:`bind`'s buffers are still bound."""
@@ -217,6 +255,18 @@ class AuditReducer:
         self._buffers.clear()
         self.has_records = False
         self._kept.clear()
+
+
+_PACKED_INTS: dict[str, list[bytes]] = {}
+"""A uniform's format -> the bytes of 0, 1, 2, ... in it (the audit's slots)."""
+
+
+def _packed_ints(fmt: str, count: int) -> list[bytes]:
+    """The bytes ``struct.pack(fmt, k)`` of k = 0 .. at least ``count - 1`` (made once)."""
+    packed = _PACKED_INTS.setdefault(fmt, [])
+    if len(packed) < count:
+        packed.extend(struct.pack(fmt, k) for k in range(len(packed), max(count, 64)))
+    return packed
 
 
 class CellAuditRecords:

@@ -9,6 +9,7 @@ once into a :class:`PropagationOutput`; :func:`grid_audit` reads the audit back;
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import moderngl
@@ -426,6 +427,69 @@ class PropagationRun:
         target = self.done + 1
         while self.done < target:
             self.advance()
+
+    def advance_for(self, limit_ms: float, start: float) -> None:
+        """Slabs in a row until ``limit_ms`` milliseconds since ``start`` (a
+        ``time.perf_counter()``) are spent, at least one, or every step has run: the first
+        by :meth:`advance`, the rest keeping its bindings (``bound``). Steps of one slab
+        each with nothing to do between them but the audit's measurement (no flux budget,
+        no kept grid: a small grid's, every frame) go through :meth:`_steps_in_a_row`,
+        the same GL calls with less Python around them."""
+        clock, deadline = time.perf_counter, start + limit_ms / 1e3
+        self.advance()
+        if self.finished or clock() >= deadline:
+            return
+        if len(self._slabs) == 1 and self._budget is None and not self._keep_steps:
+            self._steps_in_a_row(clock, deadline)
+            return
+        while not self.finished:
+            self.advance(bound=True)
+            if clock() >= deadline:
+                return
+
+    def _steps_in_a_row(self, clock, deadline: float) -> None:
+        """:meth:`advance` with ``bound`` of one-slab steps until ``clock()`` reaches
+        ``deadline`` or every step has run, after an :meth:`advance` of this run (which got
+        the program, set its offset and bound what every step keeps): per step the source
+        on sampler units 0..2 (the flux audit's reduction left it there), the target's
+        images, the dispatch and its barrier, and the audit's measurement of the step."""
+        owner, program = self._owner, self._program
+        run, barrier = program.run, owner.ctx.memory_barrier
+        groups_x, groups_y = self._groups[0], self._groups[1]
+        first, end = self._slabs[0]
+        groups_z = -(-(end - first) // 4)
+        targets, mode = self._targets, self._mode
+        measure = owner.audit.slot_measurer(1 if self._with_audit else 0)
+        done, iterations = self.done, self.iterations
+        source = self._source
+        while True:
+            done += 1
+            target = targets[done % 2]
+            if mode != "flux":          # the flux reduction left the source on 0..2
+                r, g, b = source.textures
+                r.use(0)
+                g.use(1)
+                b.use(2)
+            r, g, b = target.textures
+            r.bind_to_image(0)
+            g.bind_to_image(1)
+            b.bind_to_image(2)
+            run(groups_x, groups_y, groups_z)
+            barrier()
+            if mode == "full":
+                measure(done)
+            elif mode == "flux":
+                r.use(0)
+                g.use(1)
+                b.use(2)
+                measure(done)
+            source = target
+            if done >= iterations or clock() >= deadline:
+                break
+        self._source, self.done = source, done
+        self._bound = _RUN_AUDIT if mode != "off" else _RUN
+        if mode == "flux":
+            self._bound |= _SOURCE
 
     def advance(self, bound: bool = False) -> None:
         """Dispatch the next slab of the current step; after the step's last slab, its
