@@ -162,6 +162,10 @@ class DeferredRead:
         self._fence: Fence | None = None
         self.shape: tuple[int, ...] = ()
         self.dtype = np.dtype("f4")
+        self._dtype_given: object = None
+        """The ``dtype`` argument :attr:`dtype` was made from (what the next copy compares)."""
+        self._size = 0
+        self._buffer_size = 0
         self.serial = 0
         """Increases with every read issued (what a consumer compares)."""
 
@@ -177,12 +181,17 @@ class DeferredRead:
                       **read_options) -> None:
         """:meth:`issue`'s copy without its fence: the read is not issued until
         :meth:`fenced` gives it one made after this copy (:func:`issue_together`)."""
-        self.dtype, self.shape = np.dtype(dtype), tuple(shape)
-        size = math.prod(self.shape) * self.dtype.itemsize
-        if self._buffer is None or self._buffer.size != size:
+        if dtype is not self._dtype_given or shape != self.shape:
+            # a stage reads the same shapes frame after frame: worked out when they change
+            self.dtype, self.shape = np.dtype(dtype), tuple(shape)
+            self._dtype_given = dtype
+            self._size = math.prod(self.shape) * self.dtype.itemsize
+        size = self._size
+        if self._buffer is None or self._buffer_size != size:
             if self._buffer is not None:
                 self._buffer.release()
             self._buffer = self.ctx.buffer(reserve=size, dynamic=True)
+            self._buffer_size = size
             DEFERRED_BUFFERS.add(self._buffer)
         if isinstance(source, moderngl.Buffer):
             self.ctx.copy_buffer(self._buffer, source, size)
