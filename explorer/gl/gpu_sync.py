@@ -82,6 +82,8 @@ class _Gl:
         # window's figure pictures, explorer/ui/figure_cache.py): queued, no read-back
         self.copy_tex_sub_image_2d = _function(library, "glCopyTexSubImage2D", None,
                                                ctypes.c_uint, *[ctypes.c_int] * 7)
+        self.get_integer_v = _function(library, "glGetIntegerv", None, ctypes.c_uint,
+                                       ctypes.POINTER(ctypes.c_int))
         self.query_object_iv = _function(library, "glGetQueryObjectiv", None, ctypes.c_uint,
                                          ctypes.c_uint, ctypes.POINTER(ctypes.c_int))
         self.query_object_ui64v = _function(library, "glGetQueryObjectui64v", None,
@@ -104,6 +106,21 @@ def gl() -> _Gl:
     if _gl is None:
         _gl = _Gl()
     return _gl
+
+
+GL_MAX_IMAGE_UNITS = 0x8F38
+
+
+def gl_integer(name: int, default: int = 0) -> int:
+    """``glGetIntegerv(name)`` of the current context (a limit moderngl's ``info`` does not
+    hold), ``default`` without a GL library."""
+    try:
+        entry_points = gl()
+    except OSError:
+        return default
+    value = ctypes.c_int(default)
+    entry_points.get_integer_v(name, ctypes.byref(value))
+    return int(value.value)
 
 
 class Fence:

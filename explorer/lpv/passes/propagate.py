@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import GL_MAX_IMAGE_UNITS, DeferredRead, gl_integer
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
@@ -29,6 +29,7 @@ from explorer.lpv.passes.textures import (
     check_volume_array,
     copied_apart,
     copy_volume,
+    copy_volumes,
     default_context,
     dispatch_size,
     image_format_defines,
@@ -86,6 +87,14 @@ class PropagatePass:
         self._run_uniforms: dict[tuple[GridSpec, Corrections], dict[str, object]] = {}
         self._programs_of: dict[tuple, tuple[dict[str, object], tuple, tuple[str, ...]]] = {}
         self._budget: moderngl.Buffer | None = None
+        self._image_units: int | None = None
+
+    def image_units(self) -> int:
+        """The context's ``GL_MAX_IMAGE_UNITS`` (asked once): a run puts ping and pong on
+        units of their own (:data:`EVEN_STEP_UNITS`) only where there are enough."""
+        if self._image_units is None:
+            self._image_units = gl_integer(GL_MAX_IMAGE_UNITS, 8)
+        return self._image_units
 
     def budget_buffer(self, cells: tuple[int, int, int]) -> moderngl.Buffer:
         """The flux budget's factors (one vec4 per cell), kept between runs."""
@@ -107,7 +116,6 @@ class PropagatePass:
                 self._run_uniforms.clear()
             made = self._run_uniforms[key] = {
                 **spec.uniforms(), **corrections.as_uniforms(),
-                "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
                 "u_geometry": self.GEOMETRY_UNIT, "u_geometry_albedo": self.ALBEDO_UNIT,
                 "u_cell_offset": (0, 0, 0)}
         return made
@@ -211,6 +219,25 @@ class PropagatePass:
         if self._budget is not None:
             self._budget.release()
             self._budget = None
+
+
+PING_TEXTURE_UNIT, PONG_IMAGE_UNIT = 8, 6
+"""Where a run's steps in a row (:meth:`PropagationRun.advance_for`) keep ping-pong's
+grids: ping's images on units 0..2 (the odd steps' target) and its textures on sampler
+units 8..10 (the even steps' source), pong's images on units 6..8 (the even steps'
+target) and its textures on units 0..2 (the odd steps' source, after grid_0 there): the
+odd steps run the run's program, the even ones its second program of the same variant
+with :data:`EVEN_STEP_UNITS`, and no step binds anything anew (but step 3, pong in
+grid_0's place). Sampler units 6 and 7 hold the geometry volume, image units 3..5 the
+accumulation."""
+EVEN_STEP_UNITS = {
+    "PROPAGATE_SOURCE_R": PING_TEXTURE_UNIT, "PROPAGATE_SOURCE_G": PING_TEXTURE_UNIT + 1,
+    "PROPAGATE_SOURCE_B": PING_TEXTURE_UNIT + 2, "PROPAGATE_TARGET_R": PONG_IMAGE_UNIT,
+    "PROPAGATE_TARGET_G": PONG_IMAGE_UNIT + 1, "PROPAGATE_TARGET_B": PONG_IMAGE_UNIT + 2}
+"""The even steps' program's defines besides the run's (``shaders/propagate.glsl``)."""
+LAYOUT_IMAGE_UNITS = PONG_IMAGE_UNIT + 3
+"""Image units the layout needs (GL 4.3 promises 8; llvmpipe has 192): with fewer, every
+step binds its source and target as a single program needs."""
 
 
 COMPILED_SWITCHES = {"u_ping_pong": "PROPAGATE_PING_PONG"}
@@ -340,6 +367,8 @@ class PropagationRun:
         self._program = None
         self._program_releases = -1
         self._budget_program: tuple[dict[str, object], tuple] | None = None
+        self._even_variant: tuple[dict[str, object], tuple] | None = None
+        self._even = None
         self._program_now()
         # step t writes ping (t odd) or pong (t even); in place, the accumulation
         self._targets = ((self._scratch["pong"], self._scratch["ping"]) if corrections.ping_pong
@@ -368,10 +397,12 @@ class PropagationRun:
 
     def _copy_rest(self) -> bool:
         """Copy the channels left (:meth:`copy_next`); False when there were some."""
-        done = not self._copies
-        while self._copies:
-            self.copy_next()
-        return done
+        if not self._copies:
+            return True
+        copies, self._copies = self._copies, []
+        copy_volumes(self._owner.programs, [source.texture for source, _ in copies],
+                     [target for _, target in copies])
+        return False
 
     @property
     def accumulated(self) -> LpvGrid:
@@ -390,6 +421,18 @@ class PropagationRun:
             set_uniforms(program, self._uniforms, reads=self._reads)
             program.extra["cell_offset"] = 0
             self._program = program
+        return program
+
+    def _even_program(self):
+        """The run's second program (:data:`EVEN_STEP_UNITS`), got from the cache once per
+        unit; a new one gets the run's uniforms first."""
+        if self._even_variant is None:
+            defines = {**self._defines, **EVEN_STEP_UNITS}
+            self._even_variant = (defines, ProgramCache.key("propagate.glsl", defines))
+        program = self._owner.programs.get("propagate.glsl", *self._even_variant)
+        if program is not self._even:
+            set_uniforms(program, self._uniforms, reads=self._reads)
+            self._even = program
         return program
 
     def _run_budget_pass(self) -> None:
@@ -459,26 +502,51 @@ class PropagationRun:
         first, end = self._slabs[0]
         groups_z = -(-(end - first) // 4)
         targets, mode = self._targets, self._mode
-        measure = owner.audit.slot_measurer(1 if self._with_audit else 0)
         done, iterations = self.done, self.iterations
         source = self._source
+        # ping and pong on units of their own (PING_TEXTURE_UNIT): the flux audit reads the
+        # grid it measures on units 0..2, and so does in place
+        layout = mode != "flux" and self._corrections.ping_pong and \
+            owner.image_units() >= LAYOUT_IMAGE_UNITS
+        if layout:
+            even = self._even_program()
+            if owner.programs.releases != self._program_releases:
+                program = self._program_now()      # the second program's compile evicted
+                run = program.run
+            run_even = even.run
+            ping, pong = self._scratch["ping"], self._scratch["pong"]
+            ping.bind_images(0)
+            pong.bind_images(PONG_IMAGE_UNIT)
+            ping.use_as_textures(PING_TEXTURE_UNIT)
+            on_zero = None                          # the grid on sampler units 0..2
+        measure = owner.audit.slot_measurer(1 if self._with_audit else 0)
         while True:
             done += 1
             target = targets[done % 2]
-            if mode != "flux":          # the flux reduction left the source on 0..2
-                r, g, b = source.textures
-                r.use(0)
-                g.use(1)
-                b.use(2)
-            r, g, b = target.textures
-            r.bind_to_image(0)
-            g.bind_to_image(1)
-            b.bind_to_image(2)
-            run(groups_x, groups_y, groups_z)
+            if layout:
+                if done % 2 == 0:
+                    run_even(groups_x, groups_y, groups_z)
+                else:
+                    if on_zero is not source:
+                        source.use_as_textures(0)
+                        on_zero = source
+                    run(groups_x, groups_y, groups_z)
+            else:
+                if mode != "flux":          # the flux reduction left the source on 0..2
+                    r, g, b = source.textures
+                    r.use(0)
+                    g.use(1)
+                    b.use(2)
+                r, g, b = target.textures
+                r.bind_to_image(0)
+                g.bind_to_image(1)
+                b.bind_to_image(2)
+                run(groups_x, groups_y, groups_z)
             barrier()
             if mode == "full":
                 measure(done)
             elif mode == "flux":
+                r, g, b = target.textures
                 r.use(0)
                 g.use(1)
                 b.use(2)

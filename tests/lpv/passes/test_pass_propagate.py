@@ -294,23 +294,27 @@ def test_an_unknown_audit_mode_is_refused_by_name(ctx):
 
 
 @pytest.mark.parametrize("mode", ["full", "flux", "off"])
-def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode):
-    """``advance_for`` (a unit's steps in a row, the lean loop of one-slab steps) gives
-    the accumulation, the audit and the per-cell records bit for bit as ``step()`` one at
-    a time; a limit of 0 still advances one slab per call."""
+def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode, monkeypatch):
+    """``advance_for`` (a unit's steps in a row, the lean loop of one-slab steps, with
+    ping and pong on units of their own and a second program, or without where the
+    context has 8 image units) gives the accumulation, the audit and the per-cell records
+    bit for bit as ``step()`` one at a time; a limit of 0 still advances one slab per
+    call."""
     grid, geometry = injected_case(ctx, 33, "one-sided")
     propagator = PropagatePass(ctx, ProgramCache(ctx))
     try:
         with on_gpu(ctx, grid, geometry) as (injected, volume):
             got = {}
-            for way in ("one at a time", "in a row", "limit 0"):
+            for way in ("one at a time", "in a row", "limit 0", "8 image units"):
+                if way == "8 image units":
+                    monkeypatch.setattr(propagator, "image_units", lambda: 8)
                 run = propagator.start(injected, SPEC, Corrections(), 6, volume, audit=mode)
                 calls = 0
                 while not run.finished:
                     if way == "one at a time":
                         run.step()
                     else:
-                        run.advance_for(1e9 if way == "in a row" else 0.0,
+                        run.advance_for(0.0 if way == "limit 0" else 1e9,
                                         time.perf_counter())
                     calls += 1
                 output = run.finish()
@@ -318,8 +322,9 @@ def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode):
                            if output.cell_records is not None else None)
                 got[way] = (calls, output.accumulated.read(), output.audit, records)
         (_, want, audit, records), (calls, *rest) = got["one at a time"], got["in a row"]
-        assert calls == 1
-        for accumulated, got_audit, got_records in (rest, got["limit 0"][1:]):
+        assert calls == 1 == got["8 image units"][0]
+        for accumulated, got_audit, got_records in (rest, got["limit 0"][1:],
+                                                    got["8 image units"][1:]):
             assert np.array_equal(accumulated, want)
             assert np.array_equal(got_audit.per_step, audit.per_step, equal_nan=True)
             assert np.array_equal(got_audit.accumulated, audit.accumulated)
