@@ -281,18 +281,31 @@ class TimerQueries:
         self._free: list[int] = []
         self._pending: list[tuple[int, object]] = []
         """(query id, what the caller tagged it with) in the order issued."""
+        self._gl: _Gl | None = None
+        """:func:`gl` (its entry points are looked up at each call: a call counter wraps
+        them)."""
+        self._available = ctypes.c_int(0)
+        self._elapsed = ctypes.c_uint64(0)
+        self._available_ref = ctypes.byref(self._available)
+        self._elapsed_ref = ctypes.byref(self._elapsed)
 
     def begin(self) -> int:
+        entry_points = self._gl
+        if entry_points is None:
+            entry_points = self._gl = gl()
         if not self._free:
             ids = (ctypes.c_uint * 8)()
-            gl().gen_queries(8, ids)
+            entry_points.gen_queries(8, ids)
             self._free.extend(ids)
         query = self._free.pop()
-        gl().begin_query(GL_TIME_ELAPSED, query)
+        entry_points.begin_query(GL_TIME_ELAPSED, query)
         return query
 
     def end(self, query: int, tag: object) -> None:
-        gl().end_query(GL_TIME_ELAPSED)
+        entry_points = self._gl
+        if entry_points is None:
+            entry_points = self._gl = gl()
+        entry_points.end_query(GL_TIME_ELAPSED)
         self._pending.append((query, tag))
 
     @property
@@ -304,18 +317,26 @@ class TimerQueries:
         first (results come in order: the first one not available ends the list);
         ``wait``: all of them, waiting for the GPU."""
         done: list[tuple[object, float]] = []
-        available = ctypes.c_int(0)
-        elapsed = ctypes.c_uint64(0)
-        while self._pending:
-            query, tag = self._pending[0]
+        pending = self._pending
+        if not pending:
+            return done
+        entry_points = self._gl
+        if entry_points is None:
+            entry_points = self._gl = gl()
+        available, elapsed = self._available, self._elapsed
+        available_ref, elapsed_ref = self._available_ref, self._elapsed_ref
+        taken = 0
+        for query, tag in pending:
             if not wait:
-                gl().query_object_iv(query, GL_QUERY_RESULT_AVAILABLE, ctypes.byref(available))
+                entry_points.query_object_iv(query, GL_QUERY_RESULT_AVAILABLE, available_ref)
                 if not available.value:
                     break
-            gl().query_object_ui64v(query, GL_QUERY_RESULT, ctypes.byref(elapsed))
-            self._pending.pop(0)
-            self._free.append(query)
+            entry_points.query_object_ui64v(query, GL_QUERY_RESULT, elapsed_ref)
+            taken += 1
             done.append((tag, elapsed.value / 1e6))
+        if taken:
+            self._free.extend(query for query, _ in pending[:taken])
+            del pending[:taken]
         return done
 
     def release(self) -> None:

@@ -321,17 +321,13 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
 def copy_volumes(programs: ProgramCache, sources: Sequence, targets: Sequence[VolumeTexture]
                  ) -> None:
     """:func:`copy_volume` of each source into its target, in order, the program got and
-    its uniform set once when the sources are of one kind and the targets of one format
-    (a grid's three channels): the same GL calls, less Python."""
+    its uniform set once for the sources of the first one's kind and targets of its format
+    (a grid's three channels; any other pair is copied by :func:`copy_volume`): the same GL
+    calls, less Python."""
     if not sources:
         return
     layered = isinstance(sources[0], moderngl.TextureArray)
     fmt = targets[0].format
-    if any(isinstance(source, moderngl.TextureArray) is not layered for source in sources) \
-            or any(target.format != fmt for target in targets):
-        for source, target in zip(sources, targets, strict=True):
-            copy_volume(programs, source, target)
-        return
     made = _COPY_PROGRAMS.get((layered, fmt))
     if made is None:
         defines = {"SOURCE_LAYERED": int(layered), **image_format_defines(fmt)}
@@ -339,14 +335,21 @@ def copy_volumes(programs: ProgramCache, sources: Sequence, targets: Sequence[Vo
             defines, programs.key("volume_copy.glsl", defines))
     program = programs.get("volume_copy.glsl", *made)
     run, barrier = program.run, programs.ctx.memory_barrier
-    uniforms_set = False
+    uniforms_set, size, groups = False, None, (0, 0, 0)
     for source, target in zip(sources, targets, strict=True):
+        if isinstance(source, moderngl.TextureArray) is not layered or target.format != fmt:
+            copy_volume(programs, source, target)
+            uniforms_set = False        # that copy's program may be this one
+            continue
         source.use(0)
         target.texture.bind_to_image(0, read=False, write=True)
         if not uniforms_set:
             set_uniforms(program, _COPY_UNIFORMS)
             uniforms_set = True
-        run(*dispatch_size(target.shape))
+        if (target.cells, target.depth) != size:
+            size = (target.cells, target.depth)
+            groups = dispatch_size(target.shape)
+        run(*groups)
         barrier()
 
 
