@@ -61,6 +61,8 @@ class AuditReducer:
         self.ctx = ctx
         self.programs = programs
         self._buffers: dict[str, moderngl.Buffer] = {}
+        self._sizes: dict[str, int] = {}
+        """Each buffer's size in bytes."""
         self._slots = 0
         self._cells = (1, 1, 1)
         self._partials = 1
@@ -77,10 +79,12 @@ class AuditReducer:
         is too small or over :data:`SHRINK_OVER` times the size (a 64³ grid's per-cell
         records, 42 MiB, are not kept for the 8³ grid that follows)."""
         buffer = self._buffers.get(name)
-        if buffer is None or buffer.size < size or buffer.size > SHRINK_OVER * max(size, 4):
+        made = self._sizes.get(name, 0)     # the buffer's size, kept (asking is a GL call)
+        if buffer is None or made < size or made > SHRINK_OVER * max(size, 4):
             if buffer is not None:
                 buffer.release()
             buffer = self._buffers[name] = self.ctx.buffer(reserve=max(size, 4))
+            self._sizes[name] = max(size, 4)
         return buffer
 
     @property

@@ -11,6 +11,7 @@ Also the lazily created default context and program cache of the numpy-facing AP
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import moderngl
@@ -363,7 +364,7 @@ Python)."""
 def copied_apart(shape: Sequence[int]) -> bool:
     """Whether a volume of ``shape`` texels is copied in a unit of its own
     (:data:`APART_TEXELS`)."""
-    return int(np.prod([int(n) for n in shape])) > APART_TEXELS
+    return math.prod(map(int, shape)) > APART_TEXELS
 
 
 POINT_BATCH = 1 << 16
