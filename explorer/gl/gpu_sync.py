@@ -109,6 +109,7 @@ def gl() -> _Gl:
 
 
 GL_MAX_IMAGE_UNITS = 0x8F38
+GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT = 0x90DF
 
 
 def gl_integer(name: int, default: int = 0) -> int:

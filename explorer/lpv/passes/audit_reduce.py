@@ -11,7 +11,7 @@ from collections.abc import Callable
 import moderngl
 import numpy as np
 
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, DeferredRead, gl_integer
 from explorer.gl.program import ProgramCache, set_uniform, set_uniforms
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.grid import grid_cells, shape_text
@@ -37,6 +37,12 @@ _STAGE_KEYS = {stage: ProgramCache.key("audit_reduce.glsl", defines)
 
 GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
 """The sampler units of the grid whose flux :meth:`AuditReducer.measure_flux` reduces."""
+
+
+KEPT_RECORDS_BYTES = 4 << 20
+"""The per-cell records of the propagation's steps in a row are kept for one reduction of
+them all (:meth:`AuditReducer.steps_recorder`) as far as this many bytes hold them (an
+8³ grid's 16 steps: 0.7 MiB; from 32³ on, one step's)."""
 
 
 SHRINK_OVER = 4
@@ -73,6 +79,14 @@ class AuditReducer:
         self._kept: dict[int, object] = {}
         """The stages' programs got since :meth:`begin` (see :meth:`_stage_program`)."""
         self._kept_releases = -1
+        self._alignment: int | None = None
+        self._record_stride = 0
+        """Bytes from one step's per-cell records to the next's (kept steps, aligned)."""
+        self.record_regions = 1
+        """Steps whose per-cell records the buffer holds at once (:meth:`steps_recorder`)."""
+        self._record_uniforms: dict[str, object] = {"u_record_stride": 0}
+        self._records_at = 0
+        """Where the last step's records start in the buffer (floats)."""
 
     def _buffer(self, name: str, size: int) -> moderngl.Buffer:
         """Buffer ``name`` of at least ``size`` bytes: kept while it fits, made anew when it
@@ -108,11 +122,25 @@ class AuditReducer:
         self._kept.clear()      # got again once a run: the cache's use order stays fresh
         # every slot is measured once before read(): no clearing needed
         self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
+        self._records_at = 0
         if cell_records:
             size = self._cell_count * AUDIT_VALUES * 4
-            self._buffer("cells", size)
+            align = self._offset_alignment()
+            self._record_stride = -(-size // align) * align
+            self.record_regions = max(1, min(self._slots - 2,
+                                             KEPT_RECORDS_BYTES // self._record_stride))
+            if self._record_uniforms.get("u_record_stride") != self._record_stride // 4:
+                self._record_uniforms = {"u_record_stride": self._record_stride // 4}
+            self._buffer("cells", self._record_stride * (self.record_regions - 1) + size)
             self._buffer("cell_sums", size).clear(size=size)
         self._buffer("results", self._slots * AUDIT_VALUES * 4)
+
+    def _offset_alignment(self) -> int:
+        """``GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT`` (asked once)."""
+        if self._alignment is None:
+            self._alignment = max(4, gl_integer(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT,
+                                                256))
+        return self._alignment
 
     def bind(self) -> None:
         """Bind the storage buffers: partials 2, results 3, per-cell records 4 and their
@@ -134,10 +162,11 @@ class AuditReducer:
         """(21,) float64: cell ``linear``'s record of the last step (quantity-major: one
         read of 4 bytes per number)."""
         self.ctx.memory_barrier()
-        cells = self._cell_count
+        cells, at = self._cell_count, self._records_at
         buffer = self._buffers["cells"]
-        return np.array([np.frombuffer(buffer.read(size=4, offset=(i * cells + int(linear))
-                                                   * 4), np.float32)[0]
+        return np.array([np.frombuffer(buffer.read(size=4, offset=(at + i * cells
+                                                                   + int(linear)) * 4),
+                                       np.float32)[0]
                          for i in range(AUDIT_VALUES)], np.float64)
 
     def _stage_program(self, stage: int):
@@ -155,9 +184,11 @@ class AuditReducer:
         return program
 
     def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object],
-                      bound: bool = False) -> None:
-        if not 0 <= slot < self._slots:
-            raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
+                      bound: bool = False, rows: int = 1) -> None:
+        last = slot + rows - 1
+        if not 0 <= slot <= last < self._slots:
+            raise IndexError(f"audit slot {last if slot >= 0 else slot} outside "
+                             f"0..{self._slots - 1}")
         if not bound:
             self.bind()
         program = self._stage_program(stage)
@@ -170,7 +201,7 @@ class AuditReducer:
                                    "u_partial_count": partials})
             program.extra["audit grid"] = grid
         set_uniform(program, "u_result_slot", slot)
-        program.run(-(-partials // 64))
+        program.run(-(-partials // 64), rows)
         self.ctx.memory_barrier()
 
     def slot_measurer(self, stage: int) -> Callable[[int], None]:
@@ -179,7 +210,7 @@ class AuditReducer:
         with ``bound``, once one of them has run on this grid since the cache last released
         a program: the slot's upload (when it changed), the dispatch and its barrier, for a
         propagation's steps in a row (explorer/lpv/passes/propagate.py)."""
-        uniforms = GRID_SAMPLERS if stage == 0 else {}
+        uniforms = GRID_SAMPLERS if stage == 0 else self._record_uniforms
         program = self._stage_program(stage)
         info = program.extra
         uploaded = info.get("values", {})
@@ -220,7 +251,32 @@ class AuditReducer:
     def sum_cell_records(self, slot: int, bound: bool = False) -> None:
         """Reduce the per-cell records a propagation step wrote into ``slot``; ``bound``:
         :meth:`bind`'s buffers are still bound (the step's own dispatch bound them)."""
-        self._run_partials(1, slot, {}, bound)
+        self._run_partials(1, slot, self._record_uniforms, bound)
+        self._records_at = 0
+
+    def steps_recorder(self) -> tuple[int, Callable[[int], None], Callable[[int, int], None]]:
+        """How a propagation's steps in a row keep their per-cell records for one
+        reduction (:data:`KEPT_RECORDS_BYTES`), with :meth:`bind`'s buffers bound:
+        ``(regions, record_at, reduce)``; before the k-th step of a group (k from 0, at
+        most ``regions`` steps a group) ``record_at(k)`` binds where it writes its records
+        (for k 0 nothing: the buffer bound whole starts there), and after a group's last
+        step ``reduce(first_slot, steps)`` reduces them into their slots (what
+        :meth:`sum_cell_records` after each step does, the same sums in the same order)
+        and binds the buffer whole again."""
+        cells, stride = self._buffers["cells"], self._record_stride
+        bind = cells.bind_to_storage_buffer
+        size = self._cell_count * AUDIT_VALUES * 4
+
+        def record_at(k: int) -> None:
+            bind(4, offset=k * stride, size=size)
+
+        def reduce(first_slot: int, steps: int) -> None:
+            if steps > 1:
+                bind(4)
+            self._run_partials(1, first_slot, self._record_uniforms, bound=True, rows=steps)
+            self._records_at = (steps - 1) * stride // 4
+
+        return self.record_regions, record_at, reduce
 
     def read(self) -> np.ndarray:
         """(slots, 21) float64: flux, border loss, clamp gain, occluded, reflected, blocked,

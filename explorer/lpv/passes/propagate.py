@@ -493,60 +493,103 @@ class PropagationRun:
     def _steps_in_a_row(self, clock, deadline: float) -> None:
         """:meth:`advance` with ``bound`` of one-slab steps until ``clock()`` reaches
         ``deadline`` or every step has run, after an :meth:`advance` of this run (which got
-        the program, set its offset and bound what every step keeps): per step the source
-        on sampler units 0..2 (the flux audit's reduction left it there), the target's
-        images, the dispatch and its barrier, and the audit's measurement of the step."""
-        owner, program = self._owner, self._program
-        run, barrier = program.run, owner.ctx.memory_barrier
-        groups_x, groups_y = self._groups[0], self._groups[1]
+        the program, set its offset and bound what every step keeps). Ping-pong (but for
+        the flux audit, on a context with :data:`LAYOUT_IMAGE_UNITS`): ping and pong on
+        units of their own (:data:`PING_TEXTURE_UNIT`), each step the dispatch of its
+        parity's program and its barrier; otherwise each step binds its source on sampler
+        units 0..2 (the flux audit's reduction left it there) and its target's images.
+        The full audit's steps write their per-cell records each to a region of its own
+        (``AuditReducer.steps_recorder``), reduced in one dispatch for the unit's steps
+        (or as many as the buffer holds); the flux audit reduces each step's grid."""
+        owner, mode = self._owner, self._mode
         first, end = self._slabs[0]
-        groups_z = -(-(end - first) // 4)
-        targets, mode = self._targets, self._mode
-        done, iterations = self.done, self.iterations
-        source = self._source
+        groups = (self._groups[0], self._groups[1], -(-(end - first) // 4))
+        # the full audit's steps keep their records, reduced a group at a time
+        recorder = owner.audit.steps_recorder() if mode == "full" else None
         # ping and pong on units of their own (PING_TEXTURE_UNIT): the flux audit reads the
         # grid it measures on units 0..2, and so does in place
-        layout = mode != "flux" and self._corrections.ping_pong and \
-            owner.image_units() >= LAYOUT_IMAGE_UNITS
-        if layout:
-            even = self._even_program()
-            if owner.programs.releases != self._program_releases:
-                program = self._program_now()      # the second program's compile evicted
-                run = program.run
-            run_even = even.run
-            ping, pong = self._scratch["ping"], self._scratch["pong"]
-            ping.bind_images(0)
-            pong.bind_images(PONG_IMAGE_UNIT)
-            ping.use_as_textures(PING_TEXTURE_UNIT)
-            on_zero = None                          # the grid on sampler units 0..2
-        measure = owner.audit.slot_measurer(1 if self._with_audit else 0)
+        if mode != "flux" and self._corrections.ping_pong and \
+                owner.image_units() >= LAYOUT_IMAGE_UNITS:
+            self._steps_on_own_units(clock, deadline, groups, recorder)
+        else:
+            self._steps_binding(clock, deadline, groups, recorder)
+        self._bound = _RUN_AUDIT if mode != "off" else _RUN
+        if mode == "flux":
+            self._bound |= _SOURCE
+
+    def _steps_on_own_units(self, clock, deadline: float, groups: tuple[int, int, int],
+                            recorder) -> None:
+        """:meth:`_steps_in_a_row` with ping and pong on units of their own."""
+        owner, program = self._owner, self._program
+        even = self._even_program()
+        if owner.programs.releases != self._program_releases:
+            program = self._program_now()      # the second program's compile evicted it
+        run, run_even, barrier = program.run, even.run, owner.ctx.memory_barrier
+        ping, pong = self._scratch["ping"], self._scratch["pong"]
+        ping.bind_images(0)
+        pong.bind_images(PONG_IMAGE_UNIT)
+        ping.use_as_textures(PING_TEXTURE_UNIT)
+        on_zero = None                              # the grid on sampler units 0..2
+        regions, record_at, reduce_records = recorder or (0, None, None)
+        group, first_slot = 0, self.done + 1
+        done, iterations, source, targets = self.done, self.iterations, self._source, \
+            self._targets
         while True:
             done += 1
-            target = targets[done % 2]
-            if layout:
-                if done % 2 == 0:
-                    run_even(groups_x, groups_y, groups_z)
-                else:
-                    if on_zero is not source:
-                        source.use_as_textures(0)
-                        on_zero = source
-                    run(groups_x, groups_y, groups_z)
+            if recorder is not None:
+                if group == regions:
+                    reduce_records(first_slot, group)
+                    group, first_slot = 0, done
+                if group:
+                    record_at(group)
+                group += 1
+            if done % 2 == 0:
+                run_even(*groups)
             else:
-                if mode != "flux":          # the flux reduction left the source on 0..2
-                    r, g, b = source.textures
-                    r.use(0)
-                    g.use(1)
-                    b.use(2)
-                r, g, b = target.textures
-                r.bind_to_image(0)
-                g.bind_to_image(1)
-                b.bind_to_image(2)
-                run(groups_x, groups_y, groups_z)
+                if on_zero is not source:
+                    source.use_as_textures(0)
+                    on_zero = source
+                run(*groups)
             barrier()
-            if mode == "full":
-                measure(done)
-            elif mode == "flux":
-                r, g, b = target.textures
+            source = targets[done % 2]
+            if done >= iterations or clock() >= deadline:
+                break
+        if recorder is not None:
+            reduce_records(first_slot, group)
+        self._source, self.done = source, done
+
+    def _steps_binding(self, clock, deadline: float, groups: tuple[int, int, int],
+                       recorder) -> None:
+        """:meth:`_steps_in_a_row` binding each step's source and target (one program)."""
+        owner, mode = self._owner, self._mode
+        run, barrier = self._program.run, owner.ctx.memory_barrier
+        measure = owner.audit.slot_measurer(0) if mode == "flux" else None
+        regions, record_at, reduce_records = recorder or (0, None, None)
+        group, first_slot = 0, self.done + 1
+        done, iterations, source, targets = self.done, self.iterations, self._source, \
+            self._targets
+        while True:
+            done += 1
+            if recorder is not None:
+                if group == regions:
+                    reduce_records(first_slot, group)
+                    group, first_slot = 0, done
+                if group:
+                    record_at(group)
+                group += 1
+            target = targets[done % 2]
+            if measure is None:         # the flux reduction left the source on 0..2
+                r, g, b = source.textures
+                r.use(0)
+                g.use(1)
+                b.use(2)
+            r, g, b = target.textures
+            r.bind_to_image(0)
+            g.bind_to_image(1)
+            b.bind_to_image(2)
+            run(*groups)
+            barrier()
+            if measure is not None:
                 r.use(0)
                 g.use(1)
                 b.use(2)
@@ -554,10 +597,9 @@ class PropagationRun:
             source = target
             if done >= iterations or clock() >= deadline:
                 break
+        if recorder is not None:
+            reduce_records(first_slot, group)
         self._source, self.done = source, done
-        self._bound = _RUN_AUDIT if mode != "off" else _RUN
-        if mode == "flux":
-            self._bound |= _SOURCE
 
     def advance(self, bound: bool = False) -> None:
         """Dispatch the next slab of the current step; after the step's last slab, its

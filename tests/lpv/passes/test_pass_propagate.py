@@ -19,6 +19,7 @@ from lpv_cases import (
 from explorer.gl.program import ProgramCache
 from explorer.lpv import inject, propagate
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes import audit_reduce
 from explorer.lpv.passes.geometry import GeometryVolume, inject_geometry
 from explorer.lpv.passes.propagate import PropagatePass, propagate_with_audit
 from explorer.lpv.passes.textures import LpvGrid
@@ -305,9 +306,13 @@ def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode, monkeypatc
     try:
         with on_gpu(ctx, grid, geometry) as (injected, volume):
             got = {}
-            for way in ("one at a time", "in a row", "limit 0", "8 image units"):
+            for way in ("one at a time", "in a row", "limit 0", "8 image units",
+                        "records of 2 steps kept"):
                 if way == "8 image units":
                     monkeypatch.setattr(propagator, "image_units", lambda: 8)
+                if way == "records of 2 steps kept":    # reduced 2, 2, then 1 at a time
+                    monkeypatch.setattr(audit_reduce, "KEPT_RECORDS_BYTES",
+                                        2 * 21 * 4 * SPEC.resolution ** 3 + 256)
                 run = propagator.start(injected, SPEC, Corrections(), 6, volume, audit=mode)
                 calls = 0
                 while not run.finished:
@@ -322,9 +327,10 @@ def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode, monkeypatc
                            if output.cell_records is not None else None)
                 got[way] = (calls, output.accumulated.read(), output.audit, records)
         (_, want, audit, records), (calls, *rest) = got["one at a time"], got["in a row"]
-        assert calls == 1 == got["8 image units"][0]
+        assert calls == 1 == got["8 image units"][0] == got["records of 2 steps kept"][0]
         for accumulated, got_audit, got_records in (rest, got["limit 0"][1:],
-                                                    got["8 image units"][1:]):
+                                                    got["8 image units"][1:],
+                                                    got["records of 2 steps kept"][1:]):
             assert np.array_equal(accumulated, want)
             assert np.array_equal(got_audit.per_step, audit.per_step, equal_nan=True)
             assert np.array_equal(got_audit.accumulated, audit.accumulated)
