@@ -220,7 +220,7 @@ class LpvGrid:
 
     def bind_images(self, first_unit: int, read: bool = True, write: bool = True) -> None:
         """Bind r, g, b as image3D units ``first_unit`` .. ``first_unit + 2`` (straight on
-        the textures: a propagation step binds six a step)."""
+        the textures; a propagation binds them once a unit: passes/propagate.py)."""
         for offset, texture in enumerate(self.textures):
             texture.bind_to_image(first_unit + offset, read=read, write=write)
 
