@@ -6,7 +6,8 @@ data types are :mod:`explorer.lpv.audit`'s."""
 from __future__ import annotations
 
 import struct
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from typing import NamedTuple
 
 import moderngl
 import numpy as np
@@ -254,21 +255,17 @@ class AuditReducer:
         self._run_partials(1, slot, self._record_uniforms, bound)
         self._records_at = 0
 
-    def steps_recorder(self) -> tuple[int, Callable[[int], None], Callable[[int, int], None]]:
+    def steps_recorder(self) -> StepsRecorder:
         """How a propagation's steps in a row keep their per-cell records for one
-        reduction (:data:`KEPT_RECORDS_BYTES`), with :meth:`bind`'s buffers bound:
-        ``(regions, record_at, reduce)``; before the k-th step of a group (k from 0, at
-        most ``regions`` steps a group) ``record_at(k)`` binds where it writes its records
-        (for k 0 nothing: the buffer bound whole starts there), and after a group's last
-        step ``reduce(first_slot, steps)`` reduces them into their slots (what
+        reduction (:data:`KEPT_RECORDS_BYTES`), with :meth:`bind`'s buffers bound: before
+        the k-th step of a group (k from 0, at most ``regions`` steps a group)
+        ``bind(4, offset=offsets[k], size=size)`` binds where it writes its records (for k
+        0 nothing: the buffer bound whole starts there), and after a group's last step
+        ``reduce(first_slot, steps)`` reduces them into their slots (what
         :meth:`sum_cell_records` after each step does, the same sums in the same order)
         and binds the buffer whole again."""
         cells, stride = self._buffers["cells"], self._record_stride
         bind = cells.bind_to_storage_buffer
-        size = self._cell_count * AUDIT_VALUES * 4
-
-        def record_at(k: int) -> None:
-            bind(4, offset=k * stride, size=size)
 
         def reduce(first_slot: int, steps: int) -> None:
             if steps > 1:
@@ -276,7 +273,9 @@ class AuditReducer:
             self._run_partials(1, first_slot, self._record_uniforms, bound=True, rows=steps)
             self._records_at = (steps - 1) * stride // 4
 
-        return self.record_regions, record_at, reduce
+        return StepsRecorder(self.record_regions, bind,
+                             range(0, self.record_regions * stride, stride),
+                             self._cell_count * AUDIT_VALUES * 4, reduce)
 
     def read(self) -> np.ndarray:
         """(slots, 21) float64: flux, border loss, clamp gain, occluded, reflected, blocked,
@@ -315,6 +314,16 @@ class AuditReducer:
         self._buffers.clear()
         self.has_records = False
         self._kept.clear()
+
+
+class StepsRecorder(NamedTuple):
+    """:meth:`AuditReducer.steps_recorder`'s parts (read into locals by the step loop)."""
+
+    regions: int
+    bind: Callable[..., None]
+    offsets: Sequence[int]
+    size: int
+    reduce: Callable[[int, int], None]
 
 
 _PACKED_INTS: dict[str, list[bytes]] = {}

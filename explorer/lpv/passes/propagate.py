@@ -530,7 +530,8 @@ class PropagationRun:
         pong.bind_images(PONG_IMAGE_UNIT)
         ping.use_as_textures(PING_TEXTURE_UNIT)
         on_zero = None                              # the grid on sampler units 0..2
-        regions, record_at, reduce_records = recorder or (0, None, None)
+        regions, bind_records, offsets, size, reduce_records = \
+            recorder or (0, None, (), 0, None)
         group, first_slot = 0, self.done + 1
         done, iterations, source, targets = self.done, self.iterations, self._source, \
             self._targets
@@ -541,7 +542,7 @@ class PropagationRun:
                     reduce_records(first_slot, group)
                     group, first_slot = 0, done
                 if group:
-                    record_at(group)
+                    bind_records(4, offset=offsets[group], size=size)
                 group += 1
             if done % 2 == 0:
                 run_even(*groups)
@@ -564,7 +565,8 @@ class PropagationRun:
         owner, mode = self._owner, self._mode
         run, barrier = self._program.run, owner.ctx.memory_barrier
         measure = owner.audit.slot_measurer(0) if mode == "flux" else None
-        regions, record_at, reduce_records = recorder or (0, None, None)
+        regions, bind_records, offsets, size, reduce_records = \
+            recorder or (0, None, (), 0, None)
         group, first_slot = 0, self.done + 1
         done, iterations, source, targets = self.done, self.iterations, self._source, \
             self._targets
@@ -575,7 +577,7 @@ class PropagationRun:
                     reduce_records(first_slot, group)
                     group, first_slot = 0, done
                 if group:
-                    record_at(group)
+                    bind_records(4, offset=offsets[group], size=size)
                 group += 1
             target = targets[done % 2]
             if measure is None:         # the flux reduction left the source on 0..2
