@@ -21,6 +21,12 @@
 // (slot, value), summing that value over the slot's P partials. No barrier() anywhere:
 // llvmpipe pays more for it than for a whole propagation step.
 #define AUDIT_STAGE 0
+// Stage 0's sampler units of the grid it reduces: 0..2 unless a second program moves them
+// (explorer/lpv/passes/audit_reduce.py `PING_GRID_DEFINES`: the flux of the propagation's
+// ping grid, which stays on units of its own).
+#define AUDIT_GRID_R 0
+#define AUDIT_GRID_G 1
+#define AUDIT_GRID_B 2
 
 #if defined COMPUTE_SHADER
 
@@ -45,9 +51,9 @@ uniform int u_record_stride;    // floats from one step's records to the next's
 
 layout(local_size_x = 64) in;
 
-uniform sampler3D u_grid_r;
-uniform sampler3D u_grid_g;
-uniform sampler3D u_grid_b;
+layout(binding = AUDIT_GRID_R) uniform sampler3D u_grid_r;
+layout(binding = AUDIT_GRID_G) uniform sampler3D u_grid_g;
+layout(binding = AUDIT_GRID_B) uniform sampler3D u_grid_b;
 
 void main() {
     int partial = int(gl_GlobalInvocationID.x);

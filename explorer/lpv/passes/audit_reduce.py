@@ -30,14 +30,25 @@ the partial records of 1026 slots (1024 iterations) take 37 MB, within one stora
 block."""
 
 
-_STAGE_DEFINES = {stage: {"AUDIT_STAGE": stage} for stage in (0, 1, 2)}
+PING_GRID_UNIT = 8
+"""Where the propagation's steps in a row keep ping's textures
+(explorer/lpv/passes/propagate.py ``PING_TEXTURE_UNIT``, which is this)."""
+PING_GRID_DEFINES = {"AUDIT_GRID_R": PING_GRID_UNIT, "AUDIT_GRID_G": PING_GRID_UNIT + 1,
+                     "AUDIT_GRID_B": PING_GRID_UNIT + 2}
+PING_FLUX = 3
+"""The program id (besides the stages 0, 1, 2) of stage 0 reading its grid on
+:data:`PING_GRID_UNIT`'s units instead of 0..2."""
+_STAGE_DEFINES = {**{stage: {"AUDIT_STAGE": stage} for stage in (0, 1, 2)},
+                  PING_FLUX: {"AUDIT_STAGE": 0, **PING_GRID_DEFINES}}
 """The defines of ``audit_reduce.glsl``'s three stages (partials of a grid's flux, of the
-cell records; the fold), and their program keys, made once."""
+cell records; the fold) and of stage 0 on ping's units, and their program keys, made
+once."""
 _STAGE_KEYS = {stage: ProgramCache.key("audit_reduce.glsl", defines)
                for stage, defines in _STAGE_DEFINES.items()}
 
-GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
-"""The sampler units of the grid whose flux :meth:`AuditReducer.measure_flux` reduces."""
+GRID_SAMPLERS: dict[str, object] = {}
+"""The uniforms of the grid whose flux :meth:`AuditReducer.measure_flux` reduces: none,
+its samplers are bound to units 0..2 by the shader's layout."""
 
 
 KEPT_RECORDS_BYTES = 4 << 20
@@ -207,11 +218,12 @@ class AuditReducer:
 
     def slot_measurer(self, stage: int) -> Callable[[int], None]:
         """A function of a slot that does what :meth:`measure_flux` (``stage`` 0, with the
-        grid already on sampler units 0..2) or :meth:`sum_cell_records` (``stage`` 1) does
+        grid already on sampler units 0..2; :data:`PING_FLUX`, on ping's units) or
+        :meth:`sum_cell_records` (``stage`` 1) does
         with ``bound``, once one of them has run on this grid since the cache last released
         a program: the slot's upload (when it changed), the dispatch and its barrier, for a
         propagation's steps in a row (explorer/lpv/passes/propagate.py)."""
-        uniforms = GRID_SAMPLERS if stage == 0 else self._record_uniforms
+        uniforms = self._record_uniforms if stage == 1 else GRID_SAMPLERS
         program = self._stage_program(stage)
         info = program.extra
         uploaded = info.get("values", {})

@@ -22,7 +22,12 @@ from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec, grid_cells, shape_text
 from explorer.lpv.kept_steps import KeptSteps
 from explorer.lpv.neighbours import check_flux_budget, check_neighbours
-from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
+from explorer.lpv.passes.audit_reduce import (
+    PING_FLUX,
+    PING_GRID_UNIT,
+    AuditReducer,
+    CellAuditRecords,
+)
 from explorer.lpv.passes.geometry import GeometryVolume
 from explorer.lpv.passes.textures import (
     LpvGrid,
@@ -221,15 +226,16 @@ class PropagatePass:
             self._budget = None
 
 
-PING_TEXTURE_UNIT, PONG_IMAGE_UNIT = 8, 6
+PING_TEXTURE_UNIT, PONG_IMAGE_UNIT = PING_GRID_UNIT, 6
 """Where a run's steps in a row (:meth:`PropagationRun.advance_for`) keep ping-pong's
 grids: ping's images on units 0..2 (the odd steps' target) and its textures on sampler
 units 8..10 (the even steps' source), pong's images on units 6..8 (the even steps'
 target) and its textures on units 0..2 (the odd steps' source, after grid_0 there): the
 odd steps run the run's program, the even ones its second program of the same variant
 with :data:`EVEN_STEP_UNITS`, and no step binds anything anew (but step 3, pong in
-grid_0's place). Sampler units 6 and 7 hold the geometry volume, image units 3..5 the
-accumulation."""
+grid_0's place; with the flux audit, which reads the step's target on sampler units
+0..2 or ping's (``audit_reduce.PING_FLUX``), step 2, pong in grid_0's place). Sampler
+units 6 and 7 hold the geometry volume, image units 3..5 the accumulation."""
 EVEN_STEP_UNITS = {
     "PROPAGATE_SOURCE_R": PING_TEXTURE_UNIT, "PROPAGATE_SOURCE_G": PING_TEXTURE_UNIT + 1,
     "PROPAGATE_SOURCE_B": PING_TEXTURE_UNIT + 2, "PROPAGATE_TARGET_R": PONG_IMAGE_UNIT,
@@ -506,16 +512,14 @@ class PropagationRun:
         groups = (self._groups[0], self._groups[1], -(-(end - first) // 4))
         # the full audit's steps keep their records, reduced a group at a time
         recorder = owner.audit.steps_recorder() if mode == "full" else None
-        # ping and pong on units of their own (PING_TEXTURE_UNIT): the flux audit reads the
-        # grid it measures on units 0..2, and so does in place
-        if mode != "flux" and self._corrections.ping_pong and \
-                owner.image_units() >= LAYOUT_IMAGE_UNITS:
+        # ping and pong on units of their own (PING_TEXTURE_UNIT); in place one grid
+        self._bound = _RUN_AUDIT if mode != "off" else _RUN
+        if self._corrections.ping_pong and owner.image_units() >= LAYOUT_IMAGE_UNITS:
             self._steps_on_own_units(clock, deadline, groups, recorder)
         else:
             self._steps_binding(clock, deadline, groups, recorder)
-        self._bound = _RUN_AUDIT if mode != "off" else _RUN
-        if mode == "flux":
-            self._bound |= _SOURCE
+            if mode == "flux":
+                self._bound |= _SOURCE      # the last target, the next source, on 0..2
 
     def _steps_on_own_units(self, clock, deadline: float, groups: tuple[int, int, int],
                             recorder) -> None:
@@ -532,6 +536,10 @@ class PropagationRun:
         on_zero = None                              # the grid on sampler units 0..2
         regions, bind_records, offsets, size, reduce_records = \
             recorder or (0, None, (), 0, None)
+        flux = self._mode == "flux"
+        if flux:        # pong's flux read on units 0..2, ping's on its own
+            measure_pong = owner.audit.slot_measurer(0)
+            measure_ping = owner.audit.slot_measurer(PING_FLUX)
         group, first_slot = 0, self.done + 1
         done, iterations, source, targets = self.done, self.iterations, self._source, \
             self._targets
@@ -546,12 +554,20 @@ class PropagationRun:
                 group += 1
             if done % 2 == 0:
                 run_even(*groups)
+                barrier()
+                if flux:
+                    if on_zero is not pong:
+                        pong.use_as_textures(0)
+                        on_zero = pong
+                    measure_pong(done)
             else:
                 if on_zero is not source:
                     source.use_as_textures(0)
                     on_zero = source
                 run(*groups)
-            barrier()
+                barrier()
+                if flux:
+                    measure_ping(done)
             source = targets[done % 2]
             if done >= iterations or clock() >= deadline:
                 break
