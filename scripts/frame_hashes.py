@@ -2,7 +2,8 @@
 frame's CPU side keeps every output bit for bit: the grids, steps, geometry volumes,
 audits (and some cells' records), images, VPLs and the display texture of several
 configurations, each in the three audit modes, as a synchronous run, a queued job in
-5 ms budgets and a queued job after a camera move.
+5 ms budgets and a queued job after a camera move (these keep the steps), and queued jobs
+without the steps kept, run to the end and in 5 ms budgets.
 
     PYTHONPATH=. python scripts/frame_hashes.py > before.txt
     ... change ...
@@ -90,10 +91,10 @@ def frame_lines(name: str, pipeline, result) -> Iterator[str]:
     yield f"{name}.display_texture {hashlib.sha1(texture.read()).hexdigest()[:16]}"
 
 
-def queued(pipeline, settings, audit: str, budget_ms: float):
+def queued(pipeline, settings, audit: str, budget_ms: float | None, keep_steps: bool = True):
     pipeline.timer.queued = True
     try:
-        job = pipeline.start(settings, keep_steps=True, need_audit=audit)
+        job = pipeline.start(settings, keep_steps=keep_steps, need_audit=audit)
         while not job.done:
             job.advance(budget_ms)
         return job.result
@@ -132,6 +133,12 @@ def main(argv: list[str] | None = None) -> int:
             moved = settings.with_changes(camera=(eye, tuple(map(float, camera.target))))
             result = queued(pipeline, moved, audit, 5.0)
             lines += frame_lines(f"{tag}/camera", pipeline, result)
+            # without the steps kept (the window's and the bench's frames): the
+            # propagation's steps in a row, in one unit and in 5 ms budgets
+            for name, budget in (("whole", None), ("budgets", 5.0)):
+                pipeline.invalidate("rsm")
+                result = queued(pipeline, settings, audit, budget, keep_steps=False)
+                lines += frame_lines(f"{tag}/{name}", pipeline, result)
             arrays += sum(1 for line in lines if len(line.rsplit(" ", 1)[-1]) == 16)
             print("\n".join(lines))
         pipeline.release()
