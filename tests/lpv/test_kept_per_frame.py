@@ -29,3 +29,21 @@ def test_the_rsm_views_are_kept_while_the_scene_is_the_same_and_follow_the_light
         assert result.light_views[0] is moved_views[0]
     finally:
         pipeline.release()
+
+
+def test_a_cascaded_frame_gathers_the_same_after_a_single_grid_frame(gl_context):
+    """The gather keeps its uniforms for the same cascades; their textures are bound again
+    each run (the units hold others between: here the single grid's propagation's), so a
+    cascaded frame after another gathers what it gathered the first time, bit for bit."""
+    cascaded = Settings(scene="room", grid_size=16, cascades=3, iterations=4, rsm_size=32,
+                        width=32, height=32)
+    pipeline = Pipeline(cascaded, gl_context)
+    try:
+        first = pipeline.run(cascaded, need_audit="off")
+        pipeline.run(cascaded.with_changes(cascades=1), need_audit="off")
+        again = pipeline.run(cascaded, need_audit="off")
+        assert "gather" in again.stages_run
+        assert np.array_equal(again.indirect, first.indirect)
+        assert np.abs(first.indirect).max() > 0
+    finally:
+        pipeline.release()
