@@ -499,11 +499,12 @@ class PropagationRun:
     def _steps_in_a_row(self, clock, deadline: float) -> None:
         """:meth:`advance` with ``bound`` of one-slab steps until ``clock()`` reaches
         ``deadline`` or every step has run, after an :meth:`advance` of this run (which got
-        the program, set its offset and bound what every step keeps). Ping-pong (but for
-        the flux audit, on a context with :data:`LAYOUT_IMAGE_UNITS`): ping and pong on
-        units of their own (:data:`PING_TEXTURE_UNIT`), each step the dispatch of its
-        parity's program and its barrier; otherwise each step binds its source on sampler
-        units 0..2 (the flux audit's reduction left it there) and its target's images.
+        the program, set its offset and bound what every step keeps). Ping-pong on a
+        context with :data:`LAYOUT_IMAGE_UNITS`: ping and pong on units of their own
+        (:data:`PING_TEXTURE_UNIT`), each step the dispatch of its parity's program and its
+        barrier; otherwise (in place, or fewer image units) each step binds its source on
+        sampler units 0..2 (the flux audit's reduction left it there) and its target's
+        images.
         The full audit's steps write their per-cell records each to a region of its own
         (``AuditReducer.steps_recorder``), reduced in one dispatch for the unit's steps
         (or as many as the buffer holds); the flux audit reduces each step's grid."""
