@@ -514,22 +514,35 @@ class PropagationRun:
         # the full audit's steps keep their records, reduced a group at a time
         recorder = owner.audit.steps_recorder() if mode == "full" else None
         # ping and pong on units of their own (PING_TEXTURE_UNIT); in place one grid
-        self._bound = _RUN_AUDIT if mode != "off" else _RUN
         if self._corrections.ping_pong and owner.image_units() >= LAYOUT_IMAGE_UNITS:
-            self._steps_on_own_units(clock, deadline, groups, recorder)
+            if not self._steps_on_own_units(clock, deadline, groups, recorder):
+                while not self.finished:        # the cache released programs: as usual
+                    self.advance(bound=True)
+                    if clock() >= deadline:
+                        return
+                return
+            self._bound = _RUN_AUDIT if mode != "off" else _RUN
         else:
             self._steps_binding(clock, deadline, groups, recorder)
+            self._bound = _RUN_AUDIT if mode != "off" else _RUN
             if mode == "flux":
                 self._bound |= _SOURCE      # the last target, the next source, on 0..2
 
     def _steps_on_own_units(self, clock, deadline: float, groups: tuple[int, int, int],
-                            recorder) -> None:
-        """:meth:`_steps_in_a_row` with ping and pong on units of their own."""
-        owner, program = self._owner, self._program
+                            recorder) -> bool:
+        """:meth:`_steps_in_a_row` with ping and pong on units of their own; False (and
+        nothing done) when getting its programs made the cache release any (a cache too
+        small for a unit's programs: the caller steps as :meth:`advance` does)."""
+        owner = self._owner
+        releases = self._program_releases       # the run's program was got at it
+        flux = self._mode == "flux"
+        if flux:        # pong's flux read on units 0..2, ping's on its own
+            measure_pong = owner.audit.slot_measurer(0)
+            measure_ping = owner.audit.slot_measurer(PING_FLUX)
         even = self._even_program()
-        if owner.programs.releases != self._program_releases:
-            program = self._program_now()      # the second program's compile evicted it
-        run, run_even, barrier = program.run, even.run, owner.ctx.memory_barrier
+        if owner.programs.releases != releases:
+            return False
+        run, run_even, barrier = self._program.run, even.run, owner.ctx.memory_barrier
         ping, pong = self._scratch["ping"], self._scratch["pong"]
         ping.bind_images(0)
         pong.bind_images(PONG_IMAGE_UNIT)
@@ -537,10 +550,6 @@ class PropagationRun:
         on_zero = None                              # the grid on sampler units 0..2
         regions, bind_records, offsets, size, reduce_records = \
             recorder or (0, None, (), 0, None)
-        flux = self._mode == "flux"
-        if flux:        # pong's flux read on units 0..2, ping's on its own
-            measure_pong = owner.audit.slot_measurer(0)
-            measure_ping = owner.audit.slot_measurer(PING_FLUX)
         group, first_slot = 0, self.done + 1
         done, iterations, source, targets = self.done, self.iterations, self._source, \
             self._targets
@@ -575,6 +584,7 @@ class PropagationRun:
         if recorder is not None:
             reduce_records(first_slot, group)
         self._source, self.done = source, done
+        return True
 
     def _steps_binding(self, clock, deadline: float, groups: tuple[int, int, int],
                        recorder) -> None:
