@@ -514,19 +514,17 @@ class PropagationRun:
         # the full audit's steps keep their records, reduced a group at a time
         recorder = owner.audit.steps_recorder() if mode == "full" else None
         # ping and pong on units of their own (PING_TEXTURE_UNIT); in place one grid
-        if self._corrections.ping_pong and owner.image_units() >= LAYOUT_IMAGE_UNITS:
-            if not self._steps_on_own_units(clock, deadline, groups, recorder):
-                while not self.finished:        # the cache released programs: as usual
-                    self.advance(bound=True)
-                    if clock() >= deadline:
-                        return
-                return
-            self._bound = _RUN_AUDIT if mode != "off" else _RUN
-        else:
-            self._steps_binding(clock, deadline, groups, recorder)
-            self._bound = _RUN_AUDIT if mode != "off" else _RUN
-            if mode == "flux":
-                self._bound |= _SOURCE      # the last target, the next source, on 0..2
+        own_units = self._corrections.ping_pong and owner.image_units() >= LAYOUT_IMAGE_UNITS
+        if not (self._steps_on_own_units if own_units else self._steps_binding)(
+                clock, deadline, groups, recorder):
+            while not self.finished:            # the cache released programs: as usual
+                self.advance(bound=True)
+                if clock() >= deadline:
+                    return
+            return
+        self._bound = _RUN_AUDIT if mode != "off" else _RUN
+        if mode == "flux" and not own_units:
+            self._bound |= _SOURCE          # the last target, the next source, on 0..2
 
     def _steps_on_own_units(self, clock, deadline: float, groups: tuple[int, int, int],
                             recorder) -> bool:
@@ -587,11 +585,14 @@ class PropagationRun:
         return True
 
     def _steps_binding(self, clock, deadline: float, groups: tuple[int, int, int],
-                       recorder) -> None:
-        """:meth:`_steps_in_a_row` binding each step's source and target (one program)."""
+                       recorder) -> bool:
+        """:meth:`_steps_in_a_row` binding each step's source and target (one program);
+        False, as :meth:`_steps_on_own_units`."""
         owner, mode = self._owner, self._mode
-        run, barrier = self._program.run, owner.ctx.memory_barrier
         measure = owner.audit.slot_measurer(0) if mode == "flux" else None
+        if owner.programs.releases != self._program_releases:
+            return False
+        run, barrier = self._program.run, owner.ctx.memory_barrier
         regions, bind_records, offsets, size, reduce_records = \
             recorder or (0, None, (), 0, None)
         group, first_slot = 0, self.done + 1
@@ -629,6 +630,7 @@ class PropagationRun:
         if recorder is not None:
             reduce_records(first_slot, group)
         self._source, self.done = source, done
+        return True
 
     def advance(self, bound: bool = False) -> None:
         """Dispatch the next slab of the current step; after the step's last slab, its
