@@ -14,10 +14,19 @@
 //   2: every slot's partial records folded into its result (once, before the read-back).
 // Stages 0 and 1 run one invocation per partial and write slot u_result_slot's region of
 // `partials` (P records per slot); invocation p sums the cells p, p + P, p + 2P, ...:
-// neighbouring invocations read neighbouring memory. Stage 2 runs one invocation per
+// neighbouring invocations read neighbouring memory. Stage 1 reduces several steps' records
+// in one dispatch (the propagation's steps in a row, each writing its records
+// u_record_stride floats after the last's): row y of the dispatch is slot
+// u_result_slot + y, the same sums in the same order as one dispatch per step. Stage 2 runs one invocation per
 // (slot, value), summing that value over the slot's P partials. No barrier() anywhere:
 // llvmpipe pays more for it than for a whole propagation step.
 #define AUDIT_STAGE 0
+// Stage 0's sampler units of the grid it reduces: 0..2 unless a second program moves them
+// (explorer/lpv/passes/audit_reduce.py `PING_GRID_DEFINES`: the flux of the propagation's
+// ping grid, which stays on units of its own).
+#define AUDIT_GRID_R 0
+#define AUDIT_GRID_G 1
+#define AUDIT_GRID_B 2
 
 #if defined COMPUTE_SHADER
 
@@ -36,12 +45,15 @@ uniform int u_partial_count;    // P, partial records per slot
 #if AUDIT_STAGE == 0 || AUDIT_STAGE == 1
 
 uniform int u_result_slot;
+#if AUDIT_STAGE == 1
+uniform int u_record_stride;    // floats from one step's records to the next's
+#endif
 
 layout(local_size_x = 64) in;
 
-uniform sampler3D u_grid_r;
-uniform sampler3D u_grid_g;
-uniform sampler3D u_grid_b;
+layout(binding = AUDIT_GRID_R) uniform sampler3D u_grid_r;
+layout(binding = AUDIT_GRID_G) uniform sampler3D u_grid_g;
+layout(binding = AUDIT_GRID_B) uniform sampler3D u_grid_b;
 
 void main() {
     int partial = int(gl_GlobalInvocationID.x);
@@ -61,12 +73,13 @@ void main() {
         sums[1] += sh_flux(texelFetch(u_grid_g, cell, 0));
         sums[2] += sh_flux(texelFetch(u_grid_b, cell, 0));
 #else
+        int step_records = int(gl_GlobalInvocationID.y) * u_record_stride;
         for (int i = 0; i < AUDIT_VALUES; ++i) {
-            sums[i] += cell_terms[i * cells + linear];
+            sums[i] += cell_terms[step_records + i * cells + linear];
         }
 #endif
     }
-    int record = u_result_slot * u_partial_count + partial;
+    int record = (u_result_slot + int(gl_GlobalInvocationID.y)) * u_partial_count + partial;
     for (int i = 0; i < AUDIT_VALUES; ++i) {
         partials[record * AUDIT_VALUES + i] = sums[i];
     }

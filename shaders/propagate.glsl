@@ -46,6 +46,16 @@
 // grid t-1 writes its factor min(1, Phi / S) (lpv_positive_outflux) to `budget_scale`, which
 // the step, dispatched after it, reads for each source it gathers from.
 #define PROPAGATE_BUDGET_PASS 0
+// The units the step reads its source from (sampler units) and writes its target to (image
+// units): 0..2 and 0..2 unless a run's second program of the same variant moves them
+// (explorer/lpv/passes/propagate.py `EVEN_STEP_UNITS`: ping and pong each on units of
+// their own, so that a run's steps bind nothing anew).
+#define PROPAGATE_SOURCE_R 0
+#define PROPAGATE_SOURCE_G 1
+#define PROPAGATE_SOURCE_B 2
+#define PROPAGATE_TARGET_R 0
+#define PROPAGATE_TARGET_G 1
+#define PROPAGATE_TARGET_B 2
 
 #if defined COMPUTE_SHADER
 
@@ -58,15 +68,15 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 const int AUDIT_VALUES = 21;
 
-uniform sampler3D u_source_r;
-uniform sampler3D u_source_g;
-uniform sampler3D u_source_b;
+layout(binding = PROPAGATE_SOURCE_R) uniform sampler3D u_source_r;
+layout(binding = PROPAGATE_SOURCE_G) uniform sampler3D u_source_g;
+layout(binding = PROPAGATE_SOURCE_B) uniform sampler3D u_source_b;
 
-// Image units are fixed by binding (moderngl cannot set image uniforms): targets 0..2,
-// accumulation 3..5.
-layout(IMAGE_FORMAT, binding = 0) uniform image3D u_target_r;
-layout(IMAGE_FORMAT, binding = 1) uniform image3D u_target_g;
-layout(IMAGE_FORMAT, binding = 2) uniform image3D u_target_b;
+// Image units are fixed by binding (moderngl cannot set image uniforms): targets 0..2 (or
+// the PROPAGATE_TARGET_* units), accumulation 3..5.
+layout(IMAGE_FORMAT, binding = PROPAGATE_TARGET_R) uniform image3D u_target_r;
+layout(IMAGE_FORMAT, binding = PROPAGATE_TARGET_G) uniform image3D u_target_g;
+layout(IMAGE_FORMAT, binding = PROPAGATE_TARGET_B) uniform image3D u_target_b;
 layout(IMAGE_FORMAT, binding = 3) uniform image3D u_accumulated_r;
 layout(IMAGE_FORMAT, binding = 4) uniform image3D u_accumulated_g;
 layout(IMAGE_FORMAT, binding = 5) uniform image3D u_accumulated_b;

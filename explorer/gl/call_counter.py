@@ -74,7 +74,7 @@ CTYPES_ENTRY_POINTS = {"begin_query": "queries", "end_query": None, "query_objec
                        "query_object_ui64v": None, "gen_queries": None,
                        "delete_queries": None, "fence_sync": None, "delete_sync": None,
                        "client_wait_sync": None, "copy_image_sub_data": "copies",
-                       "copy_tex_sub_image_2d": "copies"}
+                       "copy_tex_sub_image_2d": "copies", "get_integer_v": None}
 """explorer.gl.gpu_sync's ``ctypes`` GL functions (``gl()``'s attributes) -> their kind."""
 CLASSES = ("Context", "Buffer", "Texture", "Texture3D", "TextureArray", "TextureCube",
            "Framebuffer", "Renderbuffer", "VertexArray", "Program", "ComputeShader",

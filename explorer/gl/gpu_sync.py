@@ -82,6 +82,8 @@ class _Gl:
         # window's figure pictures, explorer/ui/figure_cache.py): queued, no read-back
         self.copy_tex_sub_image_2d = _function(library, "glCopyTexSubImage2D", None,
                                                ctypes.c_uint, *[ctypes.c_int] * 7)
+        self.get_integer_v = _function(library, "glGetIntegerv", None, ctypes.c_uint,
+                                       ctypes.POINTER(ctypes.c_int))
         self.query_object_iv = _function(library, "glGetQueryObjectiv", None, ctypes.c_uint,
                                          ctypes.c_uint, ctypes.POINTER(ctypes.c_int))
         self.query_object_ui64v = _function(library, "glGetQueryObjectui64v", None,
@@ -104,6 +106,22 @@ def gl() -> _Gl:
     if _gl is None:
         _gl = _Gl()
     return _gl
+
+
+GL_MAX_IMAGE_UNITS = 0x8F38
+GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT = 0x90DF
+
+
+def gl_integer(name: int, default: int = 0) -> int:
+    """``glGetIntegerv(name)`` of the current context (a limit moderngl's ``info`` does not
+    hold), ``default`` without a GL library."""
+    try:
+        entry_points = gl()
+    except OSError:
+        return default
+    value = ctypes.c_int(default)
+    entry_points.get_integer_v(name, ctypes.byref(value))
+    return int(value.value)
 
 
 class Fence:
@@ -162,6 +180,10 @@ class DeferredRead:
         self._fence: Fence | None = None
         self.shape: tuple[int, ...] = ()
         self.dtype = np.dtype("f4")
+        self._dtype_given: object = None
+        """The ``dtype`` argument :attr:`dtype` was made from (what the next copy compares)."""
+        self._size = 0
+        self._buffer_size = 0
         self.serial = 0
         """Increases with every read issued (what a consumer compares)."""
 
@@ -177,12 +199,17 @@ class DeferredRead:
                       **read_options) -> None:
         """:meth:`issue`'s copy without its fence: the read is not issued until
         :meth:`fenced` gives it one made after this copy (:func:`issue_together`)."""
-        self.dtype, self.shape = np.dtype(dtype), tuple(shape)
-        size = math.prod(self.shape) * self.dtype.itemsize
-        if self._buffer is None or self._buffer.size != size:
+        if dtype is not self._dtype_given or shape != self.shape:
+            # a stage reads the same shapes frame after frame: worked out when they change
+            self.dtype, self.shape = np.dtype(dtype), tuple(shape)
+            self._dtype_given = dtype
+            self._size = math.prod(self.shape) * self.dtype.itemsize
+        size = self._size
+        if self._buffer is None or self._buffer_size != size:
             if self._buffer is not None:
                 self._buffer.release()
             self._buffer = self.ctx.buffer(reserve=size, dynamic=True)
+            self._buffer_size = size
             DEFERRED_BUFFERS.add(self._buffer)
         if isinstance(source, moderngl.Buffer):
             self.ctx.copy_buffer(self._buffer, source, size)
@@ -260,18 +287,31 @@ class TimerQueries:
         self._free: list[int] = []
         self._pending: list[tuple[int, object]] = []
         """(query id, what the caller tagged it with) in the order issued."""
+        self._gl: _Gl | None = None
+        """:func:`gl` (its entry points are looked up at each call: a call counter wraps
+        them)."""
+        self._available = ctypes.c_int(0)
+        self._elapsed = ctypes.c_uint64(0)
+        self._available_ref = ctypes.byref(self._available)
+        self._elapsed_ref = ctypes.byref(self._elapsed)
 
     def begin(self) -> int:
+        entry_points = self._gl
+        if entry_points is None:
+            entry_points = self._gl = gl()
         if not self._free:
             ids = (ctypes.c_uint * 8)()
-            gl().gen_queries(8, ids)
+            entry_points.gen_queries(8, ids)
             self._free.extend(ids)
         query = self._free.pop()
-        gl().begin_query(GL_TIME_ELAPSED, query)
+        entry_points.begin_query(GL_TIME_ELAPSED, query)
         return query
 
     def end(self, query: int, tag: object) -> None:
-        gl().end_query(GL_TIME_ELAPSED)
+        entry_points = self._gl
+        if entry_points is None:
+            entry_points = self._gl = gl()
+        entry_points.end_query(GL_TIME_ELAPSED)
         self._pending.append((query, tag))
 
     @property
@@ -283,18 +323,26 @@ class TimerQueries:
         first (results come in order: the first one not available ends the list);
         ``wait``: all of them, waiting for the GPU."""
         done: list[tuple[object, float]] = []
-        available = ctypes.c_int(0)
-        elapsed = ctypes.c_uint64(0)
-        while self._pending:
-            query, tag = self._pending[0]
+        pending = self._pending
+        if not pending:
+            return done
+        entry_points = self._gl
+        if entry_points is None:
+            entry_points = self._gl = gl()
+        available, elapsed = self._available, self._elapsed
+        available_ref, elapsed_ref = self._available_ref, self._elapsed_ref
+        taken = 0
+        for query, tag in pending:
             if not wait:
-                gl().query_object_iv(query, GL_QUERY_RESULT_AVAILABLE, ctypes.byref(available))
+                entry_points.query_object_iv(query, GL_QUERY_RESULT_AVAILABLE, available_ref)
                 if not available.value:
                     break
-            gl().query_object_ui64v(query, GL_QUERY_RESULT, ctypes.byref(elapsed))
-            self._pending.pop(0)
-            self._free.append(query)
+            entry_points.query_object_ui64v(query, GL_QUERY_RESULT, elapsed_ref)
+            taken += 1
             done.append((tag, elapsed.value / 1e6))
+        if taken:
+            self._free.extend(query for query, _ in pending[:taken])
+            del pending[:taken]
         return done
 
     def release(self) -> None:

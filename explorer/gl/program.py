@@ -155,26 +155,29 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
     in the compiled program, else :class:`UniformError`. The same ``values`` object as the
     last call's is taken as unchanged (a caller must not change a dict it passed).
     """
-    info = program.extra if isinstance(getattr(program, "extra", None), dict) else {}
-    declared, label = info.get("declared"), info.get("name", "program")
-    if declared is None:
+    # (written to make few calls: every pass sets its uniforms every frame)
+    try:
+        info = program.extra
+        declared = info["declared"]
+    except (AttributeError, TypeError, KeyError):
         raise TypeError("set_uniforms needs a program made by load_program (ProgramCache), "
-                        "which records the uniforms its source declares")
+                        "which records the uniforms its source declares") from None
     if reads:
-        _check_reads(program, info, label, values, reads, declared)
+        _check_reads(program, info, info.get("name", "program"), values, reads, declared)
     if values is info.get("last values"):
         # the dict of the last call again: a pass that keeps its uniforms while their
         # inputs do not change hands the same (unchanged) dict, so nothing is uploaded
         return
-    uploaded = info.setdefault("values", {})
+    uploaded = info.get("values")
+    if uploaded is None:
+        uploaded = info["values"] = {}
     for key, value in values.items():
         # a uniform keeps its value in the program: one the last call set is not
         # uploaded again (a frame sets most of them to what they were)
-        kind = type(value)
+        kind = value.__class__
         stamp = (kind, value) if kind is int or kind is float else _value_key(value)
-        last = uploaded.get(key, _UNSET)
-        if last is not _UNSET:          # active: it was uploaded before
-            if last != stamp:
+        if key in uploaded:             # active: it was uploaded before
+            if uploaded[key] != stamp:
                 program[key] = value
                 uploaded[key] = stamp
         # program.get, not ``in``: moderngl's programs have no __contains__ (``in`` iterates)
@@ -184,8 +187,12 @@ def set_uniforms(program, values: dict[str, object], reads: Iterable[str] = ()) 
         elif key not in declared:
             close = difflib.get_close_matches(key, sorted(declared), n=3)
             hint = f"; did you mean {', '.join(close)}?" if close else ""
+            label = info.get("name", "program")
             raise UniformError(f"{label} declares no uniform {key!r}{hint}")
-    info.setdefault("set", set()).update(values)
+    names = info.get("set")
+    if names is None:
+        names = info["set"] = set()
+    names.update(values)
     info["last values"] = values
 
 
@@ -231,7 +238,6 @@ def _check_reads(program, info: dict, label: str, values: dict[str, object],
             checked.add(reads)
 
 
-_UNSET = object()
 _PLAIN_NUMBERS = frozenset((int, float, bool))
 
 

@@ -17,6 +17,7 @@ twice (:func:`blend_weights`, mirrored in ``shaders/cascades.glsl``).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -237,20 +238,18 @@ class SampledGrid:
         return self.cascades[0]
 
 
-def bind_cascade_textures(cascades: list[CascadeInput], first_unit: int) -> None:
-    """Bind the cascades' textures to units ``first_unit`` … (three per cascade: r, g,
-    b), as :func:`cascade_uniforms` points the samplers. Every draw binds them: a unit
-    keeps what was bound last, which may be another pipeline's grid (side B's, the Error
-    panel's) when the uniforms are kept from the last draw."""
+def bind_cascades(cascades: Sequence[CascadeInput], first_unit: int) -> None:
+    """Bind the cascades' textures to units ``first_unit`` … (three per cascade: r, g, b),
+    as :func:`cascade_uniforms` does: a pass that keeps the uniforms it made binds them
+    again each run (the units hold other textures between runs)."""
     for k, cascade in enumerate(cascades):
         for i, texture in enumerate(cascade.textures):
             texture.use(first_unit + 3 * k + i)
 
 
 def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str, object]:
-    """Uniforms of ``cascades.glsl`` for these cascades, their textures on units
-    ``first_unit`` … (three per cascade: r, g, b; :func:`bind_cascade_textures` binds
-    them)."""
+    """Uniforms of ``cascades.glsl`` for these cascades, their textures bound to units
+    ``first_unit`` … (three per cascade: r, g, b)."""
     count = len(cascades)
     if not 1 <= count <= MAX_CASCADES:
         raise ValueError(f"the gather samples 1..{MAX_CASCADES} cascades, got {count}")
@@ -259,6 +258,7 @@ def cascade_uniforms(cascades: list[CascadeInput], first_unit: int) -> dict[str,
     cells = [float(c.spec.cell_size) for c in cascades] + [1.0] * pad
     units = {channel: [first_unit + 3 * k + i for k in range(count)] +
              [first_unit + i] * pad for i, channel in enumerate("rgb")}
+    bind_cascades(cascades, first_unit)
     return {
         "u_cascade_count": count,
         "u_cascade_origin": origins,

@@ -7,6 +7,7 @@ from contextlib import contextmanager
 
 import moderngl
 import numpy as np
+import pytest
 from lpv_cases import random_grid, relative_error
 
 from explorer.gl.program import ProgramCache
@@ -110,3 +111,32 @@ def test_a_propagation_keeps_running_when_the_cache_released_its_program(ctx):
         want = sum(twin.propagate(grid, Corrections(), 3))
         assert relative_error(output.accumulated.read(), want) < 1e-4
         assert np.isfinite(output.accumulated.read()).all()
+
+
+@pytest.mark.parametrize("image_units", [None, 8])
+def test_steps_in_a_row_in_a_cache_too_small_for_their_programs_step_as_usual(
+        ctx, monkeypatch, image_units):
+    """A unit's steps in a row get a second program (ping and pong on units of their own;
+    with 8 image units none) and the audit's: in a cache of two that releases programs, so
+    the unit steps as ``advance`` does instead, and the result is the one of a roomy cache,
+    bit for bit."""
+    import time
+
+    with _propagation_in_a_cache_of_two(ctx, 7) as (grid, spec, cache, injected, propagator):
+        if image_units is not None:
+            monkeypatch.setattr(propagator, "image_units", lambda: image_units)
+        run = propagator.start(injected, spec, Corrections(), 6)
+        while not run.finished:
+            run.advance_for(1e9, time.perf_counter())
+        small = run.finish()
+        accumulated, per_step = small.accumulated.read(), small.audit.per_step.copy()
+    roomy = PropagatePass(ctx, ProgramCache(ctx))
+    try:
+        grid_texture = LpvGrid(ctx, 8)
+        grid_texture.write(grid)
+        output = roomy.run(grid_texture, spec, Corrections(), 6)
+        assert np.array_equal(output.accumulated.read(), accumulated)
+        assert np.array_equal(output.audit.per_step, per_step)
+        grid_texture.release()
+    finally:
+        roomy.release()

@@ -16,8 +16,9 @@ from explorer.lpv.settings import Settings
 
 BASE = Settings(scene="cornell", grid_size=8, iterations=4, rsm_size=32, width=40, height=32,
                 geometry_volume="one-sided", bounces=2)
-OPS = ("draw_points_additively", "copy_volume", "merge_volumes")
-"""The GL work a unit of the three stages may do once."""
+OPS = ("draw_points_additively", "copy_volume", "merge_volumes", "copy_volumes")
+"""The GL work a unit of the three stages may do once (``copy_volumes``: several copies
+in a row, recorded as that many ``copy_volume``)."""
 STAGES = ("inject", "geometry", "propagate")
 PASSES = tuple(f"explorer.lpv.passes.{name}" for name in STAGES)
 
@@ -31,7 +32,10 @@ def record_ops(monkeypatch, ops: list[str]) -> None:
                 continue
 
             def counted(*args, _original=original, _name=name, **kwargs):
-                ops.append(_name)
+                if _name == "copy_volumes":
+                    ops.extend(["copy_volume"] * len(args[1]))
+                else:
+                    ops.append(_name)
                 return _original(*args, **kwargs)
 
             monkeypatch.setattr(module, name, counted)

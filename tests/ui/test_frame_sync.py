@@ -49,6 +49,28 @@ def test_a_deferred_read_gives_the_synchronous_bytes_and_waits_only_when_asked(g
         texture.release()
 
 
+def test_a_deferred_read_reissued_with_another_shape_or_type_reads_that(gl_context):
+    """A read keeps the shape, type and buffer of its last copy while they are the same
+    (a stage's frames); another shape, type or size is read as asked."""
+    data = np.arange(6 * 4 * 4, dtype=np.float32).reshape(4, 6, 4)
+    texture = gl_context.texture((6, 4), 4, data.tobytes(), dtype="f4")
+    read = DeferredRead(gl_context)
+    try:
+        for shape, dtype in (((4, 6, 4), "f4"), ((4, 6, 4), "f4"), ((24, 4), "f4"),
+                             ((4, 6, 4), np.dtype("i4")), ((4, 6, 4), "f4")):
+            read.issue(texture, shape, dtype)
+            got = read.wait()
+            assert got.shape == shape and got.dtype == np.dtype(dtype)
+            assert np.array_equal(got.view("f4").reshape(data.shape), data)
+        small = gl_context.texture((2, 2), 4, data[:2, :2].tobytes(), dtype="f4")
+        read.issue(small, (2, 2, 4))                  # fewer bytes: a buffer of its size
+        assert np.array_equal(read.wait(), data[:2, :2])
+        small.release()
+    finally:
+        read.release()
+        texture.release()
+
+
 def test_reads_issued_together_share_one_fence_held_until_the_last_lets_go(gl_context):
     """issue_together: each read gets its texture's bytes, behind one fence after the last
     copy; a read issued anew or released lets go of it, and the last one deletes it."""

@@ -5,10 +5,14 @@ data types are :mod:`explorer.lpv.audit`'s."""
 
 from __future__ import annotations
 
+import struct
+from collections.abc import Callable, Sequence
+from typing import NamedTuple
+
 import moderngl
 import numpy as np
 
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, DeferredRead, gl_integer
 from explorer.gl.program import ProgramCache, set_uniform, set_uniforms
 from explorer.lpv.audit import CellAudit
 from explorer.lpv.grid import grid_cells, shape_text
@@ -26,14 +30,31 @@ the partial records of 1026 slots (1024 iterations) take 37 MB, within one stora
 block."""
 
 
-_STAGE_DEFINES = {stage: {"AUDIT_STAGE": stage} for stage in (0, 1, 2)}
+PING_GRID_UNIT = 8
+"""Where the propagation's steps in a row keep ping's textures
+(explorer/lpv/passes/propagate.py ``PING_TEXTURE_UNIT``, which is this)."""
+PING_GRID_DEFINES = {"AUDIT_GRID_R": PING_GRID_UNIT, "AUDIT_GRID_G": PING_GRID_UNIT + 1,
+                     "AUDIT_GRID_B": PING_GRID_UNIT + 2}
+PING_FLUX = 3
+"""The program id (besides the stages 0, 1, 2) of stage 0 reading its grid on
+:data:`PING_GRID_UNIT`'s units instead of 0..2."""
+_STAGE_DEFINES = {**{stage: {"AUDIT_STAGE": stage} for stage in (0, 1, 2)},
+                  PING_FLUX: {"AUDIT_STAGE": 0, **PING_GRID_DEFINES}}
 """The defines of ``audit_reduce.glsl``'s three stages (partials of a grid's flux, of the
-cell records; the fold), and their program keys, made once."""
+cell records; the fold) and of stage 0 on ping's units, and their program keys, made
+once."""
 _STAGE_KEYS = {stage: ProgramCache.key("audit_reduce.glsl", defines)
                for stage, defines in _STAGE_DEFINES.items()}
 
-GRID_SAMPLERS = {"u_grid_r": 0, "u_grid_g": 1, "u_grid_b": 2}
-"""The sampler units of the grid whose flux :meth:`AuditReducer.measure_flux` reduces."""
+GRID_SAMPLERS: dict[str, object] = {}
+"""The uniforms of the grid whose flux :meth:`AuditReducer.measure_flux` reduces: none,
+its samplers are bound to units 0..2 by the shader's layout."""
+
+
+KEPT_RECORDS_BYTES = 4 << 20
+"""The per-cell records of the propagation's steps in a row are kept for one reduction of
+them all (:meth:`AuditReducer.steps_recorder`) as far as this many bytes hold them (an
+8³ grid's 16 steps: 0.7 MiB; from 32³ on, one step's)."""
 
 
 SHRINK_OVER = 4
@@ -58,6 +79,8 @@ class AuditReducer:
         self.ctx = ctx
         self.programs = programs
         self._buffers: dict[str, moderngl.Buffer] = {}
+        self._sizes: dict[str, int] = {}
+        """Each buffer's size in bytes."""
         self._slots = 0
         self._cells = (1, 1, 1)
         self._partials = 1
@@ -68,16 +91,26 @@ class AuditReducer:
         self._kept: dict[int, object] = {}
         """The stages' programs got since :meth:`begin` (see :meth:`_stage_program`)."""
         self._kept_releases = -1
+        self._alignment: int | None = None
+        self._record_stride = 0
+        """Bytes from one step's per-cell records to the next's (kept steps, aligned)."""
+        self.record_regions = 1
+        """Steps whose per-cell records the buffer holds at once (:meth:`steps_recorder`)."""
+        self._record_uniforms: dict[str, object] = {"u_record_stride": 0}
+        self._records_at = 0
+        """Where the last step's records start in the buffer (floats)."""
 
     def _buffer(self, name: str, size: int) -> moderngl.Buffer:
         """Buffer ``name`` of at least ``size`` bytes: kept while it fits, made anew when it
         is too small or over :data:`SHRINK_OVER` times the size (a 64³ grid's per-cell
         records, 42 MiB, are not kept for the 8³ grid that follows)."""
         buffer = self._buffers.get(name)
-        if buffer is None or buffer.size < size or buffer.size > SHRINK_OVER * max(size, 4):
+        made = self._sizes.get(name, 0)     # the buffer's size, kept (asking is a GL call)
+        if buffer is None or made < size or made > SHRINK_OVER * max(size, 4):
             if buffer is not None:
                 buffer.release()
             buffer = self._buffers[name] = self.ctx.buffer(reserve=max(size, 4))
+            self._sizes[name] = max(size, 4)
         return buffer
 
     @property
@@ -101,11 +134,25 @@ class AuditReducer:
         self._kept.clear()      # got again once a run: the cache's use order stays fresh
         # every slot is measured once before read(): no clearing needed
         self._buffer("partials", self._slots * self.partial_count * AUDIT_VALUES * 4)
+        self._records_at = 0
         if cell_records:
             size = self._cell_count * AUDIT_VALUES * 4
-            self._buffer("cells", size)
+            align = self._offset_alignment()
+            self._record_stride = -(-size // align) * align
+            self.record_regions = max(1, min(self._slots - 2,
+                                             KEPT_RECORDS_BYTES // self._record_stride))
+            if self._record_uniforms.get("u_record_stride") != self._record_stride // 4:
+                self._record_uniforms = {"u_record_stride": self._record_stride // 4}
+            self._buffer("cells", self._record_stride * (self.record_regions - 1) + size)
             self._buffer("cell_sums", size).clear(size=size)
         self._buffer("results", self._slots * AUDIT_VALUES * 4)
+
+    def _offset_alignment(self) -> int:
+        """``GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT`` (asked once)."""
+        if self._alignment is None:
+            self._alignment = max(4, gl_integer(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT,
+                                                256))
+        return self._alignment
 
     def bind(self) -> None:
         """Bind the storage buffers: partials 2, results 3, per-cell records 4 and their
@@ -127,10 +174,11 @@ class AuditReducer:
         """(21,) float64: cell ``linear``'s record of the last step (quantity-major: one
         read of 4 bytes per number)."""
         self.ctx.memory_barrier()
-        cells = self._cell_count
+        cells, at = self._cell_count, self._records_at
         buffer = self._buffers["cells"]
-        return np.array([np.frombuffer(buffer.read(size=4, offset=(i * cells + int(linear))
-                                                   * 4), np.float32)[0]
+        return np.array([np.frombuffer(buffer.read(size=4, offset=(at + i * cells
+                                                                   + int(linear)) * 4),
+                                       np.float32)[0]
                          for i in range(AUDIT_VALUES)], np.float64)
 
     def _stage_program(self, stage: int):
@@ -148,9 +196,11 @@ class AuditReducer:
         return program
 
     def _run_partials(self, stage: int, slot: int, uniforms: dict[str, object],
-                      bound: bool = False) -> None:
-        if not 0 <= slot < self._slots:
-            raise IndexError(f"audit slot {slot} outside 0..{self._slots - 1}")
+                      bound: bool = False, rows: int = 1) -> None:
+        last = slot + rows - 1
+        if not 0 <= slot <= last < self._slots:
+            raise IndexError(f"audit slot {last if slot >= 0 else slot} outside "
+                             f"0..{self._slots - 1}")
         if not bound:
             self.bind()
         program = self._stage_program(stage)
@@ -163,8 +213,44 @@ class AuditReducer:
                                    "u_partial_count": partials})
             program.extra["audit grid"] = grid
         set_uniform(program, "u_result_slot", slot)
-        program.run(-(-partials // 64))
+        program.run(-(-partials // 64), rows)
         self.ctx.memory_barrier()
+
+    def slot_measurer(self, stage: int) -> Callable[[int], None]:
+        """A function of a slot that does what :meth:`measure_flux` (``stage`` 0, with the
+        grid already on sampler units 0..2; :data:`PING_FLUX`, on ping's units) or
+        :meth:`sum_cell_records` (``stage`` 1) does
+        with ``bound``, once one of them has run on this grid since the cache last released
+        a program: the slot's upload (when it changed), the dispatch and its barrier, for a
+        propagation's steps in a row (explorer/lpv/passes/propagate.py)."""
+        uniforms = self._record_uniforms if stage == 1 else GRID_SAMPLERS
+        program = self._stage_program(stage)
+        info = program.extra
+        uploaded = info.get("values", {})
+        if info.get("audit grid") != (self._cells, self._partials, uniforms) or \
+                "u_result_slot" not in uploaded:
+            return lambda slot: self._run_partials(stage, slot, uniforms, bound=True)
+        # set_uniform's bookkeeping, kept as it keeps it
+        kept = info.setdefault("uniforms", {})
+        uniform = kept.get("u_result_slot")
+        if uniform is None:
+            uniform = kept["u_result_slot"] = program["u_result_slot"]
+        info["last values"] = None
+        write, run, barrier = uniform.write, program.run, self.ctx.memory_barrier
+        groups, slots = -(-self._partials // 64), self._slots
+        packed = _packed_ints(uniform.fmt, slots)
+
+        def measure(slot: int) -> None:
+            if not 0 <= slot < slots:
+                raise IndexError(f"audit slot {slot} outside 0..{slots - 1}")
+            stamp = (int, slot)
+            if uploaded["u_result_slot"] != stamp:
+                write(packed[slot])
+                uploaded["u_result_slot"] = stamp
+            run(groups)
+            barrier()
+
+        return measure
 
     def measure_flux(self, slot: int, grid: LpvGrid, bound: bool = False) -> None:
         """Reduce the flux of ``grid`` into ``slot`` (sampler units 0..2 while it runs);
@@ -178,7 +264,30 @@ class AuditReducer:
     def sum_cell_records(self, slot: int, bound: bool = False) -> None:
         """Reduce the per-cell records a propagation step wrote into ``slot``; ``bound``:
         :meth:`bind`'s buffers are still bound (the step's own dispatch bound them)."""
-        self._run_partials(1, slot, {}, bound)
+        self._run_partials(1, slot, self._record_uniforms, bound)
+        self._records_at = 0
+
+    def steps_recorder(self) -> StepsRecorder:
+        """How a propagation's steps in a row keep their per-cell records for one
+        reduction (:data:`KEPT_RECORDS_BYTES`), with :meth:`bind`'s buffers bound: before
+        the k-th step of a group (k from 0, at most ``regions`` steps a group)
+        ``bind(4, offset=offsets[k], size=size)`` binds where it writes its records (for k
+        0 nothing: the buffer bound whole starts there), and after a group's last step
+        ``reduce(first_slot, steps)`` reduces them into their slots (what
+        :meth:`sum_cell_records` after each step does, the same sums in the same order)
+        and binds the buffer whole again."""
+        cells, stride = self._buffers["cells"], self._record_stride
+        bind = cells.bind_to_storage_buffer
+
+        def reduce(first_slot: int, steps: int) -> None:
+            if steps > 1:
+                bind(4)
+            self._run_partials(1, first_slot, self._record_uniforms, bound=True, rows=steps)
+            self._records_at = (steps - 1) * stride // 4
+
+        return StepsRecorder(self.record_regions, bind,
+                             range(0, self.record_regions * stride, stride),
+                             self._cell_count * AUDIT_VALUES * 4, reduce)
 
     def read(self) -> np.ndarray:
         """(slots, 21) float64: flux, border loss, clamp gain, occluded, reflected, blocked,
@@ -217,6 +326,28 @@ class AuditReducer:
         self._buffers.clear()
         self.has_records = False
         self._kept.clear()
+
+
+class StepsRecorder(NamedTuple):
+    """:meth:`AuditReducer.steps_recorder`'s parts (read into locals by the step loop)."""
+
+    regions: int
+    bind: Callable[..., None]
+    offsets: Sequence[int]
+    size: int
+    reduce: Callable[[int, int], None]
+
+
+_PACKED_INTS: dict[str, list[bytes]] = {}
+"""A uniform's format -> the bytes of 0, 1, 2, ... in it (the audit's slots)."""
+
+
+def _packed_ints(fmt: str, count: int) -> list[bytes]:
+    """The bytes ``struct.pack(fmt, k)`` of k = 0 .. at least ``count - 1`` (made once)."""
+    packed = _PACKED_INTS.setdefault(fmt, [])
+    if len(packed) < count:
+        packed.extend(struct.pack(fmt, k) for k in range(len(packed), max(count, 64)))
+    return packed
 
 
 class CellAuditRecords:

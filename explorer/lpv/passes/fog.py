@@ -19,7 +19,7 @@ import numpy as np
 from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
-from explorer.lpv.cascades import SampledGrid, bind_cascade_textures, cascade_uniforms
+from explorer.lpv.cascades import SampledGrid, cascade_uniforms
 from explorer.lpv.passes.gbuffer import GBufferPass
 from explorer.lpv.passes.light_records import LightRecordBuffer, ShadowMaps
 from explorer.lpv.passes.textures import sh_defines
@@ -98,7 +98,6 @@ class FogPass:
         shadow.textures.position.use(1)
         shadow.textures.normal.use(2)
         light_count = self._lights.bind(shadow.views, shadow.tiles)
-        bind_cascade_textures(list(grid.cascades), FIRST_GRID_UNIT)
         eye, inverse = camera_rays(scene, gbuffer.size)
         set_uniforms(program, {
             "u_gbuffer_position": 0, "u_shadow_position": 1, "u_shadow_normal": 2,

@@ -23,7 +23,7 @@ from explorer.gl.fullscreen import FullscreenTriangle
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.gl.targets import RenderTargets
 from explorer.lpv.audit import rgb_sums
-from explorer.lpv.cascades import CascadeInput, SampledGrid, bind_cascade_textures, cascade_uniforms
+from explorer.lpv.cascades import CascadeInput, SampledGrid, bind_cascades, cascade_uniforms
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec
 from explorer.lpv.passes.gbuffer import GBufferPass
@@ -216,8 +216,6 @@ class GatherPass:
         finest = grid.finest if grid else CascadeInput(NO_GRID_SPEC, (self._empty(),) * 3)
         for unit, texture in enumerate(finest.textures, start=5):
             texture.use(unit)
-        if several:     # every draw: the kept uniforms below do not bind them
-            bind_cascade_textures(list(grid.cascades), self.CASCADE_FIRST_UNIT)
         light_count = self._lights.bind(shadow.views, shadow.tiles)
         # the uniforms are made again only when what they are made of changes (a moved
         # camera changes none of it): set_uniforms then finds the same dict and skips it
@@ -239,6 +237,11 @@ class GatherPass:
                 **dict(params.switches),
             }
             made = self._uniforms[id(program)] = (key, values)
+        elif several:
+            # cascade_uniforms bound the cascades' textures when it made the dict: the
+            # units have held others since (a kept dict bound nothing: a cascaded frame
+            # after another frame gathered from whatever those were)
+            bind_cascades(grid.cascades, self.CASCADE_FIRST_UNIT)
         set_uniforms(program, made[1], reads=uniforms_read_by(self.STAGE))
         with self._targets.drawing(rows=rows):
             self._triangle.draw(program)

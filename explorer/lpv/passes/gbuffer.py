@@ -22,6 +22,9 @@ class GBufferPass:
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4",) * len(TARGETS), depth=True,
                                       enable=moderngl.DEPTH_TEST)
+        self._uniforms: tuple[Scene, tuple[int, int], dict[str, object]] | None = None
+        """The scene (frozen) and size of the last run and their camera uniforms: the same
+        dict while they are the same, which ``set_uniforms`` skips as unchanged."""
 
     @property
     def size(self) -> tuple[int, int]:
@@ -46,7 +49,10 @@ class GBufferPass:
     def run(self, geometry: SceneBuffers, scene: Scene, size: tuple[int, int]) -> None:
         self._targets.allocate(size)
         program = self.programs.get("gbuffer.glsl")
-        set_uniforms(program, camera_uniforms(scene, size))
+        kept = self._uniforms
+        if kept is None or kept[0] is not scene or kept[1] != size:
+            kept = self._uniforms = (scene, size, camera_uniforms(scene, size))
+        set_uniforms(program, kept[2])
         with self._targets.drawing(clear=True):
             geometry.draw(program)
 

@@ -28,6 +28,7 @@ from explorer.lpv.passes.textures import (
     LpvGrid,
     copied_apart,
     copy_volume,
+    copy_volumes,
     default_context,
     dispatch_size,
     draw_points_additively,
@@ -135,10 +136,11 @@ class InjectPass:
             set_uniforms(program, uniforms, reads=uniforms_read_by(self.STAGE))
             draw_points_additively(self.ctx, program, layers, count, clear=not first,
                                    first=first)
-        apart = copied_apart(layers.shape)
+        if not copied_apart(layers.shape):
+            copy_volumes(self.programs, layers.layers, out.volumes)
+            return
         for stack, volume in zip(layers.layers, out.volumes):
-            if apart:
-                yield   # the layers keep the sums: each copy may run in a later frame
+            yield   # the layers keep the sums: each copy may run in a later frame
             copy_volume(self.programs, stack, volume)
 
     def _inject_compute(self, vpls: VplTextures, uniforms: dict, out: LpvGrid) -> None:

@@ -9,25 +9,32 @@ once into a :class:`PropagationOutput`; :func:`grid_audit` reads the audit back;
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
-from explorer.gl.gpu_sync import DeferredRead
+from explorer.gl.gpu_sync import GL_MAX_IMAGE_UNITS, DeferredRead, gl_integer
 from explorer.gl.program import ProgramCache, set_uniforms
 from explorer.lpv.audit import GridAudit, audit_mode
 from explorer.lpv.corrections import uniforms_read_by
 from explorer.lpv.grid import GridSpec, grid_cells, shape_text
 from explorer.lpv.kept_steps import KeptSteps
 from explorer.lpv.neighbours import check_flux_budget, check_neighbours
-from explorer.lpv.passes.audit_reduce import AuditReducer, CellAuditRecords
+from explorer.lpv.passes.audit_reduce import (
+    PING_FLUX,
+    PING_GRID_UNIT,
+    AuditReducer,
+    CellAuditRecords,
+)
 from explorer.lpv.passes.geometry import GeometryVolume
 from explorer.lpv.passes.textures import (
     LpvGrid,
     check_volume_array,
     copied_apart,
     copy_volume,
+    copy_volumes,
     default_context,
     dispatch_size,
     image_format_defines,
@@ -93,6 +100,14 @@ class PropagatePass:
         self._run_uniforms: dict[tuple[GridSpec, Corrections], dict[str, object]] = {}
         self._programs_of: dict[tuple, tuple[dict[str, object], tuple, tuple[str, ...]]] = {}
         self._budget: moderngl.Buffer | None = None
+        self._image_units: int | None = None
+
+    def image_units(self) -> int:
+        """The context's ``GL_MAX_IMAGE_UNITS`` (asked once): a run puts ping and pong on
+        units of their own (:data:`EVEN_STEP_UNITS`) only where there are enough."""
+        if self._image_units is None:
+            self._image_units = gl_integer(GL_MAX_IMAGE_UNITS, 8)
+        return self._image_units
 
     def budget_buffer(self, cells: tuple[int, int, int]) -> moderngl.Buffer:
         """The flux budget's factors (one vec4 per cell), kept between runs."""
@@ -114,7 +129,6 @@ class PropagatePass:
                 self._run_uniforms.clear()
             made = self._run_uniforms[key] = {
                 **spec.uniforms(), **corrections.as_uniforms(),
-                "u_source_r": 0, "u_source_g": 1, "u_source_b": 2,
                 "u_geometry": self.GEOMETRY_UNIT, "u_geometry_albedo": self.ALBEDO_UNIT,
                 "u_cell_offset": (0, 0, 0)}
         return made
@@ -233,6 +247,26 @@ class PropagatePass:
         if self._budget is not None:
             self._budget.release()
             self._budget = None
+
+
+PING_TEXTURE_UNIT, PONG_IMAGE_UNIT = PING_GRID_UNIT, 6
+"""Where a run's steps in a row (:meth:`PropagationRun.advance_for`) keep ping-pong's
+grids: ping's images on units 0..2 (the odd steps' target) and its textures on sampler
+units 8..10 (the even steps' source), pong's images on units 6..8 (the even steps'
+target) and its textures on units 0..2 (the odd steps' source, after grid_0 there): the
+odd steps run the run's program, the even ones its second program of the same variant
+with :data:`EVEN_STEP_UNITS`, and no step binds anything anew (but step 3, pong in
+grid_0's place; with the flux audit, which reads the step's target on sampler units
+0..2 or ping's (``audit_reduce.PING_FLUX``), step 2, pong in grid_0's place). Sampler
+units 6 and 7 hold the geometry volume, image units 3..5 the accumulation."""
+EVEN_STEP_UNITS = {
+    "PROPAGATE_SOURCE_R": PING_TEXTURE_UNIT, "PROPAGATE_SOURCE_G": PING_TEXTURE_UNIT + 1,
+    "PROPAGATE_SOURCE_B": PING_TEXTURE_UNIT + 2, "PROPAGATE_TARGET_R": PONG_IMAGE_UNIT,
+    "PROPAGATE_TARGET_G": PONG_IMAGE_UNIT + 1, "PROPAGATE_TARGET_B": PONG_IMAGE_UNIT + 2}
+"""The even steps' program's defines besides the run's (``shaders/propagate.glsl``)."""
+LAYOUT_IMAGE_UNITS = PONG_IMAGE_UNIT + 3
+"""Image units the layout needs (GL 4.3 promises 8; llvmpipe has 192): with fewer, every
+step binds its source and target as a single program needs."""
 
 
 COMPILED_SWITCHES = {"u_ping_pong": "PROPAGATE_PING_PONG"}
@@ -362,6 +396,8 @@ class PropagationRun:
         self._program = None
         self._program_releases = -1
         self._budget_program: tuple[dict[str, object], tuple] | None = None
+        self._even_variant: tuple[dict[str, object], tuple] | None = None
+        self._even = None
         self._program_now()
         # step t writes ping (t odd) or pong (t even); in place, the accumulation
         self._targets = ((self._scratch["pong"], self._scratch["ping"]) if corrections.ping_pong
@@ -390,10 +426,12 @@ class PropagationRun:
 
     def _copy_rest(self) -> bool:
         """Copy the channels left (:meth:`copy_next`); False when there were some."""
-        done = not self._copies
-        while self._copies:
-            self.copy_next()
-        return done
+        if not self._copies:
+            return True
+        copies, self._copies = self._copies, []
+        copy_volumes(self._owner.programs, [source.texture for source, _ in copies],
+                     [target for _, target in copies])
+        return False
 
     @property
     def accumulated(self) -> LpvGrid:
@@ -412,6 +450,18 @@ class PropagationRun:
             set_uniforms(program, self._uniforms, reads=self._reads)
             program.extra["cell_offset"] = 0
             self._program = program
+        return program
+
+    def _even_program(self):
+        """The run's second program (:data:`EVEN_STEP_UNITS`), got from the cache once per
+        unit; a new one gets the run's uniforms first."""
+        if self._even_variant is None:
+            defines = {**self._defines, **EVEN_STEP_UNITS}
+            self._even_variant = (defines, ProgramCache.key("propagate.glsl", defines))
+        program = self._owner.programs.get("propagate.glsl", *self._even_variant)
+        if program is not self._even:
+            set_uniforms(program, self._uniforms, reads=self._reads)
+            self._even = program
         return program
 
     def _run_budget_pass(self) -> None:
@@ -449,6 +499,161 @@ class PropagationRun:
         target = self.done + 1
         while self.done < target:
             self.advance()
+
+    def advance_for(self, limit_ms: float, start: float) -> None:
+        """Slabs in a row until ``limit_ms`` milliseconds since ``start`` (a
+        ``time.perf_counter()``) are spent, at least one, or every step has run: the first
+        by :meth:`advance`, the rest keeping its bindings (``bound``). Steps of one slab
+        each with nothing to do between them but the audit's measurement (no flux budget,
+        no kept grid: a small grid's, every frame) go through :meth:`_steps_in_a_row`,
+        the same GL calls with less Python around them."""
+        clock, deadline = time.perf_counter, start + limit_ms / 1e3
+        self.advance()
+        if self.finished or clock() >= deadline:
+            return
+        if len(self._slabs) == 1 and self._budget is None and not self._keep_steps:
+            self._steps_in_a_row(clock, deadline)
+            return
+        while not self.finished:
+            self.advance(bound=True)
+            if clock() >= deadline:
+                return
+
+    def _steps_in_a_row(self, clock, deadline: float) -> None:
+        """:meth:`advance` with ``bound`` of one-slab steps until ``clock()`` reaches
+        ``deadline`` or every step has run, after an :meth:`advance` of this run (which got
+        the program, set its offset and bound what every step keeps). Ping-pong on a
+        context with :data:`LAYOUT_IMAGE_UNITS`: ping and pong on units of their own
+        (:data:`PING_TEXTURE_UNIT`), each step the dispatch of its parity's program and its
+        barrier; otherwise (in place, or fewer image units) each step binds its source on
+        sampler units 0..2 (the flux audit's reduction left it there) and its target's
+        images.
+        The full audit's steps write their per-cell records each to a region of its own
+        (``AuditReducer.steps_recorder``), reduced in one dispatch for the unit's steps
+        (or as many as the buffer holds); the flux audit reduces each step's grid."""
+        owner, mode = self._owner, self._mode
+        first, end = self._slabs[0]
+        groups = (self._groups[0], self._groups[1], -(-(end - first) // 4))
+        # the full audit's steps keep their records, reduced a group at a time
+        recorder = owner.audit.steps_recorder() if mode == "full" else None
+        # ping and pong on units of their own (PING_TEXTURE_UNIT); in place one grid
+        own_units = self._corrections.ping_pong and owner.image_units() >= LAYOUT_IMAGE_UNITS
+        if not (self._steps_on_own_units if own_units else self._steps_binding)(
+                clock, deadline, groups, recorder):
+            while not self.finished:            # the cache released programs: as usual
+                self.advance(bound=True)
+                if clock() >= deadline:
+                    return
+            return
+        self._bound = _RUN_AUDIT if mode != "off" else _RUN
+        if mode == "flux" and not own_units:
+            self._bound |= _SOURCE          # the last target, the next source, on 0..2
+
+    def _steps_on_own_units(self, clock, deadline: float, groups: tuple[int, int, int],
+                            recorder) -> bool:
+        """:meth:`_steps_in_a_row` with ping and pong on units of their own; False (and
+        nothing done) when getting its programs made the cache release any (a cache too
+        small for a unit's programs: the caller steps as :meth:`advance` does)."""
+        owner = self._owner
+        releases = self._program_releases       # the run's program was got at it
+        flux = self._mode == "flux"
+        if flux:        # pong's flux read on units 0..2, ping's on its own
+            measure_pong = owner.audit.slot_measurer(0)
+            measure_ping = owner.audit.slot_measurer(PING_FLUX)
+        even = self._even_program()
+        if owner.programs.releases != releases:
+            return False
+        run, run_even, barrier = self._program.run, even.run, owner.ctx.memory_barrier
+        ping, pong = self._scratch["ping"], self._scratch["pong"]
+        ping.bind_images(0)
+        pong.bind_images(PONG_IMAGE_UNIT)
+        ping.use_as_textures(PING_TEXTURE_UNIT)
+        on_zero = None                              # the grid on sampler units 0..2
+        regions, bind_records, offsets, size, reduce_records = \
+            recorder or (0, None, (), 0, None)
+        group, first_slot = 0, self.done + 1
+        done, iterations, source, targets = self.done, self.iterations, self._source, \
+            self._targets
+        while True:
+            done += 1
+            if recorder is not None:
+                if group == regions:
+                    reduce_records(first_slot, group)
+                    group, first_slot = 0, done
+                if group:
+                    bind_records(4, offset=offsets[group], size=size)
+                group += 1
+            if done % 2 == 0:
+                run_even(*groups)
+                barrier()
+                if flux:
+                    if on_zero is not pong:
+                        pong.use_as_textures(0)
+                        on_zero = pong
+                    measure_pong(done)
+            else:
+                if on_zero is not source:
+                    source.use_as_textures(0)
+                    on_zero = source
+                run(*groups)
+                barrier()
+                if flux:
+                    measure_ping(done)
+            source = targets[done % 2]
+            if done >= iterations or clock() >= deadline:
+                break
+        if recorder is not None:
+            reduce_records(first_slot, group)
+        self._source, self.done = source, done
+        return True
+
+    def _steps_binding(self, clock, deadline: float, groups: tuple[int, int, int],
+                       recorder) -> bool:
+        """:meth:`_steps_in_a_row` binding each step's source and target (one program);
+        False, as :meth:`_steps_on_own_units`."""
+        owner, mode = self._owner, self._mode
+        measure = owner.audit.slot_measurer(0) if mode == "flux" else None
+        if owner.programs.releases != self._program_releases:
+            return False
+        run, barrier = self._program.run, owner.ctx.memory_barrier
+        regions, bind_records, offsets, size, reduce_records = \
+            recorder or (0, None, (), 0, None)
+        group, first_slot = 0, self.done + 1
+        done, iterations, source, targets = self.done, self.iterations, self._source, \
+            self._targets
+        while True:
+            done += 1
+            if recorder is not None:
+                if group == regions:
+                    reduce_records(first_slot, group)
+                    group, first_slot = 0, done
+                if group:
+                    bind_records(4, offset=offsets[group], size=size)
+                group += 1
+            target = targets[done % 2]
+            if measure is None:         # the flux reduction left the source on 0..2
+                r, g, b = source.textures
+                r.use(0)
+                g.use(1)
+                b.use(2)
+            r, g, b = target.textures
+            r.bind_to_image(0)
+            g.bind_to_image(1)
+            b.bind_to_image(2)
+            run(*groups)
+            barrier()
+            if measure is not None:
+                r.use(0)
+                g.use(1)
+                b.use(2)
+                measure(done)
+            source = target
+            if done >= iterations or clock() >= deadline:
+                break
+        if recorder is not None:
+            reduce_records(first_slot, group)
+        self._source, self.done = source, done
+        return True
 
     def advance(self, bound: bool = False) -> None:
         """Dispatch the next slab of the current step; after the step's last slab, its

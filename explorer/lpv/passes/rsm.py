@@ -167,6 +167,10 @@ class RsmPass:
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4",) * 4, depth=True,
                                       enable=moderngl.DEPTH_TEST)
+        self._uniforms: dict[int, tuple[LightView, dict[str, object]]] = {}
+        """id of a view (frozen) -> the view and its ``rsm_uniforms()``: the same dict for
+        the same view (a frame's views are the last frame's while the lights are the same:
+        the rsm stage keeps them), which ``set_uniforms`` skips as unchanged."""
 
     def run(self, geometry: SceneBuffers, view: LightView) -> VplTextures:
         """Render the RSM seen by ``view``; the returned textures belong to this pass and
@@ -177,7 +181,12 @@ class RsmPass:
                              f"{max_size}")
         self._targets.allocate((view.size, view.size))
         program = self.programs.get("rsm.glsl")
-        set_uniforms(program, view.rsm_uniforms())
+        kept = self._uniforms.get(id(view))
+        if kept is None or kept[0] is not view:
+            if len(self._uniforms) >= 16:
+                self._uniforms.clear()
+            kept = self._uniforms[id(view)] = (view, view.rsm_uniforms())
+        set_uniforms(program, kept[1])
         with self._targets.drawing(clear=True):
             geometry.draw(program)
         position, normal, flux, albedo = self._targets.textures

@@ -11,6 +11,7 @@ Also the lazily created default context and program cache of the numpy-facing AP
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import moderngl
@@ -225,7 +226,7 @@ class LpvGrid:
 
     def bind_images(self, first_unit: int, read: bool = True, write: bool = True) -> None:
         """Bind r, g, b as image3D units ``first_unit`` .. ``first_unit + 2`` (straight on
-        the textures: a propagation step binds six a step)."""
+        the textures; a propagation binds them once a unit: passes/propagate.py)."""
         for offset, texture in enumerate(self.textures):
             texture.bind_to_image(first_unit + offset, read=read, write=write)
 
@@ -330,6 +331,41 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
     programs.ctx.memory_barrier()
 
 
+def copy_volumes(programs: ProgramCache, sources: Sequence, targets: Sequence[VolumeTexture]
+                 ) -> None:
+    """:func:`copy_volume` of each source into its target, in order, the program got and
+    its uniform set once for the sources of the first one's kind and targets of its format
+    (a grid's three channels; any other pair is copied by :func:`copy_volume`): the same GL
+    calls, less Python."""
+    if not sources:
+        return
+    layered = isinstance(sources[0], moderngl.TextureArray)
+    fmt = targets[0].format
+    made = _COPY_PROGRAMS.get((layered, fmt))
+    if made is None:
+        defines = {"SOURCE_LAYERED": int(layered), **image_format_defines(fmt)}
+        made = _COPY_PROGRAMS[(layered, fmt)] = (
+            defines, programs.key("volume_copy.glsl", defines))
+    program = programs.get("volume_copy.glsl", *made)
+    run, barrier = program.run, programs.ctx.memory_barrier
+    uniforms_set, size, groups = False, None, (0, 0, 0)
+    for source, target in zip(sources, targets, strict=True):
+        if isinstance(source, moderngl.TextureArray) is not layered or target.format != fmt:
+            copy_volume(programs, source, target)
+            uniforms_set = False        # that copy's program may be this one
+            continue
+        source.use(0)
+        target.texture.bind_to_image(0, read=False, write=True)
+        if not uniforms_set:
+            set_uniforms(program, _COPY_UNIFORMS)
+            uniforms_set = True
+        if (target.cells, target.depth) != size:
+            size = (target.cells, target.depth)
+            groups = dispatch_size(target.shape)
+        run(*groups)
+        barrier()
+
+
 APART_TEXELS = 40 ** 3
 """A volume of more texels than this is copied (and its draws and merges done) in a unit of
 its own in a time-sliced frame: a 64³ volume's copy takes 8 ms on llvmpipe, a 32³ one's
@@ -340,7 +376,7 @@ Python)."""
 def copied_apart(shape: Sequence[int]) -> bool:
     """Whether a volume of ``shape`` texels is copied in a unit of its own
     (:data:`APART_TEXELS`)."""
-    return int(np.prod([int(n) for n in shape])) > APART_TEXELS
+    return math.prod(map(int, shape)) > APART_TEXELS
 
 
 POINT_BATCH = 1 << 16

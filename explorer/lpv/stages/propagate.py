@@ -37,12 +37,7 @@ def advance_group(levels: list, limit_ms: float = GROUP_MS) -> None:
     bindings."""
     start = time.perf_counter()
     if len(levels) == 1:            # one level: its slabs in a row, all keeping its bindings
-        run, bound = levels[0].running, False
-        while not run.finished:
-            run.advance(bound=bound)
-            bound = True
-            if (time.perf_counter() - start) * 1e3 >= limit_ms:
-                return
+        levels[0].running.advance_for(limit_ms, start)
         return
     last = None
     while True:

@@ -27,6 +27,21 @@ class Stage(StageBase):
         super().__init__(host, decl)
         self.reads: list[DeferredRead] = []
         """The read-back's copies (grown to the views' count, reused)."""
+        self._views: tuple | None = None
+        """(scene, RSM size, snap, scene as loaded, their views) of the last run: the scenes
+        are frozen, so the same objects give the same views (kept, not made anew)."""
+
+    def views(self, s) -> list:
+        """The RSM views of ``s``'s scene (``LightViews.of``), the last run's while the
+        scene objects and the RSM's size and snap are the same."""
+        state = self.host.scene_state
+        scene, placed = state.for_settings(s), state.base(s.scene)
+        kept = self._views
+        if kept is None or kept[0] is not scene or kept[3] is not placed or \
+                kept[1] != s.rsm_size or kept[2] != s.rsm_snap:
+            kept = self._views = (scene, s.rsm_size, s.rsm_snap, placed,
+                                  LightViews.of(scene, s.rsm_size, s.rsm_snap, placed))
+        return kept[4]
 
     def release(self) -> None:
         for read in self.reads:
@@ -44,8 +59,7 @@ class Stage(StageBase):
 
     def work(self, job: Job) -> Iterator[None]:
         s, host = job.settings, self.host
-        views = LightViews.of(host.scene_state.for_settings(s), s.rsm_size, s.rsm_snap,
-                             host.scene_state.base(s.scene))
+        views = self.views(s)
         check_memory(s, host.memory_budget_bytes, views=len(views))
         yield from host.light_views.render(views, host.scene_state.buffers,
                                            host.limits.max_framebuffer_size)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import time
 from contextlib import contextmanager
 
 import numpy as np
@@ -18,6 +19,7 @@ from lpv_cases import (
 from explorer.gl.program import ProgramCache
 from explorer.lpv import inject, propagate
 from explorer.lpv.grid import GridSpec
+from explorer.lpv.passes import audit_reduce
 from explorer.lpv.passes.geometry import GeometryVolume, inject_geometry
 from explorer.lpv.passes.propagate import PropagatePass, propagate_with_audit
 from explorer.lpv.passes.textures import LpvGrid
@@ -290,3 +292,52 @@ def test_an_unknown_audit_mode_is_refused_by_name(ctx):
     grid, geometry = injected_case(ctx, 7, "off")
     with pytest.raises(ValueError, match="audit mode must be one of off, flux, full"):
         propagate_with_audit(grid, iterations=1, ctx=ctx, audit="some")
+
+
+@pytest.mark.parametrize("mode", ["full", "flux", "off"])
+def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode, monkeypatch):
+    """``advance_for`` (a unit's steps in a row, the lean loop of one-slab steps, with
+    ping and pong on units of their own and a second program, or without where the
+    context has 8 image units) gives the accumulation, the audit and the per-cell records
+    bit for bit as ``step()`` one at a time; a limit of 0 still advances one slab per
+    call."""
+    grid, geometry = injected_case(ctx, 33, "one-sided")
+    propagator = PropagatePass(ctx, ProgramCache(ctx))
+    try:
+        with on_gpu(ctx, grid, geometry) as (injected, volume):
+            got = {}
+            for way in ("one at a time", "in a row", "limit 0", "8 image units",
+                        "records of 2 steps kept"):
+                if way == "8 image units":
+                    monkeypatch.setattr(propagator, "image_units", lambda: 8)
+                if way == "records of 2 steps kept":    # reduced 2, 2, then 1 at a time
+                    monkeypatch.setattr(audit_reduce, "KEPT_RECORDS_BYTES",
+                                        2 * 21 * 4 * SPEC.resolution ** 3 + 256)
+                run = propagator.start(injected, SPEC, Corrections(), 6, volume, audit=mode)
+                calls = 0
+                while not run.finished:
+                    if way == "one at a time":
+                        run.step()
+                    else:
+                        run.advance_for(0.0 if way == "limit 0" else 1e9,
+                                        time.perf_counter())
+                    calls += 1
+                output = run.finish()
+                records = (output.cell_records.read((1, 2, 3))
+                           if output.cell_records is not None else None)
+                got[way] = (calls, output.accumulated.read(), output.audit, records)
+        (_, want, audit, records), (calls, *rest) = got["one at a time"], got["in a row"]
+        assert calls == 1 == got["8 image units"][0] == got["records of 2 steps kept"][0]
+        for accumulated, got_audit, got_records in (rest, got["limit 0"][1:],
+                                                    got["8 image units"][1:],
+                                                    got["records of 2 steps kept"][1:]):
+            assert np.array_equal(accumulated, want)
+            assert np.array_equal(got_audit.per_step, audit.per_step, equal_nan=True)
+            assert np.array_equal(got_audit.accumulated, audit.accumulated)
+            assert (got_records is None) == (records is None) == (mode != "full")
+            for got_record, want_record in zip(got_records or (), records or ()):
+                assert all(np.array_equal(getattr(got_record, name), getattr(want_record, name))
+                           for name in ("received", "border_loss", "clamp_gain", "occluded"))
+        assert got["limit 0"][0] == 6
+    finally:
+        propagator.release()
