@@ -86,6 +86,7 @@ class LightViews:
                                          accumulate=True))
             yield
         self.views, self.rsm_sets = views, sets
+        self.rsm.keep(len(views))
         self.rsm_textures, self.shadow_tiles = self._atlas(self._rsm_atlas, sets, "rsm",
                                                            largest)
 
@@ -139,6 +140,9 @@ class LightViews:
         if self._override_textures is not None:
             self._override_textures.release()
             self._override_textures = None
+        if vpls is not None or s.downsample == "none" or s.downsample_factor == 1:
+            self.downsample.keep(0)         # no set is downsampled: their passes go
+            self._vpl_atlas.release_targets()
         if vpls is not None:
             self.timer.forget("downsample")
             self._override_textures = VplTextures.from_arrays(self.ctx, vpls)
@@ -152,13 +156,21 @@ class LightViews:
             self.vpl_sets = [self.timer.timed("downsample", lambda: self.downsample.run(
                 k, rsm, s.downsample, s.downsample_factor, spec, view), accumulate=True)
                 for k, (rsm, view) in enumerate(zip(self.rsm_sets, self.views))]
+            self.downsample.keep(len(self.vpl_sets))
             self.vpl_textures, _ = self._atlas(self._vpl_atlas, self.vpl_sets, "downsample",
                                                largest)
 
     def reads_for(self, reads: list[list[DeferredRead]]) -> list[list[DeferredRead]]:
-        """``reads`` grown to one list of four per VPL set (the caller keeps them)."""
-        while len(reads) < len(self.vpl_sets) or len(reads) < len(self.rsm_sets):
+        """``reads`` grown to one list of four per VPL set (the caller keeps them), those
+        of sets there no longer are released and dropped (a point light's six views'
+        read-backs stayed after it went)."""
+        count = max(len(self.vpl_sets), len(self.rsm_sets))
+        while len(reads) < count:
             reads.append([DeferredRead(self.ctx) for _ in range(4)])
+        for extra in reads[count:]:
+            for read in extra:
+                read.release()
+        del reads[count:]
         return reads
 
     def vpls_taken(self, reads: list[list[DeferredRead]], hand_made: bool) -> VplImages:
@@ -198,6 +210,7 @@ class LightViews:
         """The one set, or the atlas of several (timed into ``stage``), and where each
         view's tile starts."""
         if len(sets) == 1:
+            atlas.release_targets()         # one set is used as it is
             return sets[0], [(0, 0)]
         textures = self.timer.timed(stage, lambda: atlas.build(sets, largest),
                                     accumulate=True)

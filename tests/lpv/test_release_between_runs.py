@@ -59,3 +59,18 @@ def test_small_grids_stay():
     """A 48³ L1 grid (5 MiB) is kept between runs: making it again would cost more than
     it holds (SPARE_GRID_BYTES)."""
     assert 3 * 48 ** 3 * 16 < propagate_pass.SPARE_GRID_BYTES <= 3 * 64 ** 3 * 16
+
+
+def test_the_threshold_is_a_whole_grids(ctx, monkeypatch):
+    """The threshold holds a grid's three channels together: a 64³ L1 grid's read-back
+    is three reads of 4 MiB, 12 MiB as the grid (each alone below 8 MiB stayed)."""
+    one_grid = 3 * 8 ** 3 * 16
+    monkeypatch.setattr(propagate_pass, "SPARE_GRID_BYTES", one_grid)
+    with Pipeline(BASE, ctx=ctx) as pipeline:
+        pipeline.run(BASE)
+        # per level ping, pong and the read-back; the injection's layers once
+        assert pipeline.release_between_runs() == (2 * 3 + 1) * one_grid
+    monkeypatch.setattr(propagate_pass, "SPARE_GRID_BYTES", one_grid + 1)
+    with Pipeline(BASE, ctx=ctx) as pipeline:
+        pipeline.run(BASE)
+        assert pipeline.release_between_runs() == 0

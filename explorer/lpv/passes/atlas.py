@@ -37,10 +37,15 @@ class PerView:
             self.passes.append(self._make())
         return self.passes[index].run(*args, **kwargs)
 
-    def release(self) -> None:
-        for entry in self.passes:
+    def keep(self, count: int) -> None:
+        """Release the passes of views from ``count`` on (the lights now have fewer views:
+        a point light's six faces, each RSM's 4 targets, stayed after it went)."""
+        for entry in self.passes[count:]:
             entry.release()
-        self.passes = []
+        del self.passes[count:]
+
+    def release(self) -> None:
+        self.keep(0)
 
 
 @dataclass(frozen=True)
@@ -89,6 +94,7 @@ class VplAtlas:
         self.ctx = ctx
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4",) * 4)
+        self._targets.keep_sizes = 0        # follows the views' count and the RSM's size
         self._triangle = FullscreenTriangle(ctx)
         self.layout: AtlasLayout | None = None
 
@@ -120,7 +126,12 @@ class VplAtlas:
         return VplTextures(position, normal, flux, texel_area=sets[0].texel_area,
                            projection=sets[0].projection, albedo=albedo)
 
-    def release(self) -> None:
+    def release_targets(self) -> None:
+        """Release the atlas's textures (one set needs no atlas); the next :meth:`build`
+        makes them anew."""
         self._targets.release()
-        self._triangle.release()
         self.layout = None
+
+    def release(self) -> None:
+        self.release_targets()
+        self._triangle.release()

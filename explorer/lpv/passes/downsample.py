@@ -32,6 +32,7 @@ class DownsamplePass:
         self.ctx = ctx
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4",) * 3)
+        self._targets.keep_sizes = 0        # follows the RSM's size (rsm.py), not a drag's
         self._triangle = FullscreenTriangle(ctx)
 
     @property

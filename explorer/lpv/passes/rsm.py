@@ -167,6 +167,9 @@ class RsmPass:
         self.programs = programs
         self._targets = RenderTargets(ctx, ("f4",) * 4, depth=True,
                                       enable=moderngl.DEPTH_TEST)
+        # the RSM's size changes only with Settings.rsm_size, never in a drag: a size
+        # left is not kept (a 1024² RSM's four targets are 64 MiB)
+        self._targets.keep_sizes = 0
         self._uniforms: dict[int, tuple[LightView, dict[str, object]]] = {}
         """id of a view (frozen) -> the view and its ``rsm_uniforms()``: the same dict for
         the same view (a frame's views are the last frame's while the lights are the same:

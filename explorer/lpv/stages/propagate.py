@@ -181,9 +181,11 @@ class Stage(StageBase):
         12 MiB a level); the audit's stays (its sums are read when first asked for)."""
         released = 0
         for reads in self.reads:
-            for read in reads[1:]:
-                if read.nbytes >= propagate_pass.SPARE_GRID_BYTES:
-                    released += read.nbytes
+            # a level's three channels together, as the grid they copy (4 MiB each at 64³)
+            taken = sum(read.nbytes for read in reads[1:])
+            if taken and taken >= propagate_pass.SPARE_GRID_BYTES:
+                released += taken
+                for read in reads[1:]:
                     read.release()
         return released
 

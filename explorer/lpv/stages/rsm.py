@@ -68,6 +68,9 @@ class Stage(StageBase):
         textures = host.light_views.rsm_textures_read(every_view)
         while len(self.reads) < len(textures):
             self.reads.append(DeferredRead(host.ctx))
+        for read in self.reads[len(textures):]:     # views gone (a point light's six)
+            read.release()
+        del self.reads[len(textures):]
         arrays = yield from read_back_later(self.reads, textures)
         self.state.rsm, checked = host.light_views.rsm_read_back(arrays, every_view)
         # checked when read while the frame keeps every array it checks (one view, or all
