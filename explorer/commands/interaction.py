@@ -568,6 +568,48 @@ def resident_mib() -> float:
     return float("nan")
 
 
+class _MallInfo2(ctypes.Structure):
+    """glibc's ``struct mallinfo2`` (malloc.h, glibc 2.33 on)."""
+    _fields_ = [(name, ctypes.c_size_t) for name in (
+        "arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks", "uordblks",
+        "fordblks", "keepcost")]
+
+
+def resident_parts() -> dict[str, float]:
+    """Where resident memory is, in MiB: ``anonymous`` mappings (malloc's heaps and its
+    mapped blocks, llvmpipe's textures and JIT code), ``files`` (libraries, fonts), from
+    ``/proc/self/smaps``; of malloc's (glibc ``mallinfo2``, all threads' heaps):
+    ``malloc_used`` allocated in the heaps, ``malloc_free`` free in them (resident or
+    not), ``malloc_mapped`` blocks mapped on their own. Empty where neither is there."""
+    parts: dict[str, float] = {}
+    try:
+        with open("/proc/self/smaps", encoding="ascii", errors="replace") as smaps:
+            anonymous = files = 0
+            named = False
+            for line in smaps:
+                head = line.split(maxsplit=1)[0]
+                if not head.endswith(":"):          # a mapping's first line
+                    fields = line.split()
+                    named = len(fields) > 5 and fields[5].startswith("/")
+                elif head == "Rss:":
+                    kib = int(line.split()[1])
+                    if named:
+                        files += kib
+                    else:
+                        anonymous += kib
+            parts.update(anonymous=anonymous / 1024.0, files=files / 1024.0)
+    except OSError:
+        pass
+    libc = ctypes.CDLL(None)
+    mallinfo2 = getattr(libc, "mallinfo2", None)
+    if mallinfo2 is not None:
+        mallinfo2.restype = _MallInfo2
+        info = mallinfo2()
+        parts.update(malloc_used=info.uordblks / 2**20, malloc_free=info.fordblks / 2**20,
+                     malloc_mapped=info.hblkhd / 2**20)
+    return {name: round(value, 1) for name, value in parts.items()}
+
+
 GL_KINDS = ("Texture", "Buffer", "Framebuffer", "Renderbuffer", "Program", "VertexArray",
             "Query", "Sampler")
 
@@ -946,6 +988,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
                 release_unshown_sides(app, rec)
                 record = {"pass": passes, "position": position,
                           "step": f"{lesson_id}:{number}", "rss_mib": rss,
+                          "resident": resident_parts(),
                           "gl": gl_objects(), "gl_mib": gl_bytes(),
                           "programs": gl_programs(), "buffers": gl_buffers()}
                 records.append(record)

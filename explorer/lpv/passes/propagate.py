@@ -406,6 +406,12 @@ class PropagationRun:
         self._slabs = slabs(n, kernel_slab_cells(corrections.ping_pong, bounces, neighbours,
                                                  order))
         self._slab = 0
+        if self.iterations >= 2 and self._in_a_row() and self._on_own_units():
+            # the even steps' program is got with the run's, not when a unit first has
+            # time left for a second step: which programs a run makes does not depend on
+            # the machine's speed (the soak's GL counts, issue #31; linking is cheap,
+            # llvmpipe compiles a program's code at its first dispatch)
+            self._even_program()
         self._bound: frozenset[str] = _NOTHING_BOUND
         """What the last :meth:`advance` left bound that the next may keep (``bound``):
         ``run`` the accumulation images and the geometry volume, ``audit`` the audit's
@@ -511,13 +517,25 @@ class PropagationRun:
         self.advance()
         if self.finished or clock() >= deadline:
             return
-        if len(self._slabs) == 1 and self._budget is None and not self._keep_steps:
+        if self._in_a_row():
             self._steps_in_a_row(clock, deadline)
             return
         while not self.finished:
             self.advance(bound=True)
             if clock() >= deadline:
                 return
+
+    def _in_a_row(self) -> bool:
+        """Whether :meth:`advance_for` runs this run's steps through
+        :meth:`_steps_in_a_row` (one-slab steps, no flux budget, no kept grid)."""
+        return len(self._slabs) == 1 and self._budget is None and not self._keep_steps
+
+    def _on_own_units(self) -> bool:
+        """Whether steps in a row keep ping and pong on units of their own
+        (:data:`PING_TEXTURE_UNIT`): ping-pong on a context with
+        :data:`LAYOUT_IMAGE_UNITS`."""
+        return (self._corrections.ping_pong
+                and self._owner.image_units() >= LAYOUT_IMAGE_UNITS)
 
     def _steps_in_a_row(self, clock, deadline: float) -> None:
         """:meth:`advance` with ``bound`` of one-slab steps until ``clock()`` reaches
@@ -537,7 +555,7 @@ class PropagationRun:
         # the full audit's steps keep their records, reduced a group at a time
         recorder = owner.audit.steps_recorder() if mode == "full" else None
         # ping and pong on units of their own (PING_TEXTURE_UNIT); in place one grid
-        own_units = self._corrections.ping_pong and owner.image_units() >= LAYOUT_IMAGE_UNITS
+        own_units = self._on_own_units()
         if not (self._steps_on_own_units if own_units else self._steps_binding)(
                 clock, deadline, groups, recorder):
             while not self.finished:            # the cache released programs: as usual

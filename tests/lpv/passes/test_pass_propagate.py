@@ -341,3 +341,36 @@ def test_steps_in_a_row_give_what_one_step_at_a_time_gives(ctx, mode, monkeypatc
         assert got["limit 0"][0] == 6
     finally:
         propagator.release()
+
+
+def test_the_programs_a_run_makes_do_not_depend_on_its_units_time(ctx, monkeypatch):
+    """A run that is given no time beyond one slab a unit (a slow machine's, a frame
+    already spent) makes the same programs as one whose unit runs every step in a row:
+    both the odd and the even steps' programs, got when the run starts (issue #31: the
+    soak's program count rose by one where a variant's first visit never had time for two
+    steps in a unit). On a context too short of image units for the layout, one program."""
+    grid, geometry = injected_case(ctx, 34, "one-sided")
+    with on_gpu(ctx, grid, geometry) as (injected, volume):
+        made = {}
+        for way in ("limit 0", "in a row", "8 image units"):
+            programs = ProgramCache(ctx)
+            propagator = PropagatePass(ctx, programs)
+            if way == "8 image units":
+                monkeypatch.setattr(propagator, "image_units", lambda: 8)
+            try:
+                run = propagator.start(injected, SPEC, Corrections(), 4, volume, audit="off")
+                at_start = set(programs._programs)
+                while not run.finished:
+                    run.advance_for(0.0 if way == "limit 0" else 1e9, time.perf_counter())
+                run.finish()
+                made[way] = (at_start, set(programs._programs))
+            finally:
+                propagator.release()
+                for program in programs._programs.values():
+                    program.release()
+    propagation = {way: [{key for key in keys if key[0] == "propagate.glsl"}
+                         for keys in both] for way, both in made.items()}
+    assert made["limit 0"] == made["in a row"]
+    for way, (at_start, at_end) in propagation.items():
+        assert at_start == at_end, way          # none made after the start
+        assert len(at_end) == (1 if way == "8 image units" else 2), way
