@@ -192,6 +192,11 @@ def _print_soak(figures: dict) -> None:
     print(f"  resident memory: warm-up peak {figures['warm_up_peak_rss_mib']:.0f} MiB, "
           f"peak {figures['peak_rss_mib']:.0f} MiB; after the warm-up "
           f"{start['rss_mib']:.0f} MiB, at the end {end['rss_mib']:.0f} MiB")
+    for entry in figures.get("resident_by_pass", ()):
+        print(f"    pass {entry['pass']}{' (warm-up)' if entry['pass'] == 1 else ''}: "
+              f"{entry['steps']} steps, resident median {entry['median_mib']:.0f} MiB, "
+              f"peak {entry['peak_mib']:.0f} MiB ({entry['peak_step']}), "
+              f"end {entry['end_mib']:.0f} MiB")
     budget = figures.get("over_budget")
     if budget:
         print(f"  OVER THE BUDGET of {figures['rss_budget_mib']:.0f} MiB resident after "
@@ -207,6 +212,7 @@ def _print_soak(figures: dict) -> None:
             print(f"    {line}")
     else:
         print("  no growth after the warm-up: at each pass's end every GL object count "
-              "at most the warm-up's end, from the third pass on at most the second's after "
-              "each step; resident memory within "
-              f"{interaction.SOAK_RSS_SLACK:.0%} of the warm-up's peak")
+              "at most the warm-up's end and resident memory within "
+              f"{interaction.SOAK_RSS_SLACK:.0%} of it; from the third pass on every count "
+              "at most the second pass's highest and resident memory within "
+              f"{interaction.SOAK_RSS_SLACK:.0%} of its peak")
