@@ -159,10 +159,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "view, buffer, a correction, a pick), then passes repeating it "
                              "for MINUTES (at least one). Prints resident memory and the GL "
                              "objects of each kind per minute; exits 1 on growth after the "
-                             "warm-up: a count at a pass's end above the warm-up's end, "
-                             "one after a step of the third pass on above the second "
-                             "pass's after it, or resident memory over the warm-up's peak "
-                             "by more than a tenth.")
+                             "warm-up: at a pass's end a count above the warm-up's end "
+                             "or resident memory over it by more than a tenth; from the "
+                             "third pass on a count above the second pass's highest of "
+                             "its kind or resident memory over the second pass's peak by "
+                             "more than a tenth; and on resident memory over 1.2 GiB.")
     parser.add_argument("--soak-steps", default=None, metavar="LESSON:STEP,...",
                         help="with --soak: the steps one pass takes (default every step of "
                              "every lesson), e.g. overview:2,errata:1")
