@@ -79,6 +79,12 @@ class Window:
                 glfw.window_hint(glfw.CONTEXT_CREATION_API, glfw.EGL_CONTEXT_API)
             glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
             glfw.window_hint(glfw.RESIZABLE, True)
+            # only imgui draws into the window (the view and its overlays have framebuffers
+            # of their own): a depth and stencil buffer would be cleared and swapped every
+            # frame for nothing, 3 ms of CPU a frame at 1600×960 on llvmpipe
+            # (scripts/window_clear_swap.py, BENCHMARKS.md)
+            glfw.window_hint(glfw.DEPTH_BITS, 0)
+            glfw.window_hint(glfw.STENCIL_BITS, 0)
             if position is not None and hasattr(glfw, "POSITION_X"):    # glfw 3.4
                 glfw.window_hint(glfw.POSITION_X, int(position[0]))
                 glfw.window_hint(glfw.POSITION_Y, int(position[1]))
