@@ -118,6 +118,14 @@ class FrameState:
                                  for spec, level in zip(self.specs, levels)),
                            levels[0].injected.sh_order)
 
+    def injected_grid(self) -> SampledGrid:
+        """Every cascade's injected grid as the gather samples an accumulation (grid_0:
+        what the accumulation holds before the propagation's first step)."""
+        levels = self.cascades
+        return SampledGrid(tuple(CascadeInput(spec, level.injected.textures)
+                                 for spec, level in zip(self.specs, levels)),
+                           levels[0].injected.sh_order)
+
     def drop_steps(self) -> None:
         """Forget every level's kept propagation steps (grid_0..grid_N): a frame that did
         not ask for them gets none, and they stay alive only in the frames that did."""
