@@ -182,8 +182,9 @@ class Job:
         :data:`FINAL_STAGE` keep to this much of the call instead (when less), so that the
         frame showing the finished frame leaves its extra drawing room: a unit of it that
         does not fit waits for the next call, as any unit over the budget does.
-        ``until``: asked after each unit; True ends the call there (the window's first
-        picture of a job is taken as soon as there is one: :meth:`preview_source`)."""
+        ``until``: asked after each unit (once the next stage, if any, has begun); True ends
+        the call there (the window's first picture of a job is taken as soon as there is
+        one: :meth:`preview_source`)."""
         if self.cancelled:
             raise RuntimeError("the job was cancelled (another job started)")
         start = time.perf_counter()
@@ -191,6 +192,8 @@ class Job:
         while self._result is None:
             if self._work is None and not self._begin_next():
                 continue
+            if until is not None and worked and until():
+                break       # (after the next stage began: next_unit_ms is its own unit's)
             if budget_ms is not None and self.gpu_pending:
                 break               # the next unit reads back what the GPU still copies
             spent = (time.perf_counter() - start) * 1e3
@@ -202,8 +205,6 @@ class Job:
             self.unit_budget_ms = None if limit is None else max(limit - spent, 0.0)
             self._run_unit()
             worked = True
-            if until is not None and self._result is None and until():
-                break
         return self.progress
 
     @property

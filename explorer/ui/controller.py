@@ -363,18 +363,26 @@ class PipelineController:
             self._step(state, side, share, status,
                        until=(lambda side=side: self._first_preview_due(state, side))
                        if first else None)
-            if first and side.job is not None and self._first_preview_due(state, side):
-                # the job's first picture: in this frame when it fits the frame budget
-                # (the frame is drawn), else first thing in the next (a turn's start)
-                if budget.base_left() < side.first_preview_ms:
-                    continue
-                self._preview_if_due(state, side, status)
-                if status.published:
-                    budget.to_base()
-                if side.job is None or not self._fits(side, budget.left() / (len(order) + 1)):
-                    continue
+            if first and not self._first_preview_now(state, side, status, len(order) + 1):
+                continue
             if side.job is not None and not side.job.gpu_pending:
                 order.append(side)      # (a job waiting for its copies goes on next frame)
+
+    def _first_preview_now(self, state: AppState, side: SideState, status: ControllerStatus,
+                           sides_left: int) -> bool:
+        """After a turn that had no preview of its job yet: the job's first picture when
+        the turn stopped at one (:meth:`_first_preview_due`), in this frame when what it
+        cost last time fits the frame budget left (the frame is drawn), else first thing
+        in the next frame (a turn's start). False: the side's turn ends this frame."""
+        if side.job is None or not self._first_preview_due(state, side):
+            return True
+        budget = self._budget
+        if budget.base_left() < side.first_preview_ms:
+            return False
+        self._preview_if_due(state, side, status)
+        if status.published:
+            budget.to_base()
+        return side.job is not None and self._fits(side, budget.left() / sides_left)
 
     def _fits(self, side: SideState, left_ms: float) -> bool:
         """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms`` (and,
