@@ -236,6 +236,17 @@ class Job:
             return estimate
         return estimate * max(size / measured_at, 1.0)
 
+    def next_unit_measured(self) -> bool:
+        """Whether :meth:`next_unit_ms` is a measure of the same unit (at this size, for a
+        stage whose work grows with the pixels or the cells), not a scaled or borrowed
+        one: the first 64³ propagation's start, estimated from a 32³ one's, takes 5–10×
+        more (its grids made anew)."""
+        pipeline, stage = self.pipeline, self._stage or ""
+        size = self.size_of(stage)
+        if size is None:
+            return (stage, self._unit) in pipeline.unit_ms_at
+        return (stage, self._unit, size) in pipeline.unit_ms_sized
+
     @property
     def pixels(self) -> int:
         """The image's pixels (what a per-pixel stage's units grow with)."""

@@ -373,7 +373,9 @@ class PipelineController:
         """After a turn that had no preview of its job yet: the job's first picture when
         the turn stopped at one (:meth:`_first_preview_due`), in this frame when what it
         cost last time fits the frame budget left (the frame is drawn), else first thing
-        in the next frame (a turn's start). False: the side's turn ends this frame."""
+        in the next frame (a turn's start); after it the turn goes on with a unit timed
+        before at this size that fits (``Job.next_unit_measured``). False: the side's turn
+        ends this frame."""
         if side.job is None or not self._first_preview_due(state, side):
             return True
         budget = self._budget
@@ -382,7 +384,11 @@ class PipelineController:
         self._preview_if_due(state, side, status)
         if status.published:
             budget.to_base()
-        return side.job is not None and self._fits(side, budget.left() / sides_left)
+        # the frame is drawn: only a unit timed before at this size goes on in it (the
+        # first 64³ job's propagation start, sized by a 32³ one's, would overrun it)
+        job = side.job
+        return (job is not None and job.next_unit_measured()
+                and self._fits(side, budget.left() / sides_left))
 
     def _fits(self, side: SideState, left_ms: float) -> bool:
         """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms`` (and,

@@ -186,6 +186,27 @@ def test_a_first_preview_that_does_not_fit_the_frame_comes_first_in_the_next(con
     assert events[ran] == "preview", events[ran:]
 
 
+def test_after_a_first_preview_only_a_unit_timed_at_this_size_goes_on(controller):
+    """The frame of a first preview is drawn: the job goes on in it only with a unit timed
+    before at this grid size. At a new size (the grid set larger) the propagation's start
+    waits for the next frame, whatever the budget; at a size run before, it goes on."""
+    controller.injected_preview_cells = 8 ** 3
+    state = _state()
+    _settle(controller, state)
+    state.update(grid_size=16)
+    events = _recorded(controller)
+    for _ in range(50):
+        controller.update(state, 1e6)
+        if "preview" in events:
+            break
+    assert events[-1] == "preview" and "propagate" not in events, events
+    _settle(controller, state)
+    state.set_corrections(injection_pi=not state.settings.corrections.injection_pi)
+    events.clear()
+    controller.update(state, 1e6)
+    assert "preview" in events and "propagate" in events[events.index("preview"):], events
+
+
 def test_a_drag_frame_runs_as_before(controller):
     """A drag's job that fits its frame shows its finished picture alone (no first preview
     taken in the middle of it)."""
