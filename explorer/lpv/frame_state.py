@@ -121,10 +121,11 @@ class FrameState:
     def injected_grid(self) -> SampledGrid:
         """Every cascade's injected grid as the gather samples an accumulation (grid_0:
         what the accumulation holds before the propagation's first step)."""
-        levels = self.cascades
-        return SampledGrid(tuple(CascadeInput(spec, level.injected.textures)
-                                 for spec, level in zip(self.specs, levels)),
-                           levels[0].injected.sh_order)
+        grids = [level.injected for level in self.cascades]
+        assert all(grid is not None for grid in grids), "sampled before the injection"
+        return SampledGrid(tuple(CascadeInput(spec, grid.textures)
+                                 for spec, grid in zip(self.specs, grids) if grid is not None),
+                           grids[0].sh_order if grids[0] is not None else 1)
 
     def drop_steps(self) -> None:
         """Forget every level's kept propagation steps (grid_0..grid_N): a frame that did
