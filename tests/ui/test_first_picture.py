@@ -172,8 +172,7 @@ def test_a_first_preview_that_does_not_fit_the_frame_comes_first_in_the_next(con
     state = _state()
     _settle(controller, state)
     side = controller.sides["A"]
-    assert side.first_preview_ms > 0.0           # measured by the jobs so far
-    side.first_preview_ms = 1e9
+    side.first_preview_ms = 1e9                  # what the last first preview cost
     state.set_corrections(propagation_4pi=not state.settings.corrections.propagation_4pi)
     events = _recorded(controller)
     controller.update(state, 1e6)
