@@ -12,6 +12,8 @@ import moderngl
 from explorer.gl import gpu_sync
 
 GL_TEXTURE_2D = 0x0DE1
+GL_TEXTURE_3D = 0x806F
+GL_TEXTURE_2D_ARRAY = 0x8C1A
 
 _COPYABLE = {("f4", 4), ("f2", 4), ("f1", 4)}
 """(dtype, components) of textures this module copies (rgba32f, rgba16f, rgba8)."""
@@ -35,3 +37,30 @@ def copy_texture(source: moderngl.Texture, destination: moderngl.Texture) -> Non
     gpu_sync.gl().copy_image_sub_data(source.glo, GL_TEXTURE_2D, 0, 0, 0, 0,
                                       destination.glo, GL_TEXTURE_2D, 0, 0, 0, 0,
                                       width, height, 1)
+
+
+def can_copy_volume(source: moderngl.Texture3D | moderngl.TextureArray,
+                    destination: moderngl.Texture3D) -> bool:
+    """Whether :func:`copy_volume_texels` takes these two: a 3D texture or a 2D array
+    (layer = z) and a 3D texture of one size (texels along x, y, z) and one format that
+    this module knows."""
+    return (isinstance(source, (moderngl.Texture3D, moderngl.TextureArray))
+            and tuple(source.size) == tuple(destination.size)
+            and source.dtype == destination.dtype
+            and source.components == destination.components
+            and (source.dtype, source.components) in _COPYABLE)
+
+
+def copy_volume_texels(source: moderngl.Texture3D | moderngl.TextureArray,
+                       destination: moderngl.Texture3D) -> None:
+    """Copy level 0 of a 3D texture or of a 2D array's layers into the 3D texture
+    ``destination``, texel for texel (queued; the bytes as they are)."""
+    if not can_copy_volume(source, destination):
+        raise ValueError(f"cannot copy a {source.size} {source.dtype}x{source.components} "
+                         f"volume into a {destination.size} {destination.dtype}x"
+                         f"{destination.components} 3D texture")
+    target = GL_TEXTURE_2D_ARRAY if isinstance(source, moderngl.TextureArray) else GL_TEXTURE_3D
+    width, height, depth = destination.size
+    gpu_sync.gl().copy_image_sub_data(source.glo, target, 0, 0, 0, 0,
+                                      destination.glo, GL_TEXTURE_3D, 0, 0, 0, 0,
+                                      width, height, depth)

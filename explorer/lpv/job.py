@@ -77,7 +77,7 @@ class Pipeline(Protocol):
     def stage_units(self, stage: str, job: Job) -> int: ...
     def stage_work(self, stage: str, job: Job) -> Iterator[int | None]: ...
     def finish_job(self, job: Job) -> FrameResult: ...
-    def show_preview(self, job: Job, scale: float = ...) -> bool: ...
+    def show_preview(self, job: Job, scale: float = ..., injected: bool = ...) -> bool: ...
 
 @dataclass(frozen=True)
 class Progress:
@@ -175,12 +175,16 @@ class Job:
 
     # ------------------------------------------------------------------ work
     def advance(self, budget_ms: float | None = None,
-                finishing_ms: float | None = None) -> Progress:
+                finishing_ms: float | None = None,
+                until: Callable[[], bool] | None = None) -> Progress:
         """Do whole units of work until ``budget_ms`` milliseconds are spent (None: until
         the frame is finished); at least one unit per call. ``finishing_ms``: the units of
         :data:`FINAL_STAGE` keep to this much of the call instead (when less), so that the
         frame showing the finished frame leaves its extra drawing room: a unit of it that
-        does not fit waits for the next call, as any unit over the budget does."""
+        does not fit waits for the next call, as any unit over the budget does.
+        ``until``: asked after each unit (once the next stage, if any, has begun); True ends
+        the call there (the window's first picture of a job is taken as soon as there is
+        one: :meth:`preview_source`)."""
         if self.cancelled:
             raise RuntimeError("the job was cancelled (another job started)")
         start = time.perf_counter()
@@ -188,6 +192,8 @@ class Job:
         while self._result is None:
             if self._work is None and not self._begin_next():
                 continue
+            if until is not None and worked and until():
+                break       # (after the next stage began: next_unit_ms is its own unit's)
             if budget_ms is not None and self.gpu_pending:
                 break               # the next unit reads back what the GPU still copies
             spent = (time.perf_counter() - start) * 1e3
@@ -230,6 +236,17 @@ class Job:
             return estimate
         return estimate * max(size / measured_at, 1.0)
 
+    def next_unit_measured(self) -> bool:
+        """Whether :meth:`next_unit_ms` is a measure of the same unit (at this size, for a
+        stage whose work grows with the pixels or the cells), not a scaled or borrowed
+        one: the first 64³ propagation's start, estimated from a 32³ one's, takes 5–10×
+        more (its grids made anew)."""
+        pipeline, stage = self.pipeline, self._stage or ""
+        size = self.size_of(stage)
+        if size is None:
+            return (stage, self._unit) in pipeline.unit_ms_at
+        return (stage, self._unit, size) in pipeline.unit_ms_sized
+
     @property
     def pixels(self) -> int:
         """The image's pixels (what a per-pixel stage's units grow with)."""
@@ -247,18 +264,33 @@ class Job:
                 return sum(math.prod(spec.cells) for spec in specs)
         return None
 
-    def preview(self, scale: float = 1.0) -> bool:
+    def preview_source(self) -> str | None:
+        """What a preview of the job would show now: ``"propagation"``, the accumulation
+        (once the propagation has a step, or is complete); ``"injected"``, the injected
+        grids alone (acc_0 = grid_0: this job ran the injection and the propagation has
+        no step yet); None before the G-buffer and the RSM, before either, or once the
+        job is finished."""
+        if self.done or not (self.evaluated("gbuffer") and self.evaluated("rsm")):
+            return None
+        if (self._stage == "propagate" and self._done > 0) or self.evaluated("propagate"):
+            return "propagation"
+        if self.evaluated("inject") and "inject" in self._ran:
+            return "injected"
+        return None
+
+    def preview(self, scale: float = 1.0, injected: bool = False) -> bool:
         """Gather and display the accumulation so far into ``Pipeline.final_texture`` (the
         view then shows the light growing step by step); False when there is nothing to
         show yet (before the G-buffer, the RSM or the first propagation step) or when the
         job is finished (``final_texture`` then holds the frame). ``scale`` < 1: a reduced
-        linear picture in ``Pipeline.preview_textures`` instead (no display pass)."""
-        if self.done or not (self.evaluated("gbuffer") and self.evaluated("rsm")):
+        linear picture in ``Pipeline.preview_textures`` instead (no display pass).
+        ``injected``: before the first step, the injected grids' picture when this job
+        ran the injection (:meth:`preview_source` ``"injected"``: the light before any
+        propagation, a partial picture)."""
+        source = self.preview_source()
+        if source is None or (source == "injected" and not injected):
             return False
-        started = self._stage == "propagate" and self._done > 0
-        if not (started or self.evaluated("propagate")):
-            return False
-        return self.pipeline.show_preview(self, scale)
+        return self.pipeline.show_preview(self, scale, injected=source == "injected")
 
     def cancel(self) -> None:
         """Stop here; a stage in the middle of its work runs again in the next job."""

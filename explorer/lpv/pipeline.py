@@ -401,27 +401,37 @@ class Pipeline:
                                         self.timer, job.progress.stages_run)
         return self.last_result
 
-    def show_preview(self, job: Job, scale: float = 1.0) -> bool:
+    def show_preview(self, job: Job, scale: float = 1.0, injected: bool = False) -> bool:
         """Gather and display the accumulation as it is now (see :meth:`Job.preview`);
         the gather and display stages then run again when the job gets there.
         ``scale`` < 1: gather it at that fraction of each edge into targets of its own
         instead, and no display pass (the window's quick previews: the job's gather and
-        display stay as they are); :attr:`preview_textures` then holds that picture."""
-        if any(level.accumulation_textures is None for level in self.state.cascades):
+        display stay as they are); :attr:`preview_textures` then holds that picture.
+        ``injected``: gather the injected grids instead (grid_0, what the accumulation
+        holds before the first step: the job's injection is done, its propagation has
+        no step yet)."""
+        if injected:
+            if any(level.injected is None for level in self.state.cascades):
+                return False
+            grid = self.state.injected_grid()
+        elif any(level.accumulation_textures is None for level in self.state.cascades):
             return False
+        else:
+            grid = None
         s, gather = job.settings, self.stages["gather"]
         if scale < 1.0:
             if self._preview_gather is None:
                 self._preview_gather = GatherPass(self.ctx, self.programs)
             gather.gather_levels(s, into=self._preview_gather,
-                                 size=reduced_size(self.state.gbuffer_pass.size, scale))
+                                 size=reduced_size(self.state.gbuffer_pass.size, scale),
+                                 grid=grid)
             targets = self._preview_gather.targets
             self.preview_textures = (targets["direct"], targets["indirect"],
                                      self.state.gbuffer_pass.albedo)
             return True
         self.keys.pop("gather", None)
         self.keys.pop("display", None)
-        self.timer.timed("gather", lambda: gather.gather_levels(s))
+        self.timer.timed("gather", lambda: gather.gather_levels(s, grid=grid))
         # the last frame's display scale: the auto exposure needs the read-back images,
         # and a steady exposure shows the light growing; the fog is marched once the
         # propagation is done, so a preview shows the surfaces without it

@@ -68,7 +68,12 @@ from explorer.ui.frame_budget import (
 from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.panel_tasks import run_tasks
 from explorer.ui.picture import Picture, SideDisplay, Stamp
-from explorer.ui.previews import FIRST_PREVIEW_SCALE, PREVIEW_INTERVAL_S, PREVIEW_SCALE
+from explorer.ui.previews import (
+    FIRST_PREVIEW_SCALE,
+    INJECTED_PREVIEW_CELLS,
+    PREVIEW_INTERVAL_S,
+    PREVIEW_SCALE,
+)
 from explorer.ui.scene_reload import Reloads
 from explorer.ui.scene_watch import SceneWatch
 from explorer.ui.side_display import (
@@ -135,6 +140,9 @@ class PipelineController:
         self.first_preview_scale = FIRST_PREVIEW_SCALE
         """Fraction of each edge a job's first preview gathers (at most
         :attr:`preview_scale`)."""
+        self.injected_preview_cells = INJECTED_PREVIEW_CELLS
+        """A job that ran the injection on grids of this many cells or more (all cascades)
+        shows the injected light as its first preview (explorer/ui/previews.py)."""
         self.quiet_budget_ms = QUIET_BUDGET_MS
         """A frame's budget once no input came for ``frame_budget.QUIET_AFTER_S`` (at
         least the frame budget; 0: never more than the frame budget)."""
@@ -154,6 +162,8 @@ class PipelineController:
         """Shaders and the scene shown, reloaded when their files change."""
         self._turn = 0
         self._first_done = False
+        self._interacting = False
+        """The update in progress runs while the camera, an object or a held slider moves."""
         self._status = ControllerStatus()
         self._side_budget_ms = 30.0
         self._budget = FrameBudget(0.0, 0.0, 0.0, None)
@@ -250,6 +260,7 @@ class PipelineController:
             quiet_s=quiet_s, quiet_budget_ms=self.quiet_budget_ms,
             input_pending=input_pending)
         self._side_budget_ms = drag_budget_ms / len(active)
+        self._interacting = interacting
         self.full_pixels = state.settings.width * state.settings.height
         for name in active:
             try:
@@ -309,7 +320,11 @@ class PipelineController:
         first alternates between frames), each given an equal share of what is left; a
         side whose job has more work goes round again while its next unit still fits. At
         most one progressive preview per side and frame, before its first turn (none that
-        frame when the preview left too little for its next unit). With a
+        frame when the preview left too little for its next unit), but a job's first: the
+        job stops after the unit that makes it possible (``Job.advance``'s ``until``,
+        :meth:`_first_preview_due`) and it is taken at once when what it cost last time
+        (``SideState.first_preview_ms``) fits the frame budget left, else the side's turn
+        ends and it comes first thing in the next frame. With a
         quiet budget a turn is at most the frame budget long, so that input is looked for
         between turns, and a frame that publishes a preview (it is drawn) keeps to the
         frame budget."""
@@ -344,9 +359,36 @@ class PipelineController:
             share = max(left, 0.0) / (len(order) + 1)
             if budget.quiet:
                 share = min(share, budget.base_ms)
-            self._step(state, side, share, status)
+            first = side.previews == 0 and state.progressive
+            self._step(state, side, share, status,
+                       until=(lambda side=side: self._first_preview_due(state, side))
+                       if first else None)
+            if first and not self._first_preview_now(state, side, status, len(order) + 1):
+                continue
             if side.job is not None and not side.job.gpu_pending:
                 order.append(side)      # (a job waiting for its copies goes on next frame)
+
+    def _first_preview_now(self, state: AppState, side: SideState, status: ControllerStatus,
+                           sides_left: int) -> bool:
+        """After a turn that had no preview of its job yet: the job's first picture when
+        the turn stopped at one (:meth:`_first_preview_due`), in this frame when what it
+        cost last time fits the frame budget left (the frame is drawn), else first thing
+        in the next frame (a turn's start); after it the turn goes on with a unit timed
+        before at this size that fits (``Job.next_unit_measured``). False: the side's turn
+        ends this frame."""
+        if side.job is None or not self._first_preview_due(state, side):
+            return True
+        budget = self._budget
+        if budget.base_left() < side.first_preview_ms:
+            return False
+        self._preview_if_due(state, side, status)
+        if status.published:
+            budget.to_base()
+        # the frame is drawn: only a unit timed before at this size goes on in it (the
+        # first 64³ job's propagation start, sized by a 32³ one's, would overrun it)
+        job = side.job
+        return (job is not None and job.next_unit_measured()
+                and self._fits(side, budget.left() / sides_left))
 
     def _fits(self, side: SideState, left_ms: float) -> bool:
         """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms`` (and,
@@ -356,11 +398,13 @@ class PipelineController:
         return left_ms > 0.0 and side.job.next_unit_ms() <= left_ms
 
     def _step(self, state: AppState, side: SideState, budget_ms: float,
-              status: ControllerStatus) -> None:
+              status: ControllerStatus, until: Callable[[], bool] | None = None) -> None:
+        """Advance ``side``'s job within ``budget_ms``; ``until``: the job stops after the
+        unit for which it says True (a first picture to take)."""
         began = time.perf_counter()
         try:
             side.progress = side.job.advance(budget_ms, finishing_ms=self._budget.finishing_left(
-                self.result_drawing.extra_ms))
+                self.result_drawing.extra_ms), until=until)
         except Exception as exc:  # noqa: BLE001 - shown in the window, the app goes on
             request = side.request
             side.job, side.request = None, None
@@ -374,33 +418,59 @@ class PipelineController:
         if side.job.done:
             self._finished(state, side, status)
 
+    def _first_preview_due(self, state: AppState, side: SideState) -> bool:
+        """The side's job has shown no preview and has a picture to show now (the
+        injected light of a large grid, a propagation step, a gather-only change's
+        accumulation): :meth:`_advance` takes it in the frame whose unit made it possible
+        (asked by the job after each unit, so ``side.progress`` is brought up to date).
+        Not while the user drags (the camera, an object, a held slider): each job of a
+        drag finishes, or is replaced by the next, often in the frame it started in, and
+        its finished picture is the one to show (a drag's previews come at a turn's start,
+        as before)."""
+        job, request = side.job, side.request
+        if job is None or side.previews or not state.progressive or self._interacting or (
+                request is not None and request.interactive):
+            return False
+        side.progress = job.progress
+        if previews.shows_nothing_new(side):
+            return False
+        return (previews.propagated_since_preview(side) or previews.gathering_unpreviewed(side)
+                or previews.injected_unpreviewed(side, self.injected_preview_cells))
+
     def _preview_if_due(self, state: AppState, side: SideState,
                         status: ControllerStatus) -> None:
         """A progressive picture when the propagation advanced since the last one and
-        one is due (explorer/ui/previews.py)."""
+        one is due (explorer/ui/previews.py); a large grid's first can be the injected
+        light, before the first step (``previews.injected_unpreviewed``)."""
         if not state.progressive or previews.shows_nothing_new(side):
             return
         gathering = previews.gathering_unpreviewed(side)
-        if not (gathering or previews.propagated_since_preview(side)):
+        # a drag's pictures follow one another: the injected light of each would flash
+        injected = not self._interacting and previews.injected_unpreviewed(
+            side, self.injected_preview_cells)
+        if not (gathering or injected or previews.propagated_since_preview(side)):
             return
-        if not gathering and not previews.preview_due(side, self.preview_interval_s,
-                                                      self.draw_ms):
+        if not (gathering or injected) and not previews.preview_due(
+                side, self.preview_interval_s, self.draw_ms):
             return
-        progress = side.progress
-        scale = self.preview_scale if side.previews else min(self.first_preview_scale,
-                                                             self.preview_scale)
+        progress, first = side.progress, side.previews == 0
+        scale = self.preview_scale if not first else min(self.first_preview_scale,
+                                                         self.preview_scale)
         began = time.perf_counter()
         side.previewed_at = time.monotonic()
-        if side.previewed == 0:
-            side.propagate_from = (side.job_ms, progress.done)
+        if side.propagate_from is None and progress.stage == "propagate" and progress.done:
+            side.propagate_from = (side.job_ms, progress.done)   # the pace from here
         try:
-            shown = side.job.preview(scale)
+            shown = side.job.preview(scale, injected=injected)
             if shown:
                 side.serial += 1
                 side.previews += 1
                 textures = side.pipeline.preview_textures
-                self._snapshot(side, Stamp(side.serial, False, progress.done, progress.total),
-                               side.result, textures)
+                # the injected light: no step of the propagation (its total once begun)
+                stamp = Stamp(side.serial, False, 0, progress.total if progress.stage ==
+                              "propagate" else 0, injected=True) if injected else Stamp(
+                    side.serial, False, progress.done, progress.total)
+                self._snapshot(side, stamp, side.result, textures)
                 display = self.settings_for(state, side.name)
                 if side.auto_scale is None and display.auto_exposure:
                     side.auto_scale = picture_scale(side.picture, display.indirect_only)
@@ -415,6 +485,8 @@ class PipelineController:
         side.job_ms += elapsed
         side.previews_ms += elapsed
         side.preview_ms = elapsed
+        if first and side.previews == 1:
+            side.first_preview_ms = elapsed     # (kept from job to job: the next's estimate)
         status.work.append(WorkUnit(side.name, f"preview {progress.done}/{progress.total}",
                                     elapsed))
 

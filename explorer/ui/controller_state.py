@@ -143,6 +143,10 @@ class SideState:
     """What the side's last preview cost (gather, copy; display at the full size)."""
     previews_ms: float = 0.0
     """What the job's previews cost so far (in :attr:`job_ms`)."""
+    first_preview_ms: float = 0.0
+    """What the side's last first preview of a job cost (the coarse one): a job's first
+    preview is taken in the frame whose unit made it possible only when this much of the
+    frame budget is left (explorer/ui/controller.py ``_advance``)."""
     job_ms: float = 0.0
     """Time spent in the job in flight so far."""
     serial: int = 0

@@ -56,6 +56,9 @@ class Stamp:
     """Propagation steps in the picture (all cascades together) ..."""
     total: int = 0
     """... of this many."""
+    injected: bool = False
+    """A preview of the injected light alone (grid_0, before the propagation's first
+    step: a partial picture, labelled so in the view)."""
 
 
 class Picture:

@@ -4,7 +4,10 @@ time, and none once the finished frame is due within :data:`FINISH_SOON_S`. The 
 preview of a job is coarse (:data:`FIRST_PREVIEW_SCALE`), and a job that changes only
 the gather (no propagation to show) gets that one too while its full-size gather runs.
 A job that only refines the picture on screen to a larger size (a drag's release) shows
-no preview: the picture it would preview is the one already shown."""
+no preview: the picture it would preview is the one already shown. On a large grid
+(:data:`INJECTED_PREVIEW_CELLS`) a job that ran the injection shows the injected light
+as its first preview, before the propagation's first step; the next preview follows at
+the usual pace."""
 
 from __future__ import annotations
 
@@ -32,6 +35,15 @@ FIRST_PREVIEW_SCALE = 0.25
 pixels, about a tenth of a half-size preview's time): the first changed picture after a
 change comes as soon as the first propagation step (or the job's first gather band) is
 done; the view labels it as a coarse preview."""
+INJECTED_PREVIEW_CELLS = 40 ** 3
+"""A job that ran the injection on grids of at least this many cells (all cascades
+together) shows its first preview as soon as the injection is done: the injected light
+alone (grid_0, no propagation step yet), a partial picture the view labels "injected light
+only". The propagation's start and first step of a 64³ grid take 50–80 ms on llvmpipe
+after the injection (its scratch grids, grid_0's copies, 8 slabs); a 32³ grid's first
+step comes a few milliseconds after, and its first preview waits for it. (The threshold
+is the one above which a grid's volume work is split into units,
+explorer/lpv/passes/textures.py ``APART_TEXELS``.)"""
 FINISH_SOON_S = 0.5
 """After a job's first preview no other comes once the finished frame is due within this
 (the propagation's pace so far, then the gather and display as last timed): it would be
@@ -51,6 +63,21 @@ def gathering_unpreviewed(side: SideState) -> bool:
     propagation has just finished) and has shown no preview yet."""
     progress = side.progress
     return progress is not None and progress.stage == "gather" and side.previews == 0
+
+
+def injected_unpreviewed(side: SideState, min_cells: int = INJECTED_PREVIEW_CELLS) -> bool:
+    """The side's job has shown no preview, has just injected grids of at least
+    ``min_cells`` cells (:data:`INJECTED_PREVIEW_CELLS`) and has no propagation step yet:
+    its first picture can be the injected light (``Job.preview_source`` "injected").
+    Not for a drag's reduced jobs: their pictures follow one another, and each one's
+    injected light would flash darker between them."""
+    job, request = side.job, side.request
+    if side.previews or job is None or request is None or request.interactive:
+        return False
+    if job.preview_source() != "injected":
+        return False
+    cells = job.size_of("propagate")
+    return cells is not None and cells >= min_cells
 
 
 def shows_nothing_new(side: SideState) -> bool:
@@ -74,7 +101,7 @@ def preview_due(side: SideState, interval_s: float, draw_ms: float) -> bool:
     """Whether a preview of ``side`` is worth it now (the module docstring's pacing);
     ``interval_s`` 0 previews after every step, ``draw_ms`` is what the window spends
     drawing a frame."""
-    if side.previewed == 0 or interval_s <= 0.0:
+    if side.previews == 0 or interval_s <= 0.0:
         return True
     cost_s = (side.preview_ms + draw_ms) / 1e3 / PREVIEW_SHARE
     if time.monotonic() - side.previewed_at < max(interval_s, cost_s):

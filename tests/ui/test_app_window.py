@@ -181,7 +181,7 @@ class _FinishedJob:
         self._result, self.done, self.cancelled = result, False, False
         self.progress = Progress("scene", 0, 1, False, ())
 
-    def advance(self, budget_ms=None, finishing_ms=None):
+    def advance(self, budget_ms=None, finishing_ms=None, until=None):
         from explorer.lpv.job import Progress
 
         self.done = True
@@ -197,8 +197,14 @@ class _FinishedJob:
     def next_unit_ms(self):
         return 0.0
 
-    def preview(self):
+    def preview(self, scale=1.0, injected=False):
         return False
+
+    def preview_source(self):
+        return None
+
+    def next_unit_measured(self):
+        return True
 
     def cancel(self):
         self.cancelled = True

@@ -415,6 +415,8 @@ def test_a_quiet_frame_gets_the_longer_budget_and_input_cuts_it_back(controller)
     state.set_corrections(propagation_4pi=False)
     controller.update(state, BUDGET_MS, quiet_s=0.0)     # the click: the frame budget
     assert controller.budget_used_ms == BUDGET_MS
+    while not controller.sides["A"].previews:      # the job's first picture (its frame is
+        controller.update(state, BUDGET_MS, quiet_s=0.0)    # drawn: the frame budget)
 
     def units(status) -> int:
         return sum(unit.side == "A" and unit.what.startswith("propagating")

@@ -28,6 +28,7 @@ from explorer.lpv.stages.base import StageHost
 from explorer.lpv.work_units import read_back_later, read_back_units
 
 if TYPE_CHECKING:
+    from explorer.lpv.cascades import SampledGrid
     from explorer.lpv.job import Job
 
 @dataclass(frozen=True)
@@ -75,13 +76,16 @@ class Stage(StageBase):
 
     def gather_levels(self, s, rows: tuple[int, int] | None = None,
                       into: GatherPass | None = None,
-                      size: tuple[int, int] | None = None) -> None:
+                      size: tuple[int, int] | None = None,
+                      grid: SampledGrid | None = None) -> None:
         """The gather of every level's accumulation as it is now (docs/MODEL.md "Final
         gather", "Cascades"), of the rows ``rows`` or the whole image; ``into``/``size``:
-        another gather pass's targets, at that size (a reduced preview)."""
+        another gather pass's targets, at that size (a reduced preview); ``grid``: these
+        grids instead of the accumulation (a preview of the injected light)."""
         host, state = self.host, self.state
         (into or self.gather).run(
-            state.gbuffer_pass, host.light_views.shadow_maps, state.sampled_grid(),
+            state.gbuffer_pass, host.light_views.shadow_maps,
+            state.sampled_grid() if grid is None else grid,
             Params.of(s, host.scene_state.scene.camera.eye).inputs, rows=rows, size=size)
 
     def release(self) -> None:

@@ -205,12 +205,14 @@ def _progress(state: AppState, draw, origin, end) -> None:
 def progress_label(progress: str | None, picture) -> str:
     """What the view's corner says of one side: its job's progress, after "preview WxH"
     while the picture shown is a progressive preview (a coarse, reduced picture of the
-    light so far); empty when the side has converged."""
+    light so far; "preview WxH, injected light only" for the picture of the injected
+    grid before the first propagation step); empty when the side has converged."""
     parts = []
     stamp = None if picture is None else picture.stamp
     if stamp is not None and not stamp.final:
         width, height = picture.size
-        parts.append(f"preview {width}×{height}")
+        parts.append(f"preview {width}×{height}"
+                     + (", injected light only" if stamp.injected else ""))
     if progress:
         parts.append(progress)
     return " · ".join(parts)
