@@ -14,7 +14,8 @@ and a budget in milliseconds. The controller
   far after each few steps, gathered at :data:`PREVIEW_SCALE` of each edge (a quarter of
   the pixels: quick to gather and to copy; a job's first at ``FIRST_PREVIEW_SCALE``, also
   while a change that only the gather sees is gathered), copied into the side's
-  :class:`~explorer.ui.picture.Picture`, paced by explorer/ui/previews.py;
+  :class:`~explorer.ui.picture.Picture`, paced by explorer/ui/previews.py and taken by
+  explorer/ui/preview_taking.py;
 * gives the pipelines more of each frame while the user leaves the window alone (the
   quiet budget of explorer/ui/frame_budget.py; the shell's ``input_pending`` is asked
   between units, and input drops the frame back to the budget at once; the background
@@ -67,7 +68,8 @@ from explorer.ui.frame_budget import (
 )
 from explorer.ui.lesson_watch import LessonWatch
 from explorer.ui.panel_tasks import run_tasks
-from explorer.ui.picture import Picture, SideDisplay, Stamp
+from explorer.ui.picture import SideDisplay, Stamp
+from explorer.ui.preview_taking import snapshot, take_preview_if_due
 from explorer.ui.previews import (
     FIRST_PREVIEW_SCALE,
     INJECTED_PREVIEW_CELLS,
@@ -80,7 +82,6 @@ from explorer.ui.side_display import (
     ALL_SIDES,
     SIDES,
     VARIANT_SIDES,
-    picture_scale,
     side_display,
     side_settings,
     update_side_exposures,
@@ -322,7 +323,7 @@ class PipelineController:
         most one progressive preview per side and frame, before its first turn (none that
         frame when the preview left too little for its next unit), but a job's first: the
         job stops after the unit that makes it possible (``Job.advance``'s ``until``,
-        :meth:`_first_preview_due`) and it is taken at once when what it cost last time
+        ``previews.first_preview_due``) and it is taken at once when what it cost last time
         (``SideState.first_preview_ms``) fits the frame budget left, else the side's turn
         ends and it comes first thing in the next frame. With a
         quiet budget a turn is at most the frame budget long, so that input is looked for
@@ -348,7 +349,7 @@ class PipelineController:
             if side.name not in previewed:
                 previewed.add(side.name)
                 shown = side.previews
-                self._preview_if_due(state, side, status)
+                take_preview_if_due(self, state, side, status)
                 if status.published:    # this frame is drawn: no quiet budget on top
                     budget.to_base()
                 if side.job is None:
@@ -361,7 +362,7 @@ class PipelineController:
                 share = min(share, budget.base_ms)
             first = side.previews == 0 and state.progressive
             self._step(state, side, share, status,
-                       until=(lambda side=side: self._first_preview_due(state, side))
+                       until=(lambda side=side: self._first_due(state, side))
                        if first else None)
             if first and not self._first_preview_now(state, side, status, len(order) + 1):
                 continue
@@ -371,17 +372,17 @@ class PipelineController:
     def _first_preview_now(self, state: AppState, side: SideState, status: ControllerStatus,
                            sides_left: int) -> bool:
         """After a turn that had no preview of its job yet: the job's first picture when
-        the turn stopped at one (:meth:`_first_preview_due`), in this frame when what it
+        the turn stopped at one (``previews.first_preview_due``), in this frame when what it
         cost last time fits the frame budget left (the frame is drawn), else first thing
         in the next frame (a turn's start); after it the turn goes on with a unit timed
         before at this size that fits (``Job.next_unit_measured``). False: the side's turn
         ends this frame."""
-        if side.job is None or not self._first_preview_due(state, side):
+        if side.job is None or not self._first_due(state, side):
             return True
         budget = self._budget
         if budget.base_left() < side.first_preview_ms:
             return False
-        self._preview_if_due(state, side, status)
+        take_preview_if_due(self, state, side, status)
         if status.published:
             budget.to_base()
         # the frame is drawn: only a unit timed before at this size goes on in it (the
@@ -389,6 +390,10 @@ class PipelineController:
         job = side.job
         return (job is not None and job.next_unit_measured()
                 and self._fits(side, budget.left() / sides_left))
+
+    def _first_due(self, state: AppState, side: SideState) -> bool:
+        return previews.first_preview_due(state, side, self._interacting,
+                                          self.injected_preview_cells)
 
     def _fits(self, side: SideState, left_ms: float) -> bool:
         """Whether the next unit of ``side``'s job, as last measured, fits ``left_ms`` (and,
@@ -418,89 +423,6 @@ class PipelineController:
         if side.job.done:
             self._finished(state, side, status)
 
-    def _first_preview_due(self, state: AppState, side: SideState) -> bool:
-        """The side's job has shown no preview and has a picture to show now (the
-        injected light of a large grid, a propagation step, a gather-only change's
-        accumulation): :meth:`_advance` takes it in the frame whose unit made it possible
-        (asked by the job after each unit, so ``side.progress`` is brought up to date).
-        Not while the user drags (the camera, an object, a held slider): each job of a
-        drag finishes, or is replaced by the next, often in the frame it started in, and
-        its finished picture is the one to show (a drag's previews come at a turn's start,
-        as before)."""
-        job, request = side.job, side.request
-        if job is None or side.previews or not state.progressive or self._interacting or (
-                request is not None and request.interactive):
-            return False
-        side.progress = job.progress
-        if previews.shows_nothing_new(side):
-            return False
-        return (previews.propagated_since_preview(side) or previews.gathering_unpreviewed(side)
-                or previews.injected_unpreviewed(side, self.injected_preview_cells))
-
-    def _preview_if_due(self, state: AppState, side: SideState,
-                        status: ControllerStatus) -> None:
-        """A progressive picture when the propagation advanced since the last one and
-        one is due (explorer/ui/previews.py); a large grid's first can be the injected
-        light, before the first step (``previews.injected_unpreviewed``)."""
-        if not state.progressive or previews.shows_nothing_new(side):
-            return
-        gathering = previews.gathering_unpreviewed(side)
-        # a drag's pictures follow one another: the injected light of each would flash
-        injected = not self._interacting and previews.injected_unpreviewed(
-            side, self.injected_preview_cells)
-        if not (gathering or injected or previews.propagated_since_preview(side)):
-            return
-        if not (gathering or injected) and not previews.preview_due(
-                side, self.preview_interval_s, self.draw_ms):
-            return
-        progress, first = side.progress, side.previews == 0
-        scale = self.preview_scale if not first else min(self.first_preview_scale,
-                                                         self.preview_scale)
-        began = time.perf_counter()
-        side.previewed_at = time.monotonic()
-        if side.propagate_from is None and progress.stage == "propagate" and progress.done:
-            side.propagate_from = (side.job_ms, progress.done)   # the pace from here
-        try:
-            shown = side.job.preview(scale, injected=injected)
-            if shown:
-                side.serial += 1
-                side.previews += 1
-                textures = side.pipeline.preview_textures
-                # the injected light: no step of the propagation (its total once begun)
-                stamp = Stamp(side.serial, False, 0, progress.total if progress.stage ==
-                              "propagate" else 0, injected=True) if injected else Stamp(
-                    side.serial, False, progress.done, progress.total)
-                self._snapshot(side, stamp, side.result, textures)
-                display = self.settings_for(state, side.name)
-                if side.auto_scale is None and display.auto_exposure:
-                    side.auto_scale = picture_scale(side.picture, display.indirect_only)
-                status.published = True
-        except Exception as exc:  # noqa: BLE001 - the job's own run reports it next
-            print(f"lpv-explorer: preview of {side.name} failed: {exc}", file=sys.stderr)
-        finally:
-            use_screen(self.ctx)
-        if progress.stage == "propagate":
-            side.previewed = progress.done
-        elapsed = (time.perf_counter() - began) * 1e3
-        side.job_ms += elapsed
-        side.previews_ms += elapsed
-        side.preview_ms = elapsed
-        if first and side.previews == 1:
-            side.first_preview_ms = elapsed     # (kept from job to job: the next's estimate)
-        status.work.append(WorkUnit(side.name, f"preview {progress.done}/{progress.total}",
-                                    elapsed))
-
-    def _snapshot(self, side: SideState, stamp: Stamp, result: FrameResult | None,
-                  textures: tuple | None = None) -> None:
-        """Copy the side's linear buffers (``textures``: a preview's own, e.g. reduced)
-        into its picture; a finished frame's fog too (a preview shows the surfaces without
-        it, as the pipeline's own preview does)."""
-        if side.picture is None:
-            side.picture = Picture(self.ctx, self.programs)
-        fog = side.pipeline.fog_textures if stamp.final else None
-        side.picture.copy_from(*(textures or side.pipeline.linear_textures), stamp, result,
-                               fog, getattr(side.pipeline, "surface_textures", None))
-
     def _finished(self, state: AppState, side: SideState, status: ControllerStatus) -> None:
         job, request = side.job, side.request
         result = job.result
@@ -508,7 +430,7 @@ class PipelineController:
         side.done, side.failed, side.result = request, None, result
         side.serial += 1
         began = time.perf_counter()
-        self._snapshot(side, Stamp(side.serial, True), result)
+        snapshot(self, side, Stamp(side.serial, True), result)
         use_screen(self.ctx)
         snapshot_ms = (time.perf_counter() - began) * 1e3
         status.work.append(WorkUnit(side.name, "snapshot", snapshot_ms))
@@ -538,6 +460,11 @@ class PipelineController:
         settings = request.settings
         self.drag.measure(settings.width * settings.height, self.full_pixels, elapsed_ms,
                           self._side_budget_ms)
+
+    @property
+    def interacting(self) -> bool:
+        """Whether the user was dragging (camera, object, slider) at the last update."""
+        return self._interacting
 
     @property
     def drag_scale(self) -> float:

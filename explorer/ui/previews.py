@@ -18,6 +18,7 @@ from explorer.lpv.cache_keys import downstream
 
 if TYPE_CHECKING:
     from explorer.ui.controller_state import SideState
+    from explorer.ui.state import AppState
 
 PREVIEW_INTERVAL_S = 0.25
 """Progressive pictures after the first of a job come at most this often ..."""
@@ -123,3 +124,23 @@ def finish_due_ms(side: SideState) -> float:
     timings = side.pipeline.timings_ms
     rest = sum(timings.get(stage, 0.0) for stage in downstream("propagate")[1:])
     return (progress.total - progress.done) * max(per_step, 0.0) + rest
+
+
+def first_preview_due(state: AppState, side: SideState, interacting: bool,
+                      injected_cells: int = INJECTED_PREVIEW_CELLS) -> bool:
+    """The side's job has shown no preview and has a picture to show now (the injected
+    light of a large grid, a propagation step, a gather-only change's accumulation): the
+    controller takes it in the frame whose unit made it possible (asked by the job after
+    each unit, so ``side.progress`` is brought up to date). Not while the user drags
+    (``interacting``: the camera, an object, a held slider): each job of a drag finishes,
+    or is replaced by the next, often in the frame it started in, and its finished picture
+    is the one to show (a drag's previews come at a turn's start, as before)."""
+    job, request = side.job, side.request
+    if job is None or side.previews or not state.progressive or interacting or (
+            request is not None and request.interactive):
+        return False
+    side.progress = job.progress
+    if shows_nothing_new(side):
+        return False
+    return (propagated_since_preview(side) or gathering_unpreviewed(side)
+            or injected_unpreviewed(side, injected_cells))
