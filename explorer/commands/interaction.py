@@ -836,6 +836,13 @@ SOAK_RSS_BUDGET_MIB = 1.2 * 1024
 the warm-up included); a step above it fails the soak as growth does."""
 
 
+def _kept_try_mib(session) -> float | None:
+    """MiB of arrays the try-this prompts' kept frames hold (``TryFrames.sizes``; shared
+    in part with the frames on screen), None for a window without them."""
+    sizes = getattr(getattr(session, "try_frames", None), "sizes", None)
+    return None if sizes is None else round(sum(sizes.values()) / 2**20, 1)
+
+
 def selected_steps(wanted: str | None) -> list[tuple[str, int]]:
     """The course's steps in order, or those of ``wanted`` (``LESSON:STEP,...``, e.g.
     ``overview:2,errata:1``: a lesson id and a step number); ValueError naming an item
@@ -1018,6 +1025,7 @@ def soak(minutes: float, grid: int, wanted: str | None = None) -> dict:
                 record = {"pass": passes, "position": position,
                           "step": f"{lesson_id}:{number}", "rss_mib": rss,
                           "resident": resident_parts(),
+                          "kept_try_mib": _kept_try_mib(session),
                           "gl": gl_objects(), "gl_mib": gl_bytes(),
                           "programs": gl_programs(), "buffers": gl_buffers()}
                 records.append(record)

@@ -36,11 +36,14 @@ KEPT_FRAMES = 12
 other steps sees the prompt's numbers again once the step's frame is on screen."""
 
 
-KEPT_BYTES = 48 * 2**20
+KEPT_BYTES = 24 * 2**20
 """Bytes of arrays the frames of one kind hold at most (the newest is kept whatever its
 size): over a course the kept frames' accumulated grids, images and VPLs were the
 window's largest growth after its first pass (issue #31: 240 MiB at step 20, up to
-1 GiB with twelve 64³ two-cascade frames of each kind)."""
+1 GiB with twelve 64³ two-cascade frames of each kind); at 48 MiB a kind the soak's
+heaviest step stood 4 MiB under the window's budget of 1.2 GiB (BENCHMARKS.md). A 64³
+two-cascade frame alone is more: after such a step only its own frame is kept, the
+prompts of the steps before it read theirs again once their frame is on screen."""
 
 
 def held_bytes(value: Any, seen: set[int] | None = None) -> int:
