@@ -324,13 +324,8 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
     if can_copy_volume(source, target.texture):
         copy_volume_texels(source, target.texture)
         return
-    layered = isinstance(source, moderngl.TextureArray)
-    made = _COPY_PROGRAMS.get((layered, target.format))
-    if made is None:
-        defines = {"SOURCE_LAYERED": int(layered), **image_format_defines(target.format)}
-        made = _COPY_PROGRAMS[(layered, target.format)] = (
-            defines, programs.key("volume_copy.glsl", defines))
-    program = programs.get("volume_copy.glsl", *made)
+    program = _copy_program(programs, isinstance(source, moderngl.TextureArray),
+                            target.format)
     source.use(0)
     target.bind_image(0, read=False, write=True)
     set_uniforms(program, _COPY_UNIFORMS)    # one dict: the copies in a row set it once
@@ -341,30 +336,21 @@ def copy_volume(programs: ProgramCache, source: moderngl.Texture3D | moderngl.Te
 def copy_volumes(programs: ProgramCache, sources: Sequence, targets: Sequence[VolumeTexture]
                  ) -> None:
     """:func:`copy_volume` of each source into its target, in order: image copies where
-    each pair holds one format (a grid's three channels), else the program got and its
-    uniform set once for the sources of the first one's kind and targets of its format
-    (any other pair is copied by :func:`copy_volume`): the same GL calls, less Python."""
-    if not sources:
-        return
-    if all(can_copy_volume(source, target.texture)
-           for source, target in zip(sources, targets, strict=True)):
-        for source, target in zip(sources, targets):
-            copy_volume_texels(source, target.texture)     # image copies: no program
-        return
-    layered = isinstance(sources[0], moderngl.TextureArray)
-    fmt = targets[0].format
-    made = _COPY_PROGRAMS.get((layered, fmt))
-    if made is None:
-        defines = {"SOURCE_LAYERED": int(layered), **image_format_defines(fmt)}
-        made = _COPY_PROGRAMS[(layered, fmt)] = (
-            defines, programs.key("volume_copy.glsl", defines))
-    program = programs.get("volume_copy.glsl", *made)
-    run, barrier = program.run, programs.ctx.memory_barrier
+    each pair holds one format (a grid's three channels), else the compute program got
+    and its uniform set once for the sources of the first such pair's kind and targets of
+    its format (any other pair is copied by :func:`copy_volume`): the same GL calls, less
+    Python."""
+    program = None          # got at the first pair the compute shader copies
+    barrier = programs.ctx.memory_barrier
     uniforms_set, size, groups = False, None, (0, 0, 0)
     for source, target in zip(sources, targets, strict=True):
         if can_copy_volume(source, target.texture):
             copy_volume_texels(source, target.texture)     # an image copy: no program
             continue
+        if program is None:
+            layered, fmt = isinstance(source, moderngl.TextureArray), target.format
+            program = _copy_program(programs, layered, fmt)
+            run = program.run
         if isinstance(source, moderngl.TextureArray) is not layered or target.format != fmt:
             copy_volume(programs, source, target)
             uniforms_set = False        # that copy's program may be this one
@@ -404,6 +390,17 @@ def point_batches(count: int) -> list[tuple[int, int]]:
     """``(first, count)`` of the batches ``count`` points are drawn in (at least one)."""
     size = POINT_BATCH
     return [(first, min(size, count - first)) for first in range(0, count, size)] or [(0, 0)]
+
+
+def _copy_program(programs: ProgramCache, layered: bool, fmt: str):
+    """The volume copy's compute program for a layered or 3D source and a target of
+    ``fmt`` (its defines and cache key made once a kind, :data:`_COPY_PROGRAMS`)."""
+    made = _COPY_PROGRAMS.get((layered, fmt))
+    if made is None:
+        defines = {"SOURCE_LAYERED": int(layered), **image_format_defines(fmt)}
+        made = _COPY_PROGRAMS[(layered, fmt)] = (
+            defines, programs.key("volume_copy.glsl", defines))
+    return programs.get("volume_copy.glsl", *made)
 
 
 _COPY_PROGRAMS: dict[tuple[bool, str], tuple[dict, tuple]] = {}
