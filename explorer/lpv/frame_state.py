@@ -121,11 +121,12 @@ class FrameState:
     def injected_grid(self) -> SampledGrid:
         """Every cascade's injected grid as the gather samples an accumulation (grid_0:
         what the accumulation holds before the propagation's first step)."""
-        grids = [level.injected for level in self.cascades]
-        assert all(grid is not None for grid in grids), "sampled before the injection"
+        grids = []
+        for level in self.cascades:
+            assert level.injected is not None, "sampled before the injection"
+            grids.append(level.injected)
         return SampledGrid(tuple(CascadeInput(spec, grid.textures)
-                                 for spec, grid in zip(self.specs, grids) if grid is not None),
-                           grids[0].sh_order if grids[0] is not None else 1)
+                                 for spec, grid in zip(self.specs, grids)), grids[0].sh_order)
 
     def drop_steps(self) -> None:
         """Forget every level's kept propagation steps (grid_0..grid_N): a frame that did
