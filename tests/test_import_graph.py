@@ -205,6 +205,9 @@ BORROWED_PRIVATE = {
         "the overhead benchmark wraps a job's unit to time its Python side, and puts it back",
     ("explorer/commands/units_driver.py", "Job._run_unit"):
         "the unit benchmark wraps one job's units to time each with its GL work finished",
+    ("explorer/ui/drawn_lists.py", "draw_list._owner_name"):
+        "imgui's ImDrawList has no public name: its _OwnerName, the window's name, is what "
+        "matches one frame's list with the next frame's",
 }
 """The only reads of another object's private attribute, each with its reason."""
 

@@ -70,6 +70,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="do not show the window (scripted runs)")
     parser.add_argument("--no-persist", action="store_true",
                         help="neither read nor write the settings file")
+    parser.add_argument("--repaint-all", action="store_true",
+                        help="paint the whole window every frame, not only where the "
+                             "panels changed (a check of the partial painting)")
 
 
 def window_size(width: int, height: int) -> tuple[int, int]:
@@ -103,7 +106,8 @@ def main(args: argparse.Namespace) -> int:
     try:
         app = App(AppState() if args.no_persist else None,
                   WindowOptions(width=width, height=height, visible=not args.hidden,
-                                persist_settings=not args.no_persist))
+                                persist_settings=not args.no_persist,
+                                partial_paint=not args.repaint_all))
     except WindowError as exc:
         raise CommandError(exc, 1) from None
     try:

@@ -135,7 +135,7 @@ class App:
         self.last_pixels: np.ndarray | None = None
         self.panels = WindowPanels(self.state)
         """The menu bar, the dock layout and the panels (explorer/ui/window_panels.py)."""
-        self._init_imgui(options.test_engine)
+        self._init_imgui(options.test_engine, options.partial_paint)
         self.test_engine = self._imgui.test_engine
         # SIGTERM / SIGHUP: quit as the Quit item does (close() saves); a second: at once
         self._restore_signals = stop_signals.calling(self._quit_on_signal)
@@ -144,7 +144,7 @@ class App:
         self.state.requests.quit = True
 
     # -- setup ---------------------------------------------------------------------------
-    def _init_imgui(self, test_engine: bool = False) -> None:
+    def _init_imgui(self, test_engine: bool = False, partial_paint: bool = True) -> None:
         from imgui_bundle import imgui
 
         from explorer.ui.formulas import FormulaCache
@@ -152,7 +152,8 @@ class App:
         from explorer.ui.overlays.compositor import Compositor
         from explorer.ui.textures import UiTextures
 
-        self._imgui = ImguiHost(self.window, test_engine=test_engine)
+        self._imgui = ImguiHost(self.window, test_engine=test_engine,
+                                partial_paint=partial_paint)
         io = imgui.get_io()
         io.config_flags |= imgui.ConfigFlags_.docking_enable
         io.config_flags |= imgui.ConfigFlags_.nav_enable_keyboard

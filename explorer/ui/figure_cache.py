@@ -24,6 +24,7 @@ from collections import Counter
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from explorer.ui.texture_versions import versions_for
 from explorer.ui.weak_version import WeakVersion
 
 if TYPE_CHECKING:
@@ -59,6 +60,7 @@ class FigureCache:
 
     def __init__(self, ctx: moderngl.Context, enabled: bool = True) -> None:
         self.ctx = ctx
+        self._versions = versions_for(ctx)      # every copy and release is told there
         self.enabled = enabled
         self.pictures: dict[str, _Picture] = {}
         self.draws: Counter = Counter()
@@ -169,6 +171,7 @@ class FigureCache:
             gpu_sync.gl().copy_tex_sub_image_2d(GL_TEXTURE_2D, 0, 0, 0, left,
                                                 fb_height - bottom, width, height)
             self._forget(name)
+            self._versions.written(texture.glo)
             shown = ((left / scale.x, top / scale.y), (right / scale.x, bottom / scale.y))
             self.pictures[name] = _Picture(key, texture, (x1 - x0, y1 - y0), shown, results)
             copied += 1
@@ -177,6 +180,7 @@ class FigureCache:
     def _forget(self, name: str) -> None:
         picture = self.pictures.pop(name, None)
         if picture is not None:
+            self._versions.forget(picture.texture.glo)
             picture.texture.release()
 
     def release(self) -> None:

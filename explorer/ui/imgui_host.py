@@ -21,10 +21,15 @@ class ImguiHost:
     tests, :mod:`explorer.ui.test_engine`): :attr:`test_engine` then queues tests, and
     each frame begins and ends through it."""
 
-    def __init__(self, window: Window, test_engine: bool = False) -> None:
+    def __init__(self, window: Window, test_engine: bool = False,
+                 partial_paint: bool = True) -> None:
         from imgui_bundle import imgui, implot, implot3d
 
+        from explorer.ui.partial_paint import PartialPainter
+
         self.window = window
+        self.painter = PartialPainter(window, enabled=partial_paint)
+        """Paints imgui's lists where they changed (``partial_paint`` False: whole)."""
         self._imgui_ctx = imgui.create_context()
         self._implot_ctx = implot.create_context()
         self._implot3d_ctx = implot3d.create_context()
@@ -52,19 +57,16 @@ class ImguiHost:
             imgui.new_frame()
 
     def render(self, ctx: moderngl.Context, clear_colour: tuple[float, ...]) -> None:
-        """End the frame: render imgui's draw data over the cleared default framebuffer
-        (the caller reads pixels and swaps buffers)."""
+        """End the frame: paint imgui's draw data over the clear colour into the default
+        framebuffer, where it changed (explorer/ui/partial_paint.py); the back buffer holds
+        the whole frame afterwards (the caller reads pixels and swaps buffers)."""
         from imgui_bundle import imgui
 
         if self.test_engine is not None:
             self.test_engine.render()
         else:
             imgui.render()
-        width, height = self.window.framebuffer_size
-        ctx.screen.use()
-        ctx.viewport = (0, 0, width, height)
-        ctx.clear(*clear_colour)
-        imgui.backends.opengl3_render_draw_data(imgui.get_draw_data())
+        self.painter.paint(ctx, imgui.get_draw_data(), clear_colour)
 
     def post_swap(self) -> None:
         """After the window's buffers were swapped (the test engine counts frames)."""
@@ -78,6 +80,7 @@ class ImguiHost:
 
         if self.test_engine is not None:
             self.test_engine.stop()
+        self.painter.release()
         imgui.backends.opengl3_shutdown()
         imgui.backends.glfw_shutdown()
         implot3d.destroy_context(self._implot3d_ctx)

@@ -13,6 +13,7 @@ import moderngl
 import numpy as np
 
 from explorer.lpv.twin.tonemap import linear_to_srgb
+from explorer.ui.texture_versions import versions_for
 
 
 @dataclass
@@ -25,6 +26,7 @@ class UiTextures:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.ctx = ctx
         self._entries: dict[str, _Entry] = {}
+        self._versions = versions_for(ctx)      # every write and release is told there
 
     def upload(self, key: str, image: np.ndarray, version: object = None,
                nearest: bool = True) -> int:
@@ -38,13 +40,14 @@ class UiTextures:
         height, width = rgba.shape[:2]
         if entry is None or entry.texture.size != (width, height):
             if entry is not None:
-                entry.texture.release()
+                self._release(entry)
             texture = self.ctx.texture((width, height), 4, dtype="f1")
             filt = moderngl.NEAREST if nearest else moderngl.LINEAR
             texture.filter = (filt, filt)
             entry = _Entry(texture, None)
             self._entries[key] = entry
         entry.texture.write(np.ascontiguousarray(rgba).tobytes(), alignment=1)
+        self._versions.written(entry.texture.glo)
         entry.version = version
         return entry.texture.glo
 
@@ -56,12 +59,16 @@ class UiTextures:
         """Release the texture under ``key`` (nothing when there is none)."""
         entry = self._entries.pop(key, None)
         if entry is not None:
-            entry.texture.release()
+            self._release(entry)
 
     def release(self) -> None:
         for entry in self._entries.values():
-            entry.texture.release()
+            self._release(entry)
         self._entries.clear()
+
+    def _release(self, entry: _Entry) -> None:
+        self._versions.forget(entry.texture.glo)
+        entry.texture.release()
 
 
 def to_rgba8(image: np.ndarray) -> np.ndarray:

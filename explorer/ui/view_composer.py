@@ -27,6 +27,7 @@ from explorer.lpv.surface_edges import EDGE_FLAG, EDGE_SHADE
 from explorer.lpv.twin.tonemap import luminance, tone_map_index
 from explorer.ui.picture import Picture, SideDisplay
 from explorer.ui.state import VIEW_BUFFERS
+from explorer.ui.texture_versions import versions_for
 from explorer.ui.textures import robust_max
 from explorer.ui.weak_version import WeakVersion
 
@@ -50,8 +51,23 @@ class _Output:
     def __init__(self, ctx: moderngl.Context) -> None:
         self.targets = RenderTargets(ctx, ("f1",), linear=(0,))
         self.key: object = None
+        self.versions = versions_for(ctx)
+        self.shown: int | None = None
+        """The GL name of the texture last drawn, tracked in :attr:`versions` (the window
+        repaints the view only when a pass drew it anew: explorer/ui/texture_versions.py)."""
+
+    def drawn(self) -> None:
+        """A pass drew into the output's texture."""
+        glo = self.targets.textures[0].glo
+        if self.shown not in (None, glo):         # another size's texture: the old name
+            self.versions.forget(self.shown)      # may be released and handed out again
+        self.versions.written(glo)
+        self.shown = glo
 
     def release(self) -> None:
+        if self.shown is not None:
+            self.versions.forget(self.shown)
+            self.shown = None
         self.targets.release()
         self.key = None
 
@@ -164,6 +180,7 @@ class ViewComposer:
                                **uniforms})
         with output.targets.drawing():
             self._triangle.draw(program)
+        output.drawn()
         use_screen(self.ctx)
         self.draws += 1
 

@@ -32,6 +32,9 @@ class WindowOptions:
     """Start Dear ImGui Test Engine in the window (explorer/ui/test_engine.py)."""
     headless: bool = False
     """No display needed (glfw's null platform with EGL): exports and scripts."""
+    partial_paint: bool = True
+    """Paint imgui's lists only where they changed (explorer/ui/partial_paint.py); False:
+    the whole window every frame (``--repaint-all``, a check of the partial painting)."""
 
     @property
     def waits_when_idle(self) -> bool:
