@@ -11,7 +11,14 @@ import pytest
 
 from explorer.gl.gpu_sync import DeferredRead, GpuWait
 from explorer.lpv.job import FINAL_STAGE
-from explorer.lpv.passes.display import AutoExposure, display_scale
+from explorer.lpv.passes.display import (
+    METER_BAND_BYTES,
+    AutoExposure,
+    display_scale,
+    exposed_image,
+    metered_in_bands,
+)
+from explorer.lpv.passes.fog import FogImages
 from explorer.lpv.passes.gather import GatherImages
 from explorer.lpv.pipeline import Pipeline
 from explorer.lpv.settings import Settings
@@ -67,6 +74,28 @@ def test_the_auto_exposure_in_two_units_is_the_one_shot_scale(indirect_only):
     assert exposure.scale(gather, None, indirect_only, position) == once
     # measured already: the same scale in one unit
     assert _units(exposure.measure(gather, None, indirect_only, position)) == ([], once)
+
+
+@pytest.mark.parametrize("fogged", [False, True])
+@pytest.mark.parametrize("indirect_only", [False, True])
+def test_the_metering_in_bands_gives_the_whole_frames_values_bit_for_bit(fogged, indirect_only):
+    rng = np.random.default_rng(11)
+    shape = (41, 960, 4)                 # 960 wide: bands of 17 rows, the last one short
+    assert 1 < shape[0] // (METER_BAND_BYTES // (shape[1] * 32)) < shape[0]
+    gather = GatherImages(*(rng.random(shape, dtype=np.float32) for _ in range(3)))
+    gather.direct[3, 5, 1] = np.nan              # a non-finite pixel counts as 0
+    mask = rng.random(shape[:2]) > 0.3
+    fog = FogImages(rng.random(shape[:2], dtype=np.float32),
+                    rng.random(shape[:2] + (3,), dtype=np.float32),
+                    rng.random(shape[:2] + (3,), dtype=np.float32)) if fogged else None
+    if fog is None:
+        whole = gather.indirect if indirect_only else gather.direct + gather.indirect
+    else:
+        whole = exposed_image(gather.direct[..., :3], gather.indirect[..., :3], 1.0,
+                              indirect_only, fog)
+    banded = metered_in_bands(gather, fog, indirect_only, mask)
+    assert banded.dtype == np.float64
+    assert np.array_equal(banded, tonemap.metered_luminance(whole, mask))
 
 
 def test_the_last_stage_keeps_to_the_finishing_budget_and_ends_on_the_same_frame(gl_context,

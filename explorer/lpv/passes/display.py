@@ -59,6 +59,39 @@ def display_scale(unexposed: np.ndarray, mask: np.ndarray | None, auto_exposure:
     return auto_exposure_scale(unexposed, mask) if auto_exposure else 1.0
 
 
+METER_BAND_BYTES = 1 << 19
+"""The largest temporary of a band of :func:`metered_in_bands` (its rows' RGBA luminance
+input in float64) at most: half the window's fixed mmap threshold (explorer/ui/memory.py,
+1 MiB), so that each band's blocks come from malloc's heap and are reused by the next band.
+Whole-frame temporaries are mapped afresh and their pages faulted in: the 960×540 frame's
+metering took 30–54 ms in the window in one piece, 7 ms alone (BENCHMARKS.md, issue #32)."""
+
+
+def metered_in_bands(gather: GatherImages, fog: FogImages | None, indirect_only: bool,
+                     mask: np.ndarray) -> np.ndarray:
+    """:func:`metered_luminance` of the unexposed image (``direct + indirect``, or
+    ``indirect`` alone, seen through ``fog``) over ``mask``'s pixels, computed in bands of
+    rows (:data:`METER_BAND_BYTES`): the same values in the same order as in one piece,
+    since every step is per pixel and the mask keeps the rows' order."""
+    height, width = mask.shape
+    rows = max(1, METER_BAND_BYTES // (width * 4 * 8))
+    parts = []
+    for top in range(0, height, rows):
+        band = slice(top, top + rows)
+        if fog is None:
+            # exposed_image's values without its strided passes: direct + indirect added
+            # as whole pixels (the same float32 sums; x·1 is x), whose rgb the luminance
+            # reads in float64 (twin/tonemap.py: the same bits)
+            unexposed = gather.indirect[band] if indirect_only \
+                else gather.direct[band] + gather.indirect[band]
+        else:
+            unexposed = exposed_image(
+                gather.direct[band, :, :3], gather.indirect[band, :, :3], 1.0, indirect_only,
+                FogImages(fog.transmittance[band], fog.direct[band], fog.lpv[band]))
+        parts.append(metered_luminance(unexposed, mask[band]))
+    return np.concatenate(parts) if parts else np.zeros(0)
+
+
 class AutoExposure:
     """The auto exposure scale of the frame last gathered, measured once per gathered
     frame, fog and ``indirect_only`` (an exposure change reuses it). The images are told
@@ -88,17 +121,7 @@ class AutoExposure:
         measured = self._measured
         if measured is None or measured[0] is not gather or measured[1] is not fog or \
                 measured[2] != indirect_only:
-            if fog is None:
-                # exposed_image's values without its strided passes: direct + indirect
-                # added as whole pixels (the same float32 sums; x·1 is x), whose rgb
-                # the luminance reads in float64 (twin/tonemap.py: the same bits)
-                unexposed = gather.indirect if indirect_only \
-                    else gather.direct + gather.indirect
-            else:
-                unexposed = exposed_image(gather.direct[..., :3], gather.indirect[..., :3],
-                                          1.0, indirect_only, fog)
-            metered = metered_luminance(unexposed, position[..., 3] > 0.5)
-            del unexposed
+            metered = metered_in_bands(gather, fog, indirect_only, position[..., 3] > 0.5)
             yield
             measured = self._measured = (gather, fog, indirect_only,
                                          exposure_for(log_average_of(metered)))
