@@ -381,9 +381,12 @@ def copied_apart(shape: Sequence[int]) -> bool:
     return math.prod(map(int, shape)) > APART_TEXELS
 
 
-POINT_BATCH = 1 << 16
-"""Points a unit of a point pass draws at most (a 256² RSM's VPLs: 12 ms of the 64³
-injection on llvmpipe); a larger RSM's draw is several units, :func:`point_batches`."""
+POINT_BATCH = 1 << 15
+"""Points a unit of a point pass draws at most; a larger set's draw is several units,
+:func:`point_batches`. A 256² RSM's VPLs in two draws of half as many: on llvmpipe the 64³
+injection's longest unit 20 → 7 ms and the whole stage 21 → 14 ms (one draw of 65 536
+points costs more than two of 32 768), the 32³ one's longest 10.6 → 7 ms, the same total
+(BENCHMARKS.md, issue #32 item 3)."""
 
 
 def point_batches(count: int) -> list[tuple[int, int]]:
