@@ -12,8 +12,8 @@ from explorer.lpv.cache_keys import downstream
 
 FRAME_TARGET_MS = 50.0
 """The longest a frame should take while the user interacts (issue #32): a drag's frames
-aim at it (explorer/ui/frame_pacing.py ``DRAG_FPS``), and a quiet frame's longer budget
-stays under it."""
+aim a little inside it (explorer/ui/frame_pacing.py ``DRAG_FPS``, ``DRAG_MARGIN_MS``), and
+a quiet frame's longer budget stays under it."""
 QUIET_AFTER_S = 0.15
 """No input for this long: the user is watching, the pipelines get :data:`QUIET_BUDGET_MS`
 a frame ..."""
