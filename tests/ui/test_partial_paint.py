@@ -173,7 +173,7 @@ def _whole(app) -> np.ndarray:
 
 
 def _frames_match_whole_repaints(app, kept: bool | None) -> list[tuple[float, str | None]]:
-    """Frames with display changes, pointer moves and a lesson scroll; each frame's pixels
+    """Frames with display changes, pointer moves, a lesson scroll and a resize; each frame's pixels
     against a whole repaint of its lists. The share of the window each frame painted."""
     from imgui_bundle import imgui
 
@@ -190,12 +190,20 @@ def _frames_match_whole_repaints(app, kept: bool | None) -> list[tuple[float, st
         io.add_mouse_pos_event(40.0 + 61.0 * step, 30.0 + 43.0 * step)
         if step == 7:
             io.add_mouse_wheel_event(0.0, -1.0)
+        if step == 10:                   # a new size: painted whole, then in parts again
+            app.window.set_size(820, 600)
         app.note_input()
         app.frame(capture=True)
         shown = app.last_pixels
         shares.append((painter.painted_share, painter.whole_because))
         expected = _whole(app)
-        differ = np.any(shown != expected, axis=2)
+        if painter.whole_because is None:        # painted in parts: a whole repaint's bits
+            differ = np.any(shown != expected, axis=2)
+        else:
+            # painted whole both times: on a resize's first frame llvmpipe paints the new
+            # back buffer's cleared tiles with a blend a unit of 8 bits off in a few dozen
+            # pixels; nothing of the painter's is compared there
+            differ = np.any(np.abs(shown.astype(int) - expected) > 1, axis=2)
         assert not differ.any(), (step, painter.painted, int(differ.sum()),
                                   np.argwhere(differ)[:5].tolist())
     return shares
