@@ -119,6 +119,13 @@ def display_pass_ms(app) -> float | None:
     return statistics.median(times)
 
 
+def painted_percent(app) -> float | None:
+    """The share of the window the last frame repainted, in a window that paints its
+    lists where they changed (explorer/ui/partial_paint.py)."""
+    painter = getattr(app, "painter", None)
+    return None if painter is None else 100.0 * painter.painted_share
+
+
 def frame_profile(app) -> str:
     """The last drawn frame by phase, wall and CPU ms (a window with a frame profile)."""
     profile = getattr(app, "profile", None)
@@ -338,12 +345,15 @@ def idle_phase(app) -> dict:
     figures["idle_cpu_percent"] = 100.0 * (time.process_time() - cpu) / wall
     figures["idle_frames_drawn_per_s"] = (app.state.runtime.frame.frame_index - drawn) / wall
     phases: dict[str, list[float]] = {}
-    redraws = []
+    redraws, painted = [], []
     for _ in range(10):
         redraws.append(draw(app))
+        painted.append(painted_percent(app))
         for phase, ms in getattr(app, "draw_phases_ms", {}).items():
             phases.setdefault(phase, []).append(ms)
     figures["idle_frame_ms"] = statistics.median(redraws)
+    if None not in painted:
+        figures["idle_painted_percent"] = statistics.median(painted)
     if phases:        # a window that times its own drawing by phase
         figures["window_drawing_ms"] = statistics.median(
             sum(values) for values in zip(*phases.values()))
@@ -398,18 +408,21 @@ def display_phase(app, rec: Recorder, redraw_ms: float) -> dict:
     over a plain redraw (``redraw_ms``), and the view composer's pass alone."""
     figures = {}
     rec.phase = "display"
-    changed, phases, cpu = [], {}, []
+    changed, phases, cpu, painted = [], {}, [], []
     for value in EXPOSURES:
         rec.input()                 # the slider's drag
         app.state.update(exposure=value)
         began = time.process_time()
         changed.append(rec.frame())
         cpu.append((time.process_time() - began) * 1e3)
+        painted.append(painted_percent(app))
         profile = getattr(app, "profile", None)
         for phase, ms in (profile.wall_ms.items() if profile is not None else ()):
             phases.setdefault(phase, []).append(ms)
     figures["display_change_frame_ms"] = statistics.median(changed)
     figures["display_change_frame_cpu_ms"] = statistics.median(cpu)
+    if None not in painted:
+        figures["display_change_painted_percent"] = statistics.median(painted)
     for phase, values in phases.items():      # a window with a frame profile
         figures[f"display_change_{phase}_ms"] = statistics.median(values)
     figures["display_change_ms"] = max(statistics.median(changed) - redraw_ms, 0.0)

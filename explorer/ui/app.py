@@ -36,6 +36,7 @@ from explorer.ui.figure_cache import FigureCache
 from explorer.ui.frame_pacing import FRAMES_AFTER_INPUT, PROGRESS_REDRAW_S
 from explorer.ui.frame_profile import FrameProfile
 from explorer.ui.images import write_png
+from explorer.ui.partial_paint import PartialPainter
 from explorer.ui.side_display import ALL_SIDES
 from explorer.ui.state import AppState, fit_window_size, release_screenshot_path
 from explorer.ui.view_size import LAYOUT_FRAMES, ViewSizeFollower
@@ -238,6 +239,11 @@ class App:
             if status is None and self.state.runtime.frame.frame_index > LAYOUT_FRAMES:
                 return drawn         # no pipeline (or no GL): nothing to wait for
         return max_frames
+
+    @property
+    def painter(self) -> PartialPainter:
+        """What paints imgui's lists where they changed (explorer/ui/partial_paint.py)."""
+        return self._imgui.painter
 
     @property
     def fallen_idle(self) -> bool:

@@ -157,7 +157,7 @@ def _settle(app) -> None:
     for _ in range(400):
         app.frame()
         if (app.status is None or not app.status.active) and \
-                app._imgui.painter.whole_because is None:
+                app.painter.whole_because is None:
             break
     app.frame()
 
@@ -168,7 +168,7 @@ def _whole(app) -> np.ndarray:
 
     from explorer.ui import theme
 
-    app._imgui.painter.paint(app.ctx, imgui.get_draw_data(), theme.CLEAR_COLOUR, whole=True)
+    app.painter.paint(app.ctx, imgui.get_draw_data(), theme.CLEAR_COLOUR, whole=True)
     return app.window.read_pixels()
 
 
@@ -177,7 +177,7 @@ def _frames_match_whole_repaints(app, kept: bool | None) -> list[tuple[float, st
     against a whole repaint of its lists. The share of the window each frame painted."""
     from imgui_bundle import imgui
 
-    painter = app._imgui.painter
+    painter = app.painter
     if kept is not None:
         painter.kept = kept              # before the first paint: no probe
     _settle(app)
@@ -213,7 +213,7 @@ def _frames_match_whole_repaints(app, kept: bool | None) -> list[tuple[float, st
 @pytest.mark.parametrize("kept", [None, False], ids=["probed", "canvas"])
 def test_partially_painted_frames_have_a_whole_repaints_pixels(app, kept):
     shares = _frames_match_whole_repaints(app, kept)
-    assert isinstance(app._imgui.painter.kept, bool)
+    assert isinstance(app.painter.kept, bool)
     assert app.ctx.error == "GL_NO_ERROR"
     # not vacuous: most frames painted part of the window
     assert sum(share < 0.7 for share, _ in shares) >= len(shares) // 2, repr(shares)
@@ -221,7 +221,7 @@ def test_partially_painted_frames_have_a_whole_repaints_pixels(app, kept):
 
 @needs_display
 def test_a_display_change_repaints_the_view_not_the_panels(app):
-    painter = app._imgui.painter
+    painter = app.painter
     _settle(app)
     app.state.update(exposure=3.0)
     app.frame()
