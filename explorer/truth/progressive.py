@@ -232,7 +232,7 @@ def pixel_job(ctx, frame, x: int, y: int, visibility: bool, scene=None, bvh=None
     """The reference of the one pixel (x, y) of ``frame`` (row 0 at the top) as a
     :class:`ProgressiveReference` of a 1×1 tile: :func:`pixel_reference` runs it at once,
     a window a few VPL chunks per frame (its value: ``radiance_at(x, y)`` once done)."""
-    height, width = frame.final_image.shape[:2]
+    height, width = frame.image_size
     if not (0 <= x < width and 0 <= y < height):
         raise ValueError(f"pixel ({x}, {y}) is outside the {width}x{height} frame")
     return ProgressiveReference(ctx, frame, visibility, tile=1, scene=scene,

@@ -37,7 +37,7 @@ def _frame_geometry(state: AppState) -> tuple | None:
     result = state.runtime.frame.result
     if result is None or result.camera is None:
         return None
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     lo, hi = result.scene_bounds
     return result.camera.fov_y_degrees, width / height, lo, hi
 

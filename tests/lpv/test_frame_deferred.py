@@ -179,3 +179,21 @@ def test_a_light_frame_again_sets_the_passes_kept_uniforms(pipeline, monkeypatch
     assert stamped.count == 0
     # the full audit's slot, once per step, and the slots of the flux reductions
     assert counter.tally.calls["uniform uploads"] <= TINY.iterations + 4
+
+
+@pytest.mark.parametrize("change", [{}, {"indirect_only": True, "exposure": 1.7},
+                                    {"fog": True}])
+def test_a_frames_size_and_one_pixel_need_not_its_whole_final_image(pipeline, change):
+    """The window asks a new frame its size and the hovered pixel's colour: neither
+    computes the whole exposed image, and the pixel has its bits."""
+    settings = TINY.with_changes(**change)
+    result = pipeline.run(settings)
+    assert (result.fog is not None) == bool(change.get("fog"))
+    assert result.image_size == (TINY.height, TINY.width)
+    pixels = [(0, 0), (TINY.height - 1, TINY.width - 1), (11, 17)]
+    alone = [result.final_pixel(y, x) for y, x in pixels]
+    assert result._final_image is None           # nothing computed the whole image
+    for (y, x), value in zip(pixels, alone):
+        assert value.dtype == result.final_image.dtype
+        assert np.array_equal(value, result.final_image[y, x])
+        assert np.array_equal(result.final_pixel(y, x), value)     # from the whole one now

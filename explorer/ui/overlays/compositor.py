@@ -161,7 +161,7 @@ class Compositor:
         holds, when the same texture is redrawn with other contents (the view composer's
         images: a new exposure, a progressive picture)."""
         self._reload_shaders()
-        height, width = result.final_image.shape[:2]
+        height, width = result.image_size
         layers = self._sides.get(side)
         if layers is None:
             layers = self._sides[side] = _Side(self.ctx, self.programs)

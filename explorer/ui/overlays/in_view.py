@@ -147,7 +147,7 @@ def over_image(state: AppState, draw, origin, end, hovered: bool,
     scale = imgui.get_io().display_framebuffer_scale.x or 1.0
     pixel = None
     if result is not None:
-        height, width = result.final_image.shape[:2]
+        height, width = result.image_size
         pixel = view_pixel(rt.view.view_rect, (mouse.x * scale, mouse.y * scale), (width, height))
     rt.view.hover = None if pixel is None else hover_at(state, side, pixel)
     _slice_wheel(state)

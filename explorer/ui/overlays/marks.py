@@ -57,7 +57,7 @@ def placements(result, marks, origin: tuple[float, float], end: tuple[float, flo
     image are left out."""
     from explorer.ui.overlays.picking import project
 
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     sx = (end[0] - origin[0]) / width
     sy = (end[1] - origin[1]) / height
     out = []

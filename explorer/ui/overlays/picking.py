@@ -133,7 +133,7 @@ def pick_pixel(result, x: int, y: int, reference: np.ndarray | None = None
                ) -> PickInfo | None:
     """The values of pixel (x, y) (row 0 at the top); None outside the image.
     ``reference``: an (H, W, 3) reference radiance image of the same frame, if any."""
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     if not (0 <= x < width and 0 <= y < height):
         return None
     x, y = int(x), int(y)
@@ -163,7 +163,7 @@ def pick_pixel(result, x: int, y: int, reference: np.ndarray | None = None
     return PickInfo(x, y, surface, position[:3], normal[:3], float(normal[3]), albedo,
                     np.asarray(result.direct[y, x], np.float64),
                     np.asarray(result.indirect[y, x], np.float64),
-                    np.asarray(result.final_image[y, x], np.float64), ref, tuple(cells),
+                    np.asarray(result.final_pixel(y, x), np.float64), ref, tuple(cells),
                     weights, from_grid)
 
 
@@ -212,7 +212,7 @@ def pixel_of(result, world) -> tuple[int, int] | None:
     """The pixel of this frame that shows the surface point ``world``, or None when it
     lies outside the image or behind another surface (farther from the pixel's surface
     point than 3 pixel footprints)."""
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     world = np.asarray(world, np.float64)
     x, y = np.floor(project(result, world)).astype(np.int64)
     if not (0 <= x < width and 0 <= y < height):
@@ -242,7 +242,7 @@ def view_pixel(rect, mouse, image_size) -> tuple[int, int] | None:
 # ------------------------------------------------------------------------- rays
 def view_projection(result) -> np.ndarray:
     """(4, 4) projection·view of the frame's camera, as the G-buffer pass built it."""
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     lo, hi = result.scene_bounds
     projection = result.camera.projection_matrix(width / height, lo, hi)
     return projection @ result.camera.view_matrix()
@@ -250,7 +250,7 @@ def view_projection(result) -> np.ndarray:
 
 def project(result, world) -> np.ndarray:
     """(..., 2) continuous pixel coordinates (x, y from the top) of world points."""
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     world = np.asarray(world, np.float64)
     clip = np.concatenate([world, np.ones(world.shape[:-1] + (1,))], -1) @ \
         view_projection(result).T
@@ -261,7 +261,7 @@ def project(result, world) -> np.ndarray:
 
 def pixel_ray(result, x: float, y: float) -> tuple[np.ndarray, np.ndarray]:
     """(eye, unit direction) of the ray through the centre of pixel (x, y)."""
-    height, width = result.final_image.shape[:2]
+    height, width = result.image_size
     ndc = np.array([(x + 0.5) / width * 2.0 - 1.0, 1.0 - (y + 0.5) / height * 2.0, 1.0, 1.0])
     far = np.linalg.inv(view_projection(result)) @ ndc
     eye = np.asarray(result.camera.eye, np.float64)
