@@ -8,17 +8,21 @@ and, for each changed rectangle, clears it and renders every list clipped to it:
 pixels there come out as a whole repaint would make them, and those outside keep theirs.
 
 That needs a surface that still holds the last frame. The window's back buffer does when
-its swap copies it to the window (Mesa's software rasteriser on X11 does; GLX reports the
-swap method as undefined, so :func:`back_buffer_kept` probes it once, drawing three frames
-in shades of the clear colour nobody can tell apart). Otherwise the lists are painted into
-a framebuffer of the painter's own (the *canvas*), which is copied to the back buffer every
-frame: one copy of the window, which a GPU makes in microseconds.
+its swap copies it to the window: Mesa's software rasteriser on X11 swaps by copying its
+back buffer into the window (XPutImage), though GLX reports the swap method as undefined,
+so on a software renderer :func:`back_buffer_kept` probes it once, drawing three frames in
+shades of the clear colour nobody can tell apart. A GPU driver may flip buffers, and may
+start to flip later (a window going full screen, a compositor), so there the lists are
+always painted into a framebuffer of the painter's own (the *canvas*), which is copied to
+the back buffer every frame: one copy of the window, which a GPU makes in microseconds
+(a 1600×960 copy costs llvmpipe 3.3 ms, which is why it keeps the back buffer instead).
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from explorer.lpv.timing import is_software_renderer
 from explorer.ui import drawn_lists
 from explorer.ui.drawn_lists import DrawnFrame, Rect
 from explorer.ui.texture_versions import versions_for
@@ -39,7 +43,8 @@ class PartialPainter:
         self.window = window
         self.enabled = enabled
         self.kept: bool | None = None
-        """The back buffer holds the last frame after a swap (probed at the first paint)."""
+        """The back buffer holds the last frame after a swap (on a software renderer,
+        probed at the first paint; elsewhere False: the canvas)."""
         self.painted: list[Rect] = []
         """The rectangles the last paint repainted."""
         self.painted_share = 1.0
@@ -62,7 +67,8 @@ class PartialPainter:
             self.whole_because = "partial painting is off"
             return
         if self.kept is None:
-            self.kept = back_buffer_kept(self.window, ctx, clear_colour)
+            self.kept = is_software_renderer(ctx) and back_buffer_kept(self.window, ctx,
+                                                                       clear_colour)
         frame = drawn_lists.drawn_frame(draw_data, versions_for(ctx),
                                         int(imgui.ImTextureStatus.ok))
         target = ctx.screen if self.kept else self._canvas_of(ctx, size)
