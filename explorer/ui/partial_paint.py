@@ -90,10 +90,6 @@ class PartialPainter:
         ctx.viewport = (0, 0, size[0], size[1])
         self._last = frame
 
-    def forget(self) -> None:
-        """Something else drew into the window: the next frame is painted whole."""
-        self._last = None
-
     def release(self) -> None:
         if self._canvas is not None:
             for attachment in self._canvas.color_attachments:
