@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from explorer.cli import main
 from explorer.commands import units_driver
+from explorer.lpv.passes.textures import point_batches
 
 
 def test_the_unit_driver_reports_each_stage_of_each_change(gl_context, ctx):
@@ -17,8 +18,12 @@ def test_the_unit_driver_reports_each_stage_of_each_change(gl_context, ctx):
     # what each change runs: the toggle no geometry volume, the volume no injection
     assert ("12³ grid", "inject") in rows and ("12³ toggle", "geometry") not in rows
     assert ("12³ geometry volume", "inject") not in rows
-    assert rows[("12³ geometry volume", "geometry")]["units"] == 2     # the volume, its read
-    assert rows[("12³ toggle", "inject")]["units"] == 1                 # a small grid's one
+    # the RSM's texels drawn in batches (explorer/lpv/passes/textures.py), then the read
+    occluders = units_driver_settings().rsm_size ** 2
+    assert rows[("12³ geometry volume", "geometry")]["units"] == len(point_batches(occluders)) + 1
+    assert len(point_batches(occluders)) == 2             # a 256² RSM's in two
+    # a small grid: its batches of VPLs (the RSM's texels), its copies not apart
+    assert rows[("12³ toggle", "inject")]["units"] == len(point_batches(occluders))
     for row in rows.values():
         assert 0.0 <= row["longest_cpu_ms"] <= row["cpu_ms"] + 1e-9
         assert row["longest_wall_ms"] >= 0.0
