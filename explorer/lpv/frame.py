@@ -156,17 +156,24 @@ class FrameResult:
         height, width = self.direct.shape[:2]
         return int(height), int(width)
 
-    def final_pixel(self, y: int, x: int) -> np.ndarray:
+    def final_pixel(self, y: int, x: int, exposure: float | None = None,
+                    indirect_only: bool | None = None) -> np.ndarray:
         """``final_image[y, x]``, bit for bit (every step of :func:`exposed_image` is per
-        pixel), computed for that pixel alone unless the whole image already is."""
-        if self._final_image is not None:
-            return self._final_image[y, x]
+        pixel), computed for that pixel alone unless the whole image already is;
+        ``exposure`` and ``indirect_only`` (default: the frame's settings') as another
+        display shows it (the window runs the pipelines with the display's fields pinned
+        and applies its own: explorer/ui/controller.py ``PINNED_DISPLAY``)."""
         s, fog = self.settings, self.fog
+        exposure = s.exposure if exposure is None else exposure
+        indirect_only = s.indirect_only if indirect_only is None else indirect_only
+        if self._final_image is not None and (exposure, indirect_only) == (
+                s.exposure, s.indirect_only):
+            return self._final_image[y, x]
         if fog is not None:
             fog = FogImages(fog.transmittance[y:y + 1, x:x + 1], fog.direct[y:y + 1, x:x + 1],
                             fog.lpv[y:y + 1, x:x + 1])
         return exposed_image(self.direct[y:y + 1, x:x + 1], self.indirect[y:y + 1, x:x + 1],
-                             s.exposure, s.indirect_only, fog)[0, 0]
+                             exposure, indirect_only, fog)[0, 0]
 
     # level 0 (the finest cascade, or the single grid)
     @property

@@ -280,3 +280,27 @@ def test_camera_controls_rerun_only_the_camera_stages():
         assert abs(x - 128) <= 1 and abs(y - 96) <= 1
     finally:
         app.close()
+
+
+def test_a_picked_pixels_final_colour_is_exposed_as_the_view_shows_it():
+    """The pipelines run with the display's fields pinned (exposure 1); the pixel rows'
+    "final (exposed)" carry the exposure and indirect-only the view applies."""
+    from explorer.ui.overlays.in_view import pick_with_references
+
+    app = _settled_app()
+    try:
+        result = app.state.runtime.frame.result
+        assert result.settings.exposure == 1.0
+        x, y = 80, 170                          # the floor, left of the short block
+        for exposure, indirect_only in ((2.5, False), (0.5, True)):
+            app.state.update(exposure=exposure, indirect_only=indirect_only)
+            app.frame()
+            assert app.state.runtime.frame.result is result          # no stage ran
+            pick = pick_with_references(app.state, result, (x, y), "A")
+            linear = result.indirect[y, x] if indirect_only else \
+                result.direct[y, x] + result.indirect[y, x]
+            expected = (np.float32(exposure) * linear).astype(np.float32)
+            assert np.array_equal(pick.final, np.asarray(expected, np.float64))
+            assert pick.final.max() > 0
+    finally:
+        app.close()

@@ -8,6 +8,7 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass, replace
 
+import numpy as np
 from imgui_bundle import imgui
 
 from explorer.ui.overlays import quantities as Q
@@ -91,17 +92,24 @@ def hover_at(state: AppState, side: str, pixel: tuple[int, int]) -> Hover | None
                     field.label, float(field.values[cell]))
                 return Hover(side, pixel, cell=pick_cell(result, cascade, *cell),
                              slice_value=value)
-    return Hover(side, pixel, pick=pick_with_references(state, result, pixel))
+    return Hover(side, pixel, pick=pick_with_references(state, result, pixel, side))
 
 
-def pick_with_references(state: AppState, result, pixel) -> PickInfo | None:
+def pick_with_references(state: AppState, result, pixel, side: str = "A"
+                         ) -> PickInfo | None:
     """:func:`pick_pixel` with the reference radiance of every mode computed for this
-    pixel of this frame (the Picked panel's button)."""
+    pixel of this frame (the Picked panel's button), its final colour exposed as
+    ``side``'s display shows it (its exposure and indirect-only: the frame's own are the
+    pipelines' pinned ones)."""
     from explorer.ui.overlays.pixel_reference import pixel_references
 
     pick = pick_pixel(result, *pixel)
     if pick is None or not pick.surface:
         return pick
+    display = state.runtime.frame.displays.get(side)
+    if display is not None:
+        pick = replace(pick, final=np.asarray(result.final_pixel(
+            pick.y, pick.x, display.exposure, display.indirect_only), np.float64))
     found = pixel_references(state).values(result, pixel)
     return replace(pick, references=found) if found else pick
 

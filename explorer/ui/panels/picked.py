@@ -46,7 +46,8 @@ def gui_picked(state: AppState) -> None:
         if pixel is None:
             imgui.text_disabled("the picked point is hidden or outside the view in this frame")
         else:
-            _table("pixel", pixel_rows(pick_with_references(state, result, pixel), 6))
+            _table("pixel", pixel_rows(pick_with_references(state, result, pixel,
+                                                            o.picked_side), 6))
             _reference_button(state, result, pixel)
     _cell_picker(state, result)
     index = cell_at(result, o.picked_cascade, point)
