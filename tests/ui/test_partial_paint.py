@@ -196,8 +196,9 @@ def _frames_match_whole_repaints(app, kept: bool | None) -> list[tuple[float, st
         app.frame(capture=True)
         shown = app.last_pixels
         shares.append((painter.painted_share, painter.whole_because))
+        in_parts = painter.whole_because is None
         expected = _whole(app)
-        if painter.whole_because is None:        # painted in parts: a whole repaint's bits
+        if in_parts:                             # painted in parts: a whole repaint's bits
             differ = np.any(shown != expected, axis=2)
         else:
             # painted whole both times: on a resize's first frame llvmpipe paints the new
