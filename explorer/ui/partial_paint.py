@@ -70,7 +70,7 @@ class PartialPainter:
             self.kept = is_software_renderer(ctx) and back_buffer_kept(self.window, ctx,
                                                                        clear_colour)
         frame = drawn_lists.drawn_frame(draw_data, versions_for(ctx),
-                                        int(imgui.ImTextureStatus.ok))
+                                        int(imgui.ImTextureStatus.ok), self._last)
         target = ctx.screen if self.kept else self._canvas_of(ctx, size)
         rects = "asked for" if whole else drawn_lists.merged(
             drawn_lists.damage(self._last, frame), size)
