@@ -169,11 +169,9 @@ class FrameResult:
         if self._final_image is not None and (exposure, indirect_only) == (
                 s.exposure, s.indirect_only):
             return self._final_image[y, x]
-        if fog is not None:
-            fog = FogImages(fog.transmittance[y:y + 1, x:x + 1], fog.direct[y:y + 1, x:x + 1],
-                            fog.lpv[y:y + 1, x:x + 1])
-        return exposed_image(self.direct[y:y + 1, x:x + 1], self.indirect[y:y + 1, x:x + 1],
-                             exposure, indirect_only, fog)[0, 0]
+        at = (slice(y, y + 1), slice(x, x + 1))
+        return exposed_image(self.direct[at], self.indirect[at], exposure, indirect_only,
+                             None if fog is None else fog.part(at))[0, 0]
 
     # level 0 (the finest cascade, or the single grid)
     @property

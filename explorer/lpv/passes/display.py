@@ -85,9 +85,8 @@ def metered_in_bands(gather: GatherImages, fog: FogImages | None, indirect_only:
             unexposed = gather.indirect[band] if indirect_only \
                 else gather.direct[band] + gather.indirect[band]
         else:
-            unexposed = exposed_image(
-                gather.direct[band, :, :3], gather.indirect[band, :, :3], 1.0, indirect_only,
-                FogImages(fog.transmittance[band], fog.direct[band], fog.lpv[band]))
+            unexposed = exposed_image(gather.direct[band, :, :3], gather.indirect[band, :, :3],
+                                      1.0, indirect_only, fog.part(band))
         parts.append(metered_luminance(unexposed, mask[band]))
     return np.concatenate(parts) if parts else np.zeros(0)
 

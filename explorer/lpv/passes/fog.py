@@ -43,6 +43,11 @@ class FogImages:
     lpv: np.ndarray
     """``(H, W, 3)``: the LPV's in-scattered radiance."""
 
+    def part(self, index: slice | tuple[slice, slice]) -> FogImages:
+        """The images at ``index`` of their rows (and columns): a band of rows, a pixel,
+        as the same images of a smaller frame (views, not copies)."""
+        return FogImages(self.transmittance[index], self.direct[index], self.lpv[index])
+
 
 @dataclass(frozen=True)
 class Medium:
