@@ -383,10 +383,11 @@ def copied_apart(shape: Sequence[int]) -> bool:
 
 POINT_BATCH = 1 << 15
 """Points a unit of a point pass draws at most; a larger set's draw is several units,
-:func:`point_batches`. A 256² RSM's VPLs in two draws of half as many: on llvmpipe the 64³
-injection's longest unit 20 → 7 ms and the whole stage 21 → 14 ms (one draw of 65 536
-points costs more than two of 32 768), the 32³ one's longest 10.6 → 7 ms, the same total
-(BENCHMARKS.md, issue #32 item 3)."""
+:func:`point_batches`. A 256² RSM's VPLs in two draws of half as many: on llvmpipe, run unit
+by unit right after a change to 64³ (``bench --units``), the injection's longest unit went
+20 → 7 ms and its stage 21 → 14 ms, the 32³ one's longest 10.6 → 7 ms with the same total;
+a whole frame's injection (``bench``) takes the same time either way (BENCHMARKS.md,
+issue #32 item 3)."""
 
 
 def point_batches(count: int) -> list[tuple[int, int]]:
